@@ -1,0 +1,68 @@
+# f16mmae — the README's two commands: `make demo` and `make test`.
+# Both set up what they need (Debian build packages, a .venv in the repo), build, and run.
+# Idempotent: a second run only rebuilds what changed.
+
+SHELL       := /bin/bash
+PYTHON      ?= python3
+VENV        := .venv
+PY          := $(VENV)/bin/python
+PIP         := $(PY) -m pip
+APT_PKGS    := g++ libeigen3-dev libgtest-dev googletest libglib2.0-dev
+BUILD_REQS  := "scikit-build-core>=0.10" "pybind11>=2.13" "lcm>=1.5,<1.6" cmake ninja
+SITE         = $(shell $(PY) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+JOBS        ?= 2
+
+.PHONY: demo test setup apt venv build ctest pytest bench clean help
+
+help:
+	@echo "make demo   set up, build, run the main job on its embedded default"
+	@echo "make test   set up, build, run every test (ctest and pytest)"
+	@echo "make build  (re)build the Python package and its C++ extension"
+	@echo "make bench  print the estimator benchmark"
+
+demo: build
+	$(VENV)/bin/f16mmae bench
+
+test: build ctest pytest
+
+setup: apt venv
+
+# Debian packages: installed only when one is missing (needs root, as on this machine kind).
+apt:
+	@missing=$$(for p in $(APT_PKGS); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:" $$missing; \
+	  SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
+	fi
+
+$(VENV)/.stamp: pyproject.toml
+	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PIP) install -q --upgrade pip
+	$(PIP) install -q $(BUILD_REQS) pytest filterpy
+	@touch $@
+
+venv: $(VENV)/.stamp
+
+# Editable install with a kept build directory: incremental C++ rebuilds, Python from source.
+# flock serialises concurrent builds of the same tree.
+build: setup
+	@mkdir -p build
+	flock build/.lock $(PIP) install -q --no-build-isolation -Cbuild-dir=build/py -e .
+
+build/cpp/CMakeCache.txt: | setup
+	$(VENV)/bin/cmake -S . -B build/cpp -G Ninja -DCMAKE_BUILD_TYPE=Release \
+	  -DCMAKE_PREFIX_PATH="$(SITE)" -DF16MMAE_BUILD_PYTHON=OFF
+
+ctest: build/cpp/CMakeCache.txt
+	flock build/.lock-cpp $(VENV)/bin/cmake --build build/cpp -j $(JOBS)
+	$(VENV)/bin/ctest --test-dir build/cpp --output-on-failure -j $(JOBS)
+
+pytest: build
+	$(PY) -m pytest -q
+
+bench: build
+	$(VENV)/bin/f16mmae bench
+
+clean:
+	rm -rf build

@@ -1,0 +1,70 @@
+"""Names and sizes shared by every part of f16mmae, in the paper's words.
+
+The paper (Eide & Maybeck, Sec. II) fails five actuators and seven sensors; the level-0
+bank holds the no-failure hypothesis and the twelve single failures, the level-1 banks
+the 66 dual failures (Fig. 2).  Everything that orders actuators, sensors or hypotheses
+imports the tuples below, so that an index means the same thing everywhere.
+"""
+from __future__ import annotations
+
+from itertools import combinations
+
+#: Surfaces in the order of the command vector ``u`` (rad, absolute or perturbation).
+ACTUATORS: tuple[str, ...] = ("LS", "RS", "LF", "RF", "RUD")
+#: Sensors in the order of the measurement vector ``z``.
+SENSORS: tuple[str, ...] = ("VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY")
+#: Units of each entry of ``z`` (see f16mmae.truth.sensors for definitions).
+SENSOR_UNITS: tuple[str, ...] = ("ft/s", "rad", "rad/s", "g", "rad/s", "rad/s", "g")
+#: Filter state order: 8 airframe perturbation states then the 5 actuator lag states.
+STATES: tuple[str, ...] = (
+    "u_fps", "alpha_rad", "q_rad_s", "theta_rad",
+    "beta_rad", "p_rad_s", "r_rad_s", "phi_rad",
+    "d_ls_rad", "d_rs_rad", "d_lf_rad", "d_rf_rad", "d_rud_rad",
+)
+
+NONE = "NONE"
+#: Level-0 hypotheses (paper Fig. 2), index = position in the level-0 bank.
+SINGLE_HYPOTHESES: tuple[str, ...] = (NONE,) + ACTUATORS + SENSORS
+#: The 66 dual-failure hypotheses, named "A+B" in SINGLE_HYPOTHESES order.
+DUAL_HYPOTHESES: tuple[str, ...] = tuple(
+    f"{a}+{b}" for a, b in combinations(ACTUATORS + SENSORS, 2)
+)
+#: Every hypothesis a model bank stores: 13 singles then 66 duals (79).
+ALL_HYPOTHESES: tuple[str, ...] = SINGLE_HYPOTHESES + DUAL_HYPOTHESES
+
+NX, NU, NZ = len(STATES), len(ACTUATORS), len(SENSORS)
+K_BANK = len(SINGLE_HYPOTHESES)  # filters on line at any level (13)
+
+#: Truth-model integration rate and the flight-control / sensor / estimator frame rate.
+SIM_RATE_HZ = 128
+FRAME_RATE_HZ = 64
+
+
+def failed_components(hypothesis: str) -> tuple[str, ...]:
+    """Components a hypothesis presumes failed: ``"LS+PIT" -> ("LS", "PIT")``, ``"NONE" -> ()``."""
+    if hypothesis == NONE:
+        return ()
+    parts = tuple(hypothesis.split("+"))
+    for p in parts:
+        if p not in ACTUATORS and p not in SENSORS:
+            raise ValueError(
+                f"unknown component {p!r} in hypothesis {hypothesis!r}; "
+                f"valid: {', '.join(ACTUATORS + SENSORS)}"
+            )
+    return parts
+
+
+def dual_name(a: str, b: str) -> str:
+    """Canonical name of the dual hypothesis of components a and b (order-independent)."""
+    order = ACTUATORS + SENSORS
+    ia, ib = order.index(a), order.index(b)
+    if ia == ib:
+        raise ValueError(f"a dual failure needs two different components, got {a!r} twice")
+    return f"{order[min(ia, ib)]}+{order[max(ia, ib)]}"
+
+
+def level1_hypotheses(failed: str) -> tuple[str, ...]:
+    """The level-1 bank brought on line when ``failed`` is declared (Fig. 2):
+    NONE first (for back-out), the declared single failure, then its 11 duals."""
+    others = [c for c in ACTUATORS + SENSORS if c != failed]
+    return (NONE, failed) + tuple(dual_name(failed, c) for c in others)

@@ -1,0 +1,286 @@
+"""The derived JSBSim F-16: stock airframe, our flight-control section, direct surface access.
+
+JSBSim's stock ``f16`` (aerodynamics, propulsion, mass, ground reactions) is read at run time
+from the installed ``jsbsim`` package; its ``<flight_control>``, ``<system>``,
+``<external_reactions>`` and ``<output>`` sections are replaced by a pure MIXER, and the result
+is written into a per-process temporary root (no JSBSim aircraft data lives in this repo).
+
+The stock aerodynamics read four control properties only.  The mixer computes them from the
+five surface POSITIONS ``delta = (LS, RS, LF, RF, RUD)`` (rad, trailing edge down positive for
+stabilators and flaperons, trailing edge left positive for the rudder), which Python writes
+into ``SURFACE_PROPERTIES`` (the actuators live in Python, ``f16mmae.truth.actuators``)::
+
+    fcs/elevator-pos-rad  = (LS + RS)/2                       + E_MAX * (elevator + pitch-trim cmd)
+    fcs/aileron-pos-rad   = (LF - RF)/2 + k (LS - RS)/2       + A_MAX * (aileron + roll-trim cmd)
+    fcs/flaperon-mix-rad  =  LF + RF
+    fcs/rudder-pos-rad    =  RUD                              + R_MAX * (rudder + yaw-trim cmd)
+
+i.e. ``v = MIXING @ delta`` (``actuators.MIXING``, k = ``actuators.DIFFERENTIAL_TAIL_ROLL_SHARE``).
+Positive ``fcs/aileron-pos-rad`` rolls right in the stock tables, so a left flaperon (or left
+stabilator) trailing edge down rolls right.  The pilot ``*-cmd-norm`` terms exist only for
+JSBSim's trim routine (FGTrim drives them); :func:`trim` folds them into the surface positions
+and zeroes them, so after trimming the aircraft is flown by the five positions alone; the
+trimmed state is then stored as the initial condition, so ``run_ic()`` returns to the trim
+(and perturbing ``ic/*`` + ``run_ic()`` linearizes about it).
+
+The leading-edge flap is held at the stock schedule's value for the trimmed angle of attack
+(0.262 rad above 5 deg alpha, 0.436 rad above 15 deg, -0.0349 rad above Mach 0.9, else 0);
+the speed brake is retracted and the gear up.  Throttle: ``fcs/throttle-pos-norm =
+2 * fcs/throttle-cmd-norm`` as in the stock FCS (above 1 = afterburner), held at trim.
+"""
+from __future__ import annotations
+
+import atexit
+import math
+import os
+import shutil
+import tempfile
+import threading
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+
+import jsbsim
+import numpy as np
+
+from ..names import ACTUATORS, SIM_RATE_HZ
+from . import actuators, sensors
+
+#: Name of the derived aircraft inside the temporary root.
+AIRCRAFT_NAME = "f16mmae_f16"
+#: Properties holding the five surface positions (rad), order ``names.ACTUATORS``.
+SURFACE_PROPERTIES: tuple[str, ...] = tuple(f"fcs/{a.lower()}-pos-rad" for a in ACTUATORS)
+#: The four stock aerodynamic control properties the mixer writes (rows of ``MIXING``).
+AERO_CONTROL_PROPERTIES: tuple[str, ...] = (
+    "fcs/elevator-pos-rad", "fcs/aileron-pos-rad", "fcs/flaperon-mix-rad", "fcs/rudder-pos-rad",
+)
+#: Flight envelope in which trim is offered (the issue's envelope).
+MACH_RANGE = (0.3, 0.8)
+ALT_FT_RANGE = (5_000.0, 35_000.0)
+
+_lock = threading.Lock()
+_root_dir: str | None = None
+
+
+class TrimError(RuntimeError):
+    """JSBSim could not trim the aircraft at the requested flight condition."""
+
+
+@dataclass(frozen=True)
+class TrimPoint:
+    """A trimmed level-flight condition of the derived aircraft.
+
+    u_rad (5,): surface deflections LS RS LF RF RUD (rad); z (7,): noise-free measurements
+    (``sensors.ideal``, units of ``names.SENSOR_UNITS``); throttle: ``fcs/throttle-cmd-norm``;
+    vt_fps true airspeed; alpha_rad, theta_rad; mach; alt_ft; lef_rad leading-edge flap;
+    qbar_psf dynamic pressure; weight_lbs.
+    """
+
+    u_rad: np.ndarray
+    z: np.ndarray
+    throttle: float
+    vt_fps: float
+    alpha_rad: float
+    theta_rad: float
+    mach: float
+    alt_ft: float
+    lef_rad: float
+    qbar_psf: float
+    weight_lbs: float
+
+
+def _flight_control_xml() -> str:
+    """Our ``<flight_control>``: declares the five surface positions and mixes them."""
+    k = actuators.DIFFERENTIAL_TAIL_ROLL_SHARE
+    e_max, a_max, r_max = actuators.TRIM_COMMAND_SCALE_RAD
+    decl = "\n".join(f'  <property value="0">{p}</property>' for p in SURFACE_PROPERTIES)
+    ls, rs, lf, rf, rud = SURFACE_PROPERTIES
+
+    def summer(name: str, terms: list[tuple[str, float]], output: str) -> str:
+        # A summer of pure gains: each term scaled by its own <pure_gain> first.
+        parts, inputs = [], []
+        for i, (prop, gain) in enumerate(terms):
+            tmp = f"fcs/f16mmae/{name}-term{i}"
+            parts.append(f'  <pure_gain name="{tmp}"><input>{prop}</input>'
+                         f"<gain>{gain!r}</gain></pure_gain>")
+            inputs.append(f"<input>{tmp}</input>")
+        parts.append(f'  <summer name="fcs/f16mmae/{name}">{"".join(inputs)}'
+                     f"<output>{output}</output></summer>")
+        return "\n".join(parts)
+
+    body = "\n".join([
+        summer("elevator", [(ls, 0.5), (rs, 0.5), ("fcs/elevator-cmd-norm", e_max),
+                            ("fcs/pitch-trim-cmd-norm", e_max)], "fcs/elevator-pos-rad"),
+        summer("aileron", [(lf, 0.5), (rf, -0.5), (ls, 0.5 * k), (rs, -0.5 * k),
+                           ("fcs/aileron-cmd-norm", a_max), ("fcs/roll-trim-cmd-norm", a_max)],
+               "fcs/aileron-pos-rad"),
+        summer("flaperon", [(lf, 1.0), (rf, 1.0)], "fcs/flaperon-mix-rad"),
+        summer("rudder", [(rud, 1.0), ("fcs/rudder-cmd-norm", r_max),
+                          ("fcs/yaw-trim-cmd-norm", r_max)], "fcs/rudder-pos-rad"),
+        '  <pure_gain name="fcs/f16mmae/throttle"><input>fcs/throttle-cmd-norm</input>'
+        "<gain>2</gain><output>fcs/throttle-pos-norm</output></pure_gain>",
+    ])
+    return (f'<flight_control name="f16mmae mixer">\n{decl}\n'
+            '  <property value="0">fcs/lef-pos-rad</property>\n'
+            f'  <channel name="Mixer">\n{body}\n  </channel>\n</flight_control>')
+
+
+def derived_root() -> str:
+    """Directory holding the derived aircraft (built once per process, removed at exit)."""
+    global _root_dir
+    with _lock:
+        if _root_dir is not None and os.path.isdir(_root_dir):
+            return _root_dir
+        src = os.path.join(jsbsim.get_default_root_dir(), "aircraft", "f16", "f16.xml")
+        tree = ET.parse(src)
+        cfg = tree.getroot()
+        for tag in ("system", "external_reactions", "output", "flight_control"):
+            for el in cfg.findall(tag):
+                cfg.remove(el)
+        cfg.set("name", "F-16 (JSBSim f16 airframe, f16mmae flight control)")
+        aero = cfg.find("aerodynamics")
+        cfg.insert(list(cfg).index(aero), ET.fromstring(_flight_control_xml()))
+        root = tempfile.mkdtemp(prefix="f16mmae-aircraft-")
+        os.makedirs(os.path.join(root, "aircraft", AIRCRAFT_NAME))
+        tree.write(os.path.join(root, "aircraft", AIRCRAFT_NAME, f"{AIRCRAFT_NAME}.xml"))
+        atexit.register(_remove_root, root, os.getpid())
+        _root_dir = root
+        return root
+
+
+def _remove_root(root: str, owner_pid: int) -> None:
+    """Remove the temporary root at exit, only in the process that made it (not forked workers)."""
+    if os.getpid() == owner_pid:
+        shutil.rmtree(root, ignore_errors=True)
+
+
+def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False) -> jsbsim.FGFDMExec:
+    """A loaded, untrimmed FGFDMExec of the derived aircraft (or the stock ``f16``).
+
+    seed >= 1 seeds JSBSim's random generators (turbulence); dt_s is the integration step (s).
+    """
+    if int(seed) < 1:
+        raise ValueError(f"seed must be >= 1 (JSBSim maps 0 to 1), got {seed}")
+    os.environ.setdefault("JSBSIM_DEBUG", "0")  # no start-up banner
+    pkg = jsbsim.get_default_root_dir()
+    fdm = jsbsim.FGFDMExec(pkg if stock else derived_root(), None)
+    fdm.set_debug_level(0)
+    fdm.set_engine_path(os.path.join(pkg, "engine"))
+    fdm.set_systems_path(os.path.join(pkg, "systems"))
+    fdm["simulation/randomseed"] = int(seed)
+    fdm["atmosphere/randomseed"] = int(seed)
+    if not fdm.load_model("f16" if stock else AIRCRAFT_NAME):
+        raise RuntimeError("JSBSim failed to load the F-16 model")
+    fdm.set_dt(dt_s)
+    return fdm
+
+
+def lef_schedule_rad(alpha_rad: float, mach: float) -> float:
+    """Leading-edge flap (rad) from the stock F-16 FCS schedule, gear up, in flight."""
+    if mach > 0.9:
+        return -0.0349
+    if alpha_rad > 0.2618:
+        return 0.436
+    if alpha_rad > 0.0873:
+        return 0.262
+    return 0.0
+
+
+def check_flight_condition(mach: float, alt_ft: float) -> None:
+    """Raise ValueError unless (mach, alt_ft) lies in the supported envelope."""
+    if not (MACH_RANGE[0] <= mach <= MACH_RANGE[1]) or not math.isfinite(mach):
+        raise ValueError(f"mach {mach} outside the supported range {MACH_RANGE[0]}-{MACH_RANGE[1]}")
+    if not (ALT_FT_RANGE[0] <= alt_ft <= ALT_FT_RANGE[1]) or not math.isfinite(alt_ft):
+        raise ValueError(f"alt_ft {alt_ft} outside the supported range "
+                         f"{ALT_FT_RANGE[0]:.0f}-{ALT_FT_RANGE[1]:.0f} ft")
+
+
+def set_surfaces(fdm: jsbsim.FGFDMExec, u_rad) -> None:
+    """Write the five surface positions (rad, order LS RS LF RF RUD); the mixer applies them
+    at the next ``run()`` / ``run_ic()``.  No actuator dynamics."""
+    for prop, val in zip(SURFACE_PROPERTIES, u_rad, strict=True):
+        fdm[prop] = float(val)
+
+
+def get_surfaces(fdm: jsbsim.FGFDMExec) -> np.ndarray:
+    """The five surface positions (rad) currently written."""
+    return np.array([fdm[p] for p in SURFACE_PROPERTIES])
+
+
+def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float) -> TrimPoint:
+    """Trim ``fdm`` (a derived aircraft from :func:`load_fdm`) in wings-level, straight, level
+    flight at (mach, alt_ft) with JSBSim's full trim; fold the trim commands into the five
+    surface positions.  Raises ValueError outside the envelope, TrimError if no trim exists."""
+    check_flight_condition(mach, alt_ft)
+    lef = lef_schedule_rad(0.15, mach)  # first guess: alpha above 5 deg
+    for _ in range(3):
+        _trim_once(fdm, mach, alt_ft, lef)
+        new_lef = lef_schedule_rad(fdm["aero/alpha-rad"], mach)
+        if new_lef == lef:
+            break
+        lef = new_lef
+    e_max, a_max, r_max = actuators.TRIM_COMMAND_SCALE_RAD
+    de = e_max * (fdm["fcs/elevator-cmd-norm"] + fdm["fcs/pitch-trim-cmd-norm"])
+    da = a_max * (fdm["fcs/aileron-cmd-norm"] + fdm["fcs/roll-trim-cmd-norm"])
+    dr = r_max * (fdm["fcs/rudder-cmd-norm"] + fdm["fcs/yaw-trim-cmd-norm"])
+    for p in ("elevator", "aileron", "rudder"):
+        fdm[f"fcs/{p}-cmd-norm"] = 0.0
+    for p in ("pitch", "roll", "yaw"):
+        fdm[f"fcs/{p}-trim-cmd-norm"] = 0.0
+    u = np.array([de, de, da, -da, dr])
+    set_surfaces(fdm, u)
+    _store_state_as_ic(fdm)
+    lim = np.array(actuators.POSITION_LIMIT_RAD)
+    if np.any(np.abs(u) > lim):
+        raise TrimError(f"trim at Mach {mach}, {alt_ft:.0f} ft needs surface deflections "
+                        f"{np.degrees(u).round(2).tolist()} deg beyond the position limits")
+    return TrimPoint(
+        u_rad=u, z=sensors.ideal(fdm), throttle=fdm["fcs/throttle-cmd-norm"],
+        vt_fps=fdm["velocities/vt-fps"], alpha_rad=fdm["aero/alpha-rad"],
+        theta_rad=fdm["attitude/theta-rad"], mach=float(mach), alt_ft=float(alt_ft),
+        lef_rad=lef, qbar_psf=fdm["aero/qbar-psf"], weight_lbs=fdm["inertia/weight-lbs"],
+    )
+
+
+def _store_state_as_ic(fdm: jsbsim.FGFDMExec) -> None:
+    """Make the trimmed state the initial condition, so ``run_ic()`` returns to the trim."""
+    vals = {p: fdm[s] for p, s in (
+        ("ic/phi-rad", "attitude/phi-rad"), ("ic/theta-rad", "attitude/theta-rad"),
+        ("ic/psi-true-rad", "attitude/psi-rad"), ("ic/u-fps", "velocities/u-fps"),
+        ("ic/v-fps", "velocities/v-fps"), ("ic/w-fps", "velocities/w-fps"),
+        ("ic/p-rad_sec", "velocities/p-rad_sec"), ("ic/q-rad_sec", "velocities/q-rad_sec"),
+        ("ic/r-rad_sec", "velocities/r-rad_sec"), ("ic/h-sl-ft", "position/h-sl-ft"))}
+    for p, v in vals.items():  # attitude first: body velocities are set in that attitude
+        fdm[p] = v
+    fdm.run_ic()
+
+
+def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float) -> None:
+    fdm["ic/h-sl-ft"] = alt_ft
+    fdm["ic/mach"] = mach
+    fdm["ic/gamma-deg"] = 0.0
+    fdm["ic/phi-deg"] = 0.0
+    fdm["ic/beta-deg"] = 0.0
+    fdm["ic/psi-true-deg"] = 0.0
+    fdm["gear/gear-cmd-norm"] = 0.0
+    fdm["gear/gear-pos-norm"] = 0.0
+    fdm["fcs/lef-pos-rad"] = lef_rad
+    fdm["fcs/throttle-cmd-norm"] = 0.5
+    set_surfaces(fdm, (0.0,) * 5)
+    fdm["propulsion/engine[0]/set-running"] = 1
+    fdm.run_ic()
+    try:
+        fdm["simulation/do_simple_trim"] = 1
+    except jsbsim.TrimFailureError as exc:
+        raise TrimError(f"JSBSim could not trim the F-16 in level flight at Mach {mach}, "
+                        f"{alt_ft:.0f} ft ({exc})") from None
+
+
+def trimmed_fdm(mach: float = 0.4, alt_ft: float = 20_000.0, seed: int = 1,
+                dt_s: float = 1.0 / SIM_RATE_HZ) -> tuple[jsbsim.FGFDMExec, TrimPoint]:
+    """A trimmed derived aircraft at (mach, alt_ft) and its TrimPoint.
+
+    The five surface positions are then set with :func:`set_surfaces` (rad, no actuator
+    dynamics); read measurements with ``sensors.ideal(fdm)``.
+    """
+    fdm = load_fdm(seed=seed, dt_s=dt_s)
+    return fdm, trim(fdm, mach, alt_ft)

@@ -1,0 +1,194 @@
+"""Assemble the model bank: every hypothesis filter of one flight condition and tuning,
+the trim the estimator subtracts, and the metadata that reproduces it.
+
+Pipeline (``design_bank``)::
+
+    truth trim + linearization (model.linearize_truth)
+      -> continuous design model (model.build_model)
+      -> exact discretization at FRAME_RATE_HZ: Phi, B_d, Q_d = Van Loan(G Q_c G^T
+         + sum_j q_j b_j b_j^T) + diag(method 1, 3);  R = diag(sigma^2 + method 2)
+      -> for each of the 79 hypotheses (NONE, 12 singles, 66 duals; hypotheses.py):
+         DARE -> K, A = H P^- H^T + R (gains.py), unstable filters refused
+      -> core.ModelBank (u_trim, z_trim, h_output = unfailed H, metadata JSON) -> file
+
+Everything is deterministic: the same (mach, alt_ft, tuning, design procedure, JSBSim) gives
+the same bank file, byte for byte (JSBSim's trim is deterministic). The metadata therefore
+records ``design_version`` (bump it when the procedure changes) and the JSBSim version, not
+the package version, so a release that does not change the design keeps the shipped banks.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .. import names
+from ..truth import actuators, sensors
+from .discretize import DiscreteModel, discretize
+from .gains import SteadyStateGains, steady_state_gains
+from .hypotheses import HypothesisModel, all_hypothesis_models
+from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
+from .tuning import Tuning, load_tuning
+
+#: Where the shipped nominal banks live, and the nominal flight condition.
+DATA_DIR = Path(__file__).resolve().parent.parent / "data"
+NOMINAL_MACH = 0.4
+NOMINAL_ALT_FT = 20_000.0
+#: Version of the design procedure (bumped when the same inputs would give another bank).
+DESIGN_VERSION = 1
+
+
+@dataclass(frozen=True)
+class FilterDesign:
+    """One hypothesis filter: its model and steady-state gains."""
+
+    model: HypothesisModel
+    gains: SteadyStateGains
+
+    @property
+    def name(self) -> str:
+        return self.model.name
+
+
+@dataclass(frozen=True)
+class BankDesign:
+    """A designed bank before it is written: filters in bank order plus what made them."""
+
+    mach: float
+    alt_ft: float
+    frame_rate_hz: float
+    tuning: Tuning
+    linearized: LinearizedTrim
+    continuous: ContinuousModel
+    discrete: DiscreteModel  # NONE model; qd includes every pseudonoise
+    r: np.ndarray            # (7, 7) incl. method-2 pseudonoise
+    filters: tuple[FilterDesign, ...]
+
+    @property
+    def u_trim(self) -> np.ndarray:
+        return np.asarray(self.linearized.trim.u_rad, dtype=float)
+
+    @property
+    def z_trim(self) -> np.ndarray:
+        return np.asarray(self.linearized.trim.z, dtype=float)
+
+    @property
+    def h_output(self) -> np.ndarray:
+        return self.continuous.h
+
+    def filter(self, name: str) -> FilterDesign:
+        for f in self.filters:
+            if f.name == name:
+                return f
+        raise KeyError(f"no hypothesis {name!r} in the bank; valid: {', '.join(names.ALL_HYPOTHESES)}")
+
+    def metadata(self) -> dict:
+        """What reproduces the bank (stored as JSON text in the bank file)."""
+        import jsbsim
+
+        trim = self.linearized.trim
+        return {
+            "generator": "f16mmae.design",
+            "design_version": DESIGN_VERSION,
+            "jsbsim_version": jsbsim.__version__,
+            "command": (f"f16mmae design --mach {self.mach:g} --alt-ft {self.alt_ft:g} "
+                        f"--tuning {self.tuning.name}"),
+            "flight_condition": {"mach": self.mach, "alt_ft": self.alt_ft},
+            "trim": {"vt_fps": trim.vt_fps, "alpha_rad": trim.alpha_rad,
+                     "theta_rad": trim.theta_rad, "throttle": trim.throttle,
+                     "lef_rad": trim.lef_rad, "qbar_psf": trim.qbar_psf,
+                     "weight_lbs": trim.weight_lbs},
+            "model": {
+                "actuator_lag_rad_s": list(actuators.LAG_RAD_S),
+                "mixing": actuators.MIXING.tolist(),
+                "sensor_noise_sigma": list(map(float, sensors.NOISE_SIGMA)),
+                "gust_level": self.tuning.turbulence,
+                "gust_model": self.continuous.gust_model,
+                "gust_sigma_fps_uvw": self.continuous.gust_sigma_fps.tolist(),
+                "gust_scale_length_ft": GUST_SCALE_LENGTH_FT,
+                "linearization_evaluations": self.linearized.lin.evaluations,
+            },
+            "tuning": self.tuning.to_dict(),
+            "hypotheses": len(self.filters),
+            "max_error_spectral_radius": max(f.gains.spectral_radius for f in self.filters),
+        }
+
+
+def discrete_design_model(model: ContinuousModel, tuning: Tuning,
+                          frame_rate_hz: float) -> tuple[DiscreteModel, np.ndarray]:
+    """``(Phi, B_d, Q_d)`` and ``R`` of the no-failure model with the tuning's pseudonoise:
+    method 4 enters the continuous noise before discretizing, methods 1/3 add to diag(Q_d),
+    method 2 to diag(R)."""
+    q_act = tuning.actuator_strengths()
+    gqg = model.g @ model.qc @ model.g.T + (model.b_airframe * q_act) @ model.b_airframe.T
+    dm = discretize(model.f, model.b, np.eye(names.NX), gqg, 1.0 / frame_rate_hz)
+    qd = dm.qd + np.diag(tuning.qd_diagonal())
+    r = np.diag(model.r_diag + tuning.r_diagonal())
+    return DiscreteModel(phi=dm.phi, bd=dm.bd, qd=qd, dt_s=dm.dt_s), r
+
+
+def design_filters(discrete: DiscreteModel, h: np.ndarray, r: np.ndarray,
+                   hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES) -> tuple[FilterDesign, ...]:
+    """Steady-state filter of every hypothesis (DesignError names an unstable one)."""
+    out = []
+    for m in all_hypothesis_models(discrete.phi, discrete.bd, h, hypotheses):
+        out.append(FilterDesign(model=m, gains=steady_state_gains(m.phi, m.h, discrete.qd, r,
+                                                                  name=f"hypothesis {m.name}")))
+    return tuple(out)
+
+
+def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
+                tuning: Tuning | str = "tuned", frame_rate_hz: float = names.FRAME_RATE_HZ,
+                hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES,
+                linearized: LinearizedTrim | None = None) -> BankDesign:
+    """Design the bank at (mach, alt_ft) with a tuning (a Tuning, a shipped name or a path).
+
+    Raises ValueError for a flight condition outside Mach 0.3-0.8 / 5,000-35,000 ft,
+    TuningError for a bad tuning, aircraft.TrimError when the truth cannot trim, DesignError
+    when a hypothesis filter would be unstable."""
+    if isinstance(tuning, (str, Path)):
+        tuning = load_tuning(tuning)
+    if not frame_rate_hz > 0:
+        raise ValueError(f"frame_rate_hz must be positive, got {frame_rate_hz}")
+    if linearized is None:
+        linearized = linearize_truth(mach, alt_ft)
+    cont = build_model(linearized.lin, linearized.trim.vt_fps, tuning.turbulence, alt_ft,
+                       tuning.gust_model)
+    disc, r = discrete_design_model(cont, tuning, frame_rate_hz)
+    filters = design_filters(disc, cont.h, r, hypotheses)
+    return BankDesign(mach=float(mach), alt_ft=float(alt_ft), frame_rate_hz=float(frame_rate_hz),
+                      tuning=tuning, linearized=linearized, continuous=cont, discrete=disc, r=r,
+                      filters=filters)
+
+
+def to_model_bank(design: BankDesign):
+    """The design as a ``core.ModelBank`` (needs the compiled extension)."""
+    from .. import core
+
+    hyps = [core.HypothesisModel(name=f.name, phi=f.model.phi, bd=f.model.bd, h=f.model.h,
+                                 k=f.gains.k, a=f.gains.a) for f in design.filters]
+    return core.ModelBank(
+        hyps, state_names=list(names.STATES), input_names=list(names.ACTUATORS),
+        measurement_names=list(names.SENSORS),
+        u_trim=design.u_trim, z_trim=design.z_trim, h_output=design.h_output,
+        frame_rate_hz=design.frame_rate_hz, mach=design.mach, alt_ft=design.alt_ft,
+        tuning=design.tuning.name,
+        metadata=json.dumps(design.metadata(), sort_keys=True, separators=(",", ":")))
+
+
+def write_bank(design: BankDesign, path: str | Path):
+    """Write the design to a bank file; returns the loaded-back ``core.ModelBank`` (validated,
+    ``content_hash`` filled)."""
+    from .. import core
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    core.save_bank(to_model_bank(design), str(path))
+    return core.load_bank(str(path))
+
+
+def nominal_bank_path(tuning: str = "tuned") -> Path:
+    """Path of a shipped nominal bank (``data/nominal_<tuning>.f16bank``)."""
+    return DATA_DIR / f"nominal_{tuning}.f16bank"

@@ -1,0 +1,170 @@
+"""Pseudonoise tuning (paper Sec. V, methods 1-4) as named knobs read from small TOML files.
+
+The design model's physical noises (zero-order Dryden gusts, sensor noise) are augmented by:
+
+- method 1 ``[method1_qd_longitudinal]``: additions to the longitudinal diagonal entries of
+  ``Q_d`` (discrete, per frame, state units squared): ``u_fps, alpha_rad, q_rad_s, theta_rad``
+  -- the fictitious ``w'_d`` of eq. 3.
+- method 2 ``[method2_r]``: additions to the diagonal of ``R`` (sensor units squared):
+  ``VEL AOA PIT AZ ROL YAW AY`` -- eq. 4, entering ``A_k`` through eq. 5.
+- method 3 ``[method3_qd_lateral]``: additions to the lateral diagonal entries of ``Q_d``:
+  ``beta_rad, p_rad_s, r_rad_s, phi_rad`` (the paper tunes ``Q_dr``, the yaw rate).
+- method 4 ``[method4_actuator_q]``: strength ``q`` (rad^2/s, continuous) of a scalar white
+  noise ``w_B`` entering through the airframe column of the surface (``LS ... RUD``), eq. 6:
+  ``x' = F x + B u + G w + B_act,col w_B``; discretized with the gusts (eq. 7, Van Loan).
+
+Top-level keys: ``name``, ``description``, ``turbulence`` (gust level the zero-order Dryden
+model is designed for: none | light | moderate | severe), ``gust_model`` (``gust_rate`` or
+``white_gust``, see ``model.py``).  Every variance must be finite and
+>= 0; an unknown key, a wrong type or a negative value is refused with a message naming it.
+Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/tunings/``.
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .. import names
+
+TUNINGS_DIR = Path(__file__).with_name("tunings")
+TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
+GUST_MODELS: tuple[str, ...] = ("gust_rate", "white_gust")
+
+#: Section name -> (valid keys, index of each key in its vector, what the key is).
+METHOD1_KEYS: tuple[str, ...] = names.STATES[:4]
+METHOD3_KEYS: tuple[str, ...] = names.STATES[4:8]
+SECTIONS: dict[str, tuple[str, ...]] = {
+    "method1_qd_longitudinal": METHOD1_KEYS,
+    "method2_r": names.SENSORS,
+    "method3_qd_lateral": METHOD3_KEYS,
+    "method4_actuator_q": names.ACTUATORS,
+}
+TOP_LEVEL_KEYS: tuple[str, ...] = ("name", "description", "turbulence", "gust_model") + tuple(SECTIONS)
+
+
+class TuningError(ValueError):
+    """A tuning file that cannot be used; the message names the file, key and valid choices."""
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """One pseudonoise tuning. Each mapping holds only non-default (non-zero) knobs."""
+
+    name: str
+    description: str = ""
+    turbulence: str = "light"
+    gust_model: str = "gust_rate"
+    qd_longitudinal: dict[str, float] = field(default_factory=dict)  # method 1
+    r_pseudonoise: dict[str, float] = field(default_factory=dict)    # method 2
+    qd_lateral: dict[str, float] = field(default_factory=dict)       # method 3
+    actuator_q: dict[str, float] = field(default_factory=dict)       # method 4
+
+    def qd_diagonal(self) -> np.ndarray:
+        """(13,) additions to diag(Q_d) from methods 1 and 3 (actuator states get none)."""
+        out = np.zeros(names.NX)
+        for key, val in {**self.qd_longitudinal, **self.qd_lateral}.items():
+            out[names.STATES.index(key)] = val
+        return out
+
+    def r_diagonal(self) -> np.ndarray:
+        """(7,) additions to diag(R) from method 2."""
+        out = np.zeros(names.NZ)
+        for key, val in self.r_pseudonoise.items():
+            out[names.SENSORS.index(key)] = val
+        return out
+
+    def actuator_strengths(self) -> np.ndarray:
+        """(5,) method-4 strengths q (rad^2/s), order ``names.ACTUATORS``."""
+        out = np.zeros(names.NU)
+        for key, val in self.actuator_q.items():
+            out[names.ACTUATORS.index(key)] = val
+        return out
+
+    def to_dict(self) -> dict:
+        """Plain dict in the TOML layout (for the bank's metadata)."""
+        return {"name": self.name, "description": self.description,
+                "turbulence": self.turbulence, "gust_model": self.gust_model,
+                "method1_qd_longitudinal": dict(self.qd_longitudinal),
+                "method2_r": dict(self.r_pseudonoise),
+                "method3_qd_lateral": dict(self.qd_lateral),
+                "method4_actuator_q": dict(self.actuator_q)}
+
+
+def available_tunings() -> tuple[str, ...]:
+    """Names of the tunings shipped in ``design/tunings`` (file stems)."""
+    return tuple(sorted(p.stem for p in TUNINGS_DIR.glob("*.toml")))
+
+
+def resolve_tuning_path(name_or_path: str | Path) -> Path:
+    """A shipped tuning's name (``tuned``) or a path to a TOML file -> the file's path."""
+    text = str(name_or_path)
+    if not text.endswith(".toml") and "/" not in text:
+        path = TUNINGS_DIR / f"{text}.toml"
+        if not path.is_file():
+            raise TuningError(f"unknown tuning {text!r}; shipped tunings: "
+                              f"{', '.join(available_tunings())} (or give a path to a .toml file)")
+        return path
+    path = Path(text)
+    if not path.is_file():
+        raise TuningError(f"tuning file {text} does not exist")
+    return path
+
+
+def load_tuning(name_or_path: str | Path) -> Tuning:
+    """Read and check a tuning: a shipped name (``untuned``, ``tuned``) or a TOML path."""
+    path = resolve_tuning_path(name_or_path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise TuningError(f"tuning file {path}: not valid TOML ({exc})") from None
+    return tuning_from_dict(data, source=str(path), default_name=path.stem)
+
+
+def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "custom") -> Tuning:
+    """Check a parsed tuning (layout of the module docstring) and build a Tuning."""
+    for key in data:
+        if key not in TOP_LEVEL_KEYS:
+            raise TuningError(f"{source}: unknown key {key!r}; valid keys: {', '.join(TOP_LEVEL_KEYS)}")
+    name = data.get("name", default_name)
+    description = data.get("description", "")
+    turbulence = data.get("turbulence", "light")
+    gust_model = data.get("gust_model", "gust_rate")
+    for key, val in (("name", name), ("description", description), ("turbulence", turbulence),
+                     ("gust_model", gust_model)):
+        if not isinstance(val, str):
+            raise TuningError(f"{source}: {key} must be a string, got {val!r}")
+    if not name:
+        raise TuningError(f"{source}: name must not be empty")
+    if turbulence not in TURBULENCE_LEVELS:
+        raise TuningError(f"{source}: turbulence {turbulence!r} is not a level; valid: "
+                          f"{', '.join(TURBULENCE_LEVELS)}")
+    if gust_model not in GUST_MODELS:
+        raise TuningError(f"{source}: gust_model {gust_model!r} is not a model; valid: "
+                          f"{', '.join(GUST_MODELS)}")
+    sections = {}
+    for section, keys in SECTIONS.items():
+        table = data.get(section, {})
+        if not isinstance(table, dict):
+            raise TuningError(f"{source}: [{section}] must be a table of {', '.join(keys)}")
+        values = {}
+        for key, val in table.items():
+            if key not in keys:
+                raise TuningError(f"{source}: unknown key {key!r} in [{section}]; valid keys: "
+                                  f"{', '.join(keys)}")
+            if isinstance(val, bool) or not isinstance(val, (int, float)):
+                raise TuningError(f"{source}: [{section}] {key} must be a number, got {val!r}")
+            if not math.isfinite(val) or val < 0.0:
+                raise TuningError(f"{source}: [{section}] {key} = {val} is not a variance: "
+                                  "it must be finite and >= 0")
+            if val > 0.0:
+                values[key] = float(val)
+        sections[section] = values
+    return Tuning(name=name, description=description, turbulence=turbulence, gust_model=gust_model,
+                  qd_longitudinal=sections["method1_qd_longitudinal"],
+                  r_pseudonoise=sections["method2_r"],
+                  qd_lateral=sections["method3_qd_lateral"],
+                  actuator_q=sections["method4_actuator_q"])

@@ -1,0 +1,81 @@
+"""Tuning files (design/tuning.py): the shipped ones load; bad files are refused with a
+message naming the file, the key and the valid choices; each method's knob lands where the
+paper puts it (methods 1-3 on diagonals, method 4 through a B column, eqs. 6-7)."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from f16mmae import names
+from f16mmae.design import bank, discretize, model
+from f16mmae.design.tuning import TuningError, available_tunings, load_tuning
+
+
+def write(tmp_path, text):
+    p = tmp_path / "t.toml"
+    p.write_text(text)
+    return p
+
+
+def test_shipped_tunings_load():
+    assert {"tuned", "untuned"} <= set(available_tunings())
+    untuned = load_tuning("untuned")
+    assert not (untuned.qd_longitudinal or untuned.r_pseudonoise or untuned.qd_lateral or untuned.actuator_q)
+    tuned = load_tuning("tuned")
+    assert tuned.qd_diagonal().any()
+
+
+@pytest.mark.parametrize("text, message", [
+    ('name = "x"\nbogus = 1\n', "unknown key 'bogus'; valid keys: name, description"),
+    ('[method1_qd_longitudinal]\nr_rad_s = 1e-6\n',
+     "unknown key 'r_rad_s' in \\[method1_qd_longitudinal\\]; valid keys: u_fps, alpha_rad"),
+    ('[method2_r]\nAZ = -1e-4\n', "AZ = -0.0001 is not a variance"),
+    ('[method3_qd_lateral]\np_rad_s = "big"\n', "p_rad_s must be a number"),
+    ('[method4_actuator_q]\nLS = nan\n', "LS = nan is not a variance"),
+    ('turbulence = "hurricane"\n', "turbulence 'hurricane' is not a level; valid: none, light"),
+    ('gust_model = "x"\n', "gust_model 'x' is not a model; valid: gust_rate, white_gust"),
+    ('name = [\n', "not valid TOML"),
+])
+def test_bad_tuning_files_are_refused(tmp_path, text, message):
+    with pytest.raises(TuningError, match=message):
+        load_tuning(write(tmp_path, text))
+
+
+def test_unknown_tuning_name_lists_the_shipped_ones():
+    with pytest.raises(TuningError, match="unknown tuning 'nope'; shipped tunings: .*tuned"):
+        load_tuning("nope")
+
+
+@pytest.fixture(scope="module")
+def continuous():
+    lt = model.linearize_truth(0.4, 20_000.0)
+    return model.build_model(lt.lin, lt.trim.vt_fps, "light", 20_000.0)
+
+
+def test_methods_1_to_3_add_to_the_named_diagonal_entries(continuous, tmp_path):
+    base = load_tuning("untuned")
+    t = load_tuning(write(tmp_path, '[method1_qd_longitudinal]\nq_rad_s = 1e-6\n'
+                                    '[method2_r]\nVEL = 0.25\n[method3_qd_lateral]\nr_rad_s = 2e-6\n'))
+    d0, r0 = bank.discrete_design_model(continuous, base, 64.0)
+    d1, r1 = bank.discrete_design_model(continuous, t, 64.0)
+    dq = np.zeros(names.NX)
+    dq[names.STATES.index("q_rad_s")] = 1e-6
+    dq[names.STATES.index("r_rad_s")] = 2e-6
+    assert np.allclose(d1.qd - d0.qd, np.diag(dq), atol=1e-18)
+    dr = np.zeros(names.NZ)
+    dr[names.SENSORS.index("VEL")] = 0.25
+    assert np.array_equal(r1 - r0, np.diag(dr))
+
+
+def test_method_4_enters_through_the_airframe_b_column(continuous):
+    base = load_tuning("untuned")
+    t = dataclasses.replace(base, actuator_q={"LS": 1e-4})
+    d0, _ = bank.discrete_design_model(continuous, base, 64.0)
+    d1, _ = bank.discrete_design_model(continuous, t, 64.0)
+    b = continuous.b_airframe[:, [0]]
+    expected = discretize.van_loan_qd(continuous.f, 1e-4 * b @ b.T, 1 / 64)
+    assert np.allclose(d1.qd - d0.qd, expected, rtol=1e-6, atol=1e-16)
+    assert np.linalg.eigvalsh(d1.qd - d0.qd).min() > -1e-15
+    assert not b[8:].any()  # the noise drives the airframe, not the lag state

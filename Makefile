@@ -21,7 +21,8 @@ help:
 	@echo "make bench  print the estimator benchmark"
 
 demo: build
-	$(VENV)/bin/f16mmae bench
+	$(VENV)/bin/f16mmae campaign single --runs 30 --out results/demo
+	@echo "demo report: $(CURDIR)/results/demo/report.html"
 
 test: build ctest pytest
 

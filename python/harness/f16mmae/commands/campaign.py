@@ -1,0 +1,223 @@
+"""``f16mmae campaign single``: the single-failure Monte Carlo campaign (paper Sec. V)."""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..cli import CliError
+
+DESCRIPTION = """\
+Monte Carlo campaigns of closed-loop flights of the nonlinear JSBSim F-16 with the MMAE
+estimator in the loop.
+
+  single   every single failure (LS RS LF RF RUD VEL AOA PIT AZ ROL YAW AY) and the
+           no-failure case NONE, N seeded runs each, the failure at 3.0 s of an 8-s
+           flight, scored for isolation, missed/false alarms and detection latency
+           (the paper's Figs. 3-6).
+"""
+
+SINGLE_DESCRIPTION = """\
+The single-failure campaign (paper Sec. V): every single failure (LS RS LF RF RUD VEL
+AOA PIT AZ ROL YAW AY) and the no-failure case NONE, N seeded runs each, the failure at
+3.0 s of an 8-s flight at the bank's design point, the MMAE in the loop.  Scored per case
+for correct isolation, missed and wrong isolation, false alarms and detection latency;
+figures like the paper's Figs. 3-6 (tuned bank beside the untuned baseline).
+"""
+
+SINGLE_EXAMPLES = """\
+examples:
+  f16mmae campaign single                          # 13 cases x 10 runs, tuned + untuned banks
+  f16mmae campaign single --runs 3 --cases LS,PIT,NONE --baseline none
+  f16mmae campaign single --tuning untuned --baseline none --turbulence moderate
+  f16mmae campaign single --workers 1              # in this process (profiling)
+  f16mmae campaign single --scheduler tcp://10.0.0.5:8786   # on a Dask cluster
+
+Output (DIR, default results/campaign-single):
+  runs.jsonl      one record per run (seed, scenario, bank hash, version, declarations,
+                  outcome, latency), appended as runs finish
+  summary.json    per case: runs, correct, missed, wrong, false_alarms, latency_s median/p95
+  probability_strips.png, latency.png, report.html
+Resume: run the same command again -- runs already in DIR/runs.jsonl are skipped.
+
+Per-run seeds are derived from (--seed, case, run index), so the same arguments give the
+same results on any executor.  Scoring definitions: see report.html or the README.
+"""
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "campaign",
+        help="Monte Carlo campaigns (single-failure)",
+        description=DESCRIPTION,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    kinds = p.add_subparsers(dest="kind", metavar="KIND")
+    s = kinds.add_parser(
+        "single",
+        help="every single failure and NONE, N runs each (paper Figs. 3-6)",
+        description=SINGLE_DESCRIPTION,
+        epilog=SINGLE_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    s.add_argument("--runs", default="10", metavar="N", help="seeded runs per case (default 10, as the paper)")
+    s.add_argument("--seed", default="1", metavar="S", help="campaign seed >= 1 (default 1)")
+    s.add_argument("--cases", default=None, metavar="LIST",
+                   help="comma-separated cases (default: NONE and all twelve failures)")
+    s.add_argument("--tuning", default="tuned", metavar="tuned|untuned|FILE",
+                   help="the bank under test: a shipped tuning or a bank file (default tuned)")
+    s.add_argument("--baseline", default="untuned", metavar="untuned|tuned|FILE|none",
+                   help="a second bank flown on the same seeds for the side-by-side "
+                        "figure (default untuned; 'none' to skip)")
+    s.add_argument("--turbulence", default="light", metavar="LEVEL",
+                   help="none | light | moderate | severe (default light)")
+    s.add_argument("--mode", default="complete", metavar="MODE",
+                   help="failure mode injected (default complete, the paper's model)")
+    s.add_argument("--feedback", default="mmae", metavar="mmae|raw",
+                   help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
+    s.add_argument("--no-dither", action="store_true", help="fly without dither (the paper always dithers)")
+    s.add_argument("--dither-scale", default="1.0", metavar="X",
+                   help="multiply the truth model's default dither amplitudes by X (default 1)")
+    add_estimator_arguments(s)
+    s.add_argument("--workers", default=None, metavar="W", help="local worker processes (default: all cores)")
+    s.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler tcp://HOST:PORT (needs the 'dask' extra)")
+    s.add_argument("--out", default="results/campaign-single", metavar="DIR", help="output directory")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    s.set_defaults(func=_single)
+    p.set_defaults(func=lambda args: (p.print_help(), 2)[1])
+
+
+def add_estimator_arguments(p) -> None:
+    """--threshold / --dwell-s / --p-min: the declarer and floor of core.HierarchicalBank."""
+    p.add_argument("--threshold", default=None, metavar="P",
+                   help="declare a hypothesis when its probability exceeds P (0.5 < P < 1; core default 0.9)")
+    p.add_argument("--dwell-s", default=None, metavar="S",
+                   help="... for S seconds in a row (core default 0.25)")
+    p.add_argument("--p-min", default=None, metavar="P", help="probability floor (core default 0.001, the paper's)")
+
+
+def estimator_options_from_args(args) -> dict:
+    out = {}
+    for opt, key in (("--threshold", "threshold"), ("--dwell-s", "dwell_s"), ("--p-min", "p_min")):
+        value = getattr(args, key)
+        if value is None:
+            continue
+        try:
+            out[key] = float(value)
+        except ValueError:
+            raise CliError(f"{opt} {value!r} is not a number") from None
+    return out
+
+
+def _float(option: str, value: str) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise CliError(f"{option} {value!r} is not a number") from None
+
+
+def _int(option: str, value: str, minimum: int) -> int:
+    try:
+        n = int(value)
+    except (TypeError, ValueError):
+        raise CliError(f"{option} {value!r} is not an integer (need an integer >= {minimum})") from None
+    if n < minimum:
+        raise CliError(f"{option} {value!r} is too small (need an integer >= {minimum})")
+    return n
+
+
+def parse_cases(text: str | None) -> tuple[str, ...]:
+    from ..campaign.single import CASES
+
+    if text is None:
+        return CASES
+    items = [c.strip().upper() for c in text.split(",") if c.strip()]
+    bad = [c for c in items if c not in CASES]
+    if bad or not items:
+        raise CliError(f"--cases: unknown case(s) {', '.join(bad) or repr(text)}; valid: {','.join(CASES)}")
+    if len(set(items)) != len(items):
+        raise CliError(f"--cases {text!r} lists a case twice")
+    return tuple(items)
+
+
+def config_from_args(args):
+    """A validated ``SingleCampaign`` from the parsed arguments (CliError otherwise)."""
+    from ..campaign.single import (FEEDBACK_MODES, TURBULENCE_LEVELS, CampaignError,
+                                   SingleCampaign)
+
+    turbulence = args.turbulence.lower()
+    if turbulence not in TURBULENCE_LEVELS:
+        raise CliError(f"--turbulence {args.turbulence!r} is unknown; valid: {', '.join(TURBULENCE_LEVELS)}")
+    feedback = args.feedback.lower()
+    if feedback not in FEEDBACK_MODES:
+        raise CliError(f"--feedback {args.feedback!r} is unknown; valid: {', '.join(FEEDBACK_MODES)}")
+    baseline = None if args.baseline.lower() == "none" else args.baseline
+    cfg = SingleCampaign(
+        runs=_int("--runs", args.runs, 1), seed=_int("--seed", args.seed, 1),
+        cases=parse_cases(args.cases), tuning=args.tuning, baseline=baseline,
+        turbulence=turbulence, mode=args.mode.lower(), feedback=feedback,
+        dither=not args.no_dither, dither_scale=_float("--dither-scale", args.dither_scale),
+        **estimator_options_from_args(args),
+    )
+    try:
+        return cfg.validate()
+    except CampaignError as exc:
+        raise CliError(str(exc)) from None
+
+
+def _single(args) -> int:
+    from ..campaign.executor import ExecutorError, default_workers, make_executor
+    from ..campaign.report import render_report
+    from ..campaign.single import CampaignError, bank_path, run_campaign
+    from ..campaign.store import StoreError
+
+    cfg = config_from_args(args)
+    for opt, val in (("--tuning", cfg.tuning), ("--baseline", cfg.baseline)):
+        if val is None:
+            continue
+        try:
+            bank_path(val)
+        except CampaignError:
+            raise CliError(f"{opt} {val!r} is neither tuned, untuned nor a readable bank file") from None
+    if args.workers is not None and args.scheduler is not None:
+        raise CliError("give --workers or --scheduler, not both")
+    workers = _int("--workers", args.workers, 1) if args.workers is not None else None
+    label = (f"Dask at {args.scheduler}" if args.scheduler
+             else f"{workers or default_workers()} local process(es)")
+    try:
+        with make_executor(workers=workers, scheduler=args.scheduler) as ex:
+            outcome = run_campaign(cfg, args.out, ex, executor_label=label,
+                                   show_progress=not args.quiet)
+    except (ExecutorError, CampaignError, StoreError) as exc:
+        raise CliError(str(exc)) from None
+    report = render_report(args.out)
+    print_summary(outcome.summary, sys.stdout)
+    print(f"\nrecords: {outcome.summary_path.parent / 'runs.jsonl'}  "
+          f"({outcome.executed} run, {outcome.resumed} resumed)")
+    print(f"summary: {outcome.summary_path}")
+    print(f"report:  {report}")
+    return 0
+
+
+def print_summary(summary: dict, stream) -> None:
+    t = summary.get("timing", {})
+    print(f"single-failure campaign: {summary['runs_per_case']} runs/case, seed {summary['seed']}, "
+          f"{summary['turbulence']} turbulence, Mach {summary['mach']}, {summary['alt_ft']:.0f} ft, "
+          f"feedback {summary['feedback']}; wall {t.get('wall_s', 0):.1f} s", file=stream)
+    blocks = [(summary["tuning"], summary["cases"])]
+    if summary.get("baseline"):
+        blocks.append((summary["baseline"]["tuning"], summary["baseline"]["cases"]))
+    for tuning, cases in blocks:
+        print(f"\n{tuning} bank:", file=stream)
+        print(f"  {'case':<5} {'runs':>4} {'correct':>7} {'missed':>6} {'wrong':>5} {'FA':>3} "
+              f"{'lat med':>8} {'lat p95':>8}", file=stream)
+        for c in cases:
+            lat = c["latency_s"]
+            med = "-" if lat["median"] is None else f"{lat['median']:.2f}"
+            p95 = "-" if lat["p95"] is None else f"{lat['p95']:.2f}"
+            print(f"  {c['case']:<5} {c['runs']:>4} {c['correct']:>7} {c['missed']:>6} {c['wrong']:>5} "
+                  f"{c['false_alarms']:>3} {med:>8} {p95:>8}", file=stream)
+    met = summary.get("goals", {}).get("met")
+    if met is not None:
+        print(f"\ngoals (>= 99% correct, 0 false alarms, latency median <= 1 s, p95 <= 2 s): "
+              f"{'all met' if met else 'NOT all met'} for the {summary['tuning']} bank", file=stream)

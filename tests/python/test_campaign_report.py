@@ -1,0 +1,62 @@
+"""Figures and the HTML report from campaign records (scored by the real scoring code)."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from f16mmae.campaign import figures
+from f16mmae.campaign.report import ReportError, render_report
+from f16mmae.campaign.scoring import score_run, summarize_case
+
+
+def _records(tuning: str, cases, runs=3, dt=0.25, n=33):
+    recs = []
+    for case in cases:
+        for k in range(runs):
+            t = np.arange(n) * dt
+            p = np.where(t >= 3.0 + 0.25 * k, 0.99, 0.001) if case != "NONE" else np.full(n, 0.98)
+            decl = [] if case == "NONE" else [{"hypothesis": case, "time_s": 3.0 + 0.25 * k}]
+            recs.append({"case": case, "tuning": tuning, "failure_time_s": None if case == "NONE" else 3.0,
+                         "p_injected": p.tolist(), "p_injected_dt_s": dt,
+                         **score_run(case, 3.0 if case != "NONE" else None, decl)})
+    return recs
+
+
+def test_mean_injected_probability_averages_runs():
+    recs = _records("tuned", ["LS"], runs=3)
+    t, p = figures.mean_injected_probability(recs)
+    assert t[1] == pytest.approx(0.25) and len(t) == 33
+    i = int(3.25 / 0.25)  # at 3.25 s two of the three runs have switched
+    assert p[i] == pytest.approx((0.99 * 2 + 0.001) / 3)
+
+
+def test_figures_and_report_page(tmp_path):
+    cases = ["NONE", "LS", "PIT"]
+    by_tuning = {"tuned": _records("tuned", cases), "untuned": _records("untuned", cases)}
+    figures.probability_strips(by_tuning, tmp_path / "probability_strips.png", cases=cases)
+    figures.latency_chart(by_tuning, tmp_path / "latency.png", cases=["LS", "PIT"])
+    summary = {
+        "kind": "single", "runs_per_case": 3, "seed": 1, "bank_hash": "abc", "version": "0.1.0",
+        "tuning": "tuned", "turbulence": "light", "mach": 0.4, "alt_ft": 20000.0,
+        "failure_time_s": 3.0, "duration_s": 8.0, "feedback": "mmae", "mode": "complete",
+        "cases": [summarize_case(c, [r for r in by_tuning["tuned"] if r["case"] == c]) for c in cases],
+        "baseline": {"tuning": "untuned", "bank_hash": "def",
+                     "cases": [summarize_case(c, [r for r in by_tuning["untuned"] if r["case"] == c])
+                               for c in cases]},
+        "timing": {"wall_s": 1.0, "runs_executed": 18, "runs_resumed": 0, "executor": "2 local"},
+        "figures": {"strips": "probability_strips.png", "latency": "latency.png"},
+    }
+    (tmp_path / "summary.json").write_text(json.dumps(summary))
+    page = render_report(tmp_path).read_text()
+    assert page.count("data:image/png;base64,") == 2
+    assert "untuned bank (baseline" in page and "<td>PIT</td>" in page
+    assert "latency median" in page and "correct isolation" in page
+
+
+def test_report_of_an_empty_directory_says_what_is_needed(tmp_path):
+    with pytest.raises(ReportError, match="summary.json"):
+        render_report(tmp_path)
+    with pytest.raises(ReportError, match="not a directory"):
+        render_report(tmp_path / "nope")

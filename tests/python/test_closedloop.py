@@ -1,0 +1,111 @@
+"""Closed-loop flights with the REAL truth model and the REAL estimator (C++ core).
+
+* a failure-free flight declares nothing;
+* an injected pitch-rate sensor failure is declared as PIT (fixed seed);
+* the estimator receives no failure truth: structurally (its constructor takes the model
+  bank only, the loop hands it nothing but z and u) and behaviourally (replaying the
+  recorded (u, z) through a fresh estimator reproduces every probability and declaration).
+"""
+from __future__ import annotations
+
+import ast
+import inspect
+import json
+
+import numpy as np
+import pytest
+
+from f16mmae import closedloop
+from f16mmae.campaign.single import load_bank
+from f16mmae.closedloop import Estimator, fly
+from f16mmae.names import failed_components
+from f16mmae.truth import Scenario
+from f16mmae.truth.failures import make_failure
+
+pytestmark = pytest.mark.slow
+
+
+def _scenario(failures=(), seed=1, duration_s=6.0, turbulence="light"):
+    return Scenario(mach=0.4, alt_ft=20000.0, turbulence=turbulence, duration_s=duration_s, seed=seed,
+                    feedback="mmae", failures=tuple(make_failure(n, t) for n, t in failures))
+
+
+@pytest.fixture(scope="module")
+def bank():
+    return load_bank("tuned")[2]
+
+
+def test_failure_free_flight_declares_nothing(bank):
+    # calm air: with light turbulence the current tuned bank false-alarms in about half of
+    # the 6-s flights (measured; see the README), which the campaign reports, not this test
+    r = fly(_scenario(turbulence="none"), bank)
+    assert r.declarations == [] and r.final_hypothesis == "NONE"
+    assert r.failures == []
+    on = ~np.isnan(r.probabilities)
+    np.testing.assert_allclose(np.nansum(r.probabilities, axis=1), 1.0, atol=1e-9)
+    assert on[:, r.hypotheses.index("NONE")].all()
+
+
+def test_pitch_rate_sensor_failure_is_declared_as_pit(bank):
+    r = fly(_scenario([("PIT", 2.0)]), bank)
+    assert r.declarations, "nothing declared"
+    assert r.declarations[0]["hypothesis"] == "PIT"
+    assert r.declarations[0]["time_s"] >= 2.0
+    # at level 1 a dual with PIT may follow (a weakly excited flaperon; see the README)
+    assert "PIT" in failed_components(r.final_hypothesis)
+    assert r.failures == [{"name": "PIT", "time_s": 2.0, "mode": "complete"}]
+
+
+def test_estimator_constructor_and_inputs_carry_no_failure_truth():
+    params = list(inspect.signature(Estimator.__init__).parameters)
+    assert params == ["self", "model_bank", "options"]
+    assert list(inspect.signature(Estimator.update).parameters) == ["self", "z"]
+    assert list(inspect.signature(Estimator.propagate).parameters) == ["self", "u"]
+    # In fly(), the estimator is built from the bank alone and called with z and u only.
+    tree = ast.parse(inspect.getsource(closedloop.fly))
+    calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call)]
+    ctor = [c for c in calls if ast.unparse(c.func) == "Estimator.fresh"]
+    assert len(ctor) == 1 and [ast.unparse(a) for a in ctor[0].args] == ["model_bank"]
+    assert [k.arg for k in ctor[0].keywords] == [None]  # **estimator_options only
+    assert list(inspect.signature(Estimator.fresh).parameters) == ["model_bank", "options"]
+    est_calls = [c for c in calls if isinstance(c.func, ast.Attribute)
+                 and isinstance(c.func.value, ast.Name) and c.func.value.id == "estimator"]
+    assert {(c.func.attr, tuple(ast.unparse(a) for a in c.args)) for c in est_calls} == {
+        ("update", ("z",)), ("propagate", ("u",))}
+    assert all(not c.keywords for c in est_calls)
+
+
+def test_replaying_u_and_z_alone_reproduces_the_estimator(bank):
+    fly(_scenario([("AZ", 1.0)], seed=2, duration_s=4.0), bank)  # leaves a used estimator to reuse
+    frames = []
+    r = fly(_scenario([("LS", 2.0)], seed=5, duration_s=5.0), bank,
+            on_frame=lambda t, u, z: frames.append((t, u, z)))
+    est = Estimator(bank)
+    probs, decl = [], []
+    for t, u, z in frames:
+        est.update(z)
+        est.propagate(u)
+        if est.last_declaration is not None:
+            decl.append({"hypothesis": est.last_declaration, "time_s": round(t, 9)})
+        probs.append(dict(zip(est.hypotheses, est.probabilities)))
+    assert decl == r.declarations
+    for i, p in enumerate(probs):
+        for name, value in p.items():
+            assert r.probabilities[i, r.hypotheses.index(name)] == value
+
+
+def test_run_command_writes_run_json_csv_and_png(tmp_path, capsys):
+    from f16mmae.cli import main
+
+    assert main(["run", "--fail", "PIT@2.0", "--duration", "6", "--seed", "1", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "declared PIT" in out
+    run = json.loads((tmp_path / "run.json").read_text())
+    for key in ("seed", "scenario", "bank_hash", "version", "failures", "declarations", "final_hypothesis"):
+        assert key in run
+    assert run["failures"] == [{"name": "PIT", "time_s": 2.0, "mode": "complete"}]
+    assert run["declarations"][0]["hypothesis"] == "PIT" and run["declarations"][0]["time_s"] >= 2.0
+    header = (tmp_path / "probabilities.csv").read_text().splitlines()[0].split(",")
+    assert header[:14] == ["time_s", "NONE", "LS", "RS", "LF", "RF", "RUD", "VEL", "AOA",
+                           "PIT", "AZ", "ROL", "YAW", "AY"]
+    assert (tmp_path / "probabilities.png").stat().st_size > 1000

@@ -1,0 +1,153 @@
+// Bank file header, checks and atomic I/O; see bank_file.h for the layout.
+#include "bankfile/bank_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "bankfile/sha256.h"
+
+namespace f16mmae {
+namespace {
+
+constexpr std::size_t kVersionOffset = 8, kSizeOffset = 12, kHashOffset = 20;
+
+void put_be(std::uint8_t* out, std::uint64_t value, int bytes) {
+  for (int i = 0; i < bytes; ++i) out[i] = static_cast<std::uint8_t>(value >> (8 * (bytes - 1 - i)));
+}
+
+std::uint64_t get_be(const std::uint8_t* in, int bytes) {
+  std::uint64_t value = 0;
+  for (int i = 0; i < bytes; ++i) value = (value << 8) | in[i];
+  return value;
+}
+
+std::string printable(const std::uint8_t* p, std::size_t n) {
+  std::string out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p[i] >= 0x20 && p[i] < 0x7f) {
+      out += static_cast<char>(p[i]);
+    } else {
+      static const char* kHex = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[p[i] >> 4];
+      out += kHex[p[i] & 0xf];
+    }
+  }
+  return out;
+}
+
+std::string errno_text() { return std::strerror(errno); }
+
+// Writes all of `bytes` to fd, retrying short writes.
+bool write_all(int fd, const std::uint8_t* bytes, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, bytes, size);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    bytes += n;
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> bank_file_bytes(const ModelBank& bank) {
+  bank.validate();
+  const std::vector<std::uint8_t> payload = encode_bank_payload(bank);
+  const Sha256Digest digest = sha256(payload.data(), payload.size());
+  std::vector<std::uint8_t> image(kBankFileHeaderSize + payload.size());
+  std::memcpy(image.data(), kBankFileMagic, sizeof kBankFileMagic);
+  put_be(image.data() + kVersionOffset, ModelBank::kFormatVersion, 4);
+  put_be(image.data() + kSizeOffset, payload.size(), 8);
+  std::memcpy(image.data() + kHashOffset, digest.data(), digest.size());
+  std::memcpy(image.data() + kBankFileHeaderSize, payload.data(), payload.size());
+  return image;
+}
+
+ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
+  const std::string who = "bank file " + source + ": ";
+  auto fail = [&](const std::string& what) { throw BankFileFormatError(who + what); };
+  if (size == 0) fail("truncated: the file is empty");
+  if (std::memcmp(data, kBankFileMagic, std::min(size, sizeof kBankFileMagic)) != 0)
+    fail("wrong magic bytes '" + printable(data, std::min(size, sizeof kBankFileMagic)) + "' (expected '" +
+         std::string(kBankFileMagic, sizeof kBankFileMagic) + "'): not a model-bank file");
+  if (size < kBankFileHeaderSize)
+    fail("truncated: " + std::to_string(size) + " bytes, the header alone has " +
+         std::to_string(kBankFileHeaderSize));
+  const std::uint64_t version = get_be(data + kVersionOffset, 4);
+  if (version != ModelBank::kFormatVersion)
+    fail("unsupported format version " + std::to_string(version) + " (this build reads version " +
+         std::to_string(ModelBank::kFormatVersion) + ")");
+  const std::uint64_t declared = get_be(data + kSizeOffset, 8);
+  const std::size_t present = size - kBankFileHeaderSize;
+  if (present < declared)
+    fail("truncated: the payload has " + std::to_string(present) + " bytes, the header declares " +
+         std::to_string(declared));
+  if (present > declared)
+    fail(std::to_string(present - declared) + " unexpected bytes after the " + std::to_string(declared) +
+         "-byte payload");
+  const std::uint8_t* payload = data + kBankFileHeaderSize;
+  Sha256Digest stored;
+  std::memcpy(stored.data(), data + kHashOffset, stored.size());
+  const Sha256Digest actual = sha256(payload, present);
+  if (actual != stored)
+    fail("content hash mismatch, the file is corrupted: the header records " + to_hex(stored) +
+         ", the payload hashes to " + to_hex(actual));
+  ModelBank bank;
+  try {
+    bank = decode_bank_payload(payload, present);
+    bank.validate();
+  } catch (const BankFileFormatError& e) {
+    fail(e.what());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(who + e.what());
+  }
+  return bank;
+}
+
+std::string save_bank(const ModelBank& bank, const std::string& path) {
+  const std::vector<std::uint8_t> image = bank_file_bytes(bank);  // validates first
+  const std::string who = "bank file '" + path + "': ";
+  std::string temp = path + ".tmp-XXXXXX";
+  const int fd = ::mkstemp(temp.data());
+  if (fd < 0) throw BankFileIoError(who + "cannot create a temporary file beside it (" + errno_text() + ")");
+  const bool written = write_all(fd, image.data(), image.size()) && ::fchmod(fd, 0644) == 0 && ::fsync(fd) == 0;
+  const std::string write_error = errno_text();
+  const bool closed = ::close(fd) == 0;
+  if (!written || !closed) {
+    ::unlink(temp.c_str());
+    throw BankFileIoError(who + "write failed (" + (written ? errno_text() : write_error) + ")");
+  }
+  if (::rename(temp.c_str(), path.c_str()) != 0) {
+    const std::string e = errno_text();
+    ::unlink(temp.c_str());
+    throw BankFileIoError(who + "cannot replace it (" + e + ")");
+  }
+  return to_hex(sha256(image.data() + kBankFileHeaderSize, image.size() - kBankFileHeaderSize));
+}
+
+ModelBank load_bank(const std::string& path) {
+  const std::string who = "bank file '" + path + "': ";
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (status.type() == std::filesystem::file_type::not_found) throw BankFileNotFound(who + "no such file");
+  if (std::filesystem::is_directory(status)) throw BankFileIoError(who + "is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw BankFileIoError(who + "cannot open it (" + errno_text() + ")");
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw BankFileIoError(who + "read failed (" + errno_text() + ")");
+  return parse_bank_file(bytes.data(), bytes.size(), "'" + path + "'");
+}
+
+}  // namespace f16mmae

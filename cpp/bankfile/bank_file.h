@@ -1,0 +1,72 @@
+// The model-bank file: one format, versioned, hashed, validated on load. Read by the
+// Python binding (f16mmae.core.load_bank) and by mmae-daemon; written by the design.
+//
+// Layout (all integers big-endian, like LCM's own encoding):
+//   offset  size  field
+//        0     8  magic "F16MMAEB"
+//        8     4  uint32 format version (ModelBank::kFormatVersion)
+//       12     8  uint64 payload size in bytes
+//       20    32  SHA-256 of the payload
+//       52     *  payload: the LCM encoding of f16mmae.lcmt_model_bank (lcm_types/),
+//                 beginning with its 8-byte type fingerprint
+// content_hash = lower-case hex SHA-256 of the payload. LCM encoding is deterministic, so
+// the same bank always gives the same bytes and the same hash: the hash names the bank in
+// every campaign record.
+//
+// load_bank refuses, with a message naming the file and the problem: a missing file
+// (BankFileNotFound), an unreadable one (BankFileIoError), and (BankFileFormatError, an
+// std::invalid_argument) wrong magic, unsupported version, truncation or trailing bytes,
+// a hash mismatch (corruption), a payload that is not an lcmt_model_bank (fingerprint) or
+// does not decode (sizes); then everything ModelBank::validate() rejects
+// (std::invalid_argument: shapes, finiteness, SPD A_k, stable Phi_k (I - K_k H_k)).
+// save_bank validates first, so a bad bank is never written, and replaces the file
+// atomically (temporary file in the same folder, fsync, rename).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "f16mmae/model_bank.h"
+
+namespace f16mmae {
+
+inline constexpr char kBankFileMagic[8] = {'F', '1', '6', 'M', 'M', 'A', 'E', 'B'};
+inline constexpr std::size_t kBankFileHeaderSize = 52;
+
+// The file does not exist.
+class BankFileNotFound : public std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// The file exists but cannot be read or written (permissions, a folder, a full disk).
+class BankFileIoError : public std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// The bytes are not a valid bank file of this format version.
+class BankFileFormatError : public std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// The LCM payload of a bank (no header, no validation). Deterministic. Throws
+// std::invalid_argument if a name holds a NUL character or a size exceeds int32.
+std::vector<std::uint8_t> encode_bank_payload(const ModelBank& bank);
+// Decodes a payload into a bank with content_hash set; does not validate.
+// Throws BankFileFormatError (wrong fingerprint, sizes that do not decode, trailing bytes).
+ModelBank decode_bank_payload(const std::uint8_t* data, std::size_t size);
+// Hex SHA-256 of encode_bank_payload(bank).
+std::string bank_content_hash(const ModelBank& bank);
+
+// The complete file image (header + payload) of a validated bank. Throws what
+// ModelBank::validate() throws.
+std::vector<std::uint8_t> bank_file_bytes(const ModelBank& bank);
+// Parses and validates a file image; `source` names it in error messages.
+ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std::string& source);
+
+// Validates, then writes the file atomically. Returns the content hash.
+std::string save_bank(const ModelBank& bank, const std::string& path);
+// Reads, checks and validates a bank file; the result has content_hash set.
+ModelBank load_bank(const std::string& path);
+
+}  // namespace f16mmae

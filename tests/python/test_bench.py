@@ -1,0 +1,124 @@
+"""f16mmae.bench and ``f16mmae bench``: the numpy reference MMAE against a hand-computed
+Bayes update and against the C++ bank (probabilities to 1e-9 on every frame), the
+synthetic bank, and the command's table and JSON. Speed itself is not asserted here."""
+from __future__ import annotations
+
+import json
+import math
+import re
+
+import numpy as np
+import pytest
+
+from f16mmae import bench, core, names
+from f16mmae.cli import main
+
+needs_filter_bank = pytest.mark.skipif(not hasattr(core, "FilterBank"), reason="core.FilterBank not built")
+
+
+@pytest.fixture(scope="module")
+def models():
+    return bench.synthetic_models(seed=1)
+
+
+@pytest.fixture(scope="module")
+def frames(models):
+    return bench.synthetic_frames(models, 400, seed=2, failed="AOA")
+
+
+def test_synthetic_models_are_proper_filters_with_their_failure_removed(models):
+    assert [n for n, _ in models] == list(names.SINGLE_HYPOTHESES)
+    by_name = dict(models)
+    np.testing.assert_array_equal(by_name["RUD"]["bd"][:, 4], 0.0)
+    np.testing.assert_array_equal(by_name["AOA"]["h"][1], 0.0)
+    for _, m in models:  # K = P H^T A^-1 with P the DARE's fixed point
+        p_next = m["phi"] @ (m["p"] - m["k"] @ m["h"] @ m["p"]) @ m["phi"].T + m["q"]
+        np.testing.assert_allclose(p_next, m["p"], atol=1e-10)
+    bank = bench.synthetic_bank()
+    assert bank.hypothesis_names == names.SINGLE_HYPOTHESES and bank.tuning == "synthetic"
+
+
+def test_floor_keeps_ratios_above_it():
+    p = np.array([0.9, 0.0995, 1e-4, 4e-4])
+    out, log_out = bench._floor(p, np.log(p), 0.001)
+    np.testing.assert_allclose(out[2:], 0.001)
+    assert math.isclose(out.sum(), 1.0, abs_tol=1e-15)
+    assert math.isclose(out[0] / out[1], 0.9 / 0.0995, rel_tol=1e-14)
+    np.testing.assert_allclose(np.exp(log_out), out, rtol=1e-14)
+
+
+def test_numpy_reference_matches_a_hand_computed_frame():
+    """Three scalar hypotheses, x- = 0 so r = z: p_k ∝ exp(-z^2 / (2 a_k)) p_k, floored."""
+    one = np.ones((1, 1))
+    a = [0.25, 1.0, 4.0]  # z fits the high-variance hypotheses better: none reaches the floor
+    models = [(f"H{i}", dict(phi=0.5 * one, bd=one, h=one, k=0.5 * one, a=a_i * one)) for i, a_i in enumerate(a)]
+    ref = bench.NumpyMMAE(models, p_min=0.001)
+    z = 1.0
+    prior = np.array([0.998, 0.001, 0.001])
+    post = prior * np.exp([-z * z / (2 * a_i) for a_i in a])
+    post /= post.sum()
+    p = ref.step(np.array([z]), np.array([0.2]))
+    assert post.min() > 0.001
+    np.testing.assert_allclose(p, post, rtol=1e-14)
+    np.testing.assert_allclose(ref.residuals[:, 0], z)
+    np.testing.assert_allclose(ref.x_prior[:, 0], 0.5 * (0.5 * z) + 0.2)  # Phi (K r) + Bd u
+
+
+@needs_filter_bank
+def test_numpy_reference_and_cpp_bank_agree_to_1e9_on_every_frame(models, frames):
+    z, u = frames
+    cpp, reference = bench.core_filter_bank(models), bench.NumpyMMAE(models)
+    worst = 0.0
+    for zi, ui in zip(z, u):
+        p_cpp = np.array(cpp.step(zi, ui))
+        p_ref = reference.step(zi, ui)
+        worst = max(worst, float(np.max(np.abs(p_cpp - p_ref))))
+    assert worst < 1e-9
+    np.testing.assert_allclose(np.asarray(cpp.blended_state), reference.blended_state, atol=1e-9)
+    assert bench.max_probability_difference(models, z, u) == pytest.approx(worst, abs=1e-12)
+
+
+def test_the_reference_finds_the_failure_in_the_synthetic_frames(models, frames):
+    z, u = frames
+    reference = bench.NumpyMMAE(models)
+    for i, (zi, ui) in enumerate(zip(z, u)):
+        p = reference.step(zi, ui)
+        if i == len(z) // 2 - 1:
+            assert names.SINGLE_HYPOTHESES[int(np.argmax(p))] == names.NONE
+    assert names.SINGLE_HYPOTHESES[int(np.argmax(p))] == "AOA"
+
+
+def test_cpp_loop_timing_refuses_a_bank_of_the_wrong_size(frames):
+    z, u = frames
+    small = bench.synthetic_bank(names.SINGLE_HYPOTHESES[:5])
+    with pytest.raises(ValueError, match="F-16-size bank .* got 5 hypotheses"):
+        core._bench_filter_bank_loop(small, z, u)
+    with pytest.raises(ValueError, match=r"z must be \(N, 7\)"):
+        core._bench_filter_bank_loop(bench.synthetic_bank(), u, u)
+    assert 0.0 < core._bench_filter_bank_loop(bench.synthetic_bank(), z, u, min_time_s=0.0) < 1e-3
+
+
+def test_bench_command_prints_the_table_and_writes_json(tmp_path, capsys):
+    out = tmp_path / "bench.json"
+    assert main(["bench", "--frames", "40", "--min-time", "0", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    for label in ("(a) C++ loop", "(b) Python call", "(c) numpy reference", "(d) filterpy"):
+        assert label in text
+    record = json.loads(out.read_text())
+    assert record["frames"] == 40 and len(record["bank_hash"]) == 64
+    assert record["us_per_frame"]["cpp_loop"] > 0 and record["us_per_frame"]["numpy"] > 0
+    assert {"cpu", "cores", "python", "numpy"} <= set(record["machine"])
+    assert record["f16mmae_version"]
+    if record["us_per_frame"]["filterpy"] is not None:
+        assert record["ratios"]["filterpy / cpp_loop"] == pytest.approx(
+            record["us_per_frame"]["filterpy"] / record["us_per_frame"]["cpp_loop"])
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--frames", "0"], "--frames '0' must be >= 1"),
+    (["--frames", "many"], "--frames 'many' is not an integer"),
+    (["--min-time", "-1"], r"--min-time '-1' must be in \[0, 3600\) s"),
+])
+def test_bench_command_refuses_bad_arguments(capsys, argv, message):
+    assert main(["bench", *argv]) == 2
+    assert re.search(message, capsys.readouterr().err)

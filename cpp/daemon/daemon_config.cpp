@@ -1,0 +1,129 @@
+#include "daemon_config.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace f16mmae::daemon {
+
+std::string daemon_usage() {
+  return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
+         "                   [--p-min P] [--threshold T] [--dwell-s S]\n"
+         "                   [--max-frames N] [--realtime PRIORITY] [--quiet]\n"
+         "\n"
+         "The MMAE executive of f16mmae: steps the hierarchical bank of FILE once per sensor\n"
+         "frame received over LCM and publishes the hypothesis probabilities and z_hat.\n"
+         "\n"
+         "  --bank FILE          model-bank file (f16mmae design --out FILE), validated on load\n"
+         "  --lcm-url URL        LCM provider (default $LCM_DEFAULT_URL, else\n"
+         "                       udpm://239.255.76.67:7667?ttl=0)\n"
+         "  --channel-prefix P   prepended to F16_SENSORS, F16_COMMANDS, MMAE_STATUS, MMAE_RESET\n"
+         "  --rate-hz HZ         frame rate; must equal the bank's design rate (default 64)\n"
+         "  --p-min P            probability floor     } default: the bank's recommendation\n"
+         "  --threshold T        declaration threshold } (its metadata \"estimator\"), else the\n"
+         "  --dwell-s S          declaration dwell, s  } core's defaults -- as 'f16mmae run'\n"
+         "  --max-frames N       exit after publishing N status frames (default: until signalled)\n"
+         "  --realtime PRIORITY  run SCHED_FIFO at PRIORITY (1-99) with memory locked (needs\n"
+         "                       CAP_SYS_NICE / root; a warning, not an error, without it)\n"
+         "  --quiet              do not print the ready line\n"
+         "\n"
+         "SIGINT or SIGTERM ends it with a one-line summary: frames, rejected, dropped, stale,\n"
+         "step time p50/p99/max. Exit status 0 on a clean end, 1 if the bank or the LCM URL\n"
+         "cannot be used, 2 on a usage error.\n";
+}
+
+namespace {
+
+ParseResult usage_error(const std::string& what) {
+  ParseResult r;
+  r.exit_code = 2;
+  r.message = "mmae-daemon: error: " + what + "\n(run 'mmae-daemon --help' for the options)";
+  return r;
+}
+
+}  // namespace
+
+ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* default_url) {
+  DaemonConfig c;
+  bool have_bank = false, have_url = false;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-h" || a == "--help") {
+      ParseResult r;
+      r.message = daemon_usage();
+      return r;
+    }
+    if (a == "--quiet") {
+      c.quiet = true;
+      continue;
+    }
+    std::string key = a, value;
+    bool inline_value = false;
+    if (a.rfind("--", 0) == 0) {
+      const auto eq = a.find('=');
+      if (eq != std::string::npos) {
+        key = a.substr(0, eq);
+        value = a.substr(eq + 1);
+        inline_value = true;
+      }
+    }
+    const bool known = key == "--bank" || key == "--lcm-url" || key == "--channel-prefix" ||
+                       key == "--rate-hz" || key == "--max-frames" || key == "--realtime" ||
+                       key == "--p-min" || key == "--threshold" || key == "--dwell-s";
+    if (!known)
+      return usage_error("unknown argument '" + a +
+                         "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
+                         "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --quiet, --help");
+    if (!inline_value) {
+      if (i + 1 >= args.size()) return usage_error(key + " needs a value");
+      value = args[++i];
+    }
+    if (key == "--bank") {
+      if (value.empty()) return usage_error("--bank needs a file name, got ''");
+      c.bank_path = value;
+      have_bank = true;
+    } else if (key == "--lcm-url") {
+      if (value.empty()) return usage_error("--lcm-url needs a URL such as memq:// or udpm://239.255.76.67:7667?ttl=0");
+      c.lcm_url = value;
+      have_url = true;
+    } else if (key == "--channel-prefix") {
+      c.channel_prefix = value;
+    } else if (key == "--rate-hz") {
+      errno = 0;
+      char* end = nullptr;
+      const double hz = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(hz) || hz <= 0.0)
+        return usage_error("--rate-hz must be a positive number of frames per second, got '" + value + "'");
+      c.rate_hz = hz;
+    } else if (key == "--p-min" || key == "--threshold" || key == "--dwell-s") {
+      errno = 0;
+      char* end = nullptr;
+      const double x = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(x) || x < 0.0)
+        return usage_error(key + " must be a finite number >= 0, got '" + value + "'");
+      (key == "--p-min" ? c.p_min : key == "--threshold" ? c.threshold : c.dwell_s) = x;
+    } else if (key == "--max-frames") {
+      errno = 0;
+      char* end = nullptr;
+      const long long n = std::strtoll(value.c_str(), &end, 10);
+      if (value.empty() || *end != '\0' || errno != 0 || n < 0)
+        return usage_error("--max-frames must be a whole number >= 0, got '" + value + "'");
+      c.max_frames = n;
+    } else if (key == "--realtime") {
+      errno = 0;
+      char* end = nullptr;
+      const long p = std::strtol(value.c_str(), &end, 10);
+      if (value.empty() || *end != '\0' || errno != 0 || p < 1 || p > 99)
+        return usage_error("--realtime must be a SCHED_FIFO priority from 1 to 99, got '" + value + "'");
+      c.realtime_priority = static_cast<int>(p);
+    }
+  }
+  if (!have_bank) return usage_error("--bank FILE is required (a model-bank file from 'f16mmae design')");
+  if (!have_url) c.lcm_url = (default_url && *default_url) ? default_url : kDefaultLcmUrl;
+  ParseResult r;
+  r.ok = true;
+  r.config = c;
+  return r;
+}
+
+}  // namespace f16mmae::daemon

@@ -1,0 +1,55 @@
+// DaemonConfig — the settings of mmae-daemon and the parsing of its command line.
+//
+//   mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
+//               [--p-min P] [--threshold T] [--dwell-s S]
+//               [--max-frames N] [--realtime PRIORITY] [--quiet]
+//
+// The LCM URL defaults as LCM's own tools do: $LCM_DEFAULT_URL, else
+// udpm://239.255.76.67:7667?ttl=0. Channels are UPPER_SNAKE names with the prefix prepended:
+// P + F16_SENSORS, F16_COMMANDS, MMAE_STATUS, MMAE_RESET (the executive never subscribes to
+// F16_RUN_MARKER, which carries the failure truth of a run).
+// parse_daemon_args never throws and never exits: it returns the config, or the text to
+// print (help, or an error naming the bad value and the valid choices) and the exit code.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace f16mmae::daemon {
+
+inline constexpr const char* kDefaultLcmUrl = "udpm://239.255.76.67:7667?ttl=0";
+
+struct Channels {
+  std::string sensors, commands, status, reset;
+  static Channels with_prefix(const std::string& prefix) {
+    return {prefix + "F16_SENSORS", prefix + "F16_COMMANDS", prefix + "MMAE_STATUS", prefix + "MMAE_RESET"};
+  }
+};
+
+struct DaemonConfig {
+  std::string bank_path;
+  std::string lcm_url;              // resolved: never empty after parsing
+  std::string channel_prefix;
+  double rate_hz = 64.0;            // must equal the bank's frame_rate_hz
+  // Estimator settings over the bank's recommended ones (bank_settings.h); unset: the bank's.
+  std::optional<double> p_min, threshold, dwell_s;
+  long long max_frames = 0;         // exit after this many status frames; 0 = run until signalled
+  int realtime_priority = 0;        // > 0: SCHED_FIFO at this priority and memory locked
+  bool quiet = false;               // no "ready" line on stdout
+  Channels channels() const { return Channels::with_prefix(channel_prefix); }
+};
+
+struct ParseResult {
+  bool ok = false;        // run with `config`
+  int exit_code = 0;      // when !ok: 0 after --help/--version, 2 on a usage error
+  std::string message;    // when !ok: the help text or "mmae-daemon: error: ..."
+  DaemonConfig config;
+};
+
+// `default_url` is what $LCM_DEFAULT_URL holds (nullptr if unset).
+ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* default_url);
+
+std::string daemon_usage();
+
+}  // namespace f16mmae::daemon

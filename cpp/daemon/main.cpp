@@ -1,0 +1,134 @@
+// mmae-daemon — the MMAE executive as an LCM process (see daemon_config.h for the options).
+// Loads and validates the model bank, subscribes, then handles LCM traffic until SIGINT or
+// SIGTERM (or --max-frames statuses), and ends with a one-line statistics summary.
+// Exit status: 0 clean end, 1 bank or LCM unusable, 2 usage error.
+#include "bank_settings.h"
+#include "daemon_config.h"
+#include "executive.h"
+#include "lcm_node.h"
+
+#include "bankfile/bank_file.h"
+
+#include <lcm/lcm.h>
+
+#include <sched.h>
+#include <sys/mman.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+
+extern "C" void request_stop(int) { g_stop = 1; }
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = request_stop;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+// SCHED_FIFO at `priority` for this thread and the threads created after it (LCM's receive
+// thread), and every page locked in memory. Failure is reported, not fatal.
+void go_realtime(int priority) {
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+    std::fprintf(stderr, "mmae-daemon: warning: mlockall failed (%s); running unlocked\n", std::strerror(errno));
+  sched_param sp{};
+  sp.sched_priority = priority;
+  if (sched_setscheduler(0, SCHED_FIFO, &sp) != 0)
+    std::fprintf(stderr, "mmae-daemon: warning: SCHED_FIFO priority %d refused (%s); running time-shared\n",
+                 priority, std::strerror(errno));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace f16mmae::daemon;
+  const ParseResult parsed = parse_daemon_args(std::vector<std::string>(argv + 1, argv + argc),
+                                               std::getenv("LCM_DEFAULT_URL"));
+  if (!parsed.ok) {
+    std::fprintf(parsed.exit_code == 0 ? stdout : stderr, "%s\n", parsed.message.c_str());
+    return parsed.exit_code;
+  }
+  const DaemonConfig& cfg = parsed.config;
+  install_signal_handlers();  // from here on a signal ends the run cleanly
+
+  std::unique_ptr<Executive> executive;
+  std::string bank_hash, tuning;
+  f16mmae::ModelBank bank;
+  try {
+    bank = f16mmae::load_bank(cfg.bank_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mmae-daemon: error: cannot use bank file '%s': %s\n", cfg.bank_path.c_str(), e.what());
+    return 1;
+  }
+  f16mmae::HierarchicalOptions options;
+  try {
+    if (std::abs(bank.frame_rate_hz - cfg.rate_hz) > 1e-9 * cfg.rate_hz) {
+      std::fprintf(stderr,
+                   "mmae-daemon: error: --rate-hz %g does not match the bank's design rate %g Hz "
+                   "(%s); the filters are discretized at that rate\n",
+                   cfg.rate_hz, bank.frame_rate_hz, cfg.bank_path.c_str());
+      return 1;
+    }
+    EstimatorSettings settings = bank_estimator_settings(bank.metadata);
+    if (cfg.p_min) settings.p_min = cfg.p_min;
+    if (cfg.threshold) settings.threshold = cfg.threshold;
+    if (cfg.dwell_s) settings.dwell_s = cfg.dwell_s;
+    options = settings.apply(options);
+    executive = std::make_unique<Executive>(bank, options);
+    bank_hash = bank.content_hash;
+    tuning = bank.tuning;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mmae-daemon: error: cannot run bank '%s': %s\n", cfg.bank_path.c_str(), e.what());
+    return 1;
+  }
+
+  if (cfg.realtime_priority > 0) go_realtime(cfg.realtime_priority);  // before LCM's threads exist
+  lcm_t* lcm = lcm_create(cfg.lcm_url.c_str());
+  if (!lcm) {
+    std::fprintf(stderr,
+                 "mmae-daemon: error: cannot open LCM URL '%s' (for udpm, multicast must be enabled "
+                 "on the interface: see LCM's multicast setup notes)\n",
+                 cfg.lcm_url.c_str());
+    return 1;
+  }
+  const Channels channels = cfg.channels();
+  int rc = 0;
+  {
+    LcmNode node(lcm, channels, *executive);
+    if (!cfg.quiet) {
+      std::printf("mmae-daemon: ready: bank %.12s (%s, %s, p_min %g, threshold %g, dwell %g s), lcm %s, "
+                  "%s -> %s\n",
+                  bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), options.bank.p_min,
+                  options.declarer.threshold, options.declarer.dwell_s, cfg.lcm_url.c_str(),
+                  channels.sensors.c_str(), channels.status.c_str());
+      std::fflush(stdout);
+    }
+    while (!g_stop) {
+      if (cfg.max_frames > 0 && node.published() >= cfg.max_frames) break;
+      const int r = lcm_handle_timeout(lcm, 100);
+      if (r < 0) {
+        if (g_stop) break;  // interrupted by the signal
+        std::fprintf(stderr, "mmae-daemon: error: LCM receive failed on '%s'\n", cfg.lcm_url.c_str());
+        rc = 1;
+        break;
+      }
+    }
+    std::printf("mmae-daemon: %s%s; %lld statuses published\n", g_stop ? "stopped by signal: " : "",
+                executive->summary().c_str(), static_cast<long long>(node.published()));
+    std::fflush(stdout);
+  }
+  lcm_destroy(lcm);
+  return rc;
+}

@@ -1,0 +1,72 @@
+// parse_daemon_args: defaults, LCM URL resolution, and errors that name the bad value.
+#include "daemon_config.h"
+
+#include <gtest/gtest.h>
+
+using f16mmae::daemon::parse_daemon_args;
+
+TEST(DaemonConfig, DefaultsFollowLcmConventions) {
+  auto r = parse_daemon_args({"--bank", "b.f16bank"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.bank_path, "b.f16bank");
+  EXPECT_EQ(r.config.lcm_url, "udpm://239.255.76.67:7667?ttl=0");
+  EXPECT_EQ(r.config.rate_hz, 64.0);
+  EXPECT_EQ(r.config.channels().sensors, "F16_SENSORS");
+  EXPECT_EQ(r.config.channels().status, "MMAE_STATUS");
+  r = parse_daemon_args({"--bank", "b"}, "memq://");
+  EXPECT_EQ(r.config.lcm_url, "memq://");  // $LCM_DEFAULT_URL
+  r = parse_daemon_args({"--bank", "b", "--lcm-url", "udpm://239.255.76.68:7668?ttl=0"}, "memq://");
+  EXPECT_EQ(r.config.lcm_url, "udpm://239.255.76.68:7668?ttl=0");  // the option wins
+}
+
+TEST(DaemonConfig, OptionsWithSpaceOrEquals) {
+  auto r = parse_daemon_args({"--bank=x", "--channel-prefix", "SIM1_", "--rate-hz=64", "--max-frames", "10", "--quiet"},
+                             nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.channels().commands, "SIM1_F16_COMMANDS");
+  EXPECT_EQ(r.config.channels().reset, "SIM1_MMAE_RESET");
+  EXPECT_EQ(r.config.max_frames, 10);
+  EXPECT_TRUE(r.config.quiet);
+}
+
+TEST(DaemonConfig, ErrorsNameTheBadValue) {
+  auto r = parse_daemon_args({}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--bank FILE is required"), std::string::npos);
+  r = parse_daemon_args({"--bank", "b", "--rate-hz", "fast"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("'fast'"), std::string::npos);
+  r = parse_daemon_args({"--bank", "b", "--rate-hz", "0"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  r = parse_daemon_args({"--bank", "b", "--max-frames", "-1"}, nullptr);
+  EXPECT_NE(r.message.find("'-1'"), std::string::npos);
+  r = parse_daemon_args({"--bank", "b", "--verbose"}, nullptr);
+  EXPECT_NE(r.message.find("'--verbose'"), std::string::npos);
+  EXPECT_NE(r.message.find("valid options"), std::string::npos);
+  r = parse_daemon_args({"--bank", "b", "--realtime", "100"}, nullptr);
+  EXPECT_NE(r.message.find("from 1 to 99, got '100'"), std::string::npos);
+  r = parse_daemon_args({"--bank", "b", "--realtime", "80"}, nullptr);
+  EXPECT_TRUE(r.ok);
+  EXPECT_EQ(r.config.realtime_priority, 80);
+  r = parse_daemon_args({"--bank"}, nullptr);
+  EXPECT_NE(r.message.find("--bank needs a value"), std::string::npos);
+}
+
+TEST(DaemonConfig, HelpExitsZero) {
+  auto r = parse_daemon_args({"--bank", "b", "--help"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.message.find("usage: mmae-daemon"), std::string::npos);
+}
+
+TEST(DaemonConfig, EstimatorOverrides) {
+  auto r = parse_daemon_args({"--bank", "b", "--p-min", "1e-9", "--threshold=0.95", "--dwell-s", "0.5"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.p_min, 1e-9);
+  EXPECT_EQ(*r.config.threshold, 0.95);
+  EXPECT_EQ(*r.config.dwell_s, 0.5);
+  EXPECT_FALSE(parse_daemon_args({"--bank", "b"}, nullptr).config.p_min.has_value());
+  r = parse_daemon_args({"--bank", "b", "--p-min", "-1"}, nullptr);
+  EXPECT_NE(r.message.find("--p-min must be a finite number >= 0, got '-1'"), std::string::npos);
+}

@@ -1,0 +1,127 @@
+"""The HIL harness's LCM path, in one process over memq://.
+
+* the message types round-trip through LCM with every field;
+* a lockstep flight through RemoteEstimator against the in-process executive served on
+  memq:// gives exactly the probabilities of the in-process closed loop (the same loop,
+  the same bank, only the transport differs);
+* no executive: lockstep times out with a message that says what to check, paced mode
+  counts deadline misses and flies on raw z; a wrong bank is refused.
+"""
+from __future__ import annotations
+
+import lcm
+import numpy as np
+import pytest
+
+from f16mmae.campaign.single import load_bank
+from f16mmae.closedloop import fly
+from f16mmae.hil import HilError, RemoteEstimator, channels, fly_hil, level0_hypotheses
+from f16mmae.lcmt_command_frame import lcmt_command_frame
+from f16mmae.lcmt_mmae_status import lcmt_mmae_status
+from f16mmae.lcmt_run_marker import lcmt_run_marker
+from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
+from f16mmae.names import SINGLE_HYPOTHESES
+from f16mmae.replay import InProcessExecutive
+from f16mmae.truth import Scenario
+from f16mmae.truth.failures import make_failure
+
+
+@pytest.fixture(scope="module")
+def bank():
+    return load_bank("tuned")[2]
+
+
+def _scenario(failures=(), duration_s=1.0, seed=2):
+    return Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=duration_s, seed=seed,
+                    feedback="mmae", failures=tuple(make_failure(n, t) for n, t in failures))
+
+
+def test_channel_names_take_the_prefix():
+    c = channels("SIM1_")
+    assert (c.sensors, c.commands, c.status, c.reset, c.run_marker) == (
+        "SIM1_F16_SENSORS", "SIM1_F16_COMMANDS", "SIM1_MMAE_STATUS", "SIM1_MMAE_RESET", "SIM1_F16_RUN_MARKER")
+    assert channels().sensors == "F16_SENSORS"
+
+
+def test_messages_round_trip_over_memq():
+    lc = lcm.LCM("memq://")
+    got = {}
+    for ch in ("S", "C", "M", "R"):
+        lc.subscribe(ch, lambda channel, data: got.__setitem__(channel, data))
+    s = lcmt_sensor_frame()
+    s.utime, s.frame, s.z, s.valid = 15625, 1, [414.8, 0.14, 0.0, 1.0, 0.01, -0.02, 0.003], [True] * 6 + [False]
+    c = lcmt_command_frame()
+    c.utime, c.frame, c.u_rad = 15625, 1, [-0.036, -0.036, 0.0, 0.0, 0.001]
+    m = lcmt_mmae_status()
+    m.utime, m.frame, m.bank_hash, m.bank_level, m.level_failure = 15625, 1, "ab" * 32, 1, "PIT"
+    m.declared, m.declaration, m.num_hypotheses = "PIT", "PIT", 3
+    m.hypothesis_names, m.probabilities = ["NONE", "PIT", "LS+PIT"], [0.001, 0.998, 0.001]
+    m.z_hat, m.stale, m.frames_without_update, m.frames_dropped = [1.0] * 7, True, 2, 5
+    r = lcmt_run_marker()
+    r.utime, r.event, r.payload_json = 3_000_000, "failure", '{"name": "PIT"}'
+    for ch, msg in (("S", s), ("C", c), ("M", m), ("R", r)):
+        lc.publish(ch, msg.encode())
+        lc.handle_timeout(100)
+    assert list(lcmt_sensor_frame.decode(got["S"]).z) == s.z
+    assert list(lcmt_sensor_frame.decode(got["S"]).valid) == s.valid
+    assert list(lcmt_command_frame.decode(got["C"]).u_rad) == c.u_rad
+    back = lcmt_mmae_status.decode(got["M"])
+    assert list(back.hypothesis_names) == m.hypothesis_names and list(back.probabilities) == m.probabilities
+    assert (back.declared, back.declaration, back.stale, back.frames_without_update) == ("PIT", "PIT", True, 2)
+    assert lcmt_run_marker.decode(got["R"]).payload_json == r.payload_json
+
+
+def test_lockstep_over_memq_reproduces_the_in_process_run(bank):
+    # LS declared at level 0, then a dual at level 1: both levels cross the link
+    scenario = _scenario([("LS", 0.5)], duration_s=4.0)
+    lc = lcm.LCM("memq://")
+    chans = channels("MQ_")
+    executive = InProcessExecutive(bank)
+    executive.serve(lc, chans)
+    remote_run = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0)
+    local_run = fly(scenario, bank)
+    assert remote_run.hypotheses == local_run.hypotheses
+    np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
+    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
+    assert remote_run.declarations == local_run.declarations
+    assert [d["hypothesis"] for d in remote_run.declarations][:1] == ["LS"]
+    assert any("+" in h for h in remote_run.hypotheses)  # the level-1 bank came on line
+    link = remote_run.timing["link"]
+    assert link["frames"] == link["statuses"] == 256 and link["deadline_misses"] == 0
+
+
+def test_lockstep_without_an_executive_says_what_to_check(bank):
+    lc = lcm.LCM("memq://")
+    remote = RemoteEstimator(lc, channels("NOBODY_"), lockstep=True, timeout_s=0.05)
+    with pytest.raises(HilError, match=r"no MMAE_STATUS for frame 0 .*NOBODY_MMAE_STATUS.*channel-prefix"):
+        remote.update(np.zeros(7))
+
+
+def test_paced_mode_counts_deadline_misses_and_flies_on_raw_z(bank):
+    lc = lcm.LCM("memq://")
+    remote = RemoteEstimator(lc, channels("NOBODY_"), lockstep=False, rate_hz=200.0,
+                             initial_hypotheses=level0_hypotheses(bank))
+    z = np.array(bank.z_trim) + 0.01
+    for _ in range(4):
+        np.testing.assert_array_equal(remote.update(z), z)
+        remote.propagate(np.array(bank.u_trim))
+    assert remote.link.deadline_misses == 4 and remote.link.frames == 4
+    assert remote.hypotheses == SINGLE_HYPOTHESES  # before any status: the bank's level 0
+
+
+def test_paced_mode_against_an_executive_misses_nothing(bank):
+    lc = lcm.LCM("memq://")
+    chans = channels("PACED_")
+    InProcessExecutive(bank).serve(lc, chans)
+    result = fly_hil(_scenario(duration_s=0.25), bank, lc, chans, lockstep=False)
+    assert result.timing["link"]["deadline_misses"] == 0
+    assert result.timing["link"]["statuses"] == 16
+
+
+def test_an_executive_running_another_bank_is_refused(bank):
+    lc = lcm.LCM("memq://")
+    chans = channels("OTHER_")
+    InProcessExecutive(bank).serve(lc, chans)
+    remote = RemoteEstimator(lc, chans, lockstep=True, timeout_s=1.0, expected_bank_hash="0" * 64)
+    with pytest.raises(HilError, match="start mmae-daemon with the same --bank"):
+        remote.update(np.array(bank.z_trim))

@@ -1,0 +1,208 @@
+"""mmae-daemon in its own process, over UDP multicast (udpm) on this host.
+
+Runs where multicast loopback delivers; otherwise every test here is skipped with the
+reason and the fix (FACTS.md: 'ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo').
+Each session uses a private port and channel prefix, so parallel runs do not cross.
+
+* lockstep flight against the daemon = the in-process run (to 1e-12), including a level-1
+  switch; the stock lcm-logger's record of it replays exactly (f16mmae replay), and
+  lcm-logplayer against a fresh daemon reproduces every logged status;
+* wire faults sent to the daemon give the stale flags and counters the frame rules
+  prescribe, and the Python replay of that traffic agrees with the C++ daemon frame by frame;
+* SIGTERM ends the daemon cleanly with its one-line summary.
+"""
+from __future__ import annotations
+
+import math
+import os
+import signal
+import subprocess
+import time
+
+import lcm
+import numpy as np
+import pytest
+
+from f16mmae.campaign.single import load_bank
+from f16mmae.cli import main
+from f16mmae.closedloop import fly
+from f16mmae.hil import DaemonProcess, HilError, channels, find_executable, fly_hil
+from f16mmae.lcmt_command_frame import lcmt_command_frame
+from f16mmae.lcmt_mmae_status import lcmt_mmae_status
+from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
+from f16mmae.replay import replay_log
+from f16mmae.truth import Scenario
+from f16mmae.truth.failures import make_failure
+
+PORT = 7700 + os.getpid() % 250
+URL = f"udpm://239.255.76.67:{PORT}?ttl=0"
+URL2 = f"udpm://239.255.76.67:{PORT + 250}?ttl=0"
+
+
+def _udpm_reason() -> str | None:
+    """Why udpm cannot be used here, or None when a message makes the loopback round trip."""
+    fix = "enable it with 'ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo'"
+    try:
+        lc = lcm.LCM(URL)
+    except RuntimeError as exc:
+        return f"LCM cannot open {URL} ({exc}): multicast is not enabled on this host; {fix}"
+    got = []
+    lc.subscribe("F16MMAE_UDPM_PROBE", lambda ch, data: got.append(data))
+    for _ in range(3):
+        lc.publish("F16MMAE_UDPM_PROBE", b"probe")
+        lc.handle_timeout(200)
+        if got:
+            return None
+    return f"udpm multicast does not loop back on this host ({URL}); {fix}"
+
+
+_reason = _udpm_reason()
+try:
+    find_executable("mmae-daemon")
+except HilError as exc:
+    _reason = _reason or str(exc)
+pytestmark = pytest.mark.skipif(_reason is not None, reason=_reason or "")
+
+
+@pytest.fixture(scope="module")
+def banked():
+    return load_bank("tuned")
+
+
+def _tool(name):
+    """The stock LCM tool itself (the wheel's binary, not its Python wrapper, so that a
+    signal reaches it)."""
+    return os.path.join(lcm.LCM_BIN_DIR, name)
+
+
+def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path):
+    label, path, bank = banked
+    prefix = f"T{os.getpid()}A_"
+    chans = channels(prefix)
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=4.0, seed=2,
+                        feedback="mmae", failures=(make_failure("LS", 0.5),))
+    log = tmp_path / "hil.lcmlog"
+    logger = subprocess.Popen([_tool("lcm-logger"), "-q", "-f", "-l", URL, "-c", f"{prefix}.*", str(log)])
+    try:
+        with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+            time.sleep(0.5)  # the logger subscribes
+            lc = lcm.LCM(URL)
+            remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0)
+        time.sleep(0.3)
+    finally:
+        logger.send_signal(signal.SIGINT)
+        logger.wait(timeout=10)
+    assert daemon.returncode == 0
+    assert "256 updated, 0 rejected, 0 dropped" in daemon.summary
+    local = fly(scenario, bank)
+    assert remote.hypotheses == local.hypotheses
+    assert any("+" in h for h in remote.hypotheses)
+    assert np.nanmax(np.abs(remote.probabilities - local.probabilities)) <= 1e-12
+    assert remote.declarations == local.declarations
+
+    report = replay_log(log, bank, channel_prefix=prefix)
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == 256
+    assert main(["replay", str(log), "--channel-prefix", prefix]) == 0
+
+    # lcm-logplayer feeds the logged frames to a fresh daemon: every status reproduced
+    logged = {}
+    for e in lcm.EventLog(str(log), "r"):
+        if e.channel == chans.status:
+            s = lcmt_mmae_status.decode(e.data)
+            logged[s.frame] = s
+    lc2 = lcm.LCM(URL2)
+    replayed = {}
+    lc2.subscribe(chans.status, lambda ch, data: replayed.__setitem__(
+        lcmt_mmae_status.decode(data).frame, lcmt_mmae_status.decode(data)))
+    with DaemonProcess(path, lcm_url=URL2, channel_prefix=prefix):
+        # at a quarter of the recorded pace: the lockstep flight ran ~1 ms per frame, and
+        # UDP on a loaded 2-core host may drop a burst that fast
+        player = subprocess.Popen([_tool("lcm-logplayer"), "-s", "0.25", "-l", URL2, "-e",
+                                   f"^{prefix}(F16_SENSORS|F16_COMMANDS|MMAE_RESET)$", str(log)])
+        while player.poll() is None:
+            lc2.handle_timeout(50)
+        end = time.time() + 2.0
+        while len(replayed) < len(logged) and time.time() < end:
+            lc2.handle_timeout(50)
+    assert sorted(replayed) == sorted(logged)
+    worst = max(max(abs(a - b) for a, b in zip(replayed[i].probabilities, logged[i].probabilities))
+                for i in logged)
+    assert worst <= 1e-12
+    assert all(replayed[i].declared == logged[i].declared for i in logged)
+
+
+def _sensor(i, z, valid=True):
+    f = lcmt_sensor_frame()
+    f.utime, f.frame, f.z, f.valid = i * 15625, i, [float(v) for v in z], [valid] * 7
+    return f.encode()
+
+
+def _command(i, u):
+    c = lcmt_command_frame()
+    c.utime, c.frame, c.u_rad = i * 15625, i, [float(v) for v in u]
+    return c.encode()
+
+
+def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
+    label, path, bank = banked
+    prefix = f"T{os.getpid()}B_"
+    chans = channels(prefix)
+    log = tmp_path / "wire.lcmlog"
+    rng = np.random.default_rng(9)
+    z_trim, u_trim = np.array(bank.z_trim), np.array(bank.u_trim)
+    wire = [("s", 0), ("c", 0), ("s", 1), ("c", 1), ("s", 2), ("s", 2), ("c", 2), ("s", 3), ("c", 3),
+            ("s", 6), ("c", 6), ("s", 7), ("s", 1), ("c", 7), ("s", 8, "invalid"), ("c", 8),
+            ("s", 9), ("c", 9), ("s", 10, "nan"), ("s", 11), ("c", 11)]
+    lc = lcm.LCM(URL)
+    statuses = []
+    lc.subscribe(chans.status, lambda ch, data: statuses.append(lcmt_mmae_status.decode(data)))
+    writer = lcm.EventLog(str(log), "w", overwrite=True)
+    lc.subscribe(f"{prefix}.*", lambda ch, data: writer.write_event(len(statuses), ch, data))
+    with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+        for kind, i, *fault in wire:
+            if kind == "s":
+                z = z_trim + 0.05 * rng.standard_normal(7)
+                if fault == ["nan"]:
+                    z[2] = math.nan
+                lc.publish(chans.sensors, _sensor(i, z, valid=fault != ["invalid"]))
+            else:
+                lc.publish(chans.commands, _command(i, u_trim + 0.002 * rng.standard_normal(5)))
+            end = time.time() + 0.2  # settle: the daemon answers sensor frames within this
+            while time.time() < end and lc.handle_timeout(20) >= 0:
+                if kind == "s" and statuses and statuses[-1].frame == i:
+                    break
+        while lc.handle_timeout(100) > 0:
+            pass
+    writer.close()
+    assert [s.frame for s in statuses] == [0, 1, 2, 3, 6, 7, 9, 11]
+    assert {s.frame: s.frames_without_update for s in statuses if s.stale} == {6: 2, 9: 1, 11: 1}
+    last = statuses[-1]
+    assert (last.frames_dropped, last.frames_rejected, last.frames_stale, last.commands_missed) == (2, 2, 4, 3)
+    assert "8 updated, 2 rejected, 2 dropped (1 duplicate, 1 out-of-order), 4 stale" in daemon.summary
+    report = replay_log(log, bank, channel_prefix=prefix)
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == 8
+
+
+def test_sigterm_ends_the_daemon_cleanly_with_a_summary(banked):
+    exe = str(find_executable("mmae-daemon"))
+    p = subprocess.Popen([exe, "--bank", str(banked[1]), "--lcm-url", URL, "--channel-prefix", "IDLE_"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert "ready" in p.stdout.readline()
+    p.send_signal(signal.SIGTERM)
+    out, err = p.communicate(timeout=5)
+    assert p.returncode == 0, err
+    lines = out.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("mmae-daemon: stopped by signal: frames 0 updated")
+    assert "step p50" in lines[0] and "p99" in lines[0] and "max" in lines[0]
+
+
+def test_hil_command_starts_its_own_daemon(capsys):
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "1", "--fail", "AOA@0.2",
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}C_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    assert "mmae-daemon: ready" in out and "64 updated" in out
+    assert "p_min 1e-09" in out  # the bank's recommended settings, as in process
+    assert "in-process run: max |probability difference| = 0" in out

@@ -1,0 +1,209 @@
+"""Replay of recorded executive traffic (f16mmae replay) and the Python mirror of the
+daemon's frame rules.
+
+* FrameSequencer: the same cases as tests/cpp/test_daemon_sequencer.cpp;
+* a log of a flight recorded over memq:// replays with every status matching exactly;
+* a log with wire faults (duplicate, late, lost, non-finite, invalid frames) replays, and
+  the stale flags and counters are those the rules prescribe;
+* a tampered status is found and named by frame; the command exits 1;
+* unreadable or foreign logs are refused with a clear message.
+"""
+from __future__ import annotations
+
+import math
+
+import lcm
+import numpy as np
+import pytest
+
+from f16mmae.campaign.single import load_bank
+from f16mmae.cli import main
+from f16mmae.hil import channels, fly_hil
+from f16mmae.lcmt_command_frame import lcmt_command_frame
+from f16mmae.lcmt_mmae_status import lcmt_mmae_status
+from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
+from f16mmae.replay import FrameSequencer, InProcessExecutive, ReplayError, replay_log
+from f16mmae.truth import Scenario
+from f16mmae.truth.failures import make_failure
+
+
+@pytest.fixture(scope="module")
+def bank():
+    return load_bank("tuned")[2]
+
+
+# -- the frame rules ---------------------------------------------------------------------------
+def test_sequencer_in_order_frames_need_no_catch_up():
+    s = FrameSequencer()
+    for i in range(100, 110):
+        assert s.on_sensor(i) == (True, 0)
+        assert s.take_stale_since_status() == 0
+        assert s.on_command(i) == (True, 0)
+    assert s.counters["frames_updated"] == 10 and s.counters["frames_stale"] == 0
+
+
+def test_sequencer_duplicates_late_lost_and_rejected_frames():
+    s = FrameSequencer()
+    assert s.on_command(5) == (False, 0)          # before the first sensor frame
+    assert s.on_sensor(0) == (True, 0)
+    assert s.on_sensor(0) == (False, 0)           # duplicate
+    assert s.on_command(0) == (True, 0)
+    assert s.on_command(0) == (False, 0)          # duplicate
+    assert s.on_sensor(3) == (True, 2)            # frames 1, 2 lost: caught up, stale
+    assert s.take_stale_since_status() == 2
+    assert s.on_sensor(2) == (False, 0)           # late
+    assert s.on_command(3) == (True, 0)
+    assert s.on_command(4) == (True, 0)           # sensor 4 lost, its command arrived
+    s.on_rejected()                               # sensor 5 non-finite
+    assert s.on_sensor(6) == (True, 1)            # frame 5 caught up with the held command
+    assert s.take_stale_since_status() == 2       # frames 4 and 5
+    assert s.on_sensor(7) == (True, 1)            # command 6 lost: not stale (6 was updated)
+    assert s.take_stale_since_status() == 0
+    c = s.counters
+    assert (c["dropped_duplicate"], c["dropped_out_of_order"], c["frames_rejected"]) == (2, 2, 1)
+    assert (c["frames_stale"], c["commands_missed"], c["frames_updated"]) == (4, 4, 4)
+
+
+def test_sequencer_reset_starts_a_new_flight():
+    s = FrameSequencer()
+    for i in range(5):
+        s.on_sensor(i)
+        s.on_command(i)
+    s.reset()
+    assert s.on_sensor(0) == (True, 0)
+
+
+# -- logs ------------------------------------------------------------------------------------------
+class Recorder:
+    """Every message on an LCM instance, written to an event log as lcm-logger would."""
+
+    def __init__(self, lc, path):
+        self.log = lcm.EventLog(str(path), "w", overwrite=True)
+        self.n = 0
+        lc.subscribe(".*", self._on)
+
+    def _on(self, channel, data):
+        self.log.write_event(self.n, channel, data)
+        self.n += 1
+
+    def close(self):
+        self.log.close()
+
+
+def _record_flight(bank, path, prefix="REC_"):
+    lc = lcm.LCM("memq://")
+    chans = channels(prefix)
+    rec = Recorder(lc, path)
+    InProcessExecutive(bank).serve(lc, chans)
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=3.0, seed=4,
+                        feedback="mmae", failures=(make_failure("AOA", 0.5),))
+    result = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0)
+    lc.handle_timeout(10)  # the last command reaches the recorder
+    rec.close()
+    return result
+
+
+def test_a_recorded_flight_replays_exactly(bank, tmp_path):
+    log = tmp_path / "flight.lcmlog"
+    result = _record_flight(bank, log)
+    assert result.declarations[0]["hypothesis"] == "AOA"
+    report = replay_log(log, bank, channel_prefix="REC_")
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == report.sensor_frames == report.command_frames == 192
+    assert report.max_probability_diff == 0.0
+    assert main(["replay", str(log), "--channel-prefix", "REC_"]) == 0  # --bank auto finds "tuned"
+
+
+def _frame(i, z, valid=True):
+    f = lcmt_sensor_frame()
+    f.utime, f.frame, f.z, f.valid = i * 15625, i, [float(v) for v in z], [valid] * 7
+    return f.encode()
+
+
+def _command(i, u):
+    c = lcmt_command_frame()
+    c.utime, c.frame, c.u_rad = i * 15625, i, [float(v) for v in u]
+    return c.encode()
+
+
+def test_wire_faults_replay_with_the_prescribed_stale_flags(bank, tmp_path):
+    lc = lcm.LCM("memq://")
+    chans = channels("WIRE_")
+    log = tmp_path / "wire.lcmlog"
+    rec = Recorder(lc, log)
+    statuses = []
+    lc.subscribe(chans.status, lambda ch, data: statuses.append(lcmt_mmae_status.decode(data)))
+    InProcessExecutive(bank).serve(lc, chans)
+    rng = np.random.default_rng(5)
+    z_trim, u_trim = np.array(bank.z_trim), np.array(bank.u_trim)
+    wire = [("s", 0), ("c", 0), ("s", 1), ("c", 1),
+            ("s", 2), ("s", 2), ("c", 2),          # a duplicate sensor frame
+            ("s", 3), ("c", 3),                    # frames 4 and 5 lost
+            ("s", 6), ("c", 6),
+            ("s", 7), ("s", 1), ("c", 7),          # frame 1 again, late
+            ("s", 8, "invalid"), ("c", 8),         # a valid flag false: rejected
+            ("s", 9), ("c", 9),
+            ("s", 10, "nan"),                      # non-finite: rejected; command 10 lost too
+            ("s", 11), ("c", 11)]
+    for kind, i, *fault in wire:
+        if kind == "s":
+            z = z_trim + 0.01 * rng.standard_normal(7)
+            if fault == ["nan"]:
+                z[3] = math.nan
+            lc.publish(chans.sensors, _frame(i, z, valid=fault != ["invalid"]))
+        else:
+            lc.publish(chans.commands, _command(i, u_trim + 0.001 * rng.standard_normal(5)))
+        while lc.handle_timeout(0) > 0:
+            pass
+    rec.close()
+    by_frame = {s.frame: s for s in statuses}
+    assert sorted(by_frame) == [0, 1, 2, 3, 6, 7, 9, 11]
+    stale = {i: s.frames_without_update for i, s in by_frame.items() if s.stale}
+    assert stale == {6: 2, 9: 1, 11: 1}  # frames 4+5, 8, 10 propagated without update
+    last = statuses[-1]
+    assert (last.frames_dropped, last.frames_rejected, last.frames_stale) == (2, 2, 4)
+    assert last.commands_missed == 3  # frames 4, 5 and 10 flown on the held command
+    report = replay_log(log, bank, channel_prefix="WIRE_")
+    assert report.ok and report.statuses_compared == 8
+
+
+def test_a_tampered_status_is_found_by_frame(bank, tmp_path):
+    log = tmp_path / "flight.lcmlog"
+    _record_flight(bank, log, prefix="")
+    src = lcm.EventLog(str(log), "r")
+    bad = tmp_path / "tampered.lcmlog"
+    dst = lcm.EventLog(str(bad), "w", overwrite=True)
+    for e in src:
+        data = e.data
+        if e.channel == "MMAE_STATUS":
+            s = lcmt_mmae_status.decode(data)
+            if s.frame == 100:
+                p = list(s.probabilities)
+                p[0] += 1e-9
+                s.probabilities = p
+                data = s.encode()
+        dst.write_event(e.timestamp, e.channel, data)
+    src.close()
+    dst.close()
+    report = replay_log(bad, bank)
+    assert not report.ok and report.mismatch_count == 1
+    assert str(report.mismatches[0]).startswith("frame 100: probabilities differ by 1e-09")
+    assert main(["replay", str(bad), "--bank", "tuned"]) == 1
+
+
+def test_unreadable_or_foreign_logs_are_refused(bank, tmp_path, capsys):
+    with pytest.raises(ReplayError, match="does not exist"):
+        replay_log(tmp_path / "nope.lcmlog", bank)
+    junk = tmp_path / "junk.lcmlog"
+    junk.write_bytes(b"not an event log at all" * 10)
+    with pytest.raises(ReplayError):
+        replay_log(junk, bank)
+    other = tmp_path / "other.lcmlog"
+    log = lcm.EventLog(str(other), "w", overwrite=True)
+    log.write_event(0, "SOMETHING_ELSE", b"\x00" * 8)
+    log.close()
+    with pytest.raises(ReplayError, match="holds no 'MMAE_STATUS' messages"):
+        replay_log(other, bank)
+    assert main(["replay", str(tmp_path / "nope.lcmlog"), "--bank", "tuned"]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert main(["replay", str(other), "--bank", "tuned", "--tolerance", "-1"]) == 2

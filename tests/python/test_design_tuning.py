@@ -37,10 +37,28 @@ def test_shipped_tunings_load():
     ('turbulence = "hurricane"\n', "turbulence 'hurricane' is not a level; valid: none, light"),
     ('gust_model = "x"\n', "gust_model 'x' is not a model; valid: gust_rate, white_gust"),
     ('name = [\n', "not valid TOML"),
+    ('[estimator]\np_min = 0.5\n', r"\[estimator\] p_min = 0.5 is outside \(0, 0.01\)"),
+    ('[estimator]\nthreshold = 0.4\n', r"\[estimator\] threshold = 0.4 is outside \(0.5, 1\)"),
+    ('[estimator]\ndwell_s = -1\n', r"\[estimator\] dwell_s = -1 is outside \[0, 10\]"),
+    ('[estimator]\nfloor = 1e-9\n',
+     "unknown key 'floor' in \\[estimator\\]; valid keys: p_min, threshold, dwell_s"),
+    ('[estimator]\np_min = "low"\n', r"\[estimator\] p_min must be a number"),
 ])
 def test_bad_tuning_files_are_refused(tmp_path, text, message):
     with pytest.raises(TuningError, match=message):
         load_tuning(write(tmp_path, text))
+
+
+def test_estimator_settings_are_read_and_reach_the_bank_metadata(tmp_path):
+    t = load_tuning(write(tmp_path, '[estimator]\np_min = 1e-9\nthreshold = 0.95\ndwell_s = 0.5\n'))
+    assert t.estimator == {"p_min": 1e-9, "threshold": 0.95, "dwell_s": 0.5}
+    assert t.to_dict()["estimator"] == t.estimator
+    assert load_tuning("untuned").estimator == {}      # the paper's settings: the core defaults
+    tuned = load_tuning("tuned")
+    from f16mmae.design import convergence
+    assert tuned.estimator == convergence.ESTIMATOR    # calibrate writes what stage 2 scored with
+    d = bank.design_bank(tuning=tuned, hypotheses=(names.NONE,))
+    assert d.metadata()["estimator"] == tuned.estimator
 
 
 def test_unknown_tuning_name_lists_the_shipped_ones():

@@ -1,5 +1,5 @@
-"""Dither: subliminal by the stated criterion (measured and printed), one spectral line per
-surface, and each surface's line vanishes from the measurements when that surface fails."""
+"""Dither: subliminal by the stated criterion (measured and printed) at three flight points,
+symmetric pairs (nearly in phase) on one line each, and each surface's failure visible at its line."""
 from __future__ import annotations
 
 import math
@@ -9,21 +9,25 @@ import pytest
 
 from f16mmae.names import ACTUATORS, FRAME_RATE_HZ, SENSORS
 from f16mmae.truth import Scenario, fly_raw
-from f16mmae.truth.dither import CRITERION, DEFAULT_FREQUENCY_HZ, Dither, DitherSpec
+from f16mmae.truth.dither import (CRITERION, DEFAULT_FREQUENCY_HZ, DEFAULT_PHASE_RAD, Dither,
+                                  DitherSpec)
 from f16mmae.truth.failures import FailureSpec
 
 DURATION_S = 8.0
 
 
-def _line_amplitudes(x: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Amplitude (5 lines x channels) of each dither frequency in x (n, channels), by
-    least-squares fit of sin/cos at the 5 frequencies plus a mean and a ramp."""
+FREQS = sorted(set(DEFAULT_FREQUENCY_HZ))
+ROL = SENSORS.index("ROL")
+
+
+def _lines(x: np.ndarray, t: np.ndarray) -> dict[float, np.ndarray]:
+    """Complex line (sin + i cos coefficient, per channel) at each dither frequency in x
+    (n, channels), by least-squares fit of sin/cos at the frequencies plus a mean and a ramp."""
     cols = [np.ones_like(t), t]
-    for f in DEFAULT_FREQUENCY_HZ:
+    for f in FREQS:
         cols += [np.sin(2 * np.pi * f * t), np.cos(2 * np.pi * f * t)]
-    a = np.column_stack(cols)
-    coef, *_ = np.linalg.lstsq(a, x, rcond=None)
-    return np.hypot(coef[2::2], coef[3::2])
+    coef, *_ = np.linalg.lstsq(np.column_stack(cols), x, rcond=None)
+    return {f: coef[2 + 2 * i] + 1j * coef[3 + 2 * i] for i, f in enumerate(FREQS)}
 
 
 def _fly(failures=(), mach=0.4, alt_ft=20_000.0):
@@ -48,30 +52,55 @@ def test_default_dither_is_subliminal(mach, alt_ft):
     assert peak[3] > 0.005 and np.all(rates > 0.1)   # and it is not nothing
 
 
-def test_each_surface_failure_removes_its_own_line():
-    t, dz = _fly()
-    healthy = _line_amplitudes(dz, t)
-    print("\ndither line amplitude / noise sigma, rows LS RS LF RF RUD, columns", SENSORS)
+def test_each_surface_failure_removes_its_own_share():
+    """A surface's failure changes the measurements at its own frequency by its signature
+    (>= 1 noise sigma per sample in some sensor), keeps the other frequencies' lines, and
+    the two surfaces of a pair (same frequency, in phase) have signatures >= 1 sigma apart;
+    the unpaired rudder's line vanishes with it."""
     from f16mmae.truth.sensors import NOISE_SIGMA
-    print((healthy / NOISE_SIGMA).round(2))
+
+    t, dz = _fly()
+    healthy = _lines(dz, t)
+    signature = {}
+    print("\nfailure signature |healthy - failed| / noise sigma at the surface's frequency, columns",
+          SENSORS)
     for j, name in enumerate(ACTUATORS):
-        tf, failed = _fly((FailureSpec(name, 0.0, "complete"),))
-        lines = _line_amplitudes(failed, tf)
-        k = int(np.argmax(healthy[j] / NOISE_SIGMA))          # the sensor that sees it best
-        assert lines[j, k] < 0.15 * healthy[j, k], (name, SENSORS[k])
-        others = [i for i in range(5) if i != j]
-        kept = lines[others, k] / healthy[others, k]
-        assert np.all(kept > 0.3), (name, kept)
+        f_j = DEFAULT_FREQUENCY_HZ[j]
+        tf, failed_z = _fly((FailureSpec(name, 0.0, "complete"),))
+        failed = _lines(failed_z, tf)
+        signature[name] = (healthy[f_j] - failed[f_j]) / NOISE_SIGMA
+        print(f"  {name:4s} {f_j} Hz", np.abs(signature[name]).round(2))
+        assert np.abs(signature[name]).max() > 1.0, name
+        for f in FREQS:
+            if f != f_j:
+                k = int(np.argmax(np.abs(healthy[f]) / NOISE_SIGMA))
+                assert np.abs(failed[f][k]) > 0.3 * np.abs(healthy[f][k]), (name, f, SENSORS[k])
+        if DEFAULT_FREQUENCY_HZ.count(f_j) == 1:   # unpaired: its line vanishes
+            k = int(np.argmax(np.abs(healthy[f_j]) / NOISE_SIGMA))
+            assert np.abs(failed[f_j][k]) < 0.15 * np.abs(healthy[f_j][k]), (name, SENSORS[k])
+        else:  # paired, phases +-phi: the pair's roll moments add to 2 |sin phi| of one's
+            share = 2.0 * abs(math.sin(DEFAULT_PHASE_RAD[j]))
+            assert np.abs(healthy[f_j][ROL]) < (share + 0.2) * np.abs(failed[f_j][ROL]), name
+    for a, b in (("LS", "RS"), ("LF", "RF")):
+        assert np.abs(signature[a] - signature[b]).max() > 1.0, (a, b)
 
 
-def test_lines_are_distinct_and_every_surface_reaches_several_sensors():
-    assert len(set(DEFAULT_FREQUENCY_HZ)) == 5
-    t, dz = _fly()
+def test_pairs_share_a_frequency_with_symmetric_phases_and_every_line_reaches_sensors():
+    """LS/RS and LF/RF: same frequency, phases +-phi with |phi| < 45 deg (mostly in phase: their
+    roll largely cancels in healthy flight, so the roll-rate criterion leaves room for larger
+    amplitudes); the three frequencies are distinct; every line shows above noise and every
+    sensor but VEL sees one."""
     from f16mmae.truth.sensors import NOISE_SIGMA
-    snr = _line_amplitudes(dz, t) / NOISE_SIGMA
-    # every surface shows in at least one sensor above noise; every sensor except VEL sees a
-    # line of at least 0.15 sigma per sample, i.e. >= 0.15 sqrt(N/2) ~ 2.4 sigma over the
-    # N = 512 frames of an 8-s run
+
+    f, ph = DEFAULT_FREQUENCY_HZ, DEFAULT_PHASE_RAD
+    assert f[0] == f[1] and f[2] == f[3] and ph[0] == -ph[1] and ph[2] == -ph[3]
+    assert abs(ph[0]) < math.pi / 4 and abs(ph[2]) < math.pi / 4
+    assert len({f[0], f[2], f[4]}) == 3
+    t, dz = _fly()
+    snr = np.array([np.abs(line) for line in _lines(dz, t).values()]) / NOISE_SIGMA
+    # every line shows in at least one sensor above noise; every sensor except VEL sees a line
+    # of at least 0.15 sigma per sample, i.e. >= 0.15 sqrt(N/2) ~ 2.4 sigma over the N = 512
+    # frames of an 8-s run
     assert np.all(snr.max(axis=1) > 1.0)
     assert np.all(snr[:, 1:].max(axis=0) > 0.15)
     assert snr[:, 0].max() > 0.0
@@ -83,6 +112,10 @@ def test_dither_values_and_switch():
     assert v[0] == pytest.approx(math.radians(1.0)) and v[4] == pytest.approx(math.radians(2) * math.sin(math.pi / 4))
     assert Dither(DitherSpec(enabled=False)).value(0.3) == [0.0] * 5
     assert Dither(DitherSpec(), scale=2.0).value(0.1)[0] == pytest.approx(2 * Dither().value(0.1)[0])
+    # above the design dynamic pressure (scale < 1) the amplitudes shrink as scale^1.5
+    assert Dither(DitherSpec(), scale=0.25).value(0.1)[0] == pytest.approx(0.125 * Dither().value(0.1)[0])
+    with pytest.raises(ValueError, match="scale"):
+        Dither(DitherSpec(), scale=-1.0)
     with pytest.raises(ValueError, match=r"\[0, 16\] Hz"):
         DitherSpec(frequency_hz=(1, 1, 1, 1, 40))
     assert FRAME_RATE_HZ / 2 > max(DEFAULT_FREQUENCY_HZ) * 4

@@ -45,15 +45,19 @@ FEEDBACK_MODES = ("mmae", "raw")
 class Estimator:
     """The MMAE (the C++ ``core.HierarchicalBank`` through the binding) as the loop sees it.
 
-    ``Estimator(model_bank, **options)``: options go to ``core.HierarchicalBank``
-    (``p_min``, ``threshold``, ``dwell_s`` ...).  Per frame: ``update(z) -> z_hat``, then
+    ``Estimator(model_bank, **options)``: the settings of ``core.HierarchicalBank``
+    (``p_min``, ``threshold``, ``dwell_s``) are the bank's recommended ones
+    (:func:`bank_estimator_settings`, from its metadata) updated by ``options`` (which win);
+    ``settings`` holds the result.  Per frame: ``update(z) -> z_hat``, then
     ``propagate(u)``; both absolute (the core subtracts the bank's z_trim / u_trim and
     returns z_hat absolute).  Nothing else flows in."""
 
     def __init__(self, model_bank, **options) -> None:
         from . import core
 
-        self._bank = core.HierarchicalBank(model_bank, **options)
+        #: The estimator settings in force: the bank's recommended ones, then ``options``.
+        self.settings: dict = {**bank_estimator_settings(model_bank), **options}
+        self._bank = core.HierarchicalBank(model_bank, **self.settings)
         self.bank_hash = str(model_bank.content_hash)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None
@@ -109,6 +113,23 @@ class Estimator:
 
 _ESTIMATORS: dict[tuple, Estimator] = {}
 
+#: Keys of a bank's metadata ``"estimator"`` object that the estimator applies.
+ESTIMATOR_SETTINGS = ("p_min", "threshold", "dwell_s")
+
+
+def bank_estimator_settings(model_bank) -> dict:
+    """The estimator settings a bank's design recommends: its metadata JSON's ``"estimator"``
+    object (``p_min``, ``threshold``, ``dwell_s``; written by ``f16mmae design`` from the
+    tuning's ``[estimator]`` table).  Missing keys (or no metadata) mean the core's defaults."""
+    try:
+        meta = json.loads(model_bank.metadata or "{}")
+    except (TypeError, ValueError):
+        return {}
+    table = meta.get("estimator", {}) if isinstance(meta, dict) else {}
+    if not isinstance(table, dict):
+        return {}
+    return {k: float(table[k]) for k in ESTIMATOR_SETTINGS if k in table}
+
 
 # -- results ----------------------------------------------------------------------------------------
 @dataclass
@@ -125,6 +146,8 @@ class FlightResult:
     hypotheses: tuple[str, ...] = ()
     probabilities: np.ndarray = field(default=None, repr=False)  # (frames, len(hypotheses)), NaN off line
     timing: dict = field(default_factory=dict)
+    #: The estimator settings in force (``Estimator.settings``; {} for an estimator without).
+    estimator_settings: dict = field(default_factory=dict)
 
     def probability_of(self, hypothesis: str) -> np.ndarray:
         """Probability history of one hypothesis, 0 while off line (or never on line)."""
@@ -144,6 +167,7 @@ class FlightResult:
             "final_hypothesis": self.final_hypothesis,
             "probability_columns": "union of the hypotheses on line; empty while off line",
             "timing": self.timing,
+            "estimator_settings": self.estimator_settings,
             **extra,
         }
 
@@ -261,6 +285,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         probabilities=(probs[:, : len(hypotheses)] if record_probabilities else np.zeros((n_frames, 0))),
         timing={"wall_s": round(wall, 6), "truth_s": round(t_truth, 6), "estimator_s": round(t_est, 6),
                 "frames": n_frames},
+        estimator_settings=dict(getattr(estimator, "settings", {})),
     )
 
 

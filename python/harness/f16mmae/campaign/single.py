@@ -180,6 +180,7 @@ def run_spec(spec: dict) -> dict:
         "version": spec["version"],
         "scenario": spec["scenario"],
         "estimator": spec["estimator"],
+        "estimator_settings": result.estimator_settings,  # in force: bank's recommended + overrides
         "failure_time_s": failure_time,
         "failures": result.failures,
         "declarations": result.declarations,
@@ -310,6 +311,8 @@ def run_campaign(cfg: SingleCampaign, out_dir: str | Path, executor: Executor,
 
 
 def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict]) -> dict:
+    from ..closedloop import bank_estimator_settings
+
     def cases_of(lbl):
         return [scoring.summarize_case(c, [r for r in records if r["tuning"] == lbl and r["case"] == c])
                 for c in cfg.cases]
@@ -333,6 +336,8 @@ def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict])
         "feedback": cfg.feedback,
         "dither_scale": cfg.dither_scale,
         "estimator": cfg.estimator_options(),
+        # in force for the bank under test: its recommended settings, then the overrides
+        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
         "cases": cases,
         "goals": {**scoring.GOALS, "met": all(g["all"] for g in goals.values()), "per_case": goals},
         "baseline": None,
@@ -340,7 +345,10 @@ def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict])
     others = [lbl for lbl in banks if lbl != label]
     if others:
         b = others[0]
-        summary["baseline"] = {"tuning": b, "bank_hash": banks[b][1].content_hash, "cases": cases_of(b)}
+        summary["baseline"] = {"tuning": b, "bank_hash": banks[b][1].content_hash,
+                               "estimator_settings": {**bank_estimator_settings(banks[b][1]),
+                                                      **cfg.estimator_options()},
+                               "cases": cases_of(b)}
     return summary
 
 

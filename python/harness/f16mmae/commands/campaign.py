@@ -88,12 +88,18 @@ def register(subparsers) -> None:
 
 
 def add_estimator_arguments(p) -> None:
-    """--threshold / --dwell-s / --p-min: the declarer and floor of core.HierarchicalBank."""
+    """--threshold / --dwell-s / --p-min: the declarer and floor of core.HierarchicalBank.
+    Unset, each is the bank's recommended setting (its metadata "estimator", from the tuning's
+    [estimator] table; the shipped tuned bank: p_min 1e-9, threshold 0.9, dwell 0.25 s), else
+    the core's default (the paper's: 0.001, 0.9, 0.25 s)."""
     p.add_argument("--threshold", default=None, metavar="P",
-                   help="declare a hypothesis when its probability exceeds P (0.5 < P < 1; core default 0.9)")
+                   help="declare a hypothesis when its probability exceeds P (0.5 < P < 1; "
+                        "default: the bank's recommended, else 0.9)")
     p.add_argument("--dwell-s", default=None, metavar="S",
-                   help="... for S seconds in a row (core default 0.25)")
-    p.add_argument("--p-min", default=None, metavar="P", help="probability floor (core default 0.001, the paper's)")
+                   help="... for S seconds in a row (default: the bank's recommended, else 0.25)")
+    p.add_argument("--p-min", default=None, metavar="P",
+                   help="probability floor (default: the bank's recommended -- tuned: 1e-9 -- "
+                        "else the core's 0.001, the paper's)")
 
 
 def estimator_options_from_args(args) -> dict:

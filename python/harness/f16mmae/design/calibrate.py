@@ -152,7 +152,8 @@ def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after
 # Stage 2, probability convergence (design/convergence.py, the paper's criterion): J = mean
 # over the cases {cases} (complete failures at 3 s; seeds {cv.NONE_SEEDS[0]}-{cv.NONE_SEEDS[-1]} no-failure,
 # {cv.FAILURE_SEEDS[0]}-{cv.FAILURE_SEEDS[-1]} per failure) of the fraction of frames in which the true hypothesis
-# holds the largest probability (core.FilterBank, p_min 0.001).  The channel whose residuals
+# holds the largest probability (core.FilterBank, p_min {cv.P_MIN:g}; failures scored from {cv.SETTLE_S:g} s
+# after onset).  The channel whose residuals
 # gave wrong hypotheses their lead got R pseudonoise (method 2) from a grid (kept when J
 # rose by >= {cv.MIN_GAIN}):
 {stage2}
@@ -175,7 +176,9 @@ def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after
             + section("method3_qd_lateral", "added to diag(Q_d), per frame, (state unit)^2",
                       tun.qd_lateral)
             + section("method4_actuator_q", "white-noise strength (rad^2/s) through a B column, "
-                      "eqs. 6-7", tun.actuator_q))
+                      "eqs. 6-7", tun.actuator_q)
+            + section("estimator", "recommended estimator settings (design/convergence.py "
+                      "ESTIMATOR), stored in the bank's metadata", tun.estimator))
 
 
 def run_calibration(lin=None) -> tuple[Tuning, list[ResidualStats], list[dict]]:
@@ -191,6 +194,7 @@ def run_calibration(lin=None) -> tuple[Tuning, list[ResidualStats], list[dict]]:
     tun, conv = convergence.tune_convergence(tun, lin, convergence.case_flights(
         0.4, 20_000.0, base.turbulence))
     hist.append(none_filter_stats(tun, flights, lin))
+    tun = dataclasses.replace(tun, estimator=dict(convergence.ESTIMATOR))
     return tun, hist, conv
 
 

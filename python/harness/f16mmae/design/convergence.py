@@ -9,7 +9,8 @@ bank as the paper's Figs. 3-6 do and adds measurement pseudonoise (method 2) whe
 
 - score ``J``: over the cases NONE and the 12 single failures (complete, at 3 s), the
   fraction of frames in which the true hypothesis holds the largest probability (C++
-  ``core.FilterBank``, p_min = 0.001; NONE from 1 s, failures from 1 s after onset),
+  ``core.FilterBank`` with the recommended floor ``P_MIN``; NONE from 1 s, failures from
+  ``SETTLE_S`` = 0.5 s after onset, half the 1-s median-latency goal),
   averaged over the 13 cases;
 - culprit channel: over the frames a wrong hypothesis k* leads, the per-channel share of its
   log-likelihood advantage ``0.5 (r_true,c^2 - r_k*,c^2) / A_cc``; the largest one;
@@ -34,6 +35,18 @@ MIN_GAIN = 0.01
 FAILURE_TIME_S = 3.0
 NONE_SEEDS = tuple(range(1, 9))
 FAILURE_SEEDS = (1, 2, 3)
+#: The estimator settings the design recommends (written to tuned.toml [estimator] and so
+#: into the bank's metadata; see design/tuning.py).  p_min far below the paper's 0.001: a
+#: hypothesis the flight barely separates from NONE (a flaperon) has a log-probability ratio
+#: that random-walks, and the paper's floor caps how far it can sink (ln(0.9/0.001) = 6.8),
+#: so short runs of turbulence lift it over the threshold (false alarms, spurious duals);
+#: chosen from single-failure campaigns (README "Closed-loop failure detection").
+ESTIMATOR = {"p_min": 1e-9, "threshold": 0.9, "dwell_s": 0.25}
+#: The bank is scored as it is flown: with the recommended probability floor ...
+P_MIN = ESTIMATOR["p_min"]
+#: ... and from this long after the failure onset (NONE: from 1 s): half the 1-s
+#: median-latency goal, so pseudonoise that slows detection scores lower.
+SETTLE_S = 0.5
 
 
 def case_flights(mach: float = 0.4, alt_ft: float = 20_000.0, turbulence_level: str = "light",
@@ -58,10 +71,10 @@ def score(tuning: Tuning, linearized, flights: dict[str, list[Flight]]) -> tuple
     per_case, blame = {}, np.zeros(names.NZ)
     for case, fls in flights.items():
         k_true = names.SINGLE_HYPOTHESES.index(case)
-        start = int(names.FRAME_RATE_HZ * (1.0 if case == names.NONE else FAILURE_TIME_S + 1.0))
+        start = int(names.FRAME_RATE_HZ * (1.0 if case == names.NONE else FAILURE_TIME_S + SETTLE_S))
         right = total = 0
         for fl in fls:
-            bank = core.FilterBank(models)
+            bank = core.FilterBank(models, p_min=P_MIN)
             for i in range(len(fl.z)):
                 p = bank.update(fl.z[i])
                 if i >= start:

@@ -18,6 +18,12 @@ model is designed for: none | light | moderate | severe), ``gust_model`` (``gust
 ``white_gust``, see ``model.py``).  Every variance must be finite and
 >= 0; an unknown key, a wrong type or a negative value is refused with a message naming it.
 Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/tunings/``.
+
+``[estimator]`` (optional): the estimator settings the design recommends for its bank --
+``p_min`` (probability floor, 0 < p_min < 0.01), ``threshold`` (declaration threshold,
+0.5 < threshold < 1), ``dwell_s`` (s, >= 0).  They are stored in the bank's metadata JSON
+(key ``"estimator"``) and used by ``closedloop.Estimator`` and the LCM daemon; a missing key
+means the core's default (the paper's: p_min 0.001, threshold 0.9, dwell 0.25 s).
 """
 from __future__ import annotations
 
@@ -43,7 +49,11 @@ SECTIONS: dict[str, tuple[str, ...]] = {
     "method3_qd_lateral": METHOD3_KEYS,
     "method4_actuator_q": names.ACTUATORS,
 }
-TOP_LEVEL_KEYS: tuple[str, ...] = ("name", "description", "turbulence", "gust_model") + tuple(SECTIONS)
+#: [estimator] key -> (lower, upper) bound of its valid range (open; closed for dwell_s).
+ESTIMATOR_KEYS: dict[str, tuple[float, float]] = {
+    "p_min": (0.0, 0.01), "threshold": (0.5, 1.0), "dwell_s": (0.0, 10.0)}
+TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_model") + tuple(SECTIONS)
+                                   + ("estimator",))
 
 
 class TuningError(ValueError):
@@ -62,6 +72,7 @@ class Tuning:
     r_pseudonoise: dict[str, float] = field(default_factory=dict)    # method 2
     qd_lateral: dict[str, float] = field(default_factory=dict)       # method 3
     actuator_q: dict[str, float] = field(default_factory=dict)       # method 4
+    estimator: dict[str, float] = field(default_factory=dict)        # recommended settings
 
     def qd_diagonal(self) -> np.ndarray:
         """(13,) additions to diag(Q_d) from methods 1 and 3 (actuator states get none)."""
@@ -91,7 +102,8 @@ class Tuning:
                 "method1_qd_longitudinal": dict(self.qd_longitudinal),
                 "method2_r": dict(self.r_pseudonoise),
                 "method3_qd_lateral": dict(self.qd_lateral),
-                "method4_actuator_q": dict(self.actuator_q)}
+                "method4_actuator_q": dict(self.actuator_q),
+                "estimator": dict(self.estimator)}
 
 
 def available_tunings() -> tuple[str, ...]:
@@ -163,8 +175,28 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
             if val > 0.0:
                 values[key] = float(val)
         sections[section] = values
+    estimator = _estimator_settings(data.get("estimator", {}), source)
     return Tuning(name=name, description=description, turbulence=turbulence, gust_model=gust_model,
                   qd_longitudinal=sections["method1_qd_longitudinal"],
                   r_pseudonoise=sections["method2_r"],
                   qd_lateral=sections["method3_qd_lateral"],
-                  actuator_q=sections["method4_actuator_q"])
+                  actuator_q=sections["method4_actuator_q"], estimator=estimator)
+
+
+def _estimator_settings(table, source: str) -> dict[str, float]:
+    if not isinstance(table, dict):
+        raise TuningError(f"{source}: [estimator] must be a table of {', '.join(ESTIMATOR_KEYS)}")
+    out = {}
+    for key, val in table.items():
+        if key not in ESTIMATOR_KEYS:
+            raise TuningError(f"{source}: unknown key {key!r} in [estimator]; valid keys: "
+                              f"{', '.join(ESTIMATOR_KEYS)}")
+        if isinstance(val, bool) or not isinstance(val, (int, float)):
+            raise TuningError(f"{source}: [estimator] {key} must be a number, got {val!r}")
+        lo, hi = ESTIMATOR_KEYS[key]
+        ok = (lo <= val <= hi) if key == "dwell_s" else (lo < val < hi)
+        if not (math.isfinite(val) and ok):
+            rng = f"[{lo:g}, {hi:g}]" if key == "dwell_s" else f"({lo:g}, {hi:g})"
+            raise TuningError(f"{source}: [estimator] {key} = {val} is outside {rng}")
+        out[key] = float(val)
+    return out

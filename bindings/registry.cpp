@@ -4,7 +4,18 @@
 namespace py = pybind11;
 
 namespace f16mmae::bindings {
+void bind_model_bank(py::module_& m);  // bind_model_bank.cpp
+void bind_filter(py::module_& m);        // bind_filter.cpp: FilterModel
+void bind_bank(py::module_& m);          // bind_bank.cpp: FilterBank
+void bind_declarer(py::module_& m);      // bind_declarer.cpp: Declarer
+void bind_hierarchical(py::module_& m);  // bind_hierarchical.cpp: HierarchicalBank
+void bind_monitor(py::module_& m);       // bind_monitor.cpp: ResidualMonitor
 void register_all(py::module_& m) {
-  (void)m;
+  bind_filter(m);
+  bind_bank(m);
+  bind_declarer(m);
+  bind_model_bank(m);
+  bind_hierarchical(m);
+  bind_monitor(m);
 }
 }  // namespace f16mmae::bindings

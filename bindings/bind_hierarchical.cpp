@@ -1,0 +1,183 @@
+// f16mmae.core.HierarchicalBank: the hierarchical MMAE of paper Fig. 2
+// (cpp/f16mmae/hierarchical_bank.h) built from a core.ModelBank. An F-16 bank (13/5/7,
+// 12 single failures) runs in the fixed-size F16HierarchicalBank, any other in the
+// dynamic one. Signals are ABSOLUTE here: the bank subtracts its own u_trim / z_trim and
+// z_hat comes back absolute.
+#include <pybind11/pybind11.h>
+
+#include <memory>
+#include <string>
+
+#include "core_convert.h"
+#include "f16mmae/hierarchical_bank.h"
+#include "f16mmae/model_bank.h"
+
+namespace py = pybind11;
+
+namespace f16mmae::bindings {
+namespace {
+
+namespace cv = convert;
+
+class PyHierarchicalBank {
+ public:
+  PyHierarchicalBank(const ModelBank& bank, double p_min, bool strip_leading_term, double threshold, double dwell_s,
+                     const py::object& declarer) {
+    HierarchicalOptions o;
+    o.bank.p_min = p_min;
+    o.bank.strip_leading_term = strip_leading_term;
+    o.declarer.threshold = threshold;
+    o.declarer.dwell_s = dwell_s;
+    if (!declarer.is_none()) {
+      if (!py::isinstance<Declarer>(declarer))
+        throw py::value_error("declarer must be a core.Declarer (its threshold and dwell_s are used), got " +
+                              std::string(py::str(py::type::handle_of(declarer).attr("__name__"))));
+      const DeclarerOptions& d = declarer.cast<const Declarer&>().options();
+      o.declarer.threshold = d.threshold;
+      o.declarer.dwell_s = d.dwell_s;
+    }
+    int singles = 0;
+    for (std::size_t i = 1; i < bank.hypotheses.size(); ++i)
+      singles += bank.hypotheses[i].name.find('+') == std::string::npos ? 1 : 0;
+    if (bank.nx() == 13 && bank.nu() == 5 && bank.nz() == 7 && singles == 12)
+      fixed_ = std::make_unique<F16HierarchicalBank>(bank, o);
+    else
+      dyn_ = std::make_unique<DynamicHierarchicalBank>(bank, o);
+    nu_ = bank.nu();
+    nz_ = bank.nz();
+  }
+
+  template <class F>
+  decltype(auto) visit(F&& f) {
+    return fixed_ ? f(*fixed_) : f(*dyn_);
+  }
+  template <class F>
+  decltype(auto) visit(F&& f) const {
+    return fixed_ ? f(static_cast<const F16HierarchicalBank&>(*fixed_))
+                  : f(static_cast<const DynamicHierarchicalBank&>(*dyn_));
+  }
+
+  py::object update(py::handle z) {
+    py::array_t<double> keep;
+    const double* p = cv::vector_data(z, nz_, "z", keep);
+    return visit([&](auto& b) -> py::object {
+      using B = std::decay_t<decltype(b)>;
+      const int d = b.update(typename B::ZVector(Eigen::Map<const typename B::ZVector>(p, nz_)));
+      return d < 0 ? py::object(py::none()) : py::object(py::str(b.name(d)));
+    });
+  }
+  void propagate(py::handle u) {
+    py::array_t<double> keep;
+    const double* p = cv::vector_data(u, nu_, "u", keep);
+    visit([&](auto& b) {
+      using B = std::decay_t<decltype(b)>;
+      b.propagate(typename B::UVector(Eigen::Map<const typename B::UVector>(p, nu_)));
+    });
+  }
+  py::object step(py::handle z, py::handle u) {
+    py::array_t<double> keep_u;
+    cv::vector_data(u, nu_, "u", keep_u);  // check u before the frame is applied
+    py::object d = update(z);
+    propagate(u);
+    return d;
+  }
+  py::list declarations() const {
+    return visit([](auto& b) {
+      py::list out;
+      for (const auto& d : b.declarations()) {
+        py::dict e;
+        e["hypothesis"] = b.name(d.hypothesis);
+        e["level"] = d.level;
+        e["frame"] = d.frame;
+        e["time_s"] = d.time_s;
+        out.append(e);
+      }
+      return out;
+    });
+  }
+  bool fixed() const { return static_cast<bool>(fixed_); }
+
+ private:
+  std::unique_ptr<F16HierarchicalBank> fixed_;
+  std::unique_ptr<DynamicHierarchicalBank> dyn_;
+  int nu_ = 0, nz_ = 0;
+};
+
+template <class F>
+auto prop(F f) {
+  return [f](const PyHierarchicalBank& b) { return b.visit(f); };
+}
+
+}  // namespace
+
+void bind_hierarchical(py::module_& m) {
+  py::class_<PyHierarchicalBank>(m, "HierarchicalBank", R"doc(
+The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
+
+    HierarchicalBank(model_bank, p_min=0.001, strip_leading_term=True, threshold=0.9,
+                     dwell_s=0.25, declarer=None)
+
+Level 0: NONE and every single failure on line, NONE presumed. When single failure f is
+declared (p_f > threshold for dwell_s), the level-1 bank {NONE, f, f+c for every other c}
+is brought on line from storage; if NONE is then declared the bank backs out to level 0; a
+dual declared at level 1 is the final answer (the bank stays at level 1). At a switch every
+new filter starts from the declared filter's posterior state and the declared hypothesis is
+presumed. Hypotheses are found by name in the model bank. declarer (a core.Declarer), if
+given, supplies threshold and dwell_s; the frame rate is the model bank's.
+
+SIGNALS ARE ABSOLUTE: update(z (nz,)) subtracts model_bank.z_trim, propagate(u (nu,))
+subtracts model_bank.u_trim, and z_hat is absolute (z_hat_perturbation is not). A frame with
+a non-finite value is rejected and counted in rejected_frames. Raises ValueError for an invalid
+model bank or a missing dual hypothesis.)doc")
+      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&>(), py::arg("model_bank"),
+           py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true, py::arg("threshold") = 0.9,
+           py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none())
+      .def("update", &PyHierarchicalBank::update, py::arg("z"),
+           "Update with absolute z (nz,); returns the name declared on this frame, or None.")
+      .def("propagate", &PyHierarchicalBank::propagate, py::arg("u"), "Propagate with absolute u (nu,).")
+      .def("step", &PyHierarchicalBank::step, py::arg("z"), py::arg("u"),
+           "update(z) then propagate(u); returns update's result.")
+      .def("reset", [](PyHierarchicalBank& b) { b.visit([](auto& x) { x.reset(); }); },
+           "Back to level 0, NONE presumed, states zero, history and counters cleared.")
+      .def_property_readonly("level", prop([](auto& b) { return b.level(); }), "0 (singles) or 1 (a failure's duals)")
+      .def_property_readonly("hypotheses", prop([](auto& b) {
+                               py::tuple t(b.size());
+                               for (int k = 0; k < b.size(); ++k) t[k] = py::str(b.name(b.online()[k]));
+                               return t;
+                             }),
+                             "names of the hypotheses on line, in the order of probabilities")
+      .def_property_readonly("declared", prop([](auto& b) { return b.name(b.current_hypothesis()); }),
+                             "the current hypothesis: NONE until a failure is declared, then the last declared")
+      .def_property_readonly("level1_failure", prop([](auto& b) -> py::object {
+                               const int f = b.level1_failure();
+                               return f < 0 ? py::object(py::none()) : py::object(py::str(b.name(f)));
+                             }),
+                             "the single failure whose level-1 bank is on line, None at level 0")
+      .def_property_readonly("declarations", &PyHierarchicalBank::declarations,
+                             "list of {'hypothesis', 'level', 'frame', 'time_s'} (time_s = frame / frame rate)")
+      .def_property_readonly("probabilities", prop([](auto& b) { return cv::to_numpy(b.probabilities()); }),
+                             "(K,) probabilities of the hypotheses on line")
+      .def_property_readonly("z_hat", prop([](auto& b) { return cv::to_numpy(b.z_hat()); }),
+                             "(nz,) ABSOLUTE measurement estimate h_output @ blended_state + z_trim")
+      .def_property_readonly("z_hat_perturbation", prop([](auto& b) { return cv::to_numpy(b.z_hat_perturbation()); }),
+                             "(nz,) h_output @ blended_state")
+      .def_property_readonly("blended_state", prop([](auto& b) { return cv::to_numpy(b.blended_state()); }),
+                             "(nx,) probability-weighted state (perturbation from trim)")
+      .def_property_readonly("residuals", prop([](auto& b) { return cv::to_numpy(b.bank().residuals()); }),
+                             "(K, nz) residuals of the filters on line at the last update")
+      .def_property_readonly("state_estimates", prop([](auto& b) { return cv::to_numpy(b.bank().state_estimates()); }),
+                             "(K, nx) posterior states of the filters on line")
+      .def_property_readonly("rejected_frames", prop([](auto& b) { return b.rejected_frames(); }))
+      .def_property_readonly("frames", prop([](auto& b) { return b.frames(); }), "update calls so far")
+      .def_property_readonly("frame_rate_hz", prop([](auto& b) { return b.frame_rate_hz(); }))
+      .def_property_readonly("u_trim", prop([](auto& b) { return cv::to_numpy(b.u_trim()); }))
+      .def_property_readonly("z_trim", prop([](auto& b) { return cv::to_numpy(b.z_trim()); }))
+      .def_property_readonly("p_min", prop([](auto& b) { return b.options().bank.p_min; }))
+      .def_property_readonly("threshold", prop([](auto& b) { return b.declarer().options().threshold; }))
+      .def_property_readonly("dwell_s", prop([](auto& b) { return b.declarer().options().dwell_s; }))
+      .def_property_readonly("dwell_frames", prop([](auto& b) { return b.declarer().dwell_frames(); }))
+      .def_property_readonly("fixed_size", &PyHierarchicalBank::fixed,
+                             "True when the fixed-size F-16 bank runs inside");
+}
+
+}  // namespace f16mmae::bindings

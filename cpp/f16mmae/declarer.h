@@ -1,0 +1,113 @@
+// Declarer — turns the hypothesis probabilities of the MMAE bank (eq. 1) into failure
+// declarations. Eigen-free, std only.
+//
+// Rule: hypothesis k is declared when p_k > threshold on `dwell_frames` consecutive frames,
+//   dwell_frames = max(1, round(dwell_s * frame_rate_hz)),
+// and k is not already the current (presumed or last declared) hypothesis. A declaration is
+// an event: update() returns k on the frame the dwell completes, -1 otherwise. Since
+// threshold > 0.5 and the probabilities sum to 1, at most one hypothesis can be above it,
+// so one candidate and one counter suffice.
+//
+// Defaults, and why: threshold 0.9, dwell 0.25 s at 64 Hz (16 frames).
+//  - 0.9: with K = 13 and the floor p_min = 0.001 a hypothesis can reach 1 - 12 * 0.001 =
+//    0.988; a correct, well-matched hypothesis sits near that, while an ambiguous pair
+//    (the paper's LS/yaw "bouncing") shares the mass and stays below 0.9, so 0.9 asks for
+//    a clear winner without requiring the ceiling.
+//  - 0.25 s: eq. 1 moves a probability from the floor to the top within a few frames after
+//    a hard failure, but single-frame spikes (turbulence gusts, model mismatch) also do;
+//    16 consecutive frames above 0.9 reject such spikes (a spike lasting a quarter second
+//    is evidence, not noise) and spend only a quarter of the 1.0-s median-latency budget
+//    of the closed-loop goals, leaving the rest for the probability to converge.
+//
+// Throws: the constructor throws std::invalid_argument if threshold is not in (0.5, 1),
+// dwell_s is negative or not finite, or frame_rate_hz is not positive and finite.
+// update() is noexcept and allocation-free; a NaN probability never counts as "above".
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace f16mmae {
+
+struct DeclarerOptions {
+  double threshold = 0.9;        // p_k must exceed this ...
+  double dwell_s = 0.25;         // ... for this long (consecutive frames)
+  double frame_rate_hz = 64.0;   // frames per second of the probabilities fed in
+};
+
+class Declarer {
+ public:
+  explicit Declarer(const DeclarerOptions& options = {}, int presumed = 0) : options_(options) {
+    auto fail = [](const std::string& s) { throw std::invalid_argument("declarer: " + s); };
+    if (!(options.threshold > 0.5 && options.threshold < 1.0)) {
+      std::ostringstream s;
+      s << "threshold must be in (0.5, 1), got " << options.threshold;
+      fail(s.str());
+    }
+    if (!(options.dwell_s >= 0.0) || !std::isfinite(options.dwell_s)) {
+      std::ostringstream s;
+      s << "dwell_s must be finite and >= 0, got " << options.dwell_s;
+      fail(s.str());
+    }
+    if (!(options.frame_rate_hz > 0.0) || !std::isfinite(options.frame_rate_hz)) {
+      std::ostringstream s;
+      s << "frame_rate_hz must be positive and finite, got " << options.frame_rate_hz;
+      fail(s.str());
+    }
+    const double n = std::round(options.dwell_s * options.frame_rate_hz);
+    dwell_frames_ = n < 1.0 ? 1 : static_cast<int>(n);
+    reset(presumed);
+  }
+
+  // Feed one frame's probabilities p[0..n). Returns the index declared on this frame, or -1.
+  template <class Vector>
+  int update(const Vector& p) noexcept {
+    const int n = static_cast<int>(p.size());
+    int above = -1;
+    for (int k = 0; k < n; ++k)
+      if (p[k] > options_.threshold) {
+        above = k;
+        break;
+      }
+    if (above < 0) {
+      candidate_ = -1;
+      count_ = 0;
+      return -1;
+    }
+    if (above != candidate_) {
+      candidate_ = above;
+      count_ = 0;
+    }
+    if (count_ < dwell_frames_) ++count_;
+    if (count_ >= dwell_frames_ && candidate_ != current_) {
+      current_ = candidate_;
+      return current_;
+    }
+    return -1;
+  }
+
+  // Start again with hypothesis `presumed` current (not declared) and no dwell under way.
+  void reset(int presumed = 0) noexcept {
+    current_ = presumed;
+    candidate_ = -1;
+    count_ = 0;
+  }
+
+  int current() const noexcept { return current_; }      // presumed or last declared
+  int candidate() const noexcept { return candidate_; }  // hypothesis above threshold, or -1
+  int dwell_count() const noexcept { return count_; }    // consecutive frames above so far
+  int dwell_frames() const noexcept { return dwell_frames_; }
+  const DeclarerOptions& options() const noexcept { return options_; }
+
+ private:
+  DeclarerOptions options_;
+  int dwell_frames_ = 1;
+  int current_ = 0;
+  int candidate_ = -1;
+  int count_ = 0;
+};
+
+}  // namespace f16mmae

@@ -1,0 +1,453 @@
+// FilterBank — the MMAE bank of K steady-state hypothesis filters and its conditional
+// hypothesis probability evaluator (Eide & Maybeck, Sec. III, Fig. 1). Eigen and std only.
+//
+// Per frame t_i, with z_i and u_i perturbations from the design trim:
+//   update(z)     every filter k: r_k = z - H_k x⁻_k, q_k = r_kᵀ A_k⁻¹ r_k, x⁺_k = x⁻_k + K_k r_k
+//                 log-likelihood (eq. 2)
+//                   l_k = -q_k/2                                     (leading term stripped, default)
+//                   l_k = -q_k/2 - (m/2) ln 2π - (1/2) ln|A_k|       (leading term kept)
+//                 Bayes update (eq. 1) in the log domain:
+//                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
+//                 floor p_min ("lock-out" prevention) by water-filling: hypotheses with
+//                   p'_k < p_min are set to p_min, the rest rescaled to 1 - n_floor p_min;
+//                   repeated until no rescaled one falls below p_min. Afterwards every
+//                   p_k >= p_min, sum p_k = 1, and the ratios among the hypotheses above the
+//                   floor are exactly those of the Bayes update.
+//                 blended state  x̂ = sum_k p_k x⁺_k;   z_hat = H_out x̂ (H_out: the unfailed H,
+//                   filter 0's by default, so a failed-sensor hypothesis still yields z_hat).
+//   propagate(u)  every filter k: x⁻_k = Phi_k x⁺_k + Bd_k u
+//   step(z, u)    update(z) then propagate(u).
+// Start: the no-failure hypothesis (index 0) presumed, p_0 = 1 - (K-1) p_min, others p_min
+// (or given initial probabilities, floored as above). All states start at x⁻ = 0.
+//
+// Robustness: a frame with a non-finite entry in z (update) or u (propagate), or whose
+// results would overflow to a non-finite state, is applied to no filter, changes nothing
+// and is counted in rejected_frames(). A likelihood that underflows to zero (even every
+// one of them) loses nothing: the log domain keeps the ratios, and the floor keeps each
+// p_k >= p_min. If every q_k overflows to +inf the frame carries no information and the
+// probabilities stay as they were (the states are still updated).
+//
+// Sizes: K filters of NX states, NU inputs, NZ measurements; compile-time
+// (F16FilterBank = FilterBank<13, 13, 5, 7>) or Eigen::Dynamic (DynamicFilterBank).
+// Speed: with fixed sizes the filter arithmetic runs in the packed AVX2/FMA kernel of
+// packed_kernel.h when the CPU has AVX2 and FMA (checked at run time; the build itself is
+// portable), else in Eigen; FilterBankOptions::vectorized_kernel = false forces Eigen. The
+// two agree to rounding. A Phi shared by every filter (as in the paper's hypotheses) is
+// read once per frame.
+// Throws: constructors and set_* validators throw std::invalid_argument with a sentence.
+// update/propagate/step/presume are noexcept and, for fixed sizes, allocate nothing.
+#pragma once
+
+#include "f16mmae/packed_kernel.h"
+#include "f16mmae/steady_state_filter.h"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace f16mmae {
+
+struct FilterBankOptions {
+  double p_min = 0.001;              // probability floor (paper: 0.001); 0 <= p_min < 1/K
+  bool strip_leading_term = true;    // drop 1/((2π)^{m/2}|A_k|^{1/2}) from eq. 2 (paper)
+  bool vectorized_kernel = true;     // fixed sizes: use the AVX2/FMA kernel if the CPU has it
+};
+
+template <int K, int NX, int NU, int NZ>
+class FilterBank {
+ public:
+  using Filter = SteadyStateFilter<NX, NU, NZ>;
+  using Model = FilterModel<NX, NU, NZ>;
+  using XVector = typename Filter::XVector;
+  using UVector = typename Filter::UVector;
+  using ZVector = typename Filter::ZVector;
+  using PVector = Eigen::Matrix<double, K, 1>;             // probabilities, log-likelihoods
+  using ResidualMatrix = Eigen::Matrix<double, K, NZ>;     // row k = r_k
+  using StateMatrix = Eigen::Matrix<double, K, NX>;        // row k = x⁺_k
+  using OutputMatrix = Eigen::Matrix<double, NZ, NX>;      // H_out
+  static constexpr bool kFixed = K != Eigen::Dynamic;
+  // The fixed-size bank runs its frames through the packed AVX2/FMA kernel (packed_kernel.h:
+  // same equations, 4-wide fused multiply-adds) when the CPU has AVX2 and FMA, else Eigen.
+  static constexpr bool kPacked = kFixed && NX != Eigen::Dynamic && NU != Eigen::Dynamic &&
+                                  NZ != Eigen::Dynamic && kPackedKernel;
+  using Filters = std::conditional_t<kFixed, std::array<Filter, (kFixed ? K : 1)>, std::vector<Filter>>;
+  using Columns = Eigen::Matrix<double, NX, K>;            // scratch: one state per column
+  using ZColumns = Eigen::Matrix<double, NZ, K>;
+
+  // Builds the bank from one model per hypothesis (index 0 = no failure). Throws
+  // std::invalid_argument for a wrong count (fixed K), sizes that differ between models,
+  // an invalid model (see SteadyStateFilter) or p_min outside [0, 1/K).
+  explicit FilterBank(const std::vector<Model>& models, const FilterBankOptions& options = {})
+      : options_(options) {
+    const int k = static_cast<int>(models.size());
+    if (kFixed && k != K) {
+      std::ostringstream s;
+      s << "filter bank: expected " << K << " models, got " << k;
+      throw std::invalid_argument(s.str());
+    }
+    if (k < 1) throw std::invalid_argument("filter bank: needs at least one model");
+    if constexpr (!kFixed) filters_.resize(k);
+#if F16MMAE_PACKED_KERNEL
+    if constexpr (kPacked) use_packed_ = options_.vectorized_kernel && packed::Kernels<K, NX, NU, NZ>::available();
+#endif
+    for (int i = 0; i < k; ++i) {
+      const std::string who = "filter bank: model " + std::to_string(i);
+      if (i > 0 && (models[i].nx() != models[0].nx() || models[i].nu() != models[0].nu() ||
+                    models[i].nz() != models[0].nz())) {
+        std::ostringstream s;
+        s << who << " has sizes (nx, nu, nz) = (" << models[i].nx() << ", " << models[i].nu()
+          << ", " << models[i].nz() << "), model 0 has (" << models[0].nx() << ", "
+          << models[0].nu() << ", " << models[0].nz() << ")";
+        throw std::invalid_argument(s.str());
+      }
+      filters_[i] = Filter(models[i], who);
+      load_packed(i);
+    }
+    if (!(options_.p_min >= 0.0) || !(options_.p_min * k < 1.0)) {
+      std::ostringstream s;
+      s << "filter bank: p_min must satisfy 0 <= p_min < 1/K = " << 1.0 / k << ", got " << options_.p_min;
+      throw std::invalid_argument(s.str());
+    }
+    const int nx = filters_[0].nx(), nz = filters_[0].nz();
+    p_.setZero(k);
+    log_p_.setZero(k);
+    log_l_.setZero(k);
+    q_.setZero(k);
+    q_new_.setZero(k);
+    r_.setZero(nz, k);
+    x_.setZero(nx, k);
+    x_blend_.setZero(nx);
+    z_hat_.setZero(nz);
+    floored_.assign_size(k);
+    h_out_ = filters_[0].model().h;
+    log_p_min_ = options_.p_min > 0.0 ? std::log(options_.p_min) : -std::numeric_limits<double>::infinity();
+    log_norm_ = -0.5 * nz * std::log(2.0 * 3.14159265358979323846);
+    presume(0);
+  }
+
+  // ---- configuration (validated, may throw) ----------------------------------------------
+  // Initial probabilities: size K, finite, >= 0, summing to 1 within 1e-9; floored as above.
+  void set_probabilities(const Eigen::Ref<const Eigen::VectorXd>& p) {
+    const int k = size();
+    if (p.size() != k) {
+      std::ostringstream s;
+      s << "filter bank: probabilities must have " << k << " entries, got " << p.size();
+      throw std::invalid_argument(s.str());
+    }
+    if (!p.allFinite() || (p.array() < 0.0).any())
+      throw std::invalid_argument("filter bank: probabilities must be finite and non-negative");
+    if (std::abs(p.sum() - 1.0) > 1e-9) {
+      std::ostringstream s;
+      s << "filter bank: probabilities must sum to 1, they sum to " << p.sum();
+      throw std::invalid_argument(s.str());
+    }
+    for (int i = 0; i < k; ++i) p_(i) = p(i);
+    for (int i = 0; i < k; ++i) log_p_(i) = std::log(p_(i));
+    apply_floor();
+    refresh_blend();
+  }
+  // H_out, the (NZ,NX) map from the blended state to z_hat (default: filter 0's H).
+  void set_h_output(const Eigen::Ref<const Eigen::MatrixXd>& h) {
+    if (h.rows() != nz() || h.cols() != nx()) {
+      std::ostringstream s;
+      s << "filter bank: h_output must be " << nz() << "x" << nx() << ", got " << h.rows() << "x" << h.cols();
+      throw std::invalid_argument(s.str());
+    }
+    if (!h.allFinite()) throw std::invalid_argument("filter bank: h_output has a non-finite entry");
+    h_out_ = h;
+    refresh_blend();
+  }
+
+  // ---- per frame (noexcept, allocation-free for fixed sizes) -----------------------------
+  // Returns true if the frame was applied, false if rejected (counted).
+  bool update(const ZVector& z) noexcept {
+    const int k = size();
+    if (!z.allFinite()) return reject();
+    if (use_packed_) {
+      if (!packed_update(z)) return reject();
+    } else {
+      ZVector r = ZVector::Zero(nz());
+      XVector x = XVector::Zero(nx());
+      for (int i = 0; i < k; ++i) {
+        const double q = filters_[i].innovate(z, r);
+        filters_[i].corrected(r, x);
+        if (std::isnan(q) || !r.allFinite() || !x.allFinite()) return reject();
+        q_new_(i) = q;
+        r_.col(i) = r;
+        x_.col(i) = x;
+      }
+    }
+    if (!use_packed_) {
+      q_ = q_new_;
+      for (int i = 0; i < k; ++i) filters_[i].accept_update(r_.col(i), q_(i), x_.col(i));
+    }
+    // log-likelihoods (eq. 2) and the Bayes update (eq. 1), log domain
+    double a_max = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < k; ++i) {
+      double l = -0.5 * q_(i);
+      if (!options_.strip_leading_term) l += log_norm_ - 0.5 * filters_[i].log_det_a();
+      log_l_(i) = l;
+      const double a = l + log_p_(i);
+      if (a > a_max) a_max = a;
+    }
+    if (a_max > -std::numeric_limits<double>::infinity()) {
+      double sum = 0.0;
+      for (int i = 0; i < k; ++i) {
+        // below e^-708 the weight is not a normal double: take 0 and skip exp's slow
+        // underflow path (ln p stays exact below, so nothing is lost)
+        const double d = log_l_(i) + log_p_(i) - a_max;
+        const double w = d < -708.0 ? 0.0 : std::exp(d);
+        p_(i) = w;
+        sum += w;
+      }
+      const double log_sum = std::log(sum);
+      for (int i = 0; i < k; ++i) {
+        log_p_(i) = log_l_(i) + log_p_(i) - a_max - log_sum;
+        p_(i) /= sum;
+      }
+      apply_floor();
+    }
+    refresh_blend();
+    ++frames_;
+    return true;
+  }
+  bool propagate(const UVector& u) noexcept {
+    const int k = size();
+    if (!u.allFinite()) return reject();
+    if (use_packed_) {
+      if (!packed_propagate(u)) return reject();
+    } else {
+      XVector x = XVector::Zero(nx());
+      for (int i = 0; i < k; ++i) {
+        filters_[i].predicted(u, x);
+        if (!x.allFinite()) return reject();
+        x_.col(i) = x;
+      }
+    }
+    if (!use_packed_)
+      for (int i = 0; i < k; ++i) filters_[i].accept_propagation(x_.col(i));
+    return true;
+  }
+  // update(z) then propagate(u). Returns true if both were applied.
+  bool step(const ZVector& z, const UVector& u) noexcept {
+    const bool a = update(z);
+    const bool b = propagate(u);
+    return a && b;
+  }
+  // Presume hypothesis `index` (noexcept; ignored if out of range):
+  // p_index = 1 - (K-1) p_min, every other p_min.
+  void presume(int index) noexcept {
+    const int k = size();
+    if (index < 0 || index >= k) return;
+    for (int i = 0; i < k; ++i) {
+      p_(i) = options_.p_min;
+      log_p_(i) = log_p_min_;
+    }
+    p_(index) = 1.0 - (k - 1) * options_.p_min;
+    log_p_(index) = std::log(p_(index));
+    refresh_blend();
+  }
+  // Every filter back to x⁻ = 0, no-failure hypothesis presumed, counters zeroed.
+  void reset() noexcept {
+    for (auto& f : filters_) f.reset();
+    r_.setZero();
+    q_.setZero();
+    log_l_.setZero();
+    rejected_ = 0;
+    frames_ = 0;
+    presume(0);
+  }
+
+  // ---- outputs -------------------------------------------------------------------------
+  int size() const noexcept { return static_cast<int>(filters_.size()); }
+  int nx() const noexcept { return filters_[0].nx(); }
+  int nu() const noexcept { return filters_[0].nu(); }
+  int nz() const noexcept { return filters_[0].nz(); }
+  const PVector& probabilities() const noexcept { return p_; }
+  const PVector& log_probabilities() const noexcept { return log_p_; }
+  const PVector& log_likelihoods() const noexcept { return log_l_; }   // l_k of the last update
+  const PVector& quadratic_forms() const noexcept { return q_; }       // q_k of the last update
+  // (K,NZ): row k = r_k of the last accepted update.
+  ResidualMatrix residuals() const noexcept {
+    ResidualMatrix r(size(), nz());
+    for (int i = 0; i < size(); ++i) r.row(i) = filters_[i].residual().transpose();
+    return r;
+  }
+  // (K,NX): row k = x⁺_k, filter k's posterior estimate at the last accepted update
+  // (the estimates the blended state weighs).
+  StateMatrix state_estimates() const noexcept {
+    StateMatrix s(size(), nx());
+    for (int i = 0; i < size(); ++i) s.row(i) = filters_[i].posterior().transpose();
+    return s;
+  }
+  // (K,NX): row k = x⁻_k, filter k's prediction for the next update.
+  StateMatrix prior_states() const noexcept {
+    StateMatrix s(size(), nx());
+    for (int i = 0; i < size(); ++i) s.row(i) = filters_[i].prior().transpose();
+    return s;
+  }
+  const XVector& blended_state() const noexcept { return x_blend_; }   // sum p_k x⁺_k
+  const ZVector& z_hat() const noexcept { return z_hat_; }             // H_out x̂ (perturbation)
+  const OutputMatrix& h_output() const noexcept { return h_out_; }
+  std::int64_t rejected_frames() const noexcept { return rejected_; }
+  std::int64_t accepted_updates() const noexcept { return frames_; }
+  const FilterBankOptions& options() const noexcept { return options_; }
+  // True when the frames run through the packed AVX2/FMA kernel (fixed sizes, CPU support).
+  bool vectorized_kernel() const noexcept { return use_packed_; }
+  const Filter& filter(int k) const { return filters_.at(k); }
+  // Mutable access for a hierarchical switch (assigning a preloaded filter, set_posterior).
+  Filter& filter(int k) { return filters_.at(k); }
+  // Replace filter k by a preloaded one of the same sizes (a plain copy: no heap for fixed
+  // sizes), and set filter k's posterior x⁺ (see SteadyStateFilter::set_posterior). Used at
+  // a hierarchical switch; k must be in [0, size()). Call presume() or refresh_blend() after.
+  void load_filter(int k, const Filter& f) noexcept {
+    filters_[k] = f;
+    load_packed(k);
+  }
+  void set_posterior(int k, const XVector& x_post) noexcept { filters_[k].set_posterior(x_post); }
+  const XVector& posterior(int k) const noexcept { return filters_[k].posterior(); }
+  // Recompute x̂ and z_hat from the filters' posteriors and the current probabilities.
+  void refresh_blend() noexcept {
+    x_blend_.setZero();
+    for (int i = 0; i < size(); ++i) x_blend_.noalias() += p_(i) * filters_[i].posterior();
+    z_hat_.noalias() = h_out_ * x_blend_;
+  }
+
+ private:
+  // ---- the packed kernel (fixed sizes) -----------------------------------------------------
+  void load_packed(int i) noexcept {
+    if constexpr (kPacked) {
+      packed_.filters[i].load(filters_[i]);
+      bool same = true;
+      for (int f = 1; f < K && same; ++f) same = filters_[f].model().phi == filters_[0].model().phi;
+      packed_.shared_phi = same;
+      if (same) std::memcpy(packed_.phi, packed_.filters[0].phi, sizeof(packed_.phi));
+    }
+    (void)i;
+  }
+  // The packed kernel's update; commits to every filter only if every result is finite.
+  bool packed_update(const ZVector& z) noexcept {
+#if F16MMAE_PACKED_KERNEL
+    if constexpr (kPacked) {
+      using P = PackedFilter<NX, NU, NZ>;
+      const double* x[K];
+      for (int i = 0; i < K; ++i) x[i] = filters_[i].prior().data();
+      static const auto kernel = packed::Kernels<K, NX, NU, NZ>::update();
+      double probe = 0.0;
+      kernel(packed_.filters, z.data(), x, packed_.r, packed_.q, packed_.x, &probe);
+      for (int i = 0; i < K; ++i)
+        if (!std::isfinite(packed_.q[i]))  // overflow: the robust form (+inf, or NaN if r is)
+          packed_.q[i] = filters_[i].quadratic_form(Eigen::Map<const ZVector>(packed_.r + i * P::PZ));
+      if (probe != 0.0) return false;
+      for (int i = 0; i < K; ++i) {
+        if (std::isnan(packed_.q[i])) return false;
+        q_(i) = packed_.q[i];
+      }
+      for (int i = 0; i < K; ++i)
+        filters_[i].accept_update(Eigen::Map<const ZVector>(packed_.r + i * P::PZ), packed_.q[i],
+                                  Eigen::Map<const XVector>(packed_.x + i * P::PX));
+      return true;
+    }
+#endif
+    (void)z;
+    return false;
+  }
+  bool packed_propagate(const UVector& u) noexcept {
+#if F16MMAE_PACKED_KERNEL
+    if constexpr (kPacked) {
+      using P = PackedFilter<NX, NU, NZ>;
+      const double* x[K];
+      for (int i = 0; i < K; ++i) x[i] = filters_[i].estimate().data();
+      static const auto kernel = packed::Kernels<K, NX, NU, NZ>::propagate();
+      // one Phi for all (the paper's hypotheses share it): read once, stays in L1
+      const double* phi = packed_.shared_phi ? &packed_.phi[0][0] : &packed_.filters[0].phi[0][0];
+      const long stride = packed_.shared_phi ? 0 : static_cast<long>(sizeof(P) / sizeof(double));
+      double probe = 0.0;
+      kernel(packed_.filters, phi, stride, u.data(), x, packed_.x, &probe);
+      if (probe != 0.0) return false;
+      for (int i = 0; i < K; ++i) filters_[i].accept_propagation(Eigen::Map<const XVector>(packed_.x + i * P::PX));
+      return true;
+    }
+#endif
+    (void)u;
+    return false;
+  }
+
+  bool reject() noexcept {
+    ++rejected_;
+    return false;
+  }
+  // Water-filling floor (see the header comment); keeps log_p_ consistent with p_.
+  void apply_floor() noexcept {
+    const int k = size();
+    const double p_min = options_.p_min;
+    for (int i = 0; i < k; ++i) floored_[i] = false;
+    int n_floor = 0;
+    double scale = 1.0;
+    for (int iter = 0; iter <= k; ++iter) {
+      double free_sum = 0.0;
+      for (int i = 0; i < k; ++i)
+        if (!floored_[i]) free_sum += p_(i);
+      scale = (1.0 - n_floor * p_min) / free_sum;
+      bool changed = false;
+      for (int i = 0; i < k; ++i) {
+        if (!floored_[i] && p_(i) * scale < p_min) {
+          floored_[i] = true;
+          ++n_floor;
+          changed = true;
+        }
+      }
+      if (!changed) break;
+    }
+    const double log_scale = std::log(scale);
+    for (int i = 0; i < k; ++i) {
+      if (floored_[i]) {
+        p_(i) = p_min;
+        log_p_(i) = log_p_min_;
+      } else {
+        p_(i) *= scale;
+        log_p_(i) += log_scale;
+      }
+    }
+  }
+
+  // A flag per hypothesis: std::array for fixed K (no heap), std::vector when dynamic.
+  struct Flags {
+    std::conditional_t<kFixed, std::array<unsigned char, (kFixed ? K : 1)>, std::vector<unsigned char>> v{};
+    void assign_size(int n) {
+      if constexpr (!kFixed) v.assign(n, 0);
+      (void)n;
+    }
+    unsigned char& operator[](int i) noexcept { return v[i]; }
+  };
+
+  FilterBankOptions options_;
+  Filters filters_{};
+  PVector p_, log_p_, log_l_, q_, q_new_;
+  ZColumns r_;
+  Columns x_;
+  XVector x_blend_;
+  ZVector z_hat_;
+  OutputMatrix h_out_;
+  Flags floored_;
+  bool use_packed_ = false;
+  PackedStore<kPacked, (kFixed ? K : 1), NX, NU, NZ> packed_{};
+  double log_p_min_ = 0.0;
+  double log_norm_ = 0.0;
+  std::int64_t rejected_ = 0;
+  std::int64_t frames_ = 0;
+};
+
+using F16FilterBank = FilterBank<13, 13, 5, 7>;
+using DynamicFilterBank = FilterBank<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
+
+}  // namespace f16mmae

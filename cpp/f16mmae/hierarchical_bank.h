@@ -1,0 +1,286 @@
+// HierarchicalBank — the paper's hierarchical MMAE (Eide & Maybeck, Sec. III, Fig. 2):
+// a FilterBank of K filters on line, a Declarer, and every hypothesis filter of a ModelBank
+// preloaded in storage. Eigen and std only.
+//
+// Levels (K = 1 + number of failable components; 13 for the F-16: 5 actuators, 7 sensors):
+//   level 0   {NONE, every single failure c}, in the ModelBank's order. Starts here with
+//             NONE presumed.
+//   level 1   brought on line when single failure f is declared at level 0:
+//             {NONE, f, f+c for every other component c} (NONE first, for back-out).
+//   back-out  NONE declared at level 1 -> level 0 again, NONE presumed.
+//   final     a dual f+c declared at level 1 is the final answer: the bank stays at level 1
+//             (it keeps running; a later NONE declaration still backs out).
+// Hypotheses are looked up by NAME in the ModelBank: "NONE"; singles are the names without
+// '+'; the dual of a and b is "a+b" or "b+a". A missing dual is a construction error.
+//
+// Initialisation at a switch (after the update of the frame on which the declaration
+// happened, before its propagate): every filter brought on line starts from the posterior
+// state x⁺ of the declared filter — the best-matched filter at that moment — and the
+// probabilities presume the declared hypothesis (p = 1 - (K-1) p_min on it, p_min on the
+// others), exactly as level 0 presumes NONE at start. The declarer restarts with the
+// declared hypothesis current, so it must be out-voted for a dwell before the next switch.
+//
+// Signals are ABSOLUTE at this interface: update(z) subtracts the bank's z_trim, propagate(u)
+// its u_trim, and z_hat() adds z_trim back (z_hat_perturbation() does not). States are
+// perturbations from trim. A frame is one update (accepted or rejected): frame index i
+// (0-based) has time_s = i / frame_rate_hz. The declarer sees only accepted updates.
+//
+// Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>)
+// or Eigen::Dynamic (DynamicHierarchicalBank, any K = 1 + number of singles).
+// Throws: the constructor throws std::invalid_argument (invalid ModelBank, sizes that do not
+// match the template, a missing hypothesis). update/propagate/step are noexcept and, for
+// fixed sizes, allocate nothing: switches copy preloaded fixed-size filters; the
+// declaration history has a fixed reserved capacity (further declarations are counted in
+// declarations_dropped()).
+#pragma once
+
+#include "f16mmae/declarer.h"
+#include "f16mmae/filter_bank.h"
+#include "f16mmae/model_bank.h"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace f16mmae {
+
+struct Declaration {
+  int hypothesis = -1;      // index into ModelBank::hypotheses (names via name())
+  int level = 0;            // level at which it was declared (0 or 1)
+  std::int64_t frame = 0;   // frame index of the update that completed the dwell
+  double time_s = 0.0;      // frame / frame_rate_hz
+};
+
+struct HierarchicalOptions {
+  FilterBankOptions bank;     // p_min, strip_leading_term
+  DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
+  int history_capacity = 1024;
+};
+
+template <int K, int NX, int NU, int NZ>
+class HierarchicalBank {
+ public:
+  using Bank = FilterBank<K, NX, NU, NZ>;
+  using Filter = typename Bank::Filter;
+  using Model = typename Bank::Model;
+  using XVector = typename Bank::XVector;
+  using UVector = typename Bank::UVector;
+  using ZVector = typename Bank::ZVector;
+  using PVector = typename Bank::PVector;
+  static constexpr bool kFixed = K != Eigen::Dynamic;
+  using Indices = std::conditional_t<kFixed, std::array<int, (kFixed ? K : 1)>, std::vector<int>>;
+
+  explicit HierarchicalBank(const ModelBank& bank, const HierarchicalOptions& options = {})
+      : HierarchicalBank(bank, options, build(bank)) {}
+
+  // ---- per frame (noexcept; absolute signals) ---------------------------------------------
+  // Returns the ModelBank index of the hypothesis declared on this frame, or -1.
+  int update(const ZVector& z_abs) noexcept {
+    const std::int64_t frame = frame_++;
+    z_pert_.noalias() = z_abs - z_trim_;
+    if (!bank_.update(z_pert_)) return -1;
+    const int d = declarer_.update(bank_.probabilities());
+    if (d < 0) return -1;
+    const int hypothesis = online_[d];
+    record(hypothesis, frame);
+    if (level_ == 0 && d != 0) {
+      switch_to(level1_[d - 1], d, 1);
+    } else if (level_ == 1 && d == 0) {
+      switch_to(level0_, 0, 0);
+    }
+    return hypothesis;
+  }
+  bool propagate(const UVector& u_abs) noexcept {
+    u_pert_.noalias() = u_abs - u_trim_;
+    return bank_.propagate(u_pert_);
+  }
+  // update(z) then propagate(u); returns update's result.
+  int step(const ZVector& z_abs, const UVector& u_abs) noexcept {
+    const int d = update(z_abs);
+    propagate(u_abs);
+    return d;
+  }
+  // Back to the start: level 0, NONE presumed, states zero, history and counters cleared.
+  void reset() noexcept {
+    for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[level0_[k]]);
+    online_ = level0_;
+    bank_.reset();
+    declarer_.reset(0);
+    level_ = 0;
+    frame_ = 0;
+    history_.clear();
+    dropped_ = 0;
+  }
+
+  // ---- outputs -----------------------------------------------------------------------------
+  int level() const noexcept { return level_; }
+  // ModelBank index of the single failure whose level-1 bank is on line, or -1 at level 0.
+  int level1_failure() const noexcept { return level_ == 1 ? online_[1] : -1; }
+  int size() const noexcept { return bank_.size(); }
+  const Indices& online() const noexcept { return online_; }   // ModelBank indices on line
+  std::vector<std::string> online_names() const {
+    std::vector<std::string> out;
+    for (int i : online_) out.push_back(names_[i]);
+    return out;
+  }
+  const std::string& name(int hypothesis) const { return names_.at(hypothesis); }
+  int hypothesis_count() const noexcept { return static_cast<int>(names_.size()); }
+  // ModelBank index of the current (presumed or last declared) hypothesis.
+  int current_hypothesis() const noexcept { return online_[declarer_.current()]; }
+  const std::vector<Declaration>& declarations() const noexcept { return history_; }
+  std::int64_t declarations_dropped() const noexcept { return dropped_; }
+  std::int64_t frames() const noexcept { return frame_; }
+  double frame_rate_hz() const noexcept { return frame_rate_hz_; }
+  const PVector& probabilities() const noexcept { return bank_.probabilities(); }
+  const XVector& blended_state() const noexcept { return bank_.blended_state(); }
+  const ZVector& z_hat_perturbation() const noexcept { return bank_.z_hat(); }
+  ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_; }   // absolute
+  const ZVector& z_trim() const noexcept { return z_trim_; }
+  const UVector& u_trim() const noexcept { return u_trim_; }
+  std::int64_t rejected_frames() const noexcept { return bank_.rejected_frames(); }
+  const Bank& bank() const noexcept { return bank_; }
+  const Declarer& declarer() const noexcept { return declarer_; }
+  const HierarchicalOptions& options() const noexcept { return options_; }
+
+ private:
+  struct Built {
+    std::vector<Model> models;
+    Indices level0;
+    std::vector<Indices> level1;
+  };
+
+  static Indices make_indices(int n) {
+    Indices idx{};
+    if constexpr (!kFixed) idx.assign(n, -1);
+    (void)n;
+    return idx;
+  }
+
+  // Validates the ModelBank and resolves the levels by name.
+  static Built build(const ModelBank& mb) {
+    mb.validate();
+    Built b;
+    std::vector<int> singles;
+    for (int i = 1; i < static_cast<int>(mb.hypotheses.size()); ++i)
+      if (mb.hypotheses[i].name.find('+') == std::string::npos) singles.push_back(i);
+    const int k = 1 + static_cast<int>(singles.size());
+    if (kFixed && k != K) {
+      throw std::invalid_argument("hierarchical bank: the model bank has " + std::to_string(singles.size()) +
+                                  " single-failure hypotheses, this bank needs " + std::to_string(K - 1));
+    }
+    if (k < 2) throw std::invalid_argument("hierarchical bank: the model bank has no single-failure hypothesis");
+    for (const auto& h : mb.hypotheses)
+      b.models.push_back(Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, "hypothesis '" + h.name + "'"));
+    b.level0 = make_indices(k);
+    b.level0[0] = 0;
+    for (int s = 0; s < k - 1; ++s) b.level0[s + 1] = singles[s];
+    for (int f = 0; f < k - 1; ++f) {
+      Indices idx = make_indices(k);
+      idx[0] = 0;
+      idx[1] = singles[f];
+      int n = 2;
+      const std::string& a = mb.hypotheses[singles[f]].name;
+      for (int c = 0; c < k - 1; ++c) {
+        if (c == f) continue;
+        const std::string& other = mb.hypotheses[singles[c]].name;
+        int j = mb.find(a + "+" + other);
+        if (j < 0) j = mb.find(other + "+" + a);
+        if (j < 0)
+          throw std::invalid_argument("hierarchical bank: the model bank has no dual hypothesis '" + a + "+" +
+                                      other + "' (nor '" + other + "+" + a + "') for the level-1 bank of " + a);
+        idx[n++] = j;
+      }
+      b.level1.push_back(idx);
+    }
+    return b;
+  }
+
+  static std::vector<Model> pick(const std::vector<Model>& models, const Indices& idx) {
+    std::vector<Model> out;
+    for (int i : idx) out.push_back(models[i]);
+    return out;
+  }
+
+  static DeclarerOptions with_rate(DeclarerOptions d, double rate_hz) {
+    d.frame_rate_hz = rate_hz;
+    return d;
+  }
+
+  HierarchicalBank(const ModelBank& mb, const HierarchicalOptions& options, Built b)
+      : options_(options),
+        bank_(pick(b.models, b.level0), options.bank),
+        declarer_(with_rate(options.declarer, mb.frame_rate_hz), 0),
+        level0_(b.level0),
+        level1_(std::move(b.level1)),
+        online_(b.level0),
+        frame_rate_hz_(mb.frame_rate_hz) {
+    if (options.history_capacity < 1)
+      throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
+                                  std::to_string(options.history_capacity));
+    for (const auto& h : mb.hypotheses) names_.push_back(h.name);
+    storage_.reserve(b.models.size());
+    for (std::size_t i = 0; i < b.models.size(); ++i)
+      storage_.emplace_back(b.models[i], "hypothesis '" + names_[i] + "'");
+    bank_.set_h_output(mb.h_output);
+    z_trim_ = mb.z_trim;
+    u_trim_ = mb.u_trim;
+    z_pert_ = z_trim_;
+    u_pert_ = u_trim_;
+    history_.reserve(static_cast<std::size_t>(options.history_capacity));
+  }
+
+  void record(int hypothesis, std::int64_t frame) noexcept {
+    if (history_.size() >= history_.capacity()) {
+      ++dropped_;
+      return;
+    }
+    Declaration d;
+    d.hypothesis = hypothesis;
+    d.level = level_;
+    d.frame = frame;
+    d.time_s = static_cast<double>(frame) / frame_rate_hz_;
+    history_.push_back(d);  // within the reserved capacity: no allocation
+  }
+
+  // Bring `next` on line; every new filter starts from the declared filter's x⁺ and the
+  // declared hypothesis (at `declared`, its position in the current bank) is presumed.
+  void switch_to(const Indices& next, int declared, int level) noexcept {
+    const XVector x0 = bank_.posterior(declared);
+    const int presumed = level == 1 ? 1 : 0;
+    for (int k = 0; k < size(); ++k) {
+      bank_.load_filter(k, storage_[next[k]]);
+      bank_.set_posterior(k, x0);
+    }
+    online_ = next;
+    level_ = level;
+    bank_.presume(presumed);
+    declarer_.reset(presumed);
+  }
+
+  HierarchicalOptions options_;
+  Bank bank_;
+  Declarer declarer_;
+  std::vector<Filter> storage_;   // every hypothesis of the ModelBank, in its order
+  std::vector<std::string> names_;
+  Indices level0_;
+  std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of single failure f
+  Indices online_;
+  ZVector z_trim_, z_pert_;
+  UVector u_trim_, u_pert_;
+  std::vector<Declaration> history_;
+  std::int64_t dropped_ = 0;
+  std::int64_t frame_ = 0;
+  double frame_rate_hz_ = 0.0;
+  int level_ = 0;
+};
+
+using F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
+using DynamicHierarchicalBank =
+    HierarchicalBank<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
+
+}  // namespace f16mmae

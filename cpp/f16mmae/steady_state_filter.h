@@ -1,0 +1,256 @@
+// SteadyStateFilter — one hypothesis filter of the MMAE bank: a steady-state (constant-gain)
+// discrete Kalman filter (Eide & Maybeck, Sec. III-IV). Eigen and std only.
+//
+// Model of hypothesis k (eqs. 3-4), all quantities perturbations from the design trim:
+//   x(t_{i+1}) = Phi x(t_i) + Bd u(t_i) + w_d(t_i),      z(t_i) = H x(t_i) + v(t_i)
+// Steady-state filter with gain K and residual covariance A = H P⁻ Hᵀ + R (eq. 5):
+//   update     r_i  = z_i - H x⁻_i                       residual
+//              q_i  = r_iᵀ A⁻¹ r_i                        quadratic form of eq. 2
+//              x⁺_i = x⁻_i + K r_i
+//   propagate  x⁻_{i+1} = Phi x⁺_i + Bd u_i   (from x⁻_i when no update was accepted at t_i)
+// Initial x⁻_0 = 0 (the trim). A⁻¹ (through a Cholesky factorisation of A) and ln|A| are
+// computed once, at construction.
+//
+// Sizes: Phi (NX,NX), Bd (NX,NU), H (NZ,NX), K (NX,NZ), A (NZ,NZ). Template arguments are
+// compile-time sizes (F16Filter = SteadyStateFilter<13, 5, 7>) or Eigen::Dynamic, in which
+// case the sizes are taken from the model.
+//
+// Throws: the constructor throws std::invalid_argument with a sentence when the model's
+// shapes disagree (or differ from the compile-time sizes), an entry is not finite, A is not
+// symmetric positive definite, or the error dynamics Phi (I - K H) are not stable (spectral
+// radius >= 1). Everything per frame is noexcept and, for fixed sizes, allocation-free.
+// A per-frame call whose input or result is not finite changes nothing and returns false.
+#pragma once
+
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace f16mmae {
+
+// The matrices of one hypothesis filter (see the header comment for the equations).
+template <int NX, int NU, int NZ>
+struct FilterModel {
+  using PhiMatrix = Eigen::Matrix<double, NX, NX>;
+  using BdMatrix = Eigen::Matrix<double, NX, NU>;
+  using HMatrix = Eigen::Matrix<double, NZ, NX>;
+  using KMatrix = Eigen::Matrix<double, NX, NZ>;
+  using AMatrix = Eigen::Matrix<double, NZ, NZ>;
+
+  PhiMatrix phi;  // (NX,NX) state transition
+  BdMatrix bd;    // (NX,NU) discrete input matrix
+  HMatrix h;      // (NZ,NX) measurement matrix
+  KMatrix k;      // (NX,NZ) steady-state Kalman gain
+  AMatrix a;      // (NZ,NZ) residual covariance, eq. 5
+
+  // Builds a model from dynamic-size matrices, checking each shape against the compile-time
+  // sizes first (throws std::invalid_argument naming `who`); validate() is not called here.
+  template <class M>
+  static FilterModel from_matrices(const M& phi_, const M& bd_, const M& h_, const M& k_,
+                                   const M& a_, const std::string& who = "filter model") {
+    auto check = [&](const char* name, const M& x, int r, int c) {
+      if ((r != Eigen::Dynamic && x.rows() != r) || (c != Eigen::Dynamic && x.cols() != c)) {
+        std::ostringstream s;
+        s << who << ": " << name << " is " << x.rows() << "x" << x.cols() << ", expected "
+          << (r == Eigen::Dynamic ? std::string("n") : std::to_string(r)) << "x"
+          << (c == Eigen::Dynamic ? std::string("n") : std::to_string(c));
+        throw std::invalid_argument(s.str());
+      }
+    };
+    check("phi", phi_, NX, NX);
+    check("bd", bd_, NX, NU);
+    check("h", h_, NZ, NX);
+    check("k", k_, NX, NZ);
+    check("a", a_, NZ, NZ);
+    FilterModel m;
+    m.phi = phi_;
+    m.bd = bd_;
+    m.h = h_;
+    m.k = k_;
+    m.a = a_;
+    return m;
+  }
+
+  int nx() const { return static_cast<int>(phi.rows()); }
+  int nu() const { return static_cast<int>(bd.cols()); }
+  int nz() const { return static_cast<int>(h.rows()); }
+
+  // Throws std::invalid_argument naming `who` and the problem (see the header comment).
+  void validate(const std::string& who = "filter model") const {
+    auto fail = [&](const std::string& what) { throw std::invalid_argument(who + ": " + what); };
+    const auto n = phi.rows(), p = bd.cols(), m = h.rows();
+    auto shape = [&](const char* name, Eigen::Index r, Eigen::Index c, Eigen::Index er,
+                     Eigen::Index ec) {
+      if (r != er || c != ec) {
+        std::ostringstream s;
+        s << name << " is " << r << "x" << c << ", expected " << er << "x" << ec;
+        fail(s.str());
+      }
+    };
+    if (n == 0 || p == 0 || m == 0) fail("phi, bd and h must be non-empty");
+    shape("phi", phi.rows(), phi.cols(), n, n);
+    shape("bd", bd.rows(), bd.cols(), n, p);
+    shape("h", h.rows(), h.cols(), m, n);
+    shape("k", k.rows(), k.cols(), n, m);
+    shape("a", a.rows(), a.cols(), m, m);
+    if (!phi.allFinite()) fail("phi has a non-finite entry");
+    if (!bd.allFinite()) fail("bd has a non-finite entry");
+    if (!h.allFinite()) fail("h has a non-finite entry");
+    if (!k.allFinite()) fail("k has a non-finite entry");
+    if (!a.allFinite()) fail("a has a non-finite entry");
+    const double asym = (a - a.transpose()).cwiseAbs().maxCoeff();
+    if (asym > 1e-9 * (1.0 + a.cwiseAbs().maxCoeff()))
+      fail("residual covariance A is not symmetric");
+    const Eigen::LLT<Eigen::MatrixXd> llt{Eigen::MatrixXd{a}};
+    if (llt.info() != Eigen::Success) fail("residual covariance A is not positive definite");
+    const Eigen::MatrixXd err =
+        Eigen::MatrixXd(phi) * (Eigen::MatrixXd::Identity(n, n) - Eigen::MatrixXd(k) * Eigen::MatrixXd(h));
+    const double rho = err.eigenvalues().cwiseAbs().maxCoeff();
+    if (!(rho < 1.0)) {
+      std::ostringstream s;
+      s << "error dynamics Phi (I - K H) are unstable (spectral radius " << rho << " >= 1)";
+      fail(s.str());
+    }
+  }
+};
+
+template <int NX, int NU, int NZ>
+class SteadyStateFilter {
+ public:
+  using Model = FilterModel<NX, NU, NZ>;
+  using XVector = Eigen::Matrix<double, NX, 1>;
+  using UVector = Eigen::Matrix<double, NU, 1>;
+  using ZVector = Eigen::Matrix<double, NZ, 1>;
+  using AMatrix = typename Model::AMatrix;
+
+  // An empty filter (sizes zero when dynamic); only for filling fixed-size containers.
+  SteadyStateFilter() = default;
+
+  // Validates the model (throws std::invalid_argument, see the header) and precomputes
+  // A⁻¹ and ln|A|. `who` names the filter in error messages.
+  explicit SteadyStateFilter(const Model& model, const std::string& who = "filter model")
+      : m_(model) {
+    m_.validate(who);
+    const AMatrix a_sym = 0.5 * (m_.a + m_.a.transpose());
+    const Eigen::LLT<AMatrix> llt(a_sym);
+    a_inv_ = llt.solve(AMatrix::Identity(m_.nz(), m_.nz()));
+    a_inv_ = 0.5 * (a_inv_ + a_inv_.transpose()).eval();
+    log_det_a_ = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+    reset();
+  }
+
+  // x⁻ = x⁺ = 0 (the trim); the residual and quadratic form are zeroed.
+  void reset() noexcept {
+    x_prior_.setZero(m_.nx());
+    x_post_.setZero(m_.nx());
+    r_.setZero(m_.nz());
+    q_ = 0.0;
+    corrected_ = false;
+  }
+
+  // ---- per frame, split so a bank can check every filter before committing any ---------
+  // r = z - H x⁻ and returns q = rᵀ A⁻¹ r (+inf when it overflows, never NaN for finite r).
+  double innovate(const ZVector& z, ZVector& r) const noexcept {
+    r.noalias() = z - m_.h * x_prior_;
+    return quadratic_form(r);
+  }
+  // rᵀ A⁻¹ r, robust to overflow: a non-finite plain result is recomputed on r scaled by
+  // its largest magnitude, so huge residuals give a huge or infinite q, never NaN.
+  double quadratic_form(const ZVector& r) const noexcept {
+    const double q = r.dot(a_inv_ * r);
+    if (std::isfinite(q)) return q < 0.0 ? 0.0 : q;
+    const double s = r.cwiseAbs().maxCoeff();
+    if (!std::isfinite(s)) return std::numeric_limits<double>::quiet_NaN();
+    const ZVector rs = r / s;
+    const double inner = rs.dot(a_inv_ * rs);
+    return (inner > 0.0 ? inner : 0.0) * s * s;
+  }
+  // x⁻ + K r (the candidate posterior).
+  void corrected(const ZVector& r, XVector& x_post) const noexcept {
+    x_post.noalias() = x_prior_ + m_.k * r;
+  }
+  // Phi x + Bd u from the current estimate (x⁺ after an accepted update, else x⁻).
+  void predicted(const UVector& u, XVector& x_prior) const noexcept {
+    x_prior.noalias() = m_.phi * estimate() + m_.bd * u;
+  }
+  // Commit an update / a propagation computed by the functions above.
+  void accept_update(const ZVector& r, double q, const XVector& x_post) noexcept {
+    r_ = r;
+    q_ = q;
+    x_post_ = x_post;
+    corrected_ = true;
+  }
+  void accept_propagation(const XVector& x_prior) noexcept {
+    x_prior_ = x_prior;
+    corrected_ = false;
+  }
+
+  // ---- per frame, whole ----------------------------------------------------------------
+  // Update with z (eqs. above). Returns false, changing nothing, if z or a result is not finite.
+  bool update(const ZVector& z) noexcept {
+    if (!z.allFinite()) return false;
+    ZVector r = ZVector::Zero(m_.nz());
+    const double q = innovate(z, r);
+    XVector x = XVector::Zero(m_.nx());
+    corrected(r, x);
+    if (!r.allFinite() || std::isnan(q) || !x.allFinite()) return false;
+    accept_update(r, q, x);
+    return true;
+  }
+  // Propagate with u. Returns false, changing nothing, if u or the result is not finite.
+  bool propagate(const UVector& u) noexcept {
+    if (!u.allFinite()) return false;
+    XVector x = XVector::Zero(m_.nx());
+    predicted(u, x);
+    if (!x.allFinite()) return false;
+    accept_propagation(x);
+    return true;
+  }
+
+  // Set the posterior x⁺ (and mark it current, so the next propagate starts from it): used
+  // when a filter is brought on line at a hierarchical switch, after the frame's update.
+  void set_posterior(const XVector& x_post) noexcept {
+    x_post_ = x_post;
+    corrected_ = true;
+  }
+  // Set the prior x⁻ (before an update); the posterior is left as it was.
+  void set_prior(const XVector& x_prior) noexcept {
+    x_prior_ = x_prior;
+    corrected_ = false;
+  }
+
+  // ---- state and outputs ---------------------------------------------------------------
+  const Model& model() const noexcept { return m_; }
+  const XVector& prior() const noexcept { return x_prior_; }        // x⁻
+  const XVector& posterior() const noexcept { return x_post_; }     // x⁺ at the last accepted update
+  // The current estimate: x⁺ if an update was accepted since the last propagation, else x⁻.
+  const XVector& estimate() const noexcept { return corrected_ ? x_post_ : x_prior_; }
+  const ZVector& residual() const noexcept { return r_; }           // r at the last update
+  double quadratic_form() const noexcept { return q_; }             // rᵀ A⁻¹ r at the last update
+  const AMatrix& a_inverse() const noexcept { return a_inv_; }
+  double log_det_a() const noexcept { return log_det_a_; }          // ln|A|
+  int nx() const noexcept { return m_.nx(); }
+  int nu() const noexcept { return m_.nu(); }
+  int nz() const noexcept { return m_.nz(); }
+
+ private:
+  Model m_;
+  AMatrix a_inv_;
+  double log_det_a_ = 0.0;
+  XVector x_prior_, x_post_;
+  ZVector r_;
+  double q_ = 0.0;
+  bool corrected_ = false;
+};
+
+using F16FilterModel = FilterModel<13, 5, 7>;
+using F16Filter = SteadyStateFilter<13, 5, 7>;
+using DynamicFilterModel = FilterModel<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
+using DynamicFilter = SteadyStateFilter<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
+
+}  // namespace f16mmae

@@ -1,0 +1,199 @@
+// HierarchicalBank on synthetic model banks built like the design (B column / H row
+// removed, Riccati gains) and flown against a linear truth with failures injected:
+// level-0 declaration, level-1 dual declaration, back-out, switch initialisation, trim
+// handling, lookup errors, and no heap allocation in the fixed-size F-16 step (switches
+// included; global operator new is counted in this executable).
+#include "f16mmae/hierarchical_bank.h"
+
+#include "synthetic_models.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace f16mmae;
+
+namespace {
+
+const std::vector<std::string> kAct{"U1", "U2"};
+const std::vector<std::string> kSen{"Z1", "Z2", "Z3"};
+
+struct Flight {
+  std::vector<Eigen::VectorXd> z, u;  // absolute
+};
+
+// failures: (component, first frame, last frame exclusive)
+struct Failure {
+  std::string name;
+  int from, to;
+};
+
+Flight fly(const test::Plant& plant, const std::vector<std::string>& act, const std::vector<std::string>& sen,
+           const ModelBank& bank, const std::vector<Failure>& failures, int frames, unsigned seed) {
+  test::Truth truth(plant, act, sen, seed);
+  Flight f;
+  for (int i = 0; i < frames; ++i) {
+    std::vector<std::string> failed;
+    for (const auto& x : failures)
+      if (i >= x.from && i < x.to) failed.push_back(x.name);
+    f.z.push_back(truth.measure(failed) + bank.z_trim);
+    const Eigen::VectorXd u = test::dither(static_cast<int>(act.size()), i, bank.frame_rate_hz);
+    f.u.push_back(u + bank.u_trim);
+    truth.advance(u, failed);
+  }
+  return f;
+}
+
+template <class HB>
+std::vector<std::string> declared_names(const HB& hb) {
+  std::vector<std::string> out;
+  for (const auto& d : hb.declarations()) out.push_back(hb.name(d.hypothesis));
+  return out;
+}
+
+struct Small {
+  test::Plant plant = test::random_plant(3, 2, 3, 21u);
+  ModelBank bank = test::make_bank(plant, kAct, kSen, Eigen::Vector2d(0.1, -0.2), Eigen::Vector3d(10.0, 1.0, -3.0));
+};
+
+}  // namespace
+
+TEST(HierarchicalBank, StartsAtLevelZeroWithTheSinglesByName) {
+  Small s;
+  DynamicHierarchicalBank hb(s.bank);
+  EXPECT_EQ(hb.level(), 0);
+  EXPECT_EQ(hb.size(), 6);
+  EXPECT_EQ(hb.online_names(), (std::vector<std::string>{"NONE", "U1", "U2", "Z1", "Z2", "Z3"}));
+  EXPECT_EQ(hb.name(hb.current_hypothesis()), "NONE");
+  EXPECT_EQ(hb.hypothesis_count(), 16);
+}
+
+TEST(HierarchicalBank, SubtractsTheTrimLikeAPlainBankOnPerturbations) {
+  Small s;
+  DynamicHierarchicalBank hb(s.bank);
+  std::vector<DynamicFilterModel> models;
+  for (int i : hb.online()) {
+    const auto& h = s.bank.hypotheses[i];
+    models.push_back(DynamicFilterModel::from_matrices(h.phi, h.bd, h.h, h.k, h.a));
+  }
+  DynamicFilterBank plain(models);
+  plain.set_h_output(s.bank.h_output);
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {}, 100, 1u);
+  for (int i = 0; i < 100; ++i) {
+    hb.step(f.z[i], f.u[i]);
+    plain.step(f.z[i] - s.bank.z_trim, f.u[i] - s.bank.u_trim);
+    ASSERT_LT((hb.probabilities() - plain.probabilities()).cwiseAbs().maxCoeff(), 1e-12);
+    ASSERT_LT((hb.z_hat() - (plain.z_hat() + s.bank.z_trim)).cwiseAbs().maxCoeff(), 1e-12);
+    ASSERT_LT((hb.z_hat_perturbation() - plain.z_hat()).cwiseAbs().maxCoeff(), 1e-12);
+  }
+  EXPECT_TRUE(hb.declarations().empty());
+}
+
+TEST(HierarchicalBank, SingleThenDualFailureIsDeclaredAndStays) {
+  Small s;
+  DynamicHierarchicalBank hb(s.bank);
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {{"U1", 64, 1 << 30}, {"Z3", 320, 1 << 30}}, 640, 2u);
+  bool checked_switch = false;
+  for (int i = 0; i < 640; ++i) {
+    const int d = hb.update(f.z[i]);
+    if (d >= 0 && hb.name(d) == "U1") {
+      // switch initialisation: every filter starts from the declared filter's x⁺ and the
+      // declared hypothesis is presumed
+      const Eigen::MatrixXd x = hb.bank().state_estimates();
+      for (int k = 1; k < x.rows(); ++k) EXPECT_LT((x.row(k) - x.row(0)).cwiseAbs().maxCoeff(), 1e-15);
+      EXPECT_NEAR(hb.probabilities()(1), 1.0 - 5 * 0.001, 1e-15);
+      EXPECT_EQ(hb.level(), 1);
+      checked_switch = true;
+    }
+    hb.propagate(f.u[i]);
+  }
+  EXPECT_TRUE(checked_switch);
+  ASSERT_EQ(declared_names(hb), (std::vector<std::string>{"U1", "U1+Z3"}));
+  EXPECT_EQ(hb.declarations()[0].level, 0);
+  EXPECT_EQ(hb.declarations()[1].level, 1);
+  EXPECT_GE(hb.declarations()[0].frame, 64 + 15);
+  EXPECT_LT(hb.declarations()[0].frame, 64 + 64);
+  EXPECT_DOUBLE_EQ(hb.declarations()[0].time_s, hb.declarations()[0].frame / 64.0);
+  EXPECT_GE(hb.declarations()[1].frame, 320 + 15);
+  EXPECT_LT(hb.declarations()[1].frame, 320 + 64);
+  EXPECT_EQ(hb.level(), 1);
+  EXPECT_EQ(hb.name(hb.level1_failure()), "U1");
+  EXPECT_EQ(hb.online_names(), (std::vector<std::string>{"NONE", "U1", "U1+U2", "U1+Z1", "U1+Z2", "U1+Z3"}));
+  EXPECT_EQ(hb.name(hb.current_hypothesis()), "U1+Z3");
+}
+
+TEST(HierarchicalBank, BacksOutWhenNoneWinsAtLevelOne) {
+  Small s;
+  DynamicHierarchicalBank hb(s.bank);
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {{"Z2", 64, 256}}, 512, 3u);
+  for (int i = 0; i < 512; ++i) hb.step(f.z[i], f.u[i]);
+  ASSERT_EQ(declared_names(hb), (std::vector<std::string>{"Z2", "NONE"}));
+  EXPECT_EQ(hb.declarations()[1].level, 1);
+  EXPECT_GE(hb.declarations()[1].frame, 256 + 15);
+  EXPECT_EQ(hb.level(), 0);
+  EXPECT_EQ(hb.online_names(), (std::vector<std::string>{"NONE", "U1", "U2", "Z1", "Z2", "Z3"}));
+  hb.reset();
+  EXPECT_TRUE(hb.declarations().empty());
+  EXPECT_EQ(hb.frames(), 0);
+}
+
+TEST(HierarchicalBank, NoFailureDeclaresNothing) {
+  Small s;
+  DynamicHierarchicalBank hb(s.bank);
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {}, 640, 4u);
+  for (int i = 0; i < 640; ++i) hb.step(f.z[i], f.u[i]);
+  EXPECT_TRUE(hb.declarations().empty());
+  EXPECT_GT(hb.probabilities()(0), 0.9);
+}
+
+TEST(HierarchicalBank, MissingDualOrWrongSizesAreRefusedByName) {
+  Small s;
+  ModelBank b = s.bank;
+  b.hypotheses.erase(b.hypotheses.begin() + b.find("U2+Z1"));
+  try {
+    DynamicHierarchicalBank hb(b);
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("U2+Z1"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(F16HierarchicalBank{s.bank}, std::invalid_argument);
+  b = s.bank;
+  b.hypotheses[3].a(0, 0) = -5.0;
+  EXPECT_THROW(DynamicHierarchicalBank{b}, std::invalid_argument);
+}
+
+TEST(HierarchicalBank, F16SizedBankDeclaresAndSwitchesWithoutAllocating) {
+  const std::vector<std::string> act{"LS", "RS", "LF", "RF", "RUD"};
+  const std::vector<std::string> sen{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+  const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
+  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, -0.03), z_trim(7);
+  z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
+  const ModelBank bank = test::make_bank(plant, act, sen, u_trim, z_trim);
+  ASSERT_EQ(bank.hypotheses.size(), 79u);
+  F16HierarchicalBank hb(bank);
+  const Flight f = fly(plant, act, sen, bank, {{"PIT", 64, 1 << 30}}, 320, 5u);
+  std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
+  std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
+  const long before = g_allocations.load();
+  for (std::size_t i = 0; i < z.size(); ++i) hb.step(z[i], u[i]);
+  const long after = g_allocations.load();
+  EXPECT_EQ(after - before, 0);
+  ASSERT_EQ(declared_names(hb), (std::vector<std::string>{"PIT"}));
+  EXPECT_EQ(hb.online_names(), (std::vector<std::string>{"NONE", "PIT", "LS+PIT", "RS+PIT", "LF+PIT", "RF+PIT",
+                                                         "RUD+PIT", "VEL+PIT", "AOA+PIT", "PIT+AZ", "PIT+ROL",
+                                                         "PIT+YAW", "PIT+AY"}));
+}

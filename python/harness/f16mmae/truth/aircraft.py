@@ -3,7 +3,9 @@
 JSBSim's stock ``f16`` (aerodynamics, propulsion, mass, ground reactions) is read at run time
 from the installed ``jsbsim`` package; its ``<flight_control>``, ``<system>``,
 ``<external_reactions>`` and ``<output>`` sections are replaced by a pure MIXER, and the result
-is written into a per-process temporary root (no JSBSim aircraft data lives in this repo).
+is written into a content-addressed cache root (``$F16MMAE_CACHE_DIR``, default
+``~/.cache/f16mmae``), shared by every process and never stale (no JSBSim aircraft data lives in
+this repo).
 
 The stock aerodynamics read four control properties only.  The mixer computes them from the
 five surface POSITIONS ``delta = (LS, RS, LF, RF, RUD)`` (rad, trailing edge down positive for
@@ -30,7 +32,7 @@ the speed brake is retracted and the gear up.  Throttle: ``fcs/throttle-pos-norm
 """
 from __future__ import annotations
 
-import atexit
+import hashlib
 import math
 import os
 import shutil
@@ -124,8 +126,18 @@ def _flight_control_xml() -> str:
             f'  <channel name="Mixer">\n{body}\n  </channel>\n</flight_control>')
 
 
+def _cache_base() -> str:
+    return os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(
+        os.path.expanduser("~"), ".cache", "f16mmae")
+
+
 def derived_root() -> str:
-    """Directory holding the derived aircraft (built once per process, removed at exit)."""
+    """Directory holding the derived aircraft.
+
+    Its name carries the SHA-256 of the derived XML (which includes the installed jsbsim's
+    f16.xml), so a root is written once, atomically (temporary directory + rename), and reused
+    by every later process: no per-process temporary directories to leak from pool workers.
+    """
     global _root_dir
     with _lock:
         if _root_dir is not None and os.path.isdir(_root_dir):
@@ -139,18 +151,21 @@ def derived_root() -> str:
         cfg.set("name", "F-16 (JSBSim f16 airframe, f16mmae flight control)")
         aero = cfg.find("aerodynamics")
         cfg.insert(list(cfg).index(aero), ET.fromstring(_flight_control_xml()))
-        root = tempfile.mkdtemp(prefix="f16mmae-aircraft-")
-        os.makedirs(os.path.join(root, "aircraft", AIRCRAFT_NAME))
-        tree.write(os.path.join(root, "aircraft", AIRCRAFT_NAME, f"{AIRCRAFT_NAME}.xml"))
-        atexit.register(_remove_root, root, os.getpid())
+        xml = ET.tostring(cfg, encoding="utf-8")
+        base = _cache_base()
+        root = os.path.join(base, "aircraft-" + hashlib.sha256(xml).hexdigest()[:16])
+        if not os.path.isfile(os.path.join(root, "aircraft", AIRCRAFT_NAME, f"{AIRCRAFT_NAME}.xml")):
+            os.makedirs(base, exist_ok=True)
+            staging = tempfile.mkdtemp(prefix=".aircraft-", dir=base)
+            os.makedirs(os.path.join(staging, "aircraft", AIRCRAFT_NAME))
+            with open(os.path.join(staging, "aircraft", AIRCRAFT_NAME, f"{AIRCRAFT_NAME}.xml"), "wb") as f:
+                f.write(b'<?xml version="1.0"?>\n' + xml)
+            try:
+                os.rename(staging, root)
+            except OSError:  # another process got there first: theirs is identical
+                shutil.rmtree(staging, ignore_errors=True)
         _root_dir = root
         return root
-
-
-def _remove_root(root: str, owner_pid: int) -> None:
-    """Remove the temporary root at exit, only in the process that made it (not forked workers)."""
-    if os.getpid() == owner_pid:
-        shutil.rmtree(root, ignore_errors=True)
 
 
 def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False) -> jsbsim.FGFDMExec:

@@ -14,7 +14,8 @@
 #pragma once
 
 #include <Eigen/Dense>
-#include <Eigen/Eigenvalues>
+
+#include "f16mmae/model_checks.h"
 
 #include <cmath>
 #include <cstdint>
@@ -75,36 +76,18 @@ struct ModelBank {
     };
     check_vec("u_trim", u_trim, nu_);
     check_vec("z_trim", z_trim, nz_);
-    auto check_mat = [&](const std::string& who, const char* what, const Eigen::MatrixXd& m, int r, int c) {
-      if (m.rows() != r || m.cols() != c) {
-        std::ostringstream s;
-        s << who << ": " << what << " is " << m.rows() << "x" << m.cols() << ", expected " << r << "x" << c;
-        fail(s.str());
-      }
-      if (!m.allFinite()) fail(who + ": " + what + " has a non-finite entry");
-    };
-    check_mat("bank", "h_output", h_output, nz_, nx_);
+    if (h_output.rows() != nz_ || h_output.cols() != nx_ || !h_output.allFinite()) {
+      std::ostringstream s;
+      s << "h_output is " << h_output.rows() << "x" << h_output.cols() << ", expected " << nz_
+        << "x" << nx_ << " with finite entries";
+      fail(s.str());
+    }
     for (std::size_t i = 0; i < hypotheses.size(); ++i) {
       const HypothesisModel& m = hypotheses[i];
       const std::string who = "hypothesis " + std::to_string(i) + " '" + m.name + "'";
       for (std::size_t j = 0; j < i; ++j)
         if (hypotheses[j].name == m.name) fail(who + ": duplicate name");
-      check_mat(who, "phi", m.phi, nx_, nx_);
-      check_mat(who, "bd", m.bd, nx_, nu_);
-      check_mat(who, "h", m.h, nz_, nx_);
-      check_mat(who, "k", m.k, nx_, nz_);
-      check_mat(who, "a", m.a, nz_, nz_);
-      const double asym = (m.a - m.a.transpose()).cwiseAbs().maxCoeff();
-      if (asym > 1e-9 * (1.0 + m.a.cwiseAbs().maxCoeff())) fail(who + ": residual covariance A is not symmetric");
-      Eigen::LLT<Eigen::MatrixXd> llt(m.a);
-      if (llt.info() != Eigen::Success) fail(who + ": residual covariance A is not positive definite");
-      const Eigen::MatrixXd err = m.phi * (Eigen::MatrixXd::Identity(nx_, nx_) - m.k * m.h);
-      const double rho = err.eigenvalues().cwiseAbs().maxCoeff();
-      if (!(rho < 1.0)) {
-        std::ostringstream s;
-        s << who << ": error dynamics Phi (I - K H) is unstable (spectral radius " << rho << " >= 1)";
-        fail(s.str());
-      }
+      check_filter_matrices(m.phi, m.bd, m.h, m.k, m.a, nx_, nu_, nz_, "model bank: " + who);
     }
   }
 };

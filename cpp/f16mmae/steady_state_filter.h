@@ -23,7 +23,8 @@
 #pragma once
 
 #include <Eigen/Dense>
-#include <Eigen/Eigenvalues>
+
+#include "f16mmae/model_checks.h"
 
 #include <cmath>
 #include <limits>
@@ -82,40 +83,7 @@ struct FilterModel {
 
   // Throws std::invalid_argument naming `who` and the problem (see the header comment).
   void validate(const std::string& who = "filter model") const {
-    auto fail = [&](const std::string& what) { throw std::invalid_argument(who + ": " + what); };
-    const auto n = phi.rows(), p = bd.cols(), m = h.rows();
-    auto shape = [&](const char* name, Eigen::Index r, Eigen::Index c, Eigen::Index er,
-                     Eigen::Index ec) {
-      if (r != er || c != ec) {
-        std::ostringstream s;
-        s << name << " is " << r << "x" << c << ", expected " << er << "x" << ec;
-        fail(s.str());
-      }
-    };
-    if (n == 0 || p == 0 || m == 0) fail("phi, bd and h must be non-empty");
-    shape("phi", phi.rows(), phi.cols(), n, n);
-    shape("bd", bd.rows(), bd.cols(), n, p);
-    shape("h", h.rows(), h.cols(), m, n);
-    shape("k", k.rows(), k.cols(), n, m);
-    shape("a", a.rows(), a.cols(), m, m);
-    if (!phi.allFinite()) fail("phi has a non-finite entry");
-    if (!bd.allFinite()) fail("bd has a non-finite entry");
-    if (!h.allFinite()) fail("h has a non-finite entry");
-    if (!k.allFinite()) fail("k has a non-finite entry");
-    if (!a.allFinite()) fail("a has a non-finite entry");
-    const double asym = (a - a.transpose()).cwiseAbs().maxCoeff();
-    if (asym > 1e-9 * (1.0 + a.cwiseAbs().maxCoeff()))
-      fail("residual covariance A is not symmetric");
-    const Eigen::LLT<Eigen::MatrixXd> llt{Eigen::MatrixXd{a}};
-    if (llt.info() != Eigen::Success) fail("residual covariance A is not positive definite");
-    const Eigen::MatrixXd err =
-        Eigen::MatrixXd(phi) * (Eigen::MatrixXd::Identity(n, n) - Eigen::MatrixXd(k) * Eigen::MatrixXd(h));
-    const double rho = err.eigenvalues().cwiseAbs().maxCoeff();
-    if (!(rho < 1.0)) {
-      std::ostringstream s;
-      s << "error dynamics Phi (I - K H) are unstable (spectral radius " << rho << " >= 1)";
-      fail(s.str());
-    }
+    check_filter_matrices(phi, bd, h, k, a, phi.rows(), bd.cols(), h.rows(), who);
   }
 };
 

@@ -51,7 +51,7 @@ inline Plant random_plant(int nx, int nu, int nz, unsigned seed, double q_var = 
   auto rnd = [&](int r, int c) { return Eigen::MatrixXd(Eigen::MatrixXd::NullaryExpr(r, c, [&] { return n01(g); })); };
   Plant p;
   Eigen::MatrixXd m = rnd(nx, nx);
-  const double rho = m.eigenvalues().cwiseAbs().maxCoeff();
+  const double rho = f16mmae::spectral_radius(m);
   p.phi = 0.95 / rho * m;
   p.bd = rnd(nx, nu);
   p.h = rnd(nz, nx);

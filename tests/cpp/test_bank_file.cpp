@@ -52,7 +52,7 @@ HypothesisModel random_hypothesis(const std::string& name, int nx, int nu, int n
   HypothesisModel m;
   m.name = name;
   m.phi = rnd(nx, nx);
-  m.phi *= 0.95 / m.phi.eigenvalues().cwiseAbs().maxCoeff();
+  m.phi *= 0.95 / spectral_radius(m.phi);
   m.bd = rnd(nx, nu);
   m.h = rnd(nz, nx);
   const Eigen::MatrixXd q = 0.1 * Eigen::MatrixXd::Identity(nx, nx);

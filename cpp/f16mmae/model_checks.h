@@ -1,0 +1,25 @@
+// Checks of one hypothesis filter's matrices, shared by FilterModel::validate and
+// ModelBank::validate and compiled once (cpp/f16mmae/model_checks.cpp: the eigenvalue solver
+// is heavy to instantiate, so it lives in one translation unit).
+//
+// check_filter_matrices(phi, bd, h, k, a, nx, nu, nz, who) throws std::invalid_argument
+// "<who>: <problem>" when a shape differs from Phi (nx,nx), Bd (nx,nu), H (nz,nx), K (nx,nz),
+// A (nz,nz), an entry is not finite, A is not symmetric positive definite, or the filter's
+// error dynamics Phi (I - K H) are not stable (spectral radius >= 1).
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <string>
+
+namespace f16mmae {
+
+// Largest |eigenvalue| of a square matrix.
+double spectral_radius(const Eigen::MatrixXd& m);
+
+void check_filter_matrices(const Eigen::MatrixXd& phi, const Eigen::MatrixXd& bd,
+                           const Eigen::MatrixXd& h, const Eigen::MatrixXd& k,
+                           const Eigen::MatrixXd& a, Eigen::Index nx, Eigen::Index nu,
+                           Eigen::Index nz, const std::string& who);
+
+}  // namespace f16mmae

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
 import sys
 
 from . import __version__
@@ -13,6 +14,33 @@ SUBCOMMANDS = ("run", "campaign", "design", "report", "bench", "hil", "replay")
 
 class CliError(Exception):
     """A bad argument: the message names the bad value and the valid choices."""
+
+
+def number(option: str, value, *, integer: bool = False, minimum=None, exclusive: bool = False,
+           below=None):
+    """``value`` of ``option`` as an int (``integer``) or a finite float, at least ``minimum``
+    (above it if ``exclusive``) and below ``below``; CliError naming the option, the value
+    and the valid range otherwise."""
+    try:
+        x = int(value) if integer else float(value)
+    except (TypeError, ValueError):
+        kind = "an integer" if integer else "a number"
+        raise CliError(f"{option} {value!r} is not {kind}") from None
+    if not integer and not math.isfinite(x):
+        raise CliError(f"{option} {value!r} must be finite")
+    if minimum is not None and (x <= minimum if exclusive else x < minimum):
+        raise CliError(f"{option} {value!r} must be {'>' if exclusive else '>='} {minimum}")
+    if below is not None and not x < below:
+        raise CliError(f"{option} {value!r} must be < {below}")
+    return x
+
+
+def choice(option: str, value: str, valid) -> str:
+    """``value`` of ``option`` lower-cased if it is one of ``valid``; CliError listing them."""
+    v = value.lower()
+    if v not in valid:
+        raise CliError(f"{option} {value!r} is unknown; valid: {', '.join(valid)}")
+    return v
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -7,7 +7,7 @@ import os
 import platform
 import sys
 
-from ..cli import CliError
+from ..cli import CliError, number
 
 DESCRIPTION = """\
 Time one MMAE frame (13 steady-state filters: residuals, log-domain Bayes update with
@@ -48,26 +48,6 @@ def register(subparsers) -> None:
     p.set_defaults(func=_run)
 
 
-def _integer(option: str, value: str, minimum: int) -> int:
-    try:
-        n = int(value)
-    except ValueError:
-        raise CliError(f"{option} {value!r} is not an integer") from None
-    if n < minimum:
-        raise CliError(f"{option} {value!r} must be >= {minimum}")
-    return n
-
-
-def _seconds(option: str, value: str) -> float:
-    try:
-        s = float(value)
-    except ValueError:
-        raise CliError(f"{option} {value!r} is not a number") from None
-    if not 0.0 <= s < 3600.0:
-        raise CliError(f"{option} {value!r} must be in [0, 3600) s")
-    return s
-
-
 def machine_info() -> dict:
     """Where the numbers were measured."""
     import numpy
@@ -92,9 +72,9 @@ def _run(args) -> int:
     from .. import __version__
     from ..bench import run_bench
 
-    frames = _integer("--frames", args.frames, 1)
-    min_time_s = _seconds("--min-time", args.min_time)
-    seed = _integer("--seed", args.seed, 1)
+    frames = number("--frames", args.frames, integer=True, minimum=1)
+    min_time_s = number("--min-time", args.min_time, minimum=0.0, below=3600.0)
+    seed = number("--seed", args.seed, integer=True, minimum=1)
     result = run_bench(frames=frames, min_time_s=min_time_s, seed=seed)
 
     rows = [

@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..cli import CliError
+from ..cli import CliError, choice, number
 
 DESCRIPTION = """\
 Monte Carlo campaigns of closed-loop flights of the nonlinear JSBSim F-16 with the MMAE
@@ -108,28 +108,8 @@ def estimator_options_from_args(args) -> dict:
         value = getattr(args, key)
         if value is None:
             continue
-        try:
-            out[key] = float(value)
-        except ValueError:
-            raise CliError(f"{opt} {value!r} is not a number") from None
+        out[key] = number(opt, value)
     return out
-
-
-def _float(option: str, value: str) -> float:
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise CliError(f"{option} {value!r} is not a number") from None
-
-
-def _int(option: str, value: str, minimum: int) -> int:
-    try:
-        n = int(value)
-    except (TypeError, ValueError):
-        raise CliError(f"{option} {value!r} is not an integer (need an integer >= {minimum})") from None
-    if n < minimum:
-        raise CliError(f"{option} {value!r} is too small (need an integer >= {minimum})")
-    return n
 
 
 def parse_cases(text: str | None) -> tuple[str, ...]:
@@ -151,18 +131,14 @@ def config_from_args(args):
     from ..campaign.single import (FEEDBACK_MODES, TURBULENCE_LEVELS, CampaignError,
                                    SingleCampaign)
 
-    turbulence = args.turbulence.lower()
-    if turbulence not in TURBULENCE_LEVELS:
-        raise CliError(f"--turbulence {args.turbulence!r} is unknown; valid: {', '.join(TURBULENCE_LEVELS)}")
-    feedback = args.feedback.lower()
-    if feedback not in FEEDBACK_MODES:
-        raise CliError(f"--feedback {args.feedback!r} is unknown; valid: {', '.join(FEEDBACK_MODES)}")
+    turbulence = choice("--turbulence", args.turbulence, TURBULENCE_LEVELS)
+    feedback = choice("--feedback", args.feedback, FEEDBACK_MODES)
     baseline = None if args.baseline.lower() == "none" else args.baseline
     cfg = SingleCampaign(
-        runs=_int("--runs", args.runs, 1), seed=_int("--seed", args.seed, 1),
+        runs=number("--runs", args.runs, integer=True, minimum=1), seed=number("--seed", args.seed, integer=True, minimum=1),
         cases=parse_cases(args.cases), tuning=args.tuning, baseline=baseline,
         turbulence=turbulence, mode=args.mode.lower(), feedback=feedback,
-        dither=not args.no_dither, dither_scale=_float("--dither-scale", args.dither_scale),
+        dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale),
         **estimator_options_from_args(args),
     )
     try:
@@ -187,7 +163,7 @@ def _single(args) -> int:
             raise CliError(f"{opt} {val!r} is neither tuned, untuned nor a readable bank file") from None
     if args.workers is not None and args.scheduler is not None:
         raise CliError("give --workers or --scheduler, not both")
-    workers = _int("--workers", args.workers, 1) if args.workers is not None else None
+    workers = number("--workers", args.workers, integer=True, minimum=1) if args.workers is not None else None
     label = (f"Dask at {args.scheduler}" if args.scheduler
              else f"{workers or default_workers()} local process(es)")
     try:

@@ -7,7 +7,7 @@ import math
 import time
 from pathlib import Path
 
-from ..cli import CliError
+from ..cli import CliError, number
 
 DESCRIPTION = """\
 Design a model bank (paper Sec. IV-V): trim the nonlinear JSBSim F-16 of the truth model at
@@ -62,24 +62,14 @@ def register(subparsers) -> None:
     p.set_defaults(func=_run)
 
 
-def _number(option: str, value: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise CliError(f"{option} {value!r} is not a number") from None
-    if not math.isfinite(x):
-        raise CliError(f"{option} {value!r} must be finite")
-    return x
-
-
 def _run(args) -> int:
     from ..design.bank import design_bank, write_bank
     from ..design.gains import DesignError
     from ..design.tuning import TuningError, load_tuning
     from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
 
-    mach = _number("--mach", args.mach)
-    alt_ft = _number("--alt-ft", args.alt_ft)
+    mach = number("--mach", args.mach)
+    alt_ft = number("--alt-ft", args.alt_ft)
     if not MACH_RANGE[0] <= mach <= MACH_RANGE[1]:
         raise CliError(f"--mach {args.mach} is outside the design envelope "
                        f"{MACH_RANGE[0]}-{MACH_RANGE[1]}")

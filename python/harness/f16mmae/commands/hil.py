@@ -5,6 +5,7 @@ import argparse
 import math
 
 from ..cli import CliError
+from .run import add_flight_arguments
 
 DESCRIPTION = """\
 Fly the nonlinear JSBSim F-16 here while the MMAE runs in mmae-daemon, over LCM, the way
@@ -35,18 +36,8 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "hil", help="fly the truth model against mmae-daemon over LCM",
         description=DESCRIPTION, epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
-                   help="inject a failure (repeatable; as in 'f16mmae run')")
-    p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 (default 1)")
-    p.add_argument("--duration", default="8.0", metavar="S", help="flight length in s (default 8)")
-    p.add_argument("--turbulence", default="light", metavar="LEVEL",
-                   help="none | light | moderate | severe (default light)")
-    p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's)")
-    p.add_argument("--alt-ft", default=None, metavar="H", help="flight altitude in ft (default: the bank's)")
-    p.add_argument("--bank", default="tuned", metavar="tuned|untuned|FILE",
-                   help="the bank the executive runs (default tuned); checked against its status")
-    p.add_argument("--feedback", default="mmae", metavar="mmae|raw", help="FCS feedback (default mmae)")
-    p.add_argument("--no-dither", action="store_true", help="fly without dither")
+    add_flight_arguments(
+        p, bank_help="the bank the executive runs (default tuned); checked against its status")
     p.add_argument("--lockstep", action="store_true",
                    help="wait for every status instead of pacing at 64 Hz real time")
     p.add_argument("--lcm-url", default=None, metavar="URL",

@@ -2,9 +2,8 @@
 from __future__ import annotations
 
 import argparse
-import math
 
-from ..cli import CliError
+from ..cli import CliError, choice, number
 from .campaign import add_estimator_arguments, estimator_options_from_args
 
 DESCRIPTION = """\
@@ -42,36 +41,26 @@ def register(subparsers) -> None:
         description=DESCRIPTION, epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    add_flight_arguments(p)
+    add_estimator_arguments(p)
+    p.add_argument("--out", default=None, metavar="DIR", help="write run.json, probabilities.csv/.png here")
+    p.set_defaults(func=_run)
+
+
+def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a bank file (default tuned)") -> None:
+    """The options of one flight, shared by ``run`` and ``hil``."""
     p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
-                   help="inject a failure (repeatable)")
+                   help="inject a failure (repeatable); TIME defaults to 3.0 s, MODE to complete")
     p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1)")
     p.add_argument("--duration", default="8.0", metavar="S", help="flight length in s (default 8)")
     p.add_argument("--turbulence", default="light", metavar="LEVEL",
                    help="none | light | moderate | severe (default light)")
     p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
     p.add_argument("--alt-ft", default=None, metavar="H", help="flight altitude in ft (default: the bank's)")
-    p.add_argument("--bank", default="tuned", metavar="tuned|untuned|FILE",
-                   help="model bank: a shipped tuning or a bank file (default tuned)")
+    p.add_argument("--bank", default="tuned", metavar="tuned|untuned|FILE", help=bank_help)
     p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
                    help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
     p.add_argument("--no-dither", action="store_true", help="fly without dither")
-    add_estimator_arguments(p)
-    p.add_argument("--out", default=None, metavar="DIR", help="write run.json, probabilities.csv/.png here")
-    p.set_defaults(func=_run)
-
-
-def _number(option: str, value, *, integer=False, minimum=None, exclusive=False):
-    try:
-        x = int(value) if integer else float(value)
-    except (TypeError, ValueError):
-        kind = "an integer" if integer else "a number"
-        raise CliError(f"{option} {value!r} is not {kind}") from None
-    if not integer and not math.isfinite(x):
-        raise CliError(f"{option} {value!r} must be finite")
-    if minimum is not None and (x <= minimum if exclusive else x < minimum):
-        rel = ">" if exclusive else ">="
-        raise CliError(f"{option} {value!r} must be {rel} {minimum}")
-    return x
 
 
 def parse_failures(specs: list[str]):
@@ -96,16 +85,12 @@ def scenario_fields(args) -> dict:
     ``mach``/``alt_ft`` are None when left to the bank's design point."""
     from ..campaign.single import FEEDBACK_MODES, TURBULENCE_LEVELS
 
-    turbulence = args.turbulence.lower()
-    if turbulence not in TURBULENCE_LEVELS:
-        raise CliError(f"--turbulence {args.turbulence!r} is unknown; valid: {', '.join(TURBULENCE_LEVELS)}")
-    feedback = args.feedback.lower()
-    if feedback not in FEEDBACK_MODES:
-        raise CliError(f"--feedback {args.feedback!r} is unknown; valid: {', '.join(FEEDBACK_MODES)}")
-    seed = _number("--seed", args.seed, integer=True, minimum=1)
-    duration = _number("--duration", args.duration, minimum=0.0, exclusive=True)
-    mach = None if args.mach is None else _number("--mach", args.mach, minimum=0.0, exclusive=True)
-    alt_ft = None if args.alt_ft is None else _number("--alt-ft", args.alt_ft)
+    turbulence = choice("--turbulence", args.turbulence, TURBULENCE_LEVELS)
+    feedback = choice("--feedback", args.feedback, FEEDBACK_MODES)
+    seed = number("--seed", args.seed, integer=True, minimum=1)
+    duration = number("--duration", args.duration, minimum=0.0, exclusive=True)
+    mach = None if args.mach is None else number("--mach", args.mach, minimum=0.0, exclusive=True)
+    alt_ft = None if args.alt_ft is None else number("--alt-ft", args.alt_ft)
     failures = parse_failures(args.fail)
     late = [f for f in failures if f.time_s >= duration]
     if late:

@@ -61,5 +61,7 @@ def test_hil_command_errors_name_the_problem(capsys):
     assert "cannot be opened" in capsys.readouterr().err
     assert main(["hil", "--lockstep", "--lcm-url", "memq://", "--timeout", "0.05", "--duration", "0.1"]) == 2
     assert "no MMAE_STATUS for frame 0" in capsys.readouterr().err
+    assert main(["hil", "--start-daemon", "--lcm-url", "memq://"]) == 2
+    assert "memq:// is a queue inside one process" in capsys.readouterr().err
     assert main(["hil", "--fail", "XYZ@1"]) == 2
     assert "XYZ" in capsys.readouterr().err

@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..cli import CliError
+from ..cli import CliError, number
 from .run import add_flight_arguments
 
 DESCRIPTION = """\
@@ -63,18 +63,17 @@ def _hil(args) -> int:
     from .run import build_scenario, scenario_fields
 
     fields = scenario_fields(args)
-    try:
-        timeout_s = float(args.timeout)
-    except ValueError:
-        raise CliError(f"--timeout {args.timeout!r} is not a number of seconds") from None
-    if not (math.isfinite(timeout_s) and timeout_s > 0):
-        raise CliError(f"--timeout {args.timeout!r} must be a positive number of seconds")
+    timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True)
     try:
         label, path, bank = load_bank(args.bank)
     except CampaignError as exc:
         raise CliError(f"--bank: {exc}") from None
     scenario = build_scenario(fields, bank)
     url = args.lcm_url or default_lcm_url()
+    if args.start_daemon and url.startswith("memq:"):
+        raise CliError(f"--lcm-url {url!r} with --start-daemon: memq:// is a queue inside one "
+                       f"process, which a daemon in another cannot reach; use a udpm:// URL "
+                       f"(the default) or 'f16mmae run' for the estimator in process")
     chans = channels(args.channel_prefix)
     try:
         lc = lcm.LCM(url)

@@ -29,16 +29,18 @@
 //
 // Sizes: K filters of NX states, NU inputs, NZ measurements; compile-time
 // (F16FilterBank = FilterBank<13, 13, 5, 7>) or Eigen::Dynamic (DynamicFilterBank).
-// Speed: with fixed sizes the filter arithmetic runs in the packed AVX2/FMA kernel of
-// packed_kernel.h when the CPU has AVX2 and FMA (checked at run time; the build itself is
-// portable), else in Eigen; FilterBankOptions::vectorized_kernel = false forces Eigen. The
-// two agree to rounding. A Phi shared by every filter (as in the paper's hypotheses) is
-// read once per frame.
+// Speed: with fixed sizes the filter arithmetic and the blend run in the packed AVX2/FMA
+// kernels of packed_kernel.h (through packed_bank.h) when the CPU has AVX2 and FMA (checked
+// at run time; the build itself is portable), else in Eigen; FilterBankOptions::
+// vectorized_kernel = false forces Eigen. The two agree to rounding. A Phi shared by every
+// filter (as in the paper's hypotheses) is read once per frame. On the kernel path the
+// filters' states live in the packed buffers; the SteadyStateFilter objects are brought up
+// to date only when read (residuals(), state_estimates(), filter(k), ...), never per frame.
 // Throws: constructors and set_* validators throw std::invalid_argument with a sentence.
 // update/propagate/step/presume are noexcept and, for fixed sizes, allocate nothing.
 #pragma once
 
-#include "f16mmae/packed_kernel.h"
+#include "f16mmae/packed_bank.h"
 #include "f16mmae/steady_state_filter.h"
 
 #include <Eigen/Dense>
@@ -46,7 +48,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -75,11 +76,12 @@ class FilterBank {
   using StateMatrix = Eigen::Matrix<double, K, NX>;        // row k = x⁺_k
   using OutputMatrix = Eigen::Matrix<double, NZ, NX>;      // H_out
   static constexpr bool kFixed = K != Eigen::Dynamic;
-  // The fixed-size bank runs its frames through the packed AVX2/FMA kernel (packed_kernel.h:
+  // The fixed-size bank runs its frames through the packed AVX2/FMA kernel (packed_bank.h:
   // same equations, 4-wide fused multiply-adds) when the CPU has AVX2 and FMA, else Eigen.
   static constexpr bool kPacked = kFixed && NX != Eigen::Dynamic && NU != Eigen::Dynamic &&
                                   NZ != Eigen::Dynamic && kPackedKernel;
   using Filters = std::conditional_t<kFixed, std::array<Filter, (kFixed ? K : 1)>, std::vector<Filter>>;
+  using Packed = PackedBank<kPacked, (kFixed ? K : 1), NX, NU, NZ>;
   using Columns = Eigen::Matrix<double, NX, K>;            // scratch: one state per column
   using ZColumns = Eigen::Matrix<double, NZ, K>;
 
@@ -97,7 +99,7 @@ class FilterBank {
     if (k < 1) throw std::invalid_argument("filter bank: needs at least one model");
     if constexpr (!kFixed) filters_.resize(k);
 #if F16MMAE_PACKED_KERNEL
-    if constexpr (kPacked) use_packed_ = options_.vectorized_kernel && packed::Kernels<K, NX, NU, NZ>::available();
+    if constexpr (kPacked) use_packed_ = options_.vectorized_kernel && Packed::available();
 #endif
     for (int i = 0; i < k; ++i) {
       const std::string who = "filter bank: model " + std::to_string(i);
@@ -129,6 +131,7 @@ class FilterBank {
     z_hat_.setZero(nz);
     floored_.assign_size(k);
     h_out_ = filters_[0].model().h;
+    load_h_out();
     log_p_min_ = options_.p_min > 0.0 ? std::log(options_.p_min) : -std::numeric_limits<double>::infinity();
     log_norm_ = -0.5 * nz * std::log(2.0 * 3.14159265358979323846);
     presume(0);
@@ -164,6 +167,7 @@ class FilterBank {
     }
     if (!h.allFinite()) throw std::invalid_argument("filter bank: h_output has a non-finite entry");
     h_out_ = h;
+    load_h_out();
     refresh_blend();
   }
 
@@ -259,6 +263,8 @@ class FilterBank {
   // Every filter back to x⁻ = 0, no-failure hypothesis presumed, counters zeroed.
   void reset() noexcept {
     for (auto& f : filters_) f.reset();
+    stale_ = false;
+    reload_ = kPacked;
     r_.setZero();
     q_.setZero();
     log_l_.setZero();
@@ -278,6 +284,7 @@ class FilterBank {
   const PVector& quadratic_forms() const noexcept { return q_; }       // q_k of the last update
   // (K,NZ): row k = r_k of the last accepted update.
   ResidualMatrix residuals() const noexcept {
+    sync_filters();
     ResidualMatrix r(size(), nz());
     for (int i = 0; i < size(); ++i) r.row(i) = filters_[i].residual().transpose();
     return r;
@@ -285,12 +292,14 @@ class FilterBank {
   // (K,NX): row k = x⁺_k, filter k's posterior estimate at the last accepted update
   // (the estimates the blended state weighs).
   StateMatrix state_estimates() const noexcept {
+    sync_filters();
     StateMatrix s(size(), nx());
     for (int i = 0; i < size(); ++i) s.row(i) = filters_[i].posterior().transpose();
     return s;
   }
   // (K,NX): row k = x⁻_k, filter k's prediction for the next update.
   StateMatrix prior_states() const noexcept {
+    sync_filters();
     StateMatrix s(size(), nx());
     for (int i = 0; i < size(); ++i) s.row(i) = filters_[i].prior().transpose();
     return s;
@@ -303,9 +312,17 @@ class FilterBank {
   const FilterBankOptions& options() const noexcept { return options_; }
   // True when the frames run through the packed AVX2/FMA kernel (fixed sizes, CPU support).
   bool vectorized_kernel() const noexcept { return use_packed_; }
-  const Filter& filter(int k) const { return filters_.at(k); }
-  // Mutable access for a hierarchical switch (assigning a preloaded filter, set_posterior).
-  Filter& filter(int k) { return filters_.at(k); }
+  const Filter& filter(int k) const {
+    sync_filters();
+    return filters_.at(k);
+  }
+  // Mutable access (e.g. set_prior): the bank takes the filters' states back at its next
+  // frame or blend.
+  Filter& filter(int k) {
+    sync_filters();
+    reload_ = kPacked;
+    return filters_.at(k);
+  }
   // Replace filter k by a preloaded one of the same sizes (a plain copy: no heap for fixed
   // sizes), and set filter k's posterior x⁺ (see SteadyStateFilter::set_posterior). Used at
   // a hierarchical switch; k must be in [0, size()). Call presume() or refresh_blend() after.
@@ -313,73 +330,76 @@ class FilterBank {
     filters_[k] = f;
     load_packed(k);
   }
-  void set_posterior(int k, const XVector& x_post) noexcept { filters_[k].set_posterior(x_post); }
-  const XVector& posterior(int k) const noexcept { return filters_[k].posterior(); }
+  void set_posterior(int k, const XVector& x_post) noexcept {
+    sync_filters();
+    filters_[k].set_posterior(x_post);
+    if constexpr (kPacked) packed_.load_state(k, filters_[k]);
+  }
+  const XVector& posterior(int k) const noexcept {
+    sync_filters();
+    return filters_[k].posterior();
+  }
   // Recompute x̂ and z_hat from the filters' posteriors and the current probabilities.
   void refresh_blend() noexcept {
+    if constexpr (kPacked) {
+      if (use_packed_) {  // one pass over the packed x⁺_k
+        take_filter_states();
+        packed_.blend(p_.data(), x_blend_, z_hat_);
+        return;
+      }
+    }
     x_blend_.setZero();
     for (int i = 0; i < size(); ++i) x_blend_.noalias() += p_(i) * filters_[i].posterior();
     z_hat_.noalias() = h_out_ * x_blend_;
   }
 
  private:
-  // ---- the packed kernel (fixed sizes) -----------------------------------------------------
+  // ---- the packed kernel (fixed sizes, packed_bank.h) --------------------------------------
   void load_packed(int i) noexcept {
-    if constexpr (kPacked) {
-      packed_.filters[i].load(filters_[i]);
-      bool same = true;
-      for (int f = 1; f < K && same; ++f) same = filters_[f].model().phi == filters_[0].model().phi;
-      packed_.shared_phi = same;
-      if (same) std::memcpy(packed_.phi, packed_.filters[0].phi, sizeof(packed_.phi));
-    }
+    if constexpr (kPacked) packed_.load(i, filters_);
     (void)i;
   }
-  // The packed kernel's update; commits to every filter only if every result is finite.
+  void load_h_out() noexcept {
+    if constexpr (kPacked) packed_.load_h_out(h_out_);
+  }
   bool packed_update(const ZVector& z) noexcept {
-#if F16MMAE_PACKED_KERNEL
     if constexpr (kPacked) {
-      using P = PackedFilter<NX, NU, NZ>;
-      const double* x[K];
-      for (int i = 0; i < K; ++i) x[i] = filters_[i].prior().data();
-      static const auto kernel = packed::Kernels<K, NX, NU, NZ>::update();
-      double probe = 0.0;
-      kernel(packed_.filters, z.data(), x, packed_.r, packed_.q, packed_.x, &probe);
-      for (int i = 0; i < K; ++i)
-        if (!std::isfinite(packed_.q[i]))  // overflow: the robust form (+inf, or NaN if r is)
-          packed_.q[i] = filters_[i].quadratic_form(Eigen::Map<const ZVector>(packed_.r + i * P::PZ));
-      if (probe != 0.0) return false;
-      for (int i = 0; i < K; ++i) {
-        if (std::isnan(packed_.q[i])) return false;
-        q_(i) = packed_.q[i];
-      }
-      for (int i = 0; i < K; ++i)
-        filters_[i].accept_update(Eigen::Map<const ZVector>(packed_.r + i * P::PZ), packed_.q[i],
-                                  Eigen::Map<const XVector>(packed_.x + i * P::PX));
+      take_filter_states();
+      if (!packed_.update(z, filters_, q_)) return false;
+      stale_ = true;
       return true;
     }
-#endif
     (void)z;
     return false;
   }
   bool packed_propagate(const UVector& u) noexcept {
-#if F16MMAE_PACKED_KERNEL
     if constexpr (kPacked) {
-      using P = PackedFilter<NX, NU, NZ>;
-      const double* x[K];
-      for (int i = 0; i < K; ++i) x[i] = filters_[i].estimate().data();
-      static const auto kernel = packed::Kernels<K, NX, NU, NZ>::propagate();
-      // one Phi for all (the paper's hypotheses share it): read once, stays in L1
-      const double* phi = packed_.shared_phi ? &packed_.phi[0][0] : &packed_.filters[0].phi[0][0];
-      const long stride = packed_.shared_phi ? 0 : static_cast<long>(sizeof(P) / sizeof(double));
-      double probe = 0.0;
-      kernel(packed_.filters, phi, stride, u.data(), x, packed_.x, &probe);
-      if (probe != 0.0) return false;
-      for (int i = 0; i < K; ++i) filters_[i].accept_propagation(Eigen::Map<const XVector>(packed_.x + i * P::PX));
+      take_filter_states();
+      if (!packed_.propagate(u)) return false;
+      stale_ = true;
       return true;
     }
-#endif
     (void)u;
     return false;
+  }
+
+  // The packed kernel keeps the filters' states in its own buffers (packed_bank.h):
+  // sync_filters() copies them back into filters_ when something reads a filter (outputs
+  // only, never per frame); take_filter_states() copies them from filters_ after filters_
+  // were written (reset, filter(k)). Not thread-safe for concurrent readers.
+  void sync_filters() const noexcept {
+    if constexpr (kPacked) {
+      if (!stale_) return;
+      for (int i = 0; i < K; ++i) packed_.store_state(i, filters_[i]);
+      stale_ = false;
+    }
+  }
+  void take_filter_states() noexcept {
+    if constexpr (kPacked) {
+      if (!reload_) return;
+      for (int i = 0; i < K; ++i) packed_.load_state(i, filters_[i]);
+      reload_ = false;
+    }
   }
 
   bool reject() noexcept {
@@ -431,7 +451,7 @@ class FilterBank {
   };
 
   FilterBankOptions options_;
-  Filters filters_{};
+  mutable Filters filters_{};  // with the packed kernel, filter states lag until sync_filters()
   PVector p_, log_p_, log_l_, q_, q_new_;
   ZColumns r_;
   Columns x_;
@@ -440,7 +460,9 @@ class FilterBank {
   OutputMatrix h_out_;
   Flags floored_;
   bool use_packed_ = false;
-  PackedStore<kPacked, (kFixed ? K : 1), NX, NU, NZ> packed_{};
+  mutable bool stale_ = false;   // filters_' states are behind packed_'s
+  bool reload_ = false;          // packed_'s states are behind filters_'
+  Packed packed_{};
   double log_p_min_ = 0.0;
   double log_norm_ = 0.0;
   std::int64_t rejected_ = 0;

@@ -10,8 +10,11 @@
 //
 // Sizes: NX states, NU inputs, NZ measurements (compile-time); PX = NX rounded up to 4,
 // PZ = NZ rounded up to 4. Everything here is noexcept and allocation-free; pointers passed
-// in must hold NX (x), NU (u), NZ (z) doubles, outputs PZ (r) and PX (x) doubles per filter;
-// *probe is 0 if every r and x written is finite, NaN otherwise (sum of value * 0).
+// in must hold NU (u), NZ (z) doubles and, per filter, PX (x, zero beyond NX) doubles;
+// outputs PZ (r) and PX (x) doubles per filter, zero beyond NZ / NX; *probe is 0 if every
+// r and x written is finite, NaN otherwise (sum of value * 0). A third kernel blends:
+// x̂ = sum_k p_k x⁺_k and z_hat = H_out x̂ in one pass. PackedBank (packed_bank.h) holds a
+// bank's matrices and states in this layout and calls these kernels.
 #pragma once
 
 #include <cstring>
@@ -53,21 +56,6 @@ struct PackedFilter {
     for (int j = 0; j < NU; ++j)
       for (int i = 0; i < NX; ++i) bd[j][i] = m.bd(i, j);
   }
-};
-
-// What a fixed-size bank keeps for the kernel: the packed filters, the kernel's outputs,
-// and one shared Phi when every filter has the same. Empty when the kernel is not used.
-template <bool Enabled, int K, int NX, int NU, int NZ>
-struct PackedStore {};
-template <int K, int NX, int NU, int NZ>
-struct PackedStore<true, K, NX, NU, NZ> {
-  using P = PackedFilter<NX, NU, NZ>;
-  P filters[K];
-  double r[K * P::PZ];
-  double x[K * P::PX];
-  double q[K];
-  double phi[NX][P::PX];
-  bool shared_phi = false;
 };
 
 #if F16MMAE_PACKED_KERNEL
@@ -119,10 +107,9 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
     v4d s0[BZ] = {}, s1[BZ] = {};                                                            \
     v4d xp0[BX], xp1[BX] = {};                                                               \
     double* xo = x_out + f * PX;                                                             \
-    for (int i = 0; i < PX; ++i) xo[i] = i < NX ? x[i] : 0.0;                                \
-    _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) xp0[b] = F16MMAE_LD(xo + 4 * b);         \
+    _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) xp0[b] = F16MMAE_LD(x + 4 * b);          \
     _Pragma("GCC unroll 8") for (int j = 0; j + 1 < NZ; j += 2) {                            \
-      const v4d a0 = F16MMAE_SPLAT(rr[j]), a1 = F16MMAE_SPLAT(rr[j + 1]);                                    \
+      const v4d a0 = F16MMAE_SPLAT(r[j / 4][j % 4]), a1 = F16MMAE_SPLAT(r[(j + 1) / 4][(j + 1) % 4]);                                    \
       _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) {                                 \
         s0[b] += F16MMAE_LD(p.a_inv[j] + 4 * b) * a0;                                             \
         s1[b] += F16MMAE_LD(p.a_inv[j + 1] + 4 * b) * a1;                                         \
@@ -133,7 +120,7 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
       }                                                                                      \
     }                                                                                        \
     if (NZ % 2) {                                                                            \
-      const v4d al = F16MMAE_SPLAT(rr[NZ - 1]);                                                      \
+      const v4d al = F16MMAE_SPLAT(r[(NZ - 1) / 4][(NZ - 1) % 4]);                                                      \
       _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) s0[b] += F16MMAE_LD(p.a_inv[NZ - 1] + 4 * b) * al; \
       _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) xp0[b] += F16MMAE_LD(p.k[NZ - 1] + 4 * b) * al; \
     }                                                                                        \
@@ -186,7 +173,47 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
   }                                                                                          \
   *probe = (probe_x[0] + probe_x[1]) + (probe_x[2] + probe_x[3]);
 
+// The blend of one frame: x̂ = sum_k p_k x⁺_k (x: K padded states), z_hat = H_out x̂ (h_out:
+// NX columns of PZ rows). Outputs PX (x̂) and PZ (z_hat) doubles.
+#define F16MMAE_BLEND_BODY                                                                   \
+  constexpr int PX = P::PX, PZ = P::PZ, BX = PX / 4, BZ = PZ / 4;                            \
+  v4d s0[BX] = {}, s1[BX] = {};                                                              \
+  _Pragma("GCC unroll 16") for (int f = 0; f + 1 < K; f += 2) {                              \
+    const v4d p0 = F16MMAE_SPLAT(p[f]), p1 = F16MMAE_SPLAT(p[f + 1]);                        \
+    _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) {                                   \
+      s0[b] += F16MMAE_LD(x + f * PX + 4 * b) * p0;                                          \
+      s1[b] += F16MMAE_LD(x + (f + 1) * PX + 4 * b) * p1;                                    \
+    }                                                                                        \
+  }                                                                                          \
+  if (K % 2) {                                                                               \
+    const v4d pl = F16MMAE_SPLAT(p[K - 1]);                                                  \
+    _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) s0[b] += F16MMAE_LD(x + (K - 1) * PX + 4 * b) * pl; \
+  }                                                                                          \
+  v4d xb[BX];                                                                                \
+  _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) {                                     \
+    xb[b] = s0[b] + s1[b];                                                                   \
+    F16MMAE_ST(x_blend + 4 * b, xb[b]);                                                      \
+  }                                                                                          \
+  v4d z0[BZ] = {}, z1[BZ] = {};                                                              \
+  _Pragma("GCC unroll 16") for (int j = 0; j + 1 < NX; j += 2) {                             \
+    const v4d x0 = F16MMAE_SPLAT(xb[j / 4][j % 4]), x1 = F16MMAE_SPLAT(xb[(j + 1) / 4][(j + 1) % 4]); \
+    _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) {                                   \
+      z0[b] += F16MMAE_LD(h_out + j * PZ + 4 * b) * x0;                                      \
+      z1[b] += F16MMAE_LD(h_out + (j + 1) * PZ + 4 * b) * x1;                                \
+    }                                                                                        \
+  }                                                                                          \
+  if (NX % 2) {                                                                              \
+    const v4d xl = F16MMAE_SPLAT(xb[(NX - 1) / 4][(NX - 1) % 4]);                            \
+    _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) z0[b] += F16MMAE_LD(h_out + (NX - 1) * PZ + 4 * b) * xl; \
+  }                                                                                          \
+  _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) F16MMAE_ST(z_hat + 4 * b, z0[b] + z1[b]);
+
 #if defined(__x86_64__) || defined(__i386__)
+template <int K, int NX, int NU, int NZ, class P = PackedFilter<NX, NU, NZ>>
+__attribute__((target("avx2,fma"))) void blend_avx2(const double* p, const double* x, const double* h_out,
+                                                    double* x_blend, double* z_hat) noexcept {
+  F16MMAE_BLEND_BODY
+}
 template <int K, int NX, int NU, int NZ, class P = PackedFilter<NX, NU, NZ>>
 __attribute__((target("avx2,fma"))) void update_avx2(const P* packs, const double* z, const double* const* x_prior,
                                                      double* r_out, double* q_out, double* x_out,
@@ -212,6 +239,7 @@ inline bool cpu_has_avx2_fma() noexcept { return false; }
 
 #undef F16MMAE_UPDATE_BODY
 #undef F16MMAE_PROPAGATE_BODY
+#undef F16MMAE_BLEND_BODY
 #undef F16MMAE_LD
 #undef F16MMAE_ST
 #undef F16MMAE_SPLAT
@@ -224,7 +252,14 @@ struct Kernels {
   using Update = void (*)(const P*, const double*, const double* const*, double*, double*, double*, double*) noexcept;
   using Propagate = void (*)(const P*, const double*, long, const double*, const double* const*, double*,
                              double*) noexcept;
+  using Blend = void (*)(const double*, const double*, const double*, double*, double*) noexcept;
   static bool available() noexcept { return cpu_has_avx2_fma(); }
+  static Blend blend() noexcept {
+#if defined(__x86_64__) || defined(__i386__)
+    if (cpu_has_avx2_fma()) return &blend_avx2<K, NX, NU, NZ>;
+#endif
+    return nullptr;
+  }
   static Update update() noexcept {
 #if defined(__x86_64__) || defined(__i386__)
     if (cpu_has_avx2_fma()) return &update_avx2<K, NX, NU, NZ>;

@@ -192,12 +192,24 @@ class SteadyStateFilter {
     corrected_ = false;
   }
 
+  // Set the whole state at once (a bank keeping the filters' states elsewhere writes them back).
+  void restore(const XVector& x_prior, const XVector& x_post, const ZVector& r, double q,
+               bool corrected) noexcept {
+    x_prior_ = x_prior;
+    x_post_ = x_post;
+    r_ = r;
+    q_ = q;
+    corrected_ = corrected;
+  }
+
   // ---- state and outputs ---------------------------------------------------------------
   const Model& model() const noexcept { return m_; }
   const XVector& prior() const noexcept { return x_prior_; }        // x⁻
   const XVector& posterior() const noexcept { return x_post_; }     // x⁺ at the last accepted update
   // The current estimate: x⁺ if an update was accepted since the last propagation, else x⁻.
   const XVector& estimate() const noexcept { return corrected_ ? x_post_ : x_prior_; }
+  // True when an update was accepted since the last propagation (estimate() is x⁺).
+  bool corrected() const noexcept { return corrected_; }
   const ZVector& residual() const noexcept { return r_; }           // r at the last update
   double quadratic_form() const noexcept { return q_; }             // rᵀ A⁻¹ r at the last update
   const AMatrix& a_inverse() const noexcept { return a_inv_; }

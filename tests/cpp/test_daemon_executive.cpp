@@ -2,27 +2,15 @@
 // perturbations from trim (docs/INTERFACES.md), for in-order frames, a gap (propagate with
 // the held command, no update), rejected frames; and no allocation on the per-frame path.
 #include "executive.h"
+#include "allocation_counter.h"
 #include "test_daemon_bank.h"
 
 #include "bankfile/bank_file.h"
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
-#include <new>
-
-// Counts every heap allocation of this test program.
-static std::atomic<long long> g_allocations{0};
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace f16mmae;
 using namespace f16mmae::daemon;
@@ -177,14 +165,14 @@ TEST(Executive, ThePerFramePathAllocatesNothing) {
     commands.push_back(command(i, u_at(b, i)));
   }
   sensors[50].z[3] = std::numeric_limits<double>::quiet_NaN();  // rejected
-  const long long before = g_allocations.load();
+  const long long before = f16mmae::testing::allocation_count();
   for (std::size_t i = 0; i < sensors.size(); ++i) {
     if (i == 120) continue;  // a gap
     ex.on_sensor(sensors[i]);
     ex.on_sensor(sensors[i]);  // a duplicate
     ex.on_command(commands[i]);
   }
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
   EXPECT_EQ(ex.counters().frames_updated, 198);
   EXPECT_EQ(ex.counters().dropped_duplicate, 198);
   EXPECT_EQ(ex.update_stats().count(), 198);
@@ -204,12 +192,12 @@ TEST(Executive, TheShippedBankRunsAllocationFreeAndHoldsNoneAtTrim) {
     sensors.push_back(sensor(i, z));
     commands.push_back(command(i, b.u_trim));
   }
-  const long long before = g_allocations.load();
+  const long long before = f16mmae::testing::allocation_count();
   for (std::size_t i = 0; i < sensors.size(); ++i) {
     ASSERT_TRUE(ex.on_sensor(sensors[i]));
     ASSERT_TRUE(ex.on_command(commands[i]));
   }
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
   EXPECT_EQ(ex.status().bank_level, 0);
   EXPECT_EQ(ex.status().declared, "NONE");
   EXPECT_EQ(ex.status().hypothesis_names[0], "NONE");

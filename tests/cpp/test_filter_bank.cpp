@@ -3,29 +3,15 @@
 // fixed-size per-frame step (global operator new is counted in this executable).
 #include "f16mmae/filter_bank.h"
 
+#include "allocation_counter.h"
 #include "synthetic_models.h"
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
-#include <new>
 #include <cstdio>
 #include <random>
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace f16mmae;
 
@@ -307,16 +293,16 @@ TEST(FilterBank, FixedSizeStepAllocatesNothing) {
     us[i] = test::dither(5, i, 64.0);
   }
   zs[17](2) = std::numeric_limits<double>::quiet_NaN();  // the rejection path too
-  const long before = g_allocations.load();
+  const long long before = f16mmae::testing::allocation_count();
   for (int i = 0; i < 256; ++i) bank.step(zs[i], us[i]);
   bank.presume(3);
   bank.reset();
-  const long after = g_allocations.load();
+  const long long after = f16mmae::testing::allocation_count();
   EXPECT_EQ(after - before, 0);
   // the counter does count: a std::vector allocates
   std::vector<double>* v = new std::vector<double>(10);
   delete v;
-  EXPECT_GE(g_allocations.load() - after, 1);
+  EXPECT_GE(f16mmae::testing::allocation_count() - after, 1);
 }
 
 TEST(FilterBank, ConfigurationErrorsNameTheProblem) {

@@ -5,25 +5,11 @@
 // included; global operator new is counted in this executable).
 #include "f16mmae/hierarchical_bank.h"
 
+#include "allocation_counter.h"
 #include "synthetic_models.h"
 
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 using namespace f16mmae;
 
@@ -188,9 +174,9 @@ TEST(HierarchicalBank, F16SizedBankDeclaresAndSwitchesWithoutAllocating) {
   const Flight f = fly(plant, act, sen, bank, {{"PIT", 64, 1 << 30}}, 320, 5u);
   std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
   std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
-  const long before = g_allocations.load();
+  const long long before = f16mmae::testing::allocation_count();
   for (std::size_t i = 0; i < z.size(); ++i) hb.step(z[i], u[i]);
-  const long after = g_allocations.load();
+  const long long after = f16mmae::testing::allocation_count();
   EXPECT_EQ(after - before, 0);
   ASSERT_EQ(declared_names(hb), (std::vector<std::string>{"PIT"}));
   EXPECT_EQ(hb.online_names(), (std::vector<std::string>{"NONE", "PIT", "LS+PIT", "RS+PIT", "LF+PIT", "RF+PIT",

@@ -75,6 +75,25 @@ def _tool(name):
     return os.path.join(lcm.LCM_BIN_DIR, name)
 
 
+def _wait_until_logged(log, lc, channel, frame, timeout_s=10.0):
+    """Until the logger has written ``frame`` on ``channel``: it may lag the flight when the
+    machine is busy, and it flushes its file only when a later message arrives, so a small
+    message on another channel of the prefix (which the replay ignores) is sent meanwhile."""
+    poke = channel.rsplit("F16_COMMANDS", 1)[0] + "TEST_FLUSH"
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        lc.publish(poke, b"")
+        time.sleep(0.15)
+        if log.exists():
+            ev = lcm.EventLog(str(log), "r")
+            try:
+                if any(e.channel == channel and lcmt_command_frame.decode(e.data).frame == frame for e in ev):
+                    return
+            finally:
+                ev.close()
+    raise AssertionError(f"lcm-logger did not write {channel} frame {frame} within {timeout_s} s")
+
+
 def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path):
     label, path, bank = banked
     prefix = f"T{os.getpid()}A_"
@@ -88,7 +107,7 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
             time.sleep(0.5)  # the logger subscribes
             lc = lcm.LCM(URL)
             remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0)
-        time.sleep(0.3)
+        _wait_until_logged(log, lc, chans.commands, frame=255)
     finally:
         logger.send_signal(signal.SIGINT)
         logger.wait(timeout=10)

@@ -191,6 +191,33 @@ def test_a_tampered_status_is_found_by_frame(bank, tmp_path):
     assert main(["replay", str(bad), "--bank", "tuned"]) == 1
 
 
+def test_statuses_logged_ahead_of_their_frames_still_match(bank, tmp_path):
+    """Over udpm the logger may receive the daemon's status before the harness's sensor
+    frame that caused it (separate processes, several cores): the replay pairs them by
+    frame; a status whose frame never comes is still reported."""
+    log = tmp_path / "flight.lcmlog"
+    _record_flight(bank, log, prefix="")
+    events = [(e.channel, e.data) for e in lcm.EventLog(str(log), "r")]
+    swapped = list(events)
+    for i in range(len(swapped) - 1):  # every 7th status moves ahead of its sensor frame
+        if swapped[i][0] == "F16_SENSORS" and swapped[i + 1][0] == "MMAE_STATUS":
+            if lcmt_mmae_status.decode(swapped[i + 1][1]).frame % 7 == 3:
+                swapped[i], swapped[i + 1] = swapped[i + 1], swapped[i]
+    orphan = lcmt_mmae_status.decode(next(d for c, d in events if c == "MMAE_STATUS"))
+    orphan.frame = 10_000
+    for name, extra in (("reordered", []), ("orphan", [("MMAE_STATUS", orphan.encode())])):
+        out = lcm.EventLog(str(tmp_path / f"{name}.lcmlog"), "w", overwrite=True)
+        for n, (ch, data) in enumerate(swapped + extra):
+            out.write_event(n, ch, data)
+        out.close()
+    report = replay_log(tmp_path / "reordered.lcmlog", bank)
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == 192 and report.max_probability_diff == 0.0
+    report = replay_log(tmp_path / "orphan.lcmlog", bank)
+    assert [str(m) for m in report.mismatches] == [
+        "frame 10000: a status was logged for a frame the replay did not update"]
+
+
 def test_unreadable_or_foreign_logs_are_refused(bank, tmp_path, capsys):
     with pytest.raises(ReplayError, match="does not exist"):
         replay_log(tmp_path / "nope.lcmlog", bank)

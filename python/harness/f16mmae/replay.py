@@ -243,11 +243,21 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
     report = ReplayReport(log=str(path), tolerance=tolerance)
     executive = InProcessExecutive(model_bank, **estimator_options)
     computed: dict[int, ComputedStatus] = {}
+    # Statuses logged before the sensor frame they answer. The logger, the harness and the
+    # daemon are separate processes: on a multi-core host the loopback can hand the logger
+    # the daemon's status ahead of the harness's sensor frame that caused it.
+    early: dict[int, object] = {}
 
     def mismatch(frame, what):
         report.mismatch_count += 1
         if len(report.mismatches) < max_mismatches:
             report.mismatches.append(FrameMismatch(frame, what))
+
+    def unmatched(statuses: dict) -> None:
+        for frame in sorted(statuses):
+            report.statuses_unmatched += 1
+            mismatch(frame, "a status was logged for a frame the replay did not update")
+        statuses.clear()
 
     try:
         for event in log:
@@ -258,7 +268,10 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
                 report.sensor_frames += 1
                 c = executive.on_sensor(f.frame, f.z, f.valid)
                 if c is not None:
-                    computed[c.frame] = c
+                    if c.frame in early:  # its status was logged before the frame itself
+                        _compare(report, early.pop(c.frame), c, mismatch)
+                    else:
+                        computed[c.frame] = c
             elif ch == chans.commands:
                 f = lcmt_command_frame.decode(event.data)
                 report.command_frames += 1
@@ -266,16 +279,17 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
             elif ch == chans.reset:
                 executive.reset()
                 computed.clear()
+                unmatched(early)
             elif ch == chans.status:
                 s = lcmt_mmae_status.decode(event.data)
                 report.statuses_logged += 1
                 report.bank_hashes.add(s.bank_hash)
                 c = computed.pop(s.frame, None)
                 if c is None:
-                    report.statuses_unmatched += 1
-                    mismatch(s.frame, "a status was logged for a frame the replay did not update")
+                    early[s.frame] = s  # matched when its sensor frame comes, else unmatched
                     continue
                 _compare(report, s, c, mismatch)
+        unmatched(early)
     except ValueError as exc:
         raise ReplayError(f"log {str(path)!r}: a frame does not decode ({exc}); "
                           f"is it f16mmae traffic of this version?") from None

@@ -40,16 +40,17 @@ apt:
 $(VENV)/.stamp: pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PIP) install -q --upgrade pip
-	$(PIP) install -q $(BUILD_REQS) pytest filterpy
+	$(PIP) install -q $(BUILD_REQS)
 	@touch $@
 
 venv: $(VENV)/.stamp
 
-# Editable install with a kept build directory: incremental C++ rebuilds, Python from source.
+# Editable install with a kept build directory: incremental C++ rebuilds, Python from source;
+# the extras bring pytest, filterpy (bench) and distributed (Dask campaigns, tested).
 # flock serialises concurrent builds of the same tree.
 build: setup
 	@mkdir -p build
-	flock build/.lock $(PIP) install -q --no-build-isolation -Cbuild-dir=build/py -e .
+	flock build/.lock $(PIP) install -q --no-build-isolation -Cbuild-dir=build/py -e ".[test,bench,dask]"
 
 build/cpp/CMakeCache.txt: | setup
 	$(VENV)/bin/cmake -S . -B build/cpp -G Ninja -DCMAKE_BUILD_TYPE=Release \

@@ -26,10 +26,10 @@ import pytest
 from f16mmae.campaign.single import load_bank
 from f16mmae.cli import main
 from f16mmae.closedloop import fly
-from f16mmae.hil import DaemonProcess, HilError, channels, find_executable, fly_hil
+from f16mmae.hil import (DaemonProcess, HilError, channels, command_frame_bytes, find_executable,
+                         fly_hil, sensor_frame_bytes)
 from f16mmae.lcmt_command_frame import lcmt_command_frame
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
-from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
 from f16mmae.replay import replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
@@ -151,18 +151,6 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
     assert all(replayed[i].declared == logged[i].declared for i in logged)
 
 
-def _sensor(i, z, valid=True):
-    f = lcmt_sensor_frame()
-    f.utime, f.frame, f.z, f.valid = i * 15625, i, [float(v) for v in z], [valid] * 7
-    return f.encode()
-
-
-def _command(i, u):
-    c = lcmt_command_frame()
-    c.utime, c.frame, c.u_rad = i * 15625, i, [float(v) for v in u]
-    return c.encode()
-
-
 def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
     label, path, bank = banked
     prefix = f"T{os.getpid()}B_"
@@ -184,9 +172,9 @@ def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
                 z = z_trim + 0.05 * rng.standard_normal(7)
                 if fault == ["nan"]:
                     z[2] = math.nan
-                lc.publish(chans.sensors, _sensor(i, z, valid=fault != ["invalid"]))
+                lc.publish(chans.sensors, sensor_frame_bytes(i, z, valid=fault != ["invalid"]))
             else:
-                lc.publish(chans.commands, _command(i, u_trim + 0.002 * rng.standard_normal(5)))
+                lc.publish(chans.commands, command_frame_bytes(i, u_trim + 0.002 * rng.standard_normal(5)))
             end = time.time() + 0.2  # settle: the daemon answers sensor frames within this
             while time.time() < end and lc.handle_timeout(20) >= 0:
                 if kind == "s" and statuses and statuses[-1].frame == i:

@@ -18,10 +18,8 @@ import pytest
 
 from f16mmae.campaign.single import load_bank
 from f16mmae.cli import main
-from f16mmae.hil import channels, fly_hil
-from f16mmae.lcmt_command_frame import lcmt_command_frame
+from f16mmae.hil import channels, command_frame_bytes, fly_hil, sensor_frame_bytes
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
-from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
 from f16mmae.replay import FrameSequencer, InProcessExecutive, ReplayError, replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
@@ -114,18 +112,6 @@ def test_a_recorded_flight_replays_exactly(bank, tmp_path):
     assert main(["replay", str(log), "--channel-prefix", "REC_"]) == 0  # --bank auto finds "tuned"
 
 
-def _frame(i, z, valid=True):
-    f = lcmt_sensor_frame()
-    f.utime, f.frame, f.z, f.valid = i * 15625, i, [float(v) for v in z], [valid] * 7
-    return f.encode()
-
-
-def _command(i, u):
-    c = lcmt_command_frame()
-    c.utime, c.frame, c.u_rad = i * 15625, i, [float(v) for v in u]
-    return c.encode()
-
-
 def test_wire_faults_replay_with_the_prescribed_stale_flags(bank, tmp_path):
     lc = lcm.LCM("memq://")
     chans = channels("WIRE_")
@@ -150,9 +136,9 @@ def test_wire_faults_replay_with_the_prescribed_stale_flags(bank, tmp_path):
             z = z_trim + 0.01 * rng.standard_normal(7)
             if fault == ["nan"]:
                 z[3] = math.nan
-            lc.publish(chans.sensors, _frame(i, z, valid=fault != ["invalid"]))
+            lc.publish(chans.sensors, sensor_frame_bytes(i, z, valid=fault != ["invalid"]))
         else:
-            lc.publish(chans.commands, _command(i, u_trim + 0.001 * rng.standard_normal(5)))
+            lc.publish(chans.commands, command_frame_bytes(i, u_trim + 0.001 * rng.standard_normal(5)))
         while lc.handle_timeout(0) > 0:
             pass
     rec.close()

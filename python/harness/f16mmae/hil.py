@@ -72,6 +72,29 @@ def frame_utime(i: int, rate_hz: float = FRAME_RATE_HZ) -> int:
 
 
 # -- the executables ----------------------------------------------------------------------------
+def sensor_frame_bytes(i: int, z, valid: bool = True, rate_hz: float = FRAME_RATE_HZ) -> bytes:
+    """Frame ``i``'s measurements ``z`` (absolute, names.SENSORS order) as an encoded
+    ``lcmt_sensor_frame`` (utime = i / rate_hz); ``valid`` flags every sensor."""
+    from .lcmt_sensor_frame import lcmt_sensor_frame
+
+    msg = lcmt_sensor_frame()
+    msg.utime, msg.frame = frame_utime(i, rate_hz), i
+    msg.z = [float(v) for v in z]
+    msg.valid = [bool(valid)] * len(msg.z)
+    return msg.encode()
+
+
+def command_frame_bytes(i: int, u, rate_hz: float = FRAME_RATE_HZ) -> bytes:
+    """Frame ``i``'s surface commands ``u`` (rad, names.ACTUATORS order) as an encoded
+    ``lcmt_command_frame``."""
+    from .lcmt_command_frame import lcmt_command_frame
+
+    msg = lcmt_command_frame()
+    msg.utime, msg.frame = frame_utime(i, rate_hz), i
+    msg.u_rad = [float(v) for v in u]
+    return msg.encode()
+
+
 def find_executable(name: str = "mmae-daemon") -> Path:
     """``mmae-daemon`` or ``lcm-echo-f16``: $F16MMAE_BIN_DIR, then the package's ``bin``
     folder (where ``pip install .`` / ``make build`` put them, beside the compiled core),
@@ -230,17 +253,10 @@ class RemoteEstimator:
 
     # -- the estimator interface
     def update(self, z) -> np.ndarray:
-        from .lcmt_sensor_frame import lcmt_sensor_frame
-
         z = np.array(z, dtype=float).reshape(-1)
         self._frame += 1
         i = self._frame
-        msg = lcmt_sensor_frame()
-        msg.utime = frame_utime(i, self.rate_hz)
-        msg.frame = i
-        msg.z = [float(v) for v in z]
-        msg.valid = [True] * NZ
-        data = msg.encode()
+        data = sensor_frame_bytes(i, z, rate_hz=self.rate_hz)
         if not self.lockstep:
             if self._t0 is None:
                 self._t0 = time.perf_counter()
@@ -274,14 +290,8 @@ class RemoteEstimator:
         return self._z_hat.copy()
 
     def propagate(self, u) -> None:
-        from .lcmt_command_frame import lcmt_command_frame
-
         u = np.array(u, dtype=float).reshape(-1)
-        msg = lcmt_command_frame()
-        msg.utime = frame_utime(self._frame, self.rate_hz)
-        msg.frame = self._frame
-        msg.u_rad = [float(v) for v in u]
-        self._lc.publish(self._ch.commands, msg.encode())
+        self._lc.publish(self._ch.commands, command_frame_bytes(self._frame, u, self.rate_hz))
 
     @property
     def hypotheses(self) -> tuple[str, ...]:

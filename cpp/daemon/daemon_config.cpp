@@ -3,13 +3,14 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 namespace f16mmae::daemon {
 
 std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S]\n"
-         "                   [--max-frames N] [--realtime PRIORITY] [--quiet]\n"
+         "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--quiet]\n"
          "\n"
          "The MMAE executive of f16mmae: steps the hierarchical bank of FILE once per sensor\n"
          "frame received over LCM and publishes the hypothesis probabilities and z_hat.\n"
@@ -25,6 +26,10 @@ std::string daemon_usage() {
          "  --max-frames N       exit after publishing N status frames (default: until signalled)\n"
          "  --realtime PRIORITY  run SCHED_FIFO at PRIORITY (1-99) with memory locked (needs\n"
          "                       CAP_SYS_NICE / root; a warning, not an error, without it)\n"
+         "  --warm-lead-us US    wake US microseconds before the next sensor frame is due (one\n"
+         "                       period after the last) and touch the estimator's working set,\n"
+         "                       so the step runs from cache after the idle time (default 500;\n"
+         "                       0: off)\n"
          "  --quiet              do not print the ready line\n"
          "\n"
          "SIGINT or SIGTERM ends it with a one-line summary: frames, rejected, dropped, stale,\n"
@@ -69,11 +74,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     }
     const bool known = key == "--bank" || key == "--lcm-url" || key == "--channel-prefix" ||
                        key == "--rate-hz" || key == "--max-frames" || key == "--realtime" ||
-                       key == "--p-min" || key == "--threshold" || key == "--dwell-s";
+                       key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
+                       key == "--warm-lead-us";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
-                         "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --quiet, --help");
+                         "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -109,6 +115,14 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value.empty() || *end != '\0' || errno != 0 || n < 0)
         return usage_error("--max-frames must be a whole number >= 0, got '" + value + "'");
       c.max_frames = n;
+    } else if (key == "--warm-lead-us") {
+      errno = 0;
+      char* end = nullptr;
+      const double us = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(us) || us < 0.0)
+        return usage_error("--warm-lead-us must be a number of microseconds >= 0 (0: no warm-up), got '" +
+                           value + "'");
+      c.warm_lead_us = us;
     } else if (key == "--realtime") {
       errno = 0;
       char* end = nullptr;
@@ -119,6 +133,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     }
   }
   if (!have_bank) return usage_error("--bank FILE is required (a model-bank file from 'f16mmae design')");
+  if (c.warm_lead_us * 1e-6 * c.rate_hz >= 1.0) {
+    std::ostringstream s;
+    s << "--warm-lead-us " << c.warm_lead_us << " must be shorter than a frame period (" << 1e6 / c.rate_hz
+      << " us at --rate-hz " << c.rate_hz << ")";
+    return usage_error(s.str());
+  }
   if (!have_url) c.lcm_url = (default_url && *default_url) ? default_url : kDefaultLcmUrl;
   ParseResult r;
   r.ok = true;

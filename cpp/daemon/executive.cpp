@@ -1,5 +1,7 @@
 #include "executive.h"
 
+#include "f16mmae/cache_warm.h"
+
 #include <cmath>
 #include <cstdio>
 
@@ -25,7 +27,8 @@ constexpr int kNameCapacity = 32;
 
 }  // namespace
 
-Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options) : estimator_(bank, options) {
+Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
+    : estimator_(bank, options), rehearsal_(bank, options) {
   u_held_ = estimator_.u_trim();
   const int k = estimator_.on_line();
   status_.num_hypotheses = k;
@@ -43,6 +46,7 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options) 
   widest.declared.assign(kNameCapacity, 'x');
   widest.declaration.assign(kNameCapacity, 'x');
   buffer_.assign(static_cast<std::size_t>(widest.getEncodedSize()), 0);
+  rehearsal_buffer_ = buffer_;
   fill_status(lcmt_sensor_frame{}, 0);
   encoded_size_ = 0;
 }
@@ -93,6 +97,18 @@ void Executive::on_reset() noexcept {
   estimator_.reset();
   sequencer_.reset();
   u_held_ = estimator_.u_trim();
+}
+
+void Executive::warm_up() noexcept {
+  rehearsal_.update(rehearsal_.z_trim());
+  rehearsal_.propagate(rehearsal_.u_trim());
+  status_.encode(rehearsal_buffer_.data(), 0, static_cast<int>(rehearsal_buffer_.size()));
+  estimator_.warm_cache();
+  touch(sequencer_);
+  touch_lines(status_.probabilities.data(), sizeof(double) * status_.probabilities.size());
+  for (const auto& name : status_.hypothesis_names) touch_lines(name.data(), name.size());
+  touch_lines(buffer_.data(), buffer_.size());
+  ++warm_ups_;
 }
 
 void Executive::fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) noexcept {

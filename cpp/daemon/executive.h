@@ -41,6 +41,18 @@ class Executive {
   // Returns true when the command was applied (possibly after a catch-up).
   bool on_command(const lcmt_command_frame& frame) noexcept;
   void on_reset() noexcept;
+  // Ahead of the next sensor frame (WarmUpSchedule): make on_sensor run warm after the idle
+  // time between frames. Measured on a 2-vCPU VM, the estimator's update after 15 ms of sleep
+  // costs ~9 us against ~0.7-1 us back to back; touching its data first brings it to ~7.7 us,
+  // running the same code on other data to ~4.3 us, both to ~1.3 us. So warm_up
+  //   1. rehearses: a second estimator of the same bank flying trim (z = z_trim, u = u_trim:
+  //      zero residuals, it never declares) is updated, propagated and its status encoded
+  //      into a scratch buffer -- the step's code, branch history and AVX2 units are warm;
+  //   2. touches what on_sensor reads and writes: the estimator's working set, the status
+  //      message and its encode buffer.
+  // The estimator, the sequencer and the published status do not change; allocation-free.
+  void warm_up() noexcept;
+  std::int64_t warm_ups() const noexcept { return warm_ups_; }
 
   const lcmt_mmae_status& status() const noexcept { return status_; }
   const std::uint8_t* encoded_status() const noexcept { return buffer_.data(); }
@@ -61,6 +73,9 @@ class Executive {
   void fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) noexcept;
 
   MmaeEstimator estimator_;
+  MmaeEstimator rehearsal_;                     // flies trim for warm_up()
+  std::vector<std::uint8_t> rehearsal_buffer_;  // warm_up()'s encode target
+  std::int64_t warm_ups_ = 0;
   FrameSequencer sequencer_;
   StepStats update_stats_, propagate_stats_;
   MmaeEstimator::UVector u_held_;

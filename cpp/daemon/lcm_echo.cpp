@@ -1,17 +1,25 @@
 // lcm-echo-f16 — the bare C++ echo the latency benchmark compares mmae-daemon against:
 // republishes every message of channel IN, byte for byte, on channel OUT. Same LCM library,
 // same event loop as the daemon, no decode, no estimator: the transport's own round trip.
-//   lcm-echo-f16 [--lcm-url URL] [--in CHANNEL] [--out CHANNEL] [--realtime PRIORITY] [--quiet]
+//   lcm-echo-f16 [--lcm-url URL] [--in CHANNEL] [--out CHANNEL] [--realtime PRIORITY]
+//                [--wake-lead-us US [--rate-hz HZ]] [--quiet]
 // --realtime gives it the same SCHED_FIFO priority and locked memory as mmae-daemon's, so
-// that a benchmark compares like with like.
+// that a benchmark compares like with like. --wake-lead-us makes it wake on mmae-daemon's
+// warm-up schedule (US before the next message is due, one period of --rate-hz, default 64,
+// after the last) and do nothing: the control that separates what the daemon's warm-up gains
+// from merely being awake (default 0: a bare echo).
 // Defaults: $LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0, ECHO_PING -> ECHO_PONG.
 // Ends cleanly on SIGINT/SIGTERM with the number of messages echoed.
 #include "daemon_config.h"
+#include "lcm_wait.h"
+#include "warm_up_schedule.h"
 
 #include <lcm/lcm.h>
 #include <sched.h>
 #include <sys/mman.h>
 
+#include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -27,10 +35,12 @@ struct Echo {
   lcm_t* lcm;
   std::string out;
   long long count = 0;
+  std::chrono::steady_clock::time_point last{};
 };
 
 void on_message(const lcm_recv_buf_t* rbuf, const char*, void* user) {
   auto* echo = static_cast<Echo*>(user);
+  echo->last = std::chrono::steady_clock::now();
   if (lcm_publish(echo->lcm, echo->out.c_str(), rbuf->data, rbuf->data_size) == 0) ++echo->count;
 }
 
@@ -41,6 +51,7 @@ int main(int argc, char** argv) {
   std::string url = env && *env ? env : f16mmae::daemon::kDefaultLcmUrl;
   std::string in = "ECHO_PING", out = "ECHO_PONG";
   bool quiet = false;
+  double wake_lead_us = 0.0, rate_hz = 64.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quiet") {
@@ -60,12 +71,24 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "lcm-echo-f16: warning: SCHED_FIFO priority %d refused\n", p);
       continue;
     }
+    if ((a == "--wake-lead-us" || a == "--rate-hz") && i + 1 < argc) {
+      char* end = nullptr;
+      const double x = std::strtod(argv[++i], &end);
+      if (*end != '\0' || !(x >= 0.0) || !std::isfinite(x) || (a == "--rate-hz" && x == 0.0)) {
+        std::fprintf(stderr, "lcm-echo-f16: error: %s must be a finite number %s, got '%s'\n", a.c_str(),
+                     a == "--rate-hz" ? "> 0" : ">= 0", argv[i]);
+        return 2;
+      }
+      (a == "--rate-hz" ? rate_hz : wake_lead_us) = x;
+      continue;
+    }
     if ((a == "--lcm-url" || a == "--in" || a == "--out") && i + 1 < argc) {
       (a == "--lcm-url" ? url : a == "--in" ? in : out) = argv[++i];
     } else {
       std::fprintf(stderr,
                    "lcm-echo-f16: error: unknown or incomplete argument '%s'\n"
-                   "usage: lcm-echo-f16 [--lcm-url URL] [--in CHANNEL] [--out CHANNEL] [--realtime P] [--quiet]\n",
+                   "usage: lcm-echo-f16 [--lcm-url URL] [--in CHANNEL] [--out CHANNEL] [--realtime P]\n"
+                   "                    [--wake-lead-us US [--rate-hz HZ]] [--quiet]\n",
                    a.c_str());
       return 2;
     }
@@ -86,14 +109,20 @@ int main(int argc, char** argv) {
     std::printf("lcm-echo-f16: ready: lcm %s, %s -> %s\n", url.c_str(), in.c_str(), out.c_str());
     std::fflush(stdout);
   }
+  f16mmae::daemon::WarmUpSchedule wake(rate_hz, std::chrono::nanoseconds(std::llround(wake_lead_us * 1e3)));
+  long long seen = 0, wakes = 0;
   int rc = 0;
   while (!g_stop) {
-    if (lcm_handle_timeout(lcm, 100) < 0 && !g_stop) {
+    if (f16mmae::daemon::wait_and_handle(lcm, wake, [&] { ++wakes; }) < 0 && !g_stop) {
       rc = 1;
       break;
     }
+    if (echo.count != seen) {
+      seen = echo.count;
+      wake.on_frame(echo.last);
+    }
   }
-  std::printf("lcm-echo-f16: %lld messages echoed\n", echo.count);
+  std::printf("lcm-echo-f16: %lld messages echoed, %lld scheduled wake-ups\n", echo.count, wakes);
   lcm_destroy(lcm);
   return rc;
 }

@@ -16,6 +16,8 @@ LcmNode::~LcmNode() {
 
 void LcmNode::on_sensor(const lcm_recv_buf_t* rbuf, const char*, void* user) {
   auto* self = static_cast<LcmNode*>(user);
+  self->last_sensor_arrival_ = std::chrono::steady_clock::now();
+  ++self->sensor_messages_;
   if (self->sensor_.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
     ++self->undecodable_;
     return;

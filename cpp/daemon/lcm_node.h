@@ -12,6 +12,7 @@
 
 #include "f16mmae/lcmt_mmae_reset.hpp"
 
+#include <chrono>
 #include <cstdint>
 
 namespace f16mmae::daemon {
@@ -24,6 +25,9 @@ class LcmNode {
   LcmNode& operator=(const LcmNode&) = delete;
 
   std::int64_t published() const { return published_; }
+  // Sensor messages received so far, and when the last one was (steady clock, at the callback).
+  std::int64_t sensor_messages() const { return sensor_messages_; }
+  std::chrono::steady_clock::time_point last_sensor_arrival() const { return last_sensor_arrival_; }
   std::int64_t undecodable() const { return undecodable_; }  // messages that failed to decode
   std::int64_t publish_errors() const { return publish_errors_; }
 
@@ -38,7 +42,8 @@ class LcmNode {
   lcmt_sensor_frame sensor_{};
   lcmt_command_frame command_{};
   lcm_subscription_t* subs_[3] = {nullptr, nullptr, nullptr};
-  std::int64_t published_ = 0, undecodable_ = 0, publish_errors_ = 0;
+  std::int64_t published_ = 0, undecodable_ = 0, publish_errors_ = 0, sensor_messages_ = 0;
+  std::chrono::steady_clock::time_point last_sensor_arrival_{};
 };
 
 }  // namespace f16mmae::daemon

@@ -1,11 +1,15 @@
 // mmae-daemon — the MMAE executive as an LCM process (see daemon_config.h for the options).
 // Loads and validates the model bank, subscribes, then handles LCM traffic until SIGINT or
-// SIGTERM (or --max-frames statuses), and ends with a one-line statistics summary.
+// SIGTERM (or --max-frames statuses), and ends with a one-line statistics summary. Between
+// frames it wakes --warm-lead-us before the next sensor frame is due to warm the executive
+// up (WarmUpSchedule, Executive::warm_up).
 // Exit status: 0 clean end, 1 bank or LCM unusable, 2 usage error.
 #include "bank_settings.h"
 #include "daemon_config.h"
 #include "executive.h"
 #include "lcm_node.h"
+#include "lcm_wait.h"
+#include "warm_up_schedule.h"
 
 #include "bankfile/bank_file.h"
 
@@ -15,6 +19,9 @@
 #include <sys/mman.h>
 
 #include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <csignal>
 #include <cstring>
 #include <cstdio>
@@ -115,18 +122,25 @@ int main(int argc, char** argv) {
                   channels.sensors.c_str(), channels.status.c_str());
       std::fflush(stdout);
     }
+    WarmUpSchedule warm_up(cfg.rate_hz, std::chrono::nanoseconds(std::llround(cfg.warm_lead_us * 1e3)));
+    std::int64_t sensors_seen = 0;
     while (!g_stop) {
       if (cfg.max_frames > 0 && node.published() >= cfg.max_frames) break;
-      const int r = lcm_handle_timeout(lcm, 100);
+      const int r = wait_and_handle(lcm, warm_up, [&] { executive->warm_up(); });
       if (r < 0) {
         if (g_stop) break;  // interrupted by the signal
         std::fprintf(stderr, "mmae-daemon: error: LCM receive failed on '%s'\n", cfg.lcm_url.c_str());
         rc = 1;
         break;
       }
+      if (node.sensor_messages() != sensors_seen) {
+        sensors_seen = node.sensor_messages();
+        warm_up.on_frame(node.last_sensor_arrival());
+      }
     }
-    std::printf("mmae-daemon: %s%s; %lld statuses published\n", g_stop ? "stopped by signal: " : "",
-                executive->summary().c_str(), static_cast<long long>(node.published()));
+    std::printf("mmae-daemon: %s%s; %lld statuses published; %lld cache warm-ups\n",
+                g_stop ? "stopped by signal: " : "", executive->summary().c_str(),
+                static_cast<long long>(node.published()), static_cast<long long>(executive->warm_ups()));
     std::fflush(stdout);
   }
   lcm_destroy(lcm);

@@ -42,6 +42,9 @@ class MmaeEstimator {
     declared_now_ = -1;
   }
 
+  // Touch the per-frame working set ahead of the next frame (cache_warm.h). Reads only.
+  void warm_cache() const noexcept { bank_.warm_cache(); }
+
   int level() const noexcept { return bank_.level(); }
   // The single failure whose level-1 bank is on line, "" at level 0.
   const std::string& level_failure() const noexcept {
@@ -57,6 +60,7 @@ class MmaeEstimator {
   double probability(int k) const noexcept { return bank_.probabilities()(k); }
   ZVector z_hat() const noexcept { return bank_.z_hat(); }
   const UVector& u_trim() const noexcept { return bank_.u_trim(); }
+  const ZVector& z_trim() const noexcept { return bank_.z_trim(); }
   const Bank& bank() const noexcept { return bank_; }
   static const char* kind() noexcept { return "hierarchical bank"; }
 

@@ -40,6 +40,7 @@
 // update/propagate/step/presume are noexcept and, for fixed sizes, allocate nothing.
 #pragma once
 
+#include "f16mmae/cache_warm.h"
 #include "f16mmae/packed_bank.h"
 #include "f16mmae/steady_state_filter.h"
 
@@ -338,6 +339,19 @@ class FilterBank {
   const XVector& posterior(int k) const noexcept {
     sync_filters();
     return filters_[k].posterior();
+  }
+  // Touch the per-frame working set (cache_warm.h), ahead of a frame that has a deadline:
+  // the packed kernel's buffers when it runs, else the filters (fixed sizes: inline; dynamic
+  // sizes keep their matrices on the heap and only the bank's own vectors are touched).
+  // Reads only: the bank's state and results do not change.
+  void warm_cache() const noexcept {
+    const auto vec = [](const auto& m) { touch_lines(m.data(), sizeof(double) * m.size()); };
+    vec(p_), vec(log_p_), vec(log_l_), vec(q_), vec(q_new_), vec(r_), vec(x_), vec(x_blend_), vec(z_hat_),
+        vec(h_out_);
+    if constexpr (kPacked) {
+      if (use_packed_) return packed_.warm_cache();
+    }
+    if constexpr (kFixed && NX != Eigen::Dynamic && NU != Eigen::Dynamic && NZ != Eigen::Dynamic) touch(filters_);
   }
   // Recompute x̂ and z_hat from the filters' posteriors and the current probabilities.
   void refresh_blend() noexcept {

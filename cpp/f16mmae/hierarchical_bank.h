@@ -117,6 +117,13 @@ class HierarchicalBank {
     dropped_ = 0;
   }
 
+  // Touch the on-line bank's per-frame working set (FilterBank::warm_cache) and the
+  // declarer's, ahead of a frame that has a deadline. Reads only.
+  void warm_cache() const noexcept {
+    bank_.warm_cache();
+    touch(declarer_);
+  }
+
   // ---- outputs -----------------------------------------------------------------------------
   int level() const noexcept { return level_; }
   // ModelBank index of the single failure whose level-1 bank is on line, or -1 at level 0.

@@ -14,6 +14,7 @@
 // Everything is noexcept and allocation-free. Use only when available() (AVX2 and FMA).
 #pragma once
 
+#include "f16mmae/cache_warm.h"
 #include "f16mmae/packed_kernel.h"
 #include "f16mmae/steady_state_filter.h"
 
@@ -117,6 +118,8 @@ class PackedBank<true, K, NX, NU, NZ> {
     x_blend = Eigen::Map<const XVector>(xb);
     z_hat = Eigen::Map<const ZVector>(zh);
   }
+  // Touch everything a frame reads (cache_warm.h): the packed matrices and both state slots.
+  void warm_cache() const noexcept { touch(*this); }
 
  private:
   P filters_[K];

@@ -70,3 +70,20 @@ TEST(DaemonConfig, EstimatorOverrides) {
   r = parse_daemon_args({"--bank", "b", "--p-min", "-1"}, nullptr);
   EXPECT_NE(r.message.find("--p-min must be a finite number >= 0, got '-1'"), std::string::npos);
 }
+
+TEST(DaemonConfig, WarmUpLead) {
+  auto r = parse_daemon_args({"--bank", "b"}, nullptr);
+  EXPECT_EQ(r.config.warm_lead_us, 500.0);  // on by default
+  r = parse_daemon_args({"--bank", "b", "--warm-lead-us", "0"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.warm_lead_us, 0.0);  // off
+  r = parse_daemon_args({"--bank", "b", "--warm-lead-us=250"}, nullptr);
+  EXPECT_EQ(r.config.warm_lead_us, 250.0);
+  r = parse_daemon_args({"--bank", "b", "--warm-lead-us", "-5"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--warm-lead-us must be a number of microseconds >= 0"), std::string::npos);
+  EXPECT_NE(r.message.find("'-5'"), std::string::npos);
+  r = parse_daemon_args({"--bank", "b", "--warm-lead-us", "20000"}, nullptr);  // > 15625 us at 64 Hz
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("shorter than a frame period (15625 us"), std::string::npos) << r.message;
+}

@@ -29,6 +29,8 @@ def test_daemon_refuses_bad_arguments_banks_and_urls(tmp_path):
     assert rc == 2 and "'fast'" in out
     rc, out = _daemon("--bank", bank, "--frobnicate")
     assert rc == 2 and "unknown argument '--frobnicate'" in out and "valid options" in out
+    rc, out = _daemon("--bank", bank, "--warm-lead-us", "16000")
+    assert rc == 2 and "shorter than a frame period (15625 us at --rate-hz 64)" in out
     rc, out = _daemon("--bank", str(tmp_path / "missing.f16bank"))
     assert rc == 1 and "missing.f16bank" in out and "no such file" in out
     junk = tmp_path / "junk.f16bank"

@@ -115,7 +115,8 @@ def paired_round_trips(lc, lc_echo, chans, ping: str, pong: str, model_bank, pai
 
 
 def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned",
-        realtime: int = 0, pairs: int = 1000, idle_ms: float = 14.0) -> dict:
+        realtime: int = 0, pairs: int = 1000, idle_ms: float = 14.0, warm_lead_us: float | None = None,
+        echo_wake_lead_us: float = 0.0) -> dict:
     import lcm
 
     from ..campaign.single import load_bank
@@ -140,8 +141,9 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     echo_url = next_port_url(lcm_url)
     lc_echo = lcm.LCM(echo_url)
     rt = ("--realtime", str(realtime)) if realtime else ()
+    wake = ("--wake-lead-us", f"{echo_wake_lead_us:g}", "--rate-hz", f"{FRAME_RATE_HZ:g}")
     echo = subprocess.Popen([str(find_executable("lcm-echo-f16")), "--lcm-url", echo_url, "--in", ping,
-                             "--out", pong, *rt], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                             "--out", pong, *rt, *wake], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if "ready" not in echo.stdout.readline():
         echo.kill()
         raise HilError(f"lcm-echo-f16 did not start: {echo.communicate()[1].strip()}")
@@ -178,7 +180,8 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
             lc_echo.handle_timeout(max(1, int(left * 1000)))
         echo_lost += not state["got"]
 
-    daemon = DaemonProcess(path, lcm_url=lcm_url, channel_prefix=PREFIX, extra_args=rt)
+    warm = ("--warm-lead-us", f"{warm_lead_us:g}") if warm_lead_us is not None else ()
+    daemon = DaemonProcess(path, lcm_url=lcm_url, channel_prefix=PREFIX, extra_args=(*rt, *warm))
     try:
         t0 = time.perf_counter()
         result = fly_hil(scenario, model_bank, lc, chans, on_frame=echo_round_trip, remote=remote)
@@ -199,6 +202,7 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
         "duration_s": duration_s, "wall_s": round(wall, 3), "rate_hz": FRAME_RATE_HZ, "lcm_url": lcm_url,
         "echo_lcm_url": echo_url,
         "bank": label, "bank_hash": str(model_bank.content_hash), "realtime_priority": realtime,
+        "warm_lead_us": warm_lead_us, "echo_wake_lead_us": echo_wake_lead_us,
         "frames": link["frames"], "deadline_misses": link["deadline_misses"],
         "executive_latency_us": {"n": link["statuses"], **ex},
         "echo_latency_us": ec, "echo_lost": echo_lost,
@@ -224,6 +228,12 @@ def main(argv: list[str] | None = None) -> int:
                    help="controlled pairing after the flight: N pairs (default 1000, 0: skip)")
     p.add_argument("--idle-ms", type=float, default=14.0, metavar="MS",
                    help="idle time before each paired round trip (default 14)")
+    p.add_argument("--warm-lead-us", type=float, default=None, metavar="US",
+                   help="the daemon's cache warm-up lead before each expected frame (default: the "
+                        "daemon's, 500; 0: off)")
+    p.add_argument("--echo-wake-lead-us", type=float, default=0.0, metavar="US",
+                   help="make the echo wake US before each expected ping, as the daemon does for its "
+                        "warm-up, and do nothing: a control for the wake-up alone (default 0: a bare echo)")
     p.add_argument("--json", default=None, metavar="FILE", help="also write the figures as JSON")
     args = p.parse_args(argv)
     if not args.duration > 0:
@@ -232,14 +242,16 @@ def main(argv: list[str] | None = None) -> int:
         p.error(f"--realtime {args.realtime} must be a priority from 1 to 99 (0: off)")
     if args.pairs < 0 or not args.idle_ms >= 0:
         p.error("--pairs must be >= 0 and --idle-ms >= 0")
-    r = run(args.duration, args.lcm_url, args.bank, args.realtime, args.pairs, args.idle_ms)
+    r = run(args.duration, args.lcm_url, args.bank, args.realtime, args.pairs, args.idle_ms, args.warm_lead_us,
+            args.echo_wake_lead_us)
     ex, ec, d = r["executive_latency_us"], r["echo_latency_us"], r["executive_excess_us"]
     rt = f", SCHED_FIFO {r['realtime_priority']}" if r["realtime_priority"] else ", time-shared"
     print(f"LCM latency, {r['duration_s']:g} s at {r['rate_hz']} Hz on {r['lcm_url']} "
           f"({r['frames']} frames, wall {r['wall_s']} s{rt})")
     print(f"  {'':28s}{'p50 us':>10s}{'p99 us':>10s}{'max us':>10s}{'n':>8s}")
     print(f"  {'mmae-daemon sensor->status':28s}{ex['p50']:>10}{ex['p99']:>10}{ex['max']:>10}{ex['n']:>8}")
-    print(f"  {'bare C++ echo':28s}{ec['p50']:>10}{ec['p99']:>10}{ec['max']:>10}{ec['n']:>8}")
+    echo_label = f"C++ echo, wakes {r['echo_wake_lead_us']:g} us early" if r["echo_wake_lead_us"] else "bare C++ echo"
+    print(f"  {echo_label:28s}{ec['p50']:>10}{ec['p99']:>10}{ec['max']:>10}{ec['n']:>8}")
     print(f"  {'executive - echo':28s}{d['p50']:>10}{d['p99']:>10}")
     ok_miss = r["deadline_misses"] == 0
     ok_p99 = d["p99"] is not None and d["p99"] <= 20.0
@@ -253,7 +265,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  controlled pairing ({r['paired']['pairs']} pairs, {r['paired']['idle_ms']:g} ms idle before "
               f"each, order alternating):")
         print(f"  {'mmae-daemon sensor->status':28s}{pe['p50']:>10}{pe['p99']:>10}{pe['max']:>10}{pe['n']:>8}")
-        print(f"  {'bare C++ echo':28s}{pc['p50']:>10}{pc['p99']:>10}{pc['max']:>10}{pc['n']:>8}")
+        print(f"  {echo_label:28s}{pc['p50']:>10}{pc['p99']:>10}{pc['max']:>10}{pc['n']:>8}")
         print(f"  {'executive - echo':28s}{pe['p50'] - pc['p50']:>10.1f}{pe['p99'] - pc['p99']:>10.1f}")
     print(f"  {r['daemon_summary']}")
     if args.json:

@@ -3,7 +3,8 @@
 // written by `f16mmae design` from the tuning. The in-process closed loop applies the same
 // rule (f16mmae.closedloop.bank_estimator_settings): the bank's recommendation, missing keys
 // at the core's defaults, command-line overrides last. So mmae-daemon and `f16mmae run` run
-// the same estimator on the same bank.
+// the same estimator on the same bank; tests/python/test_daemon_settings_agree.py holds the
+// two implementations to each other on banks that differ only in their metadata.
 //
 // A metadata text that is empty, or not a JSON object, or without an "estimator" object,
 // recommends nothing (the core's defaults), as in Python. An "estimator" entry p_min,

@@ -13,7 +13,6 @@ Each session uses a private port and channel prefix, so parallel runs do not cro
 """
 from __future__ import annotations
 
-import math
 import os
 import signal
 import subprocess
@@ -26,13 +25,13 @@ import pytest
 from f16mmae.campaign.single import load_bank
 from f16mmae.cli import main
 from f16mmae.closedloop import fly
-from f16mmae.hil import (DaemonProcess, HilError, channels, command_frame_bytes, find_executable,
-                         fly_hil, sensor_frame_bytes)
+from f16mmae.hil import DaemonProcess, HilError, channels, find_executable, fly_hil
 from f16mmae.lcmt_command_frame import lcmt_command_frame
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae.replay import replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
+from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
 
 PORT = 7700 + os.getpid() % 250
 URL = f"udpm://239.255.76.67:{PORT}?ttl=0"
@@ -157,24 +156,14 @@ def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
     chans = channels(prefix)
     log = tmp_path / "wire.lcmlog"
     rng = np.random.default_rng(9)
-    z_trim, u_trim = np.array(bank.z_trim), np.array(bank.u_trim)
-    wire = [("s", 0), ("c", 0), ("s", 1), ("c", 1), ("s", 2), ("s", 2), ("c", 2), ("s", 3), ("c", 3),
-            ("s", 6), ("c", 6), ("s", 7), ("s", 1), ("c", 7), ("s", 8, "invalid"), ("c", 8),
-            ("s", 9), ("c", 9), ("s", 10, "nan"), ("s", 11), ("c", 11)]
     lc = lcm.LCM(URL)
     statuses = []
     lc.subscribe(chans.status, lambda ch, data: statuses.append(lcmt_mmae_status.decode(data)))
     writer = lcm.EventLog(str(log), "w", overwrite=True)
     lc.subscribe(f"{prefix}.*", lambda ch, data: writer.write_event(len(statuses), ch, data))
     with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
-        for kind, i, *fault in wire:
-            if kind == "s":
-                z = z_trim + 0.05 * rng.standard_normal(7)
-                if fault == ["nan"]:
-                    z[2] = math.nan
-                lc.publish(chans.sensors, sensor_frame_bytes(i, z, valid=fault != ["invalid"]))
-            else:
-                lc.publish(chans.commands, command_frame_bytes(i, u_trim + 0.002 * rng.standard_normal(5)))
+        for step in WIRE:
+            kind, i = publish_step(lc, chans, step, bank, rng, z_sigma=0.05, u_sigma=0.002), step[1]
             end = time.time() + 0.2  # settle: the daemon answers sensor frames within this
             while time.time() < end and lc.handle_timeout(20) >= 0:
                 if kind == "s" and statuses and statuses[-1].frame == i:
@@ -182,8 +171,8 @@ def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
         while lc.handle_timeout(100) > 0:
             pass
     writer.close()
-    assert [s.frame for s in statuses] == [0, 1, 2, 3, 6, 7, 9, 11]
-    assert {s.frame: s.frames_without_update for s in statuses if s.stale} == {6: 2, 9: 1, 11: 1}
+    assert [s.frame for s in statuses] == STATUS_FRAMES
+    assert {s.frame: s.frames_without_update for s in statuses if s.stale} == STALE
     last = statuses[-1]
     assert (last.frames_dropped, last.frames_rejected, last.frames_stale, last.commands_missed) == (2, 2, 4, 3)
     assert "8 updated, 2 rejected, 2 dropped (1 duplicate, 1 out-of-order), 4 stale" in daemon.summary

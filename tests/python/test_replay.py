@@ -10,7 +10,6 @@ daemon's frame rules.
 """
 from __future__ import annotations
 
-import math
 
 import lcm
 import numpy as np
@@ -18,11 +17,12 @@ import pytest
 
 from f16mmae.campaign.single import load_bank
 from f16mmae.cli import main
-from f16mmae.hil import channels, command_frame_bytes, fly_hil, sensor_frame_bytes
+from f16mmae.hil import channels, fly_hil
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae.replay import FrameSequencer, InProcessExecutive, ReplayError, replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
+from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
 
 
 @pytest.fixture(scope="module")
@@ -121,31 +121,15 @@ def test_wire_faults_replay_with_the_prescribed_stale_flags(bank, tmp_path):
     lc.subscribe(chans.status, lambda ch, data: statuses.append(lcmt_mmae_status.decode(data)))
     InProcessExecutive(bank).serve(lc, chans)
     rng = np.random.default_rng(5)
-    z_trim, u_trim = np.array(bank.z_trim), np.array(bank.u_trim)
-    wire = [("s", 0), ("c", 0), ("s", 1), ("c", 1),
-            ("s", 2), ("s", 2), ("c", 2),          # a duplicate sensor frame
-            ("s", 3), ("c", 3),                    # frames 4 and 5 lost
-            ("s", 6), ("c", 6),
-            ("s", 7), ("s", 1), ("c", 7),          # frame 1 again, late
-            ("s", 8, "invalid"), ("c", 8),         # a valid flag false: rejected
-            ("s", 9), ("c", 9),
-            ("s", 10, "nan"),                      # non-finite: rejected; command 10 lost too
-            ("s", 11), ("c", 11)]
-    for kind, i, *fault in wire:
-        if kind == "s":
-            z = z_trim + 0.01 * rng.standard_normal(7)
-            if fault == ["nan"]:
-                z[3] = math.nan
-            lc.publish(chans.sensors, sensor_frame_bytes(i, z, valid=fault != ["invalid"]))
-        else:
-            lc.publish(chans.commands, command_frame_bytes(i, u_trim + 0.001 * rng.standard_normal(5)))
+    for step in WIRE:
+        publish_step(lc, chans, step, bank, rng, z_sigma=0.01, u_sigma=0.001, nan_index=3)
         while lc.handle_timeout(0) > 0:
             pass
     rec.close()
     by_frame = {s.frame: s for s in statuses}
-    assert sorted(by_frame) == [0, 1, 2, 3, 6, 7, 9, 11]
+    assert sorted(by_frame) == STATUS_FRAMES
     stale = {i: s.frames_without_update for i, s in by_frame.items() if s.stale}
-    assert stale == {6: 2, 9: 1, 11: 1}  # frames 4+5, 8, 10 propagated without update
+    assert stale == STALE  # frames 4+5, 8, 10 propagated without update
     last = statuses[-1]
     assert (last.frames_dropped, last.frames_rejected, last.frames_stale) == (2, 2, 4)
     assert last.commands_missed == 3  # frames 4, 5 and 10 flown on the held command

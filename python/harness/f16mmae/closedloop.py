@@ -120,7 +120,9 @@ ESTIMATOR_SETTINGS = ("p_min", "threshold", "dwell_s")
 def bank_estimator_settings(model_bank) -> dict:
     """The estimator settings a bank's design recommends: its metadata JSON's ``"estimator"``
     object (``p_min``, ``threshold``, ``dwell_s``; written by ``f16mmae design`` from the
-    tuning's ``[estimator]`` table).  Missing keys (or no metadata) mean the core's defaults."""
+    tuning's ``[estimator]`` table).  Missing keys (or no metadata) mean the core's defaults.
+    mmae-daemon applies the same rule in C++ (``cpp/daemon/bank_settings.h``);
+    ``tests/python/test_daemon_settings_agree.py`` holds the two together."""
     try:
         meta = json.loads(model_bank.metadata or "{}")
     except (TypeError, ValueError):

@@ -34,6 +34,15 @@ def _plt():
     return plt
 
 
+def save_figure(fig, path: str | Path, dpi: int = 110) -> Path:
+    """Lay out, write (PNG by the suffix) and close ``fig``; returns the path."""
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=dpi)
+    _plt().close(fig)
+    return path
+
+
 def _ordered_tunings(labels) -> list[str]:
     known = [t for t in TUNING_ORDER if t in labels]
     return known + sorted(t for t in labels if t not in TUNING_ORDER)
@@ -86,11 +95,7 @@ def probability_strips(
                 ax.set_title(f"{tuning} bank (mean of {len(rc)} runs)", fontsize=9)
         axes[-1][j].set_xlabel("time (s)", fontsize=8)
     fig.suptitle("Probability of the injected hypothesis (failure at the dashed line)", fontsize=10)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def latency_chart(
@@ -127,11 +132,7 @@ def latency_chart(
     ax.set_xlim(left=0)
     ax.grid(axis="x", alpha=0.3)
     ax.legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def probability_history(
@@ -169,8 +170,4 @@ def probability_history(
     ax.set_title(title or "MMAE hypothesis probabilities (triangles: declarations)", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="center right")
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)

@@ -60,3 +60,6 @@ def test_report_of_an_empty_directory_says_what_is_needed(tmp_path):
         render_report(tmp_path)
     with pytest.raises(ReportError, match="not a directory"):
         render_report(tmp_path / "nope")
+    (tmp_path / "summary.json").write_text('{"kind": "triple"}')
+    with pytest.raises(ReportError, match="unknown campaign kind 'triple'.*single, dual and envelope"):
+        render_report(tmp_path)

@@ -11,6 +11,8 @@ from f16mmae.campaign.executor import InlineExecutor, make_executor
 from f16mmae.campaign.single import SingleCampaign, run_campaign, run_seed
 from f16mmae.campaign.store import RECORDS_FILE, ResultsStore
 
+from campaign_support import CountingExecutor
+
 SMALL = SingleCampaign(runs=2, seed=4, cases=("NONE", "PIT"), baseline=None,
                        failure_time_s=2.0, duration_s=4.5)
 
@@ -20,15 +22,6 @@ def test_run_seeds_are_deterministic_distinct_and_positive():
     assert all(s >= 1 for s in seeds.values())
     assert len(set(seeds.values())) == len(seeds)
     assert run_seed(1, "LS", 3) == run_seed(1, "LS", 3) != run_seed(2, "LS", 3)
-
-
-class CountingExecutor(InlineExecutor):
-    def __init__(self):
-        self.submitted = 0
-
-    def submit(self, fn, /, *args, **kwargs):
-        self.submitted += 1
-        return super().submit(fn, *args, **kwargs)
 
 
 def _strip(records):

@@ -18,7 +18,7 @@ class ReportError(Exception):
     """The directory holds nothing a report can be made from."""
 
 
-def _img(path: Path, alt: str) -> str:
+def img_tag(path: Path, alt: str) -> str:
     if not path.exists():
         return f"<p><em>figure {html.escape(path.name)} missing</em></p>"
     data = base64.b64encode(path.read_bytes()).decode()
@@ -53,7 +53,7 @@ _CSS = """
 body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
 table{border-collapse:collapse;margin:0.8em 0}td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}
 th{background:#f3f3f3}td:first-child{text-align:left;font-weight:600}
-tr.bad td{background:#fff1f0}tr.ok td{background:#f4fbf4}
+tr.bad td{background:#fff1f0}tr.ok td{background:#f4fbf4}tr.fair td{background:#fffbe6}
 img{max-width:100%}figure{margin:1em 0}figcaption{font-size:0.85em;color:#555}
 code{background:#f5f5f5;padding:0 3px}dt{font-weight:600}dd{margin:0 0 0.5em 1.5em}
 """
@@ -104,9 +104,9 @@ def _campaign_page(d: Path, s: dict) -> str:
     figs = s.get("figures", {})
     parts.append("<h2>Figures</h2>")
     if "strips" in figs:
-        parts.append(_img(d / figs["strips"], "Mean probability of the injected hypothesis (paper Figs. 3 and 6)"))
+        parts.append(img_tag(d / figs["strips"], "Mean probability of the injected hypothesis (paper Figs. 3 and 6)"))
     if "latency" in figs:
-        parts.append(_img(d / figs["latency"], "Detection latency per case"))
+        parts.append(img_tag(d / figs["latency"], "Detection latency per case"))
     parts.append(_DEFINITIONS)
     return "".join(parts)
 
@@ -122,8 +122,25 @@ def _run_page(d: Path, r: dict) -> str:
         f"<tr><th>outcome</th><td>{html.escape(str(r.get('outcome')))}</td></tr>"
         f"<tr><th>seed / bank / version</th><td>{r.get('seed')} / {html.escape(str(r.get('bank_hash')))} / {html.escape(str(r.get('version')))}</td></tr>"
         "</table><h2>Declarations</h2><table><tr><th>hypothesis</th><th>time (s)</th></tr>"
-        + decl + "</table>" + _img(d / "probabilities.png", "Hypothesis probabilities")
+        + decl + "</table>" + img_tag(d / "probabilities.png", "Hypothesis probabilities")
     )
+
+
+def _summary_page(d: Path, summary: dict) -> str:
+    """The page of a campaign directory, by the kind of its summary."""
+    kind = summary.get("kind", "single")
+    if kind == "single":
+        return _campaign_page(d, summary)
+    if kind == "dual":
+        from .dual_report import dual_page
+
+        return dual_page(d, summary)
+    if kind == "envelope":
+        from .envelope_report import envelope_page
+
+        return envelope_page(d, summary)
+    raise ReportError(f"{d / 'summary.json'} is of an unknown campaign kind {kind!r}; "
+                      f"this version reports single, dual and envelope campaigns")
 
 
 def render_report(directory: str | Path) -> Path:
@@ -132,12 +149,12 @@ def render_report(directory: str | Path) -> Path:
     if not d.is_dir():
         raise ReportError(f"{d} is not a directory")
     if (d / "summary.json").exists():
-        body = _campaign_page(d, json.loads((d / "summary.json").read_text()))
+        body = _summary_page(d, json.loads((d / "summary.json").read_text()))
     elif (d / "run.json").exists():
         body = _run_page(d, json.loads((d / "run.json").read_text()))
     else:
         raise ReportError(
-            f"{d} holds neither summary.json (from 'f16mmae campaign single --out DIR') "
+            f"{d} holds neither summary.json (from 'f16mmae campaign single|dual|envelope --out DIR') "
             f"nor run.json (from 'f16mmae run --out DIR')"
         )
     out = d / "report.html"

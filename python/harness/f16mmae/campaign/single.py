@@ -19,17 +19,15 @@ are then computed from the stored records of this campaign's plan only.
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
-import time
-from concurrent.futures import Executor, as_completed
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import __version__
 from ..names import NONE, SINGLE_HYPOTHESES
-from ..progress import Progress
 from . import figures, scoring
+from .runner import CampaignError, derived_seed, execute
 from .store import ResultsStore, run_key
 
 #: Cases of the single campaign, in the paper's order.
@@ -41,14 +39,9 @@ SHIPPED_TUNINGS = ("tuned", "untuned")
 P_INJECTED_DECIMATION = 2  # every 2nd frame: 32 Hz at the 64-Hz frame rate
 
 
-class CampaignError(Exception):
-    """A campaign argument is invalid; the message names it and the valid choices."""
-
-
 def run_seed(campaign_seed: int, case: str, run_index: int) -> int:
     """The seed of run ``run_index`` of ``case`` (>= 1), see the module docstring."""
-    digest = hashlib.sha256(f"single:{campaign_seed}:{case}:{run_index}".encode()).digest()
-    return 1 + int.from_bytes(digest[:8], "big") % (2**31 - 2)
+    return derived_seed("single", campaign_seed, case, run_index)
 
 
 @dataclass(frozen=True)
@@ -191,12 +184,17 @@ def run_spec(spec: dict) -> dict:
     }
 
 
+def describe_spec(spec: dict) -> str:
+    """The run a spec stands for, for messages."""
+    return f"run {spec['run_index']} of case {spec['case']} ({spec['tuning']} bank, seed {spec['seed']})"
+
+
 # -- planning --------------------------------------------------------------------------------
 def _scenario_dict(cfg: SingleCampaign, bank, case: str, seed: int) -> dict:
     """The run's scenario as the truth model's own plain data (``Scenario.to_dict``), so the
     record holds every truth setting (dither amplitudes, ARI, noise) and the run key
     changes when a truth default does."""
-    from ..truth import DitherSpec, Scenario
+    from ..truth import Scenario
     from ..truth.failures import make_failure
 
     try:
@@ -204,7 +202,7 @@ def _scenario_dict(cfg: SingleCampaign, bank, case: str, seed: int) -> dict:
         scenario = Scenario(
             mach=float(cfg.mach if cfg.mach is not None else bank.mach),
             alt_ft=float(cfg.alt_ft if cfg.alt_ft is not None else bank.alt_ft),
-            turbulence=cfg.turbulence, dither=_dither(cfg), failures=failures,
+            turbulence=cfg.turbulence, dither=dither_spec(cfg), failures=failures,
             duration_s=cfg.duration_s, seed=seed, feedback=cfg.feedback,
         )
     except ValueError as exc:
@@ -212,7 +210,8 @@ def _scenario_dict(cfg: SingleCampaign, bank, case: str, seed: int) -> dict:
     return scenario.to_dict()
 
 
-def _dither(cfg: SingleCampaign):
+def dither_spec(cfg):
+    """The truth model's dither for a campaign config (its ``dither`` switch and ``dither_scale``)."""
     from ..truth import DitherSpec
 
     base = DitherSpec(enabled=cfg.dither)
@@ -264,40 +263,11 @@ def run_campaign(cfg: SingleCampaign, out_dir: str | Path, executor: Executor,
         if b_bank.content_hash != bank.content_hash:
             banks[b_label if b_label != label else f"{b_label}-baseline"] = (cfg.baseline, b_bank)
     specs = plan(cfg, banks)
-    store = ResultsStore(out)
-    stored = store.keys()
-    todo = [s for s in specs if s["run_key"] not in stored]
-    resumed = len(specs) - len(todo)
-    t0 = time.perf_counter()
-    bar = Progress(len(specs), "runs", already_done=resumed, enabled=show_progress)
-    try:
-        futures = {executor.submit(run_spec, s): s for s in todo}
-        for fut in as_completed(futures):
-            try:
-                record = fut.result()
-            except CampaignError:
-                raise
-            except Exception as exc:  # a run that cannot fly: say which, keep what is stored
-                s = futures[fut]
-                raise CampaignError(
-                    f"run {s['run_index']} of case {s['case']} ({s['tuning']} bank, seed {s['seed']}) "
-                    f"failed: {type(exc).__name__}: {exc}; the {bar.done} runs finished so far are "
-                    f"stored in {store.path}"
-                ) from exc
-            store.append(record)
-            bar.advance()
-    finally:
-        bar.close()
-    wall_s = time.perf_counter() - t0
-
-    planned = {s["run_key"] for s in specs}
-    records = [r for r in store.records() if r["run_key"] in planned]
-    by_key = {r["run_key"]: r for r in records}  # a key stored twice counts once
-    records = list(by_key.values())
+    done = execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
+                   show_progress=show_progress)
+    records = done.records
     summary = summarize(cfg, banks, label, records)
-    executed = {s["run_key"] for s in todo}
-    executed_recs = [r for r in records if r["run_key"] in executed]
-    summary["timing"] = _timing(wall_s, len(todo), resumed, executor_label, executed_recs)
+    summary["timing"] = done.timing(executor_label)
     if measure_cost:
         from ..closedloop import measure_overhead, scenario_from_dict
 
@@ -307,7 +277,7 @@ def run_campaign(cfg: SingleCampaign, out_dir: str | Path, executor: Executor,
     summary["figures"] = make_figures(out, records, cfg)
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=1) + "\n")
-    return CampaignOutcome(summary, path, len(todo), resumed, records)
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
 
 
 def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict]) -> dict:
@@ -350,15 +320,6 @@ def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict])
                                                       **cfg.estimator_options()},
                                "cases": cases_of(b)}
     return summary
-
-
-def _timing(wall_s, executed, resumed, executor_label, recs) -> dict:
-    out = {"wall_s": round(wall_s, 3), "runs_executed": executed, "runs_resumed": resumed,
-           "executor": executor_label}
-    keys = ("wall_s", "truth_s", "estimator_s")
-    sums = {k: sum(r["timing"].get(k, 0.0) for r in recs) for k in keys}
-    out.update({f"run_{k}_sum": round(v, 3) for k, v in sums.items()})
-    return out
 
 
 def make_figures(out: Path, records: list[dict], cfg: SingleCampaign) -> dict:

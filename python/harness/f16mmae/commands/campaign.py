@@ -14,6 +14,11 @@ estimator in the loop.
            no-failure case NONE, N seeded runs each, the failure at 3.0 s of an 8-s
            flight, scored for isolation, missed/false alarms and detection latency
            (the paper's Figs. 3-6).
+  dual     every ordered pair of failures (first at 3.0 s, second at 5.0 s), N runs
+           each, rated Good / Fair / Poor / ND against the lone second failure
+           (the paper's Fig. 7).
+  envelope the nominal design flown at flight conditions around its design point: the
+           single-failure campaign at each point (the paper's Fig. 9).
 """
 
 SINGLE_DESCRIPTION = """\
@@ -47,7 +52,7 @@ same results on any executor.  Scoring definitions: see report.html or the READM
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "campaign",
-        help="Monte Carlo campaigns (single-failure)",
+        help="Monte Carlo campaigns (single, dual, envelope)",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -78,13 +83,73 @@ def register(subparsers) -> None:
     s.add_argument("--dither-scale", default="1.0", metavar="X",
                    help="multiply the truth model's default dither amplitudes by X (default 1)")
     add_estimator_arguments(s)
-    s.add_argument("--workers", default=None, metavar="W", help="local worker processes (default: all cores)")
-    s.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="Dask scheduler tcp://HOST:PORT (needs the 'dask' extra)")
-    s.add_argument("--out", default="results/campaign-single", metavar="DIR", help="output directory")
-    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_run_arguments(s, "results/campaign-single")
     s.set_defaults(func=_single)
+    from . import campaign_dual, campaign_envelope  # the other kinds, each in its own module
+
+    campaign_dual.register(kinds)
+    campaign_envelope.register(kinds)
     p.set_defaults(func=lambda args: (p.print_help(), 2)[1])
+
+
+def add_run_arguments(p, default_out: str) -> None:
+    """--workers / --scheduler / --out / --quiet: where a campaign runs and writes."""
+    p.add_argument("--workers", default=None, metavar="W", help="local worker processes (default: all cores)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler tcp://HOST:PORT (needs the 'dask' extra)")
+    p.add_argument("--out", default=default_out, metavar="DIR", help=f"output directory (default {default_out})")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def check_tuning(option: str, value: str) -> None:
+    """CliError unless ``value`` is a shipped tuning or a readable bank file."""
+    from ..campaign.single import CampaignError, bank_path
+
+    try:
+        bank_path(value)
+    except CampaignError:
+        raise CliError(f"{option} {value!r} is neither tuned, untuned nor a readable bank file") from None
+
+
+def validated(cfg):
+    """``cfg.validate()``, its CampaignError as a CliError."""
+    from ..campaign.runner import CampaignError
+
+    try:
+        return cfg.validate()
+    except CampaignError as exc:
+        raise CliError(str(exc)) from None
+
+
+def run_and_report(args, run, print_summary) -> int:
+    """Run a campaign where the arguments say (``--workers`` local processes or a Dask
+    ``--scheduler``): ``run(executor, executor_label, show_progress)`` returns its outcome
+    (``summary``, ``summary_path``, ``executed``, ``resumed``). Then write its report.html,
+    print its summary (``print_summary(summary, stream)``) and where everything is. Errors of
+    the executor, the campaign or the results store become CliErrors naming the problem."""
+    from ..campaign.executor import ExecutorError, default_workers, make_executor
+    from ..campaign.report import render_report
+    from ..campaign.runner import CampaignError
+    from ..campaign.store import StoreError
+
+    if args.workers is not None and args.scheduler is not None:
+        raise CliError("give --workers or --scheduler, not both")
+    workers = number("--workers", args.workers, integer=True, minimum=1) if args.workers is not None else None
+    label = f"Dask at {args.scheduler}" if args.scheduler else f"{workers or default_workers()} local process(es)"
+    try:
+        with make_executor(workers=workers, scheduler=args.scheduler) as ex:
+            outcome = run(ex, label, not args.quiet)
+    except (ExecutorError, CampaignError, StoreError) as exc:
+        raise CliError(str(exc)) from None
+    out = outcome.summary_path.parent
+    report = render_report(out)
+    print_summary(outcome.summary, sys.stdout)
+    print(f"\nrecords: {out / 'runs.jsonl'}  ({outcome.executed} run, {outcome.resumed} resumed)")
+    print(f"summary: {outcome.summary_path}")
+    for name in outcome.summary.get("figures", {}).values():
+        print(f"figure:  {out / name}")
+    print(f"report:  {report}")
+    return 0
 
 
 def add_estimator_arguments(p) -> None:
@@ -128,8 +193,7 @@ def parse_cases(text: str | None) -> tuple[str, ...]:
 
 def config_from_args(args):
     """A validated ``SingleCampaign`` from the parsed arguments (CliError otherwise)."""
-    from ..campaign.single import (FEEDBACK_MODES, TURBULENCE_LEVELS, CampaignError,
-                                   SingleCampaign)
+    from ..campaign.single import FEEDBACK_MODES, TURBULENCE_LEVELS, SingleCampaign
 
     turbulence = choice("--turbulence", args.turbulence, TURBULENCE_LEVELS)
     feedback = choice("--feedback", args.feedback, FEEDBACK_MODES)
@@ -141,44 +205,18 @@ def config_from_args(args):
         dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale),
         **estimator_options_from_args(args),
     )
-    try:
-        return cfg.validate()
-    except CampaignError as exc:
-        raise CliError(str(exc)) from None
+    return validated(cfg)
 
 
 def _single(args) -> int:
-    from ..campaign.executor import ExecutorError, default_workers, make_executor
-    from ..campaign.report import render_report
-    from ..campaign.single import CampaignError, bank_path, run_campaign
-    from ..campaign.store import StoreError
+    from ..campaign.single import run_campaign
 
     cfg = config_from_args(args)
-    for opt, val in (("--tuning", cfg.tuning), ("--baseline", cfg.baseline)):
-        if val is None:
-            continue
-        try:
-            bank_path(val)
-        except CampaignError:
-            raise CliError(f"{opt} {val!r} is neither tuned, untuned nor a readable bank file") from None
-    if args.workers is not None and args.scheduler is not None:
-        raise CliError("give --workers or --scheduler, not both")
-    workers = number("--workers", args.workers, integer=True, minimum=1) if args.workers is not None else None
-    label = (f"Dask at {args.scheduler}" if args.scheduler
-             else f"{workers or default_workers()} local process(es)")
-    try:
-        with make_executor(workers=workers, scheduler=args.scheduler) as ex:
-            outcome = run_campaign(cfg, args.out, ex, executor_label=label,
-                                   show_progress=not args.quiet)
-    except (ExecutorError, CampaignError, StoreError) as exc:
-        raise CliError(str(exc)) from None
-    report = render_report(args.out)
-    print_summary(outcome.summary, sys.stdout)
-    print(f"\nrecords: {outcome.summary_path.parent / 'runs.jsonl'}  "
-          f"({outcome.executed} run, {outcome.resumed} resumed)")
-    print(f"summary: {outcome.summary_path}")
-    print(f"report:  {report}")
-    return 0
+    check_tuning("--tuning", cfg.tuning)
+    if cfg.baseline is not None:
+        check_tuning("--baseline", cfg.baseline)
+    return run_and_report(args, lambda ex, label, progress: run_campaign(
+        cfg, args.out, ex, executor_label=label, show_progress=progress), print_summary)
 
 
 def print_summary(summary: dict, stream) -> None:

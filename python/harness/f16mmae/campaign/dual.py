@@ -1,0 +1,270 @@
+"""The dual-failure Monte Carlo campaign (paper Sec. VI, Fig. 7).
+
+Pairs: every ordered pair (a, b) of the twelve single failures, a != b (132), or a
+subset; ``a`` fails at ``first_time_s`` (3.0 s), ``b`` at ``second_time_s`` (5.0 s; the
+paper: "two or more seconds later"), mode ``complete``, in a 10-s flight at the bank's
+design point with the hierarchical bank in the loop: level 0 should declare ``a``, and the
+level-1 bank of ``a`` (NONE, ``a`` and its 11 duals) the dual ``h* = dual_name(a, b)``.
+
+Baseline: for each second failure ``b`` of the plan, the lone single failure ``b`` at
+``second_time_s`` in the same flight, N runs -- the "lone single failure" Fig. 7 rates
+against, flown under the same conditions.
+
+Seeds: run n of pair (a, b) and run n of the baseline of b both get
+``seed_{b,n} = 1 + (SHA-256("dual:S:b:n") mod (2^31 - 2))`` (S the campaign seed):
+deterministic, >= 1, distinct from the single campaign's ("single:" prefix), and common
+random numbers along a column of Fig. 7 -- a pair and the baseline it is rated against fly
+the same turbulence and sensor noise, so the difference is the first failure's.
+
+Scoring per run, per pair and the rating Good / Fair / Poor / ND: see
+:mod:`f16mmae.campaign.dual_scoring` (thresholds in ``RATING_RULES``).  In short, with c the
+correct fraction, m the median latency after the second failure and h the mean hold
+(fraction of the flight after the dual's declaration during which it stays declared):
+Good = c >= c_b - 0.10, m <= m_b + 0.5 s and h >= h_b - 0.10 against the baseline of b;
+Fair = c > 0 and (c >= 0.5 or c >= c_b - 0.10); Poor = the dual declared in some run or its
+probability reached 0.5; ND = otherwise.
+
+Runs are pure functions of their specs, executed on any ``concurrent.futures.Executor``;
+records are appended to ``runs.jsonl`` (``store.ResultsStore``) as they finish and a
+campaign started again skips the run keys already stored.
+"""
+from __future__ import annotations
+
+import json
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from pathlib import Path
+
+from .. import __version__
+from ..names import ACTUATORS, SENSORS, dual_name
+from . import dual_scoring
+from .runner import derived_seed, execute
+from .single import (FEEDBACK_MODES, P_INJECTED_DECIMATION, TURBULENCE_LEVELS, CampaignError,
+                     CampaignOutcome, dither_spec, load_bank)
+from .store import ResultsStore, run_key
+
+#: The failures of Fig. 7's rows and columns, in the paper's order.
+FAILURES: tuple[str, ...] = ACTUATORS + SENSORS
+#: Every ordered (first, second) pair: 132.
+ALL_PAIRS: tuple[tuple[str, str], ...] = tuple((a, b) for a in FAILURES for b in FAILURES if a != b)
+
+
+def pair_label(first: str, second: str) -> str:
+    """``FIRST>SECOND``: the ordered pair (the hypothesis is ``dual_name``, unordered)."""
+    return f"{first}>{second}"
+
+
+def run_seed(campaign_seed: int, second: str, run_index: int) -> int:
+    """Seed of run ``run_index`` of every pair whose second failure is ``second`` and of
+    that failure's baseline (>= 1); see the module docstring."""
+    return derived_seed("dual", campaign_seed, second, run_index)
+
+
+@dataclass(frozen=True)
+class DualCampaign:
+    """The arguments of ``f16mmae campaign dual`` (everything that shapes the results)."""
+
+    runs: int = 3
+    seed: int = 1
+    pairs: tuple[tuple[str, str], ...] = ALL_PAIRS
+    tuning: str = "tuned"  # "tuned" | "untuned" | path to a bank file
+    turbulence: str = "light"
+    mode: str = "complete"
+    first_time_s: float = 3.0
+    second_time_s: float = 5.0
+    duration_s: float = 10.0
+    feedback: str = "mmae"
+    dither: bool = True
+    dither_scale: float = 1.0
+    mach: float | None = None  # None: the bank's design point
+    alt_ft: float | None = None
+    threshold: float | None = None
+    dwell_s: float | None = None
+    p_min: float | None = None
+
+    def estimator_options(self) -> dict:
+        return {k: v for k, v in (("threshold", self.threshold), ("dwell_s", self.dwell_s),
+                                  ("p_min", self.p_min)) if v is not None}
+
+    @property
+    def seconds(self) -> tuple[str, ...]:
+        """The second failures of the plan (each gets a baseline), in the paper's order."""
+        return tuple(f for f in FAILURES if any(b == f for _, b in self.pairs))
+
+    def validate(self) -> "DualCampaign":
+        if self.runs < 1:
+            raise CampaignError(f"--runs must be >= 1, got {self.runs}")
+        if self.seed < 1:
+            raise CampaignError(f"--seed must be >= 1 (JSBSim treats 0 as 1), got {self.seed}")
+        if not self.pairs:
+            raise CampaignError(f"no pair to fly; pairs are FIRST+SECOND of {', '.join(FAILURES)}")
+        for p in self.pairs:
+            if len(p) != 2 or p[0] not in FAILURES or p[1] not in FAILURES:
+                raise CampaignError(f"unknown pair {'+'.join(map(str, p))}; each of FIRST+SECOND "
+                                    f"must be one of {', '.join(FAILURES)}")
+            if p[0] == p[1]:
+                raise CampaignError(f"pair {p[0]}+{p[1]} fails one component twice; "
+                                    f"a dual needs two different failures")
+        if len(set(self.pairs)) != len(self.pairs):
+            raise CampaignError("a pair is listed twice")
+        if self.turbulence not in TURBULENCE_LEVELS:
+            raise CampaignError(f"unknown turbulence {self.turbulence!r}; valid: {', '.join(TURBULENCE_LEVELS)}")
+        if self.feedback not in FEEDBACK_MODES:
+            raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
+        if not 0 < self.first_time_s < self.second_time_s < self.duration_s:
+            raise CampaignError(
+                f"the failure times must satisfy 0 < first ({self.first_time_s} s) < second "
+                f"({self.second_time_s} s) < duration ({self.duration_s} s)")
+        if not 0.0 <= self.dither_scale <= 5.0:
+            raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, 5]")
+        if self.threshold is not None and not 0.5 < self.threshold < 1.0:
+            raise CampaignError(f"--threshold {self.threshold} must lie in (0.5, 1)")
+        if self.dwell_s is not None and not 0.0 <= self.dwell_s < self.duration_s - self.second_time_s:
+            raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {self.duration_s - self.second_time_s}) s "
+                                f"(the flight time after the second failure)")
+        if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / 13:
+            raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/13)")
+        return self
+
+
+# -- one run (executed in workers) -----------------------------------------------------------
+def run_spec(spec: dict) -> dict:
+    """Fly one dual run (``spec["first"]`` set) or baseline run and return its record."""
+    from ..closedloop import fly, scenario_from_dict
+
+    _, _, bank = load_bank(spec["bank"])
+    if bank.content_hash != spec["bank_hash"]:
+        raise CampaignError(
+            f"bank {spec['bank']} on this worker has hash {bank.content_hash}, the campaign "
+            f"planned {spec['bank_hash']}: the file changed, or workers run another install")
+    scenario = scenario_from_dict(spec["scenario"])
+    result = fly(scenario, bank, estimator_options=spec["estimator"], record_probabilities=True)
+    first, second = spec["first"], spec["second"]
+    t1 = scenario.failures[0].time_s if first else None
+    t2 = scenario.failures[-1].time_s
+    injected = dual_name(first, second) if first else second
+    p_inj = result.probability_of(injected)
+    scored = dual_scoring.score_dual_run(injected, first, t1, t2, scenario.duration_s,
+                                         result.declarations, result.time_s, p_inj)
+    record = {
+        "run_key": spec["run_key"], "kind": spec["kind"], "pair": spec["pair"],
+        "first": first, "second": second, "hypothesis": injected,
+        "run_index": spec["run_index"], "seed": spec["seed"], "tuning": spec["tuning"],
+        "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
+        "estimator": spec["estimator"], "estimator_settings": result.estimator_settings,
+        "first_time_s": t1, "second_time_s": t2, "failures": result.failures,
+        "declarations": result.declarations, **scored,
+        "p_injected": [round(float(x), 5) for x in p_inj[::P_INJECTED_DECIMATION]],
+        "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
+        "timing": result.timing,
+    }
+    if first:
+        record["p_first"] = [round(float(x), 5) for x in result.probability_of(first)[::P_INJECTED_DECIMATION]]
+    return record
+
+
+# -- planning --------------------------------------------------------------------------------
+def _scenario_dict(cfg: DualCampaign, bank, failures: tuple[tuple[str, float], ...], seed: int) -> dict:
+    from ..truth import Scenario
+    from ..truth.failures import make_failure
+
+    try:
+        scenario = Scenario(
+            mach=float(cfg.mach if cfg.mach is not None else bank.mach),
+            alt_ft=float(cfg.alt_ft if cfg.alt_ft is not None else bank.alt_ft),
+            turbulence=cfg.turbulence, dither=dither_spec(cfg),
+            failures=tuple(make_failure(n, t, cfg.mode) for n, t in failures),
+            duration_s=cfg.duration_s, seed=seed, feedback=cfg.feedback)
+    except ValueError as exc:
+        raise CampaignError(f"failures {', '.join(n for n, _ in failures)}: {exc}") from None
+    return scenario.to_dict()
+
+
+def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
+    """Every run spec: the baselines of the second failures, then the pairs."""
+    cases = [(None, b) for b in cfg.seconds] + list(cfg.pairs)
+    specs = []
+    for first, second in cases:
+        failures = ((first, cfg.first_time_s),) if first else ()
+        failures += ((second, cfg.second_time_s),)
+        kind = "dual" if first else "dual-baseline"
+        for n in range(cfg.runs):
+            seed = run_seed(cfg.seed, second, n)
+            scenario = _scenario_dict(cfg, bank, failures, seed)
+            identity = {"kind": kind, "scenario": scenario, "estimator": cfg.estimator_options(),
+                        "bank_hash": bank.content_hash, "version": __version__}
+            specs.append({
+                "run_key": run_key(identity), "kind": kind, "first": first, "second": second,
+                "pair": pair_label(first, second) if first else second, "run_index": n, "seed": seed,
+                "tuning": tuning_label, "bank": cfg.tuning, "bank_hash": bank.content_hash,
+                "version": __version__, "scenario": scenario, "estimator": cfg.estimator_options(),
+            })
+    return specs
+
+
+# -- the campaign ------------------------------------------------------------------------------
+def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
+                 executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
+    """Plan, fly what is not stored yet (appending records as they finish), summarize, plot."""
+    from . import dual_figures
+
+    cfg.validate()
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    label, _, bank = load_bank(cfg.tuning)
+    specs = plan(cfg, label, bank)
+    done = execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,
+                   describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})")
+    records = done.records
+    summary = summarize(cfg, label, bank, records)
+    summary["timing"] = done.timing(executor_label)
+    summary["figures"] = {
+        "matrix": dual_figures.rating_matrix(summary, out / "dual_matrix.png").name,
+        "probabilities": dual_figures.probability_grid(records, summary, out / "dual_probabilities.png").name,
+    }
+    path = out / "summary.json"
+    path.write_text(json.dumps(summary, indent=1) + "\n")
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
+
+
+def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
+    """Per-baseline and per-pair summaries, ratings, the matrix and the paper comparison."""
+    from ..closedloop import bank_estimator_settings
+
+    baselines = {b: dual_scoring.summarize_pair(b, [r for r in records if r["kind"] == "dual-baseline"
+                                                    and r["second"] == b]) for b in cfg.seconds}
+    pairs = []
+    matrix: dict[str, dict[str, str]] = {}
+    for a, b in cfg.pairs:
+        s = dual_scoring.summarize_pair(pair_label(a, b), [r for r in records if r["kind"] == "dual"
+                                                           and r["first"] == a and r["second"] == b])
+        s.update(first=a, second=b, hypothesis=dual_name(a, b))
+        s["rating"], s["rating_reason"] = dual_scoring.rate_pair(s, baselines[b])
+        pairs.append(s)
+        matrix.setdefault(a, {})[b] = s["rating"]
+    return {
+        "kind": "dual",
+        "runs_per_pair": cfg.runs,
+        "seed": cfg.seed,
+        "bank_hash": bank.content_hash,
+        "version": __version__,
+        "tuning": label,
+        "turbulence": cfg.turbulence,
+        "mode": cfg.mode,
+        "mach": float(cfg.mach if cfg.mach is not None else bank.mach),
+        "alt_ft": float(cfg.alt_ft if cfg.alt_ft is not None else bank.alt_ft),
+        "first_time_s": cfg.first_time_s,
+        "second_time_s": cfg.second_time_s,
+        "duration_s": cfg.duration_s,
+        "feedback": cfg.feedback,
+        "dither": cfg.dither,
+        "dither_scale": cfg.dither_scale,
+        "estimator": cfg.estimator_options(),
+        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "rating_rules": dict(dual_scoring.RATING_RULES),
+        "ratings": {k: sum(1 for p in pairs if p["rating"] == k) for k in dual_scoring.RATINGS},
+        "matrix": matrix,
+        "paper_comparison": dual_scoring.compare_with_paper(matrix),
+        "baselines": [baselines[b] for b in cfg.seconds],
+        "pairs": pairs,
+    }

@@ -1,0 +1,187 @@
+"""``f16mmae campaign dual``: the dual-failure Monte Carlo campaign (paper Sec. VI, Fig. 7)."""
+from __future__ import annotations
+
+import argparse
+
+from ..cli import CliError, choice, number
+
+DESCRIPTION = """\
+The dual-failure campaign (paper Sec. VI, Fig. 7): every ordered pair (first, second) of
+the twelve single failures (LS RS LF RF RUD VEL AOA PIT AZ ROL YAW AY), 132 pairs, N
+seeded runs each.  The first failure occurs at 3.0 s, the second at --second-time-s
+(default 5.0 s, "two or more seconds later"), in a 10-s flight at the bank's design point
+with the hierarchical MMAE in the loop: level 0 should declare the first failure, then the
+level-1 bank of that failure (NONE, it, and its 11 duals) the dual.  As the baseline the
+campaign also flies each second failure alone at the same time with the same seeds, and
+rates each pair against it:
+
+  Good  correct >= baseline's - 10 points, median latency after the second failure
+        <= baseline's + 0.5 s, and the dual held (stays declared) >= baseline's - 10 points
+  Fair  not Good, but some run correct and (correct >= 50 % or >= baseline's - 10 points)
+  Poor  no better, but the dual was declared in some run or its probability reached 0.5
+  ND    the dual never declared and its probability never reached 0.5
+
+(correct: the run ends declaring the dual; latency: its first declaration after the
+second failure; hold: the fraction of the flight after that during which it stays
+declared.  Thresholds: f16mmae.campaign.dual_scoring.RATING_RULES.)
+"""
+
+EXAMPLES = """\
+examples:
+  f16mmae campaign dual                                # 132 pairs x 3 runs + 12 baselines
+  f16mmae campaign dual --runs 10 --workers 2
+  f16mmae campaign dual --pairs LS+PIT,AOA+RUD --runs 5    # FIRST+SECOND, ordered
+  f16mmae campaign dual --first LS,RS --second LF,RF       # the stabilator/flaperon block
+  f16mmae campaign dual --tuning untuned --turbulence moderate --out results/dual-untuned
+
+Output (DIR, default results/campaign-dual):
+  runs.jsonl              one record per run (seed, scenario, bank hash, version,
+                          declarations, outcome, latency, hold, probability histories of
+                          the dual and of the first failure), appended as runs finish
+  summary.json            per pair: runs, correct, missed, wrong, false alarms, latency
+                          median/p95, hold, rating (+ reason); per second failure: its
+                          baseline; the rating matrix and its agreement with the paper's
+  dual_matrix.png         the Fig. 7 matrix (correct k/N and median latency per cell)
+                          beside the paper's Fig. 7
+  dual_probabilities.png  12 x 12 small multiples of the mean probability of each dual
+  report.html             one page: parameters, figures, definitions, tables
+Resume: run the same command again -- runs already in DIR/runs.jsonl are skipped.
+Seeds: run n of every pair with second failure B, and of B's baseline, is seeded from
+(--seed, B, n) -- common random numbers between a pair and its baseline.
+"""
+
+
+def register(kinds) -> None:
+    """Add the ``dual`` parser to the ``campaign`` kinds."""
+    from .campaign import add_estimator_arguments, add_run_arguments
+
+    p = kinds.add_parser("dual", help="every ordered pair of failures, N runs each (paper Fig. 7)",
+                         description=DESCRIPTION, epilog=EXAMPLES,
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--runs", default="3", metavar="N", help="seeded runs per pair and per baseline (default 3)")
+    p.add_argument("--seed", default="1", metavar="S", help="campaign seed >= 1 (default 1)")
+    p.add_argument("--pairs", default=None, metavar="LIST",
+                   help="comma-separated ordered pairs FIRST+SECOND, e.g. LS+PIT,AOA+RUD "
+                        "(default: all 132)")
+    p.add_argument("--first", default=None, metavar="LIST",
+                   help="first failures (default all twelve); with --second: their cross product")
+    p.add_argument("--second", default=None, metavar="LIST", help="second failures (default all twelve)")
+    p.add_argument("--tuning", default="tuned", metavar="tuned|untuned|FILE",
+                   help="the bank under test: a shipped tuning or a bank file (default tuned)")
+    p.add_argument("--turbulence", default="light", metavar="LEVEL",
+                   help="none | light | moderate | severe (default light)")
+    p.add_argument("--mode", default="complete", metavar="MODE",
+                   help="failure mode of both failures (default complete, the paper's model)")
+    p.add_argument("--first-time-s", default="3.0", metavar="T", help="first failure time (default 3.0 s)")
+    p.add_argument("--second-time-s", default="5.0", metavar="T", help="second failure time (default 5.0 s)")
+    p.add_argument("--duration-s", default="10", metavar="T", help="flight duration (default 10 s)")
+    p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
+                   help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
+    p.add_argument("--no-dither", action="store_true", help="fly without dither (the paper always dithers)")
+    p.add_argument("--dither-scale", default="1.0", metavar="X",
+                   help="multiply the truth model's default dither amplitudes by X (default 1)")
+    add_estimator_arguments(p)
+    add_run_arguments(p, "results/campaign-dual")
+    p.set_defaults(func=_dual)
+
+
+def _names(option: str, text: str | None) -> tuple[str, ...]:
+    from ..campaign.dual import FAILURES
+
+    if text is None:
+        return FAILURES
+    items = [c.strip().upper() for c in text.split(",") if c.strip()]
+    bad = [c for c in items if c not in FAILURES]
+    if bad or not items:
+        raise CliError(f"{option}: unknown failure(s) {', '.join(bad) or repr(text)}; valid: {','.join(FAILURES)}")
+    if len(set(items)) != len(items):
+        raise CliError(f"{option} {text!r} lists a failure twice")
+    return tuple(items)
+
+
+def parse_pairs(pairs: str | None, first: str | None, second: str | None) -> tuple[tuple[str, str], ...]:
+    """The ordered pairs from --pairs, or the cross product of --first x --second (a != b)."""
+    from ..campaign.dual import FAILURES
+
+    if pairs is not None:
+        if first is not None or second is not None:
+            raise CliError("give --pairs or --first/--second, not both")
+        out = []
+        for item in (x.strip() for x in pairs.split(",") if x.strip()):
+            parts = [x.strip().upper() for x in item.split("+")]
+            if len(parts) != 2 or any(x not in FAILURES for x in parts):
+                raise CliError(f"--pairs: {item!r} is not FIRST+SECOND with both of {','.join(FAILURES)} "
+                               f"(e.g. LS+PIT)")
+            if parts[0] == parts[1]:
+                raise CliError(f"--pairs: {item!r} fails {parts[0]} twice; a dual needs two different failures")
+            out.append((parts[0], parts[1]))
+        if not out:
+            raise CliError(f"--pairs {pairs!r} names no pair; e.g. --pairs LS+PIT,AOA+RUD")
+        if len(set(out)) != len(out):
+            raise CliError(f"--pairs {pairs!r} lists a pair twice")
+        return tuple(out)
+    firsts, seconds = _names("--first", first), _names("--second", second)
+    out = tuple((a, b) for a in firsts for b in seconds if a != b)
+    if not out:
+        raise CliError(f"--first {first} x --second {second} leaves no pair of two different failures")
+    return out
+
+
+def config_from_args(args):
+    """A validated ``DualCampaign`` from the parsed arguments (CliError otherwise)."""
+    from ..campaign.dual import DualCampaign
+    from ..campaign.single import FEEDBACK_MODES, TURBULENCE_LEVELS
+    from .campaign import estimator_options_from_args, validated
+
+    cfg = DualCampaign(
+        runs=number("--runs", args.runs, integer=True, minimum=1),
+        seed=number("--seed", args.seed, integer=True, minimum=1),
+        pairs=parse_pairs(args.pairs, args.first, args.second), tuning=args.tuning,
+        turbulence=choice("--turbulence", args.turbulence, TURBULENCE_LEVELS), mode=args.mode.lower(),
+        first_time_s=number("--first-time-s", args.first_time_s, minimum=0, exclusive=True),
+        second_time_s=number("--second-time-s", args.second_time_s, minimum=0, exclusive=True),
+        duration_s=number("--duration-s", args.duration_s, minimum=0, exclusive=True),
+        feedback=choice("--feedback", args.feedback, FEEDBACK_MODES), dither=not args.no_dither,
+        dither_scale=number("--dither-scale", args.dither_scale), **estimator_options_from_args(args),
+    )
+    return validated(cfg)
+
+
+def _dual(args) -> int:
+    from ..campaign.dual import run_campaign
+    from .campaign import check_tuning, run_and_report
+
+    cfg = config_from_args(args)
+    check_tuning("--tuning", cfg.tuning)
+    return run_and_report(args, lambda ex, label, progress: run_campaign(
+        cfg, args.out, ex, executor_label=label, show_progress=progress), print_summary)
+
+
+_SHORT = {"Good": "G", "Fair": "F", "Poor": "P", "ND": "ND"}
+
+
+def print_summary(summary: dict, stream) -> None:
+    """The rating matrix as text (rows: first failure, columns: second) and the counts."""
+    from ..campaign.dual import FAILURES
+
+    t = summary.get("timing", {})
+    print(f"dual-failure campaign: {summary['runs_per_pair']} runs/pair, seed {summary['seed']}, "
+          f"{summary['tuning']} bank, {summary['turbulence']} turbulence, failures at "
+          f"{summary['first_time_s']:g} s and {summary['second_time_s']:g} s of {summary['duration_s']:g} s; "
+          f"wall {t.get('wall_s', 0):.1f} s", file=stream)
+    print("\nrating (rows: first failure, columns: second; G Good, F Fair, P Poor, ND no detection, "
+          ". not flown):", file=stream)
+    m = summary["matrix"]
+    print("first\\2nd " + "".join(f"{b:>4}" for b in FAILURES), file=stream)
+    for a in FAILURES:
+        cells = []
+        for b in FAILURES:
+            cells.append("  --" if a == b else f"{_SHORT.get(m.get(a, {}).get(b), '.'):>4}")
+        print(f"{a:<9} " + "".join(cells), file=stream)
+    counts = summary["ratings"]
+    print("\n" + ", ".join(f"{k}: {v}" for k, v in counts.items()) + f" (of {sum(counts.values())} pairs)",
+          file=stream)
+    c = summary.get("paper_comparison", {})
+    if c.get("cells"):
+        print(f"paper Fig. 7: same rating in {c['equal']} of {c['cells']} comparable cells, "
+              f"same Good/not-Good in {c['good_vs_not_good_equal']}", file=stream)

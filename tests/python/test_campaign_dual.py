@@ -1,0 +1,235 @@
+"""The dual-failure campaign: config checks, seeds, per-run scoring, the rating rules on
+hand-built summaries, a tiny real campaign (REAL truth model and estimator) with resume,
+and the CLI's errors."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from f16mmae.campaign import dual_scoring, single
+from f16mmae.campaign.dual import ALL_PAIRS, DualCampaign, plan, run_campaign, run_seed
+from f16mmae.campaign.report import render_report
+from f16mmae.campaign.dual_scoring import (RATING_RULES, declared_at, hold_fraction, rate_pair,
+                                           score_dual_run, summarize_pair)
+from f16mmae.campaign.single import CampaignError
+from f16mmae.campaign.store import RECORDS_FILE, ResultsStore
+from f16mmae.cli import main
+
+from campaign_support import CountingExecutor
+
+
+# -- configuration ------------------------------------------------------------------------------
+@pytest.mark.parametrize("kwargs, message", [
+    ({"runs": 0}, "--runs must be >= 1"),
+    ({"seed": 0}, "--seed must be >= 1"),
+    ({"pairs": ()}, "no pair to fly"),
+    ({"pairs": (("LS", "LS"),)}, "fails one component twice"),
+    ({"pairs": (("LS", "XX"),)}, "unknown pair LS+XX"),
+    ({"pairs": (("LS", "PIT"), ("LS", "PIT"))}, "listed twice"),
+    ({"turbulence": "huge"}, "valid: none, light, moderate, severe"),
+    ({"feedback": "kalman"}, "valid: mmae, raw"),
+    ({"second_time_s": 3.0}, "0 < first (3.0 s) < second (3.0 s)"),
+    ({"second_time_s": 10.0}, "< duration (10.0 s)"),
+    ({"threshold": 0.4}, "--threshold 0.4 must lie in (0.5, 1)"),
+    ({"dwell_s": 5.0}, "--dwell-s 5.0 must lie in [0, 5.0) s"),
+    ({"p_min": 0.2}, "--p-min 0.2"),
+    ({"dither_scale": 9.0}, "--dither-scale 9.0"),
+])
+def test_bad_config_is_refused_naming_the_value(kwargs, message):
+    with pytest.raises(CampaignError) as err:
+        DualCampaign(**kwargs).validate()
+    assert message in str(err.value)
+
+
+def test_all_pairs_are_the_132_ordered_pairs():
+    assert len(ALL_PAIRS) == 132 == len(set(ALL_PAIRS))
+    assert ("LS", "PIT") in ALL_PAIRS and ("PIT", "LS") in ALL_PAIRS and ("LS", "LS") not in ALL_PAIRS
+    assert DualCampaign(pairs=(("AZ", "LS"), ("PIT", "LS"), ("LS", "RUD"))).seconds == ("LS", "RUD")
+
+
+# -- seeds --------------------------------------------------------------------------------------
+def test_seeds_are_deterministic_distinct_and_not_the_single_campaigns():
+    names = ("LS", "RS", "PIT", "AY")
+    seeds = {(b, n): run_seed(1, b, n) for b in names for n in range(40)}
+    assert all(s >= 1 for s in seeds.values())
+    assert len(set(seeds.values())) == len(seeds)
+    assert run_seed(1, "LS", 3) == run_seed(1, "LS", 3) != run_seed(2, "LS", 3)
+    singles = {single.run_seed(1, b, n) for b in names for n in range(40)}
+    assert not singles & set(seeds.values())
+
+
+def test_plan_shares_seeds_along_a_column_and_keys_are_unique():
+    cfg = DualCampaign(runs=2, pairs=(("LS", "PIT"), ("AZ", "PIT"), ("PIT", "LS")))
+    _, _, bank = single.load_bank("tuned")
+    specs = plan(cfg, "tuned", bank)
+    assert len(specs) == 2 * (3 + 2)  # pairs + baselines of PIT and LS
+    assert len({s["run_key"] for s in specs}) == len(specs)
+    for s in specs:
+        assert s["seed"] == run_seed(1, s["second"], s["run_index"]) == s["scenario"]["seed"]
+        names = [(f["name"], f["time_s"]) for f in s["scenario"]["failures"]]
+        expect = ([(s["first"], 3.0)] if s["first"] else []) + [(s["second"], 5.0)]
+        assert names == expect
+    assert plan(cfg, "tuned", bank) == specs
+
+
+# -- per-run scoring ----------------------------------------------------------------------------
+EVENTS = [{"hypothesis": "LS", "time_s": 3.5}, {"hypothesis": "LS+PIT", "time_s": 5.5},
+          {"hypothesis": "LS", "time_s": 7.0}, {"hypothesis": "LS+PIT", "time_s": 8.0}]
+
+
+def test_declared_at_and_hold_fraction():
+    assert declared_at(EVENTS, 1.0) == "NONE"
+    assert declared_at(EVENTS, 5.5) == "LS+PIT"
+    assert declared_at(EVENTS, 7.5) == "LS"
+    # LS+PIT held on [5.5, 7) and [8, 10): 3.5 s of 4.5 s
+    assert hold_fraction(EVENTS, "LS+PIT", 5.5, 10.0) == pytest.approx(3.5 / 4.5)
+    assert hold_fraction(EVENTS, "LS+PIT", 6.0, 7.5) == pytest.approx(1.0 / 1.5)
+    assert hold_fraction(EVENTS, "LS", 0.0, 10.0) == pytest.approx((2.0 + 1.0) / 10.0)
+    with pytest.raises(ValueError):
+        hold_fraction(EVENTS, "LS", 5.0, 5.0)
+
+
+def test_score_dual_run_fields():
+    t = [i * 0.5 for i in range(20)]
+    p = [0.0] * 10 + [0.2, 0.7, 0.95] + [0.0] * 7
+    s = score_dual_run("LS+PIT", "LS", 3.0, 5.0, 10.0, EVENTS, t, p)
+    assert s["outcome"] == "correct" and s["latency_s"] == pytest.approx(0.5)
+    assert s["first_latency_s"] == pytest.approx(0.5) and s["false_alarm"] is False
+    assert s["hold"] == pytest.approx(3.5 / 4.5) and s["p_max_after"] == pytest.approx(0.95)
+    # ends on the first failure alone: the second was missed; a wrong single before t_2 alarms
+    missed = score_dual_run("LS+PIT", "LS", 3.0, 5.0, 10.0, EVENTS[:1], t, [0.0] * 20)
+    assert (missed["outcome"], missed["latency_s"], missed["hold"], missed["p_max_after"]) == ("missed", None, None, 0.0)
+    wrong = score_dual_run("LS+PIT", "LS", 3.0, 5.0, 10.0, [{"hypothesis": "RS", "time_s": 3.4}], t, [0.0] * 20)
+    assert (wrong["outcome"], wrong["false_alarm"], wrong["first_latency_s"]) == ("wrong", True, None)
+    # a baseline run: the single at t_2, any failure before t_2 is a false alarm
+    base = score_dual_run("PIT", None, None, 5.0, 10.0, [{"hypothesis": "PIT", "time_s": 5.25}], t, [1.0] * 20)
+    assert base["outcome"] == "correct" and base["hold"] == 1.0 and "first_latency_s" not in base
+
+
+# -- the rating ---------------------------------------------------------------------------------
+def _summary(correct, runs=10, median=None, hold=None, p_max=0.0, declared=None):
+    return {"case": "X", "runs": runs, "correct": correct, "missed": runs - correct, "wrong": 0,
+            "latency_s": {"median": median, "p95": median}, "hold_mean": hold, "p_max": p_max,
+            "declared_runs": correct if declared is None else declared}
+
+
+BASE = _summary(10, median=0.8, hold=1.0, p_max=1.0)
+
+
+@pytest.mark.parametrize("pair, baseline, rating", [
+    (_summary(9, median=1.3, hold=0.9, p_max=1.0), BASE, "Good"),        # at every margin's edge
+    (_summary(10, median=0.5, hold=1.0, p_max=1.0), BASE, "Good"),
+    (_summary(9, median=1.31, hold=1.0, p_max=1.0), BASE, "Fair"),       # later than baseline + 0.5 s
+    (_summary(10, median=0.8, hold=0.85, p_max=1.0), BASE, "Fair"),      # dropouts from lock
+    (_summary(5, median=0.8, hold=1.0, p_max=1.0), BASE, "Fair"),        # half correct
+    (_summary(4, median=0.8, hold=1.0, p_max=1.0), BASE, "Poor"),        # fewer than half
+    (_summary(0, median=None, hold=None, p_max=0.6, declared=0), BASE, "Poor"),  # a spike, no lock
+    (_summary(0, median=2.0, hold=0.1, p_max=1.0, declared=2), BASE, "Poor"),    # declared, not kept
+    (_summary(0, median=None, hold=None, p_max=0.49, declared=0), BASE, "ND"),
+    # a baseline that is itself weak: the pair is rated relative to it
+    (_summary(3, median=1.5, hold=1.0, p_max=1.0), _summary(3, median=1.2, hold=1.0), "Good"),
+    (_summary(3, median=2.6, hold=1.0, p_max=1.0), _summary(0), "Fair"),  # m_ref = 2.0 s
+    (_summary(3, median=2.4, hold=1.0, p_max=1.0), _summary(0), "Good"),
+])
+def test_rating_branches(pair, baseline, rating):
+    got, reason = rate_pair(pair, baseline)
+    assert got == rating, reason
+    assert "correct" in reason
+
+
+def test_rating_needs_runs_and_the_rules_are_in_one_place():
+    with pytest.raises(ValueError):
+        rate_pair(_summary(0, runs=0), BASE)
+    assert set(RATING_RULES) >= {"good_correct_margin", "good_latency_margin_s", "fair_correct_min"}
+
+
+def test_paper_matrix_is_complete_and_comparison_counts():
+    fig7 = dual_scoring.PAPER_FIG7
+    assert len(fig7) == 12 and all(len(row) == 12 and row[a] == "" for a, row in fig7.items())
+    known = [(a, b) for a, row in fig7.items() for b, r in row.items() if r]
+    assert len(known) == 132 - 5  # RUD>VEL..ROL: the extracted text lost one of these cells
+    assert fig7["LS"]["LF"] == "ND" and fig7["YAW"]["RUD"] == "Poor" and fig7["RUD"]["YAW"] == "ND"
+    assert fig7["RUD"]["AY"] == "Good" and fig7["RUD"]["PIT"] is None
+    cmp_ = dual_scoring.compare_with_paper({"LS": {"LF": "ND", "RF": "Good"}, "RUD": {"YAW": "ND", "VEL": "Good"}})
+    assert cmp_ == {"cells": 3, "equal": 2, "good_vs_not_good_equal": 2}
+
+
+# -- a tiny real campaign -----------------------------------------------------------------------
+
+
+TINY = DualCampaign(runs=1, seed=3, pairs=(("PIT", "AZ"), ("AZ", "PIT")), duration_s=8.0)
+
+
+@pytest.mark.slow
+def test_tiny_campaign_records_summary_figures_and_resume(tmp_path):
+    out = tmp_path / "dual"
+    first = run_campaign(TINY, out, CountingExecutor(), show_progress=False)
+    assert (first.executed, first.resumed) == (4, 0)  # 2 pairs + 2 baselines
+    stored = ResultsStore(out).records()
+    assert len(stored) == 4
+    for r in stored:
+        assert r["seed"] >= 1 and r["scenario"]["seed"] == r["seed"] and r["bank_hash"] and r["version"]
+        assert r["outcome"] in ("correct", "missed", "wrong")
+        assert len(r["p_injected"]) == 8.0 / r["p_injected_dt_s"]
+    by_pair = {r["pair"]: r for r in stored}
+    assert set(by_pair) == {"PIT>AZ", "AZ>PIT", "PIT", "AZ"}
+    assert by_pair["PIT>AZ"]["hypothesis"] == by_pair["AZ>PIT"]["hypothesis"] == "PIT+AZ"
+    assert by_pair["PIT>AZ"]["seed"] == by_pair["AZ"]["seed"] != by_pair["PIT"]["seed"]
+    assert "p_first" in by_pair["PIT>AZ"] and "p_first" not in by_pair["AZ"]
+
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["kind"] == "dual" and summary["runs_per_pair"] == 1
+    assert summary["bank_hash"] == stored[0]["bank_hash"]
+    base = {b["case"]: b for b in summary["baselines"]}
+    for p in summary["pairs"]:
+        recs = [r for r in stored if r["pair"] == p["case"]]
+        expect = summarize_pair(p["case"], recs)
+        assert {k: p[k] for k in expect} == expect
+        assert p["rating"] == rate_pair(p, base[p["second"]])[0]
+        assert summary["matrix"][p["first"]][p["second"]] == p["rating"]
+    assert sum(summary["ratings"].values()) == 2
+    for name in summary["figures"].values():
+        assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+    page = render_report(out).read_text()
+    assert "PIT&gt;AZ" in page and "data:image/png;base64," in page and summary["bank_hash"] in page
+
+    # same arguments again: nothing flies; a half-written last record flies again
+    ex = CountingExecutor()
+    assert run_campaign(TINY, out, ex, show_progress=False).executed == 0 and ex.submitted == 0
+    path = out / RECORDS_FILE
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text("".join(lines[:-1]) + lines[-1][: len(lines[-1]) // 2])
+    ex = CountingExecutor()
+    again = run_campaign(TINY, out, ex, show_progress=False)
+    assert (again.executed, again.resumed, ex.submitted) == (1, 3, 1)
+    strip = lambda rs: sorted((r["run_key"], r["declarations"], r["p_injected"]) for r in rs)  # noqa: E731
+    assert strip(ResultsStore(out).records()) == strip(stored)
+
+
+# -- the CLI ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("argv, expected", [
+    (["--pairs", "LS+LS"], "fails LS twice"),
+    (["--pairs", "LS+FOO"], "LS,RS,LF,RF,RUD,VEL,AOA,PIT,AZ,ROL,YAW,AY"),
+    (["--pairs", "LS+PIT", "--first", "LS"], "--pairs or --first/--second"),
+    (["--first", "XX"], "--first: unknown failure(s) XX"),
+    (["--first", "LS", "--second", "LS"], "leaves no pair"),
+    (["--second-time-s", "2"], "second (2.0 s)"),
+    (["--turbulence", "huge"], "valid: none, light, moderate, severe"),
+    (["--runs", "0"], "--runs '0' must be >= 1"),
+    (["--tuning", "/no/such.f16bank"], "--tuning '/no/such.f16bank'"),
+    (["--workers", "1", "--scheduler", "tcp://h:1"], "not both"),
+])
+def test_cli_errors_exit_2_naming_the_value(argv, expected, capsys, tmp_path):
+    assert main(["campaign", "dual", *argv, "--out", str(tmp_path / "o")]) == 2
+    assert expected in capsys.readouterr().err
+    assert not (tmp_path / "o" / RECORDS_FILE).exists()
+
+
+def test_cli_help_teaches(capsys):
+    with pytest.raises(SystemExit):
+        main(["campaign", "dual", "--help"])
+    text = capsys.readouterr().out
+    for needle in ("examples:", "dual_matrix.png", "summary.json", "Good", "Fair", "Poor", "ND", "--second-time-s"):
+        assert needle in text

@@ -118,19 +118,29 @@ def find_executable(name: str = "mmae-daemon") -> Path:
                    f"build it with 'make build' (or set F16MMAE_BIN_DIR)")
 
 
+def pin_to(cpus: set[int] | None):
+    """A ``preexec_fn`` that runs a child process (and every thread it starts) on ``cpus``;
+    None when ``cpus`` is None (no pinning)."""
+    if cpus is None:
+        return None
+    cpus = set(cpus)
+    return lambda: os.sched_setaffinity(0, cpus)
+
+
 class DaemonProcess:
     """A ``mmae-daemon`` child process: started and ready (its ready line read), stopped
     with SIGINT, its one-line statistics summary kept in :attr:`summary`."""
 
     def __init__(self, bank_path: str | Path, *, lcm_url: str, channel_prefix: str = "",
-                 extra_args: tuple[str, ...] = (), ready_timeout_s: float = 10.0) -> None:
+                 extra_args: tuple[str, ...] = (), ready_timeout_s: float = 10.0,
+                 cpus: set[int] | None = None) -> None:
         exe = find_executable("mmae-daemon")
         self.args = [str(exe), "--bank", str(bank_path), "--lcm-url", lcm_url,
                      "--channel-prefix", channel_prefix, *extra_args]
         self.summary = ""
         self.returncode: int | None = None
         self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                      text=True, bufsize=1)
+                                      text=True, bufsize=1, preexec_fn=pin_to(cpus))
         self.ready_line = self._read_ready(ready_timeout_s)
 
     def _read_ready(self, timeout_s: float) -> str:

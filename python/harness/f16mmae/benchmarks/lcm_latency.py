@@ -25,6 +25,14 @@ received before frame i+1 is due (15.625 ms). Reported: p50, p99, max of both, t
 executive's excess over the echo at p50 and p99 (target: <= 20 us at p99), misses (target:
 zero), and the daemon's own step-time summary line.
 
+Placement (``--placement``): by default nothing is pinned (``free``), as the daemon would
+run. ``split`` puts the harness on the first CPU and the daemon and the echo on the last (the
+executive on a core of its own); ``shared`` puts all three on the last CPU. Measured on a
+2-vCPU VM (60-s runs): ``shared`` gave the tightest tails (p99 ~250 us against ~500 us
+unpinned) but the harness's Python then evicts the daemon's caches just before each frame;
+none of the three made the p99 difference between the round trips reproducible to 20 us --
+the host's scheduling sets both tails.
+
 Then, with the same two processes, a controlled pairing (``--pairs N``, default 1000): N
 pairs of round trips with no truth model in between, each preceded by the same idle time
 (``--idle-ms``, default 14, what a 64-Hz frame leaves), the order alternating within the
@@ -116,12 +124,12 @@ def paired_round_trips(lc, lc_echo, chans, ping: str, pong: str, model_bank, pai
 
 def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned",
         realtime: int = 0, pairs: int = 1000, idle_ms: float = 14.0, warm_lead_us: float | None = None,
-        echo_wake_lead_us: float = 0.0) -> dict:
+        echo_wake_lead_us: float = 0.0, placement: str = "free") -> dict:
     import lcm
 
     from ..campaign.single import load_bank
     from ..hil import DaemonProcess, HilError, RemoteEstimator, channels, find_executable, fly_hil, \
-        level0_hypotheses
+        level0_hypotheses, pin_to
     from ..lcmt_sensor_frame import lcmt_sensor_frame
     from ..names import FRAME_RATE_HZ, NZ
     from ..truth import Scenario
@@ -132,6 +140,9 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
                                    "feedback": "mmae", "failure": []})
     chans = channels(PREFIX)
     ping, pong = PREFIX + "ECHO_PING", PREFIX + "ECHO_PONG"
+    harness_cpus, server_cpus = place(placement)
+    if harness_cpus is not None:  # before LCM's threads exist: they inherit it
+        os.sched_setaffinity(0, harness_cpus)
     if realtime:  # this process (the receiver of both round trips) too, before LCM's threads
         try:
             os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(realtime))
@@ -143,7 +154,8 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     rt = ("--realtime", str(realtime)) if realtime else ()
     wake = ("--wake-lead-us", f"{echo_wake_lead_us:g}", "--rate-hz", f"{FRAME_RATE_HZ:g}")
     echo = subprocess.Popen([str(find_executable("lcm-echo-f16")), "--lcm-url", echo_url, "--in", ping,
-                             "--out", pong, *rt, *wake], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                             "--out", pong, *rt, *wake], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=pin_to(server_cpus))
     if "ready" not in echo.stdout.readline():
         echo.kill()
         raise HilError(f"lcm-echo-f16 did not start: {echo.communicate()[1].strip()}")
@@ -181,7 +193,8 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
         echo_lost += not state["got"]
 
     warm = ("--warm-lead-us", f"{warm_lead_us:g}") if warm_lead_us is not None else ()
-    daemon = DaemonProcess(path, lcm_url=lcm_url, channel_prefix=PREFIX, extra_args=(*rt, *warm))
+    daemon = DaemonProcess(path, lcm_url=lcm_url, channel_prefix=PREFIX, extra_args=(*rt, *warm),
+                           cpus=server_cpus)
     try:
         t0 = time.perf_counter()
         result = fly_hil(scenario, model_bank, lc, chans, on_frame=echo_round_trip, remote=remote)
@@ -203,6 +216,8 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
         "echo_lcm_url": echo_url,
         "bank": label, "bank_hash": str(model_bank.content_hash), "realtime_priority": realtime,
         "warm_lead_us": warm_lead_us, "echo_wake_lead_us": echo_wake_lead_us,
+        "placement": placement, "harness_cpus": sorted(os.sched_getaffinity(0)),
+        "server_cpus": sorted(server_cpus) if server_cpus is not None else None,
         "frames": link["frames"], "deadline_misses": link["deadline_misses"],
         "executive_latency_us": {"n": link["statuses"], **ex},
         "echo_latency_us": ec, "echo_lost": echo_lost,
@@ -215,6 +230,22 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     }
 
 
+PLACEMENTS = ("split", "shared", "free")
+
+
+def place(placement: str) -> tuple[set[int] | None, set[int] | None]:
+    """(CPUs of this process, CPUs of the daemon and the echo) for ``placement``; None: not
+    pinned. With one usable CPU, split is shared."""
+    if placement not in PLACEMENTS:
+        raise ValueError(f"unknown placement {placement!r}; valid: {', '.join(PLACEMENTS)}")
+    allowed = sorted(os.sched_getaffinity(0))
+    if placement == "free":
+        return None, None
+    if placement == "shared" or len(allowed) == 1:
+        return {allowed[-1]}, {allowed[-1]}
+    return {allowed[0]}, {allowed[-1]}
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="python -m f16mmae.benchmarks.lcm_latency",
                                 description=__doc__.split("\n\n")[0],
@@ -222,6 +253,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--duration", type=float, default=60.0, metavar="S", help="flight length in s (default 60)")
     p.add_argument("--lcm-url", default=DEFAULT_URL, metavar="URL", help=f"LCM URL (default {DEFAULT_URL})")
     p.add_argument("--bank", default="tuned", metavar="tuned|untuned|FILE", help="bank (default tuned)")
+    p.add_argument("--placement", default="free", choices=PLACEMENTS,
+                   help="free (default): no pinning; split: this process (the harness) on the first CPU, "
+                        "the daemon and the echo on the last -- the executive on a core of its own; "
+                        "shared: all three on the last CPU")
     p.add_argument("--realtime", type=int, default=0, metavar="PRIORITY",
                    help="run the daemon, the echo and this process SCHED_FIFO at PRIORITY (root)")
     p.add_argument("--pairs", type=int, default=1000, metavar="N",
@@ -243,9 +278,11 @@ def main(argv: list[str] | None = None) -> int:
     if args.pairs < 0 or not args.idle_ms >= 0:
         p.error("--pairs must be >= 0 and --idle-ms >= 0")
     r = run(args.duration, args.lcm_url, args.bank, args.realtime, args.pairs, args.idle_ms, args.warm_lead_us,
-            args.echo_wake_lead_us)
+            args.echo_wake_lead_us, args.placement)
     ex, ec, d = r["executive_latency_us"], r["echo_latency_us"], r["executive_excess_us"]
     rt = f", SCHED_FIFO {r['realtime_priority']}" if r["realtime_priority"] else ", time-shared"
+    servers = "unpinned" if r["server_cpus"] is None else f"CPU {','.join(map(str, r['server_cpus']))}"
+    rt += f"; harness on CPU {','.join(map(str, r['harness_cpus']))}, daemon and echo {servers}"
     print(f"LCM latency, {r['duration_s']:g} s at {r['rate_hz']} Hz on {r['lcm_url']} "
           f"({r['frames']} frames, wall {r['wall_s']} s{rt})")
     print(f"  {'':28s}{'p50 us':>10s}{'p99 us':>10s}{'max us':>10s}{'n':>8s}")

@@ -74,30 +74,21 @@ class PyFilterBank {
   }
 
   py::array_t<double> update(py::handle z) {
-    py::array_t<double> keep;
-    const double* p = cv::vector_data(z, nz_, "z", keep);
     return visit([&](auto& b) {
       using B = std::decay_t<decltype(b)>;
-      b.update(typename B::ZVector(Eigen::Map<const typename B::ZVector>(p, nz_)));
+      b.update(cv::to_vector<typename B::ZVector>(z, nz_, "z"));
       return cv::to_numpy(b.probabilities());
     });
   }
   void propagate(py::handle u) {
-    py::array_t<double> keep;
-    const double* p = cv::vector_data(u, nu_, "u", keep);
-    visit([&](auto& b) {
-      using B = std::decay_t<decltype(b)>;
-      b.propagate(typename B::UVector(Eigen::Map<const typename B::UVector>(p, nu_)));
-    });
+    visit([&](auto& b) { b.propagate(cv::to_vector<typename std::decay_t<decltype(b)>::UVector>(u, nu_, "u")); });
   }
   py::array_t<double> step(py::handle z, py::handle u) {
-    py::array_t<double> keep_z, keep_u;
-    const double* pz = cv::vector_data(z, nz_, "z", keep_z);
-    const double* pu = cv::vector_data(u, nu_, "u", keep_u);
     return visit([&](auto& b) {
       using B = std::decay_t<decltype(b)>;
-      b.step(typename B::ZVector(Eigen::Map<const typename B::ZVector>(pz, nz_)),
-             typename B::UVector(Eigen::Map<const typename B::UVector>(pu, nu_)));
+      const auto zv = cv::to_vector<typename B::ZVector>(z, nz_, "z");  // both checked before the frame
+      const auto uv = cv::to_vector<typename B::UVector>(u, nu_, "u");
+      b.step(zv, uv);
       return cv::to_numpy(b.probabilities());
     });
   }

@@ -58,21 +58,13 @@ class PyHierarchicalBank {
   }
 
   py::object update(py::handle z) {
-    py::array_t<double> keep;
-    const double* p = cv::vector_data(z, nz_, "z", keep);
     return visit([&](auto& b) -> py::object {
-      using B = std::decay_t<decltype(b)>;
-      const int d = b.update(typename B::ZVector(Eigen::Map<const typename B::ZVector>(p, nz_)));
+      const int d = b.update(cv::to_vector<typename std::decay_t<decltype(b)>::ZVector>(z, nz_, "z"));
       return d < 0 ? py::object(py::none()) : py::object(py::str(b.name(d)));
     });
   }
   void propagate(py::handle u) {
-    py::array_t<double> keep;
-    const double* p = cv::vector_data(u, nu_, "u", keep);
-    visit([&](auto& b) {
-      using B = std::decay_t<decltype(b)>;
-      b.propagate(typename B::UVector(Eigen::Map<const typename B::UVector>(p, nu_)));
-    });
+    visit([&](auto& b) { b.propagate(cv::to_vector<typename std::decay_t<decltype(b)>::UVector>(u, nu_, "u")); });
   }
   py::object step(py::handle z, py::handle u) {
     py::array_t<double> keep_u;

@@ -42,10 +42,13 @@ inline const double* vector_data(py::handle obj, Eigen::Index n, const char* wha
   return keep.data();
 }
 
-inline Eigen::VectorXd to_vector(py::handle obj, Eigen::Index n, const char* what) {
+// A copy as the vector type V (a bank's fixed- or dynamic-size ZVector / UVector, by default
+// Eigen::VectorXd), checked as vector_data checks it.
+template <class V = Eigen::VectorXd>
+V to_vector(py::handle obj, Eigen::Index n, const char* what) {
   py::array_t<double> keep;
   const double* p = vector_data(obj, n, what, keep);
-  return Eigen::Map<const Eigen::VectorXd>(p, keep.shape(0));
+  return V(Eigen::Map<const V>(p, keep.shape(0)));
 }
 
 // A 2-D array; rows/cols < 0 accept any extent; `expected` spells the shape for messages.

@@ -3,7 +3,7 @@
 // Sensor frames come at the flight-control rate, so frame i + 1 is expected one period after
 // frame i arrived. Between frames the daemon sleeps and other processes evict its working set
 // and branch history: measured in the 60-s LCM benchmark at 64 Hz on a 2-vCPU VM, the
-// executive's step took 12.6-16 us (p50) without a warm-up, 5.3-6.8 us with it (~1 us when it
+// executive's step took 12.6-17 us (p50) without a warm-up, 5-8 us with it (~1 us when it
 // runs back to back). The main loop therefore sleeps until
 //     warm_at = t_i + T - lead          (t_i: arrival of the last sensor frame, T = 1 / rate)
 // warms up (Executive::warm_up), and sleeps again until the frame arrives.

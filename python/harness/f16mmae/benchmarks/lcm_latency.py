@@ -49,6 +49,8 @@ import time
 
 import numpy as np
 
+from ..names import FRAME_RATE_HZ
+
 #: A private port and channel prefix, so the benchmark neither hears nor disturbs other traffic.
 DEFAULT_URL = "udpm://239.255.76.67:7671?ttl=0"
 PREFIX = "BENCH_"
@@ -131,7 +133,7 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     from ..hil import DaemonProcess, HilError, RemoteEstimator, channels, find_executable, fly_hil, \
         level0_hypotheses, pin_to
     from ..lcmt_sensor_frame import lcmt_sensor_frame
-    from ..names import FRAME_RATE_HZ, NZ
+    from ..names import NZ
     from ..truth import Scenario
 
     label, path, model_bank = load_bank(bank)
@@ -277,6 +279,10 @@ def main(argv: list[str] | None = None) -> int:
         p.error(f"--realtime {args.realtime} must be a priority from 1 to 99 (0: off)")
     if args.pairs < 0 or not args.idle_ms >= 0:
         p.error("--pairs must be >= 0 and --idle-ms >= 0")
+    period_us = 1e6 / FRAME_RATE_HZ
+    for opt, lead in (("--warm-lead-us", args.warm_lead_us), ("--echo-wake-lead-us", args.echo_wake_lead_us)):
+        if lead is not None and not 0 <= lead < period_us:
+            p.error(f"{opt} {lead:g} must lie in [0, {period_us:g}) us (0: off; a frame lasts {period_us:g} us)")
     r = run(args.duration, args.lcm_url, args.bank, args.realtime, args.pairs, args.idle_ms, args.warm_lead_us,
             args.echo_wake_lead_us, args.placement)
     ex, ec, d = r["executive_latency_us"], r["echo_latency_us"], r["executive_excess_us"]

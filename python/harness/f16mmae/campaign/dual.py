@@ -39,8 +39,8 @@ from .. import __version__
 from ..names import ACTUATORS, SENSORS, dual_name
 from . import dual_scoring
 from .runner import derived_seed, execute
-from .single import (FEEDBACK_MODES, P_INJECTED_DECIMATION, TURBULENCE_LEVELS, CampaignError,
-                     CampaignOutcome, dither_spec, load_bank)
+from .single import (P_INJECTED_DECIMATION, CampaignError, CampaignOutcome, check_common, dither_spec,
+                     estimator_options_of, load_bank)
 from .store import ResultsStore, run_key
 
 #: The failures of Fig. 7's rows and columns, in the paper's order.
@@ -83,8 +83,7 @@ class DualCampaign:
     p_min: float | None = None
 
     def estimator_options(self) -> dict:
-        return {k: v for k, v in (("threshold", self.threshold), ("dwell_s", self.dwell_s),
-                                  ("p_min", self.p_min)) if v is not None}
+        return estimator_options_of(self)
 
     @property
     def seconds(self) -> tuple[str, ...]:
@@ -92,10 +91,8 @@ class DualCampaign:
         return tuple(f for f in FAILURES if any(b == f for _, b in self.pairs))
 
     def validate(self) -> "DualCampaign":
-        if self.runs < 1:
-            raise CampaignError(f"--runs must be >= 1, got {self.runs}")
-        if self.seed < 1:
-            raise CampaignError(f"--seed must be >= 1 (JSBSim treats 0 as 1), got {self.seed}")
+        check_common(self, dwell_window_s=self.duration_s - self.second_time_s,
+                     dwell_window_text=" (the flight time after the second failure)")
         if not self.pairs:
             raise CampaignError(f"no pair to fly; pairs are FIRST+SECOND of {', '.join(FAILURES)}")
         for p in self.pairs:
@@ -107,23 +104,10 @@ class DualCampaign:
                                     f"a dual needs two different failures")
         if len(set(self.pairs)) != len(self.pairs):
             raise CampaignError("a pair is listed twice")
-        if self.turbulence not in TURBULENCE_LEVELS:
-            raise CampaignError(f"unknown turbulence {self.turbulence!r}; valid: {', '.join(TURBULENCE_LEVELS)}")
-        if self.feedback not in FEEDBACK_MODES:
-            raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
         if not 0 < self.first_time_s < self.second_time_s < self.duration_s:
             raise CampaignError(
                 f"the failure times must satisfy 0 < first ({self.first_time_s} s) < second "
                 f"({self.second_time_s} s) < duration ({self.duration_s} s)")
-        if not 0.0 <= self.dither_scale <= 5.0:
-            raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, 5]")
-        if self.threshold is not None and not 0.5 < self.threshold < 1.0:
-            raise CampaignError(f"--threshold {self.threshold} must lie in (0.5, 1)")
-        if self.dwell_s is not None and not 0.0 <= self.dwell_s < self.duration_s - self.second_time_s:
-            raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {self.duration_s - self.second_time_s}) s "
-                                f"(the flight time after the second failure)")
-        if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / 13:
-            raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/13)")
         return self
 
 

@@ -69,14 +69,10 @@ class SingleCampaign:
     p_min: float | None = None
 
     def estimator_options(self) -> dict:
-        return {k: v for k, v in (("threshold", self.threshold), ("dwell_s", self.dwell_s),
-                                  ("p_min", self.p_min)) if v is not None}
+        return estimator_options_of(self)
 
     def validate(self) -> "SingleCampaign":
-        if self.runs < 1:
-            raise CampaignError(f"--runs must be >= 1, got {self.runs}")
-        if self.seed < 1:
-            raise CampaignError(f"--seed must be >= 1 (JSBSim treats 0 as 1), got {self.seed}")
+        check_common(self, dwell_window_s=self.duration_s)
         bad = [c for c in self.cases if c not in CASES]
         if bad or not self.cases:
             raise CampaignError(
@@ -84,25 +80,39 @@ class SingleCampaign:
             )
         if len(set(self.cases)) != len(self.cases):
             raise CampaignError(f"a case is listed twice in {','.join(self.cases)}")
-        if self.turbulence not in TURBULENCE_LEVELS:
-            raise CampaignError(
-                f"unknown turbulence {self.turbulence!r}; valid: {', '.join(TURBULENCE_LEVELS)}"
-            )
-        if self.feedback not in FEEDBACK_MODES:
-            raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
         if not 0 < self.failure_time_s < self.duration_s:
             raise CampaignError(
                 f"the failure time {self.failure_time_s} s must lie inside the flight (0, {self.duration_s}) s"
             )
-        if not 0.0 <= self.dither_scale <= 5.0:
-            raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, 5]")
-        if self.threshold is not None and not 0.5 < self.threshold < 1.0:
-            raise CampaignError(f"--threshold {self.threshold} must lie in (0.5, 1)")
-        if self.dwell_s is not None and not 0.0 <= self.dwell_s < self.duration_s:
-            raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {self.duration_s}) s")
-        if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / len(CASES):
-            raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(CASES)})")
         return self
+
+
+def estimator_options_of(cfg) -> dict:
+    """The estimator settings a campaign config overrides (``threshold``, ``dwell_s``,
+    ``p_min``; unset ones stay the bank's recommended)."""
+    return {k: getattr(cfg, k) for k in ("threshold", "dwell_s", "p_min") if getattr(cfg, k) is not None}
+
+
+def check_common(cfg, dwell_window_s: float, dwell_window_text: str = "") -> None:
+    """The checks every campaign config shares (CampaignError naming the bad value): runs,
+    seed, turbulence, feedback, dither scale and the estimator overrides; the dwell must fit
+    in ``dwell_window_s``, the flight time in which a declaration can still come."""
+    if cfg.runs < 1:
+        raise CampaignError(f"--runs must be >= 1, got {cfg.runs}")
+    if cfg.seed < 1:
+        raise CampaignError(f"--seed must be >= 1 (JSBSim treats 0 as 1), got {cfg.seed}")
+    if cfg.turbulence not in TURBULENCE_LEVELS:
+        raise CampaignError(f"unknown turbulence {cfg.turbulence!r}; valid: {', '.join(TURBULENCE_LEVELS)}")
+    if cfg.feedback not in FEEDBACK_MODES:
+        raise CampaignError(f"unknown feedback {cfg.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
+    if not 0.0 <= cfg.dither_scale <= 5.0:
+        raise CampaignError(f"--dither-scale {cfg.dither_scale} must lie in [0, 5]")
+    if cfg.threshold is not None and not 0.5 < cfg.threshold < 1.0:
+        raise CampaignError(f"--threshold {cfg.threshold} must lie in (0.5, 1)")
+    if cfg.dwell_s is not None and not 0.0 <= cfg.dwell_s < dwell_window_s:
+        raise CampaignError(f"--dwell-s {cfg.dwell_s} must lie in [0, {dwell_window_s}) s{dwell_window_text}")
+    if cfg.p_min is not None and not 0.0 <= cfg.p_min < 1.0 / len(CASES):
+        raise CampaignError(f"--p-min {cfg.p_min} must lie in [0, 1/{len(CASES)})")
 
 
 # -- banks ---------------------------------------------------------------------------------

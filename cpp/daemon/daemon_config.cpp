@@ -4,13 +4,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <utility>
 
 namespace f16mmae::daemon {
 
 std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S]\n"
-         "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--quiet]\n"
+         "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
+         "                   [--rewarm-us US] [--quiet]\n"
          "\n"
          "The MMAE executive of f16mmae: steps the hierarchical bank of FILE once per sensor\n"
          "frame received over LCM and publishes the hypothesis probabilities and z_hat.\n"
@@ -30,6 +32,10 @@ std::string daemon_usage() {
          "                       period after the last) and touch the estimator's working set,\n"
          "                       so the step runs from cache after the idle time (default 500;\n"
          "                       0: off)\n"
+         "  --rewarm-us US       after that warm-up, warm up again every US microseconds until the\n"
+         "                       frame arrives (at most --warm-lead-us past its due time), so\n"
+         "                       the caches stay warm however the frame jitters (default 100;\n"
+         "                       0: one warm-up per frame)\n"
          "  --quiet              do not print the ready line\n"
          "\n"
          "SIGINT or SIGTERM ends it with a one-line summary: frames, rejected, dropped, stale,\n"
@@ -75,11 +81,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     const bool known = key == "--bank" || key == "--lcm-url" || key == "--channel-prefix" ||
                        key == "--rate-hz" || key == "--max-frames" || key == "--realtime" ||
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
-                       key == "--warm-lead-us";
+                       key == "--warm-lead-us" || key == "--rewarm-us";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
-                         "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --quiet, --help");
+                         "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
+                         "--quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -115,14 +122,15 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value.empty() || *end != '\0' || errno != 0 || n < 0)
         return usage_error("--max-frames must be a whole number >= 0, got '" + value + "'");
       c.max_frames = n;
-    } else if (key == "--warm-lead-us") {
+    } else if (key == "--warm-lead-us" || key == "--rewarm-us") {
       errno = 0;
       char* end = nullptr;
       const double us = std::strtod(value.c_str(), &end);
       if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(us) || us < 0.0)
-        return usage_error("--warm-lead-us must be a number of microseconds >= 0 (0: no warm-up), got '" +
-                           value + "'");
-      c.warm_lead_us = us;
+        return usage_error(key + " must be a number of microseconds >= 0 (0: " +
+                           (key == "--rewarm-us" ? "one warm-up per frame" : "no warm-up") + "), got '" + value +
+                           "'");
+      (key == "--rewarm-us" ? c.rewarm_us : c.warm_lead_us) = us;
     } else if (key == "--realtime") {
       errno = 0;
       char* end = nullptr;
@@ -133,11 +141,14 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     }
   }
   if (!have_bank) return usage_error("--bank FILE is required (a model-bank file from 'f16mmae design')");
-  if (c.warm_lead_us * 1e-6 * c.rate_hz >= 1.0) {
-    std::ostringstream s;
-    s << "--warm-lead-us " << c.warm_lead_us << " must be shorter than a frame period (" << 1e6 / c.rate_hz
-      << " us at --rate-hz " << c.rate_hz << ")";
-    return usage_error(s.str());
+  for (const auto& [name, us] : {std::pair<const char*, double>{"--warm-lead-us", c.warm_lead_us},
+                                  std::pair<const char*, double>{"--rewarm-us", c.rewarm_us}}) {
+    if (us * 1e-6 * c.rate_hz >= 1.0) {
+      std::ostringstream s;
+      s << name << " " << us << " must be shorter than a frame period (" << 1e6 / c.rate_hz << " us at --rate-hz "
+        << c.rate_hz << ")";
+      return usage_error(s.str());
+    }
   }
   if (!have_url) c.lcm_url = (default_url && *default_url) ? default_url : kDefaultLcmUrl;
   ParseResult r;

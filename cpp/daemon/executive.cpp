@@ -138,19 +138,15 @@ void Executive::fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) 
 
 std::string Executive::summary() const {
   const SequencerCounters& c = sequencer_.counters();
-  char line[512];
+  char line[256];
   std::snprintf(line, sizeof line,
                 "frames %lld updated, %lld rejected, %lld dropped (%lld duplicate, %lld out-of-order), "
-                "%lld stale, %lld commands missed; step p50 %.1f us, p99 %.1f us, max %.1f us; "
-                "propagate p50 %.1f us, p99 %.1f us, max %.1f us",
+                "%lld stale, %lld commands missed; ",
                 static_cast<long long>(c.frames_updated), static_cast<long long>(c.frames_rejected),
                 static_cast<long long>(c.frames_dropped()), static_cast<long long>(c.dropped_duplicate),
                 static_cast<long long>(c.dropped_out_of_order), static_cast<long long>(c.frames_stale),
-                static_cast<long long>(c.commands_missed), update_stats_.quantile_ns(0.5) / 1e3,
-                update_stats_.quantile_ns(0.99) / 1e3, update_stats_.max_ns() / 1e3,
-                propagate_stats_.quantile_ns(0.5) / 1e3, propagate_stats_.quantile_ns(0.99) / 1e3,
-                propagate_stats_.max_ns() / 1e3);
-  return line;
+                static_cast<long long>(c.commands_missed));
+  return line + ("step " + describe_us(update_stats_)) + "; propagate " + describe_us(propagate_stats_);
 }
 
 }  // namespace f16mmae::daemon

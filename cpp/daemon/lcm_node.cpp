@@ -24,10 +24,13 @@ void LcmNode::on_sensor(const lcm_recv_buf_t* rbuf, const char*, void* user) {
   }
   if (!self->executive_.on_sensor(self->sensor_)) return;
   if (lcm_publish(self->lcm_, self->channels_.status.c_str(), self->executive_.encoded_status(),
-                  static_cast<unsigned int>(self->executive_.encoded_status_size())) == 0)
+                  static_cast<unsigned int>(self->executive_.encoded_status_size())) == 0) {
     ++self->published_;
-  else
+    self->sensor_to_publish_.record(std::chrono::duration_cast<std::chrono::nanoseconds>(
+        std::chrono::steady_clock::now() - self->last_sensor_arrival_).count());
+  } else {
     ++self->publish_errors_;
+  }
 }
 
 void LcmNode::on_command(const lcm_recv_buf_t* rbuf, const char*, void* user) {

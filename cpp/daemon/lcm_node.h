@@ -7,6 +7,7 @@
 
 #include "daemon_config.h"
 #include "executive.h"
+#include "step_stats.h"
 
 #include <lcm/lcm.h>
 
@@ -30,6 +31,10 @@ class LcmNode {
   std::chrono::steady_clock::time_point last_sensor_arrival() const { return last_sensor_arrival_; }
   std::int64_t undecodable() const { return undecodable_; }  // messages that failed to decode
   std::int64_t publish_errors() const { return publish_errors_; }
+  // Sensor message in (the callback) -> its status published (lcm_publish returned): the
+  // executive's whole share of a round trip, decode and publish included, without the
+  // wake-up chain before the callback that an echo shares.
+  const StepStats& sensor_to_publish() const { return sensor_to_publish_; }
 
  private:
   static void on_sensor(const lcm_recv_buf_t* rbuf, const char* channel, void* self);
@@ -44,6 +49,7 @@ class LcmNode {
   lcm_subscription_t* subs_[3] = {nullptr, nullptr, nullptr};
   std::int64_t published_ = 0, undecodable_ = 0, publish_errors_ = 0, sensor_messages_ = 0;
   std::chrono::steady_clock::time_point last_sensor_arrival_{};
+  StepStats sensor_to_publish_;
 };
 
 }  // namespace f16mmae::daemon

@@ -27,7 +27,7 @@ int wait_and_handle(lcm_t* lcm, WarmUpSchedule& schedule, OnDue&& on_due) {
     const auto due = schedule.due();
     if (due && *due <= now) {
       on_due();
-      schedule.done();
+      schedule.done(Clock::now());
       continue;
     }
     auto until = now + std::chrono::milliseconds(100);

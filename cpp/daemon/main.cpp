@@ -2,7 +2,7 @@
 // Loads and validates the model bank, subscribes, then handles LCM traffic until SIGINT or
 // SIGTERM (or --max-frames statuses), and ends with a one-line statistics summary. Between
 // frames it wakes --warm-lead-us before the next sensor frame is due to warm the executive
-// up (WarmUpSchedule, Executive::warm_up).
+// up, and again every --rewarm-us until the frame comes (WarmUpSchedule, Executive::warm_up).
 // Exit status: 0 clean end, 1 bank or LCM unusable, 2 usage error.
 #include "bank_settings.h"
 #include "daemon_config.h"
@@ -122,7 +122,8 @@ int main(int argc, char** argv) {
                   channels.sensors.c_str(), channels.status.c_str());
       std::fflush(stdout);
     }
-    WarmUpSchedule warm_up(cfg.rate_hz, std::chrono::nanoseconds(std::llround(cfg.warm_lead_us * 1e3)));
+    WarmUpSchedule warm_up(cfg.rate_hz, std::chrono::nanoseconds(std::llround(cfg.warm_lead_us * 1e3)),
+                           std::chrono::nanoseconds(std::llround(cfg.rewarm_us * 1e3)));
     std::int64_t sensors_seen = 0;
     while (!g_stop) {
       if (cfg.max_frames > 0 && node.published() >= cfg.max_frames) break;
@@ -138,9 +139,10 @@ int main(int argc, char** argv) {
         warm_up.on_frame(node.last_sensor_arrival());
       }
     }
-    std::printf("mmae-daemon: %s%s; %lld statuses published; %lld cache warm-ups\n",
+    std::printf("mmae-daemon: %s%s; %lld statuses published, sensor-to-publish %s; %lld cache warm-ups\n",
                 g_stop ? "stopped by signal: " : "", executive->summary().c_str(),
-                static_cast<long long>(node.published()), static_cast<long long>(executive->warm_ups()));
+                static_cast<long long>(node.published()), describe_us(node.sensor_to_publish()).c_str(),
+                static_cast<long long>(executive->warm_ups()));
     std::fflush(stdout);
   }
   lcm_destroy(lcm);

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 
 namespace f16mmae::daemon {
 
@@ -79,5 +81,14 @@ class StepStats {
   std::int64_t count_ = 0;
   std::uint64_t max_ns_ = 0;
 };
+
+// "p50 X us, p99 Y us, max Z us": how the daemon's and the echo's summaries state a StepStats
+// (the latency benchmark reads them back in this form).
+inline std::string describe_us(const StepStats& s) {
+  char text[96];
+  std::snprintf(text, sizeof text, "p50 %.1f us, p99 %.1f us, max %.1f us", s.quantile_ns(0.5) / 1e3,
+                s.quantile_ns(0.99) / 1e3, static_cast<double>(s.max_ns()) / 1e3);
+  return text;
+}
 
 }  // namespace f16mmae::daemon

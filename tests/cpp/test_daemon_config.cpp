@@ -87,3 +87,20 @@ TEST(DaemonConfig, WarmUpLead) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("shorter than a frame period (15625 us"), std::string::npos) << r.message;
 }
+
+TEST(DaemonConfig, ReWarmInterval) {
+  auto r = parse_daemon_args({"--bank", "b"}, nullptr);
+  EXPECT_EQ(r.config.rewarm_us, 100.0);  // on by default
+  r = parse_daemon_args({"--bank", "b", "--rewarm-us=0"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.rewarm_us, 0.0);  // one warm-up per frame
+  r = parse_daemon_args({"--bank", "b", "--rewarm-us", "fast"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--rewarm-us must be a number of microseconds >= 0 (0: one warm-up per frame), got "
+                           "'fast'"),
+            std::string::npos)
+      << r.message;
+  r = parse_daemon_args({"--bank", "b", "--rewarm-us", "16000"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--rewarm-us 16000 must be shorter than a frame period"), std::string::npos) << r.message;
+}

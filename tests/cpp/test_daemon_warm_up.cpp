@@ -52,10 +52,33 @@ TEST(WarmUpSchedule, WakesOneLeadBeforeTheNextExpectedFrame) {
   s.on_frame(t);
   ASSERT_TRUE(s.due());
   EXPECT_EQ(std::chrono::duration_cast<std::chrono::microseconds>(*s.due() - t).count(), 15625 - 500);
-  s.done();
+  s.done(*s.due());
   EXPECT_FALSE(s.due());  // one warm-up per frame: a late frame gets none until it comes
   s.on_frame(t + 16ms);
   EXPECT_EQ(std::chrono::duration_cast<std::chrono::microseconds>(*s.due() - t).count(), 16000 + 15625 - 500);
+}
+
+TEST(WarmUpSchedule, ReWarmsEveryIntervalUntilTheFrameOrOneLeadPastItsDueTime) {
+  using std::chrono::duration_cast;
+  using std::chrono::microseconds;
+  WarmUpSchedule s(64.0, 500us, 100us);
+  const auto t = WarmUpSchedule::Clock::time_point{} + 10s;
+  s.on_frame(t);
+  std::vector<long long> at;  // the warm-ups of one window, us after t
+  while (s.due()) {
+    const auto now = *s.due();
+    at.push_back(duration_cast<microseconds>(now - t).count());
+    s.done(now);
+  }
+  // from 500 us before the frame is due (15625 us) to less than 500 us after it
+  const std::vector<long long> expected = {15125, 15225, 15325, 15425, 15525, 15625, 15725, 15825, 15925, 16025};
+  EXPECT_EQ(at, expected);
+  // the frame comes (early, here): the window closes and the next one opens a period later
+  s.on_frame(t + 15300us);
+  EXPECT_EQ(duration_cast<microseconds>(*s.due() - t).count(), 15300 + 15125);
+  // a warm-up that ran late (a busy host) counts the interval from when it ran
+  s.done(t + 15300us + 15300us);
+  EXPECT_EQ(duration_cast<microseconds>(*s.due() - t).count(), 30700);
 }
 
 TEST(WarmUpSchedule, ALeadOfZeroOrAWholePeriodIsOff) {

@@ -9,7 +9,9 @@ Each session uses a private port and channel prefix, so parallel runs do not cro
   lcm-logplayer against a fresh daemon reproduces every logged status;
 * wire faults sent to the daemon give the stale flags and counters the frame rules
   prescribe, and the Python replay of that traffic agrees with the C++ daemon frame by frame;
-* SIGTERM ends the daemon cleanly with its one-line summary.
+* SIGTERM ends the daemon cleanly with its one-line summary;
+* the latency benchmark's bare echo returns every message byte for byte and times each from
+  its callback to its echo published, as the daemon times a sensor frame to its status.
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ import lcm
 import numpy as np
 import pytest
 
+from f16mmae.benchmarks.lcm_latency import summary_quantiles_us
 from f16mmae.campaign.single import load_bank
 from f16mmae.cli import main
 from f16mmae.closedloop import fly
@@ -176,6 +179,8 @@ def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
     last = statuses[-1]
     assert (last.frames_dropped, last.frames_rejected, last.frames_stale, last.commands_missed) == (2, 2, 4, 3)
     assert "8 updated, 2 rejected, 2 dropped (1 duplicate, 1 out-of-order), 4 stale" in daemon.summary
+    inside = summary_quantiles_us(daemon.summary, "sensor-to-publish")  # 8 statuses timed
+    assert 0 < inside["p50"] <= inside["p99"] <= inside["max"], daemon.summary
     report = replay_log(log, bank, channel_prefix=prefix)
     assert report.ok, [str(m) for m in report.mismatches]
     assert report.statuses_compared == 8
@@ -192,6 +197,31 @@ def test_sigterm_ends_the_daemon_cleanly_with_a_summary(banked):
     lines = out.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("mmae-daemon: stopped by signal: frames 0 updated")
     assert "step p50" in lines[0] and "p99" in lines[0] and "max" in lines[0]
+
+
+def test_the_bare_echo_returns_each_message_and_times_it():
+    exe = str(find_executable("lcm-echo-f16"))
+    p = subprocess.Popen([exe, "--lcm-url", URL2, "--in", "T_PING", "--out", "T_PONG"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert "ready" in p.stdout.readline()
+        lc = lcm.LCM(URL2)
+        pongs = []
+        lc.subscribe("T_PONG", lambda ch, data: pongs.append(data))
+        pings = [bytes([i]) * (10 + i) for i in range(5)]
+        for ping in pings:
+            lc.publish("T_PING", ping)
+            end = time.monotonic() + 2.0
+            while len(pongs) < pings.index(ping) + 1 and time.monotonic() < end:
+                lc.handle_timeout(100)
+    finally:
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=5)
+    assert pongs == pings
+    assert p.returncode == 0, err
+    assert "5 messages echoed" in out
+    inside = summary_quantiles_us(out, "message-to-publish")
+    assert 0 < inside["p50"] <= inside["p99"] <= inside["max"], out
 
 
 def test_hil_command_starts_its_own_daemon(capsys):

@@ -1,5 +1,6 @@
 """The LCM latency benchmark's plumbing (its figures are printed by the benchmark, not
-tested): where it places the processes, how a child is pinned, the echo's own port."""
+tested): where it places the processes, how a child is pinned, the echo's own port, how it
+reads the in-process timings back, what it refuses."""
 from __future__ import annotations
 
 import os
@@ -8,8 +9,8 @@ import sys
 
 import pytest
 
-from f16mmae.benchmarks.lcm_latency import PLACEMENTS, next_port_url, place
-from f16mmae.hil import pin_to
+from f16mmae.benchmarks.lcm_latency import PLACEMENTS, host_floor, main, next_port_url, place, summary_quantiles_us
+from f16mmae.hil import find_executable, pin_to
 
 ALLOWED = sorted(os.sched_getaffinity(0))
 
@@ -38,3 +39,40 @@ def test_the_echo_listens_on_the_next_port():
     assert next_port_url("udpm://239.255.76.67:7671?ttl=0") == "udpm://239.255.76.67:7672?ttl=0"
     assert next_port_url("udpm://239.255.76.67:7667") == "udpm://239.255.76.67:7668"
     assert next_port_url("memq://") == "memq://"
+
+
+def test_reads_the_in_process_timings_of_a_summary_line():
+    line = ("mmae-daemon: frames 3 updated, ...; step p50 5.4 us, p99 20.1 us, max 68.7 us; 3 statuses published, "
+            "sensor-to-publish p50 40.2 us, p99 99.8 us, max 602.7 us; 9 cache warm-ups")
+    assert summary_quantiles_us(line, "sensor-to-publish") == {"p50": 40.2, "p99": 99.8, "max": 602.7}
+    assert summary_quantiles_us(line, "step") == {"p50": 5.4, "p99": 20.1, "max": 68.7}
+    assert summary_quantiles_us(line, "message-to-publish") == {"p50": None, "p99": None, "max": None}
+    assert summary_quantiles_us(None, "step")["p99"] is None
+
+
+@pytest.mark.parametrize("option", ["--warm-lead-us", "--rewarm-us", "--echo-wake-lead-us", "--echo-rewake-us"])
+def test_refuses_a_lead_or_interval_beyond_a_frame_by_name(option, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main([option, "16000"])
+    assert exc.value.code == 2
+    assert f"{option} 16000 must lie in [0, 15625) us" in capsys.readouterr().err
+
+
+def test_the_host_floor_times_the_work_back_to_back_and_after_a_frame_of_idle():
+    floor = host_floor({ALLOWED[-1]}, samples=5)
+    assert sorted(floor) == [0.0, 15625.0]
+    for q in floor.values():
+        assert 0 < q["p50"] <= q["p99"] <= q["max"]
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--idle-us", "1,x"], "--idle-us must be a comma-separated list"),
+    (["--work-us", "0"], "--work-us must be in (0, 1e5]"),
+    (["--samples", "-3"], "--samples must be a whole number >= 1"),
+    (["--frobnicate", "1"], "unknown argument '--frobnicate'"),
+    (["--samples"], "--samples needs a value"),
+])
+def test_idle_jitter_refuses_bad_arguments_by_name(args, message):
+    p = subprocess.run([str(find_executable("f16mmae-idle-jitter")), *args], capture_output=True, text=True,
+                       timeout=10)
+    assert p.returncode == 2 and message in p.stderr and "usage:" in p.stderr

@@ -37,12 +37,22 @@ Then, with the same two processes, a controlled pairing (``--pairs N``, default 
 pairs of round trips with no truth model in between, each preceded by the same idle time
 (``--idle-ms``, default 14, what a 64-Hz frame leaves), the order alternating within the
 pairs -- the executive's excess over the echo under identical conditions.
+
+Two readings that the round trips' host noise does not blur:
+- inside each process, from the message's callback to the reply published (lcm_publish
+  returned): the daemon's sensor-to-publish (decode, step, encode, publish) beside the echo's
+  message-to-publish (publish alone) -- what the executive adds, without the wake-up chain
+  before the callback (UDP receive thread, notify pipe, main thread) that both share;
+- the host floor, before anything else starts: f16mmae-idle-jitter times 5 us of
+  register-only work back to back and after a 64-Hz frame's idle, on the daemon's CPUs. Its
+  p99 after the idle is the least tail any step of that length can have on this host.
 """
 from __future__ import annotations
 
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -62,6 +72,31 @@ def _quantiles_us(ns: list[int]) -> dict:
         return {"n": 0, "p50": None, "p99": None, "max": None}
     return {"n": int(a.size), "p50": round(float(np.percentile(a, 50)), 1),
             "p99": round(float(np.percentile(a, 99)), 1), "max": round(float(a.max()), 1)}
+
+
+def summary_quantiles_us(line: str, label: str) -> dict:
+    """``{p50, p99, max}`` in us from the ``LABEL p50 X us, p99 Y us, max Z us`` part of a
+    daemon or echo summary line (StepStats' describe_us); Nones when it is not there."""
+    m = re.search(re.escape(label) + r" p50 ([\d.]+) us, p99 ([\d.]+) us, max ([\d.]+) us", line or "")
+    return dict(zip(("p50", "p99", "max"), (float(v) for v in m.groups()) if m else (None,) * 3))
+
+
+def host_floor(server_cpus: set[int] | None, samples: int = 300) -> dict:
+    """f16mmae-idle-jitter on the daemon's CPUs: a fixed 5-us register-only computation timed
+    back to back and after a 64-Hz frame's idle -- the tail this host adds to any step of that
+    length. ``{idle_us: {p50, p99, max}}``."""
+    from ..hil import find_executable, pin_to
+
+    frame_us = 1e6 / FRAME_RATE_HZ
+    out = subprocess.run([str(find_executable("f16mmae-idle-jitter")), "--work-us", "5", "--samples", str(samples),
+                          "--idle-us", f"0,{frame_us:g}"], capture_output=True, text=True, check=True,
+                         timeout=60, preexec_fn=pin_to(server_cpus)).stdout
+    floor = {}
+    for line in out.splitlines():
+        m = re.match(r"idle ([\d.]+) us: ", line)
+        if m:
+            floor[float(m.group(1))] = summary_quantiles_us(line, "work")
+    return floor
 
 
 def next_port_url(url: str) -> str:
@@ -126,7 +161,8 @@ def paired_round_trips(lc, lc_echo, chans, ping: str, pong: str, model_bank, pai
 
 def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned",
         realtime: int = 0, pairs: int = 1000, idle_ms: float = 14.0, warm_lead_us: float | None = None,
-        echo_wake_lead_us: float = 0.0, placement: str = "free") -> dict:
+        echo_wake_lead_us: float = 0.0, placement: str = "free", rewarm_us: float | None = None,
+        echo_rewake_us: float = 0.0) -> dict:
     import lcm
 
     from ..campaign.single import load_bank
@@ -137,6 +173,7 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     from ..truth import Scenario
 
     label, path, model_bank = load_bank(bank)
+    floor = host_floor(place(placement)[1])  # before any other process of the benchmark runs
     scenario = Scenario.from_dict({"mach": float(model_bank.mach), "alt_ft": float(model_bank.alt_ft),
                                    "turbulence": "light", "duration_s": duration_s, "seed": 1,
                                    "feedback": "mmae", "failure": []})
@@ -154,7 +191,8 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     echo_url = next_port_url(lcm_url)
     lc_echo = lcm.LCM(echo_url)
     rt = ("--realtime", str(realtime)) if realtime else ()
-    wake = ("--wake-lead-us", f"{echo_wake_lead_us:g}", "--rate-hz", f"{FRAME_RATE_HZ:g}")
+    wake = ("--wake-lead-us", f"{echo_wake_lead_us:g}", "--rewake-us", f"{echo_rewake_us:g}",
+            "--rate-hz", f"{FRAME_RATE_HZ:g}")
     echo = subprocess.Popen([str(find_executable("lcm-echo-f16")), "--lcm-url", echo_url, "--in", ping,
                              "--out", pong, *rt, *wake], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=pin_to(server_cpus))
@@ -194,7 +232,8 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
             lc_echo.handle_timeout(max(1, int(left * 1000)))
         echo_lost += not state["got"]
 
-    warm = ("--warm-lead-us", f"{warm_lead_us:g}") if warm_lead_us is not None else ()
+    warm = (("--warm-lead-us", f"{warm_lead_us:g}") if warm_lead_us is not None else ()) + \
+        (("--rewarm-us", f"{rewarm_us:g}") if rewarm_us is not None else ())
     daemon = DaemonProcess(path, lcm_url=lcm_url, channel_prefix=PREFIX, extra_args=(*rt, *warm),
                            cpus=server_cpus)
     try:
@@ -207,17 +246,20 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     finally:
         daemon.stop()
         echo.send_signal(2)
-        echo.communicate(timeout=5)
+        echo_summary = echo.communicate(timeout=5)[0].strip().splitlines()[-1:] or [""]
         if sub is not None:
             lc_echo.unsubscribe(sub)
     link = result.timing["link"]
     ex = link["latency_us"]
     ec = _quantiles_us(echo_ns)
+    inside_ex = summary_quantiles_us(daemon.summary, "sensor-to-publish")
+    inside_echo = summary_quantiles_us(echo_summary[0], "message-to-publish")
     return {
         "duration_s": duration_s, "wall_s": round(wall, 3), "rate_hz": FRAME_RATE_HZ, "lcm_url": lcm_url,
         "echo_lcm_url": echo_url,
         "bank": label, "bank_hash": str(model_bank.content_hash), "realtime_priority": realtime,
-        "warm_lead_us": warm_lead_us, "echo_wake_lead_us": echo_wake_lead_us,
+        "warm_lead_us": warm_lead_us, "rewarm_us": rewarm_us, "echo_wake_lead_us": echo_wake_lead_us,
+        "echo_rewake_us": echo_rewake_us,
         "placement": placement, "harness_cpus": sorted(os.sched_getaffinity(0)),
         "server_cpus": sorted(server_cpus) if server_cpus is not None else None,
         "frames": link["frames"], "deadline_misses": link["deadline_misses"],
@@ -225,9 +267,14 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
         "echo_latency_us": ec, "echo_lost": echo_lost,
         "executive_excess_us": {k: (round(ex[k] - ec[k], 1) if ex[k] is not None and ec[k] is not None else None)
                                 for k in ("p50", "p99")},
-        "daemon_summary": daemon.summary,
+        "daemon_summary": daemon.summary, "echo_summary": echo_summary[0],
+        "inside_us": {"executive": inside_ex, "echo": inside_echo,
+                      "excess": {k: (round(inside_ex[k] - inside_echo[k], 1)
+                                     if inside_ex[k] is not None and inside_echo[k] is not None else None)
+                                 for k in ("p50", "p99")}},
         "paired": {"pairs": pairs, "idle_ms": idle_ms, "executive_latency_us": _quantiles_us(p_ex),
                    "echo_latency_us": _quantiles_us(p_echo)},
+        "host_floor_us": {f"{k:g}": v for k, v in floor.items()},
         "targets": {"deadline_misses": 0, "p99_excess_us_max": 20.0},
     }
 
@@ -268,9 +315,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--warm-lead-us", type=float, default=None, metavar="US",
                    help="the daemon's cache warm-up lead before each expected frame (default: the "
                         "daemon's, 500; 0: off)")
+    p.add_argument("--rewarm-us", type=float, default=None, metavar="US",
+                   help="after the first warm-up, the daemon warms up again every US until the frame "
+                        "comes (default: the daemon's, 100; 0: once)")
     p.add_argument("--echo-wake-lead-us", type=float, default=0.0, metavar="US",
                    help="make the echo wake US before each expected ping, as the daemon does for its "
                         "warm-up, and do nothing: a control for the wake-up alone (default 0: a bare echo)")
+    p.add_argument("--echo-rewake-us", type=float, default=0.0, metavar="US",
+                   help="with --echo-wake-lead-us: wake again every US, as the daemon re-warms (default 0: once)")
     p.add_argument("--json", default=None, metavar="FILE", help="also write the figures as JSON")
     args = p.parse_args(argv)
     if not args.duration > 0:
@@ -280,11 +332,12 @@ def main(argv: list[str] | None = None) -> int:
     if args.pairs < 0 or not args.idle_ms >= 0:
         p.error("--pairs must be >= 0 and --idle-ms >= 0")
     period_us = 1e6 / FRAME_RATE_HZ
-    for opt, lead in (("--warm-lead-us", args.warm_lead_us), ("--echo-wake-lead-us", args.echo_wake_lead_us)):
+    for opt, lead in (("--warm-lead-us", args.warm_lead_us), ("--echo-wake-lead-us", args.echo_wake_lead_us),
+                      ("--rewarm-us", args.rewarm_us), ("--echo-rewake-us", args.echo_rewake_us)):
         if lead is not None and not 0 <= lead < period_us:
             p.error(f"{opt} {lead:g} must lie in [0, {period_us:g}) us (0: off; a frame lasts {period_us:g} us)")
     r = run(args.duration, args.lcm_url, args.bank, args.realtime, args.pairs, args.idle_ms, args.warm_lead_us,
-            args.echo_wake_lead_us, args.placement)
+            args.echo_wake_lead_us, args.placement, args.rewarm_us, args.echo_rewake_us)
     ex, ec, d = r["executive_latency_us"], r["echo_latency_us"], r["executive_excess_us"]
     rt = f", SCHED_FIFO {r['realtime_priority']}" if r["realtime_priority"] else ", time-shared"
     servers = "unpinned" if r["server_cpus"] is None else f"CPU {','.join(map(str, r['server_cpus']))}"
@@ -310,7 +363,20 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  {'mmae-daemon sensor->status':28s}{pe['p50']:>10}{pe['p99']:>10}{pe['max']:>10}{pe['n']:>8}")
         print(f"  {echo_label:28s}{pc['p50']:>10}{pc['p99']:>10}{pc['max']:>10}{pc['n']:>8}")
         print(f"  {'executive - echo':28s}{pe['p50'] - pc['p50']:>10.1f}{pe['p99'] - pc['p99']:>10.1f}")
+    ie, ic, ix = r["inside_us"]["executive"], r["inside_us"]["echo"], r["inside_us"]["excess"]
+    if ix["p99"] is not None:
+        print("  inside each process, message callback -> reply published (the executive's own share; "
+              "no wake-up chain):")
+        print(f"  {'mmae-daemon sensor-to-publish':28s}{ie['p50']:>10}{ie['p99']:>10}{ie['max']:>10}")
+        print(f"  {'echo message-to-publish':28s}{ic['p50']:>10}{ic['p99']:>10}{ic['max']:>10}")
+        print(f"  {'executive - echo':28s}{ix['p50']:>10}{ix['p99']:>10}")
     print(f"  {r['daemon_summary']}")
+    print(f"  {r['echo_summary']}")
+    floor = r["host_floor_us"]
+    if len(floor) == 2:
+        (_, b2b), (idle, after) = sorted(floor.items(), key=lambda kv: float(kv[0]))
+        print(f"  host floor (f16mmae-idle-jitter: 5 us of register-only work, nothing to cache): back to back "
+              f"p50 {b2b['p50']} / p99 {b2b['p99']} us; after {idle} us idle p50 {after['p50']} / p99 {after['p99']} us")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(r, f, indent=1)

@@ -2,13 +2,14 @@
 // register-only computation takes when it runs right after the thread has slept, as the
 // executive's step does between frames.
 //   f16mmae-idle-jitter [--work-us US] [--samples N] [--idle-us US[,US...]]
-// The work is a dependent chain of multiply-adds on one double (no memory traffic, nothing to
-// cache), calibrated back to back to about --work-us (default 5, the executive's step). For
-// each idle time (default 0,50,1000,15625: back to back, a short gap, 1 ms, a 64-Hz frame) it
+// The work (CpuWork) is a dependent chain of multiply-adds on one double (no memory
+// traffic, nothing to cache), calibrated back to back to about --work-us (default 5, the
+// executive's step). For each idle time (default 0,50,1000,15625: back to back, a short gap, 1 ms, a 64-Hz frame) it
 // sleeps that long N times (default 300) and times the work after each wake-up. A p99 far
 // above the p50 after a long idle is the host's doing (a halted vCPU, its core lent to other
 // work), not the code's: no program of that length can have a shorter tail on this host.
 // Prints one line per idle time: p50, p99, max in us and p99/p50.
+#include "cpu_work.h"
 #include "step_stats.h"
 
 #include <algorithm>
@@ -22,30 +23,6 @@
 #include <vector>
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-volatile double g_sink;
-
-__attribute__((noinline)) void work(long n) {
-  double x = 1.0;
-  for (long i = 0; i < n; ++i) x = x * 1.0000001 + 1e-9;
-  g_sink = x;
-}
-
-std::int64_t time_ns(long n) {
-  const auto t0 = Clock::now();
-  work(n);
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
-}
-
-// Iterations for about `us` back to back: the median of 51 timings of a trial length.
-long calibrate(double us) {
-  const long trial = 100000;
-  std::vector<std::int64_t> t;
-  for (int i = 0; i < 51; ++i) t.push_back(time_ns(trial));
-  std::nth_element(t.begin(), t.begin() + 25, t.end());
-  return std::max(1L, std::lround(trial * us * 1e3 / static_cast<double>(t[25])));
-}
 
 int usage(const char* what) {
   std::fprintf(stderr,
@@ -92,13 +69,13 @@ int main(int argc, char** argv) {
       return usage(("unknown argument '" + a + "'").c_str());
     }
   }
-  const long n = calibrate(work_us);
+  const f16mmae::daemon::CpuWork work(work_us);
   for (const double idle : idles) {
     f16mmae::daemon::StepStats stats;
     const auto gap = std::chrono::nanoseconds(std::llround(idle * 1e3));
     for (long i = 0; i < samples; ++i) {
       if (idle > 0) std::this_thread::sleep_for(gap);
-      stats.record(time_ns(n));
+      stats.record(work.timed());
     }
     const double p50 = stats.quantile_ns(0.5), p99 = stats.quantile_ns(0.99);
     std::printf("idle %g us: work %s (p99/p50 %.1f)\n", idle, f16mmae::daemon::describe_us(stats).c_str(),

@@ -2,16 +2,20 @@
 // republishes every message of channel IN, byte for byte, on channel OUT. Same LCM library,
 // same event loop as the daemon, no decode, no estimator: the transport's own round trip.
 //   lcm-echo-f16 [--lcm-url URL] [--in CHANNEL] [--out CHANNEL] [--realtime PRIORITY]
-//                [--wake-lead-us US [--rewake-us US] [--rate-hz HZ]] [--quiet]
+//                [--wake-lead-us US [--rewake-us US] [--rate-hz HZ]] [--work-us US] [--quiet]
 // --realtime gives it the same SCHED_FIFO priority and locked memory as mmae-daemon's, so
 // that a benchmark compares like with like. --wake-lead-us makes it wake on mmae-daemon's
 // warm-up schedule (US before the next message is due, one period of --rate-hz, default 64,
 // after the last), and again every --rewake-us as the daemon re-warms (default 0: once), and
 // do nothing: the control that separates what the daemon's warm-up gains from merely being
 // awake (default 0: a bare echo).
+// --work-us spends about US of register-only work (CpuWork) before each echo, as the executive
+// spends its step: an echo that costs what the executive costs but touches no data, to tell
+// the executive's own cost from what its time in the callback costs on this host.
 // Defaults: $LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0, ECHO_PING -> ECHO_PONG.
 // Ends cleanly on SIGINT/SIGTERM with the number of messages echoed and the time from each
 // message's callback to its echo published (p50/p99/max), the daemon's sensor-to-publish twin.
+#include "cpu_work.h"
 #include "daemon_config.h"
 #include "lcm_wait.h"
 #include "step_stats.h"
@@ -40,11 +44,13 @@ struct Echo {
   long long count = 0;
   std::chrono::steady_clock::time_point last{};
   f16mmae::daemon::StepStats in_to_publish;  // message in (the callback) -> echo published
+  const f16mmae::daemon::CpuWork* work = nullptr;  // spent before each echo (--work-us)
 };
 
 void on_message(const lcm_recv_buf_t* rbuf, const char*, void* user) {
   auto* echo = static_cast<Echo*>(user);
   echo->last = std::chrono::steady_clock::now();
+  if (echo->work) echo->work->run();
   if (lcm_publish(echo->lcm, echo->out.c_str(), rbuf->data, rbuf->data_size) == 0) {
     ++echo->count;
     echo->in_to_publish.record(std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -59,7 +65,7 @@ int main(int argc, char** argv) {
   std::string url = env && *env ? env : f16mmae::daemon::kDefaultLcmUrl;
   std::string in = "ECHO_PING", out = "ECHO_PONG";
   bool quiet = false;
-  double wake_lead_us = 0.0, rewake_us = 0.0, rate_hz = 64.0;
+  double wake_lead_us = 0.0, rewake_us = 0.0, rate_hz = 64.0, work_us = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quiet") {
@@ -79,7 +85,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "lcm-echo-f16: warning: SCHED_FIFO priority %d refused\n", p);
       continue;
     }
-    if ((a == "--wake-lead-us" || a == "--rewake-us" || a == "--rate-hz") && i + 1 < argc) {
+    if ((a == "--wake-lead-us" || a == "--rewake-us" || a == "--rate-hz" || a == "--work-us") && i + 1 < argc) {
       char* end = nullptr;
       const double x = std::strtod(argv[++i], &end);
       if (*end != '\0' || !(x >= 0.0) || !std::isfinite(x) || (a == "--rate-hz" && x == 0.0)) {
@@ -87,7 +93,7 @@ int main(int argc, char** argv) {
                      a == "--rate-hz" ? "> 0" : ">= 0", argv[i]);
         return 2;
       }
-      (a == "--rate-hz" ? rate_hz : a == "--rewake-us" ? rewake_us : wake_lead_us) = x;
+      (a == "--rate-hz" ? rate_hz : a == "--rewake-us" ? rewake_us : a == "--work-us" ? work_us : wake_lead_us) = x;
       continue;
     }
     if ((a == "--lcm-url" || a == "--in" || a == "--out") && i + 1 < argc) {
@@ -96,7 +102,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "lcm-echo-f16: error: unknown or incomplete argument '%s'\n"
                    "usage: lcm-echo-f16 [--lcm-url URL] [--in CHANNEL] [--out CHANNEL] [--realtime P]\n"
-                   "                    [--wake-lead-us US [--rewake-us US] [--rate-hz HZ]] [--quiet]\n",
+                   "                    [--wake-lead-us US [--rewake-us US] [--rate-hz HZ]] [--work-us US]\n"
+                   "                    [--quiet]\n",
                    a.c_str());
       return 2;
     }
@@ -111,7 +118,9 @@ int main(int argc, char** argv) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  const f16mmae::daemon::CpuWork work(work_us);  // calibrated before the first message
   Echo echo{lcm, out};
+  if (work_us > 0.0) echo.work = &work;
   lcm_subscribe(lcm, in.c_str(), on_message, &echo);
   if (!quiet) {
     std::printf("lcm-echo-f16: ready: lcm %s, %s -> %s\n", url.c_str(), in.c_str(), out.c_str());

@@ -11,7 +11,8 @@ Each session uses a private port and channel prefix, so parallel runs do not cro
   prescribe, and the Python replay of that traffic agrees with the C++ daemon frame by frame;
 * SIGTERM ends the daemon cleanly with its one-line summary;
 * the latency benchmark's bare echo returns every message byte for byte and times each from
-  its callback to its echo published, as the daemon times a sensor frame to its status.
+  its callback to its echo published, as the daemon times a sensor frame to its status;
+  with --work-us it spends that work first.
 """
 from __future__ import annotations
 
@@ -199,9 +200,10 @@ def test_sigterm_ends_the_daemon_cleanly_with_a_summary(banked):
     assert "step p50" in lines[0] and "p99" in lines[0] and "max" in lines[0]
 
 
-def test_the_bare_echo_returns_each_message_and_times_it():
+@pytest.mark.parametrize("work_us", [0, 200])
+def test_the_bare_echo_returns_each_message_and_times_it(work_us):
     exe = str(find_executable("lcm-echo-f16"))
-    p = subprocess.Popen([exe, "--lcm-url", URL2, "--in", "T_PING", "--out", "T_PONG"],
+    p = subprocess.Popen([exe, "--lcm-url", URL2, "--in", "T_PING", "--out", "T_PONG", "--work-us", str(work_us)],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         assert "ready" in p.stdout.readline()
@@ -222,6 +224,7 @@ def test_the_bare_echo_returns_each_message_and_times_it():
     assert "5 messages echoed" in out
     inside = summary_quantiles_us(out, "message-to-publish")
     assert 0 < inside["p50"] <= inside["p99"] <= inside["max"], out
+    assert inside["p50"] >= 0.5 * work_us, out  # --work-us is spent before each echo
 
 
 def test_hil_command_starts_its_own_daemon(capsys):

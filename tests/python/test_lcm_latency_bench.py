@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from f16mmae.benchmarks.lcm_latency import PLACEMENTS, host_floor, main, next_port_url, place, summary_quantiles_us
+from f16mmae.benchmarks.lcm_latency import PLACEMENTS, echo_name, host_floor, main, next_port_url, place, summary_quantiles_us
 from f16mmae.hil import find_executable, pin_to
 
 ALLOWED = sorted(os.sched_getaffinity(0))
@@ -50,7 +50,15 @@ def test_reads_the_in_process_timings_of_a_summary_line():
     assert summary_quantiles_us(None, "step")["p99"] is None
 
 
-@pytest.mark.parametrize("option", ["--warm-lead-us", "--rewarm-us", "--echo-wake-lead-us", "--echo-rewake-us"])
+def test_names_the_echo_by_the_control_it_was_made_into():
+    assert echo_name(0, 0) == "bare C++ echo"
+    assert echo_name(500, 0) == "C++ echo, wakes 500 us early"
+    assert echo_name(500, 5) == "C++ echo, wakes 500 us early, +5 us work"
+    assert echo_name(0, 5.5) == "C++ echo, +5.5 us work"
+
+
+@pytest.mark.parametrize("option", ["--warm-lead-us", "--rewarm-us", "--echo-wake-lead-us", "--echo-rewake-us",
+                                    "--echo-work-us"])
 def test_refuses_a_lead_or_interval_beyond_a_frame_by_name(option, capsys):
     with pytest.raises(SystemExit) as exc:
         main([option, "16000"])

@@ -42,7 +42,10 @@ Two readings that the round trips' host noise does not blur:
 - inside each process, from the message's callback to the reply published (lcm_publish
   returned): the daemon's sensor-to-publish (decode, step, encode, publish) beside the echo's
   message-to-publish (publish alone) -- what the executive adds, without the wake-up chain
-  before the callback (UDP receive thread, notify pipe, main thread) that both share;
+  before the callback (UDP receive thread, notify pipe, main thread) that both share.
+  ``--echo-work-us 5`` makes the echo spend 5 us of register-only work first, as the
+  executive spends its step: measured, the two then cost the same (+1.0 us at p50): a publish
+  made a few us after the message came wakes a receiver that has gone idle meanwhile;
 - the host floor, before anything else starts: f16mmae-idle-jitter times 5 us of
   register-only work back to back and after a 64-Hz frame's idle, on the daemon's CPUs. Its
   p99 after the idle is the least tail any step of that length can have on this host.
@@ -97,6 +100,13 @@ def host_floor(server_cpus: set[int] | None, samples: int = 300) -> dict:
         if m:
             floor[float(m.group(1))] = summary_quantiles_us(line, "work")
     return floor
+
+
+def echo_name(wake_lead_us: float, work_us: float) -> str:
+    """The echo's row label: a bare echo, or the control it was made into."""
+    parts = ([f"wakes {wake_lead_us:g} us early"] if wake_lead_us else []) + \
+        ([f"+{work_us:g} us work"] if work_us else [])
+    return "C++ echo, " + ", ".join(parts) if parts else "bare C++ echo"
 
 
 def next_port_url(url: str) -> str:
@@ -162,7 +172,7 @@ def paired_round_trips(lc, lc_echo, chans, ping: str, pong: str, model_bank, pai
 def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned",
         realtime: int = 0, pairs: int = 1000, idle_ms: float = 14.0, warm_lead_us: float | None = None,
         echo_wake_lead_us: float = 0.0, placement: str = "free", rewarm_us: float | None = None,
-        echo_rewake_us: float = 0.0) -> dict:
+        echo_rewake_us: float = 0.0, echo_work_us: float = 0.0) -> dict:
     import lcm
 
     from ..campaign.single import load_bank
@@ -192,7 +202,7 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     lc_echo = lcm.LCM(echo_url)
     rt = ("--realtime", str(realtime)) if realtime else ()
     wake = ("--wake-lead-us", f"{echo_wake_lead_us:g}", "--rewake-us", f"{echo_rewake_us:g}",
-            "--rate-hz", f"{FRAME_RATE_HZ:g}")
+            "--rate-hz", f"{FRAME_RATE_HZ:g}", "--work-us", f"{echo_work_us:g}")
     echo = subprocess.Popen([str(find_executable("lcm-echo-f16")), "--lcm-url", echo_url, "--in", ping,
                              "--out", pong, *rt, *wake], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=pin_to(server_cpus))
@@ -259,7 +269,7 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
         "echo_lcm_url": echo_url,
         "bank": label, "bank_hash": str(model_bank.content_hash), "realtime_priority": realtime,
         "warm_lead_us": warm_lead_us, "rewarm_us": rewarm_us, "echo_wake_lead_us": echo_wake_lead_us,
-        "echo_rewake_us": echo_rewake_us,
+        "echo_rewake_us": echo_rewake_us, "echo_work_us": echo_work_us,
         "placement": placement, "harness_cpus": sorted(os.sched_getaffinity(0)),
         "server_cpus": sorted(server_cpus) if server_cpus is not None else None,
         "frames": link["frames"], "deadline_misses": link["deadline_misses"],
@@ -323,6 +333,10 @@ def main(argv: list[str] | None = None) -> int:
                         "warm-up, and do nothing: a control for the wake-up alone (default 0: a bare echo)")
     p.add_argument("--echo-rewake-us", type=float, default=0.0, metavar="US",
                    help="with --echo-wake-lead-us: wake again every US, as the daemon re-warms (default 0: once)")
+    p.add_argument("--echo-work-us", type=float, default=0.0, metavar="US",
+                   help="make the echo spend about US of register-only work before each reply, as the "
+                        "executive spends its step (e.g. the daemon's step p50): a control for the time "
+                        "spent in the callback, apart from the data the step touches (default 0)")
     p.add_argument("--json", default=None, metavar="FILE", help="also write the figures as JSON")
     args = p.parse_args(argv)
     if not args.duration > 0:
@@ -333,11 +347,12 @@ def main(argv: list[str] | None = None) -> int:
         p.error("--pairs must be >= 0 and --idle-ms >= 0")
     period_us = 1e6 / FRAME_RATE_HZ
     for opt, lead in (("--warm-lead-us", args.warm_lead_us), ("--echo-wake-lead-us", args.echo_wake_lead_us),
-                      ("--rewarm-us", args.rewarm_us), ("--echo-rewake-us", args.echo_rewake_us)):
+                      ("--rewarm-us", args.rewarm_us), ("--echo-rewake-us", args.echo_rewake_us),
+                      ("--echo-work-us", args.echo_work_us)):
         if lead is not None and not 0 <= lead < period_us:
             p.error(f"{opt} {lead:g} must lie in [0, {period_us:g}) us (0: off; a frame lasts {period_us:g} us)")
     r = run(args.duration, args.lcm_url, args.bank, args.realtime, args.pairs, args.idle_ms, args.warm_lead_us,
-            args.echo_wake_lead_us, args.placement, args.rewarm_us, args.echo_rewake_us)
+            args.echo_wake_lead_us, args.placement, args.rewarm_us, args.echo_rewake_us, args.echo_work_us)
     ex, ec, d = r["executive_latency_us"], r["echo_latency_us"], r["executive_excess_us"]
     rt = f", SCHED_FIFO {r['realtime_priority']}" if r["realtime_priority"] else ", time-shared"
     servers = "unpinned" if r["server_cpus"] is None else f"CPU {','.join(map(str, r['server_cpus']))}"
@@ -346,7 +361,7 @@ def main(argv: list[str] | None = None) -> int:
           f"({r['frames']} frames, wall {r['wall_s']} s{rt})")
     print(f"  {'':28s}{'p50 us':>10s}{'p99 us':>10s}{'max us':>10s}{'n':>8s}")
     print(f"  {'mmae-daemon sensor->status':28s}{ex['p50']:>10}{ex['p99']:>10}{ex['max']:>10}{ex['n']:>8}")
-    echo_label = f"C++ echo, wakes {r['echo_wake_lead_us']:g} us early" if r["echo_wake_lead_us"] else "bare C++ echo"
+    echo_label = echo_name(r["echo_wake_lead_us"], r["echo_work_us"])
     print(f"  {echo_label:28s}{ec['p50']:>10}{ec['p99']:>10}{ec['max']:>10}{ec['n']:>8}")
     print(f"  {'executive - echo':28s}{d['p50']:>10}{d['p99']:>10}")
     ok_miss = r["deadline_misses"] == 0

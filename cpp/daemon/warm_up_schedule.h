@@ -3,7 +3,7 @@
 // Sensor frames come at the flight-control rate, so frame i + 1 is expected one period after
 // frame i arrived. Between frames the daemon sleeps and other processes evict its working set
 // and branch history: measured in the 60-s LCM benchmark at 64 Hz on a 2-vCPU VM, the
-// executive's step took 7.8-8.5 us (p50) with one warm-up, 5.4-6.9 us when it was repeated,
+// executive's step took 7.8-8.6 us (p50) with one warm-up, 5.4-6.9 us when it was repeated,
 // 12.6-17 us without any (~1 us when it runs back to back). The main loop therefore sleeps
 // until
 //     warm_at = e - lead,   e = t_i + T   (t_i: arrival of the last sensor frame, T = 1 / rate)

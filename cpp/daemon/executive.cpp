@@ -28,7 +28,19 @@ constexpr int kNameCapacity = 32;
 }  // namespace
 
 Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
-    : estimator_(bank, options), rehearsal_(bank, options) {
+    : Executive(bank, options, WithoutRehearsal{}) {
+  rehearsal_.reset(new Executive(bank, options, WithoutRehearsal{}));  // private constructor: no make_unique
+  for (int j = 0; j < MmaeEstimator::kNz; ++j) {
+    rehearsal_sensor_.z[j] = estimator_.z_trim()(j);
+    rehearsal_sensor_.valid[j] = 1;
+  }
+  for (int j = 0; j < MmaeEstimator::kNu; ++j) rehearsal_command_.u_rad[j] = estimator_.u_trim()(j);
+}
+
+Executive::~Executive() = default;
+
+Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options, WithoutRehearsal)
+    : estimator_(bank, options) {
   u_held_ = estimator_.u_trim();
   const int k = estimator_.on_line();
   status_.num_hypotheses = k;
@@ -46,7 +58,6 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
   widest.declared.assign(kNameCapacity, 'x');
   widest.declaration.assign(kNameCapacity, 'x');
   buffer_.assign(static_cast<std::size_t>(widest.getEncodedSize()), 0);
-  rehearsal_buffer_ = buffer_;
   fill_status(lcmt_sensor_frame{}, 0);
   encoded_size_ = 0;
 }
@@ -100,9 +111,11 @@ void Executive::on_reset() noexcept {
 }
 
 void Executive::warm_up() noexcept {
-  rehearsal_.update(rehearsal_.z_trim());
-  rehearsal_.propagate(rehearsal_.u_trim());
-  status_.encode(rehearsal_buffer_.data(), 0, static_cast<int>(rehearsal_buffer_.size()));
+  if (rehearsal_) {  // one more trim frame: its frame counter runs on, so it is never dropped
+    rehearsal_sensor_.frame = rehearsal_command_.frame = rehearsal_->statuses();
+    rehearsal_->on_sensor(rehearsal_sensor_);
+    rehearsal_->on_command(rehearsal_command_);
+  }
   estimator_.warm_cache();
   touch(sequencer_);
   touch_lines(status_.probabilities.data(), sizeof(double) * status_.probabilities.size());

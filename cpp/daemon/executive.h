@@ -27,6 +27,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,9 @@ namespace f16mmae::daemon {
 class Executive {
  public:
   explicit Executive(const ModelBank& bank, const HierarchicalOptions& options = {});
+  ~Executive();
+  Executive(const Executive&) = delete;
+  Executive& operator=(const Executive&) = delete;
 
   // Returns true when a status was produced: encoded_status() holds it.
   bool on_sensor(const lcmt_sensor_frame& frame) noexcept;
@@ -42,14 +46,16 @@ class Executive {
   bool on_command(const lcmt_command_frame& frame) noexcept;
   void on_reset() noexcept;
   // Ahead of the next sensor frame (WarmUpSchedule): make on_sensor run warm after the idle
-  // time between frames. Measured on a 2-vCPU VM, the estimator's update after 15 ms of sleep
-  // costs ~9 us against ~0.7-1 us back to back; touching its data first brings it to ~7.7 us,
-  // running the same code on other data to ~4.3 us, both to ~1.3 us. So warm_up
-  //   1. rehearses: a second estimator of the same bank flying trim (z = z_trim, u = u_trim:
-  //      zero residuals, it never declares) is updated, propagated and its status encoded
-  //      into a scratch buffer -- the step's code, branch history and AVX2 units are warm;
-  //   2. touches what on_sensor reads and writes: the estimator's working set, the status
-  //      message and its encode buffer.
+  // time between frames. Measured on a 2-vCPU VM after 15.6 ms of sleep, on_sensor costs
+  // ~20 us cold against ~2 us right after another on_sensor; rehearsing the estimator alone
+  // and touching the data brought it to ~5.8 us, rehearsing the whole frame path and
+  // touching to ~2.5 us. So warm_up
+  //   1. rehearses: a second Executive of the same bank flies one trim frame (z = z_trim,
+  //      u = u_trim: zero residuals, it never declares) through on_sensor and on_command --
+  //      the sequencer, the update, the status fill and encode, the propagate: every
+  //      instruction of the real frame, with its branch history;
+  //   2. touches what on_sensor reads and writes: the estimator's working set, the sequencer,
+  //      the status message and its encode buffer.
   // The estimator, the sequencer and the published status do not change; allocation-free.
   void warm_up() noexcept;
   std::int64_t warm_ups() const noexcept { return warm_ups_; }
@@ -72,9 +78,13 @@ class Executive {
   void catch_up(std::int64_t frames) noexcept;
   void fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) noexcept;
 
+  struct WithoutRehearsal {};  // the executive warm_up() flies has no rehearsal of its own
+  Executive(const ModelBank& bank, const HierarchicalOptions& options, WithoutRehearsal);
+
   MmaeEstimator estimator_;
-  MmaeEstimator rehearsal_;                     // flies trim for warm_up()
-  std::vector<std::uint8_t> rehearsal_buffer_;  // warm_up()'s encode target
+  std::unique_ptr<Executive> rehearsal_;  // flies trim frames for warm_up()
+  lcmt_sensor_frame rehearsal_sensor_{};
+  lcmt_command_frame rehearsal_command_{};
   std::int64_t warm_ups_ = 0;
   FrameSequencer sequencer_;
   StepStats update_stats_, propagate_stats_;

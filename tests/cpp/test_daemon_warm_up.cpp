@@ -90,7 +90,7 @@ TEST(WarmUpSchedule, ALeadOfZeroOrAWholePeriodIsOff) {
   }
 }
 
-// The rehearsal flies its own estimator and the touches only read: with a warm-up before
+// The rehearsal flies an executive of its own and the touches only read: with a warm-up before
 // every frame, every status is the same, byte for byte, as without -- through a declaration,
 // a level switch and a reset -- and nothing is allocated.
 TEST(ExecutiveWarmUp, ChangesNoStatusAndAllocatesNothing) {

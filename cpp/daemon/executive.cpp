@@ -111,8 +111,8 @@ void Executive::on_reset() noexcept {
 }
 
 void Executive::warm_up() noexcept {
-  if (rehearsal_) {  // one more trim frame: its frame counter runs on, so it is never dropped
-    rehearsal_sensor_.frame = rehearsal_command_.frame = rehearsal_->statuses();
+  if (rehearsal_) {  // one trim frame per warm-up, numbered on, so the sequencer never drops it
+    rehearsal_sensor_.frame = rehearsal_command_.frame = warm_ups_;
     rehearsal_->on_sensor(rehearsal_sensor_);
     rehearsal_->on_command(rehearsal_command_);
   }

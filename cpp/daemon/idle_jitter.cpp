@@ -12,12 +12,10 @@
 #include "cpu_work.h"
 #include "step_stats.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <string>
 #include <thread>
 #include <vector>

@@ -93,6 +93,11 @@ int main(int argc, char** argv) {
                      a == "--rate-hz" ? "> 0" : ">= 0", argv[i]);
         return 2;
       }
+      if (a == "--work-us" && x > 1e5) {
+        std::fprintf(stderr, "lcm-echo-f16: error: --work-us must be at most 100000 (0.1 s of work per message), "
+                     "got '%s'\n", argv[i]);
+        return 2;
+      }
       (a == "--rate-hz" ? rate_hz : a == "--rewake-us" ? rewake_us : a == "--work-us" ? work_us : wake_lead_us) = x;
       continue;
     }

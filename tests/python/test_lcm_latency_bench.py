@@ -84,3 +84,14 @@ def test_idle_jitter_refuses_bad_arguments_by_name(args, message):
     p = subprocess.run([str(find_executable("f16mmae-idle-jitter")), *args], capture_output=True, text=True,
                        timeout=10)
     assert p.returncode == 2 and message in p.stderr and "usage:" in p.stderr
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--work-us", "2e5"], "--work-us must be at most 100000"),
+    (["--work-us", "-1"], "--work-us must be a finite number >= 0, got '-1'"),
+    (["--rewake-us", "nan"], "--rewake-us must be a finite number >= 0, got 'nan'"),
+])
+def test_the_echo_refuses_bad_arguments_by_name(args, message):
+    p = subprocess.run([str(find_executable("lcm-echo-f16")), "--lcm-url", "memq://", *args], capture_output=True,
+                       text=True, timeout=10)
+    assert p.returncode == 2 and message in p.stderr

@@ -183,13 +183,13 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     from ..truth import Scenario
 
     label, path, model_bank = load_bank(bank)
-    floor = host_floor(place(placement)[1])  # before any other process of the benchmark runs
     scenario = Scenario.from_dict({"mach": float(model_bank.mach), "alt_ft": float(model_bank.alt_ft),
                                    "turbulence": "light", "duration_s": duration_s, "seed": 1,
                                    "feedback": "mmae", "failure": []})
     chans = channels(PREFIX)
     ping, pong = PREFIX + "ECHO_PING", PREFIX + "ECHO_PONG"
     harness_cpus, server_cpus = place(placement)
+    floor = host_floor(server_cpus)  # before any other process of the benchmark runs
     if harness_cpus is not None:  # before LCM's threads exist: they inherit it
         os.sched_setaffinity(0, harness_cpus)
     if realtime:  # this process (the receiver of both round trips) too, before LCM's threads

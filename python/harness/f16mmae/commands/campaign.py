@@ -177,18 +177,24 @@ def estimator_options_from_args(args) -> dict:
     return out
 
 
+def parse_choices(option: str, text: str | None, valid: tuple[str, ...], noun: str) -> tuple[str, ...]:
+    """A comma list of names from ``valid`` (case-insensitive, each at most once); all of
+    ``valid`` when ``text`` is None. CliError naming the option, the bad names and the valid ones."""
+    if text is None:
+        return valid
+    items = [c.strip().upper() for c in text.split(",") if c.strip()]
+    bad = [c for c in items if c not in valid]
+    if bad or not items:
+        raise CliError(f"{option}: unknown {noun}(s) {', '.join(bad) or repr(text)}; valid: {','.join(valid)}")
+    if len(set(items)) != len(items):
+        raise CliError(f"{option} {text!r} lists a {noun} twice")
+    return tuple(items)
+
+
 def parse_cases(text: str | None) -> tuple[str, ...]:
     from ..campaign.single import CASES
 
-    if text is None:
-        return CASES
-    items = [c.strip().upper() for c in text.split(",") if c.strip()]
-    bad = [c for c in items if c not in CASES]
-    if bad or not items:
-        raise CliError(f"--cases: unknown case(s) {', '.join(bad) or repr(text)}; valid: {','.join(CASES)}")
-    if len(set(items)) != len(items):
-        raise CliError(f"--cases {text!r} lists a case twice")
-    return tuple(items)
+    return parse_choices("--cases", text, CASES, "case")
 
 
 def config_from_args(args):

@@ -87,16 +87,9 @@ def register(kinds) -> None:
 
 def _names(option: str, text: str | None) -> tuple[str, ...]:
     from ..campaign.dual import FAILURES
+    from .campaign import parse_choices
 
-    if text is None:
-        return FAILURES
-    items = [c.strip().upper() for c in text.split(",") if c.strip()]
-    bad = [c for c in items if c not in FAILURES]
-    if bad or not items:
-        raise CliError(f"{option}: unknown failure(s) {', '.join(bad) or repr(text)}; valid: {','.join(FAILURES)}")
-    if len(set(items)) != len(items):
-        raise CliError(f"{option} {text!r} lists a failure twice")
-    return tuple(items)
+    return parse_choices(option, text, FAILURES, "failure")
 
 
 def parse_pairs(pairs: str | None, first: str | None, second: str | None) -> tuple[tuple[str, str], ...]:

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 
-from . import names
+from .. import core, names
 
 #: Process and measurement noise of the synthetic bank (the DARE's Q = q I, R = r I).
 Q_SYNTHETIC = 1e-3
@@ -72,8 +72,6 @@ def synthetic_models(
 
 def synthetic_bank(hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1):
     """:func:`synthetic_models` as a validated ``core.ModelBank`` (trim at zero, 64 Hz)."""
-    from . import core
-
     return core.ModelBank(
         synthetic_models(hypotheses, seed),
         state_names=names.STATES,
@@ -224,8 +222,6 @@ def _time_per_frame(step, z: np.ndarray, u: np.ndarray, min_time_s: float, min_p
 
 def core_filter_bank(models, p_min: float = 0.001):
     """``core.FilterBank`` of the models (the C++ bank called from Python)."""
-    from . import core
-
     return core.FilterBank(
         [core.FilterModel(**{key: m[key] for key in ("phi", "bd", "h", "k", "a")}) for _, m in models],
         p_min=p_min,
@@ -240,8 +236,6 @@ def max_probability_difference(models, z: np.ndarray, u: np.ndarray) -> float:
 
 def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> BenchResult:
     """Times (a)-(d) of the module docstring on ``frames`` synthetic frames."""
-    from . import core
-
     models = synthetic_models(seed=seed)
     bank = synthetic_bank(seed=seed)
     z, u = synthetic_frames(models, frames, seed=seed + 1)

@@ -1,6 +1,6 @@
 """Benchmark: the full truth model against bare JSBSim stepping of the stock F-16, one run.
 
-    python -m f16mmae.truth.bench [--duration-s 8] [--repeat 5]
+    python -m f16mmae.bench.truth [--duration-s 8] [--repeat 5]
 
 Measures, in one process and interleaved (these machines are noisy, so ratios matter):
   bare      stock ``f16`` (its own FCS), trimmed at the nominal point, ``run()`` x duration*128;
@@ -18,11 +18,11 @@ import time
 import numpy as np
 
 from ..names import FRAME_RATE_HZ, SIM_RATE_HZ
-from . import aircraft
-from .dither import CRITERION
-from .fcs import FlightControlSystem
-from .model import TruthModel
-from .scenario import Scenario
+from ..truth import aircraft
+from ..truth.dither import CRITERION
+from ..truth.fcs import FlightControlSystem
+from ..truth.model import TruthModel, fly_raw
+from ..truth.scenario import Scenario
 
 
 def _bare_stock(duration_s: float) -> tuple[float, float]:
@@ -79,8 +79,6 @@ def benchmark(duration_s: float = 8.0, repeat: int = 5) -> dict:
 def dither_levels(mach: float = 0.4, alt_ft: float = 20_000.0, duration_s: float = 8.0) -> dict:
     """Peak closed-loop response to the default dither (no noise, no turbulence): nz_g, ny_g,
     q/p/r in deg/s, alpha_deg, vel_fps (perturbations from trim)."""
-    from .model import fly_raw
-
     sc = Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw")
     truth, _ = fly_raw(sc)
     log = truth.truth_log
@@ -91,7 +89,7 @@ def dither_levels(mach: float = 0.4, alt_ft: float = 20_000.0, duration_s: float
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m f16mmae.truth.bench", description=__doc__.split("\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m f16mmae.bench.truth", description=__doc__.split("\n")[0])
     ap.add_argument("--duration-s", type=float, default=8.0)
     ap.add_argument("--repeat", type=int, default=5)
     args = ap.parse_args(argv)

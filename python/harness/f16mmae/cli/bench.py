@@ -7,7 +7,9 @@ import os
 import platform
 import sys
 
-from ..cli import CliError, number
+from .. import __version__
+from ..bench.estimator import run_bench
+from .options import CliError, number
 
 DESCRIPTION = """\
 Time one MMAE frame (13 steady-state filters: residuals, log-domain Bayes update with
@@ -16,7 +18,7 @@ states, 5 inputs, 7 measurements; random stable Phi, DARE gains, each hypothesis
 its failed actuator column or sensor row removed), four ways, in one run:
   (a) the C++ loop alone (F16FilterBank.step, timed in C++)
   (b) the same bank called from Python, bank.step(z, u) once per frame
-  (c) a numpy reference implementation (f16mmae.bench.NumpyMMAE)
+  (c) a numpy reference implementation (f16mmae.bench.estimator.NumpyMMAE)
   (d) filterpy's MMAEFilterBank on the same models (full Kalman filters; optional)
 and print microseconds per frame with the ratios. Targets: (a) <= 1 us per frame,
 (d)/(a) >= 3000. The numpy reference also cross-checks the C++ probabilities.
@@ -69,9 +71,6 @@ def machine_info() -> dict:
 
 
 def _run(args) -> int:
-    from .. import __version__
-    from ..bench import run_bench
-
     frames = number("--frames", args.frames, integer=True, minimum=1)
     min_time_s = number("--min-time", args.min_time, minimum=0.0, below=3600.0)
     seed = number("--seed", args.seed, integer=True, minimum=1)

@@ -3,7 +3,10 @@ from __future__ import annotations
 
 import argparse
 
-from ..cli import CliError, choice, number
+from ..campaign.dual import DualCampaign, run_campaign
+from ..names import COMPONENTS
+from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
+from .options import CliError, number, parse_choices
 
 DESCRIPTION = """\
 The dual-failure campaign (paper Sec. VI, Fig. 7): every ordered pair (first, second) of
@@ -23,7 +26,7 @@ rates each pair against it:
 
 (correct: the run ends declaring the dual; latency: its first declaration after the
 second failure; hold: the fraction of the flight after that during which it stays
-declared.  Thresholds: f16mmae.campaign.dual_scoring.RATING_RULES.)
+declared.  Thresholds: f16mmae.campaign.dual.scoring.RATING_RULES.)
 """
 
 EXAMPLES = """\
@@ -53,57 +56,37 @@ Seeds: run n of every pair with second failure B, and of B's baseline, is seeded
 
 def register(kinds) -> None:
     """Add the ``dual`` parser to the ``campaign`` kinds."""
-    from .campaign import add_estimator_arguments, add_run_arguments
-
     p = kinds.add_parser("dual", help="every ordered pair of failures, N runs each (paper Fig. 7)",
                          description=DESCRIPTION, epilog=EXAMPLES,
                          formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--runs", default="3", metavar="N", help="seeded runs per pair and per baseline (default 3)")
-    p.add_argument("--seed", default="1", metavar="S", help="campaign seed >= 1 (default 1)")
+    add_flight_settings(p, "3", "seeded runs per pair and per baseline (default 3)")
     p.add_argument("--pairs", default=None, metavar="LIST",
                    help="comma-separated ordered pairs FIRST+SECOND, e.g. LS+PIT,AOA+RUD "
                         "(default: all 132)")
     p.add_argument("--first", default=None, metavar="LIST",
                    help="first failures (default all twelve); with --second: their cross product")
     p.add_argument("--second", default=None, metavar="LIST", help="second failures (default all twelve)")
-    p.add_argument("--tuning", default="tuned", metavar="tuned|untuned|FILE",
-                   help="the bank under test: a shipped tuning or a bank file (default tuned)")
-    p.add_argument("--turbulence", default="light", metavar="LEVEL",
-                   help="none | light | moderate | severe (default light)")
-    p.add_argument("--mode", default="complete", metavar="MODE",
-                   help="failure mode of both failures (default complete, the paper's model)")
     p.add_argument("--first-time-s", default="3.0", metavar="T", help="first failure time (default 3.0 s)")
     p.add_argument("--second-time-s", default="5.0", metavar="T", help="second failure time (default 5.0 s)")
     p.add_argument("--duration-s", default="10", metavar="T", help="flight duration (default 10 s)")
-    p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
-                   help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
-    p.add_argument("--no-dither", action="store_true", help="fly without dither (the paper always dithers)")
-    p.add_argument("--dither-scale", default="1.0", metavar="X",
-                   help="multiply the truth model's default dither amplitudes by X (default 1)")
-    add_estimator_arguments(p)
     add_run_arguments(p, "results/campaign-dual")
     p.set_defaults(func=_dual)
 
 
 def _names(option: str, text: str | None) -> tuple[str, ...]:
-    from ..campaign.dual import FAILURES
-    from .campaign import parse_choices
-
-    return parse_choices(option, text, FAILURES, "failure")
+    return parse_choices(option, text, COMPONENTS, "failure")
 
 
 def parse_pairs(pairs: str | None, first: str | None, second: str | None) -> tuple[tuple[str, str], ...]:
     """The ordered pairs from --pairs, or the cross product of --first x --second (a != b)."""
-    from ..campaign.dual import FAILURES
-
     if pairs is not None:
         if first is not None or second is not None:
             raise CliError("give --pairs or --first/--second, not both")
         out = []
         for item in (x.strip() for x in pairs.split(",") if x.strip()):
             parts = [x.strip().upper() for x in item.split("+")]
-            if len(parts) != 2 or any(x not in FAILURES for x in parts):
-                raise CliError(f"--pairs: {item!r} is not FIRST+SECOND with both of {','.join(FAILURES)} "
+            if len(parts) != 2 or any(x not in COMPONENTS for x in parts):
+                raise CliError(f"--pairs: {item!r} is not FIRST+SECOND with both of {','.join(COMPONENTS)} "
                                f"(e.g. LS+PIT)")
             if parts[0] == parts[1]:
                 raise CliError(f"--pairs: {item!r} fails {parts[0]} twice; a dual needs two different failures")
@@ -120,32 +103,19 @@ def parse_pairs(pairs: str | None, first: str | None, second: str | None) -> tup
     return out
 
 
-def config_from_args(args):
+def config_from_args(args) -> DualCampaign:
     """A validated ``DualCampaign`` from the parsed arguments (CliError otherwise)."""
-    from ..campaign.dual import DualCampaign
-    from ..campaign.single import FEEDBACK_MODES, TURBULENCE_LEVELS
-    from .campaign import estimator_options_from_args, validated
-
     cfg = DualCampaign(
-        runs=number("--runs", args.runs, integer=True, minimum=1),
-        seed=number("--seed", args.seed, integer=True, minimum=1),
-        pairs=parse_pairs(args.pairs, args.first, args.second), tuning=args.tuning,
-        turbulence=choice("--turbulence", args.turbulence, TURBULENCE_LEVELS), mode=args.mode.lower(),
+        **flight_settings(args), pairs=parse_pairs(args.pairs, args.first, args.second),
         first_time_s=number("--first-time-s", args.first_time_s, minimum=0, exclusive=True),
         second_time_s=number("--second-time-s", args.second_time_s, minimum=0, exclusive=True),
         duration_s=number("--duration-s", args.duration_s, minimum=0, exclusive=True),
-        feedback=choice("--feedback", args.feedback, FEEDBACK_MODES), dither=not args.no_dither,
-        dither_scale=number("--dither-scale", args.dither_scale), **estimator_options_from_args(args),
     )
     return validated(cfg)
 
 
 def _dual(args) -> int:
-    from ..campaign.dual import run_campaign
-    from .campaign import check_tuning, run_and_report
-
     cfg = config_from_args(args)
-    check_tuning("--tuning", cfg.tuning)
     return run_and_report(args, lambda ex, label, progress: run_campaign(
         cfg, args.out, ex, executor_label=label, show_progress=progress), print_summary)
 
@@ -155,8 +125,6 @@ _SHORT = {"Good": "G", "Fair": "F", "Poor": "P", "ND": "ND"}
 
 def print_summary(summary: dict, stream) -> None:
     """The rating matrix as text (rows: first failure, columns: second) and the counts."""
-    from ..campaign.dual import FAILURES
-
     t = summary.get("timing", {})
     print(f"dual-failure campaign: {summary['runs_per_pair']} runs/pair, seed {summary['seed']}, "
           f"{summary['tuning']} bank, {summary['turbulence']} turbulence, failures at "
@@ -165,10 +133,10 @@ def print_summary(summary: dict, stream) -> None:
     print("\nrating (rows: first failure, columns: second; G Good, F Fair, P Poor, ND no detection, "
           ". not flown):", file=stream)
     m = summary["matrix"]
-    print("first\\2nd " + "".join(f"{b:>4}" for b in FAILURES), file=stream)
-    for a in FAILURES:
+    print("first\\2nd " + "".join(f"{b:>4}" for b in COMPONENTS), file=stream)
+    for a in COMPONENTS:
         cells = []
-        for b in FAILURES:
+        for b in COMPONENTS:
             cells.append("  --" if a == b else f"{_SHORT.get(m.get(a, {}).get(b), '.'):>4}")
         print(f"{a:<9} " + "".join(cells), file=stream)
     counts = summary["ratings"]

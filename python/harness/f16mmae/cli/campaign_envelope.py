@@ -3,7 +3,10 @@ from __future__ import annotations
 
 import argparse
 
-from ..cli import CliError, choice, number
+from ..campaign.envelope import EnvelopeCampaign, run_envelope
+from ..campaign.envelope.points import PAPER_POINTS, EnvelopeError, check_distinct, parse_mach_alt, select_points
+from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, parse_cases, run_and_report, validated
+from .options import CliError
 
 DESCRIPTION = """\
 The off-nominal campaign (paper Sec. VIII, Fig. 9): the single-failure design (the bank,
@@ -48,8 +51,6 @@ Resume: run the same command again -- runs already in DIR/runs.jsonl are skipped
 
 
 def _point_table() -> str:
-    from ..campaign.envelope_points import PAPER_POINTS
-
     rows = [f"  {'point':>5} {'group':<8} {'Mach':>6} {'alt ft':>7} {'q̄':>7}"]
     rows += [f"  {p.label:>5} {p.group:<8} {p.mach:>6.3f} {p.alt_ft:>7.0f} {p.qbar_psf:>7.1f}"
              for p in PAPER_POINTS]
@@ -58,8 +59,6 @@ def _point_table() -> str:
 
 def register(kinds) -> None:
     """Add the ``envelope`` parser to the ``campaign`` kinds."""
-    from .campaign import add_estimator_arguments, add_run_arguments
-
     e = kinds.add_parser(
         "envelope",
         help="the nominal design flown at off-nominal Mach/altitude points (paper Fig. 9)",
@@ -67,30 +66,19 @@ def register(kinds) -> None:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    e.add_argument("--runs", default="2", metavar="N", help="seeded runs per case and point (default 2)")
+    add_flight_settings(e, "2", "seeded runs per case and point (default 2)")
     e.add_argument("--points", default=None, metavar="SEL",
                    help="all | local | extrema | qline | comma list of 1-24 and NOM (default all)")
     e.add_argument("--mach-alt", default=None, metavar="M:H,...",
                    help="custom points MACH:ALT_FT (e.g. 0.42:21000), Mach 0.3-0.8, 5,000-35,000 ft")
     e.add_argument("--cases", default=None, metavar="LIST",
                    help="comma-separated cases (default: NONE and all twelve failures)")
-    e.add_argument("--seed", default="1", metavar="S", help="campaign seed >= 1 (default 1)")
-    e.add_argument("--tuning", default="tuned", metavar="tuned|untuned|FILE",
-                   help="the design under test: a shipped bank or a bank file (default tuned)")
-    e.add_argument("--turbulence", default="light", metavar="LEVEL",
-                   help="none | light | moderate | severe (default light)")
-    e.add_argument("--mode", default="complete", metavar="MODE",
-                   help="failure mode injected (default complete, the paper's model: a failed "
-                        "sensor reads the truth's trim value, a failed surface is frozen at trim)")
-    add_estimator_arguments(e)
     add_run_arguments(e, "results/campaign-envelope")
     e.set_defaults(func=_envelope)
 
 
 def points_from_args(args):
     """The points of ``--points`` and ``--mach-alt`` (CliError naming bad values)."""
-    from ..campaign.envelope_points import EnvelopeError, check_distinct, parse_mach_alt, select_points
-
     try:
         custom = parse_mach_alt(args.mach_alt) if args.mach_alt is not None else ()
         if args.points is None:
@@ -104,28 +92,13 @@ def points_from_args(args):
     return points
 
 
-def config_from_args(args):
+def config_from_args(args) -> EnvelopeCampaign:
     """A validated ``EnvelopeCampaign`` from the parsed arguments (CliError otherwise)."""
-    from ..campaign.envelope import EnvelopeCampaign
-    from ..campaign.single import TURBULENCE_LEVELS
-    from .campaign import check_tuning, estimator_options_from_args, parse_cases, validated
-
-    cfg = EnvelopeCampaign(
-        points=points_from_args(args),
-        runs=number("--runs", args.runs, integer=True, minimum=1),
-        seed=number("--seed", args.seed, integer=True, minimum=1),
-        cases=parse_cases(args.cases), tuning=args.tuning, mode=args.mode.lower(),
-        turbulence=choice("--turbulence", args.turbulence, TURBULENCE_LEVELS),
-        **estimator_options_from_args(args),
-    )
-    check_tuning("--tuning", cfg.tuning)
+    cfg = EnvelopeCampaign(**flight_settings(args), points=points_from_args(args), cases=parse_cases(args.cases))
     return validated(cfg)
 
 
 def _envelope(args) -> int:
-    from ..campaign.envelope import run_envelope
-    from .campaign import run_and_report
-
     cfg = config_from_args(args)
     return run_and_report(args, lambda ex, label, progress: run_envelope(
         cfg, args.out, ex, executor_label=label, show_progress=progress), print_summary)

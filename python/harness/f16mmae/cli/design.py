@@ -7,7 +7,12 @@ import math
 import time
 from pathlib import Path
 
-from ..cli import CliError, number
+from ..design.bank import design_bank, write_bank
+from ..design.gains import DesignError
+from ..design.report import write_report
+from ..design.tuning import TuningError, load_tuning
+from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
+from .options import CliError, number
 
 DESCRIPTION = """\
 Design a model bank (paper Sec. IV-V): trim the nonlinear JSBSim F-16 of the truth model at
@@ -63,11 +68,6 @@ def register(subparsers) -> None:
 
 
 def _run(args) -> int:
-    from ..design.bank import design_bank, write_bank
-    from ..design.gains import DesignError
-    from ..design.tuning import TuningError, load_tuning
-    from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
-
     mach = number("--mach", args.mach)
     alt_ft = number("--alt-ft", args.alt_ft)
     if not MACH_RANGE[0] <= mach <= MACH_RANGE[1]:
@@ -103,8 +103,6 @@ def _run(args) -> int:
     print(f"  largest error-dynamics spectral radius {rho:.6f} (all filters stable); "
           f"designed in {time.perf_counter() - t0:.2f} s")
     if args.report:
-        from ..design.report import write_report
-
         paths = write_report(design, Path(args.report))
         print(f"  report: {', '.join(str(p) for p in paths)}")
     return 0

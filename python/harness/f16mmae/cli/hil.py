@@ -4,8 +4,17 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..cli import CliError, number
-from .run import add_flight_arguments
+import lcm
+import numpy as np
+
+from ..banks import BankError, load_bank
+from ..lcm.channels import HilError, channels, default_lcm_url
+from ..lcm.daemon import DaemonProcess
+from ..lcm.hil import fly_hil
+from ..loop.flight import fly
+from ..report.flight import write_flight
+from .options import CliError, number
+from .run import add_flight_arguments, build_scenario, scenario_fields
 
 DESCRIPTION = """\
 Fly the nonlinear JSBSim F-16 here while the MMAE runs in mmae-daemon, over LCM, the way
@@ -55,18 +64,11 @@ def register(subparsers) -> None:
 
 
 def _hil(args) -> int:
-    import lcm
-    import numpy as np
-
-    from ..campaign.single import CampaignError, load_bank
-    from ..hil import DaemonProcess, HilError, channels, default_lcm_url, fly_hil
-    from .run import build_scenario, scenario_fields
-
     fields = scenario_fields(args)
     timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True)
     try:
         label, path, bank = load_bank(args.bank)
-    except CampaignError as exc:
+    except BankError as exc:
         raise CliError(f"--bank: {exc}") from None
     scenario = build_scenario(fields, bank)
     url = args.lcm_url or default_lcm_url()
@@ -114,8 +116,6 @@ def _hil(args) -> int:
           f"{link['stale_statuses']} stale")
     extra = {"link": link, "bank_file": str(path), "lcm_url": url, "channel_prefix": args.channel_prefix}
     if args.compare:
-        from ..closedloop import fly
-
         local = fly(scenario, bank)
         same = local.hypotheses == result.hypotheses and local.probabilities.shape == result.probabilities.shape
         diff = float(np.nanmax(np.abs(local.probabilities - result.probabilities))) if same else math.inf
@@ -123,6 +123,6 @@ def _hil(args) -> int:
               f"({'identical declarations' if local.declarations == result.declarations else 'DECLARATIONS DIFFER'})")
         extra["in_process_max_probability_diff"] = diff
     if args.out:
-        paths = result.write(args.out, **extra)
+        paths = write_flight(result, args.out, **extra)
         print(f"wrote {paths['run']}, {paths['csv'].name}, {paths['png'].name}")
     return 0

@@ -4,7 +4,14 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..cli import CliError
+import lcm
+
+from ..banks import BankError, load_bank
+from ..lcm.channels import channels
+from ..lcm.replay import ReplayError, replay_log
+from ..lcmt_mmae_status import lcmt_mmae_status
+from ..names import SHIPPED_TUNINGS
+from .options import CliError
 
 DESCRIPTION = """\
 Read an LCM log of executive traffic (recorded with the stock lcm-logger while
@@ -39,18 +46,16 @@ def register(subparsers) -> None:
 
 
 def _bank_for(choice: str, logfile: str, prefix: str):
-    from ..campaign.single import SHIPPED_TUNINGS, CampaignError, load_bank
-
     if choice != "auto":
         try:
             return load_bank(choice)
-        except CampaignError as exc:
+        except BankError as exc:
             raise CliError(f"--bank: {exc}") from None
     hashes = _logged_bank_hashes(logfile, prefix)
     for tuning in SHIPPED_TUNINGS:
         try:
             label, path, bank = load_bank(tuning)
-        except CampaignError:
+        except BankError:
             continue
         if str(bank.content_hash) in hashes:
             return label, path, bank
@@ -60,11 +65,6 @@ def _bank_for(choice: str, logfile: str, prefix: str):
 
 
 def _logged_bank_hashes(logfile: str, prefix: str) -> set[str]:
-    import lcm
-
-    from ..hil import channels
-    from ..lcmt_mmae_status import lcmt_mmae_status
-
     status = channels(prefix).status
     hashes: set[str] = set()
     log = lcm.EventLog(logfile, "r")
@@ -79,8 +79,6 @@ def _logged_bank_hashes(logfile: str, prefix: str) -> set[str]:
 
 
 def _replay(args) -> int:
-    from ..replay import ReplayError, replay_log
-
     try:
         tol = float(args.tolerance)
     except ValueError:

@@ -3,8 +3,13 @@ from __future__ import annotations
 
 import argparse
 
-from ..cli import CliError, choice, number
-from .campaign import add_estimator_arguments, estimator_options_from_args
+from ..banks import BankError, load_bank
+from ..campaign.engine.scoring import expected_hypothesis, score_run
+from ..loop.flight import fly
+from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..report.flight import write_flight
+from ..truth import DitherSpec, Scenario, TrimError, parse_fail
+from .options import CliError, add_estimator_arguments, choice, estimator_options_from_args, number
 
 DESCRIPTION = """\
 Fly the nonlinear JSBSim F-16 (our FCS, dither on) with the MMAE estimator in the loop
@@ -65,8 +70,6 @@ def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a 
 
 def parse_failures(specs: list[str]):
     """``--fail`` values -> truth FailureSpecs (TIME defaults to 3.0 s when omitted)."""
-    from ..truth import parse_fail
-
     out = []
     for text in specs:
         name, sep, rest = text.partition("@")
@@ -83,8 +86,6 @@ def parse_failures(specs: list[str]):
 def scenario_fields(args) -> dict:
     """The scenario fields the arguments give, checked (CliError on a bad value);
     ``mach``/``alt_ft`` are None when left to the bank's design point."""
-    from ..campaign.single import FEEDBACK_MODES, TURBULENCE_LEVELS
-
     turbulence = choice("--turbulence", args.turbulence, TURBULENCE_LEVELS)
     feedback = choice("--feedback", args.feedback, FEEDBACK_MODES)
     seed = number("--seed", args.seed, integer=True, minimum=1)
@@ -105,8 +106,6 @@ def scenario_fields(args) -> dict:
 
 def build_scenario(fields: dict, bank):
     """The truth Scenario: the checked fields, the bank's design point where not given."""
-    from ..truth import DitherSpec, Scenario
-
     fields = dict(fields)
     fields["mach"] = float(bank.mach if fields["mach"] is None else fields["mach"])
     fields["alt_ft"] = float(bank.alt_ft if fields["alt_ft"] is None else fields["alt_ft"])
@@ -118,18 +117,12 @@ def build_scenario(fields: dict, bank):
 
 
 def _run(args) -> int:
-    from ..campaign.scoring import expected_hypothesis, score_run
-    from ..campaign.single import CampaignError, load_bank
-    from ..closedloop import fly
-
     fields = scenario_fields(args)
     try:
         label, path, bank = load_bank(args.bank)
-    except CampaignError as exc:
+    except BankError as exc:
         raise CliError(f"--bank: {exc}") from None
     scenario = build_scenario(fields, bank)
-    from ..truth import TrimError
-
     try:
         result = fly(scenario, bank, estimator_options=estimator_options_from_args(args))
     except (ValueError, TrimError) as exc:  # bad estimator option, untrimmable flight condition
@@ -159,7 +152,7 @@ def _run(args) -> int:
     print(f"cost: {tm['wall_s']:.3f} s wall ({s['duration_s'] / tm['wall_s']:.0f}x real time); "
           f"truth model {tm['truth_s']:.3f} s, estimator {tm['estimator_s']:.3f} s")
     if args.out:
-        paths = result.write(args.out, outcome=scored["outcome"], false_alarm=scored["false_alarm"],
+        paths = write_flight(result, args.out, outcome=scored["outcome"], false_alarm=scored["false_alarm"],
                              latency_s=scored["latency_s"], bank_file=str(path))
         print(f"wrote {paths['run']}, {paths['csv'].name}, {paths['png'].name}")
     return 0

@@ -5,7 +5,7 @@ command frames and status frames of a flight. :func:`replay_log` feeds the senso
 command frames, in log order, through :class:`InProcessExecutive` -- the same frame rules as
 ``mmae-daemon`` (cpp/daemon/frame_sequencer.h: duplicates and late frames dropped, lost
 frames propagated with the held command without update, non-finite or invalid frames
-rejected) around the in-process estimator of :mod:`f16mmae.closedloop` -- and compares each
+rejected) around the in-process estimator of :mod:`f16mmae.loop.estimator` -- and compares each
 logged status with the one computed here for the same frame: hypothesis names, bank level,
 declaration, stale flag, and the largest absolute difference of the probabilities and of
 z_hat. A reset on MMAE_RESET starts a new flight, as on the daemon.
@@ -19,12 +19,18 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import lcm
 import numpy as np
 
-from .hil import Channels, channels
+from ..errors import F16mmaeError
+from ..lcmt_command_frame import lcmt_command_frame
+from ..lcmt_mmae_status import lcmt_mmae_status
+from ..lcmt_sensor_frame import lcmt_sensor_frame
+from ..loop.estimator import Estimator
+from .channels import Channels, channels
 
 
-class ReplayError(RuntimeError):
+class ReplayError(F16mmaeError, RuntimeError):
     """The log cannot be read or does not hold executive traffic."""
 
 
@@ -104,8 +110,6 @@ class InProcessExecutive:
     """The executive's frame handling around the in-process estimator (absolute u, z)."""
 
     def __init__(self, model_bank, **estimator_options) -> None:
-        from .closedloop import Estimator
-
         self._make = lambda: Estimator(model_bank, **estimator_options)
         self.estimator = self._make()
         self.bank_hash = str(model_bank.content_hash)
@@ -153,8 +157,6 @@ class InProcessExecutive:
 
     # -- answering over LCM (tests over memq://) ---------------------------------------------------
     def status_message(self, computed: ComputedStatus, utime: int):
-        from .lcmt_mmae_status import lcmt_mmae_status
-
         m = lcmt_mmae_status()
         m.utime, m.frame, m.bank_hash = utime, computed.frame, self.bank_hash
         m.bank_level = computed.level
@@ -176,9 +178,6 @@ class InProcessExecutive:
     def serve(self, lc, chans: Channels) -> list:
         """Subscribe to the sensor, command and reset channels of ``lc`` and publish statuses,
         as mmae-daemon does. Returns the subscriptions (unsubscribe to stop)."""
-        from .lcmt_command_frame import lcmt_command_frame
-        from .lcmt_sensor_frame import lcmt_sensor_frame
-
         def on_sensor(channel, data):
             f = lcmt_sensor_frame.decode(data)
             computed = self.on_sensor(f.frame, f.z, f.valid)
@@ -226,12 +225,6 @@ class ReplayReport:
 def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolerance: float = 1e-12,
                max_mismatches: int = 20, **estimator_options) -> ReplayReport:
     """Feed the logged frames through the in-process bank; compare with the logged statuses."""
-    import lcm
-
-    from .lcmt_command_frame import lcmt_command_frame
-    from .lcmt_mmae_status import lcmt_mmae_status
-    from .lcmt_sensor_frame import lcmt_sensor_frame
-
     path = Path(path)
     if not path.is_file():
         raise ReplayError(f"log file {str(path)!r} does not exist")

@@ -17,7 +17,7 @@ random numbers along a column of Fig. 7 -- a pair and the baseline it is rated a
 the same turbulence and sensor noise, so the difference is the first failure's.
 
 Scoring per run, per pair and the rating Good / Fair / Poor / ND: see
-:mod:`f16mmae.campaign.dual_scoring` (thresholds in ``RATING_RULES``).  In short, with c the
+:mod:`f16mmae.campaign.dual.scoring` (thresholds in ``RATING_RULES``).  In short, with c the
 correct fraction, m the median latency after the second failure and h the mean hold
 (fraction of the flight after the dual's declaration during which it stays declared):
 Good = c >= c_b - 0.10, m <= m_b + 0.5 s and h >= h_b - 0.10 against the baseline of b;
@@ -35,18 +35,20 @@ from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
 
-from .. import __version__
-from ..names import ACTUATORS, SENSORS, dual_name
-from . import dual_scoring
-from .runner import derived_seed, execute
-from .single import (P_INJECTED_DECIMATION, CampaignError, CampaignOutcome, check_common, dither_spec,
-                     estimator_options_of, load_bank)
-from .store import ResultsStore, run_key
+from ... import __version__
+from ...banks import bank_estimator_settings, load_bank
+from ...loop.flight import fly, scenario_from_dict
+from ...names import COMPONENTS, dual_name
+from ..engine.config import CampaignConfig, CampaignError
+from ..engine.failure_runs import P_INJECTED_DECIMATION
+from ..engine.runner import CampaignOutcome, execute, planned_bank
+from ..engine.seeds import derived_seed
+from ..engine.store import ResultsStore, run_key
+from . import figures
+from . import scoring
 
-#: The failures of Fig. 7's rows and columns, in the paper's order.
-FAILURES: tuple[str, ...] = ACTUATORS + SENSORS
-#: Every ordered (first, second) pair: 132.
-ALL_PAIRS: tuple[tuple[str, str], ...] = tuple((a, b) for a in FAILURES for b in FAILURES if a != b)
+#: Every ordered (first, second) pair of failures (``names.COMPONENTS``, Fig. 7): 132.
+ALL_PAIRS: tuple[tuple[str, str], ...] = tuple((a, b) for a in COMPONENTS for b in COMPONENTS if a != b)
 
 
 def pair_label(first: str, second: str) -> str:
@@ -61,44 +63,31 @@ def run_seed(campaign_seed: int, second: str, run_index: int) -> int:
 
 
 @dataclass(frozen=True)
-class DualCampaign:
+class DualCampaign(CampaignConfig):
     """The arguments of ``f16mmae campaign dual`` (everything that shapes the results)."""
 
     runs: int = 3
-    seed: int = 1
+    duration_s: float = 10.0
     pairs: tuple[tuple[str, str], ...] = ALL_PAIRS
-    tuning: str = "tuned"  # "tuned" | "untuned" | path to a bank file
-    turbulence: str = "light"
-    mode: str = "complete"
     first_time_s: float = 3.0
     second_time_s: float = 5.0
-    duration_s: float = 10.0
-    feedback: str = "mmae"
-    dither: bool = True
-    dither_scale: float = 1.0
     mach: float | None = None  # None: the bank's design point
     alt_ft: float | None = None
-    threshold: float | None = None
-    dwell_s: float | None = None
-    p_min: float | None = None
-
-    def estimator_options(self) -> dict:
-        return estimator_options_of(self)
 
     @property
     def seconds(self) -> tuple[str, ...]:
         """The second failures of the plan (each gets a baseline), in the paper's order."""
-        return tuple(f for f in FAILURES if any(b == f for _, b in self.pairs))
+        return tuple(f for f in COMPONENTS if any(b == f for _, b in self.pairs))
 
     def validate(self) -> "DualCampaign":
-        check_common(self, dwell_window_s=self.duration_s - self.second_time_s,
+        self.check_common(dwell_window_s=self.duration_s - self.second_time_s,
                      dwell_window_text=" (the flight time after the second failure)")
         if not self.pairs:
-            raise CampaignError(f"no pair to fly; pairs are FIRST+SECOND of {', '.join(FAILURES)}")
+            raise CampaignError(f"no pair to fly; pairs are FIRST+SECOND of {', '.join(COMPONENTS)}")
         for p in self.pairs:
-            if len(p) != 2 or p[0] not in FAILURES or p[1] not in FAILURES:
+            if len(p) != 2 or p[0] not in COMPONENTS or p[1] not in COMPONENTS:
                 raise CampaignError(f"unknown pair {'+'.join(map(str, p))}; each of FIRST+SECOND "
-                                    f"must be one of {', '.join(FAILURES)}")
+                                    f"must be one of {', '.join(COMPONENTS)}")
             if p[0] == p[1]:
                 raise CampaignError(f"pair {p[0]}+{p[1]} fails one component twice; "
                                     f"a dual needs two different failures")
@@ -114,13 +103,7 @@ class DualCampaign:
 # -- one run (executed in workers) -----------------------------------------------------------
 def run_spec(spec: dict) -> dict:
     """Fly one dual run (``spec["first"]`` set) or baseline run and return its record."""
-    from ..closedloop import fly, scenario_from_dict
-
-    _, _, bank = load_bank(spec["bank"])
-    if bank.content_hash != spec["bank_hash"]:
-        raise CampaignError(
-            f"bank {spec['bank']} on this worker has hash {bank.content_hash}, the campaign "
-            f"planned {spec['bank_hash']}: the file changed, or workers run another install")
+    bank = planned_bank(spec)
     scenario = scenario_from_dict(spec["scenario"])
     result = fly(scenario, bank, estimator_options=spec["estimator"], record_probabilities=True)
     first, second = spec["first"], spec["second"]
@@ -128,7 +111,7 @@ def run_spec(spec: dict) -> dict:
     t2 = scenario.failures[-1].time_s
     injected = dual_name(first, second) if first else second
     p_inj = result.probability_of(injected)
-    scored = dual_scoring.score_dual_run(injected, first, t1, t2, scenario.duration_s,
+    scored = scoring.score_dual_run(injected, first, t1, t2, scenario.duration_s,
                                          result.declarations, result.time_s, p_inj)
     record = {
         "run_key": spec["run_key"], "kind": spec["kind"], "pair": spec["pair"],
@@ -148,22 +131,6 @@ def run_spec(spec: dict) -> dict:
 
 
 # -- planning --------------------------------------------------------------------------------
-def _scenario_dict(cfg: DualCampaign, bank, failures: tuple[tuple[str, float], ...], seed: int) -> dict:
-    from ..truth import Scenario
-    from ..truth.failures import make_failure
-
-    try:
-        scenario = Scenario(
-            mach=float(cfg.mach if cfg.mach is not None else bank.mach),
-            alt_ft=float(cfg.alt_ft if cfg.alt_ft is not None else bank.alt_ft),
-            turbulence=cfg.turbulence, dither=dither_spec(cfg),
-            failures=tuple(make_failure(n, t, cfg.mode) for n, t in failures),
-            duration_s=cfg.duration_s, seed=seed, feedback=cfg.feedback)
-    except ValueError as exc:
-        raise CampaignError(f"failures {', '.join(n for n, _ in failures)}: {exc}") from None
-    return scenario.to_dict()
-
-
 def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
     """Every run spec: the baselines of the second failures, then the pairs."""
     cases = [(None, b) for b in cfg.seconds] + list(cfg.pairs)
@@ -174,7 +141,10 @@ def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
         kind = "dual" if first else "dual-baseline"
         for n in range(cfg.runs):
             seed = run_seed(cfg.seed, second, n)
-            scenario = _scenario_dict(cfg, bank, failures, seed)
+            try:
+                scenario = cfg.scenario_dict(bank, failures, seed, cfg.mach, cfg.alt_ft)
+            except ValueError as exc:
+                raise CampaignError(f"failures {', '.join(n for n, _ in failures)}: {exc}") from None
             identity = {"kind": kind, "scenario": scenario, "estimator": cfg.estimator_options(),
                         "bank_hash": bank.content_hash, "version": __version__}
             specs.append({
@@ -190,8 +160,6 @@ def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
 def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
                  executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
     """Plan, fly what is not stored yet (appending records as they finish), summarize, plot."""
-    from . import dual_figures
-
     cfg.validate()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -203,8 +171,8 @@ def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
     summary = summarize(cfg, label, bank, records)
     summary["timing"] = done.timing(executor_label)
     summary["figures"] = {
-        "matrix": dual_figures.rating_matrix(summary, out / "dual_matrix.png").name,
-        "probabilities": dual_figures.probability_grid(records, summary, out / "dual_probabilities.png").name,
+        "matrix": figures.rating_matrix(summary, out / "dual_matrix.png").name,
+        "probabilities": figures.probability_grid(records, summary, out / "dual_probabilities.png").name,
     }
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=1) + "\n")
@@ -213,17 +181,15 @@ def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
 
 def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
     """Per-baseline and per-pair summaries, ratings, the matrix and the paper comparison."""
-    from ..closedloop import bank_estimator_settings
-
-    baselines = {b: dual_scoring.summarize_pair(b, [r for r in records if r["kind"] == "dual-baseline"
+    baselines = {b: scoring.summarize_pair(b, [r for r in records if r["kind"] == "dual-baseline"
                                                     and r["second"] == b]) for b in cfg.seconds}
     pairs = []
     matrix: dict[str, dict[str, str]] = {}
     for a, b in cfg.pairs:
-        s = dual_scoring.summarize_pair(pair_label(a, b), [r for r in records if r["kind"] == "dual"
+        s = scoring.summarize_pair(pair_label(a, b), [r for r in records if r["kind"] == "dual"
                                                            and r["first"] == a and r["second"] == b])
         s.update(first=a, second=b, hypothesis=dual_name(a, b))
-        s["rating"], s["rating_reason"] = dual_scoring.rate_pair(s, baselines[b])
+        s["rating"], s["rating_reason"] = scoring.rate_pair(s, baselines[b])
         pairs.append(s)
         matrix.setdefault(a, {})[b] = s["rating"]
     return {
@@ -245,10 +211,10 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
         "dither_scale": cfg.dither_scale,
         "estimator": cfg.estimator_options(),
         "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
-        "rating_rules": dict(dual_scoring.RATING_RULES),
-        "ratings": {k: sum(1 for p in pairs if p["rating"] == k) for k in dual_scoring.RATINGS},
+        "rating_rules": dict(scoring.RATING_RULES),
+        "ratings": {k: sum(1 for p in pairs if p["rating"] == k) for k in scoring.RATINGS},
         "matrix": matrix,
-        "paper_comparison": dual_scoring.compare_with_paper(matrix),
+        "paper_comparison": scoring.compare_with_paper(matrix),
         "baselines": [baselines[b] for b in cfg.seconds],
         "pairs": pairs,
     }

@@ -2,7 +2,7 @@
 
 * ``rating_matrix``: the 12 x 12 matrix of Fig. 7 -- rows the first failure, columns the
   second, each cell coloured by its rating (Good / Fair / Poor / ND, see
-  ``dual_scoring``) with the correct count ``k/N`` and the median latency after the second
+  ``scoring``) with the correct count ``k/N`` and the median latency after the second
   failure written in it; the diagonal grey, pairs not flown blank.  Beside it, the paper's
   Fig. 7 in the same colours (cells the text extraction lost: hatched).
 * ``probability_grid``: the same 12 x 12 layout of small multiples; cell (a, b) plots
@@ -11,7 +11,7 @@
   while off line), on the rating's colour; diagonal cell (b, b) holds the baseline: the
   mean probability of the lone single failure b.  Failure times: dotted lines.
 
-matplotlib with the non-interactive Agg backend (``figures._plt``).
+matplotlib with the non-interactive Agg backend (``report.figures.pyplot``).
 """
 from __future__ import annotations
 
@@ -19,22 +19,22 @@ from pathlib import Path
 
 import numpy as np
 
-from .dual_scoring import PAPER_FIG7, RATINGS
-from .figures import _plt, mean_injected_probability
-
-FAILURES = ("LS", "RS", "LF", "RF", "RUD", "VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY")
+from ...names import COMPONENTS
+from ...report.figures import pyplot
+from ..engine.scoring import mean_injected_probability
+from .scoring import PAPER_FIG7, RATINGS
 COLORS = {"Good": "#8bc98b", "Fair": "#f6d55c", "Poor": "#f3a15a", "ND": "#e0605a"}
 DIAGONAL = "#c8c8c8"
 
 
 def _grid_axes(ax, title: str) -> None:
-    n = len(FAILURES)
+    n = len(COMPONENTS)
     ax.set_xlim(-0.5, n - 0.5)
     ax.set_ylim(n - 0.5, -0.5)
     ax.set_xticks(range(n))
-    ax.set_xticklabels(FAILURES, fontsize=7, rotation=90)
+    ax.set_xticklabels(COMPONENTS, fontsize=7, rotation=90)
     ax.set_yticks(range(n))
-    ax.set_yticklabels(FAILURES, fontsize=7)
+    ax.set_yticklabels(COMPONENTS, fontsize=7)
     ax.set_xlabel("second failure", fontsize=8)
     ax.set_ylabel("first failure", fontsize=8)
     ax.set_title(title, fontsize=9)
@@ -51,13 +51,13 @@ def _cell(ax, i, j, color, hatch=None) -> None:
 
 def rating_matrix(summary: dict, path: str | Path) -> Path:
     """Fig. 7 from a dual campaign summary, beside the paper's; returns the file written."""
-    plt = _plt()
+    plt = pyplot()
     import matplotlib.patches as mpatches
 
     pairs = {(p["first"], p["second"]): p for p in summary["pairs"]}
     fig, (ax, axp) = plt.subplots(1, 2, figsize=(13.5, 6.8), gridspec_kw={"width_ratios": [1.35, 1]})
-    for i, a in enumerate(FAILURES):
-        for j, b in enumerate(FAILURES):
+    for i, a in enumerate(COMPONENTS):
+        for j, b in enumerate(COMPONENTS):
             if a == b:
                 _cell(ax, i, j, DIAGONAL)
                 _cell(axp, i, j, DIAGONAL)
@@ -104,7 +104,7 @@ def _mean_of(records, key: str) -> tuple[np.ndarray, np.ndarray]:
 def probability_grid(records: list[dict], summary: dict, path: str | Path) -> Path:
     """Small multiples of the mean probability of the dual (and of the first single), drawn
     as curves scaled into the cells of one 12 x 12 grid (one axes: fast to draw)."""
-    plt = _plt()
+    plt = pyplot()
     ratings = {(p["first"], p["second"]): p["rating"] for p in summary["pairs"]}
     duals: dict[tuple[str, str], list[dict]] = {}
     bases: dict[str, list[dict]] = {}
@@ -126,8 +126,8 @@ def probability_grid(records: list[dict], summary: dict, path: str | Path) -> Pa
             ax.plot([x[0], x[0]], [i - 0.5 + pad, i + 0.5 - pad], color="0.3", ls=":", lw=0.5)
 
     fig, ax = plt.subplots(figsize=(12.5, 12.5))
-    for i, a in enumerate(FAILURES):
-        for j, b in enumerate(FAILURES):
+    for i, a in enumerate(COMPONENTS):
+        for j, b in enumerate(COMPONENTS):
             if a == b:
                 _cell(ax, i, j, DIAGONAL)
                 t, p = mean_injected_probability(bases.get(b, []))

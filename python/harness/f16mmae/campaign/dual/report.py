@@ -1,9 +1,9 @@
 """The HTML page of a dual-failure campaign directory (``summary.json`` of kind ``dual``).
 
-``dual_page(d, summary)`` is the body of the page ``report.render_report`` writes for a dual
+``dual_page(d, summary)`` is the body of the page ``report.page.render_report`` writes for a dual
 campaign directory (figures embedded): the campaign's
 parameters, the rating counts and their agreement with the paper's Fig. 7, the two figures,
-the rating definitions with their thresholds (``dual_scoring.RATING_RULES``), the baselines
+the rating definitions with their thresholds (``scoring.RATING_RULES``), the baselines
 and every pair that is not Good with the reason of its rating, then all pairs.
 """
 from __future__ import annotations
@@ -11,8 +11,9 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
-from .dual_scoring import RATING_RULES, RATINGS
-from .report import img_tag
+from ...report.figures import img_tag
+from ...report.page import param_table, register_page
+from .scoring import RATING_RULES, RATINGS
 
 _ROW_CLASS = {"Good": "ok", "Fair": "fair", "Poor": "bad", "ND": "bad"}
 
@@ -78,8 +79,7 @@ def dual_page(d: Path, s: dict) -> str:
     not_good = [p for p in s["pairs"] if p["rating"] != "Good"]
     return "".join([
         "<h1>f16mmae dual-failure campaign (paper Fig. 7)</h1>",
-        "<table>" + "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>"
-                            for k, v in params) + "</table>",
+        param_table(params),
         f"<p><b>{len(s['pairs'])} pairs: {counts}.</b> Same rating as the paper's Fig. 7 in "
         f"{cmp_.get('equal', '?')} of {cmp_.get('cells', '?')} comparable cells; same Good / not Good "
         f"in {cmp_.get('good_vs_not_good_equal', '?')}.</p>",
@@ -91,3 +91,6 @@ def dual_page(d: Path, s: dict) -> str:
         f"<h2>Pairs not rated Good ({len(not_good)})</h2>", _table(not_good, rated=True),
         "<h2>All pairs</h2>", _table(s["pairs"], rated=True),
     ])
+
+
+register_page("dual", dual_page)

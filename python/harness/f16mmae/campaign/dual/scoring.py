@@ -46,8 +46,8 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from ..names import NONE
-from . import scoring
+from ...names import COMPONENTS, NONE
+from ..engine import scoring
 
 RATINGS: tuple[str, ...] = ("Good", "Fair", "Poor", "ND")
 
@@ -156,16 +156,15 @@ def rate_pair(pair: dict, baseline: dict) -> tuple[str, str]:
 
 
 # -- the paper's Fig. 7, for comparison ---------------------------------------------------------
-_PAPER_ORDER = ("LS", "RS", "LF", "RF", "RUD", "VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY")
 _G, _F, _P, _N, _U = "Good", "Fair", "Poor", "ND", None
-#: The paper's Fig. 7 (rows: first failure, columns: second, in ``_PAPER_ORDER``; "" on the
+#: The paper's Fig. 7 (rows: first failure, columns: second, in ``names.COMPONENTS``; "" on the
 #: diagonal).  The text of the RUD row lost one cell in extraction: six ratings -- four Good,
 #: ND, Good -- for the seven sensor columns.  The paper's discussion places the ND at RUD>YAW
 #: ("when the rudder actuator fails, there is not enough yaw axis excitation to discover a yaw
 #: sensor failure at all"), so YAW is ND and AY Good; VEL..ROL hold four Goods in five cells
 #: and stay unknown (None).
 PAPER_FIG7: dict[str, dict[str, str | None]] = {
-    a: dict(zip(_PAPER_ORDER, row)) for a, row in zip(_PAPER_ORDER, (
+    a: dict(zip(COMPONENTS, row)) for a, row in zip(COMPONENTS, (
         ("", _G, _N, _P, _G, _G, _G, _P, _G, _F, _F, _F),
         (_G, "", _P, _N, _G, _G, _G, _P, _G, _F, _F, _F),
         (_G, _G, "", _G, _G, _G, _G, _G, _G, _G, _G, _G),

@@ -18,12 +18,14 @@ import re
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 from typing import Callable, Iterator
 
+from ...errors import F16mmaeError
+
 _SCHEDULER_RE = re.compile(
     r"^(?:(?:tcp|tls|ucx|ws|wss)://(?:\[[0-9A-Fa-f:.]+\]|[^\s/:\[\]]+)(?::\d+)?/?|inproc://\S+)$"
 )
 
 
-class ExecutorError(Exception):
+class ExecutorError(F16mmaeError):
     """An executor cannot be set up (bad worker count, bad address, missing extra)."""
 
 

@@ -11,26 +11,16 @@ It returns the stored records of this plan only, one per run key, and the timing
 """
 from __future__ import annotations
 
-import hashlib
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import Executor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
-from ..progress import Progress
+from ...banks import load_bank
+from .config import CampaignError
+from .progress import Progress
 from .store import ResultsStore
-
-
-def derived_seed(*parts) -> int:
-    """``1 + (SHA-256("p1:p2:...") mod (2^31 - 2))``: a run's seed from its campaign kind, the
-    campaign seed and its place in the plan -- deterministic, >= 1 (JSBSim maps 0 to 1),
-    independent of the executor and of the order runs finish."""
-    digest = hashlib.sha256(":".join(map(str, parts)).encode()).digest()
-    return 1 + int.from_bytes(digest[:8], "big") % (2**31 - 2)
-
-
-class CampaignError(Exception):
-    """A campaign argument is invalid, or a run failed; the message names it."""
 
 
 @dataclass
@@ -82,3 +72,26 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
     executed = {s["run_key"] for s in todo}
     records = list(by_key.values())
     return Execution(records, [r for r in records if r["run_key"] in executed], len(specs) - len(todo), wall_s)
+
+
+@dataclass
+class CampaignOutcome:
+    """What a campaign run returns: its summary (also written to ``summary_path``), how many
+    runs it flew and how many it found stored, and the records of its plan."""
+    summary: dict
+    summary_path: Path
+    executed: int
+    resumed: int
+    records: list[dict] = field(default_factory=list)
+
+
+def planned_bank(spec: dict):
+    """The ModelBank a spec names (``spec["bank"]``), checked against the hash it was planned
+    with: CampaignError when this process would fly another bank."""
+    _, _, bank = load_bank(spec["bank"])
+    if bank.content_hash != spec["bank_hash"]:
+        raise CampaignError(
+            f"bank {spec['bank']} on this worker has hash {bank.content_hash}, the campaign "
+            f"planned {spec['bank_hash']}: the file changed, or workers run another install"
+        )
+    return bank

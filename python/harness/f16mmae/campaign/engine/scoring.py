@@ -27,7 +27,7 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from ..names import NONE, dual_name
+from ...names import NONE, dual_name
 
 OUTCOMES = ("correct", "missed", "wrong")
 
@@ -118,3 +118,16 @@ def check_goals(case_summary: dict) -> dict:
         out["latency_p95"] = lat["p95"] is not None and lat["p95"] <= GOALS["latency_p95_s_max"]
     out["all"] = all(out.values())
     return out
+
+
+def mean_injected_probability(records: Sequence[dict]) -> tuple[np.ndarray, np.ndarray]:
+    """(time_s, mean over runs of p of the injected hypothesis) from run records.
+
+    Records hold ``p_injected`` sampled at ``1 / p_injected_dt_s``; runs of unequal length
+    are cut to the shortest."""
+    if not records:
+        return np.zeros(0), np.zeros(0)
+    n = min(len(r["p_injected"]) for r in records)
+    p = np.array([np.nan_to_num(np.asarray(r["p_injected"][:n], dtype=float)) for r in records])
+    dt = float(records[0]["p_injected_dt_s"])
+    return np.arange(n) * dt, p.mean(axis=0)

@@ -20,10 +20,12 @@ import os
 from pathlib import Path
 from typing import Any, Iterable, Iterator
 
+from ...errors import F16mmaeError
+
 RECORDS_FILE = "runs.jsonl"
 
 
-class StoreError(Exception):
+class StoreError(F16mmaeError):
     """The results file cannot be read as a sequence of records."""
 
 

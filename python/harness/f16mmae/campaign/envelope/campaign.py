@@ -7,15 +7,15 @@ Mach 0.4, 20,000 ft) is kept as it is -- its models, its design trim ``u_trim`` 
 estimator learns the flight condition through nothing but ``u`` and ``z``: model mismatch
 and trim mismatch are what the campaign measures.
 
-Points: :mod:`.envelope_points` (default: the paper's 25 -- NOM, the local envelope 1-20
+Points: :mod:`.points` (default: the paper's 25 -- NOM, the local envelope 1-20
 stepping 0.005 Mach / 500 ft, the extrema 21-24 at +-5,000 ft / +-0.05 Mach).
 
-At every point the single-failure campaign of :mod:`.single` is planned
-(``single.plan`` of ``SingleCampaign(mach=M, alt_ft=h, baseline=None, ...)``) and run
-with ``single.run_spec``; all points share one results store ``DIR/runs.jsonl`` (the run
+At every point the single-failure plan (:mod:`..engine.failure_runs`: NONE and the
+failures, ``runs`` seeded runs each) is planned at the point's Mach and altitude and flown
+with the same ``run_spec``; all points share one results store ``DIR/runs.jsonl`` (the run
 key holds the scenario, so the point's Mach and altitude) and one executor, so resume
 works across points (re-running skips stored runs).  Run n of case c flies the same seed
-at every point (``single.run_seed``): common random numbers, so differences between
+at every point (``failure_runs.run_seed``): common random numbers, so differences between
 points come from the flight condition, not from the noise.
 
 Per point, over its stored runs (``point_metrics``)::
@@ -40,18 +40,23 @@ from __future__ import annotations
 import json
 import sys
 from concurrent.futures import Executor
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
-from ..names import NONE
-from . import single
-from .envelope_points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
-from .runner import execute
-from .single import CASES, CampaignError, SingleCampaign
-from .store import ResultsStore
+from ... import __version__
+from ...banks import bank_estimator_settings, load_bank
+from ...names import NONE
+from ...truth.aircraft import check_flight_condition, trimmed_fdm
+from ...truth.failures import make_failure
+from ..engine import scoring
+from ..engine.config import CampaignConfig, CampaignError
+from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
+from ..engine.runner import CampaignOutcome, execute
+from ..engine.store import ResultsStore
+from . import figures
+from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
 
 #: The default acceptability rule (module docstring).
 CORRECT_FRACTION_MIN = 0.9
@@ -59,38 +64,15 @@ FALSE_ALARMS_MAX = 0
 
 
 @dataclass(frozen=True)
-class EnvelopeCampaign:
+class EnvelopeCampaign(CampaignConfig):
     """The arguments of ``f16mmae campaign envelope`` (everything that shapes the results)."""
 
-    points: tuple[EnvelopePoint, ...] = PAPER_POINTS
     runs: int = 2
-    seed: int = 1
+    points: tuple[EnvelopePoint, ...] = PAPER_POINTS
     cases: tuple[str, ...] = CASES
-    tuning: str = "tuned"  # "tuned" | "untuned" | path to a bank file
-    turbulence: str = "light"
-    mode: str = "complete"
     failure_time_s: float = 3.0
-    duration_s: float = 8.0
-    feedback: str = "mmae"
-    dither: bool = True
-    dither_scale: float = 1.0
-    threshold: float | None = None
-    dwell_s: float | None = None
-    p_min: float | None = None
     correct_fraction_min: float = CORRECT_FRACTION_MIN
     false_alarms_max: int = FALSE_ALARMS_MAX
-
-    def single_config(self, point: EnvelopePoint) -> SingleCampaign:
-        """The single-failure campaign flown at ``point`` (no baseline bank)."""
-        return SingleCampaign(
-            runs=self.runs, seed=self.seed, cases=self.cases, tuning=self.tuning, baseline=None,
-            turbulence=self.turbulence, mode=self.mode, failure_time_s=self.failure_time_s,
-            duration_s=self.duration_s, feedback=self.feedback, dither=self.dither,
-            dither_scale=self.dither_scale, mach=point.mach, alt_ft=point.alt_ft,
-            threshold=self.threshold, dwell_s=self.dwell_s, p_min=self.p_min)
-
-    def estimator_options(self) -> dict:
-        return self.single_config(self.points[0]).estimator_options() if self.points else {}
 
     def validate(self) -> "EnvelopeCampaign":
         try:
@@ -101,16 +83,13 @@ class EnvelopeCampaign:
             raise CampaignError(f"correct_fraction_min {self.correct_fraction_min} must lie in [0, 1]")
         if self.false_alarms_max < 0:
             raise CampaignError(f"false_alarms_max {self.false_alarms_max} must be >= 0")
-        from ..truth.aircraft import check_flight_condition
-
         for p in self.points:
             try:
                 check_flight_condition(p.mach, p.alt_ft)
             except ValueError as exc:
                 raise CampaignError(f"point {p.label}: {exc}") from None
-        self.single_config(self.points[0]).validate()
-        from ..truth.failures import make_failure
-
+        self.check_common(dwell_window_s=self.duration_s)
+        check_cases(self)
         for case in self.cases:
             if case != NONE:
                 try:
@@ -152,8 +131,6 @@ def acceptable(metrics: dict, correct_fraction_min: float = CORRECT_FRACTION_MIN
 
 def trim_offset(bank, point: EnvelopePoint) -> dict:
     """Truth trim at ``point`` minus the bank's design trim (report only, never to the estimator)."""
-    from ..truth.aircraft import trimmed_fdm
-
     _, tp = trimmed_fdm(point.mach, point.alt_ft)
     du = np.asarray(tp.u_rad) - np.asarray(bank.u_trim)
     dz = np.asarray(tp.z) - np.asarray(bank.z_trim)
@@ -162,27 +139,18 @@ def trim_offset(bank, point: EnvelopePoint) -> dict:
 
 
 # -- the campaign ----------------------------------------------------------------------------
-@dataclass
-class EnvelopeOutcome:
-    summary: dict
-    summary_path: Path
-    executed: int
-    resumed: int
-    records: list[dict] = field(default_factory=list)
-
-
 def plan(cfg: EnvelopeCampaign, banks: dict) -> list[dict]:
-    """Every run spec of every point (``single.plan`` per point), each tagged with its point."""
+    """Every run spec of every point (the single-failure plan at each), each tagged with its point."""
     specs = []
     for p in cfg.points:
-        for s in single.plan(cfg.single_config(p), banks):
+        for s in plan_at(cfg, banks, p.mach, p.alt_ft):
             specs.append({**s, "point": p.label})
     return specs
 
 
 def run_point_spec(spec: dict) -> dict:
     """One run at one point: the single campaign's run, its record labelled with the point."""
-    return {**single.run_spec(spec), "point": spec["point"]}
+    return {**run_spec(spec), "point": spec["point"]}
 
 
 def describe_point_spec(spec: dict) -> str:
@@ -192,11 +160,11 @@ def describe_point_spec(spec: dict) -> str:
 
 
 def run_envelope(cfg: EnvelopeCampaign, out_dir: str | Path, executor: Executor,
-                 executor_label: str = "", show_progress: bool = True) -> EnvelopeOutcome:
+                 executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
     """Plan every point, run what is not stored yet, summarize per point, plot."""
     cfg.validate()
     out = Path(out_dir)
-    label, _, bank = single.load_bank(cfg.tuning)
+    label, _, bank = load_bank(cfg.tuning)
     banks = {label: (cfg.tuning, bank)}
     specs = plan(cfg, banks)
     out.mkdir(parents=True, exist_ok=True)
@@ -219,12 +187,10 @@ def run_envelope(cfg: EnvelopeCampaign, out_dir: str | Path, executor: Executor,
     records = done.records
     summary = summarize(cfg, banks, label, records, point_of)
     summary["timing"] = done.timing(executor_label)
-    from . import envelope_figures
-
-    summary["figures"] = envelope_figures.make_figures(out, summary)
+    summary["figures"] = figures.make_figures(out, summary)
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=1) + "\n")
-    return EnvelopeOutcome(summary, path, len(done.executed_records), done.resumed, records)
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
 
 
 def _note(text: str) -> None:
@@ -242,7 +208,6 @@ def summarize(cfg: EnvelopeCampaign, banks: dict, label: str, records: list[dict
     points = []
     for p in cfg.points:
         recs = [r for r in records if point_of[r["run_key"]] == p.label]
-        per_point = single.summarize(cfg.single_config(p), banks, label, recs)
         metrics = point_metrics(recs)
         points.append({
             **p.to_dict(),
@@ -252,7 +217,8 @@ def summarize(cfg: EnvelopeCampaign, banks: dict, label: str, records: list[dict
             **metrics,
             "acceptable": acceptable(metrics, cfg.correct_fraction_min, cfg.false_alarms_max),
             "trim_offset": trim_offset(bank, p),
-            "cases": per_point["cases"],
+            "cases": [scoring.summarize_case(c, [r for r in recs if r["tuning"] == label and r["case"] == c])
+                      for c in cfg.cases],
         })
     return {
         "kind": "envelope",
@@ -272,12 +238,12 @@ def summarize(cfg: EnvelopeCampaign, banks: dict, label: str, records: list[dict
         "dither": cfg.dither,
         "dither_scale": cfg.dither_scale,
         "estimator": cfg.estimator_options(),
-        "estimator_settings": per_point["estimator_settings"] if cfg.points else {},
+        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()} if cfg.points else {},
         "acceptable_rule": {"correct_fraction_min": cfg.correct_fraction_min,
                             "false_alarm_runs_max": cfg.false_alarms_max},
         "points": points,
     }
 
 
-__all__ = ["EnvelopeCampaign", "EnvelopeOutcome", "EnvelopeError", "acceptable", "plan",
+__all__ = ["EnvelopeCampaign", "EnvelopeError", "acceptable", "plan",
            "point_metrics", "run_envelope", "summarize", "trim_offset"]

@@ -3,7 +3,7 @@
 * ``envelope_map``: the points on Mach (x) vs altitude (y) axes, each filled by its correct
   fraction over the failure cases (red 0 .. green 1), a circle when acceptable and a cross
   when not, annotated with its number and its false-alarm runs; lines of constant dynamic
-  pressure q̄ = 0.7 p(h) M^2 (ISA, :mod:`.envelope_points`) at steps of 5 % (local view) or
+  pressure q̄ = 0.7 p(h) M^2 (ISA, :mod:`.points`) at steps of 5 % (local view) or
   10 % (wide view) of the design point's q̄, the one through the design point drawn bold --
   the paper's axis of constant q̄ (points 9, 12, NOM, 17, 19).  When the points reach far
   beyond the local envelope (the extrema 21-24), a second panel zooms on the local points.
@@ -12,7 +12,7 @@
   ``FA n`` when it has false-alarm runs, row labels green (acceptable) or red (not) -- which
   failures break first off nominal.
 
-matplotlib is imported lazily with the non-interactive Agg backend.
+matplotlib with the non-interactive Agg backend (``report.figures.pyplot``).
 """
 from __future__ import annotations
 
@@ -20,19 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .envelope_points import GAMMA_AIR, dynamic_pressure_psf, pressure_psf
+from ...report.figures import pyplot
+from .points import GAMMA_AIR, dynamic_pressure_psf, pressure_psf
 
 MAP_FILE = "envelope_map.png"
 TABLE_FILE = "envelope_cases.png"
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _limits(points, pad_frac=0.12, min_mach=0.01, min_alt=1000.0):
@@ -80,7 +72,7 @@ def _panel(ax, points, design, cmap, step, annotate=None):
 
 def envelope_map(summary: dict, path: Path) -> Path:
     """The Fig. 9-style map of ``summary["points"]`` (module docstring)."""
-    plt = _plt()
+    plt = pyplot()
     from matplotlib.lines import Line2D
 
     points = summary["points"]
@@ -119,7 +111,7 @@ def envelope_map(summary: dict, path: Path) -> Path:
 
 def case_table(summary: dict, path: Path) -> Path:
     """Heat map of the correct fraction per point and case (module docstring)."""
-    plt = _plt()
+    plt = pyplot()
     points = sorted(summary["points"], key=lambda p: -p["qbar_psf"])
     cases = summary["cases"]
     frac = np.full((len(points), len(cases)), np.nan)

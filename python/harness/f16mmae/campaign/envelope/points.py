@@ -49,6 +49,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ...errors import F16mmaeError
+from ...truth.aircraft import check_flight_condition
+
 #: ISA sea-level pressure (lbf/ft^2), temperature (K), lapse rate (K/m) and g0/(R L).
 P0_PSF = 101_325.0 / 47.880258889  # 2116.2166 lbf/ft^2
 T0_K = 288.15
@@ -62,7 +65,7 @@ NOMINAL_LABEL = "NOM"
 SELECTIONS = ("all", "local", "extrema", "qline")
 
 
-class EnvelopeError(ValueError):
+class EnvelopeError(F16mmaeError, ValueError):
     """A point selection or a custom point is invalid; the message names it and the valid choices."""
 
 
@@ -146,8 +149,6 @@ def select_points(text: str) -> tuple[EnvelopePoint, ...]:
 
 def parse_mach_alt(text: str) -> tuple[EnvelopePoint, ...]:
     """Custom points ``MACH:ALT_FT,...`` (e.g. ``0.42:21000,0.38:19000``), labelled C1, C2, ..."""
-    from ..truth.aircraft import check_flight_condition
-
     out = []
     items = [s.strip() for s in text.split(",") if s.strip()]
     if not items:

@@ -2,8 +2,8 @@
 
 ``envelope_page(d, summary)`` is the page body: the settings, the per-point table (Mach,
 altitude, q̄, correct fraction, false-alarm runs, median latency, acceptable, truth trim
-minus design trim) and both figures embedded as base64 PNGs (``report.img_tag``), so the page
-is one self-contained file; ``report.render_report(d)`` writes it to ``DIR/report.html``.
+minus design trim) and both figures embedded as base64 PNGs (``report.figures.img_tag``), so the page
+is one self-contained file; ``report.page.render_report(d)`` writes it to ``DIR/report.html``.
 """
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ import html
 import json
 from pathlib import Path
 
-from . import report
+from ...report.figures import img_tag
+from ...report.page import param_table, register_page
 
 
 def _f(x, fmt: str) -> str:
@@ -45,9 +46,9 @@ def envelope_page(d: Path, s: dict) -> str:
             f"<td>{t['vel_fps']:+.2f}</td><td>{t['aoa_deg']:+.3f}</td></tr>")
     figs = s.get("figures", {})
     parts = [
-        "<h1>f16mmae off-nominal campaign (paper Fig. 9)</h1><table>",
-        "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>" for k, v in settings),
-        "</table><h2>Points</h2>",
+        "<h1>f16mmae off-nominal campaign (paper Fig. 9)</h1>",
+        param_table(settings),
+        "<h2>Points</h2>",
         f"<p>Acceptable: at least {100 * rule['correct_fraction_min']:.0f}% of the failure-case runs end "
         f"with the injected failure declared, and at most {rule['false_alarm_runs_max']} runs (NONE runs "
         "included) have a false alarm. Δ columns: the truth model's own trim at the point minus the "
@@ -55,7 +56,10 @@ def envelope_page(d: Path, s: dict) -> str:
         "<table>" + head + "".join(rows) + "</table><h2>Figures</h2>",
     ]
     if "map" in figs:
-        parts.append(report.img_tag(d / figs["map"], "Points on Mach-altitude axes, coloured by correct fraction; lines of constant q̄"))
+        parts.append(img_tag(d / figs["map"], "Points on Mach-altitude axes, coloured by correct fraction; lines of constant q̄"))
     if "cases" in figs:
-        parts.append(report.img_tag(d / figs["cases"], "Correct runs per point and case"))
+        parts.append(img_tag(d / figs["cases"], "Correct runs per point and case"))
     return "".join(parts)
+
+
+register_page("envelope", envelope_page)

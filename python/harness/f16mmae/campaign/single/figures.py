@@ -1,4 +1,4 @@
-"""Figures in the style of the paper's Figs. 3-6, and the latency chart.
+"""The single-failure campaign's figures: the paper's Figs. 3-6 and the latency chart.
 
 * ``probability_strips``: one strip per case (NONE then the twelve single failures), the
   mean over runs of the probability of the *injected* hypothesis against time,
@@ -8,10 +8,6 @@
   (the bank moved to a level-1 bank without it) counts as probability 0.
 * ``latency_chart``: per case, every run's detection latency (dots), the median (bar)
   and the 95th percentile (tick), one row per case, one colour per tuning.
-* ``probability_history``: one run's probabilities of the hypotheses on line
-  (``f16mmae run``), failure times marked.
-
-matplotlib is imported lazily with the non-interactive Agg backend.
 """
 from __future__ import annotations
 
@@ -20,45 +16,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..names import NONE, SINGLE_HYPOTHESES
+from ...names import NONE, SINGLE_HYPOTHESES
+from ...report.figures import pyplot, save_figure
+from ..engine.scoring import mean_injected_probability
 
 TUNING_ORDER = ("untuned", "tuned")
-
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def save_figure(fig, path: str | Path, dpi: int = 110) -> Path:
-    """Lay out, write (PNG by the suffix) and close ``fig``; returns the path."""
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=dpi)
-    _plt().close(fig)
-    return path
 
 
 def _ordered_tunings(labels) -> list[str]:
     known = [t for t in TUNING_ORDER if t in labels]
     return known + sorted(t for t in labels if t not in TUNING_ORDER)
-
-
-def mean_injected_probability(records: Sequence[dict]) -> tuple[np.ndarray, np.ndarray]:
-    """(time_s, mean over runs of p of the injected hypothesis) from run records.
-
-    Records hold ``p_injected`` sampled at ``1 / p_injected_dt_s``; runs of unequal length
-    are cut to the shortest."""
-    if not records:
-        return np.zeros(0), np.zeros(0)
-    n = min(len(r["p_injected"]) for r in records)
-    p = np.array([np.nan_to_num(np.asarray(r["p_injected"][:n], dtype=float)) for r in records])
-    dt = float(records[0]["p_injected_dt_s"])
-    return np.arange(n) * dt, p.mean(axis=0)
 
 
 def probability_strips(
@@ -67,7 +34,7 @@ def probability_strips(
     cases: Sequence[str] = SINGLE_HYPOTHESES,
 ) -> Path:
     """The Figs. 3-6 strip plots, one column per tuning; returns the file written."""
-    plt = _plt()
+    plt = pyplot()
     tunings = _ordered_tunings(records_by_tuning)
     cases = [c for c in cases if any(r["case"] == c for t in tunings for r in records_by_tuning[t])]
     fig, axes = plt.subplots(
@@ -104,7 +71,7 @@ def latency_chart(
     cases: Sequence[str] = SINGLE_HYPOTHESES[1:],
 ) -> Path:
     """Per-case detection latency: runs (dots), median (bar), p95 (tick)."""
-    plt = _plt()
+    plt = pyplot()
     tunings = _ordered_tunings(records_by_tuning)
     fig, ax = plt.subplots(figsize=(7.5, 0.36 * len(cases) + 1.4))
     offsets = np.linspace(-0.18, 0.18, len(tunings)) if len(tunings) > 1 else [0.0]
@@ -132,42 +99,4 @@ def latency_chart(
     ax.set_xlim(left=0)
     ax.grid(axis="x", alpha=0.3)
     ax.legend(fontsize=7, loc="lower right")
-    return save_figure(fig, path)
-
-
-def probability_history(
-    time_s: np.ndarray,
-    hypotheses: Sequence[str],
-    probabilities: np.ndarray,
-    failures: Sequence[dict],
-    declarations: Sequence[dict],
-    path: str | Path,
-    title: str = "",
-) -> Path:
-    """One run: every hypothesis's probability while on line (NaN = off line)."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(9, 4.6))
-    probs = np.asarray(probabilities, dtype=float)
-    top = set(np.nanargmax(np.nan_to_num(probs, nan=-1.0), axis=1)) if len(probs) else set()
-    palette = plt.get_cmap("tab20").colors
-    for k, name in enumerate(hypotheses):
-        col = probs[:, k]
-        if np.all(np.isnan(col)):
-            continue
-        highlight = k in top  # hypotheses that led at some frame get a legend entry
-        ax.plot(time_s, col, color=palette[k % len(palette)], ls="--" if "+" in name else "-",
-                lw=1.6 if highlight else 0.8, alpha=1.0 if highlight else 0.5,
-                label=name if highlight else None)
-    for f in failures:
-        ax.axvline(f["time_s"], color="k", ls="--", lw=1)
-        ax.text(f["time_s"], 1.02, f" {f['name']} fails", fontsize=8, va="bottom")
-    for d in declarations:
-        ax.plot([d["time_s"]], [1.0], "v", color="C3", ms=7)
-        ax.text(d["time_s"], 0.93, f" {d['hypothesis']}", fontsize=7, color="C3")
-    ax.set_ylim(-0.02, 1.08)
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("hypothesis probability")
-    ax.set_title(title or "MMAE hypothesis probabilities (triangles: declarations)", fontsize=10)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="center right")
     return save_figure(fig, path)

@@ -7,6 +7,8 @@ import os
 import platform
 import sys
 
+import numpy
+
 from .. import __version__
 from ..bench.estimator import run_bench
 from .options import CliError, number
@@ -52,8 +54,6 @@ def register(subparsers) -> None:
 
 def machine_info() -> dict:
     """Where the numbers were measured."""
-    import numpy
-
     cpu = platform.processor()
     try:
         with open("/proc/cpuinfo", encoding="utf-8") as f:

@@ -14,7 +14,6 @@ from f16mmae import core, names
 from f16mmae.bench import estimator as bench
 from f16mmae.cli.main import main
 
-needs_filter_bank = pytest.mark.skipif(not hasattr(core, "FilterBank"), reason="core.FilterBank not built")
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +64,6 @@ def test_numpy_reference_matches_a_hand_computed_frame():
     np.testing.assert_allclose(ref.x_prior[:, 0], 0.5 * (0.5 * z) + 0.2)  # Phi (K r) + Bd u
 
 
-@needs_filter_bank
 def test_numpy_reference_and_cpp_bank_agree_to_1e9_on_every_frame(models, frames):
     z, u = frames
     cpp, reference = bench.core_filter_bank(models), bench.NumpyMMAE(models)

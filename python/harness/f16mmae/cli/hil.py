@@ -38,7 +38,7 @@ examples:
   lcm-logger run.lcmlog & f16mmae hil --start-daemon     # record, then: f16mmae replay run.lcmlog
 
 Latency benchmark (60 s at 64 Hz beside a bare C++ echo):
-  python -m f16mmae.benchmarks.lcm_latency --duration 60
+  f16mmae bench lcm --duration 60
 """
 
 

@@ -120,16 +120,22 @@ def build_scenario(fields: dict, bank):
         raise CliError(str(exc)) from None
 
 
-def _run(args) -> int:
+def flight_from_args(args):
+    """(bank label, bank path, ModelBank, Scenario) of the flight options of ``run`` and ``hil``,
+    each checked, and ``--out`` checked writable, all before anything flies."""
     fields = scenario_fields(args)
-    options = estimator_options_from_args(args)
     if args.out:
-        writable_dir(args.out)  # before the flight, so its results have somewhere to go
+        writable_dir(args.out)
     try:
         label, path, bank = load_bank(args.bank)
     except BankError as exc:
         raise CliError(f"--bank: {exc}") from None
-    scenario = build_scenario(fields, bank)
+    return label, path, bank, build_scenario(fields, bank)
+
+
+def _run(args) -> int:
+    options = estimator_options_from_args(args)
+    label, path, bank, scenario = flight_from_args(args)
     try:
         result = fly(scenario, bank, estimator_options=options)
     except (ValueError, TrimError) as exc:  # bad estimator option, untrimmable flight condition

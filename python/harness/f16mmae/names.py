@@ -50,6 +50,8 @@ FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
 SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
 #: The estimator settings a bank recommends and a user may override (core.HierarchicalBank).
 ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s")
+#: The longest declaration dwell the estimator accepts (s), as the core's declarer bounds it.
+DWELL_S_MAX = 60.0
 
 
 def failed_components(hypothesis: str) -> tuple[str, ...]:

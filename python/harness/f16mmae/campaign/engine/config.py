@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...errors import F16mmaeError
-from ...names import ESTIMATOR_SETTINGS, FEEDBACK_MODES, SINGLE_HYPOTHESES, TURBULENCE_LEVELS
+from ...names import DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, SINGLE_HYPOTHESES, TURBULENCE_LEVELS
 from ...truth import DitherSpec, Scenario
 from ...truth.failures import make_failure
 
@@ -72,7 +72,9 @@ class CampaignConfig:
             raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, 5]")
         if self.threshold is not None and not 0.5 < self.threshold < 1.0:
             raise CampaignError(f"--threshold {self.threshold} must lie in (0.5, 1)")
-        if self.dwell_s is not None and not 0.0 <= self.dwell_s < dwell_window_s:
+        if self.dwell_s is not None and not 0.0 <= self.dwell_s <= DWELL_S_MAX:
+            raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {DWELL_S_MAX}] s")
+        if self.dwell_s is not None and not self.dwell_s < dwell_window_s:
             raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {dwell_window_s}) s{dwell_window_text}")
         if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / len(SINGLE_HYPOTHESES):
             raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(SINGLE_HYPOTHESES)})")

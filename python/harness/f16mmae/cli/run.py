@@ -6,7 +6,7 @@ import argparse
 from ..banks import BankError, load_bank
 from ..campaign.engine.scoring import expected_hypothesis, score_run
 from ..loop.flight import fly
-from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..names import FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, TURBULENCE_LEVELS
 from ..report.flight import write_flight
 from ..outputs import writable_dir
 from ..truth import DitherSpec, Scenario, TrimError, parse_fail
@@ -40,7 +40,6 @@ DIR/probabilities.csv (time_s, then one column per hypothesis that was on line: 
 union over the flight, empty while off line) and DIR/probabilities.png.
 """
 
-DEFAULT_FAILURE_TIME_S = 3.0
 
 
 def register(subparsers) -> None:
@@ -58,9 +57,9 @@ def register(subparsers) -> None:
 def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a bank file (default tuned)") -> None:
     """The options of one flight, shared by ``run`` and ``hil``."""
     p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
-                   help="inject a failure (repeatable); TIME defaults to 3.0 s, MODE to complete")
+                   help=f"inject a failure (repeatable); TIME defaults to {FAILURE_TIME_S} s, MODE to complete")
     p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1)")
-    p.add_argument("--duration", default="8.0", metavar="S", help="flight length in s (default 8)")
+    p.add_argument("--duration", default=str(FLIGHT_S), metavar="S", help=f"flight length in s (default {FLIGHT_S:g})")
     p.add_argument("--turbulence", default="light", metavar="LEVEL",
                    help="none | light | moderate | severe (default light)")
     p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
@@ -78,7 +77,7 @@ def parse_failures(specs: list[str]):
         name, sep, rest = text.partition("@")
         if not sep:  # NAME or NAME:MODE
             name, colon, mode = text.partition(":")
-            text = f"{name}@{DEFAULT_FAILURE_TIME_S}" + (f":{mode}" if colon else "")
+            text = f"{name}@{FAILURE_TIME_S}" + (f":{mode}" if colon else "")
         try:
             out.append(parse_fail(text))
         except ValueError as exc:

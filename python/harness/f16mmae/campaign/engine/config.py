@@ -12,7 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...errors import F16mmaeError
-from ...names import DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, SINGLE_HYPOTHESES, TURBULENCE_LEVELS
+from ...names import (DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, FLIGHT_S, SINGLE_HYPOTHESES,
+                      TURBULENCE_LEVELS)
 from ...truth import DitherSpec, Scenario
 from ...truth.failures import make_failure
 
@@ -34,7 +35,7 @@ class CampaignConfig:
     tuning: str = "tuned"  # "tuned" | "untuned" | path to a bank file
     turbulence: str = "light"
     mode: str = "complete"
-    duration_s: float = 8.0
+    duration_s: float = FLIGHT_S
     feedback: str = "mmae"
     dither: bool = True
     dither_scale: float = 1.0  # multiplies the truth model's default dither amplitudes

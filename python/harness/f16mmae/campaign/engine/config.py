@@ -20,6 +20,8 @@ from ...truth.failures import make_failure
 
 #: The most seeded runs per case (or pair, or point and case) a campaign plans.
 RUNS_MAX = 1000
+#: The largest multiple of the truth model's default dither amplitudes a campaign flies.
+DITHER_SCALE_MAX = 5.0
 
 
 class CampaignError(F16mmaeError):
@@ -69,8 +71,8 @@ class CampaignConfig:
             raise CampaignError(f"unknown turbulence {self.turbulence!r}; valid: {', '.join(TURBULENCE_LEVELS)}")
         if self.feedback not in FEEDBACK_MODES:
             raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
-        if not 0.0 <= self.dither_scale <= 5.0:
-            raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, 5]")
+        if not 0.0 <= self.dither_scale <= DITHER_SCALE_MAX:
+            raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, {DITHER_SCALE_MAX}]")
         if self.threshold is not None and not 0.5 < self.threshold < 1.0:
             raise CampaignError(f"--threshold {self.threshold} must lie in (0.5, 1)")
         if self.dwell_s is not None and not 0.0 <= self.dwell_s <= DWELL_S_MAX:

@@ -35,6 +35,7 @@ import dataclasses
 import numpy as np
 
 from .. import names
+from ..seeds import TUNING_FLIGHT_SEEDS
 from .bank import design_bank, nominal_bank_path, write_bank
 from .flights import fly_closed_loop
 from .model import linearize_truth
@@ -106,7 +107,7 @@ def calibrate(base: Tuning, flights, linearized, iterations: int = 12,
     return tun, history
 
 
-SEEDS = tuple(range(1, 9))
+SEEDS = TUNING_FLIGHT_SEEDS  # the tuning namespace (f16mmae.seeds): 1-8
 
 
 def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after: ResidualStats,

@@ -1,0 +1,53 @@
+"""The per-flight table: columns, truth marking, and a lossless CSV round trip."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from f16mmae.loop import timeseries as ts
+from f16mmae.names import ACTUATORS, SENSORS
+
+
+def synthetic(n=6):
+    rng = np.random.default_rng(3)
+    t = np.arange(n) / 64.0
+    truth_log = {"state": rng.normal(size=(n, 2)), "state_names": ("alt_ft", "vt_fps"),
+                 "surface_rad": rng.normal(size=(n, 5)),
+                 "onsets": [{"name": "LS", "onset_s": 2 / 64.0}],
+                 "failures": [{"name": "LS"}, {"name": "PIT"}]}
+    probs = rng.uniform(size=(n, 2))
+    probs[:2, 1] = np.nan  # off line at first
+    return ts.flight_table(t, rng.normal(size=(n, 5)), rng.normal(size=(n, 7)), rng.normal(size=(n, 7)),
+                           ("NONE", "LS"), probs, truth_log)
+
+
+def test_columns_and_truth_marking():
+    table = synthetic()
+    names = list(table)
+    assert names[:1 + 5] == ["time_s"] + [f"u_{a}_rad" for a in ACTUATORS]
+    assert names[6:13] == [f"z_{s}" for s in SENSORS] and names[13:20] == [f"z_hat_{s}" for s in SENSORS]
+    assert names[20:22] == ["p_NONE", "p_LS"]
+    assert ts.truth_columns(names) == names[22:]
+    assert "truth_state_alt_ft" in names and "truth_surface_RUD_rad" in names
+    assert list(table["truth_failed_LS"]) == [0, 0, 1, 1, 1, 1]
+    assert list(table["truth_failed_PIT"]) == [0] * 6  # injected, never acted in the flight
+
+
+def test_csv_round_trip_is_exact(tmp_path):
+    table = synthetic()
+    path = ts.write_table(table, tmp_path / "flight", fmt="csv")
+    assert path.name == "flight.csv"
+    back = ts.read_table(path)
+    assert list(back) == list(table)
+    for k in table:
+        np.testing.assert_array_equal(back[k], table[k])  # repr() keeps every bit; NaN stays NaN
+
+
+def test_bad_shapes_and_format_are_named(tmp_path):
+    t = np.arange(3) / 64.0
+    log = {"state": np.zeros((3, 1)), "state_names": ("a",), "surface_rad": np.zeros((3, 5)),
+           "onsets": [], "failures": []}
+    with pytest.raises(ValueError, match=r"z has shape \(3, 6\)"):
+        ts.flight_table(t, np.zeros((3, 5)), np.zeros((3, 6)), np.zeros((3, 7)), (), np.zeros((3, 0)), log)
+    with pytest.raises(ValueError, match="valid: parquet, csv"):
+        ts.write_table(synthetic(), tmp_path / "x", fmt="xlsx")

@@ -26,7 +26,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from ...names import NONE
-from . import intervals, outcomes
+from . import identity, intervals, outcomes
 
 #: Goals on rates: name -> (goal, direction); see the module docstring.
 GOALS: dict[str, tuple[float, str]] = {
@@ -103,3 +103,27 @@ def verdict_counts(evidences: Iterable[dict]) -> dict:
         if e.get("verdict"):
             out[e["verdict"]] += 1
     return out
+
+
+def summary_fields(records: Iterable[dict], cases: Iterable[dict], not_clean: list[dict], code: dict,
+                   goals_met: bool | None = None) -> dict:
+    """The campaign-wide fields every summary adds (docs/INTERFACES.md): ``code``,
+    ``codes_in_records``, ``false_declarations_per_hour`` (over ``records``, the bank under
+    test), ``demonstration``, ``verdict_counts``, ``goals_met`` (default: no case's verdict
+    is *not met*) and ``not_clean``."""
+    rs = list(records)
+    evs = [c.get("evidence", {}) for c in cases]
+    mixed: dict[str, int] = {}
+    for r in rs:
+        key = identity.describe(r.get("code"))
+        mixed[key] = mixed.get(key, 0) + 1
+    return {
+        "code": code,
+        "codes_in_records": mixed,
+        "false_declarations_per_hour": false_declaration_rate(rs),
+        "demonstration": demonstration_note(),
+        "verdict_counts": verdict_counts(evs),
+        "goals_met": (all(e.get("verdict") != "not met" for e in evs) if goals_met is None else goals_met),
+        "not_clean": not_clean,
+    }
+

@@ -98,3 +98,12 @@ def rate_absolute(runs: int, correct: int, false_alarm_runs: int, transient_wron
 def count(records: Iterable[dict], field: str) -> int:
     """Runs whose boolean ``field`` is true (a record without it counts as false)."""
     return sum(1 for r in records if r.get(field))
+
+
+def run_fields(declarations: Sequence[dict], onset_s: float | None, allowed: Collection[str],
+               duration_s: float) -> dict:
+    """The fields these rules add to a run record: ``transient_wrong``,
+    ``false_declarations`` and ``failure_free_s``."""
+    return {"transient_wrong": transient_wrong(declarations, onset_s, allowed),
+            "false_declarations": false_declarations(declarations, onset_s),
+            "failure_free_s": failure_free_time_s(onset_s, duration_s)}

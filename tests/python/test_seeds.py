@@ -40,3 +40,14 @@ def test_a_colliding_draw_is_redrawn():
     second = sha_seed("evaluation:single:1:LS:0:redraw:1")
     assert seeds.evaluation_seed("single", 1, "LS", 0, tuning=frozenset({first, second})) == \
         sha_seed("evaluation:single:1:LS:0:redraw:2")
+
+
+def test_every_campaign_kind_draws_evaluation_seeds():
+    from f16mmae.campaign.dual import run_seed as dual_seed
+    from f16mmae.campaign.engine.failure_runs import run_seed as single_seed  # single and envelope
+
+    t = seeds.tuning_seeds()
+    assert single_seed(1, "LS", 0) == seeds.evaluation_seed("single", 1, "LS", 0)
+    assert dual_seed(1, "PIT", 0) == seeds.evaluation_seed("dual", 1, "PIT", 0)
+    # the shipped bank's tuning runs (campaign seed 1, runs 0-19) are not what --seed 1 flies now
+    assert not {single_seed(1, c, n) for c in SINGLE_HYPOTHESES for n in range(20)} & t

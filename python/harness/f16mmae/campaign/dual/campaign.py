@@ -11,8 +11,8 @@ Baseline: for each second failure ``b`` of the plan, the lone single failure ``b
 against, flown under the same conditions.
 
 Seeds: run n of pair (a, b) and run n of the baseline of b both get
-``seed_{b,n} = 1 + (SHA-256("dual:S:b:n") mod (2^31 - 2))`` (S the campaign seed):
-deterministic, >= 1, distinct from the single campaign's ("single:" prefix), and common
+``seed_{b,n} = evaluation_seed("dual", S, b, n)`` (S the campaign seed; ``f16mmae.seeds``):
+deterministic, >= 1, distinct from the single campaign's ("evaluation:dual:" against "evaluation:single:"), and common
 random numbers along a column of Fig. 7 -- a pair and the baseline it is rated against fly
 the same turbulence and sensor noise, so the difference is the first failure's.
 
@@ -42,7 +42,7 @@ from ...names import COMPONENTS, dual_name
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
 from ..engine.runner import CampaignOutcome, execute, planned_bank
-from ..engine.seeds import derived_seed
+from ..engine.seeds import evaluation_seed
 from ..engine.store import ResultsStore, run_key
 from . import figures
 from . import scoring
@@ -59,7 +59,7 @@ def pair_label(first: str, second: str) -> str:
 def run_seed(campaign_seed: int, second: str, run_index: int) -> int:
     """Seed of run ``run_index`` of every pair whose second failure is ``second`` and of
     that failure's baseline (>= 1); see the module docstring."""
-    return derived_seed("dual", campaign_seed, second, run_index)
+    return evaluation_seed("dual", campaign_seed, second, run_index)
 
 
 @dataclass(frozen=True)

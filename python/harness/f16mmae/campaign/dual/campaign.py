@@ -39,6 +39,7 @@ from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
 from ...names import COMPONENTS, dual_name
+from ..engine import drilldown, evidence, identity, outcomes
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
 from ..engine.runner import CampaignOutcome, execute, planned_bank
@@ -117,10 +118,13 @@ def run_spec(spec: dict) -> dict:
         "run_key": spec["run_key"], "kind": spec["kind"], "pair": spec["pair"],
         "first": first, "second": second, "hypothesis": injected,
         "run_index": spec["run_index"], "seed": spec["seed"], "tuning": spec["tuning"],
-        "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
+        "bank": spec["bank"], "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
         "estimator": spec["estimator"], "estimator_settings": result.estimator_settings,
         "first_time_s": t1, "second_time_s": t2, "failures": result.failures,
         "declarations": result.declarations, **scored,
+        # transient-wrong: anything but the first failure and the dual from the first onset on
+        **outcomes.run_fields(result.declarations, t1 if first else t2,
+                              {first, injected} if first else {injected}, scenario.duration_s),
         "p_injected": [round(float(x), 5) for x in p_inj[::P_INJECTED_DECIMATION]],
         "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
         "timing": result.timing,
@@ -158,7 +162,8 @@ def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
 
 # -- the campaign ------------------------------------------------------------------------------
 def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
-                 executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
+                 executor_label: str = "", show_progress: bool = True,
+                 allow_mixed: bool = False) -> CampaignOutcome:
     """Plan, fly what is not stored yet (appending records as they finish), summarize, plot."""
     cfg.validate()
     out = Path(out_dir)
@@ -166,7 +171,8 @@ def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
     label, _, bank = load_bank(cfg.tuning)
     specs = plan(cfg, label, bank)
     done = execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,
-                   describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})")
+                   describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})",
+                   allow_mixed=allow_mixed)
     records = done.records
     summary = summarize(cfg, label, bank, records)
     summary["timing"] = done.timing(executor_label)
@@ -190,6 +196,10 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
                                                            and r["first"] == a and r["second"] == b])
         s.update(first=a, second=b, hypothesis=dual_name(a, b))
         s["rating"], s["rating_reason"] = scoring.rate_pair(s, baselines[b])
+        if s["runs"]:
+            s["absolute_rating"], s["absolute_rating_reason"] = outcomes.rate_absolute(
+                s["runs"], s["correct"], s["false_alarms"], s["evidence"]["rates"]["transient_wrong"]["count"],
+                s["latency_s"]["median"])
         pairs.append(s)
         matrix.setdefault(a, {})[b] = s["rating"]
     return {
@@ -217,4 +227,13 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
         "paper_comparison": scoring.compare_with_paper(matrix),
         "baselines": [baselines[b] for b in cfg.seconds],
         "pairs": pairs,
+        "absolute_rules": dict(outcomes.ABSOLUTE_DUAL_RULES),
+        "absolute_ratings": {k: sum(1 for p in pairs if p.get("absolute_rating") == k)
+                             for k in outcomes.ABSOLUTE_RATINGS},
+        **evidence.summary_fields(
+            records, [baselines[b] for b in cfg.seconds] + pairs,
+            drilldown.not_clean(sorted(records, key=lambda r: (r["kind"], r["pair"], r["run_index"])),
+                                lambda r: drilldown.record_command(r, cfg.dither_scale),
+                                lambda r: {"pair": r["pair"]}),
+            identity.code_identity(), goals_met=all(p.get("absolute_rating") == "Good" for p in pairs)),
     }

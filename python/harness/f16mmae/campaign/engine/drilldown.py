@@ -52,6 +52,12 @@ def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: 
     return shlex.join(args)
 
 
+def record_command(record: dict, dither_scale: float = 1.0) -> str:
+    """:func:`reproduce_command` of a stored run record (its scenario, bank and overrides)."""
+    return reproduce_command(record["scenario"], record.get("bank", record["tuning"]), record["estimator"],
+                             dither_scale)
+
+
 def not_clean(records: Iterable[dict], command: Callable[[dict], str], label: Callable[[dict], dict]) -> list[dict]:
     """Every run that was not clean: ``label(record)`` (the fields naming its case), then
     ``seed``, ``run_index``, ``outcome``, ``flags``, ``final_hypothesis``, ``declarations``

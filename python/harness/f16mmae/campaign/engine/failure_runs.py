@@ -19,7 +19,7 @@ from __future__ import annotations
 from ... import __version__
 from ...loop.flight import fly, scenario_from_dict
 from ...names import NONE, SINGLE_HYPOTHESES
-from . import scoring
+from . import outcomes, scoring
 from .config import CampaignError
 from .runner import planned_bank
 from .seeds import evaluation_seed
@@ -72,6 +72,7 @@ def run_spec(spec: dict) -> dict:
         "run_index": spec["run_index"],
         "seed": spec["seed"],
         "tuning": spec["tuning"],
+        "bank": spec["bank"],  # the --tuning / --bank argument that names the bank
         "bank_hash": spec["bank_hash"],
         "version": spec["version"],
         "scenario": spec["scenario"],
@@ -81,6 +82,7 @@ def run_spec(spec: dict) -> dict:
         "failures": result.failures,
         "declarations": result.declarations,
         **scored,
+        **outcomes.run_fields(result.declarations, failure_time, {case}, scenario.duration_s),
         "p_injected": [round(float(x), 5) for x in p_inj],
         "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
         "timing": result.timing,

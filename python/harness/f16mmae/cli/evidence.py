@@ -8,7 +8,8 @@ SHOW_COMMANDS = 5
 _SHORT = {"demonstrated": "demo", "consistent": "cons", "not met": "NOT"}
 
 
-def _rate(r: dict | None) -> str:
+def format_rate(r: dict | None) -> str:
+    """``k/n [lo-hi]``, the Clopper-Pearson 95 % interval in %."""
     if not r:
         return "-"
     lo, hi = r["ci95"]["clopper_pearson"]
@@ -35,7 +36,7 @@ def print_cases(cases: list[dict], stream, label: str = "case") -> None:
         lat = c.get("latency_s", {})
         med = "-" if lat.get("median") is None else f"{lat['median']:.2f}"
         p95 = "-" if lat.get("p95") is None else f"{lat['p95']:.2f}"
-        print(f"  {c['case']:<{width}} {_rate(rates['correct']):>17} {_SHORT[rates['correct']['verdict']]:>4} "
+        print(f"  {c['case']:<{width}} {format_rate(rates['correct']):>17} {_SHORT[rates['correct']['verdict']]:>4} "
               f"{rates['missed']['count']:>4} {rates['wrong']['count']:>5} {rates['transient_wrong']['count']:>3} "
               f"{rates['false_alarm']['count']:>3} {fr:>21} {med + '/' + p95 + ' (' + str(c.get('latency_detected_runs', '?')) + ')':>18} "
               f"{ev.get('verdict') or '-'}", file=stream)

@@ -64,3 +64,48 @@ def test_running_code_identity_and_versions():
     assert not identity.same(ident, {**ident, "jsbsim": "0.0"}) and not identity.same(ident, None)
     assert "unrecorded" in identity.describe(None)
     assert ident["code"] in identity.describe(ident)
+
+
+# -- a resumed campaign refuses runs of other code -------------------------------------------------------
+@pytest.mark.slow
+def test_resume_over_other_code_refuses_unless_allowed(tmp_path, capsys):
+    import json
+
+    from f16mmae.campaign.engine.config import CampaignError
+    from f16mmae.campaign.engine.executor import InlineExecutor
+    from f16mmae.campaign.single import SingleCampaign, run_campaign
+    from f16mmae.cli.main import main
+
+    def fly(runs, **kw):
+        return run_campaign(SingleCampaign(runs=runs, cases=("NONE",), baseline=None), tmp_path, InlineExecutor(),
+                            show_progress=False, measure_cost=False, **kw)
+
+    fly(1)
+    path = tmp_path / "runs.jsonl"
+    record = json.loads(path.read_text())
+    ours = record["code"]
+    assert ours == identity.code_identity()
+    other = {**ours, "code": "git:0123456789abcdef0123456789abcdef01234567"}
+    path.write_text(json.dumps({**record, "code": other}) + "\n")
+    with pytest.raises(CampaignError) as err:
+        fly(2)
+    msg = str(err.value)
+    assert identity.describe(other) in msg and identity.describe(ours) in msg
+    assert "--allow-mixed" in msg and "--out" in msg
+    assert path.read_text().count("\n") == 1  # nothing flown, nothing lost
+    # the command line says the same and exits non-zero
+    argv = ["campaign", "single", "--runs", "2", "--cases", "NONE", "--baseline", "none", "--workers", "1",
+            "--out", str(tmp_path), "--quiet"]
+    assert main(argv) != 0
+    assert "resuming would mix results of different code" in capsys.readouterr().err
+    # allowed: the stored run is kept, the new one flown with this code, the summary says so
+    done = fly(2, allow_mixed=True)
+    assert done.executed == 1 and done.resumed == 1
+    assert sorted(done.summary["codes_in_records"].values()) == [1, 1]
+    # a record from before identities were kept is refused too
+    lines = path.read_text().splitlines()
+    old = json.loads(lines[0])
+    old.pop("code")
+    path.write_text(json.dumps(old) + "\n" + lines[1] + "\n")
+    with pytest.raises(CampaignError, match="unrecorded"):
+        fly(2)

@@ -85,3 +85,24 @@ def test_reproduce_command_gives_the_same_declarations(kind, tmp_path):
     entries = done.summary["not_clean"]
     assert entries, f"the {kind} plan flew no run that went wrong"
     _fly_again(entries[0], done.records, tmp_path / "again")
+    # the report opens on them, each with its command
+    import html
+
+    from f16mmae.report.page import render_report
+
+    page = render_report(out).read_text()
+    assert page.index("<h2>Runs that went wrong") < page.index("<h2>", page.index("<h1>") + 1) + 1
+    assert html.escape(entries[0]["command"]) in page
+
+
+@pytest.mark.slow
+def test_report_header_names_the_settings_the_bank_carries(tmp_path):
+    from f16mmae.campaign.engine.executor import InlineExecutor
+    from f16mmae.campaign.single import SingleCampaign, run_campaign
+    from f16mmae.report.page import render_report
+
+    run_campaign(SingleCampaign(runs=1, cases=("NONE",), baseline=None, dwell_s=0.3), tmp_path, InlineExecutor(),
+                 show_progress=False, measure_cost=False)
+    page = render_report(tmp_path).read_text()
+    assert "core defaults" not in page
+    assert "p_min=1e-09" in page and "bank: p_min, threshold" in page and "options: dwell_s" in page

@@ -106,3 +106,26 @@ def test_report_header_names_the_settings_the_bank_carries(tmp_path):
     page = render_report(tmp_path).read_text()
     assert "core defaults" not in page
     assert "p_min=1e-09" in page and "bank: p_min, threshold" in page and "options: dwell_s" in page
+
+
+def test_markdown_page_of_each_kind(tmp_path, capsys):
+    """``f16mmae report DIR --markdown FILE`` from the golden summaries: command, totals, tables."""
+    from pathlib import Path
+
+    from f16mmae.cli.main import main
+
+    golden = Path(__file__).with_name("golden")
+    for kind, marker in (("single", "| LS |"), ("dual", "absolute (>= 90 % correct"), ("envelope", "| C1 |")):
+        d = tmp_path / kind
+        d.mkdir()
+        summary = json.loads((golden / f"campaign_{kind}.json").read_text())["summary"]
+        summary.update(command=f"f16mmae campaign {kind} --runs 1", code={"code": "git:x", "jsbsim": "1", "lcm": "1"},
+                       codes_in_records={}, figures={})
+        (d / "summary.json").write_text(json.dumps(summary))
+        md = tmp_path / f"{kind}.md"
+        assert main(["report", str(d), "--markdown", str(md)]) == 0
+        text = md.read_text()
+        assert f"f16mmae campaign {kind} --runs 1" in text and "evaluation seeds" in text and marker in text
+        assert "pooled: correct" in text and "Runs that went wrong" in text
+    assert main(["report", str(tmp_path / "single"), "--markdown", str(tmp_path / "no" / "x.md")]) == 2
+    assert "existing directory" in capsys.readouterr().err

@@ -3,6 +3,8 @@ config has (``engine.config.CampaignConfig``), where a campaign runs and writes,
 it with its report."""
 from __future__ import annotations
 
+import json
+import shlex
 import sys
 
 from ..banks import BankError, bank_path
@@ -91,6 +93,8 @@ def run_and_report(args, run, print_summary) -> int:
     with make_executor(workers=workers, scheduler=args.scheduler) as ex:
         outcome = run(ex, label, not args.quiet)
     out = outcome.summary_path.parent
+    outcome.summary["command"] = "f16mmae " + shlex.join(args.argv)  # what made it, for results pages
+    outcome.summary_path.write_text(json.dumps(outcome.summary, indent=1) + "\n")
     report = render_report(out)
     print_summary(outcome.summary, sys.stdout)
     evidence.print_campaign(outcome.summary, sys.stdout)

@@ -108,7 +108,8 @@ def verdict_counts(evidences: Iterable[dict]) -> dict:
 def summary_fields(records: Iterable[dict], cases: Iterable[dict], not_clean: list[dict], code: dict,
                    goals_met: bool | None = None) -> dict:
     """The campaign-wide fields every summary adds (docs/INTERFACES.md): ``code``,
-    ``codes_in_records``, ``false_declarations_per_hour`` (over ``records``, the bank under
+    ``codes_in_records``, ``totals`` (correct, runs with a false alarm and transient-wrong runs
+    pooled over ``records``, with intervals), ``false_declarations_per_hour`` (over ``records``, the bank under
     test), ``demonstration``, ``verdict_counts``, ``goals_met`` (default: no case's verdict
     is *not met*) and ``not_clean``."""
     rs = list(records)
@@ -117,9 +118,15 @@ def summary_fields(records: Iterable[dict], cases: Iterable[dict], not_clean: li
     for r in rs:
         key = identity.describe(r.get("code"))
         mixed[key] = mixed.get(key, 0) + 1
+    n = len(rs)
+    totals = {} if not n else {
+        "correct": intervals.rate(sum(r["outcome"] == "correct" for r in rs), n),
+        "false_alarm": intervals.rate(outcomes.count(rs, "false_alarm"), n),
+        "transient_wrong": intervals.rate(outcomes.count(rs, "transient_wrong"), n)}
     return {
         "code": code,
         "codes_in_records": mixed,
+        "totals": totals,
         "false_declarations_per_hour": false_declaration_rate(rs),
         "demonstration": demonstration_note(),
         "verdict_counts": verdict_counts(evs),

@@ -5,7 +5,7 @@ import argparse
 
 from ..campaign.envelope import EnvelopeCampaign, run_envelope
 from ..campaign.envelope.points import PAPER_POINTS, EnvelopeError, check_distinct, parse_mach_alt, select_points
-from . import evidence
+from ..report.evidence import describe_rate
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, parse_cases, run_and_report, validated
 from .options import CliError
 
@@ -118,7 +118,7 @@ def print_summary(summary: dict, stream) -> None:
           f"{'lat med':>7}  acceptable  verdict", file=stream)
     for p in summary["points"]:
         rates = p["evidence"]["rates"]
-        corr = evidence.format_rate(rates.get("correct"))
+        corr = describe_rate(rates.get("correct"))
         lat = "-" if p["latency_median_s"] is None else f"{p['latency_median_s']:.2f}"
         print(f"  {p['label']:>5} {p['mach']:>6.3f} {p['alt_ft']:>7.0f} {p['qbar_psf']:>6.1f} "
               f"{corr:>17} {p['false_alarm_runs']:>3} {rates['transient_wrong']['count']:>3} {lat:>7}  "

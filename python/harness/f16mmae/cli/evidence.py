@@ -4,16 +4,10 @@ hour and the runs that went wrong with their reproduce commands (the first few; 
 are in summary.json and report.html)."""
 from __future__ import annotations
 
+from ..report.evidence import describe_rate
+
 SHOW_COMMANDS = 5
 _SHORT = {"demonstrated": "demo", "consistent": "cons", "not met": "NOT"}
-
-
-def format_rate(r: dict | None) -> str:
-    """``k/n [lo-hi]``, the Clopper-Pearson 95 % interval in %."""
-    if not r:
-        return "-"
-    lo, hi = r["ci95"]["clopper_pearson"]
-    return f"{r['count']}/{r['runs']} [{100 * lo:.0f}-{100 * hi:.0f}]"
 
 
 def _pct(x) -> str:
@@ -36,7 +30,7 @@ def print_cases(cases: list[dict], stream, label: str = "case") -> None:
         lat = c.get("latency_s", {})
         med = "-" if lat.get("median") is None else f"{lat['median']:.2f}"
         p95 = "-" if lat.get("p95") is None else f"{lat['p95']:.2f}"
-        print(f"  {c['case']:<{width}} {format_rate(rates['correct']):>17} {_SHORT[rates['correct']['verdict']]:>4} "
+        print(f"  {c['case']:<{width}} {describe_rate(rates['correct']):>17} {_SHORT[rates['correct']['verdict']]:>4} "
               f"{rates['missed']['count']:>4} {rates['wrong']['count']:>5} {rates['transient_wrong']['count']:>3} "
               f"{rates['false_alarm']['count']:>3} {fr:>21} {med + '/' + p95 + ' (' + str(c.get('latency_detected_runs', '?')) + ')':>18} "
               f"{ev.get('verdict') or '-'}", file=stream)

@@ -21,6 +21,15 @@ def _s(x) -> str:
     return "&ndash;" if x is None else f"{x:.2f}"
 
 
+def describe_rate(r: dict | None, digits: int = 0, unit: str = "") -> str:
+    """An ``intervals.rate`` record as text, ``k/n [lo-hi<unit>]`` with its Clopper-Pearson bounds in
+    percent to ``digits`` places (``-`` for None)."""
+    if not r:
+        return "-"
+    lo, hi = r["ci95"]["clopper_pearson"]
+    return f"{r['count']}/{r['runs']} [{100 * lo:.{digits}f}-{100 * hi:.{digits}f}{unit}]"
+
+
 def rate_cell(rate: dict | None) -> str:
     """``k/n`` with the Clopper-Pearson 95 % interval and, with a goal, the verdict."""
     if not rate:

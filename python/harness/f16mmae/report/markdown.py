@@ -11,14 +11,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from .evidence import describe_rate
+
 MAX_LISTED = 25
 
 
 def _rate(r: dict | None) -> str:
-    if not r:
-        return "-"
-    lo, hi = r["ci95"]["clopper_pearson"]
-    return f"{r['count']}/{r['runs']} [{100 * lo:.1f}-{100 * hi:.1f} %]"
+    return describe_rate(r, digits=1, unit=" %")
 
 
 def _s(x) -> str:

@@ -136,3 +136,4 @@ def poisson_rate(events: int, exposure: float, level: float = CONFIDENCE) -> dic
         return {"events": events, "exposure": 0.0, "rate": None, "ci95": None}
     return {"events": events, "exposure": round(exposure, 9), "rate": round(events / exposure, 6),
             "ci95": [round(lo / exposure, 6), round(hi / exposure, 6)]}
+

@@ -51,3 +51,9 @@ def test_every_campaign_kind_draws_evaluation_seeds():
     assert dual_seed(1, "PIT", 0) == seeds.evaluation_seed("dual", 1, "PIT", 0)
     # the shipped bank's tuning runs (campaign seed 1, runs 0-19) are not what --seed 1 flies now
     assert not {single_seed(1, c, n) for c in SINGLE_HYPOTHESES for n in range(20)} & t
+
+
+def test_the_design_reports_held_out_check_flies_no_tuning_seed():
+    from f16mmae.design import report
+
+    assert not (set(report.REPORT_SEEDS) | {report.SENSITIVITY_SEED}) & seeds.tuning_seeds()

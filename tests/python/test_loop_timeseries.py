@@ -88,3 +88,14 @@ def test_run_out_table_replays_from_u_and_z_alone(tmp_path):
     in_loop = {id(n) for n in ast.walk(loop)}
     reads = [n for n in ast.walk(tree) if isinstance(n, ast.Attribute) and n.attr == "truth_log"]
     assert reads and all(id(n) not in in_loop for n in reads)
+
+
+def test_parquet_round_trip_marks_the_truth(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet", reason="Parquet is written only when pyarrow is installed")
+    table = synthetic()
+    path = ts.write_table(table, tmp_path / "flight", fmt="parquet")
+    assert path.suffix == ".parquet"
+    assert pq.read_schema(path).metadata[b"f16mmae.truth_prefix"] == ts.TRUTH_PREFIX.encode()
+    back = ts.read_table(path)
+    for k in table:
+        np.testing.assert_array_equal(back[k], table[k])

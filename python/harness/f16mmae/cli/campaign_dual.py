@@ -5,6 +5,7 @@ import argparse
 
 from ..campaign.dual import DualCampaign, run_campaign
 from ..names import COMPONENTS
+from . import evidence
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
 from .options import CliError, number, parse_choices
 
@@ -147,6 +148,13 @@ def print_summary(summary: dict, stream) -> None:
     print("\n" + ", ".join(f"{k}: {v}" for k, v in counts.items()) + f" (of {sum(counts.values())} pairs)",
           file=stream)
     print("absolute: " + ", ".join(f"{k}: {v}" for k, v in summary["absolute_ratings"].items()), file=stream)
+    print("\nbaselines, each second failure alone (95% Clopper-Pearson intervals; TW transient-wrong, "
+          "FA false-alarm runs; detection fractions count misses):", file=stream)
+    evidence.print_cases(summary["baselines"], stream, label="failure")
+    worse = [p for p in summary["pairs"] if p["rating"] != "Good" or p.get("absolute_rating") != "Good"]
+    if worse:
+        print(f"\npairs not Good on either rating ({len(worse)}):", file=stream)
+        evidence.print_cases(worse, stream, label="pair")
     c = summary.get("paper_comparison", {})
     if c.get("cells"):
         print(f"paper Fig. 7: same rating in {c['equal']} of {c['cells']} comparable cells, "

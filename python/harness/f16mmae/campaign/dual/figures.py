@@ -81,8 +81,8 @@ def rating_matrix(summary: dict, path: str | Path) -> Path:
     _grid_axes(ax, f"f16mmae, {summary.get('tuning')} bank, {summary.get('runs_per_pair')} runs/pair "
                    f"(cell: correct k/N, median latency s)\n"
                    + ", ".join(f"{k} {counts.get(k, 0)}" for k in RATINGS)
-                   + f"; black square: absolutely Good ({absolute.get('Good', 0)}: >= 90% correct, no false alarm, "
-                     f"no transient-wrong, median <= 1.5 s)")
+                   + f"\n\u25a0 absolutely Good ({absolute.get('Good', 0)}): >= 90% correct, no false alarm, "
+                     f"no transient-wrong, median <= 1.5 s")
     cmp_ = summary.get("paper_comparison", {})
     _grid_axes(axp, "paper Fig. 7 (Eide & Maybeck)\n"
                     f"same rating in {cmp_.get('equal', '?')} of {cmp_.get('cells', '?')} known cells")

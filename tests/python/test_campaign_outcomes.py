@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from f16mmae.campaign.engine import outcomes
-from f16mmae.campaign.scoring import score_run
+from f16mmae.campaign.engine.scoring import score_run
 
 
 def d(h, t):

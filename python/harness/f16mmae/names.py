@@ -48,6 +48,8 @@ DESIGN_ALT_FT = 20_000.0
 #: The paper's single-failure flight: the failure at 3.0 s of an 8-s flight (Sec. V).
 FAILURE_TIME_S = 3.0
 FLIGHT_S = 8.0
+#: The longest flight a command or a soak campaign flies: one hour (230,400 frames at 64 Hz).
+FLIGHT_S_MAX = 3600.0
 
 #: Turbulence levels of the truth model, in increasing intensity (MIL-F-8785C).
 TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")

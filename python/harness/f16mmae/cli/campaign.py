@@ -1,12 +1,12 @@
-"""``f16mmae campaign single|dual|envelope``: Monte Carlo campaigns, one module per kind."""
+"""``f16mmae campaign single|dual|envelope|soak``: Monte Carlo campaigns, one module per kind."""
 from __future__ import annotations
 
 import argparse
 
-from . import campaign_dual, campaign_envelope, campaign_single
+from . import campaign_dual, campaign_envelope, campaign_single, campaign_soak
 
 #: The kinds in the order ``--help`` lists them; each module has ``register(kinds)``.
-KINDS = (campaign_single, campaign_dual, campaign_envelope)
+KINDS = (campaign_single, campaign_dual, campaign_envelope, campaign_soak)
 
 DESCRIPTION = """\
 Monte Carlo campaigns of closed-loop flights of the nonlinear JSBSim F-16 with the MMAE
@@ -27,7 +27,7 @@ estimator in the loop.
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "campaign",
-        help="Monte Carlo campaigns (single, dual, envelope)",
+        help="Monte Carlo campaigns (single, dual, envelope, soak)",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

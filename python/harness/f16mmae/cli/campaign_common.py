@@ -19,18 +19,21 @@ from .options import (CliError, add_estimator_arguments, choice, estimator_optio
                       number, parse_choices, seed)
 
 
-def add_flight_settings(p, runs: str, runs_help: str) -> None:
-    """The options of the shared config fields (``--runs`` with its kind's default and help),
-    the estimator settings included."""
-    p.add_argument("--runs", default=runs, metavar="N", help=runs_help)
+def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool = True) -> None:
+    """The options of the shared config fields (``--runs`` with its kind's default and help,
+    unless ``runs`` is None; ``--mode`` unless the kind flies no failure), the estimator
+    settings included."""
+    if runs is not None:
+        p.add_argument("--runs", default=runs, metavar="N", help=runs_help)
     p.add_argument("--seed", default="1", metavar="S", help="campaign seed >= 1 (default 1)")
     p.add_argument("--tuning", default="tuned", metavar="tuned|untuned|FILE",
                    help="the bank under test: a shipped tuning or a bank file (default tuned)")
     p.add_argument("--turbulence", default="light", metavar="LEVEL",
                    help="none | light | moderate | severe (default light)")
-    p.add_argument("--mode", default="complete", metavar="MODE",
-                   help="failure mode injected (default complete, the paper's model: a failed "
-                        "sensor reads the truth's trim value, a failed surface is frozen at trim)")
+    if failures:
+        p.add_argument("--mode", default="complete", metavar="MODE",
+                       help="failure mode injected (default complete, the paper's model: a failed "
+                            "sensor reads the truth's trim value, a failed surface is frozen at trim)")
     p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
                    help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
     p.add_argument("--no-dither", action="store_true", help="fly without dither (the paper always dithers)")
@@ -43,17 +46,31 @@ def flight_settings(args) -> dict:
     """The shared config fields from the options of :func:`add_flight_settings` and the
     estimator options, each checked (CliError naming the bad value)."""
     settings = dict(
-        runs=number("--runs", args.runs, integer=True, minimum=1, maximum=RUNS_MAX),
-        seed=seed("--seed", args.seed),
-        tuning=args.tuning, mode=args.mode.lower(),
-        turbulence=choice("--turbulence", args.turbulence, TURBULENCE_LEVELS),
+        seed=seed("--seed", args.seed), tuning=args.tuning,
+        turbulence=turbulence_levels("--turbulence", args.turbulence),
         feedback=choice("--feedback", args.feedback, FEEDBACK_MODES),
         dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale, minimum=0.0,
                                                            maximum=DITHER_SCALE_MAX),
         **estimator_options_from_args(args),
     )
+    if getattr(args, "runs", None) is not None:
+        settings["runs"] = number("--runs", args.runs, integer=True, minimum=1, maximum=RUNS_MAX)
+    if getattr(args, "mode", None) is not None:
+        settings["mode"] = args.mode.lower()
     check_tuning("--tuning", args.tuning)
     return settings
+
+
+def turbulence_levels(option: str, text: str) -> str:
+    """One turbulence level or a comma list of distinct levels, lower-cased and joined by commas;
+    CliError naming a bad or repeated level and the valid ones."""
+    levels = [x.strip() for x in text.split(",") if x.strip()] or [text]
+    for x in levels:
+        choice(option, x, TURBULENCE_LEVELS)
+    levels = [x.lower() for x in levels]
+    if len(set(levels)) != len(levels):
+        raise CliError(f"{option} {text!r} lists a level twice")
+    return ",".join(levels)
 
 
 def add_run_arguments(p, default_out: str) -> None:

@@ -6,15 +6,13 @@ from __future__ import annotations
 import math
 
 from ..errors import F16mmaeError
-from ..names import DWELL_S_MAX, K_BANK
+from ..names import DWELL_S_MAX, FLIGHT_S_MAX, K_BANK
 
 
 class CliError(F16mmaeError):
     """A bad argument: the message names the bad value and the valid choices."""
 
 
-#: The longest flight a command flies: one hour (230,400 frames at 64 Hz).
-FLIGHT_S_MAX = 3600.0
 #: Seeds are 32-bit signed integers for JSBSim; 0 means 1 to it, so seeds start at 1.
 SEED_MAX = 2**31 - 1
 

@@ -30,6 +30,19 @@ def describe_rate(r: dict | None, digits: int = 0, unit: str = "") -> str:
     return f"{r['count']}/{r['runs']} [{100 * lo:.{digits}f}-{100 * hi:.{digits}f}{unit}]"
 
 
+def describe_per_hour(per_hour: dict | None) -> str:
+    """An ``intervals.poisson_rate`` record over flight hours as text: ``k in H h = r/h [lo-hi]``
+    (95 % Poisson interval), with the verdict when it has a goal (``-`` for none)."""
+    if not per_hour or per_hour.get("rate") is None:
+        return "-"
+    lo, hi = per_hour["ci95"]
+    text = (f"{per_hour['events']} in {per_hour['exposure']:.3f} h = {per_hour['rate']:.2f}/h "
+            f"[{lo:.2f}-{hi:.2f}]")
+    if "verdict" in per_hour:
+        text += f", goal <= {per_hour['goal']:g}/h: {per_hour['verdict']}"
+    return text
+
+
 def rate_cell(rate: dict | None) -> str:
     """``k/n`` with the Clopper-Pearson 95 % interval and, with a goal, the verdict."""
     if not rate:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from .evidence import describe_rate
+from .evidence import describe_per_hour, describe_rate
 
 MAX_LISTED = 25
 
@@ -36,8 +36,9 @@ def _header(s: dict, title: str) -> list[str]:
            "```", cmd, "```", "",
            f"- code {code.get('code', 'unrecorded')}, JSBSim {code.get('jsbsim')}, LCM {code.get('lcm')}",
            f"- bank `{s.get('tuning')}` {str(s.get('bank_hash'))[:12]}, estimator settings in force: {settings}",
-           f"- {s.get('turbulence')} turbulence, failure mode `{s.get('mode')}`, campaign seed {s.get('seed')}: "
-           "evaluation seeds, which the tuning never flew"]
+           f"- {s.get('turbulence')} turbulence, "
+           + (f"failure mode `{s['mode']}`, " if s.get("mode") else "")
+           + f"campaign seed {s.get('seed')}: evaluation seeds, which the tuning never flew"]
     t = s.get("totals") or {}
     if t:
         out.append(f"- pooled: correct {_rate(t['correct'])}, runs with a false alarm {_rate(t['false_alarm'])}, "
@@ -139,8 +140,26 @@ def envelope_markdown(s: dict) -> str:
     return "\n".join(out)
 
 
+def soak_markdown(s: dict) -> str:
+    out = _header(s, f"Soak: {s['flights_per_level']} failure-free flights of {s['flight_s']:g} s per turbulence "
+                     f"level at Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, trim (no maneuvers)")
+    out += ["## False declarations per flight hour", "",
+            "| turbulence | flights | hours | false declarations per hour [95 %], goal: verdict | "
+            "flights with one | hypotheses involved | lasted median / max (s) | ended: backed out / replaced / "
+            "flight end |", "|---|---|---|---|---|---|---|---|"]
+    for lv in s["levels"]:
+        hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "-"
+        ends = " / ".join(str(lv["episodes_by_end"][k]) for k in ("backed out", "replaced", "flight end"))
+        out.append(f"| {lv['level']} | {lv['flights']} | {lv['hours']:.3f} | {describe_per_hour(lv['per_hour'])} | "
+                   f"{lv['flights_with_false_declaration']} | {hyps} | {_s(lv['duration_s']['median'])} / "
+                   f"{_s(lv['duration_s']['max'])} | {ends} |")
+    out += ["", f"Goals met (no level *not met*): {'yes' if s.get('goals_met') else 'no'}", ""]
+    out += _not_clean(s, lambda r: f"{r['level']} flight")
+    return "\n".join(out)
+
+
 MARKDOWN: dict[str, Callable[[dict], str]] = {
-    "single": single_markdown, "dual": dual_markdown, "envelope": envelope_markdown}
+    "single": single_markdown, "dual": dual_markdown, "envelope": envelope_markdown, "soak": soak_markdown}
 
 
 def summary_markdown(summary: dict) -> str:

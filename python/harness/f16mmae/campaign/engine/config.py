@@ -6,6 +6,11 @@ points, failure times) and may change a shared field's default (runs, duration).
 :meth:`CampaignConfig.check_common` checks the shared fields; each kind's ``validate``
 calls it and checks its own.  Every check raises :class:`CampaignError` naming the bad
 value and the valid range.
+
+Turbulence: ``turbulence`` is one level or a comma list of distinct levels
+(``none,light,moderate,severe``, :meth:`CampaignConfig.levels`).  A kind that flies a list
+sets ``MULTI_LEVEL = True`` and passes each level to :meth:`CampaignConfig.scenario_dict`;
+the others accept one level.
 """
 from __future__ import annotations
 
@@ -57,6 +62,13 @@ class CampaignConfig:
     dwell_s: float | None = None
     p_min: float | None = None
 
+    #: Whether this kind flies a list of turbulence levels (see the module docstring).
+    MULTI_LEVEL = False
+
+    def levels(self) -> tuple[str, ...]:
+        """The turbulence levels listed in ``turbulence``, in the order given."""
+        return tuple(x.strip() for x in self.turbulence.split(","))
+
     def estimator_options(self) -> dict:
         """The estimator settings this config overrides (unset ones stay the bank's recommended)."""
         return {k: getattr(self, k) for k in ESTIMATOR_SETTINGS if getattr(self, k) is not None}
@@ -73,8 +85,14 @@ class CampaignConfig:
             raise CampaignError(f"--runs must lie in [1, {RUNS_MAX}], got {self.runs}")
         if self.seed < 1:
             raise CampaignError(f"--seed must be >= 1 (JSBSim treats 0 as 1), got {self.seed}")
-        if self.turbulence not in TURBULENCE_LEVELS:
-            raise CampaignError(f"unknown turbulence {self.turbulence!r}; valid: {', '.join(TURBULENCE_LEVELS)}")
+        levels = self.levels()
+        bad = [x for x in levels if x not in TURBULENCE_LEVELS]
+        if bad:
+            raise CampaignError(f"unknown turbulence {', '.join(map(repr, bad))}; valid: {', '.join(TURBULENCE_LEVELS)}")
+        if len(set(levels)) != len(levels):
+            raise CampaignError(f"a turbulence level is listed twice in {self.turbulence!r}")
+        if len(levels) > 1 and not self.MULTI_LEVEL:
+            raise CampaignError(f"this campaign flies one turbulence level at a time, got {self.turbulence!r}")
         if self.feedback not in FEEDBACK_MODES:
             raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
         if not 0.0 <= self.dither_scale <= DITHER_SCALE_MAX:
@@ -89,15 +107,17 @@ class CampaignConfig:
             raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(SINGLE_HYPOTHESES)})")
 
     def scenario_dict(self, bank, failures: tuple[tuple[str, float], ...], seed: int,
-                      mach: float | None = None, alt_ft: float | None = None) -> dict:
+                      mach: float | None = None, alt_ft: float | None = None,
+                      turbulence: str | None = None) -> dict:
         """A run's scenario as the truth model's own plain data (``Scenario.to_dict``), so the
         record holds every truth setting (dither amplitudes, ARI, noise) and the run key
         changes when a truth default does. ``failures``: (name, time_s) pairs in this config's
-        mode; ``mach`` / ``alt_ft`` None: the bank's design point. ValueError on a bad value."""
+        mode; ``mach`` / ``alt_ft`` None: the bank's design point; ``turbulence`` None: this
+        config's (single) level. ValueError on a bad value."""
         scenario = Scenario(
             mach=float(mach if mach is not None else bank.mach),
             alt_ft=float(alt_ft if alt_ft is not None else bank.alt_ft),
-            turbulence=self.turbulence, dither=self.dither_spec(),
+            turbulence=self.turbulence if turbulence is None else turbulence, dither=self.dither_spec(),
             failures=tuple(make_failure(n, t, self.mode) for n, t in failures),
             duration_s=self.duration_s, seed=seed, feedback=self.feedback,
         )

@@ -137,3 +137,16 @@ def poisson_rate(events: int, exposure: float, level: float = CONFIDENCE) -> dic
     return {"events": events, "exposure": round(exposure, 9), "rate": round(events / exposure, 6),
             "ci95": [round(lo / exposure, 6), round(hi / exposure, 6)]}
 
+
+
+def poisson_verdict(events: int, exposure: float, goal: float, level: float = CONFIDENCE) -> str:
+    """The verdict of the goal "at most ``goal`` events per unit exposure": *demonstrated*
+    when the upper bound of the Poisson interval is ``<= goal``, *consistent* when the rate
+    is ``<= goal`` < the upper bound, *not met* when the rate exceeds ``goal``.  A goal of 0
+    is at best consistent, as for rates.  ValueError for an exposure of 0 or a negative goal."""
+    if not goal >= 0.0:
+        raise ValueError(f"a goal on events per exposure must be >= 0, got {goal!r}")
+    r = poisson_rate(events, exposure, level)
+    if r["rate"] is None:
+        raise ValueError("a verdict needs an exposure > 0")
+    return "demonstrated" if r["ci95"][1] <= goal else ("consistent" if r["rate"] <= goal else "not met")

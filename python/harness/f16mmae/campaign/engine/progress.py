@@ -6,13 +6,14 @@
 On a terminal the bar redraws one line in place (``\\r``); on a pipe or a log file it
 prints a plain line at most every ``log_interval_s`` seconds and at the end, so CI logs
 stay short.  ``done`` may start above zero (runs resumed from a results store): those
-count towards the bar but not towards the rate.
+count towards the bar but not towards the rate.  ``note(done)``, if given, adds the kind's own
+measure of progress to the line (e.g. the soak's simulated hours flown).
 """
 from __future__ import annotations
 
 import sys
 import time
-from typing import TextIO
+from typing import Callable, TextIO
 
 
 def _clock(seconds: float) -> str:
@@ -35,6 +36,7 @@ class Progress:
         width: int = 28,
         log_interval_s: float = 5.0,
         enabled: bool = True,
+        note: Callable[[int], str] | None = None,
     ) -> None:
         if total < 0 or already_done < 0 or already_done > total:
             raise ValueError(f"progress needs 0 <= already_done <= total, got {already_done}/{total}")
@@ -47,6 +49,7 @@ class Progress:
         self._width = width
         self._log_interval_s = log_interval_s
         self._enabled = enabled
+        self._note = note
         self._t0 = time.perf_counter()
         self._last_print = -float("inf")
         self._closed = False
@@ -72,8 +75,9 @@ class Progress:
         else:
             tail = "--:-- left"
         resumed = f" ({self._resumed} resumed)" if self._resumed else ""
+        note = f" {self._note(self.done)}" if self._note is not None else ""
         return (
-            f"{self.label} [{bar}] {self.done}/{self.total}{resumed} "
+            f"{self.label} [{bar}] {self.done}/{self.total}{resumed}{note} "
             f"{rate:.1f}/s {tail}"
         )
 

@@ -48,9 +48,11 @@ class Execution:
 
 def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run: Callable[[dict], dict], *,
             describe: Callable[[dict], str], progress_label: str = "runs", show_progress: bool = True,
-            after_each: Callable[[dict], None] | None = None, allow_mixed: bool = False) -> Execution:
+            after_each: Callable[[dict], None] | None = None, allow_mixed: bool = False,
+            progress_note: Callable[[int], str] | None = None) -> Execution:
     """Fly the specs not yet in ``store``; see the module docstring. ``after_each(spec)`` is
-    called in this process after each record is stored (e.g. per-group progress notes)."""
+    called in this process after each record is stored (e.g. per-group progress notes);
+    ``progress_note(done)`` adds to the progress bar (``Progress(note=...)``)."""
     code = identity.code_identity()
     planned = {s["run_key"] for s in specs}
     stored_records = [r for r in store.records() if r["run_key"] in planned]
@@ -59,7 +61,8 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
     stored = {r["run_key"] for r in stored_records}
     todo = [s for s in specs if s["run_key"] not in stored]
     t0 = time.perf_counter()
-    bar = Progress(len(specs), progress_label, already_done=len(specs) - len(todo), enabled=show_progress)
+    bar = Progress(len(specs), progress_label, already_done=len(specs) - len(todo), enabled=show_progress,
+                   note=progress_note)
     try:
         futures = {executor.submit(run, s): s for s in todo}
         for fut in as_completed(futures):

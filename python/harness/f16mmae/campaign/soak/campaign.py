@@ -1,0 +1,161 @@
+"""The soak campaign: long failure-free flights, counting false declarations per flight hour.
+
+Flights: ``--hours H`` at each turbulence level of ``--turbulence`` (one level or a comma
+list), cut into ``F = ceil(3600 H / flight_s)`` failure-free flights of ``flight_s`` seconds
+each (so ``F flight_s >= 3600 H`` hours are flown per level), trimmed at the bank's design
+point.  The aircraft holds trim with the dither on; maneuvering flight does not exist yet.
+Each flight is one run of the shared engine (runner, store, executor, code identity, lock):
+an interrupted soak resumes flight by flight, and flights are distributed like any run.
+
+Seeds (common random numbers across levels): flight n gets
+``evaluation_seed("soak", S, n)`` at every level, so level L1 and level L2 differ in the
+turbulence intensity only.  Lengthening ``--hours`` keeps the flights already flown.
+
+Per level (``episodes.level_rate``): false declarations per flight hour with the exact
+Poisson 95 % interval and the goal's verdict (:data:`GOALS_PER_H`), how long each lasted
+(``episodes.false_episodes``) and the hypotheses involved.  ``goals_met``: no level's verdict
+is *not met*.  Every flight with a false declaration is listed with its ``f16mmae run``
+command (``drilldown``).
+"""
+from __future__ import annotations
+
+import json
+import math
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from pathlib import Path
+
+from ... import __version__
+from ...banks import bank_estimator_settings, load_bank
+from ...loop.flight import fly, scenario_from_dict
+from ...names import FLIGHT_S_MAX, NONE
+from ..engine import drilldown, identity, outcomes, scoring
+from ..engine.config import CampaignConfig, CampaignError
+from ..engine.runner import CampaignOutcome, execute, planned_bank
+from ..engine.seeds import evaluation_seed
+from ..engine.store import ResultsStore, campaign_directory, run_key
+from . import episodes, figures
+
+#: The goal per level (issue 14): false declarations per flight hour at most this.
+GOALS_PER_H: dict[str, float] = {"none": 0.0, "light": 0.0, "moderate": 0.0, "severe": 1.0}
+#: The default flight length (s) a soak is cut into.
+SOAK_FLIGHT_S = 600.0
+#: The most flights per level a soak plans.
+FLIGHTS_MAX = 100_000
+
+
+@dataclass(frozen=True)
+class SoakCampaign(CampaignConfig):
+    """The arguments of ``f16mmae campaign soak`` (``duration_s`` is the length of one flight)."""
+
+    MULTI_LEVEL = True
+
+    hours: float = 1.0
+    duration_s: float = SOAK_FLIGHT_S
+
+    @property
+    def flights(self) -> int:
+        """Flights per level: ``ceil(3600 hours / duration_s)``."""
+        return max(1, math.ceil(round(3600.0 * self.hours / self.duration_s, 9)))
+
+    def validate(self) -> "SoakCampaign":
+        if not (isinstance(self.hours, (int, float)) and 0.0 < self.hours < math.inf):
+            raise CampaignError(f"--hours must be > 0, got {self.hours!r}")
+        if not 0.0 < self.duration_s <= FLIGHT_S_MAX:
+            raise CampaignError(f"--flight-s must lie in (0, {FLIGHT_S_MAX:g}] s, got {self.duration_s!r}")
+        if self.flights > FLIGHTS_MAX:
+            raise CampaignError(f"--hours {self.hours:g} at --flight-s {self.duration_s:g} plans {self.flights} "
+                                f"flights per level, more than {FLIGHTS_MAX}: fly longer flights")
+        self.check_common(dwell_window_s=self.duration_s)
+        return self
+
+
+def flight_seed(campaign_seed: int, index: int) -> int:
+    """The seed of flight ``index`` at every level (module docstring)."""
+    return evaluation_seed("soak", campaign_seed, index)
+
+
+# -- one flight (executed in workers) ---------------------------------------------------------
+def run_spec(spec: dict) -> dict:
+    """Fly one failure-free flight and return its record; a pure function of ``spec``."""
+    bank = planned_bank(spec)
+    scenario = scenario_from_dict(spec["scenario"])
+    result = fly(scenario, bank, estimator_options=spec["estimator"], record_probabilities=False)
+    return {
+        "run_key": spec["run_key"], "kind": "soak", "level": spec["level"], "case": NONE,
+        "run_index": spec["run_index"], "seed": spec["seed"], "tuning": spec["tuning"], "bank": spec["bank"],
+        "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
+        "estimator": spec["estimator"], "estimator_settings": result.estimator_settings,
+        "declarations": result.declarations,
+        "episodes": episodes.false_episodes(result.declarations, scenario.duration_s),
+        **scoring.score_run(NONE, None, result.declarations),
+        **outcomes.run_fields(result.declarations, None, {NONE}, scenario.duration_s),
+        "timing": result.timing,
+    }
+
+
+def describe_spec(spec: dict) -> str:
+    return f"soak flight {spec['run_index']} at {spec['level']} turbulence (seed {spec['seed']})"
+
+
+def plan(cfg: SoakCampaign, label: str, tuning_arg: str, bank) -> list[dict]:
+    """Every flight of ``cfg``: level by level, flight 0 .. F-1 (module docstring)."""
+    specs = []
+    for level in cfg.levels():
+        for n in range(cfg.flights):
+            seed = flight_seed(cfg.seed, n)
+            scenario = cfg.scenario_dict(bank, (), seed, turbulence=level)
+            key = run_key({"kind": "soak", "scenario": scenario, "estimator": cfg.estimator_options(),
+                           "bank_hash": bank.content_hash, "version": __version__})
+            specs.append({"run_key": key, "level": level, "run_index": n, "seed": seed, "tuning": label,
+                          "bank": tuning_arg, "bank_hash": bank.content_hash, "version": __version__,
+                          "scenario": scenario, "estimator": cfg.estimator_options()})
+    return specs
+
+
+# -- the campaign ------------------------------------------------------------------------------
+def run_soak(cfg: SoakCampaign, out_dir: str | Path, executor: Executor, executor_label: str = "",
+             show_progress: bool = True, allow_mixed: bool = False) -> CampaignOutcome:
+    """Plan, fly what is not stored yet, summarize, plot; ``out_dir`` checked and locked first."""
+    cfg.validate()
+    with campaign_directory(out_dir) as out:
+        label, _, bank = load_bank(cfg.tuning)
+        specs = plan(cfg, label, cfg.tuning, bank)
+        hours_each = cfg.duration_s / 3600.0
+        done = execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
+                       progress_label="flights", show_progress=show_progress, allow_mixed=allow_mixed,
+                       progress_note=lambda n: f"({n * hours_each:.2f}/{len(specs) * hours_each:.2f} h flown)")
+        summary = summarize(cfg, label, bank, done.records)
+        summary["timing"] = done.timing(executor_label)
+        summary["figures"] = figures.make_figures(out, done.records, summary["levels"], cfg.duration_s)
+        path = out / "summary.json"
+        path.write_text(json.dumps(summary, indent=1) + "\n")
+        return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
+
+
+def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
+    """The soak's ``summary.json`` from its flight records (module docstring)."""
+    order = {lvl: i for i, lvl in enumerate(cfg.levels())}
+    ranked = sorted(records, key=lambda r: (order.get(r["level"], len(order)), r["run_index"]))
+    levels = []
+    for lvl in cfg.levels():
+        rate = episodes.level_rate([r for r in ranked if r["level"] == lvl], GOALS_PER_H[lvl])
+        levels.append({"level": lvl, **rate})
+    verdicts = {lv["level"]: lv["per_hour"].get("verdict") for lv in levels}
+    return {
+        "kind": "soak", "seed": cfg.seed, "hours": cfg.hours, "flight_s": cfg.duration_s,
+        "flights_per_level": cfg.flights, "turbulence": cfg.turbulence, "levels": levels,
+        "tuning": label, "bank_hash": bank.content_hash, "version": __version__,
+        "mach": float(bank.mach), "alt_ft": float(bank.alt_ft), "feedback": cfg.feedback,
+        "dither": cfg.dither, "dither_scale": cfg.dither_scale, "maneuvers": None,
+        "estimator": cfg.estimator_options(),
+        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "goals_per_hour": {lvl: GOALS_PER_H[lvl] for lvl in cfg.levels()},
+        "verdicts": verdicts,
+        "goals_met": all(v is not None and v != "not met" for v in verdicts.values()),
+        "code": identity.code_identity(),
+        "not_clean": drilldown.not_clean(
+            ranked, lambda r: drilldown.record_command(r, cfg.dither_scale),
+            lambda r: {"level": r["level"], "false_declarations": r["false_declarations"],
+                       "episodes": r["episodes"]}),
+    }

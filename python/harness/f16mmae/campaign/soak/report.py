@@ -1,0 +1,74 @@
+"""The HTML page of a soak directory (``summary.json`` of kind "soak"): false declarations
+per flight hour per turbulence level with their intervals and verdicts, the hypotheses
+involved and how long the declarations lasted, the flights with one (each with its reproduce
+command), the parameters and the figures; registered with ``report.page`` on import."""
+from __future__ import annotations
+
+import html
+from pathlib import Path
+
+from ...report import evidence
+from ...report.figures import img_tag
+from ...report.page import param_table, register_page
+
+_DEFINITIONS = """
+<h2>Definitions</h2><dl>
+<dt>false declaration</dt><dd>any failure declaration in a failure-free flight</dd>
+<dt>how long it lasted</dt><dd>from the declaration to the next declaration of the flight: a back-out to NONE, or another hypothesis replacing it; a declaration still standing at the flight's end lasts until the end</dd>
+<dt>per flight hour</dt><dd>false declarations over the hours flown at the level, with the exact (Garwood) Poisson 95 % interval</dd>
+<dt>verdicts</dt><dd><em>demonstrated</em>: the interval's upper bound is within the goal; <em>consistent</em>: the rate is, the bound is not; <em>not met</em>: the rate exceeds the goal. A goal of zero can at best be consistent</dd>
+<dt>seeds</dt><dd>evaluation seeds, flight n the same at every level (common random numbers); the tuning never flew them</dd>
+</dl>"""
+
+
+def _level_rows(levels: list[dict]) -> str:
+    head = ("<tr><th>turbulence</th><th>flights</th><th>hours</th><th>false declarations per hour [95 %], verdict</th>"
+            "<th>flights with one</th><th>hypotheses involved</th><th>lasted median / max (s)</th>"
+            "<th>backed out / replaced / flight end</th></tr>")
+    rows = []
+    for lv in levels:
+        verdict = lv["per_hour"].get("verdict")
+        cls = {"not met": "bad", "consistent": "fair", "demonstrated": "ok"}.get(verdict, "")
+        hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "none"
+        d = lv["duration_s"]
+        lasted = "-" if d["median"] is None else f"{d['median']:.2f} / {d['max']:.2f}"
+        ends = " / ".join(str(lv["episodes_by_end"][k]) for k in ("backed out", "replaced", "flight end"))
+        rows.append(f"<tr class='{cls}'><td>{html.escape(lv['level'])}</td><td>{lv['flights']}</td>"
+                    f"<td>{lv['hours']:.3f}</td><td>{html.escape(evidence.describe_per_hour(lv['per_hour']))}</td>"
+                    f"<td>{lv['flights_with_false_declaration']}</td><td>{html.escape(hyps)}</td>"
+                    f"<td>{lasted}</td>"
+                    f"<td>{ends}</td></tr>")
+    return "<table>" + head + "".join(rows) + "</table>"
+
+
+def soak_page(d: Path, s: dict) -> str:
+    """The body of the page for a soak summary ``s`` in directory ``d``."""
+    t = s.get("timing", {})
+    params = [
+        ("kind", "soak: failure-free flights at trim (maneuvering flight does not exist yet)"),
+        ("flights per level", f"{s['flights_per_level']} of {s['flight_s']:g} s (asked {s['hours']:g} h)"),
+        ("turbulence", s.get("turbulence")), ("campaign seed", s.get("seed")),
+        ("flight condition", f"Mach {s.get('mach')}, {s.get('alt_ft')} ft"),
+        ("FCS feedback", s.get("feedback")),
+        ("dither", f"truth defaults x {s.get('dither_scale', 1.0)}" if s.get("dither", True) else "off"),
+        ("estimator settings", evidence.settings_text(s)),
+        ("bank (tuning, hash)", f"{s.get('tuning')}, {s.get('bank_hash')}"),
+        ("code", f"{s.get('version')}, {(s.get('code') or {}).get('code', 'unrecorded')}"),
+        ("wall time", f"{t.get('wall_s', 0):.1f} s for {t.get('runs_executed', '?')} flights "
+                      f"({t.get('runs_resumed', 0)} resumed) on {t.get('executor', '?')}"),
+    ]
+    figs = s.get("figures", {})
+    parts = ["<h1>f16mmae soak campaign</h1>",
+             f"<p>Goals met (no level <em>not met</em>): <strong>{'yes' if s.get('goals_met') else 'no'}</strong></p>",
+             _level_rows(s["levels"]),
+             evidence.drilldown_section(s.get("not_clean", []), ("level", "false_declarations")),
+             "<h2>Campaign</h2>", param_table(params), "<h2>Figures</h2>"]
+    captions = {"rate_by_level": "False declarations per flight hour against turbulence level (95 % intervals)",
+                "timeline": "False declarations on a timeline per flight",
+                "durations": "How long the false declarations lasted"}
+    parts += [img_tag(d / figs[k], cap) for k, cap in captions.items() if k in figs]
+    parts.append(_DEFINITIONS)
+    return "".join(parts)
+
+
+register_page("soak", soak_page)

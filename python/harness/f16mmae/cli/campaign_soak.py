@@ -1,0 +1,79 @@
+"""``f16mmae campaign soak``: long failure-free flights, false declarations per flight hour."""
+from __future__ import annotations
+
+import argparse
+
+from ..campaign.soak import GOALS_PER_H, SoakCampaign, run_soak
+from ..campaign.soak.campaign import FLIGHTS_MAX, SOAK_FLIGHT_S
+from ..names import FLIGHT_S_MAX
+from ..report.evidence import describe_per_hour
+from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
+from .options import number
+
+DESCRIPTION = f"""\
+The soak campaign: failure-free flights at the bank's design point, trimmed, with the dither
+on, the MMAE in the loop, counting false declarations per flight hour at each turbulence
+level listed.  Maneuvering flight does not exist yet: the aircraft holds trim.  The hours are
+cut into flights of --flight-s seconds (default {SOAK_FLIGHT_S:g}), each one run of the
+campaign engine, so a soak resumes flight by flight and distributes like any campaign.
+Flight n has the same seed at every level (common random numbers).
+
+Goals (issue 14): {', '.join(f'{k} <= {v:g}/h' for k, v in GOALS_PER_H.items())}, judged on the
+95 % Poisson interval (demonstrated / consistent / not met).
+"""
+
+EXAMPLES = """\
+examples:
+  f16mmae campaign soak --hours 1 --turbulence light
+  f16mmae campaign soak --hours 10 --turbulence none,light,moderate,severe --check
+  f16mmae campaign soak --hours 0.1 --flight-s 60 --workers 1 --out /tmp/soak
+
+Output (DIR, default results/campaign-soak): runs.jsonl (one record per flight: seed,
+scenario, declarations, each false declaration with how long it lasted), summary.json,
+soak_timeline.png, soak_durations.png, soak_rate_by_level.png, report.html.
+Every flight with a false declaration is listed with the 'f16mmae run' command that flies it.
+Resume: run the same command again; a longer --hours keeps the flights already flown.
+"""
+
+
+def register(kinds) -> None:
+    """Add the ``soak`` parser to the ``campaign`` kinds."""
+    s = kinds.add_parser("soak", help="hours of failure-free flight: false declarations per hour (issue 14)",
+                         description=DESCRIPTION, epilog=EXAMPLES,
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
+    s.add_argument("--hours", default="1", metavar="H", help="flight hours per turbulence level (default 1)")
+    s.add_argument("--flight-s", default=str(SOAK_FLIGHT_S), metavar="S",
+                   help=f"length of each flight in s, at most {FLIGHT_S_MAX:g} (default {SOAK_FLIGHT_S:g})")
+    add_flight_settings(s, None, failures=False)
+    add_run_arguments(s, "results/campaign-soak")
+    s.set_defaults(func=_soak)
+
+
+def config_from_args(args) -> SoakCampaign:
+    flight_s = number("--flight-s", args.flight_s, minimum=0.0, exclusive=True, maximum=FLIGHT_S_MAX)
+    hours = number("--hours", args.hours, minimum=0.0, exclusive=True,
+                   maximum=FLIGHTS_MAX * flight_s / 3600.0)
+    return validated(SoakCampaign(**flight_settings(args), hours=hours, duration_s=flight_s))
+
+
+def _soak(args) -> int:
+    cfg = config_from_args(args)
+    return run_and_report(args, lambda ex, label, progress: run_soak(
+        cfg, args.out, ex, executor_label=label, show_progress=progress, allow_mixed=args.allow_mixed),
+        print_summary)
+
+
+def print_summary(summary: dict, stream) -> None:
+    t = summary.get("timing", {})
+    print(f"soak: {summary['flights_per_level']} flights of {summary['flight_s']:g} s per level at trim, "
+          f"Mach {summary['mach']}, {summary['alt_ft']:.0f} ft, seed {summary['seed']}, {summary['tuning']} bank; "
+          f"wall {t.get('wall_s', 0):.1f} s", file=stream)
+    print("false declarations per flight hour (95% Poisson interval), goal and verdict:", file=stream)
+    for lv in summary["levels"]:
+        hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "none"
+        d = lv["duration_s"]
+        lasted = "" if d["median"] is None else f"; lasted median {d['median']:.2f} s, max {d['max']:.2f} s"
+        print(f"  {lv['level']:>8}: {describe_per_hour(lv['per_hour'])}; "
+              f"{lv['flights_with_false_declaration']}/{lv['flights']} flights with one; hypotheses: {hyps}{lasted}",
+              file=stream)
+    print(f"goals: {'met' if summary['goals_met'] else 'NOT met'} (no level 'not met')", file=stream)

@@ -1,0 +1,164 @@
+"""The soak campaign: the false-declaration arithmetic against hand-made records, the Poisson
+verdict, a short soak end to end (common seeds across levels, summary, figures, report,
+Markdown, the reproduce command, --check), resume after a partial run, and bad input."""
+from __future__ import annotations
+
+import json
+import shlex
+
+import pytest
+from scipy import stats
+
+from f16mmae.campaign.engine import intervals
+from f16mmae.campaign.engine.store import RECORDS_FILE, ResultsStore
+from f16mmae.campaign.soak import SoakCampaign, run_soak
+from f16mmae.campaign.soak.episodes import false_episodes, level_rate
+from f16mmae.cli.main import main
+
+from campaign_support import CountingExecutor
+
+
+def d(h, t):
+    return {"hypothesis": h, "time_s": t}
+
+
+# -- the arithmetic ------------------------------------------------------------------------------
+def test_each_false_declaration_lasts_until_the_next_event_or_the_end():
+    decl = [d("LF", 10.0), d("NONE", 11.5), d("AOA", 20.0), d("LS", 21.0), d("NONE", 22.25), d("RF", 590.0)]
+    eps = false_episodes(decl, 600.0)
+    assert [(e["hypothesis"], e["time_s"], e["duration_s"], e["end"], e["replaced_by"]) for e in eps] == [
+        ("LF", 10.0, 1.5, "backed out", None), ("AOA", 20.0, 1.0, "replaced", "LS"),
+        ("LS", 21.0, 1.25, "backed out", None), ("RF", 590.0, 10.0, "flight end", None)]
+    assert false_episodes([], 600.0) == []
+    with pytest.raises(ValueError, match="ordered"):
+        false_episodes([d("LF", 5.0), d("NONE", 4.0)], 600.0)
+    with pytest.raises(ValueError, match="ordered"):
+        false_episodes([d("LF", 700.0)], 600.0)
+
+
+def _record(decl, duration_s=600.0):
+    eps = false_episodes(decl, duration_s)
+    return {"episodes": eps, "false_declarations": len(eps), "failure_free_s": duration_s}
+
+
+def test_per_hour_rate_interval_and_verdicts_of_hand_made_records():
+    # three 600-s flights = 0.5 h; 4 false declarations -> 8 per hour
+    recs = [_record([d("LF", 1.0), d("NONE", 2.0), d("LF", 3.0)]), _record([]),
+            _record([d("AOA", 5.0), d("NONE", 5.5), d("RF", 6.0), d("NONE", 9.0)])]
+    lv = level_rate(recs, goal_per_h=0.0)
+    assert lv["flights"] == 3 and lv["hours"] == pytest.approx(0.5)
+    ph = lv["per_hour"]
+    assert ph["events"] == 4 and ph["rate"] == pytest.approx(8.0)
+    # the exact interval's bounds mu solve P(X >= 4 | mu) = 0.025 and P(X <= 4 | mu) = 0.025
+    lo_mu, hi_mu = ph["ci95"][0] * 0.5, ph["ci95"][1] * 0.5
+    assert stats.poisson.sf(3, lo_mu) == pytest.approx(0.025, abs=1e-5)
+    assert stats.poisson.cdf(4, hi_mu) == pytest.approx(0.025, abs=1e-5)
+    assert ph["verdict"] == "not met"
+    assert lv["hypotheses"] == {"LF": 2, "AOA": 1, "RF": 1}
+    assert lv["flights_with_false_declaration"] == 2
+    assert lv["episodes_by_end"] == {"backed out": 3, "replaced": 0, "flight end": 1}
+    # durations 1.0, 597.0 (LF at 3 s to the end), 0.5, 3.0: median (1.0 + 3.0) / 2
+    assert lv["duration_s"] == {"median": 2.0, "max": 597.0}
+    assert level_rate(recs, 19.0)["per_hour"]["verdict"] == "consistent"  # 8 <= 19 < 20.48
+    assert level_rate(recs, 21.0)["per_hour"]["verdict"] == "demonstrated"
+
+
+def test_poisson_verdict():
+    # 0 events in 1 h: upper bound -ln(0.025) = 3.689 per hour
+    assert intervals.poisson_verdict(0, 1.0, 0.0) == "consistent"
+    assert intervals.poisson_verdict(0, 1.0, 3.6) == "consistent"
+    assert intervals.poisson_verdict(0, 1.0, 3.7) == "demonstrated"
+    assert intervals.poisson_verdict(2, 1.0, 1.0) == "not met"
+    with pytest.raises(ValueError, match="exposure"):
+        intervals.poisson_verdict(0, 0.0, 1.0)
+    with pytest.raises(ValueError, match=">= 0"):
+        intervals.poisson_verdict(0, 1.0, -1.0)
+
+
+# -- a short soak, end to end ----------------------------------------------------------------------
+def test_short_soak_end_to_end_and_resume(tmp_path):
+    out = tmp_path / "soak"
+    # 3 flights of 8 s per level; moderate turbulence makes the light-tuned bank false-alarm
+    cfg = SoakCampaign(hours=24 / 3600, duration_s=8.0, turbulence="none,moderate", seed=3)
+    assert cfg.flights == 3
+    ex = CountingExecutor()
+    done = run_soak(cfg, out, ex, show_progress=False)
+    assert ex.submitted == 6 and len(done.records) == 6
+    s = json.loads((out / "summary.json").read_text())
+    assert s["kind"] == "soak" and [lv["level"] for lv in s["levels"]] == ["none", "moderate"]
+    # common random numbers: flight n has the same seed at both levels, distinct across n
+    seeds = {(r["level"], r["run_index"]): r["seed"] for r in done.records}
+    assert all(seeds[("none", n)] == seeds[("moderate", n)] for n in range(3))
+    assert len({seeds[("none", n)] for n in range(3)}) == 3
+    for r in done.records:
+        assert r["scenario"]["failures"] == [] and r["scenario"]["duration_s"] == 8.0
+        assert r["scenario"]["turbulence"] == r["level"]
+    for lv in s["levels"]:
+        recs = [r for r in done.records if r["level"] == lv["level"]]
+        assert lv["per_hour"]["events"] == sum(r["false_declarations"] for r in recs)
+        assert lv["hours"] == pytest.approx(24 / 3600)
+        assert lv["per_hour"]["goal"] == 0.0
+    moderate = s["levels"][1]
+    assert moderate["per_hour"]["events"] > 0, "moderate turbulence made no false declaration to drill into"
+    assert s["goals_met"] is False
+    flagged = {(e["level"], e["run_index"]) for e in s["not_clean"]}
+    assert flagged == {(r["level"], r["run_index"]) for r in done.records if r["false_declarations"]}
+    for name in s["figures"].values():
+        assert (out / name).stat().st_size > 0
+    # the reproduce command flies the flight again, declaration for declaration
+    entry = next(e for e in s["not_clean"] if e["level"] == "moderate")
+    argv = shlex.split(entry["command"])
+    assert argv[:2] == ["f16mmae", "run"] and "--turbulence" in argv and "moderate" in argv
+    assert main(argv[1:] + ["--out", str(tmp_path / "again")]) == 0
+    flown = json.loads((tmp_path / "again" / "run.json").read_text())
+    assert flown["declarations"] == entry["declarations"]
+
+    # resume: cut the store to its first two records, then a longer soak keeps what is stored
+    lines = (out / RECORDS_FILE).read_text().splitlines(keepends=True)
+    (out / RECORDS_FILE).write_text("".join(lines[:2]))
+    longer = SoakCampaign(hours=32 / 3600, duration_s=8.0, turbulence="none,moderate", seed=3)
+    ex2 = CountingExecutor()
+    again = run_soak(longer, out, ex2, show_progress=False)
+    assert ex2.submitted == 8 - 2 and len(again.records) == 8
+    before = {r["run_key"]: r["declarations"] for r in done.records}
+    for r in again.records:
+        if r["run_key"] in before:
+            assert r["declarations"] == before[r["run_key"]]
+    assert len(ResultsStore(out).records()) == 8
+
+
+def test_cli_soak_check_report_and_markdown(tmp_path, capsys):
+    out = tmp_path / "cli"
+    argv = ["campaign", "soak", "--hours", str(16 / 3600), "--flight-s", "8", "--turbulence", "moderate",
+            "--workers", "1", "--quiet", "--out", str(out)]
+    code = main(argv + ["--check"])
+    text = capsys.readouterr().out
+    s = json.loads((out / "summary.json").read_text())
+    assert code == (0 if s["goals_met"] else 1)
+    assert "false declarations per flight hour" in text and "moderate:" in text
+    assert s["command"].startswith("f16mmae campaign soak --hours")
+    page = (out / "report.html").read_text()
+    assert "f16mmae soak campaign" in page and "maneuvering flight does not exist yet" in page
+    md = tmp_path / "soak.md"
+    assert main(["report", str(out), "--markdown", str(md)]) == 0
+    body = md.read_text()
+    assert "| moderate | 2 |" in body and "False declarations per flight hour" in body
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--flight-s", "4000"], "--flight-s"),
+    (["--hours", "0"], "--hours"),
+    (["--turbulence", "light,light"], "twice"),
+    (["--turbulence", "light,stormy"], "stormy"),
+])
+def test_cli_soak_bad_input(tmp_path, capsys, args, message):
+    out = tmp_path / "bad"
+    assert main(["campaign", "soak", "--workers", "1", "--out", str(out), *args]) == 2
+    assert message in capsys.readouterr().err
+    assert not (out / RECORDS_FILE).exists()
+
+
+def test_one_level_only_for_kinds_without_a_list(tmp_path, capsys):
+    assert main(["campaign", "single", "--turbulence", "none,light", "--runs", "1", "--workers", "1",
+                 "--out", str(tmp_path / "s")]) == 2
+    assert "one turbulence level" in capsys.readouterr().err

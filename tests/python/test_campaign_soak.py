@@ -156,9 +156,3 @@ def test_cli_soak_bad_input(tmp_path, capsys, args, message):
     assert main(["campaign", "soak", "--workers", "1", "--out", str(out), *args]) == 2
     assert message in capsys.readouterr().err
     assert not (out / RECORDS_FILE).exists()
-
-
-def test_one_level_only_for_kinds_without_a_list(tmp_path, capsys):
-    assert main(["campaign", "single", "--turbulence", "none,light", "--runs", "1", "--workers", "1",
-                 "--out", str(tmp_path / "s")]) == 2
-    assert "one turbulence level" in capsys.readouterr().err

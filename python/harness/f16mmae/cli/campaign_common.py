@@ -11,6 +11,7 @@ from ..banks import BankError, bank_path
 from ..campaign.engine.config import DITHER_SCALE_MAX, RUNS_MAX
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..campaign.engine.failure_runs import CASES
+from ..campaign.engine.levels import LEVELS_KIND
 from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
 from ..outputs import writable_dir
 from ..report.page import render_report
@@ -28,8 +29,9 @@ def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool
     p.add_argument("--seed", default="1", metavar="S", help="campaign seed >= 1 (default 1)")
     p.add_argument("--tuning", default="tuned", metavar="tuned|untuned|FILE",
                    help="the bank under test: a shipped tuning or a bank file (default tuned)")
-    p.add_argument("--turbulence", default="light", metavar="LEVEL",
-                   help="none | light | moderate | severe (default light)")
+    p.add_argument("--turbulence", default="light", metavar="LEVEL[,LEVEL...]",
+                   help="none | light | moderate | severe, or a comma list of them flown with common "
+                        "seeds and reported side by side (default light)")
     if failures:
         p.add_argument("--mode", default="complete", metavar="MODE",
                        help="failure mode injected (default complete, the paper's model: a failed "
@@ -118,7 +120,17 @@ def run_and_report(args, run, print_summary) -> int:
     outcome.summary["command"] = "f16mmae " + shlex.join(args.argv)  # what made it, for results pages
     outcome.summary_path.write_text(json.dumps(outcome.summary, indent=1) + "\n")
     report = render_report(out)
-    print_summary(outcome.summary, sys.stdout)
+    if outcome.summary["kind"] == LEVELS_KIND:  # flown at several turbulence levels
+        for row in outcome.summary["levels"]:
+            level_dir = out / row["directory"]
+            print(f"\n=== {row['level']} turbulence ({level_dir}) ===")
+            level = json.loads((level_dir / "summary.json").read_text())
+            print_summary(level, sys.stdout)
+            render_report(level_dir)
+        print()
+        evidence.print_levels(outcome.summary["levels"], sys.stdout)
+    else:
+        print_summary(outcome.summary, sys.stdout)
     evidence.print_campaign(outcome.summary, sys.stdout)
     print(f"\nrecords: {out / 'runs.jsonl'}  ({outcome.executed} run, {outcome.resumed} resumed)")
     print(f"summary: {outcome.summary_path}")

@@ -4,7 +4,7 @@ hour and the runs that went wrong with their reproduce commands (the first few; 
 are in summary.json and report.html)."""
 from __future__ import annotations
 
-from ..report.evidence import describe_rate
+from ..report.evidence import LEVEL_COLUMNS, describe_rate, level_cells
 
 SHOW_COMMANDS = 5
 _SHORT = {"demonstrated": "demo", "consistent": "cons", "not met": "NOT"}
@@ -58,3 +58,12 @@ def print_campaign(summary: dict, stream) -> None:
         print(f"  {r['outcome']}{'+' + '+'.join(r['flags']) if r['flags'] else ''}: {r['command']}", file=stream)
     if len(bad) > SHOW_COMMANDS:
         print(f"  ... {len(bad) - SHOW_COMMANDS} more in summary.json (not_clean) and report.html", file=stream)
+
+
+def print_levels(rows: list[dict], stream) -> None:
+    """The levels of a campaign flown at several, side by side (the bank under test)."""
+    cells = [LEVEL_COLUMNS] + [level_cells(r) for r in rows]
+    widths = [max(len(c[i]) for c in cells) for i in range(len(LEVEL_COLUMNS))]
+    print("turbulence levels side by side (common seeds; 95% intervals):", file=stream)
+    for c in cells:
+        print("  " + "  ".join(f"{x:<{w}}" for x, w in zip(c, widths)), file=stream)

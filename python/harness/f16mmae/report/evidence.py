@@ -43,6 +43,21 @@ def describe_per_hour(per_hour: dict | None) -> str:
     return text
 
 
+#: The columns of :func:`level_cells`.
+LEVEL_COLUMNS = ("turbulence", "runs", "correct [95 %]", "false declarations per flight hour [95 %]",
+                 "latency median / p95 (s), detected of failure runs", "goals met")
+
+
+def level_cells(row: dict) -> tuple[str, ...]:
+    """One turbulence level of a campaign flown at several (a row of a summary of kind
+    "levels") as text cells, in the order of :data:`LEVEL_COLUMNS`."""
+    lat = row["latency_s"]
+    latency = ("-" if lat["median"] is None else f"{lat['median']:.2f} / {lat['p95']:.2f}") + \
+        f" ({lat['detected_runs']} of {lat['failure_runs']})"
+    return (row["level"], str(row["runs"]), describe_rate(row["correct"], digits=1, unit=" %"),
+            describe_per_hour(row["false_declarations_per_hour"]), latency, "yes" if row["goals_met"] else "no")
+
+
 def rate_cell(rate: dict | None) -> str:
     """``k/n`` with the Clopper-Pearson 95 % interval and, with a goal, the verdict."""
     if not rate:

@@ -94,7 +94,7 @@ def render_report(directory: str | Path) -> Path:
         body = _rendered(path, "a run record", run_page, _read_record(path, "a run record"))
     else:
         raise ReportError(
-            f"{d} holds neither summary.json (from 'f16mmae campaign single|dual|envelope --out DIR') "
+            f"{d} holds neither summary.json (from 'f16mmae campaign single|dual|envelope|soak --out DIR') "
             f"nor run.json (from 'f16mmae run --out DIR')"
         )
     out = writable_file(d / "report.html", "report")

@@ -39,7 +39,7 @@ from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
 from ...names import COMPONENTS, FAILURE_TIME_S, dual_name
-from ..engine import drilldown, evidence, identity, outcomes
+from ..engine import drilldown, evidence, identity, levels, outcomes
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
 from ..engine.runner import CampaignOutcome, execute, planned_bank
@@ -174,20 +174,25 @@ def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
 def _run_campaign(cfg: DualCampaign, out: Path, executor: Executor, executor_label: str,
                   show_progress: bool, allow_mixed: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
-    specs = plan(cfg, label, bank)
-    done = execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,
-                   describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})",
-                   allow_mixed=allow_mixed)
-    records = done.records
-    summary = summarize(cfg, label, bank, records)
+
+    def level_summary(c: DualCampaign, records: list[dict], d: Path) -> dict:
+        summary = summarize(c, label, bank, records)
+        summary["figures"] = {
+            "matrix": figures.rating_matrix(summary, d / "dual_matrix.png").name,
+            "probabilities": figures.probability_grid(records, summary, d / "dual_probabilities.png").name,
+        }
+        return summary
+
+    summary, done = levels.fly_levels(
+        cfg, out, lambda c: plan(c, label, bank),
+        lambda specs: execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,
+                              describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})",
+                              allow_mixed=allow_mixed),
+        level_summary)
     summary["timing"] = done.timing(executor_label)
-    summary["figures"] = {
-        "matrix": figures.rating_matrix(summary, out / "dual_matrix.png").name,
-        "probabilities": figures.probability_grid(records, summary, out / "dual_probabilities.png").name,
-    }
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=1) + "\n")
-    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 
 def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:

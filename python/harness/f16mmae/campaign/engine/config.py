@@ -8,9 +8,9 @@ calls it and checks its own.  Every check raises :class:`CampaignError` naming t
 value and the valid range.
 
 Turbulence: ``turbulence`` is one level or a comma list of distinct levels
-(``none,light,moderate,severe``, :meth:`CampaignConfig.levels`).  A kind that flies a list
-sets ``MULTI_LEVEL = True`` and passes each level to :meth:`CampaignConfig.scenario_dict`;
-the others accept one level.
+(``none,light,moderate,severe``, :meth:`CampaignConfig.levels`); every kind flies each level
+listed (``levels.fly_levels``, or the soak's own plan), passing it to
+:meth:`CampaignConfig.scenario_dict`.
 """
 from __future__ import annotations
 
@@ -62,9 +62,6 @@ class CampaignConfig:
     dwell_s: float | None = None
     p_min: float | None = None
 
-    #: Whether this kind flies a list of turbulence levels (see the module docstring).
-    MULTI_LEVEL = False
-
     def levels(self) -> tuple[str, ...]:
         """The turbulence levels listed in ``turbulence``, in the order given."""
         return tuple(x.strip() for x in self.turbulence.split(","))
@@ -91,8 +88,6 @@ class CampaignConfig:
             raise CampaignError(f"unknown turbulence {', '.join(map(repr, bad))}; valid: {', '.join(TURBULENCE_LEVELS)}")
         if len(set(levels)) != len(levels):
             raise CampaignError(f"a turbulence level is listed twice in {self.turbulence!r}")
-        if len(levels) > 1 and not self.MULTI_LEVEL:
-            raise CampaignError(f"this campaign flies one turbulence level at a time, got {self.turbulence!r}")
         if self.feedback not in FEEDBACK_MODES:
             raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
         if not 0.0 <= self.dither_scale <= DITHER_SCALE_MAX:

@@ -50,7 +50,7 @@ from ...banks import bank_estimator_settings, load_bank
 from ...names import FAILURE_TIME_S, NONE
 from ...truth.aircraft import check_flight_condition, trimmed_fdm
 from ...truth.failures import make_failure
-from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring
+from ..engine import drilldown, evidence, identity, intervals, levels, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
@@ -188,30 +188,42 @@ def _run_envelope(cfg: EnvelopeCampaign, out: Path, executor: Executor, executor
                   show_progress: bool, allow_mixed: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     banks = {label: (cfg.tuning, bank)}
-    specs = plan(cfg, banks)
     store = ResultsStore(out)
     stored = store.keys()
-    left = {p.label: 0 for p in cfg.points}  # runs still to fly, per point
-    for spec in specs:
-        left[spec["point"]] += spec["run_key"] not in stored
+    left: dict[tuple[str, str], int] = {}  # runs still to fly, per level and point
+    point_of: dict[str, str] = {}
+
+    def level_plan(c: EnvelopeCampaign) -> list[dict]:
+        specs = plan(c, banks)
+        for spec in specs:
+            where = (c.turbulence, spec["point"])
+            left[where] = left.get(where, 0) + (spec["run_key"] not in stored)
+            point_of[spec["run_key"]] = spec["point"]
+        return specs
 
     def point_progress(spec: dict) -> None:
-        left[spec["point"]] -= 1
-        if show_progress and left[spec["point"]] == 0:
-            _note(f"point {spec['point']} done (Mach {spec['scenario']['mach']:.3f}, "
+        where = (spec["scenario"]["turbulence"], spec["point"])
+        left[where] -= 1
+        if show_progress and left[where] == 0:
+            at = f" at {where[0]} turbulence" if len(cfg.levels()) > 1 else ""
+            _note(f"point {spec['point']}{at} done (Mach {spec['scenario']['mach']:.3f}, "
                   f"{spec['scenario']['alt_ft']:.0f} ft); {sum(1 for v in left.values() if v)} point(s) to go")
 
-    done = execute(specs, store, executor, run_point_spec, describe=describe_point_spec,
-                   progress_label=f"runs ({len(cfg.points)} points)", show_progress=show_progress,
-                   after_each=point_progress, allow_mixed=allow_mixed)
-    point_of = {s["run_key"]: s["point"] for s in specs}
-    records = done.records
-    summary = summarize(cfg, banks, label, records, point_of)
+    def level_summary(c: EnvelopeCampaign, records: list[dict], d: Path) -> dict:
+        summary = summarize(c, banks, label, records, point_of)
+        summary["figures"] = figures.make_figures(d, summary)
+        return summary
+
+    summary, done = levels.fly_levels(
+        cfg, out, level_plan,
+        lambda specs: execute(specs, store, executor, run_point_spec, describe=describe_point_spec,
+                              progress_label=f"runs ({len(cfg.points)} points)", show_progress=show_progress,
+                              after_each=point_progress, allow_mixed=allow_mixed),
+        level_summary)
     summary["timing"] = done.timing(executor_label)
-    summary["figures"] = figures.make_figures(out, summary)
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=1) + "\n")
-    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 
 def _note(text: str) -> None:

@@ -15,6 +15,7 @@ are then computed from the stored records of this campaign's plan only.
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -25,7 +26,7 @@ from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import scenario_from_dict
 from ...loop.overhead import measure_overhead
 from ...names import FAILURE_TIME_S, NONE
-from ..engine import drilldown, evidence, identity, scoring
+from ..engine import drilldown, evidence, identity, levels, scoring
 from ..engine.config import CampaignConfig
 from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
 from ..engine.runner import CampaignOutcome, execute
@@ -68,20 +69,26 @@ def _run_campaign(cfg: SingleCampaign, out: Path, executor: Executor, executor_l
         b_label, _, b_bank = load_bank(cfg.baseline)
         if b_bank.content_hash != bank.content_hash:
             banks[b_label if b_label != label else f"{b_label}-baseline"] = (cfg.baseline, b_bank)
-    specs = plan(cfg, banks, cfg.mach, cfg.alt_ft)
-    done = execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
-                   show_progress=show_progress, allow_mixed=allow_mixed)
-    records = done.records
-    summary = summarize(cfg, banks, label, records)
+
+    def level_summary(c: SingleCampaign, records: list[dict], d: Path) -> dict:
+        summary = summarize(c, banks, label, records)
+        summary["figures"] = make_figures(d, records, c)
+        return summary
+
+    summary, done = levels.fly_levels(
+        cfg, out, lambda c: plan(c, banks, c.mach, c.alt_ft),
+        lambda specs: execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
+                              show_progress=show_progress, allow_mixed=allow_mixed),
+        level_summary, under_test=lambda r: r["tuning"] == label)
     summary["timing"] = done.timing(executor_label)
     if measure_cost:
+        specs = plan(dataclasses.replace(cfg, turbulence=cfg.levels()[0]), banks, cfg.mach, cfg.alt_ft)
         none_spec = next((s for s in specs if s["case"] == NONE), specs[0])
         summary["timing"]["overhead"] = measure_overhead(
             scenario_from_dict(none_spec["scenario"]), bank, **cfg.estimator_options())
-    summary["figures"] = make_figures(out, records, cfg)
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=1) + "\n")
-    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 
 def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict]) -> dict:

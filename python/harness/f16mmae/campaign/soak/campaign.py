@@ -48,8 +48,6 @@ FLIGHTS_MAX = 100_000
 class SoakCampaign(CampaignConfig):
     """The arguments of ``f16mmae campaign soak`` (``duration_s`` is the length of one flight)."""
 
-    MULTI_LEVEL = True
-
     hours: float = 1.0
     duration_s: float = SOAK_FLIGHT_S
 

@@ -59,6 +59,7 @@ def test_per_hour_rate_interval_and_verdicts_of_hand_made_records():
     assert lv["episodes_by_end"] == {"backed out": 3, "replaced": 0, "flight end": 1}
     # durations 1.0, 597.0 (LF at 3 s to the end), 0.5, 3.0: median (1.0 + 3.0) / 2
     assert lv["duration_s"] == {"median": 2.0, "max": 597.0}
+    assert lv["first_declaration_s"] == {"median": 3.0, "min": 1.0}  # flights 1 and 3 first at 1 s and 5 s
     assert level_rate(recs, 19.0)["per_hour"]["verdict"] == "consistent"  # 8 <= 19 < 20.48
     assert level_rate(recs, 21.0)["per_hour"]["verdict"] == "demonstrated"
 

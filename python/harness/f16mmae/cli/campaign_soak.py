@@ -72,7 +72,10 @@ def print_summary(summary: dict, stream) -> None:
     for lv in summary["levels"]:
         hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "none"
         d = lv["duration_s"]
-        lasted = "" if d["median"] is None else f"; lasted median {d['median']:.2f} s, max {d['max']:.2f} s"
+        first = lv["first_declaration_s"]
+        lasted = "" if d["median"] is None else (f"; lasted median {d['median']:.2f} s, max {d['max']:.2f} s; "
+                                                 f"first in its flight at median {first['median']:.0f} s, "
+                                                 f"earliest {first['min']:.1f} s")
         print(f"  {lv['level']:>8}: {describe_per_hour(lv['per_hour'])}; "
               f"{lv['flights_with_false_declaration']}/{lv['flights']} flights with one; hypotheses: {hyps}{lasted}",
               file=stream)

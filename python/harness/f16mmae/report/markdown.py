@@ -145,13 +145,14 @@ def soak_markdown(s: dict) -> str:
                      f"level at Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, trim (no maneuvers)")
     out += ["## False declarations per flight hour", "",
             "| turbulence | flights | hours | false declarations per hour [95 %], goal: verdict | "
-            "flights with one | hypotheses involved | lasted median / max (s) | ended: backed out / replaced / "
-            "flight end |", "|---|---|---|---|---|---|---|---|"]
+            "flights with one | first in its flight, median / earliest (s) | hypotheses involved | "
+            "lasted median / max (s) | ended: backed out / replaced / flight end |", "|---|---|---|---|---|---|---|---|---|"]
     for lv in s["levels"]:
         hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "-"
         ends = " / ".join(str(lv["episodes_by_end"][k]) for k in ("backed out", "replaced", "flight end"))
         out.append(f"| {lv['level']} | {lv['flights']} | {lv['hours']:.3f} | {describe_per_hour(lv['per_hour'])} | "
-                   f"{lv['flights_with_false_declaration']} | {hyps} | {_s(lv['duration_s']['median'])} / "
+                   f"{lv['flights_with_false_declaration']} | {_s(lv['first_declaration_s']['median'])} / "
+                   f"{_s(lv['first_declaration_s']['min'])} | {hyps} | {_s(lv['duration_s']['median'])} / "
                    f"{_s(lv['duration_s']['max'])} | {ends} |")
     out += ["", f"Goals met (no level *not met*): {'yes' if s.get('goals_met') else 'no'}", ""]
     out += _not_clean(s, lambda r: f"{r['level']} flight")

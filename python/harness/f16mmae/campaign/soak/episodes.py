@@ -55,7 +55,9 @@ def level_rate(records: Iterable[dict], goal_per_h: float) -> dict:
     """The false declarations of one level's flight records (fields ``episodes``,
     ``false_declarations``, ``failure_free_s``): ``per_hour`` (Poisson rate with its interval,
     the goal and its verdict), ``flights``, ``hours``, ``flights_with_false_declaration``,
-    ``hypotheses`` (declarations per hypothesis, most first) and ``episodes_by_end``."""
+    ``hypotheses`` (declarations per hypothesis, most first), ``episodes_by_end``,
+    ``first_declaration_s`` (median and least time in its flight of each flight's first false
+    declaration) and ``duration_s`` (median and longest)."""
     rs = list(records)
     per_hour = evidence.false_declaration_rate(rs)
     if per_hour["rate"] is not None:
@@ -75,7 +77,16 @@ def level_rate(records: Iterable[dict], goal_per_h: float) -> dict:
         "flights_with_false_declaration": sum(1 for r in rs if r["false_declarations"] > 0),
         "hypotheses": dict(sorted(hyps.items(), key=lambda kv: (-kv[1], kv[0]))),
         "episodes_by_end": ends,
+        "first_declaration_s": _first_times(rs),
         "duration_s": {"median": round(float(np.median(durations)), 6) if durations else None,
                        "max": durations[-1] if durations else None},
     }
 
+
+
+def _first_times(records: list[dict]) -> dict:
+    """When in its flight the first false declaration came, over the flights with one."""
+    firsts = sorted(r["episodes"][0]["time_s"] for r in records if r["episodes"])
+    if not firsts:
+        return {"median": None, "min": None}
+    return {"median": round(float(np.median(firsts)), 6), "min": firsts[0]}

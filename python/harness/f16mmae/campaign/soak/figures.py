@@ -19,7 +19,7 @@ def timeline(records: list[dict], levels: tuple[str, ...], flight_s: float, path
     cmap = plt.get_cmap(_COLOURS)
     colour = {h: cmap(i % 20) for i, h in enumerate(hyps)}
     flights = max([r["run_index"] + 1 for r in records] or [1])
-    fig, axes = plt.subplots(len(levels), 1, figsize=(9, 1.2 + min(0.12 * flights, 6) * len(levels)),
+    fig, axes = plt.subplots(len(levels), 1, figsize=(11, 1.6 + min(0.12 * flights, 6) * len(levels)),
                              squeeze=False, sharex=True)
     for ax, lvl in zip(axes[:, 0], levels):
         for r in (r for r in records if r["level"] == lvl):
@@ -34,7 +34,8 @@ def timeline(records: list[dict], levels: tuple[str, ...], flight_s: float, path
     axes[-1, 0].set_xlabel("time in flight (s)")
     handles = [plt.Rectangle((0, 0), 1, 1, color=colour[h]) for h in hyps]
     if handles:
-        fig.legend(handles, hyps, loc="upper right", fontsize=7, ncol=min(len(hyps), 6))
+        axes[0, 0].legend(handles, hyps, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
+                          ncol=1 + len(hyps) // 12, title="hypothesis", title_fontsize=7)
     axes[0, 0].set_title("False declarations, each from its time to its back-out (or the flight's end)")
     return save_figure(fig, path)
 

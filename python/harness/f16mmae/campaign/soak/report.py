@@ -23,7 +23,7 @@ _DEFINITIONS = """
 
 def _level_rows(levels: list[dict]) -> str:
     head = ("<tr><th>turbulence</th><th>flights</th><th>hours</th><th>false declarations per hour [95 %], verdict</th>"
-            "<th>flights with one</th><th>hypotheses involved</th><th>lasted median / max (s)</th>"
+            "<th>flights with one</th><th>first in its flight, median / earliest (s)</th><th>hypotheses involved</th><th>lasted median / max (s)</th>"
             "<th>backed out / replaced / flight end</th></tr>")
     rows = []
     for lv in levels:
@@ -32,10 +32,12 @@ def _level_rows(levels: list[dict]) -> str:
         hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "none"
         d = lv["duration_s"]
         lasted = "-" if d["median"] is None else f"{d['median']:.2f} / {d['max']:.2f}"
+        f = lv["first_declaration_s"]
+        first = "-" if f["median"] is None else f"{f['median']:.1f} / {f['min']:.1f}"
         ends = " / ".join(str(lv["episodes_by_end"][k]) for k in ("backed out", "replaced", "flight end"))
         rows.append(f"<tr class='{cls}'><td>{html.escape(lv['level'])}</td><td>{lv['flights']}</td>"
                     f"<td>{lv['hours']:.3f}</td><td>{html.escape(evidence.describe_per_hour(lv['per_hour']))}</td>"
-                    f"<td>{lv['flights_with_false_declaration']}</td><td>{html.escape(hyps)}</td>"
+                    f"<td>{lv['flights_with_false_declaration']}</td><td>{first}</td><td>{html.escape(hyps)}</td>"
                     f"<td>{lasted}</td>"
                     f"<td>{ends}</td></tr>")
     return "<table>" + head + "".join(rows) + "</table>"

@@ -11,7 +11,7 @@ from ..banks import BankError, bank_path
 from ..campaign.engine.config import DITHER_SCALE_MAX, RUNS_MAX
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..campaign.engine.failure_runs import CASES
-from ..campaign.engine.levels import LEVELS_KIND
+from ..campaign.engine.variants import VARIANTS_KIND
 from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
 from ..outputs import writable_dir
 from ..report.page import render_report
@@ -33,9 +33,13 @@ def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool
                    help="none | light | moderate | severe, or a comma list of them flown with common "
                         "seeds and reported side by side (default light)")
     if failures:
-        p.add_argument("--mode", default="complete", metavar="MODE",
-                       help="failure mode injected (default complete, the paper's model: a failed "
-                            "sensor reads the truth's trim value, a failed surface is frozen at trim)")
+        p.add_argument("--mode", "--modes", dest="mode", default="complete", metavar="MODE[,MODE...]",
+                       help="failure mode injected, NAME[=VALUE] (default complete, the paper's model: a "
+                            "failed sensor reads the truth's trim value, a failed surface is frozen at trim; "
+                            "actuators: complete stuck hardover loss=F; sensors: complete null stuck hardover "
+                            "bias=B drift=R). campaign single takes a comma list: the same cases in every "
+                            "mode, a mode flying only the cases whose component it applies to, reported "
+                            "side by side")
     p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
                    help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
     p.add_argument("--no-dither", action="store_true", help="fly without dither (the paper always dithers)")
@@ -120,15 +124,14 @@ def run_and_report(args, run, print_summary) -> int:
     outcome.summary["command"] = "f16mmae " + shlex.join(args.argv)  # what made it, for results pages
     outcome.summary_path.write_text(json.dumps(outcome.summary, indent=1) + "\n")
     report = render_report(out)
-    if outcome.summary["kind"] == LEVELS_KIND:  # flown at several turbulence levels
-        for row in outcome.summary["levels"]:
-            level_dir = out / row["directory"]
-            print(f"\n=== {row['level']} turbulence ({level_dir}) ===")
-            level = json.loads((level_dir / "summary.json").read_text())
-            print_summary(level, sys.stdout)
-            render_report(level_dir)
+    if outcome.summary["kind"] == VARIANTS_KIND:  # flown at several turbulence levels or modes
+        for row in outcome.summary["variants"]:
+            variant_dir = out / row["directory"]
+            print(f"\n=== {row['label']} ({variant_dir}) ===")
+            print_summary(json.loads((variant_dir / "summary.json").read_text()), sys.stdout)
+            render_report(variant_dir)
         print()
-        evidence.print_levels(outcome.summary["levels"], sys.stdout)
+        evidence.print_variants(outcome.summary, sys.stdout)
     else:
         print_summary(outcome.summary, sys.stdout)
     evidence.print_campaign(outcome.summary, sys.stdout)

@@ -4,7 +4,7 @@ hour and the runs that went wrong with their reproduce commands (the first few; 
 are in summary.json and report.html)."""
 from __future__ import annotations
 
-from ..report.evidence import LEVEL_COLUMNS, describe_rate, level_cells
+from ..report.evidence import VARIANT_COLUMNS, describe_rate, variant_cells
 
 SHOW_COMMANDS = 5
 _SHORT = {"demonstrated": "demo", "consistent": "cons", "not met": "NOT"}
@@ -60,10 +60,11 @@ def print_campaign(summary: dict, stream) -> None:
         print(f"  ... {len(bad) - SHOW_COMMANDS} more in summary.json (not_clean) and report.html", file=stream)
 
 
-def print_levels(rows: list[dict], stream) -> None:
-    """The levels of a campaign flown at several, side by side (the bank under test)."""
-    cells = [LEVEL_COLUMNS] + [level_cells(r) for r in rows]
-    widths = [max(len(c[i]) for c in cells) for i in range(len(LEVEL_COLUMNS))]
-    print("turbulence levels side by side (common seeds; 95% intervals):", file=stream)
+def print_variants(summary: dict, stream) -> None:
+    """The variants of a campaign flown at several levels or modes, side by side (the bank under test)."""
+    axes = summary["axes"]
+    cells = [tuple(axes) + VARIANT_COLUMNS] + [variant_cells(r, axes) for r in summary["variants"]]
+    widths = [max(len(c[i]) for c in cells) for i in range(len(cells[0]))]
+    print(f"{' x '.join(axes)} side by side (common seeds; 95% intervals):", file=stream)
     for c in cells:
         print("  " + "  ".join(f"{x:<{w}}" for x, w in zip(c, widths)), file=stream)

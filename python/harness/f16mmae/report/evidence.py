@@ -43,19 +43,21 @@ def describe_per_hour(per_hour: dict | None) -> str:
     return text
 
 
-#: The columns of :func:`level_cells`.
-LEVEL_COLUMNS = ("turbulence", "runs", "correct [95 %]", "false declarations per flight hour [95 %]",
-                 "latency median / p95 (s), detected of failure runs", "goals met")
+#: The columns of :func:`variant_cells` after the varying axes (turbulence, mode).
+VARIANT_COLUMNS = ("runs", "correct [95 %]", "false declarations per flight hour [95 %]",
+                   "latency median / p95 (s), detected of failure runs", "goals met", "cases skipped")
 
 
-def level_cells(row: dict) -> tuple[str, ...]:
-    """One turbulence level of a campaign flown at several (a row of a summary of kind
-    "levels") as text cells, in the order of :data:`LEVEL_COLUMNS`."""
+def variant_cells(row: dict, axes: list[str]) -> tuple[str, ...]:
+    """One variant of a campaign flown at several turbulence levels or failure modes (a row of a
+    summary of kind "variants") as text cells: the values of ``axes``, then :data:`VARIANT_COLUMNS`."""
     lat = row["latency_s"]
     latency = ("-" if lat["median"] is None else f"{lat['median']:.2f} / {lat['p95']:.2f}") + \
         f" ({lat['detected_runs']} of {lat['failure_runs']})"
-    return (row["level"], str(row["runs"]), describe_rate(row["correct"], digits=1, unit=" %"),
-            describe_per_hour(row["false_declarations_per_hour"]), latency, "yes" if row["goals_met"] else "no")
+    return tuple(row[a] for a in axes) + (
+        str(row["runs"]), describe_rate(row["correct"], digits=1, unit=" %"),
+        describe_per_hour(row["false_declarations_per_hour"]), latency, "yes" if row["goals_met"] else "no",
+        ",".join(row.get("cases_skipped") or []) or "-")
 
 
 def rate_cell(rate: dict | None) -> str:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from .evidence import LEVEL_COLUMNS, describe_per_hour, describe_rate, level_cells
+from .evidence import VARIANT_COLUMNS, describe_per_hour, describe_rate, variant_cells
 
 MAX_LISTED = 25
 
@@ -159,19 +159,21 @@ def soak_markdown(s: dict) -> str:
     return "\n".join(out)
 
 
-def levels_markdown(s: dict) -> str:
-    out = _header(s, f"The {s['campaign']} campaign at {len(s['levels'])} turbulence levels (common seeds)")
-    out += ["## Levels side by side (the bank under test)", "",
-            "| " + " | ".join(LEVEL_COLUMNS) + " |", "|" + "---|" * len(LEVEL_COLUMNS)]
-    out += ["| " + " | ".join(level_cells(row)) + " |" for row in s["levels"]]
-    out += ["", "Each level's full results: `f16mmae report DIR/<level> --markdown FILE`.", ""]
-    out += _not_clean(s, lambda r: " ".join(str(r[k]) for k in ("level", "tuning", "case", "pair", "point") if k in r))
+def variants_markdown(s: dict) -> str:
+    columns = tuple(s["axes"]) + VARIANT_COLUMNS
+    out = _header(s, f"The {s['campaign']} campaign in {len(s['variants'])} variants of "
+                     f"{' and '.join(s['axes'])} (common seeds)")
+    out += ["## Side by side (the bank under test)", "",
+            "| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    out += ["| " + " | ".join(variant_cells(row, s["axes"])) + " |" for row in s["variants"]]
+    out += ["", "Each variant's full results: `f16mmae report DIR/<variant> --markdown FILE`.", ""]
+    out += _not_clean(s, lambda r: " ".join(str(r[k]) for k in ("variant", "tuning", "case", "pair", "point") if k in r))
     return "\n".join(out)
 
 
 MARKDOWN: dict[str, Callable[[dict], str]] = {
     "single": single_markdown, "dual": dual_markdown, "envelope": envelope_markdown, "soak": soak_markdown,
-    "levels": levels_markdown}
+    "variants": variants_markdown}
 
 
 def summary_markdown(summary: dict) -> str:

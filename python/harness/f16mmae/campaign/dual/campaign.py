@@ -39,7 +39,7 @@ from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
 from ...names import COMPONENTS, FAILURE_TIME_S, dual_name
-from ..engine import drilldown, evidence, identity, levels, outcomes
+from ..engine import drilldown, evidence, identity, outcomes, variants
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
 from ..engine.runner import CampaignOutcome, execute, planned_bank
@@ -183,7 +183,7 @@ def _run_campaign(cfg: DualCampaign, out: Path, executor: Executor, executor_lab
         }
         return summary
 
-    summary, done = levels.fly_levels(
+    summary, done = variants.fly_variants(
         cfg, out, lambda c: plan(c, label, bank),
         lambda specs: execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,
                               describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})",

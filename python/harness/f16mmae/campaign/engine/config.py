@@ -9,8 +9,13 @@ value and the valid range.
 
 Turbulence: ``turbulence`` is one level or a comma list of distinct levels
 (``none,light,moderate,severe``, :meth:`CampaignConfig.levels`); every kind flies each level
-listed (``levels.fly_levels``, or the soak's own plan), passing it to
-:meth:`CampaignConfig.scenario_dict`.
+listed (``variants.fly_variants``, or the soak's own plan).
+
+Failure mode: ``mode`` is one mode, ``NAME[=VALUE]`` (``complete``, ``stuck``, ``loss=0.5``,
+``hardover=-1``; :func:`split_mode`), the failure every planned failure gets
+(:meth:`CampaignConfig.failure`).  A kind that flies a list of modes (``MODE_LIST``, the single
+campaign) takes a comma list of distinct modes (:meth:`CampaignConfig.modes`), each flown as a
+variant; the others one mode.
 """
 from __future__ import annotations
 
@@ -20,7 +25,9 @@ from ...errors import F16mmaeError
 from ...names import (DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, FLIGHT_S, SINGLE_HYPOTHESES,
                       TURBULENCE_LEVELS)
 from ...truth import DitherSpec, Scenario
+from ...truth.actuators import ACTUATOR_MODES
 from ...truth.failures import make_failure
+from ...truth.sensors import SENSOR_MODES
 
 
 #: The most seeded runs per case (or pair, or point and case) a campaign plans.
@@ -31,6 +38,17 @@ DITHER_SCALE_MAX = 5.0
 
 class CampaignError(F16mmaeError):
     """A campaign argument is invalid, or a run failed; the message names it."""
+
+
+def split_mode(text: str) -> tuple[str, float | None]:
+    """``NAME[=VALUE]`` as (name lower-cased, value or None); ValueError when VALUE is no number."""
+    name, _, value = text.strip().partition("=")
+    if not value.strip():
+        return name.strip().lower(), None
+    try:
+        return name.strip().lower(), float(value)
+    except ValueError:
+        raise ValueError(f"failure mode {text!r}: {value!r} is not a number (NAME=VALUE, e.g. loss=0.5)") from None
 
 
 def scaled_dither(enabled: bool, scale: float = 1.0) -> DitherSpec:
@@ -62,6 +80,19 @@ class CampaignConfig:
     dwell_s: float | None = None
     p_min: float | None = None
 
+    #: Whether this kind flies a comma list of failure modes (module docstring).
+    MODE_LIST = False
+
+    def modes(self) -> tuple[str, ...]:
+        """The failure modes listed in ``mode``, in the order given."""
+        return tuple(x.strip() for x in self.mode.split(","))
+
+    def failure(self, name: str, time_s: float):
+        """The failure of component ``name`` at ``time_s`` in this config's (one) mode
+        (``truth.failures.make_failure``; ValueError when the mode does not fit the component)."""
+        mode, value = split_mode(self.mode)
+        return make_failure(name, time_s, mode, value)
+
     def levels(self) -> tuple[str, ...]:
         """The turbulence levels listed in ``turbulence``, in the order given."""
         return tuple(x.strip() for x in self.turbulence.split(","))
@@ -88,6 +119,20 @@ class CampaignConfig:
             raise CampaignError(f"unknown turbulence {', '.join(map(repr, bad))}; valid: {', '.join(TURBULENCE_LEVELS)}")
         if len(set(levels)) != len(levels):
             raise CampaignError(f"a turbulence level is listed twice in {self.turbulence!r}")
+        modes = self.modes()
+        if len(set(modes)) != len(modes):
+            raise CampaignError(f"a failure mode is listed twice in {self.mode!r}")
+        if len(modes) > 1 and not self.MODE_LIST:
+            raise CampaignError(f"this campaign flies one failure mode, got {self.mode!r} "
+                                f"(campaign single flies a list)")
+        for m in modes:
+            try:
+                name, _ = split_mode(m)
+            except ValueError as exc:
+                raise CampaignError(str(exc)) from None
+            if name not in ACTUATOR_MODES + SENSOR_MODES:
+                raise CampaignError(f"unknown failure mode {m!r}; valid: actuators {', '.join(ACTUATOR_MODES)}; "
+                                    f"sensors {', '.join(SENSOR_MODES)} (a value as NAME=VALUE, e.g. loss=0.5)")
         if self.feedback not in FEEDBACK_MODES:
             raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
         if not 0.0 <= self.dither_scale <= DITHER_SCALE_MAX:
@@ -113,7 +158,7 @@ class CampaignConfig:
             mach=float(mach if mach is not None else bank.mach),
             alt_ft=float(alt_ft if alt_ft is not None else bank.alt_ft),
             turbulence=self.turbulence if turbulence is None else turbulence, dither=self.dither_spec(),
-            failures=tuple(make_failure(n, t, self.mode) for n, t in failures),
+            failures=tuple(self.failure(n, t) for n, t in failures),
             duration_s=self.duration_s, seed=seed, feedback=self.feedback,
         )
         return scenario.to_dict()

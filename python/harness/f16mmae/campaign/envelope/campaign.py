@@ -49,8 +49,7 @@ from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...names import FAILURE_TIME_S, NONE
 from ...truth.aircraft import check_flight_condition, trimmed_fdm
-from ...truth.failures import make_failure
-from ..engine import drilldown, evidence, identity, intervals, levels, outcomes, scoring
+from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring, variants
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
@@ -93,7 +92,7 @@ class EnvelopeCampaign(CampaignConfig):
         for case in self.cases:
             if case != NONE:
                 try:
-                    make_failure(case, self.failure_time_s, self.mode)
+                    self.failure(case, self.failure_time_s)
                 except ValueError as exc:
                     raise CampaignError(f"case {case}: {exc}") from None
         return self
@@ -214,7 +213,7 @@ def _run_envelope(cfg: EnvelopeCampaign, out: Path, executor: Executor, executor
         summary["figures"] = figures.make_figures(d, summary)
         return summary
 
-    summary, done = levels.fly_levels(
+    summary, done = variants.fly_variants(
         cfg, out, level_plan,
         lambda specs: execute(specs, store, executor, run_point_spec, describe=describe_point_spec,
                               progress_label=f"runs ({len(cfg.points)} points)", show_progress=show_progress,

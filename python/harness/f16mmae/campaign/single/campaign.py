@@ -26,8 +26,11 @@ from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import scenario_from_dict
 from ...loop.overhead import measure_overhead
 from ...names import FAILURE_TIME_S, NONE
-from ..engine import drilldown, evidence, identity, levels, scoring
-from ..engine.config import CampaignConfig
+from ...truth.actuators import ACTUATOR_MODES
+from ...truth.failures import modes_for
+from ...truth.sensors import SENSOR_MODES
+from ..engine import drilldown, evidence, identity, scoring, variants
+from ..engine.config import CampaignConfig, CampaignError, split_mode
 from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.store import ResultsStore, campaign_directory
@@ -38,6 +41,8 @@ from . import figures
 class SingleCampaign(CampaignConfig):
     """The arguments of ``f16mmae campaign single`` (everything that shapes the results)."""
 
+    MODE_LIST = True
+
     cases: tuple[str, ...] = CASES
     baseline: str | None = "untuned"
     failure_time_s: float = FAILURE_TIME_S
@@ -47,7 +52,22 @@ class SingleCampaign(CampaignConfig):
     def validate(self) -> "SingleCampaign":
         self.check_common(dwell_window_s=self.duration_s)
         check_cases(self)
+        failures = [c for c in self.cases if c != NONE]
+        for mode in self.modes():
+            flown = mode_cases(dataclasses.replace(self, mode=mode))[0].cases
+            if failures and all(c == NONE for c in flown):
+                raise CampaignError(f"failure mode {mode!r} applies to none of the cases {','.join(failures)} "
+                                    f"(actuators: {', '.join(ACTUATOR_MODES)}; sensors: {', '.join(SENSOR_MODES)})")
         return self
+
+
+def mode_cases(cfg: SingleCampaign) -> tuple[SingleCampaign, list[str]]:
+    """The cases ``cfg``'s (one) mode applies to, and those it skips: an actuator mode flies the
+    actuator cases, a sensor mode the sensor cases (``complete``, ``stuck`` and ``hardover`` are
+    both); NONE is flown in every mode (its run is the same in all, so it flies once)."""
+    name = split_mode(cfg.mode)[0]
+    keep = tuple(c for c in cfg.cases if c == NONE or name in modes_for(c))
+    return dataclasses.replace(cfg, cases=keep), [c for c in cfg.cases if c not in keep]
 
 
 # -- the campaign ------------------------------------------------------------------------------
@@ -70,19 +90,20 @@ def _run_campaign(cfg: SingleCampaign, out: Path, executor: Executor, executor_l
         if b_bank.content_hash != bank.content_hash:
             banks[b_label if b_label != label else f"{b_label}-baseline"] = (cfg.baseline, b_bank)
 
-    def level_summary(c: SingleCampaign, records: list[dict], d: Path) -> dict:
+    def variant_summary(c: SingleCampaign, records: list[dict], d: Path) -> dict:
         summary = summarize(c, banks, label, records)
         summary["figures"] = make_figures(d, records, c)
         return summary
 
-    summary, done = levels.fly_levels(
+    summary, done = variants.fly_variants(
         cfg, out, lambda c: plan(c, banks, c.mach, c.alt_ft),
         lambda specs: execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
                               show_progress=show_progress, allow_mixed=allow_mixed),
-        level_summary, under_test=lambda r: r["tuning"] == label)
+        variant_summary, under_test=lambda r: r["tuning"] == label, variant=mode_cases)
     summary["timing"] = done.timing(executor_label)
     if measure_cost:
-        specs = plan(dataclasses.replace(cfg, turbulence=cfg.levels()[0]), banks, cfg.mach, cfg.alt_ft)
+        first, _ = mode_cases(dataclasses.replace(cfg, turbulence=cfg.levels()[0], mode=cfg.modes()[0]))
+        specs = plan(first, banks, cfg.mach, cfg.alt_ft)
         none_spec = next((s for s in specs if s["case"] == NONE), specs[0])
         summary["timing"]["overhead"] = measure_overhead(
             scenario_from_dict(none_spec["scenario"]), bank, **cfg.estimator_options())

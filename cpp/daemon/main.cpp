@@ -1,6 +1,7 @@
 // mmae-daemon — the MMAE executive as an LCM process (see daemon_config.h for the options).
 // Loads and validates the model bank, subscribes, then handles LCM traffic until SIGINT or
-// SIGTERM (or --max-frames statuses), and ends with a one-line statistics summary. Between
+// SIGTERM (or --max-frames statuses), and ends with its statistics twice: one human line,
+// then "mmae-daemon: statistics {JSON}" (LcmNode::statistics_json) for tools to parse. Between
 // frames it wakes --warm-lead-us before the next sensor frame is due to warm the executive
 // up, and again every --rewarm-us until the frame comes (WarmUpSchedule, Executive::warm_up).
 // Exit status: 0 clean end, 1 bank or LCM unusable, 2 usage error.
@@ -140,10 +141,14 @@ int main(int argc, char** argv) {
         warm_up.on_frame(node.last_sensor_arrival());
       }
     }
-    std::printf("mmae-daemon: %s%s; %lld statuses published, sensor-to-publish %s; %lld cache warm-ups\n",
+    const MessageCounts& m = node.messages();
+    std::printf("mmae-daemon: %s%s; messages %lld received, %lld undecodable, %lld publish errors; "
+                "%lld statuses published, sensor-to-publish %s; %lld cache warm-ups\n",
                 g_stop ? "stopped by signal: " : "", executive->summary().c_str(),
-                static_cast<long long>(node.published()), describe_us(node.sensor_to_publish()).c_str(),
-                static_cast<long long>(executive->warm_ups()));
+                static_cast<long long>(m.received), static_cast<long long>(m.undecodable),
+                static_cast<long long>(m.publish_errors), static_cast<long long>(node.published()),
+                describe_us(node.sensor_to_publish()).c_str(), static_cast<long long>(executive->warm_ups()));
+    std::printf("mmae-daemon: statistics %s\n", node.statistics_json().c_str());
     std::fflush(stdout);
   }
   lcm_destroy(lcm);

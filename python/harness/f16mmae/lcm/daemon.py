@@ -1,12 +1,12 @@
 """The ``mmae-daemon`` executable: find it, start it as a child process, stop it."""
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import shutil
 import signal
 import subprocess
+import sysconfig
 import threading
 from pathlib import Path
 
@@ -28,18 +28,14 @@ def statistics_line(output: str, program: str) -> dict:
 
 
 def find_executable(name: str = "mmae-daemon") -> Path:
-    """``mmae-daemon``: $F16MMAE_BIN_DIR, then the package's ``bin`` folder (where
-    ``pip install .`` / ``make build`` put it, beside the compiled core), then $PATH.
-    Raises HilError naming the places looked at."""
+    """``mmae-daemon``: $F16MMAE_BIN_DIR, then the scripts directory of this Python (where
+    ``pip install .`` and ``make build`` put it, beside ``f16mmae``), then $PATH. Raises
+    HilError naming the places looked at."""
     places: list[Path] = []
     env = os.environ.get("F16MMAE_BIN_DIR")
     if env:
         places.append(Path(env) / name)
-    for module in ("f16mmae.core", "f16mmae.lcmt_mmae_status"):
-        spec = importlib.util.find_spec(module)
-        if spec is not None and spec.origin:
-            places.append(Path(spec.origin).parent / "bin" / name)
-    places.append(Path(__file__).resolve().parent / "bin" / name)
+    places.append(Path(sysconfig.get_path("scripts")) / name)
     for p in places:
         if p.is_file() and os.access(p, os.X_OK):
             return p
@@ -47,7 +43,7 @@ def find_executable(name: str = "mmae-daemon") -> Path:
     if on_path:
         return Path(on_path)
     raise HilError(f"cannot find {name}: looked in {', '.join(str(p.parent) for p in places)} and $PATH; "
-                   f"build it with 'make build' (or set F16MMAE_BIN_DIR)")
+                   f"install the package ('pip install .' or 'make build'), or set F16MMAE_BIN_DIR")
 
 
 def pin_to(cpus: set[int] | None):

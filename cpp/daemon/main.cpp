@@ -7,6 +7,7 @@
 // Exit status: 0 clean end, 1 bank or LCM unusable, 2 usage error.
 #include "bank_settings.h"
 #include "daemon_config.h"
+#include "frame_auth.h"
 #include "executive/executive.h"
 #include "lcm_node.h"
 #include "lcm_wait.h"
@@ -103,6 +104,21 @@ int main(int argc, char** argv) {
     return 1;
   }
 
+  std::unique_ptr<FrameAuth> auth;
+  if (!cfg.auth_key_path.empty()) {
+    try {
+      auth = std::make_unique<FrameAuth>(FrameAuth::from_key_file(cfg.auth_key_path));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "mmae-daemon: error: %s\n", e.what());
+      return 1;
+    }
+  } else {
+    std::fprintf(stderr,
+                 "mmae-daemon: warning: no --auth-key: frames, commands and resets are accepted from any "
+                 "sender that reaches %s\n",
+                 cfg.lcm_url.c_str());
+  }
+
   if (cfg.realtime_priority > 0) go_realtime(cfg.realtime_priority);  // before LCM's threads exist
   lcm_t* lcm = lcm_create(cfg.lcm_url.c_str());
   if (!lcm) {
@@ -115,13 +131,14 @@ int main(int argc, char** argv) {
   const Channels channels = cfg.channels();
   int rc = 0;
   {
-    LcmNode node(lcm, channels, *executive);
+    LcmNode node(lcm, channels, *executive, auth.get());
     if (!cfg.quiet) {
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s, p_min %g, threshold %g, dwell %g s), lcm %s, "
-                  "%s -> %s\n",
+                  "%s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), options.bank.p_min,
                   options.declarer.threshold, options.declarer.dwell_s, cfg.lcm_url.c_str(),
-                  channels.sensors.c_str(), channels.status.c_str());
+                  channels.sensors.c_str(), channels.status.c_str(),
+                  auth ? "frames authenticated" : "frames NOT authenticated");
       std::fflush(stdout);
     }
     WarmUpSchedule warm_up(cfg.rate_hz, std::chrono::nanoseconds(std::llround(cfg.warm_lead_us * 1e3)),
@@ -142,10 +159,12 @@ int main(int argc, char** argv) {
       }
     }
     const MessageCounts& m = node.messages();
-    std::printf("mmae-daemon: %s%s; messages %lld received, %lld undecodable, %lld publish errors; "
+    std::printf("mmae-daemon: %s%s; messages %lld received, %lld undecodable, %lld unauthenticated, "
+                "%lld replayed, %lld publish errors; "
                 "%lld statuses published, sensor-to-publish %s; %lld cache warm-ups\n",
                 g_stop ? "stopped by signal: " : "", executive->summary().c_str(),
                 static_cast<long long>(m.received), static_cast<long long>(m.undecodable),
+                static_cast<long long>(m.unauthenticated), static_cast<long long>(m.replayed),
                 static_cast<long long>(m.publish_errors), static_cast<long long>(node.published()),
                 describe_us(node.sensor_to_publish()).c_str(), static_cast<long long>(executive->warm_ups()));
     std::printf("mmae-daemon: statistics %s\n", node.statistics_json().c_str());

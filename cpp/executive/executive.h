@@ -70,6 +70,9 @@ class Executive {
   const lcmt_mmae_status& status() const noexcept { return status_; }
   const std::uint8_t* encoded_status() const noexcept { return buffer_.data(); }
   int encoded_status_size() const noexcept { return encoded_size_; }
+  // The same bytes, for a transport to fill in the status's auth trailer (auth_sequence,
+  // auth_tag: its last 40 bytes) before publishing; zeros as the executive leaves them.
+  std::uint8_t* mutable_encoded_status() noexcept { return buffer_.data(); }
 
   const SequencerCounters& counters() const noexcept { return sequencer_.counters(); }
   const StepStats& update_stats() const noexcept { return update_stats_; }

@@ -163,3 +163,60 @@ TEST(LcmNode, CountsEveryMessageByFate) {
   node_owner.reset();
   lcm_destroy(lcm);
 }
+
+// With a key: unsigned, forged and replayed messages are dropped and counted; signed frames
+// run; the status comes back signed.
+TEST(LcmNode, WithAKeyOnlySignedFreshMessagesAreObeyedAndStatusesAreSigned) {
+  lcm_t* lcm = lcm_create("memq://");
+  ASSERT_NE(lcm, nullptr);
+  const ModelBank b = test_support::synthetic_bank();
+  Executive ex(b);
+  std::vector<std::uint8_t> key(32, 0x5a), other(32, 0xa5);
+  FrameAuth daemon_auth(key.data(), key.size()), sender(key.data(), key.size()),
+      stranger(other.data(), other.size()), status_check(key.data(), key.size());
+  const Channels ch = Channels::with_prefix("");
+  auto node_owner = std::make_unique<LcmNode>(lcm, ch, ex, &daemon_auth);
+  const LcmNode& node = *node_owner;
+  Received rx;
+  lcm_subscription_t* sub = lcm_subscribe(lcm, ch.status.c_str(), on_status, &rx);
+  std::vector<std::vector<std::uint8_t>> raw_statuses;
+  auto signed_bytes = [&](FrameAuth& a, const std::string& channel, const auto& msg) {
+    std::vector<std::uint8_t> buf(msg.getEncodedSize());
+    msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    a.sign(channel.c_str(), buf.data(), buf.size());
+    return buf;
+  };
+  auto send = [&](const std::string& channel, const std::vector<std::uint8_t>& buf) {
+    lcm_publish(lcm, channel.c_str(), buf.data(), static_cast<unsigned>(buf.size()));
+    drain(lcm);
+  };
+  publish(lcm, ch.sensors, sensor(b, 0));                                  // unsigned
+  drain(lcm);
+  send(ch.sensors, signed_bytes(stranger, ch.sensors, sensor(b, 0)));      // another key
+  send(ch.commands, signed_bytes(sender, ch.sensors, command(b, 0)));      // signed for another channel
+  const auto s0 = signed_bytes(sender, ch.sensors, sensor(b, 0));
+  send(ch.sensors, s0);
+  send(ch.sensors, s0);                                                    // replayed
+  send(ch.commands, signed_bytes(sender, ch.commands, command(b, 0)));
+  lcmt_mmae_reset reset{};
+  reset.reason = "forged";
+  send(ch.reset, signed_bytes(stranger, ch.reset, reset));                 // a forged reset
+  send(ch.sensors, signed_bytes(sender, ch.sensors, sensor(b, 1)));
+  const MessageCounts& m = node.messages();
+  EXPECT_EQ(m.unauthenticated, 4);
+  EXPECT_EQ(m.replayed, 1);
+  EXPECT_EQ(m.used, 3);
+  EXPECT_EQ(m.unaccounted(), 0);
+  EXPECT_EQ(node.resets(), 0);
+  ASSERT_EQ(rx.statuses.size(), 2u);
+  EXPECT_EQ(rx.statuses[1].frame, 1);
+  // the statuses are signed with the key and numbered upwards
+  EXPECT_GT(rx.statuses[1].auth_sequence, rx.statuses[0].auth_sequence);
+  std::vector<std::uint8_t> st(rx.statuses[1].getEncodedSize());
+  rx.statuses[1].encode(st.data(), 0, static_cast<int>(st.size()));
+  std::int64_t last = 0;
+  EXPECT_EQ(status_check.check(ch.status.c_str(), st.data(), st.size(), last), FrameAuth::Check::ok);
+  lcm_unsubscribe(lcm, sub);
+  node_owner.reset();
+  lcm_destroy(lcm);
+}

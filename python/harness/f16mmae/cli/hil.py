@@ -13,7 +13,7 @@ from ..lcm.daemon import DaemonProcess
 from ..lcm.hil import fly_hil
 from ..loop.flight import fly
 from ..report.flight import write_flight
-from .options import CliError, number
+from .options import CliError, auth_from_option, number
 from .run import add_flight_arguments, build_scenario, scenario_fields
 
 DESCRIPTION = """\
@@ -60,6 +60,9 @@ def register(subparsers) -> None:
                    help="also fly in process and report the largest probability difference")
     p.add_argument("--out", default=None, metavar="DIR",
                    help="write run.json (with the link statistics), probabilities.csv/.png")
+    p.add_argument("--auth-key", default=None, metavar="FILE",
+                   help="sign every frame with the pre-shared key in FILE and use only statuses signed "
+                        "with it (mmae-daemon --auth-key FILE; 16-64 bytes, e.g. head -c 32 /dev/urandom)")
     p.set_defaults(func=_hil)
 
 
@@ -77,6 +80,7 @@ def _hil(args) -> int:
                        f"process, which a daemon in another cannot reach; use a udpm:// URL "
                        f"(the default) or 'f16mmae run' for the estimator in process")
     chans = channels(args.channel_prefix)
+    auth = auth_from_option(args.auth_key)
     try:
         lc = lcm.LCM(url)
     except RuntimeError as exc:
@@ -86,9 +90,9 @@ def _hil(args) -> int:
     daemon = None
     try:
         if args.start_daemon:
-            daemon = DaemonProcess(path, lcm_url=url, channel_prefix=args.channel_prefix)
+            daemon = DaemonProcess(path, lcm_url=url, channel_prefix=args.channel_prefix, auth_key=args.auth_key)
             print(daemon.ready_line)
-        result = fly_hil(scenario, bank, lc, chans, lockstep=args.lockstep, timeout_s=timeout_s)
+        result = fly_hil(scenario, bank, lc, chans, lockstep=args.lockstep, timeout_s=timeout_s, auth=auth)
     except HilError as exc:
         raise CliError(str(exc)) from None
     finally:

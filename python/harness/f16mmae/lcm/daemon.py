@@ -63,10 +63,11 @@ class DaemonProcess:
 
     def __init__(self, bank_path: str | Path, *, lcm_url: str, channel_prefix: str = "",
                  extra_args: tuple[str, ...] = (), ready_timeout_s: float = 10.0,
-                 cpus: set[int] | None = None) -> None:
+                 cpus: set[int] | None = None, auth_key: str | Path | None = None) -> None:
         exe = find_executable("mmae-daemon")
+        key = ("--auth-key", str(auth_key)) if auth_key is not None else ()
         self.args = [str(exe), "--bank", str(bank_path), "--lcm-url", lcm_url,
-                     "--channel-prefix", channel_prefix, *extra_args]
+                     "--channel-prefix", channel_prefix, *key, *extra_args]
         self.summary = ""
         self.ready_line_seen = False
         self.statistics: dict = {}

@@ -90,6 +90,10 @@ class DaemonProcess:
                            f"{err or line or f'no ready line within {timeout_s:g} s'}")
         return line
 
+    @property
+    def pid(self) -> int:
+        return self._proc.pid
+
     def stop(self, timeout_s: float = 5.0) -> int:
         """SIGINT, wait, keep the summary line; returns the exit status."""
         if self.returncode is not None:

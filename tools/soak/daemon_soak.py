@@ -50,7 +50,7 @@ def soak(hours: float, bank_choice: str, seed: int) -> dict:
     from f16mmae import core
     from f16mmae.banks import bank_estimator_settings, load_bank
     from f16mmae.lcm.channels import channels
-    from f16mmae.lcm.codec import command_frame_bytes, sensor_frame_bytes
+    from f16mmae.lcm.codec import command_frame_bytes, frame_utime, sensor_frame_bytes
     from f16mmae.lcm.daemon import DaemonProcess
     from f16mmae.lcmt_mmae_status import lcmt_mmae_status
     from f16mmae.names import FRAME_RATE_HZ
@@ -84,11 +84,11 @@ def soak(hours: float, bank_choice: str, seed: int) -> dict:
             data = sensor_frame_bytes(i, z)
             lc.publish(chans.sensors, data)
             sent["sensor"] += 1
-            fate = executive.on_sensor(i, z)
+            fate = executive.on_sensor(i, z, utime=frame_utime(i))
             if i % 997 == 996:
                 lc.publish(chans.sensors, data)
                 sent["duplicate"] += 1
-                executive.on_sensor(i, z)
+                executive.on_sensor(i, z, utime=frame_utime(i))
             if fate in ("used", "resynchronised"):
                 end = time.monotonic() + 5.0
                 while i not in got and time.monotonic() < end:
@@ -108,7 +108,7 @@ def soak(hours: float, bank_choice: str, seed: int) -> dict:
                 declarations += bool(mine.declaration)
             lc.publish(chans.commands, command_frame_bytes(i, u))
             sent["command"] += 1
-            executive.on_command(i, u)
+            executive.on_command(i, u, utime=frame_utime(i))
             if i % minute == minute - 1:
                 rss.append(((i + 1) // minute, rss_kib(daemon.pid)))
             if len(mismatches) > 20:

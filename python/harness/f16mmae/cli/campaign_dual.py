@@ -4,9 +4,9 @@ from __future__ import annotations
 import argparse
 
 from ..campaign.dual import DualCampaign, run_campaign
-from ..names import COMPONENTS
+from ..names import COMPONENTS, FAILURE_TIME_S
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
-from .options import CliError, number, parse_choices
+from .options import CliError, flight_seconds, parse_choices
 
 DESCRIPTION = """\
 The dual-failure campaign (paper Sec. VI, Fig. 7): every ordered pair (first, second) of
@@ -66,7 +66,8 @@ def register(kinds) -> None:
     p.add_argument("--first", default=None, metavar="LIST",
                    help="first failures (default all twelve); with --second: their cross product")
     p.add_argument("--second", default=None, metavar="LIST", help="second failures (default all twelve)")
-    p.add_argument("--first-time-s", default="3.0", metavar="T", help="first failure time (default 3.0 s)")
+    p.add_argument("--first-time-s", default=str(FAILURE_TIME_S), metavar="T",
+                   help=f"first failure time (default {FAILURE_TIME_S} s)")
     p.add_argument("--second-time-s", default="5.0", metavar="T", help="second failure time (default 5.0 s)")
     p.add_argument("--duration-s", default="10", metavar="T", help="flight duration (default 10 s)")
     add_run_arguments(p, "results/campaign-dual")
@@ -107,9 +108,9 @@ def config_from_args(args) -> DualCampaign:
     """A validated ``DualCampaign`` from the parsed arguments (CliError otherwise)."""
     cfg = DualCampaign(
         **flight_settings(args), pairs=parse_pairs(args.pairs, args.first, args.second),
-        first_time_s=number("--first-time-s", args.first_time_s, minimum=0, exclusive=True),
-        second_time_s=number("--second-time-s", args.second_time_s, minimum=0, exclusive=True),
-        duration_s=number("--duration-s", args.duration_s, minimum=0, exclusive=True),
+        first_time_s=flight_seconds("--first-time-s", args.first_time_s),
+        second_time_s=flight_seconds("--second-time-s", args.second_time_s),
+        duration_s=flight_seconds("--duration-s", args.duration_s),
     )
     return validated(cfg)
 

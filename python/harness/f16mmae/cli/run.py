@@ -6,10 +6,13 @@ import argparse
 from ..banks import BankError, load_bank
 from ..campaign.engine.scoring import expected_hypothesis, score_run
 from ..loop.flight import fly
-from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..names import FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, TURBULENCE_LEVELS
 from ..report.flight import write_flight
+from ..outputs import writable_dir
 from ..truth import DitherSpec, Scenario, TrimError, parse_fail
-from .options import CliError, add_estimator_arguments, choice, estimator_options_from_args, number
+from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE
+from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args, flight_seconds,
+                      number, seed)
 
 DESCRIPTION = """\
 Fly the nonlinear JSBSim F-16 (our FCS, dither on) with the MMAE estimator in the loop
@@ -37,7 +40,6 @@ DIR/probabilities.csv (time_s, then one column per hypothesis that was on line: 
 union over the flight, empty while off line) and DIR/probabilities.png.
 """
 
-DEFAULT_FAILURE_TIME_S = 3.0
 
 
 def register(subparsers) -> None:
@@ -55,9 +57,9 @@ def register(subparsers) -> None:
 def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a bank file (default tuned)") -> None:
     """The options of one flight, shared by ``run`` and ``hil``."""
     p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
-                   help="inject a failure (repeatable); TIME defaults to 3.0 s, MODE to complete")
+                   help=f"inject a failure (repeatable); TIME defaults to {FAILURE_TIME_S} s, MODE to complete")
     p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1)")
-    p.add_argument("--duration", default="8.0", metavar="S", help="flight length in s (default 8)")
+    p.add_argument("--duration", default=str(FLIGHT_S), metavar="S", help=f"flight length in s (default {FLIGHT_S:g})")
     p.add_argument("--turbulence", default="light", metavar="LEVEL",
                    help="none | light | moderate | severe (default light)")
     p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
@@ -75,7 +77,7 @@ def parse_failures(specs: list[str]):
         name, sep, rest = text.partition("@")
         if not sep:  # NAME or NAME:MODE
             name, colon, mode = text.partition(":")
-            text = f"{name}@{DEFAULT_FAILURE_TIME_S}" + (f":{mode}" if colon else "")
+            text = f"{name}@{FAILURE_TIME_S}" + (f":{mode}" if colon else "")
         try:
             out.append(parse_fail(text))
         except ValueError as exc:
@@ -88,10 +90,11 @@ def scenario_fields(args) -> dict:
     ``mach``/``alt_ft`` are None when left to the bank's design point."""
     turbulence = choice("--turbulence", args.turbulence, TURBULENCE_LEVELS)
     feedback = choice("--feedback", args.feedback, FEEDBACK_MODES)
-    seed = number("--seed", args.seed, integer=True, minimum=1)
-    duration = number("--duration", args.duration, minimum=0.0, exclusive=True)
-    mach = None if args.mach is None else number("--mach", args.mach, minimum=0.0, exclusive=True)
-    alt_ft = None if args.alt_ft is None else number("--alt-ft", args.alt_ft)
+    seed_ = seed("--seed", args.seed)
+    duration = flight_seconds("--duration", args.duration)
+    mach = None if args.mach is None else number("--mach", args.mach, minimum=MACH_RANGE[0], maximum=MACH_RANGE[1])
+    alt_ft = (None if args.alt_ft is None
+              else number("--alt-ft", args.alt_ft, minimum=ALT_FT_RANGE[0], maximum=ALT_FT_RANGE[1]))
     failures = parse_failures(args.fail)
     late = [f for f in failures if f.time_s >= duration]
     if late:
@@ -99,7 +102,7 @@ def scenario_fields(args) -> dict:
                        f"{duration}-s flight (use --duration)")
     return {
         "mach": mach, "alt_ft": alt_ft, "turbulence": turbulence,
-        "dither": not args.no_dither, "duration_s": duration, "seed": seed, "feedback": feedback,
+        "dither": not args.no_dither, "duration_s": duration, "seed": seed_, "feedback": feedback,
         "failures": tuple(failures),
     }
 
@@ -116,15 +119,24 @@ def build_scenario(fields: dict, bank):
         raise CliError(str(exc)) from None
 
 
-def _run(args) -> int:
+def flight_from_args(args):
+    """(bank label, bank path, ModelBank, Scenario) of the flight options of ``run`` and ``hil``,
+    each checked, and ``--out`` checked writable, all before anything flies."""
     fields = scenario_fields(args)
+    if args.out:
+        writable_dir(args.out)
     try:
         label, path, bank = load_bank(args.bank)
     except BankError as exc:
         raise CliError(f"--bank: {exc}") from None
-    scenario = build_scenario(fields, bank)
+    return label, path, bank, build_scenario(fields, bank)
+
+
+def _run(args) -> int:
+    options = estimator_options_from_args(args)
+    label, path, bank, scenario = flight_from_args(args)
     try:
-        result = fly(scenario, bank, estimator_options=estimator_options_from_args(args))
+        result = fly(scenario, bank, estimator_options=options)
     except (ValueError, TrimError) as exc:  # bad estimator option, untrimmable flight condition
         raise CliError(str(exc)) from None
     injected = expected_hypothesis([f["name"] for f in result.failures])

@@ -38,12 +38,12 @@ from pathlib import Path
 from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
-from ...names import COMPONENTS, dual_name
+from ...names import COMPONENTS, FAILURE_TIME_S, dual_name
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import derived_seed
-from ..engine.store import ResultsStore, run_key
+from ..engine.store import ResultsStore, campaign_directory, run_key
 from . import figures
 from . import scoring
 
@@ -69,7 +69,7 @@ class DualCampaign(CampaignConfig):
     runs: int = 3
     duration_s: float = 10.0
     pairs: tuple[tuple[str, str], ...] = ALL_PAIRS
-    first_time_s: float = 3.0
+    first_time_s: float = FAILURE_TIME_S
     second_time_s: float = 5.0
     mach: float | None = None  # None: the bank's design point
     alt_ft: float | None = None
@@ -159,10 +159,15 @@ def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
 # -- the campaign ------------------------------------------------------------------------------
 def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
                  executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
-    """Plan, fly what is not stored yet (appending records as they finish), summarize, plot."""
+    """Plan, fly what is not stored yet (appending records as they finish), summarize, plot;
+    ``out_dir`` checked writable and locked (``store.campaign_directory``) before any flight."""
     cfg.validate()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    with campaign_directory(out_dir) as out:
+        return _run_campaign(cfg, out, executor, executor_label, show_progress)
+
+
+def _run_campaign(cfg: DualCampaign, out: Path, executor: Executor, executor_label: str,
+                  show_progress: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     specs = plan(cfg, label, bank)
     done = execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,

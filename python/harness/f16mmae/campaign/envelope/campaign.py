@@ -47,14 +47,14 @@ import numpy as np
 
 from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
-from ...names import NONE
+from ...names import FAILURE_TIME_S, NONE
 from ...truth.aircraft import check_flight_condition, trimmed_fdm
 from ...truth.failures import make_failure
 from ..engine import scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore
+from ..engine.store import ResultsStore, campaign_directory
 from . import figures
 from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
 
@@ -70,7 +70,7 @@ class EnvelopeCampaign(CampaignConfig):
     runs: int = 2
     points: tuple[EnvelopePoint, ...] = PAPER_POINTS
     cases: tuple[str, ...] = CASES
-    failure_time_s: float = 3.0
+    failure_time_s: float = FAILURE_TIME_S
     correct_fraction_min: float = CORRECT_FRACTION_MIN
     false_alarms_max: int = FALSE_ALARMS_MAX
 
@@ -161,13 +161,18 @@ def describe_point_spec(spec: dict) -> str:
 
 def run_envelope(cfg: EnvelopeCampaign, out_dir: str | Path, executor: Executor,
                  executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
-    """Plan every point, run what is not stored yet, summarize per point, plot."""
+    """Plan every point, run what is not stored yet, summarize per point, plot; ``out_dir``
+    checked writable and locked (``store.campaign_directory``) before any flight."""
     cfg.validate()
-    out = Path(out_dir)
+    with campaign_directory(out_dir) as out:
+        return _run_envelope(cfg, out, executor, executor_label, show_progress)
+
+
+def _run_envelope(cfg: EnvelopeCampaign, out: Path, executor: Executor, executor_label: str,
+                  show_progress: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     banks = {label: (cfg.tuning, bank)}
     specs = plan(cfg, banks)
-    out.mkdir(parents=True, exist_ok=True)
     store = ResultsStore(out)
     stored = store.keys()
     left = {p.label: 0 for p in cfg.points}  # runs still to fly, per point

@@ -29,7 +29,7 @@ import pytest
 
 from f16mmae import core
 from f16mmae.banks import load_bank
-from f16mmae.benchmarks.lcm_latency import find_tool
+from latency_driver import find_tool
 from f16mmae.cli.main import main
 from f16mmae.loop.flight import fly
 from f16mmae.lcm.channels import channels

@@ -24,7 +24,8 @@ flies on z_hat (feedback mmae) and the commands go out on F16_COMMANDS.
 --lockstep waits for every status (as fast as possible): the same scenario and seed give
 the probabilities of the in-process 'f16mmae run' (to 1e-12; --compare checks it).
 Without it the frames are paced in real time at 64 Hz and a status that misses its frame
-is counted as a deadline miss (the FCS keeps the last z_hat).
+is counted as a deadline miss (the FCS keeps the last z_hat). mmae-daemon is on PATH after
+'pip install .'. Without --auth-key the daemon obeys any sender that reaches the LCM URL.
 """
 
 EXAMPLES = """\
@@ -34,6 +35,9 @@ examples:
   f16mmae hil --bank BANK --fail LS@3                    # ... flown in real time
   f16mmae hil --start-daemon --lockstep --compare        # check against the in-process run
   lcm-logger run.lcmlog & f16mmae hil --start-daemon     # record, then: f16mmae replay run.lcmlog
+  head -c 32 /dev/urandom > link.key                     # authenticated frames: the same key
+  mmae-daemon --bank BANK --auth-key link.key &          # for the daemon, hil and replay
+  f16mmae hil --bank BANK --auth-key link.key
 
 Latency benchmark (60 s at 64 Hz beside a bare C++ echo):
   f16mmae bench lcm --duration 60

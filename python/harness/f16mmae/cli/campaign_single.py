@@ -21,6 +21,8 @@ examples:
   f16mmae campaign single                          # 13 cases x 10 runs, tuned + untuned banks
   f16mmae campaign single --runs 3 --cases LS,PIT,NONE --baseline none
   f16mmae campaign single --tuning untuned --baseline none --turbulence moderate
+  f16mmae campaign single --runs 5 --baseline none --turbulence none,light,moderate,severe
+  f16mmae campaign single --runs 5 --baseline none --mode complete,stuck,hardover,null,loss=0.5
   f16mmae campaign single --workers 1              # in this process (profiling)
   f16mmae campaign single --scheduler tcp://10.0.0.5:8786   # on a Dask cluster
 
@@ -29,6 +31,12 @@ Output (DIR, default results/campaign-single):
                   outcome, latency), appended as runs finish
   summary.json    per case: runs, correct, missed, wrong, false_alarms, latency_s median/p95
   probability_strips.png, latency.png, report.html
+With a list of turbulence levels or modes: each variant's summary, figures and report in
+DIR/<variant>/ (e.g. DIR/moderate, DIR/loss=0.5), DIR/summary.json and DIR/report.html put
+them side by side, variants.png draws them. A mode flies only the cases whose component it
+applies to (actuators: complete stuck hardover loss; sensors: complete null stuck hardover
+bias drift); the others are listed as skipped. Run n of a case flies the same seed in every
+variant.
 Resume: run the same command again -- runs already in DIR/runs.jsonl are skipped.
 
 Per-run seeds are derived from (--seed, case, run index), so the same arguments give the

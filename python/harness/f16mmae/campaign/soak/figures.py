@@ -1,6 +1,6 @@
 """The soak's figures, from its flight records: each false declaration on a timeline per
 flight (one panel per turbulence level, a bar from the declaration to its end, coloured by
-hypothesis), the histogram of how long they lasted, and false declarations per flight hour
+hypothesis, the nine most declared by name, the rest grey), the histogram of how long they lasted, and false declarations per flight hour
 against the turbulence level with the 95 % Poisson intervals."""
 from __future__ import annotations
 
@@ -10,14 +10,23 @@ import numpy as np
 
 from ...report.figures import pyplot, save_figure
 
-_COLOURS = "tab20"
+_COLOURS = "tab10"
+#: Hypotheses coloured by name (the most declared); the rest share one grey.
+_NAMED = 9
+_OTHER = "0.55"
 
 
 def timeline(records: list[dict], levels: tuple[str, ...], flight_s: float, path: Path) -> Path:
     plt = pyplot()
-    hyps = sorted({e["hypothesis"] for r in records for e in r["episodes"]})
+    counts: dict[str, int] = {}
+    for e in (e for r in records for e in r["episodes"]):
+        counts[e["hypothesis"]] = counts.get(e["hypothesis"], 0) + 1
+    ranked = sorted(counts, key=lambda h: (-counts[h], h))
     cmap = plt.get_cmap(_COLOURS)
-    colour = {h: cmap(i % 20) for i, h in enumerate(hyps)}
+    colour = {h: cmap(i) for i, h in enumerate(ranked[:_NAMED])}
+    rest = ranked[_NAMED:]
+    colour.update({h: _OTHER for h in rest})
+    hyps = ranked[:_NAMED]
     flights = max([r["run_index"] + 1 for r in records] or [1])
     fig, axes = plt.subplots(len(levels), 1, figsize=(11, 1.6 + min(0.12 * flights, 6) * len(levels)),
                              squeeze=False, sharex=True)
@@ -33,9 +42,13 @@ def timeline(records: list[dict], levels: tuple[str, ...], flight_s: float, path
         ax.grid(True, axis="x", alpha=0.3)
     axes[-1, 0].set_xlabel("time in flight (s)")
     handles = [plt.Rectangle((0, 0), 1, 1, color=colour[h]) for h in hyps]
+    names = list(hyps)
+    if rest:
+        handles.append(plt.Rectangle((0, 0), 1, 1, color=_OTHER))
+        names.append(f"{len(rest)} others")
     if handles:
-        axes[0, 0].legend(handles, hyps, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
-                          ncol=1 + len(hyps) // 12, title="hypothesis", title_fontsize=7)
+        axes[0, 0].legend(handles, names, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
+                          title="hypothesis", title_fontsize=7)
     axes[0, 0].set_title("False declarations, each from its time to its back-out (or the flight's end)")
     return save_figure(fig, path)
 

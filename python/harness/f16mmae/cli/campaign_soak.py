@@ -6,7 +6,7 @@ import argparse
 from ..campaign.soak import GOALS_PER_H, SoakCampaign, run_soak
 from ..campaign.soak.campaign import FLIGHTS_MAX, SOAK_FLIGHT_S
 from ..names import FLIGHT_S_MAX
-from ..report.evidence import describe_per_hour
+from ..report.evidence import describe_counts, describe_per_hour
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
 from .options import number
 
@@ -70,7 +70,7 @@ def print_summary(summary: dict, stream) -> None:
           f"wall {t.get('wall_s', 0):.1f} s", file=stream)
     print("false declarations per flight hour (95% Poisson interval), goal and verdict:", file=stream)
     for lv in summary["levels"]:
-        hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "none"
+        hyps = describe_counts(lv["hypotheses"])
         d = lv["duration_s"]
         first = lv["first_declaration_s"]
         lasted = "" if d["median"] is None else (f"; lasted median {d['median']:.2f} s, max {d['max']:.2f} s; "

@@ -60,6 +60,16 @@ def variant_cells(row: dict, axes: list[str]) -> tuple[str, ...]:
         ",".join(row.get("cases_skipped") or []) or "-")
 
 
+def describe_counts(counts: dict[str, int], top: int = 8) -> str:
+    """``{name: count}`` (most first) as ``A 5, B 2, ... and N others (M)``, the first ``top``
+    by name; ``none`` when empty."""
+    items = list(counts.items())
+    text = ", ".join(f"{k} {v}" for k, v in items[:top]) or "none"
+    if len(items) > top:
+        text += f" and {len(items) - top} others ({sum(v for _, v in items[top:])})"
+    return text
+
+
 def rate_cell(rate: dict | None) -> str:
     """``k/n`` with the Clopper-Pearson 95 % interval and, with a goal, the verdict."""
     if not rate:

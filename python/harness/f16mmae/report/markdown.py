@@ -11,9 +11,11 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from .evidence import VARIANT_COLUMNS, describe_per_hour, describe_rate, variant_cells
+from .evidence import VARIANT_COLUMNS, describe_counts, describe_per_hour, describe_rate, variant_cells
 
 MAX_LISTED = 25
+#: The declarations listed per run that went wrong (all are in summary.json).
+MAX_DECLARATIONS = 8
 
 
 def _rate(r: dict | None) -> str:
@@ -86,7 +88,9 @@ def _not_clean(s: dict, label: Callable[[dict], str]) -> list[str]:
         return out + ["None.", ""]
     for r in bad[:MAX_LISTED]:
         flags = "+".join([r["outcome"]] + r["flags"])
-        decl = ", ".join(f"{d['hypothesis']}@{d['time_s']:.2f}" for d in r["declarations"]) or "none"
+        decl = ", ".join(f"{d['hypothesis']}@{d['time_s']:.2f}" for d in r["declarations"][:MAX_DECLARATIONS]) or "none"
+        if len(r["declarations"]) > MAX_DECLARATIONS:
+            decl += f", ... {len(r['declarations']) - MAX_DECLARATIONS} more"
         out.append(f"- {label(r)} run {r['run_index']} ({flags}; {decl}): `{r['command']}`")
     if len(bad) > MAX_LISTED:
         out.append(f"- ... {len(bad) - MAX_LISTED} more in summary.json (`not_clean`)")
@@ -148,7 +152,7 @@ def soak_markdown(s: dict) -> str:
             "flights with one | first in its flight, median / earliest (s) | hypotheses involved | "
             "lasted median / max (s) | ended: backed out / replaced / flight end |", "|---|---|---|---|---|---|---|---|---|"]
     for lv in s["levels"]:
-        hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "-"
+        hyps = describe_counts(lv["hypotheses"])
         ends = " / ".join(str(lv["episodes_by_end"][k]) for k in ("backed out", "replaced", "flight end"))
         out.append(f"| {lv['level']} | {lv['flights']} | {lv['hours']:.3f} | {describe_per_hour(lv['per_hour'])} | "
                    f"{lv['flights_with_false_declaration']} | {_s(lv['first_declaration_s']['median'])} / "

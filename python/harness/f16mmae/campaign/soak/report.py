@@ -29,7 +29,7 @@ def _level_rows(levels: list[dict]) -> str:
     for lv in levels:
         verdict = lv["per_hour"].get("verdict")
         cls = {"not met": "bad", "consistent": "fair", "demonstrated": "ok"}.get(verdict, "")
-        hyps = ", ".join(f"{h} {n}" for h, n in lv["hypotheses"].items()) or "none"
+        hyps = evidence.describe_counts(lv["hypotheses"], top=12)
         d = lv["duration_s"]
         lasted = "-" if d["median"] is None else f"{d['median']:.2f} / {d['max']:.2f}"
         f = lv["first_declaration_s"]

@@ -1,5 +1,5 @@
 // Packed per-frame kernel of the fixed-size FilterBank: the same frame equations as
-// SteadyStateFilter (r = z - H x⁻, q = rᵀ A⁻¹ r, x⁺ = x⁻ + K r; x⁻ = Phi x + Bd u), on
+// HypothesisFilter (r = z - H x⁻, q = rᵀ A⁻¹ r, x⁺ = x⁻ + K r; x⁻ = Phi x + Bd u), on
 // column-major copies of the matrices whose columns are zero-padded to a multiple of four
 // rows, so every column operation is a run of 4-wide fused multiply-adds (GCC/Clang vector
 // extensions compiled with target("avx2,fma")). The build stays portable (no -march): the
@@ -41,8 +41,9 @@ struct PackedFilter {
   double phi[NX][PX];    // Phi, column j
   double bd[NU][PX];     // Bd,  column j
 
-  template <class Filter>
-  void load(const Filter& f) noexcept {
+  // From a HypothesisFilter (its model and A⁻¹).
+  template <class Hypothesis>
+  void load(const Hypothesis& f) noexcept {
     std::memset(this, 0, sizeof(*this));
     const auto& m = f.model();
     for (int j = 0; j < NX; ++j)

@@ -35,16 +35,9 @@ using namespace f16mmae;
 
 namespace {
 
-const std::vector<std::string> kAct{"LS", "RS", "LF", "RF", "RUD"};
-const std::vector<std::string> kSen{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+const std::vector<std::string>& kAct = test::kF16Actuators;
+const std::vector<std::string>& kSen = test::kF16Sensors;
 constexpr int kEvery = 20;  // frames per line of the trace
-
-ModelBank f16_bank() {
-  const test::Plant plant = test::random_plant(13, 5, 7, 41u, 1e-3, 1e-3);
-  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, 0.02), z_trim(7);
-  z_trim << 400.0, 0.1, 0.0, 1.0, 0.0, 0.0, 0.0;
-  return test::make_bank(plant, kAct, kSen, u_trim, z_trim);
-}
 
 // One running FNV-1a hash per output group.
 class Hashes {
@@ -190,7 +183,7 @@ std::vector<std::string> read_lines(const std::string& path) {
 TEST(BankTrace, EveryPathIsBitIdenticalToTheRecordedTrace) {
   ASSERT_TRUE(packed::cpu_has_avx2_fma())
       << "the recorded trace holds the AVX2/FMA kernel's numbers; this CPU has no AVX2 and FMA";
-  const ModelBank mb = f16_bank();
+  const ModelBank mb = test::f16_model_bank(41u);
   std::vector<std::string> trace, declared_kernel, declared_eigen;
   auto append = [&](const std::vector<std::string>& t) { trace.insert(trace.end(), t.begin(), t.end()); };
   append(filter_bank_trace<F16FilterBank>("fixed-kernel", mb, true));

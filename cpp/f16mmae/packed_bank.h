@@ -136,14 +136,16 @@ class PackedBank<true, K, NX, NU, NZ> {
   void warm_cache() const noexcept { touch(*this); }
 
  private:
-  P filters_[K];
-  double phi_[NX][PX] = {};     // the shared Phi, when shared_phi_
-  double h_out_[NX][PZ] = {};   // H_out, column j = H_out(:, j)
-  bool shared_phi_ = false;
+  // Every padded column starts on a 32-byte boundary, so the kernels' 4-wide loads and
+  // stores never straddle a cache line (their speed otherwise depends on where the bank lies).
+  alignas(64) P filters_[K];
+  alignas(64) double phi_[NX][PX] = {};     // the shared Phi, when shared_phi_
+  alignas(64) double h_out_[NX][PZ] = {};   // H_out, column j = H_out(:, j)
+  alignas(64) double xm_[2][K][PX] = {};    // x⁻
+  alignas(64) double xp_[2][K][PX] = {};    // x⁺
+  alignas(64) double r_[2][K][PZ] = {};     // r
   double q_[K] = {};            // the kernel's q output (before the overflow fix-up)
-  double xm_[2][K][PX] = {};    // x⁻
-  double xp_[2][K][PX] = {};    // x⁺
-  double r_[2][K][PZ] = {};     // r
+  bool shared_phi_ = false;
   bool corrected_[K] = {};
   int cur_m_ = 0, cur_p_ = 0;
 };

@@ -33,7 +33,7 @@ constexpr int padded4(int n) { return (n + 3) / 4 * 4; }
 
 // The matrices of one filter, column-major, columns padded with zeros to PX / PZ rows.
 template <int NX, int NU, int NZ>
-struct PackedFilter {
+struct alignas(64) PackedFilter {
   static constexpr int PX = padded4(NX), PZ = padded4(NZ);
   double h[NX][PZ];      // H,   column j = H(:, j)
   double a_inv[NZ][PZ];  // A⁻¹, column j
@@ -79,7 +79,7 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
 // multiply-add chains are half as long: the kernel is latency-bound otherwise.
 #define F16MMAE_UPDATE_BODY                                                                  \
   constexpr int PX = P::PX, PZ = P::PZ, BX = PX / 4, BZ = PZ / 4;                            \
-  double zp[PZ] = {};                                                                        \
+  alignas(32) double zp[PZ] = {};                                                            \
   for (int i = 0; i < NZ; ++i) zp[i] = z[i];                                                 \
   v4d probe_r = {}, probe_x = {};                                                            \
   for (int f = 0; f < K; ++f) {                                                              \

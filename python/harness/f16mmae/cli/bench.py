@@ -1,0 +1,116 @@
+"""``f16mmae bench estimator|truth|lcm``: the benchmarks, one front end.
+
+* ``estimator`` -- the per-frame cost of the 13-filter MMAE bank, four ways, one run
+  (:mod:`f16mmae.bench.estimator`);
+* ``truth``     -- the truth model against bare JSBSim, and the closed loop against the truth
+  alone (:mod:`f16mmae.bench.truth`);
+* ``lcm``       -- the round trip to ``mmae-daemon`` over LCM against a C++ echo
+  (``tools/latency/lcm_latency.py`` of a source checkout, with the latency tools built
+  beside it and never installed; its options follow ``lcm``).
+"""
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+from ..bench import estimator, truth
+from ..outputs import writable_file
+from .options import CliError, number
+
+DESCRIPTION = __doc__.split("\n\n", 1)[1]
+
+ESTIMATOR_DESCRIPTION = """\
+Time one MMAE frame (13 steady-state filters: residuals, log-domain Bayes update with
+the p_min floor, blended estimate, propagation) on an F-16-size synthetic bank (13
+states, 5 inputs, 7 measurements; random stable Phi, DARE gains, each hypothesis with
+its failed actuator column or sensor row removed), four ways, in one run:
+  (a) the C++ loop alone (F16FilterBank.step, timed in C++)
+  (b) the same bank called from Python, bank.step(z, u) once per frame
+  (c) a numpy reference implementation (f16mmae.bench.estimator.NumpyMMAE)
+  (d) filterpy's MMAEFilterBank on the same models (full Kalman filters; optional)
+and print microseconds per frame with the ratios. Targets: (a) <= 1 us per frame,
+(d)/(a) >= 3000. The numpy reference also cross-checks the C++ probabilities.
+"""
+
+ESTIMATOR_EXAMPLES = """\
+examples:
+  f16mmae bench estimator                       # a few seconds
+  f16mmae bench estimator --json bench.json     # the same numbers + machine info, as JSON
+  f16mmae bench estimator --frames 20000 --min-time 1.0
+"""
+
+TRUTH_DESCRIPTION = """\
+The truth model's cost, measured in one process with the timings interleaved (the
+machine's load changes; ratios inside one run are what to compare): bare JSBSim stepping
+of the stock F-16 against the full truth model (FCS, actuators, sensors, dither), with and
+without set-up; the closed loop (the tuned bank in the loop, probabilities recorded)
+against the truth alone; and the dither's peak response at the nominal point.
+"""
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("bench", help="benchmarks: estimator, truth model, LCM round trip",
+                              description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    kinds = p.add_subparsers(dest="bench", metavar="BENCH")
+    e = kinds.add_parser("estimator", help="per-frame cost of the estimator: C++, Python call, numpy, filterpy",
+                         description=ESTIMATOR_DESCRIPTION, epilog=ESTIMATOR_EXAMPLES,
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
+    e.add_argument("--frames", default="2000", metavar="N",
+                   help="synthetic frames replayed by each timing (default 2000)")
+    e.add_argument("--min-time", default="0.2", metavar="S",
+                   help="seconds each timing runs at least; the fastest pass over the frames counts (default 0.2)")
+    e.add_argument("--seed", default="1", metavar="N", help="seed of the synthetic bank and frames (default 1)")
+    e.add_argument("--json", default=None, metavar="FILE", help="also write the numbers and machine info here")
+    e.set_defaults(func=_estimator)
+    t = kinds.add_parser("truth", help="truth model against bare JSBSim; closed loop against the truth",
+                         description=TRUTH_DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    t.add_argument("--duration-s", default="8", metavar="S", help="simulated flight per timing (default 8 s)")
+    t.add_argument("--repeat", default="5", metavar="N", help="timings of each, the best counts (default 5)")
+    t.set_defaults(func=_truth)
+    n = kinds.add_parser("lcm", help="LCM round trip to mmae-daemon against a C++ echo", add_help=False,
+                         description="the LCM latency benchmark; 'f16mmae bench lcm --help' lists its options")
+    n.set_defaults(func=_lcm, passes_on_arguments=True)
+    p.set_defaults(func=lambda args: (p.print_help(), 2)[1])
+
+
+def _estimator(args) -> int:
+    frames = number("--frames", args.frames, integer=True, minimum=1, below=10**7)
+    min_time_s = number("--min-time", args.min_time, minimum=0.0, below=3600.0)
+    seed = number("--seed", args.seed, integer=True, minimum=1, below=2**31)
+    if args.json:
+        writable_file(args.json, "--json")
+    result = estimator.run_bench(frames=frames, min_time_s=min_time_s, seed=seed)
+    record = estimator.report(result, sys.stdout)
+    if args.json:
+        record.update(min_time_s=min_time_s, seed=seed)
+        with open(args.json, "w", encoding="utf-8") as f:
+            json.dump(record, f, indent=2)
+            f.write("\n")
+        print(f"  written: {args.json}")
+    return 0
+
+
+def _truth(args) -> int:
+    duration_s = number("--duration-s", args.duration_s, minimum=0.0, exclusive=True, below=3600.0)
+    repeat = number("--repeat", args.repeat, integer=True, minimum=1, below=1000)
+    r = truth.benchmark(duration_s, repeat)
+    truth.report(r, truth.dither_levels(), truth.closed_loop_overhead(duration_s, repeat), sys.stdout)
+    return 0
+
+
+#: The LCM latency driver in a source checkout (python/harness/f16mmae/cli -> the checkout).
+LCM_LATENCY = Path(__file__).resolve().parents[4] / "tools" / "latency" / "lcm_latency.py"
+
+
+def _lcm(args) -> int:
+    if not LCM_LATENCY.is_file():
+        raise CliError(f"f16mmae bench lcm runs from a source checkout: {LCM_LATENCY} is not there (the "
+                       f"LCM latency benchmark and its tools, tools/latency/, are never installed); "
+                       f"clone the repository and run 'make build' there")
+    spec = importlib.util.spec_from_file_location("lcm_latency", LCM_LATENCY)
+    driver = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(driver)
+    return driver.main(args.passed_on)

@@ -1,0 +1,221 @@
+"""Replay recorded executive traffic through the in-process executive and compare, frame by frame.
+
+A log written by the stock ``lcm-logger`` (or any LCM event log) holds the sensor frames,
+command frames and status frames of a flight. :func:`replay_log` feeds the sensor and
+command frames, in log order, through :class:`InProcessExecutive` -- ``mmae-daemon``'s own
+C++ executive (``core.Executive``, cpp/executive/executive.h: its frame rules, its estimator,
+its status encoding) -- and compares each logged status with the one computed here for the
+same frame: hypothesis names, bank level, declaration, stale and re-synchronisation flags, and
+the largest absolute difference of the probabilities and of z_hat. A reset on MMAE_RESET
+starts a new flight, as on the daemon.
+
+:class:`InProcessExecutive` can also answer over LCM (:meth:`InProcessExecutive.serve`), so
+the harness's LCM path is testable in one process over ``memq://``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import lcm
+import numpy as np
+
+from .. import core
+from ..banks import bank_estimator_settings
+from ..errors import F16mmaeError
+from ..lcmt_command_frame import lcmt_command_frame
+from ..lcmt_mmae_status import lcmt_mmae_status
+from ..lcmt_sensor_frame import lcmt_sensor_frame
+from .channels import Channels, channels
+
+
+class ReplayError(F16mmaeError, RuntimeError):
+    """The log cannot be read or does not hold executive traffic."""
+
+
+class InProcessExecutive:
+    """``core.Executive`` (the daemon's executive) with the estimator settings the daemon
+    applies: the bank's recommended ones, then ``estimator_options`` (which win)."""
+
+    def __init__(self, model_bank, **estimator_options) -> None:
+        settings = {**bank_estimator_settings(model_bank), **estimator_options}
+        self.executive = core.Executive(model_bank, **settings)
+        self.bank_hash = str(model_bank.content_hash)
+
+    def reset(self) -> None:
+        self.executive.on_reset()
+
+    def on_sensor(self, frame: int, z, valid=None, utime: int = 0) -> lcmt_mmae_status | None:
+        """The status this sensor frame produces (decoded), or None when it produces none."""
+        fate = self.executive.on_sensor(int(frame), np.asarray(z, dtype=float), valid, int(utime))
+        if fate not in ("used", "resynchronised"):
+            return None
+        return lcmt_mmae_status.decode(self.executive.encoded_status)
+
+    def on_command(self, frame: int, u, utime: int = 0) -> str:
+        """The command frame's fate ("used", "rejected", ...)."""
+        return self.executive.on_command(int(frame), np.asarray(u, dtype=float), int(utime))
+
+    def serve(self, lc, chans: Channels) -> list:
+        """Subscribe to the sensor, command and reset channels of ``lc`` and publish statuses,
+        as mmae-daemon does (the same bytes). Returns the subscriptions (unsubscribe to stop)."""
+        def on_sensor(channel, data):
+            f = lcmt_sensor_frame.decode(data)
+            fate = self.executive.on_sensor(f.frame, np.asarray(f.z, dtype=float), list(f.valid), f.utime)
+            if fate in ("used", "resynchronised"):
+                lc.publish(chans.status, self.executive.encoded_status)
+
+        def on_command(channel, data):
+            f = lcmt_command_frame.decode(data)
+            self.on_command(f.frame, f.u_rad, f.utime)
+
+        return [lc.subscribe(chans.sensors, on_sensor), lc.subscribe(chans.commands, on_command),
+                lc.subscribe(chans.reset, lambda channel, data: self.reset())]
+
+
+@dataclass
+class FrameMismatch:
+    frame: int
+    what: str
+
+    def __str__(self) -> str:
+        return f"frame {self.frame}: {self.what}"
+
+
+@dataclass
+class ReplayReport:
+    log: str
+    events: int = 0
+    sensor_frames: int = 0
+    command_frames: int = 0
+    statuses_logged: int = 0
+    statuses_compared: int = 0
+    statuses_unmatched: int = 0          # logged statuses with no frame computed here
+    unauthenticated: int = 0             # with a key: messages without a valid tag, skipped
+    replayed: int = 0                    # with a key: messages with an old sequence, skipped
+    max_probability_diff: float = 0.0
+    max_z_hat_diff: float = 0.0
+    bank_hashes: set = field(default_factory=set)
+    mismatches: list[FrameMismatch] = field(default_factory=list)   # the first few
+    mismatch_count: int = 0
+    tolerance: float = 1e-12
+
+    @property
+    def ok(self) -> bool:
+        return self.statuses_compared > 0 and self.mismatch_count == 0
+
+
+def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolerance: float = 1e-12,
+               max_mismatches: int = 20, auth=None, **estimator_options) -> ReplayReport:
+    """Feed the logged frames through the in-process executive; compare with the logged
+    statuses. With ``auth`` (a ``core.FrameAuth``), a logged frame, reset or status is used
+    only if its tag and sequence check out, as the daemon and the harness check them; the
+    others are skipped and counted (``unauthenticated``, ``replayed``)."""
+    path = Path(path)
+    if not path.is_file():
+        raise ReplayError(f"log file {str(path)!r} does not exist")
+    try:
+        log = lcm.EventLog(str(path), "r")
+    except (OSError, ValueError, RuntimeError) as exc:
+        raise ReplayError(f"cannot open log {str(path)!r} as an LCM event log: {exc}") from None
+    chans = channels(channel_prefix)
+    report = ReplayReport(log=str(path), tolerance=tolerance)
+    executive = InProcessExecutive(model_bank, **estimator_options)
+    computed: dict[int, lcmt_mmae_status] = {}
+    # Statuses logged before the sensor frame they answer. The logger, the harness and the
+    # daemon are separate processes: on a multi-core host the loopback can hand the logger
+    # the daemon's status ahead of the harness's sensor frame that caused it.
+    early: dict[int, object] = {}
+
+    def mismatch(frame, what):
+        report.mismatch_count += 1
+        if len(report.mismatches) < max_mismatches:
+            report.mismatches.append(FrameMismatch(frame, what))
+
+    def unmatched(statuses: dict) -> None:
+        for frame in sorted(statuses):
+            report.statuses_unmatched += 1
+            mismatch(frame, "a status was logged for a frame the replay did not update")
+        statuses.clear()
+
+    try:
+        link = {chans.sensors, chans.commands, chans.reset, chans.status}
+        for event in log:
+            report.events += 1
+            ch = event.channel
+            if auth is not None and ch in link and (verdict := auth.check(ch, event.data)) != "ok":
+                if verdict == "replayed":
+                    report.replayed += 1
+                else:
+                    report.unauthenticated += 1
+                continue
+            if ch == chans.sensors:
+                f = lcmt_sensor_frame.decode(event.data)
+                report.sensor_frames += 1
+                c = executive.on_sensor(f.frame, f.z, list(f.valid), f.utime)
+                if c is not None:
+                    if c.frame in early:  # its status was logged before the frame itself
+                        _compare(report, early.pop(c.frame), c, mismatch)
+                    else:
+                        computed[c.frame] = c
+            elif ch == chans.commands:
+                f = lcmt_command_frame.decode(event.data)
+                report.command_frames += 1
+                executive.on_command(f.frame, f.u_rad, f.utime)
+            elif ch == chans.reset:
+                executive.reset()
+                computed.clear()
+                unmatched(early)
+            elif ch == chans.status:
+                s = lcmt_mmae_status.decode(event.data)
+                report.statuses_logged += 1
+                report.bank_hashes.add(s.bank_hash)
+                c = computed.pop(s.frame, None)
+                if c is None:
+                    early[s.frame] = s  # matched when its sensor frame comes, else unmatched
+                    continue
+                _compare(report, s, c, mismatch)
+        unmatched(early)
+    except ValueError as exc:
+        raise ReplayError(f"log {str(path)!r}: a frame does not decode ({exc}); "
+                          f"is it f16mmae traffic of this version?") from None
+    finally:
+        log.close()
+    if report.statuses_logged == 0:
+        raise ReplayError(f"log {str(path)!r} holds no {chans.status!r} messages "
+                          f"(channel prefix {channel_prefix!r}); channels found must match")
+    if report.bank_hashes - {executive.bank_hash}:
+        other = ", ".join(sorted(h[:12] for h in report.bank_hashes))
+        mismatch(-1, f"the log was made with bank {other}, replayed with {executive.bank_hash[:12]}")
+    return report
+
+
+def _compare(report: ReplayReport, s, c: lcmt_mmae_status, mismatch) -> None:
+    """Logged status ``s`` against the one computed here, ``c``, for the same frame."""
+    report.statuses_compared += 1
+    if list(s.hypothesis_names) != list(c.hypothesis_names):
+        mismatch(s.frame, f"hypotheses on line differ: logged {list(s.hypothesis_names)}, "
+                          f"replayed {list(c.hypothesis_names)}")
+        return
+    c_z_hat = np.array(c.z_hat)
+    dp = float(np.max(np.abs(np.array(s.probabilities) - np.array(c.probabilities))))
+    dz = float(np.max(np.abs(np.array(s.z_hat) - c_z_hat)))
+    report.max_probability_diff = max(report.max_probability_diff, dp)
+    report.max_z_hat_diff = max(report.max_z_hat_diff, dz)
+    if not dp <= report.tolerance:
+        mismatch(s.frame, f"probabilities differ by {dp:.3g} (tolerance {report.tolerance:g})")
+    z_scale = max(1.0, float(np.max(np.abs(c_z_hat))))
+    if not (dz <= report.tolerance * z_scale or math.isclose(dz, 0.0)):
+        mismatch(s.frame, f"z_hat differs by {dz:.3g}")
+    if s.bank_level != c.bank_level:
+        mismatch(s.frame, f"bank level {s.bank_level} in the log, {c.bank_level} replayed")
+    if s.declared != c.declared or s.declaration != c.declaration:
+        mismatch(s.frame, f"declared {s.declared!r} (this frame {s.declaration!r}) in the log, "
+                          f"{c.declared!r} ({c.declaration!r}) replayed")
+    if bool(s.stale) != bool(c.stale) or s.frames_without_update != c.frames_without_update:
+        mismatch(s.frame, f"stale flag: logged {bool(s.stale)} ({s.frames_without_update} frames), "
+                          f"replayed {bool(c.stale)} ({c.frames_without_update})")
+    if bool(s.resynchronised) != bool(c.resynchronised):
+        mismatch(s.frame, f"re-synchronisation: logged {bool(s.resynchronised)}, "
+                          f"replayed {bool(c.resynchronised)}")

@@ -1,0 +1,323 @@
+"""mmae-daemon in its own process, over UDP multicast (udpm): the scenarios test_udpm.py runs,
+each inside a private network namespace whose only interface is the loopback (netns.py).
+Collected on their own (outside such a namespace) they refuse to run, so that no test of
+ours ever multicasts on a real interface.
+
+* lockstep flight against the daemon = the in-process run (to 1e-12), including a level-1
+  switch; the stock lcm-logger's record of it replays exactly (f16mmae replay), and
+  lcm-logplayer against a fresh daemon reproduces every logged status;
+* wire faults sent to the daemon give the stale flags and counters the frame rules
+  prescribe, and the replay of that traffic agrees with the daemon frame by frame;
+* hostile messages (a junk flood, messages of the wrong type, truncated ones, frame
+  counters of 2^62 and 10^7) hang nothing: the daemon answers the next frame at once, stops
+  on SIGINT, and counts every message by fate in its statistics line;
+* SIGTERM ends the daemon cleanly with its summary and statistics lines;
+* the latency benchmark's bare echo returns every message byte for byte and times each from
+  its callback to its echo published, as the daemon times a sensor frame to its status;
+  with --work-us it spends that work first.
+"""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import time
+
+import lcm
+import numpy as np
+import pytest
+
+from f16mmae import core
+from f16mmae.banks import load_bank
+from latency_driver import find_tool
+from f16mmae.cli.main import main
+from f16mmae.loop.flight import fly
+from f16mmae.lcm.channels import channels
+from f16mmae.lcm.codec import command_frame_bytes, sensor_frame_bytes
+from f16mmae.lcm.daemon import DaemonProcess, find_executable, statistics_line
+from f16mmae.lcm.hil import fly_hil
+from f16mmae.lcmt_command_frame import lcmt_command_frame
+from f16mmae.lcmt_mmae_status import lcmt_mmae_status
+from f16mmae.lcm.replay import replay_log
+from f16mmae.truth import Scenario
+from f16mmae.truth.failures import make_failure
+from netns import only_loopback
+from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
+
+if not only_loopback():
+    raise RuntimeError("udpm_scenarios.py runs only inside a private network namespace whose only interface is "
+                       "lo: run tests/python/test_udpm.py, which makes one for each scenario")
+
+PORT = 7700
+URL = f"udpm://239.255.76.67:{PORT}?ttl=0"
+URL2 = f"udpm://239.255.76.67:{PORT + 1}?ttl=0"
+
+
+@pytest.fixture(scope="module")
+def banked():
+    return load_bank("tuned")
+
+
+def _tool(name):
+    """The stock LCM tool itself (the wheel's binary, not its Python wrapper, so that a
+    signal reaches it)."""
+    return os.path.join(lcm.LCM_BIN_DIR, name)
+
+
+def _wait_until_logged(log, lc, channel, frame, timeout_s=10.0):
+    """Until the logger has written ``frame`` on ``channel``: it may lag the flight when the
+    machine is busy, and it flushes its file only when a later message arrives, so a small
+    message on another channel of the prefix (which the replay ignores) is sent meanwhile."""
+    poke = channel.rsplit("F16_COMMANDS", 1)[0] + "TEST_FLUSH"
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        lc.publish(poke, b"")
+        time.sleep(0.15)
+        if log.exists():
+            ev = lcm.EventLog(str(log), "r")
+            try:
+                if any(e.channel == channel and lcmt_command_frame.decode(e.data).frame == frame for e in ev):
+                    return
+            finally:
+                ev.close()
+    raise AssertionError(f"lcm-logger did not write {channel} frame {frame} within {timeout_s} s")
+
+
+def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path):
+    label, path, bank = banked
+    prefix = f"T{os.getpid()}A_"
+    chans = channels(prefix)
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=4.0, seed=2,
+                        feedback="mmae", failures=(make_failure("LS", 0.5),))
+    log = tmp_path / "hil.lcmlog"
+    logger = subprocess.Popen([_tool("lcm-logger"), "-q", "-f", "-l", URL, "-c", f"{prefix}.*", str(log)])
+    try:
+        with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+            time.sleep(0.5)  # the logger subscribes
+            lc = lcm.LCM(URL)
+            remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0)
+        _wait_until_logged(log, lc, chans.commands, frame=255)
+    finally:
+        logger.send_signal(signal.SIGINT)
+        logger.wait(timeout=10)
+    assert daemon.returncode == 0
+    assert "256 updated, 256 commands applied, 0 rejected, 0 dropped" in daemon.summary
+    assert daemon.statistics["messages"]["used"] == 256 + 256 + 1  # frames and the flight's reset
+    assert daemon.statistics["messages"]["undecodable"] == 0
+    local = fly(scenario, bank)
+    assert remote.hypotheses == local.hypotheses
+    assert any("+" in h for h in remote.hypotheses)
+    assert np.nanmax(np.abs(remote.probabilities - local.probabilities)) <= 1e-12
+    assert remote.declarations == local.declarations
+
+    report = replay_log(log, bank, channel_prefix=prefix)
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == 256
+    assert main(["replay", str(log), "--channel-prefix", prefix]) == 0
+
+    # lcm-logplayer feeds the logged frames to a fresh daemon: every status reproduced
+    logged = {}
+    for e in lcm.EventLog(str(log), "r"):
+        if e.channel == chans.status:
+            s = lcmt_mmae_status.decode(e.data)
+            logged[s.frame] = s
+    lc2 = lcm.LCM(URL2)
+    replayed = {}
+    lc2.subscribe(chans.status, lambda ch, data: replayed.__setitem__(
+        lcmt_mmae_status.decode(data).frame, lcmt_mmae_status.decode(data)))
+    with DaemonProcess(path, lcm_url=URL2, channel_prefix=prefix):
+        # at a quarter of the recorded pace: the lockstep flight ran ~1 ms per frame, and
+        # UDP on a loaded 2-core host may drop a burst that fast
+        player = subprocess.Popen([_tool("lcm-logplayer"), "-s", "0.25", "-l", URL2, "-e",
+                                   f"^{prefix}(F16_SENSORS|F16_COMMANDS|MMAE_RESET)$", str(log)])
+        while player.poll() is None:
+            lc2.handle_timeout(50)
+        end = time.time() + 2.0
+        while len(replayed) < len(logged) and time.time() < end:
+            lc2.handle_timeout(50)
+    assert sorted(replayed) == sorted(logged)
+    worst = max(max(abs(a - b) for a, b in zip(replayed[i].probabilities, logged[i].probabilities))
+                for i in logged)
+    assert worst <= 1e-12
+    assert all(replayed[i].declared == logged[i].declared for i in logged)
+
+
+def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
+    label, path, bank = banked
+    prefix = f"T{os.getpid()}B_"
+    chans = channels(prefix)
+    log = tmp_path / "wire.lcmlog"
+    rng = np.random.default_rng(9)
+    lc = lcm.LCM(URL)
+    statuses = []
+    lc.subscribe(chans.status, lambda ch, data: statuses.append(lcmt_mmae_status.decode(data)))
+    writer = lcm.EventLog(str(log), "w", overwrite=True)
+    lc.subscribe(f"{prefix}.*", lambda ch, data: writer.write_event(len(statuses), ch, data))
+    with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+        for step in WIRE:
+            kind, i = publish_step(lc, chans, step, bank, rng, z_sigma=0.05, u_sigma=0.002), step[1]
+            end = time.time() + 0.2  # settle: the daemon answers sensor frames within this
+            while time.time() < end and lc.handle_timeout(20) >= 0:
+                if kind == "s" and statuses and statuses[-1].frame == i:
+                    break
+        while lc.handle_timeout(100) > 0:
+            pass
+    writer.close()
+    assert [s.frame for s in statuses] == STATUS_FRAMES
+    assert {s.frame: s.frames_without_update for s in statuses if s.stale} == STALE
+    last = statuses[-1]
+    assert (last.frames_dropped, last.frames_rejected, last.frames_stale, last.commands_missed) == (2, 2, 4, 3)
+    assert "8 updated, 9 commands applied, 2 rejected, 2 dropped (1 duplicate, 1 out-of-order), " \
+        "0 resynchronised, 4 stale" in daemon.summary
+    inside = daemon.statistics["sensor_to_publish_us"]  # 8 statuses timed
+    assert 0 < inside["p50"] <= inside["p99"] <= inside["max"], daemon.summary
+    report = replay_log(log, bank, channel_prefix=prefix)
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == 8
+
+
+def _wild(frame_bytes: bytes, counter: int) -> bytes:
+    """A sensor or command frame with its counter replaced (bytes 16..24: after the
+    fingerprint and utime)."""
+    return frame_bytes[:16] + counter.to_bytes(8, "big") + frame_bytes[24:]
+
+
+def test_hostile_messages_hang_nothing_and_are_counted_by_fate(banked):
+    """Issue 16: one frame numbered 2^62 made the daemon propagate once per skipped frame
+    (statuses stopped, SIGINT ignored); junk and malformed messages appeared in no counter."""
+    label, path, bank = banked
+    prefix = "HOSTILE_"
+    chans = channels(prefix)
+    lc = lcm.LCM(URL)
+    statuses = []
+    lc.subscribe(chans.status, lambda ch, data: statuses.append(lcmt_mmae_status.decode(data)))
+    z, u = np.array(bank.z_trim), np.array(bank.u_trim)
+
+    def send(channel, data, wait_status_of=None):
+        lc.publish(channel, data)
+        end = time.monotonic() + 5.0
+        while wait_status_of is not None and not any(s.frame == wait_status_of for s in statuses):
+            assert time.monotonic() < end, f"no status for frame {wait_status_of} within 5 s"
+            lc.handle_timeout(20)
+
+    rng = np.random.default_rng(3)
+    junk = 1500
+    with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+        for i in range(junk):  # random bytes on the three channels the daemon reads
+            channel = (chans.sensors, chans.commands, chans.reset)[i % 3]
+            lc.publish(channel, rng.integers(0, 256, size=int(rng.integers(0, 120)), dtype=np.uint8).tobytes())
+            if i % 15 == 14:
+                # paced below what LCM queues per subscription (30 messages; beyond that LCM
+                # drops a message before the daemon sees it), so every one is counted
+                time.sleep(0.01)
+        time.sleep(0.3)
+        send(chans.sensors, command_frame_bytes(0, u))       # the wrong type
+        send(chans.sensors, sensor_frame_bytes(0, z)[:-3])   # truncated
+        for i in range(3):
+            send(chans.sensors, sensor_frame_bytes(i, z), wait_status_of=i)
+            send(chans.commands, command_frame_bytes(i, u))
+        t0 = time.monotonic()
+        send(chans.sensors, _wild(sensor_frame_bytes(0, z), 2**62), wait_status_of=2**62)
+        send(chans.commands, _wild(command_frame_bytes(0, u), 10**7))   # far from 2^62 as well
+        send(chans.sensors, sensor_frame_bytes(3, z), wait_status_of=3)
+        assert time.monotonic() - t0 < 2.0
+        time.sleep(0.2)
+        t_stop = time.monotonic()
+    assert daemon.returncode == 0 and time.monotonic() - t_stop < 5.0
+    assert [s.resynchronised for s in statuses[-2:]] == [True, False]
+    m = daemon.statistics["messages"]
+    assert m["undecodable"] == junk + 2
+    assert (m["used"], m["resynchronised"], m["rejected"]) == (7, 2, 0)
+    assert m["received"] == junk + 2 + 7 + 2
+    assert daemon.statistics["frames"]["resynchronised"] == 2
+
+
+def test_with_a_key_the_daemon_obeys_only_signed_fresh_messages(banked, tmp_path, capsys):
+    label, path, bank = banked
+    key = tmp_path / "link.key"
+    key.write_bytes(os.urandom(32))
+    prefix = "AUTH_"
+    assert main(["hil", "--start-daemon", "--lockstep", "--duration", "0.5", "--lcm-url", URL,
+                 "--channel-prefix", prefix, "--auth-key", str(key)]) == 0
+    out = capsys.readouterr().out
+    assert "frames authenticated" in out and "32 updated" in out and "0 unauthenticated" in out
+
+    chans = channels(prefix)
+    lc = lcm.LCM(URL)
+    raw = []
+    lc.subscribe(chans.status, lambda ch, data: raw.append(data))
+    z = np.array(bank.z_trim)
+    auth, checker = core.FrameAuth.from_key_file(str(key)), core.FrameAuth.from_key_file(str(key))
+
+    def settle(s=0.3):
+        end = time.monotonic() + s
+        while time.monotonic() < end:
+            lc.handle_timeout(20)
+
+    with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix, auth_key=key) as daemon:
+        assert "frames authenticated" in daemon.ready_line
+        lc.publish(chans.sensors, sensor_frame_bytes(0, z))                       # unsigned
+        lc.publish(chans.reset, core.FrameAuth(os.urandom(32)).sign(chans.reset, sensor_frame_bytes(0, z)))
+        settle()
+        assert raw == []
+        signed = auth.sign(chans.sensors, sensor_frame_bytes(0, z))
+        lc.publish(chans.sensors, signed)
+        settle()
+        lc.publish(chans.sensors, signed)                                          # replayed
+        settle()
+    assert len(raw) == 1 and checker.check(chans.status, raw[0]) == "ok"
+    m = daemon.statistics["messages"]
+    assert (m["unauthenticated"], m["replayed"], m["used"], m["received"]) == (2, 1, 1, 4)
+    assert daemon.statistics["authenticated"] is True
+
+
+def test_sigterm_ends_the_daemon_cleanly_with_a_summary(banked):
+    exe = str(find_executable("mmae-daemon"))
+    p = subprocess.Popen([exe, "--bank", str(banked[1]), "--lcm-url", URL, "--channel-prefix", "IDLE_"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert "ready" in p.stdout.readline()
+    p.send_signal(signal.SIGTERM)
+    out, err = p.communicate(timeout=5)
+    assert p.returncode == 0, err
+    assert "no --auth-key: frames, commands and resets are accepted from any sender" in err
+    lines = out.strip().splitlines()
+    assert len(lines) == 2 and lines[0].startswith("mmae-daemon: stopped by signal: frames 0 updated")
+    assert "step p50" in lines[0] and "p99" in lines[0] and "max" in lines[0]
+    assert statistics_line(out, "mmae-daemon")["messages"]["received"] == 0
+
+
+@pytest.mark.parametrize("work_us", [0, 200])
+def test_the_bare_echo_returns_each_message_and_times_it(work_us):
+    exe = str(find_tool("lcm-echo-f16"))
+    p = subprocess.Popen([exe, "--lcm-url", URL2, "--in", "T_PING", "--out", "T_PONG", "--work-us", str(work_us)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert "ready" in p.stdout.readline()
+        lc = lcm.LCM(URL2)
+        pongs = []
+        lc.subscribe("T_PONG", lambda ch, data: pongs.append(data))
+        pings = [bytes([i]) * (10 + i) for i in range(5)]
+        for ping in pings:
+            lc.publish("T_PING", ping)
+            end = time.monotonic() + 2.0
+            while len(pongs) < pings.index(ping) + 1 and time.monotonic() < end:
+                lc.handle_timeout(100)
+    finally:
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=5)
+    assert pongs == pings
+    assert p.returncode == 0, err
+    assert "5 messages echoed" in out
+    inside = statistics_line(out, "lcm-echo-f16")["message_to_publish_us"]
+    assert 0 < inside["p50"] <= inside["p99"] <= inside["max"], out
+    assert inside["p50"] >= 0.5 * work_us, out  # --work-us is spent before each echo
+
+
+def test_hil_command_starts_its_own_daemon(capsys):
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "1", "--fail", "AOA@0.2",
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}C_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    assert "mmae-daemon: ready" in out and "64 updated" in out
+    assert "p_min 1e-09" in out  # the bank's recommended settings, as in process
+    assert "in-process run: max |probability difference| = 0" in out

@@ -45,7 +45,8 @@ import jsbsim
 import numpy as np
 
 from ..names import ACTUATORS, SIM_RATE_HZ
-from . import actuators, sensors
+from . import actuators, sensors, turbulence
+from . import engine as engine_module
 
 #: Name of the derived aircraft inside the temporary root.
 AIRCRAFT_NAME = "f16mmae_f16"
@@ -168,16 +169,20 @@ def derived_root() -> str:
         return root
 
 
-def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False) -> jsbsim.FGFDMExec:
+def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False,
+             engine: str = "python") -> jsbsim.FGFDMExec:
     """A loaded, untrimmed FGFDMExec of the derived aircraft (or the stock ``f16``).
 
     seed >= 1 seeds JSBSim's random generators (turbulence); dt_s is the integration step (s).
+    engine "python": a ``jsbsim.FGFDMExec``; "cpp": an ``f16mmae.core.JSBSimExec`` (the same
+    JSBSim library driven from C++, for the C++ truth path; ``truth.engine``).
     """
     if int(seed) < 1:
         raise ValueError(f"seed must be >= 1 (JSBSim maps 0 to 1), got {seed}")
     os.environ.setdefault("JSBSIM_DEBUG", "0")  # no start-up banner
     pkg = jsbsim.get_default_root_dir()
-    fdm = jsbsim.FGFDMExec(pkg if stock else derived_root(), None)
+    root = pkg if stock else derived_root()
+    fdm = jsbsim.FGFDMExec(root, None) if engine == "python" else engine_module.jsbsim_exec(root)
     fdm.set_debug_level(0)
     fdm.set_engine_path(os.path.join(pkg, "engine"))
     fdm.set_systems_path(os.path.join(pkg, "systems"))
@@ -267,6 +272,36 @@ def _store_state_as_ic(fdm: jsbsim.FGFDMExec) -> None:
     for p, v in vals.items():  # attitude first: body velocities are set in that attitude
         fdm[p] = v
     fdm.run_ic()
+
+
+def restart(fdm, trim_point: TrimPoint, seed: int) -> None:
+    """Return a trimmed ``fdm`` to the start of a flight: the trimmed state, full tanks, the
+    engine at its steady state, time 0, JSBSim's generators seeded with ``seed``, turbulence off
+    (``turbulence.apply`` sets a flight's level afterwards).
+
+    Every flight starts here, the first of a flight condition too, so a flight is the same
+    whether its aircraft was just trimmed or flew other flights before
+    (tests/python/test_truth_setup.py).  Order matters: the turbulence is switched off and the
+    generators re-made before anything runs (``run_ic`` runs the models once); every model is
+    re-initialised without running (``reset_to_initial_conditions(DONT_EXECUTE_RUN_IC)``, which
+    also zeroes the throttle), the controls of the trim are written back, the stored trimmed
+    initial condition is run, the engine is restarted (``set-running``: its spools from the
+    throttle, then iterated to a steady state at this flight condition) and the initial
+    condition is run once more with the running engine."""
+    turbulence.apply(fdm, "none")
+    fdm["simulation/randomseed"] = int(seed)
+    fdm["atmosphere/randomseed"] = int(seed)
+    fdm.reset_to_initial_conditions(DONT_EXECUTE_RUN_IC)
+    set_surfaces(fdm, trim_point.u_rad)
+    fdm["fcs/throttle-cmd-norm"] = trim_point.throttle
+    fdm["fcs/lef-pos-rad"] = trim_point.lef_rad
+    fdm.run_ic()
+    fdm["propulsion/engine[0]/set-running"] = 1
+    fdm.run_ic()
+
+
+#: ``FGFDMExec::DONT_EXECUTE_RUN_IC``: reset_to_initial_conditions re-initialises only.
+DONT_EXECUTE_RUN_IC = 2
 
 
 def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float) -> None:

@@ -1,6 +1,6 @@
 """The estimator settings rule exists twice -- in C++ for mmae-daemon
 (``cpp/daemon/bank_settings.cpp``) and in Python for the in-process loop
-(``closedloop.bank_estimator_settings``) -- so the daemon and ``f16mmae run`` run the same
+(``banks.bank_estimator_settings``) -- so the daemon and ``f16mmae run`` run the same
 estimator on the same bank.  This test holds the two to each other: banks that differ only in
 their metadata, each read by both; the daemon reports what it runs on its ready line."""
 from __future__ import annotations
@@ -11,9 +11,10 @@ import subprocess
 
 import pytest
 
-from f16mmae import closedloop, core
-from f16mmae.campaign.single import load_bank
-from f16mmae.hil import HilError, find_executable
+from f16mmae import banks, core
+from f16mmae.banks import load_bank
+from f16mmae.lcm.channels import HilError
+from f16mmae.lcm.daemon import find_executable
 
 try:
     DAEMON = str(find_executable("mmae-daemon"))
@@ -61,7 +62,7 @@ def test_daemon_and_closed_loop_read_the_same_settings(metadata, tmp_path):
     path = load_bank("tuned")[1] if metadata is None else tmp_path / "b.f16bank"
     rc, daemon, text = _daemon_settings(path)
     assert rc == 0 and daemon is not None, text
-    python = {**PAPER, **closedloop.bank_estimator_settings(bank)}
+    python = {**PAPER, **banks.bank_estimator_settings(bank)}
     assert daemon == pytest.approx(python, rel=1e-5), text  # the ready line prints %g
 
 
@@ -69,6 +70,6 @@ def test_a_non_numeric_setting_is_refused_by_both(tmp_path):
     bank = _with_metadata(load_bank("tuned")[2], json.dumps({"estimator": {"p_min": "low"}}),
                           tmp_path / "b.f16bank")
     with pytest.raises(ValueError):
-        closedloop.bank_estimator_settings(bank)
+        banks.bank_estimator_settings(bank)
     rc, settings, text = _daemon_settings(tmp_path / "b.f16bank")
     assert rc == 1 and settings is None and "p_min" in text

@@ -112,7 +112,7 @@ class BankDesign:
             },
             "tuning": self.tuning.to_dict(),
             # the estimator settings this design recommends (tuning [estimator]): read by
-            # closedloop.Estimator and the LCM daemon; absent keys = the core's defaults
+            # loop.estimator.Estimator and the LCM daemon; absent keys = the core's defaults
             "estimator": dict(self.tuning.estimator),
             "hypotheses": len(self.filters),
             "max_error_spectral_radius": max(f.gains.spectral_radius for f in self.filters),

@@ -20,12 +20,15 @@
 
 #include <FGFDMExec.h>
 #include <input_output/FGPropertyManager.h>
+#include <models/FGPropulsion.h>
+#include <models/atmosphere/FGWinds.h>
+#include <models/propulsion/FGEngine.h>
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "../cpp/truth/truth_frame.h"
+#include "truth/truth_frame.h"
 
 namespace py = pybind11;
 using namespace f16mmae::truth;
@@ -53,6 +56,12 @@ std::string strip(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
 }
 
+// FGEngine::FuelFlow_pph is state (the turbine seeks it towards thrust x TSFC at a limited
+// rate) but no writable property: reached through a member pointer of a derived class.
+struct EngineAccess : JSBSim::FGEngine {
+  static double& fuel_flow_pph(JSBSim::FGEngine& e) { return e.*(&EngineAccess::FuelFlow_pph); }
+};
+
 class Exec {
  public:
   explicit Exec(const std::string& root_dir) : fdm_(std::make_unique<JSBSim::FGFDMExec>(nullptr, nullptr)) {
@@ -69,6 +78,19 @@ class Exec {
     if (!n) throw py::key_error("no JSBSim property '" + path + "'");
     return n;
   }
+  std::vector<double> fuel_flow_pph() const {
+    std::vector<double> out;
+    auto prop = fdm_->GetPropulsion();
+    for (unsigned i = 0; i < prop->GetNumEngines(); ++i) out.push_back(EngineAccess::fuel_flow_pph(*prop->GetEngine(i)));
+    return out;
+  }
+  void set_fuel_flow_pph(const std::vector<double>& v) {
+    auto prop = fdm_->GetPropulsion();
+    if (v.size() != prop->GetNumEngines())
+      throw py::value_error("set_fuel_flow_pph needs one value per engine (" +
+                            std::to_string(prop->GetNumEngines()) + "), got " + std::to_string(v.size()));
+    for (unsigned i = 0; i < v.size(); ++i) EngineAccess::fuel_flow_pph(*prop->GetEngine(i)) = v[i];
+  }
   double get(const std::string& key) { return node(strip(key))->getDoubleValue(); }
   void set(const std::string& key, double v) {
     guarded([&] { fdm_->SetPropertyValue(strip(key), v); return 0; });
@@ -76,6 +98,12 @@ class Exec {
 
  private:
   std::unique_ptr<JSBSim::FGFDMExec> fdm_;
+};
+
+// One property node of a JSBSimExec (as jsbsim.FGPropertyNode): get_double_value, set_double_value.
+struct Node {
+  std::shared_ptr<Exec> owner;
+  SGPropertyNode* node;
 };
 
 template <std::size_t N>
@@ -296,7 +324,8 @@ void bind_truth(py::module_& m) {
     TruthFrames.  Offers the subset of jsbsim.FGFDMExec that the truth model's set-up uses:
     fdm[prop], fdm[prop] = value, run(), run_ic(), load_model(), set_dt(), set_debug_level(),
     set_engine_path(), set_systems_path(), reset_to_initial_conditions(), get_sim_time(),
-    get_delta_t().)doc")
+    set_sim_time(), get_delta_t(), get_property_manager().get_node(path); and reset_winds(),
+    fuel_flow_pph(), set_fuel_flow_pph() for a restart (truth/aircraft.py).)doc")
       .def(py::init<const std::string&>(), py::arg("root_dir"))
       .def("set_debug_level", [](Exec& e, int level) { e.fdm().SetDebugLevel(level); }, py::arg("level"))
       .def("set_engine_path", [](Exec& e, const std::string& p) { return e.fdm().SetEnginePath(SGPath(p)); })
@@ -310,10 +339,23 @@ void bind_truth(py::module_& m) {
       .def("reset_to_initial_conditions", [](Exec& e, int mode) {
              guarded([&] { e.fdm().ResetToInitialConditions(mode); return 0; });
            }, py::arg("mode"))
+      .def("reset_winds", [](Exec& e) { e.fdm().GetWinds()->InitModel(); },
+           "Zero the turbulence model's states (FGWinds::InitModel), as after loading.")
+      .def("fuel_flow_pph", &Exec::fuel_flow_pph, "Each engine's fuel flow state (lbs/h).")
+      .def("set_fuel_flow_pph", &Exec::set_fuel_flow_pph, py::arg("values"))
+      .def("set_sim_time", [](Exec& e, double t) { return e.fdm().Setsim_time(t); }, py::arg("time"))
+      .def("get_property_manager", [](std::shared_ptr<Exec> e) { return e; },
+           "This object: get_node(path) is here, as on jsbsim's FGPropertyManager.")
+      .def("get_node", [](std::shared_ptr<Exec> e, const std::string& path) { return Node{e, e->node(path)}; },
+           py::arg("path"))
       .def("get_sim_time", [](Exec& e) { return e.fdm().GetSimTime(); })
       .def("get_delta_t", [](Exec& e) { return e.fdm().GetDeltaT(); })
       .def("__getitem__", &Exec::get, py::arg("key"))
       .def("__setitem__", &Exec::set, py::arg("key"), py::arg("value"));
+
+  py::class_<Node>(m, "JSBSimProperty", "A property node of a JSBSimExec (JSBSimExec.get_node(path)).")
+      .def("get_double_value", [](const Node& n) { return n.node->getDoubleValue(); })
+      .def("set_double_value", [](Node& n, double v) { return n.node->setDoubleValue(v); }, py::arg("value"));
 
   py::class_<Frames>(m, "TruthFrames", R"doc(
     The truth model's frames in C++ (see truth/model.py, which builds it): measure() -> z (7,),

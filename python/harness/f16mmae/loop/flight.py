@@ -90,7 +90,8 @@ def scenario_to_dict(scenario) -> dict:
 
 
 def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options: dict | None = None,
-        record_probabilities: bool = True, on_frame=None, estimator=None) -> FlightResult:
+        record_probabilities: bool = True, on_frame=None, estimator=None,
+        engine: str | None = None) -> FlightResult:
     """Fly ``scenario`` with an estimator built from ``model_bank`` in the loop.
 
     ``feedback`` overrides ``scenario.feedback`` ("mmae" | "raw").  ``on_frame(t, u, z)``,
@@ -98,13 +99,17 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     ``estimator``: another object with the :class:`Estimator` interface (``update(z) ->
     z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``, ``declared``,
     ``last_declaration``, ``bank_hash``) at its start state -- e.g. the executive over LCM
-    (``f16mmae.hil``); default ``Estimator.fresh(model_bank, **estimator_options)``."""
+    (``f16mmae.hil``); default ``Estimator.fresh(model_bank, **estimator_options)``.
+    ``engine``: the truth model's engine (``truth.engine``; default cpp): on cpp the truth side
+    of a frame -- control law, actuators, JSBSim, next measurement -- is one call
+    (``TruthModel.step``)."""
     feedback = feedback or getattr(scenario, "feedback", "mmae")
     if feedback not in FEEDBACK_MODES:
         raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
     t_start = time.perf_counter()
-    truth = TruthModel(scenario)              # the only holder of the failure truth
+    truth = TruthModel(scenario, engine=engine)   # the only holder of the failure truth
     fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari)
+    truth.attach(fcs)
     t_truth = time.perf_counter() - t_start
     t0 = time.perf_counter()
     if estimator is None:
@@ -121,23 +126,24 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
     declarations: list[dict] = []
     clock = time.perf_counter
+    step, update, propagate = truth.step, estimator.update, estimator.propagate
+    a = clock()
+    z = truth.measure()
+    t_truth += clock() - a
     for i in range(n_frames):
         t = i * dt
-        a = clock()
-        z = truth.measure()
         b = clock()
-        z_hat = estimator.update(z)
+        z_hat = update(z)
         c = clock()
-        u = fcs.command(z_hat if use_mmae else z, t)
+        u, z_next = step(fcs, z_hat if use_mmae else z, i + 1 < n_frames)  # u_i, then z_(i+1)
         d = clock()
-        estimator.propagate(u)
+        propagate(u)
         e = clock()
-        truth.advance(u)
-        f = clock()
-        t_truth += (b - a) + (d - c) + (f - e)
+        t_truth += d - c
         t_est += (c - b) + (e - d)
         if on_frame is not None:
             on_frame(t, np.array(u, dtype=float), np.array(z, dtype=float))
+        z = z_next
         declared_now = estimator.last_declaration
         if declared_now is not None:
             declarations.append({"hypothesis": declared_now, "time_s": round(t, 9)})
@@ -151,6 +157,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                 idx = np.array([columns[name] for name in names], dtype=int)
         if record_probabilities:
             probs[i, idx] = estimator.probabilities
+    truth.detach(fcs)
+    truth.close()
     final = estimator.declared
     wall = time.perf_counter() - t_start
     hypotheses = tuple(columns)

@@ -171,19 +171,19 @@ def derived_root() -> str:
 
 
 def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False,
-             engine: str = "python") -> jsbsim.FGFDMExec:
+             cxx: bool = False) -> jsbsim.FGFDMExec:
     """A loaded, untrimmed FGFDMExec of the derived aircraft (or the stock ``f16``).
 
     seed >= 1 seeds JSBSim's random generators (turbulence); dt_s is the integration step (s).
-    engine "python": a ``jsbsim.FGFDMExec``; "cpp": an ``f16mmae.core.JSBSimExec`` (the same
-    JSBSim library driven from C++, for the C++ truth path; ``truth.engine``).
+    cxx: an ``f16mmae.core.JSBSimExec`` (the same JSBSim library, made and stepped from C++,
+    with ``reset_winds`` for :func:`restart`) instead of a ``jsbsim.FGFDMExec``.
     """
     if int(seed) < 1:
         raise ValueError(f"seed must be >= 1 (JSBSim maps 0 to 1), got {seed}")
     os.environ.setdefault("JSBSIM_DEBUG", "0")  # no start-up banner
     pkg = jsbsim.get_default_root_dir()
     root = pkg if stock else derived_root()
-    fdm = jsbsim.FGFDMExec(root, None) if engine == "python" else engine_module.jsbsim_exec(root)
+    fdm = engine_module.jsbsim_exec(root) if cxx else jsbsim.FGFDMExec(root, None)
     fdm.set_debug_level(0)
     fdm.set_engine_path(os.path.join(pkg, "engine"))
     fdm.set_systems_path(os.path.join(pkg, "systems"))
@@ -275,34 +275,43 @@ def _store_state_as_ic(fdm: jsbsim.FGFDMExec) -> None:
     fdm.run_ic()
 
 
-def restart(fdm, trim_point: TrimPoint, seed: int) -> None:
-    """Return a trimmed ``fdm`` to the start of a flight: the trimmed state, full tanks, the
-    engine at its steady state, time 0, JSBSim's generators seeded with ``seed``, turbulence off
-    (``turbulence.apply`` sets a flight's level afterwards).
+def start_state(fdm) -> dict:
+    """What a flight changes that the trimmed initial condition does not hold, as it is right
+    after :func:`trim`: the engines' spool speeds ``n1``/``n2`` (%) and fuel flows (lbs/h, which
+    the engine model moves towards their target at a limited rate), the fuel in every tank
+    (lbs), and the simulation time (s)."""
+    props = {}
+    for kind, fields in (("engine", ("n1", "n2")), ("tank", ("contents-lbs",))):
+        for i in range(64):
+            try:
+                props.update({f"propulsion/{kind}[{i}]/{f}": fdm[f"propulsion/{kind}[{i}]/{f}"] for f in fields})
+            except KeyError:
+                break
+    return {"properties": props, "fuel_flow_pph": fdm.fuel_flow_pph(), "sim_time_s": fdm.get_sim_time()}
 
-    Every flight starts here, the first of a flight condition too, so a flight is the same
-    whether its aircraft was just trimmed or flew other flights before
-    (tests/python/test_truth_setup.py).  Order matters: the turbulence is switched off and the
-    generators re-made before anything runs (``run_ic`` runs the models once); every model is
-    re-initialised without running (``reset_to_initial_conditions(DONT_EXECUTE_RUN_IC)``, which
-    also zeroes the throttle), the controls of the trim are written back, the stored trimmed
-    initial condition is run, the engine is restarted (``set-running``: its spools from the
-    throttle, then iterated to a steady state at this flight condition) and the initial
-    condition is run once more with the running engine."""
+
+def restart(fdm, trim_point: TrimPoint, start: dict, seed: int) -> None:
+    """Return a trimmed ``fdm`` (a ``core.JSBSimExec``) to the state :func:`trim` left, with
+    JSBSim's generators seeded by ``seed``, so that a flight from here is the flight of a
+    freshly loaded and trimmed aircraft with that seed, bit for bit
+    (tests/python/test_truth_setup.py).  ``start`` is :func:`start_state` of the trimmed aircraft.
+
+    The turbulence is switched off (``turbulence.apply`` sets a flight's level afterwards) and
+    its filter states zeroed, the generators re-made, the clock, the five surfaces, the engine
+    spools and fuel flows and the fuel written back, and the stored trimmed initial condition run
+    (``run_ic``: the aircraft's position, attitude and velocities, and the integrators'
+    histories).  The engine's other states (running, throttle, nozzle) do not move in level
+    flight at fixed throttle."""
     turbulence.apply(fdm, "none")
     fdm["simulation/randomseed"] = int(seed)
     fdm["atmosphere/randomseed"] = int(seed)
-    fdm.reset_to_initial_conditions(DONT_EXECUTE_RUN_IC)
+    fdm.reset_winds()
+    fdm.set_sim_time(start["sim_time_s"])
     set_surfaces(fdm, trim_point.u_rad)
-    fdm["fcs/throttle-cmd-norm"] = trim_point.throttle
-    fdm["fcs/lef-pos-rad"] = trim_point.lef_rad
+    for prop, value in start["properties"].items():
+        fdm[prop] = value
+    fdm.set_fuel_flow_pph(start["fuel_flow_pph"])
     fdm.run_ic()
-    fdm["propulsion/engine[0]/set-running"] = 1
-    fdm.run_ic()
-
-
-#: ``FGFDMExec::DONT_EXECUTE_RUN_IC``: reset_to_initial_conditions re-initialises only.
-DONT_EXECUTE_RUN_IC = 2
 
 
 def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float) -> None:

@@ -64,8 +64,9 @@ class TruthModel:
             raise ValueError(f"SIM_RATE_HZ {SIM_RATE_HZ} must be a multiple of FRAME_RATE_HZ {FRAME_RATE_HZ}")
         self._steps_per_frame = SIM_RATE_HZ // FRAME_RATE_HZ
         dt = 1.0 / SIM_RATE_HZ
-        key, self.fdm, self.trim = POOL.acquire(self.engine, sc.mach, sc.alt_ft, dt, sc.seed)
-        self._release = weakref.finalize(self, POOL.release, key, self.fdm, self.trim)
+        key, held = POOL.acquire(sc.mach, sc.alt_ft, dt, sc.seed)
+        self.fdm, self.trim = held[0], held[1]
+        self._release = weakref.finalize(self, POOL.release, key, held)
         turbulence.apply(self.fdm, sc.turbulence)
         self.actuators = ActuatorBank(self.trim.u_rad, dt)
         rng = np.random.default_rng(sc.seed)

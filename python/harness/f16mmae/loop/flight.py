@@ -126,18 +126,18 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
     declarations: list[dict] = []
     clock = time.perf_counter
-    step, update, propagate = truth.step, estimator.update, estimator.propagate
+    step = truth.step
     a = clock()
     z = truth.measure()
     t_truth += clock() - a
     for i in range(n_frames):
         t = i * dt
         b = clock()
-        z_hat = update(z)
+        z_hat = estimator.update(z)
         c = clock()
         u, z_next = step(fcs, z_hat if use_mmae else z, i + 1 < n_frames)  # u_i, then z_(i+1)
         d = clock()
-        propagate(u)
+        estimator.propagate(u)
         e = clock()
         t_truth += d - c
         t_est += (c - b) + (e - d)

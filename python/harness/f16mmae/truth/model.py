@@ -148,10 +148,10 @@ class TruthModel:
     # -- per-frame interface --------------------------------------------------------------
     def measure(self) -> np.ndarray:
         """z (7,) at the current frame: noise and sensor failures applied (units of names.SENSOR_UNITS)."""
+        self._check_open()
         if self._frames is not None:
             self._refill_noise()
             return self._frames.measure()
-        self._check_open()
         t = self.frame / FRAME_RATE_HZ
         while self._pending_sen and self._pending_sen[0][0] <= self.frame:
             _, f = self._pending_sen.pop(0)
@@ -170,11 +170,11 @@ class TruthModel:
         """Apply surface commands ``u`` (5, rad, LS RS LF RF RUD) for one frame (2 JSBSim steps)."""
         if len(u) != 5:
             raise ValueError(f"u needs 5 surface commands ({', '.join(ACTUATORS)}), got {len(u)}")
+        self._check_open()
         if self._frames is not None:
             self._frames.advance(np.asarray(u, dtype=float))
             self.frame += 1
             return
-        self._check_open()
         u = [float(x) for x in u]
         act, setters, run = self.actuators, self._set_surface, self._run
         eff = u

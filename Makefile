@@ -64,7 +64,7 @@ pytest: build
 	$(PY) -m pytest -q
 
 bench: build
-	$(VENV)/bin/f16mmae bench
+	$(VENV)/bin/f16mmae bench estimator
 
 clean:
 	rm -rf build

@@ -6,12 +6,14 @@ from __future__ import annotations
 import sys
 
 from ..banks import BankError, bank_path
-from ..campaign.engine.executor import default_workers, make_executor
+from ..campaign.engine.config import RUNS_MAX
+from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..campaign.engine.failure_runs import CASES
 from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..outputs import writable_dir
 from ..report.page import render_report
-from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args, number,
-                      parse_choices)
+from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args,
+                      number, parse_choices, seed)
 
 
 def add_flight_settings(p, runs: str, runs_help: str) -> None:
@@ -38,12 +40,12 @@ def flight_settings(args) -> dict:
     """The shared config fields from the options of :func:`add_flight_settings` and the
     estimator options, each checked (CliError naming the bad value)."""
     settings = dict(
-        runs=number("--runs", args.runs, integer=True, minimum=1),
-        seed=number("--seed", args.seed, integer=True, minimum=1),
+        runs=number("--runs", args.runs, integer=True, minimum=1, maximum=RUNS_MAX),
+        seed=seed("--seed", args.seed),
         tuning=args.tuning, mode=args.mode.lower(),
         turbulence=choice("--turbulence", args.turbulence, TURBULENCE_LEVELS),
         feedback=choice("--feedback", args.feedback, FEEDBACK_MODES),
-        dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale),
+        dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale, minimum=0.0, maximum=5.0),
         **estimator_options_from_args(args),
     )
     check_tuning("--tuning", args.tuning)
@@ -79,7 +81,9 @@ def run_and_report(args, run, print_summary) -> int:
     print its summary (``print_summary(summary, stream)``) and where everything is."""
     if args.workers is not None and args.scheduler is not None:
         raise CliError("give --workers or --scheduler, not both")
-    workers = number("--workers", args.workers, integer=True, minimum=1) if args.workers is not None else None
+    workers = (number("--workers", args.workers, integer=True, minimum=1, maximum=WORKERS_MAX)
+               if args.workers is not None else None)
+    writable_dir(args.out)  # before any flight; the campaign then locks it
     label = f"Dask at {args.scheduler}" if args.scheduler else f"{workers or default_workers()} local process(es)"
     with make_executor(workers=workers, scheduler=args.scheduler) as ex:
         outcome = run(ex, label, not args.quiet)

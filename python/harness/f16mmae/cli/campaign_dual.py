@@ -6,7 +6,7 @@ import argparse
 from ..campaign.dual import DualCampaign, run_campaign
 from ..names import COMPONENTS
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
-from .options import CliError, number, parse_choices
+from .options import CliError, flight_seconds, parse_choices
 
 DESCRIPTION = """\
 The dual-failure campaign (paper Sec. VI, Fig. 7): every ordered pair (first, second) of
@@ -107,9 +107,9 @@ def config_from_args(args) -> DualCampaign:
     """A validated ``DualCampaign`` from the parsed arguments (CliError otherwise)."""
     cfg = DualCampaign(
         **flight_settings(args), pairs=parse_pairs(args.pairs, args.first, args.second),
-        first_time_s=number("--first-time-s", args.first_time_s, minimum=0, exclusive=True),
-        second_time_s=number("--second-time-s", args.second_time_s, minimum=0, exclusive=True),
-        duration_s=number("--duration-s", args.duration_s, minimum=0, exclusive=True),
+        first_time_s=flight_seconds("--first-time-s", args.first_time_s),
+        second_time_s=flight_seconds("--second-time-s", args.second_time_s),
+        duration_s=flight_seconds("--duration-s", args.duration_s),
     )
     return validated(cfg)
 

@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 import math
 import time
-from pathlib import Path
 
 from ..design.bank import design_bank, write_bank
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.tuning import TuningError, load_tuning
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
+from ..outputs import writable_dir, writable_file
 from .options import CliError, number
 
 DESCRIPTION = """\
@@ -80,9 +80,8 @@ def _run(args) -> int:
         tuning = load_tuning(args.tuning)
     except TuningError as exc:
         raise CliError(f"--tuning: {exc}") from None
-    out = Path(args.out) if args.out else Path(f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}.f16bank")
-    if out.is_dir():
-        raise CliError(f"--out {out} is a directory; give a file name")
+    out = writable_file(args.out or f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}.f16bank", "--out")
+    report_dir = writable_dir(args.report, "--report") if args.report else None  # before the design
     t0 = time.perf_counter()
     try:
         design = design_bank(mach, alt_ft, tuning)
@@ -103,6 +102,6 @@ def _run(args) -> int:
     print(f"  largest error-dynamics spectral radius {rho:.6f} (all filters stable); "
           f"designed in {time.perf_counter() - t0:.2f} s")
     if args.report:
-        paths = write_report(design, Path(args.report))
+        paths = write_report(design, report_dir)
         print(f"  report: {', '.join(str(p) for p in paths)}")
     return 0

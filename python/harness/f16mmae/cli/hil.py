@@ -12,6 +12,7 @@ from ..lcm.channels import HilError, channels, default_lcm_url
 from ..lcm.daemon import DaemonProcess
 from ..lcm.hil import fly_hil
 from ..loop.flight import fly
+from ..outputs import writable_dir
 from ..report.flight import write_flight
 from .options import CliError, number
 from .run import add_flight_arguments, build_scenario, scenario_fields
@@ -65,7 +66,9 @@ def register(subparsers) -> None:
 
 def _hil(args) -> int:
     fields = scenario_fields(args)
-    timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True)
+    timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True, maximum=3600.0)
+    if args.out:
+        writable_dir(args.out)  # before the flight, so its results have somewhere to go
     try:
         label, path, bank = load_bank(args.bank)
     except BankError as exc:

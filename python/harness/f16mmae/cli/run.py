@@ -8,8 +8,11 @@ from ..campaign.engine.scoring import expected_hypothesis, score_run
 from ..loop.flight import fly
 from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
 from ..report.flight import write_flight
+from ..outputs import writable_dir
 from ..truth import DitherSpec, Scenario, TrimError, parse_fail
-from .options import CliError, add_estimator_arguments, choice, estimator_options_from_args, number
+from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE
+from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args, flight_seconds,
+                      number, seed)
 
 DESCRIPTION = """\
 Fly the nonlinear JSBSim F-16 (our FCS, dither on) with the MMAE estimator in the loop
@@ -88,10 +91,11 @@ def scenario_fields(args) -> dict:
     ``mach``/``alt_ft`` are None when left to the bank's design point."""
     turbulence = choice("--turbulence", args.turbulence, TURBULENCE_LEVELS)
     feedback = choice("--feedback", args.feedback, FEEDBACK_MODES)
-    seed = number("--seed", args.seed, integer=True, minimum=1)
-    duration = number("--duration", args.duration, minimum=0.0, exclusive=True)
-    mach = None if args.mach is None else number("--mach", args.mach, minimum=0.0, exclusive=True)
-    alt_ft = None if args.alt_ft is None else number("--alt-ft", args.alt_ft)
+    seed_ = seed("--seed", args.seed)
+    duration = flight_seconds("--duration", args.duration)
+    mach = None if args.mach is None else number("--mach", args.mach, minimum=MACH_RANGE[0], maximum=MACH_RANGE[1])
+    alt_ft = (None if args.alt_ft is None
+              else number("--alt-ft", args.alt_ft, minimum=ALT_FT_RANGE[0], maximum=ALT_FT_RANGE[1]))
     failures = parse_failures(args.fail)
     late = [f for f in failures if f.time_s >= duration]
     if late:
@@ -99,7 +103,7 @@ def scenario_fields(args) -> dict:
                        f"{duration}-s flight (use --duration)")
     return {
         "mach": mach, "alt_ft": alt_ft, "turbulence": turbulence,
-        "dither": not args.no_dither, "duration_s": duration, "seed": seed, "feedback": feedback,
+        "dither": not args.no_dither, "duration_s": duration, "seed": seed_, "feedback": feedback,
         "failures": tuple(failures),
     }
 
@@ -118,13 +122,16 @@ def build_scenario(fields: dict, bank):
 
 def _run(args) -> int:
     fields = scenario_fields(args)
+    options = estimator_options_from_args(args)
+    if args.out:
+        writable_dir(args.out)  # before the flight, so its results have somewhere to go
     try:
         label, path, bank = load_bank(args.bank)
     except BankError as exc:
         raise CliError(f"--bank: {exc}") from None
     scenario = build_scenario(fields, bank)
     try:
-        result = fly(scenario, bank, estimator_options=estimator_options_from_args(args))
+        result = fly(scenario, bank, estimator_options=options)
     except (ValueError, TrimError) as exc:  # bad estimator option, untrimmable flight condition
         raise CliError(str(exc)) from None
     injected = expected_hypothesis([f["name"] for f in result.failures])

@@ -23,7 +23,7 @@ import dataclasses
 
 import numpy as np
 
-from .. import names
+from .. import core, names
 from ..truth import sensors
 from .bank import design_bank
 from .flights import Flight, fly_closed_loop
@@ -62,8 +62,6 @@ def case_flights(mach: float = 0.4, alt_ft: float = 20_000.0, turbulence_level: 
 
 def score(tuning: Tuning, linearized, flights: dict[str, list[Flight]]) -> tuple[float, dict, str]:
     """``(J, fraction correct per case, culprit channel)`` of the level-0 bank of ``tuning``."""
-    from .. import core
-
     d = design_bank(tuning=tuning, linearized=linearized, hypotheses=names.SINGLE_HYPOTHESES)
     models = [core.FilterModel(phi=f.model.phi, bd=f.model.bd, h=f.model.h, k=f.gains.k,
                                a=f.gains.a) for f in d.filters]

@@ -43,7 +43,7 @@ from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import derived_seed
-from ..engine.store import ResultsStore, run_key
+from ..engine.store import ResultsStore, campaign_directory, run_key
 from . import figures
 from . import scoring
 
@@ -159,10 +159,15 @@ def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
 # -- the campaign ------------------------------------------------------------------------------
 def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
                  executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
-    """Plan, fly what is not stored yet (appending records as they finish), summarize, plot."""
+    """Plan, fly what is not stored yet (appending records as they finish), summarize, plot;
+    ``out_dir`` checked writable and locked (``store.campaign_directory``) before any flight."""
     cfg.validate()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    with campaign_directory(out_dir) as out:
+        return _run_campaign(cfg, out, executor, executor_label, show_progress)
+
+
+def _run_campaign(cfg: DualCampaign, out: Path, executor: Executor, executor_label: str,
+                  show_progress: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     specs = plan(cfg, label, bank)
     done = execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,

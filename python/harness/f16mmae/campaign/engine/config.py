@@ -17,6 +17,10 @@ from ...truth import DitherSpec, Scenario
 from ...truth.failures import make_failure
 
 
+#: The most seeded runs per case (or pair, or point and case) a campaign plans.
+RUNS_MAX = 1000
+
+
 class CampaignError(F16mmaeError):
     """A campaign argument is invalid, or a run failed; the message names it."""
 
@@ -56,8 +60,8 @@ class CampaignConfig:
         """The checks of the shared fields (CampaignError naming the bad value): runs, seed,
         turbulence, feedback, dither scale and the estimator overrides; the dwell must fit in
         ``dwell_window_s``, the flight time in which a declaration can still come."""
-        if self.runs < 1:
-            raise CampaignError(f"--runs must be >= 1, got {self.runs}")
+        if not 1 <= self.runs <= RUNS_MAX:
+            raise CampaignError(f"--runs must lie in [1, {RUNS_MAX}], got {self.runs}")
         if self.seed < 1:
             raise CampaignError(f"--seed must be >= 1 (JSBSim treats 0 as 1), got {self.seed}")
         if self.turbulence not in TURBULENCE_LEVELS:

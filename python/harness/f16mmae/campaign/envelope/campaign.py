@@ -54,7 +54,7 @@ from ..engine import scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore
+from ..engine.store import ResultsStore, campaign_directory
 from . import figures
 from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
 
@@ -161,13 +161,18 @@ def describe_point_spec(spec: dict) -> str:
 
 def run_envelope(cfg: EnvelopeCampaign, out_dir: str | Path, executor: Executor,
                  executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
-    """Plan every point, run what is not stored yet, summarize per point, plot."""
+    """Plan every point, run what is not stored yet, summarize per point, plot; ``out_dir``
+    checked writable and locked (``store.campaign_directory``) before any flight."""
     cfg.validate()
-    out = Path(out_dir)
+    with campaign_directory(out_dir) as out:
+        return _run_envelope(cfg, out, executor, executor_label, show_progress)
+
+
+def _run_envelope(cfg: EnvelopeCampaign, out: Path, executor: Executor, executor_label: str,
+                  show_progress: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     banks = {label: (cfg.tuning, bank)}
     specs = plan(cfg, banks)
-    out.mkdir(parents=True, exist_ok=True)
     store = ResultsStore(out)
     stored = store.keys()
     left = {p.label: 0 for p in cfg.points}  # runs still to fly, per point

@@ -29,7 +29,7 @@ from ..engine import scoring
 from ..engine.config import CampaignConfig
 from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore
+from ..engine.store import ResultsStore, campaign_directory
 from . import figures
 
 
@@ -53,10 +53,15 @@ class SingleCampaign(CampaignConfig):
 def run_campaign(cfg: SingleCampaign, out_dir: str | Path, executor: Executor,
                  executor_label: str = "", show_progress: bool = True,
                  measure_cost: bool = True) -> CampaignOutcome:
-    """Plan, run what is not stored yet, append records as they finish, summarize, plot."""
+    """Plan, run what is not stored yet, append records as they finish, summarize, plot;
+    ``out_dir`` checked writable and locked (``store.campaign_directory``) before any flight."""
     cfg.validate()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    with campaign_directory(out_dir) as out:
+        return _run_campaign(cfg, out, executor, executor_label, show_progress, measure_cost)
+
+
+def _run_campaign(cfg: SingleCampaign, out: Path, executor: Executor, executor_label: str,
+                  show_progress: bool, measure_cost: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     banks = {label: (cfg.tuning, bank)}
     if cfg.baseline:

@@ -24,10 +24,12 @@
 #include <models/atmosphere/FGWinds.h>
 #include <models/propulsion/FGEngine.h>
 
+#include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "hierarchical_access.h"
 #include "truth/truth_frame.h"
 
 namespace py = pybind11;
@@ -253,6 +255,56 @@ class Frames {
     return fcs_.command(zf, static_cast<double>(frame_) / frame_rate_hz_);
   }
 
+  // n closed-loop frames with the estimator est in the loop (see the binding's docstring).
+  py::dict fly_closed_loop(F16HierarchicalBank& est, long long n, bool use_mmae, bool record) {
+    using ZV = F16HierarchicalBank::ZVector;
+    using UV = F16HierarchicalBank::UVector;
+    using clock = std::chrono::steady_clock;
+    constexpr py::ssize_t K = F16HierarchicalBank::PVector::RowsAtCompileTime;
+    py::array_t<double> probs({static_cast<py::ssize_t>(record ? n : 0), K});
+    double* row = probs.mutable_data();
+    py::list events;
+    double truth_s = 0.0, est_s = 0.0;
+    bool declared_last = false;
+    auto t0 = clock::now();
+    Sensors z = measure_frame();
+    auto t1 = clock::now();
+    truth_s += std::chrono::duration<double>(t1 - t0).count();
+    for (long long i = 0; i < n; ++i) {
+      const auto a = clock::now();
+      const int d = est.update(Eigen::Map<const ZV>(z.data()));
+      Sensors zf = z;
+      if (use_mmae) {
+        const ZV zh = est.z_hat();
+        for (int k = 0; k < kSensors; ++k) zf[k] = zh[k];
+      }
+      const auto b = clock::now();
+      const Surfaces u = command(zf);
+      const auto c = clock::now();
+      est.propagate(Eigen::Map<const UV>(u.data()));
+      const auto e = clock::now();
+      advance_frame(u);
+      if (i + 1 < n) z = measure_frame();
+      const auto f = clock::now();
+      est_s += std::chrono::duration<double>((b - a) + (e - c)).count();
+      truth_s += std::chrono::duration<double>((c - b) + (f - e)).count();
+      declared_last = d >= 0;
+      if (declared_last) events.append(py::make_tuple(i, est.name(d), py::cast(est.online_names())));
+      if (record) {
+        const auto& p = est.probabilities();
+        for (py::ssize_t k = 0; k < K; ++k) row[k] = p[k];
+        row += K;
+      }
+    }
+    py::dict out;
+    out["probabilities"] = probs;
+    out["events"] = events;
+    out["truth_s"] = truth_s;
+    out["estimator_s"] = est_s;
+    out["declared_last_frame"] = declared_last;
+    return out;
+  }
+
   long long frame() const { return frame_; }
   long long step() const { return step_; }
   long long measured() const { return static_cast<long long>(log_time_.size()); }
@@ -384,6 +436,18 @@ void bind_truth(py::module_& m) {
              for (long long i = 0; i < n; ++i) f.advance_frame(f.command(f.measure_frame()));
              f.measure_frame();
            }, py::arg("n_frames"))
+      .def("fly_closed_loop", [](Frames& f, py::handle bank, long long n, bool use_mmae, bool record) {
+             F16HierarchicalBank* est = f16_hierarchical_bank(bank);
+             if (!est) throw py::value_error("fly_closed_loop flies the fixed-size F-16 bank only");
+             return f.fly_closed_loop(*est, n, use_mmae, record);
+           }, py::arg("bank"), py::arg("n_frames"), py::arg("use_mmae"), py::arg("record_probabilities"),
+           R"doc(
+    n closed-loop frames with a core.HierarchicalBank in the loop, all in C++ (loop/flight.py
+    describes the frame): z = measure(); then per frame: bank.update(z), u = FCS(z_hat if
+    use_mmae else z), bank.propagate(u), advance(u), the next z (not after the last frame).
+    Returns {'probabilities': (n, 13) the probabilities on line after each frame (or (0, 13)),
+    'events': [(frame, declared name, names on line after it)], 'truth_s', 'estimator_s'
+    (seconds spent in each), 'declared_last_frame'}.)doc")
       .def_property_readonly("frame", &Frames::frame)
       .def_property_readonly("step_count", &Frames::step)
       .def_property_readonly("measured", &Frames::measured)

@@ -156,3 +156,21 @@ def test_single_failure_campaign_is_the_same_on_both_engines(tmp_path, monkeypat
     assert np.abs(fa - fb).max() <= 1e-9
     assert ra.declarations == rb.declarations
     assert np.nanmax(np.abs(ra.probabilities - rb.probabilities)) <= 1e-9
+
+
+@pytest.mark.parametrize("feedback", ["mmae", "raw"])
+def test_a_closed_loop_flown_whole_in_cpp_is_the_per_frame_one(feedback):
+    """The C++ whole-flight loop (cpp engine, no on_frame) against the per-frame Python loop
+    (forced by on_frame) on both engines: the same declarations and probabilities, bit for bit,
+    through a declaration and the switch to the level-1 bank."""
+    _, _, bank = load_bank("tuned")
+    sc = Scenario(mach=float(bank.mach), alt_ft=float(bank.alt_ft), duration_s=6.0, seed=31,
+                  turbulence="light", failures=_fails("LF@2.0"), feedback=feedback)
+    whole = fly(sc, bank, engine="cpp")
+    assert whole.declarations, "the failure is declared (the level changes mid-flight)"
+    for engine in ("cpp", "python"):
+        frames = fly(sc, bank, engine=engine, on_frame=lambda t, u, z: None)
+        assert frames.declarations == whole.declarations
+        assert frames.hypotheses == whole.hypotheses
+        assert np.array_equal(frames.probabilities, whole.probabilities, equal_nan=True)
+        assert frames.final_hypothesis == whole.final_hypothesis

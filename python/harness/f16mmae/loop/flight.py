@@ -100,9 +100,12 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``, ``declared``,
     ``last_declaration``, ``bank_hash``) at its start state -- e.g. the executive over LCM
     (``f16mmae.hil``); default ``Estimator.fresh(model_bank, **estimator_options)``.
-    ``engine``: the truth model's engine (``truth.engine``; default cpp): on cpp the truth side
-    of a frame -- control law, actuators, JSBSim, next measurement -- is one call
-    (``TruthModel.step``)."""
+    ``engine``: the truth model's engine (``truth.engine``; default cpp).  On cpp with the
+    in-process F-16 estimator and no ``on_frame``, the whole flight is one call
+    (``TruthModel.fly_closed_loop``: the same frames in C++, the bank seeing z and u only);
+    otherwise each frame's truth side -- control law, actuators, JSBSim, next measurement --
+    is one call (``TruthModel.step``).  Both give the same flight
+    (tests/python/test_truth_engines.py)."""
     feedback = feedback or getattr(scenario, "feedback", "mmae")
     if feedback not in FEEDBACK_MODES:
         raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
@@ -125,12 +128,36 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     idx = np.arange(len(columns))
     probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
     declarations: list[dict] = []
+    in_cpp = (truth.engine == "cpp" and on_frame is None and isinstance(estimator, Estimator)
+              and estimator.fixed_size)
+    if in_cpp:  # the whole flight in C++: one call, the same frames
+        out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities)
+        t_truth += out["truth_s"]
+        t_est += out["estimator_s"]
+        start = 0
+        for frame, name, online in out["events"]:
+            declarations.append({"hypothesis": name, "time_s": round(frame * dt, 9)})
+            if record_probabilities:
+                probs[start:frame, idx] = out["probabilities"][start:frame]
+                for n in online:
+                    if n not in columns:
+                        columns[n] = len(columns)
+                if len(columns) > probs.shape[1]:
+                    probs = np.hstack([probs, np.full((n_frames, len(columns) - probs.shape[1]), np.nan)])
+                idx = np.array([columns[n] for n in online], dtype=int)
+                start = frame
+        if record_probabilities:
+            probs[start:, idx] = out["probabilities"][start:]
+        estimator.last_declaration = out["events"][-1][1] if out["declared_last_frame"] else None
+        n_frames_python = 0
+    else:
+        n_frames_python = n_frames
     clock = time.perf_counter
     step = truth.step
     a = clock()
-    z = truth.measure()
+    z = truth.measure() if n_frames_python else None
     t_truth += clock() - a
-    for i in range(n_frames):
+    for i in range(n_frames_python):
         t = i * dt
         b = clock()
         z_hat = estimator.update(z)

@@ -217,6 +217,18 @@ class TruthModel:
         self.advance(u)
         return u, (self.measure() if measure_next else None)
 
+    def fly_closed_loop(self, bank, n_frames: int, use_mmae: bool, record_probabilities: bool) -> dict:
+        """C++ engine only: ``n_frames`` closed-loop frames with ``bank`` (a fixed-size F-16
+        ``core.HierarchicalBank``) in the loop and the ``attach``-ed control law, in one call;
+        see ``core.TruthFrames.fly_closed_loop`` (loop/flight.py uses it)."""
+        self._check_open()
+        if self._frames is None:
+            raise ValueError("fly_closed_loop needs the cpp truth engine")
+        self._refill_noise()
+        out = self._frames.fly_closed_loop(bank, n_frames, use_mmae, record_probabilities)
+        self.frame += n_frames
+        return out
+
     def _refill_noise(self) -> None:
         if self._frames.noise_left == 0:  # flown past the scenario's duration: the next draws
             self._frames.set_noise(self._rng.standard_normal((self._noise_rows, 7)))

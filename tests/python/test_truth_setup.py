@@ -7,7 +7,7 @@ import numpy as np
 
 from f16mmae.names import SIM_RATE_HZ
 from f16mmae.truth import Scenario, TruthModel, aircraft, fly_raw, parse_fail, turbulence
-from f16mmae.truth.engine import POOL
+from f16mmae.truth.pool import POOL
 from f16mmae.truth.model import STATE_LOG
 
 #: Recorded each step: the state, the forces, the mass and the engine.

@@ -29,7 +29,7 @@ from ..loop.overhead import measure_overhead
 from ..names import SIM_RATE_HZ
 from ..truth import aircraft
 from ..truth.dither import CRITERION
-from ..truth.engine import POOL
+from ..truth.pool import POOL
 from ..truth.model import fly_raw
 from ..truth.scenario import Scenario
 

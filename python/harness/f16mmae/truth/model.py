@@ -16,7 +16,7 @@ is for scoring and plots only and must never reach the estimator.
 Engines (``truth.engine``): ``cpp`` flies the frames in C++ (``core.TruthFrames``), with the
 sensor noise drawn here in bulk from the same generator (``rng.standard_normal((n, 7))`` gives
 the numbers that n calls of ``standard_normal(7)`` give); ``python`` is the reference.  Either
-way the aircraft comes trimmed from ``engine.POOL`` and goes back when the flight is closed
+way the aircraft comes trimmed from ``pool.POOL`` and goes back when the flight is closed
 (``close()``, called by ``fly_raw`` and the closed loop; also when the model is collected).
 ``step(fcs, z_feedback)`` is a whole frame -- command, advance, next measurement -- in one call.
 """
@@ -31,7 +31,8 @@ from ..names import ACTUATORS, FRAME_RATE_HZ, SENSORS, SIM_RATE_HZ
 from . import actuators as actuators_module
 from . import aircraft, sensors as sensors_module, turbulence
 from .actuators import ActuatorBank
-from .engine import POOL, check_engine
+from .engine import check_engine
+from .pool import POOL
 from .aircraft import TrimError, TrimPoint  # noqa: F401  (re-exported)
 from .fcs import FlightControlSystem
 from .scenario import Scenario

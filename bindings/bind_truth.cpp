@@ -1,35 +1,27 @@
-// f16mmae.core.JSBSimExec and f16mmae.core.TruthFrames: the truth model's per-step path in C++.
+// f16mmae.core.TruthFrames: the truth model's per-step path in C++.
 //
-// JSBSimExec is a JSBSim FGFDMExec made and driven from C++ through the library inside the
-// installed `jsbsim` Python package (its _jsbsim.so exports JSBSim's C++ API; the headers of the
-// same release are fetched at configure time, CMakeLists.txt).  It offers the part of
-// jsbsim.FGFDMExec that truth/aircraft.py uses to load and trim (properties, run, run_ic, paths),
-// so the set-up stays one Python procedure for both engines and the same compiled JSBSim code
-// flies both.  TruthFrames steps the frame: sensors (cpp/truth/truth_frame.h) on cached property
-// nodes, the flight control law, the actuators at the JSBSim rate and JSBSim itself, with no
-// Python in between; it records the truth log into buffers sized at construction.
+// TruthFrames steps the frame on a JSBSimExec (bindings/jsbsim_exec.h): sensors
+// (cpp/truth/truth_frame.h) on cached property nodes, the flight control law, the actuators at
+// the JSBSim rate and JSBSim itself, with no Python in between; it records the truth log into
+// buffers sized at construction, and can fly a whole closed-loop flight with the core's
+// estimator in the loop (fly_closed_loop).
 //
 // Frame i (docs in truth/model.py): z_i = measure(); u_i = FCS(z_feedback, t_i);
 // advance(u_i) = SIM/FRAME JSBSim steps, each: due actuator failures, actuator step, surfaces
 // written, Run().  Sensor failures act from their frame, actuator failures from their step.
-// Throws ValueError for bad arguments (names the field), RuntimeError when JSBSim stops, and
-// jsbsim.TrimFailureError when JSBSim's trim fails (as jsbsim.FGFDMExec does).
+// Throws ValueError for bad arguments (names the field), RuntimeError when JSBSim stops.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <FGFDMExec.h>
-#include <input_output/FGPropertyManager.h>
-#include <models/FGPropulsion.h>
-#include <models/atmosphere/FGWinds.h>
-#include <models/propulsion/FGEngine.h>
-
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "hierarchical_access.h"
+#include "jsbsim_exec.h"
 #include "truth/truth_frame.h"
 
 namespace py = pybind11;
@@ -37,76 +29,6 @@ using namespace f16mmae::truth;
 
 namespace f16mmae::bindings {
 namespace {
-
-// Translate JSBSim's exceptions as the jsbsim package does.
-template <class F>
-auto guarded(F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const JSBSim::TrimFailureException& e) {
-    PyErr_SetString(py::module_::import("jsbsim").attr("TrimFailureError").ptr(), e.what());
-    throw py::error_already_set();
-  } catch (const JSBSim::BaseException& e) {
-    PyErr_SetString(py::module_::import("jsbsim").attr("BaseError").ptr(), e.what());
-    throw py::error_already_set();
-  }
-}
-
-std::string strip(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
-// FGEngine::FuelFlow_pph is state (the turbine seeks it towards thrust x TSFC at a limited
-// rate) but no writable property: reached through a member pointer of a derived class.
-struct EngineAccess : JSBSim::FGEngine {
-  static double& fuel_flow_pph(JSBSim::FGEngine& e) { return e.*(&EngineAccess::FuelFlow_pph); }
-};
-
-class Exec {
- public:
-  explicit Exec(const std::string& root_dir) : fdm_(std::make_unique<JSBSim::FGFDMExec>(nullptr, nullptr)) {
-    // The same start as jsbsim.FGFDMExec(root_dir): root, output ".", engine, aircraft, systems.
-    fdm_->SetRootDir(SGPath(root_dir));
-    fdm_->SetOutputPath(SGPath("."));
-    fdm_->SetEnginePath(SGPath("engine"));
-    fdm_->SetAircraftPath(SGPath("aircraft"));
-    fdm_->SetSystemsPath(SGPath("systems"));
-  }
-  JSBSim::FGFDMExec& fdm() { return *fdm_; }
-  SGPropertyNode* node(const std::string& path) {
-    SGPropertyNode* n = fdm_->GetPropertyManager()->GetNode(path);
-    if (!n) throw py::key_error("no JSBSim property '" + path + "'");
-    return n;
-  }
-  std::vector<double> fuel_flow_pph() const {
-    std::vector<double> out;
-    auto prop = fdm_->GetPropulsion();
-    for (unsigned i = 0; i < prop->GetNumEngines(); ++i) out.push_back(EngineAccess::fuel_flow_pph(*prop->GetEngine(i)));
-    return out;
-  }
-  void set_fuel_flow_pph(const std::vector<double>& v) {
-    auto prop = fdm_->GetPropulsion();
-    if (v.size() != prop->GetNumEngines())
-      throw py::value_error("set_fuel_flow_pph needs one value per engine (" +
-                            std::to_string(prop->GetNumEngines()) + "), got " + std::to_string(v.size()));
-    for (unsigned i = 0; i < v.size(); ++i) EngineAccess::fuel_flow_pph(*prop->GetEngine(i)) = v[i];
-  }
-  double get(const std::string& key) { return node(strip(key))->getDoubleValue(); }
-  void set(const std::string& key, double v) {
-    guarded([&] { fdm_->SetPropertyValue(strip(key), v); return 0; });
-  }
-
- private:
-  std::unique_ptr<JSBSim::FGFDMExec> fdm_;
-};
-
-// One property node of a JSBSimExec (as jsbsim.FGPropertyNode): get_double_value, set_double_value.
-struct Node {
-  std::shared_ptr<Exec> owner;
-  SGPropertyNode* node;
-};
 
 template <std::size_t N>
 std::array<double, N> arr(const py::dict& d, const char* key) {
@@ -370,45 +292,6 @@ py::array_t<double> to_numpy(const std::array<double, N>& a) {
 }  // namespace
 
 void bind_truth(py::module_& m) {
-  m.attr("JSBSIM_VERSION") = F16MMAE_JSBSIM_VERSION;  // the jsbsim release whose API this was built against
-  py::class_<Exec, std::shared_ptr<Exec>>(m, "JSBSimExec", R"doc(
-    JSBSimExec(root_dir): a JSBSim FGFDMExec made in C++ (the jsbsim package's library), for
-    TruthFrames.  Offers the subset of jsbsim.FGFDMExec that the truth model's set-up uses:
-    fdm[prop], fdm[prop] = value, run(), run_ic(), load_model(), set_dt(), set_debug_level(),
-    set_engine_path(), set_systems_path(), reset_to_initial_conditions(), get_sim_time(),
-    set_sim_time(), get_delta_t(), get_property_manager().get_node(path); and reset_winds(),
-    fuel_flow_pph(), set_fuel_flow_pph() for a restart (truth/aircraft.py).)doc")
-      .def(py::init<const std::string&>(), py::arg("root_dir"))
-      .def("set_debug_level", [](Exec& e, int level) { e.fdm().SetDebugLevel(level); }, py::arg("level"))
-      .def("set_engine_path", [](Exec& e, const std::string& p) { return e.fdm().SetEnginePath(SGPath(p)); })
-      .def("set_systems_path", [](Exec& e, const std::string& p) { return e.fdm().SetSystemsPath(SGPath(p)); })
-      .def("load_model", [](Exec& e, const std::string& model, bool add) {
-             return guarded([&] { return e.fdm().LoadModel(model, add); });
-           }, py::arg("model"), py::arg("add_model_to_path") = true)
-      .def("set_dt", [](Exec& e, double dt) { e.fdm().Setdt(dt); }, py::arg("dt"))
-      .def("run", [](Exec& e) { return guarded([&] { return e.fdm().Run(); }); })
-      .def("run_ic", [](Exec& e) { return guarded([&] { return e.fdm().RunIC(); }); })
-      .def("reset_to_initial_conditions", [](Exec& e, int mode) {
-             guarded([&] { e.fdm().ResetToInitialConditions(mode); return 0; });
-           }, py::arg("mode"))
-      .def("reset_winds", [](Exec& e) { e.fdm().GetWinds()->InitModel(); },
-           "Zero the turbulence model's states (FGWinds::InitModel), as after loading.")
-      .def("fuel_flow_pph", &Exec::fuel_flow_pph, "Each engine's fuel flow state (lbs/h).")
-      .def("set_fuel_flow_pph", &Exec::set_fuel_flow_pph, py::arg("values"))
-      .def("set_sim_time", [](Exec& e, double t) { return e.fdm().Setsim_time(t); }, py::arg("time"))
-      .def("get_property_manager", [](std::shared_ptr<Exec> e) { return e; },
-           "This object: get_node(path) is here, as on jsbsim's FGPropertyManager.")
-      .def("get_node", [](std::shared_ptr<Exec> e, const std::string& path) { return Node{e, e->node(path)}; },
-           py::arg("path"))
-      .def("get_sim_time", [](Exec& e) { return e.fdm().GetSimTime(); })
-      .def("get_delta_t", [](Exec& e) { return e.fdm().GetDeltaT(); })
-      .def("__getitem__", &Exec::get, py::arg("key"))
-      .def("__setitem__", &Exec::set, py::arg("key"), py::arg("value"));
-
-  py::class_<Node>(m, "JSBSimProperty", "A property node of a JSBSimExec (JSBSimExec.get_node(path)).")
-      .def("get_double_value", [](const Node& n) { return n.node->getDoubleValue(); })
-      .def("set_double_value", [](Node& n, double v) { return n.node->setDoubleValue(v); }, py::arg("value"));
-
   py::class_<Frames>(m, "TruthFrames", R"doc(
     The truth model's frames in C++ (see truth/model.py, which builds it): measure() -> z (7,),
     advance(u), step(z_feedback) -> (u, z_next) = FCS command, advance, next measurement;

@@ -10,7 +10,8 @@ void bind_bank(py::module_& m);          // bind_bank.cpp: FilterBank
 void bind_declarer(py::module_& m);      // bind_declarer.cpp: Declarer
 void bind_hierarchical(py::module_& m);  // bind_hierarchical.cpp: HierarchicalBank
 void bind_monitor(py::module_& m);       // bind_monitor.cpp: ResidualMonitor
-void bind_truth(py::module_& m);         // bind_truth.cpp: JSBSimExec, TruthFrames
+void bind_jsbsim(py::module_& m);        // bind_jsbsim.cpp: JSBSimExec, JSBSimProperty
+void bind_truth(py::module_& m);         // bind_truth.cpp: TruthFrames
 void register_all(py::module_& m) {
   bind_filter(m);
   bind_bank(m);
@@ -18,6 +19,7 @@ void register_all(py::module_& m) {
   bind_model_bank(m);
   bind_hierarchical(m);
   bind_monitor(m);
+  bind_jsbsim(m);
   bind_truth(m);
 }
 }  // namespace f16mmae::bindings

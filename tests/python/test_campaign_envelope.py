@@ -232,7 +232,8 @@ def test_cli_runs_one_point_and_prints_the_table(tmp_path, capsys):
     assert main(argv) == 0
     out = capsys.readouterr().out
     row = next(line for line in out.splitlines() if line.strip().startswith("NOM"))
-    assert row.split() == ["NOM", "0.400", "20000", "109.0", "-", "0", "-", "yes"]
+    # correct (no failure case), false-alarm runs, transient-wrong runs, latency, acceptable, verdict
+    assert row.split() == ["NOM", "0.400", "20000", "109.0", "-", "0", "0", "-", "yes", "consistent"]
     assert "envelope_map.png" in out and "(1 run, 0 resumed)" in out
     page = (tmp_path / "report.html").read_text()
     assert "data:image/png;base64," in page and "<td>NOM</td><td>0.400</td><td>20000</td>" in page

@@ -36,6 +36,7 @@ import dataclasses
 import numpy as np
 
 from .. import names
+from ..seeds import TUNING_FLIGHT_SEEDS
 from . import convergence
 from .bank import design_bank, nominal_bank_path, write_bank
 from .flights import fly_closed_loop
@@ -108,7 +109,7 @@ def calibrate(base: Tuning, flights, linearized, iterations: int = 12,
     return tun, history
 
 
-SEEDS = tuple(range(1, 9))
+SEEDS = TUNING_FLIGHT_SEEDS  # the tuning namespace (f16mmae.seeds): 1-8
 
 
 def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after: ResidualStats,

@@ -24,6 +24,7 @@ import dataclasses
 import numpy as np
 
 from .. import core, names
+from ..seeds import TUNING_FLIGHT_SEEDS
 from ..truth import sensors
 from .bank import design_bank
 from .flights import Flight, fly_closed_loop
@@ -33,8 +34,8 @@ GRID = (1.0, 3.0, 10.0, 30.0)
 ROUNDS = 2
 MIN_GAIN = 0.01
 FAILURE_TIME_S = 3.0
-NONE_SEEDS = tuple(range(1, 9))
-FAILURE_SEEDS = (1, 2, 3)
+NONE_SEEDS = TUNING_FLIGHT_SEEDS  # the tuning namespace (f16mmae.seeds): 1-8
+FAILURE_SEEDS = TUNING_FLIGHT_SEEDS[:3]
 #: The estimator settings the design recommends (written to tuned.toml [estimator] and so
 #: into the bank's metadata; see design/tuning.py).  p_min far below the paper's 0.001: a
 #: hypothesis the flight barely separates from NONE (a flaperon) has a log-probability ratio

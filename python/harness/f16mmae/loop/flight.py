@@ -55,6 +55,10 @@ class FlightResult:
     timing: dict = field(default_factory=dict)
     #: The estimator settings in force (``Estimator.settings``; {} for an estimator without).
     estimator_settings: dict = field(default_factory=dict)
+    #: With ``fly(record_series=True)``: ``u`` (frames, 5), ``z`` (frames, 7), ``z_hat``
+    #: (frames, 7) of each frame, and ``truth_log`` (``TruthModel.truth_log``, truth: read
+    #: after the flight, for the record only); else None.
+    series: dict | None = field(default=None, repr=False)
 
     def probability_of(self, hypothesis: str) -> np.ndarray:
         """Probability history of one hypothesis, 0 while off line (or never on line)."""
@@ -89,9 +93,20 @@ def scenario_to_dict(scenario) -> dict:
     return scenario.to_dict()
 
 
+def _on_line(names, columns: dict[str, int], probs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The hypotheses ``names`` now on line: those new to ``columns`` get a column (NaN so far)
+    in ``probs``; returns ``probs`` and the columns of ``names``, in their order."""
+    for name in names:
+        if name not in columns:
+            columns[name] = len(columns)
+    if len(columns) > probs.shape[1]:
+        probs = np.hstack([probs, np.full((probs.shape[0], len(columns) - probs.shape[1]), np.nan)])
+    return probs, np.array([columns[name] for name in names], dtype=int)
+
+
 def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options: dict | None = None,
         record_probabilities: bool = True, on_frame=None, estimator=None,
-        engine: str | None = None) -> FlightResult:
+        engine: str | None = None, record_series: bool = False) -> FlightResult:
     """Fly ``scenario`` with an estimator built from ``model_bank`` in the loop.
 
     ``feedback`` overrides ``scenario.feedback`` ("mmae" | "raw").  ``on_frame(t, u, z)``,
@@ -105,7 +120,9 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     (``TruthModel.fly_closed_loop``: the same frames in C++, the bank seeing z and u only);
     otherwise each frame's truth side -- control law, actuators, JSBSim, next measurement --
     is one call (``TruthModel.step``).  Both give the same flight
-    (tests/python/test_truth_engines.py)."""
+    (tests/python/test_truth_engines.py).
+    ``record_series``: keep each frame's u, z and z_hat, and the truth model's log after the
+    flight (``FlightResult.series``; flown frame by frame)."""
     feedback = feedback or getattr(scenario, "feedback", "mmae")
     if feedback not in FEEDBACK_MODES:
         raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
@@ -128,8 +145,10 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     idx = np.arange(len(columns))
     probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
     declarations: list[dict] = []
-    in_cpp = (truth.engine == "cpp" and on_frame is None and isinstance(estimator, Estimator)
-              and estimator.fixed_size)
+    if record_series:
+        rec_u, rec_z, rec_z_hat = np.zeros((n_frames, 5)), np.zeros((n_frames, 7)), np.zeros((n_frames, 7))
+    in_cpp = (truth.engine == "cpp" and on_frame is None and not record_series
+              and isinstance(estimator, Estimator) and estimator.fixed_size)
     if in_cpp:  # the whole flight in C++: one call, the same frames
         out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities)
         t_truth += out["truth_s"]
@@ -139,12 +158,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
             declarations.append({"hypothesis": name, "time_s": round(frame * dt, 9)})
             if record_probabilities:
                 probs[start:frame, idx] = out["probabilities"][start:frame]
-                for n in online:
-                    if n not in columns:
-                        columns[n] = len(columns)
-                if len(columns) > probs.shape[1]:
-                    probs = np.hstack([probs, np.full((n_frames, len(columns) - probs.shape[1]), np.nan)])
-                idx = np.array([columns[n] for n in online], dtype=int)
+                probs, idx = _on_line(online, columns, probs)
                 start = frame
         if record_probabilities:
             probs[start:, idx] = out["probabilities"][start:]
@@ -170,18 +184,14 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         t_est += (c - b) + (e - d)
         if on_frame is not None:
             on_frame(t, np.array(u, dtype=float), np.array(z, dtype=float))
+        if record_series:
+            rec_u[i], rec_z[i], rec_z_hat[i] = u, z, z_hat
         z = z_next
         declared_now = estimator.last_declaration
         if declared_now is not None:
             declarations.append({"hypothesis": declared_now, "time_s": round(t, 9)})
             if record_probabilities:  # the level (and the hypotheses on line) may have changed
-                names = estimator.hypotheses
-                for name in names:
-                    if name not in columns:
-                        columns[name] = len(columns)
-                if len(columns) > probs.shape[1]:
-                    probs = np.hstack([probs, np.full((n_frames, len(columns) - probs.shape[1]), np.nan)])
-                idx = np.array([columns[name] for name in names], dtype=int)
+                probs, idx = _on_line(estimator.hypotheses, columns, probs)
         if record_probabilities:
             probs[i, idx] = estimator.probabilities
     truth.detach(fcs)
@@ -205,4 +215,6 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         timing={"wall_s": round(wall, 6), "truth_s": round(t_truth, 6), "estimator_s": round(t_est, 6),
                 "frames": n_frames},
         estimator_settings=dict(getattr(estimator, "settings", {})),
+        series=({"u": rec_u, "z": rec_z, "z_hat": rec_z_hat, "truth_log": truth.truth_log}
+                if record_series else None),
     )

@@ -25,6 +25,16 @@ class CampaignError(F16mmaeError):
     """A campaign argument is invalid, or a run failed; the message names it."""
 
 
+def scaled_dither(enabled: bool, scale: float = 1.0) -> DitherSpec:
+    """The truth model's default dither, on or off, its amplitudes multiplied by ``scale``
+    (``f16mmae run --dither-scale`` flies what a campaign's ``--dither-scale`` does)."""
+    base = DitherSpec(enabled=enabled)
+    if scale == 1.0:
+        return base
+    return DitherSpec(enabled=enabled, amplitude_deg=tuple(a * scale for a in base.amplitude_deg),
+                      frequency_hz=base.frequency_hz, phase_rad=base.phase_rad)
+
+
 @dataclass(frozen=True)
 class CampaignConfig:
     """The flight settings every campaign kind shares (everything that shapes its runs)."""
@@ -50,11 +60,7 @@ class CampaignConfig:
 
     def dither_spec(self) -> DitherSpec:
         """The truth model's dither for this config (its ``dither`` switch and ``dither_scale``)."""
-        base = DitherSpec(enabled=self.dither)
-        if self.dither_scale == 1.0:
-            return base
-        return DitherSpec(enabled=self.dither, amplitude_deg=tuple(a * self.dither_scale for a in base.amplitude_deg),
-                          frequency_hz=base.frequency_hz, phase_rad=base.phase_rad)
+        return scaled_dither(self.dither, self.dither_scale)
 
     def check_common(self, dwell_window_s: float, dwell_window_text: str = "") -> None:
         """The checks of the shared fields (CampaignError naming the bad value): runs, seed,

@@ -113,15 +113,15 @@ class TruthModel:
         act_fail, sen_fail = [], []
         for at, f in self._act_schedule:
             v = f.value if f.value is not None else actuators_module.ACTUATOR_MODE_DEFAULT_VALUE[f.mode]
-            act_fail.append((at, f.index, actuators_module._MODE_CODE[f.mode], float(v) if v is not None else 0.0))
+            act_fail.append((at, f.index, actuators_module.MODE_CODE[f.mode], float(v) if v is not None else 0.0))
         for at, f in self._sen_schedule:
             v = f.value if f.value is not None else sensors_module.default_value(f.index, f.mode)
-            sen_fail.append((at, f.index, sensors_module._MODE_CODE[f.mode], float(v) if v is not None else 0.0))
+            sen_fail.append((at, f.index, sensors_module.MODE_CODE[f.mode], float(v) if v is not None else 0.0))
         return core.TruthFrames(
             self.fdm, list(aircraft.SURFACE_PROPERTIES), list(sensors_module.SENSOR_PROPERTIES),
             sensors_module.WEIGHT_PROPERTY, [p for _, p in STATE_LOG],
             {"trim_rad": act.trim_rad, "limit_rad": actuators_module.POSITION_LIMIT_RAD,
-             "decay": act._decay, "max_step_rad": act._max_step},
+             "decay": act.decay, "max_step_rad": act.max_step_rad},
             {"z_trim": [float(x) for x in self.trim.z], "sigma": [float(x) for x in sigma],
              "full_scale_low": [lo for lo, _ in sensors_module.FULL_SCALE],
              "full_scale_high": [hi for _, hi in sensors_module.FULL_SCALE]},

@@ -7,6 +7,8 @@ import json
 
 import pytest
 
+from f16mmae.campaign.engine.config import CampaignError
+from f16mmae.campaign.single import SingleCampaign
 from f16mmae.cli.main import main
 
 
@@ -94,7 +96,8 @@ def test_report_on_a_summary_missing_a_field_names_the_field(capsys, tmp_path):
     (["hil", "--timeout", "1e12"], "--timeout '1e12' must be <= 3600.0"),
     (["run", "--seed", "99999999999"], "--seed '99999999999' must be <= 2147483647"),
     (["run", "--alt-ft", "90000"], "--alt-ft '90000' must be <= 35000.0"),
-    (["run", "--dwell-s", "3.4e7"], "--dwell-s '3.4e7' must be < 3600.0"),
+    (["run", "--dwell-s", "3.4e7"], "--dwell-s '3.4e7' must be <= 60.0 (valid: [0.0, 60.0])"),
+    (["campaign", "single", "--dwell-s", "61"], "--dwell-s '61' must be <= 60.0"),
     (["run", "--p-min", "0.5"], "--p-min '0.5' must be < 0.076923"),
     (["run", "--threshold", "nan"], "--threshold 'nan' must be finite"),
     (["campaign", "single", "--runs", "1000000000"], "--runs '1000000000' must be <= 1000 (valid: [1, 1000])"),
@@ -108,3 +111,8 @@ def test_report_on_a_summary_missing_a_field_names_the_field(capsys, tmp_path):
 ])
 def test_numbers_out_of_range_are_refused_with_the_valid_range(capsys, argv, expected):
     _refused(capsys, argv, expected)
+
+
+def test_campaign_config_bounds_the_dwell_as_the_core_does():
+    with pytest.raises(CampaignError, match=r"--dwell-s 61.0 must lie in \[0, 60.0\] s"):
+        SingleCampaign(dwell_s=61.0, duration_s=100.0, failure_time_s=3.0).validate()

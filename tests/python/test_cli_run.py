@@ -18,7 +18,7 @@ from f16mmae.cli.main import main
         (["run", "--fail", "FOO@3.0"], "FOO"),
         (["run", "--fail", "LS@9.0"], "not inside the 8.0-s flight"),
         (["run", "--mach", "0.9"], "--mach '0.9' must be <= 0.8 (valid: [0.3, 0.8])"),
-        (["run", "--dwell-s", "-1"], "--dwell-s '-1' must be >= 0.0 (valid: [0.0, 3600.0))"),
+        (["run", "--dwell-s", "-1"], "--dwell-s '-1' must be >= 0.0 (valid: [0.0, 60.0])"),
         (["run", "--fail", "PIT@1:sideways"], "unknown failure mode 'sideways' for sensor PIT; valid:"),
         (["campaign", "single", "--dither-scale", "9"], "--dither-scale '9' must be <= 5.0 (valid: [0.0, 5.0])"),
         (["campaign", "single", "--threshold", "0.3"], "--threshold '0.3' must be > 0.5 (valid: (0.5, 1.0))"),

@@ -262,7 +262,7 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
             fp.predict(ui[:, None])  # filterpy states are columns
             fp.update(zi)
 
-        n_fp = min(frames, 50)  # ~5 ms per frame: 3 passes of 50 frames suffice
+        n_fp = min(frames, 50)  # filterpy is slow per frame: 3 passes of 50 frames suffice
         result.filterpy_us = _time_per_frame(filterpy_step, z[:n_fp], u[:n_fp], 0.0)
     return result
 

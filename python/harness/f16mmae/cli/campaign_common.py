@@ -8,7 +8,7 @@ import shlex
 import sys
 
 from ..banks import BankError, bank_path
-from ..campaign.engine.config import RUNS_MAX
+from ..campaign.engine.config import DITHER_SCALE_MAX, RUNS_MAX
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..campaign.engine.failure_runs import CASES
 from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
@@ -48,7 +48,8 @@ def flight_settings(args) -> dict:
         tuning=args.tuning, mode=args.mode.lower(),
         turbulence=choice("--turbulence", args.turbulence, TURBULENCE_LEVELS),
         feedback=choice("--feedback", args.feedback, FEEDBACK_MODES),
-        dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale, minimum=0.0, maximum=5.0),
+        dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale, minimum=0.0,
+                                                           maximum=DITHER_SCALE_MAX),
         **estimator_options_from_args(args),
     )
     check_tuning("--tuning", args.tuning)

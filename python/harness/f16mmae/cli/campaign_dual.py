@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 
 from ..campaign.dual import DualCampaign, run_campaign
-from ..names import COMPONENTS
+from ..names import COMPONENTS, FAILURE_TIME_S
 from . import evidence
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
 from .options import CliError, flight_seconds, parse_choices
@@ -67,7 +67,8 @@ def register(kinds) -> None:
     p.add_argument("--first", default=None, metavar="LIST",
                    help="first failures (default all twelve); with --second: their cross product")
     p.add_argument("--second", default=None, metavar="LIST", help="second failures (default all twelve)")
-    p.add_argument("--first-time-s", default="3.0", metavar="T", help="first failure time (default 3.0 s)")
+    p.add_argument("--first-time-s", default=str(FAILURE_TIME_S), metavar="T",
+                   help=f"first failure time (default {FAILURE_TIME_S} s)")
     p.add_argument("--second-time-s", default="5.0", metavar="T", help="second failure time (default 5.0 s)")
     p.add_argument("--duration-s", default="10", metavar="T", help="flight duration (default 10 s)")
     add_run_arguments(p, "results/campaign-dual")

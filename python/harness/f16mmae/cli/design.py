@@ -10,8 +10,9 @@ from ..design.bank import design_bank, write_bank
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.tuning import TuningError, load_tuning
-from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
+from ..names import DESIGN_ALT_FT, DESIGN_MACH
 from ..outputs import writable_dir, writable_file
+from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
 from .options import CliError, number
 
 DESCRIPTION = """\
@@ -55,9 +56,10 @@ def register(subparsers) -> None:
         description=DESCRIPTION, epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--mach", default="0.4", metavar="M", help="design Mach number, 0.3-0.8 (default 0.4)")
-    p.add_argument("--alt-ft", default="20000", metavar="H",
-                   help="design altitude in ft, 5000-35000 (default 20000)")
+    p.add_argument("--mach", default=str(DESIGN_MACH), metavar="M",
+                   help=f"design Mach number, {MACH_RANGE[0]}-{MACH_RANGE[1]} (default {DESIGN_MACH})")
+    p.add_argument("--alt-ft", default=f"{DESIGN_ALT_FT:g}", metavar="H",
+                   help=f"design altitude in ft, {ALT_FT_RANGE[0]:g}-{ALT_FT_RANGE[1]:g} (default {DESIGN_ALT_FT:g})")
     p.add_argument("--tuning", default="tuned", metavar="NAME|FILE",
                    help="pseudonoise tuning: tuned | untuned | a .toml file (default tuned)")
     p.add_argument("--out", default=None, metavar="FILE",

@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 
 from ..errors import F16mmaeError
-from ..names import K_BANK
+from ..names import DWELL_S_MAX, K_BANK
 
 
 class CliError(F16mmaeError):
@@ -93,12 +93,12 @@ def add_estimator_arguments(p) -> None:
 
 def estimator_options_from_args(args) -> dict:
     """The estimator settings given, each range-checked: threshold in (0.5, 1), dwell in
-    [0, FLIGHT_S_MAX) s, p_min in [0, 1/K) with K the hypotheses on line (13)."""
+    [0, DWELL_S_MAX] s, p_min in [0, 1/K) with K the hypotheses on line (13)."""
     out = {}
     if args.threshold is not None:
         out["threshold"] = number("--threshold", args.threshold, minimum=0.5, exclusive=True, below=1.0)
     if args.dwell_s is not None:
-        out["dwell_s"] = number("--dwell-s", args.dwell_s, minimum=0.0, below=FLIGHT_S_MAX)
+        out["dwell_s"] = number("--dwell-s", args.dwell_s, minimum=0.0, maximum=DWELL_S_MAX)
     if args.p_min is not None:
         out["p_min"] = number("--p-min", args.p_min, minimum=0.0, below=round(1.0 / K_BANK, 6))
     return out

@@ -8,7 +8,7 @@ from ..campaign.engine import outcomes
 from ..campaign.engine.config import scaled_dither
 from ..campaign.engine.scoring import expected_hypothesis, score_run
 from ..loop.flight import fly
-from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..names import FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, TURBULENCE_LEVELS
 from ..report.flight import write_flight
 from ..outputs import writable_dir
 from ..truth import Scenario, TrimError, parse_fail
@@ -45,7 +45,6 @@ probabilities and, prefixed truth_, the truth model's state, surface positions a
 active -- recorded for you, never seen by the estimator.
 """
 
-DEFAULT_FAILURE_TIME_S = 3.0
 
 
 def register(subparsers) -> None:
@@ -63,9 +62,9 @@ def register(subparsers) -> None:
 def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a bank file (default tuned)") -> None:
     """The options of one flight, shared by ``run`` and ``hil``."""
     p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
-                   help="inject a failure (repeatable); TIME defaults to 3.0 s, MODE to complete")
+                   help=f"inject a failure (repeatable); TIME defaults to {FAILURE_TIME_S} s, MODE to complete")
     p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1)")
-    p.add_argument("--duration", default="8.0", metavar="S", help="flight length in s (default 8)")
+    p.add_argument("--duration", default=str(FLIGHT_S), metavar="S", help=f"flight length in s (default {FLIGHT_S:g})")
     p.add_argument("--turbulence", default="light", metavar="LEVEL",
                    help="none | light | moderate | severe (default light)")
     p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
@@ -85,7 +84,7 @@ def parse_failures(specs: list[str]):
         name, sep, rest = text.partition("@")
         if not sep:  # NAME or NAME:MODE
             name, colon, mode = text.partition(":")
-            text = f"{name}@{DEFAULT_FAILURE_TIME_S}" + (f":{mode}" if colon else "")
+            text = f"{name}@{FAILURE_TIME_S}" + (f":{mode}" if colon else "")
         try:
             out.append(parse_fail(text))
         except ValueError as exc:
@@ -129,16 +128,22 @@ def build_scenario(fields: dict, bank):
         raise CliError(str(exc)) from None
 
 
-def _run(args) -> int:
+def flight_from_args(args):
+    """(bank label, bank path, ModelBank, Scenario) of the flight options of ``run`` and ``hil``,
+    each checked, and ``--out`` checked writable, all before anything flies."""
     fields = scenario_fields(args)
-    options = estimator_options_from_args(args)
     if args.out:
-        writable_dir(args.out)  # before the flight, so its results have somewhere to go
+        writable_dir(args.out)
     try:
         label, path, bank = load_bank(args.bank)
     except BankError as exc:
         raise CliError(f"--bank: {exc}") from None
-    scenario = build_scenario(fields, bank)
+    return label, path, bank, build_scenario(fields, bank)
+
+
+def _run(args) -> int:
+    options = estimator_options_from_args(args)
+    label, path, bank, scenario = flight_from_args(args)
     try:
         result = fly(scenario, bank, estimator_options=options, record_series=bool(args.out))
     except (ValueError, TrimError) as exc:  # bad estimator option, untrimmable flight condition

@@ -38,7 +38,7 @@ from pathlib import Path
 from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
-from ...names import COMPONENTS, dual_name
+from ...names import COMPONENTS, FAILURE_TIME_S, dual_name
 from ..engine import drilldown, evidence, identity, outcomes
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
@@ -70,7 +70,7 @@ class DualCampaign(CampaignConfig):
     runs: int = 3
     duration_s: float = 10.0
     pairs: tuple[tuple[str, str], ...] = ALL_PAIRS
-    first_time_s: float = 3.0
+    first_time_s: float = FAILURE_TIME_S
     second_time_s: float = 5.0
     mach: float | None = None  # None: the bank's design point
     alt_ft: float | None = None

@@ -12,13 +12,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...errors import F16mmaeError
-from ...names import ESTIMATOR_SETTINGS, FEEDBACK_MODES, SINGLE_HYPOTHESES, TURBULENCE_LEVELS
+from ...names import (DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, FLIGHT_S, SINGLE_HYPOTHESES,
+                      TURBULENCE_LEVELS)
 from ...truth import DitherSpec, Scenario
 from ...truth.failures import make_failure
 
 
 #: The most seeded runs per case (or pair, or point and case) a campaign plans.
 RUNS_MAX = 1000
+#: The largest multiple of the truth model's default dither amplitudes a campaign flies.
+DITHER_SCALE_MAX = 5.0
 
 
 class CampaignError(F16mmaeError):
@@ -44,7 +47,7 @@ class CampaignConfig:
     tuning: str = "tuned"  # "tuned" | "untuned" | path to a bank file
     turbulence: str = "light"
     mode: str = "complete"
-    duration_s: float = 8.0
+    duration_s: float = FLIGHT_S
     feedback: str = "mmae"
     dither: bool = True
     dither_scale: float = 1.0  # multiplies the truth model's default dither amplitudes
@@ -74,11 +77,13 @@ class CampaignConfig:
             raise CampaignError(f"unknown turbulence {self.turbulence!r}; valid: {', '.join(TURBULENCE_LEVELS)}")
         if self.feedback not in FEEDBACK_MODES:
             raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
-        if not 0.0 <= self.dither_scale <= 5.0:
-            raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, 5]")
+        if not 0.0 <= self.dither_scale <= DITHER_SCALE_MAX:
+            raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, {DITHER_SCALE_MAX}]")
         if self.threshold is not None and not 0.5 < self.threshold < 1.0:
             raise CampaignError(f"--threshold {self.threshold} must lie in (0.5, 1)")
-        if self.dwell_s is not None and not 0.0 <= self.dwell_s < dwell_window_s:
+        if self.dwell_s is not None and not 0.0 <= self.dwell_s <= DWELL_S_MAX:
+            raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {DWELL_S_MAX}] s")
+        if self.dwell_s is not None and not self.dwell_s < dwell_window_s:
             raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {dwell_window_s}) s{dwell_window_text}")
         if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / len(SINGLE_HYPOTHESES):
             raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(SINGLE_HYPOTHESES)})")

@@ -47,7 +47,7 @@ import numpy as np
 
 from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
-from ...names import NONE
+from ...names import FAILURE_TIME_S, NONE
 from ...truth.aircraft import check_flight_condition, trimmed_fdm
 from ...truth.failures import make_failure
 from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring
@@ -70,7 +70,7 @@ class EnvelopeCampaign(CampaignConfig):
     runs: int = 2
     points: tuple[EnvelopePoint, ...] = PAPER_POINTS
     cases: tuple[str, ...] = CASES
-    failure_time_s: float = 3.0
+    failure_time_s: float = FAILURE_TIME_S
     correct_fraction_min: float = CORRECT_FRACTION_MIN
     false_alarms_max: int = FALSE_ALARMS_MAX
 

@@ -24,7 +24,7 @@ from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import scenario_from_dict
 from ...loop.overhead import measure_overhead
-from ...names import NONE
+from ...names import FAILURE_TIME_S, NONE
 from ..engine import drilldown, evidence, identity, scoring
 from ..engine.config import CampaignConfig
 from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
@@ -39,7 +39,7 @@ class SingleCampaign(CampaignConfig):
 
     cases: tuple[str, ...] = CASES
     baseline: str | None = "untuned"
-    failure_time_s: float = 3.0
+    failure_time_s: float = FAILURE_TIME_S
     mach: float | None = None  # None: the bank's design point
     alt_ft: float | None = None
 

@@ -1,10 +1,12 @@
 // Truth model per-step arithmetic (cpp/truth/truth_frame.h) against hand-computed values:
 // actuator lag, rate and position limits and each failure mode; sensor noise and each failure
-// mode; the control law's trim hold, gains, integrator limit, washout and dither.
+// mode; the control law's trim hold, gains, integrator limit, washout and dither; a frame of
+// all three allocates nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "allocation_counter.h"
 #include "truth/truth_frame.h"
 
 namespace f16mmae::truth {
@@ -126,6 +128,29 @@ TEST(TruthControlLaw, IntegratorLimitWashoutAndDither) {
   const Surfaces u = d.command(c.z_trim, 0.75);
   EXPECT_DOUBLE_EQ(u[0], -0.02 + 0.01 * std::sin(1.5));
   EXPECT_DOUBLE_EQ(u[4], 0.0 + 0.02 * std::sin(1.25));
+}
+
+TEST(TruthFrame, AFrameAllocatesNothing) {
+  ActuatorBank act = one_surface_bank();
+  SensorSet sen;
+  sen.sigma.fill(0.1);
+  sen.reset();
+  FcsCoefficients c = law();
+  c.dither_enabled = true;
+  c.dither_amplitude_rad.fill(0.01);
+  FlightControlLaw fcs{c};
+  const double normal[7] = {0.1, -0.2, 0.3, -0.4, 0.5, -0.6, 0.7};
+  sen.fail(2, SensorMode::drift, 0.01, 0.0);
+  act.fail(1, ActuatorMode::loss, 0.5);
+  const long long before = f16mmae::testing::allocation_count();
+  double sum = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const Sensors z = sen.measure(c.z_trim, normal, i / 64.0);
+    const Surfaces u = fcs.command(z, i / 64.0);
+    sum += act.step(u)[0] + act.step(u)[1];
+  }
+  EXPECT_EQ(f16mmae::testing::allocation_count(), before);
+  EXPECT_TRUE(std::isfinite(sum));
 }
 
 }  // namespace

@@ -20,6 +20,7 @@ after the first flight of a condition.  Real-time factor RTF = simulated s / wal
 """
 from __future__ import annotations
 
+import os
 import time
 
 import numpy as np
@@ -86,7 +87,7 @@ def benchmark(duration_s: float = 8.0, repeat: int = 5) -> dict:
         times["cpp_flight"].append(_flight(duration_s, "cpp"))
         times["python_flight"].append(_flight(duration_s, "python"))
         times["cpp_first_flight"].append(_flight(duration_s, "cpp", first=True))
-    res: dict = {"duration_s": duration_s, "repeat": repeat}
+    res: dict = {"duration_s": duration_s, "repeat": repeat, "load_average": os.getloadavg()[0]}
     for k, v in times.items():
         res[f"{k}_s"] = min(v)
         res[f"{k}_rtf"] = duration_s / min(v)
@@ -120,7 +121,8 @@ def closed_loop_overhead(duration_s: float = 8.0, repeat: int = 5) -> dict:
 def report(r: dict, lv: dict, ov: dict, stream) -> None:
     """Print :func:`benchmark` ``r``, :func:`dither_levels` ``lv`` and :func:`closed_loop_overhead` ``ov``."""
     print(f"truth-model benchmark: {r['duration_s']:g}-s nominal flight (20,000 ft, M 0.4), "
-          f"JSBSim {SIM_RATE_HZ} Hz, frames 64 Hz, best of {r['repeat']}, timings interleaved", file=stream)
+          f"JSBSim {SIM_RATE_HZ} Hz, frames 64 Hz, best of {r['repeat']}, timings interleaved; "
+          f"load average {r['load_average']:.1f} on {os.cpu_count()} cores", file=stream)
     print(f"  {'':46s}{'wall ms':>10s}{'RTF':>9s}", file=stream)
     rows = (("bare JSBSim stock f16, stepping", "bare_loop"),
             ("bare JSBSim stock f16, +load+trim", "bare_total"),

@@ -174,3 +174,12 @@ def test_a_closed_loop_flown_whole_in_cpp_is_the_per_frame_one(feedback):
         assert frames.hypotheses == whole.hypotheses
         assert np.array_equal(frames.probabilities, whole.probabilities, equal_nan=True)
         assert frames.final_hypothesis == whole.final_hypothesis
+
+
+def test_a_core_built_for_another_jsbsim_is_refused_by_name(monkeypatch):
+    from f16mmae import core
+    from f16mmae.truth import aircraft
+
+    monkeypatch.setattr(core, "JSBSIM_VERSION", "0.0.1")
+    with pytest.raises(RuntimeError, match=r"built against jsbsim 0\.0\.1 but .*\(make build\)"):
+        aircraft.load_fdm(cxx=True)

@@ -50,6 +50,6 @@ def jsbsim_exec(root_dir: str):
 
     if core.JSBSIM_VERSION != jsbsim.__version__:
         raise RuntimeError(f"f16mmae.core was built against jsbsim {core.JSBSIM_VERSION} but jsbsim "
-                           f"{jsbsim.__version__} is installed: rebuild (make build) or choose "
-                           f"{ENGINE_ENV}=python")
+                           f"{jsbsim.__version__} is installed: rebuild f16mmae (make build) or "
+                           f"install jsbsim=={core.JSBSIM_VERSION}")
     return core.JSBSimExec(root_dir)

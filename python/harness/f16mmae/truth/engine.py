@@ -1,14 +1,16 @@
-"""Which code flies the truth model's frames, and the trimmed aircraft kept per flight condition.
+"""Which code flies the truth model's frames.
 
 Engines (``ENGINES``):
 
 ``cpp`` (default)
     The per-step path (sensors, flight control law, dither, actuators, failures) in C++
     (``cpp/truth/truth_frame.h``), stepping JSBSim from C++ (``f16mmae.core.TruthFrames`` over a
-    ``core.JSBSimExec``): one Python call per frame, or one per flight (``fly_raw``).
+    ``core.JSBSimExec``): one Python call per frame, or one per flight (``fly_raw``, and the
+    closed loop with the in-process estimator).
 ``python``
     The reference: the same model in this package's Python (``actuators``, ``sensors``,
-    ``fcs``, ``dither``) on a ``jsbsim.FGFDMExec``.  Slower (about 12 us of Python per frame);
+    ``fcs``, ``dither``), reading and writing JSBSim's properties from Python.  Slower (about
+    2x the C++ engine per flight);
     kept as the readable statement of the model and the yardstick of the C++ path
     (tests/python/test_truth_engines.py flies both and requires the same flights).
 

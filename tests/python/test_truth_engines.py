@@ -183,3 +183,16 @@ def test_a_core_built_for_another_jsbsim_is_refused_by_name(monkeypatch):
     monkeypatch.setattr(core, "JSBSIM_VERSION", "0.0.1")
     with pytest.raises(RuntimeError, match=r"built against jsbsim 0\.0\.1 but .*\(make build\)"):
         aircraft.load_fdm(cxx=True)
+
+
+def test_the_cpp_frames_refuse_bad_input_by_name():
+    truth = TruthModel(Scenario(duration_s=0.5), engine="cpp")
+    with pytest.raises(ValueError, match=r"noise must be an \(n, 7\) array"):
+        truth._frames.set_noise(np.zeros((3, 6)))
+    with pytest.raises(ValueError, match="u needs 5 values"):
+        truth._frames.advance(np.zeros(4))
+    with pytest.raises(ValueError, match="no flight control law"):
+        truth._frames.command(truth.trim.z)
+    with pytest.raises(ValueError, match="field 'kq'"):
+        truth._frames.set_fcs({"u_trim": [0.0] * 5, "limit_rad": [1.0] * 5, "z_trim": [0.0] * 7})
+    truth.close()

@@ -1,6 +1,6 @@
 // bank_estimator_settings: the bank's recommended estimator settings from its metadata JSON,
 // the same rule as f16mmae.closedloop.bank_estimator_settings.
-#include "bank_settings.h"
+#include "daemon/bank_settings.h"
 
 #include <gtest/gtest.h>
 

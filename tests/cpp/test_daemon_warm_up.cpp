@@ -1,10 +1,10 @@
 // The cache warm-up of mmae-daemon: WarmUpSchedule's timing, and that Executive::warm_up and
 // the core's warm_cache change nothing (statuses byte for byte, bank outputs bit for bit)
 // and allocate nothing.
-#include "executive.h"
-#include "warm_up_schedule.h"
+#include "executive/executive.h"
+#include "daemon/warm_up_schedule.h"
 #include "allocation_counter.h"
-#include "test_daemon_bank.h"
+#include "test_executive_bank.h"
 
 #include "bankfile/bank_file.h"
 #include "f16mmae/hierarchical_bank.h"
@@ -17,6 +17,7 @@
 
 using namespace f16mmae;
 using namespace f16mmae::daemon;
+using namespace f16mmae::executive;
 using namespace std::chrono_literals;
 
 namespace {
@@ -108,7 +109,7 @@ TEST(ExecutiveWarmUp, ChangesNoStatusAndAllocatesNothing) {
     }
     warmed.warm_up();
     warmed.warm_up();  // twice: the rehearsal's own state never leaks into the real one
-    const bool sent = warmed.on_sensor(s);
+    const Fate sent = warmed.on_sensor(s);
     allocations += f16mmae::testing::allocation_count() - before;
     ASSERT_EQ(plain.on_sensor(s), sent);
     ASSERT_EQ(encoded(plain).size(), encoded(warmed).size());
@@ -121,7 +122,7 @@ TEST(ExecutiveWarmUp, ChangesNoStatusAndAllocatesNothing) {
     ASSERT_EQ(ea, ew) << "frame " << i;
     level1_frames += plain.status().bank_level == 1;
     const long long before_command = f16mmae::testing::allocation_count();
-    const bool applied = warmed.on_command(c);
+    const Fate applied = warmed.on_command(c);
     allocations += f16mmae::testing::allocation_count() - before_command;
     ASSERT_EQ(plain.on_command(c), applied);
   }

@@ -107,19 +107,9 @@ class Dither:
         self._ph = list(self.spec.phase_rad)
         self.enabled = on and any(self._a)
 
-    @property
-    def amplitudes_rad(self) -> list[float]:
-        """a_j (rad), scheduled (0 when disabled)."""
-        return list(self._a)
-
-    @property
-    def omegas_rad_s(self) -> list[float]:
-        """2 pi f_j (rad/s)."""
-        return list(self._w)
-
-    @property
-    def phases_rad(self) -> list[float]:
-        return list(self._ph)
+    def terms(self) -> tuple[list[float], list[float], list[float]]:
+        """(a_j in rad, scheduled, 0 when disabled; 2 pi f_j in rad/s; phi_j in rad)."""
+        return list(self._a), list(self._w), list(self._ph)
 
     def value(self, time_s: float) -> list[float]:
         """Dither (rad) on LS RS LF RF RUD at ``time_s`` (s)."""

@@ -33,7 +33,7 @@ struct DaemonConfig {
   std::string lcm_url;              // resolved: never empty after parsing
   std::string channel_prefix;
   double rate_hz = 64.0;            // must equal the bank's frame_rate_hz
-  // Estimator settings over the bank's recommended ones (bank_settings.h); unset: the bank's.
+  // Estimator settings over the bank's recommended ones (ModelBank::estimator); unset: the bank's.
   std::optional<double> p_min, threshold, dwell_s;
   long long max_frames = 0;         // exit after this many status frames; 0 = run until signalled
   int realtime_priority = 0;        // > 0: SCHED_FIFO at this priority and memory locked

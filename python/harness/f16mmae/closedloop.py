@@ -47,7 +47,7 @@ class Estimator:
 
     ``Estimator(model_bank, **options)``: the settings of ``core.HierarchicalBank``
     (``p_min``, ``threshold``, ``dwell_s``) are the bank's recommended ones
-    (:func:`bank_estimator_settings`, from its metadata) updated by ``options`` (which win);
+    (:func:`bank_estimator_settings`, typed fields of the bank) updated by ``options`` (which win);
     ``settings`` holds the result.  Per frame: ``update(z) -> z_hat``, then
     ``propagate(u)``; both absolute (the core subtracts the bank's z_trim / u_trim and
     returns z_hat absolute).  Nothing else flows in."""
@@ -113,24 +113,11 @@ class Estimator:
 
 _ESTIMATORS: dict[tuple, Estimator] = {}
 
-#: Keys of a bank's metadata ``"estimator"`` object that the estimator applies.
-ESTIMATOR_SETTINGS = ("p_min", "threshold", "dwell_s")
-
-
 def bank_estimator_settings(model_bank) -> dict:
-    """The estimator settings a bank's design recommends: its metadata JSON's ``"estimator"``
-    object (``p_min``, ``threshold``, ``dwell_s``; written by ``f16mmae design`` from the
-    tuning's ``[estimator]`` table).  Missing keys (or no metadata) mean the core's defaults.
-    mmae-daemon applies the same rule in C++ (``cpp/daemon/bank_settings.h``);
-    ``tests/python/test_daemon_settings_agree.py`` holds the two together."""
-    try:
-        meta = json.loads(model_bank.metadata or "{}")
-    except (TypeError, ValueError):
-        return {}
-    table = meta.get("estimator", {}) if isinstance(meta, dict) else {}
-    if not isinstance(table, dict):
-        return {}
-    return {k: float(table[k]) for k in ESTIMATOR_SETTINGS if k in table}
+    """The estimator settings a bank's design recommends: the typed fields ``p_min``,
+    ``threshold`` and ``dwell_s`` of the bank file (format version 2), read by the one C++
+    loader; mmae-daemon applies the same fields."""
+    return dict(model_bank.estimator_settings)
 
 
 # -- results ----------------------------------------------------------------------------------------

@@ -14,8 +14,8 @@
 // Each check throws std::invalid_argument "<who>: <setting> must be <range>, got <value>".
 #pragma once
 
+#include <charconv>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -33,19 +33,22 @@ struct EstimatorSettings {
   double dwell_s = kDefaultDwellS;
 };
 
+// The shortest text that reads back as v ("0.4", "3.4e+07", "nan"), for error messages.
+inline std::string format_value(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
 namespace settings_detail {
-[[noreturn]] inline void refuse(const std::string& who, const char* setting, const char* range, double value) {
-  std::ostringstream s;
-  s.precision(17);
-  s << who << ": " << setting << " must be " << range << ", got " << value;
-  throw std::invalid_argument(s.str());
+[[noreturn]] inline void refuse(const std::string& who, const char* setting, const std::string& range, double value) {
+  throw std::invalid_argument(who + ": " + setting + " must be " + range + ", got " + format_value(value));
 }
 }  // namespace settings_detail
 
 inline void check_p_min(double p_min, int k, const std::string& who) {
   if (!(p_min >= 0.0) || !(p_min * k < 1.0)) {
-    const std::string range = "in [0, 1/K) with K = " + std::to_string(k) + " hypotheses";
-    settings_detail::refuse(who, "p_min", range.c_str(), p_min);
+    settings_detail::refuse(who, "p_min", "in [0, 1/K) with K = " + std::to_string(k) + " hypotheses", p_min);
   }
 }
 
@@ -60,20 +63,14 @@ inline void check_frame_rate(double frame_rate_hz, const std::string& who) {
 
 // max(1, round(dwell_s * frame_rate_hz)) after checking both (see the header).
 inline int dwell_frames(double dwell_s, double frame_rate_hz, const std::string& who) {
-  if (!(dwell_s >= 0.0 && dwell_s <= kMaxDwellS)) {
-    std::ostringstream range;
-    range << "in [0, " << kMaxDwellS << "] s";
-    settings_detail::refuse(who, "dwell_s", range.str().c_str(), dwell_s);
-  }
+  if (!(dwell_s >= 0.0 && dwell_s <= kMaxDwellS))
+    settings_detail::refuse(who, "dwell_s", "in [0, " + format_value(kMaxDwellS) + "] s", dwell_s);
   check_frame_rate(frame_rate_hz, who);
   const double n = std::round(dwell_s * frame_rate_hz);
-  if (!(n <= kMaxDwellFrames)) {
-    std::ostringstream s;
-    s.precision(17);
-    s << who << ": dwell_s * frame_rate_hz = " << dwell_s << " s * " << frame_rate_hz << " Hz = " << n
-      << " frames exceeds the limit of " << kMaxDwellFrames << " frames";
-    throw std::invalid_argument(s.str());
-  }
+  if (!(n <= kMaxDwellFrames))
+    throw std::invalid_argument(who + ": dwell_s * frame_rate_hz = " + format_value(dwell_s) + " s * " +
+                                format_value(frame_rate_hz) + " Hz = " + format_value(n) +
+                                " frames exceeds the limit of " + std::to_string(kMaxDwellFrames) + " frames");
   return n < 1.0 ? 1 : static_cast<int>(n);
 }
 

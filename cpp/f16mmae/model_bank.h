@@ -79,14 +79,13 @@ struct ModelBank {
     check_text("tuning", tuning);
     check_text("metadata", metadata);
     if (hypotheses.empty()) fail("no hypotheses");
+    for (std::size_t i = 0; i < hypotheses.size(); ++i)  // before any message quotes a name
+      check_text("hypotheses[" + std::to_string(i) + "].name", hypotheses[i].name);
     if (hypotheses[0].name != "NONE") fail("hypothesis 0 must be NONE, got '" + hypotheses[0].name + "'");
     auto check_number = [&](const char* what, double v, bool positive, double upper) {
-      if (!std::isfinite(v) || v < 0.0 || (positive && v == 0.0) || v > upper) {
-        std::ostringstream s;
-        s.precision(17);
-        s << what << " must be finite, " << (positive ? "> 0" : ">= 0") << " and <= " << upper << ", got " << v;
-        fail(s.str());
-      }
+      if (!std::isfinite(v) || v < 0.0 || (positive && v == 0.0) || v > upper)
+        fail(std::string(what) + " must be finite, " + (positive ? "> 0" : ">= 0") + " and <= " +
+             format_value(upper) + ", got " + format_value(v));
     };
     check_number("frame_rate_hz", frame_rate_hz, true, kMaxFrameRateHz);
     check_number("mach", mach, false, 10.0);
@@ -113,7 +112,6 @@ struct ModelBank {
       const std::string who = "hypothesis " + std::to_string(i) + " '" + m.name + "'";
       for (std::size_t j = 0; j < i; ++j)
         if (hypotheses[j].name == m.name) fail(who + ": duplicate name");
-      check_text("hypotheses[" + std::to_string(i) + "].name", m.name);
       check_filter_matrices(m.phi, m.bd, m.h, m.k, m.a, nx_, nu_, nz_, "model bank: " + who);
       check_failed_components(m, who);
     }

@@ -18,7 +18,7 @@ from f16mmae.cli import main
         (["run", "--fail", "FOO@3.0"], "FOO"),
         (["run", "--fail", "LS@9.0"], "not inside the 8.0-s flight"),
         (["run", "--mach", "0.9"], "mach 0.9 outside the supported range 0.3-0.8"),
-        (["run", "--dwell-s", "-1"], "dwell_s must be finite and >= 0, got -1"),
+        (["run", "--dwell-s", "-1"], "dwell_s must be in [0, 60] s, got -1"),
         (["run", "--fail", "PIT@1:sideways"], "unknown failure mode 'sideways' for sensor PIT; valid:"),
         (["campaign", "single", "--dither-scale", "9"], "--dither-scale 9.0 must lie in [0, 5]"),
         (["campaign", "single", "--threshold", "0.3"], "--threshold 0.3 must lie in (0.5, 1)"),

@@ -6,8 +6,8 @@
 #pragma once
 
 #include "daemon_config.h"
-#include "executive.h"
-#include "step_stats.h"
+#include "executive/executive.h"
+#include "executive/step_stats.h"
 
 #include <lcm/lcm.h>
 
@@ -17,6 +17,9 @@
 #include <cstdint>
 
 namespace f16mmae::daemon {
+
+using executive::Executive;
+using executive::StepStats;
 
 class LcmNode {
  public:

@@ -5,7 +5,7 @@
 // up, and again every --rewarm-us until the frame comes (WarmUpSchedule, Executive::warm_up).
 // Exit status: 0 clean end, 1 bank or LCM unusable, 2 usage error.
 #include "daemon_config.h"
-#include "executive.h"
+#include "executive/executive.h"
 #include "lcm_node.h"
 #include "lcm_wait.h"
 #include "warm_up_schedule.h"
@@ -60,6 +60,7 @@ void go_realtime(int priority) {
 
 int main(int argc, char** argv) {
   using namespace f16mmae::daemon;
+  using namespace f16mmae::executive;
   const ParseResult parsed = parse_daemon_args(std::vector<std::string>(argv + 1, argv + argc),
                                                std::getenv("LCM_DEFAULT_URL"));
   if (!parsed.ok) {

@@ -1,5 +1,5 @@
 // parse_daemon_args: defaults, LCM URL resolution, and errors that name the bad value.
-#include "daemon_config.h"
+#include "daemon/daemon_config.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // LcmNode over memq:// (in process): sensor frames in, statuses out on the prefixed channel,
 // commands applied, resets honoured, undecodable messages counted, other channels ignored.
-#include "lcm_node.h"
-#include "test_daemon_bank.h"
+#include "daemon/lcm_node.h"
+#include "test_executive_bank.h"
 
 #include <gtest/gtest.h>
 
@@ -12,6 +12,7 @@
 
 using namespace f16mmae;
 using namespace f16mmae::daemon;
+using namespace f16mmae::executive;
 
 namespace {
 

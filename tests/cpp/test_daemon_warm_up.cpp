@@ -1,10 +1,10 @@
 // The cache warm-up of mmae-daemon: WarmUpSchedule's timing, and that Executive::warm_up and
 // the core's warm_cache change nothing (statuses byte for byte, bank outputs bit for bit)
 // and allocate nothing.
-#include "executive.h"
-#include "warm_up_schedule.h"
+#include "executive/executive.h"
+#include "daemon/warm_up_schedule.h"
 #include "allocation_counter.h"
-#include "test_daemon_bank.h"
+#include "test_executive_bank.h"
 
 #include "bankfile/bank_file.h"
 #include "f16mmae/hierarchical_bank.h"
@@ -17,6 +17,7 @@
 
 using namespace f16mmae;
 using namespace f16mmae::daemon;
+using namespace f16mmae::executive;
 using namespace std::chrono_literals;
 
 namespace {

@@ -20,7 +20,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace f16mmae::daemon {
+namespace f16mmae::executive {
 
 class MmaeEstimator {
  public:
@@ -80,4 +80,4 @@ class MmaeEstimator {
   std::string empty_;
 };
 
-}  // namespace f16mmae::daemon
+}  // namespace f16mmae::executive

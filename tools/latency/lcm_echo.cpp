@@ -16,10 +16,10 @@
 // Ends cleanly on SIGINT/SIGTERM with the number of messages echoed and the time from each
 // message's callback to its echo published (p50/p99/max), the daemon's sensor-to-publish twin.
 #include "cpu_work.h"
-#include "daemon_config.h"
-#include "lcm_wait.h"
-#include "step_stats.h"
-#include "warm_up_schedule.h"
+#include "daemon/daemon_config.h"
+#include "daemon/lcm_wait.h"
+#include "executive/step_stats.h"
+#include "daemon/warm_up_schedule.h"
 
 #include <lcm/lcm.h>
 #include <sched.h>
@@ -43,8 +43,8 @@ struct Echo {
   std::string out;
   long long count = 0;
   std::chrono::steady_clock::time_point last{};
-  f16mmae::daemon::StepStats in_to_publish;  // message in (the callback) -> echo published
-  const f16mmae::daemon::CpuWork* work = nullptr;  // spent before each echo (--work-us)
+  f16mmae::executive::StepStats in_to_publish;  // message in (the callback) -> echo published
+  const f16mmae::tools::CpuWork* work = nullptr;  // spent before each echo (--work-us)
 };
 
 void on_message(const lcm_recv_buf_t* rbuf, const char*, void* user) {
@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
-  const f16mmae::daemon::CpuWork work(work_us);  // calibrated before the first message
+  const f16mmae::tools::CpuWork work(work_us);  // calibrated before the first message
   Echo echo{lcm, out};
   if (work_us > 0.0) echo.work = &work;
   lcm_subscribe(lcm, in.c_str(), on_message, &echo);
@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("lcm-echo-f16: %lld messages echoed, message-to-publish %s; %lld scheduled wake-ups\n", echo.count,
-              f16mmae::daemon::describe_us(echo.in_to_publish).c_str(), wakes);
+              f16mmae::executive::describe_us(echo.in_to_publish).c_str(), wakes);
   lcm_destroy(lcm);
   return rc;
 }

@@ -1,5 +1,5 @@
 // StepStats: quantiles of a fixed log-linear histogram against exact order statistics.
-#include "step_stats.h"
+#include "executive/step_stats.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-using f16mmae::daemon::StepStats;
+using f16mmae::executive::StepStats;
 
 TEST(StepStats, BucketsTileTheLineAndContainTheirValues) {
   std::mt19937_64 rng(7);
@@ -62,11 +62,11 @@ TEST(StepStats, SmallSamplesAndEmpty) {
 // The form the daemon's and the echo's summary lines use, which the latency benchmark reads.
 TEST(StepStats, DescribedInMicroseconds) {
   StepStats s;
-  EXPECT_EQ(f16mmae::daemon::describe_us(s), "p50 0.0 us, p99 0.0 us, max 0.0 us");
+  EXPECT_EQ(f16mmae::executive::describe_us(s), "p50 0.0 us, p99 0.0 us, max 0.0 us");
   for (int i = 0; i < 99; ++i) s.record(5000);
   s.record(20000);
   // p50: 5000 ns in the bucket [4992, 5056), reported at its midpoint; p99 and max: 20000 exact
-  EXPECT_EQ(f16mmae::daemon::describe_us(s), "p50 5.0 us, p99 5.0 us, max 20.0 us");
+  EXPECT_EQ(f16mmae::executive::describe_us(s), "p50 5.0 us, p99 5.0 us, max 20.0 us");
   s.record(20000);
-  EXPECT_EQ(f16mmae::daemon::describe_us(s), "p50 5.0 us, p99 20.0 us, max 20.0 us");
+  EXPECT_EQ(f16mmae::executive::describe_us(s), "p50 5.0 us, p99 20.0 us, max 20.0 us");
 }

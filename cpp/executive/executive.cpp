@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace f16mmae::daemon {
+namespace f16mmae::executive {
 
 namespace {
 
@@ -162,4 +162,4 @@ std::string Executive::summary() const {
   return line + ("step " + describe_us(update_stats_)) + "; propagate " + describe_us(propagate_stats_);
 }
 
-}  // namespace f16mmae::daemon
+}  // namespace f16mmae::executive

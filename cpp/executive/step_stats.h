@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <string>
 
-namespace f16mmae::daemon {
+namespace f16mmae::executive {
 
 class StepStats {
  public:
@@ -91,4 +91,4 @@ inline std::string describe_us(const StepStats& s) {
   return text;
 }
 
-}  // namespace f16mmae::daemon
+}  // namespace f16mmae::executive

@@ -1,11 +1,11 @@
 // FrameSequencer: every frame index owes the bank one propagate, preceded by at most one
 // update, whatever the wire does (duplicates, reordering, loss, rejected frames).
-#include "frame_sequencer.h"
+#include "executive/frame_sequencer.h"
 
 #include <gtest/gtest.h>
 
-using f16mmae::daemon::FramePlan;
-using f16mmae::daemon::FrameSequencer;
+using f16mmae::executive::FramePlan;
+using f16mmae::executive::FrameSequencer;
 
 namespace {
 

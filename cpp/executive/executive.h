@@ -31,7 +31,7 @@
 #include <string>
 #include <vector>
 
-namespace f16mmae::daemon {
+namespace f16mmae::executive {
 
 class Executive {
  public:
@@ -95,4 +95,4 @@ class Executive {
   std::int64_t statuses_ = 0;
 };
 
-}  // namespace f16mmae::daemon
+}  // namespace f16mmae::executive

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace f16mmae::daemon::test_support {
+namespace f16mmae::test_support {
 
 inline ModelBank synthetic_bank() {
   const std::vector<std::string> actuators = {"LS", "RS", "LF", "RF", "RUD"};
@@ -66,4 +66,4 @@ inline ModelBank synthetic_bank() {
   return b;
 }
 
-}  // namespace f16mmae::daemon::test_support
+}  // namespace f16mmae::test_support

@@ -10,7 +10,7 @@
 // work), not the code's: no program of that length can have a shorter tail on this host.
 // Prints one line per idle time: p50, p99, max in us and p99/p50.
 #include "cpu_work.h"
-#include "step_stats.h"
+#include "executive/step_stats.h"
 
 #include <chrono>
 #include <cmath>
@@ -67,16 +67,16 @@ int main(int argc, char** argv) {
       return usage(("unknown argument '" + a + "'").c_str());
     }
   }
-  const f16mmae::daemon::CpuWork work(work_us);
+  const f16mmae::tools::CpuWork work(work_us);
   for (const double idle : idles) {
-    f16mmae::daemon::StepStats stats;
+    f16mmae::executive::StepStats stats;
     const auto gap = std::chrono::nanoseconds(std::llround(idle * 1e3));
     for (long i = 0; i < samples; ++i) {
       if (idle > 0) std::this_thread::sleep_for(gap);
       stats.record(work.timed());
     }
     const double p50 = stats.quantile_ns(0.5), p99 = stats.quantile_ns(0.99);
-    std::printf("idle %g us: work %s (p99/p50 %.1f)\n", idle, f16mmae::daemon::describe_us(stats).c_str(),
+    std::printf("idle %g us: work %s (p99/p50 %.1f)\n", idle, f16mmae::executive::describe_us(stats).c_str(),
                 p50 > 0 ? p99 / p50 : 0.0);
   }
   return 0;

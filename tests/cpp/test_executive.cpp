@@ -1,9 +1,9 @@
 // Executive: the daemon's frame handling against the core bank driven directly with
 // perturbations from trim (docs/INTERFACES.md), for in-order frames, a gap (propagate with
 // the held command, no update), rejected frames; and no allocation on the per-frame path.
-#include "executive.h"
+#include "executive/executive.h"
 #include "allocation_counter.h"
-#include "test_daemon_bank.h"
+#include "test_executive_bank.h"
 
 #include "bankfile/bank_file.h"
 
@@ -13,7 +13,7 @@
 #include <limits>
 
 using namespace f16mmae;
-using namespace f16mmae::daemon;
+using namespace f16mmae::executive;
 
 namespace {
 

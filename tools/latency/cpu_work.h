@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace f16mmae::daemon {
+namespace f16mmae::tools {
 
 class CpuWork {
  public:
@@ -50,4 +50,4 @@ class CpuWork {
   long n_;
 };
 
-}  // namespace f16mmae::daemon
+}  // namespace f16mmae::tools

@@ -26,7 +26,7 @@
 
 #include <cstdint>
 
-namespace f16mmae::daemon {
+namespace f16mmae::executive {
 
 struct SequencerCounters {
   std::int64_t frames_updated = 0;      // sensor frames applied as a measurement update
@@ -137,4 +137,4 @@ class FrameSequencer {
   SequencerCounters counters_;
 };
 
-}  // namespace f16mmae::daemon
+}  // namespace f16mmae::executive

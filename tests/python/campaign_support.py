@@ -1,7 +1,7 @@
 """Test support shared by the campaign tests."""
 from __future__ import annotations
 
-from f16mmae.campaign.executor import InlineExecutor
+from f16mmae.campaign.engine.executor import InlineExecutor
 
 
 class CountingExecutor(InlineExecutor):

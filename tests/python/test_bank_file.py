@@ -14,7 +14,8 @@ import pytest
 import scipy.linalg
 
 import f16mmae
-from f16mmae import bench, core, names
+from f16mmae import core, names
+from f16mmae.bench import estimator as bench
 
 HEADER = struct.Struct(">8sIQ32s")  # magic, format version, payload size, SHA-256 (52 bytes)
 

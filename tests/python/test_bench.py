@@ -10,8 +10,9 @@ import re
 import numpy as np
 import pytest
 
-from f16mmae import bench, core, names
-from f16mmae.cli import main
+from f16mmae import core, names
+from f16mmae.bench import estimator as bench
+from f16mmae.cli.main import main
 
 needs_filter_bank = pytest.mark.skipif(not hasattr(core, "FilterBank"), reason="core.FilterBank not built")
 

@@ -7,14 +7,16 @@ import json
 
 import pytest
 
-from f16mmae.campaign import dual_scoring, single
+from f16mmae.banks import load_bank
+from f16mmae.campaign.dual import scoring as dual_scoring
+from f16mmae.campaign.engine.failure_runs import run_seed as single_run_seed
 from f16mmae.campaign.dual import ALL_PAIRS, DualCampaign, plan, run_campaign, run_seed
-from f16mmae.campaign.report import render_report
-from f16mmae.campaign.dual_scoring import (RATING_RULES, declared_at, hold_fraction, rate_pair,
+from f16mmae.report.page import render_report
+from f16mmae.campaign.dual.scoring import (RATING_RULES, declared_at, hold_fraction, rate_pair,
                                            score_dual_run, summarize_pair)
-from f16mmae.campaign.single import CampaignError
-from f16mmae.campaign.store import RECORDS_FILE, ResultsStore
-from f16mmae.cli import main
+from f16mmae.campaign.engine.config import CampaignError
+from f16mmae.campaign.engine.store import RECORDS_FILE, ResultsStore
+from f16mmae.cli.main import main
 
 from campaign_support import CountingExecutor
 
@@ -55,13 +57,13 @@ def test_seeds_are_deterministic_distinct_and_not_the_single_campaigns():
     assert all(s >= 1 for s in seeds.values())
     assert len(set(seeds.values())) == len(seeds)
     assert run_seed(1, "LS", 3) == run_seed(1, "LS", 3) != run_seed(2, "LS", 3)
-    singles = {single.run_seed(1, b, n) for b in names for n in range(40)}
+    singles = {single_run_seed(1, b, n) for b in names for n in range(40)}
     assert not singles & set(seeds.values())
 
 
 def test_plan_shares_seeds_along_a_column_and_keys_are_unique():
     cfg = DualCampaign(runs=2, pairs=(("LS", "PIT"), ("AZ", "PIT"), ("PIT", "LS")))
-    _, _, bank = single.load_bank("tuned")
+    _, _, bank = load_bank("tuned")
     specs = plan(cfg, "tuned", bank)
     assert len(specs) == 2 * (3 + 2)  # pairs + baselines of PIT and LS
     assert len({s["run_key"] for s in specs}) == len(specs)

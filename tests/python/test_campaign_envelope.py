@@ -8,14 +8,16 @@ import json
 import numpy as np
 import pytest
 
-from f16mmae.campaign import single
+from f16mmae.banks import load_bank
+from f16mmae.campaign.engine import failure_runs
+from f16mmae.campaign.single import SingleCampaign
 from f16mmae.campaign.envelope import EnvelopeCampaign, acceptable, point_metrics, run_envelope
-from f16mmae.campaign.envelope_points import (NOMINAL, PAPER_POINTS, QLINE_LABELS, EnvelopeError,
+from f16mmae.campaign.envelope.points import (NOMINAL, PAPER_POINTS, QLINE_LABELS, EnvelopeError,
                                               EnvelopePoint, check_distinct, dynamic_pressure_psf,
                                               parse_mach_alt, pressure_psf, select_points)
-from f16mmae.campaign.scoring import score_run
-from f16mmae.campaign.store import ResultsStore
-from f16mmae.cli import main
+from f16mmae.campaign.engine.scoring import score_run
+from f16mmae.campaign.engine.store import ResultsStore
+from f16mmae.cli.main import main
 
 from campaign_support import CountingExecutor
 
@@ -150,7 +152,7 @@ def test_tiny_envelope_campaign_records_summary_figures_and_resume(tmp_path):
     assert (first.executed, first.resumed, ex.submitted) == (4, 0, 4)
     records = ResultsStore(tmp_path).records()
     assert len(records) == 4
-    _, _, bank = single.load_bank("tuned")
+    _, _, bank = load_bank("tuned")
     where = {"NOM": (0.4, 20000.0), "22": (0.35, 20000.0)}
     for r in records:
         assert (r["scenario"]["mach"], r["scenario"]["alt_ft"]) == where[r["point"]]
@@ -160,9 +162,8 @@ def test_tiny_envelope_campaign_records_summary_figures_and_resume(tmp_path):
     assert len({(r["case"], r["seed"]) for r in records}) == 2
     # the NOM point plans exactly the runs of the single campaign at the design point
     banks = {"tuned": ("tuned", bank)}
-    nominal = single.SingleCampaign(runs=1, cases=("NONE", "PIT"), baseline=None,
-                                    failure_time_s=2.0, duration_s=4.5)
-    assert {s["run_key"] for s in single.plan(nominal, banks)} == {r["run_key"] for r in records if r["point"] == "NOM"}
+    nominal = SingleCampaign(runs=1, cases=("NONE", "PIT"), baseline=None, failure_time_s=2.0, duration_s=4.5)
+    assert {s["run_key"] for s in failure_runs.plan(nominal, banks)} == {r["run_key"] for r in records if r["point"] == "NOM"}
 
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["kind"] == "envelope" and summary["bank_hash"] == bank.content_hash

@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-from f16mmae.campaign.executor import ExecutorError, InlineExecutor, check_scheduler_address, make_executor
-from f16mmae.progress import Progress
+from f16mmae.campaign.engine.executor import ExecutorError, InlineExecutor, check_scheduler_address, make_executor
+from f16mmae.campaign.engine.progress import Progress
 
 
 def test_local_pool_and_inline_give_the_same_results():

@@ -6,9 +6,10 @@ import json
 import numpy as np
 import pytest
 
-from f16mmae.campaign import figures
-from f16mmae.campaign.report import ReportError, render_report
-from f16mmae.campaign.scoring import score_run, summarize_case
+from f16mmae.campaign import dual, envelope  # noqa: F401 -- importing a kind registers its page
+from f16mmae.campaign.engine.scoring import mean_injected_probability, score_run, summarize_case
+from f16mmae.campaign.single import figures
+from f16mmae.report.page import ReportError, render_report
 
 
 def _records(tuning: str, cases, runs=3, dt=0.25, n=33):
@@ -26,7 +27,7 @@ def _records(tuning: str, cases, runs=3, dt=0.25, n=33):
 
 def test_mean_injected_probability_averages_runs():
     recs = _records("tuned", ["LS"], runs=3)
-    t, p = figures.mean_injected_probability(recs)
+    t, p = mean_injected_probability(recs)
     assert t[1] == pytest.approx(0.25) and len(t) == 33
     i = int(3.25 / 0.25)  # at 3.25 s two of the three runs have switched
     assert p[i] == pytest.approx((0.99 * 2 + 0.001) / 3)
@@ -61,5 +62,5 @@ def test_report_of_an_empty_directory_says_what_is_needed(tmp_path):
     with pytest.raises(ReportError, match="not a directory"):
         render_report(tmp_path / "nope")
     (tmp_path / "summary.json").write_text('{"kind": "triple"}')
-    with pytest.raises(ReportError, match="unknown campaign kind 'triple'.*single, dual and envelope"):
+    with pytest.raises(ReportError, match="unknown campaign kind 'triple'.*dual, envelope, single"):
         render_report(tmp_path)

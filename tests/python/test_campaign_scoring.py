@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from f16mmae.campaign.scoring import check_goals, expected_hypothesis, score_run, summarize_case
+from f16mmae.campaign.engine.scoring import check_goals, expected_hypothesis, score_run, summarize_case
 
 
 def d(h, t):

@@ -6,10 +6,11 @@ import json
 
 import pytest
 
-from f16mmae.campaign import scoring
-from f16mmae.campaign.executor import InlineExecutor, make_executor
-from f16mmae.campaign.single import SingleCampaign, run_campaign, run_seed
-from f16mmae.campaign.store import RECORDS_FILE, ResultsStore
+from f16mmae.campaign.engine import scoring
+from f16mmae.campaign.engine.executor import InlineExecutor, make_executor
+from f16mmae.campaign.engine.failure_runs import run_seed
+from f16mmae.campaign.single import SingleCampaign, run_campaign
+from f16mmae.campaign.engine.store import RECORDS_FILE, ResultsStore
 
 from campaign_support import CountingExecutor
 

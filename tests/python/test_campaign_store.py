@@ -5,7 +5,7 @@ import json
 
 import pytest
 
-from f16mmae.campaign.store import RECORDS_FILE, ResultsStore, StoreError, run_key
+from f16mmae.campaign.engine.store import RECORDS_FILE, ResultsStore, StoreError, run_key
 
 
 def _rec(i: int) -> dict:

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import pytest
 
-from f16mmae.cli import main
+from f16mmae.cli.main import main
 
 
 @pytest.mark.parametrize(

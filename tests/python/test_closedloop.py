@@ -15,9 +15,11 @@ import json
 import numpy as np
 import pytest
 
-from f16mmae import closedloop
-from f16mmae.campaign.single import load_bank
-from f16mmae.closedloop import Estimator, fly
+from f16mmae import banks
+from f16mmae.loop import flight
+from f16mmae.banks import load_bank
+from f16mmae.loop.estimator import Estimator
+from f16mmae.loop.flight import fly
 from f16mmae.names import failed_components
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
@@ -59,7 +61,7 @@ def test_pitch_rate_sensor_failure_is_declared_as_pit(bank):
 
 def test_estimator_uses_the_bank_recommended_settings_unless_overridden(bank):
     recommended = {"p_min": 1e-9, "threshold": 0.9, "dwell_s": 0.25}  # tunings/tuned.toml [estimator]
-    assert closedloop.bank_estimator_settings(bank) == recommended == bank.estimator_settings
+    assert banks.bank_estimator_settings(bank) == recommended == bank.estimator_settings
     est = Estimator(bank)
     assert est.settings == recommended
     assert est._bank.p_min == 1e-9 and est._bank.threshold == 0.9
@@ -67,7 +69,7 @@ def test_estimator_uses_the_bank_recommended_settings_unless_overridden(bank):
     assert over._bank.p_min == 1e-3 and over._bank.dwell_s == 0.5
     assert over._bank.threshold == 0.9
     untuned = load_bank("untuned")[2]                    # recommends the core defaults
-    assert closedloop.bank_estimator_settings(untuned) == {"p_min": 0.001, "threshold": 0.9, "dwell_s": 0.25}
+    assert banks.bank_estimator_settings(untuned) == {"p_min": 0.001, "threshold": 0.9, "dwell_s": 0.25}
     assert Estimator(untuned)._bank.p_min == 0.001
     r = fly(_scenario(duration_s=1.0), bank)
     assert r.estimator_settings == recommended and r.run_json()["estimator_settings"] == recommended
@@ -79,7 +81,7 @@ def test_estimator_constructor_and_inputs_carry_no_failure_truth():
     assert list(inspect.signature(Estimator.update).parameters) == ["self", "z"]
     assert list(inspect.signature(Estimator.propagate).parameters) == ["self", "u"]
     # In fly(), the estimator is built from the bank alone and called with z and u only.
-    tree = ast.parse(inspect.getsource(closedloop.fly))
+    tree = ast.parse(inspect.getsource(flight.fly))
     calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call)]
     ctor = [c for c in calls if ast.unparse(c.func) == "Estimator.fresh"]
     assert len(ctor) == 1 and [ast.unparse(a) for a in ctor[0].args] == ["model_bank"]
@@ -112,7 +114,7 @@ def test_replaying_u_and_z_alone_reproduces_the_estimator(bank):
 
 
 def test_run_command_writes_run_json_csv_and_png(tmp_path, capsys):
-    from f16mmae.cli import main
+    from f16mmae.cli.main import main
 
     assert main(["run", "--fail", "PIT@2.0", "--duration", "6", "--seed", "1", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out

@@ -9,7 +9,8 @@ import json
 import numpy as np
 import pytest
 
-from f16mmae import cli, core, names
+from f16mmae import core, names
+from f16mmae.cli import main as cli
 from f16mmae.design import bank
 
 

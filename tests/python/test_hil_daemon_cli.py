@@ -6,9 +6,10 @@ import subprocess
 
 import pytest
 
-from f16mmae.campaign.single import load_bank
-from f16mmae.cli import main
-from f16mmae.hil import HilError, find_executable
+from f16mmae.banks import load_bank
+from f16mmae.cli.main import main
+from f16mmae.lcm.channels import HilError
+from f16mmae.lcm.daemon import find_executable
 
 try:
     DAEMON = str(find_executable("mmae-daemon"))

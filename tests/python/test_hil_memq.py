@@ -13,15 +13,17 @@ import lcm
 import numpy as np
 import pytest
 
-from f16mmae.campaign.single import load_bank
-from f16mmae.closedloop import fly
-from f16mmae.hil import HilError, RemoteEstimator, channels, fly_hil, level0_hypotheses
+from f16mmae.banks import load_bank
+from f16mmae.loop.flight import fly
+from f16mmae.lcm.channels import HilError, channels
+from f16mmae.lcm.hil import fly_hil
+from f16mmae.lcm.remote import RemoteEstimator, level0_hypotheses
 from f16mmae.lcmt_command_frame import lcmt_command_frame
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae.lcmt_run_marker import lcmt_run_marker
 from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
 from f16mmae.names import SINGLE_HYPOTHESES
-from f16mmae.replay import InProcessExecutive
+from f16mmae.lcm.replay import InProcessExecutive
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 

@@ -26,13 +26,15 @@ import numpy as np
 import pytest
 
 from f16mmae.benchmarks.lcm_latency import summary_quantiles_us
-from f16mmae.campaign.single import load_bank
-from f16mmae.cli import main
-from f16mmae.closedloop import fly
-from f16mmae.hil import DaemonProcess, HilError, channels, find_executable, fly_hil
+from f16mmae.banks import load_bank
+from f16mmae.cli.main import main
+from f16mmae.loop.flight import fly
+from f16mmae.lcm.channels import HilError, channels
+from f16mmae.lcm.daemon import DaemonProcess, find_executable
+from f16mmae.lcm.hil import fly_hil
 from f16mmae.lcmt_command_frame import lcmt_command_frame
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
-from f16mmae.replay import replay_log
+from f16mmae.lcm.replay import replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step

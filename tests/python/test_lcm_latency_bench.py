@@ -10,7 +10,7 @@ import sys
 import pytest
 
 from f16mmae.benchmarks.lcm_latency import PLACEMENTS, echo_name, host_floor, main, next_port_url, place, summary_quantiles_us
-from f16mmae.hil import find_executable, pin_to
+from f16mmae.lcm.daemon import find_executable, pin_to
 
 ALLOWED = sorted(os.sched_getaffinity(0))
 

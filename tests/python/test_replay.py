@@ -15,11 +15,12 @@ import lcm
 import numpy as np
 import pytest
 
-from f16mmae.campaign.single import load_bank
-from f16mmae.cli import main
-from f16mmae.hil import channels, fly_hil
+from f16mmae.banks import load_bank
+from f16mmae.cli.main import main
+from f16mmae.lcm.channels import channels
+from f16mmae.lcm.hil import fly_hil
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
-from f16mmae.replay import FrameSequencer, InProcessExecutive, ReplayError, replay_log
+from f16mmae.lcm.replay import FrameSequencer, InProcessExecutive, ReplayError, replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step

@@ -109,7 +109,7 @@ def test_impossible_flight_condition_names_it():
 
 
 def test_benchmark_runs_and_reports_both_sides():
-    from f16mmae.truth import bench
+    from f16mmae.bench import truth as bench
 
     r = bench.benchmark(duration_s=0.25, repeat=1)
     for k in ("bare_loop", "bare_total", "truth_loop", "truth_total"):

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from f16mmae.hil import command_frame_bytes, sensor_frame_bytes
+from f16mmae.lcm.codec import command_frame_bytes, sensor_frame_bytes
 
 WIRE = [("s", 0), ("c", 0), ("s", 1), ("c", 1),
         ("s", 2), ("s", 2), ("c", 2),          # a duplicate sensor frame

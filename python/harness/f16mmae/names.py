@@ -32,12 +32,24 @@ DUAL_HYPOTHESES: tuple[str, ...] = tuple(
 #: Every hypothesis a model bank stores: 13 singles then 66 duals (79).
 ALL_HYPOTHESES: tuple[str, ...] = SINGLE_HYPOTHESES + DUAL_HYPOTHESES
 
+#: Every component the paper fails, actuators then sensors (the rows and columns of Fig. 7).
+COMPONENTS: tuple[str, ...] = ACTUATORS + SENSORS
+
 NX, NU, NZ = len(STATES), len(ACTUATORS), len(SENSORS)
 K_BANK = len(SINGLE_HYPOTHESES)  # filters on line at any level (13)
 
 #: Truth-model integration rate and the flight-control / sensor / estimator frame rate.
 SIM_RATE_HZ = 128
 FRAME_RATE_HZ = 64
+
+#: Turbulence levels of the truth model, in increasing intensity (MIL-F-8785C).
+TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
+#: What the flight control system feeds back: the MMAE's z_hat (the paper) or the raw sensors.
+FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
+#: The nominal banks shipped in the package (``data/nominal_<tuning>.f16bank``).
+SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
+#: The estimator settings a bank recommends and a user may override (core.HierarchicalBank).
+ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s")
 
 
 def failed_components(hypothesis: str) -> tuple[str, ...]:
@@ -46,17 +58,17 @@ def failed_components(hypothesis: str) -> tuple[str, ...]:
         return ()
     parts = tuple(hypothesis.split("+"))
     for p in parts:
-        if p not in ACTUATORS and p not in SENSORS:
+        if p not in COMPONENTS:
             raise ValueError(
                 f"unknown component {p!r} in hypothesis {hypothesis!r}; "
-                f"valid: {', '.join(ACTUATORS + SENSORS)}"
+                f"valid: {', '.join(COMPONENTS)}"
             )
     return parts
 
 
 def dual_name(a: str, b: str) -> str:
     """Canonical name of the dual hypothesis of components a and b (order-independent)."""
-    order = ACTUATORS + SENSORS
+    order = COMPONENTS
     ia, ib = order.index(a), order.index(b)
     if ia == ib:
         raise ValueError(f"a dual failure needs two different components, got {a!r} twice")
@@ -66,5 +78,5 @@ def dual_name(a: str, b: str) -> str:
 def level1_hypotheses(failed: str) -> tuple[str, ...]:
     """The level-1 bank brought on line when ``failed`` is declared (Fig. 2):
     NONE first (for back-out), the declared single failure, then its 11 duals."""
-    others = [c for c in ACTUATORS + SENSORS if c != failed]
+    others = [c for c in COMPONENTS if c != failed]
     return (NONE, failed) + tuple(dual_name(failed, c) for c in others)

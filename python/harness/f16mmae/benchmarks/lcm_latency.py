@@ -88,7 +88,7 @@ def host_floor(server_cpus: set[int] | None, samples: int = 300) -> dict:
     """f16mmae-idle-jitter on the daemon's CPUs: a fixed 5-us register-only computation timed
     back to back and after a 64-Hz frame's idle -- the tail this host adds to any step of that
     length. ``{idle_us: {p50, p99, max}}``."""
-    from ..hil import find_executable, pin_to
+    from ..lcm.daemon import find_executable, pin_to
 
     frame_us = 1e6 / FRAME_RATE_HZ
     out = subprocess.run([str(find_executable("f16mmae-idle-jitter")), "--work-us", "5", "--samples", str(samples),
@@ -175,9 +175,11 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
         echo_rewake_us: float = 0.0, echo_work_us: float = 0.0) -> dict:
     import lcm
 
-    from ..campaign.single import load_bank
-    from ..hil import DaemonProcess, HilError, RemoteEstimator, channels, find_executable, fly_hil, \
-        level0_hypotheses, pin_to
+    from ..banks import load_bank
+    from ..lcm.channels import HilError, channels
+    from ..lcm.daemon import DaemonProcess, find_executable, pin_to
+    from ..lcm.hil import fly_hil
+    from ..lcm.remote import RemoteEstimator, level0_hypotheses
     from ..lcmt_sensor_frame import lcmt_sensor_frame
     from ..names import NZ
     from ..truth import Scenario

@@ -24,8 +24,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import F16mmaeError
 
-class DesignError(ValueError):
+
+class DesignError(F16mmaeError, ValueError):
     """A filter design that cannot be used: no stabilizing DARE solution, unstable filter."""
 
 

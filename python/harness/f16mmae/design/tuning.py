@@ -22,7 +22,7 @@ Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/
 ``[estimator]`` (optional): the estimator settings the design recommends for its bank --
 ``p_min`` (probability floor, 0 < p_min < 0.01), ``threshold`` (declaration threshold,
 0.5 < threshold < 1), ``dwell_s`` (s, >= 0).  They are stored as typed fields of the bank
-file (``p_min``, ``threshold``, ``dwell_s``) and used by ``closedloop.Estimator`` and the LCM
+file (``p_min``, ``threshold``, ``dwell_s``) and used by ``loop.estimator.Estimator`` and the LCM
 daemon; a missing key
 means the core's default (the paper's: p_min 0.001, threshold 0.9, dwell 0.25 s).
 """
@@ -36,9 +36,10 @@ from pathlib import Path
 import numpy as np
 
 from .. import names
+from ..errors import F16mmaeError
+from ..names import TURBULENCE_LEVELS
 
 TUNINGS_DIR = Path(__file__).with_name("tunings")
-TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
 GUST_MODELS: tuple[str, ...] = ("gust_rate", "white_gust")
 
 #: Section name -> (valid keys, index of each key in its vector, what the key is).
@@ -57,7 +58,7 @@ TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_m
                                    + ("estimator",))
 
 
-class TuningError(ValueError):
+class TuningError(F16mmaeError, ValueError):
     """A tuning file that cannot be used; the message names the file, key and valid choices."""
 
 

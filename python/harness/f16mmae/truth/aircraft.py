@@ -44,6 +44,7 @@ from dataclasses import dataclass
 import jsbsim
 import numpy as np
 
+from ..errors import F16mmaeError
 from ..names import ACTUATORS, SIM_RATE_HZ
 from . import actuators, sensors
 
@@ -63,7 +64,7 @@ _lock = threading.Lock()
 _root_dir: str | None = None
 
 
-class TrimError(RuntimeError):
+class TrimError(F16mmaeError, RuntimeError):
     """JSBSim could not trim the aircraft at the requested flight condition."""
 
 

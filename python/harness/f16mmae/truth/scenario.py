@@ -41,11 +41,11 @@ except ModuleNotFoundError:  # Python 3.10
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from ..names import FEEDBACK_MODES
 from . import aircraft, turbulence
 from .dither import DitherSpec
 from .failures import FailureSpec, check_unique, make_failure, parse_fail, parse_fail_args
 
-FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
 #: Folder of the example scenarios shipped with the package (``f16mmae/scenarios/*.toml``).
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 _KEYS = ("mach", "alt_ft", "turbulence", "dither", "failures", "failure", "duration_s", "seed",

@@ -21,8 +21,8 @@ lower.  Roll-rate gusts p_g: about 1.9 / 3.7 / 9.4 deg/s at 20,000 ft.
 """
 from __future__ import annotations
 
-#: Turbulence levels, in increasing intensity.
-TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
+from ..names import TURBULENCE_LEVELS
+
 #: JSBSim ``atmosphere/turbulence/milspec/severity`` per level.
 MILSPEC_SEVERITY: dict[str, int] = {"none": 0, "light": 3, "moderate": 4, "severe": 6}
 #: Probability of exceedance of the gust intensity per level (MIL-F-8785C).

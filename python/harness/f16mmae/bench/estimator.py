@@ -1,0 +1,264 @@
+"""Benchmark of the MMAE estimator: one frame of the 13-filter F-16-size bank.
+
+One frame (paper Sec. III, Fig. 1), every hypothesis k = 1..K, perturbations from trim:
+
+    r_k  = z - H_k x-_k                      residual
+    q_k  = r_k^T A_k^-1 r_k                  quadratic form of eq. 2
+    x+_k = x-_k + K_k r_k
+    l_k  = -q_k / 2                          log-likelihood, leading term stripped (eq. 2)
+    p_k <- exp(l_k + ln p_k - LSE_j(l_j + ln p_j))      Bayes update (eq. 1), log domain
+    floor p_min by water-filling (every p_k >= p_min, ratios above the floor kept)
+    x-_k <- Phi_k x+_k + Bd_k u              propagation
+
+Four implementations of that frame are timed on the same synthetic bank and data:
+(a) the C++ loop alone (``f16mmae.core``, timed in C++), (b) ``FilterBank.step(z, u)``
+called from Python once per frame, (c) :class:`NumpyMMAE`, a vectorised numpy reference
+that also cross-checks the C++ probabilities (tests/python/test_bench.py), and (d)
+filterpy's ``MMAEFilterBank`` (full covariance Kalman filters; optional). The synthetic
+bank is F-16 sized (13 states, 5 inputs, 7 measurements): a random stable Phi, and per
+hypothesis the failed actuator's Bd column or the failed sensor's H row zeroed, with the
+steady-state gain from scipy's discrete algebraic Riccati equation (DARE).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg
+
+from .. import core, names
+
+#: Process and measurement noise of the synthetic bank (the DARE's Q = q I, R = r I).
+Q_SYNTHETIC = 1e-3
+R_SYNTHETIC = 1e-2
+
+
+def synthetic_models(
+    hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1
+) -> list[tuple[str, dict[str, np.ndarray]]]:
+    """An F-16-size bank of proper steady-state filters, one per hypothesis name.
+
+    Phi is random with spectral radius 0.97, Bd and H random; a hypothesis fails the
+    components it names (``names.failed_components``): an actuator's Bd column or a
+    sensor's H row is zeroed. K and A come from the DARE with Q = Q_SYNTHETIC I,
+    R = R_SYNTHETIC I. Each model is a dict with phi, bd, h, k, a and, for full Kalman
+    filters (filterpy), q, r and the a-priori covariance p.
+    """
+    rng = np.random.default_rng(seed)
+    nx, nu, nz = names.NX, names.NU, names.NZ
+    phi = rng.standard_normal((nx, nx))
+    phi *= 0.97 / np.max(np.abs(np.linalg.eigvals(phi)))
+    bd = 0.1 * rng.standard_normal((nx, nu))
+    h = rng.standard_normal((nz, nx))
+    q = Q_SYNTHETIC * np.eye(nx)
+    r = R_SYNTHETIC * np.eye(nz)
+    models = []
+    for name in hypotheses:
+        bd_k, h_k = bd.copy(), h.copy()
+        for component in names.failed_components(name):
+            if component in names.ACTUATORS:
+                bd_k[:, names.ACTUATORS.index(component)] = 0.0
+            else:
+                h_k[names.SENSORS.index(component), :] = 0.0
+        p = scipy.linalg.solve_discrete_are(phi.T, h_k.T, q, r)
+        a = h_k @ p @ h_k.T + r
+        a = 0.5 * (a + a.T)
+        k = np.linalg.solve(a, h_k @ p).T  # P H^T A^-1 (A symmetric)
+        models.append((name, dict(phi=phi.copy(), bd=bd_k, h=h_k, k=k, a=a, q=q, r=r, p=p)))
+    return models
+
+
+def synthetic_bank(hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1):
+    """:func:`synthetic_models` as a validated ``core.ModelBank`` (trim at zero, 64 Hz)."""
+    return core.ModelBank(
+        synthetic_models(hypotheses, seed),
+        state_names=names.STATES,
+        input_names=names.ACTUATORS,
+        measurement_names=names.SENSORS,
+        frame_rate_hz=float(names.FRAME_RATE_HZ),
+        tuning="synthetic",
+        metadata={"generator": "f16mmae.bench.synthetic_models", "seed": seed},
+    )
+
+
+def synthetic_frames(
+    models: list[tuple[str, dict[str, np.ndarray]]], n_frames: int, seed: int = 2,
+    failed: str = "AOA",
+) -> tuple[np.ndarray, np.ndarray]:
+    """Measurements z (n_frames, nz) and inputs u (n_frames, nu) of the no-failure model
+    driven by process and measurement noise and a small sinusoidal input, with hypothesis
+    ``failed``'s model in force for the second half (so the probabilities move)."""
+    rng = np.random.default_rng(seed)
+    by_name = dict(models)
+    nominal, failure = by_name[names.NONE], by_name[failed]
+    nx, nu = nominal["bd"].shape
+    nz = nominal["h"].shape[0]
+    t = np.arange(n_frames) / names.FRAME_RATE_HZ
+    u = 0.05 * np.sin(2 * np.pi * np.outer(t, 0.5 + np.arange(nu)))
+    z = np.empty((n_frames, nz))
+    x = np.zeros(nx)
+    sq, sr = math.sqrt(Q_SYNTHETIC), math.sqrt(R_SYNTHETIC)
+    for i in range(n_frames):
+        m = nominal if i < n_frames // 2 else failure
+        z[i] = m["h"] @ x + sr * rng.standard_normal(nz)
+        x = m["phi"] @ x + m["bd"] @ u[i] + sq * rng.standard_normal(nx)
+    return z, u
+
+
+class NumpyMMAE:
+    """The MMAE frame of the module docstring in vectorised numpy (reference and cross-check).
+
+    ``models``: (name, mapping with phi, bd, h, k, a) pairs; hypothesis 0 presumed at the
+    start (p_0 = 1 - (K-1) p_min), states x- = 0. Leading term stripped.
+    """
+
+    def __init__(self, models, p_min: float = 0.001):
+        mats = [m for _, m in models]
+        self.phi = np.stack([m["phi"] for m in mats])
+        self.bd = np.stack([m["bd"] for m in mats])
+        self.h = np.stack([m["h"] for m in mats])
+        self.k = np.stack([m["k"] for m in mats])
+        self.a_inv = np.stack([np.linalg.inv(m["a"]) for m in mats])
+        n_hyp, nx = self.phi.shape[:2]
+        self.p_min = p_min
+        self.x_prior = np.zeros((n_hyp, nx))
+        self.x_post = np.zeros((n_hyp, nx))
+        self.log_p = np.full(n_hyp, math.log(p_min) if p_min > 0 else -np.inf)
+        self.log_p[0] = math.log(1.0 - (n_hyp - 1) * p_min)
+        self.probabilities = np.exp(self.log_p)
+
+    def step(self, z: np.ndarray, u: np.ndarray) -> np.ndarray:
+        r = z - np.einsum("kmn,kn->km", self.h, self.x_prior)
+        q = np.einsum("km,kmj,kj->k", r, self.a_inv, r)
+        self.x_post = self.x_prior + np.einsum("knm,km->kn", self.k, r)
+        self.residuals = r
+        a = -0.5 * q + self.log_p
+        log_p = a - (a.max() + math.log(np.exp(a - a.max()).sum()))
+        self.probabilities, self.log_p = _floor(np.exp(log_p), log_p, self.p_min)
+        self.blended_state = self.probabilities @ self.x_post
+        self.z_hat = self.h[0] @ self.blended_state
+        self.x_prior = np.einsum("kij,kj->ki", self.phi, self.x_post) + self.bd @ u
+        return self.probabilities
+
+
+def _floor(p: np.ndarray, log_p: np.ndarray, p_min: float) -> tuple[np.ndarray, np.ndarray]:
+    """Water-filling floor: set the hypotheses below p_min to p_min and rescale the rest to
+    1 - n_floor p_min, until no rescaled one falls below p_min."""
+    floored = np.zeros(p.shape, dtype=bool)
+    scale = 1.0
+    for _ in range(p.size + 1):
+        scale = (1.0 - floored.sum() * p_min) / p[~floored].sum()
+        below = ~floored & (p * scale < p_min)
+        if not below.any():
+            break
+        floored |= below
+    p_out = np.where(floored, p_min, p * scale)
+    log_out = np.where(floored, math.log(p_min) if p_min > 0 else -np.inf, log_p + math.log(scale))
+    return p_out, log_out
+
+
+def filterpy_bank(models, p_min: float = 0.001):
+    """filterpy's MMAEFilterBank of full Kalman filters on the same models (F, B, H, Q, R,
+    started at the DARE covariance), or None if filterpy is not installed."""
+    try:
+        from filterpy.kalman import KalmanFilter, MMAEFilterBank
+    except ImportError:
+        return None
+    filters = []
+    for _, m in models:
+        nx, nu = m["bd"].shape
+        kf = KalmanFilter(dim_x=nx, dim_z=m["h"].shape[0], dim_u=nu)
+        kf.F, kf.B, kf.H, kf.Q, kf.R, kf.P = m["phi"], m["bd"], m["h"], m["q"], m["r"], m["p"].copy()
+        filters.append(kf)
+    p0 = np.full(len(models), p_min)
+    p0[0] = 1.0 - (len(models) - 1) * p_min
+    return MMAEFilterBank(filters, p0, dim_x=models[0][1]["phi"].shape[0])
+
+
+@dataclass
+class BenchResult:
+    """Per-frame costs in microseconds (None: not measured) and the run's parameters."""
+
+    frames: int
+    bank_hash: str = ""
+    cpp_loop_us: float | None = None
+    python_call_us: float | None = None
+    numpy_us: float | None = None
+    filterpy_us: float | None = None
+    max_probability_difference: float | None = None  # numpy reference vs C++, all frames
+    notes: list[str] = field(default_factory=list)
+
+    def ratios(self) -> dict[str, float]:
+        """Speed-ups: slower implementation's cost over the faster one's."""
+        out = {}
+        pairs = [
+            ("filterpy / cpp_loop", self.filterpy_us, self.cpp_loop_us),
+            ("filterpy / python_call", self.filterpy_us, self.python_call_us),
+            ("numpy / cpp_loop", self.numpy_us, self.cpp_loop_us),
+            ("numpy / python_call", self.numpy_us, self.python_call_us),
+            ("python_call / cpp_loop", self.python_call_us, self.cpp_loop_us),
+        ]
+        for label, slow, fast in pairs:
+            if slow is not None and fast:
+                out[label] = slow / fast
+        return out
+
+
+def _time_per_frame(step, z: np.ndarray, u: np.ndarray, min_time_s: float, min_passes: int = 3) -> float:
+    """Microseconds per frame of ``step(z_i, u_i)``: the frames are replayed pass after pass
+    for at least ``min_time_s`` and ``min_passes`` passes; the fastest pass counts (the
+    least disturbed by other load on the machine)."""
+    best, start, passes = math.inf, time.perf_counter(), 0
+    while passes < min_passes or time.perf_counter() - start < min_time_s:
+        t0 = time.perf_counter()
+        for zi, ui in zip(z, u):
+            step(zi, ui)
+        best = min(best, time.perf_counter() - t0)
+        passes += 1
+    return best / len(z) * 1e6
+
+
+def core_filter_bank(models, p_min: float = 0.001):
+    """``core.FilterBank`` of the models (the C++ bank called from Python)."""
+    return core.FilterBank(
+        [core.FilterModel(**{key: m[key] for key in ("phi", "bd", "h", "k", "a")}) for _, m in models],
+        p_min=p_min,
+    )
+
+
+def max_probability_difference(models, z: np.ndarray, u: np.ndarray) -> float:
+    """Largest |p_numpy - p_C++| over every hypothesis and frame, both from the start."""
+    cpp, reference = core_filter_bank(models), NumpyMMAE(models)
+    return max(float(np.max(np.abs(cpp.step(zi, ui) - reference.step(zi, ui)))) for zi, ui in zip(z, u))
+
+
+def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> BenchResult:
+    """Times (a)-(d) of the module docstring on ``frames`` synthetic frames."""
+    models = synthetic_models(seed=seed)
+    bank = synthetic_bank(seed=seed)
+    z, u = synthetic_frames(models, frames, seed=seed + 1)
+    result = BenchResult(frames=frames, bank_hash=bank.content_hash)
+
+    result.cpp_loop_us = core._bench_filter_bank_loop(bank, z, u, min_time_s) * 1e6
+
+    if hasattr(core, "FilterBank"):
+        result.python_call_us = _time_per_frame(core_filter_bank(models).step, z, u, min_time_s)
+        result.max_probability_difference = max_probability_difference(models, z, u)
+    else:
+        result.notes.append("core.FilterBank is not in this build: no Python-call timing, no cross-check")
+
+    result.numpy_us = _time_per_frame(NumpyMMAE(models).step, z, u, min_time_s)
+
+    fp = filterpy_bank(models)
+    if fp is None:
+        result.notes.append("filterpy not installed (pip install filterpy, or the 'bench' extra)")
+    else:
+        def filterpy_step(zi, ui):
+            fp.predict(ui[:, None])  # filterpy states are columns
+            fp.update(zi)
+
+        n_fp = min(frames, 50)  # ~5 ms per frame: 3 passes of 50 frames suffice
+        result.filterpy_us = _time_per_frame(filterpy_step, z[:n_fp], u[:n_fp], 0.0)
+    return result

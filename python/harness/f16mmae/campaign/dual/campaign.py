@@ -1,0 +1,220 @@
+"""The dual-failure Monte Carlo campaign (paper Sec. VI, Fig. 7).
+
+Pairs: every ordered pair (a, b) of the twelve single failures, a != b (132), or a
+subset; ``a`` fails at ``first_time_s`` (3.0 s), ``b`` at ``second_time_s`` (5.0 s; the
+paper: "two or more seconds later"), mode ``complete``, in a 10-s flight at the bank's
+design point with the hierarchical bank in the loop: level 0 should declare ``a``, and the
+level-1 bank of ``a`` (NONE, ``a`` and its 11 duals) the dual ``h* = dual_name(a, b)``.
+
+Baseline: for each second failure ``b`` of the plan, the lone single failure ``b`` at
+``second_time_s`` in the same flight, N runs -- the "lone single failure" Fig. 7 rates
+against, flown under the same conditions.
+
+Seeds: run n of pair (a, b) and run n of the baseline of b both get
+``seed_{b,n} = 1 + (SHA-256("dual:S:b:n") mod (2^31 - 2))`` (S the campaign seed):
+deterministic, >= 1, distinct from the single campaign's ("single:" prefix), and common
+random numbers along a column of Fig. 7 -- a pair and the baseline it is rated against fly
+the same turbulence and sensor noise, so the difference is the first failure's.
+
+Scoring per run, per pair and the rating Good / Fair / Poor / ND: see
+:mod:`f16mmae.campaign.dual.scoring` (thresholds in ``RATING_RULES``).  In short, with c the
+correct fraction, m the median latency after the second failure and h the mean hold
+(fraction of the flight after the dual's declaration during which it stays declared):
+Good = c >= c_b - 0.10, m <= m_b + 0.5 s and h >= h_b - 0.10 against the baseline of b;
+Fair = c > 0 and (c >= 0.5 or c >= c_b - 0.10); Poor = the dual declared in some run or its
+probability reached 0.5; ND = otherwise.
+
+Runs are pure functions of their specs, executed on any ``concurrent.futures.Executor``;
+records are appended to ``runs.jsonl`` (``store.ResultsStore``) as they finish and a
+campaign started again skips the run keys already stored.
+"""
+from __future__ import annotations
+
+import json
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from pathlib import Path
+
+from ... import __version__
+from ...banks import bank_estimator_settings, load_bank
+from ...loop.flight import fly, scenario_from_dict
+from ...names import COMPONENTS, dual_name
+from ..engine.config import CampaignConfig, CampaignError
+from ..engine.failure_runs import P_INJECTED_DECIMATION
+from ..engine.runner import CampaignOutcome, execute, planned_bank
+from ..engine.seeds import derived_seed
+from ..engine.store import ResultsStore, run_key
+from . import figures
+from . import scoring
+
+#: Every ordered (first, second) pair of failures (``names.COMPONENTS``, Fig. 7): 132.
+ALL_PAIRS: tuple[tuple[str, str], ...] = tuple((a, b) for a in COMPONENTS for b in COMPONENTS if a != b)
+
+
+def pair_label(first: str, second: str) -> str:
+    """``FIRST>SECOND``: the ordered pair (the hypothesis is ``dual_name``, unordered)."""
+    return f"{first}>{second}"
+
+
+def run_seed(campaign_seed: int, second: str, run_index: int) -> int:
+    """Seed of run ``run_index`` of every pair whose second failure is ``second`` and of
+    that failure's baseline (>= 1); see the module docstring."""
+    return derived_seed("dual", campaign_seed, second, run_index)
+
+
+@dataclass(frozen=True)
+class DualCampaign(CampaignConfig):
+    """The arguments of ``f16mmae campaign dual`` (everything that shapes the results)."""
+
+    runs: int = 3
+    duration_s: float = 10.0
+    pairs: tuple[tuple[str, str], ...] = ALL_PAIRS
+    first_time_s: float = 3.0
+    second_time_s: float = 5.0
+    mach: float | None = None  # None: the bank's design point
+    alt_ft: float | None = None
+
+    @property
+    def seconds(self) -> tuple[str, ...]:
+        """The second failures of the plan (each gets a baseline), in the paper's order."""
+        return tuple(f for f in COMPONENTS if any(b == f for _, b in self.pairs))
+
+    def validate(self) -> "DualCampaign":
+        self.check_common(dwell_window_s=self.duration_s - self.second_time_s,
+                     dwell_window_text=" (the flight time after the second failure)")
+        if not self.pairs:
+            raise CampaignError(f"no pair to fly; pairs are FIRST+SECOND of {', '.join(COMPONENTS)}")
+        for p in self.pairs:
+            if len(p) != 2 or p[0] not in COMPONENTS or p[1] not in COMPONENTS:
+                raise CampaignError(f"unknown pair {'+'.join(map(str, p))}; each of FIRST+SECOND "
+                                    f"must be one of {', '.join(COMPONENTS)}")
+            if p[0] == p[1]:
+                raise CampaignError(f"pair {p[0]}+{p[1]} fails one component twice; "
+                                    f"a dual needs two different failures")
+        if len(set(self.pairs)) != len(self.pairs):
+            raise CampaignError("a pair is listed twice")
+        if not 0 < self.first_time_s < self.second_time_s < self.duration_s:
+            raise CampaignError(
+                f"the failure times must satisfy 0 < first ({self.first_time_s} s) < second "
+                f"({self.second_time_s} s) < duration ({self.duration_s} s)")
+        return self
+
+
+# -- one run (executed in workers) -----------------------------------------------------------
+def run_spec(spec: dict) -> dict:
+    """Fly one dual run (``spec["first"]`` set) or baseline run and return its record."""
+    bank = planned_bank(spec)
+    scenario = scenario_from_dict(spec["scenario"])
+    result = fly(scenario, bank, estimator_options=spec["estimator"], record_probabilities=True)
+    first, second = spec["first"], spec["second"]
+    t1 = scenario.failures[0].time_s if first else None
+    t2 = scenario.failures[-1].time_s
+    injected = dual_name(first, second) if first else second
+    p_inj = result.probability_of(injected)
+    scored = scoring.score_dual_run(injected, first, t1, t2, scenario.duration_s,
+                                         result.declarations, result.time_s, p_inj)
+    record = {
+        "run_key": spec["run_key"], "kind": spec["kind"], "pair": spec["pair"],
+        "first": first, "second": second, "hypothesis": injected,
+        "run_index": spec["run_index"], "seed": spec["seed"], "tuning": spec["tuning"],
+        "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
+        "estimator": spec["estimator"], "estimator_settings": result.estimator_settings,
+        "first_time_s": t1, "second_time_s": t2, "failures": result.failures,
+        "declarations": result.declarations, **scored,
+        "p_injected": [round(float(x), 5) for x in p_inj[::P_INJECTED_DECIMATION]],
+        "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
+        "timing": result.timing,
+    }
+    if first:
+        record["p_first"] = [round(float(x), 5) for x in result.probability_of(first)[::P_INJECTED_DECIMATION]]
+    return record
+
+
+# -- planning --------------------------------------------------------------------------------
+def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
+    """Every run spec: the baselines of the second failures, then the pairs."""
+    cases = [(None, b) for b in cfg.seconds] + list(cfg.pairs)
+    specs = []
+    for first, second in cases:
+        failures = ((first, cfg.first_time_s),) if first else ()
+        failures += ((second, cfg.second_time_s),)
+        kind = "dual" if first else "dual-baseline"
+        for n in range(cfg.runs):
+            seed = run_seed(cfg.seed, second, n)
+            try:
+                scenario = cfg.scenario_dict(bank, failures, seed, cfg.mach, cfg.alt_ft)
+            except ValueError as exc:
+                raise CampaignError(f"failures {', '.join(n for n, _ in failures)}: {exc}") from None
+            identity = {"kind": kind, "scenario": scenario, "estimator": cfg.estimator_options(),
+                        "bank_hash": bank.content_hash, "version": __version__}
+            specs.append({
+                "run_key": run_key(identity), "kind": kind, "first": first, "second": second,
+                "pair": pair_label(first, second) if first else second, "run_index": n, "seed": seed,
+                "tuning": tuning_label, "bank": cfg.tuning, "bank_hash": bank.content_hash,
+                "version": __version__, "scenario": scenario, "estimator": cfg.estimator_options(),
+            })
+    return specs
+
+
+# -- the campaign ------------------------------------------------------------------------------
+def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
+                 executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
+    """Plan, fly what is not stored yet (appending records as they finish), summarize, plot."""
+    cfg.validate()
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    label, _, bank = load_bank(cfg.tuning)
+    specs = plan(cfg, label, bank)
+    done = execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,
+                   describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})")
+    records = done.records
+    summary = summarize(cfg, label, bank, records)
+    summary["timing"] = done.timing(executor_label)
+    summary["figures"] = {
+        "matrix": figures.rating_matrix(summary, out / "dual_matrix.png").name,
+        "probabilities": figures.probability_grid(records, summary, out / "dual_probabilities.png").name,
+    }
+    path = out / "summary.json"
+    path.write_text(json.dumps(summary, indent=1) + "\n")
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
+
+
+def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
+    """Per-baseline and per-pair summaries, ratings, the matrix and the paper comparison."""
+    baselines = {b: scoring.summarize_pair(b, [r for r in records if r["kind"] == "dual-baseline"
+                                                    and r["second"] == b]) for b in cfg.seconds}
+    pairs = []
+    matrix: dict[str, dict[str, str]] = {}
+    for a, b in cfg.pairs:
+        s = scoring.summarize_pair(pair_label(a, b), [r for r in records if r["kind"] == "dual"
+                                                           and r["first"] == a and r["second"] == b])
+        s.update(first=a, second=b, hypothesis=dual_name(a, b))
+        s["rating"], s["rating_reason"] = scoring.rate_pair(s, baselines[b])
+        pairs.append(s)
+        matrix.setdefault(a, {})[b] = s["rating"]
+    return {
+        "kind": "dual",
+        "runs_per_pair": cfg.runs,
+        "seed": cfg.seed,
+        "bank_hash": bank.content_hash,
+        "version": __version__,
+        "tuning": label,
+        "turbulence": cfg.turbulence,
+        "mode": cfg.mode,
+        "mach": float(cfg.mach if cfg.mach is not None else bank.mach),
+        "alt_ft": float(cfg.alt_ft if cfg.alt_ft is not None else bank.alt_ft),
+        "first_time_s": cfg.first_time_s,
+        "second_time_s": cfg.second_time_s,
+        "duration_s": cfg.duration_s,
+        "feedback": cfg.feedback,
+        "dither": cfg.dither,
+        "dither_scale": cfg.dither_scale,
+        "estimator": cfg.estimator_options(),
+        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "rating_rules": dict(scoring.RATING_RULES),
+        "ratings": {k: sum(1 for p in pairs if p["rating"] == k) for k in scoring.RATINGS},
+        "matrix": matrix,
+        "paper_comparison": scoring.compare_with_paper(matrix),
+        "baselines": [baselines[b] for b in cfg.seconds],
+        "pairs": pairs,
+    }

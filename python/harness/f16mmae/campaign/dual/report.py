@@ -1,0 +1,96 @@
+"""The HTML page of a dual-failure campaign directory (``summary.json`` of kind ``dual``).
+
+``dual_page(d, summary)`` is the body of the page ``report.page.render_report`` writes for a dual
+campaign directory (figures embedded): the campaign's
+parameters, the rating counts and their agreement with the paper's Fig. 7, the two figures,
+the rating definitions with their thresholds (``scoring.RATING_RULES``), the baselines
+and every pair that is not Good with the reason of its rating, then all pairs.
+"""
+from __future__ import annotations
+
+import html
+from pathlib import Path
+
+from ...report.figures import img_tag
+from ...report.page import param_table, register_page
+from .scoring import RATING_RULES, RATINGS
+
+_ROW_CLASS = {"Good": "ok", "Fair": "fair", "Poor": "bad", "ND": "bad"}
+
+
+def _s(x) -> str:
+    return "&ndash;" if x is None else f"{x:.2f}"
+
+
+def _table(rows: list[dict], rated: bool) -> str:
+    head = ("<tr><th>case</th><th>runs</th><th>correct</th><th>missed</th><th>wrong</th>"
+            "<th>false alarms</th><th>latency median (s)</th><th>latency p95 (s)</th>"
+            "<th>hold</th><th>peak p</th>" + ("<th>rating</th><th>why</th>" if rated else "") + "</tr>")
+    body = []
+    for r in rows:
+        hold = "&ndash;" if r.get("hold_mean") is None else f"{100 * r['hold_mean']:.0f}%"
+        cells = (f"<td>{html.escape(r['case'])}</td><td>{r['runs']}</td><td>{r['correct']}</td>"
+                 f"<td>{r['missed']}</td><td>{r['wrong']}</td><td>{r['false_alarms']}</td>"
+                 f"<td>{_s(r['latency_s']['median'])}</td><td>{_s(r['latency_s']['p95'])}</td>"
+                 f"<td>{hold}</td><td>{_s(r.get('p_max'))}</td>")
+        if rated:
+            cells += f"<td>{r['rating']}</td><td style='text-align:left'>{html.escape(r['rating_reason'])}</td>"
+        body.append(f"<tr class='{_ROW_CLASS.get(r.get('rating'), '')}'>{cells}</tr>")
+    return "<table>" + head + "".join(body) + "</table>"
+
+
+def dual_page(d: Path, s: dict) -> str:
+    """The body of the page for a dual summary ``s`` in directory ``d``."""
+    t = s.get("timing", {})
+    R = RATING_RULES
+    params = [
+        ("runs per pair / campaign seed", f"{s['runs_per_pair']} / {s['seed']}"),
+        ("flight condition", f"Mach {s['mach']}, {s['alt_ft']:.0f} ft, {s['turbulence']} turbulence"),
+        ("failures", f"first at {s['first_time_s']} s, second at {s['second_time_s']} s "
+                     f"(mode {s['mode']}), flight {s['duration_s']} s"),
+        ("FCS feedback / dither", f"{s['feedback']} / {'on' if s.get('dither', True) else 'off'} "
+                                  f"x {s.get('dither_scale', 1.0)}"),
+        ("estimator settings", ", ".join(f"{k}={v}" for k, v in s.get("estimator_settings", {}).items())
+         or "core defaults"),
+        ("bank (tuning, hash) / code version", f"{s['tuning']}, {s['bank_hash']} / {s['version']}"),
+        ("wall time", f"{t.get('wall_s', 0):.1f} s for {t.get('runs_executed', '?')} runs "
+                      f"({t.get('runs_resumed', 0)} resumed) on {t.get('executor', '?')}"),
+    ]
+    counts = ", ".join(f"{k} {s['ratings'].get(k, 0)}" for k in RATINGS)
+    cmp_ = s.get("paper_comparison", {})
+    figs = s.get("figures", {})
+    defs = (
+        "<h2>Rating (against the lone second failure, flown on the same seeds)</h2><dl>"
+        f"<dt>Good</dt><dd>correct &ge; baseline's &minus; {100 * R['good_correct_margin']:.0f} points, "
+        f"median latency after the second failure &le; baseline's + {R['good_latency_margin_s']} s "
+        f"({R['reference_latency_s']} s if the baseline never detects), mean hold &ge; baseline's "
+        f"&minus; {100 * R['good_hold_margin']:.0f} points</dd>"
+        f"<dt>Fair</dt><dd>not Good, some run correct, and correct &ge; {100 * R['fair_correct_min']:.0f}% "
+        "or &ge; baseline's &minus; the Good margin</dd>"
+        f"<dt>Poor</dt><dd>neither, but the dual was declared in some run or its probability reached "
+        f"{R['poor_probability']}</dd>"
+        "<dt>ND</dt><dd>the dual never declared and its probability never reached that</dd>"
+        "<dt>correct / missed / wrong</dt><dd>the run ends declaring the dual / NONE or the first "
+        "failure alone / another hypothesis</dd>"
+        "<dt>latency, hold</dt><dd>first declaration of the dual after the second failure minus its "
+        "time; the fraction of the flight after that declaration during which the dual stays declared</dd>"
+        "<dt>false alarm</dt><dd>before the second failure, a hypothesis other than NONE and the first "
+        "failure declared</dd></dl>")
+    not_good = [p for p in s["pairs"] if p["rating"] != "Good"]
+    return "".join([
+        "<h1>f16mmae dual-failure campaign (paper Fig. 7)</h1>",
+        param_table(params),
+        f"<p><b>{len(s['pairs'])} pairs: {counts}.</b> Same rating as the paper's Fig. 7 in "
+        f"{cmp_.get('equal', '?')} of {cmp_.get('cells', '?')} comparable cells; same Good / not Good "
+        f"in {cmp_.get('good_vs_not_good_equal', '?')}.</p>",
+        img_tag(d / figs["matrix"], "Rating matrix (rows: first failure, columns: second) beside the "
+                                 "paper's Fig. 7") if "matrix" in figs else "",
+        img_tag(d / figs["probabilities"], "Mean probability of each dual against time") if "probabilities" in figs else "",
+        defs,
+        "<h2>Baselines: each second failure alone</h2>", _table(s["baselines"], rated=False),
+        f"<h2>Pairs not rated Good ({len(not_good)})</h2>", _table(not_good, rated=True),
+        "<h2>All pairs</h2>", _table(s["pairs"], rated=True),
+    ])
+
+
+register_page("dual", dual_page)

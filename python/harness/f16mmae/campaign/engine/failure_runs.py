@@ -1,0 +1,117 @@
+"""Single-failure runs at one flight condition: plan them and fly one.
+
+The single-failure campaign flies them at the bank's design point; the off-nominal
+(envelope) campaign flies the same plan at each of its points.  Cases: the no-failure case
+NONE and each of the twelve single failures, ``runs`` seeded runs each, the failure (in the
+config's ``mode``) at ``failure_time_s``.
+
+Seeds: run n of case c gets ``seed_{c,n} = 1 + (SHA-256("single:S:c:n") mod (2^31 - 2))``
+with S the campaign seed -- deterministic, >= 1 (JSBSim maps 0 to 1), independent of the
+executor, of the order runs finish, of the bank and of the flight condition (runs of one
+(c, n) fly the same turbulence and noise with any bank, at any point: common random numbers).
+
+Each run is a pure function of its spec (:func:`run_spec`), executed on any
+``concurrent.futures.Executor``.
+"""
+from __future__ import annotations
+
+from ... import __version__
+from ...loop.flight import fly, scenario_from_dict
+from ...names import NONE, SINGLE_HYPOTHESES
+from . import scoring
+from .config import CampaignError
+from .runner import planned_bank
+from .seeds import derived_seed
+from .store import run_key
+
+#: Cases of a single-failure plan, in the paper's order.
+CASES: tuple[str, ...] = SINGLE_HYPOTHESES
+#: How often the stored probability history of the injected hypothesis is sampled.
+P_INJECTED_DECIMATION = 2  # every 2nd frame: 32 Hz at the 64-Hz frame rate
+
+
+def run_seed(campaign_seed: int, case: str, run_index: int) -> int:
+    """The seed of run ``run_index`` of ``case`` (>= 1), see the module docstring."""
+    return derived_seed("single", campaign_seed, case, run_index)
+
+
+def check_cases(cfg) -> None:
+    """CampaignError unless ``cfg.cases`` are known, distinct and not empty and
+    ``cfg.failure_time_s`` lies inside the flight."""
+    bad = [c for c in cfg.cases if c not in CASES]
+    if bad or not cfg.cases:
+        raise CampaignError(
+            f"unknown case(s) {', '.join(bad) or '(none given)'}; valid: {', '.join(CASES)}"
+        )
+    if len(set(cfg.cases)) != len(cfg.cases):
+        raise CampaignError(f"a case is listed twice in {','.join(cfg.cases)}")
+    if not 0 < cfg.failure_time_s < cfg.duration_s:
+        raise CampaignError(
+            f"the failure time {cfg.failure_time_s} s must lie inside the flight (0, {cfg.duration_s}) s"
+        )
+
+
+# -- one run (executed in workers) -----------------------------------------------------------
+def run_spec(spec: dict) -> dict:
+    """Fly one run and return its record (without the store's bookkeeping).
+
+    A pure function of ``spec``: the scenario (seeded), the bank (checked against the
+    spec's hash) and the estimator settings."""
+    bank = planned_bank(spec)
+    scenario = scenario_from_dict(spec["scenario"])
+    result = fly(scenario, bank, estimator_options=spec["estimator"], record_probabilities=True)
+    case = spec["case"]
+    failure_time = scenario.failures[0].time_s if case != NONE else None
+    scored = scoring.score_run(case, failure_time, result.declarations)
+    p_inj = result.probability_of(case)[::P_INJECTED_DECIMATION]
+    return {
+        "run_key": spec["run_key"],
+        "kind": "single",
+        "case": case,
+        "run_index": spec["run_index"],
+        "seed": spec["seed"],
+        "tuning": spec["tuning"],
+        "bank_hash": spec["bank_hash"],
+        "version": spec["version"],
+        "scenario": spec["scenario"],
+        "estimator": spec["estimator"],
+        "estimator_settings": result.estimator_settings,  # in force: bank's recommended + overrides
+        "failure_time_s": failure_time,
+        "failures": result.failures,
+        "declarations": result.declarations,
+        **scored,
+        "p_injected": [round(float(x), 5) for x in p_inj],
+        "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
+        "timing": result.timing,
+    }
+
+
+def describe_spec(spec: dict) -> str:
+    """The run a spec stands for, for messages."""
+    return f"run {spec['run_index']} of case {spec['case']} ({spec['tuning']} bank, seed {spec['seed']})"
+
+
+# -- planning --------------------------------------------------------------------------------
+def plan(cfg, banks: dict[str, tuple[str, object]], mach: float | None = None,
+         alt_ft: float | None = None) -> list[dict]:
+    """Every run spec of ``cfg`` (a config with ``cases`` and ``failure_time_s``) at the flight
+    condition (``mach``, ``alt_ft``; None: each bank's design point). ``banks`` maps
+    label -> (tuning arg, ModelBank)."""
+    specs = []
+    for label, (tuning_arg, bank) in banks.items():
+        for case in cfg.cases:
+            for n in range(cfg.runs):
+                seed = run_seed(cfg.seed, case, n)
+                failures = () if case == NONE else ((case, cfg.failure_time_s),)
+                try:
+                    scenario = cfg.scenario_dict(bank, failures, seed, mach, alt_ft)
+                except ValueError as exc:
+                    raise CampaignError(f"case {case}: {exc}") from None
+                identity = {"kind": "single", "scenario": scenario, "estimator": cfg.estimator_options(),
+                            "bank_hash": bank.content_hash, "version": __version__}
+                specs.append({
+                    "run_key": run_key(identity), "case": case, "run_index": n, "seed": seed,
+                    "tuning": label, "bank": tuning_arg, "bank_hash": bank.content_hash,
+                    "version": __version__, "scenario": scenario, "estimator": cfg.estimator_options(),
+                })
+    return specs

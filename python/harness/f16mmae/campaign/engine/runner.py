@@ -1,0 +1,97 @@
+"""The loop every campaign kind shares: fly the planned runs that are not stored yet.
+
+A campaign plans its runs as specs, each a plain dict with a unique ``run_key`` (a hash of
+everything that shapes the run, ``store.run_key``). :func:`execute` submits the specs whose
+key is not in the results store yet to a ``concurrent.futures.Executor`` (``run(spec)`` must
+be a picklable module-level function returning the run's record), appends each record as it
+finishes -- so an interrupted campaign keeps its finished runs and the same command resumes
+-- and advances a progress bar. A run that raises stops the campaign with a
+``CampaignError`` naming the run (``describe(spec)``) and where the finished runs are.
+It returns the stored records of this plan only, one per run key, and the timing.
+"""
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ...banks import load_bank
+from .config import CampaignError
+from .progress import Progress
+from .store import ResultsStore
+
+
+@dataclass
+class Execution:
+    records: list[dict]            # the stored records of the plan, one per run key
+    executed_records: list[dict]   # those flown by this call
+    resumed: int                   # runs found in the store
+    wall_s: float
+
+    def timing(self, executor_label: str = "") -> dict:
+        """Wall time, runs executed / resumed, and the summed per-run truth / estimator time."""
+        out = {"wall_s": round(self.wall_s, 3), "runs_executed": len(self.executed_records),
+               "runs_resumed": self.resumed, "executor": executor_label}
+        for k in ("wall_s", "truth_s", "estimator_s"):
+            out[f"run_{k}_sum"] = round(sum(r["timing"].get(k, 0.0) for r in self.executed_records), 3)
+        return out
+
+
+def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run: Callable[[dict], dict], *,
+            describe: Callable[[dict], str], progress_label: str = "runs", show_progress: bool = True,
+            after_each: Callable[[dict], None] | None = None) -> Execution:
+    """Fly the specs not yet in ``store``; see the module docstring. ``after_each(spec)`` is
+    called in this process after each record is stored (e.g. per-group progress notes)."""
+    stored = store.keys()
+    todo = [s for s in specs if s["run_key"] not in stored]
+    t0 = time.perf_counter()
+    bar = Progress(len(specs), progress_label, already_done=len(specs) - len(todo), enabled=show_progress)
+    try:
+        futures = {executor.submit(run, s): s for s in todo}
+        for fut in as_completed(futures):
+            spec = futures[fut]
+            try:
+                record = fut.result()
+            except CampaignError:
+                raise
+            except Exception as exc:  # a run that cannot fly: say which, keep what is stored
+                raise CampaignError(
+                    f"{describe(spec)} failed: {type(exc).__name__}: {exc}; the {bar.done} runs "
+                    f"finished so far are stored in {store.path}") from exc
+            store.append(record)
+            bar.advance()
+            if after_each is not None:
+                after_each(spec)
+    finally:
+        bar.close()
+    wall_s = time.perf_counter() - t0
+    planned = {s["run_key"] for s in specs}
+    by_key = {r["run_key"]: r for r in store.records() if r["run_key"] in planned}  # a key stored twice counts once
+    executed = {s["run_key"] for s in todo}
+    records = list(by_key.values())
+    return Execution(records, [r for r in records if r["run_key"] in executed], len(specs) - len(todo), wall_s)
+
+
+@dataclass
+class CampaignOutcome:
+    """What a campaign run returns: its summary (also written to ``summary_path``), how many
+    runs it flew and how many it found stored, and the records of its plan."""
+    summary: dict
+    summary_path: Path
+    executed: int
+    resumed: int
+    records: list[dict] = field(default_factory=list)
+
+
+def planned_bank(spec: dict):
+    """The ModelBank a spec names (``spec["bank"]``), checked against the hash it was planned
+    with: CampaignError when this process would fly another bank."""
+    _, _, bank = load_bank(spec["bank"])
+    if bank.content_hash != spec["bank_hash"]:
+        raise CampaignError(
+            f"bank {spec['bank']} on this worker has hash {bank.content_hash}, the campaign "
+            f"planned {spec['bank_hash']}: the file changed, or workers run another install"
+        )
+    return bank

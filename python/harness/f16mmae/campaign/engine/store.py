@@ -1,0 +1,118 @@
+"""The results store: one JSON-lines record per finished run, appended as runs finish.
+
+File: ``DIR/runs.jsonl``, one JSON object per line, written by the campaign's parent
+process only (workers return records; the parent appends them), flushed and fsync'ed
+after each line, so a campaign killed at any moment loses at most the run being written.
+
+Resume: every record carries ``run_key``, the SHA-256 of the canonical JSON of what
+determines the run's result (scenario incl. seed, bank hash, code version, estimator
+settings; see :func:`run_key`).  A campaign started again with the same arguments plans
+the same keys and skips those already stored.  A half-written last line (a kill during a
+write) is recognised on opening -- the file does not end in a newline -- and cut back to
+the last complete record; that run is simply run again.  A malformed line anywhere else
+is corruption and is refused with its line number.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+from typing import Any, Iterable, Iterator
+
+from ...errors import F16mmaeError
+
+RECORDS_FILE = "runs.jsonl"
+
+
+class StoreError(F16mmaeError):
+    """The results file cannot be read as a sequence of records."""
+
+
+def canonical_json(obj: Any) -> str:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"))
+
+
+def run_key(identity: dict) -> str:
+    """Key of a run from everything that determines its result (a JSON-able dict)."""
+    return hashlib.sha256(canonical_json(identity).encode()).hexdigest()[:32]
+
+
+class ResultsStore:
+    """Append-only JSON-lines records under ``directory / RECORDS_FILE``."""
+
+    def __init__(self, directory: str | os.PathLike) -> None:
+        self.directory = Path(directory)
+        self.path = self.directory / RECORDS_FILE
+        self.repaired_bytes = 0  # bytes of a half-written last line cut on opening
+
+    # -- reading ---------------------------------------------------------------------
+    def _repair_tail(self) -> None:
+        """Cut a half-written last line so appends start on a fresh line."""
+        if not self.path.exists():
+            return
+        size = self.path.stat().st_size
+        if size == 0:
+            return
+        with open(self.path, "rb+") as f:
+            f.seek(size - 1)
+            if f.read(1) == b"\n":
+                return
+            # Find the last newline; everything after it is an unfinished record.
+            block = 1 << 16
+            pos = size
+            keep = 0
+            while pos > 0:
+                start = max(0, pos - block)
+                f.seek(start)
+                chunk = f.read(pos - start)
+                nl = chunk.rfind(b"\n")
+                if nl >= 0:
+                    keep = start + nl + 1
+                    break
+                pos = start
+            f.truncate(keep)
+            self.repaired_bytes = size - keep
+
+    def records(self) -> list[dict]:
+        """Every complete record, in the order written."""
+        return list(self._iter_records())
+
+    def _iter_records(self) -> Iterator[dict]:
+        self._repair_tail()
+        if not self.path.exists():
+            return
+        with open(self.path, encoding="utf-8") as f:
+            for lineno, line in enumerate(f, 1):
+                if not line.strip():
+                    continue
+                try:
+                    record = json.loads(line)
+                except json.JSONDecodeError as exc:
+                    raise StoreError(
+                        f"{self.path}:{lineno}: not a JSON record ({exc.msg}); the results "
+                        f"file is corrupt -- move it away or pass a new --out directory"
+                    ) from None
+                if not isinstance(record, dict) or "run_key" not in record:
+                    raise StoreError(f"{self.path}:{lineno}: record without a run_key")
+                yield record
+
+    def keys(self) -> set[str]:
+        return {r["run_key"] for r in self._iter_records()}
+
+    # -- writing ---------------------------------------------------------------------
+    def append(self, record: dict) -> None:
+        """Append one record as one line, durably."""
+        if "run_key" not in record:
+            raise ValueError("a stored record needs a run_key")
+        self.directory.mkdir(parents=True, exist_ok=True)
+        self._repair_tail()
+        line = json.dumps(record, separators=(",", ":"), allow_nan=False) + "\n"
+        with open(self.path, "a", encoding="utf-8") as f:
+            f.write(line)
+            f.flush()
+            os.fsync(f.fileno())
+
+    def extend(self, records: Iterable[dict]) -> None:
+        for r in records:
+            self.append(r)

@@ -1,0 +1,249 @@
+"""The off-nominal campaign (paper Sec. VIII, Fig. 9): the nominal design flown away from
+its design point.
+
+The bank under test (default: the shipped ``tuned`` single-failure bank, designed at
+Mach 0.4, 20,000 ft) is kept as it is -- its models, its design trim ``u_trim`` /
+``z_trim`` -- while the truth model is trimmed and flown at each envelope point.  The
+estimator learns the flight condition through nothing but ``u`` and ``z``: model mismatch
+and trim mismatch are what the campaign measures.
+
+Points: :mod:`.points` (default: the paper's 25 -- NOM, the local envelope 1-20
+stepping 0.005 Mach / 500 ft, the extrema 21-24 at +-5,000 ft / +-0.05 Mach).
+
+At every point the single-failure plan (:mod:`..engine.failure_runs`: NONE and the
+failures, ``runs`` seeded runs each) is planned at the point's Mach and altitude and flown
+with the same ``run_spec``; all points share one results store ``DIR/runs.jsonl`` (the run
+key holds the scenario, so the point's Mach and altitude) and one executor, so resume
+works across points (re-running skips stored runs).  Run n of case c flies the same seed
+at every point (``failure_runs.run_seed``): common random numbers, so differences between
+points come from the flight condition, not from the noise.
+
+Per point, over its stored runs (``point_metrics``)::
+
+    correct_fraction = (# failure-case runs ending with the injected failure declared)
+                       / (# failure-case runs)                (None without failure cases)
+    false_alarm_runs = # runs with a false alarm (scoring.score_run), NONE runs included:
+                       a failure declared before the failure time, or at all in a NONE run
+    latency_median_s = median detection latency over the failure-case runs that have one
+
+``acceptable`` (the paper calls performance acceptable while false alarms stay away):
+``correct_fraction >= 0.9`` (skipped when there are no failure cases) AND
+``false_alarm_runs == 0``; both thresholds are fields of :class:`EnvelopeCampaign`.
+
+Each point also records ``trim_offset``: the truth model's own trim at the point minus the
+bank's design trim (stabilator deg, VEL ft/s, AOA deg, AZ g) -- the initial perturbation
+error the paper names as the first cause of false alarms.  It is computed in the parent for
+the report only; the estimator never receives it.
+"""
+from __future__ import annotations
+
+import json
+import sys
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ... import __version__
+from ...banks import bank_estimator_settings, load_bank
+from ...names import NONE
+from ...truth.aircraft import check_flight_condition, trimmed_fdm
+from ...truth.failures import make_failure
+from ..engine import scoring
+from ..engine.config import CampaignConfig, CampaignError
+from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
+from ..engine.runner import CampaignOutcome, execute
+from ..engine.store import ResultsStore
+from . import figures
+from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
+
+#: The default acceptability rule (module docstring).
+CORRECT_FRACTION_MIN = 0.9
+FALSE_ALARMS_MAX = 0
+
+
+@dataclass(frozen=True)
+class EnvelopeCampaign(CampaignConfig):
+    """The arguments of ``f16mmae campaign envelope`` (everything that shapes the results)."""
+
+    runs: int = 2
+    points: tuple[EnvelopePoint, ...] = PAPER_POINTS
+    cases: tuple[str, ...] = CASES
+    failure_time_s: float = 3.0
+    correct_fraction_min: float = CORRECT_FRACTION_MIN
+    false_alarms_max: int = FALSE_ALARMS_MAX
+
+    def validate(self) -> "EnvelopeCampaign":
+        try:
+            check_distinct(self.points)
+        except EnvelopeError as exc:
+            raise CampaignError(str(exc)) from None
+        if not 0.0 <= self.correct_fraction_min <= 1.0:
+            raise CampaignError(f"correct_fraction_min {self.correct_fraction_min} must lie in [0, 1]")
+        if self.false_alarms_max < 0:
+            raise CampaignError(f"false_alarms_max {self.false_alarms_max} must be >= 0")
+        for p in self.points:
+            try:
+                check_flight_condition(p.mach, p.alt_ft)
+            except ValueError as exc:
+                raise CampaignError(f"point {p.label}: {exc}") from None
+        self.check_common(dwell_window_s=self.duration_s)
+        check_cases(self)
+        for case in self.cases:
+            if case != NONE:
+                try:
+                    make_failure(case, self.failure_time_s, self.mode)
+                except ValueError as exc:
+                    raise CampaignError(f"case {case}: {exc}") from None
+        return self
+
+
+# -- per-point scoring -----------------------------------------------------------------------
+def point_metrics(records: list[dict]) -> dict:
+    """Counts and latency of one point's runs (module docstring)."""
+    fail = [r for r in records if r["case"] != NONE]
+    none = [r for r in records if r["case"] == NONE]
+    lat = [r["latency_s"] for r in fail if r.get("latency_s") is not None]
+    correct = sum(1 for r in fail if r["outcome"] == "correct")
+    return {
+        "runs": len(records),
+        "failure_runs": len(fail),
+        "correct": correct,
+        "missed": sum(1 for r in fail if r["outcome"] == "missed"),
+        "wrong": sum(1 for r in fail if r["outcome"] == "wrong"),
+        "correct_fraction": correct / len(fail) if fail else None,
+        "none_runs": len(none),
+        "none_correct": sum(1 for r in none if r["outcome"] == "correct"),
+        "false_alarm_runs": sum(1 for r in records if r["false_alarm"]),
+        "latency_median_s": float(np.median(lat)) if lat else None,
+    }
+
+
+def acceptable(metrics: dict, correct_fraction_min: float = CORRECT_FRACTION_MIN,
+               false_alarms_max: int = FALSE_ALARMS_MAX) -> bool:
+    """The acceptability rule of the module docstring on ``point_metrics`` output."""
+    if metrics["runs"] == 0:
+        return False
+    frac = metrics["correct_fraction"]
+    return (frac is None or frac >= correct_fraction_min) and metrics["false_alarm_runs"] <= false_alarms_max
+
+
+def trim_offset(bank, point: EnvelopePoint) -> dict:
+    """Truth trim at ``point`` minus the bank's design trim (report only, never to the estimator)."""
+    _, tp = trimmed_fdm(point.mach, point.alt_ft)
+    du = np.asarray(tp.u_rad) - np.asarray(bank.u_trim)
+    dz = np.asarray(tp.z) - np.asarray(bank.z_trim)
+    return {"stab_deg": round(float(np.degrees(du[0])), 4), "vel_fps": round(float(dz[0]), 3),
+            "aoa_deg": round(float(np.degrees(dz[1])), 4), "az_g": round(float(dz[3]), 5)}
+
+
+# -- the campaign ----------------------------------------------------------------------------
+def plan(cfg: EnvelopeCampaign, banks: dict) -> list[dict]:
+    """Every run spec of every point (the single-failure plan at each), each tagged with its point."""
+    specs = []
+    for p in cfg.points:
+        for s in plan_at(cfg, banks, p.mach, p.alt_ft):
+            specs.append({**s, "point": p.label})
+    return specs
+
+
+def run_point_spec(spec: dict) -> dict:
+    """One run at one point: the single campaign's run, its record labelled with the point."""
+    return {**run_spec(spec), "point": spec["point"]}
+
+
+def describe_point_spec(spec: dict) -> str:
+    sc = spec["scenario"]
+    return (f"point {spec['point']} (Mach {sc['mach']}, {sc['alt_ft']:.0f} ft): "
+            f"run {spec['run_index']} of case {spec['case']} (seed {spec['seed']})")
+
+
+def run_envelope(cfg: EnvelopeCampaign, out_dir: str | Path, executor: Executor,
+                 executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
+    """Plan every point, run what is not stored yet, summarize per point, plot."""
+    cfg.validate()
+    out = Path(out_dir)
+    label, _, bank = load_bank(cfg.tuning)
+    banks = {label: (cfg.tuning, bank)}
+    specs = plan(cfg, banks)
+    out.mkdir(parents=True, exist_ok=True)
+    store = ResultsStore(out)
+    stored = store.keys()
+    left = {p.label: 0 for p in cfg.points}  # runs still to fly, per point
+    for spec in specs:
+        left[spec["point"]] += spec["run_key"] not in stored
+
+    def point_progress(spec: dict) -> None:
+        left[spec["point"]] -= 1
+        if show_progress and left[spec["point"]] == 0:
+            _note(f"point {spec['point']} done (Mach {spec['scenario']['mach']:.3f}, "
+                  f"{spec['scenario']['alt_ft']:.0f} ft); {sum(1 for v in left.values() if v)} point(s) to go")
+
+    done = execute(specs, store, executor, run_point_spec, describe=describe_point_spec,
+                   progress_label=f"runs ({len(cfg.points)} points)", show_progress=show_progress,
+                   after_each=point_progress)
+    point_of = {s["run_key"]: s["point"] for s in specs}
+    records = done.records
+    summary = summarize(cfg, banks, label, records, point_of)
+    summary["timing"] = done.timing(executor_label)
+    summary["figures"] = figures.make_figures(out, summary)
+    path = out / "summary.json"
+    path.write_text(json.dumps(summary, indent=1) + "\n")
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
+
+
+def _note(text: str) -> None:
+    stream = sys.stderr
+    tty = bool(getattr(stream, "isatty", lambda: False)())
+    stream.write(("\r\x1b[K" if tty else "") + text + "\n")
+    stream.flush()
+
+
+def summarize(cfg: EnvelopeCampaign, banks: dict, label: str, records: list[dict],
+              point_of: dict[str, str]) -> dict:
+    """The envelope summary: the campaign's settings and one entry per point."""
+    bank = banks[label][1]
+    design = EnvelopePoint("design", float(bank.mach), float(bank.alt_ft), "nominal")
+    points = []
+    for p in cfg.points:
+        recs = [r for r in records if point_of[r["run_key"]] == p.label]
+        metrics = point_metrics(recs)
+        points.append({
+            **p.to_dict(),
+            "d_mach": round(p.mach - design.mach, 6),
+            "d_alt_ft": round(p.alt_ft - design.alt_ft, 3),
+            "qbar_ratio": round(p.qbar_psf / design.qbar_psf, 4),
+            **metrics,
+            "acceptable": acceptable(metrics, cfg.correct_fraction_min, cfg.false_alarms_max),
+            "trim_offset": trim_offset(bank, p),
+            "cases": [scoring.summarize_case(c, [r for r in recs if r["tuning"] == label and r["case"] == c])
+                      for c in cfg.cases],
+        })
+    return {
+        "kind": "envelope",
+        "runs_per_case": cfg.runs,
+        "seed": cfg.seed,
+        "cases": list(cfg.cases),
+        "bank_hash": bank.content_hash,
+        "version": __version__,
+        "tuning": label,
+        "design_point": {"mach": design.mach, "alt_ft": design.alt_ft,
+                         "qbar_psf": round(design.qbar_psf, 3)},
+        "turbulence": cfg.turbulence,
+        "mode": cfg.mode,
+        "failure_time_s": cfg.failure_time_s,
+        "duration_s": cfg.duration_s,
+        "feedback": cfg.feedback,
+        "dither": cfg.dither,
+        "dither_scale": cfg.dither_scale,
+        "estimator": cfg.estimator_options(),
+        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()} if cfg.points else {},
+        "acceptable_rule": {"correct_fraction_min": cfg.correct_fraction_min,
+                            "false_alarm_runs_max": cfg.false_alarms_max},
+        "points": points,
+    }
+
+
+__all__ = ["EnvelopeCampaign", "EnvelopeError", "acceptable", "plan",
+           "point_metrics", "run_envelope", "summarize", "trim_offset"]

@@ -1,0 +1,65 @@
+"""The HTML page of an off-nominal campaign directory (``summary.json`` of kind "envelope").
+
+``envelope_page(d, summary)`` is the page body: the settings, the per-point table (Mach,
+altitude, q̄, correct fraction, false-alarm runs, median latency, acceptable, truth trim
+minus design trim) and both figures embedded as base64 PNGs (``report.figures.img_tag``), so the page
+is one self-contained file; ``report.page.render_report(d)`` writes it to ``DIR/report.html``.
+"""
+from __future__ import annotations
+
+import html
+import json
+from pathlib import Path
+
+from ...report.figures import img_tag
+from ...report.page import param_table, register_page
+
+
+def _f(x, fmt: str) -> str:
+    return "&ndash;" if x is None else format(x, fmt)
+
+
+def envelope_page(d: Path, s: dict) -> str:
+    rule = s["acceptable_rule"]
+    dp = s["design_point"]
+    settings = (
+        ("kind", s["kind"]), ("bank", f"{s['tuning']} ({s['bank_hash']})"),
+        ("design point", f"Mach {dp['mach']:g}, {dp['alt_ft']:.0f} ft, q̄ {dp['qbar_psf']:.1f} lbf/ft²"),
+        ("runs per case and point", s["runs_per_case"]), ("campaign seed", s["seed"]),
+        ("cases", ", ".join(s["cases"])), ("turbulence", s["turbulence"]), ("failure mode", s["mode"]),
+        ("failure time / duration (s)", f"{s['failure_time_s']} / {s['duration_s']}"),
+        ("estimator settings", json.dumps(s.get("estimator_settings", {}))), ("version", s["version"]),
+    )
+    head = ("<tr><th>point</th><th>Mach</th><th>alt (ft)</th><th>q̄ (lbf/ft²)</th><th>correct</th>"
+            "<th>false-alarm runs</th><th>latency median (s)</th><th>acceptable</th>"
+            "<th>Δ stab (deg)</th><th>Δ VEL (ft/s)</th><th>Δ AOA (deg)</th></tr>")
+    rows = []
+    for p in s["points"]:
+        frac = p["correct_fraction"]
+        corr = "&ndash;" if frac is None else f"{p['correct']}/{p['failure_runs']} ({100 * frac:.0f}%)"
+        t = p["trim_offset"]
+        rows.append(
+            f"<tr class='{'ok' if p['acceptable'] else 'bad'}'><td>{html.escape(p['label'])}</td>"
+            f"<td>{p['mach']:.3f}</td><td>{p['alt_ft']:.0f}</td><td>{p['qbar_psf']:.1f}</td>"
+            f"<td>{corr}</td><td>{p['false_alarm_runs']}</td><td>{_f(p['latency_median_s'], '.2f')}</td>"
+            f"<td>{'yes' if p['acceptable'] else 'no'}</td><td>{t['stab_deg']:+.3f}</td>"
+            f"<td>{t['vel_fps']:+.2f}</td><td>{t['aoa_deg']:+.3f}</td></tr>")
+    figs = s.get("figures", {})
+    parts = [
+        "<h1>f16mmae off-nominal campaign (paper Fig. 9)</h1>",
+        param_table(settings),
+        "<h2>Points</h2>",
+        f"<p>Acceptable: at least {100 * rule['correct_fraction_min']:.0f}% of the failure-case runs end "
+        f"with the injected failure declared, and at most {rule['false_alarm_runs_max']} runs (NONE runs "
+        "included) have a false alarm. Δ columns: the truth model's own trim at the point minus the "
+        "bank's design trim (the estimator never sees them).</p>",
+        "<table>" + head + "".join(rows) + "</table><h2>Figures</h2>",
+    ]
+    if "map" in figs:
+        parts.append(img_tag(d / figs["map"], "Points on Mach-altitude axes, coloured by correct fraction; lines of constant q̄"))
+    if "cases" in figs:
+        parts.append(img_tag(d / figs["cases"], "Correct runs per point and case"))
+    return "".join(parts)
+
+
+register_page("envelope", envelope_page)

@@ -1,0 +1,134 @@
+"""The single-failure Monte Carlo campaign (paper Sec. V, Figs. 3-6).
+
+Cases: the no-failure case NONE and each of the twelve single failures (LS ... AY), N
+seeded runs each, the failure (mode ``complete`` by default, the paper's model) at
+3.0 s of an 8-s flight at the bank's design point.  The campaign runs the primary bank
+(``--tuning``, default ``tuned``) and, unless ``--baseline none``, the same runs with
+the baseline bank (default ``untuned``) so Figs. 3 and 6 compare side by side.
+
+The runs, their seeds (common random numbers: tuned and untuned runs of one case and index
+fly the same turbulence and noise) and the record of each: :mod:`..engine.failure_runs`.
+Each run is a pure function of its spec, executed on any ``concurrent.futures.Executor``;
+the parent appends each record to the results store as it finishes and skips specs already
+stored (resume).  ``summary.json`` and the figures
+are then computed from the stored records of this campaign's plan only.
+"""
+from __future__ import annotations
+
+import json
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from pathlib import Path
+
+from ... import __version__
+from ...banks import bank_estimator_settings, load_bank
+from ...loop.flight import scenario_from_dict
+from ...loop.overhead import measure_overhead
+from ...names import NONE
+from ..engine import scoring
+from ..engine.config import CampaignConfig
+from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
+from ..engine.runner import CampaignOutcome, execute
+from ..engine.store import ResultsStore
+from . import figures
+
+
+@dataclass(frozen=True)
+class SingleCampaign(CampaignConfig):
+    """The arguments of ``f16mmae campaign single`` (everything that shapes the results)."""
+
+    cases: tuple[str, ...] = CASES
+    baseline: str | None = "untuned"
+    failure_time_s: float = 3.0
+    mach: float | None = None  # None: the bank's design point
+    alt_ft: float | None = None
+
+    def validate(self) -> "SingleCampaign":
+        self.check_common(dwell_window_s=self.duration_s)
+        check_cases(self)
+        return self
+
+
+# -- the campaign ------------------------------------------------------------------------------
+def run_campaign(cfg: SingleCampaign, out_dir: str | Path, executor: Executor,
+                 executor_label: str = "", show_progress: bool = True,
+                 measure_cost: bool = True) -> CampaignOutcome:
+    """Plan, run what is not stored yet, append records as they finish, summarize, plot."""
+    cfg.validate()
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    label, _, bank = load_bank(cfg.tuning)
+    banks = {label: (cfg.tuning, bank)}
+    if cfg.baseline:
+        b_label, _, b_bank = load_bank(cfg.baseline)
+        if b_bank.content_hash != bank.content_hash:
+            banks[b_label if b_label != label else f"{b_label}-baseline"] = (cfg.baseline, b_bank)
+    specs = plan(cfg, banks, cfg.mach, cfg.alt_ft)
+    done = execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
+                   show_progress=show_progress)
+    records = done.records
+    summary = summarize(cfg, banks, label, records)
+    summary["timing"] = done.timing(executor_label)
+    if measure_cost:
+        none_spec = next((s for s in specs if s["case"] == NONE), specs[0])
+        summary["timing"]["overhead"] = measure_overhead(
+            scenario_from_dict(none_spec["scenario"]), bank, **cfg.estimator_options())
+    summary["figures"] = make_figures(out, records, cfg)
+    path = out / "summary.json"
+    path.write_text(json.dumps(summary, indent=1) + "\n")
+    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, records)
+
+
+def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict]) -> dict:
+    def cases_of(lbl):
+        return [scoring.summarize_case(c, [r for r in records if r["tuning"] == lbl and r["case"] == c])
+                for c in cfg.cases]
+
+    bank = banks[label][1]
+    cases = cases_of(label)
+    goals = {c["case"]: scoring.check_goals(c) for c in cases}
+    summary = {
+        "kind": "single",
+        "runs_per_case": cfg.runs,
+        "seed": cfg.seed,
+        "bank_hash": bank.content_hash,
+        "version": __version__,
+        "tuning": label,
+        "turbulence": cfg.turbulence,
+        "mode": cfg.mode,
+        "mach": float(cfg.mach if cfg.mach is not None else bank.mach),
+        "alt_ft": float(cfg.alt_ft if cfg.alt_ft is not None else bank.alt_ft),
+        "failure_time_s": cfg.failure_time_s,
+        "duration_s": cfg.duration_s,
+        "feedback": cfg.feedback,
+        "dither_scale": cfg.dither_scale,
+        "estimator": cfg.estimator_options(),
+        # in force for the bank under test: its recommended settings, then the overrides
+        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "cases": cases,
+        "goals": {**scoring.GOALS, "met": all(g["all"] for g in goals.values()), "per_case": goals},
+        "baseline": None,
+    }
+    others = [lbl for lbl in banks if lbl != label]
+    if others:
+        b = others[0]
+        summary["baseline"] = {"tuning": b, "bank_hash": banks[b][1].content_hash,
+                               "estimator_settings": {**bank_estimator_settings(banks[b][1]),
+                                                      **cfg.estimator_options()},
+                               "cases": cases_of(b)}
+    return summary
+
+
+def make_figures(out: Path, records: list[dict], cfg: SingleCampaign) -> dict:
+    by_tuning: dict[str, list[dict]] = {}
+    for r in records:
+        by_tuning.setdefault(r["tuning"], []).append(r)
+    if not by_tuning:
+        return {}
+    strips = figures.probability_strips(by_tuning, out / "probability_strips.png", cases=cfg.cases)
+    failure_cases = [c for c in cfg.cases if c != NONE]
+    result = {"strips": strips.name}
+    if failure_cases:
+        lat = figures.latency_chart(by_tuning, out / "latency.png", cases=failure_cases)
+        result["latency"] = lat.name
+    return result

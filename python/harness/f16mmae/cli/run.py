@@ -1,0 +1,158 @@
+"""``f16mmae run``: one closed-loop flight with failures injected, the MMAE in the loop."""
+from __future__ import annotations
+
+import argparse
+
+from ..banks import BankError, load_bank
+from ..campaign.engine.scoring import expected_hypothesis, score_run
+from ..loop.flight import fly
+from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..report.flight import write_flight
+from ..truth import DitherSpec, Scenario, TrimError, parse_fail
+from .options import CliError, add_estimator_arguments, choice, estimator_options_from_args, number
+
+DESCRIPTION = """\
+Fly the nonlinear JSBSim F-16 (our FCS, dither on) with the MMAE estimator in the loop
+and report what it declared.  The estimator sees only the surface commands u and the
+sensor outputs z (minus its bank's trim), never the injected failures.
+"""
+
+EXAMPLES = """\
+examples:
+  f16mmae run                                  # no failure: nothing should be declared
+  f16mmae run --fail LS@3.0                    # left stabilator fails at 3.0 s (mode complete)
+  f16mmae run --fail PIT@3.0:stuck --seed 7 --out results/pit
+  f16mmae run --fail LS@3 --fail PIT@5         # a dual: level-1 bank after the first declaration
+  f16mmae run --fail RUD --turbulence moderate --feedback raw
+  f16mmae run --mach 0.42 --alt-ft 21000 --fail AOA   # off the bank's design point
+
+--fail NAME@TIME[:MODE[=VALUE]]: NAME one of LS RS LF RF RUD VEL AOA PIT AZ ROL YAW AY (any case);
+TIME in s (default 3.0 when '@TIME' is left out); MODE for actuators complete | stuck |
+hardover | loss, for sensors complete | null | stuck | hardover | bias | drift (default
+complete, the paper's model).
+
+With --out DIR: DIR/run.json (seed, scenario, bank hash, version, failures,
+declarations -- a back-out is a declaration of NONE --, final hypothesis),
+DIR/probabilities.csv (time_s, then one column per hypothesis that was on line: the
+union over the flight, empty while off line) and DIR/probabilities.png.
+"""
+
+DEFAULT_FAILURE_TIME_S = 3.0
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "run", help="one closed-loop flight with failures injected",
+        description=DESCRIPTION, epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    add_flight_arguments(p)
+    add_estimator_arguments(p)
+    p.add_argument("--out", default=None, metavar="DIR", help="write run.json, probabilities.csv/.png here")
+    p.set_defaults(func=_run)
+
+
+def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a bank file (default tuned)") -> None:
+    """The options of one flight, shared by ``run`` and ``hil``."""
+    p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
+                   help="inject a failure (repeatable); TIME defaults to 3.0 s, MODE to complete")
+    p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1)")
+    p.add_argument("--duration", default="8.0", metavar="S", help="flight length in s (default 8)")
+    p.add_argument("--turbulence", default="light", metavar="LEVEL",
+                   help="none | light | moderate | severe (default light)")
+    p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
+    p.add_argument("--alt-ft", default=None, metavar="H", help="flight altitude in ft (default: the bank's)")
+    p.add_argument("--bank", default="tuned", metavar="tuned|untuned|FILE", help=bank_help)
+    p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
+                   help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
+    p.add_argument("--no-dither", action="store_true", help="fly without dither")
+
+
+def parse_failures(specs: list[str]):
+    """``--fail`` values -> truth FailureSpecs (TIME defaults to 3.0 s when omitted)."""
+    out = []
+    for text in specs:
+        name, sep, rest = text.partition("@")
+        if not sep:  # NAME or NAME:MODE
+            name, colon, mode = text.partition(":")
+            text = f"{name}@{DEFAULT_FAILURE_TIME_S}" + (f":{mode}" if colon else "")
+        try:
+            out.append(parse_fail(text))
+        except ValueError as exc:
+            raise CliError(f"--fail {text!r}: {exc}") from None
+    return out
+
+
+def scenario_fields(args) -> dict:
+    """The scenario fields the arguments give, checked (CliError on a bad value);
+    ``mach``/``alt_ft`` are None when left to the bank's design point."""
+    turbulence = choice("--turbulence", args.turbulence, TURBULENCE_LEVELS)
+    feedback = choice("--feedback", args.feedback, FEEDBACK_MODES)
+    seed = number("--seed", args.seed, integer=True, minimum=1)
+    duration = number("--duration", args.duration, minimum=0.0, exclusive=True)
+    mach = None if args.mach is None else number("--mach", args.mach, minimum=0.0, exclusive=True)
+    alt_ft = None if args.alt_ft is None else number("--alt-ft", args.alt_ft)
+    failures = parse_failures(args.fail)
+    late = [f for f in failures if f.time_s >= duration]
+    if late:
+        raise CliError(f"--fail {late[0].name}@{late[0].time_s}: the failure time is not inside the "
+                       f"{duration}-s flight (use --duration)")
+    return {
+        "mach": mach, "alt_ft": alt_ft, "turbulence": turbulence,
+        "dither": not args.no_dither, "duration_s": duration, "seed": seed, "feedback": feedback,
+        "failures": tuple(failures),
+    }
+
+
+def build_scenario(fields: dict, bank):
+    """The truth Scenario: the checked fields, the bank's design point where not given."""
+    fields = dict(fields)
+    fields["mach"] = float(bank.mach if fields["mach"] is None else fields["mach"])
+    fields["alt_ft"] = float(bank.alt_ft if fields["alt_ft"] is None else fields["alt_ft"])
+    fields["dither"] = DitherSpec(enabled=fields["dither"])
+    try:
+        return Scenario(**fields)
+    except ValueError as exc:
+        raise CliError(str(exc)) from None
+
+
+def _run(args) -> int:
+    fields = scenario_fields(args)
+    try:
+        label, path, bank = load_bank(args.bank)
+    except BankError as exc:
+        raise CliError(f"--bank: {exc}") from None
+    scenario = build_scenario(fields, bank)
+    try:
+        result = fly(scenario, bank, estimator_options=estimator_options_from_args(args))
+    except (ValueError, TrimError) as exc:  # bad estimator option, untrimmable flight condition
+        raise CliError(str(exc)) from None
+    injected = expected_hypothesis([f["name"] for f in result.failures])
+    t_f = min((f["time_s"] for f in result.failures), default=None)
+    scored = score_run(injected, t_f, result.declarations)
+
+    s = result.scenario
+    print(f"flight: {s['duration_s']:g} s at Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, "
+          f"{s['turbulence']} turbulence, seed {s['seed']}, dither {'on' if s['dither'] else 'off'}, "
+          f"feedback {result.feedback}; bank {label} ({result.bank_hash[:12]})")
+    inj = ", ".join(f"{f['name']} at {f['time_s']:g} s ({f['mode']})" for f in result.failures)
+    print(f"injected: {inj or 'nothing'}")
+    if result.declarations:
+        for d in result.declarations:
+            what = "back-out to NONE" if d["hypothesis"] == "NONE" else f"declared {d['hypothesis']}"
+            print(f"  {d['time_s']:7.3f} s  {what}")
+    else:
+        print("  no declaration")
+    verdict = {"correct": "right", "missed": "MISSED", "wrong": "WRONG"}[scored["outcome"]]
+    extra = f", latency {scored['latency_s']:.3f} s" if scored["latency_s"] is not None else ""
+    fa = ((", FALSE ALARM before the failure" if injected != "NONE" else ", but FALSE ALARM(S) on the way")
+          if scored["false_alarm"] else "")
+    print(f"final hypothesis: {result.final_hypothesis} (expected {injected}: {verdict}{extra}{fa})")
+    tm = result.timing
+    print(f"cost: {tm['wall_s']:.3f} s wall ({s['duration_s'] / tm['wall_s']:.0f}x real time); "
+          f"truth model {tm['truth_s']:.3f} s, estimator {tm['estimator_s']:.3f} s")
+    if args.out:
+        paths = write_flight(result, args.out, outcome=scored["outcome"], false_alarm=scored["false_alarm"],
+                             latency_s=scored["latency_s"], bank_file=str(path))
+        print(f"wrote {paths['run']}, {paths['csv'].name}, {paths['png'].name}")
+    return 0

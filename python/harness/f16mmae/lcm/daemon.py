@@ -1,0 +1,97 @@
+"""The ``mmae-daemon`` executable: find it, start it as a child process, stop it."""
+from __future__ import annotations
+
+import importlib.util
+import os
+import shutil
+import signal
+import subprocess
+import threading
+from pathlib import Path
+
+from .channels import HilError
+
+
+def find_executable(name: str = "mmae-daemon") -> Path:
+    """``mmae-daemon`` or ``lcm-echo-f16``: $F16MMAE_BIN_DIR, then the package's ``bin``
+    folder (where ``pip install .`` / ``make build`` put them, beside the compiled core),
+    then $PATH. Raises HilError naming the places looked at."""
+    places: list[Path] = []
+    env = os.environ.get("F16MMAE_BIN_DIR")
+    if env:
+        places.append(Path(env) / name)
+    for module in ("f16mmae.core", "f16mmae.lcmt_mmae_status"):
+        spec = importlib.util.find_spec(module)
+        if spec is not None and spec.origin:
+            places.append(Path(spec.origin).parent / "bin" / name)
+    places.append(Path(__file__).resolve().parent / "bin" / name)
+    for p in places:
+        if p.is_file() and os.access(p, os.X_OK):
+            return p
+    on_path = shutil.which(name)
+    if on_path:
+        return Path(on_path)
+    raise HilError(f"cannot find {name}: looked in {', '.join(str(p.parent) for p in places)} and $PATH; "
+                   f"build it with 'make build' (or set F16MMAE_BIN_DIR)")
+
+
+def pin_to(cpus: set[int] | None):
+    """A ``preexec_fn`` that runs a child process (and every thread it starts) on ``cpus``;
+    None when ``cpus`` is None (no pinning)."""
+    if cpus is None:
+        return None
+    cpus = set(cpus)
+    return lambda: os.sched_setaffinity(0, cpus)
+
+
+class DaemonProcess:
+    """A ``mmae-daemon`` child process: started and ready (its ready line read), stopped
+    with SIGINT, its one-line statistics summary kept in :attr:`summary`."""
+
+    def __init__(self, bank_path: str | Path, *, lcm_url: str, channel_prefix: str = "",
+                 extra_args: tuple[str, ...] = (), ready_timeout_s: float = 10.0,
+                 cpus: set[int] | None = None) -> None:
+        exe = find_executable("mmae-daemon")
+        self.args = [str(exe), "--bank", str(bank_path), "--lcm-url", lcm_url,
+                     "--channel-prefix", channel_prefix, *extra_args]
+        self.summary = ""
+        self.returncode: int | None = None
+        self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                      text=True, bufsize=1, preexec_fn=pin_to(cpus))
+        self.ready_line = self._read_ready(ready_timeout_s)
+
+    def _read_ready(self, timeout_s: float) -> str:
+        box: list[str] = []
+        reader = threading.Thread(target=lambda: box.append(self._proc.stdout.readline()), daemon=True)
+        reader.start()
+        reader.join(timeout_s)
+        line = box[0].strip() if box else ""
+        if "ready" not in line:
+            self.stop()
+            err = self._stderr.strip() if hasattr(self, "_stderr") else ""
+            raise HilError(f"mmae-daemon did not start ({' '.join(self.args)}): "
+                           f"{err or line or f'no ready line within {timeout_s:g} s'}")
+        return line
+
+    def stop(self, timeout_s: float = 5.0) -> int:
+        """SIGINT, wait, keep the summary line; returns the exit status."""
+        if self.returncode is not None:
+            return self.returncode
+        if self._proc.poll() is None:
+            self._proc.send_signal(signal.SIGINT)
+        try:
+            out, err = self._proc.communicate(timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            self._proc.kill()
+            out, err = self._proc.communicate()
+        self._stderr = err or ""
+        lines = [ln for ln in (out or "").splitlines() if ln.startswith("mmae-daemon:")]
+        self.summary = lines[-1] if lines else ""
+        self.returncode = self._proc.returncode
+        return self.returncode
+
+    def __enter__(self) -> "DaemonProcess":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.stop()

@@ -1,0 +1,173 @@
+"""One closed-loop flight: the nonlinear truth model with the MMAE estimator in the loop.
+
+Frame i (t_i = i / FRAME_RATE_HZ), as in docs/INTERFACES.md::
+
+    z_i = truth.measure()                          sensors, noise and sensor failures applied
+    z_hat_i = estimator.update(z_i)                core: bank.update(z_i - z_trim); z_hat absolute
+    u_i = fcs.command(z_hat_i | z_i, t_i)          "mmae" feedback (paper) or "raw", dither included
+    estimator.propagate(u_i)                       core: bank.propagate(u_i - u_trim)
+    truth.advance(u_i)                             SIM_RATE_HZ / FRAME_RATE_HZ truth steps
+
+The estimator is an :class:`~f16mmae.loop.estimator.Estimator`: built from the model bank alone, its only inputs
+are the absolute vectors ``z`` (7,) and ``u`` (5,), copied into fresh float arrays at
+the boundary.  The failure truth lives in the scenario, which only the truth model
+receives; :func:`fly` never passes anything else to the estimator, and
+``tests/python/test_closedloop.py`` checks that structurally (signatures, and a replay
+of the recorded (u, z) through a fresh estimator reproducing every probability).
+
+Declarations: each update reports the hypothesis the core's declarer declared on that
+frame (if any); each is a declaration event ``{"hypothesis", "time_s"}`` -- a failure
+declared, a dual declared at level 1, or NONE when the bank backs out to level 0.
+``final_hypothesis`` is the core's current hypothesis at the end (NONE if none declared).
+
+``FlightResult.hypotheses`` (the columns of its probabilities and of probabilities.csv): the *union* of the hypotheses
+that were on line during the flight, in order of first appearance (the 13 level-0
+hypotheses, then any level-1 duals); a cell is empty (NaN in memory) while its
+hypothesis is off line.  The probabilities of the hypotheses on line sum to 1 per row.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import __version__
+from ..names import FEEDBACK_MODES, FRAME_RATE_HZ
+from ..truth import FlightControlSystem, Scenario, TruthModel
+from .estimator import Estimator
+
+
+# -- results ----------------------------------------------------------------------------------------
+@dataclass
+class FlightResult:
+    scenario: dict
+    bank_hash: str
+    version: str
+    feedback: str
+    failures: list[dict]
+    declarations: list[dict]
+    final_hypothesis: str
+    frame_dt_s: float
+    time_s: np.ndarray = field(repr=False)
+    hypotheses: tuple[str, ...] = ()
+    probabilities: np.ndarray = field(default=None, repr=False)  # (frames, len(hypotheses)), NaN off line
+    timing: dict = field(default_factory=dict)
+    #: The estimator settings in force (``Estimator.settings``; {} for an estimator without).
+    estimator_settings: dict = field(default_factory=dict)
+
+    def probability_of(self, hypothesis: str) -> np.ndarray:
+        """Probability history of one hypothesis, 0 while off line (or never on line)."""
+        if hypothesis not in self.hypotheses:
+            return np.zeros(len(self.time_s))
+        return np.nan_to_num(self.probabilities[:, self.hypotheses.index(hypothesis)], nan=0.0)
+
+    def run_json(self, **extra) -> dict:
+        return {
+            "seed": self.scenario.get("seed"),
+            "scenario": self.scenario,
+            "bank_hash": self.bank_hash,
+            "version": self.version,
+            "feedback": self.feedback,
+            "failures": self.failures,
+            "declarations": self.declarations,
+            "final_hypothesis": self.final_hypothesis,
+            "probability_columns": "union of the hypotheses on line; empty while off line",
+            "timing": self.timing,
+            "estimator_settings": self.estimator_settings,
+            **extra,
+        }
+
+
+# -- the truth side ---------------------------------------------------------------------------------
+def scenario_from_dict(d: dict):
+    """A truth-model Scenario from plain data (``Scenario.to_dict`` layout, as records store it)."""
+    return Scenario.from_dict(d)
+
+
+def scenario_to_dict(scenario) -> dict:
+    return scenario.to_dict()
+
+
+def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options: dict | None = None,
+        record_probabilities: bool = True, on_frame=None, estimator=None) -> FlightResult:
+    """Fly ``scenario`` with an estimator built from ``model_bank`` in the loop.
+
+    ``feedback`` overrides ``scenario.feedback`` ("mmae" | "raw").  ``on_frame(t, u, z)``,
+    if given, sees each frame's inputs to the estimator (for replay checks).
+    ``estimator``: another object with the :class:`Estimator` interface (``update(z) ->
+    z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``, ``declared``,
+    ``last_declaration``, ``bank_hash``) at its start state -- e.g. the executive over LCM
+    (``f16mmae.hil``); default ``Estimator.fresh(model_bank, **estimator_options)``."""
+    feedback = feedback or getattr(scenario, "feedback", "mmae")
+    if feedback not in FEEDBACK_MODES:
+        raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
+    t_start = time.perf_counter()
+    truth = TruthModel(scenario)              # the only holder of the failure truth
+    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari)
+    t_truth = time.perf_counter() - t_start
+    t0 = time.perf_counter()
+    if estimator is None:
+        estimator = Estimator.fresh(model_bank, **(estimator_options or {}))
+    elif estimator_options:
+        raise ValueError("estimator_options apply to the in-process estimator only, not to a given estimator")
+    t_est = time.perf_counter() - t0
+
+    dt = 1.0 / FRAME_RATE_HZ
+    n_frames = int(round(scenario.duration_s * FRAME_RATE_HZ))
+    use_mmae = feedback == "mmae"
+    columns: dict[str, int] = {name: k for k, name in enumerate(estimator.hypotheses)}
+    idx = np.arange(len(columns))
+    probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
+    declarations: list[dict] = []
+    clock = time.perf_counter
+    for i in range(n_frames):
+        t = i * dt
+        a = clock()
+        z = truth.measure()
+        b = clock()
+        z_hat = estimator.update(z)
+        c = clock()
+        u = fcs.command(z_hat if use_mmae else z, t)
+        d = clock()
+        estimator.propagate(u)
+        e = clock()
+        truth.advance(u)
+        f = clock()
+        t_truth += (b - a) + (d - c) + (f - e)
+        t_est += (c - b) + (e - d)
+        if on_frame is not None:
+            on_frame(t, np.array(u, dtype=float), np.array(z, dtype=float))
+        declared_now = estimator.last_declaration
+        if declared_now is not None:
+            declarations.append({"hypothesis": declared_now, "time_s": round(t, 9)})
+            if record_probabilities:  # the level (and the hypotheses on line) may have changed
+                names = estimator.hypotheses
+                for name in names:
+                    if name not in columns:
+                        columns[name] = len(columns)
+                if len(columns) > probs.shape[1]:
+                    probs = np.hstack([probs, np.full((n_frames, len(columns) - probs.shape[1]), np.nan)])
+                idx = np.array([columns[name] for name in names], dtype=int)
+        if record_probabilities:
+            probs[i, idx] = estimator.probabilities
+    final = estimator.declared
+    wall = time.perf_counter() - t_start
+    hypotheses = tuple(columns)
+    failures = [f.to_dict() for f in scenario.failures]
+    return FlightResult(
+        scenario=scenario_to_dict(scenario),
+        bank_hash=estimator.bank_hash,
+        version=__version__,
+        feedback=feedback,
+        failures=failures,
+        declarations=declarations,
+        final_hypothesis=final,
+        frame_dt_s=dt,
+        time_s=np.arange(n_frames) * dt,
+        hypotheses=hypotheses,
+        probabilities=(probs[:, : len(hypotheses)] if record_probabilities else np.zeros((n_frames, 0))),
+        timing={"wall_s": round(wall, 6), "truth_s": round(t_truth, 6), "estimator_s": round(t_est, 6),
+                "frames": n_frames},
+        estimator_settings=dict(getattr(estimator, "settings", {})),
+    )

@@ -1,0 +1,79 @@
+"""``f16mmae report DIR``: one self-contained HTML page from a campaign or run directory.
+
+A campaign directory holds ``summary.json`` and its figures; its ``"kind"`` chooses the page,
+from a registry that each campaign kind fills when it is imported (:func:`register_page`), so
+this module knows no kind.  A run directory holds ``run.json`` and ``probabilities.png``
+(:mod:`.flight`).  Figures are embedded as base64 data URIs so the page can be mailed or
+archived as one file.
+"""
+from __future__ import annotations
+
+import html
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+from ..errors import F16mmaeError
+from .flight import run_page
+
+#: A page body from a campaign directory and its summary.
+PageRenderer = Callable[[Path, dict], str]
+_PAGES: dict[str, PageRenderer] = {}
+
+
+class ReportError(F16mmaeError):
+    """The directory holds nothing a report can be made from."""
+
+
+def register_page(kind: str, render: PageRenderer) -> None:
+    """Make ``render(directory, summary)`` the page of campaign summaries of ``kind``."""
+    _PAGES[kind] = render
+
+
+def param_table(rows) -> str:
+    """A two-column table of (name, value) pairs, both escaped."""
+    return "<table>" + "".join(f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(str(v))}</td></tr>"
+                               for k, v in rows) + "</table>"
+
+
+_CSS = """
+body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}
+table{border-collapse:collapse;margin:0.8em 0}td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}
+th{background:#f3f3f3}td:first-child{text-align:left;font-weight:600}
+tr.bad td{background:#fff1f0}tr.ok td{background:#f4fbf4}tr.fair td{background:#fffbe6}
+img{max-width:100%}figure{margin:1em 0}figcaption{font-size:0.85em;color:#555}
+code{background:#f5f5f5;padding:0 3px}dt{font-weight:600}dd{margin:0 0 0.5em 1.5em}
+"""
+
+
+def _summary_page(d: Path, summary: dict) -> str:
+    """The page of a campaign directory, by the kind of its summary."""
+    kind = summary.get("kind", "single")
+    render = _PAGES.get(kind)
+    if render is None:
+        raise ReportError(f"{d / 'summary.json'} is of an unknown campaign kind {kind!r}; "
+                          f"this version reports {', '.join(sorted(_PAGES)) or 'no kind (none imported)'}")
+    return render(d, summary)
+
+
+def render_report(directory: str | Path) -> Path:
+    """Write ``DIR/report.html`` and return its path."""
+    d = Path(directory)
+    if not d.is_dir():
+        raise ReportError(f"{d} is not a directory")
+    if (d / "summary.json").exists():
+        body = _summary_page(d, json.loads((d / "summary.json").read_text()))
+    elif (d / "run.json").exists():
+        body = run_page(d, json.loads((d / "run.json").read_text()))
+    else:
+        raise ReportError(
+            f"{d} holds neither summary.json (from 'f16mmae campaign single|dual|envelope --out DIR') "
+            f"nor run.json (from 'f16mmae run --out DIR')"
+        )
+    out = d / "report.html"
+    out.write_text(
+        "<!doctype html><html><head><meta charset='utf-8'><title>f16mmae report</title>"
+        f"<style>{_CSS}</style></head><body>{body}</body></html>\n",
+        encoding="utf-8",
+    )
+    return out

@@ -179,7 +179,7 @@ def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after
             + section("method4_actuator_q", "white-noise strength (rad^2/s) through a B column, "
                       "eqs. 6-7", tun.actuator_q)
             + section("estimator", "recommended estimator settings (design/convergence.py "
-                      "ESTIMATOR), stored in the bank's metadata", tun.estimator))
+                      "ESTIMATOR), stored as the bank's typed fields", tun.estimator))
 
 
 def run_calibration(lin=None) -> tuple[Tuning, list[ResidualStats], list[dict]]:

@@ -10,6 +10,7 @@ void bind_bank(py::module_& m);          // bind_bank.cpp: FilterBank
 void bind_declarer(py::module_& m);      // bind_declarer.cpp: Declarer
 void bind_hierarchical(py::module_& m);  // bind_hierarchical.cpp: HierarchicalBank
 void bind_monitor(py::module_& m);       // bind_monitor.cpp: ResidualMonitor
+void bind_executive(py::module_& m);     // bind_executive.cpp: Executive
 void register_all(py::module_& m) {
   bind_filter(m);
   bind_bank(m);
@@ -17,5 +18,6 @@ void register_all(py::module_& m) {
   bind_model_bank(m);
   bind_hierarchical(m);
   bind_monitor(m);
+  bind_executive(m);
 }
 }  // namespace f16mmae::bindings

@@ -12,7 +12,7 @@ std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
-         "                   [--rewarm-us US] [--quiet]\n"
+         "                   [--rewarm-us US] [--auth-key FILE] [--quiet]\n"
          "\n"
          "The MMAE executive of f16mmae: steps the hierarchical bank of FILE once per sensor\n"
          "frame received over LCM and publishes the hypothesis probabilities and z_hat.\n"
@@ -36,10 +36,14 @@ std::string daemon_usage() {
          "                       frame arrives (at most --warm-lead-us past its due time), so\n"
          "                       the caches stay warm however the frame jitters (default 100;\n"
          "                       0: one warm-up per frame)\n"
+         "  --auth-key FILE      accept only frames, commands and resets signed with the key in\n"
+         "                       FILE (16-64 bytes, e.g. head -c 32 /dev/urandom > FILE), each\n"
+         "                       with a sequence above the last; sign every status with it.\n"
+         "                       Without it the daemon obeys any sender that reaches the URL\n"
          "  --quiet              do not print the ready line\n"
          "\n"
-         "SIGINT or SIGTERM ends it with a one-line summary: frames, rejected, dropped, stale,\n"
-         "step time p50/p99/max. Exit status 0 on a clean end, 1 if the bank or the LCM URL\n"
+         "SIGINT or SIGTERM ends it with a summary line (messages by fate, step time p50/p99/max)\n"
+         "and the same as one JSON line, 'mmae-daemon: statistics {...}'. Exit status 0 on a clean end, 1 if the bank or the LCM URL\n"
          "cannot be used, 2 on a usage error.\n";
 }
 
@@ -81,12 +85,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     const bool known = key == "--bank" || key == "--lcm-url" || key == "--channel-prefix" ||
                        key == "--rate-hz" || key == "--max-frames" || key == "--realtime" ||
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
-                       key == "--warm-lead-us" || key == "--rewarm-us";
+                       key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
-                         "--quiet, --help");
+                         "--auth-key, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -99,6 +103,9 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value.empty()) return usage_error("--lcm-url needs a URL such as memq:// or udpm://239.255.76.67:7667?ttl=0");
       c.lcm_url = value;
       have_url = true;
+    } else if (key == "--auth-key") {
+      if (value.empty()) return usage_error("--auth-key needs a key file name, got ''");
+      c.auth_key_path = value;
     } else if (key == "--channel-prefix") {
       c.channel_prefix = value;
     } else if (key == "--rate-hz") {

@@ -1,10 +1,12 @@
 // mmae-daemon — the MMAE executive as an LCM process (see daemon_config.h for the options).
 // Loads and validates the model bank, subscribes, then handles LCM traffic until SIGINT or
-// SIGTERM (or --max-frames statuses), and ends with a one-line statistics summary. Between
+// SIGTERM (or --max-frames statuses), and ends with its statistics twice: one human line,
+// then "mmae-daemon: statistics {JSON}" (LcmNode::statistics_json) for tools to parse. Between
 // frames it wakes --warm-lead-us before the next sensor frame is due to warm the executive
 // up, and again every --rewarm-us until the frame comes (WarmUpSchedule, Executive::warm_up).
 // Exit status: 0 clean end, 1 bank or LCM unusable, 2 usage error.
 #include "daemon_config.h"
+#include "frame_auth.h"
 #include "executive/executive.h"
 #include "lcm_node.h"
 #include "lcm_wait.h"
@@ -100,6 +102,21 @@ int main(int argc, char** argv) {
     return 1;
   }
 
+  std::unique_ptr<FrameAuth> auth;
+  if (!cfg.auth_key_path.empty()) {
+    try {
+      auth = std::make_unique<FrameAuth>(FrameAuth::from_key_file(cfg.auth_key_path));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "mmae-daemon: error: %s\n", e.what());
+      return 1;
+    }
+  } else {
+    std::fprintf(stderr,
+                 "mmae-daemon: warning: no --auth-key: frames, commands and resets are accepted from any "
+                 "sender that reaches %s\n",
+                 cfg.lcm_url.c_str());
+  }
+
   if (cfg.realtime_priority > 0) go_realtime(cfg.realtime_priority);  // before LCM's threads exist
   lcm_t* lcm = lcm_create(cfg.lcm_url.c_str());
   if (!lcm) {
@@ -112,13 +129,14 @@ int main(int argc, char** argv) {
   const Channels channels = cfg.channels();
   int rc = 0;
   {
-    LcmNode node(lcm, channels, *executive);
+    LcmNode node(lcm, channels, *executive, auth.get());
     if (!cfg.quiet) {
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s, p_min %g, threshold %g, dwell %g s), lcm %s, "
-                  "%s -> %s\n",
+                  "%s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), options.bank.p_min,
                   options.declarer.threshold, options.declarer.dwell_s, cfg.lcm_url.c_str(),
-                  channels.sensors.c_str(), channels.status.c_str());
+                  channels.sensors.c_str(), channels.status.c_str(),
+                  auth ? "frames authenticated" : "frames NOT authenticated");
       std::fflush(stdout);
     }
     WarmUpSchedule warm_up(cfg.rate_hz, std::chrono::nanoseconds(std::llround(cfg.warm_lead_us * 1e3)),
@@ -138,10 +156,16 @@ int main(int argc, char** argv) {
         warm_up.on_frame(node.last_sensor_arrival());
       }
     }
-    std::printf("mmae-daemon: %s%s; %lld statuses published, sensor-to-publish %s; %lld cache warm-ups\n",
+    const MessageCounts& m = node.messages();
+    std::printf("mmae-daemon: %s%s; messages %lld received, %lld undecodable, %lld unauthenticated, "
+                "%lld replayed, %lld publish errors; "
+                "%lld statuses published, sensor-to-publish %s; %lld cache warm-ups\n",
                 g_stop ? "stopped by signal: " : "", executive->summary().c_str(),
-                static_cast<long long>(node.published()), describe_us(node.sensor_to_publish()).c_str(),
-                static_cast<long long>(executive->warm_ups()));
+                static_cast<long long>(m.received), static_cast<long long>(m.undecodable),
+                static_cast<long long>(m.unauthenticated), static_cast<long long>(m.replayed),
+                static_cast<long long>(m.publish_errors), static_cast<long long>(node.published()),
+                describe_us(node.sensor_to_publish()).c_str(), static_cast<long long>(executive->warm_ups()));
+    std::printf("mmae-daemon: statistics %s\n", node.statistics_json().c_str());
     std::fflush(stdout);
   }
   lcm_destroy(lcm);

@@ -2,8 +2,10 @@
 
 #include "f16mmae/cache_warm.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 namespace f16mmae::executive {
 
@@ -22,8 +24,20 @@ bool all_finite(const double (&v)[N]) {
   return true;
 }
 
-// Status messages stay far below this; the buffer is sized once for the bank on line.
-constexpr int kNameCapacity = 32;
+// The longest name a status can carry: every name it reports is one of the bank's.
+std::size_t name_capacity(const ModelBank& bank) {
+  std::size_t n = 4;  // "NONE"
+  for (const auto& h : bank.hypotheses) n = std::max(n, h.name.size());
+  return n;
+}
+
+// One second of frames (Executive::kResyncAfterS), at least one.
+std::int64_t max_gap(double frame_rate_hz) {
+  if (!(frame_rate_hz > 0.0 && frame_rate_hz <= 1e6))
+    throw std::invalid_argument("Executive: the bank's frame_rate_hz must be in (0, 1e6] Hz, got " +
+                                std::to_string(frame_rate_hz));
+  return std::max<std::int64_t>(1, std::llround(frame_rate_hz * Executive::kResyncAfterS));
+}
 
 }  // namespace
 
@@ -40,7 +54,9 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
 Executive::~Executive() = default;
 
 Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options, WithoutRehearsal)
-    : estimator_(bank, options) {
+    : estimator_(bank, options),
+      sequencer_(max_gap(bank.frame_rate_hz)) {
+  const std::size_t kNameCapacity = name_capacity(bank);
   u_held_ = estimator_.u_trim();
   const int k = estimator_.on_line();
   status_.num_hypotheses = k;
@@ -48,6 +64,10 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options, 
   status_.probabilities.assign(k, 0.0);
   for (auto& name : status_.hypothesis_names) name.reserve(kNameCapacity);
   status_.bank_hash = bank.content_hash;
+  status_.auth_sequence = 0;  // the transport signs (the generated struct leaves them unset)
+  std::fill(std::begin(status_.auth_tag), std::end(status_.auth_tag), std::uint8_t{0});
+  status_.resynchronised = false;
+  status_.frames_resynchronised = 0;
   status_.level_failure.reserve(kNameCapacity);
   status_.declared.reserve(kNameCapacity);
   status_.declaration.reserve(kNameCapacity);
@@ -62,46 +82,42 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options, 
   encoded_size_ = 0;
 }
 
-void Executive::catch_up(std::int64_t frames) noexcept {
-  for (std::int64_t i = 0; i < frames; ++i) estimator_.propagate(u_held_);
+bool Executive::prepare(const FramePlan& plan) noexcept {
+  if (plan.restart) {
+    estimator_.reset();
+    u_held_ = estimator_.u_trim();
+  }
+  for (std::int64_t i = 0; i < plan.catch_up; ++i) estimator_.propagate(u_held_);  // <= max gap
+  return plan.apply;
 }
 
-bool Executive::on_sensor(const lcmt_sensor_frame& frame) noexcept {
+Fate Executive::on_sensor(const lcmt_sensor_frame& frame) noexcept {
   const auto t0 = Clock::now();
   bool valid = all_finite(frame.z);
   for (auto flag : frame.valid) valid = valid && flag;
-  if (!valid) {
-    sequencer_.on_rejected();
-    return false;
-  }
-  const FramePlan plan = sequencer_.on_sensor(frame.frame);
-  if (!plan.accept) return false;
-  catch_up(plan.catch_up);
+  const FramePlan plan = valid ? sequencer_.on_sensor(frame.frame) : sequencer_.on_rejected();
+  if (!prepare(plan)) return plan.fate;
   MmaeEstimator::ZVector z;
   for (int j = 0; j < MmaeEstimator::kNz; ++j) z(j) = frame.z[j];
   estimator_.update(z);  // finite z: always applied
   fill_status(frame, sequencer_.take_stale_since_status());
+  status_.resynchronised = plan.restart;
   const std::int64_t ns = elapsed_ns(t0);
   status_.step_time_ns = static_cast<std::int32_t>(ns < INT32_MAX ? ns : INT32_MAX);
   encoded_size_ = status_.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
   update_stats_.record(elapsed_ns(t0));
   ++statuses_;
-  return encoded_size_ > 0;
+  return plan.fate;
 }
 
-bool Executive::on_command(const lcmt_command_frame& frame) noexcept {
+Fate Executive::on_command(const lcmt_command_frame& frame) noexcept {
   const auto t0 = Clock::now();
-  if (!all_finite(frame.u_rad)) {
-    sequencer_.on_rejected();
-    return false;
-  }
-  const FramePlan plan = sequencer_.on_command(frame.frame);
-  if (!plan.accept) return false;
-  catch_up(plan.catch_up);
+  const FramePlan plan = all_finite(frame.u_rad) ? sequencer_.on_command(frame.frame) : sequencer_.on_rejected();
+  if (!prepare(plan)) return plan.fate;
   for (int j = 0; j < MmaeEstimator::kNu; ++j) u_held_(j) = frame.u_rad[j];
   estimator_.propagate(u_held_);
   propagate_stats_.record(elapsed_ns(t0));
-  return true;
+  return plan.fate;
 }
 
 void Executive::on_reset() noexcept {
@@ -147,17 +163,19 @@ void Executive::fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) 
   status_.frames_dropped = c.frames_dropped();
   status_.frames_stale = c.frames_stale;
   status_.commands_missed = c.commands_missed;
+  status_.frames_resynchronised = c.frames_resynchronised;
 }
 
 std::string Executive::summary() const {
   const SequencerCounters& c = sequencer_.counters();
-  char line[256];
+  char line[320];
   std::snprintf(line, sizeof line,
-                "frames %lld updated, %lld rejected, %lld dropped (%lld duplicate, %lld out-of-order), "
-                "%lld stale, %lld commands missed; ",
-                static_cast<long long>(c.frames_updated), static_cast<long long>(c.frames_rejected),
-                static_cast<long long>(c.frames_dropped()), static_cast<long long>(c.dropped_duplicate),
-                static_cast<long long>(c.dropped_out_of_order), static_cast<long long>(c.frames_stale),
+                "frames %lld updated, %lld commands applied, %lld rejected, %lld dropped (%lld duplicate, "
+                "%lld out-of-order), %lld resynchronised, %lld stale, %lld commands missed; ",
+                static_cast<long long>(c.frames_updated), static_cast<long long>(c.commands_applied),
+                static_cast<long long>(c.frames_rejected), static_cast<long long>(c.frames_dropped()),
+                static_cast<long long>(c.dropped_duplicate), static_cast<long long>(c.dropped_out_of_order),
+                static_cast<long long>(c.frames_resynchronised), static_cast<long long>(c.frames_stale),
                 static_cast<long long>(c.commands_missed));
   return line + ("step " + describe_us(update_stats_)) + "; propagate " + describe_us(propagate_stats_);
 }

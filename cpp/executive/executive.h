@@ -1,20 +1,26 @@
-// Executive — the MMAE executive of mmae-daemon, transport-free: decoded LCM frames in,
-// an encoded status out. It owns the estimator (MmaeEstimator: the hierarchical bank of a
-// model-bank file, absolute u and z), the FrameSequencer and the step-time statistics.
+// Executive — the MMAE executive of mmae-daemon and of `f16mmae replay`, transport-free:
+// decoded LCM frames in, an encoded status out. It owns the estimator (MmaeEstimator: the
+// hierarchical bank of a model-bank file, absolute u and z), the FrameSequencer and the
+// step-time statistics. It uses the LCM message types (lcm-coretypes) but no transport.
 //
-// Per frame (docs/INTERFACES.md):
-//   on_sensor(z_i)   reject (non-finite z or an invalid flag), or drop (duplicate,
-//                    out-of-order), or: catch up the frames the wire lost by propagating
-//                    with the held command (no update: the status is marked stale), then
-//                    bank.update(z_i) and fill the status (probabilities, z_hat, level,
-//                    declaration, counters) and encode it into a buffer owned here.
-//   on_command(u_i)  reject (non-finite), or drop, or catch up, then bank.propagate(u_i);
-//                    u_i becomes the held command (initially the bank's u_trim).
+// Per frame (docs/INTERFACES.md), each returning the frame's Fate (frame_sequencer.h):
+//   on_sensor(z_i)   rejected (non-finite z, an invalid flag, a bad counter), or dropped
+//                    (duplicate, out-of-order), or resynchronised (a counter more than
+//                    max_gap_frames() from the sequence: the estimator restarts from the
+//                    stale state, then z_i is applied), or used: the frames the wire lost
+//                    are caught up by propagating with the held command (no update: the
+//                    status is marked stale), then bank.update(z_i). A used or
+//                    resynchronised sensor frame fills the status (probabilities, z_hat,
+//                    level, declaration, counters) and encodes it into a buffer owned here.
+//   on_command(u_i)  rejected (non-finite), dropped, resynchronised (the estimator restarts
+//                    from the stale state; u_i is not applied), or used: catch up, then
+//                    bank.propagate(u_i); u_i becomes the held command (initially u_trim).
 //   on_reset()       a new flight: estimator and sequencer back to their initial state.
+// max_gap_frames() = round(frame_rate_hz * kResyncAfterS): one second of frames.
 // Nothing on these paths allocates once the executive is constructed (the status message's
-// vectors and strings are sized and reserved up front; the encode buffer is preallocated),
-// and nothing throws. Construction throws std::invalid_argument for a bank this build cannot
-// run (see MmaeEstimator).
+// vectors and strings are sized and reserved up front for the bank's longest name; the
+// encode buffer is preallocated), and nothing throws. Construction throws
+// std::invalid_argument for a bank this build cannot run (see MmaeEstimator).
 #pragma once
 
 #include "frame_sequencer.h"
@@ -40,10 +46,11 @@ class Executive {
   Executive(const Executive&) = delete;
   Executive& operator=(const Executive&) = delete;
 
-  // Returns true when a status was produced: encoded_status() holds it.
-  bool on_sensor(const lcmt_sensor_frame& frame) noexcept;
-  // Returns true when the command was applied (possibly after a catch-up).
-  bool on_command(const lcmt_command_frame& frame) noexcept;
+  static constexpr double kResyncAfterS = 1.0;  // the largest gap caught up, in seconds
+
+  // A used or resynchronised sensor frame produced a status: encoded_status() holds it.
+  Fate on_sensor(const lcmt_sensor_frame& frame) noexcept;
+  Fate on_command(const lcmt_command_frame& frame) noexcept;
   void on_reset() noexcept;
   // Ahead of the next sensor frame (WarmUpSchedule): make on_sensor run warm after the idle
   // time between frames. Measured on a 2-vCPU VM after 15.6 ms of sleep, on_sensor costs
@@ -63,19 +70,24 @@ class Executive {
   const lcmt_mmae_status& status() const noexcept { return status_; }
   const std::uint8_t* encoded_status() const noexcept { return buffer_.data(); }
   int encoded_status_size() const noexcept { return encoded_size_; }
+  // The same bytes, for a transport to fill in the status's auth trailer (auth_sequence,
+  // auth_tag: its last 40 bytes) before publishing; zeros as the executive leaves them.
+  std::uint8_t* mutable_encoded_status() noexcept { return buffer_.data(); }
 
   const SequencerCounters& counters() const noexcept { return sequencer_.counters(); }
   const StepStats& update_stats() const noexcept { return update_stats_; }
   const StepStats& propagate_stats() const noexcept { return propagate_stats_; }
   const MmaeEstimator& estimator() const noexcept { return estimator_; }
   std::int64_t statuses() const noexcept { return statuses_; }
+  std::int64_t max_gap_frames() const noexcept { return sequencer_.max_gap_frames(); }
 
-  // "frames 512 updated, 0 rejected, 0 dropped (0 duplicate, 0 out-of-order), 0 stale,
-  //  0 commands missed; step p50 3.1 us, p99 5.0 us, max 20.1 us; propagate p50 ..."
+  // "frames 512 updated, 511 commands applied, 0 rejected, 0 dropped (0 duplicate,
+  //  0 out-of-order), 0 resynchronised, 0 stale, 0 commands missed; step p50 3.1 us, ..."
   std::string summary() const;
 
  private:
-  void catch_up(std::int64_t frames) noexcept;
+  // The plan's restart and catch-up; false when the frame's own action is not to follow.
+  bool prepare(const FramePlan& plan) noexcept;
   void fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) noexcept;
 
   struct WithoutRehearsal {};  // the executive warm_up() flies has no rehearsal of its own

@@ -82,12 +82,21 @@ class StepStats {
   std::uint64_t max_ns_ = 0;
 };
 
-// "p50 X us, p99 Y us, max Z us": how the daemon's and the echo's summaries state a StepStats
-// (the latency benchmark reads them back in this form).
+// "p50 X us, p99 Y us, max Z us": how the daemon's and the echo's human summaries state a
+// StepStats.
 inline std::string describe_us(const StepStats& s) {
   char text[96];
   std::snprintf(text, sizeof text, "p50 %.1f us, p99 %.1f us, max %.1f us", s.quantile_ns(0.5) / 1e3,
                 s.quantile_ns(0.99) / 1e3, static_cast<double>(s.max_ns()) / 1e3);
+  return text;
+}
+
+// {"count": N, "p50": X, "p99": Y, "max": Z} in us (JSON): the machine-read twin of describe_us.
+inline std::string quantiles_json_us(const StepStats& s) {
+  char text[160];
+  std::snprintf(text, sizeof text, "{\"count\": %lld, \"p50\": %.3f, \"p99\": %.3f, \"max\": %.3f}",
+                static_cast<long long>(s.count()), s.quantile_ns(0.5) / 1e3, s.quantile_ns(0.99) / 1e3,
+                static_cast<double>(s.max_ns()) / 1e3);
   return text;
 }
 

@@ -109,7 +109,7 @@ TEST(ExecutiveWarmUp, ChangesNoStatusAndAllocatesNothing) {
     }
     warmed.warm_up();
     warmed.warm_up();  // twice: the rehearsal's own state never leaks into the real one
-    const bool sent = warmed.on_sensor(s);
+    const Fate sent = warmed.on_sensor(s);
     allocations += f16mmae::testing::allocation_count() - before;
     ASSERT_EQ(plain.on_sensor(s), sent);
     ASSERT_EQ(encoded(plain).size(), encoded(warmed).size());
@@ -122,7 +122,7 @@ TEST(ExecutiveWarmUp, ChangesNoStatusAndAllocatesNothing) {
     ASSERT_EQ(ea, ew) << "frame " << i;
     level1_frames += plain.status().bank_level == 1;
     const long long before_command = f16mmae::testing::allocation_count();
-    const bool applied = warmed.on_command(c);
+    const Fate applied = warmed.on_command(c);
     allocations += f16mmae::testing::allocation_count() - before_command;
     ASSERT_EQ(plain.on_command(c), applied);
   }

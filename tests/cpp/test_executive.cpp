@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -73,12 +74,12 @@ TEST(Executive, InOrderFramesMatchTheCoreBankOnPerturbations) {
   Executive ex(b);
   F16FilterBank ref = reference_bank(b);
   for (long long i = 0; i < 60; ++i) {
-    ASSERT_TRUE(ex.on_sensor(sensor(i, z_at(b, i))));
+    ASSERT_EQ(ex.on_sensor(sensor(i, z_at(b, i))), Fate::used);
     ref.update((z_at(b, i) - b.z_trim).eval());
     expect_same(ex, ref, b);
     EXPECT_EQ(ex.status().frame, i);
     EXPECT_FALSE(ex.status().stale);
-    ASSERT_TRUE(ex.on_command(command(i, u_at(b, i))));
+    ASSERT_EQ(ex.on_command(command(i, u_at(b, i))), Fate::used);
     ref.propagate((u_at(b, i) - b.u_trim).eval());
   }
   // the signals moved the probabilities away from NONE presumed (1 - 12 p_min)
@@ -107,7 +108,7 @@ TEST(Executive, AGapPropagatesWithTheHeldCommandWithoutUpdateAndMarksStale) {
   }
   // frames 10, 11, 12 lost on the wire; the held command is u_9
   for (int k = 0; k < 3; ++k) ref.propagate((u_at(b, 9) - b.u_trim).eval());
-  ASSERT_TRUE(ex.on_sensor(sensor(13, z_at(b, 13))));
+  ASSERT_EQ(ex.on_sensor(sensor(13, z_at(b, 13))), Fate::used);
   ref.update((z_at(b, 13) - b.z_trim).eval());
   expect_same(ex, ref, b);
   EXPECT_TRUE(ex.status().stale);
@@ -115,31 +116,31 @@ TEST(Executive, AGapPropagatesWithTheHeldCommandWithoutUpdateAndMarksStale) {
   EXPECT_EQ(ex.status().frames_stale, 3);
   EXPECT_EQ(ex.status().commands_missed, 3);
   ex.on_command(command(13, u_at(b, 13)));
-  ASSERT_TRUE(ex.on_sensor(sensor(14, z_at(b, 14))));
+  ASSERT_EQ(ex.on_sensor(sensor(14, z_at(b, 14))), Fate::used);
   EXPECT_FALSE(ex.status().stale);
 }
 
 TEST(Executive, NonFiniteOrInvalidFramesAreRejectedAndChangeNothing) {
   const ModelBank b = test_support::synthetic_bank();
   Executive ex(b);
-  ASSERT_TRUE(ex.on_sensor(sensor(0, z_at(b, 0))));
+  ASSERT_EQ(ex.on_sensor(sensor(0, z_at(b, 0))), Fate::used);
   const std::vector<double> before(ex.status().probabilities.begin(), ex.status().probabilities.end());
   auto bad = sensor(0, z_at(b, 0));
   bad.z[2] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_FALSE(ex.on_sensor(bad));
+  EXPECT_EQ(ex.on_sensor(bad), Fate::rejected);
   bad = sensor(0, z_at(b, 0));
   bad.z[0] = std::numeric_limits<double>::infinity();
-  EXPECT_FALSE(ex.on_sensor(bad));
+  EXPECT_EQ(ex.on_sensor(bad), Fate::rejected);
   bad = sensor(1, z_at(b, 1));
   bad.valid[4] = 0;
-  EXPECT_FALSE(ex.on_sensor(bad));
+  EXPECT_EQ(ex.on_sensor(bad), Fate::rejected);
   auto cmd = command(0, u_at(b, 0));
   cmd.u_rad[1] = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_FALSE(ex.on_command(cmd));
+  EXPECT_EQ(ex.on_command(cmd), Fate::rejected);
   EXPECT_EQ(ex.counters().frames_rejected, 4);
   EXPECT_EQ(ex.counters().frames_updated, 1);
   for (int k = 0; k < 13; ++k) EXPECT_EQ(ex.status().probabilities[k], before[k]);
-  EXPECT_TRUE(ex.on_command(command(0, u_at(b, 0))));
+  EXPECT_EQ(ex.on_command(command(0, u_at(b, 0))), Fate::used);
 }
 
 TEST(Executive, ResetReturnsToTheInitialBank) {
@@ -150,8 +151,8 @@ TEST(Executive, ResetReturnsToTheInitialBank) {
     ex.on_command(command(i, u_at(b, i)));
   }
   ex.on_reset();
-  ASSERT_TRUE(ex.on_sensor(sensor(0, z_at(b, 0))));
-  ASSERT_TRUE(fresh.on_sensor(sensor(0, z_at(b, 0))));
+  ASSERT_EQ(ex.on_sensor(sensor(0, z_at(b, 0))), Fate::used);
+  ASSERT_EQ(fresh.on_sensor(sensor(0, z_at(b, 0))), Fate::used);
   for (int k = 0; k < 13; ++k) EXPECT_EQ(ex.status().probabilities[k], fresh.status().probabilities[k]);
 }
 
@@ -194,8 +195,8 @@ TEST(Executive, TheShippedBankRunsAllocationFreeAndHoldsNoneAtTrim) {
   }
   const long long before = f16mmae::testing::allocation_count();
   for (std::size_t i = 0; i < sensors.size(); ++i) {
-    ASSERT_TRUE(ex.on_sensor(sensors[i]));
-    ASSERT_TRUE(ex.on_command(commands[i]));
+    ASSERT_EQ(ex.on_sensor(sensors[i]), Fate::used);
+    ASSERT_EQ(ex.on_command(commands[i]), Fate::used);
   }
   EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
   EXPECT_EQ(ex.status().bank_level, 0);
@@ -203,4 +204,66 @@ TEST(Executive, TheShippedBankRunsAllocationFreeAndHoldsNoneAtTrim) {
   EXPECT_EQ(ex.status().hypothesis_names[0], "NONE");
   EXPECT_GT(ex.status().probabilities[0], 0.9);
   for (int j = 0; j < 7; ++j) EXPECT_NEAR(ex.status().z_hat[j], b.z_trim(j), 1e-2 * (1.0 + std::abs(b.z_trim(j))));
+}
+
+// A frame more than one second of frames ahead restarts the estimator from the stale state
+// (what a fresh executive starts with) at that frame, in constant time: the 2^62 jump of a
+// forged frame costs no more than one frame, and the statuses say so.
+TEST(Executive, AJumpBeyondOneSecondOfFramesResynchronisesFromTheStaleState) {
+  const ModelBank b = test_support::synthetic_bank();
+  ASSERT_EQ(b.frame_rate_hz, 64.0);
+  for (const long long jump : {65LL, 10000000LL, 1LL << 62}) {
+    Executive ex(b);
+    EXPECT_EQ(ex.max_gap_frames(), 64);
+    for (long long i = 0; i < 30; ++i) {  // the AOA bias moves it away from the initial state
+      ex.on_sensor(sensor(i, z_at(b, i)));
+      ex.on_command(command(i, u_at(b, i)));
+    }
+    const long long n = 30 + jump;  // pending frame 30: 30 + 64 would still be caught up
+    const auto t0 = std::chrono::steady_clock::now();
+    ASSERT_EQ(ex.on_sensor(sensor(n, z_at(b, 30))), Fate::resynchronised);
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(100));
+    Executive fresh(b);
+    ASSERT_EQ(fresh.on_sensor(sensor(n, z_at(b, 30))), Fate::used);
+    for (int k = 0; k < 13; ++k) EXPECT_EQ(ex.status().probabilities[k], fresh.status().probabilities[k]);
+    for (int j = 0; j < 7; ++j) EXPECT_EQ(ex.status().z_hat[j], fresh.status().z_hat[j]);
+    EXPECT_TRUE(ex.status().resynchronised);
+    EXPECT_FALSE(ex.status().stale);
+    EXPECT_EQ(ex.status().frame, n);
+    EXPECT_EQ(ex.status().frames_resynchronised, 1);
+    EXPECT_EQ(ex.counters().commands_missed, 0);
+    // the flight goes on from there
+    ASSERT_EQ(ex.on_command(command(n, u_at(b, 30))), Fate::used);
+    ASSERT_EQ(ex.on_sensor(sensor(n + 1, z_at(b, 31))), Fate::used);
+    EXPECT_FALSE(ex.status().resynchronised);
+  }
+}
+
+TEST(Executive, AGapOfExactlyOneSecondIsStillCaughtUp) {
+  const ModelBank b = test_support::synthetic_bank();
+  Executive ex(b);
+  F16FilterBank ref = reference_bank(b);
+  ex.on_sensor(sensor(0, z_at(b, 0)));
+  ref.update((z_at(b, 0) - b.z_trim).eval());
+  ex.on_command(command(0, u_at(b, 0)));
+  ref.propagate((u_at(b, 0) - b.u_trim).eval());
+  for (int k = 0; k < 64; ++k) ref.propagate((u_at(b, 0) - b.u_trim).eval());
+  ASSERT_EQ(ex.on_sensor(sensor(65, z_at(b, 65))), Fate::used);
+  ref.update((z_at(b, 65) - b.z_trim).eval());
+  expect_same(ex, ref, b);
+  EXPECT_EQ(ex.status().frames_without_update, 64);
+  EXPECT_FALSE(ex.status().resynchronised);
+}
+
+TEST(Executive, AWildCommandRestartsTheEstimatorWithoutApplyingIt) {
+  const ModelBank b = test_support::synthetic_bank();
+  Executive ex(b), fresh(b);
+  for (long long i = 0; i < 30; ++i) {
+    ex.on_sensor(sensor(i, z_at(b, i)));
+    ex.on_command(command(i, u_at(b, i)));
+  }
+  ASSERT_EQ(ex.on_command(command(1LL << 62, u_at(b, 0))), Fate::resynchronised);
+  ASSERT_EQ(ex.on_sensor(sensor(30, z_at(b, 30))), Fate::used);
+  ASSERT_EQ(fresh.on_sensor(sensor(30, z_at(b, 30))), Fate::used);
+  for (int k = 0; k < 13; ++k) EXPECT_EQ(ex.status().probabilities[k], fresh.status().probabilities[k]);
 }

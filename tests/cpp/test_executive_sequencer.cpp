@@ -4,20 +4,24 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <stdexcept>
+
+using f16mmae::executive::Fate;
 using f16mmae::executive::FramePlan;
 using f16mmae::executive::FrameSequencer;
 
 namespace {
 
 void expect_plan(const FramePlan& p, bool accept, long long catch_up) {
-  EXPECT_EQ(p.accept, accept);
+  EXPECT_EQ(p.apply, accept);
   EXPECT_EQ(p.catch_up, catch_up);
 }
 
 }  // namespace
 
 TEST(FrameSequencer, InOrderFramesAreAllAppliedWithoutCatchUp) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   for (long long i = 100; i < 110; ++i) {
     expect_plan(s.on_sensor(i), true, 0);
     EXPECT_EQ(s.take_stale_since_status(), 0);
@@ -32,7 +36,7 @@ TEST(FrameSequencer, InOrderFramesAreAllAppliedWithoutCatchUp) {
 }
 
 TEST(FrameSequencer, DuplicatesAreDroppedAndCounted) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   expect_plan(s.on_sensor(0), true, 0);
   expect_plan(s.on_sensor(0), false, 0);  // repeated before its command
   expect_plan(s.on_command(0), true, 0);
@@ -44,7 +48,7 @@ TEST(FrameSequencer, DuplicatesAreDroppedAndCounted) {
 }
 
 TEST(FrameSequencer, LateFramesAreDroppedAsOutOfOrder) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   for (long long i = 0; i < 4; ++i) {
     s.on_sensor(i);
     s.on_command(i);
@@ -56,7 +60,7 @@ TEST(FrameSequencer, LateFramesAreDroppedAsOutOfOrder) {
 }
 
 TEST(FrameSequencer, LostSensorFramesArePropagatedWithTheHeldCommandAndMarkedStale) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   s.on_sensor(0);
   s.on_command(0);
   // sensor frames 1 and 2 (and their commands) lost
@@ -69,7 +73,7 @@ TEST(FrameSequencer, LostSensorFramesArePropagatedWithTheHeldCommandAndMarkedSta
 }
 
 TEST(FrameSequencer, MissedCommandAfterAnUpdateIsNotStale) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   s.on_sensor(0);
   // command 0 lost: frame 0 was updated, propagated with the held command
   expect_plan(s.on_sensor(1), true, 1);
@@ -79,7 +83,7 @@ TEST(FrameSequencer, MissedCommandAfterAnUpdateIsNotStale) {
 }
 
 TEST(FrameSequencer, CommandOfALostSensorFramePropagatesWithoutUpdate) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   s.on_sensor(0);
   s.on_command(0);
   expect_plan(s.on_command(1), true, 0);  // sensor 1 lost, its command arrived
@@ -92,14 +96,14 @@ TEST(FrameSequencer, CommandOfALostSensorFramePropagatesWithoutUpdate) {
 }
 
 TEST(FrameSequencer, CommandsBeforeTheFirstSensorFrameAreDropped) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   expect_plan(s.on_command(5), false, 0);
   EXPECT_EQ(s.counters().dropped_out_of_order, 1);
   expect_plan(s.on_sensor(7), true, 0);  // the first sensor frame starts the sequence
 }
 
 TEST(FrameSequencer, RejectedFramesAreCountedAndCaughtUpLater) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   s.on_sensor(0);
   s.on_command(0);
   s.on_rejected();  // sensor 1 had a NaN
@@ -110,7 +114,7 @@ TEST(FrameSequencer, RejectedFramesAreCountedAndCaughtUpLater) {
 }
 
 TEST(FrameSequencer, ResetStartsANewSequenceAndKeepsCounters) {
-  FrameSequencer s;
+  FrameSequencer s(64);
   for (long long i = 0; i < 5; ++i) {
     s.on_sensor(i);
     s.on_command(i);
@@ -120,4 +124,69 @@ TEST(FrameSequencer, ResetStartsANewSequenceAndKeepsCounters) {
   expect_plan(s.on_sensor(0), true, 0);
   EXPECT_EQ(s.counters().frames_updated, 6);
   EXPECT_EQ(s.counters().frames_dropped(), 0);
+}
+
+// Bounded catch-up: a gap of exactly L frames is caught up; L + 1 re-synchronises.
+TEST(FrameSequencer, AGapOfExactlyTheLimitIsCaughtUpOneMoreResynchronises) {
+  FrameSequencer s(64);
+  s.on_sensor(0);
+  s.on_command(0);  // pending frame 1
+  expect_plan(s.on_sensor(1 + 64), true, 64);
+  EXPECT_EQ(s.counters().frames_resynchronised, 0);
+  s.on_command(65);  // pending frame 66
+  const FramePlan p = s.on_sensor(66 + 65);
+  EXPECT_EQ(p.fate, Fate::resynchronised);
+  EXPECT_TRUE(p.restart);
+  EXPECT_TRUE(p.apply);
+  EXPECT_EQ(p.catch_up, 0);
+  EXPECT_EQ(s.counters().frames_resynchronised, 1);
+  EXPECT_EQ(s.take_stale_since_status(), 0);
+  // the new sequence runs on from the resynchronised frame
+  expect_plan(s.on_command(131), true, 0);
+  expect_plan(s.on_sensor(132), true, 0);
+}
+
+TEST(FrameSequencer, WildCountersResynchroniseInConstantTimeAndTheTrafficIsPickedUpAgain) {
+  for (const std::int64_t wild : {std::int64_t{10000000}, std::int64_t{1} << 62, FrameSequencer::kMaxFrame}) {
+    FrameSequencer s(64);
+    for (long long i = 0; i < 5; ++i) {
+      s.on_sensor(i);
+      s.on_command(i);
+    }
+    EXPECT_EQ(s.on_sensor(wild).fate, Fate::resynchronised) << wild;
+    // the original traffic resumes: more than L behind the wild counter, it resynchronises back
+    EXPECT_EQ(s.on_command(5).fate, Fate::resynchronised) << wild;
+    expect_plan(s.on_sensor(6), true, 0);
+    expect_plan(s.on_command(6), true, 0);
+    EXPECT_EQ(s.counters().frames_resynchronised, 2);
+    EXPECT_EQ(s.counters().commands_missed, 0);
+    EXPECT_EQ(s.counters().frames_stale, 0);
+  }
+}
+
+TEST(FrameSequencer, AWildCommandResynchronisesAndTheNextSensorFrameStarts) {
+  FrameSequencer s(64);
+  s.on_sensor(0);
+  const FramePlan p = s.on_command(1LL << 62);
+  EXPECT_EQ(p.fate, Fate::resynchronised);
+  EXPECT_TRUE(p.restart);
+  EXPECT_FALSE(p.apply);
+  EXPECT_FALSE(s.started());
+  expect_plan(s.on_sensor(1), true, 0);
+}
+
+TEST(FrameSequencer, CountersOutsideTheValidRangeAreRejected) {
+  FrameSequencer s(64);
+  EXPECT_EQ(s.on_sensor(-1).fate, Fate::rejected);
+  EXPECT_EQ(s.on_sensor(INT64_MAX).fate, Fate::rejected);
+  EXPECT_EQ(s.on_command(-5).fate, Fate::rejected);
+  EXPECT_EQ(s.counters().frames_rejected, 3);
+  EXPECT_FALSE(s.started());
+  // the largest valid counter runs without overflow
+  EXPECT_EQ(s.on_sensor(FrameSequencer::kMaxFrame).fate, Fate::used);
+  EXPECT_EQ(s.on_command(FrameSequencer::kMaxFrame).fate, Fate::used);
+}
+
+TEST(FrameSequencer, RefusesANonPositiveLimit) {
+  EXPECT_THROW(FrameSequencer(0), std::invalid_argument);
 }

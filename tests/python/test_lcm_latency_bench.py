@@ -6,11 +6,13 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
-from f16mmae.benchmarks.lcm_latency import PLACEMENTS, echo_name, host_floor, main, next_port_url, place, summary_quantiles_us
-from f16mmae.lcm.daemon import find_executable, pin_to
+from f16mmae.benchmarks.lcm_latency import PLACEMENTS, echo_name, find_tool, host_floor, main, next_port_url, place
+from f16mmae.lcm.channels import HilError
+from f16mmae.lcm.daemon import pin_to, statistics_line
 
 ALLOWED = sorted(os.sched_getaffinity(0))
 
@@ -41,13 +43,22 @@ def test_the_echo_listens_on_the_next_port():
     assert next_port_url("memq://") == "memq://"
 
 
-def test_reads_the_in_process_timings_of_a_summary_line():
-    line = ("mmae-daemon: frames 3 updated, ...; step p50 5.4 us, p99 20.1 us, max 68.7 us; 3 statuses published, "
-            "sensor-to-publish p50 40.2 us, p99 99.8 us, max 602.7 us; 9 cache warm-ups")
-    assert summary_quantiles_us(line, "sensor-to-publish") == {"p50": 40.2, "p99": 99.8, "max": 602.7}
-    assert summary_quantiles_us(line, "step") == {"p50": 5.4, "p99": 20.1, "max": 68.7}
-    assert summary_quantiles_us(line, "message-to-publish") == {"p50": None, "p99": None, "max": None}
-    assert summary_quantiles_us(None, "step")["p99"] is None
+def test_reads_a_statistics_line_not_the_human_one():
+    out = ("mmae-daemon: frames 3 updated, ...; sensor-to-publish p50 40.2 us, p99 99.8 us, max 602.7 us\n"
+           'mmae-daemon: statistics {"sensor_to_publish_us": {"count": 3, "p50": 40.2, "p99": 99.8, "max": 602.7}}\n')
+    assert statistics_line(out, "mmae-daemon")["sensor_to_publish_us"]["p99"] == 99.8
+    with pytest.raises(HilError, match="lcm-echo-f16 printed no statistics line"):
+        statistics_line(out, "lcm-echo-f16")
+    with pytest.raises(HilError, match="statistics line is not JSON"):
+        statistics_line("mmae-daemon: statistics {oops\n", "mmae-daemon")
+
+
+def test_the_tools_are_built_but_not_installed_in_the_package():
+    import f16mmae
+    package = Path(f16mmae.__file__).parent
+    for name in ("lcm-echo-f16", "f16mmae-idle-jitter"):
+        assert find_tool(name).parent.name == "latency"
+        assert not (package / "bin" / name).exists()
 
 
 def test_names_the_echo_by_the_control_it_was_made_into():
@@ -81,7 +92,7 @@ def test_the_host_floor_times_the_work_back_to_back_and_after_a_frame_of_idle():
     (["--samples"], "--samples needs a value"),
 ])
 def test_idle_jitter_refuses_bad_arguments_by_name(args, message):
-    p = subprocess.run([str(find_executable("f16mmae-idle-jitter")), *args], capture_output=True, text=True,
+    p = subprocess.run([str(find_tool("f16mmae-idle-jitter")), *args], capture_output=True, text=True,
                        timeout=10)
     assert p.returncode == 2 and message in p.stderr and "usage:" in p.stderr
 
@@ -92,6 +103,6 @@ def test_idle_jitter_refuses_bad_arguments_by_name(args, message):
     (["--rewake-us", "nan"], "--rewake-us must be a finite number >= 0, got 'nan'"),
 ])
 def test_the_echo_refuses_bad_arguments_by_name(args, message):
-    p = subprocess.run([str(find_executable("lcm-echo-f16")), "--lcm-url", "memq://", *args], capture_output=True,
+    p = subprocess.run([str(find_tool("lcm-echo-f16")), "--lcm-url", "memq://", *args], capture_output=True,
                        text=True, timeout=10)
     assert p.returncode == 2 and message in p.stderr

@@ -1,7 +1,8 @@
-"""Replay of recorded executive traffic (f16mmae replay) and the Python mirror of the
-daemon's frame rules.
+"""Replay of recorded executive traffic (f16mmae replay) through the daemon's own executive
+(core.Executive).
 
-* FrameSequencer: the same cases as tests/cpp/test_daemon_sequencer.cpp;
+* the frame rules through the binding: fates, shapes refused, a wild frame counter
+  re-synchronising in constant time (the C++ tests hold the rules themselves);
 * a log of a flight recorded over memq:// replays with every status matching exactly;
 * a log with wire faults (duplicate, late, lost, non-finite, invalid frames) replays, and
   the stale flags and counters are those the rules prescribe;
@@ -20,7 +21,8 @@ from f16mmae.cli.main import main
 from f16mmae.lcm.channels import channels
 from f16mmae.lcm.hil import fly_hil
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
-from f16mmae.lcm.replay import FrameSequencer, InProcessExecutive, ReplayError, replay_log
+from f16mmae import core
+from f16mmae.lcm.replay import InProcessExecutive, ReplayError, replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
@@ -31,45 +33,44 @@ def bank():
     return load_bank("tuned")[2]
 
 
-# -- the frame rules ---------------------------------------------------------------------------
-def test_sequencer_in_order_frames_need_no_catch_up():
-    s = FrameSequencer()
-    for i in range(100, 110):
-        assert s.on_sensor(i) == (True, 0)
-        assert s.take_stale_since_status() == 0
-        assert s.on_command(i) == (True, 0)
-    assert s.counters["frames_updated"] == 10 and s.counters["frames_stale"] == 0
+# -- the frame rules, through the binding ---------------------------------------------------------
+def test_the_bound_executive_gives_every_frame_its_fate(bank):
+    ex = core.Executive(bank)
+    z, u = np.array(bank.z_trim), np.array(bank.u_trim)
+    assert ex.encoded_status == b""
+    assert ex.on_command(5, u) == "out-of-order"          # before the first sensor frame
+    assert ex.on_sensor(0, z) == "used"
+    assert ex.on_sensor(0, z) == "duplicate"
+    assert ex.on_command(0, u) == "used"
+    assert ex.on_sensor(3, z) == "used"                    # frames 1, 2 lost: caught up, stale
+    assert lcmt_mmae_status.decode(ex.encoded_status).frames_without_update == 2
+    assert ex.on_sensor(2, z) == "out-of-order"
+    assert ex.on_sensor(4, z, valid=[True] * 6 + [False]) == "rejected"
+    assert ex.on_sensor(4, np.full(7, np.nan)) == "rejected"
+    assert ex.counters == dict(frames_updated=2, commands_applied=1, frames_rejected=2, dropped_duplicate=1,
+                               dropped_out_of_order=2, frames_resynchronised=0, frames_stale=2,
+                               commands_missed=2)
+    with pytest.raises(ValueError, match=r"z must have shape \(7,\), got \(6,\)"):
+        ex.on_sensor(5, z[:6])
+    with pytest.raises(ValueError, match="valid must hold 7 flags, got 2"):
+        ex.on_sensor(5, z, valid=[True, True])
+    with pytest.raises(ValueError, match=r"u must have shape \(5,\)"):
+        ex.on_command(5, z)
 
 
-def test_sequencer_duplicates_late_lost_and_rejected_frames():
-    s = FrameSequencer()
-    assert s.on_command(5) == (False, 0)          # before the first sensor frame
-    assert s.on_sensor(0) == (True, 0)
-    assert s.on_sensor(0) == (False, 0)           # duplicate
-    assert s.on_command(0) == (True, 0)
-    assert s.on_command(0) == (False, 0)          # duplicate
-    assert s.on_sensor(3) == (True, 2)            # frames 1, 2 lost: caught up, stale
-    assert s.take_stale_since_status() == 2
-    assert s.on_sensor(2) == (False, 0)           # late
-    assert s.on_command(3) == (True, 0)
-    assert s.on_command(4) == (True, 0)           # sensor 4 lost, its command arrived
-    s.on_rejected()                               # sensor 5 non-finite
-    assert s.on_sensor(6) == (True, 1)            # frame 5 caught up with the held command
-    assert s.take_stale_since_status() == 2       # frames 4 and 5
-    assert s.on_sensor(7) == (True, 1)            # command 6 lost: not stale (6 was updated)
-    assert s.take_stale_since_status() == 0
-    c = s.counters
-    assert (c["dropped_duplicate"], c["dropped_out_of_order"], c["frames_rejected"]) == (2, 2, 1)
-    assert (c["frames_stale"], c["commands_missed"], c["frames_updated"]) == (4, 4, 4)
-
-
-def test_sequencer_reset_starts_a_new_flight():
-    s = FrameSequencer()
-    for i in range(5):
-        s.on_sensor(i)
-        s.on_command(i)
-    s.reset()
-    assert s.on_sensor(0) == (True, 0)
+def test_a_wild_frame_counter_resynchronises_at_once(bank):
+    """Issue 16: a frame 2^62 ahead made the executive propagate once per skipped frame."""
+    ex = InProcessExecutive(bank)
+    assert ex.executive.max_gap_frames == 64
+    z, u = np.array(bank.z_trim), np.array(bank.u_trim)
+    for i in range(10):
+        ex.on_sensor(i, z)
+        ex.on_command(i, u)
+    status = ex.on_sensor(2**62, z)          # returns at once
+    assert status.resynchronised and status.frame == 2**62 and status.frames_resynchronised == 1
+    assert ex.on_command(10, u) == "resynchronised"   # the real traffic, far behind it
+    assert not ex.on_sensor(11, z).resynchronised
+    assert ex.executive.counters["frames_resynchronised"] == 2
 
 
 # -- logs ------------------------------------------------------------------------------------------

@@ -8,7 +8,8 @@
 // sleeps that long N times (default 300) and times the work after each wake-up. A p99 far
 // above the p50 after a long idle is the host's doing (a halted vCPU, its core lent to other
 // work), not the code's: no program of that length can have a shorter tail on this host.
-// Prints one line per idle time: p50, p99, max in us and p99/p50.
+// Prints one line per idle time: p50, p99, max in us and p99/p50; then the same as
+// "f16mmae-idle-jitter: statistics {"work_us": W, "idle_us": {"IDLE": {count, p50, p99, max}}}".
 #include "cpu_work.h"
 #include "executive/step_stats.h"
 
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
     }
   }
   const f16mmae::tools::CpuWork work(work_us);
+  std::string json;
   for (const double idle : idles) {
     f16mmae::executive::StepStats stats;
     const auto gap = std::chrono::nanoseconds(std::llround(idle * 1e3));
@@ -78,6 +80,10 @@ int main(int argc, char** argv) {
     const double p50 = stats.quantile_ns(0.5), p99 = stats.quantile_ns(0.99);
     std::printf("idle %g us: work %s (p99/p50 %.1f)\n", idle, f16mmae::executive::describe_us(stats).c_str(),
                 p50 > 0 ? p99 / p50 : 0.0);
+    char key[48];
+    std::snprintf(key, sizeof key, "%s\"%g\": ", json.empty() ? "" : ", ", idle);
+    json += key + f16mmae::executive::quantiles_json_us(stats);
   }
+  std::printf("f16mmae-idle-jitter: statistics {\"work_us\": %.3f, \"idle_us\": {%s}}\n", work_us, json.c_str());
   return 0;
 }

@@ -14,7 +14,8 @@
 // the executive's own cost from what its time in the callback costs on this host.
 // Defaults: $LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0, ECHO_PING -> ECHO_PONG.
 // Ends cleanly on SIGINT/SIGTERM with the number of messages echoed and the time from each
-// message's callback to its echo published (p50/p99/max), the daemon's sensor-to-publish twin.
+// message's callback to its echo published (p50/p99/max), the daemon's sensor-to-publish twin,
+// first as a human line, then as "lcm-echo-f16: statistics {JSON}" for the benchmark.
 #include "cpu_work.h"
 #include "daemon/daemon_config.h"
 #include "daemon/lcm_wait.h"
@@ -147,6 +148,8 @@ int main(int argc, char** argv) {
   }
   std::printf("lcm-echo-f16: %lld messages echoed, message-to-publish %s; %lld scheduled wake-ups\n", echo.count,
               f16mmae::executive::describe_us(echo.in_to_publish).c_str(), wakes);
+  std::printf("lcm-echo-f16: statistics {\"echoed\": %lld, \"wake_ups\": %lld, \"message_to_publish_us\": %s}\n",
+              echo.count, wakes, f16mmae::executive::quantiles_json_us(echo.in_to_publish).c_str());
   lcm_destroy(lcm);
   return rc;
 }

@@ -55,10 +55,10 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import re
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -77,29 +77,34 @@ def _quantiles_us(ns: list[int]) -> dict:
             "p99": round(float(np.percentile(a, 99)), 1), "max": round(float(a.max()), 1)}
 
 
-def summary_quantiles_us(line: str, label: str) -> dict:
-    """``{p50, p99, max}`` in us from the ``LABEL p50 X us, p99 Y us, max Z us`` part of a
-    daemon or echo summary line (StepStats' describe_us); Nones when it is not there."""
-    m = re.search(re.escape(label) + r" p50 ([\d.]+) us, p99 ([\d.]+) us, max ([\d.]+) us", line or "")
-    return dict(zip(("p50", "p99", "max"), (float(v) for v in m.groups()) if m else (None,) * 3))
+def find_tool(name: str) -> Path:
+    """A latency tool (``lcm-echo-f16``, ``f16mmae-idle-jitter``): built with the project but
+    not installed, so looked for in $F16MMAE_TOOLS_DIR, then the build trees of this source
+    checkout (``build/py`` of ``make build``, ``build/cpp`` of ``make ctest``). Raises HilError
+    naming the places looked at."""
+    from ..lcm.channels import HilError
+
+    root = Path(__file__).resolve().parents[4]  # python/harness/f16mmae/benchmarks -> the checkout
+    places = [Path(d) for d in filter(None, [os.environ.get("F16MMAE_TOOLS_DIR")])] + \
+        [root / "build" / tree / "tools" / "latency" for tree in ("py", "cpp")]
+    for d in places:
+        if (d / name).is_file() and os.access(d / name, os.X_OK):
+            return d / name
+    raise HilError(f"cannot find {name}: looked in {', '.join(map(str, places))}; the latency tools are "
+                   f"built from a source checkout ('make build'), never installed (or set F16MMAE_TOOLS_DIR)")
 
 
 def host_floor(server_cpus: set[int] | None, samples: int = 300) -> dict:
     """f16mmae-idle-jitter on the daemon's CPUs: a fixed 5-us register-only computation timed
     back to back and after a 64-Hz frame's idle -- the tail this host adds to any step of that
-    length. ``{idle_us: {p50, p99, max}}``."""
-    from ..lcm.daemon import find_executable, pin_to
+    length. ``{idle_us: {count, p50, p99, max}}``, from its statistics line."""
+    from ..lcm.daemon import pin_to, statistics_line
 
     frame_us = 1e6 / FRAME_RATE_HZ
-    out = subprocess.run([str(find_executable("f16mmae-idle-jitter")), "--work-us", "5", "--samples", str(samples),
+    out = subprocess.run([str(find_tool("f16mmae-idle-jitter")), "--work-us", "5", "--samples", str(samples),
                           "--idle-us", f"0,{frame_us:g}"], capture_output=True, text=True, check=True,
                          timeout=60, preexec_fn=pin_to(server_cpus)).stdout
-    floor = {}
-    for line in out.splitlines():
-        m = re.match(r"idle ([\d.]+) us: ", line)
-        if m:
-            floor[float(m.group(1))] = summary_quantiles_us(line, "work")
-    return floor
+    return {float(k): v for k, v in statistics_line(out, "f16mmae-idle-jitter")["idle_us"].items()}
 
 
 def echo_name(wake_lead_us: float, work_us: float) -> str:
@@ -177,7 +182,7 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
 
     from ..banks import load_bank
     from ..lcm.channels import HilError, channels
-    from ..lcm.daemon import DaemonProcess, find_executable, pin_to
+    from ..lcm.daemon import DaemonProcess, pin_to, statistics_line
     from ..lcm.hil import fly_hil
     from ..lcm.remote import RemoteEstimator, level0_hypotheses
     from ..lcmt_sensor_frame import lcmt_sensor_frame
@@ -205,7 +210,7 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     rt = ("--realtime", str(realtime)) if realtime else ()
     wake = ("--wake-lead-us", f"{echo_wake_lead_us:g}", "--rewake-us", f"{echo_rewake_us:g}",
             "--rate-hz", f"{FRAME_RATE_HZ:g}", "--work-us", f"{echo_work_us:g}")
-    echo = subprocess.Popen([str(find_executable("lcm-echo-f16")), "--lcm-url", echo_url, "--in", ping,
+    echo = subprocess.Popen([str(find_tool("lcm-echo-f16")), "--lcm-url", echo_url, "--in", ping,
                              "--out", pong, *rt, *wake], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=pin_to(server_cpus))
     if "ready" not in echo.stdout.readline():
@@ -258,14 +263,15 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
     finally:
         daemon.stop()
         echo.send_signal(2)
-        echo_summary = echo.communicate(timeout=5)[0].strip().splitlines()[-1:] or [""]
+        echo_out = echo.communicate(timeout=5)[0]
         if sub is not None:
             lc_echo.unsubscribe(sub)
     link = result.timing["link"]
     ex = link["latency_us"]
     ec = _quantiles_us(echo_ns)
-    inside_ex = summary_quantiles_us(daemon.summary, "sensor-to-publish")
-    inside_echo = summary_quantiles_us(echo_summary[0], "message-to-publish")
+    echo_summary = [ln for ln in echo_out.splitlines() if ln.startswith("lcm-echo-f16:") and "statistics" not in ln]
+    inside_ex = daemon.statistics["sensor_to_publish_us"]
+    inside_echo = statistics_line(echo_out, "lcm-echo-f16")["message_to_publish_us"]
     return {
         "duration_s": duration_s, "wall_s": round(wall, 3), "rate_hz": FRAME_RATE_HZ, "lcm_url": lcm_url,
         "echo_lcm_url": echo_url,
@@ -279,7 +285,8 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
         "echo_latency_us": ec, "echo_lost": echo_lost,
         "executive_excess_us": {k: (round(ex[k] - ec[k], 1) if ex[k] is not None and ec[k] is not None else None)
                                 for k in ("p50", "p99")},
-        "daemon_summary": daemon.summary, "echo_summary": echo_summary[0],
+        "daemon_summary": daemon.summary, "echo_summary": echo_summary[-1] if echo_summary else "",
+        "daemon_statistics": daemon.statistics,
         "inside_us": {"executive": inside_ex, "echo": inside_echo,
                       "excess": {k: (round(inside_ex[k] - inside_echo[k], 1)
                                      if inside_ex[k] is not None and inside_echo[k] is not None else None)

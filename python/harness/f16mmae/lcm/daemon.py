@@ -1,30 +1,41 @@
 """The ``mmae-daemon`` executable: find it, start it as a child process, stop it."""
 from __future__ import annotations
 
-import importlib.util
+import json
 import os
 import shutil
 import signal
 import subprocess
+import sysconfig
 import threading
 from pathlib import Path
 
 from .channels import HilError
 
 
+def statistics_line(output: str, program: str) -> dict:
+    """The statistics a program of ours printed as ``PROGRAM: statistics {JSON}`` (the last
+    such line of ``output``), as a dict; HilError when there is none or it is not JSON."""
+    head = f"{program}: statistics "
+    lines = [ln[len(head):] for ln in (output or "").splitlines() if ln.startswith(head)]
+    if not lines:
+        raise HilError(f"{program} printed no statistics line ({head.strip()!r}); its output was: "
+                       f"{(output or '').strip()[-500:]!r}")
+    try:
+        return json.loads(lines[-1])
+    except ValueError as exc:
+        raise HilError(f"{program}'s statistics line is not JSON ({exc}): {lines[-1][:200]!r}") from None
+
+
 def find_executable(name: str = "mmae-daemon") -> Path:
-    """``mmae-daemon`` or ``lcm-echo-f16``: $F16MMAE_BIN_DIR, then the package's ``bin``
-    folder (where ``pip install .`` / ``make build`` put them, beside the compiled core),
-    then $PATH. Raises HilError naming the places looked at."""
+    """``mmae-daemon``: $F16MMAE_BIN_DIR, then the scripts directory of this Python (where
+    ``pip install .`` and ``make build`` put it, beside ``f16mmae``), then $PATH. Raises
+    HilError naming the places looked at."""
     places: list[Path] = []
     env = os.environ.get("F16MMAE_BIN_DIR")
     if env:
         places.append(Path(env) / name)
-    for module in ("f16mmae.core", "f16mmae.lcmt_mmae_status"):
-        spec = importlib.util.find_spec(module)
-        if spec is not None and spec.origin:
-            places.append(Path(spec.origin).parent / "bin" / name)
-    places.append(Path(__file__).resolve().parent / "bin" / name)
+    places.append(Path(sysconfig.get_path("scripts")) / name)
     for p in places:
         if p.is_file() and os.access(p, os.X_OK):
             return p
@@ -32,7 +43,7 @@ def find_executable(name: str = "mmae-daemon") -> Path:
     if on_path:
         return Path(on_path)
     raise HilError(f"cannot find {name}: looked in {', '.join(str(p.parent) for p in places)} and $PATH; "
-                   f"build it with 'make build' (or set F16MMAE_BIN_DIR)")
+                   f"install the package ('pip install .' or 'make build'), or set F16MMAE_BIN_DIR")
 
 
 def pin_to(cpus: set[int] | None):
@@ -46,7 +57,9 @@ def pin_to(cpus: set[int] | None):
 
 class DaemonProcess:
     """A ``mmae-daemon`` child process: started and ready (its ready line read), stopped
-    with SIGINT, its one-line statistics summary kept in :attr:`summary`."""
+    with SIGINT; its human summary line kept in :attr:`summary`, its statistics line parsed
+    into :attr:`statistics` (LcmNode::statistics_json: messages by fate, frame counters,
+    step times)."""
 
     def __init__(self, bank_path: str | Path, *, lcm_url: str, channel_prefix: str = "",
                  extra_args: tuple[str, ...] = (), ready_timeout_s: float = 10.0,
@@ -55,6 +68,8 @@ class DaemonProcess:
         self.args = [str(exe), "--bank", str(bank_path), "--lcm-url", lcm_url,
                      "--channel-prefix", channel_prefix, *extra_args]
         self.summary = ""
+        self.ready_line_seen = False
+        self.statistics: dict = {}
         self.returncode: int | None = None
         self._proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                       text=True, bufsize=1, preexec_fn=pin_to(cpus))
@@ -66,6 +81,7 @@ class DaemonProcess:
         reader.start()
         reader.join(timeout_s)
         line = box[0].strip() if box else ""
+        self.ready_line_seen = "ready" in line
         if "ready" not in line:
             self.stop()
             err = self._stderr.strip() if hasattr(self, "_stderr") else ""
@@ -85,9 +101,12 @@ class DaemonProcess:
             self._proc.kill()
             out, err = self._proc.communicate()
         self._stderr = err or ""
-        lines = [ln for ln in (out or "").splitlines() if ln.startswith("mmae-daemon:")]
+        lines = [ln for ln in (out or "").splitlines()
+                 if ln.startswith("mmae-daemon:") and not ln.startswith("mmae-daemon: statistics ")]
         self.summary = lines[-1] if lines else ""
         self.returncode = self._proc.returncode
+        if self.ready_line_seen and self.returncode == 0:  # a clean end always prints it
+            self.statistics = statistics_line(out, "mmae-daemon")
         return self.returncode
 
     def __enter__(self) -> "DaemonProcess":

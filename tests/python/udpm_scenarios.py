@@ -1,15 +1,17 @@
-"""mmae-daemon in its own process, over UDP multicast (udpm) on this host.
-
-Runs where multicast loopback delivers; otherwise every test here is skipped with the
-reason and the fix (FACTS.md: 'ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo').
-Each session uses a private port and channel prefix, so parallel runs do not cross.
+"""mmae-daemon in its own process, over UDP multicast (udpm): the scenarios test_udpm.py runs,
+each inside a private network namespace whose only interface is the loopback (netns.py).
+Collected on their own (outside such a namespace) they refuse to run, so that no test of
+ours ever multicasts on a real interface.
 
 * lockstep flight against the daemon = the in-process run (to 1e-12), including a level-1
   switch; the stock lcm-logger's record of it replays exactly (f16mmae replay), and
   lcm-logplayer against a fresh daemon reproduces every logged status;
 * wire faults sent to the daemon give the stale flags and counters the frame rules
-  prescribe, and the Python replay of that traffic agrees with the C++ daemon frame by frame;
-* SIGTERM ends the daemon cleanly with its one-line summary;
+  prescribe, and the replay of that traffic agrees with the daemon frame by frame;
+* hostile messages (a junk flood, messages of the wrong type, truncated ones, frame
+  counters of 2^62 and 10^7) hang nothing: the daemon answers the next frame at once, stops
+  on SIGINT, and counts every message by fate in its statistics line;
+* SIGTERM ends the daemon cleanly with its summary and statistics lines;
 * the latency benchmark's bare echo returns every message byte for byte and times each from
   its callback to its echo published, as the daemon times a sensor frame to its status;
   with --work-us it spends that work first.
@@ -25,48 +27,29 @@ import lcm
 import numpy as np
 import pytest
 
-from f16mmae.benchmarks.lcm_latency import summary_quantiles_us
 from f16mmae.banks import load_bank
+from f16mmae.benchmarks.lcm_latency import find_tool
 from f16mmae.cli.main import main
 from f16mmae.loop.flight import fly
-from f16mmae.lcm.channels import HilError, channels
-from f16mmae.lcm.daemon import DaemonProcess, find_executable
+from f16mmae.lcm.channels import channels
+from f16mmae.lcm.codec import command_frame_bytes, sensor_frame_bytes
+from f16mmae.lcm.daemon import DaemonProcess, find_executable, statistics_line
 from f16mmae.lcm.hil import fly_hil
 from f16mmae.lcmt_command_frame import lcmt_command_frame
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae.lcm.replay import replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
+from netns import only_loopback
 from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
 
-PORT = 7700 + os.getpid() % 250
+if not only_loopback():
+    raise RuntimeError("udpm_scenarios.py runs only inside a private network namespace whose only interface is "
+                       "lo: run tests/python/test_udpm.py, which makes one for each scenario")
+
+PORT = 7700
 URL = f"udpm://239.255.76.67:{PORT}?ttl=0"
-URL2 = f"udpm://239.255.76.67:{PORT + 250}?ttl=0"
-
-
-def _udpm_reason() -> str | None:
-    """Why udpm cannot be used here, or None when a message makes the loopback round trip."""
-    fix = "enable it with 'ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo'"
-    try:
-        lc = lcm.LCM(URL)
-    except RuntimeError as exc:
-        return f"LCM cannot open {URL} ({exc}): multicast is not enabled on this host; {fix}"
-    got = []
-    lc.subscribe("F16MMAE_UDPM_PROBE", lambda ch, data: got.append(data))
-    for _ in range(3):
-        lc.publish("F16MMAE_UDPM_PROBE", b"probe")
-        lc.handle_timeout(200)
-        if got:
-            return None
-    return f"udpm multicast does not loop back on this host ({URL}); {fix}"
-
-
-_reason = _udpm_reason()
-try:
-    find_executable("mmae-daemon")
-except HilError as exc:
-    _reason = _reason or str(exc)
-pytestmark = pytest.mark.skipif(_reason is not None, reason=_reason or "")
+URL2 = f"udpm://239.255.76.67:{PORT + 1}?ttl=0"
 
 
 @pytest.fixture(scope="module")
@@ -117,7 +100,9 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
         logger.send_signal(signal.SIGINT)
         logger.wait(timeout=10)
     assert daemon.returncode == 0
-    assert "256 updated, 0 rejected, 0 dropped" in daemon.summary
+    assert "256 updated, 256 commands applied, 0 rejected, 0 dropped" in daemon.summary
+    assert daemon.statistics["messages"]["used"] == 256 + 256 + 1  # frames and the flight's reset
+    assert daemon.statistics["messages"]["undecodable"] == 0
     local = fly(scenario, bank)
     assert remote.hypotheses == local.hypotheses
     assert any("+" in h for h in remote.hypotheses)
@@ -181,12 +166,69 @@ def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
     assert {s.frame: s.frames_without_update for s in statuses if s.stale} == STALE
     last = statuses[-1]
     assert (last.frames_dropped, last.frames_rejected, last.frames_stale, last.commands_missed) == (2, 2, 4, 3)
-    assert "8 updated, 2 rejected, 2 dropped (1 duplicate, 1 out-of-order), 4 stale" in daemon.summary
-    inside = summary_quantiles_us(daemon.summary, "sensor-to-publish")  # 8 statuses timed
+    assert "8 updated, 9 commands applied, 2 rejected, 2 dropped (1 duplicate, 1 out-of-order), " \
+        "0 resynchronised, 4 stale" in daemon.summary
+    inside = daemon.statistics["sensor_to_publish_us"]  # 8 statuses timed
     assert 0 < inside["p50"] <= inside["p99"] <= inside["max"], daemon.summary
     report = replay_log(log, bank, channel_prefix=prefix)
     assert report.ok, [str(m) for m in report.mismatches]
     assert report.statuses_compared == 8
+
+
+def _wild(frame_bytes: bytes, counter: int) -> bytes:
+    """A sensor or command frame with its counter replaced (bytes 16..24: after the
+    fingerprint and utime)."""
+    return frame_bytes[:16] + counter.to_bytes(8, "big") + frame_bytes[24:]
+
+
+def test_hostile_messages_hang_nothing_and_are_counted_by_fate(banked):
+    """Issue 16: one frame numbered 2^62 made the daemon propagate once per skipped frame
+    (statuses stopped, SIGINT ignored); junk and malformed messages appeared in no counter."""
+    label, path, bank = banked
+    prefix = "HOSTILE_"
+    chans = channels(prefix)
+    lc = lcm.LCM(URL)
+    statuses = []
+    lc.subscribe(chans.status, lambda ch, data: statuses.append(lcmt_mmae_status.decode(data)))
+    z, u = np.array(bank.z_trim), np.array(bank.u_trim)
+
+    def send(channel, data, wait_status_of=None):
+        lc.publish(channel, data)
+        end = time.monotonic() + 5.0
+        while wait_status_of is not None and not any(s.frame == wait_status_of for s in statuses):
+            assert time.monotonic() < end, f"no status for frame {wait_status_of} within 5 s"
+            lc.handle_timeout(20)
+
+    rng = np.random.default_rng(3)
+    junk = 1500
+    with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+        for i in range(junk):  # random bytes on the three channels the daemon reads
+            channel = (chans.sensors, chans.commands, chans.reset)[i % 3]
+            lc.publish(channel, rng.integers(0, 256, size=int(rng.integers(0, 120)), dtype=np.uint8).tobytes())
+            if i % 15 == 14:
+                # paced below what LCM queues per subscription (30 messages; beyond that LCM
+                # drops a message before the daemon sees it), so every one is counted
+                time.sleep(0.01)
+        time.sleep(0.3)
+        send(chans.sensors, command_frame_bytes(0, u))       # the wrong type
+        send(chans.sensors, sensor_frame_bytes(0, z)[:-3])   # truncated
+        for i in range(3):
+            send(chans.sensors, sensor_frame_bytes(i, z), wait_status_of=i)
+            send(chans.commands, command_frame_bytes(i, u))
+        t0 = time.monotonic()
+        send(chans.sensors, _wild(sensor_frame_bytes(0, z), 2**62), wait_status_of=2**62)
+        send(chans.commands, _wild(command_frame_bytes(0, u), 10**7))   # far from 2^62 as well
+        send(chans.sensors, sensor_frame_bytes(3, z), wait_status_of=3)
+        assert time.monotonic() - t0 < 2.0
+        time.sleep(0.2)
+        t_stop = time.monotonic()
+    assert daemon.returncode == 0 and time.monotonic() - t_stop < 5.0
+    assert [s.resynchronised for s in statuses[-2:]] == [True, False]
+    m = daemon.statistics["messages"]
+    assert m["undecodable"] == junk + 2
+    assert (m["used"], m["resynchronised"], m["rejected"]) == (7, 2, 0)
+    assert m["received"] == junk + 2 + 7 + 2
+    assert daemon.statistics["frames"]["resynchronised"] == 2
 
 
 def test_sigterm_ends_the_daemon_cleanly_with_a_summary(banked):
@@ -198,13 +240,14 @@ def test_sigterm_ends_the_daemon_cleanly_with_a_summary(banked):
     out, err = p.communicate(timeout=5)
     assert p.returncode == 0, err
     lines = out.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("mmae-daemon: stopped by signal: frames 0 updated")
+    assert len(lines) == 2 and lines[0].startswith("mmae-daemon: stopped by signal: frames 0 updated")
     assert "step p50" in lines[0] and "p99" in lines[0] and "max" in lines[0]
+    assert statistics_line(out, "mmae-daemon")["messages"]["received"] == 0
 
 
 @pytest.mark.parametrize("work_us", [0, 200])
 def test_the_bare_echo_returns_each_message_and_times_it(work_us):
-    exe = str(find_executable("lcm-echo-f16"))
+    exe = str(find_tool("lcm-echo-f16"))
     p = subprocess.Popen([exe, "--lcm-url", URL2, "--in", "T_PING", "--out", "T_PONG", "--work-us", str(work_us)],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
@@ -224,7 +267,7 @@ def test_the_bare_echo_returns_each_message_and_times_it(work_us):
     assert pongs == pings
     assert p.returncode == 0, err
     assert "5 messages echoed" in out
-    inside = summary_quantiles_us(out, "message-to-publish")
+    inside = statistics_line(out, "lcm-echo-f16")["message_to_publish_us"]
     assert 0 < inside["p50"] <= inside["p99"] <= inside["max"], out
     assert inside["p50"] >= 0.5 * work_us, out  # --work-us is spent before each echo
 

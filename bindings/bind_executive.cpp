@@ -1,0 +1,115 @@
+// f16mmae.core.Executive: the MMAE executive of mmae-daemon (cpp/executive/executive.h) in
+// process -- the one implementation of the frame rules (frame_sequencer.h), used by
+// `f16mmae replay` and the in-process LCM executive. Frames go in as numbers and arrays
+// (checked here: shapes, frame counters that fit int64); the status comes out LCM-encoded,
+// byte for byte what mmae-daemon publishes (decode it with f16mmae.lcmt_mmae_status).
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core_convert.h"
+#include "executive/executive.h"
+#include "f16mmae/model_bank.h"
+
+namespace py = pybind11;
+
+namespace f16mmae::bindings {
+namespace {
+
+namespace cv = convert;
+using executive::Executive;
+using executive::MmaeEstimator;
+
+HierarchicalOptions options_of(double p_min, bool strip_leading_term, double threshold, double dwell_s) {
+  HierarchicalOptions o;
+  o.bank.p_min = p_min;
+  o.bank.strip_leading_term = strip_leading_term;
+  o.declarer.threshold = threshold;
+  o.declarer.dwell_s = dwell_s;
+  return o;
+}
+
+std::string on_sensor(Executive& ex, std::int64_t frame, py::handle z, const std::optional<std::vector<bool>>& valid,
+                      std::int64_t utime) {
+  const auto zv = cv::to_vector<MmaeEstimator::ZVector>(z, MmaeEstimator::kNz, "z");
+  if (valid && valid->size() != static_cast<std::size_t>(MmaeEstimator::kNz))
+    throw py::value_error("valid must hold " + std::to_string(MmaeEstimator::kNz) + " flags, got " +
+                          std::to_string(valid->size()));
+  lcmt_sensor_frame f{};
+  f.utime = utime;
+  f.frame = frame;
+  for (int j = 0; j < MmaeEstimator::kNz; ++j) {
+    f.z[j] = zv(j);
+    f.valid[j] = valid ? (*valid)[j] : true;
+  }
+  return executive::fate_name(ex.on_sensor(f));
+}
+
+std::string on_command(Executive& ex, std::int64_t frame, py::handle u, std::int64_t utime) {
+  const auto uv = cv::to_vector<MmaeEstimator::UVector>(u, MmaeEstimator::kNu, "u");
+  lcmt_command_frame f{};
+  f.utime = utime;
+  f.frame = frame;
+  for (int j = 0; j < MmaeEstimator::kNu; ++j) f.u_rad[j] = uv(j);
+  return executive::fate_name(ex.on_command(f));
+}
+
+py::dict counters(const Executive& ex) {
+  const auto& c = ex.counters();
+  py::dict d;
+  d["frames_updated"] = c.frames_updated;
+  d["commands_applied"] = c.commands_applied;
+  d["frames_rejected"] = c.frames_rejected;
+  d["dropped_duplicate"] = c.dropped_duplicate;
+  d["dropped_out_of_order"] = c.dropped_out_of_order;
+  d["frames_resynchronised"] = c.frames_resynchronised;
+  d["frames_stale"] = c.frames_stale;
+  d["commands_missed"] = c.commands_missed;
+  return d;
+}
+
+}  // namespace
+
+void bind_executive(py::module_& m) {
+  py::class_<Executive>(m, "Executive", R"doc(
+The MMAE executive of mmae-daemon, in process: the F-16 hierarchical bank of a ModelBank
+behind the daemon's frame rules (duplicates and late frames dropped, lost frames propagated
+with the held command, non-finite or invalid frames rejected, a counter more than one second
+of frames from the sequence re-synchronised from the stale state).
+
+Executive(model_bank, *, p_min, strip_leading_term, threshold, dwell_s): the estimator
+settings in force (callers pass the bank's recommended ones with their overrides).
+on_sensor(frame, z, valid=None, utime=0) and on_command(frame, u, utime=0) take absolute z (7,)
+and u (5,) and return the frame's fate: "used", "rejected", "duplicate", "out-of-order" or
+"resynchronised". A used or resynchronised sensor frame leaves its status in encoded_status.
+Raises ValueError for a bank other than the F-16's (13 states, 5 inputs, 7 measurements)
+and for arrays of the wrong shape.)doc")
+      .def(py::init([](const ModelBank& bank, double p_min, bool strip_leading_term, double threshold,
+                       double dwell_s) {
+             return new Executive(bank, options_of(p_min, strip_leading_term, threshold, dwell_s));
+           }),
+           py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
+           py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25)
+      .def("on_sensor", &on_sensor, py::arg("frame"), py::arg("z"), py::arg("valid") = py::none(),
+           py::arg("utime") = 0, "Sensor frame: returns its fate.")
+      .def("on_command", &on_command, py::arg("frame"), py::arg("u"), py::arg("utime") = 0,
+           "Command frame: returns its fate.")
+      .def("on_reset", &Executive::on_reset, "A new flight: estimator and frame sequence restart.")
+      .def_property_readonly(
+          "encoded_status",
+          [](const Executive& ex) {
+            return py::bytes(reinterpret_cast<const char*>(ex.encoded_status()),
+                             static_cast<std::size_t>(ex.encoded_status_size()));
+          },
+          "The last status, LCM-encoded (lcmt_mmae_status); b'' before the first.")
+      .def_property_readonly("counters", &counters, "The frame counters since construction (a dict).")
+      .def_property_readonly("max_gap_frames", &Executive::max_gap_frames,
+                             "The largest gap caught up frame by frame (one second of frames).")
+      .def_property_readonly("statuses", &Executive::statuses, "Statuses produced since construction.");
+}
+
+}  // namespace f16mmae::bindings

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bankfile/bank_file.h"
+#include "bankfile/bank_signature.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/model_bank.h"
 
@@ -358,9 +359,25 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
           }));
 
   m.def(
-      "load_bank", [](py::handle path) { return load_bank(fspath(path)); }, py::arg("path"),
+      "load_bank",
+      [](py::handle path, py::handle public_key) {
+        return public_key.is_none() ? load_bank(fspath(path)) : load_signed_bank(fspath(path), fspath(public_key));
+      },
+      py::arg("path"), py::kw_only(), py::arg("public_key") = py::none(),
       "Read a model-bank file: checks magic, version, size and SHA-256, decodes and validates it.\n"
-      "FileNotFoundError if absent, OSError if unreadable, ValueError naming what is wrong.");
+      "With public_key (a 32-byte Ed25519 key file), first verifies the signature PATH.sig over the\n"
+      "file's bytes. FileNotFoundError if absent, OSError if unreadable or not a regular file,\n"
+      "ValueError naming what is wrong (a bad signature included).");
+  m.def(
+      "generate_bank_signing_keys",
+      [](py::handle public_key, py::handle secret_key) { generate_bank_signing_keys(fspath(public_key), fspath(secret_key)); },
+      py::arg("public_key"), py::arg("secret_key"),
+      "Write a new Ed25519 key pair for bank signatures: public (32 bytes), secret (64 bytes, mode 0600).");
+  m.def(
+      "sign_bank_file",
+      [](py::handle bank, py::handle secret_key) { sign_bank_file(fspath(bank), fspath(secret_key)); },
+      py::arg("bank"), py::arg("secret_key"),
+      "Sign a bank file's bytes with an Ed25519 secret key; writes the 64-byte signature to BANK.sig.");
   m.def(
       "save_bank", [](const ModelBank& b, py::handle path) { return save_bank(b, fspath(path)); }, py::arg("bank"),
       py::arg("path"), "Validate the bank and write its file atomically; returns content_hash.");

@@ -140,8 +140,9 @@ std::string save_bank(const ModelBank& bank, const std::string& path) {
   return to_hex(sha256(image.data() + kBankFileHeaderSize, image.size() - kBankFileHeaderSize));
 }
 
-ModelBank load_bank(const std::string& path) {
-  const std::string who = "bank file '" + path + "': ";
+std::vector<std::uint8_t> read_regular_file(const std::string& path, std::uint64_t max_bytes,
+                                            const std::string& what) {
+  const std::string who = what + " '" + path + "': ";
   // O_NONBLOCK: opening a FIFO with no writer returns at once instead of waiting for one.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {
@@ -161,12 +162,12 @@ ModelBank load_bank(const std::string& path) {
                        : S_ISBLK(st.st_mode)  ? "a block device"
                        : S_ISSOCK(st.st_mode) ? "a socket"
                                               : "not a regular file";
-    throw BankFileIoError(who + "is " + kind + "; a bank must be a regular file");
+    throw BankFileIoError(who + "is " + kind + "; it must be a regular file");
   }
   const std::uint64_t size = static_cast<std::uint64_t>(st.st_size);
-  if (size > kMaxBankFileBytes)
+  if (size > max_bytes)
     throw BankFileFormatError(who + "is " + std::to_string(size) + " bytes, over the limit of " +
-                              std::to_string(kMaxBankFileBytes) + " bytes for a bank file");
+                              std::to_string(max_bytes) + " bytes");
   // One byte more than the size: a file that grows while being read is noticed, not cut.
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size) + 1);
   std::size_t got = 0;
@@ -180,7 +181,13 @@ ModelBank load_bank(const std::string& path) {
     got += static_cast<std::size_t>(n);
   }
   if (got != size) throw BankFileIoError(who + "changed size while being read");
-  return parse_bank_file(bytes.data(), size, "'" + path + "'");
+  bytes.resize(static_cast<std::size_t>(size));
+  return bytes;
+}
+
+ModelBank load_bank(const std::string& path) {
+  const std::vector<std::uint8_t> bytes = read_regular_file(path, kMaxBankFileBytes, "bank file");
+  return parse_bank_file(bytes.data(), bytes.size(), "'" + path + "'");
 }
 
 }  // namespace f16mmae

@@ -14,7 +14,7 @@
 // every campaign record.
 //
 // load_bank reads only a regular file of at most kMaxBankFileBytes: it opens without
-// blocking (a FIFO cannot hang it) and refuses a device, FIFO, socket or folder by name
+// blocking (a FIFO cannot hang it) and refuses a device, FIFO, socket or folder by name (read_regular_file)
 // before reading a byte. It refuses, with a message naming the file and the problem: a
 // missing file (BankFileNotFound), an unreadable or non-regular one (BankFileIoError), and
 // (BankFileFormatError, an std::invalid_argument) wrong magic, an unsupported version,
@@ -88,5 +88,11 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
 std::string save_bank(const ModelBank& bank, const std::string& path);
 // Reads, checks and validates a bank file; the result has content_hash set.
 ModelBank load_bank(const std::string& path);
+
+// The bytes of a regular file of at most max_bytes, opened without blocking: a missing file
+// is BankFileNotFound; a folder, FIFO, device or socket, or a read error, BankFileIoError; a
+// larger file BankFileFormatError. Messages start with "<what> '<path>': ".
+std::vector<std::uint8_t> read_regular_file(const std::string& path, std::uint64_t max_bytes,
+                                            const std::string& what);
 
 }  // namespace f16mmae

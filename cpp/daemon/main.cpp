@@ -13,6 +13,7 @@
 #include "warm_up_schedule.h"
 
 #include "bankfile/bank_file.h"
+#include "bankfile/bank_signature.h"
 
 #include <lcm/lcm.h>
 
@@ -76,7 +77,8 @@ int main(int argc, char** argv) {
   std::string bank_hash, tuning;
   f16mmae::ModelBank bank;
   try {
-    bank = f16mmae::load_bank(cfg.bank_path);
+    bank = cfg.bank_public_key_path.empty() ? f16mmae::load_bank(cfg.bank_path)
+                                            : f16mmae::load_signed_bank(cfg.bank_path, cfg.bank_public_key_path);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mmae-daemon: error: cannot use bank file '%s': %s\n", cfg.bank_path.c_str(), e.what());
     return 1;

@@ -297,7 +297,7 @@ TEST_F(BankFile, ReadsOnlyRegularFiles) {
     load_bank("/dev/zero");
     ADD_FAILURE();
   } catch (const BankFileIoError& e) {
-    EXPECT_STREQ(e.what(), "bank file '/dev/zero': is a character device; a bank must be a regular file");
+    EXPECT_STREQ(e.what(), "bank file '/dev/zero': is a character device; it must be a regular file");
   }
   const std::string fifo = path("bank.fifo");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);

@@ -101,7 +101,7 @@ def test_crafted_hypothesis_count_and_trailing_bytes(tmp_path, shipped, payload)
 
 
 def test_non_regular_files_are_refused_at_once_by_name(tmp_path):
-    with pytest.raises(OSError, match="'/dev/zero': is a character device; a bank must be a regular file"):
+    with pytest.raises(OSError, match="'/dev/zero': is a character device; it must be a regular file"):
         core.load_bank("/dev/zero")
     fifo = tmp_path / "bank.fifo"
     os.mkfifo(fifo)
@@ -119,7 +119,7 @@ def test_non_regular_files_are_refused_at_once_by_name(tmp_path):
     t.join(timeout=10)
     assert not t.is_alive(), "loading a FIFO with no writer hung"
     assert time.monotonic() - t0 < 10
-    assert result["error"] == f"bank file '{fifo}': is a FIFO; a bank must be a regular file"
+    assert result["error"] == f"bank file '{fifo}': is a FIFO; it must be a regular file"
     with pytest.raises(OSError, match="is a directory"):
         core.load_bank(tmp_path)
 
@@ -128,7 +128,7 @@ def test_a_file_over_the_size_limit_is_refused_without_reading_it(tmp_path):
     path = tmp_path / "huge.f16bank"
     with open(path, "wb") as f:  # sparse: 64 MiB + 1 byte of nothing
         f.truncate((64 << 20) + 1)
-    with pytest.raises(ValueError, match=r"is 67108865 bytes, over the limit of 67108864 bytes for a bank file"):
+    with pytest.raises(ValueError, match=r"is 67108865 bytes, over the limit of 67108864 bytes"):
         core.load_bank(path)
 
 

@@ -86,7 +86,7 @@ fuzz: setup
 	$(VENV)/bin/ctest --test-dir build/fuzz --output-on-failure
 
 bench: build
-	$(VENV)/bin/f16mmae bench
+	$(VENV)/bin/f16mmae bench estimator
 
 clean:
 	rm -rf build

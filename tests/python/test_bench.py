@@ -14,7 +14,6 @@ from f16mmae import core, names
 from f16mmae.bench import estimator as bench
 from f16mmae.cli.main import main
 
-needs_filter_bank = pytest.mark.skipif(not hasattr(core, "FilterBank"), reason="core.FilterBank not built")
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +64,6 @@ def test_numpy_reference_matches_a_hand_computed_frame():
     np.testing.assert_allclose(ref.x_prior[:, 0], 0.5 * (0.5 * z) + 0.2)  # Phi (K r) + Bd u
 
 
-@needs_filter_bank
 def test_numpy_reference_and_cpp_bank_agree_to_1e9_on_every_frame(models, frames):
     z, u = frames
     cpp, reference = bench.core_filter_bank(models), bench.NumpyMMAE(models)
@@ -101,7 +99,7 @@ def test_cpp_loop_timing_refuses_a_bank_of_the_wrong_size(frames):
 
 def test_bench_command_prints_the_table_and_writes_json(tmp_path, capsys):
     out = tmp_path / "bench.json"
-    assert main(["bench", "--frames", "40", "--min-time", "0", "--json", str(out)]) == 0
+    assert main(["bench", "estimator", "--frames", "40", "--min-time", "0", "--json", str(out)]) == 0
     text = capsys.readouterr().out
     for label in ("(a) C++ loop", "(b) Python call", "(c) numpy reference", "(d) filterpy"):
         assert label in text
@@ -120,7 +118,49 @@ def test_bench_command_prints_the_table_and_writes_json(tmp_path, capsys):
     (["--frames", "many"], "--frames 'many' is not an integer"),
     (["--min-time", "-1"], "--min-time '-1' must be >= 0.0"),
     (["--min-time", "7200"], "--min-time '7200' must be < 3600.0"),
+    (["--frames", "1e12"], "--frames '1e12' is not an integer"),
+    (["--frames", "100000000"], "--frames '100000000' must be < 10000000"),
+    (["--json", "."], "--json '.' is a directory"),
 ])
 def test_bench_command_refuses_bad_arguments(capsys, argv, message):
-    assert main(["bench", *argv]) == 2
+    assert main(["bench", "estimator", *argv]) == 2
     assert re.search(message, capsys.readouterr().err)
+
+
+def test_bench_json_under_a_file_is_refused_before_timing(tmp_path, capsys):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("x")
+    assert main(["bench", "estimator", "--frames", "40", "--json", str(blocker / "bench.json")]) == 2
+    err = capsys.readouterr()
+    assert "a-file" in err.err and "not a directory" in err.err and "us/frame" not in err.out
+
+
+def test_bench_truth_prints_truth_bare_and_closed_loop(capsys):
+    assert main(["bench", "truth", "--duration-s", "0.5", "--repeat", "1"]) == 0
+    out = capsys.readouterr().out
+    for label in ("bare JSBSim stock f16, stepping", "full truth model, frames",
+                  "closed loop (tuned bank, probabilities recorded) / truth alone", "dither levels"):
+        assert label in out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--duration-s", "0"], "--duration-s '0' must be > 0.0"),
+    (["--duration-s", "1e12"], "--duration-s '1e12' must be < 3600.0"),
+    (["--repeat", "0"], "--repeat '0' must be >= 1"),
+])
+def test_bench_truth_refuses_bad_arguments(capsys, argv, message):
+    assert main(["bench", "truth", *argv]) == 2
+    assert re.search(message, capsys.readouterr().err)
+
+
+def test_bench_lcm_hands_its_options_to_the_latency_benchmark(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["bench", "lcm", "--help"])
+    assert stop.value.code == 0
+    assert "--placement" in capsys.readouterr().out
+
+
+def test_bench_without_a_kind_lists_the_three(capsys):
+    assert main(["bench"]) == 2
+    out = capsys.readouterr().out
+    assert all(k in out for k in ("estimator", "truth", "lcm"))

@@ -23,7 +23,7 @@ from campaign_support import CountingExecutor
 
 # -- configuration ------------------------------------------------------------------------------
 @pytest.mark.parametrize("kwargs, message", [
-    ({"runs": 0}, "--runs must be >= 1"),
+    ({"runs": 0}, "--runs must lie in [1, 1000], got 0"),
     ({"seed": 0}, "--seed must be >= 1"),
     ({"pairs": ()}, "no pair to fly"),
     ({"pairs": (("LS", "LS"),)}, "fails one component twice"),

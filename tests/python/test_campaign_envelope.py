@@ -201,7 +201,7 @@ def test_tiny_envelope_campaign_records_summary_figures_and_resume(tmp_path):
     (["--seed", "x"], "--seed 'x' is not an integer"),
     (["--turbulence", "gusty"], "'gusty' is unknown; valid: none, light, moderate, severe"),
     (["--tuning", "wobbly"], "--tuning 'wobbly' is neither tuned, untuned"),
-    (["--threshold", "0.3"], "--threshold 0.3 must lie in (0.5, 1)"),
+    (["--threshold", "0.3"], "--threshold '0.3' must be > 0.5 (valid: (0.5, 1.0))"),
     (["--workers", "2", "--scheduler", "tcp://h:1"], "not both"),
 ])
 def test_cli_errors_name_the_bad_value(argv, expected, capsys):
@@ -232,7 +232,8 @@ def test_cli_runs_one_point_and_prints_the_table(tmp_path, capsys):
     assert main(argv) == 0
     out = capsys.readouterr().out
     row = next(line for line in out.splitlines() if line.strip().startswith("NOM"))
-    assert row.split() == ["NOM", "0.400", "20000", "109.0", "-", "0", "-", "yes"]
+    # correct (no failure case), false-alarm runs, transient-wrong runs, latency, acceptable, verdict
+    assert row.split() == ["NOM", "0.400", "20000", "109.0", "-", "0", "0", "-", "yes", "consistent"]
     assert "envelope_map.png" in out and "(1 run, 0 resumed)" in out
     page = (tmp_path / "report.html").read_text()
     assert "data:image/png;base64," in page and "<td>NOM</td><td>0.400</td><td>20000</td>" in page

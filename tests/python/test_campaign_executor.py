@@ -27,7 +27,7 @@ def test_inline_executor_delivers_exceptions_through_the_future():
 
 @pytest.mark.parametrize("bad", [0, -3])
 def test_bad_worker_count(bad):
-    with pytest.raises(ExecutorError, match=f"--workers must be >= 1, got {bad}"):
+    with pytest.raises(ExecutorError, match=rf"--workers must lie in \[1, 1024\], got {bad}"):
         with make_executor(workers=bad):
             pass
 

@@ -42,6 +42,13 @@ K_BANK = len(SINGLE_HYPOTHESES)  # filters on line at any level (13)
 SIM_RATE_HZ = 128
 FRAME_RATE_HZ = 64
 
+#: The paper's design point: Mach 0.4 at 20,000 ft (the nominal banks are designed there).
+DESIGN_MACH = 0.4
+DESIGN_ALT_FT = 20_000.0
+#: The paper's single-failure flight: the failure at 3.0 s of an 8-s flight (Sec. V).
+FAILURE_TIME_S = 3.0
+FLIGHT_S = 8.0
+
 #: Turbulence levels of the truth model, in increasing intensity (MIL-F-8785C).
 TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
 #: What the flight control system feeds back: the MMAE's z_hat (the paper) or the raw sensors.
@@ -50,6 +57,8 @@ FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
 SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
 #: The estimator settings a bank recommends and a user may override (core.HierarchicalBank).
 ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s")
+#: The longest declaration dwell the estimator accepts (s), as the core's declarer bounds it.
+DWELL_S_MAX = 60.0
 
 
 def failed_components(hypothesis: str) -> tuple[str, ...]:

@@ -22,15 +22,21 @@ steady-state gain from scipy's discrete algebraic Riccati equation (DARE).
 from __future__ import annotations
 
 import math
+import os
+import platform
+import sys
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg
 
-from .. import core, names
+from .. import __version__, core, names
 
 #: Process and measurement noise of the synthetic bank (the DARE's Q = q I, R = r I).
+#: The estimator's targets: the C++ frame within 1 us, filterpy at least 3000x slower.
+TARGET_CPP_US = 1.0
+TARGET_FILTERPY_RATIO = 3000.0
 Q_SYNTHETIC = 1e-3
 R_SYNTHETIC = 1e-2
 
@@ -243,11 +249,8 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
 
     result.cpp_loop_us = core._bench_filter_bank_loop(bank, z, u, min_time_s) * 1e6
 
-    if hasattr(core, "FilterBank"):
-        result.python_call_us = _time_per_frame(core_filter_bank(models).step, z, u, min_time_s)
-        result.max_probability_difference = max_probability_difference(models, z, u)
-    else:
-        result.notes.append("core.FilterBank is not in this build: no Python-call timing, no cross-check")
+    result.python_call_us = _time_per_frame(core_filter_bank(models).step, z, u, min_time_s)
+    result.max_probability_difference = max_probability_difference(models, z, u)
 
     result.numpy_us = _time_per_frame(NumpyMMAE(models).step, z, u, min_time_s)
 
@@ -259,6 +262,81 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
             fp.predict(ui[:, None])  # filterpy states are columns
             fp.update(zi)
 
-        n_fp = min(frames, 50)  # ~5 ms per frame: 3 passes of 50 frames suffice
+        n_fp = min(frames, 50)  # filterpy is slow per frame: 3 passes of 50 frames suffice
         result.filterpy_us = _time_per_frame(filterpy_step, z[:n_fp], u[:n_fp], 0.0)
     return result
+
+
+def report(result: BenchResult, stream) -> dict:
+    """Print the table, ratios, cross-check and targets of ``result``; return its JSON record
+    (the numbers, the targets and :func:`machine_info`)."""
+    rows = [
+        ("(a) C++ loop, F16FilterBank.step", result.cpp_loop_us),
+        ("(b) Python call, bank.step(z, u)", result.python_call_us),
+        ("(c) numpy reference", result.numpy_us),
+        ("(d) filterpy MMAEFilterBank", result.filterpy_us),
+    ]
+    print(f"f16mmae bench estimator: one MMAE frame, 13 filters x (13 states, 5 inputs, 7 measurements); "
+          f"synthetic bank {result.bank_hash[:12]}, {result.frames} frames, f16mmae {__version__}", file=stream)
+    print(f"  {'implementation':36s} {'us/frame':>12s} {'frames/s':>12s}", file=stream)
+    for label, us in rows:
+        if us is None:
+            print(f"  {label:36s} {'-':>12s} {'-':>12s}", file=stream)
+        else:
+            print(f"  {label:36s} {us:12.3f} {1e6 / us:12.0f}", file=stream)
+    ratios = result.ratios()
+    if ratios:
+        print("  ratios: " + ", ".join(f"{k} = {v:,.1f}x" for k, v in ratios.items()), file=stream)
+    print(f"  cross-check: max |p_numpy - p_C++| over {result.frames} frames = "
+          f"{result.max_probability_difference:.1e}", file=stream)
+    met = targets(result)
+    for name, t in met.items():
+        print(f"  target {name}: {'met' if t['met'] else 'NOT met'} ({t['measured']:,.3f} vs {t['target']:,})",
+              file=stream)
+    for note in result.notes:
+        print(f"  note: {note}", file=stream)
+    return {
+        "f16mmae_version": __version__,
+        "machine": machine_info(),
+        "frames": result.frames,
+        "bank_hash": result.bank_hash,
+        "us_per_frame": {
+            "cpp_loop": result.cpp_loop_us, "python_call": result.python_call_us,
+            "numpy": result.numpy_us, "filterpy": result.filterpy_us,
+        },
+        "ratios": ratios,
+        "max_probability_difference": result.max_probability_difference,
+        "targets": met,
+        "notes": result.notes,
+    }
+
+
+def targets(result: BenchResult) -> dict:
+    """Each target of the estimator: its value, what was measured, whether it is met."""
+    out = {}
+    if result.cpp_loop_us is not None:
+        out["cpp_loop_us <= 1"] = {"target": TARGET_CPP_US, "measured": result.cpp_loop_us,
+                                   "met": result.cpp_loop_us <= TARGET_CPP_US}
+    ratio = result.ratios().get("filterpy / cpp_loop")
+    if ratio is not None:
+        out["filterpy / cpp_loop >= 3000"] = {"target": TARGET_FILTERPY_RATIO, "measured": ratio,
+                                              "met": ratio >= TARGET_FILTERPY_RATIO}
+    return out
+
+
+def machine_info() -> dict:
+    """Where the numbers were measured."""
+    cpu = platform.processor()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            cpu = next((line.split(":", 1)[1].strip() for line in f if line.startswith("model name")), cpu)
+    except OSError:
+        pass
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:
+        cores = os.cpu_count()
+    return {
+        "cpu": cpu, "cores": cores, "platform": platform.platform(),
+        "python": sys.version.split()[0], "numpy": np.__version__,
+    }

@@ -1,6 +1,7 @@
-"""Benchmark: the full truth model against bare JSBSim stepping of the stock F-16, one run.
+"""Benchmark: the full truth model against bare JSBSim stepping of the stock F-16, one run,
+and the closed loop (truth + estimator) against the truth alone.
 
-    python -m f16mmae.bench.truth [--duration-s 8] [--repeat 5]
+    f16mmae bench truth [--duration-s 8] [--repeat 5]
 
 Measures, in one process and interleaved (these machines are noisy, so ratios matter):
   bare      stock ``f16`` (its own FCS), trimmed at the nominal point, ``run()`` x duration*128;
@@ -12,11 +13,12 @@ Also prints the dither levels at the nominal point (the subliminal criterion of 
 """
 from __future__ import annotations
 
-import argparse
 import time
 
 import numpy as np
 
+from ..banks import load_bank
+from ..loop.overhead import measure_overhead
 from ..names import FRAME_RATE_HZ, SIM_RATE_HZ
 from ..truth import aircraft
 from ..truth.dither import CRITERION
@@ -88,31 +90,31 @@ def dither_levels(mach: float = 0.4, alt_ft: float = 20_000.0, duration_s: float
             "ny_g": dz[6]}
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m f16mmae.bench.truth", description=__doc__.split("\n")[0])
-    ap.add_argument("--duration-s", type=float, default=8.0)
-    ap.add_argument("--repeat", type=int, default=5)
-    args = ap.parse_args(argv)
-    r = benchmark(args.duration_s, args.repeat)
+def closed_loop_overhead(duration_s: float = 8.0, repeat: int = 5) -> dict:
+    """The nominal no-failure flight with the shipped tuned bank in the loop against the truth
+    alone (:func:`f16mmae.loop.overhead.measure_overhead`)."""
+    _, _, bank = load_bank("tuned")
+    sc = Scenario(mach=float(bank.mach), alt_ft=float(bank.alt_ft), duration_s=duration_s)
+    return measure_overhead(sc, bank, repeats=repeat)
+
+
+def report(r: dict, lv: dict, ov: dict, stream) -> None:
+    """Print :func:`benchmark` ``r``, :func:`dither_levels` ``lv`` and :func:`closed_loop_overhead` ``ov``."""
     print(f"truth-model benchmark: {r['duration_s']:g}-s nominal run (20,000 ft, M 0.4), "
-          f"JSBSim {SIM_RATE_HZ} Hz, FCS {FRAME_RATE_HZ} Hz, best of {r['repeat']}")
-    print(f"  {'':34s}{'wall ms':>10s}{'RTF':>9s}")
+          f"JSBSim {SIM_RATE_HZ} Hz, FCS {FRAME_RATE_HZ} Hz, best of {r['repeat']}", file=stream)
+    print(f"  {'':34s}{'wall ms':>10s}{'RTF':>9s}", file=stream)
     rows = (("bare JSBSim stock f16, stepping", "bare_loop"),
             ("bare JSBSim stock f16, +load+trim", "bare_total"),
             ("full truth model, frames", "truth_loop"),
             ("full truth model, +build+trim", "truth_total"))
     for label, k in rows:
-        print(f"  {label:34s}{1e3 * r[k + '_s']:10.1f}{r[k + '_rtf']:9.0f}x")
+        print(f"  {label:34s}{1e3 * r[k + '_s']:10.1f}{r[k + '_rtf']:9.0f}x", file=stream)
     print(f"  truth / bare: {r['truth_over_bare_loop']:.2f} (stepping), "
-          f"{r['truth_over_bare_total']:.2f} (with set-up); target RTF >= 150")
-    lv = dither_levels()
-    print("dither levels at 20,000 ft, M 0.4 (peak, closed loop, no noise/turbulence):")
+          f"{r['truth_over_bare_total']:.2f} (with set-up); target RTF >= 150", file=stream)
+    print(f"closed loop (tuned bank, probabilities recorded) / truth alone: {1e3 * ov['closed_loop_s']:.1f} ms / "
+          f"{1e3 * ov['truth_only_s']:.1f} ms = {ov['ratio']:.2f}", file=stream)
+    print("dither levels at 20,000 ft, M 0.4 (peak, closed loop, no noise/turbulence):", file=stream)
     print(f"  n_z {lv['nz_g']:.4f} g (< {CRITERION['nz_g']}), n_y {lv['ny_g']:.4f} g "
           f"(< {CRITERION['ny_g']}), q {lv['q_deg_s']:.3f}, p {lv['p_deg_s']:.3f}, "
           f"r {lv['r_deg_s']:.3f} deg/s (< {CRITERION['rate_deg_s']}), alpha {lv['alpha_deg']:.3f} deg, "
-          f"u {lv['vel_fps']:.3f} ft/s")
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
+          f"u {lv['vel_fps']:.3f} ft/s", file=stream)

@@ -1,17 +1,26 @@
-"""``f16mmae bench``: the per-frame cost of the 13-filter MMAE bank, four ways, one run."""
+"""``f16mmae bench estimator|truth|lcm``: the benchmarks, one front end.
+
+* ``estimator`` -- the per-frame cost of the 13-filter MMAE bank, four ways, one run
+  (:mod:`f16mmae.bench.estimator`);
+* ``truth``     -- the truth model against bare JSBSim, and the closed loop against the truth
+  alone (:mod:`f16mmae.bench.truth`);
+* ``lcm``       -- the round trip to ``mmae-daemon`` over LCM against a C++ echo
+  (``f16mmae.benchmarks.lcm_latency``; its options follow ``lcm``).
+"""
 from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sys
 
-from .. import __version__
-from ..bench.estimator import run_bench
-from .options import CliError, number
+from ..bench import estimator, truth
+from ..benchmarks import lcm_latency
+from ..outputs import writable_file
+from .options import number
 
-DESCRIPTION = """\
+DESCRIPTION = __doc__.split("\n\n", 1)[1]
+
+ESTIMATOR_DESCRIPTION = """\
 Time one MMAE frame (13 steady-state filters: residuals, log-domain Bayes update with
 the p_min floor, blended estimate, propagation) on an F-16-size synthetic bank (13
 states, 5 inputs, 7 measurements; random stable Phi, DARE gains, each hypothesis with
@@ -24,116 +33,71 @@ and print microseconds per frame with the ratios. Targets: (a) <= 1 us per frame
 (d)/(a) >= 3000. The numpy reference also cross-checks the C++ probabilities.
 """
 
-EXAMPLES = """\
+ESTIMATOR_EXAMPLES = """\
 examples:
-  f16mmae bench                       # a few seconds
-  f16mmae bench --json bench.json     # the same numbers + machine info, as JSON
-  f16mmae bench --frames 20000 --min-time 1.0
+  f16mmae bench estimator                       # a few seconds
+  f16mmae bench estimator --json bench.json     # the same numbers + machine info, as JSON
+  f16mmae bench estimator --frames 20000 --min-time 1.0
 """
 
-TARGET_CPP_US = 1.0
-TARGET_FILTERPY_RATIO = 3000.0
+TRUTH_DESCRIPTION = """\
+The truth model's cost, measured in one process with the timings interleaved (the
+machine's load changes; ratios inside one run are what to compare): bare JSBSim stepping
+of the stock F-16 against the full truth model (FCS, actuators, sensors, dither), with and
+without set-up; the closed loop (the tuned bank in the loop, probabilities recorded)
+against the truth alone; and the dither's peak response at the nominal point.
+"""
 
 
 def register(subparsers) -> None:
-    p = subparsers.add_parser(
-        "bench", help="per-frame cost of the estimator: C++, Python call, numpy, filterpy",
-        description=DESCRIPTION, epilog=EXAMPLES,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    p.add_argument("--frames", default="2000", metavar="N",
+    p = subparsers.add_parser("bench", help="benchmarks: estimator, truth model, LCM round trip",
+                              description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    kinds = p.add_subparsers(dest="bench", metavar="BENCH")
+    e = kinds.add_parser("estimator", help="per-frame cost of the estimator: C++, Python call, numpy, filterpy",
+                         description=ESTIMATOR_DESCRIPTION, epilog=ESTIMATOR_EXAMPLES,
+                         formatter_class=argparse.RawDescriptionHelpFormatter)
+    e.add_argument("--frames", default="2000", metavar="N",
                    help="synthetic frames replayed by each timing (default 2000)")
-    p.add_argument("--min-time", default="0.2", metavar="S",
+    e.add_argument("--min-time", default="0.2", metavar="S",
                    help="seconds each timing runs at least; the fastest pass over the frames counts (default 0.2)")
-    p.add_argument("--seed", default="1", metavar="N", help="seed of the synthetic bank and frames (default 1)")
-    p.add_argument("--json", default=None, metavar="FILE", help="also write the numbers and machine info here")
-    p.set_defaults(func=_run)
+    e.add_argument("--seed", default="1", metavar="N", help="seed of the synthetic bank and frames (default 1)")
+    e.add_argument("--json", default=None, metavar="FILE", help="also write the numbers and machine info here")
+    e.set_defaults(func=_estimator)
+    t = kinds.add_parser("truth", help="truth model against bare JSBSim; closed loop against the truth",
+                         description=TRUTH_DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    t.add_argument("--duration-s", default="8", metavar="S", help="simulated flight per timing (default 8 s)")
+    t.add_argument("--repeat", default="5", metavar="N", help="timings of each, the best counts (default 5)")
+    t.set_defaults(func=_truth)
+    n = kinds.add_parser("lcm", help="LCM round trip to mmae-daemon against a C++ echo", add_help=False,
+                         description="the LCM latency benchmark; 'f16mmae bench lcm --help' lists its options")
+    n.set_defaults(func=_lcm, passes_on_arguments=True)
+    p.set_defaults(func=lambda args: (p.print_help(), 2)[1])
 
 
-def machine_info() -> dict:
-    """Where the numbers were measured."""
-    import numpy
-
-    cpu = platform.processor()
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as f:
-            cpu = next((line.split(":", 1)[1].strip() for line in f if line.startswith("model name")), cpu)
-    except OSError:
-        pass
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:
-        cores = os.cpu_count()
-    return {
-        "cpu": cpu, "cores": cores, "platform": platform.platform(),
-        "python": sys.version.split()[0], "numpy": numpy.__version__,
-    }
-
-
-def _run(args) -> int:
-    frames = number("--frames", args.frames, integer=True, minimum=1)
+def _estimator(args) -> int:
+    frames = number("--frames", args.frames, integer=True, minimum=1, below=10**7)
     min_time_s = number("--min-time", args.min_time, minimum=0.0, below=3600.0)
-    seed = number("--seed", args.seed, integer=True, minimum=1)
-    result = run_bench(frames=frames, min_time_s=min_time_s, seed=seed)
-
-    rows = [
-        ("(a) C++ loop, F16FilterBank.step", result.cpp_loop_us),
-        ("(b) Python call, bank.step(z, u)", result.python_call_us),
-        ("(c) numpy reference", result.numpy_us),
-        ("(d) filterpy MMAEFilterBank", result.filterpy_us),
-    ]
-    print(f"f16mmae bench: one MMAE frame, 13 filters x (13 states, 5 inputs, 7 measurements); "
-          f"synthetic bank {result.bank_hash[:12]}, {frames} frames, f16mmae {__version__}")
-    print(f"  {'implementation':36s} {'us/frame':>12s} {'frames/s':>12s}")
-    for label, us in rows:
-        if us is None:
-            print(f"  {label:36s} {'-':>12s} {'-':>12s}")
-        else:
-            print(f"  {label:36s} {us:12.3f} {1e6 / us:12.0f}")
-    ratios = result.ratios()
-    if ratios:
-        print("  ratios: " + ", ".join(f"{k} = {v:,.1f}x" for k, v in ratios.items()))
-    if result.max_probability_difference is not None:
-        print(f"  cross-check: max |p_numpy - p_C++| over {result.frames} frames = "
-              f"{result.max_probability_difference:.1e}")
-    targets = _targets(result)
-    for name, t in targets.items():
-        print(f"  target {name}: {'met' if t['met'] else 'NOT met'} ({t['measured']:,.3f} vs {t['target']:,})")
-    for note in result.notes:
-        print(f"  note: {note}")
-
+    seed = number("--seed", args.seed, integer=True, minimum=1, below=2**31)
     if args.json:
-        record = {
-            "f16mmae_version": __version__,
-            "machine": machine_info(),
-            "frames": frames, "min_time_s": min_time_s, "seed": seed,
-            "bank_hash": result.bank_hash,
-            "us_per_frame": {
-                "cpp_loop": result.cpp_loop_us, "python_call": result.python_call_us,
-                "numpy": result.numpy_us, "filterpy": result.filterpy_us,
-            },
-            "ratios": ratios,
-            "max_probability_difference": result.max_probability_difference,
-            "targets": targets,
-            "notes": result.notes,
-        }
-        try:
-            with open(args.json, "w", encoding="utf-8") as f:
-                json.dump(record, f, indent=2)
-                f.write("\n")
-        except OSError as exc:
-            raise CliError(f"--json {args.json!r}: {exc.strerror}") from None
+        writable_file(args.json, "--json")
+    result = estimator.run_bench(frames=frames, min_time_s=min_time_s, seed=seed)
+    record = estimator.report(result, sys.stdout)
+    if args.json:
+        record.update(min_time_s=min_time_s, seed=seed)
+        with open(args.json, "w", encoding="utf-8") as f:
+            json.dump(record, f, indent=2)
+            f.write("\n")
         print(f"  written: {args.json}")
     return 0
 
 
-def _targets(result) -> dict:
-    out = {}
-    if result.cpp_loop_us is not None:
-        out["cpp_loop_us <= 1"] = {"target": TARGET_CPP_US, "measured": result.cpp_loop_us,
-                                   "met": result.cpp_loop_us <= TARGET_CPP_US}
-    ratio = result.ratios().get("filterpy / cpp_loop")
-    if ratio is not None:
-        out["filterpy / cpp_loop >= 3000"] = {"target": TARGET_FILTERPY_RATIO, "measured": ratio,
-                                              "met": ratio >= TARGET_FILTERPY_RATIO}
-    return out
+def _truth(args) -> int:
+    duration_s = number("--duration-s", args.duration_s, minimum=0.0, exclusive=True, below=3600.0)
+    repeat = number("--repeat", args.repeat, integer=True, minimum=1, below=1000)
+    r = truth.benchmark(duration_s, repeat)
+    truth.report(r, truth.dither_levels(), truth.closed_loop_overhead(duration_s, repeat), sys.stdout)
+    return 0
+
+
+def _lcm(args) -> int:
+    return lcm_latency.main(args.passed_on)

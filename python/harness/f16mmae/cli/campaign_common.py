@@ -3,15 +3,20 @@ config has (``engine.config.CampaignConfig``), where a campaign runs and writes,
 it with its report."""
 from __future__ import annotations
 
+import json
+import shlex
 import sys
 
 from ..banks import BankError, bank_path
-from ..campaign.engine.executor import default_workers, make_executor
+from ..campaign.engine.config import DITHER_SCALE_MAX, RUNS_MAX
+from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..campaign.engine.failure_runs import CASES
 from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..outputs import writable_dir
 from ..report.page import render_report
-from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args, number,
-                      parse_choices)
+from . import evidence
+from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args,
+                      number, parse_choices, seed)
 
 
 def add_flight_settings(p, runs: str, runs_help: str) -> None:
@@ -38,12 +43,13 @@ def flight_settings(args) -> dict:
     """The shared config fields from the options of :func:`add_flight_settings` and the
     estimator options, each checked (CliError naming the bad value)."""
     settings = dict(
-        runs=number("--runs", args.runs, integer=True, minimum=1),
-        seed=number("--seed", args.seed, integer=True, minimum=1),
+        runs=number("--runs", args.runs, integer=True, minimum=1, maximum=RUNS_MAX),
+        seed=seed("--seed", args.seed),
         tuning=args.tuning, mode=args.mode.lower(),
         turbulence=choice("--turbulence", args.turbulence, TURBULENCE_LEVELS),
         feedback=choice("--feedback", args.feedback, FEEDBACK_MODES),
-        dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale),
+        dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale, minimum=0.0,
+                                                           maximum=DITHER_SCALE_MAX),
         **estimator_options_from_args(args),
     )
     check_tuning("--tuning", args.tuning)
@@ -57,6 +63,11 @@ def add_run_arguments(p, default_out: str) -> None:
                    help="Dask scheduler tcp://HOST:PORT (needs the 'dask' extra)")
     p.add_argument("--out", default=default_out, metavar="DIR", help=f"output directory (default {default_out})")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--allow-mixed", action="store_true",
+                   help="resume over runs stored by other code (a git commit, JSBSim or LCM version); "
+                        "refused by default")
+    p.add_argument("--check", action="store_true",
+                   help="exit 1 when a goal is not met (a verdict 'not met'), for CI")
 
 
 def check_tuning(option: str, value: str) -> None:
@@ -76,21 +87,30 @@ def run_and_report(args, run, print_summary) -> int:
     """Run a campaign where the arguments say (``--workers`` local processes or a Dask
     ``--scheduler``): ``run(executor, executor_label, show_progress)`` returns its outcome
     (``summary``, ``summary_path``, ``executed``, ``resumed``). Then write its report.html,
-    print its summary (``print_summary(summary, stream)``) and where everything is."""
+    print its summary (``print_summary(summary, stream)``), the campaign's evidence and where
+    everything is. With ``--check``: 1 when the summary's ``goals_met`` is false, else 0."""
     if args.workers is not None and args.scheduler is not None:
         raise CliError("give --workers or --scheduler, not both")
-    workers = number("--workers", args.workers, integer=True, minimum=1) if args.workers is not None else None
+    workers = (number("--workers", args.workers, integer=True, minimum=1, maximum=WORKERS_MAX)
+               if args.workers is not None else None)
+    writable_dir(args.out)  # before any flight; the campaign then locks it
     label = f"Dask at {args.scheduler}" if args.scheduler else f"{workers or default_workers()} local process(es)"
     with make_executor(workers=workers, scheduler=args.scheduler) as ex:
         outcome = run(ex, label, not args.quiet)
     out = outcome.summary_path.parent
+    outcome.summary["command"] = "f16mmae " + shlex.join(args.argv)  # what made it, for results pages
+    outcome.summary_path.write_text(json.dumps(outcome.summary, indent=1) + "\n")
     report = render_report(out)
     print_summary(outcome.summary, sys.stdout)
+    evidence.print_campaign(outcome.summary, sys.stdout)
     print(f"\nrecords: {out / 'runs.jsonl'}  ({outcome.executed} run, {outcome.resumed} resumed)")
     print(f"summary: {outcome.summary_path}")
     for name in outcome.summary.get("figures", {}).values():
         print(f"figure:  {out / name}")
     print(f"report:  {report}")
+    if args.check and not outcome.summary["goals_met"]:
+        print("check: a goal is not met (see the verdicts above): exit 1", file=sys.stderr)
+        return 1
     return 0
 
 

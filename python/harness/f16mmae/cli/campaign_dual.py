@@ -4,9 +4,10 @@ from __future__ import annotations
 import argparse
 
 from ..campaign.dual import DualCampaign, run_campaign
-from ..names import COMPONENTS
+from ..names import COMPONENTS, FAILURE_TIME_S
+from . import evidence
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
-from .options import CliError, number, parse_choices
+from .options import CliError, flight_seconds, parse_choices
 
 DESCRIPTION = """\
 The dual-failure campaign (paper Sec. VI, Fig. 7): every ordered pair (first, second) of
@@ -66,7 +67,8 @@ def register(kinds) -> None:
     p.add_argument("--first", default=None, metavar="LIST",
                    help="first failures (default all twelve); with --second: their cross product")
     p.add_argument("--second", default=None, metavar="LIST", help="second failures (default all twelve)")
-    p.add_argument("--first-time-s", default="3.0", metavar="T", help="first failure time (default 3.0 s)")
+    p.add_argument("--first-time-s", default=str(FAILURE_TIME_S), metavar="T",
+                   help=f"first failure time (default {FAILURE_TIME_S} s)")
     p.add_argument("--second-time-s", default="5.0", metavar="T", help="second failure time (default 5.0 s)")
     p.add_argument("--duration-s", default="10", metavar="T", help="flight duration (default 10 s)")
     add_run_arguments(p, "results/campaign-dual")
@@ -107,9 +109,9 @@ def config_from_args(args) -> DualCampaign:
     """A validated ``DualCampaign`` from the parsed arguments (CliError otherwise)."""
     cfg = DualCampaign(
         **flight_settings(args), pairs=parse_pairs(args.pairs, args.first, args.second),
-        first_time_s=number("--first-time-s", args.first_time_s, minimum=0, exclusive=True),
-        second_time_s=number("--second-time-s", args.second_time_s, minimum=0, exclusive=True),
-        duration_s=number("--duration-s", args.duration_s, minimum=0, exclusive=True),
+        first_time_s=flight_seconds("--first-time-s", args.first_time_s),
+        second_time_s=flight_seconds("--second-time-s", args.second_time_s),
+        duration_s=flight_seconds("--duration-s", args.duration_s),
     )
     return validated(cfg)
 
@@ -117,7 +119,8 @@ def config_from_args(args) -> DualCampaign:
 def _dual(args) -> int:
     cfg = config_from_args(args)
     return run_and_report(args, lambda ex, label, progress: run_campaign(
-        cfg, args.out, ex, executor_label=label, show_progress=progress), print_summary)
+        cfg, args.out, ex, executor_label=label, show_progress=progress, allow_mixed=args.allow_mixed),
+        print_summary)
 
 
 _SHORT = {"Good": "G", "Fair": "F", "Poor": "P", "ND": "ND"}
@@ -130,18 +133,29 @@ def print_summary(summary: dict, stream) -> None:
           f"{summary['tuning']} bank, {summary['turbulence']} turbulence, failures at "
           f"{summary['first_time_s']:g} s and {summary['second_time_s']:g} s of {summary['duration_s']:g} s; "
           f"wall {t.get('wall_s', 0):.1f} s", file=stream)
-    print("\nrating (rows: first failure, columns: second; G Good, F Fair, P Poor, ND no detection, "
-          ". not flown):", file=stream)
+    print("\nrating against the baseline (rows: first failure, columns: second; G Good, F Fair, P Poor, "
+          "ND no detection, . not flown); * absolutely Good (>= 90% correct, no false alarm, no "
+          "transient-wrong, median latency <= 1.5 s):", file=stream)
     m = summary["matrix"]
+    absolute = {(p["first"], p["second"]) for p in summary["pairs"] if p.get("absolute_rating") == "Good"}
     print("first\\2nd " + "".join(f"{b:>4}" for b in COMPONENTS), file=stream)
     for a in COMPONENTS:
         cells = []
         for b in COMPONENTS:
-            cells.append("  --" if a == b else f"{_SHORT.get(m.get(a, {}).get(b), '.'):>4}")
+            mark = _SHORT.get(m.get(a, {}).get(b), ".") + ("*" if (a, b) in absolute else "")
+            cells.append("  --" if a == b else f"{mark:>4}")
         print(f"{a:<9} " + "".join(cells), file=stream)
     counts = summary["ratings"]
     print("\n" + ", ".join(f"{k}: {v}" for k, v in counts.items()) + f" (of {sum(counts.values())} pairs)",
           file=stream)
+    print("absolute: " + ", ".join(f"{k}: {v}" for k, v in summary["absolute_ratings"].items()), file=stream)
+    print("\nbaselines, each second failure alone (95% Clopper-Pearson intervals; TW transient-wrong, "
+          "FA false-alarm runs; detection fractions count misses):", file=stream)
+    evidence.print_cases(summary["baselines"], stream, label="failure")
+    worse = [p for p in summary["pairs"] if p["rating"] != "Good" or p.get("absolute_rating") != "Good"]
+    if worse:
+        print(f"\npairs not Good on either rating ({len(worse)}):", file=stream)
+        evidence.print_cases(worse, stream, label="pair")
     c = summary.get("paper_comparison", {})
     if c.get("cells"):
         print(f"paper Fig. 7: same rating in {c['equal']} of {c['cells']} comparable cells, "

@@ -5,6 +5,7 @@ import argparse
 
 from ..campaign.envelope import EnvelopeCampaign, run_envelope
 from ..campaign.envelope.points import PAPER_POINTS, EnvelopeError, check_distinct, parse_mach_alt, select_points
+from ..report.evidence import describe_rate
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, parse_cases, run_and_report, validated
 from .options import CliError
 
@@ -101,7 +102,8 @@ def config_from_args(args) -> EnvelopeCampaign:
 def _envelope(args) -> int:
     cfg = config_from_args(args)
     return run_and_report(args, lambda ex, label, progress: run_envelope(
-        cfg, args.out, ex, executor_label=label, show_progress=progress), print_summary)
+        cfg, args.out, ex, executor_label=label, show_progress=progress, allow_mixed=args.allow_mixed),
+        print_summary)
 
 
 def print_summary(summary: dict, stream) -> None:
@@ -112,13 +114,15 @@ def print_summary(summary: dict, stream) -> None:
           f"{d['alt_ft']:.0f} ft (q̄ {d['qbar_psf']:.1f} lbf/ft^2); {summary['runs_per_case']} run(s) x "
           f"{len(summary['cases'])} cases per point, seed {summary['seed']}, {summary['turbulence']} "
           f"turbulence; wall {t.get('wall_s', 0):.1f} s", file=stream)
-    print(f"\n  {'point':>5} {'Mach':>6} {'alt ft':>7} {'q̄':>6} {'correct':>9} {'FA':>3} "
-          f"{'lat med':>7}  acceptable", file=stream)
+    print(f"\n  {'point':>5} {'Mach':>6} {'alt ft':>7} {'q̄':>6} {'correct [95% CI]':>17} {'FA':>3} {'TW':>3} "
+          f"{'lat med':>7}  acceptable  verdict", file=stream)
     for p in summary["points"]:
-        corr = "-" if p["correct_fraction"] is None else f"{p['correct']}/{p['failure_runs']}"
+        rates = p["evidence"]["rates"]
+        corr = describe_rate(rates.get("correct"))
         lat = "-" if p["latency_median_s"] is None else f"{p['latency_median_s']:.2f}"
         print(f"  {p['label']:>5} {p['mach']:>6.3f} {p['alt_ft']:>7.0f} {p['qbar_psf']:>6.1f} "
-              f"{corr:>9} {p['false_alarm_runs']:>3} {lat:>7}  {'yes' if p['acceptable'] else 'NO'}",
+              f"{corr:>17} {p['false_alarm_runs']:>3} {rates['transient_wrong']['count']:>3} {lat:>7}  "
+              f"{'yes' if p['acceptable'] else 'NO':<10}  {p['evidence']['verdict']}",
               file=stream)
     ok = [p["label"] for p in summary["points"] if p["acceptable"]]
     print(f"\nacceptable (>= {rule['correct_fraction_min']:.0%} of failure runs correct, "

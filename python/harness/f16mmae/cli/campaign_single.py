@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 
 from ..campaign.single import SingleCampaign, run_campaign
+from . import evidence
 from .campaign_common import (add_flight_settings, add_run_arguments, check_tuning, flight_settings, parse_cases,
                               run_and_report, validated)
 
@@ -66,7 +67,8 @@ def config_from_args(args) -> SingleCampaign:
 def _single(args) -> int:
     cfg = config_from_args(args)
     return run_and_report(args, lambda ex, label, progress: run_campaign(
-        cfg, args.out, ex, executor_label=label, show_progress=progress), print_summary)
+        cfg, args.out, ex, executor_label=label, show_progress=progress, allow_mixed=args.allow_mixed),
+        print_summary)
 
 
 def print_summary(summary: dict, stream) -> None:
@@ -78,16 +80,11 @@ def print_summary(summary: dict, stream) -> None:
     if summary.get("baseline"):
         blocks.append((summary["baseline"]["tuning"], summary["baseline"]["cases"]))
     for tuning, cases in blocks:
-        print(f"\n{tuning} bank:", file=stream)
-        print(f"  {'case':<5} {'runs':>4} {'correct':>7} {'missed':>6} {'wrong':>5} {'FA':>3} "
-              f"{'lat med':>8} {'lat p95':>8}", file=stream)
-        for c in cases:
-            lat = c["latency_s"]
-            med = "-" if lat["median"] is None else f"{lat['median']:.2f}"
-            p95 = "-" if lat["p95"] is None else f"{lat['p95']:.2f}"
-            print(f"  {c['case']:<5} {c['runs']:>4} {c['correct']:>7} {c['missed']:>6} {c['wrong']:>5} "
-                  f"{c['false_alarms']:>3} {med:>8} {p95:>8}", file=stream)
+        print(f"\n{tuning} bank (95% Clopper-Pearson intervals; v: verdict on >= 99% correct; TW: "
+              f"transient-wrong runs; FA: runs with a false alarm; detection fractions count misses):",
+              file=stream)
+        evidence.print_cases(cases, stream)
     met = summary.get("goals", {}).get("met")
     if met is not None:
-        print(f"\ngoals (>= 99% correct, 0 false alarms, latency median <= 1 s, p95 <= 2 s): "
-              f"{'all met' if met else 'NOT all met'} for the {summary['tuning']} bank", file=stream)
+        print(f"\ngoals on the point estimates (>= 99% correct, 0 false alarms, latency median <= 1 s, "
+              f"p95 <= 2 s): {'all met' if met else 'NOT all met'} for the {summary['tuning']} bank", file=stream)

@@ -5,12 +5,13 @@ from __future__ import annotations
 import argparse
 import math
 import time
-from pathlib import Path
 
 from ..design.bank import design_bank, write_bank
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.tuning import TuningError, load_tuning
+from ..names import DESIGN_ALT_FT, DESIGN_MACH
+from ..outputs import writable_dir, writable_file
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
 from .options import CliError, number
 
@@ -55,9 +56,10 @@ def register(subparsers) -> None:
         description=DESCRIPTION, epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--mach", default="0.4", metavar="M", help="design Mach number, 0.3-0.8 (default 0.4)")
-    p.add_argument("--alt-ft", default="20000", metavar="H",
-                   help="design altitude in ft, 5000-35000 (default 20000)")
+    p.add_argument("--mach", default=str(DESIGN_MACH), metavar="M",
+                   help=f"design Mach number, {MACH_RANGE[0]}-{MACH_RANGE[1]} (default {DESIGN_MACH})")
+    p.add_argument("--alt-ft", default=f"{DESIGN_ALT_FT:g}", metavar="H",
+                   help=f"design altitude in ft, {ALT_FT_RANGE[0]:g}-{ALT_FT_RANGE[1]:g} (default {DESIGN_ALT_FT:g})")
     p.add_argument("--tuning", default="tuned", metavar="NAME|FILE",
                    help="pseudonoise tuning: tuned | untuned | a .toml file (default tuned)")
     p.add_argument("--out", default=None, metavar="FILE",
@@ -80,9 +82,8 @@ def _run(args) -> int:
         tuning = load_tuning(args.tuning)
     except TuningError as exc:
         raise CliError(f"--tuning: {exc}") from None
-    out = Path(args.out) if args.out else Path(f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}.f16bank")
-    if out.is_dir():
-        raise CliError(f"--out {out} is a directory; give a file name")
+    out = writable_file(args.out or f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}.f16bank", "--out")
+    report_dir = writable_dir(args.report, "--report") if args.report else None  # before the design
     t0 = time.perf_counter()
     try:
         design = design_bank(mach, alt_ft, tuning)
@@ -103,6 +104,6 @@ def _run(args) -> int:
     print(f"  largest error-dynamics spectral radius {rho:.6f} (all filters stable); "
           f"designed in {time.perf_counter() - t0:.2f} s")
     if args.report:
-        paths = write_report(design, Path(args.report))
+        paths = write_report(design, report_dir)
         print(f"  report: {', '.join(str(p) for p in paths)}")
     return 0

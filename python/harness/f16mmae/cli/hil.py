@@ -7,14 +7,13 @@ import math
 import lcm
 import numpy as np
 
-from ..banks import BankError, load_bank
 from ..lcm.channels import HilError, channels, default_lcm_url
 from ..lcm.daemon import DaemonProcess
 from ..lcm.hil import fly_hil
 from ..loop.flight import fly
 from ..report.flight import write_flight
 from .options import CliError, number
-from .run import add_flight_arguments, build_scenario, scenario_fields
+from .run import add_flight_arguments, flight_from_args
 
 DESCRIPTION = """\
 Fly the nonlinear JSBSim F-16 here while the MMAE runs in mmae-daemon, over LCM, the way
@@ -37,7 +36,7 @@ examples:
   lcm-logger run.lcmlog & f16mmae hil --start-daemon     # record, then: f16mmae replay run.lcmlog
 
 Latency benchmark (60 s at 64 Hz beside a bare C++ echo):
-  python -m f16mmae.benchmarks.lcm_latency --duration 60
+  f16mmae bench lcm --duration 60
 """
 
 
@@ -64,13 +63,8 @@ def register(subparsers) -> None:
 
 
 def _hil(args) -> int:
-    fields = scenario_fields(args)
-    timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True)
-    try:
-        label, path, bank = load_bank(args.bank)
-    except BankError as exc:
-        raise CliError(f"--bank: {exc}") from None
-    scenario = build_scenario(fields, bank)
+    timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True, maximum=3600.0)
+    label, path, bank, scenario = flight_from_args(args)
     url = args.lcm_url or default_lcm_url()
     if args.start_daemon and url.startswith("memq:"):
         raise CliError(f"--lcm-url {url!r} with --start-daemon: memq:// is a queue inside one "

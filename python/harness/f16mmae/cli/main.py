@@ -32,7 +32,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, rest = parser.parse_known_args(argv)
+    if rest and not getattr(args, "passes_on_arguments", False):
+        parser.error(f"unrecognized arguments: {' '.join(rest)}")
+    args.passed_on = rest  # a command that runs another program's options (bench lcm) gets them
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # the command line as given, for records
     if not getattr(args, "func", None):
         parser.print_help()
         return 2

@@ -6,29 +6,52 @@ from __future__ import annotations
 import math
 
 from ..errors import F16mmaeError
+from ..names import DWELL_S_MAX, K_BANK
 
 
 class CliError(F16mmaeError):
     """A bad argument: the message names the bad value and the valid choices."""
 
 
+#: The longest flight a command flies: one hour (230,400 frames at 64 Hz).
+FLIGHT_S_MAX = 3600.0
+#: Seeds are 32-bit signed integers for JSBSim; 0 means 1 to it, so seeds start at 1.
+SEED_MAX = 2**31 - 1
+
+
 def number(option: str, value, *, integer: bool = False, minimum=None, exclusive: bool = False,
-           below=None):
+           below=None, maximum=None):
     """``value`` of ``option`` as an int (``integer``) or a finite float, at least ``minimum``
-    (above it if ``exclusive``) and below ``below``; CliError naming the option, the value
-    and the valid range otherwise."""
+    (above it if ``exclusive``), below ``below`` and at most ``maximum``; CliError naming the
+    option, the value and the valid range otherwise."""
     try:
         x = int(value) if integer else float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         kind = "an integer" if integer else "a number"
         raise CliError(f"{option} {value!r} is not {kind}") from None
     if not integer and not math.isfinite(x):
         raise CliError(f"{option} {value!r} must be finite")
+    upper = below if below is not None else maximum
+    valid = ""
+    if minimum is not None and upper is not None:
+        valid = f" (valid: {'(' if exclusive else '['}{minimum}, {upper}{')' if below is not None else ']'})"
     if minimum is not None and (x <= minimum if exclusive else x < minimum):
-        raise CliError(f"{option} {value!r} must be {'>' if exclusive else '>='} {minimum}")
+        raise CliError(f"{option} {value!r} must be {'>' if exclusive else '>='} {minimum}{valid}")
     if below is not None and not x < below:
-        raise CliError(f"{option} {value!r} must be < {below}")
+        raise CliError(f"{option} {value!r} must be < {below}{valid}")
+    if maximum is not None and not x <= maximum:
+        raise CliError(f"{option} {value!r} must be <= {maximum}{valid}")
     return x
+
+
+def seed(option: str, value) -> int:
+    """A seed: an integer in [1, SEED_MAX]."""
+    return number(option, value, integer=True, minimum=1, maximum=SEED_MAX)
+
+
+def flight_seconds(option: str, value) -> float:
+    """A flight duration or a time in one: a number of seconds in (0, FLIGHT_S_MAX]."""
+    return number(option, value, minimum=0.0, exclusive=True, maximum=FLIGHT_S_MAX)
 
 
 def choice(option: str, value: str, valid) -> str:
@@ -69,10 +92,13 @@ def add_estimator_arguments(p) -> None:
 
 
 def estimator_options_from_args(args) -> dict:
+    """The estimator settings given, each range-checked: threshold in (0.5, 1), dwell in
+    [0, DWELL_S_MAX] s, p_min in [0, 1/K) with K the hypotheses on line (13)."""
     out = {}
-    for opt, key in (("--threshold", "threshold"), ("--dwell-s", "dwell_s"), ("--p-min", "p_min")):
-        value = getattr(args, key)
-        if value is None:
-            continue
-        out[key] = number(opt, value)
+    if args.threshold is not None:
+        out["threshold"] = number("--threshold", args.threshold, minimum=0.5, exclusive=True, below=1.0)
+    if args.dwell_s is not None:
+        out["dwell_s"] = number("--dwell-s", args.dwell_s, minimum=0.0, maximum=DWELL_S_MAX)
+    if args.p_min is not None:
+        out["p_min"] = number("--p-min", args.p_min, minimum=0.0, below=round(1.0 / K_BANK, 6))
     return out

@@ -4,12 +4,17 @@ from __future__ import annotations
 import argparse
 
 from ..banks import BankError, load_bank
+from ..campaign.engine import outcomes
+from ..campaign.engine.config import scaled_dither
 from ..campaign.engine.scoring import expected_hypothesis, score_run
 from ..loop.flight import fly
-from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..names import FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, TURBULENCE_LEVELS
 from ..report.flight import write_flight
-from ..truth import DitherSpec, Scenario, TrimError, parse_fail
-from .options import CliError, add_estimator_arguments, choice, estimator_options_from_args, number
+from ..outputs import writable_dir
+from ..truth import Scenario, TrimError, parse_fail
+from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE
+from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args, flight_seconds,
+                      number, seed)
 
 DESCRIPTION = """\
 Fly the nonlinear JSBSim F-16 (our FCS, dither on) with the MMAE estimator in the loop
@@ -34,10 +39,12 @@ complete, the paper's model).
 With --out DIR: DIR/run.json (seed, scenario, bank hash, version, failures,
 declarations -- a back-out is a declaration of NONE --, final hypothesis),
 DIR/probabilities.csv (time_s, then one column per hypothesis that was on line: the
-union over the flight, empty while off line) and DIR/probabilities.png.
+union over the flight, empty while off line), DIR/probabilities.png, and DIR/flight.parquet
+(pyarrow installed) or DIR/flight.csv: one row per frame with u, z, z_hat, the
+probabilities and, prefixed truth_, the truth model's state, surface positions and failures
+active -- recorded for you, never seen by the estimator.
 """
 
-DEFAULT_FAILURE_TIME_S = 3.0
 
 
 def register(subparsers) -> None:
@@ -55,9 +62,9 @@ def register(subparsers) -> None:
 def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a bank file (default tuned)") -> None:
     """The options of one flight, shared by ``run`` and ``hil``."""
     p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
-                   help="inject a failure (repeatable); TIME defaults to 3.0 s, MODE to complete")
+                   help=f"inject a failure (repeatable); TIME defaults to {FAILURE_TIME_S} s, MODE to complete")
     p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1)")
-    p.add_argument("--duration", default="8.0", metavar="S", help="flight length in s (default 8)")
+    p.add_argument("--duration", default=str(FLIGHT_S), metavar="S", help=f"flight length in s (default {FLIGHT_S:g})")
     p.add_argument("--turbulence", default="light", metavar="LEVEL",
                    help="none | light | moderate | severe (default light)")
     p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
@@ -66,6 +73,8 @@ def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a 
     p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
                    help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
     p.add_argument("--no-dither", action="store_true", help="fly without dither")
+    p.add_argument("--dither-scale", default="1.0", metavar="X",
+                   help="multiply the truth model's default dither amplitudes by X, 0-5 (default 1)")
 
 
 def parse_failures(specs: list[str]):
@@ -75,7 +84,7 @@ def parse_failures(specs: list[str]):
         name, sep, rest = text.partition("@")
         if not sep:  # NAME or NAME:MODE
             name, colon, mode = text.partition(":")
-            text = f"{name}@{DEFAULT_FAILURE_TIME_S}" + (f":{mode}" if colon else "")
+            text = f"{name}@{FAILURE_TIME_S}" + (f":{mode}" if colon else "")
         try:
             out.append(parse_fail(text))
         except ValueError as exc:
@@ -88,10 +97,12 @@ def scenario_fields(args) -> dict:
     ``mach``/``alt_ft`` are None when left to the bank's design point."""
     turbulence = choice("--turbulence", args.turbulence, TURBULENCE_LEVELS)
     feedback = choice("--feedback", args.feedback, FEEDBACK_MODES)
-    seed = number("--seed", args.seed, integer=True, minimum=1)
-    duration = number("--duration", args.duration, minimum=0.0, exclusive=True)
-    mach = None if args.mach is None else number("--mach", args.mach, minimum=0.0, exclusive=True)
-    alt_ft = None if args.alt_ft is None else number("--alt-ft", args.alt_ft)
+    seed_ = seed("--seed", args.seed)
+    duration = flight_seconds("--duration", args.duration)
+    mach = None if args.mach is None else number("--mach", args.mach, minimum=MACH_RANGE[0], maximum=MACH_RANGE[1])
+    alt_ft = (None if args.alt_ft is None
+              else number("--alt-ft", args.alt_ft, minimum=ALT_FT_RANGE[0], maximum=ALT_FT_RANGE[1]))
+    dither_scale = number("--dither-scale", args.dither_scale, minimum=0.0, maximum=5.0)
     failures = parse_failures(args.fail)
     late = [f for f in failures if f.time_s >= duration]
     if late:
@@ -99,8 +110,9 @@ def scenario_fields(args) -> dict:
                        f"{duration}-s flight (use --duration)")
     return {
         "mach": mach, "alt_ft": alt_ft, "turbulence": turbulence,
-        "dither": not args.no_dither, "duration_s": duration, "seed": seed, "feedback": feedback,
+        "dither": not args.no_dither, "duration_s": duration, "seed": seed_, "feedback": feedback,
         "failures": tuple(failures),
+        "dither_scale": dither_scale,
     }
 
 
@@ -109,27 +121,38 @@ def build_scenario(fields: dict, bank):
     fields = dict(fields)
     fields["mach"] = float(bank.mach if fields["mach"] is None else fields["mach"])
     fields["alt_ft"] = float(bank.alt_ft if fields["alt_ft"] is None else fields["alt_ft"])
-    fields["dither"] = DitherSpec(enabled=fields["dither"])
+    fields["dither"] = scaled_dither(fields["dither"], fields.pop("dither_scale"))
     try:
         return Scenario(**fields)
     except ValueError as exc:
         raise CliError(str(exc)) from None
 
 
-def _run(args) -> int:
+def flight_from_args(args):
+    """(bank label, bank path, ModelBank, Scenario) of the flight options of ``run`` and ``hil``,
+    each checked, and ``--out`` checked writable, all before anything flies."""
     fields = scenario_fields(args)
+    if args.out:
+        writable_dir(args.out)
     try:
         label, path, bank = load_bank(args.bank)
     except BankError as exc:
         raise CliError(f"--bank: {exc}") from None
-    scenario = build_scenario(fields, bank)
+    return label, path, bank, build_scenario(fields, bank)
+
+
+def _run(args) -> int:
+    options = estimator_options_from_args(args)
+    label, path, bank, scenario = flight_from_args(args)
     try:
-        result = fly(scenario, bank, estimator_options=estimator_options_from_args(args))
+        result = fly(scenario, bank, estimator_options=options, record_series=bool(args.out))
     except (ValueError, TrimError) as exc:  # bad estimator option, untrimmable flight condition
         raise CliError(str(exc)) from None
     injected = expected_hypothesis([f["name"] for f in result.failures])
     t_f = min((f["time_s"] for f in result.failures), default=None)
     scored = score_run(injected, t_f, result.declarations)
+    first = [f["name"] for f in sorted(result.failures, key=lambda f: f["time_s"])][:1] if len(result.failures) > 1 else []
+    scored.update(outcomes.run_fields(result.declarations, t_f, {injected, *first}, scenario.duration_s))
 
     s = result.scenario
     print(f"flight: {s['duration_s']:g} s at Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, "
@@ -147,12 +170,12 @@ def _run(args) -> int:
     extra = f", latency {scored['latency_s']:.3f} s" if scored["latency_s"] is not None else ""
     fa = ((", FALSE ALARM before the failure" if injected != "NONE" else ", but FALSE ALARM(S) on the way")
           if scored["false_alarm"] else "")
+    fa += ", TRANSIENT-WRONG declaration(s) after the failure" if scored["transient_wrong"] else ""
     print(f"final hypothesis: {result.final_hypothesis} (expected {injected}: {verdict}{extra}{fa})")
     tm = result.timing
     print(f"cost: {tm['wall_s']:.3f} s wall ({s['duration_s'] / tm['wall_s']:.0f}x real time); "
           f"truth model {tm['truth_s']:.3f} s, estimator {tm['estimator_s']:.3f} s")
     if args.out:
-        paths = write_flight(result, args.out, outcome=scored["outcome"], false_alarm=scored["false_alarm"],
-                             latency_s=scored["latency_s"], bank_file=str(path))
-        print(f"wrote {paths['run']}, {paths['csv'].name}, {paths['png'].name}")
+        paths = write_flight(result, args.out, **scored, bank_file=str(path))
+        print(f"wrote {paths['run']}, {paths['csv'].name}, {paths['png'].name}, {paths['table'].name}")
     return 0

@@ -31,16 +31,19 @@ test_design_calibrate.py say when it is due).
 """
 from __future__ import annotations
 
+import argparse
 import dataclasses
 
 import numpy as np
 
 from .. import names
+from ..seeds import TUNING_FLIGHT_SEEDS
+from . import convergence
 from .bank import design_bank, nominal_bank_path, write_bank
 from .flights import fly_closed_loop
 from .model import linearize_truth
 from .residuals import ResidualStats, filter_residuals, residual_stats
-from .tuning import Tuning, load_tuning
+from .tuning import TUNINGS_DIR, Tuning, load_tuning
 
 #: Sensor channel -> (tuning field, key) of the knob that absorbs its residual excess.
 KNOBS: dict[str, tuple[str, str]] = {
@@ -107,14 +110,12 @@ def calibrate(base: Tuning, flights, linearized, iterations: int = 12,
     return tun, history
 
 
-SEEDS = tuple(range(1, 9))
+SEEDS = TUNING_FLIGHT_SEEDS  # the tuning namespace (f16mmae.seeds): 1-8
 
 
 def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after: ResidualStats,
                 conv: list[dict], seeds=SEEDS) -> str:
     """The ``tuned.toml`` text: how it was found, the statistics, the knobs."""
-    from . import convergence as cv
-
     def row(label, vals):
         return f"#   {label:<15}" + " ".join(f"{v:6.2f}" for v in vals)
 
@@ -151,12 +152,12 @@ def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after
 # two significant digits.
 #
 # Stage 2, probability convergence (design/convergence.py, the paper's criterion): J = mean
-# over the cases {cases} (complete failures at 3 s; seeds {cv.NONE_SEEDS[0]}-{cv.NONE_SEEDS[-1]} no-failure,
-# {cv.FAILURE_SEEDS[0]}-{cv.FAILURE_SEEDS[-1]} per failure) of the fraction of frames in which the true hypothesis
-# holds the largest probability (core.FilterBank, p_min {cv.P_MIN:g}; failures scored from {cv.SETTLE_S:g} s
+# over the cases {cases} (complete failures at 3 s; seeds {convergence.NONE_SEEDS[0]}-{convergence.NONE_SEEDS[-1]} no-failure,
+# {convergence.FAILURE_SEEDS[0]}-{convergence.FAILURE_SEEDS[-1]} per failure) of the fraction of frames in which the true hypothesis
+# holds the largest probability (core.FilterBank, p_min {convergence.P_MIN:g}; failures scored from {convergence.SETTLE_S:g} s
 # after onset).  The channel whose residuals
 # gave wrong hypotheses their lead got R pseudonoise (method 2) from a grid (kept when J
-# rose by >= {cv.MIN_GAIN}):
+# rose by >= {convergence.MIN_GAIN}):
 {stage2}
 #   per case at the start: {" ".join(f"{k} {v:.2f}" for k, v in first["per_case"].items())}
 #   per case, tuned:       {" ".join(f"{k} {v:.2f}" for k, v in chosen["per_case"].items())}
@@ -186,8 +187,6 @@ def run_calibration(lin=None) -> tuple[Tuning, list[ResidualStats], list[dict]]:
     """The calibration of ``tuned.toml`` at the nominal point: stage 1 (residual consistency,
     from the untuned base) then stage 2 (probability convergence, ``convergence.py``).
     Returns the tuning, stage 1's statistics history and stage 2's candidate records."""
-    from . import convergence
-
     lin = lin if lin is not None else linearize_truth(0.4, 20_000.0)
     base = load_tuning("untuned")
     flights = [fly_closed_loop(0.4, 20_000.0, seed=s, turbulence_level=base.turbulence) for s in SEEDS]
@@ -208,10 +207,6 @@ def write_nominal_banks(lin) -> None:
 
 
 def main(argv=None) -> Tuning:
-    import argparse
-
-    from .tuning import TUNINGS_DIR
-
     ap = argparse.ArgumentParser(prog="python -m f16mmae.design.calibrate",
                                  description=__doc__.split("\n\n")[0])
     ap.add_argument("--write", action="store_true",

@@ -23,7 +23,8 @@ import dataclasses
 
 import numpy as np
 
-from .. import names
+from .. import core, names
+from ..seeds import TUNING_FLIGHT_SEEDS
 from ..truth import sensors
 from .bank import design_bank
 from .flights import Flight, fly_closed_loop
@@ -33,8 +34,8 @@ GRID = (1.0, 3.0, 10.0, 30.0)
 ROUNDS = 2
 MIN_GAIN = 0.01
 FAILURE_TIME_S = 3.0
-NONE_SEEDS = tuple(range(1, 9))
-FAILURE_SEEDS = (1, 2, 3)
+NONE_SEEDS = TUNING_FLIGHT_SEEDS  # the tuning namespace (f16mmae.seeds): 1-8
+FAILURE_SEEDS = TUNING_FLIGHT_SEEDS[:3]
 #: The estimator settings the design recommends (written to tuned.toml [estimator] and so
 #: into the bank's typed estimator fields; see design/tuning.py).  p_min far below the paper's 0.001: a
 #: hypothesis the flight barely separates from NONE (a flaperon) has a log-probability ratio
@@ -62,8 +63,6 @@ def case_flights(mach: float = 0.4, alt_ft: float = 20_000.0, turbulence_level: 
 
 def score(tuning: Tuning, linearized, flights: dict[str, list[Flight]]) -> tuple[float, dict, str]:
     """``(J, fraction correct per case, culprit channel)`` of the level-0 bank of ``tuning``."""
-    from .. import core
-
     d = design_bank(tuning=tuning, linearized=linearized, hypotheses=names.SINGLE_HYPOTHESES)
     models = [core.FilterModel(phi=f.model.phi, bd=f.model.bd, h=f.model.h, k=f.gains.k,
                                a=f.gains.a) for f in d.filters]

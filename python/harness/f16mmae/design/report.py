@@ -22,8 +22,11 @@ from pathlib import Path
 import numpy as np
 
 from .. import names
+from ..truth import aircraft
+from . import convergence
 from .bank import BankDesign
 from .flights import fly_closed_loop, fly_open_loop
+from .linearize import jsbsim_linearization
 from .residuals import filter_residuals, residual_stats
 
 #: Step amplitude of the step-response comparison (rad) and its duration (s).
@@ -60,9 +63,6 @@ def write_report(design: BankDesign, out_dir: Path) -> list[Path]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from .linearize import jsbsim_linearization
-    from ..truth import aircraft
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -152,8 +152,6 @@ def write_report(design: BankDesign, out_dir: Path) -> list[Path]:
         w(f"  {h:>5}: NIS NONE {stats[0][0]:8.2f}  NIS {h:>5} {stats[k][0]:8.2f}  most likely "
           f"{best:>5} {'ok' if best == h else 'WRONG'}")
     # -- probability convergence on held-out seeds ----------------------------------------
-    from . import convergence
-
     held_out = convergence.case_flights(design.mach, design.alt_ft, t.turbulence,
                                         none_seeds=REPORT_SEEDS, failure_seeds=(SENSITIVITY_SEED,))
     j, per_case, _ = convergence.score(t, design.linearized, held_out)

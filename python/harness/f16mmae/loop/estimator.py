@@ -36,9 +36,9 @@ class Estimator:
     def fresh(cls, model_bank, **options) -> "Estimator":
         """An estimator in its start state (level 0, NONE presumed, states zero).
 
-        Building the 79 stored filters costs ~10 ms, a fifth of a whole 8-s flight, so
-        one estimator per (bank hash, options) is kept per process and ``reset()`` for
-        the next flight -- same result as a new one (tests/python/test_closedloop.py)."""
+        Building the 79 stored filters is a sizeable share of a short flight's cost, so one
+        estimator per (bank hash, options) is kept per process and ``reset()`` for the next
+        flight -- same result as a new one (tests/python/test_closedloop.py)."""
         key = (str(model_bank.content_hash), tuple(sorted(options.items())))
         est = _ESTIMATORS.pop(key, None)
         if est is None:

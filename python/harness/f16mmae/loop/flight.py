@@ -55,6 +55,10 @@ class FlightResult:
     timing: dict = field(default_factory=dict)
     #: The estimator settings in force (``Estimator.settings``; {} for an estimator without).
     estimator_settings: dict = field(default_factory=dict)
+    #: With ``fly(record_series=True)``: ``u`` (frames, 5), ``z`` (frames, 7), ``z_hat``
+    #: (frames, 7) of each frame, and ``truth_log`` (``TruthModel.truth_log``, truth: read
+    #: after the flight, for the record only); else None.
+    series: dict | None = field(default=None, repr=False)
 
     def probability_of(self, hypothesis: str) -> np.ndarray:
         """Probability history of one hypothesis, 0 while off line (or never on line)."""
@@ -90,7 +94,8 @@ def scenario_to_dict(scenario) -> dict:
 
 
 def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options: dict | None = None,
-        record_probabilities: bool = True, on_frame=None, estimator=None) -> FlightResult:
+        record_probabilities: bool = True, on_frame=None, estimator=None,
+        record_series: bool = False) -> FlightResult:
     """Fly ``scenario`` with an estimator built from ``model_bank`` in the loop.
 
     ``feedback`` overrides ``scenario.feedback`` ("mmae" | "raw").  ``on_frame(t, u, z)``,
@@ -98,7 +103,9 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     ``estimator``: another object with the :class:`Estimator` interface (``update(z) ->
     z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``, ``declared``,
     ``last_declaration``, ``bank_hash``) at its start state -- e.g. the executive over LCM
-    (``f16mmae.hil``); default ``Estimator.fresh(model_bank, **estimator_options)``."""
+    (``f16mmae.hil``); default ``Estimator.fresh(model_bank, **estimator_options)``.
+    ``record_series``: keep each frame's u, z and z_hat, and the truth model's log after the
+    flight (``FlightResult.series``)."""
     feedback = feedback or getattr(scenario, "feedback", "mmae")
     if feedback not in FEEDBACK_MODES:
         raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
@@ -120,6 +127,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     idx = np.arange(len(columns))
     probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
     declarations: list[dict] = []
+    if record_series:
+        rec_u, rec_z, rec_z_hat = np.zeros((n_frames, 5)), np.zeros((n_frames, 7)), np.zeros((n_frames, 7))
     clock = time.perf_counter
     for i in range(n_frames):
         t = i * dt
@@ -138,6 +147,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         t_est += (c - b) + (e - d)
         if on_frame is not None:
             on_frame(t, np.array(u, dtype=float), np.array(z, dtype=float))
+        if record_series:
+            rec_u[i], rec_z[i], rec_z_hat[i] = u, z, z_hat
         declared_now = estimator.last_declaration
         if declared_now is not None:
             declarations.append({"hypothesis": declared_now, "time_s": round(t, 9)})
@@ -170,4 +181,6 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         timing={"wall_s": round(wall, 6), "truth_s": round(t_truth, 6), "estimator_s": round(t_est, 6),
                 "frames": n_frames},
         estimator_settings=dict(getattr(estimator, "settings", {})),
+        series=({"u": rec_u, "z": rec_z, "z_hat": rec_z_hat, "truth_log": truth.truth_log}
+                if record_series else None),
     )

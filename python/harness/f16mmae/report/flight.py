@@ -14,12 +14,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..loop import timeseries
 from .figures import img_tag, pyplot, save_figure
 
 
 def write_flight(result, out_dir: str | Path, **extra) -> dict[str, Path]:
     """A flight's (``loop.flight.FlightResult``) run.json (its ``run_json(**extra)``),
-    probabilities.csv and probabilities.png into ``out_dir``."""
+    probabilities.csv and probabilities.png into ``out_dir``, and, when it was flown with
+    ``record_series``, its table (``loop.timeseries``: flight.parquet or flight.csv)."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = {"run": out / "run.json", "csv": out / "probabilities.csv", "png": out / "probabilities.png"}
@@ -33,6 +35,11 @@ def write_flight(result, out_dir: str | Path, **extra) -> dict[str, Path]:
                         result.declarations, paths["png"],
                         title=f"MMAE hypothesis probabilities, seed {result.scenario.get('seed')}, "
                               f"feedback {result.feedback}")
+    if result.series is not None:
+        sr = result.series
+        table = timeseries.flight_table(result.time_s, sr["u"], sr["z"], sr["z_hat"], result.hypotheses,
+                                        result.probabilities, sr["truth_log"])
+        paths["table"] = timeseries.write_table(table, out / "flight")
     return paths
 
 

@@ -14,6 +14,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import F16mmaeError
+from ..outputs import writable_file
 from .flight import run_page
 
 #: A page body from a campaign directory and its summary.
@@ -46,6 +47,31 @@ code{background:#f5f5f5;padding:0 3px}dt{font-weight:600}dd{margin:0 0 0.5em 1.5
 """
 
 
+def _read_record(path: Path, what: str) -> dict:
+    """The JSON object in ``path``; ReportError naming the file when it is not one."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ReportError(f"{path} cannot be read: {exc}") from None
+    except json.JSONDecodeError as exc:
+        raise ReportError(f"{path} is not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno}); "
+                          f"write it again with the command that made it") from None
+    if not isinstance(data, dict):
+        raise ReportError(f"{path} holds a JSON {type(data).__name__}, not an object: it is not {what}")
+    return data
+
+
+def _rendered(path: Path, what: str, render: PageRenderer, record: dict) -> str:
+    """``render(path.parent, record)``; ReportError naming the file and the field it lacks
+    when the record is not the one the page reads."""
+    try:
+        return render(path.parent, record)
+    except KeyError as exc:
+        raise ReportError(f"{path} is not {what}: its field {exc.args[0]!r} is missing") from None
+    except (TypeError, ValueError, AttributeError) as exc:
+        raise ReportError(f"{path} is not {what}: {exc}") from None
+
+
 def _summary_page(d: Path, summary: dict) -> str:
     """The page of a campaign directory, by the kind of its summary."""
     kind = summary.get("kind", "single")
@@ -53,7 +79,7 @@ def _summary_page(d: Path, summary: dict) -> str:
     if render is None:
         raise ReportError(f"{d / 'summary.json'} is of an unknown campaign kind {kind!r}; "
                           f"this version reports {', '.join(sorted(_PAGES)) or 'no kind (none imported)'}")
-    return render(d, summary)
+    return _rendered(d / "summary.json", f"a {kind} campaign summary", render, summary)
 
 
 def render_report(directory: str | Path) -> Path:
@@ -62,15 +88,16 @@ def render_report(directory: str | Path) -> Path:
     if not d.is_dir():
         raise ReportError(f"{d} is not a directory")
     if (d / "summary.json").exists():
-        body = _summary_page(d, json.loads((d / "summary.json").read_text()))
+        body = _summary_page(d, _read_record(d / "summary.json", "a campaign summary"))
     elif (d / "run.json").exists():
-        body = run_page(d, json.loads((d / "run.json").read_text()))
+        path = d / "run.json"
+        body = _rendered(path, "a run record", run_page, _read_record(path, "a run record"))
     else:
         raise ReportError(
             f"{d} holds neither summary.json (from 'f16mmae campaign single|dual|envelope --out DIR') "
             f"nor run.json (from 'f16mmae run --out DIR')"
         )
-    out = d / "report.html"
+    out = writable_file(d / "report.html", "report")
     out.write_text(
         "<!doctype html><html><head><meta charset='utf-8'><title>f16mmae report</title>"
         f"<style>{_CSS}</style></head><body>{body}</body></html>\n",

@@ -23,7 +23,7 @@ Criterion (subliminal to the pilot): in closed loop with the FCS at the nominal 
 peak |Delta n_y| < 0.02 g -- also met at M 0.8 / 5,000 ft and M 0.45 / 35,000 ft through the
 amplitude schedule (Dither).  At the nominal point the defaults use n_z 0.045 g, q 0.78,
 p 0.80, r 0.35 deg/s, n_y 0.014 g (35,000 ft: q 0.86, p 0.86 deg/s; M 0.8: n_z 0.039 g);
-``python -m f16mmae.bench.truth`` and tests/python/test_truth_dither.py measure and print
+``f16mmae bench truth`` and tests/python/test_truth_dither.py measure and print
 the levels.
 """
 from __future__ import annotations

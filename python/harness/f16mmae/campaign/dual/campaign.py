@@ -11,8 +11,8 @@ Baseline: for each second failure ``b`` of the plan, the lone single failure ``b
 against, flown under the same conditions.
 
 Seeds: run n of pair (a, b) and run n of the baseline of b both get
-``seed_{b,n} = 1 + (SHA-256("dual:S:b:n") mod (2^31 - 2))`` (S the campaign seed):
-deterministic, >= 1, distinct from the single campaign's ("single:" prefix), and common
+``seed_{b,n} = evaluation_seed("dual", S, b, n)`` (S the campaign seed; ``f16mmae.seeds``):
+deterministic, >= 1, distinct from the single campaign's ("evaluation:dual:" against "evaluation:single:"), and common
 random numbers along a column of Fig. 7 -- a pair and the baseline it is rated against fly
 the same turbulence and sensor noise, so the difference is the first failure's.
 
@@ -38,12 +38,13 @@ from pathlib import Path
 from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
-from ...names import COMPONENTS, dual_name
+from ...names import COMPONENTS, FAILURE_TIME_S, dual_name
+from ..engine import drilldown, evidence, identity, outcomes
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
 from ..engine.runner import CampaignOutcome, execute, planned_bank
-from ..engine.seeds import derived_seed
-from ..engine.store import ResultsStore, run_key
+from ..engine.seeds import evaluation_seed
+from ..engine.store import ResultsStore, campaign_directory, run_key
 from . import figures
 from . import scoring
 
@@ -59,7 +60,7 @@ def pair_label(first: str, second: str) -> str:
 def run_seed(campaign_seed: int, second: str, run_index: int) -> int:
     """Seed of run ``run_index`` of every pair whose second failure is ``second`` and of
     that failure's baseline (>= 1); see the module docstring."""
-    return derived_seed("dual", campaign_seed, second, run_index)
+    return evaluation_seed("dual", campaign_seed, second, run_index)
 
 
 @dataclass(frozen=True)
@@ -69,7 +70,7 @@ class DualCampaign(CampaignConfig):
     runs: int = 3
     duration_s: float = 10.0
     pairs: tuple[tuple[str, str], ...] = ALL_PAIRS
-    first_time_s: float = 3.0
+    first_time_s: float = FAILURE_TIME_S
     second_time_s: float = 5.0
     mach: float | None = None  # None: the bank's design point
     alt_ft: float | None = None
@@ -117,10 +118,13 @@ def run_spec(spec: dict) -> dict:
         "run_key": spec["run_key"], "kind": spec["kind"], "pair": spec["pair"],
         "first": first, "second": second, "hypothesis": injected,
         "run_index": spec["run_index"], "seed": spec["seed"], "tuning": spec["tuning"],
-        "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
+        "bank": spec["bank"], "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
         "estimator": spec["estimator"], "estimator_settings": result.estimator_settings,
         "first_time_s": t1, "second_time_s": t2, "failures": result.failures,
         "declarations": result.declarations, **scored,
+        # transient-wrong: anything but the first failure and the dual from the first onset on
+        **outcomes.run_fields(result.declarations, t1 if first else t2,
+                              {first, injected} if first else {injected}, scenario.duration_s),
         "p_injected": [round(float(x), 5) for x in p_inj[::P_INJECTED_DECIMATION]],
         "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
         "timing": result.timing,
@@ -158,15 +162,22 @@ def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
 
 # -- the campaign ------------------------------------------------------------------------------
 def run_campaign(cfg: DualCampaign, out_dir: str | Path, executor: Executor,
-                 executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
-    """Plan, fly what is not stored yet (appending records as they finish), summarize, plot."""
+                 executor_label: str = "", show_progress: bool = True,
+                 allow_mixed: bool = False) -> CampaignOutcome:
+    """Plan, fly what is not stored yet (appending records as they finish), summarize, plot;
+    ``out_dir`` checked writable and locked (``store.campaign_directory``) before any flight."""
     cfg.validate()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    with campaign_directory(out_dir) as out:
+        return _run_campaign(cfg, out, executor, executor_label, show_progress, allow_mixed)
+
+
+def _run_campaign(cfg: DualCampaign, out: Path, executor: Executor, executor_label: str,
+                  show_progress: bool, allow_mixed: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     specs = plan(cfg, label, bank)
     done = execute(specs, ResultsStore(out), executor, run_spec, show_progress=show_progress,
-                   describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})")
+                   describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})",
+                   allow_mixed=allow_mixed)
     records = done.records
     summary = summarize(cfg, label, bank, records)
     summary["timing"] = done.timing(executor_label)
@@ -190,6 +201,10 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
                                                            and r["first"] == a and r["second"] == b])
         s.update(first=a, second=b, hypothesis=dual_name(a, b))
         s["rating"], s["rating_reason"] = scoring.rate_pair(s, baselines[b])
+        if s["runs"]:
+            s["absolute_rating"], s["absolute_rating_reason"] = outcomes.rate_absolute(
+                s["runs"], s["correct"], s["false_alarms"], s["evidence"]["rates"]["transient_wrong"]["count"],
+                s["latency_s"]["median"])
         pairs.append(s)
         matrix.setdefault(a, {})[b] = s["rating"]
     return {
@@ -217,4 +232,13 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
         "paper_comparison": scoring.compare_with_paper(matrix),
         "baselines": [baselines[b] for b in cfg.seconds],
         "pairs": pairs,
+        "absolute_rules": dict(outcomes.ABSOLUTE_DUAL_RULES),
+        "absolute_ratings": {k: sum(1 for p in pairs if p.get("absolute_rating") == k)
+                             for k in outcomes.ABSOLUTE_RATINGS},
+        **evidence.summary_fields(
+            records, [baselines[b] for b in cfg.seconds] + pairs,
+            drilldown.not_clean(sorted(records, key=lambda r: (r["kind"], r["pair"], r["run_index"])),
+                                lambda r: drilldown.record_command(r, cfg.dither_scale),
+                                lambda r: {"pair": r["pair"]}),
+            identity.code_identity(), goals_met=all(p.get("absolute_rating") == "Good" for p in pairs)),
     }

@@ -68,6 +68,8 @@ def rating_matrix(summary: dict, path: str | Path) -> Path:
                 med = p["latency_s"]["median"]
                 ax.text(j, i - 0.17, f"{p['correct']}/{p['runs']}", ha="center", va="center", fontsize=6)
                 ax.text(j, i + 0.2, "-" if med is None else f"{med:.2f}", ha="center", va="center", fontsize=5.5)
+                if p.get("absolute_rating") == "Good":  # the absolute criteria, beside the relative rating
+                    ax.plot(j + 0.36, i - 0.36, marker="s", ms=2.6, color="black", lw=0)
             theirs = PAPER_FIG7[a][b]
             if theirs:
                 _cell(axp, i, j, COLORS[theirs])
@@ -75,9 +77,12 @@ def rating_matrix(summary: dict, path: str | Path) -> Path:
             else:
                 _cell(axp, i, j, "white", hatch="///")
     counts = summary.get("ratings", {})
+    absolute = summary.get("absolute_ratings", {})
     _grid_axes(ax, f"f16mmae, {summary.get('tuning')} bank, {summary.get('runs_per_pair')} runs/pair "
                    f"(cell: correct k/N, median latency s)\n"
-                   + ", ".join(f"{k} {counts.get(k, 0)}" for k in RATINGS))
+                   + ", ".join(f"{k} {counts.get(k, 0)}" for k in RATINGS)
+                   + f"\n\u25a0 absolutely Good ({absolute.get('Good', 0)}): >= 90% correct, no false alarm, "
+                     f"no transient-wrong, median <= 1.5 s")
     cmp_ = summary.get("paper_comparison", {})
     _grid_axes(axp, "paper Fig. 7 (Eide & Maybeck)\n"
                     f"same rating in {cmp_.get('equal', '?')} of {cmp_.get('cells', '?')} known cells")

@@ -1,8 +1,8 @@
 """The HTML page of a dual-failure campaign directory (``summary.json`` of kind ``dual``).
 
 ``dual_page(d, summary)`` is the body of the page ``report.page.render_report`` writes for a dual
-campaign directory (figures embedded): the campaign's
-parameters, the rating counts and their agreement with the paper's Fig. 7, the two figures,
+campaign directory (figures embedded): the runs that went wrong (each with its reproduce
+command), the campaign's evidence and parameters, the rating counts (relative and absolute) and their agreement with the paper's Fig. 7, the two figures,
 the rating definitions with their thresholds (``scoring.RATING_RULES``), the baselines
 and every pair that is not Good with the reason of its rating, then all pairs.
 """
@@ -11,8 +11,10 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
+from ...report import evidence
 from ...report.figures import img_tag
 from ...report.page import param_table, register_page
+from ..engine.outcomes import ABSOLUTE_DUAL_RULES
 from .scoring import RATING_RULES, RATINGS
 
 _ROW_CLASS = {"Good": "ok", "Fair": "fair", "Poor": "bad", "ND": "bad"}
@@ -23,18 +25,23 @@ def _s(x) -> str:
 
 
 def _table(rows: list[dict], rated: bool) -> str:
-    head = ("<tr><th>case</th><th>runs</th><th>correct</th><th>missed</th><th>wrong</th>"
-            "<th>false alarms</th><th>latency median (s)</th><th>latency p95 (s)</th>"
-            "<th>hold</th><th>peak p</th>" + ("<th>rating</th><th>why</th>" if rated else "") + "</tr>")
+    head = ("<tr><th>case</th><th>runs</th><th>correct [95 %]</th><th>missed</th><th>wrong</th>"
+            "<th>transient-wrong</th><th>false alarms</th><th>latency median (s)</th><th>latency p95 (s)</th>"
+            "<th>hold</th><th>peak p</th>" + ("<th>rating</th><th>why</th><th>absolute</th><th>why</th>"
+                                              if rated else "") + "</tr>")
     body = []
     for r in rows:
         hold = "&ndash;" if r.get("hold_mean") is None else f"{100 * r['hold_mean']:.0f}%"
-        cells = (f"<td>{html.escape(r['case'])}</td><td>{r['runs']}</td><td>{r['correct']}</td>"
-                 f"<td>{r['missed']}</td><td>{r['wrong']}</td><td>{r['false_alarms']}</td>"
+        rates = r.get("evidence", {}).get("rates", {})
+        tw = rates.get("transient_wrong", {}).get("count", "&ndash;")
+        cells = (f"<td>{html.escape(r['case'])}</td><td>{r['runs']}</td><td>{evidence.rate_cell(rates.get('correct'))}</td>"
+                 f"<td>{r['missed']}</td><td>{r['wrong']}</td><td>{tw}</td><td>{r['false_alarms']}</td>"
                  f"<td>{_s(r['latency_s']['median'])}</td><td>{_s(r['latency_s']['p95'])}</td>"
                  f"<td>{hold}</td><td>{_s(r.get('p_max'))}</td>")
         if rated:
-            cells += f"<td>{r['rating']}</td><td style='text-align:left'>{html.escape(r['rating_reason'])}</td>"
+            cells += (f"<td>{r['rating']}</td><td style='text-align:left'>{html.escape(r['rating_reason'])}</td>"
+                      f"<td>{html.escape(str(r.get('absolute_rating', '-')))}</td>"
+                      f"<td style='text-align:left'>{html.escape(r.get('absolute_rating_reason', ''))}</td>")
         body.append(f"<tr class='{_ROW_CLASS.get(r.get('rating'), '')}'>{cells}</tr>")
     return "<table>" + head + "".join(body) + "</table>"
 
@@ -43,6 +50,7 @@ def dual_page(d: Path, s: dict) -> str:
     """The body of the page for a dual summary ``s`` in directory ``d``."""
     t = s.get("timing", {})
     R = RATING_RULES
+    A = s.get("absolute_rules") or ABSOLUTE_DUAL_RULES
     params = [
         ("runs per pair / campaign seed", f"{s['runs_per_pair']} / {s['seed']}"),
         ("flight condition", f"Mach {s['mach']}, {s['alt_ft']:.0f} ft, {s['turbulence']} turbulence"),
@@ -50,9 +58,9 @@ def dual_page(d: Path, s: dict) -> str:
                      f"(mode {s['mode']}), flight {s['duration_s']} s"),
         ("FCS feedback / dither", f"{s['feedback']} / {'on' if s.get('dither', True) else 'off'} "
                                   f"x {s.get('dither_scale', 1.0)}"),
-        ("estimator settings", ", ".join(f"{k}={v}" for k, v in s.get("estimator_settings", {}).items())
-         or "core defaults"),
-        ("bank (tuning, hash) / code version", f"{s['tuning']}, {s['bank_hash']} / {s['version']}"),
+        ("estimator settings", evidence.settings_text(s)),
+        ("bank (tuning, hash) / code", f"{s['tuning']}, {s['bank_hash']} / {s['version']}, "
+                                       f"{(s.get('code') or {}).get('code', 'unrecorded')}"),
         ("wall time", f"{t.get('wall_s', 0):.1f} s for {t.get('runs_executed', '?')} runs "
                       f"({t.get('runs_resumed', 0)} resumed) on {t.get('executor', '?')}"),
     ]
@@ -75,12 +83,21 @@ def dual_page(d: Path, s: dict) -> str:
         "<dt>latency, hold</dt><dd>first declaration of the dual after the second failure minus its "
         "time; the fraction of the flight after that declaration during which the dual stays declared</dd>"
         "<dt>false alarm</dt><dd>before the second failure, a hypothesis other than NONE and the first "
-        "failure declared</dd></dl>")
+        "failure declared</dd>"
+        "<dt>transient-wrong</dt><dd>from the first failure on, a hypothesis other than NONE, the first "
+        "failure and the dual declared, even if the run recovers</dd>"
+        f"<dt>absolute rating</dt><dd>Good when &ge; {100 * A['correct_fraction_min']:.0f}% of the runs are "
+        f"correct, no run has a false alarm, no run is transient-wrong and the median latency after the "
+        f"second failure is &le; {A['latency_median_s_max']} s, whatever the baseline did; else Not good "
+        "(the matrix figure marks absolutely Good cells with a black square)</dd></dl>")
     not_good = [p for p in s["pairs"] if p["rating"] != "Good"]
+    absolute = ", ".join(f"{k} {v}" for k, v in (s.get("absolute_ratings") or {}).items())
     return "".join([
         "<h1>f16mmae dual-failure campaign (paper Fig. 7)</h1>",
+        evidence.drilldown_section(s.get("not_clean", []), ("pair",)),
+        "<h2>Evidence</h2>", evidence.campaign_evidence(s),
         param_table(params),
-        f"<p><b>{len(s['pairs'])} pairs: {counts}.</b> Same rating as the paper's Fig. 7 in "
+        f"<p><b>{len(s['pairs'])} pairs: {counts}; absolute: {absolute}.</b> Same rating as the paper's Fig. 7 in "
         f"{cmp_.get('equal', '?')} of {cmp_.get('cells', '?')} comparable cells; same Good / not Good "
         f"in {cmp_.get('good_vs_not_good_equal', '?')}.</p>",
         img_tag(d / figs["matrix"], "Rating matrix (rows: first failure, columns: second) beside the "

@@ -9,12 +9,18 @@
 
 Each task is one run: a pure function of its spec (seeds included), so the results do
 not depend on which executor ran them or in what order they finished.
+
+Local pool workers die with the campaign: each runs a watchdog thread that ends the worker
+within ``WATCHDOG_PERIOD_S`` once its parent is gone (killed, even by ``kill -9``), so no
+orphaned worker goes on flying runs nobody will store.
 """
 from __future__ import annotations
 
 import contextlib
 import os
 import re
+import threading
+import time
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 from typing import Callable, Iterator
 
@@ -23,6 +29,12 @@ from ...errors import F16mmaeError
 _SCHEDULER_RE = re.compile(
     r"^(?:(?:tcp|tls|ucx|ws|wss)://(?:\[[0-9A-Fa-f:.]+\]|[^\s/:\[\]]+)(?::\d+)?/?|inproc://\S+)$"
 )
+
+
+#: The most local worker processes a pool starts.
+WORKERS_MAX = 1024
+#: How often a pool worker checks that the campaign process that started it is alive.
+WATCHDOG_PERIOD_S = 0.2
 
 
 class ExecutorError(F16mmaeError):
@@ -39,6 +51,19 @@ class InlineExecutor(Executor):
         except BaseException as exc:  # noqa: BLE001 -- delivered through the future
             fut.set_exception(exc)
         return fut
+
+
+def die_with_parent(parent_pid: int) -> None:
+    """Pool worker initializer: a daemon thread that exits this process (status 1) as soon as
+    its parent is no longer ``parent_pid`` (the parent died and the worker was re-parented)."""
+    def watch() -> None:
+        while os.getppid() == parent_pid:
+            time.sleep(WATCHDOG_PERIOD_S)
+        os._exit(1)
+
+    if os.getppid() != parent_pid:
+        os._exit(1)
+    threading.Thread(target=watch, name="f16mmae-parent-watchdog", daemon=True).start()
 
 
 def default_workers() -> int:
@@ -82,12 +107,12 @@ def make_executor(workers: int | None = None, scheduler: str | None = None) -> I
             client.close()
         return
     n = default_workers() if workers is None else workers
-    if n < 1:
-        raise ExecutorError(f"--workers must be >= 1, got {n}")
+    if not 1 <= n <= WORKERS_MAX:
+        raise ExecutorError(f"--workers must lie in [1, {WORKERS_MAX}], got {n}")
     if n == 1:
         yield InlineExecutor()
         return
-    pool = ProcessPoolExecutor(max_workers=n)
+    pool = ProcessPoolExecutor(max_workers=n, initializer=die_with_parent, initargs=(os.getpid(),))
     try:
         yield pool
     except BaseException:

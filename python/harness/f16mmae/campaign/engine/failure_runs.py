@@ -5,9 +5,10 @@ The single-failure campaign flies them at the bank's design point; the off-nomin
 NONE and each of the twelve single failures, ``runs`` seeded runs each, the failure (in the
 config's ``mode``) at ``failure_time_s``.
 
-Seeds: run n of case c gets ``seed_{c,n} = 1 + (SHA-256("single:S:c:n") mod (2^31 - 2))``
-with S the campaign seed -- deterministic, >= 1 (JSBSim maps 0 to 1), independent of the
-executor, of the order runs finish, of the bank and of the flight condition (runs of one
+Seeds: run n of case c gets ``seed_{c,n} = evaluation_seed("single", S, c, n)`` with S the
+campaign seed (``f16mmae.seeds``: ``1 + (SHA-256("evaluation:single:S:c:n") mod (2^31 - 2))``,
+re-drawn in the rare case it is a tuning seed) -- deterministic, >= 1, never a seed the
+tuning flew, independent of the executor, of the order runs finish, of the bank and of the flight condition (runs of one
 (c, n) fly the same turbulence and noise with any bank, at any point: common random numbers).
 
 Each run is a pure function of its spec (:func:`run_spec`), executed on any
@@ -18,10 +19,10 @@ from __future__ import annotations
 from ... import __version__
 from ...loop.flight import fly, scenario_from_dict
 from ...names import NONE, SINGLE_HYPOTHESES
-from . import scoring
+from . import outcomes, scoring
 from .config import CampaignError
 from .runner import planned_bank
-from .seeds import derived_seed
+from .seeds import evaluation_seed
 from .store import run_key
 
 #: Cases of a single-failure plan, in the paper's order.
@@ -32,7 +33,7 @@ P_INJECTED_DECIMATION = 2  # every 2nd frame: 32 Hz at the 64-Hz frame rate
 
 def run_seed(campaign_seed: int, case: str, run_index: int) -> int:
     """The seed of run ``run_index`` of ``case`` (>= 1), see the module docstring."""
-    return derived_seed("single", campaign_seed, case, run_index)
+    return evaluation_seed("single", campaign_seed, case, run_index)
 
 
 def check_cases(cfg) -> None:
@@ -71,6 +72,7 @@ def run_spec(spec: dict) -> dict:
         "run_index": spec["run_index"],
         "seed": spec["seed"],
         "tuning": spec["tuning"],
+        "bank": spec["bank"],  # the --tuning / --bank argument that names the bank
         "bank_hash": spec["bank_hash"],
         "version": spec["version"],
         "scenario": spec["scenario"],
@@ -80,6 +82,7 @@ def run_spec(spec: dict) -> dict:
         "failures": result.failures,
         "declarations": result.declarations,
         **scored,
+        **outcomes.run_fields(result.declarations, failure_time, {case}, scenario.duration_s),
         "p_injected": [round(float(x), 5) for x in p_inj],
         "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
         "timing": result.timing,

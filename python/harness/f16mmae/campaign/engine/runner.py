@@ -8,6 +8,12 @@ finishes -- so an interrupted campaign keeps its finished runs and the same comm
 -- and advances a progress bar. A run that raises stops the campaign with a
 ``CampaignError`` naming the run (``describe(spec)``) and where the finished runs are.
 It returns the stored records of this plan only, one per run key, and the timing.
+
+Code identity: the parent stamps each record it stores with ``code`` (``identity.code_identity()``:
+git commit and dirty flag or source hash, JSBSim and LCM versions).  Before flying, stored
+records of this plan whose identity differs from the running code's stop the campaign with a
+``CampaignError`` naming both identities (resuming would mix results of different code),
+unless ``allow_mixed``.
 """
 from __future__ import annotations
 
@@ -18,6 +24,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...banks import load_bank
+from . import identity
 from .config import CampaignError
 from .progress import Progress
 from .store import ResultsStore
@@ -41,10 +48,15 @@ class Execution:
 
 def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run: Callable[[dict], dict], *,
             describe: Callable[[dict], str], progress_label: str = "runs", show_progress: bool = True,
-            after_each: Callable[[dict], None] | None = None) -> Execution:
+            after_each: Callable[[dict], None] | None = None, allow_mixed: bool = False) -> Execution:
     """Fly the specs not yet in ``store``; see the module docstring. ``after_each(spec)`` is
     called in this process after each record is stored (e.g. per-group progress notes)."""
-    stored = store.keys()
+    code = identity.code_identity()
+    planned = {s["run_key"] for s in specs}
+    stored_records = [r for r in store.records() if r["run_key"] in planned]
+    if not allow_mixed:
+        check_identity(stored_records, code, store)
+    stored = {r["run_key"] for r in stored_records}
     todo = [s for s in specs if s["run_key"] not in stored]
     t0 = time.perf_counter()
     bar = Progress(len(specs), progress_label, already_done=len(specs) - len(todo), enabled=show_progress)
@@ -60,18 +72,29 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
                 raise CampaignError(
                     f"{describe(spec)} failed: {type(exc).__name__}: {exc}; the {bar.done} runs "
                     f"finished so far are stored in {store.path}") from exc
-            store.append(record)
+            store.append({**record, "code": code})
             bar.advance()
             if after_each is not None:
                 after_each(spec)
     finally:
         bar.close()
     wall_s = time.perf_counter() - t0
-    planned = {s["run_key"] for s in specs}
     by_key = {r["run_key"]: r for r in store.records() if r["run_key"] in planned}  # a key stored twice counts once
     executed = {s["run_key"] for s in todo}
     records = list(by_key.values())
     return Execution(records, [r for r in records if r["run_key"] in executed], len(specs) - len(todo), wall_s)
+
+
+def check_identity(stored: Sequence[dict], code: dict, store: ResultsStore) -> None:
+    """CampaignError when a stored record of the plan was flown by other code than ``code``."""
+    other = [r for r in stored if not identity.same(r.get("code"), code)]
+    if other:
+        raise CampaignError(
+            f"{store.path} holds {len(other)} run(s) of this campaign flown by "
+            f"{identity.describe(other[0].get('code'))}, but this is {identity.describe(code)}: "
+            f"resuming would mix results of different code. Start fresh with another --out "
+            f"directory (or move {store.path.name} away), or pass --allow-mixed to keep the stored "
+            f"runs and fly the rest with this code")
 
 
 @dataclass

@@ -19,7 +19,9 @@ and ``t_f`` the first failure time:
 
 Per case (``summarize_case``): counts of the outcomes and of runs with a false alarm;
 latency median and 95th percentile (linear interpolation between order statistics,
-numpy's default) over the runs that have a latency; ``None`` when no run has one.
+numpy's default) over the runs that have a latency (``latency_detected_runs`` of them);
+``None`` when no run has one; and ``evidence`` (``evidence.case_evidence``: every rate with
+its 95 % interval and goal verdict, the detection fractions with misses counted).
 """
 from __future__ import annotations
 
@@ -28,6 +30,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 
 from ...names import NONE, dual_name
+from . import evidence
 
 OUTCOMES = ("correct", "missed", "wrong")
 
@@ -91,6 +94,8 @@ def summarize_case(case: str, records: Iterable[dict]) -> dict:
         "wrong": counts["wrong"],
         "false_alarms": sum(1 for r in rs if r["false_alarm"]),
         "latency_s": {"median": _stat(latencies, 50), "p95": _stat(latencies, 95)},
+        "latency_detected_runs": len(latencies),  # latency_s is over these runs only
+        "evidence": evidence.case_evidence(case, rs),
     }
 
 

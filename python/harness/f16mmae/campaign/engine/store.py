@@ -14,6 +14,9 @@ is corruption and is refused with its line number.
 """
 from __future__ import annotations
 
+import contextlib
+import errno
+import fcntl
 import hashlib
 import json
 import os
@@ -21,8 +24,11 @@ from pathlib import Path
 from typing import Any, Iterable, Iterator
 
 from ...errors import F16mmaeError
+from ...outputs import writable_dir
 
 RECORDS_FILE = "runs.jsonl"
+#: The lock a campaign holds on its directory while it runs (the holder's pid inside).
+LOCK_FILE = ".campaign.lock"
 
 
 class StoreError(F16mmaeError):
@@ -116,3 +122,29 @@ class ResultsStore:
     def extend(self, records: Iterable[dict]) -> None:
         for r in records:
             self.append(r)
+
+
+@contextlib.contextmanager
+def campaign_directory(directory: str | os.PathLike) -> Iterator[Path]:
+    """The campaign's output directory, checked writable (``outputs.writable_dir``, before
+    any flight) and locked for this process until the block ends; StoreError naming the
+    directory and the holder's pid when another campaign has it."""
+    d = writable_dir(directory, "--out")
+    f = open(d / LOCK_FILE, "a+", encoding="utf-8")
+    try:
+        try:
+            fcntl.lockf(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            if exc.errno not in (errno.EACCES, errno.EAGAIN):
+                raise StoreError(f"cannot lock {d / LOCK_FILE}: {exc.strerror}") from None
+            f.seek(0)
+            holder = f.read().strip() or "unknown"
+            raise StoreError(f"another campaign (pid {holder}) is writing to {d}; wait until it ends, "
+                             f"or give another --out directory") from None
+        f.seek(0)
+        f.truncate()
+        f.write(f"{os.getpid()}\n")
+        f.flush()
+        yield d
+    finally:
+        f.close()  # closing the only descriptor of the file drops the lock

@@ -47,14 +47,14 @@ import numpy as np
 
 from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
-from ...names import NONE
+from ...names import FAILURE_TIME_S, NONE
 from ...truth.aircraft import check_flight_condition, trimmed_fdm
 from ...truth.failures import make_failure
-from ..engine import scoring
+from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore
+from ..engine.store import ResultsStore, campaign_directory
 from . import figures
 from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
 
@@ -70,7 +70,7 @@ class EnvelopeCampaign(CampaignConfig):
     runs: int = 2
     points: tuple[EnvelopePoint, ...] = PAPER_POINTS
     cases: tuple[str, ...] = CASES
-    failure_time_s: float = 3.0
+    failure_time_s: float = FAILURE_TIME_S
     correct_fraction_min: float = CORRECT_FRACTION_MIN
     false_alarms_max: int = FALSE_ALARMS_MAX
 
@@ -129,6 +129,21 @@ def acceptable(metrics: dict, correct_fraction_min: float = CORRECT_FRACTION_MIN
     return (frac is None or frac >= correct_fraction_min) and metrics["false_alarm_runs"] <= false_alarms_max
 
 
+def point_rates(records: list[dict], correct_fraction_min: float = CORRECT_FRACTION_MIN) -> dict:
+    """The point's rates with 95 % intervals and the verdicts of the acceptability rule:
+    correct over the failure-case runs (goal ``>= correct_fraction_min``), runs with a false
+    alarm and transient-wrong runs over all runs (goal 0 each); ``verdict`` the worst."""
+    fail = [r for r in records if r["case"] != NONE]
+    out = {}
+    if fail:
+        out["correct"] = intervals.rate(sum(r["outcome"] == "correct" for r in fail), len(fail),
+                                        goal=correct_fraction_min, direction="at_least")
+    if records:
+        for name in ("false_alarm", "transient_wrong"):
+            out[name] = intervals.rate(outcomes.count(records, name), len(records), goal=0.0, direction="at_most")
+    return {"rates": out, "verdict": evidence.worst(r["verdict"] for r in out.values())}
+
+
 def trim_offset(bank, point: EnvelopePoint) -> dict:
     """Truth trim at ``point`` minus the bank's design trim (report only, never to the estimator)."""
     _, tp = trimmed_fdm(point.mach, point.alt_ft)
@@ -160,14 +175,20 @@ def describe_point_spec(spec: dict) -> str:
 
 
 def run_envelope(cfg: EnvelopeCampaign, out_dir: str | Path, executor: Executor,
-                 executor_label: str = "", show_progress: bool = True) -> CampaignOutcome:
-    """Plan every point, run what is not stored yet, summarize per point, plot."""
+                 executor_label: str = "", show_progress: bool = True,
+                 allow_mixed: bool = False) -> CampaignOutcome:
+    """Plan every point, run what is not stored yet, summarize per point, plot; ``out_dir``
+    checked writable and locked (``store.campaign_directory``) before any flight."""
     cfg.validate()
-    out = Path(out_dir)
+    with campaign_directory(out_dir) as out:
+        return _run_envelope(cfg, out, executor, executor_label, show_progress, allow_mixed)
+
+
+def _run_envelope(cfg: EnvelopeCampaign, out: Path, executor: Executor, executor_label: str,
+                  show_progress: bool, allow_mixed: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     banks = {label: (cfg.tuning, bank)}
     specs = plan(cfg, banks)
-    out.mkdir(parents=True, exist_ok=True)
     store = ResultsStore(out)
     stored = store.keys()
     left = {p.label: 0 for p in cfg.points}  # runs still to fly, per point
@@ -182,7 +203,7 @@ def run_envelope(cfg: EnvelopeCampaign, out_dir: str | Path, executor: Executor,
 
     done = execute(specs, store, executor, run_point_spec, describe=describe_point_spec,
                    progress_label=f"runs ({len(cfg.points)} points)", show_progress=show_progress,
-                   after_each=point_progress)
+                   after_each=point_progress, allow_mixed=allow_mixed)
     point_of = {s["run_key"]: s["point"] for s in specs}
     records = done.records
     summary = summarize(cfg, banks, label, records, point_of)
@@ -216,6 +237,7 @@ def summarize(cfg: EnvelopeCampaign, banks: dict, label: str, records: list[dict
             "qbar_ratio": round(p.qbar_psf / design.qbar_psf, 4),
             **metrics,
             "acceptable": acceptable(metrics, cfg.correct_fraction_min, cfg.false_alarms_max),
+            "evidence": point_rates(recs, cfg.correct_fraction_min),
             "trim_offset": trim_offset(bank, p),
             "cases": [scoring.summarize_case(c, [r for r in recs if r["tuning"] == label and r["case"] == c])
                       for c in cfg.cases],
@@ -242,6 +264,12 @@ def summarize(cfg: EnvelopeCampaign, banks: dict, label: str, records: list[dict
         "acceptable_rule": {"correct_fraction_min": cfg.correct_fraction_min,
                             "false_alarm_runs_max": cfg.false_alarms_max},
         "points": points,
+        **evidence.summary_fields(
+            records, [c for p in points for c in p["cases"]],
+            drilldown.not_clean(sorted(records, key=lambda r: (r["point"], r["case"], r["run_index"])),
+                                lambda r: drilldown.record_command(r, cfg.dither_scale),
+                                lambda r: {"point": r["point"], "case": r["case"]}),
+            identity.code_identity(), goals_met=all(p["evidence"]["verdict"] != "not met" for p in points)),
     }
 
 

@@ -50,6 +50,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ...errors import F16mmaeError
+from ...names import DESIGN_ALT_FT, DESIGN_MACH
 from ...truth.aircraft import check_flight_condition
 
 #: ISA sea-level pressure (lbf/ft^2), temperature (K), lapse rate (K/m) and g0/(R L).
@@ -113,7 +114,7 @@ _LOCAL = (  # (number, Mach, alt_ft) read from the paper's Fig. 9
 )
 _EXTREMA = ((21, 0.400, 25000), (22, 0.350, 20000), (23, 0.400, 15000), (24, 0.450, 20000))
 
-NOMINAL = EnvelopePoint(NOMINAL_LABEL, 0.400, 20000.0, "nominal")
+NOMINAL = EnvelopePoint(NOMINAL_LABEL, DESIGN_MACH, DESIGN_ALT_FT, "nominal")
 #: The paper's 25 points: NOM, then 1-24 in order.
 PAPER_POINTS: tuple[EnvelopePoint, ...] = (NOMINAL,) + tuple(
     EnvelopePoint(str(n), m, float(h), "local") for n, m, h in _LOCAL) + tuple(

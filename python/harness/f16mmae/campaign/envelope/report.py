@@ -1,16 +1,18 @@
 """The HTML page of an off-nominal campaign directory (``summary.json`` of kind "envelope").
 
-``envelope_page(d, summary)`` is the page body: the settings, the per-point table (Mach,
-altitude, q̄, correct fraction, false-alarm runs, median latency, acceptable, truth trim
+``envelope_page(d, summary)`` is the page body: the runs that went wrong (each with its
+reproduce command), the campaign's evidence, the settings, the per-point table (Mach,
+altitude, q̄, correct and false-alarm runs with 95 % intervals, transient-wrong runs, median
+latency, acceptable, verdict, truth trim
 minus design trim) and both figures embedded as base64 PNGs (``report.figures.img_tag``), so the page
 is one self-contained file; ``report.page.render_report(d)`` writes it to ``DIR/report.html``.
 """
 from __future__ import annotations
 
 import html
-import json
 from pathlib import Path
 
+from ...report import evidence
 from ...report.figures import img_tag
 from ...report.page import param_table, register_page
 
@@ -28,25 +30,31 @@ def envelope_page(d: Path, s: dict) -> str:
         ("runs per case and point", s["runs_per_case"]), ("campaign seed", s["seed"]),
         ("cases", ", ".join(s["cases"])), ("turbulence", s["turbulence"]), ("failure mode", s["mode"]),
         ("failure time / duration (s)", f"{s['failure_time_s']} / {s['duration_s']}"),
-        ("estimator settings", json.dumps(s.get("estimator_settings", {}))), ("version", s["version"]),
+        ("estimator settings", evidence.settings_text(s)),
+        ("code", f"{s['version']}, {(s.get('code') or {}).get('code', 'unrecorded')}"),
     )
-    head = ("<tr><th>point</th><th>Mach</th><th>alt (ft)</th><th>q̄ (lbf/ft²)</th><th>correct</th>"
-            "<th>false-alarm runs</th><th>latency median (s)</th><th>acceptable</th>"
+    head = ("<tr><th>point</th><th>Mach</th><th>alt (ft)</th><th>q̄ (lbf/ft²)</th><th>correct [95 %]</th>"
+            "<th>false-alarm runs [95 %]</th><th>transient-wrong runs</th><th>latency median (s)</th><th>acceptable</th>"
+            "<th>verdict</th>"
             "<th>Δ stab (deg)</th><th>Δ VEL (ft/s)</th><th>Δ AOA (deg)</th></tr>")
     rows = []
     for p in s["points"]:
-        frac = p["correct_fraction"]
-        corr = "&ndash;" if frac is None else f"{p['correct']}/{p['failure_runs']} ({100 * frac:.0f}%)"
+        rates = p.get("evidence", {}).get("rates", {})
         t = p["trim_offset"]
         rows.append(
             f"<tr class='{'ok' if p['acceptable'] else 'bad'}'><td>{html.escape(p['label'])}</td>"
             f"<td>{p['mach']:.3f}</td><td>{p['alt_ft']:.0f}</td><td>{p['qbar_psf']:.1f}</td>"
-            f"<td>{corr}</td><td>{p['false_alarm_runs']}</td><td>{_f(p['latency_median_s'], '.2f')}</td>"
-            f"<td>{'yes' if p['acceptable'] else 'no'}</td><td>{t['stab_deg']:+.3f}</td>"
+            f"<td>{evidence.rate_cell(rates.get('correct'))}</td><td>{evidence.rate_cell(rates.get('false_alarm'))}</td>"
+            f"<td>{rates.get('transient_wrong', {}).get('count', '&ndash;')}</td>"
+            f"<td>{_f(p['latency_median_s'], '.2f')}</td>"
+            f"<td>{'yes' if p['acceptable'] else 'no'}</td><td>{html.escape(str(p.get('evidence', {}).get('verdict')))}</td>"
+            f"<td>{t['stab_deg']:+.3f}</td>"
             f"<td>{t['vel_fps']:+.2f}</td><td>{t['aoa_deg']:+.3f}</td></tr>")
     figs = s.get("figures", {})
     parts = [
         "<h1>f16mmae off-nominal campaign (paper Fig. 9)</h1>",
+        evidence.drilldown_section(s.get("not_clean", []), ("point", "case")),
+        "<h2>Evidence</h2>", evidence.campaign_evidence(s),
         param_table(settings),
         "<h2>Points</h2>",
         f"<p>Acceptable: at least {100 * rule['correct_fraction_min']:.0f}% of the failure-case runs end "

@@ -24,12 +24,12 @@ from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import scenario_from_dict
 from ...loop.overhead import measure_overhead
-from ...names import NONE
-from ..engine import scoring
+from ...names import FAILURE_TIME_S, NONE
+from ..engine import drilldown, evidence, identity, scoring
 from ..engine.config import CampaignConfig
 from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore
+from ..engine.store import ResultsStore, campaign_directory
 from . import figures
 
 
@@ -39,7 +39,7 @@ class SingleCampaign(CampaignConfig):
 
     cases: tuple[str, ...] = CASES
     baseline: str | None = "untuned"
-    failure_time_s: float = 3.0
+    failure_time_s: float = FAILURE_TIME_S
     mach: float | None = None  # None: the bank's design point
     alt_ft: float | None = None
 
@@ -52,11 +52,16 @@ class SingleCampaign(CampaignConfig):
 # -- the campaign ------------------------------------------------------------------------------
 def run_campaign(cfg: SingleCampaign, out_dir: str | Path, executor: Executor,
                  executor_label: str = "", show_progress: bool = True,
-                 measure_cost: bool = True) -> CampaignOutcome:
-    """Plan, run what is not stored yet, append records as they finish, summarize, plot."""
+                 measure_cost: bool = True, allow_mixed: bool = False) -> CampaignOutcome:
+    """Plan, run what is not stored yet, append records as they finish, summarize, plot;
+    ``out_dir`` checked writable and locked (``store.campaign_directory``) before any flight."""
     cfg.validate()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    with campaign_directory(out_dir) as out:
+        return _run_campaign(cfg, out, executor, executor_label, show_progress, measure_cost, allow_mixed)
+
+
+def _run_campaign(cfg: SingleCampaign, out: Path, executor: Executor, executor_label: str,
+                  show_progress: bool, measure_cost: bool, allow_mixed: bool) -> CampaignOutcome:
     label, _, bank = load_bank(cfg.tuning)
     banks = {label: (cfg.tuning, bank)}
     if cfg.baseline:
@@ -65,7 +70,7 @@ def run_campaign(cfg: SingleCampaign, out_dir: str | Path, executor: Executor,
             banks[b_label if b_label != label else f"{b_label}-baseline"] = (cfg.baseline, b_bank)
     specs = plan(cfg, banks, cfg.mach, cfg.alt_ft)
     done = execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
-                   show_progress=show_progress)
+                   show_progress=show_progress, allow_mixed=allow_mixed)
     records = done.records
     summary = summarize(cfg, banks, label, records)
     summary["timing"] = done.timing(executor_label)
@@ -116,6 +121,17 @@ def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict])
                                "estimator_settings": {**bank_estimator_settings(banks[b][1]),
                                                       **cfg.estimator_options()},
                                "cases": cases_of(b)}
+    order = {lbl: i for i, lbl in enumerate(banks)}
+    case_order = {c: i for i, c in enumerate(cfg.cases)}
+    ranked = sorted(records, key=lambda r: (order.get(r["tuning"], len(order)), case_order.get(r["case"], 0),
+                                            r["run_index"]))
+    # the rates, false declarations and goals are the bank under test's; the list of runs that
+    # went wrong holds the baseline's too
+    summary.update(evidence.summary_fields(
+        [r for r in records if r["tuning"] == label], cases,
+        drilldown.not_clean(ranked, lambda r: drilldown.record_command(r, cfg.dither_scale),
+                            lambda r: {"tuning": r["tuning"], "case": r["case"]}),
+        identity.code_identity()))
     return summary
 
 

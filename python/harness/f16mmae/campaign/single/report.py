@@ -1,5 +1,6 @@
 """The HTML page of a single-failure campaign directory (``summary.json`` of kind "single"):
-its parameters, the per-case tables of the bank under test and of the baseline bank, the
+the runs that went wrong (each with its reproduce command), the evidence of the bank under
+test (rates with 95 % intervals and verdicts), its parameters, the baseline bank's table, the
 figures (embedded) and the scoring definitions; registered with ``report.page`` on import."""
 from __future__ import annotations
 
@@ -8,31 +9,8 @@ from pathlib import Path
 
 from ...report.figures import img_tag
 from ...report.page import param_table, register_page
-from ..engine.scoring import GOALS, check_goals
-
-
-def _fmt_s(x) -> str:
-    return "&ndash;" if x is None else f"{x:.3f}"
-
-
-def _case_table(cases: list[dict]) -> str:
-    head = ("<tr><th>case</th><th>runs</th><th>correct</th><th>missed</th><th>wrong</th>"
-            "<th>false alarms</th><th>latency median (s)</th><th>latency p95 (s)</th>"
-            "<th>goals</th></tr>")
-    rows = []
-    for c in cases:
-        g = check_goals(c)
-        pct = 100.0 * c["correct"] / c["runs"] if c["runs"] else 0.0
-        unmet = [k for k, ok in g.items() if k != "all" and not ok]
-        verdict = "met" if g["all"] else "not met: " + ", ".join(unmet)
-        cls = "ok" if g["all"] else "bad"
-        rows.append(
-            f"<tr class='{cls}'><td>{html.escape(c['case'])}</td><td>{c['runs']}</td>"
-            f"<td>{c['correct']} ({pct:.0f}%)</td><td>{c['missed']}</td><td>{c['wrong']}</td>"
-            f"<td>{c['false_alarms']}</td><td>{_fmt_s(c['latency_s']['median'])}</td>"
-            f"<td>{_fmt_s(c['latency_s']['p95'])}</td><td>{verdict}</td></tr>"
-        )
-    return "<table>" + head + "".join(rows) + "</table>"
+from ...report import evidence
+from ..engine.scoring import GOALS
 
 
 _DEFINITIONS = f"""
@@ -42,7 +20,13 @@ _DEFINITIONS = f"""
 <dt>wrong isolation</dt><dd>the run ends with another failure declared than the injected one</dd>
 <dt>false alarm</dt><dd>a failure declared before the failure time; in a no-failure run, any failure declaration</dd>
 <dt>detection latency</dt><dd>first declaration of the injected hypothesis at or after the failure time, minus the failure time; median and 95th percentile (linear interpolation) over the runs that have one</dd>
-<dt>goals</dt><dd>correct &ge; {100 * GOALS['correct_fraction_min']:.0f}%, false alarms = {GOALS['false_alarms_max']}, latency median &le; {GOALS['latency_median_s_max']} s, p95 &le; {GOALS['latency_p95_s_max']} s</dd>
+<dt>transient-wrong</dt><dd>a failure other than the injected one declared at or after the failure time, even if the run recovers and ends correct (goal: none)</dd>
+<dt>intervals</dt><dd>95 % Clopper-Pearson (exact) intervals of every rate, in brackets; summary.json also holds the Wilson intervals</dd>
+<dt>verdicts</dt><dd><em>demonstrated</em>: the interval clears the goal; <em>consistent</em>: the point estimate meets it, the interval does not; <em>not met</em>: the point estimate misses it. A goal of zero (false alarms, transient-wrong) can never be demonstrated by finitely many runs</dd>
+<dt>detected within 0.5 / 1 / 2 s / in flight</dt><dd>fractions of all runs of a case, a missed run counting as never detected. The latency goals are judged in this form: median &le; {GOALS['latency_median_s_max']} s as &ge; 50 % detected within 1 s, p95 &le; {GOALS['latency_p95_s_max']} s as &ge; 95 % within 2 s</dd>
+<dt>false declarations per flight hour</dt><dd>failure declarations before the failure (all of them in no-failure runs) over the failure-free flying time (before each failure, all of each no-failure run), exact Poisson interval</dd>
+<dt>goals</dt><dd>correct &ge; {100 * GOALS['correct_fraction_min']:.0f}%, false alarms = {GOALS['false_alarms_max']}, no transient-wrong, latency median &le; {GOALS['latency_median_s_max']} s, p95 &le; {GOALS['latency_p95_s_max']} s</dd>
+<dt>seeds</dt><dd>campaigns fly evaluation seeds; the tuning (calibration, convergence, the choice of the shipped bank's settings) flew other seeds, never these</dd>
 </dl>"""
 
 
@@ -56,10 +40,9 @@ def single_page(d: Path, s: dict) -> str:
         ("failure time / duration (s)", f"{s.get('failure_time_s')} / {s.get('duration_s')}"),
         ("failure mode", s.get("mode")),
         ("dither", f"truth defaults x {s.get('dither_scale', 1.0)}"),
-        ("estimator settings", ", ".join(f"{k}={v}" for k, v in (s.get("estimator") or {}).items())
-         or "core defaults"),
+        ("estimator settings", evidence.settings_text(s)),
         ("bank (tuning, hash)", f"{s.get('tuning')}, {s.get('bank_hash')}"),
-        ("code version", s.get("version")),
+        ("code", f"{s.get('version')}, {(s.get('code') or {}).get('code', 'unrecorded')}"),
         ("wall time", f"{t.get('wall_s', 0):.1f} s for {t.get('runs_executed', '?')} runs "
                       f"({t.get('runs_resumed', 0)} resumed) on {t.get('executor', '?')}"),
     ]
@@ -69,15 +52,18 @@ def single_page(d: Path, s: dict) -> str:
                        f"{ov['closed_loop_s'] * 1e3:.0f} ms / {ov['truth_only_s'] * 1e3:.0f} ms "
                        f"= {ov['ratio']:.2f} (one {ov['duration_s']:g}-s flight, this process)"))
     parts = [
-        f"<h1>f16mmae single-failure campaign</h1>",
+        "<h1>f16mmae single-failure campaign</h1>",
+        evidence.drilldown_section(s.get("not_clean", []), ("tuning", "case")),
+        f"<h2>Evidence, {html.escape(str(s.get('tuning')))} bank</h2>",
+        evidence.campaign_evidence(s),
+        evidence.evidence_table(s["cases"]),
+        "<h2>Campaign</h2>",
         param_table(params),
-        f"<h2>Results, {html.escape(str(s.get('tuning')))} bank</h2>",
-        _case_table(s["cases"]),
     ]
     base = s.get("baseline")
     if base:
         parts += [f"<h2>Results, {html.escape(base['tuning'])} bank (baseline, bank {html.escape(base['bank_hash'])})</h2>",
-                  _case_table(base["cases"])]
+                  evidence.evidence_table(base["cases"])]
     figs = s.get("figures", {})
     parts.append("<h2>Figures</h2>")
     if "strips" in figs:

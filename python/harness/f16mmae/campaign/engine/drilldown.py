@@ -1,0 +1,72 @@
+"""The runs that went wrong, each with the one command that flies it again.
+
+A run is *not clean* when its outcome is not ``correct`` (missed or wrong), or it had a false
+alarm, or it was transient-wrong (``outcomes.transient_wrong``).  :func:`not_clean` lists them
+in the campaign's plan order with their seed, outcome, flags, final hypothesis, declarations
+and :func:`reproduce_command`.
+
+``reproduce_command(scenario, bank, estimator, dither_scale)`` writes the ``f16mmae run``
+command line whose flight is the run's: every scenario field the run command sets (seed,
+duration, turbulence, Mach and altitude as exact decimal reprs, feedback, dither on/off and
+scale, each failure as ``--fail NAME@TIME:MODE[=VALUE]`` in the record's order), the bank
+(``tuned`` / ``untuned`` or a bank file) and every estimator override.  The flight it gives
+is the record's scenario and the record's declarations (tests/python/test_campaign_drilldown.py
+flies one run of each campaign kind both ways).
+"""
+from __future__ import annotations
+
+import shlex
+from collections.abc import Callable, Iterable
+
+FLAGS: tuple[str, ...] = ("false_alarm", "transient_wrong")
+_ESTIMATOR_OPTIONS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min"}
+
+
+def is_clean(record: dict) -> bool:
+    return record["outcome"] == "correct" and not any(record.get(f) for f in FLAGS)
+
+
+def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: float = 1.0) -> str:
+    """The ``f16mmae run`` command of one run (module docstring)."""
+    unknown = set(estimator) - set(_ESTIMATOR_OPTIONS)
+    if unknown:
+        raise ValueError(f"estimator setting(s) {', '.join(sorted(unknown))} have no run option; "
+                         f"valid: {', '.join(_ESTIMATOR_OPTIONS)}")
+    args = ["f16mmae", "run", "--seed", str(scenario["seed"]), "--duration", repr(float(scenario["duration_s"])),
+            "--turbulence", scenario["turbulence"], "--mach", repr(float(scenario["mach"])),
+            "--alt-ft", repr(float(scenario["alt_ft"])), "--feedback", scenario["feedback"]]
+    dither = scenario.get("dither") or {}
+    if not dither.get("enabled", True):
+        args.append("--no-dither")
+    elif dither_scale != 1.0:
+        args += ["--dither-scale", repr(float(dither_scale))]
+    for f in scenario.get("failures", ()):
+        text = f"{f['name']}@{float(f['time_s'])!r}:{f['mode']}"
+        if f.get("value") is not None:
+            text += f"={float(f['value'])!r}"
+        args += ["--fail", text]
+    args += ["--bank", str(bank)]
+    for key, opt in _ESTIMATOR_OPTIONS.items():
+        if key in estimator:
+            args += [opt, repr(float(estimator[key]))]
+    return shlex.join(args)
+
+
+def record_command(record: dict, dither_scale: float = 1.0) -> str:
+    """:func:`reproduce_command` of a stored run record (its scenario, bank and overrides)."""
+    return reproduce_command(record["scenario"], record.get("bank", record["tuning"]), record["estimator"],
+                             dither_scale)
+
+
+def not_clean(records: Iterable[dict], command: Callable[[dict], str], label: Callable[[dict], dict]) -> list[dict]:
+    """Every run that was not clean: ``label(record)`` (the fields naming its case), then
+    ``seed``, ``run_index``, ``outcome``, ``flags``, ``final_hypothesis``, ``declarations``
+    and ``command`` (``command(record)``)."""
+    out = []
+    for r in records:
+        if is_clean(r):
+            continue
+        out.append({**label(r), "run_index": r["run_index"], "seed": r["seed"], "outcome": r["outcome"],
+                    "flags": [f for f in FLAGS if r.get(f)], "final_hypothesis": r["final_hypothesis"],
+                    "declarations": r["declarations"], "command": command(r)})
+    return out

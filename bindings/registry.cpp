@@ -11,6 +11,7 @@ void bind_declarer(py::module_& m);      // bind_declarer.cpp: Declarer
 void bind_hierarchical(py::module_& m);  // bind_hierarchical.cpp: HierarchicalBank
 void bind_monitor(py::module_& m);       // bind_monitor.cpp: ResidualMonitor
 void bind_executive(py::module_& m);     // bind_executive.cpp: Executive
+void bind_frame_auth(py::module_& m);    // bind_frame_auth.cpp: FrameAuth
 void register_all(py::module_& m) {
   bind_filter(m);
   bind_bank(m);
@@ -19,5 +20,6 @@ void register_all(py::module_& m) {
   bind_hierarchical(m);
   bind_monitor(m);
   bind_executive(m);
+  bind_frame_auth(m);
 }
 }  // namespace f16mmae::bindings

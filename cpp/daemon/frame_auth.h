@@ -2,7 +2,7 @@
 //
 // Every message of the link (lcmt_sensor_frame, lcmt_command_frame, lcmt_mmae_reset,
 // lcmt_mmae_status) ends with the fields
-//     int64_t auth_sequence;  byte auth_tag[32];
+//     int64_t auth_sequence;  int64_t auth_tag[4];   (the tag's 32 bytes as four big-endian words)
 // so the last kTrailer = 40 bytes of its encoding are the sequence (big-endian) and the tag.
 // With a key K (16 to 64 bytes, read from a file):
 //     tag = HMAC-SHA256(K, channel || 0x00 || bytes[0, size - 32))      (RFC 2104)

@@ -65,7 +65,7 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options, 
   for (auto& name : status_.hypothesis_names) name.reserve(kNameCapacity);
   status_.bank_hash = bank.content_hash;
   status_.auth_sequence = 0;  // the transport signs (the generated struct leaves them unset)
-  std::fill(std::begin(status_.auth_tag), std::end(status_.auth_tag), std::uint8_t{0});
+  std::fill(std::begin(status_.auth_tag), std::end(status_.auth_tag), std::int64_t{0});
   status_.resynchronised = false;
   status_.frames_resynchronised = 0;
   status_.level_failure.reserve(kNameCapacity);

@@ -57,6 +57,13 @@ F16FilterBank reference_bank(const ModelBank& b) {
   bank.set_h_output(b.h_output);
   return bank;
 }
+// Frames 0 .. n-1 of the deterministic signals, in order.
+void fly(Executive& ex, const ModelBank& b, long long n) {
+  for (long long i = 0; i < n; ++i) {
+    ex.on_sensor(sensor(i, z_at(b, i)));
+    ex.on_command(command(i, u_at(b, i)));
+  }
+}
 void expect_same(const Executive& ex, const F16FilterBank& ref, const ModelBank& b) {
   const auto& st = ex.status();
   ASSERT_EQ(st.num_hypotheses, 13);
@@ -146,10 +153,7 @@ TEST(Executive, NonFiniteOrInvalidFramesAreRejectedAndChangeNothing) {
 TEST(Executive, ResetReturnsToTheInitialBank) {
   const ModelBank b = test_support::synthetic_bank();
   Executive ex(b), fresh(b);
-  for (long long i = 0; i < 30; ++i) {
-    ex.on_sensor(sensor(i, z_at(b, i)));
-    ex.on_command(command(i, u_at(b, i)));
-  }
+  fly(ex, b, 30);
   ex.on_reset();
   ASSERT_EQ(ex.on_sensor(sensor(0, z_at(b, 0))), Fate::used);
   ASSERT_EQ(fresh.on_sensor(sensor(0, z_at(b, 0))), Fate::used);
@@ -215,10 +219,7 @@ TEST(Executive, AJumpBeyondOneSecondOfFramesResynchronisesFromTheStaleState) {
   for (const long long jump : {65LL, 10000000LL, 1LL << 62}) {
     Executive ex(b);
     EXPECT_EQ(ex.max_gap_frames(), 64);
-    for (long long i = 0; i < 30; ++i) {  // the AOA bias moves it away from the initial state
-      ex.on_sensor(sensor(i, z_at(b, i)));
-      ex.on_command(command(i, u_at(b, i)));
-    }
+    fly(ex, b, 30);  // the AOA bias moves it away from the initial state
     const long long n = 30 + jump;  // pending frame 30: 30 + 64 would still be caught up
     const auto t0 = std::chrono::steady_clock::now();
     ASSERT_EQ(ex.on_sensor(sensor(n, z_at(b, 30))), Fate::resynchronised);
@@ -258,10 +259,7 @@ TEST(Executive, AGapOfExactlyOneSecondIsStillCaughtUp) {
 TEST(Executive, AWildCommandRestartsTheEstimatorWithoutApplyingIt) {
   const ModelBank b = test_support::synthetic_bank();
   Executive ex(b), fresh(b);
-  for (long long i = 0; i < 30; ++i) {
-    ex.on_sensor(sensor(i, z_at(b, i)));
-    ex.on_command(command(i, u_at(b, i)));
-  }
+  fly(ex, b, 30);
   ASSERT_EQ(ex.on_command(command(1LL << 62, u_at(b, 0))), Fate::resynchronised);
   ASSERT_EQ(ex.on_sensor(sensor(30, z_at(b, 30))), Fate::used);
   ASSERT_EQ(fresh.on_sensor(sensor(30, z_at(b, 30))), Fate::used);

@@ -1,6 +1,6 @@
 """What `pip install .` gives a user: `mmae-daemon` on PATH (the wheel's scripts directory),
 `mmae-daemon --bank ...` runnable as the README and `f16mmae hil --help` say, and none of the
-latency tools (tools/latency) in the wheel. The wheel is built from the build tree `make build`
+latency tools (tools/latency: echo, idle-jitter, the LCM latency driver) in the wheel. The wheel is built from the build tree `make build`
 keeps (build/py: nothing is compiled again) and installed, without its Python dependencies
 (the daemon needs none), into a fresh virtual environment."""
 from __future__ import annotations
@@ -27,7 +27,7 @@ def test_a_fresh_venv_has_mmae_daemon_on_path_and_no_latency_tools(tmp_path):
     (wheel,) = wheels.glob("f16mmae-*.whl")
     names = zipfile.ZipFile(wheel).namelist()
     assert any(n.endswith(".data/scripts/mmae-daemon") for n in names), names
-    assert not [n for n in names if "lcm-echo-f16" in n or "idle-jitter" in n or "cpu_work" in n]
+    assert not [n for n in names if any(t in n for t in ("lcm-echo-f16", "idle-jitter", "cpu_work", "lcm_latency"))]
 
     env_dir = tmp_path / "fresh"
     venv.EnvBuilder(with_pip=True).create(env_dir)

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from f16mmae.benchmarks.lcm_latency import PLACEMENTS, echo_name, find_tool, host_floor, main, next_port_url, place
+from latency_driver import PLACEMENTS, echo_name, find_tool, host_floor, main, next_port_url, place
 from f16mmae.lcm.channels import HilError
 from f16mmae.lcm.daemon import pin_to, statistics_line
 

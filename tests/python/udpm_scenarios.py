@@ -27,8 +27,9 @@ import lcm
 import numpy as np
 import pytest
 
+from f16mmae import core
 from f16mmae.banks import load_bank
-from f16mmae.benchmarks.lcm_latency import find_tool
+from latency_driver import find_tool
 from f16mmae.cli.main import main
 from f16mmae.loop.flight import fly
 from f16mmae.lcm.channels import channels
@@ -231,6 +232,45 @@ def test_hostile_messages_hang_nothing_and_are_counted_by_fate(banked):
     assert daemon.statistics["frames"]["resynchronised"] == 2
 
 
+def test_with_a_key_the_daemon_obeys_only_signed_fresh_messages(banked, tmp_path, capsys):
+    label, path, bank = banked
+    key = tmp_path / "link.key"
+    key.write_bytes(os.urandom(32))
+    prefix = "AUTH_"
+    assert main(["hil", "--start-daemon", "--lockstep", "--duration", "0.5", "--lcm-url", URL,
+                 "--channel-prefix", prefix, "--auth-key", str(key)]) == 0
+    out = capsys.readouterr().out
+    assert "frames authenticated" in out and "32 updated" in out and "0 unauthenticated" in out
+
+    chans = channels(prefix)
+    lc = lcm.LCM(URL)
+    raw = []
+    lc.subscribe(chans.status, lambda ch, data: raw.append(data))
+    z = np.array(bank.z_trim)
+    auth, checker = core.FrameAuth.from_key_file(str(key)), core.FrameAuth.from_key_file(str(key))
+
+    def settle(s=0.3):
+        end = time.monotonic() + s
+        while time.monotonic() < end:
+            lc.handle_timeout(20)
+
+    with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix, auth_key=key) as daemon:
+        assert "frames authenticated" in daemon.ready_line
+        lc.publish(chans.sensors, sensor_frame_bytes(0, z))                       # unsigned
+        lc.publish(chans.reset, core.FrameAuth(os.urandom(32)).sign(chans.reset, sensor_frame_bytes(0, z)))
+        settle()
+        assert raw == []
+        signed = auth.sign(chans.sensors, sensor_frame_bytes(0, z))
+        lc.publish(chans.sensors, signed)
+        settle()
+        lc.publish(chans.sensors, signed)                                          # replayed
+        settle()
+    assert len(raw) == 1 and checker.check(chans.status, raw[0]) == "ok"
+    m = daemon.statistics["messages"]
+    assert (m["unauthenticated"], m["replayed"], m["used"], m["received"]) == (2, 1, 1, 4)
+    assert daemon.statistics["authenticated"] is True
+
+
 def test_sigterm_ends_the_daemon_cleanly_with_a_summary(banked):
     exe = str(find_executable("mmae-daemon"))
     p = subprocess.Popen([exe, "--bank", str(banked[1]), "--lcm-url", URL, "--channel-prefix", "IDLE_"],
@@ -239,6 +279,7 @@ def test_sigterm_ends_the_daemon_cleanly_with_a_summary(banked):
     p.send_signal(signal.SIGTERM)
     out, err = p.communicate(timeout=5)
     assert p.returncode == 0, err
+    assert "no --auth-key: frames, commands and resets are accepted from any sender" in err
     lines = out.strip().splitlines()
     assert len(lines) == 2 and lines[0].startswith("mmae-daemon: stopped by signal: frames 0 updated")
     assert "step p50" in lines[0] and "p99" in lines[0] and "max" in lines[0]

@@ -5,18 +5,20 @@
 * ``truth``     -- the truth model against bare JSBSim, and the closed loop against the truth
   alone (:mod:`f16mmae.bench.truth`);
 * ``lcm``       -- the round trip to ``mmae-daemon`` over LCM against a C++ echo
-  (``f16mmae.benchmarks.lcm_latency``; its options follow ``lcm``).
+  (``tools/latency/lcm_latency.py`` of a source checkout, with the latency tools built
+  beside it and never installed; its options follow ``lcm``).
 """
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import sys
+from pathlib import Path
 
 from ..bench import estimator, truth
-from ..benchmarks import lcm_latency
 from ..outputs import writable_file
-from .options import number
+from .options import CliError, number
 
 DESCRIPTION = __doc__.split("\n\n", 1)[1]
 
@@ -99,5 +101,16 @@ def _truth(args) -> int:
     return 0
 
 
+#: The LCM latency driver in a source checkout (python/harness/f16mmae/cli -> the checkout).
+LCM_LATENCY = Path(__file__).resolve().parents[4] / "tools" / "latency" / "lcm_latency.py"
+
+
 def _lcm(args) -> int:
-    return lcm_latency.main(args.passed_on)
+    if not LCM_LATENCY.is_file():
+        raise CliError(f"f16mmae bench lcm runs from a source checkout: {LCM_LATENCY} is not there (the "
+                       f"LCM latency benchmark and its tools, tools/latency/, are never installed); "
+                       f"clone the repository and run 'make build' there")
+    spec = importlib.util.spec_from_file_location("lcm_latency", LCM_LATENCY)
+    driver = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(driver)
+    return driver.main(args.passed_on)

@@ -12,7 +12,7 @@ from ..lcm.daemon import DaemonProcess
 from ..lcm.hil import fly_hil
 from ..loop.flight import fly
 from ..report.flight import write_flight
-from .options import CliError, number
+from .options import CliError, auth_from_option, number
 from .run import add_flight_arguments, flight_from_args
 
 DESCRIPTION = """\
@@ -24,7 +24,8 @@ flies on z_hat (feedback mmae) and the commands go out on F16_COMMANDS.
 --lockstep waits for every status (as fast as possible): the same scenario and seed give
 the probabilities of the in-process 'f16mmae run' (to 1e-12; --compare checks it).
 Without it the frames are paced in real time at 64 Hz and a status that misses its frame
-is counted as a deadline miss (the FCS keeps the last z_hat).
+is counted as a deadline miss (the FCS keeps the last z_hat). mmae-daemon is on PATH after
+'pip install .'. Without --auth-key the daemon obeys any sender that reaches the LCM URL.
 """
 
 EXAMPLES = """\
@@ -34,6 +35,9 @@ examples:
   f16mmae hil --bank BANK --fail LS@3                    # ... flown in real time
   f16mmae hil --start-daemon --lockstep --compare        # check against the in-process run
   lcm-logger run.lcmlog & f16mmae hil --start-daemon     # record, then: f16mmae replay run.lcmlog
+  head -c 32 /dev/urandom > link.key                     # authenticated frames: the same key
+  mmae-daemon --bank BANK --auth-key link.key &          # for the daemon, hil and replay
+  f16mmae hil --bank BANK --auth-key link.key
 
 Latency benchmark (60 s at 64 Hz beside a bare C++ echo):
   f16mmae bench lcm --duration 60
@@ -59,6 +63,9 @@ def register(subparsers) -> None:
                    help="also fly in process and report the largest probability difference")
     p.add_argument("--out", default=None, metavar="DIR",
                    help="write run.json (with the link statistics), probabilities.csv/.png")
+    p.add_argument("--auth-key", default=None, metavar="FILE",
+                   help="sign every frame with the pre-shared key in FILE and use only statuses signed "
+                        "with it (mmae-daemon --auth-key FILE; 16-64 bytes, e.g. head -c 32 /dev/urandom)")
     p.set_defaults(func=_hil)
 
 
@@ -71,6 +78,7 @@ def _hil(args) -> int:
                        f"process, which a daemon in another cannot reach; use a udpm:// URL "
                        f"(the default) or 'f16mmae run' for the estimator in process")
     chans = channels(args.channel_prefix)
+    auth = auth_from_option(args.auth_key)
     try:
         lc = lcm.LCM(url)
     except RuntimeError as exc:
@@ -80,9 +88,9 @@ def _hil(args) -> int:
     daemon = None
     try:
         if args.start_daemon:
-            daemon = DaemonProcess(path, lcm_url=url, channel_prefix=args.channel_prefix)
+            daemon = DaemonProcess(path, lcm_url=url, channel_prefix=args.channel_prefix, auth_key=args.auth_key)
             print(daemon.ready_line)
-        result = fly_hil(scenario, bank, lc, chans, lockstep=args.lockstep, timeout_s=timeout_s)
+        result = fly_hil(scenario, bank, lc, chans, lockstep=args.lockstep, timeout_s=timeout_s, auth=auth)
     except HilError as exc:
         raise CliError(str(exc)) from None
     finally:

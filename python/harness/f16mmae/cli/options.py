@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from .. import core
 from ..errors import F16mmaeError
 from ..names import DWELL_S_MAX, K_BANK
 
@@ -102,3 +103,14 @@ def estimator_options_from_args(args) -> dict:
     if args.p_min is not None:
         out["p_min"] = number("--p-min", args.p_min, minimum=0.0, below=round(1.0 / K_BANK, 6))
     return out
+
+
+def auth_from_option(path: str | None):
+    """``--auth-key FILE`` as a ``core.FrameAuth`` (None without the option); CliError naming
+    the file and what is wrong with it."""
+    if path is None:
+        return None
+    try:
+        return core.FrameAuth.from_key_file(path)
+    except ValueError as exc:
+        raise CliError(f"--auth-key: {exc}") from None

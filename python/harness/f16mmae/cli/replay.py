@@ -11,13 +11,13 @@ from ..lcm.channels import channels
 from ..lcm.replay import ReplayError, replay_log
 from ..lcmt_mmae_status import lcmt_mmae_status
 from ..names import SHIPPED_TUNINGS
-from .options import CliError
+from .options import CliError, auth_from_option
 
 DESCRIPTION = """\
 Read an LCM log of executive traffic (recorded with the stock lcm-logger while
 'f16mmae hil' flew against mmae-daemon), feed its sensor and command frames through the
-in-process bank with the daemon's frame rules (duplicates and late frames dropped, lost
-frames propagated without update), and compare every logged status with the one computed
+daemon's own executive in process (its frame rules: duplicates and late frames dropped, lost
+frames propagated without update, wild frame counters re-synchronised), and compare every logged status with the one computed
 here: hypotheses on line, bank level, declaration, stale flag, probabilities and z_hat.
 Exit status 0 when every status matches within the tolerance, 1 otherwise.
 """
@@ -42,6 +42,9 @@ def register(subparsers) -> None:
     p.add_argument("--channel-prefix", default="", metavar="P", help="prefix of the logged channel names")
     p.add_argument("--tolerance", default="1e-12", metavar="TOL",
                    help="largest accepted |probability difference| (default 1e-12)")
+    p.add_argument("--auth-key", default=None, metavar="FILE",
+                   help="use only the logged messages signed with the pre-shared key in FILE (as "
+                        "mmae-daemon --auth-key FILE does); the others are skipped and counted")
     p.set_defaults(func=_replay)
 
 
@@ -85,14 +88,18 @@ def _replay(args) -> int:
         raise CliError(f"--tolerance {args.tolerance!r} is not a number") from None
     if not (math.isfinite(tol) and tol >= 0):
         raise CliError(f"--tolerance {args.tolerance!r} must be finite and >= 0")
+    auth = auth_from_option(args.auth_key)
     try:
         label, path, bank = _bank_for(args.bank, args.logfile, args.channel_prefix)
-        report = replay_log(args.logfile, bank, channel_prefix=args.channel_prefix, tolerance=tol)
+        report = replay_log(args.logfile, bank, channel_prefix=args.channel_prefix, tolerance=tol, auth=auth)
     except (ReplayError, OSError) as exc:
         raise CliError(str(exc)) from None
     print(f"replayed {args.logfile}: {report.events} events, {report.sensor_frames} sensor frames, "
           f"{report.command_frames} command frames, {report.statuses_logged} statuses; bank {label} "
           f"({str(bank.content_hash)[:12]})")
+    if auth is not None:
+        print(f"authenticated with {args.auth_key}: {report.unauthenticated} unauthenticated and "
+              f"{report.replayed} replayed messages skipped")
     print(f"compared {report.statuses_compared} statuses: max |probability difference| "
           f"{report.max_probability_diff:.3g}, max |z_hat difference| {report.max_z_hat_diff:.3g} "
           f"(tolerance {tol:g})")

@@ -63,10 +63,11 @@ class DaemonProcess:
 
     def __init__(self, bank_path: str | Path, *, lcm_url: str, channel_prefix: str = "",
                  extra_args: tuple[str, ...] = (), ready_timeout_s: float = 10.0,
-                 cpus: set[int] | None = None) -> None:
+                 cpus: set[int] | None = None, auth_key: str | Path | None = None) -> None:
         exe = find_executable("mmae-daemon")
+        key = ("--auth-key", str(auth_key)) if auth_key is not None else ()
         self.args = [str(exe), "--bank", str(bank_path), "--lcm-url", lcm_url,
-                     "--channel-prefix", channel_prefix, *extra_args]
+                     "--channel-prefix", channel_prefix, *key, *extra_args]
         self.summary = ""
         self.ready_line_seen = False
         self.statistics: dict = {}
@@ -88,6 +89,10 @@ class DaemonProcess:
             raise HilError(f"mmae-daemon did not start ({' '.join(self.args)}): "
                            f"{err or line or f'no ready line within {timeout_s:g} s'}")
         return line
+
+    @property
+    def pid(self) -> int:
+        return self._proc.pid
 
     def stop(self, timeout_s: float = 5.0) -> int:
         """SIGINT, wait, keep the summary line; returns the exit status."""

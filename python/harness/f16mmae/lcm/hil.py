@@ -44,15 +44,16 @@ def publish_marker(lc, chans: Channels, event: str, time_s: float, payload: dict
 
 def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
             timeout_s: float = 5.0, feedback: str | None = None, on_frame=None,
-            remote: RemoteEstimator | None = None):
+            remote: RemoteEstimator | None = None, auth=None):
     """Fly ``scenario`` against the executive reachable on ``lc``; returns the closed loop's
     FlightResult (timing gains ``link``: latency p50/p99/max, deadline misses, stale).
     ``on_frame(t, u, z)`` is called after each frame, as by loop.flight.fly; ``remote``: a
-    RemoteEstimator of the caller's (then ``lockstep``/``timeout_s`` are its own)."""
+    RemoteEstimator of the caller's (then ``lockstep``/``timeout_s``/``auth`` are its own);
+    ``auth``: a ``core.FrameAuth`` that signs what is sent and checks the statuses."""
     if remote is None:
         remote = RemoteEstimator(lc, chans, lockstep=lockstep, timeout_s=timeout_s,
                                  expected_bank_hash=str(model_bank.content_hash),
-                                 initial_hypotheses=level0_hypotheses(model_bank))
+                                 initial_hypotheses=level0_hypotheses(model_bank), auth=auth)
     lockstep = remote.lockstep
     # what mmae-daemon applies by default: the bank's recommended settings (its typed fields)
     remote.settings = bank_estimator_settings(model_bank)

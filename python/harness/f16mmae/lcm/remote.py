@@ -20,12 +20,16 @@ class LinkStats:
     latency_ns: list[int] = field(default_factory=list)   # sensor publish -> status received
     deadline_misses: int = 0                               # paced: no status before the next frame
     stale_statuses: int = 0                                # statuses the executive marked stale
+    unauthenticated_statuses: int = 0                      # with a key: statuses dropped, no valid tag
+    replayed_statuses: int = 0                             # with a key: statuses dropped, old sequence
 
     def summary(self) -> dict:
         lat = np.array(self.latency_ns, dtype=float) / 1e3
         q = (lambda p: round(float(np.percentile(lat, p)), 1)) if lat.size else (lambda p: None)
         return {"frames": self.frames, "statuses": int(lat.size), "deadline_misses": self.deadline_misses,
                 "stale_statuses": self.stale_statuses,
+                "unauthenticated_statuses": self.unauthenticated_statuses,
+                "replayed_statuses": self.replayed_statuses,
                 "latency_us": {"p50": q(50), "p99": q(99), "max": round(float(lat.max()), 1) if lat.size else None}}
 
 
@@ -37,12 +41,16 @@ class RemoteEstimator:
     ``lockstep``: each update waits for its status up to ``timeout_s`` (HilError after).
     Paced: frame i is published at ``t0 + i / rate_hz`` and its status awaited until the next
     frame is due; a miss leaves z_hat and the probabilities at their last values (before the
-    first status, z_hat is the raw z: what an FCS falls back to without its estimator)."""
+    first status, z_hat is the raw z: what an FCS falls back to without its estimator).
+
+    ``auth`` (a ``core.FrameAuth``): every frame and reset sent is signed, and a status is used
+    only when its tag and sequence check out (others are dropped and counted in ``link``)."""
 
     def __init__(self, lc, chans: Channels, *, lockstep: bool = True, rate_hz: float = FRAME_RATE_HZ,
                  timeout_s: float = 5.0, expected_bank_hash: str | None = None,
-                 initial_hypotheses: tuple[str, ...] = ()) -> None:
+                 initial_hypotheses: tuple[str, ...] = (), auth=None) -> None:
         self._lc, self._ch = lc, chans
+        self._auth = auth
         self.lockstep, self.rate_hz, self.timeout_s = lockstep, rate_hz, timeout_s
         self.expected_bank_hash = expected_bank_hash
         self._initial_hypotheses = tuple(initial_hypotheses)
@@ -65,8 +73,19 @@ class RemoteEstimator:
             self._sub = None
 
     # -- LCM side
+    def _publish(self, channel: str, data: bytes) -> None:
+        self._lc.publish(channel, self._auth.sign(channel, data) if self._auth is not None else data)
+
     def _on_status(self, channel, data) -> None:
         t = time.perf_counter_ns()
+        if self._auth is not None:
+            verdict = self._auth.check(channel, data)
+            if verdict != "ok":
+                if verdict == "replayed":
+                    self.link.replayed_statuses += 1
+                else:
+                    self.link.unauthenticated_statuses += 1
+                return
         msg = self._decode(data)
         if msg.frame != self._frame or (self._status is not None and self._status.frame == self._frame):
             return  # an old frame's status (or a repeat): not ours to use
@@ -84,7 +103,7 @@ class RemoteEstimator:
         msg = lcmt_mmae_reset()
         msg.utime = 0
         msg.reason = reason
-        self._lc.publish(self._ch.reset, msg.encode())
+        self._publish(self._ch.reset, msg.encode())
         self._frame = -1
         self._status = None
         self._t0 = None
@@ -105,7 +124,7 @@ class RemoteEstimator:
         else:
             deadline = time.perf_counter() + self.timeout_s
         self._t_pub = time.perf_counter_ns()
-        self._lc.publish(self._ch.sensors, data)
+        self._publish(self._ch.sensors, data)
         self.link.frames += 1
         self.last_declaration = None
         while self._status is None or self._status.frame != i:
@@ -129,7 +148,7 @@ class RemoteEstimator:
 
     def propagate(self, u) -> None:
         u = np.array(u, dtype=float).reshape(-1)
-        self._lc.publish(self._ch.commands, command_frame_bytes(self._frame, u, self.rate_hz))
+        self._publish(self._ch.commands, command_frame_bytes(self._frame, u, self.rate_hz))
 
     @property
     def hypotheses(self) -> tuple[str, ...]:

@@ -92,6 +92,8 @@ class ReplayReport:
     statuses_logged: int = 0
     statuses_compared: int = 0
     statuses_unmatched: int = 0          # logged statuses with no frame computed here
+    unauthenticated: int = 0             # with a key: messages without a valid tag, skipped
+    replayed: int = 0                    # with a key: messages with an old sequence, skipped
     max_probability_diff: float = 0.0
     max_z_hat_diff: float = 0.0
     bank_hashes: set = field(default_factory=set)
@@ -105,8 +107,11 @@ class ReplayReport:
 
 
 def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolerance: float = 1e-12,
-               max_mismatches: int = 20, **estimator_options) -> ReplayReport:
-    """Feed the logged frames through the in-process bank; compare with the logged statuses."""
+               max_mismatches: int = 20, auth=None, **estimator_options) -> ReplayReport:
+    """Feed the logged frames through the in-process executive; compare with the logged
+    statuses. With ``auth`` (a ``core.FrameAuth``), a logged frame, reset or status is used
+    only if its tag and sequence check out, as the daemon and the harness check them; the
+    others are skipped and counted (``unauthenticated``, ``replayed``)."""
     path = Path(path)
     if not path.is_file():
         raise ReplayError(f"log file {str(path)!r} does not exist")
@@ -135,9 +140,16 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
         statuses.clear()
 
     try:
+        link = {chans.sensors, chans.commands, chans.reset, chans.status}
         for event in log:
             report.events += 1
             ch = event.channel
+            if auth is not None and ch in link and (verdict := auth.check(ch, event.data)) != "ok":
+                if verdict == "replayed":
+                    report.replayed += 1
+                else:
+                    report.unauthenticated += 1
+                continue
             if ch == chans.sensors:
                 f = lcmt_sensor_frame.decode(event.data)
                 report.sensor_frames += 1

@@ -1,6 +1,8 @@
 """Latency of the MMAE executive over LCM beside a bare C++ echo, from one run.
 
-``python -m f16mmae.benchmarks.lcm_latency [--duration 60] [--lcm-url URL] [--json FILE]``
+``f16mmae bench lcm [--duration 60] [--lcm-url URL] [--json FILE]`` (from a source checkout;
+or ``python tools/latency/lcm_latency.py ...``). Not installed with the package: it needs the
+latency tools of this folder, which are built with the project and never installed.
 
 Starts ``mmae-daemon`` (the shipped tuned bank) and ``lcm-echo-f16`` (republishes each
 message byte for byte: the transport's own round trip) on one LCM URL, then flies the truth
@@ -60,9 +62,19 @@ import sys
 import time
 from pathlib import Path
 
+import lcm
 import numpy as np
 
-from ..names import FRAME_RATE_HZ
+from f16mmae.banks import load_bank
+from f16mmae.lcm.channels import HilError, channels
+from f16mmae.lcm.daemon import DaemonProcess, pin_to, statistics_line
+from f16mmae.lcm.hil import fly_hil
+from f16mmae.lcm.remote import RemoteEstimator, level0_hypotheses
+from f16mmae.lcmt_command_frame import lcmt_command_frame
+from f16mmae.lcmt_mmae_reset import lcmt_mmae_reset
+from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
+from f16mmae.names import FRAME_RATE_HZ, NZ
+from f16mmae.truth import Scenario
 
 #: A private port and channel prefix, so the benchmark neither hears nor disturbs other traffic.
 DEFAULT_URL = "udpm://239.255.76.67:7671?ttl=0"
@@ -82,9 +94,7 @@ def find_tool(name: str) -> Path:
     not installed, so looked for in $F16MMAE_TOOLS_DIR, then the build trees of this source
     checkout (``build/py`` of ``make build``, ``build/cpp`` of ``make ctest``). Raises HilError
     naming the places looked at."""
-    from ..lcm.channels import HilError
-
-    root = Path(__file__).resolve().parents[4]  # python/harness/f16mmae/benchmarks -> the checkout
+    root = Path(__file__).resolve().parents[2]  # tools/latency -> the checkout
     places = [Path(d) for d in filter(None, [os.environ.get("F16MMAE_TOOLS_DIR")])] + \
         [root / "build" / tree / "tools" / "latency" for tree in ("py", "cpp")]
     for d in places:
@@ -98,8 +108,6 @@ def host_floor(server_cpus: set[int] | None, samples: int = 300) -> dict:
     """f16mmae-idle-jitter on the daemon's CPUs: a fixed 5-us register-only computation timed
     back to back and after a 64-Hz frame's idle -- the tail this host adds to any step of that
     length. ``{idle_us: {count, p50, p99, max}}``, from its statistics line."""
-    from ..lcm.daemon import pin_to, statistics_line
-
     frame_us = 1e6 / FRAME_RATE_HZ
     out = subprocess.run([str(find_tool("f16mmae-idle-jitter")), "--work-us", "5", "--samples", str(samples),
                           "--idle-us", f"0,{frame_us:g}"], capture_output=True, text=True, check=True,
@@ -127,10 +135,6 @@ def paired_round_trips(lc, lc_echo, chans, ping: str, pong: str, model_bank, pai
                        idle_s: float) -> tuple[list[int], list[int]]:
     """Executive and echo round trips in alternating order, each after ``idle_s`` of idling
     (a fresh flight on the executive: MMAE_RESET, then frames 0..pairs-1 near trim)."""
-    from ..lcmt_command_frame import lcmt_command_frame
-    from ..lcmt_mmae_reset import lcmt_mmae_reset
-    from ..lcmt_sensor_frame import lcmt_sensor_frame
-
     got = {"t": 0, "ns": None}
 
     def on_reply(channel, data):
@@ -178,17 +182,6 @@ def run(duration_s: float = 60.0, lcm_url: str = DEFAULT_URL, bank: str = "tuned
         realtime: int = 0, pairs: int = 1000, idle_ms: float = 14.0, warm_lead_us: float | None = None,
         echo_wake_lead_us: float = 0.0, placement: str = "free", rewarm_us: float | None = None,
         echo_rewake_us: float = 0.0, echo_work_us: float = 0.0) -> dict:
-    import lcm
-
-    from ..banks import load_bank
-    from ..lcm.channels import HilError, channels
-    from ..lcm.daemon import DaemonProcess, pin_to, statistics_line
-    from ..lcm.hil import fly_hil
-    from ..lcm.remote import RemoteEstimator, level0_hypotheses
-    from ..lcmt_sensor_frame import lcmt_sensor_frame
-    from ..names import NZ
-    from ..truth import Scenario
-
     label, path, model_bank = load_bank(bank)
     scenario = Scenario.from_dict({"mach": float(model_bank.mach), "alt_ft": float(model_bank.alt_ft),
                                    "turbulence": "light", "duration_s": duration_s, "seed": 1,
@@ -315,7 +308,7 @@ def place(placement: str) -> tuple[set[int] | None, set[int] | None]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(prog="python -m f16mmae.benchmarks.lcm_latency",
+    p = argparse.ArgumentParser(prog="f16mmae bench lcm",
                                 description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--duration", type=float, default=60.0, metavar="S", help="flight length in s (default 60)")

@@ -13,9 +13,9 @@
 // the same bank always gives the same bytes and the same hash: the hash names the bank in
 // every campaign record.
 //
-// load_bank reads only a regular file of at most kMaxBankFileBytes: it opens without
-// blocking (a FIFO cannot hang it) and refuses a device, FIFO, socket or folder by name (read_regular_file)
-// before reading a byte. It refuses, with a message naming the file and the problem: a
+// load_bank reads only a regular file of at most kMaxBankFileBytes (read_regular_file): it
+// opens without blocking (a FIFO cannot hang it) and refuses a device, FIFO, socket or folder
+// by name before reading a byte. It refuses, with a message naming the file and the problem: a
 // missing file (BankFileNotFound), an unreadable or non-regular one (BankFileIoError), and
 // (BankFileFormatError, an std::invalid_argument) wrong magic, an unsupported version,
 // truncation or trailing bytes, a hash mismatch (corruption), a payload that is not an
@@ -30,6 +30,7 @@
 // only to guess settings from free text, and the upgraded bank would have another content
 // hash than its file, so records would name a bank that exists nowhere. A design is
 // deterministic, so regenerating gives the same filters.
+//
 // save_bank validates first, so a bad bank is never written, and replaces the file
 // atomically (temporary file in the same folder, fsync, rename).
 #pragma once

@@ -203,3 +203,24 @@ def test_a_bank_round_trips_its_estimator_settings(tmp_path, shipped):
     assert loaded.estimator_settings == {"p_min": 1e-6, "threshold": 0.95, "dwell_s": 0.5}
     assert loaded.content_hash == bank.content_hash != shipped.content_hash
     np.testing.assert_array_equal(loaded["LS"].k, shipped["LS"].k)
+
+
+def test_the_daemon_goes_through_the_same_loader(tmp_path):
+    """mmae-daemon refuses /dev/zero, a FIFO and a crafted bank at once, by name (exit 1)."""
+    import subprocess
+
+    from f16mmae.lcm.daemon import find_executable
+
+    fifo = tmp_path / "bank.fifo"
+    os.mkfifo(fifo)
+    crafted = tmp_path / "crafted.f16bank"
+    shipped = core.load_bank(design_bank.nominal_bank_path("tuned"))
+    payload = shipped.to_bytes()[HEADER.size:]
+    crafted.write_bytes(image(patched(payload, offsets(shipped)["u_trim_size"], ">i", 2**28)))
+    for path, message in (("/dev/zero", "is a character device; it must be a regular file"),
+                          (str(fifo), "is a FIFO; it must be a regular file"),
+                          (str(crafted), "payload field u_trim_size (byte 275) = 268435456 exceeds the limit of 256")):
+        proc = subprocess.run([str(find_executable("mmae-daemon")), "--bank", path, "--lcm-url", "memq://",
+                               "--quiet"], capture_output=True, text=True, timeout=30)
+        assert proc.returncode == 1, proc.stderr
+        assert f"cannot use bank file '{path}'" in proc.stderr and message in proc.stderr, proc.stderr

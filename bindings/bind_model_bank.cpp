@@ -368,6 +368,7 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       "With public_key (a 32-byte Ed25519 key file), first verifies the signature PATH.sig over the\n"
       "file's bytes. FileNotFoundError if absent, OSError if unreadable or not a regular file,\n"
       "ValueError naming what is wrong (a bad signature included).");
+  m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s
   m.def(
       "generate_bank_signing_keys",
       [](py::handle public_key, py::handle secret_key) { generate_bank_signing_keys(fspath(public_key), fspath(secret_key)); },

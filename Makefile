@@ -8,7 +8,7 @@ VENV        := .venv
 PY          := $(VENV)/bin/python
 PIP         := $(PY) -m pip
 APT_PKGS    := g++ libeigen3-dev libgtest-dev googletest libglib2.0-dev libsodium-dev clang libclang-rt-14-dev
-BUILD_REQS  := "scikit-build-core>=0.10" "pybind11>=2.13" "lcm>=1.5,<1.6" cmake ninja
+BUILD_REQS  := "scikit-build-core>=0.10" "pybind11>=2.13" "lcm>=1.5,<1.6" "jsbsim>=1.3,<1.4" cmake ninja
 SITE         = $(shell $(PY) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 JOBS        ?= 2
 

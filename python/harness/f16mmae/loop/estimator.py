@@ -63,6 +63,16 @@ class Estimator:
         self._bank.propagate(np.array(u, dtype=float).reshape(-1))
 
     @property
+    def core_bank(self):
+        """The ``core.HierarchicalBank`` itself (for a flight flown whole in C++, loop/flight.py)."""
+        return self._bank
+
+    @property
+    def fixed_size(self) -> bool:
+        """True when the bank runs the fixed-size F-16 instantiation."""
+        return bool(self._bank.fixed_size)
+
+    @property
     def hypotheses(self) -> tuple[str, ...]:
         """Names of the hypotheses on line, in the order of ``probabilities``."""
         return tuple(self._bank.hypotheses)

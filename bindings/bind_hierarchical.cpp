@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core_convert.h"
+#include "hierarchical_access.h"
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/model_bank.h"
 
@@ -88,6 +89,7 @@ class PyHierarchicalBank {
     });
   }
   bool fixed() const { return static_cast<bool>(fixed_); }
+  F16HierarchicalBank* fixed_bank() { return fixed_.get(); }
 
  private:
   std::unique_ptr<F16HierarchicalBank> fixed_;
@@ -101,6 +103,10 @@ auto prop(F f) {
 }
 
 }  // namespace
+
+F16HierarchicalBank* f16_hierarchical_bank(py::handle hierarchical_bank) {
+  return hierarchical_bank.cast<PyHierarchicalBank&>().fixed_bank();
+}
 
 void bind_hierarchical(py::module_& m) {
   py::class_<PyHierarchicalBank>(m, "HierarchicalBank", R"doc(

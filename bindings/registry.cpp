@@ -10,6 +10,8 @@ void bind_bank(py::module_& m);          // bind_bank.cpp: FilterBank
 void bind_declarer(py::module_& m);      // bind_declarer.cpp: Declarer
 void bind_hierarchical(py::module_& m);  // bind_hierarchical.cpp: HierarchicalBank
 void bind_monitor(py::module_& m);       // bind_monitor.cpp: ResidualMonitor
+void bind_jsbsim(py::module_& m);        // bind_jsbsim.cpp: JSBSimExec, JSBSimProperty
+void bind_truth(py::module_& m);         // bind_truth.cpp: TruthFrames
 void bind_executive(py::module_& m);     // bind_executive.cpp: Executive
 void bind_frame_auth(py::module_& m);    // bind_frame_auth.cpp: FrameAuth
 void register_all(py::module_& m) {
@@ -19,6 +21,8 @@ void register_all(py::module_& m) {
   bind_model_bank(m);
   bind_hierarchical(m);
   bind_monitor(m);
+  bind_jsbsim(m);
+  bind_truth(m);
   bind_executive(m);
   bind_frame_auth(m);
 }

@@ -136,10 +136,12 @@ def test_bench_json_under_a_file_is_refused_before_timing(tmp_path, capsys):
 
 
 def test_bench_truth_prints_truth_bare_and_closed_loop(capsys):
-    assert main(["bench", "truth", "--duration-s", "0.5", "--repeat", "1"]) == 0
+    assert main(["bench", "truth", "--duration-s", "0.5", "--repeat", "1", "--campaign-runs", "1"]) == 0
     out = capsys.readouterr().out
-    for label in ("bare JSBSim stock f16, stepping", "full truth model, frames",
-                  "closed loop (tuned bank, probabilities recorded) / truth alone", "dither levels"):
+    for label in ("bare JSBSim stock f16, stepping", "truth model, C++ engine, per flight",
+                  "truth model, Python engine, per flight", "first flight of its condition",
+                  "closed loop (tuned bank, probabilities recorded) / truth alone", "dither levels",
+                  "single-failure campaign, 13 flights"):
         assert label in out
 
 
@@ -147,6 +149,7 @@ def test_bench_truth_prints_truth_bare_and_closed_loop(capsys):
     (["--duration-s", "0"], "--duration-s '0' must be > 0.0"),
     (["--duration-s", "1e12"], "--duration-s '1e12' must be < 3600.0"),
     (["--repeat", "0"], "--repeat '0' must be >= 1"),
+    (["--campaign-runs", "-1"], "--campaign-runs '-1' must be >= 0"),
 ])
 def test_bench_truth_refuses_bad_arguments(capsys, argv, message):
     assert main(["bench", "truth", *argv]) == 2

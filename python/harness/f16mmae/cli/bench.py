@@ -45,9 +45,12 @@ examples:
 TRUTH_DESCRIPTION = """\
 The truth model's cost, measured in one process with the timings interleaved (the
 machine's load changes; ratios inside one run are what to compare): bare JSBSim stepping
-of the stock F-16 against the full truth model (FCS, actuators, sensors, dither), with and
-without set-up; the closed loop (the tuned bank in the loop, probabilities recorded)
-against the truth alone; and the dither's peak response at the nominal point.
+of the stock F-16 and of our derived aircraft against whole truth-model flights (FCS,
+actuators, sensors, dither) on the C++ and the Python engine, set-up from the per-condition
+pool included, and the first flight of a condition (load and trim); the closed loop (the
+tuned bank in the loop, probabilities recorded) against the truth alone; the dither's peak
+response at the nominal point; then flights per second of a single-failure campaign
+(13 cases x --campaign-runs) on a process pool over all cores.
 """
 
 
@@ -69,6 +72,8 @@ def register(subparsers) -> None:
                          description=TRUTH_DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     t.add_argument("--duration-s", default="8", metavar="S", help="simulated flight per timing (default 8 s)")
     t.add_argument("--repeat", default="5", metavar="N", help="timings of each, the best counts (default 5)")
+    t.add_argument("--campaign-runs", default="10", metavar="N",
+                   help="runs per case of the campaign timed on all cores: 13 x N flights (default 10; 0: none)")
     t.set_defaults(func=_truth)
     n = kinds.add_parser("lcm", help="LCM round trip to mmae-daemon against a C++ echo", add_help=False,
                          description="the LCM latency benchmark; 'f16mmae bench lcm --help' lists its options")
@@ -96,9 +101,32 @@ def _estimator(args) -> int:
 def _truth(args) -> int:
     duration_s = number("--duration-s", args.duration_s, minimum=0.0, exclusive=True, below=3600.0)
     repeat = number("--repeat", args.repeat, integer=True, minimum=1, below=1000)
+    runs = number("--campaign-runs", args.campaign_runs, integer=True, minimum=0, below=1001)
     r = truth.benchmark(duration_s, repeat)
     truth.report(r, truth.dither_levels(), truth.closed_loop_overhead(duration_s, repeat), sys.stdout)
+    if runs:
+        _campaign_rate(runs)
     return 0
+
+
+def _campaign_rate(runs: int) -> None:
+    """Fly the single-failure campaign (13 cases x ``runs``, 8-s flights, light turbulence) on a
+    process pool over all cores into a temporary folder; print flights per second."""
+    import tempfile
+
+    from ..campaign.engine.executor import default_workers, make_executor
+    from ..campaign.single import SingleCampaign, run_campaign
+
+    cfg = SingleCampaign(runs=runs, baseline=None)
+    workers = default_workers()
+    with tempfile.TemporaryDirectory() as out, make_executor(workers) as ex:
+        outcome = run_campaign(cfg, out, ex, show_progress=False, measure_cost=False)
+    t = outcome.summary["timing"]
+    n = t["runs_executed"]
+    print(f"single-failure campaign, {n} flights of {cfg.duration_s:g} s on {workers} workers: "
+          f"{t['wall_s']:.2f} s wall, {n / t['wall_s']:.1f} flights/s "
+          f"(per flight: truth {1e3 * t['run_truth_s_sum'] / n:.2f} ms, estimator "
+          f"{1e3 * t['run_estimator_s_sum'] / n:.2f} ms)")
 
 
 #: The LCM latency driver in a source checkout (python/harness/f16mmae/cli -> the checkout).

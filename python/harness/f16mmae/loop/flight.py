@@ -93,9 +93,20 @@ def scenario_to_dict(scenario) -> dict:
     return scenario.to_dict()
 
 
+def _on_line(names, columns: dict[str, int], probs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The hypotheses ``names`` now on line: those new to ``columns`` get a column (NaN so far)
+    in ``probs``; returns ``probs`` and the columns of ``names``, in their order."""
+    for name in names:
+        if name not in columns:
+            columns[name] = len(columns)
+    if len(columns) > probs.shape[1]:
+        probs = np.hstack([probs, np.full((probs.shape[0], len(columns) - probs.shape[1]), np.nan)])
+    return probs, np.array([columns[name] for name in names], dtype=int)
+
+
 def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options: dict | None = None,
         record_probabilities: bool = True, on_frame=None, estimator=None,
-        record_series: bool = False) -> FlightResult:
+        engine: str | None = None, record_series: bool = False) -> FlightResult:
     """Fly ``scenario`` with an estimator built from ``model_bank`` in the loop.
 
     ``feedback`` overrides ``scenario.feedback`` ("mmae" | "raw").  ``on_frame(t, u, z)``,
@@ -104,14 +115,21 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``, ``declared``,
     ``last_declaration``, ``bank_hash``) at its start state -- e.g. the executive over LCM
     (``f16mmae.hil``); default ``Estimator.fresh(model_bank, **estimator_options)``.
+    ``engine``: the truth model's engine (``truth.engine``; default cpp).  On cpp with the
+    in-process F-16 estimator and no ``on_frame``, the whole flight is one call
+    (``TruthModel.fly_closed_loop``: the same frames in C++, the bank seeing z and u only);
+    otherwise each frame's truth side -- control law, actuators, JSBSim, next measurement --
+    is one call (``TruthModel.step``).  Both give the same flight
+    (tests/python/test_truth_engines.py).
     ``record_series``: keep each frame's u, z and z_hat, and the truth model's log after the
-    flight (``FlightResult.series``)."""
+    flight (``FlightResult.series``; flown frame by frame)."""
     feedback = feedback or getattr(scenario, "feedback", "mmae")
     if feedback not in FEEDBACK_MODES:
         raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
     t_start = time.perf_counter()
-    truth = TruthModel(scenario)              # the only holder of the failure truth
+    truth = TruthModel(scenario, engine=engine)   # the only holder of the failure truth
     fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari)
+    truth.attach(fcs)
     t_truth = time.perf_counter() - t_start
     t0 = time.perf_counter()
     if estimator is None:
@@ -129,39 +147,55 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     declarations: list[dict] = []
     if record_series:
         rec_u, rec_z, rec_z_hat = np.zeros((n_frames, 5)), np.zeros((n_frames, 7)), np.zeros((n_frames, 7))
+    in_cpp = (truth.engine == "cpp" and on_frame is None and not record_series
+              and isinstance(estimator, Estimator) and estimator.fixed_size)
+    if in_cpp:  # the whole flight in C++: one call, the same frames
+        out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities)
+        t_truth += out["truth_s"]
+        t_est += out["estimator_s"]
+        start = 0
+        for frame, name, online in out["events"]:
+            declarations.append({"hypothesis": name, "time_s": round(frame * dt, 9)})
+            if record_probabilities:
+                probs[start:frame, idx] = out["probabilities"][start:frame]
+                probs, idx = _on_line(online, columns, probs)
+                start = frame
+        if record_probabilities:
+            probs[start:, idx] = out["probabilities"][start:]
+        estimator.last_declaration = out["events"][-1][1] if out["declared_last_frame"] else None
+        n_frames_python = 0
+    else:
+        n_frames_python = n_frames
     clock = time.perf_counter
-    for i in range(n_frames):
+    step = truth.step
+    a = clock()
+    z = truth.measure() if n_frames_python else None
+    t_truth += clock() - a
+    for i in range(n_frames_python):
         t = i * dt
-        a = clock()
-        z = truth.measure()
         b = clock()
         z_hat = estimator.update(z)
         c = clock()
-        u = fcs.command(z_hat if use_mmae else z, t)
+        u, z_next = step(fcs, z_hat if use_mmae else z, i + 1 < n_frames)  # u_i, then z_(i+1)
         d = clock()
         estimator.propagate(u)
         e = clock()
-        truth.advance(u)
-        f = clock()
-        t_truth += (b - a) + (d - c) + (f - e)
+        t_truth += d - c
         t_est += (c - b) + (e - d)
         if on_frame is not None:
             on_frame(t, np.array(u, dtype=float), np.array(z, dtype=float))
         if record_series:
             rec_u[i], rec_z[i], rec_z_hat[i] = u, z, z_hat
+        z = z_next
         declared_now = estimator.last_declaration
         if declared_now is not None:
             declarations.append({"hypothesis": declared_now, "time_s": round(t, 9)})
             if record_probabilities:  # the level (and the hypotheses on line) may have changed
-                names = estimator.hypotheses
-                for name in names:
-                    if name not in columns:
-                        columns[name] = len(columns)
-                if len(columns) > probs.shape[1]:
-                    probs = np.hstack([probs, np.full((n_frames, len(columns) - probs.shape[1]), np.nan)])
-                idx = np.array([columns[name] for name in names], dtype=int)
+                probs, idx = _on_line(estimator.hypotheses, columns, probs)
         if record_probabilities:
             probs[i, idx] = estimator.probabilities
+    truth.detach(fcs)
+    truth.close()
     final = estimator.declared
     wall = time.perf_counter() - t_start
     hypotheses = tuple(columns)

@@ -73,6 +73,8 @@ ACTUATOR_MODE_DEFAULT_VALUE: dict[str, float | None] = {
 
 _NORMAL, _COMPLETE, _STUCK, _HARDOVER, _LOSS = range(5)
 _MODE_CODE = {"complete": _COMPLETE, "stuck": _STUCK, "hardover": _HARDOVER, "loss": _LOSS}
+#: Failure mode -> code, the codes of ``ActuatorMode`` in cpp/truth/truth_frame.h.
+MODE_CODE: dict[str, int] = dict(_MODE_CODE)
 
 
 class ActuatorBank:
@@ -93,6 +95,16 @@ class ActuatorBank:
         self.position_rad = list(self.trim_rad)
         self._mode = [_NORMAL] * 5
         self._value = [0.0] * 5
+
+    @property
+    def decay(self) -> list[float]:
+        """exp(-LAG_RAD_S dt_s) per actuator: the lag's factor over one step."""
+        return list(self._decay)
+
+    @property
+    def max_step_rad(self) -> list[float]:
+        """RATE_LIMIT_RAD_S dt_s per actuator: the largest move in one step (rad)."""
+        return list(self._max_step)
 
     def fail(self, index: int, mode: str, value: float | None = None) -> None:
         """Fail actuator ``index`` (0..4) with ``mode`` from ACTUATOR_MODES from now on."""

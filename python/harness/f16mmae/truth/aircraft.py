@@ -46,7 +46,8 @@ import numpy as np
 
 from ..errors import F16mmaeError
 from ..names import ACTUATORS, SIM_RATE_HZ
-from . import actuators, sensors
+from . import actuators, sensors, turbulence
+from . import engine as engine_module
 
 #: Name of the derived aircraft inside the temporary root.
 AIRCRAFT_NAME = "f16mmae_f16"
@@ -169,16 +170,20 @@ def derived_root() -> str:
         return root
 
 
-def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False) -> jsbsim.FGFDMExec:
+def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False,
+             cxx: bool = False) -> jsbsim.FGFDMExec:
     """A loaded, untrimmed FGFDMExec of the derived aircraft (or the stock ``f16``).
 
     seed >= 1 seeds JSBSim's random generators (turbulence); dt_s is the integration step (s).
+    cxx: an ``f16mmae.core.JSBSimExec`` (the same JSBSim library, made and stepped from C++,
+    with ``reset_winds`` for :func:`restart`) instead of a ``jsbsim.FGFDMExec``.
     """
     if int(seed) < 1:
         raise ValueError(f"seed must be >= 1 (JSBSim maps 0 to 1), got {seed}")
     os.environ.setdefault("JSBSIM_DEBUG", "0")  # no start-up banner
     pkg = jsbsim.get_default_root_dir()
-    fdm = jsbsim.FGFDMExec(pkg if stock else derived_root(), None)
+    root = pkg if stock else derived_root()
+    fdm = engine_module.jsbsim_exec(root) if cxx else jsbsim.FGFDMExec(root, None)
     fdm.set_debug_level(0)
     fdm.set_engine_path(os.path.join(pkg, "engine"))
     fdm.set_systems_path(os.path.join(pkg, "systems"))
@@ -267,6 +272,45 @@ def _store_state_as_ic(fdm: jsbsim.FGFDMExec) -> None:
         ("ic/r-rad_sec", "velocities/r-rad_sec"), ("ic/h-sl-ft", "position/h-sl-ft"))}
     for p, v in vals.items():  # attitude first: body velocities are set in that attitude
         fdm[p] = v
+    fdm.run_ic()
+
+
+def start_state(fdm) -> dict:
+    """What a flight changes that the trimmed initial condition does not hold, as it is right
+    after :func:`trim`: the engines' spool speeds ``n1``/``n2`` (%) and fuel flows (lbs/h, which
+    the engine model moves towards their target at a limited rate), the fuel in every tank
+    (lbs), and the simulation time (s)."""
+    props = {}
+    for kind, fields in (("engine", ("n1", "n2")), ("tank", ("contents-lbs",))):
+        for i in range(64):
+            try:
+                props.update({f"propulsion/{kind}[{i}]/{f}": fdm[f"propulsion/{kind}[{i}]/{f}"] for f in fields})
+            except KeyError:
+                break
+    return {"properties": props, "fuel_flow_pph": fdm.fuel_flow_pph(), "sim_time_s": fdm.get_sim_time()}
+
+
+def restart(fdm, trim_point: TrimPoint, start: dict, seed: int) -> None:
+    """Return a trimmed ``fdm`` (a ``core.JSBSimExec``) to the state :func:`trim` left, with
+    JSBSim's generators seeded by ``seed``, so that a flight from here is the flight of a
+    freshly loaded and trimmed aircraft with that seed, bit for bit
+    (tests/python/test_truth_setup.py).  ``start`` is :func:`start_state` of the trimmed aircraft.
+
+    The turbulence is switched off (``turbulence.apply`` sets a flight's level afterwards) and
+    its filter states zeroed, the generators re-made, the clock, the five surfaces, the engine
+    spools and fuel flows and the fuel written back, and the stored trimmed initial condition run
+    (``run_ic``: the aircraft's position, attitude and velocities, and the integrators'
+    histories).  The engine's other states (running, throttle, nozzle) do not move in level
+    flight at fixed throttle."""
+    turbulence.apply(fdm, "none")
+    fdm["simulation/randomseed"] = int(seed)
+    fdm["atmosphere/randomseed"] = int(seed)
+    fdm.reset_winds()
+    fdm.set_sim_time(start["sim_time_s"])
+    set_surfaces(fdm, trim_point.u_rad)
+    for prop, value in start["properties"].items():
+        fdm[prop] = value
+    fdm.set_fuel_flow_pph(start["fuel_flow_pph"])
     fdm.run_ic()
 
 

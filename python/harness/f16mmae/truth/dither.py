@@ -107,6 +107,10 @@ class Dither:
         self._ph = list(self.spec.phase_rad)
         self.enabled = on and any(self._a)
 
+    def terms(self) -> tuple[list[float], list[float], list[float]]:
+        """(a_j in rad, scheduled, 0 when disabled; 2 pi f_j in rad/s; phi_j in rad)."""
+        return list(self._a), list(self._w), list(self._ph)
+
     def value(self, time_s: float) -> list[float]:
         """Dither (rad) on LS RS LF RF RUD at ``time_s`` (s)."""
         if not self.enabled:

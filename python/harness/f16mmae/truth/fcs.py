@@ -142,6 +142,23 @@ class FlightControlSystem:
         cc[4, 1] = -self._kr
         return ac, bc, cc, dc
 
+    def coefficients(self) -> dict:
+        """The scheduled coefficients and current states of this control law, for the C++
+        frames (``core.TruthFrames.set_fcs``, cpp/truth/truth_frame.h).  A pilot is flown only
+        by :meth:`command` (ValueError here)."""
+        if self.pilot is not None:
+            raise ValueError("a FlightControlSystem with a pilot flies on the python truth engine only")
+        g = self.gains
+        amplitude, omega, phase = self.dither.terms()
+        return {"u_trim": self.u_trim, "limit_rad": list(POSITION_LIMIT_RAD), "z_trim": self.z_trim,
+                "kq": self._kq, "kn": self._kn, "ki": self._ki, "kp": self._kp, "kpff": self._kpff,
+                "kr": self._kr, "kay": self._kay, "kari": self._kari, "k_c": g.k_c, "k_v": g.k_v,
+                "k_d": g.k_d, "speed_filter_s": g.speed_filter_s, "washout_s": g.washout_s,
+                "g_dt": g.g_dt, "xi_max": self._xi_max, "dt_s": self.dt_s,
+                "dither_enabled": self.dither.enabled, "dither_amplitude_rad": amplitude,
+                "dither_omega_rad_s": omega, "dither_phase_rad": phase,
+                "x_int": self.x_int, "x_wash": self.x_wash, "x_vel": self.x_vel}
+
     def reset(self) -> None:
         """Zero the integrator and the washout (back at trim)."""
         self.x_int = 0.0

@@ -12,16 +12,27 @@ time is >= t_f.  Sensor noise comes from ``numpy.random.default_rng(seed)``, tur
 JSBSim seeded with the same seed: the same scenario gives the same run.
 ``truth_log`` holds the record (true states, effective surface positions, failure truth); it
 is for scoring and plots only and must never reach the estimator.
+
+Engines (``truth.engine``): ``cpp`` flies the frames in C++ (``core.TruthFrames``), with the
+sensor noise drawn here in bulk from the same generator (``rng.standard_normal((n, 7))`` gives
+the numbers that n calls of ``standard_normal(7)`` give); ``python`` is the reference.  Either
+way the aircraft comes trimmed from ``pool.POOL`` and goes back when the flight is closed
+(``close()``, called by ``fly_raw`` and the closed loop; also when the model is collected).
+``step(fcs, z_feedback)`` is a whole frame -- command, advance, next measurement -- in one call.
 """
 from __future__ import annotations
 
 import math
+import weakref
 
 import numpy as np
 
 from ..names import ACTUATORS, FRAME_RATE_HZ, SENSORS, SIM_RATE_HZ
-from . import aircraft, turbulence
+from . import actuators as actuators_module
+from . import aircraft, sensors as sensors_module, turbulence
 from .actuators import ActuatorBank
+from .engine import check_engine
+from .pool import POOL
 from .aircraft import TrimError, TrimPoint  # noqa: F401  (re-exported)
 from .fcs import FlightControlSystem
 from .scenario import Scenario
@@ -44,35 +55,47 @@ class TruthModel:
     ``truth_log`` (dict of arrays, the record).
     """
 
-    def __init__(self, scenario: Scenario | None = None):
+    def __init__(self, scenario: Scenario | None = None, engine: str | None = None):
         sc = scenario if scenario is not None else Scenario()
         if not isinstance(sc, Scenario):
             raise ValueError(f"TruthModel needs a Scenario, got {type(sc).__name__}")
         self.scenario = sc
+        self.engine = check_engine(engine)
         if SIM_RATE_HZ % FRAME_RATE_HZ:
             raise ValueError(f"SIM_RATE_HZ {SIM_RATE_HZ} must be a multiple of FRAME_RATE_HZ {FRAME_RATE_HZ}")
         self._steps_per_frame = SIM_RATE_HZ // FRAME_RATE_HZ
         dt = 1.0 / SIM_RATE_HZ
-        self.fdm = aircraft.load_fdm(seed=sc.seed, dt_s=dt)
-        self.trim: TrimPoint = aircraft.trim(self.fdm, sc.mach, sc.alt_ft)
+        key, held = POOL.acquire(sc.mach, sc.alt_ft, dt, sc.seed)
+        self.fdm, self.trim = held[0], held[1]
+        self._release = weakref.finalize(self, POOL.release, key, held)
         turbulence.apply(self.fdm, sc.turbulence)
         self.actuators = ActuatorBank(self.trim.u_rad, dt)
-        self.sensors = SensorSet(self.fdm, self.trim.z, np.random.default_rng(sc.seed), noise=sc.noise)
+        rng = np.random.default_rng(sc.seed)
+        self.frame = 0
+        self._step = 0
+        eps = 1e-6
+        #: (step, failure) and (frame, failure) from which each failure acts, in time order.
+        self._act_schedule = sorted(
+            ((math.ceil(f.time_s * SIM_RATE_HZ - eps), f) for f in sc.failures if f.is_actuator),
+            key=lambda p: p[0])
+        self._sen_schedule = sorted(
+            ((math.ceil(f.time_s * FRAME_RATE_HZ - eps), f) for f in sc.failures if not f.is_actuator),
+            key=lambda p: p[0])
+        self._pending_act = list(self._act_schedule)
+        self._pending_sen = list(self._sen_schedule)
+        n = int(round(sc.duration_s * FRAME_RATE_HZ)) + 1
+        if self.engine == "cpp":
+            self._rng = rng
+            self._noise_rows = n
+            self._frames = self._make_frames(rng.standard_normal((n, 7)), n)
+            self.sensors = None
+            return
+        self._frames = None
+        self.sensors = SensorSet(self.fdm, self.trim.z, rng, noise=sc.noise)
         pm = self.fdm.get_property_manager()
         self._set_surface = [pm.get_node(p).set_double_value for p in aircraft.SURFACE_PROPERTIES]
         self._get_state = [pm.get_node(p).get_double_value for _, p in STATE_LOG]
         self._run = self.fdm.run
-        self.frame = 0
-        self._step = 0
-        eps = 1e-6
-        self._pending_act = sorted(
-            ((math.ceil(f.time_s * SIM_RATE_HZ - eps), f) for f in sc.failures if f.is_actuator),
-            key=lambda p: p[0])
-        self._pending_sen = sorted(
-            ((math.ceil(f.time_s * FRAME_RATE_HZ - eps), f) for f in sc.failures if not f.is_actuator),
-            key=lambda p: p[0])
-        self._onsets: list[dict] = []
-        n = int(round(sc.duration_s * FRAME_RATE_HZ)) + 1
         self._log = {
             "time_s": np.zeros(n), "z": np.zeros((n, 7)), "z_ideal": np.zeros((n, 7)),
             "u_cmd_rad": np.zeros((n, 5)), "surface_rad": np.zeros((n, 5)),
@@ -80,6 +103,43 @@ class TruthModel:
         }
         self._n_meas = 0
         self._n_adv = 0
+
+    def _make_frames(self, noise: np.ndarray, capacity: int):
+        """The C++ frames over this aircraft: the constants and failure schedule from this package."""
+        from .. import core
+
+        act = self.actuators
+        sigma = sensors_module.NOISE_SIGMA if self.scenario.noise else np.zeros(7)
+        act_fail, sen_fail = [], []
+        for at, f in self._act_schedule:
+            v = f.value if f.value is not None else actuators_module.ACTUATOR_MODE_DEFAULT_VALUE[f.mode]
+            act_fail.append((at, f.index, actuators_module.MODE_CODE[f.mode], float(v) if v is not None else 0.0))
+        for at, f in self._sen_schedule:
+            v = f.value if f.value is not None else sensors_module.default_value(f.index, f.mode)
+            sen_fail.append((at, f.index, sensors_module.MODE_CODE[f.mode], float(v) if v is not None else 0.0))
+        return core.TruthFrames(
+            self.fdm, list(aircraft.SURFACE_PROPERTIES), list(sensors_module.SENSOR_PROPERTIES),
+            sensors_module.WEIGHT_PROPERTY, [p for _, p in STATE_LOG],
+            {"trim_rad": act.trim_rad, "limit_rad": actuators_module.POSITION_LIMIT_RAD,
+             "decay": act.decay, "max_step_rad": act.max_step_rad},
+            {"z_trim": [float(x) for x in self.trim.z], "sigma": [float(x) for x in sigma],
+             "full_scale_low": [lo for lo, _ in sensors_module.FULL_SCALE],
+             "full_scale_high": [hi for _, hi in sensors_module.FULL_SCALE]},
+            act_fail, sen_fail, noise, self._steps_per_frame, float(FRAME_RATE_HZ), float(SIM_RATE_HZ),
+            capacity)
+
+    def close(self) -> None:
+        """End the flight: the aircraft goes back to the pool (``truth_log`` stays readable)."""
+        if self._frames is not None:
+            self._log_cpp = self._frames.log()
+            self._frames_done = (self._frames.measured, self._frames.step_count)
+            self._frames = None
+        self._closed = True
+        self._release()
+
+    def _check_open(self) -> None:
+        if getattr(self, "_closed", False):
+            raise RuntimeError("this TruthModel's flight is closed (its aircraft went back to the pool)")
 
     @property
     def time_s(self) -> float:
@@ -89,11 +149,14 @@ class TruthModel:
     # -- per-frame interface --------------------------------------------------------------
     def measure(self) -> np.ndarray:
         """z (7,) at the current frame: noise and sensor failures applied (units of names.SENSOR_UNITS)."""
+        self._check_open()
+        if self._frames is not None:
+            self._refill_noise()
+            return self._frames.measure()
         t = self.frame / FRAME_RATE_HZ
         while self._pending_sen and self._pending_sen[0][0] <= self.frame:
             _, f = self._pending_sen.pop(0)
             self.sensors.fail(f.index, f.mode, f.value, t)
-            self._onsets.append({**f.to_dict(), "onset_s": t})
         z = self.sensors.measure(t)
         ideal = self.sensors.last_ideal
         i = self._row("_n_meas")
@@ -108,6 +171,11 @@ class TruthModel:
         """Apply surface commands ``u`` (5, rad, LS RS LF RF RUD) for one frame (2 JSBSim steps)."""
         if len(u) != 5:
             raise ValueError(f"u needs 5 surface commands ({', '.join(ACTUATORS)}), got {len(u)}")
+        self._check_open()
+        if self._frames is not None:
+            self._frames.advance(np.asarray(u, dtype=float))
+            self.frame += 1
+            return
         u = [float(x) for x in u]
         act, setters, run = self.actuators, self._set_surface, self._run
         eff = u
@@ -115,7 +183,6 @@ class TruthModel:
             while self._pending_act and self._pending_act[0][0] <= self._step:
                 _, f = self._pending_act.pop(0)
                 act.fail(f.index, f.mode, f.value)
-                self._onsets.append({**f.to_dict(), "onset_s": self._step / SIM_RATE_HZ})
             eff = act.step(u)
             for s, v in zip(setters, eff):
                 s(v)
@@ -127,6 +194,46 @@ class TruthModel:
         self._log["surface_rad"][i] = eff
         self.frame += 1
 
+    def attach(self, fcs: FlightControlSystem) -> None:
+        """Fly ``fcs``'s control law inside the C++ frames (``step``); its coefficients and
+        states are copied in now and its states copied back by ``detach``."""
+        if self._frames is not None:
+            self._frames.set_fcs(fcs.coefficients())
+
+    def detach(self, fcs: FlightControlSystem) -> None:
+        """Copy the control law's states back into ``fcs`` after ``step`` calls."""
+        if self._frames is not None:
+            fcs.x_int, fcs.x_wash, fcs.x_vel = self._frames.fcs_state
+
+    def step(self, fcs: FlightControlSystem, z_feedback, measure_next: bool = True):
+        """One frame from ``z_feedback``: u = fcs.command(z_feedback, t), advance(u), then the next
+        frame's z (None if not ``measure_next``); returns (u, z).  On the C++ engine this is one
+        call and ``fcs`` must be ``attach``-ed (its pilot, if any, is not supported there)."""
+        if self._frames is not None:
+            self._refill_noise()
+            u, z = self._frames.step(z_feedback, measure_next)
+            self.frame += 1
+            return u, z
+        u = fcs.command(z_feedback, self.frame / FRAME_RATE_HZ)
+        self.advance(u)
+        return u, (self.measure() if measure_next else None)
+
+    def fly_closed_loop(self, bank, n_frames: int, use_mmae: bool, record_probabilities: bool) -> dict:
+        """C++ engine only: ``n_frames`` closed-loop frames with ``bank`` (a fixed-size F-16
+        ``core.HierarchicalBank``) in the loop and the ``attach``-ed control law, in one call;
+        see ``core.TruthFrames.fly_closed_loop`` (loop/flight.py uses it)."""
+        self._check_open()
+        if self._frames is None:
+            raise ValueError("fly_closed_loop needs the cpp truth engine")
+        self._refill_noise()
+        out = self._frames.fly_closed_loop(bank, n_frames, use_mmae, record_probabilities)
+        self.frame += n_frames
+        return out
+
+    def _refill_noise(self) -> None:
+        if self._frames.noise_left == 0:  # flown past the scenario's duration: the next draws
+            self._frames.set_noise(self._rng.standard_normal((self._noise_rows, 7)))
+
     # -- record ---------------------------------------------------------------------------
     def _row(self, counter: str) -> int:
         i = getattr(self, counter)
@@ -136,21 +243,38 @@ class TruthModel:
         setattr(self, counter, i + 1)
         return i
 
+    def _onsets_so_far(self) -> list[dict]:
+        """Each failure that has acted, with the time it began to act (actuators from their
+        JSBSim step, sensors from their frame), in the order they acted."""
+        if self._frames is not None:
+            measured, steps = self._frames.measured, self._frames.step_count
+        elif self.engine == "cpp":
+            measured, steps = self._frames_done
+        else:
+            measured, steps = self._n_meas, self._step
+        acted = [(at / FRAME_RATE_HZ, 0, f) for at, f in self._sen_schedule if at < measured]
+        acted += [(at / SIM_RATE_HZ, 1, f) for at, f in self._act_schedule if at < steps]
+        acted.sort(key=lambda a: a[:2])  # a frame's sensors are read before its steps run
+        return [{**f.to_dict(), "onset_s": t} for t, _, f in acted]
+
     @property
     def truth_log(self) -> dict:
         """The record: time_s (n,), z (n,7) as measured, z_ideal (n,7) noise-free, u_cmd_rad
         (n,5) commands of frame i, surface_rad (n,5) effective positions at the end of frame i,
         state (n,len(STATE_LOG)) with ``state_names``, ``failures`` (scenario specs) and
         ``onsets`` (when each actually acted), ``scenario`` (dict), ``trim`` (dict)."""
-        n, m = self._n_meas, self._n_adv
-        out = {k: v[:n].copy() for k, v in self._log.items() if k in ("time_s", "z", "z_ideal", "state")}
-        out["u_cmd_rad"] = self._log["u_cmd_rad"][:m].copy()
-        out["surface_rad"] = self._log["surface_rad"][:m].copy()
+        if self.engine == "cpp":
+            out = self._frames.log() if self._frames is not None else {k: v.copy() for k, v in self._log_cpp.items()}
+        else:
+            n, m = self._n_meas, self._n_adv
+            out = {k: v[:n].copy() for k, v in self._log.items() if k in ("time_s", "z", "z_ideal", "state")}
+            out["u_cmd_rad"] = self._log["u_cmd_rad"][:m].copy()
+            out["surface_rad"] = self._log["surface_rad"][:m].copy()
         out["state_names"] = tuple(name for name, _ in STATE_LOG)
         out["sensor_names"] = SENSORS
         out["actuator_names"] = ACTUATORS
         out["failures"] = [f.to_dict() for f in self.scenario.failures]
-        out["onsets"] = list(self._onsets)
+        out["onsets"] = self._onsets_so_far()
         out["scenario"] = self.scenario.to_dict()
         tp = self.trim
         out["trim"] = {"u_rad": tp.u_rad.tolist(), "z": tp.z.tolist(), "throttle": tp.throttle,
@@ -160,19 +284,28 @@ class TruthModel:
         return out
 
 
-def fly_raw(scenario: Scenario, pilot=None, fcs_gains=None) -> tuple[TruthModel, FlightControlSystem]:
+def fly_raw(scenario: Scenario, pilot=None, fcs_gains=None,
+            engine: str | None = None) -> tuple[TruthModel, FlightControlSystem]:
     """Fly ``scenario`` for its duration with the FCS on RAW sensor feedback (no estimator).
 
-    Returns the finished TruthModel (its ``truth_log``) and the FCS.  The MMAE-fed loop lives
-    with the estimator (``f16mmae run``); this is for truth-only runs, tests and benchmarks.
+    Returns the finished (closed) TruthModel (its ``truth_log``) and the FCS.  On the C++
+    engine without a pilot the whole flight is one call.  The MMAE-fed loop lives with the
+    estimator (``f16mmae run``); this is for truth-only runs, tests and benchmarks.
     """
-    truth = TruthModel(scenario)
+    truth = TruthModel(scenario, engine=engine)
     fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari, pilot=pilot,
                               gains=fcs_gains)
     n = int(round(scenario.duration_s * FRAME_RATE_HZ))
-    measure, command, advance = truth.measure, fcs.command, truth.advance
-    for i in range(n):
-        z = measure()
-        advance(command(z, i / FRAME_RATE_HZ))
-    measure()  # the final frame's measurement closes the record
+    if truth.engine == "cpp" and pilot is None:
+        truth.attach(fcs)
+        truth._frames.fly(n)
+        truth.frame += n
+        truth.detach(fcs)
+    else:
+        measure, command, advance = truth.measure, fcs.command, truth.advance
+        for i in range(n):
+            z = measure()
+            advance(command(z, i / FRAME_RATE_HZ))
+        measure()  # the final frame's measurement closes the record
+    truth.close()
     return truth, fcs

@@ -63,6 +63,8 @@ SENSOR_MODES: tuple[str, ...] = ("complete", "null", "stuck", "hardover", "bias"
 _NORMAL, _COMPLETE, _NULL, _STUCK, _HARDOVER, _BIAS, _DRIFT = range(7)
 _MODE_CODE = {"complete": _COMPLETE, "null": _NULL, "stuck": _STUCK, "hardover": _HARDOVER,
               "bias": _BIAS, "drift": _DRIFT}
+#: Failure mode -> code, the codes of ``SensorMode`` in cpp/truth/truth_frame.h.
+MODE_CODE: dict[str, int] = dict(_MODE_CODE)
 
 
 def ideal(fdm) -> np.ndarray:

@@ -1,0 +1,342 @@
+// f16mmae.core.TruthFrames: the truth model's per-step path in C++.
+//
+// TruthFrames steps the frame on a JSBSimExec (bindings/jsbsim_exec.h): sensors
+// (cpp/truth/truth_frame.h) on cached property nodes, the flight control law, the actuators at
+// the JSBSim rate and JSBSim itself, with no Python in between; it records the truth log into
+// buffers sized at construction, and can fly a whole closed-loop flight with the core's
+// estimator in the loop (fly_closed_loop).
+//
+// Frame i (docs in truth/model.py): z_i = measure(); u_i = FCS(z_feedback, t_i);
+// advance(u_i) = SIM/FRAME JSBSim steps, each: due actuator failures, actuator step, surfaces
+// written, Run().  Sensor failures act from their frame, actuator failures from their step.
+// Throws ValueError for bad arguments (names the field), RuntimeError when JSBSim stops.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hierarchical_access.h"
+#include "jsbsim_exec.h"
+#include "truth/truth_frame.h"
+
+namespace py = pybind11;
+using namespace f16mmae::truth;
+
+namespace f16mmae::bindings {
+namespace {
+
+template <std::size_t N>
+std::array<double, N> arr(const py::dict& d, const char* key) {
+  if (!d.contains(key)) throw py::value_error(std::string("TruthFrames: missing field '") + key + "'");
+  const auto v = d[key].cast<std::vector<double>>();
+  if (v.size() != N)
+    throw py::value_error(std::string("TruthFrames: field '") + key + "' needs " + std::to_string(N) +
+                          " values, got " + std::to_string(v.size()));
+  std::array<double, N> a{};
+  std::copy(v.begin(), v.end(), a.begin());
+  return a;
+}
+
+double num(const py::dict& d, const char* key) {
+  if (!d.contains(key)) throw py::value_error(std::string("TruthFrames: missing field '") + key + "'");
+  return d[key].cast<double>();
+}
+
+struct ScheduledFailure {
+  long long at;  // step (actuators) or frame (sensors) from which it acts
+  int index, mode;
+  double value;
+};
+
+std::vector<ScheduledFailure> schedule(const py::list& items, int n_components, int n_modes, const char* what) {
+  std::vector<ScheduledFailure> out;
+  for (auto item : items) {
+    auto t = item.cast<py::tuple>();
+    if (t.size() != 4) throw py::value_error(std::string(what) + " entries are (at, index, mode, value)");
+    ScheduledFailure f{t[0].cast<long long>(), t[1].cast<int>(), t[2].cast<int>(), t[3].cast<double>()};
+    if (f.index < 0 || f.index >= n_components || f.mode < 1 || f.mode >= n_modes)
+      throw py::value_error(std::string(what) + ": index " + std::to_string(f.index) + " or mode " +
+                            std::to_string(f.mode) + " out of range");
+    out.push_back(f);
+  }
+  std::stable_sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.at < b.at; });
+  return out;
+}
+
+class Frames {
+ public:
+  Frames(std::shared_ptr<Exec> exec, const std::vector<std::string>& surface_properties,
+         const std::vector<std::string>& sensor_properties, const std::string& weight_property,
+         const std::vector<std::string>& state_properties, const py::dict& actuator, const py::dict& sensor,
+         const py::list& actuator_failures, const py::list& sensor_failures, py::array_t<double> noise,
+         int steps_per_frame, double frame_rate_hz, double sim_rate_hz, long long capacity)
+      : exec_(std::move(exec)), steps_per_frame_(steps_per_frame), frame_rate_hz_(frame_rate_hz),
+        sim_rate_hz_(sim_rate_hz) {
+    if (surface_properties.size() != kSurfaces || sensor_properties.size() != kSensors)
+      throw py::value_error("TruthFrames needs 5 surface and 7 sensor properties");
+    for (int i = 0; i < kSurfaces; ++i) surface_[i] = exec_->node(surface_properties[i]);
+    for (int i = 0; i < kSensors; ++i) sensor_[i] = exec_->node(sensor_properties[i]);
+    weight_ = exec_->node(weight_property);
+    for (auto& p : state_properties) state_.push_back(exec_->node(p));
+    act_.trim_rad = arr<kSurfaces>(actuator, "trim_rad");
+    act_.limit_rad = arr<kSurfaces>(actuator, "limit_rad");
+    act_.decay = arr<kSurfaces>(actuator, "decay");
+    act_.max_step_rad = arr<kSurfaces>(actuator, "max_step_rad");
+    act_.reset();
+    sen_.z_trim = arr<kSensors>(sensor, "z_trim");
+    sen_.sigma = arr<kSensors>(sensor, "sigma");
+    sen_.full_scale_low = arr<kSensors>(sensor, "full_scale_low");
+    sen_.full_scale_high = arr<kSensors>(sensor, "full_scale_high");
+    sen_.reset();
+    act_fail_ = schedule(actuator_failures, kSurfaces, 5, "actuator_failures");
+    sen_fail_ = schedule(sensor_failures, kSensors, 7, "sensor_failures");
+    set_noise(noise);
+    const std::size_t cap = static_cast<std::size_t>(capacity > 0 ? capacity : 1);
+    log_time_.reserve(cap);
+    log_z_.reserve(cap * kSensors);
+    log_ideal_.reserve(cap * kSensors);
+    log_state_.reserve(cap * state_.size());
+    log_u_.reserve(cap * kSurfaces);
+    log_surface_.reserve(cap * kSurfaces);
+  }
+
+  void set_fcs(const py::dict& d) {
+    FcsCoefficients c;
+    c.u_trim = arr<kSurfaces>(d, "u_trim");
+    c.limit_rad = arr<kSurfaces>(d, "limit_rad");
+    c.z_trim = arr<kSensors>(d, "z_trim");
+    c.kq = num(d, "kq"), c.kn = num(d, "kn"), c.ki = num(d, "ki"), c.kp = num(d, "kp");
+    c.kpff = num(d, "kpff"), c.kr = num(d, "kr"), c.kay = num(d, "kay"), c.kari = num(d, "kari");
+    c.k_c = num(d, "k_c"), c.k_v = num(d, "k_v"), c.k_d = num(d, "k_d");
+    c.speed_filter_s = num(d, "speed_filter_s"), c.washout_s = num(d, "washout_s"), c.g_dt = num(d, "g_dt");
+    c.xi_max = num(d, "xi_max"), c.dt_s = num(d, "dt_s");
+    c.dither_enabled = d["dither_enabled"].cast<bool>();
+    c.dither_amplitude_rad = arr<kSurfaces>(d, "dither_amplitude_rad");
+    c.dither_omega_rad_s = arr<kSurfaces>(d, "dither_omega_rad_s");
+    c.dither_phase_rad = arr<kSurfaces>(d, "dither_phase_rad");
+    fcs_.c = c;
+    fcs_.x_int = num(d, "x_int"), fcs_.x_wash = num(d, "x_wash"), fcs_.x_vel = num(d, "x_vel");
+    has_fcs_ = true;
+  }
+
+  void set_noise(py::array_t<double> noise) {
+    if (noise.ndim() != 2 || noise.shape(1) != kSensors)
+      throw py::value_error("TruthFrames: noise must be an (n, 7) array of standard normals");
+    noise_ = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(noise);
+    noise_rows_ = noise_.shape(0);
+    noise_row_ = 0;
+  }
+  py::ssize_t noise_left() const { return noise_rows_ - noise_row_; }
+
+  Sensors measure_frame() {
+    const double t = static_cast<double>(frame_) / frame_rate_hz_;
+    while (next_sen_ < sen_fail_.size() && sen_fail_[next_sen_].at <= frame_) {
+      const auto& f = sen_fail_[next_sen_++];
+      sen_.fail(f.index, static_cast<SensorMode>(f.mode), f.value, t);
+    }
+    if (noise_row_ >= noise_rows_) throw py::value_error("TruthFrames: noise exhausted (call set_noise)");
+    Sensors ideal;
+    for (int i = 0; i < kSensors; ++i) ideal[i] = sensor_[i]->getDoubleValue();
+    const double w = weight_->getDoubleValue();
+    ideal[3] = -ideal[3] / w;
+    ideal[6] = ideal[6] / w;
+    const Sensors z = sen_.measure(ideal, noise_.data(noise_row_++, 0), t);
+    log_time_.push_back(t);
+    log_z_.insert(log_z_.end(), z.begin(), z.end());
+    log_ideal_.insert(log_ideal_.end(), ideal.begin(), ideal.end());
+    for (auto* n : state_) log_state_.push_back(n->getDoubleValue());
+    return z;
+  }
+
+  void advance_frame(const Surfaces& u) {
+    Surfaces eff = u;
+    for (int k = 0; k < steps_per_frame_; ++k) {
+      while (next_act_ < act_fail_.size() && act_fail_[next_act_].at <= step_) {
+        const auto& f = act_fail_[next_act_++];
+        act_.fail(f.index, static_cast<ActuatorMode>(f.mode), f.value);
+      }
+      eff = act_.step(u);
+      for (int i = 0; i < kSurfaces; ++i) surface_[i]->setDoubleValue(eff[i]);
+      const bool ok = guarded([&] { return exec_->fdm().Run(); });
+      if (!ok)
+        throw std::runtime_error("JSBSim stopped at t = " + std::to_string(step_ / sim_rate_hz_) + " s");
+      ++step_;
+    }
+    log_u_.insert(log_u_.end(), u.begin(), u.end());
+    log_surface_.insert(log_surface_.end(), eff.begin(), eff.end());
+    ++frame_;
+  }
+
+  Surfaces command(const Sensors& zf) {
+    if (!has_fcs_) throw py::value_error("TruthFrames: no flight control law (call set_fcs)");
+    return fcs_.command(zf, static_cast<double>(frame_) / frame_rate_hz_);
+  }
+
+  // n closed-loop frames with the estimator est in the loop (see the binding's docstring).
+  py::dict fly_closed_loop(F16HierarchicalBank& est, long long n, bool use_mmae, bool record) {
+    using ZV = F16HierarchicalBank::ZVector;
+    using UV = F16HierarchicalBank::UVector;
+    using clock = std::chrono::steady_clock;
+    constexpr py::ssize_t K = F16HierarchicalBank::PVector::RowsAtCompileTime;
+    py::array_t<double> probs({static_cast<py::ssize_t>(record ? n : 0), K});
+    double* row = probs.mutable_data();
+    py::list events;
+    double truth_s = 0.0, est_s = 0.0;
+    bool declared_last = false;
+    auto t0 = clock::now();
+    Sensors z = measure_frame();
+    auto t1 = clock::now();
+    truth_s += std::chrono::duration<double>(t1 - t0).count();
+    for (long long i = 0; i < n; ++i) {
+      const auto a = clock::now();
+      const int d = est.update(Eigen::Map<const ZV>(z.data()));
+      Sensors zf = z;
+      if (use_mmae) {
+        const ZV zh = est.z_hat();
+        for (int k = 0; k < kSensors; ++k) zf[k] = zh[k];
+      }
+      const auto b = clock::now();
+      const Surfaces u = command(zf);
+      const auto c = clock::now();
+      est.propagate(Eigen::Map<const UV>(u.data()));
+      const auto e = clock::now();
+      advance_frame(u);
+      if (i + 1 < n) z = measure_frame();
+      const auto f = clock::now();
+      est_s += std::chrono::duration<double>((b - a) + (e - c)).count();
+      truth_s += std::chrono::duration<double>((c - b) + (f - e)).count();
+      declared_last = d >= 0;
+      if (declared_last) events.append(py::make_tuple(i, est.name(d), py::cast(est.online_names())));
+      if (record) {
+        const auto& p = est.probabilities();
+        for (py::ssize_t k = 0; k < K; ++k) row[k] = p[k];
+        row += K;
+      }
+    }
+    py::dict out;
+    out["probabilities"] = probs;
+    out["events"] = events;
+    out["truth_s"] = truth_s;
+    out["estimator_s"] = est_s;
+    out["declared_last_frame"] = declared_last;
+    return out;
+  }
+
+  long long frame() const { return frame_; }
+  long long step() const { return step_; }
+  long long measured() const { return static_cast<long long>(log_time_.size()); }
+  py::tuple fcs_state() const { return py::make_tuple(fcs_.x_int, fcs_.x_wash, fcs_.x_vel); }
+  py::tuple actuator_positions() const { return py::cast(act_.position_rad); }
+
+  py::dict log() const {
+    auto mat = [](const std::vector<double>& v, std::size_t cols) {
+      const std::size_t rows = cols ? v.size() / cols : 0;
+      py::array_t<double> a({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+      std::copy(v.begin(), v.end(), a.mutable_data());
+      return a;
+    };
+    py::dict d;
+    py::array_t<double> t(static_cast<py::ssize_t>(log_time_.size()));
+    std::copy(log_time_.begin(), log_time_.end(), t.mutable_data());
+    d["time_s"] = t;
+    d["z"] = mat(log_z_, kSensors);
+    d["z_ideal"] = mat(log_ideal_, kSensors);
+    d["state"] = mat(log_state_, state_.size());
+    d["u_cmd_rad"] = mat(log_u_, kSurfaces);
+    d["surface_rad"] = mat(log_surface_, kSurfaces);
+    return d;
+  }
+
+ private:
+  std::shared_ptr<Exec> exec_;
+  std::array<SGPropertyNode*, kSurfaces> surface_{};
+  std::array<SGPropertyNode*, kSensors> sensor_{};
+  SGPropertyNode* weight_ = nullptr;
+  std::vector<SGPropertyNode*> state_;
+  ActuatorBank act_;
+  SensorSet sen_;
+  FlightControlLaw fcs_;
+  bool has_fcs_ = false;
+  std::vector<ScheduledFailure> act_fail_, sen_fail_;
+  std::size_t next_act_ = 0, next_sen_ = 0;
+  py::array_t<double, py::array::c_style | py::array::forcecast> noise_;
+  py::ssize_t noise_rows_ = 0, noise_row_ = 0;
+  int steps_per_frame_;
+  double frame_rate_hz_, sim_rate_hz_;
+  long long frame_ = 0, step_ = 0;
+  std::vector<double> log_time_, log_z_, log_ideal_, log_state_, log_u_, log_surface_;
+};
+
+template <std::size_t N>
+std::array<double, N> vec(py::handle obj, const char* what) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!a || a.ndim() != 1 || a.shape(0) != static_cast<py::ssize_t>(N))
+    throw py::value_error(std::string(what) + " needs " + std::to_string(N) + " values");
+  std::array<double, N> out{};
+  std::copy(a.data(), a.data() + N, out.begin());
+  return out;
+}
+
+template <std::size_t N>
+py::array_t<double> to_numpy(const std::array<double, N>& a) {
+  py::array_t<double> out(static_cast<py::ssize_t>(N));
+  std::copy(a.begin(), a.end(), out.mutable_data());
+  return out;
+}
+
+}  // namespace
+
+void bind_truth(py::module_& m) {
+  py::class_<Frames>(m, "TruthFrames", R"doc(
+    The truth model's frames in C++ (see truth/model.py, which builds it): measure() -> z (7,),
+    advance(u), step(z_feedback) -> (u, z_next) = FCS command, advance, next measurement;
+    fly(n) flies n frames on raw feedback then measures once more.  log() returns the record.)doc")
+      .def(py::init<std::shared_ptr<Exec>, const std::vector<std::string>&, const std::vector<std::string>&,
+                    const std::string&, const std::vector<std::string>&, const py::dict&, const py::dict&,
+                    const py::list&, const py::list&, py::array_t<double>, int, double, double, long long>(),
+           py::arg("exec"), py::arg("surface_properties"), py::arg("sensor_properties"),
+           py::arg("weight_property"), py::arg("state_properties"), py::arg("actuator"), py::arg("sensor"),
+           py::arg("actuator_failures"), py::arg("sensor_failures"), py::arg("noise"),
+           py::arg("steps_per_frame"), py::arg("frame_rate_hz"), py::arg("sim_rate_hz"), py::arg("capacity"))
+      .def("set_fcs", &Frames::set_fcs, py::arg("coefficients"))
+      .def("set_noise", &Frames::set_noise, py::arg("noise"))
+      .def_property_readonly("noise_left", &Frames::noise_left)
+      .def("measure", [](Frames& f) { return to_numpy(f.measure_frame()); })
+      .def("advance", [](Frames& f, py::handle u) { f.advance_frame(vec<kSurfaces>(u, "u")); }, py::arg("u"))
+      .def("command", [](Frames& f, py::handle z) { return to_numpy(f.command(vec<kSensors>(z, "z_feedback"))); },
+           py::arg("z_feedback"))
+      .def("step", [](Frames& f, py::handle z, bool measure_next) {
+             const Surfaces u = f.command(vec<kSensors>(z, "z_feedback"));
+             f.advance_frame(u);
+             return py::make_tuple(to_numpy(u), measure_next ? py::object(to_numpy(f.measure_frame())) : py::none());
+           }, py::arg("z_feedback"), py::arg("measure_next") = true)
+      .def("fly", [](Frames& f, long long n) {
+             for (long long i = 0; i < n; ++i) f.advance_frame(f.command(f.measure_frame()));
+             f.measure_frame();
+           }, py::arg("n_frames"))
+      .def("fly_closed_loop", [](Frames& f, py::handle bank, long long n, bool use_mmae, bool record) {
+             F16HierarchicalBank* est = f16_hierarchical_bank(bank);
+             if (!est) throw py::value_error("fly_closed_loop flies the fixed-size F-16 bank only");
+             return f.fly_closed_loop(*est, n, use_mmae, record);
+           }, py::arg("bank"), py::arg("n_frames"), py::arg("use_mmae"), py::arg("record_probabilities"),
+           R"doc(
+    n closed-loop frames with a core.HierarchicalBank in the loop, all in C++ (loop/flight.py
+    describes the frame): z = measure(); then per frame: bank.update(z), u = FCS(z_hat if
+    use_mmae else z), bank.propagate(u), advance(u), the next z (not after the last frame).
+    Returns {'probabilities': (n, 13) the probabilities on line after each frame (or (0, 13)),
+    'events': [(frame, declared name, names on line after it)], 'truth_s', 'estimator_s'
+    (seconds spent in each), 'declared_last_frame'}.)doc")
+      .def_property_readonly("frame", &Frames::frame)
+      .def_property_readonly("step_count", &Frames::step)
+      .def_property_readonly("measured", &Frames::measured)
+      .def_property_readonly("fcs_state", &Frames::fcs_state)
+      .def_property_readonly("actuator_positions", &Frames::actuator_positions)
+      .def("log", &Frames::log);
+}
+
+}  // namespace f16mmae::bindings

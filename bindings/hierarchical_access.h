@@ -1,0 +1,15 @@
+// Access to the C++ estimator inside a core.HierarchicalBank, for bindings that fly it from
+// C++ (bind_truth.cpp: a whole closed-loop flight without crossing to Python per frame).
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include "f16mmae/hierarchical_bank.h"
+
+namespace f16mmae::bindings {
+
+/// The fixed-size F-16 bank inside ``hierarchical_bank`` (a core.HierarchicalBank), or nullptr
+/// when it runs the dynamic-size bank.  TypeError if it is not a core.HierarchicalBank.
+F16HierarchicalBank* f16_hierarchical_bank(pybind11::handle hierarchical_bank);
+
+}  // namespace f16mmae::bindings

@@ -1,0 +1,167 @@
+// f16mmae truth model, per-step arithmetic: actuators, sensors, flight control law, dither.
+//
+// The C++ twin of python/harness/f16mmae/truth/{actuators,sensors,fcs,dither}.py, which stay
+// the reference and the documentation of the model; every constant and derived coefficient
+// (limits, lag decays, scaled gains, dither amplitudes) comes in from Python through the
+// structs below, so this header holds the per-step arithmetic only, written in the Python
+// code's order of operations so both give the same doubles.  Standard library only: JSBSim
+// lives at the edge (bindings/bind_truth.cpp).  Nothing here allocates.
+//
+// Actuator i (rate dt_s = 1/128 s), commands c clipped to +-lim_i:
+//   new = c + (delta - c) * decay_i,  decay_i = exp(-LAG_RAD_S_i dt_s)     (mode normal/loss)
+//   delta += clip(new - delta, +-max_step_i),  delta = clip(delta, +-lim_i)
+//   complete: new = trim_i; hardover: new = +-lim_i; stuck: delta held.
+//   Effective position: delta, or trim_i + value_i (delta - trim_i) under loss.
+// Sensor i at t: z_i = ideal_i + n_i sigma_i (n_i standard normal, drawn by the caller), or
+//   complete: z_trim_i + v_i; null: 0; stuck: last z_i before the failure; hardover: full
+//   scale (high if value >= 0); bias: ideal + (v_i + value); drift: ideal + (v_i + value (t - t_f)).
+// Flight control law: truth/fcs.py's module docstring (pitch C*-like PI, roll-rate command,
+// washed-out yaw damper with ARI), plus dither d_j = a_j sin(w_j t + phi_j), clipped to +-lim.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+namespace f16mmae::truth {
+
+inline constexpr int kSurfaces = 5;  // LS RS LF RF RUD
+inline constexpr int kSensors = 7;   // VEL AOA PIT AZ ROL YAW AY
+
+using Surfaces = std::array<double, kSurfaces>;
+using Sensors = std::array<double, kSensors>;
+
+/// Failure mode codes, shared with python/harness/f16mmae/truth/{actuators,sensors}.py.
+enum class ActuatorMode : int { normal = 0, complete = 1, stuck = 2, hardover = 3, loss = 4 };
+enum class SensorMode : int { normal = 0, complete = 1, null = 2, stuck = 3, hardover = 4, bias = 5, drift = 6 };
+
+inline double clip(double x, double lim) { return x > lim ? lim : (x < -lim ? -lim : x); }
+
+/// The five actuators, stepped at the JSBSim rate.
+struct ActuatorBank {
+  Surfaces trim_rad{}, limit_rad{}, decay{}, max_step_rad{};
+  Surfaces position_rad{};
+  std::array<ActuatorMode, kSurfaces> mode{};
+  Surfaces value{};
+
+  void reset() {
+    position_rad = trim_rad;
+    mode.fill(ActuatorMode::normal);
+    value.fill(0.0);
+  }
+  void fail(int i, ActuatorMode m, double v) { mode[i] = m; value[i] = v; }
+
+  /// One step with commands cmd_rad; returns the effective positions.
+  Surfaces step(const Surfaces& cmd_rad) {
+    Surfaces out{};
+    for (int i = 0; i < kSurfaces; ++i) {
+      const ActuatorMode m = mode[i];
+      const double lim = limit_rad[i];
+      double p = position_rad[i];
+      if (m == ActuatorMode::stuck) {
+        out[i] = p;
+        continue;
+      }
+      double target;
+      if (m == ActuatorMode::complete) {
+        target = trim_rad[i];
+      } else if (m == ActuatorMode::hardover) {
+        target = value[i] >= 0.0 ? lim : -lim;
+      } else {
+        const double c = clip(cmd_rad[i], lim);
+        target = c + (p - c) * decay[i];
+      }
+      const double d = clip(target - p, max_step_rad[i]);
+      p += d;
+      p = clip(p, lim);
+      position_rad[i] = p;
+      out[i] = m == ActuatorMode::loss ? trim_rad[i] + value[i] * (p - trim_rad[i]) : p;
+    }
+    return out;
+  }
+};
+
+/// The seven sensors' noise and failures (the ideal values come from the aircraft).
+struct SensorSet {
+  Sensors z_trim{}, sigma{}, full_scale_low{}, full_scale_high{};
+  std::array<SensorMode, kSensors> mode{};
+  Sensors value{}, t_fail_s{}, held{}, last{};
+
+  void reset() {
+    mode.fill(SensorMode::normal);
+    value.fill(0.0);
+    t_fail_s.fill(0.0);
+    held.fill(0.0);
+    last = z_trim;
+  }
+  void fail(int i, SensorMode m, double v, double time_s) {
+    mode[i] = m;
+    value[i] = v;
+    t_fail_s[i] = time_s;
+    held[i] = last[i];
+  }
+
+  /// z at time_s from the ideal values and standard-normal draws normal (7,).
+  Sensors measure(const Sensors& ideal, const double* normal, double time_s) {
+    Sensors z = ideal;
+    for (int i = 0; i < kSensors; ++i) {
+      const double v = normal[i] * sigma[i];
+      switch (mode[i]) {
+        case SensorMode::normal: z[i] += v; break;
+        case SensorMode::complete: z[i] = z_trim[i] + v; break;
+        case SensorMode::null: z[i] = 0.0; break;
+        case SensorMode::stuck: z[i] = held[i]; break;
+        case SensorMode::hardover: z[i] = value[i] >= 0.0 ? full_scale_high[i] : full_scale_low[i]; break;
+        case SensorMode::bias: z[i] += v + value[i]; break;
+        case SensorMode::drift: z[i] += v + value[i] * (time_s - t_fail_s[i]); break;
+      }
+    }
+    last = z;
+    return z;
+  }
+};
+
+/// Coefficients of the flight control law, already scheduled (truth/fcs.py computes them).
+struct FcsCoefficients {
+  Surfaces u_trim{}, limit_rad{};
+  Sensors z_trim{};
+  double kq = 0, kn = 0, ki = 0, kp = 0, kpff = 0, kr = 0, kay = 0, kari = 0;
+  double k_c = 0, k_v = 0, k_d = 0, speed_filter_s = 1, washout_s = 1, g_dt = 0;
+  double xi_max = 0, dt_s = 0;
+  bool dither_enabled = false;
+  Surfaces dither_amplitude_rad{}, dither_omega_rad_s{}, dither_phase_rad{};
+};
+
+/// The flight control law with its three states (pilot inputs zero: nz_cmd = p_cmd = 0).
+struct FlightControlLaw {
+  FcsCoefficients c;
+  double x_int = 0.0, x_wash = 0.0, x_vel = 0.0;
+
+  void reset() { x_int = x_wash = x_vel = 0.0; }
+
+  Surfaces command(const Sensors& zf, double time_s) {
+    const Sensors& zt = c.z_trim;
+    const double dvel = zf[0] - zt[0], dq = zf[2] - zt[2], daz = zf[3] - zt[3];
+    const double dp = zf[4] - zt[4], dr = zf[5] - zt[5], day = zf[6] - zt[6];
+    const double nz_cmd = 0.0, p_cmd = 0.0;
+    const double spd = clip(c.k_v * dvel, 0.05);
+    const double nd = clip(c.k_d * (dvel - x_vel) / c.speed_filter_s, 0.05);
+    x_vel += (dvel - x_vel) * c.dt_s / c.speed_filter_s;
+    const double de = c.kq * dq + c.kn * (daz - nz_cmd - nd) + c.ki * x_int;
+    const double xi = x_int + (daz + c.k_c * dq - nz_cmd - nd - spd) * c.dt_s;
+    x_int = clip(xi, c.xi_max);
+    const double da = c.kpff * p_cmd - c.kp * (dp - p_cmd);
+    const double dr_cmd = c.kr * (dr - x_wash) + c.kay * day + c.kari * da;
+    x_wash += (dr - x_wash) * c.dt_s / c.washout_s;
+    Surfaces d{};
+    if (c.dither_enabled)
+      for (int j = 0; j < kSurfaces; ++j)
+        d[j] = c.dither_amplitude_rad[j] * std::sin(c.dither_omega_rad_s[j] * time_s + c.dither_phase_rad[j]);
+    const Surfaces& ut = c.u_trim;
+    Surfaces u{ut[0] + de + c.g_dt * da + d[0], ut[1] + de - c.g_dt * da + d[1], ut[2] + da + d[2],
+                ut[3] - da + d[3], ut[4] + dr_cmd + d[4]};
+    for (int j = 0; j < kSurfaces; ++j) u[j] = clip(u[j], c.limit_rad[j]);
+    return u;
+  }
+};
+
+}  // namespace f16mmae::truth

@@ -43,7 +43,7 @@ def test_finite_differences_agree_with_fglinearization(design):
 def test_bare_airframe_modes(design):
     ev = np.linalg.eigvals(design.linearized.lin.a)
     assert np.all(ev.real < 0)
-    # short period, Dutch roll, roll subsidence as measured (FACTS.md): -0.51+-0.78j,
+    # short period, Dutch roll, roll subsidence of the bare airframe: -0.51+-0.78j,
     # -0.26+-2.24j, -0.96
     for target in (-0.51 + 0.78j, -0.26 + 2.24j, -0.96):
         assert np.min(np.abs(ev - target)) < 0.03

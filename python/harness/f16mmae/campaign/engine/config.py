@@ -15,7 +15,7 @@ from ...errors import F16mmaeError
 from ...names import (DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, FLIGHT_S, SINGLE_HYPOTHESES,
                       TURBULENCE_LEVELS)
 from ...truth import DitherSpec, Scenario
-from ...truth.failures import make_failure
+from ...truth.failures import FailureSpec, make_failure
 
 
 #: The most seeded runs per case (or pair, or point and case) a campaign plans.
@@ -88,17 +88,18 @@ class CampaignConfig:
         if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / len(SINGLE_HYPOTHESES):
             raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(SINGLE_HYPOTHESES)})")
 
-    def scenario_dict(self, bank, failures: tuple[tuple[str, float], ...], seed: int,
+    def scenario_dict(self, bank, failures: tuple[tuple[str, float] | FailureSpec, ...], seed: int,
                       mach: float | None = None, alt_ft: float | None = None) -> dict:
         """A run's scenario as the truth model's own plain data (``Scenario.to_dict``), so the
         record holds every truth setting (dither amplitudes, ARI, noise) and the run key
         changes when a truth default does. ``failures``: (name, time_s) pairs in this config's
-        mode; ``mach`` / ``alt_ft`` None: the bank's design point. ValueError on a bad value."""
+        mode, or FailureSpecs (their own mode and value); ``mach`` / ``alt_ft`` None: the bank's design point. ValueError on a bad value."""
         scenario = Scenario(
             mach=float(mach if mach is not None else bank.mach),
             alt_ft=float(alt_ft if alt_ft is not None else bank.alt_ft),
             turbulence=self.turbulence, dither=self.dither_spec(),
-            failures=tuple(make_failure(n, t, self.mode) for n, t in failures),
+            failures=tuple(f if isinstance(f, FailureSpec) else make_failure(f[0], f[1], self.mode)
+                           for f in failures),
             duration_s=self.duration_s, seed=seed, feedback=self.feedback,
         )
         return scenario.to_dict()

@@ -19,20 +19,17 @@ from f16mmae.cli.main import main
 def test_score_detection_by_hand():
     decl = [{"hypothesis": "AZ", "time_s": 3.2}, {"hypothesis": "AOA", "time_s": 3.9},
             {"hypothesis": "NONE", "time_s": 5.0}]
-    s = score_detection("AOA", 3.0, decl)
+    s = score_detection("AOA", 3.0, decl, 8.0)
     assert s["detected"] and s["any_declared"] and not s["false_alarm"]
     assert s["latency_s"] == pytest.approx(0.9) and s["final_hypothesis"] == "NONE"
+    assert s["outcome"] == "missed" and s["transient_wrong"] and s["failure_free_s"] == 3.0
     # a mis-isolation: something declared, never the failed sensor
-    s = score_detection("VEL", 3.0, decl)
+    s = score_detection("VEL", 3.0, decl, 8.0)
     assert (s["detected"], s["any_declared"], s["latency_s"]) == (False, True, None)
     # declared before the onset only: a false alarm, not a detection
-    s = score_detection("AZ", 4.0, decl[:2])
-    assert (s["detected"], s["any_declared"], s["false_alarm"]) == (False, False, True)
-    assert score_detection("LS", 3.0, [])["final_hypothesis"] == "NONE"
-
-
-def _rec(detected, any_declared, latency, false_alarm=False):
-    return {"detected": detected, "any_declared": any_declared, "latency_s": latency, "false_alarm": false_alarm}
+    s = score_detection("AZ", 4.0, decl[:2], 8.0)
+    assert (s["detected"], s["any_declared"], s["false_alarm"], s["false_declarations"]) == (False, False, True, 2)
+    assert score_detection("LS", 3.0, [], 8.0)["outcome"] == "missed"
 
 
 def test_summary_point_rates_and_intervals_by_hand():
@@ -61,22 +58,29 @@ def test_truth_values_follow_the_sensor_sigma_and_the_lost_fraction():
 def test_summary_groups_records_by_family_component_and_size():
     cfg = DetectabilityCampaign(runs=2, components=("AZ", "RUD"), sizes=(1.0, 5.0), rates=(2.0,), losses=(0.5,))
     _, _, bank = load_bank("tuned")
+    hits = {("bias", 1.0): 0, ("bias", 5.0): 2, ("drift", 2.0): 1, ("loss", 0.5): 2}
     recs = []
-    for fam, comp, size, hits in (("bias", "AZ", 1.0, 0), ("bias", "AZ", 5.0, 2), ("drift", "AZ", 2.0, 1),
-                                  ("loss", "RUD", 0.5, 2)):
-        for n in range(2):
-            recs.append({"family": fam, "component": comp, "size": size, **_rec(n < hits, n < hits,
-                                                                                 0.5 if n < hits else None)})
+    for spec in plan(cfg, "tuned", bank):  # hand-made declarations on the planned runs
+        comp, t_f = spec["component"], cfg.failure_time_s
+        decl = [{"hypothesis": comp, "time_s": t_f + 0.5}] if spec["run_index"] < hits[spec["family"], spec["size"]] \
+            else []
+        recs.append({**spec, "declarations": decl, **score_detection(comp, t_f, decl, cfg.duration_s)})
     s = summarize(cfg, "tuned", bank, recs)
     assert list(s["families"]) == ["bias", "drift", "loss"]
     bias = s["families"]["bias"]["components"]
     assert [c["component"] for c in bias] == ["AZ"]  # RUD is no sensor
     assert [p["detected"]["count"] for p in bias[0]["points"]] == [0, 2]
     assert bias[0]["points"][1]["value"] == pytest.approx(0.05)  # 5 x 0.01 g
+    assert bias[0]["points"][1]["latency_median_s"] == pytest.approx(0.5)
     assert s["families"]["drift"]["components"][0]["points"][0]["detected"]["fraction"] == 0.5
     loss = s["families"]["loss"]["components"]
     assert [c["component"] for c in loss] == ["RUD"] and loss[0]["points"][0]["value"] == 0.5
     assert s["goals_met"] and s["sigma"]["AZ"] == 0.01
+    # the missed runs (2 + 1 of 8) are listed with the command that flies each again
+    assert [(r["family"], r["size"], r["run_index"]) for r in s["not_clean"]] == [
+        ("bias", 1.0, 0), ("bias", 1.0, 1), ("drift", 2.0, 1)]
+    assert "--fail AZ@3.0:drift=0.02" in s["not_clean"][2]["command"]
+    assert s["totals"]["correct"]["count"] == 5 and s["false_declarations_per_hour"]["events"] == 0
 
 
 def test_plan_flies_run_n_on_one_seed_at_every_size_and_family():

@@ -52,9 +52,7 @@ def print_campaign(summary: dict, stream) -> None:
         print("verdicts: " + ", ".join(f"{k} {v}" for k, v in vc.items()) + " (demonstrated: the 95% "
               "interval clears the goal; consistent: the point estimate meets it, the interval does not)",
               file=stream)
-    if "not_clean" not in summary:  # a kind without a notion of a run gone wrong (detectability)
-        return
-    bad = summary["not_clean"] or []
+    bad = summary.get("not_clean") or []
     print(f"runs that went wrong: {len(bad)}", file=stream)
     for r in bad[:SHOW_COMMANDS]:
         print(f"  {r['outcome']}{'+' + '+'.join(r['flags']) if r['flags'] else ''}: {r['command']}", file=stream)

@@ -44,7 +44,7 @@ from ...loop.flight import fly, scenario_from_dict
 from ...names import ACTUATORS, FAILURE_TIME_S, NONE, SENSORS
 from ...truth.failures import make_failure
 from ...truth.sensors import NOISE_SIGMA
-from ..engine import identity
+from ..engine import drilldown, evidence, identity, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.intervals import rate
 from ..engine.runner import CampaignOutcome, execute, planned_bank
@@ -144,15 +144,14 @@ def plan(cfg: DetectabilityCampaign, tuning_arg: str, bank) -> list[dict]:
     return specs
 
 
-def score_detection(component: str, onset_s: float, declarations: list[dict]) -> dict:
-    """``detected``, ``latency_s``, ``any_declared``, ``false_alarm`` of one run (module docstring)."""
-    decl = sorted(declarations, key=lambda d: d["time_s"])
-    after = [d for d in decl if d["time_s"] >= onset_s and d["hypothesis"] != NONE]
-    hits = [d["time_s"] for d in after if d["hypothesis"] == component]
-    return {"detected": bool(hits), "latency_s": (hits[0] - onset_s) if hits else None,
-            "any_declared": bool(after),
-            "false_alarm": any(d["time_s"] < onset_s and d["hypothesis"] != NONE for d in decl),
-            "final_hypothesis": decl[-1]["hypothesis"] if decl else NONE}
+def score_detection(component: str, onset_s: float, declarations: list[dict], duration_s: float) -> dict:
+    """One run's fields: the single-failure scoring (``engine.scoring.score_run``: outcome,
+    final hypothesis, false alarm, latency), the shared run rules (``engine.outcomes.run_fields``)
+    and ``detected`` / ``any_declared`` (module docstring)."""
+    scored = scoring.score_run(component, onset_s, declarations)
+    return {**scored, "detected": scored["latency_s"] is not None,
+            "any_declared": any(d["time_s"] >= onset_s and d["hypothesis"] != NONE for d in declarations),
+            **outcomes.run_fields(declarations, onset_s, {component}, duration_s)}
 
 
 def run_spec(spec: dict) -> dict:
@@ -165,7 +164,7 @@ def run_spec(spec: dict) -> dict:
             "version", "scenario", "estimator")
     return {**{k: spec[k] for k in keep}, "kind": "detectability", "failure_time_s": onset,
             "declarations": result.declarations,
-            **score_detection(spec["component"], onset, result.declarations), "timing": result.timing}
+            **score_detection(spec["component"], onset, result.declarations, scenario.duration_s), "timing": result.timing}
 
 
 def describe_spec(spec: dict) -> str:
@@ -208,10 +207,25 @@ def summarize(cfg: DetectabilityCampaign, label: str, bank, records: list[dict])
         "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
         "sigma": {s: sigma_of(s) for s in SENSORS},
         "families": families,
-        "code": identity.code_identity(),
-        # no goal is set on a curve: --check fails only on runs with a false alarm
-        "goals_met": not any(r["false_alarm"] for r in records),
+        **_campaign_fields(cfg, records),
     }
+
+
+def _campaign_fields(cfg: DetectabilityCampaign, records: list[dict]) -> dict:
+    """The campaign-wide fields every summary adds (``engine.evidence.summary_fields``; a run is
+    not clean when it does not end on the failed component's hypothesis, had a false alarm or
+    declared another failure after the onset), without the per-case verdicts a curve has not.
+    No goal is set on a curve: ``goals_met`` (``--check``) is "no run had a false alarm"."""
+    order = {(f, c, x): i for i, (f, c, x) in enumerate(
+        (f, c, x) for f, xs in cfg.family_sizes().items() for c in cfg.components for x in xs)}
+    ranked = sorted(records, key=lambda r: (order.get((r["family"], r["component"], r["size"]), 0), r["run_index"]))
+    fields = evidence.summary_fields(
+        records, [], drilldown.not_clean(ranked, lambda r: drilldown.record_command(r, cfg.dither_scale),
+                                         lambda r: {k: r[k] for k in ("family", "component", "size")}),
+        identity.code_identity(), goals_met=not any(r["false_alarm"] for r in records))
+    for key in ("demonstration", "verdict_counts"):
+        del fields[key]
+    return fields
 
 
 def run_campaign(cfg: DetectabilityCampaign, out_dir: str | Path, executor: Executor, executor_label: str = "",

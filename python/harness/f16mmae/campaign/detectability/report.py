@@ -10,7 +10,7 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
-from ...report.evidence import describe_rate
+from ...report.evidence import describe_rate, drilldown_section
 from ...report.figures import img_tag
 from ...report.markdown import register_markdown
 from ...report.page import param_table, register_page
@@ -80,7 +80,9 @@ def detectability_page(d: Path, s: dict) -> str:
     body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in r) + "</tr>" for r in table_rows(s))
     parts += ["<h2>Table</h2>", f"<table><tr>{head}</tr>{body}</table>", "<h2>Definitions</h2><dl>"]
     parts += [f"<dt>{html.escape(k)}</dt><dd>{html.escape(v)}</dd>" for k, v in DEFINITIONS]
-    return "".join(parts) + "</dl>"
+    parts.append("</dl>")
+    parts.append(drilldown_section(s.get("not_clean", []), ("family", "component", "size")))
+    return "".join(parts)
 
 
 def detectability_markdown(s: dict) -> str:
@@ -90,6 +92,10 @@ def detectability_markdown(s: dict) -> str:
            "```", cmd, "```", ""]
     out += [f"- {k}: {v}" for k, v in _setting_lines(s)]
     out += [f"- {k}: {v}" for k, v in DEFINITIONS]
+    bad = s.get("not_clean") or []
+    out.append(f"- runs not ending on the failed component's hypothesis, or with a false alarm or another "
+               f"failure declared after the onset: {len(bad)} (each with the `f16mmae run` command that flies it "
+               "again in summary.json, `not_clean`)")
     out += ["", "Figures (in the campaign directory): "
             + ", ".join(f"`{n}`" for n in (s.get("figures") or {}).values()), "",
             "| " + " | ".join(COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]

@@ -32,6 +32,10 @@ def test_score_detection_by_hand():
     assert score_detection("LS", 3.0, [], 8.0)["outcome"] == "missed"
 
 
+def _rec(detected, any_declared, latency, false_alarm=False):
+    return {"detected": detected, "any_declared": any_declared, "latency_s": latency, "false_alarm": false_alarm}
+
+
 def test_summary_point_rates_and_intervals_by_hand():
     recs = [_rec(True, True, 0.4), _rec(False, True, None)]
     p = summarize_point(3.0, 0.0052, recs)

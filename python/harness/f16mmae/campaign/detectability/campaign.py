@@ -56,7 +56,7 @@ from . import figures
 FAMILIES: dict[str, tuple[str, tuple[str, ...], str]] = {
     "bias": ("bias", SENSORS, "sigma"),
     "drift": ("drift", SENSORS, "sigma/s"),
-    "loss": ("loss", ACTUATORS, "fraction lost"),
+    "loss": ("loss", ACTUATORS, "lost"),
 }
 COMPONENTS: tuple[str, ...] = SENSORS + ACTUATORS
 DEFAULT_SIZES: tuple[float, ...] = (1.0, 2.0, 3.0, 5.0, 10.0, 20.0)
@@ -139,7 +139,7 @@ def plan(cfg: DetectabilityCampaign, tuning_arg: str, bank) -> list[dict]:
                              "bank_hash": bank.content_hash, "version": __version__}
                     specs.append({"run_key": run_key(ident), "family": family, "component": component,
                                   "size": size, "value": value, "run_index": n, "seed": seed,
-                                  "bank": tuning_arg, "bank_hash": bank.content_hash, "version": __version__,
+                                  "bank": tuning_arg, "tuning": tuning_arg, "bank_hash": bank.content_hash, "version": __version__,
                                   "scenario": scenario, "estimator": cfg.estimator_options()})
     return specs
 
@@ -160,7 +160,7 @@ def run_spec(spec: dict) -> dict:
     scenario = scenario_from_dict(spec["scenario"])
     result = fly(scenario, bank, estimator_options=spec["estimator"])
     onset = scenario.failures[0].time_s
-    keep = ("run_key", "family", "component", "size", "value", "run_index", "seed", "bank", "bank_hash",
+    keep = ("run_key", "family", "component", "size", "value", "run_index", "seed", "bank", "tuning", "bank_hash",
             "version", "scenario", "estimator")
     return {**{k: spec[k] for k in keep}, "kind": "detectability", "failure_time_s": onset,
             "declarations": result.declarations,

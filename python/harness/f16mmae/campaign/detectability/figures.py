@@ -13,22 +13,29 @@ TITLES = {"bias": "sensor bias (size in multiples of the sensor's noise sigma)",
           "drift": "sensor drift (rate in sigma per second)",
           "loss": "actuator loss of effectiveness (fraction lost)"}
 
+XLABELS = {"bias": "bias (sigma)", "drift": "drift rate (sigma/s)", "loss": "fraction of effectiveness lost"}
+
 
 def _panel(ax, comp: dict, log_x: bool) -> None:
     pts = [p for p in comp["points"] if p["runs"]]
     x = [p["size"] for p in pts]
-    for field, style, label in (("detected", dict(fmt="o-", color="C0"), "its hypothesis declared"),
-                                ("any_declared", dict(fmt="s", mfc="none", color="0.45", ms=5),
-                                 "any failure declared")):
+    for k, (field, style, label) in enumerate((
+            ("detected", dict(fmt="o-", color="C0"), "its hypothesis declared"),
+            ("any_declared", dict(fmt="s", mfc="none", color="0.45", ms=5), "any failure declared"))):
+        # the two series side by side, a little apart, so that their bars do not hide each other
+        xs = [v * 1.06 ** k for v in x] if log_x else [v + 0.012 * k for v in x]
         y = [p[field]["fraction"] for p in pts]
         lo = [p[field]["fraction"] - p[field]["ci95"]["clopper_pearson"][0] for p in pts]
         hi = [p[field]["ci95"]["clopper_pearson"][1] - p[field]["fraction"] for p in pts]
-        ax.errorbar(x, y, yerr=[lo, hi], capsize=3, lw=1.2, label=label, **style)
+        ax.errorbar(xs, y, yerr=[lo, hi], capsize=3, lw=1.2, label=label, **style)
     if log_x:
         ax.set_xscale("log")
+        ax.minorticks_off()
+    ax.set_xticks(x)
+    ax.set_xticklabels([f"{v:g}" for v in x])
     ax.set_ylim(-0.05, 1.05)
     ax.set_title(comp["component"], fontsize=9)
-    ax.grid(alpha=0.3, which="both")
+    ax.grid(alpha=0.3)
     ax.tick_params(labelsize=7)
 
 
@@ -37,19 +44,19 @@ def family_figure(family: str, fam: dict, runs: int, path: Path) -> Path:
     comps = fam["components"]
     cols = min(4, len(comps))
     rows = math.ceil(len(comps) / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.1 * cols + 0.4, 2.5 * rows + 0.8), squeeze=False,
+    fig, axes = plt.subplots(rows, cols, figsize=(max(3.1 * cols + 0.4, 6.0), 2.5 * rows + 1.0), squeeze=False,
                              sharey=True)
     for i, comp in enumerate(comps):
         ax = axes[i // cols][i % cols]
         _panel(ax, comp, log_x=family != "loss")
-        ax.set_xlabel(fam["unit"], fontsize=8)
+        ax.set_xlabel(XLABELS[family], fontsize=8)
         if i % cols == 0:
             ax.set_ylabel("probability", fontsize=8)
     for j in range(len(comps), rows * cols):
         axes[j // cols][j % cols].set_visible(False)
     axes[0][0].legend(fontsize=7, loc="best")
-    fig.suptitle(f"Detection probability against {TITLES[family]}; {runs} runs per point, "
-                 f"bars: 95 % Clopper-Pearson", fontsize=9)
+    fig.suptitle(f"Detection probability against {TITLES[family]}\n{runs} runs per point, "
+                 f"bars: 95 % Clopper-Pearson intervals", fontsize=9)
     return save_figure(fig, path)
 
 

@@ -23,7 +23,9 @@ Per run (:func:`score_detection`), ``h*`` the failed component's hypothesis and 
 
 Per (family, component, size) (:func:`summarize_point`): the rates of ``detected``,
 ``any_declared`` and ``false_alarm`` over its runs, each with its 95 % Clopper-Pearson
-and Wilson intervals (``engine.intervals.rate``), and the median latency over detected runs.
+and Wilson intervals (``engine.intervals.rate``), the median latency over detected runs,
+and ``declared_instead``: of the runs that declared another failure after the onset, the
+first such hypothesis of each, counted (the three most frequent).
 
 Seeds (common random numbers across sizes and families): run ``n`` of component ``c`` flies
 ``evaluation_seed("detectability", S, c, n)`` at every size of every family, so a curve's
@@ -32,6 +34,7 @@ points differ by the failure's size alone.
 from __future__ import annotations
 
 import json
+from collections import Counter
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
@@ -64,6 +67,8 @@ DEFAULT_RATES: tuple[float, ...] = (0.5, 1.0, 2.0, 5.0, 10.0)
 DEFAULT_LOSSES: tuple[float, ...] = (0.1, 0.25, 0.5, 0.75, 1.0)
 #: The largest bias (sigma) and drift rate (sigma/s) a campaign flies.
 SIZE_MAX = 1000.0
+#: How many of the hypotheses declared instead of the failed component a point lists.
+DECLARED_INSTEAD_SHOWN = 3
 #: The most sizes per family.
 SIZES_MAX_COUNT = 20
 
@@ -173,12 +178,20 @@ def describe_spec(spec: dict) -> str:
 
 
 # -- summary ---------------------------------------------------------------------------------
+def _first_other(record: dict) -> list[dict]:
+    """The first declaration after the onset of a failure other than the run's component (or none)."""
+    return [d for d in record.get("declarations", ()) if d["time_s"] >= record["failure_time_s"]
+            and d["hypothesis"] not in (NONE, record["component"])][:1]
+
+
 def summarize_point(size: float, value: float, records: list[dict]) -> dict:
     """The rates of one (family, component, size) from its run records (module docstring)."""
     n = len(records)
     lat = [r["latency_s"] for r in records if r["latency_s"] is not None]
+    instead = Counter(d["hypothesis"] for r in records for d in _first_other(r))
     out = {"size": size, "value": value, "runs": n,
-           "latency_median_s": float(np.median(lat)) if lat else None}
+           "latency_median_s": float(np.median(lat)) if lat else None,
+           "declared_instead": dict(instead.most_common(DECLARED_INSTEAD_SHOWN))}
     for field in ("detected", "any_declared", "false_alarm"):
         out[field] = rate(sum(1 for r in records if r[field]), n) if n else None
     return out
@@ -212,13 +225,16 @@ def summarize(cfg: DetectabilityCampaign, label: str, bank, records: list[dict])
 
 
 def _campaign_fields(cfg: DetectabilityCampaign, records: list[dict]) -> dict:
-    """The campaign-wide fields every summary adds (``engine.evidence.summary_fields``; a run is
-    not clean when it does not end on the failed component's hypothesis, had a false alarm or
-    declared another failure after the onset), without the per-case verdicts a curve has not.
-    No goal is set on a curve: ``goals_met`` (``--check``) is "no run had a false alarm"."""
+    """The campaign-wide fields every summary adds (``engine.evidence.summary_fields``), without
+    the per-case verdicts a curve has not.  ``not_clean`` lists the runs that declared something
+    wrong -- a false alarm, or another failure after the onset (transient-wrong) -- with the
+    command that flies each again; a run that merely missed a small failure is a point of the
+    curve, not listed.  No goal is set on a curve: ``goals_met`` (``--check``) is "no run had a
+    false alarm"."""
     order = {(f, c, x): i for i, (f, c, x) in enumerate(
         (f, c, x) for f, xs in cfg.family_sizes().items() for c in cfg.components for x in xs)}
-    ranked = sorted(records, key=lambda r: (order.get((r["family"], r["component"], r["size"]), 0), r["run_index"]))
+    wrong = [r for r in records if r["false_alarm"] or r["transient_wrong"]]
+    ranked = sorted(wrong, key=lambda r: (order.get((r["family"], r["component"], r["size"]), 0), r["run_index"]))
     fields = evidence.summary_fields(
         records, [], drilldown.not_clean(ranked, lambda r: drilldown.record_command(r, cfg.dither_scale),
                                          lambda r: {k: r[k] for k in ("family", "component", "size")}),

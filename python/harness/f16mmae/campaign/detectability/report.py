@@ -4,7 +4,8 @@ registered with the report on import.
 
 One row per (family, component, size): the size in its unit and in the truth's unit, P(detect)
 ``k/n [lo-hi %]`` (95 % Clopper-Pearson), P(any failure declared after the onset), runs with a
-false alarm, the median latency of the detected runs."""
+false alarm, the median latency of the detected runs, and the hypotheses most often declared
+instead of the failed component (each run's first other declaration after the onset)."""
 from __future__ import annotations
 
 import html
@@ -16,7 +17,7 @@ from ...report.markdown import register_markdown
 from ...report.page import param_table, register_page
 
 COLUMNS = ("family", "component", "size", "truth value", "P(detect) [95 %]", "P(any declared) [95 %]",
-           "runs with FA", "latency median (s)")
+           "runs with FA", "latency median (s)", "declared instead (runs)")
 
 DEFINITIONS = (
     ("sizes", "bias: multiples of the sensor's white-noise sigma (the truth model's NOISE_SIGMA: "
@@ -46,7 +47,8 @@ def table_rows(s: dict) -> list[tuple[str, ...]]:
                     continue
                 rows.append((family, comp["component"], f"{p['size']:g} {fam['unit']}", f"{p['value']:.4g}",
                              describe_rate(p["detected"], unit=" %"), describe_rate(p["any_declared"], unit=" %"),
-                             str(p["false_alarm"]["count"]), _lat(p["latency_median_s"])))
+                             str(p["false_alarm"]["count"]), _lat(p["latency_median_s"]),
+                             " ".join(f"{h} {k}" for h, k in p["declared_instead"].items()) or "-"))
     return rows
 
 

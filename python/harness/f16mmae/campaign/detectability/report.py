@@ -28,6 +28,8 @@ DEFINITIONS = (
                  "(not necessarily the final declaration)"),
     ("any declared", "some failure hypothesis declared at or after the onset; above P(detect) it is mis-isolation"),
     ("false alarm", "a failure declared before the onset"),
+    ("runs that went wrong", "runs that declared a wrong failure: a false alarm, or another failure after the "
+                             "onset; a run that merely missed a small failure is a point of the curve"),
     ("intervals", "95 % Clopper-Pearson; summary.json also holds the Wilson intervals"),
     ("seeds", "evaluation seeds, run n of a component flies the same seed at every size and family"),
 )
@@ -94,10 +96,13 @@ def detectability_markdown(s: dict) -> str:
            "```", cmd, "```", ""]
     out += [f"- {k}: {v}" for k, v in _setting_lines(s)]
     out += [f"- {k}: {v}" for k, v in DEFINITIONS]
+    fd = s.get("false_declarations_per_hour") or {}
+    if fd.get("rate") is not None:
+        out.append(f"- false declarations: {fd['events']} in {fd['exposure']:.3f} failure-free flight hours "
+                   f"(95 %: {fd['ci95'][0]:.2f}-{fd['ci95'][1]:.2f} per hour)")
     bad = s.get("not_clean") or []
-    out.append(f"- runs not ending on the failed component's hypothesis, or with a false alarm or another "
-               f"failure declared after the onset: {len(bad)} (each with the `f16mmae run` command that flies it "
-               "again in summary.json, `not_clean`)")
+    out.append(f"- runs that declared a wrong failure (a false alarm, or another failure after the onset): "
+               f"{len(bad)}, each with the `f16mmae run` command that flies it again in summary.json (`not_clean`)")
     out += ["", "Figures (in the campaign directory): "
             + ", ".join(f"`{n}`" for n in (s.get("figures") or {}).values()), "",
             "| " + " | ".join(COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]

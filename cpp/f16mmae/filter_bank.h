@@ -29,18 +29,25 @@
 //
 // Sizes: K filters of NX states, NU inputs, NZ measurements; compile-time
 // (F16FilterBank = FilterBank<13, 13, 5, 7>) or Eigen::Dynamic (DynamicFilterBank).
-// Speed: with fixed sizes the filter arithmetic and the blend run in the packed AVX2/FMA
-// kernels of packed_kernel.h (through packed_bank.h) when the CPU has AVX2 and FMA (checked
-// at run time; the build itself is portable), else in Eigen; FilterBankOptions::
-// vectorized_kernel = false forces Eigen. The two agree to rounding. A Phi shared by every
-// filter (as in the paper's hypotheses) is read once per frame. On the kernel path the
-// filters' states live in the packed buffers; the SteadyStateFilter objects are brought up
-// to date only when read (residuals(), state_estimates(), filter(k), ...), never per frame.
+// Storage: what each filter IS — its HypothesisFilter (model, A⁻¹, ln|A|; steady_state_filter.h)
+// — is held apart from the filters' per-frame state (x⁻_k, x⁺_k, r_k), and that state is
+// stored once, in one of two stores with one interface (prior / posterior / residual,
+// set_prior / set_posterior / clear, update / propagate / blend):
+//   PackedBank (packed_bank.h)  the packed AVX2/FMA kernels of packed_kernel.h, used with
+//                               fixed sizes when the CPU has AVX2 and FMA (checked at run
+//                               time; the build itself is portable);
+//   ColumnBank (column_bank.h)  Eigen, one column per filter: dynamic sizes, a CPU without
+//                               the extensions, or FilterBankOptions::vectorized_kernel = false.
+// The two paths agree to rounding. A Phi shared by every filter (as in the paper's
+// hypotheses) is read once per frame on the kernel path. q_k and the log-likelihoods are the
+// bank's own (quadratic_forms(), log_likelihoods()). Readers are const and change nothing;
+// load_filter, set_prior and set_posterior write the store directly.
 // Throws: constructors and set_* validators throw std::invalid_argument with a sentence.
 // update/propagate/step/presume are noexcept and, for fixed sizes, allocate nothing.
 #pragma once
 
 #include "f16mmae/cache_warm.h"
+#include "f16mmae/column_bank.h"
 #include "f16mmae/packed_bank.h"
 #include "f16mmae/steady_state_filter.h"
 
@@ -67,11 +74,11 @@ struct FilterBankOptions {
 template <int K, int NX, int NU, int NZ>
 class FilterBank {
  public:
-  using Filter = SteadyStateFilter<NX, NU, NZ>;
+  using Hypothesis = HypothesisFilter<NX, NU, NZ>;
   using Model = FilterModel<NX, NU, NZ>;
-  using XVector = typename Filter::XVector;
-  using UVector = typename Filter::UVector;
-  using ZVector = typename Filter::ZVector;
+  using XVector = typename Hypothesis::XVector;
+  using UVector = typename Hypothesis::UVector;
+  using ZVector = typename Hypothesis::ZVector;
   using PVector = Eigen::Matrix<double, K, 1>;             // probabilities, log-likelihoods
   using ResidualMatrix = Eigen::Matrix<double, K, NZ>;     // row k = r_k
   using StateMatrix = Eigen::Matrix<double, K, NX>;        // row k = x⁺_k
@@ -81,14 +88,16 @@ class FilterBank {
   // same equations, 4-wide fused multiply-adds) when the CPU has AVX2 and FMA, else Eigen.
   static constexpr bool kPacked = kFixed && NX != Eigen::Dynamic && NU != Eigen::Dynamic &&
                                   NZ != Eigen::Dynamic && kPackedKernel;
-  using Filters = std::conditional_t<kFixed, std::array<Filter, (kFixed ? K : 1)>, std::vector<Filter>>;
+  using Hypotheses =
+      std::conditional_t<kFixed, std::array<Hypothesis, (kFixed ? K : 1)>, std::vector<Hypothesis>>;
   using Packed = PackedBank<kPacked, (kFixed ? K : 1), NX, NU, NZ>;
-  using Columns = Eigen::Matrix<double, NX, K>;            // scratch: one state per column
-  using ZColumns = Eigen::Matrix<double, NZ, K>;
+  using Columns = ColumnBank<K, NX, NU, NZ>;
+  using XMap = Eigen::Map<const XVector>;
+  using ZMap = Eigen::Map<const ZVector>;
 
   // Builds the bank from one model per hypothesis (index 0 = no failure). Throws
   // std::invalid_argument for a wrong count (fixed K), sizes that differ between models,
-  // an invalid model (see SteadyStateFilter) or p_min outside [0, 1/K).
+  // an invalid model (see HypothesisFilter) or p_min outside [0, 1/K).
   explicit FilterBank(const std::vector<Model>& models, const FilterBankOptions& options = {})
       : options_(options) {
     const int k = static_cast<int>(models.size());
@@ -98,7 +107,7 @@ class FilterBank {
       throw std::invalid_argument(s.str());
     }
     if (k < 1) throw std::invalid_argument("filter bank: needs at least one model");
-    if constexpr (!kFixed) filters_.resize(k);
+    if constexpr (!kFixed) hypotheses_.resize(k);
 #if F16MMAE_PACKED_KERNEL
     if constexpr (kPacked) use_packed_ = options_.vectorized_kernel && Packed::available();
 #endif
@@ -112,26 +121,24 @@ class FilterBank {
           << models[0].nu() << ", " << models[0].nz() << ")";
         throw std::invalid_argument(s.str());
       }
-      filters_[i] = Filter(models[i], who);
-      load_packed(i);
+      hypotheses_[i] = Hypothesis(models[i], who);
+      if constexpr (kPacked) packed_.load(i, hypotheses_);
     }
     if (!(options_.p_min >= 0.0) || !(options_.p_min * k < 1.0)) {
       std::ostringstream s;
       s << "filter bank: p_min must satisfy 0 <= p_min < 1/K = " << 1.0 / k << ", got " << options_.p_min;
       throw std::invalid_argument(s.str());
     }
-    const int nx = filters_[0].nx(), nz = filters_[0].nz();
+    const int nx = hypotheses_[0].nx(), nz = hypotheses_[0].nz();
     p_.setZero(k);
     log_p_.setZero(k);
     log_l_.setZero(k);
     q_.setZero(k);
-    q_new_.setZero(k);
-    r_.setZero(nz, k);
-    x_.setZero(nx, k);
+    columns_.resize(k, nx, nz);
     x_blend_.setZero(nx);
     z_hat_.setZero(nz);
     floored_.assign_size(k);
-    h_out_ = filters_[0].model().h;
+    h_out_ = hypotheses_[0].model().h;
     load_h_out();
     log_p_min_ = options_.p_min > 0.0 ? std::log(options_.p_min) : -std::numeric_limits<double>::infinity();
     log_norm_ = -0.5 * nz * std::log(2.0 * 3.14159265358979323846);
@@ -177,29 +184,12 @@ class FilterBank {
   bool update(const ZVector& z) noexcept {
     const int k = size();
     if (!z.allFinite()) return reject();
-    if (use_packed_) {
-      if (!packed_update(z)) return reject();
-    } else {
-      ZVector r = ZVector::Zero(nz());
-      XVector x = XVector::Zero(nx());
-      for (int i = 0; i < k; ++i) {
-        const double q = filters_[i].innovate(z, r);
-        filters_[i].corrected(r, x);
-        if (std::isnan(q) || !r.allFinite() || !x.allFinite()) return reject();
-        q_new_(i) = q;
-        r_.col(i) = r;
-        x_.col(i) = x;
-      }
-    }
-    if (!use_packed_) {
-      q_ = q_new_;
-      for (int i = 0; i < k; ++i) filters_[i].accept_update(r_.col(i), q_(i), x_.col(i));
-    }
+    if (!store([&](auto& s) { return s.update(z, hypotheses_, q_); })) return reject();
     // log-likelihoods (eq. 2) and the Bayes update (eq. 1), log domain
     double a_max = -std::numeric_limits<double>::infinity();
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
-      if (!options_.strip_leading_term) l += log_norm_ - 0.5 * filters_[i].log_det_a();
+      if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
       log_l_(i) = l;
       const double a = l + log_p_(i);
       if (a > a_max) a_max = a;
@@ -226,20 +216,8 @@ class FilterBank {
     return true;
   }
   bool propagate(const UVector& u) noexcept {
-    const int k = size();
     if (!u.allFinite()) return reject();
-    if (use_packed_) {
-      if (!packed_propagate(u)) return reject();
-    } else {
-      XVector x = XVector::Zero(nx());
-      for (int i = 0; i < k; ++i) {
-        filters_[i].predicted(u, x);
-        if (!x.allFinite()) return reject();
-        x_.col(i) = x;
-      }
-    }
-    if (!use_packed_)
-      for (int i = 0; i < k; ++i) filters_[i].accept_propagation(x_.col(i));
+    if (!store([&](auto& s) { return s.propagate(u, hypotheses_); })) return reject();
     return true;
   }
   // update(z) then propagate(u). Returns true if both were applied.
@@ -263,10 +241,7 @@ class FilterBank {
   }
   // Every filter back to x⁻ = 0, no-failure hypothesis presumed, counters zeroed.
   void reset() noexcept {
-    for (auto& f : filters_) f.reset();
-    stale_ = false;
-    reload_ = kPacked;
-    r_.setZero();
+    for (int i = 0; i < size(); ++i) store([&](auto& s) { s.clear(i); });
     q_.setZero();
     log_l_.setZero();
     rejected_ = 0;
@@ -275,34 +250,31 @@ class FilterBank {
   }
 
   // ---- outputs -------------------------------------------------------------------------
-  int size() const noexcept { return static_cast<int>(filters_.size()); }
-  int nx() const noexcept { return filters_[0].nx(); }
-  int nu() const noexcept { return filters_[0].nu(); }
-  int nz() const noexcept { return filters_[0].nz(); }
+  int size() const noexcept { return static_cast<int>(hypotheses_.size()); }
+  int nx() const noexcept { return hypotheses_[0].nx(); }
+  int nu() const noexcept { return hypotheses_[0].nu(); }
+  int nz() const noexcept { return hypotheses_[0].nz(); }
   const PVector& probabilities() const noexcept { return p_; }
   const PVector& log_probabilities() const noexcept { return log_p_; }
   const PVector& log_likelihoods() const noexcept { return log_l_; }   // l_k of the last update
   const PVector& quadratic_forms() const noexcept { return q_; }       // q_k of the last update
-  // (K,NZ): row k = r_k of the last accepted update.
+  // (K,NZ): row k = r_k of the last accepted update (zero for a filter loaded since).
   ResidualMatrix residuals() const noexcept {
-    sync_filters();
     ResidualMatrix r(size(), nz());
-    for (int i = 0; i < size(); ++i) r.row(i) = filters_[i].residual().transpose();
+    for (int i = 0; i < size(); ++i) r.row(i) = residual(i).transpose();
     return r;
   }
   // (K,NX): row k = x⁺_k, filter k's posterior estimate at the last accepted update
   // (the estimates the blended state weighs).
   StateMatrix state_estimates() const noexcept {
-    sync_filters();
     StateMatrix s(size(), nx());
-    for (int i = 0; i < size(); ++i) s.row(i) = filters_[i].posterior().transpose();
+    for (int i = 0; i < size(); ++i) s.row(i) = posterior(i).transpose();
     return s;
   }
   // (K,NX): row k = x⁻_k, filter k's prediction for the next update.
   StateMatrix prior_states() const noexcept {
-    sync_filters();
     StateMatrix s(size(), nx());
-    for (int i = 0; i < size(); ++i) s.row(i) = filters_[i].prior().transpose();
+    for (int i = 0; i < size(); ++i) s.row(i) = prior(i).transpose();
     return s;
   }
   const XVector& blended_state() const noexcept { return x_blend_; }   // sum p_k x⁺_k
@@ -313,107 +285,72 @@ class FilterBank {
   const FilterBankOptions& options() const noexcept { return options_; }
   // True when the frames run through the packed AVX2/FMA kernel (fixed sizes, CPU support).
   bool vectorized_kernel() const noexcept { return use_packed_; }
-  const Filter& filter(int k) const {
-    sync_filters();
-    return filters_.at(k);
+
+  // ---- filter k (k in [0, size()); not checked) -------------------------------------------
+  // What filter k is: its model, A⁻¹ and ln|A|.
+  const Hypothesis& hypothesis(int k) const noexcept { return hypotheses_[k]; }
+  // Filter k's state, read from the store: x⁻_k, x⁺_k (at the last accepted update or as
+  // set), r_k, and whether x⁺_k is newer than x⁻_k (the next propagate starts from it).
+  XMap prior(int k) const noexcept { return store([&](const auto& s) { return s.prior(k); }); }
+  XMap posterior(int k) const noexcept { return store([&](const auto& s) { return s.posterior(k); }); }
+  ZMap residual(int k) const noexcept { return store([&](const auto& s) { return s.residual(k); }); }
+  bool corrected(int k) const noexcept { return store([&](const auto& s) { return s.corrected(k); }); }
+  // Replace filter k by `hypothesis` (same sizes; a plain copy, no heap for fixed sizes),
+  // starting from x⁻ = x⁺ = 0, r = 0 (its q_k and l_k stay those of the last update). Used at
+  // a hierarchical switch, with set_posterior; call presume() or refresh_blend() after.
+  void load_filter(int k, const Hypothesis& hypothesis) noexcept {
+    hypotheses_[k] = hypothesis;
+    if constexpr (kPacked) packed_.load(k, hypotheses_);
+    store([&](auto& s) { s.clear(k); });
   }
-  // Mutable access (e.g. set_prior): the bank takes the filters' states back at its next
-  // frame or blend.
-  Filter& filter(int k) {
-    sync_filters();
-    reload_ = kPacked;
-    return filters_.at(k);
-  }
-  // Replace filter k by a preloaded one of the same sizes (a plain copy: no heap for fixed
-  // sizes), and set filter k's posterior x⁺ (see SteadyStateFilter::set_posterior). Used at
-  // a hierarchical switch; k must be in [0, size()). Call presume() or refresh_blend() after.
-  void load_filter(int k, const Filter& f) noexcept {
-    filters_[k] = f;
-    load_packed(k);
-  }
+  // Set filter k's posterior x⁺ and mark it current, so the next propagate starts from it
+  // (a filter brought on line after the frame's update).
   void set_posterior(int k, const XVector& x_post) noexcept {
-    sync_filters();
-    filters_[k].set_posterior(x_post);
-    if constexpr (kPacked) packed_.load_state(k, filters_[k]);
+    store([&](auto& s) { s.set_posterior(k, x_post); });
   }
-  const XVector& posterior(int k) const noexcept {
-    sync_filters();
-    return filters_[k].posterior();
+  // Set filter k's prior x⁻ (before an update); its posterior is left as it was.
+  void set_prior(int k, const XVector& x_prior) noexcept {
+    store([&](auto& s) { s.set_prior(k, x_prior); });
   }
   // Touch the per-frame working set (cache_warm.h), ahead of a frame that has a deadline:
-  // the packed kernel's buffers when it runs, else the filters (fixed sizes: inline; dynamic
-  // sizes keep their matrices on the heap and only the bank's own vectors are touched).
-  // Reads only: the bank's state and results do not change.
+  // the packed kernel's buffers when it runs, else the hypotheses and the column store
+  // (fixed sizes: inline; dynamic sizes keep their matrices on the heap and only the bank's
+  // own vectors are touched). Reads only: the bank's state and results do not change.
   void warm_cache() const noexcept {
     const auto vec = [](const auto& m) { touch_lines(m.data(), sizeof(double) * m.size()); };
-    vec(p_), vec(log_p_), vec(log_l_), vec(q_), vec(q_new_), vec(r_), vec(x_), vec(x_blend_), vec(z_hat_),
-        vec(h_out_);
+    vec(p_), vec(log_p_), vec(log_l_), vec(q_), vec(x_blend_), vec(z_hat_), vec(h_out_);
     if constexpr (kPacked) {
       if (use_packed_) return packed_.warm_cache();
     }
-    if constexpr (kFixed && NX != Eigen::Dynamic && NU != Eigen::Dynamic && NZ != Eigen::Dynamic) touch(filters_);
+    if constexpr (kFixed && NX != Eigen::Dynamic && NU != Eigen::Dynamic && NZ != Eigen::Dynamic) {
+      touch(hypotheses_);
+      touch(columns_);
+    }
   }
   // Recompute x̂ and z_hat from the filters' posteriors and the current probabilities.
   void refresh_blend() noexcept {
-    if constexpr (kPacked) {
-      if (use_packed_) {  // one pass over the packed x⁺_k
-        take_filter_states();
-        packed_.blend(p_.data(), x_blend_, z_hat_);
-        return;
-      }
-    }
-    x_blend_.setZero();
-    for (int i = 0; i < size(); ++i) x_blend_.noalias() += p_(i) * filters_[i].posterior();
-    z_hat_.noalias() = h_out_ * x_blend_;
+    store([&](const auto& s) { s.blend(p_, h_out_, x_blend_, z_hat_); });
   }
 
  private:
-  // ---- the packed kernel (fixed sizes, packed_bank.h) --------------------------------------
-  void load_packed(int i) noexcept {
-    if constexpr (kPacked) packed_.load(i, filters_);
-    (void)i;
+  // The one store of the filters' states (see the header comment): f(packed_) on the kernel
+  // path, else f(columns_).
+  template <class F>
+  decltype(auto) store(F&& f) noexcept {
+    if constexpr (kPacked) {
+      if (use_packed_) return f(packed_);
+    }
+    return f(columns_);
+  }
+  template <class F>
+  decltype(auto) store(F&& f) const noexcept {
+    if constexpr (kPacked) {
+      if (use_packed_) return f(packed_);
+    }
+    return f(columns_);
   }
   void load_h_out() noexcept {
     if constexpr (kPacked) packed_.load_h_out(h_out_);
-  }
-  bool packed_update(const ZVector& z) noexcept {
-    if constexpr (kPacked) {
-      take_filter_states();
-      if (!packed_.update(z, filters_, q_)) return false;
-      stale_ = true;
-      return true;
-    }
-    (void)z;
-    return false;
-  }
-  bool packed_propagate(const UVector& u) noexcept {
-    if constexpr (kPacked) {
-      take_filter_states();
-      if (!packed_.propagate(u)) return false;
-      stale_ = true;
-      return true;
-    }
-    (void)u;
-    return false;
-  }
-
-  // The packed kernel keeps the filters' states in its own buffers (packed_bank.h):
-  // sync_filters() copies them back into filters_ when something reads a filter (outputs
-  // only, never per frame); take_filter_states() copies them from filters_ after filters_
-  // were written (reset, filter(k)). Not thread-safe for concurrent readers.
-  void sync_filters() const noexcept {
-    if constexpr (kPacked) {
-      if (!stale_) return;
-      for (int i = 0; i < K; ++i) packed_.store_state(i, filters_[i]);
-      stale_ = false;
-    }
-  }
-  void take_filter_states() noexcept {
-    if constexpr (kPacked) {
-      if (!reload_) return;
-      for (int i = 0; i < K; ++i) packed_.load_state(i, filters_[i]);
-      reload_ = false;
-    }
   }
 
   bool reject() noexcept {
@@ -454,29 +391,16 @@ class FilterBank {
     }
   }
 
-  // A flag per hypothesis: std::array for fixed K (no heap), std::vector when dynamic.
-  struct Flags {
-    std::conditional_t<kFixed, std::array<unsigned char, (kFixed ? K : 1)>, std::vector<unsigned char>> v{};
-    void assign_size(int n) {
-      if constexpr (!kFixed) v.assign(n, 0);
-      (void)n;
-    }
-    unsigned char& operator[](int i) noexcept { return v[i]; }
-  };
-
   FilterBankOptions options_;
-  mutable Filters filters_{};  // with the packed kernel, filter states lag until sync_filters()
-  PVector p_, log_p_, log_l_, q_, q_new_;
-  ZColumns r_;
-  Columns x_;
+  Hypotheses hypotheses_{};    // what each filter is; immutable but for load_filter
+  PVector p_, log_p_, log_l_, q_;
   XVector x_blend_;
   ZVector z_hat_;
   OutputMatrix h_out_;
-  Flags floored_;
-  bool use_packed_ = false;
-  mutable bool stale_ = false;   // filters_' states are behind packed_'s
-  bool reload_ = false;          // packed_'s states are behind filters_'
+  HypothesisFlags<K> floored_;
+  bool use_packed_ = false;    // the store: packed_ if true, else columns_
   Packed packed_{};
+  Columns columns_{};
   double log_p_min_ = 0.0;
   double log_norm_ = 0.0;
   std::int64_t rejected_ = 0;

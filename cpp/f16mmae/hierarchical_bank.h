@@ -29,7 +29,8 @@
 // or Eigen::Dynamic (DynamicHierarchicalBank, any K = 1 + number of singles).
 // Throws: the constructor throws std::invalid_argument (invalid ModelBank, sizes that do not
 // match the template, a missing hypothesis). update/propagate/step are noexcept and, for
-// fixed sizes, allocate nothing: switches copy preloaded fixed-size filters; the
+// fixed sizes, allocate nothing: switches copy preloaded fixed-size hypothesis filters
+// (their matrices; the on-line bank holds the states, filter_bank.h); the
 // declaration history has a fixed reserved capacity (further declarations are counted in
 // declarations_dropped()).
 #pragma once
@@ -66,7 +67,7 @@ template <int K, int NX, int NU, int NZ>
 class HierarchicalBank {
  public:
   using Bank = FilterBank<K, NX, NU, NZ>;
-  using Filter = typename Bank::Filter;
+  using Hypothesis = typename Bank::Hypothesis;
   using Model = typename Bank::Model;
   using XVector = typename Bank::XVector;
   using UVector = typename Bank::UVector;
@@ -254,8 +255,9 @@ class HierarchicalBank {
     history_.push_back(d);  // within the reserved capacity: no allocation
   }
 
-  // Bring `next` on line; every new filter starts from the declared filter's x⁺ and the
-  // declared hypothesis (at `declared`, its position in the current bank) is presumed.
+  // Bring `next` on line; every new filter starts from the declared filter's x⁺ (x⁻ and r
+  // zero until the propagate) and the declared hypothesis (at `declared`, its position in
+  // the current bank) is presumed.
   void switch_to(const Indices& next, int declared, int level) noexcept {
     const XVector x0 = bank_.posterior(declared);
     const int presumed = level == 1 ? 1 : 0;
@@ -272,7 +274,7 @@ class HierarchicalBank {
   HierarchicalOptions options_;
   Bank bank_;
   Declarer declarer_;
-  std::vector<Filter> storage_;   // every hypothesis of the ModelBank, in its order
+  std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
   Indices level0_;
   std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of single failure f

@@ -1,13 +1,15 @@
-// PackedBank — the fixed-size FilterBank's fast path: the K filters' matrices and states in
-// the padded column-major layout of packed_kernel.h, and the frame run through its AVX2/FMA
-// kernels. Same equations as SteadyStateFilter and FilterBank:
+// PackedBank — the fixed-size FilterBank's kernel path: the K filters' matrices and states
+// in the padded column-major layout of packed_kernel.h, and the frame run through its
+// AVX2/FMA kernels. Same equations as HypothesisFilter and FilterBank:
 //   update     r_k = z - H_k x⁻_k,  q_k = r_kᵀ A_k⁻¹ r_k,  x⁺_k = x⁻_k + K_k r_k
 //   propagate  x⁻_k = Phi_k x_k + Bd_k u   (x_k = x⁺_k after an accepted update, else x⁻_k)
 //   blend      x̂ = sum_k p_k x⁺_k,  z_hat = H_out x̂
-// While the kernel runs, the states here are the bank's single source of truth (no per-frame
-// copy into the SteadyStateFilter objects): store_state / load_state move one filter's state
-// out / in when the bank's filters are read or written. Each state is double-buffered:
-//   xm[cur_m][k] = x⁻_k,   xp[cur_p][k] = x⁺_k,   r[cur_p][k] = r_k,   qf[k] = q_k,
+// On the kernel path this is where the filters' states live, and only here: the bank reads
+// and writes them through prior(k), posterior(k), residual(k), set_prior, set_posterior and
+// clear (the same interface as ColumnBank, the Eigen path's store, column_bank.h). The
+// matrices are a padded copy of the bank's HypothesisFilters, loaded by load(). Each state
+// is double-buffered:
+//   xm[cur_m][k] = x⁻_k,   xp[cur_p][k] = x⁺_k,   r[cur_p][k] = r_k,
 //   corrected[k]: x⁺_k is newer than x⁻_k.
 // A frame is computed into the spare slot and committed by flipping cur_p / cur_m only if
 // every result is finite, so a rejected frame changes nothing. Padding rows stay zero.
@@ -33,23 +35,23 @@ class PackedBank {};
 template <int K, int NX, int NU, int NZ>
 class PackedBank<true, K, NX, NU, NZ> {
  public:
-  using Filter = SteadyStateFilter<NX, NU, NZ>;
-  using XVector = typename Filter::XVector;
-  using UVector = typename Filter::UVector;
-  using ZVector = typename Filter::ZVector;
+  using Hypothesis = HypothesisFilter<NX, NU, NZ>;
+  using XVector = typename Hypothesis::XVector;
+  using UVector = typename Hypothesis::UVector;
+  using ZVector = typename Hypothesis::ZVector;
   using P = PackedFilter<NX, NU, NZ>;
   using Kernels = packed::Kernels<K, NX, NU, NZ>;
   static constexpr int PX = P::PX, PZ = P::PZ;
 
   static bool available() noexcept { return Kernels::available(); }
 
-  // Filter i's matrices and state, from filters[i]; notes whether every Phi is the same.
-  template <class Filters>
-  void load(int i, const Filters& filters) noexcept {
-    filters_[i].load(filters[i]);
-    load_state(i, filters[i]);
+  // Filter i's matrices from hypotheses[i]; notes whether every Phi is the same. Filter i's
+  // state is left as it was (see clear).
+  template <class Hypotheses>
+  void load(int i, const Hypotheses& hypotheses) noexcept {
+    filters_[i].load(hypotheses[i]);
     bool same = true;
-    for (int f = 1; f < K && same; ++f) same = filters[f].model().phi == filters[0].model().phi;
+    for (int f = 1; f < K && same; ++f) same = hypotheses[f].model().phi == hypotheses[0].model().phi;
     shared_phi_ = same;
     if (same) std::memcpy(phi_, filters_[0].phi, sizeof(phi_));
   }
@@ -58,24 +60,34 @@ class PackedBank<true, K, NX, NU, NZ> {
     for (int j = 0; j < NX; ++j)
       for (int i = 0; i < NZ; ++i) h_out_[j][i] = h(i, j);
   }
-  // Filter k's state in (into the current slots) / out (into the filter object).
-  void load_state(int k, const Filter& f) noexcept {
-    for (int i = 0; i < NX; ++i) xm_[cur_m_][k][i] = f.prior()(i);
-    for (int i = 0; i < NX; ++i) xp_[cur_p_][k][i] = f.posterior()(i);
-    for (int i = 0; i < NZ; ++i) r_[cur_p_][k][i] = f.residual()(i);
-    qf_[k] = f.quadratic_form();
-    corrected_[k] = f.corrected();
+
+  // ---- the state of filter k ---------------------------------------------------------------
+  Eigen::Map<const XVector> prior(int k) const noexcept { return Eigen::Map<const XVector>(xm_[cur_m_][k]); }
+  Eigen::Map<const XVector> posterior(int k) const noexcept { return Eigen::Map<const XVector>(xp_[cur_p_][k]); }
+  Eigen::Map<const ZVector> residual(int k) const noexcept { return Eigen::Map<const ZVector>(r_[cur_p_][k]); }
+  bool corrected(int k) const noexcept { return corrected_[k]; }
+  void set_prior(int k, const XVector& x) noexcept {
+    for (int i = 0; i < NX; ++i) xm_[cur_m_][k][i] = x(i);
+    corrected_[k] = false;
   }
-  void store_state(int k, Filter& f) const noexcept {
-    f.restore(Eigen::Map<const XVector>(xm_[cur_m_][k]), Eigen::Map<const XVector>(xp_[cur_p_][k]),
-              Eigen::Map<const ZVector>(r_[cur_p_][k]), qf_[k], corrected_[k]);
+  void set_posterior(int k, const XVector& x) noexcept {
+    for (int i = 0; i < NX; ++i) xp_[cur_p_][k][i] = x(i);
+    corrected_[k] = true;
+  }
+  // x⁻_k = x⁺_k = 0, r_k = 0, not corrected.
+  void clear(int k) noexcept {
+    for (double& v : xm_[cur_m_][k]) v = 0.0;
+    for (double& v : xp_[cur_p_][k]) v = 0.0;
+    for (double& v : r_[cur_p_][k]) v = 0.0;
+    corrected_[k] = false;
   }
 
+  // ---- per frame ----------------------------------------------------------------------------
   // The update of every filter; q_k into q_out(k). A q that overflows is recomputed by
-  // filters[k].quadratic_form (the robust form). Returns false, committing nothing, if a
+  // hypotheses[k].quadratic_form (the robust form). Returns false, committing nothing, if a
   // result is not finite (q may be +inf).
-  template <class Filters, class QVector>
-  bool update(const ZVector& z, const Filters& filters, QVector& q_out) noexcept {
+  template <class Hypotheses, class QVector>
+  bool update(const ZVector& z, const Hypotheses& hypotheses, QVector& q_out) noexcept {
     const int spare = 1 - cur_p_;
     const double* x[K];
     for (int i = 0; i < K; ++i) x[i] = xm_[cur_m_][i];
@@ -83,19 +95,20 @@ class PackedBank<true, K, NX, NU, NZ> {
     double probe = 0.0;
     kernel(filters_, z.data(), x, &r_[spare][0][0], q_, &xp_[spare][0][0], &probe);
     for (int i = 0; i < K; ++i)
-      if (!std::isfinite(q_[i])) q_[i] = filters[i].quadratic_form(Eigen::Map<const ZVector>(r_[spare][i]));
+      if (!std::isfinite(q_[i])) q_[i] = hypotheses[i].quadratic_form(Eigen::Map<const ZVector>(r_[spare][i]));
     if (probe != 0.0) return false;
     for (int i = 0; i < K; ++i)
       if (std::isnan(q_[i])) return false;
     for (int i = 0; i < K; ++i) {
-      q_out(i) = qf_[i] = q_[i];
+      q_out(i) = q_[i];
       corrected_[i] = true;
     }
     cur_p_ = spare;  // commit
     return true;
   }
   // The propagation of every filter. Returns false, committing nothing, if a result is not finite.
-  bool propagate(const UVector& u) noexcept {
+  template <class Hypotheses>
+  bool propagate(const UVector& u, const Hypotheses&) noexcept {
     const int spare = 1 - cur_m_;
     const double* x[K];
     for (int i = 0; i < K; ++i) x[i] = corrected_[i] ? xp_[cur_p_][i] : xm_[cur_m_][i];
@@ -110,11 +123,12 @@ class PackedBank<true, K, NX, NU, NZ> {
     cur_m_ = spare;  // commit
     return true;
   }
-  // x̂ = sum_k p_k x⁺_k and z_hat = H_out x̂, in one pass (p: K probabilities).
-  void blend(const double* p, XVector& x_blend, ZVector& z_hat) const noexcept {
+  // x̂ = sum_k p_k x⁺_k and z_hat = H_out x̂ (H_out as loaded by load_h_out), in one pass.
+  template <class PVector, class OutputMatrix>
+  void blend(const PVector& p, const OutputMatrix&, XVector& x_blend, ZVector& z_hat) const noexcept {
     static const auto kernel = Kernels::blend();
     alignas(32) double xb[PX], zh[PZ];
-    kernel(p, &xp_[cur_p_][0][0], &h_out_[0][0], xb, zh);
+    kernel(p.data(), &xp_[cur_p_][0][0], &h_out_[0][0], xb, zh);
     x_blend = Eigen::Map<const XVector>(xb);
     z_hat = Eigen::Map<const ZVector>(zh);
   }
@@ -122,15 +136,16 @@ class PackedBank<true, K, NX, NU, NZ> {
   void warm_cache() const noexcept { touch(*this); }
 
  private:
-  P filters_[K];
-  double phi_[NX][PX] = {};     // the shared Phi, when shared_phi_
-  double h_out_[NX][PZ] = {};   // H_out, column j = H_out(:, j)
-  bool shared_phi_ = false;
+  // Every padded column starts on a 32-byte boundary, so the kernels' 4-wide loads and
+  // stores never straddle a cache line (their speed otherwise depends on where the bank lies).
+  alignas(64) P filters_[K];
+  alignas(64) double phi_[NX][PX] = {};     // the shared Phi, when shared_phi_
+  alignas(64) double h_out_[NX][PZ] = {};   // H_out, column j = H_out(:, j)
+  alignas(64) double xm_[2][K][PX] = {};    // x⁻
+  alignas(64) double xp_[2][K][PX] = {};    // x⁺
+  alignas(64) double r_[2][K][PZ] = {};     // r
   double q_[K] = {};            // the kernel's q output (before the overflow fix-up)
-  double xm_[2][K][PX] = {};    // x⁻
-  double xp_[2][K][PX] = {};    // x⁺
-  double r_[2][K][PZ] = {};     // r
-  double qf_[K] = {};           // q of the last accepted update
+  bool shared_phi_ = false;
   bool corrected_[K] = {};
   int cur_m_ = 0, cur_p_ = 0;
 };

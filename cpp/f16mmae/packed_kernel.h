@@ -1,5 +1,5 @@
 // Packed per-frame kernel of the fixed-size FilterBank: the same frame equations as
-// SteadyStateFilter (r = z - H x⁻, q = rᵀ A⁻¹ r, x⁺ = x⁻ + K r; x⁻ = Phi x + Bd u), on
+// HypothesisFilter (r = z - H x⁻, q = rᵀ A⁻¹ r, x⁺ = x⁻ + K r; x⁻ = Phi x + Bd u), on
 // column-major copies of the matrices whose columns are zero-padded to a multiple of four
 // rows, so every column operation is a run of 4-wide fused multiply-adds (GCC/Clang vector
 // extensions compiled with target("avx2,fma")). The build stays portable (no -march): the
@@ -33,7 +33,7 @@ constexpr int padded4(int n) { return (n + 3) / 4 * 4; }
 
 // The matrices of one filter, column-major, columns padded with zeros to PX / PZ rows.
 template <int NX, int NU, int NZ>
-struct PackedFilter {
+struct alignas(64) PackedFilter {
   static constexpr int PX = padded4(NX), PZ = padded4(NZ);
   double h[NX][PZ];      // H,   column j = H(:, j)
   double a_inv[NZ][PZ];  // A⁻¹, column j
@@ -41,8 +41,9 @@ struct PackedFilter {
   double phi[NX][PX];    // Phi, column j
   double bd[NU][PX];     // Bd,  column j
 
-  template <class Filter>
-  void load(const Filter& f) noexcept {
+  // From a HypothesisFilter (its model and A⁻¹).
+  template <class Hypothesis>
+  void load(const Hypothesis& f) noexcept {
     std::memset(this, 0, sizeof(*this));
     const auto& m = f.model();
     for (int j = 0; j < NX; ++j)
@@ -78,7 +79,7 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
 // multiply-add chains are half as long: the kernel is latency-bound otherwise.
 #define F16MMAE_UPDATE_BODY                                                                  \
   constexpr int PX = P::PX, PZ = P::PZ, BX = PX / 4, BZ = PZ / 4;                            \
-  double zp[PZ] = {};                                                                        \
+  alignas(32) double zp[PZ] = {};                                                            \
   for (int i = 0; i < NZ; ++i) zp[i] = z[i];                                                 \
   v4d probe_r = {}, probe_x = {};                                                            \
   for (int f = 0; f < K; ++f) {                                                              \

@@ -11,11 +11,19 @@
 // Initial x⁻_0 = 0 (the trim). A⁻¹ (through a Cholesky factorisation of A) and ln|A| are
 // computed once, at construction.
 //
+// Two parts, kept apart:
+//   HypothesisFilter   what a hypothesis filter IS: its FilterModel, A⁻¹ and ln|A|, fixed at
+//                      construction, and the frame equations above as const functions of a
+//                      state passed in. A FilterBank holds these and stores the states of all
+//                      its filters itself, once (filter_bank.h).
+//   SteadyStateFilter  one stand-alone filter: a HypothesisFilter and its own state
+//                      (x⁻, x⁺, r, q).
+//
 // Sizes: Phi (NX,NX), Bd (NX,NU), H (NZ,NX), K (NX,NZ), A (NZ,NZ). Template arguments are
 // compile-time sizes (F16Filter = SteadyStateFilter<13, 5, 7>) or Eigen::Dynamic, in which
 // case the sizes are taken from the model.
 //
-// Throws: the constructor throws std::invalid_argument with a sentence when the model's
+// Throws: the constructors throw std::invalid_argument with a sentence when the model's
 // shapes disagree (or differ from the compile-time sizes), an entry is not finite, A is not
 // symmetric positive definite, or the error dynamics Phi (I - K H) are not stable (spectral
 // radius >= 1). Everything per frame is noexcept and, for fixed sizes, allocation-free.
@@ -87,8 +95,10 @@ struct FilterModel {
   }
 };
 
+// What one hypothesis filter is: its model, A⁻¹ and ln|A| (immutable after construction),
+// and the frame equations of the header comment as functions of a state passed in.
 template <int NX, int NU, int NZ>
-class SteadyStateFilter {
+class HypothesisFilter {
  public:
   using Model = FilterModel<NX, NU, NZ>;
   using XVector = Eigen::Matrix<double, NX, 1>;
@@ -97,34 +107,23 @@ class SteadyStateFilter {
   using AMatrix = typename Model::AMatrix;
 
   // An empty filter (sizes zero when dynamic); only for filling fixed-size containers.
-  SteadyStateFilter() = default;
+  HypothesisFilter() = default;
 
   // Validates the model (throws std::invalid_argument, see the header) and precomputes
   // A⁻¹ and ln|A|. `who` names the filter in error messages.
-  explicit SteadyStateFilter(const Model& model, const std::string& who = "filter model")
-      : m_(model) {
+  explicit HypothesisFilter(const Model& model, const std::string& who = "filter model") : m_(model) {
     m_.validate(who);
     const AMatrix a_sym = 0.5 * (m_.a + m_.a.transpose());
     const Eigen::LLT<AMatrix> llt(a_sym);
     a_inv_ = llt.solve(AMatrix::Identity(m_.nz(), m_.nz()));
     a_inv_ = 0.5 * (a_inv_ + a_inv_.transpose()).eval();
     log_det_a_ = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
-    reset();
   }
 
-  // x⁻ = x⁺ = 0 (the trim); the residual and quadratic form are zeroed.
-  void reset() noexcept {
-    x_prior_.setZero(m_.nx());
-    x_post_.setZero(m_.nx());
-    r_.setZero(m_.nz());
-    q_ = 0.0;
-    corrected_ = false;
-  }
-
-  // ---- per frame, split so a bank can check every filter before committing any ---------
+  // ---- the frame equations, on a state passed in (noexcept) --------------------------
   // r = z - H x⁻ and returns q = rᵀ A⁻¹ r (+inf when it overflows, never NaN for finite r).
-  double innovate(const ZVector& z, ZVector& r) const noexcept {
-    r.noalias() = z - m_.h * x_prior_;
+  double innovate(const XVector& x_prior, const ZVector& z, ZVector& r) const noexcept {
+    r.noalias() = z - m_.h * x_prior;
     return quadratic_form(r);
   }
   // rᵀ A⁻¹ r, robust to overflow: a non-finite plain result is recomputed on r scaled by
@@ -138,80 +137,16 @@ class SteadyStateFilter {
     const double inner = rs.dot(a_inv_ * rs);
     return (inner > 0.0 ? inner : 0.0) * s * s;
   }
-  // x⁻ + K r (the candidate posterior).
-  void corrected(const ZVector& r, XVector& x_post) const noexcept {
-    x_post.noalias() = x_prior_ + m_.k * r;
+  // x⁺ = x⁻ + K r.
+  void corrected(const XVector& x_prior, const ZVector& r, XVector& x_post) const noexcept {
+    x_post.noalias() = x_prior + m_.k * r;
   }
-  // Phi x + Bd u from the current estimate (x⁺ after an accepted update, else x⁻).
-  void predicted(const UVector& u, XVector& x_prior) const noexcept {
-    x_prior.noalias() = m_.phi * estimate() + m_.bd * u;
-  }
-  // Commit an update / a propagation computed by the functions above.
-  void accept_update(const ZVector& r, double q, const XVector& x_post) noexcept {
-    r_ = r;
-    q_ = q;
-    x_post_ = x_post;
-    corrected_ = true;
-  }
-  void accept_propagation(const XVector& x_prior) noexcept {
-    x_prior_ = x_prior;
-    corrected_ = false;
+  // x⁻_next = Phi x + Bd u, from the current estimate x (x⁺ after an accepted update, else x⁻).
+  void predicted(const XVector& x, const UVector& u, XVector& x_prior) const noexcept {
+    x_prior.noalias() = m_.phi * x + m_.bd * u;
   }
 
-  // ---- per frame, whole ----------------------------------------------------------------
-  // Update with z (eqs. above). Returns false, changing nothing, if z or a result is not finite.
-  bool update(const ZVector& z) noexcept {
-    if (!z.allFinite()) return false;
-    ZVector r = ZVector::Zero(m_.nz());
-    const double q = innovate(z, r);
-    XVector x = XVector::Zero(m_.nx());
-    corrected(r, x);
-    if (!r.allFinite() || std::isnan(q) || !x.allFinite()) return false;
-    accept_update(r, q, x);
-    return true;
-  }
-  // Propagate with u. Returns false, changing nothing, if u or the result is not finite.
-  bool propagate(const UVector& u) noexcept {
-    if (!u.allFinite()) return false;
-    XVector x = XVector::Zero(m_.nx());
-    predicted(u, x);
-    if (!x.allFinite()) return false;
-    accept_propagation(x);
-    return true;
-  }
-
-  // Set the posterior x⁺ (and mark it current, so the next propagate starts from it): used
-  // when a filter is brought on line at a hierarchical switch, after the frame's update.
-  void set_posterior(const XVector& x_post) noexcept {
-    x_post_ = x_post;
-    corrected_ = true;
-  }
-  // Set the prior x⁻ (before an update); the posterior is left as it was.
-  void set_prior(const XVector& x_prior) noexcept {
-    x_prior_ = x_prior;
-    corrected_ = false;
-  }
-
-  // Set the whole state at once (a bank keeping the filters' states elsewhere writes them back).
-  void restore(const XVector& x_prior, const XVector& x_post, const ZVector& r, double q,
-               bool corrected) noexcept {
-    x_prior_ = x_prior;
-    x_post_ = x_post;
-    r_ = r;
-    q_ = q;
-    corrected_ = corrected;
-  }
-
-  // ---- state and outputs ---------------------------------------------------------------
   const Model& model() const noexcept { return m_; }
-  const XVector& prior() const noexcept { return x_prior_; }        // x⁻
-  const XVector& posterior() const noexcept { return x_post_; }     // x⁺ at the last accepted update
-  // The current estimate: x⁺ if an update was accepted since the last propagation, else x⁻.
-  const XVector& estimate() const noexcept { return corrected_ ? x_post_ : x_prior_; }
-  // True when an update was accepted since the last propagation (estimate() is x⁺).
-  bool corrected() const noexcept { return corrected_; }
-  const ZVector& residual() const noexcept { return r_; }           // r at the last update
-  double quadratic_form() const noexcept { return q_; }             // rᵀ A⁻¹ r at the last update
   const AMatrix& a_inverse() const noexcept { return a_inv_; }
   double log_det_a() const noexcept { return log_det_a_; }          // ln|A|
   int nx() const noexcept { return m_.nx(); }
@@ -222,6 +157,93 @@ class SteadyStateFilter {
   Model m_;
   AMatrix a_inv_;
   double log_det_a_ = 0.0;
+};
+
+// One stand-alone filter: a HypothesisFilter and its state.
+template <int NX, int NU, int NZ>
+class SteadyStateFilter {
+ public:
+  using Hypothesis = HypothesisFilter<NX, NU, NZ>;
+  using Model = typename Hypothesis::Model;
+  using XVector = typename Hypothesis::XVector;
+  using UVector = typename Hypothesis::UVector;
+  using ZVector = typename Hypothesis::ZVector;
+  using AMatrix = typename Hypothesis::AMatrix;
+
+  // An empty filter (sizes zero when dynamic); only for filling fixed-size containers.
+  SteadyStateFilter() = default;
+
+  // Validates the model (throws std::invalid_argument, see the header) and precomputes
+  // A⁻¹ and ln|A|. `who` names the filter in error messages.
+  explicit SteadyStateFilter(const Model& model, const std::string& who = "filter model") : f_(model, who) {
+    reset();
+  }
+
+  // x⁻ = x⁺ = 0 (the trim); the residual and quadratic form are zeroed.
+  void reset() noexcept {
+    x_prior_.setZero(f_.nx());
+    x_post_.setZero(f_.nx());
+    r_.setZero(f_.nz());
+    q_ = 0.0;
+    corrected_ = false;
+  }
+
+  // Update with z (eqs. above). Returns false, changing nothing, if z or a result is not finite.
+  bool update(const ZVector& z) noexcept {
+    if (!z.allFinite()) return false;
+    ZVector r = ZVector::Zero(f_.nz());
+    const double q = f_.innovate(x_prior_, z, r);
+    XVector x = XVector::Zero(f_.nx());
+    f_.corrected(x_prior_, r, x);
+    if (!r.allFinite() || std::isnan(q) || !x.allFinite()) return false;
+    r_ = r;
+    q_ = q;
+    x_post_ = x;
+    corrected_ = true;
+    return true;
+  }
+  // Propagate with u. Returns false, changing nothing, if u or the result is not finite.
+  bool propagate(const UVector& u) noexcept {
+    if (!u.allFinite()) return false;
+    XVector x = XVector::Zero(f_.nx());
+    f_.predicted(estimate(), u, x);
+    if (!x.allFinite()) return false;
+    x_prior_ = x;
+    corrected_ = false;
+    return true;
+  }
+
+  // Set the posterior x⁺ (and mark it current, so the next propagate starts from it).
+  void set_posterior(const XVector& x_post) noexcept {
+    x_post_ = x_post;
+    corrected_ = true;
+  }
+  // Set the prior x⁻ (before an update); the posterior is left as it was.
+  void set_prior(const XVector& x_prior) noexcept {
+    x_prior_ = x_prior;
+    corrected_ = false;
+  }
+
+  // ---- state and outputs ---------------------------------------------------------------
+  const Hypothesis& hypothesis() const noexcept { return f_; }
+  const Model& model() const noexcept { return f_.model(); }
+  const XVector& prior() const noexcept { return x_prior_; }        // x⁻
+  const XVector& posterior() const noexcept { return x_post_; }     // x⁺ at the last accepted update
+  // The current estimate: x⁺ if an update was accepted since the last propagation, else x⁻.
+  const XVector& estimate() const noexcept { return corrected_ ? x_post_ : x_prior_; }
+  // True when an update was accepted since the last propagation (estimate() is x⁺).
+  bool corrected() const noexcept { return corrected_; }
+  const ZVector& residual() const noexcept { return r_; }           // r at the last update
+  double quadratic_form() const noexcept { return q_; }             // rᵀ A⁻¹ r at the last update
+  double quadratic_form(const ZVector& r) const noexcept { return f_.quadratic_form(r); }
+  const AMatrix& a_inverse() const noexcept { return f_.a_inverse(); }
+  double log_det_a() const noexcept { return f_.log_det_a(); }      // ln|A|
+  int nx() const noexcept { return f_.nx(); }
+  int nu() const noexcept { return f_.nu(); }
+  int nz() const noexcept { return f_.nz(); }
+
+ private:
+  Hypothesis f_;
   XVector x_prior_, x_post_;
   ZVector r_;
   double q_ = 0.0;
@@ -229,6 +251,7 @@ class SteadyStateFilter {
 };
 
 using F16FilterModel = FilterModel<13, 5, 7>;
+using F16HypothesisFilter = HypothesisFilter<13, 5, 7>;
 using F16Filter = SteadyStateFilter<13, 5, 7>;
 using DynamicFilterModel = FilterModel<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
 using DynamicFilter = SteadyStateFilter<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;

@@ -125,6 +125,17 @@ inline ModelBank make_bank(const Plant& p, const std::vector<std::string>& actua
   return b;
 }
 
+// An F-16-sized ModelBank (13 states; actuators LS RS LF RF RUD, sensors VEL AOA PIT AZ
+// ROL YAW AY: 79 hypotheses) on random_plant(13, 5, 7, seed, 1e-3, 1e-3), with fixed trims.
+inline const std::vector<std::string> kF16Actuators{"LS", "RS", "LF", "RF", "RUD"};
+inline const std::vector<std::string> kF16Sensors{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+inline ModelBank f16_model_bank(unsigned seed) {
+  const Plant plant = random_plant(13, 5, 7, seed, 1e-3, 1e-3);
+  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, 0.02), z_trim(7);
+  z_trim << 400.0, 0.1, 0.0, 1.0, 0.0, 0.0, 0.0;
+  return make_bank(plant, kF16Actuators, kF16Sensors, u_trim, z_trim);
+}
+
 // The truth: the plant with some components failed (actuator: no response to its
 // command; sensor: reads noise only), process and measurement noise.
 struct Truth {

@@ -48,7 +48,16 @@ def test_summary_point_rates_and_intervals_by_hand():
     a = p["any_declared"]
     # 2 of 2: lower bound 0.025^(1/2)
     assert a["count"] == 2 and a["ci95"]["clopper_pearson"] == [pytest.approx(math.sqrt(0.025), abs=1e-6), 1.0]
-    assert p["false_alarm"]["count"] == 0
+    assert p["false_alarm"]["count"] == 0 and p["declared_instead"] == {}
+    # the hypotheses declared instead: each run's first other one after the onset, most frequent
+    # first, ties by name whatever the order of the records
+    other = [{"component": "AOA", "failure_time_s": 3.0, "declarations": d, **_rec(False, True, None)} for d in (
+        [{"hypothesis": "RF", "time_s": 3.1}, {"hypothesis": "AZ", "time_s": 3.5}],
+        [{"hypothesis": "AZ", "time_s": 2.0}, {"hypothesis": "VEL", "time_s": 3.3}],
+        [{"hypothesis": "NONE", "time_s": 3.2}, {"hypothesis": "AZ", "time_s": 3.4}],
+        [{"hypothesis": "LS", "time_s": 3.0}], [{"hypothesis": "AOA", "time_s": 3.6}])]
+    for recs in (other, other[::-1]):
+        assert list(summarize_point(1.0, 0.0, recs)["declared_instead"].items()) == [("AZ", 1), ("LS", 1), ("RF", 1)]
 
 
 def test_truth_values_follow_the_sensor_sigma_and_the_lost_fraction():

@@ -25,7 +25,7 @@ Per (family, component, size) (:func:`summarize_point`): the rates of ``detected
 ``any_declared`` and ``false_alarm`` over its runs, each with its 95 % Clopper-Pearson
 and Wilson intervals (``engine.intervals.rate``), the median latency over detected runs,
 and ``declared_instead``: of the runs that declared another failure after the onset, the
-first such hypothesis of each, counted (the three most frequent).
+first such hypothesis of each, counted (the three most frequent, ties by name).
 
 Seeds (common random numbers across sizes and families): run ``n`` of component ``c`` flies
 ``evaluation_seed("detectability", S, c, n)`` at every size of every family, so a curve's
@@ -191,7 +191,8 @@ def summarize_point(size: float, value: float, records: list[dict]) -> dict:
     instead = Counter(d["hypothesis"] for r in records for d in _first_other(r))
     out = {"size": size, "value": value, "runs": n,
            "latency_median_s": float(np.median(lat)) if lat else None,
-           "declared_instead": dict(instead.most_common(DECLARED_INSTEAD_SHOWN))}
+           # most frequent first, ties by name: independent of the order runs finished in
+           "declared_instead": dict(sorted(instead.items(), key=lambda hk: (-hk[1], hk[0]))[:DECLARED_INSTEAD_SHOWN])}
     for field in ("detected", "any_declared", "false_alarm"):
         out[field] = rate(sum(1 for r in records if r[field]), n) if n else None
     return out

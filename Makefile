@@ -7,16 +7,17 @@ PYTHON      ?= python3
 VENV        := .venv
 PY          := $(VENV)/bin/python
 PIP         := $(PY) -m pip
-APT_PKGS    := g++ libeigen3-dev libgtest-dev googletest libglib2.0-dev
+APT_PKGS    := g++ libeigen3-dev libgtest-dev googletest libglib2.0-dev libsodium-dev clang libclang-rt-14-dev
 BUILD_REQS  := "scikit-build-core>=0.10" "pybind11>=2.13" "lcm>=1.5,<1.6" "jsbsim>=1.3,<1.4" cmake ninja
 SITE         = $(shell $(PY) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 JOBS        ?= 2
 
-.PHONY: demo test setup apt venv build ctest pytest bench clean help
+.PHONY: demo test setup apt venv build ctest pytest fuzz-check fuzz bench clean help
 
 help:
 	@echo "make demo   set up, build, run the main job on its embedded default"
-	@echo "make test   set up, build, run every test (ctest and pytest)"
+	@echo "make test   set up, build, run every test (ctest, pytest, fuzz corpora + $(FUZZ_SECONDS) s per fuzz target)"
+	@echo "make fuzz   run every fuzz target for FUZZ_LONG_SECONDS (default $(FUZZ_LONG_SECONDS)) s"
 	@echo "make build  (re)build the Python package and its C++ extension"
 	@echo "make bench  print the estimator benchmark"
 
@@ -24,7 +25,7 @@ demo: build
 	$(VENV)/bin/f16mmae campaign single --runs 30 --out results/demo
 	@echo "demo report: $(CURDIR)/results/demo/report.html"
 
-test: build ctest pytest
+test: build ctest pytest fuzz-check
 
 setup: apt venv
 
@@ -62,6 +63,27 @@ ctest: build/cpp/CMakeCache.txt
 
 pytest: build
 	$(PY) -m pytest -q
+
+# libFuzzer targets (tests/fuzz) in their own clang + AddressSanitizer build. fuzz-check
+# replays the committed corpora and fuzzes each of the 5 targets FUZZ_SECONDS (5 x 15 s = 75 s
+# in `make test`); `make fuzz` runs each FUZZ_LONG_SECONDS. New inputs stay in build/fuzz.
+FUZZ_SECONDS      ?= 15
+FUZZ_LONG_SECONDS ?= 600
+FUZZ_CMAKE = $(VENV)/bin/cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_PREFIX_PATH="$(SITE)" \
+	  -DF16MMAE_BUILD_PYTHON=OFF -DF16MMAE_BUILD_TESTS=OFF -DF16MMAE_BUILD_FUZZERS=ON
+
+fuzz-check: setup
+	@mkdir -p build
+	$(FUZZ_CMAKE) -DF16MMAE_FUZZ_SECONDS=$(FUZZ_SECONDS) >/dev/null
+	flock build/.lock-fuzz $(VENV)/bin/cmake --build build/fuzz --target fuzzers -j $(JOBS)
+	$(VENV)/bin/ctest --test-dir build/fuzz --output-on-failure
+
+fuzz: setup
+	@mkdir -p build
+	$(FUZZ_CMAKE) -DF16MMAE_FUZZ_SECONDS=$(FUZZ_LONG_SECONDS) >/dev/null
+	flock build/.lock-fuzz $(VENV)/bin/cmake --build build/fuzz --target fuzzers -j $(JOBS)
+	$(VENV)/bin/ctest --test-dir build/fuzz --output-on-failure
 
 bench: build
 	$(VENV)/bin/f16mmae bench estimator

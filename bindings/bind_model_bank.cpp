@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bankfile/bank_file.h"
+#include "bankfile/bank_signature.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/model_bank.h"
 
@@ -115,7 +116,7 @@ std::vector<std::string> names_from(py::handle obj, const char* what) {
 ModelBank make_bank(py::handle hypotheses, py::handle state_names, py::handle input_names,
                     py::handle measurement_names, double frame_rate_hz, py::handle u_trim, py::handle z_trim,
                     py::handle h_output, double mach, double alt_ft, const std::string& tuning,
-                    py::handle metadata, bool validate) {
+                    double p_min, double threshold, double dwell_s, py::handle metadata, bool validate) {
   ModelBank bank;
   bank.state_names = names_from(state_names, "state_names");
   bank.input_names = names_from(input_names, "input_names");
@@ -135,6 +136,7 @@ ModelBank make_bank(py::handle hypotheses, py::handle state_names, py::handle in
   bank.mach = mach;
   bank.alt_ft = alt_ft;
   bank.tuning = tuning;
+  bank.estimator = EstimatorSettings{p_min, threshold, dwell_s};
   if (py::isinstance<py::str>(metadata)) {
     bank.metadata = metadata.cast<std::string>();
   } else {  // a dict: canonical JSON, so equal metadata gives equal bytes and hash
@@ -252,9 +254,12 @@ condition. Hypothesis 0 must be "NONE". Immutable once built.
 hypotheses: a list of core.HypothesisModel, or of (name, model) pairs, or a dict
 name -> model, where a model is a mapping with keys phi, bd, h, k, a or an object with
 those attributes (e.g. core.FilterModel). u_trim / z_trim default to zeros; metadata is
-JSON text or a dict (stored as canonical JSON). validate=True (default) checks the bank
-at once (ValueError naming the hypothesis and the problem: shapes, finiteness, symmetric
-positive-definite A, stable Phi (I - K H)); save() always validates.
+JSON text or a dict (stored as canonical JSON) describing how the bank was made; p_min,
+threshold, dwell_s are the estimator settings the design recommends (typed fields of the
+file, format version 2; default the core's). validate=True (default) checks the bank
+at once (ValueError naming the field or hypothesis and the value: names, settings, flight
+condition, shapes, finiteness, symmetric positive-definite A, stable Phi (I - K H));
+save() always validates.
 
 content_hash: hex SHA-256 of the bank's file payload; it names the bank in every record.
 Files: bank.save(path) / core.save_bank(bank, path), core.load_bank(path) (refuses a
@@ -264,8 +269,9 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       .def(py::init(&make_bank), py::arg("hypotheses"), py::kw_only(), py::arg("state_names"),
            py::arg("input_names"), py::arg("measurement_names"), py::arg("frame_rate_hz"),
            py::arg("u_trim") = py::none(), py::arg("z_trim") = py::none(), py::arg("h_output") = py::none(),
-           py::arg("mach") = 0.0, py::arg("alt_ft") = 0.0, py::arg("tuning") = "", py::arg("metadata") = "",
-           py::arg("validate") = true)
+           py::arg("mach") = 0.0, py::arg("alt_ft") = 0.0, py::arg("tuning") = "",
+           py::arg("p_min") = kDefaultPMin, py::arg("threshold") = kDefaultThreshold,
+           py::arg("dwell_s") = kDefaultDwellS, py::arg("metadata") = "", py::arg("validate") = true)
       .def_property_readonly("hypothesis_names",
                              [](const ModelBank& b) {
                                py::list out;
@@ -290,7 +296,23 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       .def_property_readonly("mach", [](const ModelBank& b) { return b.mach; })
       .def_property_readonly("alt_ft", [](const ModelBank& b) { return b.alt_ft; })
       .def_property_readonly("tuning", [](const ModelBank& b) { return b.tuning; })
-      .def_property_readonly("metadata", [](const ModelBank& b) { return b.metadata; }, "JSON text")
+      .def_property_readonly("p_min", [](const ModelBank& b) { return b.estimator.p_min; },
+                             "recommended probability floor")
+      .def_property_readonly("threshold", [](const ModelBank& b) { return b.estimator.threshold; },
+                             "recommended declaration threshold")
+      .def_property_readonly("dwell_s", [](const ModelBank& b) { return b.estimator.dwell_s; },
+                             "recommended declaration dwell, s")
+      .def_property_readonly("estimator_settings",
+                             [](const ModelBank& b) {
+                               py::dict d;
+                               d["p_min"] = b.estimator.p_min;
+                               d["threshold"] = b.estimator.threshold;
+                               d["dwell_s"] = b.estimator.dwell_s;
+                               return d;
+                             },
+                             "the recommended settings as keyword arguments of core.HierarchicalBank")
+      .def_property_readonly("metadata", [](const ModelBank& b) { return b.metadata; },
+                             "JSON text: how the bank was made (provenance only)")
       .def_property_readonly("content_hash", [](const ModelBank& b) { return b.content_hash; },
                              "hex SHA-256 of the bank-file payload")
       .def("validate", &ModelBank::validate, "Raise ValueError naming the first problem, else return None.")
@@ -337,9 +359,26 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
           }));
 
   m.def(
-      "load_bank", [](py::handle path) { return load_bank(fspath(path)); }, py::arg("path"),
+      "load_bank",
+      [](py::handle path, py::handle public_key) {
+        return public_key.is_none() ? load_bank(fspath(path)) : load_signed_bank(fspath(path), fspath(public_key));
+      },
+      py::arg("path"), py::kw_only(), py::arg("public_key") = py::none(),
       "Read a model-bank file: checks magic, version, size and SHA-256, decodes and validates it.\n"
-      "FileNotFoundError if absent, OSError if unreadable, ValueError naming what is wrong.");
+      "With public_key (a 32-byte Ed25519 key file), first verifies the signature PATH.sig over the\n"
+      "file's bytes. FileNotFoundError if absent, OSError if unreadable or not a regular file,\n"
+      "ValueError naming what is wrong (a bad signature included).");
+  m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s
+  m.def(
+      "generate_bank_signing_keys",
+      [](py::handle public_key, py::handle secret_key) { generate_bank_signing_keys(fspath(public_key), fspath(secret_key)); },
+      py::arg("public_key"), py::arg("secret_key"),
+      "Write a new Ed25519 key pair for bank signatures: public (32 bytes), secret (64 bytes, mode 0600).");
+  m.def(
+      "sign_bank_file",
+      [](py::handle bank, py::handle secret_key) { sign_bank_file(fspath(bank), fspath(secret_key)); },
+      py::arg("bank"), py::arg("secret_key"),
+      "Sign a bank file's bytes with an Ed25519 secret key; writes the 64-byte signature to BANK.sig.");
   m.def(
       "save_bank", [](const ModelBank& b, py::handle path) { return save_bank(b, fspath(path)); }, py::arg("bank"),
       py::arg("path"), "Validate the bank and write its file atomically; returns content_hash.");

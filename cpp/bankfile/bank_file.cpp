@@ -8,9 +8,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "bankfile/sha256.h"
 
@@ -86,6 +83,12 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
     fail("truncated: " + std::to_string(size) + " bytes, the header alone has " +
          std::to_string(kBankFileHeaderSize));
   const std::uint64_t version = get_be(data + kVersionOffset, 4);
+  if (version == 1)
+    fail("format version 1 is no longer read: this build reads version " +
+         std::to_string(ModelBank::kFormatVersion) +
+         ", where the estimator settings are typed fields. Regenerate the bank with the design command "
+         "recorded in its metadata, e.g. `f16mmae design --mach 0.4 --alt-ft 20000 --tuning tuned --out FILE` "
+         "(the shipped banks: `python -m f16mmae.design.calibrate --banks`)");
   if (version != ModelBank::kFormatVersion)
     fail("unsupported format version " + std::to_string(version) + " (this build reads version " +
          std::to_string(ModelBank::kFormatVersion) + ")");
@@ -137,16 +140,53 @@ std::string save_bank(const ModelBank& bank, const std::string& path) {
   return to_hex(sha256(image.data() + kBankFileHeaderSize, image.size() - kBankFileHeaderSize));
 }
 
+std::vector<std::uint8_t> read_regular_file(const std::string& path, std::uint64_t max_bytes,
+                                            const std::string& what) {
+  const std::string who = what + " '" + path + "': ";
+  // O_NONBLOCK: opening a FIFO with no writer returns at once instead of waiting for one.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    if (errno == ENOENT) throw BankFileNotFound(who + "no such file");
+    throw BankFileIoError(who + "cannot open it (" + errno_text() + ")");
+  }
+  struct FdCloser {
+    int fd;
+    ~FdCloser() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw BankFileIoError(who + "cannot stat it (" + errno_text() + ")");
+  if (!S_ISREG(st.st_mode)) {
+    const char* kind = S_ISDIR(st.st_mode)    ? "a directory"
+                       : S_ISFIFO(st.st_mode) ? "a FIFO"
+                       : S_ISCHR(st.st_mode)  ? "a character device"
+                       : S_ISBLK(st.st_mode)  ? "a block device"
+                       : S_ISSOCK(st.st_mode) ? "a socket"
+                                              : "not a regular file";
+    throw BankFileIoError(who + "is " + kind + "; it must be a regular file");
+  }
+  const std::uint64_t size = static_cast<std::uint64_t>(st.st_size);
+  if (size > max_bytes)
+    throw BankFileFormatError(who + "is " + std::to_string(size) + " bytes, over the limit of " +
+                              std::to_string(max_bytes) + " bytes");
+  // One byte more than the size: a file that grows while being read is noticed, not cut.
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size) + 1);
+  std::size_t got = 0;
+  while (got < bytes.size()) {
+    const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw BankFileIoError(who + "read failed (" + errno_text() + ")");
+    }
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  if (got != size) throw BankFileIoError(who + "changed size while being read");
+  bytes.resize(static_cast<std::size_t>(size));
+  return bytes;
+}
+
 ModelBank load_bank(const std::string& path) {
-  const std::string who = "bank file '" + path + "': ";
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (status.type() == std::filesystem::file_type::not_found) throw BankFileNotFound(who + "no such file");
-  if (std::filesystem::is_directory(status)) throw BankFileIoError(who + "is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw BankFileIoError(who + "cannot open it (" + errno_text() + ")");
-  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (in.bad()) throw BankFileIoError(who + "read failed (" + errno_text() + ")");
+  const std::vector<std::uint8_t> bytes = read_regular_file(path, kMaxBankFileBytes, "bank file");
   return parse_bank_file(bytes.data(), bytes.size(), "'" + path + "'");
 }
 

@@ -13,12 +13,24 @@
 // the same bank always gives the same bytes and the same hash: the hash names the bank in
 // every campaign record.
 //
-// load_bank refuses, with a message naming the file and the problem: a missing file
-// (BankFileNotFound), an unreadable one (BankFileIoError), and (BankFileFormatError, an
-// std::invalid_argument) wrong magic, unsupported version, truncation or trailing bytes,
-// a hash mismatch (corruption), a payload that is not an lcmt_model_bank (fingerprint) or
-// does not decode (sizes); then everything ModelBank::validate() rejects
-// (std::invalid_argument: shapes, finiteness, SPD A_k, stable Phi_k (I - K_k H_k)).
+// load_bank reads only a regular file of at most kMaxBankFileBytes (read_regular_file): it
+// opens without blocking (a FIFO cannot hang it) and refuses a device, FIFO, socket or folder
+// by name before reading a byte. It refuses, with a message naming the file and the problem: a
+// missing file (BankFileNotFound), an unreadable or non-regular one (BankFileIoError), and
+// (BankFileFormatError, an std::invalid_argument) wrong magic, an unsupported version,
+// truncation or trailing bytes, a hash mismatch (corruption), a payload that is not an
+// lcmt_model_bank (fingerprint) or whose declared sizes do not fit (PayloadReader checks
+// each against the bytes left and the limits below before allocating, and names the
+// field); then everything ModelBank::validate() rejects (std::invalid_argument naming the
+// field and the value: names, settings, flight condition, shapes, finiteness, SPD A_k,
+// stable Phi_k (I - K_k H_k)).
+//
+// Format version 1 (estimator settings in the metadata JSON) is refused, not upgraded, with
+// a sentence saying how to regenerate the bank: upgrading would keep a JSON reader alive
+// only to guess settings from free text, and the upgraded bank would have another content
+// hash than its file, so records would name a bank that exists nowhere. A design is
+// deterministic, so regenerating gives the same filters.
+//
 // save_bank validates first, so a bad bank is never written, and replaces the file
 // atomically (temporary file in the same folder, fsync, rename).
 #pragma once
@@ -35,6 +47,14 @@ namespace f16mmae {
 
 inline constexpr char kBankFileMagic[8] = {'F', '1', '6', 'M', 'M', 'A', 'E', 'B'};
 inline constexpr std::size_t kBankFileHeaderSize = 52;
+
+// Limits of a bank the loader accepts (the F-16 bank: 13 states, 5 inputs, 7 measurements,
+// 79 hypotheses, names of a few bytes, ~300 KB).
+inline constexpr std::int64_t kMaxBankDimension = 256;         // nx, nu, nz; matrix rows, cols
+inline constexpr std::int64_t kMaxBankHypotheses = 4096;
+inline constexpr std::int64_t kMaxBankNameBytes = 256;         // a state/input/measurement/hypothesis name
+inline constexpr std::int64_t kMaxBankTextBytes = 1 << 20;     // tuning, metadata
+inline constexpr std::uint64_t kMaxBankFileBytes = 64u << 20;  // the whole file
 
 // The file does not exist.
 class BankFileNotFound : public std::runtime_error {
@@ -53,7 +73,8 @@ class BankFileFormatError : public std::invalid_argument {
 // std::invalid_argument if a name holds a NUL character or a size exceeds int32.
 std::vector<std::uint8_t> encode_bank_payload(const ModelBank& bank);
 // Decodes a payload into a bank with content_hash set; does not validate.
-// Throws BankFileFormatError (wrong fingerprint, sizes that do not decode, trailing bytes).
+// Throws BankFileFormatError naming the field (wrong fingerprint, a declared size over a
+// limit or over the bytes left, a cut-off field, trailing bytes).
 ModelBank decode_bank_payload(const std::uint8_t* data, std::size_t size);
 // Hex SHA-256 of encode_bank_payload(bank).
 std::string bank_content_hash(const ModelBank& bank);
@@ -68,5 +89,11 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
 std::string save_bank(const ModelBank& bank, const std::string& path);
 // Reads, checks and validates a bank file; the result has content_hash set.
 ModelBank load_bank(const std::string& path);
+
+// The bytes of a regular file of at most max_bytes, opened without blocking: a missing file
+// is BankFileNotFound; a folder, FIFO, device or socket, or a read error, BankFileIoError; a
+// larger file BankFileFormatError. Messages start with "<what> '<path>': ".
+std::vector<std::uint8_t> read_regular_file(const std::string& path, std::uint64_t max_bytes,
+                                            const std::string& what);
 
 }  // namespace f16mmae

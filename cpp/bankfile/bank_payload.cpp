@@ -1,10 +1,13 @@
 // ModelBank <-> f16mmae::lcmt_model_bank (the LCM payload of a bank file); see bank_file.h.
 // Matrices travel row-major with their dimensions: data[i][j] = M(i, j).
+// Encoding uses the lcm-gen type; decoding uses PayloadReader (payload_reader.h), which
+// checks every declared size in 64 bits before allocating, and names the field it refuses.
 #include <cstring>
 #include <limits>
 #include <sstream>
 
 #include "bankfile/bank_file.h"
+#include "bankfile/payload_reader.h"
 #include "bankfile/sha256.h"
 #include "f16mmae/lcmt_model_bank.hpp"
 
@@ -33,14 +36,6 @@ lcmt_bank_matrix to_lcm(const Eigen::MatrixXd& m, const char* what) {
   return out;
 }
 
-Eigen::MatrixXd from_lcm(const lcmt_bank_matrix& m) {
-  if (m.rows < 0 || m.cols < 0)
-    throw BankFileFormatError("payload declares a " + std::to_string(m.rows) + "x" + std::to_string(m.cols) + " matrix");
-  Eigen::MatrixXd out(m.rows, m.cols);
-  for (int i = 0; i < m.rows; ++i)
-    for (int j = 0; j < m.cols; ++j) out(i, j) = m.data[i][j];
-  return out;
-}
 
 std::vector<std::string> checked_names(const std::vector<std::string>& names, const char* what) {
   for (const auto& n : names) checked_string(n, what);
@@ -66,6 +61,9 @@ std::vector<std::uint8_t> encode_bank_payload(const ModelBank& bank) {
   msg.mach = bank.mach;
   msg.alt_ft = bank.alt_ft;
   msg.tuning = checked_string(bank.tuning, "tuning");
+  msg.p_min = bank.estimator.p_min;
+  msg.threshold = bank.estimator.threshold;
+  msg.dwell_s = bank.estimator.dwell_s;
   msg.metadata = checked_string(bank.metadata, "metadata");
   msg.num_hypotheses = checked_size(bank.hypotheses.size(), "hypotheses");
   msg.hypotheses.reserve(bank.hypotheses.size());
@@ -87,45 +85,44 @@ std::vector<std::uint8_t> encode_bank_payload(const ModelBank& bank) {
 }
 
 ModelBank decode_bank_payload(const std::uint8_t* data, std::size_t size) {
-  auto fail = [](const std::string& what) { throw BankFileFormatError(what); };
-  if (size < 8) fail("payload of " + std::to_string(size) + " bytes is too short for an LCM message");
-  if (size > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    fail("payload of " + std::to_string(size) + " bytes exceeds the LCM limit of 2 GiB");
-  std::int64_t fingerprint = 0;
-  __int64_t_decode_array(data, 0, 8, &fingerprint, 1);
+  PayloadReader in(data, size);
+  const std::int64_t fingerprint = in.i64("fingerprint");
   if (fingerprint != lcmt_model_bank::getHash()) {
     std::ostringstream s;
     s << "payload type fingerprint 0x" << std::hex << static_cast<std::uint64_t>(fingerprint)
       << " is not that of f16mmae.lcmt_model_bank (0x" << static_cast<std::uint64_t>(lcmt_model_bank::getHash())
       << "): written by an incompatible version, or not a model bank";
-    fail(s.str());
+    throw BankFileFormatError(s.str());
   }
-  lcmt_model_bank msg;
-  int used = -1;
-  try {
-    used = msg.decode(data, 0, static_cast<int>(size));
-  } catch (const std::exception& e) {  // a huge declared size that cannot be allocated
-    fail(std::string("payload does not decode as f16mmae.lcmt_model_bank (") + e.what() + ")");
-  }
-  if (used < 0) fail("payload does not decode as f16mmae.lcmt_model_bank (declared sizes exceed the data)");
-  if (static_cast<std::size_t>(used) != size)
-    fail("payload has " + std::to_string(size - used) + " bytes after the f16mmae.lcmt_model_bank message");
-
   ModelBank bank;
-  bank.state_names = msg.state_names;
-  bank.input_names = msg.input_names;
-  bank.measurement_names = msg.measurement_names;
-  bank.u_trim = Eigen::Map<const Eigen::VectorXd>(msg.u_trim.data(), msg.u_trim_size);
-  bank.z_trim = Eigen::Map<const Eigen::VectorXd>(msg.z_trim.data(), msg.z_trim_size);
-  bank.h_output = from_lcm(msg.h_output);
-  bank.frame_rate_hz = msg.frame_rate_hz;
-  bank.mach = msg.mach;
-  bank.alt_ft = msg.alt_ft;
-  bank.tuning = msg.tuning;
-  bank.metadata = msg.metadata;
-  bank.hypotheses.reserve(msg.hypotheses.size());
-  for (const lcmt_bank_hypothesis& h : msg.hypotheses)
-    bank.hypotheses.push_back({h.name, from_lcm(h.phi), from_lcm(h.bd), from_lcm(h.h), from_lcm(h.k), from_lcm(h.a)});
+  bank.state_names = in.names("state_names", "num_states");
+  bank.input_names = in.names("input_names", "num_inputs");
+  bank.measurement_names = in.names("measurement_names", "num_measurements");
+  bank.u_trim = in.vector("u_trim", "u_trim_size");
+  bank.z_trim = in.vector("z_trim", "z_trim_size");
+  bank.h_output = in.matrix("h_output");
+  bank.frame_rate_hz = in.f64("frame_rate_hz");
+  bank.mach = in.f64("mach");
+  bank.alt_ft = in.f64("alt_ft");
+  bank.tuning = in.text("tuning", kMaxBankTextBytes);
+  bank.estimator.p_min = in.f64("p_min");
+  bank.estimator.threshold = in.f64("threshold");
+  bank.estimator.dwell_s = in.f64("dwell_s");
+  bank.metadata = in.text("metadata", kMaxBankTextBytes);
+  // each hypothesis takes at least a name (5 bytes) and five empty matrices (8 bytes each)
+  const std::size_t n = in.count("num_hypotheses", kMaxBankHypotheses, 45);
+  bank.hypotheses.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string who = "hypotheses[" + std::to_string(i) + "]";
+    HypothesisModel& h = bank.hypotheses[i];
+    h.name = in.text(who + ".name", kMaxBankNameBytes);
+    h.phi = in.matrix(who + ".phi");
+    h.bd = in.matrix(who + ".bd");
+    h.h = in.matrix(who + ".h");
+    h.k = in.matrix(who + ".k");
+    h.a = in.matrix(who + ".a");
+  }
+  in.finish();
   bank.content_hash = to_hex(sha256(data, size));
   return bank;
 }

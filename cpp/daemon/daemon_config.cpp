@@ -12,7 +12,7 @@ std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
-         "                   [--rewarm-us US] [--auth-key FILE] [--quiet]\n"
+         "                   [--rewarm-us US] [--auth-key FILE] [--bank-public-key FILE] [--quiet]\n"
          "\n"
          "The MMAE executive of f16mmae: steps the hierarchical bank of FILE once per sensor\n"
          "frame received over LCM and publishes the hypothesis probabilities and z_hat.\n"
@@ -23,8 +23,8 @@ std::string daemon_usage() {
          "  --channel-prefix P   prepended to F16_SENSORS, F16_COMMANDS, MMAE_STATUS, MMAE_RESET\n"
          "  --rate-hz HZ         frame rate; must equal the bank's design rate (default 64)\n"
          "  --p-min P            probability floor     } default: the bank's recommendation\n"
-         "  --threshold T        declaration threshold } (its metadata \"estimator\"), else the\n"
-         "  --dwell-s S          declaration dwell, s  } core's defaults -- as 'f16mmae run'\n"
+         "  --threshold T        declaration threshold } (its typed fields p_min, threshold,\n"
+         "  --dwell-s S          declaration dwell, s  } dwell_s) -- as 'f16mmae run'\n"
          "  --max-frames N       exit after publishing N status frames (default: until signalled)\n"
          "  --realtime PRIORITY  run SCHED_FIFO at PRIORITY (1-99) with memory locked (needs\n"
          "                       CAP_SYS_NICE / root; a warning, not an error, without it)\n"
@@ -40,6 +40,9 @@ std::string daemon_usage() {
          "                       FILE (16-64 bytes, e.g. head -c 32 /dev/urandom > FILE), each\n"
          "                       with a sequence above the last; sign every status with it.\n"
          "                       Without it the daemon obeys any sender that reaches the URL\n"
+         "  --bank-public-key FILE  load the bank only if FILE.sig beside it is an Ed25519\n"
+         "                       signature of its bytes by this public key (32 bytes; see\n"
+         "                       docs/INTERFACES.md: f16mmae.core.sign_bank_file)\n"
          "  --quiet              do not print the ready line\n"
          "\n"
          "SIGINT or SIGTERM ends it with a summary line (messages by fate, step time p50/p99/max)\n"
@@ -85,12 +88,13 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     const bool known = key == "--bank" || key == "--lcm-url" || key == "--channel-prefix" ||
                        key == "--rate-hz" || key == "--max-frames" || key == "--realtime" ||
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
-                       key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key";
+                       key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
+                       key == "--bank-public-key";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
-                         "--auth-key, --quiet, --help");
+                         "--auth-key, --bank-public-key, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -103,6 +107,9 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value.empty()) return usage_error("--lcm-url needs a URL such as memq:// or udpm://239.255.76.67:7667?ttl=0");
       c.lcm_url = value;
       have_url = true;
+    } else if (key == "--bank-public-key") {
+      if (value.empty()) return usage_error("--bank-public-key needs a key file name, got ''");
+      c.bank_public_key_path = value;
     } else if (key == "--auth-key") {
       if (value.empty()) return usage_error("--auth-key needs a key file name, got ''");
       c.auth_key_path = value;

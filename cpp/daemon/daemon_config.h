@@ -3,7 +3,7 @@
 //   mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
 //               [--p-min P] [--threshold T] [--dwell-s S]
 //               [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--rewarm-us US]
-//               [--auth-key FILE] [--quiet]
+//               [--auth-key FILE] [--bank-public-key FILE] [--quiet]
 //
 // The LCM URL defaults as LCM's own tools do: $LCM_DEFAULT_URL, else
 // udpm://239.255.76.67:7667?ttl=0. Channels are UPPER_SNAKE names with the prefix prepended:
@@ -33,13 +33,14 @@ struct DaemonConfig {
   std::string lcm_url;              // resolved: never empty after parsing
   std::string channel_prefix;
   double rate_hz = 64.0;            // must equal the bank's frame_rate_hz
-  // Estimator settings over the bank's recommended ones (bank_settings.h); unset: the bank's.
+  // Estimator settings over the bank's recommended ones (ModelBank::estimator); unset: the bank's.
   std::optional<double> p_min, threshold, dwell_s;
   long long max_frames = 0;         // exit after this many status frames; 0 = run until signalled
   int realtime_priority = 0;        // > 0: SCHED_FIFO at this priority and memory locked
   double warm_lead_us = 500.0;      // cache warm-up this long before a frame is due; 0 = off
   double rewarm_us = 100.0;         // then again this often until the frame comes; 0 = once
   std::string auth_key_path;        // non-empty: the pre-shared key of FrameAuth (frame_auth.h)
+  std::string bank_public_key_path; // non-empty: the bank must carry a valid signature (bank_signature.h)
   bool quiet = false;               // no "ready" line on stdout
   Channels channels() const { return Channels::with_prefix(channel_prefix); }
 };

@@ -5,7 +5,6 @@
 // frames it wakes --warm-lead-us before the next sensor frame is due to warm the executive
 // up, and again every --rewarm-us until the frame comes (WarmUpSchedule, Executive::warm_up).
 // Exit status: 0 clean end, 1 bank or LCM unusable, 2 usage error.
-#include "bank_settings.h"
 #include "daemon_config.h"
 #include "frame_auth.h"
 #include "executive/executive.h"
@@ -14,6 +13,7 @@
 #include "warm_up_schedule.h"
 
 #include "bankfile/bank_file.h"
+#include "bankfile/bank_signature.h"
 
 #include <lcm/lcm.h>
 
@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
   std::string bank_hash, tuning;
   f16mmae::ModelBank bank;
   try {
-    bank = f16mmae::load_bank(cfg.bank_path);
+    bank = cfg.bank_public_key_path.empty() ? f16mmae::load_bank(cfg.bank_path)
+                                            : f16mmae::load_signed_bank(cfg.bank_path, cfg.bank_public_key_path);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mmae-daemon: error: cannot use bank file '%s': %s\n", cfg.bank_path.c_str(), e.what());
     return 1;
@@ -91,11 +92,10 @@ int main(int argc, char** argv) {
                    cfg.rate_hz, bank.frame_rate_hz, cfg.bank_path.c_str());
       return 1;
     }
-    EstimatorSettings settings = bank_estimator_settings(bank.metadata);
-    if (cfg.p_min) settings.p_min = cfg.p_min;
-    if (cfg.threshold) settings.threshold = cfg.threshold;
-    if (cfg.dwell_s) settings.dwell_s = cfg.dwell_s;
-    options = settings.apply(options);
+    // the bank's recommended settings (typed fields of the bank file), the flags over them
+    options.bank.p_min = cfg.p_min.value_or(bank.estimator.p_min);
+    options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
+    options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     executive = std::make_unique<Executive>(bank, options);
     bank_hash = bank.content_hash;
     tuning = bank.tuning;

@@ -19,46 +19,26 @@
 //    is evidence, not noise) and spend only a quarter of the 1.0-s median-latency budget
 //    of the closed-loop goals, leaving the rest for the probability to converge.
 //
-// Throws: the constructor throws std::invalid_argument if threshold is not in (0.5, 1),
-// dwell_s is negative or not finite, or frame_rate_hz is not positive and finite.
+// Throws: the constructor throws std::invalid_argument naming the value and the valid range
+// (estimator_settings.h) if threshold is not in (0.5, 1), dwell_s is not in [0, 60] s,
+// frame_rate_hz is not positive and finite, or the dwell exceeds kMaxDwellFrames frames.
 // update() is noexcept and allocation-free; a NaN probability never counts as "above".
 #pragma once
 
-#include <cmath>
-#include <cstdint>
-#include <sstream>
-#include <stdexcept>
-#include <string>
+#include "f16mmae/estimator_settings.h"
 
 namespace f16mmae {
 
 struct DeclarerOptions {
-  double threshold = 0.9;        // p_k must exceed this ...
-  double dwell_s = 0.25;         // ... for this long (consecutive frames)
+  double threshold = kDefaultThreshold;  // p_k must exceed this ...
+  double dwell_s = kDefaultDwellS;        // ... for this long (consecutive frames)
   double frame_rate_hz = 64.0;   // frames per second of the probabilities fed in
 };
 
 class Declarer {
  public:
-  explicit Declarer(const DeclarerOptions& options = {}, int presumed = 0) : options_(options) {
-    auto fail = [](const std::string& s) { throw std::invalid_argument("declarer: " + s); };
-    if (!(options.threshold > 0.5 && options.threshold < 1.0)) {
-      std::ostringstream s;
-      s << "threshold must be in (0.5, 1), got " << options.threshold;
-      fail(s.str());
-    }
-    if (!(options.dwell_s >= 0.0) || !std::isfinite(options.dwell_s)) {
-      std::ostringstream s;
-      s << "dwell_s must be finite and >= 0, got " << options.dwell_s;
-      fail(s.str());
-    }
-    if (!(options.frame_rate_hz > 0.0) || !std::isfinite(options.frame_rate_hz)) {
-      std::ostringstream s;
-      s << "frame_rate_hz must be positive and finite, got " << options.frame_rate_hz;
-      fail(s.str());
-    }
-    const double n = std::round(options.dwell_s * options.frame_rate_hz);
-    dwell_frames_ = n < 1.0 ? 1 : static_cast<int>(n);
+  explicit Declarer(const DeclarerOptions& options = {}, int presumed = 0)
+      : options_(options), dwell_frames_(checked_dwell_frames(options)) {
     reset(presumed);
   }
 
@@ -103,6 +83,11 @@ class Declarer {
   const DeclarerOptions& options() const noexcept { return options_; }
 
  private:
+  static int checked_dwell_frames(const DeclarerOptions& o) {
+    check_threshold(o.threshold, "declarer");
+    return f16mmae::dwell_frames(o.dwell_s, o.frame_rate_hz, "declarer");
+  }
+
   DeclarerOptions options_;
   int dwell_frames_ = 1;
   int current_ = 0;

@@ -48,6 +48,7 @@
 
 #include "f16mmae/cache_warm.h"
 #include "f16mmae/column_bank.h"
+#include "f16mmae/estimator_settings.h"
 #include "f16mmae/packed_bank.h"
 #include "f16mmae/steady_state_filter.h"
 
@@ -66,7 +67,7 @@
 namespace f16mmae {
 
 struct FilterBankOptions {
-  double p_min = 0.001;              // probability floor (paper: 0.001); 0 <= p_min < 1/K
+  double p_min = kDefaultPMin;       // probability floor (paper: 0.001); 0 <= p_min < 1/K
   bool strip_leading_term = true;    // drop 1/((2π)^{m/2}|A_k|^{1/2}) from eq. 2 (paper)
   bool vectorized_kernel = true;     // fixed sizes: use the AVX2/FMA kernel if the CPU has it
 };
@@ -124,11 +125,7 @@ class FilterBank {
       hypotheses_[i] = Hypothesis(models[i], who);
       if constexpr (kPacked) packed_.load(i, hypotheses_);
     }
-    if (!(options_.p_min >= 0.0) || !(options_.p_min * k < 1.0)) {
-      std::ostringstream s;
-      s << "filter bank: p_min must satisfy 0 <= p_min < 1/K = " << 1.0 / k << ", got " << options_.p_min;
-      throw std::invalid_argument(s.str());
-    }
+    check_p_min(options_.p_min, k, "filter bank");
     const int nx = hypotheses_[0].nx(), nz = hypotheses_[0].nz();
     p_.setZero(k);
     log_p_.setZero(k);

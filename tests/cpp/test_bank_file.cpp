@@ -1,6 +1,7 @@
 // Model-bank file (cpp/bankfile): SHA-256 against the FIPS 180-4 vectors, round trip,
 // deterministic bytes, and refusal of every kind of bad file with a message naming it.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstdio>
@@ -106,7 +107,7 @@ class TempDir : public ::testing::Test {
     out.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
   }
   // A file image built here from the documented layout, independently of bank_file_bytes.
-  static Bytes image_of(const Bytes& payload, std::uint32_t version = 1) {
+  static Bytes image_of(const Bytes& payload, std::uint32_t version = ModelBank::kFormatVersion) {
     Bytes out(kBankFileMagic, kBankFileMagic + 8);
     for (int i = 3; i >= 0; --i) out.push_back(static_cast<std::uint8_t>(version >> (8 * i)));
     for (int i = 7; i >= 0; --i) out.push_back(static_cast<std::uint8_t>(std::uint64_t{payload.size()} >> (8 * i)));
@@ -142,6 +143,9 @@ void expect_equal(const ModelBank& a, const ModelBank& b) {
   EXPECT_EQ(a.mach, b.mach);
   EXPECT_EQ(a.alt_ft, b.alt_ft);
   EXPECT_EQ(a.tuning, b.tuning);
+  EXPECT_EQ(a.estimator.p_min, b.estimator.p_min);
+  EXPECT_EQ(a.estimator.threshold, b.estimator.threshold);
+  EXPECT_EQ(a.estimator.dwell_s, b.estimator.dwell_s);
   EXPECT_EQ(a.metadata, b.metadata);
   ASSERT_EQ(a.hypotheses.size(), b.hypotheses.size());
   for (std::size_t i = 0; i < a.hypotheses.size(); ++i) {
@@ -250,7 +254,9 @@ TEST_F(BankFile, RefusesCorruptionWrongMagicAndWrongVersion) {
   expect_refused<BankFileFormatError>(magic, "wrong magic bytes 'X16MMAEB'");
   expect_refused<BankFileFormatError>(Bytes{'P', 'K', 3, 4}, "wrong magic");
   const Bytes payload(good.begin() + kBankFileHeaderSize, good.end());
-  expect_refused<BankFileFormatError>(image_of(payload, 2), "unsupported format version 2");
+  expect_refused<BankFileFormatError>(image_of(payload, 3), "unsupported format version 3");
+  expect_refused<BankFileFormatError>(image_of(payload, 1),
+                                      "format version 1 is no longer read: this build reads version 2");
 }
 
 TEST_F(BankFile, RefusesPayloadsThatAreNotABank) {
@@ -259,7 +265,7 @@ TEST_F(BankFile, RefusesPayloadsThatAreNotABank) {
   foreign[0] ^= 0xff;  // another type's fingerprint, correctly hashed
   expect_refused<BankFileFormatError>(image_of(foreign), "fingerprint");
   Bytes cut(payload.begin(), payload.end() - 9);
-  expect_refused<BankFileFormatError>(image_of(cut), "does not decode");
+  expect_refused<BankFileFormatError>(image_of(cut), "payload field hypotheses[2].a (byte");
   Bytes padded = payload;
   padded.insert(padded.end(), {1, 2, 3});
   expect_refused<BankFileFormatError>(image_of(padded), "3 bytes after the f16mmae.lcmt_model_bank message");
@@ -268,7 +274,34 @@ TEST_F(BankFile, RefusesPayloadsThatAreNotABank) {
   huge[9] = 0x0f;
   huge[10] = 0x42;
   huge[11] = 0x40;
-  expect_refused<BankFileFormatError>(image_of(huge), "does not decode");
+  expect_refused<BankFileFormatError>(image_of(huge), "payload field num_states (byte 8) = 1000000 exceeds the limit of 256");
+}
+
+// Issue 16: u_trim_size = 2^28 with the hash recomputed made LCM's decoder compute
+// int total_size = 8 * 2^28 (overflow), pass its length check and read past the buffer.
+TEST_F(BankFile, RefusesHugeDeclaredSizesBeforeAllocating) {
+  const ModelBank bank = random_bank(3, 4, 2, 3, 5);
+  const Bytes payload = encode_bank_payload(bank);
+  // fingerprint, then (count, names) x 3: "x0".."x3", "u0" "u1", "z0".."z2" (7 bytes each)
+  const std::size_t u_trim_size_at = 8 + (4 + 4 * 7) + (4 + 2 * 7) + (4 + 3 * 7);
+  ASSERT_EQ(payload[u_trim_size_at + 3], 2);  // nu
+  for (const std::uint32_t declared : {0x10000000u, 0x7fffffffu, 0xffffffffu}) {
+    Bytes bad = payload;
+    for (int i = 0; i < 4; ++i) bad[u_trim_size_at + i] = static_cast<std::uint8_t>(declared >> (24 - 8 * i));
+    expect_refused<BankFileFormatError>(image_of(bad), "payload field u_trim_size (byte 83) = ");
+  }
+}
+
+TEST_F(BankFile, ReadsOnlyRegularFiles) {
+  try {
+    load_bank("/dev/zero");
+    ADD_FAILURE();
+  } catch (const BankFileIoError& e) {
+    EXPECT_STREQ(e.what(), "bank file '/dev/zero': is a character device; it must be a regular file");
+  }
+  const std::string fifo = path("bank.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_THROW(load_bank(fifo), BankFileIoError);  // at once: no writer is waited for
 }
 
 // A well-formed, correctly hashed file whose content ModelBank::validate() rejects.
@@ -289,7 +322,16 @@ TEST_F(BankFile, RefusesBanksThatFailValidation) {
        [](ModelBank& b) { b.hypotheses[0].phi *= 50.0; }},
       {"hypothesis 0 must be NONE", [](ModelBank& b) { b.hypotheses[0].name = "LS"; }},
       {"duplicate name", [](ModelBank& b) { b.hypotheses[2].name = "H1"; }},
-      {"frame_rate_hz must be positive", [](ModelBank& b) { b.frame_rate_hz = 0.0; }},
+      {"frame_rate_hz must be finite, > 0 and <= 10000, got 0", [](ModelBank& b) { b.frame_rate_hz = 0.0; }},
+      {"mach must be finite, >= 0 and <= 10, got nan", [](ModelBank& b) { b.mach = NAN; }},
+      {"alt_ft must be finite, >= 0 and <= 1e+06, got -1", [](ModelBank& b) { b.alt_ft = -1.0; }},
+      {"state_names[2] 'x0' duplicates state_names[0]", [](ModelBank& b) { b.state_names[2] = "x0"; }},
+      {"input_names[1] is empty", [](ModelBank& b) { b.input_names[1].clear(); }},
+      {"measurement_names[0] is not valid UTF-8 at byte 1", [](ModelBank& b) { b.measurement_names[0] = "z\xff"; }},
+      {"estimator: dwell_s must be in [0, 60] s, got 3.4e+07", [](ModelBank& b) { b.estimator.dwell_s = 3.4e7; }},
+      {"estimator: threshold must be in (0.5, 1), got 0.5", [](ModelBank& b) { b.estimator.threshold = 0.5; }},
+      {"estimator: p_min must be in [0, 1/K) with K = 3 hypotheses, got 0.4",
+       [](ModelBank& b) { b.estimator.p_min = 0.4; }},
   };
   for (const Case& c : cases) {
     ModelBank bank = random_bank(3, 4, 2, 3, 11);

@@ -71,6 +71,27 @@ TEST(Declarer, ValidationNamesTheBadValue) {
   o = {};
   o.dwell_s = -1.0;
   EXPECT_THROW(Declarer{o}, std::invalid_argument);
+  // issue 16: dwell 3.4e7 s once became dwell_frames = INT_MIN (declare at once)
+  o.dwell_s = 3.4e7;
+  try {
+    Declarer d(o);
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "declarer: dwell_s must be in [0, 60] s, got 3.4e+07");
+  }
+  o.dwell_s = 60.0;  // the longest dwell, at a rate that would make it more than 2^24 frames
+  o.frame_rate_hz = 1e6;
+  try {
+    Declarer d(o);
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("= 6e+07 frames exceeds the limit of 16777216 frames"), std::string::npos)
+        << e.what();
+  }
+  o.frame_rate_hz = 64.0;
+  EXPECT_EQ(Declarer(o).dwell_frames(), 3840);
+  o.dwell_s = NAN;
+  EXPECT_THROW(Declarer{o}, std::invalid_argument);
   o = {};
   o.frame_rate_hz = 0.0;
   EXPECT_THROW(Declarer{o}, std::invalid_argument);

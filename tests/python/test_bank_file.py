@@ -66,7 +66,7 @@ def lcmt_model_bank():
     return f16mmae.lcmt_model_bank
 
 
-def image(payload: bytes, version: int = 1) -> bytes:
+def image(payload: bytes, version: int = core.ModelBank.FORMAT_VERSION) -> bytes:
     """A file image built here from the documented layout."""
     return HEADER.pack(b"F16MMAEB", version, len(payload), hashlib.sha256(payload).digest()) + payload
 
@@ -74,7 +74,7 @@ def image(payload: bytes, version: int = 1) -> bytes:
 def assert_banks_equal(a, b):
     assert a.hypothesis_names == b.hypothesis_names
     for name in ("state_names", "input_names", "measurement_names", "frame_rate_hz", "mach", "alt_ft",
-                 "tuning", "metadata", "content_hash"):
+                 "tuning", "p_min", "threshold", "dwell_s", "metadata", "content_hash"):
         assert getattr(a, name) == getattr(b, name), name
     for name in ("u_trim", "z_trim", "h_output"):
         np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
@@ -221,9 +221,11 @@ def test_bad_files_are_refused_with_the_reason(tmp_path, lcmt_model_bank):
     flipped[len(good) // 2] ^= 0x01
     refused(bytes(flipped), "content hash mismatch, the file is corrupted")
     refused(b"PK\x03\x04" + good[4:], r"wrong magic bytes 'PK\\x03\\x04MAEB'")
-    refused(image(payload, version=2), "unsupported format version 2 .this build reads version 1")
+    refused(image(payload, version=3), "unsupported format version 3 .this build reads version 2")
+    refused(image(payload, version=1), "format version 1 is no longer read: this build reads version 2, where the "
+            "estimator settings are typed fields. Regenerate the bank with the design command")
     refused(image(b"\x01" + payload[1:]), "fingerprint")
-    refused(image(payload[:-9]), "does not decode")
+    refused(image(payload[:-9]), r"payload field hypotheses\[2\]\.a \(byte \d+\) is 3x3, 72 bytes, but 63 remain")
     # a wrong shape, written by the independent Python LCM encoder
     msg = lcmt_model_bank.decode(payload)
     msg.hypotheses[2].a.rows, msg.hypotheses[2].a.data = 2, msg.hypotheses[2].a.data[:2]

@@ -60,19 +60,19 @@ def test_pitch_rate_sensor_failure_is_declared_as_pit(bank):
 
 
 def test_estimator_uses_the_bank_recommended_settings_unless_overridden(bank):
-    meta = json.loads(bank.metadata)["estimator"]
-    assert banks.bank_estimator_settings(bank) == meta and meta["p_min"] < 1e-3
+    recommended = {"p_min": 1e-9, "threshold": 0.9, "dwell_s": 0.25}  # tunings/tuned.toml [estimator]
+    assert banks.bank_estimator_settings(bank) == recommended == bank.estimator_settings
     est = Estimator(bank)
-    assert est.settings == meta
-    assert est._bank.p_min == meta["p_min"] and est._bank.threshold == meta["threshold"]
+    assert est.settings == recommended
+    assert est._bank.p_min == 1e-9 and est._bank.threshold == 0.9
     over = Estimator(bank, p_min=1e-3, dwell_s=0.5)
     assert over._bank.p_min == 1e-3 and over._bank.dwell_s == 0.5
-    assert over._bank.threshold == meta["threshold"]
-    untuned = load_bank("untuned")[2]                    # recommends nothing: core defaults
-    assert banks.bank_estimator_settings(untuned) == {}
+    assert over._bank.threshold == 0.9
+    untuned = load_bank("untuned")[2]                    # recommends the core defaults
+    assert banks.bank_estimator_settings(untuned) == {"p_min": 0.001, "threshold": 0.9, "dwell_s": 0.25}
     assert Estimator(untuned)._bank.p_min == 0.001
     r = fly(_scenario(duration_s=1.0), bank)
-    assert r.estimator_settings == meta and r.run_json()["estimator_settings"] == meta
+    assert r.estimator_settings == recommended and r.run_json()["estimator_settings"] == recommended
 
 
 def test_estimator_constructor_and_inputs_carry_no_failure_truth():

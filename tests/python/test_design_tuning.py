@@ -49,7 +49,7 @@ def test_bad_tuning_files_are_refused(tmp_path, text, message):
         load_tuning(write(tmp_path, text))
 
 
-def test_estimator_settings_are_read_and_reach_the_bank_metadata(tmp_path):
+def test_estimator_settings_are_read_and_reach_the_bank_fields(tmp_path):
     t = load_tuning(write(tmp_path, '[estimator]\np_min = 1e-9\nthreshold = 0.95\ndwell_s = 0.5\n'))
     assert t.estimator == {"p_min": 1e-9, "threshold": 0.95, "dwell_s": 0.5}
     assert t.to_dict()["estimator"] == t.estimator
@@ -58,7 +58,10 @@ def test_estimator_settings_are_read_and_reach_the_bank_metadata(tmp_path):
     from f16mmae.design import convergence
     assert tuned.estimator == convergence.ESTIMATOR    # calibrate writes what stage 2 scored with
     d = bank.design_bank(tuning=tuned, hypotheses=(names.NONE,))
-    assert d.metadata()["estimator"] == tuned.estimator
+    assert bank.to_model_bank(d).estimator_settings == tuned.estimator
+    assert "estimator" not in d.metadata()  # typed fields of the bank, not metadata text
+    d = bank.design_bank(tuning=t, hypotheses=(names.NONE,))
+    assert bank.to_model_bank(d).estimator_settings == t.estimator
 
 
 def test_unknown_tuning_name_lists_the_shipped_ones():

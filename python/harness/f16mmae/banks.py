@@ -10,12 +10,11 @@ naming the file and the reason.
 from __future__ import annotations
 
 import functools
-import json
 from pathlib import Path
 
 from . import core
 from .errors import F16mmaeError
-from .names import ESTIMATOR_SETTINGS, SHIPPED_TUNINGS
+from .names import SHIPPED_TUNINGS
 
 #: Where the shipped nominal banks live.
 DATA_DIR = Path(__file__).resolve().parent / "data"
@@ -60,16 +59,7 @@ def load_bank(tuning: str):
 
 
 def bank_estimator_settings(model_bank) -> dict:
-    """The estimator settings a bank's design recommends: its metadata JSON's ``"estimator"``
-    object (``p_min``, ``threshold``, ``dwell_s``; written by ``f16mmae design`` from the
-    tuning's ``[estimator]`` table).  Missing keys (or no metadata) mean the core's defaults.
-    mmae-daemon applies the same rule in C++ (``cpp/daemon/bank_settings.h``);
-    ``tests/python/test_daemon_settings_agree.py`` holds the two together."""
-    try:
-        meta = json.loads(model_bank.metadata or "{}")
-    except (TypeError, ValueError):
-        return {}
-    table = meta.get("estimator", {}) if isinstance(meta, dict) else {}
-    if not isinstance(table, dict):
-        return {}
-    return {k: float(table[k]) for k in ESTIMATOR_SETTINGS if k in table}
+    """The estimator settings a bank's design recommends: the typed fields ``p_min``,
+    ``threshold`` and ``dwell_s`` of the bank file (format version 2, range-checked by the
+    one C++ loader); mmae-daemon applies the same fields."""
+    return dict(model_bank.estimator_settings)

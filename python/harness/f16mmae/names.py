@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from itertools import combinations
 
+from .core import MAX_DWELL_S
+
 #: Surfaces in the order of the command vector ``u`` (rad, absolute or perturbation).
 ACTUATORS: tuple[str, ...] = ("LS", "RS", "LF", "RF", "RUD")
 #: Sensors in the order of the measurement vector ``z``.
@@ -57,8 +59,9 @@ FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
 SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
 #: The estimator settings a bank recommends and a user may override (core.HierarchicalBank).
 ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s")
-#: The longest declaration dwell the estimator accepts (s), as the core's declarer bounds it.
-DWELL_S_MAX = 60.0
+#: The longest declaration dwell the estimator accepts (s): the core's bound
+#: (cpp/f16mmae/estimator_settings.h kMaxDwellS), defined there once.
+DWELL_S_MAX: float = MAX_DWELL_S
 
 
 def failed_components(hypothesis: str) -> tuple[str, ...]:

@@ -79,7 +79,7 @@ def parse_choices(option: str, text: str | None, valid: tuple[str, ...], noun: s
 
 def add_estimator_arguments(p) -> None:
     """--threshold / --dwell-s / --p-min: the declarer and floor of core.HierarchicalBank.
-    Unset, each is the bank's recommended setting (its metadata "estimator", from the tuning's
+    Unset, each is the bank's recommended setting (its typed field, from the tuning's
     [estimator] table; the shipped tuned bank: p_min 1e-9, threshold 0.9, dwell 0.25 s), else
     the core's default (the paper's: 0.001, 0.9, 0.25 s)."""
     p.add_argument("--threshold", default=None, metavar="P",

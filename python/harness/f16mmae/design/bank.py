@@ -9,7 +9,8 @@ Pipeline (``design_bank``)::
          + sum_j q_j b_j b_j^T) + diag(method 1, 3);  R = diag(sigma^2 + method 2)
       -> for each of the 79 hypotheses (NONE, 12 singles, 66 duals; hypotheses.py):
          DARE -> K, A = H P^- H^T + R (gains.py), unstable filters refused
-      -> core.ModelBank (u_trim, z_trim, h_output = unfailed H, metadata JSON) -> file
+      -> core.ModelBank (u_trim, z_trim, h_output = unfailed H, the recommended estimator
+         settings p_min / threshold / dwell_s, metadata JSON) -> file (format version 2)
 
 Everything is deterministic: the same (mach, alt_ft, tuning, design procedure, JSBSim) gives
 the same bank file, byte for byte (JSBSim's trim is deterministic). The metadata therefore
@@ -111,9 +112,6 @@ class BankDesign:
                 "linearization_evaluations": self.linearized.lin.evaluations,
             },
             "tuning": self.tuning.to_dict(),
-            # the estimator settings this design recommends (tuning [estimator]): read by
-            # loop.estimator.Estimator and the LCM daemon; absent keys = the core's defaults
-            "estimator": dict(self.tuning.estimator),
             "hypotheses": len(self.filters),
             "max_error_spectral_radius": max(f.gains.spectral_radius for f in self.filters),
         }
@@ -178,6 +176,9 @@ def to_model_bank(design: BankDesign):
         u_trim=design.u_trim, z_trim=design.z_trim, h_output=design.h_output,
         frame_rate_hz=design.frame_rate_hz, mach=design.mach, alt_ft=design.alt_ft,
         tuning=design.tuning.name,
+        # the estimator settings this design recommends (tuning [estimator]) as typed fields
+        # of the bank; absent keys take the core's defaults
+        **{k: float(v) for k, v in design.tuning.estimator.items()},
         metadata=json.dumps(design.metadata(), sort_keys=True, separators=(",", ":")))
 
 

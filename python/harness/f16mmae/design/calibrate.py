@@ -25,7 +25,8 @@ Stage 1 (``calibrate``), deterministic for given flights:
 Run it: ``python -m f16mmae.design.calibrate`` prints the tables and the TOML;
 ``python -m f16mmae.design.calibrate --write`` rewrites ``design/tunings/tuned.toml`` and
 regenerates the shipped nominal banks ``data/nominal_{tuned,untuned}.f16bank`` (~3 s) --
-the one command to run after the truth model changes (tests/python/test_design_bank.py and
+the one command to run after the truth model changes; ``--banks`` only regenerates the banks
+from the committed tunings (after a change of the bank-file format) (tests/python/test_design_bank.py and
 test_design_calibrate.py say when it is due).
 """
 from __future__ import annotations
@@ -179,7 +180,7 @@ def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after
             + section("method4_actuator_q", "white-noise strength (rad^2/s) through a B column, "
                       "eqs. 6-7", tun.actuator_q)
             + section("estimator", "recommended estimator settings (design/convergence.py "
-                      "ESTIMATOR), stored in the bank's metadata", tun.estimator))
+                      "ESTIMATOR), stored as the bank's typed fields", tun.estimator))
 
 
 def run_calibration(lin=None) -> tuple[Tuning, list[ResidualStats], list[dict]]:
@@ -197,13 +198,27 @@ def run_calibration(lin=None) -> tuple[Tuning, list[ResidualStats], list[dict]]:
     return tun, hist, conv
 
 
+def write_nominal_banks(lin) -> None:
+    """Design and write the shipped nominal banks from the committed tunings."""
+    for name in ("tuned", "untuned"):
+        d = design_bank(0.4, 20_000.0, name, linearized=lin)
+        mb = write_bank(d, nominal_bank_path(name))
+        print(f"wrote {nominal_bank_path(name)} ({mb.content_hash[:12]})")
+
+
 def main(argv=None) -> Tuning:
     ap = argparse.ArgumentParser(prog="python -m f16mmae.design.calibrate",
                                  description=__doc__.split("\n\n")[0])
     ap.add_argument("--write", action="store_true",
                     help="rewrite design/tunings/tuned.toml and the shipped nominal banks")
+    ap.add_argument("--banks", action="store_true",
+                    help="only regenerate the shipped nominal banks from the committed tunings "
+                         "(after a bank-format change; no calibration flights)")
     args = ap.parse_args(argv)
     lin = linearize_truth(0.4, 20_000.0)
+    if args.banks:
+        write_nominal_banks(lin)
+        return load_tuning("tuned")
     tun, hist, conv = run_calibration(lin)
     print("untuned:\n" + hist[0].table(names.SENSORS))
     print("stage 1 (rounded):\n" + hist[-2].table(names.SENSORS))
@@ -216,10 +231,7 @@ def main(argv=None) -> Tuning:
         path = TUNINGS_DIR / "tuned.toml"
         path.write_text(text)
         print(f"wrote {path}")
-        for name in ("tuned", "untuned"):
-            d = design_bank(0.4, 20_000.0, name, linearized=lin)
-            mb = write_bank(d, nominal_bank_path(name))
-            print(f"wrote {nominal_bank_path(name)} ({mb.content_hash[:12]})")
+        write_nominal_banks(lin)
     else:
         print(text)
     return tun

@@ -37,7 +37,7 @@ FAILURE_TIME_S = 3.0
 NONE_SEEDS = TUNING_FLIGHT_SEEDS  # the tuning namespace (f16mmae.seeds): 1-8
 FAILURE_SEEDS = TUNING_FLIGHT_SEEDS[:3]
 #: The estimator settings the design recommends (written to tuned.toml [estimator] and so
-#: into the bank's metadata; see design/tuning.py).  p_min far below the paper's 0.001: a
+#: into the bank's typed estimator fields; see design/tuning.py).  p_min far below the paper's 0.001: a
 #: hypothesis the flight barely separates from NONE (a flaperon) has a log-probability ratio
 #: that random-walks, and the paper's floor caps how far it can sink (ln(0.9/0.001) = 6.8),
 #: so short runs of turbulence lift it over the threshold (false alarms, spurious duals);

@@ -21,8 +21,9 @@ Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/
 
 ``[estimator]`` (optional): the estimator settings the design recommends for its bank --
 ``p_min`` (probability floor, 0 < p_min < 0.01), ``threshold`` (declaration threshold,
-0.5 < threshold < 1), ``dwell_s`` (s, >= 0).  They are stored in the bank's metadata JSON
-(key ``"estimator"``) and used by ``loop.estimator.Estimator`` and the LCM daemon; a missing key
+0.5 < threshold < 1), ``dwell_s`` (s, >= 0).  They are stored as typed fields of the bank
+file (``p_min``, ``threshold``, ``dwell_s``) and used by ``loop.estimator.Estimator`` and the LCM
+daemon; a missing key
 means the core's default (the paper's: p_min 0.001, threshold 0.9, dwell 0.25 s).
 """
 from __future__ import annotations

@@ -55,7 +55,7 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
                                  expected_bank_hash=str(model_bank.content_hash),
                                  initial_hypotheses=level0_hypotheses(model_bank), auth=auth)
     lockstep = remote.lockstep
-    # what mmae-daemon applies by default: the bank's recommended settings (cpp/daemon/bank_settings.h)
+    # what mmae-daemon applies by default: the bank's recommended settings (its typed fields)
     remote.settings = bank_estimator_settings(model_bank)
     try:
         remote.reset(f"f16mmae hil: seed {scenario.seed}")

@@ -19,7 +19,7 @@ class Estimator:
 
     ``Estimator(model_bank, **options)``: the settings of ``core.HierarchicalBank``
     (``p_min``, ``threshold``, ``dwell_s``) are the bank's recommended ones
-    (:func:`bank_estimator_settings`, from its metadata) updated by ``options`` (which win);
+    (:func:`bank_estimator_settings`, the bank's typed fields) updated by ``options`` (which win);
     ``settings`` holds the result.  Per frame: ``update(z) -> z_hat``, then
     ``propagate(u)``; both absolute (the core subtracts the bank's z_trim / u_trim and
     returns z_hat absolute).  Nothing else flows in."""

@@ -1,0 +1,84 @@
+// EstimatorSettings — the three settings of the MMAE estimator that a model bank recommends
+// (typed fields of the bank file, format version 2) and the range checks applied wherever
+// they enter the core: FilterBank (p_min), Declarer (threshold, dwell_s), ModelBank::validate
+// (all three). std only.
+//
+// Valid ranges, and why:
+//   p_min      0 <= p_min < 1/K, K = hypotheses on line: the K - 1 floored hypotheses must
+//              leave the winner more than p_min (paper: 0.001; eq. 1's floor).
+//   threshold  0.5 < threshold < 1: above 0.5 at most one hypothesis (probabilities sum to 1)
+//              can exceed it; below 1 a hypothesis can reach it despite the floor.
+//   dwell_s    0 <= dwell_s <= kMaxDwellS (60 s), and frame_rate_hz positive and finite. The
+//              dwell in frames, dwell_frames = max(1, round(dwell_s * frame_rate_hz)), must be
+//              at most kMaxDwellFrames, so it is an int: no huge dwell wraps to "no dwell".
+// Each check throws std::invalid_argument "<who>: <setting> must be <range>, got <value>".
+#pragma once
+
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace f16mmae {
+
+inline constexpr double kDefaultPMin = 0.001;      // the paper's floor
+inline constexpr double kDefaultThreshold = 0.9;   // declarer.h says why
+inline constexpr double kDefaultDwellS = 0.25;     // declarer.h says why
+inline constexpr double kMaxDwellS = 60.0;         // a minute: longer is no detection at all
+inline constexpr int kMaxDwellFrames = 1 << 24;    // ~73 h at 64 Hz: far inside int
+
+struct EstimatorSettings {
+  double p_min = kDefaultPMin;
+  double threshold = kDefaultThreshold;
+  double dwell_s = kDefaultDwellS;
+};
+
+// The shortest text that reads back as v ("0.4", "3.4e+07", "nan"), for error messages.
+inline std::string format_value(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+namespace settings_detail {
+[[noreturn]] inline void refuse(const std::string& who, const char* setting, const std::string& range, double value) {
+  throw std::invalid_argument(who + ": " + setting + " must be " + range + ", got " + format_value(value));
+}
+}  // namespace settings_detail
+
+inline void check_p_min(double p_min, int k, const std::string& who) {
+  if (!(p_min >= 0.0) || !(p_min * k < 1.0)) {
+    settings_detail::refuse(who, "p_min", "in [0, 1/K) with K = " + std::to_string(k) + " hypotheses", p_min);
+  }
+}
+
+inline void check_threshold(double threshold, const std::string& who) {
+  if (!(threshold > 0.5 && threshold < 1.0)) settings_detail::refuse(who, "threshold", "in (0.5, 1)", threshold);
+}
+
+inline void check_frame_rate(double frame_rate_hz, const std::string& who) {
+  if (!(frame_rate_hz > 0.0) || !std::isfinite(frame_rate_hz))
+    settings_detail::refuse(who, "frame_rate_hz", "positive and finite", frame_rate_hz);
+}
+
+// max(1, round(dwell_s * frame_rate_hz)) after checking both (see the header).
+inline int dwell_frames(double dwell_s, double frame_rate_hz, const std::string& who) {
+  if (!(dwell_s >= 0.0 && dwell_s <= kMaxDwellS))
+    settings_detail::refuse(who, "dwell_s", "in [0, " + format_value(kMaxDwellS) + "] s", dwell_s);
+  check_frame_rate(frame_rate_hz, who);
+  const double n = std::round(dwell_s * frame_rate_hz);
+  if (!(n <= kMaxDwellFrames))
+    throw std::invalid_argument(who + ": dwell_s * frame_rate_hz = " + format_value(dwell_s) + " s * " +
+                                format_value(frame_rate_hz) + " Hz = " + format_value(n) +
+                                " frames exceeds the limit of " + std::to_string(kMaxDwellFrames) + " frames");
+  return n < 1.0 ? 1 : static_cast<int>(n);
+}
+
+// All three, for a bank of k hypotheses at frame_rate_hz.
+inline void check_settings(const EstimatorSettings& s, int k, double frame_rate_hz, const std::string& who) {
+  check_p_min(s.p_min, k, who);
+  check_threshold(s.threshold, who);
+  dwell_frames(s.dwell_s, frame_rate_hz, who);
+}
+
+}  // namespace f16mmae

@@ -3,10 +3,10 @@ from __future__ import annotations
 
 import argparse
 
-from . import campaign_dual, campaign_envelope, campaign_single, campaign_soak
+from . import campaign_detectability, campaign_dual, campaign_envelope, campaign_single, campaign_soak
 
 #: The kinds in the order ``--help`` lists them; each module has ``register(kinds)``.
-KINDS = (campaign_single, campaign_dual, campaign_envelope, campaign_soak)
+KINDS = (campaign_single, campaign_dual, campaign_envelope, campaign_soak, campaign_detectability)
 
 DESCRIPTION = """\
 Monte Carlo campaigns of closed-loop flights of the nonlinear JSBSim F-16 with the MMAE
@@ -21,13 +21,18 @@ estimator in the loop.
            (the paper's Fig. 7).
   envelope the nominal design flown at flight conditions around its design point: the
            single-failure campaign at each point (the paper's Fig. 9).
+  soak     hours of failure-free flight at trim: false declarations per flight hour,
+           how long each lasted and the hypotheses involved.
+  detectability  detection probability against bias size and drift rate per sensor and
+           against loss fraction per actuator, with 95 % intervals (how small a failure
+           it sees).
 """
 
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "campaign",
-        help="Monte Carlo campaigns (single, dual, envelope, soak)",
+        help="Monte Carlo campaigns (single, dual, envelope, soak, detectability)",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -106,10 +106,11 @@ def validated(cfg):
     return cfg.validate()
 
 
-def run_and_report(args, run, print_summary) -> int:
-    """Run a campaign where the arguments say (``--workers`` local processes or a Dask
-    ``--scheduler``): ``run(executor, executor_label, show_progress)`` returns its outcome
-    (``summary``, ``summary_path``, ``executed``, ``resumed``). Then write its report.html,
+def run_and_report(args, cfg, run, print_summary) -> int:
+    """Run campaign ``cfg`` where the arguments say (``--workers`` local processes or a Dask
+    ``--scheduler``): the kind's ``run(cfg, out, executor, executor_label=, show_progress=,
+    allow_mixed=)`` returns its outcome (``summary``, ``summary_path``, ``executed``,
+    ``resumed``). Then write its report.html,
     print its summary (``print_summary(summary, stream)``), the campaign's evidence and where
     everything is. With ``--check``: 1 when the summary's ``goals_met`` is false, else 0."""
     if args.workers is not None and args.scheduler is not None:
@@ -119,7 +120,8 @@ def run_and_report(args, run, print_summary) -> int:
     writable_dir(args.out)  # before any flight; the campaign then locks it
     label = f"Dask at {args.scheduler}" if args.scheduler else f"{workers or default_workers()} local process(es)"
     with make_executor(workers=workers, scheduler=args.scheduler) as ex:
-        outcome = run(ex, label, not args.quiet)
+        outcome = run(cfg, args.out, ex, executor_label=label, show_progress=not args.quiet,
+                      allow_mixed=args.allow_mixed)
     out = outcome.summary_path.parent
     outcome.summary["command"] = "f16mmae " + shlex.join(args.argv)  # what made it, for results pages
     outcome.summary_path.write_text(json.dumps(outcome.summary, indent=1) + "\n")

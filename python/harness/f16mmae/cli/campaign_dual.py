@@ -117,10 +117,7 @@ def config_from_args(args) -> DualCampaign:
 
 
 def _dual(args) -> int:
-    cfg = config_from_args(args)
-    return run_and_report(args, lambda ex, label, progress: run_campaign(
-        cfg, args.out, ex, executor_label=label, show_progress=progress, allow_mixed=args.allow_mixed),
-        print_summary)
+    return run_and_report(args, config_from_args(args), run_campaign, print_summary)
 
 
 _SHORT = {"Good": "G", "Fair": "F", "Poor": "P", "ND": "ND"}

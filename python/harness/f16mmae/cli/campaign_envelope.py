@@ -100,10 +100,7 @@ def config_from_args(args) -> EnvelopeCampaign:
 
 
 def _envelope(args) -> int:
-    cfg = config_from_args(args)
-    return run_and_report(args, lambda ex, label, progress: run_envelope(
-        cfg, args.out, ex, executor_label=label, show_progress=progress, allow_mixed=args.allow_mixed),
-        print_summary)
+    return run_and_report(args, config_from_args(args), run_envelope, print_summary)
 
 
 def print_summary(summary: dict, stream) -> None:

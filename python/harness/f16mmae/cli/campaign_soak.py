@@ -57,10 +57,7 @@ def config_from_args(args) -> SoakCampaign:
 
 
 def _soak(args) -> int:
-    cfg = config_from_args(args)
-    return run_and_report(args, lambda ex, label, progress: run_soak(
-        cfg, args.out, ex, executor_label=label, show_progress=progress, allow_mixed=args.allow_mixed),
-        print_summary)
+    return run_and_report(args, config_from_args(args), run_soak, print_summary)
 
 
 def print_summary(summary: dict, stream) -> None:

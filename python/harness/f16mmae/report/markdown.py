@@ -180,6 +180,12 @@ MARKDOWN: dict[str, Callable[[dict], str]] = {
     "variants": variants_markdown}
 
 
+def register_markdown(kind: str, render: Callable[[dict], str]) -> None:
+    """Register the Markdown page of a campaign kind that lives outside this module (a kind
+    registers it on import, as it registers its HTML page)."""
+    MARKDOWN[kind] = render
+
+
 def summary_markdown(summary: dict) -> str:
     """The Markdown page of a campaign summary, by its kind (ValueError for another kind)."""
     kind = summary.get("kind")

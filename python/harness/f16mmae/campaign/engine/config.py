@@ -26,7 +26,7 @@ from ...names import (DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, FLIGHT_S,
                       TURBULENCE_LEVELS)
 from ...truth import DitherSpec, Scenario
 from ...truth.actuators import ACTUATOR_MODES
-from ...truth.failures import make_failure
+from ...truth.failures import FailureSpec, make_failure
 from ...truth.sensors import SENSOR_MODES
 
 
@@ -146,19 +146,20 @@ class CampaignConfig:
         if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / len(SINGLE_HYPOTHESES):
             raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(SINGLE_HYPOTHESES)})")
 
-    def scenario_dict(self, bank, failures: tuple[tuple[str, float], ...], seed: int,
+    def scenario_dict(self, bank, failures: tuple[tuple[str, float] | FailureSpec, ...], seed: int,
                       mach: float | None = None, alt_ft: float | None = None,
                       turbulence: str | None = None) -> dict:
         """A run's scenario as the truth model's own plain data (``Scenario.to_dict``), so the
         record holds every truth setting (dither amplitudes, ARI, noise) and the run key
         changes when a truth default does. ``failures``: (name, time_s) pairs in this config's
-        mode; ``mach`` / ``alt_ft`` None: the bank's design point; ``turbulence`` None: this
-        config's (single) level. ValueError on a bad value."""
+        mode, or FailureSpecs (their own mode and value); ``mach`` / ``alt_ft`` None: the
+        bank's design point; ``turbulence`` None: this config's (single) level. ValueError on a
+        bad value."""
         scenario = Scenario(
             mach=float(mach if mach is not None else bank.mach),
             alt_ft=float(alt_ft if alt_ft is not None else bank.alt_ft),
             turbulence=self.turbulence if turbulence is None else turbulence, dither=self.dither_spec(),
-            failures=tuple(self.failure(n, t) for n, t in failures),
+            failures=tuple(f if isinstance(f, FailureSpec) else self.failure(*f) for f in failures),
             duration_s=self.duration_s, seed=seed, feedback=self.feedback,
         )
         return scenario.to_dict()

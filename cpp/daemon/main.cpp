@@ -1,6 +1,7 @@
 // mmae-daemon — the MMAE executive as an LCM process (see daemon_config.h for the options).
 // Loads and validates the model bank, subscribes, then handles LCM traffic until SIGINT or
-// SIGTERM (or --max-frames statuses), and ends with its statistics twice: one human line,
+// SIGTERM (then it handles what has already arrived) or --max-frames statuses, and ends with
+// its statistics twice: one human line,
 // then "mmae-daemon: statistics {JSON}" (LcmNode::statistics_json) for tools to parse. Between
 // frames it wakes --warm-lead-us before the next sensor frame is due to warm the executive
 // up, and again every --rewarm-us until the frame comes (WarmUpSchedule, Executive::warm_up).
@@ -156,6 +157,14 @@ int main(int argc, char** argv) {
       if (node.sensor_messages() != sensors_seen) {
         sensors_seen = node.sensor_messages();
         warm_up.on_frame(node.last_sensor_arrival());
+      }
+    }
+    if (g_stop) {
+      // What has already arrived is handled before the statistics: a sender that stops the
+      // daemon right after its last frame gets that frame applied. Until 50 ms pass without
+      // a message, at most kDrainMax messages, so a flood cannot hold the daemon up.
+      constexpr int kDrainMax = 100000;
+      for (int i = 0; i < kDrainMax && lcm_handle_timeout(lcm, 50) > 0; ++i) {
       }
     }
     const MessageCounts& m = node.messages();

@@ -63,7 +63,8 @@ def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a 
     """The options of one flight, shared by ``run`` and ``hil``."""
     p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
                    help=f"inject a failure (repeatable); TIME defaults to {FAILURE_TIME_S} s, MODE to complete")
-    p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1)")
+    p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1, one of the seeds the shipped "
+                        "bank was tuned on: campaigns fly evaluation seeds, see f16mmae/seeds.py)")
     p.add_argument("--duration", default=str(FLIGHT_S), metavar="S", help=f"flight length in s (default {FLIGHT_S:g})")
     p.add_argument("--turbulence", default="light", metavar="LEVEL",
                    help="none | light | moderate | severe (default light)")

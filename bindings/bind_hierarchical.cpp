@@ -64,6 +64,9 @@ class PyHierarchicalBank {
       return d < 0 ? py::object(py::none()) : py::object(py::str(b.name(d)));
     });
   }
+  void schedule(double mach, double pressure_altitude_ft) {
+    visit([&](auto& b) { b.schedule(AirData{mach, pressure_altitude_ft}); });
+  }
   void propagate(py::handle u) {
     visit([&](auto& b) { b.propagate(cv::to_vector<typename std::decay_t<decltype(b)>::UVector>(u, nu_, "u")); });
   }
@@ -166,6 +169,15 @@ model bank or a missing dual hypothesis.)doc")
       .def_property_readonly("state_estimates", prop([](auto& b) { return cv::to_numpy(b.bank().state_estimates()); }),
                              "(K, nx) posterior states of the filters on line")
       .def_property_readonly("rejected_frames", prop([](auto& b) { return b.rejected_frames(); }))
+      .def("schedule", &PyHierarchicalBank::schedule, py::arg("mach"), py::arg("pressure_altitude_ft"),
+           "Measured air data for the coming frames (scheduling only). A non-finite value is counted\n"
+           "in air_data_rejected and the last usable one stays in force.")
+      .def_property_readonly("air_data", prop([](auto& b) {
+                               return py::make_tuple(b.air_data().mach, b.air_data().pressure_altitude_ft);
+                             }),
+                             "(mach, pressure_altitude_ft) in force: the design condition until schedule()")
+      .def_property_readonly("air_data_rejected", prop([](auto& b) { return b.air_data_rejected(); }),
+                             "schedule() calls with a non-finite value")
       .def_property_readonly("frames", prop([](auto& b) { return b.frames(); }), "update calls so far")
       .def_property_readonly("frame_rate_hz", prop([](auto& b) { return b.frame_rate_hz(); }))
       .def_property_readonly("u_trim", prop([](auto& b) { return cv::to_numpy(b.u_trim()); }))

@@ -2,6 +2,7 @@
 // (F16HierarchicalBank, paper Fig. 2) built from a model-bank file, fed ABSOLUTE u and z
 // exactly as the in-process closed loop feeds it (docs/INTERFACES.md); the bank subtracts
 // its trim:
+//   schedule(a)   bank.schedule(a)   measured air data for the coming frames (air_data.h)
 //   update(z)     bank.update(z)     r_k = (z - z_trim) - H_k x-_k, Bayes (eqs. 1-2), floor,
 //                                    declaration, level switch / back-out
 //   propagate(u)  bank.propagate(u)  x-_{i+1} = Phi_k x+_i + Bd_k (u - u_trim)
@@ -37,6 +38,7 @@ class MmaeEstimator {
     return true;
   }
   bool propagate(const UVector& u_abs) noexcept { return bank_.propagate(u_abs); }
+  void schedule(const AirData& a) noexcept { bank_.schedule(a); }
   void reset() noexcept {
     bank_.reset();
     declared_now_ = -1;

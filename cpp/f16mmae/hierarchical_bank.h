@@ -20,6 +20,12 @@
 // others), exactly as level 0 presumes NONE at start. The declarer restarts with the
 // declared hypothesis current, so it must be out-voted for a dwell before the next switch.
 //
+// Air data (air_data.h): schedule(a) before a frame's update hands the bank the measured
+// air data. A non-finite value is counted in air_data_rejected() and the last usable value
+// stays in force. This bank is designed at one flight condition (ModelBank mach, alt_ft), so
+// its filters and trim do not depend on the air data; air_data() reports what is in force
+// (the design condition until the first usable value; reset() returns to it).
+//
 // Signals are ABSOLUTE at this interface: update(z) subtracts the bank's z_trim, propagate(u)
 // its u_trim, and z_hat() adds z_trim back (z_hat_perturbation() does not). States are
 // perturbations from trim. A frame is one update (accepted or rejected): frame index i
@@ -35,6 +41,7 @@
 // declarations_dropped()).
 #pragma once
 
+#include "f16mmae/air_data.h"
 #include "f16mmae/declarer.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/model_bank.h"
@@ -96,6 +103,14 @@ class HierarchicalBank {
     }
     return hypothesis;
   }
+  // The measured air data for the coming frames (see the header comment); noexcept.
+  void schedule(const AirData& a) noexcept {
+    if (!a.finite()) {
+      ++air_data_rejected_;
+      return;
+    }
+    air_data_ = a;
+  }
   bool propagate(const UVector& u_abs) noexcept {
     u_pert_.noalias() = u_abs - u_trim_;
     return bank_.propagate(u_pert_);
@@ -116,6 +131,8 @@ class HierarchicalBank {
     frame_ = 0;
     history_.clear();
     dropped_ = 0;
+    air_data_ = design_air_data_;
+    air_data_rejected_ = 0;
   }
 
   // Touch the on-line bank's per-frame working set (FilterBank::warm_cache) and the
@@ -151,6 +168,8 @@ class HierarchicalBank {
   const ZVector& z_trim() const noexcept { return z_trim_; }
   const UVector& u_trim() const noexcept { return u_trim_; }
   std::int64_t rejected_frames() const noexcept { return bank_.rejected_frames(); }
+  const AirData& air_data() const noexcept { return air_data_; }            // in force
+  std::int64_t air_data_rejected() const noexcept { return air_data_rejected_; }
   const Bank& bank() const noexcept { return bank_; }
   const Declarer& declarer() const noexcept { return declarer_; }
   const HierarchicalOptions& options() const noexcept { return options_; }
@@ -237,6 +256,8 @@ class HierarchicalBank {
     bank_.set_h_output(mb.h_output);
     z_trim_ = mb.z_trim;
     u_trim_ = mb.u_trim;
+    design_air_data_ = AirData{mb.mach, mb.alt_ft};
+    air_data_ = design_air_data_;
     z_pert_ = z_trim_;
     u_pert_ = u_trim_;
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
@@ -283,6 +304,8 @@ class HierarchicalBank {
   UVector u_trim_, u_pert_;
   std::vector<Declaration> history_;
   std::int64_t dropped_ = 0;
+  AirData design_air_data_, air_data_;
+  std::int64_t air_data_rejected_ = 0;
   std::int64_t frame_ = 0;
   double frame_rate_hz_ = 0.0;
   int level_ = 0;

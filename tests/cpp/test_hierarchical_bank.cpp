@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 
 using namespace f16mmae;
 
@@ -87,6 +89,34 @@ TEST(HierarchicalBank, SubtractsTheTrimLikeAPlainBankOnPerturbations) {
     ASSERT_LT((hb.z_hat_perturbation() - plain.z_hat()).cwiseAbs().maxCoeff(), 1e-12);
   }
   EXPECT_TRUE(hb.declarations().empty());
+}
+
+TEST(HierarchicalBank, UnscheduledBankKeepsTheLastUsableAirDataAndCountsTheRest) {
+  Small s;
+  s.bank.mach = 0.4;
+  s.bank.alt_ft = 20000.0;
+  DynamicHierarchicalBank hb(s.bank);
+  DynamicHierarchicalBank reference(s.bank);
+  EXPECT_EQ(hb.air_data().mach, 0.4);
+  EXPECT_EQ(hb.air_data().pressure_altitude_ft, 20000.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {{"Z2", 40, 100}}, 100, 3u);
+  for (int i = 0; i < 100; ++i) {
+    if (i == 10) hb.schedule(AirData{0.55, 12000.0});
+    if (i == 20) hb.schedule(AirData{nan, 15000.0});
+    if (i == 30) hb.schedule(AirData{0.6, inf});
+    hb.step(f.z[i], f.u[i]);
+    reference.step(f.z[i], f.u[i]);
+    // An unscheduled bank's filters do not depend on the air data.
+    ASSERT_EQ(hb.probabilities(), reference.probabilities());
+  }
+  EXPECT_EQ(hb.air_data().mach, 0.55);
+  EXPECT_EQ(hb.air_data().pressure_altitude_ft, 12000.0);
+  EXPECT_EQ(hb.air_data_rejected(), 2);
+  hb.reset();
+  EXPECT_EQ(hb.air_data().mach, 0.4);
+  EXPECT_EQ(hb.air_data_rejected(), 0);
 }
 
 TEST(HierarchicalBank, SingleThenDualFailureIsDeclaredAndStays) {

@@ -165,9 +165,11 @@ int index_of(const ModelBank& bank, const std::string& name) {
 // Seconds per frame of F16FilterBank::step over the frames z (N,7), u (N,5), built from the
 // bank's first 13 hypotheses and timed in C++ (std::chrono::steady_clock): the frames are
 // replayed from a reset bank, pass after pass, for at least min_time_s and 3 passes; the
-// result is the fastest pass's time over N (the machine's least-disturbed pass). For
-// f16mmae.bench.
-double bench_filter_bank_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, double min_time_s) {
+// result is the fastest pass's time over N (the machine's least-disturbed pass). With
+// adapt_turbulence the bank runs its turbulence adaptation (turbulence_adaptation.h, default
+// settings, the bank's frame rate). For f16mmae.bench.
+double bench_filter_bank_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, double min_time_s,
+                              bool adapt_turbulence) {
   constexpr int kBank = 13;
   if (bank.hypotheses.size() < kBank || bank.nx() != 13 || bank.nu() != 5 || bank.nz() != 7)
     throw py::value_error("the C++ loop needs an F-16-size bank (>= 13 hypotheses, nx=13, nu=5, nz=7), got " +
@@ -183,7 +185,10 @@ double bench_filter_bank_loop(const ModelBank& bank, py::handle z_frames, py::ha
     const HypothesisModel& h = bank.hypotheses[k];
     models.push_back(F16FilterModel::from_matrices(h.phi, h.bd, h.h, h.k, h.a, "hypothesis '" + h.name + "'"));
   }
-  const auto filters = std::make_unique<F16FilterBank>(models);
+  FilterBankOptions options;
+  options.adaptation.enabled = adapt_turbulence;
+  options.adaptation.frame_rate_hz = bank.frame_rate_hz;
+  const auto filters = std::make_unique<F16FilterBank>(models, options);
   filters->set_h_output(bank.h_output);
   std::vector<F16FilterBank::ZVector> zs(z.rows());
   std::vector<F16FilterBank::UVector> us(u.rows());
@@ -383,9 +388,10 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       "save_bank", [](const ModelBank& b, py::handle path) { return save_bank(b, fspath(path)); }, py::arg("bank"),
       py::arg("path"), "Validate the bank and write its file atomically; returns content_hash.");
   m.def("_bench_filter_bank_loop", &bench_filter_bank_loop, py::arg("bank"), py::arg("z"), py::arg("u"),
-        py::arg("min_time_s") = 0.2,
+        py::arg("min_time_s") = 0.2, py::arg("adapt_turbulence") = false,
         "Benchmark: seconds per frame of the fixed-size C++ F16FilterBank.step over frames z (N,7), u (N,5),\n"
-        "built from the bank's first 13 hypotheses, timed in C++ (f16mmae.bench).");
+        "built from the bank's first 13 hypotheses, timed in C++ (f16mmae.bench); adapt_turbulence: with\n"
+        "the turbulence adaptation on.");
 }
 
 }  // namespace f16mmae::bindings

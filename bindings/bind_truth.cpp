@@ -184,7 +184,9 @@ class Frames {
     using clock = std::chrono::steady_clock;
     constexpr py::ssize_t K = F16HierarchicalBank::PVector::RowsAtCompileTime;
     py::array_t<double> probs({static_cast<py::ssize_t>(record ? n : 0), K});
+    py::array_t<double> scale(static_cast<py::ssize_t>(record ? n : 0));
     double* row = probs.mutable_data();
+    double* scale_row = scale.mutable_data();
     py::list events;
     double truth_s = 0.0, est_s = 0.0;
     bool declared_last = false;
@@ -216,10 +218,12 @@ class Frames {
         const auto& p = est.probabilities();
         for (py::ssize_t k = 0; k < K; ++k) row[k] = p[k];
         row += K;
+        *scale_row++ = est.turbulence_scale();
       }
     }
     py::dict out;
     out["probabilities"] = probs;
+    out["turbulence_scale"] = scale;
     out["events"] = events;
     out["truth_s"] = truth_s;
     out["estimator_s"] = est_s;
@@ -329,6 +333,7 @@ void bind_truth(py::module_& m) {
     describes the frame): z = measure(); then per frame: bank.update(z), u = FCS(z_hat if
     use_mmae else z), bank.propagate(u), advance(u), the next z (not after the last frame).
     Returns {'probabilities': (n, 13) the probabilities on line after each frame (or (0, 13)),
+    'turbulence_scale': (n,) the bank's turbulence_scale after each frame (or (0,)),
     'events': [(frame, declared name, names on line after it)], 'truth_s', 'estimator_s'
     (seconds spent in each), 'declared_last_frame'}.)doc")
       .def_property_readonly("frame", &Frames::frame)

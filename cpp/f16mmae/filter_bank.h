@@ -6,6 +6,9 @@
 //                 log-likelihood (eq. 2)
 //                   l_k = -q_k/2                                     (leading term stripped, default)
 //                   l_k = -q_k/2 - (m/2) ln 2π - (1/2) ln|A_k|       (leading term kept)
+//                 with the turbulence adaptation on (options.adaptation, turbulence_adaptation.h)
+//                   q_k/2 becomes q_k/(2 s), s the residual-power scale of the frames before;
+//                   the frame's q_k then update s.
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
 //                 floor p_min ("lock-out" prevention) by water-filling: hypotheses with
@@ -51,6 +54,7 @@
 #include "f16mmae/estimator_settings.h"
 #include "f16mmae/packed_bank.h"
 #include "f16mmae/steady_state_filter.h"
+#include "f16mmae/turbulence_adaptation.h"
 
 #include <Eigen/Dense>
 
@@ -70,6 +74,7 @@ struct FilterBankOptions {
   double p_min = kDefaultPMin;       // probability floor (paper: 0.001); 0 <= p_min < 1/K
   bool strip_leading_term = true;    // drop 1/((2π)^{m/2}|A_k|^{1/2}) from eq. 2 (paper)
   bool vectorized_kernel = true;     // fixed sizes: use the AVX2/FMA kernel if the CPU has it
+  TurbulenceAdaptationOptions adaptation;   // likelihood scale s (turbulence_adaptation.h); off by default
 };
 
 template <int K, int NX, int NU, int NZ>
@@ -127,6 +132,7 @@ class FilterBank {
     }
     check_p_min(options_.p_min, k, "filter bank");
     const int nx = hypotheses_[0].nx(), nz = hypotheses_[0].nz();
+    scale_.configure(options_.adaptation, k, nz, "filter bank");
     p_.setZero(k);
     log_p_.setZero(k);
     log_l_.setZero(k);
@@ -184,8 +190,11 @@ class FilterBank {
     if (!store([&](auto& s) { return s.update(z, hypotheses_, q_); })) return reject();
     // log-likelihoods (eq. 2) and the Bayes update (eq. 1), log domain
     double a_max = -std::numeric_limits<double>::infinity();
+    const bool adapt = scale_.enabled();
+    const double inv_s = scale_.inverse_scale();
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
+      if (adapt) l *= inv_s;
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
       log_l_(i) = l;
       const double a = l + log_p_(i);
@@ -208,6 +217,7 @@ class FilterBank {
       }
       apply_floor();
     }
+    scale_.observe(q_);
     refresh_blend();
     ++frames_;
     return true;
@@ -243,6 +253,7 @@ class FilterBank {
     log_l_.setZero();
     rejected_ = 0;
     frames_ = 0;
+    scale_.reset();
     presume(0);
   }
 
@@ -280,6 +291,10 @@ class FilterBank {
   std::int64_t rejected_frames() const noexcept { return rejected_; }
   std::int64_t accepted_updates() const noexcept { return frames_; }
   const FilterBankOptions& options() const noexcept { return options_; }
+  // The turbulence adaptation's scale s in force for the next update (1 when it is off), and
+  // its per-hypothesis residual-power averages m_k (turbulence_adaptation.h).
+  double turbulence_scale() const noexcept { return scale_.scale(); }
+  const ResidualScale<K>& adaptation() const noexcept { return scale_; }
   // True when the frames run through the packed AVX2/FMA kernel (fixed sizes, CPU support).
   bool vectorized_kernel() const noexcept { return use_packed_; }
 
@@ -299,6 +314,7 @@ class FilterBank {
     hypotheses_[k] = hypothesis;
     if constexpr (kPacked) packed_.load(k, hypotheses_);
     store([&](auto& s) { s.clear(k); });
+    scale_.restart(k);
   }
   // Set filter k's posterior x⁺ and mark it current, so the next propagate starts from it
   // (a filter brought on line after the frame's update).
@@ -395,6 +411,7 @@ class FilterBank {
   ZVector z_hat_;
   OutputMatrix h_out_;
   HypothesisFlags<K> floored_;
+  ResidualScale<K> scale_{};
   bool use_packed_ = false;    // the store: packed_ if true, else columns_
   Packed packed_{};
   Columns columns_{};

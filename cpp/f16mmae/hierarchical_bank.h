@@ -65,7 +65,7 @@ struct Declaration {
 };
 
 struct HierarchicalOptions {
-  FilterBankOptions bank;     // p_min, strip_leading_term
+  FilterBankOptions bank;     // p_min, strip_leading_term, adaptation (its rate: the ModelBank's)
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
   int history_capacity = 1024;
 };
@@ -162,6 +162,10 @@ class HierarchicalBank {
   std::int64_t frames() const noexcept { return frame_; }
   double frame_rate_hz() const noexcept { return frame_rate_hz_; }
   const PVector& probabilities() const noexcept { return bank_.probabilities(); }
+  // The turbulence adaptation's likelihood scale s (1 when off; turbulence_adaptation.h):
+  // the estimated ratio of the residual power to the design's, the estimator's own measure
+  // of the turbulence intensity. It carries over level switches; reset() restarts it.
+  double turbulence_scale() const noexcept { return bank_.turbulence_scale(); }
   const XVector& blended_state() const noexcept { return bank_.blended_state(); }
   const ZVector& z_hat_perturbation() const noexcept { return bank_.z_hat(); }
   ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_; }   // absolute
@@ -237,10 +241,14 @@ class HierarchicalBank {
     d.frame_rate_hz = rate_hz;
     return d;
   }
+  static FilterBankOptions with_rate(FilterBankOptions b, double rate_hz) {
+    b.adaptation.frame_rate_hz = rate_hz;
+    return b;
+  }
 
   HierarchicalBank(const ModelBank& mb, const HierarchicalOptions& options, Built b)
       : options_(options),
-        bank_(pick(b.models, b.level0), options.bank),
+        bank_(pick(b.models, b.level0), with_rate(options.bank, mb.frame_rate_hz)),
         declarer_(with_rate(options.declarer, mb.frame_rate_hz), 0),
         level0_(b.level0),
         level1_(std::move(b.level1)),

@@ -190,6 +190,8 @@ class BenchResult:
     frames: int
     bank_hash: str = ""
     cpp_loop_us: float | None = None
+    #: (a) with the turbulence adaptation on (cpp/f16mmae/turbulence_adaptation.h)
+    cpp_loop_adaptive_us: float | None = None
     python_call_us: float | None = None
     numpy_us: float | None = None
     filterpy_us: float | None = None
@@ -205,6 +207,7 @@ class BenchResult:
             ("numpy / cpp_loop", self.numpy_us, self.cpp_loop_us),
             ("numpy / python_call", self.numpy_us, self.python_call_us),
             ("python_call / cpp_loop", self.python_call_us, self.cpp_loop_us),
+            ("cpp_loop_adaptive / cpp_loop", self.cpp_loop_adaptive_us, self.cpp_loop_us),
         ]
         for label, slow, fast in pairs:
             if slow is not None and fast:
@@ -248,6 +251,7 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
     result = BenchResult(frames=frames, bank_hash=bank.content_hash)
 
     result.cpp_loop_us = core._bench_filter_bank_loop(bank, z, u, min_time_s) * 1e6
+    result.cpp_loop_adaptive_us = core._bench_filter_bank_loop(bank, z, u, min_time_s, adapt_turbulence=True) * 1e6
 
     result.python_call_us = _time_per_frame(core_filter_bank(models).step, z, u, min_time_s)
     result.max_probability_difference = max_probability_difference(models, z, u)
@@ -272,6 +276,7 @@ def report(result: BenchResult, stream) -> dict:
     (the numbers, the targets and :func:`machine_info`)."""
     rows = [
         ("(a) C++ loop, F16FilterBank.step", result.cpp_loop_us),
+        ("(a') (a) + turbulence adaptation", result.cpp_loop_adaptive_us),
         ("(b) Python call, bank.step(z, u)", result.python_call_us),
         ("(c) numpy reference", result.numpy_us),
         ("(d) filterpy MMAEFilterBank", result.filterpy_us),
@@ -301,7 +306,8 @@ def report(result: BenchResult, stream) -> dict:
         "frames": result.frames,
         "bank_hash": result.bank_hash,
         "us_per_frame": {
-            "cpp_loop": result.cpp_loop_us, "python_call": result.python_call_us,
+            "cpp_loop": result.cpp_loop_us, "cpp_loop_adaptive": result.cpp_loop_adaptive_us,
+            "python_call": result.python_call_us,
             "numpy": result.numpy_us, "filterpy": result.filterpy_us,
         },
         "ratios": ratios,

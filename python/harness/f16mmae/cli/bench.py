@@ -27,7 +27,8 @@ Time one MMAE frame (13 steady-state filters: residuals, log-domain Bayes update
 the p_min floor, blended estimate, propagation) on an F-16-size synthetic bank (13
 states, 5 inputs, 7 measurements; random stable Phi, DARE gains, each hypothesis with
 its failed actuator column or sensor row removed), four ways, in one run:
-  (a) the C++ loop alone (F16FilterBank.step, timed in C++)
+  (a) the C++ loop alone (F16FilterBank.step, timed in C++); (a') the same with the
+      turbulence adaptation on (cpp/f16mmae/turbulence_adaptation.h)
   (b) the same bank called from Python, bank.step(z, u) once per frame
   (c) a numpy reference implementation (f16mmae.bench.estimator.NumpyMMAE)
   (d) filterpy's MMAEFilterBank on the same models (full Kalman filters; optional)

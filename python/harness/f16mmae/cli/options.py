@@ -88,6 +88,10 @@ def add_estimator_arguments(p) -> None:
     p.add_argument("--p-min", default=None, metavar="P",
                    help="probability floor (default: the bank's recommended -- tuned: 1e-9 -- "
                         "else the core's 0.001, the paper's)")
+    p.add_argument("--adapt-turbulence", action="store_true",
+                   help="adapt the likelihoods on line to the turbulence intensity (one residual "
+                        "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "
+                        "Default off: the bank as designed")
 
 
 def estimator_options_from_args(args) -> dict:
@@ -100,6 +104,8 @@ def estimator_options_from_args(args) -> dict:
         out["dwell_s"] = number("--dwell-s", args.dwell_s, minimum=0.0, maximum=DWELL_S_MAX)
     if args.p_min is not None:
         out["p_min"] = number("--p-min", args.p_min, minimum=0.0, below=round(1.0 / K_BANK, 6))
+    if getattr(args, "adapt_turbulence", False):
+        out["adapt_turbulence"] = True
     return out
 
 

@@ -13,6 +13,7 @@ from ..report.flight import write_flight
 from ..outputs import writable_dir
 from ..truth import Scenario, TrimError, parse_fail
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE
+from ..truth.turbulence import GustBurst
 from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args, flight_seconds,
                       number, seed)
 
@@ -68,6 +69,9 @@ def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a 
     p.add_argument("--duration", default=str(FLIGHT_S), metavar="S", help=f"flight length in s (default {FLIGHT_S:g})")
     p.add_argument("--turbulence", default="light", metavar="LEVEL",
                    help="none | light | moderate | severe (default light)")
+    p.add_argument("--gust-burst", default=None, metavar="LEVEL@START+DURATION",
+                   help="switch the turbulence to LEVEL from START s for DURATION s, then back "
+                        "(e.g. severe@3.0+2.0; default none)")
     p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
     p.add_argument("--alt-ft", default=None, metavar="H", help="flight altitude in ft (default: the bank's)")
     p.add_argument("--bank", default="tuned", metavar="tuned|untuned|FILE", help=bank_help)
@@ -105,6 +109,14 @@ def scenario_fields(args) -> dict:
               else number("--alt-ft", args.alt_ft, minimum=ALT_FT_RANGE[0], maximum=ALT_FT_RANGE[1]))
     dither_scale = number("--dither-scale", args.dither_scale, minimum=0.0, maximum=5.0)
     failures = parse_failures(args.fail)
+    burst = None
+    if getattr(args, "gust_burst", None) is not None:
+        try:
+            burst = GustBurst.parse(args.gust_burst)
+        except ValueError as exc:
+            raise CliError(f"--gust-burst: {exc}") from None
+        if burst.start_s >= duration:
+            raise CliError(f"--gust-burst {args.gust_burst}: the burst starts after the {duration}-s flight")
     late = [f for f in failures if f.time_s >= duration]
     if late:
         raise CliError(f"--fail {late[0].name}@{late[0].time_s}: the failure time is not inside the "
@@ -112,7 +124,7 @@ def scenario_fields(args) -> dict:
     return {
         "mach": mach, "alt_ft": alt_ft, "turbulence": turbulence,
         "dither": not args.no_dither, "duration_s": duration, "seed": seed_, "feedback": feedback,
-        "failures": tuple(failures),
+        "failures": tuple(failures), "gust_burst": burst,
         "dither_scale": dither_scale,
     }
 

@@ -87,6 +87,11 @@ class Estimator:
         return str(self._bank.declared)
 
     @property
+    def turbulence_scale(self) -> float:
+        """The core's turbulence-adaptation scale s in force (1.0 with the adaptation off)."""
+        return float(self._bank.turbulence_scale)
+
+    @property
     def level(self) -> int:
         return int(self._bank.level)
 

@@ -59,6 +59,10 @@ class FlightResult:
     #: (frames, 7) of each frame, and ``truth_log`` (``TruthModel.truth_log``, truth: read
     #: after the flight, for the record only); else None.
     series: dict | None = field(default=None, repr=False)
+    #: The estimator's turbulence-adaptation scale s after each frame (frames,), recorded with
+    #: the probabilities (1.0 throughout with the adaptation off; NaN for an estimator without
+    #: one, e.g. over LCM); an empty array when probabilities are not recorded.
+    turbulence_scale: np.ndarray = field(default=None, repr=False)
 
     def probability_of(self, hypothesis: str) -> np.ndarray:
         """Probability history of one hypothesis, 0 while off line (or never on line)."""
@@ -144,6 +148,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     columns: dict[str, int] = {name: k for k, name in enumerate(estimator.hypotheses)}
     idx = np.arange(len(columns))
     probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
+    scale = np.full(n_frames if record_probabilities else 0, np.nan)
     declarations: list[dict] = []
     if record_series:
         rec_u, rec_z, rec_z_hat = np.zeros((n_frames, 5)), np.zeros((n_frames, 7)), np.zeros((n_frames, 7))
@@ -162,6 +167,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                 start = frame
         if record_probabilities:
             probs[start:, idx] = out["probabilities"][start:]
+            scale[:] = out["turbulence_scale"]
         estimator.last_declaration = out["events"][-1][1] if out["declared_last_frame"] else None
         n_frames_python = 0
     else:
@@ -194,6 +200,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                 probs, idx = _on_line(estimator.hypotheses, columns, probs)
         if record_probabilities:
             probs[i, idx] = estimator.probabilities
+            scale[i] = getattr(estimator, "turbulence_scale", np.nan)
     truth.detach(fcs)
     truth.close()
     final = estimator.declared
@@ -215,6 +222,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         timing={"wall_s": round(wall, 6), "truth_s": round(t_truth, 6), "estimator_s": round(t_est, 6),
                 "frames": n_frames},
         estimator_settings=dict(getattr(estimator, "settings", {})),
+        turbulence_scale=scale,
         series=({"u": rec_u, "z": rec_z, "z_hat": rec_z_hat, "truth_log": truth.truth_log}
                 if record_series else None),
     )

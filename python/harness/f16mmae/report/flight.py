@@ -2,7 +2,9 @@
 
 probabilities.csv: ``time_s``, then one column per hypothesis that was on line during the
 flight (``FlightResult.hypotheses``: the union, in order of first appearance); a cell is
-empty while its hypothesis is off line.  The probabilities on line sum to 1 per row.
+empty while its hypothesis is off line.  The probabilities on line sum to 1 per row.  With the
+estimator's turbulence adaptation on, a last column ``turbulence_scale`` holds its scale s after
+each frame (``FlightResult.turbulence_scale``).
 """
 from __future__ import annotations
 
@@ -26,11 +28,13 @@ def write_flight(result, out_dir: str | Path, **extra) -> dict[str, Path]:
     out.mkdir(parents=True, exist_ok=True)
     paths = {"run": out / "run.json", "csv": out / "probabilities.csv", "png": out / "probabilities.png"}
     paths["run"].write_text(json.dumps(result.run_json(**extra), indent=1) + "\n")
+    adaptive = bool(result.estimator_settings.get("adapt_turbulence"))
     with open(paths["csv"], "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(("time_s",) + result.hypotheses)
-        for t, row in zip(result.time_s, result.probabilities):
-            w.writerow([f"{t:.6f}"] + ["" if np.isnan(p) else f"{p:.6g}" for p in row])
+        w.writerow(("time_s",) + result.hypotheses + (("turbulence_scale",) if adaptive else ()))
+        for i, (t, row) in enumerate(zip(result.time_s, result.probabilities)):
+            w.writerow([f"{t:.6f}"] + ["" if np.isnan(p) else f"{p:.6g}" for p in row]
+                       + ([f"{result.turbulence_scale[i]:.6g}"] if adaptive else []))
     probability_history(result.time_s, result.hypotheses, result.probabilities, result.failures,
                         result.declarations, paths["png"],
                         title=f"MMAE hypothesis probabilities, seed {result.scenario.get('seed')}, "

@@ -8,7 +8,10 @@ One frame (FRAME_RATE_HZ = 64 Hz) of the closed loop (docs/INTERFACES.md)::
                                # actuator lag/limits and actuator failures act at 128 Hz
 
 A failure with onset t_f acts from the first JSBSim step (actuators) or frame (sensors) whose
-time is >= t_f.  Sensor noise comes from ``numpy.random.default_rng(seed)``, turbulence from
+time is >= t_f.  A gust burst (``Scenario.gust_burst``) changes the turbulence level before the
+JSBSim steps of its first frame and back before those of its end frame (``turbulence.GustBurst``);
+``fly_closed_loop`` flies the frames between such changes as separate C++ calls, which continue
+each other exactly (a call ends after its last frame's steps; the next measures first).  Sensor noise comes from ``numpy.random.default_rng(seed)``, turbulence from
 JSBSim seeded with the same seed: the same scenario gives the same run.
 ``truth_log`` holds the record (true states, effective surface positions, failure truth); it
 is for scoring and plots only and must never reach the estimator.
@@ -83,6 +86,9 @@ class TruthModel:
             key=lambda p: p[0])
         self._pending_act = list(self._act_schedule)
         self._pending_sen = list(self._sen_schedule)
+        #: (frame, level): turbulence changes still to come (a gust burst's start and end).
+        self._pending_turb = (sc.gust_burst.schedule(sc.turbulence, FRAME_RATE_HZ)
+                              if sc.gust_burst is not None else [])
         n = int(round(sc.duration_s * FRAME_RATE_HZ)) + 1
         if self.engine == "cpp":
             self._rng = rng
@@ -172,6 +178,7 @@ class TruthModel:
         if len(u) != 5:
             raise ValueError(f"u needs 5 surface commands ({', '.join(ACTUATORS)}), got {len(u)}")
         self._check_open()
+        self._turbulence_due()
         if self._frames is not None:
             self._frames.advance(np.asarray(u, dtype=float))
             self.frame += 1
@@ -211,6 +218,7 @@ class TruthModel:
         call and ``fcs`` must be ``attach``-ed (its pilot, if any, is not supported there)."""
         if self._frames is not None:
             self._refill_noise()
+            self._turbulence_due()
             u, z = self._frames.step(z_feedback, measure_next)
             self.frame += 1
             return u, z
@@ -225,10 +233,30 @@ class TruthModel:
         self._check_open()
         if self._frames is None:
             raise ValueError("fly_closed_loop needs the cpp truth engine")
-        self._refill_noise()
-        out = self._frames.fly_closed_loop(bank, n_frames, use_mmae, record_probabilities)
-        self.frame += n_frames
+        end = self.frame + n_frames
+        cuts = [f for f, _ in self._pending_turb if self.frame < f < end] + [end]
+        out = None
+        for cut in cuts:
+            self._turbulence_due()
+            self._refill_noise()
+            first = self.frame
+            part = self._frames.fly_closed_loop(bank, cut - first, use_mmae, record_probabilities)
+            self.frame = cut
+            if out is None:
+                out = part
+                continue
+            for key in ("probabilities", "turbulence_scale"):
+                out[key] = np.concatenate([out[key], part[key]])
+            out["events"] = list(out["events"]) + [(f + first - (end - n_frames), *rest) for f, *rest in part["events"]]
+            out["truth_s"] += part["truth_s"]
+            out["estimator_s"] += part["estimator_s"]
+            out["declared_last_frame"] = part["declared_last_frame"]
         return out
+
+    def _turbulence_due(self) -> None:
+        """Apply the turbulence changes due at or before the current frame (gust burst)."""
+        while self._pending_turb and self._pending_turb[0][0] <= self.frame:
+            turbulence.apply(self.fdm, self._pending_turb.pop(0)[1])
 
     def _refill_noise(self) -> None:
         if self._frames.noise_left == 0:  # flown past the scenario's duration: the next draws
@@ -296,7 +324,7 @@ def fly_raw(scenario: Scenario, pilot=None, fcs_gains=None,
     fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari, pilot=pilot,
                               gains=fcs_gains)
     n = int(round(scenario.duration_s * FRAME_RATE_HZ))
-    if truth.engine == "cpp" and pilot is None:
+    if truth.engine == "cpp" and pilot is None and not truth._pending_turb:
         truth.attach(fcs)
         truth._frames.fly(n)
         truth.frame += n

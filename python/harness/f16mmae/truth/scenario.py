@@ -4,7 +4,9 @@ Fields: mach (0.3-0.8), alt_ft (5,000-35,000), turbulence (none|light|moderate|s
 dither (DitherSpec), failures (tuple of FailureSpec, at most one per component), duration_s
 (> 0), seed (integer >= 1; JSBSim maps 0 to 1, so seeds start at 1), feedback ("mmae": the FCS
 flies on the estimator's z_hat, the paper's MMAE-based control; "raw": on the sensors), ari
-(aileron-to-rudder interconnect on/off), noise (sensor noise on/off).
+(aileron-to-rudder interconnect on/off), noise (sensor noise on/off), gust_burst (optional
+``turbulence.GustBurst``: another turbulence level for a while; ``"LEVEL@START+DURATION"`` or a
+table level, start_s, duration_s; absent from ``to_dict`` when there is none).
 
 TOML (``Scenario.from_toml``)::
 
@@ -49,7 +51,7 @@ from .failures import FailureSpec, check_unique, make_failure, parse_fail, parse
 #: Folder of the example scenarios shipped with the package (``f16mmae/scenarios/*.toml``).
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 _KEYS = ("mach", "alt_ft", "turbulence", "dither", "failures", "failure", "duration_s", "seed",
-         "feedback", "ari", "noise")
+         "feedback", "ari", "noise", "gust_burst")
 _DITHER_KEYS = ("enabled", "amplitude_deg", "frequency_hz", "phase_rad")
 _FAILURE_KEYS = ("name", "time_s", "mode", "value")
 
@@ -68,6 +70,7 @@ class Scenario:
     feedback: str = "mmae"
     ari: bool = True
     noise: bool = True
+    gust_burst: turbulence.GustBurst | None = None
 
     def __post_init__(self):
         aircraft.check_flight_condition(float(self.mach), float(self.alt_ft))
@@ -100,6 +103,19 @@ class Scenario:
         for name in ("ari", "noise"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
+        burst = self.gust_burst
+        if isinstance(burst, str):
+            burst = turbulence.GustBurst.parse(burst)
+        elif isinstance(burst, dict):
+            bad = sorted(set(burst) - {"level", "start_s", "duration_s"})
+            if bad or len(burst) != 3:
+                raise ValueError(f"a gust_burst table needs exactly level, start_s, duration_s; got {burst}")
+            burst = turbulence.GustBurst(**burst)
+        elif burst is not None and not isinstance(burst, turbulence.GustBurst):
+            raise ValueError(f"gust_burst must be 'LEVEL@START+DURATION' or a table, got {burst!r}")
+        if burst is not None and burst.start_s >= d:
+            raise ValueError(f"gust burst {burst.text()} starts after the end of the run ({d:g} s)")
+        object.__setattr__(self, "gust_burst", burst)
 
     # -- conversions -------------------------------------------------------------------------
     def to_dict(self) -> dict:
@@ -107,7 +123,8 @@ class Scenario:
         return {"mach": self.mach, "alt_ft": self.alt_ft, "turbulence": self.turbulence,
                 "duration_s": self.duration_s, "seed": self.seed, "feedback": self.feedback,
                 "ari": self.ari, "noise": self.noise, "dither": self.dither.to_dict(),
-                "failures": [f.to_dict() for f in self.failures]}
+                "failures": [f.to_dict() for f in self.failures],
+                **({"gust_burst": self.gust_burst.to_dict()} if self.gust_burst is not None else {})}
 
     @classmethod
     def from_dict(cls, data: dict) -> "Scenario":
@@ -116,7 +133,7 @@ class Scenario:
         if unknown:
             raise ValueError(f"unknown scenario key(s) {', '.join(unknown)}; valid: {', '.join(_KEYS)}")
         kw = {k: data[k] for k in ("mach", "alt_ft", "turbulence", "duration_s", "seed",
-                                   "feedback", "ari", "noise") if k in data}
+                                   "feedback", "ari", "noise", "gust_burst") if k in data}
         if "dither" in data:
             dd = data["dither"]
             if isinstance(dd, bool):

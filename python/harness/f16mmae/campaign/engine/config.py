@@ -79,6 +79,8 @@ class CampaignConfig:
     threshold: float | None = None
     dwell_s: float | None = None
     p_min: float | None = None
+    #: The estimator's on-line turbulence adaptation (core.HierarchicalBank adapt_turbulence).
+    adapt_turbulence: bool = False
 
     #: Whether this kind flies a comma list of failure modes (module docstring).
     MODE_LIST = False
@@ -99,7 +101,10 @@ class CampaignConfig:
 
     def estimator_options(self) -> dict:
         """The estimator settings this config overrides (unset ones stay the bank's recommended)."""
-        return {k: getattr(self, k) for k in ESTIMATOR_SETTINGS if getattr(self, k) is not None}
+        out = {k: getattr(self, k) for k in ESTIMATOR_SETTINGS if getattr(self, k) is not None}
+        if self.adapt_turbulence:
+            out["adapt_turbulence"] = True
+        return out
 
     def dither_spec(self) -> DitherSpec:
         """The truth model's dither for this config (its ``dither`` switch and ``dither_scale``)."""

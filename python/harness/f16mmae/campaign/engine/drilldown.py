@@ -28,7 +28,7 @@ def is_clean(record: dict) -> bool:
 
 def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: float = 1.0) -> str:
     """The ``f16mmae run`` command of one run (module docstring)."""
-    unknown = set(estimator) - set(_ESTIMATOR_OPTIONS)
+    unknown = set(estimator) - set(_ESTIMATOR_OPTIONS) - {"adapt_turbulence"}
     if unknown:
         raise ValueError(f"estimator setting(s) {', '.join(sorted(unknown))} have no run option; "
                          f"valid: {', '.join(_ESTIMATOR_OPTIONS)}")
@@ -45,10 +45,15 @@ def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: 
         if f.get("value") is not None:
             text += f"={float(f['value'])!r}"
         args += ["--fail", text]
+    burst = scenario.get("gust_burst")
+    if burst:
+        args += ["--gust-burst", f"{burst['level']}@{float(burst['start_s'])!r}+{float(burst['duration_s'])!r}"]
     args += ["--bank", str(bank)]
     for key, opt in _ESTIMATOR_OPTIONS.items():
         if key in estimator:
             args += [opt, repr(float(estimator[key]))]
+    if estimator.get("adapt_turbulence"):
+        args.append("--adapt-turbulence")
     return shlex.join(args)
 
 

@@ -1,0 +1,216 @@
+// Turbulence adaptation (turbulence_adaptation.h): the scale's recursion by hand, the bank's
+// tempered Bayes update by hand, "off" bit-identical to the bank without it, the scale
+// recovering a known noise-power ratio, a failure not absorbed, option checks, and no heap
+// allocation in the F-16-sized step with it on (global operator new is counted here).
+#include "f16mmae/hierarchical_bank.h"
+#include "f16mmae/turbulence_adaptation.h"
+
+#include "allocation_counter.h"
+#include "synthetic_models.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+using namespace f16mmae;
+
+namespace {
+
+using Scalar = FilterModel<1, 1, 1>;
+using ScalarBank = FilterBank<Eigen::Dynamic, 1, 1, 1>;
+
+// x stays 0 (K = 0, Bd = 0), so r = z and q = z^2 / A.
+Scalar scalar_model(double a) {
+  Scalar m;
+  m.phi << 0.5;
+  m.bd << 0.0;
+  m.h << 1.0;
+  m.k << 0.0;
+  m.a << a;
+  return m;
+}
+
+Eigen::Matrix<double, 1, 1> z1(double v) {
+  Eigen::Matrix<double, 1, 1> z;
+  z << v;
+  return z;
+}
+
+TurbulenceAdaptationOptions on(double tau_s, double s_min = 1.0, double s_max = 100.0) {
+  TurbulenceAdaptationOptions o;
+  o.enabled = true;
+  o.time_constant_s = tau_s;
+  o.scale_min = s_min;
+  o.scale_max = s_max;
+  o.frame_rate_hz = 64.0;
+  return o;
+}
+
+}  // namespace
+
+TEST(TurbulenceAdaptation, ScaleFollowsTheHandComputedRecursion) {
+  ResidualScale<Eigen::Dynamic> r;
+  r.configure(on(0.5, 0.5, 20.0), 3, 2, "test");
+  const double alpha = 1.0 - std::exp(-1.0 / (0.5 * 64.0));
+  EXPECT_DOUBLE_EQ(r.scale(), 0.5);   // starts at s_min, m_k = s_min * nz = 1
+  Eigen::Vector3d m(1.0, 1.0, 1.0);
+  const Eigen::Vector3d q(8.0, 6.0, 30.0);
+  for (int n = 0; n < 50; ++n) {
+    r.observe(q);
+    for (int k = 0; k < 3; ++k) m(k) += alpha * (q(k) - m(k));
+    EXPECT_NEAR(r.averages()(1), m(1), 1e-12);
+    const double s = std::min(20.0, std::max(0.5, m.minCoeff() / 2.0));
+    EXPECT_NEAR(r.scale(), s, 1e-12) << "frame " << n;
+  }
+  // a non-finite q leaves its average alone; a huge one is clipped at 10 nz s_max = 400
+  const double m2 = r.averages()(2);
+  r.observe(Eigen::Vector3d(std::nan(""), 6.0, 1e300));
+  EXPECT_NEAR(r.averages()(2), m2 + alpha * (400.0 - m2), 1e-9);
+  // a restarted hypothesis takes the scale in force; reset() goes back to s_min
+  const double s = r.scale();
+  r.restart(0);
+  EXPECT_DOUBLE_EQ(r.averages()(0), s * 2.0);
+  r.reset();
+  EXPECT_DOUBLE_EQ(r.scale(), 0.5);
+}
+
+TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) {
+  // tau far below a frame: alpha = 1 - e^-1562 = 1, so s = clamp(min_k q_k) of the last frame
+  FilterBankOptions o;
+  o.p_min = 0.0;
+  o.adaptation = on(1e-5, 1.0, 50.0);
+  ScalarBank bank({scalar_model(1.0), scalar_model(4.0)}, o);
+  ASSERT_TRUE(bank.update(z1(3.0)));   // s was 1: l = -q/2 with q = (9, 2.25)
+  double p0 = 1.0, p1 = 0.0;           // p_min = 0: hypothesis 1 starts at 0 and stays there
+  EXPECT_NEAR(bank.probabilities()(0), p0, 1e-15);
+  EXPECT_NEAR(bank.turbulence_scale(), 2.25, 1e-12);   // min(9, 2.25) / 1
+  bank.set_probabilities(Eigen::Vector2d(0.5, 0.5));
+  ASSERT_TRUE(bank.update(z1(2.0)));   // q = (4, 1), tempered by s = 2.25
+  const double w0 = 0.5 * std::exp(-4.0 / (2 * 2.25)), w1 = 0.5 * std::exp(-1.0 / (2 * 2.25));
+  p0 = w0 / (w0 + w1);
+  p1 = w1 / (w0 + w1);
+  EXPECT_NEAR(bank.probabilities()(0), p0, 1e-14);
+  EXPECT_NEAR(bank.probabilities()(1), p1, 1e-14);
+  EXPECT_NEAR(bank.log_likelihoods()(0), -4.0 / 4.5, 1e-14);
+  EXPECT_DOUBLE_EQ(bank.turbulence_scale(), 1.0);   // min(4, 1) = 1 = s_min
+  bank.reset();
+  EXPECT_DOUBLE_EQ(bank.turbulence_scale(), 1.0);
+}
+
+TEST(TurbulenceAdaptation, OffIsBitIdenticalToTheBankWithoutIt) {
+  const ModelBank mb = test::f16_model_bank(7u);
+  HierarchicalOptions plain, off, unit;
+  off.bank.adaptation.enabled = false;
+  off.bank.adaptation.time_constant_s = 0.1;
+  unit.bank.adaptation = on(5.0, 1.0, 1.0);   // on, but s pinned at 1
+  F16HierarchicalBank a(mb, plain), b(mb, off), c(mb, unit);
+  const test::Plant plant = test::random_plant(13, 5, 7, 7u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 3u);
+  for (int i = 0; i < 400; ++i) {
+    const std::vector<std::string> failed = i >= 100 ? std::vector<std::string>{"LF"} : std::vector<std::string>{};
+    const Eigen::Matrix<double, 7, 1> z = truth.measure(failed) + mb.z_trim;
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    const Eigen::Matrix<double, 5, 1> u = du + mb.u_trim;
+    a.step(z, u), b.step(z, u), c.step(z, u);
+    truth.advance(du, failed);
+    ASSERT_EQ(a.probabilities(), b.probabilities()) << "frame " << i;
+    ASSERT_EQ(a.probabilities(), c.probabilities()) << "frame " << i;
+    ASSERT_EQ(a.blended_state(), b.blended_state());
+  }
+  EXPECT_EQ(a.declarations().size(), b.declarations().size());
+  EXPECT_DOUBLE_EQ(b.turbulence_scale(), 1.0);
+}
+
+TEST(TurbulenceAdaptation, ScaleRecoversAKnownNoisePowerRatio) {
+  // Truth noise (process and measurement) c times the design's: the steady-state residual
+  // covariance of every filter is then c A_k, so E[q_k] = c nz and s -> c.
+  const ModelBank mb = test::f16_model_bank(11u);
+  for (const double c : {4.0, 16.0}) {
+    HierarchicalOptions o;
+    o.bank.adaptation = on(5.0);
+    F16HierarchicalBank hb(mb, o);
+    test::Plant plant = test::random_plant(13, 5, 7, 11u, 1e-3, 1e-3);
+    plant.q *= c;
+    plant.r *= c;
+    test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);
+    double sum = 0.0;
+    int n = 0;
+    for (int i = 0; i < 64 * 120; ++i) {
+      const Eigen::VectorXd du = test::dither(5, i, 64.0);
+      hb.step(truth.measure({}) + mb.z_trim, du + mb.u_trim);
+      truth.advance(du, {});
+      if (i >= 64 * 30) sum += hb.turbulence_scale(), ++n;
+    }
+    // the minimum over 13 averages sits a little below the no-failure filter's c
+    EXPECT_GT(sum / n, 0.8 * c) << "c = " << c;
+    EXPECT_LT(sum / n, 1.1 * c) << "c = " << c;
+    EXPECT_TRUE(hb.declarations().empty()) << "c = " << c;
+  }
+}
+
+TEST(TurbulenceAdaptation, AFailureDoesNotRaiseTheScaleAndIsDeclared) {
+  const ModelBank mb = test::f16_model_bank(13u);
+  HierarchicalOptions o;
+  o.bank.adaptation = on(5.0);
+  F16HierarchicalBank hb(mb, o);
+  const test::Plant plant = test::random_plant(13, 5, 7, 13u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 9u);
+  double s_max_after = 0.0;
+  for (int i = 0; i < 64 * 20; ++i) {
+    const std::vector<std::string> failed = i >= 64 * 10 ? std::vector<std::string>{"PIT"} : std::vector<std::string>{};
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    hb.step(truth.measure(failed) + mb.z_trim, du + mb.u_trim);
+    truth.advance(du, failed);
+    if (i >= 64 * 10) s_max_after = std::max(s_max_after, hb.turbulence_scale());
+  }
+  ASSERT_FALSE(hb.declarations().empty());
+  EXPECT_EQ(hb.name(hb.declarations().front().hypothesis), "PIT");
+  EXPECT_LT(hb.declarations().front().time_s, 11.0);
+  EXPECT_LT(s_max_after, 1.5);   // the PIT filter's residuals stay at the design's power
+}
+
+TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
+  const auto refused = [](TurbulenceAdaptationOptions o, const std::string& what) {
+    try {
+      ScalarBank({scalar_model(1.0), scalar_model(2.0)}, FilterBankOptions{0.001, true, true, o});
+      ADD_FAILURE() << "accepted " << what;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  TurbulenceAdaptationOptions o = on(5.0);
+  o.time_constant_s = 0.0;
+  refused(o, "adapt_time_constant_s");
+  o = on(5.0, -1.0);
+  refused(o, "adapt_scale_min");
+  o = on(5.0, 2.0, 1.0);
+  refused(o, "adapt_scale_max");
+  o = on(5.0);
+  o.frame_rate_hz = std::nan("");
+  refused(o, "frame_rate_hz");
+}
+
+TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
+  const ModelBank mb = test::f16_model_bank(31u);
+  HierarchicalOptions o;
+  o.bank.adaptation = on(5.0);
+  F16HierarchicalBank hb(mb, o);
+  const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);
+  std::vector<Eigen::Matrix<double, 7, 1>> z;
+  std::vector<Eigen::Matrix<double, 5, 1>> u;
+  for (int i = 0; i < 640; ++i) {
+    const std::vector<std::string> failed = i >= 64 ? std::vector<std::string>{"PIT"} : std::vector<std::string>{};
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    z.push_back(truth.measure(failed) + mb.z_trim);
+    u.push_back(du + mb.u_trim);
+    truth.advance(du, failed);
+  }
+  const long long before = f16mmae::testing::allocation_count();
+  for (std::size_t i = 0; i < z.size(); ++i) hb.step(z[i], u[i]);
+  const long long after = f16mmae::testing::allocation_count();
+  EXPECT_EQ(after - before, 0);
+  EXPECT_FALSE(hb.declarations().empty());   // the switch to level 1 happened inside the count
+}

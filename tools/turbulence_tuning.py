@@ -1,0 +1,87 @@
+"""Choose the turbulence adaptation's settings on TUNING seeds only (f16mmae/seeds.py).
+
+For each candidate (adapt on/off, time constant, scale floor) and turbulence level it flies
+  - failure-free flights of --quiet-s seconds on the tuning flight seeds (1-8), counting the
+    false declarations (any hypothesis other than NONE declared);
+  - the single-failure cases (failure at 3 s of an 8-s flight) on the tuning campaign's seeds
+    derived_seed("single", 1, case, n), n < --runs, counting correct final answers and
+    false alarms (a declaration before the failure).
+Prints one line per (candidate, level).  Example:
+
+    .venv/bin/python tools/turbulence_tuning.py --levels none,light,moderate,severe \
+        --candidates off on:5:1 on:10:1 --quiet-s 300 --runs 2 --workers 2
+"""
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+
+from f16mmae.banks import load_bank
+from f16mmae.loop.flight import fly
+from f16mmae.names import COMPONENTS, FAILURE_TIME_S, FLIGHT_S
+from f16mmae.seeds import TUNING_FLIGHT_SEEDS, derived_seed, tuning_seeds
+from f16mmae.truth import Scenario
+from f16mmae.truth.failures import make_failure
+
+
+def options(candidate: str) -> dict:
+    """"off" or "on:TAU:SMIN[:SMAX]" -> core.HierarchicalBank keyword arguments."""
+    if candidate == "off":
+        return {}
+    parts = candidate.split(":")
+    out = {"adapt_turbulence": True, "adapt_time_constant_s": float(parts[1]), "adapt_scale_min": float(parts[2])}
+    if len(parts) > 3:
+        out["adapt_scale_max"] = float(parts[3])
+    return out
+
+
+def flight(job):
+    candidate, level, seed, case, duration, bank_name = job
+    _, _, bank = load_bank(bank_name)
+    fails = () if case == "NONE" else (make_failure(case, FAILURE_TIME_S, "complete", None),)
+    sc = Scenario(mach=bank.mach, alt_ft=bank.alt_ft, turbulence=level, duration_s=duration, seed=seed,
+                  failures=fails)
+    r = fly(sc, bank, estimator_options=options(candidate), record_probabilities=True)
+    decl = r.declarations
+    s = r.turbulence_scale
+    if case == "NONE":
+        return candidate, level, case, sum(d["hypothesis"] != "NONE" for d in decl), 0, float(s.mean()), float(s.max())
+    early = any(d["time_s"] < FAILURE_TIME_S and d["hypothesis"] != "NONE" for d in decl)
+    return candidate, level, case, int(r.final_hypothesis == case), int(early), float(s.mean()), float(s.max())
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--levels", default="none,light,moderate,severe")
+    p.add_argument("--candidates", nargs="+", default=["off", "on:5:1"])
+    p.add_argument("--quiet-s", type=float, default=300.0)
+    p.add_argument("--quiet-seeds", type=int, default=len(TUNING_FLIGHT_SEEDS))
+    p.add_argument("--runs", type=int, default=2)
+    p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--bank", default="tuned", help="tuned | untuned | a bank file")
+    a = p.parse_args()
+    tuning = tuning_seeds()
+    jobs = []
+    for c in a.candidates:
+        for lv in a.levels.split(","):
+            jobs += [(c, lv, s, "NONE", a.quiet_s, a.bank) for s in TUNING_FLIGHT_SEEDS[: a.quiet_seeds]]
+            for case in COMPONENTS:
+                for n in range(a.runs):
+                    seed = derived_seed("single", 1, case, n)
+                    assert seed in tuning
+                    jobs.append((c, lv, seed, case, FLIGHT_S, a.bank))
+    rows: dict = {}
+    with cf.ProcessPoolExecutor(a.workers) as ex:
+        for out in ex.map(flight, jobs, chunksize=4):
+            rows.setdefault(out[:2], []).append(out[2:])
+    for (c, lv), rs in rows.items():
+        quiet = [r for r in rs if r[0] == "NONE"]
+        fail = [r for r in rs if r[0] != "NONE"]
+        print(f"{c:14s} {lv:9s} quiet: {sum(r[1] for r in quiet):4d} false decl in {len(quiet) * a.quiet_s / 3600:.2f} h"
+              f" (s mean {sum(r[3] for r in quiet) / len(quiet):.2f}, max {max(r[4] for r in quiet):.2f})"
+              f" | failures correct {sum(r[1] for r in fail)}/{len(fail)}, early FA {sum(r[2] for r in fail)}",
+              flush=True)
+
+
+if __name__ == "__main__":
+    main()

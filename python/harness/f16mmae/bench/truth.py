@@ -30,7 +30,7 @@ from ..banks import load_bank
 from ..loop.overhead import measure_overhead
 from ..names import SIM_RATE_HZ
 from ..truth import aircraft
-from ..truth.dither import CRITERION
+from ..truth.dither import CRITERION, DitherSpec
 from ..truth.pool import POOL
 from ..truth.model import fly_raw
 from ..truth.scenario import Scenario
@@ -113,6 +113,46 @@ def dither_levels(mach: float = 0.4, alt_ft: float = 20_000.0, duration_s: float
     return {"vel_fps": dz[0], "alpha_deg": float(np.degrees(dz[1])), "q_deg_s": float(np.degrees(dz[2])),
             "nz_g": dz[3], "p_deg_s": float(np.degrees(dz[4])), "r_deg_s": float(np.degrees(dz[5])),
             "ny_g": dz[6]}
+
+
+#: Channels of :func:`dither_in_turbulence`: (name, sensor index, scale to the printed unit).
+_DITHER_CHANNELS = (("nz_g", 3, 1.0), ("q_deg_s", 2, 180.0 / np.pi), ("p_deg_s", 4, 180.0 / np.pi),
+                    ("r_deg_s", 5, 180.0 / np.pi), ("ny_g", 6, 1.0))
+
+
+def dither_in_turbulence(level: str, seed: int = 1, duration_s: float = 30.0, mach: float = 0.4,
+                         alt_ft: float = 20_000.0) -> dict:
+    """The default dither's peak response in turbulence ``level`` beside the gusts' own: one
+    flight with the dither and one without (same seed: the same gusts; no sensor noise, FCS on
+    raw sensors). ``dither``: peak |z_ideal(with) - z_ideal(without)| (the dither's part, the
+    closed loop being close to linear); ``gusts``: peak |z_ideal(without) - trim|; ``ratio``:
+    RMS of the dither's part over RMS of the gusts' (how much of the excitation is the dither),
+    per channel of ``_DITHER_CHANNELS``."""
+    logs = {}
+    for on in (True, False):
+        sc = Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw",
+                      turbulence=level, seed=seed, dither=DitherSpec(enabled=on))
+        truth, _ = fly_raw(sc)
+        logs[on] = (truth.truth_log["z_ideal"], truth.trim.z)
+    d = logs[True][0] - logs[False][0]
+    g = logs[False][0] - logs[False][1]
+    out = {"dither": {}, "gusts": {}, "ratio": {}}
+    for name, j, k in _DITHER_CHANNELS:
+        out["dither"][name] = float(np.abs(d[:, j]).max() * k)
+        out["gusts"][name] = float(np.abs(g[:, j]).max() * k)
+        rms_g = float(np.sqrt(np.mean(g[:, j] ** 2)))
+        out["ratio"][name] = float(np.sqrt(np.mean(d[:, j] ** 2)) / rms_g) if rms_g > 0 else float("inf")
+    return out
+
+
+def report_dither_in_turbulence(levels: dict, stream) -> None:
+    """Print :func:`dither_in_turbulence` per level (``levels``: level -> its result)."""
+    print("dither in turbulence at 20,000 ft, M 0.4 (peak of the dither's part | peak of the gusts' | "
+          "RMS dither / RMS gusts; 30-s flights, seed 1, no noise, raw feedback):", file=stream)
+    for level, r in levels.items():
+        cells = ", ".join(f"{name} {r['dither'][name]:.3f} | {r['gusts'][name]:.3f} | "
+                          f"{r['ratio'][name]:.2g}" for name, _, _ in _DITHER_CHANNELS)
+        print(f"  {level:9s} {cells}", file=stream)
 
 
 def closed_loop_overhead(duration_s: float = 8.0, repeat: int = 5) -> dict:

@@ -17,6 +17,7 @@ import sys
 from pathlib import Path
 
 from ..bench import estimator, truth
+from ..names import TURBULENCE_LEVELS
 from ..outputs import writable_file
 from .options import CliError, number
 
@@ -105,6 +106,7 @@ def _truth(args) -> int:
     runs = number("--campaign-runs", args.campaign_runs, integer=True, minimum=0, below=1001)
     r = truth.benchmark(duration_s, repeat)
     truth.report(r, truth.dither_levels(), truth.closed_loop_overhead(duration_s, repeat), sys.stdout)
+    truth.report_dither_in_turbulence({lv: truth.dither_in_turbulence(lv) for lv in TURBULENCE_LEVELS}, sys.stdout)
     if runs:
         _campaign_rate(runs)
     return 0

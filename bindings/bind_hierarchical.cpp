@@ -24,13 +24,15 @@ class PyHierarchicalBank {
  public:
   PyHierarchicalBank(const ModelBank& bank, double p_min, bool strip_leading_term, double threshold, double dwell_s,
                      const py::object& declarer, bool adapt_turbulence, double adapt_time_constant_s,
-                     double adapt_scale_min, double adapt_scale_max) {
+                     double adapt_scale_min, double adapt_scale_max, double adapt_gain, double adapt_reference) {
     HierarchicalOptions o;
     o.bank.p_min = p_min;
     o.bank.adaptation.enabled = adapt_turbulence;
     o.bank.adaptation.time_constant_s = adapt_time_constant_s;
     o.bank.adaptation.scale_min = adapt_scale_min;
     o.bank.adaptation.scale_max = adapt_scale_max;
+    o.bank.adaptation.gain = adapt_gain;
+    o.bank.adaptation.reference = adapt_reference;
     o.bank.strip_leading_term = strip_leading_term;
     o.declarer.threshold = threshold;
     o.declarer.dwell_s = dwell_s;
@@ -122,7 +124,8 @@ The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 
     HierarchicalBank(model_bank, p_min=0.001, strip_leading_term=True, threshold=0.9,
                      dwell_s=0.25, declarer=None, adapt_turbulence=False,
-                     adapt_time_constant_s=5.0, adapt_scale_min=1.0, adapt_scale_max=100.0)
+                     adapt_time_constant_s=5.0, adapt_scale_min=1.0, adapt_scale_max=100.0,
+                     adapt_gain=20.0, adapt_reference=0.6)
 
 Level 0: NONE and every single failure on line, NONE presumed. When single failure f is
 declared (p_f > threshold for dwell_s), the level-1 bank {NONE, f, f+c for every other c}
@@ -133,18 +136,18 @@ presumed. Hypotheses are found by name in the model bank. declarer (a core.Decla
 given, supplies threshold and dwell_s; the frame rate is the model bank's.
 
 adapt_turbulence: scale every filter's residual covariance by one on-line estimate s of the
-residual power against the design's (cpp/f16mmae/turbulence_adaptation.h; s = clamp(min_k of
-the q_k averages over adapt_time_constant_s / nz, adapt_scale_min, adapt_scale_max)); the
-likelihoods become -q_k/(2 s). Off: exactly the bank as designed. turbulence_scale reads s.
+residual power against the design's (cpp/f16mmae/turbulence_adaptation.h; rho = the average
+over adapt_time_constant_s of min_k q_k / nz, s = clamp(1 + adapt_gain (rho - adapt_reference),
+adapt_scale_min, adapt_scale_max)); the likelihoods become -q_k/(2 s). Off: exactly the bank as designed. turbulence_scale reads s.
 
 SIGNALS ARE ABSOLUTE: update(z (nz,)) subtracts model_bank.z_trim, propagate(u (nu,))
 subtracts model_bank.u_trim, and z_hat is absolute (z_hat_perturbation is not). A frame with
 a non-finite value is rejected and counted in rejected_frames. Raises ValueError for an invalid
 model bank or a missing dual hypothesis.)doc")
-      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, bool, double, double, double>(), py::arg("model_bank"),
+      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, bool, double, double, double, double, double>(), py::arg("model_bank"),
            py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true, py::arg("threshold") = 0.9,
            py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none(), py::arg("adapt_turbulence") = false,
-           py::arg("adapt_time_constant_s") = 5.0, py::arg("adapt_scale_min") = 1.0, py::arg("adapt_scale_max") = 100.0)
+           py::arg("adapt_time_constant_s") = 5.0, py::arg("adapt_scale_min") = 1.0, py::arg("adapt_scale_max") = 100.0, py::arg("adapt_gain") = 20.0, py::arg("adapt_reference") = 0.6)
       .def("update", &PyHierarchicalBank::update, py::arg("z"),
            "Update with absolute z (nz,); returns the name declared on this frame, or None.")
       .def("propagate", &PyHierarchicalBank::propagate, py::arg("u"), "Propagate with absolute u (nu,).")
@@ -183,9 +186,8 @@ model bank or a missing dual hypothesis.)doc")
       .def_property_readonly("turbulence_scale", prop([](auto& b) { return b.turbulence_scale(); }),
                              "the turbulence adaptation's likelihood scale s in force (1.0 when off)")
       .def_property_readonly("adapt_turbulence", prop([](auto& b) { return b.options().bank.adaptation.enabled; }))
-      .def_property_readonly("adaptation_averages",
-                             prop([](auto& b) { return cv::to_numpy(b.bank().adaptation().averages()); }),
-                             "(K,) the adaptation's residual-power averages m_k of the filters on line")
+      .def_property_readonly("turbulence_power_ratio", prop([](auto& b) { return b.bank().adaptation().power_ratio(); }),
+                             "the adaptation's averaged residual power ratio rho (1.0 when off)")
       .def_property_readonly("rejected_frames", prop([](auto& b) { return b.rejected_frames(); }))
       .def("schedule", &PyHierarchicalBank::schedule, py::arg("mach"), py::arg("pressure_altitude_ft"),
            "Measured air data for the coming frames (scheduling only). A non-finite value is counted\n"

@@ -25,13 +25,17 @@ from f16mmae.truth.failures import make_failure
 
 
 def options(candidate: str) -> dict:
-    """"off" or "on:TAU:SMIN[:SMAX]" -> core.HierarchicalBank keyword arguments."""
+    """"off" or "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]" -> core.HierarchicalBank keyword arguments."""
     if candidate == "off":
         return {}
     parts = candidate.split(":")
     out = {"adapt_turbulence": True, "adapt_time_constant_s": float(parts[1]), "adapt_scale_min": float(parts[2])}
     if len(parts) > 3:
         out["adapt_scale_max"] = float(parts[3])
+    if len(parts) > 4:
+        out["adapt_gain"] = float(parts[4])
+    if len(parts) > 5:
+        out["adapt_reference"] = float(parts[5])
     return out
 
 

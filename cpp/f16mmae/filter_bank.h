@@ -132,7 +132,7 @@ class FilterBank {
     }
     check_p_min(options_.p_min, k, "filter bank");
     const int nx = hypotheses_[0].nx(), nz = hypotheses_[0].nz();
-    scale_.configure(options_.adaptation, k, nz, "filter bank");
+    scale_.configure(options_.adaptation, nz, "filter bank");
     p_.setZero(k);
     log_p_.setZero(k);
     log_l_.setZero(k);
@@ -292,7 +292,7 @@ class FilterBank {
   std::int64_t accepted_updates() const noexcept { return frames_; }
   const FilterBankOptions& options() const noexcept { return options_; }
   // The turbulence adaptation's scale s in force for the next update (1 when it is off), and
-  // its per-hypothesis residual-power averages m_k (turbulence_adaptation.h).
+  // the adaptation itself (its power ratio ρ; turbulence_adaptation.h).
   double turbulence_scale() const noexcept { return scale_.scale(); }
   const ResidualScale<K>& adaptation() const noexcept { return scale_; }
   // True when the frames run through the packed AVX2/FMA kernel (fixed sizes, CPU support).
@@ -314,7 +314,6 @@ class FilterBank {
     hypotheses_[k] = hypothesis;
     if constexpr (kPacked) packed_.load(k, hypotheses_);
     store([&](auto& s) { s.clear(k); });
-    scale_.restart(k);
   }
   // Set filter k's posterior x⁺ and mark it current, so the next propagate starts from it
   // (a filter brought on line after the frame's update).

@@ -9,30 +9,45 @@
 // on line as s·A_k, with one scale s common to all hypotheses, estimated on line:
 //
 //   per accepted update, with q_k = r_kᵀ A_k⁻¹ r_k the bank's quadratic forms:
-//     m_k ← m_k + α (min(q_k, q_clip) − m_k),   α = 1 − exp(−1 / (τ f))     (f: frame rate)
-//     s   = clamp(min_k m_k / m,  s_min, s_max),                             (m: measurements)
+//     ρ ← ρ + α (min(min_k q_k / m, ρ_clip) − ρ),   α = 1 − exp(−1 / (τ f))  (f: frame rate,
+//                                                                          m: measurements)
+//     s = clamp(1 + κ (ρ − ρ_0),  s_min, s_max)
 //   and the bank's log-likelihood of that frame (eq. 2) uses the s of the frames BEFORE it:
 //     l_k = −q_k / (2 s)            (leading term stripped, the default)
 //     l_k = −q_k / (2 s) − (m/2) ln 2π − (1/2) ln|A_k|   (kept: ln|s A_k| adds −(m/2) ln s to
 //                                    every l_k alike, which the normalisation of eq. 1 removes)
 //
 // Why these choices:
-//   - E[q_k] = m when filter k's model is right and its residual covariance is A_k, so
-//     m_k / m estimates the ratio of the actual residual power to the design's.
-//   - The MINIMUM over the hypotheses on line, not the no-failure filter's own m_0: after a
-//     failure the no-failure filter's residuals grow, but the matching hypothesis's do not, so
-//     the failure does not raise s (the adaptation does not absorb the failure). Gusts, which
-//     no hypothesis models, raise every m_k.
+//   - E[q_k] = m when filter k's model is right and its residual covariance is A_k, so q_k / m
+//     measures the ratio of the actual residual power to the design's.
+//   - The MINIMUM over the hypotheses on line, frame by frame: after a failure the no-failure
+//     filter's residuals grow but the matching hypothesis's do not, so the failure does not
+//     raise ρ (the adaptation does not absorb the failure); gusts, which no hypothesis models,
+//     raise every q_k. Taken per frame, not as the minimum of per-hypothesis averages: a
+//     hypothesis that did not fit before the failure would carry its large average for τ
+//     after it, and the no-failure filter's growing one would set ρ (measured: s at its
+//     bound within a second of a failure in the synthetic test).
+//   - ρ_0, the reference: the minimum of 13 quadratic forms sits below m even when every
+//     model is right, so ρ reads less than the power ratio (measured on the shipped bank,
+//     120-s flights: ρ ≈ 0.56 in calm air, 0.76 light, 1.4 moderate, 7 severe turbulence).
+//     Tempering starts above ρ_0.
+//   - κ, the gain on the EXCESS ρ − ρ_0: κ = 1, ρ_0 = 0 would be the matched scale s = ρ
+//     (covariance matching). It is not enough: gust residuals are coloured and shaped like
+//     the flaperon and AOA signatures, so the likelihood-ratio excursions they cause outgrow
+//     the matched scale; κ > 1 tempers in proportion to the excess. κ, ρ_0, τ and s_max are
+//     chosen on tuning seeds (tools/turbulence_tuning.py; docs/results/
+//     turbulence_adaptation.md gives the figures).
 //   - s_min (default 1): the bank's own A_k are the floor, so in calmer air than the design
-//     the bank is exactly the one designed (sharpening below the design is not done by default).
-//   - q_clip = 10 m s_max keeps one wild frame (a sensor spike) from moving s by more than
-//     α·q_clip / m.
-//   - A filter loaded at a hierarchical switch (load_filter) restarts with m_k = s·m, so the
-//     scale in force carries over the switch.
+//     the bank is exactly the one designed (no sharpening below the design).
+//   - ρ_clip = 10 s_max keeps one wild frame (a sensor spike) from moving ρ by more than
+//     α ρ_clip.
+//   - ρ carries over the hierarchical switches (it does not depend on which filters are on
+//     line); at the start and at reset() ρ = ρ_0: s = clamp(1, s_min, s_max), the bank as
+//     designed until the residuals say otherwise.
 // Off (enabled = false, the default) the bank computes exactly what it did without it
 // (l_k = −q_k/2): bit-identical results.
 //
-// Cost per frame: K multiply-adds, a minimum, a clamp, K multiplies; no allocation.
+// Cost per frame: a minimum over K, one multiply-add, a clamp, K multiplies; no allocation.
 // Throws: configure() throws std::invalid_argument naming the option and its valid range.
 #pragma once
 
@@ -49,9 +64,11 @@ namespace f16mmae {
 
 struct TurbulenceAdaptationOptions {
   bool enabled = false;          // off: the bank as designed (bit-identical)
-  double time_constant_s = 5.0;  // τ of the residual-power average
+  double time_constant_s = 5.0;  // τ of the residual-power average (tuned with κ, s_max)
   double scale_min = 1.0;        // s_min: the design's A_k are the floor
   double scale_max = 100.0;      // s_max
+  double gain = 20.0;            // κ, gain on the excess residual power
+  double reference = 0.6;        // ρ_0, the power ratio above which tempering starts
   double frame_rate_hz = 64.0;   // f (the hierarchical bank sets its ModelBank's)
 };
 
@@ -65,24 +82,25 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
   if (!(o.scale_min > 0.0 && std::isfinite(o.scale_min))) refuse("adapt_scale_min", "positive and finite", o.scale_min);
   if (!(o.scale_max >= o.scale_min && std::isfinite(o.scale_max)))
     refuse("adapt_scale_max", "finite and >= adapt_scale_min = " + format_value(o.scale_min), o.scale_max);
+  if (!(o.gain > 0.0 && o.gain <= 1000.0)) refuse("adapt_gain", "in (0, 1000]", o.gain);
+  if (!(o.reference >= 0.0 && o.reference <= 100.0)) refuse("adapt_reference", "in [0, 100]", o.reference);
   check_frame_rate(o.frame_rate_hz, who);
 }
 
-// The scale estimator of the header's equations for a bank of K hypotheses (Eigen::Dynamic:
-// sized by configure()).
+// The scale estimator of the header's equations for a bank of K hypotheses (Eigen::Dynamic
+// or fixed; K only types the quadratic forms observed).
 template <int K>
 class ResidualScale {
  public:
   using PVector = Eigen::Matrix<double, K, 1>;
 
-  // Validates and sets the options; sizes for k hypotheses of nz measurements; resets.
-  void configure(const TurbulenceAdaptationOptions& o, int k, int nz, const std::string& who) {
+  // Validates and sets the options for nz measurements; resets.
+  void configure(const TurbulenceAdaptationOptions& o, int nz, const std::string& who) {
     check_adaptation(o, who);
     options_ = o;
     nz_ = static_cast<double>(nz);
     alpha_ = 1.0 - std::exp(-1.0 / (o.time_constant_s * o.frame_rate_hz));
-    q_clip_ = 10.0 * nz_ * o.scale_max;
-    m_.setZero(k);
+    rho_clip_ = 10.0 * o.scale_max;
     reset();
   }
   bool enabled() const noexcept { return options_.enabled; }
@@ -90,36 +108,37 @@ class ResidualScale {
   // s, the scale in force for the next frame's likelihoods (1 when disabled).
   double scale() const noexcept { return options_.enabled ? s_ : 1.0; }
   double inverse_scale() const noexcept { return options_.enabled ? inv_s_ : 1.0; }
-  // m_k, the residual-power averages of the hypotheses on line.
-  const PVector& averages() const noexcept { return m_; }
+  // ρ, the averaged residual power ratio (ρ_0 at the start and when disabled).
+  double power_ratio() const noexcept { return rho_; }
 
-  // One accepted update's quadratic forms (non-finite ones leave their m_k as it was).
+  // One accepted update's quadratic forms (non-finite ones are skipped; a frame with none
+  // finite leaves ρ as it was).
   void observe(const PVector& q) noexcept {
     if (!options_.enabled) return;
     double lo = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < m_.size(); ++i) {
-      const double qi = q(i);
-      if (qi == qi && qi < std::numeric_limits<double>::infinity()) m_(i) += alpha_ * ((qi < q_clip_ ? qi : q_clip_) - m_(i));
-      if (m_(i) < lo) lo = m_(i);
-    }
-    double s = lo / nz_;
+    for (int i = 0; i < q.size(); ++i)
+      if (q(i) < lo) lo = q(i);   // NaN compares false: skipped
+    if (!(lo < std::numeric_limits<double>::infinity())) return;
+    const double x = lo / nz_;
+    rho_ += alpha_ * ((x < rho_clip_ ? x : rho_clip_) - rho_);
+    set_scale();
+  }
+  // Back to the start: ρ = ρ_0, s = clamp(1, s_min, s_max).
+  void reset() noexcept {
+    rho_ = options_.reference;
+    set_scale();
+  }
+
+ private:
+  void set_scale() noexcept {
+    double s = 1.0 + options_.gain * (rho_ - options_.reference);
     s = s < options_.scale_min ? options_.scale_min : (s > options_.scale_max ? options_.scale_max : s);
     s_ = s;
     inv_s_ = 1.0 / s;
   }
-  // Hypothesis k replaced (a hierarchical switch): it restarts at the scale in force.
-  void restart(int k) noexcept { m_(k) = s_ * nz_; }
-  // Back to the start: s = s_min, every m_k = s_min·m.
-  void reset() noexcept {
-    s_ = options_.scale_min;
-    inv_s_ = 1.0 / s_;
-    m_.setConstant(s_ * nz_);
-  }
 
- private:
   TurbulenceAdaptationOptions options_{};
-  PVector m_{};
-  double nz_ = 1.0, alpha_ = 0.0, q_clip_ = 0.0, s_ = 1.0, inv_s_ = 1.0;
+  double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0;
 };
 
 }  // namespace f16mmae

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -38,9 +39,12 @@ Eigen::Matrix<double, 1, 1> z1(double v) {
   return z;
 }
 
-TurbulenceAdaptationOptions on(double tau_s, double s_min = 1.0, double s_max = 100.0) {
+// Matched scale (κ = 1) unless a gain is given.
+TurbulenceAdaptationOptions on(double tau_s, double s_min = 1.0, double s_max = 100.0, double gain = 1.0) {
   TurbulenceAdaptationOptions o;
   o.enabled = true;
+  o.gain = gain;
+  o.reference = 1.0;   // s = 1 + κ (ρ − 1): κ = 1 is s = ρ
   o.time_constant_s = tau_s;
   o.scale_min = s_min;
   o.scale_max = s_max;
@@ -52,28 +56,31 @@ TurbulenceAdaptationOptions on(double tau_s, double s_min = 1.0, double s_max = 
 
 TEST(TurbulenceAdaptation, ScaleFollowsTheHandComputedRecursion) {
   ResidualScale<Eigen::Dynamic> r;
-  r.configure(on(0.5, 0.5, 20.0), 3, 2, "test");
+  r.configure(on(0.5, 0.5, 20.0, 3.0), 2, "test");
   const double alpha = 1.0 - std::exp(-1.0 / (0.5 * 64.0));
-  EXPECT_DOUBLE_EQ(r.scale(), 0.5);   // starts at s_min, m_k = s_min * nz = 1
-  Eigen::Vector3d m(1.0, 1.0, 1.0);
-  const Eigen::Vector3d q(8.0, 6.0, 30.0);
+  EXPECT_DOUBLE_EQ(r.scale(), 1.0);   // starts at the design's power: rho = 1
+  double rho = 1.0;
   for (int n = 0; n < 50; ++n) {
+    const Eigen::Vector3d q(8.0 + n, 6.0 + (n % 3), 30.0);   // the minimum moves between hypotheses
     r.observe(q);
-    for (int k = 0; k < 3; ++k) m(k) += alpha * (q(k) - m(k));
-    EXPECT_NEAR(r.averages()(1), m(1), 1e-12);
-    const double s = std::min(20.0, std::max(0.5, m.minCoeff() / 2.0));
+    rho += alpha * (q.minCoeff() / 2.0 - rho);
+    EXPECT_NEAR(r.power_ratio(), rho, 1e-12);
+    const double s = std::min(20.0, std::max(0.5, 1.0 + 3.0 * (rho - 1.0)));
     EXPECT_NEAR(r.scale(), s, 1e-12) << "frame " << n;
   }
-  // a non-finite q leaves its average alone; a huge one is clipped at 10 nz s_max = 400
-  const double m2 = r.averages()(2);
-  r.observe(Eigen::Vector3d(std::nan(""), 6.0, 1e300));
-  EXPECT_NEAR(r.averages()(2), m2 + alpha * (400.0 - m2), 1e-9);
-  // a restarted hypothesis takes the scale in force; reset() goes back to s_min
-  const double s = r.scale();
-  r.restart(0);
-  EXPECT_DOUBLE_EQ(r.averages()(0), s * 2.0);
-  r.reset();
+  // non-finite q are skipped; a huge minimum is clipped at 10 s_max = 200
+  r.observe(Eigen::Vector3d(std::nan(""), 1e300, std::numeric_limits<double>::infinity()));
+  rho += alpha * (200.0 - rho);
+  EXPECT_NEAR(r.power_ratio(), rho, 1e-9);
+  r.observe(Eigen::Vector3d(std::nan(""), std::nan(""), std::nan("")));   // nothing to learn
+  EXPECT_NEAR(r.power_ratio(), rho, 1e-9);
+  // below the design's power the scale stays at s_min
+  for (int n = 0; n < 2000; ++n) r.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
+  EXPECT_NEAR(r.power_ratio(), 0.1, 1e-9);
   EXPECT_DOUBLE_EQ(r.scale(), 0.5);
+  r.reset();
+  EXPECT_DOUBLE_EQ(r.scale(), 1.0);
+  EXPECT_DOUBLE_EQ(r.power_ratio(), 1.0);
 }
 
 TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) {
@@ -153,7 +160,8 @@ TEST(TurbulenceAdaptation, ScaleRecoversAKnownNoisePowerRatio) {
 TEST(TurbulenceAdaptation, AFailureDoesNotRaiseTheScaleAndIsDeclared) {
   const ModelBank mb = test::f16_model_bank(13u);
   HierarchicalOptions o;
-  o.bank.adaptation = on(5.0);
+  // the tuned gain (κ = 20) with this synthetic bank's own healthy power ratio (ρ ≈ 1) as ρ_0
+  o.bank.adaptation = on(5.0, 1.0, 100.0, TurbulenceAdaptationOptions{}.gain);
   F16HierarchicalBank hb(mb, o);
   const test::Plant plant = test::random_plant(13, 5, 7, 13u, 1e-3, 1e-3);
   test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 9u);
@@ -168,7 +176,9 @@ TEST(TurbulenceAdaptation, AFailureDoesNotRaiseTheScaleAndIsDeclared) {
   ASSERT_FALSE(hb.declarations().empty());
   EXPECT_EQ(hb.name(hb.declarations().front().hypothesis), "PIT");
   EXPECT_LT(hb.declarations().front().time_s, 11.0);
-  EXPECT_LT(s_max_after, 1.5);   // the PIT filter's residuals stay at the design's power
+  // the PIT filter's residuals stay at the design's power: s stays near 1 (the no-failure
+  // filter's own residual power grows a hundredfold after the failure)
+  EXPECT_LT(s_max_after, 4.0);
 }
 
 TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
@@ -187,6 +197,11 @@ TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   refused(o, "adapt_scale_min");
   o = on(5.0, 2.0, 1.0);
   refused(o, "adapt_scale_max");
+  o = on(5.0, 1.0, 100.0, 0.0);
+  refused(o, "adapt_gain");
+  o = on(5.0);
+  o.reference = -1.0;
+  refused(o, "adapt_reference");
   o = on(5.0);
   o.frame_rate_hz = std::nan("");
   refused(o, "frame_rate_hz");

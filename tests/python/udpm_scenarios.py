@@ -1,5 +1,5 @@
 """mmae-daemon in its own process, over UDP multicast (udpm): the scenarios test_udpm.py runs,
-each inside a private network namespace whose only interface is the loopback (netns.py).
+each inside a private network namespace whose only interface is the loopback (f16mmae.lcm.netns).
 Collected on their own (outside such a namespace) they refuse to run, so that no test of
 ours ever multicasts on a real interface.
 
@@ -41,7 +41,7 @@ from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae.lcm.replay import replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
-from netns import only_loopback
+from f16mmae.lcm.netns import only_loopback
 from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
 
 if not only_loopback():

@@ -28,12 +28,15 @@ Points (the paper's Fig. 9; q̄ = 0.7 p M^2, ISA, lbf/ft^2):
 EXAMPLES = """\
 selections (--points): all = NOM + 1-24 (default), local = NOM + 1-20, extrema = NOM +
 21-24, qline = 9,12,NOM,17,19 (the paper's axis of nearly constant q̄), or a comma list
-such as 1,2,NOM.  --mach-alt MACH:ALT_FT,... adds custom points C1, C2, ... (alone
+such as 1,2,NOM, or random:N[:seed=S]: N Latin-hypercube points R1..RN over Mach
+0.3-0.8 x 5,000-35,000 ft (seed S, default 1; a point that does not trim is redrawn
+inside its cell).  --mach-alt MACH:ALT_FT,... adds custom points C1, C2, ... (alone
 when --points is not given).
 
 examples:
   f16mmae campaign envelope                          # 25 points x 13 cases x 2 runs
   f16mmae campaign envelope --points qline --runs 5
+  f16mmae campaign envelope --points random:40:seed=3 --runs 10
   f16mmae campaign envelope --points local --cases NONE,LS,PIT,AZ
   f16mmae campaign envelope --mach-alt 0.42:21000,0.38:19000 --runs 3
   f16mmae campaign envelope --points NOM --mach-alt 0.5:25000 --tuning untuned
@@ -69,7 +72,8 @@ def register(kinds) -> None:
     )
     add_flight_settings(e, "2", "seeded runs per case and point (default 2)")
     e.add_argument("--points", default=None, metavar="SEL",
-                   help="all | local | extrema | qline | comma list of 1-24 and NOM (default all)")
+                   help="all | local | extrema | qline | comma list of 1-24 and NOM | random:N[:seed=S] "
+                        "(default all)")
     e.add_argument("--mach-alt", default=None, metavar="M:H,...",
                    help="custom points MACH:ALT_FT (e.g. 0.42:21000), Mach 0.3-0.8, 5,000-35,000 ft")
     e.add_argument("--cases", default=None, metavar="LIST",

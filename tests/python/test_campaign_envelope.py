@@ -240,3 +240,39 @@ def test_cli_runs_one_point_and_prints_the_table(tmp_path, capsys):
     (tmp_path / "report.html").unlink()
     assert main(["report", str(tmp_path)]) == 0  # `f16mmae report` knows the kind
     assert (tmp_path / "report.html").read_text() == page
+
+
+# -- random points -----------------------------------------------------------------------------
+def test_random_points_are_a_seeded_latin_hypercube():
+    from f16mmae.campaign.envelope.points import random_points
+    pts = random_points(8, seed=5, trims=lambda m, h: True)
+    assert [p.label for p in pts] == [f"R{i}" for i in range(1, 9)] and {p.group for p in pts} == {"random"}
+    # one point in each of the 8 Mach strata and each of the 8 altitude strata
+    assert sorted(int((p.mach - 0.3) / 0.5 * 8 - 1e-9) for p in pts) == list(range(8))
+    assert sorted(int((p.alt_ft - 5000.0) / 30000.0 * 8 - 1e-9) for p in pts) == list(range(8))
+    assert random_points(8, seed=5, trims=lambda m, h: True) == pts
+    assert random_points(8, seed=6, trims=lambda m, h: True) != pts
+    assert select_points("random:3:seed=2") == random_points(3, 2)  # the real trim: these trim
+
+
+def test_random_points_redraw_inside_their_cell_or_name_it():
+    from f16mmae.campaign.envelope.points import random_points
+    refused = []
+
+    def trims(mach, alt_ft):  # slow and high does not trim, as on the real aircraft
+        ok = not (mach < 0.45 and alt_ft > 28_000.0)
+        refused.extend([] if ok else [(mach, alt_ft)])
+        return ok
+
+    pts = random_points(40, seed=1, trims=trims)
+    assert refused  # some draws were refused and redrawn
+    assert all(trims(p.mach, p.alt_ft) for p in pts)
+    assert sorted(int((p.mach - 0.3) / 0.5 * 40 - 1e-9) for p in pts) == list(range(40))
+    with pytest.raises(EnvelopeError, match=r"random point 1 of 2 \(seed 1\): no trim in 20 draws inside its cell Mach 0.300-0.550"):
+        random_points(2, 1, trims=lambda m, h: False)
+
+
+@pytest.mark.parametrize("text", ["random", "random:0", "random:x", "random:5:sed=3", "random:5:seed=0"])
+def test_random_selection_errors_name_the_form(text):
+    with pytest.raises(EnvelopeError, match=r"random:N\[:seed=S\]"):
+        select_points(text)

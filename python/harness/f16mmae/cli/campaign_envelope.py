@@ -2,11 +2,14 @@
 from __future__ import annotations
 
 import argparse
+import json
+from pathlib import Path
 
-from ..campaign.envelope import EnvelopeCampaign, run_envelope
+from ..campaign.envelope import EnvelopeCampaign, figures, run_envelope
 from ..campaign.envelope.points import PAPER_POINTS, EnvelopeError, check_distinct, parse_mach_alt, select_points
 from ..report.evidence import describe_rate
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, parse_cases, run_and_report, validated
+from ..outputs import writable_dir
 from .options import CliError
 
 DESCRIPTION = """\
@@ -40,6 +43,7 @@ examples:
   f16mmae campaign envelope --points local --cases NONE,LS,PIT,AZ
   f16mmae campaign envelope --mach-alt 0.42:21000,0.38:19000 --runs 3
   f16mmae campaign envelope --points NOM --mach-alt 0.5:25000 --tuning untuned
+  f16mmae campaign envelope --compare results/env-nominal,results/env-scheduled --out results/env-compare
 
 Output (DIR, default results/campaign-envelope):
   runs.jsonl          one record per run (point, seed, scenario with the point's Mach and
@@ -78,6 +82,9 @@ def register(kinds) -> None:
                    help="custom points MACH:ALT_FT (e.g. 0.42:21000), Mach 0.3-0.8, 5,000-35,000 ft")
     e.add_argument("--cases", default=None, metavar="LIST",
                    help="comma-separated cases (default: NONE and all twelve failures)")
+    e.add_argument("--compare", default=None, metavar="DIR_A,DIR_B",
+                   help="fly nothing: draw the maps of two (or more) finished envelope campaigns side by side "
+                        "(e.g. unscheduled and scheduled bank) into OUT/envelope_compare.png")
     add_run_arguments(e, "results/campaign-envelope")
     e.set_defaults(func=_envelope)
 
@@ -103,7 +110,29 @@ def config_from_args(args) -> EnvelopeCampaign:
     return validated(cfg)
 
 
+def compare(dirs_text: str, out: str) -> Path:
+    """``--compare``: the side-by-side map of finished envelope campaigns (CliError naming a
+    directory without an envelope summary); the output directory is checked first."""
+    dirs = [Path(d.strip()) for d in dirs_text.split(",") if d.strip()]
+    if len(dirs) < 2:
+        raise CliError(f"--compare {dirs_text!r}: give two or more campaign directories DIR_A,DIR_B")
+    out_dir = writable_dir(out)
+    summaries = []
+    for d in dirs:
+        try:
+            s = json.loads((d / "summary.json").read_text())
+        except (OSError, ValueError) as exc:
+            raise CliError(f"--compare: {d}/summary.json cannot be read ({exc})") from None
+        if s.get("kind") != "envelope":
+            raise CliError(f"--compare: {d}/summary.json is of kind {s.get('kind')!r}, not 'envelope'")
+        summaries.append(s)
+    return figures.compare_maps(summaries, Path(out_dir) / figures.COMPARE_FILE)
+
+
 def _envelope(args) -> int:
+    if args.compare is not None:
+        print(f"wrote {compare(args.compare, args.out)}")
+        return 0
     return run_and_report(args, config_from_args(args), run_envelope, print_summary)
 
 

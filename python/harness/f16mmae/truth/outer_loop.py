@@ -25,6 +25,12 @@ Control law at the frame rate (dt = 1/64 s); x_h, x_M, x_phi integrators::
                (x_M frozen while the throttle saturates in the direction of the error)
 
 Each integrator is limited so that its term stays within the saturation of its output.
+Gains (:class:`OuterLoopGains`): with h_ddot = g n_z the altitude loop is about
+h'' + g K_HD h' + g (K_HD K_H + K_HI) h = 0, i.e. omega 0.24 rad/s, zeta 1.0 before the inner
+loop's lag; measured at Mach 0.4, 20,000 ft, light turbulence: a 1,000-ft climb at 3,000 fpm
+climbs at 55-60 ft/s and overshoots by about 120 ft, a 30 deg turn holds bank within 2 deg and
+altitude within 20 ft, +0.1 Mach at 0.01 Mach/s overshoots by 0.016 Mach and settles in 25 s
+(``tests/python/test_truth_maneuvers.py``).
 With no maneuver the outer loop is not flown at all (:func:`make_pilot` returns None): a flight
 without maneuvers is the unmaneuvered flight, bit for bit.  Turns are coordinated by the inner
 law's yaw damper, lateral-acceleration feedback and aileron-to-rudder interconnect.
@@ -48,14 +54,14 @@ class OuterLoopGains:
     k_phi_i 1/s^2, p_max_rad_s, k_m throttle/Mach, k_mi throttle/(Mach s)."""
 
     k_h: float = 0.1
-    k_hd: float = 0.01
-    k_hi: float = 0.002
+    k_hd: float = 0.015
+    k_hi: float = 0.0003
     nz_min_g: float = -1.0
     nz_max_g: float = 2.0
     k_phi: float = 1.0
     k_phi_i: float = 0.1
     p_max_rad_s: float = math.radians(20.0)
-    k_m: float = 4.0
+    k_m: float = 8.0
     k_mi: float = 1.0
 
 

@@ -48,8 +48,8 @@ labelled C1, C2, ...
 Random points (``random:N[:seed=S]``, :func:`random_points`): a Latin hypercube of N points
 over the trimmable envelope, Mach 0.3-0.8 x 5,000-35,000 ft.  Each axis is cut into N equal
 strata; a seeded permutation pairs the Mach strata with the altitude strata and each point is
-drawn uniformly inside its cell (``numpy.random.default_rng(S)``, S default 1), then rounded
-to 0.001 Mach and 10 ft.  A point where the truth model does not trim is REDRAWN inside the
+drawn uniformly inside its cell (``numpy.random.default_rng(S)``, S default 1), rounded to
+0.0001 Mach and 1 ft and kept strictly inside the cell.  A point where the truth model does not trim is REDRAWN inside the
 same cell (so the strata stay covered), up to 20 times, then the selection is refused naming
 the cell.  Labelled R1..RN in order of Mach, group ``random``.
 """
@@ -168,6 +168,12 @@ def _trims(mach: float, alt_ft: float) -> bool:
     return True
 
 
+def _inside(low: float, width: float, cell: int, u: float, unit: float) -> float:
+    """A uniform draw ``u`` in cell ``cell`` of ``width``, kept a rounding ``unit`` off its
+    edges, so the value rounded to ``unit`` stays strictly inside its cell."""
+    return low + width * cell + unit + (width - 2.0 * unit) * u
+
+
 def random_points(n: int, seed: int = 1, trims=_trims) -> tuple[EnvelopePoint, ...]:
     """N Latin-hypercube points over the envelope (module docstring); ``trims(mach, alt_ft)``
     says whether the truth model trims there (default: JSBSim's trim of the derived F-16)."""
@@ -178,9 +184,8 @@ def random_points(n: int, seed: int = 1, trims=_trims) -> tuple[EnvelopePoint, .
     for i in range(n):
         for _ in range(RANDOM_REDRAWS):
             a, b = rng.random(2)
-            mach = round(m0 + (m1 - m0) * (i + a) / n, 3)
-            alt = round((h0 + (h1 - h0) * (pair[i] + b) / n) / 10.0) * 10.0
-            mach, alt = min(max(mach, m0), m1), min(max(alt, h0), h1)
+            mach = round(_inside(m0, (m1 - m0) / n, i, a, 1e-4), 4)
+            alt = float(round(_inside(h0, (h1 - h0) / n, pair[i], b, 1.0)))
             if trims(mach, alt):
                 break
         else:

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...names import NONE
-from ...report.figures import pyplot, save_figure
+from ...report.figures import pyplot
 
 MAP_FILE = "maneuver_map.png"
 STRIPS_FILE = "maneuver_strips.png"
@@ -52,8 +52,8 @@ def strips(summary: dict, records: list[dict], path: Path) -> Path:
     plt = pyplot()
     ms = summary["maneuvers"]
     cases = [c for c in summary["cases"] if c != NONE]
-    fig, axes = plt.subplots(1, len(ms), figsize=(3.4 * len(ms) + 0.8, 0.9 + 0.28 * max(len(cases), 1)),
-                             squeeze=False, sharey=True)
+    fig, axes = plt.subplots(1, len(ms), figsize=(3.4 * len(ms) + 0.8, 1.8 + 0.28 * max(len(cases), 1)),
+                             squeeze=False, sharey=True, layout="constrained")
     for ax, m in zip(axes[0], ms):
         rows, dt = [], None
         for c in cases:
@@ -75,7 +75,9 @@ def strips(summary: dict, records: list[dict], path: Path) -> Path:
     axes[0, 0].set_yticks(range(len(cases)), cases, fontsize=7)
     fig.suptitle("mean probability of the injected failure (white 0, black 1); dotted: maneuver begins, "
                  "dashed: failure", fontsize=8)
-    return save_figure(fig, path)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def make_figures(out: Path, summary: dict, records: list[dict]) -> dict:

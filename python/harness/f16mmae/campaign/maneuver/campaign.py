@@ -45,7 +45,7 @@ from ...truth import Scenario
 from ...truth.aircraft import ALT_FT_RANGE, MACH_RANGE, check_flight_condition
 from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
-from ..engine.failure_runs import CASES, check_cases, run_spec as single_run_spec
+from ..engine.failure_runs import CASES, check_case_failures, run_spec as single_run_spec
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.seeds import evaluation_seed
 from ..engine.store import ResultsStore, campaign_directory, run_key
@@ -108,13 +108,7 @@ class ManeuverCampaign(CampaignConfig):
         self.check_common(dwell_window_s=self.duration_s)
         if len(self.levels()) > 1:
             raise CampaignError(f"campaign maneuver flies one turbulence level, got {self.turbulence!r}")
-        check_cases(self)
-        for case in self.cases:
-            if case != NONE:
-                try:
-                    self.failure(case, self.failure_time_s)
-                except ValueError as exc:
-                    raise CampaignError(f"case {case}: {exc}") from None
+        check_case_failures(self)
         return self
 
 

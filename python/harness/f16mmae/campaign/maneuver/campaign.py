@@ -31,7 +31,6 @@ Per maneuver (and per point and maneuver, for the map), over the stored runs::
 """
 from __future__ import annotations
 
-import json
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
@@ -48,7 +47,7 @@ from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_case_failures, run_spec as single_run_spec
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.seeds import evaluation_seed
-from ..engine.store import ResultsStore, campaign_directory, run_key
+from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
 from . import figures
 
 MANEUVERS: tuple[str, ...] = ("climb", "descend", "accel", "turn")
@@ -162,8 +161,7 @@ def run_maneuver(cfg: ManeuverCampaign, out_dir: str | Path, executor: Executor,
         summary = summarize(cfg, label, bank, done.records)
         summary["timing"] = done.timing(executor_label)
         summary["figures"] = figures.make_figures(out, summary, done.records)
-        path = out / "summary.json"
-        path.write_text(json.dumps(summary, indent=1) + "\n")
+        path = write_summary(out / "summary.json", summary)
         return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 

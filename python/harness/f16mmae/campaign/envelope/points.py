@@ -184,7 +184,7 @@ def random_points(n: int, seed: int = 1, trims=_trims) -> tuple[EnvelopePoint, .
     for i in range(n):
         for _ in range(RANDOM_REDRAWS):
             a, b = rng.random(2)
-            mach = round(_inside(m0, (m1 - m0) / n, i, a, 1e-4), 4)
+            mach = round(float(_inside(m0, (m1 - m0) / n, i, a, 1e-4)), 4)
             alt = float(round(_inside(h0, (h1 - h0) / n, pair[i], b, 1.0)))
             if trims(mach, alt):
                 break

@@ -84,5 +84,7 @@ def make_figures(out: Path, summary: dict, records: list[dict]) -> dict:
     """Both figures beside summary.json; returns their file names."""
     if not summary["by_point"]:
         return {}
-    return {"map": maneuver_map(summary, Path(out) / MAP_FILE).name,
-            "strips": strips(summary, records, Path(out) / STRIPS_FILE).name}
+    out_figs = {"map": maneuver_map(summary, Path(out) / MAP_FILE).name}
+    if any(c != NONE for c in summary["cases"]):
+        out_figs["strips"] = strips(summary, records, Path(out) / STRIPS_FILE).name
+    return out_figs

@@ -182,3 +182,28 @@ def test_run_refuses_a_bad_maneuver_naming_it(capsys):
     assert "--maneuver" in err and "'climb@2:to=99000ft'" in err and "99000 ft outside" in err
     assert main(["run", "--maneuver", "turn@9:bank=30"]) == 2
     assert "not inside the 8.0-s flight" in capsys.readouterr().err
+
+
+def test_maneuvering_flight_estimator_sees_u_and_z_only():
+    """The maneuvers go to the truth's pilot, never to the estimator: replaying the recorded
+    (u, z) through a fresh estimator reproduces the flight's probabilities and declarations."""
+    from f16mmae.banks import load_bank
+    from f16mmae.loop.estimator import Estimator
+    from f16mmae.loop.flight import fly
+
+    bank = load_bank("tuned")[2]
+    sc = Scenario(duration_s=5.0, seed=4, turbulence="light", maneuvers=("turn@1:bank=30", "climb@2:to=20300ft"))
+    frames = []
+    r = fly(sc, bank, on_frame=lambda t, u, z: frames.append((t, u, z)))
+    assert r.scenario["maneuvers"] == ["turn@1:bank=30deg", "climb@2:to=20300ft"]  # by start time
+    est = Estimator(bank)
+    decl = []
+    for i, (t, u, z) in enumerate(frames):
+        est.update(z)
+        est.propagate(u)
+        if est.last_declaration is not None:
+            decl.append({"hypothesis": est.last_declaration, "time_s": round(t, 9)})
+        np.testing.assert_array_equal([r.probabilities[i, r.hypotheses.index(h)] for h in est.hypotheses],
+                                      est.probabilities)
+    assert decl == r.declarations
+    assert fly(sc, bank).declarations == r.declarations  # the same flight again (in one call's path)

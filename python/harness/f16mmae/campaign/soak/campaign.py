@@ -31,6 +31,7 @@ from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
 from ...names import FLIGHT_S_MAX, NONE
 from ...truth import Scenario
+from ...truth.maneuvers import parse_maneuver
 from ..engine import drilldown, identity, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.runner import CampaignOutcome, execute, planned_bank
@@ -103,10 +104,11 @@ def profile(name: str, mach: float, alt_ft: float) -> tuple[tuple[str, ...], flo
     h1 = alt_ft + 4000 if up == "climb" else alt_ft - 4000
     fast, slow = ("accel", "decel") if mach + 0.1 <= 0.8 else ("decel", "accel")
     m1 = round(mach + 0.1 if fast == "accel" else mach - 0.1, 6)
-    return ((f"{up}@10:to={h1:g}ft:rate=2000fpm", "turn@60:bank=30:for=60",
+    texts = (f"{up}@10:to={h1:g}ft:rate=2000fpm", "turn@60:bank=30:for=60",
              f"{fast}@150:to={m1:g}mach:rate=0.005mach/s", "turn@200:bank=-30:for=60",
              f"{down}@300:to={alt_ft:g}ft:rate=2000fpm", f"{slow}@350:to={mach:g}mach:rate=0.005mach/s",
-             "turn@450:bank=30:for=90"), 540.0)
+             "turn@450:bank=30:for=90")
+    return tuple(str(parse_maneuver(t)) for t in texts), 540.0
 
 
 def flight_maneuvers(cfg: SoakCampaign, bank) -> tuple[str, ...]:

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ...report.figures import pyplot
-from .points import GAMMA_AIR, dynamic_pressure_psf, pressure_psf
+from .points import GAMMA_AIR, TROPOPAUSE_FT, dynamic_pressure_psf, pressure_psf
 
 MAP_FILE = "envelope_map.png"
 COMPARE_FILE = "envelope_compare.png"
@@ -36,8 +36,8 @@ def _limits(points, pad_frac=0.12, min_mach=0.01, min_alt=1000.0):
     h = np.array([p["alt_ft"] for p in points])
     dm = max(m.max() - m.min(), min_mach)
     dh = max(h.max() - h.min(), min_alt)
-    return ((m.min() - pad_frac * dm, m.max() + pad_frac * dm),
-            (h.min() - pad_frac * dh, h.max() + pad_frac * dh))
+    return ((m.min() - pad_frac * dm, m.max() + pad_frac * dm),  # q̄ is drawn in the troposphere only
+            (max(h.min() - pad_frac * dh, 0.0), min(h.max() + pad_frac * dh, TROPOPAUSE_FT)))
 
 
 def _panel(ax, points, design, cmap, step, annotate=None, limits=None):

@@ -277,3 +277,19 @@ def test_random_points_redraw_inside_their_cell_or_name_it():
 def test_random_selection_errors_name_the_form(text):
     with pytest.raises(EnvelopeError, match=r"random:N\[:seed=S\]"):
         select_points(text)
+
+
+def test_compare_draws_two_campaigns_side_by_side(tmp_path, capsys):
+    cfg = EnvelopeCampaign(points=select_points("NOM") + parse_mach_alt("0.6:34000"), runs=1,
+                           cases=("NONE", "PIT"), failure_time_s=2.0, duration_s=4.0)
+    for name in ("a", "b"):
+        run_envelope(cfg, tmp_path / name, CountingExecutor(), show_progress=False)
+    out = tmp_path / "cmp"
+    assert main(["campaign", "envelope", "--compare", f"{tmp_path / 'a'},{tmp_path / 'b'}", "--out", str(out)]) == 0
+    assert (out / "envelope_compare.png").stat().st_size > 10_000
+    (tmp_path / "c").mkdir()
+    (tmp_path / "c" / "summary.json").write_text(json.dumps({"kind": "soak"}))
+    assert main(["campaign", "envelope", "--compare", f"{tmp_path / 'a'},{tmp_path / 'c'}", "--out", str(out)]) == 2
+    assert "is of kind 'soak', not 'envelope'" in capsys.readouterr().err
+    assert main(["campaign", "envelope", "--compare", str(tmp_path / "a"), "--out", str(out)]) == 2
+    assert "give two or more campaign directories" in capsys.readouterr().err

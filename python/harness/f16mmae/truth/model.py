@@ -304,9 +304,9 @@ def fly_raw(scenario: Scenario, pilot=None, fcs_gains=None,
     engine without a pilot the whole flight is one call.  The MMAE-fed loop lives with the
     estimator (``f16mmae run``); this is for truth-only runs, tests and benchmarks.
     """
-    truth = TruthModel(scenario, engine=engine)
     if pilot is not None and scenario.maneuvers:
         raise ValueError("fly_raw: give a pilot or a scenario with maneuvers, not both")
+    truth = TruthModel(scenario, engine=engine)
     fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari,
                               pilot=pilot or truth.pilot(), gains=fcs_gains)
     pilot = fcs.pilot

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from f16mmae.cli.main import main
-from f16mmae.truth import Scenario, TruthModel, fly_raw
+from f16mmae.truth import FlightControlSystem, Scenario, TruthModel, fly_raw
 from f16mmae.truth.maneuvers import FORMS, ManeuverError, check_schedule, parse_maneuver
 from f16mmae.truth.outer_loop import INSTRUMENTS, THROTTLE_PROPERTY, OuterLoop, Reference
 
@@ -207,3 +207,24 @@ def test_maneuvering_flight_estimator_sees_u_and_z_only():
                                       est.probabilities)
     assert decl == r.declarations
     assert fly(sc, bank).declarations == r.declarations  # the same flight again (in one call's path)
+
+
+def test_cpp_engine_flies_the_outer_loop_in_cpp_and_the_closed_loop_in_one_call():
+    """The C++ twin (cpp/truth/truth_frame.h OuterLoopLaw) is attached on the cpp engine; a
+    maneuvering closed-loop flight in one C++ call equals the same flight frame by frame
+    (``on_frame``) and the Python engine's (the Python outer loop and control law)."""
+    from f16mmae.banks import load_bank
+    from f16mmae.loop.flight import fly
+
+    sc = Scenario(duration_s=4.0, seed=9, turbulence="light", maneuvers=("turn@0.5:bank=-30", "accel@1:to=0.45mach"))
+    truth = TruthModel(sc)
+    truth.attach(FlightControlSystem(truth.trim, sc, pilot=truth.pilot()))
+    assert truth.law_in_cpp
+    truth.close()
+    bank = load_bank("tuned")[2]
+    one_call = fly(sc, bank)                                   # whole flight in C++
+    per_frame = fly(sc, bank, on_frame=lambda t, u, z: None)   # frame by frame (C++ law)
+    python = fly(sc, bank, engine="python")                    # the Python reference
+    for other in (per_frame, python):
+        assert other.declarations == one_call.declarations
+        np.testing.assert_array_equal(other.probabilities, one_call.probabilities)

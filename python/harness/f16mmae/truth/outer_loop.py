@@ -31,7 +31,9 @@ loop's lag; measured at Mach 0.4, 20,000 ft, light turbulence: a 1,000-ft climb 
 climbs at 55-60 ft/s and overshoots by about 120 ft, a 30 deg turn holds bank within 2 deg and
 altitude within 20 ft, +0.1 Mach at 0.01 Mach/s overshoots by 0.016 Mach and settles in 25 s
 (``tests/python/test_truth_maneuvers.py``).
-With no maneuver the outer loop is not flown at all (:func:`make_pilot` returns None): a flight
+The C++ twin is ``OuterLoopLaw`` in cpp/truth/truth_frame.h (same order of operations, the same
+doubles: the cpp engine flies a maneuvering flight in C++, closed loop included, from
+:meth:`OuterLoop.coefficients`).  With no maneuver the outer loop is not flown at all (:func:`make_pilot` returns None): a flight
 without maneuvers is the unmaneuvered flight, bit for bit.  Turns are coordinated by the inner
 law's yaw damper, lateral-acceleration feedback and aileron-to-rudder interconnect.
 """
@@ -127,6 +129,20 @@ class OuterLoop:
         self.phi_ref = Reference(0.0, [ManeuverSpec(m.kind, m.time_s, math.radians(m.target), m.rate)
                                        for m in by(LATERAL)], lambda m: math.inf)
         self._started = True
+
+    def coefficients(self) -> dict:
+        """The gains, references and states of this loop for the C++ frames
+        (``core.TruthFrames.set_outer_loop``, cpp/truth/truth_frame.h ``OuterLoopLaw``); the
+        start values are read now if they were not yet (the aircraft as it is in flight)."""
+        if not self._started:
+            self._start()
+        g = self.gains
+        ref = lambda r: {"start": r.start, "segments": [list(x) for x in r.segments]}  # noqa: E731
+        return {"k_h": g.k_h, "k_hd": g.k_hd, "k_hi": g.k_hi, "nz_min_g": g.nz_min_g, "nz_max_g": g.nz_max_g,
+                "k_phi": g.k_phi, "k_phi_i": g.k_phi_i, "p_max_rad_s": g.p_max_rad_s, "k_m": g.k_m,
+                "k_mi": g.k_mi, "dt_s": self.dt_s, "throttle_0": self.throttle_0,
+                "h_ref": ref(self.h_ref), "m_ref": ref(self.m_ref), "phi_ref": ref(self.phi_ref),
+                "x_h": self.x_h, "x_m": self.x_m, "x_phi": self.x_phi}
 
     def references(self, time_s: float) -> dict:
         """The references at ``time_s`` (h_ref_ft, hdot_ff_fps, mach_ref, phi_ref_rad)."""

@@ -6,7 +6,9 @@ dither (DitherSpec), failures (tuple of FailureSpec, at most one per component),
 flies on the estimator's z_hat, the paper's MMAE-based control; "raw": on the sensors), ari
 (aileron-to-rudder interconnect on/off), noise (sensor noise on/off), gust_burst (optional
 ``turbulence.GustBurst``: another turbulence level for a while; ``"LEVEL@START+DURATION"`` or a
-table level, start_s, duration_s; absent from ``to_dict`` when there is none).
+table level, start_s, duration_s; absent from ``to_dict`` when there is none), maneuvers (tuple of
+ManeuverSpec, the pilot's schedule: ``truth.maneuvers``; none by default, and then the flight
+is the unmaneuvered one).
 
 TOML (``Scenario.from_toml``)::
 
@@ -18,6 +20,7 @@ TOML (``Scenario.from_toml``)::
     feedback = "mmae"
     ari = true
     failures = ["LS@3.0", "PIT@5.0:stuck"]      # CLI syntax, or tables
+    maneuvers = ["climb@5:to=25000ft:rate=3000fpm", "turn@20:bank=30"]   # truth.maneuvers
     [[failure]]                                 # ([[failures]] too): name, time_s, mode, value
     name = "AZ"
     time_s = 2.0
@@ -47,11 +50,12 @@ from ..names import FEEDBACK_MODES
 from . import aircraft, turbulence
 from .dither import DitherSpec
 from .failures import FailureSpec, check_unique, make_failure, parse_fail, parse_fail_args
+from .maneuvers import ManeuverSpec, check_schedule, parse_maneuver
 
 #: Folder of the example scenarios shipped with the package (``f16mmae/scenarios/*.toml``).
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 _KEYS = ("mach", "alt_ft", "turbulence", "dither", "failures", "failure", "duration_s", "seed",
-         "feedback", "ari", "noise", "gust_burst")
+         "feedback", "ari", "noise", "gust_burst", "maneuvers")
 _DITHER_KEYS = ("enabled", "amplitude_deg", "frequency_hz", "phase_rad")
 _FAILURE_KEYS = ("name", "time_s", "mode", "value")
 
@@ -71,6 +75,7 @@ class Scenario:
     ari: bool = True
     noise: bool = True
     gust_burst: turbulence.GustBurst | None = None
+    maneuvers: tuple[ManeuverSpec, ...] = ()
 
     def __post_init__(self):
         aircraft.check_flight_condition(float(self.mach), float(self.alt_ft))
@@ -116,15 +121,28 @@ class Scenario:
         if burst is not None and burst.start_s >= d:
             raise ValueError(f"gust burst {burst.text()} starts after the end of the run ({d:g} s)")
         object.__setattr__(self, "gust_burst", burst)
+        if isinstance(self.maneuvers, str):
+            raise ValueError(f"maneuvers must be a list of strings, got the string {self.maneuvers!r}")
+        ms = check_schedule(self.maneuvers, self.mach, self.alt_ft)
+        for m in ms:
+            if m.time_s > d:
+                raise ValueError(f"maneuver {m} starts after the end of the run ({d:g} s)")
+        object.__setattr__(self, "maneuvers", ms)
 
     # -- conversions -------------------------------------------------------------------------
     def to_dict(self) -> dict:
-        """Plain data (JSON/TOML-ready) that ``from_dict`` reads back to an equal Scenario."""
-        return {"mach": self.mach, "alt_ft": self.alt_ft, "turbulence": self.turbulence,
+        """Plain data (JSON/TOML-ready) that ``from_dict`` reads back to an equal Scenario;
+        ``maneuvers`` (canonical strings) only when there are some, so an unmaneuvered
+        scenario's record is what it always was."""
+        out = {"mach": self.mach, "alt_ft": self.alt_ft, "turbulence": self.turbulence,
                 "duration_s": self.duration_s, "seed": self.seed, "feedback": self.feedback,
                 "ari": self.ari, "noise": self.noise, "dither": self.dither.to_dict(),
-                "failures": [f.to_dict() for f in self.failures],
-                **({"gust_burst": self.gust_burst.to_dict()} if self.gust_burst is not None else {})}
+                "failures": [f.to_dict() for f in self.failures]}
+        if self.gust_burst is not None:
+            out["gust_burst"] = self.gust_burst.to_dict()
+        if self.maneuvers:
+            out["maneuvers"] = [str(m) for m in self.maneuvers]
+        return out
 
     @classmethod
     def from_dict(cls, data: dict) -> "Scenario":
@@ -160,6 +178,10 @@ class Scenario:
                 raise ValueError(f"a [[failure]] table needs name and time_s, got {t}")
             fails.append(make_failure(t["name"], t["time_s"], t.get("mode"), t.get("value")))
         kw["failures"] = tuple(fails)
+        mans = data.get("maneuvers", [])
+        if isinstance(mans, str) or not isinstance(mans, (list, tuple)):
+            raise ValueError(f"maneuvers must be a list of strings like 'climb@5:to=25000ft', got {mans!r}")
+        kw["maneuvers"] = tuple(m if isinstance(m, ManeuverSpec) else parse_maneuver(m) for m in mans)
         return cls(**kw)
 
     @classmethod
@@ -176,6 +198,11 @@ class Scenario:
         except tomllib.TOMLDecodeError as exc:
             raise ValueError(f"scenario is not valid TOML: {exc}") from None
         return cls.from_dict(data)
+
+    def with_maneuvers(self, specs) -> "Scenario":
+        """A copy with ``specs`` (ManeuverSpec or ``--maneuver`` strings) added."""
+        extra = tuple(parse_maneuver(s) if isinstance(s, str) else s for s in specs)
+        return replace(self, maneuvers=self.maneuvers + extra)
 
     def with_failures(self, specs) -> "Scenario":
         """A copy with ``specs`` (FailureSpec or ``--fail`` strings) added."""

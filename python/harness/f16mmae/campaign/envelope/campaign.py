@@ -37,7 +37,6 @@ the report only; the estimator never receives it.
 """
 from __future__ import annotations
 
-import json
 import sys
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -51,9 +50,9 @@ from ...names import FAILURE_TIME_S, NONE
 from ...truth.aircraft import check_flight_condition, trimmed_fdm
 from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring, variants
 from ..engine.config import CampaignConfig, CampaignError
-from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
+from ..engine.failure_runs import CASES, check_case_failures, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore, campaign_directory
+from ..engine.store import ResultsStore, campaign_directory, write_summary
 from . import figures
 from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
 
@@ -88,13 +87,7 @@ class EnvelopeCampaign(CampaignConfig):
             except ValueError as exc:
                 raise CampaignError(f"point {p.label}: {exc}") from None
         self.check_common(dwell_window_s=self.duration_s)
-        check_cases(self)
-        for case in self.cases:
-            if case != NONE:
-                try:
-                    self.failure(case, self.failure_time_s)
-                except ValueError as exc:
-                    raise CampaignError(f"case {case}: {exc}") from None
+        check_case_failures(self)
         return self
 
 
@@ -221,7 +214,7 @@ def _run_envelope(cfg: EnvelopeCampaign, out: Path, executor: Executor, executor
         level_summary)
     summary["timing"] = done.timing(executor_label)
     path = out / "summary.json"
-    path.write_text(json.dumps(summary, indent=1) + "\n")
+    write_summary(path, summary)
     return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 

@@ -410,7 +410,6 @@ class FilterBank {
   ZVector z_hat_;
   OutputMatrix h_out_;
   HypothesisFlags<K> floored_;
-  ResidualScale<K> scale_{};
   bool use_packed_ = false;    // the store: packed_ if true, else columns_
   Packed packed_{};
   Columns columns_{};
@@ -418,6 +417,7 @@ class FilterBank {
   double log_norm_ = 0.0;
   std::int64_t rejected_ = 0;
   std::int64_t frames_ = 0;
+  ResidualScale<K> scale_{};   // the turbulence adaptation; last, so the members above keep their offsets
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

@@ -62,7 +62,10 @@
 
 namespace f16mmae {
 
-struct TurbulenceAdaptationOptions {
+// alignas(16), 64 bytes: it sits inside FilterBankOptions, the first member of the banks, and
+// a shift of the banks' Eigen members by other than a multiple of 16 bytes changes Eigen's
+// alignment peeling, hence the rounding of the blend: "off" would not be bit-identical.
+struct alignas(16) TurbulenceAdaptationOptions {
   bool enabled = false;          // off: the bank as designed (bit-identical)
   double time_constant_s = 5.0;  // τ of the residual-power average (tuned with κ, s_max)
   double scale_min = 1.0;        // s_min: the design's A_k are the floor
@@ -73,6 +76,8 @@ struct TurbulenceAdaptationOptions {
 };
 
 // Throws std::invalid_argument "<who>: <option> must be <range>, got <value>".
+static_assert(sizeof(TurbulenceAdaptationOptions) % 16 == 0, "see the comment on TurbulenceAdaptationOptions");
+
 inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::string& who) {
   const auto refuse = [&](const char* what, const std::string& range, double v) {
     throw std::invalid_argument(who + ": " + what + " must be " + range + ", got " + format_value(v));

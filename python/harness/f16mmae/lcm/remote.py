@@ -1,6 +1,7 @@
 """The MMAE executive over LCM, as the estimator the closed loop calls."""
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -35,8 +36,10 @@ class LinkStats:
 
 class RemoteEstimator:
     """The MMAE executive over LCM, with the interface :func:`f16mmae.loop.flight.fly` calls
-    (``update(z) -> z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``,
-    ``declared``, ``bank_hash``). Only u and z cross the link.
+    (``schedule(mach, pressure_altitude_ft)``, ``update(z) -> z_hat``, ``propagate(u)``,
+    ``hypotheses``, ``probabilities``, ``declared``, ``bank_hash``). Only u, z and the measured
+    air data cross the link: ``schedule`` keeps the air data that the next ``update`` sends in
+    its sensor frame (NaN until the first ``schedule``: the executive then keeps its bank's own).
 
     ``lockstep``: each update waits for its status up to ``timeout_s`` (HilError after).
     Paced: frame i is published at ``t0 + i / rate_hz`` and its status awaited until the next
@@ -62,6 +65,7 @@ class RemoteEstimator:
         self._t0: float | None = None
         self._status = None
         self._z_hat = np.full(NZ, np.nan)
+        self._air_data = (math.nan, math.nan)
         self.link = LinkStats()
         #: The estimator settings the executive is presumed to run (the record's estimator_settings).
         self.settings: dict = {}
@@ -107,13 +111,17 @@ class RemoteEstimator:
         self._frame = -1
         self._status = None
         self._t0 = None
+        self._air_data = (math.nan, math.nan)
 
     # -- the estimator interface
+    def schedule(self, mach, pressure_altitude_ft) -> None:
+        self._air_data = (float(mach), float(pressure_altitude_ft))
+
     def update(self, z) -> np.ndarray:
         z = np.array(z, dtype=float).reshape(-1)
         self._frame += 1
         i = self._frame
-        data = sensor_frame_bytes(i, z, rate_hz=self.rate_hz)
+        data = sensor_frame_bytes(i, z, self._air_data, rate_hz=self.rate_hz)
         if not self.lockstep:
             if self._t0 is None:
                 self._t0 = time.perf_counter()

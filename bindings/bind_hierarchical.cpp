@@ -24,11 +24,12 @@ class PyHierarchicalBank {
  public:
   PyHierarchicalBank(const ModelBank& bank, double p_min, bool strip_leading_term, double threshold, double dwell_s,
                      const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
-                     double trim_hold_s) {
+                     double trim_hold_s, bool trim_freeze) {
     HierarchicalOptions o;
     o.trim.time_constant_s = trim_time_constant_s;
     o.trim.freeze_probability = trim_freeze_probability;
     o.trim.hold_s = trim_hold_s;
+    o.trim.freeze = trim_freeze;
     o.bank.p_min = p_min;
     o.bank.strip_leading_term = strip_leading_term;
     o.declarer.threshold = threshold;
@@ -128,7 +129,7 @@ The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 
     HierarchicalBank(model_bank, p_min=0.001, strip_leading_term=True, threshold=0.9,
                      dwell_s=0.25, declarer=None, trim_time_constant_s=0.0,
-                     trim_freeze_probability=0.05, trim_hold_s=2.0)
+                     trim_freeze_probability=0.05, trim_hold_s=2.0, trim_freeze=True)
 
 Level 0: NONE and every single failure on line, NONE presumed. When single failure f is
 declared (p_f > threshold for dwell_s), the level-1 bank {NONE, f, f+c for every other c}
@@ -143,14 +144,15 @@ propagate(u (nu,)) model_bank.u_trim + du, and z_hat is absolute (z_hat_perturba
 The trim offset (du, dz) is zero unless set_trim_offset sets it or trim tracking
 (trim_time_constant_s > 0; cpp/f16mmae/trim_tracker.h) estimates it: a low-pass of u and z
 about the trim with that time constant, frozen while a failure hypothesis is above
-trim_freeze_probability (and trim_hold_s after), at level 1 or with a failure declared. A frame with
+trim_freeze_probability (and trim_hold_s after), at level 1 or with a failure declared
+(trim_freeze=False: never frozen, for comparison only). A frame with
 a non-finite value is rejected and counted in rejected_frames. Raises ValueError for an invalid
 model bank or a missing dual hypothesis.)doc")
-      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double>(),
+      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double, bool>(),
            py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
            py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none(),
            py::arg("trim_time_constant_s") = 0.0, py::arg("trim_freeze_probability") = 0.05,
-           py::arg("trim_hold_s") = 2.0)
+           py::arg("trim_hold_s") = 2.0, py::arg("trim_freeze") = true)
       .def("update", &PyHierarchicalBank::update, py::arg("z"),
            "Update with absolute z (nz,); returns the name declared on this frame, or None.")
       .def("propagate", &PyHierarchicalBank::propagate, py::arg("u"), "Propagate with absolute u (nu,).")

@@ -30,7 +30,8 @@
 // for many tau can still be (docs/results/trim_tracking.md shows one flight each way).
 //
 // Options: time_constant_s > 0 enables it (0 = off: offsets stay zero, the bank behaves
-// exactly as without a tracker); freeze_probability in (0, 1]; hold_s >= 0.
+// exactly as without a tracker); freeze_probability in (0, 1]; hold_s >= 0; freeze = false
+// never freezes (for comparison only: such a tracker absorbs a failure into the trim).
 #pragma once
 
 #include <Eigen/Dense>
@@ -46,6 +47,7 @@ struct TrimTrackingOptions {
   double time_constant_s = 0.0;      // tau; 0 = off
   double freeze_probability = 0.05;  // a failure hypothesis above this freezes the estimate
   double hold_s = 2.0;               // held this long after the last freezing frame
+  bool freeze = true;                // false: never frozen (comparison only)
 
   bool enabled() const noexcept { return time_constant_s > 0.0; }
   void validate() const {
@@ -88,7 +90,7 @@ class TrimTracker {
   template <class Z>
   void after_update(const Z& z_pert, bool freezing) noexcept {
     if (!options_.enabled()) return;
-    if (freezing) held_for_ = hold_frames_ + 1;
+    if (freezing && options_.freeze) held_for_ = hold_frames_ + 1;
     frozen_ = held_for_ > 0;
     if (held_for_ > 0) --held_for_;
     if (frozen_) {

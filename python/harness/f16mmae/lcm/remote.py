@@ -23,6 +23,7 @@ class LinkStats:
     stale_statuses: int = 0                                # statuses the executive marked stale
     unauthenticated_statuses: int = 0                      # with a key: statuses dropped, no valid tag
     replayed_statuses: int = 0                             # with a key: statuses dropped, old sequence
+    air_data_rejected: int = 0                             # the executive's count at the last status
 
     def summary(self) -> dict:
         lat = np.array(self.latency_ns, dtype=float) / 1e3
@@ -31,6 +32,7 @@ class LinkStats:
                 "stale_statuses": self.stale_statuses,
                 "unauthenticated_statuses": self.unauthenticated_statuses,
                 "replayed_statuses": self.replayed_statuses,
+                "air_data_rejected": self.air_data_rejected,
                 "latency_us": {"p50": q(50), "p99": q(99), "max": round(float(lat.max()), 1) if lat.size else None}}
 
 
@@ -96,6 +98,7 @@ class RemoteEstimator:
         self.link.latency_ns.append(t - self._t_pub)
         if msg.stale:
             self.link.stale_statuses += 1
+        self.link.air_data_rejected = msg.air_data_rejected
         self._status = msg
 
     def frame_due(self, i: float) -> float | None:

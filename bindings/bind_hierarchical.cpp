@@ -201,7 +201,7 @@ model bank or a missing dual hypothesis.)doc")
       .def("set_trim_offset", &PyHierarchicalBank::set_trim_offset, py::arg("du"), py::arg("dz"),
            "The trim offset in force from the next frame: subtract u_trim + du and z_trim + dz.")
       .def_property_readonly("trim_offset", prop([](auto& b) {
-                               return py::make_tuple(cv::to_numpy(b.trim_offset_u()), cv::to_numpy(b.trim_offset_z()));
+                               return py::make_tuple(cv::to_numpy(b.u_trim_offset()), cv::to_numpy(b.z_trim_offset()));
                              }),
                              "(du (nu,), dz (nz,)) in force")
       .def_property_readonly("trim_frozen", prop([](auto& b) { return b.trim_tracker().frozen(); }),

@@ -32,8 +32,9 @@
 // Trim in force = the bank's trim + the trim offset (du, dz): zero unless set_trim_offset()
 // sets it or trim tracking (options.trim, trim_tracker.h: a slow low-pass of u and z about the
 // trim, frozen while a failure hypothesis rises or a failure is declared) estimates it, after
-// each update and propagate. With zero offsets the arithmetic is the bank's without them. A frame is one update (accepted or rejected): frame index i
-// (0-based) has time_s = i / frame_rate_hz. The declarer sees only accepted updates.
+// each update and propagate. With zero offsets the arithmetic is the bank's without them.
+// A frame is one update (accepted or rejected): frame index i (0-based) has
+// time_s = i / frame_rate_hz. The declarer sees only accepted updates.
 //
 // Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>)
 // or Eigen::Dynamic (DynamicHierarchicalBank, any K = 1 + number of singles).
@@ -196,8 +197,8 @@ class HierarchicalBank {
   const XVector& blended_state() const noexcept { return bank_.blended_state(); }
   const ZVector& z_hat_perturbation() const noexcept { return bank_.z_hat(); }
   ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_ + dz_; }   // absolute
-  const UVector& trim_offset_u() const noexcept { return du_; }   // du in force
-  const ZVector& trim_offset_z() const noexcept { return dz_; }   // dz in force
+  const UVector& u_trim_offset() const noexcept { return du_; }   // du in force
+  const ZVector& z_trim_offset() const noexcept { return dz_; }   // dz in force
   const TrimTracker<NU, NZ>& trim_tracker() const noexcept { return trim_tracker_; }
   const ZVector& z_trim() const noexcept { return z_trim_; }
   const UVector& u_trim() const noexcept { return u_trim_; }

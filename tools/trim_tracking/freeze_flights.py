@@ -8,6 +8,10 @@ and never frozen. Prints one markdown table row per flight and way: the first de
 the number of declarations, and the hypothesis declared at the end.
 
     python tools/trim_tracking/freeze_flights.py [--tau-s 30] [--duration-s 240] [--seed 101]
+                                                 [--fail NAME@TIME:MODE=VALUE ...]
+
+``--fail`` replaces the three AOA failures by the ones given (``f16mmae run --fail`` syntax, values
+in the sensor's units: rad, rad/s, g).
 """
 from __future__ import annotations
 
@@ -17,7 +21,7 @@ import math
 from f16mmae.banks import load_bank
 from f16mmae.loop.flight import fly
 from f16mmae.truth import Scenario
-from f16mmae.truth.failures import make_failure
+from f16mmae.truth.failures import make_failure, parse_fail
 
 FAILURES = (("AOA drift 0.002 deg/s", "drift", 0.002), ("AOA drift 0.01 deg/s", "drift", 0.01),
             ("AOA bias 0.5 deg", "bias", 0.5))
@@ -35,14 +39,19 @@ def main() -> None:
     ap.add_argument("--tau-s", type=float, default=30.0)
     ap.add_argument("--duration-s", type=float, default=240.0)
     ap.add_argument("--seed", type=int, default=101)
+    ap.add_argument("--fail", nargs="*", default=None)
     args = ap.parse_args()
     bank = load_bank("tuned")[2]
-    print("| failure at 30 s | estimator | first declaration | declarations | declared at the end |")
+    if args.fail:
+        failures = [(text, parse_fail(text)) for text in args.fail]
+    else:
+        failures = [(f"{label} at 30 s", make_failure("AOA", 30.0, mode, math.radians(value_deg)))
+                    for label, mode, value_deg in FAILURES]
+    print("| failure | estimator | first declaration | declarations | declared at the end |")
     print("|---|---|---|---|---|")
-    for label, mode, value_deg in FAILURES:
+    for label, failure in failures:
         sc = Scenario(mach=float(bank.mach), alt_ft=float(bank.alt_ft), turbulence="none",
-                      duration_s=args.duration_s, seed=args.seed,
-                      failures=(make_failure("AOA", 30.0, mode, math.radians(value_deg)),))
+                      duration_s=args.duration_s, seed=args.seed, failures=(failure,))
         for name, options in ways(args.tau_s):
             r = fly(sc, bank, estimator_options=options, record_probabilities=False)
             first = r.declarations[0] if r.declarations else None

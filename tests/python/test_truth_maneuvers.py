@@ -184,9 +184,10 @@ def test_run_refuses_a_bad_maneuver_naming_it(capsys):
     assert "not inside the 8.0-s flight" in capsys.readouterr().err
 
 
-def test_maneuvering_flight_estimator_sees_u_and_z_only():
+def test_maneuvering_flight_estimator_sees_u_z_and_air_data_only():
     """The maneuvers go to the truth's pilot, never to the estimator: replaying the recorded
-    (u, z) through a fresh estimator reproduces the flight's probabilities and declarations."""
+    (u, z, air data) through a fresh estimator reproduces the flight's probabilities and
+    declarations."""
     from f16mmae.banks import load_bank
     from f16mmae.loop.estimator import Estimator
     from f16mmae.loop.flight import fly
@@ -194,11 +195,12 @@ def test_maneuvering_flight_estimator_sees_u_and_z_only():
     bank = load_bank("tuned")[2]
     sc = Scenario(duration_s=5.0, seed=4, turbulence="light", maneuvers=("turn@1:bank=30", "climb@2:to=20300ft"))
     frames = []
-    r = fly(sc, bank, on_frame=lambda t, u, z: frames.append((t, u, z)))
+    r = fly(sc, bank, on_frame=lambda t, u, z, a: frames.append((t, u, z, a)))
     assert r.scenario["maneuvers"] == ["turn@1:bank=30deg", "climb@2:to=20300ft"]  # by start time
     est = Estimator(bank)
     decl = []
-    for i, (t, u, z) in enumerate(frames):
+    for i, (t, u, z, a) in enumerate(frames):
+        est.schedule(*a)
         est.update(z)
         est.propagate(u)
         if est.last_declaration is not None:
@@ -223,7 +225,7 @@ def test_cpp_engine_flies_the_outer_loop_in_cpp_and_the_closed_loop_in_one_call(
     truth.close()
     bank = load_bank("tuned")[2]
     one_call = fly(sc, bank)                                   # whole flight in C++
-    per_frame = fly(sc, bank, on_frame=lambda t, u, z: None)   # frame by frame (C++ law)
+    per_frame = fly(sc, bank, on_frame=lambda t, u, z, a: None)   # frame by frame (C++ law)
     python = fly(sc, bank, engine="python")                    # the Python reference
     for other in (per_frame, python):
         assert other.declarations == one_call.declarations

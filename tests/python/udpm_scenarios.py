@@ -126,6 +126,8 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
         logger.wait(timeout=10)
     assert daemon.returncode == 0
     assert "256 updated, 256 commands applied, 0 rejected, 0 dropped" in daemon.summary
+    # the air data crossed with every frame (a frame without it would be counted here)
+    assert "0 air data rejected" in daemon.summary and remote.timing["link"]["air_data_rejected"] == 0
     assert daemon.statistics["messages"]["used"] == 256 + 256 + 1  # frames and the flight's reset
     assert daemon.statistics["messages"]["undecodable"] == 0
     local = fly(scenario, bank)

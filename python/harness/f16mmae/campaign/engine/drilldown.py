@@ -20,7 +20,9 @@ import shlex
 from collections.abc import Callable, Iterable
 
 FLAGS: tuple[str, ...] = ("false_alarm", "transient_wrong")
-_ESTIMATOR_OPTIONS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min"}
+_ESTIMATOR_OPTIONS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min",
+                      "trim_time_constant_s": "--trim-tracking",
+                      "trim_freeze_probability": "--trim-freeze-probability"}
 
 
 def is_clean(record: dict) -> bool:

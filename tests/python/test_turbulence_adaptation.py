@@ -78,7 +78,7 @@ def test_the_whole_cpp_loop_records_what_the_per_frame_loop_does_through_a_burst
                    failures=(parse_fail("LF@2.0"),))
     whole = fly(sc, bank, engine="cpp", estimator_options=ADAPT)
     for engine in ("cpp", "python"):
-        frames = fly(sc, bank, engine=engine, estimator_options=ADAPT, on_frame=lambda t, u, z: None)
+        frames = fly(sc, bank, engine=engine, estimator_options=ADAPT, on_frame=lambda *frame: None)
         assert frames.declarations == whole.declarations
         assert np.array_equal(frames.probabilities, whole.probabilities, equal_nan=True)
         assert np.array_equal(frames.turbulence_scale, whole.turbulence_scale)

@@ -300,6 +300,13 @@ class FilterBank {
     if constexpr (kPacked) packed_.load(k, hypotheses_);
     store([&](auto& s) { s.clear(k); });
   }
+  // Replace what filter k is by `hypothesis` (same sizes), keeping its state x⁻, x⁺, r: a
+  // change of the scheduled filters (scheduled_filters.h). Call refresh_blend() after if
+  // H_out matters (it does not change here).
+  void replace_filter(int k, const Hypothesis& hypothesis) noexcept {
+    hypotheses_[k] = hypothesis;
+    if constexpr (kPacked) packed_.load(k, hypotheses_);
+  }
   // Set filter k's posterior x⁺ and mark it current, so the next propagate starts from it
   // (a filter brought on line after the frame's update).
   void set_posterior(int k, const XVector& x_post) noexcept {

@@ -22,9 +22,21 @@
 //
 // Air data (air_data.h): schedule(a) before a frame's update hands the bank the measured
 // air data. A non-finite value is counted in air_data_rejected() and the last usable value
-// stays in force. This bank is designed at one flight condition (ModelBank mach, alt_ft), so
-// its filters and trim do not depend on the air data; air_data() reports what is in force
-// (the design condition until the first usable value; reset() returns to it).
+// stays in force. air_data() reports what is in force (the ModelBank's design condition
+// (mach, alt_ft) until the first usable value; reset() returns to it).
+//   A bank designed at one flight condition: its filters and trim do not depend on it.
+//   A scheduled bank (ModelBank::schedule, bank_schedule.h): every node's 79 filters are
+//   preloaded, and schedule(a) selects the filters and trims in force on the grid
+//   (scheduled_filters.h: bilinear interpolation or nearest node with hysteresis,
+//   HierarchicalOptions::schedule). A change of filters reloads the on-line ones (and a
+//   hierarchical switch loads the ones in force); when the trim state x_trim moves, every
+//   on-line filter's x⁻ and x⁺ move by x_trim_old - x_trim_new (bumpless: the absolute
+//   estimate is continuous); before the first frame nothing moves (the filters start at the
+//   trim in force at their first frame). Probabilities, the declarer, the declarations and the level are
+//   untouched by a schedule change.
+// Trim in force:  u_trim = scheduled u_trim + du,  z_trim = scheduled z_trim + dz, with the
+// offset (du, dz) of set_trim_offset (zero by default; reset() keeps it): the seam where an
+// on-line trim estimate adds what air data cannot explain. An offset moves no state.
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the bank's z_trim, propagate(u)
 // its u_trim, and z_hat() adds z_trim back (z_hat_perturbation() does not). States are
@@ -45,6 +57,7 @@
 #include "f16mmae/declarer.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/model_bank.h"
+#include "f16mmae/scheduled_filters.h"
 
 #include <Eigen/Dense>
 
@@ -67,6 +80,7 @@ struct Declaration {
 struct HierarchicalOptions {
   FilterBankOptions bank;     // p_min, strip_leading_term
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
+  ScheduleOptions schedule;   // a scheduled bank: interpolate or nearest (scheduled_filters.h)
   int history_capacity = 1024;
 };
 
@@ -82,6 +96,7 @@ class HierarchicalBank {
   using PVector = typename Bank::PVector;
   static constexpr bool kFixed = K != Eigen::Dynamic;
   using Indices = std::conditional_t<kFixed, std::array<int, (kFixed ? K : 1)>, std::vector<int>>;
+  using Schedule = ScheduledFilters<NX, NU, NZ>;
 
   explicit HierarchicalBank(const ModelBank& bank, const HierarchicalOptions& options = {})
       : HierarchicalBank(bank, options, build(bank)) {}
@@ -110,6 +125,28 @@ class HierarchicalBank {
       return;
     }
     air_data_ = a;
+    if (!sched_.active()) return;
+    const XVector x_before = sched_.x_trim();
+    const bool reload = sched_.select(a);
+    if (reload) {
+      for (int k = 0; k < size(); ++k) {
+        sched_.filter(online_[k], scratch_);
+        bank_.replace_filter(k, scratch_);
+      }
+    }
+    if (frame_ > 0) shift_states(x_before - sched_.x_trim());  // before the first frame x = 0 is the trim
+    apply_trims();
+  }
+  // Trim in force = scheduled trim + (du, dz) (see the header comment). Throws
+  // std::invalid_argument for a wrong size or a non-finite entry.
+  void set_trim_offset(const Eigen::Ref<const Eigen::VectorXd>& du, const Eigen::Ref<const Eigen::VectorXd>& dz) {
+    if (du.size() != u_trim_.size() || dz.size() != z_trim_.size() || !du.allFinite() || !dz.allFinite())
+      throw std::invalid_argument("hierarchical bank: the trim offset must be " + std::to_string(u_trim_.size()) +
+                                  " + " + std::to_string(z_trim_.size()) + " finite values, got " +
+                                  std::to_string(du.size()) + " + " + std::to_string(dz.size()));
+    du_offset_ = du;
+    dz_offset_ = dz;
+    apply_trims();
   }
   bool propagate(const UVector& u_abs) noexcept {
     u_pert_.noalias() = u_abs - u_trim_;
@@ -133,6 +170,14 @@ class HierarchicalBank {
     dropped_ = 0;
     air_data_ = design_air_data_;
     air_data_rejected_ = 0;
+    if (sched_.active()) {
+      sched_.reset(design_air_data_);
+      for (int k = 0; k < size(); ++k) {
+        sched_.filter(online_[k], scratch_);
+        bank_.replace_filter(k, scratch_);
+      }
+      apply_trims();
+    }
   }
 
   // Touch the on-line bank's per-frame working set (FilterBank::warm_cache) and the
@@ -165,8 +210,12 @@ class HierarchicalBank {
   const XVector& blended_state() const noexcept { return bank_.blended_state(); }
   const ZVector& z_hat_perturbation() const noexcept { return bank_.z_hat(); }
   ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_; }   // absolute
-  const ZVector& z_trim() const noexcept { return z_trim_; }
+  const ZVector& z_trim() const noexcept { return z_trim_; }   // in force (with the offset)
   const UVector& u_trim() const noexcept { return u_trim_; }
+  const UVector& u_trim_offset() const noexcept { return du_offset_; }
+  const ZVector& z_trim_offset() const noexcept { return dz_offset_; }
+  // The schedule (inactive for a bank designed at one flight condition).
+  const Schedule& scheduled() const noexcept { return sched_; }
   std::int64_t rejected_frames() const noexcept { return bank_.rejected_frames(); }
   const AirData& air_data() const noexcept { return air_data_; }            // in force
   std::int64_t air_data_rejected() const noexcept { return air_data_rejected_; }
@@ -254,12 +303,31 @@ class HierarchicalBank {
     for (std::size_t i = 0; i < b.models.size(); ++i)
       storage_.emplace_back(b.models[i], "hypothesis '" + names_[i] + "'");
     bank_.set_h_output(mb.h_output);
-    z_trim_ = mb.z_trim;
-    u_trim_ = mb.u_trim;
+    z_trim_ = z_design_ = mb.z_trim;
+    u_trim_ = u_design_ = mb.u_trim;
+    du_offset_ = UVector::Zero(mb.nu());
+    dz_offset_ = ZVector::Zero(mb.nz());
     design_air_data_ = AirData{mb.mach, mb.alt_ft};
     air_data_ = design_air_data_;
     z_pert_ = z_trim_;
     u_pert_ = u_trim_;
+    scratch_ = storage_[0];
+    if (mb.schedule) {
+      sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_);
+      if (sched_.node_filter(0, 0).nx() != mb.nx() ||
+          static_cast<int>(mb.schedule->nodes[0].bank.hypotheses.size()) != hypothesis_count())
+        throw std::invalid_argument("hierarchical bank: the schedule's nodes do not have this bank's sizes");
+      for (int i = 0; i < hypothesis_count(); ++i)
+        if (mb.schedule->nodes[0].bank.hypotheses[i].name != names_[i])
+          throw std::invalid_argument("hierarchical bank: schedule hypothesis " + std::to_string(i) + " is '" +
+                                      mb.schedule->nodes[0].bank.hypotheses[i].name + "', the bank's is '" +
+                                      names_[i] + "'");
+      for (int k = 0; k < size(); ++k) {
+        sched_.filter(online_[k], scratch_);
+        bank_.replace_filter(k, scratch_);
+      }
+      apply_trims();
+    }
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
   }
 
@@ -278,18 +346,49 @@ class HierarchicalBank {
 
   // Bring `next` on line; every new filter starts from the declared filter's x⁺ (x⁻ and r
   // zero until the propagate) and the declared hypothesis (at `declared`, its position in
-  // the current bank) is presumed.
+  // the current bank) is presumed. A scheduled bank loads the filters in force.
   void switch_to(const Indices& next, int declared, int level) noexcept {
     const XVector x0 = bank_.posterior(declared);
     const int presumed = level == 1 ? 1 : 0;
     for (int k = 0; k < size(); ++k) {
-      bank_.load_filter(k, storage_[next[k]]);
+      if (sched_.active()) {
+        sched_.filter(next[k], scratch_);
+        bank_.load_filter(k, scratch_);
+      } else {
+        bank_.load_filter(k, storage_[next[k]]);
+      }
       bank_.set_posterior(k, x0);
     }
     online_ = next;
     level_ = level;
     bank_.presume(presumed);
     declarer_.reset(presumed);
+  }
+
+  // Every on-line filter's states move by dx (a change of the scheduled trim state).
+  void shift_states(const XVector& dx) noexcept {
+    if (dx.isZero(0.0)) return;
+    for (int k = 0; k < size(); ++k) {
+      const bool corrected = bank_.corrected(k);
+      x_shift_ = bank_.prior(k);
+      x_shift_ += dx;
+      bank_.set_prior(k, x_shift_);
+      if (corrected) {
+        x_shift_ = bank_.posterior(k);
+        x_shift_ += dx;
+        bank_.set_posterior(k, x_shift_);
+      }
+    }
+    bank_.refresh_blend();
+  }
+  void apply_trims() noexcept {
+    if (sched_.active()) {
+      u_trim_ = sched_.u_trim() + du_offset_;
+      z_trim_ = sched_.z_trim() + dz_offset_;
+    } else {
+      u_trim_ = u_design_ + du_offset_;
+      z_trim_ = z_design_ + dz_offset_;
+    }
   }
 
   HierarchicalOptions options_;
@@ -300,8 +399,11 @@ class HierarchicalBank {
   Indices level0_;
   std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of single failure f
   Indices online_;
-  ZVector z_trim_, z_pert_;
-  UVector u_trim_, u_pert_;
+  ZVector z_trim_, z_pert_, z_design_, dz_offset_;
+  UVector u_trim_, u_pert_, u_design_, du_offset_;
+  XVector x_shift_;
+  Schedule sched_;
+  Hypothesis scratch_;   // a scheduled filter on its way on line
   std::vector<Declaration> history_;
   std::int64_t dropped_ = 0;
   AirData design_air_data_, air_data_;

@@ -151,9 +151,7 @@ ModelBank make_bank(py::handle hypotheses, py::handle state_names, py::handle in
 
 ModelBank bank_from_file_bytes(const py::bytes& data, const std::string& source) {
   const std::string_view view = data;
-  const auto* bytes = reinterpret_cast<const std::uint8_t*>(view.data());
-  if (is_schedule_file(bytes, view.size())) return parse_schedule_file(bytes, view.size(), source);
-  return parse_bank_file(bytes, view.size(), source);
+  return parse_any_bank_file(reinterpret_cast<const std::uint8_t*>(view.data()), view.size(), source);
 }
 
 // A BankSchedule from Python: nodes = [(i_mach, i_alt, ModelBank, x_trim), ...].

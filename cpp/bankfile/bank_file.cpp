@@ -207,17 +207,24 @@ std::vector<std::uint8_t> read_regular_file(const std::string& path, std::uint64
   return bytes;
 }
 
-ModelBank load_bank(const std::string& path) {
-  std::vector<std::uint8_t> bytes;
+std::vector<std::uint8_t> read_bank_bytes(const std::string& path) {
   try {
-    bytes = read_regular_file(path, kMaxBankFileBytes, "bank file");
+    return read_regular_file(path, kMaxBankFileBytes, "bank file");
   } catch (const BankFileFormatError&) {  // over a bank's limit: a scheduled bank may be larger
-    bytes = read_regular_file(path, kMaxScheduleFileBytes, "bank file");
+    std::vector<std::uint8_t> bytes = read_regular_file(path, kMaxScheduleFileBytes, "bank file");
     if (!is_schedule_file(bytes.data(), bytes.size())) throw;
+    return bytes;
   }
-  if (is_schedule_file(bytes.data(), bytes.size()))
-    return parse_schedule_file(bytes.data(), bytes.size(), "'" + path + "'");
-  return parse_bank_file(bytes.data(), bytes.size(), "'" + path + "'");
+}
+
+ModelBank parse_any_bank_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
+  if (is_schedule_file(data, size)) return parse_schedule_file(data, size, source);
+  return parse_bank_file(data, size, source);
+}
+
+ModelBank load_bank(const std::string& path) {
+  const std::vector<std::uint8_t> bytes = read_bank_bytes(path);
+  return parse_any_bank_file(bytes.data(), bytes.size(), "'" + path + "'");
 }
 
 }  // namespace f16mmae

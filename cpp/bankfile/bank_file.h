@@ -87,6 +87,11 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
 
 // Validates, then writes the file atomically. Returns the content hash.
 std::string save_bank(const ModelBank& bank, const std::string& path);
+// The bytes of a bank file (read_regular_file, at most kMaxBankFileBytes) or of a
+// scheduled-bank file (at most kMaxScheduleFileBytes, schedule_file.h).
+std::vector<std::uint8_t> read_bank_bytes(const std::string& path);
+// parse_schedule_file for a scheduled-bank image (its magic), else parse_bank_file.
+ModelBank parse_any_bank_file(const std::uint8_t* data, std::size_t size, const std::string& source);
 // Reads, checks and validates a bank file or a scheduled-bank file (schedule_file.h); the
 // result has content_hash set.
 ModelBank load_bank(const std::string& path);

@@ -69,6 +69,39 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule) {
   return hashed_file_image(kScheduleFileMagic, BankSchedule::kFormatVersion, w.out);
 }
 
+ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size) {
+  auto schedule = std::make_shared<BankSchedule>();
+  PayloadReader r(payload, size);
+  schedule->mach = read_axis(r, "mach");
+  schedule->alt_ft = read_axis(r, "alt_ft");
+  schedule->primary = r.i32("primary");
+  schedule->metadata = r.text("metadata", kMaxBankTextBytes);
+  const std::size_t n = r.count("nodes size", kMaxScheduleNodes, 12 + 8 + kBankFileHeaderSize);
+  schedule->nodes.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::string node = "nodes[" + std::to_string(k) + "]";
+    ScheduleNode& sn = schedule->nodes[k];
+    sn.i_mach = r.i32(node + ".i_mach");
+    sn.i_alt = r.i32(node + ".i_alt");
+    const std::size_t nx = r.count(node + ".x_trim size", kMaxBankDimension, 8);
+    sn.x_trim.resize(static_cast<Eigen::Index>(nx));
+    for (std::size_t i = 0; i < nx; ++i) sn.x_trim(static_cast<Eigen::Index>(i)) = r.f64(node + ".x_trim");
+    const std::int64_t bytes = r.i64(node + ".bank size");
+    if (bytes < 0 || static_cast<std::uint64_t>(bytes) > kMaxBankFileBytes)
+      throw BankFileFormatError("payload field " + node + ".bank size = " + std::to_string(bytes) +
+                                " is outside [0, " + std::to_string(kMaxBankFileBytes) + "]");
+    const std::uint8_t* image = r.bytes(node + ".bank", static_cast<std::uint64_t>(bytes));
+    sn.bank = parse_bank_file(image, static_cast<std::size_t>(bytes), node);
+  }
+  if (r.remaining() != 0)
+    throw BankFileFormatError("payload has " + std::to_string(r.remaining()) + " bytes after the last node");
+  schedule->validate();
+  ModelBank bank = schedule->nodes[static_cast<std::size_t>(schedule->primary)].bank;
+  bank.content_hash = to_hex(sha256(payload, size));
+  bank.schedule = std::move(schedule);
+  return bank;
+}
+
 ModelBank parse_schedule_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
   const std::string who = "scheduled-bank file " + source + ": ";
   const std::uint32_t version = hashed_file_version(data, size, kScheduleFileMagic, who, "scheduled-bank");
@@ -76,42 +109,13 @@ ModelBank parse_schedule_file(const std::uint8_t* data, std::size_t size, const 
     throw BankFileFormatError(who + "unsupported format version " + std::to_string(version) +
                               " (this build reads version " + std::to_string(BankSchedule::kFormatVersion) + ")");
   const std::uint8_t* payload = hashed_file_payload(data, size, who);
-  auto schedule = std::make_shared<BankSchedule>();
   try {
-    PayloadReader r(payload, size - kBankFileHeaderSize);
-    schedule->mach = read_axis(r, "mach");
-    schedule->alt_ft = read_axis(r, "alt_ft");
-    schedule->primary = r.i32("primary");
-    schedule->metadata = r.text("metadata", kMaxBankTextBytes);
-    const std::size_t n = r.count("nodes size", kMaxScheduleNodes, 12 + 4 + 8 + kBankFileHeaderSize);
-    schedule->nodes.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::string node = "nodes[" + std::to_string(k) + "]";
-      ScheduleNode& sn = schedule->nodes[k];
-      sn.i_mach = r.i32(node + ".i_mach");
-      sn.i_alt = r.i32(node + ".i_alt");
-      const std::size_t nx = r.count(node + ".x_trim size", kMaxBankDimension, 8);
-      sn.x_trim.resize(static_cast<Eigen::Index>(nx));
-      for (std::size_t i = 0; i < nx; ++i) sn.x_trim(static_cast<Eigen::Index>(i)) = r.f64(node + ".x_trim");
-      const std::int64_t bytes = r.i64(node + ".bank size");
-      if (bytes < 0 || static_cast<std::uint64_t>(bytes) > kMaxBankFileBytes)
-        throw BankFileFormatError("payload field " + node + ".bank size = " + std::to_string(bytes) +
-                                  " is outside [0, " + std::to_string(kMaxBankFileBytes) + "]");
-      const std::uint8_t* image = r.bytes(node + ".bank", static_cast<std::uint64_t>(bytes));
-      sn.bank = parse_bank_file(image, static_cast<std::size_t>(bytes), node);
-    }
-    if (r.remaining() != 0)
-      throw BankFileFormatError("payload has " + std::to_string(r.remaining()) + " bytes after the last node");
-    schedule->validate();
+    return decode_schedule_payload(payload, size - kBankFileHeaderSize);
   } catch (const BankFileFormatError& e) {
     throw BankFileFormatError(who + e.what());
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(who + e.what());
   }
-  ModelBank bank = schedule->nodes[static_cast<std::size_t>(schedule->primary)].bank;
-  bank.content_hash = to_hex(sha256(payload, size - kBankFileHeaderSize));
-  bank.schedule = std::move(schedule);
-  return bank;
 }
 
 std::string save_schedule(const BankSchedule& schedule, const std::string& path) {

@@ -53,6 +53,9 @@ bool is_schedule_file(const std::uint8_t* data, std::size_t size);
 std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule);
 // Parses and validates a file image; `source` names it in error messages.
 ModelBank parse_schedule_file(const std::uint8_t* data, std::size_t size, const std::string& source);
+// The payload alone (no header, no hash check), validated: what parse_schedule_file does
+// after the header. Throws as parse_schedule_file does, without the file's name.
+ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size);
 // Validates, then writes the file atomically. Returns the content hash.
 std::string save_schedule(const BankSchedule& schedule, const std::string& path);
 

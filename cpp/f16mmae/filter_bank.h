@@ -300,12 +300,15 @@ class FilterBank {
     if constexpr (kPacked) packed_.load(k, hypotheses_);
     store([&](auto& s) { s.clear(k); });
   }
-  // Replace what filter k is by `hypothesis` (same sizes), keeping its state x⁻, x⁺, r: a
-  // change of the scheduled filters (scheduled_filters.h). Call refresh_blend() after if
-  // H_out matters (it does not change here).
-  void replace_filter(int k, const Hypothesis& hypothesis) noexcept {
-    hypotheses_[k] = hypothesis;
-    if constexpr (kPacked) packed_.load(k, hypotheses_);
+  // Replace what every filter is, keeping the states x⁻, x⁺, r: a change of the scheduled
+  // filters (scheduled_filters.h). write(k, h) writes filter k's new HypothesisFilter into h
+  // (same sizes). noexcept if write is.
+  template <class Write>
+  void replace_filters(Write&& write) noexcept {
+    for (int k = 0; k < size(); ++k) write(k, hypotheses_[k]);
+    if constexpr (kPacked) {
+      if (use_packed_) packed_.load_all(hypotheses_);
+    }
   }
   // Set filter k's posterior x⁺ and mark it current, so the next propagate starts from it
   // (a filter brought on line after the frame's update).

@@ -128,12 +128,7 @@ class HierarchicalBank {
     if (!sched_.active()) return;
     const XVector x_before = sched_.x_trim();
     const bool reload = sched_.select(a);
-    if (reload) {
-      for (int k = 0; k < size(); ++k) {
-        sched_.filter(online_[k], scratch_);
-        bank_.replace_filter(k, scratch_);
-      }
-    }
+    if (reload) load_scheduled();
     if (frame_ > 0) shift_states(x_before - sched_.x_trim());  // before the first frame x = 0 is the trim
     apply_trims();
   }
@@ -172,10 +167,7 @@ class HierarchicalBank {
     air_data_rejected_ = 0;
     if (sched_.active()) {
       sched_.reset(design_air_data_);
-      for (int k = 0; k < size(); ++k) {
-        sched_.filter(online_[k], scratch_);
-        bank_.replace_filter(k, scratch_);
-      }
+      load_scheduled();
       apply_trims();
     }
   }
@@ -322,10 +314,7 @@ class HierarchicalBank {
           throw std::invalid_argument("hierarchical bank: schedule hypothesis " + std::to_string(i) + " is '" +
                                       mb.schedule->nodes[0].bank.hypotheses[i].name + "', the bank's is '" +
                                       names_[i] + "'");
-      for (int k = 0; k < size(); ++k) {
-        sched_.filter(online_[k], scratch_);
-        bank_.replace_filter(k, scratch_);
-      }
+      load_scheduled();
       apply_trims();
     }
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
@@ -365,6 +354,10 @@ class HierarchicalBank {
     declarer_.reset(presumed);
   }
 
+  // The on-line filters as the schedule has them in force (states kept).
+  void load_scheduled() noexcept {
+    bank_.replace_filters([&](int k, Hypothesis& h) { sched_.filter(online_[k], h); });
+  }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {
     if (dx.isZero(0.0)) return;

@@ -46,7 +46,7 @@ enum class ScheduleMode { kInterpolate, kNearest };
 struct ScheduleOptions {
   ScheduleMode mode = ScheduleMode::kInterpolate;
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
-  double blend_step_cells = 1.0 / 64;  // interpolate: air-data move that re-blends, cell units, >= 0
+  double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
 };
 
 inline void check_schedule_options(const ScheduleOptions& o) {

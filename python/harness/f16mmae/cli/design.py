@@ -53,7 +53,7 @@ f16mmae/design/tunings/, or a TOML file of the same layout:
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
   [method3_qd_lateral]      beta_rad p_rad_s r_rad_s phi_rad      (+ diag Q_d, per frame)
   [method4_actuator_q]      LS RS LF RF RUD    (white noise strength through a B column, rad^2/s)
-The shipped nominal banks (f16mmae/data/nominal_{tuned,untuned}.f16bank) are this command at
+The shipped nominal banks (f16mmae/data/nominal_{{tuned,untuned}}.f16bank) are this command at
 Mach 0.4, 20,000 ft.  --report DIR writes report.txt and figures (eigenvalues per hypothesis,
 gains, linear vs nonlinear step responses, NONE-filter residual statistics); ~10 s.
 Re-tuning after a truth-model change (re-measures the residual statistics, rewrites

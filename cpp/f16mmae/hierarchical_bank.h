@@ -34,14 +34,17 @@
 //   estimate is continuous); before the first frame nothing moves (the filters start at the
 //   trim in force at their first frame). Probabilities, the declarer, the declarations and the level are
 //   untouched by a schedule change.
-// Trim in force:  u_trim = scheduled u_trim + du,  z_trim = scheduled z_trim + dz, with the
-// offset (du, dz) of set_trim_offset (zero by default; reset() keeps it): the seam where an
-// on-line trim estimate adds what air data cannot explain. An offset moves no state.
 //
-// Signals are ABSOLUTE at this interface: update(z) subtracts the bank's z_trim, propagate(u)
-// its u_trim, and z_hat() adds z_trim back (z_hat_perturbation() does not). States are
-// perturbations from trim. A frame is one update (accepted or rejected): frame index i
-// (0-based) has time_s = i / frame_rate_hz. The declarer sees only accepted updates.
+// Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
+// z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
+// (z_hat_perturbation() does not). States are perturbations from the trim in force.
+// Trim in force = the bank's trim (a scheduled bank: the scheduled trim) + the trim offset
+// (du, dz): zero unless set_trim_offset()
+// sets it or trim tracking (options.trim, trim_tracker.h: a slow low-pass of u and z about the
+// trim, frozen while a failure hypothesis rises or a failure is declared) estimates it, after
+// each update and propagate. With zero offsets the arithmetic is the bank's without them.
+// A frame is one update (accepted or rejected): frame index i (0-based) has
+// time_s = i / frame_rate_hz. The declarer sees only accepted updates.
 //
 // Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>)
 // or Eigen::Dynamic (DynamicHierarchicalBank, any K = 1 + number of singles).
@@ -58,6 +61,7 @@
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
+#include "f16mmae/trim_tracker.h"
 
 #include <Eigen/Dense>
 
@@ -81,6 +85,7 @@ struct HierarchicalOptions {
   FilterBankOptions bank;     // p_min, strip_leading_term
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
   ScheduleOptions schedule;   // a scheduled bank: interpolate or nearest (scheduled_filters.h)
+  TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
   int history_capacity = 1024;
 };
 
@@ -106,17 +111,32 @@ class HierarchicalBank {
   int update(const ZVector& z_abs) noexcept {
     const std::int64_t frame = frame_++;
     z_pert_.noalias() = z_abs - z_trim_;
+    z_pert_ -= dz_;
     if (!bank_.update(z_pert_)) return -1;
     const int d = declarer_.update(bank_.probabilities());
-    if (d < 0) return -1;
-    const int hypothesis = online_[d];
-    record(hypothesis, frame);
-    if (level_ == 0 && d != 0) {
-      switch_to(level1_[d - 1], d, 1);
-    } else if (level_ == 1 && d == 0) {
-      switch_to(level0_, 0, 0);
+    int hypothesis = -1;
+    if (d >= 0) {
+      hypothesis = online_[d];
+      record(hypothesis, frame);
+      if (level_ == 0 && d != 0) {
+        switch_to(level1_[d - 1], d, 1);
+      } else if (level_ == 1 && d == 0) {
+        switch_to(level0_, 0, 0);
+      }
+    }
+    if (trim_tracker_.options().enabled()) {
+      z_pert_.noalias() = z_abs - z_trim_;
+      trim_tracker_.after_update(z_pert_, trim_freezing());
+      dz_ = trim_tracker_.dz();
     }
     return hypothesis;
+  }
+  // The trim offset in force from the next update/propagate on: the bank subtracts
+  // u_trim + du and z_trim + dz (header). With trim tracking on, the tracker overwrites it.
+  template <class U, class Z>
+  void set_trim_offset(const U& du, const Z& dz) noexcept {
+    du_ = du;
+    dz_ = dz;
   }
   // The measured air data for the coming frames (see the header comment); noexcept.
   void schedule(const AirData& a) noexcept {
@@ -132,20 +152,16 @@ class HierarchicalBank {
     if (frame_ > 0) shift_states(x_before - sched_.x_trim());  // before the first frame x = 0 is the trim
     apply_trims();
   }
-  // Trim in force = scheduled trim + (du, dz) (see the header comment). Throws
-  // std::invalid_argument for a wrong size or a non-finite entry.
-  void set_trim_offset(const Eigen::Ref<const Eigen::VectorXd>& du, const Eigen::Ref<const Eigen::VectorXd>& dz) {
-    if (du.size() != u_trim_.size() || dz.size() != z_trim_.size() || !du.allFinite() || !dz.allFinite())
-      throw std::invalid_argument("hierarchical bank: the trim offset must be " + std::to_string(u_trim_.size()) +
-                                  " + " + std::to_string(z_trim_.size()) + " finite values, got " +
-                                  std::to_string(du.size()) + " + " + std::to_string(dz.size()));
-    du_offset_ = du;
-    dz_offset_ = dz;
-    apply_trims();
-  }
   bool propagate(const UVector& u_abs) noexcept {
     u_pert_.noalias() = u_abs - u_trim_;
-    return bank_.propagate(u_pert_);
+    u_pert_ -= du_;
+    const bool ok = bank_.propagate(u_pert_);
+    if (ok && trim_tracker_.options().enabled()) {
+      u_pert_.noalias() = u_abs - u_trim_;
+      trim_tracker_.after_propagate(u_pert_);
+      du_ = trim_tracker_.du();
+    }
+    return ok;
   }
   // update(z) then propagate(u); returns update's result.
   int step(const ZVector& z_abs, const UVector& u_abs) noexcept {
@@ -165,6 +181,9 @@ class HierarchicalBank {
     dropped_ = 0;
     air_data_ = design_air_data_;
     air_data_rejected_ = 0;
+    trim_tracker_.reset();
+    du_.setZero();
+    dz_.setZero();
     if (sched_.active()) {
       sched_.reset(design_air_data_);
       load_scheduled();
@@ -201,13 +220,14 @@ class HierarchicalBank {
   const PVector& probabilities() const noexcept { return bank_.probabilities(); }
   const XVector& blended_state() const noexcept { return bank_.blended_state(); }
   const ZVector& z_hat_perturbation() const noexcept { return bank_.z_hat(); }
-  ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_; }   // absolute
-  const ZVector& z_trim() const noexcept { return z_trim_; }   // in force (with the offset)
-  const UVector& u_trim() const noexcept { return u_trim_; }
-  const UVector& u_trim_offset() const noexcept { return du_offset_; }
-  const ZVector& z_trim_offset() const noexcept { return dz_offset_; }
+  ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_ + dz_; }   // absolute
+  const UVector& u_trim_offset() const noexcept { return du_; }   // du in force
+  const ZVector& z_trim_offset() const noexcept { return dz_; }   // dz in force
+  const TrimTracker<NU, NZ>& trim_tracker() const noexcept { return trim_tracker_; }
+  const ZVector& z_trim() const noexcept { return z_trim_; }
   // The schedule (inactive for a bank designed at one flight condition).
   const Schedule& scheduled() const noexcept { return sched_; }
+  const UVector& u_trim() const noexcept { return u_trim_; }
   std::int64_t rejected_frames() const noexcept { return bank_.rejected_frames(); }
   const AirData& air_data() const noexcept { return air_data_; }            // in force
   std::int64_t air_data_rejected() const noexcept { return air_data_rejected_; }
@@ -286,6 +306,7 @@ class HierarchicalBank {
         level0_(b.level0),
         level1_(std::move(b.level1)),
         online_(b.level0),
+        trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz()),
         frame_rate_hz_(mb.frame_rate_hz) {
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
@@ -295,14 +316,14 @@ class HierarchicalBank {
     for (std::size_t i = 0; i < b.models.size(); ++i)
       storage_.emplace_back(b.models[i], "hypothesis '" + names_[i] + "'");
     bank_.set_h_output(mb.h_output);
-    z_trim_ = z_design_ = mb.z_trim;
-    u_trim_ = u_design_ = mb.u_trim;
-    du_offset_ = UVector::Zero(mb.nu());
-    dz_offset_ = ZVector::Zero(mb.nz());
+    z_trim_ = mb.z_trim;
+    u_trim_ = mb.u_trim;
     design_air_data_ = AirData{mb.mach, mb.alt_ft};
     air_data_ = design_air_data_;
     z_pert_ = z_trim_;
     u_pert_ = u_trim_;
+    du_ = UVector::Zero(u_trim_.size());
+    dz_ = ZVector::Zero(z_trim_.size());
     scratch_ = storage_[0];
     if (mb.schedule) {
       sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_);
@@ -318,6 +339,16 @@ class HierarchicalBank {
       apply_trims();
     }
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
+  }
+
+  // The trim tracker's freeze condition on this frame (trim_tracker.h): level 1, a failure
+  // declared, or a failure hypothesis on line above freeze_probability.
+  bool trim_freezing() const noexcept {
+    if (level_ != 0 || online_[declarer_.current()] != 0) return true;
+    const PVector& p = bank_.probabilities();
+    for (int k = 1; k < size(); ++k)
+      if (p(k) > trim_tracker_.options().freeze_probability) return true;
+    return false;
   }
 
   void record(int hypothesis, std::int64_t frame) noexcept {
@@ -374,14 +405,10 @@ class HierarchicalBank {
     }
     bank_.refresh_blend();
   }
+  // The scheduled trims in force (a scheduled bank only).
   void apply_trims() noexcept {
-    if (sched_.active()) {
-      u_trim_ = sched_.u_trim() + du_offset_;
-      z_trim_ = sched_.z_trim() + dz_offset_;
-    } else {
-      u_trim_ = u_design_ + du_offset_;
-      z_trim_ = z_design_ + dz_offset_;
-    }
+    u_trim_ = sched_.u_trim();
+    z_trim_ = sched_.z_trim();
   }
 
   HierarchicalOptions options_;
@@ -392,11 +419,12 @@ class HierarchicalBank {
   Indices level0_;
   std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of single failure f
   Indices online_;
-  ZVector z_trim_, z_pert_, z_design_, dz_offset_;
-  UVector u_trim_, u_pert_, u_design_, du_offset_;
+  ZVector z_trim_, z_pert_, dz_;
+  UVector u_trim_, u_pert_, du_;
+  TrimTracker<NU, NZ> trim_tracker_;
   XVector x_shift_;
   Schedule sched_;
-  Hypothesis scratch_;   // a scheduled filter on its way on line
+  Hypothesis scratch_;   // a scheduled filter on its way on line at a hierarchical switch
   std::vector<Declaration> history_;
   std::int64_t dropped_ = 0;
   AirData design_air_data_, air_data_;

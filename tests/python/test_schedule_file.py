@@ -135,8 +135,10 @@ def test_an_unscheduled_bank_has_no_schedule_and_takes_a_trim_offset():
     hb = core.HierarchicalBank(bank)
     assert hb.schedule_state is None
     hb.set_trim_offset(np.full(5, 0.1), np.arange(7.0))
-    np.testing.assert_array_equal(hb.z_trim, np.asarray(bank.z_trim) + np.arange(7.0))
+    np.testing.assert_array_equal(hb.z_trim, np.asarray(bank.z_trim))
     np.testing.assert_array_equal(hb.trim_offset[0], np.full(5, 0.1))
+    np.testing.assert_array_equal(hb.trim_offset[1], np.arange(7.0))
+    np.testing.assert_allclose(hb.z_hat, hb.z_hat_perturbation + np.asarray(bank.z_trim) + np.arange(7.0))
     with pytest.raises(ValueError):
         hb.set_trim_offset(np.zeros(4), np.zeros(7))
 

@@ -66,8 +66,10 @@ SCHEDULE_GRID = "mach=0.3:0.8:0.1,alt=5000:35000:5000"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")
-#: The estimator settings a bank recommends and a user may override (core.HierarchicalBank).
-ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s")
+#: The estimator settings a bank recommends and a user may override (core.HierarchicalBank);
+#: the trim-tracking ones are off (unset) unless given (cpp/f16mmae/trim_tracker.h).
+ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s", "trim_time_constant_s",
+                                       "trim_freeze_probability")
 #: The longest declaration dwell the estimator accepts (s): the core's bound
 #: (cpp/f16mmae/estimator_settings.h kMaxDwellS), defined there once.
 DWELL_S_MAX: float = MAX_DWELL_S

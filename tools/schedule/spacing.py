@@ -12,11 +12,10 @@ seeds each, 8-s flights, failure at 3 s, light turbulence, the seeds of ``campai
   trim         the nominal bank's filters with the trim designed at the flight point (what a
                schedule of trims alone would give)
   local        the bank designed at the flight point (a schedule at one of its nodes)
-  interpolate  the scheduled bank FILE, bilinear, air data = the flight point
-  nearest      the scheduled bank FILE, nearest node with hysteresis, air data = the flight point
-The air data is handed to the estimator once before the flight, as the measured value a level
-flight at that point would give (a test-bench shortcut until the truth's air-data sensor feeds
-it every frame; the flights are trimmed and level, so the condition does not change).
+  interpolate  the scheduled bank FILE, bilinear
+  nearest      the scheduled bank FILE, nearest node with hysteresis
+The closed loop feeds the estimator the truth's measured air data every frame (loop/flight.py);
+a bank designed at one point ignores it.
 Acceptable: >= 90 % of failure runs correct and no false-alarm run (campaign envelope's rule).
 """
 from __future__ import annotations
@@ -73,8 +72,6 @@ def fly_one(task) -> dict:
     scenario = Scenario(mach=mach, alt_ft=alt_ft, turbulence="light", failures=failures, duration_s=8.0, seed=seed)
     options = {"schedule_mode": mode} if mode else {}
     est = Estimator(bank, **options)
-    if mode:
-        est.core_bank.schedule(mach, alt_ft)
     result = fly(scenario, bank, estimator=est)
     scored = score_run(case, FAILURE_TIME_S if case != NONE else None, result.declarations)
     return {"bank": bank_label, "mach": mach, "alt_ft": alt_ft, "case": case, "run": n, "seed": seed, **scored}

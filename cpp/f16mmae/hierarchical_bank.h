@@ -326,7 +326,7 @@ class HierarchicalBank {
     dz_ = ZVector::Zero(z_trim_.size());
     scratch_ = storage_[0];
     if (mb.schedule) {
-      sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_);
+      sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_, mb.frame_rate_hz);
       if (sched_.node_filter(0, 0).nx() != mb.nx() ||
           static_cast<int>(mb.schedule->nodes[0].bank.hypotheses.size()) != hypothesis_count())
         throw std::invalid_argument("hierarchical bank: the schedule's nodes do not have this bank's sizes");
@@ -387,7 +387,8 @@ class HierarchicalBank {
 
   // The on-line filters as the schedule has them in force (states kept).
   void load_scheduled() noexcept {
-    bank_.replace_filters([&](int k, Hypothesis& h) { sched_.filter(online_[k], h); });
+    bank_.replace_filters([&](int k, Hypothesis& h) { sched_.filter(online_[k], h); },
+                          [&](auto& h_out) { sched_.h_output(h_out); });
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {

@@ -3,15 +3,23 @@
 // ModelBank carries a schedule, and asks it, frame by frame, which filters and trims are in
 // force.
 //
+// The schedule follows the air data through a first-order low-pass (time constant
+// air_data_time_constant_s, frame period dt, alpha = 1 - exp(-dt / tau)):
+//   a_f <- a_f + alpha (a - a_f),   a_f = a at the first selection after a reset,
+// so measurement noise does not move the trims frame to frame (a trim that jitters, with the
+// states moved to follow it, reads to the filters as a kick off equilibrium every frame); the
+// flight condition itself changes slowly. Everything below is of a_f.
+//
 // Two ways to schedule (ScheduleOptions::mode):
 //   interpolate  bilinear on the grid cell holding the air data (weights w of
 //                bank_schedule.h, corners c):
 //                  u_trim = sum_c w_c u_trim_c,  z_trim = sum_c w_c z_trim_c,
 //                  x_trim = sum_c w_c x_trim_c                         (every frame)
-//                  Phi, Bd, H, K, A, A⁻¹, ln|A| = sum_c w_c (that of corner c)
+//                  Phi, Bd, H, K, A, A⁻¹, ln|A|, H_out = sum_c w_c (that of corner c)
 //                  (HypothesisFilter::assign_blend), re-blended when the air data has moved
-//                  blend_step_cells or more (in s or t) since the last blend; at a node the
-//                  filters are that node's, bit for bit. A cell with an uncovered corner uses
+//                  blend_step_cells or more (in s or t) since the last blend (the first
+//                  selection after a reset always blends); at a node the filters are that
+//                  node's, bit for bit. A cell with an uncovered corner uses
 //                  the nearest covered node instead (counted in fallback_frames()).
 //   nearest      the nearest covered node's filters and trims, switched with hysteresis: the
 //                node in force changes only when another is nearer by hysteresis_cells
@@ -45,11 +53,15 @@ enum class ScheduleMode { kInterpolate, kNearest };
 
 struct ScheduleOptions {
   ScheduleMode mode = ScheduleMode::kInterpolate;
+  double air_data_time_constant_s = 2.0;  // low-pass of the air data, s, >= 0 (0: none)
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
 };
 
 inline void check_schedule_options(const ScheduleOptions& o) {
+  if (!(std::isfinite(o.air_data_time_constant_s) && o.air_data_time_constant_s >= 0.0))
+    throw std::invalid_argument("schedule: air_data_time_constant_s must be finite and >= 0, got " +
+                                std::to_string(o.air_data_time_constant_s));
   if (!(std::isfinite(o.hysteresis_cells) && o.hysteresis_cells >= 0.0 && o.hysteresis_cells < 1.0))
     throw std::invalid_argument("schedule: hysteresis_cells must be in [0, 1), got " +
                                 std::to_string(o.hysteresis_cells));
@@ -66,15 +78,20 @@ class ScheduledFilters {
   using XVector = typename Hypothesis::XVector;
   using UVector = typename Hypothesis::UVector;
   using ZVector = typename Hypothesis::ZVector;
+  using OutputMatrix = Eigen::Matrix<double, NZ, NX>;   // H_out: blended state -> z_hat
   static constexpr int kCorners = 4;
 
   ScheduledFilters() = default;
 
   // Every node's filters (validated) and trims; starts at the air data `start`.
-  ScheduledFilters(const BankSchedule& schedule, const ScheduleOptions& options, const AirData& start)
+  ScheduledFilters(const BankSchedule& schedule, const ScheduleOptions& options, const AirData& start,
+                   double frame_rate_hz)
       : options_(options) {
     schedule.validate();
     check_schedule_options(options);
+    alpha_ = options.air_data_time_constant_s > 0.0
+                 ? 1.0 - std::exp(-1.0 / (frame_rate_hz * options.air_data_time_constant_s))
+                 : 1.0;
     axes_.mach = schedule.mach;
     axes_.alt_ft = schedule.alt_ft;
     hypotheses_ = static_cast<int>(schedule.nodes[0].bank.hypotheses.size());
@@ -93,6 +110,7 @@ class ScheduledFilters {
       u_trim_.push_back(node.bank.u_trim);
       z_trim_.push_back(node.bank.z_trim);
       x_trim_.push_back(node.x_trim);
+      h_out_.push_back(node.bank.h_output);
     }
     reset(start);
   }
@@ -102,9 +120,12 @@ class ScheduledFilters {
   // Back to the air data `start`, counters zeroed.
   void reset(const AirData& start) noexcept {
     outside_ = fallback_ = switches_ = blends_ = 0;
+    filtered_ = start;
+    primed_ = false;
     const GridPoint g = axes_.locate(start);
     node_ = axes_.nearest(g);
     choose(g);
+    corners_ = trim_corners_, weights_ = trim_weights_;
     blend_trims();
     last_s_ = g.s, last_t_ = g.t;
   }
@@ -113,34 +134,36 @@ class ScheduledFilters {
   // changed (the caller reloads its on-line filters through filter()); the trims are
   // recomputed every call (u_trim(), z_trim(), x_trim()).
   bool select(const AirData& a) noexcept {
-    const GridPoint g = axes_.locate(a);
+    if (primed_) {
+      filtered_.mach += alpha_ * (a.mach - filtered_.mach);
+      filtered_.pressure_altitude_ft += alpha_ * (a.pressure_altitude_ft - filtered_.pressure_altitude_ft);
+    } else {
+      filtered_ = a;
+    }
+    const GridPoint g = axes_.locate(filtered_);
     if (g.outside) ++outside_;
     bool changed = false;
     if (options_.mode == ScheduleMode::kNearest) {
       const int best = axes_.nearest(g);
       if (best != node_ && axes_.distance(g, node_) - axes_.distance(g, best) > options_.hysteresis_cells) {
         node_ = best;
-        choose_node(node_);
         ++switches_;
         changed = true;
       }
+      choose(g);
+      corners_ = trim_corners_, weights_ = trim_weights_;
     } else {
-      const bool moved = std::abs(g.s - last_s_) >= options_.blend_step_cells ||
-                         std::abs(g.t - last_t_) >= options_.blend_step_cells;
-      const std::array<int, kCorners> before = corners_;
-      const std::array<double, kCorners> w_before = weights_;
       choose(g);
       if (fallback_now_) ++fallback_;
-      if (corners_ != before || (moved && weights_ != w_before)) {
+      if (!primed_ || std::abs(g.s - last_s_) >= options_.blend_step_cells ||
+          std::abs(g.t - last_t_) >= options_.blend_step_cells) {
+        corners_ = trim_corners_, weights_ = trim_weights_;  // the filters follow: re-blend
         last_s_ = g.s, last_t_ = g.t;
         ++blends_;
         changed = true;
-      } else {
-        corners_ = before;  // filters stay those of the last blend; trims follow the air data
-        trim_weights_ = weights_;
-        weights_ = w_before;
       }
     }
+    primed_ = true;
     blend_trims();
     return changed;
   }
@@ -156,12 +179,20 @@ class ScheduledFilters {
     return filters_[static_cast<std::size_t>(n) * hypotheses_ + h];
   }
 
+  // H_out of the filters in force (the blend of the corners' h_output), into `out`.
+  void h_output(OutputMatrix& out) const noexcept {
+    out = weights_[0] * h_out_[corners_[0]];
+    for (int c = 1; c < kCorners; ++c)
+      if (weights_[c] != 0.0) out += weights_[c] * h_out_[corners_[c]];
+  }
   const UVector& u_trim() const noexcept { return u_now_; }
   const ZVector& z_trim() const noexcept { return z_now_; }
   const XVector& x_trim() const noexcept { return x_now_; }
-  // The nodes and weights of the filters in force (weights 1, 0, 0, 0 at one node).
+  // The nodes and weights of the filters in force (weights 1, 0, 0, 0 at one node), and
+  // the low-passed air data the schedule follows.
   const std::array<int, kCorners>& corners() const noexcept { return corners_; }
   const std::array<double, kCorners>& weights() const noexcept { return weights_; }
+  const AirData& filtered_air_data() const noexcept { return filtered_; }
   const BankSchedule& axes() const noexcept { return axes_; }   // axes and node indices only
   int node_count() const noexcept { return static_cast<int>(axes_.nodes.size()); }
   const ScheduleOptions& options() const noexcept { return options_; }
@@ -171,8 +202,9 @@ class ScheduledFilters {
   std::int64_t blends() const noexcept { return blends_; }
 
  private:
-  // Interpolate mode: the cell's corners and weights if all four are covered, else the
-  // nearest node (fallback_now_). Nearest mode: node_ alone.
+  // What the air data point g calls for, into trim_corners_ / trim_weights_. Interpolate
+  // mode: the cell's corners and weights if all four are covered, else the nearest node
+  // (fallback_now_). Nearest mode: node_ alone.
   void choose(const GridPoint& g) noexcept {
     fallback_now_ = false;
     if (options_.mode == ScheduleMode::kNearest) return choose_node(node_);
@@ -191,10 +223,9 @@ class ScheduledFilters {
       }
     }
     for (int k = 0; k < kCorners; ++k) {
-      corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);  // weight 0 where uncovered
-      weights_[k] = w[k];
+      trim_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);  // weight 0 where uncovered
+      trim_weights_[k] = w[k];
     }
-    trim_weights_ = weights_;
   }
   static int first_covered(const std::array<int, kCorners>& c) noexcept {
     for (int k : c)
@@ -202,12 +233,11 @@ class ScheduledFilters {
     return 0;
   }
   void choose_node(int n) noexcept {
-    corners_ = {n, n, n, n};
-    weights_ = {1.0, 0.0, 0.0, 0.0};
-    trim_weights_ = weights_;
+    trim_corners_ = {n, n, n, n};
+    trim_weights_ = {1.0, 0.0, 0.0, 0.0};
   }
   void blend_trims() noexcept {
-    const std::array<int, kCorners>& c = corners_;
+    const std::array<int, kCorners>& c = trim_corners_;
     const std::array<double, kCorners>& w = trim_weights_;
     u_now_ = w[0] * u_trim_[c[0]];
     z_now_ = w[0] * z_trim_[c[0]];
@@ -226,11 +256,16 @@ class ScheduledFilters {
   std::vector<UVector> u_trim_;
   std::vector<ZVector> z_trim_;
   std::vector<XVector> x_trim_;
+  std::vector<OutputMatrix> h_out_;
   int hypotheses_ = 0;
   int node_ = 0;                      // nearest mode: the node in force
-  std::array<int, kCorners> corners_{};
-  std::array<double, kCorners> weights_{};       // of the filters in force
-  std::array<double, kCorners> trim_weights_{};  // of the trims in force (the air data now)
+  std::array<int, kCorners> corners_{};          // of the filters in force (the last blend)
+  std::array<double, kCorners> weights_{};
+  std::array<int, kCorners> trim_corners_{};     // of the trims in force (the air data now)
+  std::array<double, kCorners> trim_weights_{};
+  AirData filtered_;                             // the low-passed air data
+  double alpha_ = 1.0;
+  bool primed_ = false;                          // a selection since the last reset
   double last_s_ = 0.0, last_t_ = 0.0;           // air data at the last blend
   bool fallback_now_ = false;
   UVector u_now_;

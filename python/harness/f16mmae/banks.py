@@ -5,9 +5,9 @@ A bank is named on the command line as ``tuned`` / ``untuned`` (the nominal bank
 ``data/``, designed at Mach 0.4, 20,000 ft), as ``scheduled`` (banks designed on the grid
 ``names.SCHEDULE_GRID``, one scheduled-bank file generated on first use into the cache:
 ``$F16MMAE_CACHE_DIR`` or ``~/.cache/f16mmae``, ``banks/``) or as the path of a bank file
-written by ``f16mmae design`` (``--schedule`` too).  Loading goes through the C++ loader (``core.load_bank``), which checks
-the file (hash, shapes, finiteness, covariances); a file that fails is a :class:`BankError`
-naming the file and the reason.
+written by ``f16mmae design`` (``--schedule`` too).  Loading goes through the C++ loader
+(``core.load_bank``), which checks the file (hash, shapes, finiteness, covariances); a file that
+fails is a :class:`BankError` naming the file and the reason.
 """
 from __future__ import annotations
 

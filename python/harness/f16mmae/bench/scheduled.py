@@ -7,8 +7,9 @@ grid, the trims (and, when the bilinear weights move by ``blend_step_cells`` or 
 switches, every on-line filter's matrices) brought into force, the states moved with the
 trim, then the frame. The schedule is synthetic (F-16 size, 2 x 2 grid: four random stable
 banks of 79 DARE filters, distinct trims); the air data sweeps the whole cell once over the
-frames (Mach 0.4 -> 0.6, 10,000 -> 20,000 ft) with measurement noise (sigma 0.002 Mach,
-20 ft), a harder case than level flight, where the air data barely moves.
+frames (Mach 0.4 -> 0.6, 10,000 -> 20,000 ft) with the air-data sensor's noise (sigma 0.002
+Mach, 10 ft; truth/air_data.py), a harder case than level flight, where the air data barely
+moves; the schedule low-passes it (scheduled_filters.h).
 """
 from __future__ import annotations
 
@@ -57,7 +58,7 @@ def air_data_sweep(n_frames: int, seed: int) -> np.ndarray:
     rng = np.random.default_rng(seed)
     x = np.linspace(0.0, 1.0, n_frames)
     mach = MACH_AXIS[0] + (MACH_AXIS[1] - MACH_AXIS[0]) * x + 0.002 * rng.standard_normal(n_frames)
-    alt = ALT_AXIS[0] + (ALT_AXIS[1] - ALT_AXIS[0]) * x + 20.0 * rng.standard_normal(n_frames)
+    alt = ALT_AXIS[0] + (ALT_AXIS[1] - ALT_AXIS[0]) * x + 10.0 * rng.standard_normal(n_frames)
     return np.column_stack([mach, alt])
 
 

@@ -141,7 +141,8 @@ def _run_schedule(args) -> int:
     print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
           f"tuning {tuning.name} at every point", flush=True)
     try:
-        s = design_schedule(grid, args.tuning, out, workers=workers, progress=lambda line: print("  " + line, flush=True))
+        s = design_schedule(grid, args.tuning, out, workers=workers,
+                            progress=lambda line: print("  " + line, flush=True))
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

@@ -29,7 +29,7 @@ class PyHierarchicalBank {
   PyHierarchicalBank(const ModelBank& bank, double p_min, bool strip_leading_term, double threshold, double dwell_s,
                      const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
                      double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
-                     double blend_step_cells, double air_data_time_constant_s) {
+                     double blend_step_cells, double air_data_time_constant_s, bool cubic_trims) {
     HierarchicalOptions o;
     o.trim.time_constant_s = trim_time_constant_s;
     o.trim.freeze_probability = trim_freeze_probability;
@@ -44,6 +44,7 @@ class PyHierarchicalBank {
     o.schedule.hysteresis_cells = hysteresis_cells;
     o.schedule.blend_step_cells = blend_step_cells;
     o.schedule.air_data_time_constant_s = air_data_time_constant_s;
+    o.schedule.cubic_trims = cubic_trims;
     o.bank.p_min = p_min;
     o.bank.strip_leading_term = strip_leading_term;
     o.declarer.threshold = threshold;
@@ -246,18 +247,20 @@ model bank or a missing dual hypothesis.
 
 A SCHEDULED model bank (model_bank.schedule, cpp/f16mmae/scheduled_filters.h) follows the air
 data given to schedule(mach, pressure_altitude_ft), low-passed with air_data_time_constant_s: schedule_mode 'interpolate' (bilinear on the
-grid cell; matrices re-blended when the air data moved blend_step_cells) or 'nearest' (nearest
+grid cell; matrices re-blended when the air data moved blend_step_cells; trims to third order on
+the 4 x 4 nodes around when cubic_trims and covered) or 'nearest' (nearest
 node, switched past hysteresis_cells); the states move with the trim state, probabilities,
 declarations and the level carry over. schedule_state reports what is in force.)doc")
       .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double, bool,
-                    const std::string&, double, double, double>(),
+                    const std::string&, double, double, double, bool>(),
            py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
            py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none(),
            py::arg("trim_time_constant_s") = 0.0, py::arg("trim_freeze_probability") = 0.05,
            py::arg("trim_hold_s") = 2.0, py::arg("trim_freeze") = true, py::arg("schedule_mode") = "interpolate",
            py::arg("hysteresis_cells") = ScheduleOptions{}.hysteresis_cells,
            py::arg("blend_step_cells") = ScheduleOptions{}.blend_step_cells,
-           py::arg("air_data_time_constant_s") = ScheduleOptions{}.air_data_time_constant_s)
+           py::arg("air_data_time_constant_s") = ScheduleOptions{}.air_data_time_constant_s,
+           py::arg("cubic_trims") = ScheduleOptions{}.cubic_trims)
       .def("update", &PyHierarchicalBank::update, py::arg("z"),
            "Update with absolute z (nz,); returns the name declared on this frame, or None.")
       .def("propagate", &PyHierarchicalBank::propagate, py::arg("u"), "Propagate with absolute u (nu,).")

@@ -13,8 +13,14 @@
 // Two ways to schedule (ScheduleOptions::mode):
 //   interpolate  bilinear on the grid cell holding the air data (weights w of
 //                bank_schedule.h, corners c):
-//                  u_trim = sum_c w_c u_trim_c,  z_trim = sum_c w_c z_trim_c,
-//                  x_trim = sum_c w_c x_trim_c                         (every frame)
+//                  trims (u_trim, z_trim, x_trim) every frame, to third order when
+//                  ScheduleOptions::cubic_trims and the 4 x 4 nodes around the point are
+//                  covered: the tensor product of the 4-point Lagrange weights on each axis,
+//                    L_j(v) = prod_{k != j} (v - v_k) / (v_j - v_k),  trim = sum_jk L_j(M) L_k(h) trim_jk
+//                  (the 4 nodes of an axis nearest the cell, fewer on a shorter axis); else
+//                  bilinearly, trim = sum_c w_c trim_c. The trim is far from linear in Mach
+//                  (alpha goes about as 1/M^2), and a trim interpolated linearly is off the
+//                  model's equilibrium enough to be taken for a failure (docs/results/schedule.md).
 //                  Phi, Bd, H, K, A, A⁻¹, ln|A|, H_out = sum_c w_c (that of corner c)
 //                  (HypothesisFilter::assign_blend), re-blended when the air data has moved
 //                  blend_step_cells or more (in s or t) since the last blend (the first
@@ -54,6 +60,7 @@ enum class ScheduleMode { kInterpolate, kNearest };
 struct ScheduleOptions {
   ScheduleMode mode = ScheduleMode::kInterpolate;
   double air_data_time_constant_s = 2.0;  // low-pass of the air data, s, >= 0 (0: none)
+  bool cubic_trims = true;                // interpolate: trims to third order where covered
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
 };
@@ -126,7 +133,7 @@ class ScheduledFilters {
     node_ = axes_.nearest(g);
     choose(g);
     corners_ = trim_corners_, weights_ = trim_weights_;
-    blend_trims();
+    blend_trims(g);
     last_s_ = g.s, last_t_ = g.t;
   }
 
@@ -164,7 +171,7 @@ class ScheduledFilters {
       }
     }
     primed_ = true;
-    blend_trims();
+    blend_trims(g);
     return changed;
   }
 
@@ -236,7 +243,50 @@ class ScheduledFilters {
     trim_corners_ = {n, n, n, n};
     trim_weights_ = {1.0, 0.0, 0.0, 0.0};
   }
-  void blend_trims() noexcept {
+  // The 4-point (fewer on a shorter axis) Lagrange weights at fractional coordinate x of an
+  // axis: the nodes first..first+n-1 nearest the cell, physical values; returns n.
+  static int lagrange(const std::vector<double>& axis, double x, int& first, std::array<double, 4>& w) noexcept {
+    const int size = static_cast<int>(axis.size());
+    const int n = size < 4 ? size : 4;
+    const int cell = std::min(static_cast<int>(std::floor(x)), size > 1 ? size - 2 : 0);
+    first = std::max(0, std::min(cell - 1, size - n));
+    const int i = std::min(static_cast<int>(std::floor(x)), size - 1);
+    const double frac = x - i;  // 0 on a node: v is the node's value exactly
+    const double v = frac == 0.0 ? axis[i] : axis[i] + frac * (axis[i + 1] - axis[i]);
+    for (int j = 0; j < n; ++j) {
+      double l = 1.0;
+      for (int k = 0; k < n; ++k)
+        if (k != j) l *= (v - axis[first + k]) / (axis[first + j] - axis[first + k]);
+      w[j] = l;
+    }
+    return n;
+  }
+  // Third-order trims at g (header comment); false, changing nothing, where not covered.
+  bool blend_trims_cubic(const GridPoint& g) noexcept {
+    std::array<double, 4> wm{}, wa{};
+    int fm = 0, fa = 0;
+    const int nm = lagrange(axes_.mach, g.s, fm, wm), na = lagrange(axes_.alt_ft, g.t, fa, wa);
+    int nodes[16];
+    for (int j = 0; j < nm; ++j)
+      for (int k = 0; k < na; ++k)
+        if ((nodes[j * 4 + k] = axes_.node_index(fm + j, fa + k)) < 0) return false;
+    bool first = true;
+    for (int j = 0; j < nm; ++j)
+      for (int k = 0; k < na; ++k) {
+        const double w = wm[j] * wa[k];
+        const int n = nodes[j * 4 + k];
+        if (first) {
+          u_now_ = w * u_trim_[n], z_now_ = w * z_trim_[n], x_now_ = w * x_trim_[n];
+          first = false;
+        } else if (w != 0.0) {
+          u_now_ += w * u_trim_[n], z_now_ += w * z_trim_[n], x_now_ += w * x_trim_[n];
+        }
+      }
+    return true;
+  }
+  void blend_trims(const GridPoint& g) noexcept {
+    if (options_.mode == ScheduleMode::kInterpolate && options_.cubic_trims && !fallback_now_ && blend_trims_cubic(g))
+      return;
     const std::array<int, kCorners>& c = trim_corners_;
     const std::array<double, kCorners>& w = trim_weights_;
     u_now_ = w[0] * u_trim_[c[0]];

@@ -198,6 +198,39 @@ TEST(ScheduledBank, TheScheduleFollowsTheAirDataThroughItsLowPass) {
   EXPECT_EQ(hb.scheduled().filtered_air_data().mach, 0.6);
 }
 
+TEST(ScheduledBank, TrimsAreInterpolatedToThirdOrderOnFourNodes) {
+  // Mach axis 0.3 0.4 0.5 0.6 at one altitude; every trim entry of node i is f(M_i) = 1/M_i^2
+  BankSchedule s;
+  s.mach = {0.3, 0.4, 0.5, 0.6};
+  s.alt_ft = {20000.0};
+  for (int i = 0; i < 4; ++i) {
+    ScheduleNode n;
+    n.i_mach = i;
+    n.bank = node_bank(0, 0);
+    const double f = 1.0 / (s.mach[i] * s.mach[i]);
+    n.bank.u_trim.setConstant(f);
+    n.bank.z_trim.setConstant(f);
+    n.x_trim = Eigen::VectorXd::Constant(13, f);
+    s.nodes.push_back(n);
+  }
+  s.primary = 1;
+  F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  hb.schedule(AirData{0.45, 20000.0});
+  // Lagrange weights at 0.45 on 0.3 0.4 0.5 0.6: -1/16, 9/16, 9/16, -1/16
+  const double cubic = -0.0625 / 0.09 + 0.5625 / 0.16 + 0.5625 / 0.25 - 0.0625 / 0.36;
+  EXPECT_NEAR(hb.u_trim()(0), cubic, 1e-12);
+  EXPECT_NEAR(hb.z_trim()(3), cubic, 1e-12);
+  EXPECT_NEAR(hb.scheduled().x_trim()(5), cubic, 1e-12);
+  EXPECT_NEAR(cubic, 1.0 / (0.45 * 0.45), 0.05);  // 0.04 off; linear would be 0.19 off
+  hb.schedule(AirData{0.5, 20000.0});  // at a node: the node's trim exactly
+  EXPECT_EQ(hb.u_trim()(0), 1.0 / (0.5 * 0.5));
+  HierarchicalOptions linear = options(ScheduleMode::kInterpolate);
+  linear.schedule.cubic_trims = false;
+  F16HierarchicalBank hl(scheduled_bank(s), linear);
+  hl.schedule(AirData{0.45, 20000.0});
+  EXPECT_NEAR(hl.u_trim()(0), 0.5 / 0.16 + 0.5 / 0.25, 1e-12);
+}
+
 TEST(ScheduledBank, NearestSwitchesOnlyPastTheHysteresis) {
   const BankSchedule s = make_schedule();
   HierarchicalOptions o = options(ScheduleMode::kNearest);

@@ -17,8 +17,9 @@
 //                  ScheduleOptions::cubic_trims and the 4 x 4 nodes around the point are
 //                  covered: the tensor product of the 4-point Lagrange weights on each axis,
 //                    L_j(v) = prod_{k != j} (v - v_k) / (v_j - v_k),  trim = sum_jk L_j(M) L_k(h) trim_jk
-//                  (the 4 nodes of an axis nearest the cell, fewer on a shorter axis); else
-//                  bilinearly, trim = sum_c w_c trim_c. The trim is far from linear in Mach
+//                  (4 nodes of an axis around the cell, fewer on a shorter axis; centred if
+//                  covered, else shifted by one or two nodes); else bilinearly,
+//                  trim = sum_c w_c trim_c. The trim is far from linear in Mach
 //                  (alpha goes about as 1/M^2), and a trim interpolated linearly is off the
 //                  model's equilibrium enough to be taken for a failure (docs/results/schedule.md).
 //                  Phi, Bd, H, K, A, A⁻¹, ln|A|, H_out = sum_c w_c (that of corner c)
@@ -243,13 +244,10 @@ class ScheduledFilters {
     trim_corners_ = {n, n, n, n};
     trim_weights_ = {1.0, 0.0, 0.0, 0.0};
   }
-  // The 4-point (fewer on a shorter axis) Lagrange weights at fractional coordinate x of an
-  // axis: the nodes first..first+n-1 nearest the cell, physical values; returns n.
-  static int lagrange(const std::vector<double>& axis, double x, int& first, std::array<double, 4>& w) noexcept {
+  // The Lagrange weights at fractional coordinate x of an axis on the n = min(4, size) nodes
+  // first..first+n-1 (physical values).
+  static void lagrange(const std::vector<double>& axis, double x, int first, int n, std::array<double, 4>& w) noexcept {
     const int size = static_cast<int>(axis.size());
-    const int n = size < 4 ? size : 4;
-    const int cell = std::min(static_cast<int>(std::floor(x)), size > 1 ? size - 2 : 0);
-    first = std::max(0, std::min(cell - 1, size - n));
     const int i = std::min(static_cast<int>(std::floor(x)), size - 1);
     const double frac = x - i;  // 0 on a node: v is the node's value exactly
     const double v = frac == 0.0 ? axis[i] : axis[i] + frac * (axis[i + 1] - axis[i]);
@@ -259,30 +257,57 @@ class ScheduledFilters {
         if (k != j) l *= (v - axis[first + k]) / (axis[first + j] - axis[first + k]);
       w[j] = l;
     }
-    return n;
   }
-  // Third-order trims at g (header comment); false, changing nothing, where not covered.
+  // The stencil starts to try on an axis, centred first: the cell's node - 1, then the cell's
+  // node, then - 2 (each within the axis); returns how many.
+  static int starts(int size, double x, std::array<int, 3>& out) noexcept {
+    const int n = size < 4 ? size : 4;
+    const int cell = std::min(static_cast<int>(std::floor(x)), size > 1 ? size - 2 : 0);
+    int count = 0;
+    for (int c : {cell - 1, cell, cell - 2}) {
+      const int f = std::max(0, std::min(c, size - n));
+      bool seen = false;
+      for (int k = 0; k < count; ++k) seen = seen || out[k] == f;
+      if (!seen) out[count++] = f;
+    }
+    return count;
+  }
+  // Third-order trims at g (header comment) on the first stencil whose nodes of non-zero
+  // weight are all covered; false, changing nothing, if there is none.
   bool blend_trims_cubic(const GridPoint& g) noexcept {
-    std::array<double, 4> wm{}, wa{};
-    int fm = 0, fa = 0;
-    const int nm = lagrange(axes_.mach, g.s, fm, wm), na = lagrange(axes_.alt_ft, g.t, fa, wa);
-    int nodes[16];
-    for (int j = 0; j < nm; ++j)
-      for (int k = 0; k < na; ++k)
-        if ((nodes[j * 4 + k] = axes_.node_index(fm + j, fa + k)) < 0) return false;
-    bool first = true;
-    for (int j = 0; j < nm; ++j)
-      for (int k = 0; k < na; ++k) {
-        const double w = wm[j] * wa[k];
-        const int n = nodes[j * 4 + k];
-        if (first) {
-          u_now_ = w * u_trim_[n], z_now_ = w * z_trim_[n], x_now_ = w * x_trim_[n];
-          first = false;
-        } else if (w != 0.0) {
-          u_now_ += w * u_trim_[n], z_now_ += w * z_trim_[n], x_now_ += w * x_trim_[n];
+    const int sm = static_cast<int>(axes_.mach.size()), sa = static_cast<int>(axes_.alt_ft.size());
+    const int nm = sm < 4 ? sm : 4, na = sa < 4 ? sa : 4;
+    std::array<int, 3> fms{}, fas{};
+    const int cm = starts(sm, g.s, fms), ca = starts(sa, g.t, fas);
+    for (int a = 0; a < cm * ca; ++a) {
+      const int fm = fms[a / ca], fa = fas[a % ca];
+      std::array<double, 4> wm{}, wa{};
+      lagrange(axes_.mach, g.s, fm, nm, wm);
+      lagrange(axes_.alt_ft, g.t, fa, na, wa);
+      int nodes[16];
+      bool covered = true;
+      for (int j = 0; j < nm && covered; ++j)
+        for (int k = 0; k < na && covered; ++k) {
+          nodes[j * 4 + k] = axes_.node_index(fm + j, fa + k);
+          covered = nodes[j * 4 + k] >= 0 || wm[j] * wa[k] == 0.0;
         }
-      }
-    return true;
+      if (!covered) continue;
+      bool first = true;
+      for (int j = 0; j < nm; ++j)
+        for (int k = 0; k < na; ++k) {
+          const double w = wm[j] * wa[k];
+          const int n = nodes[j * 4 + k];
+          if (w == 0.0) continue;
+          if (first) {
+            u_now_ = w * u_trim_[n], z_now_ = w * z_trim_[n], x_now_ = w * x_trim_[n];
+            first = false;
+          } else {
+            u_now_ += w * u_trim_[n], z_now_ += w * z_trim_[n], x_now_ += w * x_trim_[n];
+          }
+        }
+      return !first;
+    }
+    return false;
   }
   void blend_trims(const GridPoint& g) noexcept {
     if (options_.mode == ScheduleMode::kInterpolate && options_.cubic_trims && !fallback_now_ && blend_trims_cubic(g))

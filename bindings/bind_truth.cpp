@@ -72,6 +72,23 @@ std::vector<ScheduledFailure> schedule(const py::list& items, int n_components, 
   return out;
 }
 
+Reference reference(const py::dict& d, const char* key) {
+  if (!d.contains(key)) throw py::value_error(std::string("TruthFrames: missing field '") + key + "'");
+  const auto r = d[key].cast<py::dict>();
+  Reference out;
+  out.start = num(r, "start");
+  const auto segs = r["segments"].cast<std::vector<std::vector<double>>>();
+  if (segs.size() > static_cast<std::size_t>(kMaxSegments))
+    throw py::value_error(std::string("TruthFrames: ") + key + " has more than " + std::to_string(kMaxSegments) +
+                          " segments");
+  for (const auto& seg : segs) {
+    if (seg.size() != 4) throw py::value_error(std::string("TruthFrames: ") + key + " segments are (t0, v0, v1, slope)");
+    out.t0[out.n] = seg[0], out.v0[out.n] = seg[1], out.v1[out.n] = seg[2], out.slope[out.n] = seg[3];
+    ++out.n;
+  }
+  return out;
+}
+
 class Frames {
  public:
   Frames(std::shared_ptr<Exec> exec, const std::vector<std::string>& surface_properties,
@@ -138,6 +155,24 @@ class Frames {
     fcs_.x_int = num(d, "x_int"), fcs_.x_wash = num(d, "x_wash"), fcs_.x_vel = num(d, "x_vel");
     has_fcs_ = true;
   }
+
+  // The outer loop (truth/outer_loop.py OuterLoop.coefficients()) on the instruments
+  // `instruments` (h, hdot, Mach, phi) and the throttle property: it flies with the control law.
+  void set_outer_loop(const py::dict& d, const std::vector<std::string>& instruments, const std::string& throttle) {
+    if (instruments.size() != 4) throw py::value_error("TruthFrames: the outer loop reads 4 instruments (h, hdot, M, phi)");
+    OuterLoopCoefficients c;
+    c.k_h = num(d, "k_h"), c.k_hd = num(d, "k_hd"), c.k_hi = num(d, "k_hi");
+    c.nz_min_g = num(d, "nz_min_g"), c.nz_max_g = num(d, "nz_max_g");
+    c.k_phi = num(d, "k_phi"), c.k_phi_i = num(d, "k_phi_i"), c.p_max_rad_s = num(d, "p_max_rad_s");
+    c.k_m = num(d, "k_m"), c.k_mi = num(d, "k_mi"), c.dt_s = num(d, "dt_s"), c.throttle_0 = num(d, "throttle_0");
+    c.h_ref = reference(d, "h_ref"), c.m_ref = reference(d, "m_ref"), c.phi_ref = reference(d, "phi_ref");
+    outer_.c = c;
+    outer_.x_h = num(d, "x_h"), outer_.x_m = num(d, "x_m"), outer_.x_phi = num(d, "x_phi");
+    for (int i = 0; i < 4; ++i) instrument_[i] = exec_->node(instruments[i]);
+    throttle_ = exec_->node(throttle);
+    has_outer_ = true;
+  }
+  py::tuple outer_state() const { return py::make_tuple(outer_.x_h, outer_.x_m, outer_.x_phi); }
 
   void set_noise(py::array_t<double> noise) {
     if (noise.ndim() != 2 || noise.shape(1) != kSensors)
@@ -206,7 +241,13 @@ class Frames {
 
   Surfaces command(const Sensors& zf) {
     if (!has_fcs_) throw py::value_error("TruthFrames: no flight control law (call set_fcs)");
-    return fcs_.command(zf, static_cast<double>(frame_) / frame_rate_hz_);
+    const double t = static_cast<double>(frame_) / frame_rate_hz_;
+    if (!has_outer_) return fcs_.command(zf, t);
+    double nz_cmd, p_cmd, throttle;
+    outer_.command(t, instrument_[0]->getDoubleValue(), instrument_[1]->getDoubleValue(),
+                   instrument_[2]->getDoubleValue(), instrument_[3]->getDoubleValue(), nz_cmd, p_cmd, throttle);
+    throttle_->setDoubleValue(throttle);
+    return fcs_.command(zf, t, nz_cmd, p_cmd);
   }
 
   // n closed-loop frames with the estimator est in the loop (see the binding's docstring).
@@ -302,6 +343,10 @@ class Frames {
   SensorSet sen_;
   FlightControlLaw fcs_;
   bool has_fcs_ = false;
+  OuterLoopLaw outer_;
+  bool has_outer_ = false;
+  std::array<SGPropertyNode*, 4> instrument_{};
+  SGPropertyNode* throttle_ = nullptr;
   std::vector<ScheduledFailure> act_fail_, sen_fail_;
   std::size_t next_act_ = 0, next_sen_ = 0;
   py::array_t<double, py::array::c_style | py::array::forcecast> noise_;
@@ -346,6 +391,9 @@ void bind_truth(py::module_& m) {
            py::arg("air_data_properties"), py::arg("air_data"), py::arg("air_data_noise"),
            py::arg("steps_per_frame"), py::arg("frame_rate_hz"), py::arg("sim_rate_hz"), py::arg("capacity"))
       .def("set_fcs", &Frames::set_fcs, py::arg("coefficients"))
+      .def("set_outer_loop", &Frames::set_outer_loop, py::arg("coefficients"), py::arg("instruments"),
+           py::arg("throttle_property"))
+      .def_property_readonly("outer_state", &Frames::outer_state)
       .def("set_noise", &Frames::set_noise, py::arg("noise"))
       .def_property_readonly("noise_left", &Frames::noise_left)
       .def("set_air_data_noise", &Frames::set_air_data_noise, py::arg("noise"))

@@ -122,7 +122,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     in-process F-16 estimator and no ``on_frame``, the whole flight is one call
     (``TruthModel.fly_closed_loop``: the same frames in C++, the bank seeing z, u and air data only);
     otherwise each frame's truth side -- control law, actuators, JSBSim, next measurement --
-    is one call (``TruthModel.step``).  Both give the same flight
+    is one call (``TruthModel.step``).  A scenario's maneuvers are flown by its outer loop
+    (``TruthModel.pilot``), the control law's pilot, in C++ too.  Both give the same flight
     (tests/python/test_truth_engines.py).
     ``record_series``: keep each frame's u, z and z_hat, and the truth model's log after the
     flight (``FlightResult.series``; flown frame by frame)."""
@@ -131,7 +132,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
     t_start = time.perf_counter()
     truth = TruthModel(scenario, engine=engine)   # the only holder of the failure truth
-    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari)
+    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari,
+                              pilot=truth.pilot())  # the maneuvers' outer loop, None without
     truth.attach(fcs)
     t_truth = time.perf_counter() - t_start
     t0 = time.perf_counter()
@@ -151,7 +153,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     if record_series:
         rec_u, rec_z, rec_z_hat = np.zeros((n_frames, 5)), np.zeros((n_frames, 7)), np.zeros((n_frames, 7))
         rec_air = np.zeros((n_frames, 2))
-    in_cpp = (truth.engine == "cpp" and on_frame is None and not record_series
+    in_cpp = (truth.law_in_cpp and on_frame is None and not record_series
               and isinstance(estimator, Estimator) and estimator.fixed_size)
     if in_cpp:  # the whole flight in C++: one call, the same frames
         out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities)

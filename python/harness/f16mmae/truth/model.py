@@ -23,6 +23,13 @@ way the aircraft comes trimmed from ``pool.POOL`` and goes back when the flight 
 (``close()``, called by ``fly_raw`` and the closed loop; also when the model is collected).
 The C++ engine takes the air-data normals the same way (``air_rng.standard_normal((n, 2))``).
 ``step(fcs, z_feedback)`` is a whole frame -- command, advance, next measurement -- in one call.
+
+Maneuvers (``Scenario.maneuvers``): :meth:`TruthModel.pilot` is the outer loop
+(``truth.outer_loop``) on this aircraft, the FCS's pilot; it sets the throttle each frame.  On
+the cpp engine it flies inside the C++ frames with the control law (``attach``); another pilot
+makes the control law run in Python (the frames then fly actuators, JSBSim and sensors).  A
+maneuvering flight's aircraft does not go back to the pool (the throttle and engine state it
+leaves are not the trim's).
 """
 from __future__ import annotations
 
@@ -40,6 +47,7 @@ from .engine import check_engine
 from .pool import POOL
 from .aircraft import TrimError, TrimPoint  # noqa: F401  (re-exported)
 from .fcs import FlightControlSystem
+from .outer_loop import INSTRUMENTS, THROTTLE_PROPERTY, OuterLoop, make_pilot
 from .scenario import Scenario
 from .sensors import SensorSet
 
@@ -72,7 +80,7 @@ class TruthModel:
         dt = 1.0 / SIM_RATE_HZ
         key, held = POOL.acquire(sc.mach, sc.alt_ft, dt, sc.seed)
         self.fdm, self.trim = held[0], held[1]
-        self._release = weakref.finalize(self, POOL.release, key, held)
+        self._release = weakref.finalize(self, POOL.discard if sc.maneuvers else POOL.release, key, held)
         turbulence.apply(self.fdm, sc.turbulence)
         self.actuators = ActuatorBank(self.trim.u_rad, dt)
         rng = np.random.default_rng(sc.seed)
@@ -138,6 +146,11 @@ class TruthModel:
             {"decay": air_data_module.lag_decay(), "sigma": [float(x) for x in air_sigma]}, air_noise,
             self._steps_per_frame, float(FRAME_RATE_HZ), float(SIM_RATE_HZ),
             capacity)
+
+    def pilot(self):
+        """The outer loop that flies the scenario's maneuvers on this aircraft
+        (``outer_loop.OuterLoop``, a ``FlightControlSystem`` pilot), or None without maneuvers."""
+        return make_pilot(self.fdm, self.scenario.maneuvers)
 
     def close(self) -> None:
         """End the flight: the aircraft goes back to the pool (``truth_log`` stays readable)."""
@@ -218,19 +231,32 @@ class TruthModel:
     def attach(self, fcs: FlightControlSystem) -> None:
         """Fly ``fcs``'s control law inside the C++ frames (``step``); its coefficients and
         states are copied in now and its states copied back by ``detach``."""
-        if self._frames is not None:
+        self._law_in_cpp = self._frames is not None and (fcs.pilot is None or self._cpp_pilot(fcs.pilot))
+        if self._law_in_cpp:
             self._frames.set_fcs(fcs.coefficients())
+            if fcs.pilot is not None:
+                self._frames.set_outer_loop(fcs.pilot.coefficients(), list(INSTRUMENTS), THROTTLE_PROPERTY)
+
+    def _cpp_pilot(self, pilot) -> bool:
+        return isinstance(pilot, OuterLoop) and pilot.fdm is self.fdm
+
+    @property
+    def law_in_cpp(self) -> bool:
+        """Whether the ``attach``-ed control law (and its outer loop) flies in the C++ frames."""
+        return getattr(self, "_law_in_cpp", False)
 
     def detach(self, fcs: FlightControlSystem) -> None:
         """Copy the control law's states back into ``fcs`` after ``step`` calls."""
-        if self._frames is not None:
+        if self.law_in_cpp:
             fcs.x_int, fcs.x_wash, fcs.x_vel = self._frames.fcs_state
+            if fcs.pilot is not None:
+                fcs.pilot.x_h, fcs.pilot.x_m, fcs.pilot.x_phi = self._frames.outer_state
 
     def step(self, fcs: FlightControlSystem, z_feedback, measure_next: bool = True):
         """One frame from ``z_feedback``: u = fcs.command(z_feedback, t), advance(u), then the next
         frame's z (None if not ``measure_next``); returns (u, z).  On the C++ engine this is one
-        call and ``fcs`` must be ``attach``-ed (its pilot, if any, is not supported there)."""
-        if self._frames is not None:
+        call when ``fcs`` is ``attach``-ed and flies there (``law_in_cpp``); else its law runs here."""
+        if self._frames is not None and self.law_in_cpp:
             self._refill_noise()
             u, z = self._frames.step(z_feedback, measure_next)
             self.frame += 1
@@ -244,8 +270,8 @@ class TruthModel:
         ``core.HierarchicalBank``) in the loop and the ``attach``-ed control law, in one call;
         see ``core.TruthFrames.fly_closed_loop`` (loop/flight.py uses it)."""
         self._check_open()
-        if self._frames is None:
-            raise ValueError("fly_closed_loop needs the cpp truth engine")
+        if self._frames is None or not self.law_in_cpp:
+            raise ValueError("fly_closed_loop needs the cpp truth engine and a control law attached there")
         self._refill_noise()
         out = self._frames.fly_closed_loop(bank, n_frames, use_mmae, record_probabilities)
         self.frame += n_frames
@@ -317,12 +343,14 @@ def fly_raw(scenario: Scenario, pilot=None, fcs_gains=None,
     engine without a pilot the whole flight is one call.  The MMAE-fed loop lives with the
     estimator (``f16mmae run``); this is for truth-only runs, tests and benchmarks.
     """
+    if pilot is not None and scenario.maneuvers:
+        raise ValueError("fly_raw: give a pilot or a scenario with maneuvers, not both")
     truth = TruthModel(scenario, engine=engine)
-    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari, pilot=pilot,
-                              gains=fcs_gains)
+    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari,
+                              pilot=pilot or truth.pilot(), gains=fcs_gains)
     n = int(round(scenario.duration_s * FRAME_RATE_HZ))
-    if truth.engine == "cpp" and pilot is None:
-        truth.attach(fcs)
+    truth.attach(fcs)
+    if truth.law_in_cpp:
         truth._frames.fly(n)
         truth.frame += n
         truth.detach(fcs)

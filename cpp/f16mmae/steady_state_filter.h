@@ -11,8 +11,25 @@
 // Initial x⁻_0 = 0 (the trim). A⁻¹ (through a Cholesky factorisation of A) and ln|A| are
 // computed once, at construction.
 //
+// Uninformative channels (a failed sensor whose reading says nothing about the aircraft,
+// whatever it reads). The model may mark channels j ∈ F with a width W_j > 0 (the sensor's
+// full range): under the hypothesis, z_j is uniform over a range of width W_j, independent
+// of everything else. Such a channel has H row j = 0 and A coupled to no other channel
+// (checked), so the Gaussian residual density of eq. 2 factorises,
+//     N(r; 0, A) = N(r_G; 0, A_GG) · prod_{j∈F} N(r_j; 0, A_jj),      G = the other channels,
+// and the hypothesis' density replaces each failed factor by the uniform one, 1/W_j:
+//     f_k(r) = N(r_G; 0, A_GG) · prod_{j∈F} 1/W_j
+//     ln f_k = -q/2 - (m/2) ln 2π - (1/2) ln|A| + c,
+//     q = r_Gᵀ A_GG⁻¹ r_G  (= rᵀ A⁻¹ r with row and column j of A⁻¹ zeroed, exact here),
+//     c = sum_{j∈F} [ (1/2) ln(2π A_jj) - ln W_j ]                     (log_density_offset)
+// So every hypothesis, whatever the number of channels it believes, is a density over the
+// same seven readings, and the bank adds c to l_k in both forms of eq. 2 (filter_bank.h):
+// with the leading term stripped, c is exactly what turns the failed channels' stripped
+// Gaussian factor exp(-r_j²/2A_jj) into the uniform density on the same scale. With no
+// channel marked, A⁻¹ is the full inverse and c = 0 (the paper's models).
+//
 // Two parts, kept apart:
-//   HypothesisFilter   what a hypothesis filter IS: its FilterModel, A⁻¹ and ln|A|, fixed at
+//   HypothesisFilter   what a hypothesis filter IS: its FilterModel, A⁻¹, ln|A| and c, fixed at
 //                      construction, and the frame equations above as const functions of a
 //                      state passed in. A FilterBank holds these and stores the states of all
 //                      its filters itself, once (filter_bank.h).
@@ -56,12 +73,23 @@ struct FilterModel {
   HMatrix h;      // (NZ,NX) measurement matrix
   KMatrix k;      // (NX,NZ) steady-state Kalman gain
   AMatrix a;      // (NZ,NZ) residual covariance, eq. 5
+  // (NZ) width W_j of channel j's uniform density when its reading is uninformative under
+  // this hypothesis, 0 for an informative channel (header comment); zeros by default.
+  Eigen::Matrix<double, NZ, 1> uninformative_width =
+      Eigen::Matrix<double, NZ, 1>::Zero(NZ == Eigen::Dynamic ? 0 : NZ);
 
   // Builds a model from dynamic-size matrices, checking each shape against the compile-time
   // sizes first (throws std::invalid_argument naming `who`); validate() is not called here.
   template <class M>
   static FilterModel from_matrices(const M& phi_, const M& bd_, const M& h_, const M& k_,
                                    const M& a_, const std::string& who = "filter model") {
+    return from_matrices(phi_, bd_, h_, k_, a_, Eigen::VectorXd(), who);
+  }
+  // The same with the uninformative widths (empty: every channel informative).
+  template <class M>
+  static FilterModel from_matrices(const M& phi_, const M& bd_, const M& h_, const M& k_,
+                                   const M& a_, const Eigen::VectorXd& width_,
+                                   const std::string& who = "filter model") {
     auto check = [&](const char* name, const M& x, int r, int c) {
       if ((r != Eigen::Dynamic && x.rows() != r) || (c != Eigen::Dynamic && x.cols() != c)) {
         std::ostringstream s;
@@ -82,6 +110,13 @@ struct FilterModel {
     m.h = h_;
     m.k = k_;
     m.a = a_;
+    if (width_.size() != 0 && width_.size() != m.h.rows()) {
+      std::ostringstream s;
+      s << who << ": uninformative_width has size " << width_.size() << ", expected 0 or " << m.h.rows();
+      throw std::invalid_argument(s.str());
+    }
+    m.uninformative_width.setZero(m.h.rows());
+    if (width_.size() != 0) m.uninformative_width = width_;
     return m;
   }
 
@@ -92,7 +127,10 @@ struct FilterModel {
   // Throws std::invalid_argument naming `who` and the problem (see the header comment).
   void validate(const std::string& who = "filter model") const {
     check_filter_matrices(phi, bd, h, k, a, phi.rows(), bd.cols(), h.rows(), who);
+    check_uninformative_width(h, a, uninformative_width, h.rows(), who);
   }
+  // True when some channel is uninformative (width > 0).
+  bool has_uninformative() const { return (uninformative_width.array() > 0.0).any(); }
 };
 
 // What one hypothesis filter is: its model, A⁻¹ and ln|A| (immutable after construction),
@@ -118,6 +156,13 @@ class HypothesisFilter {
     a_inv_ = llt.solve(AMatrix::Identity(m_.nz(), m_.nz()));
     a_inv_ = 0.5 * (a_inv_ + a_inv_.transpose()).eval();
     log_det_a_ = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+    for (Eigen::Index j = 0; j < m_.uninformative_width.size(); ++j) {
+      const double w = m_.uninformative_width(j);
+      if (!(w > 0.0)) continue;
+      a_inv_.row(j).setZero();
+      a_inv_.col(j).setZero();
+      log_density_offset_ += 0.5 * std::log(2.0 * kPi * a_sym(j, j)) - std::log(w);
+    }
   }
 
   // ---- the frame equations, on a state passed in (noexcept) --------------------------
@@ -149,14 +194,18 @@ class HypothesisFilter {
   const Model& model() const noexcept { return m_; }
   const AMatrix& a_inverse() const noexcept { return a_inv_; }
   double log_det_a() const noexcept { return log_det_a_; }          // ln|A|
+  // c = sum over uninformative channels of (1/2) ln(2π A_jj) - ln W_j (header comment).
+  double log_density_offset() const noexcept { return log_density_offset_; }
   int nx() const noexcept { return m_.nx(); }
   int nu() const noexcept { return m_.nu(); }
   int nz() const noexcept { return m_.nz(); }
 
  private:
+  static constexpr double kPi = 3.14159265358979323846;
   Model m_;
-  AMatrix a_inv_;
+  AMatrix a_inv_;  // A⁻¹, rows/columns of uninformative channels zeroed
   double log_det_a_ = 0.0;
+  double log_density_offset_ = 0.0;
 };
 
 // One stand-alone filter: a HypothesisFilter and its state.

@@ -6,10 +6,10 @@
 //                 log-likelihood (eq. 2)
 //                   l_k = -q_k/2                                     (leading term stripped, default)
 //                   l_k = -q_k/2 - (m/2) ln 2π - (1/2) ln|A_k|       (leading term kept)
-//                 plus, in both forms, the hypothesis' log-density constant c_k, non-zero
-//                 only for a hypothesis with uninformative channels (a failed sensor's
-//                 reading uniform over its range; q_k then leaves those channels out and
-//                 c_k = sum_j (1/2) ln(2π A_k,jj) - ln W_j, steady_state_filter.h)
+//                 plus, in both forms, the hypothesis' uninformative-channel term u_k(r_k),
+//                 non-zero only for a hypothesis with uninformative channels (a failed
+//                 sensor's reading at trim or anywhere in its range; q_k then leaves those
+//                 channels out; u_k and its derivation in steady_state_filter.h)
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
 //                 floor p_min ("lock-out" prevention) by water-filling: hypotheses with
@@ -191,7 +191,7 @@ class FilterBank {
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
-      l += hypotheses_[i].log_density_offset();  // uninformative channels (c_k, see above)
+      l += hypotheses_[i].uninformative_log_density(residual(i));  // u_k, see above
       log_l_(i) = l;
       const double a = l + log_p_(i);
       if (a > a_max) a_max = a;

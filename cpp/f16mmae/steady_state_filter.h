@@ -13,20 +13,24 @@
 //
 // Uninformative channels (a failed sensor whose reading says nothing about the aircraft,
 // whatever it reads). The model may mark channels j ∈ F with a width W_j > 0 (the sensor's
-// full range): under the hypothesis, z_j is uniform over a range of width W_j, independent
-// of everything else. Such a channel has H row j = 0 and A coupled to no other channel
-// (checked), so the Gaussian residual density of eq. 2 factorises,
+// full range) and a trim weight 0 <= w_j < 1: under the hypothesis the reading, independent
+// of the aircraft, sits at its trim value (the paper's complete failure) with probability
+// w_j and anywhere in a range of width W_j otherwise. Such a channel has H row j = 0, so
+// r_j = z_j - z_trim,j, and A coupled to no other channel (checked), so the Gaussian residual
+// density of eq. 2 factorises,
 //     N(r; 0, A) = N(r_G; 0, A_GG) · prod_{j∈F} N(r_j; 0, A_jj),      G = the other channels,
-// and the hypothesis' density replaces each failed factor by the uniform one, 1/W_j:
-//     f_k(r) = N(r_G; 0, A_GG) · prod_{j∈F} 1/W_j
-//     ln f_k = -q/2 - (m/2) ln 2π - (1/2) ln|A| + c,
-//     q = r_Gᵀ A_GG⁻¹ r_G  (= rᵀ A⁻¹ r with row and column j of A⁻¹ zeroed, exact here),
-//     c = sum_{j∈F} [ (1/2) ln(2π A_jj) - ln W_j ]                     (log_density_offset)
+// and the hypothesis' density replaces each failed factor by the mixture:
+//     f_k(r) = N(r_G; 0, A_GG) · prod_{j∈F} [ w_j N(r_j; 0, A_jj) + (1 - w_j) / W_j ]
+//     ln f_k = -q/2 - (m/2) ln 2π - (1/2) ln|A| + u(r),
+//     q    = r_Gᵀ A_GG⁻¹ r_G  (= rᵀ A⁻¹ r with row and column j of A⁻¹ zeroed, exact here),
+//     u(r) = sum_{j∈F} ln[ w_j exp(-r_j²/(2 A_jj)) + (1 - w_j) exp(c_j) ],
+//     c_j  = (1/2) ln(2π A_jj) - ln W_j                     (uninformative_log_density)
 // So every hypothesis, whatever the number of channels it believes, is a density over the
-// same seven readings, and the bank adds c to l_k in both forms of eq. 2 (filter_bank.h):
-// with the leading term stripped, c is exactly what turns the failed channels' stripped
-// Gaussian factor exp(-r_j²/2A_jj) into the uniform density on the same scale. With no
-// channel marked, A⁻¹ is the full inverse and c = 0 (the paper's models).
+// same seven readings, and the bank adds u(r) to l_k in both forms of eq. 2 (filter_bank.h):
+// with the leading term stripped, u turns the failed channels' stripped Gaussian factor
+// exp(-r_j²/2A_jj) into the mixture on the same scale. With w_j = 0, u = sum c_j, a constant
+// (log_density_offset); the two terms are added by log-sum-exp, so no residual overflows
+// it. With no channel marked, A⁻¹ is the full inverse and u = 0 (the paper's models).
 //
 // Two parts, kept apart:
 //   HypothesisFilter   what a hypothesis filter IS: its FilterModel, A⁻¹, ln|A| and c, fixed at
@@ -77,18 +81,24 @@ struct FilterModel {
   // this hypothesis, 0 for an informative channel (header comment); zeros by default.
   Eigen::Matrix<double, NZ, 1> uninformative_width =
       Eigen::Matrix<double, NZ, 1>::Zero(NZ == Eigen::Dynamic ? 0 : NZ);
+  // (NZ) weight w_j of "reads its trim value" in an uninformative channel's density, in
+  // [0, 1); zeros by default (the reading uniform over W_j).
+  Eigen::Matrix<double, NZ, 1> uninformative_trim_weight =
+      Eigen::Matrix<double, NZ, 1>::Zero(NZ == Eigen::Dynamic ? 0 : NZ);
 
   // Builds a model from dynamic-size matrices, checking each shape against the compile-time
   // sizes first (throws std::invalid_argument naming `who`); validate() is not called here.
   template <class M>
   static FilterModel from_matrices(const M& phi_, const M& bd_, const M& h_, const M& k_,
                                    const M& a_, const std::string& who = "filter model") {
-    return from_matrices(phi_, bd_, h_, k_, a_, Eigen::VectorXd(), who);
+    return from_matrices(phi_, bd_, h_, k_, a_, Eigen::VectorXd(), Eigen::VectorXd(), who);
   }
-  // The same with the uninformative widths (empty: every channel informative).
+  // The same with the uninformative widths and trim weights (each empty or NZ entries;
+  // empty: every channel informative, every weight zero).
   template <class M>
   static FilterModel from_matrices(const M& phi_, const M& bd_, const M& h_, const M& k_,
                                    const M& a_, const Eigen::VectorXd& width_,
+                                   const Eigen::VectorXd& trim_weight_ = Eigen::VectorXd(),
                                    const std::string& who = "filter model") {
     auto check = [&](const char* name, const M& x, int r, int c) {
       if ((r != Eigen::Dynamic && x.rows() != r) || (c != Eigen::Dynamic && x.cols() != c)) {
@@ -110,13 +120,18 @@ struct FilterModel {
     m.h = h_;
     m.k = k_;
     m.a = a_;
-    if (width_.size() != 0 && width_.size() != m.h.rows()) {
-      std::ostringstream s;
-      s << who << ": uninformative_width has size " << width_.size() << ", expected 0 or " << m.h.rows();
-      throw std::invalid_argument(s.str());
+    for (const auto* v : {&width_, &trim_weight_}) {
+      if (v->size() != 0 && v->size() != m.h.rows()) {
+        std::ostringstream s;
+        s << who << ": " << (v == &width_ ? "uninformative_width" : "uninformative_trim_weight") << " has size "
+          << v->size() << ", expected 0 or " << m.h.rows();
+        throw std::invalid_argument(s.str());
+      }
     }
     m.uninformative_width.setZero(m.h.rows());
     if (width_.size() != 0) m.uninformative_width = width_;
+    m.uninformative_trim_weight.setZero(m.h.rows());
+    if (trim_weight_.size() != 0) m.uninformative_trim_weight = trim_weight_;
     return m;
   }
 
@@ -127,7 +142,7 @@ struct FilterModel {
   // Throws std::invalid_argument naming `who` and the problem (see the header comment).
   void validate(const std::string& who = "filter model") const {
     check_filter_matrices(phi, bd, h, k, a, phi.rows(), bd.cols(), h.rows(), who);
-    check_uninformative_width(h, a, uninformative_width, h.rows(), who);
+    check_uninformative_width(h, a, uninformative_width, uninformative_trim_weight, h.rows(), who);
   }
   // True when some channel is uninformative (width > 0).
   bool has_uninformative() const { return (uninformative_width.array() > 0.0).any(); }
@@ -156,13 +171,41 @@ class HypothesisFilter {
     a_inv_ = llt.solve(AMatrix::Identity(m_.nz(), m_.nz()));
     a_inv_ = 0.5 * (a_inv_ + a_inv_.transpose()).eval();
     log_det_a_ = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+    const Eigen::Index nz = m_.nz();
+    unf_half_inv_a_.setZero(nz);
+    unf_log_trim_.setZero(nz);
+    unf_log_uniform_.setZero(nz);
     for (Eigen::Index j = 0; j < m_.uninformative_width.size(); ++j) {
       const double w = m_.uninformative_width(j);
       if (!(w > 0.0)) continue;
       a_inv_.row(j).setZero();
       a_inv_.col(j).setZero();
-      log_density_offset_ += 0.5 * std::log(2.0 * kPi * a_sym(j, j)) - std::log(w);
+      const double c = 0.5 * std::log(2.0 * kPi * a_sym(j, j)) - std::log(w);
+      const double wt = j < m_.uninformative_trim_weight.size() ? m_.uninformative_trim_weight(j) : 0.0;
+      if (wt > 0.0) {  // a mixture: evaluated per frame
+        unf_half_inv_a_(j) = 0.5 / a_sym(j, j);
+        unf_log_trim_(j) = std::log(wt);
+        unf_log_uniform_(j) = std::log1p(-wt) + c;
+        has_mixture_ = true;
+      } else {
+        log_density_offset_ += c;
+      }
     }
+  }
+
+  // u(r) of the header comment: log_density_offset() plus, for channels with a trim weight,
+  // ln[w_j exp(-r_j²/(2 A_jj)) + (1 - w_j) exp(c_j)] by log-sum-exp (noexcept, no allocation).
+  template <class Derived>
+  double uninformative_log_density(const Eigen::MatrixBase<Derived>& r) const noexcept {
+    double u = log_density_offset_;
+    if (!has_mixture_) return u;
+    for (Eigen::Index j = 0; j < unf_half_inv_a_.size(); ++j) {
+      if (unf_half_inv_a_(j) == 0.0) continue;
+      const double a = unf_log_trim_(j) - r(j) * r(j) * unf_half_inv_a_(j);
+      const double b = unf_log_uniform_(j);
+      u += a > b ? a + std::log1p(std::exp(b - a)) : b + std::log1p(std::exp(a - b));
+    }
+    return u;
   }
 
   // ---- the frame equations, on a state passed in (noexcept) --------------------------
@@ -194,7 +237,7 @@ class HypothesisFilter {
   const Model& model() const noexcept { return m_; }
   const AMatrix& a_inverse() const noexcept { return a_inv_; }
   double log_det_a() const noexcept { return log_det_a_; }          // ln|A|
-  // c = sum over uninformative channels of (1/2) ln(2π A_jj) - ln W_j (header comment).
+  // sum of c_j over the uninformative channels with no trim weight (header comment).
   double log_density_offset() const noexcept { return log_density_offset_; }
   int nx() const noexcept { return m_.nx(); }
   int nu() const noexcept { return m_.nu(); }
@@ -206,6 +249,8 @@ class HypothesisFilter {
   AMatrix a_inv_;  // A⁻¹, rows/columns of uninformative channels zeroed
   double log_det_a_ = 0.0;
   double log_density_offset_ = 0.0;
+  ZVector unf_half_inv_a_, unf_log_trim_, unf_log_uniform_;  // per channel; 1/(2A_jj) = 0: none
+  bool has_mixture_ = false;
 };
 
 // One stand-alone filter: a HypothesisFilter and its state.

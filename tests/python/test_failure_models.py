@@ -1,5 +1,6 @@
 """Hypotheses that cover the failure (issue 13 item 1): the core's likelihood of a hypothesis
-with uninformative channels against SciPy's multivariate normal times a uniform density, the
+with uninformative channels against SciPy's multivariate normal times a uniform density (and
+times a mixture of a normal at trim and a uniform), the
 model checks that guard it, the bank file carrying the widths, and the ``cover`` design (a
 failed surface as a random walk, a failed sensor uninformative over its full range)."""
 from __future__ import annotations
@@ -16,7 +17,7 @@ from f16mmae.design.tuning import TuningError, load_tuning, tuning_from_dict
 from f16mmae.truth import sensors
 
 
-def small_models(width):
+def small_models(width, trim_weight=None):
     """Three filters on a 3-state, 3-sensor system: NONE, sensor 1 failed (H row 1 removed)
     with the given widths, and sensor 2 failed in the paper's Gaussian form."""
     rng = np.random.default_rng(7)
@@ -30,16 +31,19 @@ def small_models(width):
         if failed is not None:
             hk[failed] = 0.0
         g = steady_state_gains(phi, hk, qd, r)
-        out.append(core.FilterModel(phi=phi, bd=bd, h=hk, k=g.k, a=g.a, uninformative_width=w))
+        out.append(core.FilterModel(phi=phi, bd=bd, h=hk, k=g.k, a=g.a, uninformative_width=w,
+                                    uninformative_trim_weight=trim_weight if failed == 1 else None))
     return out
 
 
+@pytest.mark.parametrize("weight", [0.0, 0.3])
+@pytest.mark.parametrize("reading", [0.05, 2.9])
 @pytest.mark.parametrize("strip", [False, True])
-def test_likelihood_is_normal_times_uniform(strip):
+def test_likelihood_is_normal_times_uniform(strip, reading, weight):
     width = np.array([0.0, 7.5, 0.0])
-    models = small_models(width)
+    models = small_models(width, np.array([0.0, weight, 0.0]))
     fb = core.FilterBank(models, p_min=1e-6, strip_leading_term=strip)
-    z = np.array([0.3, 2.9, -0.2])  # first frame: x- = 0, so r = z
+    z = np.array([0.3, reading, -0.2])  # first frame: x- = 0, so r = z
     fb.update(z)
     got = fb.log_likelihoods
     for k, m in enumerate(models):
@@ -47,14 +51,18 @@ def test_likelihood_is_normal_times_uniform(strip):
         keep = [j for j in range(3) if not m.uninformative_width[j] > 0]
         full = stats.multivariate_normal(np.zeros(len(keep)), a[np.ix_(keep, keep)]).logpdf(z[keep])
         for j in range(3):
-            if m.uninformative_width[j] > 0:  # uniform over a range of that width holding the reading
-                full += stats.uniform(loc=z[j] - 1.0, scale=m.uninformative_width[j]).logpdf(z[j])
+            w_j = m.uninformative_width[j]
+            if w_j > 0:  # at trim (r = 0) with the trim weight, else uniform over a range of width W
+                t = m.uninformative_trim_weight[j]
+                uniform = stats.uniform(loc=z[j] - 1.0, scale=w_j).pdf(z[j])
+                full += np.log(t * stats.norm(0.0, np.sqrt(a[j, j])).pdf(z[j]) + (1 - t) * uniform)
         # the stripped form drops (2 pi)^{-m/2} |A|^{-1/2} of the filter's whole A
         expect = full + (1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] if strip else 0.0)
         assert got[k] == pytest.approx(expect, rel=1e-12, abs=1e-12), k
 
 
 def test_uninformative_reading_leaves_the_likelihood_unchanged_whatever_it_reads():
+    """With no trim weight the reading does not enter at all."""
     models = small_models(np.array([0.0, 7.5, 0.0]))
     out = []
     for reading in (0.0, 3.0, -3.5, 1e3):
@@ -74,6 +82,11 @@ def test_widths_are_checked():
         with pytest.raises(ValueError, match=msg):
             core.FilterModel(phi=failed.phi, bd=failed.bd, h=failed.h, k=failed.k, a=failed.a,
                              uninformative_width=np.array(bad))
+    for bad_w, msg in (([0.0, 1.0, 0.0], r"uninformative_trim_weight\[1\] must be in \[0, 1\)"),
+                       ([0.5, 0.0, 0.0], r"uninformative_trim_weight\[0\] .* 0 unless the channel is uninformative")):
+        with pytest.raises(ValueError, match=msg):
+            core.FilterModel(phi=failed.phi, bd=failed.bd, h=failed.h, k=failed.k, a=failed.a,
+                             uninformative_width=np.array([0.0, 7.5, 0.0]), uninformative_trim_weight=np.array(bad_w))
     a = np.array(failed.a)
     a[0, 1] = a[1, 0] = 1e-3
     with pytest.raises(ValueError, match="A couples it to channel 0"):
@@ -94,6 +107,8 @@ def test_cover_sensor_hypothesis_is_uninformative_over_the_full_range(cover_desi
         w = cover_design.filter(name).model.uninformative_width
         j = names.SENSORS.index(name)
         assert w[j] == full[j] and np.count_nonzero(w) == 1
+        t = cover_design.filter(name).model.uninformative_trim_weight
+        assert t[j] == 0.5 and np.count_nonzero(t) == 1
     assert not np.any(cover_design.filter("LS").model.uninformative_width)
     assert np.count_nonzero(cover_design.filter("LS+PIT").model.uninformative_width) == 1
 
@@ -121,6 +136,7 @@ def test_cover_bank_round_trips_its_widths(cover_design, tmp_path):
     loaded = bank.write_bank(cover_design, tmp_path / "cover.f16bank")
     for h, f in zip(loaded.hypotheses, cover_design.filters):
         assert np.array_equal(h.uninformative_width, f.model.uninformative_width)
+        assert np.array_equal(h.uninformative_trim_weight, f.model.uninformative_trim_weight)
     assert '"failure_model":"cover"' in core.load_bank(str(tmp_path / "cover.f16bank")).metadata
 
 
@@ -137,4 +153,6 @@ def test_tuning_refuses_a_bad_failure_model():
         tuning_from_dict({**base, "failure_model": "partial"})
     with pytest.raises(TuningError, match="failed_surface_q = -1 must be a finite number > 0"):
         tuning_from_dict({**base, "failure_model": "cover", "failed_surface_q": -1})
+    with pytest.raises(TuningError, match=r"failed_sensor_trim_weight = 1 must be a number in \[0, 1\)"):
+        tuning_from_dict({**base, "failure_model": "cover", "failed_sensor_trim_weight": 1})
     assert hypotheses.FAILURE_MODELS == ("complete", "cover")

@@ -32,7 +32,8 @@ from .. import names
 from ..truth import actuators, sensors
 from .discretize import DiscreteModel, discretize
 from .gains import SteadyStateGains, steady_state_gains
-from .hypotheses import HypothesisModel, hypothesis_dynamics, hypothesis_model, uninformative_width
+from .hypotheses import (HypothesisModel, hypothesis_dynamics, hypothesis_model, uninformative_trim_weight,
+                         uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
 from .tuning import Tuning, load_tuning
 
@@ -94,9 +95,16 @@ class BankDesign:
 
         trim = self.linearized.trim
         tuning_arg = self.tuning.name
-        suffix = f"-{self.tuning.failure_model}"  # `f16mmae design --failure-model` names it so
+        # `f16mmae design --failure-model M [--failed-sensor-trim-weight W]` names it NAME-M[-wW]
+        weight = f"-w{self.tuning.failed_sensor_trim_weight:g}"
+        if tuning_arg.endswith(weight):
+            tuning_arg = tuning_arg[:-len(weight)]
+            weight = f" --failed-sensor-trim-weight {self.tuning.failed_sensor_trim_weight:g}"
+        else:
+            weight = ""
+        suffix = f"-{self.tuning.failure_model}"
         if self.tuning.failure_model != "complete" and tuning_arg.endswith(suffix):
-            tuning_arg = f"{tuning_arg[:-len(suffix)]} --failure-model {self.tuning.failure_model}"
+            tuning_arg = f"{tuning_arg[:-len(suffix)]} --failure-model {self.tuning.failure_model}{weight}"
         return {
             "generator": "f16mmae.design",
             "design_version": DESIGN_VERSION,
@@ -157,8 +165,9 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
             f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, tuning.failed_surface_q, n_air)
             dm = discretize(f_k, model.b, np.eye(names.NX), gqg_k, discrete.dt_s)
             phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal())
-        out.append(hypothesis_model(name, phi, bd, model.h, qd,
-                                    uninformative_width(name, tuning.failure_model)))
+        out.append(hypothesis_model(name, phi, bd, model.h, qd, uninformative_width(name, tuning.failure_model),
+                                    uninformative_trim_weight(name, tuning.failure_model,
+                                                              tuning.failed_sensor_trim_weight)))
     return out
 
 
@@ -197,7 +206,8 @@ def to_model_bank(design: BankDesign):
     from .. import core
 
     hyps = [core.HypothesisModel(name=f.name, phi=f.model.phi, bd=f.model.bd, h=f.model.h,
-                                 k=f.gains.k, a=f.gains.a, uninformative_width=f.model.uninformative_width)
+                                 k=f.gains.k, a=f.gains.a, uninformative_width=f.model.uninformative_width,
+                                 uninformative_trim_weight=f.model.uninformative_trim_weight)
             for f in design.filters]
     return core.ModelBank(
         hyps, state_names=list(names.STATES), input_names=list(names.ACTUATORS),

@@ -11,18 +11,19 @@ pseudonoise the calibration matched to the truth's residuals; ``Q = 0`` for calm
 inputs ``u`` the dither (``truth.dither``), open loop (the FCS is not modelled here).
 Every bank filter k runs on ``(z, u)``: ``r_k = z - H_k x^-_k``, ``x^+_k = x^-_k + K_k r_k``,
 ``x^-_k <- Phi_k x^+_k + Bd_k u``, and the bank scores it by (filter_bank.h, leading term
-stripped) ``l_k = -r_k' Ainv_k r_k / 2 + c_k``, with ``Ainv_k`` and ``c_k`` as the core builds
-them (uninformative channels, steady_state_filter.h).
+stripped) ``l_k = -r_k' Ainv_k r_k / 2 + u_k(r_k)``, with ``Ainv_k`` and the uninformative
+channels' term ``u_k`` as the core builds them (steady_state_filter.h).
 
 The expected log-likelihood ratio per frame in steady state, filter T' (T's own) against F::
 
-    D(T, F) = E[l_T' - l_F] = tr(Ainv_F S_F)/2 - tr(Ainv_T' S_T')/2 + c_T' - c_F
-              + mean_t (m_F' Ainv_F m_F - m_T'' Ainv_T' m_T') / 2
+    D(T, F) = E[l_T' - l_F] = tr(Ainv_F S_F)/2 - tr(Ainv_T' S_T')/2
+              + mean_t (m_F' Ainv_F m_F - m_T'' Ainv_T' m_T') / 2 + E[u_T'] - E[u_F]
 
 ``S_k = C_k P C_k' + R`` the residual covariance, ``P`` the stationary covariance of
 ``xi = [x; x^-_T'; x^-_F]`` (discrete Lyapunov: the truth and both filters driven by w and v),
 ``m_k(t)`` the residual's deterministic part under the dither (the same system simulated
-noise-free to its periodic steady state). When the models are exact, D(T, F) is the
+noise-free to its periodic steady state), ``E[u_k]`` over ``r_j ~ N(m_j(t), S_jj)`` by
+Gauss-Hermite quadrature (40 points). When the models are exact, D(T, F) is the
 Kullback-Leibler divergence rate of F's residual density from T's. The bank needs about
 ``ln(1/p_min)`` nats to lift a hypothesis from the floor, so ``ln(1/p_min) / D`` frames
 estimates how long it takes (``frames_to_lift``); ``D <= 0`` means F explains the data at
@@ -44,28 +45,48 @@ LOG_2PI = float(np.log(2.0 * np.pi))
 
 @dataclass(frozen=True)
 class ScoredFilter:
-    """A filter as the bank scores it: its matrices, Ainv (uninformative channels zeroed), c."""
+    """A filter as the bank scores it: its matrices, Ainv (uninformative channels zeroed) and
+    its uninformative channels ``(j, A_jj, W_j, w_j)``."""
 
     phi: np.ndarray
     bd: np.ndarray
     h: np.ndarray
     k: np.ndarray
     a_inv: np.ndarray
-    c: float
+    uninformative: tuple[tuple[int, float, float, float], ...] = ()
+
+    def expected_u(self, mean: np.ndarray, var: np.ndarray) -> float:
+        """E[u(r)] for r_j ~ N(mean_j, var_j) (steady_state_filter.h's u, Gauss-Hermite);
+        ``mean`` (frames, m) averages over frames."""
+        total = 0.0
+        for j, a_jj, width, w in self.uninformative:
+            c = 0.5 * (LOG_2PI + np.log(a_jj)) - np.log(width)
+            if w == 0.0:
+                total += c
+                continue
+            x = mean[:, j:j + 1] + np.sqrt(var[j]) * _GH_X  # (frames, points)
+            u = np.logaddexp(np.log(w) - x * x / (2.0 * a_jj), np.log1p(-w) + c)
+            total += float(np.mean(u @ _GH_W))
+        return total
+
+
+_GH_X, _GH_W = np.polynomial.hermite_e.hermegauss(40)
+_GH_W = _GH_W / np.sqrt(2.0 * np.pi)
 
 
 def scored_filter(design: BankDesign, name: str) -> ScoredFilter:
-    """Filter ``name`` of ``design`` with its likelihood's ``Ainv`` and ``c`` (module docstring)."""
+    """Filter ``name`` of ``design`` as the bank scores it (module docstring)."""
     f = design.filter(name)
     a = f.gains.a
     a_inv = np.linalg.inv(a)
-    c = 0.0
-    for j, w in enumerate(f.model.uninformative_width):
-        if w > 0.0:
+    unf = []
+    for j, (width, w) in enumerate(zip(f.model.uninformative_width, f.model.uninformative_trim_weight)):
+        if width > 0.0:
             a_inv[j, :] = 0.0
             a_inv[:, j] = 0.0
-            c += 0.5 * (LOG_2PI + np.log(a[j, j])) - np.log(w)
-    return ScoredFilter(phi=f.model.phi, bd=f.model.bd, h=f.model.h, k=f.gains.k, a_inv=a_inv, c=c)
+            unf.append((j, float(a[j, j]), float(width), float(w)))
+    return ScoredFilter(phi=f.model.phi, bd=f.model.bd, h=f.model.h, k=f.gains.k, a_inv=a_inv,
+                        uninformative=tuple(unf))
 
 
 def truth_matrices(design: BankDesign, truth: str) -> tuple[np.ndarray, np.ndarray]:
@@ -106,21 +127,22 @@ def _stochastic(phi, q, r, h_t, filters: list[ScoredFilter]) -> list[np.ndarray]
     return out
 
 
-def _deterministic(phi, bd_t, h_t, filters: list[ScoredFilter], u: np.ndarray, keep: int) -> list[float]:
-    """Mean of m' Ainv m over the last ``keep`` frames of the noise-free response to ``u``."""
+def _deterministic(phi, bd_t, h_t, filters: list[ScoredFilter], u: np.ndarray, keep: int) -> list[np.ndarray]:
+    """Each filter's residual mean m(t) (keep, m) over the last ``keep`` frames of the
+    noise-free response to ``u``."""
     n = phi.shape[0]
     x = np.zeros(n)
     xf = [np.zeros(n) for _ in filters]
-    acc = [0.0] * len(filters)
+    out = [np.zeros((keep, h_t.shape[0])) for _ in filters]
     for i, ui in enumerate(u):
         z = h_t @ x
         for j, f in enumerate(filters):
             res = z - f.h @ xf[j]
             if i >= len(u) - keep:
-                acc[j] += float(res @ f.a_inv @ res)
+                out[j][i - (len(u) - keep)] = res
             xf[j] = f.phi @ (xf[j] + f.k @ res) + f.bd @ ui
         x = phi @ x + bd_t @ ui
-    return [a / keep for a in acc]
+    return out
 
 
 def dither_inputs(frames: int, frame_rate_hz: float, spec: dither_mod.DitherSpec | None = None) -> np.ndarray:
@@ -135,11 +157,14 @@ def rates(phi: np.ndarray, q: np.ndarray, r: np.ndarray, bd_t: np.ndarray, h_t: 
     ``(phi, q, r, bd_t, h_t)``, its own filter ``own``, inputs ``u`` (frames, nu) or none."""
     filters = [own] + list(competitors)
     s = _stochastic(phi, q, r, h_t, filters)
-    quad = [0.5 * float(np.trace(f.a_inv @ sk)) for f, sk in zip(filters, s)]
-    if u is not None:
-        det = _deterministic(phi, bd_t, h_t, filters, u, keep=len(u) // 2)
-        quad = [qk + 0.5 * dk for qk, dk in zip(quad, det)]
-    return [quad[i + 1] - quad[0] + own.c - f.c for i, f in enumerate(competitors)]
+    m = h_t.shape[0]
+    means = (_deterministic(phi, bd_t, h_t, filters, u, keep=len(u) // 2) if u is not None
+             else [np.zeros((1, m)) for _ in filters])
+    score = []  # E[l_k]
+    for f, sk, mk in zip(filters, s, means):
+        quad = float(np.trace(f.a_inv @ sk)) + float(np.mean(np.einsum("ti,ij,tj->t", mk, f.a_inv, mk)))
+        score.append(-0.5 * quad + f.expected_u(mk, np.diag(sk)))
+    return [score[0] - sc for sc in score[1:]]
 
 
 def evidence_rates(design: BankDesign, truth: str, competitors: list[str], *, calm: bool = False,

@@ -98,11 +98,11 @@ HypothesisModel hypothesis_from(py::handle item, std::size_t index) {
     const py::object value = mapping ? py::object(model[key]) : py::object(model.attr(key));
     *targets[i] = to_matrix(value, "hypothesis '" + h.name + "': " + key);
   }
-  for (const char* wkey : {"uninformative_width", "uninformative_trim_weight"}) {  // optional
+  for (const char* wkey : {"uninformative_width", "uninformative_level_q"}) {  // optional
     if (!(mapping ? model.contains(wkey) : py::hasattr(model, wkey))) continue;
     const py::object w = mapping ? py::object(model[wkey]) : py::object(model.attr(wkey));
     if (w.is_none()) continue;
-    (std::string(wkey) == "uninformative_width" ? h.uninformative_width : h.uninformative_trim_weight) =
+    (std::string(wkey) == "uninformative_width" ? h.uninformative_width : h.uninformative_level_q) =
         to_vector(w, "hypothesis '" + h.name + "': " + wkey);
   }
   return h;
@@ -189,7 +189,7 @@ double bench_filter_bank_loop(const ModelBank& bank, py::handle z_frames, py::ha
   for (int k = 0; k < kBank; ++k) {
     const HypothesisModel& h = bank.hypotheses[k];
     models.push_back(F16FilterModel::from_matrices(h.phi, h.bd, h.h, h.k, h.a, h.uninformative_width,
-                                                   h.uninformative_trim_weight, "hypothesis '" + h.name + "'"));
+                                                   h.uninformative_level_q, "hypothesis '" + h.name + "'"));
   }
   const auto filters = std::make_unique<F16FilterBank>(models);
   filters->set_h_output(bank.h_output);
@@ -235,22 +235,22 @@ One hypothesis filter of a model bank: a steady-state discrete Kalman filter (pa
 with steady-state gain k and residual covariance a = H P- H^T + R.
 Shapes: phi (nx,nx), bd (nx,nu), h (nz,nx), k (nx,nz), a (nz,nz); checked by ModelBank.
 uninformative_width (nz,) or None: W_j > 0 marks channel j's reading as uninformative under
-the hypothesis: at its trim value with probability uninformative_trim_weight_j (nz,) or None
-(zeros), otherwise uniform over a range of width W_j (its H row must be zero; the likelihood is
+the hypothesis: an unknown level anywhere in a range of width W_j, a random walk of
+uninformative_level_q_j (nz,) or None (zeros: no memory) per frame (its H row must be zero; the likelihood is
 derived in cpp/f16mmae/steady_state_filter.h); None means every channel informative.
 Immutable; the matrices come back as read-only numpy copies.)doc")
       .def(py::init([](const std::string& name, py::handle phi, py::handle bd, py::handle h, py::handle k,
-                       py::handle a, py::handle width, py::handle trim_weight) {
+                       py::handle a, py::handle width, py::handle level_q) {
              const std::string who = "hypothesis '" + name + "': ";
              HypothesisModel m{name, to_matrix(phi, who + "phi"), to_matrix(bd, who + "bd"),
                                to_matrix(h, who + "h"), to_matrix(k, who + "k"), to_matrix(a, who + "a"), {}};
              if (!width.is_none()) m.uninformative_width = to_vector(width, who + "uninformative_width");
-             if (!trim_weight.is_none())
-               m.uninformative_trim_weight = to_vector(trim_weight, who + "uninformative_trim_weight");
+             if (!level_q.is_none())
+               m.uninformative_level_q = to_vector(level_q, who + "uninformative_level_q");
              return m;
            }),
            py::kw_only(), py::arg("name"), py::arg("phi"), py::arg("bd"), py::arg("h"), py::arg("k"), py::arg("a"),
-           py::arg("uninformative_width") = py::none(), py::arg("uninformative_trim_weight") = py::none())
+           py::arg("uninformative_width") = py::none(), py::arg("uninformative_level_q") = py::none())
       .def_property_readonly("name", [](const HypothesisModel& h) { return h.name; })
       .def_property_readonly("phi", [](const HypothesisModel& h) { return readonly(h.phi); }, "(nx,nx) Phi")
       .def_property_readonly("bd", [](const HypothesisModel& h) { return readonly(h.bd); }, "(nx,nu) B_d")
@@ -266,12 +266,12 @@ Immutable; the matrices come back as read-only numpy copies.)doc")
           },
           "(nz,) width of each uninformative channel's uniform density, 0 for an informative one")
       .def_property_readonly(
-          "uninformative_trim_weight",
+          "uninformative_level_q",
           [](const HypothesisModel& h) {
-            return readonly(h.uninformative_trim_weight.size() ? h.uninformative_trim_weight
+            return readonly(h.uninformative_level_q.size() ? h.uninformative_level_q
                                                                 : Eigen::VectorXd(Eigen::VectorXd::Zero(h.h.rows())));
           },
-          "(nz,) probability that an uninformative channel reads its trim value")
+          "(nz,) random-walk variance per frame of an uninformative channel's level")
       .def("__repr__", [](const HypothesisModel& h) {
         return "HypothesisModel(name='" + h.name + "', nx=" + std::to_string(h.phi.rows()) +
                ", nu=" + std::to_string(h.bd.cols()) + ", nz=" + std::to_string(h.h.rows()) + ")";

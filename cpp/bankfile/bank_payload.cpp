@@ -77,14 +77,14 @@ std::vector<std::uint8_t> encode_bank_payload(const ModelBank& bank) {
     out.a = to_lcm(h.a, "a");
     // the two vectors share one size in the file: a bank with widths and no weights stores zeros
     out.width_size = checked_size(h.uninformative_width.size(), "uninformative_width");
-    if (h.uninformative_trim_weight.size() != 0 && h.uninformative_trim_weight.size() != h.uninformative_width.size())
+    if (h.uninformative_level_q.size() != 0 && h.uninformative_level_q.size() != h.uninformative_width.size())
       throw std::invalid_argument("model bank: hypothesis '" + h.name +
-                                  "': uninformative_trim_weight needs the size of uninformative_width");
+                                  "': uninformative_level_q needs the size of uninformative_width");
     out.uninformative_width.assign(h.uninformative_width.data(),
                                    h.uninformative_width.data() + h.uninformative_width.size());
-    out.uninformative_trim_weight.assign(static_cast<std::size_t>(out.width_size), 0.0);
-    for (Eigen::Index j = 0; j < h.uninformative_trim_weight.size(); ++j)
-      out.uninformative_trim_weight[static_cast<std::size_t>(j)] = h.uninformative_trim_weight(j);
+    out.uninformative_level_q.assign(static_cast<std::size_t>(out.width_size), 0.0);
+    for (Eigen::Index j = 0; j < h.uninformative_level_q.size(); ++j)
+      out.uninformative_level_q[static_cast<std::size_t>(j)] = h.uninformative_level_q(j);
     msg.hypotheses.push_back(std::move(out));
   }
   const int size = msg.getEncodedSize();
@@ -133,7 +133,7 @@ ModelBank decode_bank_payload(const std::uint8_t* data, std::size_t size) {
     h.k = in.matrix(who + ".k");
     h.a = in.matrix(who + ".a");
     h.uninformative_width = in.vector(who + ".uninformative_width", who + ".width_size");
-    h.uninformative_trim_weight = in.doubles(who + ".uninformative_trim_weight", h.uninformative_width.size());
+    h.uninformative_level_q = in.doubles(who + ".uninformative_level_q", h.uninformative_width.size());
   }
   in.finish();
   bank.content_hash = to_hex(sha256(data, size));

@@ -6,10 +6,12 @@
 //                 log-likelihood (eq. 2)
 //                   l_k = -q_k/2                                     (leading term stripped, default)
 //                   l_k = -q_k/2 - (m/2) ln 2π - (1/2) ln|A_k|       (leading term kept)
-//                 plus, in both forms, the hypothesis' uninformative-channel term u_k(r_k),
+//                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
-//                 sensor's reading at trim or anywhere in its range; q_k then leaves those
-//                 channels out; u_k and its derivation in steady_state_filter.h)
+//                 sensor's reading an unknown level anywhere in its range; q_k then leaves
+//                 those channels out; u_k, the levels b̂_k the bank keeps per filter, and
+//                 the derivation in steady_state_filter.h). A filter's levels are unset at
+//                 the start, after reset() and when load_filter() replaces it.
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
 //                 floor p_min ("lock-out" prevention) by water-filling: hypotheses with
@@ -139,6 +141,8 @@ class FilterBank {
     x_blend_.setZero(nx);
     z_hat_.setZero(nz);
     floored_.assign_size(k);
+    level_set_.assign_size(k);
+    level_.setZero(nz, k);
     h_out_ = hypotheses_[0].model().h;
     load_h_out();
     log_p_min_ = options_.p_min > 0.0 ? std::log(options_.p_min) : -std::numeric_limits<double>::infinity();
@@ -191,7 +195,8 @@ class FilterBank {
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
-      l += hypotheses_[i].uninformative_log_density(residual(i));  // u_k, see above
+      l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_set_[i]);  // u_k
+      level_set_[i] = 1;
       log_l_(i) = l;
       const double a = l + log_p_(i);
       if (a > a_max) a_max = a;
@@ -244,6 +249,7 @@ class FilterBank {
   // Every filter back to x⁻ = 0, no-failure hypothesis presumed, counters zeroed.
   void reset() noexcept {
     for (int i = 0; i < size(); ++i) store([&](auto& s) { s.clear(i); });
+    for (int i = 0; i < size(); ++i) level_set_[i] = 0;
     q_.setZero();
     log_l_.setZero();
     rejected_ = 0;
@@ -304,6 +310,7 @@ class FilterBank {
     hypotheses_[k] = hypothesis;
     if constexpr (kPacked) packed_.load(k, hypotheses_);
     store([&](auto& s) { s.clear(k); });
+    level_set_[k] = 0;
   }
   // Set filter k's posterior x⁺ and mark it current, so the next propagate starts from it
   // (a filter brought on line after the frame's update).
@@ -400,6 +407,8 @@ class FilterBank {
   ZVector z_hat_;
   OutputMatrix h_out_;
   HypothesisFlags<K> floored_;
+  HypothesisFlags<K> level_set_;                  // b̂_k set (uninformative channels)
+  Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k (uninformative channels)
   bool use_packed_ = false;    // the store: packed_ if true, else columns_
   Packed packed_{};
   Columns columns_{};

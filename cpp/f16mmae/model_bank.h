@@ -7,9 +7,9 @@
 //   A_k = H_k P_k^- H_k^T + R_k                                                    (eq. 5)
 // with sizes Phi (nx,nx), Bd (nx,nu), H (nz,nx), K (nx,nz), A (nz,nz). Quantities are
 // perturbations from the trim (u_trim, z_trim). A hypothesis may mark channels whose reading
-// is uninformative under it (uninformative_width_j > 0, the width of its uniform density, and
-// uninformative_trim_weight_j, the probability it reads its trim value; steady_state_filter.h
-// derives the likelihood); empty or zeros for the paper's models.
+// is uninformative under it (uninformative_width_j > 0, the width of the range its unknown
+// level lies in, and uninformative_level_q_j, the level's random walk per frame;
+// steady_state_filter.h derives the likelihood); empty or zeros for the paper's models.
 //
 // The bank also carries the estimator settings its design recommends (EstimatorSettings:
 // p_min, threshold, dwell_s; estimator_settings.h gives their ranges).
@@ -43,7 +43,7 @@ struct HypothesisModel {
   std::string name;  // "NONE", "LS", ..., "AY", duals "LS+PIT" (f16mmae/names.py order)
   Eigen::MatrixXd phi, bd, h, k, a;
   Eigen::VectorXd uninformative_width;  // (nz) or empty: 0 = informative channel
-  Eigen::VectorXd uninformative_trim_weight;  // (nz) or empty: P(reads trim) of such a channel
+  Eigen::VectorXd uninformative_level_q;  // (nz) or empty: level random walk per frame
 };
 
 struct ModelBank {
@@ -120,7 +120,7 @@ struct ModelBank {
       for (std::size_t j = 0; j < i; ++j)
         if (hypotheses[j].name == m.name) fail(who + ": duplicate name");
       check_filter_matrices(m.phi, m.bd, m.h, m.k, m.a, nx_, nu_, nz_, "model bank: " + who);
-      check_uninformative_width(m.h, m.a, m.uninformative_width, m.uninformative_trim_weight, nz_,
+      check_uninformative_width(m.h, m.a, m.uninformative_width, m.uninformative_level_q, nz_,
                                 "model bank: " + who);
       check_failed_components(m, who);
     }

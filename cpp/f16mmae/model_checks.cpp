@@ -44,21 +44,21 @@ void check_filter_matrices(const Eigen::MatrixXd& phi, const Eigen::MatrixXd& bd
 }
 
 void check_uninformative_width(const Eigen::MatrixXd& h, const Eigen::MatrixXd& a,
-                               const Eigen::VectorXd& width, const Eigen::VectorXd& trim_weight,
+                               const Eigen::VectorXd& width, const Eigen::VectorXd& level_q,
                                Eigen::Index nz, const std::string& who) {
   auto fail = [&](const std::string& what) { throw std::invalid_argument(who + ": " + what); };
-  if (trim_weight.size() != 0) {
-    if (trim_weight.size() != nz) {
+  if (level_q.size() != 0) {
+    if (level_q.size() != nz) {
       std::ostringstream s;
-      s << "uninformative_trim_weight has size " << trim_weight.size() << ", expected 0 or " << nz;
+      s << "uninformative_level_q has size " << level_q.size() << ", expected 0 or " << nz;
       fail(s.str());
     }
     for (Eigen::Index j = 0; j < nz; ++j) {
-      const double w = trim_weight(j);
+      const double w = level_q(j);
       const bool marked = width.size() == nz && width(j) > 0.0;
-      if (!(w >= 0.0 && w < 1.0) || (w != 0.0 && !marked)) {
+      if (!(std::isfinite(w) && w >= 0.0) || (w != 0.0 && !marked)) {
         std::ostringstream s;
-        s << "uninformative_trim_weight[" << j << "] must be in [0, 1), and 0 unless the channel is "
+        s << "uninformative_level_q[" << j << "] must be finite and >= 0, and 0 unless the channel is "
           << "uninformative (width > 0), got " << w;
         fail(s.str());
       }

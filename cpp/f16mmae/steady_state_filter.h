@@ -12,25 +12,32 @@
 // computed once, at construction.
 //
 // Uninformative channels (a failed sensor whose reading says nothing about the aircraft,
-// whatever it reads). The model may mark channels j ∈ F with a width W_j > 0 (the sensor's
-// full range) and a trim weight 0 <= w_j < 1: under the hypothesis the reading, independent
-// of the aircraft, sits at its trim value (the paper's complete failure) with probability
-// w_j and anywhere in a range of width W_j otherwise. Such a channel has H row j = 0, so
-// r_j = z_j - z_trim,j, and A coupled to no other channel (checked), so the Gaussian residual
-// density of eq. 2 factorises,
+// whatever it reads: held at trim, zero, stuck, full scale, biased, drifting). The model may
+// mark channels j ∈ F with a width W_j > 0 (the sensor's full range) and a level noise
+// q_j >= 0. Such a channel has H row j = 0, so r_j = z_j - z_trim,j, and A coupled to no
+// other channel (checked), so the Gaussian residual density of eq. 2 factorises,
 //     N(r; 0, A) = N(r_G; 0, A_GG) · prod_{j∈F} N(r_j; 0, A_jj),      G = the other channels,
-// and the hypothesis' density replaces each failed factor by the mixture:
-//     f_k(r) = N(r_G; 0, A_GG) · prod_{j∈F} [ w_j N(r_j; 0, A_jj) + (1 - w_j) / W_j ]
-//     ln f_k = -q/2 - (m/2) ln 2π - (1/2) ln|A| + u(r),
-//     q    = r_Gᵀ A_GG⁻¹ r_G  (= rᵀ A⁻¹ r with row and column j of A⁻¹ zeroed, exact here),
-//     u(r) = sum_{j∈F} ln[ w_j exp(-r_j²/(2 A_jj)) + (1 - w_j) exp(c_j) ],
-//     c_j  = (1/2) ln(2π A_jj) - ln W_j                     (uninformative_log_density)
+// and the hypothesis replaces each failed factor by the density of a reading that is an
+// unknown level b_j (uniform over the range, independent of the aircraft) plus the sensor's
+// noise (variance A_jj = R_jj), the level a random walk of q_j per frame:
+//   first frame (level unknown):   ln f_j = -ln W_j
+//   later frames (q_j > 0):        ln f_j = ln N(e_j; 0, s_j),   e_j = r_j - b̂_j,
+//       b̂_j <- b̂_j + g_j e_j  (first frame: b̂_j = r_j), the steady-state scalar Kalman filter
+//       of the level: P = (q_j + sqrt(q_j² + 4 q_j A_jj)) / 2, s_j = P + A_jj, g_j = P / s_j;
+//   q_j = 0: every frame as the first (a reading uniform over the range, no memory).
+// The hypothesis' log-density is then
+//     ln f_k = -q/2 - (m/2) ln 2π - (1/2) ln|A| + u_k,
+//     q   = r_Gᵀ A_GG⁻¹ r_G  (= rᵀ A⁻¹ r with row and column j of A⁻¹ zeroed, exact here),
+//     u_k = sum_{j∈F} [ ln f_j + (1/2) ln(2π A_jj) ]
+//         = sum_{j∈F} c_j,  c_j = (1/2) ln(2π A_jj) - ln W_j            (first frame, q_j = 0)
+//         = sum_{j∈F} [ -e_j²/(2 s_j) + (1/2) ln(A_jj / s_j) ]          (tracked level)
 // So every hypothesis, whatever the number of channels it believes, is a density over the
-// same seven readings, and the bank adds u(r) to l_k in both forms of eq. 2 (filter_bank.h):
-// with the leading term stripped, u turns the failed channels' stripped Gaussian factor
-// exp(-r_j²/2A_jj) into the mixture on the same scale. With w_j = 0, u = sum c_j, a constant
-// (log_density_offset); the two terms are added by log-sum-exp, so no residual overflows
-// it. With no channel marked, A⁻¹ is the full inverse and u = 0 (the paper's models).
+// same seven readings, and the bank adds u_k to l_k in both forms of eq. 2 (filter_bank.h,
+// which keeps b̂ and whether it is set per filter): with the leading term stripped, u_k puts
+// the failed channel's density on the scale of its stripped Gaussian factor exp(-r_j²/2A_jj).
+// A reading at a constant value costs about ln(W_j / sqrt(2π A_jj)) once, then what a
+// healthy channel costs. With no channel marked, A⁻¹ is the full inverse and u_k = 0 (the
+// paper's models).
 //
 // Two parts, kept apart:
 //   HypothesisFilter   what a hypothesis filter IS: its FilterModel, A⁻¹, ln|A| and c, fixed at
@@ -81,9 +88,9 @@ struct FilterModel {
   // this hypothesis, 0 for an informative channel (header comment); zeros by default.
   Eigen::Matrix<double, NZ, 1> uninformative_width =
       Eigen::Matrix<double, NZ, 1>::Zero(NZ == Eigen::Dynamic ? 0 : NZ);
-  // (NZ) weight w_j of "reads its trim value" in an uninformative channel's density, in
-  // [0, 1); zeros by default (the reading uniform over W_j).
-  Eigen::Matrix<double, NZ, 1> uninformative_trim_weight =
+  // (NZ) random-walk variance q_j per frame of an uninformative channel's level (sensor
+  // units²; 0: the reading uniform over W_j every frame); zeros by default.
+  Eigen::Matrix<double, NZ, 1> uninformative_level_q =
       Eigen::Matrix<double, NZ, 1>::Zero(NZ == Eigen::Dynamic ? 0 : NZ);
 
   // Builds a model from dynamic-size matrices, checking each shape against the compile-time
@@ -93,12 +100,12 @@ struct FilterModel {
                                    const M& a_, const std::string& who = "filter model") {
     return from_matrices(phi_, bd_, h_, k_, a_, Eigen::VectorXd(), Eigen::VectorXd(), who);
   }
-  // The same with the uninformative widths and trim weights (each empty or NZ entries;
-  // empty: every channel informative, every weight zero).
+  // The same with the uninformative widths and level noises (each empty or NZ entries;
+  // empty: every channel informative, every level noise zero).
   template <class M>
   static FilterModel from_matrices(const M& phi_, const M& bd_, const M& h_, const M& k_,
                                    const M& a_, const Eigen::VectorXd& width_,
-                                   const Eigen::VectorXd& trim_weight_ = Eigen::VectorXd(),
+                                   const Eigen::VectorXd& level_q_ = Eigen::VectorXd(),
                                    const std::string& who = "filter model") {
     auto check = [&](const char* name, const M& x, int r, int c) {
       if ((r != Eigen::Dynamic && x.rows() != r) || (c != Eigen::Dynamic && x.cols() != c)) {
@@ -120,18 +127,18 @@ struct FilterModel {
     m.h = h_;
     m.k = k_;
     m.a = a_;
-    for (const auto* v : {&width_, &trim_weight_}) {
+    for (const auto* v : {&width_, &level_q_}) {
       if (v->size() != 0 && v->size() != m.h.rows()) {
         std::ostringstream s;
-        s << who << ": " << (v == &width_ ? "uninformative_width" : "uninformative_trim_weight") << " has size "
+        s << who << ": " << (v == &width_ ? "uninformative_width" : "uninformative_level_q") << " has size "
           << v->size() << ", expected 0 or " << m.h.rows();
         throw std::invalid_argument(s.str());
       }
     }
     m.uninformative_width.setZero(m.h.rows());
     if (width_.size() != 0) m.uninformative_width = width_;
-    m.uninformative_trim_weight.setZero(m.h.rows());
-    if (trim_weight_.size() != 0) m.uninformative_trim_weight = trim_weight_;
+    m.uninformative_level_q.setZero(m.h.rows());
+    if (level_q_.size() != 0) m.uninformative_level_q = level_q_;
     return m;
   }
 
@@ -142,7 +149,7 @@ struct FilterModel {
   // Throws std::invalid_argument naming `who` and the problem (see the header comment).
   void validate(const std::string& who = "filter model") const {
     check_filter_matrices(phi, bd, h, k, a, phi.rows(), bd.cols(), h.rows(), who);
-    check_uninformative_width(h, a, uninformative_width, uninformative_trim_weight, h.rows(), who);
+    check_uninformative_width(h, a, uninformative_width, uninformative_level_q, h.rows(), who);
   }
   // True when some channel is uninformative (width > 0).
   bool has_uninformative() const { return (uninformative_width.array() > 0.0).any(); }
@@ -172,41 +179,55 @@ class HypothesisFilter {
     a_inv_ = 0.5 * (a_inv_ + a_inv_.transpose()).eval();
     log_det_a_ = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
     const Eigen::Index nz = m_.nz();
-    unf_half_inv_a_.setZero(nz);
-    unf_log_trim_.setZero(nz);
-    unf_log_uniform_.setZero(nz);
+    unf_c_.setZero(nz);
+    unf_gain_.setZero(nz);
+    unf_half_inv_s_.setZero(nz);
+    unf_log_ratio_.setZero(nz);
     for (Eigen::Index j = 0; j < m_.uninformative_width.size(); ++j) {
       const double w = m_.uninformative_width(j);
       if (!(w > 0.0)) continue;
       a_inv_.row(j).setZero();
       a_inv_.col(j).setZero();
-      const double c = 0.5 * std::log(2.0 * kPi * a_sym(j, j)) - std::log(w);
-      const double wt = j < m_.uninformative_trim_weight.size() ? m_.uninformative_trim_weight(j) : 0.0;
-      if (wt > 0.0) {  // a mixture: evaluated per frame
-        unf_half_inv_a_(j) = 0.5 / a_sym(j, j);
-        unf_log_trim_(j) = std::log(wt);
-        unf_log_uniform_(j) = std::log1p(-wt) + c;
-        has_mixture_ = true;
+      const double a_jj = a_sym(j, j);
+      unf_c_(j) = 0.5 * std::log(2.0 * kPi * a_jj) - std::log(w);
+      first_frame_ += unf_c_(j);
+      const double q = j < m_.uninformative_level_q.size() ? m_.uninformative_level_q(j) : 0.0;
+      if (q > 0.0) {  // the level's steady-state scalar Kalman filter
+        const double p = 0.5 * (q + std::sqrt(q * q + 4.0 * q * a_jj));
+        const double s = p + a_jj;
+        unf_gain_(j) = p / s;
+        unf_half_inv_s_(j) = 0.5 / s;
+        unf_log_ratio_(j) = 0.5 * std::log(a_jj / s);
+        tracked_ = true;
       } else {
-        log_density_offset_ += c;
+        memoryless_ += unf_c_(j);
       }
     }
   }
 
-  // u(r) of the header comment: log_density_offset() plus, for channels with a trim weight,
-  // ln[w_j exp(-r_j²/(2 A_jj)) + (1 - w_j) exp(c_j)] by log-sum-exp (noexcept, no allocation).
-  template <class Derived>
-  double uninformative_log_density(const Eigen::MatrixBase<Derived>& r) const noexcept {
-    double u = log_density_offset_;
-    if (!has_mixture_) return u;
-    for (Eigen::Index j = 0; j < unf_half_inv_a_.size(); ++j) {
-      if (unf_half_inv_a_(j) == 0.0) continue;
-      const double a = unf_log_trim_(j) - r(j) * r(j) * unf_half_inv_a_(j);
-      const double b = unf_log_uniform_(j);
-      u += a > b ? a + std::log1p(std::exp(b - a)) : b + std::log1p(std::exp(a - b));
+  // u_k of the header comment for residual r, given the levels b̂ (NZ) of this filter and
+  // whether they are set; sets them (first frame) or updates them. noexcept, no allocation.
+  template <class R, class L>
+  double uninformative_log_density(const Eigen::MatrixBase<R>& r, const Eigen::MatrixBase<L>& level_out,
+                                   bool level_set) const noexcept {
+    if (!tracked_) return memoryless_;
+    auto& level = const_cast<Eigen::MatrixBase<L>&>(level_out);  // Eigen's writable-expression idiom
+    if (!level_set) {
+      for (Eigen::Index j = 0; j < unf_gain_.size(); ++j)
+        if (unf_gain_(j) > 0.0) level(j) = r(j);
+      return first_frame_;
+    }
+    double u = memoryless_;
+    for (Eigen::Index j = 0; j < unf_gain_.size(); ++j) {
+      if (unf_gain_(j) == 0.0) continue;
+      const double e = r(j) - level(j);
+      u += unf_log_ratio_(j) - e * e * unf_half_inv_s_(j);
+      level(j) += unf_gain_(j) * e;
     }
     return u;
   }
+  // True when some uninformative channel tracks its level (the bank then keeps b̂).
+  bool tracks_level() const noexcept { return tracked_; }
 
   // ---- the frame equations, on a state passed in (noexcept) --------------------------
   // r = z - H x⁻ and returns q = rᵀ A⁻¹ r (+inf when it overflows, never NaN for finite r).
@@ -237,8 +258,8 @@ class HypothesisFilter {
   const Model& model() const noexcept { return m_; }
   const AMatrix& a_inverse() const noexcept { return a_inv_; }
   double log_det_a() const noexcept { return log_det_a_; }          // ln|A|
-  // sum of c_j over the uninformative channels with no trim weight (header comment).
-  double log_density_offset() const noexcept { return log_density_offset_; }
+  // u_k on a first frame: sum of c_j over the uninformative channels (header comment).
+  double log_density_offset() const noexcept { return first_frame_; }
   int nx() const noexcept { return m_.nx(); }
   int nu() const noexcept { return m_.nu(); }
   int nz() const noexcept { return m_.nz(); }
@@ -248,9 +269,10 @@ class HypothesisFilter {
   Model m_;
   AMatrix a_inv_;  // A⁻¹, rows/columns of uninformative channels zeroed
   double log_det_a_ = 0.0;
-  double log_density_offset_ = 0.0;
-  ZVector unf_half_inv_a_, unf_log_trim_, unf_log_uniform_;  // per channel; 1/(2A_jj) = 0: none
-  bool has_mixture_ = false;
+  double first_frame_ = 0.0;   // u_k when the levels are not set: sum c_j
+  double memoryless_ = 0.0;    // sum c_j over the channels with q_j = 0
+  bool tracked_ = false;       // some channel has q_j > 0
+  ZVector unf_c_, unf_gain_, unf_half_inv_s_, unf_log_ratio_;  // per channel; gain 0: not tracked
 };
 
 // One stand-alone filter: a HypothesisFilter and its state.

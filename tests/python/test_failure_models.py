@@ -17,7 +17,7 @@ from f16mmae.design.tuning import TuningError, load_tuning, tuning_from_dict
 from f16mmae.truth import sensors
 
 
-def small_models(width, trim_weight=None):
+def small_models(width, level_q=None):
     """Three filters on a 3-state, 3-sensor system: NONE, sensor 1 failed (H row 1 removed)
     with the given widths, and sensor 2 failed in the paper's Gaussian form."""
     rng = np.random.default_rng(7)
@@ -32,33 +32,57 @@ def small_models(width, trim_weight=None):
             hk[failed] = 0.0
         g = steady_state_gains(phi, hk, qd, r)
         out.append(core.FilterModel(phi=phi, bd=bd, h=hk, k=g.k, a=g.a, uninformative_width=w,
-                                    uninformative_trim_weight=trim_weight if failed == 1 else None))
+                                    uninformative_level_q=level_q if failed == 1 else None))
     return out
 
 
-@pytest.mark.parametrize("weight", [0.0, 0.3])
-@pytest.mark.parametrize("reading", [0.05, 2.9])
+def level_predictive_variance(q, a_jj):
+    """s of a random-walk level observed in noise a_jj: the scalar Riccati recursion iterated
+    to its fixed point (independent of the core's closed form)."""
+    p = a_jj
+    for _ in range(10_000):
+        p = p * a_jj / (p + a_jj) + q
+    return p + a_jj
+
+
+@pytest.mark.parametrize("level_q", [0.0, 0.05])
 @pytest.mark.parametrize("strip", [False, True])
-def test_likelihood_is_normal_times_uniform(strip, reading, weight):
+def test_likelihood_is_normal_times_uniform_then_the_level(strip, level_q):
     width = np.array([0.0, 7.5, 0.0])
-    models = small_models(width, np.array([0.0, weight, 0.0]))
+    models = small_models(width, np.array([0.0, level_q, 0.0]))
     fb = core.FilterBank(models, p_min=1e-6, strip_leading_term=strip)
-    z = np.array([0.3, reading, -0.2])  # first frame: x- = 0, so r = z
-    fb.update(z)
-    got = fb.log_likelihoods
-    for k, m in enumerate(models):
-        a = np.asarray(m.a)
-        keep = [j for j in range(3) if not m.uninformative_width[j] > 0]
-        full = stats.multivariate_normal(np.zeros(len(keep)), a[np.ix_(keep, keep)]).logpdf(z[keep])
-        for j in range(3):
-            w_j = m.uninformative_width[j]
-            if w_j > 0:  # at trim (r = 0) with the trim weight, else uniform over a range of width W
-                t = m.uninformative_trim_weight[j]
-                uniform = stats.uniform(loc=z[j] - 1.0, scale=w_j).pdf(z[j])
-                full += np.log(t * stats.norm(0.0, np.sqrt(a[j, j])).pdf(z[j]) + (1 - t) * uniform)
-        # the stripped form drops (2 pi)^{-m/2} |A|^{-1/2} of the filter's whole A
-        expect = full + (1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] if strip else 0.0)
-        assert got[k] == pytest.approx(expect, rel=1e-12, abs=1e-12), k
+    frames = [np.array([0.3, 2.9, -0.2]), np.array([0.1, 3.3, 0.25])]
+    u = np.array([0.2, -0.1])
+    for n, z in enumerate(frames):
+        fb.update(z)
+        got, res = fb.log_likelihoods, np.asarray(fb.residuals)
+        for k, m in enumerate(models):
+            a, r = np.asarray(m.a), res[k]
+            keep = [j for j in range(3) if not m.uninformative_width[j] > 0]
+            full = stats.multivariate_normal(np.zeros(len(keep)), a[np.ix_(keep, keep)]).logpdf(r[keep])
+            for j in range(3):
+                if m.uninformative_width[j] > 0:
+                    assert r[j] == z[j]  # H row zero: the reading itself (perturbation)
+                    if n == 0 or m.uninformative_level_q[j] == 0:  # level unknown: uniform over W
+                        full += stats.uniform(loc=z[j] - 1.0, scale=m.uninformative_width[j]).logpdf(z[j])
+                    else:  # the level set by the first frame, then its predictive density
+                        s_j = level_predictive_variance(m.uninformative_level_q[j], a[j, j])
+                        full += stats.norm(0.0, np.sqrt(s_j)).logpdf(z[j] - frames[0][j])
+            # the stripped form drops (2 pi)^{-m/2} |A|^{-1/2} of the filter's whole A
+            expect = full + (1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] if strip else 0.0)
+            assert got[k] == pytest.approx(expect, rel=1e-9, abs=1e-9), (n, k)
+        fb.propagate(u)
+
+
+def test_a_new_filter_forgets_the_level():
+    models = small_models(np.array([0.0, 7.5, 0.0]), np.array([0.0, 0.05, 0.0]))
+    fb = core.FilterBank(models, p_min=1e-6)
+    fb.step(np.array([0.3, 2.9, -0.2]), np.zeros(2))
+    fb.reset()
+    fb.update(np.array([0.3, -4.0, -0.2]))  # first frame again: uniform, whatever the jump
+    first = core.FilterBank(models, p_min=1e-6)
+    first.update(np.array([0.3, -4.0, -0.2]))
+    assert fb.log_likelihoods[1] == first.log_likelihoods[1]
 
 
 def test_uninformative_reading_leaves_the_likelihood_unchanged_whatever_it_reads():
@@ -82,11 +106,11 @@ def test_widths_are_checked():
         with pytest.raises(ValueError, match=msg):
             core.FilterModel(phi=failed.phi, bd=failed.bd, h=failed.h, k=failed.k, a=failed.a,
                              uninformative_width=np.array(bad))
-    for bad_w, msg in (([0.0, 1.0, 0.0], r"uninformative_trim_weight\[1\] must be in \[0, 1\)"),
-                       ([0.5, 0.0, 0.0], r"uninformative_trim_weight\[0\] .* 0 unless the channel is uninformative")):
+    for bad_w, msg in (([0.0, -1.0, 0.0], r"uninformative_level_q\[1\] must be finite and >= 0"),
+                       ([0.5, 0.0, 0.0], r"uninformative_level_q\[0\] .* 0 unless the channel is uninformative")):
         with pytest.raises(ValueError, match=msg):
             core.FilterModel(phi=failed.phi, bd=failed.bd, h=failed.h, k=failed.k, a=failed.a,
-                             uninformative_width=np.array([0.0, 7.5, 0.0]), uninformative_trim_weight=np.array(bad_w))
+                             uninformative_width=np.array([0.0, 7.5, 0.0]), uninformative_level_q=np.array(bad_w))
     a = np.array(failed.a)
     a[0, 1] = a[1, 0] = 1e-3
     with pytest.raises(ValueError, match="A couples it to channel 0"):
@@ -107,8 +131,8 @@ def test_cover_sensor_hypothesis_is_uninformative_over_the_full_range(cover_desi
         w = cover_design.filter(name).model.uninformative_width
         j = names.SENSORS.index(name)
         assert w[j] == full[j] and np.count_nonzero(w) == 1
-        t = cover_design.filter(name).model.uninformative_trim_weight
-        assert t[j] == 0.5 and np.count_nonzero(t) == 1
+        t = cover_design.filter(name).model.uninformative_level_q
+        assert t[j] == pytest.approx(0.01 * sensors.NOISE_SIGMA[j] ** 2, rel=1e-15) and np.count_nonzero(t) == 1
     assert not np.any(cover_design.filter("LS").model.uninformative_width)
     assert np.count_nonzero(cover_design.filter("LS+PIT").model.uninformative_width) == 1
 
@@ -136,7 +160,7 @@ def test_cover_bank_round_trips_its_widths(cover_design, tmp_path):
     loaded = bank.write_bank(cover_design, tmp_path / "cover.f16bank")
     for h, f in zip(loaded.hypotheses, cover_design.filters):
         assert np.array_equal(h.uninformative_width, f.model.uninformative_width)
-        assert np.array_equal(h.uninformative_trim_weight, f.model.uninformative_trim_weight)
+        assert np.array_equal(h.uninformative_level_q, f.model.uninformative_level_q)
     assert '"failure_model":"cover"' in core.load_bank(str(tmp_path / "cover.f16bank")).metadata
 
 
@@ -153,6 +177,6 @@ def test_tuning_refuses_a_bad_failure_model():
         tuning_from_dict({**base, "failure_model": "partial"})
     with pytest.raises(TuningError, match="failed_surface_q = -1 must be a finite number > 0"):
         tuning_from_dict({**base, "failure_model": "cover", "failed_surface_q": -1})
-    with pytest.raises(TuningError, match=r"failed_sensor_trim_weight = 1 must be a number in \[0, 1\)"):
-        tuning_from_dict({**base, "failure_model": "cover", "failed_sensor_trim_weight": 1})
+    with pytest.raises(TuningError, match=r"failed_sensor_level_q = -1 must be a finite number >= 0"):
+        tuning_from_dict({**base, "failure_model": "cover", "failed_sensor_level_q": -1})
     assert hypotheses.FAILURE_MODELS == ("complete", "cover")

@@ -72,9 +72,10 @@ def register(subparsers) -> None:
     p.add_argument("--failure-model", default=None, metavar="|".join(FAILURE_MODELS),
                    help="hypotheses of the paper's complete failures, or hypotheses that cover the "
                         "failure (default: the tuning's failure_model, complete for the shipped ones)")
-    p.add_argument("--failed-sensor-trim-weight", default=None, metavar="W",
-                   help="with --failure-model cover: probability in [0, 1) that a failed sensor reads its "
-                        "trim value, the rest spread over its full range (default: the tuning's, 0.5)")
+    p.add_argument("--failed-sensor-level-q", default=None, metavar="Q",
+                   help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
+                        "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
+                        "its range every frame (default: the tuning's, 0.01)")
     p.add_argument("--out", default=None, metavar="FILE",
                    help="bank file to write (default ./f16mmae_M<mach>_<alt>ft_<tuning>.f16bank)")
     p.add_argument("--report", default=None, metavar="DIR",
@@ -102,12 +103,12 @@ def _run(args) -> int:
         if args.failure_model != tuning.failure_model:
             tuning = dataclasses.replace(tuning, name=f"{tuning.name}-{args.failure_model}",
                                          failure_model=args.failure_model)
-    if args.failed_sensor_trim_weight is not None:
-        w = number("--failed-sensor-trim-weight", args.failed_sensor_trim_weight)
-        if not 0.0 <= w < 1.0 or tuning.failure_model != "cover":
-            raise CliError(f"--failed-sensor-trim-weight {args.failed_sensor_trim_weight} must be in [0, 1) "
+    if args.failed_sensor_level_q is not None:
+        w = number("--failed-sensor-level-q", args.failed_sensor_level_q)
+        if not w >= 0.0 or tuning.failure_model != "cover":
+            raise CliError(f"--failed-sensor-level-q {args.failed_sensor_level_q} must be >= 0 "
                            "and needs the cover failure model (--failure-model cover)")
-        tuning = dataclasses.replace(tuning, name=f"{tuning.name}-w{w:g}", failed_sensor_trim_weight=w)
+        tuning = dataclasses.replace(tuning, name=f"{tuning.name}-q{w:g}", failed_sensor_level_q=w)
     out = writable_file(args.out or f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}.f16bank", "--out")
     report_dir = writable_dir(args.report, "--report") if args.report else None  # before the design
     t0 = time.perf_counter()

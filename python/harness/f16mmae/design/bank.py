@@ -32,7 +32,7 @@ from .. import names
 from ..truth import actuators, sensors
 from .discretize import DiscreteModel, discretize
 from .gains import SteadyStateGains, steady_state_gains
-from .hypotheses import (HypothesisModel, hypothesis_dynamics, hypothesis_model, uninformative_trim_weight,
+from .hypotheses import (HypothesisModel, hypothesis_dynamics, hypothesis_model, uninformative_level_q,
                          uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
 from .tuning import Tuning, load_tuning
@@ -95,11 +95,11 @@ class BankDesign:
 
         trim = self.linearized.trim
         tuning_arg = self.tuning.name
-        # `f16mmae design --failure-model M [--failed-sensor-trim-weight W]` names it NAME-M[-wW]
-        weight = f"-w{self.tuning.failed_sensor_trim_weight:g}"
+        # `f16mmae design --failure-model M [--failed-sensor-level-q Q]` names it NAME-M[-qQ]
+        weight = f"-q{self.tuning.failed_sensor_level_q:g}"
         if tuning_arg.endswith(weight):
             tuning_arg = tuning_arg[:-len(weight)]
-            weight = f" --failed-sensor-trim-weight {self.tuning.failed_sensor_trim_weight:g}"
+            weight = f" --failed-sensor-level-q {self.tuning.failed_sensor_level_q:g}"
         else:
             weight = ""
         suffix = f"-{self.tuning.failure_model}"
@@ -166,8 +166,8 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
             dm = discretize(f_k, model.b, np.eye(names.NX), gqg_k, discrete.dt_s)
             phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal())
         out.append(hypothesis_model(name, phi, bd, model.h, qd, uninformative_width(name, tuning.failure_model),
-                                    uninformative_trim_weight(name, tuning.failure_model,
-                                                              tuning.failed_sensor_trim_weight)))
+                                    uninformative_level_q(name, tuning.failure_model,
+                                                              tuning.failed_sensor_level_q)))
     return out
 
 
@@ -207,7 +207,7 @@ def to_model_bank(design: BankDesign):
 
     hyps = [core.HypothesisModel(name=f.name, phi=f.model.phi, bd=f.model.bd, h=f.model.h,
                                  k=f.gains.k, a=f.gains.a, uninformative_width=f.model.uninformative_width,
-                                 uninformative_trim_weight=f.model.uninformative_trim_weight)
+                                 uninformative_level_q=f.model.uninformative_level_q)
             for f in design.filters]
     return core.ModelBank(
         hyps, state_names=list(names.STATES), input_names=list(names.ACTUATORS),

@@ -20,10 +20,12 @@ The expected log-likelihood ratio per frame in steady state, filter T' (T's own)
               + mean_t (m_F' Ainv_F m_F - m_T'' Ainv_T' m_T') / 2 + E[u_T'] - E[u_F]
 
 ``S_k = C_k P C_k' + R`` the residual covariance, ``P`` the stationary covariance of
-``xi = [x; x^-_T'; x^-_F]`` (discrete Lyapunov: the truth and both filters driven by w and v),
+``xi = [x; x^-_T'; b^_T'; x^-_F; b^_F]`` (discrete Lyapunov: the truth, both filters and
+their uninformative channels' levels ``b^``, driven by w and v),
 ``m_k(t)`` the residual's deterministic part under the dither (the same system simulated
-noise-free to its periodic steady state), ``E[u_k]`` over ``r_j ~ N(m_j(t), S_jj)`` by
-Gauss-Hermite quadrature (40 points). When the models are exact, D(T, F) is the
+noise-free to its periodic steady state); a tracked level's innovation ``e_j`` is a state of
+the same system, so ``E[u_k]`` is exact in steady state (its first frame is left out). When
+the models are exact, D(T, F) is the
 Kullback-Leibler divergence rate of F's residual density from T's. The bank needs about
 ``ln(1/p_min)`` nats to lift a hypothesis from the floor, so ``ln(1/p_min) / D`` frames
 estimates how long it takes (``frames_to_lift``); ``D <= 0`` means F explains the data at
@@ -45,33 +47,23 @@ LOG_2PI = float(np.log(2.0 * np.pi))
 
 @dataclass(frozen=True)
 class ScoredFilter:
-    """A filter as the bank scores it: its matrices, Ainv (uninformative channels zeroed) and
-    its uninformative channels ``(j, A_jj, W_j, w_j)``."""
+    """A filter as the bank scores it: its matrices, Ainv (uninformative channels zeroed), the
+    constant of its memoryless uninformative channels and its tracked levels ``(j, g, s, A_jj)``
+    (steady_state_filter.h)."""
 
     phi: np.ndarray
     bd: np.ndarray
     h: np.ndarray
     k: np.ndarray
     a_inv: np.ndarray
-    uninformative: tuple[tuple[int, float, float, float], ...] = ()
-
-    def expected_u(self, mean: np.ndarray, var: np.ndarray) -> float:
-        """E[u(r)] for r_j ~ N(mean_j, var_j) (steady_state_filter.h's u, Gauss-Hermite);
-        ``mean`` (frames, m) averages over frames."""
-        total = 0.0
-        for j, a_jj, width, w in self.uninformative:
-            c = 0.5 * (LOG_2PI + np.log(a_jj)) - np.log(width)
-            if w == 0.0:
-                total += c
-                continue
-            x = mean[:, j:j + 1] + np.sqrt(var[j]) * _GH_X  # (frames, points)
-            u = np.logaddexp(np.log(w) - x * x / (2.0 * a_jj), np.log1p(-w) + c)
-            total += float(np.mean(u @ _GH_W))
-        return total
+    c: float = 0.0
+    levels: tuple[tuple[int, float, float, float], ...] = ()
 
 
-_GH_X, _GH_W = np.polynomial.hermite_e.hermegauss(40)
-_GH_W = _GH_W / np.sqrt(2.0 * np.pi)
+def level_filter(q: float, a_jj: float) -> tuple[float, float]:
+    """``(g, s)`` of a level's steady-state scalar Kalman filter (steady_state_filter.h)."""
+    p = 0.5 * (q + np.sqrt(q * q + 4.0 * q * a_jj))
+    return p / (p + a_jj), p + a_jj
 
 
 def scored_filter(design: BankDesign, name: str) -> ScoredFilter:
@@ -79,14 +71,17 @@ def scored_filter(design: BankDesign, name: str) -> ScoredFilter:
     f = design.filter(name)
     a = f.gains.a
     a_inv = np.linalg.inv(a)
-    unf = []
-    for j, (width, w) in enumerate(zip(f.model.uninformative_width, f.model.uninformative_trim_weight)):
+    c, levels = 0.0, []
+    for j, (width, q) in enumerate(zip(f.model.uninformative_width, f.model.uninformative_level_q)):
         if width > 0.0:
             a_inv[j, :] = 0.0
             a_inv[:, j] = 0.0
-            unf.append((j, float(a[j, j]), float(width), float(w)))
-    return ScoredFilter(phi=f.model.phi, bd=f.model.bd, h=f.model.h, k=f.gains.k, a_inv=a_inv,
-                        uninformative=tuple(unf))
+            if q > 0.0:
+                levels.append((j, *level_filter(float(q), float(a[j, j])), float(a[j, j])))
+            else:
+                c += 0.5 * (LOG_2PI + np.log(a[j, j])) - np.log(width)
+    return ScoredFilter(phi=f.model.phi, bd=f.model.bd, h=f.model.h, k=f.gains.k, a_inv=a_inv, c=c,
+                        levels=tuple(levels))
 
 
 def truth_matrices(design: BankDesign, truth: str) -> tuple[np.ndarray, np.ndarray]:
@@ -101,45 +96,73 @@ def truth_matrices(design: BankDesign, truth: str) -> tuple[np.ndarray, np.ndarr
     return bd, h
 
 
-def _stochastic(phi, q, r, h_t, filters: list[ScoredFilter]) -> list[np.ndarray]:
-    """Stationary residual covariances S_k of ``filters`` under the truth (Lyapunov)."""
+def _layout(n: int, filters: list[ScoredFilter]) -> tuple[list[int], list[list[int]], int]:
+    """Offsets in xi = [x; x^-_0; levels_0; x^-_1; levels_1; ...]: each filter's state, its levels."""
+    at, states, levels = n, [], []
+    for f in filters:
+        states.append(at)
+        at += n
+        levels.append(list(range(at, at + len(f.levels))))
+        at += len(f.levels)
+    return states, levels, at
+
+
+def _stochastic(phi, q, r, h_t, filters: list[ScoredFilter]) -> list[tuple[np.ndarray, list[float]]]:
+    """Stationary residual covariance S_k and level-innovation variances of ``filters`` under
+    the truth (discrete Lyapunov of the truth, the filters and their levels, driven by w, v)."""
     n, m = phi.shape[0], r.shape[0]
-    nf = len(filters)
-    big = np.zeros((n * (nf + 1), n * (nf + 1)))
-    drive = np.zeros((n * (nf + 1), n + m))
+    states, levels, size = _layout(n, filters)
+    big = np.zeros((size, size))
+    drive = np.zeros((size, n + m))
     big[:n, :n] = phi
     drive[:n, :n] = np.eye(n)
-    for i, f in enumerate(filters):
-        s = slice(n * (i + 1), n * (i + 2))
+    for f, s0, lv in zip(filters, states, levels):
+        s = slice(s0, s0 + n)
         big[s, :n] = f.phi @ f.k @ h_t
         big[s, s] = f.phi @ (np.eye(n) - f.k @ f.h)
         drive[s, n:] = f.phi @ f.k
+        for (j, g, _, _), b in zip(f.levels, lv):  # b^ <- (1 - g) b^ + g z_j
+            big[b, :n] = g * h_t[j]
+            big[b, b] = 1.0 - g
+            drive[b, n + j] = g
     noise = np.zeros((n + m, n + m))
     noise[:n, :n] = q
     noise[n:, n:] = r
     p = solve_discrete_lyapunov(big, drive @ noise @ drive.T)
     out = []
-    for i, f in enumerate(filters):
-        c = np.zeros((m, n * (nf + 1)))
+    for f, s0, lv in zip(filters, states, levels):
+        c = np.zeros((m, size))
         c[:, :n] = h_t
-        c[:, n * (i + 1):n * (i + 2)] = -f.h
-        out.append(c @ p @ c.T + r)
+        c[:, s0:s0 + n] = -f.h
+        cov = c @ p @ c.T + r
+        e_var = []
+        for (j, _, _, _), b in zip(f.levels, lv):  # e = z_j - b^
+            ce = np.zeros(size)
+            ce[:n] = h_t[j]
+            ce[b] = -1.0
+            e_var.append(float(ce @ p @ ce + r[j, j]))
+        out.append((cov, e_var))
     return out
 
 
-def _deterministic(phi, bd_t, h_t, filters: list[ScoredFilter], u: np.ndarray, keep: int) -> list[np.ndarray]:
-    """Each filter's residual mean m(t) (keep, m) over the last ``keep`` frames of the
-    noise-free response to ``u``."""
+def _deterministic(phi, bd_t, h_t, filters: list[ScoredFilter], u: np.ndarray,
+                   keep: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Each filter's residual mean m(t) (keep, m) and level-innovation means (keep, levels) over
+    the last ``keep`` frames of the noise-free response to ``u``."""
     n = phi.shape[0]
     x = np.zeros(n)
     xf = [np.zeros(n) for _ in filters]
-    out = [np.zeros((keep, h_t.shape[0])) for _ in filters]
+    lv = [np.zeros(len(f.levels)) for f in filters]
+    out = [(np.zeros((keep, h_t.shape[0])), np.zeros((keep, len(f.levels)))) for f in filters]
     for i, ui in enumerate(u):
         z = h_t @ x
         for j, f in enumerate(filters):
             res = z - f.h @ xf[j]
+            e = np.array([z[c] for c, _, _, _ in f.levels]) - lv[j]
             if i >= len(u) - keep:
-                out[j][i - (len(u) - keep)] = res
+                out[j][0][i - (len(u) - keep)] = res
+                out[j][1][i - (len(u) - keep)] = e
+            lv[j] = lv[j] + np.array([g for _, g, _, _ in f.levels]) * e
             xf[j] = f.phi @ (xf[j] + f.k @ res) + f.bd @ ui
         x = phi @ x + bd_t @ ui
     return out
@@ -156,14 +179,16 @@ def rates(phi: np.ndarray, q: np.ndarray, r: np.ndarray, bd_t: np.ndarray, h_t: 
     """D(T, F) in nats per frame for each competitor (module docstring): the truth
     ``(phi, q, r, bd_t, h_t)``, its own filter ``own``, inputs ``u`` (frames, nu) or none."""
     filters = [own] + list(competitors)
-    s = _stochastic(phi, q, r, h_t, filters)
+    stoch = _stochastic(phi, q, r, h_t, filters)
     m = h_t.shape[0]
     means = (_deterministic(phi, bd_t, h_t, filters, u, keep=len(u) // 2) if u is not None
-             else [np.zeros((1, m)) for _ in filters])
+             else [(np.zeros((1, m)), np.zeros((1, len(f.levels)))) for f in filters])
     score = []  # E[l_k]
-    for f, sk, mk in zip(filters, s, means):
-        quad = float(np.trace(f.a_inv @ sk)) + float(np.mean(np.einsum("ti,ij,tj->t", mk, f.a_inv, mk)))
-        score.append(-0.5 * quad + f.expected_u(mk, np.diag(sk)))
+    for f, (cov, e_var), (mk, ek) in zip(filters, stoch, means):
+        quad = float(np.trace(f.a_inv @ cov)) + float(np.mean(np.einsum("ti,ij,tj->t", mk, f.a_inv, mk)))
+        u_k = f.c + sum(0.5 * np.log(a_jj / s) - (ev + float(np.mean(ek[:, i] ** 2))) / (2.0 * s)
+                        for i, ((_, _, s, a_jj), ev) in enumerate(zip(f.levels, e_var)))
+        score.append(-0.5 * quad + u_k)
     return [score[0] - sc for sc in score[1:]]
 
 

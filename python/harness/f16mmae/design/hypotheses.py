@@ -23,16 +23,18 @@ no-failure model, in one of two failure models (``FAILURE_MODELS``, the tuning's
   ``F`` (``hypothesis_dynamics``), so a stuck or hardover surface is a constant the filter
   learns, and one held at trim is the constant zero.
 - Sensor failure i: the row i of ``H`` is removed as above, and the reading is declared
-  uninformative about the aircraft: under the hypothesis it sits at its trim value (plus
-  noise: the paper's complete failure) with probability ``w = failed_sensor_trim_weight``
-  and anywhere in the sensor's full range ``W_i = FULL_SCALE_i high - low``
-  (``truth.sensors.FULL_SCALE``, the sensor's specification) otherwise -- held, zero, stuck,
-  full scale, biased, drifting. The core replaces the channel's Gaussian factor by
-  ``w N(r_i; 0, A_ii) + (1 - w)/W_i`` (``cpp/f16mmae/steady_state_filter.h`` derives it), so
-  hypotheses using different numbers of readings are densities over the same seven readings.
-  ``w = 0`` is the reading uniform over the range: a reading near trim then costs the
-  hypothesis ``ln(W_i / sqrt(2 pi A_ii))`` (6-7 nats) per frame, so a sensor failed at or
-  near its trim value is never isolated (docs/results/failure_models.md measures both).
+  uninformative about the aircraft: under the hypothesis it is an unknown level anywhere in
+  the sensor's full range ``W_i = FULL_SCALE_i high - low`` (``truth.sensors.FULL_SCALE``,
+  the sensor's specification) plus the sensor's noise -- held at trim, zero, stuck, full
+  scale, biased -- and the level wanders as a random walk of ``q_i = failed_sensor_level_q
+  * NOISE_SIGMA_i^2`` per frame (drifting). The core replaces the channel's Gaussian factor by
+  ``1/W_i`` on the first frame and then by the predictive density of the level's scalar
+  Kalman filter (``cpp/f16mmae/steady_state_filter.h`` derives it), so hypotheses using
+  different numbers of readings are densities over the same seven readings, and a reading
+  held anywhere costs about ``ln(W_i / sqrt(2 pi A_ii))`` (6-7 nats) once. With
+  ``failed_sensor_level_q = 0`` the level has no memory: the reading is uniform over the
+  range every frame, and a reading near trim then costs that every frame, so a sensor failed
+  at or near its trim value is never isolated (docs/results/failure_models.md measures both).
 
 A dual hypothesis ``"A+B"`` applies both changes. ``R`` is the same in every hypothesis; so
 are ``Phi`` and ``Q_d`` except for a ``cover`` actuator hypothesis.
@@ -60,7 +62,7 @@ class HypothesisModel:
     h: np.ndarray    # (nz, nx)
     qd: np.ndarray   # (nx, nx) process noise of this hypothesis' filter
     uninformative_width: np.ndarray  # (nz,) W_i of an uninformative channel, 0 otherwise
-    uninformative_trim_weight: np.ndarray  # (nz,) P(reads trim) of an uninformative channel
+    uninformative_level_q: np.ndarray  # (nz,) level random walk per frame of such a channel
 
 
 def check_failure_model(failure_model: str) -> str:
@@ -75,10 +77,12 @@ def sensor_full_range() -> np.ndarray:
     return np.array([hi - lo for lo, hi in sensors.FULL_SCALE], dtype=float)
 
 
-def uninformative_trim_weight(name: str, failure_model: str, weight: float) -> np.ndarray:
-    """(nz,) the trim weight of hypothesis ``name``'s uninformative channels (``weight`` on
-    its failed sensors under ``cover``, zeros otherwise)."""
-    return np.where(uninformative_width(name, failure_model) > 0.0, float(weight), 0.0)
+def uninformative_level_q(name: str, failure_model: str, ratio: float) -> np.ndarray:
+    """(nz,) the level random walk per frame of hypothesis ``name``'s uninformative channels:
+    ``ratio`` times the sensor's noise variance (``truth.sensors.NOISE_SIGMA``) on its failed
+    sensors under ``cover``, zeros otherwise."""
+    noise_var = np.asarray(sensors.NOISE_SIGMA, dtype=float) ** 2
+    return np.where(uninformative_width(name, failure_model) > 0.0, float(ratio) * noise_var, 0.0)
 
 
 def uninformative_width(name: str, failure_model: str) -> np.ndarray:
@@ -109,7 +113,7 @@ def hypothesis_dynamics(name: str, f: np.ndarray, gqg: np.ndarray, failed_surfac
 
 def hypothesis_model(name: str, phi: np.ndarray, bd: np.ndarray, h: np.ndarray,
                      qd: np.ndarray | None = None, width: np.ndarray | None = None,
-                     trim_weight: np.ndarray | None = None) -> HypothesisModel:
+                     level_q: np.ndarray | None = None) -> HypothesisModel:
     """The model of hypothesis ``name`` (``"NONE"``, ``"LS"``, ``"PIT"``, ``"LS+PIT"``, ...)
     from ``(phi, bd, h)`` (the no-failure ones, or a ``cover`` hypothesis' own ``phi``, ``bd``):
     failed actuators' B_d columns and failed sensors' H rows set to zero; ``qd``, the
@@ -126,8 +130,8 @@ def hypothesis_model(name: str, phi: np.ndarray, bd: np.ndarray, h: np.ndarray,
     return HypothesisModel(name=name, phi=np.array(phi, dtype=float, copy=True), bd=bd_k, h=h_k,
                            qd=np.zeros((n, n)) if qd is None else np.array(qd, dtype=float, copy=True),
                            uninformative_width=np.zeros(m) if width is None else np.asarray(width, dtype=float),
-                           uninformative_trim_weight=(np.zeros(m) if trim_weight is None
-                                                      else np.asarray(trim_weight, dtype=float)))
+                           uninformative_level_q=(np.zeros(m) if level_q is None
+                                                      else np.asarray(level_q, dtype=float)))
 
 
 def all_hypothesis_models(phi: np.ndarray, bd: np.ndarray, h: np.ndarray,

@@ -19,18 +19,23 @@
 //     N(r; 0, A) = N(r_G; 0, A_GG) · prod_{j∈F} N(r_j; 0, A_jj),      G = the other channels,
 // and the hypothesis replaces each failed factor by the density of a reading that is an
 // unknown level b_j (uniform over the range, independent of the aircraft) plus the sensor's
-// noise (variance A_jj = R_jj), the level a random walk of q_j per frame:
+// noise (variance A_jj = R_jj), the level a random walk of q_j per frame that may also jump
+// anywhere in the range, with probability ε = kLevelJumpProbability per frame (a sensor that
+// fails again: goes hardover, sticks, is reset):
 //   first frame (level unknown):   ln f_j = -ln W_j
-//   later frames (q_j > 0):        ln f_j = ln N(e_j; 0, s_j),   e_j = r_j - b̂_j,
-//       b̂_j <- b̂_j + g_j e_j  (first frame: b̂_j = r_j), the steady-state scalar Kalman filter
-//       of the level: P = (q_j + sqrt(q_j² + 4 q_j A_jj)) / 2, s_j = P + A_jj, g_j = P / s_j;
+//   later frames (q_j > 0):        ln f_j = ln[ (1 - ε) N(e_j; 0, s_j) + ε / W_j ],  e_j = r_j - b̂_j,
+//       b̂_j <- b̂_j + g_j e_j, the steady-state scalar Kalman filter of the level:
+//       P = (q_j + sqrt(q_j² + 4 q_j A_jj)) / 2, s_j = P + A_jj, g_j = P / s_j; but b̂_j <- r_j
+//       on the first frame and whenever the jump term is the larger (the level restarts at
+//       the reading: the most probable branch is kept, a one-branch approximation);
 //   q_j = 0: every frame as the first (a reading uniform over the range, no memory).
 // The hypothesis' log-density is then
 //     ln f_k = -q/2 - (m/2) ln 2π - (1/2) ln|A| + u_k,
 //     q   = r_Gᵀ A_GG⁻¹ r_G  (= rᵀ A⁻¹ r with row and column j of A⁻¹ zeroed, exact here),
 //     u_k = sum_{j∈F} [ ln f_j + (1/2) ln(2π A_jj) ]
 //         = sum_{j∈F} c_j,  c_j = (1/2) ln(2π A_jj) - ln W_j            (first frame, q_j = 0)
-//         = sum_{j∈F} [ -e_j²/(2 s_j) + (1/2) ln(A_jj / s_j) ]          (tracked level)
+//         = sum_{j∈F} ln[ (1-ε) exp(-e_j²/(2 s_j) + (1/2) ln(A_jj/s_j)) + ε exp(c_j) ]
+//                                                                           (tracked level)
 // So every hypothesis, whatever the number of channels it believes, is a density over the
 // same seven readings, and the bank adds u_k to l_k in both forms of eq. 2 (filter_bank.h,
 // which keeps b̂ and whether it is set per filter): with the leading term stripped, u_k puts
@@ -221,8 +226,15 @@ class HypothesisFilter {
     for (Eigen::Index j = 0; j < unf_gain_.size(); ++j) {
       if (unf_gain_(j) == 0.0) continue;
       const double e = r(j) - level(j);
-      u += unf_log_ratio_(j) - e * e * unf_half_inv_s_(j);
-      level(j) += unf_gain_(j) * e;
+      const double stay = kLogStay + unf_log_ratio_(j) - e * e * unf_half_inv_s_(j);
+      const double jump = kLogJump + unf_c_(j);
+      if (stay >= jump) {
+        u += stay + std::log1p(std::exp(jump - stay));
+        level(j) += unf_gain_(j) * e;
+      } else {
+        u += jump + std::log1p(std::exp(stay - jump));
+        level(j) = r(j);
+      }
     }
     return u;
   }
@@ -266,6 +278,15 @@ class HypothesisFilter {
 
  private:
   static constexpr double kPi = 3.14159265358979323846;
+
+ public:
+  // ε of the header comment: the probability per frame that a failed sensor's level jumps
+  // anywhere in its range (a model constant of the core).
+  static constexpr double kLevelJumpProbability = 1e-3;
+
+ private:
+  static constexpr double kLogJump = -6.907755278982137;        // ln 1e-3
+  static constexpr double kLogStay = -1.0005003335835335e-3;    // ln(1 - 1e-3)
   Model m_;
   AMatrix a_inv_;  // A⁻¹, rows/columns of uninformative channels zeroed
   double log_det_a_ = 0.0;

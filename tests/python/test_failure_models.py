@@ -65,13 +65,42 @@ def test_likelihood_is_normal_times_uniform_then_the_level(strip, level_q):
                     assert r[j] == z[j]  # H row zero: the reading itself (perturbation)
                     if n == 0 or m.uninformative_level_q[j] == 0:  # level unknown: uniform over W
                         full += stats.uniform(loc=z[j] - 1.0, scale=m.uninformative_width[j]).logpdf(z[j])
-                    else:  # the level set by the first frame, then its predictive density
+                    else:  # the level set by the first frame, then its predictive density or a jump
                         s_j = level_predictive_variance(m.uninformative_level_q[j], a[j, j])
-                        full += stats.norm(0.0, np.sqrt(s_j)).logpdf(z[j] - frames[0][j])
+                        eps = 1e-3
+                        full += np.log((1 - eps) * stats.norm(0.0, np.sqrt(s_j)).pdf(z[j] - frames[0][j])
+                                       + eps * stats.uniform(loc=z[j] - 1.0, scale=m.uninformative_width[j]).pdf(z[j]))
             # the stripped form drops (2 pi)^{-m/2} |A|^{-1/2} of the filter's whole A
             expect = full + (1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] if strip else 0.0)
             assert got[k] == pytest.approx(expect, rel=1e-9, abs=1e-9), (n, k)
         fb.propagate(u)
+
+
+def test_a_level_that_jumps_restarts_at_the_reading():
+    models = small_models(np.array([0.0, 7.5, 0.0]), np.array([0.0, 0.05, 0.0]))
+    fb = core.FilterBank(models, p_min=1e-6)
+    zs = [np.array([0.3, 0.2, -0.2]), np.array([0.3, 3.5, -0.2]), np.array([0.3, 3.5, -0.2])]
+    out = []
+    for z in zs:
+        fb.step(z, np.zeros(2))
+        out.append(fb.log_likelihoods[1])
+    a11 = float(np.asarray(models[1].a)[1, 1])
+    s_j = level_predictive_variance(0.05, a11)
+    g = (s_j - a11) / s_j
+    # frame 2: a jump of 3.3 against s_j: the uniform branch (eps / W) is far the likelier ...
+    stay = np.log(1 - 1e-3) + stats.norm(0, np.sqrt(s_j)).logpdf(3.3)
+    jump = np.log(1e-3 / 7.5)
+    assert jump > stay
+    # ... so frame 3 sees the level at 3.5 (restarted), not at 0.2 + g * 3.3
+    r3 = np.asarray(fb.residuals)[1]
+    at_restart = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_j)).pdf(r3[1] - 3.5) + 1e-3 / 7.5)
+    tracked = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_j)).pdf(r3[1] - (0.2 + g * 3.3)) + 1e-3 / 7.5)
+    a = np.asarray(models[1].a)
+    keep = [0, 2]
+    gauss = stats.multivariate_normal(np.zeros(2), a[np.ix_(keep, keep)]).logpdf(r3[keep]) + \
+        1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1]
+    assert out[2] == pytest.approx(gauss + at_restart, abs=1e-9)
+    assert abs(at_restart - tracked) > 1.0
 
 
 def test_a_new_filter_forgets_the_level():

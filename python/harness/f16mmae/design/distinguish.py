@@ -24,7 +24,9 @@ The expected log-likelihood ratio per frame in steady state, filter T' (T's own)
 their uninformative channels' levels ``b^``, driven by w and v),
 ``m_k(t)`` the residual's deterministic part under the dither (the same system simulated
 noise-free to its periodic steady state); a tracked level's innovation ``e_j`` is a state of
-the same system, so ``E[u_k]`` is exact in steady state (its first frame is left out). When
+the same system, so ``E[u_k]`` is exact in steady state but for the level's jump branch
+(probability 1e-3 per frame; counted as ln(1 - eps), which holds while no jump is likely)
+and its first frame. When
 the models are exact, D(T, F) is the
 Kullback-Leibler divergence rate of F's residual density from T's. The bank needs about
 ``ln(1/p_min)`` nats to lift a hypothesis from the floor, so ``ln(1/p_min) / D`` frames
@@ -43,6 +45,9 @@ from ..truth import dither as dither_mod
 from .bank import BankDesign
 
 LOG_2PI = float(np.log(2.0 * np.pi))
+#: ln(1 - eps), eps the core's probability per frame that a failed sensor's level jumps
+#: (steady_state_filter.h kLevelJumpProbability); the jump branch itself is left out.
+LOG_STAY = float(np.log1p(-1e-3))
 
 
 @dataclass(frozen=True)
@@ -186,7 +191,7 @@ def rates(phi: np.ndarray, q: np.ndarray, r: np.ndarray, bd_t: np.ndarray, h_t: 
     score = []  # E[l_k]
     for f, (cov, e_var), (mk, ek) in zip(filters, stoch, means):
         quad = float(np.trace(f.a_inv @ cov)) + float(np.mean(np.einsum("ti,ij,tj->t", mk, f.a_inv, mk)))
-        u_k = f.c + sum(0.5 * np.log(a_jj / s) - (ev + float(np.mean(ek[:, i] ** 2))) / (2.0 * s)
+        u_k = f.c + sum(LOG_STAY + 0.5 * np.log(a_jj / s) - (ev + float(np.mean(ek[:, i] ** 2))) / (2.0 * s)
                         for i, ((_, _, s, a_jj), ev) in enumerate(zip(f.levels, e_var)))
         score.append(-0.5 * quad + u_k)
     return [score[0] - sc for sc in score[1:]]

@@ -91,3 +91,21 @@ def test_rate_record_and_errors():
         iv.wilson(1, 2, level=1.5)
     with pytest.raises(ValueError, match="exposure"):
         iv.poisson_rate(1, -1.0)
+
+
+def test_closed_forms_agree_with_scipy_stats():
+    """The closed-form quantiles against scipy.stats' own (root search for the exact
+    binomial interval, the Wilson formula, the chi-square quantile)."""
+    from scipy import stats
+    for n in (1, 2, 3, 7, 10, 30, 101, 368):
+        for k in sorted({0, 1, n // 3, n // 2, n - 1, n}):
+            for level in (0.9, 0.95, 0.99):
+                t = stats.binomtest(k, n)
+                cp = t.proportion_ci(confidence_level=level, method="exact")
+                assert iv.clopper_pearson(k, n, level) == pytest.approx((cp.low, cp.high), abs=1e-10)
+                wi = t.proportion_ci(confidence_level=level, method="wilson")
+                assert iv.wilson(k, n, level) == pytest.approx((wi.low, wi.high), abs=1e-14)
+    for events in (0, 1, 2, 5, 40):
+        r = iv.poisson_rate(events, 1.0)
+        lo = 0.0 if events == 0 else stats.chi2.ppf(0.025, 2 * events) / 2
+        assert r["ci95"] == pytest.approx([round(lo, 6), round(stats.chi2.ppf(0.975, 2 * events + 2) / 2, 6)], abs=2e-6)

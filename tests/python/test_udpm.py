@@ -1,6 +1,6 @@
 """The two-process tests over UDP multicast (udpm_scenarios.py: mmae-daemon, lcm-logger,
 lcm-logplayer, wire faults, hostile messages, the latency echo), each run by a pytest of its
-own inside a private network namespace (netns.py) that this test makes: they need no
+own inside a private network namespace (f16mmae.lcm.netns) that this test makes: they need no
 multicast set-up on the host, never skip for the lack of it, and never send a packet on a
 real interface. They skip, saying why, only where the host refuses such namespaces."""
 from __future__ import annotations
@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from netns import netns_unavailable, run_in_private_netns
+from f16mmae.lcm.netns import netns_unavailable, run_in_private_netns
 
 SCENARIOS = Path(__file__).with_name("udpm_scenarios.py")
 NAMES = [node.name for node in ast.parse(SCENARIOS.read_text()).body

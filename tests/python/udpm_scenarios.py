@@ -1,5 +1,5 @@
 """mmae-daemon in its own process, over UDP multicast (udpm): the scenarios test_udpm.py runs,
-each inside a private network namespace whose only interface is the loopback (netns.py).
+each inside a private network namespace whose only interface is the loopback (f16mmae.lcm.netns).
 Collected on their own (outside such a namespace) they refuse to run, so that no test of
 ours ever multicasts on a real interface.
 
@@ -41,7 +41,7 @@ from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae.lcm.replay import replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
-from netns import only_loopback
+from f16mmae.lcm.netns import only_loopback
 from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
 
 if not only_loopback():
@@ -49,8 +49,13 @@ if not only_loopback():
                        "lo: run tests/python/test_udpm.py, which makes one for each scenario")
 
 PORT = 7700
-URL = f"udpm://239.255.76.67:{PORT}?ttl=0"
-URL2 = f"udpm://239.255.76.67:{PORT + 1}?ttl=0"
+# A 2-MiB socket receive buffer (the host's default is ~200 KiB): a lockstep flight runs at
+# about 1 ms a frame, and lcm-logger, which nothing waits for, must not drop a burst while
+# the scheduler of a loaded 2-core host keeps it off the CPU (a dropped frame shows as a
+# replay mismatch). The kernel caps it at net.core.rmem_max.
+RECV_BUF = "recv_buf_size=2097152"
+URL = f"udpm://239.255.76.67:{PORT}?ttl=0&{RECV_BUF}"
+URL2 = f"udpm://239.255.76.67:{PORT + 1}?ttl=0&{RECV_BUF}"
 
 
 @pytest.fixture(scope="module")

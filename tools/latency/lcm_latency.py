@@ -4,6 +4,10 @@
 or ``python tools/latency/lcm_latency.py ...``). Not installed with the package: it needs the
 latency tools of this folder, which are built with the project and never installed.
 
+Runs itself inside a private network namespace (``f16mmae.lcm.netns``: loopback only, with
+multicast), so no packet reaches a real interface; ``--realtime`` then needs a host that grants
+SCHED_FIFO inside an unprivileged user namespace.
+
 Starts ``mmae-daemon`` (the shipped tuned bank) and ``lcm-echo-f16`` (republishes each
 message byte for byte: the transport's own round trip) on one LCM URL, then flies the truth
 model in real time at 64 Hz against the daemon (``f16mmae hil`` paced mode, no failure,
@@ -69,6 +73,7 @@ from f16mmae.banks import load_bank
 from f16mmae.lcm.channels import HilError, channels
 from f16mmae.lcm.daemon import DaemonProcess, pin_to, statistics_line
 from f16mmae.lcm.hil import fly_hil
+from f16mmae.lcm.netns import NetnsError, reexec_in_private_netns
 from f16mmae.lcm.remote import RemoteEstimator, level0_hypotheses
 from f16mmae.lcmt_command_frame import lcmt_command_frame
 from f16mmae.lcmt_mmae_reset import lcmt_mmae_reset
@@ -308,6 +313,7 @@ def place(placement: str) -> tuple[set[int] | None, set[int] | None]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
     p = argparse.ArgumentParser(prog="f16mmae bench lcm",
                                 description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -353,6 +359,12 @@ def main(argv: list[str] | None = None) -> int:
                       ("--echo-work-us", args.echo_work_us)):
         if lead is not None and not 0 <= lead < period_us:
             p.error(f"{opt} {lead:g} must lie in [0, {period_us:g}) us (0: off; a frame lasts {period_us:g} us)")
+    try:  # both round trips stay on the loopback of a namespace of their own
+        status = reexec_in_private_netns([os.path.abspath(__file__), *argv])
+    except NetnsError as e:
+        p.error(str(e))
+    if status is not None:
+        return status
     r = run(args.duration, args.lcm_url, args.bank, args.realtime, args.pairs, args.idle_ms, args.warm_lead_us,
             args.echo_wake_lead_us, args.placement, args.rewarm_us, args.echo_rewake_us, args.echo_work_us)
     ex, ec, d = r["executive_latency_us"], r["echo_latency_us"], r["executive_excess_us"]

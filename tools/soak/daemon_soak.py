@@ -20,22 +20,16 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import shutil
-import subprocess
 import sys
 import time
 
-SETUP = "ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo"
+from f16mmae.lcm.netns import NetnsError, reexec_in_private_netns
+
 URL = "udpm://239.255.76.67:7690?ttl=0"
 COMPARED = ("frame", "utime", "bank_hash", "bank_level", "level_failure", "declared", "declaration",
             "num_hypotheses", "hypothesis_names", "probabilities", "z_hat", "stale", "frames_without_update",
             "frames_updated", "frames_rejected", "frames_dropped", "frames_stale", "commands_missed",
             "resynchronised", "frames_resynchronised")
-
-
-def in_private_netns() -> bool:
-    with open("/proc/net/dev") as f:
-        return {line.split(":", 1)[0].strip() for line in f.readlines()[2:]} == {"lo"}
 
 
 def rss_kib(pid: int) -> int:
@@ -146,12 +140,12 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     if not 0 < args.hours <= 24:
         p.error(f"--hours {args.hours:g} must lie in (0, 24]")
-    if not in_private_netns():
-        if shutil.which("unshare") is None or shutil.which("ip") is None:
-            p.error("needs 'unshare' and 'ip' to make its private network namespace")
-        return subprocess.call(["unshare", "--user", "--map-root-user", "--net", "sh", "-c",
-                                SETUP + ' && exec "$@"', "soak", sys.executable, os.path.abspath(__file__),
-                                *(argv if argv is not None else sys.argv[1:])])
+    try:
+        status = reexec_in_private_netns([os.path.abspath(__file__), *(argv if argv is not None else sys.argv[1:])])
+    except NetnsError as e:
+        p.error(str(e))
+    if status is not None:
+        return status
     r = soak(args.hours, args.bank, args.seed)
     print(f"daemon soak: {r['frames']} frames ({r['hours']:g} h at 64 Hz) in {r['wall_s']} s "
           f"({r['frames_per_s']} frames/s), bank {r['bank']} ({r['bank_hash'][:12]})")

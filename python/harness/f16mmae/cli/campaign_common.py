@@ -11,6 +11,7 @@ from ..banks import BankError, bank_path
 from ..campaign.engine.config import DITHER_SCALE_MAX, RUNS_MAX
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..campaign.engine.failure_runs import CASES
+from ..campaign.engine.store import write_summary
 from ..campaign.engine.variants import VARIANTS_KIND
 from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
 from ..outputs import writable_dir
@@ -124,7 +125,7 @@ def run_and_report(args, cfg, run, print_summary) -> int:
                       allow_mixed=args.allow_mixed)
     out = outcome.summary_path.parent
     outcome.summary["command"] = "f16mmae " + shlex.join(args.argv)  # what made it, for results pages
-    outcome.summary_path.write_text(json.dumps(outcome.summary, indent=1) + "\n")
+    write_summary(outcome.summary_path, outcome.summary)
     report = render_report(out)
     if outcome.summary["kind"] == VARIANTS_KIND:  # flown at several turbulence levels or modes
         for row in outcome.summary["variants"]:

@@ -33,7 +33,6 @@ points differ by the failure's size alone.
 """
 from __future__ import annotations
 
-import json
 from collections import Counter
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -52,7 +51,7 @@ from ..engine.config import CampaignConfig, CampaignError
 from ..engine.intervals import rate
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
-from ..engine.store import ResultsStore, campaign_directory, run_key
+from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
 from . import figures
 
 #: family -> (truth failure mode, the components it applies to, unit of its sizes)
@@ -261,5 +260,5 @@ def run_campaign(cfg: DetectabilityCampaign, out_dir: str | Path, executor: Exec
         summary["timing"] = done.timing(executor_label)
         summary["figures"] = figures.curves(out, summary)
         path = out / "summary.json"
-        path.write_text(json.dumps(summary, indent=1) + "\n")
+        write_summary(path, summary)
         return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)

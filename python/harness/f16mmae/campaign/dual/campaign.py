@@ -30,7 +30,6 @@ campaign started again skips the run keys already stored.
 """
 from __future__ import annotations
 
-import json
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
@@ -44,7 +43,7 @@ from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
-from ..engine.store import ResultsStore, campaign_directory, run_key
+from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
 from . import figures
 from . import scoring
 
@@ -191,7 +190,7 @@ def _run_campaign(cfg: DualCampaign, out: Path, executor: Executor, executor_lab
         level_summary)
     summary["timing"] = done.timing(executor_label)
     path = out / "summary.json"
-    path.write_text(json.dumps(summary, indent=1) + "\n")
+    write_summary(path, summary)
     return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 

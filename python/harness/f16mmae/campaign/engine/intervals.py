@@ -4,11 +4,11 @@ Rates of runs (k of n runs correct, missed, wrong, transient-wrong, with a false
 
 * Clopper-Pearson (exact) interval, the one verdicts use: the ``(1 - a)`` interval
   ``[B(a/2; k, n-k+1), B(1-a/2; k+1, n-k)]`` with ``B`` the beta quantile; lower bound 0
-  when ``k = 0``, upper bound 1 when ``k = n`` (``scipy.stats.binomtest(...).proportion_ci``,
-  method ``exact``).  E.g. 30/30 at 95 %: lower bound ``0.025^(1/30) = 0.8843``.
+  when ``k = 0``, upper bound 1 when ``k = n``; ``B`` is ``scipy.special.betaincinv``.
+  E.g. 30/30 at 95 %: lower bound ``0.025^(1/30) = 0.8843``.
 * Wilson score interval, reported beside it: centre ``(p + z^2/2n) / (1 + z^2/n)``,
   half-width ``z sqrt(p(1-p)/n + z^2/4n^2) / (1 + z^2/n)``, ``z`` the normal quantile
-  (method ``wilson``).  E.g. 30/30: lower bound ``30 / (30 + 1.96^2) = 0.8865``.
+  (``scipy.special.ndtri``).  E.g. 30/30: lower bound ``30 / (30 + 1.96^2) = 0.8865``.
 
 A goal on a rate is one of :data:`VERDICTS` (with the Clopper-Pearson interval ``[lo, hi]``
 and the point estimate ``p = k/n``):
@@ -25,16 +25,19 @@ Runs needed (:func:`runs_to_demonstrate`): the smallest ``n`` for which ``n - f`
 
 Counts over an exposure (false declarations in failure-free flight hours): the exact
 (Garwood) Poisson interval for ``k`` events, ``[chi2(a/2; 2k) / 2, chi2(1-a/2; 2k+2) / 2]``
-(lower 0 when ``k = 0``) divided by the exposure.  E.g. 0 events: upper ``-ln(a/2) = 3.689``
+(lower 0 when ``k = 0``; ``scipy.special.chdtri``) divided by the exposure.  E.g. 0 events: upper ``-ln(a/2) = 3.689``
 events.
 
-Every function raises ``ValueError`` naming the bad count, rate or level.
+Every function raises ``ValueError`` naming the bad count, rate or level.  The quantiles come
+from ``scipy.special`` in closed form, not from ``scipy.stats`` (whose binomial test finds
+the same bounds by root search, about a thousand times slower: a campaign summary computes
+thousands of them), and each interval is computed once per process (memoized).
+tests/python/test_campaign_intervals.py checks them against ``scipy.stats``.
 """
 from __future__ import annotations
 
+import functools
 import math
-
-from scipy import stats
 
 #: The confidence level of every interval in the campaigns' summaries and reports.
 CONFIDENCE = 0.95
@@ -56,16 +59,34 @@ def clopper_pearson(k: int, n: int, level: float = CONFIDENCE) -> tuple[float, f
     """Exact two-sided interval of a binomial proportion ``k / n`` (see module docstring)."""
     _check_counts(k, n)
     _check_level(level)
-    ci = stats.binomtest(k, n).proportion_ci(confidence_level=level, method="exact")
-    return float(ci.low), float(ci.high)
+    return _clopper_pearson(k, n, level)
+
+
+@functools.lru_cache(maxsize=65536)
+def _clopper_pearson(k: int, n: int, level: float) -> tuple[float, float]:
+    from scipy.special import betaincinv
+    a = 1.0 - level
+    lo = 0.0 if k == 0 else float(betaincinv(k, n - k + 1, a / 2))
+    hi = 1.0 if k == n else float(betaincinv(k + 1, n - k, 1 - a / 2))
+    return lo, hi
 
 
 def wilson(k: int, n: int, level: float = CONFIDENCE) -> tuple[float, float]:
     """Wilson score interval of ``k / n`` (see module docstring)."""
     _check_counts(k, n)
     _check_level(level)
-    ci = stats.binomtest(k, n).proportion_ci(confidence_level=level, method="wilson")
-    return float(ci.low), float(ci.high)
+    return _wilson(k, n, level)
+
+
+@functools.lru_cache(maxsize=65536)
+def _wilson(k: int, n: int, level: float) -> tuple[float, float]:
+    from scipy.special import ndtri
+    z = float(ndtri(0.5 + 0.5 * level))
+    p = k / n
+    denom = 2 * (n + z * z)
+    center = (2 * n * p + z * z) / denom
+    half = z / denom * math.sqrt(4 * n * p * (1 - p) + z * z)
+    return (0.0 if k == 0 else center - half), (1.0 if k == n else center + half)
 
 
 def verdict(k: int, n: int, goal: float, direction: str = "at_least", level: float = CONFIDENCE) -> str:
@@ -129,9 +150,10 @@ def poisson_rate(events: int, exposure: float, level: float = CONFIDENCE) -> dic
     if not exposure >= 0.0 or math.isinf(exposure):
         raise ValueError(f"exposure must be finite and >= 0, got {exposure!r}")
     _check_level(level)
+    from scipy.special import chdtri  # chdtri(df, y): the chi-square quantile at 1 - y
     a = 1.0 - level
-    lo = 0.0 if events == 0 else float(stats.chi2.ppf(a / 2, 2 * events)) / 2
-    hi = float(stats.chi2.ppf(1 - a / 2, 2 * events + 2)) / 2
+    lo = 0.0 if events == 0 else float(chdtri(2 * events, 1 - a / 2)) / 2
+    hi = float(chdtri(2 * events + 2, a / 2)) / 2
     if exposure == 0.0:
         return {"events": events, "exposure": 0.0, "rate": None, "ci95": None}
     return {"events": events, "exposure": round(exposure, 9), "rate": round(events / exposure, 6),

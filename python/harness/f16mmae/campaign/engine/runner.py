@@ -63,6 +63,7 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
     t0 = time.perf_counter()
     bar = Progress(len(specs), progress_label, already_done=len(specs) - len(todo), enabled=show_progress,
                    note=progress_note)
+    flown: list[dict] = []
     try:
         futures = {executor.submit(run, s): s for s in todo}
         for fut in as_completed(futures):
@@ -75,14 +76,17 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
                 raise CampaignError(
                     f"{describe(spec)} failed: {type(exc).__name__}: {exc}; the {bar.done} runs "
                     f"finished so far are stored in {store.path}") from exc
-            store.append({**record, "code": code})
+            record = {**record, "code": code}
+            store.append(record)
+            flown.append(record)
             bar.advance()
             if after_each is not None:
                 after_each(spec)
     finally:
         bar.close()
+        store.close()
     wall_s = time.perf_counter() - t0
-    by_key = {r["run_key"]: r for r in store.records() if r["run_key"] in planned}  # a key stored twice counts once
+    by_key = {r["run_key"]: r for r in (*stored_records, *flown)}  # a key stored twice counts once
     executed = {s["run_key"] for s in todo}
     records = list(by_key.values())
     return Execution(records, [r for r in records if r["run_key"] in executed], len(specs) - len(todo), wall_s)

@@ -22,7 +22,6 @@ every variant: common random numbers.  Each variant is summarized as the kind do
 from __future__ import annotations
 
 import dataclasses
-import json
 from collections.abc import Callable
 from pathlib import Path
 
@@ -31,6 +30,7 @@ import numpy as np
 from ...report.figures import pyplot, save_figure
 from . import evidence, intervals, variants_report
 from .runner import Execution
+from .store import write_summary
 
 VARIANTS_KIND = variants_report.KIND
 AXES: tuple[str, ...] = ("turbulence", "mode")
@@ -80,7 +80,7 @@ def fly_variants(cfg, out: Path, plan: Callable[[object], list[dict]],
         summary = summarize(c, records, d)
         if skipped:
             summary["cases_skipped"] = skipped
-        (d / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+        write_summary(d / "summary.json", summary)
         rows.append({**values, **variant_row(name, summary, [r for r in records if under_test(r)]),
                      "cases_skipped": skipped})
         summaries.append((name, summary))

@@ -37,7 +37,6 @@ the report only; the estimator never receives it.
 """
 from __future__ import annotations
 
-import json
 import sys
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -53,7 +52,7 @@ from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore, campaign_directory
+from ..engine.store import ResultsStore, campaign_directory, write_summary
 from . import figures
 from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
 
@@ -221,7 +220,7 @@ def _run_envelope(cfg: EnvelopeCampaign, out: Path, executor: Executor, executor
         level_summary)
     summary["timing"] = done.timing(executor_label)
     path = out / "summary.json"
-    path.write_text(json.dumps(summary, indent=1) + "\n")
+    write_summary(path, summary)
     return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 

@@ -16,7 +16,6 @@ are then computed from the stored records of this campaign's plan only.
 from __future__ import annotations
 
 import dataclasses
-import json
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,7 +32,7 @@ from ..engine import drilldown, evidence, identity, scoring, variants
 from ..engine.config import CampaignConfig, CampaignError, split_mode
 from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore, campaign_directory
+from ..engine.store import ResultsStore, campaign_directory, write_summary
 from . import figures
 
 
@@ -108,7 +107,7 @@ def _run_campaign(cfg: SingleCampaign, out: Path, executor: Executor, executor_l
         summary["timing"]["overhead"] = measure_overhead(
             scenario_from_dict(none_spec["scenario"]), bank, **cfg.estimator_options())
     path = out / "summary.json"
-    path.write_text(json.dumps(summary, indent=1) + "\n")
+    write_summary(path, summary)
     return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 

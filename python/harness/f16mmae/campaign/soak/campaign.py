@@ -19,7 +19,6 @@ command (``drilldown``).
 """
 from __future__ import annotations
 
-import json
 import math
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -33,7 +32,7 @@ from ..engine import drilldown, identity, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
-from ..engine.store import ResultsStore, campaign_directory, run_key
+from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
 from . import episodes, figures
 
 #: The goal per level (issue 14): false declarations per flight hour at most this.
@@ -127,7 +126,7 @@ def run_soak(cfg: SoakCampaign, out_dir: str | Path, executor: Executor, executo
         summary["timing"] = done.timing(executor_label)
         summary["figures"] = figures.make_figures(out, done.records, summary["levels"], cfg.duration_s)
         path = out / "summary.json"
-        path.write_text(json.dumps(summary, indent=1) + "\n")
+        write_summary(path, summary)
         return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
 
 

@@ -195,8 +195,10 @@ class FilterBank {
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
-      l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_set_[i]);  // u_k
-      level_set_[i] = 1;
+      if (hypotheses_[i].has_uninformative()) {  // u_k; otherwise l_k is left bit for bit as it was
+        l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_set_[i]);
+        level_set_[i] = 1;
+      }
       log_l_(i) = l;
       const double a = l + log_p_(i);
       if (a > a_max) a_max = a;
@@ -407,8 +409,6 @@ class FilterBank {
   ZVector z_hat_;
   OutputMatrix h_out_;
   HypothesisFlags<K> floored_;
-  HypothesisFlags<K> level_set_;                  // b̂_k set (uninformative channels)
-  Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k (uninformative channels)
   bool use_packed_ = false;    // the store: packed_ if true, else columns_
   Packed packed_{};
   Columns columns_{};
@@ -416,6 +416,9 @@ class FilterBank {
   double log_norm_ = 0.0;
   std::int64_t rejected_ = 0;
   std::int64_t frames_ = 0;
+  // the uninformative channels' levels, last so the members above keep their layout
+  HypothesisFlags<K> level_set_;                  // b̂_k set
+  Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

@@ -193,6 +193,7 @@ class HypothesisFilter {
       if (!(w > 0.0)) continue;
       a_inv_.row(j).setZero();
       a_inv_.col(j).setZero();
+      uninformative_ = true;
       const double a_jj = a_sym(j, j);
       unf_c_(j) = 0.5 * std::log(2.0 * kPi * a_jj) - std::log(w);
       first_frame_ += unf_c_(j);
@@ -240,6 +241,8 @@ class HypothesisFilter {
   }
   // True when some uninformative channel tracks its level (the bank then keeps b̂).
   bool tracks_level() const noexcept { return tracked_; }
+  // True when some channel is uninformative (u_k is then added to l_k).
+  bool has_uninformative() const noexcept { return uninformative_; }
 
   // ---- the frame equations, on a state passed in (noexcept) --------------------------
   // r = z - H x⁻ and returns q = rᵀ A⁻¹ r (+inf when it overflows, never NaN for finite r).
@@ -293,6 +296,7 @@ class HypothesisFilter {
   double first_frame_ = 0.0;   // u_k when the levels are not set: sum c_j
   double memoryless_ = 0.0;    // sum c_j over the channels with q_j = 0
   bool tracked_ = false;       // some channel has q_j > 0
+  bool uninformative_ = false;  // some channel has W_j > 0
   ZVector unf_c_, unf_gain_, unf_half_inv_s_, unf_log_ratio_;  // per channel; gain 0: not tracked
 };
 

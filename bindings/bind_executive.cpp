@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -34,14 +35,19 @@ HierarchicalOptions options_of(double p_min, bool strip_leading_term, double thr
 }
 
 std::string on_sensor(Executive& ex, std::int64_t frame, py::handle z, const std::optional<std::vector<bool>>& valid,
-                      std::int64_t utime) {
+                      std::int64_t utime, const std::optional<std::vector<double>>& air_data) {
   const auto zv = cv::to_vector<MmaeEstimator::ZVector>(z, MmaeEstimator::kNz, "z");
   if (valid && valid->size() != static_cast<std::size_t>(MmaeEstimator::kNz))
     throw py::value_error("valid must hold " + std::to_string(MmaeEstimator::kNz) + " flags, got " +
                           std::to_string(valid->size()));
+  if (air_data && air_data->size() != 2)
+    throw py::value_error("air_data must be (mach, pressure_altitude_ft), got " + std::to_string(air_data->size()) +
+                          " values");
   lcmt_sensor_frame f{};
   f.utime = utime;
   f.frame = frame;
+  f.mach = air_data ? (*air_data)[0] : std::nan("");
+  f.pressure_altitude_ft = air_data ? (*air_data)[1] : std::nan("");
   for (int j = 0; j < MmaeEstimator::kNz; ++j) {
     f.z[j] = zv(j);
     f.valid[j] = valid ? (*valid)[j] : true;
@@ -69,6 +75,7 @@ py::dict counters(const Executive& ex) {
   d["frames_resynchronised"] = c.frames_resynchronised;
   d["frames_stale"] = c.frames_stale;
   d["commands_missed"] = c.commands_missed;
+  d["air_data_rejected"] = ex.air_data_rejected();
   return d;
 }
 
@@ -83,8 +90,10 @@ of frames from the sequence re-synchronised from the stale state).
 
 Executive(model_bank, *, p_min, strip_leading_term, threshold, dwell_s): the estimator
 settings in force (callers pass the bank's recommended ones with their overrides).
-on_sensor(frame, z, valid=None, utime=0) and on_command(frame, u, utime=0) take absolute z (7,)
-and u (5,) and return the frame's fate: "used", "rejected", "duplicate", "out-of-order" or
+on_sensor(frame, z, valid=None, utime=0, air_data=None) and on_command(frame, u, utime=0) take
+absolute z (7,) and u (5,) (and the frame's measured air data (mach, pressure_altitude_ft); None
+sends NaN, as a sender without air data: the schedule stays, the frame is counted in
+counters['air_data_rejected']) and return the frame's fate: "used", "rejected", "duplicate", "out-of-order" or
 "resynchronised". A used or resynchronised sensor frame leaves its status in encoded_status.
 Raises ValueError for a bank other than the F-16's (13 states, 5 inputs, 7 measurements)
 and for arrays of the wrong shape.)doc")
@@ -95,7 +104,7 @@ and for arrays of the wrong shape.)doc")
            py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
            py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25)
       .def("on_sensor", &on_sensor, py::arg("frame"), py::arg("z"), py::arg("valid") = py::none(),
-           py::arg("utime") = 0, "Sensor frame: returns its fate.")
+           py::arg("utime") = 0, py::arg("air_data") = py::none(), "Sensor frame: returns its fate.")
       .def("on_command", &on_command, py::arg("frame"), py::arg("u"), py::arg("utime") = 0,
            "Command frame: returns its fate.")
       .def("on_reset", &Executive::on_reset, "A new flight: estimator and frame sequence restart.")

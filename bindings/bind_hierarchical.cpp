@@ -23,8 +23,13 @@ namespace cv = convert;
 class PyHierarchicalBank {
  public:
   PyHierarchicalBank(const ModelBank& bank, double p_min, bool strip_leading_term, double threshold, double dwell_s,
-                     const py::object& declarer) {
+                     const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
+                     double trim_hold_s, bool trim_freeze) {
     HierarchicalOptions o;
+    o.trim.time_constant_s = trim_time_constant_s;
+    o.trim.freeze_probability = trim_freeze_probability;
+    o.trim.hold_s = trim_hold_s;
+    o.trim.freeze = trim_freeze;
     o.bank.p_min = p_min;
     o.bank.strip_leading_term = strip_leading_term;
     o.declarer.threshold = threshold;
@@ -66,6 +71,13 @@ class PyHierarchicalBank {
   }
   void schedule(double mach, double pressure_altitude_ft) {
     visit([&](auto& b) { b.schedule(AirData{mach, pressure_altitude_ft}); });
+  }
+  void set_trim_offset(py::handle du, py::handle dz) {
+    visit([&](auto& b) {
+      using B = std::decay_t<decltype(b)>;
+      b.set_trim_offset(cv::to_vector<typename B::UVector>(du, nu_, "du"),
+                        cv::to_vector<typename B::ZVector>(dz, nz_, "dz"));
+    });
   }
   void propagate(py::handle u) {
     visit([&](auto& b) { b.propagate(cv::to_vector<typename std::decay_t<decltype(b)>::UVector>(u, nu_, "u")); });
@@ -116,7 +128,8 @@ void bind_hierarchical(py::module_& m) {
 The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 
     HierarchicalBank(model_bank, p_min=0.001, strip_leading_term=True, threshold=0.9,
-                     dwell_s=0.25, declarer=None)
+                     dwell_s=0.25, declarer=None, trim_time_constant_s=0.0,
+                     trim_freeze_probability=0.05, trim_hold_s=2.0, trim_freeze=True)
 
 Level 0: NONE and every single failure on line, NONE presumed. When single failure f is
 declared (p_f > threshold for dwell_s), the level-1 bank {NONE, f, f+c for every other c}
@@ -126,13 +139,20 @@ new filter starts from the declared filter's posterior state and the declared hy
 presumed. Hypotheses are found by name in the model bank. declarer (a core.Declarer), if
 given, supplies threshold and dwell_s; the frame rate is the model bank's.
 
-SIGNALS ARE ABSOLUTE: update(z (nz,)) subtracts model_bank.z_trim, propagate(u (nu,))
-subtracts model_bank.u_trim, and z_hat is absolute (z_hat_perturbation is not). A frame with
+SIGNALS ARE ABSOLUTE: update(z (nz,)) subtracts the trim in force, model_bank.z_trim + dz,
+propagate(u (nu,)) model_bank.u_trim + du, and z_hat is absolute (z_hat_perturbation is not).
+The trim offset (du, dz) is zero unless set_trim_offset sets it or trim tracking
+(trim_time_constant_s > 0; cpp/f16mmae/trim_tracker.h) estimates it: a low-pass of u and z
+about the trim with that time constant, frozen while a failure hypothesis is above
+trim_freeze_probability (and trim_hold_s after), at level 1 or with a failure declared
+(trim_freeze=False: never frozen, for comparison only). A frame with
 a non-finite value is rejected and counted in rejected_frames. Raises ValueError for an invalid
 model bank or a missing dual hypothesis.)doc")
-      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&>(), py::arg("model_bank"),
-           py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true, py::arg("threshold") = 0.9,
-           py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none())
+      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double, bool>(),
+           py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
+           py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none(),
+           py::arg("trim_time_constant_s") = 0.0, py::arg("trim_freeze_probability") = 0.05,
+           py::arg("trim_hold_s") = 2.0, py::arg("trim_freeze") = true)
       .def("update", &PyHierarchicalBank::update, py::arg("z"),
            "Update with absolute z (nz,); returns the name declared on this frame, or None.")
       .def("propagate", &PyHierarchicalBank::propagate, py::arg("u"), "Propagate with absolute u (nu,).")
@@ -178,6 +198,16 @@ model bank or a missing dual hypothesis.)doc")
                              "(mach, pressure_altitude_ft) in force: the design condition until schedule()")
       .def_property_readonly("air_data_rejected", prop([](auto& b) { return b.air_data_rejected(); }),
                              "schedule() calls with a non-finite value")
+      .def("set_trim_offset", &PyHierarchicalBank::set_trim_offset, py::arg("du"), py::arg("dz"),
+           "The trim offset in force from the next frame: subtract u_trim + du and z_trim + dz.")
+      .def_property_readonly("trim_offset", prop([](auto& b) {
+                               return py::make_tuple(cv::to_numpy(b.u_trim_offset()), cv::to_numpy(b.z_trim_offset()));
+                             }),
+                             "(du (nu,), dz (nz,)) in force")
+      .def_property_readonly("trim_frozen", prop([](auto& b) { return b.trim_tracker().frozen(); }),
+                             "trim tracking held its estimate on the last frame")
+      .def_property_readonly("trim_frozen_frames", prop([](auto& b) { return b.trim_tracker().frozen_frames(); }),
+                             "frames on which trim tracking held its estimate, since reset")
       .def_property_readonly("frames", prop([](auto& b) { return b.frames(); }), "update calls so far")
       .def_property_readonly("frame_rate_hz", prop([](auto& b) { return b.frame_rate_hz(); }))
       .def_property_readonly("u_trim", prop([](auto& b) { return cv::to_numpy(b.u_trim()); }))

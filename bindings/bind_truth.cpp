@@ -9,6 +9,9 @@
 // Frame i (docs in truth/model.py): z_i = measure(); u_i = FCS(z_feedback, t_i);
 // advance(u_i) = SIM/FRAME JSBSim steps, each: due actuator failures, actuator step, surfaces
 // written, Run().  Sensor failures act from their frame, actuator failures from their step.
+// measure() also samples the air-data sensor (cpp/truth/air_data_sensor.h; normals from their
+// own array, the air-data stream), which fly_closed_loop hands to the estimator's schedule()
+// before each update.
 // Throws ValueError for bad arguments (names the field), RuntimeError when JSBSim stops.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -22,6 +25,7 @@
 
 #include "hierarchical_access.h"
 #include "jsbsim_exec.h"
+#include "truth/air_data_sensor.h"
 #include "truth/truth_frame.h"
 
 namespace py = pybind11;
@@ -68,13 +72,32 @@ std::vector<ScheduledFailure> schedule(const py::list& items, int n_components, 
   return out;
 }
 
+Reference reference(const py::dict& d, const char* key) {
+  if (!d.contains(key)) throw py::value_error(std::string("TruthFrames: missing field '") + key + "'");
+  const auto r = d[key].cast<py::dict>();
+  Reference out;
+  out.start = num(r, "start");
+  const auto segs = r["segments"].cast<std::vector<std::vector<double>>>();
+  if (segs.size() > static_cast<std::size_t>(kMaxSegments))
+    throw py::value_error(std::string("TruthFrames: ") + key + " has more than " + std::to_string(kMaxSegments) +
+                          " segments");
+  for (const auto& seg : segs) {
+    if (seg.size() != 4) throw py::value_error(std::string("TruthFrames: ") + key + " segments are (t0, v0, v1, slope)");
+    out.t0[out.n] = seg[0], out.v0[out.n] = seg[1], out.v1[out.n] = seg[2], out.slope[out.n] = seg[3];
+    ++out.n;
+  }
+  return out;
+}
+
 class Frames {
  public:
   Frames(std::shared_ptr<Exec> exec, const std::vector<std::string>& surface_properties,
          const std::vector<std::string>& sensor_properties, const std::string& weight_property,
          const std::vector<std::string>& state_properties, const py::dict& actuator, const py::dict& sensor,
          const py::list& actuator_failures, const py::list& sensor_failures, py::array_t<double> noise,
-         int steps_per_frame, double frame_rate_hz, double sim_rate_hz, long long capacity)
+         const std::vector<std::string>& air_data_properties, const py::dict& air_data,
+         py::array_t<double> air_data_noise, int steps_per_frame, double frame_rate_hz, double sim_rate_hz,
+         long long capacity)
       : exec_(std::move(exec)), steps_per_frame_(steps_per_frame), frame_rate_hz_(frame_rate_hz),
         sim_rate_hz_(sim_rate_hz) {
     if (surface_properties.size() != kSurfaces || sensor_properties.size() != kSensors)
@@ -82,6 +105,12 @@ class Frames {
     for (int i = 0; i < kSurfaces; ++i) surface_[i] = exec_->node(surface_properties[i]);
     for (int i = 0; i < kSensors; ++i) sensor_[i] = exec_->node(sensor_properties[i]);
     weight_ = exec_->node(weight_property);
+    if (air_data_properties.size() != kAirData)
+      throw py::value_error("TruthFrames needs 2 air-data properties (Mach, pressure altitude)");
+    for (int j = 0; j < kAirData; ++j) air_node_[j] = exec_->node(air_data_properties[j]);
+    air_.decay = num(air_data, "decay");
+    air_.sigma = arr<kAirData>(air_data, "sigma");
+    air_.reset();
     for (auto& p : state_properties) state_.push_back(exec_->node(p));
     act_.trim_rad = arr<kSurfaces>(actuator, "trim_rad");
     act_.limit_rad = arr<kSurfaces>(actuator, "limit_rad");
@@ -96,10 +125,13 @@ class Frames {
     act_fail_ = schedule(actuator_failures, kSurfaces, 5, "actuator_failures");
     sen_fail_ = schedule(sensor_failures, kSensors, 7, "sensor_failures");
     set_noise(noise);
+    set_air_data_noise(air_data_noise);
     const std::size_t cap = static_cast<std::size_t>(capacity > 0 ? capacity : 1);
     log_time_.reserve(cap);
     log_z_.reserve(cap * kSensors);
     log_ideal_.reserve(cap * kSensors);
+    log_air_.reserve(cap * kAirData);
+    log_air_ideal_.reserve(cap * kAirData);
     log_state_.reserve(cap * state_.size());
     log_u_.reserve(cap * kSurfaces);
     log_surface_.reserve(cap * kSurfaces);
@@ -124,6 +156,24 @@ class Frames {
     has_fcs_ = true;
   }
 
+  // The outer loop (truth/outer_loop.py OuterLoop.coefficients()) on the instruments
+  // `instruments` (h, hdot, Mach, phi) and the throttle property: it flies with the control law.
+  void set_outer_loop(const py::dict& d, const std::vector<std::string>& instruments, const std::string& throttle) {
+    if (instruments.size() != 4) throw py::value_error("TruthFrames: the outer loop reads 4 instruments (h, hdot, M, phi)");
+    OuterLoopCoefficients c;
+    c.k_h = num(d, "k_h"), c.k_hd = num(d, "k_hd"), c.k_hi = num(d, "k_hi");
+    c.nz_min_g = num(d, "nz_min_g"), c.nz_max_g = num(d, "nz_max_g");
+    c.k_phi = num(d, "k_phi"), c.k_phi_i = num(d, "k_phi_i"), c.p_max_rad_s = num(d, "p_max_rad_s");
+    c.k_m = num(d, "k_m"), c.k_mi = num(d, "k_mi"), c.dt_s = num(d, "dt_s"), c.throttle_0 = num(d, "throttle_0");
+    c.h_ref = reference(d, "h_ref"), c.m_ref = reference(d, "m_ref"), c.phi_ref = reference(d, "phi_ref");
+    outer_.c = c;
+    outer_.x_h = num(d, "x_h"), outer_.x_m = num(d, "x_m"), outer_.x_phi = num(d, "x_phi");
+    for (int i = 0; i < 4; ++i) instrument_[i] = exec_->node(instruments[i]);
+    throttle_ = exec_->node(throttle);
+    has_outer_ = true;
+  }
+  py::tuple outer_state() const { return py::make_tuple(outer_.x_h, outer_.x_m, outer_.x_phi); }
+
   void set_noise(py::array_t<double> noise) {
     if (noise.ndim() != 2 || noise.shape(1) != kSensors)
       throw py::value_error("TruthFrames: noise must be an (n, 7) array of standard normals");
@@ -133,6 +183,16 @@ class Frames {
   }
   py::ssize_t noise_left() const { return noise_rows_ - noise_row_; }
 
+  void set_air_data_noise(py::array_t<double> noise) {
+    if (noise.ndim() != 2 || noise.shape(1) != kAirData)
+      throw py::value_error("TruthFrames: air_data_noise must be an (n, 2) array of standard normals");
+    air_noise_ = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(noise);
+    air_noise_rows_ = air_noise_.shape(0);
+    air_noise_row_ = 0;
+  }
+  py::ssize_t air_data_noise_left() const { return air_noise_rows_ - air_noise_row_; }
+  const AirDataValues& air_data() const { return air_last_; }
+
   Sensors measure_frame() {
     const double t = static_cast<double>(frame_) / frame_rate_hz_;
     while (next_sen_ < sen_fail_.size() && sen_fail_[next_sen_].at <= frame_) {
@@ -140,12 +200,19 @@ class Frames {
       sen_.fail(f.index, static_cast<SensorMode>(f.mode), f.value, t);
     }
     if (noise_row_ >= noise_rows_) throw py::value_error("TruthFrames: noise exhausted (call set_noise)");
+    if (air_noise_row_ >= air_noise_rows_)
+      throw py::value_error("TruthFrames: air-data noise exhausted (call set_air_data_noise)");
     Sensors ideal;
     for (int i = 0; i < kSensors; ++i) ideal[i] = sensor_[i]->getDoubleValue();
     const double w = weight_->getDoubleValue();
     ideal[3] = -ideal[3] / w;
     ideal[6] = ideal[6] / w;
     const Sensors z = sen_.measure(ideal, noise_.data(noise_row_++, 0), t);
+    AirDataValues air_ideal;
+    for (int j = 0; j < kAirData; ++j) air_ideal[j] = air_node_[j]->getDoubleValue();
+    air_last_ = air_.measure(air_ideal, air_noise_.data(air_noise_row_++, 0));
+    log_air_.insert(log_air_.end(), air_last_.begin(), air_last_.end());
+    log_air_ideal_.insert(log_air_ideal_.end(), air_ideal.begin(), air_ideal.end());
     log_time_.push_back(t);
     log_z_.insert(log_z_.end(), z.begin(), z.end());
     log_ideal_.insert(log_ideal_.end(), ideal.begin(), ideal.end());
@@ -174,7 +241,13 @@ class Frames {
 
   Surfaces command(const Sensors& zf) {
     if (!has_fcs_) throw py::value_error("TruthFrames: no flight control law (call set_fcs)");
-    return fcs_.command(zf, static_cast<double>(frame_) / frame_rate_hz_);
+    const double t = static_cast<double>(frame_) / frame_rate_hz_;
+    if (!has_outer_) return fcs_.command(zf, t);
+    double nz_cmd, p_cmd, throttle;
+    outer_.command(t, instrument_[0]->getDoubleValue(), instrument_[1]->getDoubleValue(),
+                   instrument_[2]->getDoubleValue(), instrument_[3]->getDoubleValue(), nz_cmd, p_cmd, throttle);
+    throttle_->setDoubleValue(throttle);
+    return fcs_.command(zf, t, nz_cmd, p_cmd);
   }
 
   // n closed-loop frames with the estimator est in the loop (see the binding's docstring).
@@ -194,6 +267,7 @@ class Frames {
     truth_s += std::chrono::duration<double>(t1 - t0).count();
     for (long long i = 0; i < n; ++i) {
       const auto a = clock::now();
+      est.schedule(AirData{air_last_[0], air_last_[1]});
       const int d = est.update(Eigen::Map<const ZV>(z.data()));
       Sensors zf = z;
       if (use_mmae) {
@@ -246,6 +320,8 @@ class Frames {
     d["time_s"] = t;
     d["z"] = mat(log_z_, kSensors);
     d["z_ideal"] = mat(log_ideal_, kSensors);
+    d["air_data"] = mat(log_air_, kAirData);
+    d["air_data_ideal"] = mat(log_air_ideal_, kAirData);
     d["state"] = mat(log_state_, state_.size());
     d["u_cmd_rad"] = mat(log_u_, kSurfaces);
     d["surface_rad"] = mat(log_surface_, kSurfaces);
@@ -257,11 +333,20 @@ class Frames {
   std::array<SGPropertyNode*, kSurfaces> surface_{};
   std::array<SGPropertyNode*, kSensors> sensor_{};
   SGPropertyNode* weight_ = nullptr;
+  std::array<SGPropertyNode*, kAirData> air_node_{};
+  AirDataSensor air_;
+  AirDataValues air_last_{};
+  py::array_t<double, py::array::c_style | py::array::forcecast> air_noise_;
+  py::ssize_t air_noise_rows_ = 0, air_noise_row_ = 0;
   std::vector<SGPropertyNode*> state_;
   ActuatorBank act_;
   SensorSet sen_;
   FlightControlLaw fcs_;
   bool has_fcs_ = false;
+  OuterLoopLaw outer_;
+  bool has_outer_ = false;
+  std::array<SGPropertyNode*, 4> instrument_{};
+  SGPropertyNode* throttle_ = nullptr;
   std::vector<ScheduledFailure> act_fail_, sen_fail_;
   std::size_t next_act_ = 0, next_sen_ = 0;
   py::array_t<double, py::array::c_style | py::array::forcecast> noise_;
@@ -269,7 +354,7 @@ class Frames {
   int steps_per_frame_;
   double frame_rate_hz_, sim_rate_hz_;
   long long frame_ = 0, step_ = 0;
-  std::vector<double> log_time_, log_z_, log_ideal_, log_state_, log_u_, log_surface_;
+  std::vector<double> log_time_, log_z_, log_ideal_, log_air_, log_air_ideal_, log_state_, log_u_, log_surface_;
 };
 
 template <std::size_t N>
@@ -298,14 +383,23 @@ void bind_truth(py::module_& m) {
     fly(n) flies n frames on raw feedback then measures once more.  log() returns the record.)doc")
       .def(py::init<std::shared_ptr<Exec>, const std::vector<std::string>&, const std::vector<std::string>&,
                     const std::string&, const std::vector<std::string>&, const py::dict&, const py::dict&,
-                    const py::list&, const py::list&, py::array_t<double>, int, double, double, long long>(),
+                    const py::list&, const py::list&, py::array_t<double>, const std::vector<std::string>&,
+                    const py::dict&, py::array_t<double>, int, double, double, long long>(),
            py::arg("exec"), py::arg("surface_properties"), py::arg("sensor_properties"),
            py::arg("weight_property"), py::arg("state_properties"), py::arg("actuator"), py::arg("sensor"),
            py::arg("actuator_failures"), py::arg("sensor_failures"), py::arg("noise"),
+           py::arg("air_data_properties"), py::arg("air_data"), py::arg("air_data_noise"),
            py::arg("steps_per_frame"), py::arg("frame_rate_hz"), py::arg("sim_rate_hz"), py::arg("capacity"))
       .def("set_fcs", &Frames::set_fcs, py::arg("coefficients"))
+      .def("set_outer_loop", &Frames::set_outer_loop, py::arg("coefficients"), py::arg("instruments"),
+           py::arg("throttle_property"))
+      .def_property_readonly("outer_state", &Frames::outer_state)
       .def("set_noise", &Frames::set_noise, py::arg("noise"))
       .def_property_readonly("noise_left", &Frames::noise_left)
+      .def("set_air_data_noise", &Frames::set_air_data_noise, py::arg("noise"))
+      .def_property_readonly("air_data_noise_left", &Frames::air_data_noise_left)
+      .def_property_readonly("air_data", [](const Frames& f) { return to_numpy(f.air_data()); },
+                             "(Mach, pressure altitude ft) as measured at the last measure()")
       .def("measure", [](Frames& f) { return to_numpy(f.measure_frame()); })
       .def("advance", [](Frames& f, py::handle u) { f.advance_frame(vec<kSurfaces>(u, "u")); }, py::arg("u"))
       .def("command", [](Frames& f, py::handle z) { return to_numpy(f.command(vec<kSensors>(z, "z_feedback"))); },
@@ -326,7 +420,8 @@ void bind_truth(py::module_& m) {
            }, py::arg("bank"), py::arg("n_frames"), py::arg("use_mmae"), py::arg("record_probabilities"),
            R"doc(
     n closed-loop frames with a core.HierarchicalBank in the loop, all in C++ (loop/flight.py
-    describes the frame): z = measure(); then per frame: bank.update(z), u = FCS(z_hat if
+    describes the frame): z = measure(); then per frame: bank.schedule(the air data measured with
+    z), bank.update(z), u = FCS(z_hat if
     use_mmae else z), bank.propagate(u), advance(u), the next z (not after the last frame).
     Returns {'probabilities': (n, 13) the probabilities on line after each frame (or (0, 13)),
     'events': [(frame, declared name, names on line after it)], 'truth_s', 'estimator_s'

@@ -49,6 +49,8 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
     rehearsal_sensor_.valid[j] = 1;
   }
   for (int j = 0; j < MmaeEstimator::kNu; ++j) rehearsal_command_.u_rad[j] = estimator_.u_trim()(j);
+  rehearsal_sensor_.mach = estimator_.bank().air_data().mach;  // the design condition
+  rehearsal_sensor_.pressure_altitude_ft = estimator_.bank().air_data().pressure_altitude_ft;
 }
 
 Executive::~Executive() = default;
@@ -99,7 +101,10 @@ Fate Executive::on_sensor(const lcmt_sensor_frame& frame) noexcept {
   if (!prepare(plan)) return plan.fate;
   MmaeEstimator::ZVector z;
   for (int j = 0; j < MmaeEstimator::kNz; ++j) z(j) = frame.z[j];
-  estimator_.update(z);  // finite z: always applied
+  const AirData air{frame.mach, frame.pressure_altitude_ft};
+  if (!air.finite()) ++air_data_rejected_;
+  estimator_.schedule(air);  // a non-finite value: the bank keeps the last usable one
+  estimator_.update(z);      // finite z: always applied
   fill_status(frame, sequencer_.take_stale_since_status());
   status_.resynchronised = plan.restart;
   const std::int64_t ns = elapsed_ns(t0);
@@ -164,19 +169,21 @@ void Executive::fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) 
   status_.frames_stale = c.frames_stale;
   status_.commands_missed = c.commands_missed;
   status_.frames_resynchronised = c.frames_resynchronised;
+  status_.air_data_rejected = air_data_rejected_;
 }
 
 std::string Executive::summary() const {
   const SequencerCounters& c = sequencer_.counters();
-  char line[320];
+  char line[360];
   std::snprintf(line, sizeof line,
                 "frames %lld updated, %lld commands applied, %lld rejected, %lld dropped (%lld duplicate, "
-                "%lld out-of-order), %lld resynchronised, %lld stale, %lld commands missed; ",
+                "%lld out-of-order), %lld resynchronised, %lld stale, %lld commands missed, "
+                "%lld air data rejected; ",
                 static_cast<long long>(c.frames_updated), static_cast<long long>(c.commands_applied),
                 static_cast<long long>(c.frames_rejected), static_cast<long long>(c.frames_dropped()),
                 static_cast<long long>(c.dropped_duplicate), static_cast<long long>(c.dropped_out_of_order),
                 static_cast<long long>(c.frames_resynchronised), static_cast<long long>(c.frames_stale),
-                static_cast<long long>(c.commands_missed));
+                static_cast<long long>(c.commands_missed), static_cast<long long>(air_data_rejected_));
   return line + ("step " + describe_us(update_stats_)) + "; propagate " + describe_us(propagate_stats_);
 }
 

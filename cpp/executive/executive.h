@@ -9,7 +9,10 @@
 //                    max_gap_frames() from the sequence: the estimator restarts from the
 //                    stale state, then z_i is applied), or used: the frames the wire lost
 //                    are caught up by propagating with the held command (no update: the
-//                    status is marked stale), then bank.update(z_i). A used or
+//                    status is marked stale), then bank.schedule(air data of the frame:
+//                    mach, pressure_altitude_ft), then bank.update(z_i). Non-finite air data
+//                    does not reject the frame: the schedule stays at its last usable value
+//                    and the frame is counted in air_data_rejected(). A used or
 //                    resynchronised sensor frame fills the status (probabilities, z_hat,
 //                    level, declaration, counters) and encodes it into a buffer owned here.
 //   on_command(u_i)  rejected (non-finite), dropped, resynchronised (the estimator restarts
@@ -75,6 +78,8 @@ class Executive {
   std::uint8_t* mutable_encoded_status() noexcept { return buffer_.data(); }
 
   const SequencerCounters& counters() const noexcept { return sequencer_.counters(); }
+  // Used or resynchronised sensor frames whose air data was not finite, since construction.
+  std::int64_t air_data_rejected() const noexcept { return air_data_rejected_; }
   const StepStats& update_stats() const noexcept { return update_stats_; }
   const StepStats& propagate_stats() const noexcept { return propagate_stats_; }
   const MmaeEstimator& estimator() const noexcept { return estimator_; }
@@ -82,7 +87,8 @@ class Executive {
   std::int64_t max_gap_frames() const noexcept { return sequencer_.max_gap_frames(); }
 
   // "frames 512 updated, 511 commands applied, 0 rejected, 0 dropped (0 duplicate,
-  //  0 out-of-order), 0 resynchronised, 0 stale, 0 commands missed; step p50 3.1 us, ..."
+  //  0 out-of-order), 0 resynchronised, 0 stale, 0 commands missed,
+  //  0 air data rejected; step p50 3.1 us, ..."
   std::string summary() const;
 
  private:
@@ -105,6 +111,7 @@ class Executive {
   std::vector<std::uint8_t> buffer_;
   int encoded_size_ = 0;
   std::int64_t statuses_ = 0;
+  std::int64_t air_data_rejected_ = 0;
 };
 
 }  // namespace f16mmae::executive

@@ -26,10 +26,15 @@
 // its filters and trim do not depend on the air data; air_data() reports what is in force
 // (the design condition until the first usable value; reset() returns to it).
 //
-// Signals are ABSOLUTE at this interface: update(z) subtracts the bank's z_trim, propagate(u)
-// its u_trim, and z_hat() adds z_trim back (z_hat_perturbation() does not). States are
-// perturbations from trim. A frame is one update (accepted or rejected): frame index i
-// (0-based) has time_s = i / frame_rate_hz. The declarer sees only accepted updates.
+// Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
+// z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
+// (z_hat_perturbation() does not). States are perturbations from the trim in force.
+// Trim in force = the bank's trim + the trim offset (du, dz): zero unless set_trim_offset()
+// sets it or trim tracking (options.trim, trim_tracker.h: a slow low-pass of u and z about the
+// trim, frozen while a failure hypothesis rises or a failure is declared) estimates it, after
+// each update and propagate. With zero offsets the arithmetic is the bank's without them.
+// A frame is one update (accepted or rejected): frame index i (0-based) has
+// time_s = i / frame_rate_hz. The declarer sees only accepted updates.
 //
 // Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>)
 // or Eigen::Dynamic (DynamicHierarchicalBank, any K = 1 + number of singles).
@@ -45,6 +50,7 @@
 #include "f16mmae/declarer.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/model_bank.h"
+#include "f16mmae/trim_tracker.h"
 
 #include <Eigen/Dense>
 
@@ -67,6 +73,7 @@ struct Declaration {
 struct HierarchicalOptions {
   FilterBankOptions bank;     // p_min, strip_leading_term
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
+  TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
   int history_capacity = 1024;
 };
 
@@ -91,17 +98,32 @@ class HierarchicalBank {
   int update(const ZVector& z_abs) noexcept {
     const std::int64_t frame = frame_++;
     z_pert_.noalias() = z_abs - z_trim_;
+    z_pert_ -= dz_;
     if (!bank_.update(z_pert_)) return -1;
     const int d = declarer_.update(bank_.probabilities());
-    if (d < 0) return -1;
-    const int hypothesis = online_[d];
-    record(hypothesis, frame);
-    if (level_ == 0 && d != 0) {
-      switch_to(level1_[d - 1], d, 1);
-    } else if (level_ == 1 && d == 0) {
-      switch_to(level0_, 0, 0);
+    int hypothesis = -1;
+    if (d >= 0) {
+      hypothesis = online_[d];
+      record(hypothesis, frame);
+      if (level_ == 0 && d != 0) {
+        switch_to(level1_[d - 1], d, 1);
+      } else if (level_ == 1 && d == 0) {
+        switch_to(level0_, 0, 0);
+      }
+    }
+    if (trim_tracker_.options().enabled()) {
+      z_pert_.noalias() = z_abs - z_trim_;
+      trim_tracker_.after_update(z_pert_, trim_freezing());
+      dz_ = trim_tracker_.dz();
     }
     return hypothesis;
+  }
+  // The trim offset in force from the next update/propagate on: the bank subtracts
+  // u_trim + du and z_trim + dz (header). With trim tracking on, the tracker overwrites it.
+  template <class U, class Z>
+  void set_trim_offset(const U& du, const Z& dz) noexcept {
+    du_ = du;
+    dz_ = dz;
   }
   // The measured air data for the coming frames (see the header comment); noexcept.
   void schedule(const AirData& a) noexcept {
@@ -113,7 +135,14 @@ class HierarchicalBank {
   }
   bool propagate(const UVector& u_abs) noexcept {
     u_pert_.noalias() = u_abs - u_trim_;
-    return bank_.propagate(u_pert_);
+    u_pert_ -= du_;
+    const bool ok = bank_.propagate(u_pert_);
+    if (ok && trim_tracker_.options().enabled()) {
+      u_pert_.noalias() = u_abs - u_trim_;
+      trim_tracker_.after_propagate(u_pert_);
+      du_ = trim_tracker_.du();
+    }
+    return ok;
   }
   // update(z) then propagate(u); returns update's result.
   int step(const ZVector& z_abs, const UVector& u_abs) noexcept {
@@ -133,6 +162,9 @@ class HierarchicalBank {
     dropped_ = 0;
     air_data_ = design_air_data_;
     air_data_rejected_ = 0;
+    trim_tracker_.reset();
+    du_.setZero();
+    dz_.setZero();
   }
 
   // Touch the on-line bank's per-frame working set (FilterBank::warm_cache) and the
@@ -164,7 +196,10 @@ class HierarchicalBank {
   const PVector& probabilities() const noexcept { return bank_.probabilities(); }
   const XVector& blended_state() const noexcept { return bank_.blended_state(); }
   const ZVector& z_hat_perturbation() const noexcept { return bank_.z_hat(); }
-  ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_; }   // absolute
+  ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_ + dz_; }   // absolute
+  const UVector& u_trim_offset() const noexcept { return du_; }   // du in force
+  const ZVector& z_trim_offset() const noexcept { return dz_; }   // dz in force
+  const TrimTracker<NU, NZ>& trim_tracker() const noexcept { return trim_tracker_; }
   const ZVector& z_trim() const noexcept { return z_trim_; }
   const UVector& u_trim() const noexcept { return u_trim_; }
   std::int64_t rejected_frames() const noexcept { return bank_.rejected_frames(); }
@@ -247,6 +282,7 @@ class HierarchicalBank {
         level0_(b.level0),
         level1_(std::move(b.level1)),
         online_(b.level0),
+        trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz()),
         frame_rate_hz_(mb.frame_rate_hz) {
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
@@ -262,7 +298,19 @@ class HierarchicalBank {
     air_data_ = design_air_data_;
     z_pert_ = z_trim_;
     u_pert_ = u_trim_;
+    du_ = UVector::Zero(u_trim_.size());
+    dz_ = ZVector::Zero(z_trim_.size());
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
+  }
+
+  // The trim tracker's freeze condition on this frame (trim_tracker.h): level 1, a failure
+  // declared, or a failure hypothesis on line above freeze_probability.
+  bool trim_freezing() const noexcept {
+    if (level_ != 0 || online_[declarer_.current()] != 0) return true;
+    const PVector& p = bank_.probabilities();
+    for (int k = 1; k < size(); ++k)
+      if (p(k) > trim_tracker_.options().freeze_probability) return true;
+    return false;
   }
 
   void record(int hypothesis, std::int64_t frame) noexcept {
@@ -302,8 +350,9 @@ class HierarchicalBank {
   Indices level0_;
   std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of single failure f
   Indices online_;
-  ZVector z_trim_, z_pert_;
-  UVector u_trim_, u_pert_;
+  ZVector z_trim_, z_pert_, dz_;
+  UVector u_trim_, u_pert_, du_;
+  TrimTracker<NU, NZ> trim_tracker_;
   std::vector<Declaration> history_;
   std::int64_t dropped_ = 0;
   AirData design_air_data_, air_data_;

@@ -16,9 +16,14 @@
 //   complete: z_trim_i + v_i; null: 0; stuck: last z_i before the failure; hardover: full
 //   scale (high if value >= 0); bias: ideal + (v_i + value); drift: ideal + (v_i + value (t - t_f)).
 // Flight control law: truth/fcs.py's module docstring (pitch C*-like PI, roll-rate command,
-// washed-out yaw damper with ARI), plus dither d_j = a_j sin(w_j t + phi_j), clipped to +-lim.
+// washed-out yaw damper with ARI), plus dither d_j = a_j sin(w_j t + phi_j), clipped to +-lim;
+// its pilot commands nz_cmd, p_cmd are zero, or come from the outer loop.
+// Outer loop (pilot side, maneuvers): truth/outer_loop.py's module docstring -- piecewise
+// references (at most kMaxSegments per channel) and the altitude / bank / Mach PI laws; it reads
+// the instruments (h, hdot, M, phi) and returns (nz_cmd, p_cmd, throttle).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -131,18 +136,17 @@ struct FcsCoefficients {
   Surfaces dither_amplitude_rad{}, dither_omega_rad_s{}, dither_phase_rad{};
 };
 
-/// The flight control law with its three states (pilot inputs zero: nz_cmd = p_cmd = 0).
+/// The flight control law with its three states; pilot commands nz_cmd (g), p_cmd (rad/s).
 struct FlightControlLaw {
   FcsCoefficients c;
   double x_int = 0.0, x_wash = 0.0, x_vel = 0.0;
 
   void reset() { x_int = x_wash = x_vel = 0.0; }
 
-  Surfaces command(const Sensors& zf, double time_s) {
+  Surfaces command(const Sensors& zf, double time_s, double nz_cmd = 0.0, double p_cmd = 0.0) {
     const Sensors& zt = c.z_trim;
     const double dvel = zf[0] - zt[0], dq = zf[2] - zt[2], daz = zf[3] - zt[3];
     const double dp = zf[4] - zt[4], dr = zf[5] - zt[5], day = zf[6] - zt[6];
-    const double nz_cmd = 0.0, p_cmd = 0.0;
     const double spd = clip(c.k_v * dvel, 0.05);
     const double nd = clip(c.k_d * (dvel - x_vel) / c.speed_filter_s, 0.05);
     x_vel += (dvel - x_vel) * c.dt_s / c.speed_filter_s;
@@ -161,6 +165,69 @@ struct FlightControlLaw {
                 ut[3] - da + d[3], ut[4] + dr_cmd + d[4]};
     for (int j = 0; j < kSurfaces; ++j) u[j] = clip(u[j], c.limit_rad[j]);
     return u;
+  }
+};
+
+inline constexpr int kMaxSegments = 32;
+
+/// One channel's piecewise reference (truth/outer_loop.py ``Reference``): segments
+/// (t0, v0, v1, slope per s; slope = inf for a step) in time order, the value before the first.
+struct Reference {
+  double start = 0.0;
+  int n = 0;
+  std::array<double, kMaxSegments> t0{}, v0{}, v1{}, slope{};
+
+  /// (value, slope) at time t.
+  void at(double t, double& value, double& rate) const {
+    int k = -1;
+    for (int i = 0; i < n; ++i) {
+      if (t0[i] <= t) k = i;
+      else break;
+    }
+    if (k < 0) { value = start; rate = 0.0; return; }
+    if (std::isinf(slope[k])) { value = v1[k]; rate = 0.0; return; }
+    const double step = slope[k] * (t - t0[k]);
+    if (step >= std::fabs(v1[k] - v0[k])) { value = v1[k]; rate = 0.0; return; }
+    const double sign = v1[k] > v0[k] ? 1.0 : -1.0;
+    value = v0[k] + sign * step;
+    rate = sign * slope[k];
+  }
+};
+
+inline double sat(double x, double lo, double hi) { return x > hi ? hi : (x < lo ? lo : x); }
+
+/// The outer loop's gains (truth/outer_loop.py ``OuterLoopGains``) and its start values.
+struct OuterLoopCoefficients {
+  double k_h = 0, k_hd = 0, k_hi = 0, nz_min_g = 0, nz_max_g = 0, k_phi = 0, k_phi_i = 0, p_max_rad_s = 0;
+  double k_m = 0, k_mi = 0, dt_s = 0, throttle_0 = 0;
+  Reference h_ref, m_ref, phi_ref;
+};
+
+/// The outer loop with its three integrators, in truth/outer_loop.py's order of operations.
+struct OuterLoopLaw {
+  OuterLoopCoefficients c;
+  double x_h = 0.0, x_m = 0.0, x_phi = 0.0;
+
+  /// Instruments h (ft), hdot (ft/s), mach, phi (rad) at time_s -> nz_cmd, p_cmd, throttle.
+  void command(double time_s, double h, double hdot, double mach, double phi, double& nz_cmd, double& p_cmd,
+               double& throttle) {
+    double h_ref, hdot_ff, m_ref, m_rate, phi_ref, phi_rate;
+    c.h_ref.at(time_s, h_ref, hdot_ff);
+    c.m_ref.at(time_s, m_ref, m_rate);
+    c.phi_ref.at(time_s, phi_ref, phi_rate);
+    const double e_hd = hdot_ff + c.k_h * (h_ref - h) - hdot;
+    const double x_lim = c.k_hi > 0 ? std::max(-c.nz_min_g, c.nz_max_g) / c.k_hi : INFINITY;
+    x_h = sat(x_h + e_hd * c.dt_s, -x_lim, x_lim);
+    const double turn_ff = 1.0 / std::cos(sat(phi, -1.2, 1.2)) - 1.0;
+    nz_cmd = sat(c.k_hd * e_hd + c.k_hi * x_h + turn_ff, c.nz_min_g, c.nz_max_g);
+    const double e_phi = phi_ref - phi;
+    const double phi_lim = c.k_phi_i > 0 ? c.p_max_rad_s / c.k_phi_i : INFINITY;
+    x_phi = sat(x_phi + e_phi * c.dt_s, -phi_lim, phi_lim);
+    p_cmd = sat(c.k_phi * e_phi + c.k_phi_i * x_phi, -c.p_max_rad_s, c.p_max_rad_s);
+    const double e_m = m_ref - mach;
+    const double raw = c.throttle_0 + c.k_m * e_m + c.k_mi * x_m;
+    if (!((raw >= 1.0 && e_m > 0) || (raw <= 0.0 && e_m < 0))) x_m += e_m * c.dt_s;
+    throttle = sat(c.throttle_0 + c.k_m * e_m + c.k_mi * x_m, 0.0, 1.0);
   }
 };
 

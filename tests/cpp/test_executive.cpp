@@ -265,3 +265,28 @@ TEST(Executive, AWildCommandRestartsTheEstimatorWithoutApplyingIt) {
   ASSERT_EQ(fresh.on_sensor(sensor(30, z_at(b, 30))), Fate::used);
   for (int k = 0; k < 13; ++k) EXPECT_EQ(ex.status().probabilities[k], fresh.status().probabilities[k]);
 }
+
+TEST(Executive, AirDataIsScheduledAndANonFiniteValueIsCountedNotRejected) {
+  const ModelBank b = test_support::synthetic_bank();
+  Executive ex(b);
+  auto s = sensor(0, z_at(b, 0));
+  s.mach = 0.42;
+  s.pressure_altitude_ft = 21000.0;
+  ASSERT_EQ(ex.on_sensor(s), Fate::used);
+  EXPECT_EQ(ex.estimator().bank().air_data().mach, 0.42);
+  EXPECT_EQ(ex.estimator().bank().air_data().pressure_altitude_ft, 21000.0);
+  ASSERT_EQ(ex.on_command(command(0, u_at(b, 0))), Fate::used);
+  s = sensor(1, z_at(b, 1));
+  s.mach = std::numeric_limits<double>::quiet_NaN();
+  s.pressure_altitude_ft = 21500.0;
+  EXPECT_EQ(ex.on_sensor(s), Fate::used);  // the measurements are applied all the same
+  EXPECT_EQ(ex.counters().frames_updated, 2);
+  EXPECT_EQ(ex.air_data_rejected(), 1);
+  EXPECT_EQ(ex.status().air_data_rejected, 1);
+  EXPECT_EQ(ex.estimator().bank().air_data().mach, 0.42);  // frozen at the last usable value
+  EXPECT_EQ(ex.estimator().bank().air_data().pressure_altitude_ft, 21000.0);
+  EXPECT_NE(ex.summary().find("1 air data rejected"), std::string::npos) << ex.summary();
+  ex.on_reset();  // a new flight: the bank returns to its design condition; the count stays
+  EXPECT_EQ(ex.estimator().bank().air_data().mach, b.mach);
+  EXPECT_EQ(ex.air_data_rejected(), 1);
+}

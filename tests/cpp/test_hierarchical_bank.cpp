@@ -200,14 +200,21 @@ TEST(HierarchicalBank, F16SizedBankDeclaresAndSwitchesWithoutAllocating) {
   z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
   const ModelBank bank = test::make_bank(plant, act, sen, u_trim, z_trim);
   ASSERT_EQ(bank.hypotheses.size(), 79u);
-  F16HierarchicalBank hb(bank);
+  HierarchicalOptions tracking;  // with trim tracking on, too: tracker and trim in force included
+  tracking.trim.time_constant_s = 30.0;
+  F16HierarchicalBank hb(bank), tracked(bank, tracking);
   const Flight f = fly(plant, act, sen, bank, {{"PIT", 64, 1 << 30}}, 320, 5u);
   std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
   std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
   const long long before = f16mmae::testing::allocation_count();
-  for (std::size_t i = 0; i < z.size(); ++i) hb.step(z[i], u[i]);
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    hb.step(z[i], u[i]);
+    tracked.schedule(AirData{0.4, 20000.0});
+    tracked.step(z[i], u[i]);
+  }
   const long long after = f16mmae::testing::allocation_count();
   EXPECT_EQ(after - before, 0);
+  EXPECT_GT(tracked.trim_tracker().frozen_frames(), 0);
   ASSERT_EQ(declared_names(hb), (std::vector<std::string>{"PIT"}));
   EXPECT_EQ(hb.online_names(), (std::vector<std::string>{"NONE", "PIT", "LS+PIT", "RS+PIT", "LF+PIT", "RF+PIT",
                                                          "RUD+PIT", "VEL+PIT", "AOA+PIT", "PIT+AZ", "PIT+ROL",

@@ -153,5 +153,48 @@ TEST(TruthFrame, AFrameAllocatesNothing) {
   EXPECT_TRUE(std::isfinite(sum));
 }
 
+TEST(TruthOuterLoop, ReferenceRampsAndSteps) {
+  Reference r;  // a climb 20,000 -> 21,000 ft at 50 ft/s from 10 s, then a step back at 60 s
+  r.start = 20000.0;
+  r.n = 2;
+  r.t0 = {10.0, 60.0}, r.v0 = {20000.0, 21000.0}, r.v1 = {21000.0, 20500.0}, r.slope = {50.0, INFINITY};
+  double v, rate;
+  r.at(5.0, v, rate);
+  EXPECT_EQ(v, 20000.0);
+  EXPECT_EQ(rate, 0.0);
+  r.at(14.0, v, rate);  // 4 s at 50 ft/s
+  EXPECT_DOUBLE_EQ(v, 20200.0);
+  EXPECT_EQ(rate, 50.0);
+  r.at(40.0, v, rate);  // reached at 30 s
+  EXPECT_EQ(v, 21000.0);
+  EXPECT_EQ(rate, 0.0);
+  r.at(61.0, v, rate);
+  EXPECT_EQ(v, 20500.0);
+}
+
+TEST(TruthOuterLoop, HandComputedCommands) {
+  OuterLoopCoefficients c;
+  c.k_h = 0.1, c.k_hd = 0.015, c.k_hi = 0.0003, c.nz_min_g = -1.0, c.nz_max_g = 2.0;
+  c.k_phi = 1.0, c.k_phi_i = 0.1, c.p_max_rad_s = 0.35, c.k_m = 8.0, c.k_mi = 1.0, c.dt_s = 0.5;
+  c.throttle_0 = 0.25;
+  c.h_ref.start = 20000.0, c.m_ref.start = 0.4, c.phi_ref.start = 0.0;
+  OuterLoopLaw law{c};
+  double nz, p, th;
+  // 100 ft low, sinking at 2 ft/s, Mach 0.01 slow, banked 0.1 rad right, nothing commanded
+  law.command(0.0, 19900.0, -2.0, 0.39, 0.1, nz, p, th);
+  const double e_hd = 0.1 * 100.0 + 2.0;  // 12 ft/s
+  EXPECT_DOUBLE_EQ(law.x_h, e_hd * 0.5);
+  EXPECT_DOUBLE_EQ(nz, 0.015 * e_hd + 0.0003 * 6.0 + (1.0 / std::cos(0.1) - 1.0));
+  EXPECT_DOUBLE_EQ(law.x_phi, -0.05);
+  EXPECT_DOUBLE_EQ(p, -0.1 + 0.1 * -0.05);
+  const double e_m = 0.4 - 0.39;
+  EXPECT_DOUBLE_EQ(law.x_m, e_m * 0.5);
+  EXPECT_DOUBLE_EQ(th, 0.25 + 8.0 * e_m + 1.0 * e_m * 0.5);
+  // far too slow: the throttle saturates at 1 and its integrator holds
+  law.command(0.5, 20000.0, 0.0, 0.2, 0.0, nz, p, th);
+  EXPECT_EQ(th, 1.0);
+  EXPECT_DOUBLE_EQ(law.x_m, e_m * 0.5);
+}
+
 }  // namespace
 }  // namespace f16mmae::truth

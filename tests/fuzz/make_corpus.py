@@ -79,11 +79,12 @@ def bank_inputs() -> dict[str, bytes]:
     }
 
 
-def sensor(frame: int, z=None, valid=True) -> bytes:
+def sensor(frame: int, z=None, valid=True, air_data=(0.4, 20000.0)) -> bytes:
     msg = lcm_type("lcmt_sensor_frame")()
     msg.utime, msg.frame = min(frame * 15625, 2**63 - 1), frame
     msg.z = list(z) if z is not None else [414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0]
     msg.valid = [valid] * 7
+    msg.mach, msg.pressure_altitude_ft = air_data
     return msg.encode()
 
 
@@ -113,6 +114,7 @@ def main() -> None:
             "regress_frame_jump_2p62": sensor(2**62),
             "regress_frame_jump_1e7": sensor(10**7),
             "nan_z": sensor(1, [math.nan] * 7),
+            "nan_air_data": sensor(1, air_data=(math.nan, math.inf)),
             "invalid_flags": sensor(1, valid=False),
             "truncated": sensor(1)[:-5],
         },

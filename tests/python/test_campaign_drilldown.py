@@ -28,10 +28,12 @@ def test_command_names_every_field():
     assert [a for i, a in enumerate(argv) if argv[i - 1] == "--fail"] == ["LS@3.0:complete", "AZ@5.1:bias=0.2"]
     assert opts["--bank"] == "tuned" and opts["--p-min"] == "0.001"
     assert "--no-dither" in drilldown.reproduce_command(scenario(dither={"enabled": False}), "tuned", {})
+    tracked = shlex.split(drilldown.reproduce_command(scenario(), "tuned", {"trim_time_constant_s": 30.0}))
+    assert tracked[tracked.index("--trim-tracking") + 1] == "30.0"
 
 
 def test_unknown_estimator_setting_is_refused():
-    with pytest.raises(ValueError, match="valid: threshold, dwell_s, p_min"):
+    with pytest.raises(ValueError, match="valid: threshold, dwell_s, p_min, trim_time_constant_s"):
         drilldown.reproduce_command(scenario(), "tuned", {"gain": 2.0})
 
 

@@ -4,6 +4,7 @@ bank unchanged at every point) and the CLI's errors."""
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -240,3 +241,55 @@ def test_cli_runs_one_point_and_prints_the_table(tmp_path, capsys):
     (tmp_path / "report.html").unlink()
     assert main(["report", str(tmp_path)]) == 0  # `f16mmae report` knows the kind
     assert (tmp_path / "report.html").read_text() == page
+
+
+# -- random points -----------------------------------------------------------------------------
+def test_random_points_are_a_seeded_latin_hypercube():
+    from f16mmae.campaign.envelope.points import random_points
+    pts = random_points(8, seed=5, trims=lambda m, h: True)
+    assert [p.label for p in pts] == [f"R{i}" for i in range(1, 9)] and {p.group for p in pts} == {"random"}
+    # one point in each of the 8 Mach strata and each of the 8 altitude strata
+    assert sorted(math.floor((p.mach - 0.3) / 0.5 * 8) for p in pts) == list(range(8))
+    assert sorted(math.floor((p.alt_ft - 5000.0) / 30000.0 * 8) for p in pts) == list(range(8))
+    assert random_points(8, seed=5, trims=lambda m, h: True) == pts
+    assert random_points(8, seed=6, trims=lambda m, h: True) != pts
+    assert select_points("random:3:seed=2") == random_points(3, 2)  # the real trim: these trim
+
+
+def test_random_points_redraw_inside_their_cell_or_name_it():
+    from f16mmae.campaign.envelope.points import random_points
+    refused = []
+
+    def trims(mach, alt_ft):  # refuses about half of every cell: altitudes of an odd number of ft
+        ok = round(alt_ft) % 2 == 0
+        refused.extend([] if ok else [(mach, alt_ft)])
+        return ok
+
+    pts = random_points(40, seed=1, trims=trims)
+    assert refused  # some draws were refused and redrawn
+    assert all(trims(p.mach, p.alt_ft) for p in pts)
+    assert sorted(math.floor((p.mach - 0.3) / 0.5 * 40) for p in pts) == list(range(40))
+    with pytest.raises(EnvelopeError, match=r"random point 1 of 2 \(seed 1\): no trim in 20 draws inside its cell Mach 0.300-0.550"):
+        random_points(2, 1, trims=lambda m, h: False)
+
+
+@pytest.mark.parametrize("text", ["random", "random:0", "random:x", "random:5:sed=3", "random:5:seed=0"])
+def test_random_selection_errors_name_the_form(text):
+    with pytest.raises(EnvelopeError, match=r"random:N\[:seed=S\]"):
+        select_points(text)
+
+
+def test_compare_draws_two_campaigns_side_by_side(tmp_path, capsys):
+    cfg = EnvelopeCampaign(points=select_points("NOM") + parse_mach_alt("0.6:34000"), runs=1,
+                           cases=("NONE", "PIT"), failure_time_s=2.0, duration_s=4.0)
+    for name in ("a", "b"):
+        run_envelope(cfg, tmp_path / name, CountingExecutor(), show_progress=False)
+    out = tmp_path / "cmp"
+    assert main(["campaign", "envelope", "--compare", f"{tmp_path / 'a'},{tmp_path / 'b'}", "--out", str(out)]) == 0
+    assert (out / "envelope_compare.png").stat().st_size > 10_000
+    (tmp_path / "c").mkdir()
+    (tmp_path / "c" / "summary.json").write_text(json.dumps({"kind": "soak"}))
+    assert main(["campaign", "envelope", "--compare", f"{tmp_path / 'a'},{tmp_path / 'c'}", "--out", str(out)]) == 2
+    assert "is of kind 'soak', not 'envelope'" in capsys.readouterr().err
+    assert main(["campaign", "envelope", "--compare", str(tmp_path / "a"), "--out", str(out)]) == 2
+    assert "give two or more campaign directories" in capsys.readouterr().err

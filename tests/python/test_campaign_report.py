@@ -62,5 +62,5 @@ def test_report_of_an_empty_directory_says_what_is_needed(tmp_path):
     with pytest.raises(ReportError, match="not a directory"):
         render_report(tmp_path / "nope")
     (tmp_path / "summary.json").write_text('{"kind": "triple"}')
-    with pytest.raises(ReportError, match="unknown campaign kind 'triple'.*dual, envelope, single(, soak)?, variants"):
+    with pytest.raises(ReportError, match="unknown campaign kind 'triple'.*dual, envelope, (maneuver, )?single(, soak)?, variants"):
         render_report(tmp_path)

@@ -2,9 +2,13 @@
 
 * a failure-free flight declares nothing;
 * an injected pitch-rate sensor failure is declared as PIT (fixed seed);
-* the estimator receives no failure truth: structurally (its constructor takes the model
-  bank only, the loop hands it nothing but z and u) and behaviourally (replaying the
-  recorded (u, z) through a fresh estimator reproduces every probability and declaration).
+* the estimator sees only u, z and air data, copied: structurally (its constructor takes the
+  model bank only, the loop hands it nothing but z, u and the truth model's measured air data)
+  and behaviourally (replaying the recorded (u, z, air data) through a fresh estimator
+  reproduces every probability and declaration);
+* the air data it is scheduled on are the air-data sensor's, not the truth: they differ from
+  the truth Mach and pressure altitude by exactly the sensor model (lag, then noise drawn from
+  its own stream), and the whole-flight C++ loop schedules the same values as the Python one.
 """
 from __future__ import annotations
 
@@ -75,12 +79,17 @@ def test_estimator_uses_the_bank_recommended_settings_unless_overridden(bank):
     assert r.estimator_settings == recommended and r.run_json()["estimator_settings"] == recommended
 
 
-def test_estimator_constructor_and_inputs_carry_no_failure_truth():
+def test_the_estimator_sees_only_u_z_and_air_data_copied():
     params = list(inspect.signature(Estimator.__init__).parameters)
     assert params == ["self", "model_bank", "options"]
     assert list(inspect.signature(Estimator.update).parameters) == ["self", "z"]
     assert list(inspect.signature(Estimator.propagate).parameters) == ["self", "u"]
-    # In fly(), the estimator is built from the bank alone and called with z and u only.
+    assert list(inspect.signature(Estimator.schedule).parameters) == ["self", "mach", "pressure_altitude_ft"]
+    # copied: the boundary converts to fresh floats / float arrays before the core sees them
+    for method, copy in ((Estimator.update, "np.array(z, dtype=float)"), (Estimator.propagate, "np.array(u, dtype=float)"),
+                         (Estimator.schedule, "float(mach)")):
+        assert copy in inspect.getsource(method)
+    # In fly(), the estimator is built from the bank alone and called with z, u and air data only.
     tree = ast.parse(inspect.getsource(flight.fly))
     calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call)]
     ctor = [c for c in calls if ast.unparse(c.func) == "Estimator.fresh"]
@@ -90,18 +99,51 @@ def test_estimator_constructor_and_inputs_carry_no_failure_truth():
     est_calls = [c for c in calls if isinstance(c.func, ast.Attribute)
                  and isinstance(c.func.value, ast.Name) and c.func.value.id == "estimator"]
     assert {(c.func.attr, tuple(ast.unparse(a) for a in c.args)) for c in est_calls} == {
-        ("update", ("z",)), ("propagate", ("u",))}
+        ("schedule", ("air[0]", "air[1]")), ("update", ("z",)), ("propagate", ("u",))}
     assert all(not c.keywords for c in est_calls)
+    # ... and the air data come from the truth model's air-data sensor and nowhere else
+    sources = {ast.unparse(n.value) for n in ast.walk(tree) if isinstance(n, ast.Assign)
+               and any(isinstance(t, (ast.Name, ast.Tuple)) and {"air", "air_next"} & {
+                   x.id for x in ast.walk(t) if isinstance(x, ast.Name)} for t in n.targets)}
+    assert sources == {"truth.air_data if n_frames_python else None", "truth.air_data", "(z_next, air_next)"}
+
+
+def test_the_air_data_scheduled_on_are_the_sensor_model_not_the_truth(bank):
+    from f16mmae.truth.air_data import AIR_DATA_SIGMA, air_data_rng, lag_decay
+
+    sc = _scenario(seed=9, duration_s=4.0)
+    r = fly(sc, bank, record_series=True)
+    air, log = r.series["air_data"], r.series["truth_log"]
+    ideal = log["air_data_ideal"][: len(air)]
+    assert np.array_equal(air, log["air_data"][: len(air)])   # what the sensor measured, frame by frame
+    assert not np.any(air == ideal)                            # never the truth Mach / pressure altitude
+    # the sensor model, recomputed independently: lag from the truth, then the air-data stream's noise
+    lag = np.empty_like(ideal)
+    lag[0] = ideal[0]
+    for i in range(1, len(ideal)):
+        lag[i] = ideal[i] + (lag[i - 1] - ideal[i]) * lag_decay()
+    noise = air_data_rng(sc.seed).standard_normal((len(air), 2)) * AIR_DATA_SIGMA
+    np.testing.assert_allclose(air - lag, noise, rtol=0, atol=1e-9)
+    assert abs(np.std(air[:, 0] - ideal[:, 0]) - AIR_DATA_SIGMA[0]) < 0.3 * AIR_DATA_SIGMA[0]
+    # pressure altitude, not geometric: at 20,000 ft the two differ by the day's atmosphere only
+    # (standard day here), so check the definition on the property JSBSim reports
+    assert abs(ideal[0, 1] - 20000.0) < 50.0
+    # the whole-flight C++ loop and the per-frame loop schedule the same last value
+    for on_frame in (None, lambda t, u, z, a: None):
+        est = Estimator(bank)
+        fly(sc, bank, estimator=est, on_frame=on_frame)
+        assert est.air_data == tuple(air[-1]) and est.air_data_rejected == 0
 
 
 def test_replaying_u_and_z_alone_reproduces_the_estimator(bank):
     fly(_scenario([("AZ", 1.0)], seed=2, duration_s=4.0), bank)  # leaves a used estimator to reuse
     frames = []
     r = fly(_scenario([("LS", 2.0)], seed=5, duration_s=5.0), bank,
-            on_frame=lambda t, u, z: frames.append((t, u, z)))
+            on_frame=lambda t, u, z, a: frames.append((t, u, z, a)))
     est = Estimator(bank)
     probs, decl = [], []
-    for t, u, z in frames:
+    for t, u, z, a in frames:
+        est.schedule(*a)
         est.update(z)
         est.propagate(u)
         if est.last_declaration is not None:

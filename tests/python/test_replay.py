@@ -22,7 +22,9 @@ from f16mmae.lcm.channels import channels
 from f16mmae.lcm.hil import fly_hil
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae import core
-from f16mmae.lcm.replay import InProcessExecutive, ReplayError, replay_log
+from f16mmae.lcm.replay import (SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA, InProcessExecutive, ReplayError,
+                                replay_log)
+from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
@@ -47,9 +49,16 @@ def test_the_bound_executive_gives_every_frame_its_fate(bank):
     assert ex.on_sensor(2, z) == "out-of-order"
     assert ex.on_sensor(4, z, valid=[True] * 6 + [False]) == "rejected"
     assert ex.on_sensor(4, np.full(7, np.nan)) == "rejected"
+    # air data: the two used frames came without any (NaN): counted, the frames still used
     assert ex.counters == dict(frames_updated=2, commands_applied=1, frames_rejected=2, dropped_duplicate=1,
                                dropped_out_of_order=2, frames_resynchronised=0, frames_stale=2,
-                               commands_missed=2)
+                               commands_missed=2, air_data_rejected=2)
+    assert ex.on_sensor(4, z, air_data=(0.41, 20300.0)) == "used"
+    assert ex.on_sensor(5, z, air_data=(0.41, np.inf)) == "used"
+    status = lcmt_mmae_status.decode(ex.encoded_status)
+    assert status.air_data_rejected == ex.counters["air_data_rejected"] == 3
+    with pytest.raises(ValueError, match=r"air_data must be \(mach, pressure_altitude_ft\), got 3"):
+        ex.on_sensor(6, z, air_data=(0.4, 2e4, 1.0))
     with pytest.raises(ValueError, match=r"z must have shape \(7,\), got \(6,\)"):
         ex.on_sensor(5, z[:6])
     with pytest.raises(ValueError, match="valid must hold 7 flags, got 2"):
@@ -112,6 +121,12 @@ def test_a_recorded_flight_replays_exactly(bank, tmp_path):
     assert report.statuses_compared == report.sensor_frames == report.command_frames == 192
     assert report.max_probability_diff == 0.0
     assert main(["replay", str(log), "--channel-prefix", "REC_"]) == 0  # --bank auto finds "tuned"
+    # the air data crossed the link with every frame, and the executive scheduled on every one
+    sensors = [lcmt_sensor_frame.decode(e.data) for e in lcm.EventLog(str(log), "r") if e.channel == "REC_F16_SENSORS"]
+    statuses = [lcmt_mmae_status.decode(e.data) for e in lcm.EventLog(str(log), "r") if e.channel == "REC_MMAE_STATUS"]
+    assert all(abs(f.mach - 0.4) < 0.02 and abs(f.pressure_altitude_ft - 20000.0) < 100.0 for f in sensors)
+    assert len({f.mach for f in sensors}) == len(sensors)   # measured per frame (noise), not a constant
+    assert max(s.air_data_rejected for s in statuses) == 0
 
 
 def test_wire_faults_replay_with_the_prescribed_stale_flags(bank, tmp_path):
@@ -203,6 +218,12 @@ def test_unreadable_or_foreign_logs_are_refused(bank, tmp_path, capsys):
     log.close()
     with pytest.raises(ReplayError, match="holds no 'MMAE_STATUS' messages"):
         replay_log(other, bank)
+    old = tmp_path / "before_air_data.lcmlog"
+    log = lcm.EventLog(str(old), "w", overwrite=True)
+    log.write_event(0, "F16_SENSORS", SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA + b"\x00" * 120)
+    log.close()
+    with pytest.raises(ReplayError, match="recorded before lcmt_sensor_frame carried air data"):
+        replay_log(old, bank)
     assert main(["replay", str(tmp_path / "nope.lcmlog"), "--bank", "tuned"]) == 2
     assert "does not exist" in capsys.readouterr().err
     assert main(["replay", str(other), "--bank", "tuned", "--tolerance", "-1"]) == 2

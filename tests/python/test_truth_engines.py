@@ -21,7 +21,7 @@ from f16mmae.truth import FlightControlSystem, Scenario, TruthModel, fly_raw, pa
 from f16mmae.truth.dither import DitherSpec
 from f16mmae.truth.engine import ENGINE_ENV, check_engine
 
-ARRAYS = ("time_s", "z", "z_ideal", "state", "u_cmd_rad", "surface_rad")
+ARRAYS = ("time_s", "z", "z_ideal", "air_data", "air_data_ideal", "state", "u_cmd_rad", "surface_rad")
 
 
 def _fails(*texts):
@@ -150,7 +150,7 @@ def test_single_failure_campaign_is_the_same_on_both_engines(tmp_path, monkeypat
         frames = []
         result = fly(Scenario.from_dict(spec["scenario"]), planned_bank(spec), engine=engine,
                      estimator_options=spec["estimator"],
-                     on_frame=lambda t, u, z: frames.append(np.concatenate([u, z])))
+                     on_frame=lambda t, u, z, a: frames.append(np.concatenate([u, z, a])))
         seen[engine] = (np.array(frames), result)
     (fa, ra), (fb, rb) = seen["python"], seen["cpp"]
     assert np.abs(fa - fb).max() <= 1e-9
@@ -169,7 +169,7 @@ def test_a_closed_loop_flown_whole_in_cpp_is_the_per_frame_one(feedback):
     whole = fly(sc, bank, engine="cpp")
     assert whole.declarations, "the failure is declared (the level changes mid-flight)"
     for engine in ("cpp", "python"):
-        frames = fly(sc, bank, engine=engine, on_frame=lambda t, u, z: None)
+        frames = fly(sc, bank, engine=engine, on_frame=lambda t, u, z, a: None)
         assert frames.declarations == whole.declarations
         assert frames.hypotheses == whole.hypotheses
         assert np.array_equal(frames.probabilities, whole.probabilities, equal_nan=True)
@@ -189,6 +189,8 @@ def test_the_cpp_frames_refuse_bad_input_by_name():
     truth = TruthModel(Scenario(duration_s=0.5), engine="cpp")
     with pytest.raises(ValueError, match=r"noise must be an \(n, 7\) array"):
         truth._frames.set_noise(np.zeros((3, 6)))
+    with pytest.raises(ValueError, match=r"air_data_noise must be an \(n, 2\) array"):
+        truth._frames.set_air_data_noise(np.zeros((3, 7)))
     with pytest.raises(ValueError, match="u needs 5 values"):
         truth._frames.advance(np.zeros(4))
     with pytest.raises(ValueError, match="no flight control law"):

@@ -18,6 +18,7 @@ ours ever multicasts on a real interface.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -88,6 +89,23 @@ def _wait_until_logged(log, lc, channel, frame, timeout_s=10.0):
     raise AssertionError(f"lcm-logger did not write {channel} frame {frame} within {timeout_s} s")
 
 
+@contextlib.contextmanager
+def sending_from_one_cpu():
+    """Keep this process on one CPU while it publishes. Multicast loopback hands each
+    datagram to the backlog queue of the CPU that sent it, and a loaded host may leave that
+    queue to ksoftirqd: a sender that migrates between two publishes (command i, then sensor
+    i+1) can have the second delivered first, to the logger or the daemon. The executive then
+    sees frame i+1 before command i -- a real reordering on the wire, which it handles (catch
+    up, stale status) but which makes the logged order differ from the order the daemon saw.
+    One CPU, one queue, the order sent."""
+    allowed = os.sched_getaffinity(0)
+    os.sched_setaffinity(0, {min(allowed)})
+    try:
+        yield min(allowed)
+    finally:
+        os.sched_setaffinity(0, allowed)
+
+
 def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path):
     label, path, bank = banked
     prefix = f"T{os.getpid()}A_"
@@ -100,13 +118,16 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
         with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
             time.sleep(0.5)  # the logger subscribes
             lc = lcm.LCM(URL)
-            remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0)
+            with sending_from_one_cpu():
+                remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0)
         _wait_until_logged(log, lc, chans.commands, frame=255)
     finally:
         logger.send_signal(signal.SIGINT)
         logger.wait(timeout=10)
     assert daemon.returncode == 0
     assert "256 updated, 256 commands applied, 0 rejected, 0 dropped" in daemon.summary
+    # the air data crossed with every frame (a frame without it would be counted here)
+    assert "0 air data rejected" in daemon.summary and remote.timing["link"]["air_data_rejected"] == 0
     assert daemon.statistics["messages"]["used"] == 256 + 256 + 1  # frames and the flight's reset
     assert daemon.statistics["messages"]["undecodable"] == 0
     local = fly(scenario, bank)
@@ -134,7 +155,8 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
         # at a quarter of the recorded pace: the lockstep flight ran ~1 ms per frame, and
         # UDP on a loaded 2-core host may drop a burst that fast
         player = subprocess.Popen([_tool("lcm-logplayer"), "-s", "0.25", "-l", URL2, "-e",
-                                   f"^{prefix}(F16_SENSORS|F16_COMMANDS|MMAE_RESET)$", str(log)])
+                                   f"^{prefix}(F16_SENSORS|F16_COMMANDS|MMAE_RESET)$", str(log)],
+                                  preexec_fn=lambda: os.sched_setaffinity(0, {min(os.sched_getaffinity(0))}))
         while player.poll() is None:
             lc2.handle_timeout(50)
         end = time.time() + 2.0
@@ -158,7 +180,7 @@ def test_wire_faults_against_the_daemon_agree_with_the_replay(banked, tmp_path):
     lc.subscribe(chans.status, lambda ch, data: statuses.append(lcmt_mmae_status.decode(data)))
     writer = lcm.EventLog(str(log), "w", overwrite=True)
     lc.subscribe(f"{prefix}.*", lambda ch, data: writer.write_event(len(statuses), ch, data))
-    with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+    with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon, sending_from_one_cpu():
         for step in WIRE:
             kind, i = publish_step(lc, chans, step, bank, rng, z_sigma=0.05, u_sigma=0.002), step[1]
             end = time.time() + 0.2  # settle: the daemon answers sensor frames within this

@@ -59,8 +59,10 @@ TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
 FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
 #: The nominal banks shipped in the package (``data/nominal_<tuning>.f16bank``).
 SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
-#: The estimator settings a bank recommends and a user may override (core.HierarchicalBank).
-ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s")
+#: The estimator settings a bank recommends and a user may override (core.HierarchicalBank);
+#: the trim-tracking ones are off (unset) unless given (cpp/f16mmae/trim_tracker.h).
+ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s", "trim_time_constant_s",
+                                       "trim_freeze_probability")
 #: The longest declaration dwell the estimator accepts (s): the core's bound
 #: (cpp/f16mmae/estimator_settings.h kMaxDwellS), defined there once.
 DWELL_S_MAX: float = MAX_DWELL_S

@@ -3,10 +3,11 @@ from __future__ import annotations
 
 import argparse
 
-from . import campaign_detectability, campaign_dual, campaign_envelope, campaign_single, campaign_soak
+from . import (campaign_detectability, campaign_dual, campaign_envelope, campaign_maneuver, campaign_single,
+               campaign_soak)
 
 #: The kinds in the order ``--help`` lists them; each module has ``register(kinds)``.
-KINDS = (campaign_single, campaign_dual, campaign_envelope, campaign_soak, campaign_detectability)
+KINDS = (campaign_single, campaign_dual, campaign_envelope, campaign_soak, campaign_detectability, campaign_maneuver)
 
 DESCRIPTION = """\
 Monte Carlo campaigns of closed-loop flights of the nonlinear JSBSim F-16 with the MMAE
@@ -26,13 +27,16 @@ estimator in the loop.
   detectability  detection probability against bias size and drift rate per sensor and
            against loss fraction per actuator, with 95 % intervals (how small a failure
            it sees).
+  maneuver failures injected during climbs, descents, speed changes and 30-deg turns
+           across the envelope: correct fraction, false declarations per maneuvering
+           hour, latency.
 """
 
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "campaign",
-        help="Monte Carlo campaigns (single, dual, envelope, soak, detectability)",
+        help="Monte Carlo campaigns (single, dual, envelope, soak, detectability, maneuver)",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -2,11 +2,14 @@
 from __future__ import annotations
 
 import argparse
+import json
+from pathlib import Path
 
-from ..campaign.envelope import EnvelopeCampaign, run_envelope
+from ..campaign.envelope import EnvelopeCampaign, figures, run_envelope
 from ..campaign.envelope.points import PAPER_POINTS, EnvelopeError, check_distinct, parse_mach_alt, select_points
 from ..report.evidence import describe_rate
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, parse_cases, run_and_report, validated
+from ..outputs import writable_dir
 from .options import CliError
 
 DESCRIPTION = """\
@@ -28,15 +31,19 @@ Points (the paper's Fig. 9; q̄ = 0.7 p M^2, ISA, lbf/ft^2):
 EXAMPLES = """\
 selections (--points): all = NOM + 1-24 (default), local = NOM + 1-20, extrema = NOM +
 21-24, qline = 9,12,NOM,17,19 (the paper's axis of nearly constant q̄), or a comma list
-such as 1,2,NOM.  --mach-alt MACH:ALT_FT,... adds custom points C1, C2, ... (alone
+such as 1,2,NOM, or random:N[:seed=S]: N Latin-hypercube points R1..RN over Mach
+0.3-0.8 x 5,000-35,000 ft (seed S, default 1; a point that does not trim is redrawn
+inside its cell).  --mach-alt MACH:ALT_FT,... adds custom points C1, C2, ... (alone
 when --points is not given).
 
 examples:
   f16mmae campaign envelope                          # 25 points x 13 cases x 2 runs
   f16mmae campaign envelope --points qline --runs 5
+  f16mmae campaign envelope --points random:40:seed=3 --runs 10
   f16mmae campaign envelope --points local --cases NONE,LS,PIT,AZ
   f16mmae campaign envelope --mach-alt 0.42:21000,0.38:19000 --runs 3
   f16mmae campaign envelope --points NOM --mach-alt 0.5:25000 --tuning untuned
+  f16mmae campaign envelope --compare results/env-nominal,results/env-scheduled --out results/env-compare
 
 Output (DIR, default results/campaign-envelope):
   runs.jsonl          one record per run (point, seed, scenario with the point's Mach and
@@ -69,11 +76,15 @@ def register(kinds) -> None:
     )
     add_flight_settings(e, "2", "seeded runs per case and point (default 2)")
     e.add_argument("--points", default=None, metavar="SEL",
-                   help="all | local | extrema | qline | comma list of 1-24 and NOM (default all)")
+                   help="all | local | extrema | qline | comma list of 1-24 and NOM | random:N[:seed=S] "
+                        "(default all)")
     e.add_argument("--mach-alt", default=None, metavar="M:H,...",
                    help="custom points MACH:ALT_FT (e.g. 0.42:21000), Mach 0.3-0.8, 5,000-35,000 ft")
     e.add_argument("--cases", default=None, metavar="LIST",
                    help="comma-separated cases (default: NONE and all twelve failures)")
+    e.add_argument("--compare", default=None, metavar="DIR_A,DIR_B",
+                   help="fly nothing: draw the maps of two (or more) finished envelope campaigns side by side "
+                        "(e.g. unscheduled and scheduled bank) into OUT/envelope_compare.png")
     add_run_arguments(e, "results/campaign-envelope")
     e.set_defaults(func=_envelope)
 
@@ -99,7 +110,29 @@ def config_from_args(args) -> EnvelopeCampaign:
     return validated(cfg)
 
 
+def compare(dirs_text: str, out: str) -> Path:
+    """``--compare``: the side-by-side map of finished envelope campaigns (CliError naming a
+    directory without an envelope summary); the output directory is checked first."""
+    dirs = [Path(d.strip()) for d in dirs_text.split(",") if d.strip()]
+    if len(dirs) < 2:
+        raise CliError(f"--compare {dirs_text!r}: give two or more campaign directories DIR_A,DIR_B")
+    out_dir = writable_dir(out)
+    summaries = []
+    for d in dirs:
+        try:
+            s = json.loads((d / "summary.json").read_text())
+        except (OSError, ValueError) as exc:
+            raise CliError(f"--compare: {d}/summary.json cannot be read ({exc})") from None
+        if s.get("kind") != "envelope":
+            raise CliError(f"--compare: {d}/summary.json is of kind {s.get('kind')!r}, not 'envelope'")
+        summaries.append(s)
+    return figures.compare_maps(summaries, Path(out_dir) / figures.COMPARE_FILE)
+
+
 def _envelope(args) -> int:
+    if args.compare is not None:
+        print(f"wrote {compare(args.compare, args.out)}")
+        return 0
     return run_and_report(args, config_from_args(args), run_envelope, print_summary)
 
 

@@ -4,16 +4,18 @@ from __future__ import annotations
 import argparse
 
 from ..campaign.soak import GOALS_PER_H, SoakCampaign, run_soak
-from ..campaign.soak.campaign import FLIGHTS_MAX, SOAK_FLIGHT_S
+from ..campaign.soak.campaign import FLIGHTS_MAX, PROFILES, SOAK_FLIGHT_S
+from ..truth.maneuvers import ManeuverError, parse_maneuver
 from ..names import FLIGHT_S_MAX
 from ..report.evidence import describe_counts, describe_per_hour
 from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
-from .options import number
+from .options import CliError, number
 
 DESCRIPTION = f"""\
 The soak campaign: failure-free flights at the bank's design point, trimmed, with the dither
 on, the MMAE in the loop, counting false declarations per flight hour at each turbulence
-level listed.  Maneuvering flight does not exist yet: the aircraft holds trim.  The hours are
+level listed.  The aircraft holds trim, or flies the maneuvers of --maneuver (the grammar of
+'f16mmae run --help') or of --profile in every flight.  The hours are
 cut into flights of --flight-s seconds (default {SOAK_FLIGHT_S:g}), each one run of the
 campaign engine, so a soak resumes flight by flight and distributes like any campaign.
 Flight n has the same seed at every level (common random numbers).
@@ -27,6 +29,12 @@ examples:
   f16mmae campaign soak --hours 1 --turbulence light
   f16mmae campaign soak --hours 10 --turbulence none,light,moderate,severe --check
   f16mmae campaign soak --hours 0.1 --flight-s 60 --workers 1 --out /tmp/soak
+  f16mmae campaign soak --hours 2 --profile tour      # maneuvering flight, 540-s tours
+  f16mmae campaign soak --hours 1 --flight-s 120 --maneuver turn@10:bank=30 --maneuver climb@20:to=23000ft
+
+profile tour (flights >= 540 s, from the bank's design point): climb 4,000 ft at 2,000 fpm
+at 10 s with a 60-s 30 deg right turn from 60 s, +0.1 Mach from 150 s, a 60-s left turn from
+200 s, back down from 300 s and back to the start speed from 350 s, a 90-s right turn from 450 s.
 
 Output (DIR, default results/campaign-soak): runs.jsonl (one record per flight: seed,
 scenario, declarations, each false declaration with how long it lasted), summary.json,
@@ -44,6 +52,9 @@ def register(kinds) -> None:
     s.add_argument("--hours", default="1", metavar="H", help="flight hours per turbulence level (default 1)")
     s.add_argument("--flight-s", default=str(SOAK_FLIGHT_S), metavar="S",
                    help=f"length of each flight in s, at most {FLIGHT_S_MAX:g} (default {SOAK_FLIGHT_S:g})")
+    s.add_argument("--maneuver", action="append", default=[], metavar="KIND@T:KEY=VALUE",
+                   help="a maneuver every flight flies (repeatable; grammar of 'f16mmae run --help')")
+    s.add_argument("--profile", default=None, metavar="NAME", help=f"a maneuver profile: {', '.join(PROFILES)}")
     add_flight_settings(s, None, failures=False)
     add_run_arguments(s, "results/campaign-soak")
     s.set_defaults(func=_soak)
@@ -53,7 +64,16 @@ def config_from_args(args) -> SoakCampaign:
     flight_s = number("--flight-s", args.flight_s, minimum=0.0, exclusive=True, maximum=FLIGHT_S_MAX)
     hours = number("--hours", args.hours, minimum=0.0, exclusive=True,
                    maximum=FLIGHTS_MAX * flight_s / 3600.0)
-    return validated(SoakCampaign(**flight_settings(args), hours=hours, duration_s=flight_s))
+    maneuvers = []
+    for text in args.maneuver:
+        try:
+            maneuvers.append(str(parse_maneuver(text)))
+        except ManeuverError as exc:
+            raise CliError(f"--maneuver: {exc}") from None
+    if args.profile is not None and args.profile not in PROFILES:
+        raise CliError(f"--profile {args.profile!r} is unknown; valid: {', '.join(PROFILES)}")
+    return validated(SoakCampaign(**flight_settings(args), hours=hours, duration_s=flight_s,
+                                  maneuvers=tuple(maneuvers), profile=args.profile))
 
 
 def _soak(args) -> int:
@@ -62,7 +82,8 @@ def _soak(args) -> int:
 
 def print_summary(summary: dict, stream) -> None:
     t = summary.get("timing", {})
-    print(f"soak: {summary['flights_per_level']} flights of {summary['flight_s']:g} s per level at trim, "
+    flown = "maneuvering: " + ", ".join(summary["maneuvers"]) if summary.get("maneuvers") else "at trim"
+    print(f"soak: {summary['flights_per_level']} flights of {summary['flight_s']:g} s per level {flown}, "
           f"Mach {summary['mach']}, {summary['alt_ft']:.0f} ft, seed {summary['seed']}, {summary['tuning']} bank; "
           f"wall {t.get('wall_s', 0):.1f} s", file=stream)
     print("false declarations per flight hour (95% Poisson interval), goal and verdict:", file=stream)

@@ -88,6 +88,13 @@ def add_estimator_arguments(p) -> None:
     p.add_argument("--p-min", default=None, metavar="P",
                    help="probability floor (default: the bank's recommended -- tuned: 1e-9 -- "
                         "else the core's 0.001, the paper's)")
+    p.add_argument("--trim-tracking", default=None, metavar="TAU_S",
+                   help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "
+                        "bank's trim plus a slow low-pass offset of u and z, frozen while a failure "
+                        "hypothesis rises or is declared (default: off)")
+    p.add_argument("--trim-freeze-probability", default=None, metavar="P",
+                   help="with --trim-tracking: a failure hypothesis above P freezes the trim "
+                        "estimate (0 < P <= 1; default 0.05; 1 freezes only at a declaration)")
 
 
 def estimator_options_from_args(args) -> dict:
@@ -100,6 +107,14 @@ def estimator_options_from_args(args) -> dict:
         out["dwell_s"] = number("--dwell-s", args.dwell_s, minimum=0.0, maximum=DWELL_S_MAX)
     if args.p_min is not None:
         out["p_min"] = number("--p-min", args.p_min, minimum=0.0, below=round(1.0 / K_BANK, 6))
+    if args.trim_tracking is not None:
+        out["trim_time_constant_s"] = number("--trim-tracking", args.trim_tracking, minimum=0.0, exclusive=True,
+                                             maximum=1e6)
+    if args.trim_freeze_probability is not None:
+        if args.trim_tracking is None:
+            raise CliError("--trim-freeze-probability applies with --trim-tracking only")
+        out["trim_freeze_probability"] = number("--trim-freeze-probability", args.trim_freeze_probability,
+                                                minimum=0.0, exclusive=True, maximum=1.0)
     return out
 
 

@@ -5,7 +5,7 @@ import argparse
 import json
 from pathlib import Path
 
-from ..campaign import detectability, dual, envelope, single, soak  # noqa: F401 -- each registers its report page
+from ..campaign import detectability, dual, envelope, maneuver, single, soak  # noqa: F401 -- each registers its report page
 from ..report.markdown import summary_markdown
 from ..report.page import render_report
 from .options import CliError

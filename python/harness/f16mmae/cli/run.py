@@ -13,6 +13,7 @@ from ..report.flight import write_flight
 from ..outputs import writable_dir
 from ..truth import Scenario, TrimError, parse_fail
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE
+from ..truth.maneuvers import ManeuverError, parse_maneuver
 from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args, flight_seconds,
                       number, seed)
 
@@ -30,11 +31,20 @@ examples:
   f16mmae run --fail LS@3 --fail PIT@5         # a dual: level-1 bank after the first declaration
   f16mmae run --fail RUD --turbulence moderate --feedback raw
   f16mmae run --mach 0.42 --alt-ft 21000 --fail AOA   # off the bank's design point
+  f16mmae run --duration 60 --maneuver climb@5:to=25000ft:rate=3000fpm --maneuver turn@20:bank=30
 
 --fail NAME@TIME[:MODE[=VALUE]]: NAME one of LS RS LF RF RUD VEL AOA PIT AZ ROL YAW AY (any case);
 TIME in s (default 3.0 when '@TIME' is left out); MODE for actuators complete | stuck |
 hardover | loss, for sensors complete | null | stuck | hardover | bias | drift (default
 complete, the paper's model).
+
+--maneuver KIND@T:KEY=VALUE[:KEY=VALUE] (repeatable), the pilot's schedule, flown by the
+truth FCS's outer loop (altitude, Mach and bank hold; never seen by the estimator):
+  climb@T:to=ALTft[:rate=Rfpm]      descend@T:to=ALTft[:rate=Rfpm]     (default 2000 fpm)
+  accel@T:to=Mmach[:rate=Rmach/s]   decel@T:to=Mmach[:rate=Rmach/s]    (default 0.005 Mach/s)
+  turn@T:bank=Bdeg[:for=Ss]         level turn, right bank +, |B| <= 60, 0 rolls out
+T in s; targets within Mach 0.3-0.8, 5,000-35,000 ft; units optional but exact when written;
+climbs, speed changes and turns may overlap each other, not themselves.
 
 With --out DIR: DIR/run.json (seed, scenario, bank hash, version, failures,
 declarations -- a back-out is a declaration of NONE --, final hypothesis),
@@ -63,6 +73,9 @@ def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a 
     """The options of one flight, shared by ``run`` and ``hil``."""
     p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
                    help=f"inject a failure (repeatable); TIME defaults to {FAILURE_TIME_S} s, MODE to complete")
+    p.add_argument("--maneuver", action="append", default=[], metavar="KIND@T:KEY=VALUE",
+                   help="a maneuver (repeatable): climb|descend@T:to=ALTft[:rate=Rfpm], "
+                        "accel|decel@T:to=Mmach[:rate=Rmach/s], turn@T:bank=Bdeg[:for=Ss]")
     p.add_argument("--seed", default="1", metavar="N", help="seed >= 1 for noise and turbulence (default 1, one of the seeds the shipped "
                         "bank was tuned on: campaigns fly evaluation seeds, see f16mmae/seeds.py)")
     p.add_argument("--duration", default=str(FLIGHT_S), metavar="S", help=f"flight length in s (default {FLIGHT_S:g})")
@@ -109,7 +122,17 @@ def scenario_fields(args) -> dict:
     if late:
         raise CliError(f"--fail {late[0].name}@{late[0].time_s}: the failure time is not inside the "
                        f"{duration}-s flight (use --duration)")
+    maneuvers = []
+    for text in args.maneuver:
+        try:
+            maneuvers.append(parse_maneuver(text))
+        except ManeuverError as exc:
+            raise CliError(f"--maneuver: {exc}") from None
+    late = [m for m in maneuvers if m.time_s >= duration]
+    if late:
+        raise CliError(f"--maneuver {late[0]}: the start time is not inside the {duration}-s flight (use --duration)")
     return {
+        "maneuvers": tuple(maneuvers),
         "mach": mach, "alt_ft": alt_ft, "turbulence": turbulence,
         "dither": not args.no_dither, "duration_s": duration, "seed": seed_, "feedback": feedback,
         "failures": tuple(failures),
@@ -159,6 +182,8 @@ def _run(args) -> int:
     print(f"flight: {s['duration_s']:g} s at Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, "
           f"{s['turbulence']} turbulence, seed {s['seed']}, dither {'on' if s['dither'] else 'off'}, "
           f"feedback {result.feedback}; bank {label} ({result.bank_hash[:12]})")
+    if s.get("maneuvers"):
+        print(f"maneuvers: {', '.join(s['maneuvers'])}")
     inj = ", ".join(f"{f['name']} at {f['time_s']:g} s ({f['mode']})" for f in result.failures)
     print(f"injected: {inj or 'nothing'}")
     if result.declarations:

@@ -2,6 +2,8 @@
 (docs/INTERFACES.md)."""
 from __future__ import annotations
 
+import math
+
 from ..lcmt_command_frame import lcmt_command_frame
 from ..lcmt_sensor_frame import lcmt_sensor_frame
 from ..names import FRAME_RATE_HZ
@@ -12,13 +14,17 @@ def frame_utime(i: int, rate_hz: float = FRAME_RATE_HZ) -> int:
     return int(round(i * 1e6 / rate_hz))
 
 
-def sensor_frame_bytes(i: int, z, valid: bool = True, rate_hz: float = FRAME_RATE_HZ) -> bytes:
-    """Frame ``i``'s measurements ``z`` (absolute, names.SENSORS order) as an encoded
-    ``lcmt_sensor_frame`` (utime = i / rate_hz); ``valid`` flags every sensor."""
+def sensor_frame_bytes(i: int, z, air_data=(math.nan, math.nan), valid: bool = True,
+                       rate_hz: float = FRAME_RATE_HZ) -> bytes:
+    """Frame ``i``'s measurements ``z`` (absolute, names.SENSORS order) and measured air data
+    ``air_data`` = (Mach, pressure altitude ft) as an encoded ``lcmt_sensor_frame`` (utime =
+    i / rate_hz); ``valid`` flags every sensor.  Without ``air_data`` (a sender with no air data
+    system) both fields are NaN: the executive keeps its schedule and counts the frame."""
     msg = lcmt_sensor_frame()
     msg.utime, msg.frame = frame_utime(i, rate_hz), i
     msg.z = [float(v) for v in z]
     msg.valid = [bool(valid)] * len(msg.z)
+    msg.mach, msg.pressure_altitude_ft = (float(v) for v in air_data)
     return msg.encode()
 
 

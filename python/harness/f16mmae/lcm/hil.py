@@ -47,7 +47,7 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
             remote: RemoteEstimator | None = None, auth=None):
     """Fly ``scenario`` against the executive reachable on ``lc``; returns the closed loop's
     FlightResult (timing gains ``link``: latency p50/p99/max, deadline misses, stale).
-    ``on_frame(t, u, z)`` is called after each frame, as by loop.flight.fly; ``remote``: a
+    ``on_frame(t, u, z, air_data)`` is called after each frame, as by loop.flight.fly; ``remote``: a
     RemoteEstimator of the caller's (then ``lockstep``/``timeout_s``/``auth`` are its own);
     ``auth``: a ``core.FrameAuth`` that signs what is sent and checks the statuses."""
     if remote is None:
@@ -64,11 +64,11 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
             "lockstep": lockstep})
         pending = sorted((f.time_s, f.to_dict()) for f in scenario.failures)
 
-        def frame_done(t, u, z):
+        def frame_done(t, u, z, air_data):
             while pending and pending[0][0] <= t:
                 publish_marker(lc, chans, "failure", t, pending.pop(0)[1])
             if on_frame is not None:
-                on_frame(t, u, z)
+                on_frame(t, u, z, air_data)
 
         result = fly(scenario, model_bank, feedback=feedback, on_frame=frame_done, estimator=remote)
         link = remote.link.summary()

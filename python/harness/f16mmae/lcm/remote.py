@@ -1,6 +1,7 @@
 """The MMAE executive over LCM, as the estimator the closed loop calls."""
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -22,6 +23,7 @@ class LinkStats:
     stale_statuses: int = 0                                # statuses the executive marked stale
     unauthenticated_statuses: int = 0                      # with a key: statuses dropped, no valid tag
     replayed_statuses: int = 0                             # with a key: statuses dropped, old sequence
+    air_data_rejected: int = 0                             # the executive's count at the last status
 
     def summary(self) -> dict:
         lat = np.array(self.latency_ns, dtype=float) / 1e3
@@ -30,13 +32,16 @@ class LinkStats:
                 "stale_statuses": self.stale_statuses,
                 "unauthenticated_statuses": self.unauthenticated_statuses,
                 "replayed_statuses": self.replayed_statuses,
+                "air_data_rejected": self.air_data_rejected,
                 "latency_us": {"p50": q(50), "p99": q(99), "max": round(float(lat.max()), 1) if lat.size else None}}
 
 
 class RemoteEstimator:
     """The MMAE executive over LCM, with the interface :func:`f16mmae.loop.flight.fly` calls
-    (``update(z) -> z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``,
-    ``declared``, ``bank_hash``). Only u and z cross the link.
+    (``schedule(mach, pressure_altitude_ft)``, ``update(z) -> z_hat``, ``propagate(u)``,
+    ``hypotheses``, ``probabilities``, ``declared``, ``bank_hash``). Only u, z and the measured
+    air data cross the link: ``schedule`` keeps the air data that the next ``update`` sends in
+    its sensor frame (NaN until the first ``schedule``: the executive then keeps its bank's own).
 
     ``lockstep``: each update waits for its status up to ``timeout_s`` (HilError after).
     Paced: frame i is published at ``t0 + i / rate_hz`` and its status awaited until the next
@@ -62,6 +67,7 @@ class RemoteEstimator:
         self._t0: float | None = None
         self._status = None
         self._z_hat = np.full(NZ, np.nan)
+        self._air_data = (math.nan, math.nan)
         self.link = LinkStats()
         #: The estimator settings the executive is presumed to run (the record's estimator_settings).
         self.settings: dict = {}
@@ -92,6 +98,7 @@ class RemoteEstimator:
         self.link.latency_ns.append(t - self._t_pub)
         if msg.stale:
             self.link.stale_statuses += 1
+        self.link.air_data_rejected = msg.air_data_rejected
         self._status = msg
 
     def frame_due(self, i: float) -> float | None:
@@ -107,13 +114,17 @@ class RemoteEstimator:
         self._frame = -1
         self._status = None
         self._t0 = None
+        self._air_data = (math.nan, math.nan)
 
     # -- the estimator interface
+    def schedule(self, mach, pressure_altitude_ft) -> None:
+        self._air_data = (float(mach), float(pressure_altitude_ft))
+
     def update(self, z) -> np.ndarray:
         z = np.array(z, dtype=float).reshape(-1)
         self._frame += 1
         i = self._frame
-        data = sensor_frame_bytes(i, z, rate_hz=self.rate_hz)
+        data = sensor_frame_bytes(i, z, self._air_data, rate_hz=self.rate_hz)
         if not self.lockstep:
             if self._t0 is None:
                 self._t0 = time.perf_counter()

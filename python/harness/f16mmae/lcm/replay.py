@@ -46,9 +46,11 @@ class InProcessExecutive:
     def reset(self) -> None:
         self.executive.on_reset()
 
-    def on_sensor(self, frame: int, z, valid=None, utime: int = 0) -> lcmt_mmae_status | None:
-        """The status this sensor frame produces (decoded), or None when it produces none."""
-        fate = self.executive.on_sensor(int(frame), np.asarray(z, dtype=float), valid, int(utime))
+    def on_sensor(self, frame: int, z, valid=None, utime: int = 0, air_data=None) -> lcmt_mmae_status | None:
+        """The status this sensor frame produces (decoded), or None when it produces none.
+        ``air_data``: the frame's (mach, pressure_altitude_ft); None as a frame without them (NaN)."""
+        air = None if air_data is None else [float(v) for v in air_data]
+        fate = self.executive.on_sensor(int(frame), np.asarray(z, dtype=float), valid, int(utime), air)
         if fate not in ("used", "resynchronised"):
             return None
         return lcmt_mmae_status.decode(self.executive.encoded_status)
@@ -62,7 +64,8 @@ class InProcessExecutive:
         as mmae-daemon does (the same bytes). Returns the subscriptions (unsubscribe to stop)."""
         def on_sensor(channel, data):
             f = lcmt_sensor_frame.decode(data)
-            fate = self.executive.on_sensor(f.frame, np.asarray(f.z, dtype=float), list(f.valid), f.utime)
+            fate = self.executive.on_sensor(f.frame, np.asarray(f.z, dtype=float), list(f.valid), f.utime,
+                                            [f.mach, f.pressure_altitude_ft])
             if fate in ("used", "resynchronised"):
                 lc.publish(chans.status, self.executive.encoded_status)
 
@@ -151,9 +154,9 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
                     report.unauthenticated += 1
                 continue
             if ch == chans.sensors:
-                f = lcmt_sensor_frame.decode(event.data)
+                f = _decode_sensor_frame(event.data, path)
                 report.sensor_frames += 1
-                c = executive.on_sensor(f.frame, f.z, list(f.valid), f.utime)
+                c = executive.on_sensor(f.frame, f.z, list(f.valid), f.utime, (f.mach, f.pressure_altitude_ft))
                 if c is not None:
                     if c.frame in early:  # its status was logged before the frame itself
                         _compare(report, early.pop(c.frame), c, mismatch)
@@ -191,6 +194,21 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
     return report
 
 
+#: The fingerprint (first 8 bytes) of ``lcmt_sensor_frame`` before it carried air data.
+SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA = bytes.fromhex("23052c572d827754")
+
+
+def _decode_sensor_frame(data: bytes, path: Path):
+    """A logged sensor frame, or ReplayError naming the log when it was written before the
+    sensor frame carried air data (that traffic has no air data to schedule on)."""
+    if data[:8] == SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA:
+        raise ReplayError(f"log {str(path)!r} was recorded before lcmt_sensor_frame carried air data "
+                          f"(mach, pressure_altitude_ft; docs/INTERFACES.md): it cannot be replayed by this "
+                          f"version; record the flight again (f16mmae hil) or replay it with the release "
+                          f"that wrote it")
+    return lcmt_sensor_frame.decode(data)
+
+
 def _compare(report: ReplayReport, s, c: lcmt_mmae_status, mismatch) -> None:
     """Logged status ``s`` against the one computed here, ``c``, for the same frame."""
     report.statuses_compared += 1
@@ -216,6 +234,8 @@ def _compare(report: ReplayReport, s, c: lcmt_mmae_status, mismatch) -> None:
     if bool(s.stale) != bool(c.stale) or s.frames_without_update != c.frames_without_update:
         mismatch(s.frame, f"stale flag: logged {bool(s.stale)} ({s.frames_without_update} frames), "
                           f"replayed {bool(c.stale)} ({c.frames_without_update})")
+    if s.air_data_rejected != c.air_data_rejected:
+        mismatch(s.frame, f"air data rejected: logged {s.air_data_rejected}, replayed {c.air_data_rejected}")
     if bool(s.resynchronised) != bool(c.resynchronised):
         mismatch(s.frame, f"re-synchronisation: logged {bool(s.resynchronised)}, "
                           f"replayed {bool(c.resynchronised)}")

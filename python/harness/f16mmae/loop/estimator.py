@@ -1,10 +1,11 @@
-"""The estimator as the closed loop sees it: the MMAE built from a model bank, fed ``z`` and
-``u`` only.
+"""The estimator as the closed loop sees it: the MMAE built from a model bank, fed ``z``, ``u``
+and measured air data only.
 
 :class:`Estimator` wraps the C++ ``core.HierarchicalBank`` (through the binding).  Its only
-inputs are the absolute vectors ``z`` (7,) and ``u`` (5,), copied into fresh float arrays at
-the boundary; its settings come from the bank (``banks.bank_estimator_settings``) and the
-caller's overrides.  Nothing of the truth model reaches it.
+inputs are the absolute vectors ``z`` (7,) and ``u`` (5,) and the measured air data (Mach,
+pressure altitude ft: the truth model's air-data sensor, ``truth.air_data``), copied into fresh
+floats at the boundary; its settings come from the bank (``banks.bank_estimator_settings``) and
+the caller's overrides.  Nothing else of the truth model reaches it.
 """
 from __future__ import annotations
 
@@ -20,9 +21,10 @@ class Estimator:
     ``Estimator(model_bank, **options)``: the settings of ``core.HierarchicalBank``
     (``p_min``, ``threshold``, ``dwell_s``) are the bank's recommended ones
     (:func:`bank_estimator_settings`, the bank's typed fields) updated by ``options`` (which win);
-    ``settings`` holds the result.  Per frame: ``update(z) -> z_hat``, then
-    ``propagate(u)``; both absolute (the core subtracts the bank's z_trim / u_trim and
-    returns z_hat absolute).  Nothing else flows in."""
+    ``settings`` holds the result.  Per frame: ``schedule(mach, pressure_altitude_ft)`` (the
+    air data measured with z), ``update(z) -> z_hat``, then ``propagate(u)``; z and u absolute
+    (the core subtracts the bank's z_trim / u_trim and returns z_hat absolute).  Nothing else
+    flows in."""
 
     def __init__(self, model_bank, **options) -> None:
         #: The estimator settings in force: the bank's recommended ones, then ``options``.
@@ -53,6 +55,11 @@ class Estimator:
     def reset(self) -> None:
         self._bank.reset()
         self.last_declaration = None
+
+    def schedule(self, mach, pressure_altitude_ft) -> None:
+        """The measured air data for this frame (before its ``update``); a non-finite value
+        leaves the last usable one in force and is counted (``air_data_rejected``)."""
+        self._bank.schedule(float(mach), float(pressure_altitude_ft))  # fresh floats: no object crosses
 
     def update(self, z) -> np.ndarray:
         z = np.array(z, dtype=float).reshape(-1)  # a fresh float copy: no object crosses over
@@ -89,6 +96,16 @@ class Estimator:
     @property
     def level(self) -> int:
         return int(self._bank.level)
+
+    @property
+    def air_data(self) -> tuple[float, float]:
+        """(Mach, pressure altitude ft) in force: the last usable ``schedule`` value."""
+        return tuple(self._bank.air_data)
+
+    @property
+    def air_data_rejected(self) -> int:
+        """``schedule`` calls with a non-finite value since the last reset."""
+        return int(self._bank.air_data_rejected)
 
 
 _ESTIMATORS: dict[tuple, Estimator] = {}

@@ -3,17 +3,20 @@
 Frame i (t_i = i / FRAME_RATE_HZ), as in docs/INTERFACES.md::
 
     z_i = truth.measure()                          sensors, noise and sensor failures applied
+    a_i = truth.air_data                           measured Mach, pressure altitude (lag, noise)
+    estimator.schedule(a_i)                        core: bank.schedule (air data for scheduling only)
     z_hat_i = estimator.update(z_i)                core: bank.update(z_i - z_trim); z_hat absolute
     u_i = fcs.command(z_hat_i | z_i, t_i)          "mmae" feedback (paper) or "raw", dither included
     estimator.propagate(u_i)                       core: bank.propagate(u_i - u_trim)
     truth.advance(u_i)                             SIM_RATE_HZ / FRAME_RATE_HZ truth steps
 
 The estimator is an :class:`~f16mmae.loop.estimator.Estimator`: built from the model bank alone, its only inputs
-are the absolute vectors ``z`` (7,) and ``u`` (5,), copied into fresh float arrays at
-the boundary.  The failure truth lives in the scenario, which only the truth model
+are the absolute vectors ``z`` (7,) and ``u`` (5,) and the measured air data (Mach, pressure
+altitude ft, from the truth model's air-data sensor, never the truth state), copied into fresh
+floats at the boundary.  The failure truth lives in the scenario, which only the truth model
 receives; :func:`fly` never passes anything else to the estimator, and
 ``tests/python/test_closedloop.py`` checks that structurally (signatures, and a replay
-of the recorded (u, z) through a fresh estimator reproducing every probability).
+of the recorded (u, z, air data) through a fresh estimator reproducing every probability).
 
 Declarations: each update reports the hypothesis the core's declarer declared on that
 frame (if any); each is a declaration event ``{"hypothesis", "time_s"}`` -- a failure
@@ -56,7 +59,7 @@ class FlightResult:
     #: The estimator settings in force (``Estimator.settings``; {} for an estimator without).
     estimator_settings: dict = field(default_factory=dict)
     #: With ``fly(record_series=True)``: ``u`` (frames, 5), ``z`` (frames, 7), ``z_hat``
-    #: (frames, 7) of each frame, and ``truth_log`` (``TruthModel.truth_log``, truth: read
+    #: (frames, 7), ``air_data`` (frames, 2: what the estimator was scheduled on) of each frame, and ``truth_log`` (``TruthModel.truth_log``, truth: read
     #: after the flight, for the record only); else None.
     series: dict | None = field(default=None, repr=False)
 
@@ -109,17 +112,18 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         engine: str | None = None, record_series: bool = False) -> FlightResult:
     """Fly ``scenario`` with an estimator built from ``model_bank`` in the loop.
 
-    ``feedback`` overrides ``scenario.feedback`` ("mmae" | "raw").  ``on_frame(t, u, z)``,
-    if given, sees each frame's inputs to the estimator (for replay checks).
-    ``estimator``: another object with the :class:`Estimator` interface (``update(z) ->
-    z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``, ``declared``,
+    ``feedback`` overrides ``scenario.feedback`` ("mmae" | "raw").  ``on_frame(t, u, z,
+    air_data)``, if given, sees each frame's inputs to the estimator (for replay checks).
+    ``estimator``: another object with the :class:`Estimator` interface (``schedule(mach,
+    pressure_altitude_ft)``, ``update(z) -> z_hat``, ``propagate(u)``, ``hypotheses``, ``probabilities``, ``declared``,
     ``last_declaration``, ``bank_hash``) at its start state -- e.g. the executive over LCM
     (``f16mmae.hil``); default ``Estimator.fresh(model_bank, **estimator_options)``.
     ``engine``: the truth model's engine (``truth.engine``; default cpp).  On cpp with the
     in-process F-16 estimator and no ``on_frame``, the whole flight is one call
-    (``TruthModel.fly_closed_loop``: the same frames in C++, the bank seeing z and u only);
+    (``TruthModel.fly_closed_loop``: the same frames in C++, the bank seeing z, u and air data only);
     otherwise each frame's truth side -- control law, actuators, JSBSim, next measurement --
-    is one call (``TruthModel.step``).  Both give the same flight
+    is one call (``TruthModel.step``).  A scenario's maneuvers are flown by its outer loop
+    (``TruthModel.pilot``), the control law's pilot, in C++ too.  Both give the same flight
     (tests/python/test_truth_engines.py).
     ``record_series``: keep each frame's u, z and z_hat, and the truth model's log after the
     flight (``FlightResult.series``; flown frame by frame)."""
@@ -128,7 +132,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
     t_start = time.perf_counter()
     truth = TruthModel(scenario, engine=engine)   # the only holder of the failure truth
-    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari)
+    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari,
+                              pilot=truth.pilot())  # the maneuvers' outer loop, None without
     truth.attach(fcs)
     t_truth = time.perf_counter() - t_start
     t0 = time.perf_counter()
@@ -147,7 +152,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     declarations: list[dict] = []
     if record_series:
         rec_u, rec_z, rec_z_hat = np.zeros((n_frames, 5)), np.zeros((n_frames, 7)), np.zeros((n_frames, 7))
-    in_cpp = (truth.engine == "cpp" and on_frame is None and not record_series
+        rec_air = np.zeros((n_frames, 2))
+    in_cpp = (truth.law_in_cpp and on_frame is None and not record_series
               and isinstance(estimator, Estimator) and estimator.fixed_size)
     if in_cpp:  # the whole flight in C++: one call, the same frames
         out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities)
@@ -170,23 +176,26 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     step = truth.step
     a = clock()
     z = truth.measure() if n_frames_python else None
+    air = truth.air_data if n_frames_python else None
     t_truth += clock() - a
     for i in range(n_frames_python):
         t = i * dt
         b = clock()
+        estimator.schedule(air[0], air[1])
         z_hat = estimator.update(z)
         c = clock()
         u, z_next = step(fcs, z_hat if use_mmae else z, i + 1 < n_frames)  # u_i, then z_(i+1)
+        air_next = truth.air_data
         d = clock()
         estimator.propagate(u)
         e = clock()
         t_truth += d - c
         t_est += (c - b) + (e - d)
         if on_frame is not None:
-            on_frame(t, np.array(u, dtype=float), np.array(z, dtype=float))
+            on_frame(t, np.array(u, dtype=float), np.array(z, dtype=float), np.array(air, dtype=float))
         if record_series:
-            rec_u[i], rec_z[i], rec_z_hat[i] = u, z, z_hat
-        z = z_next
+            rec_u[i], rec_z[i], rec_z_hat[i], rec_air[i] = u, z, z_hat, air
+        z, air = z_next, air_next
         declared_now = estimator.last_declaration
         if declared_now is not None:
             declarations.append({"hypothesis": declared_now, "time_s": round(t, 9)})
@@ -215,6 +224,6 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         timing={"wall_s": round(wall, 6), "truth_s": round(t_truth, 6), "estimator_s": round(t_est, 6),
                 "frames": n_frames},
         estimator_settings=dict(getattr(estimator, "settings", {})),
-        series=({"u": rec_u, "z": rec_z, "z_hat": rec_z_hat, "truth_log": truth.truth_log}
+        series=({"u": rec_u, "z": rec_z, "z_hat": rec_z_hat, "air_data": rec_air, "truth_log": truth.truth_log}
                 if record_series else None),
     )

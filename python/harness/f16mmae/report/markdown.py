@@ -146,7 +146,9 @@ def envelope_markdown(s: dict) -> str:
 
 def soak_markdown(s: dict) -> str:
     out = _header(s, f"Soak: {s['flights_per_level']} failure-free flights of {s['flight_s']:g} s per turbulence "
-                     f"level at Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, trim (no maneuvers)")
+                     f"level from Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, "
+                     + ("maneuvering: " + ", ".join(f"`{m}`" for m in s["maneuvers"]) if s.get("maneuvers")
+                        else "trim (no maneuvers)"))
     out += ["## False declarations per flight hour", "",
             "| turbulence | flights | hours | false declarations per hour [95 %], goal: verdict | "
             "flights with one | first in its flight, median / earliest (s) | hypotheses involved | "
@@ -160,6 +162,29 @@ def soak_markdown(s: dict) -> str:
                    f"{_s(lv['duration_s']['max'])} | {ends} |")
     out += ["", f"Goals met (no level *not met*): {'yes' if s.get('goals_met') else 'no'}", ""]
     out += _not_clean(s, lambda r: f"{r['level']} flight")
+    return "\n".join(out)
+
+
+def maneuver_markdown(s: dict) -> str:
+    out = _header(s, f"Maneuvers: {', '.join(s['maneuvers'])} at {len(s['points'])} point(s), "
+                     f"{s['runs_per_case']} run(s) per case, failure at {s['failure_time_s']:g} s into a "
+                     f"maneuver begun at {s['maneuver_time_s']:g} s of a {s['duration_s']:g}-s flight")
+    out += ["## Per maneuver", "",
+            "| maneuver | correct [95 %] | runs with FA [95 %] | false declarations per maneuvering hour "
+            "[95 %] | latency median (s, VEL apart) | VEL latency median (s) | verdict |",
+            "|---|---|---|---|---|---|---|"]
+    for r in s["by_maneuver"] + [{"maneuver": "all", **s["overall"]}]:
+        out.append(f"| {r['maneuver']} | {_rate(r['rates'].get('correct'))} | {_rate(r['rates'].get('false_alarm'))} | "
+                   f"{describe_per_hour(r['per_hour'])} | {_s(r['latency_median_s'])} | "
+                   f"{_s(r['vel_latency_median_s'])} | {r.get('verdict')} |")
+    out += ["", "## Per point and maneuver", "",
+            "| point | Mach | alt (ft) | maneuver flown | correct [95 %] | runs with FA | latency median (s) |",
+            "|---|---|---|---|---|---|---|"]
+    for c in s["by_point"]:
+        out.append(f"| {c['point']} | {c['mach']:.3f} | {c['alt_ft']:.0f} | `{c['maneuver_spec']}` | "
+                   f"{_rate(c['rates'].get('correct'))} | {c['false_alarm_runs']}/{c['runs']} | "
+                   f"{_s(c['latency_median_s'])} |")
+    out += [""] + _not_clean(s, lambda r: f"point {r['point']} {r['maneuver']} {r['case']}")
     return "\n".join(out)
 
 
@@ -177,7 +202,7 @@ def variants_markdown(s: dict) -> str:
 
 MARKDOWN: dict[str, Callable[[dict], str]] = {
     "single": single_markdown, "dual": dual_markdown, "envelope": envelope_markdown, "soak": soak_markdown,
-    "variants": variants_markdown}
+    "maneuver": maneuver_markdown, "variants": variants_markdown}
 
 
 def register_markdown(kind: str, render: Callable[[dict], str]) -> None:

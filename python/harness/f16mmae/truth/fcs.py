@@ -48,6 +48,7 @@ import numpy as np
 from ..names import FRAME_RATE_HZ
 from .actuators import POSITION_LIMIT_RAD
 from .dither import Dither, DitherSpec
+from .outer_loop import OuterLoop
 
 #: Dynamic pressure (psf) at which the gains below hold (20,000 ft, Mach 0.4).
 DESIGN_QBAR_PSF = 109.0
@@ -144,9 +145,10 @@ class FlightControlSystem:
 
     def coefficients(self) -> dict:
         """The scheduled coefficients and current states of this control law, for the C++
-        frames (``core.TruthFrames.set_fcs``, cpp/truth/truth_frame.h).  A pilot is flown only
-        by :meth:`command` (ValueError here)."""
-        if self.pilot is not None:
+        frames (``core.TruthFrames.set_fcs``, cpp/truth/truth_frame.h).  A pilot other than the
+        maneuvers' outer loop (which has its own C++ twin) is flown only by :meth:`command`
+        (ValueError here)."""
+        if self.pilot is not None and not isinstance(self.pilot, OuterLoop):
             raise ValueError("a FlightControlSystem with a pilot flies on the python truth engine only")
         g = self.gains
         amplitude, omega, phase = self.dither.terms()

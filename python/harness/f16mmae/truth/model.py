@@ -9,7 +9,10 @@ One frame (FRAME_RATE_HZ = 64 Hz) of the closed loop (docs/INTERFACES.md)::
 
 A failure with onset t_f acts from the first JSBSim step (actuators) or frame (sensors) whose
 time is >= t_f.  Sensor noise comes from ``numpy.random.default_rng(seed)``, turbulence from
-JSBSim seeded with the same seed: the same scenario gives the same run.
+JSBSim seeded with the same seed: the same scenario gives the same run.  Each ``measure()`` also
+samples the air-data sensor (``truth.air_data``: measured Mach and pressure altitude, lagged and
+noisy, its noise from its own stream ``air_data_rng(seed)``); ``air_data`` holds this frame's
+values, the only truth-side numbers besides z that the estimator may receive.
 ``truth_log`` holds the record (true states, effective surface positions, failure truth); it
 is for scoring and plots only and must never reach the estimator.
 
@@ -18,7 +21,15 @@ sensor noise drawn here in bulk from the same generator (``rng.standard_normal((
 the numbers that n calls of ``standard_normal(7)`` give); ``python`` is the reference.  Either
 way the aircraft comes trimmed from ``pool.POOL`` and goes back when the flight is closed
 (``close()``, called by ``fly_raw`` and the closed loop; also when the model is collected).
+The C++ engine takes the air-data normals the same way (``air_rng.standard_normal((n, 2))``).
 ``step(fcs, z_feedback)`` is a whole frame -- command, advance, next measurement -- in one call.
+
+Maneuvers (``Scenario.maneuvers``): :meth:`TruthModel.pilot` is the outer loop
+(``truth.outer_loop``) on this aircraft, the FCS's pilot; it sets the throttle each frame.  On
+the cpp engine it flies inside the C++ frames with the control law (``attach``); another pilot
+makes the control law run in Python (the frames then fly actuators, JSBSim and sensors).  A
+maneuvering flight's aircraft does not go back to the pool (the throttle and engine state it
+leaves are not the trim's).
 """
 from __future__ import annotations
 
@@ -29,12 +40,14 @@ import numpy as np
 
 from ..names import ACTUATORS, FRAME_RATE_HZ, SENSORS, SIM_RATE_HZ
 from . import actuators as actuators_module
-from . import aircraft, sensors as sensors_module, turbulence
+from . import air_data as air_data_module, aircraft, sensors as sensors_module, turbulence
+from .air_data import AirDataSensor, air_data_rng
 from .actuators import ActuatorBank
 from .engine import check_engine
 from .pool import POOL
 from .aircraft import TrimError, TrimPoint  # noqa: F401  (re-exported)
 from .fcs import FlightControlSystem
+from .outer_loop import INSTRUMENTS, THROTTLE_PROPERTY, OuterLoop, make_pilot
 from .scenario import Scenario
 from .sensors import SensorSet
 
@@ -67,10 +80,11 @@ class TruthModel:
         dt = 1.0 / SIM_RATE_HZ
         key, held = POOL.acquire(sc.mach, sc.alt_ft, dt, sc.seed)
         self.fdm, self.trim = held[0], held[1]
-        self._release = weakref.finalize(self, POOL.release, key, held)
+        self._release = weakref.finalize(self, POOL.discard if sc.maneuvers else POOL.release, key, held)
         turbulence.apply(self.fdm, sc.turbulence)
         self.actuators = ActuatorBank(self.trim.u_rad, dt)
         rng = np.random.default_rng(sc.seed)
+        air_rng = air_data_rng(sc.seed)
         self.frame = 0
         self._step = 0
         eps = 1e-6
@@ -85,31 +99,34 @@ class TruthModel:
         self._pending_sen = list(self._sen_schedule)
         n = int(round(sc.duration_s * FRAME_RATE_HZ)) + 1
         if self.engine == "cpp":
-            self._rng = rng
+            self._rng, self._air_rng = rng, air_rng
             self._noise_rows = n
-            self._frames = self._make_frames(rng.standard_normal((n, 7)), n)
-            self.sensors = None
+            self._frames = self._make_frames(rng.standard_normal((n, 7)), air_rng.standard_normal((n, 2)), n)
+            self.sensors = self.air_data_sensor = None
             return
         self._frames = None
         self.sensors = SensorSet(self.fdm, self.trim.z, rng, noise=sc.noise)
+        self.air_data_sensor = AirDataSensor(self.fdm, air_rng, noise=sc.noise)
         pm = self.fdm.get_property_manager()
         self._set_surface = [pm.get_node(p).set_double_value for p in aircraft.SURFACE_PROPERTIES]
         self._get_state = [pm.get_node(p).get_double_value for _, p in STATE_LOG]
         self._run = self.fdm.run
         self._log = {
             "time_s": np.zeros(n), "z": np.zeros((n, 7)), "z_ideal": np.zeros((n, 7)),
+            "air_data": np.zeros((n, 2)), "air_data_ideal": np.zeros((n, 2)),
             "u_cmd_rad": np.zeros((n, 5)), "surface_rad": np.zeros((n, 5)),
             "state": np.zeros((n, len(STATE_LOG))),
         }
         self._n_meas = 0
         self._n_adv = 0
 
-    def _make_frames(self, noise: np.ndarray, capacity: int):
+    def _make_frames(self, noise: np.ndarray, air_noise: np.ndarray, capacity: int):
         """The C++ frames over this aircraft: the constants and failure schedule from this package."""
         from .. import core
 
         act = self.actuators
         sigma = sensors_module.NOISE_SIGMA if self.scenario.noise else np.zeros(7)
+        air_sigma = air_data_module.AIR_DATA_SIGMA if self.scenario.noise else np.zeros(2)
         act_fail, sen_fail = [], []
         for at, f in self._act_schedule:
             v = f.value if f.value is not None else actuators_module.ACTUATOR_MODE_DEFAULT_VALUE[f.mode]
@@ -125,8 +142,15 @@ class TruthModel:
             {"z_trim": [float(x) for x in self.trim.z], "sigma": [float(x) for x in sigma],
              "full_scale_low": [lo for lo, _ in sensors_module.FULL_SCALE],
              "full_scale_high": [hi for _, hi in sensors_module.FULL_SCALE]},
-            act_fail, sen_fail, noise, self._steps_per_frame, float(FRAME_RATE_HZ), float(SIM_RATE_HZ),
+            act_fail, sen_fail, noise, list(air_data_module.AIR_DATA_PROPERTIES),
+            {"decay": air_data_module.lag_decay(), "sigma": [float(x) for x in air_sigma]}, air_noise,
+            self._steps_per_frame, float(FRAME_RATE_HZ), float(SIM_RATE_HZ),
             capacity)
+
+    def pilot(self):
+        """The outer loop that flies the scenario's maneuvers on this aircraft
+        (``outer_loop.OuterLoop``, a ``FlightControlSystem`` pilot), or None without maneuvers."""
+        return make_pilot(self.fdm, self.scenario.maneuvers)
 
     def close(self) -> None:
         """End the flight: the aircraft goes back to the pool (``truth_log`` stays readable)."""
@@ -140,6 +164,13 @@ class TruthModel:
     def _check_open(self) -> None:
         if getattr(self, "_closed", False):
             raise RuntimeError("this TruthModel's flight is closed (its aircraft went back to the pool)")
+
+    @property
+    def air_data(self) -> np.ndarray:
+        """The air data measured with the last ``measure()`` (a copy): (Mach, pressure altitude ft)."""
+        if self._frames is not None:
+            return np.array(self._frames.air_data, dtype=float)
+        return np.array(self.air_data_sensor.last, dtype=float)
 
     @property
     def time_s(self) -> float:
@@ -159,11 +190,14 @@ class TruthModel:
             self.sensors.fail(f.index, f.mode, f.value, t)
         z = self.sensors.measure(t)
         ideal = self.sensors.last_ideal
+        air = self.air_data_sensor.measure()
         i = self._row("_n_meas")
         log = self._log
         log["time_s"][i] = t
         log["z"][i] = z
         log["z_ideal"][i] = ideal
+        log["air_data"][i] = air
+        log["air_data_ideal"][i] = self.air_data_sensor.last_ideal
         log["state"][i] = [g() for g in self._get_state]
         return z
 
@@ -197,19 +231,32 @@ class TruthModel:
     def attach(self, fcs: FlightControlSystem) -> None:
         """Fly ``fcs``'s control law inside the C++ frames (``step``); its coefficients and
         states are copied in now and its states copied back by ``detach``."""
-        if self._frames is not None:
+        self._law_in_cpp = self._frames is not None and (fcs.pilot is None or self._cpp_pilot(fcs.pilot))
+        if self._law_in_cpp:
             self._frames.set_fcs(fcs.coefficients())
+            if fcs.pilot is not None:
+                self._frames.set_outer_loop(fcs.pilot.coefficients(), list(INSTRUMENTS), THROTTLE_PROPERTY)
+
+    def _cpp_pilot(self, pilot) -> bool:
+        return isinstance(pilot, OuterLoop) and pilot.fdm is self.fdm
+
+    @property
+    def law_in_cpp(self) -> bool:
+        """Whether the ``attach``-ed control law (and its outer loop) flies in the C++ frames."""
+        return getattr(self, "_law_in_cpp", False)
 
     def detach(self, fcs: FlightControlSystem) -> None:
         """Copy the control law's states back into ``fcs`` after ``step`` calls."""
-        if self._frames is not None:
+        if self.law_in_cpp:
             fcs.x_int, fcs.x_wash, fcs.x_vel = self._frames.fcs_state
+            if fcs.pilot is not None:
+                fcs.pilot.x_h, fcs.pilot.x_m, fcs.pilot.x_phi = self._frames.outer_state
 
     def step(self, fcs: FlightControlSystem, z_feedback, measure_next: bool = True):
         """One frame from ``z_feedback``: u = fcs.command(z_feedback, t), advance(u), then the next
         frame's z (None if not ``measure_next``); returns (u, z).  On the C++ engine this is one
-        call and ``fcs`` must be ``attach``-ed (its pilot, if any, is not supported there)."""
-        if self._frames is not None:
+        call when ``fcs`` is ``attach``-ed and flies there (``law_in_cpp``); else its law runs here."""
+        if self._frames is not None and self.law_in_cpp:
             self._refill_noise()
             u, z = self._frames.step(z_feedback, measure_next)
             self.frame += 1
@@ -223,8 +270,8 @@ class TruthModel:
         ``core.HierarchicalBank``) in the loop and the ``attach``-ed control law, in one call;
         see ``core.TruthFrames.fly_closed_loop`` (loop/flight.py uses it)."""
         self._check_open()
-        if self._frames is None:
-            raise ValueError("fly_closed_loop needs the cpp truth engine")
+        if self._frames is None or not self.law_in_cpp:
+            raise ValueError("fly_closed_loop needs the cpp truth engine and a control law attached there")
         self._refill_noise()
         out = self._frames.fly_closed_loop(bank, n_frames, use_mmae, record_probabilities)
         self.frame += n_frames
@@ -233,6 +280,8 @@ class TruthModel:
     def _refill_noise(self) -> None:
         if self._frames.noise_left == 0:  # flown past the scenario's duration: the next draws
             self._frames.set_noise(self._rng.standard_normal((self._noise_rows, 7)))
+        if self._frames.air_data_noise_left == 0:
+            self._frames.set_air_data_noise(self._air_rng.standard_normal((self._noise_rows, 2)))
 
     # -- record ---------------------------------------------------------------------------
     def _row(self, counter: str) -> int:
@@ -259,7 +308,8 @@ class TruthModel:
 
     @property
     def truth_log(self) -> dict:
-        """The record: time_s (n,), z (n,7) as measured, z_ideal (n,7) noise-free, u_cmd_rad
+        """The record: time_s (n,), z (n,7) as measured, z_ideal (n,7) noise-free, air_data (n,2)
+        as measured and air_data_ideal (n,2) exact (Mach, pressure altitude ft), u_cmd_rad
         (n,5) commands of frame i, surface_rad (n,5) effective positions at the end of frame i,
         state (n,len(STATE_LOG)) with ``state_names``, ``failures`` (scenario specs) and
         ``onsets`` (when each actually acted), ``scenario`` (dict), ``trim`` (dict)."""
@@ -267,7 +317,8 @@ class TruthModel:
             out = self._frames.log() if self._frames is not None else {k: v.copy() for k, v in self._log_cpp.items()}
         else:
             n, m = self._n_meas, self._n_adv
-            out = {k: v[:n].copy() for k, v in self._log.items() if k in ("time_s", "z", "z_ideal", "state")}
+            out = {k: v[:n].copy() for k, v in self._log.items()
+                   if k in ("time_s", "z", "z_ideal", "air_data", "air_data_ideal", "state")}
             out["u_cmd_rad"] = self._log["u_cmd_rad"][:m].copy()
             out["surface_rad"] = self._log["surface_rad"][:m].copy()
         out["state_names"] = tuple(name for name, _ in STATE_LOG)
@@ -292,12 +343,14 @@ def fly_raw(scenario: Scenario, pilot=None, fcs_gains=None,
     engine without a pilot the whole flight is one call.  The MMAE-fed loop lives with the
     estimator (``f16mmae run``); this is for truth-only runs, tests and benchmarks.
     """
+    if pilot is not None and scenario.maneuvers:
+        raise ValueError("fly_raw: give a pilot or a scenario with maneuvers, not both")
     truth = TruthModel(scenario, engine=engine)
-    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari, pilot=pilot,
-                              gains=fcs_gains)
+    fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari,
+                              pilot=pilot or truth.pilot(), gains=fcs_gains)
     n = int(round(scenario.duration_s * FRAME_RATE_HZ))
-    if truth.engine == "cpp" and pilot is None:
-        truth.attach(fcs)
+    truth.attach(fcs)
+    if truth.law_in_cpp:
         truth._frames.fly(n)
         truth.frame += n
         truth.detach(fcs)

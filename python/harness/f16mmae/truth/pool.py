@@ -40,6 +40,9 @@ class AircraftPool:
         with self._lock:
             self._idle.setdefault(key, held)
 
+    def discard(self, key: tuple, held: tuple) -> None:
+        """Drop an aircraft a flight has taken away from its trim (a maneuvering flight)."""
+
     def clear(self) -> None:
         with self._lock:
             self._idle.clear()

@@ -4,7 +4,9 @@ Fields: mach (0.3-0.8), alt_ft (5,000-35,000), turbulence (none|light|moderate|s
 dither (DitherSpec), failures (tuple of FailureSpec, at most one per component), duration_s
 (> 0), seed (integer >= 1; JSBSim maps 0 to 1, so seeds start at 1), feedback ("mmae": the FCS
 flies on the estimator's z_hat, the paper's MMAE-based control; "raw": on the sensors), ari
-(aileron-to-rudder interconnect on/off), noise (sensor noise on/off).
+(aileron-to-rudder interconnect on/off), noise (sensor noise on/off), maneuvers (tuple of
+ManeuverSpec, the pilot's schedule: ``truth.maneuvers``; none by default, and then the flight
+is the unmaneuvered one).
 
 TOML (``Scenario.from_toml``)::
 
@@ -16,6 +18,7 @@ TOML (``Scenario.from_toml``)::
     feedback = "mmae"
     ari = true
     failures = ["LS@3.0", "PIT@5.0:stuck"]      # CLI syntax, or tables
+    maneuvers = ["climb@5:to=25000ft:rate=3000fpm", "turn@20:bank=30"]   # truth.maneuvers
     [[failure]]                                 # ([[failures]] too): name, time_s, mode, value
     name = "AZ"
     time_s = 2.0
@@ -45,11 +48,12 @@ from ..names import FEEDBACK_MODES
 from . import aircraft, turbulence
 from .dither import DitherSpec
 from .failures import FailureSpec, check_unique, make_failure, parse_fail, parse_fail_args
+from .maneuvers import ManeuverSpec, check_schedule, parse_maneuver
 
 #: Folder of the example scenarios shipped with the package (``f16mmae/scenarios/*.toml``).
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 _KEYS = ("mach", "alt_ft", "turbulence", "dither", "failures", "failure", "duration_s", "seed",
-         "feedback", "ari", "noise")
+         "feedback", "ari", "noise", "maneuvers")
 _DITHER_KEYS = ("enabled", "amplitude_deg", "frequency_hz", "phase_rad")
 _FAILURE_KEYS = ("name", "time_s", "mode", "value")
 
@@ -68,6 +72,7 @@ class Scenario:
     feedback: str = "mmae"
     ari: bool = True
     noise: bool = True
+    maneuvers: tuple[ManeuverSpec, ...] = ()
 
     def __post_init__(self):
         aircraft.check_flight_condition(float(self.mach), float(self.alt_ft))
@@ -100,14 +105,26 @@ class Scenario:
         for name in ("ari", "noise"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
+        if isinstance(self.maneuvers, str):
+            raise ValueError(f"maneuvers must be a list of strings, got the string {self.maneuvers!r}")
+        ms = check_schedule(self.maneuvers, self.mach, self.alt_ft)
+        for m in ms:
+            if m.time_s > d:
+                raise ValueError(f"maneuver {m} starts after the end of the run ({d:g} s)")
+        object.__setattr__(self, "maneuvers", ms)
 
     # -- conversions -------------------------------------------------------------------------
     def to_dict(self) -> dict:
-        """Plain data (JSON/TOML-ready) that ``from_dict`` reads back to an equal Scenario."""
-        return {"mach": self.mach, "alt_ft": self.alt_ft, "turbulence": self.turbulence,
+        """Plain data (JSON/TOML-ready) that ``from_dict`` reads back to an equal Scenario;
+        ``maneuvers`` (canonical strings) only when there are some, so an unmaneuvered
+        scenario's record is what it always was."""
+        out = {"mach": self.mach, "alt_ft": self.alt_ft, "turbulence": self.turbulence,
                 "duration_s": self.duration_s, "seed": self.seed, "feedback": self.feedback,
                 "ari": self.ari, "noise": self.noise, "dither": self.dither.to_dict(),
                 "failures": [f.to_dict() for f in self.failures]}
+        if self.maneuvers:
+            out["maneuvers"] = [str(m) for m in self.maneuvers]
+        return out
 
     @classmethod
     def from_dict(cls, data: dict) -> "Scenario":
@@ -143,6 +160,10 @@ class Scenario:
                 raise ValueError(f"a [[failure]] table needs name and time_s, got {t}")
             fails.append(make_failure(t["name"], t["time_s"], t.get("mode"), t.get("value")))
         kw["failures"] = tuple(fails)
+        mans = data.get("maneuvers", [])
+        if isinstance(mans, str) or not isinstance(mans, (list, tuple)):
+            raise ValueError(f"maneuvers must be a list of strings like 'climb@5:to=25000ft', got {mans!r}")
+        kw["maneuvers"] = tuple(m if isinstance(m, ManeuverSpec) else parse_maneuver(m) for m in mans)
         return cls(**kw)
 
     @classmethod
@@ -159,6 +180,11 @@ class Scenario:
         except tomllib.TOMLDecodeError as exc:
             raise ValueError(f"scenario is not valid TOML: {exc}") from None
         return cls.from_dict(data)
+
+    def with_maneuvers(self, specs) -> "Scenario":
+        """A copy with ``specs`` (ManeuverSpec or ``--maneuver`` strings) added."""
+        extra = tuple(parse_maneuver(s) if isinstance(s, str) else s for s in specs)
+        return replace(self, maneuvers=self.maneuvers + extra)
 
     def with_failures(self, specs) -> "Scenario":
         """A copy with ``specs`` (FailureSpec or ``--fail`` strings) added."""

@@ -19,6 +19,7 @@ variant; the others one mode.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from ...errors import F16mmaeError
@@ -79,6 +80,10 @@ class CampaignConfig:
     threshold: float | None = None
     dwell_s: float | None = None
     p_min: float | None = None
+    #: Trim tracking (cpp/f16mmae/trim_tracker.h): its time constant (s; None = off) and
+    #: freeze probability (None: the core's 0.05).
+    trim_time_constant_s: float | None = None
+    trim_freeze_probability: float | None = None
 
     #: Whether this kind flies a comma list of failure modes (module docstring).
     MODE_LIST = False
@@ -145,6 +150,10 @@ class CampaignConfig:
             raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {dwell_window_s}) s{dwell_window_text}")
         if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / len(SINGLE_HYPOTHESES):
             raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(SINGLE_HYPOTHESES)})")
+        if self.trim_time_constant_s is not None and not 0.0 < self.trim_time_constant_s < math.inf:
+            raise CampaignError(f"--trim-tracking {self.trim_time_constant_s} must be a time constant > 0 s")
+        if self.trim_freeze_probability is not None and not 0.0 < self.trim_freeze_probability <= 1.0:
+            raise CampaignError(f"--trim-freeze-probability {self.trim_freeze_probability} must lie in (0, 1]")
 
     def scenario_dict(self, bank, failures: tuple[tuple[str, float] | FailureSpec, ...], seed: int,
                       mach: float | None = None, alt_ft: float | None = None,

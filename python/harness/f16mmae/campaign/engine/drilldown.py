@@ -8,7 +8,8 @@ and :func:`reproduce_command`.
 ``reproduce_command(scenario, bank, estimator, dither_scale)`` writes the ``f16mmae run``
 command line whose flight is the run's: every scenario field the run command sets (seed,
 duration, turbulence, Mach and altitude as exact decimal reprs, feedback, dither on/off and
-scale, each failure as ``--fail NAME@TIME:MODE[=VALUE]`` in the record's order), the bank
+scale, each failure as ``--fail NAME@TIME:MODE[=VALUE]`` in the record's order, each maneuver
+as ``--maneuver``), the bank
 (``tuned`` / ``untuned`` or a bank file) and every estimator override.  The flight it gives
 is the record's scenario and the record's declarations (tests/python/test_campaign_drilldown.py
 flies one run of each campaign kind both ways).
@@ -19,7 +20,9 @@ import shlex
 from collections.abc import Callable, Iterable
 
 FLAGS: tuple[str, ...] = ("false_alarm", "transient_wrong")
-_ESTIMATOR_OPTIONS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min"}
+_ESTIMATOR_OPTIONS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min",
+                      "trim_time_constant_s": "--trim-tracking",
+                      "trim_freeze_probability": "--trim-freeze-probability"}
 
 
 def is_clean(record: dict) -> bool:
@@ -45,6 +48,8 @@ def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: 
         if f.get("value") is not None:
             text += f"={float(f['value'])!r}"
         args += ["--fail", text]
+    for m in scenario.get("maneuvers", ()):
+        args += ["--maneuver", m]
     args += ["--bank", str(bank)]
     for key, opt in _ESTIMATOR_OPTIONS.items():
         if key in estimator:

@@ -52,6 +52,18 @@ def check_cases(cfg) -> None:
         )
 
 
+def check_case_failures(cfg) -> None:
+    """:func:`check_cases`, and CampaignError unless every failure case's component takes the
+    config's (one) failure mode."""
+    check_cases(cfg)
+    for case in cfg.cases:
+        if case != NONE:
+            try:
+                cfg.failure(case, cfg.failure_time_s)
+            except ValueError as exc:
+                raise CampaignError(f"case {case}: {exc}") from None
+
+
 # -- one run (executed in workers) -----------------------------------------------------------
 def run_spec(spec: dict) -> dict:
     """Fly one run and return its record (without the store's bookkeeping).

@@ -50,7 +50,7 @@ from ...names import FAILURE_TIME_S, NONE
 from ...truth.aircraft import check_flight_condition, trimmed_fdm
 from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring, variants
 from ..engine.config import CampaignConfig, CampaignError
-from ..engine.failure_runs import CASES, check_cases, plan as plan_at, run_spec
+from ..engine.failure_runs import CASES, check_case_failures, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.store import ResultsStore, campaign_directory, write_summary
 from . import figures
@@ -87,13 +87,7 @@ class EnvelopeCampaign(CampaignConfig):
             except ValueError as exc:
                 raise CampaignError(f"point {p.label}: {exc}") from None
         self.check_common(dwell_window_s=self.duration_s)
-        check_cases(self)
-        for case in self.cases:
-            if case != NONE:
-                try:
-                    self.failure(case, self.failure_time_s)
-                except ValueError as exc:
-                    raise CampaignError(f"case {case}: {exc}") from None
+        check_case_failures(self)
         return self
 
 

@@ -11,6 +11,9 @@
   and case (columns: NONE, then the failures), each cell annotated ``correct/runs`` and
   ``FA n`` when it has false-alarm runs, row labels green (acceptable) or red (not) -- which
   failures break first off nominal.
+* ``compare_maps``: two (or more) campaigns' maps side by side on the same axes -- e.g. the
+  unscheduled nominal bank and a scheduled bank flown over the same points
+  (``f16mmae campaign envelope --compare DIR_A,DIR_B``), each panel titled by its bank.
 
 matplotlib with the non-interactive Agg backend (``report.figures.pyplot``).
 """
@@ -21,9 +24,10 @@ from pathlib import Path
 import numpy as np
 
 from ...report.figures import pyplot
-from .points import GAMMA_AIR, dynamic_pressure_psf, pressure_psf
+from .points import GAMMA_AIR, TROPOPAUSE_FT, dynamic_pressure_psf, pressure_psf
 
 MAP_FILE = "envelope_map.png"
+COMPARE_FILE = "envelope_compare.png"
 TABLE_FILE = "envelope_cases.png"
 
 
@@ -32,12 +36,12 @@ def _limits(points, pad_frac=0.12, min_mach=0.01, min_alt=1000.0):
     h = np.array([p["alt_ft"] for p in points])
     dm = max(m.max() - m.min(), min_mach)
     dh = max(h.max() - h.min(), min_alt)
-    return ((m.min() - pad_frac * dm, m.max() + pad_frac * dm),
-            (h.min() - pad_frac * dh, h.max() + pad_frac * dh))
+    return ((m.min() - pad_frac * dm, m.max() + pad_frac * dm),  # q̄ is drawn in the troposphere only
+            (max(h.min() - pad_frac * dh, 0.0), min(h.max() + pad_frac * dh, TROPOPAUSE_FT)))
 
 
-def _panel(ax, points, design, cmap, step, annotate=None):
-    (x0, x1), (y0, y1) = _limits(points)
+def _panel(ax, points, design, cmap, step, annotate=None, limits=None):
+    (x0, x1), (y0, y1) = limits or _limits(points)
     mm, hh = np.meshgrid(np.linspace(x0, x1, 120), np.linspace(y0, y1, 120))
     qq = np.vectorize(dynamic_pressure_psf)(mm, hh)
     q_nom = design["qbar_psf"]
@@ -148,3 +152,23 @@ def make_figures(out: Path, summary: dict) -> dict:
         return {}
     return {"map": envelope_map(summary, Path(out) / MAP_FILE).name,
             "cases": case_table(summary, Path(out) / TABLE_FILE).name}
+
+
+def compare_maps(summaries: list[dict], path: Path) -> Path:
+    """The maps of several envelope summaries side by side, on the axes of all their points."""
+    plt = pyplot()
+    limits = _limits([p for s in summaries for p in s["points"]])
+    cmap = plt.get_cmap("RdYlGn")
+    fig, axes = plt.subplots(1, len(summaries), figsize=(6.0 * len(summaries) + 1.2, 6.0), squeeze=False,
+                             layout="constrained", sharex=True, sharey=True)
+    for ax, s in zip(axes[0], summaries):
+        _panel(ax, s["points"], s["design_point"], cmap, 0.10, limits=limits)
+        ok = sum(1 for p in s["points"] if p["acceptable"])
+        ax.set_title(f"{s['tuning']} bank ({str(s['bank_hash'])[:12]}): {ok}/{len(s['points'])} acceptable, "
+                     f"{s['runs_per_case']} run(s) per case", fontsize=9)
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0.0, 1.0))
+    fig.colorbar(sm, ax=list(axes[0]), label="correct fraction (failure cases)", shrink=0.9)
+    fig.suptitle("envelope map: o acceptable, X not; annotated with false-alarm runs", fontsize=10)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

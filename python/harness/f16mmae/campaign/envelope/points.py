@@ -44,14 +44,24 @@ Selections (``select_points``): ``all`` (NOM + 1-24), ``local`` (NOM + 1-20),
 ``extrema`` (NOM + 21-24), ``qline`` (9, 12, NOM, 17, 19) or a comma list of point
 numbers and ``NOM``.  Custom points (``parse_mach_alt``: ``MACH:ALT_FT,...``) are
 labelled C1, C2, ...
+
+Random points (``random:N[:seed=S]``, :func:`random_points`): a Latin hypercube of N points
+over the trimmable envelope, Mach 0.3-0.8 x 5,000-35,000 ft.  Each axis is cut into N equal
+strata; a seeded permutation pairs the Mach strata with the altitude strata and each point is
+drawn uniformly inside its cell (``numpy.random.default_rng(S)``, S default 1), rounded to
+0.0001 Mach and 1 ft and kept strictly inside the cell.  A point where the truth model does not trim is REDRAWN inside the
+same cell (so the strata stay covered), up to 20 times, then the selection is refused naming
+the cell.  Labelled R1..RN in order of Mach, group ``random``.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ...errors import F16mmaeError
 from ...names import DESIGN_ALT_FT, DESIGN_MACH
-from ...truth.aircraft import check_flight_condition
+from ...truth.aircraft import ALT_FT_RANGE, MACH_RANGE, check_flight_condition
 
 #: ISA sea-level pressure (lbf/ft^2), temperature (K), lapse rate (K/m) and g0/(R L).
 P0_PSF = 101_325.0 / 47.880258889  # 2116.2166 lbf/ft^2
@@ -86,8 +96,8 @@ def dynamic_pressure_psf(mach: float, alt_ft: float) -> float:
 
 @dataclass(frozen=True)
 class EnvelopePoint:
-    """One flight condition: ``label`` ("NOM", "1".."24" or "C1"...), Mach, altitude (ft)
-    and ``group`` ("nominal" | "local" | "extrema" | "custom")."""
+    """One flight condition: ``label`` ("NOM", "1".."24", "C1"... or "R1"...), Mach, altitude
+    (ft) and ``group`` ("nominal" | "local" | "extrema" | "custom" | "random")."""
 
     label: str
     mach: float
@@ -124,10 +134,75 @@ _BY_LABEL = {p.label: p for p in PAPER_POINTS}
 QLINE_LABELS = ("9", "12", NOMINAL_LABEL, "17", "19")
 
 
+RANDOM_FORM = "random:N[:seed=S] (N 1-1000, S >= 1)"
+#: Redraws of a random point inside its cell before the selection is refused.
+RANDOM_REDRAWS = 20
+
+
+def parse_random(text: str) -> tuple[int, int]:
+    """``random:N[:seed=S]`` -> (N, S); EnvelopeError naming the token and the form."""
+    parts = text.strip().split(":")
+    try:
+        if parts[0].lower() != "random" or len(parts) not in (2, 3):
+            raise ValueError
+        n = int(parts[1])
+        seed = 1
+        if len(parts) == 3:
+            key, eq, val = parts[2].partition("=")
+            if key.strip().lower() != "seed" or not eq:
+                raise ValueError
+            seed = int(val)
+    except ValueError:
+        raise EnvelopeError(f"--points {text!r} is not {RANDOM_FORM}") from None
+    if not 1 <= n <= 1000 or seed < 1:
+        raise EnvelopeError(f"--points {text!r}: need {RANDOM_FORM}")
+    return n, seed
+
+
+def _trims(mach: float, alt_ft: float) -> bool:
+    from ...truth.aircraft import TrimError, trimmed_fdm
+    try:
+        trimmed_fdm(mach, alt_ft)
+    except TrimError:
+        return False
+    return True
+
+
+def _inside(low: float, width: float, cell: int, u: float, unit: float) -> float:
+    """A uniform draw ``u`` in cell ``cell`` of ``width``, kept a rounding ``unit`` off its
+    edges, so the value rounded to ``unit`` stays strictly inside its cell."""
+    return low + width * cell + unit + (width - 2.0 * unit) * u
+
+
+def random_points(n: int, seed: int = 1, trims=_trims) -> tuple[EnvelopePoint, ...]:
+    """N Latin-hypercube points over the envelope (module docstring); ``trims(mach, alt_ft)``
+    says whether the truth model trims there (default: JSBSim's trim of the derived F-16)."""
+    rng = np.random.default_rng(seed)
+    pair = rng.permutation(n)
+    (m0, m1), (h0, h1) = MACH_RANGE, ALT_FT_RANGE
+    out = []
+    for i in range(n):
+        for _ in range(RANDOM_REDRAWS):
+            a, b = rng.random(2)
+            mach = round(float(_inside(m0, (m1 - m0) / n, i, a, 1e-4)), 4)
+            alt = float(round(_inside(h0, (h1 - h0) / n, pair[i], b, 1.0)))
+            if trims(mach, alt):
+                break
+        else:
+            raise EnvelopeError(
+                f"random point {i + 1} of {n} (seed {seed}): no trim in {RANDOM_REDRAWS} draws inside its cell "
+                f"Mach {m0 + (m1 - m0) * i / n:.3f}-{m0 + (m1 - m0) * (i + 1) / n:.3f} x "
+                f"{h0 + (h1 - h0) * pair[i] / n:.0f}-{h0 + (h1 - h0) * (pair[i] + 1) / n:.0f} ft")
+        out.append(EnvelopePoint(f"R{i + 1}", mach, alt, "random"))
+    return tuple(out)
+
+
 def select_points(text: str) -> tuple[EnvelopePoint, ...]:
     """Paper points from a selection name or a comma list of numbers / NOM (module docstring),
-    in the paper's order (NOM first)."""
+    in the paper's order (NOM first), or ``random:N[:seed=S]`` random points."""
     t = text.strip().lower()
+    if t.startswith("random"):
+        return random_points(*parse_random(text))
     if t == "all":
         return PAPER_POINTS
     if t == "local":
@@ -141,7 +216,7 @@ def select_points(text: str) -> tuple[EnvelopePoint, ...]:
     if bad or not items:
         raise EnvelopeError(
             f"--points: unknown point(s) {', '.join(bad) or repr(text)}; valid: "
-            f"{' | '.join(SELECTIONS)} or a comma list of 1-24 and NOM")
+            f"{' | '.join(SELECTIONS)}, a comma list of 1-24 and NOM, or {RANDOM_FORM}")
     if len(set(items)) != len(items):
         raise EnvelopeError(f"--points {text!r} lists a point twice")
     chosen = set(items)

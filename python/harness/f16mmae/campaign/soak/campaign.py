@@ -3,7 +3,9 @@
 Flights: ``--hours H`` at each turbulence level of ``--turbulence`` (one level or a comma
 list), cut into ``F = ceil(3600 H / flight_s)`` failure-free flights of ``flight_s`` seconds
 each (so ``F flight_s >= 3600 H`` hours are flown per level), trimmed at the bank's design
-point.  The aircraft holds trim with the dither on; maneuvering flight does not exist yet.
+point.  The aircraft holds trim with the dither on, or, with ``maneuvers`` (truth maneuver
+strings, ``truth.maneuvers``; :func:`profile` gives the ``tour``), every flight flies that
+schedule: the false declarations are then per hour of maneuvering flight.
 Each flight is one run of the shared engine (runner, store, executor, code identity, lock):
 an interrupted soak resumes flight by flight, and flights are distributed like any run.
 
@@ -28,6 +30,8 @@ from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
 from ...names import FLIGHT_S_MAX, NONE
+from ...truth import Scenario
+from ...truth.maneuvers import parse_maneuver
 from ..engine import drilldown, identity, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.runner import CampaignOutcome, execute, planned_bank
@@ -49,6 +53,10 @@ class SoakCampaign(CampaignConfig):
 
     hours: float = 1.0
     duration_s: float = SOAK_FLIGHT_S
+    #: Maneuvers every flight flies (``--maneuver`` strings or :func:`profile`); () holds trim.
+    maneuvers: tuple[str, ...] = ()
+    #: A named profile (:data:`PROFILES`) flown from the bank's design point instead.
+    profile: str | None = None
 
     @property
     def flights(self) -> int:
@@ -64,7 +72,50 @@ class SoakCampaign(CampaignConfig):
             raise CampaignError(f"--hours {self.hours:g} at --flight-s {self.duration_s:g} plans {self.flights} "
                                 f"flights per level, more than {FLIGHTS_MAX}: fly longer flights")
         self.check_common(dwell_window_s=self.duration_s)
+        if self.profile is not None:
+            if self.maneuvers:
+                raise CampaignError("give --maneuver or --profile, not both")
+            need = profile(self.profile, 0.4, 20_000.0)[1]
+            if self.duration_s < need:
+                raise CampaignError(f"--profile {self.profile} needs flights of at least {need:g} s (--flight-s)")
+        if self.maneuvers:
+            try:
+                Scenario(duration_s=self.duration_s, maneuvers=tuple(self.maneuvers))
+            except ValueError as exc:
+                raise CampaignError(f"--maneuver: {exc}") from None
         return self
+
+
+#: Soak profiles: name -> (maneuver strings from Mach M, altitude H ft, the flight length they need).
+PROFILES = ("tour",)
+
+
+def profile(name: str, mach: float, alt_ft: float) -> tuple[tuple[str, ...], float]:
+    """The maneuvers of profile ``name`` from (mach, alt_ft) and the flight length (s) they need.
+
+    ``tour`` (540 s): climb 4,000 ft at 2,000 fpm from 10 s (a 30 deg right turn for 60 s from
+    60 s, inside the climb), +0.1 Mach at 0.005 Mach/s from 150 s, a 30 deg left turn for 60 s
+    from 200 s, descent back at 2,000 fpm from 300 s with the speed back from 350 s, and a
+    90-s right turn from 450 s.  The climb goes down and the speed change back first where the
+    envelope has no room (within 4,000 ft of 35,000 ft; Mach above 0.7)."""
+    if name not in PROFILES:
+        raise CampaignError(f"unknown profile {name!r}; valid: {', '.join(PROFILES)}")
+    up, down = ("climb", "descend") if alt_ft + 4000 <= 35_000 else ("descend", "climb")
+    h1 = alt_ft + 4000 if up == "climb" else alt_ft - 4000
+    fast, slow = ("accel", "decel") if mach + 0.1 <= 0.8 else ("decel", "accel")
+    m1 = round(mach + 0.1 if fast == "accel" else mach - 0.1, 6)
+    texts = (f"{up}@10:to={h1:g}ft:rate=2000fpm", "turn@60:bank=30:for=60",
+             f"{fast}@150:to={m1:g}mach:rate=0.005mach/s", "turn@200:bank=-30:for=60",
+             f"{down}@300:to={alt_ft:g}ft:rate=2000fpm", f"{slow}@350:to={mach:g}mach:rate=0.005mach/s",
+             "turn@450:bank=30:for=90")
+    return tuple(str(parse_maneuver(t)) for t in texts), 540.0
+
+
+def flight_maneuvers(cfg: SoakCampaign, bank) -> tuple[str, ...]:
+    """The maneuvers every flight of ``cfg`` flies with ``bank`` (its design point for a profile)."""
+    if cfg.profile is not None:
+        return profile(cfg.profile, float(bank.mach), float(bank.alt_ft))[0]
+    return tuple(cfg.maneuvers)
 
 
 def flight_seed(campaign_seed: int, index: int) -> int:
@@ -98,10 +149,16 @@ def describe_spec(spec: dict) -> str:
 def plan(cfg: SoakCampaign, label: str, tuning_arg: str, bank) -> list[dict]:
     """Every flight of ``cfg``: level by level, flight 0 .. F-1 (module docstring)."""
     specs = []
+    mans = flight_maneuvers(cfg, bank)
     for level in cfg.levels():
         for n in range(cfg.flights):
             seed = flight_seed(cfg.seed, n)
             scenario = cfg.scenario_dict(bank, (), seed, turbulence=level)
+            if mans:
+                try:
+                    scenario = Scenario.from_dict({**scenario, "maneuvers": list(mans)}).to_dict()
+                except ValueError as exc:
+                    raise CampaignError(f"maneuvers at the bank's design point: {exc}") from None
             key = run_key({"kind": "soak", "scenario": scenario, "estimator": cfg.estimator_options(),
                            "bank_hash": bank.content_hash, "version": __version__})
             specs.append({"run_key": key, "level": level, "run_index": n, "seed": seed, "tuning": label,
@@ -144,7 +201,8 @@ def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
         "flights_per_level": cfg.flights, "turbulence": cfg.turbulence, "levels": levels,
         "tuning": label, "bank_hash": bank.content_hash, "version": __version__,
         "mach": float(bank.mach), "alt_ft": float(bank.alt_ft), "feedback": cfg.feedback,
-        "dither": cfg.dither, "dither_scale": cfg.dither_scale, "maneuvers": None,
+        "dither": cfg.dither, "dither_scale": cfg.dither_scale, "maneuvers": list(flight_maneuvers(cfg, bank)) or None,
+        "profile": cfg.profile,
         "estimator": cfg.estimator_options(),
         "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
         "goals_per_hour": {lvl: GOALS_PER_H[lvl] for lvl in cfg.levels()},

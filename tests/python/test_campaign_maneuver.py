@@ -1,0 +1,90 @@
+"""The maneuver campaign: the maneuvers planned at a point (hand-checked strings), a tiny real
+campaign (records carry the maneuver, seeds common across points, summary rates against
+counts, figures, report pages, resume), the soak flying maneuvers, and the CLI's errors."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from f16mmae.campaign.engine.config import CampaignError
+from f16mmae.campaign.engine.store import ResultsStore
+from f16mmae.campaign.envelope.points import parse_mach_alt, select_points
+from f16mmae.campaign.maneuver import ManeuverCampaign, maneuver_spec, run_maneuver
+from f16mmae.campaign.soak.campaign import SoakCampaign, plan as soak_plan, profile
+from f16mmae.banks import load_bank
+from f16mmae.cli.main import main
+from f16mmae.report.markdown import summary_markdown
+from f16mmae.truth import Scenario
+
+from campaign_support import CountingExecutor
+
+
+def test_maneuver_specs_at_a_point():
+    assert maneuver_spec("climb", 0.4, 20_000.0, 2.0) == "climb@2:to=24000ft:rate=3000fpm"
+    assert maneuver_spec("climb", 0.4, 33_000.0, 2.0) == "climb@2:to=35000ft:rate=3000fpm"
+    assert maneuver_spec("descend", 0.4, 7_000.0, 2.0) == "descend@2:to=5000ft:rate=3000fpm"
+    assert maneuver_spec("accel", 0.4, 20_000.0, 2.0) == "accel@2:to=0.5mach:rate=0.01mach/s"
+    assert maneuver_spec("accel", 0.75, 20_000.0, 2.0) == "decel@2:to=0.65mach:rate=0.01mach/s"
+    assert maneuver_spec("turn", 0.4, 20_000.0, 2.0) == "turn@2:bank=30deg"
+    with pytest.raises(CampaignError, match="unknown maneuver 'loop'"):
+        maneuver_spec("loop", 0.4, 20_000.0, 2.0)
+
+
+def test_tiny_maneuver_campaign(tmp_path):
+    cfg = ManeuverCampaign(points=select_points("NOM") + parse_mach_alt("0.5:15000"), runs=1,
+                           maneuvers=("climb", "turn"), cases=("NONE", "LS"), maneuver_time_s=1.0,
+                           failure_time_s=3.0, duration_s=6.0)
+    ex = CountingExecutor()
+    out = run_maneuver(cfg, tmp_path, ex, show_progress=False)
+    assert (out.executed, ex.submitted) == (8, 8)
+    records = ResultsStore(tmp_path).records()
+    for r in records:
+        sc = Scenario.from_dict(r["scenario"])
+        assert r["kind"] == "maneuver" and [str(m) for m in sc.maneuvers] == r["scenario"]["maneuvers"]
+        assert r["scenario"]["maneuvers"][0].startswith(r["maneuver"])
+    # common random numbers: a (maneuver, case, run) flies one seed at both points
+    assert len({(r["maneuver"], r["case"], r["seed"]) for r in records}) == 4
+    s = json.loads((tmp_path / "summary.json").read_text())
+    for row in s["by_maneuver"]:
+        recs = [r for r in records if r["maneuver"] == row["maneuver"]]
+        fail = [r for r in recs if r["case"] != "NONE"]
+        assert row["rates"]["correct"]["count"] == sum(r["outcome"] == "correct" for r in fail)
+        assert row["false_alarm_runs"] == sum(r["false_alarm"] for r in recs)
+        assert row["per_hour"]["events"] == sum(r["false_declarations"] for r in recs)
+        assert row["per_hour"]["exposure"] == pytest.approx((2 * 6.0 + 2 * 3.0) / 3600.0)
+    assert {c["maneuver_spec"] for c in s["by_point"]} == {
+        "climb@1:to=24000ft:rate=3000fpm", "climb@1:to=19000ft:rate=3000fpm", "turn@1:bank=30deg"}
+    for f in s["figures"].values():
+        assert (tmp_path / f).stat().st_size > 1000
+    assert "| climb |" in summary_markdown(s)
+    assert main(["report", str(tmp_path)]) == 0 and (tmp_path / "report.html").exists()
+    again = run_maneuver(cfg, tmp_path, ex, show_progress=False)
+    assert (again.executed, again.resumed) == (0, 8)
+
+
+def test_soak_flies_a_profile_from_the_design_point():
+    ms, need = profile("tour", 0.4, 20_000.0)
+    assert need == 540.0 and ms[0] == "climb@10:to=24000ft:rate=2000fpm"
+    Scenario(duration_s=need, maneuvers=ms)  # a valid schedule
+    high, _ = profile("tour", 0.75, 33_000.0)
+    assert high[0].startswith("descend@10:to=29000ft") and high[2].startswith("decel@150:to=0.65mach")
+    _, _, bank = load_bank("tuned")
+    cfg = SoakCampaign(hours=0.3, duration_s=540.0, profile="tour").validate()
+    specs = soak_plan(cfg, "tuned", "tuned", bank)
+    assert all(s["scenario"]["maneuvers"] == list(Scenario(duration_s=540, maneuvers=ms).to_dict()["maneuvers"])
+               for s in specs)
+    with pytest.raises(CampaignError, match="needs flights of at least 540 s"):
+        SoakCampaign(hours=0.3, duration_s=300.0, profile="tour").validate()
+    plain = soak_plan(SoakCampaign(hours=0.1, duration_s=60.0).validate(), "tuned", "tuned", bank)
+    assert "maneuvers" not in plain[0]["scenario"]
+
+
+@pytest.mark.parametrize("argv, expected", [
+    (["--maneuvers", "climb,loop"], "--maneuvers: unknown maneuver(s) LOOP"),
+    (["--failure-time", "1", "--maneuver-time", "2"], "must come after --maneuver-time"),
+    (["--points", "random:0"], "random:N[:seed=S]"),
+])
+def test_cli_errors(argv, expected, capsys, tmp_path):
+    assert main(["campaign", "maneuver", *argv, "--out", str(tmp_path / "x")]) == 2
+    assert expected in capsys.readouterr().err

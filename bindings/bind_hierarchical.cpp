@@ -5,8 +5,12 @@
 // z_hat comes back absolute.
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
+#include <chrono>
+#include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core_convert.h"
 #include "hierarchical_access.h"
@@ -24,12 +28,23 @@ class PyHierarchicalBank {
  public:
   PyHierarchicalBank(const ModelBank& bank, double p_min, bool strip_leading_term, double threshold, double dwell_s,
                      const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
-                     double trim_hold_s, bool trim_freeze) {
+                     double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
+                     double blend_step_cells, double air_data_time_constant_s, bool cubic_trims) {
     HierarchicalOptions o;
     o.trim.time_constant_s = trim_time_constant_s;
     o.trim.freeze_probability = trim_freeze_probability;
     o.trim.hold_s = trim_hold_s;
     o.trim.freeze = trim_freeze;
+    if (schedule_mode == "interpolate")
+      o.schedule.mode = ScheduleMode::kInterpolate;
+    else if (schedule_mode == "nearest")
+      o.schedule.mode = ScheduleMode::kNearest;
+    else
+      throw py::value_error("schedule_mode must be 'interpolate' or 'nearest', got '" + schedule_mode + "'");
+    o.schedule.hysteresis_cells = hysteresis_cells;
+    o.schedule.blend_step_cells = blend_step_cells;
+    o.schedule.air_data_time_constant_s = air_data_time_constant_s;
+    o.schedule.cubic_trims = cubic_trims;
     o.bank.p_min = p_min;
     o.bank.strip_leading_term = strip_leading_term;
     o.declarer.threshold = threshold;
@@ -79,6 +94,30 @@ class PyHierarchicalBank {
                         cv::to_vector<typename B::ZVector>(dz, nz_, "dz"));
     });
   }
+  py::object schedule_state() const {
+    return visit([](const auto& b) -> py::object {
+      const auto& s = b.scheduled();
+      if (!s.active()) return py::none();
+      py::dict d;
+      d["mode"] = s.options().mode == ScheduleMode::kNearest ? "nearest" : "interpolate";
+      py::list nodes, weights;
+      for (int c = 0; c < 4; ++c) {
+        if (s.weights()[c] == 0.0) continue;
+        const auto& n = s.axes().nodes[s.corners()[c]];
+        nodes.append(py::make_tuple(s.axes().mach[n.i_mach], s.axes().alt_ft[n.i_alt]));
+        weights.append(s.weights()[c]);
+      }
+      d["nodes"] = nodes;
+      d["weights"] = weights;
+      d["switches"] = s.switches();
+      d["blends"] = s.blends();
+      d["outside_frames"] = s.outside_frames();
+      d["fallback_frames"] = s.fallback_frames();
+      d["x_trim"] = cv::to_numpy(s.x_trim());
+      d["air_data"] = py::make_tuple(s.filtered_air_data().mach, s.filtered_air_data().pressure_altitude_ft);
+      return d;
+    });
+  }
   void propagate(py::handle u) {
     visit([&](auto& b) { b.propagate(cv::to_vector<typename std::decay_t<decltype(b)>::UVector>(u, nu_, "u")); });
   }
@@ -119,11 +158,68 @@ auto prop(F f) {
 
 }  // namespace
 
+// Benchmark (f16mmae.bench): the fixed-size F16HierarchicalBank over frames z (N,7), u (N,5)
+// and, if given, air data (N,2) handed to schedule() before each frame; the frames replayed
+// from reset() pass after pass for at least min_time_s and 3 passes, timed in C++. Returns
+// (seconds per frame of the fastest pass, slowest single frame of the last pass in seconds).
+py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
+                                  double min_time_s, const std::string& schedule_mode) {
+  HierarchicalOptions o;
+  o.bank.p_min = bank.estimator.p_min;
+  o.declarer.threshold = bank.estimator.threshold;
+  o.declarer.dwell_s = bank.estimator.dwell_s;
+  o.schedule.mode = schedule_mode == "nearest" ? ScheduleMode::kNearest : ScheduleMode::kInterpolate;
+  const auto hb = std::make_unique<F16HierarchicalBank>(bank, o);
+  const Eigen::MatrixXd z = cv::to_matrix(z_frames, -1, 7, "z", "(N, 7)");
+  const Eigen::Index n = z.rows();
+  const Eigen::MatrixXd u = cv::to_matrix(u_frames, n, 5, "u", "(N, 5) with N the frames of z");
+  const bool scheduled = !air.is_none();
+  const Eigen::MatrixXd a =
+      scheduled ? cv::to_matrix(air, n, 2, "air_data", "(N, 2) with N the frames of z") : Eigen::MatrixXd();
+  if (n == 0) throw py::value_error("the benchmark needs at least one frame");
+  std::vector<F16HierarchicalBank::ZVector> zs(n);
+  std::vector<F16HierarchicalBank::UVector> us(n);
+  std::vector<AirData> as(scheduled ? n : 0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    zs[i] = z.row(i).transpose();
+    us[i] = u.row(i).transpose();
+    if (scheduled) as[i] = AirData{a(i, 0), a(i, 1)};
+  }
+  using Clock = std::chrono::steady_clock;
+  double best_s = std::numeric_limits<double>::infinity(), worst_frame_s = 0.0;
+  {
+    py::gil_scoped_release release;
+    const Clock::time_point start = Clock::now();
+    for (int pass = 0; pass < 3 || std::chrono::duration<double>(Clock::now() - start).count() < min_time_s; ++pass) {
+      hb->reset();
+      const Clock::time_point t0 = Clock::now();
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (scheduled) hb->schedule(as[i]);
+        hb->step(zs[i], us[i]);
+      }
+      best_s = std::min(best_s, std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+    hb->reset();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Clock::time_point t0 = Clock::now();
+      if (scheduled) hb->schedule(as[i]);
+      hb->step(zs[i], us[i]);
+      worst_frame_s = std::max(worst_frame_s, std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+  }  // the GIL is held again: Python objects may be made
+  return py::make_tuple(best_s / static_cast<double>(n), worst_frame_s);
+}
+
 F16HierarchicalBank* f16_hierarchical_bank(py::handle hierarchical_bank) {
   return hierarchical_bank.cast<PyHierarchicalBank&>().fixed_bank();
 }
 
 void bind_hierarchical(py::module_& m) {
+  m.def("_bench_hierarchical_loop", &bench_hierarchical_loop, py::arg("bank"), py::arg("z"), py::arg("u"),
+        py::arg("air_data") = py::none(), py::arg("min_time_s") = 0.2, py::arg("schedule_mode") = "interpolate",
+        "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F16HierarchicalBank\n"
+        "over frames z (N,7), u (N,5), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
+        "given, timed in C++ (f16mmae.bench).");
   py::class_<PyHierarchicalBank>(m, "HierarchicalBank", R"doc(
 The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 
@@ -147,12 +243,24 @@ about the trim with that time constant, frozen while a failure hypothesis is abo
 trim_freeze_probability (and trim_hold_s after), at level 1 or with a failure declared
 (trim_freeze=False: never frozen, for comparison only). A frame with
 a non-finite value is rejected and counted in rejected_frames. Raises ValueError for an invalid
-model bank or a missing dual hypothesis.)doc")
-      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double, bool>(),
+model bank or a missing dual hypothesis.
+
+A SCHEDULED model bank (model_bank.schedule, cpp/f16mmae/scheduled_filters.h) follows the air
+data given to schedule(mach, pressure_altitude_ft), low-passed with air_data_time_constant_s: schedule_mode 'interpolate' (bilinear on the
+grid cell; matrices re-blended when the air data moved blend_step_cells; trims to third order on
+the 4 x 4 nodes around when cubic_trims and covered) or 'nearest' (nearest
+node, switched past hysteresis_cells); the states move with the trim state, probabilities,
+declarations and the level carry over. schedule_state reports what is in force.)doc")
+      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double, bool,
+                    const std::string&, double, double, double, bool>(),
            py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
            py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none(),
            py::arg("trim_time_constant_s") = 0.0, py::arg("trim_freeze_probability") = 0.05,
-           py::arg("trim_hold_s") = 2.0, py::arg("trim_freeze") = true)
+           py::arg("trim_hold_s") = 2.0, py::arg("trim_freeze") = true, py::arg("schedule_mode") = "interpolate",
+           py::arg("hysteresis_cells") = ScheduleOptions{}.hysteresis_cells,
+           py::arg("blend_step_cells") = ScheduleOptions{}.blend_step_cells,
+           py::arg("air_data_time_constant_s") = ScheduleOptions{}.air_data_time_constant_s,
+           py::arg("cubic_trims") = ScheduleOptions{}.cubic_trims)
       .def("update", &PyHierarchicalBank::update, py::arg("z"),
            "Update with absolute z (nz,); returns the name declared on this frame, or None.")
       .def("propagate", &PyHierarchicalBank::propagate, py::arg("u"), "Propagate with absolute u (nu,).")
@@ -198,6 +306,12 @@ model bank or a missing dual hypothesis.)doc")
                              "(mach, pressure_altitude_ft) in force: the design condition until schedule()")
       .def_property_readonly("air_data_rejected", prop([](auto& b) { return b.air_data_rejected(); }),
                              "schedule() calls with a non-finite value")
+      .def_property_readonly("schedule_state", &PyHierarchicalBank::schedule_state,
+                             "None for a bank designed at one flight condition; for a scheduled bank a dict:\n"
+                             "mode, nodes ((mach, alt_ft) of the filters in force) and their weights, switches\n"
+                             "(nearest), blends (interpolate), outside_frames (air data clamped to the grid),\n"
+                             "fallback_frames (a cell with an uncovered corner: nearest node), x_trim, air_data\n"
+                             "(the low-passed air data the schedule follows)")
       .def("set_trim_offset", &PyHierarchicalBank::set_trim_offset, py::arg("du"), py::arg("dz"),
            "The trim offset in force from the next frame: subtract u_trim + du and z_trim + dz.")
       .def_property_readonly("trim_offset", prop([](auto& b) {

@@ -17,6 +17,8 @@
 
 #include "bankfile/bank_file.h"
 #include "bankfile/bank_signature.h"
+#include "bankfile/schedule_file.h"
+#include "f16mmae/bank_schedule.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/model_bank.h"
 
@@ -156,7 +158,56 @@ ModelBank make_bank(py::handle hypotheses, py::handle state_names, py::handle in
 
 ModelBank bank_from_file_bytes(const py::bytes& data, const std::string& source) {
   const std::string_view view = data;
-  return parse_bank_file(reinterpret_cast<const std::uint8_t*>(view.data()), view.size(), source);
+  return parse_any_bank_file(reinterpret_cast<const std::uint8_t*>(view.data()), view.size(), source);
+}
+
+// A BankSchedule from Python: nodes = [(i_mach, i_alt, ModelBank, x_trim), ...].
+BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<double>& alt_ft, const py::list& nodes,
+                           int primary, const std::string& metadata) {
+  BankSchedule s;
+  s.mach = mach;
+  s.alt_ft = alt_ft;
+  s.primary = primary;
+  s.metadata = metadata;
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const py::tuple t = nodes[n].cast<py::tuple>();
+    if (t.size() != 4)
+      throw py::value_error("schedule nodes[" + std::to_string(n) + "] must be (i_mach, i_alt, ModelBank, x_trim), got " +
+                            std::to_string(t.size()) + " items");
+    ScheduleNode node;
+    node.i_mach = t[0].cast<int>();
+    node.i_alt = t[1].cast<int>();
+    node.bank = t[2].cast<ModelBank>();
+    node.bank.schedule.reset();
+    node.x_trim = to_vector(t[3], "schedule nodes[" + std::to_string(n) + "].x_trim");
+    s.nodes.push_back(std::move(node));
+  }
+  s.validate();
+  return s;
+}
+
+// The schedule of a scheduled bank as Python data, or None.
+py::object schedule_info(const ModelBank& b) {
+  if (!b.schedule) return py::none();
+  const BankSchedule& s = *b.schedule;
+  py::dict d;
+  d["mach"] = py::tuple(py::cast(s.mach));
+  d["alt_ft"] = py::tuple(py::cast(s.alt_ft));
+  py::list nodes;
+  for (const ScheduleNode& n : s.nodes) {
+    py::dict e;
+    e["i_mach"] = n.i_mach;
+    e["i_alt"] = n.i_alt;
+    e["mach"] = s.mach[n.i_mach];
+    e["alt_ft"] = s.alt_ft[n.i_alt];
+    e["bank"] = n.bank;
+    e["x_trim"] = readonly(n.x_trim);
+    nodes.append(e);
+  }
+  d["nodes"] = nodes;
+  d["primary"] = s.primary;
+  d["metadata"] = s.metadata;
+  return d;
 }
 
 int index_of(const ModelBank& bank, const std::string& name) {
@@ -346,6 +397,10 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
                              "JSON text: how the bank was made (provenance only)")
       .def_property_readonly("content_hash", [](const ModelBank& b) { return b.content_hash; },
                              "hex SHA-256 of the bank-file payload")
+      .def_property_readonly("schedule", &schedule_info,
+                             "None, or for a scheduled bank (bank_schedule.h) a dict: mach, alt_ft (the grid axes),\n"
+                             "nodes (list of {i_mach, i_alt, mach, alt_ft, bank, x_trim}), primary (the node this\n"
+                             "bank is, in force until air data arrives), metadata (JSON text)")
       .def("validate", &ModelBank::validate, "Raise ValueError naming the first problem, else return None.")
       .def(
           "save", [](const ModelBank& b, py::handle path) { return save_bank(b, fspath(path)); }, py::arg("path"),
@@ -380,13 +435,15 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
                     "', content_hash='" + b.content_hash.substr(0, 12) + "...')";
            })
       .def(py::pickle(
-          [](const ModelBank& b) {
-            const std::vector<std::uint8_t> payload = encode_bank_payload(b);
+          [](const ModelBank& b) {  // a scheduled bank pickles as its whole schedule file
+            const std::vector<std::uint8_t> payload = b.schedule ? schedule_file_bytes(*b.schedule) : encode_bank_payload(b);
             return py::bytes(reinterpret_cast<const char*>(payload.data()), payload.size());
           },
           [](const py::bytes& state) {
             const std::string_view view = state;
-            return decode_bank_payload(reinterpret_cast<const std::uint8_t*>(view.data()), view.size());
+            const auto* bytes = reinterpret_cast<const std::uint8_t*>(view.data());
+            if (is_schedule_file(bytes, view.size())) return parse_schedule_file(bytes, view.size(), "<pickle>");
+            return decode_bank_payload(bytes, view.size());
           }));
 
   m.def(
@@ -399,6 +456,18 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       "With public_key (a 32-byte Ed25519 key file), first verifies the signature PATH.sig over the\n"
       "file's bytes. FileNotFoundError if absent, OSError if unreadable or not a regular file,\n"
       "ValueError naming what is wrong (a bad signature included).");
+  m.def(
+      "save_schedule",
+      [](const std::vector<double>& mach, const std::vector<double>& alt_ft, const py::list& nodes, int primary,
+         const std::string& metadata, py::handle path) {
+        return save_schedule(make_schedule(mach, alt_ft, nodes, primary, metadata), fspath(path));
+      },
+      py::arg("mach"), py::arg("alt_ft"), py::arg("nodes"), py::kw_only(), py::arg("primary"),
+      py::arg("metadata") = "", py::arg("path"),
+      "Write a scheduled-bank file (cpp/bankfile/schedule_file.h) atomically; returns its content hash.\n"
+      "mach, alt_ft: the ascending grid axes; nodes: [(i_mach, i_alt, ModelBank, x_trim (nx,)), ...], one per\n"
+      "covered grid point; primary: the node in force before air data. ValueError naming the field.\n"
+      "core.load_bank reads the file back as the primary node's ModelBank with .schedule set.");
   m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s
   m.def(
       "generate_bank_signing_keys",

@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "bankfile/schedule_file.h"
 #include "bankfile/sha256.h"
 
 namespace f16mmae {
@@ -59,40 +60,33 @@ bool write_all(int fd, const std::uint8_t* bytes, std::size_t size) {
 
 }  // namespace
 
-std::vector<std::uint8_t> bank_file_bytes(const ModelBank& bank) {
-  bank.validate();
-  const std::vector<std::uint8_t> payload = encode_bank_payload(bank);
+std::vector<std::uint8_t> hashed_file_image(const char (&magic)[8], std::uint32_t version,
+                                            const std::vector<std::uint8_t>& payload) {
   const Sha256Digest digest = sha256(payload.data(), payload.size());
   std::vector<std::uint8_t> image(kBankFileHeaderSize + payload.size());
-  std::memcpy(image.data(), kBankFileMagic, sizeof kBankFileMagic);
-  put_be(image.data() + kVersionOffset, ModelBank::kFormatVersion, 4);
+  std::memcpy(image.data(), magic, sizeof magic);
+  put_be(image.data() + kVersionOffset, version, 4);
   put_be(image.data() + kSizeOffset, payload.size(), 8);
   std::memcpy(image.data() + kHashOffset, digest.data(), digest.size());
   std::memcpy(image.data() + kBankFileHeaderSize, payload.data(), payload.size());
   return image;
 }
 
-ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
-  const std::string who = "bank file " + source + ": ";
+std::uint32_t hashed_file_version(const std::uint8_t* data, std::size_t size, const char (&magic)[8],
+                                  const std::string& who, const std::string& kind) {
   auto fail = [&](const std::string& what) { throw BankFileFormatError(who + what); };
   if (size == 0) fail("truncated: the file is empty");
-  if (std::memcmp(data, kBankFileMagic, std::min(size, sizeof kBankFileMagic)) != 0)
-    fail("wrong magic bytes '" + printable(data, std::min(size, sizeof kBankFileMagic)) + "' (expected '" +
-         std::string(kBankFileMagic, sizeof kBankFileMagic) + "'): not a model-bank file");
+  if (std::memcmp(data, magic, std::min(size, sizeof magic)) != 0)
+    fail("wrong magic bytes '" + printable(data, std::min(size, sizeof magic)) + "' (expected '" +
+         std::string(magic, sizeof magic) + "'): not a " + kind + " file");
   if (size < kBankFileHeaderSize)
     fail("truncated: " + std::to_string(size) + " bytes, the header alone has " +
          std::to_string(kBankFileHeaderSize));
-  const std::uint64_t version = get_be(data + kVersionOffset, 4);
-  if (version == 1 || version == 2)
-    fail("format version " + std::to_string(version) + " is no longer read: this build reads version " +
-         std::to_string(ModelBank::kFormatVersion) +
-         ", where the estimator settings are typed fields and each hypothesis carries the widths of its "
-         "uninformative channels. Regenerate the bank with the design command "
-         "recorded in its metadata, e.g. `f16mmae design --mach 0.4 --alt-ft 20000 --tuning tuned --out FILE` "
-         "(the shipped banks: `python -m f16mmae.design.calibrate --banks`)");
-  if (version != ModelBank::kFormatVersion)
-    fail("unsupported format version " + std::to_string(version) + " (this build reads version " +
-         std::to_string(ModelBank::kFormatVersion) + ")");
+  return static_cast<std::uint32_t>(get_be(data + kVersionOffset, 4));
+}
+
+const std::uint8_t* hashed_file_payload(const std::uint8_t* data, std::size_t size, const std::string& who) {
+  auto fail = [&](const std::string& what) { throw BankFileFormatError(who + what); };
   const std::uint64_t declared = get_be(data + kSizeOffset, 8);
   const std::size_t present = size - kBankFileHeaderSize;
   if (present < declared)
@@ -108,6 +102,30 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
   if (actual != stored)
     fail("content hash mismatch, the file is corrupted: the header records " + to_hex(stored) +
          ", the payload hashes to " + to_hex(actual));
+  return payload;
+}
+
+std::vector<std::uint8_t> bank_file_bytes(const ModelBank& bank) {
+  bank.validate();
+  return hashed_file_image(kBankFileMagic, ModelBank::kFormatVersion, encode_bank_payload(bank));
+}
+
+ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
+  const std::string who = "bank file " + source + ": ";
+  auto fail = [&](const std::string& what) { throw BankFileFormatError(who + what); };
+  const std::uint32_t version = hashed_file_version(data, size, kBankFileMagic, who, "model-bank");
+  if (version == 1 || version == 2)
+    fail("format version " + std::to_string(version) + " is no longer read: this build reads version " +
+         std::to_string(ModelBank::kFormatVersion) +
+         ", where the estimator settings are typed fields and each hypothesis carries the widths of its "
+         "uninformative channels. Regenerate the bank with the design command "
+         "recorded in its metadata, e.g. `f16mmae design --mach 0.4 --alt-ft 20000 --tuning tuned --out FILE` "
+         "(the shipped banks: `python -m f16mmae.design.calibrate --banks`)");
+  if (version != ModelBank::kFormatVersion)
+    fail("unsupported format version " + std::to_string(version) + " (this build reads version " +
+         std::to_string(ModelBank::kFormatVersion) + ")");
+  const std::uint8_t* payload = hashed_file_payload(data, size, who);
+  const std::size_t present = size - kBankFileHeaderSize;
   ModelBank bank;
   try {
     bank = decode_bank_payload(payload, present);
@@ -122,7 +140,12 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
 
 std::string save_bank(const ModelBank& bank, const std::string& path) {
   const std::vector<std::uint8_t> image = bank_file_bytes(bank);  // validates first
-  const std::string who = "bank file '" + path + "': ";
+  write_file_atomically(image, path, "bank file");
+  return to_hex(sha256(image.data() + kBankFileHeaderSize, image.size() - kBankFileHeaderSize));
+}
+
+void write_file_atomically(const std::vector<std::uint8_t>& image, const std::string& path, const std::string& what) {
+  const std::string who = what + " '" + path + "': ";
   std::string temp = path + ".tmp-XXXXXX";
   const int fd = ::mkstemp(temp.data());
   if (fd < 0) throw BankFileIoError(who + "cannot create a temporary file beside it (" + errno_text() + ")");
@@ -138,7 +161,6 @@ std::string save_bank(const ModelBank& bank, const std::string& path) {
     ::unlink(temp.c_str());
     throw BankFileIoError(who + "cannot replace it (" + e + ")");
   }
-  return to_hex(sha256(image.data() + kBankFileHeaderSize, image.size() - kBankFileHeaderSize));
 }
 
 std::vector<std::uint8_t> read_regular_file(const std::string& path, std::uint64_t max_bytes,
@@ -186,9 +208,24 @@ std::vector<std::uint8_t> read_regular_file(const std::string& path, std::uint64
   return bytes;
 }
 
+std::vector<std::uint8_t> read_bank_bytes(const std::string& path) {
+  try {
+    return read_regular_file(path, kMaxBankFileBytes, "bank file");
+  } catch (const BankFileFormatError&) {  // over a bank's limit: a scheduled bank may be larger
+    std::vector<std::uint8_t> bytes = read_regular_file(path, kMaxScheduleFileBytes, "bank file");
+    if (!is_schedule_file(bytes.data(), bytes.size())) throw;
+    return bytes;
+  }
+}
+
+ModelBank parse_any_bank_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
+  if (is_schedule_file(data, size)) return parse_schedule_file(data, size, source);
+  return parse_bank_file(data, size, source);
+}
+
 ModelBank load_bank(const std::string& path) {
-  const std::vector<std::uint8_t> bytes = read_regular_file(path, kMaxBankFileBytes, "bank file");
-  return parse_bank_file(bytes.data(), bytes.size(), "'" + path + "'");
+  const std::vector<std::uint8_t> bytes = read_bank_bytes(path);
+  return parse_any_bank_file(bytes.data(), bytes.size(), "'" + path + "'");
 }
 
 }  // namespace f16mmae

@@ -88,8 +88,28 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
 
 // Validates, then writes the file atomically. Returns the content hash.
 std::string save_bank(const ModelBank& bank, const std::string& path);
-// Reads, checks and validates a bank file; the result has content_hash set.
+// The bytes of a bank file (read_regular_file, at most kMaxBankFileBytes) or of a
+// scheduled-bank file (at most kMaxScheduleFileBytes, schedule_file.h).
+std::vector<std::uint8_t> read_bank_bytes(const std::string& path);
+// parse_schedule_file for a scheduled-bank image (its magic), else parse_bank_file.
+ModelBank parse_any_bank_file(const std::uint8_t* data, std::size_t size, const std::string& source);
+// Reads, checks and validates a bank file or a scheduled-bank file (schedule_file.h); the
+// result has content_hash set.
 ModelBank load_bank(const std::string& path);
+
+// The hashed-file layout shared by the bank and the schedule file (header above, `magic`
+// and `version` the file kind's): the image of a payload; the version of an image (after
+// checking it is not empty, its magic, and that the header is whole; `kind` names the file
+// kind in the wrong-magic message); and its payload, once the declared size matches the bytes
+// present and the SHA-256 matches (BankFileFormatError, messages prefixed with `who`).
+std::vector<std::uint8_t> hashed_file_image(const char (&magic)[8], std::uint32_t version,
+                                            const std::vector<std::uint8_t>& payload);
+std::uint32_t hashed_file_version(const std::uint8_t* data, std::size_t size, const char (&magic)[8],
+                                  const std::string& who, const std::string& kind);
+const std::uint8_t* hashed_file_payload(const std::uint8_t* data, std::size_t size, const std::string& who);
+// Writes `image` to `path` atomically (temporary file in the same folder, fsync, rename);
+// BankFileIoError "<what> '<path>': ..." on failure.
+void write_file_atomically(const std::vector<std::uint8_t>& image, const std::string& path, const std::string& what);
 
 // The bytes of a regular file of at most max_bytes, opened without blocking: a missing file
 // is BankFileNotFound; a folder, FIFO, device or socket, or a read error, BankFileIoError; a

@@ -60,7 +60,7 @@ void generate_bank_signing_keys(const std::string& public_key_path, const std::s
 
 void sign_bank_file(const std::string& bank_path, const std::string& secret_key_path) {
   init_sodium();
-  const std::vector<std::uint8_t> bank = read_regular_file(bank_path, kMaxBankFileBytes, "bank file");
+  const std::vector<std::uint8_t> bank = read_bank_bytes(bank_path);
   std::vector<std::uint8_t> sk = read_exact(secret_key_path, kBankSecretKeyBytes, "secret key");
   std::uint8_t sig[crypto_sign_BYTES];
   static_assert(sizeof sig == kBankSignatureBytes);
@@ -71,7 +71,7 @@ void sign_bank_file(const std::string& bank_path, const std::string& secret_key_
 
 ModelBank load_signed_bank(const std::string& bank_path, const std::string& public_key_path) {
   init_sodium();
-  const std::vector<std::uint8_t> bank = read_regular_file(bank_path, kMaxBankFileBytes, "bank file");
+  const std::vector<std::uint8_t> bank = read_bank_bytes(bank_path);
   const std::vector<std::uint8_t> pk = read_exact(public_key_path, kBankPublicKeyBytes, "public key");
   const std::string sig_path = bank_signature_path(bank_path);
   std::vector<std::uint8_t> sig;
@@ -85,7 +85,7 @@ ModelBank load_signed_bank(const std::string& bank_path, const std::string& publ
     throw BankSignatureError("bank file '" + bank_path + "': its signature '" + sig_path +
                              "' does not verify with the public key '" + public_key_path +
                              "': the file was changed after signing, or another key signed it");
-  return parse_bank_file(bank.data(), bank.size(), "'" + bank_path + "'");
+  return parse_any_bank_file(bank.data(), bank.size(), "'" + bank_path + "'");
 }
 
 }  // namespace f16mmae

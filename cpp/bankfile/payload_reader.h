@@ -101,6 +101,15 @@ class PayloadReader {
     return out;
   }
 
+  // n raw bytes, n checked against the bytes left first; returns where they start.
+  const std::uint8_t* bytes(const std::string& field, std::uint64_t n) {
+    if (n > remaining())
+      fail(field, pos_, "declares " + std::to_string(n) + " bytes, " + std::to_string(remaining()) + " remain");
+    const std::uint8_t* at = data_ + pos_;
+    pos_ += static_cast<std::size_t>(n);
+    return at;
+  }
+
   // The message must end exactly at the end of the payload.
   void finish() const {
     if (pos_ != size_)

@@ -314,6 +314,19 @@ class FilterBank {
     store([&](auto& s) { s.clear(k); });
     level_set_[k] = 0;
   }
+  // Replace what every filter is, keeping the states x⁻, x⁺, r: a change of the scheduled
+  // filters (scheduled_filters.h). write(k, h) writes filter k's new HypothesisFilter into h
+  // (same sizes); h_out(H) writes the new H_out into H. noexcept if they are.
+  template <class Write, class HOut>
+  void replace_filters(Write&& write, HOut&& h_out) noexcept {
+    for (int k = 0; k < size(); ++k) write(k, hypotheses_[k]);
+    if constexpr (kPacked) {
+      if (use_packed_) packed_.load_all(hypotheses_);
+    }
+    h_out(h_out_);
+    load_h_out();
+    refresh_blend();
+  }
   // Set filter k's posterior x⁺ and mark it current, so the next propagate starts from it
   // (a filter brought on line after the frame's update).
   void set_posterior(int k, const XVector& x_post) noexcept {

@@ -22,14 +22,24 @@
 //
 // Air data (air_data.h): schedule(a) before a frame's update hands the bank the measured
 // air data. A non-finite value is counted in air_data_rejected() and the last usable value
-// stays in force. This bank is designed at one flight condition (ModelBank mach, alt_ft), so
-// its filters and trim do not depend on the air data; air_data() reports what is in force
-// (the design condition until the first usable value; reset() returns to it).
+// stays in force. air_data() reports what is in force (the ModelBank's design condition
+// (mach, alt_ft) until the first usable value; reset() returns to it).
+//   A bank designed at one flight condition: its filters and trim do not depend on it.
+//   A scheduled bank (ModelBank::schedule, bank_schedule.h): every node's 79 filters are
+//   preloaded, and schedule(a) selects the filters and trims in force on the grid
+//   (scheduled_filters.h: bilinear interpolation or nearest node with hysteresis,
+//   HierarchicalOptions::schedule). A change of filters reloads the on-line ones (and a
+//   hierarchical switch loads the ones in force); when the trim state x_trim moves, every
+//   on-line filter's x⁻ and x⁺ move by x_trim_old - x_trim_new (bumpless: the absolute
+//   estimate is continuous); before the first frame nothing moves (the filters start at the
+//   trim in force at their first frame). Probabilities, the declarer, the declarations and the level are
+//   untouched by a schedule change.
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
 // z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
 // (z_hat_perturbation() does not). States are perturbations from the trim in force.
-// Trim in force = the bank's trim + the trim offset (du, dz): zero unless set_trim_offset()
+// Trim in force = the bank's trim (a scheduled bank: the scheduled trim) + the trim offset
+// (du, dz): zero unless set_trim_offset()
 // sets it or trim tracking (options.trim, trim_tracker.h: a slow low-pass of u and z about the
 // trim, frozen while a failure hypothesis rises or a failure is declared) estimates it, after
 // each update and propagate. With zero offsets the arithmetic is the bank's without them.
@@ -50,6 +60,7 @@
 #include "f16mmae/declarer.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/model_bank.h"
+#include "f16mmae/scheduled_filters.h"
 #include "f16mmae/trim_tracker.h"
 
 #include <Eigen/Dense>
@@ -73,6 +84,7 @@ struct Declaration {
 struct HierarchicalOptions {
   FilterBankOptions bank;     // p_min, strip_leading_term
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
+  ScheduleOptions schedule;   // a scheduled bank: interpolate or nearest (scheduled_filters.h)
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
   int history_capacity = 1024;
 };
@@ -89,6 +101,7 @@ class HierarchicalBank {
   using PVector = typename Bank::PVector;
   static constexpr bool kFixed = K != Eigen::Dynamic;
   using Indices = std::conditional_t<kFixed, std::array<int, (kFixed ? K : 1)>, std::vector<int>>;
+  using Schedule = ScheduledFilters<NX, NU, NZ>;
 
   explicit HierarchicalBank(const ModelBank& bank, const HierarchicalOptions& options = {})
       : HierarchicalBank(bank, options, build(bank)) {}
@@ -132,6 +145,12 @@ class HierarchicalBank {
       return;
     }
     air_data_ = a;
+    if (!sched_.active()) return;
+    const XVector x_before = sched_.x_trim();
+    const bool reload = sched_.select(a);
+    if (reload) load_scheduled();
+    if (frame_ > 0) shift_states(x_before - sched_.x_trim());  // before the first frame x = 0 is the trim
+    apply_trims();
   }
   bool propagate(const UVector& u_abs) noexcept {
     u_pert_.noalias() = u_abs - u_trim_;
@@ -165,6 +184,11 @@ class HierarchicalBank {
     trim_tracker_.reset();
     du_.setZero();
     dz_.setZero();
+    if (sched_.active()) {
+      sched_.reset(design_air_data_);
+      load_scheduled();
+      apply_trims();
+    }
   }
 
   // Touch the on-line bank's per-frame working set (FilterBank::warm_cache) and the
@@ -201,6 +225,8 @@ class HierarchicalBank {
   const ZVector& z_trim_offset() const noexcept { return dz_; }   // dz in force
   const TrimTracker<NU, NZ>& trim_tracker() const noexcept { return trim_tracker_; }
   const ZVector& z_trim() const noexcept { return z_trim_; }
+  // The schedule (inactive for a bank designed at one flight condition).
+  const Schedule& scheduled() const noexcept { return sched_; }
   const UVector& u_trim() const noexcept { return u_trim_; }
   std::int64_t rejected_frames() const noexcept { return bank_.rejected_frames(); }
   const AirData& air_data() const noexcept { return air_data_; }            // in force
@@ -300,6 +326,20 @@ class HierarchicalBank {
     u_pert_ = u_trim_;
     du_ = UVector::Zero(u_trim_.size());
     dz_ = ZVector::Zero(z_trim_.size());
+    scratch_ = storage_[0];
+    if (mb.schedule) {
+      sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_, mb.frame_rate_hz);
+      if (sched_.node_filter(0, 0).nx() != mb.nx() ||
+          static_cast<int>(mb.schedule->nodes[0].bank.hypotheses.size()) != hypothesis_count())
+        throw std::invalid_argument("hierarchical bank: the schedule's nodes do not have this bank's sizes");
+      for (int i = 0; i < hypothesis_count(); ++i)
+        if (mb.schedule->nodes[0].bank.hypotheses[i].name != names_[i])
+          throw std::invalid_argument("hierarchical bank: schedule hypothesis " + std::to_string(i) + " is '" +
+                                      mb.schedule->nodes[0].bank.hypotheses[i].name + "', the bank's is '" +
+                                      names_[i] + "'");
+      load_scheduled();
+      apply_trims();
+    }
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
   }
 
@@ -328,18 +368,50 @@ class HierarchicalBank {
 
   // Bring `next` on line; every new filter starts from the declared filter's x⁺ (x⁻ and r
   // zero until the propagate) and the declared hypothesis (at `declared`, its position in
-  // the current bank) is presumed.
+  // the current bank) is presumed. A scheduled bank loads the filters in force.
   void switch_to(const Indices& next, int declared, int level) noexcept {
     const XVector x0 = bank_.posterior(declared);
     const int presumed = level == 1 ? 1 : 0;
     for (int k = 0; k < size(); ++k) {
-      bank_.load_filter(k, storage_[next[k]]);
+      if (sched_.active()) {
+        sched_.filter(next[k], scratch_);
+        bank_.load_filter(k, scratch_);
+      } else {
+        bank_.load_filter(k, storage_[next[k]]);
+      }
       bank_.set_posterior(k, x0);
     }
     online_ = next;
     level_ = level;
     bank_.presume(presumed);
     declarer_.reset(presumed);
+  }
+
+  // The on-line filters as the schedule has them in force (states kept).
+  void load_scheduled() noexcept {
+    bank_.replace_filters([&](int k, Hypothesis& h) { sched_.filter(online_[k], h); },
+                          [&](auto& h_out) { sched_.h_output(h_out); });
+  }
+  // Every on-line filter's states move by dx (a change of the scheduled trim state).
+  void shift_states(const XVector& dx) noexcept {
+    if (dx.isZero(0.0)) return;
+    for (int k = 0; k < size(); ++k) {
+      const bool corrected = bank_.corrected(k);
+      x_shift_ = bank_.prior(k);
+      x_shift_ += dx;
+      bank_.set_prior(k, x_shift_);
+      if (corrected) {
+        x_shift_ = bank_.posterior(k);
+        x_shift_ += dx;
+        bank_.set_posterior(k, x_shift_);
+      }
+    }
+    bank_.refresh_blend();
+  }
+  // The scheduled trims in force (a scheduled bank only).
+  void apply_trims() noexcept {
+    u_trim_ = sched_.u_trim();
+    z_trim_ = sched_.z_trim();
   }
 
   HierarchicalOptions options_;
@@ -353,6 +425,9 @@ class HierarchicalBank {
   ZVector z_trim_, z_pert_, dz_;
   UVector u_trim_, u_pert_, du_;
   TrimTracker<NU, NZ> trim_tracker_;
+  XVector x_shift_;
+  Schedule sched_;
+  Hypothesis scratch_;   // a scheduled filter on its way on line at a hierarchical switch
   std::vector<Declaration> history_;
   std::int64_t dropped_ = 0;
   AirData design_air_data_, air_data_;

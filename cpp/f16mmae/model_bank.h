@@ -32,12 +32,15 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace f16mmae {
+
+struct BankSchedule;  // bank_schedule.h
 
 struct HypothesisModel {
   std::string name;  // "NONE", "LS", ..., "AY", duals "LS+PIT" (f16mmae/names.py order)
@@ -64,6 +67,10 @@ struct ModelBank {
   EstimatorSettings estimator;  // the settings the design recommends (p_min, threshold, dwell_s)
   std::string metadata;  // JSON text describing the design (provenance; nothing reads settings from it)
   std::string content_hash;  // hex SHA-256 of the encoded payload (set by the bank file)
+  // A scheduled bank (bank_schedule.h): banks designed on a Mach x altitude grid. This bank
+  // is then one of its nodes (the one in force until air data arrives) and content_hash is
+  // the schedule file's. Empty for a bank designed at one flight condition.
+  std::shared_ptr<const BankSchedule> schedule;
 
   int nx() const { return static_cast<int>(state_names.size()); }
   int nu() const { return static_cast<int>(input_names.size()); }

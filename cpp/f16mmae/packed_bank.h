@@ -50,6 +50,16 @@ class PackedBank<true, K, NX, NU, NZ> {
   template <class Hypotheses>
   void load(int i, const Hypotheses& hypotheses) noexcept {
     filters_[i].load(hypotheses[i]);
+    note_shared_phi(hypotheses);
+  }
+  // Every filter's matrices from hypotheses, with one shared-Phi check (a schedule change).
+  template <class Hypotheses>
+  void load_all(const Hypotheses& hypotheses) noexcept {
+    for (int i = 0; i < K; ++i) filters_[i].load(hypotheses[i]);
+    note_shared_phi(hypotheses);
+  }
+  template <class Hypotheses>
+  void note_shared_phi(const Hypotheses& hypotheses) noexcept {
     bool same = true;
     for (int f = 1; f < K && same; ++f) same = hypotheses[f].model().phi == hypotheses[0].model().phi;
     shared_phi_ = same;

@@ -270,6 +270,61 @@ class HypothesisFilter {
     x_prior.noalias() = m_.phi * x + m_.bd * u;
   }
 
+  // The blend of n filters of one hypothesis at neighbouring grid nodes (bank_schedule.h):
+  // Phi, Bd, H, K, A, A⁻¹, ln|A| and the uninformative channels' constants (c_j, level-filter
+  // terms, their sums) each set to sum_i w_i (that of f[i]). A weight of
+  // exactly 1 copies that filter bit for bit; zero weights are skipped. The weights are the
+  // caller's (bilinear: >= 0, summing to 1); the result is not re-validated. noexcept; for
+  // fixed sizes no allocation.
+  void assign_blend(const HypothesisFilter* const* f, const double* w, int n) noexcept {
+    int first = -1;
+    for (int i = 0; i < n && first < 0; ++i)
+      if (w[i] != 0.0) first = i;
+    if (first < 0) return;
+    if (w[first] == 1.0) {
+      *this = *f[first];
+      return;
+    }
+    const HypothesisFilter& a = *f[first];
+    const double wa = w[first];
+    m_.phi = wa * a.m_.phi;
+    m_.bd = wa * a.m_.bd;
+    m_.h = wa * a.m_.h;
+    m_.k = wa * a.m_.k;
+    m_.a = wa * a.m_.a;
+    a_inv_ = wa * a.a_inv_;
+    log_det_a_ = wa * a.log_det_a_;
+    // The uninformative channels are the same at every node of a hypothesis (which channels,
+    // their widths and level noises); their per-channel constants are blended like A.
+    m_.uninformative_width = a.m_.uninformative_width;
+    m_.uninformative_level_q = a.m_.uninformative_level_q;
+    uninformative_ = a.uninformative_;
+    tracked_ = a.tracked_;
+    first_frame_ = wa * a.first_frame_;
+    memoryless_ = wa * a.memoryless_;
+    unf_c_ = wa * a.unf_c_;
+    unf_gain_ = wa * a.unf_gain_;
+    unf_half_inv_s_ = wa * a.unf_half_inv_s_;
+    unf_log_ratio_ = wa * a.unf_log_ratio_;
+    for (int i = first + 1; i < n; ++i) {
+      if (w[i] == 0.0) continue;
+      const HypothesisFilter& b = *f[i];
+      m_.phi += w[i] * b.m_.phi;
+      m_.bd += w[i] * b.m_.bd;
+      m_.h += w[i] * b.m_.h;
+      m_.k += w[i] * b.m_.k;
+      m_.a += w[i] * b.m_.a;
+      a_inv_ += w[i] * b.a_inv_;
+      log_det_a_ += w[i] * b.log_det_a_;
+      first_frame_ += w[i] * b.first_frame_;
+      memoryless_ += w[i] * b.memoryless_;
+      unf_c_ += w[i] * b.unf_c_;
+      unf_gain_ += w[i] * b.unf_gain_;
+      unf_half_inv_s_ += w[i] * b.unf_half_inv_s_;
+      unf_log_ratio_ += w[i] * b.unf_log_ratio_;
+    }
+  }
+
   const Model& model() const noexcept { return m_; }
   const AMatrix& a_inverse() const noexcept { return a_inv_; }
   double log_det_a() const noexcept { return log_det_a_; }          // ln|A|

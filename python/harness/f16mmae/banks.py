@@ -2,19 +2,24 @@
 estimator settings it recommends.
 
 A bank is named on the command line as ``tuned`` / ``untuned`` (the nominal banks shipped in
-``data/``, designed at Mach 0.4, 20,000 ft) or as the path of a bank file written by
-``f16mmae design``.  Loading goes through the C++ loader (``core.load_bank``), which checks
-the file (hash, shapes, finiteness, covariances); a file that fails is a :class:`BankError`
-naming the file and the reason.
+``data/``, designed at Mach 0.4, 20,000 ft), as ``scheduled`` (banks designed on the grid
+``names.SCHEDULE_GRID``, one scheduled-bank file generated on first use into the cache:
+``$F16MMAE_CACHE_DIR`` or ``~/.cache/f16mmae``, ``banks/``) or as the path of a bank file
+written by ``f16mmae design`` (``--schedule`` too).  Loading goes through the C++ loader
+(``core.load_bank``), which checks the file (hash, shapes, finiteness, covariances); a file that
+fails is a :class:`BankError` naming the file and the reason.
 """
 from __future__ import annotations
 
 import functools
+import hashlib
+import os
 from pathlib import Path
+from typing import Callable
 
 from . import core
 from .errors import F16mmaeError
-from .names import SHIPPED_TUNINGS
+from .names import SCHEDULE_GRID, SCHEDULED_BANK, SHIPPED_TUNINGS
 
 #: Where the shipped nominal banks live.
 DATA_DIR = Path(__file__).resolve().parent / "data"
@@ -24,15 +29,44 @@ class BankError(F16mmaeError):
     """A bank cannot be found or loaded; the message names the file and why."""
 
 
+#: Writes the scheduled bank to a path (registered by f16mmae.design.schedule, a layer above).
+_schedule_generator: Callable[[Path], None] | None = None
+
+
+def register_schedule_generator(generate: Callable[[Path], None]) -> None:
+    """``generate(path)`` designs the ``scheduled`` bank into ``path`` when it is missing."""
+    global _schedule_generator
+    _schedule_generator = generate
+
+
+def scheduled_bank_path() -> Path:
+    """Where the ``scheduled`` bank is cached. Its name carries a hash of the grid and of the
+    shipped tuned bank (which changes whenever the truth model or the tuning is re-calibrated),
+    so a stale schedule is never picked up."""
+    nominal = DATA_DIR / "nominal_tuned.f16bank"
+    with open(nominal, "rb") as f:
+        header = f.read(52)  # magic, version, size, SHA-256 of the payload
+    key = hashlib.sha256(SCHEDULE_GRID.encode() + header[20:52]).hexdigest()[:16]
+    base = os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "f16mmae")
+    return Path(base) / "banks" / f"scheduled_tuned_{key}.f16sched"
+
+
 def bank_path(tuning: str) -> Path:
-    """The bank file for ``tuned`` / ``untuned`` (shipped nominal banks) or a FILE path."""
+    """The bank file for ``tuned`` / ``untuned`` (shipped nominal banks), ``scheduled`` (the
+    cached scheduled bank, designed first if missing and a generator is registered) or a FILE
+    path."""
     if tuning in SHIPPED_TUNINGS:
         return DATA_DIR / f"nominal_{tuning}.f16bank"
+    if tuning == SCHEDULED_BANK:
+        path = scheduled_bank_path()
+        if not path.is_file() and _schedule_generator is not None:
+            _schedule_generator(path)
+        return path
     p = Path(tuning)
     if not p.is_file():
         raise BankError(
-            f"{tuning!r} is neither a shipped tuning ({', '.join(SHIPPED_TUNINGS)}) "
-            f"nor a readable bank file"
+            f"{tuning!r} is neither a shipped tuning ({', '.join(SHIPPED_TUNINGS)}), "
+            f"nor {SCHEDULED_BANK!r}, nor a readable bank file"
         )
     return p.resolve()
 
@@ -46,15 +80,14 @@ def load_bank(tuning: str):
     """(label, path, ModelBank) of a tuning name or bank file; BankError if unreadable."""
     path = bank_path(tuning)
     if not path.is_file():
-        raise BankError(
-            f"the shipped {tuning!r} bank {path} is missing; build it with "
-            f"'f16mmae design --mach 0.4 --alt-ft 20000 --tuning {tuning} --out {path}'"
-        )
+        build = (f"f16mmae design --schedule --out {path}" if tuning == SCHEDULED_BANK else
+                 f"f16mmae design --mach 0.4 --alt-ft 20000 --tuning {tuning} --out {path}")
+        raise BankError(f"the {tuning!r} bank {path} is missing; build it with '{build}'")
     try:
         bank = _load_bank_cached(str(path))
     except (RuntimeError, ValueError) as exc:
         raise BankError(f"cannot load bank {path}: {exc}") from None
-    label = tuning if tuning in SHIPPED_TUNINGS else (bank.tuning or path.stem)
+    label = tuning if tuning in SHIPPED_TUNINGS + (SCHEDULED_BANK,) else (bank.tuning or path.stem)
     return label, path, bank
 
 

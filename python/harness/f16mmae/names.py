@@ -59,10 +59,17 @@ TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
 FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
 #: The nominal banks shipped in the package (``data/nominal_<tuning>.f16bank``).
 SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
+#: The scheduled bank's name wherever ``--bank`` is accepted: banks designed on the grid
+#: SCHEDULE_GRID with the tuned tuning, generated on first use into the cache (banks.py).
+SCHEDULED_BANK = "scheduled"
+SCHEDULE_GRID = "mach=0.3:0.8:0.1,alt=5000:35000:5000"
+#: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
+#: is the default (docs/results/schedule.md compares them).
+SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")
 #: The estimator settings a bank recommends and a user may override (core.HierarchicalBank);
 #: the trim-tracking ones are off (unset) unless given (cpp/f16mmae/trim_tracker.h).
 ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s", "trim_time_constant_s",
-                                       "trim_freeze_probability")
+                                       "trim_freeze_probability", "schedule_mode")
 #: The longest declaration dwell the estimator accepts (s): the core's bound
 #: (cpp/f16mmae/estimator_settings.h kMaxDwellS), defined there once.
 DWELL_S_MAX: float = MAX_DWELL_S

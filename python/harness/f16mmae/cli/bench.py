@@ -16,7 +16,7 @@ import json
 import sys
 from pathlib import Path
 
-from ..bench import estimator, truth
+from ..bench import estimator, scheduled, truth
 from ..outputs import writable_file
 from .options import CliError, number
 
@@ -33,6 +33,8 @@ its failed actuator column or sensor row removed), four ways, in one run:
   (d) filterpy's MMAEFilterBank on the same models (full Kalman filters; optional)
 and print microseconds per frame with the ratios. Targets: (a) <= 1 us per frame,
 (d)/(a) >= 3000. The numpy reference also cross-checks the C++ probabilities.
+Then the hierarchical bank's frame in the C++ loop, unscheduled and scheduled on air data
+(interpolate, nearest; f16mmae.bench.scheduled), with the ratios; target <= 2 us scheduled.
 """
 
 ESTIMATOR_EXAMPLES = """\
@@ -89,6 +91,8 @@ def _estimator(args) -> int:
         writable_file(args.json, "--json")
     result = estimator.run_bench(frames=frames, min_time_s=min_time_s, seed=seed)
     record = estimator.report(result, sys.stdout)
+    record["scheduled"] = scheduled.report(
+        scheduled.run_scheduled_bench(frames=frames, min_time_s=min_time_s, seed=seed), sys.stdout)
     if args.json:
         record.update(min_time_s=min_time_s, seed=seed)
         with open(args.json, "w", encoding="utf-8") as f:

@@ -28,8 +28,9 @@ def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool
     if runs is not None:
         p.add_argument("--runs", default=runs, metavar="N", help=runs_help)
     p.add_argument("--seed", default="1", metavar="S", help="campaign seed >= 1 (default 1)")
-    p.add_argument("--tuning", default="tuned", metavar="tuned|untuned|FILE",
-                   help="the bank under test: a shipped tuning or a bank file (default tuned)")
+    p.add_argument("--tuning", default="tuned", metavar="tuned|untuned|scheduled|FILE",
+                   help="the bank under test: a shipped tuning, the scheduled bank (designed on first use) "
+                        "or a bank file (default tuned)")
     p.add_argument("--turbulence", default="light", metavar="LEVEL[,LEVEL...]",
                    help="none | light | moderate | severe, or a comma list of them flown with common "
                         "seeds and reported side by side (default light)")
@@ -99,7 +100,7 @@ def check_tuning(option: str, value: str) -> None:
     try:
         bank_path(value)
     except BankError:
-        raise CliError(f"{option} {value!r} is neither tuned, untuned nor a readable bank file") from None
+        raise CliError(f"{option} {value!r} is neither tuned, untuned, scheduled nor a readable bank file") from None
 
 
 def validated(cfg):

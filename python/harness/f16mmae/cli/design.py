@@ -11,6 +11,7 @@ from ..design.bank import design_bank, write_bank
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.hypotheses import FAILURE_MODELS
+from ..design.schedule import DEFAULT_GRID, ScheduleSpecError, design_schedule, format_spec, parse_grid
 from ..design.tuning import TuningError, load_tuning
 from ..names import DESIGN_ALT_FT, DESIGN_MACH
 from ..outputs import writable_dir, writable_file
@@ -31,13 +32,23 @@ failed surface at an unknown position the filter estimates (a random-walk state 
 its lag), a failed sensor's reading uninformative (uniform over its full range).
 """
 
-EXAMPLES = """\
+EXAMPLES = f"""\
 examples:
   f16mmae design                                   # nominal point, tuned, ./f16mmae_M0.40_20000ft_tuned.f16bank
   f16mmae design --mach 0.4 --alt-ft 20000 --tuning tuned --out bank.f16bank
   f16mmae design --tuning untuned --out untuned.f16bank --report design-report/
   f16mmae design --mach 0.45 --alt-ft 25000 --tuning my_tuning.toml --out off_nominal.f16bank
   f16mmae design --failure-model cover --out cover.f16bank
+  f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
+  f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
+
+Scheduled design (--schedule [GRID]): one bank per point of a Mach x altitude grid, the same
+tuning at every point, in one scheduled-bank file (versioned, SHA-256 content hash) that
+core.load_bank, every --bank option and mmae-daemon --bank read. GRID is
+mach=START:STOP:STEP,alt=START:STOP:STEP (or lists mach=0.3/0.4/0.6); default
+{DEFAULT_GRID}. Points that do not trim are left out (listed in the file's metadata);
+the estimator clamps air data to the grid and uses the nearest covered point where a grid
+cell lacks a corner. Deterministic; the points are designed on --workers processes.
 
 Flight condition: Mach 0.3-0.8, 5,000-35,000 ft (level trim).
 Tunings: 'tuned' (the project's design, from measured residual statistics against the
@@ -49,7 +60,7 @@ f16mmae/design/tunings/, or a TOML file of the same layout:
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
   [method3_qd_lateral]      beta_rad p_rad_s r_rad_s phi_rad      (+ diag Q_d, per frame)
   [method4_actuator_q]      LS RS LF RF RUD    (white noise strength through a B column, rad^2/s)
-The shipped nominal banks (f16mmae/data/nominal_{tuned,untuned}.f16bank) are this command at
+The shipped nominal banks (f16mmae/data/nominal_{{tuned,untuned}}.f16bank) are this command at
 Mach 0.4, 20,000 ft.  --report DIR writes report.txt and figures (eigenvalues per hypothesis,
 gains, linear vs nonlinear step responses, NONE-filter residual statistics); ~10 s.
 Re-tuning after a truth-model change (re-measures the residual statistics, rewrites
@@ -80,10 +91,16 @@ def register(subparsers) -> None:
                    help="bank file to write (default ./f16mmae_M<mach>_<alt>ft_<tuning>.f16bank)")
     p.add_argument("--report", default=None, metavar="DIR",
                    help="also write the design report (text + PNG figures) into DIR")
+    p.add_argument("--schedule", nargs="?", const=DEFAULT_GRID, default=None, metavar="GRID",
+                   help=f"design a scheduled bank on a Mach x altitude grid (default {DEFAULT_GRID})")
+    p.add_argument("--workers", default=None, metavar="N",
+                   help="--schedule: processes designing the points (default all cores)")
     p.set_defaults(func=_run)
 
 
 def _run(args) -> int:
+    if args.schedule is not None:
+        return _run_schedule(args)
     mach = number("--mach", args.mach)
     alt_ft = number("--alt-ft", args.alt_ft)
     if not MACH_RANGE[0] <= mach <= MACH_RANGE[1]:
@@ -133,4 +150,34 @@ def _run(args) -> int:
     if args.report:
         paths = write_report(design, report_dir)
         print(f"  report: {', '.join(str(p) for p in paths)}")
+    return 0
+
+
+def _run_schedule(args) -> int:
+    if args.report:
+        raise CliError("--report describes one design point; it cannot be combined with --schedule")
+    try:
+        grid = parse_grid(args.schedule)
+        tuning = load_tuning(args.tuning)
+    except ScheduleSpecError as exc:
+        raise CliError(f"--schedule: {exc}") from None
+    except TuningError as exc:
+        raise CliError(f"--tuning: {exc}") from None
+    workers = number("--workers", args.workers, integer=True, minimum=1, maximum=256) if args.workers else None
+    out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}.f16sched", "--out")
+    print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
+          f"tuning {tuning.name} at every point", flush=True)
+    try:
+        s = design_schedule(grid, args.tuning, out, workers=workers,
+                            progress=lambda line: print("  " + line, flush=True))
+    except DesignError as exc:
+        raise CliError(f"the scheduled design is refused: {exc}") from None
+    except OSError as exc:
+        raise CliError(f"cannot write --out {out}: {exc}") from None
+    print(f"scheduled bank {s['path']}: {s['covered']} points covered, {len(s['skipped'])} left out "
+          f"(do not trim), {s['bytes'] / 1e6:.1f} MB, content hash {s['content_hash']}")
+    for p in s["skipped"]:
+        print(f"  left out: Mach {p['mach']:g}, {p['alt_ft']:.0f} ft: {p['reason']}")
+    print(f"  designed in {s['wall_s']:.1f} s wall ({s['design_s']:.1f} s of design over the workers); "
+          f"in force before air data: Mach {s['primary'][0]:g}, {s['primary'][1]:.0f} ft")
     return 0

@@ -7,7 +7,7 @@ import math
 
 from .. import core
 from ..errors import F16mmaeError
-from ..names import DWELL_S_MAX, FLIGHT_S_MAX, K_BANK
+from ..names import DWELL_S_MAX, FLIGHT_S_MAX, K_BANK, SCHEDULE_MODES
 
 
 class CliError(F16mmaeError):
@@ -95,6 +95,10 @@ def add_estimator_arguments(p) -> None:
     p.add_argument("--trim-freeze-probability", default=None, metavar="P",
                    help="with --trim-tracking: a failure hypothesis above P freezes the trim "
                         "estimate (0 < P <= 1; default 0.05; 1 freezes only at a declaration)")
+    p.add_argument("--schedule-mode", default=None, metavar="|".join(SCHEDULE_MODES),
+                   help="a scheduled bank (--bank scheduled): interpolate between grid points on the "
+                        "measured air data, or switch to the nearest with hysteresis (default "
+                        f"{SCHEDULE_MODES[0]}; a bank designed at one point ignores it)")
 
 
 def estimator_options_from_args(args) -> dict:
@@ -115,6 +119,8 @@ def estimator_options_from_args(args) -> dict:
             raise CliError("--trim-freeze-probability applies with --trim-tracking only")
         out["trim_freeze_probability"] = number("--trim-freeze-probability", args.trim_freeze_probability,
                                                 minimum=0.0, exclusive=True, maximum=1.0)
+    if args.schedule_mode is not None:
+        out["schedule_mode"] = choice("--schedule-mode", args.schedule_mode, SCHEDULE_MODES)
     return out
 
 

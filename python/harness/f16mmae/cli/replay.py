@@ -36,7 +36,7 @@ def register(subparsers) -> None:
         "replay", help="replay a recorded LCM log through the in-process bank and compare",
         description=DESCRIPTION, epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("logfile", metavar="LOGFILE", help="LCM event log (lcm-logger)")
-    p.add_argument("--bank", default="auto", metavar="auto|tuned|untuned|FILE",
+    p.add_argument("--bank", default="auto", metavar="auto|tuned|untuned|scheduled|FILE",
                    help="bank to replay with (default auto: the shipped bank whose hash the log's "
                         "statuses carry)")
     p.add_argument("--channel-prefix", default="", metavar="P", help="prefix of the logged channel names")

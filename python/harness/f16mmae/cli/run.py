@@ -69,7 +69,8 @@ def register(subparsers) -> None:
     p.set_defaults(func=_run)
 
 
-def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a bank file (default tuned)") -> None:
+def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning, the scheduled bank or a bank "
+                                              "file (default tuned)") -> None:
     """The options of one flight, shared by ``run`` and ``hil``."""
     p.add_argument("--fail", action="append", default=[], metavar="NAME@TIME[:MODE[=VALUE]]",
                    help=f"inject a failure (repeatable); TIME defaults to {FAILURE_TIME_S} s, MODE to complete")
@@ -83,7 +84,7 @@ def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning or a 
                    help="none | light | moderate | severe (default light)")
     p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
     p.add_argument("--alt-ft", default=None, metavar="H", help="flight altitude in ft (default: the bank's)")
-    p.add_argument("--bank", default="tuned", metavar="tuned|untuned|FILE", help=bank_help)
+    p.add_argument("--bank", default="tuned", metavar="tuned|untuned|scheduled|FILE", help=bank_help)
     p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
                    help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
     p.add_argument("--no-dither", action="store_true", help="fly without dither")

@@ -23,8 +23,8 @@ import math
 from dataclasses import dataclass
 
 from ...errors import F16mmaeError
-from ...names import (DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, FLIGHT_S, SINGLE_HYPOTHESES,
-                      TURBULENCE_LEVELS)
+from ...names import (DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, FLIGHT_S, SCHEDULE_MODES,
+                      SINGLE_HYPOTHESES, TURBULENCE_LEVELS)
 from ...truth import DitherSpec, Scenario
 from ...truth.actuators import ACTUATOR_MODES
 from ...truth.failures import FailureSpec, make_failure
@@ -84,6 +84,8 @@ class CampaignConfig:
     #: freeze probability (None: the core's 0.05).
     trim_time_constant_s: float | None = None
     trim_freeze_probability: float | None = None
+    #: How a scheduled bank follows the air data (names.SCHEDULE_MODES; None: the core's default).
+    schedule_mode: str | None = None
 
     #: Whether this kind flies a comma list of failure modes (module docstring).
     MODE_LIST = False
@@ -154,6 +156,8 @@ class CampaignConfig:
             raise CampaignError(f"--trim-tracking {self.trim_time_constant_s} must be a time constant > 0 s")
         if self.trim_freeze_probability is not None and not 0.0 < self.trim_freeze_probability <= 1.0:
             raise CampaignError(f"--trim-freeze-probability {self.trim_freeze_probability} must lie in (0, 1]")
+        if self.schedule_mode is not None and self.schedule_mode not in SCHEDULE_MODES:
+            raise CampaignError(f"--schedule-mode {self.schedule_mode!r} is unknown; valid: {', '.join(SCHEDULE_MODES)}")
 
     def scenario_dict(self, bank, failures: tuple[tuple[str, float] | FailureSpec, ...], seed: int,
                       mach: float | None = None, alt_ft: float | None = None,

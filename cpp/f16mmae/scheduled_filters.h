@@ -1,0 +1,352 @@
+// ScheduledFilters — the hypothesis filters and trims of a BankSchedule (bank_schedule.h),
+// selected on measured air data. Eigen and std only. HierarchicalBank owns one when its
+// ModelBank carries a schedule, and asks it, frame by frame, which filters and trims are in
+// force.
+//
+// The schedule follows the air data through a first-order low-pass (time constant
+// air_data_time_constant_s, frame period dt, alpha = 1 - exp(-dt / tau)):
+//   a_f <- a_f + alpha (a - a_f),   a_f = a at the first selection after a reset,
+// so measurement noise does not move the trims frame to frame (a trim that jitters, with the
+// states moved to follow it, reads to the filters as a kick off equilibrium every frame); the
+// flight condition itself changes slowly. Everything below is of a_f.
+//
+// Two ways to schedule (ScheduleOptions::mode):
+//   interpolate  bilinear on the grid cell holding the air data (weights w of
+//                bank_schedule.h, corners c):
+//                  trims (u_trim, z_trim, x_trim) every frame, to third order when
+//                  ScheduleOptions::cubic_trims and the 4 x 4 nodes around the point are
+//                  covered: the tensor product of the 4-point Lagrange weights on each axis,
+//                    L_j(v) = prod_{k != j} (v - v_k) / (v_j - v_k),  trim = sum_jk L_j(M) L_k(h) trim_jk
+//                  (4 nodes of an axis around the cell, fewer on a shorter axis; centred if
+//                  covered, else shifted by one or two nodes); else bilinearly,
+//                  trim = sum_c w_c trim_c. The trim is far from linear in Mach
+//                  (alpha goes about as 1/M^2), and a trim interpolated linearly is off the
+//                  model's equilibrium enough to be taken for a failure (docs/results/schedule.md).
+//                  Phi, Bd, H, K, A, A⁻¹, ln|A|, H_out = sum_c w_c (that of corner c)
+//                  (HypothesisFilter::assign_blend), re-blended when the air data has moved
+//                  blend_step_cells or more (in s or t) since the last blend (the first
+//                  selection after a reset always blends); at a node the filters are that
+//                  node's, bit for bit. A cell with an uncovered corner uses
+//                  the nearest covered node instead (counted in fallback_frames()).
+//   nearest      the nearest covered node's filters and trims, switched with hysteresis: the
+//                node in force changes only when another is nearer by hysteresis_cells
+//                (distance in cell units); the trims switch with it.
+// Air data outside the axes is clamped to them (counted in outside_frames()).
+//
+// Handover (HierarchicalBank applies it): when x_trim changes from x_old to x_new every
+// on-line filter's states move by x_old - x_new, so the absolute state estimate
+// x_trim + x is continuous (bumpless); probabilities, declarations and the level are not
+// touched by a schedule change.
+//
+// select() and filter() are noexcept and allocate nothing for fixed sizes.
+#pragma once
+
+#include "f16mmae/air_data.h"
+#include "f16mmae/bank_schedule.h"
+#include "f16mmae/steady_state_filter.h"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace f16mmae {
+
+enum class ScheduleMode { kInterpolate, kNearest };
+
+struct ScheduleOptions {
+  ScheduleMode mode = ScheduleMode::kInterpolate;
+  double air_data_time_constant_s = 2.0;  // low-pass of the air data, s, >= 0 (0: none)
+  bool cubic_trims = true;                // interpolate: trims to third order where covered
+  double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
+  double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
+};
+
+inline void check_schedule_options(const ScheduleOptions& o) {
+  if (!(std::isfinite(o.air_data_time_constant_s) && o.air_data_time_constant_s >= 0.0))
+    throw std::invalid_argument("schedule: air_data_time_constant_s must be finite and >= 0, got " +
+                                std::to_string(o.air_data_time_constant_s));
+  if (!(std::isfinite(o.hysteresis_cells) && o.hysteresis_cells >= 0.0 && o.hysteresis_cells < 1.0))
+    throw std::invalid_argument("schedule: hysteresis_cells must be in [0, 1), got " +
+                                std::to_string(o.hysteresis_cells));
+  if (!(std::isfinite(o.blend_step_cells) && o.blend_step_cells >= 0.0 && o.blend_step_cells < 1.0))
+    throw std::invalid_argument("schedule: blend_step_cells must be in [0, 1), got " +
+                                std::to_string(o.blend_step_cells));
+}
+
+template <int NX, int NU, int NZ>
+class ScheduledFilters {
+ public:
+  using Hypothesis = HypothesisFilter<NX, NU, NZ>;
+  using Model = FilterModel<NX, NU, NZ>;
+  using XVector = typename Hypothesis::XVector;
+  using UVector = typename Hypothesis::UVector;
+  using ZVector = typename Hypothesis::ZVector;
+  using OutputMatrix = Eigen::Matrix<double, NZ, NX>;   // H_out: blended state -> z_hat
+  static constexpr int kCorners = 4;
+
+  ScheduledFilters() = default;
+
+  // Every node's filters (validated) and trims; starts at the air data `start`.
+  ScheduledFilters(const BankSchedule& schedule, const ScheduleOptions& options, const AirData& start,
+                   double frame_rate_hz)
+      : options_(options) {
+    schedule.validate();
+    check_schedule_options(options);
+    alpha_ = options.air_data_time_constant_s > 0.0
+                 ? 1.0 - std::exp(-1.0 / (frame_rate_hz * options.air_data_time_constant_s))
+                 : 1.0;
+    axes_.mach = schedule.mach;
+    axes_.alt_ft = schedule.alt_ft;
+    hypotheses_ = static_cast<int>(schedule.nodes[0].bank.hypotheses.size());
+    const int n_nodes = static_cast<int>(schedule.nodes.size());
+    filters_.reserve(static_cast<std::size_t>(n_nodes) * hypotheses_);
+    for (const ScheduleNode& node : schedule.nodes) {
+      ScheduleNode geometry;  // the axes' geometry only; banks stay in filters_ and the trims
+      geometry.i_mach = node.i_mach;
+      geometry.i_alt = node.i_alt;
+      axes_.nodes.push_back(std::move(geometry));
+      const std::string where = "schedule node (Mach " + std::to_string(schedule.mach[node.i_mach]) + ", " +
+                                std::to_string(schedule.alt_ft[node.i_alt]) + " ft) ";
+      for (const HypothesisModel& h : node.bank.hypotheses)
+        filters_.emplace_back(Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, where + "hypothesis '" + h.name + "'"),
+                              where + "hypothesis '" + h.name + "'");
+      u_trim_.push_back(node.bank.u_trim);
+      z_trim_.push_back(node.bank.z_trim);
+      x_trim_.push_back(node.x_trim);
+      h_out_.push_back(node.bank.h_output);
+    }
+    reset(start);
+  }
+
+  bool active() const noexcept { return !filters_.empty(); }
+
+  // Back to the air data `start`, counters zeroed.
+  void reset(const AirData& start) noexcept {
+    outside_ = fallback_ = switches_ = blends_ = 0;
+    filtered_ = start;
+    primed_ = false;
+    const GridPoint g = axes_.locate(start);
+    node_ = axes_.nearest(g);
+    choose(g);
+    corners_ = trim_corners_, weights_ = trim_weights_;
+    blend_trims(g);
+    last_s_ = g.s, last_t_ = g.t;
+  }
+
+  // Selects what is in force for air data `a` (finite). Returns true when the filters
+  // changed (the caller reloads its on-line filters through filter()); the trims are
+  // recomputed every call (u_trim(), z_trim(), x_trim()).
+  bool select(const AirData& a) noexcept {
+    if (primed_) {
+      filtered_.mach += alpha_ * (a.mach - filtered_.mach);
+      filtered_.pressure_altitude_ft += alpha_ * (a.pressure_altitude_ft - filtered_.pressure_altitude_ft);
+    } else {
+      filtered_ = a;
+    }
+    const GridPoint g = axes_.locate(filtered_);
+    if (g.outside) ++outside_;
+    bool changed = false;
+    if (options_.mode == ScheduleMode::kNearest) {
+      const int best = axes_.nearest(g);
+      if (best != node_ && axes_.distance(g, node_) - axes_.distance(g, best) > options_.hysteresis_cells) {
+        node_ = best;
+        ++switches_;
+        changed = true;
+      }
+      choose(g);
+      corners_ = trim_corners_, weights_ = trim_weights_;
+    } else {
+      choose(g);
+      if (fallback_now_) ++fallback_;
+      if (!primed_ || std::abs(g.s - last_s_) >= options_.blend_step_cells ||
+          std::abs(g.t - last_t_) >= options_.blend_step_cells) {
+        corners_ = trim_corners_, weights_ = trim_weights_;  // the filters follow: re-blend
+        last_s_ = g.s, last_t_ = g.t;
+        ++blends_;
+        changed = true;
+      }
+    }
+    primed_ = true;
+    blend_trims(g);
+    return changed;
+  }
+
+  // The filter in force for ModelBank hypothesis h, written into `out` (noexcept).
+  void filter(int h, Hypothesis& out) const noexcept {
+    const Hypothesis* f[kCorners];
+    for (int c = 0; c < kCorners; ++c) f[c] = &filters_[static_cast<std::size_t>(corners_[c]) * hypotheses_ + h];
+    out.assign_blend(f, weights_.data(), kCorners);
+  }
+  // The filter of hypothesis h at covered node n (its designed filter, unblended).
+  const Hypothesis& node_filter(int n, int h) const noexcept {
+    return filters_[static_cast<std::size_t>(n) * hypotheses_ + h];
+  }
+
+  // H_out of the filters in force (the blend of the corners' h_output), into `out`.
+  void h_output(OutputMatrix& out) const noexcept {
+    out = weights_[0] * h_out_[corners_[0]];
+    for (int c = 1; c < kCorners; ++c)
+      if (weights_[c] != 0.0) out += weights_[c] * h_out_[corners_[c]];
+  }
+  const UVector& u_trim() const noexcept { return u_now_; }
+  const ZVector& z_trim() const noexcept { return z_now_; }
+  const XVector& x_trim() const noexcept { return x_now_; }
+  // The nodes and weights of the filters in force (weights 1, 0, 0, 0 at one node), and
+  // the low-passed air data the schedule follows.
+  const std::array<int, kCorners>& corners() const noexcept { return corners_; }
+  const std::array<double, kCorners>& weights() const noexcept { return weights_; }
+  const AirData& filtered_air_data() const noexcept { return filtered_; }
+  const BankSchedule& axes() const noexcept { return axes_; }   // axes and node indices only
+  int node_count() const noexcept { return static_cast<int>(axes_.nodes.size()); }
+  const ScheduleOptions& options() const noexcept { return options_; }
+  std::int64_t outside_frames() const noexcept { return outside_; }
+  std::int64_t fallback_frames() const noexcept { return fallback_; }
+  std::int64_t switches() const noexcept { return switches_; }
+  std::int64_t blends() const noexcept { return blends_; }
+
+ private:
+  // What the air data point g calls for, into trim_corners_ / trim_weights_. Interpolate
+  // mode: the cell's corners and weights if all four are covered, else the nearest node
+  // (fallback_now_). Nearest mode: node_ alone.
+  void choose(const GridPoint& g) noexcept {
+    fallback_now_ = false;
+    if (options_.mode == ScheduleMode::kNearest) return choose_node(node_);
+    const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
+    const int i = std::min(static_cast<int>(std::floor(g.s)), ni > 1 ? ni - 2 : 0);
+    const int j = std::min(static_cast<int>(std::floor(g.t)), nj > 1 ? nj - 2 : 0);
+    const double a = ni > 1 ? g.s - i : 0.0, b = nj > 1 ? g.t - j : 0.0;
+    const int i1 = ni > 1 ? i + 1 : i, j1 = nj > 1 ? j + 1 : j;
+    const std::array<int, kCorners> c = {axes_.node_index(i, j), axes_.node_index(i1, j), axes_.node_index(i, j1),
+                                         axes_.node_index(i1, j1)};
+    const std::array<double, kCorners> w = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+    for (int k = 0; k < kCorners; ++k) {
+      if (c[k] < 0 && w[k] != 0.0) {
+        fallback_now_ = true;
+        return choose_node(axes_.nearest(g));
+      }
+    }
+    for (int k = 0; k < kCorners; ++k) {
+      trim_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);  // weight 0 where uncovered
+      trim_weights_[k] = w[k];
+    }
+  }
+  static int first_covered(const std::array<int, kCorners>& c) noexcept {
+    for (int k : c)
+      if (k >= 0) return k;
+    return 0;
+  }
+  void choose_node(int n) noexcept {
+    trim_corners_ = {n, n, n, n};
+    trim_weights_ = {1.0, 0.0, 0.0, 0.0};
+  }
+  // The Lagrange weights at fractional coordinate x of an axis on the n = min(4, size) nodes
+  // first..first+n-1 (physical values).
+  static void lagrange(const std::vector<double>& axis, double x, int first, int n, std::array<double, 4>& w) noexcept {
+    const int size = static_cast<int>(axis.size());
+    const int i = std::min(static_cast<int>(std::floor(x)), size - 1);
+    const double frac = x - i;  // 0 on a node: v is the node's value exactly
+    const double v = frac == 0.0 ? axis[i] : axis[i] + frac * (axis[i + 1] - axis[i]);
+    for (int j = 0; j < n; ++j) {
+      double l = 1.0;
+      for (int k = 0; k < n; ++k)
+        if (k != j) l *= (v - axis[first + k]) / (axis[first + j] - axis[first + k]);
+      w[j] = l;
+    }
+  }
+  // The stencil starts to try on an axis, centred first: the cell's node - 1, then the cell's
+  // node, then - 2 (each within the axis); returns how many.
+  static int starts(int size, double x, std::array<int, 3>& out) noexcept {
+    const int n = size < 4 ? size : 4;
+    const int cell = std::min(static_cast<int>(std::floor(x)), size > 1 ? size - 2 : 0);
+    int count = 0;
+    for (int c : {cell - 1, cell, cell - 2}) {
+      const int f = std::max(0, std::min(c, size - n));
+      bool seen = false;
+      for (int k = 0; k < count; ++k) seen = seen || out[k] == f;
+      if (!seen) out[count++] = f;
+    }
+    return count;
+  }
+  // Third-order trims at g (header comment) on the first stencil whose nodes of non-zero
+  // weight are all covered; false, changing nothing, if there is none.
+  bool blend_trims_cubic(const GridPoint& g) noexcept {
+    const int sm = static_cast<int>(axes_.mach.size()), sa = static_cast<int>(axes_.alt_ft.size());
+    const int nm = sm < 4 ? sm : 4, na = sa < 4 ? sa : 4;
+    std::array<int, 3> fms{}, fas{};
+    const int cm = starts(sm, g.s, fms), ca = starts(sa, g.t, fas);
+    for (int a = 0; a < cm * ca; ++a) {
+      const int fm = fms[a / ca], fa = fas[a % ca];
+      std::array<double, 4> wm{}, wa{};
+      lagrange(axes_.mach, g.s, fm, nm, wm);
+      lagrange(axes_.alt_ft, g.t, fa, na, wa);
+      int nodes[16];
+      bool covered = true;
+      for (int j = 0; j < nm && covered; ++j)
+        for (int k = 0; k < na && covered; ++k) {
+          nodes[j * 4 + k] = axes_.node_index(fm + j, fa + k);
+          covered = nodes[j * 4 + k] >= 0 || wm[j] * wa[k] == 0.0;
+        }
+      if (!covered) continue;
+      bool first = true;
+      for (int j = 0; j < nm; ++j)
+        for (int k = 0; k < na; ++k) {
+          const double w = wm[j] * wa[k];
+          const int n = nodes[j * 4 + k];
+          if (w == 0.0) continue;
+          if (first) {
+            u_now_ = w * u_trim_[n], z_now_ = w * z_trim_[n], x_now_ = w * x_trim_[n];
+            first = false;
+          } else {
+            u_now_ += w * u_trim_[n], z_now_ += w * z_trim_[n], x_now_ += w * x_trim_[n];
+          }
+        }
+      return !first;
+    }
+    return false;
+  }
+  void blend_trims(const GridPoint& g) noexcept {
+    if (options_.mode == ScheduleMode::kInterpolate && options_.cubic_trims && !fallback_now_ && blend_trims_cubic(g))
+      return;
+    const std::array<int, kCorners>& c = trim_corners_;
+    const std::array<double, kCorners>& w = trim_weights_;
+    u_now_ = w[0] * u_trim_[c[0]];
+    z_now_ = w[0] * z_trim_[c[0]];
+    x_now_ = w[0] * x_trim_[c[0]];
+    for (int k = 1; k < kCorners; ++k) {
+      if (w[k] == 0.0) continue;
+      u_now_ += w[k] * u_trim_[c[k]];
+      z_now_ += w[k] * z_trim_[c[k]];
+      x_now_ += w[k] * x_trim_[c[k]];
+    }
+  }
+
+  ScheduleOptions options_;
+  BankSchedule axes_;                 // axes and node grid indices (no banks)
+  std::vector<Hypothesis> filters_;   // node n, hypothesis h at n * hypotheses_ + h
+  std::vector<UVector> u_trim_;
+  std::vector<ZVector> z_trim_;
+  std::vector<XVector> x_trim_;
+  std::vector<OutputMatrix> h_out_;
+  int hypotheses_ = 0;
+  int node_ = 0;                      // nearest mode: the node in force
+  std::array<int, kCorners> corners_{};          // of the filters in force (the last blend)
+  std::array<double, kCorners> weights_{};
+  std::array<int, kCorners> trim_corners_{};     // of the trims in force (the air data now)
+  std::array<double, kCorners> trim_weights_{};
+  AirData filtered_;                             // the low-passed air data
+  double alpha_ = 1.0;
+  bool primed_ = false;                          // a selection since the last reset
+  double last_s_ = 0.0, last_t_ = 0.0;           // air data at the last blend
+  bool fallback_now_ = false;
+  UVector u_now_;
+  ZVector z_now_;
+  XVector x_now_;
+  std::int64_t outside_ = 0, fallback_ = 0, switches_ = 0, blends_ = 0;
+};
+
+}  // namespace f16mmae

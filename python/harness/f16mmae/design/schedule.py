@@ -1,0 +1,181 @@
+"""The scheduled design: one bank per point of a Mach x altitude grid over the trimmable
+envelope, written as one scheduled-bank file (``cpp/bankfile/schedule_file.h``) that the core
+schedules on measured air data (``cpp/f16mmae/scheduled_filters.h``).
+
+Every covered point is the ordinary design (``design_bank``) with the same tuning at every
+point (a per-point retune is not done).  A point whose truth cannot trim is left out of the
+grid and listed in the metadata; the core clamps air data to the grid and falls back to the
+nearest covered node where a cell lacks a corner.  Each node also stores its trim state
+``x_trim`` (the absolute state its filters' perturbation states are taken from): body u and
+alpha from the trim's noise-free measurements, theta, the five surfaces at their trim
+commands, zero rates, sideslip and bank.
+
+Deterministic: the same grid and tuning give the same file byte for byte (nodes in grid
+order; the metadata holds no time or host).  The points are designed in parallel (a process
+pool, ``workers``), the file written once all are in.
+"""
+from __future__ import annotations
+
+import json
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from .. import banks, names
+from ..errors import F16mmaeError
+from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
+from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
+from .gains import DesignError
+from .tuning import load_tuning
+
+#: The grid of the ``scheduled`` bank (docs/results/schedule.md measures how far from its
+#: point a bank stays acceptable).
+DEFAULT_GRID = names.SCHEDULE_GRID
+
+
+class ScheduleSpecError(F16mmaeError):
+    """A grid specification that cannot be read; the message names the part and the rule."""
+
+
+@dataclass(frozen=True)
+class Grid:
+    mach: tuple[float, ...]
+    alt_ft: tuple[float, ...]
+
+    @property
+    def spec(self) -> str:
+        return f"mach={','.join(f'{m:g}' for m in self.mach)};alt={','.join(f'{a:g}' for a in self.alt_ft)}"
+
+
+def _axis(name: str, text: str, lo: float, hi: float) -> tuple[float, ...]:
+    """``start:stop:step`` (inclusive) or a list ``a/b/c``; values rounded to 1e-9."""
+    try:
+        if ":" in text:
+            start, stop, step = (float(x) for x in text.split(":"))
+            if not step > 0:
+                raise ScheduleSpecError(f"grid {name}={text}: the step must be > 0")
+            n = int(np.floor((stop - start) / step + 1e-9)) + 1
+            values = [start + i * step for i in range(max(n, 0))]
+        else:
+            values = [float(x) for x in text.split("/")]
+    except ValueError:
+        raise ScheduleSpecError(f"grid {name}={text!r} is not start:stop:step or a list a/b/c of numbers") from None
+    values = [round(v, 9) for v in values]
+    if not values:
+        raise ScheduleSpecError(f"grid {name}={text}: no point")
+    if any(not np.isfinite(v) or v < lo - 1e-9 or v > hi + 1e-9 for v in values):
+        raise ScheduleSpecError(f"grid {name}={text}: every point must lie in the design envelope {lo:g}-{hi:g}")
+    if any(b <= a for a, b in zip(values, values[1:])):
+        raise ScheduleSpecError(f"grid {name}={text}: the points must be strictly ascending")
+    return tuple(values)
+
+
+def parse_grid(spec: str = DEFAULT_GRID) -> Grid:
+    """``mach=START:STOP:STEP,alt=START:STOP:STEP`` (or lists ``mach=0.3/0.4/0.6``)."""
+    parts = dict(p.split("=", 1) for p in spec.split(",") if "=" in p)
+    unknown = set(parts) - {"mach", "alt"}
+    if unknown or set(parts) != {"mach", "alt"} or spec.count("=") != 2:
+        raise ScheduleSpecError(f"grid spec {spec!r}: give mach=START:STOP:STEP,alt=START:STOP:STEP "
+                                f"(e.g. {DEFAULT_GRID})")
+    return Grid(mach=_axis("mach", parts["mach"], *MACH_RANGE), alt_ft=_axis("alt", parts["alt"], *ALT_FT_RANGE))
+
+
+def x_trim(design) -> np.ndarray:
+    """(nx,) the trim state of a design, in ``names.STATES`` order (module docstring)."""
+    trim = design.linearized.trim
+    x = np.zeros(names.NX)
+    x[names.STATES.index("u_fps")] = trim.z[names.SENSORS.index("VEL")]
+    x[names.STATES.index("alpha_rad")] = trim.z[names.SENSORS.index("AOA")]
+    x[names.STATES.index("theta_rad")] = trim.theta_rad
+    x[-names.NU:] = np.asarray(trim.u_rad, dtype=float)
+    return x
+
+
+def _design_point(args):
+    """One grid point in a worker: (i, j, ModelBank or None, x_trim, reason, seconds)."""
+    i, j, mach, alt_ft, tuning = args
+    t0 = time.perf_counter()
+    try:
+        design = design_bank(mach, alt_ft, tuning)
+    except (TrimError, DesignError) as exc:
+        return i, j, None, None, str(exc), time.perf_counter() - t0
+    return i, j, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0
+
+
+def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "scheduled.f16sched",
+                    workers: int | None = None,
+                    progress: Callable[[str], None] | None = None) -> dict:
+    """Design every grid point (in ``workers`` processes, default all cores), write the file.
+
+    Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
+    and summed design seconds."""
+    from .. import core
+
+    tuning_obj = load_tuning(tuning)
+    points = [(i, j, m, a, tuning) for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
+    t0 = time.perf_counter()
+    results = {}
+    with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
+        for n, r in enumerate(pool.map(_design_point, points), start=1):
+            results[(r[0], r[1])] = r
+            if progress:
+                m, a = grid.mach[r[0]], grid.alt_ft[r[1]]
+                state = "skipped: " + r[4] if r[2] is None else "designed"
+                progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[5]:.1f} s)")
+    nodes, skipped = [], []
+    for i, j, *_ in points:  # grid order: deterministic whatever order the workers finish in
+        _, _, bank, xt, reason, _ = results[(i, j)]
+        if bank is None:
+            skipped.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], "reason": reason})
+        else:
+            nodes.append((i, j, bank, xt))
+    if not nodes:
+        raise DesignError(f"no point of the grid {grid.spec} could be designed")
+    primary = min(range(len(nodes)), key=lambda n: (
+        abs(grid.mach[nodes[n][0]] - NOMINAL_MACH) / 0.1 + abs(grid.alt_ft[nodes[n][1]] - NOMINAL_ALT_FT) / 10_000, n))
+    import jsbsim
+
+    metadata = {
+        "generator": "f16mmae.design.schedule",
+        "design_version": DESIGN_VERSION,
+        "jsbsim_version": jsbsim.__version__,
+        "command": f"f16mmae design --schedule {format_spec(grid)} --tuning {tuning_obj.name}",
+        "grid": {"mach": list(grid.mach), "alt_ft": list(grid.alt_ft)},
+        "tuning": tuning_obj.name,
+        "tuning_note": "the same tuning at every point (no per-point retune)",
+        "skipped": skipped,
+    }
+    path = Path(out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    content_hash = core.save_schedule(list(grid.mach), list(grid.alt_ft), nodes, primary=primary,
+                                      metadata=json.dumps(metadata, sort_keys=True, separators=(",", ":")),
+                                      path=str(path))
+    return {"path": str(path), "content_hash": content_hash, "covered": len(nodes), "skipped": skipped,
+            "bytes": path.stat().st_size, "wall_s": time.perf_counter() - t0,
+            "design_s": sum(r[5] for r in results.values()),
+            "primary": (grid.mach[nodes[primary][0]], grid.alt_ft[nodes[primary][1]])}
+
+
+def format_spec(grid: Grid) -> str:
+    """The grid as a spec ``parse_grid`` reads back (lists)."""
+    return (f"mach={'/'.join(f'{m:g}' for m in grid.mach)},"
+            f"alt={'/'.join(f'{a:g}' for a in grid.alt_ft)}")
+
+
+def _generate_scheduled_bank(path: Path) -> None:
+    """Design the ``scheduled`` bank (DEFAULT_GRID, tuned) into ``path``, saying so (first use)."""
+    import sys
+
+    print(f"designing the scheduled bank ({DEFAULT_GRID}, tuned) into {path} (once; cached)...",
+          file=sys.stderr, flush=True)
+    s = design_schedule(parse_grid(DEFAULT_GRID), "tuned", path,
+                        progress=lambda line: print("  " + line, file=sys.stderr, flush=True))
+    print(f"  {s['covered']} points in {s['wall_s']:.0f} s, {s['bytes'] / 1e6:.1f} MB", file=sys.stderr, flush=True)
+
+
+banks.register_schedule_generator(_generate_scheduled_bank)

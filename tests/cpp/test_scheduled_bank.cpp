@@ -1,0 +1,393 @@
+// A scheduled HierarchicalBank (bank_schedule.h, scheduled_filters.h) on F-16-sized synthetic
+// banks designed at four grid nodes (different plants and trims): at a node the filters and
+// trims are that node's bit for bit; at a cell midpoint every matrix is the hand-computed
+// mean of the corners'; the bilinear weights at a quarter point are hand-computed; nearest
+// switching keeps its node within the hysteresis; a schedule change keeps probabilities,
+// declarations and the level and moves the states bumplessly; outside the grid is clamped and
+// counted; an uncovered corner falls back to the nearest node; the trim offset adds to the
+// scheduled trim; nothing allocates per frame; the scheduled-bank file round-trips and refuses
+// corruption naming the field.
+#include "bankfile/schedule_file.h"
+#include "f16mmae/hierarchical_bank.h"
+
+#include "allocation_counter.h"
+#include "synthetic_models.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+
+using namespace f16mmae;
+
+namespace {
+
+using Z = F16HierarchicalBank::ZVector;
+using U = F16HierarchicalBank::UVector;
+using X = F16HierarchicalBank::XVector;
+
+// Node (i, j) of a 2 x 2 grid Mach {0.4, 0.6} x {10,000, 20,000} ft: its own plant and trims.
+test::Plant node_plant(int i, int j) { return test::random_plant(13, 5, 7, 100u + 10u * i + j, 1e-3, 1e-3); }
+ModelBank node_bank(int i, int j) {
+  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, 0.01 * (1 + i + 2 * j)), z_trim(7);
+  z_trim << 400.0 + 100.0 * i - 20.0 * j, 0.1 - 0.02 * i + 0.01 * j, 0.0, 1.0, 0.0, 0.0, 0.0;
+  ModelBank b = test::make_bank(node_plant(i, j), test::kF16Actuators, test::kF16Sensors, u_trim, z_trim);
+  b.mach = i == 0 ? 0.4 : 0.6;
+  b.alt_ft = j == 0 ? 10000.0 : 20000.0;
+  return b;
+}
+Eigen::VectorXd node_x_trim(int i, int j) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(13);
+  const ModelBank b = node_bank(i, j);
+  x(0) = b.z_trim(0);
+  x(1) = b.z_trim(1);
+  x(3) = b.z_trim(1);
+  x.tail(5) = b.u_trim;
+  return x;
+}
+
+// The schedule; `skip` names a node left out ((-1, -1): all four covered).
+BankSchedule make_schedule(int skip_i = -1, int skip_j = -1) {
+  BankSchedule s;
+  s.mach = {0.4, 0.6};
+  s.alt_ft = {10000.0, 20000.0};
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      if (i == skip_i && j == skip_j) continue;
+      ScheduleNode n;
+      n.i_mach = i;
+      n.i_alt = j;
+      n.bank = node_bank(i, j);
+      n.x_trim = node_x_trim(i, j);
+      s.nodes.push_back(n);
+    }
+  s.metadata = "{}";
+  return s;
+}
+
+ModelBank scheduled_bank(const BankSchedule& s) {
+  ModelBank b = s.nodes[static_cast<std::size_t>(s.primary)].bank;
+  b.schedule = std::make_shared<BankSchedule>(s);
+  return b;
+}
+
+// No air-data low-pass unless a test asks for it: each schedule() call is where it says.
+HierarchicalOptions options(ScheduleMode mode) {
+  HierarchicalOptions o;
+  o.schedule.mode = mode;
+  o.schedule.air_data_time_constant_s = 0.0;
+  return o;
+}
+
+// A short noisy flight in absolute signals around a trim.
+struct Frames {
+  std::vector<Z> z;
+  std::vector<U> u;
+};
+Frames fly(const ModelBank& truth_bank, int node_i, int node_j, const std::vector<std::string>& failed_from_64,
+           int frames, unsigned seed) {
+  test::Truth truth(node_plant(node_i, node_j), test::kF16Actuators, test::kF16Sensors, seed);
+  Frames f;
+  for (int i = 0; i < frames; ++i) {
+    const std::vector<std::string> failed = i >= 64 ? failed_from_64 : std::vector<std::string>{};
+    f.z.push_back(truth.measure(failed) + truth_bank.z_trim);
+    const Eigen::VectorXd u = test::dither(5, i, 64.0);
+    f.u.push_back(u + truth_bank.u_trim);
+    truth.advance(u, failed);
+  }
+  return f;
+}
+
+}  // namespace
+
+TEST(ScheduledBank, AtANodeTheFiltersAndTrimsAreThatNodesBitForBit) {
+  const BankSchedule s = make_schedule();
+  F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  hb.schedule(AirData{0.6, 20000.0});
+  const ModelBank node = node_bank(1, 1);
+  for (int k = 0; k < hb.size(); ++k) {
+    const HypothesisModel& m = node.hypotheses[hb.online()[k]];
+    const F16HypothesisFilter expected(F16FilterModel::from_matrices(m.phi, m.bd, m.h, m.k, m.a));
+    const auto& got = hb.bank().hypothesis(k);
+    EXPECT_TRUE(got.model().phi == expected.model().phi);
+    EXPECT_TRUE(got.model().bd == expected.model().bd);
+    EXPECT_TRUE(got.model().h == expected.model().h);
+    EXPECT_TRUE(got.model().k == expected.model().k);
+    EXPECT_TRUE(got.a_inverse() == expected.a_inverse());
+    EXPECT_EQ(got.log_det_a(), expected.log_det_a());
+  }
+  EXPECT_TRUE(hb.u_trim() == U(node.u_trim));
+  EXPECT_TRUE(hb.z_trim() == Z(node.z_trim));
+  EXPECT_TRUE(Eigen::MatrixXd(hb.bank().h_output()) == node.h_output);
+
+  // and a flight there gives the node bank's own probabilities, bit for bit
+  F16HierarchicalBank alone(node);
+  F16HierarchicalBank sched(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  const Frames f = fly(node, 1, 1, {"PIT"}, 300, 7u);
+  for (std::size_t i = 0; i < f.z.size(); ++i) {
+    sched.schedule(AirData{0.6, 20000.0});
+    alone.step(f.z[i], f.u[i]);
+    sched.step(f.z[i], f.u[i]);
+    ASSERT_TRUE(alone.probabilities() == sched.probabilities()) << "frame " << i;
+  }
+  EXPECT_EQ(alone.declarations().size(), sched.declarations().size());
+}
+
+TEST(ScheduledBank, AtACellMidpointEveryMatrixIsTheMeanOfTheCorners) {
+  const BankSchedule s = make_schedule();
+  F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  hb.schedule(AirData{0.5, 15000.0});
+  const ModelBank b00 = node_bank(0, 0), b10 = node_bank(1, 0), b01 = node_bank(0, 1), b11 = node_bank(1, 1);
+  for (int k = 0; k < hb.size(); ++k) {
+    const int h = hb.online()[k];
+    auto mean = [&](auto get) -> Eigen::MatrixXd {
+      return 0.25 * get(b00.hypotheses[h]) + 0.25 * get(b10.hypotheses[h]) + 0.25 * get(b01.hypotheses[h]) +
+             0.25 * get(b11.hypotheses[h]);
+    };
+    const auto& got = hb.bank().hypothesis(k);
+    EXPECT_LT((Eigen::MatrixXd(got.model().phi) - mean([](const HypothesisModel& m) { return m.phi; })).norm(), 1e-14);
+    EXPECT_LT((Eigen::MatrixXd(got.model().bd) - mean([](const HypothesisModel& m) { return m.bd; })).norm(), 1e-14);
+    EXPECT_LT((Eigen::MatrixXd(got.model().k) - mean([](const HypothesisModel& m) { return m.k; })).norm(), 1e-14);
+    EXPECT_LT((Eigen::MatrixXd(got.model().h) - mean([](const HypothesisModel& m) { return m.h; })).norm(), 1e-14);
+    const Eigen::MatrixXd a_inv_mean = mean([](const HypothesisModel& m) -> Eigen::MatrixXd { return m.a.inverse(); });
+    EXPECT_LT((Eigen::MatrixXd(got.a_inverse()) - a_inv_mean).norm(), 1e-9 * a_inv_mean.norm());
+    const double logdet = 0.25 * (std::log(b00.hypotheses[h].a.determinant()) + std::log(b10.hypotheses[h].a.determinant()) +
+                                  std::log(b01.hypotheses[h].a.determinant()) + std::log(b11.hypotheses[h].a.determinant()));
+    EXPECT_NEAR(got.log_det_a(), logdet, 1e-9 * std::abs(logdet));
+  }
+  const Eigen::MatrixXd h_mid = 0.25 * (b00.h_output + b10.h_output + b01.h_output + b11.h_output);
+  EXPECT_LT((Eigen::MatrixXd(hb.bank().h_output()) - h_mid).norm(), 1e-14);
+  const Eigen::VectorXd z_mid = 0.25 * (b00.z_trim + b10.z_trim + b01.z_trim + b11.z_trim);
+  EXPECT_LT((Eigen::VectorXd(hb.z_trim()) - z_mid).norm(), 1e-12);
+}
+
+TEST(ScheduledBank, BilinearWeightsAtAQuarterPointAreHandComputed) {
+  const BankSchedule s = make_schedule();
+  F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  hb.schedule(AirData{0.45, 15000.0});  // a = 0.25, b = 0.5
+  const auto& w = hb.scheduled().weights();
+  EXPECT_DOUBLE_EQ(w[0], 0.375);
+  EXPECT_DOUBLE_EQ(w[1], 0.125);
+  EXPECT_DOUBLE_EQ(w[2], 0.375);
+  EXPECT_DOUBLE_EQ(w[3], 0.125);
+  // u_trim of node (i, j) is 0.01 (1 + i + 2 j): 0.375*0.01 + 0.125*0.02 + 0.375*0.03 + 0.125*0.04 = 0.0225
+  for (int j = 0; j < 5; ++j) EXPECT_NEAR(hb.u_trim()(j), 0.0225, 1e-15);
+}
+
+TEST(ScheduledBank, TheScheduleFollowsTheAirDataThroughItsLowPass) {
+  const BankSchedule s = make_schedule();
+  HierarchicalOptions o = options(ScheduleMode::kInterpolate);
+  o.schedule.air_data_time_constant_s = 2.0;
+  F16HierarchicalBank hb(scheduled_bank(s), o);
+  hb.schedule(AirData{0.4, 10000.0});  // the first value after a reset is taken as it is
+  EXPECT_EQ(hb.scheduled().filtered_air_data().mach, 0.4);
+  hb.schedule(AirData{0.6, 20000.0});
+  const double alpha = 1.0 - std::exp(-1.0 / (64.0 * 2.0));  // frame period 1/64 s, tau 2 s
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, 0.4 + alpha * 0.2, 1e-15);
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().pressure_altitude_ft, 10000.0 + alpha * 10000.0, 1e-9);
+  // the trims are the bilinear blend at the filtered point: u_trim of node (i, j) is 0.01 (1 + i + 2 j)
+  const double a = alpha, b = alpha;
+  const double u = 0.01 * ((1 - a) * (1 - b) * 1 + a * (1 - b) * 2 + (1 - a) * b * 3 + a * b * 4);
+  EXPECT_NEAR(hb.u_trim()(0), u, 1e-15);
+  // a filter moves 1 - 1/e of a step in tau
+  for (int i = 1; i < 128; ++i) hb.schedule(AirData{0.6, 20000.0});
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, 0.6 - 0.2 * std::exp(-1.0), 1e-12);
+  hb.reset();
+  hb.schedule(AirData{0.6, 20000.0});
+  EXPECT_EQ(hb.scheduled().filtered_air_data().mach, 0.6);
+}
+
+TEST(ScheduledBank, TrimsAreInterpolatedToThirdOrderOnFourNodes) {
+  // Mach axis 0.3 0.4 0.5 0.6 at one altitude; every trim entry of node i is f(M_i) = 1/M_i^2
+  BankSchedule s;
+  s.mach = {0.3, 0.4, 0.5, 0.6};
+  s.alt_ft = {20000.0};
+  for (int i = 0; i < 4; ++i) {
+    ScheduleNode n;
+    n.i_mach = i;
+    n.bank = node_bank(0, 0);
+    const double f = 1.0 / (s.mach[i] * s.mach[i]);
+    n.bank.u_trim.setConstant(f);
+    n.bank.z_trim.setConstant(f);
+    n.x_trim = Eigen::VectorXd::Constant(13, f);
+    s.nodes.push_back(n);
+  }
+  s.primary = 1;
+  F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  hb.schedule(AirData{0.45, 20000.0});
+  // Lagrange weights at 0.45 on 0.3 0.4 0.5 0.6: -1/16, 9/16, 9/16, -1/16
+  const double cubic = -0.0625 / 0.09 + 0.5625 / 0.16 + 0.5625 / 0.25 - 0.0625 / 0.36;
+  EXPECT_NEAR(hb.u_trim()(0), cubic, 1e-12);
+  EXPECT_NEAR(hb.z_trim()(3), cubic, 1e-12);
+  EXPECT_NEAR(hb.scheduled().x_trim()(5), cubic, 1e-12);
+  EXPECT_NEAR(cubic, 1.0 / (0.45 * 0.45), 0.05);  // 0.04 off; linear would be 0.19 off
+  hb.schedule(AirData{0.5, 20000.0});  // at a node: the node's trim exactly
+  EXPECT_EQ(hb.u_trim()(0), 1.0 / (0.5 * 0.5));
+  HierarchicalOptions linear = options(ScheduleMode::kInterpolate);
+  linear.schedule.cubic_trims = false;
+  F16HierarchicalBank hl(scheduled_bank(s), linear);
+  hl.schedule(AirData{0.45, 20000.0});
+  EXPECT_NEAR(hl.u_trim()(0), 0.5 / 0.16 + 0.5 / 0.25, 1e-12);
+}
+
+TEST(ScheduledBank, NearestSwitchesOnlyPastTheHysteresis) {
+  const BankSchedule s = make_schedule();
+  HierarchicalOptions o = options(ScheduleMode::kNearest);
+  o.schedule.hysteresis_cells = 0.1;
+  F16HierarchicalBank hb(scheduled_bank(s), o);
+  auto node_mach = [&] { return s.mach[hb.scheduled().axes().nodes[hb.scheduled().corners()[0]].i_mach]; };
+  hb.schedule(AirData{0.4, 10000.0});
+  EXPECT_EQ(node_mach(), 0.4);
+  hb.schedule(AirData{0.5 + 0.2 * 0.04, 10000.0});  // s = 0.54: 0.08 nearer node 1, inside the margin
+  EXPECT_EQ(node_mach(), 0.4);
+  hb.schedule(AirData{0.5 + 0.2 * 0.06, 10000.0});  // s = 0.56: 0.12 nearer
+  EXPECT_EQ(node_mach(), 0.6);
+  hb.schedule(AirData{0.5 - 0.2 * 0.04, 10000.0});  // back to s = 0.46: stays
+  EXPECT_EQ(node_mach(), 0.6);
+  hb.schedule(AirData{0.5 - 0.2 * 0.06, 10000.0});
+  EXPECT_EQ(node_mach(), 0.4);
+  EXPECT_EQ(hb.scheduled().switches(), 2);
+  EXPECT_TRUE(hb.z_trim() == Z(node_bank(0, 0).z_trim));
+}
+
+TEST(ScheduledBank, AHandoverKeepsProbabilitiesDeclarationsLevelAndTheAbsoluteState) {
+  for (const ScheduleMode mode : {ScheduleMode::kNearest, ScheduleMode::kInterpolate}) {
+    const BankSchedule s = make_schedule();
+    F16HierarchicalBank hb(scheduled_bank(s), options(mode));
+    const ModelBank node = node_bank(0, 0);
+    const Frames f = fly(node, 0, 0, {"PIT"}, 320, 5u);
+    for (std::size_t i = 0; i < f.z.size(); ++i) {
+      hb.schedule(AirData{0.4, 10000.0});
+      hb.step(f.z[i], f.u[i]);
+    }
+    ASSERT_EQ(hb.level(), 1);
+    const auto p = hb.probabilities();
+    const auto names = hb.online_names();
+    const auto declared = hb.declarations().size();
+    const X x_trim_before = hb.scheduled().x_trim();
+    std::vector<X> absolute;
+    for (int k = 0; k < hb.size(); ++k) absolute.push_back(X(hb.bank().prior(k)) + x_trim_before);
+    hb.schedule(AirData{0.6, 20000.0});
+    EXPECT_FALSE(hb.scheduled().x_trim() == x_trim_before);
+    EXPECT_TRUE(hb.probabilities() == p);
+    EXPECT_EQ(hb.level(), 1);
+    EXPECT_EQ(hb.online_names(), names);
+    EXPECT_EQ(hb.declarations().size(), declared);
+    EXPECT_EQ(hb.name(hb.current_hypothesis()), "PIT");
+    for (int k = 0; k < hb.size(); ++k)
+      EXPECT_LT((X(hb.bank().prior(k)) + hb.scheduled().x_trim() - absolute[k]).norm(), 1e-9) << "filter " << k;
+  }
+}
+
+TEST(ScheduledBank, OutsideTheGridIsClampedAndAnUncoveredCornerFallsBackToTheNearestNode) {
+  const BankSchedule s = make_schedule();
+  F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  hb.schedule(AirData{0.9, 40000.0});
+  EXPECT_EQ(hb.scheduled().outside_frames(), 1);
+  EXPECT_TRUE(hb.z_trim() == Z(node_bank(1, 1).z_trim));
+  hb.schedule(AirData{0.5, 15000.0});
+  EXPECT_EQ(hb.scheduled().outside_frames(), 1);
+
+  const BankSchedule holed = make_schedule(1, 1);  // (0.6, 20,000 ft) does not trim
+  F16HierarchicalBank h2(scheduled_bank(holed), options(ScheduleMode::kInterpolate));
+  h2.schedule(AirData{0.58, 18000.0});  // s, t = 0.9, 0.8: nearest covered (0.6, 10,000 ft), 0.81 cells
+  EXPECT_EQ(h2.scheduled().fallback_frames(), 1);
+  EXPECT_TRUE(h2.z_trim() == Z(node_bank(1, 0).z_trim));
+  h2.schedule(AirData{0.41, 10500.0});  // s, t = 0.05: the hole still weighs 0.0025
+  EXPECT_EQ(h2.scheduled().fallback_frames(), 2);
+  h2.schedule(AirData{0.41, 10000.0});  // on the lower edge: the hole has weight 0
+  EXPECT_EQ(h2.scheduled().fallback_frames(), 2);
+}
+
+TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {
+  const BankSchedule s = make_schedule();
+  F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  EXPECT_TRUE(hb.u_trim_offset().isZero(0.0));
+  hb.schedule(AirData{0.6, 10000.0});
+  const U du = U::Constant(0.002);
+  const Z dz = Z::LinSpaced(7, 1.0, 7.0);
+  hb.set_trim_offset(du, dz);
+  hb.schedule(AirData{0.4, 20000.0});
+  EXPECT_TRUE(hb.z_trim() == Z(node_bank(0, 1).z_trim));  // the scheduled part
+  EXPECT_TRUE(hb.u_trim() == U(node_bank(0, 1).u_trim));
+  EXPECT_TRUE(hb.z_trim_offset() == dz);
+  EXPECT_TRUE(hb.u_trim_offset() == du);
+  EXPECT_TRUE(hb.z_hat() == Z(hb.z_hat_perturbation() + hb.z_trim() + dz));  // trim in force = scheduled + dz
+}
+
+TEST(ScheduledBank, ScheduledFramesAllocateNothing) {
+  for (const ScheduleMode mode : {ScheduleMode::kNearest, ScheduleMode::kInterpolate}) {
+    const BankSchedule s = make_schedule();
+    F16HierarchicalBank hb(scheduled_bank(s), options(mode));
+    const ModelBank node = node_bank(0, 0);
+    const Frames f = fly(node, 0, 0, {"PIT"}, 320, 5u);
+    const long long before = f16mmae::testing::allocation_count();
+    for (std::size_t i = 0; i < f.z.size(); ++i) {
+      const double x = static_cast<double>(i) / f.z.size();  // across the whole cell and back
+      hb.schedule(AirData{0.4 + 0.2 * x, 10000.0 + 10000.0 * (1 - x)});
+      hb.step(f.z[i], f.u[i]);
+    }
+    EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+    EXPECT_GE(hb.declarations().size(), 1u);
+    EXPECT_GT(hb.scheduled().switches() + hb.scheduled().blends(), 0);
+  }
+}
+
+TEST(ScheduleFile, RoundTripsAndRefusesCorruptionNamingTheField) {
+  BankSchedule s = make_schedule(1, 1);
+  s.primary = 1;
+  const std::string path = ::testing::TempDir() + "/sched.f16sched";
+  const std::string hash = save_schedule(s, path);
+  const ModelBank loaded = load_bank(path);
+  ASSERT_TRUE(loaded.schedule);
+  EXPECT_EQ(loaded.content_hash, hash);
+  EXPECT_EQ(loaded.schedule->nodes.size(), 3u);
+  EXPECT_EQ(loaded.schedule->primary, 1);
+  EXPECT_EQ(loaded.mach, 0.6);  // node 1 is (0.6, 10,000 ft)
+  for (std::size_t n = 0; n < 3; ++n) {
+    EXPECT_EQ(loaded.schedule->nodes[n].bank.content_hash, bank_content_hash(s.nodes[n].bank));
+    EXPECT_TRUE(loaded.schedule->nodes[n].x_trim == s.nodes[n].x_trim);
+  }
+  // deterministic
+  EXPECT_EQ(schedule_file_bytes(*loaded.schedule), schedule_file_bytes(s));
+
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::uint8_t> image((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto refused = [&](std::vector<std::uint8_t> bytes, const std::string& needle) {
+    try {
+      parse_schedule_file(bytes.data(), bytes.size(), "'x'");
+      ADD_FAILURE() << "accepted; expected: " << needle;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  };
+  std::vector<std::uint8_t> flipped = image;
+  flipped[image.size() / 2] ^= 1;
+  refused(flipped, "content hash mismatch");
+  refused(std::vector<std::uint8_t>(image.begin(), image.end() - 1), "truncated");
+  std::vector<std::uint8_t> version = image;
+  version[11] = 9;
+  refused(version, "unsupported format version 9");
+  refused(std::vector<std::uint8_t>(image.begin(), image.begin() + 30), "truncated");
+
+  BankSchedule bad = s;
+  bad.primary = 3;
+  EXPECT_THROW(schedule_file_bytes(bad), std::invalid_argument);
+  bad = s;
+  bad.nodes[2].i_mach = 2;
+  try {
+    schedule_file_bytes(bad);
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("nodes[2] at grid index (2, 1) is outside the 2 x 2 grid"), std::string::npos)
+        << e.what();
+  }
+  bad = s;
+  bad.alt_ft = {20000.0, 10000.0};
+  EXPECT_THROW(schedule_file_bytes(bad), std::invalid_argument);
+  bad = s;
+  bad.nodes[1].x_trim.resize(3);
+  EXPECT_THROW(schedule_file_bytes(bad), std::invalid_argument);
+  std::remove(path.c_str());
+}

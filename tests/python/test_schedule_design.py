@@ -1,0 +1,83 @@
+"""The scheduled design (``f16mmae design --schedule``) on a small real grid, and a flight
+between its nodes: each node is the ordinary design at its point (same content hash as
+``design_bank`` there), the CLI shows progress and refuses bad grids, and an off-grid flight
+flown through the Python loop and through the C++ closed loop gives identical declarations
+and probabilities (both loops feed it the truth's measured air data every frame)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from f16mmae import core
+from f16mmae.cli.main import main
+from f16mmae.design.bank import design_bank, to_model_bank
+from f16mmae.design.schedule import ScheduleSpecError, parse_grid, x_trim
+from f16mmae.loop.estimator import Estimator
+from f16mmae.loop.flight import fly
+from f16mmae.truth.failures import make_failure
+from f16mmae.truth.scenario import Scenario
+
+GRID = "mach=0.4/0.5,alt=20000"
+
+
+@pytest.fixture(scope="module")
+def scheduled(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sched") / "small.f16sched"
+    assert main(["design", "--schedule", GRID, "--workers", "2", "--out", str(out)]) == 0
+    return core.load_bank(out)
+
+
+def test_each_node_is_the_ordinary_design_at_its_point(scheduled, capsys):
+    s = scheduled.schedule
+    assert s["mach"] == (0.4, 0.5) and s["alt_ft"] == (20000.0,)
+    assert [(n["mach"], n["alt_ft"]) for n in s["nodes"]] == [(0.4, 20000.0), (0.5, 20000.0)]
+    assert scheduled.mach == 0.4  # the primary: nearest the nominal point
+    design = design_bank(0.5, 20000.0, "tuned")
+    node = s["nodes"][1]
+    assert node["bank"].content_hash == core.ModelBank.from_bytes(to_model_bank(design).to_bytes()).content_hash
+    np.testing.assert_array_equal(node["x_trim"], x_trim(design))
+    assert node["x_trim"][0] == pytest.approx(design.z_trim[0]) and node["x_trim"][8] == design.u_trim[0]
+
+
+def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
+    out = tmp_path / "one.f16sched"
+    assert main(["design", "--schedule", "mach=0.4,alt=20000", "--workers", "1", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "[1/1] Mach 0.40, 20000 ft: designed" in text
+    assert f"scheduled bank {out}: 1 points covered, 0 left out" in text and "content hash" in text
+
+
+@pytest.mark.parametrize("spec, message", [
+    ("mach=0.2:0.5:0.1,alt=20000", "every point must lie in the design envelope 0.3-0.8"),
+    ("mach=0.5/0.4,alt=20000", "strictly ascending"),
+    ("mach=0.4:0.5:0,alt=20000", "the step must be > 0"),
+    ("alt=20000", "give mach=START:STOP:STEP,alt=START:STOP:STEP"),
+    ("mach=x,alt=20000", "is not start:stop:step or a list"),
+])
+def test_bad_grids_are_refused_naming_the_rule(spec, message, tmp_path, capsys):
+    with pytest.raises(ScheduleSpecError, match=message):
+        parse_grid(spec)
+    assert main(["design", "--schedule", spec, "--out", str(tmp_path / "x.f16sched")]) != 0
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "x.f16sched").exists()
+
+
+def test_the_default_grid_covers_the_envelope():
+    g = parse_grid()
+    assert g.mach == (0.3, 0.4, 0.5, 0.6, 0.7, 0.8)
+    assert g.alt_ft == (5000.0, 10000.0, 15000.0, 20000.0, 25000.0, 30000.0, 35000.0)
+
+
+@pytest.mark.parametrize("mode", ["interpolate", "nearest"])
+def test_an_off_grid_flight_is_the_same_in_the_python_loop_and_in_cpp(scheduled, mode):
+    scenario = Scenario(mach=0.46, alt_ft=20000.0, turbulence="light", failures=(make_failure("PIT", 3.0),),
+                        duration_s=6.0, seed=11)
+    results = {}
+    for engine in ("python", "cpp"):
+        est = Estimator(scheduled, schedule_mode=mode)
+        results[engine] = (fly(scenario, scheduled, estimator=est, engine=engine), est.core_bank.schedule_state)
+    (py, py_state), (cpp, cpp_state) = results["python"], results["cpp"]
+    assert py.declarations == cpp.declarations and py.declarations
+    np.testing.assert_array_equal(py.probability_of("PIT"), cpp.probability_of("PIT"))
+    expected = [(0.5, 20000.0)] if mode == "nearest" else [(0.4, 20000.0), (0.5, 20000.0)]
+    assert py_state["nodes"] == cpp_state["nodes"] == expected

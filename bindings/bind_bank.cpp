@@ -52,6 +52,8 @@ class PyFilterBank {
       std::vector<F16FilterModel> fixed;
       for (std::size_t i = 0; i < dyn.size(); ++i)
         fixed.push_back(F16FilterModel::from_matrices(dyn[i].phi, dyn[i].bd, dyn[i].h, dyn[i].k, dyn[i].a,
+                                                      Eigen::VectorXd(dyn[i].uninformative_width),
+                                                      Eigen::VectorXd(dyn[i].uninformative_level_q),
                                                       "model " + std::to_string(i)));
       fixed_ = std::make_unique<F16FilterBank>(fixed, opt);
     } else {

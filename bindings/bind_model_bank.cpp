@@ -100,6 +100,13 @@ HypothesisModel hypothesis_from(py::handle item, std::size_t index) {
     const py::object value = mapping ? py::object(model[key]) : py::object(model.attr(key));
     *targets[i] = to_matrix(value, "hypothesis '" + h.name + "': " + key);
   }
+  for (const char* wkey : {"uninformative_width", "uninformative_level_q"}) {  // optional
+    if (!(mapping ? model.contains(wkey) : py::hasattr(model, wkey))) continue;
+    const py::object w = mapping ? py::object(model[wkey]) : py::object(model.attr(wkey));
+    if (w.is_none()) continue;
+    (std::string(wkey) == "uninformative_width" ? h.uninformative_width : h.uninformative_level_q) =
+        to_vector(w, "hypothesis '" + h.name + "': " + wkey);
+  }
   return h;
 }
 
@@ -234,7 +241,8 @@ double bench_filter_bank_loop(const ModelBank& bank, py::handle z_frames, py::ha
   std::vector<F16FilterModel> models;
   for (int k = 0; k < kBank; ++k) {
     const HypothesisModel& h = bank.hypotheses[k];
-    models.push_back(F16FilterModel::from_matrices(h.phi, h.bd, h.h, h.k, h.a, "hypothesis '" + h.name + "'"));
+    models.push_back(F16FilterModel::from_matrices(h.phi, h.bd, h.h, h.k, h.a, h.uninformative_width,
+                                                   h.uninformative_level_q, "hypothesis '" + h.name + "'"));
   }
   FilterBankOptions options;
   options.adaptation.enabled = adapt_turbulence;
@@ -282,14 +290,23 @@ One hypothesis filter of a model bank: a steady-state discrete Kalman filter (pa
   x(t_{i+1}) = phi x(t_i) + bd u(t_i) + w,   z(t_i) = h x(t_i) + v,
 with steady-state gain k and residual covariance a = H P- H^T + R.
 Shapes: phi (nx,nx), bd (nx,nu), h (nz,nx), k (nx,nz), a (nz,nz); checked by ModelBank.
+uninformative_width (nz,) or None: W_j > 0 marks channel j's reading as uninformative under
+the hypothesis: an unknown level anywhere in a range of width W_j, a random walk of
+uninformative_level_q_j (nz,) or None (zeros: no memory) per frame (its H row must be zero; the likelihood is
+derived in cpp/f16mmae/steady_state_filter.h); None means every channel informative.
 Immutable; the matrices come back as read-only numpy copies.)doc")
       .def(py::init([](const std::string& name, py::handle phi, py::handle bd, py::handle h, py::handle k,
-                       py::handle a) {
+                       py::handle a, py::handle width, py::handle level_q) {
              const std::string who = "hypothesis '" + name + "': ";
-             return HypothesisModel{name, to_matrix(phi, who + "phi"), to_matrix(bd, who + "bd"),
-                                    to_matrix(h, who + "h"), to_matrix(k, who + "k"), to_matrix(a, who + "a")};
+             HypothesisModel m{name, to_matrix(phi, who + "phi"), to_matrix(bd, who + "bd"),
+                               to_matrix(h, who + "h"), to_matrix(k, who + "k"), to_matrix(a, who + "a"), {}};
+             if (!width.is_none()) m.uninformative_width = to_vector(width, who + "uninformative_width");
+             if (!level_q.is_none())
+               m.uninformative_level_q = to_vector(level_q, who + "uninformative_level_q");
+             return m;
            }),
-           py::kw_only(), py::arg("name"), py::arg("phi"), py::arg("bd"), py::arg("h"), py::arg("k"), py::arg("a"))
+           py::kw_only(), py::arg("name"), py::arg("phi"), py::arg("bd"), py::arg("h"), py::arg("k"), py::arg("a"),
+           py::arg("uninformative_width") = py::none(), py::arg("uninformative_level_q") = py::none())
       .def_property_readonly("name", [](const HypothesisModel& h) { return h.name; })
       .def_property_readonly("phi", [](const HypothesisModel& h) { return readonly(h.phi); }, "(nx,nx) Phi")
       .def_property_readonly("bd", [](const HypothesisModel& h) { return readonly(h.bd); }, "(nx,nu) B_d")
@@ -297,6 +314,20 @@ Immutable; the matrices come back as read-only numpy copies.)doc")
       .def_property_readonly("k", [](const HypothesisModel& h) { return readonly(h.k); }, "(nx,nz) gain K")
       .def_property_readonly("a", [](const HypothesisModel& h) { return readonly(h.a); },
                              "(nz,nz) residual covariance A (eq. 5)")
+      .def_property_readonly(
+          "uninformative_width",
+          [](const HypothesisModel& h) {
+            return readonly(h.uninformative_width.size() ? h.uninformative_width
+                                                          : Eigen::VectorXd(Eigen::VectorXd::Zero(h.h.rows())));
+          },
+          "(nz,) width of each uninformative channel's uniform density, 0 for an informative one")
+      .def_property_readonly(
+          "uninformative_level_q",
+          [](const HypothesisModel& h) {
+            return readonly(h.uninformative_level_q.size() ? h.uninformative_level_q
+                                                                : Eigen::VectorXd(Eigen::VectorXd::Zero(h.h.rows())));
+          },
+          "(nz,) random-walk variance per frame of an uninformative channel's level")
       .def("__repr__", [](const HypothesisModel& h) {
         return "HypothesisModel(name='" + h.name + "', nx=" + std::to_string(h.phi.rows()) +
                ", nu=" + std::to_string(h.bd.cols()) + ", nz=" + std::to_string(h.h.rows()) + ")";
@@ -312,7 +343,7 @@ name -> model, where a model is a mapping with keys phi, bd, h, k, a or an objec
 those attributes (e.g. core.FilterModel). u_trim / z_trim default to zeros; metadata is
 JSON text or a dict (stored as canonical JSON) describing how the bank was made; p_min,
 threshold, dwell_s are the estimator settings the design recommends (typed fields of the
-file, format version 2; default the core's). validate=True (default) checks the bank
+file since format version 2; default the core's). validate=True (default) checks the bank
 at once (ValueError naming the field or hypothesis and the value: names, settings, flight
 condition, shapes, finiteness, symmetric positive-definite A, stable Phi (I - K H));
 save() always validates.

@@ -114,10 +114,11 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
   const std::string who = "bank file " + source + ": ";
   auto fail = [&](const std::string& what) { throw BankFileFormatError(who + what); };
   const std::uint32_t version = hashed_file_version(data, size, kBankFileMagic, who, "model-bank");
-  if (version == 1)
-    fail("format version 1 is no longer read: this build reads version " +
+  if (version == 1 || version == 2)
+    fail("format version " + std::to_string(version) + " is no longer read: this build reads version " +
          std::to_string(ModelBank::kFormatVersion) +
-         ", where the estimator settings are typed fields. Regenerate the bank with the design command "
+         ", where the estimator settings are typed fields and each hypothesis carries the widths of its "
+         "uninformative channels. Regenerate the bank with the design command "
          "recorded in its metadata, e.g. `f16mmae design --mach 0.4 --alt-ft 20000 --tuning tuned --out FILE` "
          "(the shipped banks: `python -m f16mmae.design.calibrate --banks`)");
   if (version != ModelBank::kFormatVersion)

@@ -75,6 +75,16 @@ std::vector<std::uint8_t> encode_bank_payload(const ModelBank& bank) {
     out.h = to_lcm(h.h, "h");
     out.k = to_lcm(h.k, "k");
     out.a = to_lcm(h.a, "a");
+    // the two vectors share one size in the file: a bank with widths and no weights stores zeros
+    out.width_size = checked_size(h.uninformative_width.size(), "uninformative_width");
+    if (h.uninformative_level_q.size() != 0 && h.uninformative_level_q.size() != h.uninformative_width.size())
+      throw std::invalid_argument("model bank: hypothesis '" + h.name +
+                                  "': uninformative_level_q needs the size of uninformative_width");
+    out.uninformative_width.assign(h.uninformative_width.data(),
+                                   h.uninformative_width.data() + h.uninformative_width.size());
+    out.uninformative_level_q.assign(static_cast<std::size_t>(out.width_size), 0.0);
+    for (Eigen::Index j = 0; j < h.uninformative_level_q.size(); ++j)
+      out.uninformative_level_q[static_cast<std::size_t>(j)] = h.uninformative_level_q(j);
     msg.hypotheses.push_back(std::move(out));
   }
   const int size = msg.getEncodedSize();
@@ -109,8 +119,9 @@ ModelBank decode_bank_payload(const std::uint8_t* data, std::size_t size) {
   bank.estimator.threshold = in.f64("threshold");
   bank.estimator.dwell_s = in.f64("dwell_s");
   bank.metadata = in.text("metadata", kMaxBankTextBytes);
-  // each hypothesis takes at least a name (5 bytes) and five empty matrices (8 bytes each)
-  const std::size_t n = in.count("num_hypotheses", kMaxBankHypotheses, 45);
+  // each hypothesis takes at least a name (5 bytes), five empty matrices (8 bytes each) and
+  // an empty width vector (4 bytes)
+  const std::size_t n = in.count("num_hypotheses", kMaxBankHypotheses, 49);
   bank.hypotheses.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::string who = "hypotheses[" + std::to_string(i) + "]";
@@ -121,6 +132,8 @@ ModelBank decode_bank_payload(const std::uint8_t* data, std::size_t size) {
     h.h = in.matrix(who + ".h");
     h.k = in.matrix(who + ".k");
     h.a = in.matrix(who + ".a");
+    h.uninformative_width = in.vector(who + ".uninformative_width", who + ".width_size");
+    h.uninformative_level_q = in.doubles(who + ".uninformative_level_q", h.uninformative_width.size());
   }
   in.finish();
   bank.content_hash = to_hex(sha256(data, size));

@@ -77,6 +77,15 @@ class PayloadReader {
     return out;
   }
 
+  // n doubles whose count was declared earlier (an array sharing another array's size field).
+  Eigen::VectorXd doubles(const std::string& field, Eigen::Index n) {
+    if (static_cast<std::uint64_t>(n) * 8 > remaining())
+      fail(field, pos_, "needs " + std::to_string(n * 8) + " bytes, but " + std::to_string(remaining()) + " remain");
+    Eigen::VectorXd out(n);
+    for (Eigen::Index i = 0; i < n; ++i) out(i) = f64(field);
+    return out;
+  }
+
   // An lcmt_bank_matrix: rows, cols (each at most kMaxBankDimension), row-major data.
   Eigen::MatrixXd matrix(const std::string& field) {
     const std::size_t rows = count(field + ".rows", kMaxBankDimension, 0);

@@ -1,5 +1,5 @@
 // EstimatorSettings — the three settings of the MMAE estimator that a model bank recommends
-// (typed fields of the bank file, format version 2) and the range checks applied wherever
+// (typed fields of the bank file since format version 2) and the range checks applied wherever
 // they enter the core: FilterBank (p_min), Declarer (threshold, dwell_s), ModelBank::validate
 // (all three). std only.
 //

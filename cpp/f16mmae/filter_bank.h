@@ -8,7 +8,13 @@
 //                   l_k = -q_k/2 - (m/2) ln 2π - (1/2) ln|A_k|       (leading term kept)
 //                 with the turbulence adaptation on (options.adaptation, turbulence_adaptation.h)
 //                   q_k/2 becomes q_k/(2 s), s the residual-power scale of the frames before;
-//                   the frame's q_k then update s.
+//                   the frame's q_k then update s (u_k below is not scaled).
+//                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
+//                 non-zero only for a hypothesis with uninformative channels (a failed
+//                 sensor's reading an unknown level anywhere in its range; q_k then leaves
+//                 those channels out; u_k, the levels b̂_k the bank keeps per filter, and
+//                 the derivation in steady_state_filter.h). A filter's levels are unset at
+//                 the start, after reset() and when load_filter() replaces it.
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
 //                 floor p_min ("lock-out" prevention) by water-filling: hypotheses with
@@ -141,6 +147,8 @@ class FilterBank {
     x_blend_.setZero(nx);
     z_hat_.setZero(nz);
     floored_.assign_size(k);
+    level_set_.assign_size(k);
+    level_.setZero(nz, k);
     h_out_ = hypotheses_[0].model().h;
     load_h_out();
     log_p_min_ = options_.p_min > 0.0 ? std::log(options_.p_min) : -std::numeric_limits<double>::infinity();
@@ -196,6 +204,10 @@ class FilterBank {
       double l = -0.5 * q_(i);
       if (adapt) l *= inv_s;
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
+      if (hypotheses_[i].has_uninformative()) {  // u_k; otherwise l_k is left bit for bit as it was
+        l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_set_[i]);
+        level_set_[i] = 1;
+      }
       log_l_(i) = l;
       const double a = l + log_p_(i);
       if (a > a_max) a_max = a;
@@ -249,6 +261,7 @@ class FilterBank {
   // Every filter back to x⁻ = 0, no-failure hypothesis presumed, counters zeroed.
   void reset() noexcept {
     for (int i = 0; i < size(); ++i) store([&](auto& s) { s.clear(i); });
+    for (int i = 0; i < size(); ++i) level_set_[i] = 0;
     q_.setZero();
     log_l_.setZero();
     rejected_ = 0;
@@ -314,6 +327,7 @@ class FilterBank {
     hypotheses_[k] = hypothesis;
     if constexpr (kPacked) packed_.load(k, hypotheses_);
     store([&](auto& s) { s.clear(k); });
+    level_set_[k] = 0;
   }
   // Replace what every filter is, keeping the states x⁻, x⁺, r: a change of the scheduled
   // filters (scheduled_filters.h). write(k, h) writes filter k's new HypothesisFilter into h
@@ -430,7 +444,11 @@ class FilterBank {
   double log_norm_ = 0.0;
   std::int64_t rejected_ = 0;
   std::int64_t frames_ = 0;
-  ResidualScale<K> scale_{};   // the turbulence adaptation; last, so the members above keep their offsets
+  // the uninformative channels' levels and the turbulence adaptation, last so the members
+  // above keep their layout
+  HypothesisFlags<K> level_set_;                  // b̂_k set
+  Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k
+  ResidualScale<K> scale_{};                      // the turbulence adaptation
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

@@ -267,7 +267,9 @@ class HierarchicalBank {
     }
     if (k < 2) throw std::invalid_argument("hierarchical bank: the model bank has no single-failure hypothesis");
     for (const auto& h : mb.hypotheses)
-      b.models.push_back(Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, "hypothesis '" + h.name + "'"));
+      b.models.push_back(
+          Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, h.uninformative_width, h.uninformative_level_q,
+                               "hypothesis '" + h.name + "'"));
     b.level0 = make_indices(k);
     b.level0[0] = 0;
     for (int s = 0; s < k - 1; ++s) b.level0[s + 1] = singles[s];

@@ -6,7 +6,10 @@
 //   x(t_{i+1}) = Phi_k x(t_i) + Bd_k u(t_i) + w,     z(t_i) = H_k x(t_i) + v      (eqs. 3-4)
 //   A_k = H_k P_k^- H_k^T + R_k                                                    (eq. 5)
 // with sizes Phi (nx,nx), Bd (nx,nu), H (nz,nx), K (nx,nz), A (nz,nz). Quantities are
-// perturbations from the trim (u_trim, z_trim).
+// perturbations from the trim (u_trim, z_trim). A hypothesis may mark channels whose reading
+// is uninformative under it (uninformative_width_j > 0, the width of the range its unknown
+// level lies in, and uninformative_level_q_j, the level's random walk per frame;
+// steady_state_filter.h derives the likelihood); empty or zeros for the paper's models.
 //
 // The bank also carries the estimator settings its design recommends (EstimatorSettings:
 // p_min, threshold, dwell_s; estimator_settings.h gives their ranges).
@@ -17,7 +20,9 @@
 // i) is not zero, which is how names permuted against the matrices show; a frame rate, Mach
 // or altitude that is not finite and >= 0 (rate > 0, at most kMaxFrameRateHz); estimator
 // settings out of range; a wrong shape, a non-finite entry, an A_k that is not symmetric
-// positive definite, an unstable error dynamics Phi_k (I - K_k H_k) (spectral radius >= 1).
+// positive definite, an unstable error dynamics Phi_k (I - K_k H_k) (spectral radius >= 1),
+// uninformative widths that are not 0 or nz finite values >= 0, or that mark a channel whose
+// H row is not zero or whose A row couples it to another channel.
 #pragma once
 
 #include <Eigen/Dense>
@@ -40,10 +45,12 @@ struct BankSchedule;  // bank_schedule.h
 struct HypothesisModel {
   std::string name;  // "NONE", "LS", ..., "AY", duals "LS+PIT" (f16mmae/names.py order)
   Eigen::MatrixXd phi, bd, h, k, a;
+  Eigen::VectorXd uninformative_width;  // (nz) or empty: 0 = informative channel
+  Eigen::VectorXd uninformative_level_q;  // (nz) or empty: level random walk per frame
 };
 
 struct ModelBank {
-  static constexpr std::uint32_t kFormatVersion = 2;
+  static constexpr std::uint32_t kFormatVersion = 3;
   static constexpr double kMaxFrameRateHz = 10000.0;
 
   std::vector<std::string> state_names;        // nx
@@ -120,6 +127,8 @@ struct ModelBank {
       for (std::size_t j = 0; j < i; ++j)
         if (hypotheses[j].name == m.name) fail(who + ": duplicate name");
       check_filter_matrices(m.phi, m.bd, m.h, m.k, m.a, nx_, nu_, nz_, "model bank: " + who);
+      check_uninformative_width(m.h, m.a, m.uninformative_width, m.uninformative_level_q, nz_,
+                                "model bank: " + who);
       check_failed_components(m, who);
     }
   }

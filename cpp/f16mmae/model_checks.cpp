@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -39,6 +40,49 @@ void check_filter_matrices(const Eigen::MatrixXd& phi, const Eigen::MatrixXd& bd
     std::ostringstream s;
     s << "error dynamics Phi (I - K H) is unstable (spectral radius " << rho << " >= 1)";
     fail(s.str());
+  }
+}
+
+void check_uninformative_width(const Eigen::MatrixXd& h, const Eigen::MatrixXd& a,
+                               const Eigen::VectorXd& width, const Eigen::VectorXd& level_q,
+                               Eigen::Index nz, const std::string& who) {
+  auto fail = [&](const std::string& what) { throw std::invalid_argument(who + ": " + what); };
+  if (level_q.size() != 0) {
+    if (level_q.size() != nz) {
+      std::ostringstream s;
+      s << "uninformative_level_q has size " << level_q.size() << ", expected 0 or " << nz;
+      fail(s.str());
+    }
+    for (Eigen::Index j = 0; j < nz; ++j) {
+      const double w = level_q(j);
+      const bool marked = width.size() == nz && width(j) > 0.0;
+      if (!(std::isfinite(w) && w >= 0.0) || (w != 0.0 && !marked)) {
+        std::ostringstream s;
+        s << "uninformative_level_q[" << j << "] must be finite and >= 0, and 0 unless the channel is "
+          << "uninformative (width > 0), got " << w;
+        fail(s.str());
+      }
+    }
+  }
+  if (width.size() == 0) return;
+  if (width.size() != nz) {
+    std::ostringstream s;
+    s << "uninformative_width has size " << width.size() << ", expected 0 or " << nz;
+    fail(s.str());
+  }
+  for (Eigen::Index j = 0; j < nz; ++j) {
+    const double w = width(j);
+    if (!std::isfinite(w) || w < 0.0) {
+      std::ostringstream s;
+      s << "uninformative_width[" << j << "] must be finite and >= 0, got " << w;
+      fail(s.str());
+    }
+    if (w == 0.0) continue;
+    const std::string at = "channel " + std::to_string(j) + " is uninformative (width " + std::to_string(w) + ")";
+    if (!h.row(j).isZero(0.0)) fail(at + " but its h row is not zero");
+    for (Eigen::Index i = 0; i < nz; ++i)
+      if (i != j && (a(i, j) != 0.0 || a(j, i) != 0.0))
+        fail(at + " but A couples it to channel " + std::to_string(i) + " (A is not block diagonal there)");
   }
 }
 

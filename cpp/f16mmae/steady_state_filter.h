@@ -11,8 +11,41 @@
 // Initial x⁻_0 = 0 (the trim). A⁻¹ (through a Cholesky factorisation of A) and ln|A| are
 // computed once, at construction.
 //
+// Uninformative channels (a failed sensor whose reading says nothing about the aircraft,
+// whatever it reads: held at trim, zero, stuck, full scale, biased, drifting). The model may
+// mark channels j ∈ F with a width W_j > 0 (the sensor's full range) and a level noise
+// q_j >= 0. Such a channel has H row j = 0, so r_j = z_j - z_trim,j, and A coupled to no
+// other channel (checked), so the Gaussian residual density of eq. 2 factorises,
+//     N(r; 0, A) = N(r_G; 0, A_GG) · prod_{j∈F} N(r_j; 0, A_jj),      G = the other channels,
+// and the hypothesis replaces each failed factor by the density of a reading that is an
+// unknown level b_j (uniform over the range, independent of the aircraft) plus the sensor's
+// noise (variance A_jj = R_jj), the level a random walk of q_j per frame that may also jump
+// anywhere in the range, with probability ε = kLevelJumpProbability per frame (a sensor that
+// fails again: goes hardover, sticks, is reset):
+//   first frame (level unknown):   ln f_j = -ln W_j
+//   later frames (q_j > 0):        ln f_j = ln[ (1 - ε) N(e_j; 0, s_j) + ε / W_j ],  e_j = r_j - b̂_j,
+//       b̂_j <- b̂_j + g_j e_j, the steady-state scalar Kalman filter of the level:
+//       P = (q_j + sqrt(q_j² + 4 q_j A_jj)) / 2, s_j = P + A_jj, g_j = P / s_j; but b̂_j <- r_j
+//       on the first frame and whenever the jump term is the larger (the level restarts at
+//       the reading: the most probable branch is kept, a one-branch approximation);
+//   q_j = 0: every frame as the first (a reading uniform over the range, no memory).
+// The hypothesis' log-density is then
+//     ln f_k = -q/2 - (m/2) ln 2π - (1/2) ln|A| + u_k,
+//     q   = r_Gᵀ A_GG⁻¹ r_G  (= rᵀ A⁻¹ r with row and column j of A⁻¹ zeroed, exact here),
+//     u_k = sum_{j∈F} [ ln f_j + (1/2) ln(2π A_jj) ]
+//         = sum_{j∈F} c_j,  c_j = (1/2) ln(2π A_jj) - ln W_j            (first frame, q_j = 0)
+//         = sum_{j∈F} ln[ (1-ε) exp(-e_j²/(2 s_j) + (1/2) ln(A_jj/s_j)) + ε exp(c_j) ]
+//                                                                           (tracked level)
+// So every hypothesis, whatever the number of channels it believes, is a density over the
+// same seven readings, and the bank adds u_k to l_k in both forms of eq. 2 (filter_bank.h,
+// which keeps b̂ and whether it is set per filter): with the leading term stripped, u_k puts
+// the failed channel's density on the scale of its stripped Gaussian factor exp(-r_j²/2A_jj).
+// A reading at a constant value costs about ln(W_j / sqrt(2π A_jj)) once, then what a
+// healthy channel costs. With no channel marked, A⁻¹ is the full inverse and u_k = 0 (the
+// paper's models).
+//
 // Two parts, kept apart:
-//   HypothesisFilter   what a hypothesis filter IS: its FilterModel, A⁻¹ and ln|A|, fixed at
+//   HypothesisFilter   what a hypothesis filter IS: its FilterModel, A⁻¹, ln|A| and c, fixed at
 //                      construction, and the frame equations above as const functions of a
 //                      state passed in. A FilterBank holds these and stores the states of all
 //                      its filters itself, once (filter_bank.h).
@@ -56,12 +89,29 @@ struct FilterModel {
   HMatrix h;      // (NZ,NX) measurement matrix
   KMatrix k;      // (NX,NZ) steady-state Kalman gain
   AMatrix a;      // (NZ,NZ) residual covariance, eq. 5
+  // (NZ) width W_j of channel j's uniform density when its reading is uninformative under
+  // this hypothesis, 0 for an informative channel (header comment); zeros by default.
+  Eigen::Matrix<double, NZ, 1> uninformative_width =
+      Eigen::Matrix<double, NZ, 1>::Zero(NZ == Eigen::Dynamic ? 0 : NZ);
+  // (NZ) random-walk variance q_j per frame of an uninformative channel's level (sensor
+  // units²; 0: the reading uniform over W_j every frame); zeros by default.
+  Eigen::Matrix<double, NZ, 1> uninformative_level_q =
+      Eigen::Matrix<double, NZ, 1>::Zero(NZ == Eigen::Dynamic ? 0 : NZ);
 
   // Builds a model from dynamic-size matrices, checking each shape against the compile-time
   // sizes first (throws std::invalid_argument naming `who`); validate() is not called here.
   template <class M>
   static FilterModel from_matrices(const M& phi_, const M& bd_, const M& h_, const M& k_,
                                    const M& a_, const std::string& who = "filter model") {
+    return from_matrices(phi_, bd_, h_, k_, a_, Eigen::VectorXd(), Eigen::VectorXd(), who);
+  }
+  // The same with the uninformative widths and level noises (each empty or NZ entries;
+  // empty: every channel informative, every level noise zero).
+  template <class M>
+  static FilterModel from_matrices(const M& phi_, const M& bd_, const M& h_, const M& k_,
+                                   const M& a_, const Eigen::VectorXd& width_,
+                                   const Eigen::VectorXd& level_q_ = Eigen::VectorXd(),
+                                   const std::string& who = "filter model") {
     auto check = [&](const char* name, const M& x, int r, int c) {
       if ((r != Eigen::Dynamic && x.rows() != r) || (c != Eigen::Dynamic && x.cols() != c)) {
         std::ostringstream s;
@@ -82,6 +132,18 @@ struct FilterModel {
     m.h = h_;
     m.k = k_;
     m.a = a_;
+    for (const auto* v : {&width_, &level_q_}) {
+      if (v->size() != 0 && v->size() != m.h.rows()) {
+        std::ostringstream s;
+        s << who << ": " << (v == &width_ ? "uninformative_width" : "uninformative_level_q") << " has size "
+          << v->size() << ", expected 0 or " << m.h.rows();
+        throw std::invalid_argument(s.str());
+      }
+    }
+    m.uninformative_width.setZero(m.h.rows());
+    if (width_.size() != 0) m.uninformative_width = width_;
+    m.uninformative_level_q.setZero(m.h.rows());
+    if (level_q_.size() != 0) m.uninformative_level_q = level_q_;
     return m;
   }
 
@@ -92,7 +154,10 @@ struct FilterModel {
   // Throws std::invalid_argument naming `who` and the problem (see the header comment).
   void validate(const std::string& who = "filter model") const {
     check_filter_matrices(phi, bd, h, k, a, phi.rows(), bd.cols(), h.rows(), who);
+    check_uninformative_width(h, a, uninformative_width, uninformative_level_q, h.rows(), who);
   }
+  // True when some channel is uninformative (width > 0).
+  bool has_uninformative() const { return (uninformative_width.array() > 0.0).any(); }
 };
 
 // What one hypothesis filter is: its model, A⁻¹ and ln|A| (immutable after construction),
@@ -118,7 +183,66 @@ class HypothesisFilter {
     a_inv_ = llt.solve(AMatrix::Identity(m_.nz(), m_.nz()));
     a_inv_ = 0.5 * (a_inv_ + a_inv_.transpose()).eval();
     log_det_a_ = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
+    const Eigen::Index nz = m_.nz();
+    unf_c_.setZero(nz);
+    unf_gain_.setZero(nz);
+    unf_half_inv_s_.setZero(nz);
+    unf_log_ratio_.setZero(nz);
+    for (Eigen::Index j = 0; j < m_.uninformative_width.size(); ++j) {
+      const double w = m_.uninformative_width(j);
+      if (!(w > 0.0)) continue;
+      a_inv_.row(j).setZero();
+      a_inv_.col(j).setZero();
+      uninformative_ = true;
+      const double a_jj = a_sym(j, j);
+      unf_c_(j) = 0.5 * std::log(2.0 * kPi * a_jj) - std::log(w);
+      first_frame_ += unf_c_(j);
+      const double q = j < m_.uninformative_level_q.size() ? m_.uninformative_level_q(j) : 0.0;
+      if (q > 0.0) {  // the level's steady-state scalar Kalman filter
+        const double p = 0.5 * (q + std::sqrt(q * q + 4.0 * q * a_jj));
+        const double s = p + a_jj;
+        unf_gain_(j) = p / s;
+        unf_half_inv_s_(j) = 0.5 / s;
+        unf_log_ratio_(j) = 0.5 * std::log(a_jj / s);
+        tracked_ = true;
+      } else {
+        memoryless_ += unf_c_(j);
+      }
+    }
   }
+
+  // u_k of the header comment for residual r, given the levels b̂ (NZ) of this filter and
+  // whether they are set; sets them (first frame) or updates them. noexcept, no allocation.
+  template <class R, class L>
+  double uninformative_log_density(const Eigen::MatrixBase<R>& r, const Eigen::MatrixBase<L>& level_out,
+                                   bool level_set) const noexcept {
+    if (!tracked_) return memoryless_;
+    auto& level = const_cast<Eigen::MatrixBase<L>&>(level_out);  // Eigen's writable-expression idiom
+    if (!level_set) {
+      for (Eigen::Index j = 0; j < unf_gain_.size(); ++j)
+        if (unf_gain_(j) > 0.0) level(j) = r(j);
+      return first_frame_;
+    }
+    double u = memoryless_;
+    for (Eigen::Index j = 0; j < unf_gain_.size(); ++j) {
+      if (unf_gain_(j) == 0.0) continue;
+      const double e = r(j) - level(j);
+      const double stay = kLogStay + unf_log_ratio_(j) - e * e * unf_half_inv_s_(j);
+      const double jump = kLogJump + unf_c_(j);
+      if (stay >= jump) {
+        u += stay + std::log1p(std::exp(jump - stay));
+        level(j) += unf_gain_(j) * e;
+      } else {
+        u += jump + std::log1p(std::exp(stay - jump));
+        level(j) = r(j);
+      }
+    }
+    return u;
+  }
+  // True when some uninformative channel tracks its level (the bank then keeps b̂).
+  bool tracks_level() const noexcept { return tracked_; }
+  // True when some channel is uninformative (u_k is then added to l_k).
+  bool has_uninformative() const noexcept { return uninformative_; }
 
   // ---- the frame equations, on a state passed in (noexcept) --------------------------
   // r = z - H x⁻ and returns q = rᵀ A⁻¹ r (+inf when it overflows, never NaN for finite r).
@@ -147,7 +271,8 @@ class HypothesisFilter {
   }
 
   // The blend of n filters of one hypothesis at neighbouring grid nodes (bank_schedule.h):
-  // Phi, Bd, H, K, A, A⁻¹ and ln|A| each set to sum_i w_i (that of f[i]). A weight of
+  // Phi, Bd, H, K, A, A⁻¹, ln|A| and the uninformative channels' constants (c_j, level-filter
+  // terms, their sums) each set to sum_i w_i (that of f[i]). A weight of
   // exactly 1 copies that filter bit for bit; zero weights are skipped. The weights are the
   // caller's (bilinear: >= 0, summing to 1); the result is not re-validated. noexcept; for
   // fixed sizes no allocation.
@@ -169,6 +294,18 @@ class HypothesisFilter {
     m_.a = wa * a.m_.a;
     a_inv_ = wa * a.a_inv_;
     log_det_a_ = wa * a.log_det_a_;
+    // The uninformative channels are the same at every node of a hypothesis (which channels,
+    // their widths and level noises); their per-channel constants are blended like A.
+    m_.uninformative_width = a.m_.uninformative_width;
+    m_.uninformative_level_q = a.m_.uninformative_level_q;
+    uninformative_ = a.uninformative_;
+    tracked_ = a.tracked_;
+    first_frame_ = wa * a.first_frame_;
+    memoryless_ = wa * a.memoryless_;
+    unf_c_ = wa * a.unf_c_;
+    unf_gain_ = wa * a.unf_gain_;
+    unf_half_inv_s_ = wa * a.unf_half_inv_s_;
+    unf_log_ratio_ = wa * a.unf_log_ratio_;
     for (int i = first + 1; i < n; ++i) {
       if (w[i] == 0.0) continue;
       const HypothesisFilter& b = *f[i];
@@ -179,20 +316,43 @@ class HypothesisFilter {
       m_.a += w[i] * b.m_.a;
       a_inv_ += w[i] * b.a_inv_;
       log_det_a_ += w[i] * b.log_det_a_;
+      first_frame_ += w[i] * b.first_frame_;
+      memoryless_ += w[i] * b.memoryless_;
+      unf_c_ += w[i] * b.unf_c_;
+      unf_gain_ += w[i] * b.unf_gain_;
+      unf_half_inv_s_ += w[i] * b.unf_half_inv_s_;
+      unf_log_ratio_ += w[i] * b.unf_log_ratio_;
     }
   }
 
   const Model& model() const noexcept { return m_; }
   const AMatrix& a_inverse() const noexcept { return a_inv_; }
   double log_det_a() const noexcept { return log_det_a_; }          // ln|A|
+  // u_k on a first frame: sum of c_j over the uninformative channels (header comment).
+  double log_density_offset() const noexcept { return first_frame_; }
   int nx() const noexcept { return m_.nx(); }
   int nu() const noexcept { return m_.nu(); }
   int nz() const noexcept { return m_.nz(); }
 
  private:
+  static constexpr double kPi = 3.14159265358979323846;
+
+ public:
+  // ε of the header comment: the probability per frame that a failed sensor's level jumps
+  // anywhere in its range (a model constant of the core).
+  static constexpr double kLevelJumpProbability = 1e-3;
+
+ private:
+  static constexpr double kLogJump = -6.907755278982137;        // ln 1e-3
+  static constexpr double kLogStay = -1.0005003335835335e-3;    // ln(1 - 1e-3)
   Model m_;
-  AMatrix a_inv_;
+  AMatrix a_inv_;  // A⁻¹, rows/columns of uninformative channels zeroed
   double log_det_a_ = 0.0;
+  double first_frame_ = 0.0;   // u_k when the levels are not set: sum c_j
+  double memoryless_ = 0.0;    // sum c_j over the channels with q_j = 0
+  bool tracked_ = false;       // some channel has q_j > 0
+  bool uninformative_ = false;  // some channel has W_j > 0
+  ZVector unf_c_, unf_gain_, unf_half_inv_s_, unf_log_ratio_;  // per channel; gain 0: not tracked
 };
 
 // One stand-alone filter: a HypothesisFilter and its state.

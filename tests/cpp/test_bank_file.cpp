@@ -155,6 +155,7 @@ void expect_equal(const ModelBank& a, const ModelBank& b) {
     EXPECT_EQ(a.hypotheses[i].h, b.hypotheses[i].h);
     EXPECT_EQ(a.hypotheses[i].k, b.hypotheses[i].k);
     EXPECT_EQ(a.hypotheses[i].a, b.hypotheses[i].a);
+    EXPECT_EQ(a.hypotheses[i].uninformative_width, b.hypotheses[i].uninformative_width);
   }
 }
 
@@ -254,9 +255,11 @@ TEST_F(BankFile, RefusesCorruptionWrongMagicAndWrongVersion) {
   expect_refused<BankFileFormatError>(magic, "wrong magic bytes 'X16MMAEB'");
   expect_refused<BankFileFormatError>(Bytes{'P', 'K', 3, 4}, "wrong magic");
   const Bytes payload(good.begin() + kBankFileHeaderSize, good.end());
-  expect_refused<BankFileFormatError>(image_of(payload, 3), "unsupported format version 3");
+  expect_refused<BankFileFormatError>(image_of(payload, 4), "unsupported format version 4");
   expect_refused<BankFileFormatError>(image_of(payload, 1),
-                                      "format version 1 is no longer read: this build reads version 2");
+                                      "format version 1 is no longer read: this build reads version 3");
+  expect_refused<BankFileFormatError>(image_of(payload, 2),
+                                      "format version 2 is no longer read: this build reads version 3");
 }
 
 TEST_F(BankFile, RefusesPayloadsThatAreNotABank) {
@@ -264,7 +267,7 @@ TEST_F(BankFile, RefusesPayloadsThatAreNotABank) {
   Bytes foreign = payload;
   foreign[0] ^= 0xff;  // another type's fingerprint, correctly hashed
   expect_refused<BankFileFormatError>(image_of(foreign), "fingerprint");
-  Bytes cut(payload.begin(), payload.end() - 9);
+  Bytes cut(payload.begin(), payload.end() - 13);  // past the empty width vector, into a
   expect_refused<BankFileFormatError>(image_of(cut), "payload field hypotheses[2].a (byte");
   Bytes padded = payload;
   padded.insert(padded.end(), {1, 2, 3});

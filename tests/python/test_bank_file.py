@@ -221,11 +221,13 @@ def test_bad_files_are_refused_with_the_reason(tmp_path, lcmt_model_bank):
     flipped[len(good) // 2] ^= 0x01
     refused(bytes(flipped), "content hash mismatch, the file is corrupted")
     refused(b"PK\x03\x04" + good[4:], r"wrong magic bytes 'PK\\x03\\x04MAEB'")
-    refused(image(payload, version=3), "unsupported format version 3 .this build reads version 2")
-    refused(image(payload, version=1), "format version 1 is no longer read: this build reads version 2, where the "
-            "estimator settings are typed fields. Regenerate the bank with the design command")
+    refused(image(payload, version=4), "unsupported format version 4 .this build reads version 3")
+    for old in (1, 2):
+        refused(image(payload, version=old), f"format version {old} is no longer read: this build reads version 3, "
+                "where the estimator settings are typed fields and each hypothesis carries the widths of its "
+                "uninformative channels. Regenerate the bank with the design command")
     refused(image(b"\x01" + payload[1:]), "fingerprint")
-    refused(image(payload[:-9]), r"payload field hypotheses\[2\]\.a \(byte \d+\) is 3x3, 72 bytes, but 63 remain")
+    refused(image(payload[:-13]), r"payload field hypotheses\[2\]\.a \(byte \d+\) is 3x3, 72 bytes, but 63 remain")
     # a wrong shape, written by the independent Python LCM encoder
     msg = lcmt_model_bank.decode(payload)
     msg.hypotheses[2].a.rows, msg.hypotheses[2].a.data = 2, msg.hypotheses[2].a.data[:2]

@@ -93,6 +93,6 @@ def load_bank(tuning: str):
 
 def bank_estimator_settings(model_bank) -> dict:
     """The estimator settings a bank's design recommends: the typed fields ``p_min``,
-    ``threshold`` and ``dwell_s`` of the bank file (format version 2, range-checked by the
+    ``threshold`` and ``dwell_s`` of the bank file (since format version 2, range-checked by the
     one C++ loader); mmae-daemon applies the same fields."""
     return dict(model_bank.estimator_settings)

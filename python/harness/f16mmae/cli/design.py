@@ -3,12 +3,14 @@ tune them, write the model-bank file (and optionally the design report)."""
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import time
 
 from ..design.bank import design_bank, write_bank
 from ..design.gains import DesignError
 from ..design.report import write_report
+from ..design.hypotheses import FAILURE_MODELS
 from ..design.schedule import DEFAULT_GRID, ScheduleSpecError, design_schedule, format_spec, parse_grid
 from ..design.tuning import TuningError, load_tuning
 from ..names import DESIGN_ALT_FT, DESIGN_MACH
@@ -25,6 +27,9 @@ of the 79 hypotheses (NONE, 12 single failures, 66 duals: a failed actuator's B 
 failed sensor's H row removed) solve the Riccati equation for the steady-state gain K and
 residual covariance A = H P- H^T + R (eq. 5), with the tuning's pseudonoise (methods 1-4).
 An unstable filter is refused.  Deterministic: the same arguments give the same file.
+--failure-model cover designs hypotheses that cover the failure whatever value it takes: a
+failed surface at an unknown position the filter estimates (a random-walk state in place of
+its lag), a failed sensor's reading uninformative (uniform over its full range).
 """
 
 EXAMPLES = f"""\
@@ -33,6 +38,7 @@ examples:
   f16mmae design --mach 0.4 --alt-ft 20000 --tuning tuned --out bank.f16bank
   f16mmae design --tuning untuned --out untuned.f16bank --report design-report/
   f16mmae design --mach 0.45 --alt-ft 25000 --tuning my_tuning.toml --out off_nominal.f16bank
+  f16mmae design --failure-model cover --out cover.f16bank
   f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
 
@@ -48,7 +54,8 @@ Flight condition: Mach 0.3-0.8, 5,000-35,000 ft (level trim).
 Tunings: 'tuned' (the project's design, from measured residual statistics against the
 truth: design/calibrate.py) and 'untuned' (physical noises only), shipped in
 f16mmae/design/tunings/, or a TOML file of the same layout:
-  name, description, turbulence (none|light|moderate|severe), gust_model (gust_rate|white_gust)
+  name, description, turbulence (none|light|moderate|severe), gust_model (gust_rate|white_gust),
+  failure_model (complete|cover), failed_surface_q (rad^2/s, a failed surface's random walk)
   [method1_qd_longitudinal] u_fps alpha_rad q_rad_s theta_rad     (+ diag Q_d, per frame)
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
   [method3_qd_lateral]      beta_rad p_rad_s r_rad_s phi_rad      (+ diag Q_d, per frame)
@@ -73,6 +80,13 @@ def register(subparsers) -> None:
                    help=f"design altitude in ft, {ALT_FT_RANGE[0]:g}-{ALT_FT_RANGE[1]:g} (default {DESIGN_ALT_FT:g})")
     p.add_argument("--tuning", default="tuned", metavar="NAME|FILE",
                    help="pseudonoise tuning: tuned | untuned | a .toml file (default tuned)")
+    p.add_argument("--failure-model", default=None, metavar="|".join(FAILURE_MODELS),
+                   help="hypotheses of the paper's complete failures, or hypotheses that cover the "
+                        "failure (default: the tuning's failure_model, complete for the shipped ones)")
+    p.add_argument("--failed-sensor-level-q", default=None, metavar="Q",
+                   help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
+                        "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
+                        "its range every frame (default: the tuning's, 0.01)")
     p.add_argument("--out", default=None, metavar="FILE",
                    help="bank file to write (default ./f16mmae_M<mach>_<alt>ft_<tuning>.f16bank)")
     p.add_argument("--report", default=None, metavar="DIR",
@@ -99,6 +113,19 @@ def _run(args) -> int:
         tuning = load_tuning(args.tuning)
     except TuningError as exc:
         raise CliError(f"--tuning: {exc}") from None
+    if args.failure_model is not None:
+        if args.failure_model not in FAILURE_MODELS:
+            raise CliError(f"--failure-model {args.failure_model!r} is not a failure model; valid: "
+                           f"{', '.join(FAILURE_MODELS)}")
+        if args.failure_model != tuning.failure_model:
+            tuning = dataclasses.replace(tuning, name=f"{tuning.name}-{args.failure_model}",
+                                         failure_model=args.failure_model)
+    if args.failed_sensor_level_q is not None:
+        w = number("--failed-sensor-level-q", args.failed_sensor_level_q)
+        if not w >= 0.0 or tuning.failure_model != "cover":
+            raise CliError(f"--failed-sensor-level-q {args.failed_sensor_level_q} must be >= 0 "
+                           "and needs the cover failure model (--failure-model cover)")
+        tuning = dataclasses.replace(tuning, name=f"{tuning.name}-q{w:g}", failed_sensor_level_q=w)
     out = writable_file(args.out or f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}.f16bank", "--out")
     report_dir = writable_dir(args.report, "--report") if args.report else None  # before the design
     t0 = time.perf_counter()

@@ -7,10 +7,13 @@ Pipeline (``design_bank``)::
       -> continuous design model (model.build_model)
       -> exact discretization at FRAME_RATE_HZ: Phi, B_d, Q_d = Van Loan(G Q_c G^T
          + sum_j q_j b_j b_j^T) + diag(method 1, 3);  R = diag(sigma^2 + method 2)
-      -> for each of the 79 hypotheses (NONE, 12 singles, 66 duals; hypotheses.py):
-         DARE -> K, A = H P^- H^T + R (gains.py), unstable filters refused
+      -> for each of the 79 hypotheses (NONE, 12 singles, 66 duals; hypotheses.py, in the
+         tuning's failure model: ``complete``, the paper's, or ``cover``, where a failed
+         surface is a random-walk state discretized per hypothesis and a failed sensor's
+         reading is uninformative): DARE -> K, A = H P^- H^T + R (gains.py), unstable
+         filters refused
       -> core.ModelBank (u_trim, z_trim, h_output = unfailed H, the recommended estimator
-         settings p_min / threshold / dwell_s, metadata JSON) -> file (format version 2)
+         settings p_min / threshold / dwell_s, metadata JSON) -> file (format version 3)
 
 Everything is deterministic: the same (mach, alt_ft, tuning, design procedure, JSBSim) gives
 the same bank file, byte for byte (JSBSim's trim is deterministic). The metadata therefore
@@ -29,7 +32,8 @@ from .. import names
 from ..truth import actuators, sensors
 from .discretize import DiscreteModel, discretize
 from .gains import SteadyStateGains, steady_state_gains
-from .hypotheses import HypothesisModel, all_hypothesis_models
+from .hypotheses import (HypothesisModel, hypothesis_dynamics, hypothesis_model, uninformative_level_q,
+                         uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
 from .tuning import Tuning, load_tuning
 
@@ -90,12 +94,23 @@ class BankDesign:
         import jsbsim
 
         trim = self.linearized.trim
+        tuning_arg = self.tuning.name
+        # `f16mmae design --failure-model M [--failed-sensor-level-q Q]` names it NAME-M[-qQ]
+        weight = f"-q{self.tuning.failed_sensor_level_q:g}"
+        if tuning_arg.endswith(weight):
+            tuning_arg = tuning_arg[:-len(weight)]
+            weight = f" --failed-sensor-level-q {self.tuning.failed_sensor_level_q:g}"
+        else:
+            weight = ""
+        suffix = f"-{self.tuning.failure_model}"
+        if self.tuning.failure_model != "complete" and tuning_arg.endswith(suffix):
+            tuning_arg = f"{tuning_arg[:-len(suffix)]} --failure-model {self.tuning.failure_model}{weight}"
         return {
             "generator": "f16mmae.design",
             "design_version": DESIGN_VERSION,
             "jsbsim_version": jsbsim.__version__,
             "command": (f"f16mmae design --mach {self.mach:g} --alt-ft {self.alt_ft:g} "
-                        f"--tuning {self.tuning.name}"),
+                        f"--tuning {tuning_arg}"),
             "flight_condition": {"mach": self.mach, "alt_ft": self.alt_ft},
             "trim": {"vt_fps": trim.vt_fps, "alpha_rad": trim.alpha_rad,
                      "theta_rad": trim.theta_rad, "throttle": trim.throttle,
@@ -117,27 +132,49 @@ class BankDesign:
         }
 
 
+def continuous_noise(model: ContinuousModel, tuning: Tuning) -> np.ndarray:
+    """(13, 13) ``G Q_c G^T`` plus the method-4 actuator noise (eqs. 6-7)."""
+    q_act = tuning.actuator_strengths()
+    return model.g @ model.qc @ model.g.T + (model.b_airframe * q_act) @ model.b_airframe.T
+
+
 def discrete_design_model(model: ContinuousModel, tuning: Tuning,
                           frame_rate_hz: float) -> tuple[DiscreteModel, np.ndarray]:
     """``(Phi, B_d, Q_d)`` and ``R`` of the no-failure model with the tuning's pseudonoise:
     method 4 enters the continuous noise before discretizing, methods 1/3 add to diag(Q_d),
     method 2 to diag(R)."""
-    q_act = tuning.actuator_strengths()
-    gqg = model.g @ model.qc @ model.g.T + (model.b_airframe * q_act) @ model.b_airframe.T
-    dm = discretize(model.f, model.b, np.eye(names.NX), gqg, 1.0 / frame_rate_hz)
+    dm = discretize(model.f, model.b, np.eye(names.NX), continuous_noise(model, tuning), 1.0 / frame_rate_hz)
     qd = dm.qd + np.diag(tuning.qd_diagonal())
     r = np.diag(model.r_diag + tuning.r_diagonal())
     return DiscreteModel(phi=dm.phi, bd=dm.bd, qd=qd, dt_s=dm.dt_s), r
 
 
-def design_filters(discrete: DiscreteModel, h: np.ndarray, r: np.ndarray,
-                   hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES) -> tuple[FilterDesign, ...]:
-    """Steady-state filter of every hypothesis (DesignError names an unstable one)."""
+def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: DiscreteModel,
+                      hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES) -> list[HypothesisModel]:
+    """Every hypothesis' discrete model in the tuning's failure model (hypotheses.py): the
+    no-failure ``discrete`` with B_d columns / H rows removed, and under ``cover`` a failed
+    surface's random walk discretized for its hypothesis (same pseudonoise on diag(Q_d)) and
+    the failed sensors' uninformative widths."""
     out = []
-    for m in all_hypothesis_models(discrete.phi, discrete.bd, h, hypotheses):
-        out.append(FilterDesign(model=m, gains=steady_state_gains(m.phi, m.h, discrete.qd, r,
-                                                                  name=f"hypothesis {m.name}")))
-    return tuple(out)
+    n_air = names.NX - names.NU
+    gqg = continuous_noise(model, tuning)
+    for name in hypotheses:
+        phi, bd, qd = discrete.phi, discrete.bd, discrete.qd
+        failed_surface = any(c in names.ACTUATORS for c in names.failed_components(name))
+        if tuning.failure_model == "cover" and failed_surface:
+            f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, tuning.failed_surface_q, n_air)
+            dm = discretize(f_k, model.b, np.eye(names.NX), gqg_k, discrete.dt_s)
+            phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal())
+        out.append(hypothesis_model(name, phi, bd, model.h, qd, uninformative_width(name, tuning.failure_model),
+                                    uninformative_level_q(name, tuning.failure_model,
+                                                              tuning.failed_sensor_level_q)))
+    return out
+
+
+def design_filters(models: list[HypothesisModel], r: np.ndarray) -> tuple[FilterDesign, ...]:
+    """Steady-state filter of every hypothesis (DesignError names an unstable one)."""
+    return tuple(FilterDesign(model=m, gains=steady_state_gains(m.phi, m.h, m.qd, r, name=f"hypothesis {m.name}"))
+                 for m in models)
 
 
 def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
@@ -158,7 +195,7 @@ def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
     cont = build_model(linearized.lin, linearized.trim.vt_fps, tuning.turbulence, alt_ft,
                        tuning.gust_model)
     disc, r = discrete_design_model(cont, tuning, frame_rate_hz)
-    filters = design_filters(disc, cont.h, r, hypotheses)
+    filters = design_filters(hypothesis_models(cont, tuning, disc, hypotheses), r)
     return BankDesign(mach=float(mach), alt_ft=float(alt_ft), frame_rate_hz=float(frame_rate_hz),
                       tuning=tuning, linearized=linearized, continuous=cont, discrete=disc, r=r,
                       filters=filters)
@@ -169,7 +206,9 @@ def to_model_bank(design: BankDesign):
     from .. import core
 
     hyps = [core.HypothesisModel(name=f.name, phi=f.model.phi, bd=f.model.bd, h=f.model.h,
-                                 k=f.gains.k, a=f.gains.a) for f in design.filters]
+                                 k=f.gains.k, a=f.gains.a, uninformative_width=f.model.uninformative_width,
+                                 uninformative_level_q=f.model.uninformative_level_q)
+            for f in design.filters]
     return core.ModelBank(
         hyps, state_names=list(names.STATES), input_names=list(names.ACTUATORS),
         measurement_names=list(names.SENSORS),

@@ -1,17 +1,43 @@
 """The failure hypotheses of the bank (paper Sec. II-III, Fig. 2) as changes to the
-no-failure discrete model ``(Phi, B_d, H)``.
+no-failure model, in one of two failure models (``FAILURE_MODELS``, the tuning's
+``failure_model``):
+
+``complete`` (the paper's; one value of each failure):
 
 - Actuator failure j: the column j of ``B_d`` is removed (set to zero). The surface no
   longer answers its command; its first-order lag state stays in the model and, with no
-  input, decays to zero, i.e. to its TRIM deflection -- the paper's "complete" failure
-  (surface held at trim). Zeroing the continuous ``B`` column before discretizing gives
-  exactly the same ``B_d`` (the column of ``B_d`` is ``int e^{F s} ds b_j``), so removing
-  the discrete column is exact.
+  input, decays to zero, i.e. to its TRIM deflection (surface held at trim). Zeroing the
+  continuous ``B`` column before discretizing gives exactly the same ``B_d`` (the column of
+  ``B_d`` is ``int e^{F s} ds b_j``), so removing the discrete column is exact.
 - Sensor failure i: the row i of ``H`` is removed (set to zero). The model then expects
-  that channel to carry only its noise around the trim value (``z_i - z_trim,i = v_i``).
-- A dual hypothesis ``"A+B"`` applies both removals.
+  that channel to carry only its noise around the trim value (``z_i - z_trim,i = v_i``),
+  a Gaussian factor ``N(r_i; 0, R_ii)`` of the likelihood.
 
-``Phi``, ``Q_d`` and ``R`` are the same in every hypothesis.
+``cover`` (the failure whatever value it takes):
+
+- Actuator failure j: the surface sits at an unknown position (held at trim, stuck where it
+  was, hardover) that the filter estimates. Its lag state becomes a random walk: the row of
+  ``F`` is zeroed (``d(delta_j)/dt = w_j`` instead of ``-lambda (delta_j - delta_cmd)``), the
+  ``B`` column is zeroed, and a white ``w_j`` of strength ``failed_surface_q`` (rad^2/s)
+  drives it; ``Phi``, ``B_d`` and ``Q_d`` of that hypothesis are discretized from this
+  ``F`` (``hypothesis_dynamics``), so a stuck or hardover surface is a constant the filter
+  learns, and one held at trim is the constant zero.
+- Sensor failure i: the row i of ``H`` is removed as above, and the reading is declared
+  uninformative about the aircraft: under the hypothesis it is an unknown level anywhere in
+  the sensor's full range ``W_i = FULL_SCALE_i high - low`` (``truth.sensors.FULL_SCALE``,
+  the sensor's specification) plus the sensor's noise -- held at trim, zero, stuck, full
+  scale, biased -- and the level wanders as a random walk of ``q_i = failed_sensor_level_q
+  * NOISE_SIGMA_i^2`` per frame (drifting). The core replaces the channel's Gaussian factor by
+  ``1/W_i`` on the first frame and then by the predictive density of the level's scalar
+  Kalman filter (``cpp/f16mmae/steady_state_filter.h`` derives it), so hypotheses using
+  different numbers of readings are densities over the same seven readings, and a reading
+  held anywhere costs about ``ln(W_i / sqrt(2 pi A_ii))`` (6-7 nats) once. With
+  ``failed_sensor_level_q = 0`` the level has no memory: the reading is uniform over the
+  range every frame, and a reading near trim then costs that every frame, so a sensor failed
+  at or near its trim value is never isolated (docs/results/failure_models.md measures both).
+
+A dual hypothesis ``"A+B"`` applies both changes. ``R`` is the same in every hypothesis; so
+are ``Phi`` and ``Q_d`` except for a ``cover`` actuator hypothesis.
 """
 from __future__ import annotations
 
@@ -20,6 +46,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import names
+from ..truth import sensors
+
+#: The failure models a bank is designed with (module docstring); the first is the paper's.
+FAILURE_MODELS: tuple[str, ...] = ("complete", "cover")
 
 
 @dataclass(frozen=True)
@@ -30,12 +60,65 @@ class HypothesisModel:
     phi: np.ndarray  # (nx, nx)
     bd: np.ndarray   # (nx, nu)
     h: np.ndarray    # (nz, nx)
+    qd: np.ndarray   # (nx, nx) process noise of this hypothesis' filter
+    uninformative_width: np.ndarray  # (nz,) W_i of an uninformative channel, 0 otherwise
+    uninformative_level_q: np.ndarray  # (nz,) level random walk per frame of such a channel
 
 
-def hypothesis_model(name: str, phi: np.ndarray, bd: np.ndarray, h: np.ndarray) -> HypothesisModel:
+def check_failure_model(failure_model: str) -> str:
+    """``failure_model`` if it is one of ``FAILURE_MODELS``, else ValueError naming them."""
+    if failure_model not in FAILURE_MODELS:
+        raise ValueError(f"unknown failure model {failure_model!r}; valid: {', '.join(FAILURE_MODELS)}")
+    return failure_model
+
+
+def sensor_full_range() -> np.ndarray:
+    """(nz,) width of each sensor's full-scale range, ``truth.sensors.FULL_SCALE``."""
+    return np.array([hi - lo for lo, hi in sensors.FULL_SCALE], dtype=float)
+
+
+def uninformative_level_q(name: str, failure_model: str, ratio: float) -> np.ndarray:
+    """(nz,) the level random walk per frame of hypothesis ``name``'s uninformative channels:
+    ``ratio`` times the sensor's noise variance (``truth.sensors.NOISE_SIGMA``) on its failed
+    sensors under ``cover``, zeros otherwise."""
+    noise_var = np.asarray(sensors.NOISE_SIGMA, dtype=float) ** 2
+    return np.where(uninformative_width(name, failure_model) > 0.0, float(ratio) * noise_var, 0.0)
+
+
+def uninformative_width(name: str, failure_model: str) -> np.ndarray:
+    """(nz,) the widths of hypothesis ``name``'s uninformative channels: its failed sensors'
+    full ranges under ``cover``, zeros under ``complete`` (and for sensors it keeps)."""
+    out = np.zeros(names.NZ)
+    if check_failure_model(failure_model) == "cover":
+        full = sensor_full_range()
+        for comp in names.failed_components(name):
+            if comp in names.SENSORS:
+                out[names.SENSORS.index(comp)] = full[names.SENSORS.index(comp)]
+    return out
+
+
+def hypothesis_dynamics(name: str, f: np.ndarray, gqg: np.ndarray, failed_surface_q: float,
+                        n_airframe: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(F_k, GQG_k)`` of the ``cover`` model: each failed actuator's lag state (index
+    ``n_airframe + j``) turned into a random walk of strength ``failed_surface_q``."""
+    f_k = np.array(f, dtype=float, copy=True)
+    gqg_k = np.array(gqg, dtype=float, copy=True)
+    for comp in names.failed_components(name):
+        if comp in names.ACTUATORS:
+            i = n_airframe + names.ACTUATORS.index(comp)
+            f_k[i, :] = 0.0
+            gqg_k[i, i] += failed_surface_q
+    return f_k, gqg_k
+
+
+def hypothesis_model(name: str, phi: np.ndarray, bd: np.ndarray, h: np.ndarray,
+                     qd: np.ndarray | None = None, width: np.ndarray | None = None,
+                     level_q: np.ndarray | None = None) -> HypothesisModel:
     """The model of hypothesis ``name`` (``"NONE"``, ``"LS"``, ``"PIT"``, ``"LS+PIT"``, ...)
-    from the no-failure ``(phi, bd, h)``: failed actuators' B_d columns and failed sensors'
-    H rows set to zero. Raises ValueError naming an unknown component."""
+    from ``(phi, bd, h)`` (the no-failure ones, or a ``cover`` hypothesis' own ``phi``, ``bd``):
+    failed actuators' B_d columns and failed sensors' H rows set to zero; ``qd``, the
+    uninformative widths and trim weights stored as given (zeros by default). Raises ValueError naming an
+    unknown component."""
     bd_k = np.array(bd, dtype=float, copy=True)
     h_k = np.array(h, dtype=float, copy=True)
     for comp in names.failed_components(name):
@@ -43,10 +126,16 @@ def hypothesis_model(name: str, phi: np.ndarray, bd: np.ndarray, h: np.ndarray) 
             bd_k[:, names.ACTUATORS.index(comp)] = 0.0
         else:
             h_k[names.SENSORS.index(comp), :] = 0.0
-    return HypothesisModel(name=name, phi=np.array(phi, dtype=float, copy=True), bd=bd_k, h=h_k)
+    n, m = h_k.shape[1], h_k.shape[0]
+    return HypothesisModel(name=name, phi=np.array(phi, dtype=float, copy=True), bd=bd_k, h=h_k,
+                           qd=np.zeros((n, n)) if qd is None else np.array(qd, dtype=float, copy=True),
+                           uninformative_width=np.zeros(m) if width is None else np.asarray(width, dtype=float),
+                           uninformative_level_q=(np.zeros(m) if level_q is None
+                                                      else np.asarray(level_q, dtype=float)))
 
 
 def all_hypothesis_models(phi: np.ndarray, bd: np.ndarray, h: np.ndarray,
-                          hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES) -> list[HypothesisModel]:
-    """Models of every hypothesis in bank order: NONE, the 12 singles, the 66 duals."""
-    return [hypothesis_model(n, phi, bd, h) for n in hypotheses]
+                          hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES,
+                          qd: np.ndarray | None = None) -> list[HypothesisModel]:
+    """``complete`` models of every hypothesis in bank order: NONE, the 12 singles, the 66 duals."""
+    return [hypothesis_model(n, phi, bd, h, qd) for n in hypotheses]

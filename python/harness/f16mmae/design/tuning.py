@@ -15,7 +15,12 @@ The design model's physical noises (zero-order Dryden gusts, sensor noise) are a
 
 Top-level keys: ``name``, ``description``, ``turbulence`` (gust level the zero-order Dryden
 model is designed for: none | light | moderate | severe), ``gust_model`` (``gust_rate`` or
-``white_gust``, see ``model.py``).  Every variance must be finite and
+``white_gust``, see ``model.py``), ``failure_model`` (``complete``, the paper's, default;
+or ``cover``: a failed surface at an unknown position, a failed sensor uninformative -- see
+``hypotheses.py``), ``failed_surface_q`` (rad^2/s, the strength of the random walk of a
+failed surface under ``cover``; default ``FAILED_SURFACE_Q``) and ``failed_sensor_level_q``
+(the random walk per frame of a failed sensor's unknown level under ``cover``, in units of
+the sensor's noise variance, >= 0; 0: no memory; default ``FAILED_SENSOR_LEVEL_Q``).  Every variance must be finite and
 >= 0; an unknown key, a wrong type or a negative value is refused with a message naming it.
 Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/tunings/``.
 
@@ -38,6 +43,7 @@ import numpy as np
 from .. import names
 from ..errors import F16mmaeError
 from ..names import TURBULENCE_LEVELS
+from .hypotheses import FAILURE_MODELS
 
 TUNINGS_DIR = Path(__file__).with_name("tunings")
 GUST_MODELS: tuple[str, ...] = ("gust_rate", "white_gust")
@@ -54,8 +60,16 @@ SECTIONS: dict[str, tuple[str, ...]] = {
 #: [estimator] key -> (lower, upper) bound of its valid range (open; closed for dwell_s).
 ESTIMATOR_KEYS: dict[str, tuple[float, float]] = {
     "p_min": (0.0, 0.01), "threshold": (0.5, 1.0), "dwell_s": (0.0, 10.0)}
-TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_model") + tuple(SECTIONS)
+TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_model", "failure_model",
+                                    "failed_surface_q", "failed_sensor_level_q") + tuple(SECTIONS)
                                    + ("estimator",))
+#: Default random-walk strength of a failed surface's position under ``cover`` (rad^2/s):
+#: about 1 deg of wander in 1 s (measured choice: docs/results/failure_models.md).
+FAILED_SURFACE_Q = 3.0e-4
+#: Default random walk per frame of a failed sensor's level under ``cover``, in units of the
+#: sensor's noise variance (the level filter's gain is then about its square root, 0.1);
+#: measured choice, docs/results/failure_models.md.
+FAILED_SENSOR_LEVEL_Q = 0.01
 
 
 class TuningError(F16mmaeError, ValueError):
@@ -70,6 +84,9 @@ class Tuning:
     description: str = ""
     turbulence: str = "light"
     gust_model: str = "gust_rate"
+    failure_model: str = "complete"
+    failed_surface_q: float = FAILED_SURFACE_Q
+    failed_sensor_level_q: float = FAILED_SENSOR_LEVEL_Q
     qd_longitudinal: dict[str, float] = field(default_factory=dict)  # method 1
     r_pseudonoise: dict[str, float] = field(default_factory=dict)    # method 2
     qd_lateral: dict[str, float] = field(default_factory=dict)       # method 3
@@ -99,8 +116,12 @@ class Tuning:
 
     def to_dict(self) -> dict:
         """Plain dict in the TOML layout (for the bank's metadata)."""
-        return {"name": self.name, "description": self.description,
-                "turbulence": self.turbulence, "gust_model": self.gust_model,
+        out = {"name": self.name, "description": self.description,
+               "turbulence": self.turbulence, "gust_model": self.gust_model}
+        if self.failure_model != "complete":  # a paper-model tuning keeps its metadata (and hash)
+            out.update(failure_model=self.failure_model, failed_surface_q=self.failed_surface_q,
+                       failed_sensor_level_q=self.failed_sensor_level_q)
+        return {**out,
                 "method1_qd_longitudinal": dict(self.qd_longitudinal),
                 "method2_r": dict(self.r_pseudonoise),
                 "method3_qd_lateral": dict(self.qd_lateral),
@@ -159,6 +180,18 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
     if gust_model not in GUST_MODELS:
         raise TuningError(f"{source}: gust_model {gust_model!r} is not a model; valid: "
                           f"{', '.join(GUST_MODELS)}")
+    failure_model = data.get("failure_model", "complete")
+    if failure_model not in FAILURE_MODELS:
+        raise TuningError(f"{source}: failure_model {failure_model!r} is not a failure model; valid: "
+                          f"{', '.join(FAILURE_MODELS)}")
+    walk_q = data.get("failed_surface_q", FAILED_SURFACE_Q)
+    if isinstance(walk_q, bool) or not isinstance(walk_q, (int, float)) or not (math.isfinite(walk_q)
+                                                                                and walk_q > 0.0):
+        raise TuningError(f"{source}: failed_surface_q = {walk_q!r} must be a finite number > 0 (rad^2/s)")
+    level_q = data.get("failed_sensor_level_q", FAILED_SENSOR_LEVEL_Q)
+    if isinstance(level_q, bool) or not isinstance(level_q, (int, float)) or not (math.isfinite(level_q)
+                                                                                  and level_q >= 0.0):
+        raise TuningError(f"{source}: failed_sensor_level_q = {level_q!r} must be a finite number >= 0")
     sections = {}
     for section, keys in SECTIONS.items():
         table = data.get(section, {})
@@ -179,6 +212,8 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
         sections[section] = values
     estimator = _estimator_settings(data.get("estimator", {}), source)
     return Tuning(name=name, description=description, turbulence=turbulence, gust_model=gust_model,
+                  failure_model=failure_model, failed_surface_q=float(walk_q),
+                  failed_sensor_level_q=float(level_q),
                   qd_longitudinal=sections["method1_qd_longitudinal"],
                   r_pseudonoise=sections["method2_r"],
                   qd_lateral=sections["method3_qd_lateral"],

@@ -1,0 +1,211 @@
+"""Hypotheses that cover the failure (issue 13 item 1): the core's likelihood of a hypothesis
+with uninformative channels against SciPy's multivariate normal times a uniform density (and
+times a mixture of a normal at trim and a uniform), the
+model checks that guard it, the bank file carrying the widths, and the ``cover`` design (a
+failed surface as a random walk, a failed sensor uninformative over its full range)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy import stats
+from scipy.linalg import expm
+
+from f16mmae import core, names
+from f16mmae.design import bank, hypotheses
+from f16mmae.design.gains import steady_state_gains
+from f16mmae.design.tuning import TuningError, load_tuning, tuning_from_dict
+from f16mmae.truth import sensors
+
+
+def small_models(width, level_q=None):
+    """Three filters on a 3-state, 3-sensor system: NONE, sensor 1 failed (H row 1 removed)
+    with the given widths, and sensor 2 failed in the paper's Gaussian form."""
+    rng = np.random.default_rng(7)
+    phi = np.diag([0.9, 0.8, 0.7]) + 0.05 * rng.standard_normal((3, 3))
+    h = np.array([[1.0, 0.2, 0.0], [0.0, 1.0, 0.3], [0.4, 0.0, 1.0]])
+    qd, r = np.diag([0.02, 0.03, 0.01]), np.diag([0.1, 0.2, 0.05])
+    bd = np.eye(3)[:, :2]
+    out = []
+    for failed, w in ((None, None), (1, width), (2, None)):
+        hk = h.copy()
+        if failed is not None:
+            hk[failed] = 0.0
+        g = steady_state_gains(phi, hk, qd, r)
+        out.append(core.FilterModel(phi=phi, bd=bd, h=hk, k=g.k, a=g.a, uninformative_width=w,
+                                    uninformative_level_q=level_q if failed == 1 else None))
+    return out
+
+
+def level_predictive_variance(q, a_jj):
+    """s of a random-walk level observed in noise a_jj: the scalar Riccati recursion iterated
+    to its fixed point (independent of the core's closed form)."""
+    p = a_jj
+    for _ in range(10_000):
+        p = p * a_jj / (p + a_jj) + q
+    return p + a_jj
+
+
+@pytest.mark.parametrize("level_q", [0.0, 0.05])
+@pytest.mark.parametrize("strip", [False, True])
+def test_likelihood_is_normal_times_uniform_then_the_level(strip, level_q):
+    width = np.array([0.0, 7.5, 0.0])
+    models = small_models(width, np.array([0.0, level_q, 0.0]))
+    fb = core.FilterBank(models, p_min=1e-6, strip_leading_term=strip)
+    frames = [np.array([0.3, 2.9, -0.2]), np.array([0.1, 3.3, 0.25])]
+    u = np.array([0.2, -0.1])
+    for n, z in enumerate(frames):
+        fb.update(z)
+        got, res = fb.log_likelihoods, np.asarray(fb.residuals)
+        for k, m in enumerate(models):
+            a, r = np.asarray(m.a), res[k]
+            keep = [j for j in range(3) if not m.uninformative_width[j] > 0]
+            full = stats.multivariate_normal(np.zeros(len(keep)), a[np.ix_(keep, keep)]).logpdf(r[keep])
+            for j in range(3):
+                if m.uninformative_width[j] > 0:
+                    assert r[j] == z[j]  # H row zero: the reading itself (perturbation)
+                    if n == 0 or m.uninformative_level_q[j] == 0:  # level unknown: uniform over W
+                        full += stats.uniform(loc=z[j] - 1.0, scale=m.uninformative_width[j]).logpdf(z[j])
+                    else:  # the level set by the first frame, then its predictive density or a jump
+                        s_j = level_predictive_variance(m.uninformative_level_q[j], a[j, j])
+                        eps = 1e-3
+                        full += np.log((1 - eps) * stats.norm(0.0, np.sqrt(s_j)).pdf(z[j] - frames[0][j])
+                                       + eps * stats.uniform(loc=z[j] - 1.0, scale=m.uninformative_width[j]).pdf(z[j]))
+            # the stripped form drops (2 pi)^{-m/2} |A|^{-1/2} of the filter's whole A
+            expect = full + (1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] if strip else 0.0)
+            assert got[k] == pytest.approx(expect, rel=1e-9, abs=1e-9), (n, k)
+        fb.propagate(u)
+
+
+def test_a_level_that_jumps_restarts_at_the_reading():
+    models = small_models(np.array([0.0, 7.5, 0.0]), np.array([0.0, 0.05, 0.0]))
+    fb = core.FilterBank(models, p_min=1e-6)
+    zs = [np.array([0.3, 0.2, -0.2]), np.array([0.3, 3.5, -0.2]), np.array([0.3, 3.5, -0.2])]
+    out = []
+    for z in zs:
+        fb.step(z, np.zeros(2))
+        out.append(fb.log_likelihoods[1])
+    a11 = float(np.asarray(models[1].a)[1, 1])
+    s_j = level_predictive_variance(0.05, a11)
+    g = (s_j - a11) / s_j
+    # frame 2: a jump of 3.3 against s_j: the uniform branch (eps / W) is far the likelier ...
+    stay = np.log(1 - 1e-3) + stats.norm(0, np.sqrt(s_j)).logpdf(3.3)
+    jump = np.log(1e-3 / 7.5)
+    assert jump > stay
+    # ... so frame 3 sees the level at 3.5 (restarted), not at 0.2 + g * 3.3
+    r3 = np.asarray(fb.residuals)[1]
+    at_restart = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_j)).pdf(r3[1] - 3.5) + 1e-3 / 7.5)
+    tracked = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_j)).pdf(r3[1] - (0.2 + g * 3.3)) + 1e-3 / 7.5)
+    a = np.asarray(models[1].a)
+    keep = [0, 2]
+    gauss = stats.multivariate_normal(np.zeros(2), a[np.ix_(keep, keep)]).logpdf(r3[keep]) + \
+        1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1]
+    assert out[2] == pytest.approx(gauss + at_restart, abs=1e-9)
+    assert abs(at_restart - tracked) > 1.0
+
+
+def test_a_new_filter_forgets_the_level():
+    models = small_models(np.array([0.0, 7.5, 0.0]), np.array([0.0, 0.05, 0.0]))
+    fb = core.FilterBank(models, p_min=1e-6)
+    fb.step(np.array([0.3, 2.9, -0.2]), np.zeros(2))
+    fb.reset()
+    fb.update(np.array([0.3, -4.0, -0.2]))  # first frame again: uniform, whatever the jump
+    first = core.FilterBank(models, p_min=1e-6)
+    first.update(np.array([0.3, -4.0, -0.2]))
+    assert fb.log_likelihoods[1] == first.log_likelihoods[1]
+
+
+def test_uninformative_reading_leaves_the_likelihood_unchanged_whatever_it_reads():
+    """With no trim weight the reading does not enter at all."""
+    models = small_models(np.array([0.0, 7.5, 0.0]))
+    out = []
+    for reading in (0.0, 3.0, -3.5, 1e3):
+        fb = core.FilterBank(models, p_min=1e-6)
+        fb.update(np.array([0.3, reading, -0.2]))
+        out.append(fb.log_likelihoods[1])
+    assert out == pytest.approx([out[0]] * 4, abs=0.0)
+
+
+def test_widths_are_checked():
+    (none, failed, _) = small_models(np.array([0.0, 7.5, 0.0]))
+    with pytest.raises(ValueError, match="channel 0 is uninformative .* h row is not zero"):
+        core.FilterModel(phi=none.phi, bd=none.bd, h=none.h, k=none.k, a=none.a,
+                         uninformative_width=np.array([1.0, 0.0, 0.0]))
+    for bad, msg in (([0.0, -1.0, 0.0], r"uninformative_width\[1\] must be finite and >= 0"),
+                     ([0.0, np.inf, 0.0], r"uninformative_width\[1\] must be finite")):
+        with pytest.raises(ValueError, match=msg):
+            core.FilterModel(phi=failed.phi, bd=failed.bd, h=failed.h, k=failed.k, a=failed.a,
+                             uninformative_width=np.array(bad))
+    for bad_w, msg in (([0.0, -1.0, 0.0], r"uninformative_level_q\[1\] must be finite and >= 0"),
+                       ([0.5, 0.0, 0.0], r"uninformative_level_q\[0\] .* 0 unless the channel is uninformative")):
+        with pytest.raises(ValueError, match=msg):
+            core.FilterModel(phi=failed.phi, bd=failed.bd, h=failed.h, k=failed.k, a=failed.a,
+                             uninformative_width=np.array([0.0, 7.5, 0.0]), uninformative_level_q=np.array(bad_w))
+    a = np.array(failed.a)
+    a[0, 1] = a[1, 0] = 1e-3
+    with pytest.raises(ValueError, match="A couples it to channel 0"):
+        core.FilterModel(phi=failed.phi, bd=failed.bd, h=failed.h, k=failed.k, a=a,
+                         uninformative_width=np.array([0.0, 7.5, 0.0]))
+
+
+@pytest.fixture(scope="module")
+def cover_design():
+    tuning = tuning_from_dict({**load_tuning("tuned").to_dict(), "failure_model": "cover",
+                               "failed_surface_q": 3e-4}, default_name="cover")
+    return bank.design_bank(0.4, 20_000.0, tuning, hypotheses=names.SINGLE_HYPOTHESES + ("LS+PIT",))
+
+
+def test_cover_sensor_hypothesis_is_uninformative_over_the_full_range(cover_design):
+    full = [hi - lo for lo, hi in sensors.FULL_SCALE]
+    for name in names.SENSORS:
+        w = cover_design.filter(name).model.uninformative_width
+        j = names.SENSORS.index(name)
+        assert w[j] == full[j] and np.count_nonzero(w) == 1
+        t = cover_design.filter(name).model.uninformative_level_q
+        assert t[j] == pytest.approx(0.01 * sensors.NOISE_SIGMA[j] ** 2, rel=1e-15) and np.count_nonzero(t) == 1
+    assert not np.any(cover_design.filter("LS").model.uninformative_width)
+    assert np.count_nonzero(cover_design.filter("LS+PIT").model.uninformative_width) == 1
+
+
+def test_cover_failed_surface_is_a_random_walk(cover_design):
+    dt = 1.0 / cover_design.frame_rate_hz
+    none = cover_design.filter("NONE").model
+    n_air = names.NX - names.NU
+    for name in ("LS", "RUD", "LS+PIT"):
+        m = cover_design.filter(name).model
+        i = n_air + names.ACTUATORS.index(names.failed_components(name)[0])
+        # independent: the matrix exponential of F with the surface's row removed
+        f = cover_design.continuous.f.copy()
+        f[i, :] = 0.0
+        assert np.allclose(m.phi, expm(f * dt), atol=1e-12)
+        assert m.phi[i, i] == pytest.approx(1.0, abs=1e-15) and none.phi[i, i] < 0.75
+        assert not np.any(m.bd[:, names.ACTUATORS.index(names.failed_components(name)[0])])
+        # the walk's noise: q dt on its diagonal, beyond the no-failure model's (zero there)
+        assert m.qd[i, i] - none.qd[i, i] == pytest.approx(3e-4 * dt, rel=1e-9)
+    # sensors keep the no-failure dynamics
+    assert np.array_equal(cover_design.filter("PIT").model.phi, none.phi)
+
+
+def test_cover_bank_round_trips_its_widths(cover_design, tmp_path):
+    loaded = bank.write_bank(cover_design, tmp_path / "cover.f16bank")
+    for h, f in zip(loaded.hypotheses, cover_design.filters):
+        assert np.array_equal(h.uninformative_width, f.model.uninformative_width)
+        assert np.array_equal(h.uninformative_level_q, f.model.uninformative_level_q)
+    assert '"failure_model":"cover"' in core.load_bank(str(tmp_path / "cover.f16bank")).metadata
+
+
+def test_complete_design_has_no_uninformative_channel():
+    assert not load_tuning("tuned").failure_model != "complete"
+    d = bank.design_bank(0.4, 20_000.0, "tuned", hypotheses=("NONE", "PIT", "LS"))
+    assert not any(np.any(f.model.uninformative_width) for f in d.filters)
+    assert np.array_equal(d.filter("LS").model.phi, d.filter("NONE").model.phi)
+
+
+def test_tuning_refuses_a_bad_failure_model():
+    base = load_tuning("tuned").to_dict()
+    with pytest.raises(TuningError, match="failure_model 'partial' is not a failure model; valid: complete, cover"):
+        tuning_from_dict({**base, "failure_model": "partial"})
+    with pytest.raises(TuningError, match="failed_surface_q = -1 must be a finite number > 0"):
+        tuning_from_dict({**base, "failure_model": "cover", "failed_surface_q": -1})
+    with pytest.raises(TuningError, match=r"failed_sensor_level_q = -1 must be a finite number >= 0"):
+        tuning_from_dict({**base, "failure_model": "cover", "failed_sensor_level_q": -1})
+    assert hypotheses.FAILURE_MODELS == ("complete", "cover")

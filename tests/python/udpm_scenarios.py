@@ -348,3 +348,19 @@ def test_hil_command_starts_its_own_daemon(capsys):
     assert "mmae-daemon: ready" in out and "64 updated" in out
     assert "p_min 1e-09" in out  # the bank's recommended settings, as in process
     assert "in-process run: max |probability difference| = 0" in out
+
+
+def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
+    """mmae-daemon runs a scheduled bank (a small real grid) over LCM, scheduling on the
+    sensor frames' air data, and the lockstep flight between its nodes equals the in-process
+    run exactly."""
+    sched = tmp_path / "small.f16sched"
+    assert main(["design", "--schedule", "mach=0.4/0.5,alt=20000", "--workers", "2", "--out", str(sched)]) == 0
+    capsys.readouterr()
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
+               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5",
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}S_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    assert "mmae-daemon: ready" in out and "128 updated" in out and "0 air data rejected" in out
+    assert "in-process run: max |probability difference| = 0 (identical declarations)" in out

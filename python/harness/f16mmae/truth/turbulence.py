@@ -80,13 +80,16 @@ class GustBurst:
     @classmethod
     def parse(cls, text: str) -> "GustBurst":
         """``LEVEL@START+DURATION`` (e.g. ``severe@3.0+2.0``); ValueError naming the format."""
+        form = (f"expected LEVEL@START+DURATION with LEVEL one of {', '.join(TURBULENCE_LEVELS)} "
+                f"and times in s, e.g. severe@3.0+2.0")
+        level, at, rest = str(text).partition("@")
+        start, plus, duration = rest.partition("+")
+        if not at or not plus:
+            raise ValueError(f"gust burst {text!r}: {form}")
         try:
-            level, rest = str(text).split("@", 1)
-            start, duration = rest.split("+", 1)
             return cls(level.strip(), float(start), float(duration))
         except ValueError as exc:
-            raise ValueError(f"gust burst {text!r}: expected LEVEL@START+DURATION with LEVEL one of "
-                             f"{', '.join(TURBULENCE_LEVELS)} and times in s ({exc})") from None
+            raise ValueError(f"gust burst {text!r}: {form} ({exc})") from None
 
     def to_dict(self) -> dict:
         return {"level": self.level, "start_s": self.start_s, "duration_s": self.duration_s}

@@ -59,6 +59,7 @@
 #include "f16mmae/air_data.h"
 #include "f16mmae/declarer.h"
 #include "f16mmae/filter_bank.h"
+#include "f16mmae/maneuver_kinematics.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
 #include "f16mmae/trim_tracker.h"
@@ -86,6 +87,7 @@ struct HierarchicalOptions {
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
   ScheduleOptions schedule;   // a scheduled bank: interpolate or nearest (scheduled_filters.h)
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
+  ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   int history_capacity = 1024;
 };
 
@@ -155,7 +157,18 @@ class HierarchicalBank {
   bool propagate(const UVector& u_abs) noexcept {
     u_pert_.noalias() = u_abs - u_trim_;
     u_pert_ -= du_;
+    if (maneuver_.enabled()) {
+      const int v = maneuver_.vel_index(), a = maneuver_.aoa_index();
+      maneuver_.forcing(z_trim_(v) + dz_(v), z_trim_(a) + dz_(a), bank_.blended_state(), x_force_);
+    }
     const bool ok = bank_.propagate(u_pert_);
+    if (ok && maneuver_.enabled()) {
+      for (int k = 0; k < size(); ++k) {
+        x_shift_ = bank_.prior(k);
+        x_shift_ += x_force_;
+        bank_.set_prior(k, x_shift_);
+      }
+    }
     if (ok && trim_tracker_.options().enabled()) {
       u_pert_.noalias() = u_abs - u_trim_;
       trim_tracker_.after_propagate(u_pert_);
@@ -317,6 +330,7 @@ class HierarchicalBank {
         level1_(std::move(b.level1)),
         online_(b.level0),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz()),
+        maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
@@ -335,6 +349,8 @@ class HierarchicalBank {
     du_ = UVector::Zero(u_trim_.size());
     dz_ = ZVector::Zero(z_trim_.size());
     scratch_ = storage_[0];
+    x_shift_ = XVector::Zero(mb.nx());
+    x_force_ = XVector::Zero(mb.nx());
     if (mb.schedule) {
       sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_, mb.frame_rate_hz);
       if (sched_.node_filter(0, 0).nx() != mb.nx() ||
@@ -433,7 +449,8 @@ class HierarchicalBank {
   ZVector z_trim_, z_pert_, dz_;
   UVector u_trim_, u_pert_, du_;
   TrimTracker<NU, NZ> trim_tracker_;
-  XVector x_shift_;
+  ManeuverKinematics maneuver_;
+  XVector x_shift_, x_force_;
   Schedule sched_;
   Hypothesis scratch_;   // a scheduled filter on its way on line at a hierarchical switch
   std::vector<Declaration> history_;

@@ -82,6 +82,8 @@ class CampaignConfig:
     p_min: float | None = None
     #: The estimator's on-line turbulence adaptation (core.HierarchicalBank adapt_turbulence).
     adapt_turbulence: bool = False
+    #: The maneuver kinematics in the filters' propagation (core.HierarchicalBank maneuver_kinematics).
+    maneuver_kinematics: bool = False
     #: Trim tracking (cpp/f16mmae/trim_tracker.h): its time constant (s; None = off) and
     #: freeze probability (None: the core's 0.05).
     trim_time_constant_s: float | None = None
@@ -111,6 +113,8 @@ class CampaignConfig:
         out = {k: getattr(self, k) for k in ESTIMATOR_SETTINGS if getattr(self, k) is not None}
         if self.adapt_turbulence:
             out["adapt_turbulence"] = True
+        if self.maneuver_kinematics:
+            out["maneuver_kinematics"] = True
         return out
 
     def dither_spec(self) -> DitherSpec:

@@ -56,6 +56,7 @@
 // declarations_dropped()).
 #pragma once
 
+#include "f16mmae/actuator_limits.h"
 #include "f16mmae/air_data.h"
 #include "f16mmae/declarer.h"
 #include "f16mmae/filter_bank.h"
@@ -88,6 +89,7 @@ struct HierarchicalOptions {
   ScheduleOptions schedule;   // a scheduled bank: interpolate or nearest (scheduled_filters.h)
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
+  ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   int history_capacity = 1024;
 };
 
@@ -114,6 +116,7 @@ class HierarchicalBank {
     const std::int64_t frame = frame_++;
     z_pert_.noalias() = z_abs - z_trim_;
     z_pert_ -= dz_;
+    if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
     const int d = declarer_.update(bank_.probabilities());
     int hypothesis = -1;
@@ -154,7 +157,9 @@ class HierarchicalBank {
     if (frame_ > 0) shift_states(x_before - sched_.x_trim());  // before the first frame x = 0 is the trim
     apply_trims();
   }
-  bool propagate(const UVector& u_abs) noexcept {
+  bool propagate(const UVector& u_in) noexcept {
+    actuators_.effective(u_in, u_eff_);   // u_in itself unless actuator limits are on
+    const UVector& u_abs = u_eff_;
     u_pert_.noalias() = u_abs - u_trim_;
     u_pert_ -= du_;
     if (maneuver_.enabled()) {
@@ -195,6 +200,7 @@ class HierarchicalBank {
     air_data_ = design_air_data_;
     air_data_rejected_ = 0;
     trim_tracker_.reset();
+    actuators_.reset();
     du_.setZero();
     dz_.setZero();
     if (sched_.active()) {
@@ -331,6 +337,7 @@ class HierarchicalBank {
         online_(b.level0),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz()),
         maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
+        actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
@@ -351,6 +358,7 @@ class HierarchicalBank {
     scratch_ = storage_[0];
     x_shift_ = XVector::Zero(mb.nx());
     x_force_ = XVector::Zero(mb.nx());
+    u_eff_ = UVector::Zero(mb.nu());
     if (mb.schedule) {
       sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_, mb.frame_rate_hz);
       if (sched_.node_filter(0, 0).nx() != mb.nx() ||
@@ -450,6 +458,8 @@ class HierarchicalBank {
   UVector u_trim_, u_pert_, du_;
   TrimTracker<NU, NZ> trim_tracker_;
   ManeuverKinematics maneuver_;
+  ActuatorLimits<NU> actuators_;
+  UVector u_eff_;
   XVector x_shift_, x_force_;
   Schedule sched_;
   Hypothesis scratch_;   // a scheduled filter on its way on line at a hierarchical switch

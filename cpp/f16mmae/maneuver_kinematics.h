@@ -70,7 +70,13 @@ namespace f16mmae {
 
 struct ManeuverOptions {
   bool kinematics = false;   // put the kinematic/gravity remainder into the propagation
+  double tempering_g = 0.0;  // n_ref of the load-factor tempering (g); 0 = off
   bool enabled() const noexcept { return kinematics; }
+  bool tempering() const noexcept { return tempering_g > 0.0; }
+  void validate() const {
+    if (!(tempering_g >= 0.0 && std::isfinite(tempering_g)))
+      throw std::invalid_argument("maneuver: tempering_g must be >= 0 g (0 = off), got " + std::to_string(tempering_g));
+  }
 };
 
 class ManeuverKinematics {
@@ -86,6 +92,8 @@ class ManeuverKinematics {
   ManeuverKinematics(const ManeuverOptions& options, const std::vector<std::string>& state_names,
                      const std::vector<std::string>& measurement_names, double frame_rate_hz)
       : options_(options), dt_(1.0 / frame_rate_hz) {
+    options.validate();
+    if (options.tempering()) az_ = find(measurement_names, "AZ", "measurement");
     if (!options.enabled()) return;
     static const char* const kStates[kN] = {"u_fps", "alpha_rad", "q_rad_s", "theta_rad",
                                             "beta_rad", "p_rad_s", "r_rad_s", "phi_rad"};
@@ -95,6 +103,14 @@ class ManeuverKinematics {
   }
 
   bool enabled() const noexcept { return options_.enabled(); }
+  bool tempering() const noexcept { return options_.tempering(); }
+  // The load-factor tempering's likelihood scale s_m = 1 + (dn / n_ref)^2 for the bank's
+  // estimated measurement perturbation z_hat (dn = its AZ entry, g; header).
+  template <class Z>
+  double tempering_scale(const Z& z_hat_perturbation) const noexcept {
+    const double x = z_hat_perturbation(az_) / options_.tempering_g;
+    return 1.0 + x * x;
+  }
   const ManeuverOptions& options() const noexcept { return options_; }
   int vel_index() const noexcept { return vel_; }
   int aoa_index() const noexcept { return aoa_; }
@@ -198,7 +214,7 @@ class ManeuverKinematics {
   ManeuverOptions options_;
   double dt_ = 0.0;
   std::array<int, kN> state_index_{};
-  int vel_ = 0, aoa_ = 1;
+  int vel_ = 0, aoa_ = 1, az_ = 3;
   Vec x0_ = Vec::Constant(std::nan("")), g0_ = Vec::Zero();   // g and J at the last x0
   Mat j0_ = Mat::Zero();
 };

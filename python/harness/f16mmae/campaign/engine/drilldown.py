@@ -22,8 +22,10 @@ from collections.abc import Callable, Iterable
 FLAGS: tuple[str, ...] = ("false_alarm", "transient_wrong")
 _ESTIMATOR_OPTIONS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min",
                       "trim_time_constant_s": "--trim-tracking",
-                      "trim_freeze_probability": "--trim-freeze-probability"}
-_ESTIMATOR_SWITCHES = {"adapt_turbulence": "--adapt-turbulence", "maneuver_kinematics": "--maneuver-kinematics"}
+                      "trim_freeze_probability": "--trim-freeze-probability",
+                      "maneuver_tempering_g": "--maneuver-tempering"}
+_ESTIMATOR_SWITCHES = {"adapt_turbulence": "--adapt-turbulence", "maneuver_kinematics": "--maneuver-kinematics",
+                        "actuator_limits": "--actuator-limits"}
 
 
 def is_clean(record: dict) -> bool:

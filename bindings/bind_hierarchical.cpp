@@ -178,8 +178,14 @@ auto prop(F f) {
 // from reset() pass after pass for at least min_time_s and 3 passes, timed in C++. Returns
 // (seconds per frame of the fastest pass, slowest single frame of the last pass in seconds).
 py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
-                                  double min_time_s, const std::string& schedule_mode) {
+                                  double min_time_s, const std::string& schedule_mode, bool maneuver_kinematics,
+                                  double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
+                                  const std::vector<double>& actuator_position_limits_rad) {
   HierarchicalOptions o;
+  o.maneuver.kinematics = maneuver_kinematics;
+  o.maneuver.tempering_g = maneuver_tempering_g;
+  o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
+  o.actuators.position_limit_rad = actuator_position_limits_rad;
   o.bank.p_min = bank.estimator.p_min;
   o.declarer.threshold = bank.estimator.threshold;
   o.declarer.dwell_s = bank.estimator.dwell_s;
@@ -232,9 +238,12 @@ F16HierarchicalBank* f16_hierarchical_bank(py::handle hierarchical_bank) {
 void bind_hierarchical(py::module_& m) {
   m.def("_bench_hierarchical_loop", &bench_hierarchical_loop, py::arg("bank"), py::arg("z"), py::arg("u"),
         py::arg("air_data") = py::none(), py::arg("min_time_s") = 0.2, py::arg("schedule_mode") = "interpolate",
+        py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
+        py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
+        py::arg("actuator_position_limits_rad") = std::vector<double>{},
         "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F16HierarchicalBank\n"
         "over frames z (N,7), u (N,5), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
-        "given, timed in C++ (f16mmae.bench).");
+        "given, timed in C++ (f16mmae.bench); the maneuver options as core.HierarchicalBank's.");
   py::class_<PyHierarchicalBank>(m, "HierarchicalBank", R"doc(
 The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 

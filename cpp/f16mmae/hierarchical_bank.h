@@ -167,7 +167,7 @@ class HierarchicalBank {
       maneuver_.forcing(z_trim_(v) + dz_(v), z_trim_(a) + dz_(a), bank_.blended_state(), x_force_);
     }
     const bool ok = bank_.propagate(u_pert_);
-    if (ok && maneuver_.enabled()) {
+    if (ok && maneuver_.enabled() && x_force_.allFinite()) {   // (a state far outside the flight envelope: none)
       for (int k = 0; k < size(); ++k) {
         x_shift_ = bank_.prior(k);
         x_shift_ += x_force_;

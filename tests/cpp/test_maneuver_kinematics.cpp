@@ -2,8 +2,10 @@
 // differences of g, the remainder of a steady level turn against its hand-derived values,
 // the remainder second order, the bank's propagation moved by exactly dt R of its blended
 // state, off bit-identical, a bank without the airframe names refused by name, and no heap
-// allocation in the F-16-sized step with it on (global operator new is counted here).
+// allocation in the F-16-sized step with it on (global operator new is counted here); the
+// actuator limits by hand (actuator_limits.h) and the load-factor tempering of the likelihoods.
 #include "f16mmae/hierarchical_bank.h"
+#include "f16mmae/actuator_limits.h"
 #include "f16mmae/maneuver_kinematics.h"
 
 #include "allocation_counter.h"
@@ -11,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -181,8 +184,12 @@ TEST(ManeuverKinematics, F16SizedStepWithKinematicsAllocatesNothing) {
   std::vector<Eigen::Matrix<double, 5, 1>> u;
   for (int i = 0; i < 640; ++i) {
     const std::vector<std::string> failed = i >= 64 ? std::vector<std::string>{"PIT"} : std::vector<std::string>{};
-    const Eigen::VectorXd du = test::dither(5, i, 64.0);
-    z.push_back(truth.measure(failed) + mb.z_trim);
+    // The synthetic plant is no airframe: its states fed through the kinematic terms grow
+    // without bound at the usual dither, so the dither is small here.
+    const Eigen::VectorXd du = 0.01 * test::dither(5, i, 64.0);
+    Eigen::Matrix<double, 7, 1> zi = truth.measure(failed) + mb.z_trim;
+    if (i >= 64) zi(2) += 0.02;   // the failed pitch-rate gyro reads off: a sure declaration
+    z.push_back(zi);
     u.push_back(du + mb.u_trim);
     truth.advance(du, failed);
   }
@@ -190,5 +197,125 @@ TEST(ManeuverKinematics, F16SizedStepWithKinematicsAllocatesNothing) {
   for (std::size_t i = 0; i < z.size(); ++i) hb.step(z[i], u[i]);
   const long long after = f16mmae::testing::allocation_count();
   EXPECT_EQ(after - before, 0);
+  EXPECT_EQ(hb.rejected_frames(), 0);
   EXPECT_FALSE(hb.declarations().empty());   // the switch to level 1 happened inside the count
+}
+
+// ---- actuator limits (actuator_limits.h) ----------------------------------------------------
+
+namespace {
+
+// One input driving a lag state (state 1) and, within the frame, another state (state 0).
+struct LagModel {
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(2, 2), bd = Eigen::MatrixXd::Zero(2, 1);
+  explicit LagModel(double a) {
+    phi << 0.9, 0.05, 0.0, a;
+    bd << 0.01, 1.0 - a;
+  }
+};
+
+}  // namespace
+
+TEST(ActuatorLimits, InsideTheLimitsTheCommandIsUnchanged) {
+  const LagModel m(0.7293);
+  ActuatorLimitOptions o{{1.0}, {0.4}, 2};
+  ActuatorLimits<1> lim(o, m.phi, m.bd, 64.0);
+  Eigen::Matrix<double, 1, 1> u, e;
+  for (int i = 0; i < 200; ++i) {
+    u << 0.01 * std::sin(0.3 * i);   // at most 0.003 rad per frame: far inside 1 rad/s
+    lim.effective(u, e);
+    EXPECT_NEAR(e(0), u(0), 1e-14) << "frame " << i;
+  }
+}
+
+TEST(ActuatorLimits, RateAndPositionLimitedStepByHand) {
+  const double a = 0.7293, rate = 1.0, limit = 0.3;
+  const LagModel m(a);
+  ActuatorLimitOptions o{{rate}, {limit}, 2};
+  ActuatorLimits<1> lim(o, m.phi, m.bd, 64.0);
+  Eigen::Matrix<double, 1, 1> u, e;
+  u << 0.0;
+  lim.effective(u, e);   // starts at 0
+  // A step to 0.5 rad: clipped to 0.3, and each half-frame step at most 1/128 rad.
+  u << 0.5;
+  double delta = 0.0, model = 0.0;
+  const double s = std::sqrt(a), step = rate / 128.0;
+  for (int i = 0; i < 80; ++i) {
+    lim.effective(u, e);
+    const double start = delta;
+    for (int k = 0; k < 2; ++k) {
+      const double target = limit + (delta - limit) * s;
+      delta += std::clamp(target - delta, -step, step);
+    }
+    EXPECT_NEAR(lim.position()(0), delta, 1e-15);
+    EXPECT_NEAR(e(0), (delta - a * start) / (1.0 - a), 1e-12);
+    model = a * model + (1.0 - a) * e(0);   // the filter's lag fed the effective command
+    EXPECT_NEAR(model, delta, 1e-12) << "frame " << i;
+    EXPECT_LE(delta, limit + 1e-15);
+  }
+  EXPECT_NEAR(delta, limit, 1e-6);   // reached the position limit
+  EXPECT_NEAR(e(0), limit, 1e-6);
+  lim.reset();
+  u << 0.1;
+  lim.effective(u, e);   // after a reset it starts again at the first command
+  EXPECT_DOUBLE_EQ(lim.position()(0), 0.1);
+}
+
+TEST(ActuatorLimits, OptionsAndModelsThatDoNotFitAreNamed) {
+  const LagModel m(0.7293);
+  auto refused = [&](const ActuatorLimitOptions& o, const Eigen::MatrixXd& phi, const Eigen::MatrixXd& bd,
+                     const std::string& what) {
+    try {
+      ActuatorLimits<1> lim(o, phi, bd, 64.0);
+      FAIL() << "no exception for " << what;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refused({{1.0, 2.0}, {0.3}, 2}, m.phi, m.bd, "need 1 values each");
+  refused({{0.0}, {0.3}, 2}, m.phi, m.bd, "rate_limit_rad_s[0]");
+  refused({{1.0}, {std::nan("")}, 2}, m.phi, m.bd, "position_limit_rad[0]");
+  refused({{1.0}, {0.3}, 0}, m.phi, m.bd, "substeps");
+  Eigen::MatrixXd coupled = m.phi;
+  coupled(1, 0) = 0.1;   // the lag state depends on another state
+  refused({{1.0}, {0.3}, 2}, coupled, m.bd, "drives no first-order lag state");
+  Eigen::MatrixXd gain = m.bd;
+  gain(1, 0) = 0.5;   // not 1 - a
+  refused({{1.0}, {0.3}, 2}, m.phi, gain, "not a stable lag of unit gain");
+  ActuatorLimits<1> off(ActuatorLimitOptions{}, m.phi, m.bd, 64.0);
+  Eigen::Matrix<double, 1, 1> u, e;
+  u << 5.0;
+  off.effective(u, e);
+  EXPECT_EQ(e(0), 5.0);
+}
+
+// ---- load-factor tempering (FilterBank::set_extra_scale) ------------------------------------
+
+TEST(ManeuverTempering, LikelihoodsAreDividedByTheScale) {
+  const ModelBank mb = named_bank(5u);
+  HierarchicalOptions o;
+  F16HierarchicalBank plain(mb, o);
+  o.maneuver.tempering_g = 0.1;
+  F16HierarchicalBank tempered(mb, o);
+  const test::Plant plant = test::random_plant(13, 5, 7, 5u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 6u);
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    Eigen::Matrix<double, 7, 1> z = truth.measure({}) + mb.z_trim;
+    const Eigen::Matrix<double, 5, 1> u = du + mb.u_trim;
+    const double dn = tempered.z_hat_perturbation()(3);   // the estimated load factor off trim
+    const double s = 1.0 + (dn / 0.1) * (dn / 0.1);
+    tempered.update(z);
+    plain.update(z);
+    for (int k = 0; k < plain.size(); ++k) {
+      const double expected = -0.5 * tempered.bank().quadratic_forms()(k) / s;
+      ASSERT_NEAR(tempered.bank().log_likelihoods()(k), expected, 1e-13 * (1.0 + std::abs(expected)));
+    }
+    tempered.propagate(u);
+    plain.propagate(u);
+    truth.advance(du, {});
+  }
+  // the un-tempered bank's likelihoods are -q/2 exactly
+  for (int k = 0; k < plain.size(); ++k)
+    EXPECT_DOUBLE_EQ(plain.bank().log_likelihoods()(k), -0.5 * plain.bank().quadratic_forms()(k));
 }

@@ -43,6 +43,15 @@
 // sets it or trim tracking (options.trim, trim_tracker.h: a slow low-pass of u and z about the
 // trim, frozen while a failure hypothesis rises or a failure is declared) estimates it, after
 // each update and propagate. With zero offsets the arithmetic is the bank's without them.
+// Maneuvering flight (all off by default: the bank as designed, bit for bit):
+//   options.maneuver.kinematics   after each propagate every filter's x⁻ gains dt R(x̂), the
+//                                 kinematic/gravity terms the wings-level linearization drops,
+//                                 of the blended posterior (maneuver_kinematics.h);
+//   options.maneuver.tempering_g  before each update the likelihoods are tempered by
+//                                 s_m = 1 + (dn / n_ref)^2, dn the estimated load factor off the
+//                                 trim (z_hat's AZ; FilterBank::set_extra_scale);
+//   options.actuators             the filters see the commands through the actuators' rate and
+//                                 position limits (actuator_limits.h).
 // A frame is one update (accepted or rejected): frame index i (0-based) has
 // time_s = i / frame_rate_hz. The declarer sees only accepted updates.
 //

@@ -47,6 +47,19 @@
 // failure in level flight meets the filters exactly as without it. A failure during a turn
 // changes R only through the state estimate, second order.
 //
+// Load-factor tempering (ManeuverOptions::tempering_g = n_ref > 0; HierarchicalBank applies
+// it): beyond the kinematics, a hard pull-up takes the aircraft where the linear aerodynamics
+// no longer hold (a 3,000-fpm climb entry at Mach 0.4, 20,000 ft pulls up to 1.7 g, the angle
+// of attack from 8 to 15 deg; the pitch-rate residual then runs about 3 sigma for seconds, which
+// the stabilator hypotheses explain). Every likelihood is tempered by
+//   s_m = 1 + (dn / n_ref)^2,   dn = the AZ entry of z_hat (the blended estimate's load factor
+//                                    off the trim, g), from the frame before,
+// l_k = -q_k / (2 s s_m). n_ref = 0.1 g was chosen on the maneuver campaign at --seed 7 (0.05,
+// 0.1, 0.2 tried; docs/results/maneuver.md): s_m is 1 in level and steadily climbing flight,
+// 3.4 in a 30 deg level turn, 45 at 1.66 g. The price: detection slows while the load factor is
+// off 1 g, and a failure that itself moves the load factor (a stabilator hard-over) tempers its
+// own evidence while it does.
+//
 // The trim x0: (u0, alpha0) from the trim in force (z_trim + dz of the VEL and AOA
 // channels: the body-axis airspeed and angle of attack), theta0 = alpha0 (the design trims
 // are level, flight-path angle 0), every other state zero. J at that x0 in closed form

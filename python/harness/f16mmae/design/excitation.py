@@ -240,11 +240,34 @@ def ideal_rate(x: np.ndarray, sensor: str) -> float:
     return float(np.mean(x[:, col] ** 2) / (2.0 * NOISE_SIGMA[j] ** 2))
 
 
+#: Turbulence levels and throttle dither frequencies (Hz) of the peaks table.
+PEAK_LEVELS: tuple[str, ...] = ("none", "light", "moderate")
+PEAK_FREQUENCY_HZ: tuple[float, ...] = (0.1, 0.2)
+#: Throttle dither amplitude of the peaks table (command units): CRITERION_NX_G at the nominal
+#: point (``throttle_amplitude(CRITERION_NX_G, throttle_column(...))`` = 0.0239).
+PEAK_AMPLITUDE = 0.0239
+
+
+def _print_peaks() -> int:
+    from ..truth.dither import DitherSpec
+
+    print("| level | f (Hz) | " + " | ".join(f"throttle's {n} | gusts' {n}" for n, _ in PEAK_CHANNELS) + " |")
+    print("|---|---|" + "---|---|" * len(PEAK_CHANNELS))
+    for level in PEAK_LEVELS:
+        for f_hz in PEAK_FREQUENCY_HZ:
+            r = throttle_dither_peaks(DitherSpec(throttle_amplitude=PEAK_AMPLITUDE, throttle_frequency_hz=f_hz), level)
+            cells = " | ".join(f"{r['dither'][n]:.3f} | {r['gusts'][n]:.3f}" for n, _ in PEAK_CHANNELS)
+            print(f"| {level} | {f_hz:g} | {cells} |")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     """``python -m f16mmae.design.excitation [--tuning tuned]``: the tables of
     docs/results/excitation.md (JSBSim against the linear column; calm-air evidence of a
     complete VEL and AOA failure against every other single hypothesis, for the bank designed
-    for light turbulence and the same tuning designed for calm air) as Markdown."""
+    for light turbulence, the same tuning designed for calm air, and the calm-air exact model
+    (the untuned design: no pseudonoise)) as Markdown; ``--peaks``: the throttle dither's
+    closed-loop peaks per turbulence level."""
     import argparse
     import dataclasses
 
@@ -256,14 +279,25 @@ def main(argv: list[str] | None = None) -> int:
 
     p = argparse.ArgumentParser(description=main.__doc__)
     p.add_argument("--tuning", default="tuned")
+    p.add_argument("--failure-model", default=None, choices=("complete", "cover"),
+                   help="the tuning's failure model unless given")
+    p.add_argument("--peaks", action="store_true",
+                   help="print only the throttle dither's closed-loop JSBSim peaks per turbulence level")
     args = p.parse_args(argv)
+    if args.peaks:
+        return _print_peaks()
     tuning = load_tuning(args.tuning)
-    designs = {lv: design_bank(tuning=dataclasses.replace(tuning, turbulence=lv)) for lv in ("light", "none")}
+    if args.failure_model:
+        tuning = dataclasses.replace(tuning, failure_model=args.failure_model)
+    exact = dataclasses.replace(load_tuning("untuned"), failure_model=tuning.failure_model, turbulence="none")
+    designs = {"light": design_bank(tuning=dataclasses.replace(tuning, turbulence="light")),
+               "none": design_bank(tuning=dataclasses.replace(tuning, turbulence="none")),
+               "exact": design_bank(tuning=exact)}
     design = designs["light"]
     fdm, trim = aircraft.trimmed_fdm(mach=design.mach, alt_ft=design.alt_ft)
     column = throttle_column(fdm)
     amp = throttle_amplitude(CRITERION_NX_G, column)
-    print(f"tuning {tuning.name}; throttle column b_th (per unit command): u' {column[0]:.3f} ft/s^2, "
+    print(f"tuning {tuning.name}, failure model {tuning.failure_model}; throttle column b_th (per unit command): u' {column[0]:.3f} ft/s^2, "
           f"alpha' {column[1]:.5f} rad/s, q' {column[2]:.5f} rad/s^2; trim throttle {trim.throttle:.4f}; "
           f"a_th for {CRITERION_NX_G} g: {amp:.4f}\n")
     print("| f (Hz) | a_th | JSBSim peak dn_x (g) | JSBSim peak du (ft/s) | linear du | "
@@ -276,22 +310,24 @@ def main(argv: list[str] | None = None) -> int:
               f"{np.degrees(r.alpha_peak_rad):.4f} | {np.degrees(r.linear_alpha_peak_rad):.4f} |")
     fcs = FlightControlSystem(trim)
     p_min = tuning.estimator.get("p_min", 1e-3)
+    print(f"\np_min {p_min:g}: ln(1/p_min) = {np.log(1 / p_min):.1f} nats to lift a hypothesis from the floor")
     print("\n| truth | peak dn_x (g) | f (Hz) | peak du (ft/s) | peak dalpha (deg) | ideal D | "
-          "D, light bank (weakest) | D, calm bank (weakest) | calm bank: s to lift |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "D, light bank (weakest) | D, calm bank (weakest) | calm bank: s to lift | D, calm exact model |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for truth in ("VEL", "AOA"):
         comps = [h for h in SINGLE_HYPOTHESES if h != truth]
         for nx, f_hz in [(0.0, 0.0)] + [(n, f) for n in SCAN_NX_G for f in SCAN_FREQUENCY_HZ]:
             cells = []
-            for lv in ("light", "none"):
+            for lv in ("light", "none", "exact"):
                 d, loop = evidence(designs[lv], fcs, column, truth, comps, nx, f_hz if nx else 1.0)
                 weakest = min(d, key=d.get)
                 cells.append(f"{d[weakest]:.3g} ({weakest})")
-            secs = ds.frames_to_lift(d[weakest], p_min) / design.frame_rate_hz
+                if lv == "none":
+                    secs = ds.frames_to_lift(d[weakest], p_min) / design.frame_rate_hz
             half = loop.x[len(loop.x) // 2:]
             print(f"| {truth} | {nx:g} | {f_hz:g} | {np.abs(half[:, 0]).max():.3f} | "
                   f"{np.degrees(np.abs(half[:, 1]).max()):.3f} | {ideal_rate(half, truth):.3g} | "
-                  f"{cells[0]} | {cells[1]} | {'never' if secs == float('inf') else f'{secs:.2f}'} |")
+                  f"{cells[0]} | {cells[1]} | {'never' if secs == float('inf') else f'{secs:.2f}'} | {cells[2]} |")
     return 0
 
 

@@ -202,18 +202,19 @@ def _fly_recording_nx(scenario) -> np.ndarray:
     return rows
 
 
-def throttle_dither_peaks(spec, level: str, seed: int = 1, duration_s: float = 30.0) -> dict:
+def throttle_dither_peaks(spec, level: str, seed: int = 1, duration_s: float = 30.0, mach: float = 0.4,
+                          alt_ft: float = 20_000.0) -> dict:
     """The throttle dither's peak closed-loop response in turbulence ``level`` beside the
     gusts' own: one flight with the throttle dither of ``spec`` (a DitherSpec) and one with
     the same surface dither but no throttle dither (same seed: the same gusts; no sensor noise,
-    FCS on raw sensors, nominal point).  ``dither``: peak |with - without| per
+    FCS on raw sensors, at ``mach``, ``alt_ft``).  ``dither``: peak |with - without| per
     ``PEAK_CHANNELS`` (the throttle's part, the closed loop being close to linear); ``gusts``:
-    peak |without - its first frame| (the gusts' and the surface dither's)."""
+    peak |without - its first frame| (the rest: the gusts' and the surface dither's)."""
     import dataclasses
 
     from ..truth import Scenario
 
-    runs = [_fly_recording_nx(Scenario(duration_s=duration_s, noise=False, feedback="raw",
+    runs = [_fly_recording_nx(Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw",
                                        turbulence=level, seed=seed, dither=d))
             for d in (spec, dataclasses.replace(spec, throttle_amplitude=0.0))]
     d = np.abs(runs[0] - runs[1]).max(axis=0)
@@ -251,7 +252,7 @@ PEAK_AMPLITUDE = 0.0239
 def _print_peaks() -> int:
     from ..truth.dither import DitherSpec
 
-    print("| level | f (Hz) | " + " | ".join(f"throttle's {n} | gusts' {n}" for n, _ in PEAK_CHANNELS) + " |")
+    print("| level | f (Hz) | " + " | ".join(f"throttle's {n} | rest's {n}" for n, _ in PEAK_CHANNELS) + " |")
     print("|---|---|" + "---|---|" * len(PEAK_CHANNELS))
     for level in PEAK_LEVELS:
         for f_hz in PEAK_FREQUENCY_HZ:

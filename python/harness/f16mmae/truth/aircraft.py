@@ -1,9 +1,9 @@
 """The derived JSBSim F-16: stock airframe, our flight-control section, direct surface access.
 
-JSBSim's stock ``f16`` (aerodynamics, propulsion, mass, ground reactions) is read at run time
-from the installed ``jsbsim`` package; its ``<flight_control>``, ``<system>``,
-``<external_reactions>`` and ``<output>`` sections are replaced by a pure MIXER, and the result
-is written into a content-addressed cache root (``$F16MMAE_CACHE_DIR``, default
+JSBSim's stock ``f16`` (aerodynamics, propulsion, mass) is read at run time from the installed
+``jsbsim`` package; its ``<flight_control>``, ``<system>``, ``<external_reactions>`` and
+``<output>`` sections are replaced by a pure MIXER, its ``<ground_reactions>`` emptied of their
+contact points (see below), and the result is written into a content-addressed cache root (``$F16MMAE_CACHE_DIR``, default
 ``~/.cache/f16mmae``), shared by every process and never stale (no JSBSim aircraft data lives in
 this repo).
 
@@ -29,6 +29,14 @@ The leading-edge flap is held at the stock schedule's value for the trimmed angl
 (0.262 rad above 5 deg alpha, 0.436 rad above 15 deg, -0.0349 rad above Mach 0.9, else 0);
 the speed brake is retracted and the gear up.  Throttle: ``fcs/throttle-pos-norm =
 2 * fcs/throttle-cmd-norm`` as in the stock FCS (above 1 = afterburner), held at trim.
+
+No contact points (``contacts=False``, the default): the stock gear (three retracted bogeys)
+and seven structure points touch nothing in flight, so their forces and moments are exactly
+zero, yet JSBSim computes the ground under each of the ten points at every step (geodetic
+conversions, a fifth of its stepping).  Without them the aircraft flies bit for bit the same
+flights (tests/python/test_truth_aircraft.py flies both) and cannot land or touch the
+ground: the flights here start at 5,000 ft or more and last seconds to hours of level flight.
+``contacts=True`` keeps the stock contact points (for that comparison).
 """
 from __future__ import annotations
 
@@ -62,7 +70,7 @@ MACH_RANGE = (0.3, 0.8)
 ALT_FT_RANGE = (5_000.0, 35_000.0)
 
 _lock = threading.Lock()
-_root_dir: str | None = None
+_root_dirs: dict[bool, str] = {}  # contacts -> the derived root written for it
 
 
 class TrimError(F16mmaeError, RuntimeError):
@@ -133,23 +141,27 @@ def _cache_base() -> str:
         os.path.expanduser("~"), ".cache", "f16mmae")
 
 
-def derived_root() -> str:
-    """Directory holding the derived aircraft.
+def derived_root(contacts: bool = False) -> str:
+    """Directory holding the derived aircraft (with the stock contact points if ``contacts``).
 
     Its name carries the SHA-256 of the derived XML (which includes the installed jsbsim's
     f16.xml), so a root is written once, atomically (temporary directory + rename), and reused
     by every later process: no per-process temporary directories to leak from pool workers.
     """
-    global _root_dir
     with _lock:
-        if _root_dir is not None and os.path.isdir(_root_dir):
-            return _root_dir
+        known = _root_dirs.get(contacts)
+        if known is not None and os.path.isdir(known):
+            return known
         src = os.path.join(jsbsim.get_default_root_dir(), "aircraft", "f16", "f16.xml")
         tree = ET.parse(src)
         cfg = tree.getroot()
         for tag in ("system", "external_reactions", "output", "flight_control"):
             for el in cfg.findall(tag):
                 cfg.remove(el)
+        if not contacts:  # JSBSim needs the element, not its contacts
+            for el in cfg.findall("ground_reactions"):
+                for contact in el.findall("contact"):
+                    el.remove(contact)
         cfg.set("name", "F-16 (JSBSim f16 airframe, f16mmae flight control)")
         aero = cfg.find("aerodynamics")
         cfg.insert(list(cfg).index(aero), ET.fromstring(_flight_control_xml()))
@@ -166,13 +178,14 @@ def derived_root() -> str:
                 os.rename(staging, root)
             except OSError:  # another process got there first: theirs is identical
                 shutil.rmtree(staging, ignore_errors=True)
-        _root_dir = root
+        _root_dirs[contacts] = root
         return root
 
 
 def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False,
-             cxx: bool = False) -> jsbsim.FGFDMExec:
-    """A loaded, untrimmed FGFDMExec of the derived aircraft (or the stock ``f16``).
+             cxx: bool = False, contacts: bool = False) -> jsbsim.FGFDMExec:
+    """A loaded, untrimmed FGFDMExec of the derived aircraft (or the stock ``f16``); with
+    ``contacts`` the derived aircraft keeps the stock contact points (module docstring).
 
     seed >= 1 seeds JSBSim's random generators (turbulence); dt_s is the integration step (s).
     cxx: an ``f16mmae.core.JSBSimExec`` (the same JSBSim library, made and stepped from C++,
@@ -182,7 +195,7 @@ def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False
         raise ValueError(f"seed must be >= 1 (JSBSim maps 0 to 1), got {seed}")
     os.environ.setdefault("JSBSIM_DEBUG", "0")  # no start-up banner
     pkg = jsbsim.get_default_root_dir()
-    root = pkg if stock else derived_root()
+    root = pkg if stock else derived_root(contacts)
     fdm = engine_module.jsbsim_exec(root) if cxx else jsbsim.FGFDMExec(root, None)
     fdm.set_debug_level(0)
     fdm.set_engine_path(os.path.join(pkg, "engine"))

@@ -151,3 +151,22 @@ def test_contact_points_change_no_flight_bit():
     assert np.ptp(with_[:, _COMPARED.index("velocities/p-rad_sec")]) > math.radians(30)
     for k, name in enumerate(_COMPARED):
         assert np.array_equal(with_[:, k], without[:, k]), f"{name} differs"
+
+
+def test_pilot_commands_act_in_trim_only():
+    """After the trim the pilot command terms are switched off holding exact zeros: a command
+    then moves no surface, while with TRIM_COMMANDS_PROPERTY on it moves the elevator by
+    E_MAX * command (the mixer's documented row)."""
+    fdm, tp = aircraft.trimmed_fdm(0.4, 20_000.0)
+    assert fdm[aircraft.TRIM_COMMANDS_PROPERTY] == 0
+    for term in ("elevator-term2", "elevator-term3", "aileron-term4", "aileron-term5",
+                 "rudder-term1", "rudder-term2"):
+        assert fdm[f"fcs/f16mmae/{term}"] == 0.0
+    elevator = (tp.u_rad[0] + tp.u_rad[1]) / 2
+    fdm["fcs/elevator-cmd-norm"] = 0.5
+    fdm.run_ic()
+    assert fdm["fcs/elevator-pos-rad"] == pytest.approx(elevator, abs=1e-15)
+    fdm[aircraft.TRIM_COMMANDS_PROPERTY] = 1
+    fdm.run_ic()
+    e_max = actuators.TRIM_COMMAND_SCALE_RAD[0]
+    assert fdm["fcs/elevator-pos-rad"] == pytest.approx(elevator + 0.5 * e_max, abs=1e-12)

@@ -65,6 +65,11 @@ SURFACE_PROPERTIES: tuple[str, ...] = tuple(f"fcs/{a.lower()}-pos-rad" for a in 
 AERO_CONTROL_PROPERTIES: tuple[str, ...] = (
     "fcs/elevator-pos-rad", "fcs/aileron-pos-rad", "fcs/flaperon-mix-rad", "fcs/rudder-pos-rad",
 )
+#: 1 while the mixer computes the pilot command terms (JSBSim's trim drives them), 0 in flight:
+#: :func:`trim` folds the commands into the surfaces, zeroes them and then switches their
+#: channel off, so their terms hold the exact zeros they last computed instead of recomputing
+#: them at every step.
+TRIM_COMMANDS_PROPERTY = "fcs/f16mmae/trim-commands"
 #: Flight envelope in which trim is offered (the issue's envelope).
 MACH_RANGE = (0.3, 0.8)
 ALT_FT_RANGE = (5_000.0, 35_000.0)
@@ -101,38 +106,47 @@ class TrimPoint:
 
 
 def _flight_control_xml() -> str:
-    """Our ``<flight_control>``: declares the five surface positions and mixes them."""
+    """Our ``<flight_control>``: declares the five surface positions and mixes them (module
+    docstring).  Each summer adds its terms in the order of the MIXING rows, the pilot command
+    terms last; a term of gain 1 enters the summer directly (``1.0 * x == x`` exactly), any other
+    through its own ``<pure_gain>``.  The pilot command terms are computed in the channel
+    "Trim commands", which runs only while ``TRIM_COMMANDS_PROPERTY`` is 1 (see :func:`trim`)."""
     k = actuators.DIFFERENTIAL_TAIL_ROLL_SHARE
     e_max, a_max, r_max = actuators.TRIM_COMMAND_SCALE_RAD
     decl = "\n".join(f'  <property value="0">{p}</property>' for p in SURFACE_PROPERTIES)
     ls, rs, lf, rf, rud = SURFACE_PROPERTIES
+    trim_gains: list[str] = []
 
-    def summer(name: str, terms: list[tuple[str, float]], output: str) -> str:
-        # A summer of pure gains: each term scaled by its own <pure_gain> first.
+    def summer(name: str, terms: list[tuple[str, float]], commands: list[tuple[str, float]], output: str) -> str:
         parts, inputs = [], []
-        for i, (prop, gain) in enumerate(terms):
+        for i, (prop, gain) in enumerate(terms + commands):
+            if gain == 1.0:
+                inputs.append(f"<input>{prop}</input>")
+                continue
             tmp = f"fcs/f16mmae/{name}-term{i}"
-            parts.append(f'  <pure_gain name="{tmp}"><input>{prop}</input>'
-                         f"<gain>{gain!r}</gain></pure_gain>")
+            gain_xml = f'  <pure_gain name="{tmp}"><input>{prop}</input><gain>{gain!r}</gain></pure_gain>'
+            (trim_gains if i >= len(terms) else parts).append(gain_xml)
             inputs.append(f"<input>{tmp}</input>")
         parts.append(f'  <summer name="fcs/f16mmae/{name}">{"".join(inputs)}'
                      f"<output>{output}</output></summer>")
         return "\n".join(parts)
 
     body = "\n".join([
-        summer("elevator", [(ls, 0.5), (rs, 0.5), ("fcs/elevator-cmd-norm", e_max),
-                            ("fcs/pitch-trim-cmd-norm", e_max)], "fcs/elevator-pos-rad"),
-        summer("aileron", [(lf, 0.5), (rf, -0.5), (ls, 0.5 * k), (rs, -0.5 * k),
-                           ("fcs/aileron-cmd-norm", a_max), ("fcs/roll-trim-cmd-norm", a_max)],
-               "fcs/aileron-pos-rad"),
-        summer("flaperon", [(lf, 1.0), (rf, 1.0)], "fcs/flaperon-mix-rad"),
-        summer("rudder", [(rud, 1.0), ("fcs/rudder-cmd-norm", r_max),
-                          ("fcs/yaw-trim-cmd-norm", r_max)], "fcs/rudder-pos-rad"),
+        summer("elevator", [(ls, 0.5), (rs, 0.5)],
+               [("fcs/elevator-cmd-norm", e_max), ("fcs/pitch-trim-cmd-norm", e_max)], "fcs/elevator-pos-rad"),
+        summer("aileron", [(lf, 0.5), (rf, -0.5), (ls, 0.5 * k), (rs, -0.5 * k)],
+               [("fcs/aileron-cmd-norm", a_max), ("fcs/roll-trim-cmd-norm", a_max)], "fcs/aileron-pos-rad"),
+        summer("flaperon", [(lf, 1.0), (rf, 1.0)], [], "fcs/flaperon-mix-rad"),
+        summer("rudder", [(rud, 1.0)],
+               [("fcs/rudder-cmd-norm", r_max), ("fcs/yaw-trim-cmd-norm", r_max)], "fcs/rudder-pos-rad"),
         '  <pure_gain name="fcs/f16mmae/throttle"><input>fcs/throttle-cmd-norm</input>'
         "<gain>2</gain><output>fcs/throttle-pos-norm</output></pure_gain>",
     ])
+    trim_body = "\n".join(trim_gains)
     return (f'<flight_control name="f16mmae mixer">\n{decl}\n'
             '  <property value="0">fcs/lef-pos-rad</property>\n'
+            f'  <property value="1">{TRIM_COMMANDS_PROPERTY}</property>\n'
+            f'  <channel name="Trim commands" execute="{TRIM_COMMANDS_PROPERTY}">\n{trim_body}\n  </channel>\n'
             f'  <channel name="Mixer">\n{body}\n  </channel>\n</flight_control>')
 
 
@@ -262,7 +276,8 @@ def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float) -> TrimPoint:
         fdm[f"fcs/{p}-trim-cmd-norm"] = 0.0
     u = np.array([de, de, da, -da, dr])
     set_surfaces(fdm, u)
-    _store_state_as_ic(fdm)
+    _store_state_as_ic(fdm)  # its run_ic computes the zeroed command terms once more
+    fdm[TRIM_COMMANDS_PROPERTY] = 0
     lim = np.array(actuators.POSITION_LIMIT_RAD)
     if np.any(np.abs(u) > lim):
         raise TrimError(f"trim at Mach {mach}, {alt_ft:.0f} ft needs surface deflections "
@@ -338,6 +353,7 @@ def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float
     fdm["gear/gear-pos-norm"] = 0.0
     fdm["fcs/lef-pos-rad"] = lef_rad
     fdm["fcs/throttle-cmd-norm"] = 0.5
+    fdm[TRIM_COMMANDS_PROPERTY] = 1
     set_surfaces(fdm, (0.0,) * 5)
     fdm["propulsion/engine[0]/set-running"] = 1
     fdm.run_ic()

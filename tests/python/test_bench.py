@@ -140,6 +140,7 @@ def test_bench_truth_prints_truth_bare_and_closed_loop(capsys):
     out = capsys.readouterr().out
     for label in ("bare JSBSim stock f16, stepping", "truth model, C++ engine, per flight",
                   "truth model, Python engine, per flight", "first flight of its condition",
+                  "the same with the stock contact points", "derived stepping / the same with the contact points",
                   "closed loop (tuned bank, probabilities recorded) / truth alone", "dither levels",
                   "single-failure campaign, 13 flights"):
         assert label in out

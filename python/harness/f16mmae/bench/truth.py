@@ -11,6 +11,8 @@ ratios between timings of one run are what counts:
                  x duration*128 (``+load+trim``: with its loading and trim);
   bare derived   our derived aircraft (mixer only), pooled and restarted, ``run()`` x
                  duration*128 with the surfaces held: JSBSim's own stepping of what we fly;
+                 and the same with the stock contact points kept (``contacts=True``, what
+                 removing them saves: they touch nothing in flight);
   truth cpp      one whole flight ``fly_raw`` on the C++ engine: set-up from the pool
                  (restart, noise, frames) + duration*64 frames of sensors, FCS, dither,
                  actuators and 2 JSBSim steps each; ``first``: the first flight of its flight
@@ -57,15 +59,27 @@ def _bare_stock(duration_s: float) -> tuple[float, float]:
     return t2 - t1, t2 - t0
 
 
-def _bare_derived(duration_s: float) -> float:
-    key, held = POOL.acquire(0.4, 20_000.0, 1.0 / SIM_RATE_HZ, 1)
-    run = held[0].run
+def _stepping(fdm, duration_s: float) -> float:
+    run = fdm.run
     t0 = time.thread_time()
     for _ in range(int(round(duration_s * SIM_RATE_HZ))):
         run()
-    t1 = time.thread_time()
+    return time.thread_time() - t0
+
+
+def _bare_derived(duration_s: float) -> float:
+    key, held = POOL.acquire(0.4, 20_000.0, 1.0 / SIM_RATE_HZ, 1)
+    t = _stepping(held[0], duration_s)
     POOL.release(key, held)
-    return t1 - t0
+    return t
+
+
+def _contacts_aircraft():
+    """The derived aircraft with the stock contact points (``aircraft.load_fdm(contacts=True)``),
+    trimmed at the nominal point and restarted like a pooled one before each timing."""
+    fdm = aircraft.load_fdm(seed=1, cxx=True, contacts=True)
+    held = (fdm, aircraft.trim(fdm, 0.4, 20_000.0), aircraft.start_state(fdm))
+    return held
 
 
 def _flight(duration_s: float, engine: str, first: bool = False) -> float:
@@ -80,13 +94,17 @@ def _flight(duration_s: float, engine: str, first: bool = False) -> float:
 def benchmark(duration_s: float = 8.0, repeat: int = 5) -> dict:
     """Best-of-``repeat`` CPU times (s), real-time factors and ratios (see module docstring)."""
     _flight(0.5, "cpp"), _flight(0.5, "python"), _bare_stock(0.5)  # warm: files, pool, imports
+    contacts = _contacts_aircraft()
     times: dict[str, list[float]] = {k: [] for k in (
-        "bare_loop", "bare_total", "derived_loop", "cpp_flight", "python_flight", "cpp_first_flight")}
+        "bare_loop", "bare_total", "derived_loop", "contacts_loop", "cpp_flight", "python_flight",
+        "cpp_first_flight")}
     for _ in range(repeat):
         a, b = _bare_stock(duration_s)
         times["bare_loop"].append(a)
         times["bare_total"].append(b)
         times["derived_loop"].append(_bare_derived(duration_s))
+        aircraft.restart(*contacts, 1)
+        times["contacts_loop"].append(_stepping(contacts[0], duration_s))
         times["cpp_flight"].append(_flight(duration_s, "cpp"))
         times["python_flight"].append(_flight(duration_s, "python"))
         times["cpp_first_flight"].append(_flight(duration_s, "cpp", first=True))
@@ -100,6 +118,7 @@ def benchmark(duration_s: float = 8.0, repeat: int = 5) -> dict:
             return res[f"{k}{stat}_s"]
         res[f"cpp_over_bare{stat}"] = t("cpp_flight") / t("bare_loop")
         res[f"cpp_over_derived{stat}"] = t("cpp_flight") / t("derived_loop")
+        res[f"derived_over_contacts{stat}"] = t("derived_loop") / t("contacts_loop")
         res[f"python_over_bare{stat}"] = t("python_flight") / t("bare_loop")
         res[f"python_over_cpp{stat}"] = t("python_flight") / t("cpp_flight")
     return res
@@ -174,12 +193,15 @@ def report(r: dict, lv: dict, ov: dict, stream) -> None:
     rows = (("bare JSBSim stock f16, stepping", "bare_loop"),
             ("bare JSBSim stock f16, +load+trim", "bare_total"),
             ("bare JSBSim derived aircraft, stepping", "derived_loop"),
+            ("  the same with the stock contact points", "contacts_loop"),
             ("truth model, C++ engine, per flight", "cpp_flight"),
             ("truth model, Python engine, per flight", "python_flight"),
             ("truth model, C++, first flight of its condition", "cpp_first_flight"))
     for label, k in rows:
         print(f"  {label:46s}{1e3 * r[k + '_s']:10.2f}{r[k + '_rtf']:9.0f}x{1e3 * r[k + '_median_s']:11.2f}",
               file=stream)
+    print(f"  derived stepping / the same with the contact points: {r['derived_over_contacts']:.2f} (best), "
+          f"{r['derived_over_contacts_median']:.2f} (median)", file=stream)
     for stat, name in (("", "best"), ("_median", "median")):
         print(f"  {name:6s} C++ truth / bare stock stepping {r['cpp_over_bare' + stat]:.2f} (goal <= 1.25), "
               f"/ derived stepping {r['cpp_over_derived' + stat]:.2f}; Python truth / bare stock "

@@ -65,7 +65,8 @@ SURFACE_PROPERTIES: tuple[str, ...] = tuple(f"fcs/{a.lower()}-pos-rad" for a in 
 AERO_CONTROL_PROPERTIES: tuple[str, ...] = (
     "fcs/elevator-pos-rad", "fcs/aileron-pos-rad", "fcs/flaperon-mix-rad", "fcs/rudder-pos-rad",
 )
-#: 1 while the mixer computes the pilot command terms (JSBSim's trim drives them), 0 in flight:
+#: 1 while the mixer computes the pilot command terms (JSBSim's trim drives them, and its
+#: linearization, ``design.linearize.jsbsim_linearization``, perturbs them), 0 in flight:
 #: :func:`trim` folds the commands into the surfaces, zeroes them and then switches their
 #: channel off, so their terms hold the exact zeros they last computed instead of recomputing
 #: them at every step.

@@ -59,7 +59,7 @@ truth alone; the dither's peak response at the nominal point; then flights per s
 single-failure campaign (13 cases x --campaign-runs) on a process pool over all cores.
 
   f16mmae bench truth --repeat 21                        # the tuned bank (goal <= 1.1)
-  f16mmae bench truth --campaign-runs 0 --bank scheduled --adapt-turbulence \
+  f16mmae bench truth --campaign-runs 0 --bank scheduled --adapt-turbulence \\
       --trim-tracking 30 --mach 0.45 --alt-ft 22500      # scheduled, off-grid (goal <= 1.3)
 """
 

@@ -1,7 +1,7 @@
 // f16mmae.core.HierarchicalBank: the hierarchical MMAE of paper Fig. 2
 // (cpp/f16mmae/hierarchical_bank.h) built from a core.ModelBank. An F-16 bank (5 inputs,
 // 7 measurements, 12 single failures) of 13 states runs in the fixed-size
-// F16HierarchicalBank, of 16 states (the Dryden gust states) in F16GustHierarchicalBank:
+// F16HierarchicalBank, of 19 states (the six Dryden gust states) in F16GustHierarchicalBank:
 // the bank's nx selects it; any other bank runs in the dynamic one. Signals are ABSOLUTE here: the bank subtracts its own u_trim / z_trim and
 // z_hat comes back absolute.
 #include <pybind11/pybind11.h>
@@ -186,7 +186,7 @@ auto prop(F f) {
 }  // namespace
 
 // Benchmark (f16mmae.bench): the fixed-size F-16 bank of the model bank's nx
-// (F16HierarchicalBank, or F16GustHierarchicalBank for 16 states) over frames z (N,7), u (N,5)
+// (F16HierarchicalBank, or F16GustHierarchicalBank for 19 states) over frames z (N,7), u (N,5)
 // and, if given, air data (N,2) handed to schedule() before each frame; the frames replayed
 // from reset() pass after pass for at least min_time_s and 3 passes, timed in C++. Returns
 // (seconds per frame of the fastest pass, slowest single frame of the last pass in seconds).
@@ -254,7 +254,7 @@ void bind_hierarchical(py::module_& m) {
   m.def("_bench_hierarchical_loop", &bench_hierarchical_loop, py::arg("bank"), py::arg("z"), py::arg("u"),
         py::arg("air_data") = py::none(), py::arg("min_time_s") = 0.2, py::arg("schedule_mode") = "interpolate",
         "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F-16 bank of the\n"
-        "model bank's nx (13, or 16 with gust states)\n"
+        "model bank's nx (13, or 19 with gust states)\n"
         "over frames z (N,7), u (N,5), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
         "given, timed in C++ (f16mmae.bench).");
   py::class_<PyHierarchicalBank>(m, "HierarchicalBank", R"doc(
@@ -385,7 +385,7 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("dwell_s", prop([](auto& b) { return b.declarer().options().dwell_s; }))
       .def_property_readonly("dwell_frames", prop([](auto& b) { return b.declarer().dwell_frames(); }))
       .def_property_readonly("fixed_size", &PyHierarchicalBank::fixed,
-                             "True when a fixed-size F-16 bank (13 states, or 16 with gust states) runs inside");
+                             "True when a fixed-size F-16 bank (13 states, or 19 with gust states) runs inside");
 }
 
 }  // namespace f16mmae::bindings

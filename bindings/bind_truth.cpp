@@ -425,7 +425,7 @@ void bind_truth(py::module_& m) {
              return std::visit(
                  [&](auto est) -> py::dict {
                    if constexpr (std::is_same_v<decltype(est), std::monostate>)
-                     throw py::value_error("fly_closed_loop flies a fixed-size F-16 bank only (13 or 16 states)");
+                     throw py::value_error("fly_closed_loop flies a fixed-size F-16 bank only (13 or 19 states)");
                    else
                      return f.fly_closed_loop(*est, n, use_mmae, record);
                  },

@@ -10,7 +10,7 @@
 
 namespace f16mmae::bindings {
 
-/// A fixed-size F-16 bank: 13 states, or 16 with the Dryden gust states; monostate: none.
+/// A fixed-size F-16 bank: 13 states, or 19 with the Dryden gust states; monostate: none.
 using FixedHierarchicalBank = std::variant<std::monostate, F16HierarchicalBank*, F16GustHierarchicalBank*>;
 
 /// The fixed-size F-16 bank inside ``hierarchical_bank`` (a core.HierarchicalBank), or

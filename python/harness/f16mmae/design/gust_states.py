@@ -14,8 +14,14 @@ intensities sigma of the design level, ``n_*`` white)::
     w_g' = -(2V/L) w_g + n_w             Q = 2 (2V/L) sigma_w^2
     p_g' = -(V/L_p) p_g + n_p            Q = 2 (V/L_p) sigma_p^2,  L_p = sqrt(L b) / 2.6,
                                                                   sigma_p = 1.9 sigma_w / sqrt(L b)
-    q_g' = (w_g'/V - q_g) / tau_q        tau_q = 4 b / (pi V)   (driven by n_w through w_g')
-    r_g' = (v_g'/V - r_g) / tau_r        tau_r = 3 b / (pi V)   (driven by n_v through v_g')
+    q_g' = -(w_g'/V + q_g) / tau_q       tau_q = 4 b / (pi V)   (driven by n_w through w_g')
+    r_g' = -(v_g'/V + r_g) / tau_r       tau_r = 3 b / (pi V)   (driven by n_v through v_g')
+
+The sign of the rate gusts' coupling to the translational ones (q_g = -(s/V) w_g / (1 +
+tau_q s), r_g likewise from v_g) is the one the nonlinear truth's residuals choose: with it
+the no-failure filter designed for severe turbulence and flown in it has NIS mean 10.6 and
+white AOA residuals, with the opposite sign 31.5 and lag-1 autocorrelation 0.66
+(tools/gust_residuals.py, docs/results/gust_states.md); references differ on the sign.
 
 How they enter (T = the body-from-local rotation at the trim attitude):
 
@@ -116,9 +122,9 @@ def augment(gust_model: str, lin: AirframeLinearization, vt_fps: float, sigma_fp
         ip, iq, ir = n_plant + 3, n_plant + 4, n_plant + 5
         f[ip, 3] = -a_p
         g[ip, 3] = 1.0
-        # q_g' = (w_g'/V - q_g)/tau_q with w_g' = -a_w w_g + n_w; r_g likewise from v_g
-        f[iq, 4], f[iq, 2], g[iq, 2] = -1.0 / tau_q, -a_t[2] / (v * tau_q), 1.0 / (v * tau_q)
-        f[ir, 5], f[ir, 1], g[ir, 1] = -1.0 / tau_r, -a_t[1] / (v * tau_r), 1.0 / (v * tau_r)
+        # q_g' = -(w_g'/V + q_g)/tau_q with w_g' = -a_w w_g + n_w; r_g likewise from v_g
+        f[iq, 4], f[iq, 2], g[iq, 2] = -1.0 / tau_q, a_t[2] / (v * tau_q), -1.0 / (v * tau_q)
+        f[ir, 5], f[ir, 1], g[ir, 1] = -1.0 / tau_r, a_t[1] / (v * tau_r), -1.0 / (v * tau_r)
         qc.append(2.0 * a_p * sigma_p * sigma_p)
         acc = [names.SENSORS.index(c) for c in ACCELEROMETERS]
         h[acc, 3:6] = -lin.c[np.ix_(acc, [_P, _Q, _R])] @ t_bl

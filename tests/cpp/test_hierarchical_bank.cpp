@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 
@@ -219,4 +220,35 @@ TEST(HierarchicalBank, F16SizedBankDeclaresAndSwitchesWithoutAllocating) {
   EXPECT_EQ(hb.online_names(), (std::vector<std::string>{"NONE", "PIT", "LS+PIT", "RS+PIT", "LF+PIT", "RF+PIT",
                                                          "RUD+PIT", "VEL+PIT", "AOA+PIT", "PIT+AZ", "PIT+ROL",
                                                          "PIT+YAW", "PIT+AY"}));
+}
+
+// The 19-state instantiation (the filters with six Dryden gust states, design/gust_states.py)
+// runs the same arithmetic as the dynamic bank on the same model bank, and its frames
+// allocate nothing.
+TEST(HierarchicalBank, GustSizedBankEqualsTheDynamicBankWithoutAllocating) {
+  const std::vector<std::string> act{"LS", "RS", "LF", "RF", "RUD"};
+  const std::vector<std::string> sen{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+  const test::Plant plant = test::random_plant(19, 5, 7, 37u, 1e-3, 1e-3);
+  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, -0.03), z_trim(7);
+  z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
+  const ModelBank bank = test::make_bank(plant, act, sen, u_trim, z_trim);
+  ASSERT_EQ(bank.nx(), 19);
+  EXPECT_THROW(F16HierarchicalBank{bank}, std::invalid_argument);
+  F16GustHierarchicalBank hb(bank);
+  DynamicHierarchicalBank reference(bank);
+  const Flight f = fly(plant, act, sen, bank, {{"LF", 64, 1 << 30}}, 320, 9u);
+  std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
+  std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    const long long before = f16mmae::testing::allocation_count();
+    hb.step(z[i], u[i]);
+    EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0) << "frame " << i;
+    reference.step(f.z[i], f.u[i]);
+    worst = std::max(worst, (hb.probabilities() - reference.probabilities()).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_EQ(declared_names(hb), declared_names(reference));
+  ASSERT_FALSE(hb.declarations().empty());
+  EXPECT_EQ(declared_names(hb).front(), "LF");
 }

@@ -35,7 +35,7 @@ from .gains import SteadyStateGains, steady_state_gains
 from .hypotheses import (HypothesisModel, hypothesis_dynamics, hypothesis_model, uninformative_level_q,
                          uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
-from .tuning import Tuning, load_tuning
+from .tuning import Tuning, available_tunings, load_tuning
 
 #: Where the shipped nominal banks live, and the nominal flight condition.
 DATA_DIR = Path(__file__).resolve().parent.parent / "data"
@@ -137,7 +137,7 @@ def tuning_arguments(tuning: Tuning) -> str:
     if tuning.gust_model == "dryden_states" and rest.endswith("-gust"):
         rest = rest[:-len("-gust")]
         tail.insert(0, "--gust-states")
-    if rest.endswith(f"-{tuning.turbulence}"):
+    if rest.endswith(f"-{tuning.turbulence}") and rest[:-len(tuning.turbulence) - 1] in available_tunings():
         rest = rest[:-len(tuning.turbulence) - 1]
         tail.insert(0, f"--gust-level {tuning.turbulence}")
     return " ".join([rest] + tail)

@@ -39,10 +39,10 @@ def test_gust_states_have_the_dryden_variances(severe_model):
     p = solve_continuous_lyapunov(m.f[g, g], -m.g[g] @ m.qc @ m.g[g].T)
     su, sv, sw = m.gust_sigma_fps
     length, span = GUST_SCALE_LENGTH_FT, gust_states.WINGSPAN_FT
-    expected = [su**2, sv**2, sw**2,
-                (1.9 * sw) ** 2 / (length * span),        # sigma_p, MIL-F-8785C
-                math.pi * sw**2 / (2.0 * span * length),  # q_g = -(s/V) w_g / (1 + tau_q s)
-                2.0 * math.pi * sv**2 / (3.0 * span * length)]
+    # roll and pitch gusts: the heading-free average of MIL-F-8785C's sigma_p^2 and sigma_q^2
+    pq = 0.5 * ((1.9 * sw) ** 2 / (length * span) + math.pi * sw**2 / (2.0 * span * length))
+    expected = [su**2, sv**2, sw**2, pq, pq,
+                2.0 * math.pi * sv**2 / (3.0 * span * length)]  # r_g = -(s/V) v_g / (1 + tau_r s)
     assert np.diag(p) == pytest.approx(expected, rel=1e-9)
     # w_g' = -(2V/L) w_g: its correlation time is L / 2V
     assert m.f[names.NX + 2, names.NX + 2] == pytest.approx(-2.0 * m.vt_fps / length)

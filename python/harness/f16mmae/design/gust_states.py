@@ -5,23 +5,28 @@ The zero-order models of ``model.py`` make the gust white (or its rate white); r
 coloured, and the rotational gusts, which they leave out, drive the roll, pitch and yaw rates
 through the aerodynamic damping, the signature of a flaperon or stabilator failure. Here the
 gusts are states, appended after ``names.STATES`` in the turbulence axes (the local
-north-east-down axes, the aircraft flying north; ``GUST_STATES``), with the MIL-STD-1797A
+north-east-down axes; the aircraft flies north at the trim, ``GUST_STATES``), with the MIL-STD-1797A
 first-order forms of the MIL-F-8785C Dryden spectra (scale length L, wingspan b, airspeed V,
 intensities sigma of the design level, ``n_*`` white)::
 
     u_g' = -(V/L) u_g + n_u              Q = 2 (V/L) sigma_u^2        (var u_g = sigma_u^2)
     v_g' = -(2V/L) v_g + n_v             Q = 2 (2V/L) sigma_v^2
     w_g' = -(2V/L) w_g + n_w             Q = 2 (2V/L) sigma_w^2
-    p_g' = -(V/L_p) p_g + n_p            Q = 2 (V/L_p) sigma_p^2,  L_p = sqrt(L b) / 2.6,
-                                                                  sigma_p = 1.9 sigma_w / sqrt(L b)
-    q_g' = -(w_g'/V + q_g) / tau_q       tau_q = 4 b / (pi V)   (driven by n_w through w_g')
+    p_g' = -(V/L_p) p_g + n_p            L_p = sqrt(L b) / 2.6,  sigma_p = 1.9 sigma_w / sqrt(L b)
+    q_g' = -(V/L_p) q_g + n_q            Q_p = Q_q = 2 (V/L_p) (sigma_p^2 + sigma_q^2) / 2
     r_g' = -(v_g'/V + r_g) / tau_r       tau_r = 3 b / (pi V)   (driven by n_v through v_g')
 
-The sign of the rate gusts' coupling to the translational ones (q_g = -(s/V) w_g / (1 +
-tau_q s), r_g likewise from v_g) is the one the nonlinear truth's residuals choose: with it
-the no-failure filter designed for severe turbulence and flown in it has NIS mean 10.6 and
-white AOA residuals, with the opposite sign 31.5 and lag-1 autocorrelation 0.66
-(tools/gust_residuals.py, docs/results/gust_states.md); references differ on the sign.
+where sigma_q^2 = pi sigma_w^2 / (2 b L) is the variance of MIL-F-8785C's pitch gust
+q_g = (s/V) w_g / (1 + 4 b s / (pi V)). The roll and pitch gusts are heading-free: the truth
+(JSBSim's Dryden model) defines its rotational gusts in the local axes, so on a heading other
+than the turbulence axes' the roll gust p_g turns into pitch and q_g into roll; the estimator
+does not know the heading, so both body components carry the average variance, as
+independent first-order processes of the roll gust's break frequency V/L_p. Measured
+(tools/gust_residuals.py): a north-aligned model (q_g from w_g') fits the first minute of a
+flight and then, as the aircraft drifts into a turn in moderate turbulence, its pitch-rate
+residual variance grows to 7 times A; the heading-free one stays within 1.07-1.12 of A.
+The sign of the yaw gust's coupling to v_g (r_g = -(s/V) v_g / (1 + tau_r s)) is the one
+the truth's residuals choose (docs/results/gust_states.md); references differ on it.
 
 How they enter (T = the body-from-local rotation at the trim attitude):
 
@@ -91,12 +96,12 @@ def augment(gust_model: str, lin: AirframeLinearization, vt_fps: float, sigma_fp
             scale_ft: float, n_plant: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The gust-state blocks of a model with ``n_plant`` states before them:
     ``(F_xg (n_plant + ng, ng) columns of the gust states, G (n_plant + ng, nw) the white
-    inputs, Q_c (nw, nw), H_g (7, ng))``; nw = 3 translational noises, + 1 (n_p) with the
-    rotational states."""
+    inputs, Q_c (nw, nw), H_g (7, ng))``; nw = 3 translational noises, + 2 (n_p, n_q) with
+    the rotational states."""
     states = GUST_STATE_MODELS[gust_model]
     ng = len(states)
     rotational = ng == 6
-    nw = 4 if rotational else 3
+    nw = 5 if rotational else 3
     su, sv, sw = np.asarray(sigma_fps, dtype=float)
     v, length, span = float(vt_fps), float(scale_ft), WINGSPAN_FT
     a_t = np.array([v / length, 2.0 * v / length, 2.0 * v / length])
@@ -116,16 +121,17 @@ def augment(gust_model: str, lin: AirframeLinearization, vt_fps: float, sigma_fp
         l_p = math.sqrt(length * span) / 2.6
         a_p = v / l_p
         sigma_p = 1.9 * sw / math.sqrt(length * span)
-        tau_q, tau_r = 4.0 * span / (math.pi * v), 3.0 * span / (math.pi * v)
+        sigma_q2 = math.pi * sw * sw / (2.0 * span * length)
+        var_pq = 0.5 * (sigma_p * sigma_p + sigma_q2)
+        tau_r = 3.0 * span / (math.pi * v)
         a_aero = lin.a[:, [_P, _Q, _R]] - kinematic_rate_columns(lin.x_trim)
         f[:8, 3:6] = -a_aero @ t_bl
         ip, iq, ir = n_plant + 3, n_plant + 4, n_plant + 5
-        f[ip, 3] = -a_p
-        g[ip, 3] = 1.0
-        # q_g' = -(w_g'/V + q_g)/tau_q with w_g' = -a_w w_g + n_w; r_g likewise from v_g
-        f[iq, 4], f[iq, 2], g[iq, 2] = -1.0 / tau_q, a_t[2] / (v * tau_q), -1.0 / (v * tau_q)
+        f[ip, 3], g[ip, 3] = -a_p, 1.0
+        f[iq, 4], g[iq, 4] = -a_p, 1.0
+        # r_g' = -(v_g'/V + r_g)/tau_r with v_g' = -a_v v_g + n_v
         f[ir, 5], f[ir, 1], g[ir, 1] = -1.0 / tau_r, a_t[1] / (v * tau_r), -1.0 / (v * tau_r)
-        qc.append(2.0 * a_p * sigma_p * sigma_p)
+        qc += [2.0 * a_p * var_pq, 2.0 * a_p * var_pq]
         acc = [names.SENSORS.index(c) for c in ACCELEROMETERS]
         h[acc, 3:6] = -lin.c[np.ix_(acc, [_P, _Q, _R])] @ t_bl
     return f, g, np.diag(qc), h

@@ -41,8 +41,11 @@ def test_gust_states_have_the_dryden_variances(severe_model):
     length, span = GUST_SCALE_LENGTH_FT, gust_states.WINGSPAN_FT
     # roll and pitch gusts: the heading-free average of MIL-F-8785C's sigma_p^2 and sigma_q^2
     pq = 0.5 * ((1.9 * sw) ** 2 / (length * span) + math.pi * sw**2 / (2.0 * span * length))
-    expected = [su**2, sv**2, sw**2, pq, pq,
-                2.0 * math.pi * sv**2 / (3.0 * span * length)]  # r_g = -(s/V) v_g / (1 + tau_r s)
+    # r_g = -(s/V) v_g / (1 + tau_r s), v_g of corner a_v = 2V/L: the integral of
+    # w^2 / ((w^2 + a^2)(w^2 + c^2)) over the real line is pi / (a + c), so
+    # var r_g = a_v sigma_v^2 / (V^2 tau_r (1 + a_v tau_r))
+    v, a_v, tau_r = m.vt_fps, 2.0 * m.vt_fps / length, 3.0 * span / (math.pi * m.vt_fps)
+    expected = [su**2, sv**2, sw**2, pq, pq, a_v * sv**2 / (v * v * tau_r * (1.0 + a_v * tau_r))]
     assert np.diag(p) == pytest.approx(expected, rel=1e-9)
     # w_g' = -(2V/L) w_g: its correlation time is L / 2V
     assert m.f[names.NX + 2, names.NX + 2] == pytest.approx(-2.0 * m.vt_fps / length)
@@ -83,7 +86,7 @@ def test_design_gust_states_writes_a_19_state_bank_the_fixed_core_runs(tmp_path,
     assert fixed.fixed_size
     for _ in range(64):  # at the trim nothing is declared
         fixed.step(mb.z_trim, mb.u_trim)
-    assert fixed.declarations() == [] and fixed.probabilities[0] > 0.9
+    assert fixed.declarations == [] and fixed.probabilities[0] > 0.9
 
 
 def test_gust_options_are_refused_with_the_valid_choices(tmp_path, capsys):

@@ -7,7 +7,9 @@ Dryden gust states, ``+uvw`` for the three translational ones only -- and ``@LEV
 failure on raw feedback (design/flights.py fly_closed_loop; the first second dropped), runs
 the design's NONE filter over the records (design/residuals.py) and prints per channel
 var(r)/A (1 = matched) and the lag-1 autocorrelation (0 = white), and the NIS mean (7 =
-matched).  Example:
+matched).  With ``--evidence`` it prints instead, per design, the expected evidence per frame
+for each single failure against NONE (design/distinguish.py ``evidence_rates``: the dither,
+open loop, the design's own gusts and noise).  Example:
 
     .venv/bin/python tools/gust_residuals.py --designs tuned tuned@severe tuned+gust@severe \
         --levels moderate,severe --seconds 30 --seeds 4
@@ -19,6 +21,7 @@ import dataclasses
 
 from f16mmae import names
 from f16mmae.design.bank import design_bank
+from f16mmae.design.distinguish import evidence_rates
 from f16mmae.design.flights import fly_closed_loop
 from f16mmae.design.model import linearize_truth
 from f16mmae.design.residuals import filter_residuals, residual_stats
@@ -44,8 +47,17 @@ def main() -> None:
     p.add_argument("--levels", default="moderate,severe")
     p.add_argument("--seconds", type=float, default=30.0)
     p.add_argument("--seeds", type=int, default=4)
+    p.add_argument("--evidence", action="store_true")
     a = p.parse_args()
     lin = linearize_truth(0.4, 20_000.0)
+    if a.evidence:
+        singles = names.SINGLE_HYPOTHESES[1:]
+        print("design " + " ".join(singles))
+        for spec in a.designs:
+            d = design_bank(tuning=tuning_of(spec), linearized=lin, hypotheses=names.SINGLE_HYPOTHESES)
+            rates = [evidence_rates(d, s, [names.NONE])[names.NONE] for s in singles]
+            print(f"{spec} " + " ".join(f"{x:.3g}" for x in rates), flush=True)
+        return
     flights = {lv: [fly_closed_loop(0.4, 20_000.0, seed=s, turbulence_level=lv, duration_s=a.seconds)
                     for s in TUNING_FLIGHT_SEEDS[:a.seeds]] for lv in a.levels.split(",")}
     print("channels " + " ".join(f"{c:>6}" for c in names.SENSORS))

@@ -54,6 +54,16 @@ std::vector<std::string> declared_names(const HB& hb) {
   return out;
 }
 
+const std::vector<std::string> kF16Act{"LS", "RS", "LF", "RF", "RUD"};
+const std::vector<std::string> kF16Sen{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+
+// An F-16-sized bank (5 inputs, 7 measurements, 79 hypotheses) of the plant, at a trim.
+ModelBank f16_sized_bank(const test::Plant& plant) {
+  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, -0.03), z_trim(7);
+  z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
+  return test::make_bank(plant, kF16Act, kF16Sen, u_trim, z_trim);
+}
+
 struct Small {
   test::Plant plant = test::random_plant(3, 2, 3, 21u);
   ModelBank bank = test::make_bank(plant, kAct, kSen, Eigen::Vector2d(0.1, -0.2), Eigen::Vector3d(10.0, 1.0, -3.0));
@@ -194,17 +204,13 @@ TEST(HierarchicalBank, MissingDualOrWrongSizesAreRefusedByName) {
 }
 
 TEST(HierarchicalBank, F16SizedBankDeclaresAndSwitchesWithoutAllocating) {
-  const std::vector<std::string> act{"LS", "RS", "LF", "RF", "RUD"};
-  const std::vector<std::string> sen{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
   const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
-  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, -0.03), z_trim(7);
-  z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
-  const ModelBank bank = test::make_bank(plant, act, sen, u_trim, z_trim);
+  const ModelBank bank = f16_sized_bank(plant);
   ASSERT_EQ(bank.hypotheses.size(), 79u);
   HierarchicalOptions tracking;  // with trim tracking on, too: tracker and trim in force included
   tracking.trim.time_constant_s = 30.0;
   F16HierarchicalBank hb(bank), tracked(bank, tracking);
-  const Flight f = fly(plant, act, sen, bank, {{"PIT", 64, 1 << 30}}, 320, 5u);
+  const Flight f = fly(plant, kF16Act, kF16Sen, bank, {{"PIT", 64, 1 << 30}}, 320, 5u);
   std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
   std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
   const long long before = f16mmae::testing::allocation_count();
@@ -226,17 +232,13 @@ TEST(HierarchicalBank, F16SizedBankDeclaresAndSwitchesWithoutAllocating) {
 // runs the same arithmetic as the dynamic bank on the same model bank, and its frames
 // allocate nothing.
 TEST(HierarchicalBank, GustSizedBankEqualsTheDynamicBankWithoutAllocating) {
-  const std::vector<std::string> act{"LS", "RS", "LF", "RF", "RUD"};
-  const std::vector<std::string> sen{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
   const test::Plant plant = test::random_plant(19, 5, 7, 37u, 1e-3, 1e-3);
-  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, -0.03), z_trim(7);
-  z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
-  const ModelBank bank = test::make_bank(plant, act, sen, u_trim, z_trim);
+  const ModelBank bank = f16_sized_bank(plant);
   ASSERT_EQ(bank.nx(), 19);
   EXPECT_THROW(F16HierarchicalBank{bank}, std::invalid_argument);
   F16GustHierarchicalBank hb(bank);
   DynamicHierarchicalBank reference(bank);
-  const Flight f = fly(plant, act, sen, bank, {{"LF", 64, 1 << 30}}, 320, 9u);
+  const Flight f = fly(plant, kF16Act, kF16Sen, bank, {{"LF", 64, 1 << 30}}, 320, 9u);
   std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
   std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
   double worst = 0.0;

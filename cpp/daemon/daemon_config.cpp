@@ -12,7 +12,9 @@ std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
-         "                   [--schedule-mode interpolate|nearest]\n"
+         "                   [--schedule-mode interpolate|nearest] [--maneuver-kinematics]\n"
+         "                   [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5]\n"
+         "                   [--actuator-position-limits L1,...,L5]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
          "                   [--rewarm-us US] [--auth-key FILE] [--bank-public-key FILE] [--quiet]\n"
          "\n"
@@ -35,7 +37,16 @@ std::string daemon_usage() {
          "                       freezes the trim estimate (0 < P <= 1; default 0.05)\n"
          "  --schedule-mode M    a scheduled bank (*.f16sched): interpolate between grid points\n"
          "                       on the frames' air data (default) or nearest (switch with\n"
-         "                       hysteresis); these four as 'f16mmae run' has them\n"
+         "                       hysteresis)\n"
+         "  --maneuver-kinematics  add the turn kinematics and gravity terms the wings-level\n"
+         "                       linearization drops to every filter's propagation\n"
+         "  --maneuver-tempering G  divide every likelihood by 1 + (dn/G)^2, dn the estimated\n"
+         "                       load factor off trim, g (> 0)\n"
+         "  --actuator-rate-limits R1,...,R5 and --actuator-position-limits L1,...,L5\n"
+         "                       the actuators' rate (rad/s) and position (rad) limits, one per\n"
+         "                       input, applied to the commands the filters see (both or none);\n"
+         "                       these on-line options as 'f16mmae run' has them (f16mmae hil\n"
+         "                       --start-daemon passes its own on)\n"
          "  --max-frames N       exit after publishing N status frames (default: until signalled)\n"
          "  --realtime PRIORITY  run SCHED_FIFO at PRIORITY (1-99) with memory locked (needs\n"
          "                       CAP_SYS_NICE / root; a warning, not an error, without it)\n"
@@ -90,6 +101,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       c.adapt_turbulence = true;
       continue;
     }
+    if (a == "--maneuver-kinematics") {
+      c.maneuver_kinematics = true;
+      continue;
+    }
     std::string key = a, value;
     bool inline_value = false;
     if (a.rfind("--", 0) == 0) {
@@ -105,13 +120,16 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
                        key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
                        key == "--bank-public-key" || key == "--trim-tracking" ||
-                       key == "--trim-freeze-probability" || key == "--schedule-mode";
+                       key == "--trim-freeze-probability" || key == "--schedule-mode" ||
+                       key == "--maneuver-tempering" || key == "--actuator-rate-limits" ||
+                       key == "--actuator-position-limits";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
                          "--auth-key, --bank-public-key, --adapt-turbulence, --trim-tracking, "
-                         "--trim-freeze-probability, --schedule-mode, --quiet, --help");
+                         "--trim-freeze-probability, --schedule-mode, --maneuver-kinematics, "
+                         "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -164,6 +182,31 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value != "interpolate" && value != "nearest")
         return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
       c.schedule_nearest = value == "nearest";
+    } else if (key == "--maneuver-tempering") {
+      errno = 0;
+      char* end = nullptr;
+      const double g = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(g) || g <= 0.0 || g > 100.0)
+        return usage_error("--maneuver-tempering must be a load factor in g, > 0 and <= 100, got '" + value + "'");
+      c.maneuver_tempering_g = g;
+    } else if (key == "--actuator-rate-limits" || key == "--actuator-position-limits") {
+      std::vector<double> limits;
+      std::size_t start = 0;
+      while (true) {
+        const std::size_t comma = value.find(',', start);
+        const std::string item = value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        errno = 0;
+        char* end = nullptr;
+        const double x = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || errno != 0 || !std::isfinite(x) || x <= 0.0)
+          return usage_error(key + " must be positive numbers separated by commas (" +
+                             (key == "--actuator-rate-limits" ? "rad/s" : "rad") + ", one per input), got '" +
+                             value + "'");
+        limits.push_back(x);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+      }
+      (key == "--actuator-rate-limits" ? c.actuator_rate_limits_rad_s : c.actuator_position_limits_rad) = limits;
     } else if (key == "--max-frames") {
       errno = 0;
       char* end = nullptr;
@@ -192,6 +235,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
   if (!have_bank) return usage_error("--bank FILE is required (a model-bank file from 'f16mmae design')");
   if (c.trim_freeze_probability && c.trim_time_constant_s == 0.0)
     return usage_error("--trim-freeze-probability applies with --trim-tracking only");
+  if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())
+    return usage_error("--actuator-rate-limits and --actuator-position-limits go together, one value per input each "
+                       "(got " + std::to_string(c.actuator_rate_limits_rad_s.size()) + " and " +
+                       std::to_string(c.actuator_position_limits_rad.size()) + ")");
   for (const auto& [name, us] : {std::pair<const char*, double>{"--warm-lead-us", c.warm_lead_us},
                                   std::pair<const char*, double>{"--rewarm-us", c.rewarm_us}}) {
     if (us * 1e-6 * c.rate_hz >= 1.0) {

@@ -3,6 +3,8 @@
 //   mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
 //               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--schedule-mode M]
+//               [--maneuver-kinematics] [--maneuver-tempering G]
+//               [--actuator-rate-limits R,...] [--actuator-position-limits L,...]
 //               [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--rewarm-us US]
 //               [--auth-key FILE] [--bank-public-key FILE] [--quiet]
 //
@@ -41,6 +43,10 @@ struct DaemonConfig {
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only
   bool schedule_nearest = false;     // a scheduled bank: nearest node instead of interpolation
+  bool maneuver_kinematics = false;  // maneuver_kinematics.h
+  double maneuver_tempering_g = 0.0; // 0 = off
+  // actuator_limits.h: one value per input (rad/s, rad); both empty = off
+  std::vector<double> actuator_rate_limits_rad_s, actuator_position_limits_rad;
   long long max_frames = 0;         // exit after this many status frames; 0 = run until signalled
   int realtime_priority = 0;        // > 0: SCHED_FIFO at this priority and memory locked
   double warm_lead_us = 500.0;      // cache warm-up this long before a frame is due; 0 = off

@@ -101,6 +101,10 @@ int main(int argc, char** argv) {
     options.trim.time_constant_s = cfg.trim_time_constant_s;
     if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
     if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
+    options.maneuver.kinematics = cfg.maneuver_kinematics;
+    options.maneuver.tempering_g = cfg.maneuver_tempering_g;
+    options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
+    options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;
     executive = std::make_unique<Executive>(bank, options);
     bank_hash = bank.content_hash;
     tuning = bank.tuning;
@@ -142,12 +146,15 @@ int main(int argc, char** argv) {
                                    ? "trim tracking " + f16mmae::format_value(options.trim.time_constant_s) + " s (freeze above " +
                                          f16mmae::format_value(options.trim.freeze_probability) + ")"
                                    : std::string("no trim tracking");
+      std::string maneuver = options.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
+      if (options.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(options.maneuver.tempering_g) + " g";
+      maneuver += options.actuators.enabled() ? ", actuator limits" : "";
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s, p_min %g, threshold %g, dwell %g s, %s, %s, "
-                  "schedule %s), lcm %s, %s -> %s, %s\n",
+                  "schedule %s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), options.bank.p_min,
                   options.declarer.threshold, options.declarer.dwell_s,
                   options.bank.adaptation.enabled ? "turbulence adaptation" : "no turbulence adaptation",
-                  trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate", cfg.lcm_url.c_str(),
+                  trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate", maneuver.c_str(), cfg.lcm_url.c_str(),
                   channels.sensors.c_str(), channels.status.c_str(),
                   auth ? "frames authenticated" : "frames NOT authenticated");
       std::fflush(stdout);

@@ -102,6 +102,28 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_NE(r.message.find("interpolate or nearest, got 'linear'"), std::string::npos) << r.message;
 }
 
+TEST(DaemonConfig, ManeuverModelOptions) {
+  auto r = parse_daemon_args({"--bank", "b", "--maneuver-kinematics", "--maneuver-tempering", "0.1",
+                              "--actuator-rate-limits", "1,1,1.5,1.5,2", "--actuator-position-limits=0.4,0.4,0.3,0.3,0.5"},
+                             nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.maneuver_kinematics);
+  EXPECT_EQ(r.config.maneuver_tempering_g, 0.1);
+  EXPECT_EQ(r.config.actuator_rate_limits_rad_s, (std::vector<double>{1, 1, 1.5, 1.5, 2}));
+  EXPECT_EQ(r.config.actuator_position_limits_rad, (std::vector<double>{0.4, 0.4, 0.3, 0.3, 0.5}));
+  for (const char* bad : {"0", "-0.1", "x", "1e3"}) {
+    r = parse_daemon_args({"--bank", "b", "--maneuver-tempering", bad}, nullptr);
+    EXPECT_NE(r.message.find(std::string("got '") + bad + "'"), std::string::npos) << r.message;
+  }
+  for (const char* bad : {"1,,2", "1,x", "", "1,-2", "1,"}) {
+    r = parse_daemon_args({"--bank", "b", "--actuator-rate-limits", bad, "--actuator-position-limits", "1"}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find("positive numbers separated by commas"), std::string::npos) << r.message;
+  }
+  r = parse_daemon_args({"--bank", "b", "--actuator-rate-limits", "1,2"}, nullptr);
+  EXPECT_NE(r.message.find("go together"), std::string::npos) << r.message;
+}
+
 TEST(DaemonConfig, WarmUpLead) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   EXPECT_EQ(r.config.warm_lead_us, 500.0);  // on by default

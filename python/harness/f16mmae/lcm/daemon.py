@@ -10,6 +10,7 @@ import sysconfig
 import threading
 from pathlib import Path
 
+from ..loop.estimator import core_arguments
 from .channels import HilError
 
 
@@ -31,19 +32,25 @@ def statistics_line(output: str, program: str) -> dict:
 #: the ``mmae-daemon`` flag that sets each.
 DAEMON_FLAGS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min",
                 "trim_time_constant_s": "--trim-tracking", "trim_freeze_probability": "--trim-freeze-probability",
-                "adapt_turbulence": "--adapt-turbulence", "schedule_mode": "--schedule-mode"}
+                "adapt_turbulence": "--adapt-turbulence", "schedule_mode": "--schedule-mode",
+                "maneuver_kinematics": "--maneuver-kinematics", "maneuver_tempering_g": "--maneuver-tempering",
+                "actuator_rate_limits_rad_s": "--actuator-rate-limits",
+                "actuator_position_limits_rad": "--actuator-position-limits"}
 
 
 def daemon_flags(estimator_options: dict) -> tuple[str, ...]:
-    """The ``mmae-daemon`` arguments that give it ``estimator_options`` (ValueError for an
-    option the daemon has no flag for)."""
+    """The ``mmae-daemon`` arguments that give it ``estimator_options`` (``actuator_limits``
+    becomes the limits themselves, as in process: ``loop.estimator.core_arguments``;
+    ValueError for an option the daemon has no flag for)."""
     out: list[str] = []
-    for key, value in estimator_options.items():
+    for key, value in core_arguments(estimator_options).items():
         if key not in DAEMON_FLAGS:
             raise ValueError(f"mmae-daemon has no flag for the estimator option {key!r}; "
                              f"it takes {', '.join(DAEMON_FLAGS)}")
         if isinstance(value, bool):
             out += [DAEMON_FLAGS[key]] if value else []
+        elif isinstance(value, (list, tuple)):
+            out += [DAEMON_FLAGS[key], ",".join(repr(float(v)) for v in value)]
         else:
             out += [DAEMON_FLAGS[key], value if isinstance(value, str) else repr(float(value))]
     return tuple(out)

@@ -84,7 +84,7 @@ def run_seed(seeds: str, case: str, n: int) -> int:
 
 
 def fly_one(task) -> dict:
-    bank_label, bank_path, mode, mach, alt_ft, case, n, seeds, adapt = task
+    bank_label, bank_path, mode, mach, alt_ft, case, n, seeds, adapt, extra = task
     bank = _bank(bank_path)
     seed = run_seed(seeds, case, n)
     failures = () if case == NONE else (make_failure(case, FAILURE_TIME_S),)
@@ -92,6 +92,7 @@ def fly_one(task) -> dict:
     options = {"schedule_mode": mode} if mode else {}
     if adapt:
         options["adapt_turbulence"] = True
+    options.update(extra)
     est = Estimator(bank, **options)
     result = fly(scenario, bank, estimator=est)
     scored = score_run(case, FAILURE_TIME_S if case != NONE else None, result.declarations)
@@ -110,7 +111,10 @@ def main() -> int:
     ap.add_argument("--out", required=True)
     ap.add_argument("--seeds", choices=("evaluation", "tuning"), default="evaluation")
     ap.add_argument("--adapt-turbulence", action="store_true", help="the estimator's turbulence adaptation on")
+    ap.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
+                    help="a core.HierarchicalBank setting (number), e.g. adapt_reference=0.76; repeatable")
     args = ap.parse_args()
+    extra = tuple((k, float(v)) for k, v in (o.split("=", 1) for o in args.option))
     if args.points.startswith("random"):
         points = [(p.mach, p.alt_ft) for p in select_points(args.points)]
     else:
@@ -131,7 +135,7 @@ def main() -> int:
                 path = local_bank(mach, alt, tmp / f"local_{mach}_{alt}.f16bank")
             else:
                 path = args.schedule
-            tasks += [(label, path, mode, mach, alt, c, n, args.seeds, args.adapt_turbulence)
+            tasks += [(label, path, mode, mach, alt, c, n, args.seeds, args.adapt_turbulence, dict(extra))
                       for c in CASES for n in range(args.runs)]
     with ProcessPoolExecutor(args.workers) as pool:
         records = list(pool.map(fly_one, tasks, chunksize=4))

@@ -10,7 +10,9 @@ namespace f16mmae::daemon {
 
 std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
-         "                   [--p-min P] [--threshold T] [--dwell-s S]\n"
+         "                   [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence]\n"
+         "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
+         "                   [--schedule-mode interpolate|nearest]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
          "                   [--rewarm-us US] [--auth-key FILE] [--bank-public-key FILE] [--quiet]\n"
          "\n"
@@ -25,6 +27,15 @@ std::string daemon_usage() {
          "  --p-min P            probability floor     } default: the bank's recommendation\n"
          "  --threshold T        declaration threshold } (its typed fields p_min, threshold,\n"
          "  --dwell-s S          declaration dwell, s  } dwell_s) -- as 'f16mmae run'\n"
+         "  --adapt-turbulence   scale the likelihoods on line to the turbulence intensity\n"
+         "                       (default off: the bank as designed)\n"
+         "  --trim-tracking TAU_S  track the trim on line with time constant TAU_S s (e.g. 30),\n"
+         "                       frozen while a failure hypothesis rises or is declared\n"
+         "  --trim-freeze-probability P  with --trim-tracking: a failure hypothesis above P\n"
+         "                       freezes the trim estimate (0 < P <= 1; default 0.05)\n"
+         "  --schedule-mode M    a scheduled bank (*.f16sched): interpolate between grid points\n"
+         "                       on the frames' air data (default) or nearest (switch with\n"
+         "                       hysteresis); these four as 'f16mmae run' has them\n"
          "  --max-frames N       exit after publishing N status frames (default: until signalled)\n"
          "  --realtime PRIORITY  run SCHED_FIFO at PRIORITY (1-99) with memory locked (needs\n"
          "                       CAP_SYS_NICE / root; a warning, not an error, without it)\n"
@@ -75,6 +86,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       c.quiet = true;
       continue;
     }
+    if (a == "--adapt-turbulence") {
+      c.adapt_turbulence = true;
+      continue;
+    }
     std::string key = a, value;
     bool inline_value = false;
     if (a.rfind("--", 0) == 0) {
@@ -89,12 +104,14 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--rate-hz" || key == "--max-frames" || key == "--realtime" ||
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
                        key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
-                       key == "--bank-public-key";
+                       key == "--bank-public-key" || key == "--trim-tracking" ||
+                       key == "--trim-freeze-probability" || key == "--schedule-mode";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
-                         "--auth-key, --bank-public-key, --quiet, --help");
+                         "--auth-key, --bank-public-key, --adapt-turbulence, --trim-tracking, "
+                         "--trim-freeze-probability, --schedule-mode, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -129,6 +146,24 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(x) || x < 0.0)
         return usage_error(key + " must be a finite number >= 0, got '" + value + "'");
       (key == "--p-min" ? c.p_min : key == "--threshold" ? c.threshold : c.dwell_s) = x;
+    } else if (key == "--trim-tracking") {
+      errno = 0;
+      char* end = nullptr;
+      const double tau = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(tau) || tau <= 0.0 || tau > 1e6)
+        return usage_error("--trim-tracking must be a time constant in seconds, > 0 and <= 1e6, got '" + value + "'");
+      c.trim_time_constant_s = tau;
+    } else if (key == "--trim-freeze-probability") {
+      errno = 0;
+      char* end = nullptr;
+      const double p = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || errno != 0 || !(p > 0.0 && p <= 1.0))
+        return usage_error("--trim-freeze-probability must lie in (0, 1], got '" + value + "'");
+      c.trim_freeze_probability = p;
+    } else if (key == "--schedule-mode") {
+      if (value != "interpolate" && value != "nearest")
+        return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
+      c.schedule_nearest = value == "nearest";
     } else if (key == "--max-frames") {
       errno = 0;
       char* end = nullptr;
@@ -155,6 +190,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     }
   }
   if (!have_bank) return usage_error("--bank FILE is required (a model-bank file from 'f16mmae design')");
+  if (c.trim_freeze_probability && c.trim_time_constant_s == 0.0)
+    return usage_error("--trim-freeze-probability applies with --trim-tracking only");
   for (const auto& [name, us] : {std::pair<const char*, double>{"--warm-lead-us", c.warm_lead_us},
                                   std::pair<const char*, double>{"--rewarm-us", c.rewarm_us}}) {
     if (us * 1e-6 * c.rate_hz >= 1.0) {

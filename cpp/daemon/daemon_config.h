@@ -1,7 +1,8 @@
 // DaemonConfig — the settings of mmae-daemon and the parsing of its command line.
 //
 //   mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
-//               [--p-min P] [--threshold T] [--dwell-s S]
+//               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence]
+//               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--schedule-mode M]
 //               [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--rewarm-us US]
 //               [--auth-key FILE] [--bank-public-key FILE] [--quiet]
 //
@@ -35,6 +36,11 @@ struct DaemonConfig {
   double rate_hz = 64.0;            // must equal the bank's frame_rate_hz
   // Estimator settings over the bank's recommended ones (ModelBank::estimator); unset: the bank's.
   std::optional<double> p_min, threshold, dwell_s;
+  // The estimator's on-line options, as 'f16mmae run' has them (off: the bank as designed).
+  bool adapt_turbulence = false;     // turbulence_adaptation.h
+  double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
+  std::optional<double> trim_freeze_probability;  // with trim tracking only
+  bool schedule_nearest = false;     // a scheduled bank: nearest node instead of interpolation
   long long max_frames = 0;         // exit after this many status frames; 0 = run until signalled
   int realtime_priority = 0;        // > 0: SCHED_FIFO at this priority and memory locked
   double warm_lead_us = 500.0;      // cache warm-up this long before a frame is due; 0 = off

@@ -97,6 +97,10 @@ int main(int argc, char** argv) {
     options.bank.p_min = cfg.p_min.value_or(bank.estimator.p_min);
     options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
+    options.bank.adaptation.enabled = cfg.adapt_turbulence;
+    options.trim.time_constant_s = cfg.trim_time_constant_s;
+    if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
+    if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
     executive = std::make_unique<Executive>(bank, options);
     bank_hash = bank.content_hash;
     tuning = bank.tuning;
@@ -134,10 +138,16 @@ int main(int argc, char** argv) {
   {
     LcmNode node(lcm, channels, *executive, auth.get());
     if (!cfg.quiet) {
-      std::printf("mmae-daemon: ready: bank %.12s (%s, %s, p_min %g, threshold %g, dwell %g s), lcm %s, "
-                  "%s -> %s, %s\n",
+      const std::string trim = options.trim.enabled()
+                                   ? "trim tracking " + f16mmae::format_value(options.trim.time_constant_s) + " s (freeze above " +
+                                         f16mmae::format_value(options.trim.freeze_probability) + ")"
+                                   : std::string("no trim tracking");
+      std::printf("mmae-daemon: ready: bank %.12s (%s, %s, p_min %g, threshold %g, dwell %g s, %s, %s, "
+                  "schedule %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), options.bank.p_min,
-                  options.declarer.threshold, options.declarer.dwell_s, cfg.lcm_url.c_str(),
+                  options.declarer.threshold, options.declarer.dwell_s,
+                  options.bank.adaptation.enabled ? "turbulence adaptation" : "no turbulence adaptation",
+                  trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate", cfg.lcm_url.c_str(),
                   channels.sensors.c_str(), channels.status.c_str(),
                   auth ? "frames authenticated" : "frames NOT authenticated");
       std::fflush(stdout);

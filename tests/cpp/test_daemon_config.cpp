@@ -71,6 +71,37 @@ TEST(DaemonConfig, EstimatorOverrides) {
   EXPECT_NE(r.message.find("--p-min must be a finite number >= 0, got '-1'"), std::string::npos);
 }
 
+TEST(DaemonConfig, OnLineEstimatorOptions) {
+  auto r = parse_daemon_args({"--bank", "b"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_FALSE(r.config.adapt_turbulence);
+  EXPECT_EQ(r.config.trim_time_constant_s, 0.0);
+  EXPECT_FALSE(r.config.trim_freeze_probability.has_value());
+  EXPECT_FALSE(r.config.schedule_nearest);
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--trim-tracking", "30", "--trim-freeze-probability=0.2",
+                         "--schedule-mode", "nearest"},
+                        nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.adapt_turbulence);
+  EXPECT_EQ(r.config.trim_time_constant_s, 30.0);
+  EXPECT_EQ(*r.config.trim_freeze_probability, 0.2);
+  EXPECT_TRUE(r.config.schedule_nearest);
+  for (const char* bad : {"0", "-1", "nan", "1e7", "slow"}) {
+    r = parse_daemon_args({"--bank", "b", "--trim-tracking", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find(std::string("'") + bad + "'"), std::string::npos) << r.message;
+  }
+  for (const char* bad : {"0", "1.5", "x"}) {
+    r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-freeze-probability", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find("(0, 1]"), std::string::npos) << r.message;
+  }
+  r = parse_daemon_args({"--bank", "b", "--trim-freeze-probability", "0.2"}, nullptr);
+  EXPECT_NE(r.message.find("applies with --trim-tracking only"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--schedule-mode", "linear"}, nullptr);
+  EXPECT_NE(r.message.find("interpolate or nearest, got 'linear'"), std::string::npos) << r.message;
+}
+
 TEST(DaemonConfig, WarmUpLead) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   EXPECT_EQ(r.config.warm_lead_us, 500.0);  // on by default

@@ -2,11 +2,15 @@
 naming it (no multicast needed: the daemon refuses before it listens, hil over memq://)."""
 from __future__ import annotations
 
+import argparse
 import subprocess
+
+import pytest
 
 from f16mmae.banks import load_bank
 from f16mmae.cli.main import main
-from f16mmae.lcm.daemon import find_executable
+from f16mmae.cli.options import add_estimator_arguments, estimator_options_from_args
+from f16mmae.lcm.daemon import daemon_flags, find_executable
 
 DAEMON = str(find_executable("mmae-daemon"))  # part of every build: a missing daemon fails here
 
@@ -62,3 +66,16 @@ def test_hil_command_errors_name_the_problem(capsys):
     assert "memq:// is a queue inside one process" in capsys.readouterr().err
     assert main(["hil", "--fail", "XYZ@1"]) == 2
     assert "XYZ" in capsys.readouterr().err
+
+
+def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
+    p = argparse.ArgumentParser()
+    add_estimator_arguments(p)
+    args = p.parse_args(["--threshold", "0.95", "--dwell-s", "0.5", "--p-min", "1e-6", "--adapt-turbulence",
+                         "--trim-tracking", "30", "--trim-freeze-probability", "0.2", "--schedule-mode", "nearest"])
+    flags = daemon_flags(estimator_options_from_args(args))
+    assert flags == ("--threshold", "0.95", "--dwell-s", "0.5", "--p-min", "1e-06", "--trim-tracking", "30.0",
+                     "--trim-freeze-probability", "0.2", "--adapt-turbulence", "--schedule-mode", "nearest")
+    assert daemon_flags({"adapt_turbulence": False}) == ()
+    with pytest.raises(ValueError, match="no flag for the estimator option 'gust_states'"):
+        daemon_flags({"gust_states": True})

@@ -353,7 +353,8 @@ def test_hil_command_starts_its_own_daemon(capsys):
 def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     """mmae-daemon runs a scheduled bank (a small real grid) over LCM, scheduling on the
     sensor frames' air data, and the lockstep flight between its nodes equals the in-process
-    run exactly."""
+    run exactly; so does a flight with the on-line options (turbulence adaptation, trim
+    tracking, nearest-node schedule) given to both."""
     sched = tmp_path / "small.f16sched"
     assert main(["design", "--schedule", "mach=0.4/0.5,alt=20000", "--workers", "2", "--out", str(sched)]) == 0
     capsys.readouterr()
@@ -364,3 +365,13 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     assert rc == 0, out
     assert "mmae-daemon: ready" in out and "128 updated" in out and "0 air data rejected" in out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
+    capsys.readouterr()
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
+               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5", "--adapt-turbulence",
+               "--trim-tracking", "2", "--trim-freeze-probability", "0.5", "--schedule-mode", "nearest",
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}O_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    assert ("turbulence adaptation, trim tracking 2 s (freeze above 0.5), schedule nearest" in out), out
+    assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
+

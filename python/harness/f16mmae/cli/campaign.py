@@ -1,13 +1,11 @@
-"""``f16mmae campaign single|dual|envelope|soak``: Monte Carlo campaigns, one module per kind."""
+"""``f16mmae campaign KIND``: Monte Carlo campaigns, one module ``campaign_<kind>`` per kind of
+``f16mmae.campaign.KINDS``, each with ``register(subparsers)``."""
 from __future__ import annotations
 
 import argparse
+import importlib
 
-from . import (campaign_detectability, campaign_dual, campaign_envelope, campaign_maneuver, campaign_single,
-               campaign_soak)
-
-#: The kinds in the order ``--help`` lists them; each module has ``register(kinds)``.
-KINDS = (campaign_single, campaign_dual, campaign_envelope, campaign_soak, campaign_detectability, campaign_maneuver)
+from ..campaign import KINDS
 
 DESCRIPTION = """\
 Monte Carlo campaigns of closed-loop flights of the nonlinear JSBSim F-16 with the MMAE
@@ -36,11 +34,11 @@ estimator in the loop.
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "campaign",
-        help="Monte Carlo campaigns (single, dual, envelope, soak, detectability, maneuver)",
+        help=f"Monte Carlo campaigns ({', '.join(KINDS)})",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     kinds = p.add_subparsers(dest="kind", metavar="KIND")
     for kind in KINDS:
-        kind.register(kinds)
+        importlib.import_module(f"{__package__}.campaign_{kind}").register(kinds)
     p.set_defaults(func=lambda args: (p.print_help(), 2)[1])

@@ -8,11 +8,11 @@ import lcm
 import numpy as np
 
 from ..lcm.channels import HilError, channels, default_lcm_url
-from ..lcm.daemon import DaemonProcess
+from ..lcm.daemon import DaemonProcess, daemon_flags
 from ..lcm.hil import fly_hil
 from ..loop.flight import fly
 from ..report.flight import write_flight
-from .options import CliError, auth_from_option, number
+from .options import CliError, add_estimator_arguments, auth_from_option, estimator_options_from_args, number
 from .run import add_flight_arguments, flight_from_args
 
 DESCRIPTION = """\
@@ -26,6 +26,8 @@ the probabilities of the in-process 'f16mmae run' (to 1e-12; --compare checks it
 Without it the frames are paced in real time at 64 Hz and a status that misses its frame
 is counted as a deadline miss (the FCS keeps the last z_hat). mmae-daemon is on PATH after
 'pip install .'. Without --auth-key the daemon obeys any sender that reaches the LCM URL.
+The estimator options (--threshold ... --schedule-mode) go to the daemon --start-daemon
+starts and to the --compare run; a daemon of your own needs the same flags.
 """
 
 EXAMPLES = """\
@@ -34,6 +36,8 @@ examples:
   mmae-daemon --bank BANK &                              # or a daemon of your own ...
   f16mmae hil --bank BANK --fail LS@3                    # ... flown in real time
   f16mmae hil --start-daemon --lockstep --compare        # check against the in-process run
+  f16mmae hil --start-daemon --lockstep --compare --bank scheduled --adapt-turbulence \
+      --trim-tracking 30 --mach 0.45 --alt-ft 22500       # the scheduled bank, adapting
   lcm-logger run.lcmlog & f16mmae hil --start-daemon     # record, then: f16mmae replay run.lcmlog
   head -c 32 /dev/urandom > link.key                     # authenticated frames: the same key
   mmae-daemon --bank BANK --auth-key link.key &          # for the daemon, hil and replay
@@ -50,6 +54,7 @@ def register(subparsers) -> None:
         description=DESCRIPTION, epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
     add_flight_arguments(
         p, bank_help="the bank the executive runs (default tuned); checked against its status")
+    add_estimator_arguments(p)
     p.add_argument("--lockstep", action="store_true",
                    help="wait for every status instead of pacing at 64 Hz real time")
     p.add_argument("--lcm-url", default=None, metavar="URL",
@@ -72,6 +77,7 @@ def register(subparsers) -> None:
 def _hil(args) -> int:
     timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True, maximum=3600.0)
     label, path, bank, scenario = flight_from_args(args)
+    options = estimator_options_from_args(args)
     url = args.lcm_url or default_lcm_url()
     if args.start_daemon and url.startswith("memq:"):
         raise CliError(f"--lcm-url {url!r} with --start-daemon: memq:// is a queue inside one "
@@ -88,9 +94,11 @@ def _hil(args) -> int:
     daemon = None
     try:
         if args.start_daemon:
-            daemon = DaemonProcess(path, lcm_url=url, channel_prefix=args.channel_prefix, auth_key=args.auth_key)
+            daemon = DaemonProcess(path, lcm_url=url, channel_prefix=args.channel_prefix, auth_key=args.auth_key,
+                                   extra_args=daemon_flags(options))
             print(daemon.ready_line)
-        result = fly_hil(scenario, bank, lc, chans, lockstep=args.lockstep, timeout_s=timeout_s, auth=auth)
+        result = fly_hil(scenario, bank, lc, chans, lockstep=args.lockstep, timeout_s=timeout_s, auth=auth,
+                         estimator_options=options)
     except HilError as exc:
         raise CliError(str(exc)) from None
     finally:
@@ -118,7 +126,7 @@ def _hil(args) -> int:
           f"{link['stale_statuses']} stale")
     extra = {"link": link, "bank_file": str(path), "lcm_url": url, "channel_prefix": args.channel_prefix}
     if args.compare:
-        local = fly(scenario, bank)
+        local = fly(scenario, bank, estimator_options=options)
         same = local.hypotheses == result.hypotheses and local.probabilities.shape == result.probabilities.shape
         diff = float(np.nanmax(np.abs(local.probabilities - result.probabilities))) if same else math.inf
         print(f"in-process run: max |probability difference| = {diff:.3g} "

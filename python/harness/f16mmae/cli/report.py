@@ -5,7 +5,7 @@ import argparse
 import json
 from pathlib import Path
 
-from ..campaign import detectability, dual, envelope, maneuver, single, soak  # noqa: F401 -- each registers its report page
+from ..campaign import import_kinds
 from ..report.markdown import summary_markdown
 from ..report.page import render_report
 from .options import CliError
@@ -39,6 +39,7 @@ def register(subparsers) -> None:
 
 
 def _report(args) -> int:
+    import_kinds()  # each kind registers its report pages
     if args.markdown is not None:
         md = Path(args.markdown)
         if md.is_dir() or not md.parent.is_dir():

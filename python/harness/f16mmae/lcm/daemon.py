@@ -27,6 +27,28 @@ def statistics_line(output: str, program: str) -> dict:
         raise HilError(f"{program}'s statistics line is not JSON ({exc}): {lines[-1][:200]!r}") from None
 
 
+#: The estimator options of ``f16mmae run`` (``cli.options.estimator_options_from_args``) and
+#: the ``mmae-daemon`` flag that sets each.
+DAEMON_FLAGS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min",
+                "trim_time_constant_s": "--trim-tracking", "trim_freeze_probability": "--trim-freeze-probability",
+                "adapt_turbulence": "--adapt-turbulence", "schedule_mode": "--schedule-mode"}
+
+
+def daemon_flags(estimator_options: dict) -> tuple[str, ...]:
+    """The ``mmae-daemon`` arguments that give it ``estimator_options`` (ValueError for an
+    option the daemon has no flag for)."""
+    out: list[str] = []
+    for key, value in estimator_options.items():
+        if key not in DAEMON_FLAGS:
+            raise ValueError(f"mmae-daemon has no flag for the estimator option {key!r}; "
+                             f"it takes {', '.join(DAEMON_FLAGS)}")
+        if isinstance(value, bool):
+            out += [DAEMON_FLAGS[key]] if value else []
+        else:
+            out += [DAEMON_FLAGS[key], value if isinstance(value, str) else repr(float(value))]
+    return tuple(out)
+
+
 def find_executable(name: str = "mmae-daemon") -> Path:
     """``mmae-daemon``: $F16MMAE_BIN_DIR, then the scripts directory of this Python (where
     ``pip install .`` and ``make build`` put it, beside ``f16mmae``), then $PATH. Raises

@@ -44,7 +44,7 @@ def publish_marker(lc, chans: Channels, event: str, time_s: float, payload: dict
 
 def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
             timeout_s: float = 5.0, feedback: str | None = None, on_frame=None,
-            remote: RemoteEstimator | None = None, auth=None):
+            remote: RemoteEstimator | None = None, auth=None, estimator_options: dict | None = None):
     """Fly ``scenario`` against the executive reachable on ``lc``; returns the closed loop's
     FlightResult (timing gains ``link``: latency p50/p99/max, deadline misses, stale).
     ``on_frame(t, u, z, air_data)`` is called after each frame, as by loop.flight.fly; ``remote``: a
@@ -55,8 +55,9 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
                                  expected_bank_hash=str(model_bank.content_hash),
                                  initial_hypotheses=level0_hypotheses(model_bank), auth=auth)
     lockstep = remote.lockstep
-    # what mmae-daemon applies by default: the bank's recommended settings (its typed fields)
-    remote.settings = bank_estimator_settings(model_bank)
+    # what mmae-daemon applies: the bank's recommended settings (its typed fields), and the
+    # options it was started with (lcm.daemon.daemon_flags)
+    remote.settings = {**bank_estimator_settings(model_bank), **(estimator_options or {})}
     try:
         remote.reset(f"f16mmae hil: seed {scenario.seed}")
         publish_marker(lc, chans, "run_start", 0.0, {

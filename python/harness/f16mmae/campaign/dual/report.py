@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ...report import evidence
 from ...report.figures import img_tag
+from ...report.markdown import case_rows, header, not_clean, num, rate, register_markdown
 from ...report.page import param_table, register_page
 from ..engine.outcomes import ABSOLUTE_DUAL_RULES
 from .scoring import RATING_RULES, RATINGS
@@ -110,4 +111,29 @@ def dual_page(d: Path, s: dict) -> str:
     ])
 
 
+
+def dual_markdown(s: dict) -> str:
+    out = header(s, f"Dual failures, {s['runs_per_pair']} runs per ordered pair "
+                     f"(first at {s['first_time_s']:g} s, second at {s['second_time_s']:g} s)")
+    cmp_ = s.get("paper_comparison") or {}
+    out += ["## Ratings", "",
+            "- relative to the lone second failure (paper's Fig. 7 rule): "
+            + ", ".join(f"{k} {v}" for k, v in s["ratings"].items()),
+            "- absolute (>= 90 % correct, no false alarm, no transient-wrong, median latency <= 1.5 s): "
+            + ", ".join(f"{k} {v}" for k, v in (s.get("absolute_ratings") or {}).items()),
+            f"- same rating as the paper in {cmp_.get('equal', '?')} of {cmp_.get('cells', '?')} comparable cells", ""]
+    worse = [p for p in s["pairs"] if p["rating"] != "Good" or p.get("absolute_rating") != "Good"]
+    out += [f"## Pairs not Good on either rating ({len(worse)})", "",
+            "| pair | correct [95 %] | transient-wrong | runs with FA | latency median (s) | relative | absolute: why |",
+            "|---|---|---|---|---|---|---|"]
+    for p in worse:
+        r = p["evidence"]["rates"]
+        out.append(f"| {p['case']} | {rate(r['correct'])} | {r['transient_wrong']['count']} | "
+                   f"{r['false_alarm']['count']} | {num(p['latency_s']['median'])} | {p['rating']} | "
+                   f"{p.get('absolute_rating')}: {p.get('absolute_rating_reason', '')} |")
+    out += ["", "## Baselines (each second failure alone)", ""] + case_rows(s["baselines"], "failure")
+    out += not_clean(s, lambda r: r["pair"])
+    return "\n".join(out)
+
 register_page("dual", dual_page)
+register_markdown("dual", dual_markdown)

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from ...report import evidence
 from ...report.figures import img_tag
+from ...report.markdown import header, not_clean, num, rate, register_markdown
 from ...report.page import param_table, register_page
 
 
@@ -70,4 +71,20 @@ def envelope_page(d: Path, s: dict) -> str:
     return "".join(parts)
 
 
+
+def envelope_markdown(s: dict) -> str:
+    out = header(s, f"Off the design point: {len(s['points'])} points, {s['runs_per_case']} runs per case "
+                     f"and point")
+    out += ["## Points", "",
+            "| point | Mach | alt (ft) | correct [95 %] | runs with FA [95 %] | transient-wrong | "
+            "latency median (s) | acceptable | verdict |", "|---|---|---|---|---|---|---|---|---|"]
+    for p in s["points"]:
+        r = p["evidence"]["rates"]
+        out.append(f"| {p['label']} | {p['mach']:.3f} | {p['alt_ft']:.0f} | {rate(r.get('correct'))} | "
+                   f"{rate(r.get('false_alarm'))} | {r.get('transient_wrong', {}).get('count', '-')} | "
+                   f"{num(p['latency_median_s'])} | {'yes' if p['acceptable'] else 'no'} | {p['evidence']['verdict']} |")
+    out += [""] + not_clean(s, lambda r: f"point {r['point']} {r['case']}")
+    return "\n".join(out)
+
 register_page("envelope", envelope_page)
+register_markdown("envelope", envelope_markdown)

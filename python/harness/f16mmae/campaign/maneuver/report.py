@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ...report import evidence
 from ...report.figures import img_tag
+from ...report.markdown import header, not_clean, num, rate, register_markdown
 from ...report.page import param_table, register_page
 
 
@@ -56,4 +57,28 @@ def maneuver_page(d: Path, s: dict) -> str:
     return "".join(parts)
 
 
+
+def maneuver_markdown(s: dict) -> str:
+    out = header(s, f"Maneuvers: {', '.join(s['maneuvers'])} at {len(s['points'])} point(s), "
+                     f"{s['runs_per_case']} run(s) per case, failure at {s['failure_time_s']:g} s into a "
+                     f"maneuver begun at {s['maneuver_time_s']:g} s of a {s['duration_s']:g}-s flight")
+    out += ["## Per maneuver", "",
+            "| maneuver | correct [95 %] | runs with FA [95 %] | false declarations per maneuvering hour "
+            "[95 %] | latency median (s, VEL apart) | VEL latency median (s) | verdict |",
+            "|---|---|---|---|---|---|---|"]
+    for r in s["by_maneuver"] + [{"maneuver": "all", **s["overall"]}]:
+        out.append(f"| {r['maneuver']} | {rate(r['rates'].get('correct'))} | {rate(r['rates'].get('false_alarm'))} | "
+                   f"{evidence.describe_per_hour(r['per_hour'])} | {num(r['latency_median_s'])} | "
+                   f"{num(r['vel_latency_median_s'])} | {r.get('verdict')} |")
+    out += ["", "## Per point and maneuver", "",
+            "| point | Mach | alt (ft) | maneuver flown | correct [95 %] | runs with FA | latency median (s) |",
+            "|---|---|---|---|---|---|---|"]
+    for c in s["by_point"]:
+        out.append(f"| {c['point']} | {c['mach']:.3f} | {c['alt_ft']:.0f} | `{c['maneuver_spec']}` | "
+                   f"{rate(c['rates'].get('correct'))} | {c['false_alarm_runs']}/{c['runs']} | "
+                   f"{num(c['latency_median_s'])} |")
+    out += [""] + not_clean(s, lambda r: f"point {r['point']} {r['maneuver']} {r['case']}")
+    return "\n".join(out)
+
 register_page("maneuver", maneuver_page)
+register_markdown("maneuver", maneuver_markdown)

@@ -8,6 +8,7 @@ import html
 from pathlib import Path
 
 from ...report.figures import img_tag
+from ...report.markdown import case_rows, header, not_clean, register_markdown
 from ...report.page import param_table, register_page
 from ...report import evidence
 from ..engine.scoring import GOALS
@@ -74,4 +75,13 @@ def single_page(d: Path, s: dict) -> str:
     return "".join(parts)
 
 
+
+def single_markdown(s: dict) -> str:
+    out = header(s, f"Single failures at Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, "
+                     f"{s['runs_per_case']} runs per case")
+    out += ["## Cases", ""] + case_rows(s["cases"])
+    out += not_clean(s, lambda r: f"{r.get('tuning')} {r['case']}")
+    return "\n".join(out)
+
 register_page("single", single_page)
+register_markdown("single", single_markdown)

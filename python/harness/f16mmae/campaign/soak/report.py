@@ -9,6 +9,7 @@ from pathlib import Path
 
 from ...report import evidence
 from ...report.figures import img_tag
+from ...report.markdown import header, not_clean, num, register_markdown
 from ...report.page import param_table, register_page
 
 _DEFINITIONS = """
@@ -73,4 +74,26 @@ def soak_page(d: Path, s: dict) -> str:
     return "".join(parts)
 
 
+
+def soak_markdown(s: dict) -> str:
+    out = header(s, f"Soak: {s['flights_per_level']} failure-free flights of {s['flight_s']:g} s per turbulence "
+                     f"level from Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, "
+                     + ("maneuvering: " + ", ".join(f"`{m}`" for m in s["maneuvers"]) if s.get("maneuvers")
+                        else "trim (no maneuvers)"))
+    out += ["## False declarations per flight hour", "",
+            "| turbulence | flights | hours | false declarations per hour [95 %], goal: verdict | "
+            "flights with one | first in its flight, median / earliest (s) | hypotheses involved | "
+            "lasted median / max (s) | ended: backed out / replaced / flight end |", "|---|---|---|---|---|---|---|---|---|"]
+    for lv in s["levels"]:
+        hyps = evidence.describe_counts(lv["hypotheses"])
+        ends = " / ".join(str(lv["episodes_by_end"][k]) for k in ("backed out", "replaced", "flight end"))
+        out.append(f"| {lv['level']} | {lv['flights']} | {lv['hours']:.3f} | {evidence.describe_per_hour(lv['per_hour'])} | "
+                   f"{lv['flights_with_false_declaration']} | {num(lv['first_declaration_s']['median'])} / "
+                   f"{num(lv['first_declaration_s']['min'])} | {hyps} | {num(lv['duration_s']['median'])} / "
+                   f"{num(lv['duration_s']['max'])} | {ends} |")
+    out += ["", f"Goals met (no level *not met*): {'yes' if s.get('goals_met') else 'no'}", ""]
+    out += not_clean(s, lambda r: f"{r['level']} flight")
+    return "\n".join(out)
+
 register_page("soak", soak_page)
+register_markdown("soak", soak_markdown)

@@ -8,7 +8,8 @@ without its trim scheduled, and how do the two ways of scheduling compare off th
     python tools/schedule/spacing.py --points random:20:seed=2 --banks interpolate --schedule FILE \
         --seeds tuning --adapt-turbulence --runs 2 --out results/tune.json
 
---points: MACH:ALT_FT,... or random:N[:seed=S] (campaign envelope's Latin hypercube).
+--points: MACH:ALT_FT,..., random:N[:seed=S] (campaign envelope's Latin hypercube) or a
+selection of the paper's Fig. 9 points (all, local, extrema, ...).
 --seeds: ``evaluation`` (default; those of ``campaign single`` at campaign seed 1) or
 ``tuning`` (the tuning campaign's: ``derived_seed("single", 1, case, n)``, n < 20, the seeds
 the shipped tuned bank's settings were chosen on; f16mmae.seeds) -- tune on these, never on
@@ -115,7 +116,7 @@ def main() -> int:
                     help="a core.HierarchicalBank setting (number), e.g. adapt_reference=0.76; repeatable")
     args = ap.parse_args()
     extra = tuple((k, float(v)) for k, v in (o.split("=", 1) for o in args.option))
-    if args.points.startswith("random"):
+    if args.points.startswith("random") or ":" not in args.points:  # campaign envelope's selections
         points = [(p.mach, p.alt_ft) for p in select_points(args.points)]
     else:
         points = [tuple(float(x) for x in p.split(":")) for p in args.points.split(",")]

@@ -113,7 +113,7 @@ def test_bad_grids_are_refused_naming_the_rule(spec, message, tmp_path, capsys):
 
 def test_the_default_grid_covers_the_envelope():
     g = parse_grid()
-    assert g.mach == (0.3, 0.4, 0.5, 0.6, 0.7, 0.8)
+    assert g.mach == (0.3, 0.35, 0.4, 0.5, 0.6, 0.7, 0.8)
     assert g.alt_ft == (5000.0, 10000.0, 15000.0, 20000.0, 25000.0, 30000.0, 35000.0)
 
 

@@ -220,7 +220,16 @@ class Frames {
     return z;
   }
 
+  // The throttle dither written at the start of every frame (truth/model.py advance).
+  void set_throttle_dither(const std::string& property, double trim, double amplitude, double omega_rad_s) {
+    throttle_dither_node_ = exec_->node(property);
+    throttle_dither_ = ThrottleDither{trim, amplitude, omega_rad_s};
+  }
+
   void advance_frame(const Surfaces& u) {
+    if (throttle_dither_node_ != nullptr)
+      throttle_dither_node_->setDoubleValue(
+          throttle_dither_.command(static_cast<double>(frame_) / frame_rate_hz_));
     Surfaces eff = u;
     for (int k = 0; k < steps_per_frame_; ++k) {
       while (next_act_ < act_fail_.size() && act_fail_[next_act_].at <= step_) {
@@ -351,6 +360,8 @@ class Frames {
   bool has_outer_ = false;
   std::array<SGPropertyNode*, 4> instrument_{};
   SGPropertyNode* throttle_ = nullptr;
+  SGPropertyNode* throttle_dither_node_ = nullptr;
+  ThrottleDither throttle_dither_{};
   std::vector<ScheduledFailure> act_fail_, sen_fail_;
   std::size_t next_act_ = 0, next_sen_ = 0;
   py::array_t<double, py::array::c_style | py::array::forcecast> noise_;
@@ -398,6 +409,9 @@ void bind_truth(py::module_& m) {
       .def("set_outer_loop", &Frames::set_outer_loop, py::arg("coefficients"), py::arg("instruments"),
            py::arg("throttle_property"))
       .def_property_readonly("outer_state", &Frames::outer_state)
+      .def("set_throttle_dither", &Frames::set_throttle_dither, py::arg("property"), py::arg("trim"),
+           py::arg("amplitude"), py::arg("omega_rad_s"),
+           "Write trim + amplitude sin(omega_rad_s t) to the throttle property before each frame.")
       .def("set_noise", &Frames::set_noise, py::arg("noise"))
       .def_property_readonly("noise_left", &Frames::noise_left)
       .def("set_air_data_noise", &Frames::set_air_data_noise, py::arg("noise"))

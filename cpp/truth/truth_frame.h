@@ -18,6 +18,8 @@
 // Flight control law: truth/fcs.py's module docstring (pitch C*-like PI, roll-rate command,
 // washed-out yaw damper with ARI), plus dither d_j = a_j sin(w_j t + phi_j), clipped to +-lim;
 // its pilot commands nz_cmd, p_cmd are zero, or come from the outer loop.
+// Throttle dither (truth/dither.py throttle_command): th = trim + a sin(w t), written before a
+// frame's JSBSim steps.
 // Outer loop (pilot side, maneuvers): truth/outer_loop.py's module docstring -- piecewise
 // references (at most kMaxSegments per channel) and the altitude / bank / Mach PI laws; it reads
 // the instruments (h, hdot, M, phi) and returns (nz_cmd, p_cmd, throttle).
@@ -166,6 +168,12 @@ struct FlightControlLaw {
     for (int j = 0; j < kSurfaces; ++j) u[j] = clip(u[j], c.limit_rad[j]);
     return u;
   }
+};
+
+/// The truth's throttle dither: command (0..1) at time t, in truth/dither.py's order of operations.
+struct ThrottleDither {
+  double trim = 0.0, amplitude = 0.0, omega_rad_s = 0.0;
+  double command(double time_s) const { return trim + amplitude * std::sin(omega_rad_s * time_s); }
 };
 
 inline constexpr int kMaxSegments = 32;

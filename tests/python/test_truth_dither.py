@@ -119,3 +119,20 @@ def test_dither_values_and_switch():
     with pytest.raises(ValueError, match=r"\[0, 16\] Hz"):
         DitherSpec(frequency_hz=(1, 1, 1, 1, 40))
     assert FRAME_RATE_HZ / 2 > max(DEFAULT_FREQUENCY_HZ) * 4
+
+
+def test_throttle_dither_settings_are_checked_and_kept_out_of_records_when_off():
+    from f16mmae.truth.scenario import Scenario as Sc
+
+    assert "throttle_amplitude" not in DitherSpec().to_dict()   # records without it keep their form
+    on = DitherSpec(throttle_amplitude=0.02, throttle_frequency_hz=0.1)
+    assert on.throttle_on and not DitherSpec(enabled=False, throttle_amplitude=0.02).throttle_on
+    back = Sc.from_dict(Sc(dither=on).to_dict())
+    assert back.dither == on
+    for bad in (-0.01, 0.5, float("nan"), True, "0.02"):
+        with pytest.raises(ValueError, match="throttle_amplitude"):
+            DitherSpec(throttle_amplitude=bad)
+    with pytest.raises(ValueError, match="throttle_frequency_hz"):
+        DitherSpec(throttle_amplitude=0.02, throttle_frequency_hz=20.0)
+    with pytest.raises(ValueError, match="maneuvers"):
+        Sc(dither=on, duration_s=10.0, maneuvers=("turn@1:bank=20",))

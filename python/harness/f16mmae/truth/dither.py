@@ -25,6 +25,18 @@ amplitude schedule (Dither).  At the nominal point the defaults use n_z 0.045 g,
 p 0.80, r 0.35 deg/s, n_y 0.014 g (35,000 ft: q 0.86, p 0.86 deg/s; M 0.8: n_z 0.039 g);
 ``f16mmae bench truth`` and tests/python/test_truth_dither.py measure and print
 the levels.
+
+Throttle dither (optional, off by default: ``throttle_amplitude`` = 0): the truth aircraft's
+throttle command about its trim, ``th(t) = th_trim + a_th sin(2 pi f_th t)`` (command units,
+0..1; ``fcs/throttle-cmd-norm``), written at the start of every frame by the truth model
+(truth/model.py, and its C++ twin ``ThrottleDither`` in cpp/truth/truth_frame.h).  It moves
+forward speed, which no surface dither can do subliminally (docs/results/excitation.md).  Its
+criterion is peak |Delta n_x| <= 0.02 g (CRITERION["nx_g"], the n_y criterion; see
+design/excitation.py); a_th = 0.0239 meets it at the nominal point (JSBSim's thrust per unit
+command there: 26.9 ft/s^2 of u').  Its amplitude is not scheduled over the envelope, and it
+cannot be combined with maneuvers (the outer loop owns the throttle).  The estimator does not
+model it yet: with it on, a bank with only the five surface inputs sees an unmodelled speed
+excitation.
 """
 from __future__ import annotations
 
@@ -42,18 +54,25 @@ DEFAULT_PHASE_RAD: tuple[float, ...] = (0.0, 0.0, 0.55, -0.55, 0.0)
 #: response (CRITERION), not of this bound.
 MAX_AMPLITUDE_DEG = 15.0
 #: Subliminal criterion (peak values) the defaults are checked against.
-CRITERION = {"nz_g": 0.05, "rate_deg_s": 1.0, "ny_g": 0.02}
+CRITERION = {"nz_g": 0.05, "rate_deg_s": 1.0, "ny_g": 0.02, "nx_g": 0.02}
+#: Largest throttle dither amplitude a DitherSpec accepts (command units; trim about 0.25).
+MAX_THROTTLE_AMPLITUDE = 0.1
+#: Default throttle dither frequency (Hz), used when its amplitude is set.
+DEFAULT_THROTTLE_FREQUENCY_HZ = 0.2
 
 
 @dataclass(frozen=True)
 class DitherSpec:
     """Dither settings: ``enabled``; per-surface ``amplitude_deg`` (deg), ``frequency_hz`` (Hz),
-    ``phase_rad`` (rad), order LS RS LF RF RUD."""
+    ``phase_rad`` (rad), order LS RS LF RF RUD; the throttle dither's ``throttle_amplitude``
+    (command units, 0 = off) and ``throttle_frequency_hz`` (Hz)."""
 
     enabled: bool = True
     amplitude_deg: tuple[float, ...] = field(default=DEFAULT_AMPLITUDE_DEG)
     frequency_hz: tuple[float, ...] = field(default=DEFAULT_FREQUENCY_HZ)
     phase_rad: tuple[float, ...] = field(default=DEFAULT_PHASE_RAD)
+    throttle_amplitude: float = 0.0
+    throttle_frequency_hz: float = DEFAULT_THROTTLE_FREQUENCY_HZ
 
     def __post_init__(self):
         for name in ("amplitude_deg", "frequency_hz", "phase_rad"):
@@ -69,10 +88,40 @@ class DitherSpec:
         if any(f < 0 or f > 16.0 for f in self.frequency_hz):
             raise ValueError(f"dither frequency_hz must lie in [0, 16] Hz (frame rate 64 Hz), "
                              f"got {self.frequency_hz}")
+        for name, hi, unit in (("throttle_amplitude", MAX_THROTTLE_AMPLITUDE, ""),
+                               ("throttle_frequency_hz", 16.0, " Hz")):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (0.0 <= v <= hi):
+                raise ValueError(f"dither {name} must be a number in [0, {hi:g}]{unit}, got {v!r}")
+            object.__setattr__(self, name, float(v))
+
+    @property
+    def throttle_on(self) -> bool:
+        """Whether the throttle dither acts (enabled, amplitude > 0)."""
+        return self.enabled and self.throttle_amplitude > 0.0
 
     def to_dict(self) -> dict:
-        return {"enabled": self.enabled, "amplitude_deg": list(self.amplitude_deg),
-                "frequency_hz": list(self.frequency_hz), "phase_rad": list(self.phase_rad)}
+        """The settings; the throttle's only when its amplitude is set (records without it keep
+        their form)."""
+        out = {"enabled": self.enabled, "amplitude_deg": list(self.amplitude_deg),
+               "frequency_hz": list(self.frequency_hz), "phase_rad": list(self.phase_rad)}
+        if self.throttle_amplitude > 0.0:
+            out["throttle_amplitude"] = self.throttle_amplitude
+            out["throttle_frequency_hz"] = self.throttle_frequency_hz
+        return out
+
+
+def throttle_terms(spec: DitherSpec) -> tuple[float, float]:
+    """(a_th, 2 pi f_th) of the throttle dither, (0, 0) when it is off."""
+    if not spec.throttle_on:
+        return 0.0, 0.0
+    return spec.throttle_amplitude, 2.0 * math.pi * spec.throttle_frequency_hz
+
+
+def throttle_command(trim: float, amplitude: float, omega_rad_s: float, time_s: float) -> float:
+    """The truth's throttle command at ``time_s``: ``trim + a_th sin(w t)`` (the reference of
+    cpp/truth/truth_frame.h ThrottleDither::command)."""
+    return trim + amplitude * math.sin(omega_rad_s * time_s)
 
 
 #: Extra exponent of the amplitude schedule above the design dynamic pressure (s < 1).

@@ -34,6 +34,11 @@ the cpp engine it flies inside the C++ frames with the control law (``attach``);
 makes the control law run in Python (the frames then fly actuators, JSBSim and sensors).  A
 maneuvering flight's aircraft does not go back to the pool (the throttle and engine state it
 leaves are not the trim's).
+
+Throttle dither (``DitherSpec.throttle_amplitude`` > 0, truth.dither): the throttle command
+``th_trim + a_th sin(2 pi f_th t_i)`` is written at the start of frame i, before its JSBSim
+steps (``advance``; in C++ ``TruthFrames.set_throttle_dither``).  Such a flight's aircraft
+does not go back to the pool either.
 """
 from __future__ import annotations
 
@@ -46,6 +51,7 @@ from ..names import ACTUATORS, FRAME_RATE_HZ, SENSORS, SIM_RATE_HZ
 from . import actuators as actuators_module
 from . import air_data as air_data_module, aircraft, sensors as sensors_module, turbulence
 from .air_data import AirDataSensor, air_data_rng
+from .dither import throttle_command, throttle_terms
 from .actuators import ActuatorBank
 from .engine import check_engine
 from .pool import POOL
@@ -84,7 +90,8 @@ class TruthModel:
         dt = 1.0 / SIM_RATE_HZ
         key, held = POOL.acquire(sc.mach, sc.alt_ft, dt, sc.seed)
         self.fdm, self.trim = held[0], held[1]
-        self._release = weakref.finalize(self, POOL.discard if sc.maneuvers else POOL.release, key, held)
+        away = sc.maneuvers or sc.dither.throttle_on  # these flights move the throttle: not back to the pool
+        self._release = weakref.finalize(self, POOL.discard if away else POOL.release, key, held)
         turbulence.apply(self.fdm, sc.turbulence)
         self.actuators = ActuatorBank(self.trim.u_rad, dt)
         rng = np.random.default_rng(sc.seed)
@@ -105,10 +112,14 @@ class TruthModel:
         self._pending_turb = (sc.gust_burst.schedule(sc.turbulence, FRAME_RATE_HZ)
                               if sc.gust_burst is not None else [])
         n = int(round(sc.duration_s * FRAME_RATE_HZ)) + 1
+        #: Throttle dither (truth.dither): trim, amplitude, 2 pi f; written each frame when on.
+        self._throttle = (self.trim.throttle, *throttle_terms(sc.dither)) if sc.dither.throttle_on else None
         if self.engine == "cpp":
             self._rng, self._air_rng = rng, air_rng
             self._noise_rows = n
             self._frames = self._make_frames(rng.standard_normal((n, 7)), air_rng.standard_normal((n, 2)), n)
+            if self._throttle is not None:
+                self._frames.set_throttle_dither(THROTTLE_PROPERTY, *self._throttle)
             self.sensors = self.air_data_sensor = None
             return
         self._frames = None
@@ -219,6 +230,8 @@ class TruthModel:
             self.frame += 1
             return
         u = [float(x) for x in u]
+        if self._throttle is not None:
+            self.fdm[THROTTLE_PROPERTY] = throttle_command(*self._throttle, self.frame / FRAME_RATE_HZ)
         act, setters, run = self.actuators, self._set_surface, self._run
         eff = u
         for _ in range(self._steps_per_frame):

@@ -56,7 +56,8 @@ from .maneuvers import ManeuverSpec, check_schedule, parse_maneuver
 EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 _KEYS = ("mach", "alt_ft", "turbulence", "dither", "failures", "failure", "duration_s", "seed",
          "feedback", "ari", "noise", "gust_burst", "maneuvers")
-_DITHER_KEYS = ("enabled", "amplitude_deg", "frequency_hz", "phase_rad")
+_DITHER_KEYS = ("enabled", "amplitude_deg", "frequency_hz", "phase_rad", "throttle_amplitude",
+                "throttle_frequency_hz")
 _FAILURE_KEYS = ("name", "time_s", "mode", "value")
 
 
@@ -128,6 +129,9 @@ class Scenario:
             if m.time_s > d:
                 raise ValueError(f"maneuver {m} starts after the end of the run ({d:g} s)")
         object.__setattr__(self, "maneuvers", ms)
+        if ms and self.dither.throttle_on:
+            raise ValueError("a throttle dither (dither.throttle_amplitude > 0) cannot fly with maneuvers: "
+                             "the maneuvers' outer loop sets the throttle; set throttle_amplitude = 0")
 
     # -- conversions -------------------------------------------------------------------------
     def to_dict(self) -> dict:

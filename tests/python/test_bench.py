@@ -140,12 +140,26 @@ def test_bench_truth_prints_truth_bare_and_closed_loop(capsys):
     out = capsys.readouterr().out
     for label in ("bare JSBSim stock f16, stepping", "truth model, C++ engine, per flight",
                   "truth model, Python engine, per flight", "first flight of its condition",
-                  "closed loop (tuned bank, probabilities recorded) / truth alone", "dither levels",
+                  "the same with the stock contact points", "derived stepping / the same with the contact points",
+                  "closed loop (tuned bank, Mach 0.4, 20000 ft, probabilities recorded) / truth alone",
+                  "(goal <= 1.1)", "dither levels",
                   "single-failure campaign, 13 flights"):
         assert label in out
 
 
+def test_bench_truth_times_the_closed_loop_with_the_bank_and_options_given(capsys):
+    assert main(["bench", "truth", "--duration-s", "0.5", "--repeat", "1", "--campaign-runs", "0",
+                 "--mach", "0.45", "--alt-ft", "21000", "--adapt-turbulence", "--trim-tracking", "30"]) == 0
+    out = capsys.readouterr().out
+    assert ("closed loop (tuned bank, trim_time_constant_s 30.0, adapt_turbulence True, Mach 0.45, 21000 ft, "
+            "probabilities recorded) / truth alone") in out
+    assert "(goal <= 1.3 with the scheduled estimator)" in out
+
+
 @pytest.mark.parametrize("argv, message", [
+    (["--bank", "nope"], "--bank: 'nope' is neither a shipped tuning"),
+    (["--mach", "3"], "--mach '3' must be <="),
+    (["--trim-tracking", "-1"], "--trim-tracking '-1' must be > 0"),
     (["--duration-s", "0"], "--duration-s '0' must be > 0.0"),
     (["--duration-s", "1e12"], "--duration-s '1e12' must be < 3600.0"),
     (["--repeat", "0"], "--repeat '0' must be >= 1"),

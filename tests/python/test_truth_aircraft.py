@@ -105,3 +105,68 @@ def test_flight_condition_outside_the_envelope_is_refused(mach, alt_ft, word):
 def test_seed_below_one_is_refused():
     with pytest.raises(ValueError, match="seed"):
         aircraft.load_fdm(seed=0)
+
+
+#: What the comparison of the two aircraft reads at every step: the states JSBSim integrates,
+#: their derivatives, and the total forces and moments they come from.
+_COMPARED = ("position/h-sl-ft", "position/lat-geod-rad", "position/long-gc-rad",
+             "velocities/u-fps", "velocities/v-fps", "velocities/w-fps", "velocities/p-rad_sec",
+             "velocities/q-rad_sec", "velocities/r-rad_sec", "attitude/phi-rad", "attitude/theta-rad",
+             "attitude/psi-rad", "aero/alpha-rad", "aero/beta-rad", "accelerations/udot-ft_sec2",
+             "accelerations/vdot-ft_sec2", "accelerations/wdot-ft_sec2", "accelerations/pdot-rad_sec2",
+             "accelerations/qdot-rad_sec2", "accelerations/rdot-rad_sec2", "forces/fbx-total-lbs",
+             "forces/fby-total-lbs", "forces/fbz-total-lbs", "moments/l-total-lbsft",
+             "moments/m-total-lbsft", "moments/n-total-lbsft", "propulsion/engine[0]/n2",
+             "propulsion/total-fuel-lbs")
+
+
+def test_contact_points_change_no_flight_bit():
+    """The derived aircraft flies without the stock contact points (aircraft module docstring):
+    the same trim and, step for step, the same states, derivatives, forces and moments as the
+    aircraft with them, through 10 s of hard random surface deflections in severe turbulence
+    (compared exactly, not to a tolerance)."""
+    from f16mmae.truth import turbulence
+
+    flown = []
+    for contacts in (True, False):
+        fdm = aircraft.load_fdm(seed=7, cxx=True, contacts=contacts)
+        tp = aircraft.trim(fdm, 0.4, 20_000.0)
+        assert fdm["gear/num-units"] == (10 if contacts else 0)
+        turbulence.apply(fdm, "severe")
+        rng = np.random.default_rng(11)
+        lim = np.array(actuators.POSITION_LIMIT_RAD)
+        rows, gear = [], []
+        for step in range(10 * 128):
+            if step % 32 == 0:  # a new deflection every 0.25 s, up to half the position limits
+                aircraft.set_surfaces(fdm, tp.u_rad + rng.uniform(-0.5, 0.5, 5) * lim)
+            assert fdm.run()
+            rows.append([fdm[p] for p in _COMPARED])
+            gear.append([fdm[p] for p in ("forces/fbx-gear-lbs", "forces/fbz-gear-lbs", "moments/m-gear-lbsft")])
+        flown.append((tp, np.array(rows), np.array(gear)))
+    (tp_with, with_, gear_with), (tp_without, without, gear_without) = flown
+    assert np.array_equal(tp_with.u_rad, tp_without.u_rad) and np.array_equal(tp_with.z, tp_without.z)
+    assert np.array_equal(gear_with, np.zeros_like(gear_with)) and np.array_equal(gear_without, gear_with)
+    # the flight is a hard one, not the trim held: alpha and roll rate swing widely
+    assert np.ptp(with_[:, _COMPARED.index("aero/alpha-rad")]) > math.radians(3)
+    assert np.ptp(with_[:, _COMPARED.index("velocities/p-rad_sec")]) > math.radians(30)
+    for k, name in enumerate(_COMPARED):
+        assert np.array_equal(with_[:, k], without[:, k]), f"{name} differs"
+
+
+def test_pilot_commands_act_in_trim_only():
+    """After the trim the pilot command terms are switched off holding exact zeros: a command
+    then moves no surface, while with TRIM_COMMANDS_PROPERTY on it moves the elevator by
+    E_MAX * command (the mixer's documented row)."""
+    fdm, tp = aircraft.trimmed_fdm(0.4, 20_000.0)
+    assert fdm[aircraft.TRIM_COMMANDS_PROPERTY] == 0
+    for term in ("elevator-term2", "elevator-term3", "aileron-term4", "aileron-term5",
+                 "rudder-term1", "rudder-term2"):
+        assert fdm[f"fcs/f16mmae/{term}"] == 0.0
+    elevator = (tp.u_rad[0] + tp.u_rad[1]) / 2
+    fdm["fcs/elevator-cmd-norm"] = 0.5
+    fdm.run_ic()
+    assert fdm["fcs/elevator-pos-rad"] == pytest.approx(elevator, abs=1e-15)
+    fdm[aircraft.TRIM_COMMANDS_PROPERTY] = 1
+    fdm.run_ic()
+    e_max = actuators.TRIM_COMMAND_SCALE_RAD[0]
+    assert fdm["fcs/elevator-pos-rad"] == pytest.approx(elevator + 0.5 * e_max, abs=1e-12)

@@ -112,7 +112,9 @@ def test_benchmark_runs_and_reports_both_sides():
     from f16mmae.bench import truth as bench
 
     r = bench.benchmark(duration_s=0.25, repeat=1)
-    for k in ("bare_loop", "bare_total", "derived_loop", "cpp_flight", "python_flight", "cpp_first_flight"):
+    for k in ("bare_loop", "bare_total", "derived_loop", "contacts_loop", "cpp_flight", "python_flight",
+              "cpp_first_flight"):
         assert r[f"{k}_s"] > 0 and r[f"{k}_rtf"] == pytest.approx(0.25 / r[f"{k}_s"])
     assert r["cpp_over_bare"] == pytest.approx(r["cpp_flight_s"] / r["bare_loop_s"])
     assert r["python_over_cpp"] == pytest.approx(r["python_flight_s"] / r["cpp_flight_s"])
+    assert r["derived_over_contacts"] == pytest.approx(r["derived_loop_s"] / r["contacts_loop_s"])

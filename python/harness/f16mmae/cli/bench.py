@@ -16,10 +16,12 @@ import json
 import sys
 from pathlib import Path
 
+from ..banks import BankError, load_bank
 from ..bench import estimator, scheduled, truth
 from ..names import TURBULENCE_LEVELS
 from ..outputs import writable_file
-from .options import CliError, number
+from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE
+from .options import CliError, add_estimator_arguments, estimator_options_from_args, number
 
 DESCRIPTION = __doc__.split("\n\n", 1)[1]
 
@@ -52,9 +54,13 @@ machine's load changes; ratios inside one run are what to compare): bare JSBSim 
 of the stock F-16 and of our derived aircraft against whole truth-model flights (FCS,
 actuators, sensors, dither) on the C++ and the Python engine, set-up from the per-condition
 pool included, and the first flight of a condition (load and trim); the closed loop (the
-tuned bank in the loop, probabilities recorded) against the truth alone; the dither's peak
-response at the nominal point; then flights per second of a single-failure campaign
-(13 cases x --campaign-runs) on a process pool over all cores.
+--bank in the loop with the estimator options given, probabilities recorded) against the
+truth alone; the dither's peak response at the nominal point; then flights per second of a
+single-failure campaign (13 cases x --campaign-runs) on a process pool over all cores.
+
+  f16mmae bench truth --repeat 21                        # the tuned bank (goal <= 1.1)
+  f16mmae bench truth --campaign-runs 0 --bank scheduled --adapt-turbulence \\
+      --trim-tracking 30 --mach 0.45 --alt-ft 22500      # scheduled, off-grid (goal <= 1.3)
 """
 
 
@@ -78,6 +84,11 @@ def register(subparsers) -> None:
     t.add_argument("--repeat", default="5", metavar="N", help="timings of each, the best counts (default 5)")
     t.add_argument("--campaign-runs", default="10", metavar="N",
                    help="runs per case of the campaign timed on all cores: 13 x N flights (default 10; 0: none)")
+    t.add_argument("--bank", default="tuned", metavar="tuned|untuned|scheduled|FILE",
+                   help="the bank of the closed-loop timing (default tuned)")
+    t.add_argument("--mach", default=None, metavar="M", help="Mach of the closed-loop timing (default: the bank's)")
+    t.add_argument("--alt-ft", default=None, metavar="H", help="altitude of the closed-loop timing, ft (default: the bank's)")
+    add_estimator_arguments(t)
     t.set_defaults(func=_truth)
     n = kinds.add_parser("lcm", help="LCM round trip to mmae-daemon against a C++ echo", add_help=False,
                          description="the LCM latency benchmark; 'f16mmae bench lcm --help' lists its options")
@@ -108,8 +119,17 @@ def _truth(args) -> int:
     duration_s = number("--duration-s", args.duration_s, minimum=0.0, exclusive=True, below=3600.0)
     repeat = number("--repeat", args.repeat, integer=True, minimum=1, below=1000)
     runs = number("--campaign-runs", args.campaign_runs, integer=True, minimum=0, below=1001)
+    mach = None if args.mach is None else number("--mach", args.mach, minimum=MACH_RANGE[0], maximum=MACH_RANGE[1])
+    alt_ft = (None if args.alt_ft is None
+              else number("--alt-ft", args.alt_ft, minimum=ALT_FT_RANGE[0], maximum=ALT_FT_RANGE[1]))
+    options = estimator_options_from_args(args)
+    try:
+        load_bank(args.bank)  # a bad bank is named before the timings, not after
+    except BankError as exc:
+        raise CliError(f"--bank: {exc}") from None
     r = truth.benchmark(duration_s, repeat)
-    truth.report(r, truth.dither_levels(), truth.closed_loop_overhead(duration_s, repeat), sys.stdout)
+    overhead = truth.closed_loop_overhead(duration_s, repeat, args.bank, mach, alt_ft, **options)
+    truth.report(r, truth.dither_levels(), overhead, sys.stdout)
     truth.report_dither_in_turbulence({lv: truth.dither_in_turbulence(lv) for lv in TURBULENCE_LEVELS}, sys.stdout)
     if runs:
         _campaign_rate(runs)

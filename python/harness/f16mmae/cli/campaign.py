@@ -28,6 +28,8 @@ estimator in the loop.
   maneuver failures injected during climbs, descents, speed changes and 30-deg turns
            across the envelope: correct fraction, false declarations per maneuvering
            hour, latency.
+  paper    the paper's whole campaign in one command: single, dual and envelope, each as
+           its own command writes it, on one pool.
 """
 
 
@@ -41,4 +43,5 @@ def register(subparsers) -> None:
     kinds = p.add_subparsers(dest="kind", metavar="KIND")
     for kind in KINDS:
         importlib.import_module(f"{__package__}.campaign_{kind}").register(kinds)
+    importlib.import_module(f"{__package__}.campaign_paper").register(kinds)  # three kinds, one command
     p.set_defaults(func=lambda args: (p.print_help(), 2)[1])

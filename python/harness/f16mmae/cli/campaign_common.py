@@ -3,6 +3,7 @@ config has (``engine.config.CampaignConfig``), where a campaign runs and writes,
 it with its report."""
 from __future__ import annotations
 
+import contextlib
 import json
 import shlex
 import sys
@@ -114,16 +115,20 @@ def run_and_report(args, cfg, run, print_summary) -> int:
     allow_mixed=)`` returns its outcome (``summary``, ``summary_path``, ``executed``,
     ``resumed``). Then write its report.html,
     print its summary (``print_summary(summary, stream)``), the campaign's evidence and where
-    everything is. With ``--check``: 1 when the summary's ``goals_met`` is false, else 0."""
+    everything is. With ``--check``: 1 when the summary's ``goals_met`` is false, else 0.
+    ``args.executor`` (set by ``campaign paper``, not an option): an executor to fly on, with its
+    ``args.executor_label``, instead of one made here."""
     if args.workers is not None and args.scheduler is not None:
         raise CliError("give --workers or --scheduler, not both")
     workers = (number("--workers", args.workers, integer=True, minimum=1, maximum=WORKERS_MAX)
                if args.workers is not None else None)
     writable_dir(args.out)  # before any flight; the campaign then locks it
     label = f"Dask at {args.scheduler}" if args.scheduler else f"{workers or default_workers()} local process(es)"
-    with make_executor(workers=workers, scheduler=args.scheduler) as ex:
-        outcome = run(cfg, args.out, ex, executor_label=label, show_progress=not args.quiet,
-                      allow_mixed=args.allow_mixed)
+    shared = getattr(args, "executor", None)
+    with (contextlib.nullcontext(shared) if shared is not None
+          else make_executor(workers=workers, scheduler=args.scheduler)) as ex:
+        outcome = run(cfg, args.out, ex, executor_label=getattr(args, "executor_label", label),
+                      show_progress=not args.quiet, allow_mixed=args.allow_mixed)
     out = outcome.summary_path.parent
     outcome.summary["command"] = "f16mmae " + shlex.join(args.argv)  # what made it, for results pages
     write_summary(outcome.summary_path, outcome.summary)

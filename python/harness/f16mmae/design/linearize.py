@@ -31,6 +31,7 @@ from typing import Callable
 import numpy as np
 
 from .. import names
+from ..truth import aircraft
 
 SurfaceSetter = Callable[[object, np.ndarray], None]
 Measure = Callable[[object], np.ndarray]
@@ -168,10 +169,16 @@ def jsbsim_linearization(fdm) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
     ``FGLinearization`` uses (Vt, alpha, beta); the map to (u, alpha, beta) is
     ``du = cos a cos b dVt - Vt sin a cos b da - Vt cos a sin b db``, so ``A = T A_j T^-1``.
     Its inputs are the pilot commands (throttle, aileron, elevator, rudder) as the
-    aircraft's flight control section passes them on."""
+    aircraft's flight control section passes them on: its trim-command terms are switched on
+    for it (``aircraft.TRIM_COMMANDS_PROPERTY``, off again afterwards as the trim left them)."""
     import jsbsim
 
-    lin = jsbsim.FGLinearization(fdm)
+    was = fdm[aircraft.TRIM_COMMANDS_PROPERTY]
+    fdm[aircraft.TRIM_COMMANDS_PROPERTY] = 1
+    try:
+        lin = jsbsim.FGLinearization(fdm)
+    finally:
+        fdm[aircraft.TRIM_COMMANDS_PROPERTY] = was
     names_j = tuple(lin.x_names)
     order = ["Vt", "Alpha", "Q", "Theta", "Beta", "P", "R", "Phi"]
     idx = [names_j.index(n) for n in order]

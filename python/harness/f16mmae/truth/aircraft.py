@@ -1,9 +1,9 @@
 """The derived JSBSim F-16: stock airframe, our flight-control section, direct surface access.
 
-JSBSim's stock ``f16`` (aerodynamics, propulsion, mass, ground reactions) is read at run time
-from the installed ``jsbsim`` package; its ``<flight_control>``, ``<system>``,
-``<external_reactions>`` and ``<output>`` sections are replaced by a pure MIXER, and the result
-is written into a content-addressed cache root (``$F16MMAE_CACHE_DIR``, default
+JSBSim's stock ``f16`` (aerodynamics, propulsion, mass) is read at run time from the installed
+``jsbsim`` package; its ``<flight_control>``, ``<system>``, ``<external_reactions>`` and
+``<output>`` sections are replaced by a pure MIXER, its ``<ground_reactions>`` emptied of their
+contact points (see below), and the result is written into a content-addressed cache root (``$F16MMAE_CACHE_DIR``, default
 ``~/.cache/f16mmae``), shared by every process and never stale (no JSBSim aircraft data lives in
 this repo).
 
@@ -29,6 +29,14 @@ The leading-edge flap is held at the stock schedule's value for the trimmed angl
 (0.262 rad above 5 deg alpha, 0.436 rad above 15 deg, -0.0349 rad above Mach 0.9, else 0);
 the speed brake is retracted and the gear up.  Throttle: ``fcs/throttle-pos-norm =
 2 * fcs/throttle-cmd-norm`` as in the stock FCS (above 1 = afterburner), held at trim.
+
+No contact points (``contacts=False``, the default): the stock gear (three retracted bogeys)
+and seven structure points touch nothing in flight, so their forces and moments are exactly
+zero, yet JSBSim computes the ground under each of the ten points at every step (geodetic
+conversions, a fifth of its stepping).  Without them the aircraft flies bit for bit the same
+flights (tests/python/test_truth_aircraft.py flies both) and cannot land or touch the
+ground: the flights here start at 5,000 ft or more and last seconds to hours of level flight.
+``contacts=True`` keeps the stock contact points (for that comparison).
 """
 from __future__ import annotations
 
@@ -57,12 +65,18 @@ SURFACE_PROPERTIES: tuple[str, ...] = tuple(f"fcs/{a.lower()}-pos-rad" for a in 
 AERO_CONTROL_PROPERTIES: tuple[str, ...] = (
     "fcs/elevator-pos-rad", "fcs/aileron-pos-rad", "fcs/flaperon-mix-rad", "fcs/rudder-pos-rad",
 )
+#: 1 while the mixer computes the pilot command terms (JSBSim's trim drives them, and its
+#: linearization, ``design.linearize.jsbsim_linearization``, perturbs them), 0 in flight:
+#: :func:`trim` folds the commands into the surfaces, zeroes them and then switches their
+#: channel off, so their terms hold the exact zeros they last computed instead of recomputing
+#: them at every step.
+TRIM_COMMANDS_PROPERTY = "fcs/f16mmae/trim-commands"
 #: Flight envelope in which trim is offered (the issue's envelope).
 MACH_RANGE = (0.3, 0.8)
 ALT_FT_RANGE = (5_000.0, 35_000.0)
 
 _lock = threading.Lock()
-_root_dir: str | None = None
+_root_dirs: dict[bool, str] = {}  # contacts -> the derived root written for it
 
 
 class TrimError(F16mmaeError, RuntimeError):
@@ -93,38 +107,47 @@ class TrimPoint:
 
 
 def _flight_control_xml() -> str:
-    """Our ``<flight_control>``: declares the five surface positions and mixes them."""
+    """Our ``<flight_control>``: declares the five surface positions and mixes them (module
+    docstring).  Each summer adds its terms in the order of the MIXING rows, the pilot command
+    terms last; a term of gain 1 enters the summer directly (``1.0 * x == x`` exactly), any other
+    through its own ``<pure_gain>``.  The pilot command terms are computed in the channel
+    "Trim commands", which runs only while ``TRIM_COMMANDS_PROPERTY`` is 1 (see :func:`trim`)."""
     k = actuators.DIFFERENTIAL_TAIL_ROLL_SHARE
     e_max, a_max, r_max = actuators.TRIM_COMMAND_SCALE_RAD
     decl = "\n".join(f'  <property value="0">{p}</property>' for p in SURFACE_PROPERTIES)
     ls, rs, lf, rf, rud = SURFACE_PROPERTIES
+    trim_gains: list[str] = []
 
-    def summer(name: str, terms: list[tuple[str, float]], output: str) -> str:
-        # A summer of pure gains: each term scaled by its own <pure_gain> first.
+    def summer(name: str, terms: list[tuple[str, float]], commands: list[tuple[str, float]], output: str) -> str:
         parts, inputs = [], []
-        for i, (prop, gain) in enumerate(terms):
+        for i, (prop, gain) in enumerate(terms + commands):
+            if gain == 1.0:
+                inputs.append(f"<input>{prop}</input>")
+                continue
             tmp = f"fcs/f16mmae/{name}-term{i}"
-            parts.append(f'  <pure_gain name="{tmp}"><input>{prop}</input>'
-                         f"<gain>{gain!r}</gain></pure_gain>")
+            gain_xml = f'  <pure_gain name="{tmp}"><input>{prop}</input><gain>{gain!r}</gain></pure_gain>'
+            (trim_gains if i >= len(terms) else parts).append(gain_xml)
             inputs.append(f"<input>{tmp}</input>")
         parts.append(f'  <summer name="fcs/f16mmae/{name}">{"".join(inputs)}'
                      f"<output>{output}</output></summer>")
         return "\n".join(parts)
 
     body = "\n".join([
-        summer("elevator", [(ls, 0.5), (rs, 0.5), ("fcs/elevator-cmd-norm", e_max),
-                            ("fcs/pitch-trim-cmd-norm", e_max)], "fcs/elevator-pos-rad"),
-        summer("aileron", [(lf, 0.5), (rf, -0.5), (ls, 0.5 * k), (rs, -0.5 * k),
-                           ("fcs/aileron-cmd-norm", a_max), ("fcs/roll-trim-cmd-norm", a_max)],
-               "fcs/aileron-pos-rad"),
-        summer("flaperon", [(lf, 1.0), (rf, 1.0)], "fcs/flaperon-mix-rad"),
-        summer("rudder", [(rud, 1.0), ("fcs/rudder-cmd-norm", r_max),
-                          ("fcs/yaw-trim-cmd-norm", r_max)], "fcs/rudder-pos-rad"),
+        summer("elevator", [(ls, 0.5), (rs, 0.5)],
+               [("fcs/elevator-cmd-norm", e_max), ("fcs/pitch-trim-cmd-norm", e_max)], "fcs/elevator-pos-rad"),
+        summer("aileron", [(lf, 0.5), (rf, -0.5), (ls, 0.5 * k), (rs, -0.5 * k)],
+               [("fcs/aileron-cmd-norm", a_max), ("fcs/roll-trim-cmd-norm", a_max)], "fcs/aileron-pos-rad"),
+        summer("flaperon", [(lf, 1.0), (rf, 1.0)], [], "fcs/flaperon-mix-rad"),
+        summer("rudder", [(rud, 1.0)],
+               [("fcs/rudder-cmd-norm", r_max), ("fcs/yaw-trim-cmd-norm", r_max)], "fcs/rudder-pos-rad"),
         '  <pure_gain name="fcs/f16mmae/throttle"><input>fcs/throttle-cmd-norm</input>'
         "<gain>2</gain><output>fcs/throttle-pos-norm</output></pure_gain>",
     ])
+    trim_body = "\n".join(trim_gains)
     return (f'<flight_control name="f16mmae mixer">\n{decl}\n'
             '  <property value="0">fcs/lef-pos-rad</property>\n'
+            f'  <property value="1">{TRIM_COMMANDS_PROPERTY}</property>\n'
+            f'  <channel name="Trim commands" execute="{TRIM_COMMANDS_PROPERTY}">\n{trim_body}\n  </channel>\n'
             f'  <channel name="Mixer">\n{body}\n  </channel>\n</flight_control>')
 
 
@@ -133,23 +156,27 @@ def _cache_base() -> str:
         os.path.expanduser("~"), ".cache", "f16mmae")
 
 
-def derived_root() -> str:
-    """Directory holding the derived aircraft.
+def derived_root(contacts: bool = False) -> str:
+    """Directory holding the derived aircraft (with the stock contact points if ``contacts``).
 
     Its name carries the SHA-256 of the derived XML (which includes the installed jsbsim's
     f16.xml), so a root is written once, atomically (temporary directory + rename), and reused
     by every later process: no per-process temporary directories to leak from pool workers.
     """
-    global _root_dir
     with _lock:
-        if _root_dir is not None and os.path.isdir(_root_dir):
-            return _root_dir
+        known = _root_dirs.get(contacts)
+        if known is not None and os.path.isdir(known):
+            return known
         src = os.path.join(jsbsim.get_default_root_dir(), "aircraft", "f16", "f16.xml")
         tree = ET.parse(src)
         cfg = tree.getroot()
         for tag in ("system", "external_reactions", "output", "flight_control"):
             for el in cfg.findall(tag):
                 cfg.remove(el)
+        if not contacts:  # JSBSim needs the element, not its contacts
+            for el in cfg.findall("ground_reactions"):
+                for contact in el.findall("contact"):
+                    el.remove(contact)
         cfg.set("name", "F-16 (JSBSim f16 airframe, f16mmae flight control)")
         aero = cfg.find("aerodynamics")
         cfg.insert(list(cfg).index(aero), ET.fromstring(_flight_control_xml()))
@@ -166,13 +193,14 @@ def derived_root() -> str:
                 os.rename(staging, root)
             except OSError:  # another process got there first: theirs is identical
                 shutil.rmtree(staging, ignore_errors=True)
-        _root_dir = root
+        _root_dirs[contacts] = root
         return root
 
 
 def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False,
-             cxx: bool = False) -> jsbsim.FGFDMExec:
-    """A loaded, untrimmed FGFDMExec of the derived aircraft (or the stock ``f16``).
+             cxx: bool = False, contacts: bool = False) -> jsbsim.FGFDMExec:
+    """A loaded, untrimmed FGFDMExec of the derived aircraft (or the stock ``f16``); with
+    ``contacts`` the derived aircraft keeps the stock contact points (module docstring).
 
     seed >= 1 seeds JSBSim's random generators (turbulence); dt_s is the integration step (s).
     cxx: an ``f16mmae.core.JSBSimExec`` (the same JSBSim library, made and stepped from C++,
@@ -182,7 +210,7 @@ def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False
         raise ValueError(f"seed must be >= 1 (JSBSim maps 0 to 1), got {seed}")
     os.environ.setdefault("JSBSIM_DEBUG", "0")  # no start-up banner
     pkg = jsbsim.get_default_root_dir()
-    root = pkg if stock else derived_root()
+    root = pkg if stock else derived_root(contacts)
     fdm = engine_module.jsbsim_exec(root) if cxx else jsbsim.FGFDMExec(root, None)
     fdm.set_debug_level(0)
     fdm.set_engine_path(os.path.join(pkg, "engine"))
@@ -249,7 +277,8 @@ def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float) -> TrimPoint:
         fdm[f"fcs/{p}-trim-cmd-norm"] = 0.0
     u = np.array([de, de, da, -da, dr])
     set_surfaces(fdm, u)
-    _store_state_as_ic(fdm)
+    _store_state_as_ic(fdm)  # its run_ic computes the zeroed command terms once more
+    fdm[TRIM_COMMANDS_PROPERTY] = 0
     lim = np.array(actuators.POSITION_LIMIT_RAD)
     if np.any(np.abs(u) > lim):
         raise TrimError(f"trim at Mach {mach}, {alt_ft:.0f} ft needs surface deflections "
@@ -325,6 +354,7 @@ def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float
     fdm["gear/gear-pos-norm"] = 0.0
     fdm["fcs/lef-pos-rad"] = lef_rad
     fdm["fcs/throttle-cmd-norm"] = 0.5
+    fdm[TRIM_COMMANDS_PROPERTY] = 1
     set_surfaces(fdm, (0.0,) * 5)
     fdm["propulsion/engine[0]/set-running"] = 1
     fdm.run_ic()

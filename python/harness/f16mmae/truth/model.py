@@ -172,9 +172,8 @@ class TruthModel:
 
     def close(self) -> None:
         """End the flight: the aircraft goes back to the pool (``truth_log`` stays readable)."""
-        if self._frames is not None:
-            self._log_cpp = self._frames.log()
-            self._frames_done = (self._frames.measured, self._frames.step_count)
+        if self._frames is not None:  # its record stays in it, copied out only if truth_log is read
+            self._frames_done = self._frames
             self._frames = None
         self._closed = True
         self._release()
@@ -340,7 +339,7 @@ class TruthModel:
         if self._frames is not None:
             measured, steps = self._frames.measured, self._frames.step_count
         elif self.engine == "cpp":
-            measured, steps = self._frames_done
+            measured, steps = self._frames_done.measured, self._frames_done.step_count
         else:
             measured, steps = self._n_meas, self._step
         acted = [(at / FRAME_RATE_HZ, 0, f) for at, f in self._sen_schedule if at < measured]
@@ -356,7 +355,7 @@ class TruthModel:
         state (n,len(STATE_LOG)) with ``state_names``, ``failures`` (scenario specs) and
         ``onsets`` (when each actually acted), ``scenario`` (dict), ``trim`` (dict)."""
         if self.engine == "cpp":
-            out = self._frames.log() if self._frames is not None else {k: v.copy() for k, v in self._log_cpp.items()}
+            out = (self._frames if self._frames is not None else self._frames_done).log()
         else:
             n, m = self._n_meas, self._n_adv
             out = {k: v[:n].copy() for k, v in self._log.items()

@@ -40,7 +40,7 @@ from ...loop.flight import fly, scenario_from_dict
 from ...names import COMPONENTS, FAILURE_TIME_S, dual_name
 from ..engine import drilldown, evidence, identity, outcomes, variants
 from ..engine.config import CampaignConfig, CampaignError
-from ..engine.failure_runs import P_INJECTED_DECIMATION
+from ..engine.failure_runs import P_INJECTED_DECIMATION, stored_history
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
 from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
@@ -124,12 +124,12 @@ def run_spec(spec: dict) -> dict:
         # transient-wrong: anything but the first failure and the dual from the first onset on
         **outcomes.run_fields(result.declarations, t1 if first else t2,
                               {first, injected} if first else {injected}, scenario.duration_s),
-        "p_injected": [round(float(x), 5) for x in p_inj[::P_INJECTED_DECIMATION]],
+        "p_injected": stored_history(p_inj),
         "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
         "timing": result.timing,
     }
     if first:
-        record["p_first"] = [round(float(x), 5) for x in result.probability_of(first)[::P_INJECTED_DECIMATION]]
+        record["p_first"] = stored_history(result.probability_of(first))
     return record
 
 

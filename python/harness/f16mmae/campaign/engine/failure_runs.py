@@ -21,6 +21,7 @@ from ...loop.flight import fly, scenario_from_dict
 from ...names import NONE, SINGLE_HYPOTHESES
 from . import outcomes, scoring
 from .config import CampaignError
+from .rounding import decimal_round
 from .runner import planned_bank
 from .seeds import evaluation_seed
 from .store import run_key
@@ -29,6 +30,12 @@ from .store import run_key
 CASES: tuple[str, ...] = SINGLE_HYPOTHESES
 #: How often the stored probability history of the injected hypothesis is sampled.
 P_INJECTED_DECIMATION = 2  # every 2nd frame: 32 Hz at the 64-Hz frame rate
+
+
+def stored_history(p) -> list[float]:
+    """A probability history as a record stores it: every ``P_INJECTED_DECIMATION``-th frame,
+    each value ``round(float(x), 5)`` (``rounding.decimal_round``, bit for bit)."""
+    return decimal_round(p[::P_INJECTED_DECIMATION], 5)
 
 
 def run_seed(campaign_seed: int, case: str, run_index: int) -> int:
@@ -76,7 +83,6 @@ def run_spec(spec: dict) -> dict:
     case = spec["case"]
     failure_time = scenario.failures[0].time_s if case != NONE else None
     scored = scoring.score_run(case, failure_time, result.declarations)
-    p_inj = result.probability_of(case)[::P_INJECTED_DECIMATION]
     return {
         "run_key": spec["run_key"],
         "kind": "single",
@@ -95,7 +101,7 @@ def run_spec(spec: dict) -> dict:
         "declarations": result.declarations,
         **scored,
         **outcomes.run_fields(result.declarations, failure_time, {case}, scenario.duration_s),
-        "p_injected": [round(float(x), 5) for x in p_inj],
+        "p_injected": stored_history(result.probability_of(case)),
         "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
         "timing": result.timing,
     }

@@ -9,6 +9,12 @@ finishes -- so an interrupted campaign keeps its finished runs and the same comm
 ``CampaignError`` naming the run (``describe(spec)``) and where the finished runs are.
 It returns the stored records of this plan only, one per run key, and the timing.
 
+Tasks: each task the executor receives flies a chunk of consecutive specs (``chunks``:
+guided, a quarter of each worker's share of the runs left, 1 to ``CHUNK_MAX`` runs) and
+returns their records, so a pool pays its per-task messages once per chunk, not once per run,
+while the last tasks stay single runs that keep both workers busy to the end.  A chunk
+returns the records flown before a failing run along with its error, so they are stored too.
+
 Code identity: the parent stamps each record it stores with ``code`` (``identity.code_identity()``:
 git commit and dirty flag or source hash, JSBSim and LCM versions).  Before flying, stored
 records of this plan whose identity differs from the running code's stop the campaign with a
@@ -26,8 +32,44 @@ from pathlib import Path
 from ...banks import load_bank
 from . import identity
 from .config import CampaignError
+from .executor import InlineExecutor, default_workers
 from .progress import Progress
 from .store import ResultsStore
+
+
+#: The most runs one task flies (see the module docstring).
+CHUNK_MAX = 16
+
+
+def chunks(specs: Sequence[dict], workers: int) -> list[list[dict]]:
+    """``specs`` in order, cut into tasks: each ``(runs left) // (4 workers)`` runs, at least 1
+    and at most ``CHUNK_MAX``."""
+    out, i = [], 0
+    while i < len(specs):
+        k = max(1, min(CHUNK_MAX, (len(specs) - i) // (4 * max(1, workers))))
+        out.append(list(specs[i:i + k]))
+        i += k
+    return out
+
+
+def run_chunk(run: Callable[[dict], dict], specs: list[dict]) -> tuple[list[dict], tuple[int, BaseException] | None]:
+    """Fly ``specs`` in order (in a worker): their records, and (index, error) of the first run
+    that raised (the runs after it are not flown), or None."""
+    records = []
+    for i, spec in enumerate(specs):
+        try:
+            records.append(run(spec))
+        except Exception as exc:  # noqa: BLE001 -- delivered to the parent with its run
+            return records, (i, exc)
+    return records, None
+
+
+def executor_workers(executor: Executor) -> int:
+    """How many runs ``executor`` flies at once: a process pool's worker count, 1 inline, else
+    this machine's cores (a cluster's share is not known here)."""
+    if isinstance(executor, InlineExecutor):
+        return 1
+    return int(getattr(executor, "_max_workers", 0) or default_workers())
 
 
 @dataclass
@@ -65,23 +107,33 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
                    note=progress_note)
     flown: list[dict] = []
     try:
-        futures = {executor.submit(run, s): s for s in todo}
+        futures = {executor.submit(run_chunk, run, c): c for c in chunks(todo, executor_workers(executor))}
         for fut in as_completed(futures):
-            spec = futures[fut]
+            chunk = futures[fut]
             try:
-                record = fut.result()
+                records, failed = fut.result()
             except CampaignError:
                 raise
-            except Exception as exc:  # a run that cannot fly: say which, keep what is stored
+            except Exception as exc:  # the task itself failed (e.g. its worker died)
                 raise CampaignError(
-                    f"{describe(spec)} failed: {type(exc).__name__}: {exc}; the {bar.done} runs "
+                    f"the task flying {describe(chunk[0])}" + (f" and {len(chunk) - 1} more" if len(chunk) > 1 else "")
+                    + f" failed: {type(exc).__name__}: {exc}; the {bar.done} runs finished so far are "
+                    f"stored in {store.path}") from exc
+            for spec, record in zip(chunk, records):
+                record = {**record, "code": code}
+                store.append(record)
+                flown.append(record)
+                bar.advance()
+                if after_each is not None:
+                    after_each(spec)
+            if failed is not None:
+                index, exc = failed
+                if isinstance(exc, CampaignError):
+                    raise exc
+                # a run that cannot fly: say which, keep what is stored
+                raise CampaignError(
+                    f"{describe(chunk[index])} failed: {type(exc).__name__}: {exc}; the {bar.done} runs "
                     f"finished so far are stored in {store.path}") from exc
-            record = {**record, "code": code}
-            store.append(record)
-            flown.append(record)
-            bar.advance()
-            if after_each is not None:
-                after_each(spec)
     finally:
         bar.close()
         store.close()

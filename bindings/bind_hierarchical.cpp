@@ -1,7 +1,8 @@
 // f16mmae.core.HierarchicalBank: the hierarchical MMAE of paper Fig. 2
-// (cpp/f16mmae/hierarchical_bank.h) built from a core.ModelBank. An F-16 bank (13/5/7,
-// 12 single failures) runs in the fixed-size F16HierarchicalBank, any other in the
-// dynamic one. Signals are ABSOLUTE here: the bank subtracts its own u_trim / z_trim and
+// (cpp/f16mmae/hierarchical_bank.h) built from a core.ModelBank. An F-16 bank (5 inputs,
+// 7 measurements, 12 single failures) of 13 states runs in the fixed-size
+// F16HierarchicalBank, of 19 states (the six Dryden gust states) in F16GustHierarchicalBank:
+// the bank's nx selects it; any other bank runs in the dynamic one. Signals are ABSOLUTE here: the bank subtracts its own u_trim / z_trim and
 // z_hat comes back absolute.
 #include <pybind11/pybind11.h>
 
@@ -10,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "core_convert.h"
@@ -68,22 +70,27 @@ class PyHierarchicalBank {
     int singles = 0;
     for (std::size_t i = 1; i < bank.hypotheses.size(); ++i)
       singles += bank.hypotheses[i].name.find('+') == std::string::npos ? 1 : 0;
-    if (bank.nx() == 13 && bank.nu() == 5 && bank.nz() == 7 && singles == 12)
-      fixed_ = std::make_unique<F16HierarchicalBank>(bank, o);
+    if (fits<F16HierarchicalBank>(bank, singles))
+      bank_ = std::make_unique<F16HierarchicalBank>(bank, o);
+    else if (fits<F16GustHierarchicalBank>(bank, singles))
+      bank_ = std::make_unique<F16GustHierarchicalBank>(bank, o);
     else
-      dyn_ = std::make_unique<DynamicHierarchicalBank>(bank, o);
+      bank_ = std::make_unique<DynamicHierarchicalBank>(bank, o);
     nu_ = bank.nu();
     nz_ = bank.nz();
   }
 
   template <class F>
   decltype(auto) visit(F&& f) {
-    return fixed_ ? f(*fixed_) : f(*dyn_);
+    return std::visit([&](auto& p) -> decltype(auto) { return f(*p); }, bank_);
   }
   template <class F>
   decltype(auto) visit(F&& f) const {
-    return fixed_ ? f(static_cast<const F16HierarchicalBank&>(*fixed_))
-                  : f(static_cast<const DynamicHierarchicalBank&>(*dyn_));
+    return std::visit(
+        [&](const auto& p) -> decltype(auto) {
+          return f(static_cast<const typename std::decay_t<decltype(p)>::element_type&>(*p));
+        },
+        bank_);
   }
 
   py::object update(py::handle z) {
@@ -150,12 +157,24 @@ class PyHierarchicalBank {
       return out;
     });
   }
-  bool fixed() const { return static_cast<bool>(fixed_); }
-  F16HierarchicalBank* fixed_bank() { return fixed_.get(); }
+  bool fixed() const { return !std::holds_alternative<std::unique_ptr<DynamicHierarchicalBank>>(bank_); }
+  FixedHierarchicalBank fixed_bank() {
+    if (auto* p = std::get_if<std::unique_ptr<F16HierarchicalBank>>(&bank_)) return p->get();
+    if (auto* p = std::get_if<std::unique_ptr<F16GustHierarchicalBank>>(&bank_)) return p->get();
+    return std::monostate{};
+  }
 
  private:
-  std::unique_ptr<F16HierarchicalBank> fixed_;
-  std::unique_ptr<DynamicHierarchicalBank> dyn_;
+  // The fixed-size instantiation whose sizes the bank has (K = 1 + singles, NX, NU, NZ).
+  template <class B>
+  static bool fits(const ModelBank& bank, int singles) {
+    return bank.nx() == B::XVector::RowsAtCompileTime && bank.nu() == B::UVector::RowsAtCompileTime &&
+           bank.nz() == B::ZVector::RowsAtCompileTime && singles + 1 == B::PVector::RowsAtCompileTime;
+  }
+
+  std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>,
+               std::unique_ptr<DynamicHierarchicalBank>>
+      bank_;
   int nu_ = 0, nz_ = 0;
 };
 
@@ -166,18 +185,20 @@ auto prop(F f) {
 
 }  // namespace
 
-// Benchmark (f16mmae.bench): the fixed-size F16HierarchicalBank over frames z (N,7), u (N,5)
+// Benchmark (f16mmae.bench): the fixed-size F-16 bank of the model bank's nx
+// (F16HierarchicalBank, or F16GustHierarchicalBank for 19 states) over frames z (N,7), u (N,5)
 // and, if given, air data (N,2) handed to schedule() before each frame; the frames replayed
 // from reset() pass after pass for at least min_time_s and 3 passes, timed in C++. Returns
 // (seconds per frame of the fastest pass, slowest single frame of the last pass in seconds).
-py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
-                                  double min_time_s, const std::string& schedule_mode) {
+template <class Bank>
+py::tuple bench_fixed_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
+                           double min_time_s, const std::string& schedule_mode) {
   HierarchicalOptions o;
   o.bank.p_min = bank.estimator.p_min;
   o.declarer.threshold = bank.estimator.threshold;
   o.declarer.dwell_s = bank.estimator.dwell_s;
   o.schedule.mode = schedule_mode == "nearest" ? ScheduleMode::kNearest : ScheduleMode::kInterpolate;
-  const auto hb = std::make_unique<F16HierarchicalBank>(bank, o);
+  const auto hb = std::make_unique<Bank>(bank, o);
   const Eigen::MatrixXd z = cv::to_matrix(z_frames, -1, 7, "z", "(N, 7)");
   const Eigen::Index n = z.rows();
   const Eigen::MatrixXd u = cv::to_matrix(u_frames, n, 5, "u", "(N, 5) with N the frames of z");
@@ -185,8 +206,8 @@ py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py
   const Eigen::MatrixXd a =
       scheduled ? cv::to_matrix(air, n, 2, "air_data", "(N, 2) with N the frames of z") : Eigen::MatrixXd();
   if (n == 0) throw py::value_error("the benchmark needs at least one frame");
-  std::vector<F16HierarchicalBank::ZVector> zs(n);
-  std::vector<F16HierarchicalBank::UVector> us(n);
+  std::vector<typename Bank::ZVector> zs(n);
+  std::vector<typename Bank::UVector> us(n);
   std::vector<AirData> as(scheduled ? n : 0);
   for (Eigen::Index i = 0; i < n; ++i) {
     zs[i] = z.row(i).transpose();
@@ -218,14 +239,22 @@ py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py
   return py::make_tuple(best_s / static_cast<double>(n), worst_frame_s);
 }
 
-F16HierarchicalBank* f16_hierarchical_bank(py::handle hierarchical_bank) {
+py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
+                                  double min_time_s, const std::string& schedule_mode) {
+  if (bank.nx() == F16GustHierarchicalBank::XVector::RowsAtCompileTime)
+    return bench_fixed_loop<F16GustHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode);
+  return bench_fixed_loop<F16HierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode);
+}
+
+FixedHierarchicalBank fixed_hierarchical_bank(py::handle hierarchical_bank) {
   return hierarchical_bank.cast<PyHierarchicalBank&>().fixed_bank();
 }
 
 void bind_hierarchical(py::module_& m) {
   m.def("_bench_hierarchical_loop", &bench_hierarchical_loop, py::arg("bank"), py::arg("z"), py::arg("u"),
         py::arg("air_data") = py::none(), py::arg("min_time_s") = 0.2, py::arg("schedule_mode") = "interpolate",
-        "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F16HierarchicalBank\n"
+        "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F-16 bank of the\n"
+        "model bank's nx (13, or 19 with gust states)\n"
         "over frames z (N,7), u (N,5), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
         "given, timed in C++ (f16mmae.bench).");
   py::class_<PyHierarchicalBank>(m, "HierarchicalBank", R"doc(
@@ -356,7 +385,7 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("dwell_s", prop([](auto& b) { return b.declarer().options().dwell_s; }))
       .def_property_readonly("dwell_frames", prop([](auto& b) { return b.declarer().dwell_frames(); }))
       .def_property_readonly("fixed_size", &PyHierarchicalBank::fixed,
-                             "True when the fixed-size F-16 bank runs inside");
+                             "True when a fixed-size F-16 bank (13 states, or 19 with gust states) runs inside");
 }
 
 }  // namespace f16mmae::bindings

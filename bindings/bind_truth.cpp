@@ -21,6 +21,8 @@
 #include <chrono>
 #include <memory>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "hierarchical_access.h"
@@ -260,11 +262,13 @@ class Frames {
   }
 
   // n closed-loop frames with the estimator est in the loop (see the binding's docstring).
-  py::dict fly_closed_loop(F16HierarchicalBank& est, long long n, bool use_mmae, bool record) {
-    using ZV = F16HierarchicalBank::ZVector;
-    using UV = F16HierarchicalBank::UVector;
+  // Bank: a fixed-size F-16 bank (F16HierarchicalBank or F16GustHierarchicalBank).
+  template <class Bank>
+  py::dict fly_closed_loop(Bank& est, long long n, bool use_mmae, bool record) {
+    using ZV = typename Bank::ZVector;
+    using UV = typename Bank::UVector;
     using clock = std::chrono::steady_clock;
-    constexpr py::ssize_t K = F16HierarchicalBank::PVector::RowsAtCompileTime;
+    constexpr py::ssize_t K = Bank::PVector::RowsAtCompileTime;
     py::array_t<double> probs({static_cast<py::ssize_t>(record ? n : 0), K});
     py::array_t<double> scale(static_cast<py::ssize_t>(record ? n : 0));
     double* row = probs.mutable_data();
@@ -432,9 +436,14 @@ void bind_truth(py::module_& m) {
              f.measure_frame();
            }, py::arg("n_frames"))
       .def("fly_closed_loop", [](Frames& f, py::handle bank, long long n, bool use_mmae, bool record) {
-             F16HierarchicalBank* est = f16_hierarchical_bank(bank);
-             if (!est) throw py::value_error("fly_closed_loop flies the fixed-size F-16 bank only");
-             return f.fly_closed_loop(*est, n, use_mmae, record);
+             return std::visit(
+                 [&](auto est) -> py::dict {
+                   if constexpr (std::is_same_v<decltype(est), std::monostate>)
+                     throw py::value_error("fly_closed_loop flies a fixed-size F-16 bank only (13 or 19 states)");
+                   else
+                     return f.fly_closed_loop(*est, n, use_mmae, record);
+                 },
+                 fixed_hierarchical_bank(bank));
            }, py::arg("bank"), py::arg("n_frames"), py::arg("use_mmae"), py::arg("record_probabilities"),
            R"doc(
     n closed-loop frames with a core.HierarchicalBank in the loop, all in C++ (loop/flight.py

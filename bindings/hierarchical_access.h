@@ -4,12 +4,17 @@
 
 #include <pybind11/pybind11.h>
 
+#include <variant>
+
 #include "f16mmae/hierarchical_bank.h"
 
 namespace f16mmae::bindings {
 
-/// The fixed-size F-16 bank inside ``hierarchical_bank`` (a core.HierarchicalBank), or nullptr
-/// when it runs the dynamic-size bank.  TypeError if it is not a core.HierarchicalBank.
-F16HierarchicalBank* f16_hierarchical_bank(pybind11::handle hierarchical_bank);
+/// A fixed-size F-16 bank: 13 states, or 19 with the Dryden gust states; monostate: none.
+using FixedHierarchicalBank = std::variant<std::monostate, F16HierarchicalBank*, F16GustHierarchicalBank*>;
+
+/// The fixed-size F-16 bank inside ``hierarchical_bank`` (a core.HierarchicalBank), or
+/// monostate when it runs the dynamic-size bank.  TypeError if it is not a core.HierarchicalBank.
+FixedHierarchicalBank fixed_hierarchical_bank(pybind11::handle hierarchical_bank);
 
 }  // namespace f16mmae::bindings

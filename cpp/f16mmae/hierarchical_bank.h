@@ -46,8 +46,10 @@
 // A frame is one update (accepted or rejected): frame index i (0-based) has
 // time_s = i / frame_rate_hz. The declarer sees only accepted updates.
 //
-// Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>)
-// or Eigen::Dynamic (DynamicHierarchicalBank, any K = 1 + number of singles).
+// Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
+// F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>, the same bank whose filters carry
+// six Dryden gust states, `f16mmae design --gust-states`) or Eigen::Dynamic
+// (DynamicHierarchicalBank, any K = 1 + number of singles).
 // Throws: the constructor throws std::invalid_argument (invalid ModelBank, sizes that do not
 // match the template, a missing hypothesis). update/propagate/step are noexcept and, for
 // fixed sizes, allocate nothing: switches copy preloaded fixed-size hypothesis filters
@@ -446,6 +448,7 @@ class HierarchicalBank {
 };
 
 using F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
+using F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>;
 using DynamicHierarchicalBank =
     HierarchicalBank<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
 

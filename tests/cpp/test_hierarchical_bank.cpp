@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 
@@ -51,6 +52,16 @@ std::vector<std::string> declared_names(const HB& hb) {
   std::vector<std::string> out;
   for (const auto& d : hb.declarations()) out.push_back(hb.name(d.hypothesis));
   return out;
+}
+
+const std::vector<std::string> kF16Act{"LS", "RS", "LF", "RF", "RUD"};
+const std::vector<std::string> kF16Sen{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+
+// An F-16-sized bank (5 inputs, 7 measurements, 79 hypotheses) of the plant, at a trim.
+ModelBank f16_sized_bank(const test::Plant& plant) {
+  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, -0.03), z_trim(7);
+  z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
+  return test::make_bank(plant, kF16Act, kF16Sen, u_trim, z_trim);
 }
 
 struct Small {
@@ -193,17 +204,13 @@ TEST(HierarchicalBank, MissingDualOrWrongSizesAreRefusedByName) {
 }
 
 TEST(HierarchicalBank, F16SizedBankDeclaresAndSwitchesWithoutAllocating) {
-  const std::vector<std::string> act{"LS", "RS", "LF", "RF", "RUD"};
-  const std::vector<std::string> sen{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
   const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
-  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, -0.03), z_trim(7);
-  z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
-  const ModelBank bank = test::make_bank(plant, act, sen, u_trim, z_trim);
+  const ModelBank bank = f16_sized_bank(plant);
   ASSERT_EQ(bank.hypotheses.size(), 79u);
   HierarchicalOptions tracking;  // with trim tracking on, too: tracker and trim in force included
   tracking.trim.time_constant_s = 30.0;
   F16HierarchicalBank hb(bank), tracked(bank, tracking);
-  const Flight f = fly(plant, act, sen, bank, {{"PIT", 64, 1 << 30}}, 320, 5u);
+  const Flight f = fly(plant, kF16Act, kF16Sen, bank, {{"PIT", 64, 1 << 30}}, 320, 5u);
   std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
   std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
   const long long before = f16mmae::testing::allocation_count();
@@ -219,4 +226,31 @@ TEST(HierarchicalBank, F16SizedBankDeclaresAndSwitchesWithoutAllocating) {
   EXPECT_EQ(hb.online_names(), (std::vector<std::string>{"NONE", "PIT", "LS+PIT", "RS+PIT", "LF+PIT", "RF+PIT",
                                                          "RUD+PIT", "VEL+PIT", "AOA+PIT", "PIT+AZ", "PIT+ROL",
                                                          "PIT+YAW", "PIT+AY"}));
+}
+
+// The 19-state instantiation (the filters with six Dryden gust states, design/gust_states.py)
+// runs the same arithmetic as the dynamic bank on the same model bank, and its frames
+// allocate nothing.
+TEST(HierarchicalBank, GustSizedBankEqualsTheDynamicBankWithoutAllocating) {
+  const test::Plant plant = test::random_plant(19, 5, 7, 37u, 1e-3, 1e-3);
+  const ModelBank bank = f16_sized_bank(plant);
+  ASSERT_EQ(bank.nx(), 19);
+  EXPECT_THROW(F16HierarchicalBank{bank}, std::invalid_argument);
+  F16GustHierarchicalBank hb(bank);
+  DynamicHierarchicalBank reference(bank);
+  const Flight f = fly(plant, kF16Act, kF16Sen, bank, {{"LF", 64, 1 << 30}}, 320, 9u);
+  std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
+  std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    const long long before = f16mmae::testing::allocation_count();
+    hb.step(z[i], u[i]);
+    EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0) << "frame " << i;
+    reference.step(f.z[i], f.u[i]);
+    worst = std::max(worst, (hb.probabilities() - reference.probabilities()).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_EQ(declared_names(hb), declared_names(reference));
+  ASSERT_FALSE(hb.declarations().empty());
+  EXPECT_EQ(declared_names(hb).front(), "LF");
 }

@@ -90,7 +90,7 @@ def test_cli_writes_a_bank(tmp_path, capsys):
     (["--mach", "0.2"], "--mach 0.2 is outside the design envelope 0.3-0.8"),
     (["--alt-ft", "40000"], "--alt-ft 40000 is outside the design envelope 5000-35000 ft"),
     (["--alt-ft", "abc"], "--alt-ft 'abc' is not a number"),
-    (["--tuning", "nope"], "unknown tuning 'nope'; shipped tunings: tuned, untuned"),
+    (["--tuning", "nope"], "unknown tuning 'nope'; shipped tunings: tuned, tuned_gust, untuned"),
 ])
 def test_cli_refuses_bad_inputs(argv, message, tmp_path, capsys):
     assert cli.main(["design", *argv, "--out", str(tmp_path / "b.f16bank")]) == 2

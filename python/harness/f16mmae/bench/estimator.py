@@ -18,6 +18,8 @@ filterpy's ``MMAEFilterBank`` (full covariance Kalman filters; optional). The sy
 bank is F-16 sized (13 states, 5 inputs, 7 measurements): a random stable Phi, and per
 hypothesis the failed actuator's Bd column or the failed sensor's H row zeroed, with the
 steady-state gain from scipy's discrete algebraic Riccati equation (DARE).
+(e) The hierarchical bank (79 filters stored, 13 on line, timed in C++) at 13 states and at
+19 (the filters with Dryden gust states, ``f16mmae design --gust-states``).
 """
 from __future__ import annotations
 
@@ -42,9 +44,10 @@ R_SYNTHETIC = 1e-2
 
 
 def synthetic_models(
-    hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1
+    hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1, nx: int = names.NX
 ) -> list[tuple[str, dict[str, np.ndarray]]]:
-    """An F-16-size bank of proper steady-state filters, one per hypothesis name.
+    """An F-16-size bank of proper steady-state filters, one per hypothesis name (``nx``
+    states: 13, or 19 as the filters with Dryden gust states).
 
     Phi is random with spectral radius 0.97, Bd and H random; a hypothesis fails the
     components it names (``names.failed_components``): an actuator's Bd column or a
@@ -53,7 +56,7 @@ def synthetic_models(
     filters (filterpy), q, r and the a-priori covariance p.
     """
     rng = np.random.default_rng(seed)
-    nx, nu, nz = names.NX, names.NU, names.NZ
+    nu, nz = names.NU, names.NZ
     phi = rng.standard_normal((nx, nx))
     phi *= 0.97 / np.max(np.abs(np.linalg.eigvals(phi)))
     bd = 0.1 * rng.standard_normal((nx, nu))
@@ -76,11 +79,11 @@ def synthetic_models(
     return models
 
 
-def synthetic_bank(hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1):
+def synthetic_bank(hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1, nx: int = names.NX):
     """:func:`synthetic_models` as a validated ``core.ModelBank`` (trim at zero, 64 Hz)."""
     return core.ModelBank(
-        synthetic_models(hypotheses, seed),
-        state_names=names.STATES,
+        synthetic_models(hypotheses, seed, nx),
+        state_names=names.STATES + tuple(f"gust{i}" for i in range(nx - names.NX)),
         input_names=names.ACTUATORS,
         measurement_names=names.SENSORS,
         frame_rate_hz=float(names.FRAME_RATE_HZ),
@@ -192,6 +195,9 @@ class BenchResult:
     cpp_loop_us: float | None = None
     #: (a) with the turbulence adaptation on (cpp/f16mmae/turbulence_adaptation.h)
     cpp_loop_adaptive_us: float | None = None
+    #: the hierarchical bank (79 filters stored, 13 on line), 13 and 19 states (gust states)
+    hierarchical_us: float | None = None
+    hierarchical_gust_us: float | None = None
     python_call_us: float | None = None
     numpy_us: float | None = None
     filterpy_us: float | None = None
@@ -208,6 +214,7 @@ class BenchResult:
             ("numpy / python_call", self.numpy_us, self.python_call_us),
             ("python_call / cpp_loop", self.python_call_us, self.cpp_loop_us),
             ("cpp_loop_adaptive / cpp_loop", self.cpp_loop_adaptive_us, self.cpp_loop_us),
+            ("hierarchical 19 states / 13 states", self.hierarchical_gust_us, self.hierarchical_us),
         ]
         for label, slow, fast in pairs:
             if slow is not None and fast:
@@ -253,6 +260,11 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
     result.cpp_loop_us = core._bench_filter_bank_loop(bank, z, u, min_time_s) * 1e6
     result.cpp_loop_adaptive_us = core._bench_filter_bank_loop(bank, z, u, min_time_s, adapt_turbulence=True) * 1e6
 
+    for nx, attr in ((names.NX, "hierarchical_us"), (names.NX + 6, "hierarchical_gust_us")):
+        stored = synthetic_bank(names.ALL_HYPOTHESES, seed=seed, nx=nx)
+        zh, uh = synthetic_frames(synthetic_models(names.SINGLE_HYPOTHESES, seed, nx), frames, seed=seed + 1)
+        setattr(result, attr, core._bench_hierarchical_loop(stored, zh, uh, min_time_s=min_time_s)[0] * 1e6)
+
     result.python_call_us = _time_per_frame(core_filter_bank(models).step, z, u, min_time_s)
     result.max_probability_difference = max_probability_difference(models, z, u)
 
@@ -277,6 +289,8 @@ def report(result: BenchResult, stream) -> dict:
     rows = [
         ("(a) C++ loop, F16FilterBank.step", result.cpp_loop_us),
         ("(a') (a) + turbulence adaptation", result.cpp_loop_adaptive_us),
+        ("(e) C++ hierarchical bank, 13 states", result.hierarchical_us),
+        ("(e') (e), 19 states (gust states)", result.hierarchical_gust_us),
         ("(b) Python call, bank.step(z, u)", result.python_call_us),
         ("(c) numpy reference", result.numpy_us),
         ("(d) filterpy MMAEFilterBank", result.filterpy_us),

@@ -14,7 +14,7 @@ from ..design.hypotheses import FAILURE_MODELS
 from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, design_schedule,
                                format_spec, parse_grid)
 from ..design.tuning import TuningError, load_tuning
-from ..names import DESIGN_ALT_FT, DESIGN_MACH
+from ..names import DESIGN_ALT_FT, DESIGN_MACH, TURBULENCE_LEVELS
 from ..outputs import writable_dir, writable_file
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
 from .options import CliError, number
@@ -23,7 +23,7 @@ DESCRIPTION = """\
 Design a model bank (paper Sec. IV-V): trim the nonlinear JSBSim F-16 of the truth model at
 the flight condition, linearize its bare airframe (finite differences, cross-checked against
 JSBSim's FGLinearization), add the five first-order actuator lags, a zero-order Dryden gust
-input and the seven sensors' noise, discretize exactly at the 64-Hz frame rate, and for each
+input (or, --gust-states, three first-order Dryden gust states) and the seven sensors' noise, discretize exactly at the 64-Hz frame rate, and for each
 of the 79 hypotheses (NONE, 12 single failures, 66 duals: a failed actuator's B column or a
 failed sensor's H row removed) solve the Riccati equation for the steady-state gain K and
 residual covariance A = H P- H^T + R (eq. 5), with the tuning's pseudonoise (methods 1-4).
@@ -40,6 +40,7 @@ examples:
   f16mmae design --tuning untuned --out untuned.f16bank --report design-report/
   f16mmae design --mach 0.45 --alt-ft 25000 --tuning my_tuning.toml --out off_nominal.f16bank
   f16mmae design --failure-model cover --out cover.f16bank
+  f16mmae design --gust-states --gust-level moderate --out gust.f16bank   # 16 states: Dryden gusts
   f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
 
@@ -57,7 +58,7 @@ Flight condition: Mach 0.3-0.8, 5,000-35,000 ft (level trim).
 Tunings: 'tuned' (the project's design, from measured residual statistics against the
 truth: design/calibrate.py) and 'untuned' (physical noises only), shipped in
 f16mmae/design/tunings/, or a TOML file of the same layout:
-  name, description, turbulence (none|light|moderate|severe), gust_model (gust_rate|white_gust),
+  name, description, turbulence (none|light|moderate|severe), gust_model (gust_rate|white_gust|dryden_states),
   failure_model (complete|cover), failed_surface_q (rad^2/s, a failed surface's random walk)
   [method1_qd_longitudinal] u_fps alpha_rad q_rad_s theta_rad     (+ diag Q_d, per frame)
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
@@ -83,6 +84,12 @@ def register(subparsers) -> None:
                    help=f"design altitude in ft, {ALT_FT_RANGE[0]:g}-{ALT_FT_RANGE[1]:g} (default {DESIGN_ALT_FT:g})")
     p.add_argument("--tuning", default="tuned", metavar="NAME|FILE",
                    help="pseudonoise tuning: tuned | untuned | a .toml file (default tuned)")
+    p.add_argument("--gust-states", action="store_true",
+                   help="carry first-order Dryden gust states (u_g, v_g, w_g) in every filter: 16 states "
+                        "(the tuning's gust_model dryden_states; design/model.py)")
+    p.add_argument("--gust-level", default=None, metavar="|".join(TURBULENCE_LEVELS),
+                   help="turbulence level the gust model is designed for (default: the tuning's, light "
+                        "for the shipped ones)")
     p.add_argument("--failure-model", default=None, metavar="|".join(FAILURE_MODELS),
                    help="hypotheses of the paper's complete failures, or hypotheses that cover the "
                         "failure (default: the tuning's failure_model, complete for the shipped ones)")
@@ -122,6 +129,7 @@ def _run(args) -> int:
         tuning = load_tuning(args.tuning)
     except TuningError as exc:
         raise CliError(f"--tuning: {exc}") from None
+    tuning = gust_options(tuning, args.gust_level, args.gust_states)
     if args.failure_model is not None:
         if args.failure_model not in FAILURE_MODELS:
             raise CliError(f"--failure-model {args.failure_model!r} is not a failure model; valid: "
@@ -162,9 +170,26 @@ def _run(args) -> int:
     return 0
 
 
+def gust_options(tuning, gust_level: str | None, gust_states: bool):
+    """The tuning with ``--gust-level`` / ``--gust-states`` applied; the name says so
+    (``NAME[-LEVEL][-gust]``, undone by ``design.bank.tuning_arguments``)."""
+    if gust_level is not None:
+        if gust_level not in TURBULENCE_LEVELS:
+            raise CliError(f"--gust-level {gust_level!r} is not a turbulence level; valid: "
+                           f"{', '.join(TURBULENCE_LEVELS)}")
+        if gust_level != tuning.turbulence:
+            tuning = dataclasses.replace(tuning, name=f"{tuning.name}-{gust_level}", turbulence=gust_level)
+    if gust_states and tuning.gust_model != "dryden_states":
+        tuning = dataclasses.replace(tuning, name=f"{tuning.name}-gust", gust_model="dryden_states")
+    return tuning
+
+
 def _run_schedule(args) -> int:
     if args.report:
         raise CliError("--report describes one design point; it cannot be combined with --schedule")
+    if args.gust_states or args.gust_level is not None:
+        raise CliError("--gust-states and --gust-level design one point; give a tuning file with gust_model "
+                       "and turbulence to --schedule instead")
     try:
         grid = parse_grid(args.schedule)
         tuning = load_tuning(args.tuning)

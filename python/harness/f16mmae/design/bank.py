@@ -35,7 +35,7 @@ from .gains import SteadyStateGains, steady_state_gains
 from .hypotheses import (HypothesisModel, hypothesis_dynamics, hypothesis_model, uninformative_level_q,
                          uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
-from .tuning import Tuning, load_tuning
+from .tuning import Tuning, available_tunings, load_tuning
 
 #: Where the shipped nominal banks live, and the nominal flight condition.
 DATA_DIR = Path(__file__).resolve().parent.parent / "data"
@@ -94,23 +94,12 @@ class BankDesign:
         import jsbsim
 
         trim = self.linearized.trim
-        tuning_arg = self.tuning.name
-        # `f16mmae design --failure-model M [--failed-sensor-level-q Q]` names it NAME-M[-qQ]
-        weight = f"-q{self.tuning.failed_sensor_level_q:g}"
-        if tuning_arg.endswith(weight):
-            tuning_arg = tuning_arg[:-len(weight)]
-            weight = f" --failed-sensor-level-q {self.tuning.failed_sensor_level_q:g}"
-        else:
-            weight = ""
-        suffix = f"-{self.tuning.failure_model}"
-        if self.tuning.failure_model != "complete" and tuning_arg.endswith(suffix):
-            tuning_arg = f"{tuning_arg[:-len(suffix)]} --failure-model {self.tuning.failure_model}{weight}"
         return {
             "generator": "f16mmae.design",
             "design_version": DESIGN_VERSION,
             "jsbsim_version": jsbsim.__version__,
             "command": (f"f16mmae design --mach {self.mach:g} --alt-ft {self.alt_ft:g} "
-                        f"--tuning {tuning_arg}"),
+                        f"--tuning {tuning_arguments(self.tuning)}"),
             "flight_condition": {"mach": self.mach, "alt_ft": self.alt_ft},
             "trim": {"vt_fps": trim.vt_fps, "alpha_rad": trim.alpha_rad,
                      "theta_rad": trim.theta_rad, "throttle": trim.throttle,
@@ -132,8 +121,30 @@ class BankDesign:
         }
 
 
+def tuning_arguments(tuning: Tuning) -> str:
+    """The ``--tuning ...`` arguments of ``f16mmae design`` that give ``tuning``: the CLI names
+    a derived tuning ``NAME[-LEVEL][-gust][-M[-qQ]]`` (``--gust-level LEVEL``, ``--gust-states``,
+    ``--failure-model M``, ``--failed-sensor-level-q Q``); this undoes that naming."""
+    rest, tail = tuning.name, []
+    weight = f"-q{tuning.failed_sensor_level_q:g}"
+    if tuning.failure_model != "complete" and rest.endswith(weight):
+        rest = rest[:-len(weight)]
+        tail.insert(0, f"--failed-sensor-level-q {tuning.failed_sensor_level_q:g}")
+    suffix = f"-{tuning.failure_model}"
+    if tuning.failure_model != "complete" and rest.endswith(suffix):
+        rest = rest[:-len(suffix)]
+        tail.insert(0, f"--failure-model {tuning.failure_model}")
+    if tuning.gust_model == "dryden_states" and rest.endswith("-gust"):
+        rest = rest[:-len("-gust")]
+        tail.insert(0, "--gust-states")
+    if rest.endswith(f"-{tuning.turbulence}") and rest[:-len(tuning.turbulence) - 1] in available_tunings():
+        rest = rest[:-len(tuning.turbulence) - 1]
+        tail.insert(0, f"--gust-level {tuning.turbulence}")
+    return " ".join([rest] + tail)
+
+
 def continuous_noise(model: ContinuousModel, tuning: Tuning) -> np.ndarray:
-    """(13, 13) ``G Q_c G^T`` plus the method-4 actuator noise (eqs. 6-7)."""
+    """(nx, nx) ``G Q_c G^T`` plus the method-4 actuator noise (eqs. 6-7)."""
     q_act = tuning.actuator_strengths()
     return model.g @ model.qc @ model.g.T + (model.b_airframe * q_act) @ model.b_airframe.T
 
@@ -143,8 +154,8 @@ def discrete_design_model(model: ContinuousModel, tuning: Tuning,
     """``(Phi, B_d, Q_d)`` and ``R`` of the no-failure model with the tuning's pseudonoise:
     method 4 enters the continuous noise before discretizing, methods 1/3 add to diag(Q_d),
     method 2 to diag(R)."""
-    dm = discretize(model.f, model.b, np.eye(names.NX), continuous_noise(model, tuning), 1.0 / frame_rate_hz)
-    qd = dm.qd + np.diag(tuning.qd_diagonal())
+    dm = discretize(model.f, model.b, np.eye(model.nx), continuous_noise(model, tuning), 1.0 / frame_rate_hz)
+    qd = dm.qd + np.diag(tuning.qd_diagonal(model.nx))
     r = np.diag(model.r_diag + tuning.r_diagonal())
     return DiscreteModel(phi=dm.phi, bd=dm.bd, qd=qd, dt_s=dm.dt_s), r
 
@@ -163,8 +174,8 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
         failed_surface = any(c in names.ACTUATORS for c in names.failed_components(name))
         if tuning.failure_model == "cover" and failed_surface:
             f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, tuning.failed_surface_q, n_air)
-            dm = discretize(f_k, model.b, np.eye(names.NX), gqg_k, discrete.dt_s)
-            phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal())
+            dm = discretize(f_k, model.b, np.eye(model.nx), gqg_k, discrete.dt_s)
+            phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal(model.nx))
         out.append(hypothesis_model(name, phi, bd, model.h, qd, uninformative_width(name, tuning.failure_model),
                                     uninformative_level_q(name, tuning.failure_model,
                                                               tuning.failed_sensor_level_q)))
@@ -210,7 +221,7 @@ def to_model_bank(design: BankDesign):
                                  uninformative_level_q=f.model.uninformative_level_q)
             for f in design.filters]
     return core.ModelBank(
-        hyps, state_names=list(names.STATES), input_names=list(names.ACTUATORS),
+        hyps, state_names=list(design.continuous.state_names), input_names=list(names.ACTUATORS),
         measurement_names=list(names.SENSORS),
         u_trim=design.u_trim, z_trim=design.z_trim, h_output=design.h_output,
         frame_rate_hz=design.frame_rate_hz, mach=design.mach, alt_ft=design.alt_ft,

@@ -111,6 +111,8 @@ def calibrate(base: Tuning, flights, linearized, iterations: int = 12,
 
 
 SEEDS = TUNING_FLIGHT_SEEDS  # the tuning namespace (f16mmae.seeds): 1-8
+#: The tuning calibrated for the filters with Dryden gust states (``--gust-states``).
+GUST_TUNING = "tuned_gust"
 
 
 def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after: ResidualStats,
@@ -183,14 +185,16 @@ def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after
                       "ESTIMATOR), stored as the bank's typed fields", tun.estimator))
 
 
-def run_calibration(lin=None) -> tuple[Tuning, list[ResidualStats], list[dict]]:
+def run_calibration(lin=None, gust_model: str = "gust_rate") -> tuple[Tuning, list[ResidualStats], list[dict]]:
     """The calibration of ``tuned.toml`` at the nominal point: stage 1 (residual consistency,
     from the untuned base) then stage 2 (probability convergence, ``convergence.py``).
-    Returns the tuning, stage 1's statistics history and stage 2's candidate records."""
+    ``gust_model``: the base's (``dryden_states``: ``tuned_gust.toml``, the filters with
+    Dryden gust states). Returns the tuning, stage 1's statistics history and stage 2's
+    candidate records."""
     lin = lin if lin is not None else linearize_truth(0.4, 20_000.0)
-    base = load_tuning("untuned")
+    base = dataclasses.replace(load_tuning("untuned"), gust_model=gust_model)
     flights = [fly_closed_loop(0.4, 20_000.0, seed=s, turbulence_level=base.turbulence) for s in SEEDS]
-    tun, hist = calibrate(base, flights, lin)
+    tun, hist = calibrate(base, flights, lin, name=GUST_TUNING if gust_model == "dryden_states" else "tuned")
     tun, conv = convergence.tune_convergence(tun, lin, convergence.case_flights(
         0.4, 20_000.0, base.turbulence))
     hist.append(none_filter_stats(tun, flights, lin))
@@ -233,6 +237,9 @@ def main(argv=None) -> Tuning:
                                  description=__doc__.split("\n\n")[0])
     ap.add_argument("--write", action="store_true",
                     help="rewrite design/tunings/tuned.toml and the shipped nominal banks")
+    ap.add_argument("--gust-states", action="store_true",
+                    help=f"calibrate the filters with Dryden gust states instead: {GUST_TUNING}.toml "
+                         "(--write writes it, no shipped bank)")
     ap.add_argument("--banks", action="store_true",
                     help="only regenerate the shipped nominal banks from the committed tunings "
                          "(after a bank-format change; no calibration flights)")
@@ -241,7 +248,8 @@ def main(argv=None) -> Tuning:
     if args.banks:
         write_nominal_banks(lin)
         return load_tuning("tuned")
-    tun, hist, conv = run_calibration(lin)
+    gust = "dryden_states" if args.gust_states else "gust_rate"
+    tun, hist, conv = run_calibration(lin, gust)
     print("untuned:\n" + hist[0].table(names.SENSORS))
     print("stage 1 (rounded):\n" + hist[-2].table(names.SENSORS))
     print("stage 2:\n" + hist[-1].table(names.SENSORS))
@@ -249,6 +257,15 @@ def main(argv=None) -> Tuning:
         print(f"  {rec['step']:<16} J {rec['J']:.3f}  "
               + " ".join(f"{k} {v:.2f}" for k, v in rec["per_case"].items()))
     text = render_toml(tun, hist[0], hist[-2], hist[-1], conv)
+    if args.gust_states:
+        text = text.replace("calibrate --write`", "calibrate --write --gust-states`").replace(
+            "zero-order Dryden gusts", "Dryden gust states (design/gust_states.py)")
+        if args.write:
+            (TUNINGS_DIR / f"{GUST_TUNING}.toml").write_text(text)
+            print(f"wrote {TUNINGS_DIR / f'{GUST_TUNING}.toml'}")
+        else:
+            print(text)
+        return tun
     if args.write:
         path = TUNINGS_DIR / "tuned.toml"
         path.write_text(text)

@@ -15,7 +15,8 @@ the truth actuators' first-order lags (their rate and position limits are not mo
 the surface lag states' inputs are the surface commands. Sensor noise is the truth sensors'
 ``NOISE_SIGMA``.
 
-Zero-order Dryden wind (no shaping-filter states), two forms (``gust_model``):
+Dryden wind (``gust_model``): two zero-order forms (no shaping-filter states, 13 states)
+and two with the gusts as states:
 
 - ``"gust_rate"`` (default): the velocity states are AIR-RELATIVE (u, alpha, beta as the
   air-data sensors and the aerodynamic forces see them; at a level trim with p = q = r = 0
@@ -29,6 +30,10 @@ Zero-order Dryden wind (no shaping-filter states), two forms (``gust_model``):
   zero-frequency level of the spectra, ``Q_c = diag(2 sigma_u^2 L_u/V, sigma_v^2 L_v/V,
   sigma_w^2 L_w/V)`` (ft^2/s), entering through the airframe's wind sensitivity
   ``G = [-A_uvw; 0]``; its direct effect on the air-data readings is not modelled.
+
+- ``"dryden_states"`` (19 states) and ``"dryden_translational"`` (16): the air-relative
+  states of ``gust_rate`` plus Dryden gust states (six: u_g v_g w_g p_g q_g r_g; or the
+  three translational ones), appended after the actuator lags -- ``gust_states.py``.
 
 Measured against the nonlinear truth (NONE filter of the untuned design, 8 no-failure
 closed-loop flights in light turbulence, var(r)/A per channel VEL AOA PIT AZ ROL YAW AY):
@@ -49,6 +54,7 @@ import numpy as np
 
 from .. import names
 from ..truth import actuators, aircraft, sensors, turbulence
+from .gust_states import GUST_STATE_MODELS, augment
 from .linearize import AirframeLinearization, finite_difference, uvw_jacobian
 
 #: MIL-F-8785C turbulence scale length above 2,000 ft (ft), all three components.
@@ -56,7 +62,14 @@ GUST_SCALE_LENGTH_FT = 1750.0
 #: Lateral gust intensity relative to the longitudinal/vertical one (truth.turbulence notes).
 LATERAL_GUST_SHARE = 0.8
 #: The two zero-order Dryden forms (module docstring); the first is the default.
-GUST_MODELS: tuple[str, ...] = ("gust_rate", "white_gust")
+GUST_MODELS: tuple[str, ...] = ("gust_rate", "white_gust") + tuple(GUST_STATE_MODELS)
+
+
+def state_names(gust_model: str) -> tuple[str, ...]:
+    """The filters' state names of a gust model: ``names.STATES``, then its gust states."""
+    if gust_model not in GUST_MODELS:
+        raise ValueError(f"unknown gust model {gust_model!r}; valid: {', '.join(GUST_MODELS)}")
+    return names.STATES + GUST_STATE_MODELS.get(gust_model, ())
 
 
 @dataclass(frozen=True)
@@ -66,16 +79,24 @@ class ContinuousModel:
     ``b_airframe`` (13, 5): the airframe columns ``[B_a; 0]`` a surface deflection drives
     (method 4 noise enters through them)."""
 
-    f: np.ndarray           # (13, 13)
-    b: np.ndarray           # (13, 5)
-    g: np.ndarray           # (13, 3)
-    qc: np.ndarray          # (3, 3)
-    h: np.ndarray           # (7, 13)
+    f: np.ndarray           # (nx, nx); nx = 13, or 13 + the gust states
+    b: np.ndarray           # (nx, 5)
+    g: np.ndarray           # (nx, nw): nw white inputs, 3 (4 with rotational gust states)
+    qc: np.ndarray          # (nw, nw)
+    h: np.ndarray           # (7, nx)
     r_diag: np.ndarray      # (7,)
-    b_airframe: np.ndarray  # (13, 5)
+    b_airframe: np.ndarray  # (nx, 5)
     gust_sigma_fps: np.ndarray  # (3,) u, v, w
     vt_fps: float
     gust_model: str
+
+    @property
+    def nx(self) -> int:
+        return self.f.shape[0]
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return state_names(self.gust_model)
 
 
 @dataclass(frozen=True)
@@ -119,24 +140,30 @@ def linearize_truth(mach: float, alt_ft: float) -> LinearizedTrim:
 def build_model(lin: AirframeLinearization, vt_fps: float, turbulence_level: str,
                 alt_ft: float, gust_model: str = "gust_rate") -> ContinuousModel:
     """Augment the airframe with the actuator lags, gust input and sensors (docstring)."""
+    nx = len(state_names(gust_model))
     na, nu = lin.a.shape[0], lin.b.shape[1]
     lam = np.diag(actuators.LAG_RAD_S)
-    f = np.zeros((names.NX, names.NX))
+    f = np.zeros((nx, nx))
     f[:na, :na] = lin.a
-    f[:na, na:] = lin.b
-    f[na:, na:] = -lam
-    b = np.zeros((names.NX, nu))
-    b[na:, :] = lam
-    g = np.zeros((names.NX, 3))
-    if gust_model == "gust_rate":
-        g[[0, 1, 4], :] = -uvw_jacobian(lin.x_trim)
-    else:
-        g[:na, :] = -lin.a_uvw
-    h = np.hstack([lin.c, lin.dd])
-    b_air = np.zeros((names.NX, nu))
-    b_air[:na, :] = lin.b
+    f[:na, na:names.NX] = lin.b
+    f[na:names.NX, na:names.NX] = -lam
+    b = np.zeros((nx, nu))
+    b[na:names.NX, :] = lam
+    h = np.hstack([lin.c, lin.dd, np.zeros((lin.c.shape[0], nx - names.NX))])
     sigma = design_gust_sigma_fps(turbulence_level, alt_ft)
-    return ContinuousModel(f=f, b=b, g=g, qc=zero_order_dryden_qc(sigma, vt_fps, gust_model), h=h,
+    if gust_model in GUST_STATE_MODELS:
+        f[:, names.NX:], g, qc, h[:, names.NX:] = augment(gust_model, lin, vt_fps, sigma, GUST_SCALE_LENGTH_FT,
+                                                          names.NX)
+    else:
+        g = np.zeros((nx, 3))
+        if gust_model == "white_gust":
+            g[:na, :] = -lin.a_uvw
+        else:
+            g[[0, 1, 4], :] = -uvw_jacobian(lin.x_trim)
+        qc = zero_order_dryden_qc(sigma, vt_fps, gust_model)
+    b_air = np.zeros((nx, nu))
+    b_air[:na, :] = lin.b
+    return ContinuousModel(f=f, b=b, g=g, qc=qc, h=h,
                            r_diag=np.asarray(sensors.NOISE_SIGMA, dtype=float) ** 2,
                            b_airframe=b_air, gust_sigma_fps=sigma, vt_fps=float(vt_fps),
                            gust_model=gust_model)

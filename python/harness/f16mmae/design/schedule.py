@@ -90,11 +90,11 @@ def parse_grid(spec: str = DEFAULT_GRID) -> Grid:
 def x_trim(design) -> np.ndarray:
     """(nx,) the trim state of a design, in ``names.STATES`` order (module docstring)."""
     trim = design.linearized.trim
-    x = np.zeros(names.NX)
+    x = np.zeros(design.continuous.nx)
     x[names.STATES.index("u_fps")] = trim.z[names.SENSORS.index("VEL")]
     x[names.STATES.index("alpha_rad")] = trim.z[names.SENSORS.index("AOA")]
     x[names.STATES.index("theta_rad")] = trim.theta_rad
-    x[-names.NU:] = np.asarray(trim.u_rad, dtype=float)
+    x[names.NX - names.NU:names.NX] = np.asarray(trim.u_rad, dtype=float)  # gust states trim at 0
     return x
 
 

@@ -14,8 +14,8 @@ The design model's physical noises (zero-order Dryden gusts, sensor noise) are a
   ``x' = F x + B u + G w + B_act,col w_B``; discretized with the gusts (eq. 7, Van Loan).
 
 Top-level keys: ``name``, ``description``, ``turbulence`` (gust level the zero-order Dryden
-model is designed for: none | light | moderate | severe), ``gust_model`` (``gust_rate`` or
-``white_gust``, see ``model.py``), ``failure_model`` (``complete``, the paper's, default;
+model is designed for: none | light | moderate | severe), ``gust_model`` (``gust_rate``,
+``white_gust`` or ``dryden_states`` -- gust states in the filters, see ``model.py``), ``failure_model`` (``complete``, the paper's, default;
 or ``cover``: a failed surface at an unknown position, a failed sensor uninformative -- see
 ``hypotheses.py``), ``failed_surface_q`` (rad^2/s, the strength of the random walk of a
 failed surface under ``cover``; default ``FAILED_SURFACE_Q``) and ``failed_sensor_level_q``
@@ -44,9 +44,9 @@ from .. import names
 from ..errors import F16mmaeError
 from ..names import TURBULENCE_LEVELS
 from .hypotheses import FAILURE_MODELS
+from .model import GUST_MODELS
 
 TUNINGS_DIR = Path(__file__).with_name("tunings")
-GUST_MODELS: tuple[str, ...] = ("gust_rate", "white_gust")
 
 #: Section name -> (valid keys, index of each key in its vector, what the key is).
 METHOD1_KEYS: tuple[str, ...] = names.STATES[:4]
@@ -93,9 +93,9 @@ class Tuning:
     actuator_q: dict[str, float] = field(default_factory=dict)       # method 4
     estimator: dict[str, float] = field(default_factory=dict)        # recommended settings
 
-    def qd_diagonal(self) -> np.ndarray:
-        """(13,) additions to diag(Q_d) from methods 1 and 3 (actuator states get none)."""
-        out = np.zeros(names.NX)
+    def qd_diagonal(self, nx: int = names.NX) -> np.ndarray:
+        """(nx,) additions to diag(Q_d) from methods 1 and 3 (actuator and gust states get none)."""
+        out = np.zeros(nx)
         for key, val in {**self.qd_longitudinal, **self.qd_lateral}.items():
             out[names.STATES.index(key)] = val
         return out

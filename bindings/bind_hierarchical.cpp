@@ -5,6 +5,7 @@
 // the bank's nx selects it; any other bank runs in the dynamic one. Signals are ABSOLUTE here: the bank subtracts its own u_trim / z_trim and
 // z_hat comes back absolute.
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include <algorithm>
 #include <chrono>
@@ -33,8 +34,14 @@ class PyHierarchicalBank {
                      double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
                      double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                      double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                     double adapt_reference) {
+                     double adapt_reference, bool maneuver_kinematics, double maneuver_tempering_g,
+                     const std::vector<double>& actuator_rate_limits_rad_s,
+                     const std::vector<double>& actuator_position_limits_rad) {
     HierarchicalOptions o;
+    o.maneuver.kinematics = maneuver_kinematics;
+    o.maneuver.tempering_g = maneuver_tempering_g;
+    o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
+    o.actuators.position_limit_rad = actuator_position_limits_rad;
     o.trim.time_constant_s = trim_time_constant_s;
     o.trim.freeze_probability = trim_freeze_probability;
     o.trim.hold_s = trim_hold_s;
@@ -192,8 +199,11 @@ auto prop(F f) {
 // (seconds per frame of the fastest pass, slowest single frame of the last pass in seconds).
 template <class Bank>
 py::tuple bench_fixed_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
-                           double min_time_s, const std::string& schedule_mode) {
+                           double min_time_s, const std::string& schedule_mode, const ManeuverOptions& maneuver,
+                           const ActuatorLimitOptions& actuators) {
   HierarchicalOptions o;
+  o.maneuver = maneuver;
+  o.actuators = actuators;
   o.bank.p_min = bank.estimator.p_min;
   o.declarer.threshold = bank.estimator.threshold;
   o.declarer.dwell_s = bank.estimator.dwell_s;
@@ -240,10 +250,20 @@ py::tuple bench_fixed_loop(const ModelBank& bank, py::handle z_frames, py::handl
 }
 
 py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
-                                  double min_time_s, const std::string& schedule_mode) {
+                                  double min_time_s, const std::string& schedule_mode, bool maneuver_kinematics,
+                                  double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
+                                  const std::vector<double>& actuator_position_limits_rad) {
+  ManeuverOptions maneuver;
+  maneuver.kinematics = maneuver_kinematics;
+  maneuver.tempering_g = maneuver_tempering_g;
+  ActuatorLimitOptions actuators;
+  actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
+  actuators.position_limit_rad = actuator_position_limits_rad;
   if (bank.nx() == F16GustHierarchicalBank::XVector::RowsAtCompileTime)
-    return bench_fixed_loop<F16GustHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode);
-  return bench_fixed_loop<F16HierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode);
+    return bench_fixed_loop<F16GustHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode,
+                                                     maneuver, actuators);
+  return bench_fixed_loop<F16HierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode, maneuver,
+                                               actuators);
 }
 
 FixedHierarchicalBank fixed_hierarchical_bank(py::handle hierarchical_bank) {
@@ -253,10 +273,13 @@ FixedHierarchicalBank fixed_hierarchical_bank(py::handle hierarchical_bank) {
 void bind_hierarchical(py::module_& m) {
   m.def("_bench_hierarchical_loop", &bench_hierarchical_loop, py::arg("bank"), py::arg("z"), py::arg("u"),
         py::arg("air_data") = py::none(), py::arg("min_time_s") = 0.2, py::arg("schedule_mode") = "interpolate",
+        py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
+        py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
+        py::arg("actuator_position_limits_rad") = std::vector<double>{},
         "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F-16 bank of the\n"
         "model bank's nx (13, or 19 with gust states)\n"
         "over frames z (N,7), u (N,5), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
-        "given, timed in C++ (f16mmae.bench).");
+        "given, timed in C++ (f16mmae.bench); the maneuver options as core.HierarchicalBank's.");
   py::class_<PyHierarchicalBank>(m, "HierarchicalBank", R"doc(
 The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 
@@ -266,7 +289,9 @@ The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
                      schedule_mode="interpolate", hysteresis_cells=..., blend_step_cells=...,
                      air_data_time_constant_s=..., cubic_trims=...,
                      adapt_turbulence=False, adapt_time_constant_s=5.0, adapt_scale_min=1.0,
-                     adapt_scale_max=100.0, adapt_gain=20.0, adapt_reference=0.6)
+                     adapt_scale_max=100.0, adapt_gain=20.0, adapt_reference=0.6,
+                     maneuver_kinematics=False, actuator_rate_limits_rad_s=[],
+                     actuator_position_limits_rad=[])
 
 Level 0: NONE and every single failure on line, NONE presumed. When single failure f is
 declared (p_f > threshold for dwell_s), the level-1 bank {NONE, f, f+c for every other c}
@@ -281,6 +306,16 @@ residual power against the design's (cpp/f16mmae/turbulence_adaptation.h; rho = 
 over adapt_time_constant_s of min_k q_k / nz, s = clamp(1 + adapt_gain (rho - adapt_reference),
 adapt_scale_min, adapt_scale_max)); the likelihoods become -q_k/(2 s). Off: exactly the bank as
 designed. turbulence_scale reads s, turbulence_power_ratio rho.
+
+maneuver_kinematics: add to every filter's propagation the rigid-body kinematic and gravity
+terms its wings-level linearization drops (second order; zero in wings-level flight about the
+trim), evaluated on the blended state (cpp/f16mmae/maneuver_kinematics.h), so a steady turn or
+pull-up is not read as a failure. Off: exactly the bank as designed.
+
+actuator_rate_limits_rad_s, actuator_position_limits_rad (nu values each; empty: off): the
+filters see the commands through a copy of the actuators with these limits
+(cpp/f16mmae/actuator_limits.h): the command that makes their linear lag follow the limited
+actuator, equal to u inside the limits.
 
 SIGNALS ARE ABSOLUTE: update(z (nz,)) subtracts the trim in force, model_bank.z_trim + dz,
 propagate(u (nu,)) model_bank.u_trim + du, and z_hat is absolute (z_hat_perturbation is not).
@@ -299,7 +334,8 @@ the 4 x 4 nodes around when cubic_trims and covered) or 'nearest' (nearest
 node, switched past hysteresis_cells); the states move with the trim state, probabilities,
 declarations and the level carry over. schedule_state reports what is in force.)doc")
       .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double, bool,
-                    const std::string&, double, double, double, bool, bool, double, double, double, double, double>(),
+                    const std::string&, double, double, double, bool, bool, double, double, double, double, double, bool, double,
+                    const std::vector<double>&, const std::vector<double>&>(),
            py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
            py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none(),
            py::arg("trim_time_constant_s") = 0.0, py::arg("trim_freeze_probability") = 0.05,
@@ -309,7 +345,9 @@ declarations and the level carry over. schedule_state reports what is in force.)
            py::arg("air_data_time_constant_s") = ScheduleOptions{}.air_data_time_constant_s,
            py::arg("cubic_trims") = ScheduleOptions{}.cubic_trims, py::arg("adapt_turbulence") = false,
            py::arg("adapt_time_constant_s") = 5.0, py::arg("adapt_scale_min") = 1.0, py::arg("adapt_scale_max") = 100.0,
-           py::arg("adapt_gain") = 20.0, py::arg("adapt_reference") = 0.6)
+           py::arg("adapt_gain") = 20.0, py::arg("adapt_reference") = 0.6, py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
+           py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
+           py::arg("actuator_position_limits_rad") = std::vector<double>{})
       .def("update", &PyHierarchicalBank::update, py::arg("z"),
            "Update with absolute z (nz,); returns the name declared on this frame, or None.")
       .def("propagate", &PyHierarchicalBank::propagate, py::arg("u"), "Propagate with absolute u (nu,).")
@@ -348,6 +386,8 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("turbulence_scale", prop([](auto& b) { return b.turbulence_scale(); }),
                              "the turbulence adaptation's likelihood scale s in force (1.0 when off)")
       .def_property_readonly("adapt_turbulence", prop([](auto& b) { return b.options().bank.adaptation.enabled; }))
+      .def_property_readonly("maneuver_kinematics", prop([](auto& b) { return b.options().maneuver.kinematics; }))
+      .def_property_readonly("actuator_limits", prop([](auto& b) { return b.options().actuators.enabled(); }))
       .def_property_readonly("turbulence_power_ratio", prop([](auto& b) { return b.bank().adaptation().power_ratio(); }),
                              "the adaptation's averaged residual power ratio rho (1.0 when off)")
       .def_property_readonly("rejected_frames", prop([](auto& b) { return b.rejected_frames(); }))

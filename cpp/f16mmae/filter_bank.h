@@ -203,6 +203,7 @@ class FilterBank {
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (adapt) l *= inv_s;
+      if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
       if (hypotheses_[i].has_uninformative()) {  // u_k; otherwise l_k is left bit for bit as it was
         l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_set_[i]);
@@ -245,6 +246,10 @@ class FilterBank {
     const bool b = propagate(u);
     return a && b;
   }
+  // A further likelihood scale s_e >= 1 for the coming updates, set by the caller frame by
+  // frame (the maneuver tempering of maneuver_kinematics.h): l_k = -q_k / (2 s s_e). s_e = 1
+  // (the default, and after reset()) leaves every l_k bit for bit as without it.
+  void set_extra_scale(double s_e) noexcept { extra_inv_scale_ = s_e > 1.0 ? 1.0 / s_e : 1.0; }
   // Presume hypothesis `index` (noexcept; ignored if out of range):
   // p_index = 1 - (K-1) p_min, every other p_min.
   void presume(int index) noexcept {
@@ -267,6 +272,7 @@ class FilterBank {
     rejected_ = 0;
     frames_ = 0;
     scale_.reset();
+    extra_inv_scale_ = 1.0;
     presume(0);
   }
 
@@ -449,6 +455,7 @@ class FilterBank {
   HypothesisFlags<K> level_set_;                  // b̂_k set
   Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k
   ResidualScale<K> scale_{};                      // the turbulence adaptation
+  double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

@@ -43,6 +43,15 @@
 // sets it or trim tracking (options.trim, trim_tracker.h: a slow low-pass of u and z about the
 // trim, frozen while a failure hypothesis rises or a failure is declared) estimates it, after
 // each update and propagate. With zero offsets the arithmetic is the bank's without them.
+// Maneuvering flight (all off by default: the bank as designed, bit for bit):
+//   options.maneuver.kinematics   after each propagate every filter's x⁻ gains dt R(x̂), the
+//                                 kinematic/gravity terms the wings-level linearization drops,
+//                                 of the blended posterior (maneuver_kinematics.h);
+//   options.maneuver.tempering_g  before each update the likelihoods are tempered by
+//                                 s_m = 1 + (dn / n_ref)^2, dn the estimated load factor off the
+//                                 trim (z_hat's AZ; FilterBank::set_extra_scale);
+//   options.actuators             the filters see the commands through the actuators' rate and
+//                                 position limits (actuator_limits.h).
 // A frame is one update (accepted or rejected): frame index i (0-based) has
 // time_s = i / frame_rate_hz. The declarer sees only accepted updates.
 //
@@ -58,9 +67,11 @@
 // declarations_dropped()).
 #pragma once
 
+#include "f16mmae/actuator_limits.h"
 #include "f16mmae/air_data.h"
 #include "f16mmae/declarer.h"
 #include "f16mmae/filter_bank.h"
+#include "f16mmae/maneuver_kinematics.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
 #include "f16mmae/trim_tracker.h"
@@ -88,6 +99,8 @@ struct HierarchicalOptions {
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
   ScheduleOptions schedule;   // a scheduled bank: interpolate or nearest (scheduled_filters.h)
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
+  ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
+  ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   int history_capacity = 1024;
 };
 
@@ -114,6 +127,7 @@ class HierarchicalBank {
     const std::int64_t frame = frame_++;
     z_pert_.noalias() = z_abs - z_trim_;
     z_pert_ -= dz_;
+    if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
     const int d = declarer_.update(bank_.probabilities());
     int hypothesis = -1;
@@ -154,10 +168,23 @@ class HierarchicalBank {
     if (frame_ > 0) shift_states(x_before - sched_.x_trim());  // before the first frame x = 0 is the trim
     apply_trims();
   }
-  bool propagate(const UVector& u_abs) noexcept {
+  bool propagate(const UVector& u_in) noexcept {
+    actuators_.effective(u_in, u_eff_);   // u_in itself unless actuator limits are on
+    const UVector& u_abs = u_eff_;
     u_pert_.noalias() = u_abs - u_trim_;
     u_pert_ -= du_;
+    if (maneuver_.enabled()) {
+      const int v = maneuver_.vel_index(), a = maneuver_.aoa_index();
+      maneuver_.forcing(z_trim_(v) + dz_(v), z_trim_(a) + dz_(a), bank_.blended_state(), x_force_);
+    }
     const bool ok = bank_.propagate(u_pert_);
+    if (ok && maneuver_.enabled() && x_force_.allFinite()) {   // (a state far outside the flight envelope: none)
+      for (int k = 0; k < size(); ++k) {
+        x_shift_ = bank_.prior(k);
+        x_shift_ += x_force_;
+        bank_.set_prior(k, x_shift_);
+      }
+    }
     if (ok && trim_tracker_.options().enabled()) {
       u_pert_.noalias() = u_abs - u_trim_;
       trim_tracker_.after_propagate(u_pert_);
@@ -184,6 +211,7 @@ class HierarchicalBank {
     air_data_ = design_air_data_;
     air_data_rejected_ = 0;
     trim_tracker_.reset();
+    actuators_.reset();
     du_.setZero();
     dz_.setZero();
     if (sched_.active()) {
@@ -319,6 +347,8 @@ class HierarchicalBank {
         level1_(std::move(b.level1)),
         online_(b.level0),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz()),
+        maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
+        actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
@@ -337,6 +367,9 @@ class HierarchicalBank {
     du_ = UVector::Zero(u_trim_.size());
     dz_ = ZVector::Zero(z_trim_.size());
     scratch_ = storage_[0];
+    x_shift_ = XVector::Zero(mb.nx());
+    x_force_ = XVector::Zero(mb.nx());
+    u_eff_ = UVector::Zero(mb.nu());
     if (mb.schedule) {
       sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_, mb.frame_rate_hz);
       if (sched_.node_filter(0, 0).nx() != mb.nx() ||
@@ -435,7 +468,10 @@ class HierarchicalBank {
   ZVector z_trim_, z_pert_, dz_;
   UVector u_trim_, u_pert_, du_;
   TrimTracker<NU, NZ> trim_tracker_;
-  XVector x_shift_;
+  ManeuverKinematics maneuver_;
+  ActuatorLimits<NU> actuators_;
+  UVector u_eff_;
+  XVector x_shift_, x_force_;
   Schedule sched_;
   Hypothesis scratch_;   // a scheduled filter on its way on line at a hierarchical switch
   std::vector<Declaration> history_;

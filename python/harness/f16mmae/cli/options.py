@@ -92,6 +92,17 @@ def add_estimator_arguments(p) -> None:
                    help="adapt the likelihoods on line to the turbulence intensity (one residual "
                         "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "
                         "Default off: the bank as designed")
+    p.add_argument("--maneuver-kinematics", action="store_true",
+                   help="add to the filters' propagation the kinematic and gravity terms their wings-level "
+                        "linearization drops (steady turns and pull-ups; cpp/f16mmae/maneuver_kinematics.h). "
+                        "Default off: the bank as designed")
+    p.add_argument("--actuator-limits", action="store_true",
+                   help="the filters see the commands through the actuators' rate and position limits "
+                        "(a roll-in's or pull-up's saturated commands; cpp/f16mmae/actuator_limits.h). "
+                        "Default off: the bank as designed")
+    p.add_argument("--maneuver-tempering", default=None, metavar="G",
+                   help="temper every likelihood by 1 + (dn/G)^2 while the estimated load factor is dn g off "
+                        "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off")
     p.add_argument("--trim-tracking", default=None, metavar="TAU_S",
                    help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "
                         "bank's trim plus a slow low-pass offset of u and z, frozen while a failure "
@@ -125,6 +136,13 @@ def estimator_options_from_args(args) -> dict:
                                                 minimum=0.0, exclusive=True, maximum=1.0)
     if getattr(args, "adapt_turbulence", False):
         out["adapt_turbulence"] = True
+    if getattr(args, "maneuver_kinematics", False):
+        out["maneuver_kinematics"] = True
+    if getattr(args, "actuator_limits", False):
+        out["actuator_limits"] = True
+    if getattr(args, "maneuver_tempering", None) is not None:
+        out["maneuver_tempering_g"] = number("--maneuver-tempering", args.maneuver_tempering, minimum=0.0,
+                                             exclusive=True, maximum=100.0)
     if args.schedule_mode is not None:
         out["schedule_mode"] = choice("--schedule-mode", args.schedule_mode, SCHEDULE_MODES)
     return out

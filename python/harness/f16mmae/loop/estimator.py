@@ -13,6 +13,19 @@ import numpy as np
 
 from .. import core
 from ..banks import bank_estimator_settings
+from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
+
+
+def core_arguments(settings: dict) -> dict:
+    """The keyword arguments of ``core.HierarchicalBank`` for the estimator ``settings``:
+    ``actuator_limits`` (True) becomes the F-16 actuators' rate and position limits
+    (``truth.actuators``: the actuator specification the estimator's designer has, as the lag
+    in the bank; cpp/f16mmae/actuator_limits.h), never a measurement."""
+    out = dict(settings)
+    if out.pop("actuator_limits", False):
+        out["actuator_rate_limits_rad_s"] = list(RATE_LIMIT_RAD_S)
+        out["actuator_position_limits_rad"] = list(POSITION_LIMIT_RAD)
+    return out
 
 
 class Estimator:
@@ -29,7 +42,7 @@ class Estimator:
     def __init__(self, model_bank, **options) -> None:
         #: The estimator settings in force: the bank's recommended ones, then ``options``.
         self.settings: dict = {**bank_estimator_settings(model_bank), **options}
-        self._bank = core.HierarchicalBank(model_bank, **self.settings)
+        self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings))
         self.bank_hash = str(model_bank.content_hash)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None

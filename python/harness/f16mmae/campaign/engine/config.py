@@ -82,6 +82,12 @@ class CampaignConfig:
     p_min: float | None = None
     #: The estimator's on-line turbulence adaptation (core.HierarchicalBank adapt_turbulence).
     adapt_turbulence: bool = False
+    #: The maneuver kinematics in the filters' propagation (core.HierarchicalBank maneuver_kinematics).
+    maneuver_kinematics: bool = False
+    #: The actuators' rate and position limits on the commands the filters see (actuator_limits).
+    actuator_limits: bool = False
+    #: The load-factor tempering's n_ref in g (maneuver_tempering_g; None = off).
+    maneuver_tempering_g: float | None = None
     #: Trim tracking (cpp/f16mmae/trim_tracker.h): its time constant (s; None = off) and
     #: freeze probability (None: the core's 0.05).
     trim_time_constant_s: float | None = None
@@ -111,6 +117,12 @@ class CampaignConfig:
         out = {k: getattr(self, k) for k in ESTIMATOR_SETTINGS if getattr(self, k) is not None}
         if self.adapt_turbulence:
             out["adapt_turbulence"] = True
+        if self.maneuver_kinematics:
+            out["maneuver_kinematics"] = True
+        if self.actuator_limits:
+            out["actuator_limits"] = True
+        if self.maneuver_tempering_g is not None:
+            out["maneuver_tempering_g"] = self.maneuver_tempering_g
         return out
 
     def dither_spec(self) -> DitherSpec:
@@ -157,6 +169,8 @@ class CampaignConfig:
             raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {dwell_window_s}) s{dwell_window_text}")
         if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / len(SINGLE_HYPOTHESES):
             raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(SINGLE_HYPOTHESES)})")
+        if self.maneuver_tempering_g is not None and not 0.0 < self.maneuver_tempering_g < math.inf:
+            raise CampaignError(f"--maneuver-tempering {self.maneuver_tempering_g} must be a load factor > 0 g")
         if self.trim_time_constant_s is not None and not 0.0 < self.trim_time_constant_s < math.inf:
             raise CampaignError(f"--trim-tracking {self.trim_time_constant_s} must be a time constant > 0 s")
         if self.trim_freeze_probability is not None and not 0.0 < self.trim_freeze_probability <= 1.0:

@@ -22,7 +22,10 @@ from collections.abc import Callable, Iterable
 FLAGS: tuple[str, ...] = ("false_alarm", "transient_wrong")
 _ESTIMATOR_OPTIONS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min",
                       "trim_time_constant_s": "--trim-tracking",
-                      "trim_freeze_probability": "--trim-freeze-probability"}
+                      "trim_freeze_probability": "--trim-freeze-probability",
+                      "maneuver_tempering_g": "--maneuver-tempering"}
+_ESTIMATOR_SWITCHES = {"adapt_turbulence": "--adapt-turbulence", "maneuver_kinematics": "--maneuver-kinematics",
+                        "actuator_limits": "--actuator-limits"}
 
 
 def is_clean(record: dict) -> bool:
@@ -31,7 +34,7 @@ def is_clean(record: dict) -> bool:
 
 def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: float = 1.0) -> str:
     """The ``f16mmae run`` command of one run (module docstring)."""
-    unknown = set(estimator) - set(_ESTIMATOR_OPTIONS) - {"adapt_turbulence"}
+    unknown = set(estimator) - set(_ESTIMATOR_OPTIONS) - set(_ESTIMATOR_SWITCHES)
     if unknown:
         raise ValueError(f"estimator setting(s) {', '.join(sorted(unknown))} have no run option; "
                          f"valid: {', '.join(_ESTIMATOR_OPTIONS)}")
@@ -57,8 +60,7 @@ def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: 
     for key, opt in _ESTIMATOR_OPTIONS.items():
         if key in estimator:
             args += [opt, repr(float(estimator[key]))]
-    if estimator.get("adapt_turbulence"):
-        args.append("--adapt-turbulence")
+    args += [opt for key, opt in _ESTIMATOR_SWITCHES.items() if estimator.get(key)]
     return shlex.join(args)
 
 

@@ -1,0 +1,235 @@
+// ManeuverKinematics — the rigid-body kinematic and gravity terms that the filters' linear
+// model drops, put back into their propagation, so that a steady turn or pull-up is not
+// read as a failure. Eigen and std only; nothing allocates.
+//
+// Why: each hypothesis filter is the airframe linearized about wings-level, 1-g, level
+// flight (p = q = r = phi = beta = 0). Its state x (perturbation from the trim x0) obeys
+// x' = A x + B u. The true state obeys x' = f_aero(x, u) + g(x), where g holds the terms of
+// the body-axis equations that are pure kinematics and gravity (no aerodynamic data):
+//
+//   state s = (u, alpha, q, theta, beta, p, r, phi)  (names.STATES[:8]), w = u tan alpha,
+//   V = sqrt(u^2 + w^2) / cos beta, v = V sin beta,
+//   k_u = r v - q w - g sin theta
+//   k_v = p w - r u + g cos theta sin phi
+//   k_w = q u - p v + g cos theta cos phi
+//   g_u     = k_u
+//   g_alpha = (u k_w - w k_u) / (u^2 + w^2)
+//   g_beta  = (k_v - v V_k' / V) / (V cos beta),   V_k' = (u k_u + v k_v + w k_w) / V
+//   g_theta = q cos phi - r sin phi
+//   g_phi   = p + (q sin phi + r cos phi) tan theta
+//   g_q = g_p = g_r = 0   (the inertial couplings (I_zz - I_xx) p r / I_yy etc. are left out:
+//                          at a 30 deg level turn at Mach 0.4 they are below 1e-3 rad/s^2)
+//
+// The linear model holds g's first-order part J (x - x0) exactly (the design linearizes the
+// whole derivative). What it lacks is the remainder
+//
+//   R(x) = g(x) - g(x0) - J (x - x0),      J = dg/dx at x0,
+//
+// which is second order in the perturbation and zero in wings-level unaccelerated flight.
+// In a steady level turn at bank phi (turn rate omega = g tan phi / V, q = omega sin phi,
+// r = omega cos phi) it is, to leading order,
+//   R_theta = -q                                    (theta is constant: theta' = 0, not q)
+//   R_alpha = u g cos theta0 (cos phi - 1) / (u^2 + w^2)   (the lift of 1/cos phi g)
+//   R_beta  = g cos theta0 (sin phi - phi) / V      (and small terms in R_u, R_phi)
+// At 30 deg and Mach 0.4, 20,000 ft: R_theta = -0.022 rad/s, R_alpha = -0.010 rad/s; the
+// linear model would have theta ramp at 1.3 deg/s and the airspeed fall with it.
+//
+// What the bank does (HierarchicalBank, HierarchicalOptions::maneuver): after every filter's
+// propagate, x⁻_k += dt R(x0 + x̂), x̂ the blended posterior (sum_k p_k x⁺_k) of the frame,
+// dt = 1 / frame_rate_hz (Euler step of the forcing over the frame). One R per frame, shared
+// by the filters: the blended estimate is the bank's best state, and R is second order, so
+// the estimate's error enters it only multiplied by another perturbation.
+//
+// Why it cannot absorb a failure: R is a fixed function of the state (kinematics and
+// gravity, no aerodynamic coefficient and nothing fitted or integrated on line); it has no
+// memory and no free parameter, so it cannot learn an offset. It vanishes in wings-level
+// flight about the trim (R = 0 at x = x0, and its first derivative is zero there), so a
+// failure in level flight meets the filters exactly as without it. A failure during a turn
+// changes R only through the state estimate, second order.
+//
+// Load-factor tempering (ManeuverOptions::tempering_g = n_ref > 0; HierarchicalBank applies
+// it): beyond the kinematics, a hard pull-up takes the aircraft where the linear aerodynamics
+// no longer hold (a 3,000-fpm climb entry at Mach 0.4, 20,000 ft pulls up to 1.7 g, the angle
+// of attack from 8 to 15 deg; the pitch-rate residual then runs about 3 sigma for seconds, which
+// the stabilator hypotheses explain). Every likelihood is tempered by
+//   s_m = 1 + (dn / n_ref)^2,   dn = the AZ entry of z_hat (the blended estimate's load factor
+//                                    off the trim, g), from the frame before,
+// l_k = -q_k / (2 s s_m). n_ref = 0.1 g was chosen on the maneuver campaign at --seed 7 (0.05,
+// 0.1, 0.2 tried; docs/results/maneuver.md): s_m is 1 in level and steadily climbing flight,
+// 3.4 in a 30 deg level turn, 45 at 1.66 g. The price: detection slows while the load factor is
+// off 1 g, and a failure that itself moves the load factor (a stabilator hard-over) tempers its
+// own evidence while it does.
+//
+// The trim x0: (u0, alpha0) from the trim in force (z_trim + dz of the VEL and AOA
+// channels: the body-axis airspeed and angle of attack), theta0 = alpha0 (the design trims
+// are level, flight-path angle 0), every other state zero. J at that x0 in closed form
+// (jacobian(); the test checks it against central differences of g).
+//
+// Options: enabled = false (the default) is the bank without it, bit for bit.
+// Sizes: the bank's state vector must hold the eight airframe states under the names above
+// and its measurements VEL and AOA; the constructor throws std::invalid_argument naming the
+// one that is missing (only when enabled).
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace f16mmae {
+
+struct ManeuverOptions {
+  bool kinematics = false;   // put the kinematic/gravity remainder into the propagation
+  double tempering_g = 0.0;  // n_ref of the load-factor tempering (g); 0 = off
+  bool enabled() const noexcept { return kinematics; }
+  bool tempering() const noexcept { return tempering_g > 0.0; }
+  void validate() const {
+    if (!(tempering_g >= 0.0 && std::isfinite(tempering_g)))
+      throw std::invalid_argument("maneuver: tempering_g must be >= 0 g (0 = off), got " + std::to_string(tempering_g));
+  }
+};
+
+class ManeuverKinematics {
+ public:
+  static constexpr int kN = 8;            // airframe states: u alpha q theta beta p r phi
+  static constexpr double kG = 32.174;    // ft/s^2, the gravity the truth model (JSBSim) uses near sea level
+  using Vec = Eigen::Matrix<double, kN, 1>;
+  using Mat = Eigen::Matrix<double, kN, kN>;
+  enum : int { U = 0, ALPHA, Q, THETA, BETA, P, R, PHI };
+
+  ManeuverKinematics() = default;
+  // state_names / measurement_names: the bank's; frame_rate_hz: its frame rate.
+  ManeuverKinematics(const ManeuverOptions& options, const std::vector<std::string>& state_names,
+                     const std::vector<std::string>& measurement_names, double frame_rate_hz)
+      : options_(options), dt_(1.0 / frame_rate_hz) {
+    options.validate();
+    if (options.tempering()) az_ = find(measurement_names, "AZ", "measurement");
+    if (!options.enabled()) return;
+    static const char* const kStates[kN] = {"u_fps", "alpha_rad", "q_rad_s", "theta_rad",
+                                            "beta_rad", "p_rad_s", "r_rad_s", "phi_rad"};
+    for (int i = 0; i < kN; ++i) state_index_[i] = find(state_names, kStates[i], "state");
+    vel_ = find(measurement_names, "VEL", "measurement");
+    aoa_ = find(measurement_names, "AOA", "measurement");
+  }
+
+  bool enabled() const noexcept { return options_.enabled(); }
+  bool tempering() const noexcept { return options_.tempering(); }
+  // The load-factor tempering's likelihood scale s_m = 1 + (dn / n_ref)^2 for the bank's
+  // estimated measurement perturbation z_hat (dn = its AZ entry, g; header).
+  template <class Z>
+  double tempering_scale(const Z& z_hat_perturbation) const noexcept {
+    const double x = z_hat_perturbation(az_) / options_.tempering_g;
+    return 1.0 + x * x;
+  }
+  const ManeuverOptions& options() const noexcept { return options_; }
+  int vel_index() const noexcept { return vel_; }
+  int aoa_index() const noexcept { return aoa_; }
+  double dt() const noexcept { return dt_; }
+
+  // The level trim x0 of body airspeed u0 (ft/s) and angle of attack alpha0 (rad).
+  static Vec level_trim(double u0, double alpha0) noexcept {
+    Vec x0 = Vec::Zero();
+    x0(U) = u0;
+    x0(ALPHA) = alpha0;
+    x0(THETA) = alpha0;
+    return x0;
+  }
+
+  // g(s) of the header, s absolute.
+  static Vec derivative(const Vec& s) noexcept {
+    const double u = s(U), q = s(Q), p = s(P), r = s(R);
+    const double ta = std::tan(s(ALPHA));
+    const double sb = std::sin(s(BETA)), cb = std::cos(s(BETA));
+    const double st = std::sin(s(THETA)), ct = std::cos(s(THETA));
+    const double sp = std::sin(s(PHI)), cp = std::cos(s(PHI));
+    const double w = u * ta;
+    const double uw2 = u * u + w * w;
+    const double vt = std::sqrt(uw2) / cb;
+    const double v = vt * sb;
+    const double ku = r * v - q * w - kG * st;
+    const double kv = p * w - r * u + kG * ct * sp;
+    const double kw = q * u - p * v + kG * ct * cp;
+    const double vtd = (u * ku + v * kv + w * kw) / vt;
+    Vec g;
+    g(U) = ku;
+    g(ALPHA) = (u * kw - w * ku) / uw2;
+    g(Q) = 0.0;
+    g(THETA) = q * cp - r * sp;
+    g(BETA) = (kv - v * vtd / vt) / (vt * cb);
+    g(P) = 0.0;
+    g(R) = 0.0;
+    g(PHI) = p + (q * sp + r * cp) * (st / ct);
+    return g;
+  }
+
+  // J = dg/ds at a level trim x0 (p = q = r = beta = phi = 0), in closed form.
+  static Mat jacobian(const Vec& x0) noexcept {
+    const double u0 = x0(U), a0 = x0(ALPHA), th = x0(THETA);
+    const double ta = std::tan(a0), ca = std::cos(a0);
+    const double st = std::sin(th), ct = std::cos(th);
+    const double w0 = u0 * ta, d0 = u0 * u0 + w0 * w0, v0 = std::sqrt(d0);
+    const double ku0 = -kG * st, kw0 = kG * ct;
+    const double n0 = u0 * kw0 - w0 * ku0;
+    const double dn_du = kw0 - ta * ku0, dd_du = 2.0 * u0 / (ca * ca);
+    const double dn_da = -(u0 / (ca * ca)) * ku0, dd_da = 2.0 * w0 * u0 / (ca * ca);
+    const double vtd0 = (u0 * ku0 + w0 * kw0) / v0;
+    Mat j = Mat::Zero();
+    j(U, Q) = -w0;
+    j(U, THETA) = -kG * ct;
+    j(ALPHA, U) = (dn_du * d0 - n0 * dd_du) / (d0 * d0);
+    j(ALPHA, ALPHA) = (dn_da * d0 - n0 * dd_da) / (d0 * d0);
+    j(ALPHA, Q) = 1.0;
+    j(ALPHA, THETA) = kG * (w0 * ct - u0 * st) / d0;
+    j(THETA, Q) = 1.0;
+    j(BETA, BETA) = -vtd0 / v0;
+    j(BETA, P) = w0 / v0;
+    j(BETA, R) = -u0 / v0;
+    j(BETA, PHI) = kG * ct / v0;
+    j(PHI, P) = 1.0;
+    j(PHI, R) = st / ct;
+    return j;
+  }
+
+  // R(x0 + dx) of the header (dx: airframe perturbation, this class's order).
+  static Vec remainder(const Vec& x0, const Vec& dx) noexcept {
+    return derivative(x0 + dx) - derivative(x0) - jacobian(x0) * dx;
+  }
+
+  // dt R for the bank's (u0, alpha0) and its blended perturbation state x (bank order);
+  // written into `forcing` at the bank's state indices (the other entries are zero).
+  template <class X, class F>
+  void forcing(double u0, double alpha0, const X& x, F& forcing) noexcept {
+    const Vec x0 = level_trim(u0, alpha0);
+    if (x0 != x0_) {
+      x0_ = x0;
+      g0_ = derivative(x0);
+      j0_ = jacobian(x0);
+    }
+    Vec dx;
+    for (int i = 0; i < kN; ++i) dx(i) = x(state_index_[i]);
+    const Vec r = derivative(x0 + dx) - g0_ - j0_ * dx;
+    forcing.setZero();
+    for (int i = 0; i < kN; ++i) forcing(state_index_[i]) = dt_ * r(i);
+  }
+
+ private:
+  static int find(const std::vector<std::string>& names, const char* name, const char* what) {
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == name) return static_cast<int>(i);
+    throw std::invalid_argument(std::string("maneuver kinematics: the model bank has no ") + what + " '" + name +
+                                "' (it needs the airframe states u_fps alpha_rad q_rad_s theta_rad beta_rad "
+                                "p_rad_s r_rad_s phi_rad and the measurements VEL and AOA)");
+  }
+
+  ManeuverOptions options_;
+  double dt_ = 0.0;
+  std::array<int, kN> state_index_{};
+  int vel_ = 0, aoa_ = 1, az_ = 3;
+  Vec x0_ = Vec::Constant(std::nan("")), g0_ = Vec::Zero();   // g and J at the last x0
+  Mat j0_ = Mat::Zero();
+};
+
+}  // namespace f16mmae

@@ -1,0 +1,321 @@
+// Maneuver kinematics (maneuver_kinematics.h): the closed-form Jacobian against central
+// differences of g, the remainder of a steady level turn against its hand-derived values,
+// the remainder second order, the bank's propagation moved by exactly dt R of its blended
+// state, off bit-identical, a bank without the airframe names refused by name, and no heap
+// allocation in the F-16-sized step with it on (global operator new is counted here); the
+// actuator limits by hand (actuator_limits.h) and the load-factor tempering of the likelihoods.
+#include "f16mmae/hierarchical_bank.h"
+#include "f16mmae/actuator_limits.h"
+#include "f16mmae/maneuver_kinematics.h"
+
+#include "allocation_counter.h"
+#include "synthetic_models.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace f16mmae;
+using MK = ManeuverKinematics;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// The nominal trim (Mach 0.4, 20,000 ft): body airspeed and angle of attack.
+constexpr double kU0 = 410.9, kAlpha0 = 0.1417;
+
+const std::vector<std::string> kStates{"u_fps",   "alpha_rad", "q_rad_s", "theta_rad", "beta_rad",
+                                       "p_rad_s", "r_rad_s",   "phi_rad", "d_ls_rad",  "d_rs_rad",
+                                       "d_lf_rad", "d_rf_rad", "d_rud_rad"};
+
+// The synthetic F-16-sized bank with the airframe's state names, trimmed at (kU0, kAlpha0).
+ModelBank named_bank(unsigned seed) {
+  ModelBank mb = test::f16_model_bank(seed);
+  mb.state_names = kStates;
+  mb.z_trim(0) = kU0;
+  mb.z_trim(1) = kAlpha0;
+  return mb;
+}
+
+// A steady level turn at bank phi about x0: q = omega sin phi, r = omega cos phi.
+MK::Vec turn(double phi_rad) {
+  const double v0 = kU0 / std::cos(kAlpha0);
+  const double omega = MK::kG * std::tan(phi_rad) / v0;
+  MK::Vec dx = MK::Vec::Zero();
+  dx(MK::Q) = omega * std::sin(phi_rad);
+  dx(MK::R) = omega * std::cos(phi_rad);
+  dx(MK::PHI) = phi_rad;
+  return dx;
+}
+
+}  // namespace
+
+TEST(ManeuverKinematics, JacobianEqualsCentralDifferences) {
+  for (const double alpha0 : {0.02, kAlpha0, 0.3}) {
+    const MK::Vec x0 = MK::level_trim(kU0, alpha0);
+    const MK::Mat j = MK::jacobian(x0);
+    for (int c = 0; c < MK::kN; ++c) {
+      const double h = c == MK::U ? 1e-3 : 1e-6;
+      MK::Vec a = x0, b = x0;
+      a(c) += h;
+      b(c) -= h;
+      const MK::Vec fd = (MK::derivative(a) - MK::derivative(b)) / (2.0 * h);
+      for (int r = 0; r < MK::kN; ++r)
+        EXPECT_NEAR(j(r, c), fd(r), 1e-7 * (1.0 + std::abs(fd(r)))) << "alpha0 " << alpha0 << " d" << r << "/d" << c;
+    }
+  }
+}
+
+TEST(ManeuverKinematics, SteadyLevelTurnRemainderByHand) {
+  const MK::Vec x0 = MK::level_trim(kU0, kAlpha0);
+  const double phi = 30.0 * kPi / 180.0;
+  const MK::Vec dx = turn(phi);
+  const MK::Vec r = MK::remainder(x0, dx);
+  const double w0 = kU0 * std::tan(kAlpha0), d0 = kU0 * kU0 + w0 * w0, v0 = std::sqrt(d0);
+  const double ct = std::cos(kAlpha0), tt = std::tan(kAlpha0);
+  // theta' = q cos phi - r sin phi = 0 in a level turn; the linear model has q.
+  EXPECT_NEAR(r(MK::THETA), -dx(MK::Q), 1e-15);
+  EXPECT_NEAR(r(MK::ALPHA), kU0 * MK::kG * ct * (std::cos(phi) - 1.0) / d0, 1e-14);
+  EXPECT_NEAR(r(MK::BETA), MK::kG * ct * (std::sin(phi) - phi) / v0, 1e-14);
+  EXPECT_NEAR(r(MK::PHI), tt * (dx(MK::Q) * std::sin(phi) + dx(MK::R) * (std::cos(phi) - 1.0)), 1e-15);
+  EXPECT_NEAR(r(MK::U), 0.0, 1e-12);
+  EXPECT_EQ(r(MK::Q), 0.0);
+  EXPECT_EQ(r(MK::P), 0.0);
+  EXPECT_EQ(r(MK::R), 0.0);
+  // The figures the header quotes: -0.022 and -0.010 rad/s at 30 deg.
+  EXPECT_NEAR(r(MK::THETA), -0.022, 0.001);
+  EXPECT_NEAR(r(MK::ALPHA), -0.010, 0.001);
+}
+
+TEST(ManeuverKinematics, RemainderIsSecondOrderAndZeroAtTrim) {
+  const MK::Vec x0 = MK::level_trim(kU0, kAlpha0);
+  EXPECT_EQ(MK::remainder(x0, MK::Vec::Zero()), MK::Vec::Zero());
+  MK::Vec dx;
+  dx << 3.0, 0.02, 0.01, 0.05, 0.01, 0.04, 0.02, 0.3;
+  // R(eps dx) = eps^2 C + O(eps^3): halving eps quarters it.
+  const MK::Vec r1 = MK::remainder(x0, 0.02 * dx), r2 = MK::remainder(x0, 0.01 * dx);
+  for (int i = 0; i < MK::kN; ++i) {
+    if (r1(i) == 0.0) continue;
+    EXPECT_NEAR(r1(i) / r2(i), 4.0, 0.05) << "state " << i;
+  }
+}
+
+TEST(ManeuverKinematics, BankPriorMovesByDtTimesTheRemainderOfItsBlendedState) {
+  const ModelBank mb = named_bank(11u);
+  HierarchicalOptions off, on;
+  on.maneuver.kinematics = true;
+  F16HierarchicalBank a(mb, off), b(mb, on);
+  const test::Plant plant = test::random_plant(13, 5, 7, 11u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 4u);
+  // One frame: the same update in both (identical priors so far), then the propagates differ
+  // by dt R of the blended posterior about the level trim (kU0, kAlpha0).
+  Eigen::Matrix<double, 7, 1> z = truth.measure({}) + mb.z_trim;
+  z(2) += 0.02;   // a pitch rate and yaw rate, as in a turn
+  z(5) += 0.04;
+  const Eigen::Matrix<double, 5, 1> u = test::dither(5, 0, 64.0) + mb.u_trim;
+  a.update(z), b.update(z);
+  ASSERT_EQ(a.blended_state(), b.blended_state());
+  const Eigen::Matrix<double, 13, 1> x = b.blended_state();
+  a.propagate(u), b.propagate(u);
+  MK::Vec dx;
+  for (int i = 0; i < MK::kN; ++i) dx(i) = x(i);
+  const MK::Vec r = MK::remainder(MK::level_trim(kU0, kAlpha0), dx);
+  for (int k = 0; k < a.size(); ++k) {
+    const Eigen::Matrix<double, 13, 1> diff = b.bank().prior(k) - a.bank().prior(k);
+    for (int i = 0; i < 13; ++i)
+      EXPECT_NEAR(diff(i), i < MK::kN ? r(i) / 64.0 : 0.0, 1e-15) << "filter " << k << " state " << i;
+  }
+  EXPECT_NE(r(MK::THETA), 0.0);
+}
+
+TEST(ManeuverKinematics, OffIsBitIdenticalToTheBankWithoutIt) {
+  const ModelBank mb = named_bank(7u);
+  HierarchicalOptions plain, off;
+  off.maneuver.kinematics = false;
+  F16HierarchicalBank a(mb, plain), b(mb, off);
+  const test::Plant plant = test::random_plant(13, 5, 7, 7u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 3u);
+  for (int i = 0; i < 300; ++i) {
+    const std::vector<std::string> failed = i >= 100 ? std::vector<std::string>{"LF"} : std::vector<std::string>{};
+    const Eigen::Matrix<double, 7, 1> z = truth.measure(failed) + mb.z_trim;
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    const Eigen::Matrix<double, 5, 1> u = du + mb.u_trim;
+    a.step(z, u), b.step(z, u);
+    truth.advance(du, failed);
+    ASSERT_EQ(a.probabilities(), b.probabilities()) << "frame " << i;
+    ASSERT_EQ(a.blended_state(), b.blended_state()) << "frame " << i;
+  }
+}
+
+TEST(ManeuverKinematics, BankWithoutTheAirframeNamesIsRefusedByName) {
+  HierarchicalOptions on;
+  on.maneuver.kinematics = true;
+  const ModelBank unnamed = test::f16_model_bank(3u);   // states x0..x12
+  try {
+    F16HierarchicalBank hb(unnamed, on);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("state 'u_fps'"), std::string::npos) << e.what();
+  }
+  ModelBank no_aoa = named_bank(3u);
+  no_aoa.measurement_names[1] = "ALPHA";
+  try {
+    F16HierarchicalBank hb(no_aoa, on);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("measurement 'AOA'"), std::string::npos) << e.what();
+  }
+  F16HierarchicalBank fine(unnamed, HierarchicalOptions{});   // off: the names are not needed
+  EXPECT_EQ(fine.level(), 0);
+}
+
+TEST(ManeuverKinematics, F16SizedStepWithKinematicsAllocatesNothing) {
+  const ModelBank mb = named_bank(31u);
+  HierarchicalOptions o;
+  o.maneuver.kinematics = true;
+  F16HierarchicalBank hb(mb, o);
+  const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);
+  std::vector<Eigen::Matrix<double, 7, 1>> z;
+  std::vector<Eigen::Matrix<double, 5, 1>> u;
+  for (int i = 0; i < 640; ++i) {
+    const std::vector<std::string> failed = i >= 64 ? std::vector<std::string>{"PIT"} : std::vector<std::string>{};
+    // The synthetic plant is no airframe: its states fed through the kinematic terms grow
+    // without bound at the usual dither, so the dither is small here.
+    const Eigen::VectorXd du = 0.01 * test::dither(5, i, 64.0);
+    Eigen::Matrix<double, 7, 1> zi = truth.measure(failed) + mb.z_trim;
+    if (i >= 64) zi(2) += 0.02;   // the failed pitch-rate gyro reads off: a sure declaration
+    z.push_back(zi);
+    u.push_back(du + mb.u_trim);
+    truth.advance(du, failed);
+  }
+  const long long before = f16mmae::testing::allocation_count();
+  for (std::size_t i = 0; i < z.size(); ++i) hb.step(z[i], u[i]);
+  const long long after = f16mmae::testing::allocation_count();
+  EXPECT_EQ(after - before, 0);
+  EXPECT_EQ(hb.rejected_frames(), 0);
+  EXPECT_FALSE(hb.declarations().empty());   // the switch to level 1 happened inside the count
+}
+
+// ---- actuator limits (actuator_limits.h) ----------------------------------------------------
+
+namespace {
+
+// One input driving a lag state (state 1) and, within the frame, another state (state 0).
+struct LagModel {
+  Eigen::MatrixXd phi = Eigen::MatrixXd::Zero(2, 2), bd = Eigen::MatrixXd::Zero(2, 1);
+  explicit LagModel(double a) {
+    phi << 0.9, 0.05, 0.0, a;
+    bd << 0.01, 1.0 - a;
+  }
+};
+
+}  // namespace
+
+TEST(ActuatorLimits, InsideTheLimitsTheCommandIsUnchanged) {
+  const LagModel m(0.7293);
+  ActuatorLimitOptions o{{1.0}, {0.4}, 2};
+  ActuatorLimits<1> lim(o, m.phi, m.bd, 64.0);
+  Eigen::Matrix<double, 1, 1> u, e;
+  for (int i = 0; i < 200; ++i) {
+    u << 0.01 * std::sin(0.3 * i);   // at most 0.003 rad per frame: far inside 1 rad/s
+    lim.effective(u, e);
+    EXPECT_NEAR(e(0), u(0), 1e-14) << "frame " << i;
+  }
+}
+
+TEST(ActuatorLimits, RateAndPositionLimitedStepByHand) {
+  const double a = 0.7293, rate = 1.0, limit = 0.3;
+  const LagModel m(a);
+  ActuatorLimitOptions o{{rate}, {limit}, 2};
+  ActuatorLimits<1> lim(o, m.phi, m.bd, 64.0);
+  Eigen::Matrix<double, 1, 1> u, e;
+  u << 0.0;
+  lim.effective(u, e);   // starts at 0
+  // A step to 0.5 rad: clipped to 0.3, and each half-frame step at most 1/128 rad.
+  u << 0.5;
+  double delta = 0.0, model = 0.0;
+  const double s = std::sqrt(a), step = rate / 128.0;
+  for (int i = 0; i < 80; ++i) {
+    lim.effective(u, e);
+    const double start = delta;
+    for (int k = 0; k < 2; ++k) {
+      const double target = limit + (delta - limit) * s;
+      delta += std::clamp(target - delta, -step, step);
+    }
+    EXPECT_NEAR(lim.position()(0), delta, 1e-15);
+    EXPECT_NEAR(e(0), (delta - a * start) / (1.0 - a), 1e-12);
+    model = a * model + (1.0 - a) * e(0);   // the filter's lag fed the effective command
+    EXPECT_NEAR(model, delta, 1e-12) << "frame " << i;
+    EXPECT_LE(delta, limit + 1e-15);
+  }
+  EXPECT_NEAR(delta, limit, 1e-6);   // reached the position limit
+  EXPECT_NEAR(e(0), limit, 1e-6);
+  lim.reset();
+  u << 0.1;
+  lim.effective(u, e);   // after a reset it starts again at the first command
+  EXPECT_DOUBLE_EQ(lim.position()(0), 0.1);
+}
+
+TEST(ActuatorLimits, OptionsAndModelsThatDoNotFitAreNamed) {
+  const LagModel m(0.7293);
+  auto refused = [&](const ActuatorLimitOptions& o, const Eigen::MatrixXd& phi, const Eigen::MatrixXd& bd,
+                     const std::string& what) {
+    try {
+      ActuatorLimits<1> lim(o, phi, bd, 64.0);
+      FAIL() << "no exception for " << what;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refused({{1.0, 2.0}, {0.3}, 2}, m.phi, m.bd, "need 1 values each");
+  refused({{0.0}, {0.3}, 2}, m.phi, m.bd, "rate_limit_rad_s[0]");
+  refused({{1.0}, {std::nan("")}, 2}, m.phi, m.bd, "position_limit_rad[0]");
+  refused({{1.0}, {0.3}, 0}, m.phi, m.bd, "substeps");
+  Eigen::MatrixXd coupled = m.phi;
+  coupled(1, 0) = 0.1;   // the lag state depends on another state
+  refused({{1.0}, {0.3}, 2}, coupled, m.bd, "drives no first-order lag state");
+  Eigen::MatrixXd gain = m.bd;
+  gain(1, 0) = 0.5;   // not 1 - a
+  refused({{1.0}, {0.3}, 2}, m.phi, gain, "not a stable lag of unit gain");
+  ActuatorLimits<1> off(ActuatorLimitOptions{}, m.phi, m.bd, 64.0);
+  Eigen::Matrix<double, 1, 1> u, e;
+  u << 5.0;
+  off.effective(u, e);
+  EXPECT_EQ(e(0), 5.0);
+}
+
+// ---- load-factor tempering (FilterBank::set_extra_scale) ------------------------------------
+
+TEST(ManeuverTempering, LikelihoodsAreDividedByTheScale) {
+  const ModelBank mb = named_bank(5u);
+  HierarchicalOptions o;
+  F16HierarchicalBank plain(mb, o);
+  o.maneuver.tempering_g = 0.1;
+  F16HierarchicalBank tempered(mb, o);
+  const test::Plant plant = test::random_plant(13, 5, 7, 5u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 6u);
+  for (int i = 0; i < 50; ++i) {
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    Eigen::Matrix<double, 7, 1> z = truth.measure({}) + mb.z_trim;
+    const Eigen::Matrix<double, 5, 1> u = du + mb.u_trim;
+    const double dn = tempered.z_hat_perturbation()(3);   // the estimated load factor off trim
+    const double s = 1.0 + (dn / 0.1) * (dn / 0.1);
+    tempered.update(z);
+    plain.update(z);
+    for (int k = 0; k < plain.size(); ++k) {
+      const double expected = -0.5 * tempered.bank().quadratic_forms()(k) / s;
+      ASSERT_NEAR(tempered.bank().log_likelihoods()(k), expected, 1e-13 * (1.0 + std::abs(expected)));
+    }
+    tempered.propagate(u);
+    plain.propagate(u);
+    truth.advance(du, {});
+  }
+  // the un-tempered bank's likelihoods are -q/2 exactly
+  for (int k = 0; k < plain.size(); ++k)
+    EXPECT_DOUBLE_EQ(plain.bank().log_likelihoods()(k), -0.5 * plain.bank().quadratic_forms()(k));
+}

@@ -17,8 +17,9 @@
 // Bilinear weights on the cell (i, j) = (floor s, floor t), with a = s - i, b = t - j:
 //   w00 = (1-a)(1-b), w10 = a(1-b), w01 = (1-a) b, w11 = a b
 // for the corners (i, j), (i+1, j), (i, j+1), (i+1, j+1). At a node the weights are exactly
-// (1, 0, 0, 0). A cell with an uncovered corner cannot be interpolated: the schedule uses the
-// nearest covered node there (counted).
+// (1, 0, 0, 0). A cell with an uncovered corner cannot be interpolated bilinearly: the schedule
+// uses linear weights on the triangle of its three covered corners where the point lies in
+// it, else the nearest covered node (counted; scheduled_filters.h).
 //
 // validate() throws std::invalid_argument naming the field: axes that are empty, not finite
 // or not strictly ascending; a node index outside the axes or covered twice; an x_trim of the

@@ -26,8 +26,14 @@
 //                  (HypothesisFilter::assign_blend), re-blended when the air data has moved
 //                  blend_step_cells or more (in s or t) since the last blend (the first
 //                  selection after a reset always blends); at a node the filters are that
-//                  node's, bit for bit. A cell with an uncovered corner uses
-//                  the nearest covered node instead (counted in fallback_frames()).
+//                  node's, bit for bit. A cell with one uncovered corner (the trimmable
+//                  envelope's edge cuts it) is split along the diagonal that avoids that
+//                  corner: in the half of the three covered corners, linear weights there
+//                  (corners (0,0) (1,0) (0,1) (1,1) of the cell, uncovered (0,1):
+//                  w = (1-a, a-b, 0, b); the others likewise), for filters and trims (third
+//                  order where the 4 x 4 stencil is covered); in the other half, or with two
+//                  or more corners uncovered, the nearest covered node instead (counted in
+//                  fallback_frames()).
 //   nearest      the nearest covered node's filters and trims, switched with hysteresis: the
 //                node in force changes only when another is nearer by hysteresis_cells
 //                (distance in cell units); the trims switch with it.
@@ -223,17 +229,32 @@ class ScheduledFilters {
     const int i1 = ni > 1 ? i + 1 : i, j1 = nj > 1 ? j + 1 : j;
     const std::array<int, kCorners> c = {axes_.node_index(i, j), axes_.node_index(i1, j), axes_.node_index(i, j1),
                                          axes_.node_index(i1, j1)};
-    const std::array<double, kCorners> w = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
-    for (int k = 0; k < kCorners; ++k) {
-      if (c[k] < 0 && w[k] != 0.0) {
-        fallback_now_ = true;
-        return choose_node(axes_.nearest(g));
-      }
+    std::array<double, kCorners> w = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+    int uncovered = 0, missing = -1;
+    for (int k = 0; k < kCorners; ++k)
+      if (c[k] < 0 && w[k] != 0.0) ++uncovered, missing = k;
+    if (uncovered == 1 && !triangle_weights(missing, a, b, w)) uncovered = 2;
+    if (uncovered > 1) {
+      fallback_now_ = true;
+      return choose_node(axes_.nearest(g));
     }
     for (int k = 0; k < kCorners; ++k) {
       trim_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);  // weight 0 where uncovered
       trim_weights_[k] = w[k];
     }
+  }
+  // Linear weights on the triangle of the three corners other than `missing` (header
+  // comment), into w; false when (a, b) lies outside that triangle (the missing corner's half).
+  static bool triangle_weights(int missing, double a, double b, std::array<double, kCorners>& w) noexcept {
+    switch (missing) {
+      case 0: w = {0.0, 1 - b, 1 - a, a + b - 1}; break;
+      case 1: w = {1 - b, 0.0, b - a, a}; break;
+      case 2: w = {1 - a, a - b, 0.0, b}; break;
+      default: w = {1 - a - b, a, b, 0.0}; break;
+    }
+    for (double v : w)
+      if (v < 0.0) return false;
+    return true;
   }
   static int first_covered(const std::array<int, kCorners>& c) noexcept {
     for (int k : c)

@@ -280,7 +280,7 @@ TEST(ScheduledBank, AHandoverKeepsProbabilitiesDeclarationsLevelAndTheAbsoluteSt
   }
 }
 
-TEST(ScheduledBank, OutsideTheGridIsClampedAndAnUncoveredCornerFallsBackToTheNearestNode) {
+TEST(ScheduledBank, OutsideTheGridIsClampedAndAnUncoveredCornerSplitsTheCellOrFallsBackToTheNearestNode) {
   const BankSchedule s = make_schedule();
   F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
   hb.schedule(AirData{0.9, 40000.0});
@@ -294,10 +294,22 @@ TEST(ScheduledBank, OutsideTheGridIsClampedAndAnUncoveredCornerFallsBackToTheNea
   h2.schedule(AirData{0.58, 18000.0});  // s, t = 0.9, 0.8: nearest covered (0.6, 10,000 ft), 0.81 cells
   EXPECT_EQ(h2.scheduled().fallback_frames(), 1);
   EXPECT_TRUE(h2.z_trim() == Z(node_bank(1, 0).z_trim));
-  h2.schedule(AirData{0.41, 10500.0});  // s, t = 0.05: the hole still weighs 0.0025
-  EXPECT_EQ(h2.scheduled().fallback_frames(), 2);
+  // s, t = 0.05: the hole would weigh 0.0025 bilinearly; the point lies in the triangle of the
+  // three covered corners (a + b <= 1): weights 1 - a - b, a, b on (0,0), (1,0), (0,1).
+  h2.schedule(AirData{0.41, 10500.0});
+  EXPECT_EQ(h2.scheduled().fallback_frames(), 1);
+  const Z by_hand = 0.9 * Z(node_bank(0, 0).z_trim) + 0.05 * Z(node_bank(1, 0).z_trim) + 0.05 * Z(node_bank(0, 1).z_trim);
+  EXPECT_LT((h2.z_trim() - by_hand).norm(), 1e-12 * by_hand.norm());
+  const auto& w = h2.scheduled().weights();
+  EXPECT_NEAR(w[0], 0.9, 1e-12);
+  EXPECT_NEAR(w[1], 0.05, 1e-12);
+  EXPECT_NEAR(w[2], 0.05, 1e-12);
+  EXPECT_EQ(w[3], 0.0);
   h2.schedule(AirData{0.41, 10000.0});  // on the lower edge: the hole has weight 0
+  EXPECT_EQ(h2.scheduled().fallback_frames(), 1);
+  h2.schedule(AirData{0.52, 15000.0});  // s, t = 0.6, 0.5: beyond the diagonal, the nearest node
   EXPECT_EQ(h2.scheduled().fallback_frames(), 2);
+  EXPECT_TRUE(h2.z_trim() == Z(node_bank(1, 0).z_trim));
 }
 
 TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {

@@ -5,6 +5,15 @@ without its trim scheduled, and how do the two ways of scheduling compare off th
         --runs 3 --out results/spacing.json
     python tools/schedule/spacing.py --points 0.35:17500 --banks interpolate,nearest \
         --schedule FILE --runs 3 --out results/modes.json
+    python tools/schedule/spacing.py --points random:20:seed=2 --banks interpolate --schedule FILE \
+        --seeds tuning --adapt-turbulence --runs 2 --out results/tune.json
+
+--points: MACH:ALT_FT,..., random:N[:seed=S] (campaign envelope's Latin hypercube) or a
+selection of the paper's Fig. 9 points (all, local, extrema, ...).
+--seeds: ``evaluation`` (default; those of ``campaign single`` at campaign seed 1) or
+``tuning`` (the tuning campaign's: ``derived_seed("single", 1, case, n)``, n < 20, the seeds
+the shipped tuned bank's settings were chosen on; f16mmae.seeds) -- tune on these, never on
+evaluation seeds.
 
 Banks (each flown at every point, the single-failure cases NONE + 12, ``--runs`` evaluation
 seeds each, 8-s flights, failure at 3 s, light turbulence, the seeds of ``campaign single``):
@@ -34,7 +43,8 @@ from f16mmae.design.bank import design_bank, to_model_bank
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
 from f16mmae.names import COMPONENTS, FAILURE_TIME_S, NONE
-from f16mmae.seeds import evaluation_seed
+from f16mmae.campaign.envelope.points import dynamic_pressure_psf, select_points
+from f16mmae.seeds import TUNING_CAMPAIGN, derived_seed, evaluation_seed
 from f16mmae.truth.failures import make_failure
 from f16mmae.truth.scenario import Scenario
 
@@ -64,17 +74,32 @@ def _bank(path: str):
     return load_bank(path)[2]
 
 
+def run_seed(seeds: str, case: str, n: int) -> int:
+    """The seed of run n of a case in the namespace ``seeds`` (module docstring)."""
+    if seeds == "tuning":
+        kind, campaign_seed, runs = TUNING_CAMPAIGN
+        if n >= runs:
+            raise SystemExit(f"--seeds tuning has {runs} runs per case; --runs {n + 1} is too many")
+        return derived_seed(kind, campaign_seed, case, n)
+    return evaluation_seed("single", 1, case, n)
+
+
 def fly_one(task) -> dict:
-    bank_label, bank_path, mode, mach, alt_ft, case, n = task
+    bank_label, bank_path, mode, mach, alt_ft, case, n, seeds, adapt, extra = task
     bank = _bank(bank_path)
-    seed = evaluation_seed("single", 1, case, n)
+    seed = run_seed(seeds, case, n)
     failures = () if case == NONE else (make_failure(case, FAILURE_TIME_S),)
     scenario = Scenario(mach=mach, alt_ft=alt_ft, turbulence="light", failures=failures, duration_s=8.0, seed=seed)
     options = {"schedule_mode": mode} if mode else {}
+    if adapt:
+        options["adapt_turbulence"] = True
+    options.update(extra)
     est = Estimator(bank, **options)
     result = fly(scenario, bank, estimator=est)
     scored = score_run(case, FAILURE_TIME_S if case != NONE else None, result.declarations)
-    return {"bank": bank_label, "mach": mach, "alt_ft": alt_ft, "case": case, "run": n, "seed": seed, **scored}
+    declared = [d["hypothesis"] if isinstance(d, dict) else str(d) for d in result.declarations]
+    return {"bank": bank_label, "mach": mach, "alt_ft": alt_ft, "case": case, "run": n, "seed": seed,
+            "declared": declared, **scored}
 
 
 def main() -> int:
@@ -85,8 +110,16 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--out", required=True)
+    ap.add_argument("--seeds", choices=("evaluation", "tuning"), default="evaluation")
+    ap.add_argument("--adapt-turbulence", action="store_true", help="the estimator's turbulence adaptation on")
+    ap.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
+                    help="a core.HierarchicalBank setting (number), e.g. adapt_reference=0.76; repeatable")
     args = ap.parse_args()
-    points = [tuple(float(x) for x in p.split(":")) for p in args.points.split(",")]
+    extra = tuple((k, float(v)) for k, v in (o.split("=", 1) for o in args.option))
+    if args.points.startswith("random") or ":" not in args.points:  # campaign envelope's selections
+        points = [(p.mach, p.alt_ft) for p in select_points(args.points)]
+    else:
+        points = [tuple(float(x) for x in p.split(":")) for p in args.points.split(",")]
     labels = args.banks.split(",")
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -103,7 +136,8 @@ def main() -> int:
                 path = local_bank(mach, alt, tmp / f"local_{mach}_{alt}.f16bank")
             else:
                 path = args.schedule
-            tasks += [(label, path, mode, mach, alt, c, n) for c in CASES for n in range(args.runs)]
+            tasks += [(label, path, mode, mach, alt, c, n, args.seeds, args.adapt_turbulence, dict(extra))
+                      for c in CASES for n in range(args.runs)]
     with ProcessPoolExecutor(args.workers) as pool:
         records = list(pool.map(fly_one, tasks, chunksize=4))
     rows = []
@@ -115,8 +149,17 @@ def main() -> int:
             fa = sum(r["false_alarm"] for r in rs)
             rows.append({"mach": mach, "alt_ft": alt, "bank": label, "correct": correct, "false_alarm_runs": fa,
                          "runs": len(rs), "acceptable": correct >= 0.9 and fa == 0})
-            print(f"Mach {mach:.3f} {alt:7.0f} ft  {label:11s}  correct {correct:5.1%}  "
-                  f"false-alarm runs {fa:2d}/{len(rs)}  {'ACCEPTABLE' if rows[-1]['acceptable'] else ''}", flush=True)
+            wrong = " ".join(f"{r['case']}:{r['outcome'][:4]}{'+FA' if r['false_alarm'] else ''}"
+                             f"({','.join(r['declared'][:3])})"
+                             for r in rs if r["outcome"] != "correct" or r["false_alarm"])
+            print(f"Mach {mach:.3f} {alt:7.0f} ft q {dynamic_pressure_psf(mach, alt):4.0f}  {label:11s}  "
+                  f"correct {correct:5.1%}  false-alarm runs {fa:2d}/{len(rs)}  "
+                  f"{'ACCEPTABLE' if rows[-1]['acceptable'] else ''}  {wrong}", flush=True)
+    acceptable = sum(r["acceptable"] for r in rows)
+    print(f"acceptable {acceptable}/{len(rows)}; failure runs correct "
+          f"{sum(r['outcome'] == 'correct' for r in records if r['case'] != NONE)}/"
+          f"{sum(r['case'] != NONE for r in records)}; false-alarm runs {sum(r['false_alarm'] for r in records)}/"
+          f"{len(records)}", flush=True)
     out.write_text(json.dumps({"rows": rows, "records": records}, indent=1))
     return 0
 

@@ -60,9 +60,14 @@ FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
 #: The nominal banks shipped in the package (``data/nominal_<tuning>.f16bank``).
 SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
 #: The scheduled bank's name wherever ``--bank`` is accepted: banks designed on the grid
-#: SCHEDULE_GRID with the tuned tuning, generated on first use into the cache (banks.py).
+#: SCHEDULE_GRID with the tuned tuning (per SCHEDULE_NODE_TUNING), generated on first use
+#: into the cache (banks.py).
 SCHEDULED_BANK = "scheduled"
-SCHEDULE_GRID = "mach=0.3:0.8:0.1,alt=5000:35000:5000"
+#: Every 0.1 Mach and 5,000 ft, plus Mach 0.35: on the low-q̄ side the trims (alpha ~ 1/M^2)
+#: need the finer cell (docs/results/envelope_scheduled.md measures both grids).
+SCHEDULE_GRID = "mach=0.3/0.35/0.4/0.5/0.6/0.7/0.8,alt=5000:35000:5000"
+#: How the scheduled bank's nodes get their pseudonoise (design/schedule.py NODE_TUNINGS).
+SCHEDULE_NODE_TUNING = "calibrated"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

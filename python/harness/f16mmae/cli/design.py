@@ -11,7 +11,8 @@ from ..design.bank import design_bank, write_bank
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.hypotheses import FAILURE_MODELS
-from ..design.schedule import DEFAULT_GRID, ScheduleSpecError, design_schedule, format_spec, parse_grid
+from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, design_schedule,
+                               format_spec, parse_grid)
 from ..design.tuning import TuningError, load_tuning
 from ..names import DESIGN_ALT_FT, DESIGN_MACH, TURBULENCE_LEVELS
 from ..outputs import writable_dir, writable_file
@@ -43,8 +44,10 @@ examples:
   f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
 
-Scheduled design (--schedule [GRID]): one bank per point of a Mach x altitude grid, the same
-tuning at every point, in one scheduled-bank file (versioned, SHA-256 content hash) that
+Scheduled design (--schedule [GRID]): one bank per point of a Mach x altitude grid, the
+tuning's pseudonoise re-calibrated at every point (--node-tuning calibrated: stage 1 of
+design/calibrate.py from --tuning, on no-failure truth flights at the point) or the same
+at every point (--node-tuning fixed), in one scheduled-bank file (versioned, SHA-256 content hash) that
 core.load_bank, every --bank option and mmae-daemon --bank read. GRID is
 mach=START:STOP:STEP,alt=START:STOP:STEP (or lists mach=0.3/0.4/0.6); default
 {DEFAULT_GRID}. Points that do not trim are left out (listed in the file's metadata);
@@ -102,12 +105,18 @@ def register(subparsers) -> None:
                    help=f"design a scheduled bank on a Mach x altitude grid (default {DEFAULT_GRID})")
     p.add_argument("--workers", default=None, metavar="N",
                    help="--schedule: processes designing the points (default all cores)")
+    p.add_argument("--node-tuning", default=None, metavar="|".join(NODE_TUNINGS),
+                   help=f"--schedule: the tuning re-calibrated at every node (stage 1 of design/calibrate.py, "
+                        f"no-failure flights on the tuning seeds at the node), or the same at every node "
+                        f"(default {DEFAULT_NODE_TUNING})")
     p.set_defaults(func=_run)
 
 
 def _run(args) -> int:
     if args.schedule is not None:
         return _run_schedule(args)
+    if args.node_tuning is not None:
+        raise CliError("--node-tuning applies to a scheduled design; give --schedule [GRID] too")
     mach = number("--mach", args.mach)
     alt_ft = number("--alt-ft", args.alt_ft)
     if not MACH_RANGE[0] <= mach <= MACH_RANGE[1]:
@@ -189,12 +198,16 @@ def _run_schedule(args) -> int:
     except TuningError as exc:
         raise CliError(f"--tuning: {exc}") from None
     workers = number("--workers", args.workers, integer=True, minimum=1, maximum=256) if args.workers else None
+    node_tuning = args.node_tuning or DEFAULT_NODE_TUNING
+    if node_tuning not in NODE_TUNINGS:
+        raise CliError(f"--node-tuning {node_tuning!r}: valid: {', '.join(NODE_TUNINGS)}")
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}.f16sched", "--out")
+    how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
     print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
-          f"tuning {tuning.name} at every point", flush=True)
+          f"tuning {how} {tuning.name}", flush=True)
     try:
         s = design_schedule(grid, args.tuning, out, workers=workers,
-                            progress=lambda line: print("  " + line, flush=True))
+                            progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

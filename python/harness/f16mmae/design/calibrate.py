@@ -202,6 +202,28 @@ def run_calibration(lin=None, gust_model: str = "gust_rate") -> tuple[Tuning, li
     return tun, hist, conv
 
 
+#: Name every node's calibrated tuning carries (the schedule file requires one tuning name
+#: over its nodes; the per-node knobs are listed in the schedule's metadata).
+NODE_TUNING_SUFFIX = "@node"
+
+
+def calibrate_node(mach: float, alt_ft: float, base: Tuning, linearized=None,
+                   iterations: int = 12) -> tuple[Tuning, ResidualStats, ResidualStats]:
+    """Stage 1 at one design point of a schedule: fly the no-failure tuning flights (seeds
+    ``SEEDS``, light turbulence, raw feedback) at (mach, alt_ft) and move ``base``'s knobs
+    (KNOBS) toward var/A = 1 there, as ``calibrate`` does at the nominal point.
+
+    Stage 2 is not repeated per node: at the nominal point it kept no candidate (tuned.toml),
+    and its 44 flights per node would dominate the design time.  ``base``'s estimator
+    settings are kept.  Returns the node's tuning (named ``base.name + NODE_TUNING_SUFFIX``),
+    and the NONE filter's residual statistics under ``base`` and under the result.
+    Deterministic for given (mach, alt_ft, base)."""
+    lin = linearized if linearized is not None else linearize_truth(mach, alt_ft)
+    flights = [fly_closed_loop(mach, alt_ft, seed=s, turbulence_level=base.turbulence) for s in SEEDS]
+    tun, hist = calibrate(base, flights, lin, iterations=iterations, name=base.name + NODE_TUNING_SUFFIX)
+    return tun, hist[0], hist[-1]
+
+
 def write_nominal_banks(lin) -> None:
     """Design and write the shipped nominal banks from the committed tunings."""
     for name in ("tuned", "untuned"):

@@ -30,7 +30,9 @@ from .. import banks, names
 from ..errors import F16mmaeError
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
+from .calibrate import SEEDS, calibrate_node
 from .gains import DesignError
+from .model import linearize_truth
 from .tuning import load_tuning
 
 #: The grid of the ``scheduled`` bank (docs/results/schedule.md measures how far from its
@@ -96,28 +98,49 @@ def x_trim(design) -> np.ndarray:
     return x
 
 
+#: How each node gets its pseudonoise: ``fixed`` (the tuning as given, at every node) or
+#: ``calibrated`` (stage 1 of the calibration at each node, from the given tuning:
+#: ``calibrate.calibrate_node``; docs/results/envelope_scheduled.md measures the two).
+NODE_TUNINGS: tuple[str, ...] = ("calibrated", "fixed")
+DEFAULT_NODE_TUNING = names.SCHEDULE_NODE_TUNING
+
+
 def _design_point(args):
-    """One grid point in a worker: (i, j, ModelBank or None, x_trim, reason, seconds)."""
-    i, j, mach, alt_ft, tuning = args
+    """One grid point in a worker: (i, j, ModelBank or None, x_trim, reason, seconds, node
+    record).  The node record holds the node's knobs and its NONE filter's var/A (calibrated)."""
+    i, j, mach, alt_ft, tuning, node_tuning = args
     t0 = time.perf_counter()
+    record = {}
     try:
-        design = design_bank(mach, alt_ft, tuning)
+        lin = linearize_truth(mach, alt_ft)
+        tun = load_tuning(tuning)
+        if node_tuning == "calibrated":
+            tun, before, after = calibrate_node(mach, alt_ft, tun, linearized=lin)
+            record = {"knobs": {k: v for f in ("qd_longitudinal", "r_pseudonoise", "qd_lateral")
+                                for k, v in sorted(getattr(tun, f).items())},
+                      "var_over_a_before": [round(float(v), 3) for v in before.var_over_a],
+                      "var_over_a_after": [round(float(v), 3) for v in after.var_over_a]}
+        design = design_bank(mach, alt_ft, tun, linearized=lin)
     except (TrimError, DesignError) as exc:
-        return i, j, None, None, str(exc), time.perf_counter() - t0
-    return i, j, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0
+        return i, j, None, None, str(exc), time.perf_counter() - t0, record
+    return i, j, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0, record
 
 
 def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "scheduled.f16sched",
                     workers: int | None = None,
-                    progress: Callable[[str], None] | None = None) -> dict:
+                    progress: Callable[[str], None] | None = None,
+                    node_tuning: str = DEFAULT_NODE_TUNING) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), write the file.
+    ``node_tuning`` (NODE_TUNINGS): ``tuning`` at every node, or calibrated at each node from it.
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""
     from .. import core
 
+    if node_tuning not in NODE_TUNINGS:
+        raise ScheduleSpecError(f"node tuning {node_tuning!r} is not one of {', '.join(NODE_TUNINGS)}")
     tuning_obj = load_tuning(tuning)
-    points = [(i, j, m, a, tuning) for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
+    points = [(i, j, m, a, tuning, node_tuning) for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     t0 = time.perf_counter()
     results = {}
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
@@ -127,13 +150,15 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 m, a = grid.mach[r[0]], grid.alt_ft[r[1]]
                 state = "skipped: " + r[4] if r[2] is None else "designed"
                 progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[5]:.1f} s)")
-    nodes, skipped = [], []
+    nodes, skipped, node_records = [], [], []
     for i, j, *_ in points:  # grid order: deterministic whatever order the workers finish in
-        _, _, bank, xt, reason, _ = results[(i, j)]
+        _, _, bank, xt, reason, _, record = results[(i, j)]
         if bank is None:
             skipped.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], "reason": reason})
         else:
             nodes.append((i, j, bank, xt))
+            if record:
+                node_records.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], **record})
     if not nodes:
         raise DesignError(f"no point of the grid {grid.spec} could be designed")
     primary = min(range(len(nodes)), key=lambda n: (
@@ -144,10 +169,16 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "generator": "f16mmae.design.schedule",
         "design_version": DESIGN_VERSION,
         "jsbsim_version": jsbsim.__version__,
-        "command": f"f16mmae design --schedule {format_spec(grid)} --tuning {tuning_obj.name}",
+        "command": (f"f16mmae design --schedule {format_spec(grid)} --tuning {tuning_obj.name} "
+                    f"--node-tuning {node_tuning}"),
         "grid": {"mach": list(grid.mach), "alt_ft": list(grid.alt_ft)},
         "tuning": tuning_obj.name,
-        "tuning_note": "the same tuning at every point (no per-point retune)",
+        "node_tuning": node_tuning,
+        "tuning_note": ("stage 1 of design/calibrate.py at every node from this tuning (no-failure "
+                        f"flights on the tuning seeds {SEEDS[0]}-{SEEDS[-1]} at the node); "
+                        "estimator settings of this tuning" if node_tuning == "calibrated"
+                        else "the same tuning at every point (no per-point retune)"),
+        "nodes": node_records,
         "skipped": skipped,
     }
     path = Path(out)
@@ -168,13 +199,15 @@ def format_spec(grid: Grid) -> str:
 
 
 def _generate_scheduled_bank(path: Path) -> None:
-    """Design the ``scheduled`` bank (DEFAULT_GRID, tuned) into ``path``, saying so (first use)."""
+    """Design the ``scheduled`` bank (DEFAULT_GRID, tuned, DEFAULT_NODE_TUNING) into ``path``,
+    saying so (first use)."""
     import sys
 
-    print(f"designing the scheduled bank ({DEFAULT_GRID}, tuned) into {path} (once; cached)...",
-          file=sys.stderr, flush=True)
+    print(f"designing the scheduled bank ({DEFAULT_GRID}, tuned, {DEFAULT_NODE_TUNING} at every node) "
+          f"into {path} (once; cached)...", file=sys.stderr, flush=True)
     s = design_schedule(parse_grid(DEFAULT_GRID), "tuned", path,
-                        progress=lambda line: print("  " + line, file=sys.stderr, flush=True))
+                        progress=lambda line: print("  " + line, file=sys.stderr, flush=True),
+                        node_tuning=DEFAULT_NODE_TUNING)
     print(f"  {s['covered']} points in {s['wall_s']:.0f} s, {s['bytes'] / 1e6:.1f} MB", file=sys.stderr, flush=True)
 
 

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -73,6 +74,15 @@ std::string daemon_usage() {
 }
 
 namespace {
+
+// `text` as a finite number, or nothing (empty, trailing characters, out of range, inf, nan).
+std::optional<double> finite_number(const std::string& text) {
+  errno = 0;
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || errno != 0 || !std::isfinite(x)) return std::nullopt;
+  return x;
+}
 
 ParseResult usage_error(const std::string& what) {
   ParseResult r;
@@ -151,58 +161,46 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     } else if (key == "--channel-prefix") {
       c.channel_prefix = value;
     } else if (key == "--rate-hz") {
-      errno = 0;
-      char* end = nullptr;
-      const double hz = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(hz) || hz <= 0.0)
+      const std::optional<double> hz = finite_number(value);
+      if (!hz || *hz <= 0.0)
         return usage_error("--rate-hz must be a positive number of frames per second, got '" + value + "'");
-      c.rate_hz = hz;
+      c.rate_hz = *hz;
     } else if (key == "--p-min" || key == "--threshold" || key == "--dwell-s") {
-      errno = 0;
-      char* end = nullptr;
-      const double x = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(x) || x < 0.0)
+      const std::optional<double> x = finite_number(value);
+      if (!x || *x < 0.0)
         return usage_error(key + " must be a finite number >= 0, got '" + value + "'");
-      (key == "--p-min" ? c.p_min : key == "--threshold" ? c.threshold : c.dwell_s) = x;
+      (key == "--p-min" ? c.p_min : key == "--threshold" ? c.threshold : c.dwell_s) = *x;
     } else if (key == "--trim-tracking") {
-      errno = 0;
-      char* end = nullptr;
-      const double tau = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(tau) || tau <= 0.0 || tau > 1e6)
+      const std::optional<double> tau = finite_number(value);
+      if (!tau || *tau <= 0.0 || *tau > 1e6)
         return usage_error("--trim-tracking must be a time constant in seconds, > 0 and <= 1e6, got '" + value + "'");
-      c.trim_time_constant_s = tau;
+      c.trim_time_constant_s = *tau;
     } else if (key == "--trim-freeze-probability") {
-      errno = 0;
-      char* end = nullptr;
-      const double p = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || errno != 0 || !(p > 0.0 && p <= 1.0))
+      const std::optional<double> p = finite_number(value);
+      if (!p || !(*p > 0.0 && *p <= 1.0))
         return usage_error("--trim-freeze-probability must lie in (0, 1], got '" + value + "'");
-      c.trim_freeze_probability = p;
+      c.trim_freeze_probability = *p;
     } else if (key == "--schedule-mode") {
       if (value != "interpolate" && value != "nearest")
         return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
       c.schedule_nearest = value == "nearest";
     } else if (key == "--maneuver-tempering") {
-      errno = 0;
-      char* end = nullptr;
-      const double g = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(g) || g <= 0.0 || g > 100.0)
+      const std::optional<double> g = finite_number(value);
+      if (!g || *g <= 0.0 || *g > 100.0)
         return usage_error("--maneuver-tempering must be a load factor in g, > 0 and <= 100, got '" + value + "'");
-      c.maneuver_tempering_g = g;
+      c.maneuver_tempering_g = *g;
     } else if (key == "--actuator-rate-limits" || key == "--actuator-position-limits") {
       std::vector<double> limits;
       std::size_t start = 0;
       while (true) {
         const std::size_t comma = value.find(',', start);
         const std::string item = value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        errno = 0;
-        char* end = nullptr;
-        const double x = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0' || errno != 0 || !std::isfinite(x) || x <= 0.0)
+        const std::optional<double> x = finite_number(item);
+        if (!x || *x <= 0.0)
           return usage_error(key + " must be positive numbers separated by commas (" +
                              (key == "--actuator-rate-limits" ? "rad/s" : "rad") + ", one per input), got '" +
                              value + "'");
-        limits.push_back(x);
+        limits.push_back(*x);
         if (comma == std::string::npos) break;
         start = comma + 1;
       }
@@ -215,14 +213,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
         return usage_error("--max-frames must be a whole number >= 0, got '" + value + "'");
       c.max_frames = n;
     } else if (key == "--warm-lead-us" || key == "--rewarm-us") {
-      errno = 0;
-      char* end = nullptr;
-      const double us = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || errno != 0 || !std::isfinite(us) || us < 0.0)
+      const std::optional<double> us = finite_number(value);
+      if (!us || *us < 0.0)
         return usage_error(key + " must be a number of microseconds >= 0 (0: " +
                            (key == "--rewarm-us" ? "one warm-up per frame" : "no warm-up") + "), got '" + value +
                            "'");
-      (key == "--rewarm-us" ? c.rewarm_us : c.warm_lead_us) = us;
+      (key == "--rewarm-us" ? c.rewarm_us : c.warm_lead_us) = *us;
     } else if (key == "--realtime") {
       errno = 0;
       char* end = nullptr;

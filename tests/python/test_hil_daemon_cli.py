@@ -63,6 +63,9 @@ def test_hil_command_errors_name_the_problem(capsys):
     assert "cannot be opened" in capsys.readouterr().err
     assert main(["hil", "--lockstep", "--lcm-url", "memq://", "--timeout", "0.05", "--duration", "0.1"]) == 2
     assert "no MMAE_STATUS for frame 0" in capsys.readouterr().err
+    assert main(["hil", "--lockstep", "--lcm-url", "memq://", "--timeout", "0.05", "--duration", "0.1",
+                 "--adapt-turbulence"]) == 2  # a daemon of one's own: the options it must run with are named
+    assert "the record assumes the daemon on memq:// runs with --adapt-turbulence" in capsys.readouterr().out
     assert main(["hil", "--start-daemon", "--lcm-url", "memq://"]) == 2
     assert "memq:// is a queue inside one process" in capsys.readouterr().err
     assert main(["hil", "--fail", "XYZ@1"]) == 2

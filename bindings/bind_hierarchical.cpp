@@ -11,6 +11,7 @@
 #include <chrono>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -34,7 +35,7 @@ class PyHierarchicalBank {
                      double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
                      double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                      double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                     double adapt_reference, bool maneuver_kinematics, double maneuver_tempering_g,
+                     const std::optional<double>& adapt_reference, bool maneuver_kinematics, double maneuver_tempering_g,
                      const std::vector<double>& actuator_rate_limits_rad_s,
                      const std::vector<double>& actuator_position_limits_rad) {
     HierarchicalOptions o;
@@ -62,7 +63,10 @@ class PyHierarchicalBank {
     o.bank.adaptation.scale_min = adapt_scale_min;
     o.bank.adaptation.scale_max = adapt_scale_max;
     o.bank.adaptation.gain = adapt_gain;
-    o.bank.adaptation.reference = adapt_reference;
+    if (adapt_reference) {   // one reference everywhere; else a schedule's per-node ones, if it has them
+      o.bank.adaptation.reference = *adapt_reference;
+      o.schedule.node_adapt_reference = false;
+    }
     o.bank.strip_leading_term = strip_leading_term;
     o.declarer.threshold = threshold;
     o.declarer.dwell_s = dwell_s;
@@ -136,6 +140,7 @@ class PyHierarchicalBank {
       d["outside_frames"] = s.outside_frames();
       d["fallback_frames"] = s.fallback_frames();
       d["x_trim"] = cv::to_numpy(s.x_trim());
+      d["layer"] = s.layer();
       d["air_data"] = py::make_tuple(s.filtered_air_data().mach, s.filtered_air_data().pressure_altitude_ft);
       return d;
     });
@@ -289,7 +294,7 @@ The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
                      schedule_mode="interpolate", hysteresis_cells=..., blend_step_cells=...,
                      air_data_time_constant_s=..., cubic_trims=...,
                      adapt_turbulence=False, adapt_time_constant_s=5.0, adapt_scale_min=1.0,
-                     adapt_scale_max=100.0, adapt_gain=20.0, adapt_reference=0.6,
+                     adapt_scale_max=100.0, adapt_gain=20.0, adapt_reference=None,
                      maneuver_kinematics=False, actuator_rate_limits_rad_s=[],
                      actuator_position_limits_rad=[])
 
@@ -305,7 +310,8 @@ adapt_turbulence: scale every filter's residual covariance by one on-line estima
 residual power against the design's (cpp/f16mmae/turbulence_adaptation.h; rho = the average
 over adapt_time_constant_s of min_k q_k / nz, s = clamp(1 + adapt_gain (rho - adapt_reference),
 adapt_scale_min, adapt_scale_max)); the likelihoods become -q_k/(2 s). Off: exactly the bank as
-designed. turbulence_scale reads s, turbulence_power_ratio rho.
+designed. adapt_reference None: a scheduled bank whose nodes carry their own reference uses
+those (blended with the filters), any other bank 0.6; a number: that reference everywhere. turbulence_scale reads s, turbulence_power_ratio rho.
 
 maneuver_kinematics: add to every filter's propagation the rigid-body kinematic and gravity
 terms its wings-level linearization drops (second order; zero in wings-level flight about the
@@ -334,7 +340,7 @@ the 4 x 4 nodes around when cubic_trims and covered) or 'nearest' (nearest
 node, switched past hysteresis_cells); the states move with the trim state, probabilities,
 declarations and the level carry over. schedule_state reports what is in force.)doc")
       .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double, bool,
-                    const std::string&, double, double, double, bool, bool, double, double, double, double, double, bool, double,
+                    const std::string&, double, double, double, bool, bool, double, double, double, double, const std::optional<double>&, bool, double,
                     const std::vector<double>&, const std::vector<double>&>(),
            py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
            py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none(),
@@ -345,7 +351,7 @@ declarations and the level carry over. schedule_state reports what is in force.)
            py::arg("air_data_time_constant_s") = ScheduleOptions{}.air_data_time_constant_s,
            py::arg("cubic_trims") = ScheduleOptions{}.cubic_trims, py::arg("adapt_turbulence") = false,
            py::arg("adapt_time_constant_s") = 5.0, py::arg("adapt_scale_min") = 1.0, py::arg("adapt_scale_max") = 100.0,
-           py::arg("adapt_gain") = 20.0, py::arg("adapt_reference") = 0.6, py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
+           py::arg("adapt_gain") = 20.0, py::arg("adapt_reference") = py::none(), py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
            py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
            py::arg("actuator_position_limits_rad") = std::vector<double>{})
       .def("update", &PyHierarchicalBank::update, py::arg("z"),
@@ -404,7 +410,7 @@ declarations and the level carry over. schedule_state reports what is in force.)
                              "None for a bank designed at one flight condition; for a scheduled bank a dict:\n"
                              "mode, nodes ((mach, alt_ft) of the filters in force) and their weights, switches\n"
                              "(nearest), blends (interpolate), outside_frames (air data clamped to the grid),\n"
-                             "fallback_frames (a cell with an uncovered corner: nearest node), x_trim, air_data\n"
+                             "fallback_frames (a cell with an uncovered corner: nearest node), x_trim, layer (configuration), air_data\n"
                              "(the low-passed air data the schedule follows)")
       .def("set_trim_offset", &PyHierarchicalBank::set_trim_offset, py::arg("du"), py::arg("dz"),
            "The trim offset in force from the next frame: subtract u_trim + du and z_trim + dz.")

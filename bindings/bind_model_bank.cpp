@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
@@ -161,18 +162,23 @@ ModelBank bank_from_file_bytes(const py::bytes& data, const std::string& source)
   return parse_any_bank_file(reinterpret_cast<const std::uint8_t*>(view.data()), view.size(), source);
 }
 
-// A BankSchedule from Python: nodes = [(i_mach, i_alt, ModelBank, x_trim), ...].
+// A BankSchedule from Python: nodes = [(i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer]]), ...]
+// (adapt_reference None: not carried).
 BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<double>& alt_ft, const py::list& nodes,
-                           int primary, const std::string& metadata) {
+                           int primary, const std::string& metadata, int switch_state,
+                           const std::vector<double>& switch_thresholds) {
   BankSchedule s;
+  s.switch_state = switch_state;
+  s.switch_thresholds = switch_thresholds;
   s.mach = mach;
   s.alt_ft = alt_ft;
   s.primary = primary;
   s.metadata = metadata;
   for (std::size_t n = 0; n < nodes.size(); ++n) {
     const py::tuple t = nodes[n].cast<py::tuple>();
-    if (t.size() != 4)
-      throw py::value_error("schedule nodes[" + std::to_string(n) + "] must be (i_mach, i_alt, ModelBank, x_trim), got " +
+    if (t.size() < 4 || t.size() > 6)
+      throw py::value_error("schedule nodes[" + std::to_string(n) +
+                            "] must be (i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer]]), got " +
                             std::to_string(t.size()) + " items");
     ScheduleNode node;
     node.i_mach = t[0].cast<int>();
@@ -180,6 +186,8 @@ BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<do
     node.bank = t[2].cast<ModelBank>();
     node.bank.schedule.reset();
     node.x_trim = to_vector(t[3], "schedule nodes[" + std::to_string(n) + "].x_trim");
+    if (t.size() >= 5 && !t[4].is_none()) node.adapt_reference = t[4].cast<double>();
+    if (t.size() == 6) node.layer = t[5].cast<int>();
     s.nodes.push_back(std::move(node));
   }
   s.validate();
@@ -202,11 +210,15 @@ py::object schedule_info(const ModelBank& b) {
     e["alt_ft"] = s.alt_ft[n.i_alt];
     e["bank"] = n.bank;
     e["x_trim"] = readonly(n.x_trim);
+    e["layer"] = n.layer;
+    e["adapt_reference"] = std::isnan(n.adapt_reference) ? py::object(py::none()) : py::object(py::float_(n.adapt_reference));
     nodes.append(e);
   }
   d["nodes"] = nodes;
   d["primary"] = s.primary;
   d["metadata"] = s.metadata;
+  d["switch_state"] = s.switch_state;
+  d["switch_thresholds"] = py::tuple(py::cast(s.switch_thresholds));
   return d;
 }
 
@@ -404,8 +416,9 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
                              "hex SHA-256 of the bank-file payload")
       .def_property_readonly("schedule", &schedule_info,
                              "None, or for a scheduled bank (bank_schedule.h) a dict: mach, alt_ft (the grid axes),\n"
-                             "nodes (list of {i_mach, i_alt, mach, alt_ft, bank, x_trim}), primary (the node this\n"
-                             "bank is, in force until air data arrives), metadata (JSON text)")
+                             "nodes (list of {i_mach, i_alt, layer, mach, alt_ft, bank, x_trim, adapt_reference (None: not\n"
+                             "carried)}), primary (the node this bank is, in force until air data arrives), metadata\n"
+                             "(JSON text), switch_state and switch_thresholds (the configuration law; -1 and ())")
       .def("validate", &ModelBank::validate, "Raise ValueError naming the first problem, else return None.")
       .def(
           "save", [](const ModelBank& b, py::handle path) { return save_bank(b, fspath(path)); }, py::arg("path"),
@@ -464,14 +477,19 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
   m.def(
       "save_schedule",
       [](const std::vector<double>& mach, const std::vector<double>& alt_ft, const py::list& nodes, int primary,
-         const std::string& metadata, py::handle path) {
-        return save_schedule(make_schedule(mach, alt_ft, nodes, primary, metadata), fspath(path));
+         const std::string& metadata, py::handle path, int switch_state, const std::vector<double>& switch_thresholds) {
+        return save_schedule(make_schedule(mach, alt_ft, nodes, primary, metadata, switch_state, switch_thresholds),
+                             fspath(path));
       },
       py::arg("mach"), py::arg("alt_ft"), py::arg("nodes"), py::kw_only(), py::arg("primary"),
-      py::arg("metadata") = "", py::arg("path"),
+      py::arg("metadata") = "", py::arg("path"), py::arg("switch_state") = -1,
+      py::arg("switch_thresholds") = std::vector<double>{},
       "Write a scheduled-bank file (cpp/bankfile/schedule_file.h) atomically; returns its content hash.\n"
-      "mach, alt_ft: the ascending grid axes; nodes: [(i_mach, i_alt, ModelBank, x_trim (nx,)), ...], one per\n"
-      "covered grid point; primary: the node in force before air data. ValueError naming the field.\n"
+      "mach, alt_ft: the ascending grid axes; nodes: [(i_mach, i_alt, ModelBank, x_trim (nx,)[, adapt_reference\n"
+      "[, layer]]), ...], one per covered grid point and layer (adapt_reference: the turbulence adaptation's rho_0\n"
+      "at the node, given for every node or for none, None: not carried; layer: the configuration layer, 0 by\n"
+      "default); switch_state, switch_thresholds: the configuration law (bank_schedule.h; -1 and none: one\n"
+      "layer); primary: the node in force before air data. ValueError naming the field.\n"
       "core.load_bank reads the file back as the primary node's ModelBank with .schedule set.");
   m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s
   m.def(

@@ -56,12 +56,16 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule) {
   w.axis(schedule.alt_ft);
   w.i32(schedule.primary);
   w.text(schedule.metadata);
+  w.i32(schedule.switch_state);
+  w.axis(schedule.switch_thresholds);
   w.i32(static_cast<std::int64_t>(schedule.nodes.size()));
   for (const ScheduleNode& node : schedule.nodes) {
     w.i32(node.i_mach);
     w.i32(node.i_alt);
+    w.i32(node.layer);
     w.i32(node.x_trim.size());
     for (Eigen::Index i = 0; i < node.x_trim.size(); ++i) w.f64(node.x_trim(i));
+    w.f64(node.adapt_reference);
     const std::vector<std::uint8_t> bank = bank_file_bytes(node.bank);
     w.i64(static_cast<std::int64_t>(bank.size()));
     w.out.insert(w.out.end(), bank.begin(), bank.end());
@@ -69,23 +73,33 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule) {
   return hashed_file_image(kScheduleFileMagic, BankSchedule::kFormatVersion, w.out);
 }
 
-ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size) {
+ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size, std::uint32_t version) {
+  if (version != 1 && version != BankSchedule::kFormatVersion)
+    throw BankFileFormatError("unsupported format version " + std::to_string(version) + " (this build reads 1 and " +
+                              std::to_string(BankSchedule::kFormatVersion) + ")");
   auto schedule = std::make_shared<BankSchedule>();
   PayloadReader r(payload, size);
   schedule->mach = read_axis(r, "mach");
   schedule->alt_ft = read_axis(r, "alt_ft");
   schedule->primary = r.i32("primary");
   schedule->metadata = r.text("metadata", kMaxBankTextBytes);
-  const std::size_t n = r.count("nodes size", kMaxScheduleNodes, 12 + 8 + kBankFileHeaderSize);
+  if (version >= 2) {
+    schedule->switch_state = r.i32("switch_state");
+    schedule->switch_thresholds = read_axis(r, "switch_thresholds");
+  }
+  const std::size_t per_node = (version >= 2 ? 24 : 12) + 8 + kBankFileHeaderSize;
+  const std::size_t n = r.count("nodes size", kMaxScheduleNodes, per_node);
   schedule->nodes.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     const std::string node = "nodes[" + std::to_string(k) + "]";
     ScheduleNode& sn = schedule->nodes[k];
     sn.i_mach = r.i32(node + ".i_mach");
     sn.i_alt = r.i32(node + ".i_alt");
+    if (version >= 2) sn.layer = r.i32(node + ".layer");
     const std::size_t nx = r.count(node + ".x_trim size", kMaxBankDimension, 8);
     sn.x_trim.resize(static_cast<Eigen::Index>(nx));
     for (std::size_t i = 0; i < nx; ++i) sn.x_trim(static_cast<Eigen::Index>(i)) = r.f64(node + ".x_trim");
+    if (version >= 2) sn.adapt_reference = r.f64(node + ".adapt_reference");
     const std::int64_t bytes = r.i64(node + ".bank size");
     if (bytes < 0 || static_cast<std::uint64_t>(bytes) > kMaxBankFileBytes)
       throw BankFileFormatError("payload field " + node + ".bank size = " + std::to_string(bytes) +
@@ -105,12 +119,12 @@ ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size)
 ModelBank parse_schedule_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
   const std::string who = "scheduled-bank file " + source + ": ";
   const std::uint32_t version = hashed_file_version(data, size, kScheduleFileMagic, who, "scheduled-bank");
-  if (version != BankSchedule::kFormatVersion)
+  if (version != 1 && version != BankSchedule::kFormatVersion)
     throw BankFileFormatError(who + "unsupported format version " + std::to_string(version) +
-                              " (this build reads version " + std::to_string(BankSchedule::kFormatVersion) + ")");
+                              " (this build reads versions 1 and " + std::to_string(BankSchedule::kFormatVersion) + ")");
   const std::uint8_t* payload = hashed_file_payload(data, size, who);
   try {
-    return decode_schedule_payload(payload, size - kBankFileHeaderSize);
+    return decode_schedule_payload(payload, size - kBankFileHeaderSize, version);
   } catch (const BankFileFormatError& e) {
     throw BankFileFormatError(who + e.what());
   } catch (const std::invalid_argument& e) {

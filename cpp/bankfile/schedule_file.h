@@ -12,15 +12,22 @@
 //                   int32 n_alt, n_alt doubles            the altitude axis, ft (ascending)
 //                   int32 primary                         the node in force before air data
 //                   string metadata                       int32 n (length + 1), bytes, NUL (JSON)
+//                   int32 switch_state                    version 2 only: the configuration law
+//                   int32 n, n doubles                    version 2 only: switch_thresholds
 //                   int32 n_nodes, then per node:
 //                     int32 i_mach, int32 i_alt           its grid index
+//                     int32 layer                         version 2 only: configuration layer
 //                     int32 nx, nx doubles                x_trim
+//                     double adapt_reference              version 2 only: rho_0 at the node,
+//                                                         NaN when not carried (bank_schedule.h)
 //                     int64 n, n bytes                    a complete model-bank file image
 //                                                         (bank_file.h, checked by parse_bank_file)
 // content_hash = lower-case hex SHA-256 of the payload (deterministic: the same schedule gives
 // the same bytes). Each node's bank is stored whole, so each is validated exactly as a bank
 // file is, and a node can be taken out and used alone; shared parts are not factored out.
 //
+// Version 1 files (one layer, no adapt_reference) are still read: their nodes carry none.
+// Files are written as version 2.
 // parse_schedule_file refuses, naming the file and the field (BankFileFormatError, an
 // std::invalid_argument): wrong magic or version, truncation, trailing bytes, a hash
 // mismatch, a declared count over its limit or over the bytes left (checked before anything
@@ -54,8 +61,10 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule);
 // Parses and validates a file image; `source` names it in error messages.
 ModelBank parse_schedule_file(const std::uint8_t* data, std::size_t size, const std::string& source);
 // The payload alone (no header, no hash check), validated: what parse_schedule_file does
-// after the header. Throws as parse_schedule_file does, without the file's name.
-ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size);
+// after the header, for a payload of format `version` (1 or 2). Throws as
+// parse_schedule_file does, without the file's name.
+ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size,
+                                  std::uint32_t version = BankSchedule::kFormatVersion);
 // Validates, then writes the file atomically. Returns the content hash.
 std::string save_schedule(const BankSchedule& schedule, const std::string& path);
 

@@ -6,7 +6,20 @@
 // (mach[i], alt_ft[j]). A node is *covered* when a bank was designed there (points that do not
 // trim are left out). Each covered node carries its ModelBank (every hypothesis filter, u_trim,
 // z_trim) and x_trim (nx), the trim state the filters' perturbation states are taken from
-// (the absolute state estimate is x_trim + x).
+// (the absolute state estimate is x_trim + x). A node may also carry its own adaptation
+// reference (adapt_reference, the turbulence adaptation's rho_0 at that node,
+// turbulence_adaptation.h): the residual power ratio the node's bank shows in the turbulence it
+// was calibrated for, so that the adaptation tempers only above it at every node. Either every
+// node carries one or none does (NaN: not carried, the estimator's own option applies).
+//
+// Configuration layers (an aircraft whose configuration switches with the flight condition,
+// e.g. the F-16's leading-edge flap, scheduled on trim alpha): a node also has a layer l
+// (0 .. L-1), the configuration its bank was designed in; a grid point may be covered in
+// several layers (its own configuration and, near a switch, the neighbouring one).
+// switch_state (an index into x_trim) and the ascending switch_thresholds (L - 1 values)
+// state the configuration law: at a point whose trim state component is v, the layer is
+// the number of thresholds below v,  l(v) = #{k : v > switch_thresholds[k]}.
+// switch_state = -1 (no thresholds): one layer, every node in layer 0.
 //
 // Fractional grid coordinates of air data a = (M, h), clamped to the axes:
 //   s = i + (M - mach[i]) / (mach[i+1] - mach[i])          for mach[i] <= M <= mach[i+1]
@@ -22,8 +35,11 @@
 // it, else the nearest covered node (counted; scheduled_filters.h).
 //
 // validate() throws std::invalid_argument naming the field: axes that are empty, not finite
-// or not strictly ascending; a node index outside the axes or covered twice; an x_trim of the
-// wrong size or not finite; a primary node that is not one of the nodes; node banks whose names, sizes, frame rate or tuning differ from
+// or not strictly ascending; switch_state and switch_thresholds not given together, thresholds
+// not ascending; a node layer outside the layers; a node index outside the axes or covered
+// twice in one layer; an x_trim of the
+// wrong size or not finite; an adapt_reference outside [0, 100], or carried by some nodes and
+// not by others; a primary node that is not one of the nodes; node banks whose names, sizes, frame rate or tuning differ from
 // node 0's (each node bank is validated by ModelBank::validate on load).
 #pragma once
 
@@ -35,6 +51,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,8 +61,10 @@ namespace f16mmae {
 struct ScheduleNode {
   int i_mach = 0;          // index on BankSchedule::mach
   int i_alt = 0;           // index on BankSchedule::alt_ft
+  int layer = 0;           // configuration layer (header comment)
   ModelBank bank;          // the bank designed at (mach[i_mach], alt_ft[i_alt])
   Eigen::VectorXd x_trim;  // (nx) trim state of that design
+  double adapt_reference = std::numeric_limits<double>::quiet_NaN();  // rho_0 at the node, or NaN
 };
 
 // Where air data falls on the grid (see the header comment).
@@ -55,18 +74,41 @@ struct GridPoint {
 };
 
 struct BankSchedule {
-  static constexpr std::uint32_t kFormatVersion = 1;
+  static constexpr std::uint32_t kFormatVersion = 2;   // 2: per-node adapt_reference
+
+  // Whether the nodes carry their own adaptation reference (validate: all or none).
+  bool has_adapt_reference() const noexcept { return !nodes.empty() && !std::isnan(nodes[0].adapt_reference); }
 
   std::vector<double> mach;    // ascending Mach axis
   std::vector<double> alt_ft;  // ascending pressure-altitude axis, ft
   std::vector<ScheduleNode> nodes;
   int primary = 0;             // the node in force before air data arrives (nodes index)
+  int switch_state = -1;       // x_trim index of the configuration law, -1: one layer
+  std::vector<double> switch_thresholds;   // ascending; layers = size + 1
   std::string metadata;        // JSON text: how the schedule was made (provenance only)
 
-  int node_index(int i, int j) const noexcept {
+  int layers() const noexcept { return static_cast<int>(switch_thresholds.size()) + 1; }
+  // The node at grid index (i, j) in `layer`, or -1.
+  int node_index(int i, int j, int layer = 0) const noexcept {
     for (std::size_t n = 0; n < nodes.size(); ++n)
-      if (nodes[n].i_mach == i && nodes[n].i_alt == j) return static_cast<int>(n);
+      if (nodes[n].i_mach == i && nodes[n].i_alt == j && nodes[n].layer == layer) return static_cast<int>(n);
     return -1;
+  }
+  // The node at (i, j) in `layer` if covered there, else the one of the lowest layer, or -1.
+  int node_index_any(int i, int j, int layer) const noexcept {
+    const int n = node_index(i, j, layer);
+    if (n >= 0) return n;
+    for (int l = 0; l < layers(); ++l) {
+      const int m = node_index(i, j, l);
+      if (m >= 0) return m;
+    }
+    return -1;
+  }
+  // The layer of the configuration law for a trim state component v.
+  int layer_of(double v) const noexcept {
+    int l = 0;
+    for (double t : switch_thresholds) l += v > t ? 1 : 0;
+    return l;
   }
 
   // Fractional coordinate of v on an ascending axis (clamped; `outside` set when clamped).
@@ -91,15 +133,17 @@ struct BankSchedule {
     return g;
   }
 
-  // The covered node nearest to g (cell units), ties to the lower index.
-  int nearest(const GridPoint& g) const noexcept {
-    int best = 0;
-    double best_d = distance(g, 0);
-    for (int n = 1; n < static_cast<int>(nodes.size()); ++n) {
+  // The covered node nearest to g (cell units) in `layer` (any layer when -1 or when the
+  // layer has no node), ties to the lower index.
+  int nearest(const GridPoint& g, int layer = -1) const noexcept {
+    int best = -1;
+    double best_d = 0.0;
+    for (int n = 0; n < static_cast<int>(nodes.size()); ++n) {
+      if (layer >= 0 && nodes[n].layer != layer) continue;
       const double d = distance(g, n);
-      if (d < best_d) best = n, best_d = d;
+      if (best < 0 || d < best_d) best = n, best_d = d;
     }
-    return best;
+    return best >= 0 ? best : nearest(g, -1);
   }
   double distance(const GridPoint& g, int n) const noexcept {
     const double ds = g.s - nodes[n].i_mach, dt = g.t - nodes[n].i_alt;
@@ -122,6 +166,13 @@ struct BankSchedule {
     check_axis("mach", mach);
     check_axis("alt_ft", alt_ft);
     if (nodes.empty()) fail("no covered node");
+    if (switch_state < -1 || (switch_state == -1) != switch_thresholds.empty())
+      fail("switch_state = " + std::to_string(switch_state) + " with " + std::to_string(switch_thresholds.size()) +
+           " switch_thresholds: give both (a state index >= 0 and ascending thresholds) or neither (-1, none)");
+    for (std::size_t k = 0; k < switch_thresholds.size(); ++k)
+      if (!std::isfinite(switch_thresholds[k]) || (k > 0 && !(switch_thresholds[k] > switch_thresholds[k - 1])))
+        fail("switch_thresholds must be finite and strictly ascending: switch_thresholds[" + std::to_string(k) +
+             "] = " + std::to_string(switch_thresholds[k]));
     if (primary < 0 || primary >= static_cast<int>(nodes.size()))
       fail("primary = " + std::to_string(primary) + " is not one of its " + std::to_string(nodes.size()) + " nodes");
     const ModelBank& first = nodes[0].bank;
@@ -132,13 +183,25 @@ struct BankSchedule {
           node.i_alt >= static_cast<int>(alt_ft.size()))
         fail(who + " at grid index (" + std::to_string(node.i_mach) + ", " + std::to_string(node.i_alt) +
              ") is outside the " + std::to_string(mach.size()) + " x " + std::to_string(alt_ft.size()) + " grid");
-      if (node_index(node.i_mach, node.i_alt) != static_cast<int>(n))
+      if (node.layer < 0 || node.layer >= layers())
+        fail(who + ".layer = " + std::to_string(node.layer) + " is outside [0, " + std::to_string(layers() - 1) +
+             "] (the layers of " + std::to_string(switch_thresholds.size()) + " switch_thresholds)");
+      if (node_index(node.i_mach, node.i_alt, node.layer) != static_cast<int>(n))
         fail(who + " covers grid index (" + std::to_string(node.i_mach) + ", " + std::to_string(node.i_alt) +
-             ") a second time");
+             ") in layer " + std::to_string(node.layer) + " a second time");
+      if (switch_state >= node.x_trim.size())
+        fail("switch_state = " + std::to_string(switch_state) + " is not an index of " + who + ".x_trim (" +
+             std::to_string(node.x_trim.size()) + " values)");
       const ModelBank& b = node.bank;
       if (node.x_trim.size() != b.nx() || !node.x_trim.allFinite())
         fail(who + ".x_trim must hold " + std::to_string(b.nx()) + " finite values, it has " +
              std::to_string(node.x_trim.size()));
+      if (std::isnan(node.adapt_reference) != std::isnan(nodes[0].adapt_reference))
+        fail(who + ".adapt_reference is " + (std::isnan(node.adapt_reference) ? "missing" : "given") +
+             " but nodes[0]'s is " + (std::isnan(nodes[0].adapt_reference) ? "missing" : "given") +
+             ": every node carries one or none does");
+      if (!std::isnan(node.adapt_reference) && !(node.adapt_reference >= 0.0 && node.adapt_reference <= 100.0))
+        fail(who + ".adapt_reference must be in [0, 100], got " + std::to_string(node.adapt_reference));
       if (b.state_names != first.state_names || b.input_names != first.input_names ||
           b.measurement_names != first.measurement_names)
         fail(who + ".bank has other state, input or measurement names than nodes[0]");

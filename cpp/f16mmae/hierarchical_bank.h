@@ -33,7 +33,10 @@
 //   on-line filter's x⁻ and x⁺ move by x_trim_old - x_trim_new (bumpless: the absolute
 //   estimate is continuous); before the first frame nothing moves (the filters start at the
 //   trim in force at their first frame). Probabilities, the declarer, the declarations and the level are
-//   untouched by a schedule change.
+//   untouched by a schedule change. A schedule whose nodes carry an adaptation reference
+//   (bank_schedule.h) sets the turbulence adaptation's rho_0 to the blend in force with the
+//   filters (ScheduleOptions::node_adapt_reference, on by default; rho itself carries on, and
+//   starts at that reference at construction and reset()).
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
 // z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
@@ -218,6 +221,7 @@ class HierarchicalBank {
       sched_.reset(design_air_data_);
       load_scheduled();
       apply_trims();
+      bank_.reset_adaptation();
     }
   }
 
@@ -382,6 +386,7 @@ class HierarchicalBank {
                                       names_[i] + "'");
       load_scheduled();
       apply_trims();
+      bank_.reset_adaptation();   // rho = the node reference in force
     }
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
   }
@@ -434,6 +439,8 @@ class HierarchicalBank {
   void load_scheduled() noexcept {
     bank_.replace_filters([&](int k, Hypothesis& h) { sched_.filter(online_[k], h); },
                           [&](auto& h_out) { sched_.h_output(h_out); });
+    if (sched_.has_adapt_reference() && options_.schedule.node_adapt_reference)
+      bank_.set_adapt_reference(sched_.adapt_reference());
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {

@@ -39,6 +39,21 @@
 //                (distance in cell units); the trims switch with it.
 // Air data outside the axes is clamped to them (counted in outside_frames()).
 //
+// Configuration layers (bank_schedule.h): the layer in force at a point is the
+// configuration law applied to the trim state component v = sum_c w_c v_c / sum_c w_c of the
+// cell's covered corners (bilinear weights w, each corner's node of the lowest layer), so the
+// configuration switches where the schedule's trims cross the threshold. Interpolate: the
+// filters are blended from the corners' nodes in that layer (a corner not covered in it
+// counts as uncovered: triangle or nearest node in the layer, as above), and re-blended at
+// once when the layer changes; the third-order trims take each stencil node in that layer
+// where it is covered there, else in its own (the trims change little across a switch, the
+// dynamics much). Nearest: the nearest node in the layer, switched at once on a layer change.
+//
+// Per-node adaptation reference (a schedule whose nodes carry adapt_reference,
+// bank_schedule.h): blended with the filters' weights, rho_0 = sum_c w_c rho_0,c, and
+// changed with them (adapt_reference()); HierarchicalBank hands it to its turbulence
+// adaptation when ScheduleOptions::node_adapt_reference.
+//
 // Handover (HierarchicalBank applies it): when x_trim changes from x_old to x_new every
 // on-line filter's states move by x_old - x_new, so the absolute state estimate
 // x_trim + x is continuous (bumpless); probabilities, declarations and the level are not
@@ -70,6 +85,7 @@ struct ScheduleOptions {
   bool cubic_trims = true;                // interpolate: trims to third order where covered
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
+  bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
 };
 
 inline void check_schedule_options(const ScheduleOptions& o) {
@@ -108,6 +124,8 @@ class ScheduledFilters {
                  : 1.0;
     axes_.mach = schedule.mach;
     axes_.alt_ft = schedule.alt_ft;
+    axes_.switch_state = schedule.switch_state;
+    axes_.switch_thresholds = schedule.switch_thresholds;
     hypotheses_ = static_cast<int>(schedule.nodes[0].bank.hypotheses.size());
     const int n_nodes = static_cast<int>(schedule.nodes.size());
     filters_.reserve(static_cast<std::size_t>(n_nodes) * hypotheses_);
@@ -115,6 +133,7 @@ class ScheduledFilters {
       ScheduleNode geometry;  // the axes' geometry only; banks stay in filters_ and the trims
       geometry.i_mach = node.i_mach;
       geometry.i_alt = node.i_alt;
+      geometry.layer = node.layer;
       axes_.nodes.push_back(std::move(geometry));
       const std::string where = "schedule node (Mach " + std::to_string(schedule.mach[node.i_mach]) + ", " +
                                 std::to_string(schedule.alt_ft[node.i_alt]) + " ft) ";
@@ -125,7 +144,9 @@ class ScheduledFilters {
       z_trim_.push_back(node.bank.z_trim);
       x_trim_.push_back(node.x_trim);
       h_out_.push_back(node.bank.h_output);
+      reference_.push_back(node.adapt_reference);
     }
+    has_reference_ = schedule.has_adapt_reference();
     reset(start);
   }
 
@@ -137,9 +158,9 @@ class ScheduledFilters {
     filtered_ = start;
     primed_ = false;
     const GridPoint g = axes_.locate(start);
-    node_ = axes_.nearest(g);
+    node_ = axes_.nearest(g, layer_at(cell_of(g)));
     choose(g);
-    corners_ = trim_corners_, weights_ = trim_weights_;
+    take_filter_weights();
     blend_trims(g);
     last_s_ = g.s, last_t_ = g.t;
   }
@@ -158,20 +179,22 @@ class ScheduledFilters {
     if (g.outside) ++outside_;
     bool changed = false;
     if (options_.mode == ScheduleMode::kNearest) {
-      const int best = axes_.nearest(g);
-      if (best != node_ && axes_.distance(g, node_) - axes_.distance(g, best) > options_.hysteresis_cells) {
+      const int best = axes_.nearest(g, layer_at(cell_of(g)));
+      const bool other_layer = axes_.nodes[best].layer != axes_.nodes[node_].layer;
+      if (best != node_ &&
+          (other_layer || axes_.distance(g, node_) - axes_.distance(g, best) > options_.hysteresis_cells)) {
         node_ = best;
         ++switches_;
         changed = true;
       }
       choose(g);
-      corners_ = trim_corners_, weights_ = trim_weights_;
+      take_filter_weights();
     } else {
       choose(g);
       if (fallback_now_) ++fallback_;
-      if (!primed_ || std::abs(g.s - last_s_) >= options_.blend_step_cells ||
+      if (!primed_ || layer_now_ != filter_layer_ || std::abs(g.s - last_s_) >= options_.blend_step_cells ||
           std::abs(g.t - last_t_) >= options_.blend_step_cells) {
-        corners_ = trim_corners_, weights_ = trim_weights_;  // the filters follow: re-blend
+        take_filter_weights();  // the filters follow: re-blend
         last_s_ = g.s, last_t_ = g.t;
         ++blends_;
         changed = true;
@@ -202,11 +225,16 @@ class ScheduledFilters {
   const UVector& u_trim() const noexcept { return u_now_; }
   const ZVector& z_trim() const noexcept { return z_now_; }
   const XVector& x_trim() const noexcept { return x_now_; }
+  // Whether the nodes carry an adaptation reference, and its blend over the filters in force.
+  bool has_adapt_reference() const noexcept { return has_reference_; }
+  double adapt_reference() const noexcept { return reference_now_; }
   // The nodes and weights of the filters in force (weights 1, 0, 0, 0 at one node), and
   // the low-passed air data the schedule follows.
   const std::array<int, kCorners>& corners() const noexcept { return corners_; }
   const std::array<double, kCorners>& weights() const noexcept { return weights_; }
   const AirData& filtered_air_data() const noexcept { return filtered_; }
+  // The configuration layer of the filters in force (0 for a schedule of one layer).
+  int layer() const noexcept { return filter_layer_; }
   const BankSchedule& axes() const noexcept { return axes_; }   // axes and node indices only
   int node_count() const noexcept { return static_cast<int>(axes_.nodes.size()); }
   const ScheduleOptions& options() const noexcept { return options_; }
@@ -219,24 +247,57 @@ class ScheduledFilters {
   // What the air data point g calls for, into trim_corners_ / trim_weights_. Interpolate
   // mode: the cell's corners and weights if all four are covered, else the nearest node
   // (fallback_now_). Nearest mode: node_ alone.
+  // The grid cell holding g: its lower corner (i, j), upper (i1, j1) and bilinear weights.
+  struct Cell {
+    int i, j, i1, j1;
+    std::array<double, kCorners> w;
+  };
+  Cell cell_of(const GridPoint& g) const noexcept {
+    const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
+    Cell c;
+    c.i = std::min(static_cast<int>(std::floor(g.s)), ni > 1 ? ni - 2 : 0);
+    c.j = std::min(static_cast<int>(std::floor(g.t)), nj > 1 ? nj - 2 : 0);
+    const double a = ni > 1 ? g.s - c.i : 0.0, b = nj > 1 ? g.t - c.j : 0.0;
+    c.i1 = ni > 1 ? c.i + 1 : c.i;
+    c.j1 = nj > 1 ? c.j + 1 : c.j;
+    c.w = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+    return c;
+  }
+  // The configuration layer at a cell (header comment): the law on the weighted trim state
+  // component of its covered corners; 0 for a schedule of one layer.
+  int layer_at(const Cell& cell) const noexcept {
+    if (axes_.switch_state < 0) return 0;
+    const int ii[kCorners] = {cell.i, cell.i1, cell.i, cell.i1}, jj[kCorners] = {cell.j, cell.j, cell.j1, cell.j1};
+    double sum = 0.0, weight = 0.0;
+    for (int k = 0; k < kCorners; ++k) {
+      if (cell.w[k] == 0.0) continue;
+      const int n = axes_.node_index_any(ii[k], jj[k], 0);
+      if (n < 0) continue;
+      sum += cell.w[k] * x_trim_[n](axes_.switch_state);
+      weight += cell.w[k];
+    }
+    return weight > 0.0 ? axes_.layer_of(sum / weight) : axes_.nodes[node_].layer;
+  }
   void choose(const GridPoint& g) noexcept {
     fallback_now_ = false;
-    if (options_.mode == ScheduleMode::kNearest) return choose_node(node_);
-    const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
-    const int i = std::min(static_cast<int>(std::floor(g.s)), ni > 1 ? ni - 2 : 0);
-    const int j = std::min(static_cast<int>(std::floor(g.t)), nj > 1 ? nj - 2 : 0);
-    const double a = ni > 1 ? g.s - i : 0.0, b = nj > 1 ? g.t - j : 0.0;
-    const int i1 = ni > 1 ? i + 1 : i, j1 = nj > 1 ? j + 1 : j;
-    const std::array<int, kCorners> c = {axes_.node_index(i, j), axes_.node_index(i1, j), axes_.node_index(i, j1),
-                                         axes_.node_index(i1, j1)};
-    std::array<double, kCorners> w = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+    if (options_.mode == ScheduleMode::kNearest) {
+      layer_now_ = axes_.nodes[node_].layer;
+      return choose_node(node_);
+    }
+    const Cell cell = cell_of(g);
+    const int i = cell.i, j = cell.j, i1 = cell.i1, j1 = cell.j1;
+    const double a = g.s - i, b = g.t - j;
+    const int layer = layer_now_ = layer_at(cell);
+    const std::array<int, kCorners> c = {axes_.node_index(i, j, layer), axes_.node_index(i1, j, layer),
+                                         axes_.node_index(i, j1, layer), axes_.node_index(i1, j1, layer)};
+    std::array<double, kCorners> w = cell.w;
     int uncovered = 0, missing = -1;
     for (int k = 0; k < kCorners; ++k)
       if (c[k] < 0 && w[k] != 0.0) ++uncovered, missing = k;
     if (uncovered == 1 && !triangle_weights(missing, a, b, w)) uncovered = 2;
     if (uncovered > 1) {
       fallback_now_ = true;
-      return choose_node(axes_.nearest(g));
+      return choose_node(axes_.nearest(g, layer));
     }
     for (int k = 0; k < kCorners; ++k) {
       trim_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);  // weight 0 where uncovered
@@ -255,6 +316,15 @@ class ScheduledFilters {
     for (double v : w)
       if (v < 0.0) return false;
     return true;
+  }
+  // The filters in force follow the trims' corners and weights (and the reference with them).
+  void take_filter_weights() noexcept {
+    corners_ = trim_corners_, weights_ = trim_weights_;
+    filter_layer_ = layer_now_;
+    if (!has_reference_) return;
+    reference_now_ = 0.0;
+    for (int c = 0; c < kCorners; ++c)
+      if (weights_[c] != 0.0) reference_now_ += weights_[c] * reference_[corners_[c]];
   }
   static int first_covered(const std::array<int, kCorners>& c) noexcept {
     for (int k : c)
@@ -309,7 +379,7 @@ class ScheduledFilters {
       bool covered = true;
       for (int j = 0; j < nm && covered; ++j)
         for (int k = 0; k < na && covered; ++k) {
-          nodes[j * 4 + k] = axes_.node_index(fm + j, fa + k);
+          nodes[j * 4 + k] = axes_.node_index_any(fm + j, fa + k, layer_now_);
           covered = nodes[j * 4 + k] >= 0 || wm[j] * wa[k] == 0.0;
         }
       if (!covered) continue;
@@ -353,6 +423,9 @@ class ScheduledFilters {
   std::vector<ZVector> z_trim_;
   std::vector<XVector> x_trim_;
   std::vector<OutputMatrix> h_out_;
+  std::vector<double> reference_;     // per node adapt_reference (NaN: not carried)
+  bool has_reference_ = false;
+  double reference_now_ = 0.0;        // blend of the filters in force
   int hypotheses_ = 0;
   int node_ = 0;                      // nearest mode: the node in force
   std::array<int, kCorners> corners_{};          // of the filters in force (the last blend)
@@ -364,6 +437,8 @@ class ScheduledFilters {
   bool primed_ = false;                          // a selection since the last reset
   double last_s_ = 0.0, last_t_ = 0.0;           // air data at the last blend
   bool fallback_now_ = false;
+  int layer_now_ = 0;                            // the layer the air data now calls for
+  int filter_layer_ = 0;                         // the layer of the filters in force
   UVector u_now_;
   ZVector z_now_;
   XVector x_now_;

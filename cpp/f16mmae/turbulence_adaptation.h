@@ -128,6 +128,12 @@ class ResidualScale {
     rho_ += alpha_ * ((x < rho_clip_ ? x : rho_clip_) - rho_);
     set_scale();
   }
+  // A new reference ρ_0 (a scheduled bank's per-node reference, bank_schedule.h; in
+  // [0, 100], checked where it is read), ρ kept: s follows at once.
+  void set_reference(double reference) noexcept {
+    options_.reference = reference;
+    set_scale();
+  }
   // Back to the start: ρ = ρ_0, s = clamp(1, s_min, s_max).
   void reset() noexcept {
     rho_ = options_.reference;

@@ -18,18 +18,28 @@ from f16mmae.bench.estimator import synthetic_bank
 HEADER = struct.Struct(">8sIQ32s")
 
 
-def image(payload: bytes, version: int = 1) -> bytes:
+def image(payload: bytes, version: int = 2) -> bytes:
     return HEADER.pack(b"F16MMAES", version, len(payload), hashlib.sha256(payload).digest()) + payload
 
 
-def payload(mach, alt, nodes, primary=0, metadata=b"{}") -> bytes:
-    """The documented payload: axes, primary, metadata string, nodes."""
+def payload(mach, alt, nodes, primary=0, metadata=b"{}", version=2, references=None, layers=None,
+            switch=(-1, ())) -> bytes:
+    """The documented payload: axes, primary, metadata string, (version 2: switch_state and
+    thresholds), nodes (version 2: each with its layer, 0 unless ``layers`` gives them, and its
+    adapt_reference after x_trim, NaN unless ``references`` gives them)."""
     out = struct.pack(">i", len(mach)) + b"".join(struct.pack(">d", m) for m in mach)
     out += struct.pack(">i", len(alt)) + b"".join(struct.pack(">d", a) for a in alt)
     out += struct.pack(">i", primary) + struct.pack(">i", len(metadata) + 1) + metadata + b"\0"
+    if version >= 2:
+        out += struct.pack(">ii", switch[0], len(switch[1])) + b"".join(struct.pack(">d", t) for t in switch[1])
     out += struct.pack(">i", len(nodes))
-    for i, j, x_trim, bank_bytes in nodes:
-        out += struct.pack(">iii", i, j, len(x_trim)) + b"".join(struct.pack(">d", x) for x in x_trim)
+    for n, (i, j, x_trim, bank_bytes) in enumerate(nodes):
+        out += struct.pack(">ii", i, j)
+        if version >= 2:
+            out += struct.pack(">i", layers[n] if layers else 0)
+        out += struct.pack(">i", len(x_trim)) + b"".join(struct.pack(">d", x) for x in x_trim)
+        if version >= 2:
+            out += struct.pack(">d", references[n] if references else float("nan"))
         out += struct.pack(">q", len(bank_bytes)) + bank_bytes
     return out
 
@@ -57,6 +67,63 @@ def test_a_crafted_file_loads_as_the_primary_node_with_the_schedule(tmp_path):
     h = core.save_schedule([0.4, 0.6], [20000.0], [(0, 0, b0, np.ones(13)), (1, 0, b1, np.full(13, 2.0))],
                            primary=1, metadata="{}", path=again)
     assert h == loaded.content_hash and again.read_bytes() == path.read_bytes()
+
+
+def test_a_version_1_file_still_loads_its_nodes_carrying_no_reference(tmp_path):
+    b0 = synthetic_bank(names.ALL_HYPOTHESES, 1)
+    data = payload([0.4], [20000.0], [(0, 0, [1.0] * 13, b0.to_bytes())], version=1)
+    loaded = core.ModelBank.from_bytes(image(data, version=1), "v1")
+    assert loaded.schedule["nodes"][0]["adapt_reference"] is None
+    np.testing.assert_array_equal(loaded.schedule["nodes"][0]["x_trim"], np.ones(13))
+
+
+def test_per_node_references_round_trip_and_are_checked(tmp_path):
+    b0, b1 = synthetic_bank(names.ALL_HYPOTHESES, 1), synthetic_bank(names.ALL_HYPOTHESES, 2)
+    data = payload([0.4, 0.6], [20000.0], [(0, 0, [0.0] * 13, b0.to_bytes()), (1, 0, [0.0] * 13, b1.to_bytes())],
+                   references=[0.7, 1.25])
+    path = tmp_path / "ref.f16sched"
+    path.write_bytes(image(data))
+    loaded = core.load_bank(path)
+    assert [n["adapt_reference"] for n in loaded.schedule["nodes"]] == [0.7, 1.25]
+    again = tmp_path / "again.f16sched"
+    core.save_schedule([0.4, 0.6], [20000.0], [(0, 0, b0, np.zeros(13), 0.7), (1, 0, b1, np.zeros(13), 1.25)],
+                       primary=0, metadata="{}", path=again)
+    assert again.read_bytes() == path.read_bytes()
+    with pytest.raises(ValueError, match=r"nodes\[1\]\.adapt_reference is missing but nodes\[0\]'s is given"):
+        core.save_schedule([0.4, 0.6], [20000.0], [(0, 0, b0, np.zeros(13), 0.7), (1, 0, b1, np.zeros(13))],
+                           primary=0, path=tmp_path / "mixed.f16sched")
+    with pytest.raises(ValueError, match=r"nodes\[0\]\.adapt_reference must be in \[0, 100\], got -1"):
+        core.ModelBank.from_bytes(image(payload([0.4], [20000.0], [(0, 0, [0.0] * 13, b0.to_bytes())],
+                                                references=[-1.0])), "negative")
+    assert not (tmp_path / "mixed.f16sched").exists()
+
+
+def test_the_node_references_set_the_adaptation_blended_with_the_filters(tmp_path):
+    """References 1.0, 0.5, 0.8, 0.3 at the corners of the 2 x 2 schedule; rho starts at the
+    reference in force (s = 1) and stays there without updates, so s = 1 + 20 (rho - rho_0)
+    shows the reference in force: at node (0.6, 10000 ft) rho_0 = 0.5 -> s = 11; at the centre
+    rho_0 = (1.0 + 0.5 + 0.8 + 0.3) / 4 = 0.65 -> s = 8."""
+    refs = (1.0, 0.5, 0.8, 0.3)
+    nodes = []
+    for n, (i, j) in enumerate(((0, 0), (1, 0), (0, 1), (1, 1))):
+        nodes.append((i, j, synthetic_bank(names.ALL_HYPOTHESES, seed=1 + n), np.zeros(names.NX), refs[n]))
+    path = tmp_path / "refs.f16sched"
+    core.save_schedule([0.4, 0.6], [10000.0, 20000.0], nodes, primary=0, path=path)
+    bank = core.load_bank(path)
+    hb = core.HierarchicalBank(bank, adapt_turbulence=True, air_data_time_constant_s=0.0)
+    assert hb.schedule_state["nodes"] == [(0.4, 10000.0)]
+    assert hb.turbulence_power_ratio == 1.0 and hb.turbulence_scale == 1.0
+    hb.schedule(0.6, 10000.0)
+    assert hb.turbulence_scale == pytest.approx(11.0, rel=1e-12)
+    hb.schedule(0.5, 15000.0)
+    assert hb.schedule_state["weights"] == [0.25] * 4
+    assert hb.turbulence_scale == pytest.approx(8.0, rel=1e-12)
+    hb.reset()   # back to the start: rho = the reference at the start again
+    assert hb.turbulence_power_ratio == 1.0 and hb.turbulence_scale == 1.0
+    # one reference given: it applies everywhere, the nodes' are not used
+    fixed = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_reference=0.6, air_data_time_constant_s=0.0)
+    fixed.schedule(0.6, 10000.0)
+    assert fixed.turbulence_power_ratio == 0.6 and fixed.turbulence_scale == 1.0
 
 
 @pytest.mark.parametrize("mutate, message", [
@@ -93,7 +160,7 @@ def test_hostile_fields_are_refused_naming_the_field(tmp_path, fields, message):
     data = payload(mach, [20000.0], [(fields.get("i", 0), 0, fields.get("x_trim", [0.0] * 13),
                                       fields.get("bank_bytes", bank))], primary=fields.get("primary", 0))
     if "nodes_count" in fields:
-        at = 4 + 8 * len(mach) + 4 + 8 + 4 + 4 + 3
+        at = 4 + 8 * len(mach) + 4 + 8 + 4 + 4 + 3 + 8
         data = data[:at] + struct.pack(">i", fields["nodes_count"]) + data[at + 4:]
     if "bank_len" in fields:
         at = len(data) - len(bank) - 8
@@ -153,3 +220,43 @@ def test_the_scheduled_bank_name_says_how_to_build_it_when_missing(tmp_path, mon
     with pytest.raises(banks.BankError):
         banks.load_bank("scheduled")  # the generator was called but wrote nothing
     assert built == [banks.scheduled_bank_path()]
+
+
+def test_configuration_layers_follow_the_law_on_the_trims_and_switch_at_once(tmp_path):
+    """Two nodes on a Mach axis, alpha (x_trim[1]) 0 and 1 rad with a switch at 0.5: own layers
+    0 and 1, each also covered in the other layer (x_trim[0] marks the layer: 0 or 100). The
+    law on the interpolated alpha a (the Mach fraction here) gives layer 0 for a <= 0.5, else
+    1, whatever the blend step; nodes of the layer in force only."""
+    nodes = []
+    for i in (0, 1):
+        for layer in (0, 1):
+            x = np.zeros(names.NX)
+            x[0], x[1] = 100.0 * layer, float(i)
+            nodes.append((i, 0, synthetic_bank(names.ALL_HYPOTHESES, seed=1 + 2 * i + layer), x, None, layer))
+    path = tmp_path / "layers.f16sched"
+    core.save_schedule([0.4, 0.6], [20000.0], nodes, primary=0, path=path, switch_state=1, switch_thresholds=[0.5])
+    bank = core.load_bank(path)
+    assert bank.schedule["switch_state"] == 1 and bank.schedule["switch_thresholds"] == (0.5,)
+    assert [n["layer"] for n in bank.schedule["nodes"]] == [0, 1, 0, 1]
+    hb = core.HierarchicalBank(bank, air_data_time_constant_s=0.0, blend_step_cells=0.9)
+    hb.schedule(0.46, 20000.0)   # a = 0.3: layer 0
+    st = hb.schedule_state
+    assert st["layer"] == 0 and st["x_trim"][0] == 0.0
+    np.testing.assert_allclose(st["x_trim"][1], 0.3, rtol=1e-12)
+    blends = st["blends"]
+    hb.schedule(0.54, 20000.0)   # a = 0.7, moved 0.4 < blend step: layer 1, re-blended at once
+    st = hb.schedule_state
+    assert st["layer"] == 1 and st["blends"] == blends + 1
+    np.testing.assert_allclose(st["x_trim"][0], 100.0, rtol=1e-12)
+    near = core.HierarchicalBank(bank, air_data_time_constant_s=0.0, schedule_mode="nearest")
+    near.schedule(0.46, 20000.0)
+    assert near.schedule_state["layer"] == 0 and near.schedule_state["nodes"] == [(0.4, 20000.0)]
+    near.schedule(0.52, 20000.0)   # a = 0.6: layer 1, the node at Mach 0.6 in it
+    assert near.schedule_state["layer"] == 1 and near.schedule_state["nodes"] == [(0.6, 20000.0)]
+    with pytest.raises(ValueError, match=r"nodes\[1\] covers grid index \(0, 0\) in layer 0 a second time"):
+        core.save_schedule([0.4, 0.6], [20000.0], [nodes[0], nodes[0]], primary=0, path=tmp_path / "x",
+                           switch_state=1, switch_thresholds=[0.5])
+    with pytest.raises(ValueError, match=r"nodes\[1\]\.layer = 1 is outside \[0, 0\]"):
+        core.save_schedule([0.4, 0.6], [20000.0], nodes[:2], primary=0, path=tmp_path / "x")
+    with pytest.raises(ValueError, match=r"switch_state = 1 with 0 switch_thresholds"):
+        core.save_schedule([0.4, 0.6], [20000.0], nodes[:1], primary=0, path=tmp_path / "x", switch_state=1)

@@ -19,7 +19,8 @@ from typing import Callable
 
 from . import core
 from .errors import F16mmaeError
-from .names import SCHEDULE_GRID, SCHEDULE_NODE_TUNING, SCHEDULED_BANK, SHIPPED_TUNINGS
+from .names import (SCHEDULE_DESIGN_REVISION, SCHEDULE_GRID, SCHEDULE_NODE_TUNING, SCHEDULED_BANK,
+                    SHIPPED_TUNINGS)
 
 #: Where the shipped nominal banks live.
 DATA_DIR = Path(__file__).resolve().parent / "data"
@@ -40,13 +41,13 @@ def register_schedule_generator(generate: Callable[[Path], None]) -> None:
 
 
 def scheduled_bank_path() -> Path:
-    """Where the ``scheduled`` bank is cached. Its name carries a hash of the grid, the node tuning and of the
-    shipped tuned bank (which changes whenever the truth model or the tuning is re-calibrated),
+    """Where the ``scheduled`` bank is cached. Its name carries a hash of the grid, the node tuning, the
+    design's revision and of the shipped tuned bank (which changes whenever the truth model or the tuning is re-calibrated),
     so a stale schedule is never picked up."""
     nominal = DATA_DIR / "nominal_tuned.f16bank"
     with open(nominal, "rb") as f:
         header = f.read(52)  # magic, version, size, SHA-256 of the payload
-    key = hashlib.sha256(f"{SCHEDULE_GRID};{SCHEDULE_NODE_TUNING}".encode() + header[20:52]).hexdigest()[:16]
+    key = hashlib.sha256(f"{SCHEDULE_GRID};{SCHEDULE_NODE_TUNING};{SCHEDULE_DESIGN_REVISION}".encode() + header[20:52]).hexdigest()[:16]
     base = os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "f16mmae")
     return Path(base) / "banks" / f"scheduled_tuned_{key}.f16sched"
 

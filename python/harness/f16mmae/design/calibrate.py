@@ -207,8 +207,13 @@ def run_calibration(lin=None, gust_model: str = "gust_rate") -> tuple[Tuning, li
 NODE_TUNING_SUFFIX = "@node"
 
 
+def node_flights(mach: float, alt_ft: float, turbulence: str) -> list:
+    """The no-failure tuning flights (seeds ``SEEDS``, raw feedback) at one design point."""
+    return [fly_closed_loop(mach, alt_ft, seed=s, turbulence_level=turbulence) for s in SEEDS]
+
+
 def calibrate_node(mach: float, alt_ft: float, base: Tuning, linearized=None,
-                   iterations: int = 12) -> tuple[Tuning, ResidualStats, ResidualStats]:
+                   iterations: int = 12, flights=None) -> tuple[Tuning, ResidualStats, ResidualStats]:
     """Stage 1 at one design point of a schedule: fly the no-failure tuning flights (seeds
     ``SEEDS``, light turbulence, raw feedback) at (mach, alt_ft) and move ``base``'s knobs
     (KNOBS) toward var/A = 1 there, as ``calibrate`` does at the nominal point.
@@ -217,11 +222,36 @@ def calibrate_node(mach: float, alt_ft: float, base: Tuning, linearized=None,
     and its 44 flights per node would dominate the design time.  ``base``'s estimator
     settings are kept.  Returns the node's tuning (named ``base.name + NODE_TUNING_SUFFIX``),
     and the NONE filter's residual statistics under ``base`` and under the result.
+    ``flights``: ``node_flights(mach, alt_ft, base.turbulence)`` if already flown.
     Deterministic for given (mach, alt_ft, base)."""
     lin = linearized if linearized is not None else linearize_truth(mach, alt_ft)
-    flights = [fly_closed_loop(mach, alt_ft, seed=s, turbulence_level=base.turbulence) for s in SEEDS]
+    flights = flights if flights is not None else node_flights(mach, alt_ft, base.turbulence)
     tun, hist = calibrate(base, flights, lin, iterations=iterations, name=base.name + NODE_TUNING_SUFFIX)
     return tun, hist[0], hist[-1]
+
+
+def adaptation_reference(design, flights) -> float:
+    """The turbulence adaptation's reference rho_0 for a bank (cpp/f16mmae/turbulence_adaptation.h):
+    the mean over ``flights``' frames (first second of each dropped) of min_k q_k / m, the
+    quadratic forms of the level-0 hypotheses (NONE and the single failures) run as one
+    core.FilterBank over the records -- the power ratio the adaptation reads in the turbulence
+    the flights were flown in, so that it tempers only above it.  Rounded to 3 digits."""
+    from .. import core
+
+    models = [core.FilterModel(phi=f.model.phi, bd=f.model.bd, h=f.model.h, k=f.gains.k, a=f.gains.a)
+              for f in design.filters if f.name in names.SINGLE_HYPOTHESES]
+    if len(models) != names.K_BANK:
+        raise ValueError(f"adaptation_reference needs the {names.K_BANK} level-0 filters, the design has {len(models)}")
+    bank = core.FilterBank(models)
+    ratios = []
+    for fl in flights:
+        bank.reset()
+        for i in range(len(fl.z)):
+            bank.update(fl.z[i])
+            if i >= names.FRAME_RATE_HZ:
+                ratios.append(float(np.min(bank.quadratic_forms)) / names.NZ)
+            bank.propagate(fl.u[i])
+    return round(float(np.mean(ratios)), 3)
 
 
 def write_nominal_banks(lin) -> None:

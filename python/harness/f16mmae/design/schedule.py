@@ -2,8 +2,11 @@
 envelope, written as one scheduled-bank file (``cpp/bankfile/schedule_file.h``) that the core
 schedules on measured air data (``cpp/f16mmae/scheduled_filters.h``).
 
-Every covered point is the ordinary design (``design_bank``) with the same tuning at every
-point (a per-point retune is not done).  A point whose truth cannot trim is left out of the
+Every covered point is the ordinary design (``design_bank``), with the given tuning at every
+point (``--node-tuning fixed``) or with its pseudonoise calibrated at the point (``calibrated``,
+the default: ``calibrate.calibrate_node``), which also measures the point's turbulence
+adaptation reference (``calibrate.adaptation_reference``: the power ratio its bank reads in
+light turbulence) and stores it with the node.  A point whose truth cannot trim is left out of the
 grid and listed in the metadata; the core clamps air data to the grid and falls back to the
 nearest covered node where a cell lacks a corner.  Each node also stores its trim state
 ``x_trim`` (the absolute state its filters' perturbation states are taken from): body u and
@@ -30,7 +33,7 @@ from .. import banks, names
 from ..errors import F16mmaeError
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
-from .calibrate import SEEDS, calibrate_node
+from .calibrate import SEEDS, adaptation_reference, calibrate_node, node_flights
 from .gains import DesignError
 from .model import linearize_truth
 from .tuning import load_tuning
@@ -107,23 +110,29 @@ DEFAULT_NODE_TUNING = names.SCHEDULE_NODE_TUNING
 
 def _design_point(args):
     """One grid point in a worker: (i, j, ModelBank or None, x_trim, reason, seconds, node
-    record).  The node record holds the node's knobs and its NONE filter's var/A (calibrated)."""
+    record, adaptation reference or None).  Calibrated: the node record holds the node's knobs,
+    its NONE filter's var/A and its adaptation reference (``calibrate.adaptation_reference``
+    on the same tuning flights)."""
     i, j, mach, alt_ft, tuning, node_tuning = args
     t0 = time.perf_counter()
-    record = {}
+    record, reference = {}, None
     try:
         lin = linearize_truth(mach, alt_ft)
         tun = load_tuning(tuning)
         if node_tuning == "calibrated":
-            tun, before, after = calibrate_node(mach, alt_ft, tun, linearized=lin)
+            flights = node_flights(mach, alt_ft, tun.turbulence)
+            tun, before, after = calibrate_node(mach, alt_ft, tun, linearized=lin, flights=flights)
             record = {"knobs": {k: v for f in ("qd_longitudinal", "r_pseudonoise", "qd_lateral")
                                 for k, v in sorted(getattr(tun, f).items())},
                       "var_over_a_before": [round(float(v), 3) for v in before.var_over_a],
                       "var_over_a_after": [round(float(v), 3) for v in after.var_over_a]}
         design = design_bank(mach, alt_ft, tun, linearized=lin)
+        if node_tuning == "calibrated":
+            reference = adaptation_reference(design, flights)
+            record["adapt_reference"] = reference
     except (TrimError, DesignError) as exc:
-        return i, j, None, None, str(exc), time.perf_counter() - t0, record
-    return i, j, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0, record
+        return i, j, None, None, str(exc), time.perf_counter() - t0, record, None
+    return i, j, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0, record, reference
 
 
 def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "scheduled.f16sched",
@@ -152,11 +161,11 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[5]:.1f} s)")
     nodes, skipped, node_records = [], [], []
     for i, j, *_ in points:  # grid order: deterministic whatever order the workers finish in
-        _, _, bank, xt, reason, _, record = results[(i, j)]
+        _, _, bank, xt, reason, _, record, reference = results[(i, j)]
         if bank is None:
             skipped.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], "reason": reason})
         else:
-            nodes.append((i, j, bank, xt))
+            nodes.append((i, j, bank, xt) if reference is None else (i, j, bank, xt, reference))
             if record:
                 node_records.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], **record})
     if not nodes:
@@ -175,7 +184,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "tuning": tuning_obj.name,
         "node_tuning": node_tuning,
         "tuning_note": ("stage 1 of design/calibrate.py at every node from this tuning (no-failure "
-                        f"flights on the tuning seeds {SEEDS[0]}-{SEEDS[-1]} at the node); "
+                        f"flights on the tuning seeds {SEEDS[0]}-{SEEDS[-1]} at the node), and the "
+                        "turbulence adaptation's reference measured on the same flights; "
                         "estimator settings of this tuning" if node_tuning == "calibrated"
                         else "the same tuning at every point (no per-point retune)"),
         "nodes": node_records,

@@ -255,18 +255,26 @@ def get_surfaces(fdm: jsbsim.FGFDMExec) -> np.ndarray:
     return np.array([fdm[p] for p in SURFACE_PROPERTIES])
 
 
-def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float) -> TrimPoint:
+def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float | None = None) -> TrimPoint:
     """Trim ``fdm`` (a derived aircraft from :func:`load_fdm`) in wings-level, straight, level
     flight at (mach, alt_ft) with JSBSim's full trim; fold the trim commands into the five
-    surface positions.  Raises ValueError outside the envelope, TrimError if no trim exists."""
+    surface positions.  The leading-edge flap follows :func:`lef_schedule_rad` at the trim's
+    alpha (iterated from the flap out), or is held at ``lef_rad`` (the other configuration of a
+    point near the flap's switch, for a design: design/schedule.py).  Raises ValueError outside
+    the envelope, TrimError if no trim exists."""
     check_flight_condition(mach, alt_ft)
-    lef = lef_schedule_rad(0.15, mach)  # first guess: alpha above 5 deg
-    for _ in range(3):
+    if lef_rad is not None:
+        lef = float(lef_rad)
         _trim_once(fdm, mach, alt_ft, lef)
-        new_lef = lef_schedule_rad(fdm["aero/alpha-rad"], mach)
-        if new_lef == lef:
-            break
-        lef = new_lef
+    else:
+        lef = lef_schedule_rad(0.15, mach)  # first guess: alpha above 5 deg
+        for _ in range(3):
+            _trim_once(fdm, mach, alt_ft, lef)
+            new_lef = lef_schedule_rad(fdm["aero/alpha-rad"], mach)
+            if new_lef == lef:
+                break
+            lef = new_lef
+        lef = fdm["fcs/lef-pos-rad"]  # the flap the aircraft was trimmed with
     e_max, a_max, r_max = actuators.TRIM_COMMAND_SCALE_RAD
     de = e_max * (fdm["fcs/elevator-cmd-norm"] + fdm["fcs/pitch-trim-cmd-norm"])
     da = a_max * (fdm["fcs/aileron-cmd-norm"] + fdm["fcs/roll-trim-cmd-norm"])
@@ -366,11 +374,11 @@ def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float
 
 
 def trimmed_fdm(mach: float = 0.4, alt_ft: float = 20_000.0, seed: int = 1,
-                dt_s: float = 1.0 / SIM_RATE_HZ) -> tuple[jsbsim.FGFDMExec, TrimPoint]:
-    """A trimmed derived aircraft at (mach, alt_ft) and its TrimPoint.
+                dt_s: float = 1.0 / SIM_RATE_HZ, lef_rad: float | None = None) -> tuple[jsbsim.FGFDMExec, TrimPoint]:
+    """A trimmed derived aircraft at (mach, alt_ft) and its TrimPoint (``lef_rad``: see :func:`trim`).
 
     The five surface positions are then set with :func:`set_surfaces` (rad, no actuator
     dynamics); read measurements with ``sensors.ideal(fdm)``.
     """
     fdm = load_fdm(seed=seed, dt_s=dt_s)
-    return fdm, trim(fdm, mach, alt_ft)
+    return fdm, trim(fdm, mach, alt_ft, lef_rad)

@@ -52,7 +52,11 @@ core.load_bank, every --bank option and mmae-daemon --bank read. GRID is
 mach=START:STOP:STEP,alt=START:STOP:STEP (or lists mach=0.3/0.4/0.6); default
 {DEFAULT_GRID}. Points that do not trim are left out (listed in the file's metadata);
 the estimator clamps air data to the grid and uses the nearest covered point where a grid
-cell lacks a corner. Deterministic; the points are designed on --workers processes.
+cell lacks a corner. Where a cell straddles a switch of the leading-edge flap (the truth's
+flap follows trim alpha: 0 below 5 deg, 15 deg of flap to 15 deg, 25 above), its corners are
+also designed in the other flap position (--flap-layers on, the default), and the estimator
+blends the cell within the position its interpolated trim alpha calls for (off: one bank per
+point, blended across the switch). Deterministic; the points are designed on --workers processes.
 
 Flight condition: Mach 0.3-0.8, 5,000-35,000 ft (level trim).
 Tunings: 'tuned' (the project's design, from measured residual statistics against the
@@ -109,14 +113,17 @@ def register(subparsers) -> None:
                    help=f"--schedule: the tuning re-calibrated at every node (stage 1 of design/calibrate.py, "
                         f"no-failure flights on the tuning seeds at the node), or the same at every node "
                         f"(default {DEFAULT_NODE_TUNING})")
+    p.add_argument("--flap-layers", default=None, metavar="on|off",
+                   help="--schedule: design a straddling cell's corners in the other leading-edge-flap position "
+                        "too, and schedule the flap law (default on)")
     p.set_defaults(func=_run)
 
 
 def _run(args) -> int:
     if args.schedule is not None:
         return _run_schedule(args)
-    if args.node_tuning is not None:
-        raise CliError("--node-tuning applies to a scheduled design; give --schedule [GRID] too")
+    if args.node_tuning is not None or args.flap_layers is not None:
+        raise CliError("--node-tuning and --flap-layers apply to a scheduled design; give --schedule [GRID] too")
     mach = number("--mach", args.mach)
     alt_ft = number("--alt-ft", args.alt_ft)
     if not MACH_RANGE[0] <= mach <= MACH_RANGE[1]:
@@ -201,19 +208,23 @@ def _run_schedule(args) -> int:
     node_tuning = args.node_tuning or DEFAULT_NODE_TUNING
     if node_tuning not in NODE_TUNINGS:
         raise CliError(f"--node-tuning {node_tuning!r}: valid: {', '.join(NODE_TUNINGS)}")
+    if args.flap_layers not in (None, "on", "off"):
+        raise CliError(f"--flap-layers {args.flap_layers!r}: valid: on, off")
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}.f16sched", "--out")
     how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
     print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
           f"tuning {how} {tuning.name}", flush=True)
     try:
         s = design_schedule(grid, args.tuning, out, workers=workers,
-                            progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning)
+                            progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning,
+                            flap_layers=args.flap_layers != "off")
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:
         raise CliError(f"cannot write --out {out}: {exc}") from None
-    print(f"scheduled bank {s['path']}: {s['covered']} points covered, {len(s['skipped'])} left out "
-          f"(do not trim), {s['bytes'] / 1e6:.1f} MB, content hash {s['content_hash']}")
+    print(f"scheduled bank {s['path']}: {s['covered']} banks ({s['alternates']} of them in the other flap "
+          f"position), {len(s['skipped'])} left out (do not trim), {s['bytes'] / 1e6:.1f} MB, "
+          f"content hash {s['content_hash']}")
     for p in s["skipped"]:
         print(f"  left out: Mach {p['mach']:g}, {p['alt_ft']:.0f} ft: {p['reason']}")
     print(f"  designed in {s['wall_s']:.1f} s wall ({s['design_s']:.1f} s of design over the workers); "

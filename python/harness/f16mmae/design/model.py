@@ -129,10 +129,11 @@ def zero_order_dryden_qc(sigma_fps: np.ndarray, vt_fps: float, gust_model: str =
     raise ValueError(f"unknown gust model {gust_model!r}; valid: {', '.join(GUST_MODELS)}")
 
 
-def linearize_truth(mach: float, alt_ft: float) -> LinearizedTrim:
-    """Trim the truth model's derived aircraft at (mach, alt_ft) and linearize it.
+def linearize_truth(mach: float, alt_ft: float, lef_rad: float | None = None) -> LinearizedTrim:
+    """Trim the truth model's derived aircraft at (mach, alt_ft) (the leading-edge flap on its
+    schedule, or held at ``lef_rad``: ``aircraft.trim``) and linearize it.
     Raises ValueError outside the envelope, ``aircraft.TrimError`` when no trim exists."""
-    fdm, trim = aircraft.trimmed_fdm(mach=mach, alt_ft=alt_ft)
+    fdm, trim = aircraft.trimmed_fdm(mach=mach, alt_ft=alt_ft, lef_rad=lef_rad)
     lin = finite_difference(fdm, aircraft.set_surfaces, sensors.ideal, trim.u_rad)
     return LinearizedTrim(trim=trim, lin=lin)
 

@@ -13,6 +13,14 @@ nearest covered node where a cell lacks a corner.  Each node also stores its tri
 alpha from the trim's noise-free measurements, theta, the five surfaces at their trim
 commands, zero rates, sideslip and bank.
 
+Leading-edge flap (the truth holds it where the trim's alpha puts it: ``aircraft.lef_schedule_rad``,
+a switch at 5 and 15 deg that crosses the grid near q̄ 170 lbf/ft^2 and at low Mach high up):
+each node is designed in its own flap position, its configuration layer; a cell whose corners
+are in different positions gets its corners designed in the others too (the flap held there,
+the node's own tuning and reference), and the file carries the flap law (layers switched on
+the interpolated trim alpha), so the core blends the filters of one aircraft configuration,
+never two (``cpp/f16mmae/bank_schedule.h``).
+
 Deterministic: the same grid and tuning give the same file byte for byte (nodes in grid
 order; the metadata holds no time or host).  The points are designed in parallel (a process
 pool, ``workers``), the file written once all are in.
@@ -31,7 +39,7 @@ import numpy as np
 
 from .. import banks, names
 from ..errors import F16mmaeError
-from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
+from ..truth.aircraft import ALT_FT_RANGE, LEF_ALPHA_SWITCH_RAD, LEF_POSITIONS_RAD, MACH_RANGE, TrimError
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
 from .calibrate import SEEDS, adaptation_reference, calibrate_node, node_flights
 from .gains import DesignError
@@ -108,18 +116,28 @@ NODE_TUNINGS: tuple[str, ...] = ("calibrated", "fixed")
 DEFAULT_NODE_TUNING = names.SCHEDULE_NODE_TUNING
 
 
+def _layer(lef_rad: float) -> int:
+    """The configuration layer of a leading-edge flap position (``aircraft.LEF_POSITIONS_RAD``)."""
+    return int(np.argmin([abs(lef_rad - p) for p in LEF_POSITIONS_RAD]))
+
+
 def _design_point(args):
-    """One grid point in a worker: (i, j, ModelBank or None, x_trim, reason, seconds, node
-    record, adaptation reference or None).  Calibrated: the node record holds the node's knobs,
-    its NONE filter's var/A and its adaptation reference (``calibrate.adaptation_reference``
-    on the same tuning flights)."""
-    i, j, mach, alt_ft, tuning, node_tuning = args
+    """One design in a worker: (i, j, layer, ModelBank or None, x_trim, reason, seconds, node
+    record, tuning, adaptation reference or None).  ``lef_rad`` None: the point in its own
+    configuration (the flap on the truth's schedule), the tuning calibrated there if
+    ``node_tuning`` is ``calibrated`` (the node record then holds the knobs, the NONE filter's
+    var/A and the adaptation reference, ``calibrate.adaptation_reference`` on the same tuning
+    flights); else the flap held at ``lef_rad`` with ``tuning`` and ``reference`` as given (the
+    node's own: the truth never flies the point in that configuration, so there is nothing to
+    calibrate on)."""
+    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference = args
     t0 = time.perf_counter()
-    record, reference = {}, None
+    record, layer, tun = {}, 0, None
     try:
-        lin = linearize_truth(mach, alt_ft)
-        tun = load_tuning(tuning)
-        if node_tuning == "calibrated":
+        lin = linearize_truth(mach, alt_ft, lef_rad)
+        layer = _layer(lin.trim.lef_rad)
+        tun = load_tuning(tuning) if isinstance(tuning, str) else tuning
+        if node_tuning == "calibrated" and lef_rad is None:
             flights = node_flights(mach, alt_ft, tun.turbulence)
             tun, before, after = calibrate_node(mach, alt_ft, tun, linearized=lin, flights=flights)
             record = {"knobs": {k: v for f in ("qd_longitudinal", "r_pseudonoise", "qd_lateral")
@@ -127,19 +145,39 @@ def _design_point(args):
                       "var_over_a_before": [round(float(v), 3) for v in before.var_over_a],
                       "var_over_a_after": [round(float(v), 3) for v in after.var_over_a]}
         design = design_bank(mach, alt_ft, tun, linearized=lin)
-        if node_tuning == "calibrated":
+        if node_tuning == "calibrated" and lef_rad is None:
             reference = adaptation_reference(design, flights)
             record["adapt_reference"] = reference
     except (TrimError, DesignError) as exc:
-        return i, j, None, None, str(exc), time.perf_counter() - t0, record, None
-    return i, j, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0, record, reference
+        return i, j, layer, None, None, str(exc), time.perf_counter() - t0, record, tun, None
+    return (i, j, layer, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0, record, tun,
+            reference)
+
+
+def alternate_nodes(grid: Grid, own: dict[tuple[int, int], int]) -> list[tuple[int, int, int]]:
+    """(i, j, layer) of the designs a cell whose covered corners ``own`` (grid index -> own
+    configuration layer) straddle a flap switch needs: every covered corner in every layer
+    another corner of the cell has, so the cell can be blended within the configuration in
+    force (bank_schedule.h configuration layers).  Sorted: deterministic."""
+    out = set()
+    for i in range(max(len(grid.mach) - 1, 1)):
+        for j in range(max(len(grid.alt_ft) - 1, 1)):
+            corners = [c for c in ((i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)) if c in own]
+            layers = {own[c] for c in corners}
+            if len(layers) > 1:
+                out |= {(c[0], c[1], layer) for c in corners for layer in layers if layer != own[c]}
+    return sorted(out)
 
 
 def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "scheduled.f16sched",
                     workers: int | None = None,
                     progress: Callable[[str], None] | None = None,
-                    node_tuning: str = DEFAULT_NODE_TUNING) -> dict:
-    """Design every grid point (in ``workers`` processes, default all cores), write the file.
+                    node_tuning: str = DEFAULT_NODE_TUNING, flap_layers: bool = True) -> dict:
+    """Design every grid point (in ``workers`` processes, default all cores), then, with
+    ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
+    other configuration (``alternate_nodes``), and write the file with the flap law (switch on
+    trim alpha at ``aircraft.LEF_ALPHA_SWITCH_RAD``); without, one layer (every node in layer 0,
+    blended across the switch).
     ``node_tuning`` (NODE_TUNINGS): ``tuning`` at every node, or calibrated at each node from it.
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
@@ -149,23 +187,33 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     if node_tuning not in NODE_TUNINGS:
         raise ScheduleSpecError(f"node tuning {node_tuning!r} is not one of {', '.join(NODE_TUNINGS)}")
     tuning_obj = load_tuning(tuning)
-    points = [(i, j, m, a, tuning, node_tuning) for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
+    points = [(i, j, m, a, tuning, node_tuning, None, None)
+              for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     t0 = time.perf_counter()
-    results = {}
+    results, alternates = {}, {}
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
         for n, r in enumerate(pool.map(_design_point, points), start=1):
             results[(r[0], r[1])] = r
             if progress:
                 m, a = grid.mach[r[0]], grid.alt_ft[r[1]]
-                state = "skipped: " + r[4] if r[2] is None else "designed"
-                progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[5]:.1f} s)")
+                state = "skipped: " + r[5] if r[3] is None else f"designed (flap layer {r[2]})"
+                progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[6]:.1f} s)")
+        own = {k: r[2] for k, r in results.items() if r[3] is not None}
+        tasks = [] if not flap_layers else [(i, j, grid.mach[i], grid.alt_ft[j], results[(i, j)][8], node_tuning, LEF_POSITIONS_RAD[layer],
+                  results[(i, j)][9]) for i, j, layer in alternate_nodes(grid, own)]
+        for n, r in enumerate(pool.map(_design_point, tasks), start=1):
+            alternates[(r[0], r[1], r[2])] = r
+            if progress:
+                state = "skipped: " + r[5] if r[3] is None else "designed"
+                progress(f"[{n}/{len(tasks)}] Mach {grid.mach[r[0]]:.2f}, {grid.alt_ft[r[1]]:.0f} ft, flap layer "
+                         f"{r[2]}: {state} ({r[6]:.1f} s)")
     nodes, skipped, node_records = [], [], []
-    for i, j, *_ in points:  # grid order: deterministic whatever order the workers finish in
-        _, _, bank, xt, reason, _, record, reference = results[(i, j)]
+    for key in [(p[0], p[1]) for p in points] + sorted(alternates):  # grid order, then the alternates
+        i, j, layer, bank, xt, reason, _, record, _, reference = (results[key] if len(key) == 2 else alternates[key])
         if bank is None:
-            skipped.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], "reason": reason})
+            skipped.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], "layer": layer, "reason": reason})
         else:
-            nodes.append((i, j, bank, xt) if reference is None else (i, j, bank, xt, reference))
+            nodes.append((i, j, bank, xt, reference, layer if flap_layers else 0))
             if record:
                 node_records.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], **record})
     if not nodes:
@@ -179,7 +227,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "design_version": DESIGN_VERSION,
         "jsbsim_version": jsbsim.__version__,
         "command": (f"f16mmae design --schedule {format_spec(grid)} --tuning {tuning_obj.name} "
-                    f"--node-tuning {node_tuning}"),
+                    f"--node-tuning {node_tuning} --flap-layers {'on' if flap_layers else 'off'}"),
         "grid": {"mach": list(grid.mach), "alt_ft": list(grid.alt_ft)},
         "tuning": tuning_obj.name,
         "node_tuning": node_tuning,
@@ -188,6 +236,11 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                         "turbulence adaptation's reference measured on the same flights; "
                         "estimator settings of this tuning" if node_tuning == "calibrated"
                         else "the same tuning at every point (no per-point retune)"),
+        "flap_layers": None if not flap_layers else {"positions_rad": list(LEF_POSITIONS_RAD), "alpha_switch_rad": list(LEF_ALPHA_SWITCH_RAD),
+                        "alternates": [{"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], "layer": layer}
+                                       for i, j, layer in sorted(alternates)],
+                        "note": "a straddling cell's corners in the other flap position: the node's own "
+                                "tuning and adaptation reference, the trim and dynamics with the flap held"},
         "nodes": node_records,
         "skipped": skipped,
     }
@@ -195,10 +248,12 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     path.parent.mkdir(parents=True, exist_ok=True)
     content_hash = core.save_schedule(list(grid.mach), list(grid.alt_ft), nodes, primary=primary,
                                       metadata=json.dumps(metadata, sort_keys=True, separators=(",", ":")),
-                                      path=str(path))
+                                      path=str(path), switch_state=names.STATES.index("alpha_rad") if flap_layers else -1,
+                                      switch_thresholds=list(LEF_ALPHA_SWITCH_RAD) if flap_layers else [])
     return {"path": str(path), "content_hash": content_hash, "covered": len(nodes), "skipped": skipped,
+            "alternates": len([a for a in alternates.values() if a[3] is not None]),
             "bytes": path.stat().st_size, "wall_s": time.perf_counter() - t0,
-            "design_s": sum(r[5] for r in results.values()),
+            "design_s": sum(r[6] for r in results.values()) + sum(r[6] for r in alternates.values()),
             "primary": (grid.mach[nodes[primary][0]], grid.alt_ft[nodes[primary][1]])}
 
 

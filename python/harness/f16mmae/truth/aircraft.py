@@ -223,15 +223,18 @@ def load_fdm(seed: int = 1, dt_s: float = 1.0 / SIM_RATE_HZ, stock: bool = False
     return fdm
 
 
+#: The leading-edge flap's positions (rad) below Mach 0.9, and the trim alphas (rad) above
+#: which it takes the next one (:func:`lef_schedule_rad`; the scheduled design's
+#: configuration layers, design/schedule.py).
+LEF_POSITIONS_RAD: tuple[float, ...] = (0.0, 0.262, 0.436)
+LEF_ALPHA_SWITCH_RAD: tuple[float, ...] = (0.0873, 0.2618)
+
+
 def lef_schedule_rad(alpha_rad: float, mach: float) -> float:
     """Leading-edge flap (rad) from the stock F-16 FCS schedule, gear up, in flight."""
     if mach > 0.9:
         return -0.0349
-    if alpha_rad > 0.2618:
-        return 0.436
-    if alpha_rad > 0.0873:
-        return 0.262
-    return 0.0
+    return LEF_POSITIONS_RAD[sum(alpha_rad > a for a in LEF_ALPHA_SWITCH_RAD)]
 
 
 def check_flight_condition(mach: float, alt_ft: float) -> None:

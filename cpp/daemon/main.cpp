@@ -98,7 +98,10 @@ int main(int argc, char** argv) {
     options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     options.bank.adaptation.enabled = cfg.adapt_turbulence;
-    if (cfg.adapt_reference) options.bank.adaptation.reference = *cfg.adapt_reference;
+    if (cfg.adapt_reference) {   // one reference everywhere; else a schedule's per-node ones, if it has them
+      options.bank.adaptation.reference = *cfg.adapt_reference;
+      options.schedule.node_adapt_reference = false;
+    }
     options.trim.time_constant_s = cfg.trim_time_constant_s;
     if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
     if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
@@ -147,10 +150,12 @@ int main(int argc, char** argv) {
                                    ? "trim tracking " + f16mmae::format_value(options.trim.time_constant_s) + " s (freeze above " +
                                          f16mmae::format_value(options.trim.freeze_probability) + ")"
                                    : std::string("no trim tracking");
-      const std::string adaptation = options.bank.adaptation.enabled
-                                         ? "turbulence adaptation (reference " +
-                                               f16mmae::format_value(options.bank.adaptation.reference) + ")"
-                                         : std::string("no turbulence adaptation");
+      const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
+                                  options.schedule.node_adapt_reference;
+      const std::string adaptation = !options.bank.adaptation.enabled ? std::string("no turbulence adaptation")
+                                     : node_reference ? std::string("turbulence adaptation (reference per node)")
+                                                      : "turbulence adaptation (reference " +
+                                                            f16mmae::format_value(options.bank.adaptation.reference) + ")";
       std::string maneuver = options.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
       if (options.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(options.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";

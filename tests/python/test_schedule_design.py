@@ -14,7 +14,8 @@ import pytest
 from f16mmae import core
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.calibrate import calibrate_node
+from f16mmae.design.calibrate import adaptation_reference, calibrate_node, node_flights
+from f16mmae.design.model import linearize_truth
 from f16mmae.design.schedule import ScheduleSpecError, parse_grid, x_trim
 from f16mmae.design.tuning import load_tuning
 from f16mmae.loop.estimator import Estimator
@@ -37,14 +38,24 @@ def _hash(design) -> str:
 
 
 def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tuning(scheduled):
+    """Own nodes first (Mach 0.4 trims alpha 8.1 deg: flap 15 deg, layer 1; Mach 0.5 4.7 deg:
+    flap 0, layer 0), then the cell's corners in the other flap position (the flap held, the
+    node's tuning and reference), and the flap law on alpha at 5 and 15 deg."""
     s = scheduled.schedule
     assert s["mach"] == (0.4, 0.5) and s["alt_ft"] == (20000.0,)
-    assert [(n["mach"], n["alt_ft"]) for n in s["nodes"]] == [(0.4, 20000.0), (0.5, 20000.0)]
+    assert [(n["mach"], n["alt_ft"], n["layer"]) for n in s["nodes"]] == [
+        (0.4, 20000.0, 1), (0.5, 20000.0, 0), (0.4, 20000.0, 0), (0.5, 20000.0, 1)]
+    assert s["switch_state"] == 1 and s["switch_thresholds"] == (0.0873, 0.2618)
     assert scheduled.mach == 0.4  # the primary: nearest the nominal point
     tuning, _, _ = calibrate_node(0.5, 20000.0, load_tuning("tuned"))
     design = design_bank(0.5, 20000.0, tuning)
     node = s["nodes"][1]
     assert node["bank"].content_hash == _hash(design)
+    reference = adaptation_reference(design, node_flights(0.5, 20000.0, "light"))
+    assert node["adapt_reference"] == reference and 0.3 < reference < 2.0
+    flap_held = design_bank(0.5, 20000.0, tuning, linearized=linearize_truth(0.5, 20000.0, lef_rad=0.262))
+    assert s["nodes"][3]["bank"].content_hash == _hash(flap_held) != node["bank"].content_hash
+    assert s["nodes"][3]["adapt_reference"] == reference
     assert node["bank"].content_hash != _hash(design_bank(0.5, 20000.0, "tuned"))
     np.testing.assert_array_equal(node["x_trim"], x_trim(design))
     assert node["x_trim"][0] == pytest.approx(design.z_trim[0]) and node["x_trim"][8] == design.u_trim[0]
@@ -79,7 +90,8 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
                  "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "[1/1] Mach 0.50, 20000 ft: designed" in text and "tuning at every point: tuned" in text
-    assert f"scheduled bank {out}: 1 points covered, 0 left out" in text and "content hash" in text
+    assert f"scheduled bank {out}: 1 banks (0 of them in the other flap position), 0 left out" in text
+    assert "content hash" in text
     node = core.load_bank(out).schedule["nodes"][0]
     assert node["bank"].content_hash == _hash(design_bank(0.5, 20000.0, "tuned"))
 
@@ -87,7 +99,8 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
 @pytest.mark.parametrize("args, message", [
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "per-point"], "--node-tuning 'per-point': valid: "
                                                                          "calibrated, fixed"),
-    (["--node-tuning", "fixed"], "--node-tuning applies to a scheduled design; give --schedule"),
+    (["--node-tuning", "fixed"], "--node-tuning and --flap-layers apply to a scheduled design; give --schedule"),
+    (["--schedule", "mach=0.5,alt=20000", "--flap-layers", "maybe"], "--flap-layers 'maybe': valid: on, off"),
 ])
 def test_a_bad_node_tuning_is_refused_before_any_work(args, message, tmp_path, capsys):
     out = tmp_path / "x.f16sched"

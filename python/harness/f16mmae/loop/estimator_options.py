@@ -56,7 +56,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("adapt_reference", "--adapt-reference", "number", metavar="RHO", minimum=0.0, maximum=100.0,
                     requires="adapt_turbulence",
                     help="with --adapt-turbulence: the residual power ratio rho_0 above which the "
-                         "likelihoods are tempered (default 0.6; higher tempers less)"),
+                         "likelihoods are tempered (default: a scheduled bank's per-node references where "
+                         "it carries them, else 0.6; higher tempers less)"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "

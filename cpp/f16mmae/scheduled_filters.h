@@ -147,6 +147,15 @@ class ScheduledFilters {
       reference_.push_back(node.adapt_reference);
     }
     has_reference_ = schedule.has_adapt_reference();
+    const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
+    lookup_.assign(static_cast<std::size_t>(axes_.layers()) * ni * nj, -1);
+    lookup_any_.assign(lookup_.size(), -1);
+    for (int l = 0; l < axes_.layers(); ++l)
+      for (int i = 0; i < ni; ++i)
+        for (int j = 0; j < nj; ++j) {
+          lookup_[(static_cast<std::size_t>(l) * ni + i) * nj + j] = axes_.node_index(i, j, l);
+          lookup_any_[(static_cast<std::size_t>(l) * ni + i) * nj + j] = axes_.node_index_any(i, j, l);
+        }
     reset(start);
   }
 
@@ -271,7 +280,7 @@ class ScheduledFilters {
     double sum = 0.0, weight = 0.0;
     for (int k = 0; k < kCorners; ++k) {
       if (cell.w[k] == 0.0) continue;
-      const int n = axes_.node_index_any(ii[k], jj[k], 0);
+      const int n = index_any(ii[k], jj[k], 0);
       if (n < 0) continue;
       sum += cell.w[k] * x_trim_[n](axes_.switch_state);
       weight += cell.w[k];
@@ -288,8 +297,8 @@ class ScheduledFilters {
     const int i = cell.i, j = cell.j, i1 = cell.i1, j1 = cell.j1;
     const double a = g.s - i, b = g.t - j;
     const int layer = layer_now_ = layer_at(cell);
-    const std::array<int, kCorners> c = {axes_.node_index(i, j, layer), axes_.node_index(i1, j, layer),
-                                         axes_.node_index(i, j1, layer), axes_.node_index(i1, j1, layer)};
+    const std::array<int, kCorners> c = {index(i, j, layer), index(i1, j, layer), index(i, j1, layer),
+                                         index(i1, j1, layer)};
     std::array<double, kCorners> w = cell.w;
     int uncovered = 0, missing = -1;
     for (int k = 0; k < kCorners; ++k)
@@ -316,6 +325,14 @@ class ScheduledFilters {
     for (double v : w)
       if (v < 0.0) return false;
     return true;
+  }
+  // BankSchedule::node_index / node_index_any from the tables built at construction (grid
+  // indices within the axes).
+  int index(int i, int j, int layer) const noexcept {
+    return lookup_[(static_cast<std::size_t>(layer) * axes_.mach.size() + i) * axes_.alt_ft.size() + j];
+  }
+  int index_any(int i, int j, int layer) const noexcept {
+    return lookup_any_[(static_cast<std::size_t>(layer) * axes_.mach.size() + i) * axes_.alt_ft.size() + j];
   }
   // The filters in force follow the trims' corners and weights (and the reference with them).
   void take_filter_weights() noexcept {
@@ -379,7 +396,7 @@ class ScheduledFilters {
       bool covered = true;
       for (int j = 0; j < nm && covered; ++j)
         for (int k = 0; k < na && covered; ++k) {
-          nodes[j * 4 + k] = axes_.node_index_any(fm + j, fa + k, layer_now_);
+          nodes[j * 4 + k] = index_any(fm + j, fa + k, layer_now_);
           covered = nodes[j * 4 + k] >= 0 || wm[j] * wa[k] == 0.0;
         }
       if (!covered) continue;
@@ -424,6 +441,7 @@ class ScheduledFilters {
   std::vector<XVector> x_trim_;
   std::vector<OutputMatrix> h_out_;
   std::vector<double> reference_;     // per node adapt_reference (NaN: not carried)
+  std::vector<int> lookup_, lookup_any_;   // (layer, i, j) -> node_index, node_index_any
   bool has_reference_ = false;
   double reference_now_ = 0.0;        // blend of the filters in force
   int hypotheses_ = 0;

@@ -81,22 +81,23 @@ def bank_inputs() -> dict[str, bytes]:
 
 
 def schedule_inputs(bank) -> dict[str, bytes]:
-    """A scheduled-bank file of two nodes of the small bank (cpp/bankfile/schedule_file.h), its
+    """A scheduled-bank file of three nodes (two flap layers) of the small bank (cpp/bankfile/schedule_file.h), its
     payload alone, and one with a node count of 2^30 (hash recomputed)."""
     import tempfile
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "s.f16sched"
-        core.save_schedule([0.4, 0.5], [20000.0], [(0, 0, bank, [0.0, 0.0]), (1, 0, bank, [1.0, 0.0])],
-                           primary=0, metadata="{}", path=str(path))
+        core.save_schedule([0.4, 0.5], [20000.0], [(0, 0, bank, [0.0, 0.0], 0.7, 0), (1, 0, bank, [1.0, 0.0], 0.8, 1),
+                                                   (0, 0, bank, [0.1, 0.0], 0.7, 1)],
+                           primary=0, metadata="{}", path=str(path), switch_state=0, switch_thresholds=[0.5])
         data = path.read_bytes()
     payload = data[HEADER.size:]
-    at_nodes = 4 + 2 * 8 + 4 + 8 + 4 + 4 + 3  # axes, primary, metadata "{}"
+    at_nodes = 4 + 2 * 8 + 4 + 8 + 4 + 4 + 3 + 4 + 4 + 8  # axes, primary, metadata "{}", the flap law
     huge = payload[:at_nodes] + struct.pack(">i", 2**30) + payload[at_nodes + 4:]
     return {
         "schedule_valid_file": data,
         "schedule_valid_payload": payload,
-        "regress_schedule_nodes_2p30": HEADER.pack(b"F16MMAES", 1, len(huge), hashlib.sha256(huge).digest()) + huge,
+        "regress_schedule_nodes_2p30": HEADER.pack(b"F16MMAES", 2, len(huge), hashlib.sha256(huge).digest()) + huge,
     }
 
 

@@ -94,7 +94,7 @@ def fly_one(task) -> dict:
     if adapt:
         options["adapt_turbulence"] = True
     options.update(extra)
-    est = Estimator(bank, **options)
+    est = Estimator.fresh(bank, **options)   # one per process and bank, reset per flight
     result = fly(scenario, bank, estimator=est)
     scored = score_run(case, FAILURE_TIME_S if case != NONE else None, result.declarations)
     declared = [d["hypothesis"] if isinstance(d, dict) else str(d) for d in result.declarations]

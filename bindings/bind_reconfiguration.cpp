@@ -24,7 +24,7 @@ The control law's feedback when it is reconfigured only on a declaration:
 z_feedback[j] = z_hat[j] for every sensor j that the hypothesis names (its name split at '+'),
 z[j] otherwise. With NONE (or an actuator failure) current it is z itself.
 
-SensorReconfiguration(model_bank); apply(hypothesis, z, z_hat) -> z_feedback (7,);
+SensorReconfiguration(model_bank); apply(hypothesis, z, z_hat) -> z_feedback (nz,);
 failed_sensors(hypothesis) -> the names of the sensors it replaces. ValueError for an unknown
 hypothesis name or arrays of the wrong shape.)doc")
       .def(py::init([](const ModelBank& bank) {
@@ -55,7 +55,7 @@ hypothesis name or arrays of the wrong shape.)doc")
           "z with z_hat on the channels of the sensors failed under `hypothesis` (a name).")
       .def(
           "failed_sensors",
-          [](const SensorReconfiguration& r, const ModelBank& bank, const std::string& hypothesis) {
+          [](const SensorReconfiguration& r, const std::string& hypothesis) {
             int k = 0;
             try {
               k = r.index(hypothesis);
@@ -64,11 +64,10 @@ hypothesis name or arrays of the wrong shape.)doc")
             }
             std::vector<std::string> out;
             for (int j = 0; j < r.nz(); ++j)
-              if (r.failed(k, j)) out.push_back(bank.measurement_names[static_cast<std::size_t>(j)]);
+              if (r.failed(k, j)) out.push_back(r.sensor_name(j));
             return out;
           },
-          py::arg("model_bank"), py::arg("hypothesis"),
-          "The measurement names whose channel takes z_hat under `hypothesis`.");
+          py::arg("hypothesis"), "The measurement names whose channel takes z_hat under `hypothesis`.");
 }
 
 }  // namespace f16mmae::bindings

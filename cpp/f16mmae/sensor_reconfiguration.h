@@ -26,7 +26,7 @@ namespace f16mmae {
 
 class SensorReconfiguration {
  public:
-  explicit SensorReconfiguration(const ModelBank& bank) : nz_(bank.nz()) {
+  explicit SensorReconfiguration(const ModelBank& bank) : nz_(bank.nz()), sensors_(bank.measurement_names) {
     for (const auto& h : bank.hypotheses) {
       names_.push_back(h.name);
       std::vector<unsigned char> failed(static_cast<std::size_t>(nz_), 0);
@@ -45,6 +45,7 @@ class SensorReconfiguration {
   }
 
   int nz() const noexcept { return nz_; }
+  const std::string& sensor_name(int j) const { return sensors_.at(static_cast<std::size_t>(j)); }
   int hypothesis_count() const noexcept { return static_cast<int>(names_.size()); }
   // The index of a hypothesis by name; std::invalid_argument naming it if the bank has none.
   int index(const std::string& name) const {
@@ -77,6 +78,7 @@ class SensorReconfiguration {
   }
 
   int nz_ = 0;
+  std::vector<std::string> sensors_;
   std::vector<std::string> names_;
   std::vector<std::vector<unsigned char>> failed_;
 };

@@ -6,7 +6,10 @@ For each candidate (adapt on/off, time constant, scale floor) and turbulence lev
   - the single-failure cases (failure at 3 s of an 8-s flight) on the tuning campaign's seeds
     derived_seed("single", 1, case, n), n < --runs, counting correct final answers and
     false alarms (a declaration before the failure).
-Prints one line per (candidate, level).  Example:
+A candidate is "off", "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]" (the adaptation) or any
+estimator settings as "KEY=VALUE[,KEY=VALUE...]" (core.HierarchicalBank keywords, e.g.
+"p_min=1e-6,dwell_s=0.1").  Prints one line per (candidate, level), with the median and p95
+latency of the correct failure runs.  Example:
 
     .venv/bin/python tools/turbulence_tuning.py --levels none,light,moderate,severe \
         --candidates off on:5:1 on:10:1 --quiet-s 300 --runs 2 --workers 2
@@ -16,18 +19,26 @@ from __future__ import annotations
 import argparse
 import concurrent.futures as cf
 
+import numpy as np
+
 from f16mmae.banks import load_bank
 from f16mmae.loop.flight import fly
-from f16mmae.names import COMPONENTS, FAILURE_TIME_S, FLIGHT_S
+from f16mmae.names import ACTUATORS, COMPONENTS, FAILURE_TIME_S, FLIGHT_S, SENSORS
 from f16mmae.seeds import TUNING_FLIGHT_SEEDS, derived_seed, tuning_seeds
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 
 
 def options(candidate: str) -> dict:
-    """"off" or "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]" -> core.HierarchicalBank keyword arguments."""
+    """A candidate (module docstring) -> core.HierarchicalBank keyword arguments."""
     if candidate == "off":
         return {}
+    if "=" in candidate:
+        out = {}
+        for item in candidate.split(","):
+            key, _, value = item.partition("=")
+            out[key] = True if value == "true" else float(value)
+        return out
     parts = candidate.split(":")
     out = {"adapt_turbulence": True, "adapt_time_constant_s": float(parts[1]), "adapt_scale_min": float(parts[2])}
     if len(parts) > 3:
@@ -49,9 +60,12 @@ def flight(job):
     decl = r.declarations
     s = r.turbulence_scale
     if case == "NONE":
-        return candidate, level, case, sum(d["hypothesis"] != "NONE" for d in decl), 0, float(s.mean()), float(s.max())
+        return candidate, level, case, sum(d["hypothesis"] != "NONE" for d in decl), 0, float(s.mean()), float(s.max()), None
     early = any(d["time_s"] < FAILURE_TIME_S and d["hypothesis"] != "NONE" for d in decl)
-    return candidate, level, case, int(r.final_hypothesis == case), int(early), float(s.mean()), float(s.max())
+    correct = r.final_hypothesis == case
+    first = next((d["time_s"] for d in decl if d["hypothesis"] == case), None) if correct else None
+    latency = None if first is None else first - FAILURE_TIME_S
+    return candidate, level, case, int(correct), int(early), float(s.mean()), float(s.max()), latency
 
 
 def main() -> None:
@@ -83,8 +97,17 @@ def main() -> None:
         fail = [r for r in rs if r[0] != "NONE"]
         print(f"{c:14s} {lv:9s} quiet: {sum(r[1] for r in quiet):4d} false decl in {len(quiet) * a.quiet_s / 3600:.2f} h"
               f" (s mean {sum(r[3] for r in quiet) / len(quiet):.2f}, max {max(r[4] for r in quiet):.2f})"
-              f" | failures correct {sum(r[1] for r in fail)}/{len(fail)}, early FA {sum(r[2] for r in fail)}",
+              f" | failures correct {sum(r[1] for r in fail)}/{len(fail)}, early FA {sum(r[2] for r in fail)}"
+              f", latency {_latency(fail, ACTUATORS)} actuators, {_latency(fail, SENSORS)} sensors",
               flush=True)
+
+
+def _latency(rows, components) -> str:
+    """Median / p95 latency (s) of the correct runs of ``components``."""
+    lat = sorted(r[5] for r in rows if r[0] in components and r[5] is not None)
+    if not lat:
+        return "- / -"
+    return f"{float(np.median(lat)):.2f} / {float(np.percentile(lat, 95)):.2f} s"
 
 
 if __name__ == "__main__":

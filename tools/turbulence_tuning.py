@@ -6,9 +6,12 @@ it flies
     false declarations (any hypothesis other than NONE declared);
   - the single-failure cases (failure at 3 s of an 8-s flight) on the tuning campaign's seeds
     derived_seed("single", 1, case, n), n < --runs, counting correct final answers, false
-    alarms (a declaration before the failure), the median latency of the first correct
-    declaration and the cases missed.
-Prints one line per (candidate, level).  Example:
+    alarms (a declaration before the failure), the median and p95 latency of the first
+    correct declaration (actuators and sensors apart) and the cases missed.
+A candidate is "off", "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]" (the adaptation) or any
+estimator settings as "KEY=VALUE[,KEY=VALUE...]" (core.HierarchicalBank keywords, e.g.
+"p_min=1e-6,dwell_s=0.1"), either followed by "@DWELL_S" (the declaration dwell).  Prints one
+line per (candidate, level).  Example:
 
     .venv/bin/python tools/turbulence_tuning.py --levels none,light,moderate,severe \
         --candidates off on:5:1 on:10:1 --quiet-s 300 --runs 2 --workers 2
@@ -18,10 +21,12 @@ from __future__ import annotations
 import argparse
 import concurrent.futures as cf
 
+import numpy as np
+
 from f16mmae.banks import load_bank
 from f16mmae.loop.flight import fly
 from f16mmae.campaign.soak.campaign import PROFILES, profile
-from f16mmae.names import COMPONENTS, FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S
+from f16mmae.names import ACTUATORS, COMPONENTS, FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, SENSORS
 from f16mmae.seeds import TUNING_FLIGHT_SEEDS, derived_seed, tuning_seeds
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
@@ -33,6 +38,11 @@ def options(candidate: str) -> dict:
     candidate, _, dwell = candidate.partition("@")
     out = {"dwell_s": float(dwell)} if dwell else {}
     if candidate == "off":
+        return out
+    if "=" in candidate:
+        for item in candidate.split(","):
+            key, _, value = item.partition("=")
+            out[key] = True if value == "true" else float(value)
         return out
     parts = candidate.split(":")
     out.update({"adapt_turbulence": True, "adapt_time_constant_s": float(parts[1]),
@@ -101,14 +111,22 @@ def main() -> None:
         for r in fail:
             if not r[1]:
                 missed[r[0]] = missed.get(r[0], 0) + 1
-        lat = sorted(r[5] for r in fail if r[5] is not None)
         quiet_text = (f"quiet: {sum(r[1] for r in quiet):4d} false decl in {len(quiet) * a.quiet_s / 3600:.2f} h"
                       f" (s mean {sum(r[3] for r in quiet) / len(quiet):.2f}, max {max(r[4] for r in quiet):.2f})"
                       if quiet else "quiet: -")
         print(f"{c:14s} {lv:9s} {quiet_text}"
               f" | failures correct {sum(r[1] for r in fail)}/{len(fail)}, early FA {sum(r[2] for r in fail)}"
-              f", latency median {lat[len(lat) // 2] if lat else float('nan'):.2f} s"
+              f", latency {_latency(fail, ACTUATORS)} actuators, {_latency(fail, SENSORS)} sensors"
               f", missed {' '.join(f'{k} {v}' for k, v in missed.items()) or '-'}", flush=True)
+
+
+
+def _latency(rows, components) -> str:
+    """Median / p95 latency (s) of the first correct declaration in the runs of ``components``."""
+    lat = [r[5] for r in rows if r[0] in components and r[5] is not None]
+    if not lat:
+        return "- / -"
+    return f"{float(np.median(lat)):.2f} / {float(np.percentile(lat, 95)):.2f} s"
 
 
 if __name__ == "__main__":

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 from scipy.linalg import expm, solve_discrete_are
 
-from f16mmae import cli, core, names
+from f16mmae import core, names
+from f16mmae.cli import main as cli
 from f16mmae.design import bank
 from f16mmae.design.linearize import throttle_column
 from f16mmae.design.model import linearize_truth

@@ -182,3 +182,12 @@ def test_closed_loop_flies_the_scheduled_throttle_dither_and_hands_its_command_t
     np.testing.assert_allclose(u[:, 5], throttle_bank.u_trim[5] + a * np.sin(2 * np.pi * 0.1 * t), atol=1e-4)
     assert a.mean() == pytest.approx(0.0239, rel=0.01)
     assert [d["hypothesis"] for d in in_cpp.declarations][:1] == ["VEL"]
+
+
+def test_the_lcm_executive_refuses_a_throttle_bank_by_name(throttle_bank):
+    from f16mmae.lcm.channels import HilError
+    from f16mmae.lcm.hil import fly_hil
+    from f16mmae.truth import Scenario
+
+    with pytest.raises(HilError, match="throttle.*u_rad\\[5\\]"):
+        fly_hil(Scenario(duration_s=1.0), throttle_bank, None, None)

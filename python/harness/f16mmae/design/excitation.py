@@ -207,7 +207,7 @@ def throttle_dither_peaks(spec, level: str, seed: int = 1, duration_s: float = 3
 
     runs = [_fly_recording_nx(Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw",
                                        turbulence=level, seed=seed, dither=d))
-            for d in (spec, dataclasses.replace(spec, throttle_amplitude=0.0))]
+            for d in (spec, dataclasses.replace(spec, throttle_amplitude=0.0, throttle_schedule=False))]
     d = np.abs(runs[0] - runs[1]).max(axis=0)
     g = np.abs(runs[1] - runs[1][0]).max(axis=0)
     return {"dither": {name: float(d[j] * k) for j, (name, k) in enumerate(PEAK_CHANNELS)},
@@ -268,6 +268,25 @@ def thrust_table(decimals: int = 3) -> list[list[float]]:
     return rows
 
 
+#: Flight conditions (Mach, ft) of the envelope peaks table: the nominal point and the corners.
+ENVELOPE_POINTS: tuple[tuple[float, float], ...] = ((0.4, 20_000.0), (0.8, 5_000.0), (0.45, 35_000.0),
+                                                    (0.3, 5_000.0), (0.8, 35_000.0))
+
+
+def _print_envelope_peaks() -> int:
+    """The scheduled throttle dither's calm-air peaks at ``ENVELOPE_POINTS`` (20-s flights, 0.1 Hz)."""
+    from ..truth.dither import SCHEDULED_THROTTLE_FREQUENCY_HZ, DitherSpec, scheduled_throttle_amplitude
+
+    spec = DitherSpec(throttle_schedule=True, throttle_frequency_hz=SCHEDULED_THROTTLE_FREQUENCY_HZ)
+    print("| Mach / alt (ft) | scheduled a_th | peak dn_x (g) | peak dn_z (g) | peak q (deg/s) | peak du (ft/s) |")
+    print("|---|---|---|---|---|---|")
+    for mach, alt in ENVELOPE_POINTS:
+        r = throttle_dither_peaks(spec, "none", duration_s=20.0, mach=mach, alt_ft=alt)["dither"]
+        print(f"| {mach:g} / {alt:,.0f} | {scheduled_throttle_amplitude(mach, alt):.4f} | {r['nx_g']:.3f} | "
+              f"{r['nz_g']:.3f} | {r['q_deg_s']:.2f} | {r['u_fps']:.2f} |", flush=True)
+    return 0
+
+
 def _print_peaks() -> int:
     from ..truth.dither import DitherSpec
 
@@ -303,11 +322,15 @@ def main(argv: list[str] | None = None) -> int:
                    help="the tuning's failure model unless given")
     p.add_argument("--peaks", action="store_true",
                    help="print only the throttle dither's closed-loop JSBSim peaks per turbulence level")
+    p.add_argument("--envelope-peaks", action="store_true",
+                   help="print only the scheduled throttle dither's calm-air peaks over the envelope")
     p.add_argument("--thrust-table", action="store_true",
                    help="print only truth.dither.THRUST_ACCEL_FPS2 (the throttle schedule's table)")
     args = p.parse_args(argv)
     if args.peaks:
         return _print_peaks()
+    if args.envelope_peaks:
+        return _print_envelope_peaks()
     if args.thrust_table:
         print("(" + ",\n ".join("(" + ", ".join(f"{v:g}" for v in r) + ")" for r in thrust_table()) + ")")
         return 0

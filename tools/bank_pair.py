@@ -6,7 +6,10 @@ Both banks (two throttle banks, ``f16mmae design --throttle-input [--gust-level 
 on every frame on the same z, u and air data.  rho is the calm bank's turbulence-adaptation
 measure (cpp/f16mmae/turbulence_adaptation.h: the average over 5 s of min_k q_k / nz; its
 scale held at 1, so the calm bank flies as designed).  The light bank is in force for the
-first ``--settle`` seconds and whenever rho >= ``--switch-rho``; the calm bank otherwise.  What
+first ``--settle`` seconds and whenever rho >= ``--switch-rho``; the calm bank otherwise; no
+switch while the bank in force declares a failure (a failure raises the residual power too:
+without this hold, rho hovering at the threshold after a calm-air AOA failure switched one
+flight back and forth 15 times, reporting a back-out to NONE on the way).  What
 the loop sees (z_hat for the FCS, probabilities, declarations) is the bank in force; on a switch
 its current hypothesis is reported as a declaration when it differs from the last one reported
 (or when the hypotheses on line differ).  The threshold comes from tools/turbulence_rho.py on
@@ -59,6 +62,8 @@ class PairedEstimator:
         self.frames += 1
         rho = self.calm.core_bank.turbulence_power_ratio
         want = self.calm if self.frames > self.settle_frames and rho < self.switch_rho else self.light
+        if self.selected.declared != NONE:
+            want = self.selected  # hold the bank that declared a failure
         before = self.selected.hypotheses
         switched = want is not self.selected
         if switched:

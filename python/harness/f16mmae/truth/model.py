@@ -54,7 +54,7 @@ from ..names import ACTUATORS, FRAME_RATE_HZ, SENSORS, SIM_RATE_HZ
 from . import actuators as actuators_module
 from . import air_data as air_data_module, aircraft, sensors as sensors_module, turbulence
 from .air_data import AirDataSensor, air_data_rng
-from .dither import (CRITERION, G_FPS2, THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH, THRUST_ACCEL_FPS2,
+from .dither import (G_FPS2, THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH, THROTTLE_SCHEDULE_NX_G, THRUST_ACCEL_FPS2,
                      scheduled_throttle_amplitude, throttle_command, throttle_terms)
 from .actuators import ActuatorBank
 from .engine import check_engine
@@ -123,7 +123,7 @@ class TruthModel:
             self._noise_rows = n
             self._frames = self._make_frames(rng.standard_normal((n, 7)), air_rng.standard_normal((n, 2)), n)
             if self._throttle is not None:
-                schedule = ({"target_fps2": CRITERION["nx_g"] * G_FPS2, "mach": list(THROTTLE_GRID_MACH),
+                schedule = ({"target_fps2": THROTTLE_SCHEDULE_NX_G * G_FPS2, "mach": list(THROTTLE_GRID_MACH),
                              "alt_ft": list(THROTTLE_GRID_ALT_FT), "accel_fps2": [list(r) for r in THRUST_ACCEL_FPS2]}
                             if sc.dither.throttle_schedule else None)
                 self._frames.set_throttle_dither(THROTTLE_PROPERTY, *self._throttle, schedule)

@@ -134,7 +134,7 @@ def _design_point(args):
     t0 = time.perf_counter()
     record, layer, tun = {}, 0, None
     try:
-        lin = linearize_truth(mach, alt_ft, lef_rad)
+        lin = linearize_truth(mach, alt_ft, lef_rad=lef_rad)
         layer = _layer(lin.trim.lef_rad)
         tun = load_tuning(tuning) if isinstance(tuning, str) else tuning
         if node_tuning == "calibrated" and lef_rad is None:

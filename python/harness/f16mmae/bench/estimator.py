@@ -19,7 +19,10 @@ bank is F-16 sized (13 states, 5 inputs, 7 measurements): a random stable Phi, a
 hypothesis the failed actuator's Bd column or the failed sensor's H row zeroed, with the
 steady-state gain from scipy's discrete algebraic Riccati equation (DARE).
 (e) The hierarchical bank (79 filters stored, 13 on line, timed in C++) at 13 states and at
-19 (the filters with Dryden gust states, ``f16mmae design --gust-states``).
+19 (the filters with Dryden gust states, ``f16mmae design --gust-states``), and at 13 states
+with a cold cache: before every frame a buffer of ``EVICT_BYTES`` is read, which evicts the
+bank from the cores' own caches (L1, L2) as the truth model's JSBSim steps do between two
+frames of a closed loop; each frame timed alone.
 """
 from __future__ import annotations
 
@@ -41,6 +44,8 @@ TARGET_CPP_US = 1.0
 TARGET_FILTERPY_RATIO = 3000.0
 Q_SYNTHETIC = 1e-3
 R_SYNTHETIC = 1e-2
+#: The cold-cache row's buffer, read before every frame: larger than a core's L1 and L2.
+EVICT_BYTES = 4 << 20
 
 
 def synthetic_models(
@@ -198,6 +203,8 @@ class BenchResult:
     #: the hierarchical bank (79 filters stored, 13 on line), 13 and 19 states (gust states)
     hierarchical_us: float | None = None
     hierarchical_gust_us: float | None = None
+    #: (e) at 13 states with the cache evicted before every frame (EVICT_BYTES)
+    hierarchical_cold_us: float | None = None
     python_call_us: float | None = None
     numpy_us: float | None = None
     filterpy_us: float | None = None
@@ -215,6 +222,7 @@ class BenchResult:
             ("python_call / cpp_loop", self.python_call_us, self.cpp_loop_us),
             ("cpp_loop_adaptive / cpp_loop", self.cpp_loop_adaptive_us, self.cpp_loop_us),
             ("hierarchical 19 states / 13 states", self.hierarchical_gust_us, self.hierarchical_us),
+            ("hierarchical cold / hot", self.hierarchical_cold_us, self.hierarchical_us),
         ]
         for label, slow, fast in pairs:
             if slow is not None and fast:
@@ -264,6 +272,9 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
         stored = synthetic_bank(names.ALL_HYPOTHESES, seed=seed, nx=nx)
         zh, uh = synthetic_frames(synthetic_models(names.SINGLE_HYPOTHESES, seed, nx), frames, seed=seed + 1)
         setattr(result, attr, core._bench_hierarchical_loop(stored, zh, uh, min_time_s=min_time_s)[0] * 1e6)
+        if nx == names.NX:
+            result.hierarchical_cold_us = core._bench_hierarchical_loop(
+                stored, zh, uh, min_time_s=min_time_s, evict_bytes=EVICT_BYTES)[0] * 1e6
 
     result.python_call_us = _time_per_frame(core_filter_bank(models).step, z, u, min_time_s)
     result.max_probability_difference = max_probability_difference(models, z, u)
@@ -291,6 +302,7 @@ def report(result: BenchResult, stream) -> dict:
         ("(a') (a) + turbulence adaptation", result.cpp_loop_adaptive_us),
         ("(e) C++ hierarchical bank, 13 states", result.hierarchical_us),
         ("(e') (e), 19 states (gust states)", result.hierarchical_gust_us),
+        ("(e\") (e), cold cache every frame", result.hierarchical_cold_us),
         ("(b) Python call, bank.step(z, u)", result.python_call_us),
         ("(c) numpy reference", result.numpy_us),
         ("(d) filterpy MMAEFilterBank", result.filterpy_us),
@@ -321,6 +333,8 @@ def report(result: BenchResult, stream) -> dict:
         "bank_hash": result.bank_hash,
         "us_per_frame": {
             "cpp_loop": result.cpp_loop_us, "cpp_loop_adaptive": result.cpp_loop_adaptive_us,
+            "hierarchical": result.hierarchical_us, "hierarchical_gust": result.hierarchical_gust_us,
+            "hierarchical_cold": result.hierarchical_cold_us,
             "python_call": result.python_call_us,
             "numpy": result.numpy_us, "filterpy": result.filterpy_us,
         },

@@ -13,6 +13,8 @@ once instead of three times::
 Fig. 9 -- the shipped tuned bank, light turbulence, complete failures).  Each summary names the
 single command that gives the same records.  The three directories are checked writable before
 the first flight; with ``--check`` the exit status is 1 when any of the three misses a goal.
+Each part's figures and report page are drawn on a background thread while the pool flies the
+next part (``report.drawing``); every file is written when the command returns.
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ from pathlib import Path
 from ..campaign.engine.config import RUNS_MAX
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..outputs import writable_dir
+from ..report.drawing import drawing_in_background
 from . import campaign_dual, campaign_envelope, campaign_single
 from .options import number, seed
 
@@ -66,7 +69,9 @@ def _paper(args) -> int:
     for _, ns in parts:  # every output checked before the first flight
         writable_dir(ns.out)
     status = 0
-    with make_executor(workers=workers) as ex:
+    # each part's figures and report page are drawn on a background thread while the pool
+    # flies the next part (report.drawing); all are written when the command returns
+    with drawing_in_background(), make_executor(workers=workers) as ex:
         for name, ns in parts:
             ns.executor, ns.executor_label = ex, f"{workers or default_workers()} local process(es), shared"
             print(f"=== campaign {name} ({ns.out}) ===", flush=True)

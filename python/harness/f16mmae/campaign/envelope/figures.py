@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...report.drawing import deferrable
 from ...report.figures import pyplot
 from .points import GAMMA_AIR, TROPOPAUSE_FT, pressure_psf
 
@@ -77,6 +78,7 @@ def _panel(ax, points, design, cmap, step, annotate=None, limits=None):
     ax.grid(True, alpha=0.25)
 
 
+@deferrable(lambda a: Path(a["path"]))
 def envelope_map(summary: dict, path: Path) -> Path:
     """The Fig. 9-style map of ``summary["points"]`` (module docstring)."""
     plt = pyplot()
@@ -116,6 +118,7 @@ def envelope_map(summary: dict, path: Path) -> Path:
     return path
 
 
+@deferrable(lambda a: Path(a["path"]))
 def case_table(summary: dict, path: Path) -> Path:
     """Heat map of the correct fraction per point and case (module docstring)."""
     plt = pyplot()

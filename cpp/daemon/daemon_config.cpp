@@ -12,6 +12,7 @@ namespace f16mmae::daemon {
 std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence]\n"
+         "                   [--adapt-reference RHO]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
          "                   [--schedule-mode interpolate|nearest] [--maneuver-kinematics]\n"
          "                   [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5]\n"
@@ -32,6 +33,8 @@ std::string daemon_usage() {
          "  --dwell-s S          declaration dwell, s  } dwell_s) -- as 'f16mmae run'\n"
          "  --adapt-turbulence   scale the likelihoods on line to the turbulence intensity\n"
          "                       (default off: the bank as designed)\n"
+         "  --adapt-reference RHO  with --adapt-turbulence: the residual power ratio above which\n"
+         "                       the likelihoods are tempered (0-100; default 0.6)\n"
          "  --trim-tracking TAU_S  track the trim on line with time constant TAU_S s (e.g. 30),\n"
          "                       frozen while a failure hypothesis rises or is declared\n"
          "  --trim-freeze-probability P  with --trim-tracking: a failure hypothesis above P\n"
@@ -130,14 +133,14 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
                        key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
                        key == "--bank-public-key" || key == "--trim-tracking" ||
-                       key == "--trim-freeze-probability" || key == "--schedule-mode" ||
+                       key == "--trim-freeze-probability" || key == "--schedule-mode" || key == "--adapt-reference" ||
                        key == "--maneuver-tempering" || key == "--actuator-rate-limits" ||
                        key == "--actuator-position-limits";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
-                         "--auth-key, --bank-public-key, --adapt-turbulence, --trim-tracking, "
+                         "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --trim-tracking, "
                          "--trim-freeze-probability, --schedule-mode, --maneuver-kinematics, "
                          "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
@@ -180,6 +183,11 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!p || !(*p > 0.0 && *p <= 1.0))
         return usage_error("--trim-freeze-probability must lie in (0, 1], got '" + value + "'");
       c.trim_freeze_probability = *p;
+    } else if (key == "--adapt-reference") {
+      const std::optional<double> rho = finite_number(value);
+      if (!rho || *rho < 0.0 || *rho > 100.0)
+        return usage_error("--adapt-reference must be a power ratio in [0, 100], got '" + value + "'");
+      c.adapt_reference = *rho;
     } else if (key == "--schedule-mode") {
       if (value != "interpolate" && value != "nearest")
         return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
@@ -231,6 +239,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
   if (!have_bank) return usage_error("--bank FILE is required (a model-bank file from 'f16mmae design')");
   if (c.trim_freeze_probability && c.trim_time_constant_s == 0.0)
     return usage_error("--trim-freeze-probability applies with --trim-tracking only");
+  if (c.adapt_reference && !c.adapt_turbulence)
+    return usage_error("--adapt-reference applies with --adapt-turbulence only");
   if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())
     return usage_error("--actuator-rate-limits and --actuator-position-limits go together, one value per input each "
                        "(got " + std::to_string(c.actuator_rate_limits_rad_s.size()) + " and " +

@@ -1,7 +1,7 @@
 // DaemonConfig — the settings of mmae-daemon and the parsing of its command line.
 //
 //   mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
-//               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence]
+//               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence] [--adapt-reference RHO]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--schedule-mode M]
 //               [--maneuver-kinematics] [--maneuver-tempering G]
 //               [--actuator-rate-limits R,...] [--actuator-position-limits L,...]
@@ -40,6 +40,7 @@ struct DaemonConfig {
   std::optional<double> p_min, threshold, dwell_s;
   // The estimator's on-line options, as 'f16mmae run' has them (off: the bank as designed).
   bool adapt_turbulence = false;     // turbulence_adaptation.h
+  std::optional<double> adapt_reference;  // its rho_0, with adapt_turbulence only
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only
   bool schedule_nearest = false;     // a scheduled bank: nearest node instead of interpolation

@@ -98,6 +98,7 @@ int main(int argc, char** argv) {
     options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     options.bank.adaptation.enabled = cfg.adapt_turbulence;
+    if (cfg.adapt_reference) options.bank.adaptation.reference = *cfg.adapt_reference;
     options.trim.time_constant_s = cfg.trim_time_constant_s;
     if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
     if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
@@ -146,6 +147,10 @@ int main(int argc, char** argv) {
                                    ? "trim tracking " + f16mmae::format_value(options.trim.time_constant_s) + " s (freeze above " +
                                          f16mmae::format_value(options.trim.freeze_probability) + ")"
                                    : std::string("no trim tracking");
+      const std::string adaptation = options.bank.adaptation.enabled
+                                         ? "turbulence adaptation (reference " +
+                                               f16mmae::format_value(options.bank.adaptation.reference) + ")"
+                                         : std::string("no turbulence adaptation");
       std::string maneuver = options.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
       if (options.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(options.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
@@ -153,7 +158,7 @@ int main(int argc, char** argv) {
                   "schedule %s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), options.bank.p_min,
                   options.declarer.threshold, options.declarer.dwell_s,
-                  options.bank.adaptation.enabled ? "turbulence adaptation" : "no turbulence adaptation",
+                  adaptation.c_str(),
                   trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate", maneuver.c_str(), cfg.lcm_url.c_str(),
                   channels.sensors.c_str(), channels.status.c_str(),
                   auth ? "frames authenticated" : "frames NOT authenticated");

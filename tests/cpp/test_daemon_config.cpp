@@ -98,6 +98,16 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   }
   r = parse_daemon_args({"--bank", "b", "--trim-freeze-probability", "0.2"}, nullptr);
   EXPECT_NE(r.message.find("applies with --trim-tracking only"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference=0.76"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.adapt_reference, 0.76);
+  for (const char* bad : {"-0.1", "101", "nan", "high"}) {
+    r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find(std::string("[0, 100], got '") + bad + "'"), std::string::npos) << r.message;
+  }
+  r = parse_daemon_args({"--bank", "b", "--adapt-reference", "0.76"}, nullptr);
+  EXPECT_NE(r.message.find("applies with --adapt-turbulence only"), std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--schedule-mode", "linear"}, nullptr);
   EXPECT_NE(r.message.find("interpolate or nearest, got 'linear'"), std::string::npos) << r.message;
 }

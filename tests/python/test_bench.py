@@ -152,7 +152,7 @@ def test_bench_truth_times_the_closed_loop_with_the_bank_and_options_given(capsy
                  "--mach", "0.45", "--alt-ft", "21000", "--adapt-turbulence", "--trim-tracking", "30"]) == 0
     out = capsys.readouterr().out
     line = next(ln for ln in out.splitlines() if ln.startswith("closed loop"))
-    assert line.startswith("closed loop (tuned bank, trim_time_constant_s 30.0, adapt_turbulence True, Mach 0.45, "
+    assert line.startswith("closed loop (tuned bank, adapt_turbulence True, trim_time_constant_s 30.0, Mach 0.45, "
                            "21000 ft, probabilities recorded) / truth alone: ")
     assert "goal" not in line  # the goals are the tuned bank as designed (1.1) and the scheduled bank (1.3)
 
@@ -160,7 +160,7 @@ def test_bench_truth_times_the_closed_loop_with_the_bank_and_options_given(capsy
 @pytest.mark.parametrize("argv, message", [
     (["--bank", "nope"], "--bank: 'nope' is neither a shipped tuning"),
     (["--mach", "3"], "--mach '3' must be <="),
-    (["--trim-tracking", "-1"], "--trim-tracking '-1' must be > 0"),
+    (["--trim-tracking", "-1"], "--trim-tracking -1.0 must lie in "),
     (["--duration-s", "0"], "--duration-s '0' must be > 0.0"),
     (["--duration-s", "1e12"], "--duration-s '1e12' must be < 3600.0"),
     (["--repeat", "0"], "--repeat '0' must be >= 1"),

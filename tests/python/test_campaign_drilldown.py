@@ -32,8 +32,25 @@ def test_command_names_every_field():
     assert tracked[tracked.index("--trim-tracking") + 1] == "30.0"
 
 
+def test_every_command_line_setting_is_written_back_as_the_command_line_reads_it():
+    """A record holding every estimator setting gives a command whose options parse back to
+    the same settings (the scheduled bank's mode and the adaptation's reference included)."""
+    import argparse
+
+    from f16mmae.cli.options import add_estimator_arguments, estimator_options_from_args
+
+    settings = {"threshold": 0.95, "dwell_s": 0.5, "p_min": 1e-6, "adapt_turbulence": True, "adapt_reference": 0.76,
+                "trim_time_constant_s": 30.0, "trim_freeze_probability": 0.2, "schedule_mode": "nearest",
+                "maneuver_kinematics": True, "actuator_limits": True, "maneuver_tempering_g": 0.1}
+    argv = shlex.split(drilldown.reproduce_command(scenario(), "scheduled", settings))
+    p = argparse.ArgumentParser()
+    add_estimator_arguments(p)
+    args, _ = p.parse_known_args(argv[2:])
+    assert estimator_options_from_args(args) == settings
+
+
 def test_unknown_estimator_setting_is_refused():
-    with pytest.raises(ValueError, match="valid: threshold, dwell_s, p_min, trim_time_constant_s"):
+    with pytest.raises(ValueError, match="valid: threshold, dwell_s, p_min, adapt_turbulence, adapt_reference"):
         drilldown.reproduce_command(scenario(), "tuned", {"gain": 2.0})
 
 
@@ -76,7 +93,7 @@ def test_reproduce_command_gives_the_same_declarations(kind, tmp_path):
     # the untuned bank (the paper's floor) false-alarms often: these plans hold runs that are not clean
     if kind == "single":
         done = run_single(SingleCampaign(runs=2, cases=("NONE", "LS"), tuning="untuned", baseline=None,
-                                         dither_scale=0.8, p_min=0.002), out, InlineExecutor(),
+                                         dither_scale=0.8, estimator={"p_min": 0.002}), out, InlineExecutor(),
                           show_progress=False, measure_cost=False)
     elif kind == "dual":
         done = run_dual(DualCampaign(runs=1, pairs=(("LF", "AZ"),), tuning="untuned"), out, InlineExecutor(),
@@ -103,7 +120,7 @@ def test_report_header_names_the_settings_the_bank_carries(tmp_path):
     from f16mmae.campaign.single import SingleCampaign, run_campaign
     from f16mmae.report.page import render_report
 
-    run_campaign(SingleCampaign(runs=1, cases=("NONE",), baseline=None, dwell_s=0.3), tmp_path, InlineExecutor(),
+    run_campaign(SingleCampaign(runs=1, cases=("NONE",), baseline=None, estimator={"dwell_s": 0.3}), tmp_path, InlineExecutor(),
                  show_progress=False, measure_cost=False)
     page = render_report(tmp_path).read_text()
     assert "core defaults" not in page

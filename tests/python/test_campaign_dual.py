@@ -33,9 +33,9 @@ from campaign_support import CountingExecutor
     ({"feedback": "kalman"}, "valid: mmae, raw"),
     ({"second_time_s": 3.0}, "0 < first (3.0 s) < second (3.0 s)"),
     ({"second_time_s": 10.0}, "< duration (10.0 s)"),
-    ({"threshold": 0.4}, "--threshold 0.4 must lie in (0.5, 1)"),
-    ({"dwell_s": 5.0}, "--dwell-s 5.0 must lie in [0, 5.0) s"),
-    ({"p_min": 0.2}, "--p-min 0.2"),
+    ({"estimator": {"threshold": 0.4}}, "--threshold 0.4 must lie in (0.5, 1)"),
+    ({"estimator": {"dwell_s": 5.0}}, "--dwell-s 5.0 must lie in [0, 5.0) s"),
+    ({"estimator": {"p_min": 0.2}}, "--p-min 0.2"),
     ({"dither_scale": 9.0}, "--dither-scale 9.0"),
 ])
 def test_bad_config_is_refused_naming_the_value(kwargs, message):

@@ -202,7 +202,7 @@ def test_tiny_envelope_campaign_records_summary_figures_and_resume(tmp_path):
     (["--seed", "x"], "--seed 'x' is not an integer"),
     (["--turbulence", "gusty"], "'gusty' is unknown; valid: none, light, moderate, severe"),
     (["--tuning", "wobbly"], "--tuning 'wobbly' is neither tuned, untuned"),
-    (["--threshold", "0.3"], "--threshold '0.3' must be > 0.5 (valid: (0.5, 1.0))"),
+    (["--threshold", "0.3"], "--threshold 0.3 must lie in (0.5, 1)"),
     (["--workers", "2", "--scheduler", "tcp://h:1"], "not both"),
 ])
 def test_cli_errors_name_the_bad_value(argv, expected, capsys):

@@ -11,6 +11,7 @@ from f16mmae.banks import load_bank
 from f16mmae.cli.main import main
 from f16mmae.cli.options import add_estimator_arguments, estimator_options_from_args
 from f16mmae.lcm.daemon import daemon_flags, find_executable
+from f16mmae.loop.estimator_options import ESTIMATOR_OPTIONS
 from f16mmae.truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 
 DAEMON = str(find_executable("mmae-daemon"))  # part of every build: a missing daemon fails here
@@ -76,15 +77,26 @@ def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
     p = argparse.ArgumentParser()
     add_estimator_arguments(p)
     args = p.parse_args(["--threshold", "0.95", "--dwell-s", "0.5", "--p-min", "1e-6", "--adapt-turbulence",
-                         "--trim-tracking", "30", "--trim-freeze-probability", "0.2", "--schedule-mode", "nearest",
-                         "--maneuver-kinematics", "--actuator-limits", "--maneuver-tempering", "0.1"])
+                         "--adapt-reference", "0.76", "--trim-tracking", "30", "--trim-freeze-probability", "0.2",
+                         "--schedule-mode", "nearest", "--maneuver-kinematics", "--actuator-limits",
+                         "--maneuver-tempering", "0.1"])
     flags = daemon_flags(estimator_options_from_args(args))
-    assert flags[:17] == ("--threshold", "0.95", "--dwell-s", "0.5", "--p-min", "1e-06", "--trim-tracking", "30.0",
-                          "--trim-freeze-probability", "0.2", "--adapt-turbulence", "--maneuver-kinematics",
-                          "--maneuver-tempering", "0.1", "--schedule-mode", "nearest", "--actuator-rate-limits")
-    rates = [float(x) for x in flags[17].split(",")]
-    assert flags[18] == "--actuator-position-limits" and len(flags) == 20
-    assert rates == list(RATE_LIMIT_RAD_S) and [float(x) for x in flags[19].split(",")] == list(POSITION_LIMIT_RAD)
+    assert flags[:19] == ("--threshold", "0.95", "--dwell-s", "0.5", "--p-min", "1e-06", "--adapt-turbulence",
+                          "--adapt-reference", "0.76", "--trim-tracking", "30.0", "--trim-freeze-probability", "0.2",
+                          "--schedule-mode", "nearest", "--maneuver-kinematics", "--maneuver-tempering", "0.1",
+                          "--actuator-rate-limits")
+    rates = [float(x) for x in flags[19].split(",")]
+    assert flags[20] == "--actuator-position-limits" and len(flags) == 22
+    assert rates == list(RATE_LIMIT_RAD_S) and [float(x) for x in flags[21].split(",")] == list(POSITION_LIMIT_RAD)
     assert daemon_flags({"adapt_turbulence": False}) == ()
     with pytest.raises(ValueError, match="no flag for the estimator option 'gust_states'"):
         daemon_flags({"gust_states": True})
+
+
+def test_the_daemon_takes_every_flag_of_the_table():
+    """Every estimator option the harness can pass (loop.estimator_options) is a flag that
+    mmae-daemon's own usage names and accepts."""
+    usage = subprocess.run([DAEMON, "--help"], capture_output=True, text=True, check=True).stdout
+    for option in ESTIMATOR_OPTIONS:
+        if option.flag != "--actuator-limits":  # passed as the limits themselves
+            assert f"[{option.flag}" in usage or f"  {option.flag}" in usage, option.flag

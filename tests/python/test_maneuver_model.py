@@ -68,13 +68,13 @@ def test_options_reach_the_core_the_config_and_the_reproduce_command(bank):
     assert args["actuator_position_limits_rad"] == list(POSITION_LIMIT_RAD)
     core_bank = Estimator(bank, **MODEL).core_bank
     assert core_bank.maneuver_kinematics and core_bank.actuator_limits
-    cfg = CampaignConfig(**MODEL)
+    cfg = CampaignConfig(estimator=MODEL)
     assert cfg.estimator_options() == MODEL
     cmd = reproduce_command(Scenario(duration_s=4.0, seed=3).to_dict(), "tuned", cfg.estimator_options())
     for flag in ("--maneuver-kinematics", "--actuator-limits", "--maneuver-tempering 0.1"):
         assert flag in cmd
     with pytest.raises(CampaignError, match="--maneuver-tempering -1"):
-        CampaignConfig(maneuver_tempering_g=-1.0).check_common(dwell_window_s=8.0)
+        CampaignConfig(estimator={"maneuver_tempering_g": -1.0}).check_common(dwell_window_s=8.0)
 
 
 def test_bad_tempering_and_bank_without_lags_are_named(bank, capsys):

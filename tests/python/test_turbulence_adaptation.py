@@ -113,7 +113,7 @@ def test_bad_adaptation_settings_are_refused_by_name(bank):
 
 
 def test_the_options_reach_the_campaign_the_reproduce_command_and_the_run(tmp_path, capsys, bank):
-    cfg = CampaignConfig(adapt_turbulence=True)
+    cfg = CampaignConfig(estimator={"adapt_turbulence": True})
     assert cfg.estimator_options() == {"adapt_turbulence": True}
     sc = _scenario(bank, duration_s=2.0, seed=45, turbulence="light", gust_burst="severe@1.0+0.5")
     cmd = reproduce_command(sc.to_dict(), "tuned", {"adapt_turbulence": True})

@@ -373,7 +373,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}O_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
-    assert ("turbulence adaptation, trim tracking 2 s (freeze above 0.5), schedule nearest, maneuver kinematics, "
+    assert ("turbulence adaptation (reference 0.6), trim tracking 2 s (freeze above 0.5), schedule nearest, maneuver kinematics, "
             "tempering 0.1 g, actuator limits)" in out), out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
 

@@ -71,10 +71,6 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")
-#: The estimator settings a bank recommends and a user may override (core.HierarchicalBank);
-#: the trim-tracking ones are off (unset) unless given (cpp/f16mmae/trim_tracker.h).
-ESTIMATOR_SETTINGS: tuple[str, ...] = ("p_min", "threshold", "dwell_s", "trim_time_constant_s",
-                                       "trim_freeze_probability", "schedule_mode")
 #: The longest declaration dwell the estimator accepts (s): the core's bound
 #: (cpp/f16mmae/estimator_settings.h kMaxDwellS), defined there once.
 DWELL_S_MAX: float = MAX_DWELL_S

@@ -60,7 +60,7 @@ def flight_settings(args) -> dict:
         feedback=choice("--feedback", args.feedback, FEEDBACK_MODES),
         dither=not args.no_dither, dither_scale=number("--dither-scale", args.dither_scale, minimum=0.0,
                                                            maximum=DITHER_SCALE_MAX),
-        **estimator_options_from_args(args),
+        estimator=estimator_options_from_args(args),
     )
     if getattr(args, "runs", None) is not None:
         settings["runs"] = number("--runs", args.runs, integer=True, minimum=1, maximum=RUNS_MAX)

@@ -11,6 +11,7 @@ import threading
 from pathlib import Path
 
 from ..loop.estimator import core_arguments
+from ..loop.estimator_options import BY_KEY
 from .channels import HilError
 
 
@@ -28,31 +29,22 @@ def statistics_line(output: str, program: str) -> dict:
         raise HilError(f"{program}'s statistics line is not JSON ({exc}): {lines[-1][:200]!r}") from None
 
 
-#: The estimator options of ``f16mmae run`` (``cli.options.estimator_options_from_args``) and
-#: the ``mmae-daemon`` flag that sets each.
-DAEMON_FLAGS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min",
-                "trim_time_constant_s": "--trim-tracking", "trim_freeze_probability": "--trim-freeze-probability",
-                "adapt_turbulence": "--adapt-turbulence", "schedule_mode": "--schedule-mode",
-                "maneuver_kinematics": "--maneuver-kinematics", "maneuver_tempering_g": "--maneuver-tempering",
-                "actuator_rate_limits_rad_s": "--actuator-rate-limits",
-                "actuator_position_limits_rad": "--actuator-position-limits"}
-
-
 def daemon_flags(estimator_options: dict) -> tuple[str, ...]:
     """The ``mmae-daemon`` arguments that give it ``estimator_options`` (``actuator_limits``
     becomes the limits themselves, as in process: ``loop.estimator.core_arguments``;
     ValueError for an option the daemon has no flag for)."""
     out: list[str] = []
     for key, value in core_arguments(estimator_options).items():
-        if key not in DAEMON_FLAGS:
+        option = BY_KEY.get(key)
+        if option is None:
             raise ValueError(f"mmae-daemon has no flag for the estimator option {key!r}; "
-                             f"it takes {', '.join(DAEMON_FLAGS)}")
-        if isinstance(value, bool):
-            out += [DAEMON_FLAGS[key]] if value else []
-        elif isinstance(value, (list, tuple)):
-            out += [DAEMON_FLAGS[key], ",".join(repr(float(v)) for v in value)]
+                             f"it takes {', '.join(BY_KEY)}")
+        if option.kind == "switch":
+            out += [option.flag] if value else []
+        elif option.kind == "values":
+            out += [option.flag, ",".join(repr(float(v)) for v in value)]
         else:
-            out += [DAEMON_FLAGS[key], value if isinstance(value, str) else repr(float(value))]
+            out += [option.flag, value if option.kind == "choice" else repr(float(value))]
     return tuple(out)
 
 

@@ -19,12 +19,13 @@ variant; the others one mode.
 """
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 from ...errors import F16mmaeError
-from ...names import (DWELL_S_MAX, ESTIMATOR_SETTINGS, FEEDBACK_MODES, FLIGHT_S, SCHEDULE_MODES,
-                      SINGLE_HYPOTHESES, TURBULENCE_LEVELS)
+from ...loop.estimator_options import COMMAND_LINE
+from ...loop.estimator_options import check as check_estimator
+from ...names import FEEDBACK_MODES, FLIGHT_S, TURBULENCE_LEVELS
 from ...truth import DitherSpec, Scenario
 from ...truth.actuators import ACTUATOR_MODES
 from ...truth.failures import FailureSpec, make_failure
@@ -75,25 +76,9 @@ class CampaignConfig:
     feedback: str = "mmae"
     dither: bool = True
     dither_scale: float = 1.0  # multiplies the truth model's default dither amplitudes
-    #: Estimator settings passed to core.HierarchicalBank (None: the bank's recommended):
-    #: declaration threshold, dwell (s) and probability floor p_min.
-    threshold: float | None = None
-    dwell_s: float | None = None
-    p_min: float | None = None
-    #: The estimator's on-line turbulence adaptation (core.HierarchicalBank adapt_turbulence).
-    adapt_turbulence: bool = False
-    #: The maneuver kinematics in the filters' propagation (core.HierarchicalBank maneuver_kinematics).
-    maneuver_kinematics: bool = False
-    #: The actuators' rate and position limits on the commands the filters see (actuator_limits).
-    actuator_limits: bool = False
-    #: The load-factor tempering's n_ref in g (maneuver_tempering_g; None = off).
-    maneuver_tempering_g: float | None = None
-    #: Trim tracking (cpp/f16mmae/trim_tracker.h): its time constant (s; None = off) and
-    #: freeze probability (None: the core's 0.05).
-    trim_time_constant_s: float | None = None
-    trim_freeze_probability: float | None = None
-    #: How a scheduled bank follows the air data (names.SCHEDULE_MODES; None: the core's default).
-    schedule_mode: str | None = None
+    #: The estimator settings this campaign overrides (``loop.estimator_options``: key -> value;
+    #: unset ones stay the bank's recommended, on-line options off).
+    estimator: Mapping[str, object] = field(default_factory=dict)
 
     #: Whether this kind flies a comma list of failure modes (module docstring).
     MODE_LIST = False
@@ -113,17 +98,8 @@ class CampaignConfig:
         return tuple(x.strip() for x in self.turbulence.split(","))
 
     def estimator_options(self) -> dict:
-        """The estimator settings this config overrides (unset ones stay the bank's recommended)."""
-        out = {k: getattr(self, k) for k in ESTIMATOR_SETTINGS if getattr(self, k) is not None}
-        if self.adapt_turbulence:
-            out["adapt_turbulence"] = True
-        if self.maneuver_kinematics:
-            out["maneuver_kinematics"] = True
-        if self.actuator_limits:
-            out["actuator_limits"] = True
-        if self.maneuver_tempering_g is not None:
-            out["maneuver_tempering_g"] = self.maneuver_tempering_g
-        return out
+        """The estimator settings this config overrides, in the table's order."""
+        return {o.key: self.estimator[o.key] for o in COMMAND_LINE if o.key in self.estimator}
 
     def dither_spec(self) -> DitherSpec:
         """The truth model's dither for this config (its ``dither`` switch and ``dither_scale``)."""
@@ -161,22 +137,13 @@ class CampaignConfig:
             raise CampaignError(f"unknown feedback {self.feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
         if not 0.0 <= self.dither_scale <= DITHER_SCALE_MAX:
             raise CampaignError(f"--dither-scale {self.dither_scale} must lie in [0, {DITHER_SCALE_MAX}]")
-        if self.threshold is not None and not 0.5 < self.threshold < 1.0:
-            raise CampaignError(f"--threshold {self.threshold} must lie in (0.5, 1)")
-        if self.dwell_s is not None and not 0.0 <= self.dwell_s <= DWELL_S_MAX:
-            raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {DWELL_S_MAX}] s")
-        if self.dwell_s is not None and not self.dwell_s < dwell_window_s:
-            raise CampaignError(f"--dwell-s {self.dwell_s} must lie in [0, {dwell_window_s}) s{dwell_window_text}")
-        if self.p_min is not None and not 0.0 <= self.p_min < 1.0 / len(SINGLE_HYPOTHESES):
-            raise CampaignError(f"--p-min {self.p_min} must lie in [0, 1/{len(SINGLE_HYPOTHESES)})")
-        if self.maneuver_tempering_g is not None and not 0.0 < self.maneuver_tempering_g < math.inf:
-            raise CampaignError(f"--maneuver-tempering {self.maneuver_tempering_g} must be a load factor > 0 g")
-        if self.trim_time_constant_s is not None and not 0.0 < self.trim_time_constant_s < math.inf:
-            raise CampaignError(f"--trim-tracking {self.trim_time_constant_s} must be a time constant > 0 s")
-        if self.trim_freeze_probability is not None and not 0.0 < self.trim_freeze_probability <= 1.0:
-            raise CampaignError(f"--trim-freeze-probability {self.trim_freeze_probability} must lie in (0, 1]")
-        if self.schedule_mode is not None and self.schedule_mode not in SCHEDULE_MODES:
-            raise CampaignError(f"--schedule-mode {self.schedule_mode!r} is unknown; valid: {', '.join(SCHEDULE_MODES)}")
+        try:
+            check_estimator(dict(self.estimator))
+        except ValueError as exc:
+            raise CampaignError(str(exc)) from None
+        dwell = self.estimator.get("dwell_s")
+        if dwell is not None and not dwell < dwell_window_s:
+            raise CampaignError(f"--dwell-s {dwell} must lie in [0, {dwell_window_s}) s{dwell_window_text}")
 
     def scenario_dict(self, bank, failures: tuple[tuple[str, float] | FailureSpec, ...], seed: int,
                       mach: float | None = None, alt_ft: float | None = None,

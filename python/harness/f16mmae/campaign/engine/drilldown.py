@@ -19,13 +19,9 @@ from __future__ import annotations
 import shlex
 from collections.abc import Callable, Iterable
 
+from ...loop.estimator_options import command_line_flags
+
 FLAGS: tuple[str, ...] = ("false_alarm", "transient_wrong")
-_ESTIMATOR_OPTIONS = {"threshold": "--threshold", "dwell_s": "--dwell-s", "p_min": "--p-min",
-                      "trim_time_constant_s": "--trim-tracking",
-                      "trim_freeze_probability": "--trim-freeze-probability",
-                      "maneuver_tempering_g": "--maneuver-tempering"}
-_ESTIMATOR_SWITCHES = {"adapt_turbulence": "--adapt-turbulence", "maneuver_kinematics": "--maneuver-kinematics",
-                        "actuator_limits": "--actuator-limits"}
 
 
 def is_clean(record: dict) -> bool:
@@ -34,10 +30,6 @@ def is_clean(record: dict) -> bool:
 
 def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: float = 1.0) -> str:
     """The ``f16mmae run`` command of one run (module docstring)."""
-    unknown = set(estimator) - set(_ESTIMATOR_OPTIONS) - set(_ESTIMATOR_SWITCHES)
-    if unknown:
-        raise ValueError(f"estimator setting(s) {', '.join(sorted(unknown))} have no run option; "
-                         f"valid: {', '.join(_ESTIMATOR_OPTIONS)}")
     args = ["f16mmae", "run", "--seed", str(scenario["seed"]), "--duration", repr(float(scenario["duration_s"])),
             "--turbulence", scenario["turbulence"], "--mach", repr(float(scenario["mach"])),
             "--alt-ft", repr(float(scenario["alt_ft"])), "--feedback", scenario["feedback"]]
@@ -57,10 +49,7 @@ def reproduce_command(scenario: dict, bank: str, estimator: dict, dither_scale: 
     for m in scenario.get("maneuvers", ()):
         args += ["--maneuver", m]
     args += ["--bank", str(bank)]
-    for key, opt in _ESTIMATOR_OPTIONS.items():
-        if key in estimator:
-            args += [opt, repr(float(estimator[key]))]
-    args += [opt for key, opt in _ESTIMATOR_SWITCHES.items() if estimator.get(key)]
+    args += command_line_flags(estimator)
     return shlex.join(args)
 
 

@@ -1,0 +1,144 @@
+"""The estimator's settings and their command-line flags: one table.
+
+Every setting of ``core.HierarchicalBank`` a user may give is one :class:`EstimatorOption`:
+its key (in ``Estimator(**options)``, in each run record's ``estimator`` and in
+``summary.json``), the flag that sets it -- the same flag on ``f16mmae run``, every campaign,
+``bench truth``, ``hil`` and ``mmae-daemon`` --, its kind, its valid range and its help.  The
+command line (``cli.options``), the reproduce command of a run (``campaign.engine.drilldown``)
+and the daemon's arguments (``lcm.daemon.daemon_flags``) all read this table, so an option
+added here is accepted, recorded, reproduced and passed to the daemon alike.
+
+Kinds: ``number`` (a finite float in a range), ``choice`` (one of ``choices``), ``switch`` (on
+when given) and ``values`` (comma-separated positive numbers; daemon only: the form
+``core_arguments`` gives ``actuator_limits``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_MODES
+
+
+@dataclass(frozen=True)
+class EstimatorOption:
+    key: str
+    flag: str
+    kind: str                       # number | choice | switch | values
+    help: str
+    metavar: str | None = None
+    minimum: float | None = None    # number: at least this (above it if exclusive)
+    exclusive: bool = False
+    below: float | None = None      # number: below this
+    maximum: float | None = None    # number: at most this
+    choices: tuple[str, ...] = ()
+    requires: str | None = None     # the key of an option this one applies with
+    on_command_line: bool = True    # False: a daemon flag only (core_arguments' expansion)
+
+    @property
+    def dest(self) -> str:
+        """The argparse attribute of :attr:`flag`."""
+        return self.flag[2:].replace("-", "_")
+
+
+ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
+    EstimatorOption("threshold", "--threshold", "number", metavar="P", minimum=0.5, exclusive=True, below=1.0,
+                    help="declare a hypothesis when its probability exceeds P (0.5 < P < 1; "
+                         "default: the bank's recommended, else 0.9)"),
+    EstimatorOption("dwell_s", "--dwell-s", "number", metavar="S", minimum=0.0, maximum=DWELL_S_MAX,
+                    help="... for S seconds in a row (default: the bank's recommended, else 0.25)"),
+    EstimatorOption("p_min", "--p-min", "number", metavar="P", minimum=0.0, below=round(1.0 / K_BANK, 6),
+                    help="probability floor (default: the bank's recommended -- tuned: 1e-9 -- "
+                         "else the core's 0.001, the paper's)"),
+    EstimatorOption("adapt_turbulence", "--adapt-turbulence", "switch",
+                    help="adapt the likelihoods on line to the turbulence intensity (one residual "
+                         "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "
+                         "Default off: the bank as designed"),
+    EstimatorOption("adapt_reference", "--adapt-reference", "number", metavar="RHO", minimum=0.0, maximum=100.0,
+                    requires="adapt_turbulence",
+                    help="with --adapt-turbulence: the residual power ratio rho_0 above which the "
+                         "likelihoods are tempered (default 0.6; higher tempers less)"),
+    EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
+                    exclusive=True, maximum=1e6,
+                    help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "
+                         "bank's trim plus a slow low-pass offset of u and z, frozen while a failure "
+                         "hypothesis rises or is declared (default: off)"),
+    EstimatorOption("trim_freeze_probability", "--trim-freeze-probability", "number", metavar="P", minimum=0.0,
+                    exclusive=True, maximum=1.0, requires="trim_time_constant_s",
+                    help="with --trim-tracking: a failure hypothesis above P freezes the trim "
+                         "estimate (0 < P <= 1; default 0.05; 1 freezes only at a declaration)"),
+    EstimatorOption("schedule_mode", "--schedule-mode", "choice", metavar="|".join(SCHEDULE_MODES),
+                    choices=SCHEDULE_MODES,
+                    help="a scheduled bank (--bank scheduled): interpolate between grid points on the "
+                         "measured air data, or switch to the nearest with hysteresis (default "
+                         f"{SCHEDULE_MODES[0]}; a bank designed at one point ignores it)"),
+    EstimatorOption("maneuver_kinematics", "--maneuver-kinematics", "switch",
+                    help="add to the filters' propagation the kinematic and gravity terms their wings-level "
+                         "linearization drops (steady turns and pull-ups; cpp/f16mmae/maneuver_kinematics.h). "
+                         "Default off: the bank as designed"),
+    EstimatorOption("actuator_limits", "--actuator-limits", "switch",
+                    help="the filters see the commands through the actuators' rate and position limits "
+                         "(a roll-in's or pull-up's saturated commands; cpp/f16mmae/actuator_limits.h). "
+                         "Default off: the bank as designed"),
+    EstimatorOption("maneuver_tempering_g", "--maneuver-tempering", "number", metavar="G", minimum=0.0,
+                    exclusive=True, maximum=100.0,
+                    help="temper every likelihood by 1 + (dn/G)^2 while the estimated load factor is dn g off "
+                         "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off"),
+    EstimatorOption("actuator_rate_limits_rad_s", "--actuator-rate-limits", "values", on_command_line=False,
+                    help="the actuators' rate limits, rad/s, one per input"),
+    EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",
+                    on_command_line=False, help="the actuators' position limits, rad, one per input"),
+)
+
+#: The table by key.
+BY_KEY: dict[str, EstimatorOption] = {o.key: o for o in ESTIMATOR_OPTIONS}
+#: The options a user gives on the command line (and a run record may hold), in table order.
+COMMAND_LINE: tuple[EstimatorOption, ...] = tuple(o for o in ESTIMATOR_OPTIONS if o.on_command_line)
+
+
+def valid_range(option: EstimatorOption) -> str:
+    """The valid values of a ``number`` or ``choice`` option, as its refusal names them."""
+    if option.kind == "choice":
+        return ", ".join(option.choices)
+    upper = option.below if option.below is not None else option.maximum
+    return (f"{'(' if option.exclusive else '['}{option.minimum:g}, {upper:g}"
+            f"{')' if option.below is not None else ']'}")
+
+
+def check(settings: dict) -> None:
+    """ValueError naming the flag, the value and the valid ones for a setting that is unknown,
+    out of its range, or given without the option it applies with."""
+    for key, value in settings.items():
+        o = BY_KEY.get(key)
+        if o is None or not o.on_command_line:
+            raise ValueError(f"unknown estimator setting {key!r}; valid: {', '.join(x.key for x in COMMAND_LINE)}")
+        if o.kind == "switch":
+            ok = isinstance(value, bool)
+        elif o.kind == "choice":
+            ok = value in o.choices
+        else:
+            ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
+                  and (value > o.minimum if o.exclusive else value >= o.minimum)
+                  and (o.below is None or value < o.below) and (o.maximum is None or value <= o.maximum))
+        if not ok:
+            valid = {"switch": "be true or false", "choice": f"be one of {valid_range(o)}"}.get(
+                o.kind, f"lie in {valid_range(o)}")
+            raise ValueError(f"{o.flag} {value!r} must {valid}")
+        if o.requires is not None and not settings.get(o.requires):
+            raise ValueError(f"{o.flag} applies with {BY_KEY[o.requires].flag} only")
+
+
+def command_line_flags(settings: dict) -> list[str]:
+    """The arguments of ``f16mmae run`` that give the estimator ``settings`` (keys of
+    :data:`COMMAND_LINE`): the valued options in table order, then the switches that are on.
+    ValueError naming a setting no option sets."""
+    unknown = [k for k in settings if k not in BY_KEY or not BY_KEY[k].on_command_line]
+    if unknown:
+        raise ValueError(f"estimator setting(s) {', '.join(sorted(unknown))} have no run option; "
+                         f"valid: {', '.join(o.key for o in COMMAND_LINE)}")
+    args: list[str] = []
+    for o in COMMAND_LINE:
+        if o.kind != "switch" and o.key in settings:
+            value = settings[o.key]
+            args += [o.flag, value if o.kind == "choice" else repr(float(value))]
+    args += [o.flag for o in COMMAND_LINE if o.kind == "switch" and settings.get(o.key)]
+    return args

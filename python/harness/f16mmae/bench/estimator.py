@@ -22,7 +22,7 @@ steady-state gain from scipy's discrete algebraic Riccati equation (DARE).
 19 (the filters with Dryden gust states, ``f16mmae design --gust-states``), and at 13 states
 with a cold cache: before every frame a buffer of ``EVICT_BYTES`` is read, which evicts the
 bank from the cores' own caches (L1, L2) as the truth model's JSBSim steps do between two
-frames of a closed loop; each frame timed alone.
+frames of a closed loop; each frame timed alone, the median frame counts.
 """
 from __future__ import annotations
 

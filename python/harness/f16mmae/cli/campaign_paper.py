@@ -72,7 +72,8 @@ def _paper(args) -> int:
         writable_dir(ns.out)
     status = 0
     # each part's figures and report page are drawn on a background thread while the pool
-    # flies the next part (report.drawing); all are written when the command returns
+    # flies the next part (report.drawing); all are written when the command returns. The
+    # local pool forks all its workers at its first flight, before that thread exists.
     with drawing_in_background(), make_executor(workers=workers) as ex:
         for name, ns in parts:
             ns.executor, ns.executor_label = ex, f"{workers or default_workers()} local process(es), shared"

@@ -95,7 +95,8 @@ absolute z (7,) and u (5,) (and the frame's measured air data (mach, pressure_al
 sends NaN, as a sender without air data: the schedule stays, the frame is counted in
 counters['air_data_rejected']) and return the frame's fate: "used", "rejected", "duplicate", "out-of-order" or
 "resynchronised". A used or resynchronised sensor frame leaves its status in encoded_status.
-Raises ValueError for a bank other than the F-16's (13 states, 5 inputs, 7 measurements)
+Raises ValueError for a bank other than the F-16's (13 states, or 19 with the gust states; 5 inputs,
+7 measurements)
 and for arrays of the wrong shape.)doc")
       .def(py::init([](const ModelBank& bank, double p_min, bool strip_leading_term, double threshold,
                        double dwell_s) {

@@ -24,6 +24,7 @@
 #include <variant>
 #include <vector>
 
+#include "f16mmae/sensor_reconfiguration.h"
 #include "hierarchical_access.h"
 #include "jsbsim_exec.h"
 #include "tick_clock.h"
@@ -263,8 +264,11 @@ class Frames {
 
   // n closed-loop frames with the estimator est in the loop (see the binding's docstring).
   // Bank: a fixed-size F-16 bank (F16HierarchicalBank or F16GustHierarchicalBank).
+  // recon (with use_mmae false): the "reconfigure" feedback, raw z with z_hat on the sensors
+  // failed under the current hypothesis (sensor_reconfiguration.h); null: raw z.
   template <class Bank>
-  py::dict fly_closed_loop(Bank& est, long long n, bool use_mmae, bool record) {
+  py::dict fly_closed_loop(Bank& est, long long n, bool use_mmae, bool record,
+                           const SensorReconfiguration* recon = nullptr) {
     using ZV = typename Bank::ZVector;
     using UV = typename Bank::UVector;
     using Ticks = TickClock::Ticks;
@@ -289,6 +293,9 @@ class Frames {
       if (use_mmae) {
         const ZV zh = est.z_hat();
         for (int k = 0; k < kSensors; ++k) zf[k] = zh[k];
+      } else if (recon) {
+        const ZV zh = est.z_hat();
+        recon->apply(est.current_hypothesis(), z.data(), zh.data(), zf.data());
       }
       const Ticks b = TickClock::now();
       const Surfaces u = command(zf);
@@ -438,21 +445,35 @@ void bind_truth(py::module_& m) {
              for (long long i = 0; i < n; ++i) f.advance_frame(f.command(f.measure_frame()));
              f.measure_frame();
            }, py::arg("n_frames"))
-      .def("fly_closed_loop", [](Frames& f, py::handle bank, long long n, bool use_mmae, bool record) {
+      .def("fly_closed_loop", [](Frames& f, py::handle bank, long long n, bool use_mmae, bool record,
+                                 const SensorReconfiguration* recon) {
+             if (use_mmae && recon)
+               throw py::value_error("fly_closed_loop: use_mmae feeds back z_hat on every channel; a reconfiguration "
+                                     "applies only with use_mmae=False");
+             if (recon && recon->nz() != kSensors)
+               throw py::value_error("fly_closed_loop: the reconfiguration has " + std::to_string(recon->nz()) +
+                                     " sensors, the truth model " + std::to_string(kSensors));
              return std::visit(
                  [&](auto est) -> py::dict {
                    if constexpr (std::is_same_v<decltype(est), std::monostate>)
                      throw py::value_error("fly_closed_loop flies a fixed-size F-16 bank only (13 or 19 states)");
-                   else
-                     return f.fly_closed_loop(*est, n, use_mmae, record);
+                   else {
+                     if (recon && recon->hypothesis_count() != est->hypothesis_count())
+                       throw py::value_error("fly_closed_loop: the reconfiguration was built from another bank (" +
+                                             std::to_string(recon->hypothesis_count()) + " hypotheses, the bank " +
+                                             std::to_string(est->hypothesis_count()) + ")");
+                     return f.fly_closed_loop(*est, n, use_mmae, record, recon);
+                   }
                  },
                  fixed_hierarchical_bank(bank));
            }, py::arg("bank"), py::arg("n_frames"), py::arg("use_mmae"), py::arg("record_probabilities"),
+           py::arg("reconfiguration") = nullptr,
            R"doc(
     n closed-loop frames with a core.HierarchicalBank in the loop, all in C++ (loop/flight.py
     describes the frame): z = measure(); then per frame: bank.schedule(the air data measured with
-    z), bank.update(z), u = FCS(z_hat if
-    use_mmae else z), bank.propagate(u), advance(u), the next z (not after the last frame).
+    z), bank.update(z), u = FCS(z_hat if use_mmae, else reconfiguration.apply(current hypothesis,
+    z, z_hat) if a core.SensorReconfiguration is given, else z), bank.propagate(u), advance(u),
+    the next z (not after the last frame).
     Returns {'probabilities': (n, 13) the probabilities on line after each frame (or (0, 13)),
     'turbulence_scale': (n,) the bank's turbulence_scale after each frame (or (0,)),
     'events': [(frame, declared name, names on line after it)], 'truth_s', 'estimator_s'

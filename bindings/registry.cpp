@@ -14,6 +14,7 @@ void bind_jsbsim(py::module_& m);        // bind_jsbsim.cpp: JSBSimExec, JSBSimP
 void bind_truth(py::module_& m);         // bind_truth.cpp: TruthFrames
 void bind_executive(py::module_& m);     // bind_executive.cpp: Executive
 void bind_frame_auth(py::module_& m);    // bind_frame_auth.cpp: FrameAuth
+void bind_reconfiguration(py::module_& m);  // bind_reconfiguration.cpp: SensorReconfiguration
 void register_all(py::module_& m) {
   bind_filter(m);
   bind_bank(m);
@@ -25,5 +26,6 @@ void register_all(py::module_& m) {
   bind_truth(m);
   bind_executive(m);
   bind_frame_auth(m);
+  bind_reconfiguration(m);
 }
 }  // namespace f16mmae::bindings

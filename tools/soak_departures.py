@@ -17,7 +17,7 @@ import numpy as np
 
 from f16mmae import core
 from f16mmae.loop.flight import fly
-from f16mmae.names import NONE
+from f16mmae.names import FEEDBACK_MODES, NONE
 from f16mmae.truth import Scenario
 
 
@@ -26,7 +26,7 @@ def main() -> None:
     p.add_argument("soak", help="a soak campaign's directory (its runs.jsonl)")
     p.add_argument("--level", default="severe")
     p.add_argument("--band-ft", type=float, default=2000.0)
-    p.add_argument("--feedback", default=None, choices=("mmae", "raw"), help="default: the soak's")
+    p.add_argument("--feedback", default=None, choices=FEEDBACK_MODES, help="default: the soak's")
     a = p.parse_args()
     inside_s, before = 0.0, 0
     for line in (Path(a.soak) / "runs.jsonl").read_text().splitlines():

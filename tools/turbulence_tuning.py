@@ -1,12 +1,17 @@
 """Choose the turbulence adaptation's settings on TUNING seeds only (f16mmae/seeds.py).
 
-For each candidate (adapt on/off, time constant, scale floor) and turbulence level it flies
+For each candidate (adapt on/off, time constant, scale floor, ..., dwell) and turbulence level
+it flies
   - failure-free flights of --quiet-s seconds on the tuning flight seeds (1-8), counting the
     false declarations (any hypothesis other than NONE declared);
   - the single-failure cases (failure at 3 s of an 8-s flight) on the tuning campaign's seeds
-    derived_seed("single", 1, case, n), n < --runs, counting correct final answers and
-    false alarms (a declaration before the failure).
-Prints one line per (candidate, level).  Example:
+    derived_seed("single", 1, case, n), n < --runs, counting correct final answers, false
+    alarms (a declaration before the failure), the median and p95 latency of the first
+    correct declaration (actuators and sensors apart) and the cases missed.
+A candidate is "off", "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]" (the adaptation) or any
+estimator settings as "KEY=VALUE[,KEY=VALUE...]" (core.HierarchicalBank keywords, e.g.
+"p_min=1e-6,dwell_s=0.1"), either followed by "@DWELL_S" (the declaration dwell).  Prints one
+line per (candidate, level).  Example:
 
     .venv/bin/python tools/turbulence_tuning.py --levels none,light,moderate,severe \
         --candidates off on:5:1 on:10:1 --quiet-s 300 --runs 2 --workers 2
@@ -16,20 +21,32 @@ from __future__ import annotations
 import argparse
 import concurrent.futures as cf
 
+import numpy as np
+
 from f16mmae.banks import load_bank
 from f16mmae.loop.flight import fly
-from f16mmae.names import COMPONENTS, FAILURE_TIME_S, FLIGHT_S
+from f16mmae.campaign.soak.campaign import PROFILES, profile
+from f16mmae.names import ACTUATORS, COMPONENTS, FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, SENSORS
 from f16mmae.seeds import TUNING_FLIGHT_SEEDS, derived_seed, tuning_seeds
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 
 
 def options(candidate: str) -> dict:
-    """"off" or "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]" -> core.HierarchicalBank keyword arguments."""
+    """"off" or "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]", either followed by "@DWELL_S" (the
+    declaration dwell) -> core.HierarchicalBank keyword arguments."""
+    candidate, _, dwell = candidate.partition("@")
+    out = {"dwell_s": float(dwell)} if dwell else {}
     if candidate == "off":
-        return {}
+        return out
+    if "=" in candidate:
+        for item in candidate.split(","):
+            key, _, value = item.partition("=")
+            out[key] = True if value == "true" else float(value)
+        return out
     parts = candidate.split(":")
-    out = {"adapt_turbulence": True, "adapt_time_constant_s": float(parts[1]), "adapt_scale_min": float(parts[2])}
+    out.update({"adapt_turbulence": True, "adapt_time_constant_s": float(parts[1]),
+                "adapt_scale_min": float(parts[2])})
     if len(parts) > 3:
         out["adapt_scale_max"] = float(parts[3])
     if len(parts) > 4:
@@ -40,18 +57,22 @@ def options(candidate: str) -> dict:
 
 
 def flight(job):
-    candidate, level, seed, case, duration, bank_name = job
+    candidate, level, seed, case, duration, bank_name, feedback, maneuvers = job
     _, _, bank = load_bank(bank_name)
     fails = () if case == "NONE" else (make_failure(case, FAILURE_TIME_S, "complete", None),)
     sc = Scenario(mach=bank.mach, alt_ft=bank.alt_ft, turbulence=level, duration_s=duration, seed=seed,
-                  failures=fails)
+                  failures=fails, feedback=feedback, maneuvers=maneuvers)
     r = fly(sc, bank, estimator_options=options(candidate), record_probabilities=True)
     decl = r.declarations
     s = r.turbulence_scale
     if case == "NONE":
-        return candidate, level, case, sum(d["hypothesis"] != "NONE" for d in decl), 0, float(s.mean()), float(s.max())
+        return (candidate, level, case, sum(d["hypothesis"] != "NONE" for d in decl), 0, float(s.mean()),
+                float(s.max()), None)
     early = any(d["time_s"] < FAILURE_TIME_S and d["hypothesis"] != "NONE" for d in decl)
-    return candidate, level, case, int(r.final_hypothesis == case), int(early), float(s.mean()), float(s.max())
+    first = next((d["time_s"] - FAILURE_TIME_S for d in decl
+                  if d["hypothesis"] == case and d["time_s"] >= FAILURE_TIME_S), None)
+    return (candidate, level, case, int(r.final_hypothesis == case), int(early), float(s.mean()), float(s.max()),
+            first)
 
 
 def main() -> None:
@@ -63,17 +84,22 @@ def main() -> None:
     p.add_argument("--runs", type=int, default=2)
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--bank", default="tuned", help="tuned | untuned | a bank file")
+    p.add_argument("--feedback", default="mmae", choices=FEEDBACK_MODES)
+    p.add_argument("--quiet-profile", default=None, choices=PROFILES,
+                   help="the failure-free flights fly this soak profile (hold: the pilot holds the trim)")
     a = p.parse_args()
+    quiet_maneuvers = () if a.quiet_profile is None else profile(a.quiet_profile, 0.4, 20_000.0)[0]
     tuning = tuning_seeds()
     jobs = []
     for c in a.candidates:
         for lv in a.levels.split(","):
-            jobs += [(c, lv, s, "NONE", a.quiet_s, a.bank) for s in TUNING_FLIGHT_SEEDS[: a.quiet_seeds]]
+            jobs += [(c, lv, s, "NONE", a.quiet_s, a.bank, a.feedback, quiet_maneuvers)
+                     for s in TUNING_FLIGHT_SEEDS[: a.quiet_seeds]]
             for case in COMPONENTS:
                 for n in range(a.runs):
                     seed = derived_seed("single", 1, case, n)
                     assert seed in tuning
-                    jobs.append((c, lv, seed, case, FLIGHT_S, a.bank))
+                    jobs.append((c, lv, seed, case, FLIGHT_S, a.bank, a.feedback, ()))
     rows: dict = {}
     with cf.ProcessPoolExecutor(a.workers) as ex:
         for out in ex.map(flight, jobs, chunksize=4):
@@ -81,10 +107,26 @@ def main() -> None:
     for (c, lv), rs in rows.items():
         quiet = [r for r in rs if r[0] == "NONE"]
         fail = [r for r in rs if r[0] != "NONE"]
-        print(f"{c:14s} {lv:9s} quiet: {sum(r[1] for r in quiet):4d} false decl in {len(quiet) * a.quiet_s / 3600:.2f} h"
-              f" (s mean {sum(r[3] for r in quiet) / len(quiet):.2f}, max {max(r[4] for r in quiet):.2f})"
-              f" | failures correct {sum(r[1] for r in fail)}/{len(fail)}, early FA {sum(r[2] for r in fail)}",
-              flush=True)
+        missed = {}
+        for r in fail:
+            if not r[1]:
+                missed[r[0]] = missed.get(r[0], 0) + 1
+        quiet_text = (f"quiet: {sum(r[1] for r in quiet):4d} false decl in {len(quiet) * a.quiet_s / 3600:.2f} h"
+                      f" (s mean {sum(r[3] for r in quiet) / len(quiet):.2f}, max {max(r[4] for r in quiet):.2f})"
+                      if quiet else "quiet: -")
+        print(f"{c:14s} {lv:9s} {quiet_text}"
+              f" | failures correct {sum(r[1] for r in fail)}/{len(fail)}, early FA {sum(r[2] for r in fail)}"
+              f", latency {_latency(fail, ACTUATORS)} actuators, {_latency(fail, SENSORS)} sensors"
+              f", missed {' '.join(f'{k} {v}' for k, v in missed.items()) or '-'}", flush=True)
+
+
+
+def _latency(rows, components) -> str:
+    """Median / p95 latency (s) of the first correct declaration in the runs of ``components``."""
+    lat = [r[5] for r in rows if r[0] in components and r[5] is not None]
+    if not lat:
+        return "- / -"
+    return f"{float(np.median(lat)):.2f} / {float(np.percentile(lat, 95)):.2f} s"
 
 
 if __name__ == "__main__":

@@ -154,9 +154,9 @@ int main(int argc, char** argv) {
       std::string maneuver = options.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
       if (options.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(options.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
-      std::printf("mmae-daemon: ready: bank %.12s (%s, %s, p_min %g, threshold %g, dwell %g s, %s, %s, "
+      std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, p_min %g, threshold %g, dwell %g s, %s, %s, "
                   "schedule %s, %s), lcm %s, %s -> %s, %s\n",
-                  bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), options.bank.p_min,
+                  bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), executive->estimator().states(), options.bank.p_min,
                   options.declarer.threshold, options.declarer.dwell_s,
                   adaptation.c_str(),
                   trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate", maneuver.c_str(), cfg.lcm_url.c_str(),

@@ -49,8 +49,8 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
     rehearsal_sensor_.valid[j] = 1;
   }
   for (int j = 0; j < MmaeEstimator::kNu; ++j) rehearsal_command_.u_rad[j] = estimator_.u_trim()(j);
-  rehearsal_sensor_.mach = estimator_.bank().air_data().mach;  // the design condition
-  rehearsal_sensor_.pressure_altitude_ft = estimator_.bank().air_data().pressure_altitude_ft;
+  rehearsal_sensor_.mach = estimator_.air_data().mach;  // the design condition
+  rehearsal_sensor_.pressure_altitude_ft = estimator_.air_data().pressure_altitude_ft;
 }
 
 Executive::~Executive() = default;

@@ -1,15 +1,20 @@
 // MmaeEstimator — the estimator the executive steps: the core's hierarchical bank
-// (F16HierarchicalBank, paper Fig. 2) built from a model-bank file, fed ABSOLUTE u and z
-// exactly as the in-process closed loop feeds it (docs/INTERFACES.md); the bank subtracts
-// its trim:
+// (paper Fig. 2) built from a model-bank file, fed ABSOLUTE u and z exactly as the
+// in-process closed loop feeds it (docs/INTERFACES.md); the bank subtracts its trim:
 //   schedule(a)   bank.schedule(a)   measured air data for the coming frames (air_data.h)
 //   update(z)     bank.update(z)     r_k = (z - z_trim) - H_k x-_k, Bayes (eqs. 1-2), floor,
 //                                    declaration, level switch / back-out
 //   propagate(u)  bank.propagate(u)  x-_{i+1} = Phi_k x+_i + Bd_k (u - u_trim)
 //   z_hat         blended H_out x^ + z_trim (absolute)
-// Sizes are the F-16's (13 states, 5 inputs, 7 measurements, 13 filters on line).
-// Construction throws std::invalid_argument naming what does not fit; the per-frame calls
-// are noexcept and allocate nothing (the names it reports are the bank's own strings).
+// Sizes are the F-16's: 5 inputs, 7 measurements, 13 filters on line, and the filters'
+// state size the bank file's nx selects, as the binding does (core.HierarchicalBank):
+//   nx = 13   F16HierarchicalBank       (the shipped banks)
+//   nx = 19   F16GustHierarchicalBank   (six Dryden gust states, `f16mmae design --gust-states`)
+// The two differ only in NX; u, z, the probabilities and the names have the same sizes, so
+// the executive, the status and the wire do not depend on which one runs.
+// Construction throws std::invalid_argument naming what does not fit and the sizes it runs;
+// the per-frame calls are noexcept and allocate nothing (one std::visit over a variant
+// chosen at construction; the names it reports are the bank's own strings).
 #pragma once
 
 #include "f16mmae/hierarchical_bank.h"
@@ -17,67 +22,123 @@
 
 #include <Eigen/Dense>
 
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <variant>
 
 namespace f16mmae::executive {
 
 class MmaeEstimator {
  public:
-  static constexpr int kNx = 13, kNu = 5, kNz = 7, kOnLine = 13;
-  using Bank = F16HierarchicalBank;
-  using ZVector = Bank::ZVector;
-  using UVector = Bank::UVector;
+  static constexpr int kNu = 5, kNz = 7, kOnLine = 13;
+  static constexpr int kNxPlain = 13, kNxGust = 19;  // the state sizes it runs
+  using ZVector = F16HierarchicalBank::ZVector;
+  using UVector = F16HierarchicalBank::UVector;
+  static_assert(std::is_same_v<ZVector, F16GustHierarchicalBank::ZVector> &&
+                    std::is_same_v<UVector, F16GustHierarchicalBank::UVector>,
+                "the 13- and 19-state banks share u and z");
+
+  // f(bank) on the bank that runs: F16HierarchicalBank or F16GustHierarchicalBank.
+  template <class F>
+  decltype(auto) visit(F&& f) noexcept {
+    return std::visit([&](auto& p) -> decltype(auto) { return f(*p); }, bank_);
+  }
+  template <class F>
+  decltype(auto) visit(F&& f) const noexcept {
+    return std::visit(
+        [&](const auto& p) -> decltype(auto) {
+          return f(static_cast<const typename std::decay_t<decltype(p)>::element_type&>(*p));
+        },
+        bank_);
+  }
 
   explicit MmaeEstimator(const ModelBank& model_bank, const HierarchicalOptions& options = {})
-      : bank_(checked(model_bank), options) {}
+      : bank_(make(model_bank, options)), nx_(model_bank.nx()) {}
 
   bool update(const ZVector& z_abs) noexcept {
-    declared_now_ = bank_.update(z_abs);
+    declared_now_ = visit([&](auto& b) { return b.update(z_abs); });
     return true;
   }
-  bool propagate(const UVector& u_abs) noexcept { return bank_.propagate(u_abs); }
-  void schedule(const AirData& a) noexcept { bank_.schedule(a); }
+  bool propagate(const UVector& u_abs) noexcept {
+    return visit([&](auto& b) { return b.propagate(u_abs); });
+  }
+  void schedule(const AirData& a) noexcept {
+    visit([&](auto& b) { b.schedule(a); });
+  }
   void reset() noexcept {
-    bank_.reset();
+    visit([](auto& b) { b.reset(); });
     declared_now_ = -1;
   }
 
   // Touch the per-frame working set ahead of the next frame (cache_warm.h). Reads only.
-  void warm_cache() const noexcept { bank_.warm_cache(); }
+  void warm_cache() const noexcept {
+    visit([](const auto& b) { b.warm_cache(); });
+  }
 
-  int level() const noexcept { return bank_.level(); }
+  // The filters' state size: 13, or 19 with the gust states.
+  int nx() const noexcept { return nx_; }
+  int level() const noexcept {
+    return visit([](const auto& b) { return b.level(); });
+  }
   // The single failure whose level-1 bank is on line, "" at level 0.
   const std::string& level_failure() const noexcept {
-    const int f = bank_.level1_failure();
-    return f < 0 ? empty_ : bank_.name(f);
+    return visit([&](const auto& b) -> const std::string& {
+      const int f = b.level1_failure();
+      return f < 0 ? empty_ : b.name(f);
+    });
   }
   // The current (presumed or last declared) hypothesis: "NONE" until a failure is declared.
-  const std::string& declared() const noexcept { return bank_.name(bank_.current_hypothesis()); }
+  const std::string& declared() const noexcept {
+    return visit([](const auto& b) -> const std::string& { return b.name(b.current_hypothesis()); });
+  }
   // The hypothesis declared by the last update ("" if none; a back-out declares "NONE").
-  const std::string& declaration() const noexcept { return declared_now_ < 0 ? empty_ : bank_.name(declared_now_); }
+  const std::string& declaration() const noexcept {
+    return visit([&](const auto& b) -> const std::string& { return declared_now_ < 0 ? empty_ : b.name(declared_now_); });
+  }
   int on_line() const noexcept { return kOnLine; }
-  const std::string& hypothesis_name(int k) const noexcept { return bank_.name(bank_.online()[k]); }
-  double probability(int k) const noexcept { return bank_.probabilities()(k); }
-  ZVector z_hat() const noexcept { return bank_.z_hat(); }
-  const UVector& u_trim() const noexcept { return bank_.u_trim(); }
-  const ZVector& z_trim() const noexcept { return bank_.z_trim(); }
-  const Bank& bank() const noexcept { return bank_; }
+  const std::string& hypothesis_name(int k) const noexcept {
+    return visit([&](const auto& b) -> const std::string& { return b.name(b.online()[k]); });
+  }
+  double probability(int k) const noexcept {
+    return visit([&](const auto& b) { return b.probabilities()(k); });
+  }
+  ZVector z_hat() const noexcept {
+    return visit([](const auto& b) -> ZVector { return b.z_hat(); });
+  }
+  const UVector& u_trim() const noexcept {
+    return visit([](const auto& b) -> const UVector& { return b.u_trim(); });
+  }
+  const ZVector& z_trim() const noexcept {
+    return visit([](const auto& b) -> const ZVector& { return b.z_trim(); });
+  }
+  // The air data in force (HierarchicalBank::air_data).
+  const AirData& air_data() const noexcept {
+    return visit([](const auto& b) -> const AirData& { return b.air_data(); });
+  }
   static const char* kind() noexcept { return "hierarchical bank"; }
+  // "13 states" or "19 states (gust)", for the daemon's ready line.
+  const char* states() const noexcept { return nx_ == kNxGust ? "19 states (gust)" : "13 states"; }
 
  private:
-  static const ModelBank& checked(const ModelBank& b) {
-    if (b.nx() != kNx || b.nu() != kNu || b.nz() != kNz) {
-      std::ostringstream s;
-      s << "mmae-daemon runs the F-16 bank (nx, nu, nz) = (" << kNx << ", " << kNu << ", " << kNz
-        << "); this bank has (" << b.nx() << ", " << b.nu() << ", " << b.nz() << ")";
-      throw std::invalid_argument(s.str());
+  using Variant = std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>>;
+
+  static Variant make(const ModelBank& b, const HierarchicalOptions& options) {
+    if (b.nu() == kNu && b.nz() == kNz) {
+      if (b.nx() == kNxPlain) return std::make_unique<F16HierarchicalBank>(b, options);
+      if (b.nx() == kNxGust) return std::make_unique<F16GustHierarchicalBank>(b, options);
     }
-    return b;
+    std::ostringstream s;
+    s << "mmae-daemon runs the F-16 bank (nx, nu, nz) = (" << kNxPlain << ", " << kNu << ", " << kNz << ") or ("
+      << kNxGust << ", " << kNu << ", " << kNz << ") with the gust states; this bank has (" << b.nx() << ", "
+      << b.nu() << ", " << b.nz() << ")";
+    throw std::invalid_argument(s.str());
   }
 
-  Bank bank_;
+  Variant bank_;
+  int nx_ = 0;
   int declared_now_ = -1;
   std::string empty_;
 };

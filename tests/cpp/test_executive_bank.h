@@ -1,5 +1,6 @@
-// A small synthetic F-16-sized model bank for the daemon's tests (13 states, 5 inputs,
-// 7 measurements, the 13 level-0 hypotheses then the 66 duals, names of f16mmae/names.py):
+// A small synthetic F-16-sized model bank for the daemon's tests (13 states, or 19 with six
+// gust-like states appended, 5 inputs, 7 measurements, the 13 level-0 hypotheses then the 66
+// duals, names of f16mmae/names.py):
 // stable Phi, hypothesis k differs from NONE by the removed Bd column (actuators) or H row
 // (sensors), as the design makes them. Passes ModelBank::validate().
 #pragma once
@@ -11,15 +12,17 @@
 
 namespace f16mmae::test_support {
 
-inline ModelBank synthetic_bank() {
+inline ModelBank synthetic_bank(int nx = 13) {
   const std::vector<std::string> actuators = {"LS", "RS", "LF", "RF", "RUD"};
   const std::vector<std::string> sensors = {"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
   ModelBank b;
   b.state_names = {"u_fps", "alpha_rad", "q_rad_s", "theta_rad", "beta_rad", "p_rad_s", "r_rad_s",
                    "phi_rad", "d_ls_rad", "d_rs_rad", "d_lf_rad", "d_rf_rad", "d_rud_rad"};
+  const std::vector<std::string> gusts = {"u_g_fps", "v_g_fps", "w_g_fps", "p_g_rad_s", "q_g_rad_s", "r_g_rad_s"};
+  for (int i = 13; i < nx; ++i) b.state_names.push_back(gusts.at(i - 13));
   b.input_names = actuators;
   b.measurement_names = sensors;
-  const int nx = 13, nu = 5, nz = 7;
+  const int nu = 5, nz = 7;
   Eigen::MatrixXd phi = 0.9 * Eigen::MatrixXd::Identity(nx, nx);
   for (int i = 0; i + 1 < nx; ++i) phi(i, i + 1) = 0.05;
   Eigen::MatrixXd bd = Eigen::MatrixXd::Zero(nx, nu);
@@ -61,7 +64,7 @@ inline ModelBank synthetic_bank() {
   b.alt_ft = 20000.0;
   b.tuning = "synthetic";
   b.metadata = "{}";
-  b.content_hash = "synthetic-bank";
+  b.content_hash = nx == 13 ? "synthetic-bank" : "synthetic-bank-" + std::to_string(nx);
   b.validate();
   return b;
 }

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from f16mmae.campaign.engine.config import CampaignError
@@ -14,6 +15,7 @@ from f16mmae.campaign.maneuver import ManeuverCampaign, maneuver_spec, run_maneu
 from f16mmae.campaign.soak.campaign import SoakCampaign, plan as soak_plan, profile
 from f16mmae.banks import load_bank
 from f16mmae.cli.main import main
+from f16mmae.loop.flight import fly
 from f16mmae.report.markdown import summary_markdown
 from f16mmae.truth import Scenario
 
@@ -88,3 +90,25 @@ def test_soak_flies_a_profile_from_the_design_point():
 def test_cli_errors(argv, expected, capsys, tmp_path):
     assert main(["campaign", "maneuver", *argv, "--out", str(tmp_path / "x")]) == 2
     assert expected in capsys.readouterr().err
+
+
+def test_the_hold_profile_keeps_a_severe_turbulence_flight_at_its_design_condition():
+    """profile hold engages the pilot's outer loop from 0 s (altitude, Mach, wings level): in
+    two minutes of severe turbulence on raw feedback the trimmed aircraft alone wanders
+    hundreds of feet and past 20 deg of bank; held, it stays within 100 ft and 16 deg."""
+    ms, need = profile("hold", 0.4, 20_000.0)
+    assert ms == ("turn@0:bank=0deg",) and need == 0.0
+    _, _, bank = load_bank("tuned")
+    excursions = {}
+    for maneuvers in ((), ms):
+        sc = Scenario(mach=0.4, alt_ft=20_000.0, turbulence="severe", duration_s=120.0, seed=3, feedback="raw",
+                      maneuvers=maneuvers)
+        log = fly(sc, bank, record_series=True, record_probabilities=False).series["truth_log"]
+        state, names = log["state"], log["state_names"]
+        excursions[maneuvers] = (np.abs(state[:, names.index("alt_ft")] - 20_000.0).max(),
+                                 np.degrees(np.abs(state[:, names.index("phi_rad")]).max()))
+    alone, held = excursions[()], excursions[ms]
+    assert alone[0] > 300.0 and alone[1] > 20.0, alone
+    assert held[0] < 100.0 and held[1] < 16.0, held
+    specs = soak_plan(SoakCampaign(hours=0.1, duration_s=60.0, profile="hold").validate(), "tuned", "tuned", bank)
+    assert all(s["scenario"]["maneuvers"] == ["turn@0:bank=0deg"] for s in specs)

@@ -227,3 +227,18 @@ def test_unreadable_or_foreign_logs_are_refused(bank, tmp_path, capsys):
     assert main(["replay", str(tmp_path / "nope.lcmlog"), "--bank", "tuned"]) == 2
     assert "does not exist" in capsys.readouterr().err
     assert main(["replay", str(other), "--bank", "tuned", "--tolerance", "-1"]) == 2
+
+
+def test_a_recorded_flight_of_a_gust_state_bank_replays_exactly(tmp_path):
+    """The daemon's executive runs a 19-state bank (nx selects it); its log replays exactly."""
+    path = tmp_path / "gust.f16bank"
+    assert main(["design", "--tuning", "tuned_gust", "--out", str(path)]) == 0
+    gust = core.load_bank(str(path))
+    assert gust.nx == 19
+    log = tmp_path / "gust.lcmlog"
+    result = _record_flight(gust, log, prefix="GUST_")
+    assert result.declarations[0]["hypothesis"] == "AOA"
+    report = replay_log(log, gust, channel_prefix="GUST_")
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == 192 and report.max_probability_diff == 0.0
+    assert main(["replay", str(log), "--channel-prefix", "GUST_", "--bank", str(path)]) == 0

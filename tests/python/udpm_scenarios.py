@@ -377,3 +377,25 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             "tempering 0.1 g, actuator limits)" in out), out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
 
+
+
+def test_hil_lockstep_with_a_gust_state_bank_equals_in_process(tmp_path, capsys):
+    """mmae-daemon runs a 19-state bank (the Dryden gust states; the bank file's nx selects
+    it) and the lockstep flight over udpm equals the in-process run exactly: as designed, and
+    with the turbulence adaptation and the reconfigured feedback given to both."""
+    gust = tmp_path / "gust.f16bank"
+    assert main(["design", "--tuning", "tuned_gust", "--out", str(gust)]) == 0
+    capsys.readouterr()
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(gust), "--fail", "LF@0.5",
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}G_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    assert "hierarchical bank of 19 states (gust)" in out and "128 updated" in out
+    assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "3", "--bank", str(gust), "--fail", "AZ@0.5",
+               "--turbulence", "moderate", "--adapt-turbulence", "--feedback", "reconfigure",
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}H_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    assert "19 states (gust)" in out and "turbulence adaptation" in out and "declared AZ" in out
+    assert "in-process run: max |probability difference| = 0 (identical declarations)" in out

@@ -55,8 +55,11 @@ FLIGHT_S_MAX = 3600.0
 
 #: Turbulence levels of the truth model, in increasing intensity (MIL-F-8785C).
 TURBULENCE_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
-#: What the flight control system feeds back: the MMAE's z_hat (the paper) or the raw sensors.
-FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw")
+#: What the flight control system feeds back: the MMAE's z_hat on every channel (the paper),
+#: the raw sensors, or the raw sensors reconfigured on a declaration -- the bank's estimate
+#: only on the channels of the sensors the declared hypothesis has failed
+#: (cpp/f16mmae/sensor_reconfiguration.h).
+FEEDBACK_MODES: tuple[str, ...] = ("mmae", "raw", "reconfigure")
 #: The nominal banks shipped in the package (``data/nominal_<tuning>.f16bank``).
 SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
 #: The scheduled bank's name wherever ``--bank`` is accepted: banks designed on the grid

@@ -43,8 +43,9 @@ def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool
                             "bias=B drift=R). campaign single takes a comma list: the same cases in every "
                             "mode, a mode flying only the cases whose component it applies to, reported "
                             "side by side")
-    p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
-                   help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
+    p.add_argument("--feedback", default="mmae", metavar="mmae|raw|reconfigure",
+                   help="FCS feedback: the MMAE's z_hat (paper), raw sensors, or raw sensors with the "
+                        "MMAE's estimate only on the sensors a declaration has failed (default mmae)")
     p.add_argument("--no-dither", action="store_true", help="fly without dither (the paper always dithers)")
     p.add_argument("--dither-scale", default="1.0", metavar="X",
                    help="multiply the truth model's default dither amplitudes by X (default 1)")

@@ -30,11 +30,13 @@ examples:
   f16mmae campaign soak --hours 10 --turbulence none,light,moderate,severe --check
   f16mmae campaign soak --hours 0.1 --flight-s 60 --workers 1 --out /tmp/soak
   f16mmae campaign soak --hours 2 --profile tour      # maneuvering flight, 540-s tours
+  f16mmae campaign soak --hours 10 --turbulence severe --profile hold   # a pilot holds the trim
   f16mmae campaign soak --hours 1 --flight-s 120 --maneuver turn@10:bank=30 --maneuver climb@20:to=23000ft
 
 profile tour (flights >= 540 s, from the bank's design point): climb 4,000 ft at 2,000 fpm
 at 10 s with a 60-s 30 deg right turn from 60 s, +0.1 Mach from 150 s, a 60-s left turn from
 200 s, back down from 300 s and back to the start speed from 350 s, a 90-s right turn from 450 s.
+profile hold (any length): the pilot holds the altitude, Mach and wings level of 0 s.
 
 Output (DIR, default results/campaign-soak): runs.jsonl (one record per flight: seed,
 scenario, declarations, each false declaration with how long it lasted), summary.json,

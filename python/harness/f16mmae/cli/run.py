@@ -89,8 +89,9 @@ def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning, the 
     p.add_argument("--mach", default=None, metavar="M", help="flight Mach (default: the bank's design point)")
     p.add_argument("--alt-ft", default=None, metavar="H", help="flight altitude in ft (default: the bank's)")
     p.add_argument("--bank", default="tuned", metavar="tuned|untuned|scheduled|FILE", help=bank_help)
-    p.add_argument("--feedback", default="mmae", metavar="mmae|raw",
-                   help="FCS feedback: the MMAE's z_hat (paper) or raw sensors (default mmae)")
+    p.add_argument("--feedback", default="mmae", metavar="mmae|raw|reconfigure",
+                   help="FCS feedback: the MMAE's z_hat (paper), raw sensors, or raw sensors with the "
+                        "MMAE's estimate only on the sensors a declaration has failed (default mmae)")
     p.add_argument("--no-dither", action="store_true", help="fly without dither")
     p.add_argument("--dither-scale", default="1.0", metavar="X",
                    help="multiply the truth model's default dither amplitudes by X, 0-5 (default 1)")

@@ -6,7 +6,10 @@ Frame i (t_i = i / FRAME_RATE_HZ), as in docs/INTERFACES.md::
     a_i = truth.air_data                           measured Mach, pressure altitude (lag, noise)
     estimator.schedule(a_i)                        core: bank.schedule (air data for scheduling only)
     z_hat_i = estimator.update(z_i)                core: bank.update(z_i - z_trim); z_hat absolute
-    u_i = fcs.command(z_hat_i | z_i, t_i)          "mmae" feedback (paper) or "raw", dither included
+    u_i = fcs.command(z_fb_i, t_i)                 dither included; z_fb_i by ``feedback``:
+                                                     "mmae" (paper) z_hat_i; "raw" z_i;
+                                                     "reconfigure" z_i with z_hat_i on the
+                                                     sensors the declared hypothesis failed
     estimator.propagate(u_i)                       core: bank.propagate(u_i - u_trim)
     truth.advance(u_i)                             SIM_RATE_HZ / FRAME_RATE_HZ truth steps
 
@@ -35,7 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import __version__
+from .. import __version__, core
 from ..names import FEEDBACK_MODES, FRAME_RATE_HZ
 from ..truth import FlightControlSystem, Scenario, TruthModel
 from .estimator import Estimator
@@ -150,6 +153,9 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     dt = 1.0 / FRAME_RATE_HZ
     n_frames = int(round(scenario.duration_s * FRAME_RATE_HZ))
     use_mmae = feedback == "mmae"
+    # "reconfigure": the control law is reconfigured only on a declaration (the declarer's
+    # dwell-confirmed decision), and then only on the failed sensors' channels
+    reconfiguration = core.SensorReconfiguration(model_bank) if feedback == "reconfigure" else None
     columns: dict[str, int] = {name: k for k, name in enumerate(estimator.hypotheses)}
     idx = np.arange(len(columns))
     probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
@@ -161,7 +167,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     in_cpp = (truth.law_in_cpp and on_frame is None and not record_series
               and isinstance(estimator, Estimator) and estimator.fixed_size)
     if in_cpp:  # the whole flight in C++: one call, the same frames
-        out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities)
+        out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities,
+                                     reconfiguration)
         t_truth += out["truth_s"]
         t_est += out["estimator_s"]
         start = 0
@@ -190,7 +197,13 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         estimator.schedule(air[0], air[1])
         z_hat = estimator.update(z)
         c = clock()
-        u, z_next = step(fcs, z_hat if use_mmae else z, i + 1 < n_frames)  # u_i, then z_(i+1)
+        if use_mmae:
+            z_fb = z_hat
+        elif reconfiguration is not None:
+            z_fb = reconfiguration.apply(estimator.declared, z, z_hat)
+        else:
+            z_fb = z
+        u, z_next = step(fcs, z_fb, i + 1 < n_frames)  # u_i, then z_(i+1)
         air_next = truth.air_data
         d = clock()
         estimator.propagate(u)

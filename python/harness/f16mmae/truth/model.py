@@ -286,9 +286,11 @@ class TruthModel:
         self.advance(u)
         return u, (self.measure() if measure_next else None)
 
-    def fly_closed_loop(self, bank, n_frames: int, use_mmae: bool, record_probabilities: bool) -> dict:
+    def fly_closed_loop(self, bank, n_frames: int, use_mmae: bool, record_probabilities: bool,
+                        reconfiguration=None) -> dict:
         """C++ engine only: ``n_frames`` closed-loop frames with ``bank`` (a fixed-size F-16
         ``core.HierarchicalBank``) in the loop and the ``attach``-ed control law, in one call;
+        ``reconfiguration``: a ``core.SensorReconfiguration`` for the "reconfigure" feedback;
         see ``core.TruthFrames.fly_closed_loop`` (loop/flight.py uses it)."""
         self._check_open()
         if self._frames is None or not self.law_in_cpp:
@@ -300,7 +302,8 @@ class TruthModel:
             self._turbulence_due()
             self._refill_noise()
             first = self.frame
-            part = self._frames.fly_closed_loop(bank, cut - first, use_mmae, record_probabilities)
+            part = self._frames.fly_closed_loop(bank, cut - first, use_mmae, record_probabilities,
+                                                 reconfiguration)
             self.frame = cut
             if out is None:
                 out = part

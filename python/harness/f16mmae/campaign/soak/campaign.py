@@ -87,7 +87,7 @@ class SoakCampaign(CampaignConfig):
 
 
 #: Soak profiles: name -> (maneuver strings from Mach M, altitude H ft, the flight length they need).
-PROFILES = ("tour",)
+PROFILES = ("tour", "hold")
 
 
 def profile(name: str, mach: float, alt_ft: float) -> tuple[tuple[str, ...], float]:
@@ -97,9 +97,16 @@ def profile(name: str, mach: float, alt_ft: float) -> tuple[tuple[str, ...], flo
     60 s, inside the climb), +0.1 Mach at 0.005 Mach/s from 150 s, a 30 deg left turn for 60 s
     from 200 s, descent back at 2,000 fpm from 300 s with the speed back from 350 s, and a
     90-s right turn from 450 s.  The climb goes down and the speed change back first where the
-    envelope has no room (within 4,000 ft of 35,000 ft; Mach above 0.7)."""
+    envelope has no room (within 4,000 ft of 35,000 ft; Mach above 0.7).
+
+    ``hold`` (any length): the pilot's outer loop holds the altitude, the Mach and wings level
+    it finds at 0 s for the whole flight (one roll-out to 0 deg bank at 0 s engages it), as a
+    pilot or an autopilot does in turbulence; without it a trimmed aircraft left alone for
+    minutes in severe turbulence wanders off its design condition (gust_states.md)."""
     if name not in PROFILES:
         raise CampaignError(f"unknown profile {name!r}; valid: {', '.join(PROFILES)}")
+    if name == "hold":
+        return (str(parse_maneuver("turn@0:bank=0")),), 0.0
     up, down = ("climb", "descend") if alt_ft + 4000 <= 35_000 else ("descend", "climb")
     h1 = alt_ft + 4000 if up == "climb" else alt_ft - 4000
     fast, slow = ("accel", "decel") if mach + 0.1 <= 0.8 else ("decel", "accel")

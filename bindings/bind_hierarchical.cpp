@@ -1,8 +1,9 @@
 // f16mmae.core.HierarchicalBank: the hierarchical MMAE of paper Fig. 2
 // (cpp/f16mmae/hierarchical_bank.h) built from a core.ModelBank. An F-16 bank (5 inputs,
 // 7 measurements, 12 single failures) of 13 states runs in the fixed-size
-// F16HierarchicalBank, of 19 states (the six Dryden gust states) in F16GustHierarchicalBank:
-// the bank's nx selects it; any other bank runs in the dynamic one. Signals are ABSOLUTE here: the bank subtracts its own u_trim / z_trim and
+// F16HierarchicalBank, of 19 states (the six Dryden gust states) in F16GustHierarchicalBank,
+// of 13 states and 6 inputs (the throttle command last) in F16ThrottleHierarchicalBank:
+// the bank's nx and nu select it; any other bank runs in the dynamic one. Signals are ABSOLUTE here: the bank subtracts its own u_trim / z_trim and
 // z_hat comes back absolute.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -83,6 +84,8 @@ class PyHierarchicalBank {
       bank_ = std::make_unique<F16HierarchicalBank>(bank, o);
     else if (fits<F16GustHierarchicalBank>(bank, singles))
       bank_ = std::make_unique<F16GustHierarchicalBank>(bank, o);
+    else if (fits<F16ThrottleHierarchicalBank>(bank, singles))
+      bank_ = std::make_unique<F16ThrottleHierarchicalBank>(bank, o);
     else
       bank_ = std::make_unique<DynamicHierarchicalBank>(bank, o);
     nu_ = bank.nu();
@@ -170,6 +173,7 @@ class PyHierarchicalBank {
   FixedHierarchicalBank fixed_bank() {
     if (auto* p = std::get_if<std::unique_ptr<F16HierarchicalBank>>(&bank_)) return p->get();
     if (auto* p = std::get_if<std::unique_ptr<F16GustHierarchicalBank>>(&bank_)) return p->get();
+    if (auto* p = std::get_if<std::unique_ptr<F16ThrottleHierarchicalBank>>(&bank_)) return p->get();
     return std::monostate{};
   }
 
@@ -182,7 +186,7 @@ class PyHierarchicalBank {
   }
 
   std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>,
-               std::unique_ptr<DynamicHierarchicalBank>>
+               std::unique_ptr<F16ThrottleHierarchicalBank>, std::unique_ptr<DynamicHierarchicalBank>>
       bank_;
   int nu_ = 0, nz_ = 0;
 };
@@ -194,8 +198,9 @@ auto prop(F f) {
 
 }  // namespace
 
-// Benchmark (f16mmae.bench): the fixed-size F-16 bank of the model bank's nx
-// (F16HierarchicalBank, or F16GustHierarchicalBank for 19 states) over frames z (N,7), u (N,5)
+// Benchmark (f16mmae.bench): the fixed-size F-16 bank of the model bank's nx and nu
+// (F16HierarchicalBank, F16GustHierarchicalBank for 19 states, F16ThrottleHierarchicalBank for
+// 6 inputs) over frames z (N,7), u (N,nu)
 // and, if given, air data (N,2) handed to schedule() before each frame; the frames replayed
 // from reset() pass after pass for at least min_time_s and 3 passes, timed in C++. Returns
 // (seconds per frame of the fastest pass, slowest single frame of the last pass in seconds).
@@ -218,7 +223,9 @@ py::tuple bench_fixed_loop(const ModelBank& bank, py::handle z_frames, py::handl
   const auto hb = std::make_unique<Bank>(bank, o);
   const Eigen::MatrixXd z = cv::to_matrix(z_frames, -1, 7, "z", "(N, 7)");
   const Eigen::Index n = z.rows();
-  const Eigen::MatrixXd u = cv::to_matrix(u_frames, n, 5, "u", "(N, 5) with N the frames of z");
+  constexpr int nu = Bank::UVector::RowsAtCompileTime;
+  const Eigen::MatrixXd u = cv::to_matrix(u_frames, n, nu, "u",
+                                          "(N, " + std::to_string(nu) + ") with N the frames of z");
   const bool scheduled = !air.is_none();
   const Eigen::MatrixXd a =
       scheduled ? cv::to_matrix(air, n, 2, "air_data", "(N, 2) with N the frames of z") : Eigen::MatrixXd();
@@ -287,6 +294,9 @@ py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py
   if (bank.nx() == F16GustHierarchicalBank::XVector::RowsAtCompileTime)
     return bench_fixed_loop<F16GustHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode,
                                                      maneuver, actuators, evict_bytes);
+  if (bank.nu() == F16ThrottleHierarchicalBank::UVector::RowsAtCompileTime)
+    return bench_fixed_loop<F16ThrottleHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode,
+                                                         maneuver, actuators, evict_bytes);
   return bench_fixed_loop<F16HierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode, maneuver,
                                                actuators, evict_bytes);
 }
@@ -302,8 +312,8 @@ void bind_hierarchical(py::module_& m) {
         py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
         py::arg("actuator_position_limits_rad") = std::vector<double>{}, py::arg("evict_bytes") = 0,
         "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F-16 bank of the\n"
-        "model bank's nx (13, or 19 with gust states)\n"
-        "over frames z (N,7), u (N,5), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
+        "model bank's nx and nu (13 states, 19 with gust states; 5 inputs, 6 with the throttle)\n"
+        "over frames z (N,7), u (N,nu), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
         "given, timed in C++ (f16mmae.bench); the maneuver options as core.HierarchicalBank's;\n"
         "evict_bytes > 0: a buffer of that size read before every frame (a cold cache; frames timed alone,\n"
         "the median frame of a pass counts).");
@@ -452,7 +462,8 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("dwell_s", prop([](auto& b) { return b.declarer().options().dwell_s; }))
       .def_property_readonly("dwell_frames", prop([](auto& b) { return b.declarer().dwell_frames(); }))
       .def_property_readonly("fixed_size", &PyHierarchicalBank::fixed,
-                             "True when a fixed-size F-16 bank (13 states, or 19 with gust states) runs inside");
+                             "True when a fixed-size F-16 bank (13 states, 19 with gust states, or 13 states\n"
+                             "and the throttle as sixth input) runs inside");
 }
 
 }  // namespace f16mmae::bindings

@@ -11,7 +11,9 @@
 // written, Run().  Sensor failures act from their frame, actuator failures from their step.
 // measure() also samples the air-data sensor (cpp/truth/air_data_sensor.h; normals from their
 // own array, the air-data stream), which fly_closed_loop hands to the estimator's schedule()
-// before each update.
+// before each update.  A bank with the throttle as its sixth input (F16ThrottleHierarchicalBank)
+// propagates u_i = (the five surface commands, the throttle command of frame i): the throttle
+// dither's command (set_throttle_dither, required for such a bank).
 // Throws ValueError for bad arguments (names the field), RuntimeError when JSBSim stops.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -223,16 +225,44 @@ class Frames {
     return z;
   }
 
-  // The throttle dither written at the start of every frame (truth/model.py advance).
-  void set_throttle_dither(const std::string& property, double trim, double amplitude, double omega_rad_s) {
+  // The throttle dither written at the start of every frame (truth/model.py advance); with a
+  // schedule dict {target_fps2, mach, alt_ft, accel_fps2 (rows mach)} its amplitude follows the
+  // air data measured with the frame's z.
+  void set_throttle_dither(const std::string& property, double trim, double amplitude, double omega_rad_s,
+                           const py::object& schedule) {
+    ThrottleDither d;
+    d.trim = trim, d.amplitude = amplitude, d.omega_rad_s = omega_rad_s;
+    if (!schedule.is_none()) {
+      const py::dict s = schedule.cast<py::dict>();
+      const auto m = s["mach"].cast<std::vector<double>>(), h = s["alt_ft"].cast<std::vector<double>>();
+      const auto t = s["accel_fps2"].cast<std::vector<std::vector<double>>>();
+      if (m.size() < 2 || h.size() < 2 || m.size() > ThrottleDither::kMaxGrid || h.size() > ThrottleDither::kMaxGrid ||
+          t.size() != m.size())
+        throw py::value_error("throttle schedule: mach and alt_ft need 2-16 points each and accel_fps2 a row per mach");
+      d.scheduled = true;
+      d.target_fps2 = s["target_fps2"].cast<double>();
+      d.n_mach = static_cast<int>(m.size()), d.n_alt = static_cast<int>(h.size());
+      for (int i = 0; i < d.n_mach; ++i) {
+        d.mach[i] = m[i];
+        if (t[i].size() != h.size()) throw py::value_error("throttle schedule: accel_fps2 rows need one value per alt_ft");
+        for (int j = 0; j < d.n_alt; ++j) d.accel_fps2[i * d.n_alt + j] = t[i][j];
+      }
+      for (int j = 0; j < d.n_alt; ++j) d.alt_ft[j] = h[j];
+    }
     throttle_dither_node_ = exec_->node(property);
-    throttle_dither_ = ThrottleDither{trim, amplitude, omega_rad_s};
+    throttle_dither_ = d;
+  }
+
+  // The throttle command of the current frame (written by advance_frame; the sixth input of a
+  // throttle bank): the dither's, on the air data measured with the frame's z.
+  double throttle_command() const {
+    const bool measured = !log_time_.empty();
+    return throttle_dither_.command(static_cast<double>(frame_) / frame_rate_hz_,
+                                    measured ? air_last_[0] : std::nan(""), measured ? air_last_[1] : std::nan(""));
   }
 
   void advance_frame(const Surfaces& u) {
-    if (throttle_dither_node_ != nullptr)
-      throttle_dither_node_->setDoubleValue(
-          throttle_dither_.command(static_cast<double>(frame_) / frame_rate_hz_));
+    if (throttle_dither_node_ != nullptr) throttle_dither_node_->setDoubleValue(throttle_command());
     Surfaces eff = u;
     for (int k = 0; k < steps_per_frame_; ++k) {
       while (next_act_ < act_fail_.size() && act_fail_[next_act_].at <= step_) {
@@ -263,7 +293,8 @@ class Frames {
   }
 
   // n closed-loop frames with the estimator est in the loop (see the binding's docstring).
-  // Bank: a fixed-size F-16 bank (F16HierarchicalBank or F16GustHierarchicalBank).
+  // Bank: a fixed-size F-16 bank (hierarchical_access.h); with 6 inputs the sixth is the
+  // throttle command.
   // recon (with use_mmae false): the "reconfigure" feedback, raw z with z_hat on the sensors
   // failed under the current hypothesis (sensor_reconfiguration.h); null: raw z.
   template <class Bank>
@@ -273,6 +304,12 @@ class Frames {
     using UV = typename Bank::UVector;
     using Ticks = TickClock::Ticks;
     constexpr py::ssize_t K = Bank::PVector::RowsAtCompileTime;
+    constexpr int kInputs = UV::RowsAtCompileTime;
+    static_assert(kInputs == kSurfaces || kInputs == kSurfaces + 1, "u: the surfaces, and the throttle");
+    if (kInputs > kSurfaces && throttle_dither_node_ == nullptr)
+      throw py::value_error("a bank with the throttle as its sixth input flies with the throttle dither set "
+                            "(set_throttle_dither, amplitude 0 for the trim throttle)");
+    UV u_est = UV::Zero();
     py::array_t<double> probs({static_cast<py::ssize_t>(record ? n : 0), K});
     py::array_t<double> scale(static_cast<py::ssize_t>(record ? n : 0));
     double* row = probs.mutable_data();
@@ -300,7 +337,10 @@ class Frames {
       const Ticks b = TickClock::now();
       const Surfaces u = command(zf);
       const Ticks c = TickClock::now();
-      est.propagate(Eigen::Map<const UV>(u.data()));
+      for (int j = 0; j < kSurfaces; ++j) u_est[j] = u[j];
+      if constexpr (kInputs > kSurfaces)
+        u_est[kSurfaces] = throttle_command();
+      est.propagate(u_est);
       const Ticks e = TickClock::now();
       advance_frame(u);
       if (i + 1 < n) z = measure_frame();
@@ -423,9 +463,13 @@ void bind_truth(py::module_& m) {
       .def("set_outer_loop", &Frames::set_outer_loop, py::arg("coefficients"), py::arg("instruments"),
            py::arg("throttle_property"))
       .def_property_readonly("outer_state", &Frames::outer_state)
+      .def("throttle_command", &Frames::throttle_command,
+           "The throttle command of the current frame (the dither's; advance writes it).")
       .def("set_throttle_dither", &Frames::set_throttle_dither, py::arg("property"), py::arg("trim"),
-           py::arg("amplitude"), py::arg("omega_rad_s"),
-           "Write trim + amplitude sin(omega_rad_s t) to the throttle property before each frame.")
+           py::arg("amplitude"), py::arg("omega_rad_s"), py::arg("schedule") = py::none(),
+           "Write trim + amplitude sin(omega_rad_s t) to the throttle property before each frame; with\n"
+           "schedule {target_fps2, mach, alt_ft, accel_fps2}, amplitude = target_fps2 / the table bilinear\n"
+           "at the air data measured with the frame's z (truth/dither.py).")
       .def("set_noise", &Frames::set_noise, py::arg("noise"))
       .def_property_readonly("noise_left", &Frames::noise_left)
       .def("set_air_data_noise", &Frames::set_air_data_noise, py::arg("noise"))
@@ -456,7 +500,8 @@ void bind_truth(py::module_& m) {
              return std::visit(
                  [&](auto est) -> py::dict {
                    if constexpr (std::is_same_v<decltype(est), std::monostate>)
-                     throw py::value_error("fly_closed_loop flies a fixed-size F-16 bank only (13 or 19 states)");
+                     throw py::value_error("fly_closed_loop flies a fixed-size F-16 bank only (13 or 19 states, "
+                                           "5 inputs; 13 states, 6 inputs)");
                    else {
                      if (recon && recon->hypothesis_count() != est->hypothesis_count())
                        throw py::value_error("fly_closed_loop: the reconfiguration was built from another bank (" +

@@ -57,7 +57,9 @@
 //
 // Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 // F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>, the same bank whose filters carry
-// six Dryden gust states, `f16mmae design --gust-states`) or Eigen::Dynamic
+// six Dryden gust states, `f16mmae design --gust-states`; F16ThrottleHierarchicalBank =
+// HierarchicalBank<13, 13, 6, 7>, the 13-state bank with the throttle command as its sixth
+// input, `f16mmae design --throttle-input`) or Eigen::Dynamic
 // (DynamicHierarchicalBank, any K = 1 + number of singles).
 // Throws: the constructor throws std::invalid_argument (invalid ModelBank, sizes that do not
 // match the template, a missing hypothesis). update/propagate/step are noexcept and, for
@@ -488,6 +490,7 @@ class HierarchicalBank {
 
 using F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 using F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>;
+using F16ThrottleHierarchicalBank = HierarchicalBank<13, 13, 6, 7>;
 using DynamicHierarchicalBank =
     HierarchicalBank<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
 

@@ -19,7 +19,9 @@
 // washed-out yaw damper with ARI), plus dither d_j = a_j sin(w_j t + phi_j), clipped to +-lim;
 // its pilot commands nz_cmd, p_cmd are zero, or come from the outer loop.
 // Throttle dither (truth/dither.py throttle_command): th = trim + a sin(w t), written before a
-// frame's JSBSim steps.
+// frame's JSBSim steps; scheduled (truth/dither.py scheduled_throttle_amplitude):
+// a = target / b_x(M, h), b_x bilinear in the table at the air data (M, h) measured with the
+// frame's z, clamped to the grid; non-finite air data: (0.4, 20000).
 // Outer loop (pilot side, maneuvers): truth/outer_loop.py's module docstring -- piecewise
 // references (at most kMaxSegments per channel) and the altitude / bank / Mach PI laws; it reads
 // the instruments (h, hdot, M, phi) and returns (nz_cmd, p_cmd, throttle).
@@ -170,10 +172,40 @@ struct FlightControlLaw {
   }
 };
 
-/// The truth's throttle dither: command (0..1) at time t, in truth/dither.py's order of operations.
+/// The truth's throttle dither: command (0..1) at time t, in truth/dither.py's order of operations;
+/// scheduled: the amplitude from the measured air data (mach, alt_ft) through the thrust table.
 struct ThrottleDither {
+  static constexpr int kMaxGrid = 16;
   double trim = 0.0, amplitude = 0.0, omega_rad_s = 0.0;
-  double command(double time_s) const { return trim + amplitude * std::sin(omega_rad_s * time_s); }
+  bool scheduled = false;
+  double target_fps2 = 0.0;  // CRITERION nx_g * g
+  int n_mach = 0, n_alt = 0;
+  std::array<double, kMaxGrid> mach{}, alt_ft{};
+  std::array<double, kMaxGrid * kMaxGrid> accel_fps2{};  // row-major (mach, alt)
+
+  /// (i, t): the grid cell of v clamped to the grid (truth/dither.py _cell).
+  static void cell(const double* grid, int n, double v, int& i, double& t) {
+    v = std::min(std::max(v, grid[0]), grid[n - 1]);
+    i = 0;
+    while (i + 2 < n && v >= grid[i + 1]) ++i;
+    t = (v - grid[i]) / (grid[i + 1] - grid[i]);
+  }
+  double thrust_accel(double m, double h) const {
+    int i, j;
+    double tm, ta;
+    cell(mach.data(), n_mach, m, i, tm);
+    cell(alt_ft.data(), n_alt, h, j, ta);
+    const auto t = [&](int a, int b) { return accel_fps2[a * n_alt + b]; };
+    return (1.0 - tm) * ((1.0 - ta) * t(i, j) + ta * t(i, j + 1)) + tm * ((1.0 - ta) * t(i + 1, j) + ta * t(i + 1, j + 1));
+  }
+  double command(double time_s, double air_mach = 0.0, double air_alt_ft = 0.0) const {
+    double a = amplitude;
+    if (scheduled) {
+      if (!(std::isfinite(air_mach) && std::isfinite(air_alt_ft))) air_mach = 0.4, air_alt_ft = 20000.0;
+      a = target_fps2 / thrust_accel(air_mach, air_alt_ft);
+    }
+    return trim + a * std::sin(omega_rad_s * time_s);
+  }
 };
 
 inline constexpr int kMaxSegments = 32;

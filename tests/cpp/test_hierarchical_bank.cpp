@@ -1,7 +1,8 @@
 // HierarchicalBank on synthetic model banks built like the design (B column / H row
 // removed, Riccati gains) and flown against a linear truth with failures injected:
 // level-0 declaration, level-1 dual declaration, back-out, switch initialisation, trim
-// handling, lookup errors, and no heap allocation in the fixed-size F-16 step (switches
+// handling, lookup errors, the 19-state and 6-input instantiations against the dynamic bank,
+// and no heap allocation in the fixed-size F-16 step (switches
 // included; global operator new is counted in this executable).
 #include "f16mmae/hierarchical_bank.h"
 
@@ -62,6 +63,28 @@ ModelBank f16_sized_bank(const test::Plant& plant) {
   Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, -0.03), z_trim(7);
   z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
   return test::make_bank(plant, kF16Act, kF16Sen, u_trim, z_trim);
+}
+
+// Flies `f` through the fixed-size bank HB and the dynamic bank on the same model bank:
+// their probabilities agree to 1e-9 on every frame, their declarations are the same and no
+// frame of HB allocates. Returns the names declared.
+template <class HB>
+std::vector<std::string> fixed_equals_dynamic(const ModelBank& bank, const Flight& f) {
+  HB hb(bank);
+  DynamicHierarchicalBank reference(bank);
+  const std::vector<typename HB::ZVector> z(f.z.begin(), f.z.end());
+  const std::vector<typename HB::UVector> u(f.u.begin(), f.u.end());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    const long long before = f16mmae::testing::allocation_count();
+    hb.step(z[i], u[i]);
+    EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0) << "frame " << i;
+    reference.step(f.z[i], f.u[i]);
+    worst = std::max(worst, (hb.probabilities() - reference.probabilities()).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_EQ(declared_names(hb), declared_names(reference));
+  return declared_names(hb);
 }
 
 struct Small {
@@ -236,21 +259,29 @@ TEST(HierarchicalBank, GustSizedBankEqualsTheDynamicBankWithoutAllocating) {
   const ModelBank bank = f16_sized_bank(plant);
   ASSERT_EQ(bank.nx(), 19);
   EXPECT_THROW(F16HierarchicalBank{bank}, std::invalid_argument);
-  F16GustHierarchicalBank hb(bank);
-  DynamicHierarchicalBank reference(bank);
   const Flight f = fly(plant, kF16Act, kF16Sen, bank, {{"LF", 64, 1 << 30}}, 320, 9u);
-  std::vector<Eigen::Matrix<double, 7, 1>> z(f.z.begin(), f.z.end());
-  std::vector<Eigen::Matrix<double, 5, 1>> u(f.u.begin(), f.u.end());
-  double worst = 0.0;
-  for (std::size_t i = 0; i < z.size(); ++i) {
-    const long long before = f16mmae::testing::allocation_count();
-    hb.step(z[i], u[i]);
-    EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0) << "frame " << i;
-    reference.step(f.z[i], f.u[i]);
-    worst = std::max(worst, (hb.probabilities() - reference.probabilities()).cwiseAbs().maxCoeff());
-  }
-  EXPECT_LT(worst, 1e-9);
-  EXPECT_EQ(declared_names(hb), declared_names(reference));
-  ASSERT_FALSE(hb.declarations().empty());
-  EXPECT_EQ(declared_names(hb).front(), "LF");
+  const std::vector<std::string> declared = fixed_equals_dynamic<F16GustHierarchicalBank>(bank, f);
+  ASSERT_FALSE(declared.empty());
+  EXPECT_EQ(declared.front(), "LF");
+}
+
+// The 6-input instantiation (the throttle command as the sixth input, `f16mmae design
+// --throttle-input`: an input of every hypothesis, never a failure) runs the same arithmetic
+// as the dynamic bank on the same model bank, and its frames allocate nothing.
+TEST(HierarchicalBank, ThrottleSizedBankEqualsTheDynamicBankWithoutAllocating) {
+  const test::Plant plant = test::random_plant(13, 6, 7, 41u, 1e-3, 1e-3);
+  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(6, -0.03), z_trim(7);
+  u_trim(5) = 0.25;
+  z_trim << 414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0;
+  ModelBank bank = test::make_bank(plant, kF16Act, kF16Sen, u_trim, z_trim);
+  bank.input_names.push_back("THR");
+  ASSERT_EQ(bank.nu(), 6);
+  ASSERT_EQ(bank.hypotheses.size(), 79u);
+  EXPECT_THROW(F16HierarchicalBank{bank}, std::invalid_argument);
+  std::vector<std::string> inputs = kF16Act;
+  inputs.push_back("THR");
+  const Flight f = fly(plant, inputs, kF16Sen, bank, {{"AZ", 64, 1 << 30}}, 320, 13u);
+  const std::vector<std::string> declared = fixed_equals_dynamic<F16ThrottleHierarchicalBank>(bank, f);
+  ASSERT_FALSE(declared.empty());
+  EXPECT_EQ(declared.front(), "AZ");
 }

@@ -136,3 +136,37 @@ def test_throttle_dither_settings_are_checked_and_kept_out_of_records_when_off()
         DitherSpec(throttle_amplitude=0.02, throttle_frequency_hz=20.0)
     with pytest.raises(ValueError, match="maneuvers"):
         Sc(dither=on, duration_s=10.0, maneuvers=("turn@1:bank=20",))
+
+
+def test_scheduled_throttle_amplitude_meets_the_criterion_on_jsbsims_column():
+    from f16mmae.design.linearize import throttle_column
+    from f16mmae.truth import aircraft
+    from f16mmae.truth.dither import G_FPS2, scheduled_throttle_amplitude, thrust_accel_fps2
+
+    # the table at its nodes is JSBSim's thrust acceleration per unit command (3 decimals)
+    for mach, alt in ((0.4, 20000.0), (0.8, 5000.0), (0.5, 35000.0)):
+        fdm, _ = aircraft.trimmed_fdm(mach=mach, alt_ft=alt)
+        b_x = throttle_column(fdm)[0]
+        assert thrust_accel_fps2(mach, alt) == pytest.approx(b_x, abs=6e-4)
+        assert scheduled_throttle_amplitude(mach, alt) * b_x / G_FPS2 == pytest.approx(0.018, rel=1e-4)
+    # bilinear: the centre of a cell is the mean of its corners; outside the grid it is clamped
+    corners = [thrust_accel_fps2(m, h) for m in (0.4, 0.5) for h in (20000.0, 25000.0)]
+    assert thrust_accel_fps2(0.45, 22500.0) == pytest.approx(sum(corners) / 4, rel=1e-14)
+    assert thrust_accel_fps2(0.95, 1000.0) == thrust_accel_fps2(0.8, 5000.0)
+    assert scheduled_throttle_amplitude(float("nan"), 1.0) == scheduled_throttle_amplitude(0.4, 20000.0)
+
+
+def test_scheduled_throttle_settings_and_the_bank_default():
+    from f16mmae.truth.dither import SCHEDULED_THROTTLE_FREQUENCY_HZ
+    from f16mmae.truth.scenario import Scenario as Sc
+
+    on = DitherSpec().with_scheduled_throttle()
+    assert on.throttle_on and on.throttle_schedule and on.throttle_frequency_hz == SCHEDULED_THROTTLE_FREQUENCY_HZ
+    assert Sc.from_dict(Sc(dither=on).to_dict()).dither == on
+    given = DitherSpec(throttle_amplitude=0.01, throttle_frequency_hz=0.3)
+    assert given.with_scheduled_throttle() == given  # a throttle dither of the scenario's own stays
+    assert DitherSpec(enabled=False).with_scheduled_throttle() == DitherSpec(enabled=False)
+    with pytest.raises(ValueError, match="throttle_schedule"):
+        DitherSpec(throttle_schedule=True, throttle_amplitude=0.02)
+    with pytest.raises(ValueError, match="throttle_schedule"):
+        DitherSpec(throttle_schedule="yes")

@@ -38,6 +38,10 @@ ALL_HYPOTHESES: tuple[str, ...] = SINGLE_HYPOTHESES + DUAL_HYPOTHESES
 COMPONENTS: tuple[str, ...] = ACTUATORS + SENSORS
 
 NX, NU, NZ = len(STATES), len(ACTUATORS), len(SENSORS)
+#: The throttle command's name as a bank's sixth input (``f16mmae design --throttle-input``).
+THROTTLE_INPUT = "THR"
+#: The inputs of a bank that models the throttle: the surfaces, then the throttle command.
+INPUTS_WITH_THROTTLE: tuple[str, ...] = ACTUATORS + (THROTTLE_INPUT,)
 K_BANK = len(SINGLE_HYPOTHESES)  # filters on line at any level (13)
 
 #: Truth-model integration rate and the flight-control / sensor / estimator frame rate.

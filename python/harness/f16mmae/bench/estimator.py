@@ -20,9 +20,10 @@ hypothesis the failed actuator's Bd column or the failed sensor's H row zeroed, 
 steady-state gain from scipy's discrete algebraic Riccati equation (DARE).
 (e) The hierarchical bank (79 filters stored, 13 on line, timed in C++) at 13 states and at
 19 (the filters with Dryden gust states, ``f16mmae design --gust-states``), and at 13 states
-with a cold cache: before every frame a buffer of ``EVICT_BYTES`` is read, which evicts the
-bank from the cores' own caches (L1, L2) as the truth model's JSBSim steps do between two
-frames of a closed loop; each frame timed alone, the median frame counts.
+with 6 inputs (the throttle as the sixth, ``f16mmae design --throttle-input``), and at 13
+states and 5 inputs with a cold cache: before every frame a buffer of ``EVICT_BYTES`` is read,
+which evicts the bank from the cores' own caches (L1, L2) as the truth model's JSBSim steps do
+between two frames of a closed loop; each frame timed alone, the median frame counts.
 """
 from __future__ import annotations
 
@@ -49,10 +50,12 @@ EVICT_BYTES = 4 << 20
 
 
 def synthetic_models(
-    hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1, nx: int = names.NX
+    hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1, nx: int = names.NX,
+    nu: int = names.NU,
 ) -> list[tuple[str, dict[str, np.ndarray]]]:
     """An F-16-size bank of proper steady-state filters, one per hypothesis name (``nx``
-    states: 13, or 19 as the filters with Dryden gust states).
+    states: 13, or 19 as the filters with Dryden gust states; ``nu`` inputs: 5, or 6 with the
+    throttle, whose column no hypothesis removes).
 
     Phi is random with spectral radius 0.97, Bd and H random; a hypothesis fails the
     components it names (``names.failed_components``): an actuator's Bd column or a
@@ -61,7 +64,7 @@ def synthetic_models(
     filters (filterpy), q, r and the a-priori covariance p.
     """
     rng = np.random.default_rng(seed)
-    nu, nz = names.NU, names.NZ
+    nz = names.NZ
     phi = rng.standard_normal((nx, nx))
     phi *= 0.97 / np.max(np.abs(np.linalg.eigvals(phi)))
     bd = 0.1 * rng.standard_normal((nx, nu))
@@ -84,12 +87,13 @@ def synthetic_models(
     return models
 
 
-def synthetic_bank(hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1, nx: int = names.NX):
+def synthetic_bank(hypotheses: tuple[str, ...] = names.SINGLE_HYPOTHESES, seed: int = 1, nx: int = names.NX,
+                   nu: int = names.NU):
     """:func:`synthetic_models` as a validated ``core.ModelBank`` (trim at zero, 64 Hz)."""
     return core.ModelBank(
-        synthetic_models(hypotheses, seed, nx),
+        synthetic_models(hypotheses, seed, nx, nu),
         state_names=names.STATES + tuple(f"gust{i}" for i in range(nx - names.NX)),
-        input_names=names.ACTUATORS,
+        input_names=names.INPUTS_WITH_THROTTLE[:nu],
         measurement_names=names.SENSORS,
         frame_rate_hz=float(names.FRAME_RATE_HZ),
         tuning="synthetic",
@@ -203,6 +207,8 @@ class BenchResult:
     #: the hierarchical bank (79 filters stored, 13 on line), 13 and 19 states (gust states)
     hierarchical_us: float | None = None
     hierarchical_gust_us: float | None = None
+    #: the hierarchical bank, 13 states and 6 inputs (the throttle)
+    hierarchical_throttle_us: float | None = None
     #: (e) at 13 states with the cache evicted before every frame (EVICT_BYTES)
     hierarchical_cold_us: float | None = None
     python_call_us: float | None = None
@@ -222,6 +228,7 @@ class BenchResult:
             ("python_call / cpp_loop", self.python_call_us, self.cpp_loop_us),
             ("cpp_loop_adaptive / cpp_loop", self.cpp_loop_adaptive_us, self.cpp_loop_us),
             ("hierarchical 19 states / 13 states", self.hierarchical_gust_us, self.hierarchical_us),
+            ("hierarchical 6 inputs / 5 inputs", self.hierarchical_throttle_us, self.hierarchical_us),
             ("hierarchical cold / hot", self.hierarchical_cold_us, self.hierarchical_us),
         ]
         for label, slow, fast in pairs:
@@ -268,11 +275,12 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
     result.cpp_loop_us = core._bench_filter_bank_loop(bank, z, u, min_time_s) * 1e6
     result.cpp_loop_adaptive_us = core._bench_filter_bank_loop(bank, z, u, min_time_s, adapt_turbulence=True) * 1e6
 
-    for nx, attr in ((names.NX, "hierarchical_us"), (names.NX + 6, "hierarchical_gust_us")):
-        stored = synthetic_bank(names.ALL_HYPOTHESES, seed=seed, nx=nx)
-        zh, uh = synthetic_frames(synthetic_models(names.SINGLE_HYPOTHESES, seed, nx), frames, seed=seed + 1)
+    for nx, nu, attr in ((names.NX, names.NU, "hierarchical_us"), (names.NX + 6, names.NU, "hierarchical_gust_us"),
+                         (names.NX, names.NU + 1, "hierarchical_throttle_us")):
+        stored = synthetic_bank(names.ALL_HYPOTHESES, seed=seed, nx=nx, nu=nu)
+        zh, uh = synthetic_frames(synthetic_models(names.SINGLE_HYPOTHESES, seed, nx, nu), frames, seed=seed + 1)
         setattr(result, attr, core._bench_hierarchical_loop(stored, zh, uh, min_time_s=min_time_s)[0] * 1e6)
-        if nx == names.NX:
+        if attr == "hierarchical_us":
             result.hierarchical_cold_us = core._bench_hierarchical_loop(
                 stored, zh, uh, min_time_s=min_time_s, evict_bytes=EVICT_BYTES)[0] * 1e6
 
@@ -302,7 +310,8 @@ def report(result: BenchResult, stream) -> dict:
         ("(a') (a) + turbulence adaptation", result.cpp_loop_adaptive_us),
         ("(e) C++ hierarchical bank, 13 states", result.hierarchical_us),
         ("(e') (e), 19 states (gust states)", result.hierarchical_gust_us),
-        ("(e\") (e), cold cache every frame", result.hierarchical_cold_us),
+        ("(e'') (e), 6 inputs (throttle)", result.hierarchical_throttle_us),
+        ("(e''') (e), cold cache every frame", result.hierarchical_cold_us),
         ("(b) Python call, bank.step(z, u)", result.python_call_us),
         ("(c) numpy reference", result.numpy_us),
         ("(d) filterpy MMAEFilterBank", result.filterpy_us),
@@ -334,7 +343,7 @@ def report(result: BenchResult, stream) -> dict:
         "us_per_frame": {
             "cpp_loop": result.cpp_loop_us, "cpp_loop_adaptive": result.cpp_loop_adaptive_us,
             "hierarchical": result.hierarchical_us, "hierarchical_gust": result.hierarchical_gust_us,
-            "hierarchical_cold": result.hierarchical_cold_us,
+            "hierarchical_throttle": result.hierarchical_throttle_us, "hierarchical_cold": result.hierarchical_cold_us,
             "python_call": result.python_call_us,
             "numpy": result.numpy_us, "filterpy": result.filterpy_us,
         },

@@ -31,6 +31,10 @@ An unstable filter is refused.  Deterministic: the same arguments give the same 
 --failure-model cover designs hypotheses that cover the failure whatever value it takes: a
 failed surface at an unknown position the filter estimates (a random-walk state in place of
 its lag), a failed sensor's reading uninformative (uniform over its full range).
+--throttle-input makes the throttle command the model's sixth input (its column from JSBSim's
+own linearization; the bank's inputs LS RS LF RF RUD THR): the closed loop then flies the
+truth's throttle dither, scheduled on the measured air data, and hands the commanded throttle
+to the estimator with the surface commands.
 """
 
 EXAMPLES = f"""\
@@ -41,6 +45,7 @@ examples:
   f16mmae design --mach 0.45 --alt-ft 25000 --tuning my_tuning.toml --out off_nominal.f16bank
   f16mmae design --failure-model cover --out cover.f16bank
   f16mmae design --gust-states --gust-level moderate --out gust.f16bank   # 16 states: Dryden gusts
+  f16mmae design --throttle-input --gust-level none --out calm_throttle.f16bank   # 6 inputs, calm air
   f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
 
@@ -97,6 +102,9 @@ def register(subparsers) -> None:
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
                         "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
                         "its range every frame (default: the tuning's, 0.01)")
+    p.add_argument("--throttle-input", action="store_true",
+                   help="model the throttle command as a sixth input (JSBSim's linearization column; "
+                        "the closed loop flies the throttle dither with such a bank)")
     p.add_argument("--out", default=None, metavar="FILE",
                    help="bank file to write (default ./f16mmae_M<mach>_<alt>ft_<tuning>.f16bank)")
     p.add_argument("--report", default=None, metavar="DIR",
@@ -143,11 +151,12 @@ def _run(args) -> int:
             raise CliError(f"--failed-sensor-level-q {args.failed_sensor_level_q} must be >= 0 "
                            "and needs the cover failure model (--failure-model cover)")
         tuning = dataclasses.replace(tuning, name=f"{tuning.name}-q{w:g}", failed_sensor_level_q=w)
-    out = writable_file(args.out or f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}.f16bank", "--out")
+    thr = "_throttle" if args.throttle_input else ""
+    out = writable_file(args.out or f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}{thr}.f16bank", "--out")
     report_dir = writable_dir(args.report, "--report") if args.report else None  # before the design
     t0 = time.perf_counter()
     try:
-        design = design_bank(mach, alt_ft, tuning)
+        design = design_bank(mach, alt_ft, tuning, throttle_input=args.throttle_input)
     except TrimError as exc:
         raise CliError(str(exc)) from None
     except DesignError as exc:
@@ -190,6 +199,8 @@ def _run_schedule(args) -> int:
     if args.gust_states or args.gust_level is not None:
         raise CliError("--gust-states and --gust-level design one point; give a tuning file with gust_model "
                        "and turbulence to --schedule instead")
+    if args.throttle_input:
+        raise CliError("--throttle-input designs one point; a scheduled bank with the throttle input is not built")
     try:
         grid = parse_grid(args.schedule)
         tuning = load_tuning(args.tuning)

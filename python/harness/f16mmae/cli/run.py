@@ -193,8 +193,12 @@ def _run(args) -> int:
     scored.update(outcomes.run_fields(result.declarations, t_f, {injected, *first}, scenario.duration_s))
 
     s = result.scenario
+    d = s["dither"] if isinstance(s["dither"], dict) else {"enabled": bool(s["dither"])}
+    dither = ("off" if not d.get("enabled") else
+              "on, throttle dither scheduled" if d.get("throttle_schedule") else
+              f"on, throttle dither {d['throttle_amplitude']:g}" if d.get("throttle_amplitude") else "on")
     print(f"flight: {s['duration_s']:g} s at Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, "
-          f"{s['turbulence']} turbulence, seed {s['seed']}, dither {'on' if s['dither'] else 'off'}, "
+          f"{s['turbulence']} turbulence, seed {s['seed']}, dither {dither}, "
           f"feedback {result.feedback}; bank {label} ({result.bank_hash[:12]})")
     if s.get("maneuvers"):
         print(f"maneuvers: {', '.join(s['maneuvers'])}")

@@ -15,6 +15,12 @@ Pipeline (``design_bank``)::
       -> core.ModelBank (u_trim, z_trim, h_output = unfailed H, the recommended estimator
          settings p_min / threshold / dwell_s, metadata JSON) -> file (format version 3)
 
+``throttle_input=True`` (``f16mmae design --throttle-input``): the throttle command is the
+model's sixth input (model.py: its column from JSBSim's linearization), in every hypothesis;
+the bank's inputs are ``names.INPUTS_WITH_THROTTLE`` (LS RS LF RF RUD THR), its u_trim ends
+with the trim throttle, and the closed loop flies the truth's throttle dither with it
+(loop/flight.py).  Off by default: the banks without it are unchanged, byte for byte.
+
 Everything is deterministic: the same (mach, alt_ft, tuning, design procedure, JSBSim) gives
 the same bank file, byte for byte (JSBSim's trim is deterministic). The metadata therefore
 records ``design_version`` (bump it when the procedure changes) and the JSBSim version, not
@@ -72,8 +78,19 @@ class BankDesign:
     filters: tuple[FilterDesign, ...]
 
     @property
+    def throttle_input(self) -> bool:
+        """Whether the throttle is the sixth modelled input."""
+        return self.continuous.throttle_input
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return names.INPUTS_WITH_THROTTLE if self.throttle_input else names.ACTUATORS
+
+    @property
     def u_trim(self) -> np.ndarray:
-        return np.asarray(self.linearized.trim.u_rad, dtype=float)
+        """Absolute trim inputs: surface commands (rad), then the trim throttle with the throttle input."""
+        u = np.asarray(self.linearized.trim.u_rad, dtype=float)
+        return np.append(u, self.linearized.trim.throttle) if self.throttle_input else u
 
     @property
     def z_trim(self) -> np.ndarray:
@@ -94,12 +111,13 @@ class BankDesign:
         import jsbsim
 
         trim = self.linearized.trim
-        return {
+        out = {
             "generator": "f16mmae.design",
             "design_version": DESIGN_VERSION,
             "jsbsim_version": jsbsim.__version__,
             "command": (f"f16mmae design --mach {self.mach:g} --alt-ft {self.alt_ft:g} "
-                        f"--tuning {tuning_arguments(self.tuning)}"),
+                        f"--tuning {tuning_arguments(self.tuning)}"
+                        + (" --throttle-input" if self.throttle_input else "")),
             "flight_condition": {"mach": self.mach, "alt_ft": self.alt_ft},
             "trim": {"vt_fps": trim.vt_fps, "alpha_rad": trim.alpha_rad,
                      "theta_rad": trim.theta_rad, "throttle": trim.throttle,
@@ -119,6 +137,9 @@ class BankDesign:
             "hypotheses": len(self.filters),
             "max_error_spectral_radius": max(f.gains.spectral_radius for f in self.filters),
         }
+        if self.throttle_input:  # only then: the banks without it keep their bytes
+            out["model"]["throttle_column_per_unit"] = self.linearized.throttle_column.tolist()
+        return out
 
 
 def tuning_arguments(tuning: Tuning) -> str:
@@ -191,8 +212,10 @@ def design_filters(models: list[HypothesisModel], r: np.ndarray) -> tuple[Filter
 def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
                 tuning: Tuning | str = "tuned", frame_rate_hz: float = names.FRAME_RATE_HZ,
                 hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES,
-                linearized: LinearizedTrim | None = None) -> BankDesign:
-    """Design the bank at (mach, alt_ft) with a tuning (a Tuning, a shipped name or a path).
+                linearized: LinearizedTrim | None = None, throttle_input: bool = False) -> BankDesign:
+    """Design the bank at (mach, alt_ft) with a tuning (a Tuning, a shipped name or a path);
+    ``throttle_input``: the throttle as the sixth modelled input (module docstring; a given
+    ``linearized`` must then carry its throttle column).
 
     Raises ValueError for a flight condition outside Mach 0.3-0.8 / 5,000-35,000 ft,
     TuningError for a bad tuning, aircraft.TrimError when the truth cannot trim, DesignError
@@ -202,9 +225,11 @@ def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
     if not frame_rate_hz > 0:
         raise ValueError(f"frame_rate_hz must be positive, got {frame_rate_hz}")
     if linearized is None:
-        linearized = linearize_truth(mach, alt_ft)
+        linearized = linearize_truth(mach, alt_ft, throttle=throttle_input)
+    if throttle_input and linearized.throttle_column is None:
+        raise ValueError("throttle_input needs the throttle column: linearize_truth(..., throttle=True)")
     cont = build_model(linearized.lin, linearized.trim.vt_fps, tuning.turbulence, alt_ft,
-                       tuning.gust_model)
+                       tuning.gust_model, linearized.throttle_column if throttle_input else None)
     disc, r = discrete_design_model(cont, tuning, frame_rate_hz)
     filters = design_filters(hypothesis_models(cont, tuning, disc, hypotheses), r)
     return BankDesign(mach=float(mach), alt_ft=float(alt_ft), frame_rate_hz=float(frame_rate_hz),
@@ -221,7 +246,7 @@ def to_model_bank(design: BankDesign):
                                  uninformative_level_q=f.model.uninformative_level_q)
             for f in design.filters]
     return core.ModelBank(
-        hyps, state_names=list(design.continuous.state_names), input_names=list(names.ACTUATORS),
+        hyps, state_names=list(design.continuous.state_names), input_names=list(design.input_names),
         measurement_names=list(names.SENSORS),
         u_trim=design.u_trim, z_trim=design.z_trim, h_output=design.h_output,
         frame_rate_hz=design.frame_rate_hz, mach=design.mach, alt_ft=design.alt_ft,

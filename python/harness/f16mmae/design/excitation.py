@@ -46,7 +46,7 @@ from .. import names
 from . import distinguish as ds
 from .bank import BankDesign
 from .discretize import zoh
-from .linearize import jsbsim_linearization
+from .linearize import throttle_column
 
 #: Standard gravity (ft/s^2).
 G_FPS2 = 32.174
@@ -54,15 +54,6 @@ G_FPS2 = 32.174
 THROTTLE_PROPERTY = "fcs/throttle-cmd-norm"
 #: Subliminal criterion on the throttle dither (peak |Delta n_x|, g); see the docstring.
 CRITERION_NX_G = 0.02
-
-
-def throttle_column(fdm) -> np.ndarray:
-    """(8,) ``b_th``: the throttle command's column of JSBSim's linearization of the trimmed
-    ``fdm`` (``linearize.jsbsim_linearization``), airframe state order u alpha q theta beta p r phi."""
-    _, b, inputs = jsbsim_linearization(fdm)
-    if inputs[0] != "ThtlCmd":
-        raise RuntimeError(f"JSBSim's linearization inputs are {inputs}, expected ThtlCmd first")
-    return np.asarray(b[:, 0], dtype=float)
 
 
 def throttle_amplitude(nx_peak_g: float, column: np.ndarray) -> float:
@@ -216,7 +207,7 @@ def throttle_dither_peaks(spec, level: str, seed: int = 1, duration_s: float = 3
 
     runs = [_fly_recording_nx(Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw",
                                        turbulence=level, seed=seed, dither=d))
-            for d in (spec, dataclasses.replace(spec, throttle_amplitude=0.0))]
+            for d in (spec, dataclasses.replace(spec, throttle_amplitude=0.0, throttle_schedule=False))]
     d = np.abs(runs[0] - runs[1]).max(axis=0)
     g = np.abs(runs[1] - runs[1][0]).max(axis=0)
     return {"dither": {name: float(d[j] * k) for j, (name, k) in enumerate(PEAK_CHANNELS)},
@@ -247,6 +238,53 @@ PEAK_FREQUENCY_HZ: tuple[float, ...] = (0.1, 0.2)
 #: Throttle dither amplitude of the peaks table (command units): CRITERION_NX_G at the nominal
 #: point (``throttle_amplitude(CRITERION_NX_G, throttle_column(...))`` = 0.0239).
 PEAK_AMPLITUDE = 0.0239
+
+
+def thrust_table(decimals: int = 3) -> list[list[float]]:
+    """``b_x`` (ft/s^2 per unit throttle command, u' of ``throttle_column``) at the level trim of
+    every point of ``truth.dither.THROTTLE_GRID_MACH`` x ``THROTTLE_GRID_ALT_FT``, rounded to
+    ``decimals``: the table ``truth.dither.THRUST_ACCEL_FPS2``.  A point that does not trim
+    (slow and high) takes the value of the nearest faster Mach at its altitude."""
+    from ..truth import aircraft
+    from ..truth.dither import THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH
+
+    rows: list[list[float | None]] = []
+    for m in THROTTLE_GRID_MACH:
+        row: list[float | None] = []
+        for h in THROTTLE_GRID_ALT_FT:
+            try:
+                fdm, _ = aircraft.trimmed_fdm(mach=m, alt_ft=h)
+            except aircraft.TrimError:
+                row.append(None)
+                continue
+            row.append(round(float(throttle_column(fdm)[0]), decimals))
+        rows.append(row)
+    for j in range(len(THROTTLE_GRID_ALT_FT)):
+        for i in reversed(range(len(rows) - 1)):
+            if rows[i][j] is None:
+                rows[i][j] = rows[i + 1][j]
+    if any(v is None for r in rows for v in r):
+        raise RuntimeError("the thrust table has a column that trims at no Mach of the grid")
+    return rows
+
+
+#: Flight conditions (Mach, ft) of the envelope peaks table: the nominal point and the corners.
+ENVELOPE_POINTS: tuple[tuple[float, float], ...] = ((0.4, 20_000.0), (0.8, 5_000.0), (0.45, 35_000.0),
+                                                    (0.3, 5_000.0), (0.8, 35_000.0))
+
+
+def _print_envelope_peaks() -> int:
+    """The scheduled throttle dither's calm-air peaks at ``ENVELOPE_POINTS`` (20-s flights, 0.1 Hz)."""
+    from ..truth.dither import SCHEDULED_THROTTLE_FREQUENCY_HZ, DitherSpec, scheduled_throttle_amplitude
+
+    spec = DitherSpec(throttle_schedule=True, throttle_frequency_hz=SCHEDULED_THROTTLE_FREQUENCY_HZ)
+    print("| Mach / alt (ft) | scheduled a_th | peak dn_x (g) | peak dn_z (g) | peak q (deg/s) | peak du (ft/s) |")
+    print("|---|---|---|---|---|---|")
+    for mach, alt in ENVELOPE_POINTS:
+        r = throttle_dither_peaks(spec, "none", duration_s=20.0, mach=mach, alt_ft=alt)["dither"]
+        print(f"| {mach:g} / {alt:,.0f} | {scheduled_throttle_amplitude(mach, alt):.4f} | {r['nx_g']:.3f} | "
+              f"{r['nz_g']:.3f} | {r['q_deg_s']:.2f} | {r['u_fps']:.2f} |", flush=True)
+    return 0
 
 
 def _print_peaks() -> int:
@@ -284,9 +322,18 @@ def main(argv: list[str] | None = None) -> int:
                    help="the tuning's failure model unless given")
     p.add_argument("--peaks", action="store_true",
                    help="print only the throttle dither's closed-loop JSBSim peaks per turbulence level")
+    p.add_argument("--envelope-peaks", action="store_true",
+                   help="print only the scheduled throttle dither's calm-air peaks over the envelope")
+    p.add_argument("--thrust-table", action="store_true",
+                   help="print only truth.dither.THRUST_ACCEL_FPS2 (the throttle schedule's table)")
     args = p.parse_args(argv)
     if args.peaks:
         return _print_peaks()
+    if args.envelope_peaks:
+        return _print_envelope_peaks()
+    if args.thrust_table:
+        print("(" + ",\n ".join("(" + ", ".join(f"{v:g}" for v in r) + ")" for r in thrust_table()) + ")")
+        return 0
     tuning = load_tuning(args.tuning)
     if args.failure_model:
         tuning = dataclasses.replace(tuning, failure_model=args.failure_model)

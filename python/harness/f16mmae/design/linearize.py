@@ -191,3 +191,18 @@ def jsbsim_linearization(fdm) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
     t[0, 1] = -vt * np.sin(alpha) * np.cos(beta)
     t[0, 4] = -vt * np.cos(alpha) * np.sin(beta)
     return t @ a_j @ np.linalg.inv(t), t @ b_j, tuple(lin.u_names)
+
+
+#: JSBSim's name of the throttle command among FGLinearization's inputs.
+THROTTLE_INPUT_JSBSIM = "ThtlCmd"
+
+
+def throttle_column(fdm) -> np.ndarray:
+    """(8,) ``b_th``: the throttle command's column of JSBSim's linearization of the trimmed
+    ``fdm`` (:func:`jsbsim_linearization`), airframe state order u alpha q theta beta p r phi,
+    per unit command (0..1).  The turbine reaches its new thrust within a frame at dither
+    amplitudes (design/excitation.py), so the column is a direct input: no engine state."""
+    _, b, inputs = jsbsim_linearization(fdm)
+    if THROTTLE_INPUT_JSBSIM not in inputs:
+        raise RuntimeError(f"JSBSim's linearization inputs are {inputs}, expected {THROTTLE_INPUT_JSBSIM}")
+    return np.asarray(b[:, inputs.index(THROTTLE_INPUT_JSBSIM)], dtype=float)

@@ -15,6 +15,14 @@ the truth actuators' first-order lags (their rate and position limits are not mo
 the surface lag states' inputs are the surface commands. Sensor noise is the truth sensors'
 ``NOISE_SIGMA``.
 
+Throttle as a sixth modelled input (``throttle_column`` given; ``f16mmae design
+--throttle-input``): ``u = [LS RS LF RF RUD ; th]`` with ``th`` the throttle command's
+perturbation (command units, 0..1), and ``B = [[0, b_th], [Lambda, 0]]``: ``b_th`` (8,) the
+throttle's column of JSBSim's own linearization of the trimmed aircraft
+(``linearize.throttle_column``), a direct input to the airframe (the turbine follows a dither
+within one frame: no engine state).  The throttle is known to the estimator, never a failure
+hypothesis, so every hypothesis keeps its column.
+
 Dryden wind (``gust_model``): two zero-order forms (no shaping-filter states, 13 states)
 and two with the gusts as states:
 
@@ -55,7 +63,7 @@ import numpy as np
 from .. import names
 from ..truth import actuators, aircraft, sensors, turbulence
 from .gust_states import GUST_STATE_MODELS, augment
-from .linearize import AirframeLinearization, finite_difference, uvw_jacobian
+from .linearize import AirframeLinearization, finite_difference, throttle_column, uvw_jacobian
 
 #: MIL-F-8785C turbulence scale length above 2,000 ft (ft), all three components.
 GUST_SCALE_LENGTH_FT = 1750.0
@@ -80,7 +88,7 @@ class ContinuousModel:
     (method 4 noise enters through them)."""
 
     f: np.ndarray           # (nx, nx); nx = 13, or 13 + the gust states
-    b: np.ndarray           # (nx, 5)
+    b: np.ndarray           # (nx, nu): nu = 5 surfaces, 6 with the throttle (module docstring)
     g: np.ndarray           # (nx, nw): nw white inputs, 3 (4 with rotational gust states)
     qc: np.ndarray          # (nw, nw)
     h: np.ndarray           # (7, nx)
@@ -95,16 +103,23 @@ class ContinuousModel:
         return self.f.shape[0]
 
     @property
+    def throttle_input(self) -> bool:
+        """Whether the throttle is the model's sixth input."""
+        return self.b.shape[1] == names.NU + 1
+
+    @property
     def state_names(self) -> tuple[str, ...]:
         return state_names(self.gust_model)
 
 
 @dataclass(frozen=True)
 class LinearizedTrim:
-    """The truth trim (absolute u, z the estimator subtracts) and its linearization."""
+    """The truth trim (absolute u, z the estimator subtracts) and its linearization;
+    ``throttle_column`` (8,) the throttle's column (``linearize.throttle_column``) when asked for."""
 
     trim: aircraft.TrimPoint
     lin: AirframeLinearization
+    throttle_column: np.ndarray | None = None
 
 
 def design_gust_sigma_fps(level: str, alt_ft: float) -> np.ndarray:
@@ -129,17 +144,22 @@ def zero_order_dryden_qc(sigma_fps: np.ndarray, vt_fps: float, gust_model: str =
     raise ValueError(f"unknown gust model {gust_model!r}; valid: {', '.join(GUST_MODELS)}")
 
 
-def linearize_truth(mach: float, alt_ft: float) -> LinearizedTrim:
-    """Trim the truth model's derived aircraft at (mach, alt_ft) and linearize it.
+def linearize_truth(mach: float, alt_ft: float, throttle: bool = False) -> LinearizedTrim:
+    """Trim the truth model's derived aircraft at (mach, alt_ft) and linearize it (with
+    ``throttle``, also the throttle's column, from a second trimmed aircraft so the surfaces'
+    linearization is the same as without it).
     Raises ValueError outside the envelope, ``aircraft.TrimError`` when no trim exists."""
     fdm, trim = aircraft.trimmed_fdm(mach=mach, alt_ft=alt_ft)
     lin = finite_difference(fdm, aircraft.set_surfaces, sensors.ideal, trim.u_rad)
-    return LinearizedTrim(trim=trim, lin=lin)
+    column = throttle_column(aircraft.trimmed_fdm(mach=mach, alt_ft=alt_ft)[0]) if throttle else None
+    return LinearizedTrim(trim=trim, lin=lin, throttle_column=column)
 
 
 def build_model(lin: AirframeLinearization, vt_fps: float, turbulence_level: str,
-                alt_ft: float, gust_model: str = "gust_rate") -> ContinuousModel:
-    """Augment the airframe with the actuator lags, gust input and sensors (docstring)."""
+                alt_ft: float, gust_model: str = "gust_rate",
+                throttle_column: np.ndarray | None = None) -> ContinuousModel:
+    """Augment the airframe with the actuator lags, gust input and sensors (docstring);
+    ``throttle_column`` (8,): the throttle as the sixth input."""
     nx = len(state_names(gust_model))
     na, nu = lin.a.shape[0], lin.b.shape[1]
     lam = np.diag(actuators.LAG_RAD_S)
@@ -147,8 +167,10 @@ def build_model(lin: AirframeLinearization, vt_fps: float, turbulence_level: str
     f[:na, :na] = lin.a
     f[:na, na:names.NX] = lin.b
     f[na:names.NX, na:names.NX] = -lam
-    b = np.zeros((nx, nu))
-    b[na:names.NX, :] = lam
+    b = np.zeros((nx, nu if throttle_column is None else nu + 1))
+    b[na:names.NX, :nu] = lam
+    if throttle_column is not None:
+        b[:na, nu] = np.asarray(throttle_column, dtype=float).reshape(na)
     h = np.hstack([lin.c, lin.dd, np.zeros((lin.c.shape[0], nx - names.NX))])
     sigma = design_gust_sigma_fps(turbulence_level, alt_ft)
     if gust_model in GUST_STATE_MODELS:

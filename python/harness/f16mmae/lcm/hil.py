@@ -28,8 +28,8 @@ import json
 
 from ..banks import bank_estimator_settings
 from ..lcmt_run_marker import lcmt_run_marker
-from ..loop.flight import fly
-from .channels import Channels
+from ..loop.flight import fly, models_throttle
+from .channels import Channels, HilError
 from .remote import RemoteEstimator, level0_hypotheses
 
 
@@ -49,7 +49,12 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
     FlightResult (timing gains ``link``: latency p50/p99/max, deadline misses, stale).
     ``on_frame(t, u, z, air_data)`` is called after each frame, as by loop.flight.fly; ``remote``: a
     RemoteEstimator of the caller's (then ``lockstep``/``timeout_s``/``auth`` are its own);
-    ``auth``: a ``core.FrameAuth`` that signs what is sent and checks the statuses."""
+    ``auth``: a ``core.FrameAuth`` that signs what is sent and checks the statuses.
+    A bank that models the throttle is refused (HilError): the command frame carries the five
+    surface commands only (docs/INTERFACES.md)."""
+    if models_throttle(model_bank):
+        raise HilError("this bank models the throttle (6 inputs: f16mmae design --throttle-input); the LCM "
+                       "executive runs 5-input banks only (lcmt_command_frame carries u_rad[5]): fly it in process")
     if remote is None:
         remote = RemoteEstimator(lc, chans, lockstep=lockstep, timeout_s=timeout_s,
                                  expected_bank_hash=str(model_bank.content_hash),

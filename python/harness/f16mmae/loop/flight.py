@@ -13,8 +13,15 @@ Frame i (t_i = i / FRAME_RATE_HZ), as in docs/INTERFACES.md::
     estimator.propagate(u_i)                       core: bank.propagate(u_i - u_trim)
     truth.advance(u_i)                             SIM_RATE_HZ / FRAME_RATE_HZ truth steps
 
+A bank that models the throttle (``f16mmae design --throttle-input``; its inputs end with
+``names.THROTTLE_INPUT``) propagates ``u_i = (the five surface commands, th_i)``, th_i the
+throttle command of frame i (``truth.throttle_command()``, a command like the surfaces'), and
+the truth flies the scheduled throttle dither with it (``DitherSpec.with_scheduled_throttle``:
+the throttle is part of the MMAE system's excitation, as the surface dither is), unless the
+scenario gives a throttle dither of its own or disables the dither.
+
 The estimator is an :class:`~f16mmae.loop.estimator.Estimator`: built from the model bank alone, its only inputs
-are the absolute vectors ``z`` (7,) and ``u`` (5,) and the measured air data (Mach, pressure
+are the absolute vectors ``z`` (7,) and ``u`` (5,; 6 with the throttle) and the measured air data (Mach, pressure
 altitude ft, from the truth model's air-data sensor, never the truth state), copied into fresh
 floats at the boundary.  The failure truth lives in the scenario, which only the truth model
 receives; :func:`fly` never passes anything else to the estimator, and
@@ -33,13 +40,14 @@ hypothesis is off line.  The probabilities of the hypotheses on line sum to 1 pe
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .. import __version__, core
-from ..names import FEEDBACK_MODES, FRAME_RATE_HZ
+from ..names import FEEDBACK_MODES, FRAME_RATE_HZ, THROTTLE_INPUT
 from ..truth import FlightControlSystem, Scenario, TruthModel
 from .estimator import Estimator
 
@@ -103,6 +111,11 @@ def scenario_to_dict(scenario) -> dict:
     return scenario.to_dict()
 
 
+def models_throttle(model_bank) -> bool:
+    """Whether ``model_bank`` (a core.ModelBank, or None) has the throttle as an input."""
+    return model_bank is not None and THROTTLE_INPUT in tuple(model_bank.input_names)
+
+
 def _on_line(names, columns: dict[str, int], probs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The hypotheses ``names`` now on line: those new to ``columns`` get a column (NaN so far)
     in ``probs``; returns ``probs`` and the columns of ``names``, in their order."""
@@ -138,6 +151,9 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     if feedback not in FEEDBACK_MODES:
         raise ValueError(f"unknown feedback {feedback!r}; valid: {', '.join(FEEDBACK_MODES)}")
     t_start = time.perf_counter()
+    throttle = models_throttle(model_bank)
+    if throttle:  # the throttle dither is part of such an MMAE system's excitation
+        scenario = dataclasses.replace(scenario, dither=scenario.dither.with_scheduled_throttle())
     truth = TruthModel(scenario, engine=engine)   # the only holder of the failure truth
     fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari,
                               pilot=truth.pilot())  # the maneuvers' outer loop, None without
@@ -162,10 +178,12 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     scale = np.full(n_frames if record_probabilities else 0, np.nan)
     declarations: list[dict] = []
     if record_series:
-        rec_u, rec_z, rec_z_hat = np.zeros((n_frames, 5)), np.zeros((n_frames, 7)), np.zeros((n_frames, 7))
+        rec_u, rec_z, rec_z_hat = (np.zeros((n_frames, 6 if throttle else 5)), np.zeros((n_frames, 7)),
+                                   np.zeros((n_frames, 7)))
         rec_air = np.zeros((n_frames, 2))
     in_cpp = (truth.law_in_cpp and on_frame is None and not record_series
-              and isinstance(estimator, Estimator) and estimator.fixed_size)
+              and isinstance(estimator, Estimator) and estimator.fixed_size
+              and (not throttle or scenario.dither.throttle_on))  # C++ takes th_i from the dither
     if in_cpp:  # the whole flight in C++: one call, the same frames
         out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities,
                                      reconfiguration)
@@ -203,7 +221,10 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
             z_fb = reconfiguration.apply(estimator.declared, z, z_hat)
         else:
             z_fb = z
+        th = truth.throttle_command() if throttle else None  # before step: frame i's command
         u, z_next = step(fcs, z_fb, i + 1 < n_frames)  # u_i, then z_(i+1)
+        if throttle:
+            u = np.append(u, th)
         air_next = truth.air_data
         d = clock()
         estimator.propagate(u)

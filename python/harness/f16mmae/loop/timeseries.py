@@ -4,7 +4,8 @@ Row ``i`` is frame ``i`` at ``t_i = i / FRAME_RATE_HZ`` (the closed loop's order
 measured, ``z_hat_i = estimator.update(z_i)``, ``u_i`` commanded).  Columns, in order:
 
 * ``time_s``;
-* ``u_<LS..RUD>_rad`` -- the surface commands ``u_i`` the estimator propagated;
+* ``u_<LS..RUD>_rad`` -- the surface commands ``u_i`` the estimator propagated (and
+  ``u_THR`` -- the throttle command, with a bank that models the throttle);
 * ``z_<VEL..AY>`` -- the measurements ``z_i`` it was given (units of ``names.SENSOR_UNITS``);
 * ``z_hat_<VEL..AY>`` -- its blended estimate after the update;
 * ``p_<hypothesis>`` -- the probabilities, one column per hypothesis that was on line during
@@ -27,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..names import ACTUATORS, SENSORS
+from ..names import ACTUATORS, INPUTS_WITH_THROTTLE, SENSORS
 
 TRUTH_PREFIX = "truth_"
 FORMATS: tuple[str, ...] = ("parquet", "csv")
@@ -40,11 +41,13 @@ def default_format() -> str:
 
 def flight_table(time_s, u, z, z_hat, hypotheses: Sequence[str], probabilities, truth_log: dict) -> dict:
     """The table (column name -> 1-D array, in column order) of one flight; see the module
-    docstring.  ``u``, ``z``, ``z_hat``: (n, 5), (n, 7), (n, 7); ``probabilities``:
+    docstring.  ``u``, ``z``, ``z_hat``: (n, 5) or (n, 6) with the throttle, (n, 7), (n, 7); ``probabilities``:
     (n, len(hypotheses)); ``truth_log``: ``TruthModel.truth_log`` of the same flight."""
     t = np.asarray(time_s, dtype=float)
     n = len(t)
-    arrays = {"u": (np.asarray(u, float), ACTUATORS), "z": (np.asarray(z, float), SENSORS),
+    u = np.asarray(u, float)
+    inputs = INPUTS_WITH_THROTTLE if u.ndim == 2 and u.shape[1] == len(INPUTS_WITH_THROTTLE) else ACTUATORS
+    arrays = {"u": (u, inputs), "z": (np.asarray(z, float), SENSORS),
               "z_hat": (np.asarray(z_hat, float), SENSORS)}
     for what, (a, names) in arrays.items():
         if a.shape != (n, len(names)):
@@ -53,7 +56,7 @@ def flight_table(time_s, u, z, z_hat, hypotheses: Sequence[str], probabilities, 
     if p.shape[1] != len(hypotheses):
         raise ValueError(f"probabilities have {p.shape[1]} columns for {len(hypotheses)} hypotheses")
     cols: dict[str, np.ndarray] = {"time_s": t}
-    cols.update({f"u_{a}_rad": arrays["u"][0][:, k] for k, a in enumerate(ACTUATORS)})
+    cols.update({f"u_{a}_rad" if a in ACTUATORS else f"u_{a}": u[:, k] for k, a in enumerate(inputs)})
     cols.update({f"z_{s}": arrays["z"][0][:, k] for k, s in enumerate(SENSORS)})
     cols.update({f"z_hat_{s}": arrays["z_hat"][0][:, k] for k, s in enumerate(SENSORS)})
     cols.update({f"p_{h}": p[:, k] for k, h in enumerate(hypotheses)})

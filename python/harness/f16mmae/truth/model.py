@@ -37,8 +37,11 @@ leaves are not the trim's).
 
 Throttle dither (``DitherSpec.throttle_amplitude`` > 0, truth.dither): the throttle command
 ``th_trim + a_th sin(2 pi f_th t_i)`` is written at the start of frame i, before its JSBSim
-steps (``advance``; in C++ ``TruthFrames.set_throttle_dither``).  Such a flight's aircraft
-does not go back to the pool either.
+steps (``advance``; in C++ ``TruthFrames.set_throttle_dither``); scheduled
+(``DitherSpec.throttle_schedule``), a_th follows the air data measured with z_i
+(``dither.scheduled_throttle_amplitude``).  ``throttle_command()`` is the command of the
+current frame: the sixth input a throttle bank propagates.  Such a flight's aircraft does not go
+back to the pool either.
 """
 from __future__ import annotations
 
@@ -51,7 +54,8 @@ from ..names import ACTUATORS, FRAME_RATE_HZ, SENSORS, SIM_RATE_HZ
 from . import actuators as actuators_module
 from . import air_data as air_data_module, aircraft, sensors as sensors_module, turbulence
 from .air_data import AirDataSensor, air_data_rng
-from .dither import throttle_command, throttle_terms
+from .dither import (G_FPS2, THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH, THROTTLE_SCHEDULE_NX_G, THRUST_ACCEL_FPS2,
+                     scheduled_throttle_amplitude, throttle_command, throttle_terms)
 from .actuators import ActuatorBank
 from .engine import check_engine
 from .pool import POOL
@@ -119,7 +123,10 @@ class TruthModel:
             self._noise_rows = n
             self._frames = self._make_frames(rng.standard_normal((n, 7)), air_rng.standard_normal((n, 2)), n)
             if self._throttle is not None:
-                self._frames.set_throttle_dither(THROTTLE_PROPERTY, *self._throttle)
+                schedule = ({"target_fps2": THROTTLE_SCHEDULE_NX_G * G_FPS2, "mach": list(THROTTLE_GRID_MACH),
+                             "alt_ft": list(THROTTLE_GRID_ALT_FT), "accel_fps2": [list(r) for r in THRUST_ACCEL_FPS2]}
+                            if sc.dither.throttle_schedule else None)
+                self._frames.set_throttle_dither(THROTTLE_PROPERTY, *self._throttle, schedule)
             self.sensors = self.air_data_sensor = None
             return
         self._frames = None
@@ -230,7 +237,7 @@ class TruthModel:
             return
         u = [float(x) for x in u]
         if self._throttle is not None:
-            self.fdm[THROTTLE_PROPERTY] = throttle_command(*self._throttle, self.frame / FRAME_RATE_HZ)
+            self.fdm[THROTTLE_PROPERTY] = self.throttle_command()
         act, setters, run = self.actuators, self._set_surface, self._run
         eff = u
         for _ in range(self._steps_per_frame):
@@ -247,6 +254,20 @@ class TruthModel:
         self._log["u_cmd_rad"][i] = u
         self._log["surface_rad"][i] = eff
         self.frame += 1
+
+    def throttle_command(self) -> float:
+        """The throttle command of the current frame, written by the next ``advance``: the trim's
+        without a throttle dither, else the dither's (scheduled: on the air data measured with
+        this frame's z).  A command, like u: the sixth input of a bank that models the throttle."""
+        if self._frames is not None:
+            return float(self._frames.throttle_command()) if self._throttle is not None else float(self.trim.throttle)
+        if self._throttle is None:
+            return float(self.trim.throttle)
+        trim, a, w = self._throttle
+        if self.scenario.dither.throttle_schedule:
+            m, h = self.air_data_sensor.last
+            a = scheduled_throttle_amplitude(float(m), float(h))
+        return throttle_command(trim, a, w, self.frame / FRAME_RATE_HZ)
 
     def attach(self, fcs: FlightControlSystem) -> None:
         """Fly ``fcs``'s control law inside the C++ frames (``step``); its coefficients and

@@ -57,7 +57,7 @@ EXAMPLES_DIR = Path(__file__).resolve().parent.parent / "scenarios"
 _KEYS = ("mach", "alt_ft", "turbulence", "dither", "failures", "failure", "duration_s", "seed",
          "feedback", "ari", "noise", "gust_burst", "maneuvers")
 _DITHER_KEYS = ("enabled", "amplitude_deg", "frequency_hz", "phase_rad", "throttle_amplitude",
-                "throttle_frequency_hz")
+                "throttle_frequency_hz", "throttle_schedule")
 _FAILURE_KEYS = ("name", "time_s", "mode", "value")
 
 

@@ -1,0 +1,193 @@
+"""The throttle as the estimator's sixth modelled input (``f16mmae design --throttle-input``):
+the design against SciPy (the zero-order hold of the throttle column, the DARE gains), the
+fixed-size 6-input core bank against covariance-propagating Kalman filters with a hand Bayes
+update (test_core_filter_bank's reference), the bank file and the recorded command."""
+from __future__ import annotations
+
+import dataclasses
+import json
+from itertools import combinations
+
+import numpy as np
+import pytest
+from scipy.linalg import expm, solve_discrete_are
+
+from f16mmae import core, names
+from f16mmae.cli import main as cli
+from f16mmae.design import bank
+from f16mmae.design.linearize import throttle_column
+from f16mmae.design.model import linearize_truth
+from f16mmae.design.tuning import load_tuning
+from f16mmae.truth import aircraft
+from test_core_filter_bank import CovarianceKalmanBank
+
+SINGLES = names.SINGLE_HYPOTHESES
+
+
+@pytest.fixture(scope="module")
+def linearized():
+    return linearize_truth(bank.NOMINAL_MACH, bank.NOMINAL_ALT_FT, throttle=True)
+
+
+@pytest.fixture(scope="module")
+def designs(linearized):
+    calm = dataclasses.replace(load_tuning("tuned"), turbulence="none")
+    return (bank.design_bank(tuning=calm, hypotheses=SINGLES, linearized=linearized),
+            bank.design_bank(tuning=calm, hypotheses=SINGLES, linearized=linearized, throttle_input=True))
+
+
+def test_throttle_column_is_jsbsims_own_linearization(linearized):
+    fdm, _ = aircraft.trimmed_fdm(mach=bank.NOMINAL_MACH, alt_ft=bank.NOMINAL_ALT_FT)
+    np.testing.assert_array_equal(linearized.throttle_column, throttle_column(fdm))
+    assert linearized.throttle_column[0] == pytest.approx(26.9, abs=0.1)  # ft/s^2 of u' per unit command
+
+
+def test_sixth_column_is_the_zero_order_hold_and_the_rest_is_unchanged(designs, linearized):
+    five, six = designs
+    assert six.throttle_input and not five.throttle_input
+    assert six.input_names == names.INPUTS_WITH_THROTTLE
+    assert six.u_trim[-1] == linearized.trim.throttle and np.array_equal(six.u_trim[:5], five.u_trim)
+    dt = 1.0 / six.frame_rate_hz
+    f = six.continuous.f
+    n = f.shape[0]
+    aug = np.zeros((n + 1, n + 1))  # [[F, b], [0, 0]] dt: exp gives [[Phi, Bd], [0, 1]]
+    aug[:n, :n] = f
+    aug[:8, n] = linearized.throttle_column
+    bd_th = expm(aug * dt)[:n, n]
+    for f5, f6 in zip(five.filters, six.filters):
+        assert f6.model.bd.shape == (n, 6)
+        np.testing.assert_array_equal(f6.model.bd[:, :5], f5.model.bd)  # the surfaces' columns as before
+        np.testing.assert_allclose(f6.model.bd[:, 5], bd_th, rtol=1e-9, atol=1e-12)  # never a failure
+        np.testing.assert_array_equal(f6.gains.k, f5.gains.k)  # the gain does not depend on B
+        np.testing.assert_array_equal(f6.gains.a, f5.gains.a)
+
+
+def test_gains_are_scipys_dare_on_the_six_input_model(designs):
+    six = designs[1]
+    for name in ("NONE", "LS", "VEL"):
+        m = six.filter(name)
+        p = solve_discrete_are(m.model.phi.T, m.model.h.T, m.model.qd, six.r)
+        a = m.model.h @ p @ m.model.h.T + six.r
+        np.testing.assert_allclose(m.gains.a, a, rtol=1e-7, atol=1e-12)
+        np.testing.assert_allclose(m.gains.k, p @ m.model.h.T @ np.linalg.inv(a), rtol=1e-6, atol=1e-10)
+
+
+def _plant(seed):
+    rng = np.random.default_rng(seed)
+    phi = rng.standard_normal((names.NX, names.NX))
+    phi *= 0.95 / max(abs(np.linalg.eigvals(phi)))
+    return (phi, rng.standard_normal((names.NX, 6)), rng.standard_normal((names.NZ, names.NX)),
+            1e-3 * np.eye(names.NX), 1e-3 * np.eye(names.NZ))
+
+
+def _hypothesis(phi, bd, h, q, r, failed):
+    bd, h = bd.copy(), h.copy()
+    for c in failed:
+        if c in names.ACTUATORS:
+            bd[:, names.ACTUATORS.index(c)] = 0.0  # the throttle's column (index 5) is never removed
+        else:
+            h[names.SENSORS.index(c), :] = 0.0
+    p_prior = solve_discrete_are(phi.T, h.T, q, r)
+    a = h @ p_prior @ h.T + r
+    a = 0.5 * (a + a.T)
+    return dict(phi=phi, bd=bd, h=h, k=p_prior @ h.T @ np.linalg.inv(a), a=a, p_prior=p_prior)
+
+
+def test_fixed_size_six_input_bank_equals_covariance_kalman_filters():
+    phi, bd, h, q, r = _plant(7)
+    comps = names.ACTUATORS + names.SENSORS
+    hyp = {"NONE": _hypothesis(phi, bd, h, q, r, [])}
+    hyp.update({c: _hypothesis(phi, bd, h, q, r, [c]) for c in comps})
+    hyp.update({f"{a}+{b}": _hypothesis(phi, bd, h, q, r, [a, b]) for a, b in combinations(comps, 2)})
+    u_trim = np.array([-0.03, -0.03, 0.0, 0.0, 0.0, 0.25])
+    z_trim = np.array([414.8, 0.14, 0.0, 1.0, 0.0, 0.0, 0.0])
+    mb = core.ModelBank([(n, {k: v for k, v in hyp[n].items() if k != "p_prior"}) for n in names.ALL_HYPOTHESES],
+                        state_names=[f"x{i}" for i in range(names.NX)], input_names=list(names.INPUTS_WITH_THROTTLE),
+                        measurement_names=list(names.SENSORS), frame_rate_hz=64.0, u_trim=u_trim, z_trim=z_trim,
+                        h_output=h)
+    hb = core.HierarchicalBank(mb, p_min=0.001)
+    assert hb.fixed_size and mb.nu == 6
+    singles = [hyp[n] for n in SINGLES]
+    ref = CovarianceKalmanBank(singles, q, r, p_min=0.001, strip=True)
+    blind = CovarianceKalmanBank([dict(s, bd=np.hstack([s["bd"][:, :5], np.zeros((names.NX, 1))]))
+                                  for s in singles], q, r, p_min=0.001, strip=True)  # the throttle unmodelled
+    rng = np.random.default_rng(3)
+    x, worst_blind = np.zeros(names.NX), 0.0
+    for i in range(96):
+        z = h @ x + rng.multivariate_normal(np.zeros(names.NZ), r)
+        u = 0.05 * np.sin(2 * np.pi * np.array([0.7, 1.1, 1.3, 1.7, 2.3, 0.4]) * i / 64.0)
+        u[5] = 0.5 * np.sin(2 * np.pi * 0.4 * i / 64.0)  # the throttle dither
+        hb.step(z + z_trim, u + u_trim)
+        p_ref, _ = ref.step(z, u)
+        p_blind, _ = blind.step(z, u)
+        np.testing.assert_allclose(hb.probabilities, p_ref, rtol=0, atol=1e-8)
+        worst_blind = max(worst_blind, float(np.abs(p_blind - p_ref).max()))
+        x = phi @ x + bd @ u + rng.multivariate_normal(np.zeros(names.NX), q)
+    assert hb.level == 0 and hb.declarations == []
+    assert worst_blind > 1e-3  # the test sees the sixth input: without it the probabilities differ
+    with pytest.raises(ValueError, match="u"):
+        hb.step(z_trim, u_trim[:5])
+
+
+def test_design_throttle_input_writes_a_six_input_bank_its_command_reproduces(tmp_path):
+    out = tmp_path / "calm_throttle.f16bank"
+    assert cli.main(["design", "--throttle-input", "--gust-level", "none", "--out", str(out)]) == 0
+    mb = core.load_bank(str(out))
+    assert mb.nu == 6 and tuple(mb.input_names) == names.INPUTS_WITH_THROTTLE
+    meta = json.loads(mb.metadata)
+    assert meta["command"].endswith("--tuning tuned --gust-level none --throttle-input")
+    assert meta["model"]["throttle_column_per_unit"][0] == pytest.approx(26.9, abs=0.1)
+    again = tmp_path / "again.f16bank"
+    assert cli.main(meta["command"].split()[1:] + ["--out", str(again)]) == 0
+    assert again.read_bytes() == out.read_bytes()
+    hb = core.HierarchicalBank(mb)
+    assert hb.fixed_size
+    for _ in range(64):  # at the trim (throttle included) nothing is declared
+        hb.step(mb.z_trim, mb.u_trim)
+    assert hb.declarations == [] and hb.probabilities[0] > 0.9
+
+
+def test_throttle_input_is_refused_for_a_scheduled_design(tmp_path, capsys):
+    assert cli.main(["design", "--schedule", "--throttle-input", "--out", str(tmp_path / "s.f16sched")]) != 0
+    assert "--throttle-input" in capsys.readouterr().err
+
+
+@pytest.fixture(scope="module")
+def throttle_bank(tmp_path_factory, linearized):
+    calm = dataclasses.replace(load_tuning("tuned"), turbulence="none")
+    path = tmp_path_factory.mktemp("throttle") / "calm_throttle.f16bank"
+    return bank.write_bank(bank.design_bank(tuning=calm, linearized=linearized, throttle_input=True), path)
+
+
+@pytest.mark.slow
+def test_closed_loop_flies_the_scheduled_throttle_dither_and_hands_its_command_to_the_bank(throttle_bank):
+    from f16mmae.loop.flight import fly
+    from f16mmae.truth import Scenario
+    from f16mmae.truth.dither import scheduled_throttle_amplitude
+    from f16mmae.truth.failures import make_failure
+
+    sc = Scenario(turbulence="none", duration_s=4.0, seed=3, failures=(make_failure("VEL", 1.0),))
+    assert not sc.dither.throttle_on
+    in_cpp = fly(sc, throttle_bank)  # the whole flight in C++
+    frames = []
+    in_py = fly(sc, throttle_bank, on_frame=lambda t, u, z, a: frames.append((u, a)))  # frame by frame
+    assert in_cpp.scenario["dither"]["throttle_schedule"] is True  # the record says what the truth flew
+    assert in_cpp.declarations == in_py.declarations
+    np.testing.assert_array_equal(in_cpp.probabilities, in_py.probabilities)
+    u = np.array([f[0] for f in frames])
+    air = np.array([f[1] for f in frames])
+    assert u.shape == (len(frames), 6)
+    t = np.arange(len(frames)) / names.FRAME_RATE_HZ
+    a = np.array([scheduled_throttle_amplitude(m, h) for m, h in air])  # on the measured air data
+    np.testing.assert_allclose(u[:, 5], throttle_bank.u_trim[5] + a * np.sin(2 * np.pi * 0.1 * t), atol=1e-4)
+    assert a.mean() == pytest.approx(0.9 * 0.0239, rel=0.01)
+    assert [d["hypothesis"] for d in in_cpp.declarations][:1] == ["VEL"]
+
+
+def test_the_lcm_executive_refuses_a_throttle_bank_by_name(throttle_bank):
+    from f16mmae.lcm.channels import HilError
+    from f16mmae.lcm.hil import fly_hil
+    from f16mmae.truth import Scenario
+
+    with pytest.raises(HilError, match="throttle.*u_rad\\[5\\]"):
+        fly_hil(Scenario(duration_s=1.0), throttle_bank, None, None)

@@ -20,7 +20,6 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
-#include <chrono>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -30,6 +29,7 @@
 #include "f16mmae/sensor_reconfiguration.h"
 #include "hierarchical_access.h"
 #include "jsbsim_exec.h"
+#include "tick_clock.h"
 #include "truth/air_data_sensor.h"
 #include "truth/truth_frame.h"
 
@@ -302,7 +302,7 @@ class Frames {
                            const SensorReconfiguration* recon = nullptr) {
     using ZV = typename Bank::ZVector;
     using UV = typename Bank::UVector;
-    using clock = std::chrono::steady_clock;
+    using Ticks = TickClock::Ticks;
     constexpr py::ssize_t K = Bank::PVector::RowsAtCompileTime;
     constexpr int kInputs = UV::RowsAtCompileTime;
     static_assert(kInputs == kSurfaces || kInputs == kSurfaces + 1, "u: the surfaces, and the throttle");
@@ -315,14 +315,15 @@ class Frames {
     double* row = probs.mutable_data();
     double* scale_row = scale.mutable_data();
     py::list events;
-    double truth_s = 0.0, est_s = 0.0;
+    Ticks truth_ticks = 0, est_ticks = 0;   // the frames' parts, in TickClock ticks (tick_clock.h)
     bool declared_last = false;
-    auto t0 = clock::now();
+    TickClock clock;
+    clock.start();
+    const Ticks t0 = TickClock::now();
     Sensors z = measure_frame();
-    auto t1 = clock::now();
-    truth_s += std::chrono::duration<double>(t1 - t0).count();
+    truth_ticks += TickClock::now() - t0;
     for (long long i = 0; i < n; ++i) {
-      const auto a = clock::now();
+      const Ticks a = TickClock::now();
       est.schedule(AirData{air_last_[0], air_last_[1]});
       const int d = est.update(Eigen::Map<const ZV>(z.data()));
       Sensors zf = z;
@@ -333,19 +334,19 @@ class Frames {
         const ZV zh = est.z_hat();
         recon->apply(est.current_hypothesis(), z.data(), zh.data(), zf.data());
       }
-      const auto b = clock::now();
+      const Ticks b = TickClock::now();
       const Surfaces u = command(zf);
-      const auto c = clock::now();
+      const Ticks c = TickClock::now();
       for (int j = 0; j < kSurfaces; ++j) u_est[j] = u[j];
       if constexpr (kInputs > kSurfaces)
         u_est[kSurfaces] = throttle_command();
       est.propagate(u_est);
-      const auto e = clock::now();
+      const Ticks e = TickClock::now();
       advance_frame(u);
       if (i + 1 < n) z = measure_frame();
-      const auto f = clock::now();
-      est_s += std::chrono::duration<double>((b - a) + (e - c)).count();
-      truth_s += std::chrono::duration<double>((c - b) + (f - e)).count();
+      const Ticks f = TickClock::now();
+      est_ticks += (b - a) + (e - c);
+      truth_ticks += (c - b) + (f - e);
       declared_last = d >= 0;
       if (declared_last) events.append(py::make_tuple(i, est.name(d), py::cast(est.online_names())));
       if (record) {
@@ -355,6 +356,8 @@ class Frames {
         *scale_row++ = est.turbulence_scale();
       }
     }
+    clock.stop();
+    const double truth_s = clock.seconds(truth_ticks), est_s = clock.seconds(est_ticks);
     py::dict out;
     out["probabilities"] = probs;
     out["turbulence_scale"] = scale;

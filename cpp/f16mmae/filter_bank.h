@@ -148,6 +148,8 @@ class FilterBank {
     z_hat_.setZero(nz);
     floored_.assign_size(k);
     level_set_.assign_size(k);
+    uninformative_.assign_size(k);
+    for (int i = 0; i < k; ++i) note_uninformative(i);
     level_.setZero(nz, k);
     h_out_ = hypotheses_[0].model().h;
     load_h_out();
@@ -205,7 +207,7 @@ class FilterBank {
       if (adapt) l *= inv_s;
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
-      if (hypotheses_[i].has_uninformative()) {  // u_k; otherwise l_k is left bit for bit as it was
+      if (uninformative_[i]) {  // u_k; otherwise l_k is left bit for bit as it was
         l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_set_[i]);
         level_set_[i] = 1;
       }
@@ -335,6 +337,7 @@ class FilterBank {
   void load_filter(int k, const Hypothesis& hypothesis) noexcept {
     hypotheses_[k] = hypothesis;
     if constexpr (kPacked) packed_.load(k, hypotheses_);
+    note_uninformative(k);
     store([&](auto& s) { s.clear(k); });
     level_set_[k] = 0;
   }
@@ -343,7 +346,7 @@ class FilterBank {
   // (same sizes); h_out(H) writes the new H_out into H. noexcept if they are.
   template <class Write, class HOut>
   void replace_filters(Write&& write, HOut&& h_out) noexcept {
-    for (int k = 0; k < size(); ++k) write(k, hypotheses_[k]);
+    for (int k = 0; k < size(); ++k) write(k, hypotheses_[k]), note_uninformative(k);
     if constexpr (kPacked) {
       if (use_packed_) packed_.load_all(hypotheses_);
     }
@@ -397,6 +400,9 @@ class FilterBank {
     }
     return f(columns_);
   }
+  // uninformative_[k]: hypotheses_[k].has_uninformative(), kept beside the per-frame
+  // members so a frame does not read it from each filter's HypothesisFilter.
+  void note_uninformative(int k) noexcept { uninformative_[k] = hypotheses_[k].has_uninformative(); }
   void load_h_out() noexcept {
     if constexpr (kPacked) packed_.load_h_out(h_out_);
   }
@@ -459,6 +465,7 @@ class FilterBank {
   Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k
   ResidualScale<K> scale_{};                      // the turbulence adaptation
   double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
+  HypothesisFlags<K> uninformative_;              // note_uninformative
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

@@ -205,7 +205,10 @@ class HierarchicalBank {
   }
   // Back to the start: level 0, NONE presumed, states zero, history and counters cleared.
   void reset() noexcept {
-    for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[level0_[k]]);
+    // the level-0 filters back on line (already there, unchanged, when the bank is at level 0
+    // and unscheduled: a flight without a declaration); bank_.reset() clears the states
+    if (!(level_ == 0 && online_ == level0_ && !sched_.active()))
+      for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[level0_[k]]);
     online_ = level0_;
     bank_.reset();
     declarer_.reset(0);

@@ -7,7 +7,9 @@
 // On the kernel path this is where the filters' states live, and only here: the bank reads
 // and writes them through prior(k), posterior(k), residual(k), set_prior, set_posterior and
 // clear (the same interface as ColumnBank, the Eigen path's store, column_bank.h). The
-// matrices are a padded copy of the bank's HypothesisFilters, loaded by load(). Each state
+// matrices are a padded copy of the bank's HypothesisFilters, loaded by load(): the K
+// filters' H, A⁻¹, K, Bd one contiguous run in the order a frame reads them (packed_kernel.h),
+// the Phis apart, and when every filter has the same Phi only the first is read. Each state
 // is double-buffered:
 //   xm[cur_m][k] = x⁻_k,   xp[cur_p][k] = x⁺_k,   r[cur_p][k] = r_k,
 //   corrected[k]: x⁺_k is newer than x⁻_k.
@@ -40,6 +42,7 @@ class PackedBank<true, K, NX, NU, NZ> {
   using UVector = typename Hypothesis::UVector;
   using ZVector = typename Hypothesis::ZVector;
   using P = PackedFilter<NX, NU, NZ>;
+  using Phi = PackedPhi<NX>;
   using Kernels = packed::Kernels<K, NX, NU, NZ>;
   static constexpr int PX = P::PX, PZ = P::PZ;
 
@@ -50,12 +53,13 @@ class PackedBank<true, K, NX, NU, NZ> {
   template <class Hypotheses>
   void load(int i, const Hypotheses& hypotheses) noexcept {
     filters_[i].load(hypotheses[i]);
+    phis_[i].load(hypotheses[i]);
     note_shared_phi(hypotheses);
   }
   // Every filter's matrices from hypotheses, with one shared-Phi check (a schedule change).
   template <class Hypotheses>
   void load_all(const Hypotheses& hypotheses) noexcept {
-    for (int i = 0; i < K; ++i) filters_[i].load(hypotheses[i]);
+    for (int i = 0; i < K; ++i) filters_[i].load(hypotheses[i]), phis_[i].load(hypotheses[i]);
     note_shared_phi(hypotheses);
   }
   template <class Hypotheses>
@@ -63,7 +67,6 @@ class PackedBank<true, K, NX, NU, NZ> {
     bool same = true;
     for (int f = 1; f < K && same; ++f) same = hypotheses[f].model().phi == hypotheses[0].model().phi;
     shared_phi_ = same;
-    if (same) std::memcpy(phi_, filters_[0].phi, sizeof(phi_));
   }
   template <class Matrix>
   void load_h_out(const Matrix& h) noexcept {
@@ -123,9 +126,9 @@ class PackedBank<true, K, NX, NU, NZ> {
     const double* x[K];
     for (int i = 0; i < K; ++i) x[i] = corrected_[i] ? xp_[cur_p_][i] : xm_[cur_m_][i];
     static const auto kernel = Kernels::propagate();
-    // one Phi for all (the paper's hypotheses share it): read once, stays in L1
-    const double* phi = shared_phi_ ? &phi_[0][0] : &filters_[0].phi[0][0];
-    const long stride = shared_phi_ ? 0 : static_cast<long>(sizeof(P) / sizeof(double));
+    // one Phi for all (the paper's hypotheses share it): filter 0's, read once, stays in L1
+    const double* phi = &phis_[0].phi[0][0];
+    const long stride = shared_phi_ ? 0 : static_cast<long>(sizeof(Phi) / sizeof(double));
     double probe = 0.0;
     kernel(filters_, phi, stride, u.data(), x, &xm_[spare][0][0], &probe);
     if (probe != 0.0) return false;
@@ -142,14 +145,18 @@ class PackedBank<true, K, NX, NU, NZ> {
     x_blend = Eigen::Map<const XVector>(xb);
     z_hat = Eigen::Map<const ZVector>(zh);
   }
-  // Touch everything a frame reads (cache_warm.h): the packed matrices and both state slots.
-  void warm_cache() const noexcept { touch(*this); }
+  // Touch everything a frame reads (cache_warm.h): the packed matrices (the Phis in use) and
+  // both state slots.
+  void warm_cache() const noexcept {
+    touch(filters_);
+    touch_lines(&phis_[0], shared_phi_ ? sizeof(Phi) : sizeof(phis_));
+    touch(h_out_), touch(xm_), touch(xp_), touch(r_), touch(q_), touch(corrected_);
+  }
 
  private:
   // Every padded column starts on a 32-byte boundary, so the kernels' 4-wide loads and
   // stores never straddle a cache line (their speed otherwise depends on where the bank lies).
-  alignas(64) P filters_[K];
-  alignas(64) double phi_[NX][PX] = {};     // the shared Phi, when shared_phi_
+  alignas(64) P filters_[K];                // H, A⁻¹, K, Bd: one run, in the frame's order
   alignas(64) double h_out_[NX][PZ] = {};   // H_out, column j = H_out(:, j)
   alignas(64) double xm_[2][K][PX] = {};    // x⁻
   alignas(64) double xp_[2][K][PX] = {};    // x⁺
@@ -158,6 +165,7 @@ class PackedBank<true, K, NX, NU, NZ> {
   bool shared_phi_ = false;
   bool corrected_[K] = {};
   int cur_m_ = 0, cur_p_ = 0;
+  Phi phis_[K];                             // filter k's Phi; phis_[0] alone when shared_phi_
 };
 #endif
 

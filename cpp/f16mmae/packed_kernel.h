@@ -31,14 +31,16 @@ constexpr bool kPackedKernel = F16MMAE_PACKED_KERNEL;
 
 constexpr int padded4(int n) { return (n + 3) / 4 * 4; }
 
-// The matrices of one filter, column-major, columns padded with zeros to PX / PZ rows.
+// The matrices one frame reads of one filter, column-major, columns padded with zeros to PX /
+// PZ rows, in the order the frame reads them (update: H, A⁻¹, K; propagate: Bd), so a bank's
+// filters are one contiguous run the hardware prefetchers follow. Phi is held apart
+// (PackedPhi): the paper's hypotheses share one, which the bank then stores and reads once.
 template <int NX, int NU, int NZ>
 struct alignas(64) PackedFilter {
   static constexpr int PX = padded4(NX), PZ = padded4(NZ);
   double h[NX][PZ];      // H,   column j = H(:, j)
   double a_inv[NZ][PZ];  // A⁻¹, column j
   double k[NZ][PX];      // K,   column j
-  double phi[NX][PX];    // Phi, column j
   double bd[NU][PX];     // Bd,  column j
 
   // From a HypothesisFilter (its model and A⁻¹).
@@ -52,10 +54,22 @@ struct alignas(64) PackedFilter {
       for (int i = 0; i < NZ; ++i) a_inv[j][i] = f.a_inverse()(i, j);
     for (int j = 0; j < NZ; ++j)
       for (int i = 0; i < NX; ++i) k[j][i] = m.k(i, j);
-    for (int j = 0; j < NX; ++j)
-      for (int i = 0; i < NX; ++i) phi[j][i] = m.phi(i, j);
     for (int j = 0; j < NU; ++j)
       for (int i = 0; i < NX; ++i) bd[j][i] = m.bd(i, j);
+  }
+};
+
+// One filter's Phi in the same layout (column j = Phi(:, j), PX rows).
+template <int NX>
+struct alignas(64) PackedPhi {
+  static constexpr int PX = padded4(NX);
+  double phi[NX][PX];
+
+  template <class Hypothesis>
+  void load(const Hypothesis& f) noexcept {
+    std::memset(this, 0, sizeof(*this));
+    for (int j = 0; j < NX; ++j)
+      for (int i = 0; i < NX; ++i) phi[j][i] = f.model().phi(i, j);
   }
 };
 
@@ -138,7 +152,8 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
   *probe = (pr[0] + pr[1]) + (pr[2] + pr[3]);
 
 // One frame's propagation for K filters: x_out_k = Phi x_k + Bd u (two partial sums).
-// Filter f's Phi columns start at phi + f * phi_stride (stride 0: one Phi shared by all).
+// Filter f's Phi columns start at phi + f * phi_stride (stride 0: one Phi shared by all;
+// PackedPhi layout).
 #define F16MMAE_PROPAGATE_BODY                                                               \
   constexpr int PX = P::PX, BX = PX / 4;                                                     \
   v4d probe_x = {};                                                                          \

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from ..errors import F16mmaeError
 from ..outputs import writable_file
+from .drawing import deferrable
 from .flight import run_page
 
 #: A page body from a campaign directory and its summary.
@@ -82,8 +83,9 @@ def _summary_page(d: Path, summary: dict) -> str:
     return _rendered(d / "summary.json", f"a {kind} campaign summary", render, summary)
 
 
+@deferrable(lambda a: Path(a["directory"]) / "report.html")
 def render_report(directory: str | Path) -> Path:
-    """Write ``DIR/report.html`` and return its path."""
+    """Write ``DIR/report.html`` and return its path (deferrable: ``report.drawing``)."""
     d = Path(directory)
     if not d.is_dir():
         raise ReportError(f"{d} is not a directory")

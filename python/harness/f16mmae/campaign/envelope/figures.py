@@ -23,8 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ...report.drawing import deferrable
 from ...report.figures import pyplot
-from .points import GAMMA_AIR, TROPOPAUSE_FT, dynamic_pressure_psf, pressure_psf
+from .points import GAMMA_AIR, TROPOPAUSE_FT, pressure_psf
 
 MAP_FILE = "envelope_map.png"
 COMPARE_FILE = "envelope_compare.png"
@@ -42,8 +43,11 @@ def _limits(points, pad_frac=0.12, min_mach=0.01, min_alt=1000.0):
 
 def _panel(ax, points, design, cmap, step, annotate=None, limits=None):
     (x0, x1), (y0, y1) = limits or _limits(points)
-    mm, hh = np.meshgrid(np.linspace(x0, x1, 120), np.linspace(y0, y1, 120))
-    qq = np.vectorize(dynamic_pressure_psf)(mm, hh)
+    mach, alt = np.linspace(x0, x1, 120), np.linspace(y0, y1, 120)
+    mm, hh = np.meshgrid(mach, alt)
+    # dynamic_pressure_psf on the grid, the ISA pressure once per altitude row: the same
+    # products in the same order, so the same values
+    qq = 0.5 * GAMMA_AIR * np.array([pressure_psf(h) for h in alt])[:, None] * mm * mm
     q_nom = design["qbar_psf"]
     ks = np.arange(-12, 13)
     levels = sorted({round(q_nom * (1 + k * step), 6) for k in ks if k != 0 and q_nom * (1 + k * step) > 0})
@@ -74,6 +78,7 @@ def _panel(ax, points, design, cmap, step, annotate=None, limits=None):
     ax.grid(True, alpha=0.25)
 
 
+@deferrable(lambda a: Path(a["path"]))
 def envelope_map(summary: dict, path: Path) -> Path:
     """The Fig. 9-style map of ``summary["points"]`` (module docstring)."""
     plt = pyplot()
@@ -113,6 +118,7 @@ def envelope_map(summary: dict, path: Path) -> Path:
     return path
 
 
+@deferrable(lambda a: Path(a["path"]))
 def case_table(summary: dict, path: Path) -> Path:
     """Heat map of the correct fraction per point and case (module docstring)."""
     plt = pyplot()

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ...names import NONE, SINGLE_HYPOTHESES
+from ...report.drawing import deferrable
 from ...report.figures import pyplot, save_figure
 from ..engine.scoring import mean_injected_probability
 
@@ -28,6 +29,7 @@ def _ordered_tunings(labels) -> list[str]:
     return known + sorted(t for t in labels if t not in TUNING_ORDER)
 
 
+@deferrable(lambda a: Path(a["path"]))
 def probability_strips(
     records_by_tuning: Mapping[str, Sequence[dict]],
     path: str | Path,
@@ -65,6 +67,7 @@ def probability_strips(
     return save_figure(fig, path)
 
 
+@deferrable(lambda a: Path(a["path"]))
 def latency_chart(
     records_by_tuning: Mapping[str, Sequence[dict]],
     path: str | Path,

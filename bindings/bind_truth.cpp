@@ -261,8 +261,10 @@ class Frames {
                                     measured ? air_last_[0] : std::nan(""), measured ? air_last_[1] : std::nan(""));
   }
 
-  void advance_frame(const Surfaces& u) {
-    if (throttle_dither_node_ != nullptr) throttle_dither_node_->setDoubleValue(throttle_command());
+  void advance_frame(const Surfaces& u) { advance_frame(u, throttle_dither_node_ != nullptr ? throttle_command() : 0.0); }
+  // The same with the frame's throttle command already computed (written with a throttle dither).
+  void advance_frame(const Surfaces& u, double throttle) {
+    if (throttle_dither_node_ != nullptr) throttle_dither_node_->setDoubleValue(throttle);
     Surfaces eff = u;
     for (int k = 0; k < steps_per_frame_; ++k) {
       while (next_act_ < act_fail_.size() && act_fail_[next_act_].at <= step_) {
@@ -337,12 +339,12 @@ class Frames {
       const Ticks b = TickClock::now();
       const Surfaces u = command(zf);
       const Ticks c = TickClock::now();
+      const double throttle = throttle_dither_node_ != nullptr ? throttle_command() : 0.0;  // once a frame
       for (int j = 0; j < kSurfaces; ++j) u_est[j] = u[j];
-      if constexpr (kInputs > kSurfaces)
-        u_est[kSurfaces] = throttle_command();
+      if constexpr (kInputs > kSurfaces) u_est[kSurfaces] = throttle;
       est.propagate(u_est);
       const Ticks e = TickClock::now();
-      advance_frame(u);
+      advance_frame(u, throttle);
       if (i + 1 < n) z = measure_frame();
       const Ticks f = TickClock::now();
       est_ticks += (b - a) + (e - c);

@@ -170,4 +170,23 @@ inline Eigen::VectorXd dither(int nu, int frame, double rate_hz) {
   return u;
 }
 
+// One flight for bit-for-bit comparisons of banks built from mb (f16_model_bank(seed) or the
+// same plant with named states): `frames` frames of that plant with LF failed from frame 100,
+// every bank stepped with the same absolute z and u (about mb's trims), then
+// after_frame(frame); it stops once after_frame returns false.
+template <class AfterFrame, class... Banks>
+void fly_alike(const ModelBank& mb, unsigned seed, unsigned noise_seed, int frames, AfterFrame&& after_frame,
+               Banks&... banks) {
+  Truth truth(random_plant(13, 5, 7, seed, 1e-3, 1e-3), kF16Actuators, kF16Sensors, noise_seed);
+  for (int i = 0; i < frames; ++i) {
+    const std::vector<std::string> failed = i >= 100 ? std::vector<std::string>{"LF"} : std::vector<std::string>{};
+    const Eigen::Matrix<double, 7, 1> z = truth.measure(failed) + mb.z_trim;
+    const Eigen::VectorXd du = dither(5, i, 64.0);
+    const Eigen::Matrix<double, 5, 1> u = du + mb.u_trim;
+    (banks.step(z, u), ...);
+    truth.advance(du, failed);
+    if (!after_frame(i)) return;
+  }
+}
+
 }  // namespace f16mmae::test

@@ -137,18 +137,11 @@ TEST(ManeuverKinematics, OffIsBitIdenticalToTheBankWithoutIt) {
   HierarchicalOptions plain, off;
   off.maneuver.kinematics = false;
   F16HierarchicalBank a(mb, plain), b(mb, off);
-  const test::Plant plant = test::random_plant(13, 5, 7, 7u, 1e-3, 1e-3);
-  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 3u);
-  for (int i = 0; i < 300; ++i) {
-    const std::vector<std::string> failed = i >= 100 ? std::vector<std::string>{"LF"} : std::vector<std::string>{};
-    const Eigen::Matrix<double, 7, 1> z = truth.measure(failed) + mb.z_trim;
-    const Eigen::VectorXd du = test::dither(5, i, 64.0);
-    const Eigen::Matrix<double, 5, 1> u = du + mb.u_trim;
-    a.step(z, u), b.step(z, u);
-    truth.advance(du, failed);
-    ASSERT_EQ(a.probabilities(), b.probabilities()) << "frame " << i;
-    ASSERT_EQ(a.blended_state(), b.blended_state()) << "frame " << i;
-  }
+  test::fly_alike(mb, 7u, 3u, 300, [&](int i) {
+    EXPECT_EQ(a.probabilities(), b.probabilities()) << "frame " << i;
+    EXPECT_EQ(a.blended_state(), b.blended_state()) << "frame " << i;
+    return a.probabilities() == b.probabilities() && a.blended_state() == b.blended_state();
+  }, a, b);
 }
 
 TEST(ManeuverKinematics, BankWithoutTheAirframeNamesIsRefusedByName) {

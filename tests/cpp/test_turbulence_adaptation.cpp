@@ -113,19 +113,13 @@ TEST(TurbulenceAdaptation, OffIsBitIdenticalToTheBankWithoutIt) {
   off.bank.adaptation.time_constant_s = 0.1;
   unit.bank.adaptation = on(5.0, 1.0, 1.0);   // on, but s pinned at 1
   F16HierarchicalBank a(mb, plain), b(mb, off), c(mb, unit);
-  const test::Plant plant = test::random_plant(13, 5, 7, 7u, 1e-3, 1e-3);
-  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 3u);
-  for (int i = 0; i < 400; ++i) {
-    const std::vector<std::string> failed = i >= 100 ? std::vector<std::string>{"LF"} : std::vector<std::string>{};
-    const Eigen::Matrix<double, 7, 1> z = truth.measure(failed) + mb.z_trim;
-    const Eigen::VectorXd du = test::dither(5, i, 64.0);
-    const Eigen::Matrix<double, 5, 1> u = du + mb.u_trim;
-    a.step(z, u), b.step(z, u), c.step(z, u);
-    truth.advance(du, failed);
-    ASSERT_EQ(a.probabilities(), b.probabilities()) << "frame " << i;
-    ASSERT_EQ(a.probabilities(), c.probabilities()) << "frame " << i;
-    ASSERT_EQ(a.blended_state(), b.blended_state());
-  }
+  test::fly_alike(mb, 7u, 3u, 400, [&](int i) {
+    EXPECT_EQ(a.probabilities(), b.probabilities()) << "frame " << i;
+    EXPECT_EQ(a.probabilities(), c.probabilities()) << "frame " << i;
+    EXPECT_EQ(a.blended_state(), b.blended_state()) << "frame " << i;
+    return a.probabilities() == b.probabilities() && a.probabilities() == c.probabilities() &&
+           a.blended_state() == b.blended_state();
+  }, a, b, c);
   EXPECT_EQ(a.declarations().size(), b.declarations().size());
   EXPECT_DOUBLE_EQ(b.turbulence_scale(), 1.0);
 }

@@ -14,7 +14,8 @@ import pytest
 from f16mmae import core
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.calibrate import adaptation_reference, calibrate_node, node_flights
+from f16mmae.design.calibrate import (REFERENCE_LOG_ODDS_BOUND, adaptation_reference, bounded_reference,
+                                      calibrate_node, failure_log_odds_peak, node_flights)
 from f16mmae.design.model import linearize_truth
 from f16mmae.design.schedule import ScheduleSpecError, parse_grid, x_trim
 from f16mmae.design.tuning import load_tuning
@@ -51,8 +52,10 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     design = design_bank(0.5, 20000.0, tuning)
     node = s["nodes"][1]
     assert node["bank"].content_hash == _hash(design)
-    reference = adaptation_reference(design, node_flights(0.5, 20000.0, "light"))
-    assert node["adapt_reference"] == reference and 0.3 < reference < 2.0
+    flights = node_flights(0.5, 20000.0, "light")
+    reference, peak = bounded_reference(to_model_bank(design), flights)
+    assert node["adapt_reference"] == reference and 0.3 <= reference <= 1.0
+    assert failure_log_odds_peak(node["bank"], flights, reference) == peak <= REFERENCE_LOG_ODDS_BOUND
     flap_held = design_bank(0.5, 20000.0, tuning, linearized=linearize_truth(0.5, 20000.0, lef_rad=0.262))
     assert s["nodes"][3]["bank"].content_hash == _hash(flap_held) != node["bank"].content_hash
     assert s["nodes"][3]["adapt_reference"] == reference
@@ -62,6 +65,8 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     meta = json.loads(scheduled.schedule["metadata"])
     assert meta["node_tuning"] == "calibrated" and [(n["mach"], n["alt_ft"]) for n in meta["nodes"]] == [
         (0.4, 20000.0), (0.5, 20000.0)]
+    assert meta["nodes"][1]["power_ratio_mean"] == adaptation_reference(design, flights)
+    assert meta["nodes"][1]["adapt_reference"] == reference
     assert meta["nodes"][1]["knobs"] == {k: v for f in ("qd_longitudinal", "r_pseudonoise", "qd_lateral")
                                          for k, v in getattr(tuning, f).items()}
 

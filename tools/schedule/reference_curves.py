@@ -51,6 +51,9 @@ def main() -> int:
     ap.add_argument("--curves", help="curves JSON to read (second form)")
     ap.add_argument("--bound", type=float, default=-6.0)
     ap.add_argument("--cap", choices=("none", "mean"), default="none")
+    ap.add_argument("--erode", choices=("none", "all", "bounded"), default="none",
+                    help="then each node takes the smallest reference of itself and its covered grid neighbours "
+                         "(all of them, or those whose bound was met)")
     ap.add_argument("--step", type=float, default=0.05)
     ap.add_argument("--write")
     ap.add_argument("--workers", type=int, default=2)
@@ -68,7 +71,7 @@ def main() -> int:
         Path(args.out).write_text(json.dumps(curves, indent=1))
     if args.write:
         curves = json.loads(Path(args.curves or args.out).read_text())
-        chosen = {}
+        chosen, c_by = {}, {(c["mach"], c["alt_ft"]): c for c in curves}
         for c in curves:
             r = c["references"][0]   # the largest reference below which every one passes
             for ref, peak in zip(c["references"], c["peaks"]):
@@ -78,6 +81,12 @@ def main() -> int:
             if args.cap == "mean":
                 r = min(r, c["stored_reference"])
             chosen[(c["mach"], c["alt_ft"])] = r
+        if args.erode != "none":   # each node: the smallest over itself and its covered grid neighbours
+            idx = {(nd["mach"], nd["alt_ft"]): (nd["i_mach"], nd["i_alt"]) for nd in info["nodes"]}
+            at = {idx[k]: r for k, r in chosen.items()
+                  if args.erode == "all" or c_by[k]["peaks"][0] <= args.bound}
+            chosen = {k: min([chosen[k]] + [at[(i + di, j + dj)] for di in (-1, 0, 1) for dj in (-1, 0, 1)
+                                            if (i + di, j + dj) in at]) for k, (i, j) in idx.items() if k in chosen}
         nodes = [(nd["i_mach"], nd["i_alt"], nd["bank"], np.asarray(nd["x_trim"]), chosen[(nd["mach"], nd["alt_ft"])],
                   nd["layer"]) for nd in info["nodes"]]
         h = core.save_schedule(list(info["mach"]), list(info["alt_ft"]), nodes, primary=info["primary"],

@@ -334,3 +334,31 @@ def test_a_throttle_bank_flies_maneuvers_with_the_dither_on_the_outer_loop_alike
         np.testing.assert_array_equal(other.probabilities, one_call.probabilities)
     th = np.array(frames)[:, 5]
     assert np.all((th >= 0) & (th <= 1)) and np.ptp(th) > 0.01  # the pilot's lever moved, dither on it
+
+
+def test_actuator_limits_pass_the_throttle_through_and_limit_the_surfaces(throttle_bank):
+    """--actuator-limits with 6 inputs: the throttle (no actuator: +inf limits) reaches the
+    filters unchanged; the surfaces are limited as in a 5-input bank. A finite limit on the
+    throttle is refused by name (it drives no lag state), and the daemon gets 'inf'."""
+    from f16mmae.lcm.daemon import daemon_flags
+    from f16mmae.loop.estimator import Estimator, core_arguments
+    from f16mmae.truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
+
+    args = core_arguments({"actuator_limits": True}, 6)
+    assert args["actuator_rate_limits_rad_s"] == [*RATE_LIMIT_RAD_S, float("inf")]
+    flags = daemon_flags({"actuator_limits": True}, 6)
+    assert flags[flags.index("--actuator-rate-limits") + 1].endswith(",inf")
+    limited, free = Estimator(throttle_bank, actuator_limits=True), Estimator(throttle_bank)
+    u_trim, z_trim = np.asarray(throttle_bank.u_trim), np.asarray(throttle_bank.z_trim)
+    for i in range(64):  # inside every limit: the same probabilities (u_eff = u to rounding)
+        u = u_trim + 0.002 * np.sin(0.3 * i + np.arange(6))
+        u[5] = u_trim[5] + 0.02 * np.sin(0.1 * i)
+        for e in (limited, free):
+            e.update(z_trim)
+            e.propagate(u)
+    np.testing.assert_allclose(limited.probabilities, free.probabilities, rtol=0, atol=1e-9)
+    finite = dict(core_arguments({"actuator_limits": True}, 6))
+    finite["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, 1.0]
+    finite["actuator_position_limits_rad"] = [*POSITION_LIMIT_RAD, 1.0]
+    with pytest.raises(ValueError, match="input 5 drives no first-order lag state"):
+        core.HierarchicalBank(throttle_bank, **finite)

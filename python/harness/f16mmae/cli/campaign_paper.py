@@ -13,10 +13,12 @@ once instead of three times::
 cases -- the shipped tuned bank, light turbulence, complete failures).  Each summary names the
 single command that gives the same records.  The three directories are checked writable before
 the first flight; with ``--check`` the exit status is 1 when any of the three misses a goal.
+The single campaign's runs are the envelope's at its nominal point NOM (the same specs): they
+are flown once, for the envelope, and stored for the single part too (``engine.shared_flights``).
 Each part's figures and report page are drawn on a background thread while the pool flies the
 next part (``report.drawing``); every file is written when the command returns.  The parts fly
-in the order above, the one whose figures cost least last: its drawing is the only one
-nothing overlaps.
+in the order above: the single part, last, flies nothing, and its figures cost least: its
+drawing is the only one nothing overlaps.
 """
 from __future__ import annotations
 
@@ -24,6 +26,7 @@ import argparse
 from pathlib import Path
 
 from ..campaign.engine.config import RUNS_MAX
+from ..campaign.engine import shared_flights
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..outputs import writable_dir
 from ..report.drawing import drawing_in_background
@@ -74,7 +77,7 @@ def _paper(args) -> int:
     # each part's figures and report page are drawn on a background thread while the pool
     # flies the next part (report.drawing); all are written when the command returns. The
     # local pool forks all its workers at its first flight, before that thread exists.
-    with drawing_in_background(), make_executor(workers=workers) as ex:
+    with drawing_in_background(), shared_flights.sharing(), make_executor(workers=workers) as ex:
         for name, ns in parts:
             ns.executor, ns.executor_label = ex, f"{workers or default_workers()} local process(es), shared"
             print(f"=== campaign {name} ({ns.out}) ===", flush=True)

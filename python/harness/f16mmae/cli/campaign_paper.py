@@ -15,14 +15,15 @@ single command that gives the same records.  The three directories are checked w
 the first flight; with ``--check`` the exit status is 1 when any of the three misses a goal.
 The single campaign's runs are the envelope's at its nominal point NOM (the same specs): they
 are flown once, for the envelope, and stored for the single part too (``engine.shared_flights``).
-Each part's figures and report page are drawn on a background thread while the pool flies the
-next part (``report.drawing``); every file is written when the command returns.  The parts fly
-in the order above: the single part, last, flies nothing, and its figures cost least: its
-drawing is the only one nothing overlaps.
+Each part's figures are drawn by the pool's processes, side by side, before the next part's
+flights, and its report page on a background thread (``report.drawing``); every file is
+written when the command returns.  The parts fly in the order above: the single part, last,
+flies nothing.
 """
 from __future__ import annotations
 
 import argparse
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from ..campaign.engine.config import RUNS_MAX
@@ -74,10 +75,13 @@ def _paper(args) -> int:
     for _, ns in parts:  # every output checked before the first flight
         writable_dir(ns.out)
     status = 0
-    # each part's figures and report page are drawn on a background thread while the pool
-    # flies the next part (report.drawing); all are written when the command returns. The
-    # local pool forks all its workers at its first flight, before that thread exists.
-    with drawing_in_background(), shared_flights.sharing(), make_executor(workers=workers) as ex:
+    # each part's figures are drawn by the pool's processes (queued before the next part's
+    # flights) and its report page on a background thread (report.drawing); all are written
+    # when the command returns. The local pool forks all its workers at its first flight,
+    # before that thread exists.
+    with make_executor(workers=workers) as ex, \
+            drawing_in_background(processes=ex if isinstance(ex, ProcessPoolExecutor) else None), \
+            shared_flights.sharing():
         for name, ns in parts:
             ns.executor, ns.executor_label = ex, f"{workers or default_workers()} local process(es), shared"
             print(f"=== campaign {name} ({ns.out}) ===", flush=True)

@@ -30,7 +30,7 @@ def _ordered_tunings(labels) -> list[str]:
     return known + sorted(t for t in labels if t not in TUNING_ORDER)
 
 
-@deferrable(lambda a: Path(a["path"]))
+@deferrable(lambda a: Path(a["path"]), alone=True)
 def probability_strips(
     records_by_tuning: Mapping[str, Sequence[dict]],
     path: str | Path,
@@ -68,7 +68,7 @@ def probability_strips(
     return save_figure(fig, path)
 
 
-@deferrable(lambda a: Path(a["path"]))
+@deferrable(lambda a: Path(a["path"]), alone=True)
 def latency_chart(
     records_by_tuning: Mapping[str, Sequence[dict]],
     path: str | Path,

@@ -6,19 +6,20 @@ aircraft from one campaign to the next -- with the command's start (imports, the
 once instead of three times::
 
     envelope  f16mmae campaign envelope --runs N --seed S --out DIR/envelope
-    dual      f16mmae campaign dual     --runs N --seed S --out DIR/dual
     single    f16mmae campaign single   --runs N --seed S --baseline none --out DIR/single
+    dual      f16mmae campaign dual     --runs N --seed S --out DIR/dual
 
-(the 25 points of Fig. 9; the 132 ordered pairs with the 12 lone second failures; the 13
-cases -- the shipped tuned bank, light turbulence, complete failures).  Each summary names the
+(the 25 points of Fig. 9; the 13 cases; the 132 ordered pairs with the 12 lone second
+failures -- the shipped tuned bank, light turbulence, complete failures).  Each summary names the
 single command that gives the same records.  The three directories are checked writable before
 the first flight; with ``--check`` the exit status is 1 when any of the three misses a goal.
 The single campaign's runs are the envelope's at its nominal point NOM (the same specs): they
 are flown once, for the envelope, and stored for the single part too (``engine.shared_flights``).
 Each part's figures are drawn by the pool's processes, side by side, before the next part's
 flights, and its report page on a background thread (``report.drawing``); every file is
-written when the command returns.  The parts fly in the order above: the single part, last,
-flies nothing.
+written when the command returns.  The parts run in the order above: the single part, which
+flies nothing, while the pool draws the envelope's figures, and the dual last, so that after
+its last flight only its own two figures are left to draw.
 """
 from __future__ import annotations
 
@@ -36,8 +37,8 @@ from .options import number, seed
 
 #: The campaigns in the order they fly: (name, command-line module, what its command adds).
 PARTS = (("envelope", campaign_envelope, ()),
-         ("dual", campaign_dual, ()),
-         ("single", campaign_single, ("--baseline", "none")))
+         ("single", campaign_single, ("--baseline", "none")),
+         ("dual", campaign_dual, ()))
 
 
 def register(kinds) -> None:

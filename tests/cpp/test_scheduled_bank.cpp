@@ -353,6 +353,10 @@ TEST(ScheduledBank, AFailedSensorsLevelFollowsTheAbsoluteReadingAcrossATrimChang
   const Frames f = fly(node_bank(0, 0), 0, 0, {"VEL"}, 260, 9u);
   const int vel = 1 + 5;   // NONE, five actuators, then VEL
   ASSERT_EQ(moved.name(vel), "VEL");
+  F16HierarchicalBank blended(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  blended.schedule(AirData{0.5, 15000.0});   // a blend of the nodes' filters keeps the channel uninformative
+  EXPECT_TRUE(blended.bank().hypothesis(vel).has_uninformative());
+  EXPECT_TRUE(held.bank().hypothesis(vel).has_uninformative());
   const double jump = std::log(eps) + 0.5 * std::log(2.0 * 3.14159265358979323846 * r_var) - std::log(width);
   auto u_term = [&](const F16HierarchicalBank& b) {
     return b.bank().log_likelihoods()(vel) + 0.5 * b.bank().quadratic_forms()(vel);
@@ -367,6 +371,7 @@ TEST(ScheduledBank, AFailedSensorsLevelFollowsTheAbsoluteReadingAcrossATrimChang
     if (i < 70) continue;
     ASSERT_EQ(moved.level(), 0);
     EXPECT_NEAR(u_term(moved), u_term(held), 1e-9) << "frame " << i;
+    EXPECT_NE(u_term(moved), 0.0) << "frame " << i;   // the channel is uninformative at every node
     EXPECT_GT(u_term(moved), jump + 5.0) << "frame " << i;
     ++compared;
   }

@@ -341,6 +341,13 @@ class FilterBank {
     store([&](auto& s) { s.clear(k); });
     level_set_[k] = 0;
   }
+  // Every filter's uninformative-channel levels move by dz: b̂_k <- b̂_k + dz (a change of
+  // the trim the residuals are taken from, z_trim_old - z_trim_new, so that a level stays
+  // that of the absolute reading; unset levels are restarted at their first reading anyway).
+  template <class Z>
+  void shift_levels(const Eigen::MatrixBase<Z>& dz) noexcept {
+    for (int k = 0; k < size(); ++k) level_.col(k) += dz;
+  }
   // Replace what every filter is, keeping the states x⁻, x⁺, r: a change of the scheduled
   // filters (scheduled_filters.h). write(k, h) writes filter k's new HypothesisFilter into h
   // (same sizes); h_out(H) writes the new H_out into H. noexcept if they are.

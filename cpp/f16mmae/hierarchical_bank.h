@@ -32,7 +32,10 @@
 //   hierarchical switch loads the ones in force); when the trim state x_trim moves, every
 //   on-line filter's x⁻ and x⁺ move by x_trim_old - x_trim_new (bumpless: the absolute
 //   estimate is continuous); before the first frame nothing moves (the filters start at the
-//   trim in force at their first frame). Probabilities, the declarer, the declarations and the level are
+//   trim in force at their first frame); likewise the levels b̂ of the failed sensors'
+//   uninformative channels (filter_bank.h) move by z_trim_old - z_trim_new, so a level is that
+//   of the absolute reading and a failed sensor's constant reading stays a constant level
+//   while the scheduled trim moves. Probabilities, the declarer, the declarations and the level are
 //   untouched by a schedule change. A schedule whose nodes carry an adaptation reference
 //   (bank_schedule.h) sets the turbulence adaptation's rho_0 to the blend in force with the
 //   filters (ScheduleOptions::node_adapt_reference, on by default; rho itself carries on, and
@@ -170,7 +173,11 @@ class HierarchicalBank {
     const XVector x_before = sched_.x_trim();
     const bool reload = sched_.select(a);
     if (reload) load_scheduled();
-    if (frame_ > 0) shift_states(x_before - sched_.x_trim());  // before the first frame x = 0 is the trim
+    if (frame_ > 0) {  // before the first frame x = 0 is the trim
+      shift_states(x_before - sched_.x_trim());
+      z_shift_.noalias() = z_trim_ - sched_.z_trim();   // failed sensors' levels: absolute
+      if (!z_shift_.isZero(0.0)) bank_.shift_levels(z_shift_);
+    }
     apply_trims();
   }
   bool propagate(const UVector& u_in) noexcept {
@@ -375,6 +382,7 @@ class HierarchicalBank {
     u_pert_ = u_trim_;
     du_ = UVector::Zero(u_trim_.size());
     dz_ = ZVector::Zero(z_trim_.size());
+    z_shift_ = dz_;
     scratch_ = storage_[0];
     x_shift_ = XVector::Zero(mb.nx());
     x_force_ = XVector::Zero(mb.nx());
@@ -477,7 +485,7 @@ class HierarchicalBank {
   Indices level0_;
   std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of single failure f
   Indices online_;
-  ZVector z_trim_, z_pert_, dz_;
+  ZVector z_trim_, z_pert_, dz_, z_shift_;
   UVector u_trim_, u_pert_, du_;
   TrimTracker<NU, NZ> trim_tracker_;
   ManeuverKinematics maneuver_;

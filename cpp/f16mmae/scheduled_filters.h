@@ -138,7 +138,8 @@ class ScheduledFilters {
       const std::string where = "schedule node (Mach " + std::to_string(schedule.mach[node.i_mach]) + ", " +
                                 std::to_string(schedule.alt_ft[node.i_alt]) + " ft) ";
       for (const HypothesisModel& h : node.bank.hypotheses)
-        filters_.emplace_back(Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, where + "hypothesis '" + h.name + "'"),
+        filters_.emplace_back(Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, h.uninformative_width,
+                                                   h.uninformative_level_q, where + "hypothesis '" + h.name + "'"),
                               where + "hypothesis '" + h.name + "'");
       u_trim_.push_back(node.bank.u_trim);
       z_trim_.push_back(node.bank.z_trim);

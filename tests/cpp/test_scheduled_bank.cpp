@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -326,6 +327,57 @@ TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {
   EXPECT_TRUE(hb.z_trim_offset() == dz);
   EXPECT_TRUE(hb.u_trim_offset() == du);
   EXPECT_TRUE(hb.z_hat() == Z(hb.z_hat_perturbation() + hb.z_trim() + dz));  // trim in force = scheduled + dz
+}
+
+// A failed sensor whose reading is uninformative (steady_state_filter.h: an unknown level b̂ it
+// tracks) keeps its level of the ABSOLUTE reading across a change of the scheduled trim: VEL
+// reads a constant (node (0,0)'s trim + noise, failed from frame 64); at frame 200 the air data
+// moves to node (1,0), whose VEL trim is 100 ft/s higher. The VEL hypothesis' failed-channel term
+// u_k = l_k + q_k / 2 (leading term stripped, no adaptation) must then be that of the same
+// readings with the trim held at node (0,0) -- frame for frame -- and stay far above the
+// level-jump branch ln eps + (1/2) ln(2 pi A_jj) - ln W that a level left behind would take.
+TEST(ScheduledBank, AFailedSensorsLevelFollowsTheAbsoluteReadingAcrossATrimChange) {
+  const double width = 1500.0, level_q = 1e-5, r_var = 1e-3, eps = 1e-3;
+  BankSchedule s = make_schedule();
+  for (auto& n : s.nodes)
+    for (auto& h : n.bank.hypotheses)
+      if (h.name == "VEL") {
+        h.uninformative_width = Eigen::VectorXd::Zero(7);
+        h.uninformative_level_q = Eigen::VectorXd::Zero(7);
+        h.uninformative_width(0) = width;
+        h.uninformative_level_q(0) = level_q;
+      }
+  HierarchicalOptions o = options(ScheduleMode::kNearest);
+  o.declarer.dwell_s = 60.0;   // no declaration: the VEL filter stays on line at its index
+  F16HierarchicalBank moved(scheduled_bank(s), o), held(scheduled_bank(s), o);
+  const Frames f = fly(node_bank(0, 0), 0, 0, {"VEL"}, 260, 9u);
+  const int vel = 1 + 5;   // NONE, five actuators, then VEL
+  ASSERT_EQ(moved.name(vel), "VEL");
+  F16HierarchicalBank blended(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  blended.schedule(AirData{0.5, 15000.0});   // a blend of the nodes' filters keeps the channel uninformative
+  EXPECT_TRUE(blended.bank().hypothesis(vel).has_uninformative());
+  EXPECT_TRUE(held.bank().hypothesis(vel).has_uninformative());
+  const double jump = std::log(eps) + 0.5 * std::log(2.0 * 3.14159265358979323846 * r_var) - std::log(width);
+  auto u_term = [&](const F16HierarchicalBank& b) {
+    return b.bank().log_likelihoods()(vel) + 0.5 * b.bank().quadratic_forms()(vel);
+  };
+  const long long before = f16mmae::testing::allocation_count();
+  int compared = 0;
+  for (std::size_t i = 0; i < f.z.size(); ++i) {
+    moved.schedule(AirData{i >= 200 ? 0.6 : 0.4, 10000.0});
+    held.schedule(AirData{0.4, 10000.0});
+    moved.step(f.z[i], f.u[i]);
+    held.step(f.z[i], f.u[i]);
+    if (i < 70) continue;
+    ASSERT_EQ(moved.level(), 0);
+    EXPECT_NEAR(u_term(moved), u_term(held), 1e-9) << "frame " << i;
+    EXPECT_NE(u_term(moved), 0.0) << "frame " << i;   // the channel is uninformative at every node
+    EXPECT_GT(u_term(moved), jump + 5.0) << "frame " << i;
+    ++compared;
+  }
+  EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+  EXPECT_EQ(compared, 190);
+  EXPECT_NEAR(moved.z_trim()(0) - held.z_trim()(0), 100.0, 1e-9);
 }
 
 TEST(ScheduledBank, ScheduledFramesAllocateNothing) {

@@ -363,6 +363,26 @@ class FilterBank {
   void set_prior(int k, const XVector& x_prior) noexcept {
     store([&](auto& s) { s.set_prior(k, x_prior); });
   }
+  // Carry over `from`'s per-frame state (a bank of the same sizes whose filters stand for
+  // the same hypotheses, e.g. designed for another turbulence level; turbulence_bank_set.h):
+  // every filter's x⁻, x⁺ (and whether it is current), r, the uninformative levels, p, ln p,
+  // the last q and l and the counters; what the filters ARE, the options and the
+  // adaptation's ρ stay this bank's. noexcept, no allocation for fixed sizes.
+  void carry_over(const FilterBank& from) noexcept {
+    for (int k = 0; k < size(); ++k) {
+      set_prior(k, from.prior(k));
+      if (from.corrected(k)) set_posterior(k, from.posterior(k));
+      level_set_[k] = from.level_set_[k];
+    }
+    level_ = from.level_;
+    p_ = from.p_;
+    log_p_ = from.log_p_;
+    q_ = from.q_;
+    log_l_ = from.log_l_;
+    rejected_ = from.rejected_;
+    frames_ = from.frames_;
+    refresh_blend();
+  }
   // Touch the per-frame working set (cache_warm.h), ahead of a frame that has a deadline:
   // the packed kernel's buffers when it runs, else the hypotheses and the column store
   // (fixed sizes: inline; dynamic sizes keep their matrices on the heap and only the bank's

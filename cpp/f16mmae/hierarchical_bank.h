@@ -230,6 +230,35 @@ class HierarchicalBank {
     }
   }
 
+  // Bumpless handover (turbulence_bank_set.h): this bank takes over from `from`, a bank of
+  // the same sizes and hypotheses (designed for another turbulence level), between a frame's
+  // update and its propagate. Carried over: the level and the hypotheses on line (this bank's
+  // own filters for them), every on-line filter's states, the probabilities, the declarer's
+  // state, the declarations, the frame count, the air data, the trim offsets and the trim
+  // tracker, the actuator model's positions. This bank's own: what the filters are, its
+  // trims, its options; its adaptation restarts at its reference (ρ = ρ_0). A scheduled
+  // bank is not supported (the set checks). noexcept, no allocation for fixed sizes (the
+  // declaration history is copied within its reserved capacity).
+  void take_over(const HierarchicalBank& from) noexcept {
+    if (online_ != from.online_)
+      for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[from.online_[k]]);
+    online_ = from.online_;
+    level_ = from.level_;
+    bank_.carry_over(from.bank_);
+    bank_.reset_adaptation();
+    declarer_.carry_over(from.declarer_);
+    const std::size_t n = from.history_.size() < history_.capacity() ? from.history_.size() : history_.capacity();
+    history_.assign(from.history_.begin(), from.history_.begin() + static_cast<std::ptrdiff_t>(n));
+    dropped_ = from.dropped_ + static_cast<std::int64_t>(from.history_.size() - n);
+    frame_ = from.frame_;
+    air_data_ = from.air_data_;
+    air_data_rejected_ = from.air_data_rejected_;
+    trim_tracker_ = from.trim_tracker_;
+    actuators_.carry_over(from.actuators_);
+    du_ = from.du_;
+    dz_ = from.dz_;
+  }
+
   // Touch the on-line bank's per-frame working set (FilterBank::warm_cache) and the
   // declarer's, ahead of a frame that has a deadline. Reads only.
   void warm_cache() const noexcept {

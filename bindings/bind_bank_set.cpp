@@ -165,18 +165,18 @@ void bind_bank_set(py::module_& m) {
   py::class_<PyTurbulenceBankSet>(m, "TurbulenceBankSet", R"doc(
 One estimator over banks designed for rising turbulence intensities (cpp/f16mmae/turbulence_bank_set.h).
 
-    TurbulenceBankSet(members, up, down, hold_s=1.0, settle_s=10.0, freeze_probability=0.05, start=1)
+    TurbulenceBankSet(members, up, down, hold_s=5.0, settle_s=10.0, freeze_probability=0.05, start=1)
 
 members: core.HierarchicalBank objects of one fixed-size kind, each with adapt_turbulence=True,
-in order of rising design intensity. Only the running member steps; after each update it moves
-up when its own residual power ratio rho exceeds up[a] for hold_s, down when rho is below
-down[a-1] for hold_s, never within settle_s of the last switch, never while it is at level 1,
-has a failure declared, or a failure hypothesis is above freeze_probability. The next member
-takes over bumplessly: level, hypotheses on line, filter states, probabilities, declarer
-state, declarations. Outputs are the running member's. Raises ValueError for invalid
-members or thresholds (naming them).)doc")
+in order of rising design intensity. One member is in force; while its own residual power
+ratio rho exceeds up[a] (is below down[a-1]) the next member up (down) runs beside it as a
+standby, started from its copy, and takes over after hold_s: level, hypotheses on line,
+probabilities, declarer state, declarations (its own filter states and rho, warmed up on the
+same frames). Never within settle_s of the last switch, never while the member in force is at
+level 1, has a failure declared, or a failure hypothesis is above freeze_probability. Outputs
+are the member in force's. Raises ValueError for invalid members or thresholds (naming them).)doc")
       .def(py::init<const py::list&, const std::vector<double>&, const std::vector<double>&, double, double, double, int>(),
-           py::arg("members"), py::arg("up"), py::arg("down"), py::kw_only(), py::arg("hold_s") = 1.0,
+           py::arg("members"), py::arg("up"), py::arg("down"), py::kw_only(), py::arg("hold_s") = 5.0,
            py::arg("settle_s") = 10.0, py::arg("freeze_probability") = 0.05, py::arg("start") = 1)
       .def("update", &PyTurbulenceBankSet::update, py::arg("z"),
            "Update the running member with absolute z (7,); then the selector. Returns the name declared, or None.")
@@ -187,7 +187,10 @@ members or thresholds (naming them).)doc")
       .def("reset", [](PyTurbulenceBankSet& s) { s.visit([](auto& x) { x.reset(); }); },
            "Every member back to its start; the start member runs.")
       .def_property_readonly("members", [](const PyTurbulenceBankSet& s) { return s.members_; })
-      .def_property_readonly("active", prop([](auto& s) { return s.active(); }), "index of the running member")
+      .def_property_readonly("active", prop([](auto& s) { return s.active(); }), "index of the member in force")
+      .def_property_readonly("standby", prop([](auto& s) { return s.standby(); }), "index of the member warming up, or -1")
+      .def_property_readonly("standby_frames", prop([](auto& s) { return s.standby_frames(); }),
+                             "frames on which a standby ran beside the member in force, since reset")
       .def_property_readonly("switches", prop([](auto& s) { return s.switches(); }), "handovers since reset")
       .def_property_readonly("frozen_frames", prop([](auto& s) { return s.frozen_frames(); }),
                              "frames on which a failure hypothesis froze the selector, since reset")

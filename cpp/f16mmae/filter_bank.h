@@ -365,20 +365,24 @@ class FilterBank {
   }
   // Carry over `from`'s per-frame state (a bank of the same sizes whose filters stand for
   // the same hypotheses, e.g. designed for another turbulence level; turbulence_bank_set.h):
-  // every filter's x⁻, x⁺ (and whether it is current), r, the uninformative levels, p, ln p,
+  // every filter's x⁻, x⁺ (and whether it is current), the uninformative levels, p, ln p,
   // the last q and l and the counters; what the filters ARE, the options and the
   // adaptation's ρ stay this bank's. noexcept, no allocation for fixed sizes.
-  void carry_over(const FilterBank& from) noexcept {
-    for (int k = 0; k < size(); ++k) {
-      set_prior(k, from.prior(k));
-      if (from.corrected(k)) set_posterior(k, from.posterior(k));
-      level_set_[k] = from.level_set_[k];
+  // states = false: the filters keep their own states and levels (a bank that ran on the
+  // same frames, warm), only the probabilities and counters are carried over.
+  void carry_over(const FilterBank& from, bool states = true) noexcept {
+    if (states) {
+      for (int k = 0; k < size(); ++k) {
+        set_prior(k, from.prior(k));
+        if (from.corrected(k)) set_posterior(k, from.posterior(k));
+        level_set_[k] = from.level_set_[k];
+      }
+      level_ = from.level_;
+      q_ = from.q_;
+      log_l_ = from.log_l_;
     }
-    level_ = from.level_;
     p_ = from.p_;
     log_p_ = from.log_p_;
-    q_ = from.q_;
-    log_l_ = from.log_l_;
     rejected_ = from.rejected_;
     frames_ = from.frames_;
     refresh_blend();

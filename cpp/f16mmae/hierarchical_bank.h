@@ -233,19 +233,23 @@ class HierarchicalBank {
   // Bumpless handover (turbulence_bank_set.h): this bank takes over from `from`, a bank of
   // the same sizes and hypotheses (designed for another turbulence level), between a frame's
   // update and its propagate. Carried over: the level and the hypotheses on line (this bank's
-  // own filters for them), every on-line filter's states, the probabilities, the declarer's
-  // state, the declarations, the frame count, the air data, the trim offsets and the trim
-  // tracker, the actuator model's positions. This bank's own: what the filters are, its
-  // trims, its options; its adaptation restarts at its reference (ρ = ρ_0). A scheduled
-  // bank is not supported (the set checks). noexcept, no allocation for fixed sizes (the
-  // declaration history is copied within its reserved capacity).
-  void take_over(const HierarchicalBank& from) noexcept {
-    if (online_ != from.online_)
+  // own filters for them), the probabilities, the declarer's state, the declarations, the
+  // frame count, the air data, the trim offsets and the trim tracker, the actuator model's
+  // positions; and, unless `warm`, every on-line filter's states (the adaptation then restarts
+  // at its reference, ρ = ρ_0). warm: this bank ran on the same frames with the same
+  // hypotheses on line, so its filters keep their own states and its adaptation its own ρ.
+  // This bank's own: what the filters are, its trims, its options. A scheduled bank is not
+  // supported (the set checks). noexcept, no allocation for fixed sizes (the declaration
+  // history is copied within its reserved capacity).
+  void take_over(const HierarchicalBank& from, bool warm = false) noexcept {
+    if (online_ != from.online_) {
       for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[from.online_[k]]);
+      warm = false;
+    }
     online_ = from.online_;
     level_ = from.level_;
-    bank_.carry_over(from.bank_);
-    bank_.reset_adaptation();
+    bank_.carry_over(from.bank_, !warm);
+    if (!warm) bank_.reset_adaptation();
     declarer_.carry_over(from.declarer_);
     const std::size_t n = from.history_.size() < history_.capacity() ? from.history_.size() : history_.capacity();
     history_.assign(from.history_.begin(), from.history_.begin() + static_cast<std::ptrdiff_t>(n));

@@ -1,48 +1,48 @@
 // TurbulenceBankSet — one estimator from calm air to severe turbulence: a set of hierarchical
-// banks designed for rising turbulence intensities, one of them running at a time, chosen on
-// line by the turbulence intensity the running bank measures (issue 14, the "moving bank").
+// banks designed for rising turbulence intensities, one of them in force at a time, chosen on
+// line by the turbulence intensity the bank in force measures (issue 14, the "moving bank").
 // Eigen and std only.
 //
 // Members 0..n-1 (n >= 2) are banks of one type (same sizes, same hypotheses by name and
 // order), designed for rising gust intensities (the F-16 set: calm air, light, moderate,
 // severe turbulence; `f16mmae design --turbulence-banks`). Each member runs its turbulence
-// adaptation (turbulence_adaptation.h), whose averaged residual power ratio ρ — the running
-// filters' min_k q_k / nz, averaged over τ — is the intensity measure: ρ reads ≈ the same
-// value when a member flies at its own design level, more in stronger gusts, less in calmer
-// air. Only the running member a steps; per frame:
+// adaptation (turbulence_adaptation.h), whose averaged residual power ratio ρ — the filters'
+// min_k q_k / nz, averaged over τ — is the intensity measure: a member's ρ reads about the
+// same value at its own design level, more in stronger gusts, less in calmer air. Per frame:
 //
-//   update(z)     member a's update; then the selector, on the member's ρ_a:
-//                   frozen  (no switch, counters cleared) while the member is at level 1,
-//                           a failure is declared, or a failure hypothesis on line has
-//                           p > freeze_probability: the adaptation must not absorb a failure
-//                           (a failure raises the residuals too; its own hypothesis keeps min_k q_k
-//                           low, but a rising hypothesis is not yet matched);
-//                   settle  no switch within settle_s of the last one (the new member's ρ
-//                           restarts at its reference and averages over τ);
-//                   up      ρ_a > up[a] for hold_s in a row (a < n-1)  -> member a+1;
-//                   down    ρ_a < down[a-1] for hold_s in a row (a > 0) -> member a-1.
-//                 hysteresis: a member's band (down[a-1], up[a]) is its own ρ's, and a switch
-//                 needs the excursion to last hold_s; thresholds come from measured ρ of each
-//                 member at each level (tools/turbulence_banks.py).
-//   handover      (after that update, before its propagate; bumpless) the new member takes
-//                 over the running one (HierarchicalBank::take_over): level, hypotheses on
-//                 line, every filter's states (the members share the state vector), the
-//                 probabilities, the declarer's state, the declarations, frame count, air
-//                 data, trim offsets; its own filters and adaptation (ρ restarts at its ρ_0).
-//   propagate(u)  member a's propagate.
-//   schedule(a)   member a's schedule (the air data carries over at a handover).
+//   update(z)     the member in force a updates (and the standby c, if one runs); then the
+//                 selector, on ρ_a:
+//                   frozen  (no switch, standby dropped) while member a is at level 1, has a
+//                           failure declared, or a failure hypothesis on line has p >
+//                           freeze_probability: the adaptation must not absorb a failure (a
+//                           failure raises the no-failure filter's residuals too);
+//                   settle  no switch within settle_s of the last one;
+//                   up      ρ_a > up[a]           (a < n-1): the standby is c = a+1;
+//                   down    ρ_a < down[a-1]       (a > 0):   the standby is c = a-1;
+//                   neither: the standby is dropped.
+//                 A standby starts as a copy of member a (HierarchicalBank::take_over) and
+//                 then runs on the frames itself, so its filters and its ρ converge to its own
+//                 design's (a bank designed for calm air started from a light bank's states
+//                 reads the mismatch as a VEL failure for seconds: measured on the F-16 set);
+//                 once its condition has held for hold_s, it is handed over.
+//   handover      (after that update, before its propagate; bumpless) the standby takes over
+//                 member a's level, hypotheses on line, probabilities, declarer state,
+//                 declarations, frame count, air data and trim offsets, keeping its own
+//                 filter states and ρ (warm take_over); it is in force from this frame on.
+//   propagate(u)  member a's propagate (and the standby's).
+//   schedule(a)   member a's schedule (and the standby's).
 //
-// Start and reset(): member `start` (the design's light member) runs from the first frame.
-// Outputs are the running member's (probabilities, z_hat, declarations, level).
-// Members of different state vectors (13 against 19 gust states) are not supported here:
-// their handover would need a state map.
+// Start and reset(): member `start` (the design's light member) in force from the first frame.
+// Outputs are the member in force's (probabilities, z_hat, declarations, level).
+// Members of different state vectors (13 against 19 gust states) would need the standby's
+// first copy to map the states; they are not supported here (one Bank type).
 //
 // The set holds the members by pointer; the caller owns them and keeps them alive.
 // Throws std::invalid_argument (constructor): fewer than two members, members whose
 // hypotheses differ, a scheduled member, adaptation off in a member, thresholds out of order
 // (up[i] must exceed down[i]; both finite and positive), hold/settle/freeze out of range.
-// Per frame noexcept; no allocation for fixed sizes (the handover copies within reserved capacity).
-// Cost: the running member's frame plus a comparison; a handover copies K filters' states.
+// Per frame noexcept; no allocation for fixed sizes (the copies stay within reserved capacity).
+// Cost: one member's frame; two while a standby runs (only while a threshold is crossed).
 #pragma once
 
 #include "f16mmae/hierarchical_bank.h"
@@ -58,7 +58,7 @@ namespace f16mmae {
 struct TurbulenceBankSetOptions {
   std::vector<double> up;              // up[i]: member i -> i+1 when ρ_i > up[i]   (n-1 values)
   std::vector<double> down;            // down[i]: member i+1 -> i when ρ_{i+1} < down[i] (n-1)
-  double hold_s = 1.0;                 // the threshold crossed for this long in a row
+  double hold_s = 5.0;                 // the threshold crossed for this long in a row (the standby warms up)
   double settle_s = 10.0;              // no switch within this long of the last one
   double freeze_probability = 0.05;    // a failure hypothesis above this freezes the selector
   int start = 1;                       // the member running at the start (and after reset())
@@ -120,33 +120,44 @@ class TurbulenceBankSet {
   int update(const ZVector& z_abs) noexcept {
     Bank& b = *members_[active_];
     const int d = b.update(z_abs);
+    if (standby_ >= 0) members_[standby_]->update(z_abs);
     select(b);
     return d;
   }
-  bool propagate(const UVector& u_abs) noexcept { return members_[active_]->propagate(u_abs); }
+  bool propagate(const UVector& u_abs) noexcept {
+    if (standby_ >= 0) members_[standby_]->propagate(u_abs);
+    return members_[active_]->propagate(u_abs);
+  }
   int step(const ZVector& z_abs, const UVector& u_abs) noexcept {
     const int d = update(z_abs);
     propagate(u_abs);
     return d;
   }
-  void schedule(const AirData& a) noexcept { members_[active_]->schedule(a); }
-  // Every member back to its start; member `start` runs.
+  void schedule(const AirData& a) noexcept {
+    if (standby_ >= 0) members_[standby_]->schedule(a);
+    members_[active_]->schedule(a);
+  }
+  // Every member back to its start; member `start` in force.
   void reset() noexcept {
     for (Bank* m : members_) m->reset();
     active_ = options_.start;
-    up_count_ = down_count_ = 0;
+    standby_ = -1;
+    held_ = 0;
     since_switch_ = settle_frames_;   // the start is not a switch: the selector may act at once
     switches_ = 0;
     frozen_frames_ = 0;
+    standby_frames_ = 0;
   }
 
   // ---- outputs -----------------------------------------------------------------------------
   const Bank& running() const noexcept { return *members_[active_]; }
   int active() const noexcept { return active_; }
+  int standby() const noexcept { return standby_; }   // the member warming up, or -1
   int member_count() const noexcept { return static_cast<int>(members_.size()); }
   double power_ratio() const noexcept { return running().bank().adaptation().power_ratio(); }
   std::int64_t switches() const noexcept { return switches_; }
   std::int64_t frozen_frames() const noexcept { return frozen_frames_; }
+  std::int64_t standby_frames() const noexcept { return standby_frames_; }
   const TurbulenceBankSetOptions& options() const noexcept { return options_; }
 
  private:
@@ -160,24 +171,30 @@ class TurbulenceBankSet {
 
   void select(const Bank& b) noexcept {
     ++since_switch_;
+    int want = -1;
     if (frozen(b)) {
       ++frozen_frames_;
-      up_count_ = down_count_ = 0;
+    } else if (since_switch_ >= settle_frames_) {
+      const double rho = b.bank().adaptation().power_ratio();
+      if (active_ < member_count() - 1 && rho > options_.up[active_]) want = active_ + 1;
+      else if (active_ > 0 && rho < options_.down[active_ - 1]) want = active_ - 1;
+    }
+    if (want != standby_) {   // a new standby starts as a copy of the member in force
+      standby_ = want;
+      held_ = 0;
+      if (want >= 0) members_[want]->take_over(b);
       return;
     }
-    if (since_switch_ < settle_frames_) return;
-    const double rho = b.bank().adaptation().power_ratio();
-    const int n = member_count();
-    up_count_ = active_ < n - 1 && rho > options_.up[active_] ? up_count_ + 1 : 0;
-    down_count_ = active_ > 0 && rho < options_.down[active_ - 1] ? down_count_ + 1 : 0;
-    if (up_count_ > hold_frames_) handover(active_ + 1);
-    else if (down_count_ > hold_frames_) handover(active_ - 1);
+    if (standby_ < 0) return;
+    ++standby_frames_;
+    if (++held_ >= hold_frames_) handover();
   }
 
-  void handover(int next) noexcept {
-    members_[next]->take_over(*members_[active_]);
-    active_ = next;
-    up_count_ = down_count_ = 0;
+  void handover() noexcept {
+    members_[standby_]->take_over(*members_[active_], /*warm=*/true);
+    active_ = standby_;
+    standby_ = -1;
+    held_ = 0;
     since_switch_ = 0;
     ++switches_;
   }
@@ -185,8 +202,8 @@ class TurbulenceBankSet {
   std::vector<Bank*> members_;
   TurbulenceBankSetOptions options_;
   std::int64_t hold_frames_ = 0, settle_frames_ = 0;
-  int active_ = 0;
-  std::int64_t up_count_ = 0, down_count_ = 0, since_switch_ = 0, switches_ = 0, frozen_frames_ = 0;
+  int active_ = 0, standby_ = -1;
+  std::int64_t held_ = 0, since_switch_ = 0, switches_ = 0, frozen_frames_ = 0, standby_frames_ = 0;
 };
 
 }  // namespace f16mmae

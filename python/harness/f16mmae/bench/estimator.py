@@ -209,6 +209,8 @@ class BenchResult:
     hierarchical_gust_us: float | None = None
     #: the hierarchical bank, 13 states and 6 inputs (the throttle)
     hierarchical_throttle_us: float | None = None
+    #: (e'') flown as a turbulence bank set of 4 members (cpp/f16mmae/turbulence_bank_set.h)
+    bank_set_us: float | None = None
     #: (e) at 13 states with the cache evicted before every frame (EVICT_BYTES)
     hierarchical_cold_us: float | None = None
     python_call_us: float | None = None
@@ -230,6 +232,7 @@ class BenchResult:
             ("hierarchical 19 states / 13 states", self.hierarchical_gust_us, self.hierarchical_us),
             ("hierarchical 6 inputs / 5 inputs", self.hierarchical_throttle_us, self.hierarchical_us),
             ("hierarchical cold / hot", self.hierarchical_cold_us, self.hierarchical_us),
+            ("bank set / hierarchical 6 inputs", self.bank_set_us, self.hierarchical_throttle_us),
         ]
         for label, slow, fast in pairs:
             if slow is not None and fast:
@@ -280,6 +283,9 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
         stored = synthetic_bank(names.ALL_HYPOTHESES, seed=seed, nx=nx, nu=nu)
         zh, uh = synthetic_frames(synthetic_models(names.SINGLE_HYPOTHESES, seed, nx, nu), frames, seed=seed + 1)
         setattr(result, attr, core._bench_hierarchical_loop(stored, zh, uh, min_time_s=min_time_s)[0] * 1e6)
+        if attr == "hierarchical_throttle_us":   # the same bank as each of a set's 4 members
+            result.bank_set_us = core._bench_bank_set_loop([stored] * 4, zh, uh, [1e3] * 3, [1e-3] * 3,
+                                                           min_time_s=min_time_s)[0] * 1e6
         if attr == "hierarchical_us":
             result.hierarchical_cold_us = core._bench_hierarchical_loop(
                 stored, zh, uh, min_time_s=min_time_s, evict_bytes=EVICT_BYTES)[0] * 1e6
@@ -312,6 +318,7 @@ def report(result: BenchResult, stream) -> dict:
         ("(e') (e), 19 states (gust states)", result.hierarchical_gust_us),
         ("(e'') (e), 6 inputs (throttle)", result.hierarchical_throttle_us),
         ("(e''') (e), cold cache every frame", result.hierarchical_cold_us),
+        ("(f) (e''), a turbulence bank set of 4", result.bank_set_us),
         ("(b) Python call, bank.step(z, u)", result.python_call_us),
         ("(c) numpy reference", result.numpy_us),
         ("(d) filterpy MMAEFilterBank", result.filterpy_us),
@@ -344,6 +351,7 @@ def report(result: BenchResult, stream) -> dict:
             "cpp_loop": result.cpp_loop_us, "cpp_loop_adaptive": result.cpp_loop_adaptive_us,
             "hierarchical": result.hierarchical_us, "hierarchical_gust": result.hierarchical_gust_us,
             "hierarchical_throttle": result.hierarchical_throttle_us, "hierarchical_cold": result.hierarchical_cold_us,
+            "bank_set": result.bank_set_us,
             "python_call": result.python_call_us,
             "numpy": result.numpy_us, "filterpy": result.filterpy_us,
         },

@@ -28,6 +28,28 @@ def core_arguments(settings: dict) -> dict:
     return out
 
 
+def _bank_set(model_bank, settings: dict):
+    """``core.TurbulenceBankSet`` over the turbulence bank set (design/turbulence_banks.py),
+    each member with its own recommended settings, then ``settings``, and the adaptation on (its
+    rho is the selector's measure; the member's reference unless ``adapt_reference`` is given).
+    ValueError unless ``model_bank`` is one of the set's members (the loop flies that bank's
+    inputs and trims: ``--tuning turbulence``)."""
+    from ..design.turbulence_banks import MEMBER_LEVELS, START, load_set
+
+    bank_set = load_set()
+    hashes = [str(b.content_hash) for b in bank_set.banks]
+    if str(model_bank.content_hash) not in hashes:
+        raise ValueError(f"--turbulence-banks flies the turbulence bank set ({', '.join(MEMBER_LEVELS)}); "
+                         f"give its bank as the model bank (--tuning turbulence, the {MEMBER_LEVELS[START]} member), "
+                         f"not {model_bank.tuning or model_bank.content_hash}")
+    own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
+    members = []
+    for bank, reference in zip(bank_set.banks, bank_set.adapt_reference):
+        member = {**bank_estimator_settings(bank), "adapt_reference": reference, **own, "adapt_turbulence": True}
+        members.append(core.HierarchicalBank(bank, **core_arguments(member)))
+    return core.TurbulenceBankSet(members, **bank_set.selector)
+
+
 class Estimator:
     """The MMAE (the C++ ``core.HierarchicalBank`` through the binding) as the loop sees it.
 
@@ -42,7 +64,10 @@ class Estimator:
     def __init__(self, model_bank, **options) -> None:
         #: The estimator settings in force: the bank's recommended ones, then ``options``.
         self.settings: dict = {**bank_estimator_settings(model_bank), **options}
-        self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings))
+        if self.settings.get("turbulence_banks"):
+            self._bank = _bank_set(model_bank, self.settings)
+        else:
+            self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings))
         self.bank_hash = str(model_bank.content_hash)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None
@@ -110,6 +135,11 @@ class Estimator:
     def turbulence_scale(self) -> float:
         """The core's turbulence-adaptation scale s in force (1.0 with the adaptation off)."""
         return float(self._bank.turbulence_scale)
+
+    @property
+    def turbulence_power_ratio(self) -> float:
+        """The adaptation's averaged residual power ratio rho (of the running member for a set)."""
+        return float(self._bank.turbulence_power_ratio)
 
     @property
     def level(self) -> int:

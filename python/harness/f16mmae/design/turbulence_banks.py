@@ -1,0 +1,227 @@
+"""The turbulence bank set: hierarchical banks designed per turbulence intensity, flown as one
+estimator that selects the running bank on line by the intensity it measures
+(cpp/f16mmae/turbulence_bank_set.h; ``--turbulence-banks``).
+
+Members (``MEMBER_LEVELS``): the tuning ``tuned`` with the throttle command as the sixth input
+(``design_bank(..., throttle_input=True)``), its gust model designed for calm air, light,
+moderate and severe turbulence, at the nominal point.  13 states each: the handover copies the
+filters' states, so the members share one state vector.
+
+The artifact is one directory ``turbulence_banks_<key>/``: the member bank files and
+``set.json``, which names each member's file with its SHA-256 and content hash, the selector's
+thresholds and its own SHA-256 over all of that (``set_hash``).  :func:`load_set` checks every
+hash and field and refuses, naming the file and field, anything else.  Deterministic: the same
+code and truth give the same files (the design is).  Not committed (four banks, 1.2 MB):
+:func:`set_path` is generated on first use into the cache (``$F16MMAE_CACHE_DIR`` or
+``~/.cache/f16mmae``, ``banks/``), or written by ``f16mmae design --turbulence-banks --out DIR``.
+
+The selector's thresholds are each member's own averaged residual power ratio rho (the
+turbulence adaptation's, turbulence_adaptation.h) measured flying every member at every level
+on tuning seeds (``tools/turbulence_banks.py --rho``; docs/results/turbulence_banks.md):
+``UP[i]`` lies between member i's rho in its own level and in level i+1, ``DOWN[i]`` between
+member i+1's rho in level i and in its own.
+"""
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import json
+import os
+import shutil
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from .. import names
+from ..errors import F16mmaeError
+
+#: The members' design levels, in rising intensity.
+MEMBER_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
+#: The member that runs at the start (light, the shipped design level).
+START = 1
+#: Selector thresholds on the running member's rho (see the module docstring).
+UP: tuple[float, ...] = (0.90, 1.00, 2.50)
+DOWN: tuple[float, ...] = (0.65, 0.85, 2.00)
+HOLD_S = 5.0
+SETTLE_S = 10.0
+FREEZE_PROBABILITY = 0.05
+#: Each member's turbulence-adaptation reference rho_0 (tempering above it only).
+ADAPT_REFERENCE: tuple[float, ...] = (0.66, 0.81, 1.27, 7.66)
+#: Bumped whenever the members' design or the thresholds change (part of the cache key).
+REVISION = 1
+FORMAT = "f16mmae-turbulence-banks"
+SET_FILE = "set.json"
+
+
+class BankSetError(F16mmaeError):
+    """A turbulence bank set cannot be found, designed or loaded; the message names the file."""
+
+
+@dataclass(frozen=True)
+class BankSet:
+    """A loaded, checked set: the member banks (core.ModelBank, rising intensity) and the
+    selector's settings (keyword arguments of core.TurbulenceBankSet), and the set's hash."""
+    path: Path
+    levels: tuple[str, ...]
+    banks: tuple
+    adapt_reference: tuple[float, ...]
+    selector: dict
+    set_hash: str
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _body_hash(body: dict) -> str:
+    return hashlib.sha256(json.dumps(body, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
+def set_path() -> Path:
+    """Where the set is cached; its name carries a hash of the revision, the levels, the
+    thresholds and the shipped tuned bank (which changes when the truth or the tuning does)."""
+    with open(names_data_dir() / "nominal_tuned.f16bank", "rb") as f:
+        header = f.read(52)
+    spec = f"{REVISION};{MEMBER_LEVELS};{UP};{DOWN};{HOLD_S};{SETTLE_S};{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{START}"
+    key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
+    base = os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "f16mmae")
+    return Path(base) / "banks" / f"turbulence_banks_{key}"
+
+
+def names_data_dir() -> Path:
+    from ..banks import DATA_DIR
+
+    return DATA_DIR
+
+
+def design_set(out_dir: str | Path, progress=None) -> Path:
+    """Design the members and write the set into ``out_dir`` (created; written into a temporary
+    sibling and renamed, so a half-written set is never found).  Returns ``out_dir``."""
+    from .bank import NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, write_bank
+    from .model import linearize_truth
+    from .tuning import load_tuning
+
+    import dataclasses
+
+    out_dir = Path(out_dir)
+    ours = {SET_FILE} | {f"{level}.f16bank" for level in MEMBER_LEVELS}
+    if out_dir.exists() and not {p.name for p in out_dir.iterdir()} <= ours:
+        raise BankSetError(f"{out_dir} holds files that are not a turbulence bank set's; give a new or empty "
+                           f"directory (nothing was written)")
+    out_dir.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=out_dir.name + ".", dir=out_dir.parent))
+    try:
+        base = load_tuning("tuned")
+        lin = linearize_truth(NOMINAL_MACH, NOMINAL_ALT_FT, throttle=True)
+        members = []
+        for level in MEMBER_LEVELS:
+            tuning = base if level == base.turbulence else dataclasses.replace(
+                base, name=f"{base.name}-{level}", turbulence=level)
+            design = design_bank(NOMINAL_MACH, NOMINAL_ALT_FT, tuning, linearized=lin, throttle_input=True)
+            file = f"{level}.f16bank"
+            bank = write_bank(design, tmp / file)
+            members.append({"level": level, "file": file, "sha256": _sha256(tmp / file),
+                            "content_hash": str(bank.content_hash), "tuning": tuning.name})
+            if progress:
+                progress(f"member {level}: {file}, content hash {bank.content_hash}")
+        body = {"format": FORMAT, "revision": REVISION, "members": members, "start": START,
+                "up": list(UP), "down": list(DOWN), "hold_s": HOLD_S, "settle_s": SETTLE_S,
+                "freeze_probability": FREEZE_PROBABILITY, "adapt_reference": list(ADAPT_REFERENCE)}
+        (tmp / SET_FILE).write_text(json.dumps({**body, "set_hash": _body_hash(body)}, indent=1, sort_keys=True) + "\n")
+        if out_dir.exists():
+            shutil.rmtree(out_dir)
+        tmp.rename(out_dir)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return out_dir
+
+
+def load_set(directory: str | Path | None = None) -> BankSet:
+    """The set in ``directory`` (default: :func:`set_path`, designed first if missing), checked:
+    BankSetError naming the file and field for a missing file, a hash that does not match, or
+    a field out of its range."""
+    from ..banks import _load_bank_cached
+
+    if directory is None:
+        directory = set_path()
+        if not (directory / SET_FILE).is_file():
+            directory.parent.mkdir(parents=True, exist_ok=True)
+            with open(directory.parent / (directory.name + ".lock"), "w") as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX)   # one process designs; the others wait and load it
+                if not (directory / SET_FILE).is_file():
+                    print(f"designing the turbulence bank set ({', '.join(MEMBER_LEVELS)}) into {directory} "
+                          "(once; cached)...", file=sys.stderr, flush=True)
+                    design_set(directory, progress=lambda line: print("  " + line, file=sys.stderr, flush=True))
+    directory = Path(directory)
+    manifest = directory / SET_FILE
+    try:
+        data = json.loads(manifest.read_text())
+    except (OSError, ValueError) as exc:
+        raise BankSetError(f"cannot read the turbulence bank set {manifest}: {exc}") from None
+
+    def refuse(field: str, why: str):
+        raise BankSetError(f"turbulence bank set {manifest}: {field} {why}")
+
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        refuse("format", f"must be {FORMAT!r}")
+    body = {k: v for k, v in data.items() if k != "set_hash"}
+    if data.get("set_hash") != _body_hash(body):
+        refuse("set_hash", "does not match the file's content (edited or damaged)")
+    members = data.get("members")
+    if not isinstance(members, list) or len(members) < 2:
+        refuse("members", "must list at least 2 member banks")
+    n = len(members)
+    for key in ("up", "down"):
+        v = data.get(key)
+        if not (isinstance(v, list) and len(v) == n - 1 and all(isinstance(x, (int, float)) for x in v)):
+            refuse(key, f"must be {n - 1} numbers (one per boundary)")
+    ref = data.get("adapt_reference")
+    if not (isinstance(ref, list) and len(ref) == n and all(isinstance(x, (int, float)) and 0 <= x <= 100 for x in ref)):
+        refuse("adapt_reference", f"must be {n} numbers in [0, 100]")
+    start = data.get("start")
+    if not (isinstance(start, int) and 0 <= start < n):
+        refuse("start", f"must be a member index in [0, {n - 1}]")
+    banks, levels = [], []
+    for i, m in enumerate(members):
+        if m.get("level") not in names.TURBULENCE_LEVELS:
+            refuse(f"members[{i}].level", f"must be one of {', '.join(names.TURBULENCE_LEVELS)}")
+        path = directory / str(m.get("file", ""))
+        if not path.is_file() or path.parent != directory:
+            refuse(f"members[{i}].file", f"{m.get('file')!r} is not a file of the set")
+        if _sha256(path) != m.get("sha256"):
+            refuse(f"members[{i}].sha256", f"does not match {path.name} (edited or damaged)")
+        try:
+            bank = _load_bank_cached(str(path))
+        except (RuntimeError, ValueError) as exc:
+            refuse(f"members[{i}].file", f"cannot be loaded: {exc}")
+        if str(bank.content_hash) != m.get("content_hash"):
+            refuse(f"members[{i}].content_hash", f"does not match {path.name}")
+        banks.append(bank)
+        levels.append(m["level"])
+    if [names.TURBULENCE_LEVELS.index(x) for x in levels] != sorted(names.TURBULENCE_LEVELS.index(x) for x in set(levels)):
+        refuse("members", "must be in rising turbulence level, each level once")
+    selector = {"up": [float(x) for x in data["up"]], "down": [float(x) for x in data["down"]],
+                "hold_s": float(data.get("hold_s", HOLD_S)), "settle_s": float(data.get("settle_s", SETTLE_S)),
+                "freeze_probability": float(data.get("freeze_probability", FREEZE_PROBABILITY)), "start": start}
+    return BankSet(path=directory, levels=tuple(levels), banks=tuple(banks),
+                   adapt_reference=tuple(float(x) for x in ref), selector=selector, set_hash=data["set_hash"])
+
+
+def _start_member() -> Path:
+    s = load_set()
+    return s.path / f"{s.levels[s.selector['start']]}.f16bank"
+
+
+def _register() -> None:
+    from .. import banks
+
+    banks.register_turbulence_locator(_start_member)
+
+
+_register()

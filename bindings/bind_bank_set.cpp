@@ -29,13 +29,17 @@ namespace cv = convert;
 
 class PyTurbulenceBankSet {
  public:
-  PyTurbulenceBankSet(const py::list& members, const std::vector<double>& up, const std::vector<double>& down,
-                      double hold_s, double settle_s, double freeze_probability, int start)
+  PyTurbulenceBankSet(const py::list& members, const std::vector<double>& bounds, const std::vector<double>& typical,
+                      double hold_s, double warm_up_s, double warm_down_s, double settle_s, double freeze_probability,
+                      int start, int start_standby)
       : members_(members) {
     TurbulenceBankSetOptions o;
-    o.up = up;
-    o.down = down;
+    o.bounds = bounds;
+    o.typical = typical;
     o.hold_s = hold_s;
+    o.warm_up_s = warm_up_s;
+    o.warm_down_s = warm_down_s;
+    o.start_standby = start_standby;
     o.settle_s = settle_s;
     o.freeze_probability = freeze_probability;
     o.start = start;
@@ -108,8 +112,8 @@ auto prop(F f) {
 // pass after pass from reset() for at least min_time_s and 3 passes, timed in C++. Returns
 // (seconds per frame of the fastest pass, handovers in the last pass).
 py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_frames, py::handle u_frames,
-                              const std::vector<double>& up, const std::vector<double>& down, double hold_s,
-                              double settle_s, double min_time_s) {
+                              const std::vector<double>& bounds, const std::vector<double>& typical,
+                              double min_time_s) {
   using Bank = F16ThrottleHierarchicalBank;
   HierarchicalOptions o;
   o.bank.adaptation.enabled = true;
@@ -124,11 +128,10 @@ py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_
     members.push_back(owned.back().get());
   }
   TurbulenceBankSetOptions so;
-  so.up = up;
-  so.down = down;
-  so.hold_s = hold_s;
-  so.settle_s = settle_s;
+  so.bounds = bounds;
+  so.typical = typical;
   so.start = 0;
+  so.start_standby = -1;
   TurbulenceBankSet<Bank> set(members, so);
   const Eigen::MatrixXd z = cv::to_matrix(z_frames, -1, 7, "z", "(N, 7)");
   const Eigen::Index n = z.rows();
@@ -158,26 +161,33 @@ py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_
 }  // namespace
 
 void bind_bank_set(py::module_& m) {
-  m.def("_bench_bank_set_loop", &bench_bank_set_loop, py::arg("banks"), py::arg("z"), py::arg("u"), py::arg("up"),
-        py::arg("down"), py::arg("hold_s") = 0.0, py::arg("settle_s") = 0.0, py::arg("min_time_s") = 0.2,
+  m.def("_bench_bank_set_loop", &bench_bank_set_loop, py::arg("banks"), py::arg("z"), py::arg("u"), py::arg("bounds"),
+        py::arg("typical"), py::arg("min_time_s") = 0.2,
         "Benchmark: (seconds per frame, handovers in the last pass) of a core.TurbulenceBankSet over 6-input\n"
         "fixed-size members built from the model banks (adaptation on), frames z (N,7), u (N,6), timed in C++.");
   py::class_<PyTurbulenceBankSet>(m, "TurbulenceBankSet", R"doc(
 One estimator over banks designed for rising turbulence intensities (cpp/f16mmae/turbulence_bank_set.h).
 
-    TurbulenceBankSet(members, up, down, hold_s=5.0, settle_s=10.0, freeze_probability=0.05, start=1)
+    TurbulenceBankSet(members, bounds, typical, hold_s=1.0, warm_up_s=1.0, warm_down_s=5.0,
+                      settle_s=1.0, freeze_probability=0.05, start=1, start_standby=0)
 
 members: core.HierarchicalBank objects of one fixed-size kind, each with adapt_turbulence=True,
-in order of rising design intensity. One member is in force; while its own residual power
-ratio rho exceeds up[a] (is below down[a-1]) the next member up (down) runs beside it as a
-standby, started from its copy, and takes over after hold_s: level, hypotheses on line,
-probabilities, declarer state, declarations (its own filter states and rho, warmed up on the
-same frames). Never within settle_s of the last switch, never while the member in force is at
-level 1, has a failure declared, or a failure hypothesis is above freeze_probability. Outputs
-are the member in force's. Raises ValueError for invalid members or thresholds (naming them).)doc")
-      .def(py::init<const py::list&, const std::vector<double>&, const std::vector<double>&, double, double, double, int>(),
-           py::arg("members"), py::arg("up"), py::arg("down"), py::kw_only(), py::arg("hold_s") = 5.0,
-           py::arg("settle_s") = 10.0, py::arg("freeze_probability") = 0.05, py::arg("start") = 1)
+in order of rising design intensity (n of them). One member a is in force (start at first,
+start_standby running beside it from frame 0). After each update the selector's rho of member
+a (min_k q_k / nz averaged as the adaptation does, a plain mean at first) is classified by
+bounds (n x (n-1), row a: member a's rho between level i and i+1, rising) into a level L;
+member L, if not a, runs beside it as a standby (started in flight as a's copy, its
+adaptation's rho at typical[L]) and takes over once wanted for hold_s and, a copy, run for
+warm_up_s (L > a) or warm_down_s (L < a): level, hypotheses on line, probabilities, declarer
+state, declarations; its own filter states and rho. Nothing is decided within settle_s of a
+switch or the start, and the standby is dropped while the member in force is at level 1, has
+a failure declared, or a failure hypothesis is above freeze_probability. Outputs are the
+member in force's. Raises ValueError for invalid members or settings (naming them).)doc")
+      .def(py::init<const py::list&, const std::vector<double>&, const std::vector<double>&, double, double, double,
+                    double, double, int, int>(),
+           py::arg("members"), py::arg("bounds"), py::arg("typical"), py::kw_only(), py::arg("hold_s") = 1.0,
+           py::arg("warm_up_s") = 1.0, py::arg("warm_down_s") = 5.0, py::arg("settle_s") = 1.0,
+           py::arg("freeze_probability") = 0.05, py::arg("start") = 1, py::arg("start_standby") = 0)
       .def("update", &PyTurbulenceBankSet::update, py::arg("z"),
            "Update the running member with absolute z (7,); then the selector. Returns the name declared, or None.")
       .def("propagate", &PyTurbulenceBankSet::propagate, py::arg("u"), "Propagate the running member with absolute u.")
@@ -195,7 +205,7 @@ are the member in force's. Raises ValueError for invalid members or thresholds (
       .def_property_readonly("frozen_frames", prop([](auto& s) { return s.frozen_frames(); }),
                              "frames on which a failure hypothesis froze the selector, since reset")
       .def_property_readonly("turbulence_power_ratio", prop([](auto& s) { return s.power_ratio(); }),
-                             "the running member's rho")
+                             "the selector's rho of the member in force")
       .def_property_readonly("turbulence_scale", prop([](auto& s) { return s.running().turbulence_scale(); }))
       .def_property_readonly("level", prop([](auto& s) { return s.running().level(); }))
       .def_property_readonly("hypotheses", prop([](auto& s) {

@@ -241,6 +241,8 @@ class HierarchicalBank {
   // This bank's own: what the filters are, its trims, its options. A scheduled bank is not
   // supported (the set checks). noexcept, no allocation for fixed sizes (the declaration
   // history is copied within its reserved capacity).
+  // The turbulence adaptation's ρ set to `rho` (s follows; turbulence_adaptation.h).
+  void set_turbulence_power_ratio(double rho) noexcept { bank_.set_adapt_power_ratio(rho); }
   void take_over(const HierarchicalBank& from, bool warm = false) noexcept {
     if (online_ != from.online_) {
       for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[from.online_[k]]);

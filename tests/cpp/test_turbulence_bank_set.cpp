@@ -42,11 +42,15 @@ HierarchicalOptions adapting() {
 
 TurbulenceBankSetOptions selector() {
   TurbulenceBankSetOptions s;
-  s.up = {1.5};
-  s.down = {0.3};
+  s.bounds = {1.5,    // the calm member's rho between calm and rough
+              0.3};   // the rough member's
+  s.typical = {0.5, 0.5};
   s.hold_s = 0.5;
+  s.warm_up_s = 0.5;
+  s.warm_down_s = 0.5;
   s.settle_s = 2.0;
   s.start = 0;
+  s.start_standby = -1;
   return s;
 }
 
@@ -173,11 +177,14 @@ TEST(TurbulenceBankSet, RefusesInvalidSetsNamingWhy) {
   refused([&] { Set({&calm}, selector()); }, "at least 2");
   refused([&] { Set({&calm, &plain}, selector()); }, "without the turbulence adaptation");
   auto s = selector();
-  s.up = {0.2};
-  refused([&] { Set({&calm, &rough}, s); }, "up must exceed down");
+  s.bounds = {1.5, -0.2};
+  refused([&] { Set({&calm, &rough}, s); }, "bounds row 1 must be finite, positive and rising");
   s = selector();
-  s.down = {};
-  refused([&] { Set({&calm, &rough}, s); }, "down must have 1 values");
+  s.bounds = {1.5};
+  refused([&] { Set({&calm, &rough}, s); }, "bounds must have n x (n-1) = 2 values");
+  s = selector();
+  s.typical = {0.5};
+  refused([&] { Set({&calm, &rough}, s); }, "typical must have 2 values");
   s = selector();
   s.start = 2;
   refused([&] { Set({&calm, &rough}, s); }, "start must be a member index");

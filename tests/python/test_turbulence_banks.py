@@ -54,7 +54,7 @@ def test_a_damaged_or_edited_set_is_refused_naming_the_field(copy):
     with pytest.raises(BankSetError, match=r"members\[2\]\.sha256 does not match moderate.f16bank"):
         load_set(copy)
     manifest = json.loads((copy / SET_FILE).read_text())
-    manifest["up"][0] = 5.0
+    manifest["bounds"][0] = 5.0
     (copy / SET_FILE).write_text(json.dumps(manifest))
     with pytest.raises(BankSetError, match="set_hash does not match"):
         load_set(copy)
@@ -65,14 +65,14 @@ def test_a_damaged_or_edited_set_is_refused_naming_the_field(copy):
 
 def test_the_core_refuses_invalid_selectors(bank_set):
     members = [core.HierarchicalBank(b, adapt_turbulence=True) for b in bank_set.banks]
-    with pytest.raises(ValueError, match="up must exceed down"):
-        core.TurbulenceBankSet(members, [0.5, 1.0, 1.0], [0.6, 0.6, 0.6])
+    bounds, typical = bank_set.selector["bounds"], bank_set.selector["typical"]
+    with pytest.raises(ValueError, match="bounds row 0 must be finite, positive and rising"):
+        core.TurbulenceBankSet(members, [1.0, 0.5] + bounds[2:], typical)
     with pytest.raises(ValueError, match="without the turbulence adaptation"):
-        core.TurbulenceBankSet([core.HierarchicalBank(bank_set.banks[0])] + members[1:], bank_set.selector["up"],
-                               bank_set.selector["down"])
+        core.TurbulenceBankSet([core.HierarchicalBank(bank_set.banks[0])] + members[1:], bounds, typical)
     with pytest.raises(ValueError, match="banks of one kind"):
         core.TurbulenceBankSet([members[0], core.HierarchicalBank(load_bank("tuned")[2], adapt_turbulence=True)],
-                               [1.0], [0.5])
+                               [1.0, 0.5], [0.5, 0.5])
 
 
 def test_the_option_needs_the_sets_bank():
@@ -94,8 +94,12 @@ def test_the_selector_follows_the_turbulence():
     r, est, active = _flight("severe", 3, 40.0)
     assert active[0] == 1 and active[-1] == 3, "severe turbulence: up to the severe member"
     assert np.all(np.diff(active) >= 0), "no switch back down in steady severe turbulence"
+    assert np.argmax(active == 3) < 64 * 4, "within seconds"
+    r, est, active = _flight("light", 3, 40.0)
+    assert np.all(active == 1) and est.core_bank.switches == 0, "light turbulence: the light member throughout"
     r, est, active = _flight("none", 3, 40.0)
-    assert active[-1] == 0 and est.core_bank.switches == 1, "calm air: down to the calm member, once"
+    assert active[-1] == 0 and est.core_bank.switches == 1, "calm air: the calm member, from the start's standby"
+    assert np.argmax(active == 0) < 64 * 3
     assert r.declarations == []
 
 

@@ -284,7 +284,7 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
         zh, uh = synthetic_frames(synthetic_models(names.SINGLE_HYPOTHESES, seed, nx, nu), frames, seed=seed + 1)
         setattr(result, attr, core._bench_hierarchical_loop(stored, zh, uh, min_time_s=min_time_s)[0] * 1e6)
         if attr == "hierarchical_throttle_us":   # the same bank as each of a set's 4 members
-            result.bank_set_us = core._bench_bank_set_loop([stored] * 4, zh, uh, [1e3] * 3, [1e-3] * 3,
+            result.bank_set_us = core._bench_bank_set_loop([stored] * 4, zh, uh, [1e3, 2e3, 3e3] * 4, [1.0] * 4,
                                                            min_time_s=min_time_s)[0] * 1e6
         if attr == "hierarchical_us":
             result.hierarchical_cold_us = core._bench_hierarchical_loop(

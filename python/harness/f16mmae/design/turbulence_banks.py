@@ -15,11 +15,10 @@ code and truth give the same files (the design is).  Not committed (four banks, 
 :func:`set_path` is generated on first use into the cache (``$F16MMAE_CACHE_DIR`` or
 ``~/.cache/f16mmae``, ``banks/``), or written by ``f16mmae design --turbulence-banks --out DIR``.
 
-The selector's thresholds are each member's own averaged residual power ratio rho (the
+The selector's boundaries are each member's own averaged residual power ratio rho (the
 turbulence adaptation's, turbulence_adaptation.h) measured flying every member at every level
-on tuning seeds (``tools/turbulence_banks.py --rho``; docs/results/turbulence_banks.md):
-``UP[i]`` lies between member i's rho in its own level and in level i+1, ``DOWN[i]`` between
-member i+1's rho in level i and in its own.
+on tuning seeds (``tools/turbulence_banks.py``; docs/results/turbulence_banks.md): ``BOUNDS``
+row a lies between member a's median rho at consecutive levels (``MEDIAN_RHO``).
 """
 from __future__ import annotations
 
@@ -38,18 +37,31 @@ from ..errors import F16mmaeError
 
 #: The members' design levels, in rising intensity.
 MEMBER_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
-#: The member that runs at the start (light, the shipped design level).
+#: The member in force at the start (light, the shipped design level) and the one running
+#: beside it from frame 0 (calm air: handed over within seconds when the air is calm).
 START = 1
-#: Selector thresholds on the running member's rho (see the module docstring).
-UP: tuple[float, ...] = (0.90, 1.00, 2.50)
-DOWN: tuple[float, ...] = (0.65, 0.85, 2.00)
-HOLD_S = 5.0
-SETTLE_S = 10.0
+START_STANDBY = 0
+#: Each member's (row) median rho flown in each level (column), none..severe: tuning flight
+#: seeds 1-8, 60 s each, after 10 s (tools/turbulence_banks.py; docs/results/turbulence_banks.md).
+MEDIAN_RHO: tuple[tuple[float, ...], ...] = (
+    (0.60, 2.15, 5.97, 45.49),
+    (0.55, 0.75, 1.31, 7.43),
+    (0.50, 0.66, 1.11, 5.96),
+    (0.38, 0.50, 0.85, 4.41),
+)
+#: The selector's boundaries: member a's rho between levels i and i+1, the geometric mean of
+#: its medians there (row-major, n x (n-1)); a standby starts at its own level's median.
+BOUNDS: tuple[float, ...] = tuple(round((row[i] * row[i + 1]) ** 0.5, 4) for row in MEDIAN_RHO for i in range(3))
+TYPICAL: tuple[float, ...] = tuple(MEDIAN_RHO[i][i] for i in range(4))
+HOLD_S = 1.0
+WARM_UP_S = 1.0
+WARM_DOWN_S = 5.0
+SETTLE_S = 1.0
 FREEZE_PROBABILITY = 0.05
 #: Each member's turbulence-adaptation reference rho_0 (tempering above it only).
 ADAPT_REFERENCE: tuple[float, ...] = (0.66, 0.81, 1.27, 7.66)
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
-REVISION = 1
+REVISION = 3
 FORMAT = "f16mmae-turbulence-banks"
 SET_FILE = "set.json"
 
@@ -87,7 +99,8 @@ def set_path() -> Path:
     thresholds and the shipped tuned bank (which changes when the truth or the tuning does)."""
     with open(names_data_dir() / "nominal_tuned.f16bank", "rb") as f:
         header = f.read(52)
-    spec = f"{REVISION};{MEMBER_LEVELS};{UP};{DOWN};{HOLD_S};{SETTLE_S};{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{START}"
+    spec = (f"{REVISION};{MEMBER_LEVELS};{BOUNDS};{TYPICAL};{HOLD_S};{WARM_UP_S};{WARM_DOWN_S};{SETTLE_S};"
+            f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{START};{START_STANDBY}")
     key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
     base = os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "f16mmae")
     return Path(base) / "banks" / f"turbulence_banks_{key}"
@@ -130,8 +143,9 @@ def design_set(out_dir: str | Path, progress=None) -> Path:
             if progress:
                 progress(f"member {level}: {file}, content hash {bank.content_hash}")
         body = {"format": FORMAT, "revision": REVISION, "members": members, "start": START,
-                "up": list(UP), "down": list(DOWN), "hold_s": HOLD_S, "settle_s": SETTLE_S,
-                "freeze_probability": FREEZE_PROBABILITY, "adapt_reference": list(ADAPT_REFERENCE)}
+                "start_standby": START_STANDBY, "bounds": list(BOUNDS), "typical": list(TYPICAL), "hold_s": HOLD_S,
+                "warm_up_s": WARM_UP_S, "warm_down_s": WARM_DOWN_S, "settle_s": SETTLE_S, "freeze_probability": FREEZE_PROBABILITY,
+                "adapt_reference": list(ADAPT_REFERENCE)}
         (tmp / SET_FILE).write_text(json.dumps({**body, "set_hash": _body_hash(body)}, indent=1, sort_keys=True) + "\n")
         if out_dir.exists():
             shutil.rmtree(out_dir)
@@ -177,10 +191,13 @@ def load_set(directory: str | Path | None = None) -> BankSet:
     if not isinstance(members, list) or len(members) < 2:
         refuse("members", "must list at least 2 member banks")
     n = len(members)
-    for key in ("up", "down"):
+    for key, count in (("bounds", n * (n - 1)), ("typical", n)):
         v = data.get(key)
-        if not (isinstance(v, list) and len(v) == n - 1 and all(isinstance(x, (int, float)) for x in v)):
-            refuse(key, f"must be {n - 1} numbers (one per boundary)")
+        if not (isinstance(v, list) and len(v) == count and all(isinstance(x, (int, float)) and x > 0 for x in v)):
+            refuse(key, f"must be {count} positive numbers")
+    for key in ("hold_s", "warm_up_s", "warm_down_s", "settle_s", "freeze_probability"):
+        if not isinstance(data.get(key), (int, float)):
+            refuse(key, "must be a number")
     ref = data.get("adapt_reference")
     if not (isinstance(ref, list) and len(ref) == n and all(isinstance(x, (int, float)) and 0 <= x <= 100 for x in ref)):
         refuse("adapt_reference", f"must be {n} numbers in [0, 100]")
@@ -206,9 +223,11 @@ def load_set(directory: str | Path | None = None) -> BankSet:
         levels.append(m["level"])
     if [names.TURBULENCE_LEVELS.index(x) for x in levels] != sorted(names.TURBULENCE_LEVELS.index(x) for x in set(levels)):
         refuse("members", "must be in rising turbulence level, each level once")
-    selector = {"up": [float(x) for x in data["up"]], "down": [float(x) for x in data["down"]],
-                "hold_s": float(data.get("hold_s", HOLD_S)), "settle_s": float(data.get("settle_s", SETTLE_S)),
-                "freeze_probability": float(data.get("freeze_probability", FREEZE_PROBABILITY)), "start": start}
+    selector = {"bounds": [float(x) for x in data["bounds"]], "typical": [float(x) for x in data["typical"]],
+                "hold_s": float(data["hold_s"]), "warm_up_s": float(data["warm_up_s"]),
+                "warm_down_s": float(data["warm_down_s"]), "settle_s": float(data["settle_s"]),
+                "freeze_probability": float(data["freeze_probability"]), "start": start,
+                "start_standby": int(data.get("start_standby", -1))}
     return BankSet(path=directory, levels=tuple(levels), banks=tuple(banks),
                    adapt_reference=tuple(float(x) for x in ref), selector=selector, set_hash=data["set_hash"])
 

@@ -40,7 +40,7 @@ def _bank_set(model_bank, settings: dict):
     hashes = [str(b.content_hash) for b in bank_set.banks]
     if str(model_bank.content_hash) not in hashes:
         raise ValueError(f"--turbulence-banks flies the turbulence bank set ({', '.join(MEMBER_LEVELS)}); "
-                         f"give its bank as the model bank (--tuning turbulence, the {MEMBER_LEVELS[START]} member), "
+                         f"give its bank as the model bank (--tuning turbulence, its {MEMBER_LEVELS[START]} member), "
                          f"not {model_bank.tuning or model_bank.content_hash}")
     own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
     members = []

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core_convert.h"
+#include "estimator_init.h"
 #include "executive/executive.h"
 #include "f16mmae/model_bank.h"
 
@@ -24,15 +25,6 @@ namespace {
 namespace cv = convert;
 using executive::Executive;
 using executive::MmaeEstimator;
-
-HierarchicalOptions options_of(double p_min, bool strip_leading_term, double threshold, double dwell_s) {
-  HierarchicalOptions o;
-  o.bank.p_min = p_min;
-  o.bank.strip_leading_term = strip_leading_term;
-  o.declarer.threshold = threshold;
-  o.declarer.dwell_s = dwell_s;
-  return o;
-}
 
 std::string on_sensor(Executive& ex, std::int64_t frame, py::handle z, const std::optional<std::vector<bool>>& valid,
                       std::int64_t utime, const std::optional<std::vector<double>>& air_data) {
@@ -82,14 +74,16 @@ py::dict counters(const Executive& ex) {
 }  // namespace
 
 void bind_executive(py::module_& m) {
-  py::class_<Executive>(m, "Executive", R"doc(
+  py::class_<Executive> cls(m, "Executive", R"doc(
 The MMAE executive of mmae-daemon, in process: the F-16 hierarchical bank of a ModelBank
 behind the daemon's frame rules (duplicates and late frames dropped, lost frames propagated
 with the held command, non-finite or invalid frames rejected, a counter more than one second
 of frames from the sequence re-synchronised from the stale state).
 
-Executive(model_bank, *, p_min, strip_leading_term, threshold, dwell_s): the estimator
-settings in force (callers pass the bank's recommended ones with their overrides).
+Executive(model_bank, *, p_min, threshold, dwell_s, ..., adapt_turbulence, adapt_reference,
+trim_time_constant_s, schedule_mode, maneuver_kinematics, actuator_rate_limits_rad_s, ...): the
+estimator settings in force, the same keyword arguments as core.HierarchicalBank (callers pass
+the bank's recommended ones with their overrides; mmae-daemon's flags set the same options).
 on_sensor(frame, z, valid=None, utime=0, air_data=None) and on_command(frame, u, utime=0) take
 absolute z (7,) and u (5,) (and the frame's measured air data (mach, pressure_altitude_ft); None
 sends NaN, as a sender without air data: the schedule stays, the frame is counted in
@@ -97,13 +91,8 @@ counters['air_data_rejected']) and return the frame's fate: "used", "rejected", 
 "resynchronised". A used or resynchronised sensor frame leaves its status in encoded_status.
 Raises ValueError for a bank other than the F-16's (13 states, or 19 with the gust states; 5 inputs,
 7 measurements)
-and for arrays of the wrong shape.)doc")
-      .def(py::init([](const ModelBank& bank, double p_min, bool strip_leading_term, double threshold,
-                       double dwell_s) {
-             return new Executive(bank, options_of(p_min, strip_leading_term, threshold, dwell_s));
-           }),
-           py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
-           py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25)
+and for arrays of the wrong shape.)doc");
+  def_estimator_init<Executive>(cls)
       .def("on_sensor", &on_sensor, py::arg("frame"), py::arg("z"), py::arg("valid") = py::none(),
            py::arg("utime") = 0, py::arg("air_data") = py::none(), "Sensor frame: returns its fate.")
       .def("on_command", &on_command, py::arg("frame"), py::arg("u"), py::arg("utime") = 0,

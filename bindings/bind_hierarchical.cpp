@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core_convert.h"
+#include "estimator_init.h"
 #include "hierarchical_access.h"
 #include "tick_clock.h"
 #include "f16mmae/cache_warm.h"
@@ -33,54 +34,8 @@ namespace cv = convert;
 
 class PyHierarchicalBank {
  public:
-  PyHierarchicalBank(const ModelBank& bank, double p_min, bool strip_leading_term, double threshold, double dwell_s,
-                     const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
-                     double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
-                     double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
-                     double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                     const std::optional<double>& adapt_reference, bool maneuver_kinematics, double maneuver_tempering_g,
-                     const std::vector<double>& actuator_rate_limits_rad_s,
-                     const std::vector<double>& actuator_position_limits_rad) {
-    HierarchicalOptions o;
-    o.maneuver.kinematics = maneuver_kinematics;
-    o.maneuver.tempering_g = maneuver_tempering_g;
-    o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
-    o.actuators.position_limit_rad = actuator_position_limits_rad;
-    o.trim.time_constant_s = trim_time_constant_s;
-    o.trim.freeze_probability = trim_freeze_probability;
-    o.trim.hold_s = trim_hold_s;
-    o.trim.freeze = trim_freeze;
-    if (schedule_mode == "interpolate")
-      o.schedule.mode = ScheduleMode::kInterpolate;
-    else if (schedule_mode == "nearest")
-      o.schedule.mode = ScheduleMode::kNearest;
-    else
-      throw py::value_error("schedule_mode must be 'interpolate' or 'nearest', got '" + schedule_mode + "'");
-    o.schedule.hysteresis_cells = hysteresis_cells;
-    o.schedule.blend_step_cells = blend_step_cells;
-    o.schedule.air_data_time_constant_s = air_data_time_constant_s;
-    o.schedule.cubic_trims = cubic_trims;
-    o.bank.p_min = p_min;
-    o.bank.adaptation.enabled = adapt_turbulence;
-    o.bank.adaptation.time_constant_s = adapt_time_constant_s;
-    o.bank.adaptation.scale_min = adapt_scale_min;
-    o.bank.adaptation.scale_max = adapt_scale_max;
-    o.bank.adaptation.gain = adapt_gain;
-    if (adapt_reference) {   // one reference everywhere; else a schedule's per-node ones, if it has them
-      o.bank.adaptation.reference = *adapt_reference;
-      o.schedule.node_adapt_reference = false;
-    }
-    o.bank.strip_leading_term = strip_leading_term;
-    o.declarer.threshold = threshold;
-    o.declarer.dwell_s = dwell_s;
-    if (!declarer.is_none()) {
-      if (!py::isinstance<Declarer>(declarer))
-        throw py::value_error("declarer must be a core.Declarer (its threshold and dwell_s are used), got " +
-                              std::string(py::str(py::type::handle_of(declarer).attr("__name__"))));
-      const DeclarerOptions& d = declarer.cast<const Declarer&>().options();
-      o.declarer.threshold = d.threshold;
-      o.declarer.dwell_s = d.dwell_s;
-    }
+  // options: estimator_init.h (the keyword arguments, shared with core.Executive)
+  PyHierarchicalBank(const ModelBank& bank, const HierarchicalOptions& o) {
     int singles = 0;
     for (std::size_t i = 1; i < bank.hypotheses.size(); ++i)
       singles += bank.hypotheses[i].name.find('+') == std::string::npos ? 1 : 0;
@@ -322,7 +277,7 @@ void bind_hierarchical(py::module_& m) {
         "given, timed in C++ (f16mmae.bench); the maneuver options as core.HierarchicalBank's;\n"
         "evict_bytes > 0: a buffer of that size read before every frame (a cold cache; frames timed alone,\n"
         "the median frame of a pass counts).");
-  py::class_<PyHierarchicalBank>(m, "HierarchicalBank", R"doc(
+  py::class_<PyHierarchicalBank> cls(m, "HierarchicalBank", R"doc(
 The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 
     HierarchicalBank(model_bank, p_min=0.001, strip_leading_term=True, threshold=0.9,
@@ -375,22 +330,8 @@ data given to schedule(mach, pressure_altitude_ft), low-passed with air_data_tim
 grid cell; matrices re-blended when the air data moved blend_step_cells; trims to third order on
 the 4 x 4 nodes around when cubic_trims and covered) or 'nearest' (nearest
 node, switched past hysteresis_cells); the states move with the trim state, probabilities,
-declarations and the level carry over. schedule_state reports what is in force.)doc")
-      .def(py::init<const ModelBank&, double, bool, double, double, const py::object&, double, double, double, bool,
-                    const std::string&, double, double, double, bool, bool, double, double, double, double, const std::optional<double>&, bool, double,
-                    const std::vector<double>&, const std::vector<double>&>(),
-           py::arg("model_bank"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
-           py::arg("threshold") = 0.9, py::arg("dwell_s") = 0.25, py::arg("declarer") = py::none(),
-           py::arg("trim_time_constant_s") = 0.0, py::arg("trim_freeze_probability") = 0.05,
-           py::arg("trim_hold_s") = 2.0, py::arg("trim_freeze") = true, py::arg("schedule_mode") = "interpolate",
-           py::arg("hysteresis_cells") = ScheduleOptions{}.hysteresis_cells,
-           py::arg("blend_step_cells") = ScheduleOptions{}.blend_step_cells,
-           py::arg("air_data_time_constant_s") = ScheduleOptions{}.air_data_time_constant_s,
-           py::arg("cubic_trims") = ScheduleOptions{}.cubic_trims, py::arg("adapt_turbulence") = false,
-           py::arg("adapt_time_constant_s") = 5.0, py::arg("adapt_scale_min") = 1.0, py::arg("adapt_scale_max") = 100.0,
-           py::arg("adapt_gain") = 20.0, py::arg("adapt_reference") = py::none(), py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
-           py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
-           py::arg("actuator_position_limits_rad") = std::vector<double>{})
+declarations and the level carry over. schedule_state reports what is in force.)doc");
+  def_estimator_init<PyHierarchicalBank>(cls)
       .def("update", &PyHierarchicalBank::update, py::arg("z"),
            "Update with absolute z (nz,); returns the name declared on this frame, or None.")
       .def("propagate", &PyHierarchicalBank::propagate, py::arg("u"), "Propagate with absolute u (nu,).")

@@ -66,3 +66,26 @@ def test_paper_models_cannot_tell_aoa_after_az_but_can_tell_pit(design):
     assert d_aoa < 0.0 < d_pit
     assert distinguish.frames_to_lift(d_aoa, 1e-9) == float("inf")
     assert distinguish.frames_to_lift(2.0, np.exp(-20.0)) == pytest.approx(10.0)
+
+
+def test_the_throttle_dither_makes_calm_air_aoa_distinguishable():
+    """Calm air, a bank designed for calm air: without the throttle a failed AOA reading its
+    trim is as likely as a working one (D <= 0: the campaign's 0/20), with the throttle dither
+    modelled (six inputs, throttle dither scheduled at the design point) it is not."""
+    import dataclasses
+
+    from f16mmae.design import bank
+    from f16mmae.design.tuning import load_tuning
+    from f16mmae.truth import dither
+
+    calm = load_tuning("tuned")
+    calm = dataclasses.replace(calm, name="tuned-none", turbulence="none")
+    d = {}
+    for throttle in (False, True):
+        design = bank.design_bank(0.4, 20_000.0, calm, hypotheses=("NONE", "AOA"), throttle_input=throttle)
+        d[throttle] = distinguish.evidence_rates(design, "AOA", ["NONE"], calm=True)["NONE"]
+    assert d[False] <= 0.0 < 0.1 < d[True]
+    u = distinguish.dither_inputs(640, 64.0, throttle_at=(0.4, 20_000.0))
+    assert u.shape == (640, 6)
+    np.testing.assert_allclose(u[:, :5], distinguish.dither_inputs(640, 64.0))
+    assert np.max(np.abs(u[:, 5])) == pytest.approx(dither.scheduled_throttle_amplitude(0.4, 20_000.0), rel=1e-3)

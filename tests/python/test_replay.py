@@ -20,6 +20,7 @@ from f16mmae.banks import load_bank
 from f16mmae.cli.main import main
 from f16mmae.lcm.channels import channels
 from f16mmae.lcm.hil import fly_hil
+from f16mmae.loop.flight import fly
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae import core
 from f16mmae.lcm.replay import (SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA, InProcessExecutive, ReplayError,
@@ -99,17 +100,21 @@ class Recorder:
         self.log.close()
 
 
-def _record_flight(bank, path, prefix="REC_"):
+def _record_flight(bank, path, prefix="REC_", turbulence="light", failure="AOA", **estimator_options):
     lc = lcm.LCM("memq://")
     chans = channels(prefix)
     rec = Recorder(lc, path)
-    InProcessExecutive(bank).serve(lc, chans)
-    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=3.0, seed=4,
-                        feedback="mmae", failures=(make_failure("AOA", 0.5),))
-    result = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0)
+    InProcessExecutive(bank, **estimator_options).serve(lc, chans)
+    result = fly_hil(_recorded_scenario(turbulence, failure), bank, lc, chans, lockstep=True, timeout_s=2.0,
+                     estimator_options=estimator_options)
     lc.handle_timeout(10)  # the last command reaches the recorder
     rec.close()
     return result
+
+
+def _recorded_scenario(turbulence="light", failure="AOA"):
+    return Scenario(mach=0.4, alt_ft=20000.0, turbulence=turbulence, duration_s=3.0, seed=4,
+                    feedback="mmae", failures=(make_failure(failure, 0.5),))
 
 
 def test_a_recorded_flight_replays_exactly(bank, tmp_path):
@@ -127,6 +132,27 @@ def test_a_recorded_flight_replays_exactly(bank, tmp_path):
     assert all(abs(f.mach - 0.4) < 0.02 and abs(f.pressure_altitude_ft - 20000.0) < 100.0 for f in sensors)
     assert len({f.mach for f in sensors}) == len(sensors)   # measured per frame (noise), not a constant
     assert max(s.air_data_rejected for s in statuses) == 0
+
+
+def test_a_flight_with_on_line_options_replays_with_the_daemons_flags(bank, tmp_path, capsys):
+    """The executive takes every option of the estimator's table (core.Executive has
+    core.HierarchicalBank's keyword arguments): a flight served with the turbulence adaptation,
+    trim tracking and the actuator limits equals the in-process estimator with the same
+    options, and its log replays exactly with the daemon's flags, and not without them."""
+    options = dict(adapt_turbulence=True, adapt_reference=1.0, trim_time_constant_s=30.0, actuator_limits=True)
+    log = tmp_path / "adapted.lcmlog"
+    remote = _record_flight(bank, log, turbulence="moderate", failure="LS", **options)
+    local = fly(_recorded_scenario("moderate", "LS"), bank, estimator_options=options)
+    plain = fly(_recorded_scenario("moderate", "LS"), bank)
+    assert remote.declarations == local.declarations
+    assert np.nanmax(np.abs(remote.probabilities - local.probabilities)) <= 1e-12
+    assert np.nanmax(np.abs(plain.probabilities - local.probabilities)) > 1e-3   # the options matter here
+    flags = ["--adapt-turbulence", "--adapt-reference", "1.0", "--trim-tracking", "30", "--actuator-limits"]
+    assert main(["replay", str(log), "--channel-prefix", "REC_", *flags]) == 0
+    out = capsys.readouterr().out
+    assert "replay matches the log" in out and "estimator options: " + " ".join(flags[:4]) in out
+    assert main(["replay", str(log), "--channel-prefix", "REC_"]) == 1   # the bank as designed differs
+    assert "replay DIFFERS from the log" in capsys.readouterr().out
 
 
 def test_wire_faults_replay_with_the_prescribed_stale_flags(bank, tmp_path):

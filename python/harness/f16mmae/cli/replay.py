@@ -8,10 +8,11 @@ import lcm
 
 from ..banks import BankError, load_bank
 from ..lcm.channels import channels
+from ..lcm.daemon import daemon_flags
 from ..lcm.replay import ReplayError, replay_log
 from ..lcmt_mmae_status import lcmt_mmae_status
 from ..names import SHIPPED_TUNINGS
-from .options import CliError, auth_from_option
+from .options import CliError, add_estimator_arguments, auth_from_option, estimator_options_from_args
 
 DESCRIPTION = """\
 Read an LCM log of executive traffic (recorded with the stock lcm-logger while
@@ -20,6 +21,9 @@ daemon's own executive in process (its frame rules: duplicates and late frames d
 frames propagated without update, wild frame counters re-synchronised), and compare every logged status with the one computed
 here: hypotheses on line, bank level, declaration, stale flag, probabilities and z_hat.
 Exit status 0 when every status matches within the tolerance, 1 otherwise.
+
+The estimator options (--threshold ... --actuator-limits) are those mmae-daemon ran with
+(its ready line names them): give the same flags here, or the statuses differ.
 """
 
 EXAMPLES = """\
@@ -27,6 +31,7 @@ examples:
   lcm-logger --channel 'F16_.*|MMAE_.*' run.lcmlog     # while 'f16mmae hil' flies
   f16mmae replay run.lcmlog
   f16mmae replay run.lcmlog --bank my.f16bank --channel-prefix SIM1_
+  f16mmae replay run.lcmlog --adapt-turbulence --adapt-reference 1.0   # the daemon's own flags
   lcm-logplayer run.lcmlog                              # the same frames to a running daemon
 """
 
@@ -45,6 +50,7 @@ def register(subparsers) -> None:
     p.add_argument("--auth-key", default=None, metavar="FILE",
                    help="use only the logged messages signed with the pre-shared key in FILE (as "
                         "mmae-daemon --auth-key FILE does); the others are skipped and counted")
+    add_estimator_arguments(p)
     p.set_defaults(func=_replay)
 
 
@@ -89,14 +95,17 @@ def _replay(args) -> int:
     if not (math.isfinite(tol) and tol >= 0):
         raise CliError(f"--tolerance {args.tolerance!r} must be finite and >= 0")
     auth = auth_from_option(args.auth_key)
+    options = estimator_options_from_args(args)
     try:
         label, path, bank = _bank_for(args.bank, args.logfile, args.channel_prefix)
-        report = replay_log(args.logfile, bank, channel_prefix=args.channel_prefix, tolerance=tol, auth=auth)
+        report = replay_log(args.logfile, bank, channel_prefix=args.channel_prefix, tolerance=tol, auth=auth,
+                             **options)
     except (ReplayError, OSError) as exc:
         raise CliError(str(exc)) from None
     print(f"replayed {args.logfile}: {report.events} events, {report.sensor_frames} sensor frames, "
           f"{report.command_frames} command frames, {report.statuses_logged} statuses; bank {label} "
           f"({str(bank.content_hash)[:12]})")
+    print(f"estimator options: {' '.join(daemon_flags(options)) or 'none (the bank as designed)'}")
     if auth is not None:
         print(f"authenticated with {args.auth_key}: {report.unauthenticated} unauthenticated and "
               f"{report.replayed} replayed messages skipped")

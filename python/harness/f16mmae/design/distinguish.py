@@ -173,10 +173,19 @@ def _deterministic(phi, bd_t, h_t, filters: list[ScoredFilter], u: np.ndarray,
     return out
 
 
-def dither_inputs(frames: int, frame_rate_hz: float, spec: dither_mod.DitherSpec | None = None) -> np.ndarray:
-    """(frames, 5) the truth's default dither sampled at the frame rate (rad)."""
+def dither_inputs(frames: int, frame_rate_hz: float, spec: dither_mod.DitherSpec | None = None,
+                  throttle_at: tuple[float, float] | None = None) -> np.ndarray:
+    """(frames, 5) the truth's default dither sampled at the frame rate (rad); with
+    ``throttle_at`` (Mach, altitude ft), (frames, 6): the throttle dither a throttle bank flies
+    with as the sixth column, its amplitude scheduled at that air data (``truth.dither``),
+    about the trim throttle."""
     d = dither_mod.Dither(spec or dither_mod.DitherSpec())
-    return np.array([d.value(i / frame_rate_hz) for i in range(frames)])
+    u = np.array([d.value(i / frame_rate_hz) for i in range(frames)])
+    if throttle_at is None:
+        return u
+    a = dither_mod.scheduled_throttle_amplitude(*throttle_at)
+    w = 2.0 * np.pi * dither_mod.SCHEDULED_THROTTLE_FREQUENCY_HZ
+    return np.column_stack([u, a * np.sin(w * np.arange(frames) / frame_rate_hz)])
 
 
 def rates(phi: np.ndarray, q: np.ndarray, r: np.ndarray, bd_t: np.ndarray, h_t: np.ndarray,
@@ -200,10 +209,14 @@ def rates(phi: np.ndarray, q: np.ndarray, r: np.ndarray, bd_t: np.ndarray, h_t: 
 def evidence_rates(design: BankDesign, truth: str, competitors: list[str], *, calm: bool = False,
                    dither: bool = True, seconds: float = 20.0) -> dict[str, float]:
     """D(truth, F) in nats per frame for every competitor F named (module docstring), in
-    light turbulence (the design's Q_d) or calm air (Q = 0), with or without the dither."""
+    light turbulence (the design's Q_d) or calm air (Q = 0), with or without the dither (and,
+    for a bank that models the throttle, the throttle dither; ``seconds`` should then hold
+    whole periods of it: the mean is taken over the second half)."""
     bd_t, h_t = truth_matrices(design, truth)
     q = np.zeros_like(design.discrete.qd) if calm else design.discrete.qd
-    u = dither_inputs(int(seconds * design.frame_rate_hz), design.frame_rate_hz) if dither else None
+    throttle_at = (design.mach, design.alt_ft) if design.throttle_input else None
+    u = (dither_inputs(int(seconds * design.frame_rate_hz), design.frame_rate_hz, throttle_at=throttle_at)
+         if dither else None)
     d = rates(design.discrete.phi, q, design.r, bd_t, h_t, scored_filter(design, truth),
               [scored_filter(design, c) for c in competitors], u)
     return dict(zip(competitors, d))
@@ -244,8 +257,9 @@ def dual_table(design: BankDesign, pairs: list[tuple[str, str]], p_min: float) -
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m f16mmae.design.distinguish [--failure-model complete|cover]``: the table of
-    the longitudinal sensor pairs as Markdown on stdout."""
+    """``python -m f16mmae.design.distinguish [--failure-model complete|cover] [--throttle-input]``:
+    the table of the longitudinal sensor pairs as Markdown on stdout (``--throttle-input``: the
+    bank that models the throttle, with the throttle dither it flies)."""
     import argparse
     import dataclasses
 
@@ -254,15 +268,18 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=main.__doc__)
     p.add_argument("--failure-model", default="complete", choices=("complete", "cover"))
     p.add_argument("--tuning", default="tuned")
+    p.add_argument("--throttle-input", action="store_true",
+                   help="the throttle as the sixth modelled input, with its scheduled dither")
     args = p.parse_args(argv)
     tuning = load_tuning(args.tuning)
     tuning = dataclasses.replace(tuning, failure_model=args.failure_model)
     pairs = [(a, b) for a in LONGITUDINAL_SENSORS for b in LONGITUDINAL_SENSORS if a != b]
     from .bank import design_bank
 
-    design = design_bank(tuning=tuning)
+    design = design_bank(tuning=tuning, throttle_input=args.throttle_input)
     p_min = tuning.estimator.get("p_min", 1e-3)
-    print(f"failure model {args.failure_model}, tuning {args.tuning}, p_min {p_min:g}: "
+    print(f"failure model {args.failure_model}, tuning {args.tuning}, "
+          f"{'throttle input, ' if args.throttle_input else ''}p_min {p_min:g}: "
           f"ln(1/p_min) = {np.log(1 / p_min):.1f} nats to lift a hypothesis from the floor\n")
     print("| pair | light: D (nats/frame) | weakest competitor | s to lift | calm: D | weakest competitor | s to lift |")
     print("|---|---|---|---|---|---|---|")

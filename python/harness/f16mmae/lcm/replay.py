@@ -27,6 +27,7 @@ from ..errors import F16mmaeError
 from ..lcmt_command_frame import lcmt_command_frame
 from ..lcmt_mmae_status import lcmt_mmae_status
 from ..lcmt_sensor_frame import lcmt_sensor_frame
+from ..loop.estimator import core_arguments
 from .channels import Channels, channels
 
 
@@ -36,11 +37,13 @@ class ReplayError(F16mmaeError, RuntimeError):
 
 class InProcessExecutive:
     """``core.Executive`` (the daemon's executive) with the estimator settings the daemon
-    applies: the bank's recommended ones, then ``estimator_options`` (which win)."""
+    applies: the bank's recommended ones, then ``estimator_options`` (which win): any option of
+    the estimator's table (``loop.estimator_options``: adapt_turbulence, adapt_reference,
+    trim_time_constant_s, actuator_limits, ...), as ``mmae-daemon``'s flags set them."""
 
     def __init__(self, model_bank, **estimator_options) -> None:
         settings = {**bank_estimator_settings(model_bank), **estimator_options}
-        self.executive = core.Executive(model_bank, **settings)
+        self.executive = core.Executive(model_bank, **core_arguments(settings))
         self.bank_hash = str(model_bank.content_hash)
 
     def reset(self) -> None:

@@ -1,0 +1,132 @@
+// The estimator's settings as Python keyword arguments: ONE list, shared by every binding
+// that builds the hierarchical MMAE from a core.ModelBank (core.HierarchicalBank and
+// core.Executive), so that a setting the in-process estimator takes, the daemon's in-process
+// executive (and so `f16mmae replay`) takes too, with the same name, default and check.
+//
+//   def_estimator_init<T>(cls)   cls.def(py::init(...)): T(model_bank, HierarchicalOptions)
+//                                from model_bank and the keyword arguments below
+//
+//   p_min, strip_leading_term            the bank's floor and its likelihoods (filter_bank.h)
+//   threshold, dwell_s, declarer         the declaration rule (declarer.h); a core.Declarer
+//                                        given as declarer supplies threshold and dwell_s
+//   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze   trim_tracker.h
+//   schedule_mode ('interpolate'|'nearest'), hysteresis_cells, blend_step_cells,
+//   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
+//   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
+//   adapt_reference (None: a schedule's per-node references, else 0.6)  turbulence_adaptation.h
+//   maneuver_kinematics, maneuver_tempering_g                           maneuver_kinematics.h
+//   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
+//                                                                       actuator_limits.h
+// Every default is the core's own (the option structs' initialisers), so a keyword left out
+// means the bank as designed. A bad schedule_mode or declarer raises ValueError naming it.
+#pragma once
+
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "f16mmae/declarer.h"
+#include "f16mmae/hierarchical_bank.h"
+#include "f16mmae/model_bank.h"
+
+namespace f16mmae::bindings {
+
+namespace py = pybind11;
+
+inline HierarchicalOptions estimator_options(double p_min, bool strip_leading_term, double threshold, double dwell_s,
+                                             const py::object& declarer, double trim_time_constant_s,
+                                             double trim_freeze_probability, double trim_hold_s, bool trim_freeze,
+                                             const std::string& schedule_mode, double hysteresis_cells,
+                                             double blend_step_cells, double air_data_time_constant_s,
+                                             bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
+                                             double adapt_scale_min, double adapt_scale_max, double adapt_gain,
+                                             const std::optional<double>& adapt_reference,
+                                             bool maneuver_kinematics, double maneuver_tempering_g,
+                                             const std::vector<double>& actuator_rate_limits_rad_s,
+                                             const std::vector<double>& actuator_position_limits_rad) {
+  HierarchicalOptions o;
+  o.maneuver.kinematics = maneuver_kinematics;
+  o.maneuver.tempering_g = maneuver_tempering_g;
+  o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
+  o.actuators.position_limit_rad = actuator_position_limits_rad;
+  o.trim.time_constant_s = trim_time_constant_s;
+  o.trim.freeze_probability = trim_freeze_probability;
+  o.trim.hold_s = trim_hold_s;
+  o.trim.freeze = trim_freeze;
+  if (schedule_mode == "interpolate")
+    o.schedule.mode = ScheduleMode::kInterpolate;
+  else if (schedule_mode == "nearest")
+    o.schedule.mode = ScheduleMode::kNearest;
+  else
+    throw py::value_error("schedule_mode must be 'interpolate' or 'nearest', got '" + schedule_mode + "'");
+  o.schedule.hysteresis_cells = hysteresis_cells;
+  o.schedule.blend_step_cells = blend_step_cells;
+  o.schedule.air_data_time_constant_s = air_data_time_constant_s;
+  o.schedule.cubic_trims = cubic_trims;
+  o.bank.p_min = p_min;
+  o.bank.strip_leading_term = strip_leading_term;
+  o.bank.adaptation.enabled = adapt_turbulence;
+  o.bank.adaptation.time_constant_s = adapt_time_constant_s;
+  o.bank.adaptation.scale_min = adapt_scale_min;
+  o.bank.adaptation.scale_max = adapt_scale_max;
+  o.bank.adaptation.gain = adapt_gain;
+  if (adapt_reference) {  // one reference everywhere; else a schedule's per-node ones, if it has them
+    o.bank.adaptation.reference = *adapt_reference;
+    o.schedule.node_adapt_reference = false;
+  }
+  o.declarer.threshold = threshold;
+  o.declarer.dwell_s = dwell_s;
+  if (!declarer.is_none()) {
+    if (!py::isinstance<Declarer>(declarer))
+      throw py::value_error("declarer must be a core.Declarer (its threshold and dwell_s are used), got " +
+                            std::string(py::str(py::type::handle_of(declarer).attr("__name__"))));
+    const DeclarerOptions& d = declarer.cast<const Declarer&>().options();
+    o.declarer.threshold = d.threshold;
+    o.declarer.dwell_s = d.dwell_s;
+  }
+  return o;
+}
+
+template <class T, class Class>
+Class& def_estimator_init(Class& cls) {
+  const HierarchicalOptions core;  // the defaults
+  return cls.def(
+      py::init([](const ModelBank& bank, double p_min, bool strip_leading_term, double threshold, double dwell_s,
+                  const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
+                  double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
+                  double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
+                  double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
+                  const std::optional<double>& adapt_reference, bool maneuver_kinematics,
+                  double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
+                  const std::vector<double>& actuator_position_limits_rad) {
+        return new T(bank, estimator_options(p_min, strip_leading_term, threshold, dwell_s, declarer,
+                                             trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
+                                             schedule_mode, hysteresis_cells, blend_step_cells,
+                                             air_data_time_constant_s, cubic_trims, adapt_turbulence,
+                                             adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
+                                             adapt_reference, maneuver_kinematics, maneuver_tempering_g,
+                                             actuator_rate_limits_rad_s, actuator_position_limits_rad));
+      }),
+      py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
+      py::arg("strip_leading_term") = core.bank.strip_leading_term, py::arg("threshold") = core.declarer.threshold,
+      py::arg("dwell_s") = core.declarer.dwell_s, py::arg("declarer") = py::none(),
+      py::arg("trim_time_constant_s") = core.trim.time_constant_s,
+      py::arg("trim_freeze_probability") = core.trim.freeze_probability, py::arg("trim_hold_s") = core.trim.hold_s,
+      py::arg("trim_freeze") = core.trim.freeze, py::arg("schedule_mode") = "interpolate",
+      py::arg("hysteresis_cells") = core.schedule.hysteresis_cells,
+      py::arg("blend_step_cells") = core.schedule.blend_step_cells,
+      py::arg("air_data_time_constant_s") = core.schedule.air_data_time_constant_s,
+      py::arg("cubic_trims") = core.schedule.cubic_trims, py::arg("adapt_turbulence") = core.bank.adaptation.enabled,
+      py::arg("adapt_time_constant_s") = core.bank.adaptation.time_constant_s,
+      py::arg("adapt_scale_min") = core.bank.adaptation.scale_min,
+      py::arg("adapt_scale_max") = core.bank.adaptation.scale_max, py::arg("adapt_gain") = core.bank.adaptation.gain,
+      py::arg("adapt_reference") = py::none(), py::arg("maneuver_kinematics") = core.maneuver.kinematics,
+      py::arg("maneuver_tempering_g") = core.maneuver.tempering_g,
+      py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
+      py::arg("actuator_position_limits_rad") = std::vector<double>{});
+}
+
+}  // namespace f16mmae::bindings

@@ -98,7 +98,8 @@ class PyTurbulenceBankSet {
  private:
   std::variant<std::unique_ptr<TurbulenceBankSet<F16HierarchicalBank>>,
                std::unique_ptr<TurbulenceBankSet<F16GustHierarchicalBank>>,
-               std::unique_ptr<TurbulenceBankSet<F16ThrottleHierarchicalBank>>>
+               std::unique_ptr<TurbulenceBankSet<F16ThrottleHierarchicalBank>>,
+               std::unique_ptr<TurbulenceBankSet<F16GustThrottleHierarchicalBank>>>
       set_;
 };
 

@@ -62,7 +62,8 @@
 // F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>, the same bank whose filters carry
 // six Dryden gust states, `f16mmae design --gust-states`; F16ThrottleHierarchicalBank =
 // HierarchicalBank<13, 13, 6, 7>, the 13-state bank with the throttle command as its sixth
-// input, `f16mmae design --throttle-input`) or Eigen::Dynamic
+// input, `f16mmae design --throttle-input`; F16GustThrottleHierarchicalBank =
+// HierarchicalBank<13, 19, 6, 7>, both: the turbulence bank set's members) or Eigen::Dynamic
 // (DynamicHierarchicalBank, any K = 1 + number of singles).
 // Throws: the constructor throws std::invalid_argument (invalid ModelBank, sizes that do not
 // match the template, a missing hypothesis). update/propagate/step are noexcept and, for
@@ -533,6 +534,7 @@ class HierarchicalBank {
 using F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 using F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>;
 using F16ThrottleHierarchicalBank = HierarchicalBank<13, 13, 6, 7>;
+using F16GustThrottleHierarchicalBank = HierarchicalBank<13, 19, 6, 7>;
 using DynamicHierarchicalBank =
     HierarchicalBank<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
 

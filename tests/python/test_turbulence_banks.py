@@ -36,7 +36,7 @@ def test_the_set_is_four_six_input_members_in_rising_level(bank_set):
     assert bank_set.levels == MEMBER_LEVELS
     assert bank_set.path == set_path()
     for bank in bank_set.banks:
-        assert (bank.nx, bank.nu, bank.nz) == (13, 6, 7)
+        assert (bank.nx, bank.nu, bank.nz) == (19, 6, 7)
         assert tuple(h.name for h in bank.hypotheses) == tuple(h.name for h in bank_set.banks[0].hypotheses)
     # the members differ where the design level enters: the residual covariance of NONE grows
     a = [np.trace(np.asarray(b.hypotheses[0].a)) for b in bank_set.banks]

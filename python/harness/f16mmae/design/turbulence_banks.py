@@ -62,8 +62,10 @@ WARM_UP_S = 1.0
 WARM_DOWN_S = 5.0
 SETTLE_S = 1.0
 FREEZE_PROBABILITY = 0.05
-#: Each member's turbulence-adaptation reference rho_0 (tempering above it only).
-ADAPT_REFERENCE: tuple[float, ...] = (0.73, 0.79, 0.86, 1.82)
+#: Each member's turbulence-adaptation reference rho_0 (tempering above it only): 1.0 against each
+#: member's own 99th percentile at its level (0.73, 0.79, 0.86, 1.82), tuning seeds: severe 389 false
+#: declarations in 0.67 h and 33/36 failures against 705 and 28/36, the other levels alike.
+ADAPT_REFERENCE: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
 REVISION = 4
 FORMAT = "f16mmae-turbulence-banks"

@@ -108,14 +108,15 @@ auto prop(F f) {
   return [f](const PyTurbulenceBankSet& s) { return s.visit(f); };
 }
 
-// Benchmark (f16mmae.bench): a set of the model banks' fixed-size F-16 type (6 inputs: the
-// throttle banks), each member with the adaptation on, over frames z (N,7), u (N,6), replayed
-// pass after pass from reset() for at least min_time_s and 3 passes, timed in C++. Returns
-// (seconds per frame of the fastest pass, handovers in the last pass).
+// Benchmark (f16mmae.bench): a set of the model banks as the set's members are (19 states,
+// 6 inputs: F16GustThrottleHierarchicalBank), each with the adaptation on, over frames z (N,7),
+// u (N,6), replayed pass after pass from reset() for at least min_time_s and 3 passes, timed in
+// C++; member 0 in force at the start, no start standby. Returns (seconds per frame of the
+// fastest pass, handovers in the last pass, frames with a standby in the last pass).
 py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_frames, py::handle u_frames,
                               const std::vector<double>& bounds, const std::vector<double>& typical,
-                              double min_time_s) {
-  using Bank = F16ThrottleHierarchicalBank;
+                              double hold_s, double min_time_s) {
+  using Bank = F16GustThrottleHierarchicalBank;
   HierarchicalOptions o;
   o.bank.adaptation.enabled = true;
   o.bank.adaptation.reference = 1.0;
@@ -131,12 +132,15 @@ py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_
   TurbulenceBankSetOptions so;
   so.bounds = bounds;
   so.typical = typical;
+  so.hold_s = hold_s;
   so.start = 0;
   so.start_standby = -1;
   TurbulenceBankSet<Bank> set(members, so);
   const Eigen::MatrixXd z = cv::to_matrix(z_frames, -1, 7, "z", "(N, 7)");
   const Eigen::Index n = z.rows();
   const Eigen::MatrixXd u = cv::to_matrix(u_frames, n, 6, "u", "(N, 6) with N the frames of z");
+  for (const ModelBank& b : banks)
+    if (b.nx() != 19 || b.nu() != 6) throw py::value_error("the benchmark's banks must have 19 states and 6 inputs");
   if (n == 0) throw py::value_error("the benchmark needs at least one frame");
   std::vector<Bank::ZVector> zs(n);
   std::vector<Bank::UVector> us(n);
@@ -156,16 +160,16 @@ py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_
       best_s = std::min(best_s, std::chrono::duration<double>(Clock::now() - t0).count());
     }
   }
-  return py::make_tuple(best_s / static_cast<double>(n), set.switches());
+  return py::make_tuple(best_s / static_cast<double>(n), set.switches(), set.standby_frames());
 }
 
 }  // namespace
 
 void bind_bank_set(py::module_& m) {
   m.def("_bench_bank_set_loop", &bench_bank_set_loop, py::arg("banks"), py::arg("z"), py::arg("u"), py::arg("bounds"),
-        py::arg("typical"), py::arg("min_time_s") = 0.2,
-        "Benchmark: (seconds per frame, handovers in the last pass) of a core.TurbulenceBankSet over 6-input\n"
-        "fixed-size members built from the model banks (adaptation on), frames z (N,7), u (N,6), timed in C++.");
+        py::arg("typical"), py::arg("hold_s") = 1.0, py::arg("min_time_s") = 0.2,
+        "Benchmark: (seconds per frame, handovers, frames with a standby) of a core.TurbulenceBankSet over\n"
+        "19-state 6-input members built from the model banks (adaptation on), frames z (N,7), u (N,6), in C++.");
   py::class_<PyTurbulenceBankSet>(m, "TurbulenceBankSet", R"doc(
 One estimator over banks designed for rising turbulence intensities (cpp/f16mmae/turbulence_bank_set.h).
 

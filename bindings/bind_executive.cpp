@@ -47,12 +47,20 @@ std::string on_sensor(Executive& ex, std::int64_t frame, py::handle z, const std
   return executive::fate_name(ex.on_sensor(f));
 }
 
+// u: the five surface commands, then the throttle command (required by a throttle bank; a
+// 5-element u sends a NaN throttle, as a sender without one).
 std::string on_command(Executive& ex, std::int64_t frame, py::handle u, std::int64_t utime) {
-  const auto uv = cv::to_vector<MmaeEstimator::UVector>(u, MmaeEstimator::kNu, "u");
+  const auto n = static_cast<int>(py::len(u));
+  const bool throttle = ex.estimator().models_throttle();
+  if (throttle && n != MmaeEstimator::kNuThrottle)
+    throw py::value_error("u: this bank models the throttle: u must hold the 5 surface commands and the throttle "
+                          "command (6 values), got " + std::to_string(n));
+  const auto uv = cv::to_vector<Eigen::VectorXd>(u, n == MmaeEstimator::kNuThrottle ? n : MmaeEstimator::kNu, "u");
   lcmt_command_frame f{};
   f.utime = utime;
   f.frame = frame;
   for (int j = 0; j < MmaeEstimator::kNu; ++j) f.u_rad[j] = uv(j);
+  f.throttle = n == MmaeEstimator::kNuThrottle ? uv(MmaeEstimator::kNu) : std::nan("");
   return executive::fate_name(ex.on_command(f));
 }
 
@@ -85,12 +93,13 @@ trim_time_constant_s, schedule_mode, maneuver_kinematics, actuator_rate_limits_r
 estimator settings in force, the same keyword arguments as core.HierarchicalBank (callers pass
 the bank's recommended ones with their overrides; mmae-daemon's flags set the same options).
 on_sensor(frame, z, valid=None, utime=0, air_data=None) and on_command(frame, u, utime=0) take
-absolute z (7,) and u (5,) (and the frame's measured air data (mach, pressure_altitude_ft); None
+absolute z (7,) and u (5,) or (6,): the surface commands, then the throttle command (a bank that
+models the throttle needs all six; five send a NaN throttle, which a 5-input bank ignores) (and the frame's measured air data (mach, pressure_altitude_ft); None
 sends NaN, as a sender without air data: the schedule stays, the frame is counted in
 counters['air_data_rejected']) and return the frame's fate: "used", "rejected", "duplicate", "out-of-order" or
 "resynchronised". A used or resynchronised sensor frame leaves its status in encoded_status.
-Raises ValueError for a bank other than the F-16's (13 states, or 19 with the gust states; 5 inputs,
-7 measurements)
+Raises ValueError for a bank other than the F-16's (13 states and 5 inputs, 19 states with the
+gust states, or 6 inputs with the throttle; 7 measurements)
 and for arrays of the wrong shape.)doc");
   def_estimator_init<Executive>(cls)
       .def("on_sensor", &on_sensor, py::arg("frame"), py::arg("z"), py::arg("valid") = py::none(),
@@ -108,7 +117,10 @@ and for arrays of the wrong shape.)doc");
       .def_property_readonly("counters", &counters, "The frame counters since construction (a dict).")
       .def_property_readonly("max_gap_frames", &Executive::max_gap_frames,
                              "The largest gap caught up frame by frame (one second of frames).")
-      .def_property_readonly("statuses", &Executive::statuses, "Statuses produced since construction.");
+      .def_property_readonly("statuses", &Executive::statuses, "Statuses produced since construction.")
+      .def_property_readonly(
+          "nu", [](const Executive& ex) { return ex.estimator().nu(); },
+          "The bank's input size: 5, or 6 when it models the throttle (the command frame's throttle).");
 }
 
 }  // namespace f16mmae::bindings

@@ -13,13 +13,15 @@
 // own array, the air-data stream), which fly_closed_loop hands to the estimator's schedule()
 // before each update.  A bank with the throttle as its sixth input (F16ThrottleHierarchicalBank)
 // propagates u_i = (the five surface commands, the throttle command of frame i): the throttle
-// dither's command (set_throttle_dither, required for such a bank).
+// dither's command (set_throttle_dither, required for such a bank), about the trim throttle, or
+// in maneuvers about the outer loop's throttle command of frame i (computed with the control law).
 // Throws ValueError for bad arguments (names the field), RuntimeError when JSBSim stops.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -251,20 +253,30 @@ class Frames {
     }
     throttle_dither_node_ = exec_->node(property);
     throttle_dither_ = d;
+    throttle_base_ = trim;
   }
 
   // The throttle command of the current frame (written by advance_frame; the sixth input of a
-  // throttle bank): the dither's, on the air data measured with the frame's z.
+  // throttle bank): the dither's, on the air data measured with the frame's z, about the trim or,
+  // in maneuvers, about the outer loop's throttle of this frame (so: after command()).
   double throttle_command() const {
     const bool measured = !log_time_.empty();
-    return throttle_dither_.command(static_cast<double>(frame_) / frame_rate_hz_,
-                                    measured ? air_last_[0] : std::nan(""), measured ? air_last_[1] : std::nan(""));
+    return throttle_dither_.command_about(throttle_base_, static_cast<double>(frame_) / frame_rate_hz_,
+                                          measured ? air_last_[0] : std::nan(""),
+                                          measured ? air_last_[1] : std::nan(""));
   }
+  // The throttle the dither rides on from now on (a pilot flown outside these frames).
+  void set_throttle_base(double base) { throttle_base_ = base; }
+  // The throttle command the last advance_frame wrote (NaN without a throttle dither).
+  double last_throttle() const { return last_throttle_; }
 
   void advance_frame(const Surfaces& u) { advance_frame(u, throttle_dither_node_ != nullptr ? throttle_command() : 0.0); }
   // The same with the frame's throttle command already computed (written with a throttle dither).
   void advance_frame(const Surfaces& u, double throttle) {
-    if (throttle_dither_node_ != nullptr) throttle_dither_node_->setDoubleValue(throttle);
+    if (throttle_dither_node_ != nullptr) {
+      throttle_dither_node_->setDoubleValue(throttle);
+      last_throttle_ = throttle;
+    }
     Surfaces eff = u;
     for (int k = 0; k < steps_per_frame_; ++k) {
       while (next_act_ < act_fail_.size() && act_fail_[next_act_].at <= step_) {
@@ -291,6 +303,7 @@ class Frames {
     outer_.command(t, instrument_[0]->getDoubleValue(), instrument_[1]->getDoubleValue(),
                    instrument_[2]->getDoubleValue(), instrument_[3]->getDoubleValue(), nz_cmd, p_cmd, throttle);
     throttle_->setDoubleValue(throttle);
+    throttle_base_ = throttle;  // a throttle dither rides on it (advance_frame)
     return fcs_.command(zf, t, nz_cmd, p_cmd);
   }
 
@@ -418,6 +431,8 @@ class Frames {
   SGPropertyNode* throttle_ = nullptr;
   SGPropertyNode* throttle_dither_node_ = nullptr;
   ThrottleDither throttle_dither_{};
+  double throttle_base_ = 0.0;                                   // trim, or the outer loop's
+  double last_throttle_ = std::numeric_limits<double>::quiet_NaN();
   std::vector<ScheduledFailure> act_fail_, sen_fail_;
   std::size_t next_act_ = 0, next_sen_ = 0;
   py::array_t<double, py::array::c_style | py::array::forcecast> noise_;
@@ -466,7 +481,12 @@ void bind_truth(py::module_& m) {
            py::arg("throttle_property"))
       .def_property_readonly("outer_state", &Frames::outer_state)
       .def("throttle_command", &Frames::throttle_command,
-           "The throttle command of the current frame (the dither's; advance writes it).")
+           "The throttle command of the current frame (the dither's, about the trim or, in maneuvers,\n"
+           "about the outer loop's throttle of the frame; advance writes it).")
+      .def("set_throttle_base", &Frames::set_throttle_base, py::arg("base"),
+           "The throttle the dither rides on (a pilot flown in Python sets its command here).")
+      .def_property_readonly("last_throttle", &Frames::last_throttle,
+                             "The throttle command the last advance wrote (NaN without a throttle dither).")
       .def("set_throttle_dither", &Frames::set_throttle_dither, py::arg("property"), py::arg("trim"),
            py::arg("amplitude"), py::arg("omega_rad_s"), py::arg("schedule") = py::none(),
            "Write trim + amplitude sin(omega_rad_s t) to the throttle property before each frame; with\n"

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <utility>
@@ -15,8 +16,8 @@ std::string daemon_usage() {
          "                   [--adapt-reference RHO]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
          "                   [--schedule-mode interpolate|nearest] [--maneuver-kinematics]\n"
-         "                   [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5]\n"
-         "                   [--actuator-position-limits L1,...,L5]\n"
+         "                   [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5[,inf]]\n"
+         "                   [--actuator-position-limits L1,...,L5[,inf]]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
          "                   [--rewarm-us US] [--auth-key FILE] [--bank-public-key FILE] [--quiet]\n"
          "\n"
@@ -49,7 +50,8 @@ std::string daemon_usage() {
          "                       load factor off trim, g (> 0)\n"
          "  --actuator-rate-limits R1,...,R5 and --actuator-position-limits L1,...,L5\n"
          "                       the actuators' rate (rad/s) and position (rad) limits, one per\n"
-         "                       input, applied to the commands the filters see (both or none);\n"
+         "                       input, applied to the commands the filters see (both or none;\n"
+         "                       inf for both: an input without actuator, e.g. the throttle);\n"
          "                       these on-line options as 'f16mmae run' has them (f16mmae hil\n"
          "                       --start-daemon passes its own on)\n"
          "  --max-frames N       exit after publishing N status frames (default: until signalled)\n"
@@ -204,11 +206,13 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       while (true) {
         const std::size_t comma = value.find(',', start);
         const std::string item = value.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        const std::optional<double> x = finite_number(item);
+        // "inf": an input without actuator (the throttle; actuator_limits.h)
+        const std::optional<double> x =
+            item == "inf" ? std::optional<double>(std::numeric_limits<double>::infinity()) : finite_number(item);
         if (!x || *x <= 0.0)
           return usage_error(key + " must be positive numbers separated by commas (" +
-                             (key == "--actuator-rate-limits" ? "rad/s" : "rad") + ", one per input), got '" +
-                             value + "'");
+                             (key == "--actuator-rate-limits" ? "rad/s" : "rad") +
+                             ", one per input; inf for an input without actuator), got '" + value + "'");
         limits.push_back(*x);
         if (comma == std::string::npos) break;
         start = comma + 1;

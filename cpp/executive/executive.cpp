@@ -48,7 +48,9 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
     rehearsal_sensor_.z[j] = estimator_.z_trim()(j);
     rehearsal_sensor_.valid[j] = 1;
   }
-  for (int j = 0; j < MmaeEstimator::kNu; ++j) rehearsal_command_.u_rad[j] = estimator_.u_trim()(j);
+  const MmaeEstimator::CommandVector u_trim = estimator_.u_trim();
+  for (int j = 0; j < MmaeEstimator::kNu; ++j) rehearsal_command_.u_rad[j] = u_trim(j);
+  rehearsal_command_.throttle = u_trim(MmaeEstimator::kNu);  // NaN without the throttle input
   rehearsal_sensor_.mach = estimator_.air_data().mach;  // the design condition
   rehearsal_sensor_.pressure_altitude_ft = estimator_.air_data().pressure_altitude_ft;
 }
@@ -117,9 +119,11 @@ Fate Executive::on_sensor(const lcmt_sensor_frame& frame) noexcept {
 
 Fate Executive::on_command(const lcmt_command_frame& frame) noexcept {
   const auto t0 = Clock::now();
-  const FramePlan plan = all_finite(frame.u_rad) ? sequencer_.on_command(frame.frame) : sequencer_.on_rejected();
+  const bool valid = all_finite(frame.u_rad) && (!estimator_.models_throttle() || std::isfinite(frame.throttle));
+  const FramePlan plan = valid ? sequencer_.on_command(frame.frame) : sequencer_.on_rejected();
   if (!prepare(plan)) return plan.fate;
   for (int j = 0; j < MmaeEstimator::kNu; ++j) u_held_(j) = frame.u_rad[j];
+  u_held_(MmaeEstimator::kNu) = frame.throttle;  // propagated only by a bank that models the throttle
   estimator_.propagate(u_held_);
   propagate_stats_.record(elapsed_ns(t0));
   return plan.fate;

@@ -15,9 +15,11 @@
 //                    and the frame is counted in air_data_rejected(). A used or
 //                    resynchronised sensor frame fills the status (probabilities, z_hat,
 //                    level, declaration, counters) and encodes it into a buffer owned here.
-//   on_command(u_i)  rejected (non-finite), dropped, resynchronised (the estimator restarts
+//   on_command(u_i)  rejected (a non-finite u_rad, or a non-finite throttle with a bank that
+//                    models the throttle), dropped, resynchronised (the estimator restarts
 //                    from the stale state; u_i is not applied), or used: catch up, then
 //                    bank.propagate(u_i); u_i becomes the held command (initially u_trim).
+//                    u_i = (u_rad, throttle): the throttle reaches only a 6-input bank.
 //   on_reset()       a new flight: estimator and sequencer back to their initial state.
 // max_gap_frames() = round(frame_rate_hz * kResyncAfterS): one second of frames.
 // Nothing on these paths allocates once the executive is constructed (the status message's
@@ -106,7 +108,7 @@ class Executive {
   std::int64_t warm_ups_ = 0;
   FrameSequencer sequencer_;
   StepStats update_stats_, propagate_stats_;
-  MmaeEstimator::UVector u_held_;
+  MmaeEstimator::CommandVector u_held_;
   lcmt_mmae_status status_;
   std::vector<std::uint8_t> buffer_;
   int encoded_size_ = 0;

@@ -4,13 +4,18 @@
 //   schedule(a)   bank.schedule(a)   measured air data for the coming frames (air_data.h)
 //   update(z)     bank.update(z)     r_k = (z - z_trim) - H_k x-_k, Bayes (eqs. 1-2), floor,
 //                                    declaration, level switch / back-out
-//   propagate(u)  bank.propagate(u)  x-_{i+1} = Phi_k x+_i + Bd_k (u - u_trim)
+//   propagate(c)  bank.propagate(u)  x-_{i+1} = Phi_k x+_i + Bd_k (u - u_trim)
 //   z_hat         blended H_out x^ + z_trim (absolute)
-// Sizes are the F-16's: 5 inputs, 7 measurements, 13 filters on line, and the filters'
-// state size the bank file's nx selects, as the binding does (core.HierarchicalBank):
-//   nx = 13   F16HierarchicalBank       (the shipped banks)
-//   nx = 19   F16GustHierarchicalBank   (six Dryden gust states, `f16mmae design --gust-states`)
-// The two differ only in NX; u, z, the probabilities and the names have the same sizes, so
+// The command c (CommandVector, 6) is what the command frame carries: the five surface
+// commands, then the throttle command. u is its first five elements for a bank with five
+// inputs (the throttle is not used: it may be NaN), all six for a bank that models the
+// throttle (its input names end with THR).
+// Sizes are the F-16's: 7 measurements, 13 filters on line, and the bank file's (nx, nu)
+// select the fixed-size core, as the binding does (core.HierarchicalBank):
+//   (13, 5)   F16HierarchicalBank          (the shipped banks)
+//   (19, 5)   F16GustHierarchicalBank      (six Dryden gust states, `f16mmae design --gust-states`)
+//   (13, 6)   F16ThrottleHierarchicalBank  (the throttle input, `f16mmae design --throttle-input`)
+// They differ in NX or NU only; z, the probabilities and the names have the same sizes, so
 // the executive, the status and the wire do not depend on which one runs.
 // Construction throws std::invalid_argument naming what does not fit and the sizes it runs;
 // the per-frame calls are noexcept and allocate nothing (one std::visit over a variant
@@ -22,6 +27,7 @@
 
 #include <Eigen/Dense>
 
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -33,15 +39,20 @@ namespace f16mmae::executive {
 
 class MmaeEstimator {
  public:
-  static constexpr int kNu = 5, kNz = 7, kOnLine = 13;
-  static constexpr int kNxPlain = 13, kNxGust = 19;  // the state sizes it runs
+  static constexpr int kNu = 5, kNz = 7, kOnLine = 13;  // kNu: the surface commands
+  static constexpr int kNuThrottle = 6;                  // with the throttle command
+  static constexpr int kNxPlain = 13, kNxGust = 19;      // the state sizes it runs
   using ZVector = F16HierarchicalBank::ZVector;
-  using UVector = F16HierarchicalBank::UVector;
+  using CommandVector = Eigen::Matrix<double, kNuThrottle, 1>;  // LS RS LF RF RUD THR
   static_assert(std::is_same_v<ZVector, F16GustHierarchicalBank::ZVector> &&
-                    std::is_same_v<UVector, F16GustHierarchicalBank::UVector>,
-                "the 13- and 19-state banks share u and z");
+                    std::is_same_v<ZVector, F16ThrottleHierarchicalBank::ZVector>,
+                "the banks share z");
+  static_assert(F16ThrottleHierarchicalBank::UVector::RowsAtCompileTime == kNuThrottle &&
+                    F16HierarchicalBank::UVector::RowsAtCompileTime == kNu,
+                "the command holds every bank's u");
 
-  // f(bank) on the bank that runs: F16HierarchicalBank or F16GustHierarchicalBank.
+  // f(bank) on the bank that runs: F16HierarchicalBank, F16GustHierarchicalBank or
+  // F16ThrottleHierarchicalBank.
   template <class F>
   decltype(auto) visit(F&& f) noexcept {
     return std::visit([&](auto& p) -> decltype(auto) { return f(*p); }, bank_);
@@ -56,14 +67,21 @@ class MmaeEstimator {
   }
 
   explicit MmaeEstimator(const ModelBank& model_bank, const HierarchicalOptions& options = {})
-      : bank_(make(model_bank, options)), nx_(model_bank.nx()) {}
+      : bank_(make(model_bank, options)), nx_(model_bank.nx()), nu_(model_bank.nu()) {}
 
   bool update(const ZVector& z_abs) noexcept {
     declared_now_ = visit([&](auto& b) { return b.update(z_abs); });
     return true;
   }
-  bool propagate(const UVector& u_abs) noexcept {
-    return visit([&](auto& b) { return b.propagate(u_abs); });
+  // c: the five surface commands and the throttle command (used by a throttle bank only).
+  bool propagate(const CommandVector& c_abs) noexcept {
+    return visit([&](auto& b) {
+      using U = typename std::decay_t<decltype(b)>::UVector;
+      if constexpr (U::RowsAtCompileTime == kNuThrottle)
+        return b.propagate(c_abs);
+      else
+        return b.propagate(U(c_abs.template head<U::RowsAtCompileTime>()));
+    });
   }
   void schedule(const AirData& a) noexcept {
     visit([&](auto& b) { b.schedule(a); });
@@ -80,6 +98,9 @@ class MmaeEstimator {
 
   // The filters' state size: 13, or 19 with the gust states.
   int nx() const noexcept { return nx_; }
+  // The bank's input size: 5, or 6 when it models the throttle.
+  int nu() const noexcept { return nu_; }
+  bool models_throttle() const noexcept { return nu_ == kNuThrottle; }
   int level() const noexcept {
     return visit([](const auto& b) { return b.level(); });
   }
@@ -108,8 +129,13 @@ class MmaeEstimator {
   ZVector z_hat() const noexcept {
     return visit([](const auto& b) -> ZVector { return b.z_hat(); });
   }
-  const UVector& u_trim() const noexcept {
-    return visit([](const auto& b) -> const UVector& { return b.u_trim(); });
+  // The bank's u_trim in force (a scheduled bank's follows the air data) as a command: the
+  // throttle element NaN for a bank with five inputs.
+  CommandVector u_trim() const noexcept {
+    CommandVector c;
+    c.fill(std::numeric_limits<double>::quiet_NaN());
+    visit([&](const auto& b) { c.template head<std::decay_t<decltype(b)>::UVector::RowsAtCompileTime>() = b.u_trim(); });
+    return c;
   }
   const ZVector& z_trim() const noexcept {
     return visit([](const auto& b) -> const ZVector& { return b.z_trim(); });
@@ -119,26 +145,32 @@ class MmaeEstimator {
     return visit([](const auto& b) -> const AirData& { return b.air_data(); });
   }
   static const char* kind() noexcept { return "hierarchical bank"; }
-  // "13 states" or "19 states (gust)", for the daemon's ready line.
-  const char* states() const noexcept { return nx_ == kNxGust ? "19 states (gust)" : "13 states"; }
+  // "13 states", "19 states (gust)" or "13 states, 6 inputs (throttle)", for the daemon's ready line.
+  const char* states() const noexcept {
+    return nx_ == kNxGust ? "19 states (gust)" : models_throttle() ? "13 states, 6 inputs (throttle)" : "13 states";
+  }
 
  private:
-  using Variant = std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>>;
+  using Variant = std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>,
+                               std::unique_ptr<F16ThrottleHierarchicalBank>>;
 
   static Variant make(const ModelBank& b, const HierarchicalOptions& options) {
-    if (b.nu() == kNu && b.nz() == kNz) {
-      if (b.nx() == kNxPlain) return std::make_unique<F16HierarchicalBank>(b, options);
-      if (b.nx() == kNxGust) return std::make_unique<F16GustHierarchicalBank>(b, options);
+    if (b.nz() == kNz) {
+      if (b.nx() == kNxPlain && b.nu() == kNu) return std::make_unique<F16HierarchicalBank>(b, options);
+      if (b.nx() == kNxGust && b.nu() == kNu) return std::make_unique<F16GustHierarchicalBank>(b, options);
+      if (b.nx() == kNxPlain && b.nu() == kNuThrottle) return std::make_unique<F16ThrottleHierarchicalBank>(b, options);
     }
     std::ostringstream s;
-    s << "mmae-daemon runs the F-16 bank (nx, nu, nz) = (" << kNxPlain << ", " << kNu << ", " << kNz << ") or ("
-      << kNxGust << ", " << kNu << ", " << kNz << ") with the gust states; this bank has (" << b.nx() << ", "
-      << b.nu() << ", " << b.nz() << ")";
+    s << "mmae-daemon runs the F-16 bank (nx, nu, nz) = (" << kNxPlain << ", " << kNu << ", " << kNz << "), ("
+      << kNxGust << ", " << kNu << ", " << kNz << ") with the gust states or (" << kNxPlain << ", " << kNuThrottle
+      << ", " << kNz << ") with the throttle input; this bank has (" << b.nx() << ", " << b.nu() << ", " << b.nz()
+      << ")";
     throw std::invalid_argument(s.str());
   }
 
   Variant bank_;
   int nx_ = 0;
+  int nu_ = 0;
   int declared_now_ = -1;
   std::string empty_;
 };

@@ -28,7 +28,10 @@
 // has its Bd column zero and ignores u_j either way.
 //
 // Options: empty limits = off (the bank without it, bit for bit); else nu rate limits
-// (rad/s) and nu position limits (rad), each finite and > 0, and substeps >= 1.
+// (rad/s) and nu position limits (rad), each finite and > 0, and substeps >= 1. An input
+// whose two limits are both +inf has no actuator here (the throttle command of a bank that
+// models it, `f16mmae design --throttle-input`): it is handed to the filters unchanged and
+// needs no lag state.
 // The constructor throws std::invalid_argument naming the field, or the input j whose
 // model in the bank has no first-order lag of unit gain: exactly one state s_j driven by
 // input j alone (Bd row s_j zero but for b_j) whose Phi row is zero but for a_j, and
@@ -81,10 +84,16 @@ class ActuatorLimits {
     const int n = options.substeps;
     for (int j = 0; j < nu; ++j) {
       const double r = options.rate_limit_rad_s[j], l = options.position_limit_rad[j];
+      if (std::isinf(r) && r > 0.0 && std::isinf(l) && l > 0.0) {  // no actuator: passed through
+        limit_(j) = r;
+        continue;
+      }
       if (!(std::isfinite(r) && r > 0.0))
-        fail("rate_limit_rad_s[" + std::to_string(j) + "] = " + std::to_string(r) + " must be finite and > 0");
+        fail("rate_limit_rad_s[" + std::to_string(j) + "] = " + std::to_string(r) +
+             " must be finite and > 0 (or +inf with its position limit: an input without actuator)");
       if (!(std::isfinite(l) && l > 0.0))
-        fail("position_limit_rad[" + std::to_string(j) + "] = " + std::to_string(l) + " must be finite and > 0");
+        fail("position_limit_rad[" + std::to_string(j) + "] = " + std::to_string(l) +
+             " must be finite and > 0 (or +inf with its rate limit: an input without actuator)");
       // The lag state of input j: driven by input j alone, its Phi row zero but for the diagonal.
       int s = -1;
       for (int i = 0; i < bd.rows(); ++i) {
@@ -131,6 +140,7 @@ class ActuatorLimits {
       started_ = true;
     }
     for (int j = 0; j < nu; ++j) {
+      if (std::isinf(limit_(j))) continue;  // no actuator: u_eff_j = u_j
       const double c = std::clamp(u(j), -limit_(j), limit_(j));
       const double start = delta_(j);
       double d = start;

@@ -18,8 +18,10 @@
 // Flight control law: truth/fcs.py's module docstring (pitch C*-like PI, roll-rate command,
 // washed-out yaw damper with ARI), plus dither d_j = a_j sin(w_j t + phi_j), clipped to +-lim;
 // its pilot commands nz_cmd, p_cmd are zero, or come from the outer loop.
-// Throttle dither (truth/dither.py throttle_command): th = trim + a sin(w t), written before a
-// frame's JSBSim steps; scheduled (truth/dither.py scheduled_throttle_amplitude):
+// Throttle dither (truth/dither.py throttle_command): th = sat(base + a sin(w t), 0, 1), written
+// before a frame's JSBSim steps; base = the trim throttle, or in maneuvers the outer loop's
+// throttle command of the frame (the dither rides on the pilot's throttle); scheduled
+// (truth/dither.py scheduled_throttle_amplitude):
 // a = target / b_x(M, h), b_x bilinear in the table at the air data (M, h) measured with the
 // frame's z, clamped to the grid; non-finite air data: (0.4, 20000).
 // Outer loop (pilot side, maneuvers): truth/outer_loop.py's module docstring -- piecewise
@@ -199,12 +201,17 @@ struct ThrottleDither {
     return (1.0 - tm) * ((1.0 - ta) * t(i, j) + ta * t(i, j + 1)) + tm * ((1.0 - ta) * t(i + 1, j) + ta * t(i + 1, j + 1));
   }
   double command(double time_s, double air_mach = 0.0, double air_alt_ft = 0.0) const {
+    return command_about(trim, time_s, air_mach, air_alt_ft);
+  }
+  // The dither about `base` (the trim, or the outer loop's throttle of the frame), on the lever's 0..1.
+  double command_about(double base, double time_s, double air_mach, double air_alt_ft) const {
     double a = amplitude;
     if (scheduled) {
       if (!(std::isfinite(air_mach) && std::isfinite(air_alt_ft))) air_mach = 0.4, air_alt_ft = 20000.0;
       a = target_fps2 / thrust_accel(air_mach, air_alt_ft);
     }
-    return trim + a * std::sin(omega_rad_s * time_s);
+    const double th = base + a * std::sin(omega_rad_s * time_s);
+    return th > 1.0 ? 1.0 : (th < 0.0 ? 0.0 : th);
   }
 };
 

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 using f16mmae::daemon::parse_daemon_args;
 
 TEST(DaemonConfig, DefaultsFollowLcmConventions) {
@@ -132,6 +134,17 @@ TEST(DaemonConfig, ManeuverModelOptions) {
   }
   r = parse_daemon_args({"--bank", "b", "--actuator-rate-limits", "1,2"}, nullptr);
   EXPECT_NE(r.message.find("go together"), std::string::npos) << r.message;
+  // a throttle bank's sixth input has no actuator: "inf" (actuator_limits.h)
+  r = parse_daemon_args({"--bank", "b", "--actuator-rate-limits", "1,1,1.5,1.5,2,inf",
+                         "--actuator-position-limits", "0.4,0.4,0.3,0.3,0.5,inf"},
+                        nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(std::isinf(r.config.actuator_rate_limits_rad_s.at(5)) && r.config.actuator_rate_limits_rad_s[5] > 0);
+  EXPECT_TRUE(std::isinf(r.config.actuator_position_limits_rad.at(5)));
+  for (const char* bad : {"1,-inf", "1,nan", "1,infinity"}) {
+    r = parse_daemon_args({"--bank", "b", "--actuator-rate-limits", bad, "--actuator-position-limits", "1"}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+  }
 }
 
 TEST(DaemonConfig, WarmUpLead) {

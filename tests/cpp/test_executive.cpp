@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -28,11 +29,14 @@ lcmt_sensor_frame sensor(long long i, const Eigen::VectorXd& z) {
   }
   return f;
 }
+// u: the five surface commands, and the throttle command when it has six (else NaN, as a
+// sender without one).
 lcmt_command_frame command(long long i, const Eigen::VectorXd& u) {
   lcmt_command_frame f{};
   f.utime = i * 15625;
   f.frame = i;
   for (int j = 0; j < 5; ++j) f.u_rad[j] = u(j);
+  f.throttle = u.size() == 6 ? u(5) : std::numeric_limits<double>::quiet_NaN();
   return f;
 }
 // Deterministic absolute signals near trim with a failure-like bias on AOA from frame 20.
@@ -45,6 +49,7 @@ Eigen::VectorXd z_at(const ModelBank& b, long long i) {
 Eigen::VectorXd u_at(const ModelBank& b, long long i) {
   Eigen::VectorXd u = b.u_trim;
   for (int j = 0; j < 5; ++j) u(j) += 0.01 * std::cos(0.2 * i + j);
+  if (u.size() == 6) u(5) += 0.02 * std::sin(0.1 * i);  // a throttle dither
   return u;
 }
 F16FilterBank reference_bank(const ModelBank& b) {
@@ -291,16 +296,15 @@ TEST(Executive, AirDataIsScheduledAndANonFiniteValueIsCountedNotRejected) {
   EXPECT_EQ(ex.air_data_rejected(), 1);
 }
 
-// A bank of 19 states (the filters with the six Dryden gust states) runs in the executive as
-// F16GustHierarchicalBank stepped directly: the same probabilities, z_hat, level and
-// declarations bit for bit, and its frames allocate nothing.
-TEST(Executive, AGustStateBankRunsAsTheNineteenStateCoreBank) {
-  const ModelBank b = test_support::synthetic_bank(19);
-  ASSERT_EQ(b.nx(), 19);
+namespace {
+
+// The executive on bank b equals the fixed-size core bank Ref stepped directly: the same
+// probabilities, z_hat, level and declarations bit for bit, and its frames allocate nothing.
+// A bias on AOA from frame 20 makes the bank declare and switch to level 1.
+template <class Ref>
+void expect_runs_as_the_core_bank(const ModelBank& b) {
   Executive ex(b);
-  EXPECT_EQ(ex.estimator().nx(), 19);
-  EXPECT_STREQ(ex.estimator().states(), "19 states (gust)");
-  F16GustHierarchicalBank ref(b);
+  Ref ref(b);
   std::vector<lcmt_sensor_frame> sensors;
   std::vector<lcmt_command_frame> commands;
   std::vector<Eigen::VectorXd> z(120);
@@ -335,11 +339,71 @@ TEST(Executive, AGustStateBankRunsAsTheNineteenStateCoreBank) {
     ref.propagate(u_at(b, i));
   }
   EXPECT_EQ(allocations, 0);
-  // the bias from frame 20 makes the bank declare (the synthetic models pick VEL: which one
-  // does not matter here) and switch to level 1, through the executive as in the core bank
+  // the synthetic models pick VEL: which one does not matter here
   ASSERT_FALSE(declared.empty());
   EXPECT_TRUE(saw_level1);
   EXPECT_EQ(ex.status().declared, ref.name(ref.current_hypothesis()));
+}
+
+// The probabilities after n frames of the deterministic signals, with the commands' throttle
+// replaced by `throttle` (NaN: none sent) when it is not empty.
+std::vector<double> probabilities_after(const ModelBank& b, long long n, const std::vector<double>& throttle = {}) {
+  Executive ex(b);
+  for (long long i = 0; i < n; ++i) {
+    ex.on_sensor(sensor(i, z_at(b, i)));
+    lcmt_command_frame c = command(i, u_at(b, i));
+    if (!throttle.empty()) c.throttle = throttle[i % throttle.size()];
+    EXPECT_EQ(ex.on_command(c), Fate::used) << "frame " << i;
+  }
+  return {ex.status().probabilities.begin(), ex.status().probabilities.end()};
+}
+
+}  // namespace
+
+// A bank of 19 states (the filters with the six Dryden gust states) runs in the executive as
+// F16GustHierarchicalBank stepped directly.
+TEST(Executive, AGustStateBankRunsAsTheNineteenStateCoreBank) {
+  const ModelBank b = test_support::synthetic_bank(19);
+  ASSERT_EQ(b.nx(), 19);
+  EXPECT_EQ(Executive(b).estimator().nx(), 19);
+  EXPECT_STREQ(Executive(b).estimator().states(), "19 states (gust)");
+  expect_runs_as_the_core_bank<F16GustHierarchicalBank>(b);
+}
+
+// A bank with the throttle as its sixth input runs in the executive as
+// F16ThrottleHierarchicalBank stepped directly with (u_rad, throttle) of each command frame.
+TEST(Executive, AThrottleBankRunsAsTheSixInputCoreBankOnTheCommandFramesThrottle) {
+  const ModelBank b = test_support::synthetic_bank(13, 6);
+  ASSERT_EQ(b.nu(), 6);
+  Executive ex(b);
+  EXPECT_EQ(ex.estimator().nu(), 6);
+  EXPECT_TRUE(ex.estimator().models_throttle());
+  EXPECT_STREQ(ex.estimator().states(), "13 states, 6 inputs (throttle)");
+  EXPECT_EQ(ex.estimator().u_trim()(5), 0.25);  // the held command starts at the trim throttle
+  expect_runs_as_the_core_bank<F16ThrottleHierarchicalBank>(b);
+  // the throttle reaches the filters: held at its trim, the probabilities are others
+  const std::vector<double> dithered = probabilities_after(b, 40), held = probabilities_after(b, 40, {0.25});
+  double differ = 0.0;
+  for (std::size_t k = 0; k < held.size(); ++k) differ = std::max(differ, std::abs(dithered[k] - held[k]));
+  EXPECT_GT(differ, 1e-6);
+}
+
+TEST(Executive, ANonFiniteThrottleRejectsTheFrameOfAThrottleBankOnly) {
+  const ModelBank six = test_support::synthetic_bank(13, 6), five = test_support::synthetic_bank();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Executive ex(six);
+  ASSERT_EQ(ex.on_sensor(sensor(0, z_at(six, 0))), Fate::used);
+  lcmt_command_frame c = command(0, u_at(six, 0));
+  c.throttle = nan;
+  EXPECT_EQ(ex.on_command(c), Fate::rejected);
+  c.throttle = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(ex.on_command(c), Fate::rejected);
+  EXPECT_EQ(ex.counters().frames_rejected, 2);
+  EXPECT_EQ(ex.on_command(command(0, u_at(six, 0))), Fate::used);
+  // a 5-input bank ignores the throttle: none (NaN), or any value, gives the same flight
+  const std::vector<double> none = probabilities_after(five, 40);
+  EXPECT_EQ(probabilities_after(five, 40, {nan}), none);
+  EXPECT_EQ(probabilities_after(five, 40, {0.9, 0.1}), none);
 }
 
 TEST(Executive, ABankOfAnotherStateSizeIsRefusedNamingTheSizesItRuns) {
@@ -349,7 +413,9 @@ TEST(Executive, ABankOfAnotherStateSizeIsRefusedNamingTheSizesItRuns) {
     FAIL() << "a 15-state bank was accepted";
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("(13, 5, 7) or (19, 5, 7)"), std::string::npos) << what;
+    EXPECT_NE(what.find("(13, 5, 7), (19, 5, 7) with the gust states or (13, 6, 7) with the throttle input"),
+              std::string::npos)
+        << what;
     EXPECT_NE(what.find("this bank has (15, 5, 7)"), std::string::npos) << what;
   }
 }

@@ -23,8 +23,8 @@ from f16mmae.lcm.hil import fly_hil
 from f16mmae.loop.flight import fly
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae import core
-from f16mmae.lcm.replay import (SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA, InProcessExecutive, ReplayError,
-                                replay_log)
+from f16mmae.lcm.replay import (COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE, SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA,
+                                InProcessExecutive, ReplayError, replay_log)
 from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
@@ -244,12 +244,17 @@ def test_unreadable_or_foreign_logs_are_refused(bank, tmp_path, capsys):
     log.close()
     with pytest.raises(ReplayError, match="holds no 'MMAE_STATUS' messages"):
         replay_log(other, bank)
-    old = tmp_path / "before_air_data.lcmlog"
-    log = lcm.EventLog(str(old), "w", overwrite=True)
-    log.write_event(0, "F16_SENSORS", SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA + b"\x00" * 120)
-    log.close()
-    with pytest.raises(ReplayError, match="recorded before lcmt_sensor_frame carried air data"):
-        replay_log(old, bank)
+    for channel, data, said in (  # logs of older message versions, known by their fingerprints
+            ("F16_SENSORS", SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA + b"\x00" * 120,
+             "recorded before lcmt_sensor_frame carried air data"),
+            ("F16_COMMANDS", COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE + b"\x00" * 96,
+             "recorded before lcmt_command_frame carried the throttle")):
+        old = tmp_path / f"old_{channel}.lcmlog"
+        log = lcm.EventLog(str(old), "w", overwrite=True)
+        log.write_event(0, channel, data)
+        log.close()
+        with pytest.raises(ReplayError, match=said):
+            replay_log(old, bank)
     assert main(["replay", str(tmp_path / "nope.lcmlog"), "--bank", "tuned"]) == 2
     assert "does not exist" in capsys.readouterr().err
     assert main(["replay", str(other), "--bank", "tuned", "--tolerance", "-1"]) == 2

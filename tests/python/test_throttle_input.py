@@ -147,9 +147,34 @@ def test_design_throttle_input_writes_a_six_input_bank_its_command_reproduces(tm
     assert hb.declarations == [] and hb.probabilities[0] > 0.9
 
 
-def test_throttle_input_is_refused_for_a_scheduled_design(tmp_path, capsys):
-    assert cli.main(["design", "--schedule", "--throttle-input", "--out", str(tmp_path / "s.f16sched")]) != 0
-    assert "--throttle-input" in capsys.readouterr().err
+@pytest.mark.slow
+def test_a_scheduled_throttle_bank_runs_six_inputs_at_every_node(tmp_path, capsys):
+    """`design --schedule ... --throttle-input`: every node is the point's 6-input design (its
+    throttle column JSBSim's at that point), the file reproduces from its command, and the core
+    schedules it as a throttle bank."""
+    out = tmp_path / "s.f16sched"
+    args = ["design", "--schedule", "mach=0.4/0.5,alt=20000", "--node-tuning", "fixed", "--flap-layers", "off",
+            "--throttle-input", "--workers", "2", "--out", str(out)]
+    assert cli.main(args) == 0
+    mb = core.load_bank(str(out))
+    meta = json.loads(mb.schedule["metadata"])
+    assert meta["throttle_input"] is True and meta["command"].endswith("--throttle-input")
+    assert mb.nu == 6 and tuple(mb.input_names) == names.INPUTS_WITH_THROTTLE
+    nodes = {n["mach"]: n["bank"] for n in mb.schedule["nodes"]}
+    assert sorted(nodes) == [0.4, 0.5]
+    for m, node in nodes.items():  # each node is that point's own throttle design
+        single = bank.to_model_bank(bank.design_bank(m, 20000.0, "tuned", throttle_input=True))
+        assert node.content_hash == core.ModelBank.from_bytes(single.to_bytes()).content_hash
+        assert node.nu == 6
+    again = tmp_path / "again.f16sched"
+    assert cli.main(args[:-1] + [str(again)]) == 0
+    assert again.read_bytes() == out.read_bytes()
+    hb = core.HierarchicalBank(mb)
+    assert hb.fixed_size
+    for _ in range(64):
+        hb.schedule(0.45, 20000.0)
+        hb.step(mb.z_trim, mb.u_trim)
+    assert hb.declarations == []
 
 
 @pytest.fixture(scope="module")
@@ -184,10 +209,177 @@ def test_closed_loop_flies_the_scheduled_throttle_dither_and_hands_its_command_t
     assert [d["hypothesis"] for d in in_cpp.declarations][:1] == ["VEL"]
 
 
-def test_the_lcm_executive_refuses_a_throttle_bank_by_name(throttle_bank):
-    from f16mmae.lcm.channels import HilError
+@pytest.mark.slow
+def test_lockstep_over_memq_with_a_throttle_bank_equals_the_in_process_run_and_its_frames_replay(throttle_bank):
+    """The command frame carries the throttle: the LCM executive (core.Executive, served on
+    memq://) runs the 6-input bank on it exactly as the in-process closed loop does, and the
+    frames it received, fed to a fresh executive, give the same statuses; a command frame
+    without its throttle is rejected by this bank."""
+    import lcm
+
+    from f16mmae.lcm.channels import channels
+    from f16mmae.lcm.codec import command_of
     from f16mmae.lcm.hil import fly_hil
+    from f16mmae.lcm.replay import InProcessExecutive
+    from f16mmae.lcmt_command_frame import lcmt_command_frame
+    from f16mmae.lcmt_mmae_status import lcmt_mmae_status
+    from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
+    from f16mmae.loop.flight import fly
+    from f16mmae.truth import Scenario
+    from f16mmae.truth.failures import make_failure
+
+    sc = Scenario(turbulence="none", duration_s=3.0, seed=3, failures=(make_failure("VEL", 0.5),))
+    lc = lcm.LCM("memq://")
+    chans = channels("THR_")
+    served = InProcessExecutive(throttle_bank)
+    assert served.executive.nu == 6
+    served.serve(lc, chans)
+    wire = []  # every frame the executive received, in order
+    for ch in (chans.sensors, chans.commands):
+        lc.subscribe(ch, lambda channel, data: wire.append((channel, data)))
+    remote = fly_hil(sc, throttle_bank, lc, chans, lockstep=True, timeout_s=2.0)
+    lc.handle_timeout(100)  # the last command frame, which no status follows
+    local = fly(sc, throttle_bank)
+    assert remote.hypotheses == local.hypotheses
+    assert np.nanmax(np.abs(remote.probabilities - local.probabilities)) == 0.0
+    assert remote.declarations == local.declarations
+    assert [d["hypothesis"] for d in remote.declarations][:1] == ["VEL"]
+    assert served.executive.counters["commands_applied"] == 192 and served.executive.counters["frames_rejected"] == 0
+    commands = [lcmt_command_frame.decode(d) for c, d in wire if c == chans.commands]
+    throttles = np.array([f.throttle for f in commands])
+    assert np.all(np.isfinite(throttles)) and throttles.std() > 1e-3  # the dithered throttle crossed
+    # the same frames into a fresh executive: the same statuses
+    again = InProcessExecutive(throttle_bank)
+    last = None
+    for ch, data in wire:
+        if ch == chans.sensors:
+            f = lcmt_sensor_frame.decode(data)
+            last = again.on_sensor(f.frame, f.z, list(f.valid), f.utime, (f.mach, f.pressure_altitude_ft))
+        else:
+            f = lcmt_command_frame.decode(data)
+            assert again.on_command(f.frame, command_of(f), f.utime) == "used"
+    assert last.declared == remote.final_hypothesis == "VEL"
+    served_last = lcmt_mmae_status.decode(served.executive.encoded_status)
+    assert last.frame == served_last.frame == 191
+    assert list(last.probabilities) == list(served_last.probabilities)
+    # five values (no throttle) to this bank: refused by the binding, NaN on the wire rejected
+    with pytest.raises(ValueError, match="throttle"):
+        again.executive.on_command(192, np.asarray(throttle_bank.u_trim)[:5])
+    nan_throttle = np.asarray(throttle_bank.u_trim).copy()
+    nan_throttle[5] = np.nan
+    assert again.on_command(192, nan_throttle) == "rejected"
+
+
+def _maneuvering_throttles(engine, sc):
+    """Per frame: the outer loop's throttle (python engine: the lever the pilot set before
+    advance; NaN on cpp, where it flies inside the frames) and the command advance wrote."""
+    from f16mmae.truth import FlightControlSystem, TruthModel
+    from f16mmae.truth.outer_loop import THROTTLE_PROPERTY
+
+    truth = TruthModel(sc, engine=engine)
+    fcs = FlightControlSystem(truth.trim, sc, pilot=truth.pilot())
+    truth.attach(fcs)
+    z, outer, sent = truth.measure(), [], []
+    for _ in range(int(round(sc.duration_s * names.FRAME_RATE_HZ))):
+        if engine == "python":
+            u = fcs.command(z, truth.time_s)
+            outer.append(truth.fdm[THROTTLE_PROPERTY])
+            truth.advance(u)
+            z = truth.measure()
+        else:
+            outer.append(np.nan)
+            _, z = truth.step(fcs, z)
+        sent.append(truth.last_throttle_command)
+    truth.detach(fcs)
+    truth.close()
+    return np.array(outer), np.array(sent)
+
+
+def test_in_maneuvers_the_throttle_dither_rides_on_the_outer_loops_throttle_in_both_engines():
+    """th_i = sat(outer loop's throttle_i + a sin(2 pi f t_i), 0, 1) (hand-computed here from
+    the lever the pilot set), and the C++ frames write the same commands bit for bit."""
+    from f16mmae.truth import Scenario
+    from f16mmae.truth.dither import DitherSpec
+
+    sc = Scenario(turbulence="none", duration_s=5.0, seed=5, feedback="raw",
+                  dither=DitherSpec(throttle_amplitude=0.03, throttle_frequency_hz=0.7),
+                  maneuvers=("decel@0.2:to=0.3mach:rate=0.05mach/s",))
+    outer, sent = _maneuvering_throttles("python", sc)
+    t = np.arange(len(sent)) / names.FRAME_RATE_HZ
+    expected = np.clip(outer + 0.03 * np.sin(2 * np.pi * 0.7 * t), 0.0, 1.0)
+    np.testing.assert_allclose(sent, expected, rtol=0, atol=1e-15)
+    assert np.ptp(outer) > 0.2                                # the pilot moved the lever
+    assert (sent == 0.0).any() and (sent > 0.0).any()         # the slow-down idles it: clamped
+    _, sent_cpp = _maneuvering_throttles("cpp", sc)
+    np.testing.assert_array_equal(sent_cpp, sent)
+
+
+@pytest.mark.slow
+def test_a_throttle_bank_flies_maneuvers_with_the_dither_on_the_outer_loop_alike_in_cpp_and_python(throttle_bank):
+    """The closed loop with a throttle bank and maneuvers (the scheduled dither on the outer
+    loop's throttle): the whole flight in C++, frame by frame and on the Python engine give the
+    same declarations and probabilities, and u carries the throttle command the truth wrote."""
+    from f16mmae.loop.flight import fly
     from f16mmae.truth import Scenario
 
-    with pytest.raises(HilError, match="throttle.*u_rad\\[5\\]"):
-        fly_hil(Scenario(duration_s=1.0), throttle_bank, None, None)
+    sc = Scenario(turbulence="none", duration_s=4.0, seed=7, maneuvers=("climb@0.5:to=20400ft:rate=3000fpm",
+                                                                         "turn@1:bank=30"))
+    one_call = fly(sc, throttle_bank)
+    assert one_call.scenario["dither"]["throttle_schedule"] is True
+    frames = []
+    per_frame = fly(sc, throttle_bank, on_frame=lambda t, u, z, a: frames.append(u))
+    python = fly(sc, throttle_bank, engine="python")
+    for other in (per_frame, python):
+        assert other.declarations == one_call.declarations
+        np.testing.assert_array_equal(other.probabilities, one_call.probabilities)
+    th = np.array(frames)[:, 5]
+    assert np.all((th >= 0) & (th <= 1)) and np.ptp(th) > 0.01  # the pilot's lever moved, dither on it
+
+
+def test_actuator_limits_pass_the_throttle_through_and_limit_the_surfaces(throttle_bank):
+    """--actuator-limits with 6 inputs: the throttle (no actuator: +inf limits) reaches the
+    filters unchanged; the surfaces are limited as in a 5-input bank. A finite limit on the
+    throttle is refused by name (it drives no lag state), and the daemon gets 'inf'."""
+    from f16mmae.lcm.daemon import daemon_flags
+    from f16mmae.loop.estimator import Estimator, core_arguments
+    from f16mmae.truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
+
+    args = core_arguments({"actuator_limits": True}, 6)
+    assert args["actuator_rate_limits_rad_s"] == [*RATE_LIMIT_RAD_S, float("inf")]
+    flags = daemon_flags({"actuator_limits": True}, 6)
+    assert flags[flags.index("--actuator-rate-limits") + 1].endswith(",inf")
+    limited, free = Estimator(throttle_bank, actuator_limits=True), Estimator(throttle_bank)
+    u_trim, z_trim = np.asarray(throttle_bank.u_trim), np.asarray(throttle_bank.z_trim)
+    for i in range(64):  # inside every limit: the same probabilities (u_eff = u to rounding)
+        u = u_trim + 0.002 * np.sin(0.3 * i + np.arange(6))
+        u[5] = u_trim[5] + 0.02 * np.sin(0.1 * i)
+        for e in (limited, free):
+            e.update(z_trim)
+            e.propagate(u)
+    np.testing.assert_allclose(limited.probabilities, free.probabilities, rtol=0, atol=1e-9)
+    finite = dict(core_arguments({"actuator_limits": True}, 6))
+    finite["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, 1.0]
+    finite["actuator_position_limits_rad"] = [*POSITION_LIMIT_RAD, 1.0]
+    with pytest.raises(ValueError, match="input 5 drives no first-order lag state"):
+        core.HierarchicalBank(throttle_bank, **finite)
+
+
+def test_paced_hil_with_a_throttle_bank_sends_the_throttle_with_every_command(throttle_bank):
+    """Free-running (paced, 64 Hz wall clock) over memq://: every command frame carries the
+    frame's throttle command, so the throttle bank applies each (none rejected)."""
+    import lcm
+
+    from f16mmae.lcm.channels import channels
+    from f16mmae.lcm.hil import fly_hil
+    from f16mmae.lcm.replay import InProcessExecutive
+    from f16mmae.truth import Scenario
+
+    lc = lcm.LCM("memq://")
+    chans = channels("THRP_")
+    served = InProcessExecutive(throttle_bank)
+    served.serve(lc, chans)
+    result = fly_hil(Scenario(turbulence="none", duration_s=0.5, seed=4), throttle_bank, lc, chans, lockstep=False)
+    lc.handle_timeout(100)
+    link = result.timing["link"]
+    assert link["statuses"] + link["deadline_misses"] == 32  # a loaded host may make a status late
+    assert served.executive.counters["commands_applied"] == 32 and served.executive.counters["frames_rejected"] == 0

@@ -134,8 +134,9 @@ def test_throttle_dither_settings_are_checked_and_kept_out_of_records_when_off()
             DitherSpec(throttle_amplitude=bad)
     with pytest.raises(ValueError, match="throttle_frequency_hz"):
         DitherSpec(throttle_amplitude=0.02, throttle_frequency_hz=20.0)
-    with pytest.raises(ValueError, match="maneuvers"):
-        Sc(dither=on, duration_s=10.0, maneuvers=("turn@1:bank=20",))
+    # with maneuvers the dither rides on the outer loop's throttle (test_throttle_input.py)
+    maneuvering = Sc(dither=on, duration_s=10.0, maneuvers=("turn@1:bank=20",))
+    assert Sc.from_dict(maneuvering.to_dict()) == maneuvering
 
 
 def test_scheduled_throttle_amplitude_meets_the_criterion_on_jsbsims_column():

@@ -44,6 +44,10 @@ SCENARIOS = {
     "scheduled throttle dither, fast and low": Scenario(
         mach=0.8, alt_ft=5_000.0, duration_s=2.0, seed=17, feedback="raw",
         dither=DitherSpec(throttle_schedule=True, throttle_frequency_hz=0.7)),
+    "throttle dither on the outer loop's throttle": Scenario(
+        duration_s=4.0, seed=18, turbulence="light", feedback="raw",
+        dither=DitherSpec(throttle_amplitude=0.03, throttle_frequency_hz=0.7),
+        maneuvers=("accel@0.5:to=0.45mach", "turn@1:bank=30"), failures=_fails("VEL@2.0")),
     "no noise, no dither": Scenario(mach=0.45, alt_ft=35_000.0, duration_s=2.0, seed=15, noise=False,
                                     dither=DitherSpec(enabled=False), ari=False, feedback="raw",
                                     failures=_fails("RUD@1.0:stuck")),

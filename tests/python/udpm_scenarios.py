@@ -106,6 +106,29 @@ def sending_from_one_cpu():
         os.sched_setaffinity(0, allowed)
 
 
+def _fly_logged(path, bank, scenario, prefix, log, pause_s=0.0):
+    """A lockstep flight of ``scenario`` against mmae-daemon running bank file ``path``, the stock
+    lcm-logger recording the channels of ``prefix`` into ``log``; returns (daemon, result).
+    ``pause_s`` after each frame: a calm-air flight runs its frames faster than lcm-logger,
+    which nothing waits for, drains its socket on a loaded 2-core host."""
+    chans = channels(prefix)
+    last = int(round(scenario.duration_s * 64)) - 1
+    logger = subprocess.Popen([_tool("lcm-logger"), "-q", "-f", "-l", URL, "-c", f"{prefix}.*", str(log)])
+    try:
+        with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+            time.sleep(0.5)  # the logger subscribes
+            lc = lcm.LCM(URL)
+            with sending_from_one_cpu():
+                remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0,
+                                 on_frame=(lambda *frame: time.sleep(pause_s)) if pause_s else None)
+        _wait_until_logged(log, lc, chans.commands, frame=last)
+    finally:
+        logger.send_signal(signal.SIGINT)
+        logger.wait(timeout=10)
+    assert daemon.returncode == 0
+    return daemon, remote
+
+
 def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path):
     label, path, bank = banked
     prefix = f"T{os.getpid()}A_"
@@ -113,18 +136,7 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
     scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=4.0, seed=2,
                         feedback="mmae", failures=(make_failure("LS", 0.5),))
     log = tmp_path / "hil.lcmlog"
-    logger = subprocess.Popen([_tool("lcm-logger"), "-q", "-f", "-l", URL, "-c", f"{prefix}.*", str(log)])
-    try:
-        with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
-            time.sleep(0.5)  # the logger subscribes
-            lc = lcm.LCM(URL)
-            with sending_from_one_cpu():
-                remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0)
-        _wait_until_logged(log, lc, chans.commands, frame=255)
-    finally:
-        logger.send_signal(signal.SIGINT)
-        logger.wait(timeout=10)
-    assert daemon.returncode == 0
+    daemon, remote = _fly_logged(path, bank, scenario, prefix, log)
     assert "256 updated, 256 commands applied, 0 rejected, 0 dropped" in daemon.summary
     # the air data crossed with every frame (a frame without it would be counted here)
     assert "0 air data rejected" in daemon.summary and remote.timing["link"]["air_data_rejected"] == 0
@@ -400,3 +412,33 @@ def test_hil_lockstep_with_a_gust_state_bank_equals_in_process(tmp_path, capsys)
     assert rc == 0, out
     assert "19 states (gust)" in out and "turbulence adaptation" in out and "declared AZ" in out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
+
+
+def test_lockstep_flight_with_a_throttle_bank_equals_in_process_and_its_log_replays(tmp_path):
+    """mmae-daemon runs a 6-input bank (the throttle command, `f16mmae design --throttle-input`;
+    the bank file's nu selects it) on the command frames' throttle: a calm-air VEL failure flown
+    in lockstep over udpm equals the in-process run exactly, and lcm-logger's record of it
+    replays to the same statuses and declarations."""
+    path = tmp_path / "calm_throttle.f16bank"
+    assert main(["design", "--throttle-input", "--gust-level", "none", "--out", str(path)]) == 0
+    bank = core.load_bank(str(path))
+    assert bank.nu == 6
+    prefix = f"T{os.getpid()}T_"
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="none", duration_s=3.0, seed=3,
+                        failures=(make_failure("VEL", 0.5),))
+    log = tmp_path / "throttle.lcmlog"
+    daemon, remote = _fly_logged(path, bank, scenario, prefix, log, pause_s=0.003)
+    assert "13 states, 6 inputs (throttle)" in daemon.ready_line, daemon.ready_line
+    assert "192 updated, 192 commands applied, 0 rejected, 0 dropped" in daemon.summary
+    local = fly(scenario, bank)
+    assert remote.hypotheses == local.hypotheses
+    assert np.nanmax(np.abs(remote.probabilities - local.probabilities)) == 0.0
+    assert remote.declarations == local.declarations
+    assert [d["hypothesis"] for d in remote.declarations][:1] == ["VEL"]
+    throttles = [lcmt_command_frame.decode(e.data).throttle for e in lcm.EventLog(str(log), "r")
+                 if e.channel == channels(prefix).commands]
+    assert len(throttles) == 192 and np.std(throttles) > 1e-3  # the dithered throttle, logged
+    report = replay_log(log, bank, channel_prefix=prefix)
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == 192
+    assert main(["replay", str(log), "--bank", str(path), "--channel-prefix", prefix]) == 0

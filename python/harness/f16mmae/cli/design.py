@@ -50,6 +50,7 @@ examples:
   f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
   f16mmae design --turbulence-banks --out turbulence_banks/            # the set of --turbulence-banks
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
+  f16mmae design --schedule --throttle-input --out scheduled_throttle.f16sched   # 6 inputs at every node
 
 Scheduled design (--schedule [GRID]): one bank per point of a Mach x altitude grid, the
 tuning's pseudonoise re-calibrated at every point (--node-tuning calibrated: stage 1 of
@@ -213,8 +214,6 @@ def _run_schedule(args) -> int:
     if args.gust_states or args.gust_level is not None:
         raise CliError("--gust-states and --gust-level design one point; give a tuning file with gust_model "
                        "and turbulence to --schedule instead")
-    if args.throttle_input:
-        raise CliError("--throttle-input designs one point; a scheduled bank with the throttle input is not built")
     try:
         grid = parse_grid(args.schedule)
         tuning = load_tuning(args.tuning)
@@ -228,14 +227,15 @@ def _run_schedule(args) -> int:
         raise CliError(f"--node-tuning {node_tuning!r}: valid: {', '.join(NODE_TUNINGS)}")
     if args.flap_layers not in (None, "on", "off"):
         raise CliError(f"--flap-layers {args.flap_layers!r}: valid: on, off")
-    out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}.f16sched", "--out")
+    thr = "_throttle" if args.throttle_input else ""
+    out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}.f16sched", "--out")
     how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
     print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
           f"tuning {how} {tuning.name}", flush=True)
     try:
         s = design_schedule(grid, args.tuning, out, workers=workers,
                             progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning,
-                            flap_layers=args.flap_layers != "off")
+                            flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

@@ -95,11 +95,11 @@ def _hil(args) -> int:
     try:
         if args.start_daemon:
             daemon = DaemonProcess(path, lcm_url=url, channel_prefix=args.channel_prefix, auth_key=args.auth_key,
-                                   extra_args=daemon_flags(options))
+                                   extra_args=daemon_flags(options, bank.nu))
             print(daemon.ready_line)
         elif options:  # no status carries the settings: say what the record assumes of that daemon
             print(f"estimator options: the record assumes the daemon on {url} runs with "
-                  f"{' '.join(daemon_flags(options))} (see its ready line)")
+                  f"{' '.join(daemon_flags(options, bank.nu))} (see its ready line)")
         result = fly_hil(scenario, bank, lc, chans, lockstep=args.lockstep, timeout_s=timeout_s, auth=auth,
                          estimator_options=options)
     except HilError as exc:

@@ -105,7 +105,7 @@ def _replay(args) -> int:
     print(f"replayed {args.logfile}: {report.events} events, {report.sensor_frames} sensor frames, "
           f"{report.command_frames} command frames, {report.statuses_logged} statuses; bank {label} "
           f"({str(bank.content_hash)[:12]})")
-    print(f"estimator options: {' '.join(daemon_flags(options)) or 'none (the bank as designed)'}")
+    print(f"estimator options: {' '.join(daemon_flags(options, bank.nu)) or 'none (the bank as designed)'}")
     if auth is not None:
         print(f"authenticated with {args.auth_key}: {report.unauthenticated} unauthenticated and "
               f"{report.replayed} replayed messages skipped")

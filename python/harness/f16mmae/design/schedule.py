@@ -21,6 +21,11 @@ the node's own tuning and reference), and the file carries the flap law (layers 
 the interpolated trim alpha), so the core blends the filters of one aircraft configuration,
 never two (``cpp/f16mmae/bank_schedule.h``).
 
+With ``throttle_input`` every node is the 6-input design (``design_bank(..., throttle_input=True)``:
+the throttle command's column from JSBSim's linearization at the node).  Its calibration and
+adaptation reference are those of the node's 5-input design (the same K and A: the gains do
+not depend on B; the tuning flights fly no throttle dither).
+
 Deterministic: the same grid and tuning give the same file byte for byte (nodes in grid
 order; the metadata holds no time or host).  The points are designed in parallel (a process
 pool, ``workers``), the file written once all are in.
@@ -130,11 +135,11 @@ def _design_point(args):
     flights); else the flap held at ``lef_rad`` with ``tuning`` and ``reference`` as given (the
     node's own: the truth never flies the point in that configuration, so there is nothing to
     calibrate on)."""
-    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference = args
+    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle = args
     t0 = time.perf_counter()
     record, layer, tun = {}, 0, None
     try:
-        lin = linearize_truth(mach, alt_ft, lef_rad=lef_rad)
+        lin = linearize_truth(mach, alt_ft, throttle=throttle, lef_rad=lef_rad)
         layer = _layer(lin.trim.lef_rad)
         tun = load_tuning(tuning) if isinstance(tuning, str) else tuning
         if node_tuning == "calibrated" and lef_rad is None:
@@ -148,6 +153,8 @@ def _design_point(args):
         if node_tuning == "calibrated" and lef_rad is None:
             reference = adaptation_reference(design, flights)
             record["adapt_reference"] = reference
+        if throttle:
+            design = design_bank(mach, alt_ft, tun, linearized=lin, throttle_input=True)
     except (TrimError, DesignError) as exc:
         return i, j, layer, None, None, str(exc), time.perf_counter() - t0, record, tun, None
     return (i, j, layer, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0, record, tun,
@@ -172,13 +179,15 @@ def alternate_nodes(grid: Grid, own: dict[tuple[int, int], int]) -> list[tuple[i
 def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "scheduled.f16sched",
                     workers: int | None = None,
                     progress: Callable[[str], None] | None = None,
-                    node_tuning: str = DEFAULT_NODE_TUNING, flap_layers: bool = True) -> dict:
+                    node_tuning: str = DEFAULT_NODE_TUNING, flap_layers: bool = True,
+                    throttle_input: bool = False) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
     trim alpha at ``aircraft.LEF_ALPHA_SWITCH_RAD``); without, one layer (every node in layer 0,
     blended across the switch).
     ``node_tuning`` (NODE_TUNINGS): ``tuning`` at every node, or calibrated at each node from it.
+    ``throttle_input``: every node models the throttle as its sixth input (module docstring).
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""
@@ -187,7 +196,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     if node_tuning not in NODE_TUNINGS:
         raise ScheduleSpecError(f"node tuning {node_tuning!r} is not one of {', '.join(NODE_TUNINGS)}")
     tuning_obj = load_tuning(tuning)
-    points = [(i, j, m, a, tuning, node_tuning, None, None)
+    points = [(i, j, m, a, tuning, node_tuning, None, None, throttle_input)
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     t0 = time.perf_counter()
     results, alternates = {}, {}
@@ -200,7 +209,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[6]:.1f} s)")
         own = {k: r[2] for k, r in results.items() if r[3] is not None}
         tasks = [] if not flap_layers else [(i, j, grid.mach[i], grid.alt_ft[j], results[(i, j)][8], node_tuning, LEF_POSITIONS_RAD[layer],
-                  results[(i, j)][9]) for i, j, layer in alternate_nodes(grid, own)]
+                  results[(i, j)][9], throttle_input) for i, j, layer in alternate_nodes(grid, own)]
         for n, r in enumerate(pool.map(_design_point, tasks), start=1):
             alternates[(r[0], r[1], r[2])] = r
             if progress:
@@ -227,7 +236,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "design_version": DESIGN_VERSION,
         "jsbsim_version": jsbsim.__version__,
         "command": (f"f16mmae design --schedule {format_spec(grid)} --tuning {tuning_obj.name} "
-                    f"--node-tuning {node_tuning} --flap-layers {'on' if flap_layers else 'off'}"),
+                    f"--node-tuning {node_tuning} --flap-layers {'on' if flap_layers else 'off'}"
+                    + (" --throttle-input" if throttle_input else "")),
         "grid": {"mach": list(grid.mach), "alt_ft": list(grid.alt_ft)},
         "tuning": tuning_obj.name,
         "node_tuning": node_tuning,
@@ -243,6 +253,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                                 "tuning and adaptation reference, the trim and dynamics with the flap held"},
         "nodes": node_records,
         "skipped": skipped,
+        **({"throttle_input": True} if throttle_input else {}),
     }
     path = Path(out)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -29,9 +29,21 @@ def sensor_frame_bytes(i: int, z, air_data=(math.nan, math.nan), valid: bool = T
 
 
 def command_frame_bytes(i: int, u, rate_hz: float = FRAME_RATE_HZ) -> bytes:
-    """Frame ``i``'s surface commands ``u`` (rad, names.ACTUATORS order) as an encoded
-    ``lcmt_command_frame``."""
+    """Frame ``i``'s commands ``u`` as an encoded ``lcmt_command_frame``: the five surface
+    commands (rad, names.ACTUATORS order), then, when ``u`` has six elements (a bank that models
+    the throttle: names.INPUTS_WITH_THROTTLE), the throttle command; with five the throttle
+    field is NaN (a sender without a throttle command: a 5-input bank does not use it)."""
+    u = [float(v) for v in u]
+    if len(u) not in (5, 6):
+        raise ValueError(f"a command frame carries 5 surface commands and optionally the throttle, got {len(u)} values")
     msg = lcmt_command_frame()
     msg.utime, msg.frame = frame_utime(i, rate_hz), i
-    msg.u_rad = [float(v) for v in u]
+    msg.u_rad = u[:5]
+    msg.throttle = u[5] if len(u) == 6 else math.nan
     return msg.encode()
+
+
+def command_of(frame) -> list[float]:
+    """A decoded ``lcmt_command_frame``'s command as the executive takes it: u_rad, then the
+    throttle (names.INPUTS_WITH_THROTTLE order; NaN from a sender without one)."""
+    return [*frame.u_rad, frame.throttle]

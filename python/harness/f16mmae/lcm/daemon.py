@@ -29,12 +29,12 @@ def statistics_line(output: str, program: str) -> dict:
         raise HilError(f"{program}'s statistics line is not JSON ({exc}): {lines[-1][:200]!r}") from None
 
 
-def daemon_flags(estimator_options: dict) -> tuple[str, ...]:
-    """The ``mmae-daemon`` arguments that give it ``estimator_options`` (``actuator_limits``
-    becomes the limits themselves, as in process: ``loop.estimator.core_arguments``;
-    ValueError for an option the daemon has no flag for)."""
+def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
+    """The ``mmae-daemon`` arguments that give it ``estimator_options`` for a bank of ``nu``
+    inputs (``actuator_limits`` becomes the limits themselves, as in process:
+    ``loop.estimator.core_arguments``; ValueError for an option the daemon has no flag for)."""
     out: list[str] = []
-    for key, value in core_arguments(estimator_options).items():
+    for key, value in core_arguments(estimator_options, nu).items():
         option = BY_KEY.get(key)
         if option is None or not option.in_daemon:
             if option is not None and not value:

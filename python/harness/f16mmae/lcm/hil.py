@@ -28,7 +28,7 @@ import json
 
 from ..banks import bank_estimator_settings
 from ..lcmt_run_marker import lcmt_run_marker
-from ..loop.flight import fly, models_throttle
+from ..loop.flight import fly
 from .channels import Channels, HilError
 from .remote import RemoteEstimator, level0_hypotheses
 
@@ -50,11 +50,8 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
     ``on_frame(t, u, z, air_data)`` is called after each frame, as by loop.flight.fly; ``remote``: a
     RemoteEstimator of the caller's (then ``lockstep``/``timeout_s``/``auth`` are its own);
     ``auth``: a ``core.FrameAuth`` that signs what is sent and checks the statuses.
-    A bank that models the throttle is refused (HilError): the command frame carries the five
-    surface commands only (docs/INTERFACES.md)."""
-    if models_throttle(model_bank):
-        raise HilError("this bank models the throttle (6 inputs: f16mmae design --throttle-input); the LCM "
-                       "executive runs 5-input banks only (lcmt_command_frame carries u_rad[5]): fly it in process")
+    With a bank that models the throttle, each command frame carries the frame's throttle
+    command beside the surface commands (docs/INTERFACES.md), as the in-process loop hands it."""
     if remote is None:
         remote = RemoteEstimator(lc, chans, lockstep=lockstep, timeout_s=timeout_s,
                                  expected_bank_hash=str(model_bank.content_hash),

@@ -29,6 +29,7 @@ from ..lcmt_mmae_status import lcmt_mmae_status
 from ..lcmt_sensor_frame import lcmt_sensor_frame
 from ..loop.estimator import core_arguments
 from .channels import Channels, channels
+from .codec import command_of
 
 
 class ReplayError(F16mmaeError, RuntimeError):
@@ -43,7 +44,7 @@ class InProcessExecutive:
 
     def __init__(self, model_bank, **estimator_options) -> None:
         settings = {**bank_estimator_settings(model_bank), **estimator_options}
-        self.executive = core.Executive(model_bank, **core_arguments(settings))
+        self.executive = core.Executive(model_bank, **core_arguments(settings, model_bank.nu))
         self.bank_hash = str(model_bank.content_hash)
 
     def reset(self) -> None:
@@ -59,7 +60,8 @@ class InProcessExecutive:
         return lcmt_mmae_status.decode(self.executive.encoded_status)
 
     def on_command(self, frame: int, u, utime: int = 0) -> str:
-        """The command frame's fate ("used", "rejected", ...)."""
+        """The command frame's fate ("used", "rejected", ...). ``u``: the five surface commands,
+        then the throttle command (six; needed by a bank that models the throttle)."""
         return self.executive.on_command(int(frame), np.asarray(u, dtype=float), int(utime))
 
     def serve(self, lc, chans: Channels) -> list:
@@ -74,7 +76,7 @@ class InProcessExecutive:
 
         def on_command(channel, data):
             f = lcmt_command_frame.decode(data)
-            self.on_command(f.frame, f.u_rad, f.utime)
+            self.on_command(f.frame, command_of(f), f.utime)
 
         return [lc.subscribe(chans.sensors, on_sensor), lc.subscribe(chans.commands, on_command),
                 lc.subscribe(chans.reset, lambda channel, data: self.reset())]
@@ -166,9 +168,9 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
                     else:
                         computed[c.frame] = c
             elif ch == chans.commands:
-                f = lcmt_command_frame.decode(event.data)
+                f = _decode_command_frame(event.data, path)
                 report.command_frames += 1
-                executive.on_command(f.frame, f.u_rad, f.utime)
+                executive.on_command(f.frame, command_of(f), f.utime)
             elif ch == chans.reset:
                 executive.reset()
                 computed.clear()
@@ -210,6 +212,20 @@ def _decode_sensor_frame(data: bytes, path: Path):
                           f"version; record the flight again (f16mmae hil) or replay it with the release "
                           f"that wrote it")
     return lcmt_sensor_frame.decode(data)
+
+
+#: The fingerprint (first 8 bytes) of ``lcmt_command_frame`` before it carried the throttle.
+COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE = bytes.fromhex("7104f132bac68b60")
+
+
+def _decode_command_frame(data: bytes, path: Path):
+    """A logged command frame, or ReplayError naming the log when it was written before the
+    command frame carried the throttle command."""
+    if data[:8] == COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE:
+        raise ReplayError(f"log {str(path)!r} was recorded before lcmt_command_frame carried the throttle "
+                          f"command (docs/INTERFACES.md): it cannot be replayed by this version; record the "
+                          f"flight again (f16mmae hil) or replay it with the release that wrote it")
+    return lcmt_command_frame.decode(data)
 
 
 def _compare(report: ReplayReport, s, c: lcmt_mmae_status, mismatch) -> None:

@@ -9,6 +9,8 @@ the caller's overrides.  Nothing else of the truth model reaches it.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .. import core
@@ -16,15 +18,17 @@ from ..banks import bank_estimator_settings
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 
 
-def core_arguments(settings: dict) -> dict:
-    """The keyword arguments of ``core.HierarchicalBank`` for the estimator ``settings``:
-    ``actuator_limits`` (True) becomes the F-16 actuators' rate and position limits
-    (``truth.actuators``: the actuator specification the estimator's designer has, as the lag
-    in the bank; cpp/f16mmae/actuator_limits.h), never a measurement."""
+def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
+    """The keyword arguments of ``core.HierarchicalBank`` for the estimator ``settings`` of a
+    bank with ``nu`` inputs: ``actuator_limits`` (True) becomes the F-16 actuators' rate and
+    position limits (``truth.actuators``: the actuator specification the estimator's designer
+    has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
+    beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf."""
     out = dict(settings)
     if out.pop("actuator_limits", False):
-        out["actuator_rate_limits_rad_s"] = list(RATE_LIMIT_RAD_S)
-        out["actuator_position_limits_rad"] = list(POSITION_LIMIT_RAD)
+        free = [math.inf] * (nu - len(RATE_LIMIT_RAD_S))
+        out["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, *free]
+        out["actuator_position_limits_rad"] = [*POSITION_LIMIT_RAD, *free]
     return out
 
 
@@ -46,7 +50,7 @@ def _bank_set(model_bank, settings: dict):
     members = []
     for bank, reference in zip(bank_set.banks, bank_set.adapt_reference):
         member = {**bank_estimator_settings(bank), "adapt_reference": reference, **own, "adapt_turbulence": True}
-        members.append(core.HierarchicalBank(bank, **core_arguments(member)))
+        members.append(core.HierarchicalBank(bank, **core_arguments(member, bank.nu)))
     return core.TurbulenceBankSet(members, **bank_set.selector)
 
 
@@ -67,7 +71,7 @@ class Estimator:
         if self.settings.get("turbulence_banks"):
             self._bank = _bank_set(model_bank, self.settings)
         else:
-            self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings))
+            self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings, model_bank.nu))
         self.bank_hash = str(model_bank.content_hash)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None

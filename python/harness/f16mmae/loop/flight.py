@@ -15,7 +15,7 @@ Frame i (t_i = i / FRAME_RATE_HZ), as in docs/INTERFACES.md::
 
 A bank that models the throttle (``f16mmae design --throttle-input``; its inputs end with
 ``names.THROTTLE_INPUT``) propagates ``u_i = (the five surface commands, th_i)``, th_i the
-throttle command of frame i (``truth.throttle_command()``, a command like the surfaces'), and
+throttle command of frame i (``truth.last_throttle_command``, a command like the surfaces'), and
 the truth flies the scheduled throttle dither with it (``DitherSpec.with_scheduled_throttle``:
 the throttle is part of the MMAE system's excitation, as the surface dither is), unless the
 scenario gives a throttle dither of its own or disables the dither.
@@ -221,10 +221,9 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
             z_fb = reconfiguration.apply(estimator.declared, z, z_hat)
         else:
             z_fb = z
-        th = truth.throttle_command() if throttle else None  # before step: frame i's command
         u, z_next = step(fcs, z_fb, i + 1 < n_frames)  # u_i, then z_(i+1)
-        if throttle:
-            u = np.append(u, th)
+        if throttle:  # the throttle command frame i wrote (with maneuvers: the pilot's + dither)
+            u = np.append(u, truth.last_throttle_command)
         air_next = truth.air_data
         d = clock()
         estimator.propagate(u)

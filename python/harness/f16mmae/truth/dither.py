@@ -33,8 +33,10 @@ throttle command about its trim, ``th(t) = th_trim + a_th sin(2 pi f_th t)`` (co
 forward speed, which no surface dither can do subliminally (docs/results/excitation.md).  Its
 criterion is peak |Delta n_x| <= 0.02 g (CRITERION["nx_g"], the n_y criterion; see
 design/excitation.py); a_th = 0.0239 meets it at the nominal point (JSBSim's thrust per unit
-command there: 26.9 ft/s^2 of u').  It cannot be combined with maneuvers (the outer loop owns
-the throttle).
+command there: 26.9 ft/s^2 of u').  In maneuvers the dither rides on the outer loop's throttle
+command of the frame instead of the trim (truth/outer_loop.py: the pilot's lever plus the
+dither, ``th_i = sat(th_outer,i + a_th sin(2 pi f_th t_i), 0, 1)``); the outer loop's Mach hold
+sees the dither's small speed change as any other disturbance.
 
 Scheduled throttle dither (``throttle_schedule=True``; what the closed loop flies whenever the
 bank models the throttle, loop/flight.py): the amplitude of frame i follows the air data
@@ -199,10 +201,12 @@ def scheduled_throttle_amplitude(mach: float, alt_ft: float) -> float:
     return THROTTLE_SCHEDULE_NX_G * G_FPS2 / thrust_accel_fps2(mach, alt_ft)
 
 
-def throttle_command(trim: float, amplitude: float, omega_rad_s: float, time_s: float) -> float:
-    """The truth's throttle command at ``time_s``: ``trim + a_th sin(w t)`` (the reference of
-    cpp/truth/truth_frame.h ThrottleDither::command)."""
-    return trim + amplitude * math.sin(omega_rad_s * time_s)
+def throttle_command(base: float, amplitude: float, omega_rad_s: float, time_s: float) -> float:
+    """The truth's throttle command at ``time_s``: ``base + a_th sin(w t)`` on the lever's 0..1,
+    ``base`` the trim throttle or, in maneuvers, the outer loop's command of the frame (the
+    reference of cpp/truth/truth_frame.h ThrottleDither::command_about)."""
+    th = base + amplitude * math.sin(omega_rad_s * time_s)
+    return 1.0 if th > 1.0 else (0.0 if th < 0.0 else th)
 
 
 #: Extra exponent of the amplitude schedule above the design dynamic pressure (s < 1).

@@ -36,12 +36,13 @@ maneuvering flight's aircraft does not go back to the pool (the throttle and eng
 leaves are not the trim's).
 
 Throttle dither (``DitherSpec.throttle_amplitude`` > 0, truth.dither): the throttle command
-``th_trim + a_th sin(2 pi f_th t_i)`` is written at the start of frame i, before its JSBSim
-steps (``advance``; in C++ ``TruthFrames.set_throttle_dither``); scheduled
-(``DitherSpec.throttle_schedule``), a_th follows the air data measured with z_i
-(``dither.scheduled_throttle_amplitude``).  ``throttle_command()`` is the command of the
-current frame: the sixth input a throttle bank propagates.  Such a flight's aircraft does not go
-back to the pool either.
+``sat(base_i + a_th sin(2 pi f_th t_i), 0, 1)`` is written at the start of frame i, before its
+JSBSim steps (``advance``; in C++ ``TruthFrames.set_throttle_dither``); base_i is the trim
+throttle, or with maneuvers the outer loop's throttle command of frame i (the pilot's lever, set
+by the control law's pilot before ``advance``); scheduled (``DitherSpec.throttle_schedule``),
+a_th follows the air data measured with z_i (``dither.scheduled_throttle_amplitude``).
+``last_throttle_command`` is the command the last ``advance`` wrote: the sixth input a throttle
+bank propagates for that frame.  Such a flight's aircraft does not go back to the pool either.
 """
 from __future__ import annotations
 
@@ -232,12 +233,15 @@ class TruthModel:
         self._check_open()
         self._turbulence_due()
         if self._frames is not None:
+            if self._throttle is not None and self.scenario.maneuvers:  # the pilot flew in Python
+                self._frames.set_throttle_base(float(self.fdm[THROTTLE_PROPERTY]))
             self._frames.advance(np.asarray(u, dtype=float))
             self.frame += 1
             return
         u = [float(x) for x in u]
         if self._throttle is not None:
-            self.fdm[THROTTLE_PROPERTY] = self.throttle_command()
+            self._last_throttle = self.throttle_command()
+            self.fdm[THROTTLE_PROPERTY] = self._last_throttle
         act, setters, run = self.actuators, self._set_surface, self._run
         eff = u
         for _ in range(self._steps_per_frame):
@@ -258,16 +262,26 @@ class TruthModel:
     def throttle_command(self) -> float:
         """The throttle command of the current frame, written by the next ``advance``: the trim's
         without a throttle dither, else the dither's (scheduled: on the air data measured with
-        this frame's z).  A command, like u: the sixth input of a bank that models the throttle."""
+        this frame's z) about the trim or, with maneuvers, about the outer loop's throttle of
+        this frame (so: after the control law's pilot ran, before ``advance``)."""
         if self._frames is not None:
             return float(self._frames.throttle_command()) if self._throttle is not None else float(self.trim.throttle)
         if self._throttle is None:
             return float(self.trim.throttle)
         trim, a, w = self._throttle
+        base = float(self.fdm[THROTTLE_PROPERTY]) if self.scenario.maneuvers else trim  # the pilot's lever
         if self.scenario.dither.throttle_schedule:
             m, h = self.air_data_sensor.last
             a = scheduled_throttle_amplitude(float(m), float(h))
-        return throttle_command(trim, a, w, self.frame / FRAME_RATE_HZ)
+        return throttle_command(base, a, w, self.frame / FRAME_RATE_HZ)
+
+    @property
+    def last_throttle_command(self) -> float:
+        """The throttle command the last ``advance`` wrote with a throttle dither (the frame's
+        sixth input for a bank that models the throttle); NaN before it or without one."""
+        if self._frames is not None:
+            return float(self._frames.last_throttle)
+        return getattr(self, "_last_throttle", math.nan)
 
     def attach(self, fcs: FlightControlSystem) -> None:
         """Fly ``fcs``'s control law inside the C++ frames (``step``); its coefficients and

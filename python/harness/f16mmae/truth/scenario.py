@@ -129,9 +129,6 @@ class Scenario:
             if m.time_s > d:
                 raise ValueError(f"maneuver {m} starts after the end of the run ({d:g} s)")
         object.__setattr__(self, "maneuvers", ms)
-        if ms and self.dither.throttle_on:
-            raise ValueError("a throttle dither (dither.throttle_amplitude > 0) cannot fly with maneuvers: "
-                             "the maneuvers' outer loop sets the throttle; set throttle_amplitude = 0")
 
     # -- conversions -------------------------------------------------------------------------
     def to_dict(self) -> dict:

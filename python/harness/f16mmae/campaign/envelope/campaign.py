@@ -139,7 +139,7 @@ def point_rates(records: list[dict], correct_fraction_min: float = CORRECT_FRACT
 def trim_offset(bank, point: EnvelopePoint) -> dict:
     """Truth trim at ``point`` minus the bank's design trim (report only, never to the estimator)."""
     _, tp = trimmed_fdm(point.mach, point.alt_ft)
-    du = np.asarray(tp.u_rad) - np.asarray(bank.u_trim)
+    du = np.asarray(tp.u_rad) - np.asarray(bank.u_trim)[:len(tp.u_rad)]  # the surfaces (a throttle bank has 6)
     dz = np.asarray(tp.z) - np.asarray(bank.z_trim)
     return {"stab_deg": round(float(np.degrees(du[0])), 4), "vel_fps": round(float(dz[0]), 3),
             "aoa_deg": round(float(np.degrees(dz[1])), 4), "az_g": round(float(dz[3]), 5)}

@@ -66,12 +66,8 @@ FREEZE_PROBABILITY = 0.05
 #: member's own 99th percentile at its level (0.73, 0.79, 0.86, 1.82), tuning seeds: severe 389 false
 #: declarations in 0.67 h and 33/36 failures against 705 and 28/36, the other levels alike.
 ADAPT_REFERENCE: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
-#: Every member tracks the trim on line with this time constant (trim_tracker.h): tuning seeds,
-#: 8 flights of 600 s per level, false declarations in 1.33 h 4 -> 0 in calm air (AOA, late in
-#: the flights) and 17 -> 1 in moderate turbulence (LF, RF), failures 11/12 -> 11/12 and 12 -> 11.
-TRIM_TIME_CONSTANT_S = 30.0
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
-REVISION = 5
+REVISION = 6
 FORMAT = "f16mmae-turbulence-banks"
 SET_FILE = "set.json"
 
@@ -88,7 +84,6 @@ class BankSet:
     levels: tuple[str, ...]
     banks: tuple
     adapt_reference: tuple[float, ...]
-    trim_time_constant_s: float
     selector: dict
     set_hash: str
 
@@ -111,7 +106,7 @@ def set_path() -> Path:
     with open(names_data_dir() / "nominal_tuned.f16bank", "rb") as f:
         header = f.read(52)
     spec = (f"{REVISION};{MEMBER_TUNING};{MEMBER_LEVELS};{BOUNDS};{TYPICAL};{HOLD_S};{WARM_UP_S};{WARM_DOWN_S};{SETTLE_S};"
-            f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{TRIM_TIME_CONSTANT_S};{START};{START_STANDBY}")
+            f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{START};{START_STANDBY}")
     key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
     base = os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "f16mmae")
     return Path(base) / "banks" / f"turbulence_banks_{key}"
@@ -156,7 +151,7 @@ def design_set(out_dir: str | Path, progress=None) -> Path:
         body = {"format": FORMAT, "revision": REVISION, "members": members, "start": START,
                 "start_standby": START_STANDBY, "bounds": list(BOUNDS), "typical": list(TYPICAL), "hold_s": HOLD_S,
                 "warm_up_s": WARM_UP_S, "warm_down_s": WARM_DOWN_S, "settle_s": SETTLE_S, "freeze_probability": FREEZE_PROBABILITY,
-                "adapt_reference": list(ADAPT_REFERENCE), "trim_time_constant_s": TRIM_TIME_CONSTANT_S}
+                "adapt_reference": list(ADAPT_REFERENCE)}
         (tmp / SET_FILE).write_text(json.dumps({**body, "set_hash": _body_hash(body)}, indent=1, sort_keys=True) + "\n")
         if out_dir.exists():
             shutil.rmtree(out_dir)
@@ -206,7 +201,7 @@ def load_set(directory: str | Path | None = None) -> BankSet:
         v = data.get(key)
         if not (isinstance(v, list) and len(v) == count and all(isinstance(x, (int, float)) and x > 0 for x in v)):
             refuse(key, f"must be {count} positive numbers")
-    for key in ("hold_s", "warm_up_s", "warm_down_s", "settle_s", "freeze_probability", "trim_time_constant_s"):
+    for key in ("hold_s", "warm_up_s", "warm_down_s", "settle_s", "freeze_probability"):
         if not isinstance(data.get(key), (int, float)):
             refuse(key, "must be a number")
     ref = data.get("adapt_reference")
@@ -240,8 +235,7 @@ def load_set(directory: str | Path | None = None) -> BankSet:
                 "freeze_probability": float(data["freeze_probability"]), "start": start,
                 "start_standby": int(data.get("start_standby", -1))}
     return BankSet(path=directory, levels=tuple(levels), banks=tuple(banks),
-                   adapt_reference=tuple(float(x) for x in ref),
-                   trim_time_constant_s=float(data["trim_time_constant_s"]), selector=selector, set_hash=data["set_hash"])
+                   adapt_reference=tuple(float(x) for x in ref), selector=selector, set_hash=data["set_hash"])
 
 
 def _start_member() -> Path:

@@ -34,9 +34,9 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
 
 def _bank_set(model_bank, settings: dict):
     """``core.TurbulenceBankSet`` over the turbulence bank set (design/turbulence_banks.py),
-    each member with its own recommended settings, the set's adaptation reference and trim
-    tracking, then ``settings`` (which win), and the adaptation on (its rho is the selector's
-    measure).
+    each member with its own recommended settings and the set's adaptation reference, then
+    ``settings`` (which win: e.g. ``trim_time_constant_s``), and the adaptation on (its rho is
+    the selector's measure).
     ValueError unless ``model_bank`` is one of the set's members (the loop flies that bank's
     inputs and trims: ``--tuning turbulence``)."""
     from ..design.turbulence_banks import MEMBER_LEVELS, START, load_set
@@ -50,8 +50,7 @@ def _bank_set(model_bank, settings: dict):
     own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
     members = []
     for bank, reference in zip(bank_set.banks, bank_set.adapt_reference):
-        member = {**bank_estimator_settings(bank), "adapt_reference": reference,
-                  "trim_time_constant_s": bank_set.trim_time_constant_s, **own, "adapt_turbulence": True}
+        member = {**bank_estimator_settings(bank), "adapt_reference": reference, **own, "adapt_turbulence": True}
         members.append(core.HierarchicalBank(bank, **core_arguments(member, bank.nu)))
     return core.TurbulenceBankSet(members, **bank_set.selector)
 

@@ -40,14 +40,22 @@ def register_schedule_generator(generate: Callable[[Path], None]) -> None:
     _schedule_generator = generate
 
 
-#: The path of the turbulence bank set's start member, designing the set first if missing
-#: (registered by f16mmae.design.turbulence_banks, a layer above).
-_turbulence_locator: Callable[[], Path] | None = None
+#: The turbulence bank set (design/turbulence_banks.py, a layer above, registers it): its
+#: loader (the checked set, designed first if missing) and its start member's path.
+_turbulence_set: tuple[Callable[[], object], Callable[[], Path]] | None = None
 
 
-def register_turbulence_locator(locate: Callable[[], Path]) -> None:
-    global _turbulence_locator
-    _turbulence_locator = locate
+def register_turbulence_set(load: Callable[[], object], start_member: Callable[[], Path]) -> None:
+    global _turbulence_set
+    _turbulence_set = (load, start_member)
+
+
+def turbulence_bank_set():
+    """The turbulence bank set (``design.turbulence_banks.BankSet``); BankError if no layer
+    above registered it (import ``f16mmae.design.turbulence_banks``)."""
+    if _turbulence_set is None:
+        raise BankError(f"the {TURBULENCE_BANK!r} bank set is not available: import f16mmae.design.turbulence_banks")
+    return _turbulence_set[0]()
 
 
 def scheduled_bank_path() -> Path:
@@ -74,9 +82,8 @@ def bank_path(tuning: str) -> Path:
             _schedule_generator(path)
         return path
     if tuning == TURBULENCE_BANK:
-        if _turbulence_locator is None:
-            from .design import turbulence_banks  # noqa: F401  (registers the locator)
-        return _turbulence_locator()
+        turbulence_bank_set()   # BankError if unavailable
+        return _turbulence_set[1]()
     p = Path(tuning)
     if not p.is_file():
         raise BankError(

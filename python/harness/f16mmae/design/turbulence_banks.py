@@ -246,7 +246,7 @@ def _start_member() -> Path:
 def _register() -> None:
     from .. import banks
 
-    banks.register_turbulence_locator(_start_member)
+    banks.register_turbulence_set(load_set, _start_member)
 
 
 _register()

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .. import core
-from ..banks import bank_estimator_settings
+from ..banks import bank_estimator_settings, turbulence_bank_set
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 
 
@@ -39,13 +39,12 @@ def _bank_set(model_bank, settings: dict):
     the selector's measure).
     ValueError unless ``model_bank`` is one of the set's members (the loop flies that bank's
     inputs and trims: ``--tuning turbulence``)."""
-    from ..design.turbulence_banks import MEMBER_LEVELS, START, load_set
-
-    bank_set = load_set()
+    bank_set = turbulence_bank_set()
     hashes = [str(b.content_hash) for b in bank_set.banks]
     if str(model_bank.content_hash) not in hashes:
-        raise ValueError(f"--turbulence-banks flies the turbulence bank set ({', '.join(MEMBER_LEVELS)}); "
-                         f"give its bank as the model bank (--tuning turbulence, its {MEMBER_LEVELS[START]} member), "
+        start = bank_set.levels[bank_set.selector["start"]]
+        raise ValueError(f"--turbulence-banks flies the turbulence bank set ({', '.join(bank_set.levels)}); "
+                         f"give its bank as the model bank (--tuning turbulence, its {start} member), "
                          f"not {model_bank.tuning or model_bank.content_hash}")
     own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
     members = []

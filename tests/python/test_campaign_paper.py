@@ -34,7 +34,10 @@ def test_paper_flies_the_three_campaigns_as_their_own_commands(tmp_path, capsys)
         extra = " --baseline none" if name == "single" else ""
         assert summary["command"] == f"f16mmae campaign {name} --runs 1 --seed 3{extra} --out {d} --quiet"
         assert (d / "report.html").is_file()
-    # the single part is the single command's campaign: the same records
+    # the single part flies nothing: its runs are the envelope's at NOM (engine.shared_flights) ...
+    single = json.loads((out / "single" / "summary.json").read_text())["timing"]
+    assert single["runs_executed"] == 13 and single["runs_shared"] == 13
+    # ... and the single command's campaign: the same records
     alone = tmp_path / "alone"
     assert main(["campaign", "single", "--runs", "1", "--seed", "3", "--baseline", "none", "--workers", "1",
                  "--quiet", "--out", str(alone)]) == 0

@@ -66,3 +66,13 @@ def test_report_of_an_empty_directory_says_what_is_needed(tmp_path):
     with pytest.raises(ReportError, match="unknown campaign kind 'triple'; this version reports "
                        + ", ".join(sorted((*KINDS, "variants")))):
         render_report(tmp_path)
+
+
+def test_latency_chart_does_not_depend_on_the_order_of_the_records(tmp_path):
+    # overlapping translucent dots: a pool stores records in the order they finish
+    recs = []
+    for lat in (0.50, 0.53, 0.515, 0.56, 0.545, 0.52):
+        recs += [{**r, "latency_s": lat} for r in _records("tuned", ["LS"], runs=1)]
+    figures.latency_chart({"tuned": recs}, tmp_path / "a.png", cases=["LS"])
+    figures.latency_chart({"tuned": recs[::-1]}, tmp_path / "b.png", cases=["LS"])
+    assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()

@@ -2,7 +2,10 @@
 as plain calls outside it, with their arguments snapshotted and their errors raised at the end."""
 from __future__ import annotations
 
+import os
 import threading
+import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -53,3 +56,43 @@ def test_an_error_is_raised_when_the_context_ends_after_the_rest_ran(tmp_path):
             draw({}, str(tmp_path / "bad.png"), tag="fail")
             draw({}, str(tmp_path / "good.png"), tag="after")
     assert (tmp_path / "good.png").read_text() == "after"
+
+
+@deferrable(lambda a: Path(a["path"]), alone=True)
+def figure(path: str, tag: str, hold_s: float = 0.0) -> Path:
+    time.sleep(hold_s)
+    if tag == "fail":
+        raise ValueError(f"cannot draw {path}")
+    Path(path).write_text(f"{tag} {os.getpid()}")
+    return Path(path)
+
+
+@deferrable(lambda a: Path(a["path"]))
+def page(path: str, figures: list) -> Path:  # reads the figures queued before it
+    Path(path).write_text(" ".join(Path(f).read_text() for f in figures))
+    return Path(path)
+
+
+def test_figures_in_the_pools_processes_the_page_after_them(tmp_path):
+    figs = [str(tmp_path / f"f{i}.png") for i in range(3)]
+    with ProcessPoolExecutor(max_workers=2) as pool:
+        with drawing_in_background(processes=pool):
+            assert figure(figs[0], "a", 0.5) == Path(figs[0])
+            figure(figs[1], "b", 0.5)
+            out = page(str(tmp_path / "page.html"), figs[:2])
+            figure(figs[2], "c")  # after the page: not waited for by it
+    drawn = page.__wrapped__(str(tmp_path / "check"), figs)
+    tags = drawn.read_text().split()
+    assert tags[0::2] == ["a", "b", "c"]
+    pids = {int(p) for p in tags[1::2]}
+    assert os.getpid() not in pids and len(pids) >= 2  # two at once: each held 0.5 s
+    assert out.read_text() == " ".join(tags[:4])  # the page saw both earlier figures
+
+
+def test_a_figure_error_in_a_process_is_raised_when_the_context_ends(tmp_path):
+    with ProcessPoolExecutor(max_workers=2) as pool:
+        with pytest.raises(ValueError, match="cannot draw"):
+            with drawing_in_background(processes=pool):
+                figure(str(tmp_path / "bad.png"), "fail")
+                page(str(tmp_path / "page.html"), [])
+    assert (tmp_path / "page.html").exists()

@@ -6,24 +6,29 @@ aircraft from one campaign to the next -- with the command's start (imports, the
 once instead of three times::
 
     envelope  f16mmae campaign envelope --runs N --seed S --out DIR/envelope
-    dual      f16mmae campaign dual     --runs N --seed S --out DIR/dual
     single    f16mmae campaign single   --runs N --seed S --baseline none --out DIR/single
+    dual      f16mmae campaign dual     --runs N --seed S --out DIR/dual
 
-(the 25 points of Fig. 9; the 132 ordered pairs with the 12 lone second failures; the 13
-cases -- the shipped tuned bank, light turbulence, complete failures).  Each summary names the
+(the 25 points of Fig. 9; the 13 cases; the 132 ordered pairs with the 12 lone second
+failures -- the shipped tuned bank, light turbulence, complete failures).  Each summary names the
 single command that gives the same records.  The three directories are checked writable before
 the first flight; with ``--check`` the exit status is 1 when any of the three misses a goal.
-Each part's figures and report page are drawn on a background thread while the pool flies the
-next part (``report.drawing``); every file is written when the command returns.  The parts fly
-in the order above, the one whose figures cost least last: its drawing is the only one
-nothing overlaps.
+The single campaign's runs are the envelope's at its nominal point NOM (the same specs): they
+are flown once, for the envelope, and stored for the single part too (``engine.shared_flights``).
+Each part's figures are drawn by the pool's processes, side by side, before the next part's
+flights, and its report page on a background thread (``report.drawing``); every file is
+written when the command returns.  The parts run in the order above: the single part, which
+flies nothing, while the pool draws the envelope's figures, and the dual last, so that after
+its last flight only its own two figures are left to draw.
 """
 from __future__ import annotations
 
 import argparse
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from ..campaign.engine.config import RUNS_MAX
+from ..campaign.engine import shared_flights
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..outputs import writable_dir
 from ..report.drawing import drawing_in_background
@@ -32,8 +37,8 @@ from .options import number, seed
 
 #: The campaigns in the order they fly: (name, command-line module, what its command adds).
 PARTS = (("envelope", campaign_envelope, ()),
-         ("dual", campaign_dual, ()),
-         ("single", campaign_single, ("--baseline", "none")))
+         ("single", campaign_single, ("--baseline", "none")),
+         ("dual", campaign_dual, ()))
 
 
 def register(kinds) -> None:
@@ -71,10 +76,13 @@ def _paper(args) -> int:
     for _, ns in parts:  # every output checked before the first flight
         writable_dir(ns.out)
     status = 0
-    # each part's figures and report page are drawn on a background thread while the pool
-    # flies the next part (report.drawing); all are written when the command returns. The
-    # local pool forks all its workers at its first flight, before that thread exists.
-    with drawing_in_background(), make_executor(workers=workers) as ex:
+    # each part's figures are drawn by the pool's processes (queued before the next part's
+    # flights) and its report page on a background thread (report.drawing); all are written
+    # when the command returns. The local pool forks all its workers at its first flight,
+    # before that thread exists.
+    with make_executor(workers=workers) as ex, \
+            drawing_in_background(processes=ex if isinstance(ex, ProcessPoolExecutor) else None), \
+            shared_flights.sharing():
         for name, ns in parts:
             ns.executor, ns.executor_label = ex, f"{workers or default_workers()} local process(es), shared"
             print(f"=== campaign {name} ({ns.out}) ===", flush=True)

@@ -127,6 +127,18 @@ def _on_line(names, columns: dict[str, int], probs: np.ndarray) -> tuple[np.ndar
     return probs, np.array([columns[name] for name in names], dtype=int)
 
 
+def _columns(p: np.ndarray, segments: list, width: int) -> np.ndarray:
+    """The frames' probabilities ``p`` (frames, hypotheses on line) in the flight's columns: each
+    segment's rows ``(start, end, idx)`` in columns ``idx``, NaN elsewhere; ``p`` itself when the
+    columns never moved (also ``p`` when nothing was recorded: no rows)."""
+    if not len(p) or (width == p.shape[1] and all(np.array_equal(idx, np.arange(width)) for *_, idx in segments)):
+        return p
+    out = np.full((len(p), width), np.nan)
+    for start, end, idx in segments:
+        out[start:end, idx] = p[start:end]
+    return out
+
+
 def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options: dict | None = None,
         record_probabilities: bool = True, on_frame=None, estimator=None,
         engine: str | None = None, record_series: bool = False) -> FlightResult:
@@ -174,8 +186,6 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     reconfiguration = core.SensorReconfiguration(model_bank) if feedback == "reconfigure" else None
     columns: dict[str, int] = {name: k for k, name in enumerate(estimator.hypotheses)}
     idx = np.arange(len(columns))
-    probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
-    scale = np.full(n_frames if record_probabilities else 0, np.nan)
     declarations: list[dict] = []
     if record_series:
         rec_u, rec_z, rec_z_hat = (np.zeros((n_frames, 6 if throttle else 5)), np.zeros((n_frames, 7)),
@@ -189,20 +199,20 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                                      reconfiguration)
         t_truth += out["truth_s"]
         t_est += out["estimator_s"]
-        start = 0
+        segments, start = [], 0  # (first frame, end, columns of the hypotheses then on line)
         for frame, name, online in out["events"]:
             declarations.append({"hypothesis": name, "time_s": round(frame * dt, 9)})
-            if record_probabilities:
-                probs[start:frame, idx] = out["probabilities"][start:frame]
-                probs, idx = _on_line(online, columns, probs)
-                start = frame
-        if record_probabilities:
-            probs[start:, idx] = out["probabilities"][start:]
-            scale[:] = out["turbulence_scale"]
+            segments.append((start, frame, idx))
+            idx = np.array([columns.setdefault(h, len(columns)) for h in online], dtype=int)
+            start = frame
+        segments.append((start, n_frames, idx))
+        probs, scale = _columns(out["probabilities"], segments, len(columns)), out["turbulence_scale"]
         estimator.last_declaration = out["events"][-1][1] if out["declared_last_frame"] else None
         n_frames_python = 0
     else:
         n_frames_python = n_frames
+        probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
+        scale = np.full(n_frames if record_probabilities else 0, np.nan)
     clock = time.perf_counter
     step = truth.step
     a = clock()

@@ -50,7 +50,7 @@ def _cell(ax, i, j, color, hatch=None) -> None:
                                     edgecolor="0.6" if hatch else "white", lw=1.0, hatch=hatch))
 
 
-@deferrable(lambda a: Path(a["path"]))
+@deferrable(lambda a: Path(a["path"]), alone=True)
 def rating_matrix(summary: dict, path: str | Path) -> Path:
     """Fig. 7 from a dual campaign summary, beside the paper's; returns the file written."""
     plt = pyplot()
@@ -108,7 +108,7 @@ def _mean_of(records, key: str) -> tuple[np.ndarray, np.ndarray]:
     return np.arange(n) * float(records[0]["p_injected_dt_s"]), np.nan_to_num(p).mean(axis=0)
 
 
-@deferrable(lambda a: Path(a["path"]))
+@deferrable(lambda a: Path(a["path"]), alone=True)
 def probability_grid(records: list[dict], summary: dict, path: str | Path) -> Path:
     """Small multiples of the mean probability of the dual (and of the first single), drawn
     as curves scaled into the cells of one 12 x 12 grid (one axes: fast to draw)."""

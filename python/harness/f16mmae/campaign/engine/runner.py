@@ -14,6 +14,9 @@ guided, a quarter of each worker's share of the runs left, 1 to ``CHUNK_MAX`` ru
 returns their records, so a pool pays its per-task messages once per chunk, not once per run,
 while the last tasks stay single runs that keep both workers busy to the end.  A chunk
 returns the records flown before a failing run along with its error, so they are stored too.
+Within ``shared_flights.sharing()`` (one command flying several campaigns), a spec another
+campaign of the command already flew with the same run function is not flown again: its record
+is stored as flown (``Execution.shared`` counts them).
 
 Code identity: the parent stamps each record it stores with ``code`` (``identity.code_identity()``:
 git commit and dirty flag or source hash, JSBSim and LCM versions).  Before flying, stored
@@ -30,7 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ...banks import load_bank
-from . import identity
+from . import identity, shared_flights
 from .config import CampaignError
 from .executor import InlineExecutor, default_workers
 from .progress import Progress
@@ -78,11 +81,14 @@ class Execution:
     executed_records: list[dict]   # those flown by this call
     resumed: int                   # runs found in the store
     wall_s: float
+    shared: int = 0                # of the executed, runs another campaign of this command flew
 
     def timing(self, executor_label: str = "") -> dict:
         """Wall time, runs executed / resumed, and the summed per-run truth / estimator time."""
         out = {"wall_s": round(self.wall_s, 3), "runs_executed": len(self.executed_records),
                "runs_resumed": self.resumed, "executor": executor_label}
+        if self.shared:
+            out["runs_shared"] = self.shared
         for k in ("wall_s", "truth_s", "estimator_s"):
             out[f"run_{k}_sum"] = round(sum(r["timing"].get(k, 0.0) for r in self.executed_records), 3)
         return out
@@ -106,8 +112,25 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
     bar = Progress(len(specs), progress_label, already_done=len(specs) - len(todo), enabled=show_progress,
                    note=progress_note)
     flown: list[dict] = []
+
+    def keep(spec: dict, record: dict) -> None:
+        stamped = {**record, "code": code}
+        store.append(stamped)
+        flown.append(stamped)
+        bar.advance()
+        if after_each is not None:
+            after_each(spec)
+
     try:
-        futures = {executor.submit(run_chunk, run, c): c for c in chunks(todo, executor_workers(executor))}
+        to_fly = []
+        for spec in todo:  # flown already by another campaign of this command (shared_flights)
+            record = shared_flights.take(run, spec)
+            if record is None:
+                to_fly.append(spec)
+            else:
+                keep(spec, record)
+        shared = len(todo) - len(to_fly)
+        futures = {executor.submit(run_chunk, run, c): c for c in chunks(to_fly, executor_workers(executor))}
         for fut in as_completed(futures):
             chunk = futures[fut]
             try:
@@ -120,12 +143,8 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
                     + f" failed: {type(exc).__name__}: {exc}; the {bar.done} runs finished so far are "
                     f"stored in {store.path}") from exc
             for spec, record in zip(chunk, records):
-                record = {**record, "code": code}
-                store.append(record)
-                flown.append(record)
-                bar.advance()
-                if after_each is not None:
-                    after_each(spec)
+                keep(spec, record)
+                shared_flights.offer(run, spec, record)
             if failed is not None:
                 index, exc = failed
                 if isinstance(exc, CampaignError):
@@ -141,7 +160,8 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
     by_key = {r["run_key"]: r for r in (*stored_records, *flown)}  # a key stored twice counts once
     executed = {s["run_key"] for s in todo}
     records = list(by_key.values())
-    return Execution(records, [r for r in records if r["run_key"] in executed], len(specs) - len(todo), wall_s)
+    return Execution(records, [r for r in records if r["run_key"] in executed], len(specs) - len(todo), wall_s,
+                     shared)
 
 
 def check_identity(stored: Sequence[dict], code: dict, store: ResultsStore) -> None:

@@ -160,6 +160,11 @@ def run_point_spec(spec: dict) -> dict:
     return {**run_spec(spec), "point": spec["point"]}
 
 
+#: Its record without ``point`` is ``run_spec``'s of the spec without ``point``
+#: (``engine.shared_flights``: the single campaign reuses the nominal point's runs).
+run_point_spec.shares = (run_spec, ("point",))
+
+
 def describe_point_spec(spec: dict) -> str:
     sc = spec["scenario"]
     return (f"point {spec['point']} (Mach {sc['mach']}, {sc['alt_ft']:.0f} ft): "

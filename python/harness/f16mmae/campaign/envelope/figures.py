@@ -78,7 +78,7 @@ def _panel(ax, points, design, cmap, step, annotate=None, limits=None):
     ax.grid(True, alpha=0.25)
 
 
-@deferrable(lambda a: Path(a["path"]))
+@deferrable(lambda a: Path(a["path"]), alone=True)
 def envelope_map(summary: dict, path: Path) -> Path:
     """The Fig. 9-style map of ``summary["points"]`` (module docstring)."""
     plt = pyplot()
@@ -118,7 +118,7 @@ def envelope_map(summary: dict, path: Path) -> Path:
     return path
 
 
-@deferrable(lambda a: Path(a["path"]))
+@deferrable(lambda a: Path(a["path"]), alone=True)
 def case_table(summary: dict, path: Path) -> Path:
     """Heat map of the correct fraction per point and case (module docstring)."""
     plt = pyplot()

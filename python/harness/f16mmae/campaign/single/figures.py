@@ -7,7 +7,8 @@
   as Fig. 6), so the effect of tuning reads at a glance.  A hypothesis that is off line
   (the bank moved to a level-1 bank without it) counts as probability 0.
 * ``latency_chart``: per case, every run's detection latency (dots), the median (bar)
-  and the 95th percentile (tick), one row per case, one colour per tuning.
+  and the 95th percentile (tick), one row per case, one colour per tuning; the same image
+  whatever the order of the records (a pool stores them in the order they finish).
 """
 from __future__ import annotations
 
@@ -29,7 +30,7 @@ def _ordered_tunings(labels) -> list[str]:
     return known + sorted(t for t in labels if t not in TUNING_ORDER)
 
 
-@deferrable(lambda a: Path(a["path"]))
+@deferrable(lambda a: Path(a["path"]), alone=True)
 def probability_strips(
     records_by_tuning: Mapping[str, Sequence[dict]],
     path: str | Path,
@@ -67,7 +68,7 @@ def probability_strips(
     return save_figure(fig, path)
 
 
-@deferrable(lambda a: Path(a["path"]))
+@deferrable(lambda a: Path(a["path"]), alone=True)
 def latency_chart(
     records_by_tuning: Mapping[str, Sequence[dict]],
     path: str | Path,
@@ -81,8 +82,9 @@ def latency_chart(
     for k, tuning in enumerate(tunings):
         color = "C0" if tuning == "tuned" else ("C3" if tuning == "untuned" else f"C{k + 2}")
         for i, case in enumerate(cases):
-            lat = [r["latency_s"] for r in records_by_tuning[tuning]
-                   if r["case"] == case and r.get("latency_s") is not None]
+            # ascending: the overlapping translucent dots do not depend on the records' order
+            lat = sorted(r["latency_s"] for r in records_by_tuning[tuning]
+                         if r["case"] == case and r.get("latency_s") is not None)
             y = i + offsets[k]
             if lat:
                 ax.plot(lat, [y] * len(lat), "o", ms=3, alpha=0.5, color=color)

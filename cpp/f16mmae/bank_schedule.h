@@ -8,8 +8,9 @@
 // z_trim) and x_trim (nx), the trim state the filters' perturbation states are taken from
 // (the absolute state estimate is x_trim + x). A node may also carry its own adaptation
 // reference (adapt_reference, the turbulence adaptation's rho_0 at that node,
-// turbulence_adaptation.h): the residual power ratio the node's bank shows in the turbulence it
-// was calibrated for, so that the adaptation tempers only above it at every node. Either every
+// turbulence_adaptation.h), chosen by the design so that the node's estimator keeps its
+// no-failure calibration flights a set distance from a declaration (the design states its
+// rule and records it in the metadata). Either every
 // node carries one or none does (NaN: not carried, the estimator's own option applies).
 //
 // Configuration layers (an aircraft whose configuration switches with the flight condition,

@@ -5,6 +5,7 @@ probability convergence."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from f16mmae import names
 from f16mmae.design import calibrate
@@ -23,3 +24,43 @@ def test_tuned_toml_is_what_the_calibration_produces():
     assert np.all(stage1.var_over_a < 1.15) and np.all(stage1.var_over_a > 0.5)
     kept = [r for r in conv if r["kept"]]
     assert kept[-1]["J"] >= kept[0]["J"]
+
+
+def test_failure_log_odds_peak_with_no_tempering_is_the_plain_filter_bank_s():
+    """At a reference no light-turbulence power ratio reaches (s stays at its floor 1), the
+    estimator's peak failure log-odds over the calibration flights is that of an independent
+    replay: the 13 level-0 filters of the bank as one core.FilterBank (perturbation signals,
+    the bank's p_min), max over frames of max_k ln p_k - ln p_NONE."""
+    from f16mmae import core
+    from f16mmae.banks import load_bank
+
+    bank = load_bank("tuned")[2]
+    flights = calibrate.node_flights(0.4, 20_000.0, "light")[:3]
+    models = [core.FilterModel(phi=h.phi, bd=h.bd, h=h.h, k=h.k, a=h.a)
+              for h in (bank[name] for name in names.SINGLE_HYPOTHESES)]
+    plain = core.FilterBank(models, p_min=bank.p_min)
+    peak = -np.inf
+    for fl in flights:
+        plain.reset()
+        for z, u in zip(fl.z, fl.u):
+            p = plain.step(z, u)
+            peak = max(peak, float(np.log(p[1:].max()) - np.log(p[0])))
+    assert calibrate.failure_log_odds_peak(bank, flights, 50.0) == pytest.approx(peak, abs=1e-9)
+
+
+def test_bounded_reference_is_the_largest_grid_reference_within_the_bound():
+    """The bisection finds what a scan of the grid finds: the largest reference at and below
+    which every reference keeps the peak within the bound (lower references temper more, so
+    the peak falls with them); a bound nothing meets gives the grid's lower end."""
+    from f16mmae.banks import load_bank
+
+    bank = load_bank("tuned")[2]
+    flights = calibrate.node_flights(0.4, 20_000.0, "light")[:4]
+    grid = [0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]
+    peaks = [calibrate.failure_log_odds_peak(bank, flights, r) for r in grid]
+    assert peaks[0] < peaks[-1]
+    bound = (peaks[2] + peaks[3]) / 2.0
+    expected = max(n for n in range(len(grid)) if all(p <= bound for p in peaks[:n + 1]))
+    ref, peak = calibrate.bounded_reference(bank, flights, bound, (0.4, 1.0), 0.1)
+    assert ref == pytest.approx(grid[expected]) and peak == pytest.approx(peaks[expected])
+    assert calibrate.bounded_reference(bank, flights, -100.0, (0.4, 1.0), 0.1) == (0.4, pytest.approx(peaks[0]))

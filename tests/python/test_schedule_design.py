@@ -14,9 +14,10 @@ import pytest
 from f16mmae import core
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.calibrate import adaptation_reference, calibrate_node, node_flights
+from f16mmae.design.calibrate import (REFERENCE_LOG_ODDS_BOUND, adaptation_reference, bounded_reference,
+                                      calibrate_node, failure_log_odds_peak, node_flights)
 from f16mmae.design.model import linearize_truth
-from f16mmae.design.schedule import ScheduleSpecError, parse_grid, x_trim
+from f16mmae.design.schedule import ScheduleSpecError, neighbourhood_references, parse_grid, x_trim
 from f16mmae.design.tuning import load_tuning
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
@@ -51,17 +52,25 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     design = design_bank(0.5, 20000.0, tuning)
     node = s["nodes"][1]
     assert node["bank"].content_hash == _hash(design)
-    reference = adaptation_reference(design, node_flights(0.5, 20000.0, "light"))
-    assert node["adapt_reference"] == reference and 0.3 < reference < 2.0
+    flights = node_flights(0.5, 20000.0, "light")
+    reference, peak = bounded_reference(to_model_bank(design), flights)
+    assert failure_log_odds_peak(node["bank"], flights, reference) == peak <= REFERENCE_LOG_ODDS_BOUND
+    # the file carries the smaller of the two nodes' (neighbours on the grid, both within the bound)
+    s0 = bounded_reference(s["nodes"][0]["bank"], node_flights(0.4, 20000.0, "light"))[0]
+    reference_in_file = min(reference, s0)
+    assert node["adapt_reference"] == reference_in_file == s["nodes"][0]["adapt_reference"]
     flap_held = design_bank(0.5, 20000.0, tuning, linearized=linearize_truth(0.5, 20000.0, lef_rad=0.262))
     assert s["nodes"][3]["bank"].content_hash == _hash(flap_held) != node["bank"].content_hash
-    assert s["nodes"][3]["adapt_reference"] == reference
+    assert s["nodes"][3]["adapt_reference"] == reference_in_file
     assert node["bank"].content_hash != _hash(design_bank(0.5, 20000.0, "tuned"))
     np.testing.assert_array_equal(node["x_trim"], x_trim(design))
     assert node["x_trim"][0] == pytest.approx(design.z_trim[0]) and node["x_trim"][8] == design.u_trim[0]
     meta = json.loads(scheduled.schedule["metadata"])
     assert meta["node_tuning"] == "calibrated" and [(n["mach"], n["alt_ft"]) for n in meta["nodes"]] == [
         (0.4, 20000.0), (0.5, 20000.0)]
+    assert meta["nodes"][1]["power_ratio_mean"] == adaptation_reference(design, flights)
+    assert meta["nodes"][1]["adapt_reference_node"] == reference and meta["nodes"][1]["bound_met"]
+    assert meta["nodes"][1]["adapt_reference"] == reference_in_file
     assert meta["nodes"][1]["knobs"] == {k: v for f in ("qd_longitudinal", "r_pseudonoise", "qd_lateral")
                                          for k, v in getattr(tuning, f).items()}
 
@@ -143,3 +152,16 @@ def test_an_off_grid_flight_is_the_same_in_the_python_loop_and_in_cpp(scheduled,
     np.testing.assert_array_equal(py.probability_of("PIT"), cpp.probability_of("PIT"))
     expected = [(0.5, 20000.0)] if mode == "nearest" else [(0.4, 20000.0), (0.5, 20000.0)]
     assert py_state["nodes"] == cpp_state["nodes"] == expected
+
+
+def test_a_node_s_reference_is_the_smallest_of_its_neighbours_that_met_the_bound():
+    """Hand-made 3 x 2 grid: (0, 0) met its bound at 0.6, (1, 0) at 1.0, (2, 0) did not meet it
+    (0.3, the range's floor), (0, 1) and (2, 1) at 0.8, (1, 1) not covered."""
+    bounded = {(0, 0): (0.6, True), (1, 0): (1.0, True), (2, 0): (0.3, False),
+               (0, 1): (0.8, True), (2, 1): (0.8, True)}
+    assert neighbourhood_references(bounded) == {
+        (0, 0): 0.6,   # its own is the smallest
+        (1, 0): 0.6,   # (0, 0) beside it; (2, 0) did not meet the bound and does not count
+        (2, 0): 0.3,   # keeps its own
+        (0, 1): 0.6,   # (0, 0) below it; (1, 1) is not covered
+        (2, 1): 0.8}   # (1, 0) at 1.0 and (2, 0) unbounded: its own

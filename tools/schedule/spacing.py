@@ -98,8 +98,9 @@ def fly_one(task) -> dict:
     result = fly(scenario, bank, estimator=est)
     scored = score_run(case, FAILURE_TIME_S if case != NONE else None, result.declarations)
     declared = [d["hypothesis"] if isinstance(d, dict) else str(d) for d in result.declarations]
+    declared_at = [round(float(d["time_s"]), 2) for d in result.declarations if isinstance(d, dict)]
     return {"bank": bank_label, "mach": mach, "alt_ft": alt_ft, "case": case, "run": n, "seed": seed,
-            "declared": declared, **scored}
+            "declared": declared, "declared_at_s": declared_at, **scored}
 
 
 def main() -> int:

@@ -79,8 +79,10 @@ SCHEDULE_GRID = "mach=0.3/0.35/0.4/0.5/0.6/0.7/0.8,alt=5000:35000:5000"
 #: How the scheduled bank's nodes get their pseudonoise (design/schedule.py NODE_TUNINGS).
 SCHEDULE_NODE_TUNING = "calibrated"
 #: Revision of the scheduled design (design/schedule.py); part of the cached bank's name, so a
-#: change of what a node carries designs the bank anew.  2: per-node adaptation reference.
-SCHEDULE_DESIGN_REVISION = 2
+#: change of what a node carries designs the bank anew.  2: per-node adaptation reference;
+#: 3: that reference bounded by the calibration flights' failure log-odds (calibrate.bounded_reference);
+#: 4: then the smallest of the node's and its grid neighbours' (schedule.neighbourhood_references).
+SCHEDULE_DESIGN_REVISION = 4
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

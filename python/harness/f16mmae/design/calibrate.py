@@ -254,6 +254,72 @@ def adaptation_reference(design, flights) -> float:
     return round(float(np.mean(ratios)), 3)
 
 
+#: The turbulence adaptation's per-node reference bounded by false alarms (``bounded_reference``):
+#: candidates from REFERENCE_RANGE[0] to REFERENCE_RANGE[1] in steps of REFERENCE_STEP, and the
+#: bound on the peak failure log-odds of the calibration flights (REFERENCE_LOG_ODDS_BOUND).
+REFERENCE_RANGE: tuple[float, float] = (0.30, 1.00)
+REFERENCE_STEP = 0.02
+REFERENCE_LOG_ODDS_BOUND = -6.0
+
+
+def failure_log_odds_peak(model_bank, flights, reference: float) -> float:
+    """The largest failure log-odds ``max_t max_(k != NONE) ln(p_k / p_NONE)`` over ``flights``
+    (no-failure records, perturbations from the bank's trim) of the estimator the bank makes
+    (core.HierarchicalBank with the bank's settings and the turbulence adaptation on at
+    ``reference``), run over them from its start state; +inf if it declared a failure.
+    ``ln(p_min / (1 - 12 p_min))`` (about -20.7 at p_min 1e-9) is the floor; a declaration
+    needs more than ``ln(threshold / (1 - threshold))`` (2.2 at 0.9) for the dwell."""
+    from .. import core
+
+    settings = dict(model_bank.estimator_settings)
+    bank = core.HierarchicalBank(model_bank, adapt_turbulence=True, adapt_reference=float(reference), **settings)
+    u_trim, z_trim = np.asarray(model_bank.u_trim), np.asarray(model_bank.z_trim)
+    peak = -np.inf
+    for fl in flights:
+        bank.reset()
+        nu = min(fl.u.shape[1], u_trim.size)
+        u = np.tile(u_trim, (len(fl.u), 1))
+        u[:, :nu] += fl.u[:, :nu]
+        z = fl.z + z_trim
+        for i in range(len(z)):
+            if bank.step(z[i], u[i]) is not None:
+                return float("inf")
+            p = bank.probabilities
+            peak = max(peak, float(np.log(np.max(p[1:])) - np.log(p[0])))
+    return peak
+
+
+def bounded_reference(model_bank, flights, bound: float = REFERENCE_LOG_ODDS_BOUND,
+                      reference_range: tuple[float, float] = REFERENCE_RANGE,
+                      step: float = REFERENCE_STEP) -> tuple[float, float]:
+    """The largest reference on the grid ``reference_range`` (``step``) at which the
+    estimator's peak failure log-odds over the no-failure ``flights`` stays at or below
+    ``bound`` (``failure_log_odds_peak``): the least tempering that keeps the calibration
+    flights this far from a declaration.  The peak falls as the reference falls (a lower
+    reference, a larger likelihood scale s); the search is a bisection on the grid, and
+    returns the grid's lower end if even that exceeds the bound.  Returns (reference, peak at
+    it).  Deterministic for given flights."""
+    lo_ref, hi_ref = reference_range
+    grid = [round(lo_ref + n * step, 6) for n in range(int(round((hi_ref - lo_ref) / step)) + 1)]
+    lo, hi = 0, len(grid) - 1   # invariant: every index < lo passes (or lo == 0); none > hi passes
+    peaks = {}
+
+    def passes(n):
+        peaks[n] = failure_log_odds_peak(model_bank, flights, grid[n])
+        return peaks[n] <= bound
+
+    best = 0
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        if passes(mid):
+            best, lo = mid, mid + 1
+        else:
+            hi = mid - 1
+    if best not in peaks:
+        passes(best)
+    return grid[best], peaks[best]
+
+
 def write_nominal_banks(lin) -> None:
     """Design and write the shipped nominal banks from the committed tunings."""
     for name in ("tuned", "untuned"):

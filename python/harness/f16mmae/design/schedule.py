@@ -4,9 +4,13 @@ schedules on measured air data (``cpp/f16mmae/scheduled_filters.h``).
 
 Every covered point is the ordinary design (``design_bank``), with the given tuning at every
 point (``--node-tuning fixed``) or with its pseudonoise calibrated at the point (``calibrated``,
-the default: ``calibrate.calibrate_node``), which also measures the point's turbulence
-adaptation reference (``calibrate.adaptation_reference``: the power ratio its bank reads in
-light turbulence) and stores it with the node.  A point whose truth cannot trim is left out of the
+the default: ``calibrate.calibrate_node``), which also sets the point's turbulence adaptation
+reference and stores it with the node: the largest reference at which the node's estimator
+keeps its no-failure calibration flights at a failure log-odds of at most
+``calibrate.REFERENCE_LOG_ODDS_BOUND`` (``calibrate.bounded_reference``: a reference that
+bounds the false alarms, not the mean power ratio, which the metadata also records), then
+lowered to the smallest of its grid neighbours' (``neighbourhood_references``), so that the
+reference the core blends over a cell bounds them at every corner.  A point whose truth cannot trim is left out of the
 grid and listed in the metadata; the core clamps air data to the grid and falls back to the
 nearest covered node where a cell lacks a corner.  Each node also stores its trim state
 ``x_trim`` (the absolute state its filters' perturbation states are taken from): body u and
@@ -46,7 +50,8 @@ from .. import banks, names
 from ..errors import F16mmaeError
 from ..truth.aircraft import ALT_FT_RANGE, LEF_ALPHA_SWITCH_RAD, LEF_POSITIONS_RAD, MACH_RANGE, TrimError
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
-from .calibrate import SEEDS, adaptation_reference, calibrate_node, node_flights
+from .calibrate import (REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS, adaptation_reference,
+                        bounded_reference, calibrate_node, node_flights)
 from .gains import DesignError
 from .model import linearize_truth
 from .tuning import load_tuning
@@ -131,8 +136,8 @@ def _design_point(args):
     record, tuning, adaptation reference or None).  ``lef_rad`` None: the point in its own
     configuration (the flap on the truth's schedule), the tuning calibrated there if
     ``node_tuning`` is ``calibrated`` (the node record then holds the knobs, the NONE filter's
-    var/A and the adaptation reference, ``calibrate.adaptation_reference`` on the same tuning
-    flights); else the flap held at ``lef_rad`` with ``tuning`` and ``reference`` as given (the
+    var/A, the mean power ratio ``calibrate.adaptation_reference``, and the adaptation reference
+    ``calibrate.bounded_reference`` with its peak failure log-odds, on the same tuning flights); else the flap held at ``lef_rad`` with ``tuning`` and ``reference`` as given (the
     node's own: the truth never flies the point in that configuration, so there is nothing to
     calibrate on)."""
     i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle = args
@@ -151,14 +156,36 @@ def _design_point(args):
                       "var_over_a_after": [round(float(v), 3) for v in after.var_over_a]}
         design = design_bank(mach, alt_ft, tun, linearized=lin)
         if node_tuning == "calibrated" and lef_rad is None:
-            reference = adaptation_reference(design, flights)
-            record["adapt_reference"] = reference
+            reference, peak = bounded_reference(to_model_bank(design), flights)
+            record.update({"power_ratio_mean": adaptation_reference(design, flights),
+                           "adapt_reference": reference, "failure_log_odds_peak": round(peak, 2),
+                           "bound_met": bool(peak <= REFERENCE_LOG_ODDS_BOUND)})
         if throttle:
             design = design_bank(mach, alt_ft, tun, linearized=lin, throttle_input=True)
     except (TrimError, DesignError) as exc:
         return i, j, layer, None, None, str(exc), time.perf_counter() - t0, record, tun, None
     return (i, j, layer, to_model_bank(design), x_trim(design), "", time.perf_counter() - t0, record, tun,
             reference)
+
+
+def neighbourhood_references(bounded: dict[tuple[int, int], tuple[float, bool]]) -> dict[tuple[int, int], float]:
+    """Each covered node's adaptation reference in the file: the smallest of its own bounded
+    reference (``calibrate.bounded_reference``) and those of its covered grid neighbours (the 8
+    around it) whose bound was met.  ``bounded``: grid index -> (reference, bound met).
+
+    Why: the core blends the corners' references over a cell, and each bounds the false alarms
+    only at its own node; the node's 8 neighbours are every corner of the 4 cells that touch it,
+    so the blend anywhere in a cell is at most the smallest bounded reference of the cell's
+    corners (measured: between the 20,000-ft nodes at 0.6 and the 25,000-ft nodes at 1.0 a blend
+    gave the paper's Fig. 9 points false alarms).  A node whose calibration flights exceed the
+    bound at every reference of the range has no reference that bounds them: it keeps its own
+    (the range's lower end) but does not lower its neighbours'."""
+    out = {}
+    for (i, j), (ref, _) in bounded.items():
+        around = [bounded[(i + di, j + dj)][0] for di in (-1, 0, 1) for dj in (-1, 0, 1)
+                  if (di or dj) and (i + di, j + dj) in bounded and bounded[(i + di, j + dj)][1]]
+        out[(i, j)] = min([ref] + around)
+    return out
 
 
 def alternate_nodes(grid: Grid, own: dict[tuple[int, int], int]) -> list[tuple[int, int, int]]:
@@ -208,6 +235,13 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 state = "skipped: " + r[5] if r[3] is None else f"designed (flap layer {r[2]})"
                 progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[6]:.1f} s)")
         own = {k: r[2] for k, r in results.items() if r[3] is not None}
+        if node_tuning == "calibrated":   # each node's reference: the smallest around it (neighbourhood_references)
+            bounded = {k: (r[9], r[7]["bound_met"])
+                       for k, r in results.items() if r[3] is not None}
+            for k, ref in neighbourhood_references(bounded).items():
+                r = results[k]
+                r[7]["adapt_reference_node"], r[7]["adapt_reference"] = r[9], ref
+                results[k] = r[:9] + (ref,)
         tasks = [] if not flap_layers else [(i, j, grid.mach[i], grid.alt_ft[j], results[(i, j)][8], node_tuning, LEF_POSITIONS_RAD[layer],
                   results[(i, j)][9], throttle_input) for i, j, layer in alternate_nodes(grid, own)]
         for n, r in enumerate(pool.map(_design_point, tasks), start=1):
@@ -243,7 +277,11 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "node_tuning": node_tuning,
         "tuning_note": ("stage 1 of design/calibrate.py at every node from this tuning (no-failure "
                         f"flights on the tuning seeds {SEEDS[0]}-{SEEDS[-1]} at the node), and the "
-                        "turbulence adaptation's reference measured on the same flights; "
+                        "turbulence adaptation's reference from the same flights: the largest of "
+                        f"{REFERENCE_RANGE[0]:g}-{REFERENCE_RANGE[1]:g} (step {REFERENCE_STEP:g}) whose peak "
+                        f"failure log-odds is at most {REFERENCE_LOG_ODDS_BOUND:g} (calibrate.bounded_reference, "
+                        "adapt_reference_node), then the smallest of it and its grid neighbours' that met "
+                        "the bound (schedule.neighbourhood_references, adapt_reference); "
                         "estimator settings of this tuning" if node_tuning == "calibrated"
                         else "the same tuning at every point (no per-point retune)"),
         "flap_layers": None if not flap_layers else {"positions_rad": list(LEF_POSITIONS_RAD), "alpha_switch_rad": list(LEF_ALPHA_SWITCH_RAD),

@@ -2,7 +2,8 @@
 // (cpp/f16mmae/hierarchical_bank.h) built from a core.ModelBank. An F-16 bank (5 inputs,
 // 7 measurements, 12 single failures) of 13 states runs in the fixed-size
 // F16HierarchicalBank, of 19 states (the six Dryden gust states) in F16GustHierarchicalBank,
-// of 13 states and 6 inputs (the throttle command last) in F16ThrottleHierarchicalBank:
+// of 13 states and 6 inputs (the throttle command last) in F16ThrottleHierarchicalBank, of 19
+// states and 6 inputs in F16GustThrottleHierarchicalBank:
 // the bank's nx and nu select it; any other bank runs in the dynamic one. Signals are ABSOLUTE here: the bank subtracts its own u_trim / z_trim and
 // z_hat comes back absolute.
 #include <pybind11/pybind11.h>
@@ -45,6 +46,8 @@ class PyHierarchicalBank {
       bank_ = std::make_unique<F16GustHierarchicalBank>(bank, o);
     else if (fits<F16ThrottleHierarchicalBank>(bank, singles))
       bank_ = std::make_unique<F16ThrottleHierarchicalBank>(bank, o);
+    else if (fits<F16GustThrottleHierarchicalBank>(bank, singles))
+      bank_ = std::make_unique<F16GustThrottleHierarchicalBank>(bank, o);
     else
       bank_ = std::make_unique<DynamicHierarchicalBank>(bank, o);
     nu_ = bank.nu();
@@ -134,6 +137,7 @@ class PyHierarchicalBank {
     if (auto* p = std::get_if<std::unique_ptr<F16HierarchicalBank>>(&bank_)) return p->get();
     if (auto* p = std::get_if<std::unique_ptr<F16GustHierarchicalBank>>(&bank_)) return p->get();
     if (auto* p = std::get_if<std::unique_ptr<F16ThrottleHierarchicalBank>>(&bank_)) return p->get();
+    if (auto* p = std::get_if<std::unique_ptr<F16GustThrottleHierarchicalBank>>(&bank_)) return p->get();
     return std::monostate{};
   }
 
@@ -146,7 +150,8 @@ class PyHierarchicalBank {
   }
 
   std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>,
-               std::unique_ptr<F16ThrottleHierarchicalBank>, std::unique_ptr<DynamicHierarchicalBank>>
+               std::unique_ptr<F16ThrottleHierarchicalBank>, std::unique_ptr<F16GustThrottleHierarchicalBank>,
+               std::unique_ptr<DynamicHierarchicalBank>>
       bank_;
   int nu_ = 0, nz_ = 0;
 };
@@ -409,8 +414,8 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("dwell_s", prop([](auto& b) { return b.declarer().options().dwell_s; }))
       .def_property_readonly("dwell_frames", prop([](auto& b) { return b.declarer().dwell_frames(); }))
       .def_property_readonly("fixed_size", &PyHierarchicalBank::fixed,
-                             "True when a fixed-size F-16 bank (13 states, 19 with gust states, or 13 states\n"
-                             "and the throttle as sixth input) runs inside");
+                             "True when a fixed-size F-16 bank (13 states, 19 with gust states; 5 inputs, 6 with\n"
+                             "the throttle) runs inside");
 }
 
 }  // namespace f16mmae::bindings

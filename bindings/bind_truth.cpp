@@ -523,7 +523,7 @@ void bind_truth(py::module_& m) {
                  [&](auto est) -> py::dict {
                    if constexpr (std::is_same_v<decltype(est), std::monostate>)
                      throw py::value_error("fly_closed_loop flies a fixed-size F-16 bank only (13 or 19 states, "
-                                           "5 inputs; 13 states, 6 inputs)");
+                                           "5 or 6 inputs)");
                    else {
                      if (recon && recon->hypothesis_count() != est->hypothesis_count())
                        throw py::value_error("fly_closed_loop: the reconfiguration was built from another bank (" +

@@ -10,10 +10,10 @@
 
 namespace f16mmae::bindings {
 
-/// A fixed-size F-16 bank: 13 states, 19 with the Dryden gust states, or 13 states with the
+/// A fixed-size F-16 bank: 13 states, 19 with the Dryden gust states, either with the
 /// throttle as the sixth input; monostate: none.
-using FixedHierarchicalBank =
-    std::variant<std::monostate, F16HierarchicalBank*, F16GustHierarchicalBank*, F16ThrottleHierarchicalBank*>;
+using FixedHierarchicalBank = std::variant<std::monostate, F16HierarchicalBank*, F16GustHierarchicalBank*,
+                                           F16ThrottleHierarchicalBank*, F16GustThrottleHierarchicalBank*>;
 
 /// The fixed-size F-16 bank inside ``hierarchical_bank`` (a core.HierarchicalBank), or
 /// monostate when it runs the dynamic-size bank.  TypeError if it is not a core.HierarchicalBank.

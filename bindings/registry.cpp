@@ -15,6 +15,7 @@ void bind_truth(py::module_& m);         // bind_truth.cpp: TruthFrames
 void bind_executive(py::module_& m);     // bind_executive.cpp: Executive
 void bind_frame_auth(py::module_& m);    // bind_frame_auth.cpp: FrameAuth
 void bind_reconfiguration(py::module_& m);  // bind_reconfiguration.cpp: SensorReconfiguration
+void bind_bank_set(py::module_& m);      // bind_bank_set.cpp: TurbulenceBankSet
 void register_all(py::module_& m) {
   bind_filter(m);
   bind_bank(m);
@@ -27,5 +28,6 @@ void register_all(py::module_& m) {
   bind_executive(m);
   bind_frame_auth(m);
   bind_reconfiguration(m);
+  bind_bank_set(m);
 }
 }  // namespace f16mmae::bindings

@@ -24,6 +24,7 @@ import concurrent.futures as cf
 import numpy as np
 
 from f16mmae.banks import load_bank
+import f16mmae.design.turbulence_banks  # noqa: F401  (--bank turbulence: registers the set)
 from f16mmae.loop.flight import fly
 from f16mmae.campaign.soak.campaign import PROFILES, profile
 from f16mmae.names import ACTUATORS, COMPONENTS, FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, SENSORS

@@ -120,6 +120,12 @@ class ActuatorLimits {
 
   bool enabled() const noexcept { return enabled_; }
   void reset() noexcept { started_ = false; }
+  // Carry over `from`'s modelled surface positions (the same actuators, another bank's copy;
+  // turbulence_bank_set.h). noexcept.
+  void carry_over(const ActuatorLimits& from) noexcept {
+    started_ = from.started_;
+    delta_ = from.delta_;
+  }
   const UVector& position() const noexcept { return delta_; }   // the modelled surfaces, rad
 
   // The command the filters see for this frame's commands u (absolute); u itself when off

@@ -76,6 +76,13 @@ class Declarer {
     count_ = 0;
   }
 
+  // Carry over `from`'s state (current, candidate, dwell count), keeping this declarer's
+  // threshold and dwell (turbulence_bank_set.h). noexcept.
+  void carry_over(const Declarer& from) noexcept {
+    current_ = from.current_;
+    candidate_ = from.candidate_;
+    count_ = from.count_;
+  }
   int current() const noexcept { return current_; }      // presumed or last declared
   int candidate() const noexcept { return candidate_; }  // hypothesis above threshold, or -1
   int dwell_count() const noexcept { return count_; }    // consecutive frames above so far

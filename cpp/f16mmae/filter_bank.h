@@ -251,6 +251,7 @@ class FilterBank {
   // The turbulence adaptation's reference ρ_0 from now on (ρ kept), and its restart (ρ = ρ_0).
   void set_adapt_reference(double reference) noexcept { scale_.set_reference(reference); }
   void reset_adaptation() noexcept { scale_.reset(); }
+  void set_adapt_power_ratio(double rho) noexcept { scale_.set_power_ratio(rho); }
   // A further likelihood scale s_e >= 1 for the coming updates, set by the caller frame by
   // frame (the maneuver tempering of maneuver_kinematics.h): l_k = -q_k / (2 s s_e). s_e = 1
   // (the default, and after reset()) leaves every l_k bit for bit as without it.
@@ -369,6 +370,30 @@ class FilterBank {
   // Set filter k's prior x⁻ (before an update); its posterior is left as it was.
   void set_prior(int k, const XVector& x_prior) noexcept {
     store([&](auto& s) { s.set_prior(k, x_prior); });
+  }
+  // Carry over `from`'s per-frame state (a bank of the same sizes whose filters stand for
+  // the same hypotheses, e.g. designed for another turbulence level; turbulence_bank_set.h):
+  // every filter's x⁻, x⁺ (and whether it is current), the uninformative levels, p, ln p,
+  // the last q and l and the counters; what the filters ARE, the options and the
+  // adaptation's ρ stay this bank's. noexcept, no allocation for fixed sizes.
+  // states = false: the filters keep their own states and levels (a bank that ran on the
+  // same frames, warm), only the probabilities and counters are carried over.
+  void carry_over(const FilterBank& from, bool states = true) noexcept {
+    if (states) {
+      for (int k = 0; k < size(); ++k) {
+        set_prior(k, from.prior(k));
+        if (from.corrected(k)) set_posterior(k, from.posterior(k));
+        level_set_[k] = from.level_set_[k];
+      }
+      level_ = from.level_;
+      q_ = from.q_;
+      log_l_ = from.log_l_;
+    }
+    p_ = from.p_;
+    log_p_ = from.log_p_;
+    rejected_ = from.rejected_;
+    frames_ = from.frames_;
+    refresh_blend();
   }
   // Touch the per-frame working set (cache_warm.h), ahead of a frame that has a deadline:
   // the packed kernel's buffers when it runs, else the hypotheses and the column store

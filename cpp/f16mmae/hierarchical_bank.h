@@ -65,7 +65,8 @@
 // F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>, the same bank whose filters carry
 // six Dryden gust states, `f16mmae design --gust-states`; F16ThrottleHierarchicalBank =
 // HierarchicalBank<13, 13, 6, 7>, the 13-state bank with the throttle command as its sixth
-// input, `f16mmae design --throttle-input`) or Eigen::Dynamic
+// input, `f16mmae design --throttle-input`; F16GustThrottleHierarchicalBank =
+// HierarchicalBank<13, 19, 6, 7>, both: the turbulence bank set's members) or Eigen::Dynamic
 // (DynamicHierarchicalBank, any K = 1 + number of singles).
 // Throws: the constructor throws std::invalid_argument (invalid ModelBank, sizes that do not
 // match the template, a missing hypothesis). update/propagate/step are noexcept and, for
@@ -235,6 +236,41 @@ class HierarchicalBank {
       apply_trims();
       bank_.reset_adaptation();
     }
+  }
+
+  // Bumpless handover (turbulence_bank_set.h): this bank takes over from `from`, a bank of
+  // the same sizes and hypotheses (designed for another turbulence level), between a frame's
+  // update and its propagate. Carried over: the level and the hypotheses on line (this bank's
+  // own filters for them), the probabilities, the declarer's state, the declarations, the
+  // frame count, the air data, the trim offsets and the trim tracker, the actuator model's
+  // positions; and, unless `warm`, every on-line filter's states (the adaptation then restarts
+  // at its reference, ρ = ρ_0). warm: this bank ran on the same frames with the same
+  // hypotheses on line, so its filters keep their own states and its adaptation its own ρ.
+  // This bank's own: what the filters are, its trims, its options. A scheduled bank is not
+  // supported (the set checks). noexcept, no allocation for fixed sizes (the declaration
+  // history is copied within its reserved capacity).
+  // The turbulence adaptation's ρ set to `rho` (s follows; turbulence_adaptation.h).
+  void set_turbulence_power_ratio(double rho) noexcept { bank_.set_adapt_power_ratio(rho); }
+  void take_over(const HierarchicalBank& from, bool warm = false) noexcept {
+    if (online_ != from.online_) {
+      for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[from.online_[k]]);
+      warm = false;
+    }
+    online_ = from.online_;
+    level_ = from.level_;
+    bank_.carry_over(from.bank_, !warm);
+    if (!warm) bank_.reset_adaptation();
+    declarer_.carry_over(from.declarer_);
+    const std::size_t n = from.history_.size() < history_.capacity() ? from.history_.size() : history_.capacity();
+    history_.assign(from.history_.begin(), from.history_.begin() + static_cast<std::ptrdiff_t>(n));
+    dropped_ = from.dropped_ + static_cast<std::int64_t>(from.history_.size() - n);
+    frame_ = from.frame_;
+    air_data_ = from.air_data_;
+    air_data_rejected_ = from.air_data_rejected_;
+    trim_tracker_ = from.trim_tracker_;
+    actuators_.carry_over(from.actuators_);
+    du_ = from.du_;
+    dz_ = from.dz_;
   }
 
   // Touch the on-line bank's per-frame working set (FilterBank::warm_cache) and the
@@ -506,6 +542,7 @@ class HierarchicalBank {
 using F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 using F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>;
 using F16ThrottleHierarchicalBank = HierarchicalBank<13, 13, 6, 7>;
+using F16GustThrottleHierarchicalBank = HierarchicalBank<13, 19, 6, 7>;
 using DynamicHierarchicalBank =
     HierarchicalBank<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
 

@@ -134,6 +134,13 @@ class ResidualScale {
     options_.reference = reference;
     set_scale();
   }
+  // ρ set to a given value (a bank taking over in known turbulence: turbulence_bank_set.h); s
+  // follows at once. Non-finite or negative values are ignored.
+  void set_power_ratio(double rho) noexcept {
+    if (!(rho >= 0.0 && rho < std::numeric_limits<double>::infinity())) return;
+    rho_ = rho;
+    set_scale();
+  }
   // Back to the start: ρ = ρ_0, s = clamp(1, s_min, s_max).
   void reset() noexcept {
     rho_ = options_.reference;

@@ -43,7 +43,7 @@ def test_every_command_line_setting_is_written_back_as_the_command_line_reads_it
                 "trim_time_constant_s": 30.0, "trim_freeze_probability": 0.2, "schedule_mode": "nearest",
                 "maneuver_kinematics": True, "actuator_limits": True, "maneuver_tempering_g": 0.1}
     argv = shlex.split(drilldown.reproduce_command(scenario(), "scheduled", settings))
-    p = argparse.ArgumentParser()
+    p = argparse.ArgumentParser(allow_abbrev=False)   # else the scenario's --turbulence abbreviates --turbulence-banks
     add_estimator_arguments(p)
     args, _ = p.parse_known_args(argv[2:])
     assert estimator_options_from_args(args) == settings

@@ -14,7 +14,7 @@ from f16mmae.cli.main import main
         (["run", "--seed", "0"], "--seed '0' must be >= 1"),
         (["run", "--seed", "x"], "--seed 'x' is not an integer"),
         (["run", "--duration", "-2"], "--duration '-2' must be > 0"),
-        (["run", "--bank", "/no/such.f16bank"], "neither a shipped tuning (tuned, untuned), nor 'scheduled', nor a readable bank file"),
+        (["run", "--bank", "/no/such.f16bank"], "neither a shipped tuning (tuned, untuned), nor 'scheduled', nor 'turbulence', nor a readable bank file"),
         (["run", "--fail", "FOO@3.0"], "FOO"),
         (["run", "--fail", "LS@9.0"], "not inside the 8.0-s flight"),
         (["run", "--mach", "0.9"], "--mach '0.9' must be <= 0.8 (valid: [0.3, 0.8])"),

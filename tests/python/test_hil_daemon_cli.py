@@ -91,6 +91,9 @@ def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
     assert daemon_flags({"adapt_turbulence": False}) == ()
     with pytest.raises(ValueError, match="no flag for the estimator option 'gust_states'"):
         daemon_flags({"gust_states": True})
+    with pytest.raises(ValueError, match="no flag for the estimator option 'turbulence_banks'"):
+        daemon_flags({"turbulence_banks": True})   # in process only (in_daemon=False)
+    assert daemon_flags({"turbulence_banks": False}) == ()
 
 
 def test_the_daemon_takes_every_flag_of_the_table():
@@ -98,5 +101,5 @@ def test_the_daemon_takes_every_flag_of_the_table():
     mmae-daemon's own usage names and accepts."""
     usage = subprocess.run([DAEMON, "--help"], capture_output=True, text=True, check=True).stdout
     for option in ESTIMATOR_OPTIONS:
-        if option.flag != "--actuator-limits":  # passed as the limits themselves
+        if option.flag != "--actuator-limits" and option.in_daemon:  # the limits: passed as the limits themselves
             assert f"[{option.flag}" in usage or f"  {option.flag}" in usage, option.flag

@@ -20,7 +20,7 @@ from typing import Callable
 from . import core
 from .errors import F16mmaeError
 from .names import (SCHEDULE_DESIGN_REVISION, SCHEDULE_GRID, SCHEDULE_NODE_TUNING, SCHEDULED_BANK,
-                    SHIPPED_TUNINGS)
+                    SHIPPED_TUNINGS, TURBULENCE_BANK)
 
 #: Where the shipped nominal banks live.
 DATA_DIR = Path(__file__).resolve().parent / "data"
@@ -38,6 +38,24 @@ def register_schedule_generator(generate: Callable[[Path], None]) -> None:
     """``generate(path)`` designs the ``scheduled`` bank into ``path`` when it is missing."""
     global _schedule_generator
     _schedule_generator = generate
+
+
+#: The turbulence bank set (design/turbulence_banks.py, a layer above, registers it): its
+#: loader (the checked set, designed first if missing) and its start member's path.
+_turbulence_set: tuple[Callable[[], object], Callable[[], Path]] | None = None
+
+
+def register_turbulence_set(load: Callable[[], object], start_member: Callable[[], Path]) -> None:
+    global _turbulence_set
+    _turbulence_set = (load, start_member)
+
+
+def turbulence_bank_set():
+    """The turbulence bank set (``design.turbulence_banks.BankSet``); BankError if no layer
+    above registered it (import ``f16mmae.design.turbulence_banks``)."""
+    if _turbulence_set is None:
+        raise BankError(f"the {TURBULENCE_BANK!r} bank set is not available: import f16mmae.design.turbulence_banks")
+    return _turbulence_set[0]()
 
 
 def scheduled_bank_path() -> Path:
@@ -63,11 +81,14 @@ def bank_path(tuning: str) -> Path:
         if not path.is_file() and _schedule_generator is not None:
             _schedule_generator(path)
         return path
+    if tuning == TURBULENCE_BANK:
+        turbulence_bank_set()   # BankError if unavailable
+        return _turbulence_set[1]()
     p = Path(tuning)
     if not p.is_file():
         raise BankError(
             f"{tuning!r} is neither a shipped tuning ({', '.join(SHIPPED_TUNINGS)}), "
-            f"nor {SCHEDULED_BANK!r}, nor a readable bank file"
+            f"nor {SCHEDULED_BANK!r}, nor {TURBULENCE_BANK!r}, nor a readable bank file"
         )
     return p.resolve()
 
@@ -88,7 +109,7 @@ def load_bank(tuning: str):
         bank = _load_bank_cached(str(path))
     except (RuntimeError, ValueError) as exc:
         raise BankError(f"cannot load bank {path}: {exc}") from None
-    label = tuning if tuning in SHIPPED_TUNINGS + (SCHEDULED_BANK,) else (bank.tuning or path.stem)
+    label = tuning if tuning in SHIPPED_TUNINGS + (SCHEDULED_BANK, TURBULENCE_BANK) else (bank.tuning or path.stem)
     return label, path, bank
 
 

@@ -70,6 +70,9 @@ SHIPPED_TUNINGS: tuple[str, ...] = ("tuned", "untuned")
 #: SCHEDULE_GRID with the tuned tuning (per SCHEDULE_NODE_TUNING), generated on first use
 #: into the cache (banks.py).
 SCHEDULED_BANK = "scheduled"
+#: The turbulence bank set's name wherever ``--tuning`` is accepted: its start member
+#: (design/turbulence_banks.py; flown as a set with --turbulence-banks), generated on first use.
+TURBULENCE_BANK = "turbulence"
 #: Every 0.1 Mach and 5,000 ft, plus Mach 0.35: on the low-q̄ side the trims (alpha ~ 1/M^2)
 #: need the finer cell (docs/results/envelope_scheduled.md measures both grids).
 SCHEDULE_GRID = "mach=0.3/0.35/0.4/0.5/0.6/0.7/0.8,alt=5000:35000:5000"

@@ -209,6 +209,10 @@ class BenchResult:
     hierarchical_gust_us: float | None = None
     #: the hierarchical bank, 13 states and 6 inputs (the throttle)
     hierarchical_throttle_us: float | None = None
+    #: a turbulence bank set of 4 members of 19 states and 6 inputs (cpp/f16mmae/turbulence_bank_set.h),
+    #: one member in force; and with a standby running beside it all along
+    bank_set_us: float | None = None
+    bank_set_standby_us: float | None = None
     #: (e) at 13 states with the cache evicted before every frame (EVICT_BYTES)
     hierarchical_cold_us: float | None = None
     python_call_us: float | None = None
@@ -230,6 +234,8 @@ class BenchResult:
             ("hierarchical 19 states / 13 states", self.hierarchical_gust_us, self.hierarchical_us),
             ("hierarchical 6 inputs / 5 inputs", self.hierarchical_throttle_us, self.hierarchical_us),
             ("hierarchical cold / hot", self.hierarchical_cold_us, self.hierarchical_us),
+            ("bank set / hierarchical 19 states", self.bank_set_us, self.hierarchical_gust_us),
+            ("bank set with a standby / without", self.bank_set_standby_us, self.bank_set_us),
         ]
         for label, slow, fast in pairs:
             if slow is not None and fast:
@@ -284,6 +290,15 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
             result.hierarchical_cold_us = core._bench_hierarchical_loop(
                 stored, zh, uh, min_time_s=min_time_s, evict_bytes=EVICT_BYTES)[0] * 1e6
 
+    # the turbulence bank set: 4 members of the set's sizes; bounds that keep member 0 in force, then
+    # bounds that want member 1 all along with a hold longer than the frames (a standby throughout)
+    stored = synthetic_bank(names.ALL_HYPOTHESES, seed=seed, nx=names.NX + 6, nu=names.NU + 1)
+    zh, uh = synthetic_frames(synthetic_models(names.SINGLE_HYPOTHESES, seed, names.NX + 6, names.NU + 1), frames,
+                              seed=seed + 1)
+    result.bank_set_us = core._bench_bank_set_loop([stored] * 4, zh, uh, [1e3, 2e3, 3e3] * 4, [1.0] * 4,
+                                                   min_time_s=min_time_s)[0] * 1e6
+    result.bank_set_standby_us = core._bench_bank_set_loop([stored] * 4, zh, uh, [1e-9, 1e3, 2e3] + [1e3, 2e3, 3e3] * 3,
+                                                           [1.0] * 4, hold_s=600.0, min_time_s=min_time_s)[0] * 1e6
     result.python_call_us = _time_per_frame(core_filter_bank(models).step, z, u, min_time_s)
     result.max_probability_difference = max_probability_difference(models, z, u)
 
@@ -312,6 +327,8 @@ def report(result: BenchResult, stream) -> dict:
         ("(e') (e), 19 states (gust states)", result.hierarchical_gust_us),
         ("(e'') (e), 6 inputs (throttle)", result.hierarchical_throttle_us),
         ("(e''') (e), cold cache every frame", result.hierarchical_cold_us),
+        ("(f) turbulence bank set, 19 st. 6 in.", result.bank_set_us),
+        ("(f') (f) with a standby beside", result.bank_set_standby_us),
         ("(b) Python call, bank.step(z, u)", result.python_call_us),
         ("(c) numpy reference", result.numpy_us),
         ("(d) filterpy MMAEFilterBank", result.filterpy_us),
@@ -344,6 +361,7 @@ def report(result: BenchResult, stream) -> dict:
             "cpp_loop": result.cpp_loop_us, "cpp_loop_adaptive": result.cpp_loop_adaptive_us,
             "hierarchical": result.hierarchical_us, "hierarchical_gust": result.hierarchical_gust_us,
             "hierarchical_throttle": result.hierarchical_throttle_us, "hierarchical_cold": result.hierarchical_cold_us,
+            "bank_set": result.bank_set_us, "bank_set_standby": result.bank_set_standby_us,
             "python_call": result.python_call_us,
             "numpy": result.numpy_us, "filterpy": result.filterpy_us,
         },

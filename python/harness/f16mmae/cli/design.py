@@ -14,6 +14,7 @@ from ..design.hypotheses import FAILURE_MODELS
 from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, design_schedule,
                                format_spec, parse_grid)
 from ..design.tuning import TuningError, load_tuning
+from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
 from ..names import DESIGN_ALT_FT, DESIGN_MACH, TURBULENCE_LEVELS
 from ..outputs import writable_dir, writable_file
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
@@ -47,6 +48,7 @@ examples:
   f16mmae design --gust-states --gust-level moderate --out gust.f16bank   # 16 states: Dryden gusts
   f16mmae design --throttle-input --gust-level none --out calm_throttle.f16bank   # 6 inputs, calm air
   f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
+  f16mmae design --turbulence-banks --out turbulence_banks/            # the set of --turbulence-banks
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
   f16mmae design --schedule --throttle-input --out scheduled_throttle.f16sched   # 6 inputs at every node
 
@@ -125,10 +127,15 @@ def register(subparsers) -> None:
     p.add_argument("--flap-layers", default=None, metavar="on|off",
                    help="--schedule: design a straddling cell's corners in the other leading-edge-flap position "
                         "too, and schedule the flap law (default on)")
+    p.add_argument("--turbulence-banks", action="store_true",
+                   help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the "
+                        "directory --out (default: the cache that --tuning turbulence reads)")
     p.set_defaults(func=_run)
 
 
 def _run(args) -> int:
+    if args.turbulence_banks:
+        return _run_turbulence_banks(args)
     if args.schedule is not None:
         return _run_schedule(args)
     if args.node_tuning is not None or args.flap_layers is not None:
@@ -240,4 +247,23 @@ def _run_schedule(args) -> int:
         print(f"  left out: Mach {p['mach']:g}, {p['alt_ft']:.0f} ft: {p['reason']}")
     print(f"  designed in {s['wall_s']:.1f} s wall ({s['design_s']:.1f} s of design over the workers); "
           f"in force before air data: Mach {s['primary'][0]:g}, {s['primary'][1]:.0f} ft")
+    return 0
+
+
+def _run_turbulence_banks(args) -> int:
+    """``--turbulence-banks``: the set's members and its set.json into the directory --out."""
+    from ..design.turbulence_banks import set_path
+
+    if args.schedule is not None or args.gust_states or args.throttle_input or args.gust_level is not None:
+        raise CliError("--turbulence-banks designs its own members (the tuned tuning, the throttle input, "
+                       "each turbulence level); give only --out")
+    out = writable_dir(args.out, "--out") if args.out else set_path()
+    t0 = time.perf_counter()
+    try:
+        design_set(out, progress=lambda line: print("  " + line, flush=True))
+    except (TrimError, DesignError, BankSetError) as exc:
+        raise CliError(f"the design is refused: {exc}") from None
+    s = load_set(out)
+    print(f"turbulence bank set {out}: members {', '.join(s.levels)}, set hash {s.set_hash[:12]}, "
+          f"designed in {time.perf_counter() - t0:.1f} s")
     return 0

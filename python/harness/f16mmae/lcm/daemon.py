@@ -36,9 +36,11 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
     out: list[str] = []
     for key, value in core_arguments(estimator_options, nu).items():
         option = BY_KEY.get(key)
-        if option is None:
+        if option is None or not option.in_daemon:
+            if option is not None and not value:
+                continue
             raise ValueError(f"mmae-daemon has no flag for the estimator option {key!r}; "
-                             f"it takes {', '.join(BY_KEY)}")
+                             f"it takes {', '.join(k for k, o in BY_KEY.items() if o.in_daemon)}")
         if option.kind == "switch":
             out += [option.flag] if value else []
         elif option.kind == "values":

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .. import core
-from ..banks import bank_estimator_settings
+from ..banks import bank_estimator_settings, turbulence_bank_set
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 
 
@@ -32,6 +32,28 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     return out
 
 
+def _bank_set(model_bank, settings: dict):
+    """``core.TurbulenceBankSet`` over the turbulence bank set (design/turbulence_banks.py),
+    each member with its own recommended settings and the set's adaptation reference, then
+    ``settings`` (which win: e.g. ``trim_time_constant_s``), and the adaptation on (its rho is
+    the selector's measure).
+    ValueError unless ``model_bank`` is one of the set's members (the loop flies that bank's
+    inputs and trims: ``--tuning turbulence``)."""
+    bank_set = turbulence_bank_set()
+    hashes = [str(b.content_hash) for b in bank_set.banks]
+    if str(model_bank.content_hash) not in hashes:
+        start = bank_set.levels[bank_set.selector["start"]]
+        raise ValueError(f"--turbulence-banks flies the turbulence bank set ({', '.join(bank_set.levels)}); "
+                         f"give its bank as the model bank (--tuning turbulence, its {start} member), "
+                         f"not {model_bank.tuning or model_bank.content_hash}")
+    own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
+    members = []
+    for bank, reference in zip(bank_set.banks, bank_set.adapt_reference):
+        member = {**bank_estimator_settings(bank), "adapt_reference": reference, **own, "adapt_turbulence": True}
+        members.append(core.HierarchicalBank(bank, **core_arguments(member, bank.nu)))
+    return core.TurbulenceBankSet(members, **bank_set.selector)
+
+
 class Estimator:
     """The MMAE (the C++ ``core.HierarchicalBank`` through the binding) as the loop sees it.
 
@@ -46,7 +68,10 @@ class Estimator:
     def __init__(self, model_bank, **options) -> None:
         #: The estimator settings in force: the bank's recommended ones, then ``options``.
         self.settings: dict = {**bank_estimator_settings(model_bank), **options}
-        self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings, model_bank.nu))
+        if self.settings.get("turbulence_banks"):
+            self._bank = _bank_set(model_bank, self.settings)
+        else:
+            self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings, model_bank.nu))
         self.bank_hash = str(model_bank.content_hash)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None
@@ -114,6 +139,11 @@ class Estimator:
     def turbulence_scale(self) -> float:
         """The core's turbulence-adaptation scale s in force (1.0 with the adaptation off)."""
         return float(self._bank.turbulence_scale)
+
+    @property
+    def turbulence_power_ratio(self) -> float:
+        """The adaptation's averaged residual power ratio rho (of the running member for a set)."""
+        return float(self._bank.turbulence_power_ratio)
 
     @property
     def level(self) -> int:

@@ -33,6 +33,7 @@ class EstimatorOption:
     choices: tuple[str, ...] = ()
     requires: str | None = None     # the key of an option this one applies with
     on_command_line: bool = True    # False: a daemon flag only (core_arguments' expansion)
+    in_daemon: bool = True          # False: in process only (mmae-daemon has no flag for it yet)
 
     @property
     def dest(self) -> str:
@@ -58,6 +59,10 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --adapt-turbulence: the residual power ratio rho_0 above which the "
                          "likelihoods are tempered (default: a scheduled bank's per-node references where "
                          "it carries them, else 0.6; higher tempers less)"),
+    EstimatorOption("turbulence_banks", "--turbulence-banks", "switch", in_daemon=False,
+                    help="fly the turbulence bank set: banks designed for calm air, light, moderate and severe "
+                         "turbulence, the running one chosen on line by its measured residual power, handed over "
+                         "bumplessly (cpp/f16mmae/turbulence_bank_set.h; with --tuning turbulence). Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "

@@ -1,0 +1,248 @@
+// f16mmae.core.TurbulenceBankSet: one estimator over hierarchical banks designed for rising
+// turbulence intensities, the running one chosen on line by its own measured intensity
+// (cpp/f16mmae/turbulence_bank_set.h). The members are core.HierarchicalBank objects of one
+// fixed-size F-16 type (hierarchical_access.h), each built with the turbulence adaptation on;
+// the set keeps them alive. Signals are ABSOLUTE, as core.HierarchicalBank's.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+#include "core_convert.h"
+#include "hierarchical_access.h"
+#include "f16mmae/model_bank.h"
+#include "f16mmae/turbulence_bank_set.h"
+
+namespace py = pybind11;
+
+namespace f16mmae::bindings {
+namespace {
+
+namespace cv = convert;
+
+class PyTurbulenceBankSet {
+ public:
+  PyTurbulenceBankSet(const py::list& members, const std::vector<double>& bounds, const std::vector<double>& typical,
+                      double hold_s, double warm_up_s, double warm_down_s, double settle_s, double freeze_probability,
+                      int start, int start_standby)
+      : members_(members) {
+    TurbulenceBankSetOptions o;
+    o.bounds = bounds;
+    o.typical = typical;
+    o.hold_s = hold_s;
+    o.warm_up_s = warm_up_s;
+    o.warm_down_s = warm_down_s;
+    o.start_standby = start_standby;
+    o.settle_s = settle_s;
+    o.freeze_probability = freeze_probability;
+    o.start = start;
+    std::vector<FixedHierarchicalBank> fixed;
+    for (py::handle m : members) {
+      FixedHierarchicalBank f = fixed_hierarchical_bank(m);   // TypeError if not a core.HierarchicalBank
+      if (std::holds_alternative<std::monostate>(f))
+        throw py::value_error("turbulence bank set: every member must be a fixed-size F-16 bank; one runs the dynamic-size bank");
+      if (!fixed.empty() && f.index() != fixed[0].index())
+        throw py::value_error("turbulence bank set: the members must be banks of one kind (states and inputs); "
+                              "they differ");
+      fixed.push_back(f);
+    }
+    if (fixed.empty()) throw py::value_error("turbulence bank set: needs at least 2 member banks, got 0");
+    std::visit(
+        [&](auto first) {
+          using P = decltype(first);
+          if constexpr (!std::is_same_v<P, std::monostate>) {
+            using B = std::remove_pointer_t<P>;
+            std::vector<B*> ptrs;
+            for (const auto& f : fixed) ptrs.push_back(std::get<P>(f));
+            set_ = std::make_unique<TurbulenceBankSet<B>>(std::move(ptrs), o);
+          }
+        },
+        fixed[0]);
+  }
+
+  template <class F>
+  decltype(auto) visit(F&& f) const {
+    return std::visit(
+        [&](const auto& p) -> decltype(auto) {
+          using S = typename std::decay_t<decltype(p)>::element_type;
+          if (!p) throw py::value_error("turbulence bank set: not constructed");
+          return f(const_cast<S&>(*p));
+        },
+        set_);
+  }
+
+  py::object update(py::handle z) {
+    return visit([&](auto& s) -> py::object {
+      using B = std::decay_t<decltype(s.running())>;
+      const int d = s.update(cv::to_vector<typename B::ZVector>(z, 7, "z"));
+      return d < 0 ? py::object(py::none()) : py::object(py::str(s.running().name(d)));
+    });
+  }
+  void propagate(py::handle u) {
+    visit([&](auto& s) {
+      using B = std::decay_t<decltype(s.running())>;
+      constexpr int nu = B::UVector::RowsAtCompileTime;
+      s.propagate(cv::to_vector<typename B::UVector>(u, nu, "u"));
+    });
+  }
+
+  py::list members_;   // keeps the member banks alive
+
+ private:
+  std::variant<std::unique_ptr<TurbulenceBankSet<F16HierarchicalBank>>,
+               std::unique_ptr<TurbulenceBankSet<F16GustHierarchicalBank>>,
+               std::unique_ptr<TurbulenceBankSet<F16ThrottleHierarchicalBank>>,
+               std::unique_ptr<TurbulenceBankSet<F16GustThrottleHierarchicalBank>>>
+      set_;
+};
+
+template <class F>
+auto prop(F f) {
+  return [f](const PyTurbulenceBankSet& s) { return s.visit(f); };
+}
+
+// Benchmark (f16mmae.bench): a set of the model banks as the set's members are (19 states,
+// 6 inputs: F16GustThrottleHierarchicalBank), each with the adaptation on, over frames z (N,7),
+// u (N,6), replayed pass after pass from reset() for at least min_time_s and 3 passes, timed in
+// C++; member 0 in force at the start, no start standby. Returns (seconds per frame of the
+// fastest pass, handovers in the last pass, frames with a standby in the last pass).
+py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_frames, py::handle u_frames,
+                              const std::vector<double>& bounds, const std::vector<double>& typical,
+                              double hold_s, double min_time_s) {
+  using Bank = F16GustThrottleHierarchicalBank;
+  HierarchicalOptions o;
+  o.bank.adaptation.enabled = true;
+  o.bank.adaptation.reference = 1.0;
+  std::vector<std::unique_ptr<Bank>> owned;
+  std::vector<Bank*> members;
+  for (const ModelBank& b : banks) {
+    o.bank.p_min = b.estimator.p_min;
+    o.declarer.threshold = b.estimator.threshold;
+    o.declarer.dwell_s = b.estimator.dwell_s;
+    owned.push_back(std::make_unique<Bank>(b, o));
+    members.push_back(owned.back().get());
+  }
+  TurbulenceBankSetOptions so;
+  so.bounds = bounds;
+  so.typical = typical;
+  so.hold_s = hold_s;
+  so.start = 0;
+  so.start_standby = -1;
+  TurbulenceBankSet<Bank> set(members, so);
+  const Eigen::MatrixXd z = cv::to_matrix(z_frames, -1, 7, "z", "(N, 7)");
+  const Eigen::Index n = z.rows();
+  const Eigen::MatrixXd u = cv::to_matrix(u_frames, n, 6, "u", "(N, 6) with N the frames of z");
+  for (const ModelBank& b : banks)
+    if (b.nx() != 19 || b.nu() != 6) throw py::value_error("the benchmark's banks must have 19 states and 6 inputs");
+  if (n == 0) throw py::value_error("the benchmark needs at least one frame");
+  std::vector<Bank::ZVector> zs(n);
+  std::vector<Bank::UVector> us(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    zs[i] = z.row(i).transpose();
+    us[i] = u.row(i).transpose();
+  }
+  using Clock = std::chrono::steady_clock;
+  double best_s = std::numeric_limits<double>::infinity();
+  {
+    py::gil_scoped_release release;
+    const Clock::time_point start = Clock::now();
+    for (int pass = 0; pass < 3 || std::chrono::duration<double>(Clock::now() - start).count() < min_time_s; ++pass) {
+      set.reset();
+      const Clock::time_point t0 = Clock::now();
+      for (Eigen::Index i = 0; i < n; ++i) set.step(zs[i], us[i]);
+      best_s = std::min(best_s, std::chrono::duration<double>(Clock::now() - t0).count());
+    }
+  }
+  return py::make_tuple(best_s / static_cast<double>(n), set.switches(), set.standby_frames());
+}
+
+}  // namespace
+
+void bind_bank_set(py::module_& m) {
+  m.def("_bench_bank_set_loop", &bench_bank_set_loop, py::arg("banks"), py::arg("z"), py::arg("u"), py::arg("bounds"),
+        py::arg("typical"), py::arg("hold_s") = 1.0, py::arg("min_time_s") = 0.2,
+        "Benchmark: (seconds per frame, handovers, frames with a standby) of a core.TurbulenceBankSet over\n"
+        "19-state 6-input members built from the model banks (adaptation on), frames z (N,7), u (N,6), in C++.");
+  py::class_<PyTurbulenceBankSet>(m, "TurbulenceBankSet", R"doc(
+One estimator over banks designed for rising turbulence intensities (cpp/f16mmae/turbulence_bank_set.h).
+
+    TurbulenceBankSet(members, bounds, typical, hold_s=1.0, warm_up_s=1.0, warm_down_s=5.0,
+                      settle_s=1.0, freeze_probability=0.05, start=1, start_standby=0)
+
+members: core.HierarchicalBank objects of one fixed-size kind, each with adapt_turbulence=True,
+in order of rising design intensity (n of them). One member a is in force (start at first,
+start_standby running beside it from frame 0). After each update the selector's rho of member
+a (min_k q_k / nz averaged as the adaptation does, a plain mean at first) is classified by
+bounds (n x (n-1), row a: member a's rho between level i and i+1, rising) into a level L;
+member L, if not a, runs beside it as a standby (started in flight as a's copy, its
+adaptation's rho at typical[L]) and takes over once wanted for hold_s and, a copy, run for
+warm_up_s (L > a) or warm_down_s (L < a): level, hypotheses on line, probabilities, declarer
+state, declarations; its own filter states and rho. Nothing is decided within settle_s of a
+switch or the start, and the standby is dropped while the member in force is at level 1, has
+a failure declared, or a failure hypothesis is above freeze_probability. Outputs are the
+member in force's. Raises ValueError for invalid members or settings (naming them).)doc")
+      .def(py::init<const py::list&, const std::vector<double>&, const std::vector<double>&, double, double, double,
+                    double, double, int, int>(),
+           py::arg("members"), py::arg("bounds"), py::arg("typical"), py::kw_only(), py::arg("hold_s") = 1.0,
+           py::arg("warm_up_s") = 1.0, py::arg("warm_down_s") = 5.0, py::arg("settle_s") = 1.0,
+           py::arg("freeze_probability") = 0.05, py::arg("start") = 1, py::arg("start_standby") = 0)
+      .def("update", &PyTurbulenceBankSet::update, py::arg("z"),
+           "Update the running member with absolute z (7,); then the selector. Returns the name declared, or None.")
+      .def("propagate", &PyTurbulenceBankSet::propagate, py::arg("u"), "Propagate the running member with absolute u.")
+      .def("schedule", [](PyTurbulenceBankSet& s, double mach, double alt) {
+             s.visit([&](auto& x) { x.schedule(AirData{mach, alt}); });
+           }, py::arg("mach"), py::arg("pressure_altitude_ft"))
+      .def("reset", [](PyTurbulenceBankSet& s) { s.visit([](auto& x) { x.reset(); }); },
+           "Every member back to its start; the start member runs.")
+      .def_property_readonly("members", [](const PyTurbulenceBankSet& s) { return s.members_; })
+      .def_property_readonly("active", prop([](auto& s) { return s.active(); }), "index of the member in force")
+      .def_property_readonly("standby", prop([](auto& s) { return s.standby(); }), "index of the member warming up, or -1")
+      .def_property_readonly("standby_frames", prop([](auto& s) { return s.standby_frames(); }),
+                             "frames on which a standby ran beside the member in force, since reset")
+      .def_property_readonly("switches", prop([](auto& s) { return s.switches(); }), "handovers since reset")
+      .def_property_readonly("frozen_frames", prop([](auto& s) { return s.frozen_frames(); }),
+                             "frames on which a failure hypothesis froze the selector, since reset")
+      .def_property_readonly("turbulence_power_ratio", prop([](auto& s) { return s.power_ratio(); }),
+                             "the selector's rho of the member in force")
+      .def_property_readonly("turbulence_scale", prop([](auto& s) { return s.running().turbulence_scale(); }))
+      .def_property_readonly("level", prop([](auto& s) { return s.running().level(); }))
+      .def_property_readonly("hypotheses", prop([](auto& s) {
+                               const auto& b = s.running();
+                               py::tuple t(b.size());
+                               for (int k = 0; k < b.size(); ++k) t[k] = py::str(b.name(b.online()[k]));
+                               return t;
+                             }))
+      .def_property_readonly("declared", prop([](auto& s) { return s.running().name(s.running().current_hypothesis()); }))
+      .def_property_readonly("probabilities", prop([](auto& s) { return cv::to_numpy(s.running().probabilities()); }))
+      .def_property_readonly("z_hat", prop([](auto& s) { return cv::to_numpy(s.running().z_hat()); }))
+      .def_property_readonly("blended_state", prop([](auto& s) { return cv::to_numpy(s.running().blended_state()); }))
+      .def_property_readonly("frames", prop([](auto& s) { return s.running().frames(); }))
+      .def_property_readonly("air_data", prop([](auto& s) {
+                               return py::make_tuple(s.running().air_data().mach,
+                                                     s.running().air_data().pressure_altitude_ft);
+                             }))
+      .def_property_readonly("air_data_rejected", prop([](auto& s) { return s.running().air_data_rejected(); }))
+      .def_property_readonly("declarations", prop([](auto& s) {
+                               py::list out;
+                               for (const auto& d : s.running().declarations()) {
+                                 py::dict e;
+                                 e["hypothesis"] = s.running().name(d.hypothesis);
+                                 e["level"] = d.level;
+                                 e["frame"] = d.frame;
+                                 e["time_s"] = d.time_s;
+                                 out.append(e);
+                               }
+                               return out;
+                             }))
+      .def_property_readonly("fixed_size", [](const PyTurbulenceBankSet&) { return false; },
+                             "False: a set is flown frame by frame (not the one-call C++ closed loop)");
+}
+
+}  // namespace f16mmae::bindings

@@ -1,0 +1,287 @@
+// TurbulenceBankSet — one estimator from calm air to severe turbulence: a set of hierarchical
+// banks designed for rising turbulence intensities, one of them in force at a time, chosen on
+// line by the turbulence intensity the bank in force measures (issue 14, the "moving bank").
+// Eigen and std only.
+//
+// Members 0..n-1 (n >= 2) are banks of one type (same sizes, same hypotheses by name and
+// order), designed for rising gust intensities (the F-16 set: calm air, light, moderate,
+// severe turbulence; `f16mmae design --turbulence-banks`). Each member runs its turbulence
+// adaptation (turbulence_adaptation.h). The intensity measure is the adaptation's: per
+// accepted update of a member, x = min_k q_k / nz over its filters on line, averaged —
+//   ρ ← ρ + a_i (x − ρ),  a_i = max(1 / i, 1 − exp(−1 / (τ f)))   (i: updates averaged so far)
+// i.e. the adaptation's average over τ, but a plain mean over the first τ f updates so that
+// ρ is right within a second of a start (the adaptation's own ρ starts at its reference).
+// The set keeps this ρ for the member in force and for the standby. A member's ρ reads about
+// the same at its own design level, more in stronger gusts, less in calmer air. Per frame:
+//
+//   update(z)     the member in force a updates (and the standby c, if one runs); then the
+//                 selector classifies the turbulence from ρ_a by member a's own boundaries:
+//                   level L = the number of bounds[a][i] (i = 0..n-2, rising) below ρ_a
+//                 (bounds[a][i]: between member a's typical ρ at level i and at level i+1,
+//                 measured; the classification may jump levels), and wants member L:
+//                   frozen  (standby dropped) while member a is at level 1, has a failure
+//                           declared, or a failure hypothesis on line has p >
+//                           freeze_probability: the adaptation must not absorb a failure (a
+//                           failure raises the no-failure filter's residuals too);
+//                   settle  within settle_s of the last switch (or of the start) nothing is
+//                           decided: the standby runs on, its hold does not count;
+//                 a wanted member other than a becomes the standby c (replacing another); a
+//                 wish for a itself drops the standby. A standby started during the flight is
+//                 a copy of member a (HierarchicalBank::take_over) with its adaptation's ρ at
+//                 its typical value (typical[c]); it then runs on the frames itself, so its
+//                 filters converge to its own design's (a bank designed for calm air started
+//                 from a light bank's states reads the mismatch as a VEL failure for seconds:
+//                 measured on the F-16 set). At the start the member `start_standby` (if >= 0)
+//                 runs as a standby from frame 0, from the same zero state as every member:
+//                 no copy, nothing to converge.
+//                 Handed over once wanted for hold_s in a row (after settle) and, a copied
+//                 standby, once it has run warm_up_s (c > a) or warm_down_s (c < a) since its
+//                 copy (a calmer design converges more slowly).
+//   handover      (after that update, before its propagate; bumpless) the standby takes over
+//                 member a's level, hypotheses on line, probabilities, declarer state,
+//                 declarations, frame count, air data and trim offsets, keeping its own
+//                 filter states and ρ (warm take_over); it is in force from this frame on.
+//   propagate(u)  member a's propagate (and the standby's).
+//   schedule(a)   member a's schedule (and the standby's).
+//
+// Start and reset(): member `start` in force from the first frame, `start_standby` beside it.
+// Outputs are the member in force's (probabilities, z_hat, declarations, level).
+// Members of different state vectors (13 against 19 gust states) would need the standby's
+// first copy to map the states; they are not supported here (one Bank type).
+//
+// The set holds the members by pointer; the caller owns them and keeps them alive.
+// Throws std::invalid_argument (constructor): fewer than two members, members whose
+// hypotheses differ, a scheduled member, adaptation off in a member, bounds not n x (n-1)
+// positive, finite and rising along each row, typical not n positive finite values,
+// hold/warm-up/settle/freeze/start out of range.
+// Per frame noexcept; no allocation for fixed sizes (the copies stay within reserved capacity).
+// Cost: one member's frame; two while a standby runs (the start, and while a boundary is crossed).
+#pragma once
+
+#include "f16mmae/hierarchical_bank.h"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace f16mmae {
+
+struct TurbulenceBankSetOptions {
+  std::vector<double> bounds;          // n x (n-1), row-major: member a's ρ between levels i and i+1
+  std::vector<double> typical;         // n: member c's typical ρ at its own level (a copied standby's)
+  double hold_s = 1.0;                 // a member wanted this long in a row (after settle): handed over
+  double warm_up_s = 1.0;              // a copied standby of a stronger member runs this long first
+  double warm_down_s = 5.0;            // ... of a calmer member
+  double settle_s = 1.0;               // nothing decided within this long of a switch or the start
+  double freeze_probability = 0.05;    // a failure hypothesis above this freezes the selector
+  int start = 1;                       // the member in force at the start (and after reset())
+  int start_standby = 0;               // the member beside it from frame 0 (-1: none)
+};
+
+template <class Bank>
+class TurbulenceBankSet {
+ public:
+  using ZVector = typename Bank::ZVector;
+  using UVector = typename Bank::UVector;
+  using PVector = typename Bank::PVector;
+
+  TurbulenceBankSet(std::vector<Bank*> members, const TurbulenceBankSetOptions& options)
+      : members_(std::move(members)), options_(options) {
+    const int n = static_cast<int>(members_.size());
+    const auto refuse = [](const std::string& what) { throw std::invalid_argument("turbulence bank set: " + what); };
+    if (n < 2) refuse("needs at least 2 member banks, got " + std::to_string(n));
+    for (int i = 0; i < n; ++i) {
+      if (members_[i] == nullptr) refuse("member " + std::to_string(i) + " is missing");
+      const Bank& b = *members_[i];
+      if (b.scheduled().active()) refuse("member " + std::to_string(i) + " is a scheduled bank (not supported)");
+      if (!b.options().bank.adaptation.enabled)
+        refuse("member " + std::to_string(i) + " runs without the turbulence adaptation (its rho is the selector's measure)");
+      if (b.hypothesis_count() != members_[0]->hypothesis_count())
+        refuse("member " + std::to_string(i) + " has " + std::to_string(b.hypothesis_count()) +
+               " hypotheses, member 0 " + std::to_string(members_[0]->hypothesis_count()));
+      for (int h = 0; h < b.hypothesis_count(); ++h)
+        if (b.name(h) != members_[0]->name(h))
+          refuse("member " + std::to_string(i) + "'s hypothesis " + std::to_string(h) + " is '" + b.name(h) +
+                 "', member 0's '" + members_[0]->name(h) + "'");
+    }
+    const auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    if (static_cast<int>(options.bounds.size()) != n * (n - 1))
+      refuse("bounds must have n x (n-1) = " + std::to_string(n * (n - 1)) + " values (a row per member), got " +
+             std::to_string(options.bounds.size()));
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < n - 1; ++i) {
+        const double v = options.bounds[a * (n - 1) + i];
+        if (!finite_positive(v) || (i > 0 && !(v > options.bounds[a * (n - 1) + i - 1])))
+          refuse("bounds row " + std::to_string(a) + " must be finite, positive and rising, got " + format_value(v) +
+                 " at " + std::to_string(i));
+      }
+    if (static_cast<int>(options.typical.size()) != n)
+      refuse("typical must have " + std::to_string(n) + " values (one per member), got " +
+             std::to_string(options.typical.size()));
+    for (double v : options.typical)
+      if (!finite_positive(v)) refuse("typical must be finite and positive, got " + format_value(v));
+    for (const double h : {options.hold_s, options.warm_up_s, options.warm_down_s})
+      if (!(h >= 0.0 && h <= 600.0))
+        refuse("hold_s, warm_up_s and warm_down_s must be in [0, 600], got " + format_value(h));
+    if (!(options.settle_s >= 0.0 && options.settle_s <= 3600.0))
+      refuse("settle_s must be in [0, 3600], got " + format_value(options.settle_s));
+    if (!(options.freeze_probability > 0.0 && options.freeze_probability <= 1.0))
+      refuse("freeze_probability must be in (0, 1], got " + format_value(options.freeze_probability));
+    if (options.start < 0 || options.start >= n)
+      refuse("start must be a member index in [0, " + std::to_string(n - 1) + "], got " + std::to_string(options.start));
+    if (options.start_standby < -1 || options.start_standby >= n || options.start_standby == options.start)
+      refuse("start_standby must be -1 or a member index in [0, " + std::to_string(n - 1) + "] other than start, got " +
+             std::to_string(options.start_standby));
+    const double rate = members_[0]->frame_rate_hz();
+    const auto frames = [rate](double s) { return static_cast<std::int64_t>(std::llround(s * rate)); };
+    hold_frames_ = frames(options.hold_s);
+    warm_up_frames_ = frames(options.warm_up_s);
+    warm_down_frames_ = frames(options.warm_down_s);
+    settle_frames_ = frames(options.settle_s);
+    const TurbulenceAdaptationOptions& ad = members_[0]->options().bank.adaptation;
+    alpha_ = 1.0 - std::exp(-1.0 / (ad.time_constant_s * rate));
+    rho_.assign(n, 0.0);
+    averaged_.assign(n, 0);
+    counted_.assign(n, 0);
+    reset();
+  }
+
+  // ---- per frame (noexcept; absolute signals, as HierarchicalBank) --------------------------
+  int update(const ZVector& z_abs) noexcept {
+    Bank& b = *members_[active_];
+    const int d = b.update(z_abs);
+    observe(active_);
+    if (standby_ >= 0) {
+      members_[standby_]->update(z_abs);
+      observe(standby_);
+      ++standby_age_;
+    }
+    select(b);
+    return d;
+  }
+  bool propagate(const UVector& u_abs) noexcept {
+    if (standby_ >= 0) members_[standby_]->propagate(u_abs);
+    return members_[active_]->propagate(u_abs);
+  }
+  int step(const ZVector& z_abs, const UVector& u_abs) noexcept {
+    const int d = update(z_abs);
+    propagate(u_abs);
+    return d;
+  }
+  void schedule(const AirData& a) noexcept {
+    if (standby_ >= 0) members_[standby_]->schedule(a);
+    members_[active_]->schedule(a);
+  }
+  // Every member back to its start; member `start` in force, `start_standby` beside it.
+  void reset() noexcept {
+    for (Bank* m : members_) m->reset();
+    for (std::size_t i = 0; i < rho_.size(); ++i) rho_[i] = 0.0, averaged_[i] = counted_[i] = 0;
+    active_ = options_.start;
+    standby_ = options_.start_standby;
+    standby_copied_ = false;
+    standby_age_ = held_ = since_switch_ = 0;
+    switches_ = frozen_frames_ = standby_frames_ = 0;
+  }
+
+  // ---- outputs -----------------------------------------------------------------------------
+  const Bank& running() const noexcept { return *members_[active_]; }
+  int active() const noexcept { return active_; }
+  int standby() const noexcept { return standby_; }   // the member warming up, or -1
+  int member_count() const noexcept { return static_cast<int>(members_.size()); }
+  // The selector's ρ of member m (header); of the member in force by default.
+  double power_ratio(int m = -1) const noexcept { return rho_[m < 0 ? active_ : m]; }
+  std::int64_t switches() const noexcept { return switches_; }
+  std::int64_t frozen_frames() const noexcept { return frozen_frames_; }
+  std::int64_t standby_frames() const noexcept { return standby_frames_; }
+  const TurbulenceBankSetOptions& options() const noexcept { return options_; }
+
+ private:
+  bool frozen(const Bank& b) const noexcept {
+    if (b.level() != 0 || b.current_hypothesis() != 0) return true;
+    const PVector& p = b.probabilities();
+    for (int k = 1; k < b.size(); ++k)
+      if (p(k) > options_.freeze_probability) return true;
+    return false;
+  }
+
+  // The member whose level member a's ρ falls in (header).
+  int classify(int a, double rho) const noexcept {
+    const int n = member_count();
+    int level = 0;
+    while (level < n - 1 && rho > options_.bounds[a * (n - 1) + level]) ++level;
+    return level;
+  }
+
+  // The selector's average of member m's last update (header); a rejected frame adds nothing.
+  void observe(int m) noexcept {
+    const Bank& b = *members_[m];
+    if (b.bank().accepted_updates() == averaged_[m]) return;
+    averaged_[m] = b.bank().accepted_updates();
+    const auto& q = b.bank().quadratic_forms();
+    double lo = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < q.size(); ++k)
+      if (q(k) < lo) lo = q(k);
+    if (!(lo < std::numeric_limits<double>::infinity())) return;
+    const double x = lo / static_cast<double>(b.bank().nz());
+    const double a = 1.0 / static_cast<double>(++counted_[m]);
+    rho_[m] += (a > alpha_ ? a : alpha_) * (x - rho_[m]);
+  }
+
+  void select(const Bank& b) noexcept {
+    if (frozen(b)) {
+      ++frozen_frames_;
+      ++since_switch_;
+      drop_standby();
+      return;
+    }
+    if (++since_switch_ < settle_frames_) return;   // settling: the standby runs on
+    int want = classify(active_, rho_[active_]);
+    if (want == active_) want = -1;
+    if (want != standby_) {
+      drop_standby();
+      if (want >= 0) {   // a standby started in flight: a copy of the member in force
+        standby_ = want;
+        standby_copied_ = true;
+        members_[want]->take_over(b);
+        members_[want]->set_turbulence_power_ratio(options_.typical[want]);
+        rho_[want] = rho_[active_];   // the selector's ρ of the new member: restarted below
+        counted_[want] = 0;
+      }
+      return;
+    }
+    if (standby_ < 0) return;
+    ++standby_frames_;
+    const std::int64_t warm = !standby_copied_ ? 0 : standby_ > active_ ? warm_up_frames_ : warm_down_frames_;
+    if (++held_ >= hold_frames_ && standby_age_ >= warm) handover();
+  }
+
+  void drop_standby() noexcept {
+    standby_ = -1;
+    standby_age_ = held_ = 0;
+  }
+
+  void handover() noexcept {
+    members_[standby_]->take_over(*members_[active_], /*warm=*/true);
+    active_ = standby_;
+    drop_standby();
+    since_switch_ = 0;
+    ++switches_;
+  }
+
+  std::vector<Bank*> members_;
+  TurbulenceBankSetOptions options_;
+  std::int64_t hold_frames_ = 0, warm_up_frames_ = 0, warm_down_frames_ = 0, settle_frames_ = 0;
+  double alpha_ = 0.0;
+  std::vector<double> rho_;                  // the selector's ρ per member (header)
+  std::vector<std::int64_t> averaged_;       // accepted updates of each member already averaged
+  std::vector<std::int64_t> counted_;        // updates in each member's average since it restarted
+  int active_ = 0, standby_ = -1;
+  bool standby_copied_ = false;
+  std::int64_t standby_age_ = 0, held_ = 0, since_switch_ = 0, switches_ = 0, frozen_frames_ = 0,
+               standby_frames_ = 0;
+};
+
+}  // namespace f16mmae

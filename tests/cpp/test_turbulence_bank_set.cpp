@@ -1,0 +1,194 @@
+// TurbulenceBankSet (turbulence_bank_set.h) on F-16-sized synthetic banks: a "calm" member
+// designed for the plant's process noise and a "rough" one designed for 30 times more, the
+// truth's process noise stepping up and back. Checked: until the first switch the set is the
+// start member stepped alone, bit for bit; the set moves up in the rough segment and back
+// down in the calm one, once each (hysteresis), each after its standby ran hold_s beside the
+// member in force; every handover is bumpless (the new member's probabilities, level and
+// declarations are the old one's at that frame, its states its own, warmed up); a failure
+// freezes the selector (no switch while it is rising or declared, even when the noise steps
+// up with it); no heap allocation per frame, handovers included; the constructor's refusals.
+#include "f16mmae/turbulence_bank_set.h"
+
+#include "allocation_counter.h"
+#include "synthetic_models.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace f16mmae;
+
+namespace {
+
+constexpr unsigned kPlantSeed = 11;
+constexpr double kQ = 1e-3, kRough = 30.0;
+
+ModelBank member(double q_scale) {
+  test::Plant p = test::random_plant(13, 5, 7, kPlantSeed, kQ * q_scale, 1e-3);
+  Eigen::VectorXd u_trim = Eigen::VectorXd::Constant(5, 0.02), z_trim(7);
+  z_trim << 400.0, 0.1, 0.0, 1.0, 0.0, 0.0, 0.0;
+  return test::make_bank(p, test::kF16Actuators, test::kF16Sensors, u_trim, z_trim);
+}
+
+HierarchicalOptions adapting() {
+  HierarchicalOptions o;
+  o.bank.p_min = 1e-9;
+  o.bank.adaptation.enabled = true;
+  o.bank.adaptation.reference = 1.0;
+  return o;
+}
+
+TurbulenceBankSetOptions selector() {
+  TurbulenceBankSetOptions s;
+  s.bounds = {1.5,    // the calm member's rho between calm and rough
+              0.3};   // the rough member's
+  s.typical = {0.5, 0.5};
+  s.hold_s = 0.5;
+  s.warm_up_s = 0.5;
+  s.warm_down_s = 0.5;
+  s.settle_s = 2.0;
+  s.start = 0;
+  s.start_standby = -1;
+  return s;
+}
+
+// The truth: the calm plant with process noise scaled by `noise(frame)`, `failed(frame)` failed.
+template <class Noise, class Failed, class Frame>
+void fly(int frames, Noise&& noise, Failed&& failed, Frame&& frame, unsigned seed = 5) {
+  const test::Plant calm = test::random_plant(13, 5, 7, kPlantSeed, kQ, 1e-3);
+  test::Truth truth(calm, test::kF16Actuators, test::kF16Sensors, seed);
+  Eigen::Matrix<double, 5, 1> u_trim = Eigen::Matrix<double, 5, 1>::Constant(0.02);
+  Eigen::Matrix<double, 7, 1> z_trim;
+  z_trim << 400.0, 0.1, 0.0, 1.0, 0.0, 0.0, 0.0;
+  for (int i = 0; i < frames; ++i) {
+    truth.plant.q = kQ * noise(i) * Eigen::MatrixXd::Identity(13, 13);
+    const std::vector<std::string> f = failed(i);
+    const Eigen::Matrix<double, 7, 1> z = truth.measure(f) + z_trim;
+    const Eigen::VectorXd du = 0.05 * test::dither(5, i, 64.0);
+    const Eigen::Matrix<double, 5, 1> u = du + u_trim;
+    frame(i, z, u);
+    truth.advance(du, f);
+  }
+}
+
+std::vector<std::string> none(int) { return {}; }
+
+}  // namespace
+
+TEST(TurbulenceBankSet, MovesUpAndBackDownBumplesslyAndIsTheStartMemberUntilThen) {
+  const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
+  F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());
+  F16HierarchicalBank alone(calm_mb, adapting());   // the start member stepped by itself
+  TurbulenceBankSet<F16HierarchicalBank> set({&calm, &rough}, selector());
+  const auto noise = [](int i) { return i >= 1500 && i < 3000 ? kRough : 1.0; };
+  std::vector<int> switch_frames;
+  int last_active = set.active();
+  bool same_until_switch = true;
+  int standby_run = 0;
+  fly(4500, noise, none, [&](int i, const auto& z, const auto& u) {
+    // the state the next member takes over: the running member's after this frame's update
+    if (set.switches() == 0) alone.update(z);
+    const int running = set.active();
+    set.update(z);
+    if (set.active() != last_active) {
+      switch_frames.push_back(i);
+      const F16HierarchicalBank& from = running == 0 ? calm : rough;
+      const F16HierarchicalBank& to = set.running();
+      EXPECT_EQ(to.probabilities(), from.probabilities()) << "frame " << i;
+      EXPECT_EQ(to.level(), from.level());
+      EXPECT_EQ(to.frames(), from.frames());
+      EXPECT_EQ(to.declarations().size(), from.declarations().size());
+      EXPECT_EQ(standby_run, 32) << "the standby ran hold_s = 0.5 s beside the member in force";
+      // warm: the new member's states are its own, not the old one's, and close to them
+      EXPECT_NE(to.blended_state(), from.blended_state());
+      EXPECT_LT((to.blended_state() - from.blended_state()).norm(), 0.5 * from.blended_state().norm() + 1e-3);
+      last_active = set.active();
+    }
+    standby_run = set.standby() == (set.active() == 0 ? 1 : 0) ? standby_run + 1 : 0;
+    set.propagate(u);
+    if (set.switches() == 0) {
+      alone.propagate(u);
+      same_until_switch = same_until_switch && alone.probabilities() == set.running().probabilities() &&
+                          alone.z_hat() == set.running().z_hat();
+    }
+  });
+  EXPECT_TRUE(same_until_switch);
+  ASSERT_EQ(switch_frames.size(), 2u) << "up once in the rough segment, down once after it";
+  EXPECT_GT(switch_frames[0], 1500);
+  EXPECT_LT(switch_frames[0], 1500 + 64 * 8);
+  EXPECT_GT(switch_frames[1], 3000);
+  EXPECT_EQ(set.active(), 0);
+  EXPECT_EQ(set.running().level(), 0);
+  EXPECT_TRUE(set.running().declarations().empty()) << "no false declaration across the handovers";
+}
+
+TEST(TurbulenceBankSet, AFailureFreezesTheSelector) {
+  const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
+  F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());
+  TurbulenceBankSet<F16HierarchicalBank> set({&calm, &rough}, selector());
+  // the noise steps up on the frame the left flaperon fails: the failure's rise must not be
+  // read as turbulence, and once declared the set holds the member that declared it
+  const auto noise = [](int i) { return i >= 1000 ? kRough : 1.0; };
+  const auto failed = [](int i) { return i >= 1000 ? std::vector<std::string>{"LS"} : std::vector<std::string>{}; };
+  int switched_while_failing = 0;
+  fly(3000, noise, failed, [&](int, const auto& z, const auto& u) {
+    const bool failing = set.running().current_hypothesis() != 0 || set.running().level() != 0;
+    const auto n = set.switches();
+    set.update(z);
+    switched_while_failing += failing && set.switches() != n;
+    set.propagate(u);
+  });
+  ASSERT_FALSE(set.running().declarations().empty());
+  EXPECT_EQ(set.running().name(set.running().declarations().front().hypothesis), "LS");
+  EXPECT_EQ(switched_while_failing, 0);
+  EXPECT_GT(set.frozen_frames(), 0);
+}
+
+TEST(TurbulenceBankSet, AllocatesNothingPerFrameHandoversIncluded) {
+  const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
+  F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());
+  TurbulenceBankSet<F16HierarchicalBank> set({&calm, &rough}, selector());
+  long long allocations = 0;
+  const auto noise = [](int i) { return i >= 500 && i < 1500 ? kRough : 1.0; };
+  fly(2500, noise, none, [&](int, const auto& z, const auto& u) {
+    const long long before = f16mmae::testing::allocation_count();
+    set.step(z, u);
+    allocations += f16mmae::testing::allocation_count() - before;
+  });
+  EXPECT_GE(set.switches(), 2);
+  EXPECT_EQ(allocations, 0);
+}
+
+TEST(TurbulenceBankSet, RefusesInvalidSetsNamingWhy) {
+  const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
+  F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());
+  F16HierarchicalBank plain(calm_mb);   // adaptation off
+  const auto refused = [](auto&& make, const std::string& says) {
+    try {
+      make();
+      ADD_FAILURE() << "accepted; expected a refusal saying " << says;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  };
+  using Set = TurbulenceBankSet<F16HierarchicalBank>;
+  refused([&] { Set({&calm}, selector()); }, "at least 2");
+  refused([&] { Set({&calm, &plain}, selector()); }, "without the turbulence adaptation");
+  auto s = selector();
+  s.bounds = {1.5, -0.2};
+  refused([&] { Set({&calm, &rough}, s); }, "bounds row 1 must be finite, positive and rising");
+  s = selector();
+  s.bounds = {1.5};
+  refused([&] { Set({&calm, &rough}, s); }, "bounds must have n x (n-1) = 2 values");
+  s = selector();
+  s.typical = {0.5};
+  refused([&] { Set({&calm, &rough}, s); }, "typical must have 2 values");
+  s = selector();
+  s.start = 2;
+  refused([&] { Set({&calm, &rough}, s); }, "start must be a member index");
+  s = selector();
+  s.freeze_probability = 0.0;
+  refused([&] { Set({&calm, &rough}, s); }, "freeze_probability");
+}

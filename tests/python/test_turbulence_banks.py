@@ -1,0 +1,114 @@
+"""The turbulence bank set (design/turbulence_banks.py, core.TurbulenceBankSet): the artifact is
+checked (every hash, the fields), the estimator option flies it and refuses a bank not of the
+set, the selector follows the turbulence in closed loop (severe: up; calm air: down), and a
+failure whose onset coincides with a gust burst is declared, not absorbed."""
+from __future__ import annotations
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+
+from f16mmae import core
+from f16mmae.banks import load_bank
+from f16mmae.design.turbulence_banks import MEMBER_LEVELS, SET_FILE, BankSetError, load_set, set_path
+from f16mmae.loop.estimator import Estimator
+from f16mmae.loop.estimator_options import check
+from f16mmae.loop.flight import fly
+from f16mmae.truth import Scenario
+from f16mmae.truth.failures import make_failure
+
+
+@pytest.fixture(scope="module")
+def bank_set():
+    return load_set()   # designed into the cache on first use
+
+
+@pytest.fixture()
+def copy(bank_set, tmp_path):
+    d = tmp_path / "set"
+    shutil.copytree(bank_set.path, d)
+    return d
+
+
+def test_the_set_is_four_six_input_members_in_rising_level(bank_set):
+    assert bank_set.levels == MEMBER_LEVELS
+    assert bank_set.path == set_path()
+    for bank in bank_set.banks:
+        assert (bank.nx, bank.nu, bank.nz) == (19, 6, 7)
+        assert tuple(h.name for h in bank.hypotheses) == tuple(h.name for h in bank_set.banks[0].hypotheses)
+    # the members differ where the design level enters: the residual covariance of NONE grows
+    a = [np.trace(np.asarray(b.hypotheses[0].a)) for b in bank_set.banks]
+    assert a == sorted(a) and a[0] < a[-1]
+    assert load_set(bank_set.path).set_hash == bank_set.set_hash
+    label, path, bank = load_bank("turbulence")
+    assert label == "turbulence" and path == bank_set.path / "light.f16bank"
+
+
+def test_a_damaged_or_edited_set_is_refused_naming_the_field(copy):
+    member = copy / "moderate.f16bank"
+    data = bytearray(member.read_bytes())
+    data[-1] ^= 1
+    member.write_bytes(bytes(data))
+    with pytest.raises(BankSetError, match=r"members\[2\]\.sha256 does not match moderate.f16bank"):
+        load_set(copy)
+    manifest = json.loads((copy / SET_FILE).read_text())
+    manifest["bounds"][0] = 5.0
+    (copy / SET_FILE).write_text(json.dumps(manifest))
+    with pytest.raises(BankSetError, match="set_hash does not match"):
+        load_set(copy)
+    (copy / SET_FILE).write_text("{")
+    with pytest.raises(BankSetError, match="cannot read the turbulence bank set"):
+        load_set(copy)
+
+
+def test_the_core_refuses_invalid_selectors(bank_set):
+    members = [core.HierarchicalBank(b, adapt_turbulence=True) for b in bank_set.banks]
+    bounds, typical = bank_set.selector["bounds"], bank_set.selector["typical"]
+    with pytest.raises(ValueError, match="bounds row 0 must be finite, positive and rising"):
+        core.TurbulenceBankSet(members, [1.0, 0.5] + bounds[2:], typical)
+    with pytest.raises(ValueError, match="without the turbulence adaptation"):
+        core.TurbulenceBankSet([core.HierarchicalBank(bank_set.banks[0])] + members[1:], bounds, typical)
+    with pytest.raises(ValueError, match="banks of one kind"):
+        core.TurbulenceBankSet([members[0], core.HierarchicalBank(load_bank("tuned")[2], adapt_turbulence=True)],
+                               [1.0, 0.5], [0.5, 0.5])
+
+
+def test_the_option_needs_the_sets_bank():
+    check({"turbulence_banks": True})
+    with pytest.raises(ValueError, match="--tuning turbulence"):
+        Estimator(load_bank("tuned")[2], turbulence_banks=True)
+
+
+def _flight(level, seed, seconds, **scenario):
+    bank = load_bank("turbulence")[2]
+    est = Estimator(bank, turbulence_banks=True)
+    active = []
+    r = fly(Scenario(turbulence=level, duration_s=seconds, seed=seed, feedback="raw", **scenario), bank,
+            estimator=est, on_frame=lambda *a: active.append(est.core_bank.active))
+    return r, est, np.array(active)
+
+
+def test_the_selector_follows_the_turbulence():
+    r, est, active = _flight("severe", 3, 40.0)
+    assert active[0] == 1 and active[-1] == 3, "severe turbulence: up to the severe member"
+    assert np.all(np.diff(active) >= 0), "no switch back down in steady severe turbulence"
+    assert np.argmax(active == 3) < 64 * 4, "within seconds"
+    r, est, active = _flight("light", 3, 40.0)
+    assert np.all(active == 1) and est.core_bank.switches == 0, "light turbulence: the light member throughout"
+    r, est, active = _flight("none", 3, 40.0)
+    assert active[-1] == 0 and est.core_bank.switches == 1, "calm air: the calm member, from the start's standby"
+    assert np.argmax(active == 0) < 64 * 3
+    assert r.declarations == []
+
+
+def test_a_failure_with_a_gust_burst_is_declared_not_absorbed():
+    """The failure and a burst of severe turbulence begin together in light turbulence: the
+    selector is frozen while the failure rises, so the bank in force declares it."""
+    fail = make_failure("LS", 5.0, "complete")
+    r, est, active = _flight("light", 4, 12.0, gust_burst="severe@5+7", failures=(fail,))
+    assert r.declarations and r.declarations[0]["hypothesis"] == "LS"
+    assert r.declarations[0]["time_s"] > 5.0
+    assert r.final_hypothesis == "LS"
+    assert est.core_bank.frozen_frames > 0

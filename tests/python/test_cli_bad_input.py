@@ -120,3 +120,12 @@ def test_numbers_out_of_range_are_refused_with_the_valid_range(capsys, argv, exp
 def test_campaign_config_bounds_the_dwell_as_the_core_does():
     with pytest.raises(CampaignError, match=r"--dwell-s 61.0 must lie in \[0, 60\]"):
         SingleCampaign(estimator={"dwell_s": 61.0}, duration_s=100.0, failure_time_s=3.0).validate()
+
+
+def test_a_flag_a_command_lacks_is_refused_by_its_own_name(capsys):
+    """No abbreviations: `bench truth` has no --turbulence, and it is not read as the estimator's
+    --turbulence-banks (which left 'light' as the unrecognised word)."""
+    with pytest.raises(SystemExit) as exc:
+        main(["bench", "truth", "--turbulence", "light"])
+    assert exc.value.code == 2
+    assert "unrecognized arguments: --turbulence light" in capsys.readouterr().err

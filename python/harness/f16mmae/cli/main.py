@@ -13,8 +13,18 @@ from . import bench, campaign, design, hil, replay, report, run
 SUBCOMMANDS = (run, campaign, design, report, bench, hil, replay)
 
 
+class Parser(argparse.ArgumentParser):
+    """Every parser of the CLI, subcommands included (argparse gives nested subparsers their
+    parent's class): options are never abbreviated, so a flag a command lacks is refused by
+    its name (``--turbulence`` is not read as ``--turbulence-banks``)."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="f16mmae",
         description=(
             "MMAE failure detection for the F-16 (Eide & Maybeck): fly the nonlinear JSBSim "

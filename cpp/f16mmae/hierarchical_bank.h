@@ -238,6 +238,9 @@ class HierarchicalBank {
     }
   }
 
+  // The turbulence adaptation's ρ set to `rho` (s follows; turbulence_adaptation.h).
+  void set_turbulence_power_ratio(double rho) noexcept { bank_.set_adapt_power_ratio(rho); }
+
   // Bumpless handover (turbulence_bank_set.h): this bank takes over from `from`, a bank of
   // the same sizes and hypotheses (designed for another turbulence level), between a frame's
   // update and its propagate. Carried over: the level and the hypotheses on line (this bank's
@@ -249,8 +252,6 @@ class HierarchicalBank {
   // This bank's own: what the filters are, its trims, its options. A scheduled bank is not
   // supported (the set checks). noexcept, no allocation for fixed sizes (the declaration
   // history is copied within its reserved capacity).
-  // The turbulence adaptation's ρ set to `rho` (s follows; turbulence_adaptation.h).
-  void set_turbulence_power_ratio(double rho) noexcept { bank_.set_adapt_power_ratio(rho); }
   void take_over(const HierarchicalBank& from, bool warm = false) noexcept {
     if (online_ != from.online_) {
       for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[from.online_[k]]);

@@ -129,3 +129,14 @@ def test_a_flag_a_command_lacks_is_refused_by_its_own_name(capsys):
         main(["bench", "truth", "--turbulence", "light"])
     assert exc.value.code == 2
     assert "unrecognized arguments: --turbulence light" in capsys.readouterr().err
+
+
+def test_design_schedule_refuses_the_single_point_failure_model_options(capsys, tmp_path):
+    """A scheduled design takes its failure model from the tuning file: the single-point
+    options were once ignored silently (a cover request designed complete hypotheses)."""
+    out = tmp_path / "s.f16sched"
+    for extra in (["--failure-model", "cover"], ["--failed-sensor-level-q", "0.01"]):
+        _refused(capsys, ["design", "--schedule", "--out", out, *extra],
+                 "--failure-model and --failed-sensor-level-q design one point",
+                 "failure_model (complete|cover)")
+    assert not out.exists()

@@ -214,6 +214,9 @@ def _run_schedule(args) -> int:
     if args.gust_states or args.gust_level is not None:
         raise CliError("--gust-states and --gust-level design one point; give a tuning file with gust_model "
                        "and turbulence to --schedule instead")
+    if args.failure_model is not None or args.failed_sensor_level_q is not None:
+        raise CliError("--failure-model and --failed-sensor-level-q design one point; give a tuning file with "
+                       "failure_model (complete|cover) and failed_sensor_level_q to --schedule instead")
     try:
         grid = parse_grid(args.schedule)
         tuning = load_tuning(args.tuning)

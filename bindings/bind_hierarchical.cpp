@@ -285,7 +285,7 @@ void bind_hierarchical(py::module_& m) {
   py::class_<PyHierarchicalBank> cls(m, "HierarchicalBank", R"doc(
 The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 
-    HierarchicalBank(model_bank, p_min=0.001, strip_leading_term=True, threshold=0.9,
+    HierarchicalBank(model_bank, p_min=0.001, node_p_min=True, strip_leading_term=True, threshold=0.9,
                      dwell_s=0.25, declarer=None, trim_time_constant_s=0.0,
                      trim_freeze_probability=0.05, trim_hold_s=2.0, trim_freeze=True,
                      schedule_mode="interpolate", hysteresis_cells=..., blend_step_cells=...,
@@ -309,6 +309,10 @@ over adapt_time_constant_s of min_k q_k / nz, s = clamp(1 + adapt_gain (rho - ad
 adapt_scale_min, adapt_scale_max)); the likelihoods become -q_k/(2 s). Off: exactly the bank as
 designed. adapt_reference None: a scheduled bank whose nodes carry their own reference uses
 those (blended with the filters), any other bank 0.6; a number: that reference everywhere. turbulence_scale reads s, turbulence_power_ratio rho.
+
+node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
+geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.
+p_min_in_force reads the floor in force.
 
 maneuver_kinematics: add to every filter's propagation the rigid-body kinematic and gravity
 terms its wings-level linearization drops (second order; zero in wings-level flight about the
@@ -410,6 +414,8 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("u_trim", prop([](auto& b) { return cv::to_numpy(b.u_trim()); }))
       .def_property_readonly("z_trim", prop([](auto& b) { return cv::to_numpy(b.z_trim()); }))
       .def_property_readonly("p_min", prop([](auto& b) { return b.options().bank.p_min; }))
+      .def_property_readonly("p_min_in_force", prop([](auto& b) { return b.bank().options().p_min; }),
+                             "the floor in force: p_min, or a scheduled bank's node floors blended (node_p_min)")
       .def_property_readonly("threshold", prop([](auto& b) { return b.declarer().options().threshold; }))
       .def_property_readonly("dwell_s", prop([](auto& b) { return b.declarer().options().dwell_s; }))
       .def_property_readonly("dwell_frames", prop([](auto& b) { return b.declarer().dwell_frames(); }))

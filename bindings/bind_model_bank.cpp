@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -401,6 +402,26 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
                              "recommended declaration threshold")
       .def_property_readonly("dwell_s", [](const ModelBank& b) { return b.estimator.dwell_s; },
                              "recommended declaration dwell, s")
+      .def(
+          "with_settings",
+          [](const ModelBank& b, std::optional<double> p_min, std::optional<double> threshold,
+             std::optional<double> dwell_s) {
+            if (b.schedule)
+              throw py::value_error("with_settings: a scheduled bank's settings are its nodes' banks' own; "
+                                    "design the nodes with them");
+            ModelBank out = b;   // a copy with other recommended settings, checked, hashed anew
+            if (p_min) out.estimator.p_min = *p_min;
+            if (threshold) out.estimator.threshold = *threshold;
+            if (dwell_s) out.estimator.dwell_s = *dwell_s;
+            check_settings(out.estimator, static_cast<int>(out.hypotheses.size()), out.frame_rate_hz,
+                           "model bank: estimator");
+            out.content_hash = bank_content_hash(out);
+            return out;
+          },
+          py::kw_only(), py::arg("p_min") = py::none(), py::arg("threshold") = py::none(),
+          py::arg("dwell_s") = py::none(),
+          "A copy of this (unscheduled) bank recommending other estimator settings (None: this bank's);\n"
+          "ValueError for a setting outside its range (cpp/f16mmae/estimator_settings.h).")
       .def_property_readonly("estimator_settings",
                              [](const ModelBank& b) {
                                py::dict d;

@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
     }
     // the bank's recommended settings (typed fields of the bank file), the flags over them
     options.bank.p_min = cfg.p_min.value_or(bank.estimator.p_min);
+    options.schedule.node_p_min = !cfg.p_min;   // a scheduled bank's node floors unless --p-min
     options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     options.bank.adaptation.enabled = cfg.adapt_turbulence;

@@ -12,6 +12,10 @@
 // no-failure calibration flights a set distance from a declaration (the design states its
 // rule and records it in the metadata). Either every
 // node carries one or none does (NaN: not carried, the estimator's own option applies).
+// Each node's bank also recommends its own estimator settings (EstimatorSettings, checked by
+// ModelBank::validate); its p_min is the node's probability floor, which the core blends
+// with the filters (scheduled_filters.h). The primary node's settings are those the schedule
+// as a whole reports.
 //
 // Configuration layers (an aircraft whose configuration switches with the flight condition,
 // e.g. the F-16's leading-edge flap, scheduled on trim alpha): a node also has a layer l

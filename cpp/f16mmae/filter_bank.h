@@ -256,6 +256,14 @@ class FilterBank {
   // frame (the maneuver tempering of maneuver_kinematics.h): l_k = -q_k / (2 s s_e). s_e = 1
   // (the default, and after reset()) leaves every l_k bit for bit as without it.
   void set_extra_scale(double s_e) noexcept { extra_inv_scale_ = s_e > 1.0 ? 1.0 / s_e : 1.0; }
+  // The floor p_min from the next update (and presume()) on; the probabilities in force are
+  // not touched (the next update floors them). A value outside [0, 1/K) is ignored: the
+  // caller checks it where it enters (a scheduled bank's node settings, ModelBank::validate).
+  void set_p_min(double p_min) noexcept {
+    if (!(p_min >= 0.0) || !(p_min * size() < 1.0) || p_min == options_.p_min) return;
+    options_.p_min = p_min;
+    log_p_min_ = p_min > 0.0 ? std::log(p_min) : -std::numeric_limits<double>::infinity();
+  }
   // Presume hypothesis `index` (noexcept; ignored if out of range):
   // p_index = 1 - (K-1) p_min, every other p_min.
   void presume(int index) noexcept {

@@ -39,7 +39,10 @@
 //   untouched by a schedule change. A schedule whose nodes carry an adaptation reference
 //   (bank_schedule.h) sets the turbulence adaptation's rho_0 to the blend in force with the
 //   filters (ScheduleOptions::node_adapt_reference, on by default; rho itself carries on, and
-//   starts at that reference at construction and reset()).
+//   starts at that reference at construction and reset()). Likewise each node's probability
+//   floor (its bank's p_min): the FilterBank's p_min is the blend in force with the filters
+//   (ScheduleOptions::node_p_min, on by default; off: options.bank.p_min everywhere), and
+//   NONE is presumed with it at construction and reset().
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
 // z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
@@ -235,6 +238,7 @@ class HierarchicalBank {
       load_scheduled();
       apply_trims();
       bank_.reset_adaptation();
+      bank_.presume(0);   // with the node floor in force
     }
   }
 
@@ -437,6 +441,7 @@ class HierarchicalBank {
       load_scheduled();
       apply_trims();
       bank_.reset_adaptation();   // rho = the node reference in force
+      bank_.presume(0);           // with the node floor in force
     }
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
   }
@@ -491,6 +496,7 @@ class HierarchicalBank {
                           [&](auto& h_out) { sched_.h_output(h_out); });
     if (sched_.has_adapt_reference() && options_.schedule.node_adapt_reference)
       bank_.set_adapt_reference(sched_.adapt_reference());
+    if (options_.schedule.node_p_min) bank_.set_p_min(sched_.p_min());
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {

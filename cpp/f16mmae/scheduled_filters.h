@@ -54,6 +54,14 @@
 // changed with them (adapt_reference()); HierarchicalBank hands it to its turbulence
 // adaptation when ScheduleOptions::node_adapt_reference.
 //
+// Per-node probability floor: each node's bank recommends its own p_min (its estimator
+// settings, bank_schedule.h). The floor in force is their geometric blend with the filters'
+// weights, ln p_min = sum_c w_c ln p_min,c (the floor enters the declaration as ln p_min: the
+// climb a failure's log-odds makes from it), exactly the common value when the weighted
+// corners agree (a node's own, bit for bit), and 0 if a weighted corner has none (p_min 0);
+// changed with the filters (p_min()). HierarchicalBank hands it to its FilterBank when
+// ScheduleOptions::node_p_min.
+//
 // Handover (HierarchicalBank applies it): when x_trim changes from x_old to x_new every
 // on-line filter's states move by x_old - x_new, so the absolute state estimate
 // x_trim + x is continuous (bumpless); probabilities, declarations and the level are not
@@ -86,6 +94,7 @@ struct ScheduleOptions {
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
+  bool node_p_min = true;              // the nodes' probability floors (their banks' p_min)
 };
 
 inline void check_schedule_options(const ScheduleOptions& o) {
@@ -146,6 +155,7 @@ class ScheduledFilters {
       x_trim_.push_back(node.x_trim);
       h_out_.push_back(node.bank.h_output);
       reference_.push_back(node.adapt_reference);
+      p_min_.push_back(node.bank.estimator.p_min);
     }
     has_reference_ = schedule.has_adapt_reference();
     const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
@@ -238,6 +248,8 @@ class ScheduledFilters {
   // Whether the nodes carry an adaptation reference, and its blend over the filters in force.
   bool has_adapt_reference() const noexcept { return has_reference_; }
   double adapt_reference() const noexcept { return reference_now_; }
+  // The probability floor of the filters in force (header comment).
+  double p_min() const noexcept { return p_min_now_; }
   // The nodes and weights of the filters in force (weights 1, 0, 0, 0 at one node), and
   // the low-passed air data the schedule follows.
   const std::array<int, kCorners>& corners() const noexcept { return corners_; }
@@ -339,10 +351,28 @@ class ScheduledFilters {
   void take_filter_weights() noexcept {
     corners_ = trim_corners_, weights_ = trim_weights_;
     filter_layer_ = layer_now_;
+    blend_p_min();
     if (!has_reference_) return;
     reference_now_ = 0.0;
     for (int c = 0; c < kCorners; ++c)
       if (weights_[c] != 0.0) reference_now_ += weights_[c] * reference_[corners_[c]];
+  }
+  // p_min_now_ from the filters' corners and weights (header comment).
+  void blend_p_min() noexcept {
+    double common = -1.0, log_sum = 0.0;
+    bool same = true;
+    for (int c = 0; c < kCorners; ++c) {
+      if (weights_[c] == 0.0) continue;
+      const double p = p_min_[corners_[c]];
+      same = same && (common < 0.0 || p == common);
+      common = p;
+      if (p <= 0.0) {
+        p_min_now_ = 0.0;
+        return;
+      }
+      log_sum += weights_[c] * std::log(p);
+    }
+    p_min_now_ = same ? common : std::exp(log_sum);
   }
   static int first_covered(const std::array<int, kCorners>& c) noexcept {
     for (int k : c)
@@ -442,9 +472,11 @@ class ScheduledFilters {
   std::vector<XVector> x_trim_;
   std::vector<OutputMatrix> h_out_;
   std::vector<double> reference_;     // per node adapt_reference (NaN: not carried)
+  std::vector<double> p_min_;         // per node p_min (its bank's estimator settings)
   std::vector<int> lookup_, lookup_any_;   // (layer, i, j) -> node_index, node_index_any
   bool has_reference_ = false;
   double reference_now_ = 0.0;        // blend of the filters in force
+  double p_min_now_ = 0.0;            // blend of the filters in force
   int hypotheses_ = 0;
   int node_ = 0;                      // nearest mode: the node in force
   std::array<int, kCorners> corners_{};          // of the filters in force (the last blend)

@@ -398,6 +398,41 @@ TEST(ScheduledBank, ScheduledFramesAllocateNothing) {
   }
 }
 
+// Node floors 1e-9, 1e-3 (Mach 0.6, 10,000 ft), 1e-5, 1e-7 (nodes in grid order): the floor in
+// force is a node's own bit for bit there, their geometric mean at the cell centre
+// (10^(-24/4) = 1e-6) and at the quarter point (weights 9/16, 3/16, 3/16, 1/16:
+// 10^-(9*9 + 3*3 + 5*3 + 7*1)/16 = 10^-7.0), the floor the next update applies; reset presumes
+// NONE with the start node's floor; node_p_min off: the options' floor everywhere; no allocation.
+TEST(ScheduledBank, NodeFloorsAreBlendedGeometricallyWithTheFilters) {
+  BankSchedule s = make_schedule();
+  const double floors[4] = {1e-9, 1e-3, 1e-5, 1e-7};
+  for (std::size_t n = 0; n < 4; ++n) s.nodes[n].bank.estimator.p_min = floors[n];
+  ASSERT_NO_THROW(s.validate());
+  F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));
+  EXPECT_EQ(hb.bank().options().p_min, 1e-9);
+  EXPECT_EQ(hb.bank().probabilities()(1), 1e-9);
+  const Frames f = fly(node_bank(1, 0), 1, 0, {}, 40, 3u);
+  const long long before = f16mmae::testing::allocation_count();
+  hb.schedule(AirData{0.6, 10000.0});
+  for (std::size_t i = 0; i < f.z.size(); ++i) hb.step(f.z[i], f.u[i]);
+  EXPECT_EQ(hb.bank().options().p_min, 1e-3);
+  EXPECT_GE(hb.bank().probabilities().minCoeff(), 1e-3 * (1 - 1e-12));
+  hb.schedule(AirData{0.5, 15000.0});
+  EXPECT_NEAR(std::log10(hb.bank().options().p_min), -6.0, 1e-12);
+  hb.schedule(AirData{0.45, 12500.0});
+  EXPECT_NEAR(std::log10(hb.bank().options().p_min), -112.0 / 16.0, 1e-12);
+  EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+  hb.reset();
+  EXPECT_EQ(hb.bank().options().p_min, 1e-9);
+  EXPECT_EQ(hb.bank().probabilities()(1), 1e-9);
+  HierarchicalOptions off = options(ScheduleMode::kInterpolate);
+  off.schedule.node_p_min = false;
+  off.bank.p_min = 1e-4;
+  F16HierarchicalBank one(scheduled_bank(s), off);
+  one.schedule(AirData{0.6, 10000.0});
+  EXPECT_EQ(one.bank().options().p_min, 1e-4);
+}
+
 // Two layers on the trim alpha x_trim(1) = 0.1 - 0.02 i + 0.01 j (0.10, 0.08 / 0.11, 0.09 at the
 // corners) switched at 0.095: every corner is covered in both layers (layer 1: x_trim(0) + 50),
 // and each node carries an adaptation reference 0.5 + 0.1 n.

@@ -64,3 +64,34 @@ def test_bounded_reference_is_the_largest_grid_reference_within_the_bound():
     ref, peak = calibrate.bounded_reference(bank, flights, bound, (0.4, 1.0), 0.1)
     assert ref == pytest.approx(grid[expected]) and peak == pytest.approx(peaks[expected])
     assert calibrate.bounded_reference(bank, flights, -100.0, (0.4, 1.0), 0.1) == (0.4, pytest.approx(peaks[0]))
+
+
+def test_declaration_effort_is_the_climb_from_the_floor_times_the_scale():
+    """By hand: p_min 1e-3, 13 hypotheses, threshold 0.9, s = 2:
+    2 (ln 9 - ln(0.001 / 0.988)) = 2 (2.1972246 + 6.8956827) = 18.1858146."""
+    assert calibrate.declaration_effort(1e-3, 0.9, 2.0) == pytest.approx(18.1858146, abs=1e-6)
+    assert calibrate.declaration_effort(1e-9, 0.9, 1.0) == pytest.approx(2.1972246 + 20.7232658, abs=1e-6)
+
+
+def test_bounded_settings_takes_the_least_effort_floor_among_those_within_the_bound():
+    """Each candidate floor's row is that floor's bounded reference (bounded_reference on the
+    bank recommending it) with the scale the estimator holds there; the chosen row met the
+    bound and no other row that met it needs less effort; a bound nothing meets gives the
+    smallest floor."""
+    from f16mmae.banks import load_bank
+
+    bank = load_bank("tuned")[2]
+    flights = calibrate.node_flights(0.4, 20_000.0, "light")[:3]
+    chosen = calibrate.bounded_settings(bank, flights, (1e-9, 1e-3))
+    rows = {p: (ref, peak, s) for p, ref, peak, s in chosen["candidates"]}
+    assert sorted(rows) == [1e-9, 1e-3]
+    for p, (ref, peak, s) in rows.items():
+        expected = calibrate.bounded_reference(bank.with_settings(p_min=p), flights)
+        assert ref == expected[0] and peak == round(expected[1], 2) and s >= 1.0
+    assert chosen["bound_met"] and chosen["failure_log_odds_peak"] <= calibrate.REFERENCE_LOG_ODDS_BOUND
+    assert rows[chosen["p_min"]][0] == chosen["adapt_reference"]
+    met = [p for p, (_, peak, _) in rows.items() if peak <= calibrate.REFERENCE_LOG_ODDS_BOUND]
+    efforts = {p: calibrate.declaration_effort(p, bank.threshold, rows[p][2]) for p in met}
+    assert chosen["effort"] == pytest.approx(min(efforts.values()), abs=0.01)
+    none = calibrate.bounded_settings(bank, flights, (1e-9, 1e-3), bound=-100.0)
+    assert not none["bound_met"] and none["p_min"] == 1e-9

@@ -14,10 +14,10 @@ import pytest
 from f16mmae import core
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.calibrate import (REFERENCE_LOG_ODDS_BOUND, adaptation_reference, bounded_reference,
+from f16mmae.design.calibrate import (REFERENCE_LOG_ODDS_BOUND, adaptation_reference, bounded_settings,
                                       calibrate_node, failure_log_odds_peak, node_flights)
 from f16mmae.design.model import linearize_truth
-from f16mmae.design.schedule import ScheduleSpecError, neighbourhood_references, parse_grid, x_trim
+from f16mmae.design.schedule import ScheduleSpecError, neighbourhood_minimum, parse_grid, x_trim
 from f16mmae.design.tuning import load_tuning
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
@@ -34,8 +34,9 @@ def scheduled(tmp_path_factory):
     return core.load_bank(out)
 
 
-def _hash(design) -> str:
-    return core.ModelBank.from_bytes(to_model_bank(design).to_bytes()).content_hash
+def _hash(design, p_min=None) -> str:
+    bank = to_model_bank(design) if p_min is None else to_model_bank(design).with_settings(p_min=p_min)
+    return core.ModelBank.from_bytes(bank.to_bytes()).content_hash
 
 
 def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tuning(scheduled):
@@ -51,16 +52,21 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     tuning, _, _ = calibrate_node(0.5, 20000.0, load_tuning("tuned"))
     design = design_bank(0.5, 20000.0, tuning)
     node = s["nodes"][1]
-    assert node["bank"].content_hash == _hash(design)
     flights = node_flights(0.5, 20000.0, "light")
-    reference, peak = bounded_reference(to_model_bank(design), flights)
-    assert failure_log_odds_peak(node["bank"], flights, reference) == peak <= REFERENCE_LOG_ODDS_BOUND
-    # the file carries the smaller of the two nodes' (neighbours on the grid, both within the bound)
-    s0 = bounded_reference(s["nodes"][0]["bank"], node_flights(0.4, 20000.0, "light"))[0]
-    reference_in_file = min(reference, s0)
+    chosen = bounded_settings(to_model_bank(design), flights)
+    reference, p_min = chosen["adapt_reference"], chosen["p_min"]
+    peak = failure_log_odds_peak(to_model_bank(design).with_settings(p_min=p_min), flights, reference)
+    assert round(peak, 2) == chosen["failure_log_odds_peak"] and peak <= REFERENCE_LOG_ODDS_BOUND
+    # the file carries the smaller of the two nodes' reference and floor (neighbours on the
+    # grid, both within the bound); the floor as the node bank's recommended p_min
+    s0 = bounded_settings(to_model_bank(design_bank(0.4, 20000.0, calibrate_node(0.4, 20000.0, load_tuning("tuned"))[0])),
+                          node_flights(0.4, 20000.0, "light"))
+    reference_in_file, p_min_in_file = min(reference, s0["adapt_reference"]), min(p_min, s0["p_min"])
     assert node["adapt_reference"] == reference_in_file == s["nodes"][0]["adapt_reference"]
+    assert node["bank"].p_min == p_min_in_file == s["nodes"][0]["bank"].p_min
+    assert node["bank"].content_hash == _hash(design, p_min_in_file)
     flap_held = design_bank(0.5, 20000.0, tuning, linearized=linearize_truth(0.5, 20000.0, lef_rad=0.262))
-    assert s["nodes"][3]["bank"].content_hash == _hash(flap_held) != node["bank"].content_hash
+    assert s["nodes"][3]["bank"].content_hash == _hash(flap_held, p_min_in_file) != node["bank"].content_hash
     assert s["nodes"][3]["adapt_reference"] == reference_in_file
     assert node["bank"].content_hash != _hash(design_bank(0.5, 20000.0, "tuned"))
     np.testing.assert_array_equal(node["x_trim"], x_trim(design))
@@ -71,6 +77,7 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     assert meta["nodes"][1]["power_ratio_mean"] == adaptation_reference(design, flights)
     assert meta["nodes"][1]["adapt_reference_node"] == reference and meta["nodes"][1]["bound_met"]
     assert meta["nodes"][1]["adapt_reference"] == reference_in_file
+    assert meta["nodes"][1]["p_min_node"] == p_min and meta["nodes"][1]["p_min"] == p_min_in_file
     assert meta["nodes"][1]["knobs"] == {k: v for f in ("qd_longitudinal", "r_pseudonoise", "qd_lateral")
                                          for k, v in getattr(tuning, f).items()}
 
@@ -159,7 +166,7 @@ def test_a_node_s_reference_is_the_smallest_of_its_neighbours_that_met_the_bound
     (0.3, the range's floor), (0, 1) and (2, 1) at 0.8, (1, 1) not covered."""
     bounded = {(0, 0): (0.6, True), (1, 0): (1.0, True), (2, 0): (0.3, False),
                (0, 1): (0.8, True), (2, 1): (0.8, True)}
-    assert neighbourhood_references(bounded) == {
+    assert neighbourhood_minimum(bounded) == {
         (0, 0): 0.6,   # its own is the smallest
         (1, 0): 0.6,   # (0, 0) beside it; (2, 0) did not meet the bound and does not count
         (2, 0): 0.3,   # keeps its own

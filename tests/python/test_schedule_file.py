@@ -260,3 +260,51 @@ def test_configuration_layers_follow_the_law_on_the_trims_and_switch_at_once(tmp
         core.save_schedule([0.4, 0.6], [20000.0], nodes[:2], primary=0, path=tmp_path / "x")
     with pytest.raises(ValueError, match=r"switch_state = 1 with 0 switch_thresholds"):
         core.save_schedule([0.4, 0.6], [20000.0], nodes[:1], primary=0, path=tmp_path / "x", switch_state=1)
+
+
+def test_the_node_floors_set_p_min_blended_geometrically_with_the_filters(tmp_path):
+    """Each node's bank recommends its own floor p_min: 1e-9, 1e-3, 1e-5, 1e-7 at the corners
+    of the 2 x 2 schedule. At a node the floor in force is that node's exactly; at the centre
+    (weights 1/4) it is the geometric mean 10^((-9 - 3 - 5 - 7) / 4) = 1e-6; NONE starts
+    presumed with the start node's floor (p_k = 1e-9 for the 12 others, not the options'
+    0.001); node_p_min=False, or the Estimator given a p_min, puts one floor everywhere."""
+    from f16mmae.loop.estimator import Estimator
+
+    floors = (1e-9, 1e-3, 1e-5, 1e-7)
+    nodes = [(i, j, synthetic_bank(names.ALL_HYPOTHESES, seed=1 + n).with_settings(p_min=floors[n]), np.zeros(names.NX))
+             for n, (i, j) in enumerate(((0, 0), (1, 0), (0, 1), (1, 1)))]
+    path = tmp_path / "floors.f16sched"
+    core.save_schedule([0.4, 0.6], [10000.0, 20000.0], nodes, primary=0, path=path)
+    bank = core.load_bank(path)
+    assert [n["bank"].p_min for n in bank.schedule["nodes"]] == list(floors)
+    with pytest.raises(ValueError, match="a scheduled bank's settings are its nodes' banks' own"):
+        bank.with_settings(p_min=1e-3)
+    hb = core.HierarchicalBank(bank, air_data_time_constant_s=0.0)
+    assert hb.p_min == 0.001 and hb.p_min_in_force == 1e-9
+    np.testing.assert_array_equal(hb.probabilities[1:], np.full(12, 1e-9))
+    hb.schedule(0.6, 10000.0)
+    assert hb.p_min_in_force == 1e-3
+    hb.update(np.asarray(bank.z_trim) + 5.0)   # a frame far from every hypothesis: the floor shows
+    assert hb.probabilities.min() >= 1e-3 * (1 - 1e-12)
+    hb.schedule(0.5, 15000.0)
+    assert hb.schedule_state["weights"] == [0.25] * 4
+    assert hb.p_min_in_force == pytest.approx(1e-6, rel=1e-12)
+    hb.reset()
+    assert hb.p_min_in_force == 1e-9
+    np.testing.assert_array_equal(hb.probabilities[1:], np.full(12, 1e-9))
+    one = core.HierarchicalBank(bank, p_min=1e-4, node_p_min=False, air_data_time_constant_s=0.0)
+    one.schedule(0.6, 10000.0)
+    assert one.p_min_in_force == 1e-4
+    assert Estimator(bank, p_min=1e-4).core_bank.p_min_in_force == 1e-4
+    assert Estimator(bank).core_bank.p_min_in_force == 1e-9
+
+
+def test_with_settings_copies_a_bank_with_other_recommended_settings():
+    b = synthetic_bank(names.ALL_HYPOTHESES, 1)
+    c = b.with_settings(p_min=1e-5)
+    assert b.p_min == 1e-3 and c.p_min == 1e-5 and (c.threshold, c.dwell_s) == (b.threshold, b.dwell_s)
+    assert c.content_hash != b.content_hash
+    assert core.ModelBank.from_bytes(c.to_bytes()).content_hash == c.content_hash
+    assert b.with_settings().content_hash == b.content_hash
+    with pytest.raises(ValueError, match=r"p_min must be in \[0, 1/K\) with K = 79 hypotheses, got 0.02"):
+        b.with_settings(p_min=0.02)

@@ -81,8 +81,9 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: Revision of the scheduled design (design/schedule.py); part of the cached bank's name, so a
 #: change of what a node carries designs the bank anew.  2: per-node adaptation reference;
 #: 3: that reference bounded by the calibration flights' failure log-odds (calibrate.bounded_reference);
-#: 4: then the smallest of the node's and its grid neighbours' (schedule.neighbourhood_references).
-SCHEDULE_DESIGN_REVISION = 4
+#: 4: then the smallest of the node's and its grid neighbours' (schedule.neighbourhood_minimum);
+#: 5: a probability floor per node, chosen with the reference (calibrate.bounded_settings).
+SCHEDULE_DESIGN_REVISION = 5
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -8,6 +8,7 @@ import math
 import time
 
 from ..design.bank import design_bank, write_bank
+from ..design.calibrate import P_MIN_CANDIDATES
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.hypotheses import FAILURE_MODELS
@@ -15,6 +16,7 @@ from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, 
                                format_spec, parse_grid)
 from ..design.tuning import TuningError, load_tuning
 from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
+from .. import names
 from ..names import DESIGN_ALT_FT, DESIGN_MACH, TURBULENCE_LEVELS
 from ..outputs import writable_dir, writable_file
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE, TrimError
@@ -127,6 +129,10 @@ def register(subparsers) -> None:
     p.add_argument("--flap-layers", default=None, metavar="on|off",
                    help="--schedule: design a straddling cell's corners in the other leading-edge-flap position "
                         "too, and schedule the flap law (default on)")
+    p.add_argument("--node-p-min", default=None, metavar="P1/P2/...",
+                   help="--schedule (calibrated nodes): the probability floors each node chooses from, bounded "
+                        "by its calibration flights' false alarms with its adaptation reference "
+                        f"(default {'/'.join(f'{v:g}' for v in P_MIN_CANDIDATES)}; one value: that floor everywhere)")
     p.add_argument("--turbulence-banks", action="store_true",
                    help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the "
                         "directory --out (default: the cache that --tuning turbulence reads)")
@@ -138,8 +144,9 @@ def _run(args) -> int:
         return _run_turbulence_banks(args)
     if args.schedule is not None:
         return _run_schedule(args)
-    if args.node_tuning is not None or args.flap_layers is not None:
-        raise CliError("--node-tuning and --flap-layers apply to a scheduled design; give --schedule [GRID] too")
+    if args.node_tuning is not None or args.flap_layers is not None or args.node_p_min is not None:
+        raise CliError("--node-tuning, --flap-layers and --node-p-min apply to a scheduled design; "
+                       "give --schedule [GRID] too")
     mach = number("--mach", args.mach)
     alt_ft = number("--alt-ft", args.alt_ft)
     if not MACH_RANGE[0] <= mach <= MACH_RANGE[1]:
@@ -230,6 +237,13 @@ def _run_schedule(args) -> int:
         raise CliError(f"--node-tuning {node_tuning!r}: valid: {', '.join(NODE_TUNINGS)}")
     if args.flap_layers not in (None, "on", "off"):
         raise CliError(f"--flap-layers {args.flap_layers!r}: valid: on, off")
+    p_mins = P_MIN_CANDIDATES
+    if args.node_p_min is not None:
+        if node_tuning != "calibrated":
+            raise CliError("--node-p-min chooses among floors on the calibration flights: it needs "
+                           "--node-tuning calibrated (the fixed tuning's nodes keep its p_min)")
+        p_mins = tuple(number("--node-p-min", v, minimum=0.0, exclusive=True,
+                                      below=round(1.0 / len(names.ALL_HYPOTHESES), 6)) for v in args.node_p_min.split("/"))
     thr = "_throttle" if args.throttle_input else ""
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}.f16sched", "--out")
     how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
@@ -238,7 +252,8 @@ def _run_schedule(args) -> int:
     try:
         s = design_schedule(grid, args.tuning, out, workers=workers,
                             progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning,
-                            flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input)
+                            flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input,
+                            p_min_candidates=p_mins)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

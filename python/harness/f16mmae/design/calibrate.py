@@ -262,13 +262,15 @@ REFERENCE_STEP = 0.02
 REFERENCE_LOG_ODDS_BOUND = -6.0
 
 
-def failure_log_odds_peak(model_bank, flights, reference: float) -> float:
+def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | None = None) -> float:
     """The largest failure log-odds ``max_t max_(k != NONE) ln(p_k / p_NONE)`` over ``flights``
     (no-failure records, perturbations from the bank's trim) of the estimator the bank makes
     (core.HierarchicalBank with the bank's settings and the turbulence adaptation on at
     ``reference``), run over them from its start state; +inf if it declared a failure.
     ``ln(p_min / (1 - 12 p_min))`` (about -20.7 at p_min 1e-9) is the floor; a declaration
-    needs more than ``ln(threshold / (1 - threshold))`` (2.2 at 0.9) for the dwell."""
+    needs more than ``ln(threshold / (1 - threshold))`` (2.2 at 0.9) for the dwell.
+    ``scales``: a list that receives the likelihood scale s the adaptation holds at every frame
+    after each flight's first second."""
     from .. import core
 
     settings = dict(model_bank.estimator_settings)
@@ -286,6 +288,8 @@ def failure_log_odds_peak(model_bank, flights, reference: float) -> float:
                 return float("inf")
             p = bank.probabilities
             peak = max(peak, float(np.log(np.max(p[1:])) - np.log(p[0])))
+            if scales is not None and i >= names.FRAME_RATE_HZ:
+                scales.append(float(bank.turbulence_scale))
     return peak
 
 
@@ -318,6 +322,51 @@ def bounded_reference(model_bank, flights, bound: float = REFERENCE_LOG_ODDS_BOU
     if best not in peaks:
         passes(best)
     return grid[best], peaks[best]
+
+
+#: The per-node probability floor (``bounded_settings``): the candidates, around the shipped
+#: 1e-9: larger floors shorten a failure's climb to a declaration (high q̄, where the evidence
+#: per frame is small), smaller ones lengthen a false alarm's (nodes no reference bounds).
+P_MIN_CANDIDATES: tuple[float, ...] = (1e-15, 1e-12, 1e-9, 1e-7, 1e-5, 1e-3)
+
+
+def declaration_effort(p_min: float, threshold: float, scale: float, k: int = names.K_BANK) -> float:
+    """How long a failure takes to be declared, in frames times its evidence per frame (the
+    mean of l_f - l_NONE at s = 1, a property of the node and the failure, not of the settings):
+    its log-odds must climb from the floor ``ln(p_min / (1 - (k-1) p_min))`` to
+    ``ln(threshold / (1 - threshold))``, and the adaptation's scale s divides the evidence
+    (likelihoods -q/(2 s)):  effort = s (ln(thr / (1 - thr)) - ln(p_min / (1 - (k-1) p_min)))."""
+    return scale * (np.log(threshold / (1.0 - threshold)) - np.log(p_min / (1.0 - (k - 1) * p_min)))
+
+
+def bounded_settings(model_bank, flights, candidates: tuple[float, ...] = P_MIN_CANDIDATES,
+                     bound: float = REFERENCE_LOG_ODDS_BOUND) -> dict:
+    """A node's probability floor and adaptation reference, bounded by its calibration
+    flights' false alarms: for each candidate p_min, the bounded reference at that floor
+    (``bounded_reference`` on the bank recommending it) and the mean scale s the estimator
+    holds there over ``flights`` (their turbulence); of the candidates whose peak failure
+    log-odds meets ``bound``, the one of least ``declaration_effort`` (ties: the smaller floor;
+    the peak rises with the floor as with the reference, so the bound keeps the same distance
+    from a declaration at every floor); if none meets it, the smallest candidate.
+    Returns {p_min, adapt_reference, failure_log_odds_peak, bound_met, scale, effort,
+    candidates: [[p_min, reference, peak, scale], ...]}.  Deterministic for given flights."""
+    rows, best = [], None
+    threshold = float(model_bank.threshold)
+    for p_min in sorted(candidates):
+        bank = model_bank.with_settings(p_min=p_min)
+        reference, peak = bounded_reference(bank, flights, bound)
+        scales: list[float] = []
+        failure_log_odds_peak(bank, flights, reference, scales)
+        scale = float(np.mean(scales)) if scales else 1.0
+        row = {"p_min": p_min, "adapt_reference": reference, "failure_log_odds_peak": round(peak, 2),
+               "bound_met": bool(peak <= bound), "scale": round(scale, 3),
+               "effort": round(float(declaration_effort(p_min, threshold, scale)), 2)}
+        rows.append(row)
+        if row["bound_met"] and (best is None or row["effort"] < best["effort"]):
+            best = row
+    chosen = dict(best if best is not None else rows[0])
+    chosen["candidates"] = [[r["p_min"], r["adapt_reference"], r["failure_log_odds_peak"], r["scale"]] for r in rows]
+    return chosen
 
 
 def write_nominal_banks(lin) -> None:

@@ -5,12 +5,15 @@ schedules on measured air data (``cpp/f16mmae/scheduled_filters.h``).
 Every covered point is the ordinary design (``design_bank``), with the given tuning at every
 point (``--node-tuning fixed``) or with its pseudonoise calibrated at the point (``calibrated``,
 the default: ``calibrate.calibrate_node``), which also sets the point's turbulence adaptation
-reference and stores it with the node: the largest reference at which the node's estimator
-keeps its no-failure calibration flights at a failure log-odds of at most
-``calibrate.REFERENCE_LOG_ODDS_BOUND`` (``calibrate.bounded_reference``: a reference that
-bounds the false alarms, not the mean power ratio, which the metadata also records), then
-lowered to the smallest of its grid neighbours' (``neighbourhood_references``), so that the
-reference the core blends over a cell bounds them at every corner.  A point whose truth cannot trim is left out of the
+reference and its probability floor p_min and stores them with the node: for each candidate
+floor, the largest reference at which the node's estimator keeps its no-failure calibration
+flights at a failure log-odds of at most ``calibrate.REFERENCE_LOG_ODDS_BOUND``
+(``calibrate.bounded_reference``: a reference that bounds the false alarms, not the mean power
+ratio, which the metadata also records), and of these pairs the one a failure needs the least
+evidence to be declared with (``calibrate.bounded_settings``); then each lowered to the
+smallest of its grid neighbours' (``neighbourhood_minimum``), so that the reference and floor
+the core blends over a cell bound them at every corner.  The floor is the node bank's
+recommended p_min (its estimator settings; the core blends the nodes' floors).  A point whose truth cannot trim is left out of the
 grid and listed in the metadata; the core clamps air data to the grid and falls back to the
 nearest covered node where a cell lacks a corner.  Each node also stores its trim state
 ``x_trim`` (the absolute state its filters' perturbation states are taken from): body u and
@@ -50,8 +53,8 @@ from .. import banks, names
 from ..errors import F16mmaeError
 from ..truth.aircraft import ALT_FT_RANGE, LEF_ALPHA_SWITCH_RAD, LEF_POSITIONS_RAD, MACH_RANGE, TrimError
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
-from .calibrate import (REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS, adaptation_reference,
-                        bounded_reference, calibrate_node, node_flights)
+from .calibrate import (P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
+                        adaptation_reference, bounded_settings, calibrate_node, node_flights)
 from .gains import DesignError
 from .model import linearize_truth
 from .tuning import load_tuning
@@ -140,7 +143,7 @@ def _design_point(args):
     ``calibrate.bounded_reference`` with its peak failure log-odds, on the same tuning flights); else the flap held at ``lef_rad`` with ``tuning`` and ``reference`` as given (the
     node's own: the truth never flies the point in that configuration, so there is nothing to
     calibrate on)."""
-    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle = args
+    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle, p_mins = args
     t0 = time.perf_counter()
     record, layer, tun = {}, 0, None
     try:
@@ -156,10 +159,9 @@ def _design_point(args):
                       "var_over_a_after": [round(float(v), 3) for v in after.var_over_a]}
         design = design_bank(mach, alt_ft, tun, linearized=lin)
         if node_tuning == "calibrated" and lef_rad is None:
-            reference, peak = bounded_reference(to_model_bank(design), flights)
-            record.update({"power_ratio_mean": adaptation_reference(design, flights),
-                           "adapt_reference": reference, "failure_log_odds_peak": round(peak, 2),
-                           "bound_met": bool(peak <= REFERENCE_LOG_ODDS_BOUND)})
+            chosen = bounded_settings(to_model_bank(design), flights, p_mins)
+            reference = chosen["adapt_reference"]
+            record.update({"power_ratio_mean": adaptation_reference(design, flights), **chosen})
         if throttle:
             design = design_bank(mach, alt_ft, tun, linearized=lin, throttle_input=True)
     except (TrimError, DesignError) as exc:
@@ -168,18 +170,20 @@ def _design_point(args):
             reference)
 
 
-def neighbourhood_references(bounded: dict[tuple[int, int], tuple[float, bool]]) -> dict[tuple[int, int], float]:
-    """Each covered node's adaptation reference in the file: the smallest of its own bounded
-    reference (``calibrate.bounded_reference``) and those of its covered grid neighbours (the 8
-    around it) whose bound was met.  ``bounded``: grid index -> (reference, bound met).
+def neighbourhood_minimum(bounded: dict[tuple[int, int], tuple[float, bool]]) -> dict[tuple[int, int], float]:
+    """Each covered node's adaptation reference (or probability floor) in the file: the smallest
+    of its own bounded value (``calibrate.bounded_settings``) and those of its covered grid
+    neighbours (the 8 around it) whose bound was met.  ``bounded``: grid index -> (value, bound met).
 
-    Why: the core blends the corners' references over a cell, and each bounds the false alarms
-    only at its own node; the node's 8 neighbours are every corner of the 4 cells that touch it,
-    so the blend anywhere in a cell is at most the smallest bounded reference of the cell's
-    corners (measured: between the 20,000-ft nodes at 0.6 and the 25,000-ft nodes at 1.0 a blend
-    gave the paper's Fig. 9 points false alarms).  A node whose calibration flights exceed the
-    bound at every reference of the range has no reference that bounds them: it keeps its own
-    (the range's lower end) but does not lower its neighbours'."""
+    Why: the core blends the corners' references (and floors) over a cell, and each bounds the
+    false alarms only at its own node; the node's 8 neighbours are every corner of the 4 cells
+    that touch it, so the blend anywhere in a cell is at most the smallest bounded value of the
+    cell's corners, and since the false alarms grow with both the reference and the floor, a
+    pair no larger than a node's bounded pair keeps that node's bound (measured: between the
+    20,000-ft nodes at 0.6 and the 25,000-ft nodes at 1.0 a blend gave the paper's Fig. 9 points
+    false alarms).  A node whose calibration flights exceed the bound at every candidate has
+    none that bounds them: it keeps its own (the range's lower end) but does not lower its
+    neighbours'."""
     out = {}
     for (i, j), (ref, _) in bounded.items():
         around = [bounded[(i + di, j + dj)][0] for di in (-1, 0, 1) for dj in (-1, 0, 1)
@@ -207,7 +211,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     workers: int | None = None,
                     progress: Callable[[str], None] | None = None,
                     node_tuning: str = DEFAULT_NODE_TUNING, flap_layers: bool = True,
-                    throttle_input: bool = False) -> dict:
+                    throttle_input: bool = False,
+                    p_min_candidates: tuple[float, ...] = P_MIN_CANDIDATES) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
@@ -215,6 +220,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     blended across the switch).
     ``node_tuning`` (NODE_TUNINGS): ``tuning`` at every node, or calibrated at each node from it.
     ``throttle_input``: every node models the throttle as its sixth input (module docstring).
+    ``p_min_candidates``: the probability floors a calibrated node chooses from
+    (``calibrate.bounded_settings``; one value: that floor at every node).
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""
@@ -223,7 +230,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     if node_tuning not in NODE_TUNINGS:
         raise ScheduleSpecError(f"node tuning {node_tuning!r} is not one of {', '.join(NODE_TUNINGS)}")
     tuning_obj = load_tuning(tuning)
-    points = [(i, j, m, a, tuning, node_tuning, None, None, throttle_input)
+    points = [(i, j, m, a, tuning, node_tuning, None, None, throttle_input, tuple(p_min_candidates))
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     t0 = time.perf_counter()
     results, alternates = {}, {}
@@ -235,15 +242,18 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 state = "skipped: " + r[5] if r[3] is None else f"designed (flap layer {r[2]})"
                 progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[6]:.1f} s)")
         own = {k: r[2] for k, r in results.items() if r[3] is not None}
-        if node_tuning == "calibrated":   # each node's reference: the smallest around it (neighbourhood_references)
-            bounded = {k: (r[9], r[7]["bound_met"])
-                       for k, r in results.items() if r[3] is not None}
-            for k, ref in neighbourhood_references(bounded).items():
+        p_min_of = {}   # grid index -> the node's floor in the file (calibrated nodes)
+        if node_tuning == "calibrated":   # each node's reference and floor: the smallest around it (neighbourhood_minimum)
+            covered = [k for k, r in results.items() if r[3] is not None]
+            references = neighbourhood_minimum({k: (results[k][9], results[k][7]["bound_met"]) for k in covered})
+            p_min_of = neighbourhood_minimum({k: (results[k][7]["p_min"], results[k][7]["bound_met"]) for k in covered})
+            for k in covered:
                 r = results[k]
-                r[7]["adapt_reference_node"], r[7]["adapt_reference"] = r[9], ref
-                results[k] = r[:9] + (ref,)
+                r[7]["adapt_reference_node"], r[7]["adapt_reference"] = r[9], references[k]
+                r[7]["p_min_node"], r[7]["p_min"] = r[7]["p_min"], p_min_of[k]
+                results[k] = r[:9] + (references[k],)
         tasks = [] if not flap_layers else [(i, j, grid.mach[i], grid.alt_ft[j], results[(i, j)][8], node_tuning, LEF_POSITIONS_RAD[layer],
-                  results[(i, j)][9], throttle_input) for i, j, layer in alternate_nodes(grid, own)]
+                  results[(i, j)][9], throttle_input, ()) for i, j, layer in alternate_nodes(grid, own)]
         for n, r in enumerate(pool.map(_design_point, tasks), start=1):
             alternates[(r[0], r[1], r[2])] = r
             if progress:
@@ -256,6 +266,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         if bank is None:
             skipped.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], "layer": layer, "reason": reason})
         else:
+            if (i, j) in p_min_of:   # the node's floor (its bank's recommended p_min; bank_schedule.h)
+                bank = bank.with_settings(p_min=p_min_of[(i, j)])
             nodes.append((i, j, bank, xt, reference, layer if flap_layers else 0))
             if record:
                 node_records.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], **record})
@@ -277,12 +289,15 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "node_tuning": node_tuning,
         "tuning_note": ("stage 1 of design/calibrate.py at every node from this tuning (no-failure "
                         f"flights on the tuning seeds {SEEDS[0]}-{SEEDS[-1]} at the node), and the "
-                        "turbulence adaptation's reference from the same flights: the largest of "
+                        "turbulence adaptation's reference and the probability floor from the same flights: "
+                        f"for each floor of {', '.join(f'{p:g}' for p in p_min_candidates)} the largest reference of "
                         f"{REFERENCE_RANGE[0]:g}-{REFERENCE_RANGE[1]:g} (step {REFERENCE_STEP:g}) whose peak "
-                        f"failure log-odds is at most {REFERENCE_LOG_ODDS_BOUND:g} (calibrate.bounded_reference, "
-                        "adapt_reference_node), then the smallest of it and its grid neighbours' that met "
-                        "the bound (schedule.neighbourhood_references, adapt_reference); "
-                        "estimator settings of this tuning" if node_tuning == "calibrated"
+                        f"failure log-odds is at most {REFERENCE_LOG_ODDS_BOUND:g} (calibrate.bounded_reference), "
+                        "the pair of least declaration effort (calibrate.bounded_settings: adapt_reference_node, "
+                        "p_min_node, candidates [p_min, reference, peak, s]), then each the smallest of it and "
+                        "its grid neighbours' that met the bound (schedule.neighbourhood_minimum: adapt_reference, "
+                        "p_min, the node bank's recommended floor); "
+                        "the other estimator settings of this tuning" if node_tuning == "calibrated"
                         else "the same tuning at every point (no per-point retune)"),
         "flap_layers": None if not flap_layers else {"positions_rad": list(LEF_POSITIONS_RAD), "alpha_switch_rad": list(LEF_ALPHA_SWITCH_RAD),
                         "alternates": [{"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], "layer": layer}

@@ -44,7 +44,8 @@ class InProcessExecutive:
 
     def __init__(self, model_bank, **estimator_options) -> None:
         settings = {**bank_estimator_settings(model_bank), **estimator_options}
-        self.executive = core.Executive(model_bank, **core_arguments(settings, model_bank.nu))
+        self.executive = core.Executive(model_bank, **core_arguments(settings, model_bank.nu),
+                                        node_p_min="p_min" not in estimator_options)
         self.bank_hash = str(model_bank.content_hash)
 
     def reset(self) -> None:

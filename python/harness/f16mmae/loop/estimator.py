@@ -60,7 +60,8 @@ class Estimator:
     ``Estimator(model_bank, **options)``: the settings of ``core.HierarchicalBank``
     (``p_min``, ``threshold``, ``dwell_s``) are the bank's recommended ones
     (:func:`bank_estimator_settings`, the bank's typed fields) updated by ``options`` (which win);
-    ``settings`` holds the result.  Per frame: ``schedule(mach, pressure_altitude_ft)`` (the
+    ``settings`` holds the result.  A scheduled bank's floor is its nodes' own (``node_p_min``,
+    core.HierarchicalBank) unless ``options`` gives ``p_min``.  Per frame: ``schedule(mach, pressure_altitude_ft)`` (the
     air data measured with z), ``update(z) -> z_hat``, then ``propagate(u)``; z and u absolute
     (the core subtracts the bank's z_trim / u_trim and returns z_hat absolute).  Nothing else
     flows in."""
@@ -71,7 +72,9 @@ class Estimator:
         if self.settings.get("turbulence_banks"):
             self._bank = _bank_set(model_bank, self.settings)
         else:
-            self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings, model_bank.nu))
+            # a scheduled bank's per-node floors unless a p_min was given (then that everywhere)
+            self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings, model_bank.nu),
+                                               node_p_min="p_min" not in options)
         self.bank_hash = str(model_bank.content_hash)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None

@@ -73,6 +73,14 @@ def test_declaration_effort_is_the_climb_from_the_floor_times_the_scale():
     assert calibrate.declaration_effort(1e-9, 0.9, 1.0) == pytest.approx(2.1972246 + 20.7232658, abs=1e-6)
 
 
+def test_the_log_odds_bound_is_the_same_share_of_the_climb_at_every_floor():
+    """-6 at 1e-9 (the bound as chosen); by hand at 1e-3 with threshold 0.9 and 13 hypotheses:
+    floor ln(0.001 / 0.988) = -6.8956827, climb 2.1972246 + 6.8956827 = 9.0929073, share
+    (-6 + 20.7232658) / (2.1972246 + 20.7232658) = 0.6423627 -> -6.8956827 + 5.8409436 = -1.0547391."""
+    assert calibrate.log_odds_bound(1e-9, 0.9) == pytest.approx(-6.0, abs=1e-12)
+    assert calibrate.log_odds_bound(1e-3, 0.9) == pytest.approx(-1.0547391, abs=2e-6)
+
+
 def test_bounded_settings_takes_the_least_effort_floor_among_those_within_the_bound():
     """Each candidate floor's row is that floor's bounded reference (bounded_reference on the
     bank recommending it) with the scale the estimator holds there; the chosen row met the
@@ -83,14 +91,15 @@ def test_bounded_settings_takes_the_least_effort_floor_among_those_within_the_bo
     bank = load_bank("tuned")[2]
     flights = calibrate.node_flights(0.4, 20_000.0, "light")[:3]
     chosen = calibrate.bounded_settings(bank, flights, (1e-9, 1e-3))
-    rows = {p: (ref, peak, s) for p, ref, peak, s in chosen["candidates"]}
+    rows = {p: (ref, peak, s, met) for p, ref, peak, s, met in chosen["candidates"]}
     assert sorted(rows) == [1e-9, 1e-3]
-    for p, (ref, peak, s) in rows.items():
-        expected = calibrate.bounded_reference(bank.with_settings(p_min=p), flights)
-        assert ref == expected[0] and peak == round(expected[1], 2) and s >= 1.0
-    assert chosen["bound_met"] and chosen["failure_log_odds_peak"] <= calibrate.REFERENCE_LOG_ODDS_BOUND
+    for p, (ref, peak, s, met) in rows.items():
+        limit = calibrate.log_odds_bound(p, bank.threshold)
+        expected = calibrate.bounded_reference(bank.with_settings(p_min=p), flights, limit)
+        assert ref == expected[0] and peak == round(expected[1], 2) and s >= 1.0 and met == (expected[1] <= limit)
+    assert chosen["bound_met"] and chosen["failure_log_odds_peak"] <= calibrate.log_odds_bound(chosen["p_min"], 0.9)
     assert rows[chosen["p_min"]][0] == chosen["adapt_reference"]
-    met = [p for p, (_, peak, _) in rows.items() if peak <= calibrate.REFERENCE_LOG_ODDS_BOUND]
+    met = [p for p, row in rows.items() if row[3]]
     efforts = {p: calibrate.declaration_effort(p, bank.threshold, rows[p][2]) for p in met}
     assert chosen["effort"] == pytest.approx(min(efforts.values()), abs=0.01)
     none = calibrate.bounded_settings(bank, flights, (1e-9, 1e-3), bound=-100.0)

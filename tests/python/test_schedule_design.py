@@ -14,7 +14,7 @@ import pytest
 from f16mmae import core
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.calibrate import (REFERENCE_LOG_ODDS_BOUND, adaptation_reference, bounded_settings,
+from f16mmae.design.calibrate import (adaptation_reference, bounded_settings, log_odds_bound,
                                       calibrate_node, failure_log_odds_peak, node_flights)
 from f16mmae.design.model import linearize_truth
 from f16mmae.design.schedule import ScheduleSpecError, neighbourhood_minimum, parse_grid, x_trim
@@ -56,12 +56,15 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     chosen = bounded_settings(to_model_bank(design), flights)
     reference, p_min = chosen["adapt_reference"], chosen["p_min"]
     peak = failure_log_odds_peak(to_model_bank(design).with_settings(p_min=p_min), flights, reference)
-    assert round(peak, 2) == chosen["failure_log_odds_peak"] and peak <= REFERENCE_LOG_ODDS_BOUND
-    # the file carries the smaller of the two nodes' reference and floor (neighbours on the
-    # grid, both within the bound); the floor as the node bank's recommended p_min
+    assert round(peak, 2) == chosen["failure_log_odds_peak"] and peak <= log_odds_bound(p_min, 0.9)
+    # the file carries the smaller of the two nodes' floors (neighbours on the grid, both within
+    # their bound), as the node bank's recommended p_min, and the smaller of their bounded
+    # references at that floor
     s0 = bounded_settings(to_model_bank(design_bank(0.4, 20000.0, calibrate_node(0.4, 20000.0, load_tuning("tuned"))[0])),
                           node_flights(0.4, 20000.0, "light"))
-    reference_in_file, p_min_in_file = min(reference, s0["adapt_reference"]), min(p_min, s0["p_min"])
+    assert chosen["bound_met"] and s0["bound_met"]
+    p_min_in_file = min(p_min, s0["p_min"])
+    reference_in_file = min(row[1] for row in chosen["candidates"] + s0["candidates"] if row[0] == p_min_in_file)
     assert node["adapt_reference"] == reference_in_file == s["nodes"][0]["adapt_reference"]
     assert node["bank"].p_min == p_min_in_file == s["nodes"][0]["bank"].p_min
     assert node["bank"].content_hash == _hash(design, p_min_in_file)

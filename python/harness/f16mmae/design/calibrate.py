@@ -328,44 +328,69 @@ def bounded_reference(model_bank, flights, bound: float = REFERENCE_LOG_ODDS_BOU
 #: 1e-9: larger floors shorten a failure's climb to a declaration (high q̄, where the evidence
 #: per frame is small), smaller ones lengthen a false alarm's (nodes no reference bounds).
 P_MIN_CANDIDATES: tuple[float, ...] = (1e-15, 1e-12, 1e-9, 1e-7, 1e-5, 1e-3)
+#: The floor at which REFERENCE_LOG_ODDS_BOUND was chosen (the shipped tuning's p_min).
+BOUND_P_MIN = 1e-9
+
+
+def log_odds_floor(p_min: float, k: int = names.K_BANK) -> float:
+    """The failure log-odds of a hypothesis at the floor while NONE holds the rest:
+    ln(p_min / (1 - (k-1) p_min))."""
+    return float(np.log(p_min / (1.0 - (k - 1) * p_min)))
 
 
 def declaration_effort(p_min: float, threshold: float, scale: float, k: int = names.K_BANK) -> float:
     """How long a failure takes to be declared, in frames times its evidence per frame (the
     mean of l_f - l_NONE at s = 1, a property of the node and the failure, not of the settings):
-    its log-odds must climb from the floor ``ln(p_min / (1 - (k-1) p_min))`` to
+    its log-odds must climb from the floor ``log_odds_floor(p_min)`` to
     ``ln(threshold / (1 - threshold))``, and the adaptation's scale s divides the evidence
-    (likelihoods -q/(2 s)):  effort = s (ln(thr / (1 - thr)) - ln(p_min / (1 - (k-1) p_min)))."""
-    return scale * (np.log(threshold / (1.0 - threshold)) - np.log(p_min / (1.0 - (k - 1) * p_min)))
+    (likelihoods -q/(2 s)):  effort = s (ln(thr / (1 - thr)) - log_odds_floor(p_min))."""
+    return scale * (np.log(threshold / (1.0 - threshold)) - log_odds_floor(p_min, k))
+
+
+def log_odds_bound(p_min: float, threshold: float, bound: float = REFERENCE_LOG_ODDS_BOUND) -> float:
+    """The false-alarm bound on the calibration flights' peak failure log-odds at floor p_min:
+    the same share of the climb from the floor to a declaration as ``bound`` is at BOUND_P_MIN,
+        floor + f (ln(thr / (1 - thr)) - floor),  f = (bound - floor_0) / (ln(thr / (1 - thr)) - floor_0)
+    (f = 0.642 for -6 at 1e-9 and threshold 0.9).  Why a share: the noise's excursions above the
+    floor, like a failure's evidence, are divided by the scale s, so a candidate's margin against
+    a false alarm is its climb s (ln(thr/(1-thr)) - floor) over the largest excursion; a fixed
+    share gives every floor the same margin (an absolute bound would let a low floor's
+    excursions grow to nearly its whole climb: 28 of 37 nats at 1e-15)."""
+    top, f0 = np.log(threshold / (1.0 - threshold)), log_odds_floor(BOUND_P_MIN)
+    share = (bound - f0) / (top - f0)
+    floor = log_odds_floor(p_min)
+    return float(floor + share * (top - floor))
 
 
 def bounded_settings(model_bank, flights, candidates: tuple[float, ...] = P_MIN_CANDIDATES,
                      bound: float = REFERENCE_LOG_ODDS_BOUND) -> dict:
     """A node's probability floor and adaptation reference, bounded by its calibration
-    flights' false alarms: for each candidate p_min, the bounded reference at that floor
-    (``bounded_reference`` on the bank recommending it) and the mean scale s the estimator
-    holds there over ``flights`` (their turbulence); of the candidates whose peak failure
-    log-odds meets ``bound``, the one of least ``declaration_effort`` (ties: the smaller floor;
-    the peak rises with the floor as with the reference, so the bound keeps the same distance
-    from a declaration at every floor); if none meets it, the smallest candidate.
+    flights' false alarms: for each candidate p_min, the largest reference whose peak failure
+    log-odds over ``flights`` stays within ``log_odds_bound(p_min)`` (``bounded_reference`` on
+    the bank recommending that floor) and the mean scale s the estimator holds there (their
+    turbulence); of the candidates that meet their bound, the one of least
+    ``declaration_effort`` (ties: the smaller floor); if none does, the smallest candidate.
     Returns {p_min, adapt_reference, failure_log_odds_peak, bound_met, scale, effort,
-    candidates: [[p_min, reference, peak, scale], ...]}.  Deterministic for given flights."""
+    candidates: [[p_min, reference, peak, s, met], ...] (ascending floors)}.  Deterministic for
+    given flights."""
     rows, best = [], None
     threshold = float(model_bank.threshold)
     for p_min in sorted(candidates):
         bank = model_bank.with_settings(p_min=p_min)
-        reference, peak = bounded_reference(bank, flights, bound)
+        limit = log_odds_bound(p_min, threshold, bound)
+        reference, peak = bounded_reference(bank, flights, limit)
         scales: list[float] = []
         failure_log_odds_peak(bank, flights, reference, scales)
         scale = float(np.mean(scales)) if scales else 1.0
         row = {"p_min": p_min, "adapt_reference": reference, "failure_log_odds_peak": round(peak, 2),
-               "bound_met": bool(peak <= bound), "scale": round(scale, 3),
+               "bound_met": bool(peak <= limit), "scale": round(scale, 3),
                "effort": round(float(declaration_effort(p_min, threshold, scale)), 2)}
         rows.append(row)
         if row["bound_met"] and (best is None or row["effort"] < best["effort"]):
             best = row
     chosen = dict(best if best is not None else rows[0])
-    chosen["candidates"] = [[r["p_min"], r["adapt_reference"], r["failure_log_odds_peak"], r["scale"]] for r in rows]
+    chosen["candidates"] = [[r["p_min"], r["adapt_reference"], r["failure_log_odds_peak"], r["scale"], r["bound_met"]]
+                            for r in rows]
     return chosen
 
 

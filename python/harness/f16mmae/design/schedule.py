@@ -7,12 +7,12 @@ point (``--node-tuning fixed``) or with its pseudonoise calibrated at the point 
 the default: ``calibrate.calibrate_node``), which also sets the point's turbulence adaptation
 reference and its probability floor p_min and stores them with the node: for each candidate
 floor, the largest reference at which the node's estimator keeps its no-failure calibration
-flights at a failure log-odds of at most ``calibrate.REFERENCE_LOG_ODDS_BOUND``
-(``calibrate.bounded_reference``: a reference that bounds the false alarms, not the mean power
-ratio, which the metadata also records), and of these pairs the one a failure needs the least
-evidence to be declared with (``calibrate.bounded_settings``); then each lowered to the
-smallest of its grid neighbours' (``neighbourhood_minimum``), so that the reference and floor
-the core blends over a cell bound them at every corner.  The floor is the node bank's
+flights' peak failure log-odds within ``calibrate.log_odds_bound`` (``calibrate.bounded_reference``:
+a reference that bounds the false alarms, not the mean power ratio, which the metadata also
+records), and of these pairs the one a failure needs the least evidence to be declared with
+(``calibrate.bounded_settings``); then the floor lowered to its grid neighbours' and the
+reference to theirs at the largest floor around it (``neighbourhood_settings``), so that the
+reference and floor the core blends over a cell bound them at every corner.  The floor is the node bank's
 recommended p_min (its estimator settings; the core blends the nodes' floors).  A point whose truth cannot trim is left out of the
 grid and listed in the metadata; the core clamps air data to the grid and falls back to the
 nearest covered node where a cell lacks a corner.  Each node also stores its trim state
@@ -53,7 +53,7 @@ from .. import banks, names
 from ..errors import F16mmaeError
 from ..truth.aircraft import ALT_FT_RANGE, LEF_ALPHA_SWITCH_RAD, LEF_POSITIONS_RAD, MACH_RANGE, TrimError
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
-from .calibrate import (P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
+from .calibrate import (BOUND_P_MIN, P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
                         adaptation_reference, bounded_settings, calibrate_node, node_flights)
 from .gains import DesignError
 from .model import linearize_truth
@@ -192,6 +192,33 @@ def neighbourhood_minimum(bounded: dict[tuple[int, int], tuple[float, bool]]) ->
     return out
 
 
+def neighbourhood_settings(records: dict[tuple[int, int], dict]) -> tuple[dict, dict]:
+    """Each covered node's probability floor and adaptation reference in the file, from the
+    nodes' ``calibrate.bounded_settings`` records (grid index -> {p_min, bound_met, candidates:
+    [[p_min, reference, peak, s, met], ...]}):
+
+    1. floor: the smallest of the node's chosen floor and its neighbours' that met their bound
+       (``neighbourhood_minimum``);
+    2. the largest floor P in the file at the node and its covered neighbours: the core blends
+       ln p_min over a cell, so no cell touching the node blends a larger floor than P;
+    3. reference: the smallest of the node's bounded reference at floor P and its neighbours'
+       whose row at P met the bound.
+    Why this keeps the bound at every corner that met it: the blend anywhere in a cell has a
+    floor of at most P and a reference of at most every corner's bounded reference at P, and
+    the peak falls with the floor as with the reference.  (Taking the smallest floor and the
+    smallest reference apart would pair a floor chosen with a high reference with a reference
+    chosen for a high floor: tempering far more than either node needs.)"""
+    floors = neighbourhood_minimum({k: (r["p_min"], r["bound_met"]) for k, r in records.items()})
+    at = {k: {row[0]: (row[1], row[4]) for row in r["candidates"]} for k, r in records.items()}
+    references = {}
+    for (i, j) in records:
+        around = [(i + di, j + dj) for di in (-1, 0, 1) for dj in (-1, 0, 1)
+                  if (di or dj) and (i + di, j + dj) in records]
+        top = max([floors[(i, j)]] + [floors[k] for k in around])
+        references[(i, j)] = min([at[(i, j)][top][0]] + [at[k][top][0] for k in around if at[k][top][1]])
+    return floors, references
+
+
 def alternate_nodes(grid: Grid, own: dict[tuple[int, int], int]) -> list[tuple[int, int, int]]:
     """(i, j, layer) of the designs a cell whose covered corners ``own`` (grid index -> own
     configuration layer) straddle a flap switch needs: every covered corner in every layer
@@ -243,10 +270,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[6]:.1f} s)")
         own = {k: r[2] for k, r in results.items() if r[3] is not None}
         p_min_of = {}   # grid index -> the node's floor in the file (calibrated nodes)
-        if node_tuning == "calibrated":   # each node's reference and floor: the smallest around it (neighbourhood_minimum)
+        if node_tuning == "calibrated":   # each node's floor and reference from its neighbourhood (neighbourhood_settings)
             covered = [k for k, r in results.items() if r[3] is not None]
-            references = neighbourhood_minimum({k: (results[k][9], results[k][7]["bound_met"]) for k in covered})
-            p_min_of = neighbourhood_minimum({k: (results[k][7]["p_min"], results[k][7]["bound_met"]) for k in covered})
+            p_min_of, references = neighbourhood_settings({k: results[k][7] for k in covered})
             for k in covered:
                 r = results[k]
                 r[7]["adapt_reference_node"], r[7]["adapt_reference"] = r[9], references[k]
@@ -292,11 +318,13 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                         "turbulence adaptation's reference and the probability floor from the same flights: "
                         f"for each floor of {', '.join(f'{p:g}' for p in p_min_candidates)} the largest reference of "
                         f"{REFERENCE_RANGE[0]:g}-{REFERENCE_RANGE[1]:g} (step {REFERENCE_STEP:g}) whose peak "
-                        f"failure log-odds is at most {REFERENCE_LOG_ODDS_BOUND:g} (calibrate.bounded_reference), "
+                        f"failure log-odds is within calibrate.log_odds_bound ({REFERENCE_LOG_ODDS_BOUND:g} at p_min "
+                        f"{BOUND_P_MIN:g}, the same share of the climb to a declaration at every floor), "
                         "the pair of least declaration effort (calibrate.bounded_settings: adapt_reference_node, "
-                        "p_min_node, candidates [p_min, reference, peak, s]), then each the smallest of it and "
-                        "its grid neighbours' that met the bound (schedule.neighbourhood_minimum: adapt_reference, "
-                        "p_min, the node bank's recommended floor); "
+                        "p_min_node, candidates [p_min, reference, peak, s, met]), then the floor the smallest of "
+                        "it and its grid neighbours' that met the bound, the reference the smallest of theirs at "
+                        "the largest floor around the node (schedule.neighbourhood_settings: p_min, the node bank's "
+                        "recommended floor, adapt_reference); "
                         "the other estimator settings of this tuning" if node_tuning == "calibrated"
                         else "the same tuning at every point (no per-point retune)"),
         "flap_layers": None if not flap_layers else {"positions_rad": list(LEF_POSITIONS_RAD), "alpha_switch_rad": list(LEF_ALPHA_SWITCH_RAD),

@@ -324,10 +324,12 @@ def bounded_reference(model_bank, flights, bound: float = REFERENCE_LOG_ODDS_BOU
     return grid[best], peaks[best]
 
 
-#: The per-node probability floor (``bounded_settings``): the candidates, around the shipped
-#: 1e-9: larger floors shorten a failure's climb to a declaration (high q̄, where the evidence
-#: per frame is small), smaller ones lengthen a false alarm's (nodes no reference bounds).
-P_MIN_CANDIDATES: tuple[float, ...] = (1e-15, 1e-12, 1e-9, 1e-7, 1e-5, 1e-3)
+#: The per-node probability floor (``bounded_settings``): the candidates, from the shipped 1e-9
+#: up: a larger floor shortens a failure's climb to a declaration where the node's calibration
+#: flights allow it.  Floors below 1e-9 (1e-12, 1e-15) were measured as candidates too
+#: (docs/results/envelope_tuning.md, round 5): they bound the low nodes' false alarms, but
+#: through the neighbourhood step they slow detection around them more than they gain.
+P_MIN_CANDIDATES: tuple[float, ...] = (1e-9, 1e-7, 1e-5, 1e-3)
 #: The floor at which REFERENCE_LOG_ODDS_BOUND was chosen (the shipped tuning's p_min).
 BOUND_P_MIN = 1e-9
 

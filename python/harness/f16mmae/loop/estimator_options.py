@@ -48,8 +48,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("dwell_s", "--dwell-s", "number", metavar="S", minimum=0.0, maximum=DWELL_S_MAX,
                     help="... for S seconds in a row (default: the bank's recommended, else 0.25)"),
     EstimatorOption("p_min", "--p-min", "number", metavar="P", minimum=0.0, below=round(1.0 / K_BANK, 6),
-                    help="probability floor (default: the bank's recommended -- tuned: 1e-9 -- "
-                         "else the core's 0.001, the paper's)"),
+                    help="probability floor everywhere (default: the bank's recommended -- tuned: 1e-9; "
+                         "a scheduled bank: each node's, blended -- else the core's 0.001, the paper's)"),
     EstimatorOption("adapt_turbulence", "--adapt-turbulence", "switch",
                     help="adapt the likelihoods on line to the turbulence intensity (one residual "
                          "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "

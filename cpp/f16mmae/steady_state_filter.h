@@ -330,6 +330,10 @@ class HypothesisFilter {
   double log_det_a() const noexcept { return log_det_a_; }          // ln|A|
   // u_k on a first frame: sum of c_j over the uninformative channels (header comment).
   double log_density_offset() const noexcept { return first_frame_; }
+  // The same over the channels that track their level (q_j > 0) only: the Occam factor a
+  // restarted level pays once (filter_bank.h lowers such a hypothesis' floor by it); a
+  // memoryless channel pays its c_j every frame anyway.
+  double tracked_level_offset() const noexcept { return first_frame_ - memoryless_; }
   int nx() const noexcept { return m_.nx(); }
   int nu() const noexcept { return m_.nu(); }
   int nz() const noexcept { return m_.nz(); }

@@ -4,11 +4,15 @@
 // force.
 //
 // The schedule follows the air data through a first-order low-pass (time constant
-// air_data_time_constant_s, frame period dt, alpha = 1 - exp(-dt / tau)):
-//   a_f <- a_f + alpha (a - a_f),   a_f = a at the first selection after a reset,
-// so measurement noise does not move the trims frame to frame (a trim that jitters, with the
-// states moved to follow it, reads to the filters as a kick off equilibrium every frame); the
-// flight condition itself changes slowly. Everything below is of a_f.
+// air_data_time_constant_s, frame period dt, alpha = 1 - exp(-dt / tau)), started as the
+// running mean of the selections since the last reset (n = 1, 2, ...):
+//   a_f,n = a_f,n-1 + max(alpha, 1/n) (a_n - a_f,n-1),   so a_f,1 = a_1,
+// i.e. a_f is the mean of a_1..a_n while 1/n > alpha (the first tau of flight) and the
+// low-pass after, so measurement noise does not move the trims frame to frame (a trim that
+// jitters, with the states moved to follow it, reads to the filters as a kick off equilibrium
+// every frame) and the first sample's noise is not held for tau (held, 0.002 Mach of noise
+// is a VEL trim 2 ft/s off, 4 sigma of the VEL sensor, that a cover VEL hypothesis explains
+// and NONE does not); the flight condition itself changes slowly. Everything below is of a_f.
 //
 // Two ways to schedule (ScheduleOptions::mode):
 //   interpolate  bilinear on the grid cell holding the air data (weights w of
@@ -76,6 +80,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -176,7 +181,7 @@ class ScheduledFilters {
   void reset(const AirData& start) noexcept {
     outside_ = fallback_ = switches_ = blends_ = 0;
     filtered_ = start;
-    primed_ = false;
+    selections_ = 0;
     const GridPoint g = axes_.locate(start);
     node_ = axes_.nearest(g, layer_at(cell_of(g)));
     choose(g);
@@ -189,12 +194,16 @@ class ScheduledFilters {
   // changed (the caller reloads its on-line filters through filter()); the trims are
   // recomputed every call (u_trim(), z_trim(), x_trim()).
   bool select(const AirData& a) noexcept {
-    if (primed_) {
-      filtered_.mach += alpha_ * (a.mach - filtered_.mach);
-      filtered_.pressure_altitude_ft += alpha_ * (a.pressure_altitude_ft - filtered_.pressure_altitude_ft);
+    const bool primed = selections_ > 0;
+    if (primed) {
+      // the running mean's gain 1/n while it exceeds alpha, then alpha (n stops counting there)
+      const double gain = std::max(alpha_, 1.0 / static_cast<double>(selections_ + 1));
+      filtered_.mach += gain * (a.mach - filtered_.mach);
+      filtered_.pressure_altitude_ft += gain * (a.pressure_altitude_ft - filtered_.pressure_altitude_ft);
     } else {
       filtered_ = a;
     }
+    if (1.0 / static_cast<double>(selections_ + 1) >= alpha_) ++selections_;
     const GridPoint g = axes_.locate(filtered_);
     if (g.outside) ++outside_;
     bool changed = false;
@@ -212,7 +221,7 @@ class ScheduledFilters {
     } else {
       choose(g);
       if (fallback_now_) ++fallback_;
-      if (!primed_ || layer_now_ != filter_layer_ || std::abs(g.s - last_s_) >= options_.blend_step_cells ||
+      if (!primed || layer_now_ != filter_layer_ || std::abs(g.s - last_s_) >= options_.blend_step_cells ||
           std::abs(g.t - last_t_) >= options_.blend_step_cells) {
         take_filter_weights();  // the filters follow: re-blend
         last_s_ = g.s, last_t_ = g.t;
@@ -220,7 +229,6 @@ class ScheduledFilters {
         changed = true;
       }
     }
-    primed_ = true;
     blend_trims(g);
     return changed;
   }
@@ -485,7 +493,7 @@ class ScheduledFilters {
   std::array<double, kCorners> trim_weights_{};
   AirData filtered_;                             // the low-passed air data
   double alpha_ = 1.0;
-  bool primed_ = false;                          // a selection since the last reset
+  std::int64_t selections_ = 0;                  // selections since the last reset, up to 1/alpha
   double last_s_ = 0.0, last_t_ = 0.0;           // air data at the last blend
   bool fallback_now_ = false;
   int layer_now_ = 0;                            // the layer the air data now calls for

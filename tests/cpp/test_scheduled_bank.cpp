@@ -183,16 +183,28 @@ TEST(ScheduledBank, TheScheduleFollowsTheAirDataThroughItsLowPass) {
   F16HierarchicalBank hb(scheduled_bank(s), o);
   hb.schedule(AirData{0.4, 10000.0});  // the first value after a reset is taken as it is
   EXPECT_EQ(hb.scheduled().filtered_air_data().mach, 0.4);
-  hb.schedule(AirData{0.6, 20000.0});
-  const double alpha = 1.0 - std::exp(-1.0 / (64.0 * 2.0));  // frame period 1/64 s, tau 2 s
-  EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, 0.4 + alpha * 0.2, 1e-15);
-  EXPECT_NEAR(hb.scheduled().filtered_air_data().pressure_altitude_ft, 10000.0 + alpha * 10000.0, 1e-9);
+  hb.schedule(AirData{0.6, 20000.0});  // then the running mean: (0.4 + 0.6) / 2
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, 0.5, 1e-15);
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().pressure_altitude_ft, 15000.0, 1e-9);
   // the trims are the bilinear blend at the filtered point: u_trim of node (i, j) is 0.01 (1 + i + 2 j)
-  const double a = alpha, b = alpha;
+  const double a = 0.5, b = 0.5;
   const double u = 0.01 * ((1 - a) * (1 - b) * 1 + a * (1 - b) * 2 + (1 - a) * b * 3 + a * b * 4);
   EXPECT_NEAR(hb.u_trim()(0), u, 1e-15);
-  // a filter moves 1 - 1/e of a step in tau
-  for (int i = 1; i < 128; ++i) hb.schedule(AirData{0.6, 20000.0});
+  // the mean of every selection while 1/n > alpha = 1 - exp(-1/128) (n <= 128 here)
+  const double alpha = 1.0 - std::exp(-1.0 / (64.0 * 2.0));  // frame period 1/64 s, tau 2 s
+  double sum = 1.0;
+  for (int n = 3; n <= 128; ++n) {
+    const double m = 0.4 + 0.001 * (n % 7);
+    sum += m;
+    hb.schedule(AirData{m, 20000.0});
+  }
+  EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, sum / 128.0, 1e-14);
+  ASSERT_GT(1.0 / 128.0, alpha);  // n = 128 is the last running-mean step
+  ASSERT_LT(1.0 / 129.0, alpha);
+  // after it, the low-pass: a filter moves 1 - 1/e of a step in tau
+  hb.reset();
+  for (int i = 0; i < 200; ++i) hb.schedule(AirData{0.4, 20000.0});
+  for (int i = 0; i < 128; ++i) hb.schedule(AirData{0.6, 20000.0});
   EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, 0.6 - 0.2 * std::exp(-1.0), 1e-12);
   hb.reset();
   hb.schedule(AirData{0.6, 20000.0});

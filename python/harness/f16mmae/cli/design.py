@@ -11,7 +11,7 @@ from ..design.bank import design_bank, write_bank
 from ..design.calibrate import P_MIN_CANDIDATES
 from ..design.gains import DesignError
 from ..design.report import write_report
-from ..design.hypotheses import FAILURE_MODELS
+from ..design.hypotheses import FAILURE_MODELS, check_failure_model, uses_cover
 from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, design_schedule,
                                format_spec, parse_grid)
 from ..design.tuning import TuningError, load_tuning
@@ -73,7 +73,8 @@ Tunings: 'tuned' (the project's design, from measured residual statistics agains
 truth: design/calibrate.py) and 'untuned' (physical noises only), shipped in
 f16mmae/design/tunings/, or a TOML file of the same layout:
   name, description, turbulence (none|light|moderate|severe), gust_model (gust_rate|white_gust|dryden_states),
-  failure_model (complete|cover), failed_surface_q (rad^2/s, a failed surface's random walk)
+  failure_model (complete|cover, or per component {{default = "complete", cover = ["VEL", "AOA"]}}),
+  failed_surface_q (rad^2/s, a failed surface's random walk)
   [method1_qd_longitudinal] u_fps alpha_rad q_rad_s theta_rad     (+ diag Q_d, per frame)
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
   [method3_qd_lateral]      beta_rad p_rad_s r_rad_s phi_rad      (+ diag Q_d, per frame)
@@ -104,9 +105,11 @@ def register(subparsers) -> None:
     p.add_argument("--gust-level", default=None, metavar="|".join(TURBULENCE_LEVELS),
                    help="turbulence level the gust model is designed for (default: the tuning's, light "
                         "for the shipped ones)")
-    p.add_argument("--failure-model", default=None, metavar="|".join(FAILURE_MODELS),
+    p.add_argument("--failure-model", default=None, metavar="|".join(FAILURE_MODELS) + "|MODEL=C+C",
                    help="hypotheses of the paper's complete failures, or hypotheses that cover the "
-                        "failure (default: the tuning's failure_model, complete for the shipped ones)")
+                        "failure, for every component or per component: cover=VEL+AOA (those two cover, "
+                        "the others complete), cover,complete=PIT (default first) (default: the tuning's "
+                        "failure_model, complete for the shipped ones)")
     p.add_argument("--failed-sensor-level-q", default=None, metavar="Q",
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
                         "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
@@ -161,17 +164,18 @@ def _run(args) -> int:
         raise CliError(f"--tuning: {exc}") from None
     tuning = gust_options(tuning, args.gust_level, args.gust_states)
     if args.failure_model is not None:
-        if args.failure_model not in FAILURE_MODELS:
-            raise CliError(f"--failure-model {args.failure_model!r} is not a failure model; valid: "
-                           f"{', '.join(FAILURE_MODELS)}")
-        if args.failure_model != tuning.failure_model:
-            tuning = dataclasses.replace(tuning, name=f"{tuning.name}-{args.failure_model}",
-                                         failure_model=args.failure_model)
+        try:
+            failure_model = check_failure_model(args.failure_model)
+        except ValueError as exc:
+            raise CliError(f"--failure-model: {exc}") from None
+        if failure_model != tuning.failure_model:
+            tuning = dataclasses.replace(tuning, name=f"{tuning.name}-{failure_model}",
+                                         failure_model=failure_model)
     if args.failed_sensor_level_q is not None:
         w = number("--failed-sensor-level-q", args.failed_sensor_level_q)
-        if not w >= 0.0 or tuning.failure_model != "cover":
+        if not w >= 0.0 or not uses_cover(tuning.failure_model):
             raise CliError(f"--failed-sensor-level-q {args.failed_sensor_level_q} must be >= 0 "
-                           "and needs the cover failure model (--failure-model cover)")
+                           "and needs the cover failure model for some component (e.g. --failure-model cover)")
         tuning = dataclasses.replace(tuning, name=f"{tuning.name}-q{w:g}", failed_sensor_level_q=w)
     thr = "_throttle" if args.throttle_input else ""
     out = writable_file(args.out or f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}{thr}.f16bank", "--out")
@@ -223,7 +227,8 @@ def _run_schedule(args) -> int:
                        "and turbulence to --schedule instead")
     if args.failure_model is not None or args.failed_sensor_level_q is not None:
         raise CliError("--failure-model and --failed-sensor-level-q design one point; give a tuning file with "
-                       "failure_model (complete|cover) and failed_sensor_level_q to --schedule instead")
+                       "failure_model (complete|cover) and failed_sensor_level_q to --schedule instead "
+                       "(per component: failure_model = {default = \"complete\", cover = [\"VEL\", \"AOA\"]})")
     try:
         grid = parse_grid(args.schedule)
         tuning = load_tuning(args.tuning)

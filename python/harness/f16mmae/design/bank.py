@@ -8,9 +8,9 @@ Pipeline (``design_bank``)::
       -> exact discretization at FRAME_RATE_HZ: Phi, B_d, Q_d = Van Loan(G Q_c G^T
          + sum_j q_j b_j b_j^T) + diag(method 1, 3);  R = diag(sigma^2 + method 2)
       -> for each of the 79 hypotheses (NONE, 12 singles, 66 duals; hypotheses.py, in the
-         tuning's failure model: ``complete``, the paper's, or ``cover``, where a failed
-         surface is a random-walk state discretized per hypothesis and a failed sensor's
-         reading is uninformative): DARE -> K, A = H P^- H^T + R (gains.py), unstable
+         tuning's failure model, per component: ``complete``, the paper's, or ``cover``, where
+         a failed surface is a random-walk state discretized per hypothesis and a failed
+         sensor's reading is uninformative): DARE -> K, A = H P^- H^T + R (gains.py), unstable
          filters refused
       -> core.ModelBank (u_trim, z_trim, h_output = unfailed H, the recommended estimator
          settings p_min / threshold / dwell_s, metadata JSON) -> file (format version 3)
@@ -38,8 +38,8 @@ from .. import names
 from ..truth import actuators, sensors
 from .discretize import DiscreteModel, discretize
 from .gains import SteadyStateGains, steady_state_gains
-from .hypotheses import (HypothesisModel, hypothesis_dynamics, hypothesis_model, uninformative_level_q,
-                         uninformative_width)
+from .hypotheses import (HypothesisModel, covered_surfaces, hypothesis_dynamics, hypothesis_model,
+                         uninformative_level_q, uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
 from .tuning import Tuning, available_tunings, load_tuning
 
@@ -183,18 +183,18 @@ def discrete_design_model(model: ContinuousModel, tuning: Tuning,
 
 def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: DiscreteModel,
                       hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES) -> list[HypothesisModel]:
-    """Every hypothesis' discrete model in the tuning's failure model (hypotheses.py): the
-    no-failure ``discrete`` with B_d columns / H rows removed, and under ``cover`` a failed
-    surface's random walk discretized for its hypothesis (same pseudonoise on diag(Q_d)) and
-    the failed sensors' uninformative widths."""
+    """Every hypothesis' discrete model in the tuning's failure model (hypotheses.py, per
+    component): the no-failure ``discrete`` with B_d columns / H rows removed, and for the
+    failed components whose model is ``cover`` a failed surface's random walk discretized for
+    its hypothesis (same pseudonoise on diag(Q_d)) and the failed sensors' uninformative widths."""
     out = []
     n_air = names.NX - names.NU
     gqg = continuous_noise(model, tuning)
     for name in hypotheses:
         phi, bd, qd = discrete.phi, discrete.bd, discrete.qd
-        failed_surface = any(c in names.ACTUATORS for c in names.failed_components(name))
-        if tuning.failure_model == "cover" and failed_surface:
-            f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, tuning.failed_surface_q, n_air)
+        if covered_surfaces(name, tuning.failure_model):
+            f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, tuning.failed_surface_q, n_air,
+                                             tuning.failure_model)
             dm = discretize(f_k, model.b, np.eye(model.nx), gqg_k, discrete.dt_s)
             phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal(model.nx))
         out.append(hypothesis_model(name, phi, bd, model.h, qd, uninformative_width(name, tuning.failure_model),

@@ -41,6 +41,15 @@ no-failure model, in one of two failure models (``FAILURE_MODELS``, the tuning's
 
 A dual hypothesis ``"A+B"`` applies both changes. ``R`` is the same in every hypothesis; so
 are ``Phi`` and ``Q_d`` except for a ``cover`` actuator hypothesis.
+
+Per component (``component_models``): a failure model may name one model for every component
+(``"complete"``, ``"cover"``) or a default and the components that take another, as text
+``"cover=VEL+AOA"`` (cover for VEL and AOA, the default ``complete`` for the other ten),
+``"cover,complete=PIT+ROL"`` (default first), or as the tuning's TOML table
+``failure_model = {default = "complete", cover = ["VEL", "AOA"]}``.  Each failed component of
+a hypothesis takes its own model: under ``"cover=VEL+AOA"`` the hypothesis ``VEL+PIT`` has an
+uninformative VEL channel and PIT's row removed in the paper's Gaussian form, and every
+hypothesis without VEL or AOA is the ``complete`` one, matrix for matrix.
 """
 from __future__ import annotations
 
@@ -68,11 +77,89 @@ class HypothesisModel:
     uninformative_level_q: np.ndarray  # (nz,) level random walk per frame of such a channel
 
 
-def check_failure_model(failure_model: str) -> str:
-    """``failure_model`` if it is one of ``FAILURE_MODELS``, else ValueError naming them."""
-    if failure_model not in FAILURE_MODELS:
-        raise ValueError(f"unknown failure model {failure_model!r}; valid: {', '.join(FAILURE_MODELS)}")
-    return failure_model
+def _model(model, where: str) -> str:
+    if not isinstance(model, str) or model not in FAILURE_MODELS:
+        raise ValueError(f"{where}{model!r} is not a failure model; valid: {', '.join(FAILURE_MODELS)}")
+    return model
+
+
+def _parse(failure_model) -> tuple[str, dict[str, str]]:
+    """(default model, every component's model) of any form ``component_models`` reads."""
+    if isinstance(failure_model, dict):
+        default = _model(failure_model.get("default", "complete"), "failure_model default ")
+        items = []
+        for key, comps in failure_model.items():
+            if key == "default":
+                continue
+            _model(key, "failure_model table key ")
+            if isinstance(comps, str) or not isinstance(comps, (list, tuple)):
+                raise ValueError(f"failure_model {key} = {comps!r} must be a list of components, "
+                                 f"e.g. [\"VEL\", \"AOA\"]")
+            items.append((key, list(comps)))
+    elif isinstance(failure_model, str):
+        parts = [p.strip() for p in failure_model.split(",")]
+        bare = [p for p in parts if "=" not in p]
+        if len(bare) > 1:
+            raise ValueError(f"failure_model {failure_model!r} names more than one default model "
+                             f"({', '.join(bare)}); give one default and MODEL=COMPONENT+COMPONENT for "
+                             "the others, e.g. cover=VEL+AOA")
+        default = _model(bare[0], "failure_model ") if bare else "complete"
+        items = [(_model(p.split("=", 1)[0].strip(), f"failure_model {failure_model!r}: "),
+                  [c.strip() for c in p.split("=", 1)[1].split("+")]) for p in parts if "=" in p]
+    else:
+        raise ValueError(f"failure_model {failure_model!r} must be a model name ({', '.join(FAILURE_MODELS)}), "
+                         "a text like cover=VEL+AOA or a table {default = ..., cover = [...]}")
+    per = dict.fromkeys(names.COMPONENTS, default)
+    given: set[str] = set()
+    for model, comps in items:
+        for comp in comps:
+            if comp not in names.COMPONENTS:
+                raise ValueError(f"failure_model {model}: unknown component {comp!r}; valid: "
+                                 f"{', '.join(names.COMPONENTS)}")
+            if comp in given:
+                raise ValueError(f"failure_model: component {comp} is given a model twice")
+            given.add(comp)
+            per[comp] = model
+    return default, per
+
+
+def component_models(failure_model) -> dict[str, str]:
+    """Every component's failure model (``names.COMPONENTS`` order) from a failure model given
+    as a model name, a per-component text (``"cover=VEL+AOA"``, ``"cover,complete=PIT"``) or
+    a table ``{"default": M, OTHER: [components]}`` (module docstring).  Raises ValueError
+    naming the unknown model or component and the valid ones, or a component given twice."""
+    return _parse(failure_model)[1]
+
+
+def check_failure_model(failure_model) -> str:
+    """The canonical text of a failure model (any form ``component_models`` reads): a model
+    name when every component has it, else ``[DEFAULT,]MODEL=C+C...`` with the default left
+    out when it is ``complete`` and the components in ``names.COMPONENTS`` order, e.g.
+    ``"cover=VEL+AOA"``.  ValueError as ``component_models``."""
+    default, per = _parse(failure_model)
+    if len(set(per.values())) == 1:
+        return next(iter(per.values()))
+    parts = [] if default == "complete" else [default]
+    for model in FAILURE_MODELS:
+        comps = [c for c in names.COMPONENTS if per[c] == model and model != default]
+        if comps:
+            parts.append(f"{model}={'+'.join(comps)}")
+    return ",".join(parts)
+
+
+def failure_model_table(failure_model):
+    """The failure model in the tuning's TOML layout: the model name when one model covers every
+    component, else ``{"default": M, OTHER: [components]}`` (what a bank's metadata records)."""
+    default, per = _parse(failure_model)
+    if len(set(per.values())) == 1:
+        return next(iter(per.values()))
+    return {"default": default, **{m: [c for c in names.COMPONENTS if per[c] == m]
+                                   for m in FAILURE_MODELS if m != default and m in per.values()}}
+
+
+def uses_cover(failure_model) -> bool:
+    """Whether any component takes the ``cover`` model."""
+    return "cover" in component_models(failure_model).values()
 
 
 def sensor_full_range() -> np.ndarray:
@@ -80,37 +167,44 @@ def sensor_full_range() -> np.ndarray:
     return np.array([hi - lo for lo, hi in sensors.FULL_SCALE], dtype=float)
 
 
-def uninformative_level_q(name: str, failure_model: str, ratio: float) -> np.ndarray:
+def uninformative_level_q(name: str, failure_model, ratio: float) -> np.ndarray:
     """(nz,) the level random walk per frame of hypothesis ``name``'s uninformative channels:
     ``ratio`` times the sensor's noise variance (``truth.sensors.NOISE_SIGMA``) on its failed
-    sensors under ``cover``, zeros otherwise."""
+    sensors whose model is ``cover``, zeros otherwise."""
     noise_var = np.asarray(sensors.NOISE_SIGMA, dtype=float) ** 2
     return np.where(uninformative_width(name, failure_model) > 0.0, float(ratio) * noise_var, 0.0)
 
 
-def uninformative_width(name: str, failure_model: str) -> np.ndarray:
-    """(nz,) the widths of hypothesis ``name``'s uninformative channels: its failed sensors'
-    full ranges under ``cover``, zeros under ``complete`` (and for sensors it keeps)."""
+def uninformative_width(name: str, failure_model) -> np.ndarray:
+    """(nz,) the widths of hypothesis ``name``'s uninformative channels: the full ranges of its
+    failed sensors whose model is ``cover``, zeros for ``complete`` ones (and for sensors it
+    keeps)."""
     out = np.zeros(names.NZ)
-    if check_failure_model(failure_model) == "cover":
-        full = sensor_full_range()
-        for comp in names.failed_components(name):
-            if comp in names.SENSORS:
-                out[names.SENSORS.index(comp)] = full[names.SENSORS.index(comp)]
+    per = component_models(failure_model)
+    full = sensor_full_range()
+    for comp in names.failed_components(name):
+        if comp in names.SENSORS and per[comp] == "cover":
+            out[names.SENSORS.index(comp)] = full[names.SENSORS.index(comp)]
     return out
 
 
+def covered_surfaces(name: str, failure_model) -> tuple[str, ...]:
+    """The failed actuators of hypothesis ``name`` whose model is ``cover`` (a random walk)."""
+    per = component_models(failure_model)
+    return tuple(c for c in names.failed_components(name) if c in names.ACTUATORS and per[c] == "cover")
+
+
 def hypothesis_dynamics(name: str, f: np.ndarray, gqg: np.ndarray, failed_surface_q: float,
-                        n_airframe: int) -> tuple[np.ndarray, np.ndarray]:
-    """``(F_k, GQG_k)`` of the ``cover`` model: each failed actuator's lag state (index
-    ``n_airframe + j``) turned into a random walk of strength ``failed_surface_q``."""
+                        n_airframe: int, failure_model="cover") -> tuple[np.ndarray, np.ndarray]:
+    """``(F_k, GQG_k)`` of the ``cover`` model: each failed actuator whose model is ``cover``
+    (``covered_surfaces``) has its lag state (index ``n_airframe + j``) turned into a random
+    walk of strength ``failed_surface_q``."""
     f_k = np.array(f, dtype=float, copy=True)
     gqg_k = np.array(gqg, dtype=float, copy=True)
-    for comp in names.failed_components(name):
-        if comp in names.ACTUATORS:
-            i = n_airframe + names.ACTUATORS.index(comp)
-            f_k[i, :] = 0.0
-            gqg_k[i, i] += failed_surface_q
+    for comp in covered_surfaces(name, failure_model):
+        i = n_airframe + names.ACTUATORS.index(comp)
+        f_k[i, :] = 0.0
+        gqg_k[i, i] += failed_surface_q
     return f_k, gqg_k
 
 

@@ -56,6 +56,7 @@ from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_
 from .calibrate import (BOUND_P_MIN, P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
                         adaptation_reference, bounded_settings, calibrate_node, node_flights)
 from .gains import DesignError
+from .hypotheses import failure_model_table
 from .model import linearize_truth
 from .tuning import load_tuning
 
@@ -335,6 +336,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "nodes": node_records,
         "skipped": skipped,
         **({"throttle_input": True} if throttle_input else {}),
+        # which model each hypothesis' failed components have (hypotheses.py); paper schedules keep their bytes
+        **({"failure_model": failure_model_table(tuning_obj.failure_model)}
+           if tuning_obj.failure_model != "complete" else {}),
     }
     path = Path(out)
     path.parent.mkdir(parents=True, exist_ok=True)

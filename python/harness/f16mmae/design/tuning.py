@@ -17,7 +17,9 @@ Top-level keys: ``name``, ``description``, ``turbulence`` (gust level the zero-o
 model is designed for: none | light | moderate | severe), ``gust_model`` (``gust_rate``,
 ``white_gust`` or ``dryden_states`` -- gust states in the filters, see ``model.py``), ``failure_model`` (``complete``, the paper's, default;
 or ``cover``: a failed surface at an unknown position, a failed sensor uninformative -- see
-``hypotheses.py``), ``failed_surface_q`` (rad^2/s, the strength of the random walk of a
+``hypotheses.py``; or per component, a table ``{default = "complete", cover = ["VEL", "AOA"]}``
+or its text ``"cover=VEL+AOA"``; ``Tuning.failure_model`` holds the canonical text,
+``hypotheses.check_failure_model``), ``failed_surface_q`` (rad^2/s, the strength of the random walk of a
 failed surface under ``cover``; default ``FAILED_SURFACE_Q``) and ``failed_sensor_level_q``
 (the random walk per frame of a failed sensor's unknown level under ``cover``, in units of
 the sensor's noise variance, >= 0; 0: no memory; default ``FAILED_SENSOR_LEVEL_Q``).  Every variance must be finite and
@@ -43,7 +45,7 @@ import numpy as np
 from .. import names
 from ..errors import F16mmaeError
 from ..names import TURBULENCE_LEVELS
-from .hypotheses import FAILURE_MODELS
+from .hypotheses import check_failure_model, failure_model_table
 from .model import GUST_MODELS
 
 TUNINGS_DIR = Path(__file__).with_name("tunings")
@@ -85,7 +87,7 @@ class Tuning:
     description: str = ""
     turbulence: str = "light"
     gust_model: str = "gust_rate"
-    failure_model: str = "complete"
+    failure_model: str = "complete"  # canonical text (hypotheses.check_failure_model), per component
     failed_surface_q: float = FAILED_SURFACE_Q
     failed_sensor_level_q: float = FAILED_SENSOR_LEVEL_Q
     qd_longitudinal: dict[str, float] = field(default_factory=dict)  # method 1
@@ -120,7 +122,7 @@ class Tuning:
         out = {"name": self.name, "description": self.description,
                "turbulence": self.turbulence, "gust_model": self.gust_model}
         if self.failure_model != "complete":  # a paper-model tuning keeps its metadata (and hash)
-            out.update(failure_model=self.failure_model, failed_surface_q=self.failed_surface_q,
+            out.update(failure_model=failure_model_table(self.failure_model), failed_surface_q=self.failed_surface_q,
                        failed_sensor_level_q=self.failed_sensor_level_q)
         return {**out,
                 "method1_qd_longitudinal": dict(self.qd_longitudinal),
@@ -181,10 +183,10 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
     if gust_model not in GUST_MODELS:
         raise TuningError(f"{source}: gust_model {gust_model!r} is not a model; valid: "
                           f"{', '.join(GUST_MODELS)}")
-    failure_model = data.get("failure_model", "complete")
-    if failure_model not in FAILURE_MODELS:
-        raise TuningError(f"{source}: failure_model {failure_model!r} is not a failure model; valid: "
-                          f"{', '.join(FAILURE_MODELS)}")
+    try:
+        failure_model = check_failure_model(data.get("failure_model", "complete"))
+    except ValueError as exc:
+        raise TuningError(f"{source}: {exc}") from None
     walk_q = data.get("failed_surface_q", FAILED_SURFACE_Q)
     if isinstance(walk_q, bool) or not isinstance(walk_q, (int, float)) or not (math.isfinite(walk_q)
                                                                                 and walk_q > 0.0):

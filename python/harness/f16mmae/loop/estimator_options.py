@@ -77,6 +77,10 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="a scheduled bank (--bank scheduled): interpolate between grid points on the "
                          "measured air data, or switch to the nearest with hysteresis (default "
                          f"{SCHEDULE_MODES[0]}; a bank designed at one point ignores it)"),
+    EstimatorOption("air_data_time_constant_s", "--air-data-time-constant", "number", metavar="TAU_S",
+                    minimum=0.0, maximum=60.0, in_daemon=False,
+                    help="a scheduled bank: time constant of the air data's low-pass the schedule follows "
+                         "(s; a running mean for its first TAU_S; 0: none; default 2; cpp/f16mmae/scheduled_filters.h)"),
     EstimatorOption("maneuver_kinematics", "--maneuver-kinematics", "switch",
                     help="add to the filters' propagation the kinematic and gravity terms their wings-level "
                          "linearization drops (steady turns and pull-ups; cpp/f16mmae/maneuver_kinematics.h). "

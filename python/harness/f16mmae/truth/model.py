@@ -325,6 +325,16 @@ class TruthModel:
         self.advance(u)
         return u, (self.measure() if measure_next else None)
 
+    def fly_frames(self, n_frames: int) -> None:
+        """C++ engine, control law attached, no turbulence change due: ``n_frames`` frames on
+        raw feedback, then the next frame's measurement, in one call (``fly_raw``'s flight)."""
+        self._check_open()
+        if self._frames is None or not self.law_in_cpp or self._pending_turb:
+            raise ValueError("fly_frames needs the cpp truth engine, a control law attached there and no gust burst")
+        self._refill_noise()
+        self._frames.fly(n_frames)
+        self.frame += n_frames
+
     def fly_closed_loop(self, bank, n_frames: int, use_mmae: bool, record_probabilities: bool,
                         reconfiguration=None) -> dict:
         """C++ engine only: ``n_frames`` closed-loop frames with ``bank`` (a fixed-size F-16
@@ -437,8 +447,7 @@ def fly_raw(scenario: Scenario, pilot=None, fcs_gains=None,
     n = int(round(scenario.duration_s * FRAME_RATE_HZ))
     truth.attach(fcs)
     if truth.law_in_cpp and not truth._pending_turb:
-        truth._frames.fly(n)
-        truth.frame += n
+        truth.fly_frames(n)
         truth.detach(fcs)
     else:
         measure, command, advance = truth.measure, fcs.command, truth.advance

@@ -52,27 +52,20 @@ class PackedBank<true, K, NX, NU, NZ> {
 
   static bool available() noexcept { return Kernels::available(); }
 
-  // Filter i's matrices from hypotheses[i]; notes whether every Phi is the same. Filter i's
-  // state is left as it was (see clear).
+  // Filter i's matrices from hypotheses[i]. Filter i's state is left as it was (see clear).
+  // Which copies the frames read (link: the shared matrices, whether every Phi is the same) is
+  // worked out once, before the next frame, however many filters were loaded.
   template <class Hypotheses>
   void load(int i, const Hypotheses& hypotheses) noexcept {
     filters_[i].load(hypotheses[i]);
     phis_[i].load(hypotheses[i]);
-    note_shared_phi(hypotheses);
     links_.valid = false;
   }
-  // Every filter's matrices from hypotheses, with one shared-Phi check (a schedule change).
+  // Every filter's matrices from hypotheses (a schedule change).
   template <class Hypotheses>
   void load_all(const Hypotheses& hypotheses) noexcept {
     for (int i = 0; i < K; ++i) filters_[i].load(hypotheses[i]), phis_[i].load(hypotheses[i]);
-    note_shared_phi(hypotheses);
     links_.valid = false;
-  }
-  template <class Hypotheses>
-  void note_shared_phi(const Hypotheses& hypotheses) noexcept {
-    bool same = true;
-    for (int f = 1; f < K && same; ++f) same = hypotheses[f].model().phi == hypotheses[0].model().phi;
-    shared_phi_ = same;
   }
   template <class Matrix>
   void load_h_out(const Matrix& h) noexcept {
@@ -157,14 +150,18 @@ class PackedBank<true, K, NX, NU, NZ> {
   // both state slots.
   void warm_cache() const noexcept {
     touch(filters_);   // every copy: the links may be stale until the next frame
-    touch_lines(&phis_[0], shared_phi_ ? sizeof(Phi) : sizeof(phis_));
+    touch_lines(&phis_[0], shared_phi_ && links_.valid ? sizeof(Phi) : sizeof(phis_));
     touch(h_out_), touch(xm_), touch(xp_), touch(r_), touch(q_), touch(corrected_);
   }
 
  private:
   // links_.refs[i]: each of filter i's matrices in the first filter j <= i whose copy is the
-  // same bit for bit (memcmp of the padded arrays: -0.0 and 0.0 differ, as they may in arithmetic).
+  // same bit for bit (memcmp of the padded arrays: -0.0 and 0.0 differ, as they may in
+  // arithmetic); shared_phi_: every filter's Phi is filter 0's, bit for bit.
   void link() noexcept {
+    bool same = true;
+    for (int f = 1; f < K && same; ++f) same = std::memcmp(&phis_[f], &phis_[0], sizeof(Phi)) == 0;
+    shared_phi_ = same;
     PackedRefs* refs = links_.refs;
     for (int i = 0; i < K; ++i) {
       const P& f = filters_[i];

@@ -15,6 +15,10 @@
 // propagates u_i = (the five surface commands, the throttle command of frame i): the throttle
 // dither's command (set_throttle_dither, required for such a bank), about the trim throttle, or
 // in maneuvers about the outer loop's throttle command of frame i (computed with the control law).
+// The truth log (log(): time, z, ideal z, air data, states, commands, surfaces of every frame)
+// is recorded unless the frames are built with record_log=False (a closed-loop flight whose
+// caller never reads it: its frames then write nothing but what they fly); the counters
+// (measured, step_count) are kept either way.
 // Throws ValueError for bad arguments (names the field), RuntimeError when JSBSim stops.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -104,9 +108,9 @@ class Frames {
          const py::list& actuator_failures, const py::list& sensor_failures, py::array_t<double> noise,
          const std::vector<std::string>& air_data_properties, const py::dict& air_data,
          py::array_t<double> air_data_noise, int steps_per_frame, double frame_rate_hz, double sim_rate_hz,
-         long long capacity)
-      : exec_(std::move(exec)), steps_per_frame_(steps_per_frame), frame_rate_hz_(frame_rate_hz),
-        sim_rate_hz_(sim_rate_hz) {
+         long long capacity, bool record_log)
+      : exec_(std::move(exec)), record_log_(record_log), steps_per_frame_(steps_per_frame),
+        frame_rate_hz_(frame_rate_hz), sim_rate_hz_(sim_rate_hz) {
     if (surface_properties.size() != kSurfaces || sensor_properties.size() != kSensors)
       throw py::value_error("TruthFrames needs 5 surface and 7 sensor properties");
     for (int i = 0; i < kSurfaces; ++i) surface_[i] = exec_->node(surface_properties[i]);
@@ -133,6 +137,7 @@ class Frames {
     sen_fail_ = schedule(sensor_failures, kSensors, 7, "sensor_failures");
     set_noise(noise);
     set_air_data_noise(air_data_noise);
+    if (!record_log_) return;
     const std::size_t cap = static_cast<std::size_t>(capacity > 0 ? capacity : 1);
     log_time_.reserve(cap);
     log_z_.reserve(cap * kSensors);
@@ -218,6 +223,8 @@ class Frames {
     AirDataValues air_ideal;
     for (int j = 0; j < kAirData; ++j) air_ideal[j] = air_node_[j]->getDoubleValue();
     air_last_ = air_.measure(air_ideal, air_noise_.data(air_noise_row_++, 0));
+    ++measured_;
+    if (!record_log_) return z;
     log_air_.insert(log_air_.end(), air_last_.begin(), air_last_.end());
     log_air_ideal_.insert(log_air_ideal_.end(), air_ideal.begin(), air_ideal.end());
     log_time_.push_back(t);
@@ -260,7 +267,7 @@ class Frames {
   // throttle bank): the dither's, on the air data measured with the frame's z, about the trim or,
   // in maneuvers, about the outer loop's throttle of this frame (so: after command()).
   double throttle_command() const {
-    const bool measured = !log_time_.empty();
+    const bool measured = measured_ > 0;
     return throttle_dither_.command_about(throttle_base_, static_cast<double>(frame_) / frame_rate_hz_,
                                           measured ? air_last_[0] : std::nan(""),
                                           measured ? air_last_[1] : std::nan(""));
@@ -290,8 +297,10 @@ class Frames {
         throw std::runtime_error("JSBSim stopped at t = " + std::to_string(step_ / sim_rate_hz_) + " s");
       ++step_;
     }
-    log_u_.insert(log_u_.end(), u.begin(), u.end());
-    log_surface_.insert(log_surface_.end(), eff.begin(), eff.end());
+    if (record_log_) {
+      log_u_.insert(log_u_.end(), u.begin(), u.end());
+      log_surface_.insert(log_surface_.end(), eff.begin(), eff.end());
+    }
     ++frame_;
   }
 
@@ -385,11 +394,13 @@ class Frames {
 
   long long frame() const { return frame_; }
   long long step() const { return step_; }
-  long long measured() const { return static_cast<long long>(log_time_.size()); }
+  long long measured() const { return measured_; }
+  bool records_log() const { return record_log_; }
   py::tuple fcs_state() const { return py::make_tuple(fcs_.x_int, fcs_.x_wash, fcs_.x_vel); }
   py::tuple actuator_positions() const { return py::cast(act_.position_rad); }
 
   py::dict log() const {
+    if (!record_log_) throw py::value_error("TruthFrames: these frames keep no log (built with record_log=False)");
     auto mat = [](const std::vector<double>& v, std::size_t cols) {
       const std::size_t rows = cols ? v.size() / cols : 0;
       py::array_t<double> a({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
@@ -412,6 +423,7 @@ class Frames {
 
  private:
   std::shared_ptr<Exec> exec_;
+  bool record_log_ = true;
   std::array<SGPropertyNode*, kSurfaces> surface_{};
   std::array<SGPropertyNode*, kSensors> sensor_{};
   SGPropertyNode* weight_ = nullptr;
@@ -439,7 +451,7 @@ class Frames {
   py::ssize_t noise_rows_ = 0, noise_row_ = 0;
   int steps_per_frame_;
   double frame_rate_hz_, sim_rate_hz_;
-  long long frame_ = 0, step_ = 0;
+  long long frame_ = 0, step_ = 0, measured_ = 0;
   std::vector<double> log_time_, log_z_, log_ideal_, log_air_, log_air_ideal_, log_state_, log_u_, log_surface_;
 };
 
@@ -466,16 +478,18 @@ void bind_truth(py::module_& m) {
   py::class_<Frames>(m, "TruthFrames", R"doc(
     The truth model's frames in C++ (see truth/model.py, which builds it): measure() -> z (7,),
     advance(u), step(z_feedback) -> (u, z_next) = FCS command, advance, next measurement;
-    fly(n) flies n frames on raw feedback then measures once more.  log() returns the record.)doc")
+    fly(n) flies n frames on raw feedback then measures once more.  log() returns the record
+    (record_log=False: none is kept, log() raises ValueError).)doc")
       .def(py::init<std::shared_ptr<Exec>, const std::vector<std::string>&, const std::vector<std::string>&,
                     const std::string&, const std::vector<std::string>&, const py::dict&, const py::dict&,
                     const py::list&, const py::list&, py::array_t<double>, const std::vector<std::string>&,
-                    const py::dict&, py::array_t<double>, int, double, double, long long>(),
+                    const py::dict&, py::array_t<double>, int, double, double, long long, bool>(),
            py::arg("exec"), py::arg("surface_properties"), py::arg("sensor_properties"),
            py::arg("weight_property"), py::arg("state_properties"), py::arg("actuator"), py::arg("sensor"),
            py::arg("actuator_failures"), py::arg("sensor_failures"), py::arg("noise"),
            py::arg("air_data_properties"), py::arg("air_data"), py::arg("air_data_noise"),
-           py::arg("steps_per_frame"), py::arg("frame_rate_hz"), py::arg("sim_rate_hz"), py::arg("capacity"))
+           py::arg("steps_per_frame"), py::arg("frame_rate_hz"), py::arg("sim_rate_hz"), py::arg("capacity"),
+           py::arg("record_log") = true)
       .def("set_fcs", &Frames::set_fcs, py::arg("coefficients"))
       .def("set_outer_loop", &Frames::set_outer_loop, py::arg("coefficients"), py::arg("instruments"),
            py::arg("throttle_property"))
@@ -548,6 +562,7 @@ void bind_truth(py::module_& m) {
       .def_property_readonly("frame", &Frames::frame)
       .def_property_readonly("step_count", &Frames::step)
       .def_property_readonly("measured", &Frames::measured)
+      .def_property_readonly("records_log", &Frames::records_log)
       .def_property_readonly("fcs_state", &Frames::fcs_state)
       .def_property_readonly("actuator_positions", &Frames::actuator_positions)
       .def("log", &Frames::log);

@@ -14,7 +14,9 @@
 // outputs PZ (r) and PX (x) doubles per filter, zero beyond NZ / NX; *probe is 0 if every
 // r and x written is finite, NaN otherwise (sum of value * 0). A third kernel blends:
 // x̂ = sum_k p_k x⁺_k and z_hat = H_out x̂ in one pass. PackedBank (packed_bank.h) holds a
-// bank's matrices and states in this layout and calls these kernels.
+// bank's matrices and states in this layout and calls these kernels. The kernels read filter
+// f's matrices through PackedRefs refs[f] (where each one lies: filters with identical
+// matrices read one copy), so which copy is read changes no arithmetic.
 #pragma once
 
 #include <cstring>
@@ -59,6 +61,16 @@ struct alignas(64) PackedFilter {
   }
 };
 
+// Where the kernels read one filter's matrices (each in the PackedFilter layout: H and A⁻¹
+// columns of PZ rows, K and Bd columns of PX rows): its own PackedFilter's arrays, or another
+// filter's that hold the same values bit for bit (PackedBank::link).
+struct PackedRefs {
+  const double* h = nullptr;
+  const double* a_inv = nullptr;
+  const double* k = nullptr;
+  const double* bd = nullptr;
+};
+
 // One filter's Phi in the same layout (column j = Phi(:, j), PX rows).
 template <int NX>
 struct alignas(64) PackedPhi {
@@ -97,20 +109,20 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
   for (int i = 0; i < NZ; ++i) zp[i] = z[i];                                                 \
   v4d probe_r = {}, probe_x = {};                                                            \
   for (int f = 0; f < K; ++f) {                                                              \
-    const P& p = packs[f];                                                                   \
+    const PackedRefs& p = refs[f];                                                           \
     const double* x = x_prior[f];                                                            \
     v4d r0[BZ], r1[BZ] = {};                                                                 \
     _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) r0[b] = F16MMAE_LD(zp + 4 * b);          \
     _Pragma("GCC unroll 16") for (int j = 0; j + 1 < NX; j += 2) {                           \
       const v4d x0 = F16MMAE_SPLAT(x[j]), x1 = F16MMAE_SPLAT(x[j + 1]);                                      \
       _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) {                                 \
-        r0[b] -= F16MMAE_LD(p.h[j] + 4 * b) * x0;                                                 \
-        r1[b] -= F16MMAE_LD(p.h[j + 1] + 4 * b) * x1;                                             \
+        r0[b] -= F16MMAE_LD(p.h + j * PZ + 4 * b) * x0;                                                 \
+        r1[b] -= F16MMAE_LD(p.h + (j + 1) * PZ + 4 * b) * x1;                                             \
       }                                                                                      \
     }                                                                                        \
     if (NX % 2) {                                                                            \
       const v4d xl = F16MMAE_SPLAT(x[NX - 1]);                                                       \
-      _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) r0[b] -= F16MMAE_LD(p.h[NX - 1] + 4 * b) * xl; \
+      _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) r0[b] -= F16MMAE_LD(p.h + (NX - 1) * PZ + 4 * b) * xl; \
     }                                                                                        \
     double* rr = r_out + f * PZ;                                                             \
     v4d r[BZ];                                                                               \
@@ -126,18 +138,18 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
     _Pragma("GCC unroll 8") for (int j = 0; j + 1 < NZ; j += 2) {                            \
       const v4d a0 = F16MMAE_SPLAT(r[j / 4][j % 4]), a1 = F16MMAE_SPLAT(r[(j + 1) / 4][(j + 1) % 4]);                                    \
       _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) {                                 \
-        s0[b] += F16MMAE_LD(p.a_inv[j] + 4 * b) * a0;                                             \
-        s1[b] += F16MMAE_LD(p.a_inv[j + 1] + 4 * b) * a1;                                         \
+        s0[b] += F16MMAE_LD(p.a_inv + j * PZ + 4 * b) * a0;                                             \
+        s1[b] += F16MMAE_LD(p.a_inv + (j + 1) * PZ + 4 * b) * a1;                                         \
       }                                                                                      \
       _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) {                                 \
-        xp0[b] += F16MMAE_LD(p.k[j] + 4 * b) * a0;                                                \
-        xp1[b] += F16MMAE_LD(p.k[j + 1] + 4 * b) * a1;                                            \
+        xp0[b] += F16MMAE_LD(p.k + j * PX + 4 * b) * a0;                                                \
+        xp1[b] += F16MMAE_LD(p.k + (j + 1) * PX + 4 * b) * a1;                                            \
       }                                                                                      \
     }                                                                                        \
     if (NZ % 2) {                                                                            \
       const v4d al = F16MMAE_SPLAT(r[(NZ - 1) / 4][(NZ - 1) % 4]);                                                      \
-      _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) s0[b] += F16MMAE_LD(p.a_inv[NZ - 1] + 4 * b) * al; \
-      _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) xp0[b] += F16MMAE_LD(p.k[NZ - 1] + 4 * b) * al; \
+      _Pragma("GCC unroll 8") for (int b = 0; b < BZ; ++b) s0[b] += F16MMAE_LD(p.a_inv + (NZ - 1) * PZ + 4 * b) * al; \
+      _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) xp0[b] += F16MMAE_LD(p.k + (NZ - 1) * PX + 4 * b) * al; \
     }                                                                                        \
     v4d qv = r[0] * (s0[0] + s1[0]);                                                         \
     _Pragma("GCC unroll 8") for (int b = 1; b < BZ; ++b) qv += r[b] * (s0[b] + s1[b]);       \
@@ -158,7 +170,7 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
   constexpr int PX = P::PX, BX = PX / 4;                                                     \
   v4d probe_x = {};                                                                          \
   for (int f = 0; f < K; ++f) {                                                              \
-    const P& p = packs[f];                                                                   \
+    const PackedRefs& p = refs[f];                                                           \
     const double* ph = phi + f * phi_stride;                                                 \
     const double* x = x_in[f];                                                               \
     v4d y0[BX] = {}, y1[BX] = {};                                                            \
@@ -176,8 +188,8 @@ typedef double v4du __attribute__((vector_size(32), aligned(8), may_alias));
     _Pragma("GCC unroll 8") for (int j = 0; j < NU; ++j) {                                   \
       const v4d uj = F16MMAE_SPLAT(u[j]);                                                            \
       _Pragma("GCC unroll 8") for (int b = 0; b < BX; ++b) {                                 \
-        if (j % 2) y1[b] += F16MMAE_LD(p.bd[j] + 4 * b) * uj;                                     \
-        else y0[b] += F16MMAE_LD(p.bd[j] + 4 * b) * uj;                                           \
+        if (j % 2) y1[b] += F16MMAE_LD(p.bd + j * PX + 4 * b) * uj;                                     \
+        else y0[b] += F16MMAE_LD(p.bd + j * PX + 4 * b) * uj;                                           \
       }                                                                                      \
     }                                                                                        \
     double* xo = x_out + f * PX;                                                             \
@@ -231,13 +243,13 @@ __attribute__((target("avx2,fma"))) void blend_avx2(const double* p, const doubl
   F16MMAE_BLEND_BODY
 }
 template <int K, int NX, int NU, int NZ, class P = PackedFilter<NX, NU, NZ>>
-__attribute__((target("avx2,fma"))) void update_avx2(const P* packs, const double* z, const double* const* x_prior,
+__attribute__((target("avx2,fma"))) void update_avx2(const PackedRefs* refs, const double* z, const double* const* x_prior,
                                                      double* r_out, double* q_out, double* x_out,
                                                      double* probe) noexcept {
   F16MMAE_UPDATE_BODY
 }
 template <int K, int NX, int NU, int NZ, class P = PackedFilter<NX, NU, NZ>>
-__attribute__((target("avx2,fma"))) void propagate_avx2(const P* packs, const double* phi, long phi_stride,
+__attribute__((target("avx2,fma"))) void propagate_avx2(const PackedRefs* refs, const double* phi, long phi_stride,
                                                         const double* u, const double* const* x_in,
                                                         double* x_out, double* probe) noexcept {
   F16MMAE_PROPAGATE_BODY
@@ -265,8 +277,9 @@ inline bool cpu_has_avx2_fma() noexcept { return false; }
 template <int K, int NX, int NU, int NZ>
 struct Kernels {
   using P = PackedFilter<NX, NU, NZ>;
-  using Update = void (*)(const P*, const double*, const double* const*, double*, double*, double*, double*) noexcept;
-  using Propagate = void (*)(const P*, const double*, long, const double*, const double* const*, double*,
+  using Update = void (*)(const PackedRefs*, const double*, const double* const*, double*, double*, double*,
+                          double*) noexcept;
+  using Propagate = void (*)(const PackedRefs*, const double*, long, const double*, const double* const*, double*,
                              double*) noexcept;
   using Blend = void (*)(const double*, const double*, const double*, double*, double*) noexcept;
   static bool available() noexcept { return cpu_has_avx2_fma(); }

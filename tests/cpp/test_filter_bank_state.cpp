@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <random>
 #include <tuple>
 #include <vector>
@@ -128,6 +129,48 @@ TEST_P(FilterBankState, LoadFilterReplacesTheHypothesisAndStartsItFromZero) {
   const Z z = frame_z();
   ASSERT_TRUE(bank_.update(z));
   EXPECT_LT(max_abs(bank_.residual(6) - (z - dual.h * dual.bd * u)), 1e-12);
+}
+
+// The paper's hypotheses share matrices (an actuator failure's filter has the no-failure H,
+// A⁻¹ and K; a sensor failure's its Bd), which the kernel path reads from one copy: after a
+// load_filter replaces the filter the others shared with, and in a copy of the bank (whose
+// own filters it must read), every filter still runs its own equations.
+TEST_P(FilterBankState, FiltersSharingMatricesRunTheirOwnAfterALoadAndInACopy) {
+  ASSERT_EQ(bank_.hypothesis(1).model().h, bank_.hypothesis(0).model().h);   // shared: the case exercised
+  ASSERT_EQ(bank_.hypothesis(1).model().k, bank_.hypothesis(0).model().k);
+  ASSERT_EQ(bank_.hypothesis(7).model().bd, bank_.hypothesis(0).model().bd);
+  for (int i = 0; i < 10; ++i) bank_.step(frame_z(), test::dither(5, i, 64.0));
+  auto copy = std::make_unique<F16FilterBank>(bank_);
+  const F16FilterModel dual = models(mb_, 13)[2];
+  bank_.load_filter(0, F16HypothesisFilter(dual));   // the filter the others read H, A⁻¹, K, Bd from
+  const auto check_frame = [&](F16FilterBank& b, int frame) {
+    X prior[13];
+    for (int k = 0; k < 13; ++k) prior[k] = b.prior(k);
+    const Z z = frame_z();
+    ASSERT_TRUE(b.update(z));
+    X post[13];
+    for (int k = 0; k < 13; ++k) {
+      const auto& m = b.hypothesis(k).model();
+      const Z r = z - m.h * prior[k];
+      EXPECT_LT(max_abs(b.residual(k) - r), 1e-12) << "frame " << frame << " filter " << k;
+      EXPECT_LT(max_abs(b.posterior(k) - (prior[k] + m.k * r)), 1e-12) << k;
+      EXPECT_NEAR(b.quadratic_forms()(k), r.dot(m.a.inverse() * r), 1e-9 * (1.0 + r.squaredNorm())) << k;
+      post[k] = b.posterior(k);
+    }
+    const U u = test::dither(5, 20 + frame, 64.0);
+    ASSERT_TRUE(b.propagate(u));
+    for (int k = 0; k < 13; ++k) {
+      const auto& m = b.hypothesis(k).model();
+      EXPECT_LT(max_abs(b.prior(k) - (m.phi * post[k] + m.bd * u)), 1e-12) << "frame " << frame << " filter " << k;
+    }
+  };
+  for (int i = 0; i < 3; ++i) check_frame(bank_, i);
+  check_frame(*copy, 0);
+  F16FilterBank reference = *copy;   // a copy of a bank that has run: not its links, its filters
+  for (int k = 0; k < 13; ++k) copy->load_filter(k, F16HypothesisFilter(dual));
+  for (int i = 1; i < 3; ++i) check_frame(reference, i);
+  copy.reset();
+  check_frame(reference, 3);
 }
 
 INSTANTIATE_TEST_SUITE_P(BothPaths, FilterBankState, ::testing::Values(true, false),

@@ -142,7 +142,8 @@ def test_bench_truth_prints_truth_bare_and_closed_loop(capsys):
                   "truth model, Python engine, per flight", "first flight of its condition",
                   "the same with the stock contact points", "derived stepping / the same with the contact points",
                   "closed loop (tuned bank, Mach 0.4, 20000 ft, probabilities recorded) / truth alone",
-                  "(goal <= 1.1)", "dither levels",
+                  "(goal <= 1.1)", "estimator's frames", "the truth's frames slower beside it",
+                  "Python around the call", "the C++ calls alone: closed loop", "dither levels",
                   "single-failure campaign, 13 flights"):
         assert label in out
 

@@ -186,6 +186,30 @@ def test_a_closed_loop_flown_whole_in_cpp_is_the_per_frame_one(feedback):
         assert frames.final_hypothesis == whole.final_hypothesis
 
 
+def test_frames_without_a_log_fly_the_same_flight_and_refuse_the_log():
+    """record_log=False (a closed-loop flight nobody reads the log of): the same frames, bit for
+    bit, through a sensor and an actuator failure, the same onsets; truth_log refused by name."""
+    sc = Scenario(duration_s=2.0, seed=7, turbulence="light", failures=_fails("LF@0.5", "AOA@1.0"))
+    seen = []
+    for record_log in (True, False):
+        truth = TruthModel(sc, engine="cpp", record_log=record_log)
+        fcs = FlightControlSystem(truth.trim, dither=sc.dither, ari=sc.ari)
+        truth.attach(fcs)
+        z, frames = truth.measure(), []
+        for i in range(int(sc.duration_s * FRAME_RATE_HZ)):
+            u, z = truth.step(fcs, z)
+            frames.append(np.concatenate([u, z]))
+        truth.detach(fcs)
+        truth.close()
+        seen.append((np.array(frames), truth._onsets_so_far(), fcs.x_int))
+        if not record_log:
+            with pytest.raises(RuntimeError, match=r"keeps no truth log \(built with record_log=False\)"):
+                truth.truth_log
+    (fa, oa, xa), (fb, ob, xb) = seen
+    assert np.array_equal(fa, fb) and oa == ob and xa == xb
+    assert [o["name"] for o in oa] == ["LF", "AOA"]
+
+
 def test_a_core_built_for_another_jsbsim_is_refused_by_name(monkeypatch):
     from f16mmae import core
     from f16mmae.truth import aircraft

@@ -129,14 +129,28 @@ def _on_line(names, columns: dict[str, int], probs: np.ndarray) -> tuple[np.ndar
 
 def _columns(p: np.ndarray, segments: list, width: int) -> np.ndarray:
     """The frames' probabilities ``p`` (frames, hypotheses on line) in the flight's columns: each
-    segment's rows ``(start, end, idx)`` in columns ``idx``, NaN elsewhere; ``p`` itself when the
-    columns never moved (also ``p`` when nothing was recorded: no rows)."""
-    if not len(p) or (width == p.shape[1] and all(np.array_equal(idx, np.arange(width)) for *_, idx in segments)):
+    segment's rows ``(start, end, idx)`` in columns ``idx`` (a tuple), NaN elsewhere; ``p``
+    itself when the columns never moved (also ``p`` when nothing was recorded: no rows)."""
+    if not len(p) or (width == p.shape[1] and all(idx == tuple(range(width)) for *_, idx in segments)):
         return p
     out = np.full((len(p), width), np.nan)
     for start, end, idx in segments:
-        out[start:end, idx] = p[start:end]
+        out[start:end, list(idx)] = p[start:end]
     return out
+
+
+_FRAME_TIMES: dict[int, np.ndarray] = {}
+
+
+def _frame_times(n_frames: int) -> np.ndarray:
+    """``arange(n_frames) / FRAME_RATE_HZ`` as ``FlightResult.time_s`` holds it (i * dt), one
+    read-only array per length, shared by the flights of a process."""
+    t = _FRAME_TIMES.get(n_frames)
+    if t is None:
+        t = np.arange(n_frames) * (1.0 / FRAME_RATE_HZ)
+        t.flags.writeable = False
+        _FRAME_TIMES[n_frames] = t
+    return t
 
 
 def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options: dict | None = None,
@@ -166,7 +180,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     throttle = models_throttle(model_bank)
     if throttle:  # the throttle dither is part of such an MMAE system's excitation
         scenario = dataclasses.replace(scenario, dither=scenario.dither.with_scheduled_throttle())
-    truth = TruthModel(scenario, engine=engine)   # the only holder of the failure truth
+    # the only holder of the failure truth; its log is kept only for the series (nothing else reads it)
+    truth = TruthModel(scenario, engine=engine, record_log=record_series)
     fcs = FlightControlSystem(truth.trim, dither=scenario.dither, ari=scenario.ari,
                               pilot=truth.pilot())  # the maneuvers' outer loop, None without
     truth.attach(fcs)
@@ -185,7 +200,6 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     # dwell-confirmed decision), and then only on the failed sensors' channels
     reconfiguration = core.SensorReconfiguration(model_bank) if feedback == "reconfigure" else None
     columns: dict[str, int] = {name: k for k, name in enumerate(estimator.hypotheses)}
-    idx = np.arange(len(columns))
     declarations: list[dict] = []
     if record_series:
         rec_u, rec_z, rec_z_hat = (np.zeros((n_frames, 6 if throttle else 5)), np.zeros((n_frames, 7)),
@@ -199,18 +213,22 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                                      reconfiguration)
         t_truth += out["truth_s"]
         t_est += out["estimator_s"]
-        segments, start = [], 0  # (first frame, end, columns of the hypotheses then on line)
-        for frame, name, online in out["events"]:
-            declarations.append({"hypothesis": name, "time_s": round(frame * dt, 9)})
-            segments.append((start, frame, idx))
-            idx = np.array([columns.setdefault(h, len(columns)) for h in online], dtype=int)
-            start = frame
-        segments.append((start, n_frames, idx))
-        probs, scale = _columns(out["probabilities"], segments, len(columns)), out["turbulence_scale"]
-        estimator.last_declaration = out["events"][-1][1] if out["declared_last_frame"] else None
+        events, probs, scale = out["events"], out["probabilities"], out["turbulence_scale"]
+        if events:  # else the level-0 columns throughout: probs as they came
+            idx = tuple(range(len(columns)))
+            segments, start = [], 0  # (first frame, end, columns of the hypotheses then on line)
+            for frame, name, online in events:
+                declarations.append({"hypothesis": name, "time_s": round(frame * dt, 9)})
+                segments.append((start, frame, idx))
+                idx = tuple(columns.setdefault(h, len(columns)) for h in online)
+                start = frame
+            segments.append((start, n_frames, idx))
+            probs = _columns(probs, segments, len(columns))
+        estimator.last_declaration = events[-1][1] if out["declared_last_frame"] else None
         n_frames_python = 0
     else:
         n_frames_python = n_frames
+        idx = np.arange(len(columns))
         probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
         scale = np.full(n_frames if record_probabilities else 0, np.nan)
     clock = time.perf_counter
@@ -268,7 +286,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         declarations=declarations,
         final_hypothesis=final,
         frame_dt_s=dt,
-        time_s=np.arange(n_frames) * dt,
+        time_s=_frame_times(n_frames),
         hypotheses=hypotheses,
         probabilities=(probs[:, : len(hypotheses)] if record_probabilities else np.zeros((n_frames, 0))),
         timing={"wall_s": round(wall, 6), "truth_s": round(t_truth, 6), "estimator_s": round(t_est, 6),

@@ -18,7 +18,10 @@ samples the air-data sensor (``truth.air_data``: measured Mach and pressure alti
 noisy, its noise from its own stream ``air_data_rng(seed)``); ``air_data`` holds this frame's
 values, the only truth-side numbers besides z that the estimator may receive.
 ``truth_log`` holds the record (true states, effective surface positions, failure truth); it
-is for scoring and plots only and must never reach the estimator.
+is for scoring and plots only and must never reach the estimator.  ``record_log=False`` (the
+cpp engine): the frames keep no record (a closed-loop flight whose caller never reads it,
+``loop.flight.fly`` without ``record_series``); ``truth_log`` then raises RuntimeError.  The
+Python engine (the reference) always keeps it.
 
 Engines (``truth.engine``): ``cpp`` flies the frames in C++ (``core.TruthFrames``), with the
 sensor noise drawn here in bulk from the same generator (``rng.standard_normal((n, 7))`` gives
@@ -83,7 +86,7 @@ class TruthModel:
     ``truth_log`` (dict of arrays, the record).
     """
 
-    def __init__(self, scenario: Scenario | None = None, engine: str | None = None):
+    def __init__(self, scenario: Scenario | None = None, engine: str | None = None, record_log: bool = True):
         sc = scenario if scenario is not None else Scenario()
         if not isinstance(sc, Scenario):
             raise ValueError(f"TruthModel needs a Scenario, got {type(sc).__name__}")
@@ -122,7 +125,8 @@ class TruthModel:
         if self.engine == "cpp":
             self._rng, self._air_rng = rng, air_rng
             self._noise_rows = n
-            self._frames = self._make_frames(rng.standard_normal((n, 7)), air_rng.standard_normal((n, 2)), n)
+            self._frames = self._make_frames(rng.standard_normal((n, 7)), air_rng.standard_normal((n, 2)), n,
+                                             record_log)
             if self._throttle is not None:
                 schedule = ({"target_fps2": THROTTLE_SCHEDULE_NX_G * G_FPS2, "mach": list(THROTTLE_GRID_MACH),
                              "alt_ft": list(THROTTLE_GRID_ALT_FT), "accel_fps2": [list(r) for r in THRUST_ACCEL_FPS2]}
@@ -146,7 +150,7 @@ class TruthModel:
         self._n_meas = 0
         self._n_adv = 0
 
-    def _make_frames(self, noise: np.ndarray, air_noise: np.ndarray, capacity: int):
+    def _make_frames(self, noise: np.ndarray, air_noise: np.ndarray, capacity: int, record_log: bool):
         """The C++ frames over this aircraft: the constants and failure schedule from this package."""
         from .. import core
 
@@ -171,7 +175,7 @@ class TruthModel:
             act_fail, sen_fail, noise, list(air_data_module.AIR_DATA_PROPERTIES),
             {"decay": air_data_module.lag_decay(), "sigma": [float(x) for x in air_sigma]}, air_noise,
             self._steps_per_frame, float(FRAME_RATE_HZ), float(SIM_RATE_HZ),
-            capacity)
+            capacity, record_log)
 
     def pilot(self):
         """The outer loop that flies the scenario's maneuvers on this aircraft
@@ -321,6 +325,16 @@ class TruthModel:
         self.advance(u)
         return u, (self.measure() if measure_next else None)
 
+    def fly_frames(self, n_frames: int) -> None:
+        """C++ engine, control law attached, no turbulence change due: ``n_frames`` frames on
+        raw feedback, then the next frame's measurement, in one call (``fly_raw``'s flight)."""
+        self._check_open()
+        if self._frames is None or not self.law_in_cpp or self._pending_turb:
+            raise ValueError("fly_frames needs the cpp truth engine, a control law attached there and no gust burst")
+        self._refill_noise()
+        self._frames.fly(n_frames)
+        self.frame += n_frames
+
     def fly_closed_loop(self, bank, n_frames: int, use_mmae: bool, record_probabilities: bool,
                         reconfiguration=None) -> dict:
         """C++ engine only: ``n_frames`` closed-loop frames with ``bank`` (a fixed-size F-16
@@ -393,7 +407,10 @@ class TruthModel:
         state (n,len(STATE_LOG)) with ``state_names``, ``failures`` (scenario specs) and
         ``onsets`` (when each actually acted), ``scenario`` (dict), ``trim`` (dict)."""
         if self.engine == "cpp":
-            out = (self._frames if self._frames is not None else self._frames_done).log()
+            frames = self._frames if self._frames is not None else self._frames_done
+            if not frames.records_log:
+                raise RuntimeError("this TruthModel keeps no truth log (built with record_log=False)")
+            out = frames.log()
         else:
             n, m = self._n_meas, self._n_adv
             out = {k: v[:n].copy() for k, v in self._log.items()
@@ -430,8 +447,7 @@ def fly_raw(scenario: Scenario, pilot=None, fcs_gains=None,
     n = int(round(scenario.duration_s * FRAME_RATE_HZ))
     truth.attach(fcs)
     if truth.law_in_cpp and not truth._pending_turb:
-        truth._frames.fly(n)
-        truth.frame += n
+        truth.fly_frames(n)
         truth.detach(fcs)
     else:
         measure, command, advance = truth.measure, fcs.command, truth.advance

@@ -17,6 +17,7 @@
 
 #include "core_convert.h"
 #include "hierarchical_access.h"
+#include "bankfile/turbulence_set_file.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/turbulence_bank_set.h"
 
@@ -163,7 +164,82 @@ py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_
   return py::make_tuple(best_s / static_cast<double>(n), set.switches(), set.standby_frames());
 }
 
+std::string fspath(py::handle path) { return py::str(py::module_::import("os").attr("fspath")(path)); }
+
+py::dict selector_dict(const TurbulenceBankSetOptions& s) {
+  py::dict d;
+  d["bounds"] = s.bounds;
+  d["typical"] = s.typical;
+  d["hold_s"] = s.hold_s;
+  d["warm_up_s"] = s.warm_up_s;
+  d["warm_down_s"] = s.warm_down_s;
+  d["settle_s"] = s.settle_s;
+  d["freeze_probability"] = s.freeze_probability;
+  d["start"] = s.start;
+  d["start_standby"] = s.start_standby;
+  return d;
+}
+
+// The set file's content from Python values (the selector: core.TurbulenceBankSet's keywords).
+TurbulenceSetFile make_set_file(const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
+                                const std::vector<double>& adapt_reference, const py::dict& selector) {
+  TurbulenceSetFile f;
+  f.members = members;
+  f.levels = levels;
+  f.adapt_reference = adapt_reference;
+  const py::dict known = selector_dict(f.selector);
+  for (const auto& item : selector)
+    if (!known.contains(item.first))
+      throw py::value_error("turbulence bank set: unknown selector setting '" + std::string(py::str(item.first)) +
+                            "'; valid: bounds, typical, hold_s, warm_up_s, warm_down_s, settle_s, "
+                            "freeze_probability, start, start_standby");
+  const auto get = [&](const char* key, auto& out) {
+    if (selector.contains(key)) out = selector[key].cast<std::decay_t<decltype(out)>>();
+  };
+  TurbulenceBankSetOptions& s = f.selector;
+  get("bounds", s.bounds);
+  get("typical", s.typical);
+  get("hold_s", s.hold_s);
+  get("warm_up_s", s.warm_up_s);
+  get("warm_down_s", s.warm_down_s);
+  get("settle_s", s.settle_s);
+  get("freeze_probability", s.freeze_probability);
+  get("start", s.start);
+  get("start_standby", s.start_standby);
+  return f;
+}
+
 }  // namespace
+
+void bind_turbulence_set_file(py::module_& m) {
+  py::class_<TurbulenceSetFile>(m, "TurbulenceSetFile", R"doc(
+A turbulence bank set file (cpp/bankfile/turbulence_set_file.h), loaded and validated: the member
+banks (rising intensity), their design levels and adaptation references, the selector's settings
+(core.TurbulenceBankSet's keyword arguments) and content_hash (hex SHA-256 of the payload: the
+set's name in mmae-daemon's status). core.Executive(set_file, ...) runs the set as mmae-daemon
+--turbulence-banks does.)doc")
+      .def_property_readonly("members", [](const TurbulenceSetFile& f) { return f.members; })
+      .def_property_readonly("levels", [](const TurbulenceSetFile& f) { return f.levels; })
+      .def_property_readonly("adapt_reference", [](const TurbulenceSetFile& f) { return f.adapt_reference; })
+      .def_property_readonly("selector", [](const TurbulenceSetFile& f) { return selector_dict(f.selector); })
+      .def_property_readonly("content_hash", [](const TurbulenceSetFile& f) { return f.content_hash; });
+  m.def(
+      "load_turbulence_set", [](py::handle path) { return load_turbulence_set(fspath(path)); }, py::arg("path"),
+      "Read a turbulence bank set file: magic, version, size and SHA-256, every member bank as a bank\n"
+      "file, then the set's checks. FileNotFoundError if absent, OSError if unreadable, ValueError naming\n"
+      "the field.");
+  m.def(
+      "save_turbulence_set",
+      [](py::handle path, const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
+         const std::vector<double>& adapt_reference, const py::dict& selector) {
+        return save_turbulence_set(make_set_file(members, levels, adapt_reference, selector), fspath(path));
+      },
+      py::arg("path"), py::arg("members"), py::kw_only(), py::arg("levels"), py::arg("adapt_reference"),
+      py::arg("selector"),
+      "Validate and write a turbulence bank set file atomically; returns its content hash. selector: a dict\n"
+      "of core.TurbulenceBankSet's settings (bounds, typical, hold_s, ...; left out: the core's defaults).\n"
+      "ValueError naming the field.");
+}
 
 void bind_bank_set(py::module_& m) {
   m.def("_bench_bank_set_loop", &bench_bank_set_loop, py::arg("banks"), py::arg("z"), py::arg("u"), py::arg("bounds"),

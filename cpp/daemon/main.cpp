@@ -139,7 +139,8 @@ int main(int argc, char** argv) {
     if (set && cfg.turbulence_banks) {
       executive = std::make_unique<Executive>(*set, options);
       bank_hash = set->content_hash;
-      tuning = "turbulence bank set";
+      tuning.clear();   // the members' levels: "none/light/moderate/severe"
+      for (const std::string& level : set->levels) tuning += (tuning.empty() ? "" : "/") + level;
     } else {   // a set file without --turbulence-banks: its start member alone, as in process
       executive = std::make_unique<Executive>(bank, options);
       bank_hash = bank.content_hash;

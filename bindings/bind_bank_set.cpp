@@ -182,11 +182,13 @@ py::dict selector_dict(const TurbulenceBankSetOptions& s) {
 
 // The set file's content from Python values (the selector: core.TurbulenceBankSet's keywords).
 TurbulenceSetFile make_set_file(const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
-                                const std::vector<double>& adapt_reference, const py::dict& selector) {
+                                const std::vector<double>& adapt_reference, const std::vector<double>& trim_time_constant_s,
+                                const py::dict& selector) {
   TurbulenceSetFile f;
   f.members = members;
   f.levels = levels;
   f.adapt_reference = adapt_reference;
+  f.trim_time_constant_s = trim_time_constant_s;
   const py::dict known = selector_dict(f.selector);
   for (const auto& item : selector)
     if (!known.contains(item.first))
@@ -214,13 +216,15 @@ TurbulenceSetFile make_set_file(const std::vector<ModelBank>& members, const std
 void bind_turbulence_set_file(py::module_& m) {
   py::class_<TurbulenceSetFile>(m, "TurbulenceSetFile", R"doc(
 A turbulence bank set file (cpp/bankfile/turbulence_set_file.h), loaded and validated: the member
-banks (rising intensity), their design levels and adaptation references, the selector's settings
+banks (rising intensity), their design levels, adaptation references and trim tracking time
+constants (0: off), the selector's settings
 (core.TurbulenceBankSet's keyword arguments) and content_hash (hex SHA-256 of the payload: the
 set's name in mmae-daemon's status). core.Executive(set_file, ...) runs the set as mmae-daemon
 --turbulence-banks does.)doc")
       .def_property_readonly("members", [](const TurbulenceSetFile& f) { return f.members; })
       .def_property_readonly("levels", [](const TurbulenceSetFile& f) { return f.levels; })
       .def_property_readonly("adapt_reference", [](const TurbulenceSetFile& f) { return f.adapt_reference; })
+      .def_property_readonly("trim_time_constant_s", [](const TurbulenceSetFile& f) { return f.trim_time_constant_s; })
       .def_property_readonly("selector", [](const TurbulenceSetFile& f) { return selector_dict(f.selector); })
       .def_property_readonly("content_hash", [](const TurbulenceSetFile& f) { return f.content_hash; });
   m.def(
@@ -231,11 +235,13 @@ set's name in mmae-daemon's status). core.Executive(set_file, ...) runs the set 
   m.def(
       "save_turbulence_set",
       [](py::handle path, const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
-         const std::vector<double>& adapt_reference, const py::dict& selector) {
-        return save_turbulence_set(make_set_file(members, levels, adapt_reference, selector), fspath(path));
+         const std::vector<double>& adapt_reference, const std::vector<double>& trim_time_constant_s,
+         const py::dict& selector) {
+        return save_turbulence_set(make_set_file(members, levels, adapt_reference, trim_time_constant_s, selector),
+                                   fspath(path));
       },
       py::arg("path"), py::arg("members"), py::kw_only(), py::arg("levels"), py::arg("adapt_reference"),
-      py::arg("selector"),
+      py::arg("trim_time_constant_s"), py::arg("selector"),
       "Validate and write a turbulence bank set file atomically; returns its content hash. selector: a dict\n"
       "of core.TurbulenceBankSet's settings (bounds, typical, hold_s, ...; left out: the core's defaults).\n"
       "ValueError naming the field.");

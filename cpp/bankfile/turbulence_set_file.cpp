@@ -40,9 +40,11 @@ void TurbulenceSetFile::validate() const {
   const int n = size();
   if (n < 2 || n > kMaxTurbulenceSetMembers)
     refuse("needs 2 to " + std::to_string(kMaxTurbulenceSetMembers) + " member banks, got " + std::to_string(n));
-  if (levels.size() != members.size() || adapt_reference.size() != members.size())
-    refuse("levels and adapt_reference need one value per member (" + std::to_string(n) + "), got " +
-           std::to_string(levels.size()) + " and " + std::to_string(adapt_reference.size()));
+  if (levels.size() != members.size() || adapt_reference.size() != members.size() ||
+      trim_time_constant_s.size() != members.size())
+    refuse("levels, adapt_reference and trim_time_constant_s need one value per member (" + std::to_string(n) +
+           "), got " + std::to_string(levels.size()) + ", " + std::to_string(adapt_reference.size()) + " and " +
+           std::to_string(trim_time_constant_s.size()));
   std::set<std::string> seen;
   for (int i = 0; i < n; ++i) {
     const std::string who = "member " + std::to_string(i) + " ('" + levels[i] + "')";
@@ -66,6 +68,8 @@ void TurbulenceSetFile::validate() const {
                b0.hypotheses[h].name + "'");
     if (!(adapt_reference[i] >= 0.0 && adapt_reference[i] <= 100.0))
       refuse(who + ": adapt_reference must be in [0, 100], got " + format_value(adapt_reference[i]));
+    if (!(trim_time_constant_s[i] >= 0.0 && trim_time_constant_s[i] <= 1e6))
+      refuse(who + ": trim_time_constant_s must be in [0, 1e6] s (0: off), got " + format_value(trim_time_constant_s[i]));
   }
   check_turbulence_set_selector(selector, n);
 }
@@ -84,6 +88,7 @@ std::vector<std::uint8_t> turbulence_set_file_bytes(const TurbulenceSetFile& set
     out.insert(out.end(), set.levels[i].begin(), set.levels[i].end());
     out.push_back(0);
     put_f64(out, set.adapt_reference[i]);
+    put_f64(out, set.trim_time_constant_s[i]);
     const std::vector<std::uint8_t> bank = bank_file_bytes(set.members[i]);
     put(out, bank.size(), 8);
     out.insert(out.end(), bank.begin(), bank.end());
@@ -108,11 +113,12 @@ TurbulenceSetFile parse_turbulence_set_file(const std::uint8_t* data, std::size_
   TurbulenceSetFile set;
   try {
     PayloadReader r(payload, payload_size);
-    const std::size_t n = r.count("members size", kMaxTurbulenceSetMembers, 4 + 1 + 8 + 8 + kBankFileHeaderSize);
+    const std::size_t n = r.count("members size", kMaxTurbulenceSetMembers, 4 + 1 + 8 + 8 + 8 + kBankFileHeaderSize);
     for (std::size_t i = 0; i < n; ++i) {
       const std::string member = "members[" + std::to_string(i) + "]";
       set.levels.push_back(r.text(member + ".level", kMaxBankNameBytes));
       set.adapt_reference.push_back(r.f64(member + ".adapt_reference"));
+      set.trim_time_constant_s.push_back(r.f64(member + ".trim_time_constant_s"));
       const std::int64_t bytes = r.i64(member + ".bank size");
       if (bytes < 0 || static_cast<std::uint64_t>(bytes) > kMaxBankFileBytes)
         throw BankFileFormatError("payload field " + member + ".bank size = " + std::to_string(bytes) +

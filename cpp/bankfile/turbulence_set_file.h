@@ -15,6 +15,7 @@
 //                   per member:
 //                     string level                       int32 (length + 1), bytes, NUL
 //                     double adapt_reference             its adaptation's rho_0, [0, 100]
+//                     double trim_time_constant_s        its trim tracking (trim_tracker.h), 0: off
 //                     int64 size, size bytes             a complete model-bank file image
 //                                                        (bank_file.h, checked by parse_bank_file)
 //                   int32 n(n-1), doubles                selector bounds, row-major
@@ -28,7 +29,8 @@
 // validate() (on save and on load) refuses, naming the field: fewer than 2 or more than
 // kMaxTurbulenceSetMembers members, a level that is empty or repeated, member banks of
 // different sizes (nx, nu, nz), frame rates or hypotheses (by name and order), a scheduled
-// member, an adapt_reference outside [0, 100], and the selector settings
+// member, an adapt_reference outside [0, 100], a trim_time_constant_s outside [0, 1e6], and
+// the selector settings
 // check_turbulence_set_selector refuses. parse_turbulence_set_file refuses besides what the
 // hashed layout refuses (bank_file.h: magic, version, truncation, hash) and every member bank
 // parse_bank_file refuses (its message prefixed with the member), all as BankFileFormatError
@@ -55,6 +57,7 @@ struct TurbulenceSetFile {
   std::vector<std::string> levels;       // each member's design level ("none", "light", ...)
   std::vector<ModelBank> members;        // rising intensity
   std::vector<double> adapt_reference;   // each member's adaptation reference rho_0
+  std::vector<double> trim_time_constant_s;  // each member's trim tracking time constant, s (0: off)
   TurbulenceBankSetOptions selector;
   std::string content_hash;              // set by load and save
 

@@ -9,7 +9,9 @@
 // loop/estimator.py) with the turbulence adaptation on (the selector's measure) and its
 // reference the set file's adapt_reference[i], unless one reference was given for all
 // (options.schedule.node_adapt_reference false: the flag that also overrides a schedule's
-// per-node references). Throws std::invalid_argument for members the set refuses.
+// per-node references), and its trim tracking the set file's trim_time_constant_s[i] unless
+// `options` track the trim themselves (time_constant_s > 0: every member then tracks with it).
+// Throws std::invalid_argument for members the set refuses.
 // Per frame noexcept and allocation-free (TurbulenceBankSet's contract).
 #pragma once
 
@@ -60,6 +62,7 @@ class TurbulenceSetBank {
       HierarchicalOptions o = options;
       o.bank.adaptation.enabled = true;
       if (options.schedule.node_adapt_reference) o.bank.adaptation.reference = file.adapt_reference[i];
+      if (!options.trim.enabled()) o.trim.time_constant_s = file.trim_time_constant_s[i];
       out.push_back(std::make_unique<Bank>(file.members[i], o));
     }
     return out;

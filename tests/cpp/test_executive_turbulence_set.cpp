@@ -36,6 +36,7 @@ TurbulenceSetFile two_member_set() {
   f.members = {calm, rough};
   f.levels = {"none", "severe"};
   f.adapt_reference = {1.0, 0.5};
+  f.trim_time_constant_s = {0.0, 0.0};
   f.selector.bounds = {0.05,   // the calm member's rho between its level and the rough one's
                        0.15};  // the rough member's
   f.selector.typical = {0.1, 0.01};
@@ -86,6 +87,7 @@ TEST(TurbulenceSetFile, RoundTripsAndHashesItsPayload) {
   const TurbulenceSetFile g = parse_turbulence_set_file(image.data(), image.size(), "memory");
   EXPECT_EQ(g.levels, f.levels);
   EXPECT_EQ(g.adapt_reference, f.adapt_reference);
+  EXPECT_EQ(g.trim_time_constant_s, f.trim_time_constant_s);
   EXPECT_EQ(g.selector.bounds, f.selector.bounds);
   EXPECT_EQ(g.selector.typical, f.selector.typical);
   EXPECT_EQ(g.selector.hold_s, 0.1);
@@ -128,14 +130,19 @@ TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {
   f.adapt_reference[0] = -1.0;
   refused([&] { turbulence_set_file_bytes(f); }, "adapt_reference must be in [0, 100]");
   f = two_member_set();
+  f.trim_time_constant_s[1] = -1.0;
+  refused([&] { turbulence_set_file_bytes(f); }, "trim_time_constant_s must be in [0, 1e6] s");
+  f = two_member_set();
   for (auto& m : f.members) m = test_support::synthetic_bank(19, 5);
   refused([&] { Executive ex(f); }, "turbulence bank set of (nx, nu, nz) = (19, 6, 7) members");
 }
 
-// The executive's set is the core set over the same members, stepped directly, bit for bit;
-// the selector hands over up and back down; no frame allocates.
+// The executive's set is the core set over the same members (each with its reference and trim
+// tracking of the file), stepped directly, bit for bit; the selector hands over up and back
+// down; no frame allocates.
 TEST(Executive, ATurbulenceBankSetRunsAsTheCoreSetAndAllocatesNothing) {
   TurbulenceSetFile f = two_member_set();
+  f.trim_time_constant_s = {30.0, 0.0};   // the calm member tracks the trim, the rough one does not
   f.content_hash = "the-set";
   HierarchicalOptions o;
   o.bank.p_min = 1e-9;
@@ -150,6 +157,7 @@ TEST(Executive, ATurbulenceBankSetRunsAsTheCoreSetAndAllocatesNothing) {
     HierarchicalOptions m = o;
     m.bank.adaptation.enabled = true;
     m.bank.adaptation.reference = f.adapt_reference[i];
+    m.trim.time_constant_s = f.trim_time_constant_s[i];
     owned.push_back(std::make_unique<Bank>(f.members[i], m));
     members.push_back(owned.back().get());
   }

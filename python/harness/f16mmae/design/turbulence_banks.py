@@ -3,19 +3,24 @@ estimator that selects the running bank on line by the intensity it measures
 (cpp/f16mmae/turbulence_bank_set.h; ``--turbulence-banks``).
 
 Members (``MEMBER_LEVELS``): the tuning ``MEMBER_TUNING`` with the throttle command as the
-sixth input (``design_bank(..., throttle_input=True)``), its gust model designed for calm air,
-light, moderate and severe turbulence, at the nominal point; one state vector for all (a
-copied standby starts from the states of the member in force).  ``tuned_gust`` (19 states:
+sixth input (``design_bank(..., throttle_input=True)``), its gust model designed for calm air
+and for light turbulence, at the nominal point; one state vector for all (a copied standby
+starts from the states of the member in force).  The light member, its turbulence adaptation
+tempering up to its bound, also flies moderate and severe turbulence: members designed for
+those (the set had four until 2026-11-30) declared the flaperons falsely at their own level,
+which no reference of theirs removed without losing LF/RF isolation, while the light member
+tempering at s = 4.6 in moderate turbulence was quiet and isolated as well (tuning seeds,
+docs/results/turbulence_banks.md).  ``tuned_gust`` (19 states:
 the six Dryden gust states) and not ``tuned`` (13): with 13-state members the light member
 alone declared 50 false failures in 0.67 h of light turbulence and the set 609 at moderate
 (docs/results/turbulence_banks.md).
 
 The artifact is one turbulence-bank-set file ``turbulence_banks_<key>.f16set``
 (cpp/bankfile/turbulence_set_file.h: the member bank files whole, each member's level and
-adaptation reference, the selector's settings, hashed), read and validated by the one C++
+adaptation reference and trim tracking, the selector's settings, hashed), read and validated by the one C++
 loader that ``mmae-daemon --turbulence-banks`` uses too; its content hash (``set_hash``) names
 the set in the daemon's status.  Deterministic: the same code and truth give the same file (the
-design is).  Not committed (four banks, 1.2 MB): :func:`set_path` is generated on first use into
+design is).  Not committed (0.6 MB): :func:`set_path` is generated on first use into
 the cache (``$F16MMAE_CACHE_DIR`` or ``~/.cache/f16mmae``, ``banks/``), or written by
 ``f16mmae design --turbulence-banks --out FILE``.
 
@@ -39,35 +44,38 @@ from .. import names
 from ..errors import F16mmaeError
 
 #: The members' design levels, in rising intensity, and their tuning.
-MEMBER_LEVELS: tuple[str, ...] = ("none", "light", "moderate", "severe")
+MEMBER_LEVELS: tuple[str, ...] = ("none", "light")
 MEMBER_TUNING = "tuned_gust"
 #: The member in force at the start (light, the shipped design level) and the one running
 #: beside it from frame 0 (calm air: handed over within seconds when the air is calm).
 START = 1
 START_STANDBY = 0
-#: Each member's (row) median rho flown in each level (column), none..severe: tuning flight
-#: seeds 1-8, 60 s each, after 10 s (tools/turbulence_banks.py; docs/results/turbulence_banks.md).
+#: Each member's (row) median rho flown in each member's level (column): tuning flight seeds 1-8,
+#: 60 s each, after 10 s (tools/turbulence_banks.py; docs/results/turbulence_banks.md).
 MEDIAN_RHO: tuple[tuple[float, ...], ...] = (
-    (0.70, 3.47, 11.63, 84.51),
-    (0.58, 0.74, 1.18, 6.08),
-    (0.49, 0.57, 0.80, 3.22),
-    (0.33, 0.35, 0.41, 1.14),
+    (0.70, 3.47),
+    (0.58, 0.74),
 )
 #: The selector's boundaries: member a's rho between levels i and i+1, the geometric mean of
 #: its medians there (row-major, n x (n-1)); a standby starts at its own level's median.
-BOUNDS: tuple[float, ...] = tuple(round((row[i] * row[i + 1]) ** 0.5, 4) for row in MEDIAN_RHO for i in range(3))
-TYPICAL: tuple[float, ...] = tuple(MEDIAN_RHO[i][i] for i in range(4))
+BOUNDS: tuple[float, ...] = tuple(round((row[i] * row[i + 1]) ** 0.5, 4)
+                            for row in MEDIAN_RHO for i in range(len(row) - 1))
+TYPICAL: tuple[float, ...] = tuple(MEDIAN_RHO[i][i] for i in range(len(MEDIAN_RHO)))
 HOLD_S = 1.0
 WARM_UP_S = 1.0
 WARM_DOWN_S = 5.0
 SETTLE_S = 1.0
 FREEZE_PROBABILITY = 0.05
-#: Each member's turbulence-adaptation reference rho_0 (tempering above it only): 1.0 against each
-#: member's own 99th percentile at its level (0.73, 0.79, 0.86, 1.82), tuning seeds: severe 389 false
-#: declarations in 0.67 h and 33/36 failures against 705 and 28/36, the other levels alike.
-ADAPT_REFERENCE: tuple[float, ...] = (1.0, 1.0, 1.0, 1.0)
+#: Each member's turbulence-adaptation reference rho_0 (tempering above it only): 1.0, as the single
+#: light gust bank's (gust_states.md), against each member's own 99th percentile at its level.
+ADAPT_REFERENCE: tuple[float, ...] = (1.0, 1.0)
+#: Each member's trim tracking time constant (trim_tracker.h), s: slow enough not to follow a stuck
+#: airspeed within the seconds its hypothesis needs, fast enough for the trimmed aircraft's drift
+#: over minutes, which the calm member read as AOA failures late in long flights (tuning seeds:
+#: docs/results/turbulence_banks.md). --trim-tracking TAU overrides it in every member.
+TRIM_TIME_CONSTANT_S: tuple[float, ...] = (300.0, 300.0)
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
-REVISION = 7
+REVISION = 8
 SUFFIX = ".f16set"
 
 
@@ -84,6 +92,7 @@ class BankSet:
     levels: tuple[str, ...]
     banks: tuple
     adapt_reference: tuple[float, ...]
+    trim_time_constant_s: tuple[float, ...]
     selector: dict
     set_hash: str
     source: object
@@ -95,7 +104,7 @@ def set_path() -> Path:
     with open(names_data_dir() / "nominal_tuned.f16bank", "rb") as f:
         header = f.read(52)
     spec = (f"{REVISION};{MEMBER_TUNING};{MEMBER_LEVELS};{BOUNDS};{TYPICAL};{HOLD_S};{WARM_UP_S};{WARM_DOWN_S};{SETTLE_S};"
-            f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{START};{START_STANDBY}")
+            f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{TRIM_TIME_CONSTANT_S};{START};{START_STANDBY}")
     key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
     base = os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "f16mmae")
     return Path(base) / "banks" / f"turbulence_banks_{key}{SUFFIX}"
@@ -136,7 +145,7 @@ def design_set(out: str | Path, progress=None) -> Path:
                 "start": START, "start_standby": START_STANDBY}
     try:
         core.save_turbulence_set(out, members, levels=list(MEMBER_LEVELS), adapt_reference=list(ADAPT_REFERENCE),
-                                 selector=selector)
+                                 trim_time_constant_s=list(TRIM_TIME_CONSTANT_S), selector=selector)
     except (OSError, ValueError) as exc:
         raise BankSetError(f"cannot write the turbulence bank set {out}: {exc}") from None
     return out
@@ -166,7 +175,8 @@ def load_set(path: str | Path | None = None) -> BankSet:
         raise BankSetError(f"turbulence bank set {path}: levels {unknown} are not turbulence levels "
                            f"({', '.join(names.TURBULENCE_LEVELS)})")
     return BankSet(path=path, levels=tuple(f.levels), banks=tuple(f.members),
-                   adapt_reference=tuple(f.adapt_reference), selector=dict(f.selector), set_hash=f.content_hash,
+                   adapt_reference=tuple(f.adapt_reference), trim_time_constant_s=tuple(f.trim_time_constant_s),
+                   selector=dict(f.selector), set_hash=f.content_hash,
                    source=f)
 
 

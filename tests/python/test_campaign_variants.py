@@ -8,7 +8,7 @@ import json
 import pytest
 
 from f16mmae.campaign.engine.executor import InlineExecutor
-from f16mmae.campaign.engine.variants import variant_row
+from f16mmae.campaign.engine.variants import LEVEL_CORRECT_GOALS, variant_row
 from f16mmae.campaign.single import SingleCampaign, run_campaign
 from f16mmae.cli.main import main
 
@@ -44,6 +44,7 @@ def test_two_levels_are_each_the_one_level_campaign(tmp_path):
         recs = [r for r in done.records if r["scenario"]["turbulence"] == level]
         row = next(x for x in s["variants"] if x["turbulence"] == level)
         assert row["runs"] == 2 and row["correct"]["count"] == sum(r["outcome"] == "correct" for r in recs)
+        assert row["correct"]["goal"] == 0.99 and row["correct"]["direction"] == "at_least"
         fd = row["false_declarations_per_hour"]
         assert fd["events"] == sum(r["false_declarations"] for r in recs)
         assert fd["exposure"] == pytest.approx((8.0 + 3.0) / 3600)  # NONE flies 8 s failure-free, LS 3 s
@@ -67,6 +68,19 @@ def test_variant_row_latency_and_counts():
                                 "failure_runs": 3}
     assert row["false_declarations_per_hour"]["events"] == 3
     assert row["false_declarations_per_hour"]["rate"] == pytest.approx(3 / (18 / 3600), rel=1e-6)
+    assert "verdict" not in row["correct"]
+
+
+@pytest.mark.parametrize("correct, runs, verdict", [(20, 20, "consistent"), (19, 20, "consistent"),
+                                                    (18, 20, "not met"), (72, 72, "demonstrated")])
+def test_variant_row_severe_goal_verdict(correct, runs, verdict):
+    # severe turbulence asks >= 95 % correct: 19/20 is 0.95 (consistent); 72/72 has the
+    # Clopper-Pearson lower bound 0.025^(1/72) = 0.950 (demonstrated); 18/20 is below the goal
+    recs = [{"outcome": "correct" if i < correct else "missed", "latency_s": 0.5 if i < correct else None,
+             "false_declarations": 0, "failure_free_s": 3.0, "scenario": {"failures": [{"name": "LS"}]}}
+            for i in range(runs)]
+    row = variant_row("severe", {"goals_met": False}, recs, LEVEL_CORRECT_GOALS["severe"])
+    assert row["correct"]["goal"] == 0.95 and row["correct"]["verdict"] == verdict
 
 
 def test_cli_levels_console_page_and_markdown(tmp_path, capsys):

@@ -54,8 +54,11 @@ def variant_cells(row: dict, axes: list[str]) -> tuple[str, ...]:
     lat = row["latency_s"]
     latency = ("-" if lat["median"] is None else f"{lat['median']:.2f} / {lat['p95']:.2f}") + \
         f" ({lat['detected_runs']} of {lat['failure_runs']})"
+    correct = describe_rate(row["correct"], digits=1, unit=" %")
+    if row["correct"] and "verdict" in row["correct"]:
+        correct += f", goal >= {100 * row['correct']['goal']:g} %: {row['correct']['verdict']}"
     return tuple(row[a] for a in axes) + (
-        str(row["runs"]), describe_rate(row["correct"], digits=1, unit=" %"),
+        str(row["runs"]), correct,
         describe_per_hour(row["false_declarations_per_hour"]), latency, "yes" if row["goals_met"] else "no",
         ",".join(row.get("cases_skipped") or []) or "-")
 

@@ -166,21 +166,23 @@ py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_
 
 std::string fspath(py::handle path) { return py::str(py::module_::import("os").attr("fspath")(path)); }
 
-py::dict selector_dict(const TurbulenceBankSetOptions& s) {
+// The selector's settings by name (core.TurbulenceBankSet's keyword arguments): f(name, field)
+// for each, the one list both directions use.
+template <class F>
+void for_each_setting(TurbulenceBankSetOptions& s, F&& f) {
+  f("bounds", s.bounds), f("typical", s.typical), f("hold_s", s.hold_s), f("warm_up_s", s.warm_up_s);
+  f("warm_down_s", s.warm_down_s), f("settle_s", s.settle_s), f("freeze_probability", s.freeze_probability);
+  f("start", s.start), f("start_standby", s.start_standby);
+}
+
+py::dict selector_dict(TurbulenceBankSetOptions s) {
   py::dict d;
-  d["bounds"] = s.bounds;
-  d["typical"] = s.typical;
-  d["hold_s"] = s.hold_s;
-  d["warm_up_s"] = s.warm_up_s;
-  d["warm_down_s"] = s.warm_down_s;
-  d["settle_s"] = s.settle_s;
-  d["freeze_probability"] = s.freeze_probability;
-  d["start"] = s.start;
-  d["start_standby"] = s.start_standby;
+  for_each_setting(s, [&](const char* name, const auto& value) { d[name] = value; });
   return d;
 }
 
-// The set file's content from Python values (the selector: core.TurbulenceBankSet's keywords).
+// The set file's content from Python values (the selector: core.TurbulenceBankSet's keywords;
+// one left out keeps the core's default).
 TurbulenceSetFile make_set_file(const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
                                 const std::vector<double>& adapt_reference, const std::vector<double>& trim_time_constant_s,
                                 const py::dict& selector) {
@@ -193,21 +195,10 @@ TurbulenceSetFile make_set_file(const std::vector<ModelBank>& members, const std
   for (const auto& item : selector)
     if (!known.contains(item.first))
       throw py::value_error("turbulence bank set: unknown selector setting '" + std::string(py::str(item.first)) +
-                            "'; valid: bounds, typical, hold_s, warm_up_s, warm_down_s, settle_s, "
-                            "freeze_probability, start, start_standby");
-  const auto get = [&](const char* key, auto& out) {
-    if (selector.contains(key)) out = selector[key].cast<std::decay_t<decltype(out)>>();
-  };
-  TurbulenceBankSetOptions& s = f.selector;
-  get("bounds", s.bounds);
-  get("typical", s.typical);
-  get("hold_s", s.hold_s);
-  get("warm_up_s", s.warm_up_s);
-  get("warm_down_s", s.warm_down_s);
-  get("settle_s", s.settle_s);
-  get("freeze_probability", s.freeze_probability);
-  get("start", s.start);
-  get("start_standby", s.start_standby);
+                            "'; valid: " + std::string(py::str(py::str(", ").attr("join")(known))));
+  for_each_setting(f.selector, [&](const char* name, auto& value) {
+    if (selector.contains(name)) value = selector[name].cast<std::decay_t<decltype(value)>>();
+  });
   return f;
 }
 

@@ -140,7 +140,7 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
                         feedback="mmae", failures=(make_failure("LS", 0.5),))
     log = tmp_path / "hil.lcmlog"
     daemon, remote = _fly_logged(path, bank, scenario, prefix, log)
-    assert "320 updated, 320 commands applied, 0 rejected, 0 dropped" in daemon.summary
+    assert "256 updated, 256 commands applied, 0 rejected, 0 dropped" in daemon.summary
     # the air data crossed with every frame (a frame without it would be counted here)
     assert "0 air data rejected" in daemon.summary and remote.timing["link"]["air_data_rejected"] == 0
     assert daemon.statistics["messages"]["used"] == 256 + 256 + 1  # frames and the flight's reset

@@ -17,16 +17,28 @@
 //                 the start, after reset() and when load_filter() replaces it.
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
-//                 floor p_min ("lock-out" prevention) by water-filling: hypotheses with
-//                   p'_k < p_min are set to p_min, the rest rescaled to 1 - n_floor p_min;
-//                   repeated until no rescaled one falls below p_min. Afterwards every
-//                   p_k >= p_min, sum p_k = 1, and the ratios among the hypotheses above the
+//                 floor ("lock-out" prevention) by water-filling: hypotheses with
+//                   p'_k < f_k are set to f_k, the rest rescaled to 1 - sum_floored f_k;
+//                   repeated until no rescaled one falls below its floor. Afterwards every
+//                   p_k >= f_k, sum p_k = 1, and the ratios among the hypotheses above the
 //                   floor are exactly those of the Bayes update.
+//                 The floor f_k = p_min exp(min(0, c_k - c_0)): p_min for every hypothesis
+//                   with no tracked-level channel beyond those of the presumed one (c_0 its
+//                   c, presume()); for one that adds failed sensors whose level it tracks
+//                   (q_j > 0), p_min times their levels' Occam factor exp(c_j),
+//                   c_j = ln(sqrt(2π A_jj) / W_j) the first-frame u_k of
+//                   steady_state_filter.h (c_k = tracked_level_offset(), the sum of them). The floor is the mass of "the
+//                   failure may have begun now"; under a hypothesis that adds failed sensor
+//                   j that mass carries a fresh level, uniform over the range, whose density
+//                   the first frame pays (c_j). Its tracked level, which kept following the
+//                   healthy reading while the hypothesis sat on the floor, must not let it
+//                   re-enter free of that cost. (With no uninformative channel anywhere,
+//                   every f_k = p_min bit for bit: the paper's floor.)
 //                 blended state  x̂ = sum_k p_k x⁺_k;   z_hat = H_out x̂ (H_out: the unfailed H,
 //                   filter 0's by default, so a failed-sensor hypothesis still yields z_hat).
 //   propagate(u)  every filter k: x⁻_k = Phi_k x⁺_k + Bd_k u
 //   step(z, u)    update(z) then propagate(u).
-// Start: the no-failure hypothesis (index 0) presumed, p_0 = 1 - (K-1) p_min, others p_min
+// Start: the no-failure hypothesis (index 0) presumed, p_0 = 1 - sum_{k>0} f_k, others f_k
 // (or given initial probabilities, floored as above). All states start at x⁻ = 0.
 //
 // Robustness: a frame with a non-finite entry in z (update) or u (propagate), or whose
@@ -147,6 +159,8 @@ class FilterBank {
     x_blend_.setZero(nx);
     z_hat_.setZero(nz);
     floored_.assign_size(k);
+    floor_.setConstant(k, options_.p_min);
+    log_floor_.setZero(k);
     level_set_.assign_size(k);
     uninformative_.assign_size(k);
     for (int i = 0; i < k; ++i) note_uninformative(i);
@@ -256,19 +270,24 @@ class FilterBank {
   // frame (the maneuver tempering of maneuver_kinematics.h): l_k = -q_k / (2 s s_e). s_e = 1
   // (the default, and after reset()) leaves every l_k bit for bit as without it.
   void set_extra_scale(double s_e) noexcept { extra_inv_scale_ = s_e > 1.0 ? 1.0 / s_e : 1.0; }
-  // Presume hypothesis `index` (noexcept; ignored if out of range):
-  // p_index = 1 - (K-1) p_min, every other p_min.
+  // Presume hypothesis `index` (noexcept; ignored if out of range): the floors f_k are set
+  // relative to it (header comment), p_index = 1 - sum of the others' f_k, every other f_k.
   void presume(int index) noexcept {
     const int k = size();
     if (index < 0 || index >= k) return;
+    set_floors(index);
+    double rest = 0.0;
     for (int i = 0; i < k; ++i) {
-      p_(i) = options_.p_min;
-      log_p_(i) = log_p_min_;
+      p_(i) = floor_(i);
+      log_p_(i) = log_floor_(i);
+      if (i != index) rest += floor_(i);
     }
-    p_(index) = 1.0 - (k - 1) * options_.p_min;
+    p_(index) = 1.0 - rest;
     log_p_(index) = std::log(p_(index));
     refresh_blend();
   }
+  // f_k of the last presume() (header comment).
+  const PVector& floors() const noexcept { return floor_; }
   // Every filter back to x⁻ = 0, no-failure hypothesis presumed, counters zeroed.
   void reset() noexcept {
     for (int i = 0; i < size(); ++i) store([&](auto& s) { s.clear(i); });
@@ -443,23 +462,31 @@ class FilterBank {
     ++rejected_;
     return false;
   }
+  // The floors f_k relative to the presumed hypothesis `index` (header comment).
+  void set_floors(int index) noexcept {
+    const double c0 = hypotheses_[index].tracked_level_offset();
+    for (int i = 0; i < size(); ++i) {
+      const double d = hypotheses_[i].tracked_level_offset() - c0;
+      floor_(i) = d < 0.0 ? options_.p_min * std::exp(d) : options_.p_min;
+      log_floor_(i) = d < 0.0 ? log_p_min_ + d : log_p_min_;
+    }
+  }
   // Water-filling floor (see the header comment); keeps log_p_ consistent with p_.
   void apply_floor() noexcept {
     const int k = size();
-    const double p_min = options_.p_min;
     for (int i = 0; i < k; ++i) floored_[i] = false;
-    int n_floor = 0;
+    double floored_sum = 0.0;
     double scale = 1.0;
     for (int iter = 0; iter <= k; ++iter) {
       double free_sum = 0.0;
       for (int i = 0; i < k; ++i)
         if (!floored_[i]) free_sum += p_(i);
-      scale = (1.0 - n_floor * p_min) / free_sum;
+      scale = (1.0 - floored_sum) / free_sum;
       bool changed = false;
       for (int i = 0; i < k; ++i) {
-        if (!floored_[i] && p_(i) * scale < p_min) {
+        if (!floored_[i] && p_(i) * scale < floor_(i)) {
           floored_[i] = true;
-          ++n_floor;
+          floored_sum += floor_(i);
           changed = true;
         }
       }
@@ -468,8 +495,8 @@ class FilterBank {
     const double log_scale = std::log(scale);
     for (int i = 0; i < k; ++i) {
       if (floored_[i]) {
-        p_(i) = p_min;
-        log_p_(i) = log_p_min_;
+        p_(i) = floor_(i);
+        log_p_(i) = log_floor_(i);
       } else {
         p_(i) *= scale;
         log_p_(i) += log_scale;
@@ -498,6 +525,7 @@ class FilterBank {
   ResidualScale<K> scale_{};                      // the turbulence adaptation
   double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
   HypothesisFlags<K> uninformative_;              // note_uninformative
+  PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

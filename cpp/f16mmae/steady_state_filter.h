@@ -40,9 +40,9 @@
 // same seven readings, and the bank adds u_k to l_k in both forms of eq. 2 (filter_bank.h,
 // which keeps b̂ and whether it is set per filter): with the leading term stripped, u_k puts
 // the failed channel's density on the scale of its stripped Gaussian factor exp(-r_j²/2A_jj).
-// A reading at a constant value costs about ln(W_j / sqrt(2π A_jj)) once, then what a
-// healthy channel costs. With no channel marked, A⁻¹ is the full inverse and u_k = 0 (the
-// paper's models).
+// A reading at a constant value costs about ln(W_j / sqrt(2π A_jj)) once (and again on each
+// re-entry from the floor, filter_bank.h), then what a healthy channel costs. With no channel
+// marked, A⁻¹ is the full inverse and u_k = 0 (the paper's models).
 //
 // Two parts, kept apart:
 //   HypothesisFilter   what a hypothesis filter IS: its FilterModel, A⁻¹, ln|A| and c, fixed at
@@ -330,6 +330,10 @@ class HypothesisFilter {
   double log_det_a() const noexcept { return log_det_a_; }          // ln|A|
   // u_k on a first frame: sum of c_j over the uninformative channels (header comment).
   double log_density_offset() const noexcept { return first_frame_; }
+  // The same over the channels that track their level (q_j > 0) only: the Occam factor a
+  // restarted level pays once (filter_bank.h lowers such a hypothesis' floor by it); a
+  // memoryless channel pays its c_j every frame anyway.
+  double tracked_level_offset() const noexcept { return first_frame_ - memoryless_; }
   int nx() const noexcept { return m_.nx(); }
   int nu() const noexcept { return m_.nu(); }
   int nz() const noexcept { return m_.nz(); }

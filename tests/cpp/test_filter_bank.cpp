@@ -122,6 +122,48 @@ TEST(FilterBank, FloorWaterFillsIteratively) {
   EXPECT_NEAR(bank.probabilities().sum(), 1.0, 1e-15);
 }
 
+TEST(FilterBank, FloorOfAFailedSensorHypothesisCarriesItsLevelsOccamFactor) {
+  // NONE (A = 1), a failed sensor whose reading is an unknown level in a range W = 40
+  // (h = 0, R = A = 0.5, the level tracked: q = 0.05), and another Gaussian hypothesis
+  // (A = 2). The failed sensor's floor is p_min sqrt(2 pi 0.5) / 40 while NONE is presumed,
+  // p_min once it is presumed itself; with no level memory (q = 0) it is p_min.
+  const double p_min = 1e-3, w = 40.0, a_f = 0.5;
+  Scalar failed = scalar_model(a_f, 0.0);
+  failed.uninformative_width << w;
+  failed.uninformative_level_q << 0.05;
+  Scalar memoryless = failed;
+  memoryless.uninformative_level_q << 0.0;
+  EXPECT_DOUBLE_EQ(ScalarBank({scalar_model(1.0), memoryless}).floors()(1), p_min);
+  ScalarBank bank({scalar_model(1.0), failed, scalar_model(2.0)});
+  const double f1 = p_min * std::sqrt(2.0 * M_PI * a_f) / w;
+  EXPECT_NEAR(bank.probabilities()(1), f1, 1e-18);
+  EXPECT_NEAR(bank.floors()(1), f1, 1e-18);
+  EXPECT_DOUBLE_EQ(bank.probabilities()(2), p_min);
+  EXPECT_NEAR(bank.probabilities()(0), 1.0 - p_min - f1, 1e-15);
+  // A first frame near zero: Bayes by hand (stripped eq. 2; the failed one's density 1/W,
+  // i.e. l = ln(sqrt(2 pi A) / W)), then p_k = max(f_k, s b_k) for one s.
+  const double z = 0.3;
+  ASSERT_TRUE(bank.update(z1(z)));
+  const double l[3] = {-0.5 * z * z, std::log(std::sqrt(2.0 * M_PI * a_f) / w), -0.25 * z * z};
+  const double prior[3] = {1.0 - p_min - f1, f1, p_min};
+  Eigen::Vector3d bayes;
+  for (int k = 0; k < 3; ++k) bayes(k) = std::exp(l[k]) * prior[k];
+  bayes /= bayes.sum();
+  const Eigen::Vector3d floors(p_min, f1, p_min);
+  const double s = bank.probabilities()(0) / bayes(0);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(bank.probabilities()(k), std::max(floors(k), s * bayes(k)), 1e-15) << "hypothesis " << k;
+  EXPECT_NEAR(bank.probabilities()(1), f1, 1e-18);  // below its floor: held at it
+  EXPECT_NEAR(bank.probabilities().sum(), 1.0, 1e-15);
+  // Presumed, the failed sensor's hypothesis is the reference: no one's floor is below p_min.
+  bank.presume(1);
+  EXPECT_DOUBLE_EQ(bank.floors()(0), p_min);
+  EXPECT_DOUBLE_EQ(bank.floors()(2), p_min);
+  EXPECT_NEAR(bank.probabilities()(1), 1.0 - 2 * p_min, 1e-15);
+  bank.presume(0);
+  EXPECT_NEAR(bank.floors()(1), f1, 1e-18);
+}
+
 TEST(FilterBank, FloorSemanticsOnRandomFramesAndRecoveryFromTheFloor) {
   // Three hypotheses that differ in A: small residuals favour A = 0.1, large ones A = 10.
   FilterBankOptions opt;  // p_min = 0.001; the leading term kept, so a small A can win

@@ -114,6 +114,32 @@ def test_a_new_filter_forgets_the_level():
     assert fb.log_likelihoods[1] == first.log_likelihoods[1]
 
 
+@pytest.mark.parametrize("level_q", [0.0, 0.05])
+def test_floor_of_a_tracked_level_hypothesis_carries_the_levels_occam_factor(level_q):
+    """The floor of a hypothesis whose failed sensor tracks a level is p_min times the
+    level's Occam factor (uniform density over W against the Gaussian's peak, SciPy); with
+    no level memory (q = 0) it is p_min. Every frame: p_k = max(f_k, s b_k), b the Bayes
+    posterior of the bank's own log-likelihoods."""
+    p_min, width = 1e-3, 7.5
+    models = small_models(np.array([0.0, width, 0.0]), np.array([0.0, level_q, 0.0]))
+    fb = core.FilterBank(models, p_min=p_min)
+    a11 = float(np.asarray(models[1].a)[1, 1])
+    occam = stats.uniform(scale=width).logpdf(0.5) - stats.norm(0.0, np.sqrt(a11)).logpdf(0.0)
+    floors = np.array([p_min, p_min * np.exp(occam) if level_q > 0 else p_min, p_min])
+    np.testing.assert_allclose(fb.probabilities[1:], floors[1:], rtol=1e-12)
+    rng = np.random.default_rng(3)
+    p = fb.probabilities
+    for _ in range(40):
+        fb.update(rng.normal(0.0, 0.4, 3))
+        b = p * np.exp(fb.log_likelihoods - fb.log_likelihoods.max())
+        b /= b.sum()
+        p = fb.probabilities
+        top = int(np.argmax(b))
+        np.testing.assert_allclose(p, np.maximum(floors, p[top] / b[top] * b), rtol=1e-9, atol=1e-15)
+        assert p.sum() == pytest.approx(1.0, abs=1e-12)
+        fb.propagate(np.zeros(2))
+
+
 def test_uninformative_reading_leaves_the_likelihood_unchanged_whatever_it_reads():
     """With no trim weight the reading does not enter at all."""
     models = small_models(np.array([0.0, 7.5, 0.0]))

@@ -31,7 +31,10 @@ no-failure model, in one of two failure models (``FAILURE_MODELS``, the tuning's
   ``1/W_i`` on the first frame and then by the predictive density of the level's scalar
   Kalman filter (``cpp/f16mmae/steady_state_filter.h`` derives it), so hypotheses using
   different numbers of readings are densities over the same seven readings, and a reading
-  held anywhere costs about ``ln(W_i / sqrt(2 pi A_ii))`` (6-7 nats) once. With
+  held anywhere costs about ``ln(W_i / sqrt(2 pi A_ii))`` (6-7 nats) once -- and again on
+  each re-entry from the probability floor: the core lowers such a hypothesis' floor by that
+  Occam factor (``cpp/f16mmae/filter_bank.h``), since its level kept following the healthy
+  reading while it sat there. With
   ``failed_sensor_level_q = 0`` the level has no memory: the reading is uniform over the
   range every frame, and a reading near trim then costs that every frame, so a sensor failed
   at or near its trim value is never isolated (docs/results/failure_models.md measures both).

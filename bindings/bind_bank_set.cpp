@@ -17,6 +17,7 @@
 
 #include "core_convert.h"
 #include "hierarchical_access.h"
+#include "bankfile/turbulence_set_file.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/turbulence_bank_set.h"
 
@@ -163,7 +164,79 @@ py::tuple bench_bank_set_loop(const std::vector<ModelBank>& banks, py::handle z_
   return py::make_tuple(best_s / static_cast<double>(n), set.switches(), set.standby_frames());
 }
 
+std::string fspath(py::handle path) { return py::str(py::module_::import("os").attr("fspath")(path)); }
+
+// The selector's settings by name (core.TurbulenceBankSet's keyword arguments): f(name, field)
+// for each, the one list both directions use.
+template <class F>
+void for_each_setting(TurbulenceBankSetOptions& s, F&& f) {
+  f("bounds", s.bounds), f("typical", s.typical), f("hold_s", s.hold_s), f("warm_up_s", s.warm_up_s);
+  f("warm_down_s", s.warm_down_s), f("settle_s", s.settle_s), f("freeze_probability", s.freeze_probability);
+  f("start", s.start), f("start_standby", s.start_standby);
+}
+
+py::dict selector_dict(TurbulenceBankSetOptions s) {
+  py::dict d;
+  for_each_setting(s, [&](const char* name, const auto& value) { d[name] = value; });
+  return d;
+}
+
+// The set file's content from Python values (the selector: core.TurbulenceBankSet's keywords;
+// one left out keeps the core's default).
+TurbulenceSetFile make_set_file(const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
+                                const std::vector<double>& adapt_reference, const std::vector<double>& trim_time_constant_s,
+                                const py::dict& selector) {
+  TurbulenceSetFile f;
+  f.members = members;
+  f.levels = levels;
+  f.adapt_reference = adapt_reference;
+  f.trim_time_constant_s = trim_time_constant_s;
+  const py::dict known = selector_dict(f.selector);
+  for (const auto& item : selector)
+    if (!known.contains(item.first))
+      throw py::value_error("turbulence bank set: unknown selector setting '" + std::string(py::str(item.first)) +
+                            "'; valid: " + std::string(py::str(py::str(", ").attr("join")(known))));
+  for_each_setting(f.selector, [&](const char* name, auto& value) {
+    if (selector.contains(name)) value = selector[name].cast<std::decay_t<decltype(value)>>();
+  });
+  return f;
+}
+
 }  // namespace
+
+void bind_turbulence_set_file(py::module_& m) {
+  py::class_<TurbulenceSetFile>(m, "TurbulenceSetFile", R"doc(
+A turbulence bank set file (cpp/bankfile/turbulence_set_file.h), loaded and validated: the member
+banks (rising intensity), their design levels, adaptation references and trim tracking time
+constants (0: off), the selector's settings
+(core.TurbulenceBankSet's keyword arguments) and content_hash (hex SHA-256 of the payload: the
+set's name in mmae-daemon's status). core.Executive(set_file, ...) runs the set as mmae-daemon
+--turbulence-banks does.)doc")
+      .def_property_readonly("members", [](const TurbulenceSetFile& f) { return f.members; })
+      .def_property_readonly("levels", [](const TurbulenceSetFile& f) { return f.levels; })
+      .def_property_readonly("adapt_reference", [](const TurbulenceSetFile& f) { return f.adapt_reference; })
+      .def_property_readonly("trim_time_constant_s", [](const TurbulenceSetFile& f) { return f.trim_time_constant_s; })
+      .def_property_readonly("selector", [](const TurbulenceSetFile& f) { return selector_dict(f.selector); })
+      .def_property_readonly("content_hash", [](const TurbulenceSetFile& f) { return f.content_hash; });
+  m.def(
+      "load_turbulence_set", [](py::handle path) { return load_turbulence_set(fspath(path)); }, py::arg("path"),
+      "Read a turbulence bank set file: magic, version, size and SHA-256, every member bank as a bank\n"
+      "file, then the set's checks. FileNotFoundError if absent, OSError if unreadable, ValueError naming\n"
+      "the field.");
+  m.def(
+      "save_turbulence_set",
+      [](py::handle path, const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
+         const std::vector<double>& adapt_reference, const std::vector<double>& trim_time_constant_s,
+         const py::dict& selector) {
+        return save_turbulence_set(make_set_file(members, levels, adapt_reference, trim_time_constant_s, selector),
+                                   fspath(path));
+      },
+      py::arg("path"), py::arg("members"), py::kw_only(), py::arg("levels"), py::arg("adapt_reference"),
+      py::arg("trim_time_constant_s"), py::arg("selector"),
+      "Validate and write a turbulence bank set file atomically; returns its content hash. selector: a dict\n"
+      "of core.TurbulenceBankSet's settings (bounds, typical, hold_s, ...; left out: the core's defaults).\n"
+      "ValueError naming the field.");
+}
 
 void bind_bank_set(py::module_& m) {
   m.def("_bench_bank_set_loop", &bench_bank_set_loop, py::arg("banks"), py::arg("z"), py::arg("u"), py::arg("bounds"),

@@ -14,6 +14,7 @@
 
 #include "core_convert.h"
 #include "estimator_init.h"
+#include "bankfile/turbulence_set_file.h"
 #include "executive/executive.h"
 #include "f16mmae/model_bank.h"
 
@@ -100,7 +101,13 @@ counters['air_data_rejected']) and return the frame's fate: "used", "rejected", 
 "resynchronised". A used or resynchronised sensor frame leaves its status in encoded_status.
 Raises ValueError for a bank other than the F-16's (13 states and 5 inputs, 19 states with the
 gust states, or 6 inputs with the throttle; 7 measurements)
-and for arrays of the wrong shape.)doc");
+and for arrays of the wrong shape.
+
+Executive(set_file, *, ...) with a core.TurbulenceSetFile runs its turbulence bank set as
+mmae-daemon --turbulence-banks does: the settings apply to every member, each with the
+turbulence adaptation on at the set's reference for it unless adapt_reference is given; the
+status carries the set's content_hash.)doc");
+  def_estimator_init<Executive, TurbulenceSetFile>(cls);
   def_estimator_init<Executive>(cls)
       .def("on_sensor", &on_sensor, py::arg("frame"), py::arg("z"), py::arg("valid") = py::none(),
            py::arg("utime") = 0, py::arg("air_data") = py::none(), "Sensor frame: returns its fate.")

@@ -5,6 +5,8 @@
 //
 //   def_estimator_init<T>(cls)   cls.def(py::init(...)): T(model_bank, HierarchicalOptions)
 //                                from model_bank and the keyword arguments below
+//   def_estimator_init<T, Source>(cls)   the same from another source (core.Executive from a
+//                                core.TurbulenceSetFile: the set's members)
 //
 //   p_min, strip_leading_term            the bank's floor and its likelihoods (filter_bank.h)
 //   node_p_min                           a scheduled bank: each node's floor (its bank's p_min,
@@ -93,11 +95,11 @@ inline HierarchicalOptions estimator_options(double p_min, bool node_p_min, bool
   return o;
 }
 
-template <class T, class Class>
+template <class T, class Source = ModelBank, class Class>
 Class& def_estimator_init(Class& cls) {
   const HierarchicalOptions core;  // the defaults
   return cls.def(
-      py::init([](const ModelBank& bank, double p_min, bool node_p_min, bool strip_leading_term, double threshold, double dwell_s,
+      py::init([](const Source& bank, double p_min, bool node_p_min, bool strip_leading_term, double threshold, double dwell_s,
                   const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
                   double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,

@@ -16,6 +16,7 @@ void bind_executive(py::module_& m);     // bind_executive.cpp: Executive
 void bind_frame_auth(py::module_& m);    // bind_frame_auth.cpp: FrameAuth
 void bind_reconfiguration(py::module_& m);  // bind_reconfiguration.cpp: SensorReconfiguration
 void bind_bank_set(py::module_& m);      // bind_bank_set.cpp: TurbulenceBankSet
+void bind_turbulence_set_file(py::module_& m);  // bind_bank_set.cpp: TurbulenceSetFile
 void register_all(py::module_& m) {
   bind_filter(m);
   bind_bank(m);
@@ -25,6 +26,7 @@ void register_all(py::module_& m) {
   bind_monitor(m);
   bind_jsbsim(m);
   bind_truth(m);
+  bind_turbulence_set_file(m);
   bind_executive(m);
   bind_frame_auth(m);
   bind_reconfiguration(m);

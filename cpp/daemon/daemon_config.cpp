@@ -11,7 +11,8 @@
 namespace f16mmae::daemon {
 
 std::string daemon_usage() {
-  return "usage: mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]\n"
+  return "usage: mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P]\n"
+         "                   [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence]\n"
          "                   [--adapt-reference RHO]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
@@ -24,7 +25,12 @@ std::string daemon_usage() {
          "The MMAE executive of f16mmae: steps the hierarchical bank of FILE once per sensor\n"
          "frame received over LCM and publishes the hypothesis probabilities and z_hat.\n"
          "\n"
-         "  --bank FILE          model-bank file (f16mmae design --out FILE), validated on load\n"
+         "  --bank FILE          model-bank file (f16mmae design --out FILE), validated on load;\n"
+         "                       or a turbulence bank set file (f16mmae design --turbulence-banks\n"
+         "                       --out FILE), whose start member runs alone without the next flag\n"
+         "  --turbulence-banks   fly the turbulence bank set of --bank FILE: one member in force,\n"
+         "                       chosen on line by its measured turbulence intensity (the status\n"
+         "                       carries the set's hash)\n"
          "  --lcm-url URL        LCM provider (default $LCM_DEFAULT_URL, else\n"
          "                       udpm://239.255.76.67:7667?ttl=0)\n"
          "  --channel-prefix P   prepended to F16_SENSORS, F16_COMMANDS, MMAE_STATUS, MMAE_RESET\n"
@@ -117,6 +123,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       c.adapt_turbulence = true;
       continue;
     }
+    if (a == "--turbulence-banks") {
+      c.turbulence_banks = true;
+      continue;
+    }
     if (a == "--maneuver-kinematics") {
       c.maneuver_kinematics = true;
       continue;
@@ -143,7 +153,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
-                         "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --trim-tracking, "
+                         "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --turbulence-banks, --trim-tracking, "
                          "--trim-freeze-probability, --schedule-mode, --maneuver-kinematics, "
                          "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {

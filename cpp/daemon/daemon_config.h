@@ -1,6 +1,6 @@
 // DaemonConfig — the settings of mmae-daemon and the parsing of its command line.
 //
-//   mmae-daemon --bank FILE [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
+//   mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
 //               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence] [--adapt-reference RHO]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--schedule-mode M]
 //               [--maneuver-kinematics] [--maneuver-tempering G]
@@ -40,6 +40,7 @@ struct DaemonConfig {
   std::optional<double> p_min, threshold, dwell_s;
   // The estimator's on-line options, as 'f16mmae run' has them (off: the bank as designed).
   bool adapt_turbulence = false;     // turbulence_adaptation.h
+  bool turbulence_banks = false;     // FILE is a turbulence bank set file: fly the set (turbulence_bank_set.h)
   std::optional<double> adapt_reference;  // its rho_0, with adapt_turbulence only
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only

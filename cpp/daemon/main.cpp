@@ -15,6 +15,7 @@
 
 #include "bankfile/bank_file.h"
 #include "bankfile/bank_signature.h"
+#include "bankfile/turbulence_set_file.h"
 
 #include <lcm/lcm.h>
 
@@ -30,6 +31,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <filesystem>
+#include <fstream>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -60,6 +64,18 @@ void go_realtime(int priority) {
                  priority, std::strerror(errno));
 }
 
+// True when the file at `path` begins with the turbulence-bank-set magic (a file that cannot be
+// read, or is no regular file (a FIFO would block), is not: the bank loader then names what is
+// wrong with it).
+bool is_turbulence_set_path(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  std::ifstream in(path, std::ios::binary);
+  char magic[sizeof f16mmae::kTurbulenceSetFileMagic] = {};
+  if (!in.read(magic, sizeof magic)) return false;
+  return f16mmae::is_turbulence_set_file(reinterpret_cast<const std::uint8_t*>(magic), sizeof magic);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -77,9 +93,20 @@ int main(int argc, char** argv) {
   std::unique_ptr<Executive> executive;
   std::string bank_hash, tuning;
   f16mmae::ModelBank bank;
+  std::optional<f16mmae::TurbulenceSetFile> set;  // --bank is a turbulence bank set file
   try {
-    bank = cfg.bank_public_key_path.empty() ? f16mmae::load_bank(cfg.bank_path)
-                                            : f16mmae::load_signed_bank(cfg.bank_path, cfg.bank_public_key_path);
+    if (is_turbulence_set_path(cfg.bank_path)) {
+      if (!cfg.bank_public_key_path.empty())
+        throw std::invalid_argument("--bank-public-key: signed turbulence bank set files are not supported");
+      set = f16mmae::load_turbulence_set(cfg.bank_path);
+      bank = set->members[static_cast<std::size_t>(set->selector.start)];  // the start member's settings
+    } else {
+      if (cfg.turbulence_banks)
+        throw std::invalid_argument("--turbulence-banks needs a turbulence bank set file as --bank (f16mmae design "
+                                    "--turbulence-banks --out FILE); this is not one");
+      bank = cfg.bank_public_key_path.empty() ? f16mmae::load_bank(cfg.bank_path)
+                                              : f16mmae::load_signed_bank(cfg.bank_path, cfg.bank_public_key_path);
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mmae-daemon: error: cannot use bank file '%s': %s\n", cfg.bank_path.c_str(), e.what());
     return 1;
@@ -110,9 +137,16 @@ int main(int argc, char** argv) {
     options.maneuver.tempering_g = cfg.maneuver_tempering_g;
     options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
     options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;
-    executive = std::make_unique<Executive>(bank, options);
-    bank_hash = bank.content_hash;
-    tuning = bank.tuning;
+    if (set && cfg.turbulence_banks) {
+      executive = std::make_unique<Executive>(*set, options);
+      bank_hash = set->content_hash;
+      tuning.clear();   // the members' levels: "none/light/moderate/severe"
+      for (const std::string& level : set->levels) tuning += (tuning.empty() ? "" : "/") + level;
+    } else {   // a set file without --turbulence-banks: its start member alone, as in process
+      executive = std::make_unique<Executive>(bank, options);
+      bank_hash = bank.content_hash;
+      tuning = bank.tuning;
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mmae-daemon: error: cannot run bank '%s': %s\n", cfg.bank_path.c_str(), e.what());
     return 1;
@@ -153,7 +187,10 @@ int main(int argc, char** argv) {
                                    : std::string("no trim tracking");
       const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
                                   options.schedule.node_adapt_reference;
-      const std::string adaptation = !options.bank.adaptation.enabled ? std::string("no turbulence adaptation")
+      const bool set_reference = executive->estimator().members() > 0 && options.schedule.node_adapt_reference;
+      const std::string adaptation = executive->estimator().members() > 0 && set_reference
+                                         ? std::string("turbulence adaptation (the set's reference per member)")
+                                     : !options.bank.adaptation.enabled ? std::string("no turbulence adaptation")
                                      : node_reference ? std::string("turbulence adaptation (reference per node)")
                                                       : "turbulence adaptation (reference " +
                                                             f16mmae::format_value(options.bank.adaptation.reference) + ")";
@@ -162,7 +199,7 @@ int main(int argc, char** argv) {
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, p_min %g, threshold %g, dwell %g s, %s, %s, "
                   "schedule %s, %s), lcm %s, %s -> %s, %s\n",
-                  bank_hash.c_str(), tuning.c_str(), MmaeEstimator::kind(), executive->estimator().states(), options.bank.p_min,
+                  bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), options.bank.p_min,
                   options.declarer.threshold, options.declarer.dwell_s,
                   adaptation.c_str(),
                   trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate", maneuver.c_str(), cfg.lcm_url.c_str(),

@@ -42,8 +42,19 @@ std::int64_t max_gap(double frame_rate_hz) {
 }  // namespace
 
 Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
-    : Executive(bank, options, WithoutRehearsal{}) {
-  rehearsal_.reset(new Executive(bank, options, WithoutRehearsal{}));  // private constructor: no make_unique
+    : Executive(MmaeEstimator(bank, options), bank, bank.content_hash) {
+  rehearse_with(std::unique_ptr<Executive>(new Executive(MmaeEstimator(bank, options), bank, bank.content_hash)));
+}
+
+Executive::Executive(const TurbulenceSetFile& set, const HierarchicalOptions& options)
+    : Executive(MmaeEstimator(set, options), set.members.at(static_cast<std::size_t>(set.selector.start)),
+                set.content_hash) {
+  const ModelBank& shape = set.members[static_cast<std::size_t>(set.selector.start)];
+  rehearse_with(std::unique_ptr<Executive>(new Executive(MmaeEstimator(set, options), shape, set.content_hash)));
+}
+
+void Executive::rehearse_with(std::unique_ptr<Executive> rehearsal) {
+  rehearsal_ = std::move(rehearsal);  // private constructor: no make_unique
   for (int j = 0; j < MmaeEstimator::kNz; ++j) {
     rehearsal_sensor_.z[j] = estimator_.z_trim()(j);
     rehearsal_sensor_.valid[j] = 1;
@@ -57,8 +68,8 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options)
 
 Executive::~Executive() = default;
 
-Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options, WithoutRehearsal)
-    : estimator_(bank, options),
+Executive::Executive(MmaeEstimator estimator, const ModelBank& bank, const std::string& hash)
+    : estimator_(std::move(estimator)),
       sequencer_(max_gap(bank.frame_rate_hz)) {
   const std::size_t kNameCapacity = name_capacity(bank);
   u_held_ = estimator_.u_trim();
@@ -67,7 +78,7 @@ Executive::Executive(const ModelBank& bank, const HierarchicalOptions& options, 
   status_.hypothesis_names.resize(k);
   status_.probabilities.assign(k, 0.0);
   for (auto& name : status_.hypothesis_names) name.reserve(kNameCapacity);
-  status_.bank_hash = bank.content_hash;
+  status_.bank_hash = hash;
   status_.auth_sequence = 0;  // the transport signs (the generated struct leaves them unset)
   std::fill(std::begin(status_.auth_tag), std::end(status_.auth_tag), std::int64_t{0});
   status_.resynchronised = false;

@@ -1,7 +1,7 @@
 // Executive — the MMAE executive of mmae-daemon and of `f16mmae replay`, transport-free:
 // decoded LCM frames in, an encoded status out. It owns the estimator (MmaeEstimator: the
-// hierarchical bank of a model-bank file, absolute u and z), the FrameSequencer and the
-// step-time statistics. It uses the LCM message types (lcm-coretypes) but no transport.
+// hierarchical bank of a model-bank file, or the turbulence bank set of a set file; absolute u
+// and z), the FrameSequencer and the step-time statistics. It uses the LCM message types (lcm-coretypes) but no transport.
 //
 // Per frame (docs/INTERFACES.md), each returning the frame's Fate (frame_sequencer.h):
 //   on_sensor(z_i)   rejected (non-finite z, an invalid flag, a bad counter), or dropped
@@ -47,6 +47,9 @@ namespace f16mmae::executive {
 class Executive {
  public:
   explicit Executive(const ModelBank& bank, const HierarchicalOptions& options = {});
+  // The turbulence bank set of a set file (MmaeEstimator); the status's bank_hash is the
+  // set's content hash.
+  explicit Executive(const TurbulenceSetFile& set, const HierarchicalOptions& options = {});
   ~Executive();
   Executive(const Executive&) = delete;
   Executive& operator=(const Executive&) = delete;
@@ -98,8 +101,10 @@ class Executive {
   bool prepare(const FramePlan& plan) noexcept;
   void fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) noexcept;
 
-  struct WithoutRehearsal {};  // the executive warm_up() flies has no rehearsal of its own
-  Executive(const ModelBank& bank, const HierarchicalOptions& options, WithoutRehearsal);
+  // The executive warm_up() flies (no rehearsal of its own): `estimator`, the frame rate and
+  // hypothesis names of `shape` (the bank, or the set's start member), `hash` in the status.
+  Executive(MmaeEstimator estimator, const ModelBank& shape, const std::string& hash);
+  void rehearse_with(std::unique_ptr<Executive> rehearsal);
 
   MmaeEstimator estimator_;
   std::unique_ptr<Executive> rehearsal_;  // flies trim frames for warm_up()

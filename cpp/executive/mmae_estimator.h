@@ -15,6 +15,9 @@
 //   (13, 5)   F16HierarchicalBank          (the shipped banks)
 //   (19, 5)   F16GustHierarchicalBank      (six Dryden gust states, `f16mmae design --gust-states`)
 //   (13, 6)   F16ThrottleHierarchicalBank  (the throttle input, `f16mmae design --throttle-input`)
+// or, built from a turbulence-bank-set file (turbulence_set_file.h), the set of its members
+// (TurbulenceSetBank, turbulence_set_bank.h) of (19, 6) F16GustThrottleHierarchicalBank, the
+// member in force answering.
 // They differ in NX or NU only; z, the probabilities and the names have the same sizes, so
 // the executive, the status and the wire do not depend on which one runs.
 // Construction throws std::invalid_argument naming what does not fit and the sizes it runs;
@@ -24,6 +27,7 @@
 
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/model_bank.h"
+#include "turbulence_set_bank.h"
 
 #include <Eigen/Dense>
 
@@ -68,6 +72,10 @@ class MmaeEstimator {
 
   explicit MmaeEstimator(const ModelBank& model_bank, const HierarchicalOptions& options = {})
       : bank_(make(model_bank, options)), nx_(model_bank.nx()), nu_(model_bank.nu()) {}
+  // The set of the file's members (header); throws std::invalid_argument for a set of other
+  // sizes than (19, 6, 7) and what TurbulenceSetBank throws.
+  explicit MmaeEstimator(const TurbulenceSetFile& set, const HierarchicalOptions& options = {})
+      : bank_(make(set, options)), nx_(set.members.at(0).nx()), nu_(set.members.at(0).nu()), members_(set.size()) {}
 
   bool update(const ZVector& z_abs) noexcept {
     declared_now_ = visit([&](auto& b) { return b.update(z_abs); });
@@ -144,15 +152,38 @@ class MmaeEstimator {
   const AirData& air_data() const noexcept {
     return visit([](const auto& b) -> const AirData& { return b.air_data(); });
   }
-  static const char* kind() noexcept { return "hierarchical bank"; }
-  // "13 states", "19 states (gust)" or "13 states, 6 inputs (throttle)", for the daemon's ready line.
-  const char* states() const noexcept {
+  const char* kind() const noexcept { return members_ > 0 ? "turbulence bank set" : "hierarchical bank"; }
+  // "13 states", "19 states (gust)" or "13 states, 6 inputs (throttle)", for the daemon's ready line;
+  // "4 members of 19 states, 6 inputs" for a turbulence bank set.
+  std::string states() const {
+    if (members_ > 0) return std::to_string(members_) + " members of 19 states, 6 inputs";
     return nx_ == kNxGust ? "19 states (gust)" : models_throttle() ? "13 states, 6 inputs (throttle)" : "13 states";
+  }
+  // The number of member banks of a turbulence bank set, 0 for one hierarchical bank.
+  int members() const noexcept { return members_; }
+  // The turbulence bank set, or nullptr for one hierarchical bank.
+  const TurbulenceBankSet<F16GustThrottleHierarchicalBank>* turbulence_set() const noexcept {
+    const auto* p = std::get_if<std::unique_ptr<SetBank>>(&bank_);
+    return p ? &(*p)->set() : nullptr;
   }
 
  private:
+  using SetBank = TurbulenceSetBank<F16GustThrottleHierarchicalBank>;
   using Variant = std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>,
-                               std::unique_ptr<F16ThrottleHierarchicalBank>>;
+                               std::unique_ptr<F16ThrottleHierarchicalBank>, std::unique_ptr<SetBank>>;
+
+  static Variant make(const TurbulenceSetFile& set, const HierarchicalOptions& options) {
+    set.validate();
+    const ModelBank& b = set.members[0];
+    if (b.nz() != kNz || b.nx() != kNxGust || b.nu() != kNuThrottle) {
+      std::ostringstream s;
+      s << "mmae-daemon runs a turbulence bank set of (nx, nu, nz) = (" << kNxGust << ", " << kNuThrottle << ", "
+        << kNz << ") members (the gust states and the throttle input); this set's members have (" << b.nx() << ", "
+        << b.nu() << ", " << b.nz() << ")";
+      throw std::invalid_argument(s.str());
+    }
+    return std::make_unique<SetBank>(set, options);
+  }
 
   static Variant make(const ModelBank& b, const HierarchicalOptions& options) {
     if (b.nz() == kNz) {
@@ -171,6 +202,7 @@ class MmaeEstimator {
   Variant bank_;
   int nx_ = 0;
   int nu_ = 0;
+  int members_ = 0;
   int declared_now_ = -1;
   std::string empty_;
 };

@@ -43,6 +43,7 @@
 //                 filter states and ρ (warm take_over); it is in force from this frame on.
 //   propagate(u)  member a's propagate (and the standby's).
 //   schedule(a)   member a's schedule (and the standby's).
+//   warm_cache()  member a's (and the standby's) working set touched ahead of a frame.
 //
 // Start and reset(): member `start` in force from the first frame, `start_standby` beside it.
 // Outputs are the member in force's (probabilities, z_hat, declarations, level).
@@ -81,6 +82,43 @@ struct TurbulenceBankSetOptions {
   int start_standby = 0;               // the member beside it from frame 0 (-1: none)
 };
 
+// The selector's settings for n members (the constructor's and the set file's check): bounds
+// n x (n-1), positive, finite and rising along each row; typical n positive finite values;
+// hold/warm-up/warm-down in [0, 600] s, settle in [0, 3600] s, freeze_probability in (0, 1];
+// start a member index, start_standby -1 or another member index. Throws std::invalid_argument
+// "turbulence bank set: <field> ...".
+inline void check_turbulence_set_selector(const TurbulenceBankSetOptions& options, int n) {
+  const auto refuse = [](const std::string& what) { throw std::invalid_argument("turbulence bank set: " + what); };
+  const auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (static_cast<int>(options.bounds.size()) != n * (n - 1))
+    refuse("bounds must have n x (n-1) = " + std::to_string(n * (n - 1)) + " values (a row per member), got " +
+           std::to_string(options.bounds.size()));
+  for (int a = 0; a < n; ++a)
+    for (int i = 0; i < n - 1; ++i) {
+      const double v = options.bounds[a * (n - 1) + i];
+      if (!finite_positive(v) || (i > 0 && !(v > options.bounds[a * (n - 1) + i - 1])))
+        refuse("bounds row " + std::to_string(a) + " must be finite, positive and rising, got " + format_value(v) +
+               " at " + std::to_string(i));
+    }
+  if (static_cast<int>(options.typical.size()) != n)
+    refuse("typical must have " + std::to_string(n) + " values (one per member), got " +
+           std::to_string(options.typical.size()));
+  for (double v : options.typical)
+    if (!finite_positive(v)) refuse("typical must be finite and positive, got " + format_value(v));
+  for (const double h : {options.hold_s, options.warm_up_s, options.warm_down_s})
+    if (!(h >= 0.0 && h <= 600.0))
+      refuse("hold_s, warm_up_s and warm_down_s must be in [0, 600], got " + format_value(h));
+  if (!(options.settle_s >= 0.0 && options.settle_s <= 3600.0))
+    refuse("settle_s must be in [0, 3600], got " + format_value(options.settle_s));
+  if (!(options.freeze_probability > 0.0 && options.freeze_probability <= 1.0))
+    refuse("freeze_probability must be in (0, 1], got " + format_value(options.freeze_probability));
+  if (options.start < 0 || options.start >= n)
+    refuse("start must be a member index in [0, " + std::to_string(n - 1) + "], got " + std::to_string(options.start));
+  if (options.start_standby < -1 || options.start_standby >= n || options.start_standby == options.start)
+    refuse("start_standby must be -1 or a member index in [0, " + std::to_string(n - 1) + "] other than start, got " +
+           std::to_string(options.start_standby));
+}
+
 template <class Bank>
 class TurbulenceBankSet {
  public:
@@ -107,34 +145,7 @@ class TurbulenceBankSet {
           refuse("member " + std::to_string(i) + "'s hypothesis " + std::to_string(h) + " is '" + b.name(h) +
                  "', member 0's '" + members_[0]->name(h) + "'");
     }
-    const auto finite_positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-    if (static_cast<int>(options.bounds.size()) != n * (n - 1))
-      refuse("bounds must have n x (n-1) = " + std::to_string(n * (n - 1)) + " values (a row per member), got " +
-             std::to_string(options.bounds.size()));
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < n - 1; ++i) {
-        const double v = options.bounds[a * (n - 1) + i];
-        if (!finite_positive(v) || (i > 0 && !(v > options.bounds[a * (n - 1) + i - 1])))
-          refuse("bounds row " + std::to_string(a) + " must be finite, positive and rising, got " + format_value(v) +
-                 " at " + std::to_string(i));
-      }
-    if (static_cast<int>(options.typical.size()) != n)
-      refuse("typical must have " + std::to_string(n) + " values (one per member), got " +
-             std::to_string(options.typical.size()));
-    for (double v : options.typical)
-      if (!finite_positive(v)) refuse("typical must be finite and positive, got " + format_value(v));
-    for (const double h : {options.hold_s, options.warm_up_s, options.warm_down_s})
-      if (!(h >= 0.0 && h <= 600.0))
-        refuse("hold_s, warm_up_s and warm_down_s must be in [0, 600], got " + format_value(h));
-    if (!(options.settle_s >= 0.0 && options.settle_s <= 3600.0))
-      refuse("settle_s must be in [0, 3600], got " + format_value(options.settle_s));
-    if (!(options.freeze_probability > 0.0 && options.freeze_probability <= 1.0))
-      refuse("freeze_probability must be in (0, 1], got " + format_value(options.freeze_probability));
-    if (options.start < 0 || options.start >= n)
-      refuse("start must be a member index in [0, " + std::to_string(n - 1) + "], got " + std::to_string(options.start));
-    if (options.start_standby < -1 || options.start_standby >= n || options.start_standby == options.start)
-      refuse("start_standby must be -1 or a member index in [0, " + std::to_string(n - 1) + "] other than start, got " +
-             std::to_string(options.start_standby));
+    check_turbulence_set_selector(options, n);
     const double rate = members_[0]->frame_rate_hz();
     const auto frames = [rate](double s) { return static_cast<std::int64_t>(std::llround(s * rate)); };
     hold_frames_ = frames(options.hold_s);
@@ -174,6 +185,11 @@ class TurbulenceBankSet {
   void schedule(const AirData& a) noexcept {
     if (standby_ >= 0) members_[standby_]->schedule(a);
     members_[active_]->schedule(a);
+  }
+  // Touch the per-frame working set of the member in force and of the standby (cache_warm.h).
+  void warm_cache() const noexcept {
+    members_[active_]->warm_cache();
+    if (standby_ >= 0) members_[standby_]->warm_cache();
   }
   // Every member back to its start; member `start` in force, `start_standby` beside it.
   void reset() noexcept {

@@ -366,7 +366,7 @@ TEST(Executive, AGustStateBankRunsAsTheNineteenStateCoreBank) {
   const ModelBank b = test_support::synthetic_bank(19);
   ASSERT_EQ(b.nx(), 19);
   EXPECT_EQ(Executive(b).estimator().nx(), 19);
-  EXPECT_STREQ(Executive(b).estimator().states(), "19 states (gust)");
+  EXPECT_EQ(Executive(b).estimator().states(), "19 states (gust)");
   expect_runs_as_the_core_bank<F16GustHierarchicalBank>(b);
 }
 
@@ -378,7 +378,7 @@ TEST(Executive, AThrottleBankRunsAsTheSixInputCoreBankOnTheCommandFramesThrottle
   Executive ex(b);
   EXPECT_EQ(ex.estimator().nu(), 6);
   EXPECT_TRUE(ex.estimator().models_throttle());
-  EXPECT_STREQ(ex.estimator().states(), "13 states, 6 inputs (throttle)");
+  EXPECT_EQ(ex.estimator().states(), "13 states, 6 inputs (throttle)");
   EXPECT_EQ(ex.estimator().u_trim()(5), 0.25);  // the held command starts at the trim throttle
   expect_runs_as_the_core_bank<F16ThrottleHierarchicalBank>(b);
   // the throttle reaches the filters: held at its trim, the probabilities are others

@@ -42,6 +42,8 @@ def test_daemon_refuses_bad_arguments_banks_and_urls(tmp_path):
     assert rc == 1 and "--rate-hz 50 does not match the bank's design rate 64 Hz" in out
     rc, out = _daemon("--bank", bank, "--lcm-url", "nosuch://here")
     assert rc == 1 and "cannot open LCM URL 'nosuch://here'" in out
+    rc, out = _daemon("--bank", bank, "--turbulence-banks")
+    assert rc == 1 and "--turbulence-banks needs a turbulence bank set file as --bank" in out
     rc, out = _daemon("--help")
     assert rc == 0 and "usage: mmae-daemon" in out
 
@@ -91,8 +93,7 @@ def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
     assert daemon_flags({"adapt_turbulence": False}) == ()
     with pytest.raises(ValueError, match="no flag for the estimator option 'gust_states'"):
         daemon_flags({"gust_states": True})
-    with pytest.raises(ValueError, match="no flag for the estimator option 'turbulence_banks'"):
-        daemon_flags({"turbulence_banks": True})   # in process only (in_daemon=False)
+    assert daemon_flags({"turbulence_banks": True}) == ("--turbulence-banks",)   # with --bank SET
     assert daemon_flags({"turbulence_banks": False}) == ()
 
 

@@ -32,10 +32,11 @@ from f16mmae import core
 from f16mmae.banks import load_bank
 from latency_driver import find_tool
 from f16mmae.cli.main import main
+from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
 from f16mmae.lcm.channels import channels
 from f16mmae.lcm.codec import command_frame_bytes, sensor_frame_bytes
-from f16mmae.lcm.daemon import DaemonProcess, find_executable, statistics_line
+from f16mmae.lcm.daemon import DaemonProcess, daemon_flags, find_executable, statistics_line
 from f16mmae.lcm.hil import fly_hil
 from f16mmae.lcmt_command_frame import lcmt_command_frame
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
@@ -106,20 +107,22 @@ def sending_from_one_cpu():
         os.sched_setaffinity(0, allowed)
 
 
-def _fly_logged(path, bank, scenario, prefix, log, pause_s=0.0):
+def _fly_logged(path, bank, scenario, prefix, log, pause_s=0.0, options=None):
     """A lockstep flight of ``scenario`` against mmae-daemon running bank file ``path``, the stock
     lcm-logger recording the channels of ``prefix`` into ``log``; returns (daemon, result).
     ``pause_s`` after each frame: a calm-air flight runs its frames faster than lcm-logger,
-    which nothing waits for, drains its socket on a loaded 2-core host."""
+    which nothing waits for, drains its socket on a loaded 2-core host. ``options``: estimator
+    options given to the daemon (its flags) and to the harness alike."""
     chans = channels(prefix)
     last = int(round(scenario.duration_s * 64)) - 1
     logger = subprocess.Popen([_tool("lcm-logger"), "-q", "-f", "-l", URL, "-c", f"{prefix}.*", str(log)])
     try:
-        with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix) as daemon:
+        with DaemonProcess(path, lcm_url=URL, channel_prefix=prefix,
+                           extra_args=daemon_flags(options or {}, bank.nu)) as daemon:
             time.sleep(0.5)  # the logger subscribes
             lc = lcm.LCM(URL)
             with sending_from_one_cpu():
-                remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0,
+                remote = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=5.0, estimator_options=options,
                                  on_frame=(lambda *frame: time.sleep(pause_s)) if pause_s else None)
         _wait_until_logged(log, lc, chans.commands, frame=last)
     finally:
@@ -442,3 +445,35 @@ def test_lockstep_flight_with_a_throttle_bank_equals_in_process_and_its_log_repl
     assert report.ok, [str(m) for m in report.mismatches]
     assert report.statuses_compared == 192
     assert main(["replay", str(log), "--bank", str(path), "--channel-prefix", prefix]) == 0
+
+
+def test_lockstep_flight_with_the_turbulence_bank_set_equals_in_process_and_its_log_replays(tmp_path, capsys):
+    """mmae-daemon --bank SET --turbulence-banks runs the turbulence bank set of the set file
+    (19-state, 6-input members, one in force, each with its trim tracking): a calm-air flight in which the set hands
+    over from its light start member to the calm one and then declares a stuck left
+    stabilator, flown in lockstep over udpm, equals the in-process set exactly (probabilities,
+    declarations); the status carries the set's hash; lcm-logger's record of it replays to the
+    same statuses, by the API and by `f16mmae replay` finding the set by that hash."""
+    label, path, bank = load_bank("turbulence")
+    bank_set = Estimator(bank, turbulence_banks=True)
+    assert path.suffix == ".f16set" and bank.nu == 6
+    options = {"turbulence_banks": True}
+    prefix = f"T{os.getpid()}B_"
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="none", duration_s=5.0, seed=3,
+                        failures=(make_failure("LS", 3.0),))
+    log = tmp_path / "set.lcmlog"
+    daemon, remote = _fly_logged(path, bank, scenario, prefix, log, pause_s=0.003, options=options)
+    assert "turbulence bank set of 2 members of 19 states, 6 inputs" in daemon.ready_line, daemon.ready_line
+    assert "320 updated, 320 commands applied, 0 rejected, 0 dropped" in daemon.summary
+    assert remote.bank_hash == bank_set.bank_hash != str(bank.content_hash)   # the set's hash
+    local = fly(scenario, bank, estimator=bank_set)
+    assert bank_set.core_bank.switches >= 1 and bank_set.core_bank.active == 0   # handed over to the calm member
+    assert remote.hypotheses == local.hypotheses
+    assert np.nanmax(np.abs(remote.probabilities - local.probabilities)) == 0.0
+    assert remote.declarations == local.declarations
+    assert [d["hypothesis"] for d in remote.declarations][:1] == ["LS"]
+    report = replay_log(log, bank, channel_prefix=prefix, turbulence_banks=True)
+    assert report.ok, [str(m) for m in report.mismatches]
+    assert report.statuses_compared == 320
+    assert main(["replay", str(log), "--channel-prefix", prefix]) == 0   # --bank auto: the set, by its hash
+    assert "--turbulence-banks" in capsys.readouterr().out

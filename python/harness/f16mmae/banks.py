@@ -41,11 +41,12 @@ def register_schedule_generator(generate: Callable[[Path], None]) -> None:
 
 
 #: The turbulence bank set (design/turbulence_banks.py, a layer above, registers it): its
-#: loader (the checked set, designed first if missing) and its start member's path.
-_turbulence_set: tuple[Callable[[], object], Callable[[], Path]] | None = None
+#: loader (the checked set, designed first if missing) and its start member: (the set file's
+#: path, the member's core.ModelBank).
+_turbulence_set: tuple[Callable[[], object], Callable[[], tuple]] | None = None
 
 
-def register_turbulence_set(load: Callable[[], object], start_member: Callable[[], Path]) -> None:
+def register_turbulence_set(load: Callable[[], object], start_member: Callable[[], tuple]) -> None:
     global _turbulence_set
     _turbulence_set = (load, start_member)
 
@@ -83,7 +84,7 @@ def bank_path(tuning: str) -> Path:
         return path
     if tuning == TURBULENCE_BANK:
         turbulence_bank_set()   # BankError if unavailable
-        return _turbulence_set[1]()
+        return _turbulence_set[1]()[0]   # the set file
     p = Path(tuning)
     if not p.is_file():
         raise BankError(
@@ -99,7 +100,13 @@ def _load_bank_cached(path: str):
 
 
 def load_bank(tuning: str):
-    """(label, path, ModelBank) of a tuning name or bank file; BankError if unreadable."""
+    """(label, path, ModelBank) of a tuning name or bank file; BankError if unreadable.
+    ``turbulence``: the set file's path and its start member (flown alone, or as the set with
+    ``turbulence_banks``)."""
+    if tuning == TURBULENCE_BANK:
+        turbulence_bank_set()   # BankError if unavailable
+        path, bank = _turbulence_set[1]()
+        return TURBULENCE_BANK, path, bank
     path = bank_path(tuning)
     if not path.is_file():
         build = (f"f16mmae design --schedule --out {path}" if tuning == SCHEDULED_BANK else

@@ -50,7 +50,7 @@ examples:
   f16mmae design --gust-states --gust-level moderate --out gust.f16bank   # 16 states: Dryden gusts
   f16mmae design --throttle-input --gust-level none --out calm_throttle.f16bank   # 6 inputs, calm air
   f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
-  f16mmae design --turbulence-banks --out turbulence_banks/            # the set of --turbulence-banks
+  f16mmae design --turbulence-banks --out turbulence_banks.f16set      # the set of --turbulence-banks
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
   f16mmae design --schedule --throttle-input --out scheduled_throttle.f16sched   # 6 inputs at every node
 
@@ -137,8 +137,8 @@ def register(subparsers) -> None:
                         "by its calibration flights' false alarms with its adaptation reference "
                         f"(default {'/'.join(f'{v:g}' for v in P_MIN_CANDIDATES)}; one value: that floor everywhere)")
     p.add_argument("--turbulence-banks", action="store_true",
-                   help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the "
-                        "directory --out (default: the cache that --tuning turbulence reads)")
+                   help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the set "
+                        "file --out (default: the cache that --tuning turbulence reads)")
     p.set_defaults(func=_run)
 
 
@@ -274,13 +274,13 @@ def _run_schedule(args) -> int:
 
 
 def _run_turbulence_banks(args) -> int:
-    """``--turbulence-banks``: the set's members and its set.json into the directory --out."""
+    """``--turbulence-banks``: the set's members and selector into the set file --out."""
     from ..design.turbulence_banks import set_path
 
     if args.schedule is not None or args.gust_states or args.throttle_input or args.gust_level is not None:
         raise CliError("--turbulence-banks designs its own members (the tuned tuning, the throttle input, "
                        "each turbulence level); give only --out")
-    out = writable_dir(args.out, "--out") if args.out else set_path()
+    out = writable_file(args.out, "--out") if args.out else set_path()
     t0 = time.perf_counter()
     try:
         design_set(out, progress=lambda line: print("  " + line, flush=True))

@@ -6,12 +6,12 @@ import math
 
 import lcm
 
-from ..banks import BankError, load_bank
+from ..banks import BankError, load_bank, turbulence_bank_set
 from ..lcm.channels import channels
 from ..lcm.daemon import daemon_flags
 from ..lcm.replay import ReplayError, replay_log
 from ..lcmt_mmae_status import lcmt_mmae_status
-from ..names import SHIPPED_TUNINGS
+from ..names import SHIPPED_TUNINGS, TURBULENCE_BANK
 from .options import CliError, add_estimator_arguments, auth_from_option, estimator_options_from_args
 
 DESCRIPTION = """\
@@ -32,6 +32,7 @@ examples:
   f16mmae replay run.lcmlog
   f16mmae replay run.lcmlog --bank my.f16bank --channel-prefix SIM1_
   f16mmae replay run.lcmlog --adapt-turbulence --adapt-reference 1.0   # the daemon's own flags
+  f16mmae replay run.lcmlog --bank turbulence --turbulence-banks       # a daemon that flew the set
   lcm-logplayer run.lcmlog                              # the same frames to a running daemon
 """
 
@@ -41,9 +42,10 @@ def register(subparsers) -> None:
         "replay", help="replay a recorded LCM log through the in-process bank and compare",
         description=DESCRIPTION, epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("logfile", metavar="LOGFILE", help="LCM event log (lcm-logger)")
-    p.add_argument("--bank", default="auto", metavar="auto|tuned|untuned|scheduled|FILE",
+    p.add_argument("--bank", default="auto", metavar="auto|tuned|untuned|scheduled|turbulence|FILE",
                    help="bank to replay with (default auto: the shipped bank whose hash the log's "
-                        "statuses carry)")
+                        "statuses carry, else the turbulence bank set, flown as the set, when they carry "
+                        "its hash)")
     p.add_argument("--channel-prefix", default="", metavar="P", help="prefix of the logged channel names")
     p.add_argument("--tolerance", default="1e-12", metavar="TOL",
                    help="largest accepted |probability difference| (default 1e-12)")
@@ -68,6 +70,11 @@ def _bank_for(choice: str, logfile: str, prefix: str):
             continue
         if str(bank.content_hash) in hashes:
             return label, path, bank
+    try:
+        if turbulence_bank_set().set_hash in hashes:   # mmae-daemon --turbulence-banks ran it
+            return load_bank(TURBULENCE_BANK)
+    except BankError:
+        pass
     found = ", ".join(sorted(h[:12] for h in hashes)) or "none"
     raise CliError(f"--bank auto: no shipped bank ({', '.join(SHIPPED_TUNINGS)}) has the hash the log's "
                    f"statuses carry ({found}); give the bank file with --bank FILE")
@@ -98,6 +105,8 @@ def _replay(args) -> int:
     options = estimator_options_from_args(args)
     try:
         label, path, bank = _bank_for(args.bank, args.logfile, args.channel_prefix)
+        if args.bank == "auto" and label == TURBULENCE_BANK:
+            options["turbulence_banks"] = True   # the log's hash is the set's
         report = replay_log(args.logfile, bank, channel_prefix=args.channel_prefix, tolerance=tol, auth=auth,
                              **options)
     except (ReplayError, OSError) as exc:

@@ -28,6 +28,7 @@ import json
 
 from ..banks import bank_estimator_settings
 from ..lcmt_run_marker import lcmt_run_marker
+from ..loop.estimator import flown_bank_hash
 from ..loop.flight import fly
 from .channels import Channels, HilError
 from .remote import RemoteEstimator, level0_hypotheses
@@ -52,9 +53,9 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
     ``auth``: a ``core.FrameAuth`` that signs what is sent and checks the statuses.
     With a bank that models the throttle, each command frame carries the frame's throttle
     command beside the surface commands (docs/INTERFACES.md), as the in-process loop hands it."""
-    if remote is None:
+    if remote is None:   # the status names the bank, or the turbulence bank set, the daemon runs
         remote = RemoteEstimator(lc, chans, lockstep=lockstep, timeout_s=timeout_s,
-                                 expected_bank_hash=str(model_bank.content_hash),
+                                 expected_bank_hash=flown_bank_hash(model_bank, estimator_options or {}),
                                  initial_hypotheses=level0_hypotheses(model_bank), auth=auth)
     lockstep = remote.lockstep
     # what mmae-daemon applies: the bank's recommended settings (its typed fields), and the

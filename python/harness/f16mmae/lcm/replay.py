@@ -27,7 +27,7 @@ from ..errors import F16mmaeError
 from ..lcmt_command_frame import lcmt_command_frame
 from ..lcmt_mmae_status import lcmt_mmae_status
 from ..lcmt_sensor_frame import lcmt_sensor_frame
-from ..loop.estimator import core_arguments
+from ..loop.estimator import core_arguments, flown_bank_hash, turbulence_set_of
 from .channels import Channels, channels
 from .codec import command_of
 
@@ -40,13 +40,17 @@ class InProcessExecutive:
     """``core.Executive`` (the daemon's executive) with the estimator settings the daemon
     applies: the bank's recommended ones, then ``estimator_options`` (which win): any option of
     the estimator's table (``loop.estimator_options``: adapt_turbulence, adapt_reference,
-    trim_time_constant_s, actuator_limits, ...), as ``mmae-daemon``'s flags set them."""
+    trim_time_constant_s, actuator_limits, ...), as ``mmae-daemon``'s flags set them; with
+    ``turbulence_banks`` the turbulence bank set whose member ``model_bank`` is, from its file
+    (``mmae-daemon --bank SET --turbulence-banks``)."""
 
     def __init__(self, model_bank, **estimator_options) -> None:
         settings = {**bank_estimator_settings(model_bank), **estimator_options}
-        self.executive = core.Executive(model_bank, **core_arguments(settings, model_bank.nu),
+        self.bank_hash = flown_bank_hash(model_bank, settings)
+        source = turbulence_set_of(model_bank).source if settings.pop("turbulence_banks", False) else model_bank
+        # a scheduled bank's per-node floors unless a p_min was given (then that everywhere)
+        self.executive = core.Executive(source, **core_arguments(settings, model_bank.nu),
                                         node_p_min="p_min" not in estimator_options)
-        self.bank_hash = str(model_bank.content_hash)
 
     def reset(self) -> None:
         self.executive.on_reset()

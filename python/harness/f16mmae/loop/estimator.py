@@ -32,13 +32,10 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     return out
 
 
-def _bank_set(model_bank, settings: dict):
-    """``core.TurbulenceBankSet`` over the turbulence bank set (design/turbulence_banks.py),
-    each member with its own recommended settings and the set's adaptation reference, then
-    ``settings`` (which win: e.g. ``trim_time_constant_s``), and the adaptation on (its rho is
-    the selector's measure).
-    ValueError unless ``model_bank`` is one of the set's members (the loop flies that bank's
-    inputs and trims: ``--tuning turbulence``)."""
+def turbulence_set_of(model_bank):
+    """The turbulence bank set (design/turbulence_banks.py) that ``--turbulence-banks`` flies
+    with ``model_bank``: ValueError unless ``model_bank`` is one of its members (the loop flies
+    that bank's inputs and trims: ``--tuning turbulence``)."""
     bank_set = turbulence_bank_set()
     hashes = [str(b.content_hash) for b in bank_set.banks]
     if str(model_bank.content_hash) not in hashes:
@@ -46,10 +43,31 @@ def _bank_set(model_bank, settings: dict):
         raise ValueError(f"--turbulence-banks flies the turbulence bank set ({', '.join(bank_set.levels)}); "
                          f"give its bank as the model bank (--tuning turbulence, its {start} member), "
                          f"not {model_bank.tuning or model_bank.content_hash}")
+    return bank_set
+
+
+def flown_bank_hash(model_bank, settings: dict) -> str:
+    """The hash that names what the estimator flies: the turbulence bank set's (its file's
+    content hash, as mmae-daemon's status carries it) with ``turbulence_banks``, else the bank's."""
+    if settings.get("turbulence_banks"):
+        return str(turbulence_set_of(model_bank).set_hash)
+    return str(model_bank.content_hash)
+
+
+def _bank_set(model_bank, settings: dict):
+    """``core.TurbulenceBankSet`` over the turbulence bank set (:func:`turbulence_set_of`),
+    each member with its own recommended settings, the set's adaptation reference and trim
+    tracking for it, then ``settings`` (which win: ``trim_time_constant_s`` in every member), and
+    the adaptation on (its rho is
+    the selector's measure): what core.Executive does with the set file (mmae-daemon
+    --turbulence-banks, cpp/executive/turbulence_set_bank.h)."""
+    bank_set = turbulence_set_of(model_bank)
     own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
     members = []
-    for bank, reference in zip(bank_set.banks, bank_set.adapt_reference):
+    for bank, reference, trim in zip(bank_set.banks, bank_set.adapt_reference, bank_set.trim_time_constant_s):
         member = {**bank_estimator_settings(bank), "adapt_reference": reference, **own, "adapt_turbulence": True}
+        if not own.get("trim_time_constant_s") and trim > 0:   # the member's own trim tracking, unless given
+            member["trim_time_constant_s"] = trim
         members.append(core.HierarchicalBank(bank, **core_arguments(member, bank.nu)))
     return core.TurbulenceBankSet(members, **bank_set.selector)
 
@@ -75,7 +93,7 @@ class Estimator:
             # a scheduled bank's per-node floors unless a p_min was given (then that everywhere)
             self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings, model_bank.nu),
                                                node_p_min="p_min" not in options)
-        self.bank_hash = str(model_bank.content_hash)
+        self.bank_hash = flown_bank_hash(model_bank, self.settings)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None
 

@@ -59,10 +59,11 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --adapt-turbulence: the residual power ratio rho_0 above which the "
                          "likelihoods are tempered (default: a scheduled bank's per-node references where "
                          "it carries them, else 0.6; higher tempers less)"),
-    EstimatorOption("turbulence_banks", "--turbulence-banks", "switch", in_daemon=False,
+    EstimatorOption("turbulence_banks", "--turbulence-banks", "switch",
                     help="fly the turbulence bank set: banks designed for calm air, light, moderate and severe "
                          "turbulence, the running one chosen on line by its measured residual power, handed over "
-                         "bumplessly (cpp/f16mmae/turbulence_bank_set.h; with --tuning turbulence). Default off"),
+                         "bumplessly (cpp/f16mmae/turbulence_bank_set.h; with --tuning turbulence, whose bank "
+                         "file is the set's: mmae-daemon --bank SET --turbulence-banks). Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "

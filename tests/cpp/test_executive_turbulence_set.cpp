@@ -1,0 +1,194 @@
+// The turbulence-bank-set file (bankfile/turbulence_set_file.h) and the executive running its
+// set (Executive(set_file), TurbulenceSetBank): the file round-trips (members, levels,
+// references, selector; content hash = SHA-256 of the payload) and refuses damage and invalid
+// sets naming the field; the executive equals the core TurbulenceBankSet stepped directly over
+// the same members, bit for bit, across handovers, with the set's hash in its status; its
+// per-frame path allocates nothing, handovers included.
+#include "executive/executive.h"
+#include "allocation_counter.h"
+#include "test_executive_bank.h"
+
+#include "bankfile/sha256.h"
+#include "bankfile/turbulence_set_file.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+using namespace f16mmae;
+using namespace f16mmae::executive;
+
+namespace {
+
+using Bank = F16GustThrottleHierarchicalBank;
+
+// Two 19-state 6-input members: the synthetic bank, and the same with every residual
+// covariance 9 times larger (a design for rougher air: its rho reads about 1/9 of the first's).
+TurbulenceSetFile two_member_set() {
+  TurbulenceSetFile f;
+  const ModelBank calm = test_support::synthetic_bank(19, 6);
+  ModelBank rough = calm;
+  for (auto& h : rough.hypotheses) h.a *= 9.0;
+  rough.content_hash = "synthetic-rough";
+  f.members = {calm, rough};
+  f.levels = {"none", "severe"};
+  f.adapt_reference = {1.0, 0.5};
+  f.trim_time_constant_s = {0.0, 0.0};
+  f.selector.bounds = {0.05,   // the calm member's rho between its level and the rough one's
+                       0.15};  // the rough member's
+  f.selector.typical = {0.1, 0.01};
+  f.selector.hold_s = 0.1;
+  f.selector.warm_up_s = 0.1;
+  f.selector.warm_down_s = 0.1;
+  f.selector.settle_s = 0.2;
+  f.selector.start = 0;
+  f.selector.start_standby = -1;
+  return f;
+}
+
+// Absolute signals near trim: a residual that grows (the calm member reads rougher air after
+// a second), then shrinks (the rough member reads calm air).
+Eigen::Matrix<double, 7, 1> z_at(const ModelBank& b, long long i) {
+  const double amplitude = i < 64 ? 0.01 : i < 192 ? 0.4 : 0.002;
+  Eigen::Matrix<double, 7, 1> z = b.z_trim;
+  for (int j = 0; j < 7; ++j) z(j) += amplitude * std::sin(1.7 * i + 2.3 * j);
+  return z;
+}
+Eigen::Matrix<double, 6, 1> u_at(const ModelBank& b, long long i) {
+  Eigen::Matrix<double, 6, 1> u = b.u_trim;
+  for (int j = 0; j < 6; ++j) u(j) += 0.01 * std::cos(0.2 * i + j);
+  return u;
+}
+lcmt_sensor_frame sensor(long long i, const Eigen::Matrix<double, 7, 1>& z) {
+  lcmt_sensor_frame f{};
+  f.frame = i;
+  f.mach = 0.4;
+  f.pressure_altitude_ft = 20000.0;
+  for (int j = 0; j < 7; ++j) f.z[j] = z(j), f.valid[j] = 1;
+  return f;
+}
+lcmt_command_frame command(long long i, const Eigen::Matrix<double, 6, 1>& u) {
+  lcmt_command_frame f{};
+  f.frame = i;
+  for (int j = 0; j < 5; ++j) f.u_rad[j] = u(j);
+  f.throttle = u(5);
+  return f;
+}
+
+}  // namespace
+
+TEST(TurbulenceSetFile, RoundTripsAndHashesItsPayload) {
+  const TurbulenceSetFile f = two_member_set();
+  const std::vector<std::uint8_t> image = turbulence_set_file_bytes(f);
+  ASSERT_TRUE(is_turbulence_set_file(image.data(), image.size()));
+  const TurbulenceSetFile g = parse_turbulence_set_file(image.data(), image.size(), "memory");
+  EXPECT_EQ(g.levels, f.levels);
+  EXPECT_EQ(g.adapt_reference, f.adapt_reference);
+  EXPECT_EQ(g.trim_time_constant_s, f.trim_time_constant_s);
+  EXPECT_EQ(g.selector.bounds, f.selector.bounds);
+  EXPECT_EQ(g.selector.typical, f.selector.typical);
+  EXPECT_EQ(g.selector.hold_s, 0.1);
+  EXPECT_EQ(g.selector.settle_s, 0.2);
+  EXPECT_EQ(g.selector.start, 0);
+  EXPECT_EQ(g.selector.start_standby, -1);
+  ASSERT_EQ(g.size(), 2);
+  EXPECT_EQ(g.members[1].hypotheses[0].a, f.members[1].hypotheses[0].a);
+  EXPECT_EQ(g.members[0].content_hash, bank_content_hash(f.members[0]));
+  EXPECT_EQ(g.content_hash, to_hex(sha256(image.data() + kBankFileHeaderSize, image.size() - kBankFileHeaderSize)));
+  EXPECT_EQ(turbulence_set_file_bytes(g), image);  // deterministic
+  EXPECT_FALSE(is_turbulence_set_file(bank_file_bytes(f.members[0]).data(), 60));
+}
+
+TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {
+  const auto refused = [](const auto& make, const std::string& expected) {
+    try {
+      make();
+      ADD_FAILURE() << "accepted; expected: " << expected;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  std::vector<std::uint8_t> image = turbulence_set_file_bytes(two_member_set());
+  image[image.size() - 3] ^= 1;
+  refused([&] { parse_turbulence_set_file(image.data(), image.size(), "'x.f16set'"); },
+          "turbulence bank set file 'x.f16set': content hash mismatch");
+  const std::vector<std::uint8_t> bank = bank_file_bytes(test_support::synthetic_bank(19, 6));
+  refused([&] { parse_turbulence_set_file(bank.data(), bank.size(), "'b'"); }, "not a turbulence bank set file");
+  TurbulenceSetFile f = two_member_set();
+  f.levels[1] = "none";
+  refused([&] { turbulence_set_file_bytes(f); }, "member 1 ('none'): its level must be a new, non-empty name");
+  f = two_member_set();
+  f.members[1] = test_support::synthetic_bank(13, 6);
+  refused([&] { turbulence_set_file_bytes(f); }, "member 1 ('severe') has (nx, nu, nz) = (13, 6, 7)");
+  f = two_member_set();
+  f.selector.bounds = {0.05};
+  refused([&] { turbulence_set_file_bytes(f); }, "bounds must have n x (n-1) = 2 values");
+  f = two_member_set();
+  f.adapt_reference[0] = -1.0;
+  refused([&] { turbulence_set_file_bytes(f); }, "adapt_reference must be in [0, 100]");
+  f = two_member_set();
+  f.trim_time_constant_s[1] = -1.0;
+  refused([&] { turbulence_set_file_bytes(f); }, "trim_time_constant_s must be in [0, 1e6] s");
+  f = two_member_set();
+  for (auto& m : f.members) m = test_support::synthetic_bank(19, 5);
+  refused([&] { Executive ex(f); }, "turbulence bank set of (nx, nu, nz) = (19, 6, 7) members");
+}
+
+// The executive's set is the core set over the same members (each with its reference and trim
+// tracking of the file), stepped directly, bit for bit; the selector hands over up and back
+// down; no frame allocates.
+TEST(Executive, ATurbulenceBankSetRunsAsTheCoreSetAndAllocatesNothing) {
+  TurbulenceSetFile f = two_member_set();
+  f.trim_time_constant_s = {30.0, 0.0};   // the calm member tracks the trim, the rough one does not
+  f.content_hash = "the-set";
+  HierarchicalOptions o;
+  o.bank.p_min = 1e-9;
+  Executive ex(f, o);
+  EXPECT_EQ(ex.estimator().members(), 2);
+  EXPECT_EQ(ex.estimator().states(), "2 members of 19 states, 6 inputs");
+  EXPECT_EQ(ex.status().bank_hash, "the-set");
+
+  std::vector<std::unique_ptr<Bank>> owned;
+  std::vector<Bank*> members;
+  for (int i = 0; i < 2; ++i) {
+    HierarchicalOptions m = o;
+    m.bank.adaptation.enabled = true;
+    m.bank.adaptation.reference = f.adapt_reference[i];
+    m.trim.time_constant_s = f.trim_time_constant_s[i];
+    owned.push_back(std::make_unique<Bank>(f.members[i], m));
+    members.push_back(owned.back().get());
+  }
+  TurbulenceBankSet<Bank> direct(members, f.selector);
+
+  long long allocations = 0;
+  std::vector<int> active;
+  for (long long i = 0; i < 448; ++i) {
+    const auto z = z_at(f.members[0], i);
+    const auto u = u_at(f.members[0], i);
+    const lcmt_sensor_frame s = sensor(i, z);
+    const lcmt_command_frame c = command(i, u);
+    const long long before = f16mmae::testing::allocation_count();
+    ASSERT_EQ(ex.on_sensor(s), Fate::used);
+    ASSERT_EQ(ex.on_command(c), Fate::used);
+    allocations += f16mmae::testing::allocation_count() - before;
+    direct.schedule(AirData{0.4, 20000.0});
+    direct.update(z);
+    direct.propagate(u);
+    const auto* set = ex.estimator().turbulence_set();
+    ASSERT_NE(set, nullptr);
+    ASSERT_EQ(set->active(), direct.active()) << "frame " << i;
+    for (int k = 0; k < 13; ++k)
+      ASSERT_EQ(ex.status().probabilities[k], direct.running().probabilities()(k)) << "frame " << i;
+    const auto z_hat = direct.running().z_hat();
+    for (int j = 0; j < 7; ++j) ASSERT_EQ(ex.status().z_hat[j], z_hat(j)) << "frame " << i;
+    if (active.empty() || active.back() != direct.active()) active.push_back(direct.active());
+  }
+  EXPECT_EQ(allocations, 0);
+  EXPECT_EQ(active, (std::vector<int>{0, 1, 0})) << "up in the rough segment, back down after it";
+  ex.on_reset();
+  EXPECT_EQ(ex.estimator().turbulence_set()->active(), 0);
+  EXPECT_EQ(ex.estimator().turbulence_set()->switches(), 0);
+}

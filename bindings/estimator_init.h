@@ -9,6 +9,7 @@
 //                                core.TurbulenceSetFile: the set's members)
 //
 //   p_min, strip_leading_term            the bank's floor and its likelihoods (filter_bank.h)
+//   start_up_s                           updates that weigh nothing after a start (filter_bank.h)
 //   node_p_min                           a scheduled bank: each node's floor (its bank's p_min,
 //                                        blended; scheduled_filters.h) instead of p_min
 //   threshold, dwell_s, declarer         the declaration rule (declarer.h); a core.Declarer
@@ -40,7 +41,8 @@ namespace f16mmae::bindings {
 
 namespace py = pybind11;
 
-inline HierarchicalOptions estimator_options(double p_min, bool node_p_min, bool strip_leading_term, double threshold, double dwell_s,
+inline HierarchicalOptions estimator_options(double p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
+                                             double threshold, double dwell_s,
                                              const py::object& declarer, double trim_time_constant_s,
                                              double trim_freeze_probability, double trim_hold_s, bool trim_freeze,
                                              const std::string& schedule_mode, double hysteresis_cells,
@@ -73,6 +75,7 @@ inline HierarchicalOptions estimator_options(double p_min, bool node_p_min, bool
   o.bank.p_min = p_min;
   o.schedule.node_p_min = node_p_min;
   o.bank.strip_leading_term = strip_leading_term;
+  o.bank.start_up_s = start_up_s;
   o.bank.adaptation.enabled = adapt_turbulence;
   o.bank.adaptation.time_constant_s = adapt_time_constant_s;
   o.bank.adaptation.scale_min = adapt_scale_min;
@@ -99,7 +102,8 @@ template <class T, class Source = ModelBank, class Class>
 Class& def_estimator_init(Class& cls) {
   const HierarchicalOptions core;  // the defaults
   return cls.def(
-      py::init([](const Source& bank, double p_min, bool node_p_min, bool strip_leading_term, double threshold, double dwell_s,
+      py::init([](const Source& bank, double p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
+                  double threshold, double dwell_s,
                   const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
                   double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
@@ -107,7 +111,8 @@ Class& def_estimator_init(Class& cls) {
                   const std::optional<double>& adapt_reference, bool maneuver_kinematics,
                   double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
-        return new T(bank, estimator_options(p_min, node_p_min, strip_leading_term, threshold, dwell_s, declarer,
+        return new T(bank, estimator_options(p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
+                                             declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
                                              schedule_mode, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
@@ -117,7 +122,8 @@ Class& def_estimator_init(Class& cls) {
       }),
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
       py::arg("node_p_min") = core.schedule.node_p_min,
-      py::arg("strip_leading_term") = core.bank.strip_leading_term, py::arg("threshold") = core.declarer.threshold,
+      py::arg("strip_leading_term") = core.bank.strip_leading_term, py::arg("start_up_s") = core.bank.start_up_s,
+      py::arg("threshold") = core.declarer.threshold,
       py::arg("dwell_s") = core.declarer.dwell_s, py::arg("declarer") = py::none(),
       py::arg("trim_time_constant_s") = core.trim.time_constant_s,
       py::arg("trim_freeze_probability") = core.trim.freeze_probability, py::arg("trim_hold_s") = core.trim.hold_s,

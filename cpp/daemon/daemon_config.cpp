@@ -13,8 +13,8 @@ namespace f16mmae::daemon {
 std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P]\n"
          "                   [--rate-hz HZ]\n"
-         "                   [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence]\n"
-         "                   [--adapt-reference RHO]\n"
+         "                   [--p-min P] [--threshold T] [--dwell-s S] [--start-up-s S]\n"
+         "                   [--adapt-turbulence] [--adapt-reference RHO]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
          "                   [--schedule-mode interpolate|nearest] [--maneuver-kinematics]\n"
          "                   [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5[,inf]]\n"
@@ -38,6 +38,8 @@ std::string daemon_usage() {
          "  --p-min P            probability floor     } default: the bank's recommendation\n"
          "  --threshold T        declaration threshold } (its typed fields p_min, threshold,\n"
          "  --dwell-s S          declaration dwell, s  } dwell_s) -- as 'f16mmae run'\n"
+         "  --start-up-s S       the first S seconds of frames after a start or reset update\n"
+         "                       the filters but weigh no hypothesis (0-3600; default 0)\n"
          "  --adapt-turbulence   scale the likelihoods on line to the turbulence intensity\n"
          "                       (default off: the bank as designed)\n"
          "  --adapt-reference RHO  with --adapt-turbulence: the residual power ratio above which\n"
@@ -148,11 +150,11 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--bank-public-key" || key == "--trim-tracking" ||
                        key == "--trim-freeze-probability" || key == "--schedule-mode" || key == "--adapt-reference" ||
                        key == "--maneuver-tempering" || key == "--actuator-rate-limits" ||
-                       key == "--actuator-position-limits";
+                       key == "--actuator-position-limits" || key == "--start-up-s";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
-                         "--p-min, --threshold, --dwell-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
+                         "--p-min, --threshold, --dwell-s, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --turbulence-banks, --trim-tracking, "
                          "--trim-freeze-probability, --schedule-mode, --maneuver-kinematics, "
                          "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
@@ -186,6 +188,11 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!x || *x < 0.0)
         return usage_error(key + " must be a finite number >= 0, got '" + value + "'");
       (key == "--p-min" ? c.p_min : key == "--threshold" ? c.threshold : c.dwell_s) = *x;
+    } else if (key == "--start-up-s") {
+      const std::optional<double> s = finite_number(value);
+      if (!s || *s < 0.0 || *s > 3600.0)
+        return usage_error("--start-up-s must be a time in seconds in [0, 3600], got '" + value + "'");
+      c.start_up_s = *s;
     } else if (key == "--trim-tracking") {
       const std::optional<double> tau = finite_number(value);
       if (!tau || *tau <= 0.0 || *tau > 1e6)

@@ -47,6 +47,7 @@ struct DaemonConfig {
   bool schedule_nearest = false;     // a scheduled bank: nearest node instead of interpolation
   bool maneuver_kinematics = false;  // maneuver_kinematics.h
   double maneuver_tempering_g = 0.0; // 0 = off
+  double start_up_s = 0.0;           // filter_bank.h: updates that weigh nothing after a start
   // actuator_limits.h: one value per input (rad/s, rad); both empty = off
   std::vector<double> actuator_rate_limits_rad_s, actuator_position_limits_rad;
   long long max_frames = 0;         // exit after this many status frames; 0 = run until signalled

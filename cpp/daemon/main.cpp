@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
     if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
     options.maneuver.kinematics = cfg.maneuver_kinematics;
     options.maneuver.tempering_g = cfg.maneuver_tempering_g;
+    options.bank.start_up_s = cfg.start_up_s;
     options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
     options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;
     if (set && cfg.turbulence_banks) {

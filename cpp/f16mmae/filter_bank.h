@@ -36,6 +36,13 @@
 //                   every f_k = p_min bit for bit: the paper's floor.)
 //                 blended state  x̂ = sum_k p_k x⁺_k;   z_hat = H_out x̂ (H_out: the unfailed H,
 //                   filter 0's by default, so a failed-sensor hypothesis still yields z_hat).
+//                 Start-up (options.start_up_s, 0 = none): the first round(start_up_s f)
+//                   accepted updates after the start or reset() (f the adaptation's frame
+//                   rate) update the filters, their levels and the adaptation, but not the
+//                   probabilities: the filters start at x⁻ = 0, the design trim, while the
+//                   aircraft they join is in flight somewhere near it, and their first
+//                   residuals measure that start, not a failure. A hierarchical switch does
+//                   not restart it.
 //   propagate(u)  every filter k: x⁻_k = Phi_k x⁺_k + Bd_k u
 //   step(z, u)    update(z) then propagate(u).
 // Start: the no-failure hypothesis (index 0) presumed, p_0 = 1 - sum_{k>0} f_k, others f_k
@@ -93,6 +100,7 @@ struct FilterBankOptions {
   bool strip_leading_term = true;    // drop 1/((2π)^{m/2}|A_k|^{1/2}) from eq. 2 (paper)
   bool vectorized_kernel = true;     // fixed sizes: use the AVX2/FMA kernel if the CPU has it
   TurbulenceAdaptationOptions adaptation;   // likelihood scale s (turbulence_adaptation.h); off by default
+  double start_up_s = 0.0;           // updates that weigh nothing after a start (header comment)
 };
 
 template <int K, int NX, int NU, int NZ>
@@ -151,6 +159,13 @@ class FilterBank {
     check_p_min(options_.p_min, k, "filter bank");
     const int nx = hypotheses_[0].nx(), nz = hypotheses_[0].nz();
     scale_.configure(options_.adaptation, nz, "filter bank");
+    if (!(options_.start_up_s >= 0.0 && options_.start_up_s <= 3600.0)) {
+      std::ostringstream s;
+      s << "filter bank: start_up_s must be in [0, 3600] s, got " << options_.start_up_s;
+      throw std::invalid_argument(s.str());
+    }
+    start_up_frames_ =
+        static_cast<std::int64_t>(std::lround(options_.start_up_s * options_.adaptation.frame_rate_hz));
     p_.setZero(k);
     log_p_.setZero(k);
     log_l_.setZero(k);
@@ -229,7 +244,7 @@ class FilterBank {
       const double a = l + log_p_(i);
       if (a > a_max) a_max = a;
     }
-    if (a_max > -std::numeric_limits<double>::infinity()) {
+    if (frames_ >= start_up_frames_ && a_max > -std::numeric_limits<double>::infinity()) {
       double sum = 0.0;
       for (int i = 0; i < k; ++i) {
         // below e^-708 the weight is not a normal double: take 0 and skip exp's slow
@@ -537,6 +552,7 @@ class FilterBank {
   double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
   HypothesisFlags<K> uninformative_;              // note_uninformative
   PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)
+  std::int64_t start_up_frames_ = 0;              // round(start_up_s f): updates that weigh nothing
   int presumed_ = 0;                              // the hypothesis presumed last (set_p_min)
 };
 

@@ -347,6 +347,50 @@ TEST(FilterBank, FixedSizeStepAllocatesNothing) {
   EXPECT_GE(f16mmae::testing::allocation_count() - after, 1);
 }
 
+TEST(FilterBank, StartUpUpdatesTheFiltersButWeighsNothingUntilItEnds) {
+  // start_up_s = 3 frames at 64 Hz (3 / 64 s): the first three accepted updates leave the
+  // probabilities at the start; the fourth is the hand-computed Bayes update from them. The
+  // filters run alike with and without the start-up; a non-finite frame does not count.
+  const double a[3] = {1.0, 4.0, 0.25};
+  FilterBankOptions opt;
+  opt.p_min = 0.0;
+  FilterBankOptions held = opt;
+  held.start_up_s = 3.0 / 64.0;
+  ScalarBank plain({scalar_model(a[0]), scalar_model(a[1]), scalar_model(a[2])}, opt);
+  ScalarBank bank({scalar_model(a[0]), scalar_model(a[1]), scalar_model(a[2])}, held);
+  const Eigen::Vector3d start(0.5, 0.3, 0.2);
+  plain.set_probabilities(start);
+  bank.set_probabilities(start);
+  EXPECT_FALSE(bank.update(z1(std::numeric_limits<double>::quiet_NaN())));
+  const double zs[4] = {0.7, -1.1, 2.0, 1.3};
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(bank.update(z1(zs[i])));
+    ASSERT_TRUE(plain.update(z1(zs[i])));
+    EXPECT_EQ(bank.probabilities(), start) << "frame " << i;
+    EXPECT_EQ(bank.residuals(), plain.residuals());
+    EXPECT_EQ(bank.log_likelihoods(), plain.log_likelihoods());
+  }
+  EXPECT_NE(plain.probabilities(), start);
+  ASSERT_TRUE(bank.update(z1(zs[3])));
+  double f[3], sum = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    f[k] = std::exp(-0.5 * zs[3] * zs[3] / a[k]) * start(k);
+    sum += f[k];
+  }
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(bank.probabilities()(k), f[k] / sum, 1e-14) << "k=" << k;
+  bank.reset();  // a reset starts it again
+  bank.set_probabilities(start);
+  ASSERT_TRUE(bank.update(z1(zs[3])));
+  EXPECT_EQ(bank.probabilities(), start);
+  held.start_up_s = -1.0;
+  try {
+    ScalarBank b({scalar_model(1.0), scalar_model(2.0)}, held);
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("start_up_s"), std::string::npos);
+  }
+}
+
 TEST(FilterBank, ConfigurationErrorsNameTheProblem) {
   EXPECT_THROW(F16FilterBank(std::vector<F16FilterModel>(3)), std::invalid_argument);
   FilterBankOptions opt;

@@ -170,3 +170,17 @@ def test_run_command_writes_run_json_csv_and_png(tmp_path, capsys):
     assert header[:14] == ["time_s", "NONE", "LS", "RS", "LF", "RF", "RUD", "VEL", "AOA",
                            "PIT", "AZ", "ROL", "YAW", "AY"]
     assert (tmp_path / "probabilities.png").stat().st_size > 1000
+
+
+def test_the_start_up_weighs_no_hypothesis_for_its_frames(bank):
+    """``start_up_s``: the first round(start_up_s x 64) frames leave the probabilities where the
+    estimator started (its filters run); the next frame weighs again."""
+    n = round(0.25 * 64)
+    start = np.array(Estimator(bank).probabilities)
+    held = fly(_scenario(seed=3, duration_s=1.0), bank, estimator_options={"start_up_s": 0.25})
+    plain = fly(_scenario(seed=3, duration_s=1.0), bank)
+    cols = [held.hypotheses.index(h) for h in Estimator(bank).hypotheses]
+    p = held.probabilities[:, cols]
+    assert np.array_equal(p[:n], np.tile(start, (n, 1)))
+    assert not np.array_equal(p[n], start)
+    assert not np.array_equal(plain.probabilities[0, cols], start)

@@ -28,6 +28,8 @@ def test_daemon_refuses_bad_arguments_banks_and_urls(tmp_path):
     assert rc == 2 and "--bank FILE is required" in out
     rc, out = _daemon("--bank", bank, "--rate-hz", "fast")
     assert rc == 2 and "'fast'" in out
+    rc, out = _daemon("--bank", bank, "--start-up-s", "nan")
+    assert rc == 2 and "--start-up-s must be a time in seconds in [0, 3600], got 'nan'" in out
     rc, out = _daemon("--bank", bank, "--frobnicate")
     assert rc == 2 and "unknown argument '--frobnicate'" in out and "valid options" in out
     rc, out = _daemon("--bank", bank, "--warm-lead-us", "16000")
@@ -91,6 +93,7 @@ def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
     assert flags[20] == "--actuator-position-limits" and len(flags) == 22
     assert rates == list(RATE_LIMIT_RAD_S) and [float(x) for x in flags[21].split(",")] == list(POSITION_LIMIT_RAD)
     assert daemon_flags({"adapt_turbulence": False}) == ()
+    assert daemon_flags({"start_up_s": 0.25}) == ("--start-up-s", "0.25")
     with pytest.raises(ValueError, match="no flag for the estimator option 'gust_states'"):
         daemon_flags({"gust_states": True})
     assert daemon_flags({"turbulence_banks": True}) == ("--turbulence-banks",)   # with --bank SET

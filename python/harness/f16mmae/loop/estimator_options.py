@@ -50,6 +50,10 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("p_min", "--p-min", "number", metavar="P", minimum=0.0, below=round(1.0 / K_BANK, 6),
                     help="probability floor everywhere (default: the bank's recommended -- tuned: 1e-9; "
                          "a scheduled bank: each node's, blended -- else the core's 0.001, the paper's)"),
+    EstimatorOption("start_up_s", "--start-up-s", "number", metavar="S", minimum=0.0, maximum=3600.0,
+                    help="the first S seconds of frames after the estimator starts update its filters but "
+                         "weigh no hypothesis: the filters start at the design trim while the aircraft is in "
+                         "flight near it (cpp/f16mmae/filter_bank.h). Default 0: weigh from the first frame"),
     EstimatorOption("adapt_turbulence", "--adapt-turbulence", "switch",
                     help="adapt the likelihoods on line to the turbulence intensity (one residual "
                          "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "

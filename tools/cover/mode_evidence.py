@@ -2,8 +2,8 @@
 
 Flies ``--runs`` closed-loop flights (light turbulence, nominal point, the estimator of
 ``--bank`` in the loop with its recommended settings, ``loop.flight.fly``) with one failure
-``--fail NAME@TIME[:MODE[=VALUE]]`` on campaign seeds ``--seed`` (the single campaign's
-per-run seeds are not reproduced: flight seeds ``--seed * 1000 + run``), records u and z, and
+``--fail NAME@TIME[:MODE[=VALUE]]`` on flight seeds ``--seed * 1000 + run`` (or the
+flight seeds ``--flight-seeds``, e.g. a campaign's failing runs from its runs.jsonl), records u and z, and
 replays them through the bank's level-0 filters as one core.FilterBank (p_min 1e-9, the
 core's floors).  Over the frames from ``--settle-s`` after the onset to the end:
 
@@ -43,6 +43,8 @@ def main(argv=None) -> None:
     ap.add_argument("--fail", required=True)
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--seed", type=int, default=7)
+    ap.add_argument("--flight-seeds", default=None,
+                    help="comma-separated flight seeds (e.g. a campaign's runs.jsonl seeds) instead of --seed/--runs")
     ap.add_argument("--settle-s", type=float, default=0.5)
     ap.add_argument("--dwell-s", type=float, default=None)
     ap.add_argument("--turbulence", default="light")
@@ -54,8 +56,10 @@ def main(argv=None) -> None:
     bank = level0(mb)
     opts = {} if args.dwell_s is None else {"dwell_s": args.dwell_s}
     diffs, finals, truths = [], [], []
-    for run in range(args.runs):
-        sc = Scenario(mach=0.4, alt_ft=20_000.0, turbulence=args.turbulence, seed=args.seed * 1000 + run,
+    seeds = ([int(x) for x in args.flight_seeds.split(",")] if args.flight_seeds
+             else [args.seed * 1000 + run for run in range(args.runs)])
+    for run, seed in enumerate(seeds):
+        sc = Scenario(mach=0.4, alt_ft=20_000.0, turbulence=args.turbulence, seed=seed,
                       duration_s=8.0, failures=(spec,))
         res = fly(sc, mb, record_series=True, estimator_options=opts)
         u = res.series["u"] - np.asarray(mb.u_trim)
@@ -82,7 +86,7 @@ def main(argv=None) -> None:
         print(f"run {run}: final level-0 {finals[-1]}, declared {decl or '-'}; truth {truths[-1]}")
     d = np.mean(diffs, axis=0)
     print(f"{args.fail}: D_k = mean l_{spec.name} - l_k per frame from {args.settle_s:g} s after the onset, "
-          f"{args.runs} runs")
+          f"{len(seeds)} runs")
     print("  " + " ".join(f"{h} {d[k]:+.3f}" for k, h in enumerate(hyps) if k != true_k))
 
 

@@ -49,19 +49,16 @@ def longest_excursion(model_bank, flights) -> list[tuple[int, str]]:
     no-failure records (``u``, ``z``: perturbations from the bank's trim).  Raises ValueError
     if a failure is declared all the same (a flight longer than MEASURE_DWELL_S)."""
     from .. import core
+    from .calibrate import absolute_frames
 
     settings = {**model_bank.estimator_settings, "dwell_s": MEASURE_DWELL_S}
     threshold = float(settings["threshold"])
     bank = core.HierarchicalBank(model_bank, **settings)
-    u_trim, z_trim = np.asarray(model_bank.u_trim), np.asarray(model_bank.z_trim)
     hyps = list(model_bank.hypothesis_names[:names.K_BANK])
     out = []
     for fl in flights:
         bank.reset()
-        nu = min(fl.u.shape[1], u_trim.size)
-        u = np.tile(u_trim, (len(fl.u), 1))
-        u[:, :nu] += fl.u[:, :nu]
-        z = fl.z + z_trim
+        u, z = absolute_frames(model_bank, fl)
         best, who, run, cand = 0, names.NONE, 0, -1
         for i in range(len(z)):
             if bank.step(z[i], u[i]) is not None:

@@ -43,7 +43,9 @@
 //   handover      (after that update, before its propagate; bumpless) the standby takes over
 //                 member a's level, hypotheses on line, probabilities, declarer state,
 //                 declarations, frame count, air data and trim offsets, keeping its own
-//                 filter states and ρ (warm take_over); it is in force from this frame on.
+//                 filter states and ρ (warm take_over; a standby with other hypotheses on
+//                 line than member a's takes member a's filters and restarts its adaptation,
+//                 ρ with it); it is in force from this frame on.
 //   propagate(u)  member a's propagate (and the standby's).
 //   schedule(a)   member a's schedule (and the standby's).
 //   warm_cache()  member a's (and the standby's) working set touched ahead of a frame.

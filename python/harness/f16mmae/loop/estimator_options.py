@@ -68,7 +68,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "shipped set: calm air and light turbulence), the running one chosen on line by its "
                          "measured residual power, handed over bumplessly (cpp/f16mmae/turbulence_bank_set.h; "
                          "with --tuning turbulence, whose bank file is the set's: mmae-daemon --bank SET "
-                         "--turbulence-banks). Default off"),
+                         "--turbulence-banks; recommended with --maneuver-tempering 1 for severe turbulence, "
+                         "docs/results/turbulence_banks.md). Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "

@@ -18,7 +18,7 @@ from ...report.page import param_table, register_page
 from ..engine.outcomes import ABSOLUTE_DUAL_RULES
 from .scoring import RATING_RULES, RATINGS
 
-_ROW_CLASS = {"Good": "ok", "Fair": "fair", "Poor": "bad", "ND": "bad"}
+_ROW_CLASS = {"Good": "ok", "Fair": "fair", "Poor": "bad", "ND": "bad", "Indistinguishable": "fair"}
 
 
 def _s(x) -> str:

@@ -11,9 +11,11 @@
 //   final     a dual f+c declared at level 1 is the final answer: the bank stays at level 1
 //             (it keeps running; a later NONE declaration still backs out).
 // The floor at level 1 (options.level1_p_min; 0, the default: the level-0 floor, bit for bit):
-//   while a level-1 bank is on line its FilterBank's p_min is level1_p_min; back at level 0
-//   (back-out, reset()) the level-0 floor is in force again (p_min, or a scheduled bank's node
-//   floor). Why a floor of its own: a dual f+c must gather ln(1/p_min) nats over f alone
+//   while a level-1 bank is on line its duals f+c take the floor level1_p_min, NONE and f
+//   keep the level-0 floor (FilterBank::set_p_min's two tiers); back at level 0 (back-out,
+//   reset()) the level-0 floor is in force for all again (p_min, or a scheduled bank's node
+//   floor). NONE keeps it because "the declaration of f was false" is no event that may
+//   begin now: backing out needs the evidence a level-0 declaration needs. Why a floor of its own: a dual f+c must gather ln(1/p_min) nats over f alone
 //   before it leads, and without f's sensor (or surface) the evidence for c comes at a
 //   fraction of its level-0 rate (the pitch-rate gyro out, a stabilator is seen through α and
 //   n_z only), so with the level-0 floor (1e-9 tuned against false alarms in failure-free
@@ -232,7 +234,7 @@ class HierarchicalBank {
       for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[level0_[k]]);
     online_ = level0_;
     level_ = 0;
-    bank_.set_p_min(floor_in_force());   // the level-0 floor again (no-op unless level1_p_min)
+    set_floors();   // the level-0 floor again (no-op unless level1_p_min)
     bank_.reset();
     declarer_.reset(0);
     frame_ = 0;
@@ -274,7 +276,7 @@ class HierarchicalBank {
     }
     online_ = from.online_;
     level_ = from.level_;
-    bank_.set_p_min(floor_in_force());   // this bank's floor for the level carried over
+    set_floors();   // this bank's floors for the level carried over
     bank_.carry_over(from.bank_, !warm);
     if (!warm) bank_.reset_adaptation();
     declarer_.carry_over(from.declarer_);
@@ -502,16 +504,21 @@ class HierarchicalBank {
     }
     online_ = next;
     level_ = level;
-    bank_.set_p_min(floor_in_force());
+    set_floors();
     bank_.presume(presumed);
     declarer_.reset(presumed);
   }
-  // The floor for the level on line (header): level1_p_min at level 1 when set, else the
-  // level-0 floor (a scheduled bank's node floor in force with node_p_min, else p_min).
-  double floor_in_force() const noexcept {
-    if (level_ == 1 && options_.level1_p_min > 0.0) return options_.level1_p_min;
-    if (sched_.active() && options_.schedule.node_p_min) return sched_.p_min();
-    return options_.bank.p_min;
+  // The level-0 floor (a scheduled bank's node floor in force with node_p_min, else p_min),
+  // and the floors for the level on line (header): at level 1 with level1_p_min set, the
+  // duals (on-line positions 2...) take level1_p_min, NONE and f the level-0 floor.
+  double level0_floor() const noexcept {
+    return sched_.active() && options_.schedule.node_p_min ? sched_.p_min() : options_.bank.p_min;
+  }
+  void set_floors() noexcept {
+    if (level_ == 1 && options_.level1_p_min > 0.0)
+      bank_.set_p_min(options_.level1_p_min, 2, level0_floor());
+    else
+      bank_.set_p_min(level0_floor());
   }
 
   // The on-line filters as the schedule has them in force (states kept).
@@ -520,7 +527,7 @@ class HierarchicalBank {
                           [&](auto& h_out) { sched_.h_output(h_out); });
     if (sched_.has_adapt_reference() && options_.schedule.node_adapt_reference)
       bank_.set_adapt_reference(sched_.adapt_reference());
-    bank_.set_p_min(floor_in_force());   // (unchanged unless node_p_min or level1_p_min)
+    set_floors();   // (unchanged unless node_p_min or level1_p_min)
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {

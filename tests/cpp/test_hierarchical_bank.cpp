@@ -202,9 +202,10 @@ TEST(HierarchicalBank, BacksOutWhenNoneWinsAtLevelOne) {
 }
 
 TEST(HierarchicalBank, LevelOneFloorHoldsWhileLevelOneIsOnLineOnly) {
-  // the dual-then-back-out flight of the tests above, with a level-1 floor of its own: at
-  // the switch the presumed single carries 1 - 5 f1 and every other f1; at the back-out (and
-  // after reset) the level-0 floor p_min is in force again; 0 leaves the bank as it was
+  // the single-then-back-out flight of the test above, with a level-1 floor of its own: at
+  // the switch the duals sit on f1, NONE on the level-0 floor p_min and the presumed single
+  // carries the rest; at the back-out (and after reset) p_min is every floor again; 0 leaves
+  // the bank as it was
   Small s;
   HierarchicalOptions o;
   o.bank.p_min = 1e-6;
@@ -218,10 +219,14 @@ TEST(HierarchicalBank, LevelOneFloorHoldsWhileLevelOneIsOnLineOnly) {
       ++switches;
       EXPECT_EQ(hb.level(), 1);
       EXPECT_DOUBLE_EQ(hb.bank().options().p_min, 1e-3);
-      EXPECT_NEAR(hb.probabilities()(1), 1.0 - 5 * 1e-3, 1e-15);
-      for (int k : {0, 2, 3, 4, 5}) EXPECT_DOUBLE_EQ(hb.probabilities()(k), 1e-3);
+      EXPECT_NEAR(hb.probabilities()(1), 1.0 - 4 * 1e-3 - 1e-6, 1e-15);
+      EXPECT_DOUBLE_EQ(hb.probabilities()(0), 1e-6);
+      for (int k : {2, 3, 4, 5}) EXPECT_DOUBLE_EQ(hb.probabilities()(k), 1e-3);
     }
-    if (hb.level() == 1) EXPECT_GE(hb.probabilities().minCoeff(), 1e-3 * (1 - 1e-12));
+    if (hb.level() == 1) {
+      EXPECT_GE(hb.probabilities()(0), 1e-6 * (1 - 1e-12));
+      EXPECT_GE(hb.probabilities().tail(4).minCoeff(), 1e-3 * (1 - 1e-12));
+    }
     if (d >= 0 && hb.name(d) == "NONE") {
       EXPECT_EQ(hb.level(), 0);
       EXPECT_DOUBLE_EQ(hb.bank().options().p_min, 1e-6);

@@ -369,16 +369,18 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     """mmae-daemon runs a scheduled bank (a small real grid) over LCM, scheduling on the
     sensor frames' air data, and the lockstep flight between its nodes equals the in-process
     run exactly; so does a flight with the on-line options (turbulence adaptation, trim
-    tracking, nearest-node schedule, the maneuver model) given to both."""
+    tracking, nearest-node schedule, the maneuver model) given to both; the air data's low-pass
+    (--air-data-time-constant, which the interpolated trims follow) reaches the daemon."""
     sched = tmp_path / "small.f16sched"
     assert main(["design", "--schedule", "mach=0.4/0.5,alt=20000", "--workers", "2", "--out", str(sched)]) == 0
     capsys.readouterr()
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
-               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5",
+               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5", "--air-data-time-constant", "0.5",
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}S_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
     assert "mmae-daemon: ready" in out and "128 updated" in out and "0 air data rejected" in out
+    assert "schedule interpolate on air data low-passed 0.5 s" in out  # the trims follow it
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
@@ -388,8 +390,8 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}O_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
-    assert ("turbulence adaptation (reference per node), trim tracking 2 s (freeze above 0.5), schedule nearest, "
-            "maneuver kinematics, "
+    assert ("turbulence adaptation (reference per node), trim tracking 2 s (freeze above 0.5), "
+            "schedule nearest on air data low-passed 2 s, maneuver kinematics, "  # the core's default low-pass
             "tempering 0.1 g, actuator limits)" in out), out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
 

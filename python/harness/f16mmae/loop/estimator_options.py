@@ -84,7 +84,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "measured air data, or switch to the nearest with hysteresis (default "
                          f"{SCHEDULE_MODES[0]}; a bank designed at one point ignores it)"),
     EstimatorOption("air_data_time_constant_s", "--air-data-time-constant", "number", metavar="TAU_S",
-                    minimum=0.0, maximum=60.0, in_daemon=False,
+                    minimum=0.0, maximum=60.0,
                     help="a scheduled bank: time constant of the air data's low-pass the schedule follows "
                          "(s; a running mean for its first TAU_S; 0: none; default 2; cpp/f16mmae/scheduled_filters.h)"),
     EstimatorOption("maneuver_kinematics", "--maneuver-kinematics", "switch",

@@ -244,15 +244,17 @@ def _pair(first, second, rating, absolute="Not good"):
 
 
 @pytest.mark.slow
-def test_models_rate_a_blocked_pair_indistinguishable_and_leave_the_others():
+def test_models_rate_a_blocked_pair_indistinguishable_and_leave_the_others(tmp_path, monkeypatch):
     from f16mmae.campaign.dual import models
     from f16mmae.design import distinguish
 
+    monkeypatch.setenv("F16MMAE_CACHE_DIR", str(tmp_path))
     _, _, bank = load_bank("tuned")
-    pairs = [_pair("AZ", "AOA", "ND"), _pair("PIT", "LS", "Fair"), _pair("LS", "PIT", "Good", "Good")]
+    pairs = [_pair("AZ", "AOA", "ND"), _pair("PIT", "LS", "Poor"), _pair("LS", "PIT", "Good", "Good"),
+             _pair("ROL", "RS", "Fair")]
     out = models.annotate(pairs, bank, "light", "complete")
     assert out == {"evaluated": 2, "indistinguishable": ["AZ>AOA"]}
-    blocked, late, good = pairs
+    blocked, separable, good, fair = pairs
     # AZ>AOA: AZ alone explains AOA reading trim better than the dual does (D < 0), so the
     # pair is rated Indistinguishable, its measured ND kept beside it
     design, why = models.bank_design(bank)
@@ -262,8 +264,14 @@ def test_models_rate_a_blocked_pair_indistinguishable_and_leave_the_others():
     assert blocked["models"]["rate_nats_per_frame"] == pytest.approx(d["AZ"], abs=1e-6)
     assert (blocked["rating"], blocked["measured_rating"]) == (dual_scoring.INDISTINGUISHABLE, "ND")
     assert "physically indistinguishable" in blocked["rating_reason"] and "measured" in blocked["rating_reason"]
-    # PIT>LS: separable (D > 0), its measured rating stays; the Good pair is not evaluated
-    assert late["models"]["rate_nats_per_frame"] > 0 and late["rating"] == "Fair" and "measured_rating" not in late
-    assert "models" not in good and good["rating"] == "Good"
+    # PIT>LS: separable (D > 0), its measured rating stays; Good and Fair pairs are not evaluated
+    assert separable["models"]["rate_nats_per_frame"] > 0 and separable["rating"] == "Poor"
+    assert "measured_rating" not in separable
+    assert "models" not in good and "models" not in fair and fair["rating"] == "Fair"
+    # the second time the cache answers: no design is needed
+    monkeypatch.setattr(models, "bank_design", lambda bank: pytest.fail("designed again"))
+    again = [_pair("AZ", "AOA", "ND")]
+    assert models.annotate(again, bank, "light", "complete") == {"evaluated": 1, "indistinguishable": ["AZ>AOA"]}
+    assert again[0]["models"] == blocked["models"]
     # a mode or level the models do not cover: nothing evaluated, and why
     assert "not hardover in light" in models.annotate([_pair("AZ", "AOA", "ND")], bank, "light", "hardover")["why_not"]

@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import os
 from pathlib import Path
 from typing import Callable
 
 from . import core
+from .cache import cache_root
 from .errors import F16mmaeError
 from .names import (SCHEDULE_DESIGN_REVISION, SCHEDULE_GRID, SCHEDULE_NODE_TUNING, SCHEDULED_BANK,
                     SHIPPED_TUNINGS, TURBULENCE_BANK)
@@ -67,8 +67,7 @@ def scheduled_bank_path() -> Path:
     with open(nominal, "rb") as f:
         header = f.read(52)  # magic, version, size, SHA-256 of the payload
     key = hashlib.sha256(f"{SCHEDULE_GRID};{SCHEDULE_NODE_TUNING};{SCHEDULE_DESIGN_REVISION}".encode() + header[20:52]).hexdigest()[:16]
-    base = os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "f16mmae")
-    return Path(base) / "banks" / f"scheduled_tuned_{key}.f16sched"
+    return cache_root() / "banks" / f"scheduled_tuned_{key}.f16sched"
 
 
 def bank_path(tuning: str) -> Path:

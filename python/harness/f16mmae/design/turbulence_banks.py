@@ -34,13 +34,13 @@ from __future__ import annotations
 import fcntl
 import functools
 import hashlib
-import os
 import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 from .. import names
+from ..cache import cache_root
 from ..errors import F16mmaeError
 
 #: The members' design levels, in rising intensity, and their tuning.
@@ -106,8 +106,7 @@ def set_path() -> Path:
     spec = (f"{REVISION};{MEMBER_TUNING};{MEMBER_LEVELS};{BOUNDS};{TYPICAL};{HOLD_S};{WARM_UP_S};{WARM_DOWN_S};{SETTLE_S};"
             f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{TRIM_TIME_CONSTANT_S};{START};{START_STANDBY}")
     key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
-    base = os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(os.path.expanduser("~"), ".cache", "f16mmae")
-    return Path(base) / "banks" / f"turbulence_banks_{key}{SUFFIX}"
+    return cache_root() / "banks" / f"turbulence_banks_{key}{SUFFIX}"
 
 
 def names_data_dir() -> Path:

@@ -52,6 +52,7 @@ from dataclasses import dataclass
 import jsbsim
 import numpy as np
 
+from ..cache import cache_root
 from ..errors import F16mmaeError
 from ..names import ACTUATORS, SIM_RATE_HZ
 from . import actuators, sensors, turbulence
@@ -152,8 +153,7 @@ def _flight_control_xml() -> str:
 
 
 def _cache_base() -> str:
-    return os.environ.get("F16MMAE_CACHE_DIR") or os.path.join(
-        os.path.expanduser("~"), ".cache", "f16mmae")
+    return str(cache_root())
 
 
 def derived_root(contacts: bool = False) -> str:

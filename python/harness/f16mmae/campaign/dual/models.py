@@ -1,5 +1,5 @@
 """Which pairs the models cannot separate: the model-based evidence rate of each dual that the
-campaign did not rate Good (issue 13 item 5; ``design.distinguish`` states the computation).
+campaign rated Poor or ND (``design.distinguish`` states the computation).
 
 For a pair ``a>b`` the dual ``h* = a+b`` must win against every other hypothesis of ``a``'s
 level-1 bank (NONE, ``a`` alone, ``a`` + each other).  ``D`` is the expected evidence per
@@ -10,6 +10,11 @@ threshold or dwell -- the pair is **physically indistinguishable** to this bank,
 campaign rates it :data:`INDISTINGUISHABLE` instead of its measured Fair / Poor / ND (the
 measured rating and its reason stay in the pair's summary; a pair rated Good keeps Good).
 
+Only Poor and ND pairs are evaluated: a dual the models cannot separate is, on average, never
+the likeliest hypothesis, so it is never declared and held (Good and Fair pairs were). Each
+pair costs about a second and a half; its result is cached under the cache root
+(``f16mmae.cache``, ``models/``) by the bank's content hash, the turbulence level and the pair.
+
 The design is rebuilt from the bank's tuning at its design point and used only when its
 filters are the bank's own (gains equal to 1e-9); otherwise, and for a failure mode other than
 ``complete`` or a turbulence level other than the design's (``light``) or ``none``, nothing is
@@ -17,9 +22,14 @@ evaluated and the summary says why.
 """
 from __future__ import annotations
 
+import json
+import os
+import tempfile
+
 import numpy as np
 
 from ... import names
+from ...cache import cache_root
 from ...design import distinguish
 from ...design.bank import design_bank
 from ...design.tuning import TuningError, load_tuning
@@ -51,27 +61,61 @@ def evidence(design, first: str, second: str, calm: bool) -> dict:
             "indistinguishable": d <= 0.0}
 
 
+#: The computation's revision, part of the cache's names: raise it when ``evidence`` changes.
+REVISION = 1
+
+
+def _cache_path(bank, turbulence: str):
+    return cache_root() / "models" / f"dual_evidence_r{REVISION}_{bank.content_hash}_{turbulence}.json"
+
+
+def _load_cached(path) -> dict:
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def _store_cached(path, entries: dict) -> None:
+    """Write ``entries`` atomically; a cache that cannot be written is only slower."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+        with os.fdopen(fd, "w") as f:
+            json.dump(entries, f, sort_keys=True)
+        os.replace(tmp, path)
+    except OSError:
+        pass
+
+
 def annotate(pairs: list[dict], bank, turbulence: str, mode: str) -> dict:
-    """Evaluate every pair not rated Good (relative or absolute) from the models, store it in
-    the pair's ``models`` field and re-rate the indistinguishable ones; returns the summary's
-    ``models`` field (what was evaluated, or why nothing was)."""
-    todo = [p for p in pairs if p["runs"] and (p["rating"] != "Good" or p.get("absolute_rating") != "Good")]
+    """Evaluate every pair rated Poor or ND from the models, store it in the pair's ``models``
+    field and re-rate the indistinguishable ones; returns the summary's ``models`` field (what
+    was evaluated, or why nothing was)."""
+    todo = [p for p in pairs if p["runs"] and p["rating"] in ("Poor", "ND")]
     if not todo:
         return {"evaluated": 0}
     if mode != "complete" or turbulence not in ("light", "none"):
         return {"evaluated": 0, "why_not": f"the models are evaluated for complete failures in light "
                                            f"turbulence or calm air, not {mode} in {turbulence}"}
-    design, why = bank_design(bank)
-    if design is None:
-        return {"evaluated": 0, "why_not": why}
+    path = _cache_path(bank, turbulence)
+    cached = _load_cached(path)
+    missing = [p for p in todo if p["case"] not in cached]
+    if missing:
+        design, why = bank_design(bank)
+        if design is None:
+            return {"evaluated": 0, "why_not": why}
+        for p in missing:
+            cached[p["case"]] = evidence(design, p["first"], p["second"], calm=turbulence == "none")
+        _store_cached(path, cached)
     for p in todo:
-        p["models"] = evidence(design, p["first"], p["second"], calm=turbulence == "none")
+        p["models"] = dict(cached[p["case"]])
         if p["models"]["indistinguishable"]:
             note = (f"physically indistinguishable: D = {p['models']['rate_nats_per_frame']:.3g} nats/frame "
                     f"<= 0 against {p['models']['against']} (campaign.dual.models)")
-            if p["rating"] != "Good":
-                p["measured_rating"], p["rating"] = p["rating"], INDISTINGUISHABLE
-                p["rating_reason"] = f"{note}; measured {p['measured_rating']}: {p['rating_reason']}"
+            p["measured_rating"], p["rating"] = p["rating"], INDISTINGUISHABLE
+            p["rating_reason"] = f"{note}; measured {p['measured_rating']}: {p['rating_reason']}"
             if p.get("absolute_rating") not in (None, "Good"):
                 p["absolute_rating_reason"] = f"{note}; {p['absolute_rating_reason']}"
     return {"evaluated": len(todo),

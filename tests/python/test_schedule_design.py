@@ -118,7 +118,11 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
 @pytest.mark.parametrize("args, message", [
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "per-point"], "--node-tuning 'per-point': valid: "
                                                                          "calibrated, fixed"),
-    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers and --node-p-min apply to a scheduled design; give --schedule"),
+    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min and --start-up-s apply to a scheduled "
+                                 "design; give --schedule"),
+    (["--schedule", "mach=0.5,alt=20000", "--start-up-s", "-1"], "--start-up-s '-1' must be >= 0.0"),
+    (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--start-up-s", "0.25"],
+     "--start-up-s is flown in the calibration flights: it needs --node-tuning calibrated"),
     (["--schedule", "mach=0.5,alt=20000", "--node-p-min", "1e-9/0.5"], "--node-p-min '0.5' must be < 0.012658"),
     (["--schedule", "mach=0.5,alt=20000", "--flap-layers", "maybe"], "--flap-layers 'maybe': valid: on, off"),
 ])

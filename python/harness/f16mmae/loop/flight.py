@@ -116,26 +116,26 @@ def models_throttle(model_bank) -> bool:
     return model_bank is not None and THROTTLE_INPUT in tuple(model_bank.input_names)
 
 
-def _on_line(names, columns: dict[str, int], probs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The hypotheses ``names`` now on line: those new to ``columns`` get a column (NaN so far)
-    in ``probs``; returns ``probs`` and the columns of ``names``, in their order."""
-    for name in names:
-        if name not in columns:
-            columns[name] = len(columns)
-    if len(columns) > probs.shape[1]:
-        probs = np.hstack([probs, np.full((probs.shape[0], len(columns) - probs.shape[1]), np.nan)])
-    return probs, np.array([columns[name] for name in names], dtype=int)
+def _laid_out(events: list, p: np.ndarray, columns: dict[str, int], n_frames: int) -> np.ndarray:
+    """The frames' probabilities ``p`` (frames, hypotheses on line, NaN-padded) in the flight's
+    columns, one per hypothesis ever on line (``columns``, extended in order of appearance).
 
-
-def _columns(p: np.ndarray, segments: list, width: int) -> np.ndarray:
-    """The frames' probabilities ``p`` (frames, hypotheses on line) in the flight's columns: each
-    segment's rows ``(start, end, idx)`` in columns ``idx`` (a tuple), NaN elsewhere; ``p``
-    itself when the columns never moved (also ``p`` when nothing was recorded: no rows)."""
+    ``events``: the declarations ``(frame, hypothesis, hypotheses on line from that frame)``;
+    before the first, the hypotheses of ``columns``.  Each segment's rows go to its hypotheses'
+    columns, NaN elsewhere; ``p`` itself when the columns never moved or nothing was recorded."""
+    idx = tuple(range(len(columns)))
+    segments, start = [], 0  # (first frame, end, columns of the hypotheses then on line)
+    for frame, _name, online in events:
+        segments.append((start, frame, idx))
+        idx = tuple(columns.setdefault(h, len(columns)) for h in online)
+        start = frame
+    segments.append((start, n_frames, idx))
+    width = len(columns)
     if not len(p) or (width == p.shape[1] and all(idx == tuple(range(width)) for *_, idx in segments)):
         return p
     out = np.full((len(p), width), np.nan)
     for start, end, idx in segments:
-        out[start:end, list(idx)] = p[start:end]
+        out[start:end, list(idx)] = p[start:end, : len(idx)]
     return out
 
 
@@ -200,7 +200,6 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     # dwell-confirmed decision), and then only on the failed sensors' channels
     reconfiguration = core.SensorReconfiguration(model_bank) if feedback == "reconfigure" else None
     columns: dict[str, int] = {name: k for k, name in enumerate(estimator.hypotheses)}
-    declarations: list[dict] = []
     if record_series:
         rec_u, rec_z, rec_z_hat = (np.zeros((n_frames, 6 if throttle else 5)), np.zeros((n_frames, 7)),
                                    np.zeros((n_frames, 7)))
@@ -214,22 +213,12 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         t_truth += out["truth_s"]
         t_est += out["estimator_s"]
         events, probs, scale = out["events"], out["probabilities"], out["turbulence_scale"]
-        if events:  # else the level-0 columns throughout: probs as they came
-            idx = tuple(range(len(columns)))
-            segments, start = [], 0  # (first frame, end, columns of the hypotheses then on line)
-            for frame, name, online in events:
-                declarations.append({"hypothesis": name, "time_s": round(frame * dt, 9)})
-                segments.append((start, frame, idx))
-                idx = tuple(columns.setdefault(h, len(columns)) for h in online)
-                start = frame
-            segments.append((start, n_frames, idx))
-            probs = _columns(probs, segments, len(columns))
         estimator.last_declaration = events[-1][1] if out["declared_last_frame"] else None
         n_frames_python = 0
     else:
         n_frames_python = n_frames
-        idx = np.arange(len(columns))
-        probs = np.full((n_frames, len(columns)), np.nan) if record_probabilities else None
+        events = []  # as the C++ flight returns them: (frame, hypothesis, hypotheses on line)
+        probs = np.full((n_frames if record_probabilities else 0, len(columns)), np.nan)
         scale = np.full(n_frames if record_probabilities else 0, np.nan)
     clock = time.perf_counter
     step = truth.step
@@ -264,15 +253,18 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
             rec_u[i], rec_z[i], rec_z_hat[i], rec_air[i] = u, z, z_hat, air
         z, air = z_next, air_next
         declared_now = estimator.last_declaration
-        if declared_now is not None:
-            declarations.append({"hypothesis": declared_now, "time_s": round(t, 9)})
-            if record_probabilities:  # the level (and the hypotheses on line) may have changed
-                probs, idx = _on_line(estimator.hypotheses, columns, probs)
+        if declared_now is not None:  # the level (and the hypotheses on line) may have changed
+            events.append((i, declared_now, tuple(estimator.hypotheses)))
         if record_probabilities:
-            probs[i, idx] = estimator.probabilities
+            p = estimator.probabilities
+            if len(p) > probs.shape[1]:
+                probs = np.hstack([probs, np.full((n_frames, len(p) - probs.shape[1]), np.nan)])
+            probs[i, : len(p)] = p
             scale[i] = getattr(estimator, "turbulence_scale", np.nan)
     truth.detach(fcs)
     truth.close()
+    declarations = [{"hypothesis": name, "time_s": round(frame * dt, 9)} for frame, name, _ in events]
+    probs = _laid_out(events, probs, columns, n_frames)
     final = estimator.declared
     wall = time.perf_counter() - t_start
     hypotheses = tuple(columns)

@@ -10,7 +10,9 @@ floor, the largest reference at which the node's estimator keeps its no-failure 
 flights' peak failure log-odds within ``calibrate.log_odds_bound`` (``calibrate.bounded_reference``:
 a reference that bounds the false alarms, not the mean power ratio, which the metadata also
 records), and of these pairs the one a failure needs the least evidence to be declared with
-(``calibrate.bounded_settings``); then the floor lowered to its grid neighbours' and the
+(``calibrate.bounded_settings``; the estimator on those flights runs with the start-up
+``calibrate.START_UP_S``, 0.25 s, recorded as the metadata's ``start_up_s``: fly the file with
+``--start-up-s 0.25``); then the floor lowered to its grid neighbours' and the
 reference to theirs at the largest floor around it (``neighbourhood_settings``), so that the
 reference and floor the core blends over a cell bound them at every corner.  The floor is the node bank's
 recommended p_min (its estimator settings; the core blends the nodes' floors).  A point whose truth cannot trim is left out of the
@@ -252,8 +254,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     ``p_min_candidates``: the probability floors a calibrated node chooses from
     (``calibrate.bounded_settings``; one value: that floor at every node).
     ``start_up_s``: the estimator start-up (``--start-up-s``) the calibration flights are run
-    with when the nodes' floors and references are bounded; the file is meant to be flown
-    with it (the metadata's ``start_up_s``).
+    with when the nodes' floors and references are bounded (calibrated nodes only); the file
+    is meant to be flown with it (the metadata's ``start_up_s``).
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""
@@ -262,6 +264,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     if node_tuning not in NODE_TUNINGS:
         raise ScheduleSpecError(f"node tuning {node_tuning!r} is not one of {', '.join(NODE_TUNINGS)}")
     tuning_obj = load_tuning(tuning)
+    start_up_s = start_up_s if node_tuning == "calibrated" else 0.0   # flown in the calibration flights only
     points = [(i, j, m, a, tuning, node_tuning, None, None, throttle_input, tuple(p_min_candidates), start_up_s)
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     t0 = time.perf_counter()

@@ -245,3 +245,24 @@ def test_tuning_refuses_a_bad_failure_model():
     with pytest.raises(TuningError, match=r"failed_sensor_level_q = -1 must be a finite number >= 0"):
         tuning_from_dict({**base, "failure_model": "cover", "failed_sensor_level_q": -1})
     assert hypotheses.FAILURE_MODELS == ("complete", "cover")
+
+
+def test_failed_surface_q_per_surface():
+    base = {**load_tuning("tuned").to_dict(), "failure_model": "cover"}
+    tun = tuning_from_dict({**base, "failed_surface_q": {"LS": 1e-3, "RUD": 2e-4}}, default_name="per")
+    # the surfaces not named keep their default
+    assert tun.failed_surface_q == {"LS": 1e-3, "RS": 3e-4, "LF": 3e-5, "RF": 3e-5, "RUD": 2e-4}
+    assert list(tun.surface_walk_q()) == [1e-3, 3e-4, 3e-5, 3e-5, 2e-4]
+    assert list(tuning_from_dict({**base, "failed_surface_q": 5e-5}).surface_walk_q()) == [5e-5] * 5
+    with pytest.raises(TuningError, match="unknown surface 'ELEV' in failed_surface_q; valid: LS, RS, LF, RF, RUD"):
+        tuning_from_dict({**base, "failed_surface_q": {"ELEV": 1e-4}})
+    with pytest.raises(TuningError, match=r"failed_surface_q.RF = 0 must be a finite number > 0"):
+        tuning_from_dict({**base, "failed_surface_q": {"RF": 0}})
+    d = bank.design_bank(0.4, 20_000.0, tun, hypotheses=("NONE", "LS", "LF", "RUD", "LS+RUD"))
+    dt, n_air = 1.0 / d.frame_rate_hz, names.NX - names.NU
+    none = d.filter("NONE").model
+    for name, comp, q in (("LS", "LS", 1e-3), ("LF", "LF", 3e-5), ("RUD", "RUD", 2e-4),
+                          ("LS+RUD", "LS", 1e-3), ("LS+RUD", "RUD", 2e-4)):
+        i = n_air + names.ACTUATORS.index(comp)
+        # a pure walk: the state's noise is q dt exactly (its row of F is zero)
+        assert d.filter(name).model.qd[i, i] - none.qd[i, i] == pytest.approx(q * dt, rel=1e-9), (name, comp)

@@ -11,6 +11,7 @@ from ..design.bank import design_bank, write_bank
 from ..design.calibrate import P_MIN_CANDIDATES, START_UP_S
 from ..design.gains import DesignError
 from ..design.report import write_report
+from ..design.dwell import with_calibrated_dwell
 from ..design.hypotheses import FAILURE_MODELS, check_failure_model, uses_cover
 from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, design_schedule,
                                format_spec, parse_grid)
@@ -33,7 +34,10 @@ residual covariance A = H P- H^T + R (eq. 5), with the tuning's pseudonoise (met
 An unstable filter is refused.  Deterministic: the same arguments give the same file.
 --failure-model cover designs hypotheses that cover the failure whatever value it takes: a
 failed surface at an unknown position the filter estimates (a random-walk state in place of
-its lag), a failed sensor's reading uninformative (uniform over its full range).
+its lag), a failed sensor's reading uninformative (uniform over its full range); such a bank
+recommends its own declaration dwell, the shortest (0.25-1 s) that no no-failure calibration
+flight fills with a failure hypothesis above the threshold (design/dwell.py; a tuning file
+with failure_model cover and an [estimator] dwell_s keeps its own).
 --throttle-input makes the throttle command the model's sixth input (its column from JSBSim's
 own linearization; the bank's inputs LS RS LF RF RUD THR): the closed loop then flies the
 truth's throttle dither, scheduled on the measured air data, and hands the commanded throttle
@@ -168,12 +172,15 @@ def _run(args) -> int:
     except TuningError as exc:
         raise CliError(f"--tuning: {exc}") from None
     tuning = gust_options(tuning, args.gust_level, args.gust_states)
+    # a cover design calibrates its own dwell unless its tuning recommends one for that model
+    calibrate_dwell = "dwell_s" not in tuning.estimator
     if args.failure_model is not None:
         try:
             failure_model = check_failure_model(args.failure_model)
         except ValueError as exc:
             raise CliError(f"--failure-model: {exc}") from None
         if failure_model != tuning.failure_model:
+            calibrate_dwell = True
             tuning = dataclasses.replace(tuning, name=f"{tuning.name}-{failure_model}",
                                          failure_model=failure_model)
     if args.failed_sensor_level_q is not None:
@@ -192,6 +199,11 @@ def _run(args) -> int:
         raise CliError(str(exc)) from None
     except DesignError as exc:
         raise CliError(f"the design is refused: {exc}") from None
+    if calibrate_dwell and uses_cover(tuning.failure_model):
+        design, cal = with_calibrated_dwell(design)
+        print(f"  recommended dwell {cal['dwell_s']:g} s: the no-failure calibration flights' longest "
+              f"excursion above the threshold is {cal['longest_s']:g} s ({cal['hypothesis']}; design/dwell.py)"
+              + ("" if cal["bound_met"] else " -- longer than every candidate"))
     try:
         bank = write_bank(design, out)
     except OSError as exc:

@@ -193,7 +193,7 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
     for name in hypotheses:
         phi, bd, qd = discrete.phi, discrete.bd, discrete.qd
         if covered_surfaces(name, tuning.failure_model):
-            f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, tuning.failed_surface_q, n_air,
+            f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, tuning.surface_walk_q(), n_air,
                                              tuning.failure_model)
             dm = discretize(f_k, model.b, np.eye(model.nx), gqg_k, discrete.dt_s)
             phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal(model.nx))

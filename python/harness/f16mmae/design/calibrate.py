@@ -262,6 +262,17 @@ REFERENCE_STEP = 0.02
 REFERENCE_LOG_ODDS_BOUND = -6.0
 
 
+def absolute_frames(model_bank, flight) -> tuple[np.ndarray, np.ndarray]:
+    """``(u, z)`` of a flight's records (perturbations from trim) as the estimator reads them:
+    plus the bank's trim; a bank with more inputs than the flight (the throttle) holds them at
+    trim."""
+    u_trim, z_trim = np.asarray(model_bank.u_trim), np.asarray(model_bank.z_trim)
+    nu = min(flight.u.shape[1], u_trim.size)
+    u = np.tile(u_trim, (len(flight.u), 1))
+    u[:, :nu] += flight.u[:, :nu]
+    return u, flight.z + z_trim
+
+
 def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | None = None,
                           start_up_s: float = 0.0) -> float:
     """The largest failure log-odds ``max_t max_(k != NONE) ln(p_k / p_NONE)`` over ``flights``
@@ -279,14 +290,10 @@ def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | 
     settings = dict(model_bank.estimator_settings)
     bank = core.HierarchicalBank(model_bank, adapt_turbulence=True, adapt_reference=float(reference),
                                  start_up_s=float(start_up_s), **settings)
-    u_trim, z_trim = np.asarray(model_bank.u_trim), np.asarray(model_bank.z_trim)
     peak = -np.inf
     for fl in flights:
         bank.reset()
-        nu = min(fl.u.shape[1], u_trim.size)
-        u = np.tile(u_trim, (len(fl.u), 1))
-        u[:, :nu] += fl.u[:, :nu]
-        z = fl.z + z_trim
+        u, z = absolute_frames(model_bank, fl)
         for i in range(len(z)):
             if bank.step(z[i], u[i]) is not None:
                 return float("inf")

@@ -18,8 +18,8 @@ no-failure model, in one of two failure models (``FAILURE_MODELS``, the tuning's
 - Actuator failure j: the surface sits at an unknown position (held at trim, stuck where it
   was, hardover) that the filter estimates. Its lag state becomes a random walk: the row of
   ``F`` is zeroed (``d(delta_j)/dt = w_j`` instead of ``-lambda (delta_j - delta_cmd)``), the
-  ``B`` column is zeroed, and a white ``w_j`` of strength ``failed_surface_q`` (rad^2/s)
-  drives it; ``Phi``, ``B_d`` and ``Q_d`` of that hypothesis are discretized from this
+  ``B`` column is zeroed, and a white ``w_j`` of strength ``failed_surface_q`` (rad^2/s, one
+  value or one per surface) drives it; ``Phi``, ``B_d`` and ``Q_d`` of that hypothesis are discretized from this
   ``F`` (``hypothesis_dynamics``), so a stuck or hardover surface is a constant the filter
   learns, and one held at trim is the constant zero.
 - Sensor failure i: the row i of ``H`` is removed as above, and the reading is declared
@@ -194,17 +194,20 @@ def covered_surfaces(name: str, failure_model) -> tuple[str, ...]:
     return tuple(c for c in names.failed_components(name) if c in names.ACTUATORS and per[c] == "cover")
 
 
-def hypothesis_dynamics(name: str, f: np.ndarray, gqg: np.ndarray, failed_surface_q: float,
+def hypothesis_dynamics(name: str, f: np.ndarray, gqg: np.ndarray, failed_surface_q,
                         n_airframe: int, failure_model="cover") -> tuple[np.ndarray, np.ndarray]:
     """``(F_k, GQG_k)`` of the ``cover`` model: each failed actuator whose model is ``cover``
     (``covered_surfaces``) has its lag state (index ``n_airframe + j``) turned into a random
-    walk of strength ``failed_surface_q``."""
+    walk of strength ``failed_surface_q`` (one number, or (5,) per surface in
+    ``names.ACTUATORS`` order)."""
     f_k = np.array(f, dtype=float, copy=True)
     gqg_k = np.array(gqg, dtype=float, copy=True)
+    walk_q = np.broadcast_to(np.asarray(failed_surface_q, dtype=float), (names.NU,))
     for comp in covered_surfaces(name, failure_model):
-        i = n_airframe + names.ACTUATORS.index(comp)
+        j = names.ACTUATORS.index(comp)
+        i = n_airframe + j
         f_k[i, :] = 0.0
-        gqg_k[i, i] += failed_surface_q
+        gqg_k[i, i] += walk_q[j]
     return f_k, gqg_k
 
 

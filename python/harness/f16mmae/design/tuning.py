@@ -20,7 +20,8 @@ or ``cover``: a failed surface at an unknown position, a failed sensor uninforma
 ``hypotheses.py``; or per component, a table ``{default = "complete", cover = ["VEL", "AOA"]}``
 or its text ``"cover=VEL+AOA"``; ``Tuning.failure_model`` holds the canonical text,
 ``hypotheses.check_failure_model``), ``failed_surface_q`` (rad^2/s, the strength of the random walk of a
-failed surface under ``cover``; default ``FAILED_SURFACE_Q``) and ``failed_sensor_level_q``
+failed surface under ``cover``; a number for every surface or a table per surface,
+``{LS = 3e-4, RUD = 1e-3}``; default and surfaces not named: ``FAILED_SURFACE_Q``) and ``failed_sensor_level_q``
 (the random walk per frame of a failed sensor's unknown level under ``cover``, in units of
 the sensor's noise variance, >= 0; 0: no memory; default ``FAILED_SENSOR_LEVEL_Q``).  Every variance must be finite and
 >= 0; an unknown key, a wrong type or a negative value is refused with a message naming it.
@@ -65,14 +66,34 @@ ESTIMATOR_KEYS: dict[str, tuple[float, float]] = {
 TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_model", "failure_model",
                                     "failed_surface_q", "failed_sensor_level_q") + tuple(SECTIONS)
                                    + ("estimator",))
-#: Default random-walk strength of a failed surface's position under ``cover`` (rad^2/s):
-#: about 0.3 deg of wander in 1 s, chosen on the tuning seeds from 3e-4, 1e-4, 3e-5 and 1e-5
-#: (a freer flaperon absorbs roll turbulence and false-alarms; docs/results/failure_models.md).
-FAILED_SURFACE_Q = 3.0e-5
+#: Default random-walk strength of a failed surface's position under ``cover`` (rad^2/s), per
+#: surface: the flaperons 3e-5 (about 0.3 deg of wander in 1 s; a freer flaperon absorbs roll
+#: turbulence and false-alarms), the stabilators and the rudder 3e-4 (a faster walk reaches a
+#: rudder hardover before the yaw-rate sensor's hypothesis does, and follows a half-effective
+#: stabilator; 1e-3 lets a stabilator rival a failed pitch-rate gyro, and a rudder a failed
+#: yaw-rate gyro).  Chosen on the tuning seeds (docs/results/failure_models.md).
+FAILED_SURFACE_Q: dict[str, float] = {"LS": 3.0e-4, "RS": 3.0e-4, "LF": 3.0e-5, "RF": 3.0e-5, "RUD": 3.0e-4}
 #: Default random walk per frame of a failed sensor's level under ``cover``, in units of the
 #: sensor's noise variance (the level filter's gain is then about its square root, 0.1);
 #: measured choice, docs/results/failure_models.md.
 FAILED_SENSOR_LEVEL_Q = 0.01
+
+
+def _surface_walk_q(value, source: str):
+    """``failed_surface_q`` as read: a float (every surface), or a table of surfaces (those not
+    named take their FAILED_SURFACE_Q) as a dict over every surface; TuningError names a bad entry."""
+    def number(v, what):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0.0):
+            raise TuningError(f"{source}: {what} = {v!r} must be a finite number > 0 (rad^2/s)")
+        return float(v)
+
+    if not isinstance(value, dict):
+        return number(value, "failed_surface_q")
+    for key in value:
+        if key not in names.ACTUATORS:
+            raise TuningError(f"{source}: unknown surface {key!r} in failed_surface_q; valid: "
+                              f"{', '.join(names.ACTUATORS)}")
+    return {a: number(value.get(a, FAILED_SURFACE_Q[a]), f"failed_surface_q.{a}") for a in names.ACTUATORS}
 
 
 class TuningError(F16mmaeError, ValueError):
@@ -88,7 +109,8 @@ class Tuning:
     turbulence: str = "light"
     gust_model: str = "gust_rate"
     failure_model: str = "complete"  # canonical text (hypotheses.check_failure_model), per component
-    failed_surface_q: float = FAILED_SURFACE_Q
+    failed_surface_q: float | dict[str, float] = field(default_factory=lambda: dict(FAILED_SURFACE_Q))
+    # ^ one number for every surface, or per surface (names.ACTUATORS keys)
     failed_sensor_level_q: float = FAILED_SENSOR_LEVEL_Q
     qd_longitudinal: dict[str, float] = field(default_factory=dict)  # method 1
     r_pseudonoise: dict[str, float] = field(default_factory=dict)    # method 2
@@ -109,6 +131,12 @@ class Tuning:
         for key, val in self.r_pseudonoise.items():
             out[names.SENSORS.index(key)] = val
         return out
+
+    def surface_walk_q(self) -> np.ndarray:
+        """(5,) the random-walk strength (rad^2/s) of each failed surface under ``cover``, order
+        ``names.ACTUATORS`` (``failed_surface_q``: one number for all, or per surface)."""
+        q = self.failed_surface_q
+        return np.array([q[a] for a in names.ACTUATORS] if isinstance(q, dict) else [q] * names.NU, dtype=float)
 
     def actuator_strengths(self) -> np.ndarray:
         """(5,) method-4 strengths q (rad^2/s), order ``names.ACTUATORS``."""
@@ -187,10 +215,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
         failure_model = check_failure_model(data.get("failure_model", "complete"))
     except ValueError as exc:
         raise TuningError(f"{source}: {exc}") from None
-    walk_q = data.get("failed_surface_q", FAILED_SURFACE_Q)
-    if isinstance(walk_q, bool) or not isinstance(walk_q, (int, float)) or not (math.isfinite(walk_q)
-                                                                                and walk_q > 0.0):
-        raise TuningError(f"{source}: failed_surface_q = {walk_q!r} must be a finite number > 0 (rad^2/s)")
+    walk_q = _surface_walk_q(data.get("failed_surface_q", FAILED_SURFACE_Q), source)
     level_q = data.get("failed_sensor_level_q", FAILED_SENSOR_LEVEL_Q)
     if isinstance(level_q, bool) or not isinstance(level_q, (int, float)) or not (math.isfinite(level_q)
                                                                                   and level_q >= 0.0):
@@ -215,7 +240,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
         sections[section] = values
     estimator = _estimator_settings(data.get("estimator", {}), source)
     return Tuning(name=name, description=description, turbulence=turbulence, gust_model=gust_model,
-                  failure_model=failure_model, failed_surface_q=float(walk_q),
+                  failure_model=failure_model, failed_surface_q=walk_q,
                   failed_sensor_level_q=float(level_q),
                   qd_longitudinal=sections["method1_qd_longitudinal"],
                   r_pseudonoise=sections["method2_r"],

@@ -16,8 +16,8 @@ std::string daemon_usage() {
          "                   [--p-min P] [--threshold T] [--dwell-s S] [--start-up-s S]\n"
          "                   [--adapt-turbulence] [--adapt-reference RHO]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
-         "                   [--schedule-mode interpolate|nearest] [--maneuver-kinematics]\n"
-         "                   [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5[,inf]]\n"
+         "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
+         "                   [--maneuver-kinematics] [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5[,inf]]\n"
          "                   [--actuator-position-limits L1,...,L5[,inf]]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
          "                   [--rewarm-us US] [--auth-key FILE] [--bank-public-key FILE] [--quiet]\n"
@@ -52,6 +52,9 @@ std::string daemon_usage() {
          "  --schedule-mode M    a scheduled bank (*.f16sched): interpolate between grid points\n"
          "                       on the frames' air data (default) or nearest (switch with\n"
          "                       hysteresis)\n"
+         "  --air-data-time-constant TAU_S  a scheduled bank: the time constant of the air\n"
+         "                       data's low-pass the schedule follows (s, 0-60; a running mean\n"
+         "                       for its first TAU_S; 0: none; default: the core's, 2)\n"
          "  --maneuver-kinematics  add the turn kinematics and gravity terms the wings-level\n"
          "                       linearization drops to every filter's propagation\n"
          "  --maneuver-tempering G  divide every likelihood by 1 + (dn/G)^2, dn the estimated\n"
@@ -150,13 +153,14 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--bank-public-key" || key == "--trim-tracking" ||
                        key == "--trim-freeze-probability" || key == "--schedule-mode" || key == "--adapt-reference" ||
                        key == "--maneuver-tempering" || key == "--actuator-rate-limits" ||
-                       key == "--actuator-position-limits" || key == "--start-up-s";
+                       key == "--actuator-position-limits" || key == "--start-up-s" ||
+                       key == "--air-data-time-constant";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --turbulence-banks, --trim-tracking, "
-                         "--trim-freeze-probability, --schedule-mode, --maneuver-kinematics, "
+                         "--trim-freeze-probability, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
@@ -212,6 +216,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value != "interpolate" && value != "nearest")
         return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
       c.schedule_nearest = value == "nearest";
+    } else if (key == "--air-data-time-constant") {
+      const std::optional<double> tau = finite_number(value);
+      if (!tau || *tau < 0.0 || *tau > 60.0)
+        return usage_error("--air-data-time-constant must be a time constant in seconds in [0, 60] (0: no "
+                           "low-pass), got '" + value + "'");
+      c.air_data_time_constant_s = *tau;
     } else if (key == "--maneuver-tempering") {
       const std::optional<double> g = finite_number(value);
       if (!g || *g <= 0.0 || *g > 100.0)

@@ -3,7 +3,7 @@
 //   mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
 //               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence] [--adapt-reference RHO]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--schedule-mode M]
-//               [--maneuver-kinematics] [--maneuver-tempering G]
+//               [--air-data-time-constant TAU_S] [--maneuver-kinematics] [--maneuver-tempering G]
 //               [--actuator-rate-limits R,...] [--actuator-position-limits L,...]
 //               [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--rewarm-us US]
 //               [--auth-key FILE] [--bank-public-key FILE] [--quiet]
@@ -45,6 +45,7 @@ struct DaemonConfig {
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only
   bool schedule_nearest = false;     // a scheduled bank: nearest node instead of interpolation
+  std::optional<double> air_data_time_constant_s;  // its air-data low-pass (scheduled_filters.h); unset: the core's
   bool maneuver_kinematics = false;  // maneuver_kinematics.h
   double maneuver_tempering_g = 0.0; // 0 = off
   double start_up_s = 0.0;           // filter_bank.h: updates that weigh nothing after a start

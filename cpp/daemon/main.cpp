@@ -133,6 +133,7 @@ int main(int argc, char** argv) {
     options.trim.time_constant_s = cfg.trim_time_constant_s;
     if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
     if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
+    if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
     options.maneuver.kinematics = cfg.maneuver_kinematics;
     options.maneuver.tempering_g = cfg.maneuver_tempering_g;
     options.bank.start_up_s = cfg.start_up_s;
@@ -199,11 +200,12 @@ int main(int argc, char** argv) {
       if (options.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(options.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, p_min %g, threshold %g, dwell %g s, %s, %s, "
-                  "schedule %s, %s), lcm %s, %s -> %s, %s\n",
+                  "schedule %s on air data low-passed %s s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), options.bank.p_min,
                   options.declarer.threshold, options.declarer.dwell_s,
                   adaptation.c_str(),
-                  trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate", maneuver.c_str(), cfg.lcm_url.c_str(),
+                  trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate",
+                  f16mmae::format_value(options.schedule.air_data_time_constant_s).c_str(), maneuver.c_str(), cfg.lcm_url.c_str(),
                   channels.sensors.c_str(), channels.status.c_str(),
                   auth ? "frames authenticated" : "frames NOT authenticated");
       std::fflush(stdout);

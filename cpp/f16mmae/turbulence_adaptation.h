@@ -44,10 +44,19 @@
 //   - ρ carries over the hierarchical switches (it does not depend on which filters are on
 //     line); at the start and at reset() ρ = ρ_0: s = clamp(1, s_min, s_max), the bank as
 //     designed until the residuals say otherwise.
+//
+// The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
+// air by it, turbulence_bank_set.h): the same per-update x = min_k q_k / m, unclipped,
+// averaged from the start or reset() on as
+//     ρ̄ ← ρ̄ + a_i (x − ρ̄),   a_i = max(1 / i, α)   (i: updates averaged since the reset)
+// i.e. a plain mean over the first τ f updates, then ρ's average over τ: right within a second
+// of a start, where ρ starts at ρ_0 and only the likelihoods' tempering wants that. 0 before
+// the first update. It leaves s and the likelihoods alone.
 // Off (enabled = false, the default) the bank computes exactly what it did without it
 // (l_k = −q_k/2): bit-identical results.
 //
-// Cost per frame: a minimum over K, one multiply-add, a clamp, K multiplies; no allocation.
+// Cost per frame: a minimum over K, two multiply-adds, a division, a clamp, K multiplies; no
+// allocation.
 // Throws: configure() throws std::invalid_argument naming the option and its valid range.
 #pragma once
 
@@ -56,6 +65,7 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -115,6 +125,8 @@ class ResidualScale {
   double inverse_scale() const noexcept { return options_.enabled ? inv_s_ : 1.0; }
   // ρ, the averaged residual power ratio (ρ_0 at the start and when disabled).
   double power_ratio() const noexcept { return rho_; }
+  // ρ̄, the measured residual power ratio (header; 0 before the first update and when disabled).
+  double measured_power_ratio() const noexcept { return measured_; }
 
   // One accepted update's quadratic forms (non-finite ones are skipped; a frame with none
   // finite leaves ρ as it was).
@@ -126,6 +138,8 @@ class ResidualScale {
     if (!(lo < std::numeric_limits<double>::infinity())) return;
     const double x = lo / nz_;
     rho_ += alpha_ * ((x < rho_clip_ ? x : rho_clip_) - rho_);
+    const double a = 1.0 / static_cast<double>(++measured_updates_);
+    measured_ += (a > alpha_ ? a : alpha_) * (x - measured_);
     set_scale();
   }
   // A new reference ρ_0 (a scheduled bank's per-node reference, bank_schedule.h; in
@@ -135,15 +149,17 @@ class ResidualScale {
     set_scale();
   }
   // ρ set to a given value (a bank taking over in known turbulence: turbulence_bank_set.h); s
-  // follows at once. Non-finite or negative values are ignored.
+  // follows at once, ρ̄ is left alone. Non-finite or negative values are ignored.
   void set_power_ratio(double rho) noexcept {
     if (!(rho >= 0.0 && rho < std::numeric_limits<double>::infinity())) return;
     rho_ = rho;
     set_scale();
   }
-  // Back to the start: ρ = ρ_0, s = clamp(1, s_min, s_max).
+  // Back to the start: ρ = ρ_0, s = clamp(1, s_min, s_max); ρ̄ restarts (0, no update averaged).
   void reset() noexcept {
     rho_ = options_.reference;
+    measured_ = 0.0;
+    measured_updates_ = 0;
     set_scale();
   }
 
@@ -156,7 +172,8 @@ class ResidualScale {
   }
 
   TurbulenceAdaptationOptions options_{};
-  double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0;
+  double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0, measured_ = 0.0;
+  std::int64_t measured_updates_ = 0;   // i of the header's ρ̄
 };
 
 }  // namespace f16mmae

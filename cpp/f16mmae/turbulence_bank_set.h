@@ -6,13 +6,15 @@
 // Members 0..n-1 (n >= 2) are banks of one type (same sizes, same hypotheses by name and
 // order), designed for rising gust intensities (the F-16 set: calm air, light, moderate,
 // severe turbulence; `f16mmae design --turbulence-banks`). Each member runs its turbulence
-// adaptation (turbulence_adaptation.h). The intensity measure is the adaptation's: per
-// accepted update of a member, x = min_k q_k / nz over its filters on line, averaged —
+// adaptation (turbulence_adaptation.h). The intensity measure ρ of a member is its
+// adaptation's measured ρ̄: per accepted update, x = min_k q_k / nz over its filters on line,
+// averaged —
 //   ρ ← ρ + a_i (x − ρ),  a_i = max(1 / i, 1 − exp(−1 / (τ f)))   (i: updates averaged so far)
 // i.e. the adaptation's average over τ, but a plain mean over the first τ f updates so that
-// ρ is right within a second of a start (the adaptation's own ρ starts at its reference).
-// The set keeps this ρ for the member in force and for the standby. A member's ρ reads about
-// the same at its own design level, more in stronger gusts, less in calmer air. Per frame:
+// ρ is right within a second of a start (the adaptation's tempering ρ starts at its reference).
+// The set reads it and keeps no average of its own; it restarts with the member's adaptation
+// (reset(), and a copied standby's take_over). A member's ρ reads about the same at its own
+// design level, more in stronger gusts, less in calmer air. Per frame:
 //
 //   update(z)     the member in force a updates (and the standby c, if one runs); then the
 //                 selector classifies the turbulence from ρ_a by member a's own boundaries:
@@ -27,8 +29,9 @@
 //                           decided: the standby runs on, its hold does not count;
 //                 a wanted member other than a becomes the standby c (replacing another); a
 //                 wish for a itself drops the standby. A standby started during the flight is
-//                 a copy of member a (HierarchicalBank::take_over) with its adaptation's ρ at
-//                 its typical value (typical[c]); it then runs on the frames itself, so its
+//                 a copy of member a (HierarchicalBank::take_over) with its adaptation's
+//                 tempering ρ at its typical value (typical[c]) and its measured ρ restarted
+//                 (the next update's x); it then runs on the frames itself, so its
 //                 filters converge to its own design's (a bank designed for calm air started
 //                 from a light bank's states reads the mismatch as a VEL failure for seconds:
 //                 measured on the F-16 set). At the start the member `start_standby` (if >= 0)
@@ -40,7 +43,9 @@
 //   handover      (after that update, before its propagate; bumpless) the standby takes over
 //                 member a's level, hypotheses on line, probabilities, declarer state,
 //                 declarations, frame count, air data and trim offsets, keeping its own
-//                 filter states and ρ (warm take_over); it is in force from this frame on.
+//                 filter states and ρ (warm take_over; a standby with other hypotheses on
+//                 line than member a's takes member a's filters and restarts its adaptation,
+//                 ρ with it); it is in force from this frame on.
 //   propagate(u)  member a's propagate (and the standby's).
 //   schedule(a)   member a's schedule (and the standby's).
 //   warm_cache()  member a's (and the standby's) working set touched ahead of a frame.
@@ -63,7 +68,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -152,11 +156,6 @@ class TurbulenceBankSet {
     warm_up_frames_ = frames(options.warm_up_s);
     warm_down_frames_ = frames(options.warm_down_s);
     settle_frames_ = frames(options.settle_s);
-    const TurbulenceAdaptationOptions& ad = members_[0]->options().bank.adaptation;
-    alpha_ = 1.0 - std::exp(-1.0 / (ad.time_constant_s * rate));
-    rho_.assign(n, 0.0);
-    averaged_.assign(n, 0);
-    counted_.assign(n, 0);
     reset();
   }
 
@@ -164,10 +163,8 @@ class TurbulenceBankSet {
   int update(const ZVector& z_abs) noexcept {
     Bank& b = *members_[active_];
     const int d = b.update(z_abs);
-    observe(active_);
     if (standby_ >= 0) {
       members_[standby_]->update(z_abs);
-      observe(standby_);
       ++standby_age_;
     }
     select(b);
@@ -194,7 +191,6 @@ class TurbulenceBankSet {
   // Every member back to its start; member `start` in force, `start_standby` beside it.
   void reset() noexcept {
     for (Bank* m : members_) m->reset();
-    for (std::size_t i = 0; i < rho_.size(); ++i) rho_[i] = 0.0, averaged_[i] = counted_[i] = 0;
     active_ = options_.start;
     standby_ = options_.start_standby;
     standby_copied_ = false;
@@ -207,8 +203,11 @@ class TurbulenceBankSet {
   int active() const noexcept { return active_; }
   int standby() const noexcept { return standby_; }   // the member warming up, or -1
   int member_count() const noexcept { return static_cast<int>(members_.size()); }
-  // The selector's ρ of member m (header); of the member in force by default.
-  double power_ratio(int m = -1) const noexcept { return rho_[m < 0 ? active_ : m]; }
+  // The selector's ρ of member m (header: its adaptation's measured ρ̄); of the member in force
+  // by default.
+  double power_ratio(int m = -1) const noexcept {
+    return members_[m < 0 ? active_ : m]->bank().adaptation().measured_power_ratio();
+  }
   std::int64_t switches() const noexcept { return switches_; }
   std::int64_t frozen_frames() const noexcept { return frozen_frames_; }
   std::int64_t standby_frames() const noexcept { return standby_frames_; }
@@ -231,21 +230,6 @@ class TurbulenceBankSet {
     return level;
   }
 
-  // The selector's average of member m's last update (header); a rejected frame adds nothing.
-  void observe(int m) noexcept {
-    const Bank& b = *members_[m];
-    if (b.bank().accepted_updates() == averaged_[m]) return;
-    averaged_[m] = b.bank().accepted_updates();
-    const auto& q = b.bank().quadratic_forms();
-    double lo = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < q.size(); ++k)
-      if (q(k) < lo) lo = q(k);
-    if (!(lo < std::numeric_limits<double>::infinity())) return;
-    const double x = lo / static_cast<double>(b.bank().nz());
-    const double a = 1.0 / static_cast<double>(++counted_[m]);
-    rho_[m] += (a > alpha_ ? a : alpha_) * (x - rho_[m]);
-  }
-
   void select(const Bank& b) noexcept {
     if (frozen(b)) {
       ++frozen_frames_;
@@ -254,17 +238,15 @@ class TurbulenceBankSet {
       return;
     }
     if (++since_switch_ < settle_frames_) return;   // settling: the standby runs on
-    int want = classify(active_, rho_[active_]);
+    int want = classify(active_, power_ratio(active_));
     if (want == active_) want = -1;
     if (want != standby_) {
       drop_standby();
       if (want >= 0) {   // a standby started in flight: a copy of the member in force
         standby_ = want;
         standby_copied_ = true;
-        members_[want]->take_over(b);
+        members_[want]->take_over(b);   // not warm: its adaptation restarts, ρ̄ with it
         members_[want]->set_turbulence_power_ratio(options_.typical[want]);
-        rho_[want] = rho_[active_];   // the selector's ρ of the new member: restarted below
-        counted_[want] = 0;
       }
       return;
     }
@@ -290,10 +272,6 @@ class TurbulenceBankSet {
   std::vector<Bank*> members_;
   TurbulenceBankSetOptions options_;
   std::int64_t hold_frames_ = 0, warm_up_frames_ = 0, warm_down_frames_ = 0, settle_frames_ = 0;
-  double alpha_ = 0.0;
-  std::vector<double> rho_;                  // the selector's ρ per member (header)
-  std::vector<std::int64_t> averaged_;       // accepted updates of each member already averaged
-  std::vector<std::int64_t> counted_;        // updates in each member's average since it restarted
   int active_ = 0, standby_ = -1;
   bool standby_copied_ = false;
   std::int64_t standby_age_ = 0, held_ = 0, since_switch_ = 0, switches_ = 0, frozen_frames_ = 0,

@@ -114,6 +114,26 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_NE(r.message.find("interpolate or nearest, got 'linear'"), std::string::npos) << r.message;
 }
 
+TEST(DaemonConfig, AirDataTimeConstant) {
+  // unset: the core's default (scheduled_filters.h); 0 (no low-pass) to 60 s; anything else refused
+  auto r = parse_daemon_args({"--bank", "b"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_FALSE(r.config.air_data_time_constant_s.has_value());
+  for (const auto& [text, tau] : {std::pair<const char*, double>{"0.5", 0.5}, {"0", 0.0}, {"60", 60.0}}) {
+    r = parse_daemon_args({"--bank", "b", std::string("--air-data-time-constant=") + text}, nullptr);
+    ASSERT_TRUE(r.ok) << r.message;
+    EXPECT_EQ(*r.config.air_data_time_constant_s, tau) << text;
+  }
+  for (const char* bad : {"-0.1", "60.5", "nan", "inf", "fast", ""}) {
+    r = parse_daemon_args({"--bank", "b", "--air-data-time-constant", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find(std::string("--air-data-time-constant must be a time constant in seconds in [0, 60] "
+                                         "(0: no low-pass), got '") + bad + "'"),
+              std::string::npos)
+        << r.message;
+  }
+}
+
 TEST(DaemonConfig, ManeuverModelOptions) {
   auto r = parse_daemon_args({"--bank", "b", "--maneuver-kinematics", "--maneuver-tempering", "0.1",
                               "--actuator-rate-limits", "1,1,1.5,1.5,2", "--actuator-position-limits=0.4,0.4,0.3,0.3,0.5"},

@@ -83,6 +83,40 @@ TEST(TurbulenceAdaptation, ScaleFollowsTheHandComputedRecursion) {
   EXPECT_DOUBLE_EQ(r.power_ratio(), 1.0);
 }
 
+TEST(TurbulenceAdaptation, MeasuredRatioIsAPlainMeanFirstThenTheAverageOverTau) {
+  // tau = 0.25 s at 64 Hz: alpha = 1 - e^-(1/16); a plain mean for the first 16 updates
+  ResidualScale<Eigen::Dynamic> r;
+  r.configure(on(0.25, 1.0, 2.0, 3.0), 2, "test");   // s_max 2: rho is clipped at 20, rho-bar not
+  const double alpha = 1.0 - std::exp(-1.0 / 16.0);
+  EXPECT_DOUBLE_EQ(r.measured_power_ratio(), 0.0);   // nothing averaged yet
+  double sum = 0.0, mean = 0.0;
+  for (int n = 1; n <= 40; ++n) {
+    const double x = 3.0 + 0.5 * (n % 5) + (n == 7 ? 100.0 : 0.0);   // one wild frame, x = 104
+    r.observe(Eigen::Vector3d(2.0 * x, 2.0 * x + 1.0, 50.0 * x));     // min q / nz = x
+    if (n <= 16) {
+      sum += x;
+      mean = sum / n;   // the plain mean (1/n >= alpha while n <= 16)
+    } else {
+      mean += alpha * (x - mean);
+    }
+    EXPECT_NEAR(r.measured_power_ratio(), mean, 1e-12) << "update " << n;
+  }
+  // the tempering rho is a different average (from rho_0, clipped): its own recursion
+  EXPECT_GT(std::abs(r.power_ratio() - r.measured_power_ratio()), 1e-3);
+  r.set_power_ratio(0.5);   // sets the tempering rho only
+  EXPECT_NEAR(r.measured_power_ratio(), mean, 1e-12);
+  r.reset();                // restarts both
+  EXPECT_DOUBLE_EQ(r.measured_power_ratio(), 0.0);
+  r.observe(Eigen::Vector3d(9.0, 8.0, 7.0));
+  EXPECT_DOUBLE_EQ(r.measured_power_ratio(), 3.5);   // the first update's x
+  ResidualScale<Eigen::Dynamic> off;
+  TurbulenceAdaptationOptions o = on(0.25);
+  o.enabled = false;
+  off.configure(o, 2, "test");
+  off.observe(Eigen::Vector3d(9.0, 8.0, 7.0));
+  EXPECT_DOUBLE_EQ(off.measured_power_ratio(), 0.0);   // disabled: nothing measured
+}
+
 TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) {
   // tau far below a frame: alpha = 1 - e^-1562 = 1, so s = clamp(min_k q_k) of the last frame
   FilterBankOptions o;

@@ -6,7 +6,8 @@
 // member in force; every handover is bumpless (the new member's probabilities, level and
 // declarations are the old one's at that frame, its states its own, warmed up); a failure
 // freezes the selector (no switch while it is rising or declared, even when the noise steps
-// up with it); no heap allocation per frame, handovers included; the constructor's refusals.
+// up with it); the selector's rho is the member in force's measured power ratio, averaged by
+// hand; no heap allocation per frame, handovers included; the constructor's refusals.
 #include "f16mmae/turbulence_bank_set.h"
 
 #include "allocation_counter.h"
@@ -14,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -122,6 +125,35 @@ TEST(TurbulenceBankSet, MovesUpAndBackDownBumplesslyAndIsTheStartMemberUntilThen
   EXPECT_EQ(set.active(), 0);
   EXPECT_EQ(set.running().level(), 0);
   EXPECT_TRUE(set.running().declarations().empty()) << "no false declaration across the handovers";
+}
+
+TEST(TurbulenceBankSet, ItsRhoIsTheMemberInForcesMinimumPowerRatioAveragedByHand) {
+  // rho of the member in force, from its own quadratic forms: x = min_k q_k / 7 per update,
+  // a plain mean over the first tau f = 320 updates, then the average over tau = 5 s
+  const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
+  F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());
+  TurbulenceBankSet<F16HierarchicalBank> set({&calm, &rough}, selector());
+  const double alpha = 1.0 - std::exp(-1.0 / (5.0 * 64.0));
+  const auto noise = [](int i) { return i >= 1500 ? kRough : 1.0; };
+  double rho = 0.0;
+  int n = 0, checked = 0;
+  fly(2500, noise, none, [&](int, const auto& z, const auto& u) {
+    set.update(z);
+    if (set.switches() == 0) {   // the start member, averaged from the first frame
+      const auto& q = set.running().bank().quadratic_forms();
+      const double a = 1.0 / ++n;
+      rho += std::max(a, alpha) * (q.minCoeff() / 7.0 - rho);
+      EXPECT_NEAR(set.power_ratio(), rho, 1e-12 * (1.0 + rho));
+      EXPECT_EQ(set.power_ratio(), set.power_ratio(set.active()));
+      ++checked;
+    }
+    set.propagate(u);
+  });
+  EXPECT_GT(checked, 1500);
+  EXPECT_GE(set.switches(), 1);
+  set.reset();
+  EXPECT_EQ(set.power_ratio(0), 0.0);
+  EXPECT_EQ(set.power_ratio(1), 0.0);
 }
 
 TEST(TurbulenceBankSet, AFailureFreezesTheSelector) {

@@ -30,6 +30,11 @@ def test_daemon_refuses_bad_arguments_banks_and_urls(tmp_path):
     assert rc == 2 and "'fast'" in out
     rc, out = _daemon("--bank", bank, "--start-up-s", "nan")
     assert rc == 2 and "--start-up-s must be a time in seconds in [0, 3600], got 'nan'" in out
+    rc, out = _daemon("--bank", bank, "--air-data-time-constant", "-0.5")
+    assert rc == 2 and ("--air-data-time-constant must be a time constant in seconds in [0, 60] (0: no low-pass), "
+                        "got '-0.5'") in out
+    rc, out = _daemon("--bank", bank, "--air-data-time-constant", "61")
+    assert rc == 2 and "got '61'" in out
     rc, out = _daemon("--bank", bank, "--frobnicate")
     assert rc == 2 and "unknown argument '--frobnicate'" in out and "valid options" in out
     rc, out = _daemon("--bank", bank, "--warm-lead-us", "16000")
@@ -94,6 +99,7 @@ def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
     assert rates == list(RATE_LIMIT_RAD_S) and [float(x) for x in flags[21].split(",")] == list(POSITION_LIMIT_RAD)
     assert daemon_flags({"adapt_turbulence": False}) == ()
     assert daemon_flags({"start_up_s": 0.25}) == ("--start-up-s", "0.25")
+    assert daemon_flags({"air_data_time_constant_s": 0.5}) == ("--air-data-time-constant", "0.5")
     with pytest.raises(ValueError, match="no flag for the estimator option 'gust_states'"):
         daemon_flags({"gust_states": True})
     assert daemon_flags({"turbulence_banks": True}) == ("--turbulence-banks",)   # with --bank SET

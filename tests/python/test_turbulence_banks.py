@@ -1,8 +1,9 @@
 """The turbulence bank set (design/turbulence_banks.py, core.TurbulenceBankSet): the artifact, one
 set file, is checked by the C++ loader (its hash, every member bank, the fields), the estimator
 option flies it and refuses a bank not of the set, the selector follows the turbulence in
-closed loop (calm air: down; the light member holds from light to severe turbulence), and a
-failure whose onset coincides with a gust burst is declared, not absorbed."""
+closed loop (calm air: down; the light member holds from light to severe turbulence), a
+failure whose onset coincides with a gust burst is declared, not absorbed, and in severe
+turbulence the load-factor tempering quiets a stabilator false declaration."""
 from __future__ import annotations
 
 import shutil
@@ -119,3 +120,21 @@ def test_a_failure_with_a_gust_burst_is_declared_not_absorbed():
     assert r.declarations[0]["time_s"] > 5.0
     assert r.final_hypothesis == "LS"
     assert est.core_bank.frozen_frames > 0
+
+
+@pytest.mark.slow
+def test_the_load_factor_tempering_quiets_a_severe_stabilator_false_declaration():
+    """Severe turbulence, the pilot holding (the soak's ``hold`` profile; campaign seed 7's first
+    flight): a gust takes the angle of attack from 8 to 15 deg near 238 s, where the linear
+    models no longer hold, and the set declares RS falsely for 3.5 s; with the load-factor
+    tempering at 1 g (cpp/f16mmae/maneuver_kinematics.h) it declares nothing."""
+    from f16mmae.campaign.soak.campaign import profile
+
+    bank = load_bank("turbulence")[2]
+    sc = Scenario(turbulence="severe", duration_s=243.0, seed=1713771395, feedback="reconfigure",
+                  maneuvers=profile("hold", bank.mach, bank.alt_ft)[0])
+    plain = fly(sc, bank, estimator=Estimator(bank, turbulence_banks=True))
+    assert [d["hypothesis"] for d in plain.declarations] == ["RS", "NONE"]
+    assert 236.0 < plain.declarations[0]["time_s"] < 240.0
+    tempered = fly(sc, bank, estimator=Estimator(bank, turbulence_banks=True, maneuver_tempering_g=1.0))
+    assert tempered.declarations == []

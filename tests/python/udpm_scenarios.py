@@ -139,7 +139,9 @@ def test_lockstep_flight_matches_in_process_and_its_log_replays(banked, tmp_path
     scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=4.0, seed=2,
                         feedback="mmae", failures=(make_failure("LS", 0.5),))
     log = tmp_path / "hil.lcmlog"
-    daemon, remote = _fly_logged(path, bank, scenario, prefix, log)
+    # paced as the calm-air flights below: on a loaded host lcm-logger, which nothing waits for,
+    # may drop a frame the daemon received, and the replay of its log then differs
+    daemon, remote = _fly_logged(path, bank, scenario, prefix, log, pause_s=0.002)
     assert "256 updated, 256 commands applied, 0 rejected, 0 dropped" in daemon.summary
     # the air data crossed with every frame (a frame without it would be counted here)
     assert "0 air data rejected" in daemon.summary and remote.timing["link"]["air_data_rejected"] == 0
@@ -369,16 +371,18 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     """mmae-daemon runs a scheduled bank (a small real grid) over LCM, scheduling on the
     sensor frames' air data, and the lockstep flight between its nodes equals the in-process
     run exactly; so does a flight with the on-line options (turbulence adaptation, trim
-    tracking, nearest-node schedule, the maneuver model) given to both."""
+    tracking, nearest-node schedule, the maneuver model) given to both; the air data's low-pass
+    (--air-data-time-constant, which the interpolated trims follow) reaches the daemon."""
     sched = tmp_path / "small.f16sched"
     assert main(["design", "--schedule", "mach=0.4/0.5,alt=20000", "--workers", "2", "--out", str(sched)]) == 0
     capsys.readouterr()
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
-               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5",
+               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5", "--air-data-time-constant", "0.5",
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}S_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
     assert "mmae-daemon: ready" in out and "128 updated" in out and "0 air data rejected" in out
+    assert "schedule interpolate on air data low-passed 0.5 s" in out  # the trims follow it
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
@@ -388,8 +392,8 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}O_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
-    assert ("turbulence adaptation (reference per node), trim tracking 2 s (freeze above 0.5), schedule nearest, "
-            "maneuver kinematics, "
+    assert ("turbulence adaptation (reference per node), trim tracking 2 s (freeze above 0.5), "
+            "schedule nearest on air data low-passed 2 s, maneuver kinematics, "  # the core's default low-pass
             "tempering 0.1 g, actuator limits)" in out), out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
 

@@ -68,7 +68,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "shipped set: calm air and light turbulence), the running one chosen on line by its "
                          "measured residual power, handed over bumplessly (cpp/f16mmae/turbulence_bank_set.h; "
                          "with --tuning turbulence, whose bank file is the set's: mmae-daemon --bank SET "
-                         "--turbulence-banks). Default off"),
+                         "--turbulence-banks; recommended with --maneuver-tempering 1 for severe turbulence, "
+                         "docs/results/turbulence_banks.md). Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "
@@ -84,7 +85,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "measured air data, or switch to the nearest with hysteresis (default "
                          f"{SCHEDULE_MODES[0]}; a bank designed at one point ignores it)"),
     EstimatorOption("air_data_time_constant_s", "--air-data-time-constant", "number", metavar="TAU_S",
-                    minimum=0.0, maximum=60.0, in_daemon=False,
+                    minimum=0.0, maximum=60.0,
                     help="a scheduled bank: time constant of the air data's low-pass the schedule follows "
                          "(s; a running mean for its first TAU_S; 0: none; default 2; cpp/f16mmae/scheduled_filters.h)"),
     EstimatorOption("maneuver_kinematics", "--maneuver-kinematics", "switch",

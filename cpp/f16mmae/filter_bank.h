@@ -22,7 +22,8 @@
 //                   repeated until no rescaled one falls below its floor. Afterwards every
 //                   p_k >= f_k, sum p_k = 1, and the ratios among the hypotheses above the
 //                   floor are exactly those of the Bayes update.
-//                 The floor f_k = p_min exp(min(0, c_k - c_0)): p_min for every hypothesis
+//                 The floor f_k = p_min exp(min(0, c_k - c_0)) (p_min: set_p_min's tier of k,
+//                   one value unless two tiers are set): p_min for every hypothesis
 //                   with no tracked-level channel beyond those of the presumed one (c_0 its
 //                   c, presume()); for one that adds failed sensors whose level it tracks
 //                   (q_j > 0), p_min times their levels' Occam factor exp(c_j),
@@ -289,10 +290,19 @@ class FilterBank {
   // relative to the hypothesis presumed last (header comment); the probabilities in force are
   // not touched (the next update floors them). A value outside [0, 1/K) is ignored: the
   // caller checks it where it enters (a scheduled bank's node settings, ModelBank::validate).
-  void set_p_min(double p_min) noexcept {
-    if (!(p_min >= 0.0) || !(p_min * size() < 1.0) || p_min == options_.p_min) return;
+  // Two tiers (set_p_min(p_min, head, p_min_head)): hypotheses k < head take p_min_head in
+  // place of p_min (a hierarchical bank's level 1: NONE and the declared failure keep the
+  // level-0 floor, the duals take their own; hierarchical_bank.h). head = 0: one floor.
+  void set_p_min(double p_min, int head = 0, double p_min_head = 0.0) noexcept {
+    const auto valid = [&](double p) { return p >= 0.0 && p * size() < 1.0; };
+    if (!valid(p_min) || (head > 0 && !valid(p_min_head))) return;
+    if (head < 0) head = 0;
+    if (p_min == options_.p_min && head == head_ && (head == 0 || p_min_head == p_min_head_)) return;
     options_.p_min = p_min;
     log_p_min_ = p_min > 0.0 ? std::log(p_min) : -std::numeric_limits<double>::infinity();
+    head_ = head;
+    p_min_head_ = head > 0 ? p_min_head : 0.0;
+    log_p_min_head_ = p_min_head_ > 0.0 ? std::log(p_min_head_) : -std::numeric_limits<double>::infinity();
     set_floors(presumed_);
   }
   // Presume hypothesis `index` (noexcept; ignored if out of range): the floors f_k are set
@@ -493,8 +503,10 @@ class FilterBank {
     const double c0 = hypotheses_[index].tracked_level_offset();
     for (int i = 0; i < size(); ++i) {
       const double d = hypotheses_[i].tracked_level_offset() - c0;
-      floor_(i) = d < 0.0 ? options_.p_min * std::exp(d) : options_.p_min;
-      log_floor_(i) = d < 0.0 ? log_p_min_ + d : log_p_min_;
+      const double base = i < head_ ? p_min_head_ : options_.p_min;
+      const double log_base = i < head_ ? log_p_min_head_ : log_p_min_;
+      floor_(i) = d < 0.0 ? base * std::exp(d) : base;
+      log_floor_(i) = d < 0.0 ? log_base + d : log_base;
     }
   }
   // Water-filling floor (see the header comment); keeps log_p_ consistent with p_.
@@ -554,6 +566,8 @@ class FilterBank {
   PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)
   std::int64_t start_up_frames_ = 0;              // round(start_up_s f): updates that weigh nothing
   int presumed_ = 0;                              // the hypothesis presumed last (set_p_min)
+  int head_ = 0;                                  // set_p_min's two tiers: k < head_ take
+  double p_min_head_ = 0.0, log_p_min_head_ = 0.0;   // p_min_head_ (head_ = 0: none)
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

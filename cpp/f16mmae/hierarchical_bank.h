@@ -10,6 +10,17 @@
 //   back-out  NONE declared at level 1 -> level 0 again, NONE presumed.
 //   final     a dual f+c declared at level 1 is the final answer: the bank stays at level 1
 //             (it keeps running; a later NONE declaration still backs out).
+// The floor at level 1 (options.level1_p_min; 0, the default: the level-0 floor, bit for bit):
+//   while a level-1 bank is on line its duals f+c take the floor level1_p_min, NONE and f
+//   keep the level-0 floor (FilterBank::set_p_min's two tiers); back at level 0 (back-out,
+//   reset()) the level-0 floor is in force for all again (p_min, or a scheduled bank's node
+//   floor). NONE keeps it because "the declaration of f was false" is no event that may
+//   begin now: backing out needs the evidence a level-0 declaration needs. Why a floor of its own: a dual f+c must gather ln(1/p_min) nats over f alone
+//   before it leads, and without f's sensor (or surface) the evidence for c comes at a
+//   fraction of its level-0 rate (the pitch-rate gyro out, a stabilator is seen through α and
+//   n_z only), so with the level-0 floor (1e-9 tuned against false alarms in failure-free
+//   flight) the dual rises seconds after the lone failure would. The level-1 floor is the
+//   prior of "the second failure may have begun now" given that one already has.
 // Hypotheses are looked up by NAME in the ModelBank: "NONE"; singles are the names without
 // '+'; the dual of a and b is "a+b" or "b+a". A missing dual is a construction error.
 //
@@ -113,6 +124,7 @@ struct HierarchicalOptions {
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
+  double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
   int history_capacity = 1024;
 };
 
@@ -221,9 +233,10 @@ class HierarchicalBank {
     if (!(level_ == 0 && online_ == level0_ && !sched_.active()))
       for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[level0_[k]]);
     online_ = level0_;
+    level_ = 0;
+    set_floors();   // the level-0 floor again (no-op unless level1_p_min)
     bank_.reset();
     declarer_.reset(0);
-    level_ = 0;
     frame_ = 0;
     history_.clear();
     dropped_ = 0;
@@ -263,6 +276,7 @@ class HierarchicalBank {
     }
     online_ = from.online_;
     level_ = from.level_;
+    set_floors();   // this bank's floors for the level carried over
     bank_.carry_over(from.bank_, !warm);
     if (!warm) bank_.reset_adaptation();
     declarer_.carry_over(from.declarer_);
@@ -407,6 +421,10 @@ class HierarchicalBank {
         maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
         actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
+    if (!(options.level1_p_min >= 0.0) || !(options.level1_p_min * static_cast<double>(b.level0.size()) < 1.0))
+      throw std::invalid_argument("hierarchical bank: level1_p_min must lie in [0, 1/K) = [0, " +
+                                  std::to_string(1.0 / static_cast<double>(b.level0.size())) + "), got " +
+                                  std::to_string(options.level1_p_min));
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));
@@ -486,8 +504,21 @@ class HierarchicalBank {
     }
     online_ = next;
     level_ = level;
+    set_floors();
     bank_.presume(presumed);
     declarer_.reset(presumed);
+  }
+  // The level-0 floor (a scheduled bank's node floor in force with node_p_min, else p_min),
+  // and the floors for the level on line (header): at level 1 with level1_p_min set, the
+  // duals (on-line positions 2...) take level1_p_min, NONE and f the level-0 floor.
+  double level0_floor() const noexcept {
+    return sched_.active() && options_.schedule.node_p_min ? sched_.p_min() : options_.bank.p_min;
+  }
+  void set_floors() noexcept {
+    if (level_ == 1 && options_.level1_p_min > 0.0)
+      bank_.set_p_min(options_.level1_p_min, 2, level0_floor());
+    else
+      bank_.set_p_min(level0_floor());
   }
 
   // The on-line filters as the schedule has them in force (states kept).
@@ -496,7 +527,7 @@ class HierarchicalBank {
                           [&](auto& h_out) { sched_.h_output(h_out); });
     if (sched_.has_adapt_reference() && options_.schedule.node_adapt_reference)
       bank_.set_adapt_reference(sched_.adapt_reference());
-    if (options_.schedule.node_p_min) bank_.set_p_min(sched_.p_min());
+    set_floors();   // (unchanged unless node_p_min or level1_p_min)
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {

@@ -201,6 +201,61 @@ TEST(HierarchicalBank, BacksOutWhenNoneWinsAtLevelOne) {
   EXPECT_EQ(hb.frames(), 0);
 }
 
+TEST(HierarchicalBank, LevelOneFloorHoldsWhileLevelOneIsOnLineOnly) {
+  // the single-then-back-out flight of the test above, with a level-1 floor of its own: at
+  // the switch the duals sit on f1, NONE on the level-0 floor p_min and the presumed single
+  // carries the rest; at the back-out (and after reset) p_min is every floor again; 0 leaves
+  // the bank as it was
+  Small s;
+  HierarchicalOptions o;
+  o.bank.p_min = 1e-6;
+  o.level1_p_min = 1e-3;
+  DynamicHierarchicalBank hb(s.bank, o);
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {{"Z2", 64, 256}}, 512, 3u);
+  int switches = 0;
+  for (int i = 0; i < 512; ++i) {
+    const int d = hb.update(f.z[i]);
+    if (d >= 0 && hb.name(d) == "Z2") {
+      ++switches;
+      EXPECT_EQ(hb.level(), 1);
+      EXPECT_DOUBLE_EQ(hb.bank().options().p_min, 1e-3);
+      EXPECT_NEAR(hb.probabilities()(1), 1.0 - 4 * 1e-3 - 1e-6, 1e-15);
+      EXPECT_DOUBLE_EQ(hb.probabilities()(0), 1e-6);
+      for (int k : {2, 3, 4, 5}) EXPECT_DOUBLE_EQ(hb.probabilities()(k), 1e-3);
+    }
+    if (hb.level() == 1) {
+      EXPECT_GE(hb.probabilities()(0), 1e-6 * (1 - 1e-12));
+      EXPECT_GE(hb.probabilities().tail(4).minCoeff(), 1e-3 * (1 - 1e-12));
+    }
+    if (d >= 0 && hb.name(d) == "NONE") {
+      EXPECT_EQ(hb.level(), 0);
+      EXPECT_DOUBLE_EQ(hb.bank().options().p_min, 1e-6);
+      EXPECT_NEAR(hb.probabilities()(0), 1.0 - 5 * 1e-6, 1e-15);
+    }
+    hb.propagate(f.u[i]);
+  }
+  EXPECT_EQ(switches, 1);
+  ASSERT_EQ(declared_names(hb), (std::vector<std::string>{"Z2", "NONE"}));
+  hb.reset();
+  EXPECT_DOUBLE_EQ(hb.bank().options().p_min, 1e-6);
+  EXPECT_NEAR(hb.probabilities()(0), 1.0 - 5 * 1e-6, 1e-15);
+
+  o.level1_p_min = 0.0;   // the default: the level-0 floor at level 1 too, bit for bit
+  DynamicHierarchicalBank same(s.bank, o);
+  HierarchicalOptions plain;
+  plain.bank.p_min = 1e-6;
+  DynamicHierarchicalBank reference(s.bank, plain);
+  for (int i = 0; i < 512; ++i) {
+    same.step(f.z[i], f.u[i]);
+    reference.step(f.z[i], f.u[i]);
+    ASSERT_EQ(same.probabilities(), reference.probabilities()) << "frame " << i;
+  }
+  o.level1_p_min = 0.2;   // K = 6: must be below 1/6
+  EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
+  o.level1_p_min = -1e-3;
+  EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
+}
+
 TEST(HierarchicalBank, NoFailureDeclaresNothing) {
   Small s;
   DynamicHierarchicalBank hb(s.bank);

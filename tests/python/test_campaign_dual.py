@@ -235,3 +235,35 @@ def test_cli_help_teaches(capsys):
     text = capsys.readouterr().out
     for needle in ("examples:", "dual_matrix.png", "summary.json", "Good", "Fair", "Poor", "ND", "--second-time-s"):
         assert needle in text
+
+
+# -- pairs the models cannot separate ------------------------------------------------------------
+def _pair(first, second, rating, absolute="Not good"):
+    return {"case": f"{first}>{second}", "first": first, "second": second, "runs": 3, "rating": rating,
+            "rating_reason": "measured", "absolute_rating": absolute, "absolute_rating_reason": "why"}
+
+
+@pytest.mark.slow
+def test_models_rate_a_blocked_pair_indistinguishable_and_leave_the_others():
+    from f16mmae.campaign.dual import models
+    from f16mmae.design import distinguish
+
+    _, _, bank = load_bank("tuned")
+    pairs = [_pair("AZ", "AOA", "ND"), _pair("PIT", "LS", "Fair"), _pair("LS", "PIT", "Good", "Good")]
+    out = models.annotate(pairs, bank, "light", "complete")
+    assert out == {"evaluated": 2, "indistinguishable": ["AZ>AOA"]}
+    blocked, late, good = pairs
+    # AZ>AOA: AZ alone explains AOA reading trim better than the dual does (D < 0), so the
+    # pair is rated Indistinguishable, its measured ND kept beside it
+    design, why = models.bank_design(bank)
+    assert why is None
+    d = distinguish.evidence_rates(design, "AOA+AZ", distinguish.level1_competitors("AZ", "AOA"))
+    assert blocked["models"]["against"] == min(d, key=d.get) == "AZ" and d["AZ"] < 0
+    assert blocked["models"]["rate_nats_per_frame"] == pytest.approx(d["AZ"], abs=1e-6)
+    assert (blocked["rating"], blocked["measured_rating"]) == (dual_scoring.INDISTINGUISHABLE, "ND")
+    assert "physically indistinguishable" in blocked["rating_reason"] and "measured" in blocked["rating_reason"]
+    # PIT>LS: separable (D > 0), its measured rating stays; the Good pair is not evaluated
+    assert late["models"]["rate_nats_per_frame"] > 0 and late["rating"] == "Fair" and "measured_rating" not in late
+    assert "models" not in good and good["rating"] == "Good"
+    # a mode or level the models do not cover: nothing evaluated, and why
+    assert "not hardover in light" in models.annotate([_pair("AZ", "AOA", "ND")], bank, "light", "hardover")["why_not"]

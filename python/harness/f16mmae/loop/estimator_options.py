@@ -100,6 +100,11 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     exclusive=True, maximum=100.0,
                     help="temper every likelihood by 1 + (dn/G)^2 while the estimated load factor is dn g off "
                          "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off"),
+    EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
+                    below=round(1.0 / K_BANK, 6), in_daemon=False,
+                    help="probability floor while a failure's level-1 (dual) bank is on line: a second "
+                         "failure rises from it (cpp/f16mmae/hierarchical_bank.h; above (1 - threshold) / 12 "
+                         "no hypothesis can pass the threshold). Default 0: the level-0 floor"),
     EstimatorOption("actuator_rate_limits_rad_s", "--actuator-rate-limits", "values", on_command_line=False,
                     help="the actuators' rate limits, rad/s, one per input"),
     EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",

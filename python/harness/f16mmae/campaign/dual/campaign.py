@@ -45,6 +45,7 @@ from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
 from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
 from . import figures
+from . import models
 from . import scoring
 
 #: Every ordered (first, second) pair of failures (``names.COMPONENTS``, Fig. 7): 132.
@@ -210,7 +211,9 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
                 s["runs"], s["correct"], s["false_alarms"], s["evidence"]["rates"]["transient_wrong"]["count"],
                 s["latency_s"]["median"])
         pairs.append(s)
-        matrix.setdefault(a, {})[b] = s["rating"]
+    models_evaluated = models.annotate(pairs, bank, cfg.turbulence, cfg.mode)
+    for s in pairs:
+        matrix.setdefault(s["first"], {})[s["second"]] = s["rating"]
     return {
         "kind": "dual",
         "runs_per_pair": cfg.runs,
@@ -232,6 +235,7 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
         "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
         "rating_rules": dict(scoring.RATING_RULES),
         "ratings": {k: sum(1 for p in pairs if p["rating"] == k) for k in scoring.RATINGS},
+        "models": models_evaluated,
         "matrix": matrix,
         "paper_comparison": scoring.compare_with_paper(matrix),
         "baselines": [baselines[b] for b in cfg.seconds],

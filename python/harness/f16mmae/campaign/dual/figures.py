@@ -24,7 +24,7 @@ from ...report.drawing import deferrable
 from ...report.figures import pyplot
 from ..engine.scoring import mean_injected_probability
 from .scoring import PAPER_FIG7, RATINGS
-COLORS = {"Good": "#8bc98b", "Fair": "#f6d55c", "Poor": "#f3a15a", "ND": "#e0605a"}
+COLORS = {"Good": "#8bc98b", "Fair": "#f6d55c", "Poor": "#f3a15a", "ND": "#e0605a", "Indistinguishable": "#9aa7c7"}
 DIAGONAL = "#c8c8c8"
 
 

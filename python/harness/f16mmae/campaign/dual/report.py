@@ -18,7 +18,7 @@ from ...report.page import param_table, register_page
 from ..engine.outcomes import ABSOLUTE_DUAL_RULES
 from .scoring import RATING_RULES, RATINGS
 
-_ROW_CLASS = {"Good": "ok", "Fair": "fair", "Poor": "bad", "ND": "bad"}
+_ROW_CLASS = {"Good": "ok", "Fair": "fair", "Poor": "bad", "ND": "bad", "Indistinguishable": "fair"}
 
 
 def _s(x) -> str:
@@ -79,6 +79,9 @@ def dual_page(d: Path, s: dict) -> str:
         f"<dt>Poor</dt><dd>neither, but the dual was declared in some run or its probability reached "
         f"{R['poor_probability']}</dd>"
         "<dt>ND</dt><dd>the dual never declared and its probability never reached that</dd>"
+        "<dt>Indistinguishable</dt><dd>not Good, and the models show the dual indistinguishable: its "
+        "expected evidence per frame against a rival of the first failure's level-1 bank is &le; 0 "
+        "(design.distinguish on the bank's own design; the measured rating is kept beside it)</dd>"
         "<dt>correct / missed / wrong</dt><dd>the run ends declaring the dual / NONE or the first "
         "failure alone / another hypothesis</dd>"
         "<dt>latency, hold</dt><dd>first declaration of the dual after the second failure minus its "

@@ -39,6 +39,10 @@ Rating of a pair against the baseline of its second failure (:func:`rate_pair`),
   reached 0.5: spikes, no lock;
 * **ND**   -- the dual was never declared and its probability never reached 0.5 (the
   second failure missed, or falsely declared as another hypothesis).
+
+A pair not rated Good whose dual the models show indistinguishable from a rival
+(``campaign.dual.models``: expected evidence per frame D <= 0) is rated
+**Indistinguishable** instead, its measured rating kept beside it.
 """
 from __future__ import annotations
 
@@ -49,7 +53,11 @@ import numpy as np
 from ...names import COMPONENTS, NONE
 from ..engine import scoring
 
-RATINGS: tuple[str, ...] = ("Good", "Fair", "Poor", "ND")
+#: The rating of a pair whose dual the models cannot separate from a rival of the first
+#: failure's level-1 bank (expected evidence per frame D <= 0; ``campaign.dual.models``), in
+#: place of its measured Fair / Poor / ND.
+INDISTINGUISHABLE = "Indistinguishable"
+RATINGS: tuple[str, ...] = ("Good", "Fair", "Poor", "ND", INDISTINGUISHABLE)
 
 #: The thresholds of the rating, all in one place (see the module docstring).
 RATING_RULES = {
@@ -188,7 +196,7 @@ def compare_with_paper(matrix: dict[str, dict[str, str]]) -> dict:
     for a, row in matrix.items():
         for b, ours in row.items():
             theirs = PAPER_FIG7.get(a, {}).get(b)
-            if not theirs or ours not in RATINGS:
+            if not theirs or ours not in RATINGS[:4]:   # the paper's four (not Indistinguishable)
                 continue
             n += 1
             same += ours == theirs

@@ -48,6 +48,23 @@ def test_failure_log_odds_peak_with_no_tempering_is_the_plain_filter_bank_s():
     assert calibrate.failure_log_odds_peak(bank, flights, 50.0) == pytest.approx(peak, abs=1e-9)
 
 
+def test_the_calibration_flies_the_estimator_s_start_up():
+    """A start-up as long as the flights weighs no hypothesis in any frame: the peak failure
+    log-odds is where the estimator starts, ln(p_min / (1 - 12 p_min)) (about -20.72 at 1e-9),
+    while the same flights without it climb above; bounded_reference passes it on (every
+    reference then keeps the start)."""
+    from f16mmae.banks import load_bank
+
+    bank = load_bank("tuned")[2]
+    flights = calibrate.node_flights(0.4, 20_000.0, "light")[:2]
+    start = float(np.log(bank.p_min / (1.0 - 12 * bank.p_min)))
+    assert start == pytest.approx(-20.7232658, abs=1e-6)
+    assert calibrate.failure_log_odds_peak(bank, flights, 0.6, start_up_s=8.0) == pytest.approx(start, abs=1e-9)
+    assert calibrate.failure_log_odds_peak(bank, flights, 0.6) > start + 5.0
+    assert calibrate.bounded_reference(bank, flights, start + 1e-6, (0.4, 1.0), 0.1, start_up_s=8.0) == (
+        1.0, pytest.approx(start, abs=1e-9))
+
+
 def test_bounded_reference_is_the_largest_grid_reference_within_the_bound():
     """The bisection finds what a scan of the grid finds: the largest reference at and below
     which every reference keeps the peak within the bound (lower references temper more, so

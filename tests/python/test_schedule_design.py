@@ -14,7 +14,7 @@ import pytest
 from f16mmae import core
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.calibrate import (adaptation_reference, bounded_settings, log_odds_bound,
+from f16mmae.design.calibrate import (START_UP_S, adaptation_reference, bounded_settings, log_odds_bound,
                                       calibrate_node, failure_log_odds_peak, node_flights)
 from f16mmae.design.model import linearize_truth
 from f16mmae.design.schedule import ScheduleSpecError, neighbourhood_minimum, parse_grid, x_trim
@@ -53,15 +53,16 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     design = design_bank(0.5, 20000.0, tuning)
     node = s["nodes"][1]
     flights = node_flights(0.5, 20000.0, "light")
-    chosen = bounded_settings(to_model_bank(design), flights)
+    chosen = bounded_settings(to_model_bank(design), flights, start_up_s=START_UP_S)
     reference, p_min = chosen["adapt_reference"], chosen["p_min"]
-    peak = failure_log_odds_peak(to_model_bank(design).with_settings(p_min=p_min), flights, reference)
+    peak = failure_log_odds_peak(to_model_bank(design).with_settings(p_min=p_min), flights, reference,
+                                 start_up_s=START_UP_S)
     assert round(peak, 2) == chosen["failure_log_odds_peak"] and peak <= log_odds_bound(p_min, 0.9)
     # the file carries the smaller of the two nodes' floors (neighbours on the grid, both within
     # their bound), as the node bank's recommended p_min, and the smaller of their bounded
     # references at that floor
     s0 = bounded_settings(to_model_bank(design_bank(0.4, 20000.0, calibrate_node(0.4, 20000.0, load_tuning("tuned"))[0])),
-                          node_flights(0.4, 20000.0, "light"))
+                          node_flights(0.4, 20000.0, "light"), start_up_s=START_UP_S)
     assert chosen["bound_met"] and s0["bound_met"]
     p_min_in_file = min(p_min, s0["p_min"])
     reference_in_file = min(row[1] for row in chosen["candidates"] + s0["candidates"] if row[0] == p_min_in_file)
@@ -75,6 +76,7 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     np.testing.assert_array_equal(node["x_trim"], x_trim(design))
     assert node["x_trim"][0] == pytest.approx(design.z_trim[0]) and node["x_trim"][8] == design.u_trim[0]
     meta = json.loads(scheduled.schedule["metadata"])
+    assert meta["start_up_s"] == START_UP_S == 0.25 and "--start-up-s 0.25" in meta["command"]
     assert meta["node_tuning"] == "calibrated" and [(n["mach"], n["alt_ft"]) for n in meta["nodes"]] == [
         (0.4, 20000.0), (0.5, 20000.0)]
     assert meta["nodes"][1]["power_ratio_mean"] == adaptation_reference(design, flights)
@@ -113,12 +115,17 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
     assert "content hash" in text
     node = core.load_bank(out).schedule["nodes"][0]
     assert node["bank"].content_hash == _hash(design_bank(0.5, 20000.0, "tuned"))
+    assert "start_up_s" not in json.loads(core.load_bank(out).schedule["metadata"])  # no calibration flights
 
 
 @pytest.mark.parametrize("args, message", [
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "per-point"], "--node-tuning 'per-point': valid: "
                                                                          "calibrated, fixed"),
-    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers and --node-p-min apply to a scheduled design; give --schedule"),
+    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min and --start-up-s apply to a scheduled "
+                                 "design; give --schedule"),
+    (["--schedule", "mach=0.5,alt=20000", "--start-up-s", "-1"], "--start-up-s '-1' must be >= 0.0"),
+    (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--start-up-s", "0.25"],
+     "--start-up-s is flown in the calibration flights: it needs --node-tuning calibrated"),
     (["--schedule", "mach=0.5,alt=20000", "--node-p-min", "1e-9/0.5"], "--node-p-min '0.5' must be < 0.012658"),
     (["--schedule", "mach=0.5,alt=20000", "--flap-layers", "maybe"], "--flap-layers 'maybe': valid: on, off"),
 ])

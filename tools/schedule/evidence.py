@@ -2,7 +2,7 @@
 nodes from the design point to high dynamic pressure, against what the declaration rule needs.
 
     python tools/schedule/evidence.py --schedule FILE [--nodes 0.4:20000,0.6:10000] \\
-        [--failures LS,RS,LF,RF,ROL] [--seeds 1,2,3,4]
+        [--failures LS,RS,LF,RF,ROL] [--seeds 1,2,3,4] [--turbulence none] [--dither-scale 1,1,2,2,2]
 
 At each node, each failure is flown with the design's calibration-flight setup
 (``design.flights.fly_closed_loop``: light turbulence, the truth's default dither, raw
@@ -17,6 +17,9 @@ frames after the failure (mean over the seeds):
            ln(threshold / (1 - threshold)) within the frames left after the failure, less the dwell
   s        the turbulence adaptation's scale the node's estimator holds over those frames
            (reference = the node's; the likelihoods are divided by it)
+--turbulence flies another turbulence level than the calibration's light (none: what the
+turbulence costs the evidence); --dither-scale multiplies the surface dither amplitudes (one
+factor, or one per surface LS,RS,LF,RF,RUD; dither_margin.py: what the criterion allows).
 """
 from __future__ import annotations
 
@@ -28,6 +31,7 @@ from f16mmae import core, names
 from f16mmae.banks import load_bank
 from f16mmae.campaign.envelope.points import dynamic_pressure_psf
 from f16mmae.design.flights import fly_closed_loop
+from dither_margin import scaled_dither
 
 FAILURE_S = 3.0
 
@@ -43,7 +47,10 @@ def main() -> int:
     ap.add_argument("--nodes", default="0.4:20000,0.5:15000,0.6:10000,0.7:10000,0.8:5000")
     ap.add_argument("--failures", default="LS,RS,LF,RF,ROL")
     ap.add_argument("--seeds", default="1,2,3,4")
+    ap.add_argument("--turbulence", default="light")
+    ap.add_argument("--dither-scale", default="1")
     args = ap.parse_args()
+    dither = scaled_dither(args.dither_scale)
     info = load_bank(args.schedule)[2].schedule
     seeds = [int(s) for s in args.seeds.split(",")]
     for item in args.nodes.split(","):
@@ -62,7 +69,8 @@ def main() -> int:
             k = names.SINGLE_HYPOTHESES.index(fail)
             e_none, diffs, scales = [], [], []
             for seed in seeds:
-                fl = fly_closed_loop(mach, alt, seed=seed, failure=fail, failure_time_s=FAILURE_S)
+                fl = fly_closed_loop(mach, alt, seed=seed, failure=fail, failure_time_s=FAILURE_S,
+                                     turbulence_level=args.turbulence, dither=dither)
                 est = core.HierarchicalBank(mb, adapt_turbulence=True, adapt_reference=nd["adapt_reference"], **settings)
                 plain.reset()
                 first = int(FAILURE_S * names.FRAME_RATE_HZ)

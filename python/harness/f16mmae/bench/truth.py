@@ -25,6 +25,8 @@ median of many repeats is the steadier).
 """
 from __future__ import annotations
 
+import dataclasses
+
 import os
 import time
 
@@ -124,10 +126,12 @@ def benchmark(duration_s: float = 8.0, repeat: int = 5) -> dict:
     return res
 
 
-def dither_levels(mach: float = 0.4, alt_ft: float = 20_000.0, duration_s: float = 8.0) -> dict:
-    """Peak closed-loop response to the default dither (no noise, no turbulence): nz_g, ny_g,
-    q/p/r in deg/s, alpha_deg, vel_fps (perturbations from trim)."""
-    sc = Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw")
+def dither_levels(mach: float = 0.4, alt_ft: float = 20_000.0, duration_s: float = 8.0,
+                  dither: DitherSpec | None = None) -> dict:
+    """Peak closed-loop response to the default dither (or ``dither``; no noise, no turbulence):
+    nz_g, ny_g, q/p/r in deg/s, alpha_deg, vel_fps (perturbations from trim)."""
+    sc = Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw",
+                  dither=dither if dither is not None else DitherSpec())
     truth, _ = fly_raw(sc)
     log = truth.truth_log
     dz = np.abs(log["z_ideal"] - truth.trim.z).max(axis=0)
@@ -142,17 +146,18 @@ _DITHER_CHANNELS = (("nz_g", 3, 1.0), ("q_deg_s", 2, 180.0 / np.pi), ("p_deg_s",
 
 
 def dither_in_turbulence(level: str, seed: int = 1, duration_s: float = 30.0, mach: float = 0.4,
-                         alt_ft: float = 20_000.0) -> dict:
+                         alt_ft: float = 20_000.0, dither: DitherSpec | None = None) -> dict:
     """The default dither's peak response in turbulence ``level`` beside the gusts' own: one
     flight with the dither and one without (same seed: the same gusts; no sensor noise, FCS on
     raw sensors). ``dither``: peak |z_ideal(with) - z_ideal(without)| (the dither's part, the
     closed loop being close to linear); ``gusts``: peak |z_ideal(without) - trim|; ``ratio``:
     RMS of the dither's part over RMS of the gusts' (how much of the excitation is the dither),
-    per channel of ``_DITHER_CHANNELS``."""
+    per channel of ``_DITHER_CHANNELS``.  ``dither``: another dither than the default."""
     logs = {}
     for on in (True, False):
         sc = Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw",
-                      turbulence=level, seed=seed, dither=DitherSpec(enabled=on))
+                      turbulence=level, seed=seed,
+                      dither=dataclasses.replace(dither or DitherSpec(), enabled=on))
         truth, _ = fly_raw(sc)
         logs[on] = (truth.truth_log["z_ideal"], truth.trim.z)
     d = logs[True][0] - logs[False][0]

@@ -273,7 +273,8 @@ def absolute_frames(model_bank, flight) -> tuple[np.ndarray, np.ndarray]:
     return u, flight.z + z_trim
 
 
-def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | None = None) -> float:
+def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | None = None,
+                          start_up_s: float = 0.0) -> float:
     """The largest failure log-odds ``max_t max_(k != NONE) ln(p_k / p_NONE)`` over ``flights``
     (no-failure records, perturbations from the bank's trim) of the estimator the bank makes
     (core.HierarchicalBank with the bank's settings and the turbulence adaptation on at
@@ -281,11 +282,14 @@ def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | 
     ``ln(p_min / (1 - 12 p_min))`` (about -20.7 at p_min 1e-9) is the floor; a declaration
     needs more than ``ln(threshold / (1 - threshold))`` (2.2 at 0.9) for the dwell.
     ``scales``: a list that receives the likelihood scale s the adaptation holds at every frame
-    after each flight's first second."""
+    after each flight's first second.  ``start_up_s``: the estimator's start-up (the first
+    round(64 start_up_s) frames of each flight weigh no hypothesis; ``--start-up-s``), as it
+    will fly."""
     from .. import core
 
     settings = dict(model_bank.estimator_settings)
-    bank = core.HierarchicalBank(model_bank, adapt_turbulence=True, adapt_reference=float(reference), **settings)
+    bank = core.HierarchicalBank(model_bank, adapt_turbulence=True, adapt_reference=float(reference),
+                                 start_up_s=float(start_up_s), **settings)
     peak = -np.inf
     for fl in flights:
         bank.reset()
@@ -302,21 +306,22 @@ def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | 
 
 def bounded_reference(model_bank, flights, bound: float = REFERENCE_LOG_ODDS_BOUND,
                       reference_range: tuple[float, float] = REFERENCE_RANGE,
-                      step: float = REFERENCE_STEP) -> tuple[float, float]:
+                      step: float = REFERENCE_STEP, start_up_s: float = 0.0) -> tuple[float, float]:
     """The largest reference on the grid ``reference_range`` (``step``) at which the
     estimator's peak failure log-odds over the no-failure ``flights`` stays at or below
     ``bound`` (``failure_log_odds_peak``): the least tempering that keeps the calibration
     flights this far from a declaration.  The peak falls as the reference falls (a lower
     reference, a larger likelihood scale s); the search is a bisection on the grid, and
     returns the grid's lower end if even that exceeds the bound.  Returns (reference, peak at
-    it).  Deterministic for given flights."""
+    it).  ``start_up_s``: the estimator's start-up the flights are run with.  Deterministic for
+    given flights."""
     lo_ref, hi_ref = reference_range
     grid = [round(lo_ref + n * step, 6) for n in range(int(round((hi_ref - lo_ref) / step)) + 1)]
     lo, hi = 0, len(grid) - 1   # invariant: every index < lo passes (or lo == 0); none > hi passes
     peaks = {}
 
     def passes(n):
-        peaks[n] = failure_log_odds_peak(model_bank, flights, grid[n])
+        peaks[n] = failure_log_odds_peak(model_bank, flights, grid[n], start_up_s=start_up_s)
         return peaks[n] <= bound
 
     best = 0
@@ -337,6 +342,11 @@ def bounded_reference(model_bank, flights, bound: float = REFERENCE_LOG_ODDS_BOU
 #: (docs/results/envelope_tuning.md, round 5): they bound the low nodes' false alarms, but
 #: through the neighbourhood step they slow detection around them more than they gain.
 P_MIN_CANDIDATES: tuple[float, ...] = (1e-9, 1e-7, 1e-5, 1e-3)
+#: The estimator start-up (s) a scheduled design's calibration flights are run with
+#: (``bounded_settings``; ``--start-up-s``), and the start-up the file is meant to be flown with
+#: (``--start-up-s 0.25``): the first 16 frames, in which the first trims rest on a few air-data
+#: samples (docs/results/envelope_tuning.md, round 6, measures it).
+START_UP_S = 0.25
 #: The floor at which REFERENCE_LOG_ODDS_BOUND was chosen (the shipped tuning's p_min).
 BOUND_P_MIN = 1e-9
 
@@ -372,7 +382,7 @@ def log_odds_bound(p_min: float, threshold: float, bound: float = REFERENCE_LOG_
 
 
 def bounded_settings(model_bank, flights, candidates: tuple[float, ...] = P_MIN_CANDIDATES,
-                     bound: float = REFERENCE_LOG_ODDS_BOUND) -> dict:
+                     bound: float = REFERENCE_LOG_ODDS_BOUND, start_up_s: float = 0.0) -> dict:
     """A node's probability floor and adaptation reference, bounded by its calibration
     flights' false alarms: for each candidate p_min, the largest reference whose peak failure
     log-odds over ``flights`` stays within ``log_odds_bound(p_min)`` (``bounded_reference`` on
@@ -380,16 +390,17 @@ def bounded_settings(model_bank, flights, candidates: tuple[float, ...] = P_MIN_
     turbulence); of the candidates that meet their bound, the one of least
     ``declaration_effort`` (ties: the smaller floor); if none does, the smallest candidate.
     Returns {p_min, adapt_reference, failure_log_odds_peak, bound_met, scale, effort,
-    candidates: [[p_min, reference, peak, s, met], ...] (ascending floors)}.  Deterministic for
-    given flights."""
+    candidates: [[p_min, reference, peak, s, met], ...] (ascending floors)}.  ``start_up_s``: the
+    estimator's start-up, flown in every calibration run (``failure_log_odds_peak``).
+    Deterministic for given flights."""
     rows, best = [], None
     threshold = float(model_bank.threshold)
     for p_min in sorted(candidates):
         bank = model_bank.with_settings(p_min=p_min)
         limit = log_odds_bound(p_min, threshold, bound)
-        reference, peak = bounded_reference(bank, flights, limit)
+        reference, peak = bounded_reference(bank, flights, limit, start_up_s=start_up_s)
         scales: list[float] = []
-        failure_log_odds_peak(bank, flights, reference, scales)
+        failure_log_odds_peak(bank, flights, reference, scales, start_up_s=start_up_s)
         scale = float(np.mean(scales)) if scales else 1.0
         row = {"p_min": p_min, "adapt_reference": reference, "failure_log_odds_peak": round(peak, 2),
                "bound_met": bool(peak <= limit), "scale": round(scale, 3),

@@ -53,7 +53,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("start_up_s", "--start-up-s", "number", metavar="S", minimum=0.0, maximum=3600.0,
                     help="the first S seconds of frames after the estimator starts update its filters but "
                          "weigh no hypothesis: the filters start at the design trim while the aircraft is in "
-                         "flight near it (cpp/f16mmae/filter_bank.h). Default 0: weigh from the first frame"),
+                         "flight near it (cpp/f16mmae/filter_bank.h). Default 0: weigh from the first frame; "
+                         "0.25 with the scheduled bank, whose floors were bounded on flights with it"),
     EstimatorOption("adapt_turbulence", "--adapt-turbulence", "switch",
                     help="adapt the likelihoods on line to the turbulence intensity (one residual "
                          "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "

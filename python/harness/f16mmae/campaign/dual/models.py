@@ -52,7 +52,8 @@ def bank_design(bank):
 
 
 def evidence(design, first: str, second: str, calm: bool) -> dict:
-    """``{"rate": D, "against": weakest rival, "seconds_to_lift_1e-9"}`` of pair first>second."""
+    """``{"rate_nats_per_frame": D, "against": the weakest rival, "indistinguishable": D <= 0}``
+    of pair first>second."""
     rates = distinguish.evidence_rates(design, names.dual_name(first, second),
                                        distinguish.level1_competitors(first, second), calm=calm)
     weakest = min(rates, key=rates.get)

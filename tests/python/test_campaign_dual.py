@@ -324,6 +324,10 @@ def test_models_rate_a_blocked_pair_indistinguishable_and_leave_the_others(tmp_p
     assert again[0]["models"] == blocked["models"]
     # a mode or level the models do not cover: nothing evaluated, and why
     assert "not hardover in light" in models.annotate([_pair("AZ", "AOA", "ND")], bank, "light", "hardover")["why_not"]
+    scaled = [_pair("AZ", "AOA", "ND")]
+    assert "not 1.11 times it" in models.annotate(scaled, bank, "light", "complete", dither_scale=1.11)["why_not"]
+    assert "not none" in models.annotate(scaled, bank, "light", "complete", dither_scale=None)["why_not"]
+    assert scaled[0]["rating"] == "ND" and "models" not in scaled[0]
 
 
 def test_least_lift_is_the_smallest_over_the_admissible_floors():

@@ -220,7 +220,8 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
     window = cfg.duration_s - cfg.second_time_s - settings.get("dwell_s", 0.25)
     models_evaluated = models.annotate(pairs, bank, cfg.turbulence, cfg.mode,
                                        window_frames=int(window * bank.frame_rate_hz),
-                                       threshold=settings.get("threshold", 0.9))
+                                       threshold=settings.get("threshold", 0.9),
+                                       dither_scale=cfg.dither_scale if cfg.dither else None)
     for s in pairs:
         matrix.setdefault(s["first"], {})[s["second"]] = s["rating"]
     return {

@@ -30,8 +30,8 @@ pair costs about a second and a half; its result is cached under the cache root
 
 The design is rebuilt from the bank's tuning at its design point and used only when its
 filters are the bank's own (gains equal to 1e-9); otherwise, and for a failure mode other than
-``complete`` or a turbulence level other than the design's (``light``) or ``none``, nothing is
-evaluated and the summary says why.
+``complete``, a turbulence level other than the design's (``light``) or ``none``, or a dither
+other than the default, nothing is evaluated and the summary says why.
 """
 from __future__ import annotations
 
@@ -122,17 +122,21 @@ def _store_cached(path, entries: dict) -> None:
 
 
 def annotate(pairs: list[dict], bank, turbulence: str, mode: str, window_frames: int | None = None,
-             threshold: float = 0.9) -> dict:
+             threshold: float = 0.9, dither_scale: float | None = 1.0) -> dict:
     """Evaluate every pair rated Poor or ND from the models, store it in the pair's ``models``
     field and re-rate the indistinguishable ones; with ``window_frames`` (the frames after the
     second failure less the dwell) the separable ones get the window's check (``window``, module
-    docstring). Returns the summary's ``models`` field (what was evaluated, or why nothing was)."""
+    docstring). ``dither_scale``: the campaign's dither (None: off); the models hold the default
+    dither only. Returns the summary's ``models`` field (what was evaluated, or why nothing was)."""
     todo = [p for p in pairs if p["runs"] and p["rating"] in ("Poor", "ND")]
     if not todo:
         return {"evaluated": 0}
     if mode != "complete" or turbulence not in ("light", "none"):
         return {"evaluated": 0, "why_not": f"the models are evaluated for complete failures in light "
                                            f"turbulence or calm air, not {mode} in {turbulence}"}
+    if dither_scale != 1.0:
+        return {"evaluated": 0, "why_not": f"the models hold the default dither, not "
+                                           f"{'none' if dither_scale is None else f'{dither_scale:g} times it'}"}
     path = _cache_path(bank, turbulence)
     cached = _load_cached(path)
     missing = [p for p in todo if p["case"] not in cached]

@@ -16,7 +16,9 @@ outs) is not replayed: this scores the first declaration only --
   latency       of the first right declarations: median and p95 (s).
 
 Rules (``--rules``, ``;``-separated): ``D`` one dwell (s) for every hypothesis, or
-``D,NAME=D2,NAME=D3`` a default and per-hypothesis dwells.  The probabilities are cached in
+``D,NAME=D2,NAME=D3`` a default and per-hypothesis dwells, optionally with ``fast=S@X``: an
+evidence-scaled dwell, k declared already after S seconds above the threshold once its
+log-odds ln(p_k / sum_{j != k} p_j) reach X nats.  The probabilities are cached in
 ``--cache`` (npz), so rules can be tried again without flying.
 
 Run: .venv/bin/python tools/cover/dwell_replay.py --bank results/cover.f16bank --seed 7 --runs 10 \
@@ -69,16 +71,22 @@ def flights(bank_path: str, seed: int, runs: int, modes: list[str], workers: int
     return [sp[:3] for sp in specs], probs
 
 
-def parse_rule(text: str) -> np.ndarray:
+def parse_rule(text: str) -> tuple[np.ndarray, float | None, float]:
+    """(dwell per hypothesis (s), fast dwell (s) or None, its log-odds X)."""
     parts = text.split(",")
     d = np.full(names.K_BANK, float(parts[0]))
+    fast, x = None, np.inf
     for p in parts[1:]:
         k, v = p.split("=")
-        d[names.SINGLE_HYPOTHESES.index(k)] = float(v)
-    return d
+        if k == "fast":
+            fast, x = (float(y) for y in v.split("@"))
+        else:
+            d[names.SINGLE_HYPOTHESES.index(k)] = float(v)
+    return d, fast, x
 
 
-def first_declaration(p: np.ndarray, dwell_frames: np.ndarray, threshold: float) -> tuple[int, int] | None:
+def first_declaration(p: np.ndarray, dwell_frames: np.ndarray, threshold: float, fast_frames: int | None = None,
+                      log_odds: float = np.inf) -> tuple[int, int] | None:
     """(frame, k) of the first declaration (p: frames x 13), or None."""
     count, cand = 0, -1
     for i in range(len(p)):
@@ -91,6 +99,10 @@ def first_declaration(p: np.ndarray, dwell_frames: np.ndarray, threshold: float)
         cand = k
         if count >= dwell_frames[k]:
             return i, k
+        if fast_frames is not None and count >= fast_frames:
+            rest = float(p[i].astype(np.float64).sum() - p[i, k])  # 1 - p_k without its rounding
+            if np.log(p[i, k]) - np.log(max(rest, 1e-300)) >= log_odds:
+                return i, k
     return None
 
 
@@ -116,7 +128,9 @@ def main(argv=None) -> None:
     rate = float(bank.frame_rate_hz)
     hyps = names.SINGLE_HYPOTHESES
     for rule in args.rules.split(";"):
-        frames = np.maximum(1, np.round(parse_rule(rule) * rate)).astype(int)
+        dwell, fast, x = parse_rule(rule)
+        frames = np.maximum(1, np.round(dwell * rate)).astype(int)
+        fast_frames = None if fast is None else max(1, int(round(fast * rate)))
         print(f"dwell rule {rule}:")
         fa_total = 0
         for mode in ["none"] + modes:
@@ -126,7 +140,7 @@ def main(argv=None) -> None:
             fa = right = wrong = 0
             lat, wrong_names, fa_names = [], [], []
             for _, case, onset, p in rows:
-                first = first_declaration(p, frames, threshold)
+                first = first_declaration(p, frames, threshold, fast_frames, x)
                 t_first = None if first is None else first[0] / rate
                 if first is not None and (onset is None or t_first < onset):
                     fa += 1

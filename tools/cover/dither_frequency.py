@@ -31,16 +31,10 @@ import numpy as np
 
 from f16mmae import core, names
 from f16mmae.truth.dither import CRITERION
+from mode_evidence import level0  # tools/cover: the bank's level-0 filters as one core.FilterBank
 
 PATTERNS = {"symmetric": (1.0, 1.0, 0.0, 0.0, 0.0), "left": (1.0, 0.0, 0.0, 0.0, 0.0),
             "differential": (1.0, -1.0, 0.0, 0.0, 0.0)}
-
-
-def level0(mb) -> core.FilterBank:
-    models = [core.FilterModel(phi=h.phi, bd=h.bd, h=h.h, k=h.k, a=h.a, uninformative_width=h.uninformative_width,
-                               uninformative_level_q=h.uninformative_level_q)
-              for h in list(mb.hypotheses)[:names.K_BANK]]
-    return core.FilterBank(models, p_min=1e-9)
 
 
 def mean_loglik(bank, u, z, lo) -> np.ndarray:

@@ -62,8 +62,8 @@
 // (du, dz): zero unless set_trim_offset()
 // sets it or trim tracking (options.trim, trim_tracker.h: a slow low-pass of u and z about the
 // trim, frozen while a failure hypothesis rises or a failure is declared; with steady_g also
-// while the estimated load factor z_hat(AZ) is off the trim, and then only the named
-// measurements) estimates it, after each update and propagate. With zero offsets the arithmetic is the bank's without them.
+// while the estimated load factor z_hat(AZ) is off the trim or the air data handed to
+// schedule() climb or accelerate, and then only the named measurements) estimates it, after each update and propagate. With zero offsets the arithmetic is the bank's without them.
 // Maneuvering flight (all off by default: the bank as designed, bit for bit):
 //   options.maneuver.kinematics   after each propagate every filter's x⁻ gains dt R(x̂), the
 //                                 kinematic/gravity terms the wings-level linearization drops,
@@ -186,6 +186,7 @@ class HierarchicalBank {
       return;
     }
     air_data_ = a;
+    trim_tracker_.observe_air_data(a.mach, a.pressure_altitude_ft);   // steady trim tracking only
     if (!sched_.active()) return;
     const XVector x_before = sched_.x_trim();
     const bool reload = sched_.select(a);

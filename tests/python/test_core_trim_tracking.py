@@ -176,12 +176,13 @@ def test_steady_tracking_moves_only_the_named_measurements_and_every_input():
 def test_steady_tracking_freezes_while_the_estimated_load_factor_is_off_the_trim():
     """A slow 0.1-g load-factor swing (a gentle pull and push) on the F-16 bank's trim: the
     estimate is frozen on exactly the frames where the bank's estimated load factor (z_hat's AZ
-    about the trim, read here after each update) was beyond trim_steady_g within the last
-    trim_hold_s, or a failure was declared (the only other freezing frames with
+    about the trim, read here after each update) was beyond trim_steady_g, or its roll rate
+    beyond the default 5 deg/s, within the last trim_hold_s (no air data: the air-data gate stays
+    open), or a failure was declared (the only other freezing frames with
     trim_freeze_probability 1); between them AOA's offset moves, and never while frozen."""
     bank = load_bank("tuned")[2]
     names = list(bank.measurement_names)
-    az, aoa = names.index("AZ"), names.index("AOA")
+    az, aoa, rol = names.index("AZ"), names.index("AOA"), names.index("ROL")
     steady_g, hold_s = 0.03, 0.5
     hb = core.HierarchicalBank(bank, p_min=1e-9, trim_time_constant_s=5.0, trim_steady_g=steady_g,
                                trim_hold_s=hold_s, trim_freeze_probability=1.0)
@@ -195,7 +196,9 @@ def test_steady_tracking_freezes_while_the_estimated_load_factor_is_off_the_trim
         before = hb.trim_offset[1][aoa]
         hb.update(z)
         dn = hb.z_hat[az] - z0[az]      # the AZ offset is never tracked: dz(AZ) = 0
-        freezing.append(abs(dn) > steady_g or hb.declared != "NONE" or hb.level != 0)
+        p_hat = hb.z_hat[rol] - z0[rol]
+        freezing.append(abs(dn) > steady_g or abs(p_hat) > math.radians(5.0) or hb.declared != "NONE"
+                        or hb.level != 0)
         frozen.append(hb.trim_frozen)
         moved.append(hb.trim_offset[1][aoa] != before)
         hb.propagate(u0)

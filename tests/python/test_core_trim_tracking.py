@@ -207,3 +207,46 @@ def test_steady_tracking_freezes_while_the_estimated_load_factor_is_off_the_trim
     assert frozen == expected
     assert 0 < sum(frozen) < n                     # both kinds of frames occur
     assert all(m != f for m, f in zip(moved, frozen))
+
+
+def test_steady_tracking_freezes_while_the_air_data_climb_or_accelerate():
+    """The air-data gate: the F-16 bank at its trim handed air data that hold, then climb at
+    50 ft/s, then hold, then speed up at 0.005 Mach/s. The climb and Mach rates are recomputed
+    here from the header's two low-passes (1 s and 5 s, started at the first sample); the
+    estimate is frozen on exactly the frames where one was beyond its limit within the last
+    trim_hold_s (or a failure was declared), and moves on the others."""
+    bank = load_bank("tuned")[2]
+    aoa = list(bank.measurement_names).index("AOA")
+    hold_s = 1.0
+    hb = core.HierarchicalBank(bank, p_min=1e-9, trim_time_constant_s=5.0, trim_steady_g=0.5,
+                               trim_hold_s=hold_s, trim_freeze_probability=1.0)
+    z0, u0 = np.array(bank.z_trim), np.array(bank.u_trim)
+    z0[aoa] += math.radians(0.05)
+    rate = 64.0
+    a1, a5 = 1.0 - math.exp(-1.0 / rate), 1.0 - math.exp(-1.0 / (5.0 * rate))
+    n = int(40 * rate)
+    h, m = 20000.0, 0.4
+    freezing, frozen, moved = [], [], []
+    lp = None
+    for i in range(n):
+        t = i / rate
+        h += 50.0 / rate if 5.0 <= t < 15.0 else 0.0
+        m += 0.005 / rate if 25.0 <= t < 30.0 else 0.0
+        if lp is None:
+            lp = [h, h, m, m]
+        else:
+            lp = [lp[0] + a1 * (h - lp[0]), lp[1] + a5 * (h - lp[1]), lp[2] + a1 * (m - lp[2]), lp[3] + a5 * (m - lp[3])]
+        climb, mach_rate = (lp[0] - lp[1]) / 4.0, (lp[2] - lp[3]) / 4.0
+        before = hb.trim_offset[1][aoa]
+        hb.schedule(m, h)
+        hb.update(z0)
+        freezing.append(abs(climb) > 5.0 or abs(mach_rate) > 0.001 or hb.declared != "NONE" or hb.level != 0)
+        frozen.append(hb.trim_frozen)
+        moved.append(hb.trim_offset[1][aoa] != before)
+        hb.propagate(u0)
+    hold = round(hold_s * rate)
+    expected = [any(freezing[max(0, i - hold):i + 1]) for i in range(n)]
+    assert frozen == expected
+    assert any(frozen[int(6 * rate):int(15 * rate)]) and any(frozen[int(26 * rate):int(30 * rate)])
+    assert not any(frozen[:int(5 * rate)])
+    assert all(mv != f for mv, f in zip(moved, frozen))

@@ -288,6 +288,9 @@ The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
     HierarchicalBank(model_bank, p_min=0.001, node_p_min=True, strip_leading_term=True, threshold=0.9,
                      dwell_s=0.25, declarer=None, trim_time_constant_s=0.0,
                      trim_freeze_probability=0.05, trim_hold_s=2.0, trim_freeze=True,
+                     trim_steady_g=0.0, trim_steady_measurements=['AOA'], trim_steady_roll_rate_rad_s=0.0873,
+                     trim_steady_climb_ft_s=5.0,
+                     trim_steady_mach_per_s=0.001,
                      schedule_mode="interpolate", hysteresis_cells=..., blend_step_cells=...,
                      air_data_time_constant_s=..., cubic_trims=...,
                      adapt_turbulence=False, adapt_time_constant_s=5.0, adapt_scale_min=1.0,
@@ -330,7 +333,11 @@ The trim offset (du, dz) is zero unless set_trim_offset sets it or trim tracking
 (trim_time_constant_s > 0; cpp/f16mmae/trim_tracker.h) estimates it: a low-pass of u and z
 about the trim with that time constant, frozen while a failure hypothesis is above
 trim_freeze_probability (and trim_hold_s after), at level 1 or with a failure declared
-(trim_freeze=False: never frozen, for comparison only). A frame with
+(trim_freeze=False: never frozen, for comparison only); trim_steady_g > 0: tracked only while
+the estimated load factor is within trim_steady_g g of the trim, and of the measurements only
+trim_steady_measurements (default ['AOA']), and frozen while the estimated roll rate exceeds
+trim_steady_roll_rate_rad_s or the air data handed to schedule climb
+faster than trim_steady_climb_ft_s or change Mach faster than trim_steady_mach_per_s. A frame with
 a non-finite value is rejected and counted in rejected_frames. Raises ValueError for an invalid
 model bank or a missing dual hypothesis.
 

@@ -17,7 +17,9 @@
 //                                        blended; scheduled_filters.h) instead of p_min
 //   threshold, dwell_s, declarer         the declaration rule (declarer.h); a core.Declarer
 //                                        given as declarer supplies threshold and dwell_s
-//   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze   trim_tracker.h
+//   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
+//   trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
+//   trim_steady_mach_per_s                                                    trim_tracker.h
 //   schedule_mode ('interpolate'|'nearest'), hysteresis_cells, blend_step_cells,
 //   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
 //   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
@@ -48,7 +50,10 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              double threshold, double dwell_s,
                                              const py::object& declarer, double trim_time_constant_s,
                                              double trim_freeze_probability, double trim_hold_s, bool trim_freeze,
-                                             const std::string& schedule_mode, double hysteresis_cells,
+                                             double trim_steady_g,
+                                             const std::vector<std::string>& trim_steady_measurements,
+                                             double trim_steady_roll_rate_rad_s, double trim_steady_climb_ft_s,
+                                             double trim_steady_mach_per_s, const std::string& schedule_mode, double hysteresis_cells,
                                              double blend_step_cells, double air_data_time_constant_s,
                                              bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
                                              double adapt_scale_min, double adapt_scale_max, double adapt_gain,
@@ -65,6 +70,11 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.trim.freeze_probability = trim_freeze_probability;
   o.trim.hold_s = trim_hold_s;
   o.trim.freeze = trim_freeze;
+  o.trim.steady_g = trim_steady_g;
+  o.trim.steady_measurements = trim_steady_measurements;
+  o.trim.steady_roll_rate_rad_s = trim_steady_roll_rate_rad_s;
+  o.trim.steady_climb_ft_s = trim_steady_climb_ft_s;
+  o.trim.steady_mach_per_s = trim_steady_mach_per_s;
   if (schedule_mode == "interpolate")
     o.schedule.mode = ScheduleMode::kInterpolate;
   else if (schedule_mode == "nearest")
@@ -110,7 +120,11 @@ Class& def_estimator_init(Class& cls) {
       py::init([](const Source& bank, double p_min, double level1_p_min, double level1_dwell_s, bool node_p_min, bool strip_leading_term, double start_up_s,
                   double threshold, double dwell_s,
                   const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
-                  double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
+                  double trim_hold_s, bool trim_freeze, double trim_steady_g,
+                  const std::vector<std::string>& trim_steady_measurements, double trim_steady_roll_rate_rad_s,
+                  double trim_steady_climb_ft_s,
+                  double trim_steady_mach_per_s, const std::string& schedule_mode,
+                  double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
                   const std::optional<double>& adapt_reference, bool maneuver_kinematics,
@@ -119,7 +133,8 @@ Class& def_estimator_init(Class& cls) {
         return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
                                              declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
-                                             schedule_mode, hysteresis_cells, blend_step_cells,
+                                             trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
+                                             trim_steady_mach_per_s, schedule_mode, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
                                              adapt_reference, maneuver_kinematics, maneuver_tempering_g,
@@ -133,7 +148,11 @@ Class& def_estimator_init(Class& cls) {
       py::arg("dwell_s") = core.declarer.dwell_s, py::arg("declarer") = py::none(),
       py::arg("trim_time_constant_s") = core.trim.time_constant_s,
       py::arg("trim_freeze_probability") = core.trim.freeze_probability, py::arg("trim_hold_s") = core.trim.hold_s,
-      py::arg("trim_freeze") = core.trim.freeze, py::arg("schedule_mode") = "interpolate",
+      py::arg("trim_freeze") = core.trim.freeze, py::arg("trim_steady_g") = core.trim.steady_g,
+      py::arg("trim_steady_measurements") = core.trim.steady_measurements,
+      py::arg("trim_steady_roll_rate_rad_s") = core.trim.steady_roll_rate_rad_s,
+      py::arg("trim_steady_climb_ft_s") = core.trim.steady_climb_ft_s,
+      py::arg("trim_steady_mach_per_s") = core.trim.steady_mach_per_s, py::arg("schedule_mode") = "interpolate",
       py::arg("hysteresis_cells") = core.schedule.hysteresis_cells,
       py::arg("blend_step_cells") = core.schedule.blend_step_cells,
       py::arg("air_data_time_constant_s") = core.schedule.air_data_time_constant_s,

@@ -67,8 +67,9 @@
 // Trim in force = the bank's trim (a scheduled bank: the scheduled trim) + the trim offset
 // (du, dz): zero unless set_trim_offset()
 // sets it or trim tracking (options.trim, trim_tracker.h: a slow low-pass of u and z about the
-// trim, frozen while a failure hypothesis rises or a failure is declared) estimates it, after
-// each update and propagate. With zero offsets the arithmetic is the bank's without them.
+// trim, frozen while a failure hypothesis rises or a failure is declared; with steady_g also
+// while the estimated load factor z_hat(AZ) is off the trim or the air data handed to
+// schedule() climb or accelerate, and then only the named measurements) estimates it, after each update and propagate. With zero offsets the arithmetic is the bank's without them.
 // Maneuvering flight (all off by default: the bank as designed, bit for bit):
 //   options.maneuver.kinematics   after each propagate every filter's x⁻ gains dt R(x̂), the
 //                                 kinematic/gravity terms the wings-level linearization drops,
@@ -173,7 +174,7 @@ class HierarchicalBank {
     }
     if (trim_tracker_.options().enabled()) {
       z_pert_.noalias() = z_abs - z_trim_;
-      trim_tracker_.after_update(z_pert_, trim_freezing());
+      trim_tracker_.after_update(z_pert_, trim_freezing(), bank_.z_hat());
       dz_ = trim_tracker_.dz();
     }
     return hypothesis;
@@ -192,6 +193,7 @@ class HierarchicalBank {
       return;
     }
     air_data_ = a;
+    trim_tracker_.observe_air_data(a.mach, a.pressure_altitude_ft);   // steady trim tracking only
     if (!sched_.active()) return;
     const XVector x_before = sched_.x_trim();
     const bool reload = sched_.select(a);
@@ -438,7 +440,7 @@ class HierarchicalBank {
         level0_(b.level0),
         level1_(std::move(b.level1)),
         online_(b.level0),
-        trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz()),
+        trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
         maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
         actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {

@@ -29,9 +29,41 @@
 // rise is not absorbed into the trim; a failure slow enough to stay below freeze_probability
 // for many tau can still be (docs/results/trim_tracking.md shows one flight each way).
 //
+// Steady tracking (steady_g > 0; 0, the default: the tracker above, bit for bit; the bank's
+// measurements must include AZ and ROL). Weight and
+// fuel burn move the trim of level flight slowly; a maneuver moves u and z far more, and
+// quickly, in ways the maneuver model (maneuver_kinematics.h) already explains. Tracked through
+// a maneuver, the low-pass takes a share of the maneuver's own offsets (a roll-in's roll rate, a
+// turn's load factor, yaw rate and angle of attack) into the trim and hands it to every filter
+// when the maneuver ends. So with steady_g > 0:
+//   - a frame on which the bank's estimated load factor is more than steady_g off the trim,
+//     |dn| > steady_g (dn = the AZ entry of z_hat's perturbation, g, after the update, as
+//     the load-factor tempering's), freezes the estimate like a freezing frame above (and
+//     hold_s after it): a turn at 30 deg bank is 0.155 g off, a pull-up more;
+//   - of the measurements only those named in steady_measurements are tracked (default AOA:
+//     at a held speed and altitude a lighter aircraft flies a lower angle of attack, while its
+//     speed, load factor and rates are those of the trim); the others keep dz = 0, so a failure
+//     of their sensors can never be absorbed. Every input is tracked (stabilator and throttle
+//     trims follow the weight).
+//   - a frame on which the bank's estimated roll rate (z_hat's ROL entry, rad/s) exceeds
+//     steady_roll_rate_rad_s freezes it too (and hold_s after): a roll-in moves the surfaces
+//     most (a differential stabilator of degrees) before the load factor has risen;
+//   - a frame on which the measured air data say the aircraft climbs, descends, speeds up or
+//     slows down freezes it too (and hold_s after): |h_dot| > steady_climb_ft_s or
+//     |M_dot| > steady_mach_per_s, the rates read from two first-order low-passes of the air
+//     data (HierarchicalBank::schedule hands each usable sample to observe_air_data) with time
+//     constants T1 = 1 s and T2 = 5 s: for a ramp of slope v their difference settles at
+//     v (T2 - T1), so rate = (lp_T1 - lp_T2) / (T2 - T1); both start at the first sample
+//     (rate 0) and stay there while no air data arrives (then only dn gates). A steady climb
+//     flies another throttle and stabilator than level flight: tracked, they would be handed
+//     to the filters as the trim at the level-off;
+// The names are resolved into a fixed mask at construction (options().steady_measurements is
+// then empty: a copied tracker allocates nothing).
+//
 // Options: time_constant_s > 0 enables it (0 = off: offsets stay zero, the bank behaves
 // exactly as without a tracker); freeze_probability in (0, 1]; hold_s >= 0; freeze = false
-// never freezes (for comparison only: such a tracker absorbs a failure into the trim).
+// never freezes (for comparison only: such a tracker absorbs a failure into the trim);
+// steady_g >= 0 (0 = off); steady_measurements: names of the bank's measurements.
 #pragma once
 
 #include <Eigen/Dense>
@@ -40,6 +72,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace f16mmae {
 
@@ -48,6 +81,11 @@ struct TrimTrackingOptions {
   double freeze_probability = 0.05;  // a failure hypothesis above this freezes the estimate
   double hold_s = 2.0;               // held this long after the last freezing frame
   bool freeze = true;                // false: never frozen (comparison only)
+  double steady_g = 0.0;             // > 0: track only while |dn| <= steady_g, only steady_measurements
+  std::vector<std::string> steady_measurements{"AOA"};
+  double steady_roll_rate_rad_s = 0.0872664626;   // steady tracking: |p_hat| above this freezes (5 deg/s)
+  double steady_climb_ft_s = 5.0;     // steady tracking: |h_dot| above this freezes (300 ft/min)
+  double steady_mach_per_s = 0.001;   // steady tracking: |M_dot| above this freezes
 
   bool enabled() const noexcept { return time_constant_s > 0.0; }
   void validate() const {
@@ -59,7 +97,14 @@ struct TrimTrackingOptions {
                                   std::to_string(freeze_probability));
     if (!(hold_s >= 0.0 && std::isfinite(hold_s)))
       throw std::invalid_argument("trim tracking: hold_s must be >= 0 s, got " + std::to_string(hold_s));
+    if (!(steady_g >= 0.0 && std::isfinite(steady_g)))
+      throw std::invalid_argument("trim tracking: steady_g must be >= 0 g (0 = off), got " + std::to_string(steady_g));
+    if (!(steady_climb_ft_s > 0.0 && steady_mach_per_s > 0.0 && steady_roll_rate_rad_s > 0.0))
+      throw std::invalid_argument("trim tracking: steady_roll_rate_rad_s, steady_climb_ft_s and steady_mach_per_s must be "
+                                  "> 0, got " + std::to_string(steady_roll_rate_rad_s) + ", " +
+                                  std::to_string(steady_climb_ft_s) + " and " + std::to_string(steady_mach_per_s));
   }
+  bool steady() const noexcept { return steady_g > 0.0; }
 };
 
 template <int NU, int NZ>
@@ -68,13 +113,27 @@ class TrimTracker {
   using UVector = Eigen::Matrix<double, NU, 1>;
   using ZVector = Eigen::Matrix<double, NZ, 1>;
 
-  TrimTracker(const TrimTrackingOptions& options, double frame_rate_hz, int nu, int nz)
+  // measurement_names: the bank's (steady tracking resolves AZ and steady_measurements in
+  // them; std::invalid_argument naming a missing one).
+  TrimTracker(const TrimTrackingOptions& options, double frame_rate_hz, int nu, int nz,
+              const std::vector<std::string>& measurement_names = {})
       : options_(options) {
     options.validate();
     gain_ = options.enabled() ? 1.0 - std::exp(-1.0 / (frame_rate_hz * options.time_constant_s)) : 0.0;
     hold_frames_ = static_cast<std::int64_t>(std::llround(options.hold_s * frame_rate_hz));
+    air_gain_fast_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * kAirFastS));
+    air_gain_slow_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * kAirSlowS));
     du_ = UVector::Zero(nu);
     dz_ = ZVector::Zero(nz);
+    mask_ = ZVector::Ones(nz);
+    if (options.enabled() && options.steady()) {
+      az_ = find(measurement_names, "AZ");
+      rol_ = find(measurement_names, "ROL");
+      mask_.setZero();
+      for (const auto& name : options.steady_measurements) mask_(find(measurement_names, name)) = 1.0;
+    }
+    options_.steady_measurements.clear();
+    options_.steady_measurements.shrink_to_fit();
   }
 
   void reset() noexcept {
@@ -83,10 +142,41 @@ class TrimTracker {
     held_for_ = 0;
     frozen_ = false;
     frozen_frames_ = 0;
+    air_seen_ = false;
+    h_fast_ = h_slow_ = m_fast_ = m_slow_ = 0.0;
   }
+
+  // Steady tracking: one usable air-data sample (Mach, pressure altitude ft) per frame, before
+  // the frame's update (header).
+  void observe_air_data(double mach, double alt_ft) noexcept {
+    if (!options_.enabled() || !options_.steady()) return;
+    if (!air_seen_) {
+      h_fast_ = h_slow_ = alt_ft;
+      m_fast_ = m_slow_ = mach;
+      air_seen_ = true;
+      return;
+    }
+    h_fast_ += air_gain_fast_ * (alt_ft - h_fast_);
+    h_slow_ += air_gain_slow_ * (alt_ft - h_slow_);
+    m_fast_ += air_gain_fast_ * (mach - m_fast_);
+    m_slow_ += air_gain_slow_ * (mach - m_slow_);
+  }
+  double climb_rate_ft_s() const noexcept { return (h_fast_ - h_slow_) / (kAirSlowS - kAirFastS); }
+  double mach_rate_per_s() const noexcept { return (m_fast_ - m_slow_) / (kAirSlowS - kAirFastS); }
 
   // After frame i's update: `freezing` is the freeze condition on that frame (header);
   // z_pert = z_i - z_trim (the design/scheduled trim, without the offset).
+  // Steady tracking: z_hat_pert = the bank's z_hat perturbation after the update (its AZ entry
+  // is dn); a frame beyond steady_g freezes as a freezing frame does.
+  template <class Z, class ZH>
+  void after_update(const Z& z_pert, bool freezing, const ZH& z_hat_pert) noexcept {
+    if (options_.steady() && !(std::abs(z_hat_pert(az_)) <= options_.steady_g &&
+                               std::abs(z_hat_pert(rol_)) <= options_.steady_roll_rate_rad_s &&
+                               std::abs(climb_rate_ft_s()) <= options_.steady_climb_ft_s &&
+                               std::abs(mach_rate_per_s()) <= options_.steady_mach_per_s))
+      freezing = true;
+    after_update(z_pert, freezing);
+  }
   template <class Z>
   void after_update(const Z& z_pert, bool freezing) noexcept {
     if (!options_.enabled()) return;
@@ -97,7 +187,10 @@ class TrimTracker {
       ++frozen_frames_;
       return;
     }
-    dz_ += gain_ * (z_pert - dz_);
+    if (options_.steady())
+      dz_ += gain_ * (z_pert - dz_).cwiseProduct(mask_);
+    else
+      dz_ += gain_ * (z_pert - dz_);
   }
   // After frame i's propagate: u_pert = u_i - u_trim.
   template <class U>
@@ -112,14 +205,29 @@ class TrimTracker {
   std::int64_t frozen_frames() const noexcept { return frozen_frames_; }  // since reset
   double gain() const noexcept { return gain_; }
   const TrimTrackingOptions& options() const noexcept { return options_; }
+  const ZVector& mask() const noexcept { return mask_; }   // 1: a tracked measurement
 
  private:
+  static int find(const std::vector<std::string>& names, const std::string& name) {
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == name) return static_cast<int>(i);
+    std::string valid;
+    for (const auto& n : names) valid += (valid.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("trim tracking: steady tracking needs the measurement '" + name +
+                                "'; the bank's: " + valid);
+  }
+
   TrimTrackingOptions options_;
   double gain_ = 0.0;
   std::int64_t hold_frames_ = 0, held_for_ = 0, frozen_frames_ = 0;
   bool frozen_ = false;
+  static constexpr double kAirFastS = 1.0, kAirSlowS = 5.0;   // T1, T2 of the header
+  int az_ = 0, rol_ = 0;
+  bool air_seen_ = false;
+  double air_gain_fast_ = 0.0, air_gain_slow_ = 0.0;
+  double h_fast_ = 0.0, h_slow_ = 0.0, m_fast_ = 0.0, m_slow_ = 0.0;
   UVector du_;
-  ZVector dz_;
+  ZVector dz_, mask_;
 };
 
 }  // namespace f16mmae

@@ -144,3 +144,109 @@ def test_the_f16_bank_tracks_a_constant_trim_error_away():
     assert hb.declared == "NONE"
     np.testing.assert_allclose(hb.trim_offset[1], dz_true, atol=1e-4 * math.radians(1))
     np.testing.assert_allclose(hb.trim_offset[0], du_true, atol=1e-6)
+
+
+def test_steady_tracking_moves_only_the_named_measurements_and_every_input():
+    """Steady tracking (trim_steady_g > 0) on the F-16 bank fed its trim shifted by a constant
+    AOA, yaw-rate and stabilator error in 1-g flight: the AOA and the input offsets are tracked
+    (the low-pass of the header), the yaw rate's is not."""
+    bank = load_bank("tuned")[2]
+    names = list(bank.measurement_names)
+    dz_true = np.zeros(7)
+    dz_true[names.index("AOA")] = math.radians(0.05)
+    dz_true[names.index("YAW")] = math.radians(0.02)
+    du_true = np.array([-0.001, -0.001, 0.0, 0.0, 0.0])
+    hb = core.HierarchicalBank(bank, p_min=1e-9, trim_time_constant_s=2.0, trim_steady_g=0.05,
+                               trim_freeze_probability=1.0)
+    z, u = np.array(bank.z_trim) + dz_true, np.array(bank.u_trim) + du_true
+    for _ in range(64 * 20):
+        hb.step(z, u)
+    assert hb.declared == "NONE"
+    expected = np.zeros(7)
+    expected[names.index("AOA")] = dz_true[names.index("AOA")]
+    np.testing.assert_allclose(hb.trim_offset[1], expected, atol=1e-4 * math.radians(1))
+    assert hb.trim_offset[1][names.index("YAW")] == 0.0
+    np.testing.assert_allclose(hb.trim_offset[0], du_true, atol=1e-6)
+    with pytest.raises(ValueError, match="steady tracking needs the measurement 'ALPHA'; the bank's: VEL, AOA"):
+        core.HierarchicalBank(bank, trim_time_constant_s=2.0, trim_steady_g=0.05, trim_steady_measurements=["ALPHA"])
+    with pytest.raises(ValueError, match="steady_g must be >= 0"):
+        core.HierarchicalBank(bank, trim_time_constant_s=2.0, trim_steady_g=-0.1)
+
+
+def test_steady_tracking_freezes_while_the_estimated_load_factor_is_off_the_trim():
+    """A slow 0.1-g load-factor swing (a gentle pull and push) on the F-16 bank's trim: the
+    estimate is frozen on exactly the frames where the bank's estimated load factor (z_hat's AZ
+    about the trim, read here after each update) was beyond trim_steady_g, or its roll rate
+    beyond the default 5 deg/s, within the last trim_hold_s (no air data: the air-data gate stays
+    open), or a failure was declared (the only other freezing frames with
+    trim_freeze_probability 1); between them AOA's offset moves, and never while frozen."""
+    bank = load_bank("tuned")[2]
+    names = list(bank.measurement_names)
+    az, aoa, rol = names.index("AZ"), names.index("AOA"), names.index("ROL")
+    steady_g, hold_s = 0.03, 0.5
+    hb = core.HierarchicalBank(bank, p_min=1e-9, trim_time_constant_s=5.0, trim_steady_g=steady_g,
+                               trim_hold_s=hold_s, trim_freeze_probability=1.0)
+    z0, u0 = np.array(bank.z_trim), np.array(bank.u_trim)
+    n = 64 * 12
+    freezing, frozen, moved = [], [], []
+    for i in range(n):
+        z = z0.copy()
+        z[az] += 0.1 * math.sin(2 * math.pi * 0.1 * i / 64.0)
+        z[aoa] += math.radians(0.05)
+        before = hb.trim_offset[1][aoa]
+        hb.update(z)
+        dn = hb.z_hat[az] - z0[az]      # the AZ offset is never tracked: dz(AZ) = 0
+        p_hat = hb.z_hat[rol] - z0[rol]
+        freezing.append(abs(dn) > steady_g or abs(p_hat) > math.radians(5.0) or hb.declared != "NONE"
+                        or hb.level != 0)
+        frozen.append(hb.trim_frozen)
+        moved.append(hb.trim_offset[1][aoa] != before)
+        hb.propagate(u0)
+    hold = round(hold_s * 64)
+    expected = [any(freezing[max(0, i - hold):i + 1]) for i in range(n)]
+    assert frozen == expected
+    assert 0 < sum(frozen) < n                     # both kinds of frames occur
+    assert all(m != f for m, f in zip(moved, frozen))
+
+
+def test_steady_tracking_freezes_while_the_air_data_climb_or_accelerate():
+    """The air-data gate: the F-16 bank at its trim handed air data that hold, then climb at
+    50 ft/s, then hold, then speed up at 0.005 Mach/s. The climb and Mach rates are recomputed
+    here from the header's two low-passes (1 s and 5 s, started at the first sample); the
+    estimate is frozen on exactly the frames where one was beyond its limit within the last
+    trim_hold_s (or a failure was declared), and moves on the others."""
+    bank = load_bank("tuned")[2]
+    aoa = list(bank.measurement_names).index("AOA")
+    hold_s = 1.0
+    hb = core.HierarchicalBank(bank, p_min=1e-9, trim_time_constant_s=5.0, trim_steady_g=0.5,
+                               trim_hold_s=hold_s, trim_freeze_probability=1.0)
+    z0, u0 = np.array(bank.z_trim), np.array(bank.u_trim)
+    z0[aoa] += math.radians(0.05)
+    rate = 64.0
+    a1, a5 = 1.0 - math.exp(-1.0 / rate), 1.0 - math.exp(-1.0 / (5.0 * rate))
+    n = int(40 * rate)
+    h, m = 20000.0, 0.4
+    freezing, frozen, moved = [], [], []
+    lp = None
+    for i in range(n):
+        t = i / rate
+        h += 50.0 / rate if 5.0 <= t < 15.0 else 0.0
+        m += 0.005 / rate if 25.0 <= t < 30.0 else 0.0
+        if lp is None:
+            lp = [h, h, m, m]
+        else:
+            lp = [lp[0] + a1 * (h - lp[0]), lp[1] + a5 * (h - lp[1]), lp[2] + a1 * (m - lp[2]), lp[3] + a5 * (m - lp[3])]
+        climb, mach_rate = (lp[0] - lp[1]) / 4.0, (lp[2] - lp[3]) / 4.0
+        before = hb.trim_offset[1][aoa]
+        hb.schedule(m, h)
+        hb.update(z0)
+        freezing.append(abs(climb) > 5.0 or abs(mach_rate) > 0.001 or hb.declared != "NONE" or hb.level != 0)
+        frozen.append(hb.trim_frozen)
+        moved.append(hb.trim_offset[1][aoa] != before)
+        hb.propagate(u0)
+    hold = round(hold_s * rate)
+    expected = [any(freezing[max(0, i - hold):i + 1]) for i in range(n)]
+    assert frozen == expected
+    assert any(frozen[int(6 * rate):int(15 * rate)]) and any(frozen[int(26 * rate):int(30 * rate)])
+    assert not any(frozen[:int(5 * rate)])
+    assert all(mv != f for mv, f in zip(moved, frozen))

@@ -16,7 +16,9 @@ Per run: its declarations, then every ``--every`` seconds (and at each declarati
 t, level, declared, the three hypotheses with the largest probability besides NONE as
 ``name ln(p/p_NONE)``, rho (the turbulence adaptation's residual power ratio: its reference
 while the adaptation is off), bank angle phi, n_z, VEL truth - reading (ft/s), and the measured
-air data (Mach, pressure altitude). A soak's runs.jsonl works too (``false-alarms``). For VEL runs a
+air data (Mach, pressure altitude); with ``--trim`` also the trim tracker's offsets dz of AOA
+(deg), ROL and YAW (deg/s), AZ (g), du of the stabilators (deg) and the throttle, and whether it
+was frozen (a run flown with ``--trim-tracking``). A soak's runs.jsonl works too (``false-alarms``). For VEL runs a
 summary: the truth-minus-reading at 6/8/10/12/14 s, and ln(p_VEL/p_NONE) per second at level 0
 after the failure (the evidence rate) until the first declaration.
 
@@ -42,7 +44,7 @@ import numpy as np
 from f16mmae.banks import load_bank
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly, scenario_from_dict
-from f16mmae.names import FRAME_RATE_HZ, NONE
+from f16mmae.names import FRAME_RATE_HZ, NONE, SENSORS
 
 
 def selected(records: list[dict], select: str) -> list[dict]:
@@ -81,7 +83,7 @@ def replay(record: dict, bank, p_min: float | None = None, throttle: tuple[float
     s = flight.series
     est = Estimator(bank, **options)
     n = len(s["z"])
-    trace = {"level": np.zeros(n, int), "declared": [], "rho": np.zeros(n), "log_odds": []}
+    trace = {"level": np.zeros(n, int), "declared": [], "rho": np.zeros(n), "log_odds": [], "trim": []}
     for i in range(n):
         est.schedule(*s["air_data"][i])
         est.update(s["z"][i])
@@ -93,10 +95,21 @@ def replay(record: dict, bank, p_min: float | None = None, throttle: tuple[float
         p_none = p[names.index(NONE)] if NONE in names else float("nan")
         trace["log_odds"].append({h: math.log(max(p[k], 1e-300) / p_none) for k, h in enumerate(names) if h != NONE})
         est.propagate(s["u"][i])
+        du, dz = est.core_bank.trim_offset
+        trace["trim"].append((np.array(du), np.array(dz), bool(est.core_bank.trim_frozen)))
     return {"flight": flight, "truth": s["truth_log"], "trace": trace}
 
 
-def show(record: dict, run: dict, every_s: float) -> None:
+def trim_columns(trim: tuple) -> str:
+    """dz of AOA, ROL, YAW (deg, deg/s), AZ (g); du of LS, RS (deg) and the throttle; frozen."""
+    du, dz, frozen = trim
+    m = {name: i for i, name in enumerate(SENSORS)}
+    th = f"{du[5]:+7.4f}" if len(du) > 5 else "      -"
+    return (f" {math.degrees(dz[m['AOA']]):+6.3f} {math.degrees(dz[m['ROL']]):+6.3f} {math.degrees(dz[m['YAW']]):+6.3f}"
+            f" {dz[m['AZ']]:+6.3f} {math.degrees(du[0]):+6.3f} {math.degrees(du[1]):+6.3f} {th} {'F' if frozen else '.'}")
+
+
+def show(record: dict, run: dict, every_s: float, trim: bool = False) -> None:
     fl, log, tr = run["flight"], run["truth"], run["trace"]
     t = fl.time_s
     print(f"\n== {record.get('maneuver', record['kind'])} {record['case']} run {record['run_index']} (seed {record['seed']}, "
@@ -110,12 +123,14 @@ def show(record: dict, run: dict, every_s: float) -> None:
     marks = set(range(0, len(t), step)) | {round(d["time_s"] * FRAME_RATE_HZ) for d in fl.declarations}
     air = fl.series["air_data"]
     print(f"{'t':>6} {'lvl':>3} {'declared':>9} {'top ln(p/p_NONE)':<48} {'rho':>5} {'phi':>6} {'n_z':>6} {'dVEL':>6} "
-          f"{'Mach':>6} {'h_p ft':>7}")
+          f"{'Mach':>6} {'h_p ft':>7}"
+          + (" dzAOA° dzROL  dzYAW  dzAZ   duLS°  duRS°  du_th   frz" if trim else ""))
     for i in sorted(m for m in marks if m < len(t)):
         top = sorted(tr["log_odds"][i].items(), key=lambda kv: -kv[1])[:3]
         print(f"{t[i]:6.2f} {tr['level'][i]:3d} {tr['declared'][i]:>9} "
               f"{'  '.join(f'{h} {v:6.1f}' for h, v in top):<48} {tr['rho'][i]:5.2f} {phi[i]:6.1f} "
-              f"{nz[i]:6.2f} {dvel[i]:6.1f} {air[i, 0]:6.3f} {air[i, 1]:7.0f}")
+              f"{nz[i]:6.2f} {dvel[i]:6.1f} {air[i, 0]:6.3f} {air[i, 1]:7.0f}"
+              + (trim_columns(tr["trim"][i]) if trim else ""))
     if record["case"] == "VEL":
         at = [min(len(t) - 1, round(x * FRAME_RATE_HZ)) for x in (6, 8, 10, 12, 14)]
         i0 = round(record["failure_time_s"] * FRAME_RATE_HZ)
@@ -142,6 +157,7 @@ def main(argv=None) -> None:
     ap.add_argument("--select", default="false-alarms")
     ap.add_argument("--every", type=float, default=0.5, help="seconds between rows (default 0.5)")
     ap.add_argument("--rates", action="store_true", help="evidence rates with the floor at 1e-300 (module docstring)")
+    ap.add_argument("--trim", action="store_true", help="the trim tracker's offsets in each row (module docstring)")
     ap.add_argument("--throttle-dither", metavar="A[@F]", help="a fixed throttle dither instead of the scheduled")
     ap.add_argument("--replay-option", metavar="KEY=VALUE", action="append", default=[],
                     help="an estimator setting of the replay only (the flight is the record's), e.g. "
@@ -166,7 +182,7 @@ def main(argv=None) -> None:
             print(f"{record['maneuver']} {record['case']} run {record['run_index']}: "
                   f"{rates[-1]:+.2f} nats/s of {record['case']} against NONE after the failure")
         else:
-            show(record, run, args.every)
+            show(record, run, args.every, trim=args.trim)
     if rates:
         print(f"mean {np.mean(rates):+.2f} nats/s, median {np.median(rates):+.2f}, "
               f"{sum(r > 0 for r in rates)} of {len(rates)} positive")

@@ -1,6 +1,7 @@
 """The cost of the estimator in the loop: one closed-loop flight against the truth model alone."""
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -8,7 +9,7 @@ import numpy as np
 from ..names import FRAME_RATE_HZ
 from ..truth import FlightControlSystem, TruthModel, fly_raw
 from .estimator import Estimator
-from .flight import fly
+from .flight import fly, models_throttle
 
 
 def _frames_alone(scenario, model_bank, estimator_options: dict, closed: bool) -> float:
@@ -50,7 +51,10 @@ def measure_overhead(scenario, model_bank, repeats: int = 5, pieces: bool = Fals
     ``truth_beside`` = closed-loop frames - truth frames - estimator (the truth's own steps run
     slower beside the estimator, each evicting the other's cache lines); ``python`` = extra -
     (closed-loop frames - truth frames) (the Python around the call: estimator reset, the
-    result)."""
+    result).  A bank that models the throttle: both sides fly the scheduled throttle dither
+    (``fly`` adds it for such a bank)."""
+    if models_throttle(model_bank):   # as fly flies such a bank: both sides fly the throttle dither
+        scenario = dataclasses.replace(scenario, dither=scenario.dither.with_scheduled_throttle())
     truth_only, closed, est_s, raw_frames, cl_frames = [], [], [], [], []
     fly(scenario, model_bank, estimator_options=estimator_options)  # warm: imports, estimator
     # the pieces need the flights fly flies in one C++ call (a fixed-size bank, no gust burst)

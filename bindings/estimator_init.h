@@ -17,7 +17,8 @@
 //   threshold, dwell_s, declarer         the declaration rule (declarer.h); a core.Declarer
 //                                        given as declarer supplies threshold and dwell_s
 //   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze   trim_tracker.h
-//   schedule_mode ('interpolate'|'nearest'), hysteresis_cells, blend_step_cells,
+//   schedule_mode ('interpolate'|'nearest'), hold_readings ('off'|'start'|'settled'),
+//   hysteresis_cells, blend_step_cells,
 //   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
 //   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
 //   adapt_reference (None: a schedule's per-node references, else 0.6)  turbulence_adaptation.h
@@ -47,7 +48,8 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              double threshold, double dwell_s,
                                              const py::object& declarer, double trim_time_constant_s,
                                              double trim_freeze_probability, double trim_hold_s, bool trim_freeze,
-                                             const std::string& schedule_mode, double hysteresis_cells,
+                                             const std::string& schedule_mode, const std::string& hold_readings,
+                                             double hysteresis_cells,
                                              double blend_step_cells, double air_data_time_constant_s,
                                              bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
                                              double adapt_scale_min, double adapt_scale_max, double adapt_gain,
@@ -70,6 +72,14 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
     o.schedule.mode = ScheduleMode::kNearest;
   else
     throw py::value_error("schedule_mode must be 'interpolate' or 'nearest', got '" + schedule_mode + "'");
+  if (hold_readings == "off")
+    o.schedule.hold_readings = HoldReadings::kOff;
+  else if (hold_readings == "start")
+    o.schedule.hold_readings = HoldReadings::kFromStart;
+  else if (hold_readings == "settled")
+    o.schedule.hold_readings = HoldReadings::kSettled;
+  else
+    throw py::value_error("hold_readings must be 'off', 'start' or 'settled', got '" + hold_readings + "'");
   o.schedule.hysteresis_cells = hysteresis_cells;
   o.schedule.blend_step_cells = blend_step_cells;
   o.schedule.air_data_time_constant_s = air_data_time_constant_s;
@@ -101,6 +111,10 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   return o;
 }
 
+inline const char* hold_readings_name(HoldReadings h) {
+  return h == HoldReadings::kOff ? "off" : h == HoldReadings::kFromStart ? "start" : "settled";
+}
+
 template <class T, class Source = ModelBank, class Class>
 Class& def_estimator_init(Class& cls) {
   const HierarchicalOptions core;  // the defaults
@@ -108,7 +122,8 @@ Class& def_estimator_init(Class& cls) {
       py::init([](const Source& bank, double p_min, double level1_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
                   double threshold, double dwell_s,
                   const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
-                  double trim_hold_s, bool trim_freeze, const std::string& schedule_mode, double hysteresis_cells,
+                  double trim_hold_s, bool trim_freeze, const std::string& schedule_mode,
+                  const std::string& hold_readings, double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
                   const std::optional<double>& adapt_reference, bool maneuver_kinematics,
@@ -117,7 +132,7 @@ Class& def_estimator_init(Class& cls) {
         return new T(bank, estimator_options(p_min, level1_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
                                              declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
-                                             schedule_mode, hysteresis_cells, blend_step_cells,
+                                             schedule_mode, hold_readings, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
                                              adapt_reference, maneuver_kinematics, maneuver_tempering_g,
@@ -132,6 +147,7 @@ Class& def_estimator_init(Class& cls) {
       py::arg("trim_time_constant_s") = core.trim.time_constant_s,
       py::arg("trim_freeze_probability") = core.trim.freeze_probability, py::arg("trim_hold_s") = core.trim.hold_s,
       py::arg("trim_freeze") = core.trim.freeze, py::arg("schedule_mode") = "interpolate",
+      py::arg("hold_readings") = hold_readings_name(core.schedule.hold_readings),
       py::arg("hysteresis_cells") = core.schedule.hysteresis_cells,
       py::arg("blend_step_cells") = core.schedule.blend_step_cells,
       py::arg("air_data_time_constant_s") = core.schedule.air_data_time_constant_s,

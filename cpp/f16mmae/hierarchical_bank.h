@@ -187,12 +187,17 @@ class HierarchicalBank {
     air_data_ = a;
     if (!sched_.active()) return;
     const XVector x_before = sched_.x_trim();
+    const bool hold = options_.schedule.hold_readings == HoldReadings::kFromStart ||
+                      (options_.schedule.hold_readings == HoldReadings::kSettled && sched_.settled());
     const bool reload = sched_.select(a);
     if (reload) load_scheduled();
     if (frame_ > 0) {  // before the first frame x = 0 is the trim
       shift_states(x_before - sched_.x_trim());
       z_shift_.noalias() = z_trim_ - sched_.z_trim();   // failed sensors' levels: absolute
-      if (!z_shift_.isZero(0.0)) bank_.shift_levels(z_shift_);
+      if (!z_shift_.isZero(0.0)) {
+        bank_.shift_levels(z_shift_);
+        if (hold) bank_.shift_held(z_shift_);
+      }
     }
     apply_trims();
   }

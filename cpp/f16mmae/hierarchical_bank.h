@@ -46,7 +46,11 @@
 //   trim in force at their first frame); likewise the levels b̂ of the failed sensors'
 //   uninformative channels (filter_bank.h) move by z_trim_old - z_trim_new, so a level is that
 //   of the absolute reading and a failed sensor's constant reading stays a constant level
-//   while the scheduled trim moves. Probabilities, the declarer, the declarations and the level are
+//   while the scheduled trim moves; with ScheduleOptions::hold_readings (off by default) the
+//   held readings of filter_bank.h move by the same z_trim_old - z_trim_new (from the first
+//   frame, or from the frame after the air data's running mean has settled), so a failed
+//   sensor's expected reading under its `complete` hypothesis stays the trim in force when
+//   the hold began. Probabilities, the declarer, the declarations and the level are
 //   untouched by a schedule change. A schedule whose nodes carry an adaptation reference
 //   (bank_schedule.h) sets the turbulence adaptation's rho_0 to the blend in force with the
 //   filters (ScheduleOptions::node_adapt_reference, on by default; rho itself carries on, and

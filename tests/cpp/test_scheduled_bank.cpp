@@ -395,9 +395,10 @@ TEST(ScheduledBank, AFailedSensorsLevelFollowsTheAbsoluteReadingAcrossATrimChang
 
 // A complete VEL failure (the paper's model: the failed sensor reads the trim plus noise) at
 // node (0, 0), whose VEL trim is 400 ft/s; at frame 200 the schedule moves to node (1, 0),
-// VEL trim 500 ft/s. With the held readings the VEL hypothesis' q is the hand-formed
-// (r - d)ᵀ A⁻¹ (r - d), d = 400 - 500 on VEL only (its residual taken from the held 400),
-// NONE's and the actuators' q stay rᵀ A⁻¹ r; without them the VEL hypothesis' q is rᵀ A⁻¹ r
+// VEL trim 500 ft/s (AOA 0.1 -> 0.08 rad). With the held readings the VEL hypothesis' q is the
+// hand-formed (r - d)ᵀ A⁻¹ (r - d), d = 400 - 500 on VEL only (its residual taken from the held
+// 400), each other sensor's hypothesis likewise on its own channel, NONE's and the actuators'
+// q stay rᵀ A⁻¹ r; without them the VEL hypothesis' q is rᵀ A⁻¹ r
 // with a 100-ft/s residual. No allocation.
 TEST(ScheduledBank, AFailedSensorsExpectedReadingIsHeldAcrossATrimChange) {
   const BankSchedule s = make_schedule();
@@ -415,6 +416,7 @@ TEST(ScheduledBank, AFailedSensorsExpectedReadingIsHeldAcrossATrimChange) {
     return r.dot(b.bank().hypothesis(k).a_inverse() * r);
   };
   const Z zero = Z::Zero();
+  const Z d = node_bank(0, 0).z_trim - node_bank(1, 0).z_trim;   // VEL 400 - 500, AOA 0.1 - 0.08
   const long long before = f16mmae::testing::allocation_count();
   for (std::size_t i = 0; i < f.z.size(); ++i) {
     for (auto* b : {&held, &followed}) {
@@ -425,11 +427,11 @@ TEST(ScheduledBank, AFailedSensorsExpectedReadingIsHeldAcrossATrimChange) {
       ASSERT_TRUE(held.bank().quadratic_forms() == followed.bank().quadratic_forms()) << "frame " << i;
       continue;
     }
-    Z d = zero;
-    d(0) = 400.0 - 500.0;
     ASSERT_TRUE(held.bank().held_readings() == d) << "frame " << i;
     for (int k = 0; k < held.size(); ++k) {
-      const Z& dk = k == vel ? d : zero;
+      Z dk = zero;   // a failed sensor's hypothesis holds that sensor's channel only
+      for (std::size_t j = 0; j < test::kF16Sensors.size(); ++j)
+        if (held.name(held.online()[k]) == test::kF16Sensors[j]) dk(static_cast<Eigen::Index>(j)) = d(static_cast<Eigen::Index>(j));
       EXPECT_NEAR(held.bank().quadratic_forms()(k), quadratic(held, k, dk),
                   1e-9 * (1.0 + quadratic(held, k, dk))) << "frame " << i << " filter " << k;
       EXPECT_NEAR(followed.bank().quadratic_forms()(k), quadratic(followed, k, zero),

@@ -167,8 +167,9 @@ ModelBank bank_from_file_bytes(const py::bytes& data, const std::string& source)
 // (adapt_reference None: not carried).
 BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<double>& alt_ft, const py::list& nodes,
                            int primary, const std::string& metadata, int switch_state,
-                           const std::vector<double>& switch_thresholds) {
+                           const std::vector<double>& switch_thresholds, double start_up_s) {
   BankSchedule s;
+  s.start_up_s = start_up_s;
   s.switch_state = switch_state;
   s.switch_thresholds = switch_thresholds;
   s.mach = mach;
@@ -220,6 +221,7 @@ py::object schedule_info(const ModelBank& b) {
   d["metadata"] = s.metadata;
   d["switch_state"] = s.switch_state;
   d["switch_thresholds"] = py::tuple(py::cast(s.switch_thresholds));
+  d["start_up_s"] = s.start_up_s;
   return d;
 }
 
@@ -428,9 +430,12 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
                                d["p_min"] = b.estimator.p_min;
                                d["threshold"] = b.estimator.threshold;
                                d["dwell_s"] = b.estimator.dwell_s;
+                               // a scheduled-bank file's start-up, where it recommends one
+                               if (b.estimator.start_up_s > 0.0) d["start_up_s"] = b.estimator.start_up_s;
                                return d;
                              },
-                             "the recommended settings as keyword arguments of core.HierarchicalBank")
+                             "the recommended settings as keyword arguments of core.HierarchicalBank\n"
+                             "(start_up_s only where the bank recommends a start-up: a scheduled-bank file of format 3)")
       .def_property_readonly("metadata", [](const ModelBank& b) { return b.metadata; },
                              "JSON text: how the bank was made (provenance only)")
       .def_property_readonly("content_hash", [](const ModelBank& b) { return b.content_hash; },
@@ -439,7 +444,8 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
                              "None, or for a scheduled bank (bank_schedule.h) a dict: mach, alt_ft (the grid axes),\n"
                              "nodes (list of {i_mach, i_alt, layer, mach, alt_ft, bank, x_trim, adapt_reference (None: not\n"
                              "carried)}), primary (the node this bank is, in force until air data arrives), metadata\n"
-                             "(JSON text), switch_state and switch_thresholds (the configuration law; -1 and ())")
+                             "(JSON text), switch_state and switch_thresholds (the configuration law; -1 and ()), start_up_s\n"
+                             "(the estimator start-up the schedule recommends, s; 0: none)")
       .def("validate", &ModelBank::validate, "Raise ValueError naming the first problem, else return None.")
       .def(
           "save", [](const ModelBank& b, py::handle path) { return save_bank(b, fspath(path)); }, py::arg("path"),
@@ -498,19 +504,22 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
   m.def(
       "save_schedule",
       [](const std::vector<double>& mach, const std::vector<double>& alt_ft, const py::list& nodes, int primary,
-         const std::string& metadata, py::handle path, int switch_state, const std::vector<double>& switch_thresholds) {
-        return save_schedule(make_schedule(mach, alt_ft, nodes, primary, metadata, switch_state, switch_thresholds),
-                             fspath(path));
+         const std::string& metadata, py::handle path, int switch_state, const std::vector<double>& switch_thresholds,
+         double start_up_s) {
+        return save_schedule(
+            make_schedule(mach, alt_ft, nodes, primary, metadata, switch_state, switch_thresholds, start_up_s),
+            fspath(path));
       },
       py::arg("mach"), py::arg("alt_ft"), py::arg("nodes"), py::kw_only(), py::arg("primary"),
       py::arg("metadata") = "", py::arg("path"), py::arg("switch_state") = -1,
-      py::arg("switch_thresholds") = std::vector<double>{},
+      py::arg("switch_thresholds") = std::vector<double>{}, py::arg("start_up_s") = 0.0,
       "Write a scheduled-bank file (cpp/bankfile/schedule_file.h) atomically; returns its content hash.\n"
       "mach, alt_ft: the ascending grid axes; nodes: [(i_mach, i_alt, ModelBank, x_trim (nx,)[, adapt_reference\n"
       "[, layer]]), ...], one per covered grid point and layer (adapt_reference: the turbulence adaptation's rho_0\n"
       "at the node, given for every node or for none, None: not carried; layer: the configuration layer, 0 by\n"
       "default); switch_state, switch_thresholds: the configuration law (bank_schedule.h; -1 and none: one\n"
-      "layer); primary: the node in force before air data. ValueError naming the field.\n"
+      "layer); primary: the node in force before air data; start_up_s: the estimator start-up the schedule\n"
+      "recommends, s (0: none; written as format 3 when > 0, else 2). ValueError naming the field.\n"
       "core.load_bank reads the file back as the primary node's ModelBank with .schedule set.");
   m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s
   m.def(

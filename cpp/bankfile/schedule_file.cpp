@@ -45,6 +45,10 @@ std::vector<double> read_axis(PayloadReader& r, const std::string& field) {
 
 }  // namespace
 
+std::uint32_t schedule_file_version(const BankSchedule& schedule) {
+  return schedule.start_up_s != 0.0 ? BankSchedule::kFormatVersion : 2;
+}
+
 bool is_schedule_file(const std::uint8_t* data, std::size_t size) {
   return size >= sizeof kScheduleFileMagic && std::memcmp(data, kScheduleFileMagic, sizeof kScheduleFileMagic) == 0;
 }
@@ -58,6 +62,8 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule) {
   w.text(schedule.metadata);
   w.i32(schedule.switch_state);
   w.axis(schedule.switch_thresholds);
+  const std::uint32_t version = schedule_file_version(schedule);
+  if (version >= 3) w.f64(schedule.start_up_s);
   w.i32(static_cast<std::int64_t>(schedule.nodes.size()));
   for (const ScheduleNode& node : schedule.nodes) {
     w.i32(node.i_mach);
@@ -70,12 +76,12 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule) {
     w.i64(static_cast<std::int64_t>(bank.size()));
     w.out.insert(w.out.end(), bank.begin(), bank.end());
   }
-  return hashed_file_image(kScheduleFileMagic, BankSchedule::kFormatVersion, w.out);
+  return hashed_file_image(kScheduleFileMagic, version, w.out);
 }
 
 ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size, std::uint32_t version) {
-  if (version != 1 && version != BankSchedule::kFormatVersion)
-    throw BankFileFormatError("unsupported format version " + std::to_string(version) + " (this build reads 1 and " +
+  if (version < 1 || version > BankSchedule::kFormatVersion)
+    throw BankFileFormatError("unsupported format version " + std::to_string(version) + " (this build reads 1 to " +
                               std::to_string(BankSchedule::kFormatVersion) + ")");
   auto schedule = std::make_shared<BankSchedule>();
   PayloadReader r(payload, size);
@@ -87,6 +93,7 @@ ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size,
     schedule->switch_state = r.i32("switch_state");
     schedule->switch_thresholds = read_axis(r, "switch_thresholds");
   }
+  if (version >= 3) schedule->start_up_s = r.f64("start_up_s");   // versions 1 and 2: 0, none
   const std::size_t per_node = (version >= 2 ? 24 : 12) + 8 + kBankFileHeaderSize;
   const std::size_t n = r.count("nodes size", kMaxScheduleNodes, per_node);
   schedule->nodes.resize(n);
@@ -111,6 +118,7 @@ ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size,
     throw BankFileFormatError("payload has " + std::to_string(r.remaining()) + " bytes after the last node");
   schedule->validate();
   ModelBank bank = schedule->nodes[static_cast<std::size_t>(schedule->primary)].bank;
+  bank.estimator.start_up_s = schedule->start_up_s;   // the schedule's recommendation
   bank.content_hash = to_hex(sha256(payload, size));
   bank.schedule = std::move(schedule);
   return bank;
@@ -119,9 +127,9 @@ ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size,
 ModelBank parse_schedule_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
   const std::string who = "scheduled-bank file " + source + ": ";
   const std::uint32_t version = hashed_file_version(data, size, kScheduleFileMagic, who, "scheduled-bank");
-  if (version != 1 && version != BankSchedule::kFormatVersion)
+  if (version < 1 || version > BankSchedule::kFormatVersion)
     throw BankFileFormatError(who + "unsupported format version " + std::to_string(version) +
-                              " (this build reads versions 1 and " + std::to_string(BankSchedule::kFormatVersion) + ")");
+                              " (this build reads versions 1 to " + std::to_string(BankSchedule::kFormatVersion) + ")");
   const std::uint8_t* payload = hashed_file_payload(data, size, who);
   try {
     return decode_schedule_payload(payload, size - kBankFileHeaderSize, version);

@@ -14,6 +14,8 @@
 //                   string metadata                       int32 n (length + 1), bytes, NUL (JSON)
 //                   int32 switch_state                    version 2 only: the configuration law
 //                   int32 n, n doubles                    version 2 only: switch_thresholds
+//                   double start_up_s                     version 3 only: the estimator start-up
+//                                                         the schedule recommends, s (bank_schedule.h)
 //                   int32 n_nodes, then per node:
 //                     int32 i_mach, int32 i_alt           its grid index
 //                     int32 layer                         version 2 only: configuration layer
@@ -27,7 +29,10 @@
 // file is, and a node can be taken out and used alone; shared parts are not factored out.
 //
 // Version 1 files (one layer, no adapt_reference) are still read: their nodes carry none.
-// Files are written as version 2.
+// Versions 1 and 2 carry no start_up_s: they recommend none (0). A schedule is written as
+// version 3 when it recommends a start-up (start_up_s > 0), else as version 2, byte for byte
+// as before (schedule_file_version). The ModelBank parse_schedule_file returns reports the
+// schedule's start_up_s as its estimator.start_up_s.
 // parse_schedule_file refuses, naming the file and the field (BankFileFormatError, an
 // std::invalid_argument): wrong magic or version, truncation, trailing bytes, a hash
 // mismatch, a declared count over its limit or over the bytes left (checked before anything
@@ -53,6 +58,8 @@ inline constexpr std::int64_t kMaxScheduleAxis = 64;              // points per 
 inline constexpr std::int64_t kMaxScheduleNodes = 1024;
 inline constexpr std::uint64_t kMaxScheduleFileBytes = 512ull << 20;
 
+// The format version a schedule is written as (see above): 3 with a start-up, else 2.
+std::uint32_t schedule_file_version(const BankSchedule& schedule);
 // True when the bytes begin with the scheduled-bank magic.
 bool is_schedule_file(const std::uint8_t* data, std::size_t size);
 
@@ -61,7 +68,7 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule);
 // Parses and validates a file image; `source` names it in error messages.
 ModelBank parse_schedule_file(const std::uint8_t* data, std::size_t size, const std::string& source);
 // The payload alone (no header, no hash check), validated: what parse_schedule_file does
-// after the header, for a payload of format `version` (1 or 2). Throws as
+// after the header, for a payload of format `version` (1 to 3). Throws as
 // parse_schedule_file does, without the file's name.
 ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size,
                                   std::uint32_t version = BankSchedule::kFormatVersion);

@@ -48,7 +48,7 @@ struct DaemonConfig {
   std::optional<double> air_data_time_constant_s;  // its air-data low-pass (scheduled_filters.h); unset: the core's
   bool maneuver_kinematics = false;  // maneuver_kinematics.h
   double maneuver_tempering_g = 0.0; // 0 = off
-  double start_up_s = 0.0;           // filter_bank.h: updates that weigh nothing after a start
+  std::optional<double> start_up_s;  // filter_bank.h: updates that weigh nothing after a start; unset: the bank's
   // actuator_limits.h: one value per input (rad/s, rad); both empty = off
   std::vector<double> actuator_rate_limits_rad_s, actuator_position_limits_rad;
   long long max_frames = 0;         // exit after this many status frames; 0 = run until signalled

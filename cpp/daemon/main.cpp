@@ -22,6 +22,7 @@
 #include <sched.h>
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -136,7 +137,7 @@ int main(int argc, char** argv) {
     if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
     options.maneuver.kinematics = cfg.maneuver_kinematics;
     options.maneuver.tempering_g = cfg.maneuver_tempering_g;
-    options.bank.start_up_s = cfg.start_up_s;
+    options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation
     options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
     options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;
     if (set && cfg.turbulence_banks) {
@@ -199,10 +200,24 @@ int main(int argc, char** argv) {
       std::string maneuver = options.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
       if (options.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(options.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
-      std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, p_min %g, threshold %g, dwell %g s, %s, %s, "
+      // a scheduled bank's floors are its nodes' (blended where the air data lies): their range
+      std::string floor = "p_min " + f16mmae::format_value(options.bank.p_min);
+      if (bank.schedule && options.schedule.node_p_min) {
+        double lo = bank.schedule->nodes.front().bank.estimator.p_min, hi = lo;
+        for (const auto& n : bank.schedule->nodes) {
+          lo = std::min(lo, n.bank.estimator.p_min);
+          hi = std::max(hi, n.bank.estimator.p_min);
+        }
+        floor = lo == hi ? "p_min " + f16mmae::format_value(lo) + " at every node"
+                         : "p_min per node " + f16mmae::format_value(lo) + " to " + f16mmae::format_value(hi);
+      }
+      const std::string start_up = options.bank.start_up_s > 0.0
+                                       ? "start-up " + f16mmae::format_value(options.bank.start_up_s) + " s"
+                                       : std::string("no start-up");
+      std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, %s, threshold %g, dwell %g s, %s, %s, %s, "
                   "schedule %s on air data low-passed %s s, %s), lcm %s, %s -> %s, %s\n",
-                  bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), options.bank.p_min,
-                  options.declarer.threshold, options.declarer.dwell_s,
+                  bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), floor.c_str(),
+                  options.declarer.threshold, options.declarer.dwell_s, start_up.c_str(),
                   adaptation.c_str(),
                   trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate",
                   f16mmae::format_value(options.schedule.air_data_time_constant_s).c_str(), maneuver.c_str(), cfg.lcm_url.c_str(),

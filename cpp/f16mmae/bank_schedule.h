@@ -15,7 +15,10 @@
 // Each node's bank also recommends its own estimator settings (EstimatorSettings, checked by
 // ModelBank::validate); its p_min is the node's probability floor, which the core blends
 // with the filters (scheduled_filters.h). The primary node's settings are those the schedule
-// as a whole reports.
+// as a whole reports. The schedule as a whole also recommends the estimator's start-up
+// (start_up_s, filter_bank.h; 0: none): the design bounds the nodes' floors and references
+// on flights flown with it, so the file is to be flown with it (the scheduled-bank file
+// reports it as its ModelBank's estimator.start_up_s).
 //
 // Configuration layers (an aircraft whose configuration switches with the flight condition,
 // e.g. the F-16's leading-edge flap, scheduled on trim alpha): a node also has a layer l
@@ -44,7 +47,7 @@
 // not ascending; a node layer outside the layers; a node index outside the axes or covered
 // twice in one layer; an x_trim of the
 // wrong size or not finite; an adapt_reference outside [0, 100], or carried by some nodes and
-// not by others; a primary node that is not one of the nodes; node banks whose names, sizes, frame rate or tuning differ from
+// not by others; a start_up_s outside [0, kMaxStartUpS]; a primary node that is not one of the nodes; node banks whose names, sizes, frame rate or tuning differ from
 // node 0's (each node bank is validated by ModelBank::validate on load).
 #pragma once
 
@@ -79,7 +82,7 @@ struct GridPoint {
 };
 
 struct BankSchedule {
-  static constexpr std::uint32_t kFormatVersion = 2;   // 2: per-node adapt_reference
+  static constexpr std::uint32_t kFormatVersion = 3;   // 2: per-node adapt_reference; 3: start_up_s
 
   // Whether the nodes carry their own adaptation reference (validate: all or none).
   bool has_adapt_reference() const noexcept { return !nodes.empty() && !std::isnan(nodes[0].adapt_reference); }
@@ -91,6 +94,10 @@ struct BankSchedule {
   int switch_state = -1;       // x_trim index of the configuration law, -1: one layer
   std::vector<double> switch_thresholds;   // ascending; layers = size + 1
   std::string metadata;        // JSON text: how the schedule was made (provenance only)
+  // The estimator start-up the design recommends for the whole schedule, s (filter_bank.h's
+  // start_up_s: its nodes' floors and references were bounded on flights flown with it);
+  // 0: none. In [0, kMaxStartUpS].
+  double start_up_s = 0.0;
 
   int layers() const noexcept { return static_cast<int>(switch_thresholds.size()) + 1; }
   // The node at grid index (i, j) in `layer`, or -1.
@@ -178,6 +185,8 @@ struct BankSchedule {
       if (!std::isfinite(switch_thresholds[k]) || (k > 0 && !(switch_thresholds[k] > switch_thresholds[k - 1])))
         fail("switch_thresholds must be finite and strictly ascending: switch_thresholds[" + std::to_string(k) +
              "] = " + std::to_string(switch_thresholds[k]));
+    if (!(start_up_s >= 0.0 && start_up_s <= kMaxStartUpS))
+      fail("start_up_s = " + format_value(start_up_s) + " must be in [0, " + format_value(kMaxStartUpS) + "] s");
     if (primary < 0 || primary >= static_cast<int>(nodes.size()))
       fail("primary = " + std::to_string(primary) + " is not one of its " + std::to_string(nodes.size()) + " nodes");
     const ModelBank& first = nodes[0].bank;

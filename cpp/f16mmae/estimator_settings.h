@@ -1,7 +1,8 @@
-// EstimatorSettings — the three settings of the MMAE estimator that a model bank recommends
-// (typed fields of the bank file since format version 2) and the range checks applied wherever
-// they enter the core: FilterBank (p_min), Declarer (threshold, dwell_s), ModelBank::validate
-// (all three). std only.
+// EstimatorSettings — the settings of the MMAE estimator that a model bank recommends
+// (p_min, threshold, dwell_s: typed fields of the bank file since format version 2; start_up_s:
+// a scheduled-bank file's since schedule format 3, 0 from a bank file) and the range checks
+// applied wherever they enter the core: FilterBank (p_min, start_up_s), Declarer (threshold,
+// dwell_s), ModelBank::validate (all). std only.
 //
 // Valid ranges, and why:
 //   p_min      0 <= p_min < 1/K, K = hypotheses on line: the K - 1 floored hypotheses must
@@ -11,6 +12,7 @@
 //   dwell_s    0 <= dwell_s <= kMaxDwellS (60 s), and frame_rate_hz positive and finite. The
 //              dwell in frames, dwell_frames = max(1, round(dwell_s * frame_rate_hz)), must be
 //              at most kMaxDwellFrames, so it is an int: no huge dwell wraps to "no dwell".
+//   start_up_s 0 <= start_up_s <= kMaxStartUpS (an hour).
 // Each check throws std::invalid_argument "<who>: <setting> must be <range>, got <value>".
 #pragma once
 
@@ -26,11 +28,15 @@ inline constexpr double kDefaultThreshold = 0.9;   // declarer.h says why
 inline constexpr double kDefaultDwellS = 0.25;     // declarer.h says why
 inline constexpr double kMaxDwellS = 60.0;         // a minute: longer is no detection at all
 inline constexpr int kMaxDwellFrames = 1 << 24;    // ~73 h at 64 Hz: far inside int
+inline constexpr double kMaxStartUpS = 3600.0;     // filter_bank.h's start_up_s range: [0, 1 h]
 
 struct EstimatorSettings {
   double p_min = kDefaultPMin;
   double threshold = kDefaultThreshold;
   double dwell_s = kDefaultDwellS;
+  // The start-up (filter_bank.h), s: a scheduled-bank file's (schedule format 3,
+  // bank_schedule.h); a model-bank file carries none, 0.
+  double start_up_s = 0.0;
 };
 
 // The shortest text that reads back as v ("0.4", "3.4e+07", "nan"), for error messages.
@@ -74,11 +80,13 @@ inline int dwell_frames(double dwell_s, double frame_rate_hz, const std::string&
   return n < 1.0 ? 1 : static_cast<int>(n);
 }
 
-// All three, for a bank of k hypotheses at frame_rate_hz.
+// All four, for a bank of k hypotheses at frame_rate_hz.
 inline void check_settings(const EstimatorSettings& s, int k, double frame_rate_hz, const std::string& who) {
   check_p_min(s.p_min, k, who);
   check_threshold(s.threshold, who);
   dwell_frames(s.dwell_s, frame_rate_hz, who);
+  if (!(s.start_up_s >= 0.0 && s.start_up_s <= kMaxStartUpS))
+    settings_detail::refuse(who, "start_up_s", "in [0, " + format_value(kMaxStartUpS) + "] s", s.start_up_s);
 }
 
 }  // namespace f16mmae

@@ -91,6 +91,10 @@
 namespace f16mmae {
 
 enum class ScheduleMode { kInterpolate, kNearest };
+// When a failed sensor's expected reading is held through trim changes (HierarchicalBank,
+// filter_bank.h's held readings): never; from the first frame; from the first frame after
+// the air data's running mean has handed over to the low-pass (settled()).
+enum class HoldReadings { kOff, kFromStart, kSettled };
 
 struct ScheduleOptions {
   ScheduleMode mode = ScheduleMode::kInterpolate;
@@ -100,6 +104,7 @@ struct ScheduleOptions {
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
   bool node_p_min = true;              // the nodes' probability floors (their banks' p_min)
+  HoldReadings hold_readings = HoldReadings::kOff;   // a failed sensor's expected reading held (above)
 };
 
 inline void check_schedule_options(const ScheduleOptions& o) {
@@ -136,6 +141,7 @@ class ScheduledFilters {
     alpha_ = options.air_data_time_constant_s > 0.0
                  ? 1.0 - std::exp(-1.0 / (frame_rate_hz * options.air_data_time_constant_s))
                  : 1.0;
+    mean_frames_ = running_mean_frames(alpha_);
     axes_.mach = schedule.mach;
     axes_.alt_ft = schedule.alt_ft;
     axes_.switch_state = schedule.switch_state;
@@ -190,20 +196,36 @@ class ScheduledFilters {
     last_s_ = g.s, last_t_ = g.t;
   }
 
+  // The running mean's length: the largest n with 1/n >= alpha (n >= 1), the selections
+  // that take the gain 1/n before the low-pass' alpha takes over (the header's max(alpha, 1/n)).
+  static std::int64_t running_mean_frames(double alpha) noexcept {
+    std::int64_t n = alpha > 0.0 ? static_cast<std::int64_t>(std::floor(1.0 / alpha)) : 1;
+    if (n < 1) n = 1;
+    while (n > 1 && 1.0 / static_cast<double>(n) < alpha) --n;
+    while (1.0 / static_cast<double>(n + 1) >= alpha) ++n;
+    return n;
+  }
+  // True once the running mean has handed over to the low-pass (mean_frames_ selections since
+  // the last reset): from then on the low-passed air data moves with the flight condition only.
+  bool settled() const noexcept { return selections_ >= mean_frames_; }
+
   // Selects what is in force for air data `a` (finite). Returns true when the filters
   // changed (the caller reloads its on-line filters through filter()); the trims are
   // recomputed every call (u_trim(), z_trim(), x_trim()).
   bool select(const AirData& a) noexcept {
     const bool primed = selections_ > 0;
     if (primed) {
-      // the running mean's gain 1/n while it exceeds alpha, then alpha (n stops counting there)
-      const double gain = std::max(alpha_, 1.0 / static_cast<double>(selections_ + 1));
+      // the running mean's gain 1/n while it is at least alpha (n <= mean_frames_), then
+      // alpha; n stops counting at mean_frames_
+      const bool mean = selections_ < mean_frames_;
+      const double gain = mean ? 1.0 / static_cast<double>(selections_ + 1) : alpha_;
       filtered_.mach += gain * (a.mach - filtered_.mach);
       filtered_.pressure_altitude_ft += gain * (a.pressure_altitude_ft - filtered_.pressure_altitude_ft);
+      if (mean) ++selections_;
     } else {
       filtered_ = a;
+      selections_ = 1;
     }
-    if (1.0 / static_cast<double>(selections_ + 1) >= alpha_) ++selections_;
     const GridPoint g = axes_.locate(filtered_);
     if (g.outside) ++outside_;
     bool changed = false;
@@ -493,7 +515,8 @@ class ScheduledFilters {
   std::array<double, kCorners> trim_weights_{};
   AirData filtered_;                             // the low-passed air data
   double alpha_ = 1.0;
-  std::int64_t selections_ = 0;                  // selections since the last reset, up to 1/alpha
+  std::int64_t selections_ = 0;                  // selections since the last reset, up to mean_frames_
+  std::int64_t mean_frames_ = 1;                 // running_mean_frames(alpha_)
   double last_s_ = 0.0, last_t_ = 0.0;           // air data at the last blend
   bool fallback_now_ = false;
   int layer_now_ = 0;                            // the layer the air data now calls for

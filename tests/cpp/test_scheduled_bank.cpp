@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
@@ -392,6 +393,119 @@ TEST(ScheduledBank, AFailedSensorsLevelFollowsTheAbsoluteReadingAcrossATrimChang
   EXPECT_NEAR(moved.z_trim()(0) - held.z_trim()(0), 100.0, 1e-9);
 }
 
+// A complete VEL failure (the paper's model: the failed sensor reads the trim plus noise) at
+// node (0, 0), whose VEL trim is 400 ft/s; at frame 200 the schedule moves to node (1, 0),
+// VEL trim 500 ft/s (AOA 0.1 -> 0.08 rad). With the held readings the VEL hypothesis' q is the
+// hand-formed (r - d)ᵀ A⁻¹ (r - d), d = 400 - 500 on VEL only (its residual taken from the held
+// 400), each other sensor's hypothesis likewise on its own channel, NONE's and the actuators'
+// q stay rᵀ A⁻¹ r; without them the VEL hypothesis' q is rᵀ A⁻¹ r
+// with a 100-ft/s residual. No allocation.
+TEST(ScheduledBank, AFailedSensorsExpectedReadingIsHeldAcrossATrimChange) {
+  const BankSchedule s = make_schedule();
+  HierarchicalOptions o = options(ScheduleMode::kNearest);
+  o.declarer.dwell_s = 60.0;   // no declaration: the filters stay on line at their indices
+  o.schedule.hold_readings = HoldReadings::kFromStart;
+  F16HierarchicalBank held(scheduled_bank(s), o);
+  o.schedule.hold_readings = HoldReadings::kOff;
+  F16HierarchicalBank followed(scheduled_bank(s), o);
+  const Frames f = fly(node_bank(0, 0), 0, 0, {"VEL"}, 260, 9u);
+  const int vel = 1 + 5;   // NONE, five actuators, then VEL
+  ASSERT_EQ(held.name(vel), "VEL");
+  const auto quadratic = [](const F16HierarchicalBank& b, int k, const Z& d) {
+    const Z r = b.bank().residual(k) - d;
+    return r.dot(b.bank().hypothesis(k).a_inverse() * r);
+  };
+  const Z zero = Z::Zero();
+  const Z d = node_bank(0, 0).z_trim - node_bank(1, 0).z_trim;   // VEL 400 - 500, AOA 0.1 - 0.08
+  const long long before = f16mmae::testing::allocation_count();
+  for (std::size_t i = 0; i < f.z.size(); ++i) {
+    for (auto* b : {&held, &followed}) {
+      b->schedule(AirData{i >= 200 ? 0.6 : 0.4, 10000.0});
+      b->step(f.z[i], f.u[i]);
+    }
+    if (i < 200) {   // no trim change yet: the two are the same bit for bit
+      ASSERT_TRUE(held.bank().quadratic_forms() == followed.bank().quadratic_forms()) << "frame " << i;
+      continue;
+    }
+    ASSERT_TRUE(held.bank().held_readings() == d) << "frame " << i;
+    for (int k = 0; k < held.size(); ++k) {
+      Z dk = zero;   // a failed sensor's hypothesis holds that sensor's channel only
+      for (std::size_t j = 0; j < test::kF16Sensors.size(); ++j)
+        if (held.name(held.online()[k]) == test::kF16Sensors[j]) dk(static_cast<Eigen::Index>(j)) = d(static_cast<Eigen::Index>(j));
+      EXPECT_NEAR(held.bank().quadratic_forms()(k), quadratic(held, k, dk),
+                  1e-9 * (1.0 + quadratic(held, k, dk))) << "frame " << i << " filter " << k;
+      EXPECT_NEAR(followed.bank().quadratic_forms()(k), quadratic(followed, k, zero),
+                  1e-9 * (1.0 + quadratic(followed, k, zero))) << "frame " << i << " filter " << k;
+    }
+    // the held VEL residual is the sensor's noise about 400; the followed one is 100 off
+    EXPECT_LT(std::abs(held.bank().residual(vel)(0) - d(0)), 1.0) << "frame " << i;
+    EXPECT_GT(std::abs(followed.bank().residual(vel)(0)), 50.0) << "frame " << i;
+  }
+  EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+  EXPECT_GT(held.probabilities()(vel), followed.probabilities()(vel));
+  EXPECT_TRUE(held.bank().held_channel(vel, 0));     // VEL's row of H is zero in the VEL hypothesis
+  EXPECT_FALSE(held.bank().held_channel(0, 0));      // NONE holds nothing
+  EXPECT_FALSE(held.bank().held_channel(vel, 1));
+  held.reset();
+  EXPECT_TRUE(held.bank().held_readings().isZero(0.0));
+}
+
+// HoldReadings::kSettled: the held readings start where the air data's running mean hands
+// over to the low-pass (the 128th selection at 64 Hz and tau 2 s), so the VEL trim then in
+// force is the held one: h = z_trim(after the 128th selection) - z_trim(now).
+TEST(ScheduledBank, SettledHoldStartsWhereTheRunningMeanEnds) {
+  const BankSchedule s = make_schedule();
+  HierarchicalOptions o = options(ScheduleMode::kInterpolate);
+  o.schedule.air_data_time_constant_s = 2.0;
+  o.schedule.hold_readings = HoldReadings::kSettled;
+  F16HierarchicalBank hb(scheduled_bank(s), o);
+  const Frames f = fly(node_bank(0, 0), 0, 0, {}, 400, 3u);
+  double anchor = 0.0;
+  for (int i = 0; i < 400; ++i) {
+    hb.schedule(AirData{0.4 + 0.0005 * i, 10000.0});
+    hb.step(f.z[i], f.u[i]);
+    if (i < 127) EXPECT_TRUE(hb.bank().held_readings().isZero(0.0)) << "frame " << i;
+    if (i == 127) {
+      EXPECT_TRUE(hb.scheduled().settled());
+      anchor = hb.z_trim()(0);
+    }
+    if (i < 127) EXPECT_FALSE(hb.scheduled().settled());
+  }
+  EXPECT_NEAR(hb.bank().held_readings()(0), anchor - hb.z_trim()(0), 1e-9);
+  EXPECT_LT(hb.bank().held_readings()(0), -10.0);   // the trim moved on by tens of ft/s
+}
+
+// The running mean's length and the filtered air data against the rule written out with the
+// gain max(alpha, 1/n) (the header's), bit for bit, at several time constants.
+TEST(ScheduledBank, TheRunningMeansLengthIsTheLastNWithOneOverNAtLeastAlpha) {
+  using SF = ScheduledFilters<13, 5, 7>;
+  EXPECT_EQ(SF::running_mean_frames(1.0), 1);
+  EXPECT_EQ(SF::running_mean_frames(0.5), 2);
+  EXPECT_EQ(SF::running_mean_frames(0.3), 3);
+  EXPECT_EQ(SF::running_mean_frames(1.0 - std::exp(-1.0 / 128.0)), 128);
+  const BankSchedule s = make_schedule();
+  for (const double tau : {0.0, 0.05, 0.5, 2.0, 30.0}) {
+    HierarchicalOptions o = options(ScheduleMode::kInterpolate);
+    o.schedule.air_data_time_constant_s = tau;
+    F16HierarchicalBank hb(scheduled_bank(s), o);
+    const double alpha = tau > 0.0 ? 1.0 - std::exp(-1.0 / (64.0 * tau)) : 1.0;
+    double mach = 0.0;
+    std::int64_t n = 0;
+    for (int i = 0; i < 3000; ++i) {
+      const double a = 0.45 + 0.05 * std::sin(0.37 * i) + 0.001 * (i % 11);
+      if (n == 0) {
+        mach = a;
+        n = 1;
+      } else {
+        mach += std::max(alpha, 1.0 / static_cast<double>(n + 1)) * (a - mach);
+        if (1.0 / static_cast<double>(n + 1) >= alpha) ++n;
+      }
+      hb.schedule(AirData{a, 15000.0});
+      ASSERT_EQ(hb.scheduled().filtered_air_data().mach, mach) << "tau " << tau << " frame " << i;
+    }
+  }
+}
+
 TEST(ScheduledBank, ScheduledFramesAllocateNothing) {
   for (const ScheduleMode mode : {ScheduleMode::kNearest, ScheduleMode::kInterpolate}) {
     const BankSchedule s = make_schedule();
@@ -546,4 +660,74 @@ TEST(ScheduleFile, RoundTripsAndRefusesCorruptionNamingTheField) {
   bad.nodes[1].x_trim.resize(3);
   EXPECT_THROW(schedule_file_bytes(bad), std::invalid_argument);
   std::remove(path.c_str());
+}
+
+// The start-up a schedule recommends (format 3): written as version 3 only when it is given,
+// read back as the loaded bank's estimator.start_up_s; a schedule without one is written as
+// version 2 and carries 0 (as every version-1 and version-2 file); out of range is refused
+// naming the field, on writing and in a file image (its hash made valid).
+TEST(ScheduleFile, TheRecommendedStartUpIsFormatThreeAndOlderFilesCarryNone) {
+  BankSchedule s = make_schedule();
+  const auto version_of = [](const std::vector<std::uint8_t>& image) {
+    return (std::uint32_t{image[8]} << 24) | (std::uint32_t{image[9]} << 16) | (std::uint32_t{image[10]} << 8) |
+           std::uint32_t{image[11]};
+  };
+  const std::vector<std::uint8_t> plain = schedule_file_bytes(s);
+  EXPECT_EQ(version_of(plain), 2u);
+  const ModelBank none = parse_schedule_file(plain.data(), plain.size(), "'plain'");
+  EXPECT_EQ(none.estimator.start_up_s, 0.0);
+  EXPECT_EQ(none.schedule->start_up_s, 0.0);
+
+  s.start_up_s = 0.25;
+  const std::vector<std::uint8_t> image = schedule_file_bytes(s);
+  EXPECT_EQ(version_of(image), 3u);
+  EXPECT_EQ(image.size(), plain.size() + 8);   // one double more
+  const ModelBank loaded = parse_schedule_file(image.data(), image.size(), "'v3'");
+  EXPECT_EQ(loaded.estimator.start_up_s, 0.25);
+  EXPECT_EQ(loaded.schedule->start_up_s, 0.25);
+  EXPECT_EQ(schedule_file_bytes(*loaded.schedule), image);   // deterministic
+  // the schedule's start-up reaches the estimator as its option would
+  HierarchicalOptions o = options(ScheduleMode::kInterpolate);
+  o.bank.start_up_s = loaded.estimator.start_up_s;
+  F16HierarchicalBank hb(loaded, o);
+  const Frames f = fly(node_bank(0, 0), 0, 0, {}, 20, 4u);
+  const auto p0 = hb.probabilities();
+  for (int i = 0; i < 16; ++i) {   // round(0.25 s x 64 Hz) = 16 frames weigh nothing
+    hb.schedule(AirData{0.4, 10000.0});
+    hb.step(f.z[i], f.u[i]);
+    ASSERT_TRUE(hb.probabilities() == p0) << "frame " << i;
+  }
+
+  s.start_up_s = -1.0;
+  try {
+    schedule_file_bytes(s);
+    ADD_FAILURE() << "accepted start_up_s -1";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("start_up_s = -1 must be in [0, 3600] s"), std::string::npos) << e.what();
+  }
+  // a version-3 image whose start_up_s reads 7200 (payload re-hashed): refused naming it
+  const std::size_t at = kBankFileHeaderSize + 4 + 8 * s.mach.size() + 4 + 8 * s.alt_ft.size() + 4 + 4 +
+                         (s.metadata.size() + 1) + 4 + 4;
+  std::vector<std::uint8_t> payload(image.begin() + static_cast<std::ptrdiff_t>(kBankFileHeaderSize), image.end());
+  const double big = 7200.0;
+  std::uint64_t bits;
+  std::memcpy(&bits, &big, sizeof bits);
+  for (int b = 0; b < 8; ++b)
+    payload[at - kBankFileHeaderSize + static_cast<std::size_t>(b)] = static_cast<std::uint8_t>(bits >> (8 * (7 - b)));
+  const std::vector<std::uint8_t> forged = hashed_file_image(kScheduleFileMagic, 3, payload);
+  try {
+    parse_schedule_file(forged.data(), forged.size(), "'forged'");
+    ADD_FAILURE() << "accepted start_up_s 7200";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("start_up_s = 7200 must be in [0, 3600] s"), std::string::npos) << e.what();
+  }
+  std::vector<std::uint8_t> future = image;
+  future[11] = 4;
+  try {
+    parse_schedule_file(future.data(), future.size(), "'future'");
+    ADD_FAILURE() << "accepted version 4";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unsupported format version 4 (this build reads versions 1 to 3)"),
+              std::string::npos) << e.what();
+  }
 }

@@ -308,3 +308,57 @@ def test_with_settings_copies_a_bank_with_other_recommended_settings():
     assert b.with_settings().content_hash == b.content_hash
     with pytest.raises(ValueError, match=r"p_min must be in \[0, 1/K\) with K = 79 hypotheses, got 0.02"):
         b.with_settings(p_min=0.02)
+
+
+def test_a_version_3_file_recommends_its_start_up_to_the_estimator_and_replay(tmp_path):
+    """The schedule's start_up_s (format 3: a double after the switch law) is the loaded bank's
+    recommended start_up_s: the in-process estimator and the daemon's executive (replay) fly
+    it unless told otherwise, so the first round(0.25 x 64) = 16 frames weigh nothing; a
+    version-2 file recommends none; core.save_schedule writes 3 only with a start-up."""
+    from f16mmae.lcm.replay import InProcessExecutive
+    from f16mmae.loop.estimator import Estimator
+
+    b0, b1 = synthetic_bank(names.ALL_HYPOTHESES, 1), synthetic_bank(names.ALL_HYPOTHESES, 2)
+    nodes = [(0, 0, [1.0] * 13, b0.to_bytes()), (1, 0, [2.0] * 13, b1.to_bytes())]
+    v2 = payload([0.4, 0.6], [20000.0], nodes)
+    split = 4 + 2 * 8 + 4 + 8 + 4 + 4 + 3 + 8   # axes, primary, metadata "{}", switch law (-1, none)
+    v3 = v2[:split] + struct.pack(">d", 0.25) + v2[split:]
+    (tmp_path / "v3.f16sched").write_bytes(image(v3, version=3))
+    (tmp_path / "v2.f16sched").write_bytes(image(v2, version=2))
+    with_start = core.load_bank(tmp_path / "v3.f16sched")
+    without = core.load_bank(tmp_path / "v2.f16sched")
+    assert with_start.estimator_settings["start_up_s"] == 0.25 and with_start.schedule["start_up_s"] == 0.25
+    assert "start_up_s" not in without.estimator_settings and without.schedule["start_up_s"] == 0.0
+    assert banks.bank_estimator_settings(with_start)["start_up_s"] == 0.25
+    rng = np.random.default_rng(5)
+    z = with_start.z_trim + 0.05 * rng.standard_normal((20, 7))
+    u = np.tile(with_start.u_trim, (20, 1))
+    assert Estimator(with_start).settings["start_up_s"] == 0.25
+    assert "start_up_s" not in Estimator(without).settings
+    weighed = []
+    for est in (Estimator(with_start), Estimator(with_start, start_up_s=0.0)):
+        p = []
+        for k in range(20):
+            est.schedule(0.4, 20000.0)
+            est.update(z[k])
+            est.propagate(u[k])
+            p.append(np.array(est.probabilities))
+        weighed.append(p)
+    assert all(np.array_equal(weighed[0][k], weighed[0][0]) for k in range(16))     # the start-up
+    assert not np.array_equal(weighed[0][16], weighed[0][15])
+    assert not np.array_equal(weighed[1][1], weighed[1][0])                          # the override: none
+    replay = InProcessExecutive(with_start)   # the daemon's executive: the same start-up
+    for k in range(20):
+        status = replay.on_sensor(k, z[k], air_data=(0.4, 20000.0))
+        assert replay.on_command(k, u[k]) == "used"
+        assert np.array_equal(np.array(status.probabilities), weighed[0][k]), k
+    # written by the binding: 3 with the start-up, byte for byte the crafted file; 2 without
+    for start, version in ((0.25, 3), (0.0, 2)):
+        out = tmp_path / f"saved{version}.f16sched"
+        core.save_schedule([0.4, 0.6], [20000.0], [(0, 0, b0, [1.0] * 13), (1, 0, b1, [2.0] * 13)], primary=0,
+                           metadata="{}", path=str(out), start_up_s=start)
+        assert struct.unpack(">I", out.read_bytes()[8:12])[0] == version
+        assert out.read_bytes() == (tmp_path / f"v{version}.f16sched").read_bytes()
+    with pytest.raises(ValueError, match=r"start_up_s = -1 must be in \[0, 3600\] s"):
+        core.save_schedule([0.4, 0.6], [20000.0], [(0, 0, b0, [1.0] * 13)], primary=0, path=str(tmp_path / "x"),
+                           start_up_s=-1.0)

@@ -363,7 +363,7 @@ def test_hil_command_starts_its_own_daemon(capsys):
     out = capsys.readouterr().out
     assert rc == 0, out
     assert "mmae-daemon: ready" in out and "64 updated" in out
-    assert "p_min 1e-09" in out  # the bank's recommended settings, as in process
+    assert "p_min 1e-09, threshold" in out and "no start-up" in out  # the bank's recommended settings, as in process
     assert "in-process run: max |probability difference| = 0" in out
 
 
@@ -383,6 +383,11 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     assert rc == 0, out
     assert "mmae-daemon: ready" in out and "128 updated" in out and "0 air data rejected" in out
     assert "schedule interpolate on air data low-passed 0.5 s" in out  # the trims follow it
+    # the floors are the nodes' own (their range), the start-up the file's (its design flew it)
+    floors = sorted({n["bank"].p_min for n in core.load_bank(sched).schedule["nodes"]})
+    assert (f"p_min per node {floors[0]:g} to {floors[-1]:g}" if len(floors) > 1
+            else f"p_min {floors[0]:g} at every node") in out
+    assert "start-up 0.25 s" in out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),

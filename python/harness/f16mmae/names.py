@@ -83,8 +83,9 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: 3: that reference bounded by the calibration flights' failure log-odds (calibrate.bounded_reference);
 #: 4: then the smallest of the node's and its grid neighbours' (schedule.neighbourhood_minimum);
 #: 5: a probability floor per node, chosen with the reference (calibrate.bounded_settings);
-#: 6: both bounded on calibration flights flown with the estimator's start-up (calibrate.START_UP_S).
-SCHEDULE_DESIGN_REVISION = 6
+#: 6: both bounded on calibration flights flown with the estimator's start-up (calibrate.START_UP_S);
+#: 7: that start-up recommended by the file itself (schedule format 3's start_up_s).
+SCHEDULE_DESIGN_REVISION = 7
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

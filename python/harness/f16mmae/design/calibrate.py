@@ -343,9 +343,10 @@ def bounded_reference(model_bank, flights, bound: float = REFERENCE_LOG_ODDS_BOU
 #: through the neighbourhood step they slow detection around them more than they gain.
 P_MIN_CANDIDATES: tuple[float, ...] = (1e-9, 1e-7, 1e-5, 1e-3)
 #: The estimator start-up (s) a scheduled design's calibration flights are run with
-#: (``bounded_settings``; ``--start-up-s``), and the start-up the file is meant to be flown with
-#: (``--start-up-s 0.25``): the first 16 frames, in which the first trims rest on a few air-data
-#: samples (docs/results/envelope_tuning.md, round 6, measures it).
+#: (``bounded_settings``; ``--start-up-s``), and the start-up the file recommends (schedule
+#: format 3's start_up_s: the estimator flies it unless ``--start-up-s`` overrides it): the first
+#: 16 frames, in which the first trims rest on a few air-data samples
+#: (docs/results/envelope_tuning.md, rounds 6 and 7).
 START_UP_S = 0.25
 #: The floor at which REFERENCE_LOG_ODDS_BOUND was chosen (the shipped tuning's p_min).
 BOUND_P_MIN = 1e-9

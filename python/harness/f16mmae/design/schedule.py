@@ -11,8 +11,9 @@ flights' peak failure log-odds within ``calibrate.log_odds_bound`` (``calibrate.
 a reference that bounds the false alarms, not the mean power ratio, which the metadata also
 records), and of these pairs the one a failure needs the least evidence to be declared with
 (``calibrate.bounded_settings``; the estimator on those flights runs with the start-up
-``calibrate.START_UP_S``, 0.25 s, recorded as the metadata's ``start_up_s``: fly the file with
-``--start-up-s 0.25``); then the floor lowered to its grid neighbours' and the
+``calibrate.START_UP_S``, 0.25 s, which the file recommends, its typed ``start_up_s`` (schedule
+format 3), as it recommends each node's floor: the estimator flies it unless ``--start-up-s`` says
+otherwise); then the floor lowered to its grid neighbours' and the
 reference to theirs at the largest floor around it (``neighbourhood_settings``), so that the
 reference and floor the core blends over a cell bound them at every corner.  The floor is the node bank's
 recommended p_min (its estimator settings; the core blends the nodes' floors).  A point whose truth cannot trim is left out of the
@@ -255,7 +256,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     (``calibrate.bounded_settings``; one value: that floor at every node).
     ``start_up_s``: the estimator start-up (``--start-up-s``) the calibration flights are run
     with when the nodes' floors and references are bounded (calibrated nodes only); the file
-    is meant to be flown with it (the metadata's ``start_up_s``).
+    is meant to be flown with it (the file's recommended ``start_up_s``, and the metadata's).
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""
@@ -355,7 +356,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     content_hash = core.save_schedule(list(grid.mach), list(grid.alt_ft), nodes, primary=primary,
                                       metadata=json.dumps(metadata, sort_keys=True, separators=(",", ":")),
                                       path=str(path), switch_state=names.STATES.index("alpha_rad") if flap_layers else -1,
-                                      switch_thresholds=list(LEF_ALPHA_SWITCH_RAD) if flap_layers else [])
+                                      switch_thresholds=list(LEF_ALPHA_SWITCH_RAD) if flap_layers else [],
+                                      start_up_s=float(start_up_s))
     return {"path": str(path), "content_hash": content_hash, "covered": len(nodes), "skipped": skipped,
             "alternates": len([a for a in alternates.values() if a[3] is not None]),
             "bytes": path.stat().st_size, "wall_s": time.perf_counter() - t0,

@@ -59,8 +59,9 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("start_up_s", "--start-up-s", "number", metavar="S", minimum=0.0, maximum=3600.0,
                     help="the first S seconds of frames after the estimator starts update its filters but "
                          "weigh no hypothesis: the filters start at the design trim while the aircraft is in "
-                         "flight near it (cpp/f16mmae/filter_bank.h). Default 0: weigh from the first frame; "
-                         "0.25 with the scheduled bank, whose floors were bounded on flights with it"),
+                         "flight near it (cpp/f16mmae/filter_bank.h). Default: the bank's recommendation -- "
+                         "a scheduled-bank file's start_up_s (the scheduled bank: 0.25, its floors bounded on "
+                         "flights flown with it) -- else 0, weigh from the first frame"),
     EstimatorOption("adapt_turbulence", "--adapt-turbulence", "switch",
                     help="adapt the likelihoods on line to the turbulence intensity (one residual "
                          "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "
@@ -98,6 +99,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="a scheduled bank (--bank scheduled): interpolate between grid points on the "
                          "measured air data, or switch to the nearest with hysteresis (default "
                          f"{SCHEDULE_MODES[0]}; a bank designed at one point ignores it)"),
+    EstimatorOption("hold_readings", "--hold-readings", "choice", metavar="off|start|settled",
+                    choices=("off", "start", "settled"), in_daemon=False,
+                    help="a scheduled bank: hold a failed sensor's expected reading (its hypothesis' trim) "
+                         "through the schedule's trim changes from the first frame (start) or from the end "
+                         "of the air data's running mean (settled); off: it follows the trim in force "
+                         "(cpp/f16mmae/filter_bank.h, held readings; default off)"),
     EstimatorOption("air_data_time_constant_s", "--air-data-time-constant", "number", metavar="TAU_S",
                     minimum=0.0, maximum=60.0,
                     help="a scheduled bank: time constant of the air data's low-pass the schedule follows "

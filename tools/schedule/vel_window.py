@@ -1,0 +1,37 @@
+"""Lab driver (not in the wheel), an experiment: the VEL hypotheses of every node as a failed
+VEL reading an unknown constant level within W ft/s (the cover model's uniform prior, narrowed
+from the sensor's full range to the trim's uncertainty), its level a random walk of LEVEL_Q
+per frame (hypotheses.py's `cover` density and level filter, steady_state_filter.h).
+
+    python tools/schedule/vel_window.py SCHEDULE OUT W_FT_S LEVEL_Q
+
+Writes OUT: SCHEDULE with every node's VEL-failed hypotheses (VEL and VEL+c) so changed and the
+start-up 0.25 s recommended; nothing else changed. Prints OUT and its content hash."""
+import sys, json, numpy as np
+from f16mmae import core
+src, out, W, q = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
+b = core.load_bank(src)
+s = b.schedule
+nodes = []
+for n in s["nodes"]:
+    nb = n["bank"]
+    hyps = []
+    for h in nb.hypotheses:
+        w = np.array(h.uninformative_width, dtype=float)
+        lq = np.array(h.uninformative_level_q, dtype=float)
+        if "VEL" in h.name.split("+"):
+            w[0], lq[0] = W, q
+        hyps.append(core.HypothesisModel(name=h.name, phi=h.phi, bd=h.bd, h=h.h, k=h.k, a=h.a,
+                                         uninformative_width=w, uninformative_level_q=lq))
+    m = core.ModelBank(hyps, state_names=list(nb.state_names), input_names=list(nb.input_names),
+                       measurement_names=list(nb.measurement_names), frame_rate_hz=nb.frame_rate_hz,
+                       u_trim=nb.u_trim, z_trim=nb.z_trim, h_output=nb.h_output, mach=nb.mach, alt_ft=nb.alt_ft,
+                       tuning=nb.tuning, p_min=nb.p_min, threshold=nb.threshold, dwell_s=nb.dwell_s,
+                       metadata=nb.metadata)
+    nodes.append((n["i_mach"], n["i_alt"], m, np.array(n["x_trim"]), n["adapt_reference"], n["layer"]))
+meta = json.loads(s["metadata"]); meta["experiment"] = f"VEL window {W} ft/s, level q {q}"
+h = core.save_schedule(list(s["mach"]), list(s["alt_ft"]), nodes, primary=s["primary"],
+                       metadata=json.dumps(meta, sort_keys=True, separators=(",", ":")), path=out,
+                       switch_state=s["switch_state"], switch_thresholds=list(s["switch_thresholds"]),
+                       start_up_s=0.25)
+print(out, h[:12])

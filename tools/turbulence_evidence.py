@@ -26,14 +26,14 @@ import f16mmae.design.turbulence_banks  # noqa: F401  (registers the set)
 from f16mmae.banks import load_bank
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
-from f16mmae.names import FAILURE_TIME_S, FLIGHT_S
+from f16mmae.names import FAILURE_TIME_S, FLIGHT_S, SENSORS as MEASUREMENTS
 from f16mmae.seeds import derived_seed, tuning_seeds
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 
 
 def flight(job):
-    level, case, n, feedback, options = job
+    level, case, n, feedback, options, quiet = job
     bank = load_bank("turbulence")[2]
     est = Estimator(bank, turbulence_banks=True, **options)
     members = est.core_bank.members
@@ -50,13 +50,15 @@ def flight(job):
         if case not in names or "NONE" not in names:
             return
         r = np.asarray(m.residuals)
-        q = {k: float(r[names.index(k)] @ inverse[a][k] @ r[names.index(k)]) for k in ("NONE", case)}
-        rows.append((t, (q["NONE"] - q[case]) / 2.0, m.turbulence_scale, a))
+        # per measurement j: r_j (A^-1 r)_j, which sums to q over j
+        c = {k: r[names.index(k)] * (inverse[a][k] @ r[names.index(k)]) for k in ("NONE", case)}
+        e = (c["NONE"] - c[case]) / 2.0
+        rows.append((t, float(e.sum()), m.turbulence_scale, a, *e))
 
     seed = derived_seed("single", 1, case, n)
     assert seed in tuning_seeds()
     sc = Scenario(turbulence=level, duration_s=FLIGHT_S, seed=seed, feedback=feedback,
-                  failures=(make_failure(case, FAILURE_TIME_S, "complete", None),))
+                  failures=() if quiet else (make_failure(case, FAILURE_TIME_S, "complete", None),))
     r = fly(sc, load_bank("turbulence")[2], estimator=est, on_frame=frame)
     first = next((d["time_s"] - FAILURE_TIME_S for d in r.declarations if d["hypothesis"] == case), None)
     return level, case, np.array(rows), first
@@ -69,11 +71,13 @@ def main() -> None:
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--feedback", default="reconfigure")
     p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--quiet", action="store_true",
+                   help="the same flights without the failure: the evidence for CASE the turbulence alone gives")
     p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
                    help="a further estimator setting (core keyword, a number), e.g. maneuver_tempering_g=4")
     a = p.parse_args()
     options = {k: float(v) for k, _, v in (o.partition("=") for o in a.option)}
-    jobs = [(lv, c, n, a.feedback, options) for lv in a.levels.split(",") for c in a.cases.split(",")
+    jobs = [(lv, c, n, a.feedback, options, a.quiet) for lv in a.levels.split(",") for c in a.cases.split(",")
             for n in range(a.runs)]
     out: dict = {}
     with cf.ProcessPoolExecutor(a.workers) as ex:
@@ -81,16 +85,20 @@ def main() -> None:
             out.setdefault((level, case), []).append((rows, first))
     floor = math.log(1.0 / load_bank("turbulence")[2].estimator_settings["p_min"])
     print(f"{'level':9s} {'case':4s} {'e, 5 s':>8s} {'e/s, 5 s':>9s} {'e/s, 1st s':>10s} {'median s':>9s} "
-          f"{'sum e/s':>8s} (ln 1/p_min = {floor:.1f})  member in force (frames)  first correct declaration")
+          f"{'sum e/s':>8s} (ln 1/p_min = {floor:.1f})  member in force (frames)  per flight: first correct declaration, s (sum e/s)")
     for (level, case), flights in out.items():
         rows = np.vstack([f[0] for f in flights if len(f[0])])
         t, e, s = rows[:, 0] - FAILURE_TIME_S, rows[:, 1], rows[:, 2]
         es = e / s
         sums = [float(np.sum(f[0][:, 1] / f[0][:, 2])) for f in flights if len(f[0])]
-        firsts = ", ".join("-" if f[1] is None else f"{f[1]:.2f}" for f in flights)
+        firsts = ", ".join(("-" if f[1] is None else f"{f[1]:.2f}") + f" ({np.sum(f[0][:, 1] / f[0][:, 2]):.0f})"
+                           for f in flights if len(f[0]))
         members = ", ".join(f"{int(m)}: {int(np.sum(rows[:, 3] == m))}" for m in np.unique(rows[:, 3]))
         print(f"{level:9s} {case:4s} {e.mean():8.3f} {es.mean():9.4f} {es[t < 1.0].mean():10.4f} "
-              f"{np.median(s):9.1f} {np.median(sums):8.1f}  {members}  {firsts} s", flush=True)
+              f"{np.median(s):9.1f} {np.median(sums):8.1f}  {members}  {firsts}", flush=True)
+        ej = rows[:, 4:]
+        channels = " ".join(f"{name} {m:+.3f}/{sd:.3f}" for name, m, sd in zip(MEASUREMENTS, ej.mean(axis=0), ej.std(axis=0)))
+        print(f"{'':14s} untempered e_j per frame, mean/std: {channels}; e: {e.mean():+.3f}/{e.std():.3f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -51,7 +51,7 @@ from ..engine.config import CampaignConfig, CampaignError
 from ..engine.intervals import rate
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
-from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
+from ..engine.store import ResultsStore, campaign_directory, run_key
 from . import figures
 
 #: family -> (truth failure mode, the components it applies to, unit of its sizes)
@@ -257,8 +257,5 @@ def run_campaign(cfg: DetectabilityCampaign, out_dir: str | Path, executor: Exec
         done = execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
                        show_progress=show_progress, allow_mixed=allow_mixed)
         summary = summarize(cfg, label, bank, done.records)
-        summary["timing"] = done.timing(executor_label)
         summary["figures"] = figures.curves(out, summary)
-        path = out / "summary.json"
-        write_summary(path, summary)
-        return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
+        return done.finish(out, summary, executor_label)

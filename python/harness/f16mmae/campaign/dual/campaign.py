@@ -43,7 +43,7 @@ from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION, stored_history
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
-from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
+from ..engine.store import ResultsStore, campaign_directory, run_key
 from . import figures
 from . import models
 from . import scoring
@@ -189,10 +189,7 @@ def _run_campaign(cfg: DualCampaign, out: Path, executor: Executor, executor_lab
                               describe=lambda s: f"run {s['run_index']} of {s['pair']} (seed {s['seed']})",
                               allow_mixed=allow_mixed),
         level_summary)
-    summary["timing"] = done.timing(executor_label)
-    path = out / "summary.json"
-    write_summary(path, summary)
-    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
+    return done.finish(out, summary, executor_label)
 
 
 def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:

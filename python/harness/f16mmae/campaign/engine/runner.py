@@ -37,7 +37,7 @@ from . import identity, shared_flights
 from .config import CampaignError
 from .executor import InlineExecutor, default_workers
 from .progress import Progress
-from .store import ResultsStore
+from .store import ResultsStore, write_summary
 
 
 #: The most runs one task flies (see the module docstring).
@@ -92,6 +92,13 @@ class Execution:
         for k in ("wall_s", "truth_s", "estimator_s"):
             out[f"run_{k}_sum"] = round(sum(r["timing"].get(k, 0.0) for r in self.executed_records), 3)
         return out
+
+    def finish(self, out: Path, summary: dict, executor_label: str = "", **timing) -> "CampaignOutcome":
+        """Stamp ``summary`` with this execution's timing (plus the ``timing`` fields given),
+        write it to ``out/summary.json`` and return the campaign's outcome."""
+        summary["timing"] = {**self.timing(executor_label), **timing}
+        path = write_summary(Path(out) / "summary.json", summary)
+        return CampaignOutcome(summary, path, len(self.executed_records), self.resumed, self.records)
 
 
 def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run: Callable[[dict], dict], *,

@@ -52,7 +52,7 @@ from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_case_failures, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore, campaign_directory, write_summary
+from ..engine.store import ResultsStore, campaign_directory
 from . import figures
 from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
 
@@ -217,10 +217,7 @@ def _run_envelope(cfg: EnvelopeCampaign, out: Path, executor: Executor, executor
                               progress_label=f"runs ({len(cfg.points)} points)", show_progress=show_progress,
                               after_each=point_progress, allow_mixed=allow_mixed),
         level_summary)
-    summary["timing"] = done.timing(executor_label)
-    path = out / "summary.json"
-    write_summary(path, summary)
-    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
+    return done.finish(out, summary, executor_label)
 
 
 def _note(text: str) -> None:

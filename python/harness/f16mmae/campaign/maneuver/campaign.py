@@ -47,7 +47,7 @@ from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_case_failures, run_spec as single_run_spec
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.seeds import evaluation_seed
-from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
+from ..engine.store import ResultsStore, campaign_directory, run_key
 from . import figures
 
 MANEUVERS: tuple[str, ...] = ("climb", "descend", "accel", "turn")
@@ -159,10 +159,8 @@ def run_maneuver(cfg: ManeuverCampaign, out_dir: str | Path, executor: Executor,
         done = execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
                        progress_label="runs", show_progress=show_progress, allow_mixed=allow_mixed)
         summary = summarize(cfg, label, bank, done.records)
-        summary["timing"] = done.timing(executor_label)
         summary["figures"] = figures.make_figures(out, summary, done.records)
-        path = write_summary(out / "summary.json", summary)
-        return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
+        return done.finish(out, summary, executor_label)
 
 
 def group_metrics(records: list[dict]) -> dict:

@@ -32,7 +32,7 @@ from ..engine import drilldown, evidence, identity, scoring, variants
 from ..engine.config import CampaignConfig, CampaignError, split_mode
 from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
 from ..engine.runner import CampaignOutcome, execute
-from ..engine.store import ResultsStore, campaign_directory, write_summary
+from ..engine.store import ResultsStore, campaign_directory
 from . import figures
 
 
@@ -99,16 +99,14 @@ def _run_campaign(cfg: SingleCampaign, out: Path, executor: Executor, executor_l
         lambda specs: execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
                               show_progress=show_progress, allow_mixed=allow_mixed),
         variant_summary, under_test=lambda r: r["tuning"] == label, variant=mode_cases)
-    summary["timing"] = done.timing(executor_label)
+    cost = {}
     if measure_cost:
         first, _ = mode_cases(dataclasses.replace(cfg, turbulence=cfg.levels()[0], mode=cfg.modes()[0]))
         specs = plan(first, banks, cfg.mach, cfg.alt_ft)
         none_spec = next((s for s in specs if s["case"] == NONE), specs[0])
-        summary["timing"]["overhead"] = measure_overhead(
+        cost["overhead"] = measure_overhead(
             scenario_from_dict(none_spec["scenario"]), bank, **cfg.estimator_options())
-    path = out / "summary.json"
-    write_summary(path, summary)
-    return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
+    return done.finish(out, summary, executor_label, **cost)
 
 
 def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict]) -> dict:

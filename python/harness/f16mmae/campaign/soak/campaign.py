@@ -36,7 +36,7 @@ from ..engine import drilldown, identity, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
-from ..engine.store import ResultsStore, campaign_directory, run_key, write_summary
+from ..engine.store import ResultsStore, campaign_directory, run_key
 from . import episodes, figures
 
 #: The goal per level (issue 14): false declarations per flight hour at most this.
@@ -187,11 +187,8 @@ def run_soak(cfg: SoakCampaign, out_dir: str | Path, executor: Executor, executo
                        progress_label="flights", show_progress=show_progress, allow_mixed=allow_mixed,
                        progress_note=lambda n: f"({n * hours_each:.2f}/{len(specs) * hours_each:.2f} h flown)")
         summary = summarize(cfg, label, bank, done.records)
-        summary["timing"] = done.timing(executor_label)
         summary["figures"] = figures.make_figures(out, done.records, summary["levels"], cfg.duration_s)
-        path = out / "summary.json"
-        write_summary(path, summary)
-        return CampaignOutcome(summary, path, len(done.executed_records), done.resumed, done.records)
+        return done.finish(out, summary, executor_label)
 
 
 def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:

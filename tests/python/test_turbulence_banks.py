@@ -14,8 +14,8 @@ import pytest
 
 from f16mmae import core
 from f16mmae.banks import load_bank
-from f16mmae.design.turbulence_banks import (MANEUVER_TEMPERING_G, MEMBER_LEVELS, TRIM_TIME_CONSTANT_S,
-                                             BankSetError, load_set, set_path)
+from f16mmae.design.turbulence_banks import (DWELL_S, MANEUVER_TEMPERING_G, MEMBER_LEVELS,
+                                             TRIM_TIME_CONSTANT_S, BankSetError, load_set, set_path)
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.estimator_options import check
 from f16mmae.loop.flight import fly
@@ -47,6 +47,8 @@ def test_the_set_is_six_input_members_in_rising_level(bank_set):
     assert load_set(bank_set.path).set_hash == bank_set.set_hash == bank_set.source.content_hash
     assert bank_set.trim_time_constant_s == TRIM_TIME_CONSTANT_S
     assert bank_set.maneuver_tempering_g == MANEUVER_TEMPERING_G == bank_set.source.maneuver_tempering_g == 1.0
+    assert [b.estimator_settings["dwell_s"] for b in bank_set.banks] == [DWELL_S] * len(MEMBER_LEVELS) == [0.125] * 2
+    assert Estimator(bank_set.banks[1], turbulence_banks=True).core_bank.members[1].dwell_s == 0.125
     label, path, bank = load_bank("turbulence")
     assert label == "turbulence" and path == bank_set.path and bank == bank_set.banks[bank_set.selector["start"]]
 

@@ -10,6 +10,7 @@ from f16mmae.campaign.engine import scoring
 from f16mmae.campaign.engine.executor import InlineExecutor, make_executor
 from f16mmae.campaign.engine.failure_runs import run_seed
 from f16mmae.campaign.single import SingleCampaign, run_campaign
+from f16mmae.campaign.single.campaign import case_summary, first_declaration
 from f16mmae.campaign.engine.store import RECORDS_FILE, ResultsStore
 
 from campaign_support import CountingExecutor
@@ -23,6 +24,23 @@ def test_run_seeds_are_deterministic_distinct_and_positive():
     assert all(s >= 1 for s in seeds.values())
     assert len(set(seeds.values())) == len(seeds)
     assert run_seed(1, "LS", 3) == run_seed(1, "LS", 3) != run_seed(2, "LS", 3)
+
+
+def test_first_declaration_is_reported_beside_the_score_not_in_its_place():
+    def rec(case, t_f, decl):
+        return {"case": case, "failure_time_s": t_f, "outcome": scoring.score_run(case, t_f, decl)["outcome"],
+                "declarations": decl}
+    d = lambda h, t: {"hypothesis": h, "time_s": t}  # noqa: E731
+    departed = rec("LS", 3.0, [d("LS", 3.9), d("LS+AOA", 5.0)])   # right first, then a dual
+    early = rec("LS", 3.0, [d("RS", 2.0), d("NONE", 2.5), d("LS", 3.5)])  # a false alarm before the onset
+    wrong_first = rec("LS", 3.0, [d("RS", 3.5), d("LS", 4.0)])
+    assert [first_declaration(r) for r in (departed, early, wrong_first)] == ["LS", "LS", "RS"]
+    assert first_declaration(rec("NONE", None, [])) == "NONE"
+    assert first_declaration(rec("NONE", None, [d("YAW", 6.0), d("NONE", 7.0)])) == "YAW"
+    for r in (departed, early, wrong_first):
+        r["false_alarm"], r["latency_s"] = False, None
+    s = case_summary("LS", [departed, early, wrong_first])
+    assert (s["first_declared_correct"], s["correct"], s["wrong"]) == (2, 2, 1)
 
 
 def _strip(records):
@@ -45,7 +63,9 @@ def test_summary_resume_and_executors(tmp_path):
     assert summary["kind"] == "single" and summary["runs_per_case"] == 2
     for case in summary["cases"]:
         recs = [r for r in stored if r["case"] == case["case"]]
-        assert case == scoring.summarize_case(case["case"], recs)
+        assert {k: v for k, v in case.items() if k != "first_declared_correct"} == \
+            scoring.summarize_case(case["case"], recs)
+        assert case["first_declared_correct"] == sum(1 for r in recs if first_declaration(r) == case["case"])
     assert sum(c["runs"] for c in summary["cases"]) == 4
     assert all(r["outcome"] in scoring.OUTCOMES for r in stored)
 

@@ -51,6 +51,11 @@ def test_a_dwell_declares_exactly_when_it_is_no_longer_than_the_longest_excursio
     longest = max(n for n, _ in per)
     assert longest > 0, "the calibration flights should hold a failure hypothesis above the threshold"
     assert per[1][0] < longest
+    # per hypothesis: each flight's longest is its largest hypothesis' stretch, failures only
+    each = dwell.excursions(mb, flights)
+    assert [max(e.values(), default=0) for e in each] == [n for n, _ in per]
+    assert all(h in names.SINGLE_HYPOTHESES[1:] and n > 0 for e in each for h, n in e.items())
+    assert all(e.get(h, 0) == n for e, (n, h) in zip(each, per) if n > 0)
     rate = float(mb.frame_rate_hz)
     assert declares(mb, flights, longest / rate)
     assert not declares(mb, flights, (longest + 1) / rate)

@@ -11,6 +11,7 @@ core's floors).  Over the frames from ``--settle-s`` after the onset to the end:
          hypothesis over k on average; the per-frame likelihoods do not depend on which
          hypothesis the estimator in the loop declared, only on u and z),
   final  the level-0 hypothesis of largest probability at the end, per run,
+  declared  the declarations, each with the truth's bank and angle of attack at its time,
   truth  for an actuator, the effective surface position (deg, mean over the window) and its
          command (deg); for a sensor, the mean of the sensor's error and of the true channel.
 
@@ -82,7 +83,13 @@ def main(argv=None) -> None:
             j = spec.index
             err = log["z"][lo:len(log["z_ideal"]), j] - log["z_ideal"][lo:, j]
             truths.append(f"error {err.mean():+.4g}, true channel - trim {(log['z_ideal'][lo:, j] - mb.z_trim[j]).mean():+.4g}")
-        decl = ",".join(f"{d['hypothesis']}@{d['time_s']:.2f}" for d in res.declarations)
+        st, names_st = log["state"], list(log["state_names"])
+
+        def attitude(t_s):
+            i = min(int(np.searchsorted(log["time_s"], t_s)), len(st) - 1)
+            return (f"phi {np.degrees(st[i, names_st.index('phi_rad')]):+.0f}, "
+                    f"alpha {np.degrees(st[i, names_st.index('alpha_rad')]):+.0f} deg")
+        decl = ",".join(f"{d['hypothesis']}@{d['time_s']:.2f} ({attitude(d['time_s'])})" for d in res.declarations)
         print(f"run {run}: final level-0 {finals[-1]}, declared {decl or '-'}; truth {truths[-1]}")
     d = np.mean(diffs, axis=0)
     print(f"{args.fail}: D_k = mean l_{spec.name} - l_k per frame from {args.settle_s:g} s after the onset, "

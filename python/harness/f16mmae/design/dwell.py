@@ -42,12 +42,12 @@ def dwell_frames(dwell_s: float, frame_rate_hz: float) -> int:
     return max(1, int(round(dwell_s * frame_rate_hz)))
 
 
-def longest_excursion(model_bank, flights) -> list[tuple[int, str]]:
-    """Per flight, ``(L, hypothesis)``: the longest stretch of consecutive frames in which one
-    failure hypothesis holds ``p_k >`` the bank's threshold, and which one (``"NONE"``, 0 when
-    none rises above it), with the bank's settings and the dwell MEASURE_DWELL_S.  ``flights``:
-    no-failure records (``u``, ``z``: perturbations from the bank's trim).  Raises ValueError
-    if a failure is declared all the same (a flight longer than MEASURE_DWELL_S)."""
+def excursions(model_bank, flights) -> list[dict[str, int]]:
+    """Per flight, ``{hypothesis: L_k}``: for each failure hypothesis k that rises above the
+    bank's threshold, the longest stretch of consecutive frames in which it holds ``p_k >``
+    threshold, with the bank's settings and the dwell MEASURE_DWELL_S (module docstring).
+    ``flights``: no-failure records (``u``, ``z``: perturbations from the bank's trim).  Raises
+    ValueError if a failure is declared all the same (a flight longer than MEASURE_DWELL_S)."""
     from .. import core
     from .calibrate import absolute_frames
 
@@ -59,7 +59,8 @@ def longest_excursion(model_bank, flights) -> list[tuple[int, str]]:
     for fl in flights:
         bank.reset()
         u, z = absolute_frames(model_bank, fl)
-        best, who, run, cand = 0, names.NONE, 0, -1
+        longest: dict[str, int] = {}
+        run, cand = 0, -1
         for i in range(len(z)):
             if bank.step(z[i], u[i]) is not None:
                 raise ValueError(f"a failure was declared at frame {i} with a dwell of {MEASURE_DWELL_S} s: "
@@ -69,10 +70,24 @@ def longest_excursion(model_bank, flights) -> list[tuple[int, str]]:
             if k != 0 and p[k] > threshold:
                 run = run + 1 if k == cand else 1
                 cand = k
-                if run > best:
-                    best, who = run, hyps[k]
+                longest[hyps[k]] = max(longest.get(hyps[k], 0), run)
             else:
                 run, cand = 0, -1
+        out.append(longest)
+    return out
+
+
+def longest_excursion(model_bank, flights) -> list[tuple[int, str]]:
+    """Per flight, ``(L, hypothesis)``: the longest of the flight's ``excursions`` and which
+    hypothesis held it (``"NONE"``, 0 when none rises above the threshold; the first in bank
+    order on a tie)."""
+    hyps = list(model_bank.hypothesis_names[:names.K_BANK])
+    out = []
+    for longest in excursions(model_bank, flights):
+        best, who = 0, names.NONE
+        for h in hyps:
+            if longest.get(h, 0) > best:
+                best, who = longest[h], h
         out.append((best, who))
     return out
 
@@ -112,13 +127,23 @@ def main(argv=None) -> dict:
 
     ap = argparse.ArgumentParser(prog="python -m f16mmae.design.dwell", description=__doc__.split("\n\n")[0])
     ap.add_argument("bank", help="an unscheduled bank file (its trim point and settings are used)")
+    ap.add_argument("--per-hypothesis", action="store_true",
+                    help="also print each failure hypothesis' longest excursion over the flights")
     args = ap.parse_args(argv)
     mb = core.load_bank(args.bank)
-    res = calibrated_dwell(mb, node_flights(float(mb.mach), float(mb.alt_ft), "light"))
+    flights = node_flights(float(mb.mach), float(mb.alt_ft), "light")
+    res = calibrated_dwell(mb, flights)
     for s, (n, h) in enumerate(res["per_flight"], start=1):
         print(f"flight {s}: longest excursion {n} frames ({n / float(mb.frame_rate_hz):.3f} s) {h}")
     print(f"recommended dwell {res['dwell_s']:g} s (longest {res['longest_frames']} frames, "
           f"{res['hypothesis']}; bound met: {res['bound_met']})")
+    if args.per_hypothesis:
+        rate = float(mb.frame_rate_hz)
+        per = excursions(mb, flights)
+        for h in mb.hypothesis_names[1:names.K_BANK]:
+            n = max(fl.get(h, 0) for fl in per)
+            print(f"{h:4s} longest excursion {n:3d} frames ({n / rate:.3f} s): a dwell of "
+                  f"{n + 1} frames ({(n + 1) / rate:.3f} s) or more declares it in none of these flights")
     return res
 
 

@@ -109,9 +109,29 @@ def _run_campaign(cfg: SingleCampaign, out: Path, executor: Executor, executor_l
     return done.finish(out, summary, executor_label, **cost)
 
 
+def first_declaration(record: dict) -> str:
+    """The first failure hypothesis a run declared at or after its failure's onset (NONE: none;
+    for a no-failure run, the first failure declared at all)."""
+    t_f = record["failure_time_s"] if record["failure_time_s"] is not None else float("-inf")
+    for d in sorted(record["declarations"], key=lambda d: d["time_s"]):
+        if d["hypothesis"] != NONE and d["time_s"] >= t_f:
+            return d["hypothesis"]
+    return NONE
+
+
+def case_summary(case: str, records: list[dict]) -> dict:
+    """``scoring.summarize_case`` and, beside the outcome of the run's last declaration (the
+    score), ``first_declared_correct``: the runs whose first declaration after the onset names
+    the injected failure, whatever follows it (a departing aircraft's later declarations,
+    docs/results/failure_models.md); a count reported apart, never in place of the score."""
+    out = scoring.summarize_case(case, records)
+    out["first_declared_correct"] = sum(1 for r in records if first_declaration(r) == case)
+    return out
+
+
 def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict]) -> dict:
     def cases_of(lbl):
-        return [scoring.summarize_case(c, [r for r in records if r["tuning"] == lbl and r["case"] == c])
+        return [case_summary(c, [r for r in records if r["tuning"] == lbl and r["case"] == c])
                 for c in cfg.cases]
 
     bank = banks[label][1]

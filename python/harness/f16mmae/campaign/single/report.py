@@ -22,6 +22,7 @@ _DEFINITIONS = f"""
 <dt>false alarm</dt><dd>a failure declared before the failure time; in a no-failure run, any failure declaration</dd>
 <dt>detection latency</dt><dd>first declaration of the injected hypothesis at or after the failure time, minus the failure time; median and 95th percentile (linear interpolation) over the runs that have one</dd>
 <dt>transient-wrong</dt><dd>a failure other than the injected one declared at or after the failure time, even if the run recovers and ends correct (goal: none)</dd>
+<dt>first declaration correct</dt><dd>runs whose first failure declaration at or after the failure time names the injected failure, whatever is declared after it; reported beside the score (the last declaration), never in its place</dd>
 <dt>intervals</dt><dd>95 % Clopper-Pearson (exact) intervals of every rate, in brackets; summary.json also holds the Wilson intervals</dd>
 <dt>verdicts</dt><dd><em>demonstrated</em>: the interval clears the goal; <em>consistent</em>: the point estimate meets it, the interval does not; <em>not met</em>: the point estimate misses it. A goal of zero (false alarms, transient-wrong) can never be demonstrated by finitely many runs</dd>
 <dt>detected within 0.5 / 1 / 2 s / in flight</dt><dd>fractions of all runs of a case, a missed run counting as never detected. The latency goals are judged in this form: median &le; {GOALS['latency_median_s_max']} s as &ge; 50 % detected within 1 s, p95 &le; {GOALS['latency_p95_s_max']} s as &ge; 95 % within 2 s</dd>
@@ -29,6 +30,15 @@ _DEFINITIONS = f"""
 <dt>goals</dt><dd>correct &ge; {100 * GOALS['correct_fraction_min']:.0f}%, false alarms = {GOALS['false_alarms_max']}, no transient-wrong, latency median &le; {GOALS['latency_median_s_max']} s, p95 &le; {GOALS['latency_p95_s_max']} s</dd>
 <dt>seeds</dt><dd>campaigns fly evaluation seeds; the tuning (calibration, convergence, the choice of the shipped bank's settings) flew other seeds, never these</dd>
 </dl>"""
+
+
+def _first_declared(cases: list[dict]) -> str:
+    """A line naming the cases whose first declaration was right more often than their last."""
+    moved = [f"{html.escape(c['case'])} {c['first_declared_correct']}/{c['runs']} (score {c['correct']})"
+             for c in cases if c.get("first_declared_correct", c["correct"]) > c["correct"]]
+    if not moved:
+        return ""
+    return "<p>First declaration correct, where more runs than the score: " + "; ".join(moved) + "</p>"
 
 
 def single_page(d: Path, s: dict) -> str:
@@ -58,6 +68,7 @@ def single_page(d: Path, s: dict) -> str:
         f"<h2>Evidence, {html.escape(str(s.get('tuning')))} bank</h2>",
         evidence.campaign_evidence(s),
         evidence.evidence_table(s["cases"]),
+        _first_declared(s["cases"]),
         "<h2>Campaign</h2>",
         param_table(params),
     ]

@@ -10,7 +10,8 @@
 //   back-out  NONE declared at level 1 -> level 0 again, NONE presumed.
 //   final     a dual f+c declared at level 1 is the final answer: the bank stays at level 1
 //             (it keeps running; a later NONE declaration still backs out).
-// The floor at level 1 (options.level1_p_min; 0, the default: the level-0 floor, bit for bit):
+// The floor at level 1 (options.level1_p_min in [0, (1 - threshold)/(K - 1)); 0, the default:
+// the level-0 floor, bit for bit):
 //   while a level-1 bank is on line its duals f+c take the floor level1_p_min, NONE and f
 //   keep the level-0 floor (FilterBank::set_p_min's two tiers); back at level 0 (back-out,
 //   reset()) the level-0 floor is in force for all again (p_min, or a scheduled bank's node
@@ -21,6 +22,11 @@
 //   n_z only), so with the level-0 floor (1e-9 tuned against false alarms in failure-free
 //   flight) the dual rises seconds after the lone failure would. The level-1 floor is the
 //   prior of "the second failure may have begun now" given that one already has.
+// The dwell at level 1 (options.level1_dwell_s; 0, the default: the level-0 dwell, bit for
+//   bit): while a level-1 bank is on line a declaration (a dual, or NONE's back-out) needs
+//   p > threshold on round(level1_dwell_s * rate) consecutive frames. A raised level-1 floor
+//   lets a short burst of evidence (a gust the filters model poorly) lift a false dual f+c
+//   above the threshold for a few frames; a real second failure keeps it there.
 // Hypotheses are looked up by NAME in the ModelBank: "NONE"; singles are the names without
 // '+'; the dual of a and b is "a+b" or "b+a". A missing dual is a construction error.
 //
@@ -125,6 +131,7 @@ struct HierarchicalOptions {
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
+  double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (header)
   int history_capacity = 1024;
 };
 
@@ -153,7 +160,7 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
-    const int d = declarer_.update(bank_.probabilities());
+    const int d = declarer_in_force().update(bank_.probabilities());
     int hypothesis = -1;
     if (d >= 0) {
       hypothesis = online_[d];
@@ -237,6 +244,7 @@ class HierarchicalBank {
     set_floors();   // the level-0 floor again (no-op unless level1_p_min)
     bank_.reset();
     declarer_.reset(0);
+    declarer1_.reset(0);
     frame_ = 0;
     history_.clear();
     dropped_ = 0;
@@ -280,6 +288,7 @@ class HierarchicalBank {
     bank_.carry_over(from.bank_, !warm);
     if (!warm) bank_.reset_adaptation();
     declarer_.carry_over(from.declarer_);
+    declarer1_.carry_over(from.declarer1_);
     const std::size_t n = from.history_.size() < history_.capacity() ? from.history_.size() : history_.capacity();
     history_.assign(from.history_.begin(), from.history_.begin() + static_cast<std::ptrdiff_t>(n));
     dropped_ = from.dropped_ + static_cast<std::int64_t>(from.history_.size() - n);
@@ -296,7 +305,7 @@ class HierarchicalBank {
   // declarer's, ahead of a frame that has a deadline. Reads only.
   void warm_cache() const noexcept {
     bank_.warm_cache();
-    touch(declarer_);
+    touch(declarer_in_force());
   }
 
   // ---- outputs -----------------------------------------------------------------------------
@@ -313,7 +322,7 @@ class HierarchicalBank {
   const std::string& name(int hypothesis) const { return names_.at(hypothesis); }
   int hypothesis_count() const noexcept { return static_cast<int>(names_.size()); }
   // ModelBank index of the current (presumed or last declared) hypothesis.
-  int current_hypothesis() const noexcept { return online_[declarer_.current()]; }
+  int current_hypothesis() const noexcept { return online_[declarer_in_force().current()]; }
   const std::vector<Declaration>& declarations() const noexcept { return history_; }
   std::int64_t declarations_dropped() const noexcept { return dropped_; }
   std::int64_t frames() const noexcept { return frame_; }
@@ -337,7 +346,8 @@ class HierarchicalBank {
   const AirData& air_data() const noexcept { return air_data_; }            // in force
   std::int64_t air_data_rejected() const noexcept { return air_data_rejected_; }
   const Bank& bank() const noexcept { return bank_; }
-  const Declarer& declarer() const noexcept { return declarer_; }
+  // The declarer in force: level 0's, or at level 1 with level1_dwell_s its own.
+  const Declarer& declarer() const noexcept { return declarer_in_force(); }
   const HierarchicalOptions& options() const noexcept { return options_; }
 
  private:
@@ -405,6 +415,16 @@ class HierarchicalBank {
     d.frame_rate_hz = rate_hz;
     return d;
   }
+  // The level-1 declarer: level 0's threshold, level1_dwell_s (0: level 0's dwell). Throws
+  // std::invalid_argument (declarer.h) for a dwell out of range.
+  static DeclarerOptions level1_declarer(const HierarchicalOptions& o, double rate_hz) {
+    DeclarerOptions d = with_rate(o.declarer, rate_hz);
+    if (o.level1_dwell_s > 0.0) d.dwell_s = o.level1_dwell_s;
+    return d;
+  }
+  bool own_level1_dwell() const noexcept { return level_ == 1 && options_.level1_dwell_s > 0.0; }
+  Declarer& declarer_in_force() noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
+  const Declarer& declarer_in_force() const noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
   static FilterBankOptions with_rate(FilterBankOptions b, double rate_hz) {
     b.adaptation.frame_rate_hz = rate_hz;
     return b;
@@ -414,6 +434,7 @@ class HierarchicalBank {
       : options_(options),
         bank_(pick(b.models, b.level0), with_rate(options.bank, mb.frame_rate_hz)),
         declarer_(with_rate(options.declarer, mb.frame_rate_hz), 0),
+        declarer1_(level1_declarer(options, mb.frame_rate_hz), 0),
         level0_(b.level0),
         level1_(std::move(b.level1)),
         online_(b.level0),
@@ -421,10 +442,16 @@ class HierarchicalBank {
         maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
         actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
-    if (!(options.level1_p_min >= 0.0) || !(options.level1_p_min * static_cast<double>(b.level0.size()) < 1.0))
-      throw std::invalid_argument("hierarchical bank: level1_p_min must lie in [0, 1/K) = [0, " +
-                                  std::to_string(1.0 / static_cast<double>(b.level0.size())) + "), got " +
-                                  std::to_string(options.level1_p_min));
+    // with the K - 1 others on their floors a hypothesis holds at most 1 - (K - 1) P: above
+    // (1 - threshold) / (K - 1) none could pass the threshold
+    const double level1_bound =
+        (1.0 - options.declarer.threshold) / static_cast<double>(b.level0.size() - 1);
+    if (!(options.level1_p_min >= 0.0) || !(options.level1_p_min < level1_bound))
+      throw std::invalid_argument("hierarchical bank: level1_p_min must lie in [0, (1 - threshold)/(K - 1)) = [0, " +
+                                  std::to_string(level1_bound) + "), got " + std::to_string(options.level1_p_min));
+    if (!(options.level1_dwell_s >= 0.0))
+      throw std::invalid_argument("hierarchical bank: level1_dwell_s must be >= 0 (0: the level-0 dwell), got " +
+                                  std::to_string(options.level1_dwell_s));
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));
@@ -467,7 +494,7 @@ class HierarchicalBank {
   // The trim tracker's freeze condition on this frame (trim_tracker.h): level 1, a failure
   // declared, or a failure hypothesis on line above freeze_probability.
   bool trim_freezing() const noexcept {
-    if (level_ != 0 || online_[declarer_.current()] != 0) return true;
+    if (level_ != 0 || online_[declarer_in_force().current()] != 0) return true;
     const PVector& p = bank_.probabilities();
     for (int k = 1; k < size(); ++k)
       if (p(k) > trim_tracker_.options().freeze_probability) return true;
@@ -506,7 +533,7 @@ class HierarchicalBank {
     level_ = level;
     set_floors();
     bank_.presume(presumed);
-    declarer_.reset(presumed);
+    declarer_in_force().reset(presumed);
   }
   // The level-0 floor (a scheduled bank's node floor in force with node_p_min, else p_min),
   // and the floors for the level on line (header): at level 1 with level1_p_min set, the
@@ -553,7 +580,8 @@ class HierarchicalBank {
 
   HierarchicalOptions options_;
   Bank bank_;
-  Declarer declarer_;
+  Declarer declarer_;    // level 0 (and level 1 without level1_dwell_s)
+  Declarer declarer1_;   // level 1 with level1_dwell_s
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
   Indices level0_;

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 
@@ -250,9 +251,55 @@ TEST(HierarchicalBank, LevelOneFloorHoldsWhileLevelOneIsOnLineOnly) {
     reference.step(f.z[i], f.u[i]);
     ASSERT_EQ(same.probabilities(), reference.probabilities()) << "frame " << i;
   }
-  o.level1_p_min = 0.2;   // K = 6: must be below 1/6
+  o.level1_p_min = 0.02;   // K = 6, threshold 0.9: must be below (1 - 0.9) / 5 = 0.02
+  EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
+  o.level1_p_min = 0.019;
+  EXPECT_NO_THROW(DynamicHierarchicalBank(s.bank, o));
+  o.declarer.threshold = 0.6;   // (1 - 0.6) / 5 = 0.08
+  o.level1_p_min = 0.079;
+  EXPECT_NO_THROW(DynamicHierarchicalBank(s.bank, o));
+  o.level1_p_min = 0.08;
   EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
   o.level1_p_min = -1e-3;
+  EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
+}
+
+TEST(HierarchicalBank, LevelOneDwellHoldsWhileLevelOneIsOnLineOnly) {
+  // the single-then-back-out flight with a level-1 dwell of 0.75 s (48 frames at 64 Hz): Z2 is
+  // declared at level 0 on the reference's frame (its dwell, 16 frames), and NONE's back-out at
+  // level 1 on the first frame that completes 48 consecutive frames above the threshold,
+  // counted here from the bank's own probabilities; later than the reference's back-out
+  Small s;
+  HierarchicalOptions plain;
+  plain.bank.p_min = 1e-6;
+  HierarchicalOptions o = plain;
+  o.level1_dwell_s = 0.75;
+  DynamicHierarchicalBank hb(s.bank, o), reference(s.bank, plain);
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {{"Z2", 64, 256}}, 512, 3u);
+  const int d1 = static_cast<int>(std::lround(0.75 * hb.frame_rate_hz()));
+  std::int64_t ref_z2 = -1, ref_none = -1, z2 = -1, none = -1, expected_none = -1;
+  int run = 0;
+  for (int i = 0; i < 512; ++i) {
+    const int r = reference.update(f.z[i]);
+    if (r >= 0) (reference.name(r) == "Z2" ? ref_z2 : ref_none) = i;
+    const bool at_level1 = hb.level() == 1;
+    const int d = hb.update(f.z[i]);
+    if (at_level1 && expected_none < 0) {
+      run = hb.probabilities()(0) > o.declarer.threshold ? run + 1 : 0;
+      if (run == d1) expected_none = i;
+    }
+    if (d >= 0) (hb.name(d) == "Z2" ? z2 : none) = i;
+    if (hb.level() == 1) EXPECT_EQ(hb.declarer().dwell_frames(), d1);
+    else EXPECT_EQ(hb.declarer().dwell_frames(), reference.declarer().dwell_frames());
+    reference.propagate(f.u[i]);
+    hb.propagate(f.u[i]);
+  }
+  ASSERT_EQ(declared_names(hb), (std::vector<std::string>{"Z2", "NONE"}));
+  EXPECT_EQ(z2, ref_z2);
+  EXPECT_EQ(none, expected_none);
+  EXPECT_GT(none, ref_none);
+  EXPECT_GE(none - ref_none, d1 - reference.declarer().dwell_frames());
+  o.level1_dwell_s = -0.1;
   EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
 }
 

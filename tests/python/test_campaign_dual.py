@@ -36,6 +36,8 @@ from campaign_support import CountingExecutor
     ({"estimator": {"threshold": 0.4}}, "--threshold 0.4 must lie in (0.5, 1)"),
     ({"estimator": {"dwell_s": 5.0}}, "--dwell-s 5.0 must lie in [0, 5.0) s"),
     ({"estimator": {"p_min": 0.2}}, "--p-min 0.2"),
+    # (1 - 0.9) / 12 = 0.0083: above it no hypothesis of a level-1 bank can pass the threshold
+    ({"estimator": {"level1_p_min": 0.0084}}, "--level1-p-min 0.0084 must lie in [0, 0.008333)"),
     ({"dither_scale": 9.0}, "--dither-scale 9.0"),
 ])
 def test_bad_config_is_refused_naming_the_value(kwargs, message):
@@ -107,6 +109,44 @@ def test_score_dual_run_fields():
     # a baseline run: the single at t_2, any failure before t_2 is a false alarm
     base = score_dual_run("PIT", None, None, 5.0, 10.0, [{"hypothesis": "PIT", "time_s": 5.25}], t, [1.0] * 20)
     assert base["outcome"] == "correct" and base["hold"] == 1.0 and "first_latency_s" not in base
+
+
+# (declarations, final outcome, transient-wrong by the rule for failed components, by the former rule)
+# of pair VEL>LS (VEL fails at 3 s, LS at 5 s; the dual is LS+VEL) in a 10-s flight
+@pytest.mark.parametrize("events, outcome, tw, tw_strict", [
+    # VEL late, LS alone first, then the dual: every declaration true -> correct, clean
+    ([("LS", 6.0), ("LS+VEL", 6.8)], "correct", False, True),
+    # in the failures' order
+    ([("VEL", 3.5), ("LS+VEL", 5.6)], "correct", False, False),
+    # ends on the second failure alone: VEL missed, not wrong
+    ([("LS", 5.4)], "missed", False, True),
+    # the lone second failure declared before it failed: false (and a false alarm)
+    ([("LS", 4.9), ("LS+VEL", 5.5)], "correct", True, True),
+    # a component that never failed: wrong, alone or in a dual with a failed one
+    ([("VEL", 3.5), ("VEL+AY", 5.5), ("LS+VEL", 6.0)], "correct", True, True),
+    ([("VEL", 3.5), ("LS+RS", 6.0)], "wrong", True, True),
+    # a back-out to NONE names nothing
+    ([("VEL", 3.5), ("NONE", 4.0)], "missed", False, False),
+])
+def test_rule_for_failed_components(events, outcome, tw, tw_strict):
+    from f16mmae.campaign.engine.outcomes import transient_wrong as strict
+    decl = [{"hypothesis": h, "time_s": t} for h, t in events]
+    t = [i * 0.5 for i in range(20)]
+    s = score_dual_run("LS+VEL", "VEL", 3.0, 5.0, 10.0, decl, t, [0.0] * 20)
+    assert (s["outcome"], s["transient_wrong"]) == (outcome, tw)
+    assert strict(decl, 3.0, {"VEL", "LS+VEL"}) is tw_strict
+
+
+def test_names_only_failed_is_by_the_declarations_time():
+    failures = [("VEL", 3.0), ("LS", 5.0)]
+    assert dual_scoring.names_only_failed("NONE", failures, 0.0)
+    assert dual_scoring.names_only_failed("VEL", failures, 3.0)
+    assert not dual_scoring.names_only_failed("LS", failures, 4.99)
+    assert dual_scoring.names_only_failed("LS+VEL", failures, 5.0)
+    assert dual_scoring.names_only_failed("VEL+LS", failures, 9.0)   # in any order
+    assert not dual_scoring.names_only_failed("LS+AY", failures, 9.0)
+    assert dual_scoring.transient_wrong([{"hypothesis": "AY", "time_s": 1.0}], failures) is False  # before onset
+    assert dual_scoring.transient_wrong([{"hypothesis": "AY", "time_s": 1.0}], []) is False
 
 
 # -- the rating ---------------------------------------------------------------------------------
@@ -268,6 +308,15 @@ def test_models_rate_a_blocked_pair_indistinguishable_and_leave_the_others(tmp_p
     assert separable["models"]["rate_nats_per_frame"] > 0 and separable["rating"] == "Poor"
     assert "measured_rating" not in separable
     assert "models" not in good and "models" not in fair and fair["rating"] == "Fair"
+    # with the flight's window: AOA>AZ is separable (D > 0) but its drift against AOA alone,
+    # 0.009 nats a frame, gathers ~2.7 nats in the 4.75 s after the second failure less the dwell
+    # (304 frames at 64 Hz), below the 6.9 nats any admissible floor needs: the measured Poor stays
+    slow = [_pair("AOA", "AZ", "Poor")]
+    models.annotate(slow, bank, "light", "complete", window_frames=304, threshold=0.9)
+    w = slow[0]["models"]["window"]
+    assert slow[0]["rating"] == "Poor" and w["within"] is False and "not within the flight" in slow[0]["rating_reason"]
+    assert w["nats"] == pytest.approx(304 * slow[0]["models"]["rate_vs_first"], abs=1e-3)
+    assert 0 < w["nats"] < w["least_lift_nats"]
     # the second time the cache answers: no design is needed
     monkeypatch.setattr(models, "bank_design", lambda bank: pytest.fail("designed again"))
     again = [_pair("AZ", "AOA", "ND")]
@@ -275,3 +324,25 @@ def test_models_rate_a_blocked_pair_indistinguishable_and_leave_the_others(tmp_p
     assert again[0]["models"] == blocked["models"]
     # a mode or level the models do not cover: nothing evaluated, and why
     assert "not hardover in light" in models.annotate([_pair("AZ", "AOA", "ND")], bank, "light", "hardover")["why_not"]
+    scaled = [_pair("AZ", "AOA", "ND")]
+    assert "not 1.11 times it" in models.annotate(scaled, bank, "light", "complete", dither_scale=1.11)["why_not"]
+    assert "not none" in models.annotate(scaled, bank, "light", "complete", dither_scale=None)["why_not"]
+    assert scaled[0]["rating"] == "ND" and "models" not in scaled[0]
+
+
+def test_least_lift_is_the_smallest_over_the_admissible_floors():
+    from f16mmae.campaign.dual import models
+    import numpy as np
+    thr, k = 0.9, 13
+    # lift from a floor P: ln(thr/(1-thr)) - ln(P / (1 - (k-1) P)), over the floors at which a
+    # hypothesis can still pass thr (1 - (k-1) P > thr)
+    floors = np.linspace(1e-9, (1 - thr) / (k - 1), 200001)[:-1]
+    lifts = np.log(thr / (1 - thr)) - np.log(floors / (1 - (k - 1) * floors))
+    assert models.least_lift_nats(thr, k) == pytest.approx(lifts.min(), rel=1e-4)
+    assert models.least_lift_nats(0.9) == pytest.approx(np.log(972.0))
+    w = models.window_check(0.01, 100, 0.9)
+    assert (w["nats"], w["within"], w["frames_to_least_lift"]) == (1.0, False, pytest.approx(687.9, abs=0.1))
+    assert models.window_check(0.1, 100, 0.9)["within"] is True
+    assert models.window_check(-0.1, 100, 0.9)["frames_to_least_lift"] is None
+    with pytest.raises(ValueError, match="threshold"):
+        models.least_lift_nats(0.4)

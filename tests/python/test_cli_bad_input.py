@@ -99,6 +99,8 @@ def test_report_on_a_summary_missing_a_field_names_the_field(capsys, tmp_path):
     (["run", "--dwell-s", "3.4e7"], "--dwell-s 34000000.0 must lie in [0, 60]"),
     (["campaign", "single", "--dwell-s", "61"], "--dwell-s 61.0 must lie in [0, 60]"),
     (["run", "--p-min", "0.5"], "--p-min 0.5 must lie in [0, 0.076923)"),
+    (["run", "--level1-p-min", "0.01"], "--level1-p-min 0.01 must lie in [0, 0.008333)"),
+    (["run", "--level1-dwell-s", "-1"], "--level1-dwell-s -1.0 must lie in [0, 60]"),
     (["run", "--threshold", "nan"], "--threshold 'nan' must be finite"),
     (["run", "--trim-tracking", "0"], "--trim-tracking 0.0 must lie in (0, 1e+06]"),
     (["campaign", "soak", "--trim-tracking", "30", "--trim-freeze-probability", "1.5"],

@@ -19,6 +19,12 @@ from dataclasses import dataclass
 from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_MODES
 
 
+#: The level-1 floor's bound at the default threshold 0.9 (the core's kDefaultThreshold, which
+#: every shipped bank recommends): with the K_BANK - 1 other hypotheses on their floors a
+#: hypothesis holds at most 1 - (K_BANK - 1) P, which must exceed the threshold.
+LEVEL1_P_MIN_BELOW = round((1.0 - 0.9) / (K_BANK - 1), 6)
+
+
 @dataclass(frozen=True)
 class EstimatorOption:
     key: str
@@ -103,10 +109,15 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off; "
                          "with --turbulence-banks the set file's recommended tempering (1 g)"),
     EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
-                    below=round(1.0 / K_BANK, 6), in_daemon=False,
+                    below=LEVEL1_P_MIN_BELOW, in_daemon=False,
                     help="probability floor while a failure's level-1 (dual) bank is on line: a second "
-                         "failure rises from it (cpp/f16mmae/hierarchical_bank.h; above (1 - threshold) / 12 "
-                         "no hypothesis can pass the threshold). Default 0: the level-0 floor"),
+                         "failure rises from it (cpp/f16mmae/hierarchical_bank.h). Below (1 - 0.9) / 12: "
+                         "at or above (1 - threshold) / 12 no hypothesis can pass the threshold (the core "
+                         "checks it with the threshold in force). Default 0: the level-0 floor"),
+    EstimatorOption("level1_dwell_s", "--level1-dwell-s", "number", metavar="S", minimum=0.0, maximum=DWELL_S_MAX,
+                    in_daemon=False,
+                    help="... and the dwell while it is on line: a dual (or the back-out) must stay above the "
+                         "threshold S seconds in a row (cpp/f16mmae/hierarchical_bank.h). Default 0: the level-0 dwell"),
     EstimatorOption("actuator_rate_limits_rad_s", "--actuator-rate-limits", "values", on_command_line=False,
                     help="the actuators' rate limits, rad/s, one per input"),
     EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",

@@ -121,10 +121,13 @@ def run_spec(spec: dict) -> dict:
         "bank": spec["bank"], "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
         "estimator": spec["estimator"], "estimator_settings": result.estimator_settings,
         "first_time_s": t1, "second_time_s": t2, "failures": result.failures,
-        "declarations": result.declarations, **scored,
-        # transient-wrong: anything but the first failure and the dual from the first onset on
-        **outcomes.run_fields(result.declarations, t1 if first else t2,
-                              {first, injected} if first else {injected}, scenario.duration_s),
+        "declarations": result.declarations,
+        # the former rule (anything but the first failure and the dual from the first onset on)
+        # kept as transient_wrong_strict; transient_wrong is the scoring's rule for failed components
+        **{("transient_wrong_strict" if k == "transient_wrong" else k): v for k, v in outcomes.run_fields(
+            result.declarations, t1 if first else t2, {first, injected} if first else {injected},
+            scenario.duration_s).items()},
+        **scored,
         "p_injected": stored_history(p_inj),
         "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
         "timing": result.timing,
@@ -207,8 +210,15 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
             s["absolute_rating"], s["absolute_rating_reason"] = outcomes.rate_absolute(
                 s["runs"], s["correct"], s["false_alarms"], s["evidence"]["rates"]["transient_wrong"]["count"],
                 s["latency_s"]["median"])
+            s["absolute_rating_strict"] = outcomes.rate_absolute(
+                s["runs"], s["correct"], s["false_alarms"], s["transient_wrong_strict"], s["latency_s"]["median"])[0]
         pairs.append(s)
-    models_evaluated = models.annotate(pairs, bank, cfg.turbulence, cfg.mode)
+    settings = {**bank_estimator_settings(bank), **cfg.estimator_options()}
+    window = cfg.duration_s - cfg.second_time_s - settings.get("dwell_s", 0.25)
+    models_evaluated = models.annotate(pairs, bank, cfg.turbulence, cfg.mode,
+                                       window_frames=int(window * bank.frame_rate_hz),
+                                       threshold=settings.get("threshold", 0.9),
+                                       dither_scale=cfg.dither_scale if cfg.dither else None)
     for s in pairs:
         matrix.setdefault(s["first"], {})[s["second"]] = s["rating"]
     return {
@@ -229,7 +239,7 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
         "dither": cfg.dither,
         "dither_scale": cfg.dither_scale,
         "estimator": cfg.estimator_options(),
-        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "estimator_settings": settings,
         "rating_rules": dict(scoring.RATING_RULES),
         "ratings": {k: sum(1 for p in pairs if p["rating"] == k) for k in scoring.RATINGS},
         "models": models_evaluated,
@@ -240,6 +250,10 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
         "absolute_rules": dict(outcomes.ABSOLUTE_DUAL_RULES),
         "absolute_ratings": {k: sum(1 for p in pairs if p.get("absolute_rating") == k)
                              for k in outcomes.ABSOLUTE_RATINGS},
+        # the same under the former transient-wrong rule (scoring: the rule for failed components)
+        "strict_rule": {"transient_wrong_runs": sum(p["transient_wrong_strict"] for p in pairs),
+                        "absolute_ratings": {k: sum(1 for p in pairs if p.get("absolute_rating_strict") == k)
+                                             for k in outcomes.ABSOLUTE_RATINGS}},
         **evidence.summary_fields(
             records, [baselines[b] for b in cfg.seconds] + pairs,
             drilldown.not_clean(sorted(records, key=lambda r: (r["kind"], r["pair"], r["run_index"])),

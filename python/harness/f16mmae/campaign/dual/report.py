@@ -82,14 +82,16 @@ def dual_page(d: Path, s: dict) -> str:
         "<dt>Indistinguishable</dt><dd>not Good, and the models show the dual indistinguishable: its "
         "expected evidence per frame against a rival of the first failure's level-1 bank is &le; 0 "
         "(design.distinguish on the bank's own design; the measured rating is kept beside it)</dd>"
-        "<dt>correct / missed / wrong</dt><dd>the run ends declaring the dual / NONE or the first "
-        "failure alone / another hypothesis</dd>"
+        "<dt>correct / missed / wrong</dt><dd>the run ends declaring the dual / NONE or one of the two "
+        "failures alone / a hypothesis naming a component that has not failed</dd>"
         "<dt>latency, hold</dt><dd>first declaration of the dual after the second failure minus its "
         "time; the fraction of the flight after that declaration during which the dual stays declared</dd>"
         "<dt>false alarm</dt><dd>before the second failure, a hypothesis other than NONE and the first "
         "failure declared</dd>"
-        "<dt>transient-wrong</dt><dd>from the first failure on, a hypothesis other than NONE, the first "
-        "failure and the dual declared, even if the run recovers</dd>"
+        "<dt>transient-wrong</dt><dd>from the first failure on, a hypothesis declared that names a component "
+        "not failed (in truth) by its time, even if the run recovers; a declaration naming only failed "
+        "components is true if incomplete (the former rule, which also counted the lone second failure, is "
+        "kept beside it: transient_wrong_strict)</dd>"
         f"<dt>absolute rating</dt><dd>Good when &ge; {100 * A['correct_fraction_min']:.0f}% of the runs are "
         f"correct, no run has a false alarm, no run is transient-wrong and the median latency after the "
         f"second failure is &le; {A['latency_median_s_max']} s, whatever the baseline did; else Not good "
@@ -124,6 +126,9 @@ def dual_markdown(s: dict) -> str:
             + ", ".join(f"{k} {v}" for k, v in s["ratings"].items()),
             "- absolute (>= 90 % correct, no false alarm, no transient-wrong, median latency <= 1.5 s): "
             + ", ".join(f"{k} {v}" for k, v in (s.get("absolute_ratings") or {}).items()),
+            *([f"- absolute with the former transient-wrong rule (the lone second failure counted wrong): "
+               + ", ".join(f"{k} {v}" for k, v in s["strict_rule"]["absolute_ratings"].items())
+               + f"; transient-wrong runs {s['strict_rule']['transient_wrong_runs']}"] if "strict_rule" in s else []),
             f"- same rating as the paper in {cmp_.get('equal', '?')} of {cmp_.get('cells', '?')} comparable cells", ""]
     worse = [p for p in s["pairs"] if p["rating"] != "Good" or p.get("absolute_rating") != "Good"]
     out += [f"## Pairs not Good on either rating ({len(worse)})", "",

@@ -5,10 +5,21 @@ injected hypothesis is ``h* = dual_name(a, b)``.  The declarer's events are the
 time-ordered ``{"hypothesis", "time_s"}`` list; the *declared* hypothesis at time ``t``
 is that of the last event at or before ``t`` (NONE before the first).
 
+**The rule for failed components.** A failure declaration is *wrong* when it names a
+component that has not failed in truth by the declaration's time; a declaration naming only
+components that have failed (one of them or both, in any order) is true, if incomplete
+(:func:`names_only_failed`).  So:
+
+* ``transient_wrong`` -- from ``t_1`` on, a declaration naming a component not failed by its
+  time (:func:`transient_wrong`);  ``transient_wrong_strict`` keeps the former rule beside it
+  (``outcomes.transient_wrong`` with the first failure and the dual allowed: the lone second
+  failure declared after ``t_2`` counts there);
+* a run that ends declaring only failed components but not both (the first failure alone or
+  the second alone) counts as ``missed`` (a failure was missed), not wrong.
+
 Per run (:func:`score_dual_run`), on top of ``scoring.score_run(h*, t_2, events)``
 (``final_hypothesis``, ``outcome`` correct / missed / wrong, ``latency_s`` = first
-declaration of ``h*`` at or after ``t_2`` minus ``t_2``), where a run that ends declaring
-the first failure alone counts as ``missed`` (the second failure was missed), not wrong:
+declaration of ``h*`` at or after ``t_2`` minus ``t_2``), with the outcome by the rule above:
 
 * ``false_alarm``      -- before ``t_2`` a hypothesis other than NONE and ``a`` was
   declared (the first failure's own declaration is expected, not an alarm);
@@ -24,7 +35,8 @@ The baseline runs (the lone single failure ``b`` at ``t_2``) get the same fields
 
 Per pair (:func:`summarize_pair`): ``scoring.summarize_case`` (counts, latency median /
 p95) plus ``hold_mean`` (mean over the runs with a latency, None if none), ``p_max`` (max
-over runs), ``first_declared`` (runs whose first failure was declared before ``t_2``).
+over runs), ``first_declared`` (runs whose first failure was declared before ``t_2``),
+``transient_wrong_strict`` (runs transient-wrong by the former rule).
 
 Rating of a pair against the baseline of its second failure (:func:`rate_pair`), with
 ``c`` / ``c_b`` the correct fractions, ``m`` / ``m_b`` the latency medians and ``h`` /
@@ -101,19 +113,45 @@ def hold_fraction(declarations: Sequence[dict], hypothesis: str, start_s: float,
     return held / (end_s - start_s)
 
 
+def components(hypothesis: str) -> set[str]:
+    """The components a hypothesis names (none for NONE): ``"LS+PIT"`` -> ``{"LS", "PIT"}``."""
+    return set() if hypothesis == NONE else set(hypothesis.split("+"))
+
+
+def names_only_failed(hypothesis: str, failures: Sequence[tuple[str, float]], t: float) -> bool:
+    """True when every component ``hypothesis`` names has failed in truth by time ``t``
+    (``failures``: ``(component, time_s)``); NONE names none, so it is True."""
+    failed = {c for c, t_c in failures if t_c <= t}
+    return components(hypothesis) <= failed
+
+
+def transient_wrong(declarations: Sequence[dict], failures: Sequence[tuple[str, float]]) -> bool:
+    """From the first failure on, a failure declaration naming a component that had not
+    failed by its time (module docstring). False without failures."""
+    if not failures:
+        return False
+    onset = min(t for _, t in failures)
+    return any(d["time_s"] >= onset and not names_only_failed(d["hypothesis"], failures, d["time_s"])
+               for d in declarations)
+
+
 def score_dual_run(injected: str, first: str | None, first_time_s: float | None,
                    second_time_s: float, end_s: float, declarations: Sequence[dict],
                    time_s: np.ndarray, p_injected: np.ndarray) -> dict:
     """Score one dual run (``first`` given) or baseline run (``first`` None); see module docstring."""
     out = scoring.score_run(injected, second_time_s, declarations)
+    failures = [(c, second_time_s) for c in sorted(components(injected) - {first})]
     if first is not None:
-        if out["final_hypothesis"] == first:
+        failures.insert(0, (first, first_time_s))
+        final = out["final_hypothesis"]
+        if final not in (injected, NONE) and names_only_failed(final, failures, end_s):
             out["outcome"] = "missed"
         out["false_alarm"] = any(d["time_s"] < second_time_s and d["hypothesis"] not in (NONE, first)
                                  for d in declarations)
         firsts = [d["time_s"] for d in declarations
                   if d["hypothesis"] == first and first_time_s <= d["time_s"] < second_time_s]
         out["first_latency_s"] = (firsts[0] - first_time_s) if firsts else None
+    out["transient_wrong"] = transient_wrong(declarations, failures)
     lat = out["latency_s"]
     out["hold"] = None if lat is None else round(hold_fraction(declarations, injected, second_time_s + lat, end_s), 6)
     after = np.asarray(p_injected, dtype=float)[np.asarray(time_s) >= second_time_s]
@@ -129,6 +167,7 @@ def summarize_pair(label: str, records: Iterable[dict]) -> dict:
     out["hold_mean"] = round(float(np.mean(holds)), 6) if holds else None
     out["p_max"] = max((r["p_max_after"] for r in rs), default=0.0)
     out["declared_runs"] = sum(1 for r in rs if r.get("latency_s") is not None)
+    out["transient_wrong_strict"] = sum(1 for r in rs if r.get("transient_wrong_strict"))
     if any("first_latency_s" in r for r in rs):
         out["first_declared"] = sum(1 for r in rs if r.get("first_latency_s") is not None)
     return out

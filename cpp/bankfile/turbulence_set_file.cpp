@@ -72,6 +72,8 @@ void TurbulenceSetFile::validate() const {
       refuse(who + ": trim_time_constant_s must be in [0, 1e6] s (0: off), got " + format_value(trim_time_constant_s[i]));
   }
   check_turbulence_set_selector(selector, n);
+  if (!(maneuver_tempering_g >= 0.0 && maneuver_tempering_g <= 100.0))
+    refuse("maneuver_tempering_g must be in [0, 100] g (0: off), got " + format_value(maneuver_tempering_g));
 }
 
 bool is_turbulence_set_file(const std::uint8_t* data, std::size_t size) {
@@ -99,14 +101,15 @@ std::vector<std::uint8_t> turbulence_set_file_bytes(const TurbulenceSetFile& set
   for (double v : {s.hold_s, s.warm_up_s, s.warm_down_s, s.settle_s, s.freeze_probability}) put_f64(out, v);
   put(out, static_cast<std::uint32_t>(s.start), 4);
   put(out, static_cast<std::uint32_t>(s.start_standby), 4);
+  put_f64(out, set.maneuver_tempering_g);
   return hashed_file_image(kTurbulenceSetFileMagic, TurbulenceSetFile::kFormatVersion, out);
 }
 
 TurbulenceSetFile parse_turbulence_set_file(const std::uint8_t* data, std::size_t size, const std::string& source) {
   const std::string who = "turbulence bank set file " + source + ": ";
   const std::uint32_t version = hashed_file_version(data, size, kTurbulenceSetFileMagic, who, "turbulence bank set");
-  if (version != TurbulenceSetFile::kFormatVersion)
-    throw BankFileFormatError(who + "unsupported format version " + std::to_string(version) + " (this build reads " +
+  if (version < 1 || version > TurbulenceSetFile::kFormatVersion)
+    throw BankFileFormatError(who + "unsupported format version " + std::to_string(version) + " (this build reads 1 to " +
                               std::to_string(TurbulenceSetFile::kFormatVersion) + ")");
   const std::uint8_t* payload = hashed_file_payload(data, size, who);
   const std::size_t payload_size = size - kBankFileHeaderSize;
@@ -136,8 +139,10 @@ TurbulenceSetFile parse_turbulence_set_file(const std::uint8_t* data, std::size_
     set.selector.freeze_probability = r.f64("freeze_probability");
     set.selector.start = r.i32("start");
     set.selector.start_standby = r.i32("start_standby");
+    if (version >= 2) set.maneuver_tempering_g = r.f64("maneuver_tempering_g");
     if (r.remaining() != 0)
-      throw BankFileFormatError("payload has " + std::to_string(r.remaining()) + " bytes after start_standby");
+      throw BankFileFormatError("payload has " + std::to_string(r.remaining()) + " bytes after " +
+                                (version >= 2 ? "maneuver_tempering_g" : "start_standby"));
     set.validate();
   } catch (const BankFileFormatError& e) {
     throw BankFileFormatError(who + e.what());

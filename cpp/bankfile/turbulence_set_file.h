@@ -22,6 +22,10 @@
 //                   int32 n, doubles                     selector typical rho
 //                   double hold_s, warm_up_s, warm_down_s, settle_s, freeze_probability
 //                   int32 start, int32 start_standby
+//                   double maneuver_tempering_g          version 2 on: the load-factor tempering's
+//                                                        n_ref the set is flown with (g,
+//                                                        maneuver_kinematics.h), 0: off; a
+//                                                        version-1 file reads as 0
 // content_hash = lower-case hex SHA-256 of the payload: the set's name in mmae-daemon's status
 // (bank_hash) and in the records of a flight flown with it. Deterministic: the same members
 // and settings give the same bytes.
@@ -29,8 +33,8 @@
 // validate() (on save and on load) refuses, naming the field: fewer than 2 or more than
 // kMaxTurbulenceSetMembers members, a level that is empty or repeated, member banks of
 // different sizes (nx, nu, nz), frame rates or hypotheses (by name and order), a scheduled
-// member, an adapt_reference outside [0, 100], a trim_time_constant_s outside [0, 1e6], and
-// the selector settings
+// member, an adapt_reference outside [0, 100], a trim_time_constant_s outside [0, 1e6], a
+// maneuver_tempering_g outside [0, 100], and the selector settings
 // check_turbulence_set_selector refuses. parse_turbulence_set_file refuses besides what the
 // hashed layout refuses (bank_file.h: magic, version, truncation, hash) and every member bank
 // parse_bank_file refuses (its message prefixed with the member), all as BankFileFormatError
@@ -53,12 +57,13 @@ inline constexpr int kMaxTurbulenceSetMembers = 16;
 inline constexpr std::uint64_t kMaxTurbulenceSetFileBytes = kMaxTurbulenceSetMembers * kMaxBankFileBytes;
 
 struct TurbulenceSetFile {
-  static constexpr std::uint32_t kFormatVersion = 1;
+  static constexpr std::uint32_t kFormatVersion = 2;   // 2: maneuver_tempering_g; version 1 is read too
   std::vector<std::string> levels;       // each member's design level ("none", "light", ...)
   std::vector<ModelBank> members;        // rising intensity
   std::vector<double> adapt_reference;   // each member's adaptation reference rho_0
   std::vector<double> trim_time_constant_s;  // each member's trim tracking time constant, s (0: off)
   TurbulenceBankSetOptions selector;
+  double maneuver_tempering_g = 0.0;     // the set's recommended load-factor tempering n_ref, g (0: off)
   std::string content_hash;              // set by load and save
 
   int size() const { return static_cast<int>(members.size()); }

@@ -137,6 +137,8 @@ int main(int argc, char** argv) {
     if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
     options.maneuver.kinematics = cfg.maneuver_kinematics;
     options.maneuver.tempering_g = cfg.maneuver_tempering_g;
+    if (set && cfg.turbulence_banks && !options.maneuver.tempering())   // the set's recommended tempering
+      options.maneuver.tempering_g = set->maneuver_tempering_g;
     options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation
     options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
     options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;

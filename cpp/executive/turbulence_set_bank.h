@@ -10,7 +10,9 @@
 // reference the set file's adapt_reference[i], unless one reference was given for all
 // (options.schedule.node_adapt_reference false: the flag that also overrides a schedule's
 // per-node references), and its trim tracking the set file's trim_time_constant_s[i] unless
-// `options` track the trim themselves (time_constant_s > 0: every member then tracks with it).
+// `options` track the trim themselves (time_constant_s > 0: every member then tracks with it),
+// and its load-factor tempering the set file's maneuver_tempering_g unless `options` temper
+// themselves (tempering_g > 0: every member then tempers with it).
 // Throws std::invalid_argument for members the set refuses.
 // Per frame noexcept and allocation-free (TurbulenceBankSet's contract).
 #pragma once
@@ -63,6 +65,7 @@ class TurbulenceSetBank {
       o.bank.adaptation.enabled = true;
       if (options.schedule.node_adapt_reference) o.bank.adaptation.reference = file.adapt_reference[i];
       if (!options.trim.enabled()) o.trim.time_constant_s = file.trim_time_constant_s[i];
+      if (!options.maneuver.tempering()) o.maneuver.tempering_g = file.maneuver_tempering_g;
       out.push_back(std::make_unique<Bank>(file.members[i], o));
     }
     return out;

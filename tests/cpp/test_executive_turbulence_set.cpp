@@ -1,7 +1,8 @@
 // The turbulence-bank-set file (bankfile/turbulence_set_file.h) and the executive running its
 // set (Executive(set_file), TurbulenceSetBank): the file round-trips (members, levels,
-// references, selector; content hash = SHA-256 of the payload) and refuses damage and invalid
-// sets naming the field; the executive equals the core TurbulenceBankSet stepped directly over
+// references, selector, tempering; content hash = SHA-256 of the payload), reads version 1, and
+// refuses damage and invalid sets naming the field; the file's tempering is flown unless one is
+// given; the executive equals the core TurbulenceBankSet stepped directly over
 // the same members, bit for bit, across handovers, with the set's hash in its status; its
 // per-frame path allocates nothing, handovers included.
 #include "executive/executive.h"
@@ -13,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -46,6 +48,7 @@ TurbulenceSetFile two_member_set() {
   f.selector.settle_s = 0.2;
   f.selector.start = 0;
   f.selector.start_standby = -1;
+  f.maneuver_tempering_g = 0.05;   // a load factor the synthetic signals reach: the tempering acts
   return f;
 }
 
@@ -94,12 +97,38 @@ TEST(TurbulenceSetFile, RoundTripsAndHashesItsPayload) {
   EXPECT_EQ(g.selector.settle_s, 0.2);
   EXPECT_EQ(g.selector.start, 0);
   EXPECT_EQ(g.selector.start_standby, -1);
+  EXPECT_EQ(g.maneuver_tempering_g, 0.05);
   ASSERT_EQ(g.size(), 2);
   EXPECT_EQ(g.members[1].hypotheses[0].a, f.members[1].hypotheses[0].a);
   EXPECT_EQ(g.members[0].content_hash, bank_content_hash(f.members[0]));
   EXPECT_EQ(g.content_hash, to_hex(sha256(image.data() + kBankFileHeaderSize, image.size() - kBankFileHeaderSize)));
   EXPECT_EQ(turbulence_set_file_bytes(g), image);  // deterministic
   EXPECT_FALSE(is_turbulence_set_file(bank_file_bytes(f.members[0]).data(), 60));
+}
+
+// Version 1 (before the tempering): the same payload without its last field, read with the
+// tempering off; a version-2 payload without it is truncated; version 3 is refused.
+TEST(TurbulenceSetFile, ReadsVersionOneWithoutTheTempering) {
+  const std::vector<std::uint8_t> image = turbulence_set_file_bytes(two_member_set());
+  const std::vector<std::uint8_t> v1_payload(image.begin() + kBankFileHeaderSize, image.end() - 8);
+  const std::vector<std::uint8_t> v1 = hashed_file_image(kTurbulenceSetFileMagic, 1, v1_payload);
+  const TurbulenceSetFile g = parse_turbulence_set_file(v1.data(), v1.size(), "v1");
+  EXPECT_EQ(g.maneuver_tempering_g, 0.0);
+  EXPECT_EQ(g.selector.bounds, two_member_set().selector.bounds);
+  const std::vector<std::uint8_t> short_v2 = hashed_file_image(kTurbulenceSetFileMagic, 2, v1_payload);
+  EXPECT_THROW(parse_turbulence_set_file(short_v2.data(), short_v2.size(), "v2"), BankFileFormatError);
+  const std::vector<std::uint8_t> v2_payload(image.begin() + kBankFileHeaderSize, image.end());
+  const auto refused = [&](std::uint32_t version, const std::string& expected) {
+    const std::vector<std::uint8_t> file = hashed_file_image(kTurbulenceSetFileMagic, version, v2_payload);
+    try {
+      parse_turbulence_set_file(file.data(), file.size(), "'v'");
+      ADD_FAILURE() << "version " << version << " with the version-2 payload accepted";
+    } catch (const BankFileFormatError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  refused(1, "8 bytes after start_standby");
+  refused(3, "unsupported format version 3 (this build reads 1 to 2)");
 }
 
 TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {
@@ -133,13 +162,81 @@ TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {
   f.trim_time_constant_s[1] = -1.0;
   refused([&] { turbulence_set_file_bytes(f); }, "trim_time_constant_s must be in [0, 1e6] s");
   f = two_member_set();
+  f.maneuver_tempering_g = -0.5;
+  refused([&] { turbulence_set_file_bytes(f); }, "maneuver_tempering_g must be in [0, 100] g (0: off), got -0.5");
+  f = two_member_set();
   for (auto& m : f.members) m = test_support::synthetic_bank(19, 5);
   refused([&] { Executive ex(f); }, "turbulence bank set of (nx, nu, nz) = (19, 6, 7) members");
 }
 
-// The executive's set is the core set over the same members (each with its reference and trim
-// tracking of the file), stepped directly, bit for bit; the selector hands over up and back
-// down; no frame allocates.
+namespace {
+
+// The core set over the file's members, each with its reference, trim tracking and the load-factor
+// tempering `tempering_g`, over `o`.
+struct DirectSet {
+  DirectSet(const TurbulenceSetFile& f, const HierarchicalOptions& o, double tempering_g) {
+    std::vector<Bank*> members;
+    for (int i = 0; i < f.size(); ++i) {
+      HierarchicalOptions m = o;
+      m.bank.adaptation.enabled = true;
+      m.bank.adaptation.reference = f.adapt_reference[i];
+      m.trim.time_constant_s = f.trim_time_constant_s[i];
+      m.maneuver.tempering_g = tempering_g;
+      owned.push_back(std::make_unique<Bank>(f.members[i], m));
+      members.push_back(owned.back().get());
+    }
+    set = std::make_unique<TurbulenceBankSet<Bank>>(members, f.selector);
+  }
+  std::vector<std::unique_ptr<Bank>> owned;
+  std::unique_ptr<TurbulenceBankSet<Bank>> set;
+};
+
+// The largest difference of the probabilities between an executive's set and a direct set over
+// `frames` frames of the test's signals.
+double largest_difference(Executive& ex, TurbulenceBankSet<Bank>& direct, const TurbulenceSetFile& f, long long frames) {
+  double most = 0.0;
+  for (long long i = 0; i < frames; ++i) {
+    const auto z = z_at(f.members[0], i);
+    const auto u = u_at(f.members[0], i);
+    ex.on_sensor(sensor(i, z));
+    ex.on_command(command(i, u));
+    direct.schedule(AirData{0.4, 20000.0});
+    direct.update(z);
+    direct.propagate(u);
+    for (int k = 0; k < 13; ++k)
+      most = std::max(most, std::abs(ex.status().probabilities[k] - direct.running().probabilities()(k)));
+  }
+  return most;
+}
+
+}  // namespace
+
+// The set file's load-factor tempering is the members' unless the options temper themselves
+// (then theirs in every member), and it changes the probabilities (so the comparison can fail).
+TEST(Executive, ATurbulenceBankSetFliesItsFilesTemperingUnlessGivenOne) {
+  const TurbulenceSetFile f = two_member_set();
+  HierarchicalOptions o;
+  o.bank.p_min = 1e-9;
+  {
+    Executive ex(f, o);
+    DirectSet file(f, o, f.maneuver_tempering_g);
+    EXPECT_EQ(largest_difference(ex, *file.set, f, 256), 0.0);
+  }
+  {
+    Executive ex(f, o);
+    DirectSet untempered(f, o, 0.0);
+    EXPECT_GT(largest_difference(ex, *untempered.set, f, 256), 1e-6) << "the tempering acts on these signals";
+  }
+  HierarchicalOptions given = o;
+  given.maneuver.tempering_g = 0.2;
+  Executive ex(f, given);
+  DirectSet flag(f, o, 0.2);
+  EXPECT_EQ(largest_difference(ex, *flag.set, f, 256), 0.0);
+}
+
+// The executive's set is the core set over the same members (each with its reference, trim
+// tracking and tempering of the file), stepped directly, bit for bit; the selector hands over
+// up and back down; no frame allocates.
 TEST(Executive, ATurbulenceBankSetRunsAsTheCoreSetAndAllocatesNothing) {
   TurbulenceSetFile f = two_member_set();
   f.trim_time_constant_s = {30.0, 0.0};   // the calm member tracks the trim, the rough one does not
@@ -151,17 +248,8 @@ TEST(Executive, ATurbulenceBankSetRunsAsTheCoreSetAndAllocatesNothing) {
   EXPECT_EQ(ex.estimator().states(), "2 members of 19 states, 6 inputs");
   EXPECT_EQ(ex.status().bank_hash, "the-set");
 
-  std::vector<std::unique_ptr<Bank>> owned;
-  std::vector<Bank*> members;
-  for (int i = 0; i < 2; ++i) {
-    HierarchicalOptions m = o;
-    m.bank.adaptation.enabled = true;
-    m.bank.adaptation.reference = f.adapt_reference[i];
-    m.trim.time_constant_s = f.trim_time_constant_s[i];
-    owned.push_back(std::make_unique<Bank>(f.members[i], m));
-    members.push_back(owned.back().get());
-  }
-  TurbulenceBankSet<Bank> direct(members, f.selector);
+  DirectSet direct_set(f, o, f.maneuver_tempering_g);
+  TurbulenceBankSet<Bank>& direct = *direct_set.set;
 
   long long allocations = 0;
   std::vector<int> active;

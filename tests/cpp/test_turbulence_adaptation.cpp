@@ -117,6 +117,35 @@ TEST(TurbulenceAdaptation, MeasuredRatioIsAPlainMeanFirstThenTheAverageOverTau) 
   EXPECT_DOUBLE_EQ(off.measured_power_ratio(), 0.0);   // disabled: nothing measured
 }
 
+TEST(TurbulenceAdaptation, MeasuredRatioEqualsTheMaxOfOneOverIAndAlphaBitForBit) {
+  // a_i = max(1.0 / i, alpha) divided every update (the header's formula) against the scale's
+  // count to a precomputed threshold: equal to the last bit, through and past the switch from
+  // the plain mean to the average, for time constants and rates whose 1 / alpha is near an
+  // integer and far from one.
+  for (const double tau : {0.25, 1.0, 5.0, 7.3, 60.0})
+    for (const double rate : {50.0, 64.0, 100.0}) {
+      TurbulenceAdaptationOptions o = on(tau);
+      o.frame_rate_hz = rate;
+      ResidualScale<Eigen::Dynamic> r;
+      r.configure(o, 2, "test");
+      const double alpha = 1.0 - std::exp(-1.0 / (tau * rate));
+      const int updates = static_cast<int>(1.0 / alpha) + 200;
+      double mean = 0.0;
+      for (int i = 1; i <= updates; ++i) {
+        const double x = 0.7 + 0.3 * std::sin(0.37 * i) + (i % 97 == 0 ? 5.0 : 0.0);
+        r.observe(Eigen::Vector3d(2.0 * x, 2.0 * x + 1.0, 9.0 * x));
+        const double a = 1.0 / static_cast<double>(i);
+        mean += (a > alpha ? a : alpha) * (x - mean);
+        ASSERT_EQ(r.measured_power_ratio(), mean) << "tau " << tau << " s, " << rate << " Hz, update " << i;
+      }
+      r.reset();   // the count restarts with the average
+      r.observe(Eigen::Vector3d(9.0, 8.0, 7.0));
+      EXPECT_EQ(r.measured_power_ratio(), 3.5);
+      r.observe(Eigen::Vector3d(3.0, 8.0, 7.0));
+      EXPECT_EQ(r.measured_power_ratio(), 3.5 + 0.5 * (1.5 - 3.5));
+    }
+}
+
 TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) {
   // tau far below a frame: alpha = 1 - e^-1562 = 1, so s = clamp(min_k q_k) of the last frame
   FilterBankOptions o;

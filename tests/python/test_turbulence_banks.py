@@ -2,8 +2,9 @@
 set file, is checked by the C++ loader (its hash, every member bank, the fields), the estimator
 option flies it and refuses a bank not of the set, the selector follows the turbulence in
 closed loop (calm air: down; the light member holds from light to severe turbulence), a
-failure whose onset coincides with a gust burst is declared, not absorbed, and in severe
-turbulence the load-factor tempering quiets a stabilator false declaration."""
+failure whose onset coincides with a gust burst is declared, not absorbed, the set flies the
+load-factor tempering its file carries unless one is given, and in severe turbulence that
+tempering quiets a stabilator false declaration."""
 from __future__ import annotations
 
 import shutil
@@ -13,8 +14,8 @@ import pytest
 
 from f16mmae import core
 from f16mmae.banks import load_bank
-from f16mmae.design.turbulence_banks import (MEMBER_LEVELS, TRIM_TIME_CONSTANT_S, BankSetError, load_set,
-                                             set_path)
+from f16mmae.design.turbulence_banks import (DWELL_S, MANEUVER_TEMPERING_G, MEMBER_LEVELS,
+                                             TRIM_TIME_CONSTANT_S, BankSetError, load_set, set_path)
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.estimator_options import check
 from f16mmae.loop.flight import fly
@@ -45,6 +46,9 @@ def test_the_set_is_six_input_members_in_rising_level(bank_set):
     assert a == sorted(a) and a[0] < a[-1]
     assert load_set(bank_set.path).set_hash == bank_set.set_hash == bank_set.source.content_hash
     assert bank_set.trim_time_constant_s == TRIM_TIME_CONSTANT_S
+    assert bank_set.maneuver_tempering_g == MANEUVER_TEMPERING_G == bank_set.source.maneuver_tempering_g == 1.0
+    assert [b.estimator_settings["dwell_s"] for b in bank_set.banks] == [DWELL_S] * len(MEMBER_LEVELS) == [0.125] * 2
+    assert Estimator(bank_set.banks[1], turbulence_banks=True).core_bank.members[1].dwell_s == 0.125
     label, path, bank = load_bank("turbulence")
     assert label == "turbulence" and path == bank_set.path and bank == bank_set.banks[bank_set.selector["start"]]
 
@@ -65,6 +69,11 @@ def test_a_damaged_or_invalid_set_is_refused_naming_the_field(bank_set, copy, tm
         core.save_turbulence_set(tmp_path / "bad.f16set", list(bank_set.banks), levels=list(bank_set.levels),
                                  adapt_reference=list(bank_set.adapt_reference),
                                  trim_time_constant_s=list(bank_set.trim_time_constant_s), selector=selector)
+    with pytest.raises(ValueError, match=r"maneuver_tempering_g must be in \[0, 100\] g \(0: off\), got -1"):
+        core.save_turbulence_set(tmp_path / "bad.f16set", list(bank_set.banks), levels=list(bank_set.levels),
+                                 adapt_reference=list(bank_set.adapt_reference),
+                                 trim_time_constant_s=list(bank_set.trim_time_constant_s),
+                                 selector=bank_set.selector, maneuver_tempering_g=-1.0)
     with pytest.raises(ValueError, match="unknown selector setting 'hold'"):
         core.save_turbulence_set(tmp_path / "bad.f16set", list(bank_set.banks), levels=list(bank_set.levels),
                                  adapt_reference=list(bank_set.adapt_reference),
@@ -111,6 +120,20 @@ def test_the_selector_follows_the_turbulence():
     assert r.declarations == []
 
 
+def test_the_set_flies_its_files_tempering_and_a_given_one_overrides_it():
+    """Severe turbulence, the left stabilator stuck at 2 s of 6 s: the set as given (its file's
+    tempering, 1 g) flies exactly as the set with --maneuver-tempering 1 given, and differently
+    from the set given another (the tempering acts on this flight)."""
+    bank = load_bank("turbulence")[2]
+    sc = Scenario(turbulence="severe", duration_s=6.0, seed=3, feedback="raw", failures=(make_failure("LS", 2.0),))
+    probabilities = {}
+    for given in (None, 1.0, 4.0):
+        options = {} if given is None else {"maneuver_tempering_g": given}
+        probabilities[given] = fly(sc, bank, estimator=Estimator(bank, turbulence_banks=True, **options)).probabilities
+    assert np.array_equal(probabilities[None], probabilities[1.0], equal_nan=True)   # NaN: not on line
+    assert np.nanmax(np.abs(probabilities[None] - probabilities[4.0])) > 1e-3
+
+
 def test_a_failure_with_a_gust_burst_is_declared_not_absorbed():
     """The failure and a burst of severe turbulence begin together in light turbulence: the
     selector is frozen while the failure rises, so the bank in force declares it."""
@@ -126,15 +149,16 @@ def test_a_failure_with_a_gust_burst_is_declared_not_absorbed():
 def test_the_load_factor_tempering_quiets_a_severe_stabilator_false_declaration():
     """Severe turbulence, the pilot holding (the soak's ``hold`` profile; campaign seed 7's first
     flight): a gust takes the angle of attack from 8 to 15 deg near 238 s, where the linear
-    models no longer hold, and the set declares RS falsely for 3.5 s; with the load-factor
-    tempering at 1 g (cpp/f16mmae/maneuver_kinematics.h) it declares nothing."""
+    models no longer hold, and the set barely tempered (n_ref 100 g given) declares RS falsely
+    for 3.5 s; with the set file's load-factor tempering at 1 g (cpp/f16mmae/maneuver_kinematics.h)
+    it declares nothing."""
     from f16mmae.campaign.soak.campaign import profile
 
     bank = load_bank("turbulence")[2]
     sc = Scenario(turbulence="severe", duration_s=243.0, seed=1713771395, feedback="reconfigure",
                   maneuvers=profile("hold", bank.mach, bank.alt_ft)[0])
-    plain = fly(sc, bank, estimator=Estimator(bank, turbulence_banks=True))
+    plain = fly(sc, bank, estimator=Estimator(bank, turbulence_banks=True, maneuver_tempering_g=100.0))
     assert [d["hypothesis"] for d in plain.declarations] == ["RS", "NONE"]
     assert 236.0 < plain.declarations[0]["time_s"] < 240.0
-    tempered = fly(sc, bank, estimator=Estimator(bank, turbulence_banks=True, maneuver_tempering_g=1.0))
+    tempered = fly(sc, bank, estimator=Estimator(bank, turbulence_banks=True))
     assert tempered.declarations == []

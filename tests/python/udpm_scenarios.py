@@ -458,7 +458,8 @@ def test_lockstep_flight_with_a_throttle_bank_equals_in_process_and_its_log_repl
 
 def test_lockstep_flight_with_the_turbulence_bank_set_equals_in_process_and_its_log_replays(tmp_path, capsys):
     """mmae-daemon --bank SET --turbulence-banks runs the turbulence bank set of the set file
-    (19-state, 6-input members, one in force, each with its trim tracking): a calm-air flight in which the set hands
+    (19-state, 6-input members, one in force, each with its trim tracking and the file's load-factor
+    tempering): a calm-air flight in which the set hands
     over from its light start member to the calm one and then declares a stuck left
     stabilator, flown in lockstep over udpm, equals the in-process set exactly (probabilities,
     declarations); the status carries the set's hash; lcm-logger's record of it replays to the
@@ -473,6 +474,7 @@ def test_lockstep_flight_with_the_turbulence_bank_set_equals_in_process_and_its_
     log = tmp_path / "set.lcmlog"
     daemon, remote = _fly_logged(path, bank, scenario, prefix, log, pause_s=0.003, options=options)
     assert "turbulence bank set of 2 members of 19 states, 6 inputs" in daemon.ready_line, daemon.ready_line
+    assert "tempering 1 g" in daemon.ready_line, daemon.ready_line   # the set file's load-factor tempering
     assert "320 updated, 320 commands applied, 0 rejected, 0 dropped" in daemon.summary
     assert remote.bank_hash == bank_set.bank_hash != str(bank.content_hash)   # the set's hash
     local = fly(scenario, bank, estimator=bank_set)

@@ -56,9 +56,9 @@ def flown_bank_hash(model_bank, settings: dict) -> str:
 
 def _bank_set(model_bank, settings: dict):
     """``core.TurbulenceBankSet`` over the turbulence bank set (:func:`turbulence_set_of`),
-    each member with its own recommended settings, the set's adaptation reference and trim
-    tracking for it, then ``settings`` (which win: ``trim_time_constant_s`` in every member), and
-    the adaptation on (its rho is
+    each member with its own recommended settings, the set's adaptation reference, trim
+    tracking and load-factor tempering for it, then ``settings`` (which win:
+    ``trim_time_constant_s`` and ``maneuver_tempering_g`` in every member), and the adaptation on (its rho is
     the selector's measure): what core.Executive does with the set file (mmae-daemon
     --turbulence-banks, cpp/executive/turbulence_set_bank.h)."""
     bank_set = turbulence_set_of(model_bank)
@@ -68,6 +68,8 @@ def _bank_set(model_bank, settings: dict):
         member = {**bank_estimator_settings(bank), "adapt_reference": reference, **own, "adapt_turbulence": True}
         if not own.get("trim_time_constant_s") and trim > 0:   # the member's own trim tracking, unless given
             member["trim_time_constant_s"] = trim
+        if not own.get("maneuver_tempering_g") and bank_set.maneuver_tempering_g > 0:   # the set's, unless given
+            member["maneuver_tempering_g"] = bank_set.maneuver_tempering_g
         members.append(core.HierarchicalBank(bank, **core_arguments(member, bank.nu)))
     return core.TurbulenceBankSet(members, **bank_set.selector)
 

@@ -76,7 +76,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "shipped set: calm air and light turbulence), the running one chosen on line by its "
                          "measured residual power, handed over bumplessly (cpp/f16mmae/turbulence_bank_set.h; "
                          "with --tuning turbulence, whose bank file is the set's: mmae-daemon --bank SET "
-                         "--turbulence-banks; recommended with --maneuver-tempering 1 for severe turbulence, "
+                         "--turbulence-banks; flown with the load-factor tempering its file recommends, "
                          "docs/results/turbulence_banks.md). Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
@@ -120,7 +120,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("maneuver_tempering_g", "--maneuver-tempering", "number", metavar="G", minimum=0.0,
                     exclusive=True, maximum=100.0,
                     help="temper every likelihood by 1 + (dn/G)^2 while the estimated load factor is dn g off "
-                         "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off"),
+                         "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off; "
+                         "with --turbulence-banks the set file's recommended tempering (1 g)"),
     EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
                     below=LEVEL1_P_MIN_BELOW, in_daemon=False,
                     help="probability floor while a failure's level-1 (dual) bank is on line: a second "

@@ -383,3 +383,17 @@ def test_paced_hil_with_a_throttle_bank_sends_the_throttle_with_every_command(th
     link = result.timing["link"]
     assert link["statuses"] + link["deadline_misses"] == 32  # a loaded host may make a status late
     assert served.executive.counters["commands_applied"] == 32 and served.executive.counters["frames_rejected"] == 0
+
+
+@pytest.mark.slow
+def test_the_loop_cost_of_a_throttle_bank_is_measured_with_the_throttle_dither_on_both_sides(throttle_bank):
+    """`bench truth` with a bank that models the throttle: the closed loop (``fly`` adds the
+    scheduled throttle dither for such a bank) and the truth alone fly the same dither."""
+    from f16mmae.loop.overhead import measure_overhead
+    from f16mmae.truth import Scenario
+
+    sc = Scenario(turbulence="none", duration_s=1.0, seed=3)
+    assert not sc.dither.throttle_on
+    cost = measure_overhead(sc, throttle_bank, repeats=1, pieces=True)
+    assert cost["ratio"] > 0.0 and np.isfinite(cost["ratio"])
+    assert cost["truth_frames_s"] > 0.0 and cost["closed_loop_frames_s"] > 0.0

@@ -76,6 +76,7 @@
 
 #include "f16mmae/air_data.h"
 #include "f16mmae/bank_schedule.h"
+#include "f16mmae/running_mean.h"
 #include "f16mmae/steady_state_filter.h"
 
 #include <Eigen/Dense>
@@ -141,7 +142,7 @@ class ScheduledFilters {
     alpha_ = options.air_data_time_constant_s > 0.0
                  ? 1.0 - std::exp(-1.0 / (frame_rate_hz * options.air_data_time_constant_s))
                  : 1.0;
-    mean_frames_ = running_mean_frames(alpha_);
+    mean_frames_ = running_mean_length(alpha_);
     axes_.mach = schedule.mach;
     axes_.alt_ft = schedule.alt_ft;
     axes_.switch_state = schedule.switch_state;
@@ -196,15 +197,6 @@ class ScheduledFilters {
     last_s_ = g.s, last_t_ = g.t;
   }
 
-  // The running mean's length: the largest n with 1/n >= alpha (n >= 1), the selections
-  // that take the gain 1/n before the low-pass' alpha takes over (the header's max(alpha, 1/n)).
-  static std::int64_t running_mean_frames(double alpha) noexcept {
-    std::int64_t n = alpha > 0.0 ? static_cast<std::int64_t>(std::floor(1.0 / alpha)) : 1;
-    if (n < 1) n = 1;
-    while (n > 1 && 1.0 / static_cast<double>(n) < alpha) --n;
-    while (1.0 / static_cast<double>(n + 1) >= alpha) ++n;
-    return n;
-  }
   // True once the running mean has handed over to the low-pass (mean_frames_ selections since
   // the last reset): from then on the low-passed air data moves with the flight condition only.
   bool settled() const noexcept { return selections_ >= mean_frames_; }
@@ -516,7 +508,7 @@ class ScheduledFilters {
   AirData filtered_;                             // the low-passed air data
   double alpha_ = 1.0;
   std::int64_t selections_ = 0;                  // selections since the last reset, up to mean_frames_
-  std::int64_t mean_frames_ = 1;                 // running_mean_frames(alpha_)
+  std::int64_t mean_frames_ = 1;                 // running_mean_length(alpha_) (running_mean.h)
   double last_s_ = 0.0, last_t_ = 0.0;           // air data at the last blend
   bool fallback_now_ = false;
   int layer_now_ = 0;                            // the layer the air data now calls for

@@ -56,12 +56,12 @@
 // (l_k = −q_k/2): bit-identical results.
 //
 // Cost per frame: a minimum over K, two multiply-adds, a division, a clamp, K multiplies; no
-// allocation. (ρ̄'s 1 / i is divided only over its first τ f updates: an integer count against
-// the precomputed first i with 1 / i <= α, which gives the same a_i bit for bit.)
+// allocation. (ρ̄'s 1 / i is divided only over its first τ f updates: running_mean.h.)
 // Throws: configure() throws std::invalid_argument naming the option and its valid range.
 #pragma once
 
 #include "f16mmae/estimator_settings.h"
+#include "f16mmae/running_mean.h"
 
 #include <Eigen/Dense>
 
@@ -117,7 +117,7 @@ class ResidualScale {
     nz_ = static_cast<double>(nz);
     alpha_ = 1.0 - std::exp(-1.0 / (o.time_constant_s * o.frame_rate_hz));
     rho_clip_ = 10.0 * o.scale_max;
-    plain_updates_ = plain_mean_updates(alpha_);
+    mean_length_ = running_mean_length(alpha_);
     reset();
   }
   bool enabled() const noexcept { return options_.enabled; }
@@ -140,8 +140,8 @@ class ResidualScale {
     if (!(lo < std::numeric_limits<double>::infinity())) return;
     const double x = lo / nz_;
     rho_ += alpha_ * ((x < rho_clip_ ? x : rho_clip_) - rho_);
-    // a_i = max(1 / i, alpha): 1 / i for i < plain_updates_, alpha from there on (no division)
-    const double a = measured_updates_ + 1 < plain_updates_ ? 1.0 / static_cast<double>(++measured_updates_) : alpha_;
+    // a_i = max(1 / i, alpha): 1 / i for i <= mean_length_, alpha from there on (running_mean.h)
+    const double a = measured_updates_ < mean_length_ ? 1.0 / static_cast<double>(++measured_updates_) : alpha_;
     measured_ += a * (x - measured_);
     set_scale();
   }
@@ -174,20 +174,10 @@ class ResidualScale {
     inv_s_ = 1.0 / s;
   }
 
-  // The first i whose rounded 1.0 / i is at most alpha (> 0): ceil(1 / alpha), corrected for
-  // the rounding of both divisions, so that a_i of the header is max(1.0 / i, alpha) exactly.
-  static std::int64_t plain_mean_updates(double alpha) noexcept {
-    auto i = static_cast<std::int64_t>(std::ceil(1.0 / alpha));
-    if (i < 1) i = 1;
-    while (i > 1 && 1.0 / static_cast<double>(i - 1) <= alpha) --i;
-    while (1.0 / static_cast<double>(i) > alpha) ++i;
-    return i;
-  }
-
   TurbulenceAdaptationOptions options_{};
   double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0, measured_ = 0.0;
-  std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to plain_updates_ - 1
-  std::int64_t plain_updates_ = 1;      // plain_mean_updates(alpha_)
+  std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to mean_length_
+  std::int64_t mean_length_ = 1;        // running_mean_length(alpha_) (running_mean.h)
 };
 
 }  // namespace f16mmae

@@ -478,11 +478,10 @@ TEST(ScheduledBank, SettledHoldStartsWhereTheRunningMeanEnds) {
 // The running mean's length and the filtered air data against the rule written out with the
 // gain max(alpha, 1/n) (the header's), bit for bit, at several time constants.
 TEST(ScheduledBank, TheRunningMeansLengthIsTheLastNWithOneOverNAtLeastAlpha) {
-  using SF = ScheduledFilters<13, 5, 7>;
-  EXPECT_EQ(SF::running_mean_frames(1.0), 1);
-  EXPECT_EQ(SF::running_mean_frames(0.5), 2);
-  EXPECT_EQ(SF::running_mean_frames(0.3), 3);
-  EXPECT_EQ(SF::running_mean_frames(1.0 - std::exp(-1.0 / 128.0)), 128);
+  EXPECT_EQ(f16mmae::running_mean_length(1.0), 1);
+  EXPECT_EQ(f16mmae::running_mean_length(0.5), 2);
+  EXPECT_EQ(f16mmae::running_mean_length(0.3), 3);
+  EXPECT_EQ(f16mmae::running_mean_length(1.0 - std::exp(-1.0 / 128.0)), 128);
   const BankSchedule s = make_schedule();
   for (const double tau : {0.0, 0.05, 0.5, 2.0, 30.0}) {
     HierarchicalOptions o = options(ScheduleMode::kInterpolate);

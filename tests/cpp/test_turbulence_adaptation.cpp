@@ -10,7 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -285,4 +287,22 @@ TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
   const long long after = f16mmae::testing::allocation_count();
   EXPECT_EQ(after - before, 0);
   EXPECT_FALSE(hb.declarations().empty());   // the switch to level 1 happened inside the count
+}
+
+// running_mean.h: n is the last i with 1.0 / i >= alpha, so a_i = (i <= n ? 1.0 / i : alpha)
+// equals max(1.0 / i, alpha) bit for bit, also where 1 / alpha is an integer or near one.
+TEST(RunningMean, TheLengthGivesMaxOfOneOverIAndAlphaBitForBit) {
+  EXPECT_EQ(f16mmae::running_mean_length(1.0), 1);
+  EXPECT_EQ(f16mmae::running_mean_length(0.25), 4);
+  EXPECT_EQ(f16mmae::running_mean_length(0.0), std::numeric_limits<std::int64_t>::max());
+  for (const double alpha : {0.5, 0.3, 0.1, 1.0 / 3.0, 1.0 / 7.0, std::nextafter(0.1, 1.0), std::nextafter(0.1, 0.0),
+                             1.0 - std::exp(-1.0 / 16.0), 1.0 - std::exp(-1.0 / 64.0), 1.0 - std::exp(-1.0 / 640.0)}) {
+    const std::int64_t n = f16mmae::running_mean_length(alpha);
+    EXPECT_GE(1.0 / static_cast<double>(n), alpha);
+    EXPECT_LT(1.0 / static_cast<double>(n + 1), alpha);
+    for (std::int64_t i = 1; i <= n + 50; ++i) {
+      const double a = i <= n ? 1.0 / static_cast<double>(i) : alpha;
+      EXPECT_EQ(a, std::max(1.0 / static_cast<double>(i), alpha)) << "alpha " << alpha << ", i " << i;
+    }
+  }
 }

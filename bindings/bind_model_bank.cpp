@@ -522,6 +522,7 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       "recommends, s (0: none; written as format 3 when > 0, else 2). ValueError naming the field.\n"
       "core.load_bank reads the file back as the primary node's ModelBank with .schedule set.");
   m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s
+  m.attr("DEFAULT_THRESHOLD") = kDefaultThreshold;  // the declaration threshold the core defaults to
   m.def(
       "generate_bank_signing_keys",
       [](py::handle public_key, py::handle secret_key) { generate_bank_signing_keys(fspath(public_key), fspath(secret_key)); },

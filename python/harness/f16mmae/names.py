@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from itertools import combinations
 
-from .core import MAX_DWELL_S
+from .core import DEFAULT_THRESHOLD, MAX_DWELL_S
 
 #: Surfaces in the order of the command vector ``u`` (rad, absolute or perturbation).
 ACTUATORS: tuple[str, ...] = ("LS", "RS", "LF", "RF", "RUD")
@@ -92,6 +92,9 @@ SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")
 #: The longest declaration dwell the estimator accepts (s): the core's bound
 #: (cpp/f16mmae/estimator_settings.h kMaxDwellS), defined there once.
 DWELL_S_MAX: float = MAX_DWELL_S
+#: The declaration threshold the core defaults to and every shipped bank recommends
+#: (cpp/f16mmae/estimator_settings.h kDefaultThreshold), defined there once.
+THRESHOLD_DEFAULT: float = DEFAULT_THRESHOLD
 
 
 def failed_components(hypothesis: str) -> tuple[str, ...]:

@@ -16,13 +16,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_MODES
+from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_MODES, THRESHOLD_DEFAULT
 
 
-#: The level-1 floor's bound at the default threshold 0.9 (the core's kDefaultThreshold, which
-#: every shipped bank recommends): with the K_BANK - 1 other hypotheses on their floors a
-#: hypothesis holds at most 1 - (K_BANK - 1) P, which must exceed the threshold.
-LEVEL1_P_MIN_BELOW = round((1.0 - 0.9) / (K_BANK - 1), 6)
+#: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
+#: recommends): with the K_BANK - 1 other hypotheses on their floors a hypothesis holds at most
+#: 1 - (K_BANK - 1) P, which must exceed the threshold.
+LEVEL1_P_MIN_BELOW = round((1.0 - THRESHOLD_DEFAULT) / (K_BANK - 1), 6)
 
 
 @dataclass(frozen=True)

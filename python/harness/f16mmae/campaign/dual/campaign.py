@@ -37,7 +37,7 @@ from pathlib import Path
 from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
-from ...names import COMPONENTS, FAILURE_TIME_S, dual_name
+from ...names import COMPONENTS, FAILURE_TIME_S, THRESHOLD_DEFAULT, dual_name
 from ..engine import drilldown, evidence, identity, outcomes, variants
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import P_INJECTED_DECIMATION, stored_history
@@ -217,7 +217,7 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
     window = cfg.duration_s - cfg.second_time_s - settings.get("dwell_s", 0.25)
     models_evaluated = models.annotate(pairs, bank, cfg.turbulence, cfg.mode,
                                        window_frames=int(window * bank.frame_rate_hz),
-                                       threshold=settings.get("threshold", 0.9),
+                                       threshold=settings.get("threshold", THRESHOLD_DEFAULT),
                                        dither_scale=cfg.dither_scale if cfg.dither else None)
     for s in pairs:
         matrix.setdefault(s["first"], {})[s["second"]] = s["rating"]

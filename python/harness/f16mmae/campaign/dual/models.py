@@ -122,7 +122,7 @@ def _store_cached(path, entries: dict) -> None:
 
 
 def annotate(pairs: list[dict], bank, turbulence: str, mode: str, window_frames: int | None = None,
-             threshold: float = 0.9, dither_scale: float | None = 1.0) -> dict:
+             threshold: float = names.THRESHOLD_DEFAULT, dither_scale: float | None = 1.0) -> dict:
     """Evaluate every pair rated Poor or ND from the models, store it in the pair's ``models``
     field and re-rate the indistinguishable ones; with ``window_frames`` (the frames after the
     second failure less the dwell) the separable ones get the window's check (``window``, module

@@ -62,7 +62,7 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from ...names import COMPONENTS, NONE
+from ...names import COMPONENTS, NONE, failed_components
 from ..engine import scoring
 
 #: The rating of a pair whose dual the models cannot separate from a rival of the first
@@ -113,16 +113,11 @@ def hold_fraction(declarations: Sequence[dict], hypothesis: str, start_s: float,
     return held / (end_s - start_s)
 
 
-def components(hypothesis: str) -> set[str]:
-    """The components a hypothesis names (none for NONE): ``"LS+PIT"`` -> ``{"LS", "PIT"}``."""
-    return set() if hypothesis == NONE else set(hypothesis.split("+"))
-
-
 def names_only_failed(hypothesis: str, failures: Sequence[tuple[str, float]], t: float) -> bool:
     """True when every component ``hypothesis`` names has failed in truth by time ``t``
     (``failures``: ``(component, time_s)``); NONE names none, so it is True."""
     failed = {c for c, t_c in failures if t_c <= t}
-    return components(hypothesis) <= failed
+    return set(failed_components(hypothesis)) <= failed
 
 
 def transient_wrong(declarations: Sequence[dict], failures: Sequence[tuple[str, float]]) -> bool:
@@ -140,7 +135,7 @@ def score_dual_run(injected: str, first: str | None, first_time_s: float | None,
                    time_s: np.ndarray, p_injected: np.ndarray) -> dict:
     """Score one dual run (``first`` given) or baseline run (``first`` None); see module docstring."""
     out = scoring.score_run(injected, second_time_s, declarations)
-    failures = [(c, second_time_s) for c in sorted(components(injected) - {first})]
+    failures = [(c, second_time_s) for c in sorted(set(failed_components(injected)) - {first})]
     if first is not None:
         failures.insert(0, (first, first_time_s))
         final = out["final_hypothesis"]

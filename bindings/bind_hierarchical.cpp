@@ -311,7 +311,9 @@ residual power against the design's (cpp/f16mmae/turbulence_adaptation.h; rho = 
 over adapt_time_constant_s of min_k q_k / nz, s = clamp(1 + adapt_gain (rho - adapt_reference),
 adapt_scale_min, adapt_scale_max)); the likelihoods become -q_k/(2 s). Off: exactly the bank as
 designed. adapt_reference None: a scheduled bank whose nodes carry their own reference uses
-those (blended with the filters), any other bank 0.6; a number: that reference everywhere. turbulence_scale reads s, turbulence_power_ratio rho.
+those (blended with the filters), any other bank 0.6; a number: that reference everywhere. turbulence_scale reads s, turbulence_power_ratio rho. adapt_per_channel: a scale s_j per measurement
+channel from the best-fitting filter's share of each channel in its quadratic form, the likelihoods
+-(D r_k)' A_k^-1 (D r_k) / 2 with D = diag(s_j^-1/2) (turbulence_channel_scales reads the s_j).
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.
@@ -390,6 +392,13 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("actuator_limits", prop([](auto& b) { return b.options().actuators.enabled(); }))
       .def_property_readonly("turbulence_power_ratio", prop([](auto& b) { return b.bank().adaptation().power_ratio(); }),
                              "the adaptation's averaged residual power ratio rho (1.0 when off)")
+      .def_property_readonly("log_likelihoods", prop([](auto& b) { return cv::to_numpy(b.bank().log_likelihoods()); }),
+                             "(K,) the log-likelihoods l_k (eq. 2, tempered) of the filters on line at the last update")
+      .def_property_readonly("turbulence_channel_scales", prop([](auto& b) {
+                               const auto d = b.bank().adaptation().channel_inverse_sqrt_scales();
+                               return cv::to_numpy(Eigen::VectorXd(d.array().square().inverse()));
+                             }),
+                             "(nz,) the per-channel scales s_j in force (adapt_per_channel; ones otherwise)")
       .def_property_readonly("rejected_frames", prop([](auto& b) { return b.rejected_frames(); }))
       .def("schedule", &PyHierarchicalBank::schedule, py::arg("mach"), py::arg("pressure_altitude_ft"),
            "Measured air data for the coming frames (scheduling only). A non-finite value is counted\n"

@@ -7,10 +7,11 @@ failure while NONE and CASE are on line (until a declaration moves the level), t
 (its filters' residuals and the member bank's residual covariances) and the adaptation's scale s
 in force and which member is in force, and prints per level:
     e    = (q_NONE - q_CASE) / 2        the untempered evidence for CASE against NONE, nats/frame
-    e/s  = e / s                        after the turbulence adaptation's tempering
+    e/s  = l_CASE - l_NONE              after the tempering: the bank's own log-likelihoods
+                                        (the adaptation's scale s, or its per-channel scales,
+                                        and the load-factor tempering s_m)
 the means over the 5 s after the failure and over its first second, the median s, and the
-sum of e/s over the 5 s against ln(1 / p_min) (what lifts CASE from the floor). The
-load-factor tempering s_m >= 1 divides e/s further (not exposed per frame: left out).
+sum of e/s over the 5 s against ln(1 / p_min) (what lifts CASE from the floor).
 
     .venv/bin/python tools/turbulence_evidence.py --cases LF,RF,LS --levels light,moderate,severe --runs 3
 """
@@ -53,7 +54,9 @@ def flight(job):
         # per measurement j: r_j (A^-1 r)_j, which sums to q over j
         c = {k: r[names.index(k)] * (inverse[a][k] @ r[names.index(k)]) for k in ("NONE", case)}
         e = (c["NONE"] - c[case]) / 2.0
-        rows.append((t, float(e.sum()), m.turbulence_scale, a, *e))
+        ll = np.asarray(m.log_likelihoods)
+        tempered = float(ll[names.index(case)] - ll[names.index("NONE")])
+        rows.append((t, float(e.sum()), m.turbulence_scale, a, tempered, *e))
 
     seed = derived_seed("single", 1, case, n)
     assert seed in tuning_seeds()
@@ -74,9 +77,10 @@ def main() -> None:
     p.add_argument("--quiet", action="store_true",
                    help="the same flights without the failure: the evidence for CASE the turbulence alone gives")
     p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
-                   help="a further estimator setting (core keyword, a number), e.g. maneuver_tempering_g=4")
+                   help="a further estimator setting (core keyword, a number or true), e.g. maneuver_tempering_g=4, "
+                        "adapt_per_channel=true")
     a = p.parse_args()
-    options = {k: float(v) for k, _, v in (o.partition("=") for o in a.option)}
+    options = {k: True if v == "true" else float(v) for k, _, v in (o.partition("=") for o in a.option)}
     jobs = [(lv, c, n, a.feedback, options, a.quiet) for lv in a.levels.split(",") for c in a.cases.split(",")
             for n in range(a.runs)]
     out: dict = {}
@@ -89,14 +93,14 @@ def main() -> None:
     for (level, case), flights in out.items():
         rows = np.vstack([f[0] for f in flights if len(f[0])])
         t, e, s = rows[:, 0] - FAILURE_TIME_S, rows[:, 1], rows[:, 2]
-        es = e / s
-        sums = [float(np.sum(f[0][:, 1] / f[0][:, 2])) for f in flights if len(f[0])]
-        firsts = ", ".join(("-" if f[1] is None else f"{f[1]:.2f}") + f" ({np.sum(f[0][:, 1] / f[0][:, 2]):.0f})"
+        es = rows[:, 4]
+        sums = [float(np.sum(f[0][:, 4])) for f in flights if len(f[0])]
+        firsts = ", ".join(("-" if f[1] is None else f"{f[1]:.2f}") + f" ({np.sum(f[0][:, 4]):.0f})"
                            for f in flights if len(f[0]))
         members = ", ".join(f"{int(m)}: {int(np.sum(rows[:, 3] == m))}" for m in np.unique(rows[:, 3]))
         print(f"{level:9s} {case:4s} {e.mean():8.3f} {es.mean():9.4f} {es[t < 1.0].mean():10.4f} "
               f"{np.median(s):9.1f} {np.median(sums):8.1f}  {members}  {firsts}", flush=True)
-        ej = rows[:, 4:]
+        ej = rows[:, 5:]
         channels = " ".join(f"{name} {m:+.3f}/{sd:.3f}" for name, m, sd in zip(MEASUREMENTS, ej.mean(axis=0), ej.std(axis=0)))
         print(f"{'':14s} untempered e_j per frame, mean/std: {channels}; e: {e.mean():+.3f}/{e.std():.3f}", flush=True)
 

@@ -137,8 +137,6 @@ int main(int argc, char** argv) {
     if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
     options.maneuver.kinematics = cfg.maneuver_kinematics;
     options.maneuver.tempering_g = cfg.maneuver_tempering_g;
-    if (set && cfg.turbulence_banks && !options.maneuver.tempering())   // the set's recommended tempering
-      options.maneuver.tempering_g = set->maneuver_tempering_g;
     options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation
     options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
     options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;
@@ -186,9 +184,12 @@ int main(int argc, char** argv) {
   {
     LcmNode node(lcm, channels, *executive, auth.get());
     if (!cfg.quiet) {
-      const std::string trim = options.trim.enabled()
-                                   ? "trim tracking " + f16mmae::format_value(options.trim.time_constant_s) + " s (freeze above " +
-                                         f16mmae::format_value(options.trim.freeze_probability) + ")"
+      // what the bank runs with: a turbulence bank set's member in force has the set file's
+      // trim tracking and tempering applied (TurbulenceSetBank, the one place that applies them)
+      const f16mmae::HierarchicalOptions& running = executive->estimator().options();
+      const std::string trim = running.trim.enabled()
+                                   ? "trim tracking " + f16mmae::format_value(running.trim.time_constant_s) + " s (freeze above " +
+                                         f16mmae::format_value(running.trim.freeze_probability) + ")"
                                    : std::string("no trim tracking");
       const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
                                   options.schedule.node_adapt_reference;
@@ -199,8 +200,8 @@ int main(int argc, char** argv) {
                                      : node_reference ? std::string("turbulence adaptation (reference per node)")
                                                       : "turbulence adaptation (reference " +
                                                             f16mmae::format_value(options.bank.adaptation.reference) + ")";
-      std::string maneuver = options.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
-      if (options.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(options.maneuver.tempering_g) + " g";
+      std::string maneuver = running.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
+      if (running.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(running.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
       // a scheduled bank's floors are its nodes' (blended where the air data lies): their range
       std::string floor = "p_min " + f16mmae::format_value(options.bank.p_min);

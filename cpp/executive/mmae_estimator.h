@@ -152,6 +152,12 @@ class MmaeEstimator {
   const AirData& air_data() const noexcept {
     return visit([](const auto& b) -> const AirData& { return b.air_data(); });
   }
+  // The options the bank runs with: the given ones for one hierarchical bank, the member in
+  // force's for a turbulence bank set (the set file's trim tracking and tempering applied:
+  // TurbulenceSetBank).
+  const HierarchicalOptions& options() const noexcept {
+    return visit([](const auto& b) -> const HierarchicalOptions& { return b.options(); });
+  }
   const char* kind() const noexcept { return members_ > 0 ? "turbulence bank set" : "hierarchical bank"; }
   // "13 states", "19 states (gust)" or "13 states, 6 inputs (throttle)", for the daemon's ready line;
   // "4 members of 19 states, 6 inputs" for a turbulence bank set.

@@ -52,6 +52,9 @@ class TurbulenceSetBank {
   decltype(auto) u_trim() const noexcept { return running().u_trim(); }
   const ZVector& z_trim() const noexcept { return running().z_trim(); }
   const AirData& air_data() const noexcept { return running().air_data(); }
+  // The options the member in force runs with (`options` with the set file's rules applied:
+  // the one place they are applied; the daemon's ready line reads them here).
+  const HierarchicalOptions& options() const noexcept { return running().options(); }
 
   const TurbulenceBankSet<Bank>& set() const noexcept { return set_; }
   const Bank& running() const noexcept { return set_.running(); }

@@ -8,7 +8,10 @@
 //                   l_k = -q_k/2 - (m/2) ln 2π - (1/2) ln|A_k|       (leading term kept)
 //                 with the turbulence adaptation on (options.adaptation, turbulence_adaptation.h)
 //                   q_k/2 becomes q_k/(2 s), s the residual-power scale of the frames before;
-//                   the frame's q_k then update s (u_k below is not scaled).
+//                   the frame's q_k then update s (u_k below is not scaled); per channel
+//                   (adaptation.per_channel) q_k/2 becomes (D r'_k)ᵀ A_k⁻¹ (D r'_k) / 2,
+//                   D = diag(s_j^-1/2) of the frames before, r'_k the residual q_k takes
+//                   (held channels below), and the best-fitting filter's residual updates s_j.
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
@@ -249,10 +252,14 @@ class FilterBank {
     // log-likelihoods (eq. 2) and the Bayes update (eq. 1), log domain
     double a_max = -std::numeric_limits<double>::infinity();
     const bool adapt = scale_.enabled();
+    const bool per_channel = scale_.per_channel();
     const double inv_s = scale_.inverse_scale();
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
-      if (adapt) l *= inv_s;
+      if (per_channel)
+        l = -0.5 * channel_tempered_form(i);
+      else if (adapt)
+        l *= inv_s;
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
       if (uninformative_[i]) {  // u_k; otherwise l_k is left bit for bit as it was
@@ -281,6 +288,7 @@ class FilterBank {
       apply_floor();
     }
     scale_.observe(q_);
+    if (per_channel) observe_channels();
     refresh_blend();
     ++frames_;
     return true;
@@ -394,7 +402,7 @@ class FilterBank {
   // The turbulence adaptation's scale s in force for the next update (1 when it is off), and
   // the adaptation itself (its power ratio ρ; turbulence_adaptation.h).
   double turbulence_scale() const noexcept { return scale_.scale(); }
-  const ResidualScale<K>& adaptation() const noexcept { return scale_; }
+  const ResidualScale<K, NZ>& adaptation() const noexcept { return scale_; }
   // True when the frames run through the packed AVX2/FMA kernel (fixed sizes, CPU support).
   bool vectorized_kernel() const noexcept { return use_packed_; }
 
@@ -551,6 +559,27 @@ class FilterBank {
       q_(k) += square - 2.0 * cross;
     }
   }
+  // Filter k's residual as its q_k takes it: r_k - d_k on its held channels (header).
+  ZVector held_residual(int k) const noexcept {
+    ZVector r = residual(k);
+    if (held_any_ && holds_[k])
+      for (int j = 0; j < nz(); ++j)
+        if (held_channel_(j, k) != 0.0) r(j) -= held_(j);
+    return r;
+  }
+  // (D r_k)ᵀ A_k⁻¹ (D r_k), D = diag(s_j^-1/2): the per-channel tempering (turbulence_adaptation.h).
+  double channel_tempered_form(int k) const noexcept {
+    if (!(q_(k) < std::numeric_limits<double>::infinity())) return q_(k);   // +inf / NaN stay as they are
+    const ZVector y = held_residual(k).cwiseProduct(scale_.channel_inverse_sqrt_scales());
+    return y.dot(hypotheses_[k].a_inverse() * y);
+  }
+  // The per-channel powers from the best-fitting filter k* = argmin_k q_k (turbulence_adaptation.h).
+  void observe_channels() noexcept {
+    int best = -1;
+    for (int i = 0; i < size(); ++i)
+      if (q_(i) < std::numeric_limits<double>::infinity() && (best < 0 || q_(i) < q_(best))) best = i;
+    if (best >= 0) scale_.observe_channels(held_residual(best), hypotheses_[best].a_inverse());
+  }
   void load_h_out() noexcept {
     if constexpr (kPacked) packed_.load_h_out(h_out_);
   }
@@ -621,7 +650,7 @@ class FilterBank {
   // above keep their layout
   HypothesisFlags<K> level_set_;                  // b̂_k set
   Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k
-  ResidualScale<K> scale_{};                      // the turbulence adaptation
+  ResidualScale<K, NZ> scale_{};                  // the turbulence adaptation
   double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
   HypothesisFlags<K> uninformative_;              // note_uninformative
   PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)

@@ -45,6 +45,22 @@
 //     line); at the start and at reset() ρ = ρ_0: s = clamp(1, s_min, s_max), the bank as
 //     designed until the residuals say otherwise.
 //
+// Per channel (per_channel = true, off by default): the same recursion per measurement j, with
+// the channel's share of the best-fitting filter's quadratic form in place of min_k q_k / m:
+//     k* = argmin_k q_k,   c_j = r_k*,j (A_k*⁻¹ r_k*)_j      (Σ_j c_j = q_k*;  E[c_j] = 1 when
+//                                                             filter k*'s model is right)
+//     ρ_j ← ρ_j + α (min(c_j, ρ_clip) − ρ_j),   s_j = clamp(1 + κ (ρ_j − ρ_0), s_min, s_max)
+//   (a channel that k* leaves out, A_k*⁻¹ row j zero: a failed sensor's uninformative
+//   reading, is not observed that frame), and the likelihood models filter k's residual
+//   covariance as S^½ A_k S^½, S = diag(s_j), of the frames before:
+//     l_k = −(D r_k)ᵀ A_k⁻¹ (D r_k) / 2,   D = diag(s_j^−½)
+//   The mean of the ρ_j over the channels is ρ (up to the clip), and with every s_j = s this is
+//   −q_k / (2 s): the common scale. Why: the gusts drive the channels unequally (in severe
+//   turbulence pitch rate and angle of attack far more than normal acceleration and yaw
+//   rate), so one common s, set by the strongest, tempers the evidence a flaperon failure
+//   gives in the quieter channels as much as the gusts in the loudest. ρ_j start and reset at
+//   ρ_0 and follow set_power_ratio like ρ; s (scale()) and ρ̄ stay the common ones.
+//
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
 // air by it, turbulence_bank_set.h): the same per-update x = min_k q_k / m, unclipped,
 // averaged from the start or reset() on as
@@ -56,7 +72,8 @@
 // (l_k = −q_k/2): bit-identical results.
 //
 // Cost per frame: a minimum over K, two multiply-adds, a division, a clamp, K multiplies; no
-// allocation. (ρ̄'s 1 / i is divided only over its first τ f updates: running_mean.h.)
+// allocation (per channel: one A⁻¹ r product, m recursions and m square roots, and in the
+// bank one extra m×m quadratic form per filter). (ρ̄'s 1 / i is divided only over its first τ f updates: running_mean.h.)
 // Throws: configure() throws std::invalid_argument naming the option and its valid range.
 #pragma once
 
@@ -78,6 +95,7 @@ namespace f16mmae {
 // alignment peeling, hence the rounding of the blend: "off" would not be bit-identical.
 struct alignas(16) TurbulenceAdaptationOptions {
   bool enabled = false;          // off: the bank as designed (bit-identical)
+  bool per_channel = false;      // a scale s_j per measurement channel (header), else one s
   double time_constant_s = 5.0;  // τ of the residual-power average (tuned with κ, s_max)
   double scale_min = 1.0;        // s_min: the design's A_k are the floor
   double scale_max = 100.0;      // s_max
@@ -103,12 +121,15 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
   check_frame_rate(o.frame_rate_hz, who);
 }
 
-// The scale estimator of the header's equations for a bank of K hypotheses (Eigen::Dynamic
-// or fixed; K only types the quadratic forms observed).
-template <int K>
+// The scale estimator of the header's equations for a bank of K hypotheses and NZ
+// measurements (Eigen::Dynamic or fixed; K types the quadratic forms observed, NZ the
+// channels' scales).
+template <int K, int NZ = Eigen::Dynamic>
 class ResidualScale {
  public:
   using PVector = Eigen::Matrix<double, K, 1>;
+  using ZVector = Eigen::Matrix<double, NZ, 1>;
+  using AMatrix = Eigen::Matrix<double, NZ, NZ>;
 
   // Validates and sets the options for nz measurements; resets.
   void configure(const TurbulenceAdaptationOptions& o, int nz, const std::string& who) {
@@ -118,9 +139,15 @@ class ResidualScale {
     alpha_ = 1.0 - std::exp(-1.0 / (o.time_constant_s * o.frame_rate_hz));
     rho_clip_ = 10.0 * o.scale_max;
     mean_length_ = running_mean_length(alpha_);
+    channel_rho_.setZero(nz);
+    channel_inv_sqrt_s_.setOnes(nz);
     reset();
   }
   bool enabled() const noexcept { return options_.enabled; }
+  bool per_channel() const noexcept { return options_.enabled && options_.per_channel; }
+  // ρ_j and s_j^−½ of the header's per-channel form (ρ_0 and 1 until per-channel updates).
+  const ZVector& channel_power_ratios() const noexcept { return channel_rho_; }
+  const ZVector& channel_inverse_sqrt_scales() const noexcept { return channel_inv_sqrt_s_; }
   const TurbulenceAdaptationOptions& options() const noexcept { return options_; }
   // s, the scale in force for the next frame's likelihoods (1 when disabled).
   double scale() const noexcept { return options_.enabled ? s_ : 1.0; }
@@ -145,39 +172,66 @@ class ResidualScale {
     measured_ += a * (x - measured_);
     set_scale();
   }
+  // Per channel (per_channel()): the best-fitting filter's residual r and A⁻¹ (header: k*);
+  // channels whose A⁻¹ diagonal is zero are left as they were. Call after observe(q).
+  template <class R>
+  void observe_channels(const Eigen::MatrixBase<R>& r, const AMatrix& a_inv) noexcept {
+    if (!per_channel()) return;
+    for (Eigen::Index j = 0; j < channel_rho_.size(); ++j) {
+      if (a_inv(j, j) == 0.0) continue;
+      const double c = r(j) * a_inv.row(j).dot(r);
+      if (!(c == c)) continue;   // NaN: skipped
+      channel_rho_(j) += alpha_ * ((c < rho_clip_ ? c : rho_clip_) - channel_rho_(j));
+    }
+    set_channel_scales();
+  }
   // A new reference ρ_0 (a scheduled bank's per-node reference, bank_schedule.h; in
   // [0, 100], checked where it is read), ρ kept: s follows at once.
   void set_reference(double reference) noexcept {
     options_.reference = reference;
     set_scale();
+    set_channel_scales();
   }
   // ρ set to a given value (a bank taking over in known turbulence: turbulence_bank_set.h); s
   // follows at once, ρ̄ is left alone. Non-finite or negative values are ignored.
   void set_power_ratio(double rho) noexcept {
     if (!(rho >= 0.0 && rho < std::numeric_limits<double>::infinity())) return;
     rho_ = rho;
+    channel_rho_.setConstant(rho);
     set_scale();
+    set_channel_scales();
   }
   // Back to the start: ρ = ρ_0, s = clamp(1, s_min, s_max); ρ̄ restarts (0, no update averaged).
   void reset() noexcept {
     rho_ = options_.reference;
     measured_ = 0.0;
     measured_updates_ = 0;
+    channel_rho_.setConstant(options_.reference);
     set_scale();
+    set_channel_scales();
   }
 
  private:
+  double clamped_scale(double rho) const noexcept {
+    const double s = 1.0 + options_.gain * (rho - options_.reference);
+    return s < options_.scale_min ? options_.scale_min : (s > options_.scale_max ? options_.scale_max : s);
+  }
   void set_scale() noexcept {
-    double s = 1.0 + options_.gain * (rho_ - options_.reference);
-    s = s < options_.scale_min ? options_.scale_min : (s > options_.scale_max ? options_.scale_max : s);
-    s_ = s;
-    inv_s_ = 1.0 / s;
+    s_ = clamped_scale(rho_);
+    inv_s_ = 1.0 / s_;
+  }
+  void set_channel_scales() noexcept {
+    if (!per_channel()) return;
+    for (Eigen::Index j = 0; j < channel_rho_.size(); ++j)
+      channel_inv_sqrt_s_(j) = 1.0 / std::sqrt(clamped_scale(channel_rho_(j)));
   }
 
   TurbulenceAdaptationOptions options_{};
   double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0, measured_ = 0.0;
   std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to mean_length_
   std::int64_t mean_length_ = 1;        // running_mean_length(alpha_) (running_mean.h)
+  ZVector channel_rho_ = ZVector::Constant(NZ == Eigen::Dynamic ? 0 : NZ, 1.0);          // ρ_j
+  ZVector channel_inv_sqrt_s_ = ZVector::Constant(NZ == Eigen::Dynamic ? 0 : NZ, 1.0);   // s_j^−½
 };
 
 }  // namespace f16mmae

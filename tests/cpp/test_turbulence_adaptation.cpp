@@ -171,6 +171,95 @@ TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) 
   EXPECT_DOUBLE_EQ(bank.turbulence_scale(), 1.0);
 }
 
+namespace {
+
+using PairModel = FilterModel<1, 1, 2>;
+using PairBank = FilterBank<Eigen::Dynamic, 1, 1, 2>;
+
+// x stays 0 (K = 0, Bd = 0), so r = z; A = [[a, b], [b, d]].
+PairModel pair_model(double a, double b, double d) {
+  PairModel m;
+  m.phi << 0.5;
+  m.bd << 0.0;
+  m.h << 1.0, 1.0;
+  m.k << 0.0, 0.0;
+  m.a << a, b, b, d;
+  return m;
+}
+
+// r' M^-1 r for M = [[a, b], [b, d]], with the inverse written out (adjugate / determinant).
+double form(double a, double b, double d, double r0, double r1) {
+  const double det = a * d - b * b;
+  return (d * r0 * r0 - 2.0 * b * r0 * r1 + a * r1 * r1) / det;
+}
+
+}  // namespace
+
+TEST(TurbulenceAdaptation, PerChannelScalesAndLikelihoodsByHand) {
+  // tau far below a frame: alpha = 1, so rho_j = c_j of the last frame's best-fitting filter,
+  // and s_j = clamp(rho_j, 1, 50) (gain 1, reference 1)
+  FilterBankOptions o;
+  o.p_min = 0.0;
+  o.adaptation = on(1e-5, 1.0, 50.0);
+  o.adaptation.per_channel = true;
+  const double a0 = 1.0, b0 = 0.3, d0 = 2.0, a1 = 4.0, b1 = -0.5, d1 = 1.0;
+  PairBank bank({pair_model(a0, b0, d0), pair_model(a1, b1, d1)}, o);
+  // frame 1: every s_j = 1, l_k = -q_k / 2
+  const double z0 = 3.0, z1v = 1.0;
+  ASSERT_TRUE(bank.update(Eigen::Vector2d(z0, z1v)));
+  const double q0 = form(a0, b0, d0, z0, z1v), q1 = form(a1, b1, d1, z0, z1v);
+  EXPECT_NEAR(bank.log_likelihoods()(0), -q0 / 2.0, 1e-14);
+  EXPECT_NEAR(bank.log_likelihoods()(1), -q1 / 2.0, 1e-14);
+  ASSERT_LT(q1, q0);   // filter 1 fits best: its channel shares set the scales
+  const double det1 = a1 * d1 - b1 * b1;
+  const double c0 = z0 * (d1 * z0 - b1 * z1v) / det1, c1 = z1v * (-b1 * z0 + a1 * z1v) / det1;
+  EXPECT_NEAR(c0 + c1, q1, 1e-14);   // the shares sum to q
+  const double s0 = std::min(50.0, std::max(1.0, c0)), s1 = std::min(50.0, std::max(1.0, c1));
+  ASSERT_GT(s0, 1.5);   // the channels' scales differ: the test sees them apart
+  EXPECT_NEAR(bank.adaptation().channel_power_ratios()(0), c0, 1e-14);
+  EXPECT_NEAR(bank.adaptation().channel_power_ratios()(1), c1, 1e-14);
+  EXPECT_NEAR(bank.adaptation().channel_inverse_sqrt_scales()(0), 1.0 / std::sqrt(s0), 1e-14);
+  EXPECT_NEAR(bank.turbulence_scale(), std::min(50.0, std::max(1.0, q1 / 2.0)), 1e-14);   // the common s as before
+  // frame 2: l_k = -(D r)' A_k^-1 (D r) / 2, D = diag(s_j^-1/2) of frame 1
+  bank.set_probabilities(Eigen::Vector2d(0.5, 0.5));
+  const double y0 = 2.0 / std::sqrt(s0), y1 = -1.0 / std::sqrt(s1);
+  ASSERT_TRUE(bank.update(Eigen::Vector2d(2.0, -1.0)));
+  const double l0 = -form(a0, b0, d0, y0, y1) / 2.0, l1 = -form(a1, b1, d1, y0, y1) / 2.0;
+  EXPECT_NEAR(bank.log_likelihoods()(0), l0, 1e-13);
+  EXPECT_NEAR(bank.log_likelihoods()(1), l1, 1e-13);
+  EXPECT_NEAR(bank.probabilities()(0), 1.0 / (1.0 + std::exp(l1 - l0)), 1e-13);
+  // reset: rho_j = rho_0 = 1, s_j = 1; set_power_ratio sets every rho_j
+  bank.reset();
+  EXPECT_DOUBLE_EQ(bank.adaptation().channel_inverse_sqrt_scales()(0), 1.0);
+  EXPECT_DOUBLE_EQ(bank.adaptation().channel_power_ratios()(1), 1.0);
+  bank.set_adapt_power_ratio(9.0);
+  EXPECT_DOUBLE_EQ(bank.adaptation().channel_inverse_sqrt_scales()(0), 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(bank.adaptation().channel_inverse_sqrt_scales()(1), 1.0 / 3.0);
+}
+
+TEST(TurbulenceAdaptation, PerChannelWithOneChannelIsTheCommonScale) {
+  // one measurement: c_1 = q_k*, the minimum, so rho_1 = rho and -(s^-1/2 r)' A^-1 (s^-1/2 r) / 2
+  // = -q / (2 s): the two forms agree to rounding over a flight of changing scales
+  FilterBankOptions common;
+  common.p_min = 1e-6;
+  common.adaptation = on(0.2, 1.0, 30.0, 3.0);
+  FilterBankOptions per = common;
+  per.adaptation.per_channel = true;
+  ScalarBank a({scalar_model(1.0), scalar_model(4.0), scalar_model(0.5)}, common);
+  ScalarBank b({scalar_model(1.0), scalar_model(4.0), scalar_model(0.5)}, per);
+  double largest = 1.0;
+  for (int i = 0; i < 400; ++i) {
+    const double v = (i < 200 ? 1.0 : 6.0) * std::sin(0.7 * i + 0.3 * (i % 7));
+    ASSERT_TRUE(a.update(z1(v)));
+    ASSERT_TRUE(b.update(z1(v)));
+    largest = std::max(largest, a.turbulence_scale());
+    ASSERT_NEAR((a.log_likelihoods() - b.log_likelihoods()).cwiseAbs().maxCoeff(), 0.0, 1e-10) << "frame " << i;
+    ASSERT_NEAR((a.probabilities() - b.probabilities()).cwiseAbs().maxCoeff(), 0.0, 1e-10) << "frame " << i;
+    ASSERT_NEAR(1.0 / std::pow(b.adaptation().channel_inverse_sqrt_scales()(0), 2), a.turbulence_scale(), 1e-9);
+  }
+  EXPECT_GT(largest, 5.0);   // the scale did move
+}
+
 TEST(TurbulenceAdaptation, OffIsBitIdenticalToTheBankWithoutIt) {
   const ModelBank mb = test::f16_model_bank(7u);
   HierarchicalOptions plain, off, unit;
@@ -217,10 +306,12 @@ TEST(TurbulenceAdaptation, ScaleRecoversAKnownNoisePowerRatio) {
 }
 
 TEST(TurbulenceAdaptation, AFailureDoesNotRaiseTheScaleAndIsDeclared) {
+  for (const bool per_channel : {false, true}) {
   const ModelBank mb = test::f16_model_bank(13u);
   HierarchicalOptions o;
   // the tuned gain (κ = 20) with this synthetic bank's own healthy power ratio (ρ ≈ 1) as ρ_0
   o.bank.adaptation = on(5.0, 1.0, 100.0, TurbulenceAdaptationOptions{}.gain);
+  o.bank.adaptation.per_channel = per_channel;   // per channel: no channel's scale rises either
   F16HierarchicalBank hb(mb, o);
   const test::Plant plant = test::random_plant(13, 5, 7, 13u, 1e-3, 1e-3);
   test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 9u);
@@ -231,13 +322,18 @@ TEST(TurbulenceAdaptation, AFailureDoesNotRaiseTheScaleAndIsDeclared) {
     hb.step(truth.measure(failed) + mb.z_trim, du + mb.u_trim);
     truth.advance(du, failed);
     if (i >= 64 * 10) s_max_after = std::max(s_max_after, hb.turbulence_scale());
+    if (i >= 64 * 10 && per_channel)
+      s_max_after = std::max(s_max_after, hb.bank().adaptation().channel_inverse_sqrt_scales().minCoeff() > 0.0
+                                              ? std::pow(hb.bank().adaptation().channel_inverse_sqrt_scales().minCoeff(), -2)
+                                              : 1e9);
   }
   ASSERT_FALSE(hb.declarations().empty());
   EXPECT_EQ(hb.name(hb.declarations().front().hypothesis), "PIT");
   EXPECT_LT(hb.declarations().front().time_s, 11.0);
   // the PIT filter's residuals stay at the design's power: s stays near 1 (the no-failure
   // filter's own residual power grows a hundredfold after the failure)
-  EXPECT_LT(s_max_after, 4.0);
+  EXPECT_LT(s_max_after, 4.0) << "per channel " << per_channel;
+  }
 }
 
 TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
@@ -267,9 +363,11 @@ TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
 }
 
 TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
+  for (const bool per_channel : {false, true}) {
   const ModelBank mb = test::f16_model_bank(31u);
   HierarchicalOptions o;
   o.bank.adaptation = on(5.0);
+  o.bank.adaptation.per_channel = per_channel;
   F16HierarchicalBank hb(mb, o);
   const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
   test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);
@@ -285,8 +383,9 @@ TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
   const long long before = f16mmae::testing::allocation_count();
   for (std::size_t i = 0; i < z.size(); ++i) hb.step(z[i], u[i]);
   const long long after = f16mmae::testing::allocation_count();
-  EXPECT_EQ(after - before, 0);
+  EXPECT_EQ(after - before, 0) << "per channel " << per_channel;
   EXPECT_FALSE(hb.declarations().empty());   // the switch to level 1 happened inside the count
+  }
 }
 
 // running_mean.h: n is the last i with 1.0 / i >= alpha, so a_i = (i <= n ? 1.0 / i : alpha)

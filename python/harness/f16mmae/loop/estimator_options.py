@@ -71,6 +71,11 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --adapt-turbulence: the residual power ratio rho_0 above which the "
                          "likelihoods are tempered (default: a scheduled bank's per-node references where "
                          "it carries them, else 0.6; higher tempers less)"),
+    EstimatorOption("adapt_per_channel", "--adapt-per-channel", "switch", in_daemon=False,
+                    help="with --adapt-turbulence or --turbulence-banks: one scale per measurement channel, "
+                         "from the best-fitting filter's share of each channel in its residual power, so "
+                         "that gusts in one channel do not temper the evidence in the others "
+                         "(cpp/f16mmae/turbulence_adaptation.h). Default off: one scale common to all"),
     EstimatorOption("turbulence_banks", "--turbulence-banks", "switch",
                     help="fly the turbulence bank set: banks designed for rising turbulence intensities (the "
                          "shipped set: calm air and light turbulence), the running one chosen on line by its "

@@ -311,9 +311,10 @@ residual power against the design's (cpp/f16mmae/turbulence_adaptation.h; rho = 
 over adapt_time_constant_s of min_k q_k / nz, s = clamp(1 + adapt_gain (rho - adapt_reference),
 adapt_scale_min, adapt_scale_max)); the likelihoods become -q_k/(2 s). Off: exactly the bank as
 designed. adapt_reference None: a scheduled bank whose nodes carry their own reference uses
-those (blended with the filters), any other bank 0.6; a number: that reference everywhere. turbulence_scale reads s, turbulence_power_ratio rho. adapt_per_channel: a scale s_j per measurement
-channel from the best-fitting filter's share of each channel in its quadratic form, the likelihoods
--(D r_k)' A_k^-1 (D r_k) / 2 with D = diag(s_j^-1/2) (turbulence_channel_scales reads the s_j).
+those (blended with the filters), any other bank 0.6; a number: that reference everywhere. turbulence_scale reads s, turbulence_power_ratio rho. adapt_channel_weight g in (0, 1]: a scale per
+measurement channel, s_j = s^(1-g) s'_j^g with s'_j from the best-fitting filter's share of channel j
+in its quadratic form, the likelihoods -(D r_k)' A_k^-1 (D r_k) / 2 with D = diag(s_j^-1/2)
+(turbulence_channel_scales reads the s_j); 0, the default: the common s.
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.
@@ -398,7 +399,7 @@ declarations and the level carry over. schedule_state reports what is in force.)
                                const auto d = b.bank().adaptation().channel_inverse_sqrt_scales();
                                return cv::to_numpy(Eigen::VectorXd(d.array().square().inverse()));
                              }),
-                             "(nz,) the per-channel scales s_j in force (adapt_per_channel; ones otherwise)")
+                             "(nz,) the per-channel scales s_j in force (adapt_channel_weight > 0; ones otherwise)")
       .def_property_readonly("rejected_frames", prop([](auto& b) { return b.rejected_frames(); }))
       .def("schedule", &PyHierarchicalBank::schedule, py::arg("mach"), py::arg("pressure_altitude_ft"),
            "Measured air data for the coming frames (scheduling only). A non-finite value is counted\n"

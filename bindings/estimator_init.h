@@ -24,7 +24,7 @@
 //   hysteresis_cells, blend_step_cells,
 //   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
 //   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
-//   adapt_reference (None: a schedule's per-node references, else 0.6), adapt_per_channel
+//   adapt_reference (None: a schedule's per-node references, else 0.6), adapt_channel_weight
 //                                                                       turbulence_adaptation.h
 //   maneuver_kinematics, maneuver_tempering_g                           maneuver_kinematics.h
 //   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
@@ -60,7 +60,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              double blend_step_cells, double air_data_time_constant_s,
                                              bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
                                              double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                                             const std::optional<double>& adapt_reference, bool adapt_per_channel,
+                                             const std::optional<double>& adapt_reference, double adapt_channel_weight,
                                              bool maneuver_kinematics, double maneuver_tempering_g,
                                              const std::vector<double>& actuator_rate_limits_rad_s,
                                              const std::vector<double>& actuator_position_limits_rad) {
@@ -107,7 +107,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.bank.adaptation.scale_min = adapt_scale_min;
   o.bank.adaptation.scale_max = adapt_scale_max;
   o.bank.adaptation.gain = adapt_gain;
-  o.bank.adaptation.per_channel = adapt_per_channel;
+  o.bank.adaptation.channel_weight = adapt_channel_weight;
   if (adapt_reference) {  // one reference everywhere; else a schedule's per-node ones, if it has them
     o.bank.adaptation.reference = *adapt_reference;
     o.schedule.node_adapt_reference = false;
@@ -143,7 +143,7 @@ Class& def_estimator_init(Class& cls) {
                   const std::string& hold_readings, double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                  const std::optional<double>& adapt_reference, bool adapt_per_channel, bool maneuver_kinematics,
+                  const std::optional<double>& adapt_reference, double adapt_channel_weight, bool maneuver_kinematics,
                   double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
         return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
@@ -153,7 +153,7 @@ Class& def_estimator_init(Class& cls) {
                                              trim_steady_mach_per_s, schedule_mode, hold_readings, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
-                                             adapt_reference, adapt_per_channel, maneuver_kinematics, maneuver_tempering_g,
+                                             adapt_reference, adapt_channel_weight, maneuver_kinematics, maneuver_tempering_g,
                                              actuator_rate_limits_rad_s, actuator_position_limits_rad));
       }),
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
@@ -177,7 +177,7 @@ Class& def_estimator_init(Class& cls) {
       py::arg("adapt_time_constant_s") = core.bank.adaptation.time_constant_s,
       py::arg("adapt_scale_min") = core.bank.adaptation.scale_min,
       py::arg("adapt_scale_max") = core.bank.adaptation.scale_max, py::arg("adapt_gain") = core.bank.adaptation.gain,
-      py::arg("adapt_reference") = py::none(), py::arg("adapt_per_channel") = core.bank.adaptation.per_channel,
+      py::arg("adapt_reference") = py::none(), py::arg("adapt_channel_weight") = core.bank.adaptation.channel_weight,
       py::arg("maneuver_kinematics") = core.maneuver.kinematics,
       py::arg("maneuver_tempering_g") = core.maneuver.tempering_g,
       py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},

@@ -78,7 +78,7 @@ def main() -> None:
                    help="the same flights without the failure: the evidence for CASE the turbulence alone gives")
     p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
                    help="a further estimator setting (core keyword, a number or true), e.g. maneuver_tempering_g=4, "
-                        "adapt_per_channel=true")
+                        "adapt_channel_weight=0.5")
     a = p.parse_args()
     options = {k: True if v == "true" else float(v) for k, _, v in (o.partition("=") for o in a.option)}
     jobs = [(lv, c, n, a.feedback, options, a.quiet) for lv in a.levels.split(",") for c in a.cases.split(",")

@@ -9,7 +9,7 @@
 //                 with the turbulence adaptation on (options.adaptation, turbulence_adaptation.h)
 //                   q_k/2 becomes q_k/(2 s), s the residual-power scale of the frames before;
 //                   the frame's q_k then update s (u_k below is not scaled); per channel
-//                   (adaptation.per_channel) q_k/2 becomes (D r'_k)ᵀ A_k⁻¹ (D r'_k) / 2,
+//                   (adaptation.channel_weight > 0) q_k/2 becomes (D r'_k)ᵀ A_k⁻¹ (D r'_k) / 2,
 //                   D = diag(s_j^-1/2) of the frames before, r'_k the residual q_k takes
 //                   (held channels below), and the best-fitting filter's residual updates s_j.
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,

@@ -45,17 +45,19 @@
 //     line); at the start and at reset() ρ = ρ_0: s = clamp(1, s_min, s_max), the bank as
 //     designed until the residuals say otherwise.
 //
-// Per channel (per_channel = true, off by default): the same recursion per measurement j, with
-// the channel's share of the best-fitting filter's quadratic form in place of min_k q_k / m:
+// Per channel (channel_weight γ in (0, 1]; 0, the default, is off): the same recursion per
+// measurement j, with the channel's share of the best-fitting filter's quadratic form in
+// place of min_k q_k / m:
 //     k* = argmin_k q_k,   c_j = r_k*,j (A_k*⁻¹ r_k*)_j      (Σ_j c_j = q_k*;  E[c_j] = 1 when
 //                                                             filter k*'s model is right)
-//     ρ_j ← ρ_j + α (min(c_j, ρ_clip) − ρ_j),   s_j = clamp(1 + κ (ρ_j − ρ_0), s_min, s_max)
+//     ρ_j ← ρ_j + α (min(c_j, ρ_clip) − ρ_j),   s'_j = clamp(1 + κ (ρ_j − ρ_0), s_min, s_max)
+//     s_j = s^(1−γ) s'_j^γ        (γ = 1: the channel's own scale; γ → 0: the common s)
 //   (a channel that k* leaves out, A_k*⁻¹ row j zero: a failed sensor's uninformative
 //   reading, is not observed that frame), and the likelihood models filter k's residual
 //   covariance as S^½ A_k S^½, S = diag(s_j), of the frames before:
 //     l_k = −(D r_k)ᵀ A_k⁻¹ (D r_k) / 2,   D = diag(s_j^−½)
 //   The mean of the ρ_j over the channels is ρ (up to the clip), and with every s_j = s this is
-//   −q_k / (2 s): the common scale. Why: the gusts drive the channels unequally (in severe
+//   −q_k / (2 s): the common scale (so it is with one channel). Why: the gusts drive the channels unequally (in severe
 //   turbulence pitch rate and angle of attack far more than normal acceleration and yaw
 //   rate), so one common s, set by the strongest, tempers the evidence a flaperon failure
 //   gives in the quieter channels as much as the gusts in the loudest. ρ_j start and reset at
@@ -73,7 +75,7 @@
 //
 // Cost per frame: a minimum over K, two multiply-adds, a division, a clamp, K multiplies; no
 // allocation (per channel: one A⁻¹ r product, m recursions and m square roots, and in the
-// bank one extra m×m quadratic form per filter). (ρ̄'s 1 / i is divided only over its first τ f updates: running_mean.h.)
+// bank one extra m×m quadratic form per filter; m logarithms and exponentials). (ρ̄'s 1 / i is divided only over its first τ f updates: running_mean.h.)
 // Throws: configure() throws std::invalid_argument naming the option and its valid range.
 #pragma once
 
@@ -95,7 +97,7 @@ namespace f16mmae {
 // alignment peeling, hence the rounding of the blend: "off" would not be bit-identical.
 struct alignas(16) TurbulenceAdaptationOptions {
   bool enabled = false;          // off: the bank as designed (bit-identical)
-  bool per_channel = false;      // a scale s_j per measurement channel (header), else one s
+  double channel_weight = 0.0;   // γ: a scale s_j per measurement channel (header); 0: one s
   double time_constant_s = 5.0;  // τ of the residual-power average (tuned with κ, s_max)
   double scale_min = 1.0;        // s_min: the design's A_k are the floor
   double scale_max = 100.0;      // s_max
@@ -118,6 +120,7 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
     refuse("adapt_scale_max", "finite and >= adapt_scale_min = " + format_value(o.scale_min), o.scale_max);
   if (!(o.gain > 0.0 && o.gain <= 1000.0)) refuse("adapt_gain", "in (0, 1000]", o.gain);
   if (!(o.reference >= 0.0 && o.reference <= 100.0)) refuse("adapt_reference", "in [0, 100]", o.reference);
+  if (!(o.channel_weight >= 0.0 && o.channel_weight <= 1.0)) refuse("adapt_channel_weight", "in [0, 1]", o.channel_weight);
   check_frame_rate(o.frame_rate_hz, who);
 }
 
@@ -144,8 +147,8 @@ class ResidualScale {
     reset();
   }
   bool enabled() const noexcept { return options_.enabled; }
-  bool per_channel() const noexcept { return options_.enabled && options_.per_channel; }
-  // ρ_j and s_j^−½ of the header's per-channel form (ρ_0 and 1 until per-channel updates).
+  bool per_channel() const noexcept { return options_.enabled && options_.channel_weight > 0.0; }
+  // ρ_j and s_j^−½ of the header's per-channel form (ρ_0 and 1 when it is off).
   const ZVector& channel_power_ratios() const noexcept { return channel_rho_; }
   const ZVector& channel_inverse_sqrt_scales() const noexcept { return channel_inv_sqrt_s_; }
   const TurbulenceAdaptationOptions& options() const noexcept { return options_; }
@@ -222,8 +225,9 @@ class ResidualScale {
   }
   void set_channel_scales() noexcept {
     if (!per_channel()) return;
-    for (Eigen::Index j = 0; j < channel_rho_.size(); ++j)
-      channel_inv_sqrt_s_(j) = 1.0 / std::sqrt(clamped_scale(channel_rho_(j)));
+    const double g = options_.channel_weight, common = (1.0 - g) * std::log(s_);
+    for (Eigen::Index j = 0; j < channel_rho_.size(); ++j)   // (s^(1−γ) s'_j^γ)^−½
+      channel_inv_sqrt_s_(j) = std::exp(-0.5 * (common + g * std::log(clamped_scale(channel_rho_(j)))));
   }
 
   TurbulenceAdaptationOptions options_{};

@@ -201,7 +201,7 @@ TEST(TurbulenceAdaptation, PerChannelScalesAndLikelihoodsByHand) {
   FilterBankOptions o;
   o.p_min = 0.0;
   o.adaptation = on(1e-5, 1.0, 50.0);
-  o.adaptation.per_channel = true;
+  o.adaptation.channel_weight = 1.0;
   const double a0 = 1.0, b0 = 0.3, d0 = 2.0, a1 = 4.0, b1 = -0.5, d1 = 1.0;
   PairBank bank({pair_model(a0, b0, d0), pair_model(a1, b1, d1)}, o);
   // frame 1: every s_j = 1, l_k = -q_k / 2
@@ -219,7 +219,15 @@ TEST(TurbulenceAdaptation, PerChannelScalesAndLikelihoodsByHand) {
   EXPECT_NEAR(bank.adaptation().channel_power_ratios()(0), c0, 1e-14);
   EXPECT_NEAR(bank.adaptation().channel_power_ratios()(1), c1, 1e-14);
   EXPECT_NEAR(bank.adaptation().channel_inverse_sqrt_scales()(0), 1.0 / std::sqrt(s0), 1e-14);
-  EXPECT_NEAR(bank.turbulence_scale(), std::min(50.0, std::max(1.0, q1 / 2.0)), 1e-14);   // the common s as before
+  const double s = std::min(50.0, std::max(1.0, q1 / 2.0));
+  EXPECT_NEAR(bank.turbulence_scale(), s, 1e-14);   // the common s as before
+  // gamma = 0.5: s_j = s^0.5 s'_j^0.5, the geometric mean of the common and the channel's own
+  FilterBankOptions half = o;
+  half.adaptation.channel_weight = 0.5;
+  PairBank mixed({pair_model(a0, b0, d0), pair_model(a1, b1, d1)}, half);
+  ASSERT_TRUE(mixed.update(Eigen::Vector2d(z0, z1v)));
+  EXPECT_NEAR(mixed.adaptation().channel_inverse_sqrt_scales()(0), std::pow(s * s0, -0.25), 1e-14);
+  EXPECT_NEAR(mixed.adaptation().channel_inverse_sqrt_scales()(1), std::pow(s * s1, -0.25), 1e-14);
   // frame 2: l_k = -(D r)' A_k^-1 (D r) / 2, D = diag(s_j^-1/2) of frame 1
   bank.set_probabilities(Eigen::Vector2d(0.5, 0.5));
   const double y0 = 2.0 / std::sqrt(s0), y1 = -1.0 / std::sqrt(s1);
@@ -233,8 +241,8 @@ TEST(TurbulenceAdaptation, PerChannelScalesAndLikelihoodsByHand) {
   EXPECT_DOUBLE_EQ(bank.adaptation().channel_inverse_sqrt_scales()(0), 1.0);
   EXPECT_DOUBLE_EQ(bank.adaptation().channel_power_ratios()(1), 1.0);
   bank.set_adapt_power_ratio(9.0);
-  EXPECT_DOUBLE_EQ(bank.adaptation().channel_inverse_sqrt_scales()(0), 1.0 / 3.0);
-  EXPECT_DOUBLE_EQ(bank.adaptation().channel_inverse_sqrt_scales()(1), 1.0 / 3.0);
+  EXPECT_NEAR(bank.adaptation().channel_inverse_sqrt_scales()(0), 1.0 / 3.0, 1e-15);
+  EXPECT_NEAR(bank.adaptation().channel_inverse_sqrt_scales()(1), 1.0 / 3.0, 1e-15);
 }
 
 TEST(TurbulenceAdaptation, PerChannelWithOneChannelIsTheCommonScale) {
@@ -244,7 +252,7 @@ TEST(TurbulenceAdaptation, PerChannelWithOneChannelIsTheCommonScale) {
   common.p_min = 1e-6;
   common.adaptation = on(0.2, 1.0, 30.0, 3.0);
   FilterBankOptions per = common;
-  per.adaptation.per_channel = true;
+  per.adaptation.channel_weight = 1.0;
   ScalarBank a({scalar_model(1.0), scalar_model(4.0), scalar_model(0.5)}, common);
   ScalarBank b({scalar_model(1.0), scalar_model(4.0), scalar_model(0.5)}, per);
   double largest = 1.0;
@@ -306,12 +314,12 @@ TEST(TurbulenceAdaptation, ScaleRecoversAKnownNoisePowerRatio) {
 }
 
 TEST(TurbulenceAdaptation, AFailureDoesNotRaiseTheScaleAndIsDeclared) {
-  for (const bool per_channel : {false, true}) {
+  for (const double per_channel : {0.0, 1.0}) {
   const ModelBank mb = test::f16_model_bank(13u);
   HierarchicalOptions o;
   // the tuned gain (κ = 20) with this synthetic bank's own healthy power ratio (ρ ≈ 1) as ρ_0
   o.bank.adaptation = on(5.0, 1.0, 100.0, TurbulenceAdaptationOptions{}.gain);
-  o.bank.adaptation.per_channel = per_channel;   // per channel: no channel's scale rises either
+  o.bank.adaptation.channel_weight = per_channel;   // per channel: no channel's scale rises either
   F16HierarchicalBank hb(mb, o);
   const test::Plant plant = test::random_plant(13, 5, 7, 13u, 1e-3, 1e-3);
   test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 9u);
@@ -322,7 +330,7 @@ TEST(TurbulenceAdaptation, AFailureDoesNotRaiseTheScaleAndIsDeclared) {
     hb.step(truth.measure(failed) + mb.z_trim, du + mb.u_trim);
     truth.advance(du, failed);
     if (i >= 64 * 10) s_max_after = std::max(s_max_after, hb.turbulence_scale());
-    if (i >= 64 * 10 && per_channel)
+    if (i >= 64 * 10 && per_channel > 0.0)
       s_max_after = std::max(s_max_after, hb.bank().adaptation().channel_inverse_sqrt_scales().minCoeff() > 0.0
                                               ? std::pow(hb.bank().adaptation().channel_inverse_sqrt_scales().minCoeff(), -2)
                                               : 1e9);
@@ -360,14 +368,17 @@ TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   o = on(5.0);
   o.frame_rate_hz = std::nan("");
   refused(o, "frame_rate_hz");
+  o = on(5.0);
+  o.channel_weight = 1.5;
+  refused(o, "adapt_channel_weight");
 }
 
 TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
-  for (const bool per_channel : {false, true}) {
+  for (const double per_channel : {0.0, 1.0}) {
   const ModelBank mb = test::f16_model_bank(31u);
   HierarchicalOptions o;
   o.bank.adaptation = on(5.0);
-  o.bank.adaptation.per_channel = per_channel;
+  o.bank.adaptation.channel_weight = per_channel;
   F16HierarchicalBank hb(mb, o);
   const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
   test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);

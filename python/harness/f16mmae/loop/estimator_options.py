@@ -71,11 +71,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --adapt-turbulence: the residual power ratio rho_0 above which the "
                          "likelihoods are tempered (default: a scheduled bank's per-node references where "
                          "it carries them, else 0.6; higher tempers less)"),
-    EstimatorOption("adapt_per_channel", "--adapt-per-channel", "switch", in_daemon=False,
-                    help="with --adapt-turbulence or --turbulence-banks: one scale per measurement channel, "
-                         "from the best-fitting filter's share of each channel in its residual power, so "
-                         "that gusts in one channel do not temper the evidence in the others "
-                         "(cpp/f16mmae/turbulence_adaptation.h). Default off: one scale common to all"),
+    EstimatorOption("adapt_channel_weight", "--adapt-channel-weight", "number", metavar="G", minimum=0.0,
+                    maximum=1.0, in_daemon=False,
+                    help="with --adapt-turbulence or --turbulence-banks: temper each measurement channel by "
+                         "s^(1-G) s_j^G, s_j its own scale from the best-fitting filter's share of that channel "
+                         "in its residual power, so that gusts in one channel temper the evidence in the others "
+                         "less (cpp/f16mmae/turbulence_adaptation.h). Default 0: one scale common to all"),
     EstimatorOption("turbulence_banks", "--turbulence-banks", "switch",
                     help="fly the turbulence bank set: banks designed for rising turbulence intensities (the "
                          "shipped set: calm air and light turbulence), the running one chosen on line by its "

@@ -30,6 +30,7 @@ import pytest
 
 from f16mmae import core
 from f16mmae.banks import load_bank
+from f16mmae.design.turbulence_banks import START, TRIM_TIME_CONSTANT_S
 from latency_driver import find_tool
 from f16mmae.cli.main import main
 from f16mmae.loop.estimator import Estimator
@@ -476,7 +477,7 @@ def test_lockstep_flight_with_the_turbulence_bank_set_equals_in_process_and_its_
     assert "turbulence bank set of 2 members of 19 states, 6 inputs" in daemon.ready_line, daemon.ready_line
     # the ready line reads the member in force: the set file's load-factor tempering and trim tracking
     assert "tempering 1 g" in daemon.ready_line, daemon.ready_line
-    assert f"trim tracking {bank.trim_time_constant_s[bank.selector['start']]:g} s" in daemon.ready_line, daemon.ready_line
+    assert f"trim tracking {TRIM_TIME_CONSTANT_S[START]:g} s" in daemon.ready_line, daemon.ready_line
     assert "320 updated, 320 commands applied, 0 rejected, 0 dropped" in daemon.summary
     assert remote.bank_hash == bank_set.bank_hash != str(bank.content_hash)   # the set's hash
     local = fly(scenario, bank, estimator=bank_set)

@@ -15,7 +15,7 @@ std::string daemon_usage() {
          "                   [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S] [--start-up-s S]\n"
          "                   [--adapt-turbulence] [--adapt-reference RHO]\n"
-         "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
+         "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5[,inf]]\n"
          "                   [--actuator-position-limits L1,...,L5[,inf]]\n"
@@ -50,6 +50,10 @@ std::string daemon_usage() {
          "                       frozen while a failure hypothesis rises or is declared\n"
          "  --trim-freeze-probability P  with --trim-tracking: a failure hypothesis above P\n"
          "                       freezes the trim estimate (0 < P <= 1; default 0.05)\n"
+         "  --trim-tracking-steady G  with --trim-tracking: track only in steady level flight,\n"
+         "                       frozen while the estimated load factor is more than G g off the\n"
+         "                       trim, the roll rate above 5 deg/s or the air data climb or change\n"
+         "                       Mach; of the measurements only AOA (0 < G <= 10; default: off)\n"
          "  --schedule-mode M    a scheduled bank (*.f16sched): interpolate between grid points\n"
          "                       on the frames' air data (default) or nearest (switch with\n"
          "                       hysteresis)\n"
@@ -153,7 +157,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
                        key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
                        key == "--bank-public-key" || key == "--trim-tracking" ||
-                       key == "--trim-freeze-probability" || key == "--schedule-mode" || key == "--adapt-reference" ||
+                       key == "--trim-freeze-probability" || key == "--trim-tracking-steady" ||
+                       key == "--schedule-mode" || key == "--adapt-reference" ||
                        key == "--maneuver-tempering" || key == "--actuator-rate-limits" ||
                        key == "--actuator-position-limits" || key == "--start-up-s" ||
                        key == "--air-data-time-constant";
@@ -162,7 +167,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --turbulence-banks, --trim-tracking, "
-                         "--trim-freeze-probability, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
+                         "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
@@ -209,6 +214,11 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!p || !(*p > 0.0 && *p <= 1.0))
         return usage_error("--trim-freeze-probability must lie in (0, 1], got '" + value + "'");
       c.trim_freeze_probability = *p;
+    } else if (key == "--trim-tracking-steady") {
+      const std::optional<double> g = finite_number(value);
+      if (!g || !(*g > 0.0 && *g <= 10.0))
+        return usage_error("--trim-tracking-steady must be a load factor in g, > 0 and <= 10, got '" + value + "'");
+      c.trim_steady_g = *g;
     } else if (key == "--adapt-reference") {
       const std::optional<double> rho = finite_number(value);
       if (!rho || *rho < 0.0 || *rho > 100.0)
@@ -273,6 +283,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
   if (!have_bank) return usage_error("--bank FILE is required (a model-bank file from 'f16mmae design')");
   if (c.trim_freeze_probability && c.trim_time_constant_s == 0.0)
     return usage_error("--trim-freeze-probability applies with --trim-tracking only");
+  if (c.trim_steady_g > 0.0 && c.trim_time_constant_s == 0.0)
+    return usage_error("--trim-tracking-steady applies with --trim-tracking only");
   if (c.adapt_reference && !c.adapt_turbulence)
     return usage_error("--adapt-reference applies with --adapt-turbulence only");
   if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())

@@ -133,6 +133,7 @@ int main(int argc, char** argv) {
     }
     options.trim.time_constant_s = cfg.trim_time_constant_s;
     if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
+    options.trim.steady_g = cfg.trim_steady_g;
     if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
     if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
     options.maneuver.kinematics = cfg.maneuver_kinematics;
@@ -188,7 +189,9 @@ int main(int argc, char** argv) {
     if (!cfg.quiet) {
       const std::string trim = options.trim.enabled()
                                    ? "trim tracking " + f16mmae::format_value(options.trim.time_constant_s) + " s (freeze above " +
-                                         f16mmae::format_value(options.trim.freeze_probability) + ")"
+                                         f16mmae::format_value(options.trim.freeze_probability) +
+                                         (options.trim.steady() ? ", steady " + f16mmae::format_value(options.trim.steady_g) + " g"
+                                                                : std::string()) + ")"
                                    : std::string("no trim tracking");
       const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
                                   options.schedule.node_adapt_reference;

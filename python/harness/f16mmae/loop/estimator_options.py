@@ -88,7 +88,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --trim-tracking: a failure hypothesis above P freezes the trim "
                          "estimate (0 < P <= 1; default 0.05; 1 freezes only at a declaration)"),
     EstimatorOption("trim_steady_g", "--trim-tracking-steady", "number", metavar="G", minimum=0.0,
-                    exclusive=True, maximum=10.0, requires="trim_time_constant_s", in_daemon=False,
+                    exclusive=True, maximum=10.0, requires="trim_time_constant_s",
                     help="with --trim-tracking: track only in steady level flight, frozen (and the hold after) "
                          "while the estimated load factor is more than G g off the trim, the estimated roll rate "
                          "above 5 deg/s, or the air data climb (300 ft/min) or change Mach (0.001/s); and of the "

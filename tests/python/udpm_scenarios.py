@@ -403,14 +403,17 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             "tempering 0.1 g, actuator limits)" in out), out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
-    # steady trim tracking (--trim-tracking-steady): its gate reads the air data's rates and z_hat
+    # steady trim tracking (--trim-tracking-steady) and the adaptation's climb reference: their
+    # gates read the air data's rates (and z_hat)
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
                "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@1", "--trim-tracking", "2",
-               "--trim-tracking-steady", "0.1", "--air-data-time-constant", "0.5",
+               "--trim-tracking-steady", "0.1", "--air-data-time-constant", "0.5", "--adapt-turbulence",
+               "--adapt-reference", "0.65", "--adapt-reference-climb", "0.6", "--adapt-reference-climb-hold", "30",
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}Y_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
-    assert "trim tracking 2 s (freeze above 0.05, steady 0.1 g)" in out, out
+    assert ("turbulence adaptation (reference 0.65), climbing 0.6 held 30 s, "
+            "trim tracking 2 s (freeze above 0.05, steady 0.1 g)") in out, out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
 
 

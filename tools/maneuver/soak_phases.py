@@ -16,7 +16,8 @@ failure declaration, prints one row:
 - ``dur``: how long it stayed declared (the record's episode);
 - ``rho`` at the declaration and its largest value over the 5 s before; ``s`` the adaptation's
   scale there (1 + 20 (rho - rho_0) clamped to [1, 100]: the core's defaults) when the run flew
-  the adaptation;
+  the adaptation (with the run's --adapt-reference; under --adapt-reference-climb the reference
+  in force in a climb is the climb reference, which this column does not apply);
 - ``frozen``: the share of the 10 s before the declaration on which the trim tracker was
   frozen, and dz(AOA) (deg) at the declaration (a run flown with --trim-tracking).
 

@@ -260,9 +260,9 @@ class Dither:
     flaperons spend half of that n_z; antisymmetric, their lift cancels in healthy flight and
     their roll is what the FCS's roll loop damps, so both pairs' amplitudes can grow within the
     criterion -- and a failed flaperon's missing lift is its amplitude's, whatever the phase.
-    The gains keep the peaks within the criterion from 2 Q0 up (largest share 0.84 at
-    M 0.5 / 5,000 ft and M 0.8 / 5,000 ft: tests/python/test_truth_dither.py, envelope_tuning.md
-    round 8); every paper Fig. 9 point (q̄ <= 170) and the design point fly b = 0.
+    The gains keep the peaks within the criterion from 2 Q0 up (largest share 0.91 at
+    M 0.5 / 10,000 ft in the blend, 0.84 at M 0.8 / 5,000 ft in full: tests/python/test_truth_dither.py,
+    envelope_tuning.md round 8); every paper Fig. 9 point (q̄ <= 170) and the design point fly b = 0.
     """
 
     def __init__(self, spec: DitherSpec | None = None, scale: float = 1.0):

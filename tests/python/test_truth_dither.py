@@ -38,7 +38,8 @@ def _fly(failures=(), mach=0.4, alt_ft=20_000.0):
     return log["time_s"], log["z_ideal"] - truth.trim.z
 
 
-@pytest.mark.parametrize("mach,alt_ft", [(0.4, 20_000.0), (0.8, 5_000.0), (0.45, 35_000.0)])
+# (0.5, 10,000 ft): q̄ 255, inside the pairs' high-q̄ blend, the largest share measured there
+@pytest.mark.parametrize("mach,alt_ft", [(0.4, 20_000.0), (0.8, 5_000.0), (0.45, 35_000.0), (0.5, 10_000.0)])
 def test_default_dither_is_subliminal(mach, alt_ft):
     t, dz = _fly(mach=mach, alt_ft=alt_ft)
     peak = np.abs(dz).max(axis=0)
@@ -112,8 +113,10 @@ def test_dither_values_and_switch():
     assert v[0] == pytest.approx(math.radians(1.0)) and v[4] == pytest.approx(math.radians(2) * math.sin(math.pi / 4))
     assert Dither(DitherSpec(enabled=False)).value(0.3) == [0.0] * 5
     assert Dither(DitherSpec(), scale=2.0).value(0.1)[0] == pytest.approx(2 * Dither().value(0.1)[0])
-    # above the design dynamic pressure (scale < 1) the amplitudes shrink as scale^1.5
-    assert Dither(DitherSpec(), scale=0.25).value(0.1)[0] == pytest.approx(0.125 * Dither().value(0.1)[0])
+    # above the design dynamic pressure (scale < 1) the amplitudes shrink as scale^1.5 (the
+    # rudder, which the pairs' high-q̄ rule leaves alone, shows it at 4 Q0)
+    assert Dither(DitherSpec(), scale=0.25).value(0.1)[4] == pytest.approx(0.125 * Dither().value(0.1)[4])
+    assert Dither(DitherSpec(), scale=0.6).value(0.1) == pytest.approx([0.6 ** 1.5 * v for v in Dither().value(0.1)])
     with pytest.raises(ValueError, match="scale"):
         Dither(DitherSpec(), scale=-1.0)
     with pytest.raises(ValueError, match=r"\[0, 16\] Hz"):
@@ -171,3 +174,29 @@ def test_scheduled_throttle_settings_and_the_bank_default():
         DitherSpec(throttle_schedule=True, throttle_amplitude=0.02)
     with pytest.raises(ValueError, match="throttle_schedule"):
         DitherSpec(throttle_schedule="yes")
+
+
+def test_high_qbar_rule_turns_the_flaperons_antisymmetric_and_grows_the_pairs():
+    """The pairs' rule (Dither docstring): nothing up to 2 Q0 (every Fig. 9 point), linear in
+    q̄/Q0 to 3 Q0, then flaperons at +-pi/2 with 2.5x and stabilators with 1.6x the scheduled
+    amplitude; the terms computed by hand from the defaults."""
+    from f16mmae.truth.dither import high_qbar_blend
+
+    assert high_qbar_blend(1.0) == 0.0 and high_qbar_blend(0.5) == 0.0 and high_qbar_blend(1 / 3) == 1.0
+    assert high_qbar_blend(0.1) == 1.0 and high_qbar_blend(0.0) == 1.0
+    assert high_qbar_blend(1 / 2.5) == pytest.approx(0.5)
+    base = [math.radians(a) for a in (1.8, 1.8, 2.2, 2.2, 5.5)]
+    a, w, ph = Dither(DitherSpec(), scale=0.5).terms()          # 2 Q0: unchanged but for s^1.5
+    assert a == pytest.approx([0.5 ** 1.5 * x for x in base]) and ph == list(DEFAULT_PHASE_RAD)
+    g = 0.25 ** 1.5
+    a, w, ph = Dither(DitherSpec(), scale=0.25).terms()         # 4 Q0: in full
+    assert a == pytest.approx([g * 1.6 * base[0], g * 1.6 * base[1], g * 2.5 * base[2], g * 2.5 * base[3], g * base[4]])
+    assert ph == pytest.approx([0.0, 0.0, math.pi / 2, -math.pi / 2, 0.0])
+    a, w, ph = Dither(DitherSpec(), scale=1 / 2.5).terms()      # 2.5 Q0: half way
+    g = 0.4 ** 1.5
+    assert a[0] == pytest.approx(g * 1.3 * base[0]) and a[2] == pytest.approx(g * 1.75 * base[2])
+    assert ph[2] == pytest.approx(0.55 + 0.5 * (math.pi / 2 - 0.55)) and ph[3] == pytest.approx(-ph[2])
+    assert w == [2 * math.pi * f for f in DEFAULT_FREQUENCY_HZ]
+    # antisymmetric flaperons: their lift cancels in healthy flight (n_z from the stabilators only)
+    d = Dither(DitherSpec(), scale=0.25)
+    assert sum(d.value(t)[2] + d.value(t)[3] for t in (0.01, 0.13, 0.27)) == pytest.approx(0.0, abs=1e-15)

@@ -84,8 +84,10 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: 4: then the smallest of the node's and its grid neighbours' (schedule.neighbourhood_minimum);
 #: 5: a probability floor per node, chosen with the reference (calibrate.bounded_settings);
 #: 6: both bounded on calibration flights flown with the estimator's start-up (calibrate.START_UP_S);
-#: 7: that start-up recommended by the file itself (schedule format 3's start_up_s).
-SCHEDULE_DESIGN_REVISION = 7
+#: 7: that start-up recommended by the file itself (schedule format 3's start_up_s);
+#: 8: the nodes above 2 Q0 calibrated on flights with the dither's high-q̄ rule for the pairs
+#: (truth/dither.py), which the truth flies there.
+SCHEDULE_DESIGN_REVISION = 8
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -12,6 +12,8 @@ flaperons' small antisymmetric part spends the roll margin the rudder leaves on 
 amplitude for the same n_z (2 a cos phi).  A failure of one surface of a pair removes its
 share: the line's pitch/lift part drops and the survivor's roll shows (LS vs RS, LF vs RF:
 opposite roll), so each failure keeps a distinct signature (tests/python/test_truth_dither.py).
+Above twice the design dynamic pressure the pairs follow a high-q̄ rule (``Dither``: the
+flaperons turn antisymmetric, both pairs' scheduled amplitudes grow within the criterion).
 Frequencies are set above the band where light turbulence is strong (vertical and rolling gusts mimic a
 flaperon's lift/roll signature at 0.8-1.1 Hz: flaperon false alarms), within the actuator
 bandwidth: stabilators 1.7 Hz (u, alpha, q, n_z), flaperons 2.9 Hz (n_z; p after a
@@ -211,6 +213,14 @@ def throttle_command(base: float, amplitude: float, omega_rad_s: float, time_s: 
 
 #: Extra exponent of the amplitude schedule above the design dynamic pressure (s < 1).
 HIGH_QBAR_EXPONENT = 0.5
+#: The pairs' high-q̄ rule (see Dither) blends in between these multiples of Q0 (q̄_trim / Q0).
+HIGH_QBAR_PAIRS_START = 2.0
+HIGH_QBAR_PAIRS_FULL = 3.0
+#: Where the rule is in full: the flaperons' phase (+-, rad: antisymmetric) and the gains on the
+#: flaperons' and the stabilators' scheduled amplitudes.
+HIGH_QBAR_FLAPERON_PHASE_RAD = math.pi / 2
+HIGH_QBAR_FLAPERON_GAIN = 2.5
+HIGH_QBAR_STABILATOR_GAIN = 1.6
 
 
 def amplitude_schedule(scale: float) -> float:
@@ -218,6 +228,14 @@ def amplitude_schedule(scale: float) -> float:
     if not (math.isfinite(scale) and scale >= 0.0):
         raise ValueError(f"dither scale must be finite and >= 0, got {scale}")
     return scale if scale >= 1.0 else scale ** (1.0 + HIGH_QBAR_EXPONENT)
+
+
+def high_qbar_blend(scale: float) -> float:
+    """b in [0, 1] of the pairs' high-q̄ rule at ``scale`` = Q0 / qbar_trim: 0 up to
+    HIGH_QBAR_PAIRS_START Q0, linear in q̄ / Q0, 1 from HIGH_QBAR_PAIRS_FULL Q0 (see Dither)."""
+    ratio = math.inf if scale <= 0.0 else 1.0 / scale
+    b = (ratio - HIGH_QBAR_PAIRS_START) / (HIGH_QBAR_PAIRS_FULL - HIGH_QBAR_PAIRS_START)
+    return min(max(b, 0.0), 1.0)
 
 
 class Dither:
@@ -230,6 +248,21 @@ class Dither:
     more n_z (n_z ~ V q / g) and a faster short period, so the dither shrinks faster there
     to stay subliminal over the envelope (measured by tests/python/test_truth_dither.py at
     M 0.8 / 5,000 ft and M 0.45 / 35,000 ft).
+
+    High-q̄ rule for the pairs, b = high_qbar_blend(s) (0 at and below 2 Q0, 1 from 3 Q0)::
+
+        phi_LF = phi + b (pi/2 - phi),  phi_RF = -phi_LF              (flaperons -> antisymmetric)
+        a_LF,RF *= 1 + b (HIGH_QBAR_FLAPERON_GAIN - 1),  a_LS,RS *= 1 + b (HIGH_QBAR_STABILATOR_GAIN - 1)
+
+    Above q̄ 300 the filters' AZ covariance covers the gusts' n_z, which grows with q̄, while the
+    schedule holds the dither's n_z at about 0.04 g, so a failed surface's missing n_z is a
+    fraction of a sigma there (docs/results/envelope_tuning.md, rounds 6 and 8).  In phase, the
+    flaperons spend half of that n_z; antisymmetric, their lift cancels in healthy flight and
+    their roll is what the FCS's roll loop damps, so both pairs' amplitudes can grow within the
+    criterion -- and a failed flaperon's missing lift is its amplitude's, whatever the phase.
+    The gains keep the peaks within the criterion from 2 Q0 up (largest share 0.91 at
+    M 0.5 / 10,000 ft in the blend, 0.84 at M 0.8 / 5,000 ft in full: tests/python/test_truth_dither.py,
+    envelope_tuning.md round 8); every paper Fig. 9 point (q̄ <= 170) and the design point fly b = 0.
     """
 
     def __init__(self, spec: DitherSpec | None = None, scale: float = 1.0):
@@ -239,6 +272,13 @@ class Dither:
         self._a = [math.radians(a) * g if on else 0.0 for a in self.spec.amplitude_deg]
         self._w = [2.0 * math.pi * f for f in self.spec.frequency_hz]
         self._ph = list(self.spec.phase_rad)
+        b = high_qbar_blend(scale)
+        if b > 0.0:
+            self._ph[2] += b * (HIGH_QBAR_FLAPERON_PHASE_RAD - self._ph[2])
+            self._ph[3] += b * (-HIGH_QBAR_FLAPERON_PHASE_RAD - self._ph[3])
+            for j, gain in ((0, HIGH_QBAR_STABILATOR_GAIN), (1, HIGH_QBAR_STABILATOR_GAIN),
+                            (2, HIGH_QBAR_FLAPERON_GAIN), (3, HIGH_QBAR_FLAPERON_GAIN)):
+                self._a[j] *= 1.0 + b * (gain - 1.0)
         self.enabled = on and any(self._a)
 
     def terms(self) -> tuple[list[float], list[float], list[float]]:

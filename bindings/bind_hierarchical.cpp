@@ -391,6 +391,8 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("turbulence_power_ratio", prop([](auto& b) { return b.bank().adaptation().power_ratio(); }),
                              "the adaptation's averaged residual power ratio rho (1.0 when off)")
       .def_property_readonly("rejected_frames", prop([](auto& b) { return b.rejected_frames(); }))
+      .def_property_readonly("departure_frames", prop([](auto& b) { return b.departure_frames(); }),
+                             "frames on which the departure hold kept the level-1 bank from declaring")
       .def("schedule", &PyHierarchicalBank::schedule, py::arg("mach"), py::arg("pressure_altitude_ft"),
            "Measured air data for the coming frames (scheduling only). A non-finite value is counted\n"
            "in air_data_rejected and the last usable one stays in force.")

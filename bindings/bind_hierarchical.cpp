@@ -401,6 +401,8 @@ declarations and the level carry over. schedule_state reports what is in force.)
                              }),
                              "(nz,) the per-channel scales s_j in force (adapt_channel_weight > 0; ones otherwise)")
       .def_property_readonly("rejected_frames", prop([](auto& b) { return b.rejected_frames(); }))
+      .def_property_readonly("departure_frames", prop([](auto& b) { return b.departure_frames(); }),
+                             "frames on which the departure hold kept the level-1 bank from declaring")
       .def("schedule", &PyHierarchicalBank::schedule, py::arg("mach"), py::arg("pressure_altitude_ft"),
            "Measured air data for the coming frames (scheduling only). A non-finite value is counted\n"
            "in air_data_rejected and the last usable one stays in force.")

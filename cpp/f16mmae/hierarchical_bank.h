@@ -27,6 +27,24 @@
 //   p > threshold on round(level1_dwell_s * rate) consecutive frames. A raised level-1 floor
 //   lets a short burst of evidence (a gust the filters model poorly) lift a false dual f+c
 //   above the threshold for a few frames; a real second failure keeps it there.
+// The departure hold at level 1 (options.departure.enabled; on by default; off: bit for bit
+//   the bank without it): every filter is linear about the trim, wings level. While a level-1
+//   bank is on line the bank declares nothing (dual or back-out) on a frame whose MEASUREMENTS
+//   put the aircraft outside that linearization, nor for hold_s after the last such frame:
+//     outside  <=>  |z_AOA - z_trim,AOA| > aoa_rad  or  max(|z_PIT|, |z_ROL|, |z_YAW|) > rate_rad_s
+//   (readings about the trim in force; a channel whose sensor is the level-1 failure f is left
+//   out: its reading is not the aircraft's). The declarer's dwell restarts on every held frame,
+//   so a declaration after the hold needs a whole dwell inside. Why: a surface hardover (a
+//   stabilator at 25 deg) departs the aircraft after f is declared; no linear hypothesis then
+//   explains the data and the dual that fits worst-least is declared (f+AOA, f+PIT, ...). The
+//   hold changes only what is declared after f, never f itself (level 0 is untouched), so a
+//   wrong first isolation stays visible. Defaults (light turbulence, nominal point): failure-
+//   free flights and complete duals keep |dalpha| <= 1.8 deg and rates <= 4.5 deg/s; the second
+//   declarations after a hardover came at |dalpha| 11-35 deg (stabilators) or rates 10-24 deg/s
+//   (flaperons, rudder): aoa 5 deg, rates 10 deg/s, hold 1 s. The channels are found by the
+//   measurement names AOA, PIT, ROL, YAW; one the bank does not have is not checked (a bank
+//   with none of them: no hold). The constructor throws std::invalid_argument for a bound <= 0
+//   or a hold_s < 0 when it is enabled.
 // Hypotheses are looked up by NAME in the ModelBank: "NONE"; singles are the names without
 // '+'; the dual of a and b is "a+b" or "b+a". A missing dual is a construction error.
 //
@@ -116,7 +134,9 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -132,6 +152,14 @@ struct Declaration {
   double time_s = 0.0;      // frame / frame_rate_hz
 };
 
+// The departure hold at level 1 (header).
+struct DepartureOptions {
+  bool enabled = true;
+  double aoa_rad = 5.0 * 3.14159265358979323846 / 180.0;      // |measured alpha - trim| bound
+  double rate_rad_s = 10.0 * 3.14159265358979323846 / 180.0;  // |measured p|, |q|, |r| bound
+  double hold_s = 1.0;                                         // held this long after the last frame outside
+};
+
 struct HierarchicalOptions {
   FilterBankOptions bank;     // p_min, strip_leading_term, adaptation (its rate: the ModelBank's)
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
@@ -142,6 +170,7 @@ struct HierarchicalOptions {
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (header)
+  DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (header)
   int history_capacity = 1024;
 };
 
@@ -170,7 +199,11 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
-    const int d = declarer_in_force().update(bank_.probabilities());
+    if (level_ == 1 && departure_held(z_pert_)) {
+      declarer_in_force().reset(declarer_in_force().current());   // the dwell restarts
+      ++departure_frames_;
+    }
+    const int d = departure_hold_ > 0 ? -1 : declarer_in_force().update(bank_.probabilities());
     int hypothesis = -1;
     if (d >= 0) {
       hypothesis = online_[d];
@@ -266,6 +299,8 @@ class HierarchicalBank {
     declarer_.reset(0);
     declarer1_.reset(0);
     frame_ = 0;
+    departure_hold_ = 0;
+    departure_frames_ = 0;
     history_.clear();
     dropped_ = 0;
     air_data_ = design_air_data_;
@@ -315,6 +350,8 @@ class HierarchicalBank {
     history_.assign(from.history_.begin(), from.history_.begin() + static_cast<std::ptrdiff_t>(n));
     dropped_ = from.dropped_ + static_cast<std::int64_t>(from.history_.size() - n);
     frame_ = from.frame_;
+    departure_hold_ = from.departure_hold_;
+    departure_frames_ = from.departure_frames_;
     air_data_ = from.air_data_;
     air_data_rejected_ = from.air_data_rejected_;
     trim_tracker_ = from.trim_tracker_;
@@ -350,6 +387,8 @@ class HierarchicalBank {
   const std::vector<Declaration>& declarations() const noexcept { return history_; }
   std::int64_t declarations_dropped() const noexcept { return dropped_; }
   std::int64_t frames() const noexcept { return frame_; }
+  // Frames on which the departure hold kept the level-1 bank from declaring (header).
+  std::int64_t departure_frames() const noexcept { return departure_frames_; }
   double frame_rate_hz() const noexcept { return frame_rate_hz_; }
   const PVector& probabilities() const noexcept { return bank_.probabilities(); }
   // The turbulence adaptation's likelihood scale s (1 when off; turbulence_adaptation.h):
@@ -482,6 +521,22 @@ class HierarchicalBank {
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));
     for (const auto& h : mb.hypotheses) names_.push_back(h.name);
+    if (options.departure.enabled) {
+      if (!(options.departure.aoa_rad > 0.0) || !(options.departure.rate_rad_s > 0.0) ||
+          !(options.departure.hold_s >= 0.0) || !std::isfinite(options.departure.hold_s))
+        throw std::invalid_argument("hierarchical bank: the departure hold needs aoa_rad > 0, rate_rad_s > 0 and a "
+                                    "finite hold_s >= 0, got " + std::to_string(options.departure.aoa_rad) + ", " +
+                                    std::to_string(options.departure.rate_rad_s) + ", " +
+                                    std::to_string(options.departure.hold_s));
+      static const char* const kChannels[4] = {"AOA", "PIT", "ROL", "YAW"};
+      for (int c = 0; c < 4; ++c) {
+        const auto& m = mb.measurement_names;
+        const auto it = std::find(m.begin(), m.end(), kChannels[c]);
+        departure_channel_[c] = it == m.end() ? -1 : static_cast<int>(it - m.begin());
+        departure_sensor_[c] = mb.find(kChannels[c]);   // its single hypothesis (-1: none)
+      }
+      departure_hold_frames_ = static_cast<int>(std::lround(options.departure.hold_s * mb.frame_rate_hz));
+    }
     storage_.reserve(b.models.size());
     for (std::size_t i = 0; i < b.models.size(); ++i)
       storage_.emplace_back(b.models[i], "hypothesis '" + names_[i] + "'");
@@ -527,6 +582,24 @@ class HierarchicalBank {
     return false;
   }
 
+  // The departure hold on this frame (header): counts down departure_hold_, restarted to
+  // hold_s whenever the readings z (about the trim in force) leave the linearization.
+  bool departure_held(const ZVector& z) noexcept {
+    if (!options_.departure.enabled) return false;
+    const int f = online_[1];   // the level-1 failure
+    bool outside = false;
+    for (int c = 0; c < 4; ++c) {
+      if (departure_channel_[c] < 0 || departure_sensor_[c] == f) continue;
+      const double bound = c == 0 ? options_.departure.aoa_rad : options_.departure.rate_rad_s;
+      if (std::abs(z(departure_channel_[c])) > bound) outside = true;
+    }
+    if (outside)
+      departure_hold_ = departure_hold_frames_ + 1;
+    else if (departure_hold_ > 0)
+      --departure_hold_;
+    return departure_hold_ > 0;
+  }
+
   void record(int hypothesis, std::int64_t frame) noexcept {
     if (history_.size() >= history_.capacity()) {
       ++dropped_;
@@ -557,6 +630,7 @@ class HierarchicalBank {
     }
     online_ = next;
     level_ = level;
+    departure_hold_ = 0;
     set_floors();
     bank_.presume(presumed);
     declarer_in_force().reset(presumed);
@@ -636,6 +710,11 @@ class HierarchicalBank {
   AirData design_air_data_, air_data_;
   std::int64_t air_data_rejected_ = 0;
   std::int64_t frame_ = 0;
+  std::array<int, 4> departure_channel_{{-1, -1, -1, -1}};   // AOA PIT ROL YAW in z
+  std::array<int, 4> departure_sensor_{{-1, -1, -1, -1}};    // their single hypotheses
+  int departure_hold_frames_ = 0;
+  int departure_hold_ = 0;            // frames still held (0: declarations allowed)
+  std::int64_t departure_frames_ = 0;
   double frame_rate_hz_ = 0.0;
   int level_ = 0;
 };

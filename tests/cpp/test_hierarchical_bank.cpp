@@ -303,6 +303,107 @@ TEST(HierarchicalBank, LevelOneDwellHoldsWhileLevelOneIsOnLineOnly) {
   EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
 }
 
+// The departure hold (hierarchical_bank.h): a bank whose sensors carry the names the hold reads
+// (AOA, PIT, ROL; no YAW: not checked). U1 fails, then PIT: without the hold U1 then U1+PIT.
+//  - bounds no reading reaches: the same declarations on the same frames, nothing held;
+//  - a rate bound every rate reading exceeds: U1 only, every level-1 frame held, and the
+//    probabilities are the unheld bank's until it switches (the hold touches only declarations);
+//  - a hold of H frames after sprinkled excursions: the dual is declared on the first frame that
+//    ends 16 frames above the threshold, none of them within H frames of an excursion,
+//    computed here from the bank's own probabilities and readings;
+//  - AOA failed first: its own channel is left out, so an AOA bound it exceeds changes nothing.
+TEST(HierarchicalBank, DepartureHoldKeepsLevelOneFromDeclaringOutsideTheLinearization) {
+  const std::vector<std::string> sen{"AOA", "PIT", "ROL"};
+  const test::Plant plant = test::random_plant(3, 2, 3, 21u);
+  const Eigen::Vector3d z_trim(0.14, 0.0, 0.0);
+  const ModelBank bank = test::make_bank(plant, kAct, sen, Eigen::Vector2d(0.1, -0.2), z_trim);
+  const Flight f = fly(plant, kAct, sen, bank, {{"U1", 64, 1 << 30}, {"PIT", 320, 1 << 30}}, 640, 2u);
+  HierarchicalOptions off;
+  off.departure.enabled = false;
+  auto run = [&](const HierarchicalOptions& o, const Flight& fl) {
+    DynamicHierarchicalBank hb(bank, o);
+    std::vector<std::pair<std::string, std::int64_t>> out;
+    for (int i = 0; i < static_cast<int>(fl.z.size()); ++i) {
+      const int d = hb.step(fl.z[i], fl.u[i]);
+      if (d >= 0) out.emplace_back(hb.name(d), i);
+    }
+    return std::make_pair(out, hb.departure_frames());
+  };
+  const auto plain = run(off, f);
+  ASSERT_EQ(plain.first.size(), 2u);
+  EXPECT_EQ(plain.first[1].first, "U1+PIT");
+  HierarchicalOptions wide;
+  wide.departure.aoa_rad = wide.departure.rate_rad_s = 1e6;
+  const auto w = run(wide, f);
+  EXPECT_EQ(w.first, plain.first);
+  EXPECT_EQ(w.second, 0);
+
+  HierarchicalOptions tight;
+  tight.departure.rate_rad_s = 1e-12;
+  DynamicHierarchicalBank held(bank, tight), ref(bank, off);
+  for (int i = 0; i < 640; ++i) {
+    held.update(f.z[i]);
+    ref.update(f.z[i]);
+    if (i < plain.first[1].second) {
+      EXPECT_LT((held.probabilities() - ref.probabilities()).cwiseAbs().maxCoeff(), 1e-15) << i;
+    }
+    held.propagate(f.u[i]);
+    ref.propagate(f.u[i]);
+  }
+  ASSERT_EQ(declared_names(held), (std::vector<std::string>{"U1"}));
+  EXPECT_EQ(held.declarations()[0].frame, plain.first[0].second);
+  EXPECT_EQ(held.departure_frames(), 640 - 1 - plain.first[0].second);
+
+  // sprinkled excursions: the ROL readings above their 80th percentile (of |z - trim|)
+  std::vector<double> rol;
+  for (const auto& z : f.z) rol.push_back(std::abs(z(2) - z_trim(2)));
+  std::vector<double> sorted = rol;
+  std::sort(sorted.begin(), sorted.end());
+  HierarchicalOptions sprinkled;
+  sprinkled.departure.aoa_rad = 1e6;
+  sprinkled.departure.rate_rad_s = sorted[sorted.size() * 8 / 10];
+  sprinkled.departure.hold_s = 3.0 / 64.0;
+  DynamicHierarchicalBank hb(bank, sprinkled);
+  std::int64_t last_outside = -1000, expected = -1, declared = -1;
+  int above = 0;
+  for (int i = 0; i < 640; ++i) {
+    const bool at_level1 = hb.level() == 1;
+    const int d = hb.update(f.z[i]);
+    if (at_level1) {
+      if (rol[i] > sprinkled.departure.rate_rad_s) last_outside = i;
+      const bool free = i - last_outside > 3;
+      const auto on = hb.online_names();
+      const auto j = std::find(on.begin(), on.end(), "U1+PIT") - on.begin();
+      above = free && hb.probabilities()(j) > 0.9 ? above + 1 : 0;
+      if (above == 16 && expected < 0) expected = i;
+    }
+    if (d >= 0 && hb.name(d) == "U1+PIT") declared = i;
+    hb.propagate(f.u[i]);
+  }
+  ASSERT_GE(expected, 0);
+  EXPECT_EQ(declared, expected);
+  EXPECT_GT(declared, plain.first[1].second);
+  EXPECT_GT(hb.departure_frames(), 0);
+
+  // AOA failed first: its own (trim-reading) channel is not checked
+  const Flight fa = fly(plant, kAct, sen, bank, {{"AOA", 64, 1 << 30}, {"U2", 320, 1 << 30}}, 640, 6u);
+  HierarchicalOptions aoa;
+  aoa.departure.aoa_rad = 1e-12;
+  aoa.departure.rate_rad_s = 1e6;
+  const auto a_off = run(off, fa), a_on = run(aoa, fa);
+  ASSERT_GE(a_off.first.size(), 2u);
+  EXPECT_EQ(a_off.first[0].first, "AOA");
+  EXPECT_EQ(a_on.first, a_off.first);
+  EXPECT_EQ(a_on.second, 0);
+
+  HierarchicalOptions bad;
+  bad.departure.rate_rad_s = 0.0;
+  EXPECT_THROW(DynamicHierarchicalBank(bank, bad), std::invalid_argument);
+  bad = HierarchicalOptions{};
+  bad.departure.hold_s = -1.0;
+  EXPECT_THROW(DynamicHierarchicalBank(bank, bad), std::invalid_argument);
+}
+
 TEST(HierarchicalBank, NoFailureDeclaresNothing) {
   Small s;
   DynamicHierarchicalBank hb(s.bank);

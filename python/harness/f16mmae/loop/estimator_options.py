@@ -147,6 +147,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     in_daemon=False,
                     help="... and the dwell while it is on line: a dual (or the back-out) must stay above the "
                          "threshold S seconds in a row (cpp/f16mmae/hierarchical_bank.h). Default 0: the level-0 dwell"),
+    EstimatorOption("departure_hold", "--departure-hold", "choice", metavar="on|off", choices=("on", "off"),
+                    in_daemon=False,
+                    help="while a failure's level-1 (dual) bank is on line, declare nothing while the measured "
+                         "angle of attack is more than 5 deg off the trim or a measured body rate above 10 deg/s, "
+                         "nor for 1 s after: the linear models do not cover a departed aircraft (a stabilator "
+                         "hardover; cpp/f16mmae/hierarchical_bank.h). Default on"),
     EstimatorOption("actuator_rate_limits_rad_s", "--actuator-rate-limits", "values", on_command_line=False,
                     help="the actuators' rate limits, rad/s, one per input"),
     EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",

@@ -12,7 +12,8 @@
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
-//                 those channels out; u_k, the levels b̂_k the bank keeps per filter, and
+//                 those channels out; u_k, the levels b̂_k and their variances the bank
+//                 keeps per filter, and
 //                 the derivation in steady_state_filter.h). A filter's levels are unset at
 //                 the start, after reset() and when load_filter() replaces it.
 //                 Bayes update (eq. 1) in the log domain:
@@ -193,6 +194,7 @@ class FilterBank {
     uninformative_.assign_size(k);
     for (int i = 0; i < k; ++i) note_uninformative(i);
     level_.setZero(nz, k);
+    level_var_.setZero(nz, k);
     h_out_ = hypotheses_[0].model().h;
     load_h_out();
     held_.setZero(nz);
@@ -256,7 +258,8 @@ class FilterBank {
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
       if (uninformative_[i]) {  // u_k; otherwise l_k is left bit for bit as it was
-        l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_set_[i]);
+        l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_var_.col(i),
+                                                         level_set_[i]);
         level_set_[i] = 1;
       }
       log_l_(i) = l;
@@ -472,6 +475,7 @@ class FilterBank {
         level_set_[k] = from.level_set_[k];
       }
       level_ = from.level_;
+      level_var_ = from.level_var_;
       q_ = from.q_;
       log_l_ = from.log_l_;
     }
@@ -621,6 +625,7 @@ class FilterBank {
   // above keep their layout
   HypothesisFlags<K> level_set_;                  // b̂_k set
   Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k
+  Eigen::Matrix<double, NZ, K> level_var_;        // column k = the levels' variances P_k
   ResidualScale<K> scale_{};                      // the turbulence adaptation
   double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
   HypothesisFlags<K> uninformative_;              // note_uninformative

@@ -36,13 +36,15 @@ def small_models(width, level_q=None):
     return out
 
 
-def level_predictive_variance(q, a_jj):
-    """s of a random-walk level observed in noise a_jj: the scalar Riccati recursion iterated
-    to its fixed point (independent of the core's closed form)."""
+def level_predictive_variance(q, a_jj, n=1):
+    """s of a random-walk level observed in noise a_jj for the reading n frames after the one
+    that set it (variance a_jj then): the scalar Kalman recursion written out as the
+    posterior variance of a Gaussian prior times n Gaussian readings, step by step."""
     p = a_jj
-    for _ in range(10_000):
-        p = p * a_jj / (p + a_jj) + q
-    return p + a_jj
+    for _ in range(n - 1):
+        prior = p + q
+        p = 1.0 / (1.0 / prior + 1.0 / a_jj)
+    return p + q + a_jj
 
 
 def expected_log_likelihood(m, r, frames, strip=False):
@@ -95,7 +97,7 @@ def test_a_level_that_jumps_restarts_at_the_reading():
         fb.step(z, np.zeros(2))
         out.append(fb.log_likelihoods[1])
     a11 = float(np.asarray(models[1].a)[1, 1])
-    s_j = level_predictive_variance(0.05, a11)
+    s_j = level_predictive_variance(0.05, a11)   # a reading one frame after the level's (re)start
     g = (s_j - a11) / s_j
     # frame 2: a jump of 3.3 against s_j: the uniform branch (eps / W) is far the likelier ...
     stay = np.log(1 - 1e-3) + stats.norm(0, np.sqrt(s_j)).logpdf(3.3)
@@ -104,7 +106,8 @@ def test_a_level_that_jumps_restarts_at_the_reading():
     # ... so frame 3 sees the level at 3.5 (restarted), not at 0.2 + g * 3.3
     r3 = np.asarray(fb.residuals)[1]
     at_restart = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_j)).pdf(r3[1] - 3.5) + 1e-3 / 7.5)
-    tracked = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_j)).pdf(r3[1] - (0.2 + g * 3.3)) + 1e-3 / 7.5)
+    s_t = level_predictive_variance(0.05, a11, 2)
+    tracked = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_t)).pdf(r3[1] - (0.2 + g * 3.3)) + 1e-3 / 7.5)
     a = np.asarray(models[1].a)
     keep = [0, 2]
     gauss = stats.multivariate_normal(np.zeros(2), a[np.ix_(keep, keep)]).logpdf(r3[keep]) + \
@@ -244,7 +247,7 @@ def test_tuning_refuses_a_bad_failure_model():
         tuning_from_dict({**base, "failure_model": "cover", "failed_surface_q": -1})
     with pytest.raises(TuningError, match=r"failed_sensor_level_q = -1 must be a finite number >= 0"):
         tuning_from_dict({**base, "failure_model": "cover", "failed_sensor_level_q": -1})
-    assert hypotheses.FAILURE_MODELS == ("complete", "cover")
+    assert hypotheses.FAILURE_MODELS == ("complete", "cover", "constant")
 
 
 def test_failed_surface_q_per_surface():

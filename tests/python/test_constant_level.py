@@ -14,7 +14,7 @@ from f16mmae.design import bank, hypotheses
 from f16mmae.design.tuning import load_tuning, tuning_from_dict
 from f16mmae.truth import sensors
 
-from test_failure_models import small_models
+from test_failure_models import footing, small_models
 
 
 def _stripped_gauss(m, r, keep):
@@ -45,7 +45,7 @@ def test_a_constant_level_has_the_exact_predictive_density_of_an_unknown_constan
             prev = readings[:n]
             pred = stats.norm(prev.mean(), np.sqrt(a11 * (1.0 + 1.0 / n)))
             u = np.log((1 - eps) * pred.pdf(v) + eps / width)
-        expect = _stripped_gauss(models[1], r, [0, 2]) + u
+        expect = _stripped_gauss(models[1], r, [0, 2]) + u + footing(models[1], np.asarray(models[0].a))
         assert fb.log_likelihoods[1] == pytest.approx(expect, rel=1e-7, abs=1e-7), n
 
 
@@ -62,7 +62,8 @@ def test_a_restarted_level_starts_again_from_one_reading():
         fb.step(np.array([0.0, v, 0.0]), np.zeros(2))
     r = np.asarray(fb.residuals)[1]
     u = np.log((1 - 1e-3) * stats.norm(seq[-2], np.sqrt(2 * a11 + q)).pdf(seq[-1]) + 1e-3 / width)
-    assert fb.log_likelihoods[1] == pytest.approx(_stripped_gauss(models[1], r, [0, 2]) + u, abs=1e-9)
+    assert fb.log_likelihoods[1] == pytest.approx(_stripped_gauss(models[1], r, [0, 2]) + u
+                                                  + footing(models[1], np.asarray(models[0].a)), abs=1e-9)
 
 
 def test_constant_vel_design_widths_and_level_noise():

@@ -47,12 +47,20 @@ def level_predictive_variance(q, a_jj, n=1):
     return p + q + a_jj
 
 
-def expected_log_likelihood(m, r, frames, strip=False):
+def footing(m, a0):
+    """v_k of filter_bank.h (leading term stripped): (1/2) ln(A^0_jj / A_jj) summed over the
+    model's uninformative channels, A^0 the no-failure filter's."""
+    a = np.asarray(m.a)
+    return sum(0.5 * np.log(a0[j, j] / a[j, j]) for j in range(len(a)) if m.uninformative_width[j] > 0)
+
+
+def expected_log_likelihood(m, r, frames, strip=False, a0=None):
     """SciPy's log-likelihood of filter model ``m`` for residual ``r`` on the last of ``frames``
     (readings as perturbations; the level of an uninformative channel is set by the first frame
     and nothing jumps before the last): a normal over the informative channels times, per
     uninformative channel, a uniform over W on the first frame, then the level's predictive
-    normal mixed with a jump (1e-3) anywhere in W.  ``strip``: plus (2 pi)^{m/2} |A|^{1/2}."""
+    normal mixed with a jump (1e-3) anywhere in W.  ``strip``: plus (2 pi)^{m/2} |A|^{1/2}, and
+    the failed channels put on the footing of ``a0``, the no-failure filter's A."""
     a, z, n = np.asarray(m.a), frames[-1], len(frames) - 1
     nz = len(z)
     keep = [j for j in range(nz) if not m.uninformative_width[j] > 0]
@@ -68,7 +76,7 @@ def expected_log_likelihood(m, r, frames, strip=False):
                 full += np.log((1 - eps) * stats.norm(0.0, np.sqrt(s_j)).pdf(z[j] - frames[0][j])
                                + eps * stats.uniform(loc=z[j] - 1.0, scale=m.uninformative_width[j]).pdf(z[j]))
     # the stripped form drops (2 pi)^{-m/2} |A|^{-1/2} of the filter's whole A
-    return full + (0.5 * nz * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] if strip else 0.0)
+    return full + (0.5 * nz * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] + footing(m, a0) if strip else 0.0)
 
 
 @pytest.mark.parametrize("level_q", [0.0, 0.05])
@@ -83,7 +91,7 @@ def test_likelihood_is_normal_times_uniform_then_the_level(strip, level_q):
         fb.update(z)
         got, res = fb.log_likelihoods, np.asarray(fb.residuals)
         for k, m in enumerate(models):
-            expect = expected_log_likelihood(m, res[k], frames[:n + 1], strip)
+            expect = expected_log_likelihood(m, res[k], frames[:n + 1], strip, np.asarray(models[0].a))
             assert got[k] == pytest.approx(expect, rel=1e-9, abs=1e-9), (n, k)
         fb.propagate(u)
 
@@ -112,7 +120,7 @@ def test_a_level_that_jumps_restarts_at_the_reading():
     keep = [0, 2]
     gauss = stats.multivariate_normal(np.zeros(2), a[np.ix_(keep, keep)]).logpdf(r3[keep]) + \
         1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1]
-    assert out[2] == pytest.approx(gauss + at_restart, abs=1e-9)
+    assert out[2] == pytest.approx(gauss + at_restart + footing(models[1], np.asarray(models[0].a)), abs=1e-9)
     assert abs(at_restart - tracked) > 1.0
 
 

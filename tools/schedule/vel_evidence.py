@@ -1,9 +1,9 @@
 """Lab driver (not in the wheel): why a failed VEL is or is not declared, and why it is backed
 out, frame by frame.
 
-    python tools/schedule/vel_evidence.py --runs DIR [--bank FILE] [--seeds 3]
+    python tools/schedule/vel_evidence.py --runs DIR [--bank FILE] [--seeds 3] [--case VEL] [--point P]
 
-Flies again the VEL runs of an envelope campaign's records (DIR/runs.jsonl: their scenarios,
+Flies again the VEL runs (or --case's, at --point) of an envelope campaign's records (DIR/runs.jsonl: their scenarios,
 estimator settings and bank, or --bank instead) and prints per run, over windows after the
 failure, the mean per frame of each channel's part of l_VEL - l_NONE (the stripped eq. 2,
 its total from the bank's own log-likelihoods, split per channel as -r_j^2 / (2 A_jj) with
@@ -27,7 +27,7 @@ from f16mmae.banks import load_bank
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly, scenario_from_dict
 
-WINDOWS = ((3.0, 4.0), (4.0, 6.0), (6.0, 8.0))
+WINDOWS = ((0.0, 1.0), (1.0, 2.0), (2.0, 3.0), (3.0, 4.0), (4.0, 6.0), (6.0, 8.0))
 
 
 def diag_a(bank, name):
@@ -40,10 +40,12 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", required=True, help="an envelope campaign's output folder")
     ap.add_argument("--bank", default=None, help="bank file (default: the records')")
-    ap.add_argument("--seeds", type=int, default=3, help="how many VEL runs to fly (default 3)")
+    ap.add_argument("--seeds", type=int, default=3, help="how many runs to fly (default 3)")
+    ap.add_argument("--case", default="VEL", help="the case flown again (default VEL)")
+    ap.add_argument("--point", default=None, help="only this point's runs (default every point)")
     args = ap.parse_args()
     runs = [json.loads(line) for line in open(Path(args.runs) / "runs.jsonl")]
-    runs = [r for r in runs if r["case"] == "VEL"][: args.seeds]
+    runs = [r for r in runs if r["case"] == args.case and args.point in (None, r.get("point"))][: args.seeds]
     for r in runs:
         _, _, bank = load_bank(args.bank or r["bank"])
         est = Estimator(bank, **r["estimator"])

@@ -33,7 +33,7 @@ from .tuning import Tuning
 GRID = (1.0, 3.0, 10.0, 30.0)
 ROUNDS = 2
 MIN_GAIN = 0.01
-FAILURE_TIME_S = 3.0
+FAILURE_TIME_S = names.FAILURE_TIME_S
 NONE_SEEDS = TUNING_FLIGHT_SEEDS  # the tuning namespace (f16mmae.seeds): 1-8
 FAILURE_SEEDS = TUNING_FLIGHT_SEEDS[:3]
 #: The estimator settings the design recommends (written to tuned.toml [estimator] and so
@@ -42,7 +42,7 @@ FAILURE_SEEDS = TUNING_FLIGHT_SEEDS[:3]
 #: that random-walks, and the paper's floor caps how far it can sink (ln(0.9/0.001) = 6.8),
 #: so short runs of turbulence lift it over the threshold (false alarms, spurious duals);
 #: chosen from single-failure campaigns (README "Closed-loop failure detection").
-ESTIMATOR = {"p_min": 1e-9, "threshold": 0.9, "dwell_s": 0.25}
+ESTIMATOR = {"p_min": 1e-9, "threshold": names.THRESHOLD_DEFAULT, "dwell_s": 0.25}
 #: The bank is scored as it is flown: with the recommended probability floor ...
 P_MIN = ESTIMATOR["p_min"]
 #: ... and from this long after the failure onset (NONE: from 1 s): half the 1-s

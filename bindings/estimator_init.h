@@ -25,6 +25,7 @@
 //   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
 //   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
 //   adapt_reference (None: a schedule's per-node references, else 0.6)  turbulence_adaptation.h
+//   adapt_reference_climb (None: off), adapt_reference_climb_hold_s      climb_reference.h
 //   maneuver_kinematics, maneuver_tempering_g                           maneuver_kinematics.h
 //   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
 //                                                                       actuator_limits.h
@@ -60,6 +61,8 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
                                              double adapt_scale_min, double adapt_scale_max, double adapt_gain,
                                              const std::optional<double>& adapt_reference,
+                                             const std::optional<double>& adapt_reference_climb,
+                                             double adapt_reference_climb_hold_s,
                                              bool maneuver_kinematics, double maneuver_tempering_g,
                                              const std::vector<double>& actuator_rate_limits_rad_s,
                                              const std::vector<double>& actuator_position_limits_rad) {
@@ -110,6 +113,8 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
     o.bank.adaptation.reference = *adapt_reference;
     o.schedule.node_adapt_reference = false;
   }
+  if (adapt_reference_climb) o.climb_reference.reference = *adapt_reference_climb;
+  o.climb_reference.hold_s = adapt_reference_climb_hold_s;
   o.declarer.threshold = threshold;
   o.declarer.dwell_s = dwell_s;
   if (!declarer.is_none()) {
@@ -141,7 +146,8 @@ Class& def_estimator_init(Class& cls) {
                   const std::string& hold_readings, double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                  const std::optional<double>& adapt_reference, bool maneuver_kinematics,
+                  const std::optional<double>& adapt_reference, const std::optional<double>& adapt_reference_climb,
+                  double adapt_reference_climb_hold_s, bool maneuver_kinematics,
                   double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
         return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
@@ -151,7 +157,8 @@ Class& def_estimator_init(Class& cls) {
                                              trim_steady_mach_per_s, schedule_mode, hold_readings, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
-                                             adapt_reference, maneuver_kinematics, maneuver_tempering_g,
+                                             adapt_reference, adapt_reference_climb, adapt_reference_climb_hold_s,
+                                             maneuver_kinematics, maneuver_tempering_g,
                                              actuator_rate_limits_rad_s, actuator_position_limits_rad));
       }),
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
@@ -175,7 +182,9 @@ Class& def_estimator_init(Class& cls) {
       py::arg("adapt_time_constant_s") = core.bank.adaptation.time_constant_s,
       py::arg("adapt_scale_min") = core.bank.adaptation.scale_min,
       py::arg("adapt_scale_max") = core.bank.adaptation.scale_max, py::arg("adapt_gain") = core.bank.adaptation.gain,
-      py::arg("adapt_reference") = py::none(), py::arg("maneuver_kinematics") = core.maneuver.kinematics,
+      py::arg("adapt_reference") = py::none(), py::arg("adapt_reference_climb") = py::none(),
+      py::arg("adapt_reference_climb_hold_s") = core.climb_reference.hold_s,
+      py::arg("maneuver_kinematics") = core.maneuver.kinematics,
       py::arg("maneuver_tempering_g") = core.maneuver.tempering_g,
       py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
       py::arg("actuator_position_limits_rad") = std::vector<double>{});

@@ -14,8 +14,9 @@ std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P]\n"
          "                   [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S] [--start-up-s S]\n"
-         "                   [--adapt-turbulence] [--adapt-reference RHO]\n"
-         "                   [--trim-tracking TAU_S] [--trim-freeze-probability P]\n"
+         "                   [--adapt-turbulence] [--adapt-reference RHO] [--adapt-reference-climb RHO]\n"
+         "                   [--adapt-reference-climb-hold S]\n"
+         "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5[,inf]]\n"
          "                   [--actuator-position-limits L1,...,L5[,inf]]\n"
@@ -46,10 +47,19 @@ std::string daemon_usage() {
          "  --adapt-reference RHO  with --adapt-turbulence: the residual power ratio above which\n"
          "                       the likelihoods are tempered (0-100; default: a scheduled\n"
          "                       bank's per-node references where it carries them, else 0.6)\n"
+         "  --adapt-reference-climb RHO  with --adapt-turbulence: the reference while the air\n"
+         "                       data climb or descend faster than 300 ft/min or change Mach faster\n"
+         "                       than 0.001/s (0-100; default: off, the reference above everywhere)\n"
+         "  --adapt-reference-climb-hold S  with --adapt-reference-climb: keep it S s after the\n"
+         "                       climb or speed change ends (0-3600; default 0)\n"
          "  --trim-tracking TAU_S  track the trim on line with time constant TAU_S s (e.g. 30),\n"
          "                       frozen while a failure hypothesis rises or is declared\n"
          "  --trim-freeze-probability P  with --trim-tracking: a failure hypothesis above P\n"
          "                       freezes the trim estimate (0 < P <= 1; default 0.05)\n"
+         "  --trim-tracking-steady G  with --trim-tracking: track only in steady level flight,\n"
+         "                       frozen while the estimated load factor is more than G g off the\n"
+         "                       trim, the roll rate above 5 deg/s or the air data climb or change\n"
+         "                       Mach; of the measurements only AOA (0 < G <= 10; default: off)\n"
          "  --schedule-mode M    a scheduled bank (*.f16sched): interpolate between grid points\n"
          "                       on the frames' air data (default) or nearest (switch with\n"
          "                       hysteresis)\n"
@@ -153,7 +163,9 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
                        key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
                        key == "--bank-public-key" || key == "--trim-tracking" ||
-                       key == "--trim-freeze-probability" || key == "--schedule-mode" || key == "--adapt-reference" ||
+                       key == "--trim-freeze-probability" || key == "--trim-tracking-steady" ||
+                       key == "--schedule-mode" || key == "--adapt-reference" ||
+                       key == "--adapt-reference-climb" || key == "--adapt-reference-climb-hold" ||
                        key == "--maneuver-tempering" || key == "--actuator-rate-limits" ||
                        key == "--actuator-position-limits" || key == "--start-up-s" ||
                        key == "--air-data-time-constant";
@@ -161,8 +173,9 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
-                         "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --turbulence-banks, --trim-tracking, "
-                         "--trim-freeze-probability, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
+                         "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-reference-climb, "
+                         "--adapt-reference-climb-hold, --turbulence-banks, --trim-tracking, "
+                         "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
@@ -209,11 +222,26 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!p || !(*p > 0.0 && *p <= 1.0))
         return usage_error("--trim-freeze-probability must lie in (0, 1], got '" + value + "'");
       c.trim_freeze_probability = *p;
+    } else if (key == "--trim-tracking-steady") {
+      const std::optional<double> g = finite_number(value);
+      if (!g || !(*g > 0.0 && *g <= 10.0))
+        return usage_error("--trim-tracking-steady must be a load factor in g, > 0 and <= 10, got '" + value + "'");
+      c.trim_steady_g = *g;
     } else if (key == "--adapt-reference") {
       const std::optional<double> rho = finite_number(value);
       if (!rho || *rho < 0.0 || *rho > 100.0)
         return usage_error("--adapt-reference must be a power ratio in [0, 100], got '" + value + "'");
       c.adapt_reference = *rho;
+    } else if (key == "--adapt-reference-climb") {
+      const std::optional<double> rho = finite_number(value);
+      if (!rho || *rho < 0.0 || *rho > 100.0)
+        return usage_error("--adapt-reference-climb must be a power ratio in [0, 100], got '" + value + "'");
+      c.adapt_reference_climb = *rho;
+    } else if (key == "--adapt-reference-climb-hold") {
+      const std::optional<double> hold = finite_number(value);
+      if (!hold || *hold < 0.0 || *hold > 3600.0)
+        return usage_error("--adapt-reference-climb-hold must be a time in seconds in [0, 3600], got '" + value + "'");
+      c.adapt_reference_climb_hold_s = *hold;
     } else if (key == "--schedule-mode") {
       if (value != "interpolate" && value != "nearest")
         return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
@@ -273,6 +301,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
   if (!have_bank) return usage_error("--bank FILE is required (a model-bank file from 'f16mmae design')");
   if (c.trim_freeze_probability && c.trim_time_constant_s == 0.0)
     return usage_error("--trim-freeze-probability applies with --trim-tracking only");
+  if (c.adapt_reference_climb && !c.adapt_turbulence)
+    return usage_error("--adapt-reference-climb applies with --adapt-turbulence only");
+  if (c.adapt_reference_climb_hold_s && !c.adapt_reference_climb)
+    return usage_error("--adapt-reference-climb-hold applies with --adapt-reference-climb only");
+  if (c.trim_steady_g > 0.0 && c.trim_time_constant_s == 0.0)
+    return usage_error("--trim-tracking-steady applies with --trim-tracking only");
   if (c.adapt_reference && !c.adapt_turbulence)
     return usage_error("--adapt-reference applies with --adapt-turbulence only");
   if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())

@@ -2,7 +2,9 @@
 //
 //   mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
 //               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence] [--adapt-reference RHO]
-//               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--schedule-mode M]
+//               [--adapt-reference-climb RHO] [--adapt-reference-climb-hold S]
+//               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]
+//               [--schedule-mode M]
 //               [--air-data-time-constant TAU_S] [--maneuver-kinematics] [--maneuver-tempering G]
 //               [--actuator-rate-limits R,...] [--actuator-position-limits L,...]
 //               [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--rewarm-us US]
@@ -42,8 +44,11 @@ struct DaemonConfig {
   bool adapt_turbulence = false;     // turbulence_adaptation.h
   bool turbulence_banks = false;     // FILE is a turbulence bank set file: fly the set (turbulence_bank_set.h)
   std::optional<double> adapt_reference;  // its rho_0, with adapt_turbulence only
+  std::optional<double> adapt_reference_climb;  // rho_0 while climbing (climb_reference.h), with adapt_turbulence
+  std::optional<double> adapt_reference_climb_hold_s;  // its hold, with adapt_reference_climb
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only
+  double trim_steady_g = 0.0;        // with trim tracking only: steady tracking's load-factor gate; 0 = off
   bool schedule_nearest = false;     // a scheduled bank: nearest node instead of interpolation
   std::optional<double> air_data_time_constant_s;  // its air-data low-pass (scheduled_filters.h); unset: the core's
   bool maneuver_kinematics = false;  // maneuver_kinematics.h

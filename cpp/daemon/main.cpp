@@ -131,8 +131,11 @@ int main(int argc, char** argv) {
       options.bank.adaptation.reference = *cfg.adapt_reference;
       options.schedule.node_adapt_reference = false;
     }
+    if (cfg.adapt_reference_climb) options.climb_reference.reference = *cfg.adapt_reference_climb;
+    if (cfg.adapt_reference_climb_hold_s) options.climb_reference.hold_s = *cfg.adapt_reference_climb_hold_s;
     options.trim.time_constant_s = cfg.trim_time_constant_s;
     if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
+    options.trim.steady_g = cfg.trim_steady_g;
     if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
     if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
     options.maneuver.kinematics = cfg.maneuver_kinematics;
@@ -188,7 +191,9 @@ int main(int argc, char** argv) {
     if (!cfg.quiet) {
       const std::string trim = options.trim.enabled()
                                    ? "trim tracking " + f16mmae::format_value(options.trim.time_constant_s) + " s (freeze above " +
-                                         f16mmae::format_value(options.trim.freeze_probability) + ")"
+                                         f16mmae::format_value(options.trim.freeze_probability) +
+                                         (options.trim.steady() ? ", steady " + f16mmae::format_value(options.trim.steady_g) + " g"
+                                                                : std::string()) + ")"
                                    : std::string("no trim tracking");
       const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
                                   options.schedule.node_adapt_reference;
@@ -199,6 +204,11 @@ int main(int argc, char** argv) {
                                      : node_reference ? std::string("turbulence adaptation (reference per node)")
                                                       : "turbulence adaptation (reference " +
                                                             f16mmae::format_value(options.bank.adaptation.reference) + ")";
+      const std::string adaptation_climb =
+          options.bank.adaptation.enabled && options.climb_reference.enabled()
+              ? adaptation + ", climbing " + f16mmae::format_value(options.climb_reference.reference) + " held " +
+                    f16mmae::format_value(options.climb_reference.hold_s) + " s"
+              : adaptation;
       std::string maneuver = options.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
       if (options.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(options.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
@@ -220,7 +230,7 @@ int main(int argc, char** argv) {
                   "schedule %s on air data low-passed %s s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), floor.c_str(),
                   options.declarer.threshold, options.declarer.dwell_s, start_up.c_str(),
-                  adaptation.c_str(),
+                  adaptation_climb.c_str(),
                   trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate",
                   f16mmae::format_value(options.schedule.air_data_time_constant_s).c_str(), maneuver.c_str(), cfg.lcm_url.c_str(),
                   channels.sensors.c_str(), channels.status.c_str(),

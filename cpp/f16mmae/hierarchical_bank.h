@@ -64,6 +64,9 @@
 //   floor (its bank's p_min): the FilterBank's p_min is the blend in force with the filters
 //   (ScheduleOptions::node_p_min, on by default; off: options.bank.p_min everywhere), and
 //   NONE is presumed with it at construction and reset().
+//   With options.climb_reference (off by default) the adaptation's rho_0 is its reference
+//   while the air data handed to schedule() climb, descend or change speed, and for its hold
+//   after (climb_reference.h); else the node's or the option's as above.
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
 // z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
@@ -108,6 +111,7 @@
 #include "f16mmae/maneuver_kinematics.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
+#include "f16mmae/climb_reference.h"
 #include "f16mmae/trim_tracker.h"
 
 #include <Eigen/Dense>
@@ -133,6 +137,7 @@ struct HierarchicalOptions {
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
   ScheduleOptions schedule;   // a scheduled bank: interpolate or nearest (scheduled_filters.h)
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
+  ClimbReferenceOptions climb_reference;   // the adaptation's reference while climbing (NaN: off)
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
@@ -198,6 +203,10 @@ class HierarchicalBank {
     }
     air_data_ = a;
     trim_tracker_.observe_air_data(a.mach, a.pressure_altitude_ft);   // steady trim tracking only
+    if (climb_ref_.enabled()) {   // climb_reference.h
+      climb_ref_.observe(a.mach, a.pressure_altitude_ft);
+      bank_.set_adapt_reference(adapt_reference_in_force());
+    }
     if (!sched_.active()) return;
     const XVector x_before = sched_.x_trim();
     const bool hold = options_.schedule.hold_readings == HoldReadings::kFromStart ||
@@ -262,6 +271,8 @@ class HierarchicalBank {
     air_data_ = design_air_data_;
     air_data_rejected_ = 0;
     trim_tracker_.reset();
+    climb_ref_.reset();
+    if (climb_ref_.enabled()) bank_.set_adapt_reference(adapt_reference_in_force());
     actuators_.reset();
     du_.setZero();
     dz_.setZero();
@@ -307,6 +318,8 @@ class HierarchicalBank {
     air_data_ = from.air_data_;
     air_data_rejected_ = from.air_data_rejected_;
     trim_tracker_ = from.trim_tracker_;
+    climb_ref_ = from.climb_ref_;
+    if (climb_ref_.enabled()) bank_.set_adapt_reference(adapt_reference_in_force());
     actuators_.carry_over(from.actuators_);
     du_ = from.du_;
     dz_ = from.dz_;
@@ -349,6 +362,7 @@ class HierarchicalBank {
   const UVector& u_trim_offset() const noexcept { return du_; }   // du in force
   const ZVector& z_trim_offset() const noexcept { return dz_; }   // dz in force
   const TrimTracker<NU, NZ>& trim_tracker() const noexcept { return trim_tracker_; }
+  const ClimbReference& climb_reference() const noexcept { return climb_ref_; }
   const ZVector& z_trim() const noexcept { return z_trim_; }
   // The schedule (inactive for a bank designed at one flight condition).
   const Schedule& scheduled() const noexcept { return sched_; }
@@ -450,6 +464,7 @@ class HierarchicalBank {
         level1_(std::move(b.level1)),
         online_(b.level0),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
+        climb_ref_(options.climb_reference, mb.frame_rate_hz),
         maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
         actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
@@ -563,9 +578,17 @@ class HierarchicalBank {
   void load_scheduled() noexcept {
     bank_.replace_filters([&](int k, Hypothesis& h) { sched_.filter(online_[k], h); },
                           [&](auto& h_out) { sched_.h_output(h_out); });
-    if (sched_.has_adapt_reference() && options_.schedule.node_adapt_reference)
-      bank_.set_adapt_reference(sched_.adapt_reference());
+    if ((sched_.has_adapt_reference() && options_.schedule.node_adapt_reference) || climb_ref_.enabled())
+      bank_.set_adapt_reference(adapt_reference_in_force());
     set_floors();   // (unchanged unless node_p_min or level1_p_min)
+  }
+  // The adaptation's reference in force: the climb reference while climbing (climb_reference.h),
+  // else a scheduled bank's node reference (node_adapt_reference), else the option's.
+  double adapt_reference_in_force() const noexcept {
+    const double base = sched_.has_adapt_reference() && options_.schedule.node_adapt_reference
+                            ? sched_.adapt_reference()
+                            : options_.bank.adaptation.reference;
+    return climb_ref_.reference(base);
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {
@@ -601,6 +624,7 @@ class HierarchicalBank {
   ZVector z_trim_, z_pert_, dz_, z_shift_;
   UVector u_trim_, u_pert_, du_;
   TrimTracker<NU, NZ> trim_tracker_;
+  ClimbReference climb_ref_;
   ManeuverKinematics maneuver_;
   ActuatorLimits<NU> actuators_;
   UVector u_eff_;

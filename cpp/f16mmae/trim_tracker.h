@@ -50,11 +50,9 @@
 //     most (a differential stabilator of degrees) before the load factor has risen;
 //   - a frame on which the measured air data say the aircraft climbs, descends, speeds up or
 //     slows down freezes it too (and hold_s after): |h_dot| > steady_climb_ft_s or
-//     |M_dot| > steady_mach_per_s, the rates read from two first-order low-passes of the air
-//     data (HierarchicalBank::schedule hands each usable sample to observe_air_data) with time
-//     constants T1 = 1 s and T2 = 5 s: for a ramp of slope v their difference settles at
-//     v (T2 - T1), so rate = (lp_T1 - lp_T2) / (T2 - T1); both start at the first sample
-//     (rate 0) and stay there while no air data arrives (then only dn gates). A steady climb
+//     |M_dot| > steady_mach_per_s, the rates read from the air data (air_data_rates.h: two
+//     first-order low-passes, 1 s and 5 s; HierarchicalBank::schedule hands each usable sample
+//     to observe_air_data; rate 0 until samples arrive, then only dn gates). A steady climb
 //     flies another throttle and stabilator than level flight: tracked, they would be handed
 //     to the filters as the trim at the level-off;
 // The names are resolved into a fixed mask at construction (options().steady_measurements is
@@ -65,6 +63,8 @@
 // never freezes (for comparison only: such a tracker absorbs a failure into the trim);
 // steady_g >= 0 (0 = off); steady_measurements: names of the bank's measurements.
 #pragma once
+
+#include "f16mmae/air_data_rates.h"
 
 #include <Eigen/Dense>
 
@@ -117,12 +117,10 @@ class TrimTracker {
   // them; std::invalid_argument naming a missing one).
   TrimTracker(const TrimTrackingOptions& options, double frame_rate_hz, int nu, int nz,
               const std::vector<std::string>& measurement_names = {})
-      : options_(options) {
+      : options_(options), air_(frame_rate_hz) {
     options.validate();
     gain_ = options.enabled() ? 1.0 - std::exp(-1.0 / (frame_rate_hz * options.time_constant_s)) : 0.0;
     hold_frames_ = static_cast<std::int64_t>(std::llround(options.hold_s * frame_rate_hz));
-    air_gain_fast_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * kAirFastS));
-    air_gain_slow_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * kAirSlowS));
     du_ = UVector::Zero(nu);
     dz_ = ZVector::Zero(nz);
     mask_ = ZVector::Ones(nz);
@@ -142,27 +140,17 @@ class TrimTracker {
     held_for_ = 0;
     frozen_ = false;
     frozen_frames_ = 0;
-    air_seen_ = false;
-    h_fast_ = h_slow_ = m_fast_ = m_slow_ = 0.0;
+    air_.reset();
   }
 
   // Steady tracking: one usable air-data sample (Mach, pressure altitude ft) per frame, before
   // the frame's update (header).
   void observe_air_data(double mach, double alt_ft) noexcept {
     if (!options_.enabled() || !options_.steady()) return;
-    if (!air_seen_) {
-      h_fast_ = h_slow_ = alt_ft;
-      m_fast_ = m_slow_ = mach;
-      air_seen_ = true;
-      return;
-    }
-    h_fast_ += air_gain_fast_ * (alt_ft - h_fast_);
-    h_slow_ += air_gain_slow_ * (alt_ft - h_slow_);
-    m_fast_ += air_gain_fast_ * (mach - m_fast_);
-    m_slow_ += air_gain_slow_ * (mach - m_slow_);
+    air_.observe(mach, alt_ft);
   }
-  double climb_rate_ft_s() const noexcept { return (h_fast_ - h_slow_) / (kAirSlowS - kAirFastS); }
-  double mach_rate_per_s() const noexcept { return (m_fast_ - m_slow_) / (kAirSlowS - kAirFastS); }
+  double climb_rate_ft_s() const noexcept { return air_.climb_rate_ft_s(); }
+  double mach_rate_per_s() const noexcept { return air_.mach_rate_per_s(); }
 
   // After frame i's update: `freezing` is the freeze condition on that frame (header);
   // z_pert = z_i - z_trim (the design/scheduled trim, without the offset).
@@ -172,8 +160,7 @@ class TrimTracker {
   void after_update(const Z& z_pert, bool freezing, const ZH& z_hat_pert) noexcept {
     if (options_.steady() && !(std::abs(z_hat_pert(az_)) <= options_.steady_g &&
                                std::abs(z_hat_pert(rol_)) <= options_.steady_roll_rate_rad_s &&
-                               std::abs(climb_rate_ft_s()) <= options_.steady_climb_ft_s &&
-                               std::abs(mach_rate_per_s()) <= options_.steady_mach_per_s))
+                               !air_.changing(options_.steady_climb_ft_s, options_.steady_mach_per_s)))
       freezing = true;
     after_update(z_pert, freezing);
   }
@@ -221,11 +208,8 @@ class TrimTracker {
   double gain_ = 0.0;
   std::int64_t hold_frames_ = 0, held_for_ = 0, frozen_frames_ = 0;
   bool frozen_ = false;
-  static constexpr double kAirFastS = 1.0, kAirSlowS = 5.0;   // T1, T2 of the header
   int az_ = 0, rol_ = 0;
-  bool air_seen_ = false;
-  double air_gain_fast_ = 0.0, air_gain_slow_ = 0.0;
-  double h_fast_ = 0.0, h_slow_ = 0.0, m_fast_ = 0.0, m_slow_ = 0.0;
+  AirDataRates air_;
   UVector du_;
   ZVector dz_, mask_;
 };

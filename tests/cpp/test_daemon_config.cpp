@@ -100,6 +100,38 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   }
   r = parse_daemon_args({"--bank", "b", "--trim-freeze-probability", "0.2"}, nullptr);
   EXPECT_NE(r.message.find("applies with --trim-tracking only"), std::string::npos) << r.message;
+  EXPECT_EQ(r.config.trim_steady_g, 0.0);   // steady tracking: off unless given
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.trim_steady_g, 0.1);
+  for (const char* bad : {"0", "-0.1", "10.5", "inf", "steady"}) {
+    r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find(std::string("'") + bad + "'"), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find("> 0 and <= 10"), std::string::npos) << r.message;
+  }
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
+                         "--adapt-reference-climb-hold=30"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.adapt_reference_climb, 0.6);
+  EXPECT_EQ(*r.config.adapt_reference_climb_hold_s, 30.0);
+  for (const char* bad : {"-0.1", "101", "nan", "x"}) {
+    r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find("[0, 100], got '" + std::string(bad) + "'"), std::string::npos) << r.message;
+  }
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
+                         "--adapt-reference-climb-hold", "-1"}, nullptr);
+  EXPECT_NE(r.message.find("[0, 3600], got '-1'"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-reference-climb", "0.6"}, nullptr);
+  EXPECT_NE(r.message.find("--adapt-reference-climb applies with --adapt-turbulence only"), std::string::npos)
+      << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb-hold", "5"}, nullptr);
+  EXPECT_NE(r.message.find("--adapt-reference-climb-hold applies with --adapt-reference-climb only"),
+            std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking-steady", "0.1"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--trim-tracking-steady applies with --trim-tracking only"), std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference=0.76"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_EQ(*r.config.adapt_reference, 0.76);

@@ -87,16 +87,16 @@ def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
     add_estimator_arguments(p)
     args = p.parse_args(["--threshold", "0.95", "--dwell-s", "0.5", "--p-min", "1e-6", "--adapt-turbulence",
                          "--adapt-reference", "0.76", "--trim-tracking", "30", "--trim-freeze-probability", "0.2",
-                         "--schedule-mode", "nearest", "--maneuver-kinematics", "--actuator-limits",
+                         "--trim-tracking-steady", "0.1", "--schedule-mode", "nearest", "--maneuver-kinematics", "--actuator-limits",
                          "--maneuver-tempering", "0.1"])
     flags = daemon_flags(estimator_options_from_args(args))
-    assert flags[:19] == ("--threshold", "0.95", "--dwell-s", "0.5", "--p-min", "1e-06", "--adapt-turbulence",
+    assert flags[:21] == ("--threshold", "0.95", "--dwell-s", "0.5", "--p-min", "1e-06", "--adapt-turbulence",
                           "--adapt-reference", "0.76", "--trim-tracking", "30.0", "--trim-freeze-probability", "0.2",
-                          "--schedule-mode", "nearest", "--maneuver-kinematics", "--maneuver-tempering", "0.1",
+                          "--trim-tracking-steady", "0.1", "--schedule-mode", "nearest", "--maneuver-kinematics", "--maneuver-tempering", "0.1",
                           "--actuator-rate-limits")
-    rates = [float(x) for x in flags[19].split(",")]
-    assert flags[20] == "--actuator-position-limits" and len(flags) == 22
-    assert rates == list(RATE_LIMIT_RAD_S) and [float(x) for x in flags[21].split(",")] == list(POSITION_LIMIT_RAD)
+    rates = [float(x) for x in flags[21].split(",")]
+    assert flags[22] == "--actuator-position-limits" and len(flags) == 24
+    assert rates == list(RATE_LIMIT_RAD_S) and [float(x) for x in flags[23].split(",")] == list(POSITION_LIMIT_RAD)
     assert daemon_flags({"adapt_turbulence": False}) == ()
     assert daemon_flags({"start_up_s": 0.25}) == ("--start-up-s", "0.25")
     assert daemon_flags({"air_data_time_constant_s": 0.5}) == ("--air-data-time-constant", "0.5")

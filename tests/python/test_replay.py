@@ -155,6 +155,23 @@ def test_a_flight_with_on_line_options_replays_with_the_daemons_flags(bank, tmp_
     assert "replay DIFFERS from the log" in capsys.readouterr().out
 
 
+def test_a_flight_with_steady_trim_tracking_replays_with_its_flag(bank, tmp_path, capsys):
+    """Steady trim tracking (--trim-tracking-steady, the daemon's flag too) is part of the
+    executive's options: a flight served with it replays exactly with the daemon's flags, and
+    differs from the same flight replayed with plain trim tracking."""
+    options = dict(trim_time_constant_s=2.0, trim_steady_g=0.1)
+    log = tmp_path / "steady.lcmlog"
+    remote = _record_flight(bank, log, failure="LS", **options)
+    plain = fly(_recorded_scenario("light", "LS"), bank, estimator_options=dict(trim_time_constant_s=2.0))
+    assert np.nanmax(np.abs(plain.probabilities - remote.probabilities)) > 0.0   # the gate matters here
+    flags = ["--trim-tracking", "2", "--trim-tracking-steady", "0.1"]
+    assert main(["replay", str(log), "--channel-prefix", "REC_", *flags]) == 0
+    out = capsys.readouterr().out
+    assert "replay matches the log" in out and "estimator options: --trim-tracking 2.0 --trim-tracking-steady 0.1" in out
+    assert main(["replay", str(log), "--channel-prefix", "REC_", *flags[:2]]) == 1   # plain tracking differs
+    assert "replay DIFFERS from the log" in capsys.readouterr().out
+
+
 def test_wire_faults_replay_with_the_prescribed_stale_flags(bank, tmp_path):
     lc = lcm.LCM("memq://")
     chans = channels("WIRE_")

@@ -371,8 +371,9 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     """mmae-daemon runs a scheduled bank (a small real grid) over LCM, scheduling on the
     sensor frames' air data, and the lockstep flight between its nodes equals the in-process
     run exactly; so does a flight with the on-line options (turbulence adaptation, trim
-    tracking, nearest-node schedule, the maneuver model) given to both; the air data's low-pass
-    (--air-data-time-constant, which the interpolated trims follow) reaches the daemon."""
+    tracking, nearest-node schedule, the maneuver model) given to both, and with steady trim
+    tracking; the air data's low-pass (--air-data-time-constant, which the interpolated trims
+    follow) reaches the daemon."""
     sched = tmp_path / "small.f16sched"
     assert main(["design", "--schedule", "mach=0.4/0.5,alt=20000", "--workers", "2", "--out", str(sched)]) == 0
     capsys.readouterr()
@@ -400,6 +401,19 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     assert ("turbulence adaptation (reference per node), trim tracking 2 s (freeze above 0.5), "
             "schedule nearest on air data low-passed 2 s, maneuver kinematics, "  # the core's default low-pass
             "tempering 0.1 g, actuator limits)" in out), out
+    assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
+    capsys.readouterr()
+    # steady trim tracking (--trim-tracking-steady) and the adaptation's climb reference: their
+    # gates read the air data's rates (and z_hat)
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
+               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@1", "--trim-tracking", "2",
+               "--trim-tracking-steady", "0.1", "--air-data-time-constant", "0.5", "--adapt-turbulence",
+               "--adapt-reference", "0.65", "--adapt-reference-climb", "0.6", "--adapt-reference-climb-hold", "30",
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}Y_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    assert ("turbulence adaptation (reference 0.65), climbing 0.6 held 30 s, "
+            "trim tracking 2 s (freeze above 0.05, steady 0.1 g)") in out, out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
 
 

@@ -71,6 +71,15 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --adapt-turbulence: the residual power ratio rho_0 above which the "
                          "likelihoods are tempered (default: a scheduled bank's per-node references where "
                          "it carries them, else 0.6; higher tempers less)"),
+    EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
+                    maximum=100.0, requires="adapt_turbulence",
+                    help="with --adapt-turbulence: the reference while the measured air data climb or descend "
+                         "faster than 300 ft/min or change Mach faster than 0.001/s (and the hold after; "
+                         "cpp/f16mmae/climb_reference.h); elsewhere the reference above. Default off"),
+    EstimatorOption("adapt_reference_climb_hold_s", "--adapt-reference-climb-hold", "number", metavar="S",
+                    minimum=0.0, maximum=3600.0, requires="adapt_reference_climb",
+                    help="with --adapt-reference-climb: keep the climb reference S seconds after the climb, "
+                         "descent or speed change ends (the level-off; default 0)"),
     EstimatorOption("turbulence_banks", "--turbulence-banks", "switch",
                     help="fly the turbulence bank set: banks designed for rising turbulence intensities (the "
                          "shipped set: calm air and light turbulence), the running one chosen on line by its "
@@ -88,7 +97,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --trim-tracking: a failure hypothesis above P freezes the trim "
                          "estimate (0 < P <= 1; default 0.05; 1 freezes only at a declaration)"),
     EstimatorOption("trim_steady_g", "--trim-tracking-steady", "number", metavar="G", minimum=0.0,
-                    exclusive=True, maximum=10.0, requires="trim_time_constant_s", in_daemon=False,
+                    exclusive=True, maximum=10.0, requires="trim_time_constant_s",
                     help="with --trim-tracking: track only in steady level flight, frozen (and the hold after) "
                          "while the estimated load factor is more than G g off the trim, the estimated roll rate "
                          "above 5 deg/s, or the air data climb (300 ft/min) or change Mach (0.001/s); and of the "

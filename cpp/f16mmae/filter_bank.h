@@ -15,9 +15,25 @@
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
-//                 those channels out; u_k, the levels b̂_k the bank keeps per filter, and
+//                 those channels out; u_k, the levels b̂_k and their variances the bank
+//                 keeps per filter, and
 //                 the derivation in steady_state_filter.h). A filter's levels are unset at
 //                 the start, after reset() and when load_filter() replaces it.
+//                 Common footing (leading term stripped): u_k puts a failed channel j's
+//                 density on the scale of the hypothesis' own stripped Gaussian factor,
+//                 sqrt(2π A^k_jj), while the no-failure filter (index 0) strips sqrt(2π A^0_jj)
+//                 from the same reading, A^0_jj > A^k_jj = R_jj (its prediction of the reading
+//                 is uncertain, the failed hypothesis' is not made). So the stripped l_k
+//                 favours filter 0 on that channel by (1/2) ln(A^0_jj / R_jj) every frame,
+//                 whatever the reading (0.31 nats for VEL at the F-16's design point). The
+//                 bank adds v_k = sum_{j failed, uninformative} (1/2) ln(A^0_jj / A^k_jj) to l_k:
+//                 both densities of the failed reading are then scaled by the same
+//                 sqrt(2π A^0_jj), so on that channel l_k - l_0 is their log-likelihood ratio
+//                 (other channels: the paper's stripped form). v_k follows filter 0's A (a
+//                 scheduled node change, a hierarchical switch: filter 0 is NONE at both
+//                 levels); the floor's c_k (below) is a difference of a restart against a
+//                 tracked level of the same hypothesis, in which v_k cancels. Leading term
+//                 kept: v_k = 0 (every density is whole).
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
 //                 floor ("lock-out" prevention) by water-filling: hypotheses with
@@ -194,8 +210,10 @@ class FilterBank {
     log_floor_.setZero(k);
     level_set_.assign_size(k);
     uninformative_.assign_size(k);
+    footing_.setZero(k);
     for (int i = 0; i < k; ++i) note_uninformative(i);
     level_.setZero(nz, k);
+    level_var_.setZero(nz, k);
     h_out_ = hypotheses_[0].model().h;
     load_h_out();
     held_.setZero(nz);
@@ -263,7 +281,8 @@ class FilterBank {
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
       if (uninformative_[i]) {  // u_k; otherwise l_k is left bit for bit as it was
-        l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_set_[i]);
+        l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_var_.col(i),
+                                                         level_set_[i]) + footing_(i);
         level_set_[i] = 1;
       }
       log_l_(i) = l;
@@ -448,7 +467,8 @@ class FilterBank {
   // (same sizes); h_out(H) writes the new H_out into H. noexcept if they are.
   template <class Write, class HOut>
   void replace_filters(Write&& write, HOut&& h_out) noexcept {
-    for (int k = 0; k < size(); ++k) write(k, hypotheses_[k]), note_uninformative(k), note_held(k);
+    for (int k = 0; k < size(); ++k) write(k, hypotheses_[k]), note_held(k);
+    for (int k = 0; k < size(); ++k) note_uninformative(k);
     if constexpr (kPacked) {
       if (use_packed_) packed_.load_all(hypotheses_);
     }
@@ -480,6 +500,7 @@ class FilterBank {
         level_set_[k] = from.level_set_[k];
       }
       level_ = from.level_;
+      level_var_ = from.level_var_;
       q_ = from.q_;
       log_l_ = from.log_l_;
     }
@@ -530,7 +551,26 @@ class FilterBank {
   }
   // uninformative_[k]: hypotheses_[k].has_uninformative(), kept beside the per-frame
   // members so a frame does not read it from each filter's HypothesisFilter.
-  void note_uninformative(int k) noexcept { uninformative_[k] = hypotheses_[k].has_uninformative(); }
+  void note_uninformative(int k) noexcept {
+    uninformative_[k] = hypotheses_[k].has_uninformative();
+    if (k == 0) {   // filter 0's A is every other filter's footing
+      for (int i = 0; i < size(); ++i) note_footing(i);
+    } else {
+      note_footing(k);
+    }
+  }
+  // v_k of the header comment: sum over filter k's uninformative channels j of
+  // (1/2) ln(A^0_jj / A^k_jj) with the leading term stripped, 0 otherwise.
+  void note_footing(int k) noexcept {
+    double v = 0.0;
+    if (options_.strip_leading_term && uninformative_[k]) {
+      const auto& m = hypotheses_[k].model();
+      const auto& a0 = hypotheses_[0].model().a;
+      for (int j = 0; j < nz(); ++j)
+        if (m.uninformative_width(j) > 0.0) v += 0.5 * std::log(a0(j, j) / m.a(j, j));
+    }
+    footing_(k) = v;
+  }
   // The held channels of filter k (header comment): H_k row j zero, W_j zero, H_out row j not.
   void note_held(int k) noexcept {
     const auto& m = hypotheses_[k].model();
@@ -650,9 +690,11 @@ class FilterBank {
   // above keep their layout
   HypothesisFlags<K> level_set_;                  // b̂_k set
   Eigen::Matrix<double, NZ, K> level_;            // column k = b̂_k
+  Eigen::Matrix<double, NZ, K> level_var_;        // column k = the levels' variances P_k
   ResidualScale<K, NZ> scale_{};                  // the turbulence adaptation
   double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
   HypothesisFlags<K> uninformative_;              // note_uninformative
+  PVector footing_;                               // v_k (note_footing)
   PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)
   std::int64_t start_up_frames_ = 0;              // round(start_up_s f): updates that weigh nothing
   ZVector held_;                                  // h, the held readings' offset (shift_held)

@@ -24,10 +24,16 @@
 // fails again: goes hardover, sticks, is reset):
 //   first frame (level unknown):   ln f_j = -ln W_j
 //   later frames (q_j > 0):        ln f_j = ln[ (1 - ε) N(e_j; 0, s_j) + ε / W_j ],  e_j = r_j - b̂_j,
-//       b̂_j <- b̂_j + g_j e_j, the steady-state scalar Kalman filter of the level:
-//       P = (q_j + sqrt(q_j² + 4 q_j A_jj)) / 2, s_j = P + A_jj, g_j = P / s_j; but b̂_j <- r_j
-//       on the first frame and whenever the jump term is the larger (the level restarts at
-//       the reading: the most probable branch is kept, a one-branch approximation);
+//       the scalar Kalman filter of the level, from its first reading (P_j = A_jj, the
+//       reading's noise: the uniform prior over W_j >> sqrt(A_jj) adds nothing):
+//       P⁻ = P_j + q_j, s_j = P⁻ + A_jj, g_j = P⁻ / s_j, b̂_j <- b̂_j + g_j e_j,
+//       P_j <- P⁻ A_jj / s_j (the bank keeps P_j with b̂_j per filter); but b̂_j <- r_j,
+//       P_j <- A_jj on the first frame and whenever the jump term is the larger (the level
+//       restarts at the reading: the most probable branch is kept, a one-branch
+//       approximation). With q_j << A_jj (a level constant over the flight: P_j = A_jj / n
+//       after n readings, the exact predictive density of an unknown constant, s_j =
+//       A_jj (1 + 1/n)) and with q_j ~ A_jj (P_j reaches the steady state
+//       (q_j + sqrt(q_j² + 4 q_j A_jj)) / 2 within a few frames) alike;
 //   q_j = 0: every frame as the first (a reading uniform over the range, no memory).
 // The hypothesis' log-density is then
 //     ln f_k = -q/2 - (m/2) ln 2π - (1/2) ln|A| + u_k,
@@ -185,9 +191,8 @@ class HypothesisFilter {
     log_det_a_ = 2.0 * llt.matrixLLT().diagonal().array().log().sum();
     const Eigen::Index nz = m_.nz();
     unf_c_.setZero(nz);
-    unf_gain_.setZero(nz);
-    unf_half_inv_s_.setZero(nz);
-    unf_log_ratio_.setZero(nz);
+    unf_q_.setZero(nz);
+    unf_a_.setZero(nz);
     for (Eigen::Index j = 0; j < m_.uninformative_width.size(); ++j) {
       const double w = m_.uninformative_width(j);
       if (!(w > 0.0)) continue;
@@ -198,12 +203,9 @@ class HypothesisFilter {
       unf_c_(j) = 0.5 * std::log(2.0 * kPi * a_jj) - std::log(w);
       first_frame_ += unf_c_(j);
       const double q = j < m_.uninformative_level_q.size() ? m_.uninformative_level_q(j) : 0.0;
-      if (q > 0.0) {  // the level's steady-state scalar Kalman filter
-        const double p = 0.5 * (q + std::sqrt(q * q + 4.0 * q * a_jj));
-        const double s = p + a_jj;
-        unf_gain_(j) = p / s;
-        unf_half_inv_s_(j) = 0.5 / s;
-        unf_log_ratio_(j) = 0.5 * std::log(a_jj / s);
+      if (q > 0.0) {  // the level's scalar Kalman filter (its variance kept by the caller)
+        unf_q_(j) = q;
+        unf_a_(j) = a_jj;
         tracked_ = true;
       } else {
         memoryless_ += unf_c_(j);
@@ -211,30 +213,37 @@ class HypothesisFilter {
     }
   }
 
-  // u_k of the header comment for residual r, given the levels b̂ (NZ) of this filter and
-  // whether they are set; sets them (first frame) or updates them. noexcept, no allocation.
-  template <class R, class L>
+  // u_k of the header comment for residual r, given the levels b̂ (NZ) of this filter, their
+  // variances P (NZ) and whether they are set; sets them (first frame) or updates them.
+  // noexcept, no allocation.
+  template <class R, class L, class V>
   double uninformative_log_density(const Eigen::MatrixBase<R>& r, const Eigen::MatrixBase<L>& level_out,
-                                   bool level_set) const noexcept {
+                                   const Eigen::MatrixBase<V>& variance_out, bool level_set) const noexcept {
     if (!tracked_) return memoryless_;
     auto& level = const_cast<Eigen::MatrixBase<L>&>(level_out);  // Eigen's writable-expression idiom
+    auto& var = const_cast<Eigen::MatrixBase<V>&>(variance_out);
     if (!level_set) {
-      for (Eigen::Index j = 0; j < unf_gain_.size(); ++j)
-        if (unf_gain_(j) > 0.0) level(j) = r(j);
+      for (Eigen::Index j = 0; j < unf_q_.size(); ++j)
+        if (unf_q_(j) > 0.0) level(j) = r(j), var(j) = unf_a_(j);
       return first_frame_;
     }
     double u = memoryless_;
-    for (Eigen::Index j = 0; j < unf_gain_.size(); ++j) {
-      if (unf_gain_(j) == 0.0) continue;
+    for (Eigen::Index j = 0; j < unf_q_.size(); ++j) {
+      if (unf_q_(j) == 0.0) continue;
+      const double a_jj = unf_a_(j);
+      const double p = var(j) + unf_q_(j);
+      const double s = p + a_jj;
       const double e = r(j) - level(j);
-      const double stay = kLogStay + unf_log_ratio_(j) - e * e * unf_half_inv_s_(j);
+      const double stay = kLogStay + 0.5 * std::log(a_jj / s) - 0.5 * e * e / s;
       const double jump = kLogJump + unf_c_(j);
       if (stay >= jump) {
         u += stay + std::log1p(std::exp(jump - stay));
-        level(j) += unf_gain_(j) * e;
+        level(j) += p / s * e;
+        var(j) = p * a_jj / s;
       } else {
         u += jump + std::log1p(std::exp(stay - jump));
         level(j) = r(j);
+        var(j) = a_jj;
       }
     }
     return u;
@@ -271,8 +280,8 @@ class HypothesisFilter {
   }
 
   // The blend of n filters of one hypothesis at neighbouring grid nodes (bank_schedule.h):
-  // Phi, Bd, H, K, A, A⁻¹, ln|A| and the uninformative channels' constants (c_j, level-filter
-  // terms, their sums) each set to sum_i w_i (that of f[i]). A weight of
+  // Phi, Bd, H, K, A, A⁻¹, ln|A| and the uninformative channels' constants (c_j, A_jj, their
+  // sums; q_j is the same at every node) each set to sum_i w_i (that of f[i]). A weight of
   // exactly 1 copies that filter bit for bit; zero weights are skipped. The weights are the
   // caller's (bilinear: >= 0, summing to 1); the result is not re-validated. noexcept; for
   // fixed sizes no allocation.
@@ -303,9 +312,8 @@ class HypothesisFilter {
     first_frame_ = wa * a.first_frame_;
     memoryless_ = wa * a.memoryless_;
     unf_c_ = wa * a.unf_c_;
-    unf_gain_ = wa * a.unf_gain_;
-    unf_half_inv_s_ = wa * a.unf_half_inv_s_;
-    unf_log_ratio_ = wa * a.unf_log_ratio_;
+    unf_q_ = a.unf_q_;
+    unf_a_ = wa * a.unf_a_;
     for (int i = first + 1; i < n; ++i) {
       if (w[i] == 0.0) continue;
       const HypothesisFilter& b = *f[i];
@@ -319,9 +327,7 @@ class HypothesisFilter {
       first_frame_ += w[i] * b.first_frame_;
       memoryless_ += w[i] * b.memoryless_;
       unf_c_ += w[i] * b.unf_c_;
-      unf_gain_ += w[i] * b.unf_gain_;
-      unf_half_inv_s_ += w[i] * b.unf_half_inv_s_;
-      unf_log_ratio_ += w[i] * b.unf_log_ratio_;
+      unf_a_ += w[i] * b.unf_a_;
     }
   }
 
@@ -356,7 +362,7 @@ class HypothesisFilter {
   double memoryless_ = 0.0;    // sum c_j over the channels with q_j = 0
   bool tracked_ = false;       // some channel has q_j > 0
   bool uninformative_ = false;  // some channel has W_j > 0
-  ZVector unf_c_, unf_gain_, unf_half_inv_s_, unf_log_ratio_;  // per channel; gain 0: not tracked
+  ZVector unf_c_, unf_q_, unf_a_;  // per channel: c_j, q_j (0: not tracked), A_jj
 };
 
 // One stand-alone filter: a HypothesisFilter and its state.

@@ -51,7 +51,7 @@ def test_every_form_reads_to_one_canonical_text():
     ("cover,complete", "names more than one default model (cover, complete)"),
     ({"default": "complete", "cover": "VEL"}, "must be a list of components"),
     ({"default": "partial"}, "'partial' is not a failure model"),
-    (3, "must be a model name (complete, cover)"),
+    (3, "must be a model name (complete, cover, constant)"),
 ])
 def test_a_bad_failure_model_is_refused_naming_what_is_valid(bad, message):
     with pytest.raises(ValueError) as exc:

@@ -36,21 +36,31 @@ def small_models(width, level_q=None):
     return out
 
 
-def level_predictive_variance(q, a_jj):
-    """s of a random-walk level observed in noise a_jj: the scalar Riccati recursion iterated
-    to its fixed point (independent of the core's closed form)."""
+def level_predictive_variance(q, a_jj, n=1):
+    """s of a random-walk level observed in noise a_jj for the reading n frames after the one
+    that set it (variance a_jj then): the scalar Kalman recursion written out as the
+    posterior variance of a Gaussian prior times n Gaussian readings, step by step."""
     p = a_jj
-    for _ in range(10_000):
-        p = p * a_jj / (p + a_jj) + q
-    return p + a_jj
+    for _ in range(n - 1):
+        prior = p + q
+        p = 1.0 / (1.0 / prior + 1.0 / a_jj)
+    return p + q + a_jj
 
 
-def expected_log_likelihood(m, r, frames, strip=False):
+def footing(m, a0):
+    """v_k of filter_bank.h (leading term stripped): (1/2) ln(A^0_jj / A_jj) summed over the
+    model's uninformative channels, A^0 the no-failure filter's."""
+    a = np.asarray(m.a)
+    return sum(0.5 * np.log(a0[j, j] / a[j, j]) for j in range(len(a)) if m.uninformative_width[j] > 0)
+
+
+def expected_log_likelihood(m, r, frames, strip=False, a0=None):
     """SciPy's log-likelihood of filter model ``m`` for residual ``r`` on the last of ``frames``
     (readings as perturbations; the level of an uninformative channel is set by the first frame
     and nothing jumps before the last): a normal over the informative channels times, per
     uninformative channel, a uniform over W on the first frame, then the level's predictive
-    normal mixed with a jump (1e-3) anywhere in W.  ``strip``: plus (2 pi)^{m/2} |A|^{1/2}."""
+    normal mixed with a jump (1e-3) anywhere in W.  ``strip``: plus (2 pi)^{m/2} |A|^{1/2}, and
+    the failed channels put on the footing of ``a0``, the no-failure filter's A."""
     a, z, n = np.asarray(m.a), frames[-1], len(frames) - 1
     nz = len(z)
     keep = [j for j in range(nz) if not m.uninformative_width[j] > 0]
@@ -66,7 +76,7 @@ def expected_log_likelihood(m, r, frames, strip=False):
                 full += np.log((1 - eps) * stats.norm(0.0, np.sqrt(s_j)).pdf(z[j] - frames[0][j])
                                + eps * stats.uniform(loc=z[j] - 1.0, scale=m.uninformative_width[j]).pdf(z[j]))
     # the stripped form drops (2 pi)^{-m/2} |A|^{-1/2} of the filter's whole A
-    return full + (0.5 * nz * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] if strip else 0.0)
+    return full + (0.5 * nz * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1] + footing(m, a0) if strip else 0.0)
 
 
 @pytest.mark.parametrize("level_q", [0.0, 0.05])
@@ -81,7 +91,7 @@ def test_likelihood_is_normal_times_uniform_then_the_level(strip, level_q):
         fb.update(z)
         got, res = fb.log_likelihoods, np.asarray(fb.residuals)
         for k, m in enumerate(models):
-            expect = expected_log_likelihood(m, res[k], frames[:n + 1], strip)
+            expect = expected_log_likelihood(m, res[k], frames[:n + 1], strip, np.asarray(models[0].a))
             assert got[k] == pytest.approx(expect, rel=1e-9, abs=1e-9), (n, k)
         fb.propagate(u)
 
@@ -95,7 +105,7 @@ def test_a_level_that_jumps_restarts_at_the_reading():
         fb.step(z, np.zeros(2))
         out.append(fb.log_likelihoods[1])
     a11 = float(np.asarray(models[1].a)[1, 1])
-    s_j = level_predictive_variance(0.05, a11)
+    s_j = level_predictive_variance(0.05, a11)   # a reading one frame after the level's (re)start
     g = (s_j - a11) / s_j
     # frame 2: a jump of 3.3 against s_j: the uniform branch (eps / W) is far the likelier ...
     stay = np.log(1 - 1e-3) + stats.norm(0, np.sqrt(s_j)).logpdf(3.3)
@@ -104,12 +114,13 @@ def test_a_level_that_jumps_restarts_at_the_reading():
     # ... so frame 3 sees the level at 3.5 (restarted), not at 0.2 + g * 3.3
     r3 = np.asarray(fb.residuals)[1]
     at_restart = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_j)).pdf(r3[1] - 3.5) + 1e-3 / 7.5)
-    tracked = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_j)).pdf(r3[1] - (0.2 + g * 3.3)) + 1e-3 / 7.5)
+    s_t = level_predictive_variance(0.05, a11, 2)
+    tracked = np.log((1 - 1e-3) * stats.norm(0, np.sqrt(s_t)).pdf(r3[1] - (0.2 + g * 3.3)) + 1e-3 / 7.5)
     a = np.asarray(models[1].a)
     keep = [0, 2]
     gauss = stats.multivariate_normal(np.zeros(2), a[np.ix_(keep, keep)]).logpdf(r3[keep]) + \
         1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1]
-    assert out[2] == pytest.approx(gauss + at_restart, abs=1e-9)
+    assert out[2] == pytest.approx(gauss + at_restart + footing(models[1], np.asarray(models[0].a)), abs=1e-9)
     assert abs(at_restart - tracked) > 1.0
 
 
@@ -244,7 +255,7 @@ def test_tuning_refuses_a_bad_failure_model():
         tuning_from_dict({**base, "failure_model": "cover", "failed_surface_q": -1})
     with pytest.raises(TuningError, match=r"failed_sensor_level_q = -1 must be a finite number >= 0"):
         tuning_from_dict({**base, "failure_model": "cover", "failed_sensor_level_q": -1})
-    assert hypotheses.FAILURE_MODELS == ("complete", "cover")
+    assert hypotheses.FAILURE_MODELS == ("complete", "cover", "constant")
 
 
 def test_failed_surface_q_per_surface():

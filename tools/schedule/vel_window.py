@@ -6,7 +6,9 @@ per frame (hypotheses.py's `cover` density and level filter, steady_state_filter
     python tools/schedule/vel_window.py SCHEDULE OUT W_FT_S LEVEL_Q
 
 Writes OUT: SCHEDULE with every node's VEL-failed hypotheses (VEL and VEL+c) so changed and the
-start-up 0.25 s recommended; nothing else changed. Prints OUT and its content hash."""
+start-up 0.25 s recommended; nothing else changed. Prints OUT and its content hash.
+With W = 9.9 and LEVEL_Q = 2.5e-7 (1e-6 of VEL's noise variance) these are the hypotheses of
+design/hypotheses.py's `constant` model, the filter matrices being the `complete` model's."""
 import sys, json, numpy as np
 from f16mmae import core
 src, out, W, q = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])

@@ -112,7 +112,8 @@ def register(subparsers) -> None:
     p.add_argument("--failure-model", default=None, metavar="|".join(FAILURE_MODELS) + "|MODEL=C+C",
                    help="hypotheses of the paper's complete failures, or hypotheses that cover the "
                         "failure, for every component or per component: cover=VEL+AOA (those two cover, "
-                        "the others complete), cover,complete=PIT (default first) (default: the tuning's "
+                        "the others complete), cover,complete=PIT (default first), constant=VEL (a failed VEL "
+                        "at an unknown constant within its trim's uncertainty) (default: the tuning's "
                         "failure_model, complete for the shipped ones)")
     p.add_argument("--failed-sensor-level-q", default=None, metavar="Q",
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
@@ -244,8 +245,9 @@ def _run_schedule(args) -> int:
                        "and turbulence to --schedule instead")
     if args.failure_model is not None or args.failed_sensor_level_q is not None:
         raise CliError("--failure-model and --failed-sensor-level-q design one point; give a tuning file with "
-                       "failure_model (complete|cover) and failed_sensor_level_q to --schedule instead "
-                       "(per component: failure_model = {default = \"complete\", cover = [\"VEL\", \"AOA\"]})")
+                       "failure_model (complete|cover|constant) and failed_sensor_level_q to --schedule instead "
+                       "(per component: failure_model = {default = \"complete\", cover = [\"AOA\"], "
+                       "constant = [\"VEL\"]})")
     try:
         grid = parse_grid(args.schedule)
         tuning = load_tuning(args.tuning)

@@ -39,6 +39,24 @@ no-failure model, in one of two failure models (``FAILURE_MODELS``, the tuning's
   range every frame, and a reading near trim then costs that every frame, so a sensor failed
   at or near its trim value is never isolated (docs/results/failure_models.md measures both).
 
+``constant`` (a failed sensor reading an unknown constant near its trim; sensors only):
+
+- Sensor failure i: the row i of ``H`` is removed as above, and the reading is an unknown
+  constant level b_i plus the sensor's noise, the level uniform over ``W_i = 6 sigma_trim,i``
+  (the trim value's uncertainty ``TRIM_SIGMA``, +-3 sigma) -- the paper's ``complete`` failure
+  (the sensor reads its trim) without assuming that the estimator knows the trim exactly. A
+  scheduled bank's trim follows the measured air data, which turbulence moves, so it is off
+  the aircraft's own trim by a few sensor sigmas (docs/results/envelope_tuning.md, round 7:
+  1.65 ft/s RMS for VEL against its 0.5-ft/s noise), and the ``complete`` hypothesis pays
+  that offset squared over A_ii every frame. The core's ``cover`` density (first frame
+  ``1/W_i``, then the predictive density of the level's Kalman filter, with a jump term)
+  carries it, with the level's random walk ``q_i = CONSTANT_LEVEL_Q_RATIO * NOISE_SIGMA_i^2``
+  per frame: a constant over any flight (the level's variance is A_ii / n after n readings,
+  the exact predictive density of an unknown constant, for n << 1/sqrt(ratio) frames, i.e.
+  hours). Its first frame costs ``ln(W_i / sqrt(2 pi A_ii))`` (2.1 nats for VEL) once, and a
+  healthy reading that moves with the aircraft costs it every frame it leaves the level.
+  Only sensors with a ``TRIM_SIGMA`` take it (ValueError naming them otherwise).
+
 A dual hypothesis ``"A+B"`` applies both changes. ``R`` is the same in every hypothesis; so
 are ``Phi`` and ``Q_d`` except for a ``cover`` actuator hypothesis.
 
@@ -61,7 +79,20 @@ from .. import names
 from ..truth import sensors
 
 #: The failure models a bank is designed with (module docstring); the first is the paper's.
-FAILURE_MODELS: tuple[str, ...] = ("complete", "cover")
+FAILURE_MODELS: tuple[str, ...] = ("complete", "cover", "constant")
+
+#: sigma of a sensor's trim value as a scheduled bank knows it, for the ``constant`` model
+#: (sensor units): VEL, the RMS offset of the scheduled trim from the aircraft's own trim
+#: once the air data's running mean has settled, at light turbulence (ft/s;
+#: docs/results/envelope_tuning.md, round 7, section 1).
+TRIM_SIGMA: dict[str, float] = {"VEL": 1.65}
+
+#: Half-width of the ``constant`` model's uniform level in units of TRIM_SIGMA (+-3 sigma).
+CONSTANT_HALF_WIDTH_SIGMAS = 3.0
+
+#: The ``constant`` model's level random walk per frame in units of the sensor's noise
+#: variance: the level drifts one noise sigma in 1e6 frames (4.3 h at 64 Hz), a constant.
+CONSTANT_LEVEL_Q_RATIO = 1e-6
 
 
 @dataclass(frozen=True)
@@ -109,6 +140,9 @@ def _parse(failure_model) -> tuple[str, dict[str, str]]:
     else:
         raise ValueError(f"failure_model {failure_model!r} must be a model name ({', '.join(FAILURE_MODELS)}), "
                          "a text like cover=VEL+AOA or a table {default = ..., cover = [...]}")
+    if default == "constant":
+        raise ValueError(f"failure_model constant cannot be the default (it applies to "
+                         f"{', '.join(TRIM_SIGMA)} only); name them, e.g. constant=VEL")
     per = dict.fromkeys(names.COMPONENTS, default)
     given: set[str] = set()
     for model, comps in items:
@@ -118,6 +152,9 @@ def _parse(failure_model) -> tuple[str, dict[str, str]]:
                                  f"{', '.join(names.COMPONENTS)}")
             if comp in given:
                 raise ValueError(f"failure_model: component {comp} is given a model twice")
+            if model == "constant" and comp not in TRIM_SIGMA:
+                raise ValueError(f"failure_model constant: component {comp} has no trim uncertainty; "
+                                 f"constant applies to {', '.join(TRIM_SIGMA)}")
             given.add(comp)
             per[comp] = model
     return default, per
@@ -162,29 +199,43 @@ def uses_cover(failure_model) -> bool:
     return "cover" in component_models(failure_model).values()
 
 
+def uninformative_models(failure_model) -> bool:
+    """Whether any failed sensor's channel is uninformative (``cover`` or ``constant``)."""
+    return bool({"cover", "constant"} & set(component_models(failure_model).values()))
+
+
 def sensor_full_range() -> np.ndarray:
     """(nz,) width of each sensor's full-scale range, ``truth.sensors.FULL_SCALE``."""
     return np.array([hi - lo for lo, hi in sensors.FULL_SCALE], dtype=float)
 
 
 def uninformative_level_q(name: str, failure_model, ratio: float) -> np.ndarray:
-    """(nz,) the level random walk per frame of hypothesis ``name``'s uninformative channels:
-    ``ratio`` times the sensor's noise variance (``truth.sensors.NOISE_SIGMA``) on its failed
-    sensors whose model is ``cover``, zeros otherwise."""
+    """(nz,) the level random walk per frame of hypothesis ``name``'s uninformative channels,
+    in units of the sensor's noise variance (``truth.sensors.NOISE_SIGMA``): ``ratio`` on its
+    failed sensors whose model is ``cover``, ``CONSTANT_LEVEL_Q_RATIO`` on ``constant`` ones,
+    zeros otherwise."""
     noise_var = np.asarray(sensors.NOISE_SIGMA, dtype=float) ** 2
-    return np.where(uninformative_width(name, failure_model) > 0.0, float(ratio) * noise_var, 0.0)
+    per = component_models(failure_model)
+    out = np.zeros(names.NZ)
+    for comp in names.failed_components(name):
+        if comp in names.SENSORS and per[comp] in ("cover", "constant"):
+            j = names.SENSORS.index(comp)
+            out[j] = (float(ratio) if per[comp] == "cover" else CONSTANT_LEVEL_Q_RATIO) * noise_var[j]
+    return out
 
 
 def uninformative_width(name: str, failure_model) -> np.ndarray:
     """(nz,) the widths of hypothesis ``name``'s uninformative channels: the full ranges of its
-    failed sensors whose model is ``cover``, zeros for ``complete`` ones (and for sensors it
-    keeps)."""
+    failed sensors whose model is ``cover``, ``2 CONSTANT_HALF_WIDTH_SIGMAS TRIM_SIGMA`` of
+    ``constant`` ones, zeros for ``complete`` ones (and for sensors it keeps)."""
     out = np.zeros(names.NZ)
     per = component_models(failure_model)
     full = sensor_full_range()
     for comp in names.failed_components(name):
         if comp in names.SENSORS and per[comp] == "cover":
             out[names.SENSORS.index(comp)] = full[names.SENSORS.index(comp)]
+        elif comp in names.SENSORS and per[comp] == "constant":
+            out[names.SENSORS.index(comp)] = 2.0 * CONSTANT_HALF_WIDTH_SIGMAS * TRIM_SIGMA[comp]
     return out
 
 

@@ -17,7 +17,8 @@ Top-level keys: ``name``, ``description``, ``turbulence`` (gust level the zero-o
 model is designed for: none | light | moderate | severe), ``gust_model`` (``gust_rate``,
 ``white_gust`` or ``dryden_states`` -- gust states in the filters, see ``model.py``), ``failure_model`` (``complete``, the paper's, default;
 or ``cover``: a failed surface at an unknown position, a failed sensor uninformative -- see
-``hypotheses.py``; or per component, a table ``{default = "complete", cover = ["VEL", "AOA"]}``
+``hypotheses.py``; ``constant`` for VEL only: a failed sensor at an unknown constant within its
+trim's uncertainty; or per component, a table ``{default = "complete", cover = ["VEL", "AOA"]}``
 or its text ``"cover=VEL+AOA"``; ``Tuning.failure_model`` holds the canonical text,
 ``hypotheses.check_failure_model``), ``failed_surface_q`` (rad^2/s, the strength of the random walk of a
 failed surface under ``cover``; a number for every surface or a table per surface,

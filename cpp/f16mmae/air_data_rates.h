@@ -18,6 +18,8 @@ namespace f16mmae {
 class AirDataRates {
  public:
   static constexpr double kFastS = 1.0, kSlowS = 5.0;   // T1, T2
+  // The phase gates' default thresholds: 300 ft/min of climb or descent, 0.001 Mach/s.
+  static constexpr double kClimbFtS = 5.0, kMachPerS = 0.001;
 
   explicit AirDataRates(double frame_rate_hz = 64.0)
       : gain_fast_(1.0 - std::exp(-1.0 / (frame_rate_hz * kFastS))),

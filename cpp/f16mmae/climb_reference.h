@@ -32,8 +32,8 @@ namespace f16mmae {
 struct ClimbReferenceOptions {
   double reference = std::numeric_limits<double>::quiet_NaN();   // rho_0 while climbing; NaN = off
   double hold_s = 0.0;            // kept this long after the last climbing frame
-  double climb_ft_s = 5.0;        // |h_dot| above this: climbing (300 ft/min)
-  double mach_per_s = 0.001;      // |M_dot| above this: changing speed
+  double climb_ft_s = AirDataRates::kClimbFtS;   // |h_dot| above this: climbing (300 ft/min)
+  double mach_per_s = AirDataRates::kMachPerS;   // |M_dot| above this: changing speed
   bool enabled() const noexcept { return !std::isnan(reference); }
   void validate() const {
     if (!enabled()) return;

@@ -84,8 +84,8 @@ struct TrimTrackingOptions {
   double steady_g = 0.0;             // > 0: track only while |dn| <= steady_g, only steady_measurements
   std::vector<std::string> steady_measurements{"AOA"};
   double steady_roll_rate_rad_s = 0.0872664626;   // steady tracking: |p_hat| above this freezes (5 deg/s)
-  double steady_climb_ft_s = 5.0;     // steady tracking: |h_dot| above this freezes (300 ft/min)
-  double steady_mach_per_s = 0.001;   // steady tracking: |M_dot| above this freezes
+  double steady_climb_ft_s = AirDataRates::kClimbFtS;   // steady tracking: |h_dot| above this freezes (300 ft/min)
+  double steady_mach_per_s = AirDataRates::kMachPerS;   // steady tracking: |M_dot| above this freezes
 
   bool enabled() const noexcept { return time_constant_s > 0.0; }
   void validate() const {

@@ -22,7 +22,7 @@
 //   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
 //   trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
 //   trim_steady_mach_per_s                                                    trim_tracker.h
-//   schedule_mode ('interpolate'|'nearest'), hold_readings ('off'|'start'|'settled'),
+//   schedule_mode ('interpolate'|'nearest'),
 //   hysteresis_cells, blend_step_cells,
 //   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
 //   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
@@ -60,7 +60,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              const std::vector<std::string>& trim_steady_measurements,
                                              double trim_steady_roll_rate_rad_s, double trim_steady_climb_ft_s,
                                              double trim_steady_mach_per_s, const std::string& schedule_mode,
-                                             const std::string& hold_readings, double hysteresis_cells,
+                                             double hysteresis_cells,
                                              double blend_step_cells, double air_data_time_constant_s,
                                              bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
                                              double adapt_scale_min, double adapt_scale_max, double adapt_gain,
@@ -90,14 +90,6 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
     o.schedule.mode = ScheduleMode::kNearest;
   else
     throw py::value_error("schedule_mode must be 'interpolate' or 'nearest', got '" + schedule_mode + "'");
-  if (hold_readings == "off")
-    o.schedule.hold_readings = HoldReadings::kOff;
-  else if (hold_readings == "start")
-    o.schedule.hold_readings = HoldReadings::kFromStart;
-  else if (hold_readings == "settled")
-    o.schedule.hold_readings = HoldReadings::kSettled;
-  else
-    throw py::value_error("hold_readings must be 'off', 'start' or 'settled', got '" + hold_readings + "'");
   o.schedule.hysteresis_cells = hysteresis_cells;
   o.schedule.blend_step_cells = blend_step_cells;
   o.schedule.air_data_time_constant_s = air_data_time_constant_s;
@@ -136,10 +128,6 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   return o;
 }
 
-inline const char* hold_readings_name(HoldReadings h) {
-  return h == HoldReadings::kOff ? "off" : h == HoldReadings::kFromStart ? "start" : "settled";
-}
-
 template <class T, class Source = ModelBank, class Class>
 Class& def_estimator_init(Class& cls) {
   const HierarchicalOptions core;  // the defaults
@@ -152,7 +140,7 @@ Class& def_estimator_init(Class& cls) {
                   const std::vector<std::string>& trim_steady_measurements, double trim_steady_roll_rate_rad_s,
                   double trim_steady_climb_ft_s,
                   double trim_steady_mach_per_s, const std::string& schedule_mode,
-                  const std::string& hold_readings, double hysteresis_cells,
+                  double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
                   const std::optional<double>& adapt_reference, double adapt_channel_weight,
@@ -164,7 +152,7 @@ Class& def_estimator_init(Class& cls) {
                                              declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
                                              trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
-                                             trim_steady_mach_per_s, schedule_mode, hold_readings, hysteresis_cells, blend_step_cells,
+                                             trim_steady_mach_per_s, schedule_mode, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
                                              adapt_reference, adapt_channel_weight, adapt_reference_climb, adapt_reference_climb_hold_s,
@@ -185,7 +173,6 @@ Class& def_estimator_init(Class& cls) {
       py::arg("trim_steady_roll_rate_rad_s") = core.trim.steady_roll_rate_rad_s,
       py::arg("trim_steady_climb_ft_s") = core.trim.steady_climb_ft_s,
       py::arg("trim_steady_mach_per_s") = core.trim.steady_mach_per_s, py::arg("schedule_mode") = "interpolate",
-      py::arg("hold_readings") = hold_readings_name(core.schedule.hold_readings),
       py::arg("hysteresis_cells") = core.schedule.hysteresis_cells,
       py::arg("blend_step_cells") = core.schedule.blend_step_cells,
       py::arg("air_data_time_constant_s") = core.schedule.air_data_time_constant_s,

@@ -9,9 +9,9 @@
 //                 with the turbulence adaptation on (options.adaptation, turbulence_adaptation.h)
 //                   q_k/2 becomes q_k/(2 s), s the residual-power scale of the frames before;
 //                   the frame's q_k then update s (u_k below is not scaled); per channel
-//                   (adaptation.channel_weight > 0) q_k/2 becomes (D r'_k)ᵀ A_k⁻¹ (D r'_k) / 2,
-//                   D = diag(s_j^-1/2) of the frames before, r'_k the residual q_k takes
-//                   (held channels below), and the best-fitting filter's residual updates s_j.
+//                   (adaptation.channel_weight > 0) q_k/2 becomes (D r_k)ᵀ A_k⁻¹ (D r_k) / 2,
+//                   D = diag(s_j^-1/2) of the frames before, and the best-fitting filter's
+//                   residual updates s_j.
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
@@ -56,18 +56,6 @@
 //                   every f_k = p_min bit for bit: the paper's floor.)
 //                 blended state  x̂ = sum_k p_k x⁺_k;   z_hat = H_out x̂ (H_out: the unfailed H,
 //                   filter 0's by default, so a failed-sensor hypothesis still yields z_hat).
-//                 Held readings (a scheduled bank's trim moving under a failed sensor): the
-//                   bank keeps one offset h (NZ; zero at the start and after reset()), moved
-//                   by shift_held(dz) (h <- h + dz, dz = z_trim_old - z_trim_new). A filter
-//                   whose hypothesis has failed sensor j in the paper's model (H_k row j = 0,
-//                   channel j not uninformative, while H_out's row j is not zero: a held
-//                   channel) expects the reading z_trim_old + its noise, so its residual on
-//                   channel j is taken from the held value: r'_k = r_k - d_k, d_k = h on the
-//                   held channels J_k and 0 elsewhere, and
-//                     q_k = r'_kᵀ A_k⁻¹ r'_k = r_kᵀ A_k⁻¹ r_k - 2 d_kᵀ A_k⁻¹ r_k + d_kᵀ A_k⁻¹ d_k.
-//                   Only q_k changes: K_k's column j is zero for such a channel (H row j = 0
-//                   and a diagonal R leave channel j of A uncoupled), so x⁺_k is the same, and
-//                   residual() reports r_k. h = 0 (every bank not scheduled): q_k bit for bit.
 //                 Start-up (options.start_up_s, 0 = none): the first round(start_up_s f)
 //                   accepted updates after the start or reset() (f the adaptation's frame
 //                   rate) update the filters, their levels and the adaptation, but not the
@@ -216,10 +204,6 @@ class FilterBank {
     level_var_.setZero(nz, k);
     h_out_ = hypotheses_[0].model().h;
     load_h_out();
-    held_.setZero(nz);
-    held_channel_.setZero(nz, k);
-    holds_.assign_size(k);
-    for (int i = 0; i < k; ++i) note_held(i);
     log_p_min_ = options_.p_min > 0.0 ? std::log(options_.p_min) : -std::numeric_limits<double>::infinity();
     log_norm_ = -0.5 * nz * std::log(2.0 * 3.14159265358979323846);
     presume(0);
@@ -256,7 +240,6 @@ class FilterBank {
     if (!h.allFinite()) throw std::invalid_argument("filter bank: h_output has a non-finite entry");
     h_out_ = h;
     load_h_out();
-    for (int i = 0; i < size(); ++i) note_held(i);
     refresh_blend();
   }
 
@@ -266,7 +249,6 @@ class FilterBank {
     const int k = size();
     if (!z.allFinite()) return reject();
     if (!store([&](auto& s) { return s.update(z, hypotheses_, q_); })) return reject();
-    if (held_any_) apply_held();
     // log-likelihoods (eq. 2) and the Bayes update (eq. 1), log domain
     double a_max = -std::numeric_limits<double>::infinity();
     const bool adapt = scale_.enabled();
@@ -375,8 +357,6 @@ class FilterBank {
     for (int i = 0; i < size(); ++i) level_set_[i] = 0;
     q_.setZero();
     log_l_.setZero();
-    held_.setZero();
-    held_any_ = false;
     rejected_ = 0;
     frames_ = 0;
     scale_.reset();
@@ -441,7 +421,6 @@ class FilterBank {
     hypotheses_[k] = hypothesis;
     if constexpr (kPacked) packed_.load(k, hypotheses_);
     note_uninformative(k);
-    note_held(k);
     store([&](auto& s) { s.clear(k); });
     level_set_[k] = 0;
   }
@@ -452,22 +431,12 @@ class FilterBank {
   void shift_levels(const Eigen::MatrixBase<Z>& dz) noexcept {
     for (int k = 0; k < size(); ++k) level_.col(k) += dz;
   }
-  // The held readings' offset h moves by dz: h <- h + dz (header comment; dz = z_trim_old -
-  // z_trim_new, a change of the trim the residuals are taken from).
-  template <class Z>
-  void shift_held(const Eigen::MatrixBase<Z>& dz) noexcept {
-    held_ += dz;
-    held_any_ = !held_.isZero(0.0);
-  }
-  // h, and whether channel j of filter k is held (header comment).
-  const ZVector& held_readings() const noexcept { return held_; }
-  bool held_channel(int k, int j) const noexcept { return held_channel_(j, k) != 0.0; }
   // Replace what every filter is, keeping the states x⁻, x⁺, r: a change of the scheduled
   // filters (scheduled_filters.h). write(k, h) writes filter k's new HypothesisFilter into h
   // (same sizes); h_out(H) writes the new H_out into H. noexcept if they are.
   template <class Write, class HOut>
   void replace_filters(Write&& write, HOut&& h_out) noexcept {
-    for (int k = 0; k < size(); ++k) write(k, hypotheses_[k]), note_held(k);
+    for (int k = 0; k < size(); ++k) write(k, hypotheses_[k]);
     for (int k = 0; k < size(); ++k) note_uninformative(k);
     if constexpr (kPacked) {
       if (use_packed_) packed_.load_all(hypotheses_);
@@ -506,8 +475,6 @@ class FilterBank {
     }
     p_ = from.p_;
     log_p_ = from.log_p_;
-    held_ = from.held_;
-    held_any_ = from.held_any_;
     rejected_ = from.rejected_;
     frames_ = from.frames_;
     refresh_blend();
@@ -571,46 +538,10 @@ class FilterBank {
     }
     footing_(k) = v;
   }
-  // The held channels of filter k (header comment): H_k row j zero, W_j zero, H_out row j not.
-  void note_held(int k) noexcept {
-    const auto& m = hypotheses_[k].model();
-    bool any = false;
-    for (int j = 0; j < nz(); ++j) {
-      const bool held = m.h.row(j).isZero(0.0) && !(m.uninformative_width(j) > 0.0) && !h_out_.row(j).isZero(0.0);
-      held_channel_(j, k) = held ? 1.0 : 0.0;
-      any = any || held;
-    }
-    holds_[k] = any;
-  }
-  // q_k of the held filters from r_k - d_k (header comment).
-  void apply_held() noexcept {
-    const int nzz = nz();
-    for (int k = 0; k < size(); ++k) {
-      if (!holds_[k]) continue;
-      const auto& a_inv = hypotheses_[k].a_inverse();
-      const ZMap r = residual(k);
-      double cross = 0.0, square = 0.0;
-      for (int j = 0; j < nzz; ++j) {
-        if (held_channel_(j, k) == 0.0 || held_(j) == 0.0) continue;
-        cross += held_(j) * a_inv.row(j).dot(r);
-        for (int i = 0; i < nzz; ++i)
-          if (held_channel_(i, k) != 0.0) square += held_(j) * a_inv(j, i) * held_(i);
-      }
-      q_(k) += square - 2.0 * cross;
-    }
-  }
-  // Filter k's residual as its q_k takes it: r_k - d_k on its held channels (header).
-  ZVector held_residual(int k) const noexcept {
-    ZVector r = residual(k);
-    if (held_any_ && holds_[k])
-      for (int j = 0; j < nz(); ++j)
-        if (held_channel_(j, k) != 0.0) r(j) -= held_(j);
-    return r;
-  }
   // (D r_k)ᵀ A_k⁻¹ (D r_k), D = diag(s_j^-1/2): the per-channel tempering (turbulence_adaptation.h).
   double channel_tempered_form(int k) const noexcept {
     if (!(q_(k) < std::numeric_limits<double>::infinity())) return q_(k);   // +inf / NaN stay as they are
-    const ZVector y = held_residual(k).cwiseProduct(scale_.channel_inverse_sqrt_scales());
+    const ZVector y = ZVector(residual(k)).cwiseProduct(scale_.channel_inverse_sqrt_scales());
     return y.dot(hypotheses_[k].a_inverse() * y);
   }
   // The per-channel powers from the best-fitting filter k* = argmin_k q_k (turbulence_adaptation.h).
@@ -618,7 +549,7 @@ class FilterBank {
     int best = -1;
     for (int i = 0; i < size(); ++i)
       if (q_(i) < std::numeric_limits<double>::infinity() && (best < 0 || q_(i) < q_(best))) best = i;
-    if (best >= 0) scale_.observe_channels(held_residual(best), hypotheses_[best].a_inverse());
+    if (best >= 0) scale_.observe_channels(ZVector(residual(best)), hypotheses_[best].a_inverse());
   }
   void load_h_out() noexcept {
     if constexpr (kPacked) packed_.load_h_out(h_out_);
@@ -697,10 +628,6 @@ class FilterBank {
   PVector footing_;                               // v_k (note_footing)
   PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)
   std::int64_t start_up_frames_ = 0;              // round(start_up_s f): updates that weigh nothing
-  ZVector held_;                                  // h, the held readings' offset (shift_held)
-  bool held_any_ = false;                         // h != 0
-  Eigen::Matrix<double, NZ, K> held_channel_;     // (j, k) 1: channel j of filter k is held
-  HypothesisFlags<K> holds_;                      // filter k has a held channel
   int presumed_ = 0;                              // the hypothesis presumed last (set_p_min)
   int head_ = 0;                                  // set_p_min's two tiers: k < head_ take
   double p_min_head_ = 0.0, log_p_min_head_ = 0.0;   // p_min_head_ (head_ = 0: none)

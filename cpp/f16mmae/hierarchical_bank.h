@@ -70,11 +70,7 @@
 //   trim in force at their first frame); likewise the levels b̂ of the failed sensors'
 //   uninformative channels (filter_bank.h) move by z_trim_old - z_trim_new, so a level is that
 //   of the absolute reading and a failed sensor's constant reading stays a constant level
-//   while the scheduled trim moves; with ScheduleOptions::hold_readings (off by default) the
-//   held readings of filter_bank.h move by the same z_trim_old - z_trim_new (from the first
-//   frame, or from the frame after the air data's running mean has settled), so a failed
-//   sensor's expected reading under its `complete` hypothesis stays the trim in force when
-//   the hold began. Probabilities, the declarer, the declarations and the level are
+//   while the scheduled trim moves. Probabilities, the declarer, the declarations and the level are
 //   untouched by a schedule change. A schedule whose nodes carry an adaptation reference
 //   (bank_schedule.h) sets the turbulence adaptation's rho_0 to the blend in force with the
 //   filters (ScheduleOptions::node_adapt_reference, on by default; rho itself carries on, and
@@ -242,17 +238,12 @@ class HierarchicalBank {
     }
     if (!sched_.active()) return;
     const XVector x_before = sched_.x_trim();
-    const bool hold = options_.schedule.hold_readings == HoldReadings::kFromStart ||
-                      (options_.schedule.hold_readings == HoldReadings::kSettled && sched_.settled());
     const bool reload = sched_.select(a);
     if (reload) load_scheduled();
     if (frame_ > 0) {  // before the first frame x = 0 is the trim
       shift_states(x_before - sched_.x_trim());
       z_shift_.noalias() = z_trim_ - sched_.z_trim();   // failed sensors' levels: absolute
-      if (!z_shift_.isZero(0.0)) {
-        bank_.shift_levels(z_shift_);
-        if (hold) bank_.shift_held(z_shift_);
-      }
+      if (!z_shift_.isZero(0.0)) bank_.shift_levels(z_shift_);
     }
     apply_trims();
   }

@@ -92,10 +92,6 @@
 namespace f16mmae {
 
 enum class ScheduleMode { kInterpolate, kNearest };
-// When a failed sensor's expected reading is held through trim changes (HierarchicalBank,
-// filter_bank.h's held readings): never; from the first frame; from the first frame after
-// the air data's running mean has handed over to the low-pass (settled()).
-enum class HoldReadings { kOff, kFromStart, kSettled };
 
 struct ScheduleOptions {
   ScheduleMode mode = ScheduleMode::kInterpolate;
@@ -105,7 +101,6 @@ struct ScheduleOptions {
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
   bool node_p_min = true;              // the nodes' probability floors (their banks' p_min)
-  HoldReadings hold_readings = HoldReadings::kOff;   // a failed sensor's expected reading held (above)
 };
 
 inline void check_schedule_options(const ScheduleOptions& o) {
@@ -196,10 +191,6 @@ class ScheduledFilters {
     blend_trims(g);
     last_s_ = g.s, last_t_ = g.t;
   }
-
-  // True once the running mean has handed over to the low-pass (mean_frames_ selections since
-  // the last reset): from then on the low-passed air data moves with the flight condition only.
-  bool settled() const noexcept { return selections_ >= mean_frames_; }
 
   // Selects what is in force for air data `a` (finite). Returns true when the filters
   // changed (the caller reloads its on-line filters through filter()); the trims are

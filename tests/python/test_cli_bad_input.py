@@ -133,12 +133,13 @@ def test_a_flag_a_command_lacks_is_refused_by_its_own_name(capsys):
     assert "unrecognized arguments: --turbulence light" in capsys.readouterr().err
 
 
-def test_design_schedule_refuses_the_single_point_failure_model_options(capsys, tmp_path):
-    """A scheduled design takes its failure model from the tuning file: the single-point
-    options were once ignored silently (a cover request designed complete hypotheses)."""
+def test_design_schedule_refuses_the_single_point_level_q_and_a_bad_failure_model(capsys, tmp_path):
+    """A scheduled design takes --failure-model (default: the tuning's, else constant=VEL), not
+    the single point's --failed-sensor-level-q (once ignored silently); a failure model it
+    cannot read is refused by name before any work."""
     out = tmp_path / "s.f16sched"
-    for extra in (["--failure-model", "cover"], ["--failed-sensor-level-q", "0.01"]):
-        _refused(capsys, ["design", "--schedule", "--out", out, *extra],
-                 "--failure-model and --failed-sensor-level-q design one point",
-                 "failure_model (complete|cover|constant)")
+    _refused(capsys, ["design", "--schedule", "--out", out, "--failed-sensor-level-q", "0.01"],
+             "--failed-sensor-level-q designs one point", "failed_sensor_level_q")
+    _refused(capsys, ["design", "--schedule", "--out", out, "--failure-model", "constant=AY"],
+             "--failure-model: failure_model constant: component AY has no trim uncertainty")
     assert not out.exists()

@@ -6,16 +6,18 @@ flown through the Python loop and through the C++ closed loop gives identical de
 and probabilities (both loops feed it the truth's measured air data every frame)."""
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
 import pytest
 
-from f16mmae import core
+from f16mmae import core, names
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
 from f16mmae.design.calibrate import (START_UP_S, adaptation_reference, bounded_settings, log_odds_bound,
                                       calibrate_node, failure_log_odds_peak, node_flights)
+from f16mmae.design.hypotheses import TRIM_SIGMA, check_failure_model
 from f16mmae.design.model import linearize_truth
 from f16mmae.design.schedule import ScheduleSpecError, neighbourhood_minimum, parse_grid, x_trim
 from f16mmae.design.tuning import load_tuning
@@ -39,10 +41,17 @@ def _hash(design, p_min=None) -> str:
     return core.ModelBank.from_bytes(bank.to_bytes()).content_hash
 
 
+def _constant_vel(tuning):
+    """The tuning with the scheduled design's failure model (names.SCHEDULE_FAILURE_MODEL)."""
+    return dataclasses.replace(tuning, failure_model=check_failure_model(names.SCHEDULE_FAILURE_MODEL))
+
+
 def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tuning(scheduled):
     """Own nodes first (Mach 0.4 trims alpha 8.1 deg: flap 15 deg, layer 1; Mach 0.5 4.7 deg:
     flap 0, layer 0), then the cell's corners in the other flap position (the flap held, the
-    node's tuning and reference), and the flap law on alpha at 5 and 15 deg."""
+    node's tuning and reference), and the flap law on alpha at 5 and 15 deg.  The nodes'
+    hypotheses take the scheduled design's failure model (a failed VEL at an unknown constant),
+    their floors and references are bounded on the node's `complete` design."""
     s = scheduled.schedule
     assert s["mach"] == (0.4, 0.5) and s["alt_ft"] == (20000.0,)
     assert [(n["mach"], n["alt_ft"], n["layer"]) for n in s["nodes"]] == [
@@ -50,7 +59,8 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     assert s["switch_state"] == 1 and s["switch_thresholds"] == (0.0873, 0.2618)
     assert scheduled.mach == 0.4  # the primary: nearest the nominal point
     tuning, _, _ = calibrate_node(0.5, 20000.0, load_tuning("tuned"))
-    design = design_bank(0.5, 20000.0, tuning)
+    design = design_bank(0.5, 20000.0, tuning)   # complete: what the floor and reference are bounded on
+    node_design = design_bank(0.5, 20000.0, _constant_vel(tuning))
     node = s["nodes"][1]
     flights = node_flights(0.5, 20000.0, "light")
     chosen = bounded_settings(to_model_bank(design), flights, start_up_s=START_UP_S)
@@ -68,15 +78,19 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     reference_in_file = min(row[1] for row in chosen["candidates"] + s0["candidates"] if row[0] == p_min_in_file)
     assert node["adapt_reference"] == reference_in_file == s["nodes"][0]["adapt_reference"]
     assert node["bank"].p_min == p_min_in_file == s["nodes"][0]["bank"].p_min
-    assert node["bank"].content_hash == _hash(design, p_min_in_file)
-    flap_held = design_bank(0.5, 20000.0, tuning, linearized=linearize_truth(0.5, 20000.0, lef_rad=0.262))
+    assert node["bank"].content_hash == _hash(node_design, p_min_in_file) != _hash(design, p_min_in_file)
+    vel = [h for h in node["bank"].hypotheses if h.name == "VEL"][0]
+    assert vel.uninformative_width[0] == pytest.approx(6 * TRIM_SIGMA["VEL"]) and np.asarray(vel.uninformative_width)[1:].max() == 0
+    flap_held = design_bank(0.5, 20000.0, _constant_vel(tuning), linearized=linearize_truth(0.5, 20000.0, lef_rad=0.262))
     assert s["nodes"][3]["bank"].content_hash == _hash(flap_held, p_min_in_file) != node["bank"].content_hash
     assert s["nodes"][3]["adapt_reference"] == reference_in_file
     assert node["bank"].content_hash != _hash(design_bank(0.5, 20000.0, "tuned"))
-    np.testing.assert_array_equal(node["x_trim"], x_trim(design))
+    np.testing.assert_array_equal(node["x_trim"], x_trim(node_design))
     assert node["x_trim"][0] == pytest.approx(design.z_trim[0]) and node["x_trim"][8] == design.u_trim[0]
     meta = json.loads(scheduled.schedule["metadata"])
-    assert meta["start_up_s"] == START_UP_S == 0.25 and "--start-up-s 0.25" in meta["command"]
+    assert meta["start_up_s"] == START_UP_S == 1.0 and "--start-up-s 1 --failure-model constant=VEL" in meta["command"]
+    assert meta["failure_model"] == {"default": "complete", "constant": ["VEL"]}
+    assert s["start_up_s"] == 1.0
     assert meta["node_tuning"] == "calibrated" and [(n["mach"], n["alt_ft"]) for n in meta["nodes"]] == [
         (0.4, 20000.0), (0.5, 20000.0)]
     assert meta["nodes"][1]["power_ratio_mean"] == adaptation_reference(design, flights)
@@ -114,7 +128,7 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
     assert f"scheduled bank {out}: 1 banks (0 of them in the other flap position), 0 left out" in text
     assert "content hash" in text
     node = core.load_bank(out).schedule["nodes"][0]
-    assert node["bank"].content_hash == _hash(design_bank(0.5, 20000.0, "tuned"))
+    assert node["bank"].content_hash == _hash(design_bank(0.5, 20000.0, _constant_vel(load_tuning("tuned"))))
     assert "start_up_s" not in json.loads(core.load_bank(out).schedule["metadata"])  # no calibration flights
 
 

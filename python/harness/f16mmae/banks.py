@@ -19,7 +19,7 @@ from typing import Callable
 from . import core
 from .cache import cache_root
 from .errors import F16mmaeError
-from .names import (SCHEDULE_DESIGN_REVISION, SCHEDULE_GRID, SCHEDULE_NODE_TUNING, SCHEDULED_BANK,
+from .names import (SCHEDULE_DESIGN_REVISION, SCHEDULE_FAILURE_MODEL, SCHEDULE_GRID, SCHEDULE_NODE_TUNING, SCHEDULED_BANK,
                     SHIPPED_TUNINGS, TURBULENCE_BANK)
 
 #: Where the shipped nominal banks live.
@@ -61,12 +61,13 @@ def turbulence_bank_set():
 
 def scheduled_bank_path() -> Path:
     """Where the ``scheduled`` bank is cached. Its name carries a hash of the grid, the node tuning, the
-    design's revision and of the shipped tuned bank (which changes whenever the truth model or the tuning is re-calibrated),
+    design's revision, its failure model and of the shipped tuned bank (which changes whenever the truth model or the tuning is re-calibrated),
     so a stale schedule is never picked up."""
     nominal = DATA_DIR / "nominal_tuned.f16bank"
     with open(nominal, "rb") as f:
         header = f.read(52)  # magic, version, size, SHA-256 of the payload
-    key = hashlib.sha256(f"{SCHEDULE_GRID};{SCHEDULE_NODE_TUNING};{SCHEDULE_DESIGN_REVISION}".encode() + header[20:52]).hexdigest()[:16]
+    key = hashlib.sha256(f"{SCHEDULE_GRID};{SCHEDULE_NODE_TUNING};{SCHEDULE_DESIGN_REVISION};{SCHEDULE_FAILURE_MODEL}".encode()
+                         + header[20:52]).hexdigest()[:16]
     return cache_root() / "banks" / f"scheduled_tuned_{key}.f16sched"
 
 

@@ -86,8 +86,13 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: 6: both bounded on calibration flights flown with the estimator's start-up (calibrate.START_UP_S);
 #: 7: that start-up recommended by the file itself (schedule format 3's start_up_s);
 #: 8: the nodes above 2 Q0 calibrated on flights with the dither's high-q̄ rule for the pairs
-#: (truth/dither.py), which the truth flies there.
-SCHEDULE_DESIGN_REVISION = 8
+#: (truth/dither.py), which the truth flies there;
+#: 9: the failed VEL's ``constant`` model (SCHEDULE_FAILURE_MODEL), floors and references bounded
+#: on each node's ``complete`` bank, with the start-up of 1 s (calibrate.START_UP_S).
+SCHEDULE_DESIGN_REVISION = 9
+#: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
+#: a failed VEL reads an unknown constant within its scheduled trim's uncertainty.
+SCHEDULE_FAILURE_MODEL = "constant=VEL"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

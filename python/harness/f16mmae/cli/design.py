@@ -114,7 +114,8 @@ def register(subparsers) -> None:
                         "failure, for every component or per component: cover=VEL+AOA (those two cover, "
                         "the others complete), cover,complete=PIT (default first), constant=VEL (a failed VEL "
                         "at an unknown constant within its trim's uncertainty) (default: the tuning's "
-                        "failure_model, complete for the shipped ones)")
+                        "failure_model, complete for the shipped ones; with --schedule, a tuning naming none "
+                        f"designs {names.SCHEDULE_FAILURE_MODEL})")
     p.add_argument("--failed-sensor-level-q", default=None, metavar="Q",
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
                         "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
@@ -243,11 +244,9 @@ def _run_schedule(args) -> int:
     if args.gust_states or args.gust_level is not None:
         raise CliError("--gust-states and --gust-level design one point; give a tuning file with gust_model "
                        "and turbulence to --schedule instead")
-    if args.failure_model is not None or args.failed_sensor_level_q is not None:
-        raise CliError("--failure-model and --failed-sensor-level-q design one point; give a tuning file with "
-                       "failure_model (complete|cover|constant) and failed_sensor_level_q to --schedule instead "
-                       "(per component: failure_model = {default = \"complete\", cover = [\"AOA\"], "
-                       "constant = [\"VEL\"]})")
+    if args.failed_sensor_level_q is not None:
+        raise CliError("--failed-sensor-level-q designs one point; give a tuning file with "
+                       "failed_sensor_level_q to --schedule instead")
     try:
         grid = parse_grid(args.schedule)
         tuning = load_tuning(args.tuning)
@@ -255,6 +254,12 @@ def _run_schedule(args) -> int:
         raise CliError(f"--schedule: {exc}") from None
     except TuningError as exc:
         raise CliError(f"--tuning: {exc}") from None
+    try:   # given; else the tuning's if it names one; else the scheduled design's
+        failure_model = check_failure_model(
+            args.failure_model if args.failure_model is not None
+            else tuning.failure_model if tuning.failure_model != "complete" else names.SCHEDULE_FAILURE_MODEL)
+    except ValueError as exc:
+        raise CliError(f"--failure-model: {exc}") from None
     workers = number("--workers", args.workers, integer=True, minimum=1, maximum=256) if args.workers else None
     node_tuning = args.node_tuning or DEFAULT_NODE_TUNING
     if node_tuning not in NODE_TUNINGS:
@@ -277,12 +282,12 @@ def _run_schedule(args) -> int:
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}.f16sched", "--out")
     how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
     print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
-          f"tuning {how} {tuning.name}", flush=True)
+          f"tuning {how} {tuning.name}, failure model {failure_model}", flush=True)
     try:
         s = design_schedule(grid, args.tuning, out, workers=workers,
                             progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning,
                             flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input,
-                            p_min_candidates=p_mins, start_up_s=start_up_s)
+                            p_min_candidates=p_mins, start_up_s=start_up_s, failure_model=failure_model)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

@@ -345,9 +345,10 @@ P_MIN_CANDIDATES: tuple[float, ...] = (1e-9, 1e-7, 1e-5, 1e-3)
 #: The estimator start-up (s) a scheduled design's calibration flights are run with
 #: (``bounded_settings``; ``--start-up-s``), and the start-up the file recommends (schedule
 #: format 3's start_up_s: the estimator flies it unless ``--start-up-s`` overrides it): the first
-#: 16 frames, in which the first trims rest on a few air-data samples
-#: (docs/results/envelope_tuning.md, rounds 6 and 7).
-START_UP_S = 0.25
+#: 64 frames, in which the first trims rest on a few air-data samples and the filters' start
+#: transient (NONE absorbing the scheduled trim's offset) would lift a ``constant`` failed-sensor
+#: hypothesis (docs/results/envelope_tuning.md, rounds 6-9).
+START_UP_S = 1.0
 #: The floor at which REFERENCE_LOG_ODDS_BOUND was chosen (the shipped tuning's p_min).
 BOUND_P_MIN = 1e-9
 

@@ -114,12 +114,6 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="a scheduled bank (--bank scheduled): interpolate between grid points on the "
                          "measured air data, or switch to the nearest with hysteresis (default "
                          f"{SCHEDULE_MODES[0]}; a bank designed at one point ignores it)"),
-    EstimatorOption("hold_readings", "--hold-readings", "choice", metavar="off|start|settled",
-                    choices=("off", "start", "settled"), in_daemon=False,
-                    help="a scheduled bank: hold a failed sensor's expected reading (its hypothesis' trim) "
-                         "through the schedule's trim changes from the first frame (start) or from the end "
-                         "of the air data's running mean (settled); off: it follows the trim in force "
-                         "(cpp/f16mmae/filter_bank.h, held readings; default off)"),
     EstimatorOption("air_data_time_constant_s", "--air-data-time-constant", "number", metavar="TAU_S",
                     minimum=0.0, maximum=60.0,
                     help="a scheduled bank: time constant of the air data's low-pass the schedule follows "

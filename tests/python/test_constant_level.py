@@ -84,7 +84,7 @@ def test_constant_vel_design_widths_and_level_noise():
 
 
 @pytest.mark.parametrize("bad, message", [
-    ("constant=AOA", "component AOA has no trim uncertainty; constant applies to VEL"),
+    ("constant=PIT", "component PIT has no trim uncertainty; constant applies to VEL, AOA"),
     ("constant", "constant cannot be the default"),
 ])
 def test_constant_is_refused_where_no_trim_uncertainty_is_known(bad, message):

@@ -15,7 +15,7 @@ import pytest
 from f16mmae import core, names
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.calibrate import (START_UP_S, adaptation_reference, bounded_settings, log_odds_bound,
+from f16mmae.design.calibrate import (CALIBRATION_START_UP_S, START_UP_S, adaptation_reference, bounded_settings, log_odds_bound,
                                       calibrate_node, failure_log_odds_peak, node_flights)
 from f16mmae.design.hypotheses import TRIM_SIGMA, check_failure_model
 from f16mmae.design.model import linearize_truth
@@ -63,16 +63,16 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     node_design = design_bank(0.5, 20000.0, _constant_vel(tuning))
     node = s["nodes"][1]
     flights = node_flights(0.5, 20000.0, "light")
-    chosen = bounded_settings(to_model_bank(design), flights, start_up_s=START_UP_S)
+    chosen = bounded_settings(to_model_bank(design), flights, start_up_s=CALIBRATION_START_UP_S)
     reference, p_min = chosen["adapt_reference"], chosen["p_min"]
     peak = failure_log_odds_peak(to_model_bank(design).with_settings(p_min=p_min), flights, reference,
-                                 start_up_s=START_UP_S)
+                                 start_up_s=CALIBRATION_START_UP_S)
     assert round(peak, 2) == chosen["failure_log_odds_peak"] and peak <= log_odds_bound(p_min, 0.9)
     # the file carries the smaller of the two nodes' floors (neighbours on the grid, both within
     # their bound), as the node bank's recommended p_min, and the smaller of their bounded
     # references at that floor
     s0 = bounded_settings(to_model_bank(design_bank(0.4, 20000.0, calibrate_node(0.4, 20000.0, load_tuning("tuned"))[0])),
-                          node_flights(0.4, 20000.0, "light"), start_up_s=START_UP_S)
+                          node_flights(0.4, 20000.0, "light"), start_up_s=CALIBRATION_START_UP_S)
     assert chosen["bound_met"] and s0["bound_met"]
     p_min_in_file = min(p_min, s0["p_min"])
     reference_in_file = min(row[1] for row in chosen["candidates"] + s0["candidates"] if row[0] == p_min_in_file)
@@ -88,7 +88,8 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     np.testing.assert_array_equal(node["x_trim"], x_trim(node_design))
     assert node["x_trim"][0] == pytest.approx(design.z_trim[0]) and node["x_trim"][8] == design.u_trim[0]
     meta = json.loads(scheduled.schedule["metadata"])
-    assert meta["start_up_s"] == START_UP_S == 1.0 and "--start-up-s 1 --failure-model constant=VEL" in meta["command"]
+    assert meta["start_up_s"] == START_UP_S == 1.0 and meta["calibration_start_up_s"] == CALIBRATION_START_UP_S == 0.25
+    assert "--start-up-s 1 --calibration-start-up-s 0.25 --failure-model constant=VEL" in meta["command"]
     assert meta["failure_model"] == {"default": "complete", "constant": ["VEL"]}
     assert s["start_up_s"] == 1.0
     assert meta["node_tuning"] == "calibrated" and [(n["mach"], n["alt_ft"]) for n in meta["nodes"]] == [
@@ -135,11 +136,15 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
 @pytest.mark.parametrize("args, message", [
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "per-point"], "--node-tuning 'per-point': valid: "
                                                                          "calibrated, fixed"),
-    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min and --start-up-s apply to a scheduled "
-                                 "design; give --schedule"),
+    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min, --start-up-s and "
+                                 "--calibration-start-up-s apply to a scheduled design; give --schedule"),
+    (["--calibration-start-up-s", "1"], "apply to a scheduled design; give --schedule"),
     (["--schedule", "mach=0.5,alt=20000", "--start-up-s", "-1"], "--start-up-s '-1' must be >= 0.0"),
+    (["--schedule", "mach=0.5,alt=20000", "--calibration-start-up-s", "x"], "--calibration-start-up-s 'x'"),
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--start-up-s", "0.25"],
-     "--start-up-s is flown in the calibration flights: it needs --node-tuning calibrated"),
+     "--start-up-s goes with the calibration flights: it needs --node-tuning calibrated"),
+    (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--calibration-start-up-s", "0.25"],
+     "--calibration-start-up-s goes with the calibration flights: it needs --node-tuning calibrated"),
     (["--schedule", "mach=0.5,alt=20000", "--node-p-min", "1e-9/0.5"], "--node-p-min '0.5' must be < 0.012658"),
     (["--schedule", "mach=0.5,alt=20000", "--flap-layers", "maybe"], "--flap-layers 'maybe': valid: on, off"),
 ])

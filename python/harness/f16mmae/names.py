@@ -83,12 +83,14 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: 3: that reference bounded by the calibration flights' failure log-odds (calibrate.bounded_reference);
 #: 4: then the smallest of the node's and its grid neighbours' (schedule.neighbourhood_minimum);
 #: 5: a probability floor per node, chosen with the reference (calibrate.bounded_settings);
-#: 6: both bounded on calibration flights flown with the estimator's start-up (calibrate.START_UP_S);
+#: 6: both bounded on calibration flights flown with the estimator's start-up (since 9
+#:    calibrate.CALIBRATION_START_UP_S);
 #: 7: that start-up recommended by the file itself (schedule format 3's start_up_s);
 #: 8: the nodes above 2 Q0 calibrated on flights with the dither's high-q̄ rule for the pairs
 #: (truth/dither.py), which the truth flies there;
 #: 9: the failed VEL's ``constant`` model (SCHEDULE_FAILURE_MODEL), floors and references bounded
-#: on each node's ``complete`` bank, with the start-up of 1 s (calibrate.START_UP_S).
+#: on each node's ``complete`` bank (calibration start-up 0.25 s), the file recommending a start-up of 1 s
+#: (calibrate.START_UP_S, CALIBRATION_START_UP_S).
 SCHEDULE_DESIGN_REVISION = 9
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty.

@@ -8,7 +8,7 @@ import math
 import time
 
 from ..design.bank import design_bank, write_bank
-from ..design.calibrate import P_MIN_CANDIDATES, START_UP_S
+from ..design.calibrate import CALIBRATION_START_UP_S, P_MIN_CANDIDATES, START_UP_S
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
@@ -144,8 +144,10 @@ def register(subparsers) -> None:
                         f"(default {'/'.join(f'{v:g}' for v in P_MIN_CANDIDATES)}; one value: that floor everywhere)")
     p.add_argument("--start-up-s", default=None, metavar="S",
                    help="--schedule (calibrated nodes): the estimator start-up (the run option --start-up-s) the "
-                        "calibration flights bound the nodes' floors and references with; fly the file with it "
-                        f"(default {START_UP_S:g})")
+                        f"file recommends (default {START_UP_S:g})")
+    p.add_argument("--calibration-start-up-s", default=None, metavar="S",
+                   help="--schedule (calibrated nodes): the estimator start-up the calibration flights bound the "
+                        f"nodes' floors and references with (default {CALIBRATION_START_UP_S:g})")
     p.add_argument("--turbulence-banks", action="store_true",
                    help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the set "
                         "file --out (default: the cache that --tuning turbulence reads)")
@@ -158,8 +160,9 @@ def _run(args) -> int:
     if args.schedule is not None:
         return _run_schedule(args)
     if (args.node_tuning is not None or args.flap_layers is not None or args.node_p_min is not None
-            or args.start_up_s is not None):
-        raise CliError("--node-tuning, --flap-layers, --node-p-min and --start-up-s apply to a scheduled design; "
+            or args.start_up_s is not None or args.calibration_start_up_s is not None):
+        raise CliError("--node-tuning, --flap-layers, --node-p-min, --start-up-s and --calibration-start-up-s apply "
+                       "to a scheduled design; "
                        "give --schedule [GRID] too")
     mach = number("--mach", args.mach)
     alt_ft = number("--alt-ft", args.alt_ft)
@@ -273,11 +276,12 @@ def _run_schedule(args) -> int:
                            "--node-tuning calibrated (the fixed tuning's nodes keep its p_min)")
         p_mins = tuple(number("--node-p-min", v, minimum=0.0, exclusive=True,
                                       below=round(1.0 / len(names.ALL_HYPOTHESES), 6)) for v in args.node_p_min.split("/"))
-    start_up_s = START_UP_S
-    if args.start_up_s is not None:
-        if node_tuning != "calibrated":
-            raise CliError("--start-up-s is flown in the calibration flights: it needs --node-tuning calibrated")
-        start_up_s = number("--start-up-s", args.start_up_s, minimum=0.0, maximum=3600.0)
+    start_up = {"--start-up-s": START_UP_S, "--calibration-start-up-s": CALIBRATION_START_UP_S}
+    for flag, given in (("--start-up-s", args.start_up_s), ("--calibration-start-up-s", args.calibration_start_up_s)):
+        if given is not None:
+            if node_tuning != "calibrated":
+                raise CliError(f"{flag} goes with the calibration flights: it needs --node-tuning calibrated")
+            start_up[flag] = number(flag, given, minimum=0.0, maximum=3600.0)
     thr = "_throttle" if args.throttle_input else ""
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}.f16sched", "--out")
     how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
@@ -287,7 +291,8 @@ def _run_schedule(args) -> int:
         s = design_schedule(grid, args.tuning, out, workers=workers,
                             progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning,
                             flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input,
-                            p_min_candidates=p_mins, start_up_s=start_up_s, failure_model=failure_model)
+                            p_min_candidates=p_mins, start_up_s=start_up["--start-up-s"],
+                            calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

@@ -82,10 +82,11 @@ from ..truth import sensors
 FAILURE_MODELS: tuple[str, ...] = ("complete", "cover", "constant")
 
 #: sigma of a sensor's trim value as a scheduled bank knows it, for the ``constant`` model
-#: (sensor units): VEL, the RMS offset of the scheduled trim from the aircraft's own trim
-#: once the air data's running mean has settled, at light turbulence (ft/s;
-#: docs/results/envelope_tuning.md, round 7, section 1).
-TRIM_SIGMA: dict[str, float] = {"VEL": 1.65}
+#: (sensor units): the RMS offset of the scheduled trim from the aircraft's own trim (what a
+#: `complete` failure reads) once the air data's running mean has settled, at light turbulence
+#: (tools/schedule/trim_anchor.py): VEL 1.65 ft/s (3.3 noise sigmas; docs/results/envelope_tuning.md,
+#: round 7, section 1), AOA 0.00138 rad (0.8 noise sigma; round 9, section "AOA").
+TRIM_SIGMA: dict[str, float] = {"VEL": 1.65, "AOA": 0.00138}
 
 #: Half-width of the ``constant`` model's uniform level in units of TRIM_SIGMA (+-3 sigma).
 CONSTANT_HALF_WIDTH_SIGMAS = 3.0

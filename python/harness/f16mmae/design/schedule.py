@@ -11,9 +11,9 @@ flights' peak failure log-odds within ``calibrate.log_odds_bound`` (``calibrate.
 a reference that bounds the false alarms, not the mean power ratio, which the metadata also
 records), and of these pairs the one a failure needs the least evidence to be declared with
 (``calibrate.bounded_settings``; the estimator on those flights runs with the start-up
-``calibrate.START_UP_S``, 1 s, which the file recommends, its typed ``start_up_s`` (schedule
-format 3), as it recommends each node's floor: the estimator flies it unless ``--start-up-s`` says
-otherwise); then the floor lowered to its grid neighbours' and the
+``calibrate.CALIBRATION_START_UP_S``, 0.25 s, and the file recommends ``calibrate.START_UP_S``,
+1 s, its typed ``start_up_s`` (schedule format 3), as it recommends each node's floor: the
+estimator flies it unless ``--start-up-s`` says otherwise); then the floor lowered to its grid neighbours' and the
 reference to theirs at the largest floor around it (``neighbourhood_settings``), so that the
 reference and floor the core blends over a cell bound them at every corner.  The floor is the node bank's
 recommended p_min (its estimator settings; the core blends the nodes' floors).  A point whose truth cannot trim is left out of the
@@ -66,7 +66,7 @@ from .. import banks, names
 from ..errors import F16mmaeError
 from ..truth.aircraft import ALT_FT_RANGE, LEF_ALPHA_SWITCH_RAD, LEF_POSITIONS_RAD, MACH_RANGE, TrimError
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
-from .calibrate import (BOUND_P_MIN, P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
+from .calibrate import (BOUND_P_MIN, CALIBRATION_START_UP_S, P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
                         START_UP_S, adaptation_reference, bounded_settings, calibrate_node, node_flights)
 from .gains import DesignError
 from .hypotheses import check_failure_model, failure_model_table
@@ -157,7 +157,7 @@ def _design_point(args):
     ``calibrate.bounded_reference`` with its peak failure log-odds, on the same tuning flights); else the flap held at ``lef_rad`` with ``tuning`` and ``reference`` as given (the
     node's own: the truth never flies the point in that configuration, so there is nothing to
     calibrate on)."""
-    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle, p_mins, start_up_s = args
+    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle, p_mins, calibration_start_up_s = args
     t0 = time.perf_counter()
     record, layer, tun = {}, 0, None
     try:
@@ -175,7 +175,7 @@ def _design_point(args):
         if node_tuning == "calibrated" and lef_rad is None:
             paper = design if tun.failure_model == "complete" else design_bank(
                 mach, alt_ft, dataclasses.replace(tun, failure_model="complete"), linearized=lin)
-            chosen = bounded_settings(to_model_bank(paper), flights, p_mins, start_up_s=start_up_s)
+            chosen = bounded_settings(to_model_bank(paper), flights, p_mins, start_up_s=calibration_start_up_s)
             reference = chosen["adapt_reference"]
             record.update({"power_ratio_mean": adaptation_reference(paper, flights), **chosen})
         if throttle:
@@ -257,6 +257,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     throttle_input: bool = False,
                     p_min_candidates: tuple[float, ...] = P_MIN_CANDIDATES,
                     start_up_s: float = START_UP_S,
+                    calibration_start_up_s: float = CALIBRATION_START_UP_S,
                     failure_model: str | None = names.SCHEDULE_FAILURE_MODEL) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
@@ -267,9 +268,10 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     ``throttle_input``: every node models the throttle as its sixth input (module docstring).
     ``p_min_candidates``: the probability floors a calibrated node chooses from
     (``calibrate.bounded_settings``; one value: that floor at every node).
-    ``start_up_s``: the estimator start-up (``--start-up-s``) the calibration flights are run
-    with when the nodes' floors and references are bounded (calibrated nodes only); the file
-    is meant to be flown with it (the file's recommended ``start_up_s``, and the metadata's).
+    ``start_up_s``: the estimator start-up (``--start-up-s``) the file recommends (its typed
+    ``start_up_s``, and the metadata's); ``calibration_start_up_s``: the one the calibration
+    flights are run with when the nodes' floors and references are bounded (calibrated nodes
+    only; neither is recorded for fixed nodes).
     ``failure_model``: the hypotheses' failure model at every node (hypotheses.py; default
     ``names.SCHEDULE_FAILURE_MODEL``, a failed VEL at an unknown constant within its trim's
     uncertainty), in place of the tuning's; None: the tuning's own.  A calibrated node's floor
@@ -288,8 +290,10 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         if fm != tuning_obj.failure_model:
             tuning_obj = dataclasses.replace(tuning_obj, failure_model=fm)
             tuning = tuning_obj   # the workers design with the object (its name unchanged)
-    start_up_s = start_up_s if node_tuning == "calibrated" else 0.0   # flown in the calibration flights only
-    points = [(i, j, m, a, tuning, node_tuning, None, None, throttle_input, tuple(p_min_candidates), start_up_s)
+    if node_tuning != "calibrated":   # no calibration flights: nothing was bounded with a start-up
+        start_up_s = calibration_start_up_s = 0.0
+    points = [(i, j, m, a, tuning, node_tuning, None, None, throttle_input, tuple(p_min_candidates),
+               calibration_start_up_s)
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     t0 = time.perf_counter()
     results, alternates = {}, {}
@@ -311,7 +315,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 r[7]["p_min_node"], r[7]["p_min"] = r[7]["p_min"], p_min_of[k]
                 results[k] = r[:9] + (references[k],)
         tasks = [] if not flap_layers else [(i, j, grid.mach[i], grid.alt_ft[j], results[(i, j)][8], node_tuning, LEF_POSITIONS_RAD[layer],
-                  results[(i, j)][9], throttle_input, (), start_up_s) for i, j, layer in alternate_nodes(grid, own)]
+                  results[(i, j)][9], throttle_input, (), calibration_start_up_s) for i, j, layer in alternate_nodes(grid, own)]
         for n, r in enumerate(pool.map(_design_point, tasks), start=1):
             alternates[(r[0], r[1], r[2])] = r
             if progress:
@@ -342,7 +346,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "command": (f"f16mmae design --schedule {format_spec(grid)} --tuning {tuning_obj.name} "
                     f"--node-tuning {node_tuning} --flap-layers {'on' if flap_layers else 'off'}"
                     + (" --throttle-input" if throttle_input else "")
-                    + (f" --start-up-s {start_up_s:g}" if start_up_s else "")
+                    + (f" --start-up-s {start_up_s:g} --calibration-start-up-s {calibration_start_up_s:g}"
+                       if node_tuning == "calibrated" else "")
                     + (f" --failure-model {tuning_obj.failure_model}" if tuning_obj.failure_model != "complete" else "")),
         "grid": {"mach": list(grid.mach), "alt_ft": list(grid.alt_ft)},
         "tuning": tuning_obj.name,
@@ -370,8 +375,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "nodes": node_records,
         "skipped": skipped,
         **({"throttle_input": True} if throttle_input else {}),
-        # the start-up the calibration flights were run with: the file is to be flown with it
-        **({"start_up_s": start_up_s} if start_up_s else {}),
+        # the start-up the file is to be flown with, and the one its calibration flights were run with
+        **({"start_up_s": start_up_s, "calibration_start_up_s": calibration_start_up_s}
+           if node_tuning == "calibrated" else {}),
         # which model each hypothesis' failed components have (hypotheses.py); paper schedules keep their bytes
         **({"failure_model": failure_model_table(tuning_obj.failure_model)}
            if tuning_obj.failure_model != "complete" else {}),

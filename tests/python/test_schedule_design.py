@@ -19,7 +19,8 @@ from f16mmae.design.calibrate import (CALIBRATION_START_UP_S, START_UP_S, adapta
                                       calibrate_node, failure_log_odds_peak, node_flights)
 from f16mmae.design.hypotheses import TRIM_SIGMA, check_failure_model
 from f16mmae.design.model import linearize_truth
-from f16mmae.design.schedule import ScheduleSpecError, neighbourhood_minimum, parse_grid, x_trim
+from f16mmae.design.schedule import (ScheduleSpecError, neighbourhood_minimum, parse_grid, schedule_failure_model,
+                                     x_trim)
 from f16mmae.design.tuning import load_tuning
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
@@ -202,3 +203,16 @@ def test_a_node_s_reference_is_the_smallest_of_its_neighbours_that_met_the_bound
         (2, 0): 0.3,   # keeps its own
         (0, 1): 0.6,   # (0, 0) below it; (1, 1) is not covered
         (2, 1): 0.8}   # (1, 0) at 1.0 and (2, 0) unbounded: its own
+
+
+def test_the_scheduled_designs_failure_model_given_then_the_tunings_then_constant_vel():
+    """``schedule_failure_model``: an explicit model wins; a tuning naming one keeps it; a tuning
+    naming none (the shipped ones) gets names.SCHEDULE_FAILURE_MODEL; a bad one is refused."""
+    tuned = load_tuning("tuned")
+    cover = dataclasses.replace(tuned, failure_model="cover=VEL+AOA")
+    assert schedule_failure_model(tuned) == "constant=VEL" == check_failure_model(names.SCHEDULE_FAILURE_MODEL)
+    assert schedule_failure_model(cover) == "cover=VEL+AOA"
+    assert schedule_failure_model(cover, "complete") == schedule_failure_model(tuned, "complete") == "complete"
+    assert schedule_failure_model(tuned, {"default": "complete", "constant": ["AOA", "VEL"]}) == "constant=VEL+AOA"
+    with pytest.raises(ValueError, match="component PIT has no trim uncertainty"):
+        schedule_failure_model(tuned, "constant=PIT")

@@ -14,7 +14,7 @@ from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
 from ..design.hypotheses import FAILURE_MODELS, check_failure_model, uses_cover
 from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, design_schedule,
-                               format_spec, parse_grid)
+                               format_spec, parse_grid, schedule_failure_model)
 from ..design.tuning import TuningError, load_tuning
 from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
 from .. import names
@@ -257,10 +257,8 @@ def _run_schedule(args) -> int:
         raise CliError(f"--schedule: {exc}") from None
     except TuningError as exc:
         raise CliError(f"--tuning: {exc}") from None
-    try:   # given; else the tuning's if it names one; else the scheduled design's
-        failure_model = check_failure_model(
-            args.failure_model if args.failure_model is not None
-            else tuning.failure_model if tuning.failure_model != "complete" else names.SCHEDULE_FAILURE_MODEL)
+    try:
+        failure_model = schedule_failure_model(tuning, args.failure_model)
     except ValueError as exc:
         raise CliError(f"--failure-model: {exc}") from None
     workers = number("--workers", args.workers, integer=True, minimum=1, maximum=256) if args.workers else None

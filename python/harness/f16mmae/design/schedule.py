@@ -186,6 +186,16 @@ def _design_point(args):
             reference)
 
 
+def schedule_failure_model(tuning, given: str | None = None) -> str:
+    """The canonical failure model a scheduled design gives its hypotheses: ``given`` if not
+    None, else the tuning's if it names one other than ``complete``, else
+    ``names.SCHEDULE_FAILURE_MODEL``.  ValueError (hypotheses.check_failure_model) for one it
+    cannot read."""
+    if given is not None:
+        return check_failure_model(given)
+    return tuning.failure_model if tuning.failure_model != "complete" else check_failure_model(names.SCHEDULE_FAILURE_MODEL)
+
+
 def neighbourhood_minimum(bounded: dict[tuple[int, int], tuple[float, bool]]) -> dict[tuple[int, int], float]:
     """Each covered node's adaptation reference (or probability floor) in the file: the smallest
     of its own bounded value (``calibrate.bounded_settings``) and those of its covered grid
@@ -258,7 +268,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     p_min_candidates: tuple[float, ...] = P_MIN_CANDIDATES,
                     start_up_s: float = START_UP_S,
                     calibration_start_up_s: float = CALIBRATION_START_UP_S,
-                    failure_model: str | None = names.SCHEDULE_FAILURE_MODEL) -> dict:
+                    failure_model: str | None = None) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
@@ -272,11 +282,10 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     ``start_up_s``, and the metadata's); ``calibration_start_up_s``: the one the calibration
     flights are run with when the nodes' floors and references are bounded (calibrated nodes
     only; neither is recorded for fixed nodes).
-    ``failure_model``: the hypotheses' failure model at every node (hypotheses.py; default
-    ``names.SCHEDULE_FAILURE_MODEL``, a failed VEL at an unknown constant within its trim's
-    uncertainty), in place of the tuning's; None: the tuning's own.  A calibrated node's floor
-    and reference are bounded on the node's ``complete`` bank whatever the model (module
-    docstring).
+    ``failure_model``: the hypotheses' failure model at every node (hypotheses.py), in place of
+    the tuning's; None: ``schedule_failure_model`` (the tuning's if it names one, else
+    ``names.SCHEDULE_FAILURE_MODEL``).  A calibrated node's floor and reference are bounded on
+    the node's ``complete`` bank whatever the model (module docstring).
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""
@@ -285,11 +294,10 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     if node_tuning not in NODE_TUNINGS:
         raise ScheduleSpecError(f"node tuning {node_tuning!r} is not one of {', '.join(NODE_TUNINGS)}")
     tuning_obj = load_tuning(tuning)
-    if failure_model is not None:
-        fm = check_failure_model(failure_model)
-        if fm != tuning_obj.failure_model:
-            tuning_obj = dataclasses.replace(tuning_obj, failure_model=fm)
-            tuning = tuning_obj   # the workers design with the object (its name unchanged)
+    fm = schedule_failure_model(tuning_obj, failure_model)
+    if fm != tuning_obj.failure_model:
+        tuning_obj = dataclasses.replace(tuning_obj, failure_model=fm)
+        tuning = tuning_obj   # the workers design with the object (its name unchanged)
     if node_tuning != "calibrated":   # no calibration flights: nothing was bounded with a start-up
         start_up_s = calibration_start_up_s = 0.0
     points = [(i, j, m, a, tuning, node_tuning, None, None, throttle_input, tuple(p_min_candidates),

@@ -389,7 +389,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     floors = sorted({n["bank"].p_min for n in core.load_bank(sched).schedule["nodes"]})
     assert (f"p_min per node {floors[0]:g} to {floors[-1]:g}" if len(floors) > 1
             else f"p_min {floors[0]:g} at every node") in out
-    assert "start-up 0.25 s" in out
+    assert "start-up 1 s" in out and core.load_bank(sched).schedule["start_up_s"] == 1.0
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),

@@ -82,40 +82,35 @@ FAILED_SURFACE_Q: dict[str, float] = {"LS": 3.0e-4, "RS": 3.0e-4, "LF": 3.0e-5, 
 FAILED_SENSOR_LEVEL_Q: dict[str, float] = {**{s: 0.01 for s in names.SENSORS}, "AOA": 1.0e-3}
 
 
-def _surface_walk_q(value, source: str):
-    """``failed_surface_q`` as read: a float (every surface), or a table of surfaces (those not
-    named take their FAILED_SURFACE_Q) as a dict over every surface; TuningError names a bad entry."""
+def _per_component(value, source: str, key: str, kind: str, components, defaults: dict[str, float],
+                   zero_ok: bool, unit: str = ""):
+    """``key`` as read: a float (every component), or a table of ``components`` (those not
+    named take their ``defaults``) as a dict over every component; TuningError names a bad
+    entry (``kind``: "surface" or "sensor"; a value must be > 0, or >= 0 with ``zero_ok``)."""
     def number(v, what):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0.0):
-            raise TuningError(f"{source}: {what} = {v!r} must be a finite number > 0 (rad^2/s)")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (
+                math.isfinite(v) and (v >= 0.0 if zero_ok else v > 0.0)):
+            raise TuningError(f"{source}: {what} = {v!r} must be a finite number {'>=' if zero_ok else '>'} 0{unit}")
         return float(v)
 
     if not isinstance(value, dict):
-        return number(value, "failed_surface_q")
-    for key in value:
-        if key not in names.ACTUATORS:
-            raise TuningError(f"{source}: unknown surface {key!r} in failed_surface_q; valid: "
-                              f"{', '.join(names.ACTUATORS)}")
-    return {a: number(value.get(a, FAILED_SURFACE_Q[a]), f"failed_surface_q.{a}") for a in names.ACTUATORS}
+        return number(value, key)
+    for name in value:
+        if name not in components:
+            raise TuningError(f"{source}: unknown {kind} {name!r} in {key}; valid: {', '.join(components)}")
+    return {c: number(value.get(c, defaults[c]), f"{key}.{c}") for c in components}
+
+
+def _surface_walk_q(value, source: str):
+    """``failed_surface_q`` as read (``_per_component``; FAILED_SURFACE_Q, rad^2/s, > 0)."""
+    return _per_component(value, source, "failed_surface_q", "surface", names.ACTUATORS, FAILED_SURFACE_Q,
+                          zero_ok=False, unit=" (rad^2/s)")
 
 
 def _sensor_level_q(value, source: str) -> float | dict[str, float]:
-    """``failed_sensor_level_q`` as read: a float (every sensor), or a table of sensors (those
-    not named take their FAILED_SENSOR_LEVEL_Q) as a dict over every sensor; TuningError names a
-    bad entry."""
-    def number(v, what):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0.0):
-            raise TuningError(f"{source}: {what} = {v!r} must be a finite number >= 0")
-        return float(v)
-
-    if not isinstance(value, dict):
-        return number(value, "failed_sensor_level_q")
-    for key in value:
-        if key not in names.SENSORS:
-            raise TuningError(f"{source}: unknown sensor {key!r} in failed_sensor_level_q; valid: "
-                              f"{', '.join(names.SENSORS)}")
-    return {s: number(value.get(s, FAILED_SENSOR_LEVEL_Q[s]), f"failed_sensor_level_q.{s}")
-            for s in names.SENSORS}
+    """``failed_sensor_level_q`` as read (``_per_component``; FAILED_SENSOR_LEVEL_Q, >= 0)."""
+    return _per_component(value, source, "failed_sensor_level_q", "sensor", names.SENSORS, FAILED_SENSOR_LEVEL_Q,
+                          zero_ok=True)
 
 
 class TuningError(F16mmaeError, ValueError):

@@ -2,7 +2,8 @@
 nodes from the design point to high dynamic pressure, against what the declaration rule needs.
 
     python tools/schedule/evidence.py --schedule FILE [--nodes 0.4:20000,0.6:10000] \\
-        [--failures LS,RS,LF,RF,ROL] [--seeds 1,2,3,4] [--turbulence none] [--dither-scale 1,1,2,2,2]
+        [--failures LS,RS,LF,RF,ROL] [--seeds 1,2,3,4] [--turbulence none] [--dither-scale 1,1,2,2,2] \\
+        [--dither-frequency 1.7,1.7,2.9,2.9,2.3]
 
 At each node, each failure is flown with the design's calibration-flight setup
 (``design.flights.fly_closed_loop``: light turbulence, the truth's default dither, raw
@@ -19,7 +20,8 @@ frames after the failure (mean over the seeds):
            (reference = the node's; the likelihoods are divided by it)
 --turbulence flies another turbulence level than the calibration's light (none: what the
 turbulence costs the evidence); --dither-scale multiplies the surface dither amplitudes (one
-factor, or one per surface LS,RS,LF,RF,RUD; dither_margin.py: what the criterion allows).
+factor, or one per surface LS,RS,LF,RF,RUD; dither_margin.py: what the criterion allows);
+--dither-frequency gives the five surfaces' frequencies (Hz) instead of the default lines.
 """
 from __future__ import annotations
 
@@ -49,8 +51,9 @@ def main() -> int:
     ap.add_argument("--seeds", default="1,2,3,4")
     ap.add_argument("--turbulence", default="light")
     ap.add_argument("--dither-scale", default="1")
+    ap.add_argument("--dither-frequency", default=None)
     args = ap.parse_args()
-    dither = scaled_dither(args.dither_scale)
+    dither = scaled_dither(args.dither_scale, args.dither_frequency)
     info = load_bank(args.schedule)[2].schedule
     seeds = [int(s) for s in args.seeds.split(",")]
     for item in args.nodes.split(","):

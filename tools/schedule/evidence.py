@@ -22,6 +22,8 @@ frames after the failure (mean over the seeds):
 turbulence costs the evidence); --dither-scale multiplies the surface dither amplitudes (one
 factor, or one per surface LS,RS,LF,RF,RUD; dither_margin.py: what the criterion allows);
 --dither-frequency gives the five surfaces' frequencies (Hz) instead of the default lines.
+--failures NONE flies no failure: e_next is then NONE's margin on its closest competitor
+(negative: that hypothesis fits the failure-free flight better than NONE, frame by frame).
 """
 from __future__ import annotations
 
@@ -72,7 +74,7 @@ def main() -> int:
             k = names.SINGLE_HYPOTHESES.index(fail)
             e_none, diffs, scales = [], [], []
             for seed in seeds:
-                fl = fly_closed_loop(mach, alt, seed=seed, failure=fail, failure_time_s=FAILURE_S,
+                fl = fly_closed_loop(mach, alt, seed=seed, failure=None if fail == names.NONE else fail, failure_time_s=FAILURE_S,
                                      turbulence_level=args.turbulence, dither=dither)
                 est = core.HierarchicalBank(mb, adapt_turbulence=True, adapt_reference=nd["adapt_reference"], **settings)
                 plain.reset()

@@ -13,7 +13,8 @@ amplitude for the same n_z (2 a cos phi).  A failure of one surface of a pair re
 share: the line's pitch/lift part drops and the survivor's roll shows (LS vs RS, LF vs RF:
 opposite roll), so each failure keeps a distinct signature (tests/python/test_truth_dither.py).
 Above twice the design dynamic pressure the pairs follow a high-q̄ rule (``Dither``: the
-flaperons turn antisymmetric, both pairs' scheduled amplitudes grow within the criterion).
+flaperons turn antisymmetric, both pairs' lines move further above the short period, 3.5 and
+4.2 Hz, and their scheduled amplitudes grow within the criterion).
 Frequencies are set above the band where light turbulence is strong (vertical and rolling gusts mimic a
 flaperon's lift/roll signature at 0.8-1.1 Hz: flaperon false alarms), within the actuator
 bandwidth: stabilators 1.7 Hz (u, alpha, q, n_z), flaperons 2.9 Hz (n_z; p after a

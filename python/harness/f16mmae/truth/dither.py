@@ -278,7 +278,10 @@ class Dither:
     frequencies (the measured fall is f^-1.1 to f^-1.4 for the stabilators' n_z and the
     flaperons' p; in the blend the flaperons' lift, not yet antisymmetric, falls slower):
     largest share 0.91 at M 0.45 / 5,000 ft in the blend, docs/results/envelope_tuning.md
-    round 9, "High q̄".
+    round 9, "High q̄".  The rate amplitude 2 pi f' a is largest at 3 Q0, 25 deg/s on the
+    stabilators and 40 deg/s on the flaperons, within their 60 and 80 deg/s (truth/actuators.py),
+    so the line stays linear (at low q̄, where the schedule makes the amplitudes large, a 3.5-Hz
+    stabilator line saturates the rate: not used there).
     The gains keep the peaks within the criterion from 2 Q0 up (largest share 0.91 at
     M 0.5 / 10,000 ft in the blend, 0.84 at M 0.8 / 5,000 ft in full: tests/python/test_truth_dither.py,
     envelope_tuning.md round 8); every paper Fig. 9 point (q̄ <= 170) and the design point fly b = 0.

@@ -83,15 +83,15 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: 3: that reference bounded by the calibration flights' failure log-odds (calibrate.bounded_reference);
 #: 4: then the smallest of the node's and its grid neighbours' (schedule.neighbourhood_minimum);
 #: 5: a probability floor per node, chosen with the reference (calibrate.bounded_settings);
-#: 6: both bounded on calibration flights flown with the estimator's start-up (since 9
+#: 6: both bounded on calibration flights flown with the estimator's start-up (since 10
 #:    calibrate.CALIBRATION_START_UP_S);
 #: 7: that start-up recommended by the file itself (schedule format 3's start_up_s);
 #: 8: the nodes above 2 Q0 calibrated on flights with the dither's high-q̄ rule for the pairs
-#: (truth/dither.py), which the truth flies there;
-#: 9: the failed VEL's ``constant`` model (SCHEDULE_FAILURE_MODEL), floors and references bounded
+#: (truth/dither.py), which the truth flies there; 9: that rule's pairs at 3.5 / 4.2 Hz;
+#: 10: the failed VEL's ``constant`` model (SCHEDULE_FAILURE_MODEL), floors and references bounded
 #: on each node's ``complete`` bank (calibration start-up 0.25 s), the file recommending a start-up of 1 s
 #: (calibrate.START_UP_S, CALIBRATION_START_UP_S).
-SCHEDULE_DESIGN_REVISION = 9
+SCHEDULE_DESIGN_REVISION = 10
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty.
 SCHEDULE_FAILURE_MODEL = "constant=VEL"

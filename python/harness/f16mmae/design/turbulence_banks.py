@@ -47,6 +47,12 @@ from ..errors import F16mmaeError
 #: The members' design levels, in rising intensity, and their tuning.
 MEMBER_LEVELS: tuple[str, ...] = ("none", "light")
 MEMBER_TUNING = "tuned_gust"
+#: The members' failure model (design/hypotheses.py), in place of the tuning's ``complete``: a
+#: failed VEL reads an unknown constant near its trim (``constant``), every other failure as the
+#: paper's.  The ``complete`` VEL hypothesis (the reading held at the design's trim) paid the
+#: trim's offset every frame, and the gust state moved the aircraft's speed to within reach of a
+#: stuck reading (docs/results/turbulence_banks.md, round 9).
+MEMBER_FAILURE_MODEL = "constant=VEL"
 #: The member in force at the start (light, the shipped design level) and the one running
 #: beside it from frame 0 (calm air: handed over within seconds when the air is calm).
 START = 1
@@ -87,7 +93,7 @@ DWELL_S = 0.125
 #: --maneuver-tempering G overrides it.
 MANEUVER_TEMPERING_G = 1.0
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
-REVISION = 10
+REVISION = 11
 SUFFIX = ".f16set"
 
 
@@ -118,7 +124,7 @@ def set_path() -> Path:
         header = f.read(52)
     spec = (f"{REVISION};{MEMBER_TUNING};{MEMBER_LEVELS};{BOUNDS};{TYPICAL};{HOLD_S};{WARM_UP_S};{WARM_DOWN_S};{SETTLE_S};"
             f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{TRIM_TIME_CONSTANT_S};{START};{START_STANDBY};"
-            f"{MANEUVER_TEMPERING_G};{DWELL_S}")
+            f"{MANEUVER_TEMPERING_G};{DWELL_S};{MEMBER_FAILURE_MODEL}")
     key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
     return cache_root() / "banks" / f"turbulence_banks_{key}{SUFFIX}"
 
@@ -135,6 +141,7 @@ def design_set(out: str | Path, progress=None) -> Path:
     from .. import core
     from .bank import NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, write_bank
     from .model import linearize_truth
+    from .hypotheses import check_failure_model
     from .tuning import load_tuning
 
     import dataclasses
@@ -148,7 +155,8 @@ def design_set(out: str | Path, progress=None) -> Path:
         for level in MEMBER_LEVELS:
             tuning = base if level == base.turbulence else dataclasses.replace(
                 base, name=f"{base.name}-{level}", turbulence=level)
-            tuning = dataclasses.replace(tuning, estimator={**tuning.estimator, "dwell_s": DWELL_S})
+            tuning = dataclasses.replace(tuning, failure_model=check_failure_model(MEMBER_FAILURE_MODEL),
+                                         estimator={**tuning.estimator, "dwell_s": DWELL_S})
             design = design_bank(NOMINAL_MACH, NOMINAL_ALT_FT, tuning, linearized=lin, throttle_input=True)
             bank = write_bank(design, Path(tmp) / f"{level}.f16bank")
             members.append(bank)

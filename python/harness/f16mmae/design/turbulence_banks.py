@@ -58,10 +58,11 @@ MEMBER_FAILURE_MODEL = "constant=VEL"
 START = 1
 START_STANDBY = 0
 #: Each member's (row) median rho flown in each member's level (column): tuning flight seeds 1-8,
-#: 60 s each, after 10 s (tools/turbulence_banks.py; docs/results/turbulence_banks.md).
+#: 60 s each, after 10 s (tools/turbulence_banks.py; docs/results/turbulence_banks.md, round 9:
+#: rho per channel each filter reads, the constant VEL hypothesis leaving its channel out).
 MEDIAN_RHO: tuple[tuple[float, ...], ...] = (
-    (0.70, 3.47),
-    (0.58, 0.74),
+    (0.68, 2.50),
+    (0.57, 0.71),
 )
 #: The selector's boundaries: member a's rho between levels i and i+1, the geometric mean of
 #: its medians there (row-major, n x (n-1)); a standby starts at its own level's median.

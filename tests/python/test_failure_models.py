@@ -208,7 +208,8 @@ def test_cover_sensor_hypothesis_is_uninformative_over_the_full_range(cover_desi
         j = names.SENSORS.index(name)
         assert w[j] == full[j] and np.count_nonzero(w) == 1
         t = cover_design.filter(name).model.uninformative_level_q
-        assert t[j] == pytest.approx(0.01 * sensors.NOISE_SIGMA[j] ** 2, rel=1e-15) and np.count_nonzero(t) == 1
+        ratio = 1e-3 if name == "AOA" else 0.01  # the default walk (design/tuning.py)
+        assert t[j] == pytest.approx(ratio * sensors.NOISE_SIGMA[j] ** 2, rel=1e-15) and np.count_nonzero(t) == 1
     assert not np.any(cover_design.filter("LS").model.uninformative_width)
     assert np.count_nonzero(cover_design.filter("LS+PIT").model.uninformative_width) == 1
 
@@ -256,6 +257,26 @@ def test_tuning_refuses_a_bad_failure_model():
     with pytest.raises(TuningError, match=r"failed_sensor_level_q = -1 must be a finite number >= 0"):
         tuning_from_dict({**base, "failure_model": "cover", "failed_sensor_level_q": -1})
     assert hypotheses.FAILURE_MODELS == ("complete", "cover", "constant")
+
+
+def test_failed_sensor_level_q_per_sensor():
+    base = {**load_tuning("tuned").to_dict(), "failure_model": "cover"}
+    tun = tuning_from_dict({**base, "failed_sensor_level_q": {"PIT": 0.0, "AY": 0.05}}, default_name="per")
+    # the sensors not named keep their default (AOA 1e-3, the rest 0.01)
+    assert list(tun.sensor_level_q()) == [0.01, 1e-3, 0.0, 0.01, 0.01, 0.01, 0.05]
+    assert list(tuning_from_dict({**base, "failed_sensor_level_q": 0.02}).sensor_level_q()) == [0.02] * 7
+    with pytest.raises(TuningError, match="unknown sensor 'MACH' in failed_sensor_level_q; valid: VEL, AOA, PIT"):
+        tuning_from_dict({**base, "failed_sensor_level_q": {"MACH": 1e-4}})
+    with pytest.raises(TuningError, match=r"failed_sensor_level_q.AY = -0.1 must be a finite number >= 0"):
+        tuning_from_dict({**base, "failed_sensor_level_q": {"AY": -0.1}})
+    d = bank.design_bank(0.4, 20_000.0, tun, hypotheses=("NONE", "AOA", "PIT", "AY", "PIT+AY", "LS+AOA"))
+    for name, comp, ratio in (("AOA", "AOA", 1e-3), ("PIT", "PIT", 0.0), ("AY", "AY", 0.05),
+                              ("PIT+AY", "PIT", 0.0), ("PIT+AY", "AY", 0.05), ("LS+AOA", "AOA", 1e-3)):
+        j = names.SENSORS.index(comp)
+        # q_j per frame is the ratio times the sensor's noise variance (truth.sensors)
+        assert d.filter(name).model.uninformative_level_q[j] == pytest.approx(
+            ratio * sensors.NOISE_SIGMA[j] ** 2, rel=1e-15, abs=0.0), (name, comp)
+    assert not np.any(d.filter("NONE").model.uninformative_level_q)
 
 
 def test_failed_surface_q_per_surface():

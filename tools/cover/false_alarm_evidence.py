@@ -70,8 +70,8 @@ def main(argv=None) -> None:
         for k, h in enumerate(hyps[1:], start=1):
             diffs[h].append(ll[start:, 0] - ll[start:, k])
             peaks[h].append(float(lo[start:, k].max()))
-    print(f"failure model {args.failure_model}, surface q {tun.failed_surface_q:g}, level q "
-          f"{tun.failed_sensor_level_q:g}, leading term {'kept' if args.keep_leading_term else 'stripped'}, "
+    print(f"failure model {args.failure_model}, surface q {tun.failed_surface_q}, level q "
+          f"{tun.failed_sensor_level_q}, leading term {'kept' if args.keep_leading_term else 'stripped'}, "
           f"seeds {args.seeds[0]}-{args.seeds[-1]}")
     print(f"{'hyp':<5} {'D':>8} {'sd':>7} {'peak':>7} {'>2.2':>5}")
     for h in hyps[1:]:

@@ -78,7 +78,8 @@ truth: design/calibrate.py) and 'untuned' (physical noises only), shipped in
 f16mmae/design/tunings/, or a TOML file of the same layout:
   name, description, turbulence (none|light|moderate|severe), gust_model (gust_rate|white_gust|dryden_states),
   failure_model (complete|cover, or per component {{default = "complete", cover = ["VEL", "AOA"]}}),
-  failed_surface_q (rad^2/s, a failed surface's random walk)
+  failed_surface_q (rad^2/s, a failed surface's random walk; one number or {{LS = 3e-4, RUD = 1e-3}}),
+  failed_sensor_level_q (a failed sensor's level walk per frame in noise variances; one number or {{AOA = 1e-3}})
   [method1_qd_longitudinal] u_fps alpha_rad q_rad_s theta_rad     (+ diag Q_d, per frame)
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
   [method3_qd_lateral]      beta_rad p_rad_s r_rad_s phi_rad      (+ diag Q_d, per frame)
@@ -118,7 +119,7 @@ def register(subparsers) -> None:
     p.add_argument("--failed-sensor-level-q", default=None, metavar="Q",
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
                         "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
-                        "its range every frame (default: the tuning's, 0.01)")
+                        "its range every frame (default: the tuning's; AOA 1e-3, the other sensors 0.01)")
     p.add_argument("--throttle-input", action="store_true",
                    help="model the throttle command as a sixth input (JSBSim's linearization column; "
                         "the closed loop flies the throttle dither with such a bank)")

@@ -147,8 +147,9 @@ def tuning_arguments(tuning: Tuning) -> str:
     a derived tuning ``NAME[-LEVEL][-gust][-M[-qQ]]`` (``--gust-level LEVEL``, ``--gust-states``,
     ``--failure-model M``, ``--failed-sensor-level-q Q``); this undoes that naming."""
     rest, tail = tuning.name, []
-    weight = f"-q{tuning.failed_sensor_level_q:g}"
-    if tuning.failure_model != "complete" and rest.endswith(weight):
+    level_q = tuning.failed_sensor_level_q
+    weight = f"-q{level_q:g}" if not isinstance(level_q, dict) else None
+    if tuning.failure_model != "complete" and weight is not None and rest.endswith(weight):
         rest = rest[:-len(weight)]
         tail.insert(0, f"--failed-sensor-level-q {tuning.failed_sensor_level_q:g}")
     suffix = f"-{tuning.failure_model}"
@@ -199,7 +200,7 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
             phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal(model.nx))
         out.append(hypothesis_model(name, phi, bd, model.h, qd, uninformative_width(name, tuning.failure_model),
                                     uninformative_level_q(name, tuning.failure_model,
-                                                              tuning.failed_sensor_level_q)))
+                                                              tuning.sensor_level_q())))
     return out
 
 

@@ -209,18 +209,19 @@ def sensor_full_range() -> np.ndarray:
     return np.array([hi - lo for lo, hi in sensors.FULL_SCALE], dtype=float)
 
 
-def uninformative_level_q(name: str, failure_model, ratio: float) -> np.ndarray:
+def uninformative_level_q(name: str, failure_model, ratio) -> np.ndarray:
     """(nz,) the level random walk per frame of hypothesis ``name``'s uninformative channels,
-    in units of the sensor's noise variance (``truth.sensors.NOISE_SIGMA``): ``ratio`` on its
-    failed sensors whose model is ``cover``, ``CONSTANT_LEVEL_Q_RATIO`` on ``constant`` ones,
-    zeros otherwise."""
+    in units of the sensor's noise variance (``truth.sensors.NOISE_SIGMA``): ``ratio`` (one
+    number, or (nz,) per sensor) on its failed sensors whose model is ``cover``,
+    ``CONSTANT_LEVEL_Q_RATIO`` on ``constant`` ones, zeros otherwise."""
     noise_var = np.asarray(sensors.NOISE_SIGMA, dtype=float) ** 2
+    ratio = np.broadcast_to(np.asarray(ratio, dtype=float), (names.NZ,))
     per = component_models(failure_model)
     out = np.zeros(names.NZ)
     for comp in names.failed_components(name):
         if comp in names.SENSORS and per[comp] in ("cover", "constant"):
             j = names.SENSORS.index(comp)
-            out[j] = (float(ratio) if per[comp] == "cover" else CONSTANT_LEVEL_Q_RATIO) * noise_var[j]
+            out[j] = (float(ratio[j]) if per[comp] == "cover" else CONSTANT_LEVEL_Q_RATIO) * noise_var[j]
     return out
 
 

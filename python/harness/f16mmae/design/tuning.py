@@ -69,32 +69,48 @@ TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_m
                                    + ("estimator",))
 #: Default random-walk strength of a failed surface's position under ``cover`` (rad^2/s), per
 #: surface: the flaperons 3e-5 (about 0.3 deg of wander in 1 s; a freer flaperon absorbs roll
-#: turbulence and false-alarms), the stabilators and the rudder 3e-4 (a faster walk reaches a
-#: rudder hardover before the yaw-rate sensor's hypothesis does, and follows a half-effective
-#: stabilator; 1e-3 lets a stabilator rival a failed pitch-rate gyro, and a rudder a failed
-#: yaw-rate gyro).  Chosen on the tuning seeds (docs/results/failure_models.md).
-FAILED_SURFACE_Q: dict[str, float] = {"LS": 3.0e-4, "RS": 3.0e-4, "LF": 3.0e-5, "RF": 3.0e-5, "RUD": 3.0e-4}
+#: turbulence and false-alarms), the stabilators 3e-4 (follows a half-effective stabilator; 1e-3
+#: lets a stabilator rival a failed pitch-rate gyro), the rudder 1e-3 (a walk that reaches a
+#: rudder hardover before the failed yaw-rate gyro's hypothesis explains the yaw rate it
+#: makes).  Chosen on the tuning seeds (docs/results/failure_models.md).
+FAILED_SURFACE_Q: dict[str, float] = {"LS": 3.0e-4, "RS": 3.0e-4, "LF": 3.0e-5, "RF": 3.0e-5, "RUD": 1.0e-3}
 #: Default random walk per frame of a failed sensor's level under ``cover``, in units of the
-#: sensor's noise variance (the level filter's gain is then about its square root, 0.1);
-#: measured choice, docs/results/failure_models.md.
-FAILED_SENSOR_LEVEL_Q = 0.01
+#: sensor's noise variance (the level filter's gain is then about its square root), per
+#: sensor: AOA 1e-3 (with 0.01 the failed-AOA hypothesis' level follows the healthy angle of
+#: attack closely enough to be declared in failure-free flight), the others 0.01.  Chosen on
+#: the tuning seeds (docs/results/failure_models.md).
+FAILED_SENSOR_LEVEL_Q: dict[str, float] = {**{s: 0.01 for s in names.SENSORS}, "AOA": 1.0e-3}
 
 
-def _surface_walk_q(value, source: str):
-    """``failed_surface_q`` as read: a float (every surface), or a table of surfaces (those not
-    named take their FAILED_SURFACE_Q) as a dict over every surface; TuningError names a bad entry."""
+def _per_component(value, source: str, key: str, kind: str, components, defaults: dict[str, float],
+                   zero_ok: bool, unit: str = ""):
+    """``key`` as read: a float (every component), or a table of ``components`` (those not
+    named take their ``defaults``) as a dict over every component; TuningError names a bad
+    entry (``kind``: "surface" or "sensor"; a value must be > 0, or >= 0 with ``zero_ok``)."""
     def number(v, what):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0.0):
-            raise TuningError(f"{source}: {what} = {v!r} must be a finite number > 0 (rad^2/s)")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (
+                math.isfinite(v) and (v >= 0.0 if zero_ok else v > 0.0)):
+            raise TuningError(f"{source}: {what} = {v!r} must be a finite number {'>=' if zero_ok else '>'} 0{unit}")
         return float(v)
 
     if not isinstance(value, dict):
-        return number(value, "failed_surface_q")
-    for key in value:
-        if key not in names.ACTUATORS:
-            raise TuningError(f"{source}: unknown surface {key!r} in failed_surface_q; valid: "
-                              f"{', '.join(names.ACTUATORS)}")
-    return {a: number(value.get(a, FAILED_SURFACE_Q[a]), f"failed_surface_q.{a}") for a in names.ACTUATORS}
+        return number(value, key)
+    for name in value:
+        if name not in components:
+            raise TuningError(f"{source}: unknown {kind} {name!r} in {key}; valid: {', '.join(components)}")
+    return {c: number(value.get(c, defaults[c]), f"{key}.{c}") for c in components}
+
+
+def _surface_walk_q(value, source: str):
+    """``failed_surface_q`` as read (``_per_component``; FAILED_SURFACE_Q, rad^2/s, > 0)."""
+    return _per_component(value, source, "failed_surface_q", "surface", names.ACTUATORS, FAILED_SURFACE_Q,
+                          zero_ok=False, unit=" (rad^2/s)")
+
+
+def _sensor_level_q(value, source: str) -> float | dict[str, float]:
+    """``failed_sensor_level_q`` as read (``_per_component``; FAILED_SENSOR_LEVEL_Q, >= 0)."""
+    return _per_component(value, source, "failed_sensor_level_q", "sensor", names.SENSORS, FAILED_SENSOR_LEVEL_Q,
+                          zero_ok=True)
 
 
 class TuningError(F16mmaeError, ValueError):
@@ -112,7 +128,8 @@ class Tuning:
     failure_model: str = "complete"  # canonical text (hypotheses.check_failure_model), per component
     failed_surface_q: float | dict[str, float] = field(default_factory=lambda: dict(FAILED_SURFACE_Q))
     # ^ one number for every surface, or per surface (names.ACTUATORS keys)
-    failed_sensor_level_q: float = FAILED_SENSOR_LEVEL_Q
+    failed_sensor_level_q: float | dict[str, float] = field(default_factory=lambda: dict(FAILED_SENSOR_LEVEL_Q))
+    # ^ one number for every sensor, or per sensor (names.SENSORS keys)
     qd_longitudinal: dict[str, float] = field(default_factory=dict)  # method 1
     r_pseudonoise: dict[str, float] = field(default_factory=dict)    # method 2
     qd_lateral: dict[str, float] = field(default_factory=dict)       # method 3
@@ -138,6 +155,13 @@ class Tuning:
         ``names.ACTUATORS`` (``failed_surface_q``: one number for all, or per surface)."""
         q = self.failed_surface_q
         return np.array([q[a] for a in names.ACTUATORS] if isinstance(q, dict) else [q] * names.NU, dtype=float)
+
+    def sensor_level_q(self) -> np.ndarray:
+        """(7,) the level random walk per frame of each failed sensor under ``cover``, in units of
+        its noise variance, order ``names.SENSORS`` (``failed_sensor_level_q``: one number for
+        all, or per sensor)."""
+        q = self.failed_sensor_level_q
+        return np.array([q[s] for s in names.SENSORS] if isinstance(q, dict) else [q] * names.NZ, dtype=float)
 
     def actuator_strengths(self) -> np.ndarray:
         """(5,) method-4 strengths q (rad^2/s), order ``names.ACTUATORS``."""
@@ -217,10 +241,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
     except ValueError as exc:
         raise TuningError(f"{source}: {exc}") from None
     walk_q = _surface_walk_q(data.get("failed_surface_q", FAILED_SURFACE_Q), source)
-    level_q = data.get("failed_sensor_level_q", FAILED_SENSOR_LEVEL_Q)
-    if isinstance(level_q, bool) or not isinstance(level_q, (int, float)) or not (math.isfinite(level_q)
-                                                                                  and level_q >= 0.0):
-        raise TuningError(f"{source}: failed_sensor_level_q = {level_q!r} must be a finite number >= 0")
+    level_q = _sensor_level_q(data.get("failed_sensor_level_q", FAILED_SENSOR_LEVEL_Q), source)
     sections = {}
     for section, keys in SECTIONS.items():
         table = data.get(section, {})
@@ -242,7 +263,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
     estimator = _estimator_settings(data.get("estimator", {}), source)
     return Tuning(name=name, description=description, turbulence=turbulence, gust_model=gust_model,
                   failure_model=failure_model, failed_surface_q=walk_q,
-                  failed_sensor_level_q=float(level_q),
+                  failed_sensor_level_q=level_q,
                   qd_longitudinal=sections["method1_qd_longitudinal"],
                   r_pseudonoise=sections["method2_r"],
                   qd_lateral=sections["method3_qd_lateral"],

@@ -2,7 +2,8 @@
 nodes from the design point to high dynamic pressure, against what the declaration rule needs.
 
     python tools/schedule/evidence.py --schedule FILE [--nodes 0.4:20000,0.6:10000] \\
-        [--failures LS,RS,LF,RF,ROL] [--seeds 1,2,3,4] [--turbulence none] [--dither-scale 1,1,2,2,2]
+        [--failures LS,RS,LF,RF,ROL] [--seeds 1,2,3,4] [--turbulence none] [--dither-scale 1,1,2,2,2] \\
+        [--dither-frequency 1.7,1.7,2.9,2.9,2.3]
 
 At each node, each failure is flown with the design's calibration-flight setup
 (``design.flights.fly_closed_loop``: light turbulence, the truth's default dither, raw
@@ -19,7 +20,10 @@ frames after the failure (mean over the seeds):
            (reference = the node's; the likelihoods are divided by it)
 --turbulence flies another turbulence level than the calibration's light (none: what the
 turbulence costs the evidence); --dither-scale multiplies the surface dither amplitudes (one
-factor, or one per surface LS,RS,LF,RF,RUD; dither_margin.py: what the criterion allows).
+factor, or one per surface LS,RS,LF,RF,RUD; dither_margin.py: what the criterion allows);
+--dither-frequency gives the five surfaces' frequencies (Hz) instead of the default lines.
+--failures NONE flies no failure: e_next is then NONE's margin on its closest competitor
+(negative: that hypothesis fits the failure-free flight better than NONE, frame by frame).
 """
 from __future__ import annotations
 
@@ -49,8 +53,9 @@ def main() -> int:
     ap.add_argument("--seeds", default="1,2,3,4")
     ap.add_argument("--turbulence", default="light")
     ap.add_argument("--dither-scale", default="1")
+    ap.add_argument("--dither-frequency", default=None)
     args = ap.parse_args()
-    dither = scaled_dither(args.dither_scale)
+    dither = scaled_dither(args.dither_scale, args.dither_frequency)
     info = load_bank(args.schedule)[2].schedule
     seeds = [int(s) for s in args.seeds.split(",")]
     for item in args.nodes.split(","):
@@ -69,7 +74,7 @@ def main() -> int:
             k = names.SINGLE_HYPOTHESES.index(fail)
             e_none, diffs, scales = [], [], []
             for seed in seeds:
-                fl = fly_closed_loop(mach, alt, seed=seed, failure=fail, failure_time_s=FAILURE_S,
+                fl = fly_closed_loop(mach, alt, seed=seed, failure=None if fail == names.NONE else fail, failure_time_s=FAILURE_S,
                                      turbulence_level=args.turbulence, dither=dither)
                 est = core.HierarchicalBank(mb, adapt_turbulence=True, adapt_reference=nd["adapt_reference"], **settings)
                 plain.reset()

@@ -86,8 +86,8 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: 6: both bounded on calibration flights flown with the estimator's start-up (calibrate.START_UP_S);
 #: 7: that start-up recommended by the file itself (schedule format 3's start_up_s);
 #: 8: the nodes above 2 Q0 calibrated on flights with the dither's high-q̄ rule for the pairs
-#: (truth/dither.py), which the truth flies there.
-SCHEDULE_DESIGN_REVISION = 8
+#: (truth/dither.py), which the truth flies there; 9: that rule's pairs at 3.5 / 4.2 Hz.
+SCHEDULE_DESIGN_REVISION = 9
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -13,7 +13,8 @@ amplitude for the same n_z (2 a cos phi).  A failure of one surface of a pair re
 share: the line's pitch/lift part drops and the survivor's roll shows (LS vs RS, LF vs RF:
 opposite roll), so each failure keeps a distinct signature (tests/python/test_truth_dither.py).
 Above twice the design dynamic pressure the pairs follow a high-q̄ rule (``Dither``: the
-flaperons turn antisymmetric, both pairs' scheduled amplitudes grow within the criterion).
+flaperons turn antisymmetric, both pairs' lines move further above the short period, 3.5 and
+4.2 Hz, and their scheduled amplitudes grow within the criterion).
 Frequencies are set above the band where light turbulence is strong (vertical and rolling gusts mimic a
 flaperon's lift/roll signature at 0.8-1.1 Hz: flaperon false alarms), within the actuator
 bandwidth: stabilators 1.7 Hz (u, alpha, q, n_z), flaperons 2.9 Hz (n_z; p after a
@@ -221,6 +222,10 @@ HIGH_QBAR_PAIRS_FULL = 3.0
 HIGH_QBAR_FLAPERON_PHASE_RAD = math.pi / 2
 HIGH_QBAR_FLAPERON_GAIN = 2.5
 HIGH_QBAR_STABILATOR_GAIN = 1.6
+#: Where the rule is in full: the pairs' frequencies (Hz), further above the short period (see
+#: Dither).
+HIGH_QBAR_STABILATOR_FREQUENCY_HZ = 3.5
+HIGH_QBAR_FLAPERON_FREQUENCY_HZ = 4.2
 
 
 def amplitude_schedule(scale: float) -> float:
@@ -252,7 +257,10 @@ class Dither:
     High-q̄ rule for the pairs, b = high_qbar_blend(s) (0 at and below 2 Q0, 1 from 3 Q0)::
 
         phi_LF = phi + b (pi/2 - phi),  phi_RF = -phi_LF              (flaperons -> antisymmetric)
-        a_LF,RF *= 1 + b (HIGH_QBAR_FLAPERON_GAIN - 1),  a_LS,RS *= 1 + b (HIGH_QBAR_STABILATOR_GAIN - 1)
+        f'_LS,RS = f_LS,RS + b (HIGH_QBAR_STABILATOR_FREQUENCY_HZ - f_LS,RS)    (1.7 -> 3.5 Hz)
+        f'_LF,RF = f_LF,RF + b (HIGH_QBAR_FLAPERON_FREQUENCY_HZ - f_LF,RF)      (2.9 -> 4.2 Hz)
+        a_LF,RF *= (1 + b (HIGH_QBAR_FLAPERON_GAIN - 1)) f'_LF,RF / f_LF,RF
+        a_LS,RS *= (1 + b (HIGH_QBAR_STABILATOR_GAIN - 1)) f'_LS,RS / f_LS,RS
 
     Above q̄ 300 the filters' AZ covariance covers the gusts' n_z, which grows with q̄, while the
     schedule holds the dither's n_z at about 0.04 g, so a failed surface's missing n_z is a
@@ -260,6 +268,20 @@ class Dither:
     flaperons spend half of that n_z; antisymmetric, their lift cancels in healthy flight and
     their roll is what the FCS's roll loop damps, so both pairs' amplitudes can grow within the
     criterion -- and a failed flaperon's missing lift is its amplitude's, whatever the phase.
+    The frequencies: at q̄ 370-790 the closed loop's n_z and q per radian of stabilator fall as
+    about 1/f^2 from 1.3 to 4.5 Hz and the flaperons' p as about 1/f, while the filters' residual
+    keeps more of a failed surface's line the faster it is (the filters track slow excitation as
+    gusts), so at equal share of the criterion a failed stabilator gives its hypothesis 1.6-2x
+    the log-odds per frame at 3.5 Hz than at 1.7 Hz, a flaperon 1.3-1.8x at 4.2 Hz than at 2.9 Hz
+    (above 4 Hz the actuators' lag takes it back).  The factor f'/f (the surface's rate
+    amplitude held but for the rule's gain) keeps the peaks at or below the rule's without the
+    frequencies (the measured fall is f^-1.1 to f^-1.4 for the stabilators' n_z and the
+    flaperons' p; in the blend the flaperons' lift, not yet antisymmetric, falls slower):
+    largest share 0.91 at M 0.45 / 5,000 ft in the blend, docs/results/envelope_tuning.md
+    round 9, "High q̄".  The rate amplitude 2 pi f' a is largest at 3 Q0, 25 deg/s on the
+    stabilators and 40 deg/s on the flaperons, within their 60 and 80 deg/s (truth/actuators.py),
+    so the line stays linear (at low q̄, where the schedule makes the amplitudes large, a 3.5-Hz
+    stabilator line saturates the rate: not used there).
     The gains keep the peaks within the criterion from 2 Q0 up (largest share 0.91 at
     M 0.5 / 10,000 ft in the blend, 0.84 at M 0.8 / 5,000 ft in full: tests/python/test_truth_dither.py,
     envelope_tuning.md round 8); every paper Fig. 9 point (q̄ <= 170) and the design point fly b = 0.
@@ -276,6 +298,12 @@ class Dither:
         if b > 0.0:
             self._ph[2] += b * (HIGH_QBAR_FLAPERON_PHASE_RAD - self._ph[2])
             self._ph[3] += b * (-HIGH_QBAR_FLAPERON_PHASE_RAD - self._ph[3])
+            for j, f_hz in ((0, HIGH_QBAR_STABILATOR_FREQUENCY_HZ), (1, HIGH_QBAR_STABILATOR_FREQUENCY_HZ),
+                            (2, HIGH_QBAR_FLAPERON_FREQUENCY_HZ), (3, HIGH_QBAR_FLAPERON_FREQUENCY_HZ)):
+                w = self._w[j] + b * (2.0 * math.pi * f_hz - self._w[j])
+                if self._w[j] > 0.0:
+                    self._a[j] *= w / self._w[j]
+                self._w[j] = w
             for j, gain in ((0, HIGH_QBAR_STABILATOR_GAIN), (1, HIGH_QBAR_STABILATOR_GAIN),
                             (2, HIGH_QBAR_FLAPERON_GAIN), (3, HIGH_QBAR_FLAPERON_GAIN)):
                 self._a[j] *= 1.0 + b * (gain - 1.0)

@@ -28,7 +28,8 @@
 //   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
 //   adapt_reference (None: a schedule's per-node references, else 0.6), adapt_channel_weight
 //                                                                       turbulence_adaptation.h
-//   adapt_reference_climb (None: off), adapt_reference_climb_hold_s      climb_reference.h
+//   adapt_reference_climb (None: off), adapt_reference_climb_hold_s,
+//   adapt_reference_climb_dwell_s (0: the declarer's dwell)             climb_reference.h
 //   maneuver_kinematics, maneuver_tempering_g                           maneuver_kinematics.h
 //   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
 //                                                                       actuator_limits.h
@@ -67,6 +68,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
                                              const std::optional<double>& adapt_reference_climb,
                                              double adapt_reference_climb_hold_s,
+                                             double adapt_reference_climb_dwell_s,
                                              bool maneuver_kinematics, double maneuver_tempering_g,
                                              const std::vector<double>& actuator_rate_limits_rad_s,
                                              const std::vector<double>& actuator_position_limits_rad) {
@@ -124,6 +126,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   }
   if (adapt_reference_climb) o.climb_reference.reference = *adapt_reference_climb;
   o.climb_reference.hold_s = adapt_reference_climb_hold_s;
+  o.climb_reference.dwell_s = adapt_reference_climb_dwell_s;
   o.declarer.threshold = threshold;
   o.declarer.dwell_s = dwell_s;
   if (!declarer.is_none()) {
@@ -158,7 +161,8 @@ Class& def_estimator_init(Class& cls) {
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
                   const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
                   const std::optional<double>& adapt_reference_climb,
-                  double adapt_reference_climb_hold_s, bool maneuver_kinematics,
+                  double adapt_reference_climb_hold_s, double adapt_reference_climb_dwell_s,
+                  bool maneuver_kinematics,
                   double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
         return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, departure_hold, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
@@ -169,7 +173,7 @@ Class& def_estimator_init(Class& cls) {
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
                                              adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_reference_climb, adapt_reference_climb_hold_s,
-                                             maneuver_kinematics, maneuver_tempering_g,
+                                             adapt_reference_climb_dwell_s, maneuver_kinematics, maneuver_tempering_g,
                                              actuator_rate_limits_rad_s, actuator_position_limits_rad));
       }),
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
@@ -198,6 +202,7 @@ Class& def_estimator_init(Class& cls) {
       py::arg("adapt_own_channels") = core.bank.adaptation.own_channels,
       py::arg("adapt_reference_climb") = py::none(),
       py::arg("adapt_reference_climb_hold_s") = core.climb_reference.hold_s,
+      py::arg("adapt_reference_climb_dwell_s") = core.climb_reference.dwell_s,
       py::arg("maneuver_kinematics") = core.maneuver.kinematics,
       py::arg("maneuver_tempering_g") = core.maneuver.tempering_g,
       py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},

@@ -16,10 +16,16 @@
 // and speed it captured). While climbing, the adaptation's reference is `reference`; else the
 // one in force without this option (--adapt-reference, or a scheduled bank's node reference).
 // Off (reference NaN, the default): nothing changes, bit for bit. Needs the adaptation on.
+// With dwell_s > 0 (0, the default: the declarer's own) a level-0 declaration in the same
+// phase (climbing or its hold) needs p > threshold on max(1, round(dwell_s f)) consecutive
+// frames instead of the declarer's dwell (HierarchicalBank::update; declarer.h): the model
+// error of a climb or speed change lifts a hypothesis for 0.3-2.5 s and lets it go, a failure
+// stays. Level flight and level turns keep the declarer's dwell, and so their latency.
 // Options are checked by validate() (std::invalid_argument naming the value and its range).
 #pragma once
 
 #include "f16mmae/air_data_rates.h"
+#include "f16mmae/estimator_settings.h"
 
 #include <cmath>
 #include <cstdint>
@@ -32,6 +38,7 @@ namespace f16mmae {
 struct ClimbReferenceOptions {
   double reference = std::numeric_limits<double>::quiet_NaN();   // rho_0 while climbing; NaN = off
   double hold_s = 0.0;            // kept this long after the last climbing frame
+  double dwell_s = 0.0;           // the level-0 declaration dwell while climbing; 0: the declarer's
   double climb_ft_s = AirDataRates::kClimbFtS;   // |h_dot| above this: climbing (300 ft/min)
   double mach_per_s = AirDataRates::kMachPerS;   // |M_dot| above this: changing speed
   bool enabled() const noexcept { return !std::isnan(reference); }
@@ -42,6 +49,9 @@ struct ClimbReferenceOptions {
                                   std::to_string(reference));
     if (!(hold_s >= 0.0 && hold_s <= 3600.0))
       throw std::invalid_argument("adapt_reference_climb_hold_s must be in [0, 3600] s, got " + std::to_string(hold_s));
+    if (!(dwell_s >= 0.0 && dwell_s <= kMaxDwellS))
+      throw std::invalid_argument("adapt_reference_climb_dwell_s must be in [0, " + std::to_string(kMaxDwellS) +
+                                  "] s (0: the declarer's dwell), got " + std::to_string(dwell_s));
     if (!(climb_ft_s > 0.0 && mach_per_s > 0.0))
       throw std::invalid_argument("climb reference: climb_ft_s and mach_per_s must be > 0, got " +
                                   std::to_string(climb_ft_s) + " and " + std::to_string(mach_per_s));
@@ -54,6 +64,8 @@ class ClimbReference {
       : options_(options), air_(frame_rate_hz),
         hold_frames_(static_cast<std::int64_t>(std::llround(options.hold_s * frame_rate_hz))) {
     options.validate();
+    if (options.enabled() && options.dwell_s > 0.0)
+      dwell_frames_ = f16mmae::dwell_frames(options.dwell_s, frame_rate_hz, "climb reference");
   }
   bool enabled() const noexcept { return options_.enabled(); }
   void reset() noexcept {
@@ -71,6 +83,8 @@ class ClimbReference {
   bool climbing() const noexcept { return held_for_ > 0; }
   // The reference in force: `reference` while climbing, else `base`.
   double reference(double base) const noexcept { return climbing() ? options_.reference : base; }
+  // The dwell in force (frames): the phase's own while climbing (dwell_s > 0), else `base`.
+  int dwell_frames(int base) const noexcept { return dwell_frames_ > 0 && climbing() ? dwell_frames_ : base; }
   const ClimbReferenceOptions& options() const noexcept { return options_; }
   const AirDataRates& rates() const noexcept { return air_; }
 
@@ -78,6 +92,7 @@ class ClimbReference {
   ClimbReferenceOptions options_;
   AirDataRates air_;
   std::int64_t hold_frames_ = 0, held_for_ = 0;
+  int dwell_frames_ = 0;   // 0: off
 };
 
 }  // namespace f16mmae

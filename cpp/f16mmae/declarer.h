@@ -45,6 +45,12 @@ class Declarer {
   // Feed one frame's probabilities p[0..n). Returns the index declared on this frame, or -1.
   template <class Vector>
   int update(const Vector& p) noexcept {
+    return update(p, dwell_frames_);
+  }
+  // The same with the dwell in force on this frame, `dwell_frames` (>= 1; a flight phase's own
+  // dwell, climb_reference.h): the count carries on across a change of the dwell in force.
+  template <class Vector>
+  int update(const Vector& p, int dwell_frames) noexcept {
     const int n = static_cast<int>(p.size());
     int above = -1;
     for (int k = 0; k < n; ++k)
@@ -61,8 +67,8 @@ class Declarer {
       candidate_ = above;
       count_ = 0;
     }
-    if (count_ < dwell_frames_) ++count_;
-    if (count_ >= dwell_frames_ && candidate_ != current_) {
+    if (count_ < dwell_frames) ++count_;
+    if (count_ >= dwell_frames && candidate_ != current_) {
       current_ = candidate_;
       return current_;
     }

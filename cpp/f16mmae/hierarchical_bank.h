@@ -84,7 +84,8 @@
 //   NONE is presumed with it at construction and reset().
 //   With options.climb_reference (off by default) the adaptation's rho_0 is its reference
 //   while the air data handed to schedule() climb, descend or change speed, and for its hold
-//   after (climb_reference.h); else the node's or the option's as above.
+//   after (climb_reference.h); else the node's or the option's as above. With its dwell_s, a
+//   level-0 declaration in that phase needs that dwell instead of the declarer's.
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
 // z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
@@ -203,7 +204,7 @@ class HierarchicalBank {
       declarer_in_force().reset(declarer_in_force().current());   // the dwell restarts
       ++departure_frames_;
     }
-    const int d = departure_hold_ > 0 ? -1 : declarer_in_force().update(bank_.probabilities());
+    const int d = departure_hold_ > 0 ? -1 : declarer_in_force().update(bank_.probabilities(), dwell_frames_in_force());
     int hypothesis = -1;
     if (d >= 0) {
       hypothesis = online_[d];
@@ -487,6 +488,12 @@ class HierarchicalBank {
     return d;
   }
   bool own_level1_dwell() const noexcept { return level_ == 1 && options_.level1_dwell_s > 0.0; }
+  // The dwell in force (frames): at level 0 the climb reference's while climbing, if it has one
+  // (climb_reference.h); else the declarer's in force.
+  int dwell_frames_in_force() const noexcept {
+    const int base = declarer_in_force().dwell_frames();
+    return level_ == 0 ? climb_ref_.dwell_frames(base) : base;
+  }
   Declarer& declarer_in_force() noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
   const Declarer& declarer_in_force() const noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
   static FilterBankOptions with_rate(FilterBankOptions b, double rate_hz) {

@@ -6,6 +6,9 @@ core.HierarchicalBank, on the synthetic bank of test_core_hierarchical:
   the climb reference: the scale s follows clamp(1 + gain (rho - rho_0), s_min, s_max) with the
   rho_0 that an independent recomputation of the air-data rate gate (two first-order
   low-passes, 1 s and 5 s) gives, frame by frame;
+* with a dwell of its own, a level-0 declaration while the gate is open needs that many
+  consecutive frames above the threshold, elsewhere the declarer's (an independent count over
+  the bank's own probabilities);
 * reset() returns to the reference without it; bad options are refused by name.
 """
 from __future__ import annotations
@@ -94,9 +97,66 @@ def test_the_climb_reference_is_in_force_while_the_air_data_climb_and_its_hold(s
     assert bank.turbulence_scale == 1.0   # rho = rho_0 = BASE: s = clamp(1)
 
 
+def _first_declaration(probabilities, threshold: float, need) -> tuple[int, int]:
+    """(frame, hypothesis) of the first declaration of a hypothesis other than NONE by the rule
+    of declarer.h with need(i) consecutive frames above the threshold on frame i."""
+    candidate, count = -1, 0
+    for i, p in enumerate(probabilities):
+        above = next((k for k, pk in enumerate(p) if pk > threshold), -1)
+        if above < 0:
+            candidate, count = -1, 0
+            continue
+        if above != candidate:
+            candidate, count = above, 0
+        if count < need(i):
+            count += 1
+        if count >= need(i) and candidate != 0:
+            return i, candidate
+    return -1, -1
+
+
+@pytest.mark.parametrize("climb_dwell_s", [0.0, 2.0])
+def test_the_climb_dwell_is_in_force_while_the_gate_is_open(small, climb_dwell_s):
+    pl, mb = small
+    n = 1800
+    fail = 480   # inside the climb (5-10 s) and the gate
+    zs, us = fly(pl, ACT, SEN, mb, [("Z2", fail, 10**9)], n, seed=5)
+    air = _air(n)
+    gate = _gate(air, 3.0)
+    assert gate[fail:fail + 200].all()
+    opts = dict(adapt_turbulence=True, adapt_reference=BASE, adapt_gain=GAIN, adapt_reference_climb=BASE,
+                adapt_reference_climb_hold_s=3.0, adapt_reference_climb_dwell_s=climb_dwell_s)
+    bank = core.HierarchicalBank(mb, **opts)
+    # the level-0 probabilities up to the declaration: a bank that declares nothing (the
+    # declarer does not touch them before its first switch)
+    watcher = core.HierarchicalBank(mb, threshold=1 - 1e-15, **opts)
+    probabilities = []
+    for z, u, a in zip(zs, us, air):
+        for b in (bank, watcher):
+            b.schedule(*a)
+            b.step(z, u)
+        probabilities.append(np.array(watcher.probabilities))
+    assert watcher.declarations == []
+    base = round(0.25 * RATE_HZ)
+    climb = round(climb_dwell_s * RATE_HZ) if climb_dwell_s else base
+    frame, k = _first_declaration(probabilities, 0.9, lambda i: climb if gate[i] else base)
+    first = bank.declarations[0]
+    assert ("NONE", "U1", "U2", "Z1", "Z2", "Z3")[k] == "Z2"   # the level-0 order
+    assert (first["frame"], first["hypothesis"], first["level"]) == (frame, "Z2", 0)
+    if climb_dwell_s:
+        assert frame >= fail + climb - 1   # climb frames above the threshold, the failure's first
+        plain = core.HierarchicalBank(mb, **{**opts, "adapt_reference_climb_dwell_s": 0.0})
+        for z, u, a in zip(zs, us, air):
+            plain.schedule(*a)
+            plain.step(z, u)
+        assert plain.declarations[0]["frame"] < frame   # the declarer's dwell alone declares sooner
+
+
 def test_bad_climb_reference_options_are_refused_by_name(small):
     _, mb = small
     with pytest.raises(ValueError, match=r"adapt_reference_climb must be a power ratio in \[0, 100\], got -1"):
         core.HierarchicalBank(mb, adapt_turbulence=True, adapt_reference_climb=-1.0)
     with pytest.raises(ValueError, match=r"adapt_reference_climb_hold_s must be in \[0, 3600\] s"):
         core.HierarchicalBank(mb, adapt_turbulence=True, adapt_reference_climb=0.6, adapt_reference_climb_hold_s=-2.0)
+    with pytest.raises(ValueError, match=r"adapt_reference_climb_dwell_s must be in \[0, 60"):
+        core.HierarchicalBank(mb, adapt_turbulence=True, adapt_reference_climb=0.6, adapt_reference_climb_dwell_s=61.0)

@@ -86,6 +86,11 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     minimum=0.0, maximum=3600.0, requires="adapt_reference_climb",
                     help="with --adapt-reference-climb: keep the climb reference S seconds after the climb, "
                          "descent or speed change ends (the level-off; default 0)"),
+    EstimatorOption("adapt_reference_climb_dwell_s", "--adapt-reference-climb-dwell", "number", metavar="S",
+                    minimum=0.0, maximum=DWELL_S_MAX, requires="adapt_reference_climb", in_daemon=False,
+                    help="with --adapt-reference-climb: a declaration at level 0 while that reference is in force "
+                         "(the climb, descent or speed change and its hold) needs S seconds above the threshold "
+                         "instead of the dwell (cpp/f16mmae/climb_reference.h). Default 0: the dwell everywhere"),
     EstimatorOption("turbulence_banks", "--turbulence-banks", "switch",
                     help="fly the turbulence bank set: banks designed for rising turbulence intensities (the "
                          "shipped set: calm air and light turbulence), the running one chosen on line by its "

@@ -65,7 +65,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              double blend_step_cells, double air_data_time_constant_s,
                                              bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
                                              double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                                             const std::optional<double>& adapt_reference, double adapt_channel_weight,
+                                             const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
                                              const std::optional<double>& adapt_reference_climb,
                                              double adapt_reference_climb_hold_s,
                                              double adapt_reference_climb_dwell_s,
@@ -111,6 +111,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.bank.adaptation.scale_max = adapt_scale_max;
   o.bank.adaptation.gain = adapt_gain;
   o.bank.adaptation.channel_weight = adapt_channel_weight;
+  o.bank.adaptation.own_channels = adapt_own_channels;
   if (adapt_reference) {  // one reference everywhere; else a schedule's per-node ones, if it has them
     o.bank.adaptation.reference = *adapt_reference;
     o.schedule.node_adapt_reference = false;
@@ -146,7 +147,7 @@ Class& def_estimator_init(Class& cls) {
                   double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                  const std::optional<double>& adapt_reference, double adapt_channel_weight,
+                  const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
                   const std::optional<double>& adapt_reference_climb,
                   double adapt_reference_climb_hold_s, double adapt_reference_climb_dwell_s,
                   bool maneuver_kinematics,
@@ -159,7 +160,7 @@ Class& def_estimator_init(Class& cls) {
                                              trim_steady_mach_per_s, schedule_mode, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
-                                             adapt_reference, adapt_channel_weight, adapt_reference_climb, adapt_reference_climb_hold_s,
+                                             adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_reference_climb, adapt_reference_climb_hold_s,
                                              adapt_reference_climb_dwell_s, maneuver_kinematics, maneuver_tempering_g,
                                              actuator_rate_limits_rad_s, actuator_position_limits_rad));
       }),
@@ -185,6 +186,7 @@ Class& def_estimator_init(Class& cls) {
       py::arg("adapt_scale_min") = core.bank.adaptation.scale_min,
       py::arg("adapt_scale_max") = core.bank.adaptation.scale_max, py::arg("adapt_gain") = core.bank.adaptation.gain,
       py::arg("adapt_reference") = py::none(), py::arg("adapt_channel_weight") = core.bank.adaptation.channel_weight,
+      py::arg("adapt_own_channels") = core.bank.adaptation.own_channels,
       py::arg("adapt_reference_climb") = py::none(),
       py::arg("adapt_reference_climb_hold_s") = core.climb_reference.hold_s,
       py::arg("adapt_reference_climb_dwell_s") = core.climb_reference.dwell_s,

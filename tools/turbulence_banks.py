@@ -32,6 +32,7 @@ class SideBySide:
     def __init__(self, banks, references, show: int):
         self.members = [core.HierarchicalBank(b, **core_arguments({**bank_estimator_settings(b),
                                                                    "adapt_turbulence": True,
+                                                                   "adapt_own_channels": True,
                                                                    "adapt_reference": r}, b.nu))
                         for b, r in zip(banks, references)]
         self.show = self.members[show]

@@ -23,8 +23,9 @@ import concurrent.futures as cf
 
 import numpy as np
 
+from f16mmae import banks
 from f16mmae.banks import load_bank
-import f16mmae.design.turbulence_banks  # noqa: F401  (--bank turbulence: registers the set)
+from f16mmae.design import turbulence_banks  # --bank turbulence: registers the set
 from f16mmae.loop.flight import fly
 from f16mmae.campaign.soak.campaign import PROFILES, profile
 from f16mmae.names import ACTUATORS, COMPONENTS, FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, SENSORS
@@ -88,7 +89,13 @@ def main() -> None:
     p.add_argument("--feedback", default="mmae", choices=FEEDBACK_MODES)
     p.add_argument("--quiet-profile", default=None, choices=PROFILES,
                    help="the failure-free flights fly this soak profile (hold: the pilot holds the trim)")
+    p.add_argument("--set", default=None, metavar="FILE",
+                   help="--bank turbulence flies this turbulence bank set file (f16mmae design "
+                        "--turbulence-banks --out FILE), not the one the design module names")
     a = p.parse_args()
+    if a.set:
+        given = turbulence_banks.load_set(a.set)   # checked now; the workers inherit the registration
+        banks.register_turbulence_set(lambda: given, lambda: (given.path, given.banks[given.selector["start"]]))
     quiet_maneuvers = () if a.quiet_profile is None else profile(a.quiet_profile, 0.4, 20_000.0)[0]
     tuning = tuning_seeds()
     jobs = []

@@ -6,7 +6,8 @@
 //
 // Member i is HierarchicalBank(set.members[i], its options): `options` (the daemon's flags over
 // the START member's recommended settings, as the in-process set takes them:
-// loop/estimator.py) with the turbulence adaptation on (the selector's measure) and its
+// loop/estimator.py) with the turbulence adaptation on (the selector's measure; each filter's
+// residual power per channel it reads, own_channels: turbulence_adaptation.h) and its
 // reference the set file's adapt_reference[i], unless one reference was given for all
 // (options.schedule.node_adapt_reference false: the flag that also overrides a schedule's
 // per-node references), and its trim tracking the set file's trim_time_constant_s[i] unless
@@ -66,6 +67,7 @@ class TurbulenceSetBank {
     for (int i = 0; i < file.size(); ++i) {
       HierarchicalOptions o = options;
       o.bank.adaptation.enabled = true;
+      o.bank.adaptation.own_channels = true;   // the selector's rho per channel each filter reads
       if (options.schedule.node_adapt_reference) o.bank.adaptation.reference = file.adapt_reference[i];
       if (!options.trim.enabled()) o.trim.time_constant_s = file.trim_time_constant_s[i];
       if (!options.maneuver.tempering()) o.maneuver.tempering_g = file.maneuver_tempering_g;

@@ -199,6 +199,8 @@ class FilterBank {
     level_set_.assign_size(k);
     uninformative_.assign_size(k);
     footing_.setZero(k);
+    own_ratio_.setOnes(k);
+    q_own_.setZero(k);
     for (int i = 0; i < k; ++i) note_uninformative(i);
     level_.setZero(nz, k);
     level_var_.setZero(nz, k);
@@ -288,7 +290,12 @@ class FilterBank {
       }
       apply_floor();
     }
-    scale_.observe(q_);
+    if (scale_.options().own_channels) {   // q_k m / m_k: each form per channel it reads (turbulence_adaptation.h)
+      q_own_ = q_.cwiseProduct(own_ratio_);
+      scale_.observe(q_own_);
+    } else {
+      scale_.observe(q_);
+    }
     if (per_channel) observe_channels();
     refresh_blend();
     ++frames_;
@@ -520,6 +527,11 @@ class FilterBank {
   // members so a frame does not read it from each filter's HypothesisFilter.
   void note_uninformative(int k) noexcept {
     uninformative_[k] = hypotheses_[k].has_uninformative();
+    int read = nz();   // m_k: the channels filter k's q_k sums (its uninformative ones left out)
+    if (uninformative_[k])
+      for (int j = 0; j < nz(); ++j)
+        if (hypotheses_[k].model().uninformative_width(j) > 0.0) --read;
+    own_ratio_(k) = read > 0 ? static_cast<double>(nz()) / read : 1.0;
     if (k == 0) {   // filter 0's A is every other filter's footing
       for (int i = 0; i < size(); ++i) note_footing(i);
     } else {
@@ -626,6 +638,7 @@ class FilterBank {
   double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
   HypothesisFlags<K> uninformative_;              // note_uninformative
   PVector footing_;                               // v_k (note_footing)
+  PVector own_ratio_, q_own_;                     // m / m_k (note_uninformative) and q_k m / m_k
   PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)
   std::int64_t start_up_frames_ = 0;              // round(start_up_s f): updates that weigh nothing
   int presumed_ = 0;                              // the hypothesis presumed last (set_p_min)

@@ -63,6 +63,14 @@
 //   gives in the quieter channels as much as the gusts in the loudest. ρ_j start and reset at
 //   ρ_0 and follow set_power_ratio like ρ; s (scale()) and ρ̄ stay the common ones.
 //
+// Own channels (own_channels, default off): a hypothesis with uninformative channels (a failed
+// sensor's reading an unknown level, filter_bank.h) leaves them out of q_k, so q_k sums
+// m_k = m − (its uninformative channels) terms, E[q_k] = m_k: its q_k / m reads low by
+// (m − m_k)/m, and in gusts by more (the gusts' share in the channel it leaves out), and wins
+// the minimum, so ρ reads the air calmer than it is. With own_channels every filter's form
+// counts per channel it reads: x = min_k q_k / m_k in place of min_k q_k / m (the filter bank
+// passes q_k m / m_k to observe()); a bank without uninformative channels is unchanged.
+//
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
 // air by it, turbulence_bank_set.h): the same per-update x = min_k q_k / m, unclipped,
 // averaged from the start or reset() on as
@@ -97,6 +105,7 @@ namespace f16mmae {
 // alignment peeling, hence the rounding of the blend: "off" would not be bit-identical.
 struct alignas(16) TurbulenceAdaptationOptions {
   bool enabled = false;          // off: the bank as designed (bit-identical)
+  bool own_channels = false;     // ρ from min_k q_k / m_k, m_k the channels filter k reads (header)
   double channel_weight = 0.0;   // γ: a scale s_j per measurement channel (header); 0: one s
   double time_constant_s = 5.0;  // τ of the residual-power average (tuned with κ, s_max)
   double scale_min = 1.0;        // s_min: the design's A_k are the floor

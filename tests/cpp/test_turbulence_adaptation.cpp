@@ -1,5 +1,5 @@
 // Turbulence adaptation (turbulence_adaptation.h): the scale's recursion by hand, the bank's
-// tempered Bayes update by hand, "off" bit-identical to the bank without it, the scale
+// tempered Bayes update by hand, the power ratio per channel each filter reads (own_channels), "off" bit-identical to the bank without it, the scale
 // recovering a known noise-power ratio, a failure not absorbed, option checks, and no heap
 // allocation in the F-16-sized step with it on (global operator new is counted here).
 #include "f16mmae/hierarchical_bank.h"
@@ -243,6 +243,41 @@ TEST(TurbulenceAdaptation, PerChannelScalesAndLikelihoodsByHand) {
   bank.set_adapt_power_ratio(9.0);
   EXPECT_NEAR(bank.adaptation().channel_inverse_sqrt_scales()(0), 1.0 / 3.0, 1e-15);
   EXPECT_NEAR(bank.adaptation().channel_inverse_sqrt_scales()(1), 1.0 / 3.0, 1e-15);
+}
+
+TEST(TurbulenceAdaptation, OwnChannelsCountsEachFormPerChannelItReads) {
+  // tau far below a frame: alpha = 1, so rho = x of the last frame; gain 1, reference 1: s = rho.
+  // Filter 0 reads both channels (A = I: q_0 = z0^2 + z1^2); filter 1's channel 1 is
+  // uninformative (a failed sensor's unknown level), so q_1 = z0^2 sums one channel.
+  PairModel failed = pair_model(1.0, 0.0, 1.0);
+  failed.h << 1.0, 0.0;
+  failed.uninformative_width << 0.0, 10.0;
+  failed.uninformative_level_q << 0.0, 0.01;
+  FilterBankOptions o;
+  o.p_min = 0.0;
+  o.adaptation = on(1e-5, 1.0, 50.0);
+  FilterBankOptions own = o;
+  own.adaptation.own_channels = true;
+  PairBank plain({pair_model(1.0, 0.0, 1.0), failed}, o), counted({pair_model(1.0, 0.0, 1.0), failed}, own);
+  const Eigen::Vector2d z(2.0, 3.0);
+  ASSERT_TRUE(plain.update(z));
+  ASSERT_TRUE(counted.update(z));
+  EXPECT_NEAR(plain.quadratic_forms()(0), 13.0, 1e-14);
+  EXPECT_NEAR(plain.quadratic_forms()(1), 4.0, 1e-14);
+  EXPECT_NEAR(plain.adaptation().power_ratio(), std::min(13.0, 4.0) / 2.0, 1e-14);   // min_k q_k / m: 2
+  EXPECT_NEAR(counted.adaptation().power_ratio(), std::min(13.0 / 2.0, 4.0 / 1.0), 1e-14);   // min_k q_k / m_k: 4
+  EXPECT_NEAR(counted.adaptation().measured_power_ratio(), 4.0, 1e-14);
+  EXPECT_NEAR(counted.turbulence_scale(), 4.0, 1e-14);
+  EXPECT_EQ(counted.quadratic_forms(), plain.quadratic_forms());   // the likelihoods' forms are untouched
+  // a bank without uninformative channels: the same, bit for bit
+  PairBank full_plain({pair_model(1.0, 0.0, 1.0), pair_model(4.0, -0.5, 1.0)}, o);
+  PairBank full_own({pair_model(1.0, 0.0, 1.0), pair_model(4.0, -0.5, 1.0)}, own);
+  for (const double v : {2.0, -1.0, 0.5}) {
+    ASSERT_TRUE(full_plain.update(Eigen::Vector2d(v, 1.0 - v)));
+    ASSERT_TRUE(full_own.update(Eigen::Vector2d(v, 1.0 - v)));
+  }
+  EXPECT_EQ(full_plain.adaptation().power_ratio(), full_own.adaptation().power_ratio());
+  EXPECT_EQ(full_plain.log_likelihoods(), full_own.log_likelihoods());
 }
 
 TEST(TurbulenceAdaptation, PerChannelWithOneChannelIsTheCommonScale) {

@@ -44,9 +44,26 @@ from .. import names
 from ..cache import cache_root
 from ..errors import F16mmaeError
 
-#: The members' design levels, in rising intensity, and their tuning.
+#: The members' levels (the air each is chosen for), in rising intensity, and their tuning.
 MEMBER_LEVELS: tuple[str, ...] = ("none", "light")
 MEMBER_TUNING = "tuned_gust"
+#: The gust level each member's bank is designed for (members designed for moderate and severe
+#: gusts declared the flaperons falsely at their own level; the light design tempers there
+#: instead, below).  A member for stronger air may take the light design with its own floor
+#: (``MEMBER_P_MIN``).
+MEMBER_DESIGN_LEVEL: tuple[str, ...] = ("none", "light")
+#: Each member's probability floor (its bank file's recommended p_min): the tuning's 1e-9.  A
+#: floor of 1e-6 in a member for light and moderate air (with a severe member at 1e-9) shortened
+#: the latency there but declared falsely in severe turbulence before the hand-over, and a
+#: separate moderate member lost more at its hand-over than the floor gained in 8-s flights
+#: (tuning seeds, docs/results/turbulence_banks.md, round 9): not adopted.
+MEMBER_P_MIN: tuple[float, ...] = (1e-9, 1e-9)
+#: The members' failure model (design/hypotheses.py): the paper's ``complete``.  ``constant=VEL``
+#: (a failed VEL reads an unknown constant near its trim) found VEL in calm air and light
+#: turbulence 10 of 10 (from 8) but its duals X+VEL took the speed transient after a stabilator
+#: failure (transient-wrong declarations at none, light and moderate) and severe turbulence lost
+#: 6 of 130 (evaluation seeds, docs/results/turbulence_banks.md, round 9): not adopted.
+MEMBER_FAILURE_MODEL = "complete"
 #: The member in force at the start (light, the shipped design level) and the one running
 #: beside it from frame 0 (calm air: handed over within seconds when the air is calm).
 START = 1
@@ -69,12 +86,12 @@ SETTLE_S = 1.0
 FREEZE_PROBABILITY = 0.05
 #: Each member's turbulence-adaptation reference rho_0 (tempering above it only): 1.0, as the single
 #: light gust bank's (gust_states.md), against each member's own 99th percentile at its level.
-ADAPT_REFERENCE: tuple[float, ...] = (1.0, 1.0)
+ADAPT_REFERENCE: tuple[float, ...] = (1.0,) * len(MEMBER_LEVELS)
 #: Each member's trim tracking time constant (trim_tracker.h), s: slow enough not to follow a stuck
 #: airspeed within the seconds its hypothesis needs, fast enough for the trimmed aircraft's drift
 #: over minutes, which the calm member read as AOA failures late in long flights (tuning seeds:
 #: docs/results/turbulence_banks.md). --trim-tracking TAU overrides it in every member.
-TRIM_TIME_CONSTANT_S: tuple[float, ...] = (300.0, 300.0)
+TRIM_TIME_CONSTANT_S: tuple[float, ...] = (300.0,) * len(MEMBER_LEVELS)
 #: The declaration dwell each member's bank file recommends (s; the tuning's is 0.25): the
 #: latency median 0.62 -> 0.50 s at light, 0.69 -> 0.56 s at moderate, the same correct counts
 #: and no transient-wrong declaration, 0 false declarations in 10 h at none, light and moderate,
@@ -87,7 +104,7 @@ DWELL_S = 0.125
 #: --maneuver-tempering G overrides it.
 MANEUVER_TEMPERING_G = 1.0
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
-REVISION = 10
+REVISION = 12
 SUFFIX = ".f16set"
 
 
@@ -118,7 +135,7 @@ def set_path() -> Path:
         header = f.read(52)
     spec = (f"{REVISION};{MEMBER_TUNING};{MEMBER_LEVELS};{BOUNDS};{TYPICAL};{HOLD_S};{WARM_UP_S};{WARM_DOWN_S};{SETTLE_S};"
             f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{TRIM_TIME_CONSTANT_S};{START};{START_STANDBY};"
-            f"{MANEUVER_TEMPERING_G};{DWELL_S}")
+            f"{MANEUVER_TEMPERING_G};{DWELL_S};{MEMBER_FAILURE_MODEL};{MEMBER_DESIGN_LEVEL};{MEMBER_P_MIN}")
     key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
     return cache_root() / "banks" / f"turbulence_banks_{key}{SUFFIX}"
 
@@ -135,6 +152,7 @@ def design_set(out: str | Path, progress=None) -> Path:
     from .. import core
     from .bank import NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, write_bank
     from .model import linearize_truth
+    from .hypotheses import check_failure_model
     from .tuning import load_tuning
 
     import dataclasses
@@ -145,10 +163,11 @@ def design_set(out: str | Path, progress=None) -> Path:
     lin = linearize_truth(NOMINAL_MACH, NOMINAL_ALT_FT, throttle=True)
     members = []
     with tempfile.TemporaryDirectory(prefix=out.name + ".", dir=out.parent) as tmp:
-        for level in MEMBER_LEVELS:
-            tuning = base if level == base.turbulence else dataclasses.replace(
-                base, name=f"{base.name}-{level}", turbulence=level)
-            tuning = dataclasses.replace(tuning, estimator={**tuning.estimator, "dwell_s": DWELL_S})
+        for level, design_level, p_min in zip(MEMBER_LEVELS, MEMBER_DESIGN_LEVEL, MEMBER_P_MIN):
+            tuning = base if design_level == base.turbulence else dataclasses.replace(
+                base, name=f"{base.name}-{design_level}", turbulence=design_level)
+            tuning = dataclasses.replace(tuning, failure_model=check_failure_model(MEMBER_FAILURE_MODEL),
+                                         estimator={**tuning.estimator, "dwell_s": DWELL_S, "p_min": p_min})
             design = design_bank(NOMINAL_MACH, NOMINAL_ALT_FT, tuning, linearized=lin, throttle_input=True)
             bank = write_bank(design, Path(tmp) / f"{level}.f16bank")
             members.append(bank)

@@ -19,7 +19,7 @@
 // With dwell_s > 0 (0, the default: the declarer's own) a level-0 declaration in the same
 // phase (climbing or its hold) needs p > threshold on max(1, round(dwell_s f)) consecutive
 // frames instead of the declarer's dwell (HierarchicalBank::update; declarer.h): the model
-// error of a climb or speed change lifts a hypothesis for 0.3-2.5 s and lets it go, a failure
+// error of a climb or speed change lifts a hypothesis for a while and lets it go, a failure
 // stays. Level flight and level turns keep the declarer's dwell, and so their latency.
 // Options are checked by validate() (std::invalid_argument naming the value and its range).
 #pragma once

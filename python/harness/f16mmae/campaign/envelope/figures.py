@@ -108,9 +108,9 @@ def envelope_map(summary: dict, path: Path) -> Path:
         Line2D([], [], marker="*", ls="", mfc="none", mec="k", ms=13, label="design point"),
         Line2D([], [], color="k", ls="--", label="constant q̄ through the design point"),
     ]
-    fig.legend(handles=handles, loc="outside lower center", ncols=4, fontsize=8)
+    fig.legend(handles=handles, loc="outside lower center", ncols=2 if len(panels) == 1 else 4, fontsize=8)
     fig.suptitle(f"{summary['tuning']} bank (designed at Mach {design['mach']:g}, "
-                 f"{design['alt_ft']:.0f} ft) flown off design: {summary['runs_per_case']} run(s) "
+                 f"{design['alt_ft']:.0f} ft) flown off design:\n{summary['runs_per_case']} run(s) "
                  f"x {len(summary['cases'])} cases per point, {summary['turbulence']} turbulence",
                  fontsize=10)
     fig.savefig(path, dpi=110)

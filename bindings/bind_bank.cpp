@@ -133,7 +133,7 @@ void bind_bank(py::module_& m) {
 The MMAE filter bank with its hypothesis probability evaluator (paper Sec. III, eqs. 1-2).
 
     FilterBank(models, p_min=0.001, strip_leading_term=True, initial_probabilities=None,
-               h_output=None, fresh_floor_levels=True)
+               h_output=None, fresh_floor_levels=False)
 
 models: a sequence of K core.FilterModel of equal sizes (n states, p inputs, m measurements);
 models[0] is the no-failure hypothesis, presumed at start (p_0 = 1 - (K-1) p_min, others p_min)
@@ -152,7 +152,7 @@ A frame with a non-finite value is applied to no filter and counted in rejected_
       .def(py::init<const py::sequence&, double, bool, const py::object&, const py::object&, bool>(),
            py::arg("models"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
            py::arg("initial_probabilities") = py::none(), py::arg("h_output") = py::none(),
-           py::arg("fresh_floor_levels") = true)
+           py::arg("fresh_floor_levels") = false)
       .def("update", &PyFilterBank::update, py::arg("z"), "Update with z (m,); returns the probabilities (K,).")
       .def("propagate", &PyFilterBank::propagate, py::arg("u"), "Propagate every filter with u (p,).")
       .def("step", &PyFilterBank::step, py::arg("z"), py::arg("u"),

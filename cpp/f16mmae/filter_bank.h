@@ -62,7 +62,7 @@
 //                   healthy reading while the hypothesis sat on the floor, must not let it
 //                   re-enter free of that cost. (With no uninformative channel anywhere,
 //                   every f_k = p_min bit for bit: the paper's floor.)
-//                 Fresh levels on the floor (options.fresh_floor_levels, default on): the
+//                 Fresh levels on the floor (options.fresh_floor_levels, default off): the
 //                   floor mass is "the failure begins now", so after each frame's floor a
 //                   hypothesis on it (p_k = f_k) carries the level of a failure that began
 //                   with this reading, not one that followed the healthy reading before:
@@ -73,7 +73,7 @@
 //                   since it left: a level constant since the onset (q_j -> 0) is the exact
 //                   predictive density of a stuck, held, biased or hardover reading from the
 //                   onset on, while a healthy reading that wanders is no such constant.
-//                   Off: the levels keep tracking on the floor (the form before).
+//                   Off: the levels keep tracking on the floor.
 //                 blended state  x̂ = sum_k p_k x⁺_k;   z_hat = H_out x̂ (H_out: the unfailed H,
 //                   filter 0's by default, so a failed-sensor hypothesis still yields z_hat).
 //                 Start-up (options.start_up_s, 0 = none): the first round(start_up_s f)
@@ -141,7 +141,7 @@ struct FilterBankOptions {
   bool vectorized_kernel = true;     // fixed sizes: use the AVX2/FMA kernel if the CPU has it
   TurbulenceAdaptationOptions adaptation;   // likelihood scale s (turbulence_adaptation.h); off by default
   double start_up_s = 0.0;           // updates that weigh nothing after a start (header comment)
-  bool fresh_floor_levels = true;    // a floored hypothesis' tracked levels restart (header comment)
+  bool fresh_floor_levels = false;   // a floored hypothesis' tracked levels restart (header comment)
 };
 
 template <int K, int NX, int NU, int NZ>

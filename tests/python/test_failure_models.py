@@ -366,7 +366,8 @@ def test_a_hypothesis_above_its_floor_keeps_tracking_its_level():
     its log-likelihood is that of the level tracked since its first reading."""
     q, width = 0.05, 7.5
     models = small_models(np.array([0.0, width, 0.0]), np.array([0.0, q, 0.0]))
-    fb = core.FilterBank(models, p_min=1e-6, initial_probabilities=np.array([0.25, 0.5, 0.25]))
+    fb = core.FilterBank(models, p_min=1e-6, initial_probabilities=np.array([0.25, 0.5, 0.25]),
+                         fresh_floor_levels=True)
     a0, a11 = np.asarray(models[0].a), float(np.asarray(models[1].a)[1, 1])
     v = footing(models[1], a0)
     readings = []

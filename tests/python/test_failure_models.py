@@ -266,8 +266,8 @@ def test_tuning_refuses_a_bad_failure_model():
 def test_failed_sensor_level_q_per_sensor():
     base = {**load_tuning("tuned").to_dict(), "failure_model": "cover"}
     tun = tuning_from_dict({**base, "failed_sensor_level_q": {"PIT": 0.0, "AY": 0.05}}, default_name="per")
-    # the sensors not named keep their default (AOA 1e-3, the rest 0.01)
-    assert list(tun.sensor_level_q()) == [0.01, 1e-3, 0.0, 0.01, 0.01, 0.01, 0.05]
+    # the sensors not named keep their default (VEL 1e-4, AOA 1e-3, the rest 0.01)
+    assert list(tun.sensor_level_q()) == [1e-4, 1e-3, 0.0, 0.01, 0.01, 0.01, 0.05]
     assert list(tuning_from_dict({**base, "failed_sensor_level_q": 0.02}).sensor_level_q()) == [0.02] * 7
     with pytest.raises(TuningError, match="unknown sensor 'MACH' in failed_sensor_level_q; valid: VEL, AOA, PIT"):
         tuning_from_dict({**base, "failed_sensor_level_q": {"MACH": 1e-4}})

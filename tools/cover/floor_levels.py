@@ -6,8 +6,9 @@ the dwell 30 s (nothing is declared in an 8-s flight, so the flight does not dep
 hypothesis the bank favours but through the blended estimate it feeds back, in which every
 hypothesis on its floor weighs p_min), and its measurements z and commands u are kept.  Each
 bank of ``--banks`` then replays them as one ``core.FilterBank`` of its 13 level-0 filters (its
-p_min, the leading term stripped, as the estimator runs it), with the floor's fresh levels on
-and off (``fresh_floor_levels``, cpp/f16mmae/filter_bank.h), and its first declaration is the
+p_min, the leading term stripped, as the estimator runs it), with the floor's fresh levels off
+(the default) and/or on (``--fresh``; ``fresh_floor_levels``, cpp/f16mmae/filter_bank.h), and
+its first declaration is the
 first frame at which a failure hypothesis has held p_k > threshold for the bank's dwell
 (``tools/cover/dwell_replay.py``'s rule, ``cpp/f16mmae/declarer.h``).  Scored per mode:
 
@@ -77,7 +78,7 @@ def replay(bank, z: np.ndarray, u: np.ndarray, fresh: bool) -> np.ndarray:
                                uninformative_level_q=h.uninformative_level_q)
               for h in list(bank.hypotheses)[: names.K_BANK]]
     fb = core.FilterBank(models, p_min=float(bank.p_min), h_output=np.asarray(bank.h_output),
-                         fresh_floor_levels=fresh)
+                         **({"fresh_floor_levels": True} if fresh else {}))
     return fb.step_frames(z - np.asarray(bank.z_trim), u[:, : bank.nu] - np.asarray(bank.u_trim))
 
 
@@ -123,7 +124,7 @@ def main(argv=None) -> None:
     ap.add_argument("--runs", type=int, default=10)
     ap.add_argument("--modes", default="complete,stuck,hardover,null,loss=0.5")
     ap.add_argument("--cases", default=None, help="comma-separated cases (default: every case of each mode)")
-    ap.add_argument("--fresh", default="off,on", help="fresh_floor_levels settings to replay: off, on or both")
+    ap.add_argument("--fresh", default="off", help="fresh_floor_levels settings to replay: off, on, or off,on")
     ap.add_argument("--cache", required=True, help="npz of the flown z, u (flown once, then read)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--fly-only", action="store_true", help="fly and cache the runs, replay nothing")

@@ -212,7 +212,7 @@ def test_cover_sensor_hypothesis_is_uninformative_over_the_full_range(cover_desi
         j = names.SENSORS.index(name)
         assert w[j] == full[j] and np.count_nonzero(w) == 1
         t = cover_design.filter(name).model.uninformative_level_q
-        ratio = 1e-3 if name == "AOA" else 0.01  # the default walk (design/tuning.py)
+        ratio = {"AOA": 1e-3, "VEL": 1e-4}.get(name, 0.01)  # the default walk (design/tuning.py)
         assert t[j] == pytest.approx(ratio * sensors.NOISE_SIGMA[j] ** 2, rel=1e-15) and np.count_nonzero(t) == 1
     assert not np.any(cover_design.filter("LS").model.uninformative_width)
     assert np.count_nonzero(cover_design.filter("LS+PIT").model.uninformative_width) == 1
@@ -331,10 +331,11 @@ def level_log_density(m, r, level, p, q):
 
 @pytest.mark.parametrize("fresh", [True, False])
 def test_a_hypothesis_on_its_floor_restarts_its_level_at_each_reading(fresh):
-    """filter_bank.h's fresh floor levels: a failed-sensor hypothesis on its floor predicts the
-    next reading from a level restarted at the last one (variance A_jj); without them, from the
-    level tracked over every reading since the first."""
-    q, width = 0.05, 7.5
+    """filter_bank.h's fresh floor levels: after a frame that leaves a failed-sensor hypothesis
+    on its floor (p = p_min times its level's Occam factor), it predicts the next reading from
+    a level restarted at that frame's reading (variance A_jj); otherwise (and always without
+    them) from its level's Kalman update (or restart, when the jump is the likelier branch)."""
+    q, width, eps = 0.05, 7.5, 1e-3
     models = small_models(np.array([0.0, width, 0.0]), np.array([0.0, q, 0.0]))
     fb = core.FilterBank(models, p_min=1e-6, fresh_floor_levels=fresh)
     assert fb.fresh_floor_levels is fresh
@@ -343,22 +344,28 @@ def test_a_hypothesis_on_its_floor_restarts_its_level_at_each_reading(fresh):
     occam = stats.uniform(scale=width).logpdf(0.5) - stats.norm(0.0, np.sqrt(a11)).logpdf(0.0)
     floor = 1e-6 * np.exp(occam)
     rng = np.random.default_rng(11)
-    readings = []
-    for n in range(12):
+    level = p = None
+    restarts = 0
+    for n in range(16):
         z = rng.normal(0.0, 0.3, 3)
-        z[1] = 1.5 * np.sin(0.7 * n)   # a reading that wanders: no constant level
+        z[1] = 1.5 * np.sin(0.7 * n)   # a reading that wanders
         fb.update(z)
         r = np.asarray(fb.residuals)[1]
-        readings.append(r[1])
-        if n >= 1:
-            if fresh:
-                level, p = readings[-2], a11
-            else:
-                level, p = level_posterior(q, a11, readings[:-1])
+        if level is None:   # first frame: the level set at the reading
+            level, p = r[1], a11
+        else:
             expect = level_log_density(models[1], r, level, p, q) + v
             assert fb.log_likelihoods[1] == pytest.approx(expect, rel=1e-9, abs=1e-9), n
-        assert fb.probabilities[1] == pytest.approx(floor, rel=1e-12)   # on its floor every frame
+            s = p + q + a11
+            if (1 - eps) * stats.norm(level, np.sqrt(s)).pdf(r[1]) >= eps / width:
+                level, p = level + (p + q) / s * (r[1] - level), (p + q) * a11 / s
+            else:
+                level, p = r[1], a11
+        if fresh and fb.probabilities[1] == pytest.approx(floor, rel=1e-12):
+            level, p = r[1], a11
+            restarts += 1
         fb.propagate(np.array([0.2, -0.1]))
+    assert restarts >= (1 if fresh else 0)
 
 
 def test_a_hypothesis_above_its_floor_keeps_tracking_its_level():

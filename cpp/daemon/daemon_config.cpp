@@ -17,7 +17,7 @@ std::string daemon_usage() {
          "                   [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S] [--start-up-s S]\n"
          "                   [--adapt-turbulence] [--adapt-reference RHO] [--adapt-own-channels]\n"
-         "                   [--adapt-reference-climb RHO]"
+         "                   [--adapt-reference-climb RHO]\n"
          "                   [--adapt-reference-climb-hold S] [--adapt-reference-climb-dwell S]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"

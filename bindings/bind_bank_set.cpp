@@ -1,8 +1,11 @@
 // f16mmae.core.TurbulenceBankSet: one estimator over hierarchical banks designed for rising
 // turbulence intensities, the running one chosen on line by its own measured intensity
-// (cpp/f16mmae/turbulence_bank_set.h). The members are core.HierarchicalBank objects of one
-// fixed-size F-16 type (hierarchical_access.h), each built with the turbulence adaptation on;
-// the set keeps them alive. Signals are ABSOLUTE, as core.HierarchicalBank's.
+// (cpp/f16mmae/turbulence_bank_set.h). Built either from core.HierarchicalBank members of one
+// fixed-size F-16 type (hierarchical_access.h), each built with the turbulence adaptation on,
+// which the set keeps alive; or from a set file (core.TurbulenceSetFile) and the estimator's
+// keyword arguments (estimator_init.h), its members made by the executive's rule
+// (cpp/executive/turbulence_set_bank.h, the one place it is written: what mmae-daemon
+// --turbulence-banks runs). Signals are ABSOLUTE, as core.HierarchicalBank's.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -16,8 +19,10 @@
 #include <vector>
 
 #include "core_convert.h"
+#include "estimator_init.h"
 #include "hierarchical_access.h"
 #include "bankfile/turbulence_set_file.h"
+#include "executive/turbulence_set_bank.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/turbulence_bank_set.h"
 
@@ -62,10 +67,25 @@ class PyTurbulenceBankSet {
             using B = std::remove_pointer_t<P>;
             std::vector<B*> ptrs;
             for (const auto& f : fixed) ptrs.push_back(std::get<P>(f));
-            set_ = std::make_unique<TurbulenceBankSet<B>>(std::move(ptrs), o);
+            set_ = std::make_shared<TurbulenceBankSet<B>>(std::move(ptrs), o);
           }
         },
         fixed[0]);
+  }
+
+  // The set of `file`'s members, each HierarchicalBank(member, the executive's rule applied to
+  // `options`): TurbulenceSetBank owns them, the set points into it. ValueError for a set of
+  // other sizes than the executive runs (19 states, 6 inputs, 7 measurements) or one it refuses.
+  PyTurbulenceBankSet(const TurbulenceSetFile& file, const HierarchicalOptions& options) {
+    using B = F16GustThrottleHierarchicalBank;
+    file.validate();
+    const ModelBank& b = file.members.front();
+    if (b.nx() != 19 || b.nu() != 6 || b.nz() != 7)
+      throw py::value_error("turbulence bank set: a set file's members must have 19 states, 6 inputs and 7 "
+                            "measurements (the executive's set), got (" + std::to_string(b.nx()) + ", " +
+                            std::to_string(b.nu()) + ", " + std::to_string(b.nz()) + ")");
+    auto owner = std::make_shared<executive::TurbulenceSetBank<B>>(file, options);
+    set_ = std::shared_ptr<TurbulenceBankSet<B>>(owner, &owner->set());   // keeps `owner` alive
   }
 
   template <class F>
@@ -94,13 +114,13 @@ class PyTurbulenceBankSet {
     });
   }
 
-  py::list members_;   // keeps the member banks alive
+  py::list members_;   // keeps the member banks alive (empty: a set file's, owned by set_)
 
  private:
-  std::variant<std::unique_ptr<TurbulenceBankSet<F16HierarchicalBank>>,
-               std::unique_ptr<TurbulenceBankSet<F16GustHierarchicalBank>>,
-               std::unique_ptr<TurbulenceBankSet<F16ThrottleHierarchicalBank>>,
-               std::unique_ptr<TurbulenceBankSet<F16GustThrottleHierarchicalBank>>>
+  std::variant<std::shared_ptr<TurbulenceBankSet<F16HierarchicalBank>>,
+               std::shared_ptr<TurbulenceBankSet<F16GustHierarchicalBank>>,
+               std::shared_ptr<TurbulenceBankSet<F16ThrottleHierarchicalBank>>,
+               std::shared_ptr<TurbulenceBankSet<F16GustThrottleHierarchicalBank>>>
       set_;
 };
 
@@ -248,11 +268,19 @@ void bind_bank_set(py::module_& m) {
         py::arg("typical"), py::arg("hold_s") = 1.0, py::arg("min_time_s") = 0.2,
         "Benchmark: (seconds per frame, handovers, frames with a standby) of a core.TurbulenceBankSet over\n"
         "19-state 6-input members built from the model banks (adaptation on), frames z (N,7), u (N,6), in C++.");
-  py::class_<PyTurbulenceBankSet>(m, "TurbulenceBankSet", R"doc(
+  py::class_<PyTurbulenceBankSet> cls(m, "TurbulenceBankSet", R"doc(
 One estimator over banks designed for rising turbulence intensities (cpp/f16mmae/turbulence_bank_set.h).
 
     TurbulenceBankSet(members, bounds, typical, hold_s=1.0, warm_up_s=1.0, warm_down_s=5.0,
                       settle_s=1.0, freeze_probability=0.05, start=1, start_standby=0)
+    TurbulenceBankSet(set_file, *, p_min=..., ...)   # core.HierarchicalBank's keywords
+
+The second form runs a core.TurbulenceSetFile as mmae-daemon --turbulence-banks does: member i
+is core.HierarchicalBank(set_file.members[i], the keywords) with the turbulence adaptation on,
+each filter's power per channel it reads (adapt_own_channels), the file's adapt_reference[i]
+unless adapt_reference is given, its trim_time_constant_s[i] unless trim_time_constant_s is, and
+its maneuver_tempering_g unless maneuver_tempering_g is (cpp/executive/turbulence_set_bank.h);
+the selector is the file's; members is then empty.
 
 members: core.HierarchicalBank objects of one fixed-size kind, each with adapt_turbulence=True,
 in order of rising design intensity (n of them). One member a is in force (start at first,
@@ -265,12 +293,13 @@ warm_up_s (L > a) or warm_down_s (L < a): level, hypotheses on line, probabiliti
 state, declarations; its own filter states and rho. Nothing is decided within settle_s of a
 switch or the start, and the standby is dropped while the member in force is at level 1, has
 a failure declared, or a failure hypothesis is above freeze_probability. Outputs are the
-member in force's. Raises ValueError for invalid members or settings (naming them).)doc")
-      .def(py::init<const py::list&, const std::vector<double>&, const std::vector<double>&, double, double, double,
+member in force's. Raises ValueError for invalid members or settings (naming them).)doc");
+  cls.def(py::init<const py::list&, const std::vector<double>&, const std::vector<double>&, double, double, double,
                     double, double, int, int>(),
            py::arg("members"), py::arg("bounds"), py::arg("typical"), py::kw_only(), py::arg("hold_s") = 1.0,
            py::arg("warm_up_s") = 1.0, py::arg("warm_down_s") = 5.0, py::arg("settle_s") = 1.0,
-           py::arg("freeze_probability") = 0.05, py::arg("start") = 1, py::arg("start_standby") = 0)
+           py::arg("freeze_probability") = 0.05, py::arg("start") = 1, py::arg("start_standby") = 0);
+  def_estimator_init<PyTurbulenceBankSet, TurbulenceSetFile>(cls)
       .def("update", &PyTurbulenceBankSet::update, py::arg("z"),
            "Update the running member with absolute z (7,); then the selector. Returns the name declared, or None.")
       .def("propagate", &PyTurbulenceBankSet::propagate, py::arg("u"), "Propagate the running member with absolute u.")
@@ -291,6 +320,8 @@ member in force's. Raises ValueError for invalid members or settings (naming the
                              "the selector's rho of the member in force")
       .def_property_readonly("turbulence_scale", prop([](auto& s) { return s.running().turbulence_scale(); }))
       .def_property_readonly("level", prop([](auto& s) { return s.running().level(); }))
+      .def_property_readonly("dwell_s", prop([](auto& s) { return s.running().declarer().options().dwell_s; }),
+                             "the member in force's declaration dwell, s")
       .def_property_readonly("hypotheses", prop([](auto& s) {
                                const auto& b = s.running();
                                py::tuple t(b.size());
@@ -299,6 +330,11 @@ member in force's. Raises ValueError for invalid members or settings (naming the
                              }))
       .def_property_readonly("declared", prop([](auto& s) { return s.running().name(s.running().current_hypothesis()); }))
       .def_property_readonly("probabilities", prop([](auto& s) { return cv::to_numpy(s.running().probabilities()); }))
+      .def_property_readonly("residuals", prop([](auto& s) { return cv::to_numpy(s.running().bank().residuals()); }),
+                             "(K, nz) residuals of the member in force's filters on line at the last update")
+      .def_property_readonly("log_likelihoods",
+                             prop([](auto& s) { return cv::to_numpy(s.running().bank().log_likelihoods()); }),
+                             "(K,) the member in force's log-likelihoods l_k (eq. 2, tempered) at the last update")
       .def_property_readonly("z_hat", prop([](auto& s) { return cv::to_numpy(s.running().z_hat()); }))
       .def_property_readonly("blended_state", prop([](auto& s) { return cv::to_numpy(s.running().blended_state()); }))
       .def_property_readonly("frames", prop([](auto& s) { return s.running().frames(); }))

@@ -314,7 +314,10 @@ designed. adapt_reference None: a scheduled bank whose nodes carry their own ref
 those (blended with the filters), any other bank 0.6; a number: that reference everywhere. turbulence_scale reads s, turbulence_power_ratio rho. adapt_channel_weight g in (0, 1]: a scale per
 measurement channel, s_j = s^(1-g) s'_j^g with s'_j from the best-fitting filter's share of channel j
 in its quadratic form, the likelihoods -(D r_k)' A_k^-1 (D r_k) / 2 with D = diag(s_j^-1/2)
-(turbulence_channel_scales reads the s_j); 0, the default: the common s.
+(turbulence_channel_scales reads the s_j); 0, the default: the common s. adapt_own_channels: each
+filter's quadratic form counts per channel it reads, rho from min_k q_k / m_k (m_k: the channels
+filter k reads; a failed sensor's uninformative channel is not one), so that a hypothesis with an
+uninformative channel does not read the air calmer than it is; a bank without one is unchanged.
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.

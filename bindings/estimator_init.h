@@ -5,8 +5,9 @@
 //
 //   def_estimator_init<T>(cls)   cls.def(py::init(...)): T(model_bank, HierarchicalOptions)
 //                                from model_bank and the keyword arguments below
-//   def_estimator_init<T, Source>(cls)   the same from another source (core.Executive from a
-//                                core.TurbulenceSetFile: the set's members)
+//   def_estimator_init<T, Source>(cls)   the same from another source (core.Executive and
+//                                core.TurbulenceBankSet from a core.TurbulenceSetFile: the set's
+//                                members, cpp/executive/turbulence_set_bank.h)
 //
 //   p_min, strip_leading_term            the bank's floor and its likelihoods (filter_bank.h)
 //   level1_p_min                         the floor while a level-1 bank is on line; 0: p_min
@@ -26,8 +27,8 @@
 //   hysteresis_cells, blend_step_cells,
 //   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
 //   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
-//   adapt_reference (None: a schedule's per-node references, else 0.6), adapt_channel_weight
-//                                                                       turbulence_adaptation.h
+//   adapt_reference (None: a schedule's per-node references, else 0.6), adapt_channel_weight,
+//   adapt_own_channels                                                  turbulence_adaptation.h
 //   adapt_reference_climb (None: off), adapt_reference_climb_hold_s,
 //   adapt_reference_climb_dwell_s (0: the declarer's dwell)             climb_reference.h
 //   maneuver_kinematics, maneuver_tempering_g,
@@ -35,7 +36,8 @@
 //   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
 //                                                                       actuator_limits.h
 // Every default is the core's own (the option structs' initialisers), so a keyword left out
-// means the bank as designed. A bad schedule_mode or declarer raises ValueError naming it.
+// means the bank as designed. Each keyword is a row of the harness's option table
+// (loop/estimator_options.py) or named there in CORE_ONLY with its reason. A bad schedule_mode or declarer raises ValueError naming it.
 #pragma once
 
 #include <pybind11/pybind11.h>

@@ -37,7 +37,6 @@ def flight(job):
     level, case, n, feedback, options, quiet = job
     bank = load_bank("turbulence")[2]
     est = Estimator(bank, turbulence_banks=True, **options)
-    members = est.core_bank.members
     banks = f16mmae.design.turbulence_banks.load_set().banks
     inverse = [{h.name: np.linalg.inv(np.asarray(h.a)) for h in b.hypotheses} for b in banks]
     rows = []
@@ -46,7 +45,7 @@ def flight(job):
         if t < FAILURE_TIME_S:
             return
         a = est.core_bank.active
-        m = members[a]
+        m = est.core_bank   # the member in force's outputs
         names = list(m.hypotheses)
         if case not in names or "NONE" not in names:
             return

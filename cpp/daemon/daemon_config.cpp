@@ -1,5 +1,7 @@
 #include "daemon_config.h"
 
+#include "f16mmae/estimator_settings.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -14,8 +16,9 @@ std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P]\n"
          "                   [--rate-hz HZ]\n"
          "                   [--p-min P] [--threshold T] [--dwell-s S] [--start-up-s S]\n"
-         "                   [--adapt-turbulence] [--adapt-reference RHO] [--adapt-reference-climb RHO]\n"
-         "                   [--adapt-reference-climb-hold S]\n"
+         "                   [--adapt-turbulence] [--adapt-reference RHO] [--adapt-own-channels]\n"
+         "                   [--adapt-reference-climb RHO]\n"
+         "                   [--adapt-reference-climb-hold S] [--adapt-reference-climb-dwell S]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5[,inf]]\n"
@@ -47,11 +50,19 @@ std::string daemon_usage() {
          "  --adapt-reference RHO  with --adapt-turbulence: the residual power ratio above which\n"
          "                       the likelihoods are tempered (0-100; default: a scheduled\n"
          "                       bank's per-node references where it carries them, else 0.6)\n"
+         "  --adapt-own-channels  with --adapt-turbulence: each filter's residual power counts per\n"
+         "                       channel it reads, so a hypothesis whose failed sensor's channel is\n"
+         "                       uninformative does not read the air calmer than it is (default off;\n"
+         "                       a turbulence bank set's members always run with it)\n"
          "  --adapt-reference-climb RHO  with --adapt-turbulence: the reference while the air\n"
          "                       data climb or descend faster than 300 ft/min or change Mach faster\n"
          "                       than 0.001/s (0-100; default: off, the reference above everywhere)\n"
          "  --adapt-reference-climb-hold S  with --adapt-reference-climb: keep it S s after the\n"
          "                       climb or speed change ends (0-3600; default 0)\n"
+         "  --adapt-reference-climb-dwell S  with --adapt-reference-climb: a level-0 declaration\n"
+         "                       while that reference is in force (the climb, descent or speed\n"
+         "                       change and its hold) needs S s above the threshold instead of\n"
+         "                       the dwell (0-60; default 0: the dwell everywhere)\n"
          "  --trim-tracking TAU_S  track the trim on line with time constant TAU_S s (e.g. 30),\n"
          "                       frozen while a failure hypothesis rises or is declared\n"
          "  --trim-freeze-probability P  with --trim-tracking: a failure hypothesis above P\n"
@@ -140,6 +151,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       c.adapt_turbulence = true;
       continue;
     }
+    if (a == "--adapt-own-channels") {
+      c.adapt_own_channels = true;
+      continue;
+    }
     if (a == "--turbulence-banks") {
       c.turbulence_banks = true;
       continue;
@@ -166,6 +181,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--trim-freeze-probability" || key == "--trim-tracking-steady" ||
                        key == "--schedule-mode" || key == "--adapt-reference" ||
                        key == "--adapt-reference-climb" || key == "--adapt-reference-climb-hold" ||
+                       key == "--adapt-reference-climb-dwell" ||
                        key == "--maneuver-tempering" || key == "--actuator-rate-limits" ||
                        key == "--actuator-position-limits" || key == "--start-up-s" ||
                        key == "--air-data-time-constant";
@@ -173,8 +189,9 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
-                         "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-reference-climb, "
-                         "--adapt-reference-climb-hold, --turbulence-banks, --trim-tracking, "
+                         "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-own-channels, "
+                         "--adapt-reference-climb, "
+                         "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --turbulence-banks, --trim-tracking, "
                          "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
@@ -242,6 +259,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!hold || *hold < 0.0 || *hold > 3600.0)
         return usage_error("--adapt-reference-climb-hold must be a time in seconds in [0, 3600], got '" + value + "'");
       c.adapt_reference_climb_hold_s = *hold;
+    } else if (key == "--adapt-reference-climb-dwell") {
+      const std::optional<double> dwell = finite_number(value);
+      if (!dwell || *dwell < 0.0 || *dwell > f16mmae::kMaxDwellS)
+        return usage_error("--adapt-reference-climb-dwell must be a time in seconds in [0, " +
+                           f16mmae::format_value(f16mmae::kMaxDwellS) + "] (0: the dwell), got '" + value + "'");
+      c.adapt_reference_climb_dwell_s = *dwell;
     } else if (key == "--schedule-mode") {
       if (value != "interpolate" && value != "nearest")
         return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
@@ -305,10 +328,14 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     return usage_error("--adapt-reference-climb applies with --adapt-turbulence only");
   if (c.adapt_reference_climb_hold_s && !c.adapt_reference_climb)
     return usage_error("--adapt-reference-climb-hold applies with --adapt-reference-climb only");
+  if (c.adapt_reference_climb_dwell_s && !c.adapt_reference_climb)
+    return usage_error("--adapt-reference-climb-dwell applies with --adapt-reference-climb only");
   if (c.trim_steady_g > 0.0 && c.trim_time_constant_s == 0.0)
     return usage_error("--trim-tracking-steady applies with --trim-tracking only");
   if (c.adapt_reference && !c.adapt_turbulence)
     return usage_error("--adapt-reference applies with --adapt-turbulence only");
+  if (c.adapt_own_channels && !c.adapt_turbulence)
+    return usage_error("--adapt-own-channels applies with --adapt-turbulence only");
   if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())
     return usage_error("--actuator-rate-limits and --actuator-position-limits go together, one value per input each "
                        "(got " + std::to_string(c.actuator_rate_limits_rad_s.size()) + " and " +

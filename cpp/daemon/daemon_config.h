@@ -2,7 +2,9 @@
 //
 //   mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
 //               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence] [--adapt-reference RHO]
+//               [--adapt-own-channels]
 //               [--adapt-reference-climb RHO] [--adapt-reference-climb-hold S]
+//               [--adapt-reference-climb-dwell S]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]
 //               [--schedule-mode M]
 //               [--air-data-time-constant TAU_S] [--maneuver-kinematics] [--maneuver-tempering G]
@@ -44,8 +46,10 @@ struct DaemonConfig {
   bool adapt_turbulence = false;     // turbulence_adaptation.h
   bool turbulence_banks = false;     // FILE is a turbulence bank set file: fly the set (turbulence_bank_set.h)
   std::optional<double> adapt_reference;  // its rho_0, with adapt_turbulence only
+  bool adapt_own_channels = false;   // its rho per channel each filter reads, with adapt_turbulence only
   std::optional<double> adapt_reference_climb;  // rho_0 while climbing (climb_reference.h), with adapt_turbulence
   std::optional<double> adapt_reference_climb_hold_s;  // its hold, with adapt_reference_climb
+  std::optional<double> adapt_reference_climb_dwell_s; // the level-0 dwell while it is in force, with it
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only
   double trim_steady_g = 0.0;        // with trim tracking only: steady tracking's load-factor gate; 0 = off

@@ -127,12 +127,14 @@ int main(int argc, char** argv) {
     options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     options.bank.adaptation.enabled = cfg.adapt_turbulence;
+    options.bank.adaptation.own_channels = cfg.adapt_own_channels;
     if (cfg.adapt_reference) {   // one reference everywhere; else a schedule's per-node ones, if it has them
       options.bank.adaptation.reference = *cfg.adapt_reference;
       options.schedule.node_adapt_reference = false;
     }
     if (cfg.adapt_reference_climb) options.climb_reference.reference = *cfg.adapt_reference_climb;
     if (cfg.adapt_reference_climb_hold_s) options.climb_reference.hold_s = *cfg.adapt_reference_climb_hold_s;
+    if (cfg.adapt_reference_climb_dwell_s) options.climb_reference.dwell_s = *cfg.adapt_reference_climb_dwell_s;
     options.trim.time_constant_s = cfg.trim_time_constant_s;
     if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
     options.trim.steady_g = cfg.trim_steady_g;
@@ -199,16 +201,22 @@ int main(int argc, char** argv) {
       const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
                                   options.schedule.node_adapt_reference;
       const bool set_reference = executive->estimator().members() > 0 && options.schedule.node_adapt_reference;
-      const std::string adaptation = executive->estimator().members() > 0 && set_reference
+      std::string adaptation = executive->estimator().members() > 0 && set_reference
                                          ? std::string("turbulence adaptation (the set's reference per member)")
                                      : !options.bank.adaptation.enabled ? std::string("no turbulence adaptation")
                                      : node_reference ? std::string("turbulence adaptation (reference per node)")
                                                       : "turbulence adaptation (reference " +
                                                             f16mmae::format_value(options.bank.adaptation.reference) + ")";
+      if (executive->estimator().members() == 0 && options.bank.adaptation.enabled &&
+          options.bank.adaptation.own_channels)   // "(...)" -> "(..., own channels)"
+        adaptation.insert(adaptation.size() - 1, ", own channels");
       const std::string adaptation_climb =
           options.bank.adaptation.enabled && options.climb_reference.enabled()
               ? adaptation + ", climbing " + f16mmae::format_value(options.climb_reference.reference) + " held " +
-                    f16mmae::format_value(options.climb_reference.hold_s) + " s"
+                    f16mmae::format_value(options.climb_reference.hold_s) + " s" +
+                    (options.climb_reference.dwell_s > 0.0
+                         ? " with dwell " + f16mmae::format_value(options.climb_reference.dwell_s) + " s"
+                         : std::string())
               : adaptation;
       std::string maneuver = running.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
       if (running.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(running.maneuver.tempering_g) + " g";

@@ -2,10 +2,9 @@
 //
 // Sensor frames come at the flight-control rate, so frame i + 1 is expected one period after
 // frame i arrived. Between frames the daemon sleeps and other processes evict its working set
-// and branch history: measured in the 60-s LCM benchmark at 64 Hz on a 2-vCPU VM, the
-// executive's step took 7.8-8.6 us (p50) with one warm-up, 5.4-6.9 us when it was repeated,
-// 12.6-17 us without any (~1 us when it runs back to back). The main loop therefore sleeps
-// until
+// and branch history, so a step after the idle time runs from cold caches, several times slower
+// than back to back (docs/results/latency.md, "Warm-up before each frame", gives the figures).
+// The main loop therefore sleeps until
 //     warm_at = e - lead,   e = t_i + T   (t_i: arrival of the last sensor frame, T = 1 / rate)
 // warms up (Executive::warm_up), and, with a re-warm interval R > 0, again every R while
 // now + R < e + lead -- so a frame that comes up to `lead` late still finds the caches warm

@@ -58,6 +58,7 @@ class TurbulenceSetBank {
   const HierarchicalOptions& options() const noexcept { return running().options(); }
 
   const TurbulenceBankSet<Bank>& set() const noexcept { return set_; }
+  TurbulenceBankSet<Bank>& set() noexcept { return set_; }
   const Bank& running() const noexcept { return set_.running(); }
 
  private:

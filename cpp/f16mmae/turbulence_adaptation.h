@@ -25,12 +25,11 @@
 //     raise ρ (the adaptation does not absorb the failure); gusts, which no hypothesis models,
 //     raise every q_k. Taken per frame, not as the minimum of per-hypothesis averages: a
 //     hypothesis that did not fit before the failure would carry its large average for τ
-//     after it, and the no-failure filter's growing one would set ρ (measured: s at its
-//     bound within a second of a failure in the synthetic test).
+//     after it, and the no-failure filter's growing one would set ρ: the failure itself would
+//     drive s towards its bound.
 //   - ρ_0, the reference: the minimum of 13 quadratic forms sits below m even when every
-//     model is right, so ρ reads less than the power ratio (measured on the shipped bank,
-//     120-s flights: ρ ≈ 0.56 in calm air, 0.76 light, 1.4 moderate, 7 severe turbulence).
-//     Tempering starts above ρ_0.
+//     model is right, so ρ reads less than the power ratio (docs/results/
+//     turbulence_adaptation.md gives ρ by turbulence level). Tempering starts above ρ_0.
 //   - κ, the gain on the EXCESS ρ − ρ_0: κ = 1, ρ_0 = 0 would be the matched scale s = ρ
 //     (covariance matching). It is not enough: gust residuals are coloured and shaped like
 //     the flaperon and AOA signatures, so the likelihood-ratio excursions they cause outgrow

@@ -115,6 +115,7 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_EQ(*r.config.adapt_reference_climb, 0.6);
   EXPECT_EQ(*r.config.adapt_reference_climb_hold_s, 30.0);
+  EXPECT_FALSE(r.config.adapt_reference_climb_dwell_s);   // the climb dwell: the dwell unless given
   for (const char* bad : {"-0.1", "101", "nan", "x"}) {
     r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", bad}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;
@@ -123,6 +124,21 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
                          "--adapt-reference-climb-hold", "-1"}, nullptr);
   EXPECT_NE(r.message.find("[0, 3600], got '-1'"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
+                         "--adapt-reference-climb-dwell", "1.5"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.adapt_reference_climb_dwell_s, 1.5);
+  for (const char* bad : {"-0.1", "60.5", "nan", "long"}) {
+    r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
+                           "--adapt-reference-climb-dwell", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find("--adapt-reference-climb-dwell must be a time in seconds in [0, 60] (0: the dwell), "
+                             "got '" + std::string(bad) + "'"), std::string::npos) << r.message;
+  }
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb-dwell=1.5"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-reference-climb-dwell applies with --adapt-reference-climb only"),
+            std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-reference-climb", "0.6"}, nullptr);
   EXPECT_NE(r.message.find("--adapt-reference-climb applies with --adapt-turbulence only"), std::string::npos)
       << r.message;
@@ -135,6 +151,14 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference=0.76"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_EQ(*r.config.adapt_reference, 0.76);
+  EXPECT_FALSE(r.config.adapt_own_channels);   // rho over all channels unless given
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-own-channels"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.adapt_own_channels);
+  r = parse_daemon_args({"--bank", "b", "--adapt-own-channels"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-own-channels applies with --adapt-turbulence only"), std::string::npos)
+      << r.message;
   for (const char* bad : {"-0.1", "101", "nan", "high"}) {
     r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference", bad}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;

@@ -3,15 +3,17 @@ naming it (no multicast needed: the daemon refuses before it listens, hil over m
 from __future__ import annotations
 
 import argparse
+import re
 import subprocess
 
 import pytest
 
+from f16mmae import core
 from f16mmae.banks import load_bank
 from f16mmae.cli.main import main
 from f16mmae.cli.options import add_estimator_arguments, estimator_options_from_args
 from f16mmae.lcm.daemon import daemon_flags, find_executable
-from f16mmae.loop.estimator_options import ESTIMATOR_OPTIONS
+from f16mmae.loop.estimator_options import CORE_ONLY, ESTIMATOR_OPTIONS, HARNESS_ONLY
 from f16mmae.truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 
 DAEMON = str(find_executable("mmae-daemon"))  # part of every build: a missing daemon fails here
@@ -104,6 +106,57 @@ def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
         daemon_flags({"gust_states": True})
     assert daemon_flags({"turbulence_banks": True}) == ("--turbulence-banks",)   # with --bank SET
     assert daemon_flags({"turbulence_banks": False}) == ()
+
+
+def test_the_climb_dwell_and_own_channels_reach_the_daemon():
+    """The climb reference's dwell and the adaptation's own channels (rows of the table with a
+    daemon flag): passed on by daemon_flags, and in force in the daemon, which names them in its
+    ready line; each refused without the option it applies with."""
+    assert daemon_flags({"adapt_turbulence": True, "adapt_own_channels": True, "adapt_reference_climb": 0.6,
+                         "adapt_reference_climb_dwell_s": 1.5}) == (
+        "--adapt-turbulence", "--adapt-own-channels", "--adapt-reference-climb", "0.6",
+        "--adapt-reference-climb-dwell", "1.5")
+    bank = str(load_bank("tuned")[1])
+    p = subprocess.Popen([DAEMON, "--bank", bank, "--lcm-url", "memq://", "--adapt-turbulence", "--adapt-own-channels",
+                          "--adapt-reference-climb", "0.6", "--adapt-reference-climb-dwell", "1.5"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    assert "turbulence adaptation (reference 0.6, own channels), climbing 0.6 held 0 s with dwell 1.5 s" in ready, ready
+    rc, out = _daemon("--bank", bank, "--adapt-own-channels")
+    assert rc == 2 and "--adapt-own-channels applies with --adapt-turbulence only" in out
+    rc, out = _daemon("--bank", bank, "--adapt-turbulence", "--adapt-reference-climb-dwell", "1.5")
+    assert rc == 2 and "--adapt-reference-climb-dwell applies with --adapt-reference-climb only" in out
+    rc, out = _daemon("--bank", bank, "--adapt-turbulence", "--adapt-reference-climb", "0.6",
+                      "--adapt-reference-climb-dwell", "61")
+    assert rc == 2 and "--adapt-reference-climb-dwell must be a time in seconds in [0, 60] (0: the dwell), got '61'" in out
+
+
+def _keywords(cls) -> set[str]:
+    """The keyword-only arguments of the estimator's signatures of a pybind11 class's constructor
+    (its docstring: ``__init__(self: ..., model_bank: ..., *, p_min: float = 0.001, ...) -> None``)."""
+    out: set[str] = set()
+    for line in cls.__init__.__doc__.splitlines():
+        head = re.match(r"^(?:\d+\. )?__init__\((.*)\) -> None$", line.strip())
+        if head and "model_bank: " in head.group(1) and ", *, " in head.group(1):
+            out |= set(re.findall(r"(?:^|, )(\w+): ", head.group(1).split(", *, ", 1)[1]))
+    return out
+
+
+def test_the_estimator_options_are_one_list():
+    """Every keyword of the estimator's bindings (core.HierarchicalBank; core.Executive, the
+    daemon's executive in process, replay's; core.TurbulenceBankSet from a set file) is a row of the option table or named with its
+    reason in CORE_ONLY, and every row a keyword or the harness's own (HARNESS_ONLY): a
+    setting added to bindings/estimator_init.h without that decision fails here."""
+    rows = {o.key for o in ESTIMATOR_OPTIONS}
+    assert not rows & set(CORE_ONLY) and set(HARNESS_ONLY) <= rows
+    for cls in (core.HierarchicalBank, core.Executive, core.TurbulenceBankSet):
+        keywords = _keywords(cls)
+        assert len(keywords) > 30, cls
+        assert keywords - rows - set(CORE_ONLY) == set(), cls
+        assert rows - set(HARNESS_ONLY) - keywords == set(), cls
+        assert set(CORE_ONLY) - keywords == set(), cls
 
 
 def test_the_daemon_takes_every_flag_of_the_table():

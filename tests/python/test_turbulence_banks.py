@@ -4,7 +4,9 @@ option flies it and refuses a bank not of the set, the selector follows the turb
 closed loop (calm air: down; the light member holds from light to severe turbulence), a
 failure whose onset coincides with a gust burst is declared, not absorbed, the set flies the
 load-factor tempering its file carries unless one is given, and in severe turbulence that
-tempering quiets a stabilator false declaration."""
+tempering quiets a stabilator false declaration. The set the estimator flies (the executive's
+member rule, cpp/executive/turbulence_set_bank.h) equals the set built here by that rule's
+words, member by member, bit for bit."""
 from __future__ import annotations
 
 import shutil
@@ -13,7 +15,7 @@ import numpy as np
 import pytest
 
 from f16mmae import core
-from f16mmae.banks import load_bank
+from f16mmae.banks import bank_estimator_settings, load_bank
 from f16mmae.design.turbulence_banks import (DWELL_S, MANEUVER_TEMPERING_G, MEMBER_LEVELS,
                                              TRIM_TIME_CONSTANT_S, BankSetError, load_set, set_path)
 from f16mmae.loop.estimator import Estimator
@@ -48,7 +50,7 @@ def test_the_set_is_six_input_members_in_rising_level(bank_set):
     assert bank_set.trim_time_constant_s == TRIM_TIME_CONSTANT_S
     assert bank_set.maneuver_tempering_g == MANEUVER_TEMPERING_G == bank_set.source.maneuver_tempering_g == 1.0
     assert [b.estimator_settings["dwell_s"] for b in bank_set.banks] == [DWELL_S] * len(MEMBER_LEVELS) == [0.125] * 2
-    assert Estimator(bank_set.banks[1], turbulence_banks=True).core_bank.members[1].dwell_s == 0.125
+    assert Estimator(bank_set.banks[1], turbulence_banks=True).core_bank.dwell_s == 0.125
     label, path, bank = load_bank("turbulence")
     assert label == "turbulence" and path == bank_set.path and bank == bank_set.banks[bank_set.selector["start"]]
 
@@ -97,6 +99,50 @@ def test_the_option_needs_the_sets_bank():
     check({"turbulence_banks": True})
     with pytest.raises(ValueError, match="--tuning turbulence"):
         Estimator(load_bank("tuned")[2], turbulence_banks=True)
+
+
+def _by_the_rule(bank_set, start_bank, given: dict):
+    """The set as cpp/executive/turbulence_set_bank.h words its rule, built member by member from
+    core.HierarchicalBank: the start member's recommended settings and ``given``; the adaptation
+    on with each filter's power per channel it reads; the file's reference unless one is given;
+    its trim tracking unless one is given; its load-factor tempering unless one is given."""
+    members = []
+    for bank, reference, trim in zip(bank_set.banks, bank_set.adapt_reference, bank_set.trim_time_constant_s):
+        kw = {**bank_estimator_settings(start_bank), **given, "adapt_turbulence": True, "adapt_own_channels": True}
+        kw.setdefault("adapt_reference", reference)
+        if not given.get("trim_time_constant_s"):
+            kw["trim_time_constant_s"] = trim
+        if not given.get("maneuver_tempering_g"):
+            kw["maneuver_tempering_g"] = bank_set.maneuver_tempering_g
+        members.append(core.HierarchicalBank(bank, **kw))
+    return core.TurbulenceBankSet(members, **bank_set.selector)
+
+
+@pytest.mark.parametrize("given", [{}, {"adapt_reference": 0.9, "trim_time_constant_s": 60.0,
+                                        "maneuver_tempering_g": 2.0}])
+def test_the_set_flown_is_the_files_members_by_the_rule_bit_for_bit(bank_set, given):
+    """Calm air, the set handing over from its light start member to the calm one, then a
+    stuck left stabilator: the estimator's set (the set file through the binding) and the set
+    built by the rule's words, fed the same frames, give the same probabilities and
+    declarations on every frame."""
+    bank = load_bank("turbulence")[2]
+    frames = []
+    est = Estimator(bank, turbulence_banks=True, **given)
+    r = fly(Scenario(turbulence="none", duration_s=5.0, seed=3, feedback="raw", failures=(make_failure("LS", 3.0),)),
+            bank, estimator=est, on_frame=lambda t, u, z, a: frames.append((t, u, z, a)))
+    assert est.core_bank.switches >= 1 and r.declarations   # a handover and a declaration
+    by_hand = _by_the_rule(bank_set, bank, given)
+    declarations = []
+    for i, (t, u, z, a) in enumerate(frames):
+        by_hand.schedule(*a)
+        declared = by_hand.update(z)
+        by_hand.propagate(u)
+        if declared is not None:
+            declarations.append({"hypothesis": declared, "time_s": round(t, 9)})
+        for name, p in zip(by_hand.hypotheses, by_hand.probabilities):
+            assert r.probabilities[i, r.hypotheses.index(name)] == p, (i, name)
+    assert declarations == r.declarations
+    assert by_hand.switches == est.core_bank.switches and by_hand.active == est.core_bank.active
 
 
 def _flight(level, seed, seconds, **scenario):

@@ -44,6 +44,7 @@ from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae.lcm.replay import replay_log
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
+from f16mmae.truth.maneuvers import parse_maneuver
 from f16mmae.lcm.netns import only_loopback
 from wire_faults import STALE, STATUS_FRAMES, WIRE, publish_step
 
@@ -417,6 +418,37 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             "trim tracking 2 s (freeze above 0.05, steady 0.1 g)") in out, out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
 
+
+
+def test_hil_lockstep_with_the_climb_dwell_and_own_channels_equals_in_process(tmp_path, capsys):
+    """The climb reference's dwell and the adaptation's power per channel each filter reads reach
+    mmae-daemon (their flags, named in its ready line) and its lockstep flight equals the
+    in-process run exactly, on a bank whose failed VEL's channel is uninformative (the
+    `constant` model) flying a steep climb with a stabilator failing in it: in process each
+    option changes the flight (the declarations with the climb's dwell, the probabilities with
+    the channels)."""
+    path = tmp_path / "constant_vel.f16bank"
+    assert main(["design", "--failure-model", "constant=VEL", "--out", str(path)]) == 0
+    capsys.readouterr()
+    flags = ["--adapt-turbulence", "--adapt-own-channels", "--adapt-reference-climb", "0.6",
+             "--adapt-reference-climb-dwell", "1"]
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "3", "--bank", str(path),
+               "--maneuver", "climb@0.5:to=22000ft:rate=6000fpm", "--fail", "LS@1", *flags,
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}D_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    assert "turbulence adaptation (reference 0.6, own channels), climbing 0.6 held 0 s with dwell 1 s" in out, out
+    assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
+    bank = core.load_bank(str(path))
+    scenario = Scenario(duration_s=3.0, turbulence="light", failures=(make_failure("LS", 1.0),),
+                        maneuvers=(parse_maneuver("climb@0.5:to=22000ft:rate=6000fpm"),))
+    options = {"adapt_turbulence": True, "adapt_own_channels": True, "adapt_reference_climb": 0.6,
+               "adapt_reference_climb_dwell_s": 1.0}
+    both = fly(scenario, bank, estimator_options=options)
+    no_dwell = fly(scenario, bank, estimator_options={**options, "adapt_reference_climb_dwell_s": 0.0})
+    all_channels = fly(scenario, bank, estimator_options={k: v for k, v in options.items() if k != "adapt_own_channels"})
+    assert both.declarations != no_dwell.declarations
+    assert np.nanmax(np.abs(both.probabilities - all_channels.probabilities)) > 0
 
 
 def test_hil_lockstep_with_a_gust_state_bank_equals_in_process(tmp_path, capsys):

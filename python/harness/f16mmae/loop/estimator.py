@@ -55,25 +55,14 @@ def flown_bank_hash(model_bank, settings: dict) -> str:
 
 
 def _bank_set(model_bank, settings: dict):
-    """``core.TurbulenceBankSet`` over the turbulence bank set (:func:`turbulence_set_of`),
-    each member with its own recommended settings, the set's adaptation reference, trim
-    tracking and load-factor tempering for it, then ``settings`` (which win:
-    ``trim_time_constant_s`` and ``maneuver_tempering_g`` in every member), and the adaptation on (its rho is
-    the selector's measure), each filter's residual power per channel it reads (``own_channels``,
-    turbulence_adaptation.h: a member's failed-sensor hypotheses leave their channel out): what core.Executive does with the set file (mmae-daemon
-    --turbulence-banks, cpp/executive/turbulence_set_bank.h)."""
+    """``core.TurbulenceBankSet`` over the turbulence bank set's file (:func:`turbulence_set_of`)
+    with ``settings`` (``model_bank``'s recommended ones and the options given): its members made
+    by the executive's rule (cpp/executive/turbulence_set_bank.h: the adaptation on, each
+    filter's power per channel it reads, the file's reference, trim tracking and load-factor
+    tempering unless given), what mmae-daemon --turbulence-banks runs."""
     bank_set = turbulence_set_of(model_bank)
     own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
-    members = []
-    for bank, reference, trim in zip(bank_set.banks, bank_set.adapt_reference, bank_set.trim_time_constant_s):
-        member = {**bank_estimator_settings(bank), "adapt_reference": reference, **own, "adapt_turbulence": True,
-                  "adapt_own_channels": True}
-        if not own.get("trim_time_constant_s") and trim > 0:   # the member's own trim tracking, unless given
-            member["trim_time_constant_s"] = trim
-        if not own.get("maneuver_tempering_g") and bank_set.maneuver_tempering_g > 0:   # the set's, unless given
-            member["maneuver_tempering_g"] = bank_set.maneuver_tempering_g
-        members.append(core.HierarchicalBank(bank, **core_arguments(member, bank.nu)))
-    return core.TurbulenceBankSet(members, **bank_set.selector)
+    return core.TurbulenceBankSet(bank_set.source, **core_arguments(own, model_bank.nu))
 
 
 class Estimator:

@@ -77,6 +77,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "s^(1-G) s_j^G, s_j its own scale from the best-fitting filter's share of that channel "
                          "in its residual power, so that gusts in one channel temper the evidence in the others "
                          "less (cpp/f16mmae/turbulence_adaptation.h). Default 0: one scale common to all"),
+    EstimatorOption("adapt_own_channels", "--adapt-own-channels", "switch", requires="adapt_turbulence",
+                    help="with --adapt-turbulence: each filter's residual power counts per channel it reads "
+                         "(rho = min_k q_k / m_k, m_k the channels filter k reads), so that a hypothesis whose "
+                         "failed sensor's channel is uninformative (a `constant` or `cover` failed sensor) does "
+                         "not read the air calmer than it is (cpp/f16mmae/turbulence_adaptation.h). A bank "
+                         "without uninformative channels is unchanged. Default off; a turbulence bank set's "
+                         "members always run with it"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -87,7 +94,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --adapt-reference-climb: keep the climb reference S seconds after the climb, "
                          "descent or speed change ends (the level-off; default 0)"),
     EstimatorOption("adapt_reference_climb_dwell_s", "--adapt-reference-climb-dwell", "number", metavar="S",
-                    minimum=0.0, maximum=DWELL_S_MAX, requires="adapt_reference_climb", in_daemon=False,
+                    minimum=0.0, maximum=DWELL_S_MAX, requires="adapt_reference_climb",
                     help="with --adapt-reference-climb: a declaration at level 0 while that reference is in force "
                          "(the climb, descent or speed change and its hold) needs S seconds above the threshold "
                          "instead of the dwell (cpp/f16mmae/climb_reference.h). Default 0: the dwell everywhere"),
@@ -162,6 +169,33 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",
                     on_command_line=False, help="the actuators' position limits, rad, one per input"),
 )
+
+#: The keywords of ``core.HierarchicalBank`` (bindings/estimator_init.h) that no row of the table
+#: sets, and why: the estimator's own wiring, or constants of the core's rules kept as keywords
+#: for tests and lab tools.  With the table they are the estimator's options, one list
+#: (tests/python/test_hil_daemon_cli.py checks it against the binding).
+CORE_ONLY: dict[str, str] = {
+    "node_p_min": "the estimator's wiring: a scheduled bank's per-node floors unless --p-min is given "
+                  "(loop/estimator.py, mmae-daemon alike)",
+    "declarer": "a core.Declarer in place of threshold and dwell_s (tests)",
+    "strip_leading_term": "the paper's likelihood without 1/((2 pi)^(m/2) |A_k|^(1/2)) (filter_bank.h)",
+    "trim_hold_s": "trim tracking's hold after a freezing frame (trim_tracker.h)",
+    "trim_freeze": "trim tracking frozen while a failure rises (trim_tracker.h; off: a lab tool's comparison)",
+    "trim_steady_measurements": "steady trim tracking's measurements, AOA (trim_tracker.h)",
+    "trim_steady_roll_rate_rad_s": "steady trim tracking's roll-rate gate (trim_tracker.h)",
+    "trim_steady_climb_ft_s": "steady trim tracking's climb-rate gate (trim_tracker.h, air_data_rates.h)",
+    "trim_steady_mach_per_s": "steady trim tracking's Mach-rate gate (trim_tracker.h, air_data_rates.h)",
+    "hysteresis_cells": "the nearest-node schedule's hysteresis (scheduled_filters.h)",
+    "blend_step_cells": "the schedule's re-blend step (scheduled_filters.h)",
+    "cubic_trims": "the schedule's trims to third order (scheduled_filters.h)",
+    "adapt_time_constant_s": "the adaptation's averaging time, tuned with its gain (turbulence_adaptation.h)",
+    "adapt_scale_min": "the adaptation's lower bound on s, the design's A_k (turbulence_adaptation.h)",
+    "adapt_scale_max": "the adaptation's upper bound on s (turbulence_adaptation.h)",
+    "adapt_gain": "the adaptation's gain on the excess residual power (turbulence_adaptation.h)",
+}
+#: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
+#: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set).
+HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks")
 
 #: The table by key.
 BY_KEY: dict[str, EstimatorOption] = {o.key: o for o in ESTIMATOR_OPTIONS}

@@ -56,7 +56,7 @@ def flown_bank_hash(model_bank, settings: dict) -> str:
 
 def _bank_set(model_bank, settings: dict):
     """``core.TurbulenceBankSet`` over the turbulence bank set (:func:`turbulence_set_of`),
-    each member with its own recommended settings, the set's adaptation reference, trim
+    each member with its own recommended settings, the set's adaptation reference and gain, trim
     tracking and load-factor tempering for it, then ``settings`` (which win:
     ``trim_time_constant_s`` and ``maneuver_tempering_g`` in every member), and the adaptation on (its rho is
     the selector's measure), each filter's residual power per channel it reads (``own_channels``,
@@ -65,9 +65,10 @@ def _bank_set(model_bank, settings: dict):
     bank_set = turbulence_set_of(model_bank)
     own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
     members = []
-    for bank, reference, trim in zip(bank_set.banks, bank_set.adapt_reference, bank_set.trim_time_constant_s):
-        member = {**bank_estimator_settings(bank), "adapt_reference": reference, **own, "adapt_turbulence": True,
-                  "adapt_own_channels": True}
+    for bank, reference, gain, trim in zip(bank_set.banks, bank_set.adapt_reference, bank_set.adapt_gain,
+                                           bank_set.trim_time_constant_s):
+        member = {**bank_estimator_settings(bank), "adapt_reference": reference, "adapt_gain": gain, **own,
+                  "adapt_turbulence": True, "adapt_own_channels": True}
         if not own.get("trim_time_constant_s") and trim > 0:   # the member's own trim tracking, unless given
             member["trim_time_constant_s"] = trim
         if not own.get("maneuver_tempering_g") and bank_set.maneuver_tempering_g > 0:   # the set's, unless given

@@ -95,13 +95,9 @@ WARM_UP_S = 1.0
 WARM_DOWN_S = 5.0
 SETTLE_S = 1.0
 FREEZE_PROBABILITY = 0.05
-#: Each member's turbulence-adaptation reference rho_0 (tempering above it only): 1.1, above each
-#: member's own 99th percentile at its level (light member in light air 0.79) and below the light
-#: member's rho in moderate turbulence (median 1.19).  From 1.0 (the single light gust bank's,
-#: gust_states.md) it tempers moderate turbulence less (soak s mean 8.7 -> 6.7): latency median
-#: 0.50 -> 0.38 s there, 0 false declarations in 1.33 h at light, moderate and severe held, s at
-#: its bound in severe turbulence as before (tuning seeds, docs/results/turbulence_banks.md, round 10).
-ADAPT_REFERENCE: tuple[float, ...] = (1.1,) * len(MEMBER_LEVELS)
+#: Each member's turbulence-adaptation reference rho_0 (tempering above it only): 1.0, as the single
+#: light gust bank's (gust_states.md), against each member's own 99th percentile at its level.
+ADAPT_REFERENCE: tuple[float, ...] = (1.0,) * len(MEMBER_LEVELS)
 #: Each member's adaptation gain kappa (s = 1 + kappa (rho - rho_0), turbulence_adaptation.h): the
 #: core's default, 20.  Members with the constant VEL hypothesis need 25: that hypothesis leaves
 #: the VEL channel's gust share out of its quadratic form, so rho, the minimum over the
@@ -126,7 +122,7 @@ DWELL_S = 0.125
 #: --maneuver-tempering G overrides it.
 MANEUVER_TEMPERING_G = 1.0
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
-REVISION = 16
+REVISION = 15
 SUFFIX = ".f16set"
 
 

@@ -97,6 +97,9 @@ SETTLE_S = 1.0
 FREEZE_PROBABILITY = 0.05
 #: Each member's turbulence-adaptation reference rho_0 (tempering above it only): 1.0, as the single
 #: light gust bank's (gust_states.md), against each member's own 99th percentile at its level.
+#: 1.1 tempers moderate turbulence less: latency median 0.56 -> 0.48 s there, but a dual declared
+#: falsely after an AOA failure (a transient-wrong run, none at 1.0; evaluation seeds,
+#: docs/results/turbulence_banks.md, round 10): not adopted.
 ADAPT_REFERENCE: tuple[float, ...] = (1.0,) * len(MEMBER_LEVELS)
 #: Each member's adaptation gain kappa (s = 1 + kappa (rho - rho_0), turbulence_adaptation.h): the
 #: core's default, 20.  Members with the constant VEL hypothesis need 25: that hypothesis leaves

@@ -30,7 +30,8 @@
 //                                                                       turbulence_adaptation.h
 //   adapt_reference_climb (None: off), adapt_reference_climb_hold_s,
 //   adapt_reference_climb_dwell_s (0: the declarer's dwell)             climb_reference.h
-//   maneuver_kinematics, maneuver_tempering_g                           maneuver_kinematics.h
+//   maneuver_kinematics, maneuver_tempering_g,
+//   maneuver_tempering_deadband_g (0: none)                             maneuver_kinematics.h
 //   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
 //                                                                       actuator_limits.h
 // Every default is the core's own (the option structs' initialisers), so a keyword left out
@@ -70,11 +71,13 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              double adapt_reference_climb_hold_s,
                                              double adapt_reference_climb_dwell_s,
                                              bool maneuver_kinematics, double maneuver_tempering_g,
+                                             double maneuver_tempering_deadband_g,
                                              const std::vector<double>& actuator_rate_limits_rad_s,
                                              const std::vector<double>& actuator_position_limits_rad) {
   HierarchicalOptions o;
   o.maneuver.kinematics = maneuver_kinematics;
   o.maneuver.tempering_g = maneuver_tempering_g;
+  o.maneuver.tempering_deadband_g = maneuver_tempering_deadband_g;
   o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
   o.actuators.position_limit_rad = actuator_position_limits_rad;
   o.trim.time_constant_s = trim_time_constant_s;
@@ -151,7 +154,8 @@ Class& def_estimator_init(Class& cls) {
                   const std::optional<double>& adapt_reference_climb,
                   double adapt_reference_climb_hold_s, double adapt_reference_climb_dwell_s,
                   bool maneuver_kinematics,
-                  double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
+                  double maneuver_tempering_g, double maneuver_tempering_deadband_g,
+                  const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
         return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, departure_hold, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
                                              declarer,
@@ -162,7 +166,7 @@ Class& def_estimator_init(Class& cls) {
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
                                              adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_reference_climb, adapt_reference_climb_hold_s,
                                              adapt_reference_climb_dwell_s, maneuver_kinematics, maneuver_tempering_g,
-                                             actuator_rate_limits_rad_s, actuator_position_limits_rad));
+                                             maneuver_tempering_deadband_g, actuator_rate_limits_rad_s, actuator_position_limits_rad));
       }),
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
       py::arg("level1_p_min") = core.level1_p_min, py::arg("level1_dwell_s") = core.level1_dwell_s,
@@ -192,6 +196,7 @@ Class& def_estimator_init(Class& cls) {
       py::arg("adapt_reference_climb_dwell_s") = core.climb_reference.dwell_s,
       py::arg("maneuver_kinematics") = core.maneuver.kinematics,
       py::arg("maneuver_tempering_g") = core.maneuver.tempering_g,
+      py::arg("maneuver_tempering_deadband_g") = core.maneuver.tempering_deadband_g,
       py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
       py::arg("actuator_position_limits_rad") = std::vector<double>{});
 }

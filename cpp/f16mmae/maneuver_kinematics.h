@@ -59,6 +59,12 @@
 // 3.4 in a 30 deg level turn, 45 at 1.66 g. The price: detection slows while the load factor is
 // off 1 g, and a failure that itself moves the load factor (a stabilator hard-over) tempers its
 // own evidence while it does.
+// With a dead band d > 0 (ManeuverOptions::tempering_deadband_g; 0, the default, is the rule
+// above bit for bit) only the load factor beyond it counts:
+//   s_m = 1 + (max(0, |dn| - d) / n_ref)^2,
+// so the estimated load factor that light turbulence gives level flight (a few hundredths of a
+// g) tempers nothing, while a pull-up (0.7 g at a 3,000-fpm climb entry) still does; a 30 deg
+// turn's 0.155 g tempers by 1 + ((0.155 - d) / n_ref)^2.
 //
 // The trim x0: (u0, alpha0) from the trim in force (z_trim + dz of the VEL and AOA
 // channels: the body-axis airspeed and angle of attack), theta0 = alpha0 (the design trims
@@ -73,6 +79,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -84,11 +91,17 @@ namespace f16mmae {
 struct ManeuverOptions {
   bool kinematics = false;   // put the kinematic/gravity remainder into the propagation
   double tempering_g = 0.0;  // n_ref of the load-factor tempering (g); 0 = off
+  double tempering_deadband_g = 0.0;  // d: the load factor that tempers nothing (g); 0 = none
   bool enabled() const noexcept { return kinematics; }
   bool tempering() const noexcept { return tempering_g > 0.0; }
   void validate() const {
     if (!(tempering_g >= 0.0 && std::isfinite(tempering_g)))
       throw std::invalid_argument("maneuver: tempering_g must be >= 0 g (0 = off), got " + std::to_string(tempering_g));
+    if (!(tempering_deadband_g >= 0.0 && tempering_deadband_g <= 10.0))
+      throw std::invalid_argument("maneuver: tempering_deadband_g must be in [0, 10] g (0 = none), got " +
+                                  std::to_string(tempering_deadband_g));
+    if (tempering_deadband_g > 0.0 && !tempering())
+      throw std::invalid_argument("maneuver: tempering_deadband_g applies with tempering_g > 0 only");
   }
 };
 
@@ -117,11 +130,15 @@ class ManeuverKinematics {
 
   bool enabled() const noexcept { return options_.enabled(); }
   bool tempering() const noexcept { return options_.tempering(); }
-  // The load-factor tempering's likelihood scale s_m = 1 + (dn / n_ref)^2 for the bank's
-  // estimated measurement perturbation z_hat (dn = its AZ entry, g; header).
+  // The load-factor tempering's likelihood scale s_m = 1 + (max(0, |dn| - d) / n_ref)^2 for the
+  // bank's estimated measurement perturbation z_hat (dn = its AZ entry, g; d the dead band;
+  // header).
   template <class Z>
   double tempering_scale(const Z& z_hat_perturbation) const noexcept {
-    const double x = z_hat_perturbation(az_) / options_.tempering_g;
+    const double dn = z_hat_perturbation(az_);
+    const double x = (options_.tempering_deadband_g > 0.0
+                          ? std::max(0.0, std::abs(dn) - options_.tempering_deadband_g)
+                          : dn) / options_.tempering_g;
     return 1.0 + x * x;
   }
   const ManeuverOptions& options() const noexcept { return options_; }

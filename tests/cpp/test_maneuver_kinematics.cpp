@@ -312,3 +312,51 @@ TEST(ManeuverTempering, LikelihoodsAreDividedByTheScale) {
   for (int k = 0; k < plain.size(); ++k)
     EXPECT_DOUBLE_EQ(plain.bank().log_likelihoods()(k), -0.5 * plain.bank().quadratic_forms()(k));
 }
+
+// The dead band: only |dn| beyond d tempers, s_m = 1 + (max(0, |dn| - d) / n_ref)^2. d is set
+// at the median |dn| of the same flight so that frames inside and beyond it are both checked.
+TEST(ManeuverTempering, DeadBandTempersOnlyTheLoadFactorBeyondIt) {
+  const ModelBank mb = named_bank(5u);
+  const test::Plant plant = test::random_plant(13, 5, 7, 5u, 1e-3, 1e-3);
+  auto fly = [&](F16HierarchicalBank& bank, auto&& check) {
+    test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 6u);
+    for (int i = 0; i < 80; ++i) {
+      const Eigen::VectorXd du = test::dither(5, i, 64.0);
+      Eigen::Matrix<double, 7, 1> z = truth.measure({}) + mb.z_trim;
+      const double dn = bank.z_hat_perturbation()(3);
+      bank.update(z);
+      check(dn, bank);
+      bank.propagate(du + mb.u_trim);
+      truth.advance(du, {});
+    }
+  };
+  HierarchicalOptions o;
+  o.maneuver.tempering_g = 1e-3;
+  std::vector<double> dns;
+  F16HierarchicalBank probe(mb, o);
+  fly(probe, [&](double dn, const F16HierarchicalBank&) { dns.push_back(std::abs(dn)); });
+  std::vector<double> sorted = dns;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double d = sorted[sorted.size() / 2];
+  ASSERT_GT(d, 0.0);
+  o.maneuver.tempering_deadband_g = d;
+  F16HierarchicalBank banded(mb, o);
+  int inside = 0, beyond = 0;
+  fly(banded, [&](double dn, const F16HierarchicalBank& b) {
+    const double excess = std::abs(dn) > d ? std::abs(dn) - d : 0.0;
+    (excess > 0.0 ? beyond : inside)++;
+    const double s = 1.0 + (excess / 1e-3) * (excess / 1e-3);
+    for (int k = 0; k < b.size(); ++k) {
+      const double expected = -0.5 * b.bank().quadratic_forms()(k) / s;
+      ASSERT_NEAR(b.bank().log_likelihoods()(k), expected, 1e-12 * (1.0 + std::abs(expected)));
+    }
+  });
+  EXPECT_GT(inside, 10);
+  EXPECT_GT(beyond, 10);
+  HierarchicalOptions bad;
+  bad.maneuver.tempering_deadband_g = 0.1;   // without the tempering
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+  bad.maneuver.tempering_g = 0.1;
+  bad.maneuver.tempering_deadband_g = -0.1;
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+}

@@ -136,6 +136,11 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="temper every likelihood by 1 + (dn/G)^2 while the estimated load factor is dn g off "
                          "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off; "
                          "with --turbulence-banks the set file's recommended tempering (1 g)"),
+    EstimatorOption("maneuver_tempering_deadband_g", "--maneuver-tempering-deadband", "number", metavar="D",
+                    minimum=0.0, maximum=10.0, requires="maneuver_tempering_g", in_daemon=False,
+                    help="with --maneuver-tempering G: only the load factor beyond D g tempers, "
+                         "1 + (max(0, |dn| - D)/G)^2, so that turbulence in level flight tempers nothing while a "
+                         "pull-up still does (cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band"),
     EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
                     below=LEVEL1_P_MIN_BELOW, in_daemon=False,
                     help="probability floor while a failure's level-1 (dual) bank is on line: a second "

@@ -32,7 +32,7 @@ class PyFilterBank {
   }
 
   PyFilterBank(const py::sequence& models, double p_min, bool strip_leading_term, const py::object& initial,
-               const py::object& h_output) {
+               const py::object& h_output, bool fresh_floor_levels) {
     std::vector<DynamicFilterModel> dyn;
     for (std::size_t i = 0; i < py::len(models); ++i) {
       const py::object item = models[i];
@@ -45,6 +45,7 @@ class PyFilterBank {
     FilterBankOptions opt;
     opt.p_min = p_min;
     opt.strip_leading_term = strip_leading_term;
+    opt.fresh_floor_levels = fresh_floor_levels;
     const bool f16 = dyn.size() == 13 && dyn[0].nx() == 13 && dyn[0].nu() == 5 && dyn[0].nz() == 7;
     bool same = true;
     for (const auto& d : dyn) same = same && d.nx() == dyn[0].nx() && d.nu() == dyn[0].nu() && d.nz() == dyn[0].nz();
@@ -132,7 +133,7 @@ void bind_bank(py::module_& m) {
 The MMAE filter bank with its hypothesis probability evaluator (paper Sec. III, eqs. 1-2).
 
     FilterBank(models, p_min=0.001, strip_leading_term=True, initial_probabilities=None,
-               h_output=None)
+               h_output=None, fresh_floor_levels=False)
 
 models: a sequence of K core.FilterModel of equal sizes (n states, p inputs, m measurements);
 models[0] is the no-failure hypothesis, presumed at start (p_0 = 1 - (K-1) p_min, others p_min)
@@ -144,11 +145,14 @@ Per frame, signals are perturbations from trim:
   propagate(u (p,)) x-_k = Phi_k x+_k + Bd_k u.
   step(z, u)       update then propagate.
 h_output (m, n) maps the blended state to z_hat (default: models[0].h, the unfailed H).
+fresh_floor_levels: a hypothesis on its floor restarts its failed sensors' tracked levels at
+the frame's reading (cpp/f16mmae/filter_bank.h; False: they keep tracking on the floor).
 A frame with a non-finite value is applied to no filter and counted in rejected_frames.
 13 F-16-sized models (13, 5, 7) run in the fixed-size C++ bank (fixed_size is True).)doc")
-      .def(py::init<const py::sequence&, double, bool, const py::object&, const py::object&>(), py::arg("models"),
-           py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
-           py::arg("initial_probabilities") = py::none(), py::arg("h_output") = py::none())
+      .def(py::init<const py::sequence&, double, bool, const py::object&, const py::object&, bool>(),
+           py::arg("models"), py::kw_only(), py::arg("p_min") = 0.001, py::arg("strip_leading_term") = true,
+           py::arg("initial_probabilities") = py::none(), py::arg("h_output") = py::none(),
+           py::arg("fresh_floor_levels") = false)
       .def("update", &PyFilterBank::update, py::arg("z"), "Update with z (m,); returns the probabilities (K,).")
       .def("propagate", &PyFilterBank::propagate, py::arg("u"), "Propagate every filter with u (p,).")
       .def("step", &PyFilterBank::step, py::arg("z"), py::arg("u"),
@@ -194,6 +198,9 @@ A frame with a non-finite value is applied to no filter and counted in rejected_
                              [](const PyFilterBank& b) { return b.visit([](auto& x) { return x.options().p_min; }); })
       .def_property_readonly("strip_leading_term", [](const PyFilterBank& b) {
         return b.visit([](auto& x) { return x.options().strip_leading_term; });
+      })
+      .def_property_readonly("fresh_floor_levels", [](const PyFilterBank& b) {
+        return b.visit([](auto& x) { return x.options().fresh_floor_levels; });
       });
 }
 

@@ -19,21 +19,29 @@
 //                 keeps per filter, and
 //                 the derivation in steady_state_filter.h). A filter's levels are unset at
 //                 the start, after reset() and when load_filter() replaces it.
-//                 Common footing (leading term stripped): u_k puts a failed channel j's
-//                 density on the scale of the hypothesis' own stripped Gaussian factor,
-//                 sqrt(2π A^k_jj), while the no-failure filter (index 0) strips sqrt(2π A^0_jj)
-//                 from the same reading, A^0_jj > A^k_jj = R_jj (its prediction of the reading
-//                 is uncertain, the failed hypothesis' is not made). So the stripped l_k
-//                 favours filter 0 on that channel by (1/2) ln(A^0_jj / R_jj) every frame,
-//                 whatever the reading (0.31 nats for VEL at the F-16's design point). The
-//                 bank adds v_k = sum_{j failed, uninformative} (1/2) ln(A^0_jj / A^k_jj) to l_k:
-//                 both densities of the failed reading are then scaled by the same
-//                 sqrt(2π A^0_jj), so on that channel l_k - l_0 is their log-likelihood ratio
-//                 (other channels: the paper's stripped form). v_k follows filter 0's A (a
-//                 scheduled node change, a hierarchical switch: filter 0 is NONE at both
-//                 levels); the floor's c_k (below) is a difference of a restart against a
-//                 tracked level of the same hypothesis, in which v_k cancels. Leading term
-//                 kept: v_k = 0 (every density is whole).
+//                 Common footing (leading term stripped). Filter 0's density of the
+//                 readings factorises by the chain rule over the failed channels F of
+//                 filter k and the others G,
+//                   N(r; 0, A^0) = N(r_G; 0, A^0_GG) · N(r_F; m_F|G, A^0_FF|G),
+//                   A^0_FF|G = A^0_FF - A^0_FG (A^0_GG)⁻¹ A^0_GF = (((A^0)⁻¹)_FF)⁻¹,
+//                 and filter k's as N(r_G; 0, A^k_GG) · prod_{j∈F} f_j. Pairing the factors
+//                 of the same readings, the stripped form removes sqrt|2π A^0_GG| against
+//                 sqrt|2π A^k_GG| on G (the paper's stripped form, as between any two
+//                 filters) and sqrt|2π A^0_FF|G| against sqrt(2π A^k_jj) per j on F, where
+//                 u_k has put f_j on the scale of filter k's own stripped factor. The
+//                 bank adds
+//                   v_k = (1/2) ln|A^0_FF|G| - sum_{j∈F} (1/2) ln A^k_jj,
+//                 so that on F both densities carry the same scale and l_k - l_0 there is
+//                 their log-likelihood ratio. The conditional variance, not the marginal
+//                 A^0_jj: filter 0's prediction of a channel whose residual it also
+//                 predicts from the others (AOA from AZ: A^0_jj|G = 0.71 A^0_jj at the
+//                 F-16's design point) is sharper than its marginal, and the marginal
+//                 would credit the failed hypothesis (1/2) ln(A^0_jj / A^0_jj|G) (0.17 nats
+//                 for AOA and for AZ) every frame, whatever the reading. v_k follows
+//                 filter 0's A (a scheduled node change, a hierarchical switch: filter 0
+//                 is NONE at both levels); the floor's c_k (below) is a difference of a
+//                 restart against a tracked level of the same hypothesis, in which v_k
+//                 cancels. Leading term kept: v_k = 0 (every density is whole).
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
 //                 floor ("lock-out" prevention) by water-filling: hypotheses with
@@ -54,6 +62,18 @@
 //                   healthy reading while the hypothesis sat on the floor, must not let it
 //                   re-enter free of that cost. (With no uninformative channel anywhere,
 //                   every f_k = p_min bit for bit: the paper's floor.)
+//                 Fresh levels on the floor (options.fresh_floor_levels, default off): the
+//                   floor mass is "the failure begins now", so after each frame's floor a
+//                   hypothesis on it (p_k = f_k) carries the level of a failure that began
+//                   with this reading, not one that followed the healthy reading before:
+//                   every tracked level j it adds to the presumed hypothesis restarts,
+//                     b̂_j <- r_j,  P_j <- A_jj     (steady_state_filter.h's first-frame posterior),
+//                   whose Occam factor exp(c_j) its f_k already carries. A hypothesis that
+//                   leaves the floor then predicts the failed reading from what it has read
+//                   since it left: a level constant since the onset (q_j -> 0) is the exact
+//                   predictive density of a stuck, held, biased or hardover reading from the
+//                   onset on, while a healthy reading that wanders is no such constant.
+//                   Off: the levels keep tracking on the floor.
 //                 blended state  x̂ = sum_k p_k x⁺_k;   z_hat = H_out x̂ (H_out: the unfailed H,
 //                   filter 0's by default, so a failed-sensor hypothesis still yields z_hat).
 //                 Start-up (options.start_up_s, 0 = none): the first round(start_up_s f)
@@ -121,6 +141,7 @@ struct FilterBankOptions {
   bool vectorized_kernel = true;     // fixed sizes: use the AVX2/FMA kernel if the CPU has it
   TurbulenceAdaptationOptions adaptation;   // likelihood scale s (turbulence_adaptation.h); off by default
   double start_up_s = 0.0;           // updates that weigh nothing after a start (header comment)
+  bool fresh_floor_levels = false;   // a floored hypothesis' tracked levels restart (header comment)
 };
 
 template <int K, int NX, int NU, int NZ>
@@ -289,6 +310,7 @@ class FilterBank {
         p_(i) /= sum;
       }
       apply_floor();
+      if (options_.fresh_floor_levels) restart_floored_levels();
     }
     if (scale_.options().own_channels) {   // q_k m / m_k: each form per channel it reads (turbulence_adaptation.h)
       q_own_ = q_.cwiseProduct(own_ratio_);
@@ -538,15 +560,29 @@ class FilterBank {
       note_footing(k);
     }
   }
-  // v_k of the header comment: sum over filter k's uninformative channels j of
-  // (1/2) ln(A^0_jj / A^k_jj) with the leading term stripped, 0 otherwise.
+  // v_k of the header comment with the leading term stripped, 0 otherwise: over filter k's
+  // uninformative channels F, (1/2) ln|A^0_FF|G| - sum_{j in F} (1/2) ln A^k_jj, where
+  // ln|A^0_FF|G| = -ln|((A^0)⁻¹)_FF| (the Schur complement's determinant).
   void note_footing(int k) noexcept {
     double v = 0.0;
     if (options_.strip_leading_term && uninformative_[k]) {
+      using AMatrix = typename Hypothesis::AMatrix;
+      using SubMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, NZ, NZ>;
+      using Channels = Eigen::Matrix<int, Eigen::Dynamic, 1, Eigen::ColMajor, NZ, 1>;
       const auto& m = hypotheses_[k].model();
-      const auto& a0 = hypotheses_[0].model().a;
+      const AMatrix& a0 = hypotheses_[0].model().a;
+      const AMatrix a0_inv = a0.llt().solve(AMatrix::Identity(a0.rows(), a0.cols()));
+      Channels f(nz());
+      int n = 0;
       for (int j = 0; j < nz(); ++j)
-        if (m.uninformative_width(j) > 0.0) v += 0.5 * std::log(a0(j, j) / m.a(j, j));
+        if (m.uninformative_width(j) > 0.0) {
+          f(n++) = j;
+          v -= 0.5 * std::log(m.a(j, j));
+        }
+      SubMatrix s(n, n);
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) s(a, b) = a0_inv(f[a], f[b]);
+      v -= s.llt().matrixLLT().diagonal().array().log().sum();   // (1/2) ln|s|
     }
     footing_(k) = v;
   }
@@ -581,6 +617,14 @@ class FilterBank {
       floor_(i) = d < 0.0 ? base * std::exp(d) : base;
       log_floor_(i) = d < 0.0 ? log_base + d : log_base;
     }
+  }
+  // The floor's fresh levels (header comment): every hypothesis on its floor after this
+  // frame's Bayes update restarts the tracked levels the presumed hypothesis does not track.
+  void restart_floored_levels() noexcept {
+    const Hypothesis& kept = hypotheses_[presumed_];
+    for (int i = 0; i < size(); ++i)
+      if (floored_[i] && level_set_[i] && hypotheses_[i].tracks_level())
+        hypotheses_[i].restart_levels(residual(i), level_.col(i), level_var_.col(i), kept);
   }
   // Water-filling floor (see the header comment); keeps log_p_ consistent with p_.
   void apply_floor() noexcept {

@@ -248,8 +248,25 @@ class HypothesisFilter {
     }
     return u;
   }
+  // A fresh level on the channels that track theirs (q_j > 0) and that `kept` does not track:
+  // b̂_j <- r_j, P_j <- A_jj, the level's posterior after this one reading under its uniform
+  // prior (the first frame's). The bank calls it for a hypothesis on its floor
+  // (filter_bank.h); `kept` is the presumed hypothesis, whose failed channels' levels go on.
+  // noexcept, no allocation.
+  template <class R, class L, class V>
+  void restart_levels(const Eigen::MatrixBase<R>& r, const Eigen::MatrixBase<L>& level_out,
+                      const Eigen::MatrixBase<V>& variance_out, const HypothesisFilter& kept) const noexcept {
+    auto& level = const_cast<Eigen::MatrixBase<L>&>(level_out);  // Eigen's writable-expression idiom
+    auto& var = const_cast<Eigen::MatrixBase<V>&>(variance_out);
+    for (Eigen::Index j = 0; j < unf_q_.size(); ++j)
+      if (unf_q_(j) > 0.0 && !kept.tracks_channel(j)) level(j) = r(j), var(j) = unf_a_(j);
+  }
   // True when some uninformative channel tracks its level (the bank then keeps b̂).
   bool tracks_level() const noexcept { return tracked_; }
+  // True when channel j is uninformative and tracks its level (q_j > 0).
+  bool tracks_channel(Eigen::Index j) const noexcept {
+    return j >= 0 && j < unf_q_.size() && unf_q_(j) > 0.0;
+  }
   // True when some channel is uninformative (u_k is then added to l_k).
   bool has_uninformative() const noexcept { return uninformative_; }
 

@@ -347,7 +347,8 @@ TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {
 // reads a constant (node (0,0)'s trim + noise, failed from frame 64); at frame 200 the air data
 // moves to node (1,0), whose VEL trim is 100 ft/s higher. The VEL hypothesis' failed-channel term
 // u_k = l_k + q_k / 2 - v_k (leading term stripped, no adaptation; v_k the footing, which is
-// the node's: filter_bank.h) must then be that of the same
+// the node's, on NONE's variance of the reading given the others: filter_bank.h) must then be
+// that of the same
 // readings with the trim held at node (0,0) -- frame for frame -- and stay far above the
 // level-jump branch ln eps + (1/2) ln(2 pi A_jj) - ln W that a level left behind would take.
 TEST(ScheduledBank, AFailedSensorsLevelFollowsTheAbsoluteReadingAcrossATrimChange) {
@@ -373,8 +374,12 @@ TEST(ScheduledBank, AFailedSensorsLevelFollowsTheAbsoluteReadingAcrossATrimChang
   EXPECT_TRUE(held.bank().hypothesis(vel).has_uninformative());
   const double jump = std::log(eps) + 0.5 * std::log(2.0 * 3.14159265358979323846 * r_var) - std::log(width);
   auto u_term = [&](const F16HierarchicalBank& b) {   // less the footing of the node in force (filter_bank.h)
-    const double footing = 0.5 * std::log(b.bank().hypothesis(0).model().a(0, 0) /
-                                          b.bank().hypothesis(vel).model().a(0, 0));
+    // NONE's variance of the VEL residual given the other six: its Schur complement
+    const auto& a0 = b.bank().hypothesis(0).model().a;
+    const Eigen::Matrix<double, 6, 6> a_gg = a0.bottomRightCorner<6, 6>();
+    const Eigen::Matrix<double, 6, 1> a_gj = a0.bottomLeftCorner<6, 1>();
+    const double conditional = a0(0, 0) - a_gj.dot(a_gg.llt().solve(a_gj));
+    const double footing = 0.5 * std::log(conditional / b.bank().hypothesis(vel).model().a(0, 0));
     return b.bank().log_likelihoods()(vel) + 0.5 * b.bank().quadratic_forms()(vel) - footing;
   };
   const long long before = f16mmae::testing::allocation_count();

@@ -48,10 +48,14 @@ def level_predictive_variance(q, a_jj, n=1):
 
 
 def footing(m, a0):
-    """v_k of filter_bank.h (leading term stripped): (1/2) ln(A^0_jj / A_jj) summed over the
-    model's uninformative channels, A^0 the no-failure filter's."""
+    """v_k of filter_bank.h (leading term stripped): (1/2) ln|A^0_FF|G| - sum_j (1/2) ln A_jj
+    over the model's uninformative channels F, A^0 the no-failure filter's and A^0_FF|G its
+    Schur complement A^0_FF - A^0_FG (A^0_GG)^-1 A^0_GF (F given the other channels G)."""
     a = np.asarray(m.a)
-    return sum(0.5 * np.log(a0[j, j] / a[j, j]) for j in range(len(a)) if m.uninformative_width[j] > 0)
+    f = [j for j in range(len(a)) if m.uninformative_width[j] > 0]
+    g = [j for j in range(len(a)) if j not in f]
+    schur = a0[np.ix_(f, f)] - a0[np.ix_(f, g)] @ np.linalg.solve(a0[np.ix_(g, g)], a0[np.ix_(g, f)])
+    return 0.5 * np.linalg.slogdet(schur)[1] - sum(0.5 * np.log(a[j, j]) for j in f)
 
 
 def expected_log_likelihood(m, r, frames, strip=False, a0=None):
@@ -208,7 +212,7 @@ def test_cover_sensor_hypothesis_is_uninformative_over_the_full_range(cover_desi
         j = names.SENSORS.index(name)
         assert w[j] == full[j] and np.count_nonzero(w) == 1
         t = cover_design.filter(name).model.uninformative_level_q
-        ratio = 1e-3 if name == "AOA" else 0.01  # the default walk (design/tuning.py)
+        ratio = {"AOA": 1e-3, "VEL": 1e-4}.get(name, 0.01)  # the default walk (design/tuning.py)
         assert t[j] == pytest.approx(ratio * sensors.NOISE_SIGMA[j] ** 2, rel=1e-15) and np.count_nonzero(t) == 1
     assert not np.any(cover_design.filter("LS").model.uninformative_width)
     assert np.count_nonzero(cover_design.filter("LS+PIT").model.uninformative_width) == 1
@@ -262,8 +266,8 @@ def test_tuning_refuses_a_bad_failure_model():
 def test_failed_sensor_level_q_per_sensor():
     base = {**load_tuning("tuned").to_dict(), "failure_model": "cover"}
     tun = tuning_from_dict({**base, "failed_sensor_level_q": {"PIT": 0.0, "AY": 0.05}}, default_name="per")
-    # the sensors not named keep their default (AOA 1e-3, the rest 0.01)
-    assert list(tun.sensor_level_q()) == [0.01, 1e-3, 0.0, 0.01, 0.01, 0.01, 0.05]
+    # the sensors not named keep their default (VEL 1e-4, AOA 1e-3, the rest 0.01)
+    assert list(tun.sensor_level_q()) == [1e-4, 1e-3, 0.0, 0.01, 0.01, 0.01, 0.05]
     assert list(tuning_from_dict({**base, "failed_sensor_level_q": 0.02}).sensor_level_q()) == [0.02] * 7
     with pytest.raises(TuningError, match="unknown sensor 'MACH' in failed_sensor_level_q; valid: VEL, AOA, PIT"):
         tuning_from_dict({**base, "failed_sensor_level_q": {"MACH": 1e-4}})
@@ -298,3 +302,114 @@ def test_failed_surface_q_per_surface():
         i = n_air + names.ACTUATORS.index(comp)
         # a pure walk: the state's noise is q dt exactly (its row of F is zero)
         assert d.filter(name).model.qd[i, i] - none.qd[i, i] == pytest.approx(q * dt, rel=1e-9), (name, comp)
+
+
+def level_posterior(q, a_jj, readings):
+    """(mean, variance) of a random-walk level after ``readings`` (the first one sets it with
+    variance a_jj): the product of the walked Gaussian prior and each reading's Gaussian,
+    written out step by step."""
+    mean, p = readings[0], a_jj
+    for y in readings[1:]:
+        prior = p + q
+        p = 1.0 / (1.0 / prior + 1.0 / a_jj)
+        mean = p * (mean / prior + y / a_jj)
+    return mean, p
+
+
+def level_log_density(m, r, level, p, q):
+    """SciPy's log-likelihood of filter model ``m`` (leading term stripped, footing of the
+    no-failure filter's A ``a0`` left out) for residual r when its one uninformative channel 1
+    has the level (mean, variance p): the informative channels' normal times the level's
+    predictive normal mixed with a jump (1e-3) anywhere in W."""
+    a = np.asarray(m.a)
+    keep = [0, 2]
+    gauss = stats.multivariate_normal(np.zeros(2), a[np.ix_(keep, keep)]).logpdf(r[keep])
+    s = p + q + a[1, 1]
+    lvl = np.log((1 - 1e-3) * stats.norm(level, np.sqrt(s)).pdf(r[1]) + 1e-3 / m.uninformative_width[1])
+    return gauss + lvl + 1.5 * np.log(2 * np.pi) + 0.5 * np.linalg.slogdet(a)[1]
+
+
+@pytest.mark.parametrize("fresh", [True, False])
+def test_a_hypothesis_on_its_floor_restarts_its_level_at_each_reading(fresh):
+    """filter_bank.h's fresh floor levels: after a frame that leaves a failed-sensor hypothesis
+    on its floor (p = p_min times its level's Occam factor), it predicts the next reading from
+    a level restarted at that frame's reading (variance A_jj); otherwise (and always without
+    them) from its level's Kalman update (or restart, when the jump is the likelier branch)."""
+    q, width, eps = 0.05, 7.5, 1e-3
+    models = small_models(np.array([0.0, width, 0.0]), np.array([0.0, q, 0.0]))
+    fb = core.FilterBank(models, p_min=1e-6, fresh_floor_levels=fresh)
+    assert fb.fresh_floor_levels is fresh
+    a0, a11 = np.asarray(models[0].a), float(np.asarray(models[1].a)[1, 1])
+    v = footing(models[1], a0)
+    occam = stats.uniform(scale=width).logpdf(0.5) - stats.norm(0.0, np.sqrt(a11)).logpdf(0.0)
+    floor = 1e-6 * np.exp(occam)
+    rng = np.random.default_rng(11)
+    level = p = None
+    restarts = 0
+    for n in range(16):
+        z = rng.normal(0.0, 0.3, 3)
+        z[1] = 1.5 * np.sin(0.7 * n)   # a reading that wanders
+        fb.update(z)
+        r = np.asarray(fb.residuals)[1]
+        if level is None:   # first frame: the level set at the reading
+            level, p = r[1], a11
+        else:
+            expect = level_log_density(models[1], r, level, p, q) + v
+            assert fb.log_likelihoods[1] == pytest.approx(expect, rel=1e-9, abs=1e-9), n
+            s = p + q + a11
+            if (1 - eps) * stats.norm(level, np.sqrt(s)).pdf(r[1]) >= eps / width:
+                level, p = level + (p + q) / s * (r[1] - level), (p + q) * a11 / s
+            else:
+                level, p = r[1], a11
+        if fresh and fb.probabilities[1] == pytest.approx(floor, rel=1e-12):
+            level, p = r[1], a11
+            restarts += 1
+        fb.propagate(np.array([0.2, -0.1]))
+    assert restarts >= (1 if fresh else 0)
+
+
+def test_a_hypothesis_above_its_floor_keeps_tracking_its_level():
+    """A hypothesis that holds probability keeps its tracked level with fresh floor levels on:
+    its log-likelihood is that of the level tracked since its first reading."""
+    q, width = 0.05, 7.5
+    models = small_models(np.array([0.0, width, 0.0]), np.array([0.0, q, 0.0]))
+    fb = core.FilterBank(models, p_min=1e-6, initial_probabilities=np.array([0.25, 0.5, 0.25]),
+                         fresh_floor_levels=True)
+    a0, a11 = np.asarray(models[0].a), float(np.asarray(models[1].a)[1, 1])
+    v = footing(models[1], a0)
+    readings = []
+    for n, y in enumerate([2.0, 2.1, 1.9, 2.05, 2.0]):
+        fb.update(np.array([0.0, y, 0.0]))
+        r = np.asarray(fb.residuals)[1]
+        readings.append(r[1])
+        assert fb.probabilities[1] > 0.1
+        if n >= 1:
+            level, p = level_posterior(q, a11, readings[:-1])
+            expect = level_log_density(models[1], r, level, p, q) + v
+            assert fb.log_likelihoods[1] == pytest.approx(expect, rel=1e-9, abs=1e-9), n
+        fb.propagate(np.zeros(2))
+
+
+def test_the_footing_makes_the_failed_channel_a_likelihood_ratio():
+    """filter_bank.h's common footing, leading term stripped: l_k - l_0 is the paper's stripped
+    ratio of the two filters' densities of the other channels G (each whole density times
+    sqrt|2 pi A_GG|) plus, on the failed channel, the exact log-likelihood ratio of the reading:
+    the uniform density over W (first frame) against the no-failure filter's conditional normal
+    of that reading given the others (SciPy)."""
+    width = 7.5
+    models = small_models(np.array([0.0, width, 0.0]))
+    fb = core.FilterBank(models, p_min=1e-6)
+    z = np.array([0.4, -0.7, 0.3])
+    fb.update(z)
+    r0, r1 = np.asarray(fb.residuals)[0], np.asarray(fb.residuals)[1]
+    a0, a1 = np.asarray(models[0].a), np.asarray(models[1].a)
+    g, j = [0, 2], 1
+    gauss0 = stats.multivariate_normal(np.zeros(2), a0[np.ix_(g, g)])
+    gauss1 = stats.multivariate_normal(np.zeros(2), a1[np.ix_(g, g)])
+    stripped_g = (gauss1.logpdf(r1[g]) + 0.5 * np.linalg.slogdet(2 * np.pi * a1[np.ix_(g, g)])[1]
+                  - gauss0.logpdf(r0[g]) - 0.5 * np.linalg.slogdet(2 * np.pi * a0[np.ix_(g, g)])[1])
+    w = np.linalg.solve(a0[np.ix_(g, g)], a0[g, j])
+    cond = stats.norm(w @ r0[g], np.sqrt(a0[j, j] - a0[j, g] @ w))
+    ratio_f = stats.uniform(loc=r1[j] - 1.0, scale=width).logpdf(r1[j]) - cond.logpdf(r0[j])
+    ll = fb.log_likelihoods
+    assert ll[1] - ll[0] == pytest.approx(stripped_g + ratio_f, rel=1e-9, abs=1e-9)

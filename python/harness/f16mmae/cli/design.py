@@ -120,7 +120,7 @@ def register(subparsers) -> None:
     p.add_argument("--failed-sensor-level-q", default=None, metavar="Q",
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
                         "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
-                        "its range every frame (default: the tuning's; AOA 1e-3, the other sensors 0.01)")
+                        "its range every frame (default: the tuning's; AOA 1e-3, VEL 1e-4, the other sensors 0.01)")
     p.add_argument("--throttle-input", action="store_true",
                    help="model the throttle command as a sixth input (JSBSim's linearization column; "
                         "the closed loop flies the throttle dither with such a bank)")

@@ -34,7 +34,8 @@ no-failure model, in one of two failure models (``FAILURE_MODELS``, the tuning's
   held anywhere costs about ``ln(W_i / sqrt(2 pi A_ii))`` (6-7 nats) once -- and again on
   each re-entry from the probability floor: the core lowers such a hypothesis' floor by that
   Occam factor (``cpp/f16mmae/filter_bank.h``), since its level kept following the healthy
-  reading while it sat there. With
+  reading while it sat there (the core's ``fresh_floor_levels``, off by default, restarts it
+  there instead). With
   ``failed_sensor_level_q = 0`` the level has no memory: the reading is uniform over the
   range every frame, and a reading near trim then costs that every frame, so a sensor failed
   at or near its trim value is never isolated (docs/results/failure_models.md measures both).

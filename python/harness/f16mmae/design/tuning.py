@@ -76,10 +76,12 @@ TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_m
 FAILED_SURFACE_Q: dict[str, float] = {"LS": 3.0e-4, "RS": 3.0e-4, "LF": 3.0e-5, "RF": 3.0e-5, "RUD": 1.0e-3}
 #: Default random walk per frame of a failed sensor's level under ``cover``, in units of the
 #: sensor's noise variance (the level filter's gain is then about its square root), per
-#: sensor: AOA 1e-3 (with 0.01 the failed-AOA hypothesis' level follows the healthy angle of
-#: attack closely enough to be declared in failure-free flight), the others 0.01.  Chosen on
+#: sensor: AOA 1e-3 and VEL 1e-4 (with 0.01 the failed hypothesis' level follows the healthy
+#: angle of attack, or the airspeed's slow wander, closely enough to be declared in
+#: failure-free flight), the others 0.01 (slower, the failed PIT, ROL and YAW hypotheses lose
+#: the stabilators', flaperons' and rudder's failures' first declarations to them).  Chosen on
 #: the tuning seeds (docs/results/failure_models.md).
-FAILED_SENSOR_LEVEL_Q: dict[str, float] = {**{s: 0.01 for s in names.SENSORS}, "AOA": 1.0e-3}
+FAILED_SENSOR_LEVEL_Q: dict[str, float] = {**{s: 0.01 for s in names.SENSORS}, "AOA": 1.0e-3, "VEL": 1.0e-4}
 
 
 def _per_component(value, source: str, key: str, kind: str, components, defaults: dict[str, float],

@@ -121,6 +121,33 @@ def test_calibration_at_a_high_dynamic_pressure_node_matches_its_residuals():
     assert tuning.name == "tuned@node" and tuning.estimator == load_tuning("tuned").estimator
 
 
+def test_a_node_whose_alpha_state_noise_misfits_jointly_puts_aoa_on_its_measurement():
+    """At Mach 0.35, 10,000 ft the per-channel calibration on the alpha state leaves var/A about 1
+    on every channel but the NONE filter's mean NIS per channel above JOINT_NIS_LIMIT (A's AOA-AZ
+    correlation is not the residuals'); calibrate_node then puts AOA's excess on R AOA and keeps
+    the alpha-state noise of the tuning it starts from, and the NONE filter designed with its
+    result, run over the node's flights here, fits within the limit."""
+    from f16mmae.design.calibrate import JOINT_NIS_LIMIT, KNOBS, calibrate
+    from f16mmae.design.residuals import filter_residuals, residual_stats
+
+    tuned = load_tuning("tuned")
+    lin = linearize_truth(0.35, 10000.0)
+    flights = node_flights(0.35, 10000.0, tuned.turbulence)
+    plain, hist = calibrate(tuned, flights, lin, knobs=KNOBS)
+    assert hist[-1].nis_mean / names.NZ > JOINT_NIS_LIMIT and "AOA" not in plain.r_pseudonoise
+    tuning, _, after = calibrate_node(0.35, 10000.0, tuned, linearized=lin, flights=flights)
+    assert tuning.r_pseudonoise["AOA"] > 0.0
+    assert tuning.qd_longitudinal["alpha_rad"] == tuned.qd_longitudinal["alpha_rad"]
+    f = design_bank(tuning=tuning, linearized=lin, hypotheses=(names.NONE,)).filters[0]
+    res = [filter_residuals(f.model.phi, f.model.bd, f.model.h, f.gains.k, fl.u, fl.z)[names.FRAME_RATE_HZ:]
+           for fl in flights]
+    r = np.vstack(res)
+    nis = float(np.mean(np.einsum("ij,ij->i", r, np.linalg.solve(f.gains.a, r.T).T)))
+    assert nis / names.NZ <= JOINT_NIS_LIMIT
+    assert abs(nis - after.nis_mean) < 1e-9 * nis
+    assert residual_stats(res, f.gains.a).var_over_a.max() < 1.1
+
+
 def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
     out = tmp_path / "one.f16sched"
     assert main(["design", "--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--workers", "1",

@@ -90,8 +90,10 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: (truth/dither.py), which the truth flies there; 9: that rule's pairs at 3.5 / 4.2 Hz;
 #: 10: the failed VEL's ``constant`` model (SCHEDULE_FAILURE_MODEL), floors and references bounded
 #: on each node's ``complete`` bank (calibration start-up 0.25 s), the file recommending a start-up of 1 s
-#: (calibrate.START_UP_S, CALIBRATION_START_UP_S).
-SCHEDULE_DESIGN_REVISION = 10
+#: (calibrate.START_UP_S, CALIBRATION_START_UP_S); 11: a node whose calibrated NONE filter misfits
+#: jointly (NIS / m above calibrate.JOINT_NIS_LIMIT) puts AOA's excess on its measurement, not on
+#: the alpha state, where that fits better (calibrate.calibrate_node).
+SCHEDULE_DESIGN_REVISION = 11
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty.
 SCHEDULE_FAILURE_MODEL = "constant=VEL"

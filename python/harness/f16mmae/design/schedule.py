@@ -4,7 +4,8 @@ schedules on measured air data (``cpp/f16mmae/scheduled_filters.h``).
 
 Every covered point is the ordinary design (``design_bank``), with the given tuning at every
 point (``--node-tuning fixed``) or with its pseudonoise calibrated at the point (``calibrated``,
-the default: ``calibrate.calibrate_node``), which also sets the point's turbulence adaptation
+the default: ``calibrate.calibrate_node``, per channel and, where the alpha-state knob misfits
+the channels' correlation, with AOA's excess on its measurement), which also sets the point's turbulence adaptation
 reference and its probability floor p_min and stores them with the node: for each candidate
 floor, the largest reference at which the node's estimator keeps its no-failure calibration
 flights' peak failure log-odds within ``calibrate.log_odds_bound`` (``calibrate.bounded_reference``:

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -205,9 +206,11 @@ py::dict selector_dict(TurbulenceBankSetOptions s) {
 // one left out keeps the core's default).
 TurbulenceSetFile make_set_file(const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
                                 const std::vector<double>& adapt_reference, const std::vector<double>& trim_time_constant_s,
-                                const py::dict& selector, double maneuver_tempering_g) {
+                                const py::dict& selector, double maneuver_tempering_g,
+                                const std::optional<std::vector<double>>& adapt_gain) {
   TurbulenceSetFile f;
   f.maneuver_tempering_g = maneuver_tempering_g;
+  f.adapt_gain = adapt_gain ? *adapt_gain : std::vector<double>(members.size(), TurbulenceAdaptationOptions{}.gain);
   f.members = members;
   f.levels = levels;
   f.adapt_reference = adapt_reference;
@@ -229,7 +232,7 @@ void bind_turbulence_set_file(py::module_& m) {
   py::class_<TurbulenceSetFile>(m, "TurbulenceSetFile", R"doc(
 A turbulence bank set file (cpp/bankfile/turbulence_set_file.h), loaded and validated: the member
 banks (rising intensity), their design levels, adaptation references and trim tracking time
-constants (0: off), the load-factor tempering the set is flown with (maneuver_tempering_g, g; 0:
+constants (0: off), adaptation gains (adapt_gain), the load-factor tempering the set is flown with (maneuver_tempering_g, g; 0:
 off; a --maneuver-tempering given overrides it), the selector's settings
 (core.TurbulenceBankSet's keyword arguments) and content_hash (hex SHA-256 of the payload: the
 set's name in mmae-daemon's status). core.Executive(set_file, ...) runs the set as mmae-daemon
@@ -239,6 +242,7 @@ set's name in mmae-daemon's status). core.Executive(set_file, ...) runs the set 
       .def_property_readonly("adapt_reference", [](const TurbulenceSetFile& f) { return f.adapt_reference; })
       .def_property_readonly("trim_time_constant_s", [](const TurbulenceSetFile& f) { return f.trim_time_constant_s; })
       .def_property_readonly("maneuver_tempering_g", [](const TurbulenceSetFile& f) { return f.maneuver_tempering_g; })
+      .def_property_readonly("adapt_gain", [](const TurbulenceSetFile& f) { return f.adapt_gain; })
       .def_property_readonly("selector", [](const TurbulenceSetFile& f) { return selector_dict(f.selector); })
       .def_property_readonly("content_hash", [](const TurbulenceSetFile& f) { return f.content_hash; });
   m.def(
@@ -250,17 +254,18 @@ set's name in mmae-daemon's status). core.Executive(set_file, ...) runs the set 
       "save_turbulence_set",
       [](py::handle path, const std::vector<ModelBank>& members, const std::vector<std::string>& levels,
          const std::vector<double>& adapt_reference, const std::vector<double>& trim_time_constant_s,
-         const py::dict& selector, double maneuver_tempering_g) {
-        return save_turbulence_set(
-            make_set_file(members, levels, adapt_reference, trim_time_constant_s, selector, maneuver_tempering_g),
-            fspath(path));
+         const py::dict& selector, double maneuver_tempering_g, const std::optional<std::vector<double>>& adapt_gain) {
+        return save_turbulence_set(make_set_file(members, levels, adapt_reference, trim_time_constant_s, selector,
+                                                 maneuver_tempering_g, adapt_gain),
+                                   fspath(path));
       },
       py::arg("path"), py::arg("members"), py::kw_only(), py::arg("levels"), py::arg("adapt_reference"),
       py::arg("trim_time_constant_s"), py::arg("selector"), py::arg("maneuver_tempering_g") = 0.0,
+      py::arg("adapt_gain") = py::none(),
       "Validate and write a turbulence bank set file atomically; returns its content hash. selector: a dict\n"
       "of core.TurbulenceBankSet's settings (bounds, typical, hold_s, ...; left out: the core's defaults);\n"
-      "maneuver_tempering_g: the load-factor tempering the set is flown with (g; 0: off). ValueError naming\n"
-      "the field.");
+      "maneuver_tempering_g: the load-factor tempering the set is flown with (g; 0: off); adapt_gain: each\n"
+      "member's adaptation gain (None: the core's default, 20, for every member). ValueError naming the field.");
 }
 
 void bind_bank_set(py::module_& m) {

@@ -6,8 +6,9 @@ it flies
     false declarations (any hypothesis other than NONE declared);
   - the single-failure cases (failure at 3 s of an 8-s flight) on the tuning campaign's seeds
     derived_seed("single", 1, case, n), n < --runs, counting correct final answers, false
-    alarms (a declaration before the failure), the median and p95 latency of the first
-    correct declaration (actuators and sensors apart) and the cases missed.
+    alarms (a declaration before the failure), the runs with a wrong declaration after the
+    failure (any hypothesis other than NONE and the case), the median and p95 latency of the
+    first correct declaration (every case, actuators and sensors apart) and the cases missed.
 A candidate is "off", "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]" (the adaptation) or any
 estimator settings as "KEY=VALUE[,KEY=VALUE...]" (core.HierarchicalBank keywords, e.g.
 "p_min=1e-6,dwell_s=0.1"), either followed by "@DWELL_S" (the declaration dwell).  Prints one
@@ -69,12 +70,13 @@ def flight(job):
     s = r.turbulence_scale
     if case == "NONE":
         return (candidate, level, case, sum(d["hypothesis"] != "NONE" for d in decl), 0, float(s.mean()),
-                float(s.max()), None)
+                float(s.max()), None, 0)
     early = any(d["time_s"] < FAILURE_TIME_S and d["hypothesis"] != "NONE" for d in decl)
     first = next((d["time_s"] - FAILURE_TIME_S for d in decl
                   if d["hypothesis"] == case and d["time_s"] >= FAILURE_TIME_S), None)
+    wrong = any(d["time_s"] >= FAILURE_TIME_S and d["hypothesis"] not in ("NONE", case) for d in decl)
     return (candidate, level, case, int(r.final_hypothesis == case), int(early), float(s.mean()), float(s.max()),
-            first)
+            first, int(wrong))
 
 
 def main() -> None:
@@ -124,6 +126,7 @@ def main() -> None:
                       if quiet else "quiet: -")
         print(f"{c:14s} {lv:9s} {quiet_text}"
               f" | failures correct {sum(r[1] for r in fail)}/{len(fail)}, early FA {sum(r[2] for r in fail)}"
+              f", wrong after the failure {sum(r[6] for r in fail)}, latency {_latency(fail, COMPONENTS)} all"
               f", latency {_latency(fail, ACTUATORS)} actuators, {_latency(fail, SENSORS)} sensors"
               f", missed {' '.join(f'{k} {v}' for k, v in missed.items()) or '-'}", flush=True)
 

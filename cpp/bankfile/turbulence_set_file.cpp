@@ -41,10 +41,10 @@ void TurbulenceSetFile::validate() const {
   if (n < 2 || n > kMaxTurbulenceSetMembers)
     refuse("needs 2 to " + std::to_string(kMaxTurbulenceSetMembers) + " member banks, got " + std::to_string(n));
   if (levels.size() != members.size() || adapt_reference.size() != members.size() ||
-      trim_time_constant_s.size() != members.size())
-    refuse("levels, adapt_reference and trim_time_constant_s need one value per member (" + std::to_string(n) +
-           "), got " + std::to_string(levels.size()) + ", " + std::to_string(adapt_reference.size()) + " and " +
-           std::to_string(trim_time_constant_s.size()));
+      trim_time_constant_s.size() != members.size() || adapt_gain.size() != members.size())
+    refuse("levels, adapt_reference, trim_time_constant_s and adapt_gain need one value per member (" +
+           std::to_string(n) + "), got " + std::to_string(levels.size()) + ", " + std::to_string(adapt_reference.size()) +
+           ", " + std::to_string(trim_time_constant_s.size()) + " and " + std::to_string(adapt_gain.size()));
   std::set<std::string> seen;
   for (int i = 0; i < n; ++i) {
     const std::string who = "member " + std::to_string(i) + " ('" + levels[i] + "')";
@@ -70,6 +70,8 @@ void TurbulenceSetFile::validate() const {
       refuse(who + ": adapt_reference must be in [0, 100], got " + format_value(adapt_reference[i]));
     if (!(trim_time_constant_s[i] >= 0.0 && trim_time_constant_s[i] <= 1e6))
       refuse(who + ": trim_time_constant_s must be in [0, 1e6] s (0: off), got " + format_value(trim_time_constant_s[i]));
+    if (!(adapt_gain[i] > 0.0 && adapt_gain[i] <= 1000.0))
+      refuse(who + ": adapt_gain must be in (0, 1000], got " + format_value(adapt_gain[i]));
   }
   check_turbulence_set_selector(selector, n);
   if (!(maneuver_tempering_g >= 0.0 && maneuver_tempering_g <= 100.0))
@@ -102,6 +104,7 @@ std::vector<std::uint8_t> turbulence_set_file_bytes(const TurbulenceSetFile& set
   put(out, static_cast<std::uint32_t>(s.start), 4);
   put(out, static_cast<std::uint32_t>(s.start_standby), 4);
   put_f64(out, set.maneuver_tempering_g);
+  put_doubles(out, set.adapt_gain);
   return hashed_file_image(kTurbulenceSetFileMagic, TurbulenceSetFile::kFormatVersion, out);
 }
 
@@ -140,9 +143,13 @@ TurbulenceSetFile parse_turbulence_set_file(const std::uint8_t* data, std::size_
     set.selector.start = r.i32("start");
     set.selector.start_standby = r.i32("start_standby");
     if (version >= 2) set.maneuver_tempering_g = r.f64("maneuver_tempering_g");
+    if (version >= 3)
+      set.adapt_gain = read_doubles(r, "adapt_gain", static_cast<std::int64_t>(n));
+    else
+      set.adapt_gain.assign(n, TurbulenceAdaptationOptions{}.gain);
     if (r.remaining() != 0)
       throw BankFileFormatError("payload has " + std::to_string(r.remaining()) + " bytes after " +
-                                (version >= 2 ? "maneuver_tempering_g" : "start_standby"));
+                                (version >= 3 ? "adapt_gain" : version >= 2 ? "maneuver_tempering_g" : "start_standby"));
     set.validate();
   } catch (const BankFileFormatError& e) {
     throw BankFileFormatError(who + e.what());

@@ -26,6 +26,10 @@
 //                                                        n_ref the set is flown with (g,
 //                                                        maneuver_kinematics.h), 0: off; a
 //                                                        version-1 file reads as 0
+//                   int32 n, doubles adapt_gain          version 3 on: each member's adaptation
+//                                                        gain kappa (turbulence_adaptation.h),
+//                                                        (0, 1000]; an older file reads the
+//                                                        core's default for every member
 // content_hash = lower-case hex SHA-256 of the payload: the set's name in mmae-daemon's status
 // (bank_hash) and in the records of a flight flown with it. Deterministic: the same members
 // and settings give the same bytes.
@@ -34,7 +38,8 @@
 // kMaxTurbulenceSetMembers members, a level that is empty or repeated, member banks of
 // different sizes (nx, nu, nz), frame rates or hypotheses (by name and order), a scheduled
 // member, an adapt_reference outside [0, 100], a trim_time_constant_s outside [0, 1e6], a
-// maneuver_tempering_g outside [0, 100], and the selector settings
+// maneuver_tempering_g outside [0, 100], an adapt_gain outside (0, 1000] or not one per member,
+// and the selector settings
 // check_turbulence_set_selector refuses. parse_turbulence_set_file refuses besides what the
 // hashed layout refuses (bank_file.h: magic, version, truncation, hash) and every member bank
 // parse_bank_file refuses (its message prefixed with the member), all as BankFileFormatError
@@ -57,13 +62,14 @@ inline constexpr int kMaxTurbulenceSetMembers = 16;
 inline constexpr std::uint64_t kMaxTurbulenceSetFileBytes = kMaxTurbulenceSetMembers * kMaxBankFileBytes;
 
 struct TurbulenceSetFile {
-  static constexpr std::uint32_t kFormatVersion = 2;   // 2: maneuver_tempering_g; version 1 is read too
+  static constexpr std::uint32_t kFormatVersion = 3;   // 2: maneuver_tempering_g, 3: adapt_gain; 1 and 2 are read too
   std::vector<std::string> levels;       // each member's design level ("none", "light", ...)
   std::vector<ModelBank> members;        // rising intensity
   std::vector<double> adapt_reference;   // each member's adaptation reference rho_0
   std::vector<double> trim_time_constant_s;  // each member's trim tracking time constant, s (0: off)
   TurbulenceBankSetOptions selector;
   double maneuver_tempering_g = 0.0;     // the set's recommended load-factor tempering n_ref, g (0: off)
+  std::vector<double> adapt_gain;        // each member's adaptation gain kappa
   std::string content_hash;              // set by load and save
 
   int size() const { return static_cast<int>(members.size()); }

@@ -13,7 +13,8 @@
 // per-node references), and its trim tracking the set file's trim_time_constant_s[i] unless
 // `options` track the trim themselves (time_constant_s > 0: every member then tracks with it),
 // and its load-factor tempering the set file's maneuver_tempering_g unless `options` temper
-// themselves (tempering_g > 0: every member then tempers with it).
+// themselves (tempering_g > 0: every member then tempers with it), and its adaptation gain the
+// set file's adapt_gain[i] (no flag sets the gain).
 // Throws std::invalid_argument for members the set refuses.
 // Per frame noexcept and allocation-free (TurbulenceBankSet's contract).
 #pragma once
@@ -69,6 +70,7 @@ class TurbulenceSetBank {
       HierarchicalOptions o = options;
       o.bank.adaptation.enabled = true;
       o.bank.adaptation.own_channels = true;   // the selector's rho per channel each filter reads
+      o.bank.adaptation.gain = file.adapt_gain[i];
       if (options.schedule.node_adapt_reference) o.bank.adaptation.reference = file.adapt_reference[i];
       if (!options.trim.enabled()) o.trim.time_constant_s = file.trim_time_constant_s[i];
       if (!options.maneuver.tempering()) o.maneuver.tempering_g = file.maneuver_tempering_g;

@@ -1,6 +1,7 @@
 // The turbulence-bank-set file (bankfile/turbulence_set_file.h) and the executive running its
 // set (Executive(set_file), TurbulenceSetBank): the file round-trips (members, levels,
-// references, selector, tempering; content hash = SHA-256 of the payload), reads version 1, and
+// references, selector, tempering, adaptation gains; content hash = SHA-256 of the payload), reads
+// versions 1 and 2, and
 // refuses damage and invalid sets naming the field; the file's tempering is flown unless one is
 // given; the executive equals the core TurbulenceBankSet stepped directly over
 // the same members, bit for bit, across handovers, with the set's hash in its status; its
@@ -49,6 +50,7 @@ TurbulenceSetFile two_member_set() {
   f.selector.start = 0;
   f.selector.start_standby = -1;
   f.maneuver_tempering_g = 0.05;   // a load factor the synthetic signals reach: the tempering acts
+  f.adapt_gain = {20.0, 35.0};
   return f;
 }
 
@@ -98,6 +100,7 @@ TEST(TurbulenceSetFile, RoundTripsAndHashesItsPayload) {
   EXPECT_EQ(g.selector.start, 0);
   EXPECT_EQ(g.selector.start_standby, -1);
   EXPECT_EQ(g.maneuver_tempering_g, 0.05);
+  EXPECT_EQ(g.adapt_gain, (std::vector<double>{20.0, 35.0}));
   ASSERT_EQ(g.size(), 2);
   EXPECT_EQ(g.members[1].hypotheses[0].a, f.members[1].hypotheses[0].a);
   EXPECT_EQ(g.members[0].content_hash, bank_content_hash(f.members[0]));
@@ -106,29 +109,39 @@ TEST(TurbulenceSetFile, RoundTripsAndHashesItsPayload) {
   EXPECT_FALSE(is_turbulence_set_file(bank_file_bytes(f.members[0]).data(), 60));
 }
 
-// Version 1 (before the tempering): the same payload without its last field, read with the
-// tempering off; a version-2 payload without it is truncated; version 3 is refused.
-TEST(TurbulenceSetFile, ReadsVersionOneWithoutTheTempering) {
+// Versions 1 (before the tempering) and 2 (before the gains): the same payload without its
+// last fields, read with the tempering off and the core's default gain (20) in every member; a
+// payload without a field its version has is truncated; version 4 is refused.
+TEST(TurbulenceSetFile, ReadsVersionsOneAndTwoWithoutTheLaterFields) {
   const std::vector<std::uint8_t> image = turbulence_set_file_bytes(two_member_set());
-  const std::vector<std::uint8_t> v1_payload(image.begin() + kBankFileHeaderSize, image.end() - 8);
+  const std::vector<std::uint8_t> v3_payload(image.begin() + kBankFileHeaderSize, image.end());
+  const std::vector<std::uint8_t> v2_payload(v3_payload.begin(), v3_payload.end() - (4 + 2 * 8));
+  const std::vector<std::uint8_t> v1_payload(v2_payload.begin(), v2_payload.end() - 8);
   const std::vector<std::uint8_t> v1 = hashed_file_image(kTurbulenceSetFileMagic, 1, v1_payload);
   const TurbulenceSetFile g = parse_turbulence_set_file(v1.data(), v1.size(), "v1");
   EXPECT_EQ(g.maneuver_tempering_g, 0.0);
+  EXPECT_EQ(g.adapt_gain, (std::vector<double>{20.0, 20.0}));
   EXPECT_EQ(g.selector.bounds, two_member_set().selector.bounds);
+  const std::vector<std::uint8_t> v2 = hashed_file_image(kTurbulenceSetFileMagic, 2, v2_payload);
+  const TurbulenceSetFile h = parse_turbulence_set_file(v2.data(), v2.size(), "v2");
+  EXPECT_EQ(h.maneuver_tempering_g, 0.05);
+  EXPECT_EQ(h.adapt_gain, (std::vector<double>{20.0, 20.0}));
   const std::vector<std::uint8_t> short_v2 = hashed_file_image(kTurbulenceSetFileMagic, 2, v1_payload);
   EXPECT_THROW(parse_turbulence_set_file(short_v2.data(), short_v2.size(), "v2"), BankFileFormatError);
-  const std::vector<std::uint8_t> v2_payload(image.begin() + kBankFileHeaderSize, image.end());
-  const auto refused = [&](std::uint32_t version, const std::string& expected) {
-    const std::vector<std::uint8_t> file = hashed_file_image(kTurbulenceSetFileMagic, version, v2_payload);
+  const std::vector<std::uint8_t> short_v3 = hashed_file_image(kTurbulenceSetFileMagic, 3, v2_payload);
+  EXPECT_THROW(parse_turbulence_set_file(short_v3.data(), short_v3.size(), "v3"), BankFileFormatError);
+  const auto refused = [&](std::uint32_t version, const std::vector<std::uint8_t>& payload, const std::string& expected) {
+    const std::vector<std::uint8_t> file = hashed_file_image(kTurbulenceSetFileMagic, version, payload);
     try {
       parse_turbulence_set_file(file.data(), file.size(), "'v'");
-      ADD_FAILURE() << "version " << version << " with the version-2 payload accepted";
+      ADD_FAILURE() << "version " << version << " accepted";
     } catch (const BankFileFormatError& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
     }
   };
-  refused(1, "8 bytes after start_standby");
-  refused(3, "unsupported format version 3 (this build reads 1 to 2)");
+  refused(1, v2_payload, "8 bytes after start_standby");
+  refused(2, v3_payload, "20 bytes after maneuver_tempering_g");
+  refused(4, v3_payload, "unsupported format version 4 (this build reads 1 to 3)");
 }
 
 TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {
@@ -165,14 +178,20 @@ TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {
   f.maneuver_tempering_g = -0.5;
   refused([&] { turbulence_set_file_bytes(f); }, "maneuver_tempering_g must be in [0, 100] g (0: off), got -0.5");
   f = two_member_set();
+  f.adapt_gain[1] = 0.0;
+  refused([&] { turbulence_set_file_bytes(f); }, "member 1 ('severe'): adapt_gain must be in (0, 1000], got 0");
+  f = two_member_set();
+  f.adapt_gain = {20.0};
+  refused([&] { turbulence_set_file_bytes(f); }, "trim_time_constant_s and adapt_gain need one value per member (2)");
+  f = two_member_set();
   for (auto& m : f.members) m = test_support::synthetic_bank(19, 5);
   refused([&] { Executive ex(f); }, "turbulence bank set of (nx, nu, nz) = (19, 6, 7) members");
 }
 
 namespace {
 
-// The core set over the file's members, each with its reference, trim tracking and the load-factor
-// tempering `tempering_g`, over `o`.
+// The core set over the file's members, each with its reference, trim tracking, adaptation gain
+// and the load-factor tempering `tempering_g`, over `o`.
 struct DirectSet {
   DirectSet(const TurbulenceSetFile& f, const HierarchicalOptions& o, double tempering_g) {
     std::vector<Bank*> members;
@@ -180,6 +199,7 @@ struct DirectSet {
       HierarchicalOptions m = o;
       m.bank.adaptation.enabled = true;
       m.bank.adaptation.reference = f.adapt_reference[i];
+      m.bank.adaptation.gain = f.adapt_gain[i];
       m.trim.time_constant_s = f.trim_time_constant_s[i];
       m.maneuver.tempering_g = tempering_g;
       owned.push_back(std::make_unique<Bank>(f.members[i], m));

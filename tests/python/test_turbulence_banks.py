@@ -83,6 +83,33 @@ def test_a_damaged_or_invalid_set_is_refused_naming_the_field(bank_set, copy, tm
     assert not (tmp_path / "bad.f16set").exists()
 
 
+def test_a_members_failure_model_applies_to_its_level_0_hypotheses_only(tmp_path, monkeypatch):
+    """A member given ``constant=VEL`` with the duals ``complete``: its single VEL hypothesis
+    reads an unknown constant over 2 x 3 TRIM_SIGMA (9.9 ft/s), and every other filter, the
+    duals X+VEL included, is the all-``complete`` member's filter for filter."""
+    from f16mmae.design import turbulence_banks
+    from f16mmae.design.hypotheses import CONSTANT_HALF_WIDTH_SIGMAS, TRIM_SIGMA
+
+    sets = {}
+    for models in (("complete", "complete"), ("constant=VEL", "complete")):
+        monkeypatch.setattr(turbulence_banks, "MEMBER_FAILURE_MODEL", models)
+        monkeypatch.setattr(turbulence_banks, "DUAL_FAILURE_MODEL", "complete")
+        sets[models[0]] = load_set(turbulence_banks.design_set(tmp_path / f"{models[0]}.f16set"))
+    paper, split = sets["complete"], sets["constant=VEL"]
+    for member in (0, 1):
+        for h, g in zip(paper.banks[member].hypotheses, split.banks[member].hypotheses, strict=True):
+            assert h.name == g.name
+            assert np.array_equal(np.asarray(h.k), np.asarray(g.k)) and np.array_equal(np.asarray(h.a), np.asarray(g.a))
+            width = np.asarray(g.uninformative_width)
+            if member == 0 and g.name == "VEL":
+                assert width[0] == pytest.approx(2 * CONSTANT_HALF_WIDTH_SIGMAS * TRIM_SIGMA["VEL"]) == pytest.approx(9.9)
+                assert not width[1:].any() and np.asarray(g.uninformative_level_q)[0] > 0
+            else:
+                assert not width.any() and not np.asarray(g.uninformative_level_q).any(), g.name
+    assert "level-1 (dual) hypotheses: complete" in split.banks[0].metadata
+    assert split.banks[1].metadata == paper.banks[1].metadata
+
+
 def test_the_core_refuses_invalid_selectors(bank_set):
     members = [core.HierarchicalBank(b, adapt_turbulence=True) for b in bank_set.banks]
     bounds, typical = bank_set.selector["bounds"], bank_set.selector["typical"]

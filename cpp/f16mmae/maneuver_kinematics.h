@@ -54,8 +54,8 @@
 // the stabilator hypotheses explain). Every likelihood is tempered by
 //   s_m = 1 + (dn / n_ref)^2,   dn = the AZ entry of z_hat (the blended estimate's load factor
 //                                    off the trim, g), from the frame before,
-// l_k = -q_k / (2 s s_m). n_ref = 0.1 g was chosen on the maneuver campaign at --seed 7 (0.05,
-// 0.1, 0.2 tried; docs/results/maneuver.md): s_m is 1 in level and steadily climbing flight,
+// l_k = -q_k / (2 s s_m). With n_ref = 0.1 g (the value the maneuver
+// campaign's tuning seeds chose, docs/results/maneuver.md) s_m is 1 in level and steadily climbing flight,
 // 3.4 in a 30 deg level turn, 45 at 1.66 g. The price: detection slows while the load factor is
 // off 1 g, and a failure that itself moves the load factor (a stabilator hard-over) tempers its
 // own evidence while it does.

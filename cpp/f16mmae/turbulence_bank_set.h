@@ -33,8 +33,8 @@
 //                 tempering ρ at its typical value (typical[c]) and its measured ρ restarted
 //                 (the next update's x); it then runs on the frames itself, so its
 //                 filters converge to its own design's (a bank designed for calm air started
-//                 from a light bank's states reads the mismatch as a VEL failure for seconds:
-//                 measured on the F-16 set). At the start the member `start_standby` (if >= 0)
+//                 from a light bank's states reads the mismatch as a VEL failure for seconds;
+//                 docs/results/turbulence_banks.md). At the start the member `start_standby` (if >= 0)
 //                 runs as a standby from frame 0, from the same zero state as every member:
 //                 no copy, nothing to converge.
 //                 Handed over once wanted for hold_s in a row (after settle) and, a copied

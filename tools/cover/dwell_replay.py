@@ -55,17 +55,23 @@ def _fly(args):
     return res.probabilities[:, cols].astype(np.float32)
 
 
-def flights(bank_path: str, seed: int, runs: int, modes: list[str], workers: int):
+def mode_runs(bank_path: str, seed: int, runs: int, modes: list[str], cases: list[str] | None = None):
+    """[(mode, case, onset, scenario)] of the single campaign's plan in each mode (NONE runs once,
+    under mode "none"; ``cases`` keeps only those)."""
     specs = []
+    label, _, bank = load_bank(bank_path)
     for mode in modes:
-        cfg = SingleCampaign(runs=runs, seed=seed, tuning=bank_path, baseline=None, mode=mode)
-        cfg = mode_cases(cfg)[0]
-        if mode != modes[0]:
-            cfg = dataclasses.replace(cfg, cases=tuple(c for c in cfg.cases if c != names.NONE))
-        label, _, bank = load_bank(bank_path)
+        cfg = mode_cases(SingleCampaign(runs=runs, seed=seed, tuning=bank_path, baseline=None, mode=mode))[0]
+        keep = [c for c in cfg.cases if (cases is None or c in cases) and (c != names.NONE or mode == modes[0])]
+        cfg = dataclasses.replace(cfg, cases=tuple(keep))
         for s in plan(cfg, {label: (bank_path, bank)}):
             onset = s["scenario"]["failures"][0]["time_s"] if s["scenario"]["failures"] else None
             specs.append((mode if s["case"] != names.NONE else "none", s["case"], onset, s["scenario"]))
+    return specs
+
+
+def flights(bank_path: str, seed: int, runs: int, modes: list[str], workers: int):
+    specs = mode_runs(bank_path, seed, runs, modes)
     with ProcessPoolExecutor(workers) as pool:
         probs = list(pool.map(_fly, [(bank_path, sc) for *_, sc in specs], chunksize=4))
     return [sp[:3] for sp in specs], probs

@@ -25,7 +25,6 @@ Run: .venv/bin/python tools/cover/floor_levels.py --banks results/cover.f16bank,
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import os
 import sys
 from concurrent.futures import ProcessPoolExecutor
@@ -34,12 +33,10 @@ import numpy as np
 
 from f16mmae import core, names
 from f16mmae.banks import load_bank
-from f16mmae.campaign.engine.failure_runs import plan
-from f16mmae.campaign.single.campaign import SingleCampaign, mode_cases
 from f16mmae.loop.flight import fly, scenario_from_dict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from dwell_replay import first_declaration  # noqa: E402
+from dwell_replay import first_declaration, mode_runs  # noqa: E402
 
 MEASURE_DWELL_S = 30.0
 _BANK = {}
@@ -58,15 +55,7 @@ def _fly(args):
 
 def flights(bank_path: str, seed: int, runs: int, modes: list[str], cases: list[str] | None, workers: int):
     """[(mode, case, onset)], [(z, u)] of the plan's runs (NONE runs once, under mode "none")."""
-    specs = []
-    label, _, bank = load_bank(bank_path)
-    for mode in modes:
-        cfg = mode_cases(SingleCampaign(runs=runs, seed=seed, tuning=bank_path, baseline=None, mode=mode))[0]
-        keep = [c for c in cfg.cases if (cases is None or c in cases) and (c != names.NONE or mode == modes[0])]
-        cfg = dataclasses.replace(cfg, cases=tuple(keep))
-        for s in plan(cfg, {label: (bank_path, bank)}):
-            onset = s["scenario"]["failures"][0]["time_s"] if s["scenario"]["failures"] else None
-            specs.append((mode if s["case"] != names.NONE else "none", s["case"], onset, s["scenario"]))
+    specs = mode_runs(bank_path, seed, runs, modes, cases)
     with ProcessPoolExecutor(workers) as pool:
         series = list(pool.map(_fly, [(bank_path, sc) for *_, sc in specs], chunksize=2))
     return [sp[:3] for sp in specs], series

@@ -43,14 +43,21 @@ MEASURE_DWELL_S = 30.0
 _BANK = {}
 
 
-def _fly(args):
-    bank_path, scenario = args
+def fly_undeclared(bank_path: str, scenario: dict, **record):
+    """The flight of ``scenario`` with ``bank_path``'s bank and a dwell (MEASURE_DWELL_S) no
+    flight reaches, so that what it records is the level-0 bank's alone; ``record``: fly's
+    record_* keywords."""
     if bank_path not in _BANK:
         _BANK[bank_path] = load_bank(bank_path)[2]
     res = fly(scenario_from_dict(scenario), _BANK[bank_path], estimator_options={"dwell_s": MEASURE_DWELL_S},
-              record_probabilities=True)
+              **record)
     if res.declarations:
         raise RuntimeError(f"a declaration with a {MEASURE_DWELL_S} s dwell: {res.declarations}")
+    return res
+
+
+def _fly(args):
+    res = fly_undeclared(*args, record_probabilities=True)
     cols = [res.hypotheses.index(h) for h in names.SINGLE_HYPOTHESES]
     return res.probabilities[:, cols].astype(np.float32)
 

@@ -33,23 +33,12 @@ import numpy as np
 
 from f16mmae import core, names
 from f16mmae.banks import load_bank
-from f16mmae.loop.flight import fly, scenario_from_dict
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from dwell_replay import first_declaration, mode_runs  # noqa: E402
-
-MEASURE_DWELL_S = 30.0
-_BANK = {}
-
+from dwell_replay import first_declaration, fly_undeclared, mode_runs  # noqa: E402
 
 def _fly(args):
-    bank_path, scenario = args
-    if bank_path not in _BANK:
-        _BANK[bank_path] = load_bank(bank_path)[2]
-    res = fly(scenario_from_dict(scenario), _BANK[bank_path], estimator_options={"dwell_s": MEASURE_DWELL_S},
-              record_series=True)
-    if res.declarations:
-        raise RuntimeError(f"a declaration with a {MEASURE_DWELL_S} s dwell: {res.declarations}")
+    res = fly_undeclared(*args, record_series=True)
     return res.series["z"].copy(), res.series["u"].copy()
 
 

@@ -10,7 +10,9 @@
 // tests/cpp/data/bank_trace.txt exactly: the stored trace was recorded from the code before
 // the bank's state was stored once, so the numbers of every path are bit-identical to it.
 // On a mismatch the test writes the trace it computed to bank_trace.actual.txt in the
-// working directory and names the first line and output group that differ.
+// directory named by F16MMAE_TEST_OUTPUT_DIR (ctest sets it to build/cpp/test_output), else
+// in the system's temporary directory, and names the file, the first line and the output
+// group that differ.
 // The fixture holds the results of the x86-64 build (AVX2/FMA kernel and Eigen's SSE2 path);
 // the test fails, by name, on a CPU without AVX2 and FMA rather than comparing other numbers.
 #include "f16mmae/filter_bank.h"
@@ -23,7 +25,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <random>
@@ -182,6 +186,16 @@ std::vector<std::string> read_lines(const std::string& path) {
   return out;
 }
 
+// Where a failing run leaves its trace: $F16MMAE_TEST_OUTPUT_DIR, else the temporary directory;
+// never the working directory, which may be the source tree.
+std::filesystem::path test_output_dir() {
+  const char* env = std::getenv("F16MMAE_TEST_OUTPUT_DIR");
+  std::filesystem::path dir =
+      env != nullptr && env[0] != '\0' ? std::filesystem::path(env) : std::filesystem::temp_directory_path();
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 }  // namespace
 
 TEST(BankTrace, EveryPathIsBitIdenticalToTheRecordedTrace) {
@@ -203,12 +217,14 @@ TEST(BankTrace, EveryPathIsBitIdenticalToTheRecordedTrace) {
 
   const std::string path = std::string(F16MMAE_SOURCE_DIR) + "/tests/cpp/data/bank_trace.txt";
   const std::vector<std::string> expected = read_lines(path);
+  std::string actual_path = "(not written: the trace matches)";
   if (trace != expected) {
-    std::ofstream actual("bank_trace.actual.txt");
+    actual_path = (test_output_dir() / "bank_trace.actual.txt").string();
+    std::ofstream actual(actual_path);
     actual << "# declared: " << names << "\n";
     for (const auto& line : trace) actual << line << "\n";
   }
-  ASSERT_EQ(trace.size(), expected.size()) << "lines in " << path << " (this run's trace: bank_trace.actual.txt)";
+  ASSERT_EQ(trace.size(), expected.size()) << "lines in " << path << " (this run's trace: " << actual_path << ")";
   for (std::size_t i = 0; i < trace.size(); ++i) {
     if (trace[i] == expected[i]) continue;
     std::istringstream a(trace[i]), e(expected[i]);
@@ -217,6 +233,6 @@ TEST(BankTrace, EveryPathIsBitIdenticalToTheRecordedTrace) {
     while (a >> ta && e >> te && ta == te) ++field;
     const std::string group = field >= 2 ? Hashes::kNames[field - 2] : "label/frame";
     FAIL() << "line " << i + 1 << " of " << path << " differs first in " << group << ":\n  expected "
-           << expected[i] << "\n  got      " << trace[i];
+           << expected[i] << "\n  got      " << trace[i] << "\n(this run's trace: " << actual_path << ")";
   }
 }

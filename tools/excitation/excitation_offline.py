@@ -18,7 +18,7 @@ Per case it prints the first declaration after the failure (name@latency s), any
 before it ("FA" = false alarm), and "-" when nothing is declared.  Seeds are TUNING seeds
 (f16mmae/seeds.py TUNING_FLIGHT_SEEDS).  Example:
 
-    .venv/bin/python tools/excitation_offline.py --cases VEL,AOA,NONE --seeds 1,2,3,4,5
+    .venv/bin/python tools/excitation/excitation_offline.py --cases VEL,AOA,NONE --seeds 1,2,3,4,5
 """
 from __future__ import annotations
 

@@ -5,7 +5,7 @@ its first false declaration, and how many came before it left the band.  --feedb
 flies the same seeds with the control law on the raw sensors (no estimator in the loop).
 Example (docs/results/gust_states.md):
 
-    .venv/bin/python tools/soak_departures.py results/soak-1h-gust-adapt --level severe
+    .venv/bin/python tools/soak/soak_departures.py results/soak-1h-gust-adapt --level severe
 """
 from __future__ import annotations
 

@@ -18,11 +18,11 @@ its own seeds (campaign seed 7): calm air 0.576-0.636, light turbulence 0.653-3.
 
 The flights are the single-failure campaign's (``evaluation_seed("single", S, case, run)``,
 the failure at 3 s of 8 s, feedback mmae), so the table compares directly with
-``f16mmae campaign single --seed S`` of either bank.  Scoring as tools/excitation_offline.py:
+``f16mmae campaign single --seed S`` of either bank.  Scoring as tools/excitation/excitation_offline.py:
 correct = the failure is the first declaration at or after 3 s and nothing but NONE before it;
 NONE: nothing but NONE declared.
 
-    .venv/bin/python tools/bank_pair.py --calm CALM.f16bank --light LIGHT.f16bank --runs 20
+    .venv/bin/python tools/excitation/bank_pair.py --calm CALM.f16bank --light LIGHT.f16bank --runs 20
 """
 from __future__ import annotations
 

@@ -11,7 +11,7 @@ matched).  With ``--evidence`` it prints instead, per design, the expected evide
 for each single failure against NONE (design/distinguish.py ``evidence_rates``: the dither,
 open loop, the design's own gusts and noise).  Example:
 
-    .venv/bin/python tools/gust_residuals.py --designs tuned tuned@severe tuned+gust@severe \
+    .venv/bin/python tools/gust_states/gust_residuals.py --designs tuned tuned@severe tuned+gust@severe \
         --levels moderate,severe --seconds 30 --seeds 4
 """
 from __future__ import annotations

@@ -2,6 +2,9 @@
 from hand-made run records."""
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import pytest
 
 from f16mmae.campaign.engine import evidence
@@ -53,3 +56,53 @@ def test_campaign_fields():
     assert f["goals_met"] is True and len(f["codes_in_records"]) == 1
     assert evidence.worst(["demonstrated", "not met", "consistent"]) == "not met"
     assert evidence.worst([]) is None
+
+
+def _timed(outcome, latency, *names):
+    """A run record whose failures are ``names`` in injection order."""
+    r = rec(outcome, latency)
+    r["failures"] = [{"mode": "complete", "name": n, "time_s": 3.0 + 2.0 * i} for i, n in enumerate(names)]
+    return r
+
+
+def test_latency_medians_per_group_vel_excepted():
+    rs = [_timed("correct", 0.25, "LS"), _timed("correct", 0.75, "PIT"), _timed("correct", 1.25, "AOA"),
+          _timed("correct", 2.0, "LS"), _timed("correct", 4.5, "VEL"), _timed("correct", 3.5, "VEL"),
+          _timed("correct", 5.0, "VEL"),
+          _timed("correct", 0.5, "VEL", "PIT"),            # a dual's latency times its second: PIT
+          _timed("correct", 9.0, "PIT", "VEL"),            # ... here VEL
+          _timed("missed", None, "VEL"), _timed("correct", None)]  # no latency: in no group
+    # except_vel sorted: 0.25 0.5 0.75 1.25 2.0 -> 0.75; vel: 3.5 4.5 5.0 9.0 -> 4.75;
+    # all: 0.25 0.5 0.75 1.25 2.0 3.5 4.5 5.0 9.0 -> 2.0
+    medians, runs = evidence.latency_medians(rs)
+    assert medians == {"all": 2.0, "except_vel": 0.75, "vel": 4.75}
+    assert runs == {"all": 9, "except_vel": 5, "vel": 4}
+    f = evidence.summary_fields(rs, [], [], {"code": "src:x"})
+    assert f["latency_median_s"] == medians and f["latency_median_runs"] == runs
+
+
+def test_latency_medians_without_detected_runs_are_none():
+    medians, runs = evidence.latency_medians([_timed("missed", None, "VEL"), _timed("correct", 0.5, "LS")])
+    assert medians == {"all": 0.5, "except_vel": 0.5, "vel": None}
+    assert runs == {"all": 1, "except_vel": 1, "vel": 0}
+    assert evidence.latency_medians([]) == ({"all": None, "except_vel": None, "vel": None},
+                                            {"all": 0, "except_vel": 0, "vel": 0})
+
+
+@pytest.mark.parametrize("kind", ["single", "dual", "envelope"])
+def test_golden_summaries_hold_the_medians_of_their_records(kind):
+    # the golden campaigns' records (every run the summary pools) give the stored medians,
+    # computed here by sorting, apart from the code under test
+    golden = json.loads((Path(__file__).with_name("golden") / f"campaign_{kind}.json").read_text())
+
+    def median(xs):
+        xs = sorted(xs)
+        n = len(xs)
+        return None if n == 0 else (xs[n // 2] if n % 2 else (xs[n // 2 - 1] + xs[n // 2]) / 2)
+
+    timed = [(r["failures"][-1]["name"], r["latency_s"]) for r in golden["records"] if r["latency_s"] is not None]
+    want = {"all": median([x for _, x in timed]),
+            "except_vel": median([x for n, x in timed if n != "VEL"]),
+            "vel": median([x for n, x in timed if n == "VEL"])}
+    assert golden["summary"]["latency_median_s"] == want
+    assert golden["summary"]["latency_median_runs"]["all"] == len(timed)

@@ -43,6 +43,11 @@ def print_campaign(summary: dict, stream) -> None:
         lo, hi = fd["ci95"]
         print(f"\nfalse declarations: {fd['events']} in {fd['exposure']:.3f} failure-free flight hours = "
               f"{fd['rate']:.2f}/h (95% {lo:.2f}-{hi:.2f})", file=stream)
+    med, n = summary.get("latency_median_s"), summary.get("latency_median_runs")
+    if med and n:
+        print("median latency over the detected runs: " + ", ".join(
+            f"{label} {'-' if med[k] is None else format(med[k], '.2f') + ' s'} ({n[k]})"
+            for k, label in (("all", "all"), ("except_vel", "VEL excepted"), ("vel", "VEL"))), file=stream)
     dem = summary.get("demonstration")
     if dem:
         print(f"to demonstrate >= {100 * dem['goal']:.0f}% correct, a case needs {dem['runs_all_correct']} runs "

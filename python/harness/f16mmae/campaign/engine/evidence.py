@@ -19,11 +19,16 @@ Per case (:func:`case_evidence`, from the run records' scored fields ``outcome``
 
 Per campaign (:func:`false_declaration_rate`): false declarations (failure declarations in
 failure-free flying time, ``outcomes.false_declarations``) summed over the runs, per hour of
-failure-free flying time summed likewise, with the exact Poisson 95 % interval.
+failure-free flying time summed likewise, with the exact Poisson 95 % interval.  And
+(:func:`latency_medians`) the median detection latency over the detected runs in three groups:
+``all``, ``except_vel`` and ``vel``, by the failure the run's ``latency_s`` times (the last one
+injected: a dual run's second); every latency goal reads "median <= X, VEL excepted".
 """
 from __future__ import annotations
 
 from collections.abc import Iterable
+
+import numpy as np
 
 from ...names import NONE
 from . import identity, intervals, outcomes
@@ -90,6 +95,31 @@ def false_declaration_rate(records: Iterable[dict]) -> dict:
     return out
 
 
+#: The groups of :func:`latency_medians`: name -> does a run whose timed failure is VEL belong.
+LATENCY_GROUPS: dict[str, tuple[bool, ...]] = {"all": (False, True), "except_vel": (False,), "vel": (True,)}
+
+
+def timed_failure(record: dict) -> str | None:
+    """The failure whose detection a run's ``latency_s`` times: the last one injected (a dual
+    run's second), None for a run without a failure."""
+    failures = record.get("failures") or []
+    return failures[-1]["name"] if failures else None
+
+
+def latency_medians(records: Iterable[dict]) -> tuple[dict, dict]:
+    """The median ``latency_s`` (numpy's median: the mean of the two middle values for an even
+    count) over the runs that have one, per group of :data:`LATENCY_GROUPS`, and how many runs
+    each median is over; a group without a detected run has median None."""
+    lat = [(timed_failure(r) == "VEL", float(r["latency_s"])) for r in records
+           if r.get("latency_s") is not None]
+    medians, runs = {}, {}
+    for name, vel in LATENCY_GROUPS.items():
+        xs = [x for is_vel, x in lat if is_vel in vel]
+        medians[name] = float(np.median(xs)) if xs else None
+        runs[name] = len(xs)
+    return medians, runs
+
+
 def demonstration_note(goal: float = GOALS["correct"][0]) -> dict:
     """How many runs of a case demonstrate ``goal`` with all runs correct, and with one failure."""
     return {"goal": goal, "runs_all_correct": intervals.runs_to_demonstrate(goal),
@@ -111,7 +141,8 @@ def summary_fields(records: Iterable[dict], cases: Iterable[dict], not_clean: li
     ``codes_in_records``, ``totals`` (correct, runs with a false alarm and transient-wrong runs
     pooled over ``records``, with intervals), ``false_declarations_per_hour`` (over ``records``, the bank under
     test), ``demonstration``, ``verdict_counts``, ``goals_met`` (default: no case's verdict
-    is *not met*) and ``not_clean``."""
+    is *not met*), ``latency_median_s`` with ``latency_median_runs`` (:func:`latency_medians`
+    over ``records``) and ``not_clean``."""
     rs = list(records)
     evs = [c.get("evidence", {}) for c in cases]
     mixed: dict[str, int] = {}
@@ -123,11 +154,14 @@ def summary_fields(records: Iterable[dict], cases: Iterable[dict], not_clean: li
         "correct": intervals.rate(sum(r["outcome"] == "correct" for r in rs), n),
         "false_alarm": intervals.rate(outcomes.count(rs, "false_alarm"), n),
         "transient_wrong": intervals.rate(outcomes.count(rs, "transient_wrong"), n)}
+    medians, median_runs = latency_medians(rs)
     return {
         "code": code,
         "codes_in_records": mixed,
         "totals": totals,
         "false_declarations_per_hour": false_declaration_rate(rs),
+        "latency_median_s": medians,
+        "latency_median_runs": median_runs,
         "demonstration": demonstration_note(),
         "verdict_counts": verdict_counts(evs),
         "goals_met": (all(e.get("verdict") != "not met" for e in evs) if goals_met is None else goals_met),

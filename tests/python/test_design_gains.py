@@ -10,7 +10,10 @@ import scipy.linalg
 import scipy.signal
 
 from f16mmae.design.discretize import discretize, van_loan_qd, zoh
-from f16mmae.design.gains import DesignError, solve_filter_dare, steady_state_gains
+from f16mmae import names
+from f16mmae.design import bank
+from f16mmae.design.gains import (DesignError, designed_filter_count, forget_designed_filters, solve_filter_dare,
+                                  steady_state_gains)
 
 
 def random_system(seed, n=13, m=7, p=3, rho=0.995):
@@ -55,6 +58,45 @@ def test_unstable_undetectable_design_is_refused():
     h = np.array([[0.0, 1.0]])
     with pytest.raises(DesignError, match="no stabilizing solution"):
         steady_state_gains(phi, h, np.eye(2), np.eye(1), name="hypothesis X")
+
+
+GAIN_FIELDS = ("p_minus", "p_plus", "k", "a")
+
+
+def _same_bits(g1, g2) -> bool:
+    return (all(getattr(g1, f).tobytes() == getattr(g2, f).tobytes() for f in GAIN_FIELDS)
+            and g1.spectral_radius == g2.spectral_radius)
+
+
+def test_a_problem_posed_again_is_not_solved_again_and_gets_its_own_arrays():
+    phi, h, qd, r = random_system(3)
+    forget_designed_filters()
+    first = steady_state_gains(phi, h, qd, r)
+    assert designed_filter_count() == 1
+    again = steady_state_gains(phi.copy(), np.asfortranarray(h), qd.copy(), r.copy())  # same values
+    assert designed_filter_count() == 1 and _same_bits(first, again)
+    assert all(getattr(first, f) is not getattr(again, f) for f in GAIN_FIELDS)
+    again.k[:] = 0.0  # a caller's arrays are its own
+    assert _same_bits(first, steady_state_gains(phi, h, qd, r))
+    r2 = r.copy()
+    r2[0, 0] = np.nextafter(r2[0, 0], 1.0)  # one bit apart: another problem
+    steady_state_gains(phi, h, qd, r2)
+    assert designed_filter_count() == 2
+    with pytest.raises(DesignError):
+        steady_state_gains(np.diag([1.05, 0.5]), np.array([[0.0, 1.0]]), np.eye(2), np.eye(1))
+    assert designed_filter_count() == 2  # a refused design is not kept
+
+
+def test_a_bank_poses_29_problems_and_each_filter_equals_its_own_solution_bit_for_bit():
+    # a failed actuator changes B_d only: NONE and the 15 actuator hypotheses share one filter,
+    # each sensor failure (and sensor pair) shares its filter with its 5 actuator companions
+    forget_designed_filters()
+    design = bank.design_bank(bank.NOMINAL_MACH, bank.NOMINAL_ALT_FT, "untuned")
+    assert len(design.filters) == len(names.ALL_HYPOTHESES) and designed_filter_count() == 1 + 7 + 21
+    for f in design.filters:
+        forget_designed_filters()  # each hypothesis solved alone, nothing shared
+        alone = steady_state_gains(f.model.phi, f.model.h, f.model.qd, design.r)
+        assert _same_bits(f.gains, alone), f.name
 
 
 def test_non_positive_r_is_refused():

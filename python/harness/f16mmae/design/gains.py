@@ -17,9 +17,17 @@ dynamics ``Phi (I - K H)``; a design whose spectral radius is not below one is r
 The DARE is solved with the structure-preserving doubling algorithm (Chu, Fan, Lin & Wang,
 2004), which converges quadratically and keeps the iterates symmetric; SciPy's
 ``solve_discrete_are`` (a Schur method) is the independent check in the tests.
+
+The hypotheses of a bank share their filters: a failed actuator's hypothesis differs from the
+no-failure one only in ``B_d``, which none of the quantities above involves, so a complete-failure
+bank's 79 hypotheses pose 29 distinct problems (NONE, the 7 sensor failures and the 21 sensor
+pairs).  ``steady_state_gains`` keeps the filters it designed, keyed by the exact bytes of
+``(Phi, H, Q_d, R)``, and hands out copies for a problem it has solved: the same numbers, bit
+for bit, as solving it again.
 """
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,10 +72,13 @@ def solve_filter_dare(phi: np.ndarray, h: np.ndarray, qd: np.ndarray, r: np.ndar
     gk = h.T @ np.linalg.solve(r, h)
     hk = 0.5 * (qd + qd.T)
     eye = np.eye(n)
+    rhs = np.empty((n, 2 * n))  # [A, G], refilled every step
     with np.errstate(over="ignore", invalid="ignore"):  # divergence is detected below
         for _ in range(max_iter):
+            rhs[:, :n] = ak
+            rhs[:, n:] = gk
             try:
-                w = np.linalg.solve(eye + gk @ hk, np.hstack([ak, gk]))  # (I + G H)^{-1} [A, G]
+                w = np.linalg.solve(eye + gk @ hk, rhs)  # (I + G H)^{-1} [A, G]
             except np.linalg.LinAlgError:
                 break
             w_a, w_g = w[:, :n], w[:, n:]
@@ -76,22 +87,64 @@ def solve_filter_dare(phi: np.ndarray, h: np.ndarray, qd: np.ndarray, r: np.ndar
             gk = 0.5 * (gk + gk.T)
             ak = ak @ w_a
             h_next = 0.5 * (h_next + h_next.T)
-            step = np.max(np.abs(h_next - hk))
+            step = np.abs(h_next - hk).max()
             hk = h_next
-            if not np.all(np.isfinite(hk)):
+            if not np.isfinite(hk).all():
                 break
-            if step <= tol * max(1.0, np.max(np.abs(hk))):
+            if step <= tol * max(1.0, np.abs(hk).max()):
                 return hk
     raise DesignError(
         "the filter Riccati equation has no stabilizing solution (doubling did not converge): "
         "an unstable mode is unobservable from the remaining sensors or receives no noise")
 
 
+#: Filters designed in this process, by problem (``_problem_key``), oldest first; at most
+#: ``_DESIGNED_MAX`` (a scheduled design's node poses 29 problems, none shared with another node).
+_DESIGNED: OrderedDict[tuple, SteadyStateGains] = OrderedDict()
+_DESIGNED_MAX = 256
+
+
+def _problem_key(*arrays: np.ndarray) -> tuple:
+    """The exact identity of a design problem: each array's shape and float64 bytes."""
+    out = []
+    for x in arrays:
+        x = np.ascontiguousarray(x, dtype=float)
+        out += [x.shape, x.tobytes()]
+    return tuple(out)
+
+
+def forget_designed_filters() -> None:
+    """Empty the store of designed filters (the next call of each problem solves it anew)."""
+    _DESIGNED.clear()
+
+
+def designed_filter_count() -> int:
+    """How many distinct problems the store holds."""
+    return len(_DESIGNED)
+
+
+def _copy(g: SteadyStateGains) -> SteadyStateGains:
+    return SteadyStateGains(p_minus=g.p_minus.copy(), p_plus=g.p_plus.copy(), k=g.k.copy(), a=g.a.copy(),
+                            spectral_radius=g.spectral_radius)
+
+
 def steady_state_gains(phi: np.ndarray, h: np.ndarray, qd: np.ndarray, r: np.ndarray,
                        *, name: str = "filter") -> SteadyStateGains:
-    """``P^-`` from the DARE, then ``A = H P^- H^T + R`` (eq. 5), ``K = P^- H^T A^{-1}``.
+    """``P^-`` from the DARE, then ``A = H P^- H^T + R`` (eq. 5), ``K = P^- H^T A^{-1}``; a
+    problem solved before in this process is not solved again (module docstring).
 
     Raises DesignError naming ``name`` when the resulting filter is unstable."""
+    key = _problem_key(phi, h, qd, r)
+    known = _DESIGNED.get(key)
+    if known is None:
+        known = _design(phi, h, qd, r, name)  # a refused design raises: never stored
+        _DESIGNED[key] = known
+        while len(_DESIGNED) > _DESIGNED_MAX:
+            _DESIGNED.popitem(last=False)
+    return _copy(known)
+
+
+def _design(phi: np.ndarray, h: np.ndarray, qd: np.ndarray, r: np.ndarray, name: str) -> SteadyStateGains:
     try:
         p = solve_filter_dare(phi, h, qd, r)
     except DesignError as exc:

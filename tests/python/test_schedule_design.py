@@ -342,3 +342,14 @@ def test_gust_nodes_keep_their_own_settings_only_inside_the_gust_region():
     assert all(refs[(i, j)] == 0.5 for i in range(3) for j in (1, 2))
     _, refs_rule = neighbourhood_settings(records)
     assert all(v == 0.5 for v in refs_rule.values())          # without keep_own: the neighbourhood's
+
+    # a kept node's own floor above the rule's does not raise its neighbours' floor, nor
+    # lower their reference to the one bounded at that floor: they keep the rule's pair
+    def two(p_min, ref, low, high):   # candidates at floors 1e-9 and 1e-5, both met
+        return {"p_min": p_min, "bound_met": True, "adapt_reference": ref,
+                "candidates": [[1e-9, low, 0.0, 0.0, True], [1e-5, high, 0.0, 0.0, True]]}
+
+    records = {k: two(1e-5, 0.7, 0.9, 0.7) if k[1] == 0 else two(1e-9, 0.8, 0.8, 0.4) for k in covered}
+    floors, refs = neighbourhood_settings(records, keep_own=keep)
+    assert all((floors[(i, 0)], refs[(i, 0)]) == (1e-5, 0.7) for i in range(3))
+    assert all((floors[(i, j)], refs[(i, j)]) == (1e-9, 0.8) for i in range(3) for j in (1, 2))

@@ -53,9 +53,9 @@ knobs, everything else the tuning's), calibrated there as any node; the others a
 inert gust states (``gust_states.pad_bank``: no coupling, no gain, their residuals their 13-state
 design's), so that the file holds one state count, as the core requires.  Floor and reference:
 a gust node whose covered grid neighbours all carry gust states keeps its own bounded pair;
-every other node takes the neighbourhood rule (``neighbourhood_settings`` ``keep_own``), since
-the gust and plain filters' power ratios are on different levels and a cell blending the two
-is bounded only by the smaller.
+every other node takes the pair the neighbourhood rule gives without that exception
+(``neighbourhood_settings`` ``keep_own``), since the gust and plain filters' power ratios are
+on different levels and a cell blending the two is bounded only by the smaller.
 
 Deterministic: the same grid and tuning give the same file byte for byte (nodes in grid
 order; the metadata holds no time or host).  The points are designed in parallel (a process
@@ -291,19 +291,19 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
     smallest reference apart would pair a floor chosen with a high reference with a reference
     chosen for a high floor: tempering far more than either node needs.)
     ``keep_own``: nodes that keep their own chosen floor and reference (``gust_neighbourhoods``);
-    their neighbours still see them as above."""
+    every other node's pair is the one this rule gives without them (their neighbours see them
+    as above, not at their own floor: an own floor above the rule's would otherwise lower the
+    references around it)."""
     floors = neighbourhood_minimum({k: (r["p_min"], r["bound_met"]) for k, r in records.items()})
-    floors.update({k: records[k]["p_min"] for k in keep_own})
     at = {k: {row[0]: (row[1], row[4]) for row in r["candidates"]} for k, r in records.items()}
     references = {}
     for (i, j) in records:
-        if (i, j) in keep_own:
-            references[(i, j)] = records[(i, j)]["adapt_reference"]
-            continue
         around = [(i + di, j + dj) for di in (-1, 0, 1) for dj in (-1, 0, 1)
                   if (di or dj) and (i + di, j + dj) in records]
         top = max([floors[(i, j)]] + [floors[k] for k in around])
         references[(i, j)] = min([at[(i, j)][top][0]] + [at[k][top][0] for k in around if at[k][top][1]])
+    for k in keep_own:
+        floors[k], references[k] = records[k]["p_min"], records[k]["adapt_reference"]
     return floors, references
 
 

@@ -104,3 +104,45 @@ def test_tuning_arguments_name_the_options_that_made_the_tuning():
     assert bank.tuning_arguments(g) == "tuned --gust-level severe --gust-states"
     c = dataclasses.replace(g, name="tuned-severe-gust-cover", failure_model="cover")
     assert bank.tuning_arguments(c) == "tuned --gust-level severe --gust-states --failure-model cover"
+
+
+def test_padded_gust_states_are_inert(linearized):
+    """A 13-state bank padded with inert gust states (``pad_bank``, for a schedule whose low
+    nodes carry gust states): 19 states, the gust estimates stay exactly 0 in every filter, and
+    the residuals and probabilities are the 13-state bank's frame for frame (the independent
+    answer: the unpadded bank, run through the 13-state core)."""
+    plain = bank.to_model_bank(bank.design_bank(bank.NOMINAL_MACH, bank.NOMINAL_ALT_FT, load_tuning("tuned"),
+                                                linearized=linearized))
+    padded = gust_states.pad_bank(plain)
+    assert padded.nx == 19 and tuple(padded.state_names) == names.STATES + gust_states.GUST_STATES
+    assert gust_states.pad_bank(padded) is padded
+    assert padded.estimator_settings == plain.estimator_settings and padded.tuning == plain.tuning
+    assert json.loads(padded.metadata)["inert_gust_states"] == list(gust_states.GUST_STATES)
+    rng = np.random.default_rng(5)
+    n = 300
+    sd = np.sqrt(np.diag(plain.hypotheses[0].a))
+    z = plain.z_trim + rng.normal(size=(n, names.NZ)) * sd + np.outer(np.sin(np.arange(n) / 9.0), 2.0 * sd)
+    u = plain.u_trim + 0.01 * np.sign(np.sin(np.arange(n) / 13.0))[:, None] * np.ones(names.NU)
+    hp, hq = core.HierarchicalBank(plain), core.HierarchicalBank(padded)
+    singles = [i for i, h in enumerate(padded.hypotheses) if h.name in names.SINGLE_HYPOTHESES]
+    fb = core.FilterBank([core.FilterModel(phi=padded.hypotheses[i].phi, bd=padded.hypotheses[i].bd,
+                                           h=padded.hypotheses[i].h, k=padded.hypotheses[i].k,
+                                           a=padded.hypotheses[i].a) for i in singles])
+    for t in range(n):
+        hp.step(z[t], u[t])
+        hq.step(z[t], u[t])
+        fb.step(z[t] - plain.z_trim, u[t] - plain.u_trim)
+        np.testing.assert_allclose(hq.residuals, hp.residuals, rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(np.log(hq.probabilities), np.log(hp.probabilities), rtol=1e-9, atol=1e-9)
+        assert not fb.state_estimates[:, names.NX:].any() and not fb.prior_states[:, names.NX:].any()
+    assert np.abs(fb.state_estimates[:, :names.NX]).max() > 0   # the plain states did move
+    assert hq.declarations == hp.declarations
+
+
+def test_pad_state_appends_zero_gust_states_and_refuses_other_sizes():
+    x = np.arange(names.NX, dtype=float)
+    padded = gust_states.pad_state(x)
+    assert len(padded) == 19 and (padded[:names.NX] == x).all() and not padded[names.NX:].any()
+    assert gust_states.pad_state(padded) is not None and (gust_states.pad_state(padded) == padded).all()
+    with pytest.raises(ValueError, match="pad_state: 5 states, neither 13 nor 19"):
+        gust_states.pad_state(np.zeros(5))

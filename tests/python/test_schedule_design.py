@@ -19,8 +19,9 @@ from f16mmae.design.calibrate import (CALIBRATION_START_UP_S, START_UP_S, adapta
                                       calibrate_node, failure_log_odds_peak, node_flights)
 from f16mmae.design.hypotheses import TRIM_SIGMA, check_failure_model
 from f16mmae.design.model import linearize_truth
-from f16mmae.design.schedule import (ScheduleSpecError, neighbourhood_minimum, parse_grid, schedule_failure_model,
-                                     x_trim)
+from f16mmae.design.gust_states import GUST_STATES, pad_bank
+from f16mmae.design.schedule import (ScheduleSpecError, gust_neighbourhoods, gust_node_tuning, neighbourhood_minimum,
+                                     neighbourhood_settings, parse_grid, schedule_failure_model, x_trim)
 from f16mmae.design.tuning import load_tuning
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
@@ -243,3 +244,112 @@ def test_the_scheduled_designs_failure_model_given_then_the_tunings_then_constan
     assert schedule_failure_model(tuned, {"default": "complete", "constant": ["AOA", "VEL"]}) == "constant=VEL+AOA"
     with pytest.raises(ValueError, match="component PIT has no trim uncertainty"):
         schedule_failure_model(tuned, "constant=PIT")
+
+
+GUST_GRID = "mach=0.5,alt=10000/20000"
+
+
+@pytest.fixture(scope="module")
+def gust_scheduled(tmp_path_factory):
+    """Two nodes, the tuning as given at both (fixed: no calibration flights), gust states at
+    the 10,000-ft node only; and the same grid without gust states."""
+    d = tmp_path_factory.mktemp("gust_sched")
+    common = ["design", "--schedule", GUST_GRID, "--node-tuning", "fixed", "--workers", "1"]
+    assert main(common + ["--gust-states-below-ft", "12000", "--out", str(d / "gust.f16sched")]) == 0
+    assert main(common + ["--out", str(d / "plain.f16sched")]) == 0
+    return core.load_bank(d / "gust.f16sched"), core.load_bank(d / "plain.f16sched")
+
+
+def test_gust_states_below_ft_designs_gust_nodes_and_pads_the_others(gust_scheduled, capsys):
+    """The node at or below FT is the ordinary 19-state design with the gust counterpart of the
+    tuning (gust_node_tuning); the node above it is its 13-state design padded with inert gust
+    states; one state count in the file; the metadata says which nodes carry gust states."""
+    gust, plain = gust_scheduled
+    s = gust.schedule
+    assert gust.nx == 19 and tuple(gust.state_names) == names.STATES + GUST_STATES
+    by_alt = {n["alt_ft"]: n for n in s["nodes"]}
+    tuning = _constant_vel(load_tuning("tuned"))
+    low = design_bank(0.5, 10000.0, gust_node_tuning(tuning))
+    assert low.continuous.gust_model == "dryden_states"
+    assert by_alt[10000.0]["bank"].content_hash == _hash(low)
+    high = pad_bank(to_model_bank(design_bank(0.5, 20000.0, tuning)))
+    assert by_alt[20000.0]["bank"].content_hash == core.ModelBank.from_bytes(high.to_bytes()).content_hash
+    assert len(by_alt[20000.0]["x_trim"]) == 19 and not np.asarray(by_alt[20000.0]["x_trim"])[names.NX:].any()
+    meta = json.loads(s["metadata"])
+    assert meta["gust_states"]["below_ft"] == 12000.0
+    assert meta["gust_states"]["nodes"] == [{"mach": 0.5, "alt_ft": 10000.0}]
+    assert meta["command"].endswith("--gust-states-below-ft 12000")
+    # the plain schedule's file has no gust key (the default's bytes are unchanged by the option)
+    assert "gust_states" not in json.loads(plain.schedule["metadata"]) and plain.nx == names.NX
+    # the gust tuning keeps the tuning's name (one per schedule) and takes the gust-state knobs
+    g = gust_node_tuning(tuning)
+    assert g.name == tuning.name and g.failure_model == tuning.failure_model
+    assert g.qd_longitudinal == load_tuning("tuned_gust").qd_longitudinal
+    assert gust_node_tuning(g) is g
+
+
+def test_a_padded_node_flies_as_its_13_state_node(gust_scheduled):
+    """At the padded node (nearest: that node alone) the estimator's probabilities are those of
+    the schedule without gust states, frame for frame; between the nodes (interpolate: a gust
+    and a padded node blended) the Python loop and the C++ loop fly the same."""
+    gust, plain = gust_scheduled
+    at_node = Scenario(mach=0.5, alt_ft=20000.0, turbulence="light", failures=(make_failure("LF", 3.0),),
+                       duration_s=6.0, seed=11)
+    runs = [fly(at_node, b, estimator=Estimator(b, schedule_mode="nearest"), engine="cpp") for b in (gust, plain)]
+    assert runs[0].declarations == runs[1].declarations
+    np.testing.assert_allclose(runs[0].probability_of("LF"), runs[1].probability_of("LF"), rtol=1e-7, atol=1e-12)
+    between = Scenario(mach=0.5, alt_ft=15000.0, turbulence="light", failures=(make_failure("PIT", 3.0),),
+                       duration_s=6.0, seed=12)
+    py, cpp = (fly(between, gust, estimator=Estimator(gust, schedule_mode="interpolate"), engine=e)
+               for e in ("python", "cpp"))
+    assert py.declarations == cpp.declarations and py.declarations
+    np.testing.assert_array_equal(py.probability_of("PIT"), cpp.probability_of("PIT"))
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--schedule", GUST_GRID, "--gust-states-below-ft", "x"], "--gust-states-below-ft: gust states below 'x' ft: "
+                                                               "not a number of feet"),
+    (["--schedule", GUST_GRID, "--gust-states-below-ft", "nan"], "not a finite number of feet"),
+    (["--schedule", GUST_GRID, "--gust-states-below-ft", "4000"], "gust states below 4000 ft: no node of the grid "
+                                                                  "(altitudes 10000, 20000 ft) lies at or below it"),
+    (["--schedule", GUST_GRID, "--gust-states-below-ft", "15000", "--tuning", "tuned_gust"],
+     "the tuning tuned_gust already models gust states (dryden_states) at every node"),
+    (["--gust-states-below-ft", "15000"], "--gust-states-below-ft applies to a scheduled design; give --schedule"),
+])
+def test_a_bad_gust_altitude_is_refused_before_any_work(args, message, tmp_path, capsys):
+    out = tmp_path / "x.f16sched"
+    assert main(["design", *args, "--out", str(out)]) != 0
+    assert message in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_gust_nodes_keep_their_own_settings_only_inside_the_gust_region():
+    """3 x 3 grid, gust states on the two lower rows (j = 0, 1): the nodes of row 0 have only
+    gust neighbours and keep their own floor and reference; row 1 borders row 2 (no gust
+    states) and takes the neighbourhood rule as every plain node does."""
+    covered = {(i, j) for i in range(3) for j in range(3)}
+    gust = {(i, j) for i in range(3) for j in (0, 1)}
+    keep = gust_neighbourhoods(covered, gust)
+    assert keep == {(0, 0), (1, 0), (2, 0)}
+    assert gust_neighbourhoods(covered - {(0, 1)}, gust - {(0, 1)}) == {(0, 0), (1, 0), (2, 0)}
+
+    def record(p_min, ref):   # bounded_settings' record: one candidate floor, met
+        return {"p_min": p_min, "bound_met": True, "adapt_reference": ref, "candidates": [[1e-9, ref, 0.0, 0.0, True]]}
+
+    records = {k: record(1e-9, 0.9 if k[1] == 0 else 0.5) for k in covered}
+    floors, refs = neighbourhood_settings(records, keep_own=keep)
+    assert all(refs[(i, 0)] == 0.9 for i in range(3))        # own, though row 1 is lower
+    assert all(refs[(i, j)] == 0.5 for i in range(3) for j in (1, 2))
+    _, refs_rule = neighbourhood_settings(records)
+    assert all(v == 0.5 for v in refs_rule.values())          # without keep_own: the neighbourhood's
+
+    # a kept node's own floor above the rule's does not raise its neighbours' floor, nor
+    # lower their reference to the one bounded at that floor: they keep the rule's pair
+    def two(p_min, ref, low, high):   # candidates at floors 1e-9 and 1e-5, both met
+        return {"p_min": p_min, "bound_met": True, "adapt_reference": ref,
+                "candidates": [[1e-9, low, 0.0, 0.0, True], [1e-5, high, 0.0, 0.0, True]]}
+
+    records = {k: two(1e-5, 0.7, 0.9, 0.7) if k[1] == 0 else two(1e-9, 0.8, 0.8, 0.4) for k in covered}
+    floors, refs = neighbourhood_settings(records, keep_own=keep)
+    assert all((floors[(i, 0)], refs[(i, 0)]) == (1e-5, 0.7) for i in range(3))
+    assert all((floors[(i, j)], refs[(i, j)]) == (1e-9, 0.8) for i in range(3) for j in (1, 2))

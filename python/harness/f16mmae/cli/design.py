@@ -13,8 +13,9 @@ from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
 from ..design.hypotheses import FAILURE_MODELS, check_failure_model, uses_cover
-from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, design_schedule,
-                               format_spec, parse_grid, schedule_failure_model)
+from ..design.gust_states import GUST_STATE_MODELS
+from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, check_gust_altitude,
+                               design_schedule, format_spec, parse_grid, schedule_failure_model)
 from ..design.tuning import TuningError, load_tuning
 from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
 from .. import names
@@ -57,6 +58,7 @@ examples:
   f16mmae design --turbulence-banks --out turbulence_banks.f16set      # the set of --turbulence-banks
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
   f16mmae design --schedule --throttle-input --out scheduled_throttle.f16sched   # 6 inputs at every node
+  f16mmae design --schedule --gust-states-below-ft 15000 --workers 2 --out low_gust.f16sched   # gust states low
 
 Scheduled design (--schedule [GRID]): one bank per point of a Mach x altitude grid, the
 tuning's pseudonoise re-calibrated at every point (--node-tuning calibrated: stage 1 of
@@ -149,6 +151,10 @@ def register(subparsers) -> None:
     p.add_argument("--calibration-start-up-s", default=None, metavar="S",
                    help="--schedule (calibrated nodes): the estimator start-up the calibration flights bound the "
                         f"nodes' floors and references with (default {CALIBRATION_START_UP_S:g})")
+    p.add_argument("--gust-states-below-ft", default=None, metavar="FT",
+                   help="--schedule: the nodes at or below FT ft carry Dryden gust states (19 states, from the "
+                        "gust-state tuning's knobs, calibrated at the node), the others inert gust states (one "
+                        "state count per file); default none")
     p.add_argument("--turbulence-banks", action="store_true",
                    help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the set "
                         "file --out (default: the cache that --tuning turbulence reads)")
@@ -165,6 +171,9 @@ def _run(args) -> int:
         raise CliError("--node-tuning, --flap-layers, --node-p-min, --start-up-s and --calibration-start-up-s apply "
                        "to a scheduled design; "
                        "give --schedule [GRID] too")
+    if args.gust_states_below_ft is not None:
+        raise CliError("--gust-states-below-ft applies to a scheduled design; give --schedule [GRID] too "
+                       "(--gust-states gives one point's bank gust states)")
     mach = number("--mach", args.mach)
     alt_ft = number("--alt-ft", args.alt_ft)
     if not MACH_RANGE[0] <= mach <= MACH_RANGE[1]:
@@ -281,17 +290,30 @@ def _run_schedule(args) -> int:
             if node_tuning != "calibrated":
                 raise CliError(f"{flag} goes with the calibration flights: it needs --node-tuning calibrated")
             start_up[flag] = number(flag, given, minimum=0.0, maximum=3600.0)
+    gust_ft = None
+    if args.gust_states_below_ft is not None:
+        try:
+            gust_ft = check_gust_altitude(grid, args.gust_states_below_ft)
+        except ScheduleSpecError as exc:
+            raise CliError(f"--gust-states-below-ft: {exc}") from None
+        if tuning.gust_model in GUST_STATE_MODELS:
+            raise CliError(f"--gust-states-below-ft: the tuning {tuning.name} already models gust states "
+                           f"({tuning.gust_model}) at every node")
     thr = "_throttle" if args.throttle_input else ""
-    out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}.f16sched", "--out")
+    gst = "" if gust_ft is None else f"_gust{gust_ft:g}"
+    out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}{gst}.f16sched", "--out")
     how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
     print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
-          f"tuning {how} {tuning.name}, failure model {failure_model}", flush=True)
+          f"tuning {how} {tuning.name}, failure model {failure_model}"
+          + ("" if gust_ft is None else f", Dryden gust states at the nodes at or below {gust_ft:g} ft "
+             "(the others inert)"), flush=True)
     try:
         s = design_schedule(grid, args.tuning, out, workers=workers,
                             progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning,
                             flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input,
                             p_min_candidates=p_mins, start_up_s=start_up["--start-up-s"],
-                            calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model)
+                            calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model,
+                            gust_states_below_ft=gust_ft)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

@@ -135,3 +135,67 @@ def augment(gust_model: str, lin: AirframeLinearization, vt_fps: float, sigma_fp
         acc = [names.SENSORS.index(c) for c in ACCELEROMETERS]
         h[acc, 3:6] = -lin.c[np.ix_(acc, [_P, _Q, _R])] @ t_bl
     return f, g, np.diag(qc), h
+
+
+def pad_bank(bank, gust_model: str = "dryden_states"):
+    """A bank of the plain states (``names.STATES``) as one of ``names.STATES`` + the gust
+    states of ``gust_model``, the gust states inert: for every hypothesis filter::
+
+        Phi' = [[Phi, 0], [0, 0]]    B_d' = [[B_d], [0]]    H' = [H, 0]    K' = [[K], [0]]
+
+    and A, the trims, the settings and the flight condition as they were. From x_g = 0 the gust
+    states stay 0 (no input, no gain, no coupling), so every residual, A and the probabilities
+    are the bank's own; Phi' (I - K' H') has the eigenvalues of Phi (I - K H) and ng zeros.
+    What it is for: a scheduled-bank file holds one state count (``cpp/f16mmae/bank_schedule.h``
+    checks the nodes' state names), so nodes without gust states join nodes with them padded.
+    A bank that already has these states is returned as it is; any other state set is a
+    ValueError naming it. The metadata records ``inert_gust_states``."""
+    import json
+
+    from .. import core
+
+    states = GUST_STATE_MODELS[gust_model]
+    have = tuple(bank.state_names)
+    if have == names.STATES + states:
+        return bank
+    if have != names.STATES:
+        raise ValueError(f"pad_bank: the bank's states {', '.join(have)} are not the plain states "
+                         f"({names.NX}) or those with the {gust_model} gust states")
+    if bank.schedule is not None:
+        raise ValueError("pad_bank: a scheduled bank is padded node by node")
+    nx, ng = len(have), len(states)
+
+    def rows(m):
+        return np.vstack([np.asarray(m), np.zeros((ng, np.asarray(m).shape[1]))])
+
+    hyps = []
+    for h in bank.hypotheses:
+        phi = np.zeros((nx + ng, nx + ng))
+        phi[:nx, :nx] = h.phi
+        width, level_q = np.asarray(h.uninformative_width), np.asarray(h.uninformative_level_q)
+        hyps.append(core.HypothesisModel(
+            name=h.name, phi=phi, bd=rows(h.bd), h=np.hstack([np.asarray(h.h), np.zeros((len(h.h), ng))]),
+            k=rows(h.k), a=np.asarray(h.a),
+            uninformative_width=width if width.any() else None,
+            uninformative_level_q=level_q if level_q.any() else None))
+    meta = json.loads(bank.metadata) if bank.metadata else {}
+    meta["inert_gust_states"] = list(states)
+    settings = {k: v for k, v in bank.estimator_settings.items() if k in ("p_min", "threshold", "dwell_s")}
+    return core.ModelBank(
+        hyps, state_names=list(names.STATES + states), input_names=list(bank.input_names),
+        measurement_names=list(bank.measurement_names), u_trim=np.asarray(bank.u_trim),
+        z_trim=np.asarray(bank.z_trim), h_output=np.hstack([np.asarray(bank.h_output), np.zeros((len(bank.z_trim), ng))]),
+        frame_rate_hz=bank.frame_rate_hz, mach=bank.mach, alt_ft=bank.alt_ft, tuning=bank.tuning, **settings,
+        metadata=json.dumps(meta, sort_keys=True, separators=(",", ":")))
+
+
+def pad_state(x: np.ndarray, gust_model: str = "dryden_states") -> np.ndarray:
+    """A trim state of ``names.STATES`` with the gust states of ``gust_model`` appended at 0
+    (their trim); one that already has them unchanged."""
+    x = np.asarray(x, dtype=float)
+    full = names.NX + len(GUST_STATE_MODELS[gust_model])
+    if len(x) == full:
+        return x
+    if len(x) != names.NX:
+        raise ValueError(f"pad_state: {len(x)} states, neither {names.NX} nor {full}")
+    return np.concatenate([x, np.zeros(full - names.NX)])

@@ -46,6 +46,17 @@ the throttle command's column from JSBSim's linearization at the node).  Its cal
 adaptation reference are those of the node's 5-input design (the same K and A: the gains do
 not depend on B; the tuning flights fly no throttle dither).
 
+Gust states at the low nodes (``gust_states_below_ft`` FT): the nodes at or below FT are
+designed with Dryden gust states (``gust_states.py``, ``GUST_NODE_MODEL``, 19 states) from the
+tuning's gust counterpart (``gust_node_tuning``: the shipped gust-state tuning's pseudonoise
+knobs, everything else the tuning's), calibrated there as any node; the others are padded with
+inert gust states (``gust_states.pad_bank``: no coupling, no gain, their residuals their 13-state
+design's), so that the file holds one state count, as the core requires.  Floor and reference:
+a gust node whose covered grid neighbours all carry gust states keeps its own bounded pair;
+every other node takes the pair the neighbourhood rule gives without that exception
+(``neighbourhood_settings`` ``keep_own``), since the gust and plain filters' power ratios are
+on different levels and a cell blending the two is bounded only by the smaller.
+
 Deterministic: the same grid and tuning give the same file byte for byte (nodes in grid
 order; the metadata holds no time or host).  The points are designed in parallel (a process
 pool, ``workers``), the file written once all are in.
@@ -70,9 +81,10 @@ from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_
 from .calibrate import (BOUND_P_MIN, CALIBRATION_START_UP_S, P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
                         START_UP_S, adaptation_reference, bounded_settings, calibrate_node, node_flights)
 from .gains import DesignError
+from .gust_states import GUST_STATE_MODELS, pad_bank, pad_state
 from .hypotheses import check_failure_model, failure_model_table
 from .model import linearize_truth
-from .tuning import load_tuning
+from .tuning import Tuning, load_tuning
 
 #: The grid of the ``scheduled`` bank (docs/results/schedule.md measures how far from its
 #: point a bank stays acceptable).
@@ -142,6 +154,49 @@ def x_trim(design) -> np.ndarray:
 #: ``calibrate.calibrate_node``; docs/results/envelope_scheduled.md measures the two).
 NODE_TUNINGS: tuple[str, ...] = ("calibrated", "fixed")
 DEFAULT_NODE_TUNING = names.SCHEDULE_NODE_TUNING
+#: The gust model of the nodes at or below ``gust_states_below_ft`` (module docstring).
+GUST_NODE_MODEL = "dryden_states"
+
+
+def gust_node_tuning(tuning: Tuning) -> Tuning:
+    """The tuning a gust-state node starts from: ``tuning`` itself if it models the gust states,
+    else ``tuning`` with ``GUST_NODE_MODEL`` and the pseudonoise knobs (methods 1-4) of the
+    shipped gust-state tuning (``calibrate.GUST_TUNING``, calibrated for those filters: the plain
+    tuning's knobs cover the gusts the states now model); name, turbulence, failure model and
+    estimator settings stay the tuning's (the core requires one tuning name per schedule)."""
+    if tuning.gust_model == GUST_NODE_MODEL:
+        return tuning
+    from .calibrate import GUST_TUNING
+
+    g = load_tuning(GUST_TUNING)
+    return dataclasses.replace(tuning, gust_model=GUST_NODE_MODEL, qd_longitudinal=dict(g.qd_longitudinal),
+                               r_pseudonoise=dict(g.r_pseudonoise), qd_lateral=dict(g.qd_lateral),
+                               actuator_q=dict(g.actuator_q))
+
+
+def check_gust_altitude(grid: Grid, below_ft: float) -> float:
+    """``below_ft`` as a float if some node of ``grid`` lies at or below it; ScheduleSpecError
+    naming the value and the grid's altitudes otherwise (not a finite number, or below every node)."""
+    try:
+        ft = float(below_ft)
+    except (TypeError, ValueError):
+        raise ScheduleSpecError(f"gust states below {below_ft!r} ft: not a number of feet") from None
+    if not np.isfinite(ft):
+        raise ScheduleSpecError(f"gust states below {below_ft!r} ft: not a finite number of feet")
+    if ft < grid.alt_ft[0]:
+        raise ScheduleSpecError(f"gust states below {ft:g} ft: no node of the grid (altitudes "
+                                f"{', '.join(f'{a:g}' for a in grid.alt_ft)} ft) lies at or below it")
+    return ft
+
+
+def gust_neighbourhoods(covered, gust) -> frozenset:
+    """The gust nodes (grid indices in ``gust``) whose covered grid neighbours (the 8 around,
+    those in ``covered``) all carry gust states: the nodes that keep their own floor and
+    reference (module docstring)."""
+    covered = set(covered)
+    return frozenset(k for k in covered & set(gust)
+                     if all((k[0] + di, k[1] + dj) in gust for di in (-1, 0, 1) for dj in (-1, 0, 1)
+                            if (di or dj) and (k[0] + di, k[1] + dj) in covered))
 
 
 def _layer(lef_rad: float) -> int:
@@ -219,7 +274,7 @@ def neighbourhood_minimum(bounded: dict[tuple[int, int], tuple[float, bool]]) ->
     return out
 
 
-def neighbourhood_settings(records: dict[tuple[int, int], dict]) -> tuple[dict, dict]:
+def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozenset()) -> tuple[dict, dict]:
     """Each covered node's probability floor and adaptation reference in the file, from the
     nodes' ``calibrate.bounded_settings`` records (grid index -> {p_min, bound_met, candidates:
     [[p_min, reference, peak, s, met], ...]}):
@@ -234,7 +289,11 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict]) -> tuple[dict, 
     floor of at most P and a reference of at most every corner's bounded reference at P, and
     the peak falls with the floor as with the reference.  (Taking the smallest floor and the
     smallest reference apart would pair a floor chosen with a high reference with a reference
-    chosen for a high floor: tempering far more than either node needs.)"""
+    chosen for a high floor: tempering far more than either node needs.)
+    ``keep_own``: nodes that keep their own chosen floor and reference (``gust_neighbourhoods``);
+    every other node's pair is the one this rule gives without them (their neighbours see them
+    as above, not at their own floor: an own floor above the rule's would otherwise lower the
+    references around it)."""
     floors = neighbourhood_minimum({k: (r["p_min"], r["bound_met"]) for k, r in records.items()})
     at = {k: {row[0]: (row[1], row[4]) for row in r["candidates"]} for k, r in records.items()}
     references = {}
@@ -243,6 +302,8 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict]) -> tuple[dict, 
                   if (di or dj) and (i + di, j + dj) in records]
         top = max([floors[(i, j)]] + [floors[k] for k in around])
         references[(i, j)] = min([at[(i, j)][top][0]] + [at[k][top][0] for k in around if at[k][top][1]])
+    for k in keep_own:
+        floors[k], references[k] = records[k]["p_min"], records[k]["adapt_reference"]
     return floors, references
 
 
@@ -269,7 +330,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     p_min_candidates: tuple[float, ...] = P_MIN_CANDIDATES,
                     start_up_s: float = START_UP_S,
                     calibration_start_up_s: float = CALIBRATION_START_UP_S,
-                    failure_model: str | None = None) -> dict:
+                    failure_model: str | None = None,
+                    gust_states_below_ft: float | None = None) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
@@ -287,6 +349,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     the tuning's; None: ``schedule_failure_model`` (the tuning's if it names one, else
     ``names.SCHEDULE_FAILURE_MODEL``).  A calibrated node's floor and reference are bounded on
     the node's ``complete`` bank whatever the model (module docstring).
+    ``gust_states_below_ft``: the nodes at or below it with Dryden gust states, the others padded
+    with inert ones (module docstring); ScheduleSpecError if no node lies at or below it.
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""
@@ -301,9 +365,20 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         tuning = tuning_obj   # the workers design with the object (its name unchanged)
     if node_tuning != "calibrated":   # no calibration flights: nothing was bounded with a start-up
         start_up_s = calibration_start_up_s = 0.0
-    points = [(i, j, m, a, tuning, node_tuning, None, None, throttle_input, tuple(p_min_candidates),
+    gust_ft = None if gust_states_below_ft is None else check_gust_altitude(grid, gust_states_below_ft)
+    if gust_ft is not None and tuning_obj.gust_model in GUST_STATE_MODELS:
+        raise ScheduleSpecError(f"gust states below {gust_ft:g} ft: the tuning {tuning_obj.name} already models "
+                                f"gust states ({tuning_obj.gust_model}) at every node")
+    gust_tuning = None if gust_ft is None else gust_node_tuning(tuning_obj)
+
+    def point_tuning(alt_ft):
+        return gust_tuning if gust_ft is not None and alt_ft <= gust_ft else tuning
+
+    points = [(i, j, m, a, point_tuning(a), node_tuning, None, None, throttle_input, tuple(p_min_candidates),
                calibration_start_up_s)
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
+    gust = {(i, j) for j, a in enumerate(grid.alt_ft) for i in range(len(grid.mach))
+            if gust_ft is not None and a <= gust_ft}
     t0 = time.perf_counter()
     results, alternates = {}, {}
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
@@ -311,13 +386,16 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
             results[(r[0], r[1])] = r
             if progress:
                 m, a = grid.mach[r[0]], grid.alt_ft[r[1]]
-                state = "skipped: " + r[5] if r[3] is None else f"designed (flap layer {r[2]})"
+                state = ("skipped: " + r[5] if r[3] is None else f"designed (flap layer {r[2]}"
+                         + (", gust states)" if (r[0], r[1]) in gust else ")"))
                 progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[6]:.1f} s)")
         own = {k: r[2] for k, r in results.items() if r[3] is not None}
         p_min_of = {}   # grid index -> the node's floor in the file (calibrated nodes)
+        keep = gust_neighbourhoods(own, gust) if node_tuning == "calibrated" else frozenset()
         if node_tuning == "calibrated":   # each node's floor and reference from its neighbourhood (neighbourhood_settings)
             covered = [k for k, r in results.items() if r[3] is not None]
-            p_min_of, references = neighbourhood_settings({k: results[k][7] for k in covered})
+            p_min_of, references = neighbourhood_settings({k: results[k][7] for k in covered},
+                                                          keep_own=keep)
             for k in covered:
                 r = results[k]
                 r[7]["adapt_reference_node"], r[7]["adapt_reference"] = r[9], references[k]
@@ -339,6 +417,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         else:
             if (i, j) in p_min_of:   # the node's floor (its bank's recommended p_min; bank_schedule.h)
                 bank = bank.with_settings(p_min=p_min_of[(i, j)])
+            if gust_ft is not None:   # one state count in the file: plain nodes with inert gust states
+                bank, xt = pad_bank(bank, GUST_NODE_MODEL), pad_state(xt, GUST_NODE_MODEL)
             nodes.append((i, j, bank, xt, reference, layer if flap_layers else 0))
             if record:
                 node_records.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], **record})
@@ -357,7 +437,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     + (" --throttle-input" if throttle_input else "")
                     + (f" --start-up-s {start_up_s:g} --calibration-start-up-s {calibration_start_up_s:g}"
                        if node_tuning == "calibrated" else "")
-                    + (f" --failure-model {tuning_obj.failure_model}" if tuning_obj.failure_model != "complete" else "")),
+                    + (f" --failure-model {tuning_obj.failure_model}" if tuning_obj.failure_model != "complete" else "")
+                    + (f" --gust-states-below-ft {gust_ft:g}" if gust_ft is not None else "")),
         "grid": {"mach": list(grid.mach), "alt_ft": list(grid.alt_ft)},
         "tuning": tuning_obj.name,
         "node_tuning": node_tuning,
@@ -390,6 +471,14 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         # which model each hypothesis' failed components have (hypotheses.py); paper schedules keep their bytes
         **({"failure_model": failure_model_table(tuning_obj.failure_model)}
            if tuning_obj.failure_model != "complete" else {}),
+        # which nodes carry gust states, and which keep their own floor and reference
+        **({"gust_states": {
+            "below_ft": gust_ft, "model": GUST_NODE_MODEL, "states": list(GUST_STATE_MODELS[GUST_NODE_MODEL]),
+            "nodes": [{"mach": grid.mach[i], "alt_ft": grid.alt_ft[j]} for (i, j) in sorted(gust, key=lambda k: (k[1], k[0]))],
+            "own_settings": [{"mach": grid.mach[i], "alt_ft": grid.alt_ft[j]}
+                             for (i, j) in sorted(keep, key=lambda k: (k[1], k[0]))],
+            "other_nodes": "inert gust states (no coupling, no gain): their 13-state design's residuals"}}
+           if gust_ft is not None else {}),
     }
     path = Path(out)
     path.parent.mkdir(parents=True, exist_ok=True)

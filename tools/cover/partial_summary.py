@@ -1,5 +1,5 @@
 """Summarise single-failure campaigns (``f16mmae campaign single --out DIR``) run by run, per
-mode: correct runs (NONE runs included) with 95 % Clopper-Pearson intervals, runs with a false
+directory and mode: correct runs (the directory's NONE runs included) with 95 % Clopper-Pearson intervals, runs with a false
 alarm, runs with a transient-wrong declaration, the complete-mode latency median / p95 over
 the failure runs that declared the injected surface, and how many runs' final declaration was a
 partial hypothesis (``declared_hypotheses``, the names before scoring).
@@ -23,10 +23,14 @@ def interval(k: int, n: int) -> tuple[float, float]:
 
 
 def main(dirs) -> None:
-    runs = []
     for d in dirs:
         with open(f"{d}/runs.jsonl") as fh:
-            runs += [json.loads(line) for line in fh if line.strip()]
+            summarise(d, [json.loads(line) for line in fh if line.strip()])
+
+
+def summarise(d: str, runs: list[dict]) -> None:
+    """One campaign directory: each mode's runs with the directory's NONE runs."""
+    print(d)
     by_mode = defaultdict(list)
     for r in runs:
         fails = r["scenario"].get("failures") or []

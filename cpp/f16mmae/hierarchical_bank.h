@@ -758,7 +758,7 @@ class HierarchicalBank {
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
   Indices level0_;
-  std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of single failure f
+  std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of level-0 hypothesis f + 1 (a single or partial)
   std::vector<Indices> level1_live_;   // level1_live_[f][k]: slot k on line in it (header)
   bool partial_ = false;               // partial hypotheses: level-1 banks have spare slots
   Indices online_;

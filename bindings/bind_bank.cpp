@@ -161,6 +161,18 @@ A frame with a non-finite value is applied to no filter and counted in rejected_
            "step() over N frames z (N, m), u (N, p) in C++; returns the (N, K) probabilities after each.")
       .def("reset", &PyFilterBank::reset,
            "States back to zero, the start probabilities again, rejected_frames zeroed.")
+      .def(
+          "set_live",
+          [](PyFilterBank& b, int k, bool live) {
+            if (k <= 0 || k >= b.k_)
+              throw py::value_error("set_live: filter " + std::to_string(k) + " must be in [1, " +
+                                    std::to_string(b.k_) + ") (filter 0 stays live)");
+            b.visit([&](auto& x) { x.set_live(k, live); });
+          },
+          py::arg("k"), py::arg("live"),
+          "Filter k (>= 1) on or off line: off, p_k = 0 and the others conditioned on 'not k' (filter_bank.h).")
+      .def("live", [](const PyFilterBank& b, int k) { return b.visit([&](auto& x) { return x.live(k); }); },
+           py::arg("k"), "Whether filter k is on line.")
       .def_property_readonly("probabilities",
                              [](const PyFilterBank& b) { return b.visit([](auto& x) { return convert::to_numpy(x.probabilities()); }); },
                              "(K,) hypothesis probabilities p_k")

@@ -256,6 +256,11 @@ py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py
   ActuatorLimitOptions actuators;
   actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
   actuators.position_limit_rad = actuator_position_limits_rad;
+  int level0 = 0;   // NONE and the hypotheses without '+': the singles and any partial ones
+  for (const auto& h : bank.hypotheses) level0 += h.name.find('+') == std::string::npos ? 1 : 0;
+  if (level0 == 18 && bank.nx() == 13 && bank.nu() == 5)   // a partial hypothesis per surface
+    return bench_fixed_loop<F16PartialHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode,
+                                                        maneuver, actuators, evict_bytes);
   if (bank.nx() == F16GustHierarchicalBank::XVector::RowsAtCompileTime)
     return bench_fixed_loop<F16GustHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode,
                                                      maneuver, actuators, evict_bytes);
@@ -277,7 +282,8 @@ void bind_hierarchical(py::module_& m) {
         py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
         py::arg("actuator_position_limits_rad") = std::vector<double>{}, py::arg("evict_bytes") = 0,
         "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F-16 bank of the\n"
-        "model bank's nx and nu (13 states, 19 with gust states; 5 inputs, 6 with the throttle)\n"
+        "model bank's nx and nu (13 states, 19 with gust states; 5 inputs, 6 with the throttle; 18 filters\n"
+        "on line with a partial hypothesis per surface)\n"
         "over frames z (N,7), u (N,nu), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
         "given, timed in C++ (f16mmae.bench); the maneuver options as core.HierarchicalBank's;\n"
         "evict_bytes > 0: a buffer of that size read before every frame (a cold cache; frames timed alone,\n"

@@ -83,6 +83,19 @@
 //                   aircraft they join is in flight somewhere near it, and their first
 //                   residuals measure that start, not a failure. A hierarchical switch does
 //                   not restart it.
+//                 Off-line filters (set_live(k, false); every filter is live by default):
+//                   filter k keeps running (its x⁻, x⁺, r, levels are updated as above) but
+//                   takes no part in the hypothesis space: p_k = 0, ln p_k = -inf, f_k = 0,
+//                   it is left out of the LSE, of the water-filling and of the turbulence
+//                   adaptation's min_k q_k and best-fitting filter. The Bayes update and the
+//                   floor above then run over the live filters L exactly as over a bank of
+//                   those alone: p'_k = p_k e^{l_k} / sum_{j∈L} p_j e^{l_j}, k ∈ L. Taking a
+//                   filter off line conditions the probabilities on "not k":
+//                   p_j <- p_j / (1 - p_k) over the live ones, then floored. Filter 0 stays
+//                   live (the no-failure footing). With every filter live the arithmetic is
+//                   the bank's without this, bit for bit. (A hierarchical bank of more
+//                   level-0 hypotheses than a level-1 bank holds keeps the spare slots off
+//                   line at level 1; hierarchical_bank.h.)
 //   propagate(u)  every filter k: x⁻_k = Phi_k x⁺_k + Bd_k u
 //   step(z, u)    update(z) then propagate(u).
 // Start: the no-failure hypothesis (index 0) presumed, p_0 = 1 - sum_{k>0} f_k, others f_k
@@ -215,6 +228,9 @@ class FilterBank {
     x_blend_.setZero(nx);
     z_hat_.setZero(nz);
     floored_.assign_size(k);
+    live_.assign_size(k);
+    for (int i = 0; i < k; ++i) live_[i] = 1;
+    q_live_.setZero(k);
     floor_.setConstant(k, options_.p_min);
     log_floor_.setZero(k);
     level_set_.assign_size(k);
@@ -291,6 +307,7 @@ class FilterBank {
         level_set_[i] = 1;
       }
       log_l_(i) = l;
+      if (!live_[i]) continue;   // off line: p_k = 0 (header)
       const double a = l + log_p_(i);
       if (a > a_max) a_max = a;
     }
@@ -300,13 +317,13 @@ class FilterBank {
         // below e^-708 the weight is not a normal double: take 0 and skip exp's slow
         // underflow path (ln p stays exact below, so nothing is lost)
         const double d = log_l_(i) + log_p_(i) - a_max;
-        const double w = d < -708.0 ? 0.0 : std::exp(d);
+        const double w = (d < -708.0 || !live_[i]) ? 0.0 : std::exp(d);
         p_(i) = w;
         sum += w;
       }
       const double log_sum = std::log(sum);
       for (int i = 0; i < k; ++i) {
-        log_p_(i) = log_l_(i) + log_p_(i) - a_max - log_sum;
+        log_p_(i) = live_[i] ? log_l_(i) + log_p_(i) - a_max - log_sum : -std::numeric_limits<double>::infinity();
         p_(i) /= sum;
       }
       apply_floor();
@@ -314,9 +331,9 @@ class FilterBank {
     }
     if (scale_.options().own_channels) {   // q_k m / m_k: each form per channel it reads (turbulence_adaptation.h)
       q_own_ = q_.cwiseProduct(own_ratio_);
-      scale_.observe(q_own_);
+      scale_.observe(live_q(q_own_));
     } else {
-      scale_.observe(q_);
+      scale_.observe(live_q(q_));
     }
     if (per_channel) observe_channels();
     refresh_blend();
@@ -378,6 +395,30 @@ class FilterBank {
     log_p_(index) = std::log(p_(index));
     refresh_blend();
   }
+  // Filter k on or off line (header comment; noexcept, no allocation; ignored for k = 0 or out
+  // of range). Off: p_k's mass leaves by conditioning, p_j <- p_j / (1 - p_k) over the live
+  // ones, then the floor; on: p_k = f_k, taken from the others by the floor's rescaling. A
+  // caller that presumes a hypothesis next (a hierarchical switch) sees only presume()'s p.
+  void set_live(int k, bool live) noexcept {
+    if (k <= 0 || k >= size() || static_cast<bool>(live_[k]) == live) return;
+    live_[k] = live ? 1 : 0;
+    any_dead_ = false;
+    for (int i = 0; i < size(); ++i)
+      if (!live_[i]) any_dead_ = true;
+    set_floors(presumed_);
+    if (live) {
+      p_(k) = 0.0;   // the floor below lifts it to f_k
+    } else {
+      const double rest = 1.0 - p_(k);
+      p_(k) = 0.0;
+      if (rest > 0.0) p_ /= rest;
+    }
+    for (int i = 0; i < size(); ++i)
+      log_p_(i) = p_(i) > 0.0 ? std::log(p_(i)) : -std::numeric_limits<double>::infinity();
+    apply_floor();
+    refresh_blend();
+  }
+  bool live(int k) const noexcept { return k >= 0 && k < size() && live_[k]; }
   // f_k of the last presume() (header comment).
   const PVector& floors() const noexcept { return floor_; }
   // Every filter back to x⁻ = 0, no-failure hypothesis presumed, counters zeroed.
@@ -502,6 +543,9 @@ class FilterBank {
       q_ = from.q_;
       log_l_ = from.log_l_;
     }
+    for (int k = 0; k < size(); ++k) live_[k] = from.live_[k];
+    any_dead_ = from.any_dead_;
+    set_floors(presumed_);
     p_ = from.p_;
     log_p_ = from.log_p_;
     rejected_ = from.rejected_;
@@ -596,8 +640,14 @@ class FilterBank {
   void observe_channels() noexcept {
     int best = -1;
     for (int i = 0; i < size(); ++i)
-      if (q_(i) < std::numeric_limits<double>::infinity() && (best < 0 || q_(i) < q_(best))) best = i;
+      if (live_[i] && q_(i) < std::numeric_limits<double>::infinity() && (best < 0 || q_(i) < q_(best))) best = i;
     if (best >= 0) scale_.observe_channels(ZVector(residual(best)), hypotheses_[best].a_inverse());
+  }
+  // q with the off-line filters' entries +inf (left out of a minimum); q itself when all are live.
+  const PVector& live_q(const PVector& q) noexcept {
+    if (!any_dead_) return q;
+    for (int i = 0; i < size(); ++i) q_live_(i) = live_[i] ? q(i) : std::numeric_limits<double>::infinity();
+    return q_live_;
   }
   void load_h_out() noexcept {
     if constexpr (kPacked) packed_.load_h_out(h_out_);
@@ -611,6 +661,11 @@ class FilterBank {
   void set_floors(int index) noexcept {
     const double c0 = hypotheses_[index].tracked_level_offset();
     for (int i = 0; i < size(); ++i) {
+      if (!live_[i]) {   // off line: no floor, p_k = 0
+        floor_(i) = 0.0;
+        log_floor_(i) = -std::numeric_limits<double>::infinity();
+        continue;
+      }
       const double d = hypotheses_[i].tracked_level_offset() - c0;
       const double base = i < head_ ? p_min_head_ : options_.p_min;
       const double log_base = i < head_ ? log_p_min_head_ : log_p_min_;
@@ -623,13 +678,13 @@ class FilterBank {
   void restart_floored_levels() noexcept {
     const Hypothesis& kept = hypotheses_[presumed_];
     for (int i = 0; i < size(); ++i)
-      if (floored_[i] && level_set_[i] && hypotheses_[i].tracks_level())
+      if (floored_[i] && live_[i] && level_set_[i] && hypotheses_[i].tracks_level())
         hypotheses_[i].restart_levels(residual(i), level_.col(i), level_var_.col(i), kept);
   }
   // Water-filling floor (see the header comment); keeps log_p_ consistent with p_.
   void apply_floor() noexcept {
     const int k = size();
-    for (int i = 0; i < k; ++i) floored_[i] = false;
+    for (int i = 0; i < k; ++i) floored_[i] = !live_[i];   // off line: held at f_k = 0
     double floored_sum = 0.0;
     double scale = 1.0;
     for (int iter = 0; iter <= k; ++iter) {
@@ -681,6 +736,9 @@ class FilterBank {
   ResidualScale<K, NZ> scale_{};                  // the turbulence adaptation
   double extra_inv_scale_ = 1.0;                  // set_extra_scale: 1 / s_e (1 = none)
   HypothesisFlags<K> uninformative_;              // note_uninformative
+  HypothesisFlags<K> live_;                       // set_live: filter k on line (all by default)
+  bool any_dead_ = false;                         // some filter off line
+  PVector q_live_;                                // live_q's scratch
   PVector footing_;                               // v_k (note_footing)
   PVector own_ratio_, q_own_;                     // m / m_k (note_uninformative) and q_k m / m_k
   PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)

@@ -47,6 +47,16 @@
 //   or a hold_s < 0 when it is enabled.
 // Hypotheses are looked up by NAME in the ModelBank: "NONE"; singles are the names without
 // '+'; the dual of a and b is "a+b" or "b+a". A missing dual is a construction error.
+// Partial hypotheses (`f16mmae design --partial-loss`): a name "c:MODE" without '+' (e.g.
+// "LS:loss=0.5", surface LS at half its effectiveness), c a single of the bank, is a partial
+// failure of c. Level 0 holds it beside the singles (K = 1 + singles + partials, in the
+// ModelBank's order); it has no duals. Its declaration brings on line the level-1 bank
+//   {NONE, c:MODE, c, c+d for every other single d}
+// (the failure of c in any form; its duals are c's). Every level-1 bank is then smaller than
+// K: its spare slots keep the filters they hold (their hypotheses stay in online()) but are
+// taken off line (FilterBank::set_live(k, false): p_k = 0, no floor; a level-0 switch takes them
+// on line again). A bank without partial hypotheses has no spare slot: bit for bit as before.
+// A scheduled bank with partial hypotheses is a construction error (not supported).
 //
 // Initialisation at a switch (after the update of the frame on which the declaration
 // happened, before its propagate): every filter brought on line starts from the posterior
@@ -109,7 +119,9 @@
 // six Dryden gust states, `f16mmae design --gust-states`; F16ThrottleHierarchicalBank =
 // HierarchicalBank<13, 13, 6, 7>, the 13-state bank with the throttle command as its sixth
 // input, `f16mmae design --throttle-input`; F16GustThrottleHierarchicalBank =
-// HierarchicalBank<13, 19, 6, 7>, both: the turbulence bank set's members) or Eigen::Dynamic
+// HierarchicalBank<13, 19, 6, 7>, both: the turbulence bank set's members;
+// F16PartialHierarchicalBank = HierarchicalBank<18, 13, 5, 7>, the 13-state bank with a partial
+// hypothesis per surface, `f16mmae design --partial-loss F`) or Eigen::Dynamic
 // (DynamicHierarchicalBank, any K = 1 + number of singles).
 // Throws: the constructor throws std::invalid_argument (invalid ModelBank, sizes that do not
 // match the template, a missing hypothesis). update/propagate/step are noexcept and, for
@@ -206,7 +218,7 @@ class HierarchicalBank {
       hypothesis = online_[d];
       record(hypothesis, frame);
       if (level_ == 0 && d != 0) {
-        switch_to(level1_[d - 1], d, 1);
+        switch_to(level1_[d - 1], d, 1, &level1_live_[d - 1]);
       } else if (level_ == 1 && d == 0) {
         switch_to(level0_, 0, 0);
       }
@@ -286,6 +298,8 @@ class HierarchicalBank {
       for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[level0_[k]]);
     online_ = level0_;
     level_ = 0;
+    if (partial_)
+      for (int k = 1; k < size(); ++k) bank_.set_live(k, true);
     set_floors();   // the level-0 floor again (no-op unless level1_p_min)
     bank_.reset();
     declarer_.reset(0);
@@ -411,8 +425,16 @@ class HierarchicalBank {
     std::vector<Model> models;
     Indices level0;
     std::vector<Indices> level1;
+    std::vector<Indices> level1_live;   // 1: the slot is on line at that level-1 bank
+    bool partial = false;               // the bank has partial hypotheses
   };
 
+  // A partial hypothesis' single: "c:MODE" -> "c" (header); "" for any other name.
+  static std::string partial_of(const std::string& name) {
+    const std::size_t colon = name.find(':');
+    if (colon == std::string::npos || name.find('+') != std::string::npos) return std::string();
+    return name.substr(0, colon);
+  }
   static Indices make_indices(int n) {
     Indices idx{};
     if constexpr (!kFixed) idx.assign(n, -1);
@@ -424,13 +446,35 @@ class HierarchicalBank {
   static Built build(const ModelBank& mb) {
     mb.validate();
     Built b;
-    std::vector<int> singles;
-    for (int i = 1; i < static_cast<int>(mb.hypotheses.size()); ++i)
-      if (mb.hypotheses[i].name.find('+') == std::string::npos) singles.push_back(i);
-    const int k = 1 + static_cast<int>(singles.size());
+    std::vector<int> singles, level0;   // level0: the singles and partials in the ModelBank's order
+    for (int i = 1; i < static_cast<int>(mb.hypotheses.size()); ++i) {
+      const std::string& n = mb.hypotheses[i].name;
+      if (n.find('+') != std::string::npos) continue;
+      level0.push_back(i);
+      if (partial_of(n).empty()) singles.push_back(i);
+    }
+    std::vector<int> partial_single;   // per partial hypothesis, the ModelBank index of its single
+    for (int i : level0) {
+      const std::string c = partial_of(mb.hypotheses[i].name);
+      if (c.empty()) continue;
+      const int j = mb.find(c);
+      if (j < 0 || c.find(':') != std::string::npos)
+        throw std::invalid_argument("hierarchical bank: partial hypothesis '" + mb.hypotheses[i].name +
+                                    "' names no single-failure hypothesis of the bank ('" + c + "')");
+      partial_single.push_back(j);
+    }
+    b.partial = !partial_single.empty();
+    if (b.partial && mb.schedule)
+      throw std::invalid_argument("hierarchical bank: a scheduled bank with partial hypotheses is not supported");
+    const int k = 1 + static_cast<int>(level0.size());
     if (kFixed && k != K) {
-      throw std::invalid_argument("hierarchical bank: the model bank has " + std::to_string(singles.size()) +
-                                  " single-failure hypotheses, this bank needs " + std::to_string(K - 1));
+      throw std::invalid_argument("hierarchical bank: the model bank has " + std::to_string(level0.size()) +
+                                  " single-failure hypotheses" +
+                                  (b.partial ? " (" + std::to_string(partial_single.size()) +
+                                                   " of them partial, e.g. '" +
+                                                   mb.hypotheses[level0.back()].name + "')"
+                                             : std::string()) +
+                                  ", this bank needs " + std::to_string(K - 1));
     }
     if (k < 2) throw std::invalid_argument("hierarchical bank: the model bank has no single-failure hypothesis");
     for (const auto& h : mb.hypotheses)
@@ -439,15 +483,22 @@ class HierarchicalBank {
                                "hypothesis '" + h.name + "'"));
     b.level0 = make_indices(k);
     b.level0[0] = 0;
-    for (int s = 0; s < k - 1; ++s) b.level0[s + 1] = singles[s];
+    for (int s = 0; s < k - 1; ++s) b.level0[s + 1] = level0[s];
+    const int n_singles = static_cast<int>(singles.size());
+    int partial_n = 0;
     for (int f = 0; f < k - 1; ++f) {
-      Indices idx = make_indices(k);
+      Indices idx = b.level0;   // spare slots keep their level-0 filters, off line
+      Indices live = make_indices(k);
+      for (int s = 0; s < k; ++s) live[s] = 0;
       idx[0] = 0;
-      idx[1] = singles[f];
+      idx[1] = level0[f];
       int n = 2;
-      const std::string& a = mb.hypotheses[singles[f]].name;
-      for (int c = 0; c < k - 1; ++c) {
-        if (c == f) continue;
+      const bool partial = !partial_of(mb.hypotheses[level0[f]].name).empty();
+      const int single = partial ? partial_single[partial_n++] : level0[f];
+      if (partial) idx[n++] = single;
+      const std::string& a = mb.hypotheses[single].name;
+      for (int c = 0; c < n_singles; ++c) {
+        if (singles[c] == single) continue;
         const std::string& other = mb.hypotheses[singles[c]].name;
         int j = mb.find(a + "+" + other);
         if (j < 0) j = mb.find(other + "+" + a);
@@ -456,7 +507,19 @@ class HierarchicalBank {
                                       other + "' (nor '" + other + "+" + a + "') for the level-1 bank of " + a);
         idx[n++] = j;
       }
+      for (int s = 0; s < n; ++s) live[s] = 1;
+      // the spare slots hold level-0 hypotheses not among the n on line (no name twice), the
+      // partial ones first
+      int spare = n;
+      for (int pass = 0; pass < 2; ++pass)
+        for (int s = 1; s < k && spare < k; ++s) {
+          if (partial_of(mb.hypotheses[b.level0[s]].name).empty() != (pass == 1)) continue;
+          bool on = false;
+          for (int t = 0; t < spare; ++t) on = on || idx[t] == b.level0[s];
+          if (!on) idx[spare++] = b.level0[s];
+        }
       b.level1.push_back(idx);
+      b.level1_live.push_back(live);
     }
     return b;
   }
@@ -499,6 +562,8 @@ class HierarchicalBank {
         declarer1_(level1_declarer(options, mb.frame_rate_hz), 0),
         level0_(b.level0),
         level1_(std::move(b.level1)),
+        level1_live_(std::move(b.level1_live)),
+        partial_(b.partial),
         online_(b.level0),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
         climb_ref_(options.climb_reference, mb.frame_rate_hz),
@@ -614,9 +679,11 @@ class HierarchicalBank {
   // Bring `next` on line; every new filter starts from the declared filter's x⁺ (x⁻ and r
   // zero until the propagate) and the declared hypothesis (at `declared`, its position in
   // the current bank) is presumed. A scheduled bank loads the filters in force.
-  void switch_to(const Indices& next, int declared, int level) noexcept {
+  void switch_to(const Indices& next, int declared, int level, const Indices* live = nullptr) noexcept {
     const XVector x0 = bank_.posterior(declared);
     const int presumed = level == 1 ? 1 : 0;
+    if (partial_)   // spare slots off line at level 1, every slot on line at level 0 (header)
+      for (int k = 1; k < size(); ++k) bank_.set_live(k, live == nullptr || (*live)[k] != 0);
     for (int k = 0; k < size(); ++k) {
       if (sched_.active()) {
         sched_.filter(next[k], scratch_);
@@ -691,7 +758,9 @@ class HierarchicalBank {
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
   Indices level0_;
-  std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of single failure f
+  std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of level-0 hypothesis f + 1 (a single or partial)
+  std::vector<Indices> level1_live_;   // level1_live_[f][k]: slot k on line in it (header)
+  bool partial_ = false;               // partial hypotheses: level-1 banks have spare slots
   Indices online_;
   ZVector z_trim_, z_pert_, dz_, z_shift_;
   UVector u_trim_, u_pert_, du_;
@@ -721,6 +790,9 @@ using F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 using F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>;
 using F16ThrottleHierarchicalBank = HierarchicalBank<13, 13, 6, 7>;
 using F16GustThrottleHierarchicalBank = HierarchicalBank<13, 19, 6, 7>;
+// The 13-state bank with one partial hypothesis per surface (`f16mmae design --partial-loss F`):
+// 18 filters on line at level 0 (header).
+using F16PartialHierarchicalBank = HierarchicalBank<18, 13, 5, 7>;
 using DynamicHierarchicalBank =
     HierarchicalBank<Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic, Eigen::Dynamic>;
 

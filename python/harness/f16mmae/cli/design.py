@@ -126,6 +126,11 @@ def register(subparsers) -> None:
     p.add_argument("--throttle-input", action="store_true",
                    help="model the throttle command as a sixth input (JSBSim's linearization column; "
                         "the closed loop flies the throttle dither with such a bank)")
+    p.add_argument("--partial-loss", default=None, metavar="F[,F...]",
+                   help="add one partial-loss hypothesis per surface and F, the surface having lost the fraction "
+                        "F of its effectiveness (0 < F < 1, as campaign detectability --losses; named C:loss=R, "
+                        "R = 1 - F kept, as the truth's C@T:loss=R), to the level-0 bank (13 + 5 per F filters; "
+                        "design/hypotheses.py); one design point only")
     p.add_argument("--out", default=None, metavar="FILE",
                    help="bank file to write (default ./f16mmae_M<mach>_<alt>ft_<tuning>.f16bank)")
     p.add_argument("--report", default=None, metavar="DIR",
@@ -161,7 +166,23 @@ def register(subparsers) -> None:
     p.set_defaults(func=_run)
 
 
+def _partial_loss(text: str) -> tuple[float, ...]:
+    """The --partial-loss fractions (CliError naming a bad one)."""
+    out = []
+    for part in text.split(","):
+        f = number("--partial-loss", part.strip())
+        if not 0.0 < f < 1.0:
+            raise CliError(f"--partial-loss {part.strip()}: the fraction of effectiveness lost F must lie in (0, 1)")
+        if f in out:
+            raise CliError(f"--partial-loss {text}: {part.strip()} is given twice")
+        out.append(f)
+    return tuple(out)
+
+
 def _run(args) -> int:
+    if args.partial_loss is not None and (args.turbulence_banks or args.schedule is not None):
+        raise CliError("--partial-loss designs one point's bank; it is not supported with --schedule or "
+                       "--turbulence-banks")
     if args.turbulence_banks:
         return _run_turbulence_banks(args)
     if args.schedule is not None:
@@ -204,12 +225,14 @@ def _run(args) -> int:
             raise CliError(f"--failed-sensor-level-q {args.failed_sensor_level_q} must be >= 0 "
                            "and needs the cover failure model for some component (e.g. --failure-model cover)")
         tuning = dataclasses.replace(tuning, name=f"{tuning.name}-q{w:g}", failed_sensor_level_q=w)
+    partial = _partial_loss(args.partial_loss) if args.partial_loss is not None else ()
     thr = "_throttle" if args.throttle_input else ""
+    thr += "".join(f"_partial{f:g}" for f in partial)
     out = writable_file(args.out or f"f16mmae_M{mach:.2f}_{alt_ft:.0f}ft_{tuning.name}{thr}.f16bank", "--out")
     report_dir = writable_dir(args.report, "--report") if args.report else None  # before the design
     t0 = time.perf_counter()
     try:
-        design = design_bank(mach, alt_ft, tuning, throttle_input=args.throttle_input)
+        design = design_bank(mach, alt_ft, tuning, throttle_input=args.throttle_input, partial_loss=partial)
     except TrimError as exc:
         raise CliError(str(exc)) from None
     except DesignError as exc:

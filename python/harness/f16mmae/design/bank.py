@@ -15,6 +15,12 @@ Pipeline (``design_bank``)::
       -> core.ModelBank (u_trim, z_trim, h_output = unfailed H, the recommended estimator
          settings p_min / threshold / dwell_s, metadata JSON) -> file (format version 3)
 
+``partial_loss=(F, ...)`` (``f16mmae design --partial-loss F``): after the 79, one partial
+hypothesis per surface and fraction lost F (``"LS:loss=0.5"``: the surface keeps 1 - F of its
+effectiveness, hypotheses.py), which the core puts in the level-0 bank beside the singles
+(13 + 5 per fraction filters; cpp/f16mmae/hierarchical_bank.h). Off by default: the banks
+without it are unchanged, byte for byte.
+
 ``throttle_input=True`` (``f16mmae design --throttle-input``): the throttle command is the
 model's sixth input (model.py: its column from JSBSim's linearization), in every hypothesis;
 the bank's inputs are ``names.INPUTS_WITH_THROTTLE`` (LS RS LF RF RUD THR), its u_trim ends
@@ -39,7 +45,7 @@ from ..truth import actuators, sensors
 from .discretize import DiscreteModel, discretize
 from .gains import SteadyStateGains, steady_state_gains
 from .hypotheses import (HypothesisModel, covered_surfaces, hypothesis_dynamics, hypothesis_model,
-                         uninformative_level_q, uninformative_width)
+                         parse_partial, partial_hypotheses, uninformative_level_q, uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
 from .tuning import Tuning, available_tunings, load_tuning
 
@@ -100,6 +106,16 @@ class BankDesign:
     def h_output(self) -> np.ndarray:
         return self.continuous.h
 
+    @property
+    def partial_loss(self) -> tuple[float, ...]:
+        """The fractions lost F of the bank's partial hypotheses (``--partial-loss``), in order."""
+        out = []
+        for f in self.filters:
+            p = parse_partial(f.name)
+            if p is not None and round(1.0 - p[1], 12) not in out:
+                out.append(round(1.0 - p[1], 12))
+        return tuple(out)
+
     def filter(self, name: str) -> FilterDesign:
         for f in self.filters:
             if f.name == name:
@@ -117,7 +133,9 @@ class BankDesign:
             "jsbsim_version": jsbsim.__version__,
             "command": (f"f16mmae design --mach {self.mach:g} --alt-ft {self.alt_ft:g} "
                         f"--tuning {tuning_arguments(self.tuning)}"
-                        + (" --throttle-input" if self.throttle_input else "")),
+                        + (" --throttle-input" if self.throttle_input else "")
+                        + (f" --partial-loss {','.join(f'{f:g}' for f in self.partial_loss)}"
+                           if self.partial_loss else "")),
             "flight_condition": {"mach": self.mach, "alt_ft": self.alt_ft},
             "trim": {"vt_fps": trim.vt_fps, "alpha_rad": trim.alpha_rad,
                      "theta_rad": trim.theta_rad, "throttle": trim.throttle,
@@ -139,6 +157,8 @@ class BankDesign:
         }
         if self.throttle_input:  # only then: the banks without it keep their bytes
             out["model"]["throttle_column_per_unit"] = self.linearized.throttle_column.tolist()
+        if self.partial_loss:  # likewise
+            out["partial_loss"] = list(self.partial_loss)
         return out
 
 
@@ -213,16 +233,20 @@ def design_filters(models: list[HypothesisModel], r: np.ndarray) -> tuple[Filter
 def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
                 tuning: Tuning | str = "tuned", frame_rate_hz: float = names.FRAME_RATE_HZ,
                 hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES,
-                linearized: LinearizedTrim | None = None, throttle_input: bool = False) -> BankDesign:
+                linearized: LinearizedTrim | None = None, throttle_input: bool = False,
+                partial_loss=()) -> BankDesign:
     """Design the bank at (mach, alt_ft) with a tuning (a Tuning, a shipped name or a path);
     ``throttle_input``: the throttle as the sixth modelled input (module docstring; a given
-    ``linearized`` must then carry its throttle column).
+    ``linearized`` must then carry its throttle column); ``partial_loss``: fractions lost F, one
+    partial hypothesis per surface and F after ``hypotheses`` (module docstring; ValueError for
+    an F outside (0, 1)).
 
     Raises ValueError for a flight condition outside Mach 0.3-0.8 / 5,000-35,000 ft,
     TuningError for a bad tuning, aircraft.TrimError when the truth cannot trim, DesignError
     when a hypothesis filter would be unstable."""
     if isinstance(tuning, (str, Path)):
         tuning = load_tuning(tuning)
+    hypotheses = tuple(hypotheses) + partial_hypotheses(partial_loss)
     if not frame_rate_hz > 0:
         raise ValueError(f"frame_rate_hz must be positive, got {frame_rate_hz}")
     if linearized is None:

@@ -54,7 +54,7 @@ def excursions(model_bank, flights) -> list[dict[str, int]]:
     settings = {**model_bank.estimator_settings, "dwell_s": MEASURE_DWELL_S}
     threshold = float(settings["threshold"])
     bank = core.HierarchicalBank(model_bank, **settings)
-    hyps = list(model_bank.hypothesis_names[:names.K_BANK])
+    hyps = list(bank.hypotheses)   # the level-0 bank (its partial hypotheses too, if it has any)
     out = []
     for fl in flights:
         bank.reset()
@@ -81,7 +81,9 @@ def longest_excursion(model_bank, flights) -> list[tuple[int, str]]:
     """Per flight, ``(L, hypothesis)``: the longest of the flight's ``excursions`` and which
     hypothesis held it (``"NONE"``, 0 when none rises above the threshold; the first in bank
     order on a tie)."""
-    hyps = list(model_bank.hypothesis_names[:names.K_BANK])
+    from .. import core
+
+    hyps = list(core.HierarchicalBank(model_bank).hypotheses)
     out = []
     for longest in excursions(model_bank, flights):
         best, who = 0, names.NONE

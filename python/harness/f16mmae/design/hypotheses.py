@@ -58,6 +58,18 @@ no-failure model, in one of two failure models (``FAILURE_MODELS``, the tuning's
   healthy reading that moves with the aircraft costs it every frame it leaves the level.
   Only sensors with a ``TRIM_SIGMA`` take it (ValueError naming them otherwise).
 
+Partial loss (``f16mmae design --partial-loss F``, F the fraction of effectiveness lost, as
+``f16mmae campaign detectability --losses``; with any failure model):
+
+- Partial hypothesis ``"C:loss=R"`` of surface C (``partial_name``), R = 1 - F the fraction of
+  its effectiveness it keeps, 0 < R < 1 -- named as the truth's failure mode it matches,
+  ``C@T:loss=R`` (the surface moves R times its command about the trim). The no-failure model
+  with C's column of ``B`` scaled by R = 1 - F: ``B_d`` is linear in each column of ``B``, so
+  the discrete column is scaled by R exactly; ``Phi``, ``H``, ``Q_d`` are the no-failure ones.
+  One such hypothesis per surface and fraction joins the level-0 bank (the core:
+  cpp/f16mmae/hierarchical_bank.h); it has no duals -- its declaration brings on line the
+  level-1 bank of C's failure in any form.
+
 A dual hypothesis ``"A+B"`` applies both changes. ``R`` is the same in every hypothesis; so
 are ``Phi`` and ``Q_d`` except for a ``cover`` actuator hypothesis.
 
@@ -95,6 +107,60 @@ CONSTANT_HALF_WIDTH_SIGMAS = 3.0
 #: The ``constant`` model's level random walk per frame in units of the sensor's noise
 #: variance: the level drifts one noise sigma in 1e6 frames (4.3 h at 64 Hz), a constant.
 CONSTANT_LEVEL_Q_RATIO = 1e-6
+
+
+#: The mode a partial hypothesis names (the truth's failure mode of the same meaning).
+PARTIAL_MODE = "loss"
+
+
+def partial_name(surface: str, fraction: float) -> str:
+    """The partial hypothesis of ``surface`` keeping ``fraction`` R of its effectiveness:
+    ``"LS:loss=0.5"``. ValueError for a component that is no surface or R outside (0, 1)."""
+    if surface not in names.ACTUATORS:
+        raise ValueError(f"a partial-loss hypothesis needs a surface, got {surface!r}; valid: "
+                         f"{', '.join(names.ACTUATORS)}")
+    f = float(fraction)
+    if not 0.0 < f < 1.0:
+        raise ValueError(f"partial loss: the remaining effectiveness must lie in (0, 1), got {fraction!r}")
+    return f"{surface}:{PARTIAL_MODE}={f:g}"
+
+
+def parse_partial(name: str) -> tuple[str, float] | None:
+    """``(surface, R)`` (R the effectiveness kept) of a partial hypothesis name (``partial_name``), None for any other
+    hypothesis name (NONE, singles, duals). ValueError for a malformed partial name."""
+    if ":" not in name or "+" in name:
+        return None
+    surface, _, mode = name.partition(":")
+    key, _, value = mode.partition("=")
+    try:
+        f = float(value)
+    except ValueError:
+        raise ValueError(f"partial hypothesis {name!r}: expected SURFACE:{PARTIAL_MODE}=R") from None
+    if key != PARTIAL_MODE:
+        raise ValueError(f"partial hypothesis {name!r}: expected SURFACE:{PARTIAL_MODE}=R")
+    if partial_name(surface, f) != name:
+        raise ValueError(f"partial hypothesis {name!r} is not in canonical form {partial_name(surface, f)!r}")
+    return surface, f
+
+
+def isolated_component(name: str) -> str:
+    """The hypothesis a declaration of ``name`` isolates, for scoring: a partial hypothesis'
+    surface (``"LS:loss=0.5" -> "LS"``; a failure of the surface in any mode), any other name
+    itself."""
+    p = parse_partial(name)
+    return name if p is None else p[0]
+
+
+def partial_hypotheses(losses) -> tuple[str, ...]:
+    """One partial hypothesis per surface and fraction lost F (``names.ACTUATORS`` order within
+    each F), each keeping R = 1 - F; ValueError for an F outside (0, 1) or given twice."""
+    fr = [float(f) for f in losses]
+    if len(set(fr)) != len(fr):
+        raise ValueError(f"partial loss: a fraction is given twice in {losses!r}")
+    for f in fr:
+        if not 0.0 < f < 1.0:
+            raise ValueError(f"partial loss: the fraction lost must lie in (0, 1), got {f!r}")
+    return tuple(partial_name(s, round(1.0 - f, 12)) for f in fr for s in names.ACTUATORS)
 
 
 @dataclass(frozen=True)
@@ -196,6 +262,11 @@ def failure_model_table(failure_model):
                                    for m in FAILURE_MODELS if m != default and m in per.values()}}
 
 
+def _failed(name: str) -> tuple[str, ...]:
+    """The components hypothesis ``name`` fails whole (a partial hypothesis: none)."""
+    return () if parse_partial(name) is not None else names.failed_components(name)
+
+
 def uses_cover(failure_model) -> bool:
     """Whether any component takes the ``cover`` model."""
     return "cover" in component_models(failure_model).values()
@@ -220,7 +291,7 @@ def uninformative_level_q(name: str, failure_model, ratio) -> np.ndarray:
     ratio = np.broadcast_to(np.asarray(ratio, dtype=float), (names.NZ,))
     per = component_models(failure_model)
     out = np.zeros(names.NZ)
-    for comp in names.failed_components(name):
+    for comp in _failed(name):
         if comp in names.SENSORS and per[comp] in ("cover", "constant"):
             j = names.SENSORS.index(comp)
             out[j] = (float(ratio[j]) if per[comp] == "cover" else CONSTANT_LEVEL_Q_RATIO) * noise_var[j]
@@ -234,7 +305,7 @@ def uninformative_width(name: str, failure_model) -> np.ndarray:
     out = np.zeros(names.NZ)
     per = component_models(failure_model)
     full = sensor_full_range()
-    for comp in names.failed_components(name):
+    for comp in _failed(name):
         if comp in names.SENSORS and per[comp] == "cover":
             out[names.SENSORS.index(comp)] = full[names.SENSORS.index(comp)]
         elif comp in names.SENSORS and per[comp] == "constant":
@@ -245,7 +316,7 @@ def uninformative_width(name: str, failure_model) -> np.ndarray:
 def covered_surfaces(name: str, failure_model) -> tuple[str, ...]:
     """The failed actuators of hypothesis ``name`` whose model is ``cover`` (a random walk)."""
     per = component_models(failure_model)
-    return tuple(c for c in names.failed_components(name) if c in names.ACTUATORS and per[c] == "cover")
+    return tuple(c for c in _failed(name) if c in names.ACTUATORS and per[c] == "cover")
 
 
 def hypothesis_dynamics(name: str, f: np.ndarray, gqg: np.ndarray, failed_surface_q,
@@ -275,7 +346,10 @@ def hypothesis_model(name: str, phi: np.ndarray, bd: np.ndarray, h: np.ndarray,
     unknown component."""
     bd_k = np.array(bd, dtype=float, copy=True)
     h_k = np.array(h, dtype=float, copy=True)
-    for comp in names.failed_components(name):
+    partial = parse_partial(name)
+    if partial is not None:
+        bd_k[:, names.ACTUATORS.index(partial[0])] *= partial[1]
+    for comp in (() if partial is not None else names.failed_components(name)):
         if comp in names.ACTUATORS:
             bd_k[:, names.ACTUATORS.index(comp)] = 0.0
         else:

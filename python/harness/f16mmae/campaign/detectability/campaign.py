@@ -167,8 +167,9 @@ def run_spec(spec: dict) -> dict:
     keep = ("run_key", "family", "component", "size", "value", "run_index", "seed", "bank", "tuning", "bank_hash",
             "version", "scenario", "estimator")
     return {**{k: spec[k] for k in keep}, "kind": "detectability", "failure_time_s": onset,
-            "declarations": result.declarations,
-            **score_detection(spec["component"], onset, result.declarations, scenario.duration_s), "timing": result.timing}
+            "declarations": scoring.isolating_declarations(result.declarations),   # partial: its surface
+            **score_detection(spec["component"], onset, scoring.isolating_declarations(result.declarations),
+                              scenario.duration_s), "timing": result.timing}
 
 
 def describe_spec(spec: dict) -> str:

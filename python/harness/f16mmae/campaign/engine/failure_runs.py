@@ -82,7 +82,8 @@ def run_spec(spec: dict) -> dict:
     result = fly(scenario, bank, estimator_options=spec["estimator"], record_probabilities=True)
     case = spec["case"]
     failure_time = scenario.failures[0].time_s if case != NONE else None
-    scored = scoring.score_run(case, failure_time, result.declarations)
+    declarations = scoring.isolating_declarations(result.declarations)   # partial hypotheses: their surface
+    scored = scoring.score_run(case, failure_time, declarations)
     return {
         "run_key": spec["run_key"],
         "kind": "single",
@@ -98,9 +99,11 @@ def run_spec(spec: dict) -> dict:
         "estimator_settings": result.estimator_settings,  # in force: bank's recommended + overrides
         "failure_time_s": failure_time,
         "failures": result.failures,
-        "declarations": result.declarations,
+        "declarations": declarations,
+        **({"declared_hypotheses": [d["hypothesis"] for d in result.declarations]}
+           if declarations != list(result.declarations) else {}),
         **scored,
-        **outcomes.run_fields(result.declarations, failure_time, {case}, scenario.duration_s),
+        **outcomes.run_fields(declarations, failure_time, {case}, scenario.duration_s),
         "p_injected": stored_history(result.probability_of(case)),
         "p_injected_dt_s": P_INJECTED_DECIMATION * result.frame_dt_s,
         "timing": result.timing,

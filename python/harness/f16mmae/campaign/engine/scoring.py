@@ -17,6 +17,13 @@ and ``t_f`` the first failure time:
 * ``latency_s`` = (time of the first declaration of ``h*`` at or after ``t_f``) - ``t_f``;
   ``None`` when there is no such declaration (and always for no-failure runs).
 
+A partial hypothesis' declaration (``"LS:loss=0.5"``, ``f16mmae design --partial-loss``) is
+scored as the isolation of its surface, in whatever mode the surface failed
+(``isolating_declarations``; design/hypotheses.py ``isolated_component``): the campaign's
+injected hypothesis names the component, not its mode, and the decision a declaration hands
+the flight control system -- stop trusting that surface -- is the same, as a surface's own
+hypothesis already counts for its partial loss.
+
 Per case (``summarize_case``): counts of the outcomes and of runs with a false alarm;
 latency median and 95th percentile (linear interpolation between order statistics,
 numpy's default) over the runs that have a latency (``latency_detected_runs`` of them);
@@ -45,6 +52,17 @@ def expected_hypothesis(failure_names: Sequence[str]) -> str:
     if len(names) == 2:
         return dual_name(names[0], names[1])
     return "+".join(names)  # no bank holds it: such a run can only be missed or wrong
+
+
+def isolating_declarations(declarations: Sequence[dict]) -> list[dict]:
+    """The declarations with each hypothesis replaced by what it isolates (module docstring):
+    a partial hypothesis by its surface, every other name kept; the same dicts when none is
+    partial."""
+    from ...design.hypotheses import isolated_component
+
+    if all(isolated_component(d["hypothesis"]) == d["hypothesis"] for d in declarations):
+        return list(declarations)
+    return [{**d, "hypothesis": isolated_component(d["hypothesis"])} for d in declarations]
 
 
 def score_run(injected: str, failure_time_s: float | None, declarations: Sequence[dict]) -> dict:

@@ -439,6 +439,8 @@ declarations and the level carry over. schedule_state reports what is in force.)
                              "trim tracking held its estimate on the last frame")
       .def_property_readonly("trim_frozen_frames", prop([](auto& b) { return b.trim_tracker().frozen_frames(); }),
                              "frames on which trim tracking held its estimate, since reset")
+      .def_property_readonly("maneuvering", prop([](auto& b) { return b.maneuver_dwell().maneuvering(); }),
+                             "the maneuver dwell's gate on this frame (maneuver_dwell.h; False when it is off)")
       .def_property_readonly("frames", prop([](auto& b) { return b.frames(); }), "update calls so far")
       .def_property_readonly("frame_rate_hz", prop([](auto& b) { return b.frame_rate_hz(); }))
       .def_property_readonly("u_trim", prop([](auto& b) { return cv::to_numpy(b.u_trim()); }))

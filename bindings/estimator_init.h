@@ -31,6 +31,8 @@
 //   adapt_own_channels                                                  turbulence_adaptation.h
 //   adapt_reference_climb (None: off), adapt_reference_climb_hold_s,
 //   adapt_reference_climb_dwell_s (0: the declarer's dwell)             climb_reference.h
+//   maneuver_dwell_s (0: the declarer's dwell), maneuver_reference (None: off),
+//   maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s  maneuver_dwell.h
 //   maneuver_kinematics, maneuver_tempering_g,
 //   maneuver_tempering_deadband_g (0: none)                             maneuver_kinematics.h
 //   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
@@ -72,6 +74,9 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              const std::optional<double>& adapt_reference_climb,
                                              double adapt_reference_climb_hold_s,
                                              double adapt_reference_climb_dwell_s,
+                                             double maneuver_dwell_s, const std::optional<double>& maneuver_reference,
+                                             double maneuver_dwell_hold_s, double maneuver_dwell_g,
+                                             double maneuver_dwell_time_constant_s,
                                              bool maneuver_kinematics, double maneuver_tempering_g,
                                              double maneuver_tempering_deadband_g,
                                              const std::vector<double>& actuator_rate_limits_rad_s,
@@ -124,6 +129,11 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   if (adapt_reference_climb) o.climb_reference.reference = *adapt_reference_climb;
   o.climb_reference.hold_s = adapt_reference_climb_hold_s;
   o.climb_reference.dwell_s = adapt_reference_climb_dwell_s;
+  o.maneuver_dwell.dwell_s = maneuver_dwell_s;
+  if (maneuver_reference) o.maneuver_dwell.reference = *maneuver_reference;
+  o.maneuver_dwell.hold_s = maneuver_dwell_hold_s;
+  o.maneuver_dwell.g = maneuver_dwell_g;
+  o.maneuver_dwell.time_constant_s = maneuver_dwell_time_constant_s;
   o.declarer.threshold = threshold;
   o.declarer.dwell_s = dwell_s;
   if (!declarer.is_none()) {
@@ -155,6 +165,8 @@ Class& def_estimator_init(Class& cls) {
                   const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
                   const std::optional<double>& adapt_reference_climb,
                   double adapt_reference_climb_hold_s, double adapt_reference_climb_dwell_s,
+                  double maneuver_dwell_s, const std::optional<double>& maneuver_reference,
+                  double maneuver_dwell_hold_s, double maneuver_dwell_g, double maneuver_dwell_time_constant_s,
                   bool maneuver_kinematics,
                   double maneuver_tempering_g, double maneuver_tempering_deadband_g,
                   const std::vector<double>& actuator_rate_limits_rad_s,
@@ -167,7 +179,9 @@ Class& def_estimator_init(Class& cls) {
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
                                              adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_reference_climb, adapt_reference_climb_hold_s,
-                                             adapt_reference_climb_dwell_s, maneuver_kinematics, maneuver_tempering_g,
+                                             adapt_reference_climb_dwell_s, maneuver_dwell_s, maneuver_reference,
+                                             maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s,
+                                             maneuver_kinematics, maneuver_tempering_g,
                                              maneuver_tempering_deadband_g, actuator_rate_limits_rad_s, actuator_position_limits_rad));
       }),
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
@@ -196,6 +210,10 @@ Class& def_estimator_init(Class& cls) {
       py::arg("adapt_reference_climb") = py::none(),
       py::arg("adapt_reference_climb_hold_s") = core.climb_reference.hold_s,
       py::arg("adapt_reference_climb_dwell_s") = core.climb_reference.dwell_s,
+      py::arg("maneuver_dwell_s") = core.maneuver_dwell.dwell_s, py::arg("maneuver_reference") = py::none(),
+      py::arg("maneuver_dwell_hold_s") = core.maneuver_dwell.hold_s,
+      py::arg("maneuver_dwell_g") = core.maneuver_dwell.g,
+      py::arg("maneuver_dwell_time_constant_s") = core.maneuver_dwell.time_constant_s,
       py::arg("maneuver_kinematics") = core.maneuver.kinematics,
       py::arg("maneuver_tempering_g") = core.maneuver.tempering_g,
       py::arg("maneuver_tempering_deadband_g") = core.maneuver.tempering_deadband_g,

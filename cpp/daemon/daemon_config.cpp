@@ -19,9 +19,14 @@ std::string daemon_usage() {
          "                   [--adapt-turbulence] [--adapt-reference RHO] [--adapt-own-channels]\n"
          "                   [--adapt-reference-climb RHO]\n"
          "                   [--adapt-reference-climb-hold S] [--adapt-reference-climb-dwell S]\n"
+         "                   [--adapt-channel-weight G]\n"
+         "                   [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]\n"
+         "                   [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]\n"
+         "                   [--level1-p-min P] [--level1-dwell-s S] [--departure-hold on|off]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
-         "                   [--maneuver-kinematics] [--maneuver-tempering G] [--actuator-rate-limits R1,...,R5[,inf]]\n"
+         "                   [--maneuver-kinematics] [--maneuver-tempering G] [--maneuver-tempering-deadband D]\n"
+         "                   [--actuator-rate-limits R1,...,R5[,inf]]\n"
          "                   [--actuator-position-limits L1,...,L5[,inf]]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
          "                   [--rewarm-us US] [--auth-key FILE] [--bank-public-key FILE] [--quiet]\n"
@@ -63,6 +68,26 @@ std::string daemon_usage() {
          "                       while that reference is in force (the climb, descent or speed\n"
          "                       change and its hold) needs S s above the threshold instead of\n"
          "                       the dwell (0-60; default 0: the dwell everywhere)\n"
+         "  --adapt-channel-weight G  with --adapt-turbulence or --turbulence-banks: temper each\n"
+         "                       channel by s^(1-G) s_j^G, s_j its own scale (0-1; default 0: one\n"
+         "                       scale common to all)\n"
+         "  --maneuver-dwell S   a level-0 declaration needs S s above the threshold while the\n"
+         "                       aircraft maneuvers (the estimated load factor, low-passed, off\n"
+         "                       the trim by more than --maneuver-dwell-g, or the air data climb\n"
+         "                       or change Mach) and for --maneuver-dwell-hold after; elsewhere\n"
+         "                       the dwell (0-60; default 0: the dwell everywhere)\n"
+         "  --maneuver-dwell-hold S  with --maneuver-dwell: its hold after a maneuver (0-3600; default 0)\n"
+         "  --maneuver-dwell-g G  with --maneuver-dwell: the load-factor gate, g (> 0, <= 10; default 0.1)\n"
+         "  --maneuver-dwell-time-constant TAU_S  with --maneuver-dwell: the load factor's low-pass\n"
+         "                       (s, 0-60; 0: none; default 2)\n"
+         "  --maneuver-reference RHO  with --adapt-turbulence: the adaptation's reference while\n"
+         "                       the aircraft maneuvers (that gate), unless the climb reference is\n"
+         "                       in force (0-100; default: off)\n"
+         "  --level1-p-min P     the floor while a failure's level-1 (dual) bank is on line\n"
+         "                       (>= 0, below (1 - threshold)/12; default 0: the level-0 floor)\n"
+         "  --level1-dwell-s S   the dwell while it is on line (0-60; default 0: the dwell)\n"
+         "  --departure-hold on|off  level 1: declare nothing while the measurements leave the\n"
+         "                       linearization, nor 1 s after (default on)\n"
          "  --trim-tracking TAU_S  track the trim on line with time constant TAU_S s (e.g. 30),\n"
          "                       frozen while a failure hypothesis rises or is declared\n"
          "  --trim-freeze-probability P  with --trim-tracking: a failure hypothesis above P\n"
@@ -82,6 +107,8 @@ std::string daemon_usage() {
          "  --maneuver-tempering G  divide every likelihood by 1 + (dn/G)^2, dn the estimated\n"
          "                       load factor off trim, g (> 0; default: off, with\n"
          "                       --turbulence-banks the set file's recommended tempering)\n"
+         "  --maneuver-tempering-deadband D  with --maneuver-tempering: only the load factor\n"
+         "                       beyond D g tempers (0-10; default 0: no dead band)\n"
          "  --actuator-rate-limits R1,...,R5 and --actuator-position-limits L1,...,L5\n"
          "                       the actuators' rate (rad/s) and position (rad) limits, one per\n"
          "                       input, applied to the commands the filters see (both or none;\n"
@@ -184,14 +211,21 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--adapt-reference-climb-dwell" ||
                        key == "--maneuver-tempering" || key == "--actuator-rate-limits" ||
                        key == "--actuator-position-limits" || key == "--start-up-s" ||
-                       key == "--air-data-time-constant";
+                       key == "--air-data-time-constant" || key == "--adapt-channel-weight" ||
+                       key == "--maneuver-dwell" || key == "--maneuver-dwell-hold" || key == "--maneuver-dwell-g" ||
+                       key == "--maneuver-dwell-time-constant" || key == "--maneuver-reference" ||
+                       key == "--maneuver-tempering-deadband" || key == "--level1-p-min" ||
+                       key == "--level1-dwell-s" || key == "--departure-hold";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-own-channels, "
                          "--adapt-reference-climb, "
-                         "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --turbulence-banks, --trim-tracking, "
+                         "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
+                         "--maneuver-dwell, --maneuver-dwell-hold, --maneuver-dwell-g, --maneuver-dwell-time-constant, "
+                         "--maneuver-reference, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
+                         "--departure-hold, --trim-tracking, "
                          "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
@@ -265,6 +299,54 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
         return usage_error("--adapt-reference-climb-dwell must be a time in seconds in [0, " +
                            f16mmae::format_value(f16mmae::kMaxDwellS) + "] (0: the dwell), got '" + value + "'");
       c.adapt_reference_climb_dwell_s = *dwell;
+    } else if (key == "--adapt-channel-weight") {
+      const std::optional<double> w = finite_number(value);
+      if (!w || *w < 0.0 || *w > 1.0)
+        return usage_error("--adapt-channel-weight must be a weight in [0, 1], got '" + value + "'");
+      c.adapt_channel_weight = *w;
+    } else if (key == "--maneuver-dwell" || key == "--level1-dwell-s") {
+      const std::optional<double> dwell = finite_number(value);
+      if (!dwell || *dwell < 0.0 || *dwell > f16mmae::kMaxDwellS)
+        return usage_error(key + " must be a time in seconds in [0, " + f16mmae::format_value(f16mmae::kMaxDwellS) +
+                           "] (0: the dwell), got '" + value + "'");
+      (key == "--maneuver-dwell" ? c.maneuver_dwell_s : c.level1_dwell_s) = *dwell;
+    } else if (key == "--maneuver-dwell-hold") {
+      const std::optional<double> hold = finite_number(value);
+      if (!hold || *hold < 0.0 || *hold > 3600.0)
+        return usage_error("--maneuver-dwell-hold must be a time in seconds in [0, 3600], got '" + value + "'");
+      c.maneuver_dwell_hold_s = *hold;
+    } else if (key == "--maneuver-dwell-g") {
+      const std::optional<double> g = finite_number(value);
+      if (!g || *g <= 0.0 || *g > 10.0)
+        return usage_error("--maneuver-dwell-g must be a load factor in g, > 0 and <= 10, got '" + value + "'");
+      c.maneuver_dwell_g = *g;
+    } else if (key == "--maneuver-dwell-time-constant") {
+      const std::optional<double> tau = finite_number(value);
+      if (!tau || *tau < 0.0 || *tau > 60.0)
+        return usage_error("--maneuver-dwell-time-constant must be a time constant in seconds in [0, 60] (0: no "
+                           "low-pass), got '" + value + "'");
+      c.maneuver_dwell_time_constant_s = *tau;
+    } else if (key == "--maneuver-reference") {
+      const std::optional<double> rho = finite_number(value);
+      if (!rho || *rho < 0.0 || *rho > 100.0)
+        return usage_error("--maneuver-reference must be a power ratio in [0, 100], got '" + value + "'");
+      c.maneuver_reference = *rho;
+    } else if (key == "--maneuver-tempering-deadband") {
+      const std::optional<double> d = finite_number(value);
+      if (!d || *d < 0.0 || *d > 10.0)
+        return usage_error("--maneuver-tempering-deadband must be a load factor in g in [0, 10], got '" + value + "'");
+      c.maneuver_tempering_deadband_g = *d;
+    } else if (key == "--level1-p-min") {
+      const std::optional<double> p = finite_number(value);
+      // the bound (1 - threshold)/(K - 1) depends on the threshold and the bank: the core checks it
+      if (!p || *p < 0.0 || *p >= 1.0)
+        return usage_error("--level1-p-min must be a probability in [0, 1) (and below (1 - threshold)/12 for the "
+                           "F-16 bank), got '" + value + "'");
+      c.level1_p_min = *p;
+    } else if (key == "--departure-hold") {
+      if (value != "on" && value != "off")
+        return usage_error("--departure-hold must be on or off, got '" + value + "'");
+      c.departure_hold = value == "on";
     } else if (key == "--schedule-mode") {
       if (value != "interpolate" && value != "nearest")
         return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
@@ -330,6 +412,16 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     return usage_error("--adapt-reference-climb-hold applies with --adapt-reference-climb only");
   if (c.adapt_reference_climb_dwell_s && !c.adapt_reference_climb)
     return usage_error("--adapt-reference-climb-dwell applies with --adapt-reference-climb only");
+  if ((c.maneuver_dwell_hold_s || c.maneuver_dwell_g || c.maneuver_dwell_time_constant_s) &&
+      !(c.maneuver_dwell_s && *c.maneuver_dwell_s > 0.0))
+    return usage_error(std::string(c.maneuver_dwell_hold_s ? "--maneuver-dwell-hold"
+                                   : c.maneuver_dwell_g    ? "--maneuver-dwell-g"
+                                                           : "--maneuver-dwell-time-constant") +
+                       " applies with --maneuver-dwell S > 0 only");
+  if (c.maneuver_reference && !c.adapt_turbulence)
+    return usage_error("--maneuver-reference applies with --adapt-turbulence only");
+  if (c.maneuver_tempering_deadband_g && c.maneuver_tempering_g == 0.0)
+    return usage_error("--maneuver-tempering-deadband applies with --maneuver-tempering only");
   if (c.trim_steady_g > 0.0 && c.trim_time_constant_s == 0.0)
     return usage_error("--trim-tracking-steady applies with --trim-tracking only");
   if (c.adapt_reference && !c.adapt_turbulence)

@@ -4,10 +4,14 @@
 //               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence] [--adapt-reference RHO]
 //               [--adapt-own-channels]
 //               [--adapt-reference-climb RHO] [--adapt-reference-climb-hold S]
-//               [--adapt-reference-climb-dwell S]
+//               [--adapt-reference-climb-dwell S] [--adapt-channel-weight G]
+//               [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]
+//               [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]
+//               [--level1-p-min P] [--level1-dwell-s S] [--departure-hold on|off]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]
 //               [--schedule-mode M]
 //               [--air-data-time-constant TAU_S] [--maneuver-kinematics] [--maneuver-tempering G]
+//               [--maneuver-tempering-deadband D]
 //               [--actuator-rate-limits R,...] [--actuator-position-limits L,...]
 //               [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--rewarm-us US]
 //               [--auth-key FILE] [--bank-public-key FILE] [--quiet]
@@ -50,6 +54,13 @@ struct DaemonConfig {
   std::optional<double> adapt_reference_climb;  // rho_0 while climbing (climb_reference.h), with adapt_turbulence
   std::optional<double> adapt_reference_climb_hold_s;  // its hold, with adapt_reference_climb
   std::optional<double> adapt_reference_climb_dwell_s; // the level-0 dwell while it is in force, with it
+  std::optional<double> adapt_channel_weight;  // the per-channel tempering's weight G (turbulence_adaptation.h)
+  std::optional<double> maneuver_dwell_s;      // the level-0 dwell while maneuvering (maneuver_dwell.h)
+  std::optional<double> maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s;  // with it
+  std::optional<double> maneuver_reference;    // rho_0 while maneuvering, with adapt_turbulence
+  std::optional<double> level1_p_min;          // the floor while a level-1 bank is on line (hierarchical_bank.h)
+  std::optional<double> level1_dwell_s;        // the dwell while a level-1 bank is on line
+  std::optional<bool> departure_hold;          // the level-1 departure hold (on by default in the core)
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only
   double trim_steady_g = 0.0;        // with trim tracking only: steady tracking's load-factor gate; 0 = off
@@ -57,6 +68,7 @@ struct DaemonConfig {
   std::optional<double> air_data_time_constant_s;  // its air-data low-pass (scheduled_filters.h); unset: the core's
   bool maneuver_kinematics = false;  // maneuver_kinematics.h
   double maneuver_tempering_g = 0.0; // 0 = off
+  std::optional<double> maneuver_tempering_deadband_g;  // its dead band, with maneuver_tempering_g
   std::optional<double> start_up_s;  // filter_bank.h: updates that weigh nothing after a start; unset: the bank's
   // actuator_limits.h: one value per input (rad/s, rad); both empty = off
   std::vector<double> actuator_rate_limits_rad_s, actuator_position_limits_rad;

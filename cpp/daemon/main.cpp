@@ -142,6 +142,16 @@ int main(int argc, char** argv) {
     if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
     options.maneuver.kinematics = cfg.maneuver_kinematics;
     options.maneuver.tempering_g = cfg.maneuver_tempering_g;
+    if (cfg.maneuver_tempering_deadband_g) options.maneuver.tempering_deadband_g = *cfg.maneuver_tempering_deadband_g;
+    if (cfg.adapt_channel_weight) options.bank.adaptation.channel_weight = *cfg.adapt_channel_weight;
+    if (cfg.maneuver_dwell_s) options.maneuver_dwell.dwell_s = *cfg.maneuver_dwell_s;
+    if (cfg.maneuver_dwell_hold_s) options.maneuver_dwell.hold_s = *cfg.maneuver_dwell_hold_s;
+    if (cfg.maneuver_dwell_g) options.maneuver_dwell.g = *cfg.maneuver_dwell_g;
+    if (cfg.maneuver_dwell_time_constant_s) options.maneuver_dwell.time_constant_s = *cfg.maneuver_dwell_time_constant_s;
+    if (cfg.maneuver_reference) options.maneuver_dwell.reference = *cfg.maneuver_reference;
+    if (cfg.level1_p_min) options.level1_p_min = *cfg.level1_p_min;
+    if (cfg.level1_dwell_s) options.level1_dwell_s = *cfg.level1_dwell_s;
+    if (cfg.departure_hold) options.departure.enabled = *cfg.departure_hold;
     options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation
     options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
     options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;
@@ -221,6 +231,13 @@ int main(int argc, char** argv) {
       std::string maneuver = running.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
       if (running.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(running.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
+      if (running.maneuver.tempering_deadband_g > 0.0)
+        maneuver += ", tempering dead band " + f16mmae::format_value(running.maneuver.tempering_deadband_g) + " g";
+      if (running.maneuver_dwell.dwell_s > 0.0)
+        maneuver += ", maneuver dwell " + f16mmae::format_value(running.maneuver_dwell.dwell_s) + " s held " +
+                    f16mmae::format_value(running.maneuver_dwell.hold_s) + " s";
+      if (running.maneuver_dwell.has_reference())
+        maneuver += ", maneuver reference " + f16mmae::format_value(running.maneuver_dwell.reference);
       // a scheduled bank's floors are its nodes' (blended where the air data lies): their range
       std::string floor = "p_min " + f16mmae::format_value(options.bank.p_min);
       if (bank.schedule && options.schedule.node_p_min) {

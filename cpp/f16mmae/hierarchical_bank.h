@@ -92,6 +92,11 @@
 //   while the air data handed to schedule() climb, descend or change speed, and for its hold
 //   after (climb_reference.h); else the node's or the option's as above. With its dwell_s, a
 //   level-0 declaration in that phase needs that dwell instead of the declarer's.
+//   With options.maneuver_dwell (off by default; maneuver_dwell.h) a level-0 declaration needs
+//   its dwell while the estimated load factor (low-passed) or the air data say the aircraft
+//   maneuvers, and for its hold after; and the adaptation's rho_0 is its reference then, unless
+//   the climb reference is in force. Its state is updated after each accepted update, before
+//   the declarer.
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
 // z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
@@ -139,6 +144,7 @@
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
 #include "f16mmae/climb_reference.h"
+#include "f16mmae/maneuver_dwell.h"
 #include "f16mmae/trim_tracker.h"
 
 #include <Eigen/Dense>
@@ -175,6 +181,7 @@ struct HierarchicalOptions {
   ScheduleOptions schedule;   // a scheduled bank: interpolate or nearest (scheduled_filters.h)
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
   ClimbReferenceOptions climb_reference;   // the adaptation's reference while climbing (NaN: off)
+  ManeuverDwellOptions maneuver_dwell;     // the dwell and reference while maneuvering (maneuver_dwell.h; off)
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
@@ -208,6 +215,10 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
+    if (maneuver_dwell_.enabled()) {   // maneuver_dwell.h
+      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_));
+      if (maneuver_dwell_.options().has_reference()) bank_.set_adapt_reference(adapt_reference_in_force());
+    }
     if (level_ == 1 && departure_held(z_pert_)) {
       declarer_in_force().reset(declarer_in_force().current());   // the dwell restarts
       ++departure_frames_;
@@ -249,6 +260,7 @@ class HierarchicalBank {
       climb_ref_.observe(a.mach, a.pressure_altitude_ft);
       bank_.set_adapt_reference(adapt_reference_in_force());
     }
+    if (maneuver_dwell_.enabled()) maneuver_dwell_.observe_air_data(a.mach, a.pressure_altitude_ft);
     if (!sched_.active()) return;
     const XVector x_before = sched_.x_trim();
     const bool reload = sched_.select(a);
@@ -313,7 +325,9 @@ class HierarchicalBank {
     air_data_rejected_ = 0;
     trim_tracker_.reset();
     climb_ref_.reset();
-    if (climb_ref_.enabled()) bank_.set_adapt_reference(adapt_reference_in_force());
+    maneuver_dwell_.reset();
+    if (climb_ref_.enabled() || maneuver_dwell_.options().has_reference())
+      bank_.set_adapt_reference(adapt_reference_in_force());
     actuators_.reset();
     du_.setZero();
     dz_.setZero();
@@ -362,7 +376,9 @@ class HierarchicalBank {
     air_data_rejected_ = from.air_data_rejected_;
     trim_tracker_ = from.trim_tracker_;
     climb_ref_ = from.climb_ref_;
-    if (climb_ref_.enabled()) bank_.set_adapt_reference(adapt_reference_in_force());
+    maneuver_dwell_ = from.maneuver_dwell_;
+    if (climb_ref_.enabled() || maneuver_dwell_.options().has_reference())
+      bank_.set_adapt_reference(adapt_reference_in_force());
     actuators_.carry_over(from.actuators_);
     du_ = from.du_;
     dz_ = from.dz_;
@@ -408,6 +424,7 @@ class HierarchicalBank {
   const ZVector& z_trim_offset() const noexcept { return dz_; }   // dz in force
   const TrimTracker<NU, NZ>& trim_tracker() const noexcept { return trim_tracker_; }
   const ClimbReference& climb_reference() const noexcept { return climb_ref_; }
+  const ManeuverDwell& maneuver_dwell() const noexcept { return maneuver_dwell_; }
   const ZVector& z_trim() const noexcept { return z_trim_; }
   // The schedule (inactive for a bank designed at one flight condition).
   const Schedule& scheduled() const noexcept { return sched_; }
@@ -542,11 +559,12 @@ class HierarchicalBank {
     return d;
   }
   bool own_level1_dwell() const noexcept { return level_ == 1 && options_.level1_dwell_s > 0.0; }
-  // The dwell in force (frames): at level 0 the climb reference's while climbing, if it has one
+  // The dwell in force (frames): at level 0 the maneuver dwell's while maneuvering, if it has
+  // one (maneuver_dwell.h), else the climb reference's while climbing, if it has one
   // (climb_reference.h); else the declarer's in force.
   int dwell_frames_in_force() const noexcept {
     const int base = declarer_in_force().dwell_frames();
-    return level_ == 0 ? climb_ref_.dwell_frames(base) : base;
+    return level_ == 0 ? maneuver_dwell_.dwell_frames(climb_ref_.dwell_frames(base)) : base;
   }
   Declarer& declarer_in_force() noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
   const Declarer& declarer_in_force() const noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
@@ -567,6 +585,7 @@ class HierarchicalBank {
         online_(b.level0),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
         climb_ref_(options.climb_reference, mb.frame_rate_hz),
+        maneuver_dwell_(options.maneuver_dwell, mb.frame_rate_hz),
         maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
         actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
@@ -584,6 +603,14 @@ class HierarchicalBank {
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));
     for (const auto& h : mb.hypotheses) names_.push_back(h.name);
+    if (maneuver_dwell_.enabled()) {
+      const auto& m = mb.measurement_names;
+      const auto it = std::find(m.begin(), m.end(), "AZ");
+      if (it == m.end())
+        throw std::invalid_argument("hierarchical bank: the maneuver dwell reads the load factor, measurement 'AZ', "
+                                    "which this bank does not have");
+      maneuver_dwell_az_ = static_cast<int>(it - m.begin());
+    }
     if (options.departure.enabled) {
       if (!(options.departure.aoa_rad > 0.0) || !(options.departure.rate_rad_s > 0.0) ||
           !(options.departure.hold_s >= 0.0) || !std::isfinite(options.departure.hold_s))
@@ -717,17 +744,19 @@ class HierarchicalBank {
   void load_scheduled() noexcept {
     bank_.replace_filters([&](int k, Hypothesis& h) { sched_.filter(online_[k], h); },
                           [&](auto& h_out) { sched_.h_output(h_out); });
-    if ((sched_.has_adapt_reference() && options_.schedule.node_adapt_reference) || climb_ref_.enabled())
+    if ((sched_.has_adapt_reference() && options_.schedule.node_adapt_reference) || climb_ref_.enabled() ||
+        maneuver_dwell_.options().has_reference())
       bank_.set_adapt_reference(adapt_reference_in_force());
     set_floors();   // (unchanged unless node_p_min or level1_p_min)
   }
   // The adaptation's reference in force: the climb reference while climbing (climb_reference.h),
-  // else a scheduled bank's node reference (node_adapt_reference), else the option's.
+  // else the maneuver reference while maneuvering (maneuver_dwell.h), else a scheduled bank's
+  // node reference (node_adapt_reference), else the option's.
   double adapt_reference_in_force() const noexcept {
     const double base = sched_.has_adapt_reference() && options_.schedule.node_adapt_reference
                             ? sched_.adapt_reference()
                             : options_.bank.adaptation.reference;
-    return climb_ref_.reference(base);
+    return climb_ref_.climbing() ? climb_ref_.reference(base) : maneuver_dwell_.reference(base);
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {
@@ -766,6 +795,8 @@ class HierarchicalBank {
   UVector u_trim_, u_pert_, du_;
   TrimTracker<NU, NZ> trim_tracker_;
   ClimbReference climb_ref_;
+  ManeuverDwell maneuver_dwell_;
+  int maneuver_dwell_az_ = 0;   // AZ in z (the maneuver dwell's load factor)
   ManeuverKinematics maneuver_;
   ActuatorLimits<NU> actuators_;
   UVector u_eff_;

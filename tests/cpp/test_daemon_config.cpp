@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 using f16mmae::daemon::parse_daemon_args;
 
@@ -220,6 +223,56 @@ TEST(DaemonConfig, ManeuverModelOptions) {
   for (const char* bad : {"1,-inf", "1,nan", "1,infinity"}) {
     r = parse_daemon_args({"--bank", "b", "--actuator-rate-limits", bad, "--actuator-position-limits", "1"}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;
+  }
+}
+
+TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
+  auto r = parse_daemon_args({"--bank", "b"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;   // unset: the core's defaults
+  EXPECT_FALSE(r.config.maneuver_dwell_s || r.config.maneuver_reference || r.config.level1_p_min ||
+               r.config.level1_dwell_s || r.config.departure_hold || r.config.adapt_channel_weight ||
+               r.config.maneuver_tempering_deadband_g);
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--maneuver-dwell", "1.5", "--maneuver-dwell-hold=30",
+                         "--maneuver-dwell-g", "0.08", "--maneuver-dwell-time-constant", "1", "--maneuver-reference",
+                         "0.65", "--maneuver-tempering", "0.1", "--maneuver-tempering-deadband", "0.05",
+                         "--level1-p-min", "1e-4", "--level1-dwell-s", "0.5", "--departure-hold", "off",
+                         "--adapt-channel-weight", "0.5"},
+                        nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.maneuver_dwell_s, 1.5);
+  EXPECT_EQ(*r.config.maneuver_dwell_hold_s, 30.0);
+  EXPECT_EQ(*r.config.maneuver_dwell_g, 0.08);
+  EXPECT_EQ(*r.config.maneuver_dwell_time_constant_s, 1.0);
+  EXPECT_EQ(*r.config.maneuver_reference, 0.65);
+  EXPECT_EQ(*r.config.maneuver_tempering_deadband_g, 0.05);
+  EXPECT_EQ(*r.config.level1_p_min, 1e-4);
+  EXPECT_EQ(*r.config.level1_dwell_s, 0.5);
+  EXPECT_FALSE(*r.config.departure_hold);
+  EXPECT_EQ(*r.config.adapt_channel_weight, 0.5);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--maneuver-dwell", "61"}, "--maneuver-dwell must be a time in seconds in [0, 60] (0: the dwell), got '61'"},
+      {{"--maneuver-dwell", "x"}, "--maneuver-dwell must be a time in seconds"},
+      {{"--maneuver-dwell", "1", "--maneuver-dwell-hold", "-1"}, "--maneuver-dwell-hold must be a time in seconds in [0, 3600]"},
+      {{"--maneuver-dwell", "1", "--maneuver-dwell-g", "0"}, "--maneuver-dwell-g must be a load factor in g, > 0 and <= 10"},
+      {{"--maneuver-dwell", "1", "--maneuver-dwell-time-constant", "61"}, "--maneuver-dwell-time-constant must be"},
+      {{"--maneuver-dwell-hold", "30"}, "--maneuver-dwell-hold applies with --maneuver-dwell S > 0 only"},
+      {{"--maneuver-dwell", "0", "--maneuver-dwell-g", "0.1"}, "--maneuver-dwell-g applies with --maneuver-dwell S > 0 only"},
+      {{"--maneuver-reference", "0.65"}, "--maneuver-reference applies with --adapt-turbulence only"},
+      {{"--adapt-turbulence", "--maneuver-reference", "101"}, "--maneuver-reference must be a power ratio in [0, 100]"},
+      {{"--maneuver-tempering-deadband", "0.05"}, "--maneuver-tempering-deadband applies with --maneuver-tempering only"},
+      {{"--maneuver-tempering", "0.1", "--maneuver-tempering-deadband", "11"}, "--maneuver-tempering-deadband must be"},
+      {{"--level1-p-min", "1"}, "--level1-p-min must be a probability in [0, 1)"},
+      {{"--level1-dwell-s", "-0.5"}, "--level1-dwell-s must be a time in seconds in [0, 60]"},
+      {{"--departure-hold", "yes"}, "--departure-hold must be on or off, got 'yes'"},
+      {{"--adapt-channel-weight", "1.5"}, "--adapt-channel-weight must be a weight in [0, 1], got '1.5'"},
+  };
+  for (const auto& [args, message] : refused) {
+    std::vector<std::string> a{"--bank", "b"};
+    a.insert(a.end(), args.begin(), args.end());
+    r = parse_daemon_args(a, nullptr);
+    EXPECT_FALSE(r.ok) << message;
+    EXPECT_EQ(r.exit_code, 2) << message;
+    EXPECT_NE(r.message.find(message), std::string::npos) << r.message;
   }
 }
 

@@ -42,7 +42,8 @@ def test_every_command_line_setting_is_written_back_as_the_command_line_reads_it
     settings = {"threshold": 0.95, "dwell_s": 0.5, "p_min": 1e-6, "adapt_turbulence": True, "adapt_reference": 0.76,
                 "trim_time_constant_s": 30.0, "trim_freeze_probability": 0.2, "schedule_mode": "nearest",
                 "maneuver_kinematics": True, "actuator_limits": True, "maneuver_tempering_g": 0.1,
-                "level1_p_min": 1e-3}
+                "level1_p_min": 1e-3, "maneuver_dwell_s": 1.5, "maneuver_dwell_hold_s": 30.0, "maneuver_dwell_g": 0.08,
+                "maneuver_dwell_time_constant_s": 1.0, "maneuver_reference": 0.65}
     argv = shlex.split(drilldown.reproduce_command(scenario(), "scheduled", settings))
     p = argparse.ArgumentParser(allow_abbrev=False)   # else the scenario's --turbulence abbreviates --turbulence-banks
     add_estimator_arguments(p)

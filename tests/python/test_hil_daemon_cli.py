@@ -166,3 +166,39 @@ def test_the_daemon_takes_every_flag_of_the_table():
     for option in ESTIMATOR_OPTIONS:
         if option.flag != "--actuator-limits" and option.in_daemon:  # the limits: passed as the limits themselves
             assert f"[{option.flag}" in usage or f"  {option.flag}" in usage, option.flag
+
+
+def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
+    """The maneuver dwell and reference, the tempering's dead band, the level-1 floor and dwell,
+    the departure hold and the channel weight: passed on by daemon_flags, in force in the
+    daemon (its ready line names the maneuver ones), each refused without the option it
+    applies with or out of range, naming the flag."""
+    options = {"adapt_turbulence": True, "maneuver_dwell_s": 1.5, "maneuver_dwell_hold_s": 30.0,
+               "maneuver_reference": 0.65, "maneuver_tempering_g": 0.1, "maneuver_tempering_deadband_g": 0.05,
+               "level1_p_min": 1e-4, "level1_dwell_s": 0.5, "departure_hold": "off", "adapt_channel_weight": 0.5}
+    flags = daemon_flags(options)
+    for key, value in options.items():
+        option = next(o for o in ESTIMATOR_OPTIONS if o.key == key)
+        assert option.in_daemon, key
+        i = flags.index(option.flag)
+        if option.kind == "number":
+            assert float(flags[i + 1]) == value, key
+        elif option.kind == "choice":
+            assert flags[i + 1] == value, key
+    bank = str(load_bank("tuned")[1])
+    p = subprocess.Popen([DAEMON, "--bank", bank, "--lcm-url", "memq://", *flags],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    assert ("tempering 0.1 g, tempering dead band 0.05 g, maneuver dwell 1.5 s held 30 s, maneuver reference 0.65"
+            in ready), ready
+    rc, out = _daemon("--bank", bank, "--maneuver-dwell-hold", "30")
+    assert rc == 2 and "--maneuver-dwell-hold applies with --maneuver-dwell S > 0 only" in out
+    rc, out = _daemon("--bank", bank, "--maneuver-reference", "0.65")
+    assert rc == 2 and "--maneuver-reference applies with --adapt-turbulence only" in out
+    rc, out = _daemon("--bank", bank, "--departure-hold", "maybe")
+    assert rc == 2 and "--departure-hold must be on or off, got 'maybe'" in out
+    # the level-1 floor's bound depends on the threshold: the core refuses it, naming it
+    rc, out = _daemon("--bank", bank, "--lcm-url", "memq://", "--level1-p-min", "0.05")
+    assert rc == 1 and "level1_p_min must lie in [0, (1 - threshold)/(K - 1))" in out, out

@@ -72,7 +72,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "likelihoods are tempered (default: a scheduled bank's per-node references where "
                          "it carries them, else 0.6; higher tempers less)"),
     EstimatorOption("adapt_channel_weight", "--adapt-channel-weight", "number", metavar="G", minimum=0.0,
-                    maximum=1.0, in_daemon=False,
+                    maximum=1.0,
                     help="with --adapt-turbulence or --turbulence-banks: temper each measurement channel by "
                          "s^(1-G) s_j^G, s_j its own scale from the best-fitting filter's share of that channel "
                          "in its residual power, so that gusts in one channel temper the evidence in the others "
@@ -144,22 +144,44 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off; "
                          "with --turbulence-banks the set file's recommended tempering (1 g)"),
     EstimatorOption("maneuver_tempering_deadband_g", "--maneuver-tempering-deadband", "number", metavar="D",
-                    minimum=0.0, maximum=10.0, requires="maneuver_tempering_g", in_daemon=False,
+                    minimum=0.0, maximum=10.0, requires="maneuver_tempering_g",
                     help="with --maneuver-tempering G: only the load factor beyond D g tempers, "
                          "1 + (max(0, |dn| - D)/G)^2, so that turbulence in level flight tempers nothing while a "
                          "pull-up still does (cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band"),
+    EstimatorOption("maneuver_dwell_s", "--maneuver-dwell", "number", metavar="S", minimum=0.0,
+                    maximum=DWELL_S_MAX,
+                    help="a level-0 declaration needs S seconds above the threshold while the aircraft maneuvers "
+                         "(the estimated load factor, low-passed, more than --maneuver-dwell-g off the trim, or the "
+                         "air data climb faster than 300 ft/min or change Mach faster than 0.001/s) and for "
+                         "--maneuver-dwell-hold after; in steady level flight the dwell above "
+                         "(cpp/f16mmae/maneuver_dwell.h). Default 0: the dwell everywhere"),
+    EstimatorOption("maneuver_dwell_hold_s", "--maneuver-dwell-hold", "number", metavar="S", minimum=0.0,
+                    maximum=3600.0, requires="maneuver_dwell_s",
+                    help="with --maneuver-dwell: the maneuver's dwell (and --maneuver-reference) stays S seconds "
+                         "after the maneuver ends (default 0)"),
+    EstimatorOption("maneuver_dwell_g", "--maneuver-dwell-g", "number", metavar="G", minimum=0.0, exclusive=True,
+                    maximum=10.0, requires="maneuver_dwell_s",
+                    help="with --maneuver-dwell: the low-passed estimated load factor more than G g off the trim "
+                         "is a maneuver (default 0.1; a 30 deg turn: 0.155 g)"),
+    EstimatorOption("maneuver_dwell_time_constant_s", "--maneuver-dwell-time-constant", "number", metavar="TAU_S",
+                    minimum=0.0, maximum=60.0, requires="maneuver_dwell_s",
+                    help="with --maneuver-dwell: the time constant of the load factor's low-pass (s; 0: none; "
+                         "default 2)"),
+    EstimatorOption("maneuver_reference", "--maneuver-reference", "number", metavar="RHO", minimum=0.0,
+                    maximum=100.0, requires="adapt_turbulence",
+                    help="with --adapt-turbulence: the adaptation's reference while the aircraft maneuvers (the "
+                         "gate of --maneuver-dwell, its threshold, time constant and hold) unless "
+                         "--adapt-reference-climb is in force (cpp/f16mmae/maneuver_dwell.h). Default off"),
     EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
-                    below=LEVEL1_P_MIN_BELOW, in_daemon=False,
+                    below=LEVEL1_P_MIN_BELOW,
                     help="probability floor while a failure's level-1 (dual) bank is on line: a second "
                          "failure rises from it (cpp/f16mmae/hierarchical_bank.h). Below (1 - 0.9) / 12: "
                          "at or above (1 - threshold) / 12 no hypothesis can pass the threshold (the core "
                          "checks it with the threshold in force). Default 0: the level-0 floor"),
     EstimatorOption("level1_dwell_s", "--level1-dwell-s", "number", metavar="S", minimum=0.0, maximum=DWELL_S_MAX,
-                    in_daemon=False,
                     help="... and the dwell while it is on line: a dual (or the back-out) must stay above the "
                          "threshold S seconds in a row (cpp/f16mmae/hierarchical_bank.h). Default 0: the level-0 dwell"),
     EstimatorOption("departure_hold", "--departure-hold", "choice", metavar="on|off", choices=("on", "off"),
-                    in_daemon=False,
                     help="while a failure's level-1 (dual) bank is on line, declare nothing while the measured "
                          "angle of attack is more than 5 deg off the trim or a measured body rate above 10 deg/s, "
                          "nor for 1 s after: the linear models do not cover a departed aircraft (a stabilator "

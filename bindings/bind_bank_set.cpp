@@ -193,7 +193,7 @@ template <class F>
 void for_each_setting(TurbulenceBankSetOptions& s, F&& f) {
   f("bounds", s.bounds), f("typical", s.typical), f("hold_s", s.hold_s), f("warm_up_s", s.warm_up_s);
   f("warm_down_s", s.warm_down_s), f("settle_s", s.settle_s), f("freeze_probability", s.freeze_probability);
-  f("start", s.start), f("start_standby", s.start_standby);
+  f("start", s.start), f("start_standby", s.start_standby), f("calmer_own_rho", s.calmer_own_rho);
 }
 
 py::dict selector_dict(TurbulenceBankSetOptions s) {

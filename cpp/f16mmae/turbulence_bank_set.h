@@ -36,8 +36,8 @@
 //                           itself keeps c running without counting its hold;
 //                 so the member in force is chosen by its own ρ and a calmer one by its own:
 //                 a member read in air stronger than its design reads far above its bounds,
-//                 a stronger member in calmer air only a little below (its ρ is tempered by
-//                 its wider gust model), the better measure of "calm" being the calm member's;
+//                 a stronger member in calmer air only a little below (its wider gust model
+//                 expects more), the better measure of "calm" being the calm member's;
 //                 a wanted member other than a becomes the standby c (replacing another); a
 //                 wish for a itself drops the standby. A standby started during the flight is
 //                 a copy of member a (HierarchicalBank::take_over) with its adaptation's

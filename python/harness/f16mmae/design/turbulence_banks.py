@@ -89,8 +89,8 @@ MEDIAN_RHO: tuple[tuple[float, ...], ...] = (
 #: its medians there (row-major, n x (n-1)); a standby starts at its own level's median.
 #: The calm member's own bound (``CALM_BOUND``) replaces its geometric mean (1.56): with the rule
 #: ``CALMER_OWN_RHO`` it decides both ways between calm air and light turbulence, the calm
-#: member's rho in calm air (99th percentile 0.73) below it and in light turbulence (1st
-#: percentile 1.85) far above it.
+#: member's rho in calm air (median 0.70) below it and in light turbulence (median 3.47) far
+#: above it.
 CALM_BOUND = 0.95
 BOUNDS: tuple[float, ...] = (CALM_BOUND,) + tuple(round((row[i] * row[i + 1]) ** 0.5, 4)
                                                   for row in MEDIAN_RHO[1:] for i in range(len(row) - 1))

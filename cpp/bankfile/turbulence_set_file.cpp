@@ -105,6 +105,7 @@ std::vector<std::uint8_t> turbulence_set_file_bytes(const TurbulenceSetFile& set
   put(out, static_cast<std::uint32_t>(s.start_standby), 4);
   put_f64(out, set.maneuver_tempering_g);
   put_doubles(out, set.adapt_gain);
+  put(out, s.calmer_own_rho ? 1u : 0u, 4);
   return hashed_file_image(kTurbulenceSetFileMagic, TurbulenceSetFile::kFormatVersion, out);
 }
 
@@ -147,9 +148,18 @@ TurbulenceSetFile parse_turbulence_set_file(const std::uint8_t* data, std::size_
       set.adapt_gain = read_doubles(r, "adapt_gain", static_cast<std::int64_t>(n));
     else
       set.adapt_gain.assign(n, TurbulenceAdaptationOptions{}.gain);
+    if (version >= 4) {
+      const std::int32_t rule = r.i32("calmer_own_rho");
+      if (rule != 0 && rule != 1)
+        throw BankFileFormatError("payload field calmer_own_rho = " + std::to_string(rule) + " is not 0 or 1");
+      set.selector.calmer_own_rho = rule == 1;
+    }
     if (r.remaining() != 0)
       throw BankFileFormatError("payload has " + std::to_string(r.remaining()) + " bytes after " +
-                                (version >= 3 ? "adapt_gain" : version >= 2 ? "maneuver_tempering_g" : "start_standby"));
+                                (version >= 4   ? "calmer_own_rho"
+                                 : version >= 3 ? "adapt_gain"
+                                 : version >= 2 ? "maneuver_tempering_g"
+                                                : "start_standby"));
     set.validate();
   } catch (const BankFileFormatError& e) {
     throw BankFileFormatError(who + e.what());

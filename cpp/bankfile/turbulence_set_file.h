@@ -30,6 +30,10 @@
 //                                                        gain kappa (turbulence_adaptation.h),
 //                                                        (0, 1000]; an older file reads the
 //                                                        core's default for every member
+//                   int32 calmer_own_rho                 version 4 on: the selector's rule, 0 or
+//                                                        1 (turbulence_bank_set.h); an older
+//                                                        file reads 0 (the member in force's
+//                                                        rho alone, the rule it was designed for)
 // content_hash = lower-case hex SHA-256 of the payload: the set's name in mmae-daemon's status
 // (bank_hash) and in the records of a flight flown with it. Deterministic: the same members
 // and settings give the same bytes.
@@ -62,7 +66,7 @@ inline constexpr int kMaxTurbulenceSetMembers = 16;
 inline constexpr std::uint64_t kMaxTurbulenceSetFileBytes = kMaxTurbulenceSetMembers * kMaxBankFileBytes;
 
 struct TurbulenceSetFile {
-  static constexpr std::uint32_t kFormatVersion = 3;   // 2: maneuver_tempering_g, 3: adapt_gain; 1 and 2 are read too
+  static constexpr std::uint32_t kFormatVersion = 4;   // 2: maneuver_tempering_g, 3: adapt_gain, 4: calmer_own_rho; 1 to 3 are read too
   std::vector<std::string> levels;       // each member's design level ("none", "light", ...)
   std::vector<ModelBank> members;        // rising intensity
   std::vector<double> adapt_reference;   // each member's adaptation reference rho_0

@@ -27,6 +27,17 @@
 //                           failure raises the no-failure filter's residuals too);
 //                   settle  within settle_s of the last switch (or of the start) nothing is
 //                           decided: the standby runs on, its hold does not count;
+//                 calmer_own_rho (the rule `calmer_own_rho`): while a calmer standby c < a
+//                 runs, member c's own ρ decides whether it is wanted:
+//                   wanted  if classify(c, ρ_c) <= c, i.e. ρ_c <= bounds[c][c] (c's own row:
+//                           the air reads at c's level or calmer to c itself), whatever ρ_a
+//                           says;
+//                   else    member a's classification as above, except that a wish for c
+//                           itself keeps c running without counting its hold;
+//                 so the member in force is chosen by its own ρ and a calmer one by its own:
+//                 a member read in air stronger than its design reads far above its bounds,
+//                 a stronger member in calmer air only a little below (its wider gust model
+//                 expects more), the better measure of "calm" being the calm member's;
 //                 a wanted member other than a becomes the standby c (replacing another); a
 //                 wish for a itself drops the standby. A standby started during the flight is
 //                 a copy of member a (HierarchicalBank::take_over) with its adaptation's
@@ -84,6 +95,7 @@ struct TurbulenceBankSetOptions {
   double freeze_probability = 0.05;    // a failure hypothesis above this freezes the selector
   int start = 1;                       // the member in force at the start (and after reset())
   int start_standby = 0;               // the member beside it from frame 0 (-1: none)
+  bool calmer_own_rho = false;         // a calmer standby is wanted by its own ρ (header)
 };
 
 // The selector's settings for n members (the constructor's and the set file's check): bounds
@@ -240,6 +252,15 @@ class TurbulenceBankSet {
     if (++since_switch_ < settle_frames_) return;   // settling: the standby runs on
     int want = classify(active_, power_ratio(active_));
     if (want == active_) want = -1;
+    if (options_.calmer_own_rho && standby_ >= 0 && standby_ < active_) {
+      if (classify(standby_, power_ratio(standby_)) <= standby_) {
+        want = standby_;
+      } else if (want == standby_) {   // member a's ρ wants it, its own does not: it runs on, unheld
+        ++standby_frames_;
+        held_ = 0;
+        return;
+      }
+    }
     if (want != standby_) {
       drop_standby();
       if (want >= 0) {   // a standby started in flight: a copy of the member in force

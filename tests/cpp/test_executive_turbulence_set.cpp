@@ -1,7 +1,7 @@
 // The turbulence-bank-set file (bankfile/turbulence_set_file.h) and the executive running its
 // set (Executive(set_file), TurbulenceSetBank): the file round-trips (members, levels,
-// references, selector, tempering, adaptation gains; content hash = SHA-256 of the payload), reads
-// versions 1 and 2, and
+// references, selector, tempering, adaptation gains, the selector's rule; content hash = SHA-256
+// of the payload), reads versions 1 to 3, and
 // refuses damage and invalid sets naming the field; the file's tempering is flown unless one is
 // given; the executive equals the core TurbulenceBankSet stepped directly over
 // the same members, bit for bit, across handovers, with the set's hash in its status; its
@@ -109,12 +109,23 @@ TEST(TurbulenceSetFile, RoundTripsAndHashesItsPayload) {
   EXPECT_FALSE(is_turbulence_set_file(bank_file_bytes(f.members[0]).data(), 60));
 }
 
-// Versions 1 (before the tempering) and 2 (before the gains): the same payload without its
-// last fields, read with the tempering off and the core's default gain (20) in every member; a
-// payload without a field its version has is truncated; version 4 is refused.
-TEST(TurbulenceSetFile, ReadsVersionsOneAndTwoWithoutTheLaterFields) {
-  const std::vector<std::uint8_t> image = turbulence_set_file_bytes(two_member_set());
-  const std::vector<std::uint8_t> v3_payload(image.begin() + kBankFileHeaderSize, image.end());
+// Versions 1 (before the tempering), 2 (before the gains) and 3 (before the selector's rule):
+// the same payload without its last fields, read with the tempering off, the core's default
+// gain (20) in every member and the rule off; a payload without a field its version has is
+// truncated; version 5 is refused naming the versions this build reads.
+TEST(TurbulenceSetFile, ReadsVersionsOneToThreeWithoutTheLaterFields) {
+  TurbulenceSetFile with_rule = two_member_set();
+  with_rule.selector.calmer_own_rho = true;
+  const std::vector<std::uint8_t> image = turbulence_set_file_bytes(with_rule);
+  const std::vector<std::uint8_t> v4_payload(image.begin() + kBankFileHeaderSize, image.end());
+  EXPECT_TRUE(parse_turbulence_set_file(image.data(), image.size(), "v4").selector.calmer_own_rho);
+  const std::vector<std::uint8_t> without_rule = turbulence_set_file_bytes(two_member_set());
+  EXPECT_FALSE(parse_turbulence_set_file(without_rule.data(), without_rule.size(), "v4").selector.calmer_own_rho);
+  const std::vector<std::uint8_t> v3_payload(v4_payload.begin(), v4_payload.end() - 4);
+  const std::vector<std::uint8_t> v3 = hashed_file_image(kTurbulenceSetFileMagic, 3, v3_payload);
+  const TurbulenceSetFile k = parse_turbulence_set_file(v3.data(), v3.size(), "v3");
+  EXPECT_FALSE(k.selector.calmer_own_rho) << "a version-3 file flies the rule it was designed for";
+  EXPECT_EQ(k.adapt_gain, (std::vector<double>{20.0, 35.0}));
   const std::vector<std::uint8_t> v2_payload(v3_payload.begin(), v3_payload.end() - (4 + 2 * 8));
   const std::vector<std::uint8_t> v1_payload(v2_payload.begin(), v2_payload.end() - 8);
   const std::vector<std::uint8_t> v1 = hashed_file_image(kTurbulenceSetFileMagic, 1, v1_payload);
@@ -141,7 +152,13 @@ TEST(TurbulenceSetFile, ReadsVersionsOneAndTwoWithoutTheLaterFields) {
   };
   refused(1, v2_payload, "8 bytes after start_standby");
   refused(2, v3_payload, "20 bytes after maneuver_tempering_g");
-  refused(4, v3_payload, "unsupported format version 4 (this build reads 1 to 3)");
+  refused(3, v4_payload, "4 bytes after adapt_gain");
+  const std::vector<std::uint8_t> short_v4 = hashed_file_image(kTurbulenceSetFileMagic, 4, v3_payload);
+  EXPECT_THROW(parse_turbulence_set_file(short_v4.data(), short_v4.size(), "v4"), BankFileFormatError);
+  std::vector<std::uint8_t> bad_rule = v4_payload;
+  bad_rule.back() = 2;
+  refused(4, bad_rule, "payload field calmer_own_rho = 2 is not 0 or 1");
+  refused(5, v4_payload, "unsupported format version 5 (this build reads 1 to 4)");
 }
 
 TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {

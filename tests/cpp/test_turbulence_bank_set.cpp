@@ -156,6 +156,65 @@ TEST(TurbulenceBankSet, ItsRhoIsTheMemberInForcesMinimumPowerRatioAveragedByHand
   EXPECT_EQ(set.power_ratio(1), 0.0);
 }
 
+// The rule calmer_own_rho in calm air, the rough member in force and the calm one beside it
+// from frame 0: the calm member's own rho (by hand: x = min_k q_k / 7 of its own filters, a
+// plain mean at first) against its own bound decides, whatever the rough member's reads.
+TEST(TurbulenceBankSet, CalmerOwnRhoHandsDownByTheCalmerMembersOwnRho) {
+  const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
+  const double alpha = 1.0 - std::exp(-1.0 / (5.0 * 64.0));
+  struct Outcome {
+    int switch_frame = -1, standby_at_end = -2;
+    double rho_max = 0.0;   // the calm member's rho by hand from settle to the switch (or the end)
+    bool rho_by_hand = true;
+  };
+  const auto flight = [&](bool rule, double calm_bound, double rough_bound) {
+    F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());
+    auto s = selector();
+    s.start = 1;
+    s.start_standby = 0;
+    s.bounds = {calm_bound, rough_bound};
+    s.calmer_own_rho = rule;
+    TurbulenceBankSet<F16HierarchicalBank> set({&calm, &rough}, s);
+    Outcome o;
+    double rho = 0.0;
+    int n = 0;
+    fly(600, [](int) { return 1.0; }, none, [&](int i, const auto& z, const auto& u) {
+      set.update(z);
+      if (o.switch_frame < 0) {   // the calm member ran beside the rough one from frame 0
+        const double a = 1.0 / ++n;
+        rho += std::max(a, alpha) * (calm.bank().quadratic_forms().minCoeff() / 7.0 - rho);
+        o.rho_by_hand = o.rho_by_hand && std::abs(set.power_ratio(0) - rho) <= 1e-12 * (1.0 + rho);
+        if (i >= 127) o.rho_max = std::max(o.rho_max, rho);
+        if (set.switches() == 1) o.switch_frame = i;
+      }
+      set.propagate(u);
+    });
+    EXPECT_EQ(set.frozen_frames(), 0);
+    o.standby_at_end = set.standby();
+    return o;
+  };
+  // settle_s = 2 s and hold_s = 0.5 s at 64 Hz: the first decision on frame 127 (the 128th
+  // update), the 32nd held on frame 158, handed over there
+  const Outcome wanted = flight(true, 1.5, 1e-6);
+  EXPECT_TRUE(wanted.rho_by_hand);
+  EXPECT_LT(wanted.rho_max, 1.5) << "the calm member reads calm air below its bound";
+  EXPECT_EQ(wanted.switch_frame, 158);
+  // the same bounds, the member in force's rho alone: it reads its own level, the standby is dropped
+  const Outcome in_force = flight(false, 1.5, 1e-6);
+  EXPECT_EQ(in_force.switch_frame, -1);
+  EXPECT_EQ(in_force.standby_at_end, -1);
+  // the calm member's own bound below its rho: not wanted by it; dropped, the rough member's rho
+  // wanting its own level
+  const Outcome refused = flight(true, 1e-3, 1e-6);
+  EXPECT_EQ(refused.switch_frame, -1);
+  EXPECT_EQ(refused.standby_at_end, -1);
+  // the rough member's rho wanting the calm member, the calm one's own not: it runs on, never held
+  const Outcome unheld = flight(true, 1e-3, 10.0);
+  EXPECT_EQ(unheld.switch_frame, -1);
+  EXPECT_EQ(unheld.standby_at_end, 0);
+  EXPECT_EQ(flight(false, 1e-3, 10.0).switch_frame, 158) << "without the rule the rough member's rho hands down";
+}
+
 TEST(TurbulenceBankSet, AFailureFreezesTheSelector) {
   const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
   F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());

@@ -16,7 +16,7 @@ import pytest
 
 from f16mmae import core
 from f16mmae.banks import bank_estimator_settings, load_bank
-from f16mmae.design.turbulence_banks import (DWELL_S, MANEUVER_TEMPERING_G, MEMBER_LEVELS,
+from f16mmae.design.turbulence_banks import (CALM_BOUND, DWELL_S, MANEUVER_TEMPERING_G, MEMBER_LEVELS,
                                              TRIM_TIME_CONSTANT_S, BankSetError, load_set, set_path)
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.estimator_options import check
@@ -190,6 +190,22 @@ def test_the_selector_follows_the_turbulence():
     r, est, active = _flight("none", 3, 40.0)
     assert active[-1] == 0 and est.core_bank.switches == 1, "calm air: the calm member, from the start's standby"
     assert np.argmax(active == 0) < 64 * 3
+    assert r.declarations == []
+
+
+def test_calm_air_goes_to_the_calm_member_by_its_own_rho_and_declares_nothing(bank_set):
+    """The set's rule calmer_own_rho: in calm air the calm member, running beside the light one
+    from frame 0 and reading its own rho below its own bound, takes over on the first frame the
+    selector may (settle_s then hold_s), and the short flight declares nothing."""
+    assert bank_set.selector["calmer_own_rho"] is True
+    assert bank_set.selector["bounds"][0] == CALM_BOUND
+    r, est, active = _flight("none", 5, 6.0)
+    first = int(np.argmax(active == 0))
+    assert active[first - 1] == 1 and np.all(active[first:] == 0) and est.core_bank.switches == 1
+    # the first decision on the update that completes settle_s (frame settle - 1), the hold's
+    # last frame hold - 1 frames later
+    settle, hold = (round(64 * bank_set.selector[k]) for k in ("settle_s", "hold_s"))
+    assert first == settle + hold - 2
     assert r.declarations == []
 
 

@@ -87,20 +87,32 @@ MEDIAN_RHO: tuple[tuple[float, ...], ...] = (
 )
 #: The selector's boundaries: member a's rho between levels i and i+1, the geometric mean of
 #: its medians there (row-major, n x (n-1)); a standby starts at its own level's median.
-BOUNDS: tuple[float, ...] = tuple(round((row[i] * row[i + 1]) ** 0.5, 4)
-                            for row in MEDIAN_RHO for i in range(len(row) - 1))
+#: The calm member's own bound (``CALM_BOUND``) replaces its geometric mean (1.56): with the rule
+#: ``CALMER_OWN_RHO`` it decides both ways between calm air and light turbulence, the calm
+#: member's rho in calm air (median 0.70) below it and in light turbulence (median 3.47) far
+#: above it.
+CALM_BOUND = 0.95
+BOUNDS: tuple[float, ...] = (CALM_BOUND,) + tuple(round((row[i] * row[i + 1]) ** 0.5, 4)
+                                                  for row in MEDIAN_RHO[1:] for i in range(len(row) - 1))
+#: The selector's rule ``calmer_own_rho`` (turbulence_bank_set.h): while the calm member runs
+#: beside the light one (from frame 0, or as a copy), its own rho against its own bound decides
+#: whether it takes over, not the light member's, whose rho in calm air (median 0.58) lies close
+#: to its bound (0.655) where the calm member's lies far from it.
+CALMER_OWN_RHO = True
 TYPICAL: tuple[float, ...] = tuple(MEDIAN_RHO[i][i] for i in range(len(MEDIAN_RHO)))
 HOLD_S = 1.0
 WARM_UP_S = 1.0
 WARM_DOWN_S = 5.0
 SETTLE_S = 1.0
 FREEZE_PROBABILITY = 0.05
-#: Each member's turbulence-adaptation reference rho_0 (tempering above it only): 1.0, as the single
-#: light gust bank's (gust_states.md), against each member's own 99th percentile at its level.
-#: 1.1 tempers moderate turbulence less: latency median 0.56 -> 0.48 s there, but a dual declared
-#: falsely after an AOA failure (a transient-wrong run, none at 1.0; evaluation seeds,
+#: Each member's turbulence-adaptation reference rho_0 (tempering above it only): the calm
+#: member's 1.0, as the single light gust bank's (gust_states.md), against its own 99th
+#: percentile at its level; the light member's 1.05, which tempers moderate turbulence (its rho
+#: there: median 1.19, 1st percentile 1.09) less and leaves light air (99th percentile 0.79) and
+#: severe turbulence (s at its bound) as they were.  1.1 shortened the moderate latency further
+#: but a dual declared falsely after an AOA failure (a transient-wrong run; evaluation seeds,
 #: docs/results/turbulence_banks.md, round 10): not adopted.
-ADAPT_REFERENCE: tuple[float, ...] = (1.0,) * len(MEMBER_LEVELS)
+ADAPT_REFERENCE: tuple[float, ...] = (1.0, 1.05)
 #: Each member's adaptation gain kappa (s = 1 + kappa (rho - rho_0), turbulence_adaptation.h): the
 #: core's default, 20.  Members with the constant VEL hypothesis need 25: that hypothesis leaves
 #: the VEL channel's gust share out of its quadratic form, so rho, the minimum over the
@@ -125,7 +137,7 @@ DWELL_S = 0.125
 #: --maneuver-tempering G overrides it.
 MANEUVER_TEMPERING_G = 1.0
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
-REVISION = 15
+REVISION = 16
 SUFFIX = ".f16set"
 
 
@@ -157,7 +169,7 @@ def set_path() -> Path:
         header = f.read(52)
     spec = (f"{REVISION};{MEMBER_TUNING};{MEMBER_LEVELS};{BOUNDS};{TYPICAL};{HOLD_S};{WARM_UP_S};{WARM_DOWN_S};{SETTLE_S};"
             f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{ADAPT_GAIN};{TRIM_TIME_CONSTANT_S};{START};{START_STANDBY};"
-            f"{MANEUVER_TEMPERING_G};{DWELL_S};{MEMBER_FAILURE_MODEL};{DUAL_FAILURE_MODEL};{MEMBER_DESIGN_LEVEL};{MEMBER_P_MIN}")
+            f"{MANEUVER_TEMPERING_G};{DWELL_S};{MEMBER_FAILURE_MODEL};{DUAL_FAILURE_MODEL};{MEMBER_DESIGN_LEVEL};{MEMBER_P_MIN};{CALMER_OWN_RHO}")
     key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
     return cache_root() / "banks" / f"turbulence_banks_{key}{SUFFIX}"
 
@@ -199,7 +211,7 @@ def design_set(out: str | Path, progress=None) -> Path:
                 progress(f"member {level}: content hash {bank.content_hash}")
     selector = {"bounds": list(BOUNDS), "typical": list(TYPICAL), "hold_s": HOLD_S, "warm_up_s": WARM_UP_S,
                 "warm_down_s": WARM_DOWN_S, "settle_s": SETTLE_S, "freeze_probability": FREEZE_PROBABILITY,
-                "start": START, "start_standby": START_STANDBY}
+                "start": START, "start_standby": START_STANDBY, "calmer_own_rho": CALMER_OWN_RHO}
     try:
         core.save_turbulence_set(out, members, levels=list(MEMBER_LEVELS), adapt_reference=list(ADAPT_REFERENCE),
                                  trim_time_constant_s=list(TRIM_TIME_CONSTANT_S), selector=selector,

@@ -5,6 +5,7 @@
 
 #include "allocation_counter.h"
 #include "synthetic_models.h"
+#include "scalar_models.h"
 
 #include <gtest/gtest.h>
 
@@ -17,25 +18,10 @@ using namespace f16mmae;
 
 namespace {
 
-using Scalar = FilterModel<1, 1, 1>;
-using ScalarBank = FilterBank<Eigen::Dynamic, 1, 1, 1>;
-
-// x stays 0 (K = 0, Bd = 0), so r = z and q = z^2 / A: each hypothesis is just its A.
-Scalar scalar_model(double a, double h = 1.0) {
-  Scalar m;
-  m.phi << 0.5;
-  m.bd << 0.0;
-  m.h << h;
-  m.k << 0.0;
-  m.a << a;
-  return m;
-}
-
-Eigen::Matrix<double, 1, 1> z1(double v) {
-  Eigen::Matrix<double, 1, 1> z;
-  z << v;
-  return z;
-}
+using test::Scalar;
+using test::ScalarBank;
+using test::scalar_model;
+using test::z1;
 
 // Independent form of the floor: p_k = max(p_min, s b_k) for one s, b = Bayes posterior.
 void expect_water_filled(const Eigen::VectorXd& p, const Eigen::VectorXd& bayes, double p_min) {

@@ -11,6 +11,7 @@
 
 #include "allocation_counter.h"
 #include "synthetic_models.h"
+#include "scalar_models.h"
 
 #include <gtest/gtest.h>
 
@@ -24,25 +25,10 @@ using namespace f16mmae;
 
 namespace {
 
-using Scalar = FilterModel<1, 1, 1>;
-using ScalarBank = FilterBank<Eigen::Dynamic, 1, 1, 1>;
-
-// x stays 0 (K = 0, Bd = 0), so r = z and q = z^2 / A: each hypothesis is just its A.
-Scalar scalar_model(double a) {
-  Scalar m;
-  m.phi << 0.5;
-  m.bd << 0.0;
-  m.h << 1.0;
-  m.k << 0.0;
-  m.a << a;
-  return m;
-}
-
-Eigen::Matrix<double, 1, 1> z1(double v) {
-  Eigen::Matrix<double, 1, 1> z;
-  z << v;
-  return z;
-}
+using test::Scalar;
+using test::ScalarBank;
+using test::scalar_model;
+using test::z1;
 
 // The F-16-sized bank of f16_model_bank(seed) plus a partial hypothesis per surface: NONE's
 // model with the surface's B_d column times `fraction`, its own gains.

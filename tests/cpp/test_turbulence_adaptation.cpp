@@ -7,6 +7,7 @@
 
 #include "allocation_counter.h"
 #include "synthetic_models.h"
+#include "scalar_models.h"
 
 #include <gtest/gtest.h>
 
@@ -21,25 +22,10 @@ using namespace f16mmae;
 
 namespace {
 
-using Scalar = FilterModel<1, 1, 1>;
-using ScalarBank = FilterBank<Eigen::Dynamic, 1, 1, 1>;
-
-// x stays 0 (K = 0, Bd = 0), so r = z and q = z^2 / A.
-Scalar scalar_model(double a) {
-  Scalar m;
-  m.phi << 0.5;
-  m.bd << 0.0;
-  m.h << 1.0;
-  m.k << 0.0;
-  m.a << a;
-  return m;
-}
-
-Eigen::Matrix<double, 1, 1> z1(double v) {
-  Eigen::Matrix<double, 1, 1> z;
-  z << v;
-  return z;
-}
+using test::Scalar;
+using test::ScalarBank;
+using test::scalar_model;
+using test::z1;
 
 // Matched scale (κ = 1) unless a gain is given.
 TurbulenceAdaptationOptions on(double tau_s, double s_min = 1.0, double s_max = 100.0, double gain = 1.0) {

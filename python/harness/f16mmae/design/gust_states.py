@@ -22,7 +22,7 @@ q_g = (s/V) w_g / (1 + 4 b s / (pi V)). The roll and pitch gusts are heading-fre
 than the turbulence axes' the roll gust p_g turns into pitch and q_g into roll; the estimator
 does not know the heading, so both body components carry the average variance, as
 independent first-order processes of the roll gust's break frequency V/L_p. Measured
-(tools/gust_residuals.py): a north-aligned model (q_g from w_g') fits the first minute of a
+(tools/gust_states/gust_residuals.py): a north-aligned model (q_g from w_g') fits the first minute of a
 flight and then, as the aircraft drifts into a turn in moderate turbulence, its pitch-rate
 residual variance grows to 7 times A; the heading-free one stays within 1.07-1.12 of A.
 The sign of the yaw gust's coupling to v_g (r_g = -(s/V) v_g / (1 + tau_r s)) is the one

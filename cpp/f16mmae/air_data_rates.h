@@ -1,7 +1,9 @@
 // AirDataRates — the climb rate and the rate of change of Mach read from the measured air data
 // (the estimator's scheduling input; never the truth), for the estimator's flight-phase gates
 // (steady trim tracking, trim_tracker.h; the climb reference of the turbulence adaptation,
-// climb_reference.h). Nothing allocates.
+// climb_reference.h; the maneuver dwell, maneuver_dwell.h). HierarchicalBank owns the one
+// instance, observes every usable air-data sample (schedule()) and hands it to each gate, so
+// the gates read the same rates. Nothing allocates.
 //
 // Two first-order low-passes of each air-data signal x (pressure altitude ft, Mach), one
 // usable sample per frame, with time constants T1 = 1 s and T2 = 5 s:

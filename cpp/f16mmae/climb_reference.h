@@ -61,21 +61,17 @@ struct ClimbReferenceOptions {
 class ClimbReference {
  public:
   ClimbReference(const ClimbReferenceOptions& options, double frame_rate_hz)
-      : options_(options), air_(frame_rate_hz),
+      : options_(options),
         hold_frames_(static_cast<std::int64_t>(std::llround(options.hold_s * frame_rate_hz))) {
     options.validate();
     if (options.enabled() && options.dwell_s > 0.0)
       dwell_frames_ = f16mmae::dwell_frames(options.dwell_s, frame_rate_hz, "climb reference");
   }
   bool enabled() const noexcept { return options_.enabled(); }
-  void reset() noexcept {
-    air_.reset();
-    held_for_ = 0;
-  }
-  // One usable air-data sample per frame.
-  void observe(double mach, double alt_ft) noexcept {
-    air_.observe(mach, alt_ft);
-    if (air_.changing(options_.climb_ft_s, options_.mach_per_s))
+  void reset() noexcept { held_for_ = 0; }
+  // After each usable air-data sample: the rates with that sample observed.
+  void observe(const AirDataRates& rates) noexcept {
+    if (rates.changing(options_.climb_ft_s, options_.mach_per_s))
       held_for_ = hold_frames_ + 1;
     else if (held_for_ > 0)
       --held_for_;
@@ -86,11 +82,9 @@ class ClimbReference {
   // The dwell in force (frames): the phase's own while climbing (dwell_s > 0), else `base`.
   int dwell_frames(int base) const noexcept { return dwell_frames_ > 0 && climbing() ? dwell_frames_ : base; }
   const ClimbReferenceOptions& options() const noexcept { return options_; }
-  const AirDataRates& rates() const noexcept { return air_; }
 
  private:
   ClimbReferenceOptions options_;
-  AirDataRates air_;
   std::int64_t hold_frames_ = 0, held_for_ = 0;
   int dwell_frames_ = 0;   // 0: off
 };

@@ -138,6 +138,7 @@
 
 #include "f16mmae/actuator_limits.h"
 #include "f16mmae/air_data.h"
+#include "f16mmae/air_data_rates.h"
 #include "f16mmae/declarer.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/maneuver_kinematics.h"
@@ -216,7 +217,7 @@ class HierarchicalBank {
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
     if (maneuver_dwell_.enabled()) {   // maneuver_dwell.h
-      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_));
+      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_);
       if (maneuver_dwell_.options().has_reference()) bank_.set_adapt_reference(adapt_reference_in_force());
     }
     if (level_ == 1 && departure_held(z_pert_)) {
@@ -236,7 +237,7 @@ class HierarchicalBank {
     }
     if (trim_tracker_.options().enabled()) {
       z_pert_.noalias() = z_abs - z_trim_;
-      trim_tracker_.after_update(z_pert_, trim_freezing(), bank_.z_hat());
+      trim_tracker_.after_update(z_pert_, trim_freezing(), bank_.z_hat(), air_rates_);
       dz_ = trim_tracker_.dz();
     }
     return hypothesis;
@@ -255,12 +256,11 @@ class HierarchicalBank {
       return;
     }
     air_data_ = a;
-    trim_tracker_.observe_air_data(a.mach, a.pressure_altitude_ft);   // steady trim tracking only
+    air_rates_.observe(a.mach, a.pressure_altitude_ft);   // the phase gates' rates (air_data_rates.h)
     if (climb_ref_.enabled()) {   // climb_reference.h
-      climb_ref_.observe(a.mach, a.pressure_altitude_ft);
+      climb_ref_.observe(air_rates_);
       bank_.set_adapt_reference(adapt_reference_in_force());
     }
-    if (maneuver_dwell_.enabled()) maneuver_dwell_.observe_air_data(a.mach, a.pressure_altitude_ft);
     if (!sched_.active()) return;
     const XVector x_before = sched_.x_trim();
     const bool reload = sched_.select(a);
@@ -323,6 +323,7 @@ class HierarchicalBank {
     dropped_ = 0;
     air_data_ = design_air_data_;
     air_data_rejected_ = 0;
+    air_rates_.reset();
     trim_tracker_.reset();
     climb_ref_.reset();
     maneuver_dwell_.reset();
@@ -374,6 +375,7 @@ class HierarchicalBank {
     departure_frames_ = from.departure_frames_;
     air_data_ = from.air_data_;
     air_data_rejected_ = from.air_data_rejected_;
+    air_rates_ = from.air_rates_;
     trim_tracker_ = from.trim_tracker_;
     climb_ref_ = from.climb_ref_;
     maneuver_dwell_ = from.maneuver_dwell_;
@@ -422,6 +424,7 @@ class HierarchicalBank {
   ZVector z_hat() const noexcept { return bank_.z_hat() + z_trim_ + dz_; }   // absolute
   const UVector& u_trim_offset() const noexcept { return du_; }   // du in force
   const ZVector& z_trim_offset() const noexcept { return dz_; }   // dz in force
+  const AirDataRates& air_data_rates() const noexcept { return air_rates_; }   // from the usable samples
   const TrimTracker<NU, NZ>& trim_tracker() const noexcept { return trim_tracker_; }
   const ClimbReference& climb_reference() const noexcept { return climb_ref_; }
   const ManeuverDwell& maneuver_dwell() const noexcept { return maneuver_dwell_; }
@@ -583,6 +586,7 @@ class HierarchicalBank {
         level1_live_(std::move(b.level1_live)),
         partial_(b.partial),
         online_(b.level0),
+        air_rates_(mb.frame_rate_hz),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
         climb_ref_(options.climb_reference, mb.frame_rate_hz),
         maneuver_dwell_(options.maneuver_dwell, mb.frame_rate_hz),
@@ -793,6 +797,7 @@ class HierarchicalBank {
   Indices online_;
   ZVector z_trim_, z_pert_, dz_, z_shift_;
   UVector u_trim_, u_pert_, du_;
+  AirDataRates air_rates_;   // the phase gates' climb and Mach rates (air_data_rates.h)
   TrimTracker<NU, NZ> trim_tracker_;
   ClimbReference climb_ref_;
   ManeuverDwell maneuver_dwell_;

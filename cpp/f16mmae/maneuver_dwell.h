@@ -18,8 +18,8 @@
 //             (a first-order low-pass, tau = time_constant_s, default 2 s: a turn's 0.155 g
 //             passes, light turbulence's few hundredths of a g on single frames do not)
 //   moving  = |n_lp| > g  or  |h_dot| > climb_ft_s  or  |M_dot| > mach_per_s
-//             (h_dot, M_dot: air_data_rates.h, one usable air-data sample per frame through
-//             observe_air_data; rate 0 until samples arrive, then only n_lp gates)
+//             (h_dot, M_dot: air_data_rates.h, the bank's rates handed to each update;
+//             rate 0 until samples arrive, then only n_lp gates)
 //   maneuvering = moving on this frame or on one of the hold_frames = round(hold_s f) before.
 // While maneuvering:
 //   dwell      a level-0 declaration needs p > threshold on max(1, round(dwell_s f))
@@ -76,7 +76,7 @@ struct ManeuverDwellOptions {
 class ManeuverDwell {
  public:
   ManeuverDwell(const ManeuverDwellOptions& options, double frame_rate_hz)
-      : options_(options), air_(frame_rate_hz) {
+      : options_(options) {
     options.validate();
     check_frame_rate(frame_rate_hz, "maneuver dwell");
     hold_frames_ = static_cast<std::int64_t>(std::llround(options.hold_s * frame_rate_hz));
@@ -85,16 +85,14 @@ class ManeuverDwell {
   }
   bool enabled() const noexcept { return options_.enabled(); }
   void reset() noexcept {
-    air_.reset();
     n_lp_ = 0.0;
     held_for_ = 0;
   }
-  // One usable air-data sample.
-  void observe_air_data(double mach, double alt_ft) noexcept { air_.observe(mach, alt_ft); }
-  // One accepted update: dn, the estimated load factor off the trim (g).
-  void observe_load_factor(double dn) noexcept {
+  // One accepted update: dn, the estimated load factor off the trim (g); rates, the air-data
+  // rates with every usable sample so far observed.
+  void observe_load_factor(double dn, const AirDataRates& rates) noexcept {
     if (std::isfinite(dn)) n_lp_ += gain_ * (dn - n_lp_);
-    const bool moving = !(std::abs(n_lp_) <= options_.g) || air_.changing(options_.climb_ft_s, options_.mach_per_s);
+    const bool moving = !(std::abs(n_lp_) <= options_.g) || rates.changing(options_.climb_ft_s, options_.mach_per_s);
     if (moving)
       held_for_ = hold_frames_ + 1;
     else if (held_for_ > 0)
@@ -109,11 +107,9 @@ class ManeuverDwell {
     return options_.has_reference() && maneuvering() ? options_.reference : base;
   }
   const ManeuverDwellOptions& options() const noexcept { return options_; }
-  const AirDataRates& rates() const noexcept { return air_; }
 
  private:
   ManeuverDwellOptions options_;
-  AirDataRates air_;
   double gain_ = 1.0, n_lp_ = 0.0;
   std::int64_t hold_frames_ = 0, held_for_ = 0;
   int dwell_frames_ = 0;   // 0: off

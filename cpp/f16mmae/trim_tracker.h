@@ -51,8 +51,8 @@
 //   - a frame on which the measured air data say the aircraft climbs, descends, speeds up or
 //     slows down freezes it too (and hold_s after): |h_dot| > steady_climb_ft_s or
 //     |M_dot| > steady_mach_per_s, the rates read from the air data (air_data_rates.h: two
-//     first-order low-passes, 1 s and 5 s; HierarchicalBank::schedule hands each usable sample
-//     to observe_air_data; rate 0 until samples arrive, then only dn gates). A steady climb
+//     first-order low-passes, 1 s and 5 s, the bank's, handed to after_update; rate 0 until
+//     samples arrive, then only dn gates). A steady climb
 //     flies another throttle and stabilator than level flight: tracked, they would be handed
 //     to the filters as the trim at the level-off;
 // The names are resolved into a fixed mask at construction (options().steady_measurements is
@@ -117,7 +117,7 @@ class TrimTracker {
   // them; std::invalid_argument naming a missing one).
   TrimTracker(const TrimTrackingOptions& options, double frame_rate_hz, int nu, int nz,
               const std::vector<std::string>& measurement_names = {})
-      : options_(options), air_(frame_rate_hz) {
+      : options_(options) {
     options.validate();
     gain_ = options.enabled() ? 1.0 - std::exp(-1.0 / (frame_rate_hz * options.time_constant_s)) : 0.0;
     hold_frames_ = static_cast<std::int64_t>(std::llround(options.hold_s * frame_rate_hz));
@@ -140,27 +140,19 @@ class TrimTracker {
     held_for_ = 0;
     frozen_ = false;
     frozen_frames_ = 0;
-    air_.reset();
   }
-
-  // Steady tracking: one usable air-data sample (Mach, pressure altitude ft) per frame, before
-  // the frame's update (header).
-  void observe_air_data(double mach, double alt_ft) noexcept {
-    if (!options_.enabled() || !options_.steady()) return;
-    air_.observe(mach, alt_ft);
-  }
-  double climb_rate_ft_s() const noexcept { return air_.climb_rate_ft_s(); }
-  double mach_rate_per_s() const noexcept { return air_.mach_rate_per_s(); }
 
   // After frame i's update: `freezing` is the freeze condition on that frame (header);
   // z_pert = z_i - z_trim (the design/scheduled trim, without the offset).
   // Steady tracking: z_hat_pert = the bank's z_hat perturbation after the update (its AZ entry
-  // is dn); a frame beyond steady_g freezes as a freezing frame does.
+  // is dn) and rates the air-data rates with every usable sample so far observed; a frame
+  // beyond steady_g, steady_roll_rate_rad_s or the climb and Mach rates freezes as a freezing
+  // frame does.
   template <class Z, class ZH>
-  void after_update(const Z& z_pert, bool freezing, const ZH& z_hat_pert) noexcept {
+  void after_update(const Z& z_pert, bool freezing, const ZH& z_hat_pert, const AirDataRates& rates) noexcept {
     if (options_.steady() && !(std::abs(z_hat_pert(az_)) <= options_.steady_g &&
                                std::abs(z_hat_pert(rol_)) <= options_.steady_roll_rate_rad_s &&
-                               !air_.changing(options_.steady_climb_ft_s, options_.steady_mach_per_s)))
+                               !rates.changing(options_.steady_climb_ft_s, options_.steady_mach_per_s)))
       freezing = true;
     after_update(z_pert, freezing);
   }
@@ -209,7 +201,6 @@ class TrimTracker {
   std::int64_t hold_frames_ = 0, held_for_ = 0, frozen_frames_ = 0;
   bool frozen_ = false;
   int az_ = 0, rol_ = 0;
-  AirDataRates air_;
   UVector du_;
   ZVector dz_, mask_;
 };

@@ -3,6 +3,7 @@
 // force, the refusals; and in the hierarchical bank: off and in level flight bit for bit the
 // bank without it, while the air data climb a declaration that needs the maneuver dwell's
 // consecutive frames above the threshold instead of the declarer's.
+#include "f16mmae/air_data_rates.h"
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/maneuver_dwell.h"
 
@@ -21,6 +22,7 @@ using namespace f16mmae;
 namespace {
 
 constexpr double kRate = 64.0;
+const AirDataRates kNoAirData(kRate);   // no sample observed: both rates 0
 
 ManeuverDwellOptions dwell_options(double dwell_s, double hold_s, double g, double tau_s) {
   ManeuverDwellOptions o;
@@ -39,7 +41,7 @@ TEST(ManeuverDwell, LowPassCrossesTheGateWhereTheStepResponseSays) {
   ManeuverDwell d(dwell_options(1.5, 0.0, 0.1, 2.0), kRate);
   int first = -1;
   for (int k = 1; k <= 200; ++k) {
-    d.observe_load_factor(0.2);
+    d.observe_load_factor(0.2, kNoAirData);
     EXPECT_NEAR(d.load_factor_lp(), 0.2 * (1.0 - std::exp(-k / 128.0)), 1e-12) << k;
     if (first < 0 && d.maneuvering()) first = k;
   }
@@ -51,48 +53,50 @@ TEST(ManeuverDwell, LowPassCrossesTheGateWhereTheStepResponseSays) {
   EXPECT_EQ(d.load_factor_lp(), 0.0);
   EXPECT_EQ(d.dwell_frames(16), 16);
   // a negative load factor (a push-over) gates alike
-  for (int k = 1; k <= 89; ++k) d.observe_load_factor(-0.2);
+  for (int k = 1; k <= 89; ++k) d.observe_load_factor(-0.2, kNoAirData);
   EXPECT_TRUE(d.maneuvering());
 }
 
 TEST(ManeuverDwell, HoldLastsRoundHoldTimesRateFramesAfterTheLastMovingFrame) {
   // no low-pass (tau 0): dn itself; hold 0.5 s = 32 frames
   ManeuverDwell d(dwell_options(1.0, 0.5, 0.1, 0.0), kRate);
-  d.observe_load_factor(0.05);
+  d.observe_load_factor(0.05, kNoAirData);
   EXPECT_FALSE(d.maneuvering());
-  d.observe_load_factor(0.2);   // moving
+  d.observe_load_factor(0.2, kNoAirData);   // moving
   EXPECT_TRUE(d.maneuvering());
   for (int k = 1; k <= 32; ++k) {
-    d.observe_load_factor(0.0);
+    d.observe_load_factor(0.0, kNoAirData);
     EXPECT_TRUE(d.maneuvering()) << k;
   }
-  d.observe_load_factor(0.0);   // the 33rd frame after
+  d.observe_load_factor(0.0, kNoAirData);   // the 33rd frame after
   EXPECT_FALSE(d.maneuvering());
   // a non-finite load factor leaves the low-pass where it is
-  d.observe_load_factor(std::numeric_limits<double>::quiet_NaN());
+  d.observe_load_factor(std::numeric_limits<double>::quiet_NaN(), kNoAirData);
   EXPECT_EQ(d.load_factor_lp(), 0.0);
   EXPECT_FALSE(d.maneuvering());
 }
 
 TEST(ManeuverDwell, AirDataClimbOrSpeedChangeGatesWithoutLoadFactor) {
   ManeuverDwell d(dwell_options(1.0, 0.0, 0.1, 2.0), kRate);
+  AirDataRates rates(kRate);
   for (int i = 0; i < 640; ++i) {   // 10 s level, constant Mach
-    d.observe_air_data(0.6, 20000.0);
-    d.observe_load_factor(0.0);
+    rates.observe(0.6, 20000.0);
+    d.observe_load_factor(0.0, rates);
   }
   EXPECT_FALSE(d.maneuvering());
   for (int i = 1; i <= 640; ++i) {   // 10 s of 3000 ft/min: the rate settles at 50 ft/s > 5 ft/s
-    d.observe_air_data(0.6, 20000.0 + 50.0 * i / kRate);
-    d.observe_load_factor(0.0);
+    rates.observe(0.6, 20000.0 + 50.0 * i / kRate);
+    d.observe_load_factor(0.0, rates);
   }
   EXPECT_TRUE(d.maneuvering());
   // a ramp of slope v from rest through the 1-s and 5-s low-passes (air_data_rates.h), t = 10 s:
   // rate = v (4 - 5 exp(-t/5) + exp(-t)) / 4 = 41.5 ft/s (continuous time; 64 Hz is within 0.5)
-  EXPECT_NEAR(d.rates().climb_rate_ft_s(), 50.0 * (4.0 - 5.0 * std::exp(-2.0) + std::exp(-10.0)) / 4.0, 0.5);
+  EXPECT_NEAR(rates.climb_rate_ft_s(), 50.0 * (4.0 - 5.0 * std::exp(-2.0) + std::exp(-10.0)) / 4.0, 0.5);
   ManeuverDwell m(dwell_options(1.0, 0.0, 0.1, 2.0), kRate);
+  AirDataRates speeding(kRate);
   for (int i = 1; i <= 640; ++i) {   // 0.01 Mach/s
-    m.observe_air_data(0.6 + 0.01 * i / kRate, 20000.0);
-    m.observe_load_factor(0.0);
+    speeding.observe(0.6 + 0.01 * i / kRate, 20000.0);
+    m.observe_load_factor(0.0, speeding);
   }
   EXPECT_TRUE(m.maneuvering());
 }
@@ -104,11 +108,11 @@ TEST(ManeuverDwell, ReferenceWhileManeuveringOnlyWhenGiven) {
   EXPECT_TRUE(o.enabled());
   ManeuverDwell d(o, kRate);
   EXPECT_EQ(d.reference(0.6), 0.6);
-  d.observe_load_factor(0.3);
+  d.observe_load_factor(0.3, kNoAirData);
   EXPECT_EQ(d.reference(0.6), 0.65);
   EXPECT_EQ(d.dwell_frames(16), 16);   // no dwell of its own: the base
   ManeuverDwell n(dwell_options(1.0, 0.0, 0.1, 0.0), kRate);
-  n.observe_load_factor(0.3);
+  n.observe_load_factor(0.3, kNoAirData);
   EXPECT_EQ(n.reference(0.6), 0.6);    // no reference of its own
 }
 

@@ -23,7 +23,9 @@ steady-state gain from scipy's discrete algebraic Riccati equation (DARE).
 with 6 inputs (the throttle as the sixth, ``f16mmae design --throttle-input``), and at 13
 states and 5 inputs with a cold cache: before every frame a buffer of ``EVICT_BYTES`` is read,
 which evicts the bank from the cores' own caches (L1, L2) as the truth model's JSBSim steps do
-between two frames of a closed loop; each frame timed alone, the median frame counts.
+between two frames of a closed loop; each frame timed alone, the median frame counts; and with
+a partial-loss hypothesis per surface (``f16mmae design --partial-loss 0.5``: 18 filters on line
+at level 0, the partial hypothesis' Bd column scaled by the effectiveness kept).
 """
 from __future__ import annotations
 
@@ -38,6 +40,7 @@ import numpy as np
 import scipy.linalg
 
 from .. import __version__, core, names
+from ..design.hypotheses import parse_partial, partial_hypotheses
 
 #: Process and measurement noise of the synthetic bank (the DARE's Q = q I, R = r I).
 #: The estimator's targets: the C++ frame within 1 us, filterpy at least 3000x slower.
@@ -60,7 +63,8 @@ def synthetic_models(
     Phi is random with spectral radius 0.97, Bd and H random; a hypothesis fails the
     components it names (``names.failed_components``): an actuator's Bd column or a
     sensor's H row is zeroed. K and A come from the DARE with Q = Q_SYNTHETIC I,
-    R = R_SYNTHETIC I. Each model is a dict with phi, bd, h, k, a and, for full Kalman
+    R = R_SYNTHETIC I. A partial hypothesis (``"LS:loss=0.5"``) scales its surface's Bd column
+    by the effectiveness it keeps. Each model is a dict with phi, bd, h, k, a and, for full Kalman
     filters (filterpy), q, r and the a-priori covariance p.
     """
     rng = np.random.default_rng(seed)
@@ -74,7 +78,11 @@ def synthetic_models(
     models = []
     for name in hypotheses:
         bd_k, h_k = bd.copy(), h.copy()
-        for component in names.failed_components(name):
+        partial = parse_partial(name)
+        if partial is not None:
+            surface, kept = partial
+            bd_k[:, names.ACTUATORS.index(surface)] *= kept
+        for component in (() if partial is not None else names.failed_components(name)):
             if component in names.ACTUATORS:
                 bd_k[:, names.ACTUATORS.index(component)] = 0.0
             else:
@@ -209,6 +217,8 @@ class BenchResult:
     hierarchical_gust_us: float | None = None
     #: the hierarchical bank, 13 states and 6 inputs (the throttle)
     hierarchical_throttle_us: float | None = None
+    #: the hierarchical bank with a partial-loss hypothesis per surface (18 filters at level 0)
+    hierarchical_partial_us: float | None = None
     #: a turbulence bank set of 4 members of 19 states and 6 inputs (cpp/f16mmae/turbulence_bank_set.h),
     #: one member in force; and with a standby running beside it all along
     bank_set_us: float | None = None
@@ -233,6 +243,7 @@ class BenchResult:
             ("cpp_loop_adaptive / cpp_loop", self.cpp_loop_adaptive_us, self.cpp_loop_us),
             ("hierarchical 19 states / 13 states", self.hierarchical_gust_us, self.hierarchical_us),
             ("hierarchical 6 inputs / 5 inputs", self.hierarchical_throttle_us, self.hierarchical_us),
+            ("hierarchical 18 filters (partial loss) / 13", self.hierarchical_partial_us, self.hierarchical_us),
             ("hierarchical cold / hot", self.hierarchical_cold_us, self.hierarchical_us),
             ("bank set / hierarchical 19 states", self.bank_set_us, self.hierarchical_gust_us),
             ("bank set with a standby / without", self.bank_set_standby_us, self.bank_set_us),
@@ -289,6 +300,10 @@ def run_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int = 1) -> Ben
         if attr == "hierarchical_us":
             result.hierarchical_cold_us = core._bench_hierarchical_loop(
                 stored, zh, uh, min_time_s=min_time_s, evict_bytes=EVICT_BYTES)[0] * 1e6
+    partials = partial_hypotheses([0.5])
+    stored = synthetic_bank(names.SINGLE_HYPOTHESES + partials + names.DUAL_HYPOTHESES, seed=seed)
+    zh, uh = synthetic_frames(synthetic_models(names.SINGLE_HYPOTHESES + partials, seed), frames, seed=seed + 1)
+    result.hierarchical_partial_us = core._bench_hierarchical_loop(stored, zh, uh, min_time_s=min_time_s)[0] * 1e6
 
     # the turbulence bank set: 4 members of the set's sizes; bounds that keep member 0 in force, then
     # bounds that want member 1 all along with a hold longer than the frames (a standby throughout)
@@ -327,6 +342,7 @@ def report(result: BenchResult, stream) -> dict:
         ("(e') (e), 19 states (gust states)", result.hierarchical_gust_us),
         ("(e'') (e), 6 inputs (throttle)", result.hierarchical_throttle_us),
         ("(e''') (e), cold cache every frame", result.hierarchical_cold_us),
+        ("(e4) (e), 18 filters (partial loss)", result.hierarchical_partial_us),
         ("(f) turbulence bank set, 19 st. 6 in.", result.bank_set_us),
         ("(f') (f) with a standby beside", result.bank_set_standby_us),
         ("(b) Python call, bank.step(z, u)", result.python_call_us),
@@ -361,6 +377,7 @@ def report(result: BenchResult, stream) -> dict:
             "cpp_loop": result.cpp_loop_us, "cpp_loop_adaptive": result.cpp_loop_adaptive_us,
             "hierarchical": result.hierarchical_us, "hierarchical_gust": result.hierarchical_gust_us,
             "hierarchical_throttle": result.hierarchical_throttle_us, "hierarchical_cold": result.hierarchical_cold_us,
+            "hierarchical_partial": result.hierarchical_partial_us,
             "bank_set": result.bank_set_us, "bank_set_standby": result.bank_set_standby_us,
             "python_call": result.python_call_us,
             "numpy": result.numpy_us, "filterpy": result.filterpy_us,

@@ -356,21 +356,28 @@ def test_gust_nodes_keep_their_own_settings_only_inside_the_gust_region():
 
 
 def test_a_low_node_keeps_gust_states_only_where_its_calibration_gains():
-    """gust_gains on bounded_settings-like records: strictly less declaration effort with the
-    gust states keeps them; a tie or more does not; a design that met its bound at no floor
-    loses to one that did, whatever the efforts; a record without a calibration is refused."""
-    from f16mmae.design.schedule import gust_gains
+    """gust_gains on bounded_settings records: strictly less declaration effort with the gust
+    states at the smallest candidate floor, s (ln(thr/(1-thr)) - floor's log-odds), keeps them,
+    whatever the efforts at the larger floors; a tie or more does not; a design that met its
+    bound there wins over one that did not; records without candidates, or of different
+    floors, are refused."""
+    from f16mmae.design.calibrate import declaration_effort
+    from f16mmae.design.schedule import floor_effort, gust_gains
 
-    def rec(effort, met=True):
-        return {"effort": effort, "bound_met": met}
+    def rec(s_low, s_high=1.0, met=True):   # floors 1e-9 and 1e-5: [p_min, reference, peak, s, met]
+        return {"candidates": [[1e-5, 0.5, -3.0, s_high, True], [1e-9, 0.7, -7.0, s_low, met]]}
 
-    assert gust_gains(rec(26.93), rec(18.32))
-    assert not gust_gains(rec(26.93), rec(31.0))
-    assert not gust_gains(rec(22.92), rec(22.92))
-    assert gust_gains(rec(10.0, met=False), rec(40.0))
-    assert not gust_gains(rec(40.0), rec(10.0, met=False))
-    with pytest.raises(ValueError, match="the gust record has no calibration"):
+    assert floor_effort(rec(1.3)) == (1e-9, round(float(declaration_effort(1e-9, 0.9, 1.3)), 2), True)
+    assert floor_effort(rec(1.0))[1] == 22.92                            # ln 9 + the climb from 1e-9
+    assert not gust_gains(rec(1.295), rec(1.621))        # Mach 0.8, 10,000 ft of the default grid
+    assert gust_gains(rec(3.06), rec(1.0))                # Mach 0.8, 5,000 ft
+    assert not gust_gains(rec(1.0, s_high=5.0), rec(1.0, s_high=1.0))   # a tie at 1e-9: plain
+    assert gust_gains(rec(1.0, met=False), rec(4.0))
+    assert not gust_gains(rec(4.0), rec(1.0, met=False))
+    with pytest.raises(ValueError, match="no calibration candidates"):
         gust_gains(rec(1.0), {"p_min": 1e-9})
+    with pytest.raises(ValueError, match="smallest floors differ"):
+        gust_gains(rec(1.0), {"candidates": [[1e-7, 0.7, -7.0, 1.0, True]]})
 
 
 @pytest.mark.parametrize("args, message", [
@@ -403,8 +410,8 @@ def test_design_schedule_refuses_the_effort_choice_without_calibration(tmp_path)
 
 def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeypatch):
     """Two low nodes designed with and without gust states; the calibration (flights, knobs,
-    bounded pair) replaced by records whose effort says the gust design gains at Mach 0.5 and
-    loses at Mach 0.6 (the workers fork with the replacement): the file keeps the 19-state
+    bounded pair) replaced by records whose scale s at the floor says the gust design gains at
+    Mach 0.5 and loses at Mach 0.6 (the workers fork with the replacement): the file keeps the 19-state
     design at 0.5 and the 13-state design, padded, at 0.6, whose filters are design_bank's at
     the point; the metadata lists both efforts of each node and the nodes with gust states."""
     import types
@@ -413,10 +420,10 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
 
     def bounded(model_bank, flights, candidates, start_up_s=0.0):
         gusty = len(model_bank.state_names) > names.NX
-        effort = {(0.5, True): 10.0, (0.5, False): 20.0, (0.6, True): 30.0, (0.6, False): 20.0}[
+        scale = {(0.5, True): 1.0, (0.5, False): 2.0, (0.6, True): 3.0, (0.6, False): 2.0}[
             (round(model_bank.mach, 6), gusty)]
         return {"p_min": 1e-9, "adapt_reference": 0.6, "failure_log_odds_peak": -7.0, "bound_met": True,
-                "scale": 1.0, "effort": effort, "candidates": [[1e-9, 0.6, -7.0, 1.0, True]]}
+                "scale": scale, "effort": 0.0, "candidates": [[1e-9, 0.6, -7.0, scale, True]]}
 
     ratios = types.SimpleNamespace(var_over_a=[1.0] * len(names.SENSORS))
     monkeypatch.setattr(sched, "node_flights", lambda mach, alt_ft, turbulence: ())
@@ -431,8 +438,8 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
     assert meta["command"].endswith("--gust-states-below-ft 12000 --gust-node-choice effort")
     assert meta["gust_states"]["nodes"] == [{"mach": 0.5, "alt_ft": 10000.0}]
     assert meta["gust_states"]["efforts"] == [
-        {"mach": 0.5, "alt_ft": 10000.0, "gust": True, "effort_plain": 20.0, "effort_gust": 10.0},
-        {"mach": 0.6, "alt_ft": 10000.0, "gust": False, "effort_plain": 20.0, "effort_gust": 30.0}]
+        {"mach": 0.5, "alt_ft": 10000.0, "gust": True, "effort_plain": 45.84, "effort_gust": 22.92},
+        {"mach": 0.6, "alt_ft": 10000.0, "gust": False, "effort_plain": 45.84, "effort_gust": 68.76}]
     assert s["covered"] == 2
     nodes = {n["mach"]: n["bank"] for n in f["nodes"]}
     ng = len(GUST_STATES)

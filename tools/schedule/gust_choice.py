@@ -12,7 +12,8 @@ two files' records), the plain ones padded (``gust_states.pad_bank``), and the f
 references are the neighbourhood rule's (``schedule.neighbourhood_settings`` with the kept
 interior ``schedule.gust_neighbourhoods``), as ``design_schedule`` sets them.  The metadata is
 GUST's with the nodes' records, the gust-state block and the command of the choice.
-``--show``: print each low node's choice and the floors and references of the rows up to
+``--plain-nodes M:FT,...``: those low nodes plain, the others with gust states, in place of the
+effort choice (for a diagnosis).  ``--show``: print each low node's choice and the floors and references of the rows up to
 the first row above FT, and write nothing if OUT is ``-``.
 """
 from __future__ import annotations
@@ -22,7 +23,7 @@ import json
 
 from f16mmae import core
 from f16mmae.design.gust_states import pad_bank, pad_state
-from f16mmae.design.schedule import gust_gains, gust_neighbourhoods, neighbourhood_settings
+from f16mmae.design.schedule import floor_effort, gust_gains, gust_neighbourhoods, neighbourhood_settings
 
 
 def _records(meta: dict, mach, alt) -> dict:
@@ -41,6 +42,9 @@ def main() -> int:
     ap.add_argument("gust")
     ap.add_argument("out")
     ap.add_argument("--show", action="store_true")
+    ap.add_argument("--plain-nodes", default=None, metavar="M:FT,...",
+                    help="instead of the effort choice, these low nodes plain and the others with gust states "
+                         "(a hand-made choice: the metadata's command does not name it)")
     args = ap.parse_args()
     p, g = core.load_bank(args.plain).schedule, core.load_bank(args.gust).schedule
     if list(p["mach"]) != list(g["mach"]) or list(p["alt_ft"]) != list(g["alt_ft"]):
@@ -54,8 +58,14 @@ def main() -> int:
                          f"{gm['command']}")
     rp, rg = _records(pm, mach, alt), _records(gm, mach, alt)
     low = {(mach.index(n["mach"]), alt.index(n["alt_ft"])) for n in gm["gust_states"]["nodes"]}
-    choice = {k: {"gust": gust_gains(rp[k], rg[k]), "effort_plain": rp[k]["effort"], "effort_gust": rg[k]["effort"]}
+    choice = {k: {"gust": gust_gains(rp[k], rg[k]), "effort_plain": floor_effort(rp[k])[1],
+                  "effort_gust": floor_effort(rg[k])[1]}
               for k in sorted(low) if k in rp and k in rg}
+    if args.plain_nodes is not None:
+        plain = {(mach.index(float(m)), alt.index(float(a))) for m, a in
+                 (x.split(":") for x in args.plain_nodes.split(",") if x)}
+        for k in choice:
+            choice[k]["gust"] = k not in plain
     gust = {k for k, c in choice.items() if c["gust"]}
     records = {k: (rg[k] if k in gust else rp[k]) for k in rp}
     keep = gust_neighbourhoods(records, gust)
@@ -63,7 +73,7 @@ def main() -> int:
     if args.show:
         for k, c in choice.items():
             print(f"Mach {mach[k[0]]:.2f} {alt[k[1]]:6.0f} ft: {'gust ' if c['gust'] else 'plain'} "
-                  f"(effort {c['effort_gust']} with, {c['effort_plain']} without)")
+                  f"(effort at the smallest floor {c['effort_gust']} with, {c['effort_plain']} without)")
         top = max(k[1] for k in low) + 1
         for j in range(top + 1):
             print(f"{alt[j]:6.0f} " + " ".join(f"{'G' if (i, j) in gust else 'P'}{floors[(i, j)]:.0e}/{refs[(i, j)]:.2f}"
@@ -79,7 +89,7 @@ def main() -> int:
         bank = pad_bank(m["bank"]).with_settings(p_min=floors[k])
         nodes.append((k[0], k[1], bank, pad_state(m["x_trim"]), refs[k], m["layer"]))
     meta = dict(gm)
-    meta["command"] = gm["command"] + " --gust-node-choice effort"
+    meta["command"] = gm["command"] + (" --gust-node-choice effort" if args.plain_nodes is None else "")
     plain_records = {(r["mach"], r["alt_ft"]): r for r in pm["nodes"]}
     file_records = []
     for r in gm["nodes"]:
@@ -90,7 +100,7 @@ def main() -> int:
     gs = dict(gm["gust_states"])
     gs["nodes"] = [{"mach": mach[i], "alt_ft": alt[j]} for (i, j) in sorted(gust, key=lambda k: (k[1], k[0]))]
     gs["own_settings"] = [{"mach": mach[i], "alt_ft": alt[j]} for (i, j) in sorted(keep, key=lambda k: (k[1], k[0]))]
-    gs["choice"] = "effort"
+    gs["choice"] = "effort" if args.plain_nodes is None else f"plain at {args.plain_nodes}"
     gs["efforts"] = [{"mach": mach[i], "alt_ft": alt[j], **choice[(i, j)]}
                      for (i, j) in sorted(choice, key=lambda k: (k[1], k[0]))]
     meta["gust_states"] = gs

@@ -58,8 +58,8 @@ every other node takes the pair the neighbourhood rule gives without that except
 on different levels and a cell blending the two is bounded only by the smaller.
 With ``gust_node_choice`` ``effort`` a node at or below FT is designed and calibrated both ways
 and carries the gust states only where its calibration gains by them (``gust_gains``: less
-declaration effort at its own bounded pair on its tuning-seed flights); the others are its plain
-design, padded, and count as plain nodes in the rule above.
+declaration effort at the smallest candidate floor on its tuning-seed flights); the others are
+its plain design, padded, and count as plain nodes in the rule above.
 
 Deterministic: the same grid and tuning give the same file byte for byte (nodes in grid
 order; the metadata holds no time or host).  The points are designed in parallel (a process
@@ -209,20 +209,39 @@ def gust_neighbourhoods(covered, gust) -> frozenset:
 GUST_NODE_CHOICES: tuple[str, ...] = ("all", "effort")
 
 
+def floor_effort(record: dict, threshold: float = names.THRESHOLD_DEFAULT) -> tuple[float, float, bool]:
+    """(floor, declaration effort, bound met) of a node's calibration record
+    (``calibrate.bounded_settings``) at its smallest candidate floor: s (ln(thr/(1-thr)) -
+    floor's log-odds) with s the adaptation's scale the node's estimator holds there at the
+    row's bounded reference (``calibrate.declaration_effort``)."""
+    from .calibrate import declaration_effort
+
+    rows = record.get("candidates")
+    if not rows:
+        raise ValueError("the record has no calibration candidates (p_min, reference, peak, s, met): "
+                         "the effort choice needs --node-tuning calibrated")
+    p_min, _, _, scale, met = min(rows, key=lambda r: r[0])
+    return float(p_min), round(float(declaration_effort(p_min, threshold, scale)), 2), bool(met)
+
+
 def gust_gains(plain: dict, gust: dict) -> bool:
-    """Whether a node carries gust states under the ``effort`` choice: its gust design's
-    calibration record (``calibrate.bounded_settings``: {effort, bound_met, ...}) asks a failure
-    for strictly less declaration effort than its plain design's, effort = s (ln(thr/(1-thr))
-    - floor) at the node's own bounded pair (``calibrate.declaration_effort``), both on the
-    node's tuning-seed calibration flights.  A design that met its bound at no floor does not
-    gain over one that did; a tie keeps the plain design (the gust states cost frame time)."""
-    for name, r in (("plain", plain), ("gust", gust)):
-        if "effort" not in r or "bound_met" not in r:
-            raise ValueError(f"gust_gains: the {name} record has no calibration (effort, bound_met): "
-                             "the effort choice needs --node-tuning calibrated")
-    if bool(gust["bound_met"]) != bool(plain["bound_met"]):
-        return bool(gust["bound_met"])
-    return float(gust["effort"]) < float(plain["effort"])
+    """Whether a node carries gust states under the ``effort`` choice: on the node's
+    tuning-seed calibration flights its gust design asks a failure for strictly less
+    declaration effort than its plain design at the smallest candidate floor (``floor_effort``;
+    the floor the neighbourhood rule gives nearly every node, where the two designs' bounded
+    references are compared at one climb), a design that met its bound there winning over one
+    that did not.  A tie keeps the plain design (the calibration shows no gain; the gust states
+    cost frame time).  ValueError for records without a calibration, or of different floors."""
+    try:
+        fp, ep, mp = floor_effort(plain)
+        fg, eg, mg = floor_effort(gust)
+    except ValueError as exc:
+        raise ValueError(f"gust_gains: {exc}") from None
+    if fp != fg:
+        raise ValueError(f"gust_gains: the records' smallest floors differ ({fp:g} plain, {fg:g} gust)")
+    if mp != mg:
+        return mg
+    return eg < ep
 
 
 def _layer(lef_rad: float) -> int:
@@ -435,14 +454,15 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 keep_gust = g[3] is not None
             else:
                 keep_gust = gust_gains(p[7], g[7])
-            choice[k] = {"gust": keep_gust, "effort_plain": p[7].get("effort"), "effort_gust": g[7].get("effort")}
+            choice[k] = {"gust": keep_gust, **({"effort_plain": floor_effort(p[7])[1], "effort_gust": floor_effort(g[7])[1]}
+                                               if g[3] is not None and p[3] is not None else {})}
             if not keep_gust:
                 results[k] = p
                 gust.discard(k)
             if progress:
                 progress(f"Mach {grid.mach[k[0]]:.2f}, {grid.alt_ft[k[1]]:.0f} ft: "
-                         f"{'gust states' if keep_gust else 'no gust states'} (declaration effort "
-                         f"{choice[k]['effort_gust']} with, {choice[k]['effort_plain']} without)")
+                         f"{'gust states' if keep_gust else 'no gust states'} (declaration effort at the "
+                         f"smallest floor {choice[k].get('effort_gust')} with, {choice[k].get('effort_plain')} without)")
         own = {k: r[2] for k, r in results.items() if r[3] is not None}
         p_min_of = {}   # grid index -> the node's floor in the file (calibrated nodes)
         keep = gust_neighbourhoods(own, gust) if node_tuning == "calibrated" else frozenset()

@@ -165,7 +165,7 @@ def register(subparsers) -> None:
     p.add_argument("--gust-node-choice", default=None, metavar="|".join(GUST_NODE_CHOICES),
                    help="--gust-states-below-ft: which of those nodes carry gust states: all (default), or "
                         "effort: each designed with and without, the gust design kept where its calibration "
-                        "asks a failure for less declaration effort (calibrated nodes; about 1.5x the design time)")
+                        "asks a failure for less declaration effort (calibrated nodes; about 1.3x the design time)")
     p.add_argument("--turbulence-banks", action="store_true",
                    help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the set "
                         "file --out (default: the cache that --tuning turbulence reads)")

@@ -438,7 +438,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     plain_points = [(i, j, m, a, tuning) + p[5:] for p in points for (i, j, m, a) in [p[:4]]
                     if choose and (i, j) in gust]
     t0 = time.perf_counter()
-    results, alternates, plain_results, choice = {}, {}, {}, {}
+    results, alternates, plain_results, choice, unused = {}, {}, {}, {}, []
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
         for n, r in enumerate(pool.map(_design_point, points + plain_points), start=1):
             variant = n > len(points)
@@ -456,6 +456,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 keep_gust = gust_gains(p[7], g[7])
             choice[k] = {"gust": keep_gust, **({"effort_plain": floor_effort(p[7])[1], "effort_gust": floor_effort(g[7])[1]}
                                                if g[3] is not None and p[3] is not None else {})}
+            unused.append((p if keep_gust else g)[6])
             if not keep_gust:
                 results[k] = p
                 gust.discard(k)
@@ -569,7 +570,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
             "alternates": len([a for a in alternates.values() if a[3] is not None]),
             "bytes": path.stat().st_size, "wall_s": time.perf_counter() - t0,
             "design_s": (sum(r[6] for r in results.values()) + sum(r[6] for r in alternates.values())
-                         + sum(r[6] for k, r in plain_results.items() if k in gust)),   # the designs not kept
+                         + sum(unused)),   # with the designs the effort choice did not keep
             "primary": (grid.mach[nodes[primary][0]], grid.alt_ft[nodes[primary][1]])}
 
 

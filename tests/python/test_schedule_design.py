@@ -353,3 +353,101 @@ def test_gust_nodes_keep_their_own_settings_only_inside_the_gust_region():
     floors, refs = neighbourhood_settings(records, keep_own=keep)
     assert all((floors[(i, 0)], refs[(i, 0)]) == (1e-5, 0.7) for i in range(3))
     assert all((floors[(i, j)], refs[(i, j)]) == (1e-9, 0.8) for i in range(3) for j in (1, 2))
+
+
+def test_a_low_node_keeps_gust_states_only_where_its_calibration_gains():
+    """gust_gains on bounded_settings records: strictly less declaration effort with the gust
+    states at the smallest candidate floor, s (ln(thr/(1-thr)) - floor's log-odds), keeps them,
+    whatever the efforts at the larger floors; a tie or more does not; a design that met its
+    bound there wins over one that did not; records without candidates, or of different
+    floors, are refused."""
+    from f16mmae.design.calibrate import declaration_effort
+    from f16mmae.design.schedule import floor_effort, gust_gains
+
+    def rec(s_low, s_high=1.0, met=True):   # floors 1e-9 and 1e-5: [p_min, reference, peak, s, met]
+        return {"candidates": [[1e-5, 0.5, -3.0, s_high, True], [1e-9, 0.7, -7.0, s_low, met]]}
+
+    assert floor_effort(rec(1.3)) == (1e-9, round(float(declaration_effort(1e-9, 0.9, 1.3)), 2), True)
+    assert floor_effort(rec(1.0))[1] == 22.92                            # ln 9 + the climb from 1e-9
+    assert not gust_gains(rec(1.295), rec(1.621))        # Mach 0.8, 10,000 ft of the default grid
+    assert gust_gains(rec(3.06), rec(1.0))                # Mach 0.8, 5,000 ft
+    assert not gust_gains(rec(1.0, s_high=5.0), rec(1.0, s_high=1.0))   # a tie at 1e-9: plain
+    assert gust_gains(rec(1.0, met=False), rec(4.0))
+    assert not gust_gains(rec(4.0), rec(1.0, met=False))
+    with pytest.raises(ValueError, match="no calibration candidates"):
+        gust_gains(rec(1.0), {"p_min": 1e-9})
+    with pytest.raises(ValueError, match="smallest floors differ"):
+        gust_gains(rec(1.0), {"candidates": [[1e-7, 0.7, -7.0, 1.0, True]]})
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--schedule", GUST_GRID, "--gust-node-choice", "effort"],
+     "--gust-node-choice chooses among the nodes at or below --gust-states-below-ft: give it too"),
+    (["--schedule", GUST_GRID, "--gust-states-below-ft", "12000", "--gust-node-choice", "some"],
+     "--gust-node-choice 'some': valid: all, effort"),
+    (["--schedule", GUST_GRID, "--gust-states-below-ft", "12000", "--gust-node-choice", "effort",
+      "--node-tuning", "fixed"], "--gust-node-choice effort compares each node's calibration"),
+    (["--gust-node-choice", "effort"], "--gust-node-choice applies to a scheduled design"),
+])
+def test_a_bad_gust_node_choice_is_refused_before_any_work(args, message, tmp_path, capsys):
+    out = tmp_path / "x.f16sched"
+    assert main(["design", *args, "--out", str(out)]) != 0
+    assert message in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_design_schedule_refuses_the_effort_choice_without_calibration(tmp_path):
+    from f16mmae.design.schedule import design_schedule
+
+    with pytest.raises(ScheduleSpecError, match="needs the node tuning calibrated"):
+        design_schedule(parse_grid(GUST_GRID), "tuned", tmp_path / "x.f16sched", node_tuning="fixed",
+                        gust_states_below_ft=12000, gust_node_choice="effort")
+    with pytest.raises(ScheduleSpecError, match="gust node choice 'x' is not one of all, effort"):
+        design_schedule(parse_grid(GUST_GRID), "tuned", tmp_path / "x.f16sched",
+                        gust_states_below_ft=12000, gust_node_choice="x")
+    assert not (tmp_path / "x.f16sched").exists()
+
+
+def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeypatch):
+    """Two low nodes designed with and without gust states; the calibration (flights, knobs,
+    bounded pair) replaced by records whose scale s at the floor says the gust design gains at
+    Mach 0.5 and loses at Mach 0.6 (the workers fork with the replacement): the file keeps the 19-state
+    design at 0.5 and the 13-state design, padded, at 0.6, whose filters are design_bank's at
+    the point; the metadata lists both efforts of each node and the nodes with gust states."""
+    import types
+
+    from f16mmae.design import schedule as sched
+
+    def bounded(model_bank, flights, candidates, start_up_s=0.0):
+        gusty = len(model_bank.state_names) > names.NX
+        scale = {(0.5, True): 1.0, (0.5, False): 2.0, (0.6, True): 3.0, (0.6, False): 2.0}[
+            (round(model_bank.mach, 6), gusty)]
+        return {"p_min": 1e-9, "adapt_reference": 0.6, "failure_log_odds_peak": -7.0, "bound_met": True,
+                "scale": scale, "effort": 0.0, "candidates": [[1e-9, 0.6, -7.0, scale, True]]}
+
+    ratios = types.SimpleNamespace(var_over_a=[1.0] * len(names.SENSORS))
+    monkeypatch.setattr(sched, "node_flights", lambda mach, alt_ft, turbulence: ())
+    monkeypatch.setattr(sched, "calibrate_node", lambda mach, alt_ft, tun, linearized, flights: (tun, ratios, ratios))
+    monkeypatch.setattr(sched, "bounded_settings", bounded)
+    monkeypatch.setattr(sched, "adaptation_reference", lambda design, flights: 1.0)
+    out = tmp_path / "choice.f16sched"
+    s = sched.design_schedule(parse_grid("mach=0.5/0.6,alt=10000"), "tuned", out, workers=2, flap_layers=False,
+                              gust_states_below_ft=12000, gust_node_choice="effort")
+    f = core.load_bank(out).schedule
+    meta = json.loads(f["metadata"])
+    assert meta["command"].endswith("--gust-states-below-ft 12000 --gust-node-choice effort")
+    assert meta["gust_states"]["nodes"] == [{"mach": 0.5, "alt_ft": 10000.0}]
+    assert meta["gust_states"]["efforts"] == [
+        {"mach": 0.5, "alt_ft": 10000.0, "gust": True, "effort_plain": 45.84, "effort_gust": 22.92},
+        {"mach": 0.6, "alt_ft": 10000.0, "gust": False, "effort_plain": 45.84, "effort_gust": 68.76}]
+    assert s["covered"] == 2
+    nodes = {n["mach"]: n["bank"] for n in f["nodes"]}
+    ng = len(GUST_STATES)
+    gust_phi = np.asarray(nodes[0.5].hypotheses[0].phi)
+    assert np.abs(gust_phi[names.NX:, names.NX:]).max() > 0           # live gust states
+    tuned = _constant_vel(load_tuning("tuned"))
+    plain = pad_bank(to_model_bank(design_bank(0.6, 10000.0, tuned)))
+    for h, want in zip(nodes[0.6].hypotheses, plain.hypotheses):   # the plain design, padded
+        np.testing.assert_array_equal(np.asarray(h.phi), np.asarray(want.phi))
+        np.testing.assert_array_equal(np.asarray(h.k), np.asarray(want.k))
+        assert not np.asarray(h.phi)[names.NX:, :].any() and np.asarray(h.k)[-ng:].sum() == 0

@@ -14,7 +14,8 @@ from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
 from ..design.hypotheses import FAILURE_MODELS, check_failure_model, uses_cover
 from ..design.gust_states import GUST_STATE_MODELS
-from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, NODE_TUNINGS, ScheduleSpecError, check_gust_altitude,
+from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES, NODE_TUNINGS, ScheduleSpecError,
+                               check_gust_altitude,
                                design_schedule, format_spec, parse_grid, schedule_failure_model)
 from ..design.tuning import TuningError, load_tuning
 from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
@@ -59,6 +60,7 @@ examples:
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
   f16mmae design --schedule --throttle-input --out scheduled_throttle.f16sched   # 6 inputs at every node
   f16mmae design --schedule --gust-states-below-ft 15000 --workers 2 --out low_gust.f16sched   # gust states low
+  f16mmae design --schedule --gust-states-below-ft 15000 --gust-node-choice effort --out low_gust_e.f16sched
 
 Scheduled design (--schedule [GRID]): one bank per point of a Mach x altitude grid, the
 tuning's pseudonoise re-calibrated at every point (--node-tuning calibrated: stage 1 of
@@ -160,6 +162,10 @@ def register(subparsers) -> None:
                    help="--schedule: the nodes at or below FT ft carry Dryden gust states (19 states, from the "
                         "gust-state tuning's knobs, calibrated at the node), the others inert gust states (one "
                         "state count per file); default none")
+    p.add_argument("--gust-node-choice", default=None, metavar="|".join(GUST_NODE_CHOICES),
+                   help="--gust-states-below-ft: which of those nodes carry gust states: all (default), or "
+                        "effort: each designed with and without, the gust design kept where its calibration "
+                        "asks a failure for less declaration effort (calibrated nodes; about 1.3x the design time)")
     p.add_argument("--turbulence-banks", action="store_true",
                    help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the set "
                         "file --out (default: the cache that --tuning turbulence reads)")
@@ -195,6 +201,9 @@ def _run(args) -> int:
     if args.gust_states_below_ft is not None:
         raise CliError("--gust-states-below-ft applies to a scheduled design; give --schedule [GRID] too "
                        "(--gust-states gives one point's bank gust states)")
+    if args.gust_node_choice is not None:
+        raise CliError("--gust-node-choice applies to a scheduled design with --gust-states-below-ft; "
+                       "give --schedule [GRID] too")
     mach = number("--mach", args.mach)
     alt_ft = number("--alt-ft", args.alt_ft)
     if not MACH_RANGE[0] <= mach <= MACH_RANGE[1]:
@@ -322,6 +331,15 @@ def _run_schedule(args) -> int:
         if tuning.gust_model in GUST_STATE_MODELS:
             raise CliError(f"--gust-states-below-ft: the tuning {tuning.name} already models gust states "
                            f"({tuning.gust_model}) at every node")
+    gust_choice = args.gust_node_choice or "all"
+    if args.gust_node_choice is not None:
+        if gust_ft is None:
+            raise CliError("--gust-node-choice chooses among the nodes at or below --gust-states-below-ft: give it too")
+        if gust_choice not in GUST_NODE_CHOICES:
+            raise CliError(f"--gust-node-choice {gust_choice!r}: valid: {', '.join(GUST_NODE_CHOICES)}")
+        if gust_choice == "effort" and node_tuning != "calibrated":
+            raise CliError("--gust-node-choice effort compares each node's calibration with and without gust "
+                           "states: it needs --node-tuning calibrated")
     thr = "_throttle" if args.throttle_input else ""
     gst = "" if gust_ft is None else f"_gust{gust_ft:g}"
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}{gst}.f16sched", "--out")
@@ -329,14 +347,15 @@ def _run_schedule(args) -> int:
     print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
           f"tuning {how} {tuning.name}, failure model {failure_model}"
           + ("" if gust_ft is None else f", Dryden gust states at the nodes at or below {gust_ft:g} ft "
-             "(the others inert)"), flush=True)
+             + ("(the others inert)" if gust_choice == "all" else
+                "where a node's calibration gains by them (the others inert)")), flush=True)
     try:
         s = design_schedule(grid, args.tuning, out, workers=workers,
                             progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning,
                             flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input,
                             p_min_candidates=p_mins, start_up_s=start_up["--start-up-s"],
                             calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model,
-                            gust_states_below_ft=gust_ft)
+                            gust_states_below_ft=gust_ft, gust_node_choice=gust_choice)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

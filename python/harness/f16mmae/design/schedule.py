@@ -56,6 +56,10 @@ a gust node whose covered grid neighbours all carry gust states keeps its own bo
 every other node takes the pair the neighbourhood rule gives without that exception
 (``neighbourhood_settings`` ``keep_own``), since the gust and plain filters' power ratios are
 on different levels and a cell blending the two is bounded only by the smaller.
+With ``gust_node_choice`` ``effort`` a node at or below FT is designed and calibrated both ways
+and carries the gust states only where its calibration gains by them (``gust_gains``: less
+declaration effort at the smallest candidate floor on its tuning-seed flights); the others are
+its plain design, padded, and count as plain nodes in the rule above.
 
 Deterministic: the same grid and tuning give the same file byte for byte (nodes in grid
 order; the metadata holds no time or host).  The points are designed in parallel (a process
@@ -199,6 +203,47 @@ def gust_neighbourhoods(covered, gust) -> frozenset:
                             if (di or dj) and (k[0] + di, k[1] + dj) in covered))
 
 
+#: How the nodes at or below ``gust_states_below_ft`` get their gust states: ``all`` (every one)
+#: or ``effort`` (each designed both ways and calibrated on its own tuning-seed flights; it
+#: carries gust states when its calibration shows it gains: ``gust_gains``).
+GUST_NODE_CHOICES: tuple[str, ...] = ("all", "effort")
+
+
+def floor_effort(record: dict, threshold: float = names.THRESHOLD_DEFAULT) -> tuple[float, float, bool]:
+    """(floor, declaration effort, bound met) of a node's calibration record
+    (``calibrate.bounded_settings``) at its smallest candidate floor: s (ln(thr/(1-thr)) -
+    floor's log-odds) with s the adaptation's scale the node's estimator holds there at the
+    row's bounded reference (``calibrate.declaration_effort``)."""
+    from .calibrate import declaration_effort
+
+    rows = record.get("candidates")
+    if not rows:
+        raise ValueError("the record has no calibration candidates (p_min, reference, peak, s, met): "
+                         "the effort choice needs --node-tuning calibrated")
+    p_min, _, _, scale, met = min(rows, key=lambda r: r[0])
+    return float(p_min), round(float(declaration_effort(p_min, threshold, scale)), 2), bool(met)
+
+
+def gust_gains(plain: dict, gust: dict) -> bool:
+    """Whether a node carries gust states under the ``effort`` choice: on the node's
+    tuning-seed calibration flights its gust design asks a failure for strictly less
+    declaration effort than its plain design at the smallest candidate floor (``floor_effort``;
+    the floor the neighbourhood rule gives nearly every node, where the two designs' bounded
+    references are compared at one climb), a design that met its bound there winning over one
+    that did not.  A tie keeps the plain design (the calibration shows no gain; the gust states
+    cost frame time).  ValueError for records without a calibration, or of different floors."""
+    try:
+        fp, ep, mp = floor_effort(plain)
+        fg, eg, mg = floor_effort(gust)
+    except ValueError as exc:
+        raise ValueError(f"gust_gains: {exc}") from None
+    if fp != fg:
+        raise ValueError(f"gust_gains: the records' smallest floors differ ({fp:g} plain, {fg:g} gust)")
+    if mp != mg:
+        return mg
+    return eg < ep
+
+
 def _layer(lef_rad: float) -> int:
     """The configuration layer of a leading-edge flap position (``aircraft.LEF_POSITIONS_RAD``)."""
     return int(np.argmin([abs(lef_rad - p) for p in LEF_POSITIONS_RAD]))
@@ -331,7 +376,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     start_up_s: float = START_UP_S,
                     calibration_start_up_s: float = CALIBRATION_START_UP_S,
                     failure_model: str | None = None,
-                    gust_states_below_ft: float | None = None) -> dict:
+                    gust_states_below_ft: float | None = None,
+                    gust_node_choice: str = "all") -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
@@ -351,6 +397,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     the node's ``complete`` bank whatever the model (module docstring).
     ``gust_states_below_ft``: the nodes at or below it with Dryden gust states, the others padded
     with inert ones (module docstring); ScheduleSpecError if no node lies at or below it.
+    ``gust_node_choice`` (GUST_NODE_CHOICES): ``all`` of those nodes carry gust states, or, with
+    ``effort`` (calibrated nodes only), each is designed both ways and keeps the gust design
+    only where ``gust_gains`` says its calibration gains; the metadata lists both efforts.
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""
@@ -370,6 +419,12 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         raise ScheduleSpecError(f"gust states below {gust_ft:g} ft: the tuning {tuning_obj.name} already models "
                                 f"gust states ({tuning_obj.gust_model}) at every node")
     gust_tuning = None if gust_ft is None else gust_node_tuning(tuning_obj)
+    if gust_node_choice not in GUST_NODE_CHOICES:
+        raise ScheduleSpecError(f"gust node choice {gust_node_choice!r} is not one of {', '.join(GUST_NODE_CHOICES)}")
+    choose = gust_ft is not None and gust_node_choice == "effort"
+    if choose and node_tuning != "calibrated":
+        raise ScheduleSpecError("the gust node choice effort compares each node's calibration with and without "
+                                "gust states: it needs the node tuning calibrated")
 
     def point_tuning(alt_ft):
         return gust_tuning if gust_ft is not None and alt_ft <= gust_ft else tuning
@@ -379,16 +434,36 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     gust = {(i, j) for j, a in enumerate(grid.alt_ft) for i in range(len(grid.mach))
             if gust_ft is not None and a <= gust_ft}
+    # the effort choice: the gust nodes' plain designs too, after the grid (the same worker arguments as a plain node)
+    plain_points = [(i, j, m, a, tuning) + p[5:] for p in points for (i, j, m, a) in [p[:4]]
+                    if choose and (i, j) in gust]
     t0 = time.perf_counter()
-    results, alternates = {}, {}
+    results, alternates, plain_results, choice, unused = {}, {}, {}, {}, []
     with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
-        for n, r in enumerate(pool.map(_design_point, points), start=1):
-            results[(r[0], r[1])] = r
+        for n, r in enumerate(pool.map(_design_point, points + plain_points), start=1):
+            variant = n > len(points)
+            (plain_results if variant else results)[(r[0], r[1])] = r
             if progress:
                 m, a = grid.mach[r[0]], grid.alt_ft[r[1]]
                 state = ("skipped: " + r[5] if r[3] is None else f"designed (flap layer {r[2]}"
-                         + (", gust states)" if (r[0], r[1]) in gust else ")"))
-                progress(f"[{n}/{len(points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[6]:.1f} s)")
+                         + (", without gust states)" if variant else ", gust states)" if (r[0], r[1]) in gust else ")"))
+                progress(f"[{n}/{len(points) + len(plain_points)}] Mach {m:.2f}, {a:.0f} ft: {state} ({r[6]:.1f} s)")
+        for k, p in sorted(plain_results.items()):   # each chosen node: the gust design where it gains
+            g = results[k]
+            if g[3] is None or p[3] is None:
+                keep_gust = g[3] is not None
+            else:
+                keep_gust = gust_gains(p[7], g[7])
+            choice[k] = {"gust": keep_gust, **({"effort_plain": floor_effort(p[7])[1], "effort_gust": floor_effort(g[7])[1]}
+                                               if g[3] is not None and p[3] is not None else {})}
+            unused.append((p if keep_gust else g)[6])
+            if not keep_gust:
+                results[k] = p
+                gust.discard(k)
+            if progress:
+                progress(f"Mach {grid.mach[k[0]]:.2f}, {grid.alt_ft[k[1]]:.0f} ft: "
+                         f"{'gust states' if keep_gust else 'no gust states'} (declaration effort at the "
+                         f"smallest floor {choice[k].get('effort_gust')} with, {choice[k].get('effort_plain')} without)")
         own = {k: r[2] for k, r in results.items() if r[3] is not None}
         p_min_of = {}   # grid index -> the node's floor in the file (calibrated nodes)
         keep = gust_neighbourhoods(own, gust) if node_tuning == "calibrated" else frozenset()
@@ -438,7 +513,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     + (f" --start-up-s {start_up_s:g} --calibration-start-up-s {calibration_start_up_s:g}"
                        if node_tuning == "calibrated" else "")
                     + (f" --failure-model {tuning_obj.failure_model}" if tuning_obj.failure_model != "complete" else "")
-                    + (f" --gust-states-below-ft {gust_ft:g}" if gust_ft is not None else "")),
+                    + (f" --gust-states-below-ft {gust_ft:g}" if gust_ft is not None else "")
+                    + (f" --gust-node-choice {gust_node_choice}" if choose else "")),
         "grid": {"mach": list(grid.mach), "alt_ft": list(grid.alt_ft)},
         "tuning": tuning_obj.name,
         "node_tuning": node_tuning,
@@ -477,7 +553,10 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
             "nodes": [{"mach": grid.mach[i], "alt_ft": grid.alt_ft[j]} for (i, j) in sorted(gust, key=lambda k: (k[1], k[0]))],
             "own_settings": [{"mach": grid.mach[i], "alt_ft": grid.alt_ft[j]}
                              for (i, j) in sorted(keep, key=lambda k: (k[1], k[0]))],
-            "other_nodes": "inert gust states (no coupling, no gain): their 13-state design's residuals"}}
+            "other_nodes": "inert gust states (no coupling, no gain): their 13-state design's residuals",
+            **({"choice": gust_node_choice,
+                "efforts": [{"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], **choice[(i, j)]}
+                            for (i, j) in sorted(choice, key=lambda k: (k[1], k[0]))]} if choose else {})}}
            if gust_ft is not None else {}),
     }
     path = Path(out)
@@ -490,7 +569,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     return {"path": str(path), "content_hash": content_hash, "covered": len(nodes), "skipped": skipped,
             "alternates": len([a for a in alternates.values() if a[3] is not None]),
             "bytes": path.stat().st_size, "wall_s": time.perf_counter() - t0,
-            "design_s": sum(r[6] for r in results.values()) + sum(r[6] for r in alternates.values()),
+            "design_s": (sum(r[6] for r in results.values()) + sum(r[6] for r in alternates.values())
+                         + sum(unused)),   # with the designs the effort choice did not keep
             "primary": (grid.mach[nodes[primary][0]], grid.alt_ft[nodes[primary][1]])}
 
 

@@ -41,7 +41,7 @@
 //   c    = V_trim / M_trim   (the speed of sound of the scheduled trim in force: its VEL over
 //                             the Mach it is scheduled at; a bank of one node: its design's)
 //   V    = c lp_T(M),   gamma = asin(clamp(h_dot / V, -sin gamma_max, sin gamma_max)),
-//   a    = clamp(c M_dot, -a_max, a_max)
+//   a    = clamp(c M_dot, -a_max, a_max)   (0 with accel = false: the climb's trim only)
 //   S    = sum_c w_c S_c over the nodes and weights of the filters in force
 //   (du, dz, dx) = (S_u, S_z, S_x) (gamma, a)'
 // and the trim in force becomes u_trim + du, z_trim + dz, x_trim + dx: the bank subtracts them
@@ -72,6 +72,7 @@ struct ManeuverTrimOptions {
   double time_constant_s = 0.5;       // T: the rates' low-passes are T and 5 T
   double gamma_max_rad = 0.5;         // |gamma| at most this
   double accel_max_fps2 = 32.174;     // |dV/dt| at most this (1 g)
+  bool accel = true;                  // false: a = 0 (the climb's trim only)
   void validate() const {
     if (!enabled) return;
     if (!(time_constant_s >= 0.05 && time_constant_s <= 60.0))
@@ -206,7 +207,8 @@ class ManeuverTrim {
     const double v = sound_fps * m_fast_;
     const double sg = std::sin(options_.gamma_max_rad);
     gamma_ = v > 0.0 ? std::asin(std::clamp(climb / v, -sg, sg)) : 0.0;
-    accel_ = std::clamp(sound_fps * mach_rate, -options_.accel_max_fps2, options_.accel_max_fps2);
+    accel_ = options_.accel ? std::clamp(sound_fps * mach_rate, -options_.accel_max_fps2, options_.accel_max_fps2)
+                            : 0.0;
     if (!std::isfinite(gamma_) || !std::isfinite(accel_)) gamma_ = accel_ = 0.0;
   }
   double gamma() const noexcept { return gamma_; }        // rad

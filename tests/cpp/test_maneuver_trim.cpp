@@ -128,6 +128,13 @@ TEST(ManeuverTrim, ClimbAndSpeedRampGiveGammaAndAcceleration) {
   for (int i = 0; i < 30 * 64; ++i) t.observe(0.4 + 0.002 * i / kRate, 20000.0, 1000.0);
   EXPECT_NEAR(t.accel(), 2.0, 1e-4 * 2.0);
   EXPECT_NEAR(t.gamma(), 0.0, 1e-12);
+  // without the acceleration part: the same ramp gives a = 0
+  ManeuverTrimOptions climb_only = o;
+  climb_only.accel = false;
+  ManeuverTrim c(climb_only, kRate);
+  for (int i = 0; i < 30 * 64; ++i) c.observe(0.4 + 0.002 * i / kRate, 20000.0 + 50.0 * i / kRate, 1000.0);
+  EXPECT_EQ(c.accel(), 0.0);
+  EXPECT_NEAR(c.gamma(), std::asin(50.0 / (1000.0 * (0.4 + 0.06))), 2e-3);   // V = c M: the Mach ramps too
   // clamped at gamma_max
   t.reset();
   for (int i = 0; i < 30 * 64; ++i) t.observe(0.4, 20000.0 + 4000.0 * i / kRate, 1000.0);

@@ -275,7 +275,41 @@ FixedHierarchicalBank fixed_hierarchical_bank(py::handle hierarchical_bank) {
   return hierarchical_bank.cast<PyHierarchicalBank&>().fixed_bank();
 }
 
+// The climb and acceleration sensitivities (maneuver_trim.h) of every node of a model bank
+// (one for a bank of one design): a list of dicts mach, alt_ft, x (nx,2), u (nu,2), z (nz,2),
+// thrust (2,).
+py::list maneuver_trim_sensitivities(const ModelBank& mb) {
+  const auto& m = mb.measurement_names;
+  const auto vel = std::find(m.begin(), m.end(), "VEL"), aoa = std::find(m.begin(), m.end(), "AOA");
+  if (vel == m.end() || aoa == m.end()) throw py::value_error("maneuver trim: the bank has no VEL or AOA measurement");
+  py::list out;
+  auto add = [&](const ModelBank& node, double mach, double alt_ft) {
+    const HypothesisModel& h = node.hypotheses.at(0);
+    const TrimSensitivity s = trim_sensitivity(h.phi, h.bd, h.h, mb.state_names, mb.input_names, mb.frame_rate_hz,
+                                               node.z_trim(vel - m.begin()), node.z_trim(aoa - m.begin()));
+    py::dict d;
+    d["mach"] = mach;
+    d["alt_ft"] = alt_ft;
+    d["x"] = cv::to_numpy(Eigen::MatrixXd(s.x));
+    d["u"] = cv::to_numpy(Eigen::MatrixXd(s.u));
+    d["z"] = cv::to_numpy(Eigen::MatrixXd(s.z));
+    d["thrust"] = py::make_tuple(s.thrust(0), s.thrust(1));
+    out.append(d);
+  };
+  if (mb.schedule)
+    for (const ScheduleNode& n : mb.schedule->nodes)
+      add(n.bank, mb.schedule->mach[n.i_mach], mb.schedule->alt_ft[n.i_alt]);
+  else
+    add(mb, mb.mach, mb.alt_ft);
+  return out;
+}
+
 void bind_hierarchical(py::module_& m) {
+  m.def("maneuver_trim_sensitivities", &maneuver_trim_sensitivities, py::arg("model_bank"),
+        "Per node of the bank (one for a bank of one design) a dict: mach, alt_ft and the climb and\n"
+        "acceleration sensitivities of its NONE filter's trim, d(x, u, z)/d(gamma rad, dV/dt ft/s^2) as\n"
+        "x (nx,2), u (nu,2), z (nz,2), and the thrust acceleration of that equilibrium, thrust (2,)\n"
+        "(cpp/f16mmae/maneuver_trim.h).");
   m.def("_bench_hierarchical_loop", &bench_hierarchical_loop, py::arg("bank"), py::arg("z"), py::arg("u"),
         py::arg("air_data") = py::none(), py::arg("min_time_s") = 0.2, py::arg("schedule_mode") = "interpolate",
         py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
@@ -441,6 +475,13 @@ declarations and the level carry over. schedule_state reports what is in force.)
                              "frames on which trim tracking held its estimate, since reset")
       .def_property_readonly("maneuvering", prop([](auto& b) { return b.maneuver_dwell().maneuvering(); }),
                              "the maneuver dwell's gate on this frame (maneuver_dwell.h; False when it is off)")
+      .def_property_readonly("maneuver_trim", prop([](auto& b) {
+                               return py::make_tuple(b.maneuver_trim().gamma(), b.maneuver_trim().accel(),
+                                                     cv::to_numpy(b.maneuver_trim_du()),
+                                                     cv::to_numpy(b.maneuver_trim_dz()));
+                             }),
+                             "(gamma rad, dV/dt ft/s^2, du (nu,), dz (nz,)) of the maneuver trim in force "
+                             "(maneuver_trim.h; zeros when it is off)")
       .def_property_readonly("frames", prop([](auto& b) { return b.frames(); }), "update calls so far")
       .def_property_readonly("frame_rate_hz", prop([](auto& b) { return b.frame_rate_hz(); }))
       .def_property_readonly("u_trim", prop([](auto& b) { return cv::to_numpy(b.u_trim()); }))

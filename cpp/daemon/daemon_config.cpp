@@ -26,6 +26,7 @@ std::string daemon_usage() {
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--maneuver-tempering-deadband D]\n"
+         "                   [--maneuver-trim] [--maneuver-trim-time-constant T_S] [--maneuver-trim-accel on|off]\n"
          "                   [--actuator-rate-limits R1,...,R5[,inf]]\n"
          "                   [--actuator-position-limits L1,...,L5[,inf]]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
@@ -109,6 +110,12 @@ std::string daemon_usage() {
          "                       --turbulence-banks the set file's recommended tempering)\n"
          "  --maneuver-tempering-deadband D  with --maneuver-tempering: only the load factor\n"
          "                       beyond D g tempers (0-10; default 0: no dead band)\n"
+         "  --maneuver-trim      the filters' trim follows the climb and acceleration the air data\n"
+         "                       show (each node's climb and acceleration trim offsets)\n"
+         "  --maneuver-trim-time-constant T_S  with --maneuver-trim: the rates' low-passes, T_S\n"
+         "                       and 5 T_S s (0.05-60; default 0.5)\n"
+         "  --maneuver-trim-accel on|off  with --maneuver-trim: off keeps the climb's trim only\n"
+         "                       (default on)\n"
          "  --actuator-rate-limits R1,...,R5 and --actuator-position-limits L1,...,L5\n"
          "                       the actuators' rate (rad/s) and position (rad) limits, one per\n"
          "                       input, applied to the commands the filters see (both or none;\n"
@@ -190,6 +197,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       c.maneuver_kinematics = true;
       continue;
     }
+    if (a == "--maneuver-trim") {
+      c.maneuver_trim = true;
+      continue;
+    }
     std::string key = a, value;
     bool inline_value = false;
     if (a.rfind("--", 0) == 0) {
@@ -215,7 +226,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--maneuver-dwell" || key == "--maneuver-dwell-hold" || key == "--maneuver-dwell-g" ||
                        key == "--maneuver-dwell-time-constant" || key == "--maneuver-reference" ||
                        key == "--maneuver-tempering-deadband" || key == "--level1-p-min" ||
-                       key == "--level1-dwell-s" || key == "--departure-hold";
+                       key == "--level1-dwell-s" || key == "--departure-hold" ||
+                       key == "--maneuver-trim-time-constant" || key == "--maneuver-trim-accel";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
@@ -227,7 +239,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--maneuver-reference, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
                          "--departure-hold, --trim-tracking, "
                          "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
-                         "--maneuver-tempering, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
+                         "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -326,6 +338,16 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
         return usage_error("--maneuver-dwell-time-constant must be a time constant in seconds in [0, 60] (0: no "
                            "low-pass), got '" + value + "'");
       c.maneuver_dwell_time_constant_s = *tau;
+    } else if (key == "--maneuver-trim-accel") {
+      if (value != "on" && value != "off")
+        return usage_error("--maneuver-trim-accel must be 'on' or 'off', got '" + value + "'");
+      c.maneuver_trim_accel = value == "on";
+    } else if (key == "--maneuver-trim-time-constant") {
+      const std::optional<double> tau = finite_number(value);
+      if (!tau || *tau < 0.05 || *tau > 60.0)
+        return usage_error("--maneuver-trim-time-constant must be a time constant in seconds in [0.05, 60], got '" +
+                           value + "'");
+      c.maneuver_trim_time_constant_s = *tau;
     } else if (key == "--maneuver-reference") {
       const std::optional<double> rho = finite_number(value);
       if (!rho || *rho < 0.0 || *rho > 100.0)
@@ -418,6 +440,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                                    : c.maneuver_dwell_g    ? "--maneuver-dwell-g"
                                                            : "--maneuver-dwell-time-constant") +
                        " applies with --maneuver-dwell S > 0 only");
+  if (c.maneuver_trim_time_constant_s && !c.maneuver_trim)
+    return usage_error("--maneuver-trim-time-constant applies with --maneuver-trim only");
+  if (c.maneuver_trim_accel && !c.maneuver_trim)
+    return usage_error("--maneuver-trim-accel applies with --maneuver-trim only");
   if (c.maneuver_reference && !c.adapt_turbulence)
     return usage_error("--maneuver-reference applies with --adapt-turbulence only");
   if (c.maneuver_tempering_deadband_g && c.maneuver_tempering_g == 0.0)

@@ -115,7 +115,13 @@
 //                                 s_m = 1 + (dn / n_ref)^2, dn the estimated load factor off the
 //                                 trim (z_hat's AZ; FilterBank::set_extra_scale);
 //   options.actuators             the filters see the commands through the actuators' rate and
-//                                 position limits (actuator_limits.h).
+//                                 position limits (actuator_limits.h);
+//   options.maneuver_trim         the trim in force follows the air data's climb and
+//                                 acceleration: u_trim + du_m, z_trim + dz_m, x_trim + dx_m with
+//                                 (du_m, dz_m, dx_m) = S (gamma, dV/dt), S the nodes' climb and
+//                                 acceleration sensitivities, the states and failed sensors'
+//                                 levels moved bumplessly as for a scheduled trim
+//                                 (maneuver_trim.h).
 // A frame is one update (accepted or rejected): frame index i (0-based) has
 // time_s = i / frame_rate_hz. The declarer sees only accepted updates.
 //
@@ -146,6 +152,7 @@
 #include "f16mmae/scheduled_filters.h"
 #include "f16mmae/climb_reference.h"
 #include "f16mmae/maneuver_dwell.h"
+#include "f16mmae/maneuver_trim.h"
 #include "f16mmae/trim_tracker.h"
 
 #include <Eigen/Dense>
@@ -183,6 +190,7 @@ struct HierarchicalOptions {
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
   ClimbReferenceOptions climb_reference;   // the adaptation's reference while climbing (NaN: off)
   ManeuverDwellOptions maneuver_dwell;     // the dwell and reference while maneuvering (maneuver_dwell.h; off)
+  ManeuverTrimOptions maneuver_trim;       // the climb's and acceleration's trim (maneuver_trim.h; off)
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
@@ -261,13 +269,41 @@ class HierarchicalBank {
       climb_ref_.observe(air_rates_);
       bank_.set_adapt_reference(adapt_reference_in_force());
     }
-    if (!sched_.active()) return;
-    const XVector x_before = sched_.x_trim();
+    if (!sched_.active()) {
+      if (maneuver_trim_.enabled()) {   // maneuver_trim.h, a bank of one design
+        mt_shift_ = mt_dx_;
+        maneuver_trim_.observe(a.mach, a.pressure_altitude_ft, mt_sound_fps_);
+        blend_maneuver_trim(kOneNode, kOneWeight);
+        if (frame_ > 0) {
+          mt_shift_ -= mt_dx_;
+          shift_states(mt_shift_);
+          z_shift_.noalias() = z_trim_ - base_z_trim_;
+          z_shift_ -= mt_dz_;
+          if (!z_shift_.isZero(0.0)) bank_.shift_levels(z_shift_);
+        }
+        apply_trims();
+      }
+      return;
+    }
+    XVector x_before = sched_.x_trim();
+    if (maneuver_trim_.enabled()) x_before += mt_dx_;
     const bool reload = sched_.select(a);
     if (reload) load_scheduled();
+    if (maneuver_trim_.enabled()) {   // maneuver_trim.h: c = the scheduled trim's VEL over its Mach
+      const double m = sched_.filtered_air_data().mach;
+      maneuver_trim_.observe(a.mach, a.pressure_altitude_ft, m > 0.0 ? sched_.z_trim()(mt_vel_) / m : 0.0);
+      blend_maneuver_trim(sched_.corners(), sched_.weights());
+    }
     if (frame_ > 0) {  // before the first frame x = 0 is the trim
-      shift_states(x_before - sched_.x_trim());
-      z_shift_.noalias() = z_trim_ - sched_.z_trim();   // failed sensors' levels: absolute
+      if (maneuver_trim_.enabled()) {
+        x_before -= mt_dx_;
+        shift_states(x_before - sched_.x_trim());
+        z_shift_.noalias() = z_trim_ - sched_.z_trim();
+        z_shift_ -= mt_dz_;
+      } else {
+        shift_states(x_before - sched_.x_trim());
+        z_shift_.noalias() = z_trim_ - sched_.z_trim();   // failed sensors' levels: absolute
+      }
       if (!z_shift_.isZero(0.0)) bank_.shift_levels(z_shift_);
     }
     apply_trims();
@@ -332,6 +368,13 @@ class HierarchicalBank {
     actuators_.reset();
     du_.setZero();
     dz_.setZero();
+    if (maneuver_trim_.enabled()) {
+      maneuver_trim_.reset();
+      mt_dx_.setZero();
+      mt_du_.setZero();
+      mt_dz_.setZero();
+      if (!sched_.active()) apply_trims();
+    }
     if (sched_.active()) {
       sched_.reset(design_air_data_);
       load_scheduled();
@@ -384,6 +427,13 @@ class HierarchicalBank {
     actuators_.carry_over(from.actuators_);
     du_ = from.du_;
     dz_ = from.dz_;
+    if (maneuver_trim_.enabled() && from.maneuver_trim_.enabled()) {   // its rates; this bank's own offsets
+      maneuver_trim_ = from.maneuver_trim_;
+      if (!sched_.active()) {
+        blend_maneuver_trim(kOneNode, kOneWeight);
+        apply_trims();
+      }
+    }
   }
 
   // Touch the on-line bank's per-frame working set (FilterBank::warm_cache) and the
@@ -428,6 +478,11 @@ class HierarchicalBank {
   const TrimTracker<NU, NZ>& trim_tracker() const noexcept { return trim_tracker_; }
   const ClimbReference& climb_reference() const noexcept { return climb_ref_; }
   const ManeuverDwell& maneuver_dwell() const noexcept { return maneuver_dwell_; }
+  const ManeuverTrim& maneuver_trim() const noexcept { return maneuver_trim_; }
+  // The maneuver trim's offsets in force (zero when it is off; maneuver_trim.h).
+  const XVector& maneuver_trim_dx() const noexcept { return mt_dx_; }
+  const UVector& maneuver_trim_du() const noexcept { return mt_du_; }
+  const ZVector& maneuver_trim_dz() const noexcept { return mt_dz_; }
   const ZVector& z_trim() const noexcept { return z_trim_; }
   // The schedule (inactive for a bank designed at one flight condition).
   const Schedule& scheduled() const noexcept { return sched_; }
@@ -590,6 +645,7 @@ class HierarchicalBank {
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
         climb_ref_(options.climb_reference, mb.frame_rate_hz),
         maneuver_dwell_(options.maneuver_dwell, mb.frame_rate_hz),
+        maneuver_trim_(options.maneuver_trim, mb.frame_rate_hz),
         maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
         actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
@@ -648,6 +704,13 @@ class HierarchicalBank {
     x_shift_ = XVector::Zero(mb.nx());
     x_force_ = XVector::Zero(mb.nx());
     u_eff_ = UVector::Zero(mb.nu());
+    mt_dx_ = XVector::Zero(mb.nx());
+    mt_shift_ = mt_dx_;
+    mt_du_ = UVector::Zero(mb.nu());
+    mt_dz_ = ZVector::Zero(mb.nz());
+    base_u_trim_ = u_trim_;
+    base_z_trim_ = z_trim_;
+    if (maneuver_trim_.enabled()) build_maneuver_trim(mb);
     if (mb.schedule) {
       sched_ = Schedule(*mb.schedule, options.schedule, design_air_data_, mb.frame_rate_hz);
       if (sched_.node_filter(0, 0).nx() != mb.nx() ||
@@ -779,9 +842,60 @@ class HierarchicalBank {
     bank_.refresh_blend();
   }
   // The scheduled trims in force (a scheduled bank only).
+  // With the maneuver trim, its offsets on top (also for a bank of one design).
   void apply_trims() noexcept {
-    u_trim_ = sched_.u_trim();
-    z_trim_ = sched_.z_trim();
+    if (sched_.active()) {
+      u_trim_ = sched_.u_trim();
+      z_trim_ = sched_.z_trim();
+    } else {
+      u_trim_ = base_u_trim_;
+      z_trim_ = base_z_trim_;
+    }
+    if (maneuver_trim_.enabled()) {
+      u_trim_ += mt_du_;
+      z_trim_ += mt_dz_;
+    }
+  }
+  // The sensitivities of every node (a bank of one design: its own) from its NONE filter
+  // (maneuver_trim.h); throws std::invalid_argument naming what is missing.
+  void build_maneuver_trim(const ModelBank& mb) {
+    const auto& m = mb.measurement_names;
+    const auto vel = std::find(m.begin(), m.end(), "VEL"), aoa = std::find(m.begin(), m.end(), "AOA");
+    if (vel == m.end() || aoa == m.end())
+      throw std::invalid_argument("hierarchical bank: the maneuver trim needs the measurements 'VEL' and 'AOA'");
+    mt_vel_ = static_cast<int>(vel - m.begin());
+    const int ia = static_cast<int>(aoa - m.begin());
+    auto add = [&](const ModelBank& node) {
+      const HypothesisModel& h = node.hypotheses.at(0);
+      const TrimSensitivity s = trim_sensitivity(h.phi, h.bd, h.h, mb.state_names, mb.input_names, mb.frame_rate_hz,
+                                                 node.z_trim(mt_vel_), node.z_trim(ia));
+      mt_sx_.push_back(s.x);
+      mt_su_.push_back(s.u);
+      mt_sz_.push_back(s.z);
+    };
+    if (mb.schedule)
+      for (const ScheduleNode& n : mb.schedule->nodes) add(n.bank);
+    else
+      add(mb);
+    if (!(mb.mach > 0.0))
+      throw std::invalid_argument("hierarchical bank: the maneuver trim needs the bank's design Mach > 0");
+    mt_sound_fps_ = mb.z_trim(mt_vel_) / mb.mach;
+  }
+  // (dx_m, du_m, dz_m) = sum_c w_c S_c (gamma, a) over the nodes `corners` with `weights`.
+  template <class C, class W>
+  void blend_maneuver_trim(const C& corners, const W& weights) noexcept {
+    const double g = maneuver_trim_.gamma(), acc = maneuver_trim_.accel();
+    mt_dx_.setZero();
+    mt_du_.setZero();
+    mt_dz_.setZero();
+    for (std::size_t c = 0; c < corners.size(); ++c) {
+      const double w = weights[c];
+      if (w == 0.0) continue;
+      const Eigen::MatrixXd &sx = mt_sx_[corners[c]], &su = mt_su_[corners[c]], &sz = mt_sz_[corners[c]];
+      for (Eigen::Index i = 0; i < mt_dx_.size(); ++i) mt_dx_(i) += w * (sx(i, 0) * g + sx(i, 1) * acc);
+      for (Eigen::Index i = 0; i < mt_du_.size(); ++i) mt_du_(i) += w * (su(i, 0) * g + su(i, 1) * acc);
+      for (Eigen::Index i = 0; i < mt_dz_.size(); ++i) mt_dz_(i) += w * (sz(i, 0) * g + sz(i, 1) * acc);
+    }
   }
 
   HierarchicalOptions options_;
@@ -802,6 +916,15 @@ class HierarchicalBank {
   ClimbReference climb_ref_;
   ManeuverDwell maneuver_dwell_;
   int maneuver_dwell_az_ = 0;   // AZ in z (the maneuver dwell's load factor)
+  ManeuverTrim maneuver_trim_;
+  std::vector<Eigen::MatrixXd> mt_sx_, mt_su_, mt_sz_;   // per node: d(x, u, z)_trim / d(gamma, a)
+  XVector mt_dx_, mt_shift_;
+  UVector mt_du_, base_u_trim_;
+  ZVector mt_dz_, base_z_trim_;
+  int mt_vel_ = 0;
+  double mt_sound_fps_ = 0.0;   // a bank of one design: its VEL trim over its Mach
+  static constexpr std::array<int, 4> kOneNode{{0, 0, 0, 0}};
+  static constexpr std::array<double, 4> kOneWeight{{1.0, 0.0, 0.0, 0.0}};
   ManeuverKinematics maneuver_;
   ActuatorLimits<NU> actuators_;
   UVector u_eff_;

@@ -226,6 +226,35 @@ TEST(DaemonConfig, ManeuverModelOptions) {
   }
 }
 
+TEST(DaemonConfig, ManeuverTrimOptions) {
+  auto r = parse_daemon_args({"--bank", "b"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;   // unset: off
+  EXPECT_FALSE(r.config.maneuver_trim);
+  EXPECT_FALSE(r.config.maneuver_trim_time_constant_s);
+  r = parse_daemon_args({"--bank", "b", "--maneuver-trim", "--maneuver-trim-time-constant=0.25",
+                         "--maneuver-trim-accel", "off"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.maneuver_trim);
+  EXPECT_EQ(*r.config.maneuver_trim_time_constant_s, 0.25);
+  EXPECT_FALSE(*r.config.maneuver_trim_accel);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--maneuver-trim-time-constant", "0.5"}, "--maneuver-trim-time-constant applies with --maneuver-trim only"},
+      {{"--maneuver-trim", "--maneuver-trim-time-constant", "0.01"},
+       "--maneuver-trim-time-constant must be a time constant in seconds in [0.05, 60], got '0.01'"},
+      {{"--maneuver-trim", "--maneuver-trim-time-constant", "x"}, "--maneuver-trim-time-constant must be"},
+      {{"--maneuver-trim-accel", "off"}, "--maneuver-trim-accel applies with --maneuver-trim only"},
+      {{"--maneuver-trim", "--maneuver-trim-accel", "no"}, "--maneuver-trim-accel must be 'on' or 'off', got 'no'"},
+  };
+  for (const auto& [extra, message] : refused) {
+    std::vector<std::string> args{"--bank", "b"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    r = parse_daemon_args(args, nullptr);
+    EXPECT_FALSE(r.ok) << message;
+    EXPECT_NE(r.message.find(message), std::string::npos) << r.message;
+    EXPECT_EQ(r.exit_code, 2) << message;
+  }
+}
+
 TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;   // unset: the core's defaults

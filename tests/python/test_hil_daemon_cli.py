@@ -168,6 +168,25 @@ def test_the_daemon_takes_every_flag_of_the_table():
             assert f"[{option.flag}" in usage or f"  {option.flag}" in usage, option.flag
 
 
+def test_the_maneuver_trim_reaches_the_daemon():
+    """--maneuver-trim and its time constant: passed on by daemon_flags, in force in the daemon
+    (its ready line names it), the time constant refused without it, naming the flag."""
+    options = {"maneuver_trim": True, "maneuver_trim_time_constant_s": 0.25}
+    flags = daemon_flags(options)
+    assert "--maneuver-trim" in flags
+    i = flags.index("--maneuver-trim-time-constant")
+    assert float(flags[i + 1]) == 0.25
+    bank = str(load_bank("tuned")[1])
+    p = subprocess.Popen([DAEMON, "--bank", bank, "--lcm-url", "memq://", *flags],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    assert "maneuver trim 0.25 s" in ready, ready
+    rc, out = _daemon("--bank", bank, "--maneuver-trim-time-constant", "0.5")
+    assert rc == 2 and "--maneuver-trim-time-constant applies with --maneuver-trim only" in out
+
+
 def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     """The maneuver dwell and reference, the tempering's dead band, the level-1 floor and dwell,
     the departure hold and the channel weight: passed on by daemon_flags, in force in the

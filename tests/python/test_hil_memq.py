@@ -177,6 +177,25 @@ def test_a_gust_bank_over_memq_reproduces_the_in_process_run_with_reconfigured_f
     assert np.max(np.abs(raw[first + 1:] - mine[first + 1:])) > 0
 
 
+def test_lockstep_with_the_maneuver_trim_reproduces_the_in_process_run(bank):
+    # the air data's noise moves the climb and acceleration estimates, and so the trim offsets and
+    # the states' shifts, frame by frame on both sides of the link
+    options = dict(maneuver_trim=True, maneuver_trim_time_constant_s=0.2)
+    scenario = _scenario([("LS", 0.5)], duration_s=3.0)
+    lc = lcm.LCM("memq://")
+    chans = channels("MT_")
+    InProcessExecutive(bank, **options).serve(lc, chans)
+    remote_run = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0, estimator_options=options)
+    local_run = fly(scenario, bank, estimator_options=options)
+    plain_run = fly(scenario, bank)
+    assert remote_run.hypotheses == local_run.hypotheses
+    np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
+    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
+    assert remote_run.declarations == local_run.declarations
+    # the option is in force: the flight is not the bank as designed
+    assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(plain_run.probabilities))
+
+
 def test_lockstep_with_the_maneuver_dwell_and_level1_options_reproduces_the_in_process_run(bank):
     # the maneuver dwell's gate low (0.005 g, no hold): light turbulence opens and closes it, so
     # the dwell and reference in force change frame by frame on both sides of the link

@@ -172,6 +172,18 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --adapt-turbulence: the adaptation's reference while the aircraft maneuvers (the "
                          "gate of --maneuver-dwell, its threshold, time constant and hold) unless "
                          "--adapt-reference-climb is in force (cpp/f16mmae/maneuver_dwell.h). Default off"),
+    EstimatorOption("maneuver_trim", "--maneuver-trim", "switch",
+                    help="the trim the filters are linearized about follows the climb and the acceleration the "
+                         "air data show (pressure-altitude and Mach rates): the level trim plus the climb's and "
+                         "acceleration's trim offsets of each node's own model, the filters' states moved with it "
+                         "(cpp/f16mmae/maneuver_trim.h). Default off"),
+    EstimatorOption("maneuver_trim_time_constant_s", "--maneuver-trim-time-constant", "number", metavar="T_S",
+                    minimum=0.05, maximum=60.0, requires="maneuver_trim",
+                    help="with --maneuver-trim: the rates' low-passes, T and 5 T seconds (default 0.5)"),
+    EstimatorOption("maneuver_trim_accel", "--maneuver-trim-accel", "choice", metavar="on|off", choices=("on", "off"),
+                    requires="maneuver_trim",
+                    help="with --maneuver-trim: off keeps the climb's trim only, not the acceleration's "
+                         "(default on)"),
     EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
                     below=LEVEL1_P_MIN_BELOW,
                     help="probability floor while a failure's level-1 (dual) bank is on line: a second "

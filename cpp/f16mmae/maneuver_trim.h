@@ -1,0 +1,225 @@
+// ManeuverTrim — the trim of a steady climb (flight-path angle gamma) and of a steady
+// acceleration (dV/dt), as offsets of the level trim the filters are linearized about, read from
+// the measured air data only (pressure altitude and Mach rates). Nothing allocates per frame.
+//
+// Why: every filter is linear about wings-level, unaccelerated, level flight at the scheduled
+// (Mach, altitude). In a steady climb at gamma the aircraft's pitch attitude is higher by
+// about gamma, its elevator and angle of attack differ slightly, and its engine gives the thrust
+// that holds the speed against g sin(gamma); a bank without the throttle as an input models
+// neither that thrust nor the attitude. Its filters integrate the measured pitch rate of the
+// pull-up into theta, then predict the deceleration of a climb without thrust, and the VEL and
+// AOA residuals run off until the filters' gains walk theta back: what a failed (constant)
+// air-data sensor explains. Likewise in a steady acceleration the scheduled trim's airspeed
+// moves and the thrust that moves it is missing.
+//
+// The offsets. Let the filter model (the NONE hypothesis of a node, discrete, frame dt) be
+//   x_{k+1} = Phi x_k + Bd u_k,   z_k = H x_k,
+// x the perturbation from the level trim (states named u_fps, alpha_rad, theta_rad, ...),
+// u the commands (LS RS LF RF RUD, and THR if the bank has the throttle as an input).
+// The quasi-steady flight at (gamma, a = dV/dt) is the state x_s, commands u_s and unmodelled
+// thrust acceleration t (ft/s^2 along the body x axis; a bank with the throttle input has its
+// throttle in u_s and no t) with
+//   (Phi - I) x_s + Bd u_s + dt b_T t = dt a e_u            (to first order in dt: A x_s + B u_s +
+//                                                             b_T t = a e_u, the airspeed's ramp)
+//   x_s(u_fps) = 0                                           (the airspeed is the schedule's)
+//   x_s(theta_rad) - x_s(alpha_rad) = gamma                  (the flight-path angle)
+//   u_s(LS) = u_s(RS),  u_s(LF) = u_s(RF) = u_s(RUD) = 0     (symmetric pitch control only)
+// with b_T = e_u - e_alpha sin(alpha_0) / V_0 (thrust along the body x axis: u' = t and
+// alpha' = -w t / (u^2 + w^2)), (V_0, alpha_0) the trim's VEL and AOA. nx + nu (+ 1) unknowns,
+// as many equations; solved per node (column-pivoting QR; a rank-deficient system is refused).
+// Linear in (gamma, a): x_s = S_x (gamma, a)', u_s = S_u (gamma, a)', and z_s = H x_s = S_z
+// (gamma, a)'. S_x, S_u, S_z are the node's sensitivities (trim_sensitivity() below). They are
+// a function of the node's own filter model, which the bank file carries; they are computed
+// when the bank is built, so every bank file has them and none needs a field for them.
+//
+// What the bank does (HierarchicalOptions::maneuver_trim; HierarchicalBank::schedule): per
+// usable air-data sample (Mach M, pressure altitude h)
+//   two first-order low-passes of h and of M each, time constants T and 5 T (T = time_constant_s)
+//     lp_T' += c_T (v - lp_T'),  c_T = 1 - exp(-1 / (T' f))
+//   h_dot = (lp_T(h) - lp_5T(h)) / (4 T),  M_dot likewise      (air_data_rates.h's estimator;
+//                                                               a ramp of slope r settles at r)
+//   c    = V_trim / M_trim   (the speed of sound of the scheduled trim in force: its VEL over
+//                             the Mach it is scheduled at; a bank of one node: its design's)
+//   V    = c lp_T(M),   gamma = asin(clamp(h_dot / V, -sin gamma_max, sin gamma_max)),
+//   a    = clamp(c M_dot, -a_max, a_max)   (0 with accel = false: the climb's trim only)
+//   S    = sum_c w_c S_c over the nodes and weights of the filters in force
+//   (du, dz, dx) = (S_u, S_z, S_x) (gamma, a)'
+// and the trim in force becomes u_trim + du, z_trim + dz, x_trim + dx: the bank subtracts them
+// from u and z, and, as for a change of the scheduled trim, every on-line filter's states move
+// by dx_old - dx_new (bumpless: the absolute state estimate is continuous; the filters' theta is
+// then measured from the climb's attitude) and the failed sensors' levels by dz_old - dz_new.
+// Nothing here reads the truth: the air data are the scheduling input, the sensitivities the
+// bank's own model. It cannot absorb a failure: (gamma, a) come from the air data alone, which
+// no failure hypothesis concerns (air-data failures are out of scope).
+// Off (enabled = false, the default): the bank as designed, bit for bit.
+// Options are checked by validate() (std::invalid_argument naming the value and its range).
+#pragma once
+
+#include "f16mmae/estimator_settings.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace f16mmae {
+
+struct ManeuverTrimOptions {
+  bool enabled = false;
+  double time_constant_s = 0.5;       // T: the rates' low-passes are T and 5 T
+  double gamma_max_rad = 0.5;         // |gamma| at most this
+  double accel_max_fps2 = 32.174;     // |dV/dt| at most this (1 g)
+  bool accel = true;                  // false: a = 0 (the climb's trim only)
+  void validate() const {
+    if (!enabled) return;
+    if (!(time_constant_s >= 0.05 && time_constant_s <= 60.0))
+      throw std::invalid_argument("maneuver trim: time_constant_s must be in [0.05, 60] s, got " +
+                                  format_value(time_constant_s));
+    if (!(gamma_max_rad > 0.0 && gamma_max_rad <= 1.5))
+      throw std::invalid_argument("maneuver trim: gamma_max_rad must be in (0, 1.5] rad, got " +
+                                  format_value(gamma_max_rad));
+    if (!(accel_max_fps2 > 0.0 && accel_max_fps2 <= 1000.0))
+      throw std::invalid_argument("maneuver trim: accel_max_fps2 must be in (0, 1000] ft/s^2, got " +
+                                  format_value(accel_max_fps2));
+  }
+};
+
+// d(x_trim, u_trim, z_trim) / d(gamma [rad], dV/dt [ft/s^2]) of one filter model (header).
+struct TrimSensitivity {
+  Eigen::MatrixXd x;        // (nx, 2)
+  Eigen::MatrixXd u;        // (nu, 2)
+  Eigen::MatrixXd z;        // (nz, 2)
+  Eigen::Vector2d thrust{0.0, 0.0};   // t per unit gamma and per unit a (ft/s^2); 0 with a throttle input
+};
+
+namespace maneuver_trim_detail {
+inline int find(const std::vector<std::string>& names, const char* name) {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<int>(i);
+  return -1;
+}
+inline int need(const std::vector<std::string>& names, const char* name, const char* what) {
+  const int i = find(names, name);
+  if (i < 0)
+    throw std::invalid_argument(std::string("maneuver trim: the model bank has no ") + what + " '" + name +
+                                "' (it needs the states u_fps alpha_rad theta_rad and the inputs LS RS LF RF RUD)");
+  return i;
+}
+}  // namespace maneuver_trim_detail
+
+// The sensitivities of the header for the model (phi, bd, h) with its state and input names,
+// frame rate f (dt = 1/f) and trim airspeed v0_fps, angle of attack alpha0_rad.
+// Throws std::invalid_argument for a missing name, mismatched sizes or a singular system.
+inline TrimSensitivity trim_sensitivity(const Eigen::MatrixXd& phi, const Eigen::MatrixXd& bd,
+                                        const Eigen::MatrixXd& h, const std::vector<std::string>& state_names,
+                                        const std::vector<std::string>& input_names, double frame_rate_hz,
+                                        double v0_fps, double alpha0_rad) {
+  using maneuver_trim_detail::need;
+  const int nx = static_cast<int>(phi.rows()), nu = static_cast<int>(bd.cols()), nz = static_cast<int>(h.rows());
+  if (phi.cols() != nx || bd.rows() != nx || h.cols() != nx || static_cast<int>(state_names.size()) != nx ||
+      static_cast<int>(input_names.size()) != nu)
+    throw std::invalid_argument("maneuver trim: the model's sizes do not match its names");
+  if (!(frame_rate_hz > 0.0) || !(v0_fps > 0.0) || !std::isfinite(alpha0_rad))
+    throw std::invalid_argument("maneuver trim: needs a frame rate > 0, a trim airspeed > 0 and a finite trim "
+                                "angle of attack, got " + format_value(frame_rate_hz) + ", " + format_value(v0_fps) +
+                                ", " + format_value(alpha0_rad));
+  const int iu = need(state_names, "u_fps", "state"), ia = need(state_names, "alpha_rad", "state"),
+            it = need(state_names, "theta_rad", "state");
+  const int ls = need(input_names, "LS", "input"), rs = need(input_names, "RS", "input"),
+            lf = need(input_names, "LF", "input"), rf = need(input_names, "RF", "input"),
+            rud = need(input_names, "RUD", "input");
+  const bool throttle = maneuver_trim_detail::find(input_names, "THR") >= 0;
+  const double dt = 1.0 / frame_rate_hz;
+  const int nt = throttle ? 0 : 1;          // the thrust unknown
+  const int n = nx + nu + nt;               // unknowns: x_s, u_s, t
+  const int m = nx + 6;                     // equations: the model, then the six constraints
+  if (n != m)
+    throw std::invalid_argument("maneuver trim: " + std::to_string(n) + " unknowns for " + std::to_string(m) +
+                                " equations (the inputs must be LS RS LF RF RUD, and THR optionally)");
+  Eigen::MatrixXd lhs = Eigen::MatrixXd::Zero(m, n);
+  lhs.block(0, 0, nx, nx) = phi - Eigen::MatrixXd::Identity(nx, nx);
+  lhs.block(0, nx, nx, nu) = bd;
+  if (!throttle) {
+    lhs(iu, nx + nu) = dt;
+    lhs(ia, nx + nu) = -dt * std::sin(alpha0_rad) / v0_fps;
+  }
+  lhs(nx + 0, iu) = 1.0;
+  lhs(nx + 1, it) = 1.0;
+  lhs(nx + 1, ia) = -1.0;
+  lhs(nx + 2, nx + ls) = 1.0;
+  lhs(nx + 2, nx + rs) = -1.0;
+  lhs(nx + 3, nx + lf) = 1.0;
+  lhs(nx + 4, nx + rf) = 1.0;
+  lhs(nx + 5, nx + rud) = 1.0;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, 2);
+  rhs(nx + 1, 0) = 1.0;   // gamma
+  rhs(iu, 1) = dt;        // a
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(lhs);
+  if (qr.rank() < n)
+    throw std::invalid_argument("maneuver trim: the model's climb and acceleration trims are not unique "
+                                "(rank " + std::to_string(qr.rank()) + " of " + std::to_string(n) + ")");
+  const Eigen::MatrixXd v = qr.solve(rhs);
+  if (!v.allFinite()) throw std::invalid_argument("maneuver trim: the model's climb trim is not finite");
+  TrimSensitivity s;
+  s.x = v.topRows(nx);
+  s.u = v.middleRows(nx, nu);
+  s.z = h * s.x;
+  if (!throttle) s.thrust = v.row(nx + nu).transpose();
+  return s;
+}
+
+// The per-frame part (header): the rates from the air data, (gamma, a), the blended offsets.
+class ManeuverTrim {
+ public:
+  ManeuverTrim() = default;
+  ManeuverTrim(const ManeuverTrimOptions& options, double frame_rate_hz) : options_(options) {
+    options.validate();
+    if (!options.enabled) return;
+    gain_fast_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * options.time_constant_s));
+    gain_slow_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * 5.0 * options.time_constant_s));
+  }
+  bool enabled() const noexcept { return options_.enabled; }
+  const ManeuverTrimOptions& options() const noexcept { return options_; }
+
+  void reset() noexcept {
+    seen_ = false;
+    h_fast_ = h_slow_ = m_fast_ = m_slow_ = 0.0;
+    gamma_ = accel_ = 0.0;
+  }
+  // One usable air-data sample (Mach, pressure altitude ft) and the speed of sound c (ft/s) of
+  // the trim in force: updates gamma() and accel().
+  void observe(double mach, double alt_ft, double sound_fps) noexcept {
+    if (!seen_) {
+      h_fast_ = h_slow_ = alt_ft;
+      m_fast_ = m_slow_ = mach;
+      seen_ = true;
+    } else {
+      h_fast_ += gain_fast_ * (alt_ft - h_fast_);
+      h_slow_ += gain_slow_ * (alt_ft - h_slow_);
+      m_fast_ += gain_fast_ * (mach - m_fast_);
+      m_slow_ += gain_slow_ * (mach - m_slow_);
+    }
+    const double span = 4.0 * options_.time_constant_s;
+    const double climb = (h_fast_ - h_slow_) / span, mach_rate = (m_fast_ - m_slow_) / span;
+    const double v = sound_fps * m_fast_;
+    const double sg = std::sin(options_.gamma_max_rad);
+    gamma_ = v > 0.0 ? std::asin(std::clamp(climb / v, -sg, sg)) : 0.0;
+    accel_ = options_.accel ? std::clamp(sound_fps * mach_rate, -options_.accel_max_fps2, options_.accel_max_fps2)
+                            : 0.0;
+    if (!std::isfinite(gamma_) || !std::isfinite(accel_)) gamma_ = accel_ = 0.0;
+  }
+  double gamma() const noexcept { return gamma_; }        // rad
+  double accel() const noexcept { return accel_; }        // ft/s^2
+
+ private:
+  ManeuverTrimOptions options_;
+  double gain_fast_ = 0.0, gain_slow_ = 0.0;
+  bool seen_ = false;
+  double h_fast_ = 0.0, h_slow_ = 0.0, m_fast_ = 0.0, m_slow_ = 0.0;
+  double gamma_ = 0.0, accel_ = 0.0;
+};
+
+}  // namespace f16mmae

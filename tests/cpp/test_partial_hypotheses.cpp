@@ -4,10 +4,12 @@
 // fixed-size frames around it, and a hierarchical bank whose level 0 holds a partial
 // hypothesis per surface ("LS:loss=0.5", B column halved): its level-1 banks keep the spare
 // slots off line (p = 0), a partial declaration brings on line {NONE, c:MODE, c, c+d...}, and a
-// partial name without its single is a construction error (global operator new is counted in
-// this executable).
+// partial name without its single is a construction error; declaring on components (a
+// partial and its single summed, declarer.h) against a declarer by hand; the executive's
+// estimator runs the 18-filter bank (global operator new is counted in this executable).
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/hierarchical_bank.h"
+#include "executive/mmae_estimator.h"
 
 #include "allocation_counter.h"
 #include "synthetic_models.h"
@@ -350,4 +352,38 @@ TEST(PartialHypotheses, DeclaringOnComponentsSumsASurfacesForms) {
     ASSERT_EQ(a.probabilities(), b.probabilities()) << i;
     truth.advance(du, failed);
   }
+}
+
+// The executive's estimator (cpp/executive/mmae_estimator.h) runs a bank with a partial
+// hypothesis per surface as the fixed 18-filter bank: 18 on line, the same names and
+// probabilities frame by frame as F16PartialHierarchicalBank on the same frames.
+TEST(PartialHypotheses, TheExecutivesEstimatorRunsTheEighteenFilterBank) {
+  const ModelBank mb = partial_bank(35u, 0.5);
+  executive::MmaeEstimator est(mb);
+  F16PartialHierarchicalBank direct(mb);
+  EXPECT_EQ(est.on_line(), 18);
+  EXPECT_EQ(est.states(), "13 states, 18 filters (partial-loss hypotheses)");
+  const test::Plant plant = test::random_plant(13, 5, 7, 35u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 3u);
+  bool level1 = false;
+  for (int i = 0; i < 640; ++i) {
+    const std::vector<std::string> failed = i >= 64 ? std::vector<std::string>{"LF"} : std::vector<std::string>{};
+    const Eigen::Matrix<double, 7, 1> z = truth.measure(failed) + mb.z_trim;
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    executive::MmaeEstimator::CommandVector c;
+    c << du + mb.u_trim, std::numeric_limits<double>::quiet_NaN();
+    est.update(z);
+    direct.update(z);
+    for (int k = 0; k < 18; ++k) {
+      ASSERT_EQ(est.probability(k), direct.probabilities()(k)) << i << " " << k;
+      ASSERT_EQ(est.hypothesis_name(k), direct.name(direct.online()[k])) << i << " " << k;
+    }
+    est.propagate(c);
+    direct.propagate(Eigen::Matrix<double, 5, 1>(du + mb.u_trim));
+    truth.advance(du, failed);
+    level1 = level1 || est.level() == 1;
+  }
+  EXPECT_TRUE(level1) << "the level-1 bank was flown too";
+  // a bank of 13 at level 0 is still the 13-filter bank
+  EXPECT_EQ(executive::MmaeEstimator(test::f16_model_bank(35u)).on_line(), 13);
 }

@@ -10,11 +10,14 @@
 // commands, then the throttle command. u is its first five elements for a bank with five
 // inputs (the throttle is not used: it may be NaN), all six for a bank that models the
 // throttle (its input names end with THR).
-// Sizes are the F-16's: 7 measurements, 13 filters on line, and the bank file's (nx, nu)
+// Sizes are the F-16's: 7 measurements, 13 filters on line (18 with partial hypotheses), and the bank file's (nx, nu)
 // select the fixed-size core, as the binding does (core.HierarchicalBank):
 //   (13, 5)   F16HierarchicalBank          (the shipped banks)
 //   (19, 5)   F16GustHierarchicalBank      (six Dryden gust states, `f16mmae design --gust-states`)
 //   (13, 6)   F16ThrottleHierarchicalBank  (the throttle input, `f16mmae design --throttle-input`)
+//   (13, 5) with 18 filters at level 0  F16PartialHierarchicalBank  (a partial-loss hypothesis per
+//             surface, `f16mmae design --partial-loss F`; its level-1 banks keep spare slots off
+//             line at p = 0, hierarchical_bank.h)
 // or, built from a turbulence-bank-set file (turbulence_set_file.h), the set of its members
 // (TurbulenceSetBank, turbulence_set_bank.h) of (19, 6) F16GustThrottleHierarchicalBank, the
 // member in force answering.
@@ -44,6 +47,7 @@ namespace f16mmae::executive {
 class MmaeEstimator {
  public:
   static constexpr int kNu = 5, kNz = 7, kOnLine = 13;  // kNu: the surface commands
+  static constexpr int kOnLinePartial = 18;              // with a partial hypothesis per surface
   static constexpr int kNuThrottle = 6;                  // with the throttle command
   static constexpr int kNxPlain = 13, kNxGust = 19;      // the state sizes it runs
   using ZVector = F16HierarchicalBank::ZVector;
@@ -127,7 +131,10 @@ class MmaeEstimator {
   const std::string& declaration() const noexcept {
     return visit([&](const auto& b) -> const std::string& { return declared_now_ < 0 ? empty_ : b.name(declared_now_); });
   }
-  int on_line() const noexcept { return kOnLine; }
+  // Filters on line: 13, or 18 for a bank with partial hypotheses (off-line slots at p = 0).
+  int on_line() const noexcept {
+    return std::holds_alternative<std::unique_ptr<F16PartialHierarchicalBank>>(bank_) ? kOnLinePartial : kOnLine;
+  }
   const std::string& hypothesis_name(int k) const noexcept {
     return visit([&](const auto& b) -> const std::string& { return b.name(b.online()[k]); });
   }
@@ -163,6 +170,7 @@ class MmaeEstimator {
   // "4 members of 19 states, 6 inputs" for a turbulence bank set.
   std::string states() const {
     if (members_ > 0) return std::to_string(members_) + " members of 19 states, 6 inputs";
+    if (on_line() == kOnLinePartial) return "13 states, 18 filters (partial-loss hypotheses)";
     return nx_ == kNxGust ? "19 states (gust)" : models_throttle() ? "13 states, 6 inputs (throttle)" : "13 states";
   }
   // The number of member banks of a turbulence bank set, 0 for one hierarchical bank.
@@ -176,7 +184,14 @@ class MmaeEstimator {
  private:
   using SetBank = TurbulenceSetBank<F16GustThrottleHierarchicalBank>;
   using Variant = std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>,
-                               std::unique_ptr<F16ThrottleHierarchicalBank>, std::unique_ptr<SetBank>>;
+                               std::unique_ptr<F16ThrottleHierarchicalBank>, std::unique_ptr<SetBank>,
+                               std::unique_ptr<F16PartialHierarchicalBank>>;
+  // Level-0 hypotheses of a bank (the names without '+', NONE included).
+  static int level0_size(const ModelBank& b) {
+    int n = 0;
+    for (const auto& h : b.hypotheses) n += h.name.find('+') == std::string::npos ? 1 : 0;
+    return n;
+  }
 
   static Variant make(const TurbulenceSetFile& set, const HierarchicalOptions& options) {
     set.validate();
@@ -193,6 +208,8 @@ class MmaeEstimator {
 
   static Variant make(const ModelBank& b, const HierarchicalOptions& options) {
     if (b.nz() == kNz) {
+      if (b.nx() == kNxPlain && b.nu() == kNu && level0_size(b) == kOnLinePartial)
+        return std::make_unique<F16PartialHierarchicalBank>(b, options);
       if (b.nx() == kNxPlain && b.nu() == kNu) return std::make_unique<F16HierarchicalBank>(b, options);
       if (b.nx() == kNxGust && b.nu() == kNu) return std::make_unique<F16GustHierarchicalBank>(b, options);
       if (b.nx() == kNxPlain && b.nu() == kNuThrottle) return std::make_unique<F16ThrottleHierarchicalBank>(b, options);

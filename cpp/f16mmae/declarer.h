@@ -8,6 +8,25 @@
 // threshold > 0.5 and the probabilities sum to 1, at most one hypothesis can be above it,
 // so one candidate and one counter suffice.
 //
+// Components (update(p, dwell_frames, group); off when group is null): hypotheses that fail the
+// same component in different forms (a surface's complete/cover and partial-loss hypotheses,
+// hierarchical_bank.h) are one component for the declaration. group[k] is the lowest slot of
+// slot k's component (k itself for a hypothesis alone; so group[k] <= k, group[group[k]] ==
+// group[k]); the caller keeps it so.
+// With the component masses
+//   P_g = sum_{k : group[k] = g} p_k,
+// component g is declared when P_g > threshold on `dwell_frames` consecutive frames (the dwell
+// runs on the sum, whichever of its forms holds the mass frame by frame) and g is not the
+// current hypothesis' component group[current]. The declaration names the form that holds the
+// most mass on the frame the dwell completes,
+//   declared = argmax_{k : group[k] = g} p_k   (the lowest slot on a tie),
+// which becomes current. Since the P_g also sum to 1, at most one component is above the
+// threshold: one candidate (its representative slot g) and one counter still suffice. With
+// every hypothesis alone (group[k] = k) P_k = p_k and the rule is the one above, bit for bit.
+// Why: two forms of one component's failure share its mass (each explains the data about as
+// well), so neither may hold the threshold for a dwell although their sum does; what the
+// declaration hands on -- stop trusting that component -- is the same for both forms.
+//
 // Defaults, and why: threshold 0.9, dwell 0.25 s at 64 Hz (16 frames).
 //  - 0.9: with K = 13 and the floor p_min = 0.001 a hypothesis can reach 1 - 12 * 0.001 =
 //    0.988; a correct, well-matched hypothesis sits near that, while an ambiguous pair
@@ -75,6 +94,40 @@ class Declarer {
     return -1;
   }
 
+  // The same with components (header): group[k] the lowest slot of slot k's
+  // component, for k in [0, p.size()); a null group is the rule without components.
+  template <class Vector>
+  int update(const Vector& p, int dwell_frames, const int* group) noexcept {
+    if (group == nullptr) return update(p, dwell_frames);
+    const int n = static_cast<int>(p.size());
+    int above = -1;
+    for (int k = 0; k < n && above < 0; ++k) {
+      if (group[k] != k) continue;   // each component once, at its representative
+      double mass = 0.0;
+      for (int j = k; j < n; ++j)
+        if (group[j] == k) mass += p[j];
+      if (mass > options_.threshold) above = k;   // a NaN member makes the sum NaN: not above
+    }
+    if (above < 0) {
+      candidate_ = -1;
+      count_ = 0;
+      return -1;
+    }
+    if (above != candidate_) {
+      candidate_ = above;
+      count_ = 0;
+    }
+    if (count_ < dwell_frames) ++count_;
+    if (count_ >= dwell_frames && candidate_ != group[current_]) {
+      int form = candidate_;
+      for (int j = candidate_ + 1; j < n; ++j)
+        if (group[j] == candidate_ && p[j] > p[form]) form = j;
+      current_ = form;
+      return current_;
+    }
+    return -1;
+  }
+
   // Start again with hypothesis `presumed` current (not declared) and no dwell under way.
   void reset(int presumed = 0) noexcept {
     current_ = presumed;
@@ -90,7 +143,7 @@ class Declarer {
     count_ = from.count_;
   }
   int current() const noexcept { return current_; }      // presumed or last declared
-  int candidate() const noexcept { return candidate_; }  // hypothesis above threshold, or -1
+  int candidate() const noexcept { return candidate_; }  // hypothesis (component: its slot) above threshold, or -1
   int dwell_count() const noexcept { return count_; }    // consecutive frames above so far
   int dwell_frames() const noexcept { return dwell_frames_; }
   const DeclarerOptions& options() const noexcept { return options_; }

@@ -57,6 +57,15 @@
 // taken off line (FilterBank::set_live(k, false): p_k = 0, no floor; a level-0 switch takes them
 // on line again). A bank without partial hypotheses has no spare slot: bit for bit as before.
 // A scheduled bank with partial hypotheses is a construction error (not supported).
+// Declaring on components (options.declare_components; off by default: each hypothesis alone,
+//   bit for bit): a partial hypothesis c:MODE and its single c are one component for the
+//   declarer (declarer.h: the sum of their probabilities against the threshold, the dwell on
+//   the sum, the declaration names the form that holds more mass), at level 0 and in the
+//   partial's level-1 bank (c:MODE and c both on line: the mass moving between c's two forms
+//   there is no new declaration). The level-1 bank is the declared form's, as above: a
+//   declared c:MODE brings both forms on line, a declared c its own bank {NONE, c, c+d}
+//   (the duals are complete failures of c; c held more mass than c:MODE when declared). A bank
+//   without partial hypotheses is unchanged by the option.
 //
 // Initialisation at a switch (after the update of the frame on which the declaration
 // happened, before its propagate): every filter brought on line starts from the posterior
@@ -196,6 +205,7 @@ struct HierarchicalOptions {
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (header)
   DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (header)
+  bool declare_components = false;   // a partial hypothesis and its single declared as one component (header)
   int history_capacity = 1024;
 };
 
@@ -232,15 +242,19 @@ class HierarchicalBank {
       declarer_in_force().reset(declarer_in_force().current());   // the dwell restarts
       ++departure_frames_;
     }
-    const int d = departure_hold_ > 0 ? -1 : declarer_in_force().update(bank_.probabilities(), dwell_frames_in_force());
+    const int d = departure_hold_ > 0 ? -1
+                                      : declarer_in_force().update(bank_.probabilities(), dwell_frames_in_force(),
+                                                                   component_groups());
     int hypothesis = -1;
     if (d >= 0) {
       hypothesis = online_[d];
       record(hypothesis, frame);
       if (level_ == 0 && d != 0) {
         switch_to(level1_[d - 1], d, 1, &level1_live_[d - 1]);
+        level1_bank_ = d - 1;
       } else if (level_ == 1 && d == 0) {
         switch_to(level0_, 0, 0);
+        level1_bank_ = -1;
       }
     }
     if (trim_tracker_.options().enabled()) {
@@ -346,6 +360,7 @@ class HierarchicalBank {
       for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[level0_[k]]);
     online_ = level0_;
     level_ = 0;
+    level1_bank_ = -1;
     if (partial_)
       for (int k = 1; k < size(); ++k) bank_.set_live(k, true);
     set_floors();   // the level-0 floor again (no-op unless level1_p_min)
@@ -405,6 +420,7 @@ class HierarchicalBank {
     }
     online_ = from.online_;
     level_ = from.level_;
+    level1_bank_ = from.level1_bank_;
     set_floors();   // this bank's floors for the level carried over
     bank_.carry_over(from.bank_, !warm);
     if (!warm) bank_.reset_adaptation();
@@ -502,7 +518,26 @@ class HierarchicalBank {
     std::vector<Indices> level1;
     std::vector<Indices> level1_live;   // 1: the slot is on line at that level-1 bank
     bool partial = false;               // the bank has partial hypotheses
+    Indices level0_group;               // the declarer's components at level 0 (declarer.h)
+    std::vector<Indices> level1_group;  // ... and in each level-1 bank
   };
+
+  // The components of the slots of `idx` (ModelBank indices; live[s] == 0: off line, alone):
+  // group[s] = the lowest live slot t with component[idx[t]] == component[idx[s]] (declarer.h).
+  static Indices groups_of(const Indices& idx, const Indices* live, const std::vector<int>& component) {
+    const int n = static_cast<int>(idx.size());
+    Indices g = make_indices(n);
+    for (int s = 0; s < n; ++s) {
+      g[s] = s;
+      if (live != nullptr && (*live)[s] == 0) continue;
+      for (int t = 0; t < s; ++t)
+        if ((live == nullptr || (*live)[t] != 0) && component[idx[t]] == component[idx[s]]) {
+          g[s] = t;
+          break;
+        }
+    }
+    return g;
+  }
 
   // A partial hypothesis' single: "c:MODE" -> "c" (header); "" for any other name.
   static std::string partial_of(const std::string& name) {
@@ -596,6 +631,15 @@ class HierarchicalBank {
       b.level1.push_back(idx);
       b.level1_live.push_back(live);
     }
+    // the component of each ModelBank hypothesis: a partial's is its single's, any other its own
+    std::vector<int> component(mb.hypotheses.size());
+    for (std::size_t i = 0; i < component.size(); ++i) component[i] = static_cast<int>(i);
+    partial_n = 0;
+    for (int i : level0)
+      if (!partial_of(mb.hypotheses[i].name).empty()) component[i] = partial_single[partial_n++];
+    b.level0_group = groups_of(b.level0, nullptr, component);
+    for (std::size_t f = 0; f < b.level1.size(); ++f)
+      b.level1_group.push_back(groups_of(b.level1[f], &b.level1_live[f], component));
     return b;
   }
 
@@ -624,6 +668,11 @@ class HierarchicalBank {
     const int base = declarer_in_force().dwell_frames();
     return level_ == 0 ? maneuver_dwell_.dwell_frames(climb_ref_.dwell_frames(base)) : base;
   }
+  // The declarer's components in force (header), or null: each hypothesis alone.
+  const int* component_groups() const noexcept {
+    if (!partial_ || !options_.declare_components) return nullptr;
+    return level1_bank_ < 0 ? level0_group_.data() : level1_group_[level1_bank_].data();
+  }
   Declarer& declarer_in_force() noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
   const Declarer& declarer_in_force() const noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
   static FilterBankOptions with_rate(FilterBankOptions b, double rate_hz) {
@@ -640,6 +689,8 @@ class HierarchicalBank {
         level1_(std::move(b.level1)),
         level1_live_(std::move(b.level1_live)),
         partial_(b.partial),
+        level0_group_(std::move(b.level0_group)),
+        level1_group_(std::move(b.level1_group)),
         online_(b.level0),
         air_rates_(mb.frame_rate_hz),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
@@ -908,6 +959,9 @@ class HierarchicalBank {
   std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of level-0 hypothesis f + 1 (a single or partial)
   std::vector<Indices> level1_live_;   // level1_live_[f][k]: slot k on line in it (header)
   bool partial_ = false;               // partial hypotheses: level-1 banks have spare slots
+  Indices level0_group_;               // the declarer's components at level 0 (header)
+  std::vector<Indices> level1_group_;  // ... in level-1 bank f
+  int level1_bank_ = -1;               // the level-1 bank on line (level1_[f]), -1 at level 0
   Indices online_;
   ZVector z_trim_, z_pert_, dz_, z_shift_;
   UVector u_trim_, u_pert_, du_;

@@ -96,3 +96,61 @@ TEST(Declarer, ValidationNamesTheBadValue) {
   o.frame_rate_hz = 0.0;
   EXPECT_THROW(Declarer{o}, std::invalid_argument);
 }
+
+// Components (declarer.h): slots 1 and 2 are two forms of one component (group {0, 1, 1, 3}),
+// dwell 4 frames. By hand: frames 1-3 put 0.50 + 0.45 = 0.95 (then 0.45 + 0.50, then 0.60 +
+// 0.31) on the component, none of its forms above 0.9 alone; frame 4 puts 0.30 + 0.65 = 0.95
+// on it: the dwell completes on the sum and the form with more mass, slot 2, is declared.
+TEST(DeclarerComponents, TheDwellRunsOnTheSumAndTheHeaviestFormIsDeclared) {
+  DeclarerOptions o;
+  o.dwell_s = 4.0 / 64.0;   // 4 frames
+  const int group[4] = {0, 1, 1, 3};
+  const std::array<std::array<double, 4>, 4> frames{{{0.02, 0.50, 0.45, 0.03},
+                                                     {0.02, 0.45, 0.50, 0.03},
+                                                     {0.06, 0.60, 0.31, 0.03},
+                                                     {0.02, 0.30, 0.65, 0.03}}};
+  Declarer alone(o), together(o);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(alone.update(frames[i], alone.dwell_frames()), -1) << i;
+    EXPECT_EQ(together.update(frames[i], together.dwell_frames(), group), -1) << i;
+    EXPECT_EQ(together.candidate(), 1) << "the component's lowest slot";
+    EXPECT_EQ(together.dwell_count(), i + 1);
+  }
+  EXPECT_EQ(alone.update(frames[3], alone.dwell_frames()), -1) << "no form alone above 0.9";
+  EXPECT_EQ(together.update(frames[3], together.dwell_frames(), group), 2);
+  EXPECT_EQ(together.current(), 2);
+  // the mass moving to the other form is no new declaration: the component is current
+  const std::array<double, 4> other{0.01, 0.97, 0.01, 0.01};
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(together.update(other, together.dwell_frames(), group), -1);
+  EXPECT_EQ(together.current(), 2);
+  // a sum at the threshold is not above it (strict); another component restarts the dwell
+  const std::array<double, 4> at{0.05, 0.45, 0.45, 0.05};
+  EXPECT_EQ(together.update(at, together.dwell_frames(), group), -1);
+  EXPECT_EQ(together.candidate(), -1);
+  const std::array<double, 4> three{0.02, 0.02, 0.01, 0.95};
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(together.update(three, together.dwell_frames(), group), -1);
+  EXPECT_EQ(together.update(three, together.dwell_frames(), group), 3);
+  // a NaN form makes its component's sum NaN: never above
+  Declarer d(o);
+  const std::array<double, 4> nan{0.0, std::numeric_limits<double>::quiet_NaN(), 0.95, 0.05};
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(d.update(nan, d.dwell_frames(), group), -1);
+  EXPECT_EQ(d.candidate(), -1);
+}
+
+// Every hypothesis alone (group[k] = k) is the rule without components, frame for frame.
+TEST(DeclarerComponents, EachHypothesisAloneIsTheRuleWithout) {
+  DeclarerOptions o;
+  o.dwell_s = 3.0 / 64.0;
+  const int group[3] = {0, 1, 2};
+  Declarer plain(o), alone(o);
+  unsigned state = 12345u;
+  for (int i = 0; i < 2000; ++i) {
+    state = state * 1664525u + 1013904223u;
+    const int k = static_cast<int>(state >> 30) % 3;
+    const double p = 0.85 + 0.1 * static_cast<double>((state >> 8) & 0xff) / 255.0;
+    const auto v = winner(k, p);
+    ASSERT_EQ(plain.update(v), alone.update(v, alone.dwell_frames(), group)) << i;
+    ASSERT_EQ(plain.candidate(), alone.candidate());
+    ASSERT_EQ(plain.dwell_count(), alone.dwell_count());
+  }
+}

@@ -4,10 +4,12 @@
 // fixed-size frames around it, and a hierarchical bank whose level 0 holds a partial
 // hypothesis per surface ("LS:loss=0.5", B column halved): its level-1 banks keep the spare
 // slots off line (p = 0), a partial declaration brings on line {NONE, c:MODE, c, c+d...}, and a
-// partial name without its single is a construction error (global operator new is counted in
-// this executable).
+// partial name without its single is a construction error; declaring on components (a
+// partial and its single summed, declarer.h) against a declarer by hand; the executive's
+// estimator runs the 18-filter bank (global operator new is counted in this executable).
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/hierarchical_bank.h"
+#include "executive/mmae_estimator.h"
 
 #include "allocation_counter.h"
 #include "synthetic_models.h"
@@ -275,4 +277,113 @@ TEST(PartialHypotheses, FixedSizeBankEqualsTheDynamicOneAndAllocatesNothing) {
   EXPECT_GE(fixed.declarations().size(), 1u);
   for (std::size_t i = 0; i < fixed.declarations().size(); ++i)
     EXPECT_EQ(fixed.declarations()[i].hypothesis, dynamic.declarations()[i].hypothesis);
+}
+
+// Declaring on components (hierarchical_bank.h): the bank's first declaration is that of a
+// declarer fed the level-0 probabilities with the components written out by hand (slot 13 + j,
+// surface j's partial, with slot 1 + j, surface j; every other slot alone); the probabilities
+// are a twin bank's that never declares. The truth: LS at a quarter of its effectiveness
+// (three quarters lost) from frame 64, between the complete and the half-loss hypothesis.
+// At the partial's level-1 bank {NONE, c:MODE, c, c+d...} c:MODE and c are one component: c is
+// not declared after c:MODE.
+TEST(PartialHypotheses, DeclaringOnComponentsSumsASurfacesForms) {
+  const ModelBank mb = partial_bank(32u, 0.5);
+  HierarchicalOptions opt;
+  opt.declare_components = true;
+  DynamicHierarchicalBank hb(mb, opt);
+  HierarchicalOptions never;
+  never.declarer.threshold = 0.999999;
+  never.declarer.dwell_s = 60.0;
+  DynamicHierarchicalBank twin(mb, never);
+  const test::Plant plant = test::random_plant(13, 5, 7, 32u, 1e-3, 1e-3);
+  test::Plant quarter = plant;
+  quarter.bd.col(0) *= 0.25;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(13);
+  std::mt19937 g(9);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const Eigen::MatrixXd lq = Eigen::LLT<Eigen::MatrixXd>(plant.q).matrixL();
+  const Eigen::MatrixXd lr = Eigen::LLT<Eigen::MatrixXd>(plant.r).matrixL();
+  std::vector<int> group(18);
+  for (int s = 0; s < 18; ++s) group[s] = s;
+  for (int j = 0; j < 5; ++j) group[13 + j] = 1 + j;
+  Declarer by_hand(hb.declarer().options(), 0);
+  int expected = -1, expected_frame = -1;
+  std::vector<Eigen::VectorXd> zs, us;
+  for (int i = 0; i < 1280; ++i) {
+    Eigen::VectorXd w(13), v(7);
+    for (int j = 0; j < 13; ++j) w(j) = n01(g);
+    for (int j = 0; j < 7; ++j) v(j) = n01(g);
+    const Eigen::VectorXd z = plant.h * x + lr * v + mb.z_trim;
+    const Eigen::VectorXd du = 4.0 * test::dither(5, i, 64.0);
+    hb.step(z, du + mb.u_trim);
+    twin.step(z, du + mb.u_trim);
+    zs.push_back(z);
+    us.push_back(du + mb.u_trim);
+    if (expected < 0) {
+      expected = by_hand.update(twin.probabilities(), by_hand.dwell_frames(), group.data());
+      if (expected >= 0) expected_frame = i;
+    }
+    x = (i >= 64 ? quarter.bd : plant.bd) * du + plant.phi * x + lq * w;
+  }
+  ASSERT_GE(expected, 1) << "nothing declared by hand";
+  ASSERT_GE(hb.declarations().size(), 1u);
+  EXPECT_EQ(hb.declarations()[0].hypothesis, mb.find(twin.online_names()[expected]));
+  EXPECT_EQ(hb.declarations()[0].frame, expected_frame);
+  const std::string first = hb.name(hb.declarations()[0].hypothesis);
+  EXPECT_TRUE(first == "LS" || first == "LS:loss=0.5") << first;
+  for (std::size_t k = 1; k < hb.declarations().size(); ++k)
+    EXPECT_TRUE(hb.name(hb.declarations()[k].hypothesis) != "LS" &&
+                hb.name(hb.declarations()[k].hypothesis) != "LS:loss=0.5") << "LS again, in another form";
+  EXPECT_TRUE(twin.declarations().empty());
+  // each hypothesis alone, the same flight declares no earlier (a form above the threshold
+  // puts its component above it)
+  DynamicHierarchicalBank alone(mb);
+  for (std::size_t i = 0; i < zs.size() && alone.declarations().empty(); ++i) alone.step(zs[i], us[i]);
+  if (!alone.declarations().empty()) EXPECT_GE(alone.declarations()[0].frame, expected_frame);
+  // a bank without partial hypotheses is unchanged by the option, bit for bit
+  const ModelBank plain = test::f16_model_bank(32u);
+  DynamicHierarchicalBank a(plain), b(plain, opt);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);
+  for (int i = 0; i < 400; ++i) {
+    const std::vector<std::string> failed = i >= 64 ? std::vector<std::string>{"RS"} : std::vector<std::string>{};
+    const Eigen::VectorXd z = truth.measure(failed) + plain.z_trim;
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    ASSERT_EQ(a.step(z, du + plain.u_trim), b.step(z, du + plain.u_trim)) << i;
+    ASSERT_EQ(a.probabilities(), b.probabilities()) << i;
+    truth.advance(du, failed);
+  }
+}
+
+// The executive's estimator (cpp/executive/mmae_estimator.h) runs a bank with a partial
+// hypothesis per surface as the fixed 18-filter bank: 18 on line, the same names and
+// probabilities frame by frame as F16PartialHierarchicalBank on the same frames.
+TEST(PartialHypotheses, TheExecutivesEstimatorRunsTheEighteenFilterBank) {
+  const ModelBank mb = partial_bank(35u, 0.5);
+  executive::MmaeEstimator est(mb);
+  F16PartialHierarchicalBank direct(mb);
+  EXPECT_EQ(est.on_line(), 18);
+  EXPECT_EQ(est.states(), "13 states, 18 filters (partial-loss hypotheses)");
+  const test::Plant plant = test::random_plant(13, 5, 7, 35u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 3u);
+  bool level1 = false;
+  for (int i = 0; i < 640; ++i) {
+    const std::vector<std::string> failed = i >= 64 ? std::vector<std::string>{"LF"} : std::vector<std::string>{};
+    const Eigen::Matrix<double, 7, 1> z = truth.measure(failed) + mb.z_trim;
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    executive::MmaeEstimator::CommandVector c;
+    c << du + mb.u_trim, std::numeric_limits<double>::quiet_NaN();
+    est.update(z);
+    direct.update(z);
+    for (int k = 0; k < 18; ++k) {
+      ASSERT_EQ(est.probability(k), direct.probabilities()(k)) << i << " " << k;
+      ASSERT_EQ(est.hypothesis_name(k), direct.name(direct.online()[k])) << i << " " << k;
+    }
+    est.propagate(c);
+    direct.propagate(Eigen::Matrix<double, 5, 1>(du + mb.u_trim));
+    truth.advance(du, failed);
+    level1 = level1 || est.level() == 1;
+  }
+  EXPECT_TRUE(level1) << "the level-1 bank was flown too";
+  // a bank of 13 at level 0 is still the 13-filter bank
+  EXPECT_EQ(executive::MmaeEstimator(test::f16_model_bank(35u)).on_line(), 13);
 }

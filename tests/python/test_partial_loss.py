@@ -153,3 +153,24 @@ def test_bad_partial_loss_is_refused(capsys, tmp_path, argv, text):
     assert main(["design", *argv, "--out", str(tmp_path / "b.f16bank")]) == 2
     err = capsys.readouterr().err
     assert text in err and "Traceback" not in err
+
+
+def test_declare_components_reaches_the_core_and_declares_a_split_surface(partial_design, tmp_path, capsys):
+    """A tuning-seed flight (campaign seed 7's detectability, LF three quarters lost) in which LF's
+    two forms share the mass: each hypothesis alone declares nothing, the components declare LF
+    (cpp/f16mmae/declarer.h); the flag is recorded in run.json."""
+    path = tmp_path / "partial.f16bank"
+    core.save_bank(bank.to_model_bank(partial_design), str(path))
+    argv = ["run", "--seed", "287851534", "--duration", "8.0", "--turbulence", "light", "--mach", "0.4",
+            "--alt-ft", "20000.0", "--feedback", "mmae", "--fail", "LF@3.0:loss=0.25", "--bank", str(path),
+            "--dwell-s", "0.5"]   # the dwell `f16mmae design` calibrates for this bank
+    runs = {}
+    for label, extra in (("alone", []), ("components", ["--declare-components"])):
+        assert main([*argv, *extra, "--out", str(tmp_path / label)]) == 0
+        runs[label] = json.loads((tmp_path / label / "run.json").read_text())
+    capsys.readouterr()
+    assert runs["alone"]["declarations"] == []
+    decl = runs["components"]["declarations"]
+    assert decl and decl[0]["hypothesis"] in ("LF", "LF:loss=0.5") and decl[0]["time_s"] > 3.0
+    assert runs["components"]["estimator_settings"]["declare_components"] is True
+    assert "declare_components" not in runs["alone"]["estimator_settings"]

@@ -198,6 +198,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "angle of attack is more than 5 deg off the trim or a measured body rate above 10 deg/s, "
                          "nor for 1 s after: the linear models do not cover a departed aircraft (a stabilator "
                          "hardover; cpp/f16mmae/hierarchical_bank.h). Default on"),
+    EstimatorOption("declare_components", "--declare-components", "switch", in_daemon=False,
+                    help="a bank with partial-loss hypotheses (design --partial-loss): declare a surface's "
+                         "forms (its complete/cover and its partial hypothesis) as one component -- the sum of "
+                         "their probabilities against the threshold, the dwell on the sum -- naming the form "
+                         "that holds more mass (cpp/f16mmae/declarer.h). Default off: each hypothesis alone; "
+                         "a bank without partial hypotheses is unchanged"),
     EstimatorOption("actuator_rate_limits_rad_s", "--actuator-rate-limits", "values", on_command_line=False,
                     help="the actuators' rate limits, rad/s, one per input"),
     EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",

@@ -56,7 +56,8 @@
 //                   p_min_a = floor_p_min[a]  if ρ_a <= floor_rho and floor_p_min[a] > 0,
 //                             its own (its bank's p_min)  otherwise,
 //                 and a member taking over sets its own the same way by its ρ; frozen or
-//                 settling, the floor in force stays. Why: a member that tempers by its ρ
+//                 settling, the floor in force stays. A level-1 bank's duals keep the
+//                 member's own floor (HierarchicalBank::set_level0_p_min). Why: a member that tempers by its ρ
 //                 (s = 1 + κ (ρ − ρ_0)) flies light and moderate air near s = 1-4, where a
 //                 higher floor (fewer nats to lift a hypothesis, ln 1/p_min) shortens the
 //                 latency, and severe air at its bound, where the same floor let the gusts'

@@ -223,7 +223,8 @@ TEST(TurbulenceBankSet, FloorByRhoRaisesTheFloorOfTheMemberInForceWhileItsRhoRea
   // to 1e-6 while its rho <= floor_rho; the noise 30 times the design's from frame 600 to 1800
   const auto noise = [](int i) { return i >= 600 && i < 1800 ? kRough : 1.0; };
   struct Outcome {
-    int raised = 0, own = 0, wrong = 0, floor_not_min = 0, switches = 0;
+    int raised = 0, own = 0, wrong = 0, floor_not_min = 0, switches = 0, level = 0;
+    double least = 0.0;   // the least probability on the last frame
     double rho_calm = 0.0, rho_rough = 0.0;   // the calm member's rho at frames 599 and 1799
   };
   const auto flight = [&](double floor_rho, const std::vector<std::string>& failed_from_400) {
@@ -248,8 +249,8 @@ TEST(TurbulenceBankSet, FloorByRhoRaisesTheFloorOfTheMemberInForceWhileItsRhoRea
       o.wrong += p_min != expected;
       (p_min == 1e-6 ? o.raised : o.own) += 1;
       // the floor is the one the probabilities sit on: at level 0 with nothing declared, the
-      // least probable hypothesis at the floor in force
-      if (!frozen && set.running().level() == 0)
+      // least probable hypothesis at the floor in force (from the update after a change)
+      if (!frozen && set.running().level() == 0 && p_min == before)
         o.floor_not_min += std::abs(set.running().probabilities().minCoeff() - p_min) > 1e-6 * p_min;
       if (i == 599) o.rho_calm = set.power_ratio(0);
       if (i == 1799) o.rho_rough = set.power_ratio(0);
@@ -257,6 +258,8 @@ TEST(TurbulenceBankSet, FloorByRhoRaisesTheFloorOfTheMemberInForceWhileItsRhoRea
       set.propagate(u);
     });
     o.switches = static_cast<int>(set.switches());
+    o.level = set.running().level();
+    o.least = set.running().probabilities().minCoeff();
     set.reset();
     EXPECT_EQ(calm.options().bank.p_min, 1e-9) << "reset() gives every member its own floor again";
     return o;
@@ -267,7 +270,7 @@ TEST(TurbulenceBankSet, FloorByRhoRaisesTheFloorOfTheMemberInForceWhileItsRhoRea
   EXPECT_EQ(on.floor_not_min, 0);
   EXPECT_LT(on.rho_calm, 1.5);
   EXPECT_GT(on.rho_rough, 1.5);
-  EXPECT_GT(on.raised, 900) << "raised in calm air after settle";
+  EXPECT_GT(on.raised, 600 - 127 - 1) << "raised in calm air after settle";
   EXPECT_GT(on.own, 127 + 300) << "its own floor before settle and in the rough segment";
   const Outcome off = flight(0.0, {});   // floor_rho 0: off, the member's own floor throughout
   EXPECT_EQ(off.raised, 0);
@@ -277,6 +280,9 @@ TEST(TurbulenceBankSet, FloorByRhoRaisesTheFloorOfTheMemberInForceWhileItsRhoRea
   const Outcome failed = flight(1.5, {"LS"});
   EXPECT_EQ(failed.wrong, 0);
   EXPECT_GT(failed.raised, 2400 - 127 - 64);
+  // declared: the level-1 bank's duals sit on the member's own floor, not the raised one
+  ASSERT_EQ(failed.level, 1);
+  EXPECT_NEAR(failed.least, 1e-9, 1e-15);
 }
 
 TEST(TurbulenceBankSet, AFailureFreezesTheSelector) {

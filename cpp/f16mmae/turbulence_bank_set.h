@@ -55,9 +55,10 @@
 //                 member a's level-0 floor is
 //                   p_min_a = floor_p_min[a]  if ρ_a <= floor_rho and floor_p_min[a] > 0,
 //                             its own (its bank's p_min)  otherwise,
-//                 and a member taking over sets its own the same way by its ρ; frozen or
-//                 settling, the floor in force stays. A level-1 bank's duals keep the
-//                 member's own floor (HierarchicalBank::set_level0_p_min). Why: a member that tempers by its ρ
+//                 and a member taking over sets its own the same way by its ρ; settling, the
+//                 floor in force stays; frozen (a failure rising or declared), the member's
+//                 own floor is in force, so a level-1 bank (NONE, f and its duals) and a
+//                 back-out need the evidence the member's own floor asks. Why: a member that tempers by its ρ
 //                 (s = 1 + κ (ρ − ρ_0)) flies light and moderate air near s = 1-4, where a
 //                 higher floor (fewer nats to lift a hypothesis, ln 1/p_min) shortens the
 //                 latency, and severe air at its bound, where the same floor let the gusts'
@@ -273,6 +274,7 @@ class TurbulenceBankSet {
       ++frozen_frames_;
       ++since_switch_;
       drop_standby();
+      own_floor(active_);
       return;
     }
     if (++since_switch_ < settle_frames_) return;   // settling: the standby runs on
@@ -309,6 +311,12 @@ class TurbulenceBankSet {
   void apply_floor(int m) noexcept {
     if (options_.floor_rho <= 0.0 || options_.floor_p_min.empty() || options_.floor_p_min[m] <= 0.0) return;
     members_[m]->set_level0_p_min(power_ratio(m) <= options_.floor_rho ? options_.floor_p_min[m] : own_p_min_[m]);
+  }
+
+  // Member m's own level-0 floor again (the floor by ρ on): frozen, a failure rising or declared.
+  void own_floor(int m) noexcept {
+    if (options_.floor_rho > 0.0 && !options_.floor_p_min.empty() && options_.floor_p_min[m] > 0.0)
+      members_[m]->set_level0_p_min(own_p_min_[m]);
   }
 
   void drop_standby() noexcept {

@@ -38,7 +38,8 @@ class PyTurbulenceBankSet {
  public:
   PyTurbulenceBankSet(const py::list& members, const std::vector<double>& bounds, const std::vector<double>& typical,
                       double hold_s, double warm_up_s, double warm_down_s, double settle_s, double freeze_probability,
-                      int start, int start_standby, bool calmer_own_rho)
+                      int start, int start_standby, bool calmer_own_rho, double floor_rho,
+                      const std::vector<double>& floor_p_min)
       : members_(members) {
     TurbulenceBankSetOptions o;
     o.bounds = bounds;
@@ -51,6 +52,8 @@ class PyTurbulenceBankSet {
     o.freeze_probability = freeze_probability;
     o.start = start;
     o.calmer_own_rho = calmer_own_rho;
+    o.floor_rho = floor_rho;
+    o.floor_p_min = floor_p_min;
     std::vector<FixedHierarchicalBank> fixed;
     for (py::handle m : members) {
       FixedHierarchicalBank f = fixed_hierarchical_bank(m);   // TypeError if not a core.HierarchicalBank
@@ -195,6 +198,7 @@ void for_each_setting(TurbulenceBankSetOptions& s, F&& f) {
   f("bounds", s.bounds), f("typical", s.typical), f("hold_s", s.hold_s), f("warm_up_s", s.warm_up_s);
   f("warm_down_s", s.warm_down_s), f("settle_s", s.settle_s), f("freeze_probability", s.freeze_probability);
   f("start", s.start), f("start_standby", s.start_standby), f("calmer_own_rho", s.calmer_own_rho);
+  f("floor_rho", s.floor_rho), f("floor_p_min", s.floor_p_min);
 }
 
 py::dict selector_dict(TurbulenceBankSetOptions s) {
@@ -279,7 +283,7 @@ One estimator over banks designed for rising turbulence intensities (cpp/f16mmae
 
     TurbulenceBankSet(members, bounds, typical, hold_s=1.0, warm_up_s=1.0, warm_down_s=5.0,
                       settle_s=1.0, freeze_probability=0.05, start=1, start_standby=0,
-                      calmer_own_rho=False)
+                      calmer_own_rho=False, floor_rho=0.0, floor_p_min=[])
     TurbulenceBankSet(set_file, *, p_min=..., ...)   # core.HierarchicalBank's keywords
 
 The second form runs a core.TurbulenceSetFile as mmae-daemon --turbulence-banks does: member i
@@ -301,13 +305,16 @@ state, declarations; its own filter states and rho. Nothing is decided within se
 switch or the start, and the standby is dropped while the member in force is at level 1, has
 a failure declared, or a failure hypothesis is above freeze_probability. calmer_own_rho: while
 a calmer member c runs as the standby, c's own rho against its own row of bounds decides
-whether it is wanted (the header's rule). Outputs are the member in force's. Raises ValueError for invalid members or settings (naming them).)doc");
+whether it is wanted (the header's rule). floor_rho > 0 with floor_p_min (one per member, 0: its
+own): after settle_s and while not frozen, member a's level-0 floor is floor_p_min[a] while its rho
+<= floor_rho, else its own (the header's floor by rho). Outputs are the member in force's. Raises ValueError for invalid members or settings (naming them).)doc");
   cls.def(py::init<const py::list&, const std::vector<double>&, const std::vector<double>&, double, double, double,
-                    double, double, int, int, bool>(),
+                    double, double, int, int, bool, double, const std::vector<double>&>(),
            py::arg("members"), py::arg("bounds"), py::arg("typical"), py::kw_only(), py::arg("hold_s") = 1.0,
            py::arg("warm_up_s") = 1.0, py::arg("warm_down_s") = 5.0, py::arg("settle_s") = 1.0,
            py::arg("freeze_probability") = 0.05, py::arg("start") = 1, py::arg("start_standby") = 0,
-           py::arg("calmer_own_rho") = false);
+           py::arg("calmer_own_rho") = false, py::arg("floor_rho") = 0.0,
+           py::arg("floor_p_min") = std::vector<double>{});
   def_estimator_init<PyTurbulenceBankSet, TurbulenceSetFile>(cls)
       .def("update", &PyTurbulenceBankSet::update, py::arg("z"),
            "Update the running member with absolute z (7,); then the selector. Returns the name declared, or None.")

@@ -13,7 +13,12 @@ in force and which member is in force, and prints per level:
 the means over the 5 s after the failure and over its first second, the median s, and the
 sum of e/s over the 5 s against ln(1 / p_min) (what lifts CASE from the floor).
 
+With ``--per-flight``, each flight's sums over the 5 s per measurement, and the leading term of
+eq. 2 that the bank strips, (ln |A_NONE| - ln |A_CASE|) / 2 per frame of the member in force
+(what the full Gaussian likelihood would add to e every frame, untempered).
+
     .venv/bin/python tools/turbulence_evidence.py --cases LF,RF,LS --levels light,moderate,severe --runs 3
+    .venv/bin/python tools/turbulence_evidence.py --cases VEL --levels light --runs 10 --per-flight
 """
 from __future__ import annotations
 
@@ -73,6 +78,8 @@ def main() -> None:
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--feedback", default="reconfigure")
     p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--per-flight", action="store_true",
+                   help="each flight's evidence sums per measurement and the stripped leading term")
     p.add_argument("--quiet", action="store_true",
                    help="the same flights without the failure: the evidence for CASE the turbulence alone gives")
     p.add_argument("--option", action="append", default=[], metavar="KEY=VALUE",
@@ -102,6 +109,17 @@ def main() -> None:
         ej = rows[:, 5:]
         channels = " ".join(f"{name} {m:+.3f}/{sd:.3f}" for name, m, sd in zip(MEASUREMENTS, ej.mean(axis=0), ej.std(axis=0)))
         print(f"{'':14s} untempered e_j per frame, mean/std: {channels}; e: {e.mean():+.3f}/{e.std():.3f}", flush=True)
+        if a.per_flight:
+            banks = f16mmae.design.turbulence_banks.load_set().banks
+            for n, (rows_n, first) in enumerate(flights):
+                if not len(rows_n):
+                    continue
+                member = int(np.bincount(rows_n[:, 3].astype(int)).argmax())
+                log_det = {h.name: np.linalg.slogdet(np.asarray(h.a))[1] for h in banks[member].hypotheses}
+                sums = " ".join(f"{name} {v:+.1f}" for name, v in zip(MEASUREMENTS, rows_n[:, 5:].sum(axis=0)))
+                print(f"{'':14s} flight {n}: first correct {'-' if first is None else f'{first:.2f} s'}, "
+                      f"e summed {rows_n[:, 1].sum():+.1f} ({sums}), stripped leading term "
+                      f"{(log_det['NONE'] - log_det[case]) / 2:+.3f} per frame of member {member}", flush=True)
 
 
 if __name__ == "__main__":

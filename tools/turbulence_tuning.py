@@ -11,7 +11,7 @@ it flies
     first correct declaration (every case, actuators and sensors apart) and the cases missed.
 A candidate is "off", "on:TAU:SMIN[:SMAX[:GAIN[:REFERENCE]]]" (the adaptation) or any
 estimator settings as "KEY=VALUE[,KEY=VALUE...]" (core.HierarchicalBank keywords, e.g.
-"p_min=1e-6,dwell_s=0.1"), either followed by "@DWELL_S" (the declaration dwell).  Prints one
+"p_min=1e-6,dwell_s=0.1", "strip_leading_term=false"), either followed by "@DWELL_S" (the declaration dwell).  Prints one
 line per (candidate, level).  Example:
 
     .venv/bin/python tools/turbulence_tuning.py --levels none,light,moderate,severe \
@@ -45,7 +45,7 @@ def options(candidate: str) -> dict:
     if "=" in candidate:
         for item in candidate.split(","):
             key, _, value = item.partition("=")
-            out[key] = True if value == "true" else float(value)
+            out[key] = True if value == "true" else False if value == "false" else float(value)
         return out
     parts = candidate.split(":")
     out.update({"adapt_turbulence": True, "adapt_time_constant_s": float(parts[1]),

@@ -106,6 +106,8 @@ std::vector<std::uint8_t> turbulence_set_file_bytes(const TurbulenceSetFile& set
   put_f64(out, set.maneuver_tempering_g);
   put_doubles(out, set.adapt_gain);
   put(out, s.calmer_own_rho ? 1u : 0u, 4);
+  put_f64(out, s.floor_rho);
+  put_doubles(out, s.floor_p_min);
   return hashed_file_image(kTurbulenceSetFileMagic, TurbulenceSetFile::kFormatVersion, out);
 }
 
@@ -154,9 +156,14 @@ TurbulenceSetFile parse_turbulence_set_file(const std::uint8_t* data, std::size_
         throw BankFileFormatError("payload field calmer_own_rho = " + std::to_string(rule) + " is not 0 or 1");
       set.selector.calmer_own_rho = rule == 1;
     }
+    if (version >= 5) {
+      set.selector.floor_rho = r.f64("floor_rho");
+      set.selector.floor_p_min = read_doubles(r, "floor_p_min", static_cast<std::int64_t>(n));   // 0 or n: validate()
+    }
     if (r.remaining() != 0)
       throw BankFileFormatError("payload has " + std::to_string(r.remaining()) + " bytes after " +
-                                (version >= 4   ? "calmer_own_rho"
+                                (version >= 5   ? "floor_p_min"
+                                 : version >= 4 ? "calmer_own_rho"
                                  : version >= 3 ? "adapt_gain"
                                  : version >= 2 ? "maneuver_tempering_g"
                                                 : "start_standby"));

@@ -34,6 +34,11 @@
 //                                                        1 (turbulence_bank_set.h); an older
 //                                                        file reads 0 (the member in force's
 //                                                        rho alone, the rule it was designed for)
+//                   double floor_rho                     version 5 on: the selector's floor by rho
+//                                                        (turbulence_bank_set.h), [0, 1e6], 0: off
+//                   int32 m, doubles floor_p_min         version 5 on: m = 0 or n, each member's
+//                                                        floor while its rho <= floor_rho, [0, 1e-3];
+//                                                        an older file reads 0 and none (off)
 // content_hash = lower-case hex SHA-256 of the payload: the set's name in mmae-daemon's status
 // (bank_hash) and in the records of a flight flown with it. Deterministic: the same members
 // and settings give the same bytes.
@@ -66,7 +71,7 @@ inline constexpr int kMaxTurbulenceSetMembers = 16;
 inline constexpr std::uint64_t kMaxTurbulenceSetFileBytes = kMaxTurbulenceSetMembers * kMaxBankFileBytes;
 
 struct TurbulenceSetFile {
-  static constexpr std::uint32_t kFormatVersion = 4;   // 2: maneuver_tempering_g, 3: adapt_gain, 4: calmer_own_rho; 1 to 3 are read too
+  static constexpr std::uint32_t kFormatVersion = 5;   // 2: maneuver_tempering_g, 3: adapt_gain, 4: calmer_own_rho, 5: floor_rho and floor_p_min; 1 to 4 are read too
   std::vector<std::string> levels;       // each member's design level ("none", "light", ...)
   std::vector<ModelBank> members;        // rising intensity
   std::vector<double> adapt_reference;   // each member's adaptation reference rho_0

@@ -402,6 +402,19 @@ class HierarchicalBank {
   // The turbulence adaptation's ρ set to `rho` (s follows; turbulence_adaptation.h).
   void set_turbulence_power_ratio(double rho) noexcept { bank_.set_adapt_power_ratio(rho); }
 
+  // The level-0 floor p_min from this frame on (options().bank.p_min; the turbulence bank set's
+  // floor by rho, turbulence_bank_set.h): the floors in force are set again for the level on
+  // line. A level-1 bank's duals keep the floor they had (level1_p_min; unset, it becomes the
+  // level-0 floor as built), so the change moves the level-0 hypotheses' floor, and NONE's and
+  // f's at level 1. Ignored unless p_min >= 0 and p_min K < 1 (K hypotheses on line); reset()
+  // keeps it.
+  void set_level0_p_min(double p_min) noexcept {
+    if (!(p_min >= 0.0 && p_min * size() < 1.0) || p_min == options_.bank.p_min) return;
+    if (options_.level1_p_min == 0.0) options_.level1_p_min = options_.bank.p_min;
+    options_.bank.p_min = p_min;
+    set_floors();
+  }
+
   // Bumpless handover (turbulence_bank_set.h): this bank takes over from `from`, a bank of
   // the same sizes and hypotheses (designed for another turbulence level), between a frame's
   // update and its propagate. Carried over: the level and the hypotheses on line (this bank's

@@ -51,6 +51,18 @@
 //                 Handed over once wanted for hold_s in a row (after settle) and, a copied
 //                 standby, once it has run warm_up_s (c > a) or warm_down_s (c < a) since its
 //                 copy (a calmer design converges more slowly).
+//                 floor by ρ (floor_rho > 0; off by default): after settle, while not frozen,
+//                 member a's level-0 floor is
+//                   p_min_a = floor_p_min[a]  if ρ_a <= floor_rho and floor_p_min[a] > 0,
+//                             its own (its bank's p_min)  otherwise,
+//                 and a member taking over sets its own the same way by its ρ; settling, the
+//                 floor in force stays; frozen (a failure rising or declared), the member's
+//                 own floor is in force, so a level-1 bank (NONE, f and its duals) and a
+//                 back-out need the evidence the member's own floor asks. Why: a member that tempers by its ρ
+//                 (s = 1 + κ (ρ − ρ_0)) flies light and moderate air near s = 1-4, where a
+//                 higher floor (fewer nats to lift a hypothesis, ln 1/p_min) shortens the
+//                 latency, and severe air at its bound, where the same floor let the gusts'
+//                 excursions through; ρ separates the two by a factor of 4 or more.
 //   handover      (after that update, before its propagate; bumpless) the standby takes over
 //                 member a's level, hypotheses on line, probabilities, declarer state,
 //                 declarations, frame count, air data and trim offsets, keeping its own
@@ -61,7 +73,8 @@
 //   schedule(a)   member a's schedule (and the standby's).
 //   warm_cache()  member a's (and the standby's) working set touched ahead of a frame.
 //
-// Start and reset(): member `start` in force from the first frame, `start_standby` beside it.
+// Start and reset(): member `start` in force from the first frame, `start_standby` beside it,
+// every member at its own floor.
 // Outputs are the member in force's (probabilities, z_hat, declarations, level).
 // Members of different state vectors (13 against 19 gust states) would need the standby's
 // first copy to map the states; they are not supported here (one Bank type).
@@ -70,7 +83,7 @@
 // Throws std::invalid_argument (constructor): fewer than two members, members whose
 // hypotheses differ, a scheduled member, adaptation off in a member, bounds not n x (n-1)
 // positive, finite and rising along each row, typical not n positive finite values,
-// hold/warm-up/settle/freeze/start out of range.
+// hold/warm-up/settle/freeze/start out of range, floor_rho or floor_p_min out of range.
 // Per frame noexcept; no allocation for fixed sizes (the copies stay within reserved capacity).
 // Cost: one member's frame; two while a standby runs (the start, and while a boundary is crossed).
 #pragma once
@@ -96,12 +109,15 @@ struct TurbulenceBankSetOptions {
   int start = 1;                       // the member in force at the start (and after reset())
   int start_standby = 0;               // the member beside it from frame 0 (-1: none)
   bool calmer_own_rho = false;         // a calmer standby is wanted by its own ρ (header)
+  double floor_rho = 0.0;              // the floor by ρ: a member's raised floor while its ρ <= this (0: off)
+  std::vector<double> floor_p_min;     // empty or n: member m's level-0 floor while its ρ <= floor_rho (0: its own)
 };
 
 // The selector's settings for n members (the constructor's and the set file's check): bounds
 // n x (n-1), positive, finite and rising along each row; typical n positive finite values;
 // hold/warm-up/warm-down in [0, 600] s, settle in [0, 3600] s, freeze_probability in (0, 1];
-// start a member index, start_standby -1 or another member index. Throws std::invalid_argument
+// start a member index, start_standby -1 or another member index; floor_rho finite in [0, 1e6];
+// floor_p_min empty or n values in [0, 1e-3]. Throws std::invalid_argument
 // "turbulence bank set: <field> ...".
 inline void check_turbulence_set_selector(const TurbulenceBankSetOptions& options, int n) {
   const auto refuse = [](const std::string& what) { throw std::invalid_argument("turbulence bank set: " + what); };
@@ -130,6 +146,13 @@ inline void check_turbulence_set_selector(const TurbulenceBankSetOptions& option
     refuse("freeze_probability must be in (0, 1], got " + format_value(options.freeze_probability));
   if (options.start < 0 || options.start >= n)
     refuse("start must be a member index in [0, " + std::to_string(n - 1) + "], got " + std::to_string(options.start));
+  if (!(options.floor_rho >= 0.0 && options.floor_rho <= 1e6))
+    refuse("floor_rho must be in [0, 1e6] (0: off), got " + format_value(options.floor_rho));
+  if (!options.floor_p_min.empty() && static_cast<int>(options.floor_p_min.size()) != n)
+    refuse("floor_p_min must be empty or have " + std::to_string(n) + " values (one per member), got " +
+           std::to_string(options.floor_p_min.size()));
+  for (double v : options.floor_p_min)
+    if (!(v >= 0.0 && v <= 1e-3)) refuse("floor_p_min must be in [0, 1e-3] (0: the member's own), got " + format_value(v));
   if (options.start_standby < -1 || options.start_standby >= n || options.start_standby == options.start)
     refuse("start_standby must be -1 or a member index in [0, " + std::to_string(n - 1) + "] other than start, got " +
            std::to_string(options.start_standby));
@@ -162,6 +185,7 @@ class TurbulenceBankSet {
                  "', member 0's '" + members_[0]->name(h) + "'");
     }
     check_turbulence_set_selector(options, n);
+    for (const Bank* m : members_) own_p_min_.push_back(m->options().bank.p_min);
     const double rate = members_[0]->frame_rate_hz();
     const auto frames = [rate](double s) { return static_cast<std::int64_t>(std::llround(s * rate)); };
     hold_frames_ = frames(options.hold_s);
@@ -202,7 +226,10 @@ class TurbulenceBankSet {
   }
   // Every member back to its start; member `start` in force, `start_standby` beside it.
   void reset() noexcept {
-    for (Bank* m : members_) m->reset();
+    for (int m = 0; m < member_count(); ++m) {
+      members_[m]->set_level0_p_min(own_p_min_[m]);
+      members_[m]->reset();
+    }
     active_ = options_.start;
     standby_ = options_.start_standby;
     standby_copied_ = false;
@@ -247,9 +274,11 @@ class TurbulenceBankSet {
       ++frozen_frames_;
       ++since_switch_;
       drop_standby();
+      own_floor(active_);
       return;
     }
     if (++since_switch_ < settle_frames_) return;   // settling: the standby runs on
+    apply_floor(active_);
     int want = classify(active_, power_ratio(active_));
     if (want == active_) want = -1;
     if (options_.calmer_own_rho && standby_ >= 0 && standby_ < active_) {
@@ -277,6 +306,19 @@ class TurbulenceBankSet {
     if (++held_ >= hold_frames_ && standby_age_ >= warm) handover();
   }
 
+  // The floor by ρ (header): member m's level-0 floor, floor_p_min[m] while its ρ <= floor_rho,
+  // else its own.
+  void apply_floor(int m) noexcept {
+    if (options_.floor_rho <= 0.0 || options_.floor_p_min.empty() || options_.floor_p_min[m] <= 0.0) return;
+    members_[m]->set_level0_p_min(power_ratio(m) <= options_.floor_rho ? options_.floor_p_min[m] : own_p_min_[m]);
+  }
+
+  // Member m's own level-0 floor again (the floor by ρ on): frozen, a failure rising or declared.
+  void own_floor(int m) noexcept {
+    if (options_.floor_rho > 0.0 && !options_.floor_p_min.empty() && options_.floor_p_min[m] > 0.0)
+      members_[m]->set_level0_p_min(own_p_min_[m]);
+  }
+
   void drop_standby() noexcept {
     standby_ = -1;
     standby_age_ = held_ = 0;
@@ -285,6 +327,7 @@ class TurbulenceBankSet {
   void handover() noexcept {
     members_[standby_]->take_over(*members_[active_], /*warm=*/true);
     active_ = standby_;
+    apply_floor(active_);
     drop_standby();
     since_switch_ = 0;
     ++switches_;
@@ -292,6 +335,7 @@ class TurbulenceBankSet {
 
   std::vector<Bank*> members_;
   TurbulenceBankSetOptions options_;
+  std::vector<double> own_p_min_;   // each member's level-0 floor as built
   std::int64_t hold_frames_ = 0, warm_up_frames_ = 0, warm_down_frames_ = 0, settle_frames_ = 0;
   int active_ = 0, standby_ = -1;
   bool standby_copied_ = false;

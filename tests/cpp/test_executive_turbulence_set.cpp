@@ -113,14 +113,30 @@ TEST(TurbulenceSetFile, RoundTripsAndHashesItsPayload) {
 // the same payload without its last fields, read with the tempering off, the core's default
 // gain (20) in every member and the rule off; a payload without a field its version has is
 // truncated; version 5 is refused naming the versions this build reads.
-TEST(TurbulenceSetFile, ReadsVersionsOneToThreeWithoutTheLaterFields) {
+TEST(TurbulenceSetFile, ReadsVersionsOneToFourWithoutTheLaterFields) {
   TurbulenceSetFile with_rule = two_member_set();
   with_rule.selector.calmer_own_rho = true;
   const std::vector<std::uint8_t> image = turbulence_set_file_bytes(with_rule);
-  const std::vector<std::uint8_t> v4_payload(image.begin() + kBankFileHeaderSize, image.end());
-  EXPECT_TRUE(parse_turbulence_set_file(image.data(), image.size(), "v4").selector.calmer_own_rho);
+  // version 5 without the floor by rho: floor_rho 0.0 (8 bytes), floor_p_min none (a 4-byte count)
+  const std::vector<std::uint8_t> v5_payload(image.begin() + kBankFileHeaderSize, image.end());
+  const std::vector<std::uint8_t> v4_payload(v5_payload.begin(), v5_payload.end() - (8 + 4));
+  EXPECT_TRUE(parse_turbulence_set_file(image.data(), image.size(), "v5").selector.calmer_own_rho);
   const std::vector<std::uint8_t> without_rule = turbulence_set_file_bytes(two_member_set());
-  EXPECT_FALSE(parse_turbulence_set_file(without_rule.data(), without_rule.size(), "v4").selector.calmer_own_rho);
+  EXPECT_FALSE(parse_turbulence_set_file(without_rule.data(), without_rule.size(), "v5").selector.calmer_own_rho);
+  const std::vector<std::uint8_t> v4 = hashed_file_image(kTurbulenceSetFileMagic, 4, v4_payload);
+  const TurbulenceSetFile r = parse_turbulence_set_file(v4.data(), v4.size(), "v4");
+  EXPECT_TRUE(r.selector.calmer_own_rho);
+  EXPECT_EQ(r.selector.floor_rho, 0.0) << "a version-4 file flies without the floor by rho";
+  EXPECT_TRUE(r.selector.floor_p_min.empty());
+  // the floor by rho round trip
+  TurbulenceSetFile with_floor = with_rule;
+  with_floor.selector.floor_rho = 2.68;
+  with_floor.selector.floor_p_min = {0.0, 1e-6};
+  const std::vector<std::uint8_t> floored = turbulence_set_file_bytes(with_floor);
+  EXPECT_EQ(floored.size(), image.size() + 2 * 8);
+  const TurbulenceSetFile back = parse_turbulence_set_file(floored.data(), floored.size(), "v5");
+  EXPECT_EQ(back.selector.floor_rho, 2.68);
+  EXPECT_EQ(back.selector.floor_p_min, (std::vector<double>{0.0, 1e-6}));
   const std::vector<std::uint8_t> v3_payload(v4_payload.begin(), v4_payload.end() - 4);
   const std::vector<std::uint8_t> v3 = hashed_file_image(kTurbulenceSetFileMagic, 3, v3_payload);
   const TurbulenceSetFile k = parse_turbulence_set_file(v3.data(), v3.size(), "v3");
@@ -158,7 +174,21 @@ TEST(TurbulenceSetFile, ReadsVersionsOneToThreeWithoutTheLaterFields) {
   std::vector<std::uint8_t> bad_rule = v4_payload;
   bad_rule.back() = 2;
   refused(4, bad_rule, "payload field calmer_own_rho = 2 is not 0 or 1");
-  refused(5, v4_payload, "unsupported format version 5 (this build reads 1 to 4)");
+  refused(4, v5_payload, "12 bytes after calmer_own_rho");
+  const std::vector<std::uint8_t> short_v5 = hashed_file_image(kTurbulenceSetFileMagic, 5, v4_payload);
+  EXPECT_THROW(parse_turbulence_set_file(short_v5.data(), short_v5.size(), "v5"), BankFileFormatError);
+  // floor_p_min with one value for two members: refused by the selector's check, naming it
+  std::vector<std::uint8_t> one_floor(floored.begin() + kBankFileHeaderSize, floored.end() - 8);
+  one_floor[one_floor.size() - 8 - 1] = 1;   // the count's last byte: 2 -> 1
+  const std::vector<std::uint8_t> one = hashed_file_image(kTurbulenceSetFileMagic, 5, one_floor);
+  try {
+    parse_turbulence_set_file(one.data(), one.size(), "'v'");
+    ADD_FAILURE() << "one floor for two members accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("floor_p_min must be empty or have 2 values (one per member), got 1"),
+              std::string::npos) << e.what();
+  }
+  refused(6, v5_payload, "unsupported format version 6 (this build reads 1 to 5)");
 }
 
 TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {
@@ -200,6 +230,12 @@ TEST(TurbulenceSetFile, RefusesDamageAndInvalidSetsNamingTheField) {
   f = two_member_set();
   f.adapt_gain = {20.0};
   refused([&] { turbulence_set_file_bytes(f); }, "trim_time_constant_s and adapt_gain need one value per member (2)");
+  f = two_member_set();
+  f.selector.floor_p_min = {0.0, 0.5};
+  refused([&] { turbulence_set_file_bytes(f); }, "floor_p_min must be in [0, 1e-3] (0: the member's own), got 0.5");
+  f = two_member_set();
+  f.selector.floor_rho = -1.0;
+  refused([&] { turbulence_set_file_bytes(f); }, "floor_rho must be in [0, 1e6] (0: off), got -1");
   f = two_member_set();
   for (auto& m : f.members) m = test_support::synthetic_bank(19, 5);
   refused([&] { Executive ex(f); }, "turbulence bank set of (nx, nu, nz) = (19, 6, 7) members");

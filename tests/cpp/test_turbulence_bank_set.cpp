@@ -7,7 +7,9 @@
 // declarations are the old one's at that frame, its states its own, warmed up); a failure
 // freezes the selector (no switch while it is rising or declared, even when the noise steps
 // up with it); the selector's rho is the member in force's measured power ratio, averaged by
-// hand; no heap allocation per frame, handovers included; the constructor's refusals.
+// hand; the floor by rho (the member in force's floor raised while its rho reads calm air, its
+// own above, before settle and while frozen, restored by reset()); no heap allocation per
+// frame, handovers included; the constructor's refusals.
 #include "f16mmae/turbulence_bank_set.h"
 
 #include "allocation_counter.h"
@@ -215,6 +217,76 @@ TEST(TurbulenceBankSet, CalmerOwnRhoHandsDownByTheCalmerMembersOwnRho) {
   EXPECT_EQ(flight(false, 1e-3, 10.0).switch_frame, 158) << "without the rule the rough member's rho hands down";
 }
 
+TEST(TurbulenceBankSet, FloorByRhoRaisesTheFloorOfTheMemberInForceWhileItsRhoReadsCalmAir) {
+  const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
+  // the calm member in force and wanted throughout (its bound far above its rho), its floor raised
+  // to 1e-6 while its rho <= floor_rho; the noise 30 times the design's from frame 600 to 1800
+  const auto noise = [](int i) { return i >= 600 && i < 1800 ? kRough : 1.0; };
+  struct Outcome {
+    int raised = 0, own = 0, wrong = 0, floor_not_min = 0, switches = 0, level = 0;
+    double least = 0.0;   // the least probability on the last frame
+    double rho_calm = 0.0, rho_rough = 0.0;   // the calm member's rho at frames 599 and 1799
+  };
+  const auto flight = [&](double floor_rho, const std::vector<std::string>& failed_from_400) {
+    F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());
+    auto s = selector();
+    s.bounds = {1e5, 1e6};
+    s.floor_rho = floor_rho;
+    s.floor_p_min = {1e-6, 0.0};
+    TurbulenceBankSet<F16HierarchicalBank> set({&calm, &rough}, s);
+    Outcome o;
+    double before = 1e-9;   // the floor in force before this frame's update
+    const auto failed = [&](int i) { return i >= 400 ? failed_from_400 : std::vector<std::string>{}; };
+    fly(2400, noise, failed, [&](int i, const auto& z, const auto& u) {
+      set.update(z);
+      const auto& p = set.running().probabilities();
+      const bool frozen = set.running().level() != 0 || set.running().current_hypothesis() != 0 ||
+                          (p.tail(p.size() - 1).array() > s.freeze_probability).any();
+      const double p_min = set.running().options().bank.p_min;
+      // the rule, from the set's rho (its own test: averaged by hand above): frozen, the own floor;
+      // settle_s = 2 s at 64 Hz, the first decision on frame 127, the floor in force till then
+      const double expected = frozen && floor_rho > 0.0 ? 1e-9
+                              : i < 127                 ? before
+                              : set.power_ratio(0) <= floor_rho ? 1e-6 : 1e-9;
+      o.wrong += p_min != expected;
+      (p_min == 1e-6 ? o.raised : o.own) += 1;
+      // the floor is the one the probabilities sit on: at level 0 with nothing declared, the
+      // least probable hypothesis at the floor in force (from the update after a change)
+      if (!frozen && set.running().level() == 0 && p_min == before)
+        o.floor_not_min += std::abs(set.running().probabilities().minCoeff() - p_min) > 1e-6 * p_min;
+      if (i == 599) o.rho_calm = set.power_ratio(0);
+      if (i == 1799) o.rho_rough = set.power_ratio(0);
+      before = p_min;
+      set.propagate(u);
+    });
+    o.switches = static_cast<int>(set.switches());
+    o.level = set.running().level();
+    o.least = set.running().probabilities().minCoeff();
+    set.reset();
+    EXPECT_EQ(calm.options().bank.p_min, 1e-9) << "reset() gives every member its own floor again";
+    return o;
+  };
+  const Outcome on = flight(1.5, {});
+  EXPECT_EQ(on.switches, 0);
+  EXPECT_EQ(on.wrong, 0);
+  EXPECT_EQ(on.floor_not_min, 0);
+  EXPECT_LT(on.rho_calm, 1.5);
+  EXPECT_GT(on.rho_rough, 1.5);
+  EXPECT_GT(on.raised, 600 - 127 - 1) << "raised in calm air after settle";
+  EXPECT_GT(on.own, 127 + 300) << "its own floor before settle and in the rough segment";
+  const Outcome off = flight(0.0, {});   // floor_rho 0: off, the member's own floor throughout
+  EXPECT_EQ(off.raised, 0);
+  EXPECT_EQ(off.wrong, 0);
+  // a failure at frame 400 freezes the selector: from its rise on, the member's own floor (raised
+  // from frame 127 until then); declared, the level-1 bank's NONE, LS and duals on it
+  const Outcome failed = flight(1.5, {"LS"});
+  EXPECT_EQ(failed.wrong, 0);
+  EXPECT_GE(failed.raised, 400 - 127);
+  EXPECT_LT(failed.raised, 400 - 127 + 64);
+  ASSERT_EQ(failed.level, 1);
+  EXPECT_NEAR(failed.least, 1e-9, 1e-15);
+}
+
 TEST(TurbulenceBankSet, AFailureFreezesTheSelector) {
   const ModelBank calm_mb = member(1.0), rough_mb = member(kRough);
   F16HierarchicalBank calm(calm_mb, adapting()), rough(rough_mb, adapting());
@@ -282,4 +354,10 @@ TEST(TurbulenceBankSet, RefusesInvalidSetsNamingWhy) {
   s = selector();
   s.freeze_probability = 0.0;
   refused([&] { Set({&calm, &rough}, s); }, "freeze_probability");
+  s = selector();
+  s.floor_p_min = {1e-6};
+  refused([&] { Set({&calm, &rough}, s); }, "floor_p_min must be empty or have 2 values (one per member), got 1");
+  s = selector();
+  s.floor_rho = std::nan("");
+  refused([&] { Set({&calm, &rough}, s); }, "floor_rho must be in [0, 1e6]");
 }

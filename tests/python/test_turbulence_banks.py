@@ -16,8 +16,9 @@ import pytest
 
 from f16mmae import core
 from f16mmae.banks import bank_estimator_settings, load_bank
-from f16mmae.design.turbulence_banks import (CALM_BOUND, DWELL_S, MANEUVER_TEMPERING_G, MEMBER_LEVELS,
-                                             TRIM_TIME_CONSTANT_S, BankSetError, load_set, set_path)
+from f16mmae.design.turbulence_banks import (CALM_BOUND, DWELL_S, FLOOR_P_MIN, FLOOR_RHO, MANEUVER_TEMPERING_G,
+                                             MEMBER_LEVELS, MEMBER_P_MIN, TRIM_TIME_CONSTANT_S, BankSetError,
+                                             load_set, set_path)
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.estimator_options import check
 from f16mmae.loop.flight import fly
@@ -207,6 +208,35 @@ def test_calm_air_goes_to_the_calm_member_by_its_own_rho_and_declares_nothing(ba
     settle, hold = (round(64 * bank_set.selector[k]) for k in ("settle_s", "hold_s"))
     assert first == settle + hold - 2
     assert r.declarations == []
+
+
+def test_the_light_members_floor_follows_its_rho(bank_set, tmp_path, monkeypatch):
+    """The set's floor by rho (the shipped set's file with floor_rho 2.68 and the light member's
+    floor 1e-6 below it): the light member, in force in light and in severe turbulence, has the
+    raised floor while its own rho reads below floor_rho (light air) and its own floor above it
+    (severe air) and before the selector's first decision (settle_s): the least probable
+    hypothesis sits on the floor in force."""
+    from f16mmae.design import turbulence_banks
+
+    src = bank_set.source
+    floor_rho, raised, own = 2.68, 1e-6, MEMBER_P_MIN[1]
+    path = tmp_path / "floor.f16set"
+    core.save_turbulence_set(path, src.members, levels=src.levels, adapt_reference=src.adapt_reference,
+                             trim_time_constant_s=src.trim_time_constant_s,
+                             selector={**src.selector, "floor_rho": floor_rho, "floor_p_min": [0.0, raised]},
+                             maneuver_tempering_g=src.maneuver_tempering_g, adapt_gain=src.adapt_gain)
+    monkeypatch.setattr(turbulence_banks, "set_path", lambda: path)   # the estimator's set
+    assert load_set().selector["floor_p_min"] == [0.0, raised]
+    settle = round(64 * bank_set.selector["settle_s"])
+    for level, floor in (("light", raised), ("severe", own)):
+        r, est, active = _flight(level, 3, 4.0)
+        assert np.all(active == 1)
+        assert (est.core_bank.turbulence_power_ratio < floor_rho) == (level == "light")
+        early, last = r.probabilities[settle - 8], r.probabilities[-1]
+        assert np.nanmin(early) == pytest.approx(own, rel=1e-6), level
+        assert np.nanmin(last) == pytest.approx(floor, rel=1e-6), level
+        assert r.declarations == []
+    assert bank_set.selector["floor_rho"] == FLOOR_RHO and bank_set.selector["floor_p_min"] == list(FLOOR_P_MIN)
 
 
 def test_the_set_flies_its_files_tempering_and_a_given_one_overrides_it():

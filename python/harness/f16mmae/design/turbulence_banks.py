@@ -100,6 +100,16 @@ BOUNDS: tuple[float, ...] = (CALM_BOUND,) + tuple(round((row[i] * row[i + 1]) **
 #: to its bound (0.655) where the calm member's lies far from it.
 CALMER_OWN_RHO = True
 TYPICAL: tuple[float, ...] = tuple(MEDIAN_RHO[i][i] for i in range(len(MEDIAN_RHO)))
+#: The selector's floor by rho (turbulence_bank_set.h): each member's level-0 floor while its own
+#: rho is at or below ``FLOOR_RHO`` (0: off), ``FLOOR_P_MIN`` (0: the member's own,
+#: ``MEMBER_P_MIN``), its own above and while a failure rises or is declared.  Off.  Measured with
+#: the light member at 1e-6 below 2.68 (the geometric mean of its median rho at moderate and
+#: severe, 1.18 and 6.08): the moderate latency median 0.53 -> 0.48 s VEL excepted and light 128
+#: -> 129 of 130, severe unchanged; with the raised floor held at level 1 a dual was declared
+#: after a correct declaration at moderate and VEL backed out at light, which the own floor while
+#: frozen removed (docs/results/turbulence_banks.md, round 12); the 10-h soaks were not flown.
+FLOOR_RHO = 0.0
+FLOOR_P_MIN: tuple[float, ...] = (0.0, 0.0)
 HOLD_S = 1.0
 WARM_UP_S = 1.0
 WARM_DOWN_S = 5.0
@@ -169,7 +179,8 @@ def set_path() -> Path:
         header = f.read(52)
     spec = (f"{REVISION};{MEMBER_TUNING};{MEMBER_LEVELS};{BOUNDS};{TYPICAL};{HOLD_S};{WARM_UP_S};{WARM_DOWN_S};{SETTLE_S};"
             f"{FREEZE_PROBABILITY};{ADAPT_REFERENCE};{ADAPT_GAIN};{TRIM_TIME_CONSTANT_S};{START};{START_STANDBY};"
-            f"{MANEUVER_TEMPERING_G};{DWELL_S};{MEMBER_FAILURE_MODEL};{DUAL_FAILURE_MODEL};{MEMBER_DESIGN_LEVEL};{MEMBER_P_MIN};{CALMER_OWN_RHO}")
+            f"{MANEUVER_TEMPERING_G};{DWELL_S};{MEMBER_FAILURE_MODEL};{DUAL_FAILURE_MODEL};{MEMBER_DESIGN_LEVEL};{MEMBER_P_MIN};{CALMER_OWN_RHO};"
+            f"{FLOOR_RHO};{FLOOR_P_MIN}")
     key = hashlib.sha256(spec.encode() + header[20:52]).hexdigest()[:16]
     return cache_root() / "banks" / f"turbulence_banks_{key}{SUFFIX}"
 
@@ -211,7 +222,8 @@ def design_set(out: str | Path, progress=None) -> Path:
                 progress(f"member {level}: content hash {bank.content_hash}")
     selector = {"bounds": list(BOUNDS), "typical": list(TYPICAL), "hold_s": HOLD_S, "warm_up_s": WARM_UP_S,
                 "warm_down_s": WARM_DOWN_S, "settle_s": SETTLE_S, "freeze_probability": FREEZE_PROBABILITY,
-                "start": START, "start_standby": START_STANDBY, "calmer_own_rho": CALMER_OWN_RHO}
+                "start": START, "start_standby": START_STANDBY, "calmer_own_rho": CALMER_OWN_RHO,
+                "floor_rho": FLOOR_RHO, "floor_p_min": list(FLOOR_P_MIN)}
     try:
         core.save_turbulence_set(out, members, levels=list(MEMBER_LEVELS), adapt_reference=list(ADAPT_REFERENCE),
                                  trim_time_constant_s=list(TRIM_TIME_CONSTANT_S), selector=selector,

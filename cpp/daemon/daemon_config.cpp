@@ -23,6 +23,7 @@ std::string daemon_usage() {
          "                   [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]\n"
          "                   [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]\n"
          "                   [--level1-p-min P] [--level1-dwell-s S] [--departure-hold on|off]\n"
+         "                   [--declare-components]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--maneuver-tempering-deadband D]\n"
@@ -116,6 +117,9 @@ std::string daemon_usage() {
          "                       and 5 T_S s (0.05-60; default 0.5)\n"
          "  --maneuver-trim-accel on|off  with --maneuver-trim: off keeps the climb's trim only\n"
          "                       (default on)\n"
+         "  --declare-components  a bank with partial-loss hypotheses: declare a surface's forms\n"
+         "                       (complete and partial) as one component, naming the heavier form\n"
+         "                       (declarer.h; default: each hypothesis alone)\n"
          "  --actuator-rate-limits R1,...,R5 and --actuator-position-limits L1,...,L5\n"
          "                       the actuators' rate (rad/s) and position (rad) limits, one per\n"
          "                       input, applied to the commands the filters see (both or none;\n"
@@ -201,6 +205,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       c.maneuver_trim = true;
       continue;
     }
+    if (a == "--declare-components") {
+      c.declare_components = true;
+      continue;
+    }
     std::string key = a, value;
     bool inline_value = false;
     if (a.rfind("--", 0) == 0) {
@@ -237,7 +245,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
                          "--maneuver-dwell, --maneuver-dwell-hold, --maneuver-dwell-g, --maneuver-dwell-time-constant, "
                          "--maneuver-reference, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
-                         "--departure-hold, --trim-tracking, "
+                         "--departure-hold, --declare-components, --trim-tracking, "
                          "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {

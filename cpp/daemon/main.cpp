@@ -155,6 +155,7 @@ int main(int argc, char** argv) {
     if (cfg.level1_p_min) options.level1_p_min = *cfg.level1_p_min;
     if (cfg.level1_dwell_s) options.level1_dwell_s = *cfg.level1_dwell_s;
     if (cfg.departure_hold) options.departure.enabled = *cfg.departure_hold;
+    options.declare_components = cfg.declare_components;
     options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation
     options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
     options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;

@@ -260,14 +260,15 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   ASSERT_TRUE(r.ok) << r.message;   // unset: the core's defaults
   EXPECT_FALSE(r.config.maneuver_dwell_s || r.config.maneuver_reference || r.config.level1_p_min ||
                r.config.level1_dwell_s || r.config.departure_hold || r.config.adapt_channel_weight ||
-               r.config.maneuver_tempering_deadband_g);
+               r.config.maneuver_tempering_deadband_g || r.config.declare_components);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--maneuver-dwell", "1.5", "--maneuver-dwell-hold=30",
                          "--maneuver-dwell-g", "0.08", "--maneuver-dwell-time-constant", "1", "--maneuver-reference",
                          "0.65", "--maneuver-tempering", "0.1", "--maneuver-tempering-deadband", "0.05",
                          "--level1-p-min", "1e-4", "--level1-dwell-s", "0.5", "--departure-hold", "off",
-                         "--adapt-channel-weight", "0.5"},
+                         "--adapt-channel-weight", "0.5", "--declare-components"},
                         nullptr);
   ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.declare_components);
   EXPECT_EQ(*r.config.maneuver_dwell_s, 1.5);
   EXPECT_EQ(*r.config.maneuver_dwell_hold_s, 30.0);
   EXPECT_EQ(*r.config.maneuver_dwell_g, 0.08);

@@ -198,7 +198,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "angle of attack is more than 5 deg off the trim or a measured body rate above 10 deg/s, "
                          "nor for 1 s after: the linear models do not cover a departed aircraft (a stabilator "
                          "hardover; cpp/f16mmae/hierarchical_bank.h). Default on"),
-    EstimatorOption("declare_components", "--declare-components", "switch", in_daemon=False,
+    EstimatorOption("declare_components", "--declare-components", "switch",
                     help="a bank with partial-loss hypotheses (design --partial-loss): declare a surface's "
                          "forms (its complete/cover and its partial hypothesis) as one component -- the sum of "
                          "their probabilities against the threshold, the dwell on the sum -- naming the form "

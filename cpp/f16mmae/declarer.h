@@ -77,21 +77,9 @@ class Declarer {
         above = k;
         break;
       }
-    if (above < 0) {
-      candidate_ = -1;
-      count_ = 0;
-      return -1;
-    }
-    if (above != candidate_) {
-      candidate_ = above;
-      count_ = 0;
-    }
-    if (count_ < dwell_frames) ++count_;
-    if (count_ >= dwell_frames && candidate_ != current_) {
-      current_ = candidate_;
-      return current_;
-    }
-    return -1;
+    if (!dwelt(above, dwell_frames, current_)) return -1;
+    current_ = candidate_;
+    return current_;
   }
 
   // The same with components (header): group[k] the lowest slot of slot k's
@@ -108,24 +96,12 @@ class Declarer {
         if (group[j] == k) mass += p[j];
       if (mass > options_.threshold) above = k;   // a NaN member makes the sum NaN: not above
     }
-    if (above < 0) {
-      candidate_ = -1;
-      count_ = 0;
-      return -1;
-    }
-    if (above != candidate_) {
-      candidate_ = above;
-      count_ = 0;
-    }
-    if (count_ < dwell_frames) ++count_;
-    if (count_ >= dwell_frames && candidate_ != group[current_]) {
-      int form = candidate_;
-      for (int j = candidate_ + 1; j < n; ++j)
-        if (group[j] == candidate_ && p[j] > p[form]) form = j;
-      current_ = form;
-      return current_;
-    }
-    return -1;
+    if (!dwelt(above, dwell_frames, group[current_])) return -1;
+    int form = candidate_;
+    for (int j = candidate_ + 1; j < n; ++j)
+      if (group[j] == candidate_ && p[j] > p[form]) form = j;
+    current_ = form;
+    return current_;
   }
 
   // Start again with hypothesis `presumed` current (not declared) and no dwell under way.
@@ -149,6 +125,21 @@ class Declarer {
   const DeclarerOptions& options() const noexcept { return options_; }
 
  private:
+  // The dwell on `above` (the slot above the threshold, -1: none): restarts when it changes;
+  // true once it has held dwell_frames consecutive updates and is not `current`.
+  bool dwelt(int above, int dwell_frames, int current) noexcept {
+    if (above < 0) {
+      candidate_ = -1;
+      count_ = 0;
+      return false;
+    }
+    if (above != candidate_) {
+      candidate_ = above;
+      count_ = 0;
+    }
+    if (count_ < dwell_frames) ++count_;
+    return count_ >= dwell_frames && candidate_ != current;
+  }
   static int checked_dwell_frames(const DeclarerOptions& o) {
     check_threshold(o.threshold, "declarer");
     return f16mmae::dwell_frames(o.dwell_s, o.frame_rate_hz, "declarer");

@@ -24,6 +24,16 @@ def _daemon(*args):
     return p.returncode, p.stdout + p.stderr
 
 
+def _ready_line(*args):
+    """The daemon started on memq:// with ``args``: its ready line (it is then stopped)."""
+    p = subprocess.Popen([DAEMON, *args, "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    return ready
+
+
 def test_daemon_refuses_bad_arguments_banks_and_urls(tmp_path):
     bank = str(load_bank("tuned")[1])
     rc, out = _daemon()
@@ -117,12 +127,8 @@ def test_the_climb_dwell_and_own_channels_reach_the_daemon():
         "--adapt-turbulence", "--adapt-own-channels", "--adapt-reference-climb", "0.6",
         "--adapt-reference-climb-dwell", "1.5")
     bank = str(load_bank("tuned")[1])
-    p = subprocess.Popen([DAEMON, "--bank", bank, "--lcm-url", "memq://", "--adapt-turbulence", "--adapt-own-channels",
-                          "--adapt-reference-climb", "0.6", "--adapt-reference-climb-dwell", "1.5"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = _ready_line("--bank", bank, "--adapt-turbulence", "--adapt-own-channels",
+                        "--adapt-reference-climb", "0.6", "--adapt-reference-climb-dwell", "1.5")
     assert "turbulence adaptation (reference 0.6, own channels), climbing 0.6 held 0 s with dwell 1.5 s" in ready, ready
     rc, out = _daemon("--bank", bank, "--adapt-own-channels")
     assert rc == 2 and "--adapt-own-channels applies with --adapt-turbulence only" in out
@@ -177,11 +183,7 @@ def test_the_maneuver_trim_reaches_the_daemon():
     i = flags.index("--maneuver-trim-time-constant")
     assert float(flags[i + 1]) == 0.25
     bank = str(load_bank("tuned")[1])
-    p = subprocess.Popen([DAEMON, "--bank", bank, "--lcm-url", "memq://", *flags],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = _ready_line("--bank", bank, *flags)
     assert "maneuver trim 0.25 s" in ready, ready
     rc, out = _daemon("--bank", bank, "--maneuver-trim-time-constant", "0.5")
     assert rc == 2 and "--maneuver-trim-time-constant applies with --maneuver-trim only" in out
@@ -205,11 +207,7 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
         elif option.kind == "choice":
             assert flags[i + 1] == value, key
     bank = str(load_bank("tuned")[1])
-    p = subprocess.Popen([DAEMON, "--bank", bank, "--lcm-url", "memq://", *flags],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = _ready_line("--bank", bank, *flags)
     assert ("tempering 0.1 g, tempering dead band 0.05 g, maneuver dwell 1.5 s held 30 s, maneuver reference 0.65"
             in ready), ready
     rc, out = _daemon("--bank", bank, "--maneuver-dwell-hold", "30")

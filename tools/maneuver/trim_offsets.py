@@ -19,38 +19,15 @@ import numpy as np
 
 from f16mmae import core
 from f16mmae.names import SENSORS
-from f16mmae.truth import actuators, aircraft, sensors
+from f16mmae.truth import aircraft
 
 
 def jsbsim_trim(mach: float, alt_ft: float, gamma_deg: float) -> dict:
     """The truth model's trim at (mach, alt_ft) in straight flight at flight-path angle gamma_deg
-    (aircraft.trim with ic/gamma-deg set; the leading-edge flap from its schedule)."""
-    fdm = aircraft.load_fdm(seed=1, dt_s=1.0 / 128)
-    lef = aircraft.lef_schedule_rad(0.15, mach)
-    for _ in range(3):
-        fdm["ic/h-sl-ft"] = alt_ft
-        fdm["ic/mach"] = mach
-        fdm["ic/gamma-deg"] = gamma_deg
-        fdm["ic/phi-deg"] = 0.0
-        fdm["ic/beta-deg"] = 0.0
-        fdm["ic/psi-true-deg"] = 0.0
-        fdm["gear/gear-cmd-norm"] = 0.0
-        fdm["gear/gear-pos-norm"] = 0.0
-        fdm["fcs/lef-pos-rad"] = lef
-        fdm["fcs/throttle-cmd-norm"] = 0.5
-        fdm[aircraft.TRIM_COMMANDS_PROPERTY] = 1
-        aircraft.set_surfaces(fdm, (0.0,) * 5)
-        fdm["propulsion/engine[0]/set-running"] = 1
-        fdm.run_ic()
-        fdm["simulation/do_simple_trim"] = 1
-        new = aircraft.lef_schedule_rad(fdm["aero/alpha-rad"], mach)
-        if new == lef:
-            break
-        lef = new
-    e_max = actuators.TRIM_COMMAND_SCALE_RAD[0]
-    de = e_max * (fdm["fcs/elevator-cmd-norm"] + fdm["fcs/pitch-trim-cmd-norm"])
-    return {"alpha": fdm["aero/alpha-rad"], "theta": fdm["attitude/theta-rad"], "de": de,
-            "throttle": fdm["fcs/throttle-cmd-norm"], "z": np.asarray(sensors.ideal(fdm), float)}
+    (aircraft.trim; the leading-edge flap from its schedule)."""
+    t = aircraft.trim(aircraft.load_fdm(seed=1, dt_s=1.0 / 128), mach, alt_ft, gamma_deg=gamma_deg)
+    return {"alpha": t.alpha_rad, "theta": t.theta_rad, "de": float(t.u_rad[0]), "throttle": t.throttle,
+            "z": np.asarray(t.z, float)}
 
 
 def main() -> None:

@@ -258,9 +258,11 @@ def get_surfaces(fdm: jsbsim.FGFDMExec) -> np.ndarray:
     return np.array([fdm[p] for p in SURFACE_PROPERTIES])
 
 
-def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float | None = None) -> TrimPoint:
+def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float | None = None,
+         gamma_deg: float = 0.0) -> TrimPoint:
     """Trim ``fdm`` (a derived aircraft from :func:`load_fdm`) in wings-level, straight, level
-    flight at (mach, alt_ft) with JSBSim's full trim; fold the trim commands into the five
+    flight at (mach, alt_ft) with JSBSim's full trim (a steady climb or descent at flight-path
+    angle ``gamma_deg``, for comparisons: tools/maneuver); fold the trim commands into the five
     surface positions.  The leading-edge flap follows :func:`lef_schedule_rad` at the trim's
     alpha (iterated from the flap out), or is held at ``lef_rad`` (the other configuration of a
     point near the flap's switch, for a design: design/schedule.py).  Raises ValueError outside
@@ -268,11 +270,11 @@ def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float | Non
     check_flight_condition(mach, alt_ft)
     if lef_rad is not None:
         lef = float(lef_rad)
-        _trim_once(fdm, mach, alt_ft, lef)
+        _trim_once(fdm, mach, alt_ft, lef, gamma_deg)
     else:
         lef = lef_schedule_rad(0.15, mach)  # first guess: alpha above 5 deg
         for _ in range(3):
-            _trim_once(fdm, mach, alt_ft, lef)
+            _trim_once(fdm, mach, alt_ft, lef, gamma_deg)
             new_lef = lef_schedule_rad(fdm["aero/alpha-rad"], mach)
             if new_lef == lef:
                 break
@@ -354,10 +356,10 @@ def restart(fdm, trim_point: TrimPoint, start: dict, seed: int) -> None:
     fdm.run_ic()
 
 
-def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float) -> None:
+def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float, gamma_deg: float = 0.0) -> None:
     fdm["ic/h-sl-ft"] = alt_ft
     fdm["ic/mach"] = mach
-    fdm["ic/gamma-deg"] = 0.0
+    fdm["ic/gamma-deg"] = gamma_deg
     fdm["ic/phi-deg"] = 0.0
     fdm["ic/beta-deg"] = 0.0
     fdm["ic/psi-true-deg"] = 0.0
@@ -372,7 +374,8 @@ def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float
     try:
         fdm["simulation/do_simple_trim"] = 1
     except jsbsim.TrimFailureError as exc:
-        raise TrimError(f"JSBSim could not trim the F-16 in level flight at Mach {mach}, "
+        flight = "level flight" if gamma_deg == 0.0 else f"a {gamma_deg:g} deg flight path"
+        raise TrimError(f"JSBSim could not trim the F-16 in {flight} at Mach {mach}, "
                         f"{alt_ft:.0f} ft ({exc})") from None
 
 

@@ -49,6 +49,31 @@ ModelBank partial_bank(unsigned seed, double fraction) {
   return mb;
 }
 
+// The plant of partial_bank(seed) (f16_model_bank's) with LS keeping `kept` of its
+// effectiveness from frame 64 on, in process and measurement noise (a fixed generator):
+// measure() draws frame i's noise and gives its absolute z; advance(i, du) moves the state
+// with that frame's input perturbation du.
+struct LsLoss {
+  LsLoss(unsigned seed, double kept) : plant(test::random_plant(13, 5, 7, seed, 1e-3, 1e-3)), lossy(plant) {
+    lossy.bd.col(0) *= kept;
+    lq = Eigen::LLT<Eigen::MatrixXd>(plant.q).matrixL();
+    lr = Eigen::LLT<Eigen::MatrixXd>(plant.r).matrixL();
+  }
+  Eigen::VectorXd measure(const ModelBank& mb) {
+    for (int j = 0; j < 13; ++j) w(j) = n01(g);
+    Eigen::VectorXd v(7);
+    for (int j = 0; j < 7; ++j) v(j) = n01(g);
+    return plant.h * x + lr * v + mb.z_trim;
+  }
+  void advance(int i, const Eigen::VectorXd& du) { x = (i >= 64 ? lossy.bd : plant.bd) * du + plant.phi * x + lq * w; }
+
+  test::Plant plant, lossy;
+  Eigen::MatrixXd lq, lr;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(13), w = Eigen::VectorXd::Zero(13);
+  std::mt19937 g{9};
+  std::normal_distribution<double> n01{0.0, 1.0};
+};
+
 }  // namespace
 
 TEST(FilterBankLive, OffLineFilterLeavesABayesUpdateOverTheLiveOnes) {
@@ -200,23 +225,12 @@ TEST(PartialHypotheses, LevelZeroHoldsThemAndLevelOneKeepsTheSpareSlotsOffLine) 
 TEST(PartialHypotheses, APartialDeclarationBringsOnLineTheSurfacesFailureInAnyForm) {
   const ModelBank mb = partial_bank(32u, 0.5);
   DynamicHierarchicalBank hb(mb);
-  // the truth: LS at half its effectiveness from frame 64
-  const test::Plant plant = test::random_plant(13, 5, 7, 32u, 1e-3, 1e-3);
-  test::Plant half = plant;
-  half.bd.col(0) *= 0.5;
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(13);
-  std::mt19937 g(9);
-  std::normal_distribution<double> n01(0.0, 1.0);
-  const Eigen::MatrixXd lq = Eigen::LLT<Eigen::MatrixXd>(plant.q).matrixL();
-  const Eigen::MatrixXd lr = Eigen::LLT<Eigen::MatrixXd>(plant.r).matrixL();
+  LsLoss truth(32u, 0.5);   // LS at half its effectiveness from frame 64
   for (int i = 0; i < 1280 && hb.level() == 0; ++i) {
-    Eigen::VectorXd w(13), v(7);
-    for (int j = 0; j < 13; ++j) w(j) = n01(g);
-    for (int j = 0; j < 7; ++j) v(j) = n01(g);
-    const Eigen::VectorXd z = plant.h * x + lr * v + mb.z_trim;
+    const Eigen::VectorXd z = truth.measure(mb);
     const Eigen::VectorXd du = 4.0 * test::dither(5, i, 64.0);
     hb.step(z, du + mb.u_trim);
-    x = (i >= 64 ? half.bd : plant.bd) * du + plant.phi * x + lq * w;
+    truth.advance(i, du);
   }
   ASSERT_EQ(hb.level(), 1);
   const auto online = hb.online_names();
@@ -295,14 +309,7 @@ TEST(PartialHypotheses, DeclaringOnComponentsSumsASurfacesForms) {
   never.declarer.threshold = 0.999999;
   never.declarer.dwell_s = 60.0;
   DynamicHierarchicalBank twin(mb, never);
-  const test::Plant plant = test::random_plant(13, 5, 7, 32u, 1e-3, 1e-3);
-  test::Plant quarter = plant;
-  quarter.bd.col(0) *= 0.25;
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(13);
-  std::mt19937 g(9);
-  std::normal_distribution<double> n01(0.0, 1.0);
-  const Eigen::MatrixXd lq = Eigen::LLT<Eigen::MatrixXd>(plant.q).matrixL();
-  const Eigen::MatrixXd lr = Eigen::LLT<Eigen::MatrixXd>(plant.r).matrixL();
+  LsLoss ls(32u, 0.25);   // LS at a quarter of its effectiveness from frame 64
   std::vector<int> group(18);
   for (int s = 0; s < 18; ++s) group[s] = s;
   for (int j = 0; j < 5; ++j) group[13 + j] = 1 + j;
@@ -310,10 +317,7 @@ TEST(PartialHypotheses, DeclaringOnComponentsSumsASurfacesForms) {
   int expected = -1, expected_frame = -1;
   std::vector<Eigen::VectorXd> zs, us;
   for (int i = 0; i < 1280; ++i) {
-    Eigen::VectorXd w(13), v(7);
-    for (int j = 0; j < 13; ++j) w(j) = n01(g);
-    for (int j = 0; j < 7; ++j) v(j) = n01(g);
-    const Eigen::VectorXd z = plant.h * x + lr * v + mb.z_trim;
+    const Eigen::VectorXd z = ls.measure(mb);
     const Eigen::VectorXd du = 4.0 * test::dither(5, i, 64.0);
     hb.step(z, du + mb.u_trim);
     twin.step(z, du + mb.u_trim);
@@ -323,7 +327,7 @@ TEST(PartialHypotheses, DeclaringOnComponentsSumsASurfacesForms) {
       expected = by_hand.update(twin.probabilities(), by_hand.dwell_frames(), group.data());
       if (expected >= 0) expected_frame = i;
     }
-    x = (i >= 64 ? quarter.bd : plant.bd) * du + plant.phi * x + lq * w;
+    ls.advance(i, du);
   }
   ASSERT_GE(expected, 1) << "nothing declared by hand";
   ASSERT_GE(hb.declarations().size(), 1u);
@@ -343,7 +347,7 @@ TEST(PartialHypotheses, DeclaringOnComponentsSumsASurfacesForms) {
   // a bank without partial hypotheses is unchanged by the option, bit for bit
   const ModelBank plain = test::f16_model_bank(32u);
   DynamicHierarchicalBank a(plain), b(plain, opt);
-  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);
+  test::Truth truth(ls.plant, test::kF16Actuators, test::kF16Sensors, 5u);
   for (int i = 0; i < 400; ++i) {
     const std::vector<std::string> failed = i >= 64 ? std::vector<std::string>{"RS"} : std::vector<std::string>{};
     const Eigen::VectorXd z = truth.measure(failed) + plain.z_trim;

@@ -2,7 +2,7 @@
 design/hypotheses.py): the core's likelihood against the exact predictive density of an
 unknown constant observed in Gaussian noise (a flat prior: after n readings the next one is
 N(mean_n, A (1 + 1/n)), written out with SciPy), the tracked level's variance through a
-restart, and the design's widths and level noises for ``constant=VEL``."""
+restart, and the design's widths and level noises for ``constant=VEL`` and ``constant=VEL+ROL``."""
 from __future__ import annotations
 
 import numpy as np
@@ -83,8 +83,33 @@ def test_constant_vel_design_widths_and_level_noise():
     np.testing.assert_array_equal(d.filter("VEL").gains.k, ref.filter("VEL").gains.k)
 
 
+def test_constant_rol_takes_the_gyro_noise_sigma_as_its_level_uncertainty():
+    """constant=VEL+ROL: a failed roll gyro reads a level uniform over 6 noise sigmas (0.6 deg/s)
+    with a level random walk of 1e-6 of its noise variance, in every hypothesis that fails ROL;
+    the filters are the complete model's and the hypotheses without ROL those of constant=VEL."""
+    base = load_tuning("tuned").to_dict()
+    tun = tuning_from_dict({**base, "failure_model": {"default": "complete", "constant": ["VEL", "ROL"]}},
+                           default_name="constant-vel-rol")
+    assert tun.failure_model == "constant=VEL+ROL"
+    hyps = ("NONE", "VEL", "ROL", "ROL+PIT", "LF")
+    d = bank.design_bank(0.4, 20_000.0, tun, hypotheses=hyps)
+    vel = bank.design_bank(0.4, 20_000.0, tuning_from_dict({**base, "failure_model": "constant=VEL"},
+                                                           default_name="constant-vel"), hypotheses=hyps)
+    j = names.SENSORS.index("ROL")
+    for name in ("ROL", "ROL+PIT"):
+        m = d.filter(name).model
+        assert m.uninformative_width[j] == pytest.approx(6 * np.radians(0.1), rel=1e-12)
+        assert m.uninformative_level_q[j] == pytest.approx(1e-6 * np.radians(0.1) ** 2, rel=1e-12)
+        assert np.count_nonzero(m.uninformative_width) == np.count_nonzero(m.uninformative_level_q) == 1
+        np.testing.assert_array_equal(d.filter(name).gains.k, vel.filter(name).gains.k)
+        assert not np.any(vel.filter(name).model.uninformative_width)
+    for name in ("NONE", "VEL", "LF"):
+        np.testing.assert_array_equal(d.filter(name).model.uninformative_width, vel.filter(name).model.uninformative_width)
+        np.testing.assert_array_equal(d.filter(name).gains.k, vel.filter(name).gains.k)
+
+
 @pytest.mark.parametrize("bad, message", [
-    ("constant=PIT", "component PIT has no trim uncertainty; constant applies to VEL, AOA"),
+    ("constant=PIT", "component PIT has no trim uncertainty; constant applies to VEL, AOA, ROL"),
     ("constant", "constant cannot be the default"),
 ])
 def test_constant_is_refused_where_no_trim_uncertainty_is_known(bad, message):

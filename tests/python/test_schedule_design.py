@@ -162,6 +162,36 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
     assert "start_up_s" not in json.loads(core.load_bank(out).schedule["metadata"])  # no calibration flights
 
 
+def test_a_constant_roll_gyro_level_comes_from_the_command(tmp_path):
+    """``--failure-model constant=VEL+ROL``: every node's ROL-failed hypotheses read an unknown
+    level within 6 noise sigmas of the gyro (0.6 deg/s) with a level random walk of 1e-6 of its
+    noise variance, the filters and the other hypotheses those of the default constant=VEL; the
+    file names the model in its metadata and command."""
+    out, ref = tmp_path / "rol.f16sched", tmp_path / "vel.f16sched"
+    common = ["design", "--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--workers", "1"]
+    assert main(common + ["--failure-model", "constant=VEL+ROL", "--out", str(out)]) == 0
+    assert main(common + ["--out", str(ref)]) == 0
+    node, plain = core.load_bank(out).schedule["nodes"][0]["bank"], core.load_bank(ref).schedule["nodes"][0]["bank"]
+    j = names.SENSORS.index("ROL")
+    rol = 0
+    for h, g in zip(node.hypotheses, plain.hypotheses):
+        assert h.name == g.name
+        np.testing.assert_array_equal(h.k, g.k)
+        w, q = np.array(h.uninformative_width), np.array(h.uninformative_level_q)
+        if "ROL" in h.name.split("+"):
+            rol += 1
+            assert w[j] == pytest.approx(6 * np.radians(0.1), rel=1e-12)
+            assert q[j] == pytest.approx(1e-6 * np.radians(0.1) ** 2, rel=1e-12)
+            w[j], q[j] = 0.0, 0.0
+        np.testing.assert_array_equal(w, g.uninformative_width)
+        np.testing.assert_array_equal(q, g.uninformative_level_q)
+    assert rol == 12  # ROL and its eleven duals
+    meta = json.loads(core.load_bank(out).schedule["metadata"])
+    assert meta["failure_model"] == {"default": "complete", "constant": ["VEL", "ROL"]}
+    assert node.content_hash == _hash(design_bank(0.5, 20000.0, dataclasses.replace(
+        load_tuning("tuned"), failure_model=check_failure_model("constant=VEL+ROL"))))
+
+
 @pytest.mark.parametrize("args, message", [
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "per-point"], "--node-tuning 'per-point': valid: "
                                                                          "calibrated, fixed"),

@@ -12,7 +12,7 @@ from ..design.calibrate import CALIBRATION_START_UP_S, P_MIN_CANDIDATES, START_U
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
-from ..design.hypotheses import FAILURE_MODELS, check_failure_model, uses_cover
+from ..design.hypotheses import FAILURE_MODELS, TRIM_SIGMA, check_failure_model, uses_cover
 from ..design.gust_states import GUST_STATE_MODELS
 from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES, NODE_TUNINGS, ScheduleSpecError,
                                check_gust_altitude,
@@ -118,7 +118,8 @@ def register(subparsers) -> None:
                    help="hypotheses of the paper's complete failures, or hypotheses that cover the "
                         "failure, for every component or per component: cover=VEL+AOA (those two cover, "
                         "the others complete), cover,complete=PIT (default first), constant=VEL (a failed VEL "
-                        "at an unknown constant within its trim's uncertainty) (default: the tuning's "
+                        "at an unknown constant within its trim's uncertainty; constant applies to "
+                        f"{', '.join(TRIM_SIGMA)}, e.g. constant=VEL+ROL) (default: the tuning's "
                         "failure_model, complete for the shipped ones; with --schedule, a tuning naming none "
                         f"designs {names.SCHEDULE_FAILURE_MODEL})")
     p.add_argument("--failed-sensor-level-q", default=None, metavar="Q",

@@ -98,8 +98,10 @@ FAILURE_MODELS: tuple[str, ...] = ("complete", "cover", "constant")
 #: (sensor units): the RMS offset of the scheduled trim from the aircraft's own trim (what a
 #: `complete` failure reads) once the air data's running mean has settled, at light turbulence
 #: (tools/schedule/trim_anchor.py): VEL 1.65 ft/s (3.3 noise sigmas; docs/results/envelope_tuning.md,
-#: round 7, section 1), AOA 0.00138 rad (0.8 noise sigma; round 9, section "AOA").
-TRIM_SIGMA: dict[str, float] = {"VEL": 1.65, "AOA": 0.00138}
+#: round 7, section 1), AOA 0.00138 rad (0.8 noise sigma; round 9, section "AOA"), ROL 0.1 deg/s
+#: (one noise sigma: the trim roll rate is 0 in wings-level flight and the level absorbs a
+#: residual rate the scheduled trim does not carry; round 13).
+TRIM_SIGMA: dict[str, float] = {"VEL": 1.65, "AOA": 0.00138, "ROL": float(sensors.NOISE_SIGMA[4])}
 
 #: Half-width of the ``constant`` model's uniform level in units of TRIM_SIGMA (+-3 sigma).
 CONSTANT_HALF_WIDTH_SIGMAS = 3.0

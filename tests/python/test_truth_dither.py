@@ -39,9 +39,10 @@ def _fly(failures=(), mach=0.4, alt_ft=20_000.0):
 
 
 # (0.5, 10,000 ft), (0.45, 5,000 ft): q̄ 255 and 250, inside the pairs' high-q̄ blend, the
-# largest shares measured there (0.90, 0.91)
+# largest shares measured there (0.90, 0.91); (0.8, 15,000 ft): q̄ 535, the flaperons' boost
+# nearly in full, the largest share measured with it (p 0.87)
 @pytest.mark.parametrize("mach,alt_ft", [(0.4, 20_000.0), (0.8, 5_000.0), (0.45, 35_000.0), (0.5, 10_000.0),
-                                         (0.45, 5_000.0)])
+                                         (0.45, 5_000.0), (0.8, 15_000.0)])
 def test_default_dither_is_subliminal(mach, alt_ft):
     t, dz = _fly(mach=mach, alt_ft=alt_ft)
     peak = np.abs(dz).max(axis=0)
@@ -181,8 +182,8 @@ def test_scheduled_throttle_settings_and_the_bank_default():
 def test_high_qbar_rule_turns_the_flaperons_antisymmetric_and_grows_the_pairs():
     """The pairs' rule (Dither docstring): nothing up to 2 Q0 (every Fig. 9 point), linear in
     q̄/Q0 to 3 Q0, then flaperons at +-pi/2 and 4.2 Hz with 2.5 x 4.2/2.9 and stabilators at
-    3.5 Hz with 1.6 x 3.5/1.7 the scheduled amplitude; the terms computed by hand from the
-    defaults."""
+    3.5 Hz with 1.6 x 3.5/1.7 the scheduled amplitude, the flaperons 1.8 x that from 5 Q0
+    (linear from 4 Q0); the terms computed by hand from the defaults."""
     from f16mmae.truth.dither import high_qbar_blend
 
     assert high_qbar_blend(1.0) == 0.0 and high_qbar_blend(0.5) == 0.0 and high_qbar_blend(1 / 3) == 1.0
@@ -203,6 +204,16 @@ def test_high_qbar_rule_turns_the_flaperons_antisymmetric_and_grows_the_pairs():
     assert a[0] == pytest.approx(g * 1.3 * (2.6 / 1.7) * base[0]) and a[2] == pytest.approx(g * 1.75 * (3.55 / 2.9) * base[2])
     assert ph[2] == pytest.approx(0.55 + 0.5 * (math.pi / 2 - 0.55)) and ph[3] == pytest.approx(-ph[2])
     assert w == pytest.approx([2 * math.pi * f for f in (2.6, 2.6, 3.55, 3.55, 2.3)])
+    # the flaperons' boost: 1 up to 4 Q0 (above), linear to 1.8 at 5 Q0, 1.8 beyond; the
+    # other surfaces as the rule gives them
+    from f16mmae.truth.dither import high_qbar_flaperon_boost
+    assert high_qbar_flaperon_boost(0.25) == 1.0 and high_qbar_flaperon_boost(1 / 4.5) == pytest.approx(1.4)
+    assert high_qbar_flaperon_boost(0.2) == pytest.approx(1.8) and high_qbar_flaperon_boost(0.1) == pytest.approx(1.8)
+    for scale, boost in ((1 / 4.5, 1.4), (0.15, 1.8)):
+        g = scale ** 1.5
+        a, w, ph = Dither(DitherSpec(), scale=scale).terms()
+        assert a == pytest.approx([g * gs * base[0], g * gs * base[1], g * gf * boost * base[2],
+                                   g * gf * boost * base[3], g * base[4]])
     # antisymmetric flaperons: their lift cancels in healthy flight (n_z from the stabilators only)
     d = Dither(DitherSpec(), scale=0.25)
     assert sum(d.value(t)[2] + d.value(t)[3] for t in (0.01, 0.13, 0.27)) == pytest.approx(0.0, abs=1e-15)

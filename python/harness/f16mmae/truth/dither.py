@@ -226,6 +226,12 @@ HIGH_QBAR_STABILATOR_GAIN = 1.6
 #: Dither).
 HIGH_QBAR_STABILATOR_FREQUENCY_HZ = 3.5
 HIGH_QBAR_FLAPERON_FREQUENCY_HZ = 4.2
+#: Above HIGH_QBAR_FLAPERON_BOOST_START Q0 the flaperons' amplitude grows further, linearly in
+#: q̄ / Q0, to HIGH_QBAR_FLAPERON_BOOST times the rule's from HIGH_QBAR_FLAPERON_BOOST_FULL Q0
+#: (see Dither: the roll criterion leaves the antisymmetric flaperons room there).
+HIGH_QBAR_FLAPERON_BOOST = 1.8
+HIGH_QBAR_FLAPERON_BOOST_START = 4.0
+HIGH_QBAR_FLAPERON_BOOST_FULL = 5.0
 
 
 def amplitude_schedule(scale: float) -> float:
@@ -241,6 +247,15 @@ def high_qbar_blend(scale: float) -> float:
     ratio = math.inf if scale <= 0.0 else 1.0 / scale
     b = (ratio - HIGH_QBAR_PAIRS_START) / (HIGH_QBAR_PAIRS_FULL - HIGH_QBAR_PAIRS_START)
     return min(max(b, 0.0), 1.0)
+
+
+def high_qbar_flaperon_boost(scale: float) -> float:
+    """The flaperons' extra amplitude factor at ``scale`` = Q0 / qbar_trim: 1 up to
+    HIGH_QBAR_FLAPERON_BOOST_START Q0, linear in q̄ / Q0, HIGH_QBAR_FLAPERON_BOOST from
+    HIGH_QBAR_FLAPERON_BOOST_FULL Q0 (see Dither)."""
+    ratio = math.inf if scale <= 0.0 else 1.0 / scale
+    c = (ratio - HIGH_QBAR_FLAPERON_BOOST_START) / (HIGH_QBAR_FLAPERON_BOOST_FULL - HIGH_QBAR_FLAPERON_BOOST_START)
+    return 1.0 + min(max(c, 0.0), 1.0) * (HIGH_QBAR_FLAPERON_BOOST - 1.0)
 
 
 class Dither:
@@ -261,6 +276,7 @@ class Dither:
         f'_LF,RF = f_LF,RF + b (HIGH_QBAR_FLAPERON_FREQUENCY_HZ - f_LF,RF)      (2.9 -> 4.2 Hz)
         a_LF,RF *= (1 + b (HIGH_QBAR_FLAPERON_GAIN - 1)) f'_LF,RF / f_LF,RF
         a_LS,RS *= (1 + b (HIGH_QBAR_STABILATOR_GAIN - 1)) f'_LS,RS / f_LS,RS
+        a_LF,RF *= high_qbar_flaperon_boost(s)       (1 up to 4 Q0, 1.8 from 5 Q0)
 
     Above q̄ 300 the filters' AZ covariance covers the gusts' n_z, which grows with q̄, while the
     schedule holds the dither's n_z at about 0.04 g, so a failed surface's missing n_z is a
@@ -285,6 +301,11 @@ class Dither:
     The gains keep the peaks within the criterion from 2 Q0 up (largest share 0.91 at
     M 0.5 / 10,000 ft in the blend, 0.84 at M 0.8 / 5,000 ft in full: tests/python/test_truth_dither.py,
     envelope_tuning.md round 8); every paper Fig. 9 point (q̄ <= 170) and the design point fly b = 0.
+    From 4 Q0 up the roll-rate peak of the antisymmetric flaperons is the largest share (0.5-0.6
+    of 1 deg/s at 5 Q0, the other channels' at most 0.6), while a failed flaperon's evidence per
+    frame there is a third to a half of what a declaration within 5 s needs (about amplitude
+    squared); the boost spends that room: largest share at most 0.97 with the flaperons at twice
+    the rule's from q̄ 500 up, 0.95 at 1.6x at 4.1 Q0 (envelope_tuning.md round 13).
     """
 
     def __init__(self, spec: DitherSpec | None = None, scale: float = 1.0):
@@ -307,6 +328,9 @@ class Dither:
             for j, gain in ((0, HIGH_QBAR_STABILATOR_GAIN), (1, HIGH_QBAR_STABILATOR_GAIN),
                             (2, HIGH_QBAR_FLAPERON_GAIN), (3, HIGH_QBAR_FLAPERON_GAIN)):
                 self._a[j] *= 1.0 + b * (gain - 1.0)
+            boost = high_qbar_flaperon_boost(scale)
+            self._a[2] *= boost
+            self._a[3] *= boost
         self.enabled = on and any(self._a)
 
     def terms(self) -> tuple[list[float], list[float], list[float]]:

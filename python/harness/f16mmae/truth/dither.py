@@ -301,11 +301,13 @@ class Dither:
     The gains keep the peaks within the criterion from 2 Q0 up (largest share 0.91 at
     M 0.5 / 10,000 ft in the blend, 0.84 at M 0.8 / 5,000 ft in full: tests/python/test_truth_dither.py,
     envelope_tuning.md round 8); every paper Fig. 9 point (q̄ <= 170) and the design point fly b = 0.
-    From 4 Q0 up the roll-rate peak of the antisymmetric flaperons is the largest share (0.5-0.6
-    of 1 deg/s at 5 Q0, the other channels' at most 0.6), while a failed flaperon's evidence per
-    frame there is a third to a half of what a declaration within 5 s needs (about amplitude
-    squared); the boost spends that room: largest share at most 0.97 with the flaperons at twice
-    the rule's from q̄ 500 up, 0.95 at 1.6x at 4.1 Q0 (envelope_tuning.md round 13).
+    From 4 Q0 up the antisymmetric flaperons' roll rate uses 0.5-0.6 of its 1 deg/s and they move
+    nothing else (n_z and q stay the stabilators', 0.6-0.7), while a failed flaperon's evidence per
+    frame there is a third to a half of what a declaration within 5 s needs (it grows about as
+    the amplitude squared); the boost spends that room: largest share 0.87 (p at M 0.8 /
+    15,000 ft), against 0.97 with the flaperons at twice the rule's there and 0.95 at 1.6x at
+    4.1 Q0 (envelope_tuning.md round 13).  Its amplitude factor s^1.5 times the boost is at most
+    0.161 (at 5 Q0), below the 0.192 at 3 Q0 where the flaperons' rate amplitude is largest.
     """
 
     def __init__(self, spec: DitherSpec | None = None, scale: float = 1.0):

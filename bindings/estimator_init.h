@@ -17,6 +17,8 @@
 //                                        the linearization (hierarchical_bank.h; default on)
 //   declare_components                   a partial hypothesis and its single declared as one
 //                                        component (hierarchical_bank.h, declarer.h; default off)
+//   partial_p_min                        the partial-loss hypotheses' floor at level 0; 0: p_min
+//                                        (hierarchical_bank.h)
 //   start_up_s                           updates that weigh nothing after a start (filter_bank.h)
 //   node_p_min                           a scheduled bank: each node's floor (its bank's p_min,
 //                                        blended; scheduled_filters.h) instead of p_min
@@ -61,7 +63,7 @@ namespace f16mmae::bindings {
 namespace py = pybind11;
 
 inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, double level1_dwell_s,
-                                             const std::string& departure_hold, bool declare_components, bool node_p_min, bool strip_leading_term, double start_up_s,
+                                             const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
                                              double threshold, double dwell_s,
                                              const py::object& declarer, double trim_time_constant_s,
                                              double trim_freeze_probability, double trim_hold_s, bool trim_freeze,
@@ -122,6 +124,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
     throw py::value_error("departure_hold must be 'on' or 'off', got '" + departure_hold + "'");
   o.departure.enabled = departure_hold == "on";
   o.declare_components = declare_components;
+  o.partial_p_min = partial_p_min;
   o.schedule.node_p_min = node_p_min;
   o.bank.strip_leading_term = strip_leading_term;
   o.bank.start_up_s = start_up_s;
@@ -162,7 +165,7 @@ Class& def_estimator_init(Class& cls) {
   const HierarchicalOptions core;  // the defaults
   return cls.def(
       py::init([](const Source& bank, double p_min, double level1_p_min, double level1_dwell_s,
-                  const std::string& departure_hold, bool declare_components, bool node_p_min, bool strip_leading_term, double start_up_s,
+                  const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
                   double threshold, double dwell_s,
                   const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
                   double trim_hold_s, bool trim_freeze, double trim_steady_g,
@@ -182,7 +185,7 @@ Class& def_estimator_init(Class& cls) {
                   bool maneuver_trim, double maneuver_trim_time_constant_s, const std::string& maneuver_trim_accel,
                   const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
-        return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, departure_hold, declare_components, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
+        return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, departure_hold, declare_components, partial_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
                                              declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
                                              trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
@@ -199,7 +202,7 @@ Class& def_estimator_init(Class& cls) {
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
       py::arg("level1_p_min") = core.level1_p_min, py::arg("level1_dwell_s") = core.level1_dwell_s,
       py::arg("departure_hold") = core.departure.enabled ? "on" : "off",
-      py::arg("declare_components") = core.declare_components,
+      py::arg("declare_components") = core.declare_components, py::arg("partial_p_min") = core.partial_p_min,
       py::arg("node_p_min") = core.schedule.node_p_min,
       py::arg("strip_leading_term") = core.bank.strip_leading_term, py::arg("start_up_s") = core.bank.start_up_s,
       py::arg("threshold") = core.declarer.threshold,

@@ -62,6 +62,12 @@
 //                   healthy reading while the hypothesis sat on the floor, must not let it
 //                   re-enter free of that cost. (With no uninformative channel anywhere,
 //                   every f_k = p_min bit for bit: the paper's floor.)
+//                 Per-hypothesis floor factors (set_floor_scale(k, m_k), m_k > 0; 1 by default):
+//                   f_k = m_k p_min exp(min(0, c_k - c_0)), ln f_k = ln m_k + ln p_min + ...;
+//                   a class of hypotheses whose failure is more likely to begin on a given
+//                   frame than the others' (a hierarchical bank's partial-loss hypotheses,
+//                   hierarchical_bank.h) rises from a higher floor. With every m_k = 1 the
+//                   floors are bit for bit those without it. The caller keeps sum_k f_k < 1.
 //                 Fresh levels on the floor (options.fresh_floor_levels, default off): the
 //                   floor mass is "the failure begins now", so after each frame's floor a
 //                   hypothesis on it (p_k = f_k) carries the level of a failure that began
@@ -233,6 +239,8 @@ class FilterBank {
     q_live_.setZero(k);
     floor_.setConstant(k, options_.p_min);
     log_floor_.setZero(k);
+    floor_scale_.setOnes(k);
+    log_floor_scale_.setZero(k);
     level_set_.assign_size(k);
     uninformative_.assign_size(k);
     footing_.setZero(k);
@@ -395,6 +403,18 @@ class FilterBank {
     log_p_(index) = std::log(p_(index));
     refresh_blend();
   }
+  // Floor factor m_k of hypothesis k (header comment) from the next update (and presume()) on;
+  // the floors are set anew, the probabilities in force not touched. Ignored for k out of
+  // range or m not finite and > 0. noexcept, no allocation.
+  void set_floor_scale(int k, double m) noexcept {
+    if (k < 0 || k >= size() || !(m > 0.0) || !std::isfinite(m) || m == floor_scale_(k)) return;
+    floor_scale_(k) = m;
+    log_floor_scale_(k) = std::log(m);
+    set_floors(presumed_);
+  }
+  double floor_scale(int k) const noexcept { return floor_scale_(k); }
+  // The floor f_k in force (header comment).
+  double floor_of(int k) const noexcept { return floor_(k); }
   // Filter k on or off line (header comment; noexcept, no allocation; ignored for k = 0 or out
   // of range). Off: p_k's mass leaves by conditioning, p_j <- p_j / (1 - p_k) over the live
   // ones, then the floor; on: p_k = f_k, taken from the others by the floor's rescaling. A
@@ -669,8 +689,9 @@ class FilterBank {
       const double d = hypotheses_[i].tracked_level_offset() - c0;
       const double base = i < head_ ? p_min_head_ : options_.p_min;
       const double log_base = i < head_ ? log_p_min_head_ : log_p_min_;
-      floor_(i) = d < 0.0 ? base * std::exp(d) : base;
-      log_floor_(i) = d < 0.0 ? log_base + d : log_base;
+      const double m = floor_scale_(i);
+      floor_(i) = d < 0.0 ? m * base * std::exp(d) : m * base;
+      log_floor_(i) = (d < 0.0 ? log_base + d : log_base) + log_floor_scale_(i);
     }
   }
   // The floor's fresh levels (header comment): every hypothesis on its floor after this
@@ -742,6 +763,7 @@ class FilterBank {
   PVector footing_;                               // v_k (note_footing)
   PVector own_ratio_, q_own_;                     // m / m_k (note_uninformative) and q_k m / m_k
   PVector floor_, log_floor_;                     // f_k and ln f_k (set_floors, at presume)
+  PVector floor_scale_, log_floor_scale_;         // m_k and ln m_k (set_floor_scale; 1 and 0)
   std::int64_t start_up_frames_ = 0;              // round(start_up_s f): updates that weigh nothing
   int presumed_ = 0;                              // the hypothesis presumed last (set_p_min)
   int head_ = 0;                                  // set_p_min's two tiers: k < head_ take

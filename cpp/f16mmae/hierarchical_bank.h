@@ -66,6 +66,22 @@
 //   declared c:MODE brings both forms on line, a declared c its own bank {NONE, c, c+d}
 //   (the duals are complete failures of c; c held more mass than c:MODE when declared). A bank
 //   without partial hypotheses is unchanged by the option.
+// The partial hypotheses' floor (options.partial_p_min; 0, the default: the level-0 floor, bit
+//   for bit): at level 0 every partial hypothesis c:MODE takes the floor partial_p_min, the
+//   others the level-0 floor p_min (FilterBank::set_floor_scale, m = partial_p_min / p_min); at
+//   level 1 every hypothesis has its level-1 floor as above. Derivation: the floor f is the
+//   prior mass of "this failure may have begun now"; a hypothesis whose log-likelihood ratio
+//   against the presumed one grows by r nats a frame climbs from f to the threshold T (the
+//   rest of the mass on the presumed hypothesis) in
+//     n(f) = [ln(T / (1 - T)) - ln(f / (1 - f))] / r   frames,
+//   so a floor raised from p_min to f saves ln(f / p_min) / r frames. A partial loss's evidence
+//   comes at a fraction of a complete failure's (its mean residual is (1 - R) times the
+//   complete failure's, the log-likelihood ratio's drift (1 - R)^2 times), so from the common
+//   floor its climb is the long part of its latency. The false-alarm side is the same count in
+//   failure-free flight: the ratio's excursions above zero are unchanged by the floor, and the
+//   threshold lies ln(f / p_min) nats nearer. Refused: partial_p_min < 0, a partial_p_min set
+//   for a bank without partial hypotheses, and floors that leave no room for a declaration
+//   (n_partial partial_p_min + (K - 1 - n_partial) p_min >= 1 - threshold).
 //
 // Initialisation at a switch (after the update of the frame on which the declaration
 // happened, before its propagate): every filter brought on line starts from the posterior
@@ -206,6 +222,7 @@ struct HierarchicalOptions {
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (header)
   DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (header)
   bool declare_components = false;   // a partial hypothesis and its single declared as one component (header)
+  double partial_p_min = 0.0;   // the partial hypotheses' floor at level 0; 0: the level-0 floor (header)
   int history_capacity = 1024;
 };
 
@@ -727,6 +744,7 @@ class HierarchicalBank {
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));
     for (const auto& h : mb.hypotheses) names_.push_back(h.name);
+    check_partial_p_min(options);
     if (maneuver_dwell_.enabled()) {
       const auto& m = mb.measurement_names;
       const auto it = std::find(m.begin(), m.end(), "AZ");
@@ -791,6 +809,10 @@ class HierarchicalBank {
       bank_.presume(0);           // with the node floor in force
     }
     history_.reserve(static_cast<std::size_t>(options.history_capacity));
+    if (options_.partial_p_min > 0.0) {
+      set_floors();
+      bank_.presume(0);   // NONE presumed with the partial hypotheses' floor
+    }
   }
 
   // The trim tracker's freeze condition on this frame (trim_tracker.h): level 1, a failure
@@ -865,10 +887,39 @@ class HierarchicalBank {
     return sched_.active() && options_.schedule.node_p_min ? sched_.p_min() : options_.bank.p_min;
   }
   void set_floors() noexcept {
+    if (options_.partial_p_min > 0.0) {   // the partial hypotheses' floor at level 0 (header)
+      const double base = level0_floor();
+      for (int k = 1; k < size(); ++k)
+        bank_.set_floor_scale(k, level_ == 0 && base > 0.0 && level0_partial_[static_cast<std::size_t>(k)] != 0
+                                     ? options_.partial_p_min / base
+                                     : 1.0);
+    }
     if (level_ == 1 && options_.level1_p_min > 0.0)
       bank_.set_p_min(options_.level1_p_min, 2, level0_floor());
     else
       bank_.set_p_min(level0_floor());
+  }
+  // Notes the level-0 slots holding partial hypotheses; throws std::invalid_argument for a
+  // partial_p_min the bank cannot take (header).
+  void check_partial_p_min(const HierarchicalOptions& o) {
+    level0_partial_.assign(level0_.size(), 0);
+    for (std::size_t k = 1; k < level0_.size(); ++k)
+      level0_partial_[k] = partial_of(names_[static_cast<std::size_t>(level0_[k])]).empty() ? 0 : 1;
+    if (!(o.partial_p_min >= 0.0) || !std::isfinite(o.partial_p_min))
+      throw std::invalid_argument("hierarchical bank: partial_p_min must be >= 0 (0: the level-0 floor), got " +
+                                  std::to_string(o.partial_p_min));
+    if (o.partial_p_min == 0.0) return;
+    int n_partial = 0;
+    for (char c : level0_partial_) n_partial += c;
+    if (n_partial == 0)
+      throw std::invalid_argument("hierarchical bank: partial_p_min is set but the bank has no partial-loss "
+                                  "hypothesis (design --partial-loss)");
+    const double others = static_cast<double>(level0_.size() - 1 - n_partial) * o.bank.p_min;
+    if (!(n_partial * o.partial_p_min + others < 1.0 - o.declarer.threshold))
+      throw std::invalid_argument("hierarchical bank: partial_p_min " + std::to_string(o.partial_p_min) + " for " +
+                                  std::to_string(n_partial) + " partial hypotheses leaves no hypothesis room to "
+                                  "pass the threshold: n_partial partial_p_min + the others' floors must stay "
+                                  "below 1 - threshold = " + std::to_string(1.0 - o.declarer.threshold));
   }
 
   // The on-line filters as the schedule has them in force (states kept).
@@ -968,6 +1019,7 @@ class HierarchicalBank {
   Declarer declarer1_;   // level 1 with level1_dwell_s
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
+  std::vector<char> level0_partial_;   // level0_partial_[k]: level-0 slot k holds a partial hypothesis
   Indices level0_;
   std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of level-0 hypothesis f + 1 (a single or partial)
   std::vector<Indices> level1_live_;   // level1_live_[f][k]: slot k on line in it (header)

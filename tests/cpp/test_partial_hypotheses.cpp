@@ -179,6 +179,118 @@ TEST(FilterBankLive, SetLiveAndTheFramesAroundItAllocateNothing) {
   EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
 }
 
+TEST(FilterBankFloor, AFloorFactorWaterFillsWithItsOwnFloor) {
+  // uniform prior, Bayes posterior b = [0.9, 0.08, 0.02]; p_min = 0.01 and m_2 = 5: f = [0.01,
+  // 0.01, 0.05], so filter 2 is floored at 0.05 and the others share 0.95: [0.9 s, 0.08 s, 0.05],
+  // s = 0.95 / 0.98.
+  const double b[3] = {0.9, 0.08, 0.02};
+  std::vector<Scalar> models;
+  for (double bk : b) models.push_back(scalar_model(1.0 / (2.0 * (1.0 - std::log(bk)))));  // l_k = ln b_k - 1 at z = 1
+  FilterBankOptions opt;
+  opt.p_min = 0.01;
+  ScalarBank bank(models, opt);
+  bank.set_floor_scale(2, 5.0);
+  EXPECT_EQ(bank.floor_scale(2), 5.0);
+  EXPECT_DOUBLE_EQ(bank.floor_of(2), 0.05);
+  EXPECT_DOUBLE_EQ(bank.floor_of(1), 0.01);
+  bank.presume(0);
+  EXPECT_NEAR(bank.probabilities()(0), 1.0 - 0.06, 1e-15);
+  EXPECT_DOUBLE_EQ(bank.probabilities()(2), 0.05);
+  bank.set_probabilities(Eigen::Vector3d(1.0 / 3, 1.0 / 3, 1.0 / 3));
+  ASSERT_TRUE(bank.update(z1(1.0)));
+  const double s = 0.95 / 0.98;
+  EXPECT_NEAR(bank.probabilities()(0), 0.9 * s, 1e-14);
+  EXPECT_NEAR(bank.probabilities()(1), 0.08 * s, 1e-14);
+  EXPECT_DOUBLE_EQ(bank.probabilities()(2), 0.05);
+  EXPECT_NEAR(bank.log_probabilities()(2), std::log(0.05), 1e-14);
+  // refused values change nothing; m back to 1 is the bank without factors, bit for bit
+  bank.set_floor_scale(2, -1.0);
+  bank.set_floor_scale(2, std::numeric_limits<double>::quiet_NaN());
+  bank.set_floor_scale(7, 2.0);
+  EXPECT_EQ(bank.floor_scale(2), 5.0);
+  ScalarBank plain(models, opt);
+  bank.set_floor_scale(2, 1.0);
+  bank.presume(0);
+  for (double z : {0.3, -1.2, 2.5, 0.1}) {
+    ASSERT_TRUE(bank.update(z1(z)));
+    ASSERT_TRUE(plain.update(z1(z)));
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(bank.probabilities()(k), plain.probabilities()(k)) << k;
+  }
+}
+
+TEST(FilterBankFloor, TheClimbFromAFloorTakesTheFramesTheHeaderDerives) {
+  // two hypotheses, z = 1 every frame: hypothesis 1 gains r = ln L_1 - ln L_0 = 0.5 (1 - 1 / a)
+  // nats a frame. From the floor f it passes T = 0.9 on the first frame n with
+  //   ln(f / (1 - f)) + n r > ln(T / (1 - T))   (hierarchical_bank.h, the partial floor).
+  const double a1 = 2.0, r = 0.5 * (1.0 - 1.0 / a1), T = 0.9;
+  const auto frames_to_threshold = [&](double p_min, double m) {
+    FilterBankOptions opt;
+    opt.p_min = p_min;
+    ScalarBank bank({scalar_model(1.0), scalar_model(a1)}, opt);
+    bank.set_floor_scale(1, m);
+    bank.presume(0);
+    for (int n = 1; n <= 1000; ++n) {
+      bank.update(z1(1.0));
+      if (bank.probabilities()(1) > T) return n;
+    }
+    return -1;
+  };
+  const auto by_hand = [&](double f) {
+    return static_cast<int>(std::floor((std::log(T / (1 - T)) - std::log(f / (1 - f))) / r)) + 1;
+  };
+  EXPECT_EQ(frames_to_threshold(1e-9, 1.0), by_hand(1e-9));   // 92 frames
+  EXPECT_EQ(frames_to_threshold(1e-9, 1e4), by_hand(1e-5));   // 55 frames
+  EXPECT_EQ(frames_to_threshold(1e-9, 1e4), frames_to_threshold(1e-5, 1.0));
+  // the floor raised by m saves ln(m) / r frames
+  EXPECT_NEAR(by_hand(1e-9) - by_hand(1e-5), std::log(1e4) / r, 1.0);
+}
+
+TEST(PartialHypotheses, ThePartialFloorHoldsAtLevelZeroOnly) {
+  const ModelBank mb = partial_bank(31u, 0.5);
+  HierarchicalOptions opt;
+  opt.bank.p_min = 1e-9;
+  opt.partial_p_min = 1e-5;
+  DynamicHierarchicalBank hb(mb, opt);
+  // NONE presumed: 12 singles at 1e-9, 5 partials at 1e-5 (no sensor levels at level 0's NONE)
+  const auto level0 = hb.online_names();
+  for (int k = 1; k < hb.size(); ++k) {
+    const bool partial = level0[k].find(':') != std::string::npos;
+    EXPECT_DOUBLE_EQ(hb.probabilities()(k), partial ? 1e-5 : 1e-9) << level0[k];
+  }
+  EXPECT_NEAR(hb.probabilities()(0), 1.0 - 12e-9 - 5e-5, 1e-15);
+  // a complete LF failure: at level 1 no factor is left
+  const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);
+  for (int i = 0; i < 640 && hb.level() == 0; ++i) {
+    const std::vector<std::string> failed = i >= 64 ? std::vector<std::string>{"LF"} : std::vector<std::string>{};
+    const Eigen::VectorXd du = test::dither(5, i, 64.0);
+    hb.step(truth.measure(failed) + mb.z_trim, du + mb.u_trim);
+    truth.advance(du, failed);
+  }
+  ASSERT_EQ(hb.level(), 1);
+  for (int k = 0; k < hb.size(); ++k) EXPECT_EQ(hb.bank().floor_scale(k), 1.0) << hb.online_names()[k];
+  // back at level 0 the partial floor again
+  hb.reset();
+  for (int k = 1; k < hb.size(); ++k)
+    EXPECT_DOUBLE_EQ(hb.probabilities()(k), level0[k].find(':') != std::string::npos ? 1e-5 : 1e-9) << level0[k];
+  // refused: a negative floor, floors leaving no room for the threshold (5 x 0.03 > 0.1), a bank
+  // without partial hypotheses
+  const auto refused = [](const ModelBank& bank, double p, const std::string& words) {
+    HierarchicalOptions o;
+    o.bank.p_min = 1e-9;
+    o.partial_p_min = p;
+    try {
+      DynamicHierarchicalBank b(bank, o);
+      ADD_FAILURE() << "accepted partial_p_min " << p;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  refused(mb, -1e-5, "partial_p_min must be >= 0");
+  refused(mb, 0.03, "leaves no hypothesis room");
+  refused(test::f16_model_bank(31u), 1e-5, "no partial-loss hypothesis");
+}
+
 TEST(PartialHypotheses, LevelZeroHoldsThemAndLevelOneKeepsTheSpareSlotsOffLine) {
   const ModelBank mb = partial_bank(31u, 0.5);
   DynamicHierarchicalBank hb(mb);

@@ -33,6 +33,9 @@ def test_names_round_trip_and_bad_names_are_refused():
     assert hypotheses.parse_partial("LF") is None and hypotheses.parse_partial("LS+PIT") is None
     assert hypotheses.isolated_component("RS:loss=0.5") == "RS"
     assert hypotheses.isolated_component("RS+PIT") == "RS+PIT"
+    assert names.failed_components("RS:loss=0.5") == ("RS",)   # the dual campaign scores a partial as its surface
+    with pytest.raises(ValueError, match="unknown component 'XX'"):
+        names.failed_components("XX:loss=0.5")
     assert hypotheses.partial_hypotheses((0.5,)) == PARTIALS
     assert hypotheses.partial_hypotheses((0.25,))[0] == "LS:loss=0.75"   # F lost, R = 1 - F kept
     with pytest.raises(ValueError, match="needs a surface"):
@@ -174,3 +177,28 @@ def test_declare_components_reaches_the_core_and_declares_a_split_surface(partia
     assert decl and decl[0]["hypothesis"] in ("LF", "LF:loss=0.5") and decl[0]["time_s"] > 3.0
     assert runs["components"]["estimator_settings"]["declare_components"] is True
     assert "declare_components" not in runs["alone"]["estimator_settings"]
+
+
+def test_the_partial_floor_reaches_the_core_and_shortens_the_climb(partial_design, tmp_path, capsys):
+    """``--partial-p-min``: a tuning-seed flight (campaign seed 7's single campaign, RUD half lost
+    at 3 s) declares RUD (either form) earlier from a partial floor of 1e-5 than from the
+    level-0 floor (cpp/f16mmae/hierarchical_bank.h: ln(1e-5 / 1e-9) nats less to climb); the
+    setting is in run.json; a bank without partial hypotheses is refused, naming the problem."""
+    path = tmp_path / "partial.f16bank"
+    core.save_bank(bank.to_model_bank(partial_design), str(path))
+    argv = ["run", "--seed", "1213139639", "--duration", "8.0", "--turbulence", "light", "--mach", "0.4",
+            "--alt-ft", "20000.0", "--feedback", "mmae", "--fail", "RUD@3.0:loss=0.5", "--bank", str(path),
+            "--dwell-s", "0.5", "--declare-components"]
+    runs = {}
+    for label, extra in (("common", []), ("partial", ["--partial-p-min", "1e-5"])):
+        assert main([*argv, *extra, "--out", str(tmp_path / label)]) == 0
+        runs[label] = json.loads((tmp_path / label / "run.json").read_text())
+    capsys.readouterr()
+    first = {k: r["declarations"][0] for k, r in runs.items()}
+    assert all(d["hypothesis"] in ("RUD", "RUD:loss=0.5") for d in first.values()), first
+    assert 3.0 < first["partial"]["time_s"] < first["common"]["time_s"], first
+    assert runs["partial"]["estimator_settings"]["partial_p_min"] == 1e-5
+    assert "partial_p_min" not in runs["common"]["estimator_settings"]
+    with pytest.raises(ValueError, match="no partial-loss hypothesis"):
+        core.HierarchicalBank(bank.to_model_bank(bank.design_bank(0.4, 20_000.0, load_tuning("tuned"))),
+                              partial_p_min=1e-5)

@@ -109,10 +109,13 @@ THRESHOLD_DEFAULT: float = DEFAULT_THRESHOLD
 
 
 def failed_components(hypothesis: str) -> tuple[str, ...]:
-    """Components a hypothesis presumes failed: ``"LS+PIT" -> ("LS", "PIT")``, ``"NONE" -> ()``."""
+    """Components a hypothesis presumes failed: ``"LS+PIT" -> ("LS", "PIT")``, ``"NONE" -> ()``;
+    a partial-loss hypothesis (``design --partial-loss``) its surface: ``"LS:loss=0.5" -> ("LS",)``."""
     if hypothesis == NONE:
         return ()
     parts = tuple(hypothesis.split("+"))
+    if len(parts) == 1 and ":" in parts[0]:
+        parts = (parts[0].split(":", 1)[0],)
     for p in parts:
         if p not in COMPONENTS:
             raise ValueError(

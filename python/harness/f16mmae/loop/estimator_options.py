@@ -204,6 +204,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "their probabilities against the threshold, the dwell on the sum -- naming the form "
                          "that holds more mass (cpp/f16mmae/declarer.h). Default off: each hypothesis alone; "
                          "a bank without partial hypotheses is unchanged"),
+    EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,
+                    help="a bank with partial-loss hypotheses (design --partial-loss): their probability floor at "
+                         "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "
+                         "ln(P / p_min) nats less to the threshold (cpp/f16mmae/hierarchical_bank.h). The core "
+                         "refuses floors that leave no room for a declaration and a bank without partial "
+                         "hypotheses. Default 0: the level-0 floor (in process only: mmae-daemon has no flag for it)",
+                    in_daemon=False),
     EstimatorOption("actuator_rate_limits_rad_s", "--actuator-rate-limits", "values", on_command_line=False,
                     help="the actuators' rate limits, rad/s, one per input"),
     EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",

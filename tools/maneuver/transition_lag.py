@@ -9,8 +9,8 @@ failure declaration one row:
 
 - ``phase`` as ``soak_phases.py`` (measured air data, true bank angle and roll rate) and
   ``since``: the seconds since the last change of the true maneuver state (``event``: the
-  true |gamma| through 0.5 deg, |dV/dt| through 1 ft/s^2 or |phi| through 5 deg, each
-  1-s smoothed; ``climb+``/``climb-`` its start/end, ``accel+/-``, ``bank+/-``);
+  true |gamma| through 0.5 deg (2-s mean), |dV/dt| through 2 ft/s^2 (4-s mean) or |phi|
+  through 5 deg (1-s mean); ``climb+``/``climb-`` its start/end, ``accel+/-``, ``bank+/-``);
 - ``rise``: the seconds from the onset (ln(p_H/p_NONE) up through -5) to the declaration;
 - ``channels``: the two sensors with the largest mean |z - z_hat| over the rise, in units of
   that channel's RMS residual over the whole flight (signed);
@@ -86,8 +86,9 @@ def truth_rates(log: dict) -> tuple[np.ndarray, np.ndarray]:
 def events(g_true: np.ndarray, a_true: np.ndarray, phi: np.ndarray, i: int) -> tuple[float, str]:
     """Seconds since the last true maneuver-state change before frame i, and which."""
     best, name = math.inf, "-"
-    k = np.ones(int(FRAME_RATE_HZ)) / FRAME_RATE_HZ
-    for tag, x, lim in (("climb", np.degrees(g_true), 0.5), ("accel", a_true, 1.0), ("bank", np.degrees(phi), 5.0)):
+    for tag, x, lim, w in (("climb", np.degrees(g_true), 0.5, 2), ("accel", a_true, 2.0, 4),
+                           ("bank", np.degrees(phi), 5.0, 1)):
+        k = np.ones(w * int(FRAME_RATE_HZ)) / (w * FRAME_RATE_HZ)
         on = np.abs(np.convolve(x, k, mode="same")[:i + 1]) > lim
         ch = np.nonzero(on[1:] != on[:-1])[0]
         if len(ch):

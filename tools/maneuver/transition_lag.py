@@ -19,6 +19,10 @@ failure declaration one row:
   central differences), at the onset and at the declaration; ``lag``: the delay (s, 0-10) that
   best aligns the trim's gamma with the truth's over the 20 s before the declaration.
 
+For the VEL declarations also the VEL reading, the bank's prediction z_hat and the noise-free
+truth, each minus the trim's VEL in force (the schedule's airspeed), at the onset and at the
+declaration.
+
 Truth is read from the flight's log after the flight, for this diagnosis only.
 
 Run: .venv/bin/python tools/maneuver/transition_lag.py DIR/runs.jsonl [--extra '{"k": v}']
@@ -52,12 +56,15 @@ def replay(record: dict, bank, extra: dict | None = None) -> dict:
     est = Estimator(bank, **options)
     n = len(s["z"])
     out = {"gamma": np.zeros(n), "accel": np.zeros(n), "res": np.zeros((n, len(SENSORS))), "log_odds": [],
-           "declarations": []}
+           "declarations": [], "vel": np.zeros((n, 3))}
+    v = SENSORS.index("VEL")
     last = NONE
     for i in range(n):
         est.schedule(*s["air_data"][i])
         z_hat = est.update(s["z"][i])
         out["res"][i] = np.asarray(s["z"][i]) - np.asarray(z_hat)
+        trim_v = float(est.core_bank.z_trim[v])
+        out["vel"][i] = (s["z"][i][v] - trim_v, z_hat[v] - trim_v, s["truth_log"]["z_ideal"][i, v] - trim_v)
         p = np.asarray(est.probabilities, float)
         names = est.hypotheses
         p_none = p[names.index(NONE)] if NONE in names else float("nan")
@@ -127,7 +134,8 @@ def rows(record: dict, run: dict) -> list[dict]:
                     "g_at": math.degrees(tr["gamma"][i] - g_true[i]),
                     "g_true": math.degrees(g_true[i]),
                     "a_on": tr["accel"][onset] - a_true[onset], "a_at": tr["accel"][i] - a_true[i],
-                    "a_true": a_true[i], "lag": lag})
+                    "a_true": a_true[i], "lag": lag,
+                    "vel": (tr["vel"][onset], tr["vel"][i])})
     return out
 
 
@@ -149,6 +157,13 @@ def main(argv=None) -> None:
             print(f"{r['run']:3d} {r['t']:7.2f} {r['h']:>5} {r['phase']:>9} {r['event']:>6} {r['since']:5.1f} {r['rise']:5.2f} "
                   f"{r['channels']:>16} {r['g_true']:+7.2f} {r['g_on']:+6.2f}/{r['g_at']:+5.2f} {r['a_true']:+7.2f} "
                   f"{r['a_on']:+5.2f}/{r['a_at']:+5.2f} {r['lag']:5.2f}")
+    vel_rows = [r for r in table if r["h"] == "VEL"]
+    if vel_rows:
+        print("\nVEL declarations: VEL measured / predicted (z_hat) / true, minus the trim's VEL in force (ft/s), "
+              "at the onset -> at the declaration")
+        for r in vel_rows:
+            (m0, p0, t0), (m1, p1, t1) = r["vel"]
+            print(f"  {r['run']:3d} {r['t']:7.2f}: {m0:+6.2f} / {p0:+6.2f} / {t0:+6.2f}  ->  {m1:+6.2f} / {p1:+6.2f} / {t1:+6.2f}")
     print(f"\n{len(table)} declarations; by phase: "
           + ", ".join(f"{p} {n}" for p, n in collections.Counter(r['phase'] for r in table).most_common())
           + "; by hypothesis: " + ", ".join(f"{p} {n}" for p, n in collections.Counter(r['h'] for r in table).most_common()))

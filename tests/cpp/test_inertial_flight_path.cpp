@@ -2,10 +2,12 @@
 // complementary filter's recursion solved by hand, a steady coordinated turn read as no climb,
 // an airspeed ramp's acceleration against the two low-passes' discrete steady state, the freeze
 // rule (a failed pitch gyro moves nothing while frozen, and drives gamma to its limit when not),
-// the refusals; and in the bank the option reading z (a bank without PIT refused by name).
+// the refusals; and in the bank the option reading z with no allocation per frame (a bank
+// without PIT refused by name).
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/inertial_flight_path.h"
 
+#include "allocation_counter.h"
 #include "synthetic_models.h"
 
 #include <gtest/gtest.h>
@@ -116,13 +118,17 @@ TEST(InertialFlightPath, BankReadsZAndRefusesABankWithoutPitchRate) {
     Eigen::Matrix<double, 7, 1> z = mb.z_trim;
     const int pit = 2, rol = 4, yaw = 5, aoa = 1, vel = 0;
     z(pit) += 0.001;
+    long long allocations = 0;
     for (int k = 0; k < 64; ++k) {
+      const long long before = f16mmae::testing::allocation_count();
       b.schedule(AirData{0.4, 20000.0});
       b.update(z);
       b.propagate(mb.u_trim);
+      allocations += f16mmae::testing::allocation_count() - before;
       f.observe(z(pit), z(rol), z(yaw), z(aoa), z(vel), b.maneuver_trim().air_gamma(), b.maneuver_trim().air_accel(),
                 b.failure_suspected());
     }
+    EXPECT_EQ(allocations, 0);   // the per-frame path with the inertial rates allocates nothing
     EXPECT_NEAR(b.maneuver_trim().gamma(), f.gamma(), 1e-15);
     EXPECT_GT(b.maneuver_trim().gamma(), 0.0005);   // the pitch rate read: not the air data's 0
   }

@@ -39,7 +39,8 @@
 //   maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s  maneuver_dwell.h
 //   maneuver_kinematics, maneuver_tempering_g,
 //   maneuver_tempering_deadband_g (0: none)                             maneuver_kinematics.h
-//   maneuver_trim, maneuver_trim_time_constant_s, maneuver_trim_accel ('on'|'off')  maneuver_trim.h
+//   maneuver_trim, maneuver_trim_time_constant_s, maneuver_trim_accel ('on'|'off'),
+//   maneuver_trim_rates ('air'|'inertial'), maneuver_trim_blend_s                   maneuver_trim.h
 //   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
 //                                                                       actuator_limits.h
 // Every default is the core's own (the option structs' initialisers), so a keyword left out
@@ -85,6 +86,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              bool maneuver_kinematics, double maneuver_tempering_g,
                                              double maneuver_tempering_deadband_g,
                                              bool maneuver_trim, double maneuver_trim_time_constant_s, const std::string& maneuver_trim_accel,
+                                             const std::string& maneuver_trim_rates, double maneuver_trim_blend_s,
                                              const std::vector<double>& actuator_rate_limits_rad_s,
                                              const std::vector<double>& actuator_position_limits_rad) {
   HierarchicalOptions o;
@@ -96,6 +98,10 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   if (maneuver_trim_accel != "on" && maneuver_trim_accel != "off")
     throw py::value_error("maneuver_trim_accel must be 'on' or 'off', got '" + maneuver_trim_accel + "'");
   o.maneuver_trim.accel = maneuver_trim_accel == "on";
+  if (maneuver_trim_rates != "air" && maneuver_trim_rates != "inertial")
+    throw py::value_error("maneuver_trim_rates must be 'air' or 'inertial', got '" + maneuver_trim_rates + "'");
+  o.maneuver_trim.inertial = maneuver_trim_rates == "inertial";
+  o.maneuver_trim.inertial_path.blend_time_constant_s = maneuver_trim_blend_s;
   o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
   o.actuators.position_limit_rad = actuator_position_limits_rad;
   o.trim.time_constant_s = trim_time_constant_s;
@@ -183,6 +189,7 @@ Class& def_estimator_init(Class& cls) {
                   bool maneuver_kinematics,
                   double maneuver_tempering_g, double maneuver_tempering_deadband_g,
                   bool maneuver_trim, double maneuver_trim_time_constant_s, const std::string& maneuver_trim_accel,
+                  const std::string& maneuver_trim_rates, double maneuver_trim_blend_s,
                   const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
         return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, departure_hold, declare_components, partial_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
@@ -197,7 +204,8 @@ Class& def_estimator_init(Class& cls) {
                                              maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s,
                                              maneuver_kinematics, maneuver_tempering_g,
                                              maneuver_tempering_deadband_g, maneuver_trim, maneuver_trim_time_constant_s,
-                                             maneuver_trim_accel, actuator_rate_limits_rad_s, actuator_position_limits_rad));
+                                             maneuver_trim_accel, maneuver_trim_rates, maneuver_trim_blend_s,
+                                             actuator_rate_limits_rad_s, actuator_position_limits_rad));
       }),
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
       py::arg("level1_p_min") = core.level1_p_min, py::arg("level1_dwell_s") = core.level1_dwell_s,
@@ -236,6 +244,8 @@ Class& def_estimator_init(Class& cls) {
       py::arg("maneuver_trim") = core.maneuver_trim.enabled,
       py::arg("maneuver_trim_time_constant_s") = core.maneuver_trim.time_constant_s,
       py::arg("maneuver_trim_accel") = core.maneuver_trim.accel ? "on" : "off",
+      py::arg("maneuver_trim_rates") = core.maneuver_trim.inertial ? "inertial" : "air",
+      py::arg("maneuver_trim_blend_s") = core.maneuver_trim.inertial_path.blend_time_constant_s,
       py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
       py::arg("actuator_position_limits_rad") = std::vector<double>{});
 }

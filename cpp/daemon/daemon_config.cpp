@@ -28,6 +28,7 @@ std::string daemon_usage() {
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--maneuver-tempering-deadband D]\n"
          "                   [--maneuver-trim] [--maneuver-trim-time-constant T_S] [--maneuver-trim-accel on|off]\n"
+         "                   [--maneuver-trim-rates air|inertial] [--maneuver-trim-blend T_S]\n"
          "                   [--actuator-rate-limits R1,...,R5[,inf]]\n"
          "                   [--actuator-position-limits L1,...,L5[,inf]]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
@@ -117,6 +118,11 @@ std::string daemon_usage() {
          "                       and 5 T_S s (0.05-60; default 0.5)\n"
          "  --maneuver-trim-accel on|off  with --maneuver-trim: off keeps the climb's trim only\n"
          "                       (default on)\n"
+         "  --maneuver-trim-rates air|inertial  with --maneuver-trim: the climb angle and\n"
+         "                       acceleration from the air data (default) or from the rate gyros,\n"
+         "                       AOA and VEL against the air data (inertial_flight_path.h)\n"
+         "  --maneuver-trim-blend T_S  with --maneuver-trim: the inertial rates' blend time\n"
+         "                       constant (0.05-600; default 2)\n"
          "  --declare-components  a bank with partial-loss hypotheses: declare a surface's forms\n"
          "                       (complete and partial) as one component, naming the heavier form\n"
          "                       (declarer.h; default: each hypothesis alone)\n"
@@ -235,7 +241,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--maneuver-dwell-time-constant" || key == "--maneuver-reference" ||
                        key == "--maneuver-tempering-deadband" || key == "--level1-p-min" ||
                        key == "--level1-dwell-s" || key == "--departure-hold" ||
-                       key == "--maneuver-trim-time-constant" || key == "--maneuver-trim-accel";
+                       key == "--maneuver-trim-time-constant" || key == "--maneuver-trim-accel" ||
+                       key == "--maneuver-trim-rates" || key == "--maneuver-trim-blend";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
@@ -247,7 +254,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--maneuver-reference, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
                          "--departure-hold, --declare-components, --trim-tracking, "
                          "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
-                         "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
+                         "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --maneuver-trim-rates, --maneuver-trim-blend, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -350,6 +357,16 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value != "on" && value != "off")
         return usage_error("--maneuver-trim-accel must be 'on' or 'off', got '" + value + "'");
       c.maneuver_trim_accel = value == "on";
+    } else if (key == "--maneuver-trim-rates") {
+      if (value != "air" && value != "inertial")
+        return usage_error("--maneuver-trim-rates must be 'air' or 'inertial', got '" + value + "'");
+      c.maneuver_trim_inertial = value == "inertial";
+    } else if (key == "--maneuver-trim-blend") {
+      const std::optional<double> tau = finite_number(value);
+      if (!tau || *tau < 0.05 || *tau > 600.0)
+        return usage_error("--maneuver-trim-blend must be a time constant in seconds in [0.05, 600], got '" + value +
+                           "'");
+      c.maneuver_trim_blend_s = *tau;
     } else if (key == "--maneuver-trim-time-constant") {
       const std::optional<double> tau = finite_number(value);
       if (!tau || *tau < 0.05 || *tau > 60.0)
@@ -452,6 +469,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     return usage_error("--maneuver-trim-time-constant applies with --maneuver-trim only");
   if (c.maneuver_trim_accel && !c.maneuver_trim)
     return usage_error("--maneuver-trim-accel applies with --maneuver-trim only");
+  if (c.maneuver_trim_inertial && !c.maneuver_trim)
+    return usage_error("--maneuver-trim-rates applies with --maneuver-trim only");
+  if (c.maneuver_trim_blend_s && !c.maneuver_trim)
+    return usage_error("--maneuver-trim-blend applies with --maneuver-trim only");
   if (c.maneuver_reference && !c.adapt_turbulence)
     return usage_error("--maneuver-reference applies with --adapt-turbulence only");
   if (c.maneuver_tempering_deadband_g && c.maneuver_tempering_g == 0.0)

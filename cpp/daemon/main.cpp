@@ -146,6 +146,8 @@ int main(int argc, char** argv) {
     options.maneuver_trim.enabled = cfg.maneuver_trim;
     if (cfg.maneuver_trim_time_constant_s) options.maneuver_trim.time_constant_s = *cfg.maneuver_trim_time_constant_s;
     if (cfg.maneuver_trim_accel) options.maneuver_trim.accel = *cfg.maneuver_trim_accel;
+    if (cfg.maneuver_trim_inertial) options.maneuver_trim.inertial = *cfg.maneuver_trim_inertial;
+    if (cfg.maneuver_trim_blend_s) options.maneuver_trim.inertial_path.blend_time_constant_s = *cfg.maneuver_trim_blend_s;
     if (cfg.adapt_channel_weight) options.bank.adaptation.channel_weight = *cfg.adapt_channel_weight;
     if (cfg.maneuver_dwell_s) options.maneuver_dwell.dwell_s = *cfg.maneuver_dwell_s;
     if (cfg.maneuver_dwell_hold_s) options.maneuver_dwell.hold_s = *cfg.maneuver_dwell_hold_s;
@@ -244,7 +246,10 @@ int main(int argc, char** argv) {
         maneuver += ", maneuver reference " + f16mmae::format_value(running.maneuver_dwell.reference);
       if (running.maneuver_trim.enabled)
         maneuver += ", maneuver trim " + f16mmae::format_value(running.maneuver_trim.time_constant_s) + " s" +
-                    (running.maneuver_trim.accel ? "" : " (climb only)");
+                    (running.maneuver_trim.accel ? "" : " (climb only)") +
+                    (running.maneuver_trim.inertial
+                         ? ", inertial rates " + f16mmae::format_value(running.maneuver_trim.inertial_path.blend_time_constant_s) + " s"
+                         : "");
       // a scheduled bank's floors are its nodes' (blended where the air data lies): their range
       std::string floor = "p_min " + f16mmae::format_value(options.bank.p_min);
       if (bank.schedule && options.schedule.node_p_min) {

@@ -146,7 +146,10 @@
 //                                 (du_m, dz_m, dx_m) = S (gamma, dV/dt), S the nodes' climb and
 //                                 acceleration sensitivities, the states and failed sensors'
 //                                 levels moved bumplessly as for a scheduled trim
-//                                 (maneuver_trim.h).
+//                                 (maneuver_trim.h); with maneuver_trim.inertial (gamma, dV/dt)
+//                                 from z's rates, AOA and VEL against the air data's, read
+//                                 after each update under the trim tracker's freeze condition
+//                                 (inertial_flight_path.h).
 // A frame is one update (accepted or rejected): frame index i (0-based) has
 // time_s = i / frame_rate_hz. The declarer sees only accepted updates.
 //
@@ -251,6 +254,9 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
+    if (maneuver_trim_.options().inertial)   // maneuver_trim.h / inertial_flight_path.h
+      maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
+                                      z_abs(mt_vel_), trim_freezing());
     if (maneuver_dwell_.enabled()) {   // maneuver_dwell.h
       maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_);
       if (maneuver_dwell_.options().has_reference()) bank_.set_adapt_reference(adapt_reference_in_force());
@@ -525,6 +531,10 @@ class HierarchicalBank {
   const ClimbReference& climb_reference() const noexcept { return climb_ref_; }
   const ManeuverDwell& maneuver_dwell() const noexcept { return maneuver_dwell_; }
   const ManeuverTrim& maneuver_trim() const noexcept { return maneuver_trim_; }
+  // The trim tracker's freeze condition on the last frame (level 1, a failure declared or a
+  // failure hypothesis on line above its freeze probability): the maneuver trim's inertial
+  // rates read no sensor while it holds (inertial_flight_path.h).
+  bool failure_suspected() const noexcept { return trim_freezing(); }
   // The maneuver trim's offsets in force (zero when it is off; maneuver_trim.h).
   const XVector& maneuver_trim_dx() const noexcept { return mt_dx_; }
   const UVector& maneuver_trim_du() const noexcept { return mt_du_; }
@@ -980,6 +990,17 @@ class HierarchicalBank {
       throw std::invalid_argument("hierarchical bank: the maneuver trim needs the measurements 'VEL' and 'AOA'");
     mt_vel_ = static_cast<int>(vel - m.begin());
     const int ia = static_cast<int>(aoa - m.begin());
+    if (options_.maneuver_trim.inertial) {   // q, p, r, alpha of z (inertial_flight_path.h)
+      const char* need[3] = {"PIT", "ROL", "YAW"};
+      for (int k = 0; k < 3; ++k) {
+        const auto it = std::find(m.begin(), m.end(), need[k]);
+        if (it == m.end())
+          throw std::invalid_argument(std::string("hierarchical bank: the maneuver trim's inertial rates need the "
+                                                  "measurement '") + need[k] + "'");
+        mt_z_[k] = static_cast<int>(it - m.begin());
+      }
+      mt_z_[3] = ia;
+    }
     auto add = [&](const ModelBank& node) {
       const HypothesisModel& h = node.hypotheses.at(0);
       const TrimSensitivity s = trim_sensitivity(h.phi, h.bd, h.h, mb.state_names, mb.input_names, mb.frame_rate_hz,
@@ -1036,6 +1057,7 @@ class HierarchicalBank {
   ManeuverDwell maneuver_dwell_;
   int maneuver_dwell_az_ = 0;   // AZ in z (the maneuver dwell's load factor)
   ManeuverTrim maneuver_trim_;
+  int mt_z_[4] = {0, 0, 0, 0};   // PIT, ROL, YAW, AOA in z (the maneuver trim's inertial rates)
   std::vector<Eigen::MatrixXd> mt_sx_, mt_su_, mt_sz_;   // per node: d(x, u, z)_trim / d(gamma, a)
   XVector mt_dx_, mt_shift_;
   UVector mt_du_, base_u_trim_;

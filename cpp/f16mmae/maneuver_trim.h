@@ -51,11 +51,18 @@
 // Nothing here reads the truth: the air data are the scheduling input, the sensitivities the
 // bank's own model. It cannot absorb a failure: (gamma, a) come from the air data alone, which
 // no failure hypothesis concerns (air-data failures are out of scope).
+// With options.inertial (gamma, a) come instead from inertial_flight_path.h: the pitch rate,
+// roll and yaw rates, AOA and VEL of z, complementary to the air data's (gamma, a) above, fed by
+// HierarchicalBank::update after each measurement update with the bank's freeze condition (the
+// trim tracker's: a failure hypothesis rising, declared or level 1), under which it reads none of
+// z and goes over to the air data's, so a failed sensor cannot drive the trim to absorb it. The
+// (gamma, a) of frame k are applied at the schedule() of frame k + 1.
 // Off (enabled = false, the default): the bank as designed, bit for bit.
 // Options are checked by validate() (std::invalid_argument naming the value and its range).
 #pragma once
 
 #include "f16mmae/estimator_settings.h"
+#include "f16mmae/inertial_flight_path.h"
 
 #include <Eigen/Dense>
 
@@ -73,8 +80,11 @@ struct ManeuverTrimOptions {
   double gamma_max_rad = 0.5;         // |gamma| at most this
   double accel_max_fps2 = 32.174;     // |dV/dt| at most this (1 g)
   bool accel = true;                  // false: a = 0 (the climb's trim only)
+  bool inertial = false;              // (gamma, a) from inertial_flight_path.h (header); false: the air data's
+  InertialFlightPathOptions inertial_path;
   void validate() const {
     if (!enabled) return;
+    if (inertial) inertial_path.validate();
     if (!(time_constant_s >= 0.05 && time_constant_s <= 60.0))
       throw std::invalid_argument("maneuver trim: time_constant_s must be in [0.05, 60] s, got " +
                                   format_value(time_constant_s));
@@ -180,6 +190,7 @@ class ManeuverTrim {
     if (!options.enabled) return;
     gain_fast_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * options.time_constant_s));
     gain_slow_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * 5.0 * options.time_constant_s));
+    if (options.inertial) path_ = InertialFlightPath(options.inertial_path, frame_rate_hz);
   }
   bool enabled() const noexcept { return options_.enabled; }
   const ManeuverTrimOptions& options() const noexcept { return options_; }
@@ -188,6 +199,7 @@ class ManeuverTrim {
     seen_ = false;
     h_fast_ = h_slow_ = m_fast_ = m_slow_ = 0.0;
     gamma_ = accel_ = 0.0;
+    path_.reset();
   }
   // One usable air-data sample (Mach, pressure altitude ft) and the speed of sound c (ft/s) of
   // the trim in force: updates gamma() and accel().
@@ -211,8 +223,23 @@ class ManeuverTrim {
                             : 0.0;
     if (!std::isfinite(gamma_) || !std::isfinite(accel_)) gamma_ = accel_ = 0.0;
   }
-  double gamma() const noexcept { return gamma_; }        // rad
-  double accel() const noexcept { return accel_; }        // ft/s^2
+  // With options.inertial: one frame's measurements (absolute: q, p, r rad/s, alpha rad, V ft/s)
+  // and the bank's freeze condition, into the complementary filter (inertial_flight_path.h)
+  // against the air data's (gamma, a) of the last observe(). No-op otherwise.
+  void observe_inertial(double q, double p, double r, double alpha, double vel, bool frozen) noexcept {
+    if (!options_.inertial) return;
+    path_.observe(q, p, r, alpha, vel, gamma_, accel_, frozen);
+  }
+  // The (gamma, a) in force: the air data's, or with options.inertial the complementary
+  // filter's once it has a frame (a = 0 with accel = false).
+  double gamma() const noexcept { return options_.inertial && path_seen() ? path_.gamma() : gamma_; }   // rad
+  double accel() const noexcept {                                                                     // ft/s^2
+    if (!options_.accel) return 0.0;
+    return options_.inertial && path_seen() ? path_.accel() : accel_;
+  }
+  double air_gamma() const noexcept { return gamma_; }   // the air data's own
+  double air_accel() const noexcept { return accel_; }
+  const InertialFlightPath& inertial_path() const noexcept { return path_; }
 
  private:
   ManeuverTrimOptions options_;
@@ -220,6 +247,8 @@ class ManeuverTrim {
   bool seen_ = false;
   double h_fast_ = 0.0, h_slow_ = 0.0, m_fast_ = 0.0, m_slow_ = 0.0;
   double gamma_ = 0.0, accel_ = 0.0;
+  InertialFlightPath path_;
+  bool path_seen() const noexcept { return path_.seen(); }
 };
 
 }  // namespace f16mmae

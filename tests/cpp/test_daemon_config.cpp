@@ -237,6 +237,12 @@ TEST(DaemonConfig, ManeuverTrimOptions) {
   EXPECT_TRUE(r.config.maneuver_trim);
   EXPECT_EQ(*r.config.maneuver_trim_time_constant_s, 0.25);
   EXPECT_FALSE(*r.config.maneuver_trim_accel);
+  EXPECT_FALSE(r.config.maneuver_trim_inertial);
+  r = parse_daemon_args({"--bank", "b", "--maneuver-trim", "--maneuver-trim-rates", "inertial",
+                         "--maneuver-trim-blend", "3"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(*r.config.maneuver_trim_inertial);
+  EXPECT_EQ(*r.config.maneuver_trim_blend_s, 3.0);
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
       {{"--maneuver-trim-time-constant", "0.5"}, "--maneuver-trim-time-constant applies with --maneuver-trim only"},
       {{"--maneuver-trim", "--maneuver-trim-time-constant", "0.01"},
@@ -244,6 +250,11 @@ TEST(DaemonConfig, ManeuverTrimOptions) {
       {{"--maneuver-trim", "--maneuver-trim-time-constant", "x"}, "--maneuver-trim-time-constant must be"},
       {{"--maneuver-trim-accel", "off"}, "--maneuver-trim-accel applies with --maneuver-trim only"},
       {{"--maneuver-trim", "--maneuver-trim-accel", "no"}, "--maneuver-trim-accel must be 'on' or 'off', got 'no'"},
+      {{"--maneuver-trim-rates", "inertial"}, "--maneuver-trim-rates applies with --maneuver-trim only"},
+      {{"--maneuver-trim", "--maneuver-trim-rates", "gyro"}, "--maneuver-trim-rates must be 'air' or 'inertial', got 'gyro'"},
+      {{"--maneuver-trim-blend", "2"}, "--maneuver-trim-blend applies with --maneuver-trim only"},
+      {{"--maneuver-trim", "--maneuver-trim-blend", "0"},
+       "--maneuver-trim-blend must be a time constant in seconds in [0.05, 600], got '0'"},
   };
   for (const auto& [extra, message] : refused) {
     std::vector<std::string> args{"--bank", "b"};

@@ -189,6 +189,20 @@ def test_the_maneuver_trim_reaches_the_daemon():
     assert rc == 2 and "--maneuver-trim-time-constant applies with --maneuver-trim only" in out
 
 
+def test_the_maneuver_trim_inertial_rates_reach_the_daemon():
+    """--maneuver-trim-rates inertial and --maneuver-trim-blend: passed on by daemon_flags, in
+    force in the daemon (its ready line names them), refused without --maneuver-trim."""
+    options = {"maneuver_trim": True, "maneuver_trim_rates": "inertial", "maneuver_trim_blend_s": 3.0}
+    flags = daemon_flags(options)
+    assert flags[flags.index("--maneuver-trim-rates") + 1] == "inertial"
+    assert float(flags[flags.index("--maneuver-trim-blend") + 1]) == 3.0
+    bank = str(load_bank("tuned")[1])
+    ready = _ready_line("--bank", bank, *flags)
+    assert "inertial rates 3 s" in ready, ready
+    rc, out = _daemon("--bank", bank, "--maneuver-trim-rates", "inertial")
+    assert rc == 2 and "--maneuver-trim-rates applies with --maneuver-trim only" in out
+
+
 def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     """The maneuver dwell and reference, the tempering's dead band, the level-1 floor and dwell,
     the departure hold and the channel weight: passed on by daemon_flags, in force in the

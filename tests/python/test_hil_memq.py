@@ -196,6 +196,25 @@ def test_lockstep_with_the_maneuver_trim_reproduces_the_in_process_run(bank):
     assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(plain_run.probabilities))
 
 
+def test_lockstep_with_the_maneuver_trims_inertial_rates_reproduces_the_in_process_run(bank):
+    # the rates read z's gyros, AOA and VEL after each update and the freeze condition: the same
+    # on both sides of the link
+    options = dict(maneuver_trim=True, maneuver_trim_rates="inertial", maneuver_trim_blend_s=1.0)
+    scenario = _scenario([("LS", 0.5)], duration_s=3.0)
+    lc = lcm.LCM("memq://")
+    chans = channels("MTI_")
+    InProcessExecutive(bank, **options).serve(lc, chans)
+    remote_run = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0, estimator_options=options)
+    local_run = fly(scenario, bank, estimator_options=options)
+    air_run = fly(scenario, bank, estimator_options=dict(maneuver_trim=True))
+    assert remote_run.hypotheses == local_run.hypotheses
+    np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
+    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
+    assert remote_run.declarations == local_run.declarations
+    # the option is in force: the flight is not the air data's maneuver trim
+    assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(air_run.probabilities))
+
+
 def test_lockstep_with_the_maneuver_dwell_and_level1_options_reproduces_the_in_process_run(bank):
     # the maneuver dwell's gate low (0.005 g, no hold): light turbulence opens and closes it, so
     # the dwell and reference in force change frame by frame on both sides of the link

@@ -184,6 +184,16 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     requires="maneuver_trim",
                     help="with --maneuver-trim: off keeps the climb's trim only, not the acceleration's "
                          "(default on)"),
+    EstimatorOption("maneuver_trim_rates", "--maneuver-trim-rates", "choice", metavar="air|inertial",
+                    choices=("air", "inertial"), requires="maneuver_trim",
+                    help="with --maneuver-trim: where the climb angle and acceleration come from: the air data's "
+                         "rates (air, the default) or a complementary filter, fast from the measured pitch, roll "
+                         "and yaw rates, AOA and VEL, slow from the air data, that reads no sensor while a failure "
+                         "is suspected (inertial; cpp/f16mmae/inertial_flight_path.h)"),
+    EstimatorOption("maneuver_trim_blend_s", "--maneuver-trim-blend", "number", metavar="T_S", minimum=0.05,
+                    maximum=600.0, requires="maneuver_trim",
+                    help="with --maneuver-trim-rates inertial: the air data take over the pitch attitude over "
+                         "T_S seconds (default 2)"),
     EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
                     below=LEVEL1_P_MIN_BELOW,
                     help="probability floor while a failure's level-1 (dual) bank is on line: a second "

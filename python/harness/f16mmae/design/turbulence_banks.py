@@ -99,6 +99,12 @@ BOUNDS: tuple[float, ...] = (CALM_BOUND,) + tuple(round((row[i] * row[i + 1]) **
 #: whether it takes over, not the light member's, whose rho in calm air (median 0.58) lies close
 #: to its bound (0.655) where the calm member's lies far from it.
 CALMER_OWN_RHO = True
+#: The adaptive dither's reference rho_ref per member (truth/dither.py ``adaptive_gains``: the
+#: dither grows as sqrt(rho / rho_ref) above it): the top of each member's own band -- the calm
+#: member's bound (above it the light member takes over), the light member's geometric mean of
+#: its median rho in light and moderate turbulence (0.74, 1.18).  Not part of the set file: the
+#: closed loop's rule (``--adaptive-dither``), read from the set's member in force.
+ADAPTIVE_DITHER_REFERENCE: tuple[float, ...] = (CALM_BOUND, round((0.74 * 1.18) ** 0.5, 4))
 TYPICAL: tuple[float, ...] = tuple(MEDIAN_RHO[i][i] for i in range(len(MEDIAN_RHO)))
 #: The selector's floor by rho (turbulence_bank_set.h): each member's level-0 floor while its own
 #: rho is at or below ``FLOOR_RHO`` (0: off), ``FLOOR_P_MIN`` (0: the member's own,

@@ -111,7 +111,7 @@ ADAPTIVE_RATE_SHARE = 0.75
 #: (the criterion it is measured against in turbulence; module docstring).
 ADAPTIVE_GUST_SHARE = 0.5
 #: sqrt(rho / rho_ref) at which the turbulence line is in full (module docstring).
-ADAPTIVE_FULL_RATIO = 2.3
+ADAPTIVE_FULL_RATIO = 1.35
 #: The flaperons' turbulence line: frequency (Hz) and amplitude (deg; its rate 2 pi f b = 60
 #: deg/s, ADAPTIVE_RATE_SHARE of the flaperons' 80).
 TURBULENCE_FLAPERON_FREQUENCY_HZ = 1.0

@@ -65,7 +65,9 @@ def truth_z(level: str, seed: int, seconds: float, dither: bool, h: float) -> tu
     return truth.truth_log["z_ideal"], np.asarray(truth.trim.z)
 
 
-def levels_table(seed: int, seconds: float, mixes: dict) -> None:
+def levels_table(seed: int, seconds: float, mixes: dict) -> dict:
+    """Part 2's table; returns {channel: {"gusts" | "fixed" | "adaptive": [peak per level]}}."""
+    peaks = {name: {"gusts": [], "fixed": [], "adaptive": []} for name, _, _ in CHANNELS}
     print(f"\n2. At the nominal point, {seconds:g} s, seed {seed}, no noise, raw feedback: the gusts' peak / RMS, "
           f"the dither's part peak (share of the gusts' peak), fixed and adaptive at the level's median h")
     print("| turbulence | h | " + " | ".join(f"gusts {n} peak / RMS | fixed {n} | adaptive {n}" for n, _, _ in CHANNELS)
@@ -86,7 +88,30 @@ def levels_table(seed: int, seconds: float, mixes: dict) -> None:
             ok &= d2 <= max(calm if h == 0.0 else 0.0, ADAPTIVE_GUST_SHARE * gp)
             share = lambda d: f"{d:.3f} ({d / gp:.2f})" if gp > 0.1 * calm else f"{d:.3f}"
             cells.append(f"{gp:.3f} / {gr:.3f} | {share(d1)} | {share(d2)}")
+            for key, v in (("gusts", gp), ("fixed", d1), ("adaptive", d2)):
+                peaks[name][key].append(v)
         print(f"| {level} | {h:.2f} | " + " | ".join(cells) + f" | {'met' if ok else 'NOT met'} |", flush=True)
+    return peaks
+
+
+def figure(peaks: dict, path: str) -> None:
+    """Part 2's peaks per level: the gusts', the fixed and the adaptive dither's, per channel."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(CHANNELS), figsize=(12, 3.6))
+    x = np.arange(len(TURBULENCE_LEVELS))
+    for ax, (name, _, _) in zip(axes, CHANNELS):
+        for k, (key, label) in enumerate((("gusts", "gusts"), ("fixed", "fixed dither"), ("adaptive", "adaptive dither"))):
+            ax.bar(x + (k - 1) * 0.27, peaks[name][key], 0.27, label=label)
+        ax.plot(x, ADAPTIVE_GUST_SHARE * np.array(peaks[name]["gusts"]), "k_", markersize=18,
+                label=f"{ADAPTIVE_GUST_SHARE:g} x gusts")
+        ax.set_xticks(x, TURBULENCE_LEVELS)
+        ax.set_title(f"peak {name}")
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Nominal point: the gusts' peak response and the dither's part, per level")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
 
 
 def evidence_table(model_bank, flights: int) -> None:
@@ -125,6 +150,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seconds", type=float, default=60.0, help="their length, s")
     p.add_argument("--truth-seconds", type=float, default=30.0, help="the truth flights' length (part 2), s")
     p.add_argument("--evidence-flights", type=int, default=10, help="failure flights per case (part 3; 0: skip)")
+    p.add_argument("--figure", default=None, metavar="PNG", help="part 2's peaks as a figure")
     args = p.parse_args(argv)
     _, _, bank = load_bank("turbulence")
     print("1. The turbulence line's share h the closed loop sets (no failure; percentiles 5/50/95 after 10 s)")
@@ -137,7 +163,9 @@ def main(argv: list[str] | None = None) -> int:
         q = np.percentile(h, [5, 50, 95])
         mixes[level] = q[1]
         print(f"| {level} | {q[0]:.2f} / {q[1]:.2f} / {q[2]:.2f} |", flush=True)
-    levels_table(7, args.truth_seconds, mixes)
+    peaks = levels_table(7, args.truth_seconds, mixes)
+    if args.figure:
+        figure(peaks, args.figure)
     if args.evidence_flights:
         evidence_table(bank, args.evidence_flights)
     return 0

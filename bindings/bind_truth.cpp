@@ -163,9 +163,36 @@ class Frames {
     c.dither_amplitude_rad = arr<kSurfaces>(d, "dither_amplitude_rad");
     c.dither_omega_rad_s = arr<kSurfaces>(d, "dither_omega_rad_s");
     c.dither_phase_rad = arr<kSurfaces>(d, "dither_phase_rad");
+    if (d.contains("dither_gain")) c.dither_gain = dither_gain(arr<kSurfaces>(d, "dither_gain"));
+    if (d.contains("dither_gain2")) {
+      c.dither2_gain = dither_gain(arr<kSurfaces>(d, "dither_gain2"));
+      c.dither2_amplitude_rad = arr<kSurfaces>(d, "dither2_amplitude_rad");
+      c.dither2_omega_rad_s = arr<kSurfaces>(d, "dither2_omega_rad_s");
+      c.dither2_phase_rad = arr<kSurfaces>(d, "dither2_phase_rad");
+    }
     fcs_.c = c;
     fcs_.x_int = num(d, "x_int"), fcs_.x_wash = num(d, "x_wash"), fcs_.x_vel = num(d, "x_vel");
     has_fcs_ = true;
+  }
+
+  // The adaptive dither's gains per surface (truth/dither.py adaptive_gains): 5 finite values >= 0.
+  static Surfaces dither_gain(const Surfaces& g) {
+    for (double x : g)
+      if (!(std::isfinite(x) && x >= 0.0))
+        throw py::value_error("TruthFrames: a dither gain needs 5 finite values >= 0 (LS RS LF RF RUD)");
+    return g;
+  }
+  static Surfaces dither_gain(const std::vector<double>& g) {
+    if (g.size() != kSurfaces) throw py::value_error("TruthFrames: a dither gain needs 5 values (LS RS LF RF RUD)");
+    Surfaces s{};
+    std::copy(g.begin(), g.end(), s.begin());
+    return dither_gain(s);
+  }
+  // g_j of the calm line, h_j of the turbulence line (set_fcs gave its terms).
+  void set_dither_gain(const std::vector<double>& g, const std::vector<double>& h) {
+    const Surfaces gs = dither_gain(g), hs = dither_gain(h);
+    fcs_.c.dither_gain = gs;
+    fcs_.c.dither2_gain = hs;
   }
 
   // The outer loop (truth/outer_loop.py OuterLoop.coefficients()) on the instruments
@@ -491,6 +518,9 @@ void bind_truth(py::module_& m) {
            py::arg("steps_per_frame"), py::arg("frame_rate_hz"), py::arg("sim_rate_hz"), py::arg("capacity"),
            py::arg("record_log") = true)
       .def("set_fcs", &Frames::set_fcs, py::arg("coefficients"))
+      .def("set_dither_gain", &Frames::set_dither_gain, py::arg("gain"), py::arg("gain2"),
+           "The adaptive dither's gains per surface, of the calm and of the turbulence line (5 values >= 0 each;\n"
+           "truth/dither.py adaptive_gains), from the next frame on.")
       .def("set_outer_loop", &Frames::set_outer_loop, py::arg("coefficients"), py::arg("instruments"),
            py::arg("throttle_property"))
       .def_property_readonly("outer_state", &Frames::outer_state)

@@ -16,7 +16,9 @@
 //   complete: z_trim_i + v_i; null: 0; stuck: last z_i before the failure; hardover: full
 //   scale (high if value >= 0); bias: ideal + (v_i + value); drift: ideal + (v_i + value (t - t_f)).
 // Flight control law: truth/fcs.py's module docstring (pitch C*-like PI, roll-rate command,
-// washed-out yaw damper with ARI), plus dither d_j = a_j sin(w_j t + phi_j), clipped to +-lim;
+// washed-out yaw damper with ARI), plus dither d_j = g_j (a_j sin(w_j t + phi_j)), and
+// + h_j (b_j sin(v_j t + psi_j)) where h_j != 0 (the adaptive dither's turbulence line,
+// truth/dither.py adaptive_gains; g_j = 1, h_j = 0 for the fixed dither), clipped to +-lim;
 // its pilot commands nz_cmd, p_cmd are zero, or come from the outer loop.
 // Throttle dither (truth/dither.py throttle_command): th = sat(base + a sin(w t), 0, 1), written
 // before a frame's JSBSim steps; base = the trim throttle, or in maneuvers the outer loop's
@@ -140,6 +142,8 @@ struct FcsCoefficients {
   double xi_max = 0, dt_s = 0;
   bool dither_enabled = false;
   Surfaces dither_amplitude_rad{}, dither_omega_rad_s{}, dither_phase_rad{};
+  Surfaces dither_gain{1.0, 1.0, 1.0, 1.0, 1.0};  // the adaptive dither's g_j (1: the fixed dither)
+  Surfaces dither2_gain{}, dither2_amplitude_rad{}, dither2_omega_rad_s{}, dither2_phase_rad{};  // h_j, b_j, v_j, psi_j
 };
 
 /// The flight control law with its three states; pilot commands nz_cmd (g), p_cmd (rad/s).
@@ -165,7 +169,12 @@ struct FlightControlLaw {
     Surfaces d{};
     if (c.dither_enabled)
       for (int j = 0; j < kSurfaces; ++j)
-        d[j] = c.dither_amplitude_rad[j] * std::sin(c.dither_omega_rad_s[j] * time_s + c.dither_phase_rad[j]);
+      {
+        d[j] = c.dither_gain[j] * (c.dither_amplitude_rad[j] * std::sin(c.dither_omega_rad_s[j] * time_s + c.dither_phase_rad[j]));
+        if (c.dither2_gain[j] != 0.0)
+          d[j] += c.dither2_gain[j] *
+                  (c.dither2_amplitude_rad[j] * std::sin(c.dither2_omega_rad_s[j] * time_s + c.dither2_phase_rad[j]));
+      }
     const Surfaces& ut = c.u_trim;
     Surfaces u{ut[0] + de + c.g_dt * da + d[0], ut[1] + de - c.g_dt * da + d[1], ut[2] + da + d[2],
                 ut[3] - da + d[3], ut[4] + dr_cmd + d[4]};

@@ -128,6 +128,16 @@ TEST(TruthControlLaw, IntegratorLimitWashoutAndDither) {
   const Surfaces u = d.command(c.z_trim, 0.75);
   EXPECT_DOUBLE_EQ(u[0], -0.02 + 0.01 * std::sin(1.5));
   EXPECT_DOUBLE_EQ(u[4], 0.0 + 0.02 * std::sin(1.25));
+  // the adaptive dither: g_j on the line, h_j on the second line (truth/dither.py adaptive_gains)
+  c.dither_gain = {0.25, 1, 1, 1, 1};
+  c.dither2_gain = {0.75, 0, 0, 0, 0};
+  c.dither2_amplitude_rad = {0.1, 0, 0, 0, 0.5};   // the rudder's is not added: its h is 0
+  c.dither2_omega_rad_s = {1.0, 0, 0, 0, 3.0};
+  c.dither2_phase_rad = {0.2, 0, 0, 0, 0.0};
+  FlightControlLaw a{c};
+  const Surfaces v = a.command(c.z_trim, 0.75);
+  EXPECT_NEAR(v[0], -0.02 + 0.25 * 0.01 * std::sin(1.5) + 0.75 * 0.1 * std::sin(0.95), 1e-15);
+  EXPECT_DOUBLE_EQ(v[4], u[4]);
 }
 
 TEST(TruthFrame, AFrameAllocatesNothing) {

@@ -61,7 +61,7 @@ def _bank_set(model_bank, settings: dict):
     filter's power per channel it reads, the file's reference, trim tracking and load-factor
     tempering unless given), what mmae-daemon --turbulence-banks runs."""
     bank_set = turbulence_set_of(model_bank)
-    own = {k: v for k, v in settings.items() if k != "turbulence_banks"}
+    own = {k: v for k, v in settings.items() if k not in ("turbulence_banks", "adaptive_dither")}
     return core.TurbulenceBankSet(bank_set.source, **core_arguments(own, model_bank.nu))
 
 
@@ -158,6 +158,11 @@ class Estimator:
     def turbulence_power_ratio(self) -> float:
         """The adaptation's averaged residual power ratio rho (of the running member for a set)."""
         return float(self._bank.turbulence_power_ratio)
+
+    @property
+    def turbulence_member(self) -> int | None:
+        """The index of the turbulence set's member in force (None: not a set)."""
+        return int(self._bank.active) if self.settings.get("turbulence_banks") else None
 
     @property
     def level(self) -> int:

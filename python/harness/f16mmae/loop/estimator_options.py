@@ -105,6 +105,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "with --tuning turbulence, whose bank file is the set's: mmae-daemon --bank SET "
                          "--turbulence-banks; flown with the load-factor tempering its file recommends, "
                          "docs/results/turbulence_banks.md). Default off"),
+    EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,
+                    help="with --turbulence-banks: the closed loop scales the truth's surface dither each frame "
+                         "by the turbulence the set's member in force measures (its rho over the member's "
+                         "reference, square root, capped by the actuators' rates; truth/dither.py "
+                         "adaptive_gains): the calm-air dither in calm and light air, larger in stronger gusts. "
+                         "Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "
@@ -251,8 +257,9 @@ CORE_ONLY: dict[str, str] = {
     "adapt_gain": "the adaptation's gain on the excess residual power (turbulence_adaptation.h)",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
-#: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set).
-HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks")
+#: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
+#: ``adaptive_dither`` is the closed loop's, loop/flight.py).
+HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither")
 
 #: The table by key.
 BY_KEY: dict[str, EstimatorOption] = {o.key: o for o in ESTIMATOR_OPTIONS}

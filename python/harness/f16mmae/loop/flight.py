@@ -20,6 +20,12 @@ the truth flies the scheduled throttle dither with it (``DitherSpec.with_schedul
 the throttle is part of the MMAE system's excitation, as the surface dither is), unless the
 scenario gives a throttle dither of its own or disables the dither.
 
+Adaptive dither (estimator setting ``adaptive_dither``, ``--adaptive-dither``; with the
+turbulence bank set only): after ``update(z_i)`` the loop reads the set's member in force a and
+its rho (the estimator's outputs, never the truth turbulence) and sets the truth's dither gains
+``truth.dither.adaptive_gains(rho, ADAPTIVE_DITHER_REFERENCE[a])`` for u_i (the flaperons'
+turbulence line); the estimator propagates that u_i, dither included.
+
 The estimator is an :class:`~f16mmae.loop.estimator.Estimator`: built from the model bank alone, its only inputs
 are the absolute vectors ``z`` (7,) and ``u`` (5,; 6 with the throttle) and the measured air data (Mach, pressure
 altitude ft, from the truth model's air-data sensor, never the truth state), copied into fresh
@@ -49,6 +55,7 @@ import numpy as np
 from .. import __version__, core
 from ..names import FEEDBACK_MODES, FRAME_RATE_HZ, THROTTLE_INPUT
 from ..truth import FlightControlSystem, Scenario, TruthModel
+from ..truth.dither import adaptive_gains
 from .estimator import Estimator
 
 
@@ -204,7 +211,11 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         rec_u, rec_z, rec_z_hat = (np.zeros((n_frames, 6 if throttle else 5)), np.zeros((n_frames, 7)),
                                    np.zeros((n_frames, 7)))
         rec_air = np.zeros((n_frames, 2))
-    in_cpp = (truth.law_in_cpp and on_frame is None and not record_series
+    adaptive = bool(getattr(estimator, "settings", {}).get("adaptive_dither"))
+    if adaptive:  # the executive's rule: the set's member in force and its rho set the dither's gains
+        from ..design.turbulence_banks import ADAPTIVE_DITHER_REFERENCE
+        gain_now = None
+    in_cpp = (not adaptive and truth.law_in_cpp and on_frame is None and not record_series
               and isinstance(estimator, Estimator) and estimator.fixed_size
               and (not throttle or scenario.dither.throttle_on))  # C++ takes th_i from the dither
     if in_cpp:  # the whole flight in C++: one call, the same frames
@@ -231,6 +242,12 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         b = clock()
         estimator.schedule(air[0], air[1])
         z_hat = estimator.update(z)
+        if adaptive:
+            gain = adaptive_gains(estimator.turbulence_power_ratio,
+                                  ADAPTIVE_DITHER_REFERENCE[estimator.turbulence_member])
+            if gain != gain_now:
+                truth.set_dither_gain(fcs, *gain)
+                gain_now = gain
         c = clock()
         if use_mmae:
             z_fb = z_hat

@@ -56,12 +56,42 @@ dither's direct effect ``b_x a_th`` is then 0.018 g at every flight condition, a
 effect over the envelope (``python -m f16mmae.design.excitation --envelope-peaks``; 0.062 g at
 M 0.8 / 5,000 ft for an unscheduled 0.0239).  The same rule in C++: ``ThrottleDither`` in
 cpp/truth/truth_frame.h, bit for bit.
+
+Adaptive dither (``adaptive_gains``; the closed loop's ``--adaptive-dither``, loop/flight.py):
+in strong turbulence the flaperons' calm-air line (2.9 Hz) gives way to a slower, larger one,
+the turbulence line (``TURBULENCE_FLAPERON_FREQUENCY_HZ``, ``TURBULENCE_FLAPERON_AMPLITUDE_DEG``,
+the same phases +-phi)::
+
+    d_j = g_j (a_j sin(w_j t + phi_j)) + h_j (b_j sin(v_j t + phi_j)),   g_j = 1 - h_j,
+
+h_j = h on LF and RF (0 elsewhere), set each frame by the executive from the estimator's own
+output, never the truth turbulence: the residual power ratio rho of the turbulence set's member
+in force (cpp/f16mmae/turbulence_bank_set.h) and that member's reference rho_ref,a (the top of
+its own design band; design/turbulence_banks.py ``ADAPTIVE_DITHER_REFERENCE``)::
+
+    h = min( max( (sqrt(rho / rho_ref,a) - 1) / (ADAPTIVE_FULL_RATIO - 1), 0 ), 1 )
+
+rho is the member's residual power over its design's: in gust-dominated residuals it grows with
+the gust variance, so sqrt(rho / rho_ref) is about the gust RMS over the top of the member's
+band.  Criterion: the fixed dither (``CRITERION``, calm air) exactly while rho <= rho_ref (h = 0),
+and in turbulence the dither's peak |Delta n_z|, p and q at most ``ADAPTIVE_GUST_SHARE`` of the
+gusts' own at the nominal point (measured per level by tools/turbulence_dither.py).  Why a
+slower line and not a larger one: a failed flaperon's evidence grows with the line's amplitude
+at a given surface rate (the closed loop's n_z and p per degree fall with frequency) and the
+rate is what the actuators bound (80 deg/s; the calm-air line already takes 40); the turbulence
+line takes ``ADAPTIVE_RATE_SHARE`` of it, the rest left to the control law's answer to the
+gusts (the estimator's linear actuator sees no rate limit).  b_j is scheduled with the flight
+condition as the calm line is (``amplitude_schedule``) and kept within that rate share.  With
+h = 0 (the default) the dither is the fixed one bit for bit (1.0 x is exact and the second line
+is not added); cpp/truth/truth_frame.h computes the same in the same order.
 """
 from __future__ import annotations
 
 import dataclasses
 import math
 from dataclasses import dataclass, field
+
+from .actuators import RATE_LIMIT_RAD_S
 
 #: Default amplitude per surface (deg), order LS RS LF RF RUD.
 DEFAULT_AMPLITUDE_DEG: tuple[float, ...] = (1.8, 1.8, 2.2, 2.2, 5.5)
@@ -75,6 +105,17 @@ DEFAULT_PHASE_RAD: tuple[float, ...] = (0.0, 0.0, 0.55, -0.55, 0.0)
 MAX_AMPLITUDE_DEG = 15.0
 #: Subliminal criterion (peak values) the defaults are checked against.
 CRITERION = {"nz_g": 0.05, "rate_deg_s": 1.0, "ny_g": 0.02, "nx_g": 0.02}
+#: Share of an actuator's rate limit the adaptive dither's turbulence line may take (module docstring).
+ADAPTIVE_RATE_SHARE = 0.75
+#: Largest share of the gusts' own peak |Delta n_z|, p and q the adaptive dither's may add
+#: (the criterion it is measured against in turbulence; module docstring).
+ADAPTIVE_GUST_SHARE = 0.5
+#: sqrt(rho / rho_ref) at which the turbulence line is in full (module docstring).
+ADAPTIVE_FULL_RATIO = 1.35
+#: The flaperons' turbulence line: frequency (Hz) and amplitude (deg; its rate 2 pi f b = 60
+#: deg/s, ADAPTIVE_RATE_SHARE of the flaperons' 80).
+TURBULENCE_FLAPERON_FREQUENCY_HZ = 1.0
+TURBULENCE_FLAPERON_AMPLITUDE_DEG = 9.5
 #: Largest throttle dither amplitude a DitherSpec accepts (command units; trim about 0.25).
 MAX_THROTTLE_AMPLITUDE = 0.1
 #: Default throttle dither frequency (Hz), used when its amplitude is set.
@@ -258,6 +299,23 @@ def high_qbar_flaperon_boost(scale: float) -> float:
     return 1.0 + min(max(c, 0.0), 1.0) * (HIGH_QBAR_FLAPERON_BOOST - 1.0)
 
 
+def adaptive_mix(rho: float, reference: float) -> float:
+    """h in [0, 1], the turbulence line's share (module docstring) for the member in force's rho
+    and its ``reference`` rho_ref > 0; 0 for a non-finite rho.  ValueError for a reference that is
+    not positive and finite."""
+    if not (math.isfinite(reference) and reference > 0.0):
+        raise ValueError(f"adaptive dither reference rho must be positive and finite, got {reference!r}")
+    if not (math.isfinite(rho) and rho > reference):
+        return 0.0
+    return min((math.sqrt(rho / reference) - 1.0) / (ADAPTIVE_FULL_RATIO - 1.0), 1.0)
+
+
+def adaptive_gains(rho: float, reference: float) -> tuple[list[float], list[float]]:
+    """(g_j, h_j) per surface, LS RS LF RF RUD, of the adaptive dither (module docstring)."""
+    h = adaptive_mix(rho, reference)
+    return [1.0, 1.0, 1.0 - h, 1.0 - h, 1.0], [0.0, 0.0, h, h, 0.0]
+
+
 class Dither:
     """Evaluates the dither of a DitherSpec: ``value(t) -> [5 rad]`` (zeros when disabled).
 
@@ -334,6 +392,31 @@ class Dither:
             self._a[2] *= boost
             self._a[3] *= boost
         self.enabled = on and any(self._a)
+        # the turbulence line (module docstring): the flaperons', scheduled as the calm line and
+        # kept within ADAPTIVE_RATE_SHARE of their rate limit
+        v = 2.0 * math.pi * TURBULENCE_FLAPERON_FREQUENCY_HZ
+        a_t = min(math.radians(TURBULENCE_FLAPERON_AMPLITUDE_DEG) * g, ADAPTIVE_RATE_SHARE * RATE_LIMIT_RAD_S[2] / v)
+        self._b = [0.0, 0.0, a_t, a_t, 0.0] if on else [0.0] * 5
+        self._v = [0.0, 0.0, v, v, 0.0]
+        self._ph2 = [0.0, 0.0, self.spec.phase_rad[2], self.spec.phase_rad[3], 0.0]
+        #: The adaptive dither's gains g_j, h_j per surface (module docstring): the fixed dither.
+        self.gain = [1.0] * 5
+        self.gain2 = [0.0] * 5
+
+    def turbulence_terms(self) -> tuple[list[float], list[float], list[float]]:
+        """The turbulence line's (b_j in rad, 0 when disabled; v_j in rad/s; phi_j in rad)."""
+        return list(self._b), list(self._v), list(self._ph2)
+
+    def set_gain(self, gain, gain2) -> None:
+        """The gains g_j of the calm line and h_j of the turbulence line per surface (5 finite
+        values >= 0 each) from now on."""
+        out = []
+        for name, vals in (("gain", gain), ("turbulence line gain", gain2)):
+            v = [float(x) for x in vals]
+            if len(v) != 5 or not all(math.isfinite(x) and x >= 0.0 for x in v):
+                raise ValueError(f"dither {name} needs 5 finite values >= 0 (LS RS LF RF RUD), got {vals!r}")
+            out.append(v)
+        self.gain, self.gain2 = out
 
     def terms(self) -> tuple[list[float], list[float], list[float]]:
         """(a_j in rad, scheduled, 0 when disabled; 2 pi f_j in rad/s; phi_j in rad)."""
@@ -344,4 +427,8 @@ class Dither:
         if not self.enabled:
             return [0.0] * 5
         sin = math.sin
-        return [a * sin(w * time_s + p) for a, w, p in zip(self._a, self._w, self._ph)]
+        d = [g * (a * sin(w * time_s + p)) for g, a, w, p in zip(self.gain, self._a, self._w, self._ph)]
+        for j, h in enumerate(self.gain2):
+            if h != 0.0:
+                d[j] += h * (self._b[j] * sin(self._v[j] * time_s + self._ph2[j]))
+        return d

@@ -159,6 +159,9 @@ class FlightControlSystem:
                 "g_dt": g.g_dt, "xi_max": self._xi_max, "dt_s": self.dt_s,
                 "dither_enabled": self.dither.enabled, "dither_amplitude_rad": amplitude,
                 "dither_omega_rad_s": omega, "dither_phase_rad": phase,
+                "dither_gain": list(self.dither.gain), "dither_gain2": list(self.dither.gain2),
+                **dict(zip(("dither2_amplitude_rad", "dither2_omega_rad_s", "dither2_phase_rad"),
+                           self.dither.turbulence_terms())),
                 "x_int": self.x_int, "x_wash": self.x_wash, "x_vel": self.x_vel}
 
     def reset(self) -> None:

@@ -296,6 +296,14 @@ class TruthModel:
             if fcs.pilot is not None:
                 self._frames.set_outer_loop(fcs.pilot.coefficients(), list(INSTRUMENTS), THROTTLE_PROPERTY)
 
+    def set_dither_gain(self, fcs: FlightControlSystem, gain, gain2) -> None:
+        """The adaptive dither's gains per surface, of the calm and of the turbulence line
+        (truth/dither.py ``adaptive_gains``), on ``fcs``'s dither from the next frame on, in the
+        C++ frames too when the law flies there."""
+        fcs.dither.set_gain(gain, gain2)
+        if self.law_in_cpp:
+            self._frames.set_dither_gain(fcs.dither.gain, fcs.dither.gain2)
+
     def _cpp_pilot(self, pilot) -> bool:
         return isinstance(pilot, OuterLoop) and pilot.fdm is self.fdm
 

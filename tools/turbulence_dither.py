@@ -1,0 +1,175 @@
+"""The dither at every turbulence level: the gusts' own n_z and rates against the dither's, the
+adaptive dither's share of them, and the flaperons' evidence (truth/dither.py ``adaptive_gains``,
+``--adaptive-dither``; docs/results/turbulence_banks.md, round 13).
+
+1. ``mix``: the turbulence line's share h the closed loop sets, per level: no-failure flights
+   with the turbulence bank set and ``--adaptive-dither`` (tuning seeds of kind
+   ``turbulence_dither`` at campaign seed 7), percentiles of h after the first 10 s.
+2. ``levels``: at the nominal point (20,000 ft, Mach 0.4; no sensor noise, raw feedback, one
+   seed), per level the gusts' own peak and RMS of Delta n_z, q and p (flown without dither),
+   and the dither's part (the flight with it minus the one without: the same gusts) for the
+   fixed dither and for the adaptive one held at the level's median h: its peak and its peak
+   over the gusts' (the criterion: at most ``ADAPTIVE_GUST_SHARE``; the fixed dither in calm air:
+   ``CRITERION``).
+3. ``evidence``: LF and RF failures (complete at 3 s, 8-s flights as the single campaign's) in
+   the set, fixed and adaptive dither: the failed flaperon's log-odds gained after the failure,
+   ln(p_f / p_min) (p_min the member's floor) when p_f first reaches 0.9, else at the end (5 s),
+   in all and per frame, against the declaration's need ln(0.9 / p_min).
+
+    .venv/bin/python tools/turbulence_dither.py --flights 4 --seconds 60
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+
+import numpy as np
+
+import f16mmae.design.turbulence_banks  # noqa: F401  (registers the set with the bank loader)
+from f16mmae.banks import load_bank
+from f16mmae.design.turbulence_banks import ADAPTIVE_DITHER_REFERENCE, MEMBER_P_MIN
+from f16mmae.loop.estimator import Estimator
+from f16mmae.loop.flight import fly
+from f16mmae.names import FRAME_RATE_HZ, TURBULENCE_LEVELS
+from f16mmae.seeds import evaluation_seed
+from f16mmae.truth import FlightControlSystem, Scenario, TruthModel
+from f16mmae.truth.dither import ADAPTIVE_GUST_SHARE, CRITERION, DitherSpec, adaptive_mix
+from f16mmae.truth.failures import make_failure
+
+#: (name, z index, unit factor) of the channels the criterion reads.
+CHANNELS = (("nz_g", 3, 1.0), ("q_deg_s", 2, 180.0 / math.pi), ("p_deg_s", 4, 180.0 / math.pi))
+
+
+def mix_history(model_bank, level: str, seed: int, seconds: float) -> np.ndarray:
+    """h after each frame of one no-failure flight of the set with the adaptive dither."""
+    est = Estimator(model_bank, turbulence_banks=True, adaptive_dither=True)
+    h: list[float] = []
+    fly(Scenario(turbulence=level, duration_s=seconds, seed=seed, feedback="reconfigure"), model_bank,
+        estimator=est, on_frame=lambda t, u, z, a: h.append(
+            adaptive_mix(est.turbulence_power_ratio, ADAPTIVE_DITHER_REFERENCE[est.turbulence_member])))
+    return np.array(h)
+
+
+def truth_z(level: str, seed: int, seconds: float, dither: bool, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """(z_ideal per frame, trim z) of a truth flight on raw feedback, the dither held at mix h."""
+    sc = Scenario(duration_s=seconds, noise=False, feedback="raw", turbulence=level, seed=seed,
+                  dither=DitherSpec(enabled=dither))
+    truth = TruthModel(sc)
+    fcs = FlightControlSystem(truth.trim, dither=sc.dither, ari=sc.ari)
+    truth.attach(fcs)
+    truth.set_dither_gain(fcs, [1.0, 1.0, 1.0 - h, 1.0 - h, 1.0], [0.0, 0.0, h, h, 0.0])
+    truth.fly_frames(int(round(seconds * FRAME_RATE_HZ)))
+    truth.detach(fcs)
+    truth.close()
+    return truth.truth_log["z_ideal"], np.asarray(truth.trim.z)
+
+
+def levels_table(seed: int, seconds: float, mixes: dict) -> dict:
+    """Part 2's table; returns {channel: {"gusts" | "fixed" | "adaptive": [peak per level]}}."""
+    peaks = {name: {"gusts": [], "fixed": [], "adaptive": []} for name, _, _ in CHANNELS}
+    print(f"\n2. At the nominal point, {seconds:g} s, seed {seed}, no noise, raw feedback: the gusts' peak / RMS, "
+          f"the dither's part peak (share of the gusts' peak), fixed and adaptive at the level's median h")
+    print("| turbulence | h | " + " | ".join(f"gusts {n} peak / RMS | fixed {n} | adaptive {n}" for n, _, _ in CHANNELS)
+          + " | criterion |")
+    print("|---|---|" + "---|---|---|" * len(CHANNELS) + "---|")
+    for level in TURBULENCE_LEVELS:
+        h = float(mixes.get(level, 0.0))
+        z0, trim = truth_z(level, seed, seconds, False, 0.0)
+        z1, _ = truth_z(level, seed, seconds, True, 0.0)
+        z2, _ = truth_z(level, seed, seconds, True, h)
+        cells, ok = [], True
+        for name, j, k in CHANNELS:
+            gust = (z0[:, j] - trim[j]) * k
+            gp, gr = float(np.abs(gust).max()), float(np.sqrt(np.mean(gust ** 2)))
+            d1 = float(np.abs(z1[:, j] - z0[:, j]).max() * k)
+            d2 = float(np.abs(z2[:, j] - z0[:, j]).max() * k)
+            calm = CRITERION["nz_g"] if name == "nz_g" else CRITERION["rate_deg_s"]
+            ok &= d2 <= max(calm if h == 0.0 else 0.0, ADAPTIVE_GUST_SHARE * gp)
+            share = lambda d: f"{d:.3f} ({d / gp:.2f})" if gp > 0.1 * calm else f"{d:.3f}"
+            cells.append(f"{gp:.3f} / {gr:.3f} | {share(d1)} | {share(d2)}")
+            for key, v in (("gusts", gp), ("fixed", d1), ("adaptive", d2)):
+                peaks[name][key].append(v)
+        print(f"| {level} | {h:.2f} | " + " | ".join(cells) + f" | {'met' if ok else 'NOT met'} |", flush=True)
+    return peaks
+
+
+def figure(peaks: dict, path: str) -> None:
+    """Part 2's peaks per level: the gusts', the fixed and the adaptive dither's, per channel."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(CHANNELS), figsize=(12, 3.6))
+    x = np.arange(len(TURBULENCE_LEVELS))
+    for ax, (name, _, _) in zip(axes, CHANNELS):
+        for k, (key, label) in enumerate((("gusts", "gusts"), ("fixed", "fixed dither"), ("adaptive", "adaptive dither"))):
+            ax.bar(x + (k - 1) * 0.27, peaks[name][key], 0.27, label=label)
+        ax.plot(x, ADAPTIVE_GUST_SHARE * np.array(peaks[name]["gusts"]), "k_", markersize=18,
+                label=f"{ADAPTIVE_GUST_SHARE:g} x gusts")
+        ax.set_xticks(x, TURBULENCE_LEVELS)
+        ax.set_title(f"peak {name}")
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Nominal point: the gusts' peak response and the dither's part, per level")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def evidence_table(model_bank, flights: int) -> None:
+    p_min = MEMBER_P_MIN[1]
+    need = math.log(0.9 / p_min)
+    print(f"\n3. Flaperon evidence in severe turbulence (8-s flights, failure at 3 s, tuning seeds of kind "
+          f"turbulence_dither_evidence at campaign seed 7, {flights} per case): ln(p_f / p_min) when p_f first "
+          f"reaches 0.9, else at the end (5 s = 320 frames after the failure), and per frame since the failure; "
+          f"the declaration needs ln(0.9 / p_min) = {need:.1f}")
+    print("| dither | case | median (min-max) nats | median (min-max) nats per frame | declared f |")
+    print("|---|---|---|---|---|")
+    for adaptive in (False, True):
+        for case in ("LF", "RF"):
+            ev, rate, hits = [], [], 0
+            for n in range(flights):
+                seed = evaluation_seed("turbulence_dither_evidence", 7, case, n)
+                sc = Scenario(turbulence="severe", duration_s=8.0, seed=seed, feedback="reconfigure",
+                              failures=(make_failure(case, 3.0),))
+                opts = {"turbulence_banks": True, **({"adaptive_dither": True} if adaptive else {})}
+                r = fly(sc, model_bank, estimator_options=opts)
+                after = r.probabilities[int(3.0 * FRAME_RATE_HZ):, list(r.hypotheses).index(case)]
+                after = np.nan_to_num(after, nan=1.0)   # off line: the bank went to level 1 on it
+                hit = np.flatnonzero(after >= 0.9)
+                end = int(hit[0]) if hit.size else len(after) - 1
+                ev.append(math.log(max(after[end], p_min) / p_min))
+                rate.append(ev[-1] / (end + 1))
+                hits += r.final_hypothesis == case
+            ev, rate = np.array(ev), np.array(rate)
+            print(f"| {'adaptive' if adaptive else 'fixed'} | {case} | {np.median(ev):.1f} ({ev.min():.1f}-{ev.max():.1f}) | "
+                  f"{np.median(rate):.3f} ({rate.min():.3f}-{rate.max():.3f}) | {hits}/{flights} |", flush=True)
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--flights", type=int, default=4, help="no-failure flights per level (part 1)")
+    p.add_argument("--seconds", type=float, default=60.0, help="their length, s")
+    p.add_argument("--truth-seconds", type=float, default=30.0, help="the truth flights' length (part 2), s")
+    p.add_argument("--evidence-flights", type=int, default=10, help="failure flights per case (part 3; 0: skip)")
+    p.add_argument("--figure", default=None, metavar="PNG", help="part 2's peaks as a figure")
+    args = p.parse_args(argv)
+    _, _, bank = load_bank("turbulence")
+    print("1. The turbulence line's share h the closed loop sets (no failure; percentiles 5/50/95 after 10 s)")
+    print("| turbulence | h 5 / 50 / 95 % |")
+    print("|---|---|")
+    mixes = {}
+    for level in TURBULENCE_LEVELS:
+        h = np.concatenate([mix_history(bank, level, evaluation_seed("turbulence_dither", 7, level, n), args.seconds)
+                            [int(10 * FRAME_RATE_HZ):] for n in range(args.flights)])
+        q = np.percentile(h, [5, 50, 95])
+        mixes[level] = q[1]
+        print(f"| {level} | {q[0]:.2f} / {q[1]:.2f} / {q[2]:.2f} |", flush=True)
+    peaks = levels_table(7, args.truth_seconds, mixes)
+    if args.figure:
+        figure(peaks, args.figure)
+    if args.evidence_flights:
+        evidence_table(bank, args.evidence_flights)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

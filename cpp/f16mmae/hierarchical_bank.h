@@ -10,62 +10,71 @@
 //   back-out  NONE declared at level 1 -> level 0 again, NONE presumed.
 //   final     a dual f+c declared at level 1 is the final answer: the bank stays at level 1
 //             (it keeps running; a later NONE declaration still backs out).
+// The hypotheses of each level are found by NAME in the ModelBank, once, at construction:
+// hierarchy_levels.h (singles, the duals "a+b" or "b+a", the partial hypotheses "c:MODE" and
+// their level-1 banks with spare slots off line, the components for declare_components).
+//
+// Initialisation at a switch (after the update of the frame on which the declaration
+// happened, before its propagate): every filter brought on line starts from the posterior
+// state x⁺ of the declared filter — the best-matched filter at that moment — and the
+// probabilities presume the declared hypothesis (p = 1 - (K-1) p_min on it, p_min on the
+// others), exactly as level 0 presumes NONE at start. The declarer restarts with the
+// declared hypothesis current, so it must be out-voted for a dwell before the next switch.
+//
+// Frame order. update(z_abs), one frame (accepted or rejected; frame index i, 0-based, has
+// time_s = i / frame_rate_hz):
+//   1. z = z_abs - z_trim - dz, the readings about the trim in force (below);
+//   2. with maneuver.tempering_g, the likelihoods' tempering scale is set;
+//   3. the FilterBank's update (filter_bank.h); a rejected update ends the frame (-1): the
+//      declarer sees only accepted updates;
+//   4. the maneuver trim's inertial rates (maneuver_trim.inertial, inertial_flight_path.h) and
+//      the maneuver dwell's load factor (maneuver_dwell.h) read the frame;
+//   5. at level 1, the departure hold (departure_hold.h): on a held frame the declarer's dwell
+//      restarts and nothing is declared;
+//   6. the declarer (declarer.h) with the dwell and the components in force; a declaration is
+//      recorded, and switches the level (initialisation above);
+//   7. the trim tracker (trim_tracker.h) reads the frame.
+// propagate(u_abs): the actuators' limits on u (actuator_limits.h), u - u_trim - du, the
+// kinematic forcing of the blended posterior (maneuver_kinematics.h), the FilterBank's
+// propagate, every x⁻ plus the forcing, the trim tracker. step(z, u) = update, then propagate.
+//
+// Where each rule is stated:
+//   hierarchy_levels.h   the hypotheses on line at each level, partial hypotheses, live slots,
+//                        components
+//   departure_hold.h     level 1: no declaration while the measurements leave the
+//                        linearization (options.departure; on by default)
+//   declarer.h           threshold, dwell, declaring on components
+//   filter_bank.h        likelihoods, probabilities, floors, live slots
+//   below                the level-1 floor and dwell, declaring on components, the partial
+//                        hypotheses' floor, air data and scheduling, trims, maneuvering flight
+//
 // The floor at level 1 (options.level1_p_min in [0, (1 - threshold)/(K - 1)); 0, the default:
 // the level-0 floor, bit for bit):
 //   while a level-1 bank is on line its duals f+c take the floor level1_p_min, NONE and f
 //   keep the level-0 floor (FilterBank::set_p_min's two tiers); back at level 0 (back-out,
 //   reset()) the level-0 floor is in force for all again (p_min, or a scheduled bank's node
 //   floor). NONE keeps it because "the declaration of f was false" is no event that may
-//   begin now: backing out needs the evidence a level-0 declaration needs. Why a floor of its own: a dual f+c must gather ln(1/p_min) nats over f alone
-//   before it leads, and without f's sensor (or surface) the evidence for c comes at a
-//   fraction of its level-0 rate (the pitch-rate gyro out, a stabilator is seen through α and
-//   n_z only), so with the level-0 floor (1e-9 tuned against false alarms in failure-free
-//   flight) the dual rises seconds after the lone failure would. The level-1 floor is the
-//   prior of "the second failure may have begun now" given that one already has.
+//   begin now: backing out needs the evidence a level-0 declaration needs. Why a floor of its
+//   own: a dual f+c must gather ln(1/p_min) nats over f alone before it leads, and without f's
+//   sensor (or surface) the evidence for c comes at a fraction of its level-0 rate (the
+//   pitch-rate gyro out, a stabilator is seen through α and n_z only), so with the level-0
+//   floor (1e-9 tuned against false alarms in failure-free flight) the dual rises seconds
+//   after the lone failure would. The level-1 floor is the prior of "the second failure may
+//   have begun now" given that one already has.
 // The dwell at level 1 (options.level1_dwell_s; 0, the default: the level-0 dwell, bit for
 //   bit): while a level-1 bank is on line a declaration (a dual, or NONE's back-out) needs
 //   p > threshold on round(level1_dwell_s * rate) consecutive frames. A raised level-1 floor
 //   lets a short burst of evidence (a gust the filters model poorly) lift a false dual f+c
 //   above the threshold for a few frames; a real second failure keeps it there.
-// The departure hold at level 1 (options.departure.enabled; on by default; off: bit for bit
-//   the bank without it): every filter is linear about the trim, wings level. While a level-1
-//   bank is on line the bank declares nothing (dual or back-out) on a frame whose MEASUREMENTS
-//   put the aircraft outside that linearization, nor for hold_s after the last such frame:
-//     outside  <=>  |z_AOA - z_trim,AOA| > aoa_rad  or  max(|z_PIT|, |z_ROL|, |z_YAW|) > rate_rad_s
-//   (readings about the trim in force; a channel whose sensor is the level-1 failure f is left
-//   out: its reading is not the aircraft's). The declarer's dwell restarts on every held frame,
-//   so a declaration after the hold needs a whole dwell inside. Why: a surface hardover (a
-//   stabilator at 25 deg) departs the aircraft after f is declared; no linear hypothesis then
-//   explains the data and the dual that fits worst-least is declared (f+AOA, f+PIT, ...). The
-//   hold changes only what is declared after f, never f itself (level 0 is untouched), so a
-//   wrong first isolation stays visible. Defaults (light turbulence, nominal point): failure-
-//   free flights and complete duals keep |dalpha| <= 1.8 deg and rates <= 4.5 deg/s; the second
-//   declarations after a hardover came at |dalpha| 11-35 deg (stabilators) or rates 10-24 deg/s
-//   (flaperons, rudder): aoa 5 deg, rates 10 deg/s, hold 1 s. The channels are found by the
-//   measurement names AOA, PIT, ROL, YAW; one the bank does not have is not checked (a bank
-//   with none of them: no hold). The constructor throws std::invalid_argument for a bound <= 0
-//   or a hold_s < 0 when it is enabled.
-// Hypotheses are looked up by NAME in the ModelBank: "NONE"; singles are the names without
-// '+'; the dual of a and b is "a+b" or "b+a". A missing dual is a construction error.
-// Partial hypotheses (`f16mmae design --partial-loss`): a name "c:MODE" without '+' (e.g.
-// "LS:loss=0.5", surface LS at half its effectiveness), c a single of the bank, is a partial
-// failure of c. Level 0 holds it beside the singles (K = 1 + singles + partials, in the
-// ModelBank's order); it has no duals. Its declaration brings on line the level-1 bank
-//   {NONE, c:MODE, c, c+d for every other single d}
-// (the failure of c in any form; its duals are c's). Every level-1 bank is then smaller than
-// K: its spare slots keep the filters they hold (their hypotheses stay in online()) but are
-// taken off line (FilterBank::set_live(k, false): p_k = 0, no floor; a level-0 switch takes them
-// on line again). A bank without partial hypotheses has no spare slot: bit for bit as before.
-// A scheduled bank with partial hypotheses is a construction error (not supported).
 // Declaring on components (options.declare_components; off by default: each hypothesis alone,
 //   bit for bit): a partial hypothesis c:MODE and its single c are one component for the
 //   declarer (declarer.h: the sum of their probabilities against the threshold, the dwell on
 //   the sum, the declaration names the form that holds more mass), at level 0 and in the
 //   partial's level-1 bank (c:MODE and c both on line: the mass moving between c's two forms
-//   there is no new declaration). The level-1 bank is the declared form's, as above: a
-//   declared c:MODE brings both forms on line, a declared c its own bank {NONE, c, c+d}
-//   (the duals are complete failures of c; c held more mass than c:MODE when declared). A bank
-//   without partial hypotheses is unchanged by the option.
+//   there is no new declaration; the groups: hierarchy_levels.h). The level-1 bank is the
+//   declared form's: a declared c:MODE brings both forms on line, a declared c its own bank
+//   {NONE, c, c+d} (the duals are complete failures of c; c held more mass than c:MODE when
+//   declared). A bank without partial hypotheses is unchanged by the option.
 // The partial hypotheses' floor (options.partial_p_min; 0, the default: the level-0 floor, bit
 //   for bit): at level 0 every partial hypothesis c:MODE takes the floor partial_p_min, the
 //   others the level-0 floor p_min (FilterBank::set_floor_scale, m = partial_p_min / p_min); at
@@ -82,13 +91,6 @@
 //   threshold lies ln(f / p_min) nats nearer. Refused: partial_p_min < 0, a partial_p_min set
 //   for a bank without partial hypotheses, and floors that leave no room for a declaration
 //   (n_partial partial_p_min + (K - 1 - n_partial) p_min >= 1 - threshold).
-//
-// Initialisation at a switch (after the update of the frame on which the declaration
-// happened, before its propagate): every filter brought on line starts from the posterior
-// state x⁺ of the declared filter — the best-matched filter at that moment — and the
-// probabilities presume the declared hypothesis (p = 1 - (K-1) p_min on it, p_min on the
-// others), exactly as level 0 presumes NONE at start. The declarer restarts with the
-// declared hypothesis current, so it must be out-voted for a dwell before the next switch.
 //
 // Air data (air_data.h): schedule(a) before a frame's update hands the bank the measured
 // air data. A non-finite value is counted in air_data_rejected() and the last usable value
@@ -150,9 +152,6 @@
 //                                 from z's rates, AOA and VEL against the air data's, read
 //                                 after each update under the trim tracker's freeze condition
 //                                 (inertial_flight_path.h).
-// A frame is one update (accepted or rejected): frame index i (0-based) has
-// time_s = i / frame_rate_hz. The declarer sees only accepted updates.
-//
 // Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 // F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>, the same bank whose filters carry
 // six Dryden gust states, `f16mmae design --gust-states`; F16ThrottleHierarchicalBank =
@@ -163,7 +162,8 @@
 // hypothesis per surface, `f16mmae design --partial-loss F`) or Eigen::Dynamic
 // (DynamicHierarchicalBank, any K = 1 + number of singles).
 // Throws: the constructor throws std::invalid_argument (invalid ModelBank, sizes that do not
-// match the template, a missing hypothesis). update/propagate/step are noexcept and, for
+// match the template, a missing hypothesis: hierarchy_levels.h; an option out of range, e.g.
+// departure_hold.h). update/propagate/step are noexcept and, for
 // fixed sizes, allocate nothing: switches copy preloaded fixed-size hypothesis filters
 // (their matrices; the on-line bank holds the states, filter_bank.h); the
 // declaration history has a fixed reserved capacity (further declarations are counted in
@@ -174,7 +174,9 @@
 #include "f16mmae/air_data.h"
 #include "f16mmae/air_data_rates.h"
 #include "f16mmae/declarer.h"
+#include "f16mmae/departure_hold.h"
 #include "f16mmae/filter_bank.h"
+#include "f16mmae/hierarchy_levels.h"
 #include "f16mmae/maneuver_kinematics.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
@@ -203,14 +205,6 @@ struct Declaration {
   double time_s = 0.0;      // frame / frame_rate_hz
 };
 
-// The departure hold at level 1 (header).
-struct DepartureOptions {
-  bool enabled = true;
-  double aoa_rad = 5.0 * 3.14159265358979323846 / 180.0;      // |measured alpha - trim| bound
-  double rate_rad_s = 10.0 * 3.14159265358979323846 / 180.0;  // |measured p|, |q|, |r| bound
-  double hold_s = 1.0;                                         // held this long after the last frame outside
-};
-
 struct HierarchicalOptions {
   FilterBankOptions bank;     // p_min, strip_leading_term, adaptation (its rate: the ModelBank's)
   DeclarerOptions declarer;   // threshold, dwell_s (frame_rate_hz is taken from the ModelBank)
@@ -223,8 +217,8 @@ struct HierarchicalOptions {
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (header)
-  DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (header)
-  bool declare_components = false;   // a partial hypothesis and its single declared as one component (header)
+  DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (departure_hold.h)
+  bool declare_components = false;   // a partial hypothesis and its single declared as one component (hierarchy_levels.h)
   double partial_p_min = 0.0;   // the partial hypotheses' floor at level 0; 0: the level-0 floor (header)
   int history_capacity = 1024;
 };
@@ -240,7 +234,8 @@ class HierarchicalBank {
   using ZVector = typename Bank::ZVector;
   using PVector = typename Bank::PVector;
   static constexpr bool kFixed = K != Eigen::Dynamic;
-  using Indices = std::conditional_t<kFixed, std::array<int, (kFixed ? K : 1)>, std::vector<int>>;
+  using Levels = HierarchyLevels<K>;
+  using Indices = typename Levels::Indices;
   using Schedule = ScheduledFilters<NX, NU, NZ>;
 
   explicit HierarchicalBank(const ModelBank& bank, const HierarchicalOptions& options = {})
@@ -261,11 +256,9 @@ class HierarchicalBank {
       maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_);
       if (maneuver_dwell_.options().has_reference()) bank_.set_adapt_reference(adapt_reference_in_force());
     }
-    if (level_ == 1 && departure_held(z_pert_)) {
+    if (level_ == 1 && departure_.observe(z_pert_, online_[1]))   // departure_hold.h
       declarer_in_force().reset(declarer_in_force().current());   // the dwell restarts
-      ++departure_frames_;
-    }
-    const int d = departure_hold_ > 0 ? -1
+    const int d = departure_.held() ? -1
                                       : declarer_in_force().update(bank_.probabilities(), dwell_frames_in_force(),
                                                                    component_groups());
     int hypothesis = -1;
@@ -273,10 +266,10 @@ class HierarchicalBank {
       hypothesis = online_[d];
       record(hypothesis, frame);
       if (level_ == 0 && d != 0) {
-        switch_to(level1_[d - 1], d, 1, &level1_live_[d - 1]);
+        switch_to(levels_.level1(d - 1), d, 1, &levels_.level1_live(d - 1));
         level1_bank_ = d - 1;
       } else if (level_ == 1 && d == 0) {
-        switch_to(level0_, 0, 0);
+        switch_to(levels_.level0(), 0, 0);
         level1_bank_ = -1;
       }
     }
@@ -379,20 +372,19 @@ class HierarchicalBank {
   void reset() noexcept {
     // the level-0 filters back on line (already there, unchanged, when the bank is at level 0
     // and unscheduled: a flight without a declaration); bank_.reset() clears the states
-    if (!(level_ == 0 && online_ == level0_ && !sched_.active()))
-      for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[level0_[k]]);
-    online_ = level0_;
+    if (!(level_ == 0 && online_ == levels_.level0() && !sched_.active()))
+      for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[levels_.level0()[k]]);
+    online_ = levels_.level0();
     level_ = 0;
     level1_bank_ = -1;
-    if (partial_)
+    if (levels_.partial())
       for (int k = 1; k < size(); ++k) bank_.set_live(k, true);
     set_floors();   // the level-0 floor again (no-op unless level1_p_min)
     bank_.reset();
     declarer_.reset(0);
     declarer1_.reset(0);
     frame_ = 0;
-    departure_hold_ = 0;
-    departure_frames_ = 0;
+    departure_.reset();
     history_.clear();
     dropped_ = 0;
     air_data_ = design_air_data_;
@@ -466,8 +458,7 @@ class HierarchicalBank {
     history_.assign(from.history_.begin(), from.history_.begin() + static_cast<std::ptrdiff_t>(n));
     dropped_ = from.dropped_ + static_cast<std::int64_t>(from.history_.size() - n);
     frame_ = from.frame_;
-    departure_hold_ = from.departure_hold_;
-    departure_frames_ = from.departure_frames_;
+    departure_.carry_over(from.departure_);
     air_data_ = from.air_data_;
     air_data_rejected_ = from.air_data_rejected_;
     air_rates_ = from.air_rates_;
@@ -513,8 +504,8 @@ class HierarchicalBank {
   const std::vector<Declaration>& declarations() const noexcept { return history_; }
   std::int64_t declarations_dropped() const noexcept { return dropped_; }
   std::int64_t frames() const noexcept { return frame_; }
-  // Frames on which the departure hold kept the level-1 bank from declaring (header).
-  std::int64_t departure_frames() const noexcept { return departure_frames_; }
+  // Frames on which the departure hold kept the level-1 bank from declaring (departure_hold.h).
+  std::int64_t departure_frames() const noexcept { return departure_.frames(); }
   double frame_rate_hz() const noexcept { return frame_rate_hz_; }
   const PVector& probabilities() const noexcept { return bank_.probabilities(); }
   // The turbulence adaptation's likelihood scale s (1 when off; turbulence_adaptation.h):
@@ -547,139 +538,26 @@ class HierarchicalBank {
   const AirData& air_data() const noexcept { return air_data_; }            // in force
   std::int64_t air_data_rejected() const noexcept { return air_data_rejected_; }
   const Bank& bank() const noexcept { return bank_; }
+  // The hypotheses on line at each level (hierarchy_levels.h).
+  const Levels& levels() const noexcept { return levels_; }
   // The declarer in force: level 0's, or at level 1 with level1_dwell_s its own.
   const Declarer& declarer() const noexcept { return declarer_in_force(); }
   const HierarchicalOptions& options() const noexcept { return options_; }
 
  private:
   struct Built {
+    Levels levels;
     std::vector<Model> models;
-    Indices level0;
-    std::vector<Indices> level1;
-    std::vector<Indices> level1_live;   // 1: the slot is on line at that level-1 bank
-    bool partial = false;               // the bank has partial hypotheses
-    Indices level0_group;               // the declarer's components at level 0 (declarer.h)
-    std::vector<Indices> level1_group;  // ... and in each level-1 bank
   };
 
-  // The components of the slots of `idx` (ModelBank indices; live[s] == 0: off line, alone):
-  // group[s] = the lowest live slot t with component[idx[t]] == component[idx[s]] (declarer.h).
-  static Indices groups_of(const Indices& idx, const Indices* live, const std::vector<int>& component) {
-    const int n = static_cast<int>(idx.size());
-    Indices g = make_indices(n);
-    for (int s = 0; s < n; ++s) {
-      g[s] = s;
-      if (live != nullptr && (*live)[s] == 0) continue;
-      for (int t = 0; t < s; ++t)
-        if ((live == nullptr || (*live)[t] != 0) && component[idx[t]] == component[idx[s]]) {
-          g[s] = t;
-          break;
-        }
-    }
-    return g;
-  }
-
-  // A partial hypothesis' single: "c:MODE" -> "c" (header); "" for any other name.
-  static std::string partial_of(const std::string& name) {
-    const std::size_t colon = name.find(':');
-    if (colon == std::string::npos || name.find('+') != std::string::npos) return std::string();
-    return name.substr(0, colon);
-  }
-  static Indices make_indices(int n) {
-    Indices idx{};
-    if constexpr (!kFixed) idx.assign(n, -1);
-    (void)n;
-    return idx;
-  }
-
-  // Validates the ModelBank and resolves the levels by name.
+  // Validates the ModelBank, resolves the levels by name (hierarchy_levels.h) and builds every
+  // hypothesis filter's model.
   static Built build(const ModelBank& mb) {
-    mb.validate();
-    Built b;
-    std::vector<int> singles, level0;   // level0: the singles and partials in the ModelBank's order
-    for (int i = 1; i < static_cast<int>(mb.hypotheses.size()); ++i) {
-      const std::string& n = mb.hypotheses[i].name;
-      if (n.find('+') != std::string::npos) continue;
-      level0.push_back(i);
-      if (partial_of(n).empty()) singles.push_back(i);
-    }
-    std::vector<int> partial_single;   // per partial hypothesis, the ModelBank index of its single
-    for (int i : level0) {
-      const std::string c = partial_of(mb.hypotheses[i].name);
-      if (c.empty()) continue;
-      const int j = mb.find(c);
-      if (j < 0 || c.find(':') != std::string::npos)
-        throw std::invalid_argument("hierarchical bank: partial hypothesis '" + mb.hypotheses[i].name +
-                                    "' names no single-failure hypothesis of the bank ('" + c + "')");
-      partial_single.push_back(j);
-    }
-    b.partial = !partial_single.empty();
-    if (b.partial && mb.schedule)
-      throw std::invalid_argument("hierarchical bank: a scheduled bank with partial hypotheses is not supported");
-    const int k = 1 + static_cast<int>(level0.size());
-    if (kFixed && k != K) {
-      throw std::invalid_argument("hierarchical bank: the model bank has " + std::to_string(level0.size()) +
-                                  " single-failure hypotheses" +
-                                  (b.partial ? " (" + std::to_string(partial_single.size()) +
-                                                   " of them partial, e.g. '" +
-                                                   mb.hypotheses[level0.back()].name + "')"
-                                             : std::string()) +
-                                  ", this bank needs " + std::to_string(K - 1));
-    }
-    if (k < 2) throw std::invalid_argument("hierarchical bank: the model bank has no single-failure hypothesis");
+    Built b{Levels(mb), {}};
     for (const auto& h : mb.hypotheses)
       b.models.push_back(
           Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, h.uninformative_width, h.uninformative_level_q,
                                "hypothesis '" + h.name + "'"));
-    b.level0 = make_indices(k);
-    b.level0[0] = 0;
-    for (int s = 0; s < k - 1; ++s) b.level0[s + 1] = level0[s];
-    const int n_singles = static_cast<int>(singles.size());
-    int partial_n = 0;
-    for (int f = 0; f < k - 1; ++f) {
-      Indices idx = b.level0;   // spare slots keep their level-0 filters, off line
-      Indices live = make_indices(k);
-      for (int s = 0; s < k; ++s) live[s] = 0;
-      idx[0] = 0;
-      idx[1] = level0[f];
-      int n = 2;
-      const bool partial = !partial_of(mb.hypotheses[level0[f]].name).empty();
-      const int single = partial ? partial_single[partial_n++] : level0[f];
-      if (partial) idx[n++] = single;
-      const std::string& a = mb.hypotheses[single].name;
-      for (int c = 0; c < n_singles; ++c) {
-        if (singles[c] == single) continue;
-        const std::string& other = mb.hypotheses[singles[c]].name;
-        int j = mb.find(a + "+" + other);
-        if (j < 0) j = mb.find(other + "+" + a);
-        if (j < 0)
-          throw std::invalid_argument("hierarchical bank: the model bank has no dual hypothesis '" + a + "+" +
-                                      other + "' (nor '" + other + "+" + a + "') for the level-1 bank of " + a);
-        idx[n++] = j;
-      }
-      for (int s = 0; s < n; ++s) live[s] = 1;
-      // the spare slots hold level-0 hypotheses not among the n on line (no name twice), the
-      // partial ones first
-      int spare = n;
-      for (int pass = 0; pass < 2; ++pass)
-        for (int s = 1; s < k && spare < k; ++s) {
-          if (partial_of(mb.hypotheses[b.level0[s]].name).empty() != (pass == 1)) continue;
-          bool on = false;
-          for (int t = 0; t < spare; ++t) on = on || idx[t] == b.level0[s];
-          if (!on) idx[spare++] = b.level0[s];
-        }
-      b.level1.push_back(idx);
-      b.level1_live.push_back(live);
-    }
-    // the component of each ModelBank hypothesis: a partial's is its single's, any other its own
-    std::vector<int> component(mb.hypotheses.size());
-    for (std::size_t i = 0; i < component.size(); ++i) component[i] = static_cast<int>(i);
-    partial_n = 0;
-    for (int i : level0)
-      if (!partial_of(mb.hypotheses[i].name).empty()) component[i] = partial_single[partial_n++];
-    b.level0_group = groups_of(b.level0, nullptr, component);
-    for (std::size_t f = 0; f < b.level1.size(); ++f)
-      b.level1_group.push_back(groups_of(b.level1[f], &b.level1_live[f], component));
     return b;
   }
 
@@ -710,8 +588,8 @@ class HierarchicalBank {
   }
   // The declarer's components in force (header), or null: each hypothesis alone.
   const int* component_groups() const noexcept {
-    if (!partial_ || !options_.declare_components) return nullptr;
-    return level1_bank_ < 0 ? level0_group_.data() : level1_group_[level1_bank_].data();
+    if (!levels_.partial() || !options_.declare_components) return nullptr;
+    return level1_bank_ < 0 ? levels_.level0_groups().data() : levels_.level1_groups(level1_bank_).data();
   }
   Declarer& declarer_in_force() noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
   const Declarer& declarer_in_force() const noexcept { return own_level1_dwell() ? declarer1_ : declarer_; }
@@ -722,16 +600,11 @@ class HierarchicalBank {
 
   HierarchicalBank(const ModelBank& mb, const HierarchicalOptions& options, Built b)
       : options_(options),
-        bank_(pick(b.models, b.level0), with_rate(options.bank, mb.frame_rate_hz)),
+        bank_(pick(b.models, b.levels.level0()), with_rate(options.bank, mb.frame_rate_hz)),
         declarer_(with_rate(options.declarer, mb.frame_rate_hz), 0),
         declarer1_(level1_declarer(options, mb.frame_rate_hz), 0),
-        level0_(b.level0),
-        level1_(std::move(b.level1)),
-        level1_live_(std::move(b.level1_live)),
-        partial_(b.partial),
-        level0_group_(std::move(b.level0_group)),
-        level1_group_(std::move(b.level1_group)),
-        online_(b.level0),
+        levels_(std::move(b.levels)),
+        online_(levels_.level0()),
         air_rates_(mb.frame_rate_hz),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
         climb_ref_(options.climb_reference, mb.frame_rate_hz),
@@ -743,7 +616,7 @@ class HierarchicalBank {
     // with the K - 1 others on their floors a hypothesis holds at most 1 - (K - 1) P: above
     // (1 - threshold) / (K - 1) none could pass the threshold
     const double level1_bound =
-        (1.0 - options.declarer.threshold) / static_cast<double>(b.level0.size() - 1);
+        (1.0 - options.declarer.threshold) / static_cast<double>(levels_.size() - 1);
     if (!(options.level1_p_min >= 0.0) || !(options.level1_p_min < level1_bound))
       throw std::invalid_argument("hierarchical bank: level1_p_min must lie in [0, (1 - threshold)/(K - 1)) = [0, " +
                                   std::to_string(level1_bound) + "), got " + std::to_string(options.level1_p_min));
@@ -763,22 +636,7 @@ class HierarchicalBank {
                                     "which this bank does not have");
       maneuver_dwell_az_ = static_cast<int>(it - m.begin());
     }
-    if (options.departure.enabled) {
-      if (!(options.departure.aoa_rad > 0.0) || !(options.departure.rate_rad_s > 0.0) ||
-          !(options.departure.hold_s >= 0.0) || !std::isfinite(options.departure.hold_s))
-        throw std::invalid_argument("hierarchical bank: the departure hold needs aoa_rad > 0, rate_rad_s > 0 and a "
-                                    "finite hold_s >= 0, got " + std::to_string(options.departure.aoa_rad) + ", " +
-                                    std::to_string(options.departure.rate_rad_s) + ", " +
-                                    std::to_string(options.departure.hold_s));
-      static const char* const kChannels[4] = {"AOA", "PIT", "ROL", "YAW"};
-      for (int c = 0; c < 4; ++c) {
-        const auto& m = mb.measurement_names;
-        const auto it = std::find(m.begin(), m.end(), kChannels[c]);
-        departure_channel_[c] = it == m.end() ? -1 : static_cast<int>(it - m.begin());
-        departure_sensor_[c] = mb.find(kChannels[c]);   // its single hypothesis (-1: none)
-      }
-      departure_hold_frames_ = static_cast<int>(std::lround(options.departure.hold_s * mb.frame_rate_hz));
-    }
+    departure_ = DepartureHold(options.departure, mb.measurement_names, names_, mb.frame_rate_hz);
     storage_.reserve(b.models.size());
     for (std::size_t i = 0; i < b.models.size(); ++i)
       storage_.emplace_back(b.models[i], "hypothesis '" + names_[i] + "'");
@@ -835,24 +693,6 @@ class HierarchicalBank {
     return false;
   }
 
-  // The departure hold on this frame (header): counts down departure_hold_, restarted to
-  // hold_s whenever the readings z (about the trim in force) leave the linearization.
-  bool departure_held(const ZVector& z) noexcept {
-    if (!options_.departure.enabled) return false;
-    const int f = online_[1];   // the level-1 failure
-    bool outside = false;
-    for (int c = 0; c < 4; ++c) {
-      if (departure_channel_[c] < 0 || departure_sensor_[c] == f) continue;
-      const double bound = c == 0 ? options_.departure.aoa_rad : options_.departure.rate_rad_s;
-      if (std::abs(z(departure_channel_[c])) > bound) outside = true;
-    }
-    if (outside)
-      departure_hold_ = departure_hold_frames_ + 1;
-    else if (departure_hold_ > 0)
-      --departure_hold_;
-    return departure_hold_ > 0;
-  }
-
   void record(int hypothesis, std::int64_t frame) noexcept {
     if (history_.size() >= history_.capacity()) {
       ++dropped_;
@@ -872,7 +712,7 @@ class HierarchicalBank {
   void switch_to(const Indices& next, int declared, int level, const Indices* live = nullptr) noexcept {
     const XVector x0 = bank_.posterior(declared);
     const int presumed = level == 1 ? 1 : 0;
-    if (partial_)   // spare slots off line at level 1, every slot on line at level 0 (header)
+    if (levels_.partial())   // spare slots off line at level 1, every slot on line at level 0 (hierarchy_levels.h)
       for (int k = 1; k < size(); ++k) bank_.set_live(k, live == nullptr || (*live)[k] != 0);
     for (int k = 0; k < size(); ++k) {
       if (sched_.active()) {
@@ -885,7 +725,7 @@ class HierarchicalBank {
     }
     online_ = next;
     level_ = level;
-    departure_hold_ = 0;
+    departure_.release();
     set_floors();
     bank_.presume(presumed);
     declarer_in_force().reset(presumed);
@@ -900,7 +740,7 @@ class HierarchicalBank {
     if (options_.partial_p_min > 0.0) {   // the partial hypotheses' floor at level 0 (header)
       const double base = level0_floor();
       for (int k = 1; k < size(); ++k)
-        bank_.set_floor_scale(k, level_ == 0 && base > 0.0 && level0_partial_[static_cast<std::size_t>(k)] != 0
+        bank_.set_floor_scale(k, level_ == 0 && base > 0.0 && levels_.level0_partial()[static_cast<std::size_t>(k)] != 0
                                      ? options_.partial_p_min / base
                                      : 1.0);
     }
@@ -909,22 +749,17 @@ class HierarchicalBank {
     else
       bank_.set_p_min(level0_floor());
   }
-  // Notes the level-0 slots holding partial hypotheses; throws std::invalid_argument for a
-  // partial_p_min the bank cannot take (header).
-  void check_partial_p_min(const HierarchicalOptions& o) {
-    level0_partial_.assign(level0_.size(), 0);
-    for (std::size_t k = 1; k < level0_.size(); ++k)
-      level0_partial_[k] = partial_of(names_[static_cast<std::size_t>(level0_[k])]).empty() ? 0 : 1;
+  // Throws std::invalid_argument for a partial_p_min the bank cannot take (header).
+  void check_partial_p_min(const HierarchicalOptions& o) const {
     if (!(o.partial_p_min >= 0.0) || !std::isfinite(o.partial_p_min))
       throw std::invalid_argument("hierarchical bank: partial_p_min must be >= 0 (0: the level-0 floor), got " +
                                   std::to_string(o.partial_p_min));
     if (o.partial_p_min == 0.0) return;
-    int n_partial = 0;
-    for (char c : level0_partial_) n_partial += c;
+    const int n_partial = levels_.partial_count();
     if (n_partial == 0)
       throw std::invalid_argument("hierarchical bank: partial_p_min is set but the bank has no partial-loss "
                                   "hypothesis (design --partial-loss)");
-    const double others = static_cast<double>(level0_.size() - 1 - n_partial) * o.bank.p_min;
+    const double others = static_cast<double>(levels_.size() - 1 - n_partial) * o.bank.p_min;
     if (!(n_partial * o.partial_p_min + others < 1.0 - o.declarer.threshold))
       throw std::invalid_argument("hierarchical bank: partial_p_min " + std::to_string(o.partial_p_min) + " for " +
                                   std::to_string(n_partial) + " partial hypotheses leaves no hypothesis room to "
@@ -1040,14 +875,8 @@ class HierarchicalBank {
   Declarer declarer1_;   // level 1 with level1_dwell_s
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
-  std::vector<char> level0_partial_;   // level0_partial_[k]: level-0 slot k holds a partial hypothesis
-  Indices level0_;
-  std::vector<Indices> level1_;   // level1_[f]: the level-1 bank of level-0 hypothesis f + 1 (a single or partial)
-  std::vector<Indices> level1_live_;   // level1_live_[f][k]: slot k on line in it (header)
-  bool partial_ = false;               // partial hypotheses: level-1 banks have spare slots
-  Indices level0_group_;               // the declarer's components at level 0 (header)
-  std::vector<Indices> level1_group_;  // ... in level-1 bank f
-  int level1_bank_ = -1;               // the level-1 bank on line (level1_[f]), -1 at level 0
+  Levels levels_;         // the hypotheses on line at each level (hierarchy_levels.h)
+  int level1_bank_ = -1;  // the level-1 bank on line (levels_.level1(f)), -1 at level 0
   Indices online_;
   ZVector z_trim_, z_pert_, dz_, z_shift_;
   UVector u_trim_, u_pert_, du_;
@@ -1077,11 +906,7 @@ class HierarchicalBank {
   AirData design_air_data_, air_data_;
   std::int64_t air_data_rejected_ = 0;
   std::int64_t frame_ = 0;
-  std::array<int, 4> departure_channel_{{-1, -1, -1, -1}};   // AOA PIT ROL YAW in z
-  std::array<int, 4> departure_sensor_{{-1, -1, -1, -1}};    // their single hypotheses
-  int departure_hold_frames_ = 0;
-  int departure_hold_ = 0;            // frames still held (0: declarations allowed)
-  std::int64_t departure_frames_ = 0;
+  DepartureHold departure_;   // level 1 (departure_hold.h)
   double frame_rate_hz_ = 0.0;
   int level_ = 0;
 };

@@ -15,23 +15,12 @@ of AOA's noise variance)."""
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import sys
 
 import numpy as np
 
 from f16mmae import core, names
-
-
-def _number(text: str, what: str, positive: bool) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{what} {text!r} is not a number") from None
-    if not math.isfinite(x) or (x <= 0.0 if positive else x < 0.0):
-        raise argparse.ArgumentTypeError(f"{what} {text!r} must be finite and {'> 0' if positive else '>= 0'}")
-    return x
+from schedule_edit import load_schedule, number as _number, save_edited
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -49,13 +38,7 @@ def main(argv: list[str] | None = None) -> int:
                    type=lambda t: _number(t, "START_UP_S", False),
                    help="the start-up the file recommends, s (default 0.25)")
     a = p.parse_args(argv)
-    try:
-        b = core.load_bank(a.schedule)
-    except (OSError, RuntimeError, ValueError) as exc:
-        p.error(f"SCHEDULE {a.schedule!r}: {exc}")
-    s = b.schedule
-    if s is None:
-        p.error(f"SCHEDULE {a.schedule!r} is a bank designed at one point, not a scheduled bank")
+    s = load_schedule(p, a.schedule)
     j = names.SENSORS.index(a.sensor)
     nodes = []
     for n in s["nodes"]:
@@ -74,13 +57,8 @@ def main(argv: list[str] | None = None) -> int:
                            tuning=nb.tuning, p_min=nb.p_min, threshold=nb.threshold, dwell_s=nb.dwell_s,
                            metadata=nb.metadata)
         nodes.append((n["i_mach"], n["i_alt"], m, np.array(n["x_trim"]), n["adapt_reference"], n["layer"]))
-    meta = json.loads(s["metadata"])
-    meta["experiment"] = f"{a.sensor} window {a.width}{' ft/s' if a.sensor == 'VEL' else ''}, level q {a.level_q}"
-    h = core.save_schedule(list(s["mach"]), list(s["alt_ft"]), nodes, primary=s["primary"],
-                           metadata=json.dumps(meta, sort_keys=True, separators=(",", ":")), path=a.out,
-                           switch_state=s["switch_state"], switch_thresholds=list(s["switch_thresholds"]),
-                           start_up_s=a.start_up_s)
-    print(a.out, h[:12])
+    save_edited(s, nodes, a.out, f"{a.sensor} window {a.width}{' ft/s' if a.sensor == 'VEL' else ''}, level q {a.level_q}",
+                start_up_s=a.start_up_s)
     return 0
 
 

@@ -10,23 +10,15 @@ reading six of the seven channels (turbulence_adaptation.h)."""
 from __future__ import annotations
 
 import argparse
-import json
-import math
 import sys
 
 import numpy as np
 
-from f16mmae import core
+from schedule_edit import load_schedule, number, save_edited
 
 
 def _positive(text: str, what: str) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{what} {text!r} is not a number") from None
-    if not (math.isfinite(x) and x > 0.0):
-        raise argparse.ArgumentTypeError(f"{what} {text!r} must be finite and > 0")
-    return x
+    return number(text, what, True)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -37,13 +29,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("min_alt_ft", metavar="MIN_ALT_FT", type=lambda t: _positive(t, "MIN_ALT_FT"),
                    help="nodes at or above this altitude, ft (> 0)")
     a = p.parse_args(argv)
-    try:
-        b = core.load_bank(a.schedule)
-    except (OSError, RuntimeError, ValueError) as exc:
-        p.error(f"SCHEDULE {a.schedule!r}: {exc}")
-    s = b.schedule
-    if s is None:
-        p.error(f"SCHEDULE {a.schedule!r} is a bank designed at one point, not a scheduled bank")
+    s = load_schedule(p, a.schedule)
     nodes, changed = [], 0
     for n in s["nodes"]:
         nb, ref = n["bank"], n["adapt_reference"]
@@ -52,13 +38,7 @@ def main(argv: list[str] | None = None) -> int:
         nodes.append((n["i_mach"], n["i_alt"], nb, np.array(n["x_trim"]), ref, n["layer"]))
     if changed == 0:
         p.error(f"MIN_ALT_FT {a.min_alt_ft:g}: no node at or above it (highest {max(x[2].alt_ft for x in nodes):g} ft)")
-    meta = json.loads(s["metadata"])
-    meta["experiment"] = f"adapt_reference x {a.factor:g} at nodes >= {a.min_alt_ft:g} ft"
-    h = core.save_schedule(list(s["mach"]), list(s["alt_ft"]), nodes, primary=s["primary"],
-                           metadata=json.dumps(meta, sort_keys=True, separators=(",", ":")), path=a.out,
-                           switch_state=s["switch_state"], switch_thresholds=list(s["switch_thresholds"]),
-                           start_up_s=s["start_up_s"])
-    print(a.out, h[:12])
+    save_edited(s, nodes, a.out, f"adapt_reference x {a.factor:g} at nodes >= {a.min_alt_ft:g} ft")
     return 0
 
 

@@ -28,13 +28,13 @@ import numpy as np
 
 import f16mmae.design.turbulence_banks  # noqa: F401  (registers the set with the bank loader)
 from f16mmae.banks import load_bank
-from f16mmae.design.turbulence_banks import ADAPTIVE_DITHER_REFERENCE, MEMBER_P_MIN
+from f16mmae.design.turbulence_banks import MEMBER_P_MIN
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
 from f16mmae.names import FRAME_RATE_HZ, TURBULENCE_LEVELS
 from f16mmae.seeds import evaluation_seed
 from f16mmae.truth import FlightControlSystem, Scenario, TruthModel
-from f16mmae.truth.dither import ADAPTIVE_GUST_SHARE, CRITERION, DitherSpec, adaptive_mix
+from f16mmae.truth.dither import ADAPTIVE_DITHER_REFERENCE, ADAPTIVE_GUST_SHARE, CRITERION, DitherSpec, adaptive_mix
 from f16mmae.truth.failures import make_failure
 
 #: (name, z index, unit factor) of the channels the criterion reads.

@@ -103,3 +103,14 @@ def test_the_option_needs_the_turbulence_set_and_stays_out_of_the_core():
     assert not estimator_options.BY_KEY["adaptive_dither"].in_daemon
     assert estimator_options.command_line_flags({"adaptive_dither": True, "turbulence_banks": True}) == [
         "--turbulence-banks", "--adaptive-dither"]
+
+
+def test_the_light_members_reference_is_the_sets_floor_rho():
+    # the turbulence line and the selector's floor turn at the same rho of the light member
+    # (truth/dither.py ADAPTIVE_DITHER_REFERENCE, design/turbulence_banks.py FLOOR_RHO)
+    from f16mmae.design.turbulence_banks import FLOOR_RHO, MEDIAN_RHO
+    from f16mmae.truth.dither import ADAPTIVE_DITHER_REFERENCE
+
+    assert len(ADAPTIVE_DITHER_REFERENCE) == len(MEDIAN_RHO)
+    assert ADAPTIVE_DITHER_REFERENCE[1] == FLOOR_RHO
+    assert ADAPTIVE_DITHER_REFERENCE[0] == pytest.approx(math.sqrt(11.63 * 84.51), abs=0.005)

@@ -111,17 +111,6 @@ TYPICAL: tuple[float, ...] = tuple(MEDIAN_RHO[i][i] for i in range(len(MEDIAN_RH
 #: frozen removed (docs/results/turbulence_banks.md, round 12).  0 turns it off (revision 16).
 FLOOR_RHO = 2.68
 FLOOR_P_MIN: tuple[float, ...] = (0.0, 1e-6)
-#: The adaptive dither's reference rho_ref per member (truth/dither.py ``adaptive_mix``: the
-#: flaperons' turbulence line comes in above it, in full from ADAPTIVE_FULL_RATIO^2 rho_ref): the
-#: member's rho between moderate and severe turbulence, where its tempering is at its bound and
-#: its own floor holds -- the light member's ``FLOOR_RHO`` (the geometric mean of its median rho
-#: at moderate and severe, 1.18 and 6.08; in full from 4.9, below its 1st percentile in severe
-#: air, 5.08), the calm member's the geometric mean of its medians there (11.63 and 84.51, table 1
-#: of docs/results/turbulence_banks.md).  From the top of each member's own band instead (0.95,
-#: 0.93) the line came in at moderate (h 0.05-0.25) and declared LF and AOA there before any
-#: failure (round 13).  Not part of the set file: the closed loop's rule (``--adaptive-dither``),
-#: read from the set's member in force.
-ADAPTIVE_DITHER_REFERENCE: tuple[float, ...] = (round((11.63 * 84.51) ** 0.5, 2), FLOOR_RHO)
 HOLD_S = 1.0
 WARM_UP_S = 1.0
 WARM_DOWN_S = 5.0

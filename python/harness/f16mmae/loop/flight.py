@@ -55,7 +55,7 @@ import numpy as np
 from .. import __version__, core
 from ..names import FEEDBACK_MODES, FRAME_RATE_HZ, THROTTLE_INPUT
 from ..truth import FlightControlSystem, Scenario, TruthModel
-from ..truth.dither import adaptive_gains
+from ..truth.dither import ADAPTIVE_DITHER_REFERENCE, adaptive_gains
 from .estimator import Estimator
 
 
@@ -212,9 +212,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                                    np.zeros((n_frames, 7)))
         rec_air = np.zeros((n_frames, 2))
     adaptive = bool(getattr(estimator, "settings", {}).get("adaptive_dither"))
-    if adaptive:  # the executive's rule: the set's member in force and its rho set the dither's gains
-        from ..design.turbulence_banks import ADAPTIVE_DITHER_REFERENCE
-        gain_now = None
+    gain_now = None  # adaptive: the executive's rule, the set's member in force and its rho set the dither's gains
     in_cpp = (not adaptive and truth.law_in_cpp and on_frame is None and not record_series
               and isinstance(estimator, Estimator) and estimator.fixed_size
               and (not throttle or scenario.dither.throttle_on))  # C++ takes th_i from the dither

@@ -66,8 +66,8 @@ the same phases +-phi)::
 
 h_j = h on LF and RF (0 elsewhere), set each frame by the executive from the estimator's own
 output, never the truth turbulence: the residual power ratio rho of the turbulence set's member
-in force (cpp/f16mmae/turbulence_bank_set.h) and that member's reference rho_ref,a (the top of
-its own design band; design/turbulence_banks.py ``ADAPTIVE_DITHER_REFERENCE``)::
+in force (cpp/f16mmae/turbulence_bank_set.h) and that member's reference rho_ref,a (its rho
+between moderate and severe air; ``ADAPTIVE_DITHER_REFERENCE``)::
 
     h = min( max( (sqrt(rho / rho_ref,a) - 1) / (ADAPTIVE_FULL_RATIO - 1), 0 ), 1 )
 
@@ -116,6 +116,18 @@ ADAPTIVE_FULL_RATIO = 1.35
 #: deg/s, ADAPTIVE_RATE_SHARE of the flaperons' 80).
 TURBULENCE_FLAPERON_FREQUENCY_HZ = 1.0
 TURBULENCE_FLAPERON_AMPLITUDE_DEG = 9.5
+#: The adaptive dither's reference rho_ref per member of the turbulence bank set, calm and light
+#: (``adaptive_mix``: the flaperons' turbulence line comes in above it, in full from
+#: ADAPTIVE_FULL_RATIO^2 rho_ref): the member's rho between moderate and severe turbulence, where
+#: its tempering is at its bound and its own floor holds -- the light member's is the set's floor
+#: rho (design/turbulence_banks.py ``FLOOR_RHO``, 2.68: the geometric mean of its median rho at
+#: moderate and severe, 1.18 and 6.08; in full from 4.9, below its 1st percentile in severe air,
+#: 5.08; a test keeps the two equal), the calm member's the geometric mean of its medians there
+#: (11.63 and 84.51, table 1 of docs/results/turbulence_banks.md).  From the top of each member's
+#: own band instead (0.95, 0.93) the line came in at moderate (h 0.05-0.25) and declared LF and AOA
+#: there before any failure.  Not part of the set file: the closed loop's rule
+#: (``--adaptive-dither``, loop/flight.py), read from the set's member in force.
+ADAPTIVE_DITHER_REFERENCE: tuple[float, ...] = (round((11.63 * 84.51) ** 0.5, 2), 2.68)
 #: Largest throttle dither amplitude a DitherSpec accepts (command units; trim about 0.25).
 MAX_THROTTLE_AMPLITUDE = 0.1
 #: Default throttle dither frequency (Hz), used when its amplitude is set.

@@ -42,6 +42,24 @@ def _scenario(failures=(), duration_s=1.0, seed=2):
                     feedback="mmae", failures=tuple(make_failure(n, t) for n, t in failures))
 
 
+def _lockstep_equals_in_process(mb, scenario, prefix, options=None, **fly_kwargs):
+    """Flies ``scenario`` in lockstep over memq:// against an InProcessExecutive of ``mb`` with the
+    estimator ``options``, and in process with the same; checks that the two agree (hypotheses,
+    probabilities to 1e-12, declarations) and returns (remote run, in-process run)."""
+    if options:
+        fly_kwargs["estimator_options"] = options
+    lc = lcm.LCM("memq://")
+    chans = channels(prefix)
+    InProcessExecutive(mb, **(options or {})).serve(lc, chans)
+    remote_run = fly_hil(scenario, mb, lc, chans, lockstep=True, timeout_s=2.0, **fly_kwargs)
+    local_run = fly(scenario, mb, **fly_kwargs)
+    assert remote_run.hypotheses == local_run.hypotheses
+    np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
+    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
+    assert remote_run.declarations == local_run.declarations
+    return remote_run, local_run
+
+
 def test_channel_names_take_the_prefix():
     c = channels("SIM1_")
     assert (c.sensors, c.commands, c.status, c.reset, c.run_marker) == (
@@ -80,16 +98,7 @@ def test_messages_round_trip_over_memq():
 def test_lockstep_over_memq_reproduces_the_in_process_run(bank):
     # LS declared at level 0, then a dual at level 1: both levels cross the link
     scenario = _scenario([("LS", 0.5)], duration_s=4.0)
-    lc = lcm.LCM("memq://")
-    chans = channels("MQ_")
-    executive = InProcessExecutive(bank)
-    executive.serve(lc, chans)
-    remote_run = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0)
-    local_run = fly(scenario, bank)
-    assert remote_run.hypotheses == local_run.hypotheses
-    np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
-    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
-    assert remote_run.declarations == local_run.declarations
+    remote_run, _ = _lockstep_equals_in_process(bank, scenario, "MQ_")
     assert [d["hypothesis"] for d in remote_run.declarations][:1] == ["LS"]
     assert any("+" in h for h in remote_run.hypotheses)  # the level-1 bank came on line
     link = remote_run.timing["link"]
@@ -152,14 +161,7 @@ def test_a_gust_bank_over_memq_reproduces_the_in_process_run_with_reconfigured_f
     "reconfigure" feedback frame by frame (here, over LCM) equals the C++ closed loop's."""
     _, mb = gust_bank
     scenario = _scenario([("AZ", 0.5)], duration_s=3.0)
-    lc = lcm.LCM("memq://")
-    chans = channels("MQG_")
-    InProcessExecutive(mb).serve(lc, chans)
-    remote_run = fly_hil(scenario, mb, lc, chans, lockstep=True, timeout_s=2.0, feedback="reconfigure")
-    local_run = fly(scenario, mb, feedback="reconfigure")
-    assert remote_run.hypotheses == local_run.hypotheses
-    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
-    assert remote_run.declarations == local_run.declarations
+    _, local_run = _lockstep_equals_in_process(mb, scenario, "MQG_", feedback="reconfigure")
     assert [d["hypothesis"] for d in local_run.declarations][:1] == ["AZ"]
     # until AZ is declared the control law flies on the raw sensors; after it, on the
     # estimate of AZ (the pitch loop feeds it back): the flight departs from the raw one there
@@ -182,16 +184,8 @@ def test_lockstep_with_the_maneuver_trim_reproduces_the_in_process_run(bank):
     # the states' shifts, frame by frame on both sides of the link
     options = dict(maneuver_trim=True, maneuver_trim_time_constant_s=0.2)
     scenario = _scenario([("LS", 0.5)], duration_s=3.0)
-    lc = lcm.LCM("memq://")
-    chans = channels("MT_")
-    InProcessExecutive(bank, **options).serve(lc, chans)
-    remote_run = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0, estimator_options=options)
-    local_run = fly(scenario, bank, estimator_options=options)
+    _, local_run = _lockstep_equals_in_process(bank, scenario, "MT_", options)
     plain_run = fly(scenario, bank)
-    assert remote_run.hypotheses == local_run.hypotheses
-    np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
-    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
-    assert remote_run.declarations == local_run.declarations
     # the option is in force: the flight is not the bank as designed
     assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(plain_run.probabilities))
 
@@ -201,16 +195,8 @@ def test_lockstep_with_the_maneuver_trims_inertial_rates_reproduces_the_in_proce
     # on both sides of the link
     options = dict(maneuver_trim=True, maneuver_trim_rates="inertial", maneuver_trim_blend_s=1.0)
     scenario = _scenario([("LS", 0.5)], duration_s=3.0)
-    lc = lcm.LCM("memq://")
-    chans = channels("MTI_")
-    InProcessExecutive(bank, **options).serve(lc, chans)
-    remote_run = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0, estimator_options=options)
-    local_run = fly(scenario, bank, estimator_options=options)
+    _, local_run = _lockstep_equals_in_process(bank, scenario, "MTI_", options)
     air_run = fly(scenario, bank, estimator_options=dict(maneuver_trim=True))
-    assert remote_run.hypotheses == local_run.hypotheses
-    np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
-    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
-    assert remote_run.declarations == local_run.declarations
     # the option is in force: the flight is not the air data's maneuver trim
     assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(air_run.probabilities))
 
@@ -223,16 +209,8 @@ def test_lockstep_with_the_maneuver_dwell_and_level1_options_reproduces_the_in_p
                    level1_dwell_s=0.5, departure_hold="off", maneuver_tempering_g=0.1,
                    maneuver_tempering_deadband_g=0.05, adapt_channel_weight=0.5)
     scenario = _scenario([("LS", 0.5)], duration_s=3.0)
-    lc = lcm.LCM("memq://")
-    chans = channels("MD_")
-    InProcessExecutive(bank, **options).serve(lc, chans)
-    remote_run = fly_hil(scenario, bank, lc, chans, lockstep=True, timeout_s=2.0, estimator_options=options)
-    local_run = fly(scenario, bank, estimator_options=options)
+    _, local_run = _lockstep_equals_in_process(bank, scenario, "MD_", options)
     plain_run = fly(scenario, bank)
-    assert remote_run.hypotheses == local_run.hypotheses
-    np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
-    assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
-    assert remote_run.declarations == local_run.declarations
     assert [d["hypothesis"] for d in local_run.declarations][:1] == ["LS"]
     # the options are in force: the flight is not the bank as designed
     assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(plain_run.probabilities))

@@ -111,6 +111,10 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "reference, square root, capped by the actuators' rates; truth/dither.py "
                          "adaptive_gains): the calm-air dither in calm and light air, larger in stronger gusts. "
                          "Default off"),
+    EstimatorOption("sensor_loss_dither", "--sensor-loss-dither", "switch", in_daemon=False,
+                    help="the closed loop raises the truth's surface dither on the lines a sensor saw best "
+                         "while the estimator declares that sensor failed, within the subliminal criterion "
+                         "(truth/dither.py sensor_loss_gains). In process only. Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "
@@ -258,8 +262,8 @@ CORE_ONLY: dict[str, str] = {
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
-#: ``adaptive_dither`` is the closed loop's, loop/flight.py).
-HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither")
+#: ``adaptive_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py).
+HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "sensor_loss_dither")
 
 #: The table by key.
 BY_KEY: dict[str, EstimatorOption] = {o.key: o for o in ESTIMATOR_OPTIONS}

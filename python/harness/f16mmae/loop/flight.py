@@ -26,6 +26,11 @@ its rho (the estimator's outputs, never the truth turbulence) and sets the truth
 ``truth.dither.adaptive_gains(rho, ADAPTIVE_DITHER_REFERENCE[a])`` for u_i (the flaperons'
 turbulence line); the estimator propagates that u_i, dither included.
 
+Sensor-loss dither (estimator setting ``sensor_loss_dither``, ``--sensor-loss-dither``): after
+``update(z_i)`` the loop reads the hypothesis the estimator declares (its own output, never the
+failure truth) and sets the truth's dither gains ``truth.dither.sensor_loss_gains(declared)`` for
+u_i: larger lines on the surfaces a declared sensor saw best.
+
 The estimator is an :class:`~f16mmae.loop.estimator.Estimator`: built from the model bank alone, its only inputs
 are the absolute vectors ``z`` (7,) and ``u`` (5,; 6 with the throttle) and the measured air data (Mach, pressure
 altitude ft, from the truth model's air-data sensor, never the truth state), copied into fresh
@@ -55,7 +60,7 @@ import numpy as np
 from .. import __version__, core
 from ..names import FEEDBACK_MODES, FRAME_RATE_HZ, THROTTLE_INPUT
 from ..truth import FlightControlSystem, Scenario, TruthModel
-from ..truth.dither import ADAPTIVE_DITHER_REFERENCE, adaptive_gains
+from ..truth.dither import ADAPTIVE_DITHER_REFERENCE, adaptive_gains, sensor_loss_gains
 from .estimator import Estimator
 
 
@@ -212,8 +217,11 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                                    np.zeros((n_frames, 7)))
         rec_air = np.zeros((n_frames, 2))
     adaptive = bool(getattr(estimator, "settings", {}).get("adaptive_dither"))
+    sensor_loss = bool(getattr(estimator, "settings", {}).get("sensor_loss_dither"))
+    if sensor_loss and adaptive:
+        raise ValueError("--sensor-loss-dither and --adaptive-dither both set the dither's gains: give one")
     gain_now = None  # adaptive: the executive's rule, the set's member in force and its rho set the dither's gains
-    in_cpp = (not adaptive and truth.law_in_cpp and on_frame is None and not record_series
+    in_cpp = (not adaptive and not sensor_loss and truth.law_in_cpp and on_frame is None and not record_series
               and isinstance(estimator, Estimator) and estimator.fixed_size
               and (not throttle or scenario.dither.throttle_on))  # C++ takes th_i from the dither
     if in_cpp:  # the whole flight in C++: one call, the same frames
@@ -243,6 +251,11 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         if adaptive:
             gain = adaptive_gains(estimator.turbulence_power_ratio,
                                   ADAPTIVE_DITHER_REFERENCE[estimator.turbulence_member])
+            if gain != gain_now:
+                truth.set_dither_gain(fcs, *gain)
+                gain_now = gain
+        elif sensor_loss:  # the hypothesis the estimator declares sets the gains (truth/dither.py)
+            gain = sensor_loss_gains(estimator.declared)
             if gain != gain_now:
                 truth.set_dither_gain(fcs, *gain)
                 gain_now = gain

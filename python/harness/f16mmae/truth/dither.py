@@ -84,6 +84,25 @@ gusts (the estimator's linear actuator sees no rate limit).  b_j is scheduled wi
 condition as the calm line is (``amplitude_schedule``) and kept within that rate share.  With
 h = 0 (the default) the dither is the fixed one bit for bit (1.0 x is exact and the second line
 is not added); cpp/truth/truth_frame.h computes the same in the same order.
+
+Sensor-loss dither (``sensor_loss_gains``; the closed loop's ``--sensor-loss-dither``,
+loop/flight.py): while the estimator declares one sensor s failed (its own output, never the
+failure truth), the calm line of each pair and of the rudder takes the gain of s's row of
+``SENSOR_LOSS_GAINS``::
+
+    d_j = G_s,l(j) a_j sin(w_j t + phi_j),   G_s,l = 1 for a sensor not listed, NONE, a surface, a dual
+
+A declared sensor takes with it the channel that saw some surfaces best (q the stabilators, n_z
+and alpha the flaperons, r the rudder), and the level-1 bank of s then gathers less evidence per
+frame for s + that surface; the evidence of a missing line grows as its amplitude squared, so the
+rows raise the lines of those surfaces.  Criterion: the subliminal one (``CRITERION``) on the
+bound sum_l G_s,l A_l,c, A_l,c the peak of line l alone in channel c at the nominal point (no
+noise, no turbulence; stabilators n_z 0.0112 g, q 0.590 deg/s; flaperons n_z 0.0274 g, p 0.198,
+q 0.056 deg/s; rudder p 0.454, r 0.214 deg/s, n_y 0.0112 g): each row's bound is at most 0.94 of
+the criterion on every channel (q binds the stabilators' 1.5, n_z the flaperons' 1.3, p and n_y
+the rudder's 1.5; the rudder's line at 1.5 x moves it at 1.5 x 79 deg/s commanded, about 100 deg/s
+after the actuator's lag, within its 120).  Measured by tools/dual/sensor_loss_dither.py and
+tests/python/test_sensor_loss_dither.py; what it buys: docs/results/dual.md, round 14.
 """
 from __future__ import annotations
 
@@ -91,6 +110,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
+from ..names import failed_components
 from .actuators import RATE_LIMIT_RAD_S
 
 #: Default amplitude per surface (deg), order LS RS LF RF RUD.
@@ -326,6 +346,30 @@ def adaptive_gains(rho: float, reference: float) -> tuple[list[float], list[floa
     """(g_j, h_j) per surface, LS RS LF RF RUD, of the adaptive dither (module docstring)."""
     h = adaptive_mix(rho, reference)
     return [1.0, 1.0, 1.0 - h, 1.0 - h, 1.0], [0.0, 0.0, h, h, 0.0]
+
+
+#: The sensor-loss dither's line gains per declared sensor, LS RS LF RF RUD (module docstring,
+#: "Sensor-loss dither"); a sensor not listed keeps the fixed dither.
+SENSOR_LOSS_GAINS: dict[str, tuple[float, ...]] = {
+    "VEL": (1.3, 1.3, 1.15, 1.15, 1.3),
+    "AOA": (1.0, 1.0, 1.3, 1.3, 1.0),
+    "PIT": (1.5, 1.5, 1.0, 1.0, 1.0),
+    "AZ": (1.0, 1.0, 1.3, 1.3, 1.0),
+    "ROL": (1.5, 1.5, 1.0, 1.0, 1.0),
+    "YAW": (1.0, 1.0, 1.0, 1.0, 1.5),
+    "AY": (1.0, 1.0, 1.3, 1.3, 1.3),
+}
+
+
+def sensor_loss_gains(declared: str) -> tuple[list[float], list[float]]:
+    """(g_j, h_j) per surface, LS RS LF RF RUD, of the sensor-loss dither for the hypothesis the
+    estimator declares (its own output): the row of ``SENSOR_LOSS_GAINS`` when it is one sensor
+    alone, else the fixed dither's (1, 0).  ValueError for a name that is no hypothesis."""
+    if not isinstance(declared, str):
+        raise ValueError(f"sensor-loss dither: the declared hypothesis must be a name, got {declared!r}")
+    failed = failed_components(declared)
+    row = SENSOR_LOSS_GAINS.get(failed[0]) if len(failed) == 1 else None
+    return (list(row) if row is not None else [1.0] * 5), [0.0] * 5
 
 
 class Dither:

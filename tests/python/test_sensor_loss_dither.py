@@ -1,0 +1,109 @@
+"""The sensor-loss dither (truth/dither.py ``sensor_loss_gains``, ``--sensor-loss-dither``): its
+rule, its table within the subliminal criterion, and the closed loop that sets it from the
+estimator's declaration."""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from f16mmae.loop import estimator_options
+from f16mmae.names import ACTUATORS, SENSORS
+from f16mmae.truth import Scenario, fly_raw
+from f16mmae.truth.dither import CRITERION, SENSOR_LOSS_GAINS, DitherSpec, sensor_loss_gains
+
+LINES = {"stabilators": (0, 1), "flaperons": (2, 3), "rudder": (4,)}
+
+
+def test_the_rule_reads_the_declared_sensor_alone():
+    for sensor, row in SENSOR_LOSS_GAINS.items():
+        assert sensor in SENSORS and len(row) == 5
+        g, h = sensor_loss_gains(sensor)
+        assert g == list(row) and h == [0.0] * 5
+        # a pair's two surfaces share a line: one gain each
+        assert row[0] == row[1] and row[2] == row[3]
+        assert all(x >= 1.0 for x in row) and max(row) > 1.0
+    fixed = ([1.0] * 5, [0.0] * 5)
+    listed = next(iter(SENSOR_LOSS_GAINS))
+    # nothing declared, a surface, a partial loss, a dual with the sensor in it: the fixed dither
+    for name in ("NONE", "LS", "RS:loss=0.5", f"LS+{listed}", *(s for s in SENSORS if s not in SENSOR_LOSS_GAINS)):
+        assert sensor_loss_gains(name) == fixed
+    with pytest.raises(ValueError, match="unknown component 'XYZ'"):
+        sensor_loss_gains("XYZ")
+    with pytest.raises(ValueError, match="must be a name"):
+        sensor_loss_gains(None)
+
+
+def _line_peaks():
+    """Each line alone at the nominal point (no noise, no turbulence, the control law on the
+    sensors): peak |Delta n_z| g, |p|, |q|, |r| deg/s, |Delta n_y| g over the last 6 of 8 s."""
+    base = DitherSpec()
+    out = {}
+    for name, idx in LINES.items():
+        amp = tuple(a if j in idx else 0.0 for j, a in enumerate(base.amplitude_deg))
+        truth, _ = fly_raw(Scenario(duration_s=8.0, noise=False, feedback="raw",
+                                    dither=dataclasses.replace(base, amplitude_deg=amp)))
+        log = truth.truth_log
+        dz = (log["z_ideal"] - truth.trim.z)[log["time_s"] >= 2.0]
+        p = np.abs(dz).max(axis=0)
+        out[name] = np.array([p[3], np.degrees(p[4]), np.degrees(p[2]), np.degrees(p[5]), p[6]])
+    return out
+
+
+def test_every_row_keeps_the_lines_bound_within_the_criterion():
+    """The peak of a sum of lines is at most the sum of their peaks; each row's gains times the
+    measured peaks of the lines stays below the criterion on every channel."""
+    a = _line_peaks()
+    crit = np.array([CRITERION["nz_g"], CRITERION["rate_deg_s"], CRITERION["rate_deg_s"],
+                     CRITERION["rate_deg_s"], CRITERION["ny_g"]])
+    for sensor, row in SENSOR_LOSS_GAINS.items():
+        bound = row[0] * a["stabilators"] + row[2] * a["flaperons"] + row[4] * a["rudder"]
+        assert np.all(bound < crit), (sensor, bound / crit)
+
+
+def test_the_option_is_the_closed_loops_and_refused_with_the_adaptive_dither():
+    opt = estimator_options.BY_KEY["sensor_loss_dither"]
+    assert opt.flag == "--sensor-loss-dither" and opt.kind == "switch" and not opt.in_daemon
+    assert "sensor_loss_dither" in estimator_options.HARNESS_ONLY
+    from f16mmae.loop.estimator import core_arguments
+    assert "sensor_loss_dither" not in core_arguments({"sensor_loss_dither": True, "p_min": 1e-9})
+
+
+def test_the_loop_raises_the_line_after_the_sensor_is_declared():
+    """A pitch-rate gyro failed at 1 s in calm air without noise: with the option the commands
+    equal the fixed dither's flight up to the frame the estimator declares PIT, and from then on
+    the stabilators' 1.7-Hz line is the table's gain larger."""
+    from f16mmae.banks import load_bank
+    from f16mmae.loop.flight import fly, scenario_from_dict
+    if "PIT" not in SENSOR_LOSS_GAINS:
+        pytest.skip("no PIT row")
+    _, _, bank = load_bank("tuned")
+    sc = {"mach": 0.4, "alt_ft": 20000.0, "turbulence": "none", "noise": False, "duration_s": 6.0, "seed": 1,
+          "feedback": "mmae", "failures": [{"name": "PIT", "time_s": 1.0, "mode": "complete"}]}
+    runs = {on: fly(scenario_from_dict(sc), bank, estimator_options={"sensor_loss_dither": True} if on else {},
+                    record_probabilities=False, record_series=True) for on in (False, True)}
+    off, on = runs[False], runs[True]
+    assert on.declarations[0]["hypothesis"] == "PIT"
+    k = int(round(on.declarations[0]["time_s"] * 64))
+    u_off, u_on = off.series["u"], on.series["u"]
+    np.testing.assert_array_equal(u_off[:k], u_on[:k])
+    assert not np.array_equal(u_off[k:], u_on[k:])
+    # the 1.7-Hz amplitude of LS over the last 3 s: the gain's ratio, to the control law's share
+    t = np.arange(len(u_on))[-192:] / 64.0
+    basis = np.column_stack([np.ones_like(t), t, np.sin(2 * np.pi * 1.7 * t), np.cos(2 * np.pi * 1.7 * t)])
+    amp = [np.hypot(*np.linalg.lstsq(basis, u[-192:, 0], rcond=None)[0][2:]) for u in (u_off, u_on)]
+    g = SENSOR_LOSS_GAINS["PIT"][ACTUATORS.index("LS")]
+    assert amp[1] / amp[0] == pytest.approx(g, rel=0.15)
+
+
+def test_the_loop_refuses_both_rules_of_the_gains():
+    from f16mmae.loop.flight import fly, scenario_from_dict
+
+    class Both:  # an estimator whose settings ask for both rules
+        settings = {"sensor_loss_dither": True, "adaptive_dither": True}
+        hypotheses = ("NONE",)
+
+    sc = {"mach": 0.4, "alt_ft": 20000.0, "duration_s": 1.0, "seed": 1, "feedback": "mmae"}
+    with pytest.raises(ValueError, match="give one"):
+        fly(scenario_from_dict(sc), None, estimator=Both())

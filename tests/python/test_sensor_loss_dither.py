@@ -11,7 +11,8 @@ import pytest
 from f16mmae.loop import estimator_options
 from f16mmae.names import ACTUATORS, SENSORS
 from f16mmae.truth import Scenario, fly_raw
-from f16mmae.truth.dither import CRITERION, SENSOR_LOSS_GAINS, DitherSpec, sensor_loss_gains
+from f16mmae.truth.dither import (CRITERION, SENSOR_LOSS_GAIN_RATE, SENSOR_LOSS_GAINS, DitherSpec,
+                                  SensorLossDither, sensor_loss_gains)
 
 LINES = {"stabilators": (0, 1), "flaperons": (2, 3), "rudder": (4,)}
 
@@ -33,6 +34,29 @@ def test_the_rule_reads_the_declared_sensor_alone():
         sensor_loss_gains("XYZ")
     with pytest.raises(ValueError, match="must be a name"):
         sensor_loss_gains(None)
+
+
+def test_the_ramp_moves_at_its_rate_and_lands_on_each_row():
+    rule = SensorLossDither(rate=2.0)
+    row = SENSOR_LOSS_GAINS["PIT"]
+    dt = 1.0 / 64.0
+    g, h = rule.gains("NONE", dt)
+    assert g == [1.0] * 5 and h == [0.0] * 5
+    g, _ = rule.gains("PIT", dt)  # one frame: 2 dt up where the row is above 1
+    assert g == pytest.approx([1.0 + 2.0 * dt if x > 1.0 else 1.0 for x in row])
+    steps = int(np.ceil((max(row) - 1.0) / (2.0 * dt)))
+    for _ in range(steps):
+        g, _ = rule.gains("PIT", dt)
+    assert g == list(row)  # exactly the row
+    for _ in range(steps):
+        g, _ = rule.gains("LS+PIT", dt)  # a dual: back to the fixed dither, exactly
+    assert g == [1.0] * 5
+    assert SensorLossDither().rate == SENSOR_LOSS_GAIN_RATE
+    for bad in (0.0, -1.0, float("nan"), True):
+        with pytest.raises(ValueError, match="gain rate"):
+            SensorLossDither(rate=bad)
+    with pytest.raises(ValueError, match="positive finite time"):
+        rule.gains("PIT", 0.0)
 
 
 def _line_peaks():

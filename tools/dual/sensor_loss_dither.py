@@ -11,7 +11,7 @@ flight the peaks add), and the table's gains keep that bound within the criterio
 ``peaks``: the closed loop as the campaigns fly it (the MMAE's estimate fed back), no noise, no
 turbulence, the sensor failed (``complete``) at 1 s and declared by the estimator, with and
 without ``--sensor-loss-dither``: the truth's peak |Delta n_z|, |p|, |q|, |r|, |Delta n_y| from
-1 s after the declaration to the end (about the first frame's, the trim), against the criterion.
+the declaration (the gains' switch included) to the end (about the first frame's, the trim), against the criterion.
 
     .venv/bin/python tools/dual/sensor_loss_dither.py lines
     .venv/bin/python tools/dual/sensor_loss_dither.py peaks --bank BANK [--sensors PIT,AZ] [--declare-components]
@@ -98,7 +98,7 @@ def _peaks(args) -> None:
                       record_series=True)
             log = res.series["truth_log"]
             first = next((d for d in res.declarations if d["hypothesis"] != "NONE"), None)
-            t0 = (first["time_s"] if first else 1.0) + 1.0
+            t0 = (first["time_s"] if first else 1.0) + args.after
             keep = log["time_s"] >= t0
             p = peaks((log["z_ideal"] - log["z_ideal"][0])[keep])  # frame 0: the trim
             decl = f"{first['hypothesis']}@{first['time_s']:.2f}" if first else "-"
@@ -115,6 +115,7 @@ def main() -> None:
     p.add_argument("--sensors", default=",".join(SENSOR_LOSS_GAINS))
     p.add_argument("--declare-components", action="store_true")
     p.add_argument("--duration", type=float, default=10.0)
+    p.add_argument("--after", type=float, default=0.0, help="start the window this many seconds after the declaration")
     args = ap.parse_args()
     {"lines": _lines, "peaks": _peaks}[args.cmd](args)
 

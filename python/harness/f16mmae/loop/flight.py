@@ -28,8 +28,9 @@ turbulence line); the estimator propagates that u_i, dither included.
 
 Sensor-loss dither (estimator setting ``sensor_loss_dither``, ``--sensor-loss-dither``): after
 ``update(z_i)`` the loop reads the hypothesis the estimator declares (its own output, never the
-failure truth) and sets the truth's dither gains ``truth.dither.sensor_loss_gains(declared)`` for
-u_i: larger lines on the surfaces a declared sensor saw best.
+failure truth) and sets the truth's dither gains by ``truth.dither.SensorLossDither`` (the row of
+``sensor_loss_gains(declared)``, reached at a bounded rate) for u_i: larger lines on the surfaces
+a declared sensor saw best.
 
 The estimator is an :class:`~f16mmae.loop.estimator.Estimator`: built from the model bank alone, its only inputs
 are the absolute vectors ``z`` (7,) and ``u`` (5,; 6 with the throttle) and the measured air data (Mach, pressure
@@ -60,7 +61,7 @@ import numpy as np
 from .. import __version__, core
 from ..names import FEEDBACK_MODES, FRAME_RATE_HZ, THROTTLE_INPUT
 from ..truth import FlightControlSystem, Scenario, TruthModel
-from ..truth.dither import ADAPTIVE_DITHER_REFERENCE, adaptive_gains, sensor_loss_gains
+from ..truth.dither import ADAPTIVE_DITHER_REFERENCE, SensorLossDither, adaptive_gains
 from .estimator import Estimator
 
 
@@ -220,6 +221,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     sensor_loss = bool(getattr(estimator, "settings", {}).get("sensor_loss_dither"))
     if sensor_loss and adaptive:
         raise ValueError("--sensor-loss-dither and --adaptive-dither both set the dither's gains: give one")
+    sensor_loss_rule = SensorLossDither() if sensor_loss else None
     gain_now = None  # adaptive: the executive's rule, the set's member in force and its rho set the dither's gains
     in_cpp = (not adaptive and not sensor_loss and truth.law_in_cpp and on_frame is None and not record_series
               and isinstance(estimator, Estimator) and estimator.fixed_size
@@ -255,7 +257,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                 truth.set_dither_gain(fcs, *gain)
                 gain_now = gain
         elif sensor_loss:  # the hypothesis the estimator declares sets the gains (truth/dither.py)
-            gain = sensor_loss_gains(estimator.declared)
+            gain = sensor_loss_rule.gains(estimator.declared, dt)
             if gain != gain_now:
                 truth.set_dither_gain(fcs, *gain)
                 gain_now = gain

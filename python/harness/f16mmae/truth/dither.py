@@ -90,7 +90,8 @@ loop/flight.py): while the estimator declares one sensor s failed (its own outpu
 failure truth), the calm line of each pair and of the rudder takes the gain of s's row of
 ``SENSOR_LOSS_GAINS``::
 
-    d_j = G_s,l(j) a_j sin(w_j t + phi_j),   G_s,l = 1 for a sensor not listed, NONE, a surface, a dual
+    d_j = g_j a_j sin(w_j t + phi_j),   g_j -> G_s,l(j)  at SENSOR_LOSS_GAIN_RATE per second,
+    G_s,l = 1 for a sensor not listed, NONE, a surface, a dual
 
 A declared sensor takes with it the channel that saw some surfaces best (q the stabilators, n_z
 and alpha the flaperons, r the rudder), and the level-1 bank of s then gathers less evidence per
@@ -370,6 +371,33 @@ def sensor_loss_gains(declared: str) -> tuple[list[float], list[float]]:
     failed = failed_components(declared)
     row = SENSOR_LOSS_GAINS.get(failed[0]) if len(failed) == 1 else None
     return (list(row) if row is not None else [1.0] * 5), [0.0] * 5
+
+
+#: The rate (gain units per second) at which the sensor-loss dither's gains move to a new row
+#: (module docstring): 1 -> 1.5 in 0.5 s, so the line grows over a period or so instead of
+#: stepping, which would excite the airframe as a step does.
+SENSOR_LOSS_GAIN_RATE = 1.0
+
+
+class SensorLossDither:
+    """The closed loop's sensor-loss rule with its ramp: ``gains(declared, dt_s)`` moves each
+    g_j toward ``sensor_loss_gains(declared)`` by at most ``rate dt_s`` and returns (g_j, h_j);
+    it starts at the fixed dither's 1 and lands on each row exactly."""
+
+    def __init__(self, rate: float = SENSOR_LOSS_GAIN_RATE):
+        if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not (math.isfinite(rate) and rate > 0.0):
+            raise ValueError(f"sensor-loss dither gain rate must be a positive finite number, got {rate!r}")
+        self.rate = float(rate)
+        self.gain = [1.0] * 5
+
+    def gains(self, declared: str, dt_s: float) -> tuple[list[float], list[float]]:
+        if not (math.isfinite(dt_s) and dt_s > 0.0):
+            raise ValueError(f"sensor-loss dither step must be a positive finite time, got {dt_s!r}")
+        target, h = sensor_loss_gains(declared)
+        step = self.rate * dt_s
+        self.gain = [t if abs(t - g) <= step else g + math.copysign(step, t - g)
+                     for g, t in zip(self.gain, target)]
+        return list(self.gain), h
 
 
 class Dither:

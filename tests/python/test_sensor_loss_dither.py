@@ -90,8 +90,11 @@ def test_the_option_is_the_closed_loops_and_refused_with_the_adaptive_dither():
     opt = estimator_options.BY_KEY["sensor_loss_dither"]
     assert opt.flag == "--sensor-loss-dither" and opt.kind == "switch" and not opt.in_daemon
     assert "sensor_loss_dither" in estimator_options.HARNESS_ONLY
-    from f16mmae.loop.estimator import core_arguments
-    assert "sensor_loss_dither" not in core_arguments({"sensor_loss_dither": True, "p_min": 1e-9})
+    # the daemon has no such rule: the hardware-in-the-loop path refuses it by name
+    from f16mmae.lcm.daemon import daemon_flags
+    with pytest.raises(ValueError, match="no flag for the estimator option 'sensor_loss_dither'"):
+        daemon_flags({"sensor_loss_dither": True, "p_min": 1e-9})
+    assert daemon_flags({"sensor_loss_dither": False, "p_min": 1e-9}) == ("--p-min", "1e-09")
 
 
 def test_the_loop_raises_the_line_after_the_sensor_is_declared():

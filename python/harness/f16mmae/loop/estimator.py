@@ -25,7 +25,6 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
     beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf."""
     out = dict(settings)
-    out.pop("sensor_loss_dither", None)  # the closed loop's (loop/flight.py), not the core's
     if out.pop("actuator_limits", False):
         free = [math.inf] * (nu - len(RATE_LIMIT_RAD_S))
         out["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, *free]
@@ -62,7 +61,8 @@ def _bank_set(model_bank, settings: dict):
     filter's power per channel it reads, the file's reference, trim tracking and load-factor
     tempering unless given), what mmae-daemon --turbulence-banks runs."""
     bank_set = turbulence_set_of(model_bank)
-    own = {k: v for k, v in settings.items() if k not in ("turbulence_banks", "adaptive_dither")}
+    loop_only = ("turbulence_banks", "adaptive_dither", "sensor_loss_dither")
+    own = {k: v for k, v in settings.items() if k not in loop_only}
     return core.TurbulenceBankSet(bank_set.source, **core_arguments(own, model_bank.nu))
 
 
@@ -85,7 +85,8 @@ class Estimator:
             self._bank = _bank_set(model_bank, self.settings)
         else:
             # a scheduled bank's per-node floors unless a p_min was given (then that everywhere)
-            self._bank = core.HierarchicalBank(model_bank, **core_arguments(self.settings, model_bank.nu),
+            own = {k: v for k, v in self.settings.items() if k != "sensor_loss_dither"}  # the loop's (flight.py)
+            self._bank = core.HierarchicalBank(model_bank, **core_arguments(own, model_bank.nu),
                                                node_p_min="p_min" not in options)
         self.bank_hash = flown_bank_hash(model_bank, self.settings)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.

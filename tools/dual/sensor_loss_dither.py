@@ -9,7 +9,7 @@ g_l is at most sum_l g_l A_{l,c} (the lines' frequencies are incommensurate, so 
 flight the peaks add), and the table's gains keep that bound within the criterion.
 
 ``peaks``: the closed loop as the campaigns fly it (the MMAE's estimate fed back), no noise, no
-turbulence, the sensor failed (``complete``) at 1 s and declared by the estimator, with and
+turbulence, the sensor failed (``complete``) at 1 s (``--fail-at``) and declared by the estimator, with and
 without ``--sensor-loss-dither``: the truth's peak |Delta n_z|, |p|, |q|, |r|, |Delta n_y| from
 the declaration (the gains' switch included) to the end (about the first frame's, the trim), against the criterion.
 
@@ -88,9 +88,9 @@ def _peaks(args) -> None:
           + "   largest share")
     for s in args.sensors.split(","):
         for on in (False, True):
-            scenario = {"mach": 0.4, "alt_ft": 20000.0, "turbulence": "none", "noise": False,
+            scenario = {"mach": 0.4, "alt_ft": 20000.0, "turbulence": "none", "noise": args.noise,
                         "duration_s": args.duration, "seed": 1, "feedback": "mmae",
-                        "failures": [{"name": s, "time_s": 1.0, "mode": "complete"}]}
+                        "failures": [{"name": s, "time_s": args.fail_at, "mode": "complete"}]}
             opts = {"declare_components": args.declare_components}
             if on:
                 opts["sensor_loss_dither"] = True
@@ -98,7 +98,7 @@ def _peaks(args) -> None:
                       record_series=True)
             log = res.series["truth_log"]
             first = next((d for d in res.declarations if d["hypothesis"] != "NONE"), None)
-            t0 = (first["time_s"] if first else 1.0) + args.after
+            t0 = (first["time_s"] if first else args.fail_at) + args.after
             keep = log["time_s"] >= t0
             p = peaks((log["z_ideal"] - log["z_ideal"][0])[keep])  # frame 0: the trim
             decl = f"{first['hypothesis']}@{first['time_s']:.2f}" if first else "-"
@@ -115,6 +115,9 @@ def main() -> None:
     p.add_argument("--sensors", default=",".join(SENSOR_LOSS_GAINS))
     p.add_argument("--declare-components", action="store_true")
     p.add_argument("--duration", type=float, default=10.0)
+    p.add_argument("--noise", action="store_true",
+                   help="the sensors' noise on (flight seed 1): a noise-free flight declares VEL by 2.2 s")
+    p.add_argument("--fail-at", type=float, default=1.0, help="the sensor's failure time (s)")
     p.add_argument("--after", type=float, default=0.0, help="start the window this many seconds after the declaration")
     args = ap.parse_args()
     {"lines": _lines, "peaks": _peaks}[args.cmd](args)

@@ -100,9 +100,12 @@ rows raise the lines of those surfaces.  Criterion: the subliminal one (``CRITER
 bound sum_l G_s,l A_l,c, A_l,c the peak of line l alone in channel c at the nominal point (no
 noise, no turbulence; stabilators n_z 0.0112 g, q 0.590 deg/s; flaperons n_z 0.0274 g, p 0.198,
 q 0.056 deg/s; rudder p 0.454, r 0.214 deg/s, n_y 0.0112 g): each row's bound is at most 0.94 of
-the criterion on every channel (q binds the stabilators' 1.5, n_z the flaperons' 1.3, p and n_y
+the criterion on every channel (q binds the stabilators' 1.4, n_z the flaperons' 1.3, p and n_y
 the rudder's 1.5; the rudder's line at 1.5 x moves it at 1.5 x 79 deg/s commanded, about 100 deg/s
-after the actuator's lag, within its 120).  Measured by tools/dual/sensor_loss_dither.py and
+after the actuator's lag, within its 120).  In the closed loop with the sensor failed and
+declared (the estimate fed back) the peaks stay within 0.92 of the criterion, and within 0.97
+with the sensors' noise on, which the estimate feeds back too (the stabilators at 1.5 reached
+q 1.01 deg/s there).  Measured by tools/dual/sensor_loss_dither.py and
 tests/python/test_sensor_loss_dither.py; what it buys: docs/results/dual.md, round 14.
 """
 from __future__ import annotations
@@ -354,9 +357,9 @@ def adaptive_gains(rho: float, reference: float) -> tuple[list[float], list[floa
 SENSOR_LOSS_GAINS: dict[str, tuple[float, ...]] = {
     "VEL": (1.3, 1.3, 1.15, 1.15, 1.3),
     "AOA": (1.0, 1.0, 1.3, 1.3, 1.0),
-    "PIT": (1.5, 1.5, 1.0, 1.0, 1.0),
+    "PIT": (1.4, 1.4, 1.0, 1.0, 1.0),
     "AZ": (1.0, 1.0, 1.3, 1.3, 1.0),
-    "ROL": (1.5, 1.5, 1.0, 1.0, 1.0),
+    "ROL": (1.4, 1.4, 1.0, 1.0, 1.0),
     "YAW": (1.0, 1.0, 1.0, 1.0, 1.5),
     "AY": (1.0, 1.0, 1.3, 1.3, 1.3),
 }

@@ -83,7 +83,7 @@ def test_every_row_keeps_the_lines_bound_within_the_criterion():
                      CRITERION["rate_deg_s"], CRITERION["ny_g"]])
     for sensor, row in SENSOR_LOSS_GAINS.items():
         bound = row[0] * a["stabilators"] + row[2] * a["flaperons"] + row[4] * a["rudder"]
-        assert np.all(bound < crit), (sensor, bound / crit)
+        assert np.all(bound < 0.95 * crit), (sensor, bound / crit)
 
 
 def test_the_option_is_the_closed_loops_and_refused_with_the_adaptive_dither():
@@ -122,6 +122,13 @@ def test_the_loop_raises_the_line_after_the_sensor_is_declared():
     amp = [np.hypot(*np.linalg.lstsq(basis, u[-192:, 0], rcond=None)[0][2:]) for u in (u_off, u_on)]
     g = SENSOR_LOSS_GAINS["PIT"][ACTUATORS.index("LS")]
     assert amp[1] / amp[0] == pytest.approx(g, rel=0.15)
+    # and the aircraft's response from the declaration on, ramp included, within the criterion
+    log = on.series["truth_log"]
+    dz = (log["z_ideal"] - log["z_ideal"][0])[log["time_s"] >= on.declarations[0]["time_s"]]
+    p = np.abs(dz).max(axis=0)
+    assert p[3] < CRITERION["nz_g"] and p[6] < CRITERION["ny_g"]
+    assert np.all(np.degrees(p[[2, 4, 5]]) < CRITERION["rate_deg_s"]), np.degrees(p[[2, 4, 5]])
+    assert np.degrees(p[2]) > 0.7  # the larger line shows in q (0.63 deg/s with the fixed dither)
 
 
 def test_the_loop_refuses_both_rules_of_the_gains():

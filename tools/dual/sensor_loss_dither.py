@@ -3,10 +3,13 @@ and what it does to the subliminal criterion.
 
 ``lines``: each dither line's share of every criterion channel at the nominal point (20,000 ft,
 Mach 0.4; no noise, no turbulence, the control law on the sensors).  Each line (the stabilators'
-pair, the flaperons' pair, the rudder) is flown alone; the peak over the last 6 s of
-|Delta n_z|, |p|, |q|, |r|, |Delta n_y| is that line's A_{l,c}.  The dither's peak with line gains
-g_l is at most sum_l g_l A_{l,c} (the lines' frequencies are incommensurate, so over a long
-flight the peaks add), and the table's gains keep that bound within the criterion.
+pair in phase, the stabilators' pair in opposite phase, the flaperons' pair, the rudder) is flown
+alone; the peak over the last 6 s of |Delta n_z|, |p|, |q|, |r|, |Delta n_y| is that line's
+A_{l,c}.  A row's gains g_j give the lines the gains (g_LS + g_RS)/2 (in phase),
+|g_LS - g_RS|/2 (opposite phase), g_LF = g_RF, g_RUD; the dither's peak is at most
+sum_l g_l A_{l,c} (the lines' frequencies are incommensurate, so over a long flight the peaks
+add; the two stabilator lines share one frequency, and the bound adds them all the same), and
+the table's gains keep that bound within the criterion.
 
 ``peaks``: the closed loop as the campaigns fly it (the MMAE's estimate fed back), no noise, no
 turbulence, the sensor failed (``complete``) at 1 s (``--fail-at``) and declared by the estimator, with and
@@ -27,8 +30,9 @@ from f16mmae.names import SENSORS
 from f16mmae.truth import Scenario, fly_raw
 from f16mmae.truth.dither import CRITERION, DitherSpec, SENSOR_LOSS_GAINS
 
-#: The lines: name -> the surfaces (LS RS LF RF RUD indices) on it.
-LINES = {"stabilators": (0, 1), "flaperons": (2, 3), "rudder": (4,)}
+#: The lines: name -> (the surfaces, LS RS LF RF RUD indices, on it; RS in opposite phase).
+LINES = {"stabilators": ((0, 1), False), "stabilators, opposite": ((0, 1), True), "flaperons": ((2, 3), False),
+         "rudder": ((4,), False)}
 #: z indices of the criterion channels and their criterion (n_z, p, q, r in deg/s, n_y).
 CHANNELS = (("n_z g", 3, CRITERION["nz_g"], False), ("p deg/s", 4, CRITERION["rate_deg_s"], True),
             ("q deg/s", 2, CRITERION["rate_deg_s"], True), ("r deg/s", 5, CRITERION["rate_deg_s"], True),
@@ -48,10 +52,13 @@ def line_peaks(duration_s: float = 8.0) -> dict[str, np.ndarray]:
     """A_{l,c}: each line alone, peaks over the last 6 s (module docstring)."""
     base = DitherSpec()
     out = {}
-    for name, idx in LINES.items():
+    for name, (idx, opposite) in LINES.items():
         amp = [a if j in idx else 0.0 for j, a in enumerate(base.amplitude_deg)]
+        phase = list(base.phase_rad)
+        if opposite:
+            phase[1] += np.pi
         sc = Scenario(duration_s=duration_s, noise=False, feedback="raw",
-                      dither=dataclasses.replace(base, amplitude_deg=tuple(amp)))
+                      dither=dataclasses.replace(base, amplitude_deg=tuple(amp), phase_rad=tuple(phase)))
         truth, _ = fly_raw(sc)
         log = truth.truth_log
         keep = log["time_s"] >= duration_s - 6.0
@@ -59,22 +66,27 @@ def line_peaks(duration_s: float = 8.0) -> dict[str, np.ndarray]:
     return out
 
 
+def line_gains(row) -> dict[str, float]:
+    """The lines' gains of a row of gains per surface (module docstring)."""
+    if row[2] != row[3]:
+        raise ValueError(f"the flaperons share one line: a row needs g_LF = g_RF, got {row}")
+    return {"stabilators": (row[0] + row[1]) / 2.0, "stabilators, opposite": abs(row[0] - row[1]) / 2.0,
+            "flaperons": row[2], "rudder": row[4]}
+
+
 def _lines(args) -> None:
     a = line_peaks()
     crit = np.array([c for *_, c, _ in CHANNELS])
-    print("line".ljust(12) + "".join(f"{n:>10s}" for n, *_ in CHANNELS))
+    print("line".ljust(22) + "".join(f"{n:>10s}" for n, *_ in CHANNELS))
     for name, v in a.items():
-        print(name.ljust(12) + "".join(f"{x:10.4f}" for x in v))
-    total = sum(a.values())
-    print("sum".ljust(12) + "".join(f"{x:10.4f}" for x in total))
-    print("criterion".ljust(12) + "".join(f"{x:10.4f}" for x in crit))
+        print(name.ljust(22) + "".join(f"{x:10.4f}" for x in v))
+    print("criterion".ljust(22) + "".join(f"{x:10.4f}" for x in crit))
     print("\nper sensor: line gains of the table and the bound sum_l g_l A_lc / criterion")
     for s in SENSORS:
         g = SENSOR_LOSS_GAINS.get(s)
         if g is None:
             continue
-        lg = {"stabilators": g[0], "flaperons": g[2], "rudder": g[4]}
-        bound = sum(lg[n] * a[n] for n in LINES)
+        bound = sum(w * a[n] for n, w in line_gains(g).items())
         print(f"{s:4s} gains {g}  bound/criterion " + " ".join(f"{x:.2f}" for x in bound / crit))
 
 

@@ -87,25 +87,30 @@ is not added); cpp/truth/truth_frame.h computes the same in the same order.
 
 Sensor-loss dither (``sensor_loss_gains``; the closed loop's ``--sensor-loss-dither``,
 loop/flight.py): while the estimator declares one sensor s failed (its own output, never the
-failure truth), the calm line of each pair and of the rudder takes the gain of s's row of
-``SENSOR_LOSS_GAINS``::
+failure truth), each surface's calm line takes the gain of s's row of ``SENSOR_LOSS_GAINS``::
 
-    d_j = g_j a_j sin(w_j t + phi_j),   g_j -> G_s,l(j)  at SENSOR_LOSS_GAIN_RATE per second,
-    G_s,l = 1 for a sensor not listed, NONE, a surface, a dual
+    d_j = g_j a_j sin(w_j t + phi_j),   g_j -> G_s,j  at SENSOR_LOSS_GAIN_RATE per second,
+    G_s,j = 1 for a sensor not listed, NONE, a surface, a dual
 
 A declared sensor takes with it the channel that saw some surfaces best (q the stabilators, n_z
 and alpha the flaperons, r the rudder), and the level-1 bank of s then gathers less evidence per
 frame for s + that surface; the evidence of a missing line grows as its amplitude squared, so the
-rows raise the lines of those surfaces.  Criterion: the subliminal one (``CRITERION``) on the
-bound sum_l G_s,l A_l,c, A_l,c the peak of line l alone in channel c at the nominal point (no
-noise, no turbulence; stabilators n_z 0.0112 g, q 0.590 deg/s; flaperons n_z 0.0274 g, p 0.198,
-q 0.056 deg/s; rudder p 0.454, r 0.214 deg/s, n_y 0.0112 g): each row's bound is at most 0.94 of
-the criterion on every channel (q binds the stabilators' 1.4, n_z the flaperons' 1.3, p and n_y
-the rudder's 1.5; the rudder's line at 1.5 x moves it at 1.5 x 79 deg/s commanded, about 100 deg/s
-after the actuator's lag, within its 120).  In the closed loop with the sensor failed and
-declared (the estimate fed back) the peaks stay within 0.92 of the criterion, and within 0.97
-with the sensors' noise on, which the estimate feeds back too (the stabilators at 1.5 reached
-q 1.01 deg/s there).  Measured by tools/dual/sensor_loss_dither.py and
+rows raise the lines of those surfaces, a pair's two surfaces alike (each failure keeps its
+signature) -- but for the roll-rate gyro's: without it LS and RS differ only in the sign of a
+roll moment nothing measures, so its row gives the stabilators different gains (1.7 and 0.9: the
+same mean pitch line, 1.3 x, and a part in opposite phase, 0.4 x), and a failed LS or RS then
+takes a different share of the pitch line with it.  Criterion: the subliminal one
+(``CRITERION``) on the bound sum_l w_l A_l,c, A_l,c the peak of line l alone in channel c at the
+nominal point (no noise, no turbulence; the stabilators in phase n_z 0.0112 g, q 0.590 deg/s, in
+opposite phase p 0.329 deg/s; flaperons n_z 0.0274 g, p 0.198, q 0.056 deg/s; rudder p 0.454,
+r 0.214 deg/s, n_y 0.0112 g) and w_l the line's gain ((G_LS + G_RS)/2 in phase, |G_LS - G_RS|/2
+in opposite phase, G_LF = G_RF, G_RUD): each row's bound is at most 0.94 of the criterion on
+every channel (q binds the stabilators' 1.4, n_z the flaperons' 1.3, p and n_y the rudder's 1.5;
+the rudder's line at 1.5 x moves it at 1.5 x 79 deg/s commanded, about 100 deg/s after the
+actuator's lag, within its 120).  In the closed loop with the sensor failed and declared (the
+estimate fed back) the peaks stay within 0.92 of the criterion, and within 0.97 with the
+sensors' noise on, which the estimate feeds back too (the stabilators at 1.5 reached q 1.01
+deg/s there).  Measured by tools/dual/sensor_loss_dither.py and
 tests/python/test_sensor_loss_dither.py; what it buys: docs/results/dual.md, round 14.
 """
 from __future__ import annotations
@@ -359,7 +364,7 @@ SENSOR_LOSS_GAINS: dict[str, tuple[float, ...]] = {
     "AOA": (1.0, 1.0, 1.3, 1.3, 1.0),
     "PIT": (1.4, 1.4, 1.0, 1.0, 1.0),
     "AZ": (1.0, 1.0, 1.3, 1.3, 1.0),
-    "ROL": (1.4, 1.4, 1.0, 1.0, 1.0),
+    "ROL": (1.7, 0.9, 1.0, 1.0, 1.0),
     "YAW": (1.0, 1.0, 1.0, 1.0, 1.5),
     "AY": (1.0, 1.0, 1.3, 1.3, 1.3),
 }

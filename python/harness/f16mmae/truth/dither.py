@@ -109,8 +109,8 @@ every channel (q binds the stabilators' 1.4, n_z the flaperons' 1.3, p and n_y t
 the rudder's line at 1.5 x moves it at 1.5 x 79 deg/s commanded, about 100 deg/s after the
 actuator's lag, within its 120).  In the closed loop with the sensor failed and declared (the
 estimate fed back) the peaks stay within 0.92 of the criterion, and within 0.97 with the
-sensors' noise on, which the estimate feeds back too (the stabilators at 1.5 reached q 1.01
-deg/s there).  Measured by tools/dual/sensor_loss_dither.py and
+sensors' noise on, which the estimate feeds back too (q binds the stabilators there: at 1.5 x
+they give 1.01 deg/s).  Measured by tools/dual/sensor_loss_dither.py and
 tests/python/test_sensor_loss_dither.py; what it buys: docs/results/dual.md, round 14.
 """
 from __future__ import annotations
@@ -357,8 +357,8 @@ def adaptive_gains(rho: float, reference: float) -> tuple[list[float], list[floa
     return [1.0, 1.0, 1.0 - h, 1.0 - h, 1.0], [0.0, 0.0, h, h, 0.0]
 
 
-#: The sensor-loss dither's line gains per declared sensor, LS RS LF RF RUD (module docstring,
-#: "Sensor-loss dither"); a sensor not listed keeps the fixed dither.
+#: The sensor-loss dither's gains per declared sensor on the calm line of each surface, LS RS LF
+#: RF RUD (module docstring, "Sensor-loss dither"); a sensor not listed keeps the fixed dither.
 SENSOR_LOSS_GAINS: dict[str, tuple[float, ...]] = {
     "VEL": (1.3, 1.3, 1.15, 1.15, 1.3),
     "AOA": (1.0, 1.0, 1.3, 1.3, 1.0),

@@ -130,7 +130,7 @@ def evidence_table(model_bank, flights: int) -> None:
                 seed = evaluation_seed("turbulence_dither_evidence", 7, case, n)
                 sc = Scenario(turbulence="severe", duration_s=8.0, seed=seed, feedback="reconfigure",
                               failures=(make_failure(case, 3.0),))
-                opts = {"turbulence_banks": True, **({"adaptive_dither": True} if adaptive else {})}
+                opts = {"turbulence_banks": True, **({} if adaptive else {"fixed_dither": True})}
                 r = fly(sc, model_bank, estimator_options=opts)
                 after = r.probabilities[int(3.0 * FRAME_RATE_HZ):, list(r.hypotheses).index(case)]
                 after = np.nan_to_num(after, nan=1.0)   # off line: the bank went to level 1 on it

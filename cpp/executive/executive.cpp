@@ -185,6 +185,8 @@ void Executive::fill_status(const lcmt_sensor_frame& frame, std::int64_t stale) 
   status_.commands_missed = c.commands_missed;
   status_.frames_resynchronised = c.frames_resynchronised;
   status_.air_data_rejected = air_data_rejected_;
+  status_.turbulence_member = static_cast<std::int8_t>(estimator_.turbulence_member());
+  status_.turbulence_power_ratio = estimator_.turbulence_power_ratio();
 }
 
 std::string Executive::summary() const {

@@ -34,6 +34,7 @@
 
 #include <Eigen/Dense>
 
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -175,6 +176,17 @@ class MmaeEstimator {
   }
   // The number of member banks of a turbulence bank set, 0 for one hierarchical bank.
   int members() const noexcept { return members_; }
+  // The turbulence bank set's member in force (its index), -1 for one hierarchical bank.
+  int turbulence_member() const noexcept {
+    const auto* s = turbulence_set();
+    return s ? s->active() : -1;
+  }
+  // The residual power ratio rho of the set's member in force (TurbulenceBankSet::power_ratio,
+  // the selector's measure), NaN for one hierarchical bank.
+  double turbulence_power_ratio() const noexcept {
+    const auto* s = turbulence_set();
+    return s ? s->power_ratio() : std::numeric_limits<double>::quiet_NaN();
+  }
   // The turbulence bank set, or nullptr for one hierarchical bank.
   const TurbulenceBankSet<F16GustThrottleHierarchicalBank>* turbulence_set() const noexcept {
     const auto* p = std::get_if<std::unique_ptr<SetBank>>(&bank_);
@@ -195,6 +207,9 @@ class MmaeEstimator {
 
   static Variant make(const TurbulenceSetFile& set, const HierarchicalOptions& options) {
     set.validate();
+    if (set.size() > std::numeric_limits<std::int8_t>::max())   // the status's turbulence_member is an int8
+      throw std::invalid_argument("mmae-daemon runs a turbulence bank set of at most 127 members; this set has " +
+                                  std::to_string(set.size()));
     const ModelBank& b = set.members[0];
     if (b.nz() != kNz || b.nx() != kNxGust || b.nu() != kNuThrottle) {
       std::ostringstream s;

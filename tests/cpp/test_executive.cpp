@@ -77,6 +77,8 @@ void expect_same(const Executive& ex, const F16FilterBank& ref, const ModelBank&
     EXPECT_NEAR(st.probabilities[k], ref.probabilities()(k), 1e-12) << "hypothesis " << k;
   }
   for (int j = 0; j < 7; ++j) EXPECT_NEAR(st.z_hat[j], ref.z_hat()(j) + b.z_trim(j), 1e-9);
+  EXPECT_EQ(st.turbulence_member, -1) << "one bank: no turbulence set's member";
+  EXPECT_TRUE(std::isnan(st.turbulence_power_ratio));
 }
 
 }  // namespace

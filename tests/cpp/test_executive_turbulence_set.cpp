@@ -4,7 +4,8 @@
 // of the payload), reads versions 1 to 3, and
 // refuses damage and invalid sets naming the field; the file's tempering is flown unless one is
 // given; the executive equals the core TurbulenceBankSet stepped directly over
-// the same members, bit for bit, across handovers, with the set's hash in its status; its
+// the same members, bit for bit, across handovers, with the set's hash, its member in force and
+// that member's rho in its status; its
 // per-frame path allocates nothing, handovers included.
 #include "executive/executive.h"
 #include "allocation_counter.h"
@@ -337,6 +338,9 @@ TEST(Executive, ATurbulenceBankSetRunsAsTheCoreSetAndAllocatesNothing) {
     allocations += f16mmae::testing::allocation_count() - before;
     direct.schedule(AirData{0.4, 20000.0});
     direct.update(z);
+    // the status carries the member in force after the update and its rho (the adaptive dither's input)
+    ASSERT_EQ(ex.status().turbulence_member, direct.active()) << "frame " << i;
+    ASSERT_EQ(ex.status().turbulence_power_ratio, direct.power_ratio()) << "frame " << i;
     direct.propagate(u);
     const auto* set = ex.estimator().turbulence_set();
     ASSERT_NE(set, nullptr);

@@ -105,6 +105,23 @@ def test_the_option_needs_the_turbulence_set_and_stays_out_of_the_core():
         "--turbulence-banks", "--adaptive-dither"]
 
 
+def test_the_adaptive_dither_is_the_sets_default_and_the_fixed_one_stays_selectable():
+    """With --turbulence-banks the settings in force hold the adaptive dither unless --fixed-dither;
+    the two exclude each other; without the set neither applies (and nothing is added)."""
+    defaults = estimator_options.with_closed_loop_defaults
+    assert defaults({"turbulence_banks": True}) == {"turbulence_banks": True, "adaptive_dither": True}
+    assert defaults({"turbulence_banks": True, "fixed_dither": True}) == {"turbulence_banks": True,
+                                                                        "fixed_dither": True}
+    assert defaults({"p_min": 1e-9}) == {"p_min": 1e-9}
+    with pytest.raises(ValueError, match="--fixed-dither applies with --turbulence-banks"):
+        estimator_options.check({"fixed_dither": True})
+    with pytest.raises(ValueError, match="exclude each other"):
+        estimator_options.check({"turbulence_banks": True, "fixed_dither": True, "adaptive_dither": True})
+    estimator_options.check({"turbulence_banks": True, "fixed_dither": True})
+    assert set(estimator_options.CLOSED_LOOP) == {"adaptive_dither", "fixed_dither", "sensor_loss_dither"}
+    assert set(estimator_options.CLOSED_LOOP) <= set(estimator_options.HARNESS_ONLY)
+
+
 def test_the_light_members_reference_is_the_sets_floor_rho():
     # the turbulence line and the selector's floor turn at the same rho of the light member
     # (truth/dither.py ADAPTIVE_DITHER_REFERENCE, design/turbulence_banks.py FLOOR_RHO)

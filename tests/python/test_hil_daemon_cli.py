@@ -116,6 +116,9 @@ def test_every_estimator_option_of_the_cli_has_a_daemon_flag():
         daemon_flags({"gust_states": True})
     assert daemon_flags({"turbulence_banks": True}) == ("--turbulence-banks",)   # with --bank SET
     assert daemon_flags({"turbulence_banks": False}) == ()
+    # the closed loop's dither (the truth side's, read off the status): no flag for the executive
+    assert daemon_flags({"turbulence_banks": True, "adaptive_dither": True}) == ("--turbulence-banks",)
+    assert daemon_flags({"turbulence_banks": True, "fixed_dither": True}) == ("--turbulence-banks",)
 
 
 def test_the_climb_dwell_and_own_channels_reach_the_daemon():

@@ -42,21 +42,29 @@ def _scenario(failures=(), duration_s=1.0, seed=2):
                     feedback="mmae", failures=tuple(make_failure(n, t) for n, t in failures))
 
 
-def _lockstep_equals_in_process(mb, scenario, prefix, options=None, **fly_kwargs):
+def _lockstep_equals_in_process(mb, scenario, prefix, options=None, commands=None, **fly_kwargs):
     """Flies ``scenario`` in lockstep over memq:// against an InProcessExecutive of ``mb`` with the
     estimator ``options``, and in process with the same; checks that the two agree (hypotheses,
-    probabilities to 1e-12, declarations) and returns (remote run, in-process run)."""
+    probabilities to 1e-12, declarations) and returns (remote run, in-process run).  With a list
+    ``commands``, also that both flew the same commands u_i, bit for bit (appended to it: the
+    in-process flight's, (frames, inputs); both then fly frame by frame)."""
     if options:
         fly_kwargs["estimator_options"] = options
     lc = lcm.LCM("memq://")
     chans = channels(prefix)
     InProcessExecutive(mb, **(options or {})).serve(lc, chans)
-    remote_run = fly_hil(scenario, mb, lc, chans, lockstep=True, timeout_s=2.0, **fly_kwargs)
-    local_run = fly(scenario, mb, **fly_kwargs)
+    u_remote, u_local = [], []
+    record = (lambda into: (lambda t, u, z, air: into.append(u))) if commands is not None else (lambda into: None)
+    remote_run = fly_hil(scenario, mb, lc, chans, lockstep=True, timeout_s=2.0, on_frame=record(u_remote),
+                         **fly_kwargs)
+    local_run = fly(scenario, mb, on_frame=record(u_local), **fly_kwargs)
     assert remote_run.hypotheses == local_run.hypotheses
     np.testing.assert_array_equal(np.isnan(remote_run.probabilities), np.isnan(local_run.probabilities))
     assert np.nanmax(np.abs(remote_run.probabilities - local_run.probabilities)) <= 1e-12
     assert remote_run.declarations == local_run.declarations
+    if commands is not None:
+        np.testing.assert_array_equal(np.array(u_remote), np.array(u_local))
+        commands.append(np.array(u_local))
     return remote_run, local_run
 
 
@@ -214,3 +222,66 @@ def test_lockstep_with_the_maneuver_dwell_and_level1_options_reproduces_the_in_p
     assert [d["hypothesis"] for d in local_run.declarations][:1] == ["LS"]
     # the options are in force: the flight is not the bank as designed
     assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(plain_run.probabilities))
+
+
+@pytest.fixture(scope="module")
+def turbulence_bank():
+    """The turbulence bank set's start member (--tuning turbulence): the set flies with it."""
+    return load_bank("turbulence")[2]
+
+
+def _commands(scenario, mb, options) -> np.ndarray:
+    """The commands u_i of ``scenario`` flown in process with ``options``, frame by frame."""
+    us = []
+    fly(scenario, mb, estimator_options=options, on_frame=lambda t, u, z, air: us.append(u))
+    return np.array(us)
+
+
+def test_lockstep_with_the_adaptive_dither_reproduces_the_in_process_run(turbulence_bank):
+    """--adaptive-dither over the link: the truth side sets the dither's gains from the status's
+    member in force and rho (loop/flight.py), which equal the in-process set's, so the commands
+    and probabilities are the in-process flight's exactly; in severe air the member reads the
+    gusts and the flaperons' turbulence line comes in (the flight departs from the fixed dither's)."""
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="severe", duration_s=2.0, seed=3, feedback="mmae",
+                        failures=(make_failure("LF", 1.0),))
+    options = {"turbulence_banks": True, "adaptive_dither": True}
+    commands = []
+    remote_run, _ = _lockstep_equals_in_process(turbulence_bank, scenario, "AD_", options, commands=commands)
+    assert remote_run.estimator_settings["adaptive_dither"] is True
+    fixed = _commands(scenario, turbulence_bank, {"turbulence_banks": True, "fixed_dither": True})
+    adaptive = commands[0]
+    lf = 2  # ACTUATORS: LS RS LF RF RUD (THR)
+    assert np.abs(fixed[:, lf] - adaptive[:, lf]).max() > np.radians(1.0)
+
+
+def test_lockstep_with_the_sensor_loss_dither_reproduces_the_in_process_run(bank):
+    """--sensor-loss-dither over the link: the truth side sets the dither's gains from the status's
+    declared hypothesis (loop/flight.py), so the commands and probabilities are the in-process
+    flight's exactly; after PIT is declared the stabilators' line is larger than the fixed dither's."""
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="none", noise=False, duration_s=3.0, seed=1,
+                        feedback="mmae", failures=(make_failure("PIT", 1.0),))
+    commands = []
+    remote_run, _ = _lockstep_equals_in_process(bank, scenario, "SL_", {"sensor_loss_dither": True},
+                                                commands=commands)
+    assert remote_run.declarations and remote_run.declarations[0]["hypothesis"] == "PIT"
+    assert remote_run.estimator_settings["sensor_loss_dither"] is True
+    fixed = _commands(scenario, bank, {})
+    k = int(round(remote_run.declarations[0]["time_s"] * 64))
+    np.testing.assert_array_equal(fixed[:k], commands[0][:k])
+    assert np.abs(fixed[k:, 0] - commands[0][k:, 0]).max() > 0.0
+
+
+def test_the_adaptive_dither_over_lcm_needs_the_sets_member_in_the_status(bank, turbulence_bank):
+    """An executive running one bank sends member -1 and rho NaN: the truth side refuses the
+    adaptive dither, saying what to start."""
+    lc = lcm.LCM("memq://")
+    chans = channels("ADX_")
+    InProcessExecutive(bank).serve(lc, chans)
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="severe", duration_s=0.1, seed=3, feedback="mmae")
+    remote = RemoteEstimator(lc, chans, lockstep=True, timeout_s=2.0,
+                             initial_hypotheses=level0_hypotheses(turbulence_bank))
+    with pytest.raises(ValueError, match="--turbulence-banks"):
+        fly_hil(scenario, turbulence_bank, lc, chans, remote=remote,
+                estimator_options={"turbulence_banks": True, "adaptive_dither": True})
+    status = InProcessExecutive(bank).on_sensor(0, bank.z_trim)
+    assert status.turbulence_member == -1 and np.isnan(status.turbulence_power_ratio)

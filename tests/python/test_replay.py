@@ -24,6 +24,7 @@ from f16mmae.loop.flight import fly
 from f16mmae.lcmt_mmae_status import lcmt_mmae_status
 from f16mmae import core
 from f16mmae.lcm.replay import (COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE, SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA,
+                                STATUS_FINGERPRINT_WITHOUT_TURBULENCE_MEMBER,
                                 InProcessExecutive, ReplayError, replay_log)
 from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
 from f16mmae.truth import Scenario
@@ -265,7 +266,9 @@ def test_unreadable_or_foreign_logs_are_refused(bank, tmp_path, capsys):
             ("F16_SENSORS", SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA + b"\x00" * 120,
              "recorded before lcmt_sensor_frame carried air data"),
             ("F16_COMMANDS", COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE + b"\x00" * 96,
-             "recorded before lcmt_command_frame carried the throttle")):
+             "recorded before lcmt_command_frame carried the throttle"),
+            ("MMAE_STATUS", STATUS_FINGERPRINT_WITHOUT_TURBULENCE_MEMBER + b"\x00" * 200,
+             "recorded before lcmt_mmae_status carried the turbulence set's member")):
         old = tmp_path / f"old_{channel}.lcmlog"
         log = lcm.EventLog(str(old), "w", overwrite=True)
         log.write_event(0, channel, data)

@@ -92,15 +92,14 @@ def test_every_row_keeps_the_lines_bound_within_the_criterion():
         assert np.all(bound < 0.95 * crit), (sensor, bound / crit)
 
 
-def test_the_option_is_the_closed_loops_and_refused_with_the_adaptive_dither():
+def test_the_option_is_the_closed_loops_and_the_daemon_takes_no_flag_for_it():
     opt = estimator_options.BY_KEY["sensor_loss_dither"]
     assert opt.flag == "--sensor-loss-dither" and opt.kind == "switch" and not opt.in_daemon
     assert "sensor_loss_dither" in estimator_options.HARNESS_ONLY
-    # the daemon has no such rule: the hardware-in-the-loop path refuses it by name
+    # the truth side's rule: the executive needs no flag (it reads the status's declared hypothesis)
+    assert "sensor_loss_dither" in estimator_options.CLOSED_LOOP
     from f16mmae.lcm.daemon import daemon_flags
-    with pytest.raises(ValueError, match="no flag for the estimator option 'sensor_loss_dither'"):
-        daemon_flags({"sensor_loss_dither": True, "p_min": 1e-9})
-    assert daemon_flags({"sensor_loss_dither": False, "p_min": 1e-9}) == ("--p-min", "1e-09")
+    assert daemon_flags({"sensor_loss_dither": True, "p_min": 1e-9}) == ("--p-min", "1e-09")
 
 
 def test_the_loop_raises_the_line_after_the_sensor_is_declared():
@@ -109,8 +108,6 @@ def test_the_loop_raises_the_line_after_the_sensor_is_declared():
     the stabilators' 1.7-Hz line is the table's gain larger."""
     from f16mmae.banks import load_bank
     from f16mmae.loop.flight import fly, scenario_from_dict
-    if "PIT" not in SENSOR_LOSS_GAINS:
-        pytest.skip("no PIT row")
     _, _, bank = load_bank("tuned")
     sc = {"mach": 0.4, "alt_ft": 20000.0, "turbulence": "none", "noise": False, "duration_s": 6.0, "seed": 1,
           "feedback": "mmae", "failures": [{"name": "PIT", "time_s": 1.0, "mode": "complete"}]}

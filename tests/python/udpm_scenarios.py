@@ -532,6 +532,13 @@ def test_lockstep_flight_with_the_turbulence_bank_set_equals_in_process_and_its_
     assert np.nanmax(np.abs(remote.probabilities - local.probabilities)) == 0.0
     assert remote.declarations == local.declarations
     assert [d["hypothesis"] for d in remote.declarations][:1] == ["LS"]
+    # the set's default dither, the adaptive one, flown over the link: the truth side read the
+    # member in force and its rho off each status, which are the in-process set's
+    assert remote.estimator_settings["adaptive_dither"] is True and local.estimator_settings["adaptive_dither"] is True
+    statuses = [lcmt_mmae_status.decode(e.data) for e in lcm.EventLog(str(log), "r")
+                if e.channel == channels(prefix).status]
+    assert statuses[0].turbulence_member == START and statuses[-1].turbulence_member == bank_set.turbulence_member == 0
+    assert statuses[-1].turbulence_power_ratio == bank_set.turbulence_power_ratio
     report = replay_log(log, bank, channel_prefix=prefix, turbulence_banks=True)
     assert report.ok, [str(m) for m in report.mismatches]
     assert report.statuses_compared == 320

@@ -11,7 +11,7 @@ import threading
 from pathlib import Path
 
 from ..loop.estimator import core_arguments
-from ..loop.estimator_options import BY_KEY
+from ..loop.estimator_options import BY_KEY, CLOSED_LOOP
 from .channels import HilError
 
 
@@ -32,9 +32,12 @@ def statistics_line(output: str, program: str) -> dict:
 def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
     """The ``mmae-daemon`` arguments that give it ``estimator_options`` for a bank of ``nu``
     inputs (``actuator_limits`` becomes the limits themselves, as in process:
-    ``loop.estimator.core_arguments``; ValueError for an option the daemon has no flag for)."""
+    ``loop.estimator.core_arguments``; the closed loop's options, ``CLOSED_LOOP``, need none: the
+    adaptive dither reads the status; ValueError for an option the daemon has no flag for)."""
     out: list[str] = []
     for key, value in core_arguments(estimator_options, nu).items():
+        if key in CLOSED_LOOP:   # the closed loop's (the truth side's): the executive needs no flag
+            continue
         option = BY_KEY.get(key)
         if option is None or not option.in_daemon:
             if option is not None and not value:

@@ -29,6 +29,7 @@ import json
 from ..banks import bank_estimator_settings
 from ..lcmt_run_marker import lcmt_run_marker
 from ..loop.estimator import flown_bank_hash
+from ..loop.estimator_options import with_closed_loop_defaults
 from ..loop.flight import fly
 from .channels import Channels, HilError
 from .remote import RemoteEstimator, level0_hypotheses
@@ -58,9 +59,10 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
                                  expected_bank_hash=flown_bank_hash(model_bank, estimator_options or {}),
                                  initial_hypotheses=level0_hypotheses(model_bank), auth=auth)
     lockstep = remote.lockstep
-    # what mmae-daemon applies: the bank's recommended settings (its typed fields), and the
-    # options it was started with (lcm.daemon.daemon_flags)
-    remote.settings = {**bank_estimator_settings(model_bank), **(estimator_options or {})}
+    # what mmae-daemon applies: the bank's recommended settings (its typed fields), the
+    # options it was started with (lcm.daemon.daemon_flags), and the closed loop's in force (the
+    # adaptive dither with a turbulence bank set: the truth side reads the status's member and rho)
+    remote.settings = with_closed_loop_defaults({**bank_estimator_settings(model_bank), **(estimator_options or {})})
     try:
         remote.reset(f"f16mmae hil: seed {scenario.seed}")
         publish_marker(lc, chans, "run_start", 0.0, {

@@ -39,7 +39,9 @@ class LinkStats:
 class RemoteEstimator:
     """The MMAE executive over LCM, with the interface :func:`f16mmae.loop.flight.fly` calls
     (``schedule(mach, pressure_altitude_ft)``, ``update(z) -> z_hat``, ``propagate(u)``,
-    ``hypotheses``, ``probabilities``, ``declared``, ``bank_hash``). Only u, z and the measured
+    ``hypotheses``, ``probabilities``, ``declared``, ``bank_hash``; with a turbulence bank set
+    ``turbulence_member`` and ``turbulence_power_ratio``, the adaptive dither's input, read off the
+    status). Only u, z and the measured
     air data cross the link: ``schedule`` keeps the air data that the next ``update`` sends in
     its sensor frame (NaN until the first ``schedule``: the executive then keeps its bank's own).
 
@@ -179,6 +181,20 @@ class RemoteEstimator:
     @property
     def level(self) -> int:
         return int(self._status.bank_level) if self._status is not None else 0
+
+    @property
+    def turbulence_member(self) -> int | None:
+        """The turbulence bank set's member in force after the last update (the status's
+        ``turbulence_member``), None before the first status or when the executive runs no set."""
+        if self._status is None or self._status.turbulence_member < 0:
+            return None
+        return int(self._status.turbulence_member)
+
+    @property
+    def turbulence_power_ratio(self) -> float:
+        """That member's residual power ratio rho (the status's ``turbulence_power_ratio``); NaN
+        before the first status or without a set."""
+        return float(self._status.turbulence_power_ratio) if self._status is not None else math.nan
 
     @property
     def bank_hash(self) -> str:

@@ -5,7 +5,8 @@ command frames and status frames of a flight. :func:`replay_log` feeds the senso
 command frames, in log order, through :class:`InProcessExecutive` -- ``mmae-daemon``'s own
 C++ executive (``core.Executive``, cpp/executive/executive.h: its frame rules, its estimator,
 its status encoding) -- and compares each logged status with the one computed here for the
-same frame: hypothesis names, bank level, declaration, stale and re-synchronisation flags, and
+same frame: hypothesis names, bank level, declaration, stale and re-synchronisation flags, the
+turbulence set's member in force and its rho (to the tolerance, relative above 1), and
 the largest absolute difference of the probabilities and of z_hat. A reset on MMAE_RESET
 starts a new flight, as on the daemon.
 
@@ -28,6 +29,7 @@ from ..lcmt_command_frame import lcmt_command_frame
 from ..lcmt_mmae_status import lcmt_mmae_status
 from ..lcmt_sensor_frame import lcmt_sensor_frame
 from ..loop.estimator import core_arguments, flown_bank_hash, turbulence_set_of
+from ..loop.estimator_options import CLOSED_LOOP
 from .channels import Channels, channels
 from .codec import command_of
 
@@ -47,6 +49,8 @@ class InProcessExecutive:
     def __init__(self, model_bank, **estimator_options) -> None:
         settings = {**bank_estimator_settings(model_bank), **estimator_options}
         self.bank_hash = flown_bank_hash(model_bank, settings)
+        for key in CLOSED_LOOP:   # the closed loop's (the truth side's), not the executive's
+            settings.pop(key, None)
         source = turbulence_set_of(model_bank).source if settings.pop("turbulence_banks", False) else model_bank
         # a scheduled bank's per-node floors unless a p_min was given (then that everywhere)
         self.executive = core.Executive(source, **core_arguments(settings, model_bank.nu),
@@ -181,7 +185,7 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
                 computed.clear()
                 unmatched(early)
             elif ch == chans.status:
-                s = lcmt_mmae_status.decode(event.data)
+                s = _decode_status(event.data, path)
                 report.statuses_logged += 1
                 report.bank_hashes.add(s.bank_hash)
                 c = computed.pop(s.frame, None)
@@ -233,6 +237,22 @@ def _decode_command_frame(data: bytes, path: Path):
     return lcmt_command_frame.decode(data)
 
 
+#: The fingerprint (first 8 bytes) of ``lcmt_mmae_status`` before it carried the turbulence set's
+#: member in force and its rho.
+STATUS_FINGERPRINT_WITHOUT_TURBULENCE_MEMBER = bytes.fromhex("4b2dcf092b651b13")
+
+
+def _decode_status(data: bytes, path: Path):
+    """A logged status, or ReplayError naming the log when it was written before the status
+    carried the turbulence set's member in force and its rho."""
+    if data[:8] == STATUS_FINGERPRINT_WITHOUT_TURBULENCE_MEMBER:
+        raise ReplayError(f"log {str(path)!r} was recorded before lcmt_mmae_status carried the turbulence set's "
+                          f"member in force and its rho (docs/INTERFACES.md): it cannot be replayed by this "
+                          f"version; record the flight again (f16mmae hil) or replay it with the release that "
+                          f"wrote it")
+    return lcmt_mmae_status.decode(data)
+
+
 def _compare(report: ReplayReport, s, c: lcmt_mmae_status, mismatch) -> None:
     """Logged status ``s`` against the one computed here, ``c``, for the same frame."""
     report.statuses_compared += 1
@@ -260,6 +280,13 @@ def _compare(report: ReplayReport, s, c: lcmt_mmae_status, mismatch) -> None:
                           f"replayed {bool(c.stale)} ({c.frames_without_update})")
     if s.air_data_rejected != c.air_data_rejected:
         mismatch(s.frame, f"air data rejected: logged {s.air_data_rejected}, replayed {c.air_data_rejected}")
+    if s.turbulence_member != c.turbulence_member:
+        mismatch(s.frame, f"turbulence set member in force: logged {s.turbulence_member}, "
+                          f"replayed {c.turbulence_member}")
+    rho_s, rho_c = float(s.turbulence_power_ratio), float(c.turbulence_power_ratio)
+    if not (abs(rho_s - rho_c) <= report.tolerance * max(1.0, abs(rho_c))
+            or (math.isnan(rho_s) and math.isnan(rho_c))):
+        mismatch(s.frame, f"turbulence power ratio rho: logged {rho_s:.9g}, replayed {rho_c:.9g}")
     if bool(s.resynchronised) != bool(c.resynchronised):
         mismatch(s.frame, f"re-synchronisation: logged {bool(s.resynchronised)}, "
                           f"replayed {bool(c.resynchronised)}")

@@ -16,6 +16,7 @@ import numpy as np
 from .. import core
 from ..banks import bank_estimator_settings, turbulence_bank_set
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
+from .estimator_options import CLOSED_LOOP, with_closed_loop_defaults
 
 
 def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
@@ -61,8 +62,7 @@ def _bank_set(model_bank, settings: dict):
     filter's power per channel it reads, the file's reference, trim tracking and load-factor
     tempering unless given), what mmae-daemon --turbulence-banks runs."""
     bank_set = turbulence_set_of(model_bank)
-    loop_only = ("turbulence_banks", "adaptive_dither", "sensor_loss_dither")
-    own = {k: v for k, v in settings.items() if k not in loop_only}
+    own = {k: v for k, v in settings.items() if k != "turbulence_banks" and k not in CLOSED_LOOP}
     return core.TurbulenceBankSet(bank_set.source, **core_arguments(own, model_bank.nu))
 
 
@@ -72,7 +72,8 @@ class Estimator:
     ``Estimator(model_bank, **options)``: the settings of ``core.HierarchicalBank``
     (``p_min``, ``threshold``, ``dwell_s``) are the bank's recommended ones
     (:func:`bank_estimator_settings`, the bank's typed fields) updated by ``options`` (which win);
-    ``settings`` holds the result.  A scheduled bank's floor is its nodes' own (``node_p_min``,
+    ``settings`` holds the result (with the closed loop's defaults written out:
+    ``estimator_options.with_closed_loop_defaults``).  A scheduled bank's floor is its nodes' own (``node_p_min``,
     core.HierarchicalBank) unless ``options`` gives ``p_min``.  Per frame: ``schedule(mach, pressure_altitude_ft)`` (the
     air data measured with z), ``update(z) -> z_hat``, then ``propagate(u)``; z and u absolute
     (the core subtracts the bank's z_trim / u_trim and returns z_hat absolute).  Nothing else
@@ -80,12 +81,12 @@ class Estimator:
 
     def __init__(self, model_bank, **options) -> None:
         #: The estimator settings in force: the bank's recommended ones, then ``options``.
-        self.settings: dict = {**bank_estimator_settings(model_bank), **options}
+        self.settings: dict = with_closed_loop_defaults({**bank_estimator_settings(model_bank), **options})
         if self.settings.get("turbulence_banks"):
             self._bank = _bank_set(model_bank, self.settings)
         else:
             # a scheduled bank's per-node floors unless a p_min was given (then that everywhere)
-            own = {k: v for k, v in self.settings.items() if k != "sensor_loss_dither"}  # the loop's (flight.py)
+            own = {k: v for k, v in self.settings.items() if k not in CLOSED_LOOP}  # the loop's (flight.py)
             self._bank = core.HierarchicalBank(model_bank, **core_arguments(own, model_bank.nu),
                                                node_p_min="p_min" not in options)
         self.bank_hash = flown_bank_hash(model_bank, self.settings)

@@ -39,7 +39,7 @@ class EstimatorOption:
     choices: tuple[str, ...] = ()
     requires: str | None = None     # the key of an option this one applies with
     on_command_line: bool = True    # False: a daemon flag only (core_arguments' expansion)
-    in_daemon: bool = True          # False: in process only (mmae-daemon has no flag for it yet)
+    in_daemon: bool = True          # False: mmae-daemon has no flag for it (in process only, or CLOSED_LOOP)
 
     @property
     def dest(self) -> str:
@@ -110,11 +110,15 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "by the turbulence the set's member in force measures (its rho over the member's "
                          "reference, square root, capped by the actuators' rates; truth/dither.py "
                          "adaptive_gains): the calm-air dither in calm and light air, larger in stronger gusts. "
-                         "Default off"),
+                         "The default with --turbulence-banks (over LCM too: the status carries the member and "
+                         "its rho); --fixed-dither turns it off"),
+    EstimatorOption("fixed_dither", "--fixed-dither", "switch", requires="turbulence_banks", in_daemon=False,
+                    help="with --turbulence-banks: the fixed (calm-air) dither at every turbulence level instead "
+                         "of the adaptive dither (--adaptive-dither, the default with the set)"),
     EstimatorOption("sensor_loss_dither", "--sensor-loss-dither", "switch", in_daemon=False,
                     help="the closed loop raises the truth's surface dither on the lines a sensor saw best "
                          "while the estimator declares that sensor failed, within the subliminal criterion "
-                         "(truth/dither.py sensor_loss_gains). In process only. Default off"),
+                         "(truth/dither.py sensor_loss_gains). Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
                     exclusive=True, maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "
@@ -262,8 +266,24 @@ CORE_ONLY: dict[str, str] = {
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
-#: ``adaptive_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py).
-HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "sensor_loss_dither")
+#: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py).
+HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
+                               "sensor_loss_dither")
+#: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
+#: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
+#: executive over LCM runs as without them; the status carries what they read.
+CLOSED_LOOP: tuple[str, ...] = ("adaptive_dither", "fixed_dither", "sensor_loss_dither")
+
+
+def with_closed_loop_defaults(settings: dict) -> dict:
+    """``settings`` with the closed loop's defaults in force written out: with
+    ``turbulence_banks`` the adaptive dither (``adaptive_dither`` True) unless ``fixed_dither``.
+    The estimator's settings (loop/estimator.py) and the executive's over LCM (lcm/hil.py) hold
+    them so, and records name the dither flown."""
+    out = dict(settings)
+    if out.get("turbulence_banks") and not out.get("fixed_dither"):
+        out["adaptive_dither"] = True
+    return out
 
 #: The table by key.
 BY_KEY: dict[str, EstimatorOption] = {o.key: o for o in ESTIMATOR_OPTIONS}
@@ -301,6 +321,9 @@ def check(settings: dict) -> None:
             raise ValueError(f"{o.flag} {value!r} must {valid}")
         if o.requires is not None and not settings.get(o.requires):
             raise ValueError(f"{o.flag} applies with {BY_KEY[o.requires].flag} only")
+    if settings.get("adaptive_dither") and settings.get("fixed_dither"):
+        raise ValueError("--adaptive-dither and --fixed-dither exclude each other (the adaptive dither is the "
+                         "default with --turbulence-banks)")
 
 
 def command_line_flags(settings: dict) -> list[str]:

@@ -21,10 +21,13 @@ the throttle is part of the MMAE system's excitation, as the surface dither is),
 scenario gives a throttle dither of its own or disables the dither.
 
 Adaptive dither (estimator setting ``adaptive_dither``, ``--adaptive-dither``; with the
-turbulence bank set only): after ``update(z_i)`` the loop reads the set's member in force a and
+turbulence bank set only, and there the default unless ``--fixed-dither``:
+``estimator_options.with_closed_loop_defaults``): after ``update(z_i)`` the loop reads the set's member in force a and
 its rho (the estimator's outputs, never the truth turbulence) and sets the truth's dither gains
 ``truth.dither.adaptive_gains(rho, ADAPTIVE_DITHER_REFERENCE[a])`` for u_i (the flaperons'
-turbulence line); the estimator propagates that u_i, dither included.
+turbulence line); the estimator propagates that u_i, dither included.  Over LCM (``f16mmae
+hil``) a and rho are the status's ``turbulence_member`` and ``turbulence_power_ratio``, the same
+numbers (docs/INTERFACES.md).
 
 Sensor-loss dither (estimator setting ``sensor_loss_dither``, ``--sensor-loss-dither``): after
 ``update(z_i)`` the loop reads the hypothesis the estimator declares (its own output, never the
@@ -220,7 +223,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
     adaptive = bool(getattr(estimator, "settings", {}).get("adaptive_dither"))
     sensor_loss = bool(getattr(estimator, "settings", {}).get("sensor_loss_dither"))
     if sensor_loss and adaptive:
-        raise ValueError("--sensor-loss-dither and --adaptive-dither both set the dither's gains: give one")
+        raise ValueError("--sensor-loss-dither and --adaptive-dither both set the dither's gains: give one "
+                         "(with --turbulence-banks the adaptive dither is the default: add --fixed-dither)")
     sensor_loss_rule = SensorLossDither() if sensor_loss else None
     gain_now = None  # adaptive: the executive's rule, the set's member in force and its rho set the dither's gains
     in_cpp = (not adaptive and not sensor_loss and truth.law_in_cpp and on_frame is None and not record_series
@@ -251,8 +255,12 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         estimator.schedule(air[0], air[1])
         z_hat = estimator.update(z)
         if adaptive:
-            gain = adaptive_gains(estimator.turbulence_power_ratio,
-                                  ADAPTIVE_DITHER_REFERENCE[estimator.turbulence_member])
+            member = estimator.turbulence_member
+            if member is None:
+                raise ValueError("the adaptive dither needs the turbulence bank set's member in force and its rho; "
+                                 "the estimator reports no set (an executive over LCM: start mmae-daemon with "
+                                 "the set's file and --turbulence-banks)")
+            gain = adaptive_gains(estimator.turbulence_power_ratio, ADAPTIVE_DITHER_REFERENCE[member])
             if gain != gain_now:
                 truth.set_dither_gain(fcs, *gain)
                 gain_now = gain

@@ -57,7 +57,8 @@ effect over the envelope (``python -m f16mmae.design.excitation --envelope-peaks
 M 0.8 / 5,000 ft for an unscheduled 0.0239).  The same rule in C++: ``ThrottleDither`` in
 cpp/truth/truth_frame.h, bit for bit.
 
-Adaptive dither (``adaptive_gains``; the closed loop's ``--adaptive-dither``, loop/flight.py):
+Adaptive dither (``adaptive_gains``; the closed loop's ``--adaptive-dither``, loop/flight.py, the
+default with ``--turbulence-banks``, ``--fixed-dither`` the calm-air dither there):
 in strong turbulence the flaperons' calm-air line (2.9 Hz) gives way to a slower, larger one,
 the turbulence line (``TURBULENCE_FLAPERON_FREQUENCY_HZ``, ``TURBULENCE_FLAPERON_AMPLITUDE_DEG``,
 the same phases +-phi)::

@@ -34,6 +34,9 @@ def main() -> None:
     ap.add_argument("--level1-p-min", type=float, default=0.0)
     ap.add_argument("--level1-allowance", type=float, default=0.0)
     ap.add_argument("--every", type=int, default=8)
+    ap.add_argument("--from-onset", action="store_true",
+                    help="print from the failure's onset, not from the first declaration (a rival read first: "
+                         "--dual names the rival, e.g. --fail VEL@3.0:complete --dual RF)")
     args = ap.parse_args()
     name, rest = args.fail.split("@")
     t, mode = rest.split(":")
@@ -54,7 +57,7 @@ def main() -> None:
     single = name
     ps, pd = res.probability_of(single), res.probability_of(args.dual)
     first = res.declarations[0]["time_s"] if res.declarations else float(t)
-    i0 = int(round(first / res.frame_dt_s))
+    i0 = int(round((float(t) if args.from_onset else first) / res.frame_dt_s))
     print(f"{'t s':>6s} {'ln(pd/pf)':>10s} {'slope/fr':>9s} {'p_dual':>8s} {'dAOA deg':>8s} "
           f"{'PIT':>6s} {'ROL':>6s} {'YAW':>6s}")
     prev = None

@@ -24,10 +24,11 @@
 //   L_d(t) = max(L_floor, L_d(t-1) + lambda_d(t) - k).
 // Without a second failure the walk now drifts at -k: an excursion from the floor reaches h with
 // probability about exp(-2 k h / sigma^2) (a Brownian motion with drift -k and variance sigma^2
-// a frame), exponentially small in h. A real dual climbs at r - k: h / (r - k) frames instead of
-// h / r, k h / (r (r - k)) frames more. Example, h = 22.9 nats, sigma = 0.7 nats a frame:
-// k = 0.05 gives exp(-4.7) = 0.01 a walk's excursion and a dual at r = 0.5 nats a frame 5
-// frames (0.08 s at 64 Hz) more; a dual at r = 0.15 pays 76 frames (1.2 s).
+// a frame; with correlated increments sigma^2 is the variance of their sum per frame),
+// exponentially small in h. A real dual climbs at r - k: h / (r - k) frames instead of h / r,
+// k h / (r (r - k)) frames more, and a dual with r <= k never. Example, h = 22.9 nats,
+// sigma = 1 nat a frame: k = 0.1 gives exp(-4.6) = 0.01 a walk's excursion; a dual at r = 0.5
+// nats a frame pays 11 frames (0.18 s at 64 Hz), one at r = 0.15 pays 305 frames (4.8 s).
 // Only the duals take the allowance: NONE (the back-out) and the declared failure's other form
 // (a partial bank's c beside c:MODE, hierarchy_levels.h) do not; at level 0 nothing does. k = 0
 // (the default) leaves the bank as it was, bit for bit (nothing is touched).

@@ -26,7 +26,8 @@
 //   1. z = z_abs - z_trim - dz, the readings about the trim in force (below);
 //   2. with maneuver.tempering_g, the likelihoods' tempering scale is set;
 //   3. the FilterBank's update (filter_bank.h); a rejected update ends the frame (-1): the
-//      declarer sees only accepted updates;
+//      declarer sees only accepted updates; at level 1 with options.level1_allowance the
+//      duals' drift allowance (level1_allowance.h) on the probabilities it left;
 //   4. the maneuver trim's inertial rates (maneuver_trim.inertial, inertial_flight_path.h) and
 //      the maneuver dwell's load factor (maneuver_dwell.h) read the frame;
 //   5. at level 1, the departure hold (departure_hold.h): on a held frame the declarer's dwell
@@ -45,6 +46,7 @@
 //                        linearization (options.departure; on by default)
 //   declarer.h           threshold, dwell, declaring on components
 //   filter_bank.h        likelihoods, probabilities, floors, live slots
+//   level1_allowance.h   level 1: the duals' drift allowance (Page's reference value) and why
 //   below                the level-1 floor and dwell, declaring on components, the partial
 //                        hypotheses' floor, air data and scheduling, trims, maneuvering flight
 //
@@ -61,6 +63,10 @@
 //   floor (1e-9 tuned against false alarms in failure-free flight) the dual rises seconds
 //   after the lone failure would. The level-1 floor is the prior of "the second failure may
 //   have begun now" given that one already has.
+// The duals' allowance at level 1 (options.level1_allowance, nats a frame, >= 0; 0, the default:
+//   none, bit for bit): while a level-1 bank is on line every dual's likelihood carries the
+//   factor e^{-k} (level1_allowance.h: the derivation); NONE, f and a partial f's other form
+//   take none.
 // The dwell at level 1 (options.level1_dwell_s; 0, the default: the level-0 dwell, bit for
 //   bit): while a level-1 bank is on line a declaration (a dual, or NONE's back-out) needs
 //   p > threshold on round(level1_dwell_s * rate) consecutive frames. A raised level-1 floor
@@ -177,6 +183,7 @@
 #include "f16mmae/departure_hold.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/hierarchy_levels.h"
+#include "f16mmae/level1_allowance.h"
 #include "f16mmae/maneuver_kinematics.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
@@ -217,6 +224,7 @@ struct HierarchicalOptions {
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (header)
+  double level1_allowance = 0.0;   // the duals' drift allowance at level 1, nats a frame; 0: none (level1_allowance.h)
   DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (departure_hold.h)
   bool declare_components = false;   // a partial hypothesis and its single declared as one component (hierarchy_levels.h)
   double partial_p_min = 0.0;   // the partial hypotheses' floor at level 0; 0: the level-0 floor (header)
@@ -249,6 +257,10 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
+    if (level_ == 1 && options_.level1_allowance > 0.0) {   // level1_allowance.h
+      p_allow_ = bank_.probabilities();
+      if (Level1Allowance::apply(p_allow_, duals_, options_.level1_allowance)) bank_.set_probabilities(p_allow_);
+    }
     if (maneuver_trim_.options().inertial)   // maneuver_trim.h / inertial_flight_path.h
       maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
                                       z_abs(mt_vel_), trim_freezing());
@@ -377,6 +389,7 @@ class HierarchicalBank {
     online_ = levels_.level0();
     level_ = 0;
     level1_bank_ = -1;
+    mark_duals();
     if (levels_.partial())
       for (int k = 1; k < size(); ++k) bank_.set_live(k, true);
     set_floors();   // the level-0 floor again (no-op unless level1_p_min)
@@ -449,6 +462,7 @@ class HierarchicalBank {
     online_ = from.online_;
     level_ = from.level_;
     level1_bank_ = from.level1_bank_;
+    mark_duals();
     set_floors();   // this bank's floors for the level carried over
     bank_.carry_over(from.bank_, !warm);
     if (!warm) bank_.reset_adaptation();
@@ -627,6 +641,11 @@ class HierarchicalBank {
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));
     for (const auto& h : mb.hypotheses) names_.push_back(h.name);
+    Level1Allowance::check(options.level1_allowance);
+    for (const auto& n : names_) is_dual_.push_back(n.find('+') != std::string::npos ? 1 : 0);
+    duals_.assign(static_cast<std::size_t>(size()), 0);
+    p_allow_ = bank_.probabilities();
+    mark_duals();
     check_partial_p_min(options);
     if (maneuver_dwell_.enabled()) {
       const auto& m = mb.measurement_names;
@@ -725,6 +744,7 @@ class HierarchicalBank {
     }
     online_ = next;
     level_ = level;
+    mark_duals();
     departure_.release();
     set_floors();
     bank_.presume(presumed);
@@ -748,6 +768,12 @@ class HierarchicalBank {
       bank_.set_p_min(options_.level1_p_min, 2, level0_floor());
     else
       bank_.set_p_min(level0_floor());
+  }
+  // duals_[s] = 1: on-line slot s holds a dual (level1_allowance.h); none at level 0.
+  void mark_duals() noexcept {
+    for (int k = 0; k < size(); ++k)
+      duals_[static_cast<std::size_t>(k)] =
+          level_ == 1 && bank_.live(k) ? is_dual_[static_cast<std::size_t>(online_[k])] : 0;
   }
   // Throws std::invalid_argument for a partial_p_min the bank cannot take (header).
   void check_partial_p_min(const HierarchicalOptions& o) const {
@@ -875,6 +901,9 @@ class HierarchicalBank {
   Declarer declarer1_;   // level 1 with level1_dwell_s
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
+  std::vector<char> is_dual_;   // per ModelBank hypothesis: a dual "a+b"
+  std::vector<char> duals_;     // per on-line slot: a dual on line at level 1 (mark_duals)
+  PVector p_allow_;             // the probabilities with the allowance (level1_allowance.h)
   Levels levels_;         // the hypotheses on line at each level (hierarchy_levels.h)
   int level1_bank_ = -1;  // the level-1 bank on line (levels_.level1(f)), -1 at level 0
   Indices online_;

@@ -217,6 +217,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("level1_dwell_s", "--level1-dwell-s", "number", metavar="S", minimum=0.0, maximum=DWELL_S_MAX,
                     help="... and the dwell while it is on line: a dual (or the back-out) must stay above the "
                          "threshold S seconds in a row (cpp/f16mmae/hierarchical_bank.h). Default 0: the level-0 dwell"),
+    EstimatorOption("level1_allowance", "--level1-allowance", "number", metavar="K", minimum=0.0, maximum=5.0,
+                    help="... and the duals' drift allowance while it is on line: every dual's likelihood is "
+                         "multiplied by exp(-K) a frame, so its log-odds against the declared failure drift down "
+                         "by K nats a frame unless its evidence outgrows that (Page's reference value; "
+                         "cpp/f16mmae/level1_allowance.h). Default 0: none (in process only: mmae-daemon has no "
+                         "flag for it)",
+                    in_daemon=False),
     EstimatorOption("departure_hold", "--departure-hold", "choice", metavar="on|off", choices=("on", "off"),
                     help="while a failure's level-1 (dual) bank is on line, declare nothing while the measured "
                          "angle of attack is more than 5 deg off the trim or a measured body rate above 10 deg/s, "

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_MODES, THRESHOLD_DEFAULT
+from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_MODES, SENSORS, THRESHOLD_DEFAULT
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -82,8 +82,20 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "(rho = min_k q_k / m_k, m_k the channels filter k reads), so that a hypothesis whose "
                          "failed sensor's channel is uninformative (a `constant` or `cover` failed sensor) does "
                          "not read the air calmer than it is (cpp/f16mmae/turbulence_adaptation.h). A bank "
-                         "without uninformative channels is unchanged. Default off; a turbulence bank set's "
-                         "members always run with it"),
+                         "without uninformative channels is unchanged. Default: on for a scheduled bank "
+                         "(scheduled_defaults), off otherwise; a turbulence bank set's members always run with it"),
+    EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
+                    in_daemon=False,
+                    help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "
+                         "(rho = min_k q_k / m), the rule a scheduled bank was flown with before its design's "
+                         "revision 12, in place of its default --adapt-own-channels (mmae-daemon: leave out "
+                         "--adapt-own-channels)"),
+    EstimatorOption("adapt_counted_channel", "--adapt-counted-channel", "choice", metavar="|".join(SENSORS),
+                    choices=tuple(s.lower() for s in SENSORS), requires="adapt_turbulence", in_daemon=False,
+                    help="with own channels (--adapt-own-channels, a scheduled bank's default): the failed SENSOR's uninformative channel still counts in "
+                         "m_k: the hypotheses that leave out only that channel count their residual power over "
+                         "every channel, as without own channels; the others per channel they read "
+                         "(cpp/f16mmae/turbulence_adaptation.h). Default: none"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -255,11 +267,14 @@ CORE_ONLY: dict[str, str] = {
     "adapt_scale_min": "the adaptation's lower bound on s, the design's A_k (turbulence_adaptation.h)",
     "adapt_scale_max": "the adaptation's upper bound on s (turbulence_adaptation.h)",
     "adapt_gain": "the adaptation's gain on the excess residual power (turbulence_adaptation.h)",
+    "adapt_counted_channels": "the counted channels as a bit mask over z (turbulence_adaptation.h); the "
+                              "estimator sets it from --adapt-counted-channel (loop/estimator.py core_arguments)",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither`` is the closed loop's, loop/flight.py).
-HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither")
+HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "adapt_all_channels",
+                                 "adapt_counted_channel")
 
 #: The table by key.
 BY_KEY: dict[str, EstimatorOption] = {o.key: o for o in ESTIMATOR_OPTIONS}
@@ -297,6 +312,22 @@ def check(settings: dict) -> None:
             raise ValueError(f"{o.flag} {value!r} must {valid}")
         if o.requires is not None and not settings.get(o.requires):
             raise ValueError(f"{o.flag} applies with {BY_KEY[o.requires].flag} only")
+    if settings.get("adapt_all_channels") and settings.get("adapt_own_channels"):
+        raise ValueError("--adapt-all-channels and --adapt-own-channels are two rules for the same residual "
+                         "power: give one")
+
+
+def scheduled_defaults(settings: dict, scheduled: bool) -> dict:
+    """``settings`` with the scheduled estimator's defaults applied: on a ``scheduled`` bank
+    with ``adapt_turbulence`` (and no turbulence bank set, whose members always count per
+    channel), ``adapt_own_channels`` on unless ``adapt_all_channels`` asks for the plain
+    minimum; ``adapt_all_channels`` itself is consumed (no keyword of the core: its rule is
+    ``adapt_own_channels`` off). A copy; ``settings`` is not changed."""
+    out = dict(settings)
+    all_channels = out.pop("adapt_all_channels", False)
+    if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks") and not all_channels:
+        out["adapt_own_channels"] = True
+    return out
 
 
 def command_line_flags(settings: dict) -> list[str]:

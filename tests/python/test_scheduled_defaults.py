@@ -17,8 +17,13 @@ from f16mmae.loop.estimator_options import check, scheduled_defaults
 
 def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     given = {"adapt_turbulence": True}
-    assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True}
+    assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
+                                               "adapt_counted_channel": "vel"}
     assert given == {"adapt_turbulence": True}   # a copy
+    own = {**given, "adapt_own_channels": True}   # round 13's rule: every uninformative channel left out
+    assert scheduled_defaults(own, True) == own
+    rol = {**given, "adapt_counted_channel": "rol"}
+    assert scheduled_defaults(rol, True) == {**rol, "adapt_own_channels": True}
     assert scheduled_defaults({**given, "adapt_all_channels": True}, True) == given
     assert scheduled_defaults(given, False) == given   # a bank at one point: unchanged
     assert scheduled_defaults({}, True) == {}           # no adaptation: nothing to count
@@ -67,19 +72,18 @@ def _fly(estimator_or_core, bank, frames=150):
 def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_schedule):
     bank = vel_rol_schedule
     est = Estimator(bank, adapt_turbulence=True)
-    assert est.settings["adapt_own_channels"] is True
+    assert est.settings["adapt_own_channels"] is True and est.settings["adapt_counted_channel"] == "vel"
     own = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_own_channels=True)
     plain = core.HierarchicalBank(bank, adapt_turbulence=True)
     counted = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_own_channels=True, adapt_counted_channels=1)
     r_est, r_own, r_plain, r_counted = (_fly(b, bank) for b in (est, own, plain, counted))
-    np.testing.assert_array_equal(r_est, r_own)
+    np.testing.assert_array_equal(r_est, r_counted)   # VEL's channel is bit 0 of z
     assert not np.array_equal(r_own, r_plain)   # the bank has uninformative channels: the rule matters
+    assert not np.array_equal(r_counted, r_own) and not np.array_equal(r_counted, r_plain)
     old = Estimator(bank, adapt_turbulence=True, adapt_all_channels=True)
     assert "adapt_own_channels" not in old.settings and "adapt_all_channels" not in old.settings
     np.testing.assert_array_equal(_fly(old, bank), r_plain)
-    est_counted = Estimator(bank, adapt_turbulence=True, adapt_counted_channel="vel")
-    np.testing.assert_array_equal(_fly(est_counted, bank), r_counted)
-    assert not np.array_equal(r_counted, r_own) and not np.array_equal(r_counted, r_plain)
+    np.testing.assert_array_equal(_fly(Estimator(bank, adapt_turbulence=True, adapt_own_channels=True), bank), r_own)
 
 
 def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch):

@@ -96,7 +96,8 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: read as a constant level too (SCHEDULE_FAILURE_MODEL), Dryden gust states at the nodes at or
 #: below SCHEDULE_GUST_STATES_BELOW_FT where their calibration gains by them
 #: (SCHEDULE_GUST_NODE_CHOICE), and the estimator's turbulence adaptation counting each filter's
-#: residual power per channel it reads (loop/estimator_options.py own_channels_default).
+#: residual power per channel it reads but VEL's (SCHEDULE_ADAPT_COUNTED_CHANNEL;
+#: loop/estimator_options.py scheduled_defaults).
 SCHEDULE_DESIGN_REVISION = 12
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
@@ -108,6 +109,12 @@ SCHEDULE_GUST_STATES_BELOW_FT = 15000.0
 #: ... and carry them where the node's own calibration flights ask a failure for less
 #: declaration effort with them (design/schedule.py GUST_NODE_CHOICES: ``effort``).
 SCHEDULE_GUST_NODE_CHOICE = "effort"
+#: The scheduled estimator's turbulence adaptation counts each filter's residual power per
+#: channel it reads, but for this sensor's uninformative channel, which counts as read
+#: (loop/estimator_options.py scheduled_defaults; cpp/f16mmae/turbulence_adaptation.h): the
+#: failed VEL's level follows the failed reading slowly, and counted per channel read its
+#: hypothesis would temper its own evidence by up to 7/6 (docs/results/envelope_tuning.md).
+SCHEDULE_ADAPT_COUNTED_CHANNEL = "VEL"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_MODES, SENSORS, THRESHOLD_DEFAULT
+from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_MODES, SENSORS, THRESHOLD_DEFAULT
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -83,7 +83,9 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "failed sensor's channel is uninformative (a `constant` or `cover` failed sensor) does "
                          "not read the air calmer than it is (cpp/f16mmae/turbulence_adaptation.h). A bank "
                          "without uninformative channels is unchanged. Default: on for a scheduled bank "
-                         "(scheduled_defaults), off otherwise; a turbulence bank set's members always run with it"),
+                         "(scheduled_defaults: with VEL's channel counted, --adapt-counted-channel; given, "
+                         "every uninformative channel left out unless --adapt-counted-channel), off otherwise; "
+                         "a turbulence bank set's members always run with it"),
     EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
                     in_daemon=False,
                     help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "
@@ -95,7 +97,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with own channels (--adapt-own-channels, a scheduled bank's default): the failed SENSOR's uninformative channel still counts in "
                          "m_k: the hypotheses that leave out only that channel count their residual power over "
                          "every channel, as without own channels; the others per channel they read "
-                         "(cpp/f16mmae/turbulence_adaptation.h). Default: none"),
+                         "(cpp/f16mmae/turbulence_adaptation.h). Default: VEL on a scheduled bank without "
+                         "--adapt-own-channels, else none"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -320,12 +323,17 @@ def check(settings: dict) -> None:
 def scheduled_defaults(settings: dict, scheduled: bool) -> dict:
     """``settings`` with the scheduled estimator's defaults applied: on a ``scheduled`` bank
     with ``adapt_turbulence`` (and no turbulence bank set, whose members always count per
-    channel), ``adapt_own_channels`` on unless ``adapt_all_channels`` asks for the plain
-    minimum; ``adapt_all_channels`` itself is consumed (no keyword of the core: its rule is
+    channel), unless ``adapt_all_channels`` asks for the plain minimum, ``adapt_own_channels``
+    on, and, unless ``adapt_own_channels`` or ``adapt_counted_channel`` was given,
+    ``adapt_counted_channel`` ``names.SCHEDULE_ADAPT_COUNTED_CHANNEL`` (``--adapt-own-channels``
+    alone: every uninformative channel left out, the rule before revision 12).
+    ``adapt_all_channels`` itself is consumed (no keyword of the core: its rule is
     ``adapt_own_channels`` off). A copy; ``settings`` is not changed."""
     out = dict(settings)
     all_channels = out.pop("adapt_all_channels", False)
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks") and not all_channels:
+        if not out.get("adapt_own_channels") and "adapt_counted_channel" not in out:
+            out["adapt_counted_channel"] = SCHEDULE_ADAPT_COUNTED_CHANNEL.lower()
         out["adapt_own_channels"] = True
     return out
 

@@ -110,6 +110,7 @@ def _replay(args) -> int:
             options["turbulence_banks"] = True   # the log's hash is the set's
         if options.get("adapt_turbulence") and not options.get("adapt_own_channels") and not options.get("turbulence_banks"):
             options["adapt_all_channels"] = True   # mmae-daemon's rule without --adapt-own-channels
+        options = scheduled_defaults(options, bank.schedule is not None)
         report = replay_log(args.logfile, bank, channel_prefix=args.channel_prefix, tolerance=tol, auth=auth,
                              **options)
     except (ReplayError, OSError) as exc:
@@ -117,8 +118,7 @@ def _replay(args) -> int:
     print(f"replayed {args.logfile}: {report.events} events, {report.sensor_frames} sensor frames, "
           f"{report.command_frames} command frames, {report.statuses_logged} statuses; bank {label} "
           f"({str(bank.content_hash)[:12]})")
-    flags = daemon_flags(scheduled_defaults(options, bank.schedule is not None), bank.nu)
-    print(f"estimator options: {' '.join(flags) or 'none (the bank as designed)'}")
+    print(f"estimator options: {' '.join(daemon_flags(options, bank.nu)) or 'none (the bank as designed)'}")
     if auth is not None:
         print(f"authenticated with {args.auth_key}: {report.unauthenticated} unauthenticated and "
               f"{report.replayed} replayed messages skipped")

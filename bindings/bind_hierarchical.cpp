@@ -358,6 +358,8 @@ in its quadratic form, the likelihoods -(D r_k)' A_k^-1 (D r_k) / 2 with D = dia
 filter's quadratic form counts per channel it reads, rho from min_k q_k / m_k (m_k: the channels
 filter k reads; a failed sensor's uninformative channel is not one), so that a hypothesis with an
 uninformative channel does not read the air calmer than it is; a bank without one is unchanged.
+adapt_counted_channels (with adapt_own_channels): a bit per measurement channel j (1 << j, z's order);
+an uninformative channel whose bit is set still counts in m_k (0, the default: none does).
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.

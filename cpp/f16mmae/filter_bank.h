@@ -613,10 +613,13 @@ class FilterBank {
   // members so a frame does not read it from each filter's HypothesisFilter.
   void note_uninformative(int k) noexcept {
     uninformative_[k] = hypotheses_[k].has_uninformative();
-    int read = nz();   // m_k: the channels filter k's q_k sums (its uninformative ones left out)
+    // m_k: the channels filter k's q_k sums (its uninformative ones left out), but for the
+    // adaptation's counted channels (turbulence_adaptation.h: they count as read)
+    int read = nz();
+    const std::uint32_t counted = options_.adaptation.counted_channels;
     if (uninformative_[k])
       for (int j = 0; j < nz(); ++j)
-        if (hypotheses_[k].model().uninformative_width(j) > 0.0) --read;
+        if (hypotheses_[k].model().uninformative_width(j) > 0.0 && !(j < 32 && ((counted >> j) & 1u))) --read;
     own_ratio_(k) = read > 0 ? static_cast<double>(nz()) / read : 1.0;
     if (k == 0) {   // filter 0's A is every other filter's footing
       for (int i = 0; i < size(); ++i) note_footing(i);

@@ -69,6 +69,15 @@
 // the minimum, so ρ reads the air calmer than it is. With own_channels every filter's form
 // counts per channel it reads: x = min_k q_k / m_k in place of min_k q_k / m (the filter bank
 // passes q_k m / m_k to observe()); a bank without uninformative channels is unchanged.
+// Counted channels (counted_channels, a bit per measurement channel j, default none): an
+// uninformative channel whose bit is set still counts in m_k,
+//     m_k = m − |{ j uninformative in filter k, bit j of counted_channels clear }|,
+// so the hypotheses that leave out only such channels count their form over m, as without
+// own_channels (their share of the plain minimum), the others over the channels they read.
+// Why per channel: a failed sensor's level that follows the failed reading slowly (a failed
+// airspeed sensor's jump to its stuck value) leaves the matching hypothesis's q_k above m_k for
+// seconds after the failure; read per channel it wins the minimum with ρ up to m / m_k higher,
+// s rises and tempers that hypothesis's own evidence (docs/results/envelope_tuning.md).
 //
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
 // air by it, turbulence_bank_set.h): the same per-update x = min_k q_k / m, unclipped,
@@ -105,6 +114,7 @@ namespace f16mmae {
 struct alignas(16) TurbulenceAdaptationOptions {
   bool enabled = false;          // off: the bank as designed (bit-identical)
   bool own_channels = false;     // ρ from min_k q_k / m_k, m_k the channels filter k reads (header)
+  std::uint32_t counted_channels = 0;   // own_channels: uninformative channels still counted in m_k (bit j: z_j)
   double channel_weight = 0.0;   // γ: a scale s_j per measurement channel (header); 0: one s
   double time_constant_s = 5.0;  // τ of the residual-power average (tuned with κ, s_max)
   double scale_min = 1.0;        // s_min: the design's A_k are the floor

@@ -266,6 +266,47 @@ TEST(TurbulenceAdaptation, OwnChannelsCountsEachFormPerChannelItReads) {
   EXPECT_EQ(full_plain.log_likelihoods(), full_own.log_likelihoods());
 }
 
+TEST(TurbulenceAdaptation, CountedChannelsKeepTheirShareOfThePlainMinimum) {
+  // Three filters on two channels, alpha = 1, gain 1, reference 1 (s = rho): filter 0 reads both
+  // (q_0 = z0^2 + z1^2), filter 1 leaves out channel 1 (q_1 = z0^2), filter 2 channel 0
+  // (q_2 = z1^2). Own channels: x = min(q_0 / 2, q_1 / 1, q_2 / 1); with channel 1 counted,
+  // filter 1 counts over both channels as without own channels (q_1 / 2), filter 2 still over
+  // the one it reads: x = min(q_0 / 2, q_1 / 2, q_2 / 1).
+  PairModel left1 = pair_model(1.0, 0.0, 1.0);
+  left1.h << 1.0, 0.0;
+  left1.uninformative_width << 0.0, 10.0;
+  left1.uninformative_level_q << 0.0, 0.01;
+  PairModel left0 = pair_model(1.0, 0.0, 1.0);
+  left0.h << 0.0, 1.0;
+  left0.uninformative_width << 10.0, 0.0;
+  left0.uninformative_level_q << 0.01, 0.0;
+  FilterBankOptions own;
+  own.p_min = 0.0;
+  own.adaptation = on(1e-5, 1.0, 50.0);
+  own.adaptation.own_channels = true;
+  FilterBankOptions counted1 = own;
+  counted1.adaptation.counted_channels = 1u << 1;
+  FilterBankOptions counted_both = own;
+  counted_both.adaptation.counted_channels = (1u << 0) | (1u << 1);
+  FilterBankOptions plain = own;
+  plain.adaptation.own_channels = false;
+  const auto models = [&] { return std::vector<PairModel>{pair_model(1.0, 0.0, 1.0), left1, left0}; };
+  PairBank a(models(), own), b(models(), counted1), c(models(), counted_both), d(models(), plain);
+  const Eigen::Vector2d z(3.0, 2.5);   // q = (15.25, 9, 6.25)
+  for (PairBank* bank : {&a, &b, &c, &d}) ASSERT_TRUE(bank->update(z));
+  const Eigen::Vector3d q = a.quadratic_forms();
+  EXPECT_NEAR(q(0), 15.25, 1e-13);
+  EXPECT_NEAR(q(1), 9.0, 1e-13);
+  EXPECT_NEAR(q(2), 6.25, 1e-13);
+  EXPECT_NEAR(a.adaptation().power_ratio(), std::min({15.25 / 2.0, 9.0, 6.25}), 1e-13);        // 6.25
+  EXPECT_NEAR(b.adaptation().power_ratio(), std::min({15.25 / 2.0, 9.0 / 2.0, 6.25}), 1e-13);  // 4.5
+  EXPECT_NEAR(b.turbulence_scale(), 4.5, 1e-13);
+  // every uninformative channel counted: the plain minimum, bit for bit
+  EXPECT_EQ(c.adaptation().power_ratio(), d.adaptation().power_ratio());
+  EXPECT_NEAR(c.adaptation().power_ratio(), 6.25 / 2.0, 1e-13);
+  EXPECT_EQ(b.quadratic_forms(), a.quadratic_forms());   // the likelihoods' forms are untouched
+}
+
 TEST(TurbulenceAdaptation, PerChannelWithOneChannelIsTheCommonScale) {
   // one measurement: c_1 = q_k*, the minimum, so rho_1 = rho and -(s^-1/2 r)' A^-1 (s^-1/2 r) / 2
   // = -q / (2 s): the two forms agree to rounding over a flight of changing scales

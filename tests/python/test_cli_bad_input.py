@@ -134,7 +134,7 @@ def test_a_flag_a_command_lacks_is_refused_by_its_own_name(capsys):
 
 
 def test_design_schedule_refuses_the_single_point_level_q_and_a_bad_failure_model(capsys, tmp_path):
-    """A scheduled design takes --failure-model (default: the tuning's, else constant=VEL), not
+    """A scheduled design takes --failure-model (default: the tuning's, else names.SCHEDULE_FAILURE_MODEL), not
     the single point's --failed-sensor-level-q (once ignored silently); a failure model it
     cannot read is refused by name before any work."""
     out = tmp_path / "s.f16sched"

@@ -52,7 +52,7 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     """Own nodes first (Mach 0.4 trims alpha 8.1 deg: flap 15 deg, layer 1; Mach 0.5 4.7 deg:
     flap 0, layer 0), then the cell's corners in the other flap position (the flap held, the
     node's tuning and reference), and the flap law on alpha at 5 and 15 deg.  The nodes'
-    hypotheses take the scheduled design's failure model (a failed VEL at an unknown constant),
+    hypotheses take the scheduled design's failure model (a failed VEL or roll gyro at an unknown constant),
     their floors and references are bounded on the node's `complete` design."""
     s = scheduled.schedule
     assert s["mach"] == (0.4, 0.5) and s["alt_ft"] == (20000.0,)
@@ -91,8 +91,8 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     assert node["x_trim"][0] == pytest.approx(design.z_trim[0]) and node["x_trim"][8] == design.u_trim[0]
     meta = json.loads(scheduled.schedule["metadata"])
     assert meta["start_up_s"] == START_UP_S == 1.0 and meta["calibration_start_up_s"] == CALIBRATION_START_UP_S == 0.25
-    assert "--start-up-s 1 --calibration-start-up-s 0.25 --failure-model constant=VEL" in meta["command"]
-    assert meta["failure_model"] == {"default": "complete", "constant": ["VEL"]}
+    assert "--start-up-s 1 --calibration-start-up-s 0.25 --failure-model constant=VEL+ROL" in meta["command"]
+    assert meta["failure_model"] == {"default": "complete", "constant": ["VEL", "ROL"]}
     assert s["start_up_s"] == 1.0
     assert meta["node_tuning"] == "calibrated" and [(n["mach"], n["alt_ft"]) for n in meta["nodes"]] == [
         (0.4, 20000.0), (0.5, 20000.0)]
@@ -165,12 +165,12 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
 def test_a_constant_roll_gyro_level_comes_from_the_command(tmp_path):
     """``--failure-model constant=VEL+ROL``: every node's ROL-failed hypotheses read an unknown
     level within 6 noise sigmas of the gyro (0.6 deg/s) with a level random walk of 1e-6 of its
-    noise variance, the filters and the other hypotheses those of the default constant=VEL; the
+    noise variance, the filters and the other hypotheses those of constant=VEL; the
     file names the model in its metadata and command."""
     out, ref = tmp_path / "rol.f16sched", tmp_path / "vel.f16sched"
     common = ["design", "--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--workers", "1"]
     assert main(common + ["--failure-model", "constant=VEL+ROL", "--out", str(out)]) == 0
-    assert main(common + ["--out", str(ref)]) == 0
+    assert main(common + ["--failure-model", "constant=VEL", "--out", str(ref)]) == 0
     node, plain = core.load_bank(out).schedule["nodes"][0]["bank"], core.load_bank(ref).schedule["nodes"][0]["bank"]
     j = names.SENSORS.index("ROL")
     rol = 0
@@ -263,12 +263,12 @@ def test_a_node_s_reference_is_the_smallest_of_its_neighbours_that_met_the_bound
         (2, 1): 0.8}   # (1, 0) at 1.0 and (2, 0) unbounded: its own
 
 
-def test_the_scheduled_designs_failure_model_given_then_the_tunings_then_constant_vel():
+def test_the_scheduled_designs_failure_model_given_then_the_tunings_then_constant_vel_rol():
     """``schedule_failure_model``: an explicit model wins; a tuning naming one keeps it; a tuning
     naming none (the shipped ones) gets names.SCHEDULE_FAILURE_MODEL; a bad one is refused."""
     tuned = load_tuning("tuned")
     cover = dataclasses.replace(tuned, failure_model="cover=VEL+AOA")
-    assert schedule_failure_model(tuned) == "constant=VEL" == check_failure_model(names.SCHEDULE_FAILURE_MODEL)
+    assert schedule_failure_model(tuned) == "constant=VEL+ROL" == check_failure_model(names.SCHEDULE_FAILURE_MODEL)
     assert schedule_failure_model(cover) == "cover=VEL+AOA"
     assert schedule_failure_model(cover, "complete") == schedule_failure_model(tuned, "complete") == "complete"
     assert schedule_failure_model(tuned, {"default": "complete", "constant": ["AOA", "VEL"]}) == "constant=VEL+AOA"

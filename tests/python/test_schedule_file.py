@@ -213,7 +213,9 @@ def test_an_unscheduled_bank_has_no_schedule_and_takes_a_trim_offset():
 def test_the_scheduled_bank_name_says_how_to_build_it_when_missing(tmp_path, monkeypatch):
     monkeypatch.setenv("F16MMAE_CACHE_DIR", str(tmp_path))
     monkeypatch.setattr(banks, "_schedule_generator", None)
-    with pytest.raises(banks.BankError, match=r"f16mmae design --schedule --out .*scheduled_tuned_"):
+    with pytest.raises(banks.BankError, match=r"f16mmae design --schedule --failure-model constant=VEL\+ROL "
+                                              r"--gust-states-below-ft 15000 --gust-node-choice effort --out "
+                                              r".*scheduled_tuned_"):
         banks.load_bank("scheduled")
     built = []
     monkeypatch.setattr(banks, "_schedule_generator", built.append)

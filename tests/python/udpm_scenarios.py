@@ -394,7 +394,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
-               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5", "--adapt-turbulence",
+               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5", "--adapt-turbulence", "--adapt-all-channels",
                "--trim-tracking", "2", "--trim-freeze-probability", "0.5", "--schedule-mode", "nearest",
                "--maneuver-kinematics", "--maneuver-tempering", "0.1", "--actuator-limits",
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}O_", "--compare"])
@@ -410,7 +410,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
                "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@1", "--trim-tracking", "2",
                "--trim-tracking-steady", "0.1", "--air-data-time-constant", "0.5", "--adapt-turbulence",
-               "--adapt-reference", "0.65", "--adapt-reference-climb", "0.6", "--adapt-reference-climb-hold", "30",
+               "--adapt-all-channels", "--adapt-reference", "0.65", "--adapt-reference-climb", "0.6", "--adapt-reference-climb-hold", "30",
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}Y_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out

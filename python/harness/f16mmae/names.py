@@ -92,11 +92,29 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: on each node's ``complete`` bank (calibration start-up 0.25 s), the file recommending a start-up of 1 s
 #: (calibrate.START_UP_S, CALIBRATION_START_UP_S); 11: a node whose calibrated NONE filter misfits
 #: jointly (NIS / m above calibrate.JOINT_NIS_LIMIT) puts AOA's excess on its measurement, not on
-#: the alpha state, where that fits better (calibrate.calibrate_node).
-SCHEDULE_DESIGN_REVISION = 11
+#: the alpha state, where that fits better (calibrate.calibrate_node); 12: the failed roll gyro
+#: read as a constant level too (SCHEDULE_FAILURE_MODEL), Dryden gust states at the nodes at or
+#: below SCHEDULE_GUST_STATES_BELOW_FT where their calibration gains by them
+#: (SCHEDULE_GUST_NODE_CHOICE), and the estimator's turbulence adaptation counting each filter's
+#: residual power per channel it reads but VEL's (SCHEDULE_ADAPT_COUNTED_CHANNEL;
+#: loop/estimator_options.py scheduled_defaults).
+SCHEDULE_DESIGN_REVISION = 12
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
-#: a failed VEL reads an unknown constant within its scheduled trim's uncertainty.
-SCHEDULE_FAILURE_MODEL = "constant=VEL"
+#: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
+#: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).
+SCHEDULE_FAILURE_MODEL = "constant=VEL+ROL"
+#: The scheduled design's nodes at or below this altitude (ft) are designed with and without
+#: Dryden gust states (design/schedule.py gust_states_below_ft) ...
+SCHEDULE_GUST_STATES_BELOW_FT = 15000.0
+#: ... and carry them where the node's own calibration flights ask a failure for less
+#: declaration effort with them (design/schedule.py GUST_NODE_CHOICES: ``effort``).
+SCHEDULE_GUST_NODE_CHOICE = "effort"
+#: The scheduled estimator's turbulence adaptation counts each filter's residual power per
+#: channel it reads, but for this sensor's uninformative channel, which counts as read
+#: (loop/estimator_options.py scheduled_defaults; cpp/f16mmae/turbulence_adaptation.h): the
+#: failed VEL's level follows the failed reading slowly, and counted per channel read its
+#: hypothesis would temper its own evidence by up to 7/6 (docs/results/envelope_tuning.md).
+SCHEDULE_ADAPT_COUNTED_CHANNEL = "VEL"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

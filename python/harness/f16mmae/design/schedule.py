@@ -25,8 +25,9 @@ alpha from the trim's noise-free measurements, theta, the five surfaces at their
 commands, zero rates, sideslip and bank.
 
 Failure model: the hypotheses take ``failure_model`` (default ``names.SCHEDULE_FAILURE_MODEL``:
-a failed VEL reads an unknown constant within its scheduled trim's uncertainty,
-``hypotheses.py``'s ``constant``; the other components the paper's ``complete``), but a node's
+a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
+gyro one within its noise sigma, ``hypotheses.py``'s ``constant``; the other components the
+paper's ``complete``), but a node's
 floor and reference are bounded on the node's ``complete`` bank: on failure-free calibration
 flights a ``constant`` hypothesis rises while NONE's filter absorbs the scheduled trim's offset,
 and bounding on it tempers nearly every node for that transient (docs/results/envelope_tuning.md,
@@ -581,15 +582,21 @@ def format_spec(grid: Grid) -> str:
 
 
 def _generate_scheduled_bank(path: Path) -> None:
-    """Design the ``scheduled`` bank (DEFAULT_GRID, tuned, DEFAULT_NODE_TUNING) into ``path``,
-    saying so (first use)."""
+    """Design the ``scheduled`` bank (DEFAULT_GRID, tuned, DEFAULT_NODE_TUNING, the failure model
+    ``names.SCHEDULE_FAILURE_MODEL``, gust states at or below ``names.SCHEDULE_GUST_STATES_BELOW_FT``
+    chosen by ``names.SCHEDULE_GUST_NODE_CHOICE``) into ``path``, saying so (first use): the file
+    ``f16mmae design --schedule --failure-model ... --gust-states-below-ft ... --gust-node-choice ...``
+    writes with those values."""
     import sys
 
-    print(f"designing the scheduled bank ({DEFAULT_GRID}, tuned, {DEFAULT_NODE_TUNING} at every node) "
-          f"into {path} (once; cached)...", file=sys.stderr, flush=True)
+    print(f"designing the scheduled bank ({DEFAULT_GRID}, tuned, {DEFAULT_NODE_TUNING} at every node, failure "
+          f"model {names.SCHEDULE_FAILURE_MODEL}, gust states at or below {names.SCHEDULE_GUST_STATES_BELOW_FT:g} ft "
+          f"by {names.SCHEDULE_GUST_NODE_CHOICE}) into {path} (once; cached)...", file=sys.stderr, flush=True)
     s = design_schedule(parse_grid(DEFAULT_GRID), "tuned", path,
                         progress=lambda line: print("  " + line, file=sys.stderr, flush=True),
-                        node_tuning=DEFAULT_NODE_TUNING)
+                        node_tuning=DEFAULT_NODE_TUNING, failure_model=names.SCHEDULE_FAILURE_MODEL,
+                        gust_states_below_ft=names.SCHEDULE_GUST_STATES_BELOW_FT,
+                        gust_node_choice=names.SCHEDULE_GUST_NODE_CHOICE)
     print(f"  {s['covered']} points in {s['wall_s']:.0f} s, {s['bytes'] / 1e6:.1f} MB", file=sys.stderr, flush=True)
 
 

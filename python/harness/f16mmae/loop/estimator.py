@@ -15,8 +15,9 @@ import numpy as np
 
 from .. import core
 from ..banks import bank_estimator_settings, turbulence_bank_set
+from ..names import SENSORS
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
-from .estimator_options import CLOSED_LOOP, with_closed_loop_defaults
+from .estimator_options import CLOSED_LOOP, scheduled_defaults, with_closed_loop_defaults
 
 
 def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
@@ -24,8 +25,12 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     bank with ``nu`` inputs: ``actuator_limits`` (True) becomes the F-16 actuators' rate and
     position limits (``truth.actuators``: the actuator specification the estimator's designer
     has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
-    beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf."""
+    beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf.
+    ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit."""
     out = dict(settings)
+    counted = out.pop("adapt_counted_channel", None)
+    if counted is not None:   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
+        out["adapt_counted_channels"] = 1 << SENSORS.index(counted.upper())
     if out.pop("actuator_limits", False):
         free = [math.inf] * (nu - len(RATE_LIMIT_RAD_S))
         out["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, *free]
@@ -80,8 +85,11 @@ class Estimator:
     flows in."""
 
     def __init__(self, model_bank, **options) -> None:
-        #: The estimator settings in force: the bank's recommended ones, then ``options``.
-        self.settings: dict = with_closed_loop_defaults({**bank_estimator_settings(model_bank), **options})
+        #: The estimator settings in force: the bank's recommended ones, then ``options``, then a
+        #: scheduled bank's defaults (``estimator_options.scheduled_defaults``: own channels) and the
+        #: closed loop's (``with_closed_loop_defaults``: the adaptive dither with a bank set).
+        self.settings: dict = with_closed_loop_defaults(scheduled_defaults(
+            {**bank_estimator_settings(model_bank), **options}, model_bank.schedule is not None))
         if self.settings.get("turbulence_banks"):
             self._bank = _bank_set(model_bank, self.settings)
         else:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_MODES, THRESHOLD_DEFAULT
+from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_MODES, SENSORS, THRESHOLD_DEFAULT
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -82,8 +82,23 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "(rho = min_k q_k / m_k, m_k the channels filter k reads), so that a hypothesis whose "
                          "failed sensor's channel is uninformative (a `constant` or `cover` failed sensor) does "
                          "not read the air calmer than it is (cpp/f16mmae/turbulence_adaptation.h). A bank "
-                         "without uninformative channels is unchanged. Default off; a turbulence bank set's "
-                         "members always run with it"),
+                         "without uninformative channels is unchanged. Default: on for a scheduled bank "
+                         "(scheduled_defaults: with VEL's channel counted, --adapt-counted-channel; given, "
+                         "every uninformative channel left out unless --adapt-counted-channel), off otherwise; "
+                         "a turbulence bank set's members always run with it"),
+    EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
+                    in_daemon=False,
+                    help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "
+                         "(rho = min_k q_k / m), the rule a scheduled bank was flown with before its design's "
+                         "revision 12, in place of its default --adapt-own-channels (mmae-daemon: leave out "
+                         "--adapt-own-channels)"),
+    EstimatorOption("adapt_counted_channel", "--adapt-counted-channel", "choice", metavar="|".join(SENSORS),
+                    choices=tuple(s.lower() for s in SENSORS), requires="adapt_turbulence", in_daemon=False,
+                    help="with own channels (--adapt-own-channels, a scheduled bank's default): the failed SENSOR's uninformative channel still counts in "
+                         "m_k: the hypotheses that leave out only that channel count their residual power over "
+                         "every channel, as without own channels; the others per channel they read "
+                         "(cpp/f16mmae/turbulence_adaptation.h). Default: VEL on a scheduled bank without "
+                         "--adapt-own-channels, else none"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -270,12 +285,15 @@ CORE_ONLY: dict[str, str] = {
     "adapt_scale_min": "the adaptation's lower bound on s, the design's A_k (turbulence_adaptation.h)",
     "adapt_scale_max": "the adaptation's upper bound on s (turbulence_adaptation.h)",
     "adapt_gain": "the adaptation's gain on the excess residual power (turbulence_adaptation.h)",
+    "adapt_counted_channels": "the counted channels as a bit mask over z (turbulence_adaptation.h); the "
+                              "estimator sets it from --adapt-counted-channel (loop/estimator.py core_arguments)",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
-#: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py).
+#: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
+#: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
-                               "sensor_loss_dither")
+                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.
@@ -331,6 +349,27 @@ def check(settings: dict) -> None:
     if settings.get("adaptive_dither") and settings.get("fixed_dither"):
         raise ValueError("--adaptive-dither and --fixed-dither exclude each other (the adaptive dither is the "
                          "default with --turbulence-banks)")
+    if settings.get("adapt_all_channels") and settings.get("adapt_own_channels"):
+        raise ValueError("--adapt-all-channels and --adapt-own-channels are two rules for the same residual "
+                         "power: give one")
+
+
+def scheduled_defaults(settings: dict, scheduled: bool) -> dict:
+    """``settings`` with the scheduled estimator's defaults applied: on a ``scheduled`` bank
+    with ``adapt_turbulence`` (and no turbulence bank set, whose members always count per
+    channel), unless ``adapt_all_channels`` asks for the plain minimum, ``adapt_own_channels``
+    on, and, unless ``adapt_own_channels`` or ``adapt_counted_channel`` was given,
+    ``adapt_counted_channel`` ``names.SCHEDULE_ADAPT_COUNTED_CHANNEL`` (``--adapt-own-channels``
+    alone: every uninformative channel left out, the rule before revision 12).
+    ``adapt_all_channels`` itself is consumed (no keyword of the core: its rule is
+    ``adapt_own_channels`` off). A copy; ``settings`` is not changed."""
+    out = dict(settings)
+    all_channels = out.pop("adapt_all_channels", False)
+    if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks") and not all_channels:
+        if not out.get("adapt_own_channels") and "adapt_counted_channel" not in out:
+            out["adapt_counted_channel"] = SCHEDULE_ADAPT_COUNTED_CHANNEL.lower()
+        out["adapt_own_channels"] = True
+    return out
 
 
 def command_line_flags(settings: dict) -> list[str]:

@@ -1,0 +1,97 @@
+"""The scheduled estimator's defaults (loop/estimator_options.py ``scheduled_defaults``): a
+scheduled bank flown with the turbulence adaptation counts each filter's residual power per
+channel it reads (own channels) unless ``adapt_all_channels`` asks for the plain minimum; the
+counted channel (``adapt_counted_channel``) reaches the core as its bit; the cached scheduled
+bank's name follows every design setting of ``names.SCHEDULE_*``."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from f16mmae import banks, core, names
+from f16mmae.design.bank import design_bank, to_model_bank
+from f16mmae.design.tuning import load_tuning, tuning_from_dict
+from f16mmae.loop.estimator import Estimator, core_arguments
+from f16mmae.loop.estimator_options import check, scheduled_defaults
+
+
+def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
+    given = {"adapt_turbulence": True}
+    assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
+                                               "adapt_counted_channel": "vel"}
+    assert given == {"adapt_turbulence": True}   # a copy
+    own = {**given, "adapt_own_channels": True}   # round 13's rule: every uninformative channel left out
+    assert scheduled_defaults(own, True) == own
+    rol = {**given, "adapt_counted_channel": "rol"}
+    assert scheduled_defaults(rol, True) == {**rol, "adapt_own_channels": True}
+    assert scheduled_defaults({**given, "adapt_all_channels": True}, True) == given
+    assert scheduled_defaults(given, False) == given   # a bank at one point: unchanged
+    assert scheduled_defaults({}, True) == {}           # no adaptation: nothing to count
+    banks_set = {"adapt_turbulence": True, "turbulence_banks": True}
+    assert scheduled_defaults(banks_set, True) == banks_set
+    with pytest.raises(ValueError, match="--adapt-all-channels and --adapt-own-channels"):
+        check({"adapt_turbulence": True, "adapt_all_channels": True, "adapt_own_channels": True})
+    with pytest.raises(ValueError, match="--adapt-all-channels applies with --adapt-turbulence only"):
+        check({"adapt_all_channels": True})
+    with pytest.raises(ValueError, match="--adapt-counted-channel 'air' must be one of vel, aoa"):
+        check({"adapt_turbulence": True, "adapt_counted_channel": "air"})
+
+
+def test_the_counted_channel_reaches_the_core_as_its_bit():
+    assert core_arguments({"adapt_counted_channel": "vel"})["adapt_counted_channels"] == 1
+    assert core_arguments({"adapt_counted_channel": "rol"})["adapt_counted_channels"] == 1 << 4
+    assert "adapt_counted_channel" not in core_arguments({"adapt_counted_channel": "vel"})
+
+
+@pytest.fixture(scope="module")
+def vel_rol_schedule(tmp_path_factory):
+    """A one-node schedule of the constant=VEL+ROL design at Mach 0.4, 20,000 ft."""
+    base = load_tuning("tuned").to_dict()
+    tun = tuning_from_dict({**base, "failure_model": {"default": "complete", "constant": ["VEL", "ROL"]}},
+                           default_name="vel-rol")
+    mb = to_model_bank(design_bank(0.4, 20_000.0, tun))
+    path = tmp_path_factory.mktemp("own") / "one.f16sched"
+    core.save_schedule([0.4], [20000.0], [(0, 0, mb, np.zeros(names.NX))], primary=0, path=str(path))
+    return core.load_bank(str(path))
+
+
+def _fly(estimator_or_core, bank, frames=150):
+    """rho after each frame of a flight whose measurements are the trim plus white noise (the
+    same for every estimator)."""
+    rng = np.random.default_rng(5)
+    z0, u = np.asarray(bank.z_trim), np.asarray(bank.u_trim)
+    rho = []
+    for _ in range(frames):
+        z = z0 + 3e-2 * rng.standard_normal(names.NZ)
+        estimator_or_core.update(z)
+        estimator_or_core.propagate(u)
+        rho.append(estimator_or_core.turbulence_power_ratio)
+    return np.array(rho)
+
+
+def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_schedule):
+    bank = vel_rol_schedule
+    est = Estimator(bank, adapt_turbulence=True)
+    assert est.settings["adapt_own_channels"] is True and est.settings["adapt_counted_channel"] == "vel"
+    own = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_own_channels=True)
+    plain = core.HierarchicalBank(bank, adapt_turbulence=True)
+    counted = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_own_channels=True, adapt_counted_channels=1)
+    r_est, r_own, r_plain, r_counted = (_fly(b, bank) for b in (est, own, plain, counted))
+    np.testing.assert_array_equal(r_est, r_counted)   # VEL's channel is bit 0 of z
+    assert not np.array_equal(r_own, r_plain)   # the bank has uninformative channels: the rule matters
+    assert not np.array_equal(r_counted, r_own) and not np.array_equal(r_counted, r_plain)
+    old = Estimator(bank, adapt_turbulence=True, adapt_all_channels=True)
+    assert "adapt_own_channels" not in old.settings and "adapt_all_channels" not in old.settings
+    np.testing.assert_array_equal(_fly(old, bank), r_plain)
+    np.testing.assert_array_equal(_fly(Estimator(bank, adapt_turbulence=True, adapt_own_channels=True), bank), r_own)
+
+
+def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch):
+    first = banks.scheduled_bank_path()
+    assert first == banks.scheduled_bank_path()
+    for attr, value in (("SCHEDULE_GUST_STATES_BELOW_FT", 10000.0), ("SCHEDULE_GUST_NODE_CHOICE", "all"),
+                        ("SCHEDULE_FAILURE_MODEL", "constant=VEL"), ("SCHEDULE_DESIGN_REVISION", 11)):
+        with monkeypatch.context() as m:
+            m.setattr(banks, attr, value)
+            assert banks.scheduled_bank_path() != first, attr
+    assert banks.scheduled_bank_path() == first

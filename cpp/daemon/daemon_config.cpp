@@ -2,9 +2,12 @@
 
 #include "f16mmae/estimator_settings.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -62,6 +65,10 @@ std::string daemon_usage() {
          "                       channel it reads, so a hypothesis whose failed sensor's channel is\n"
          "                       uninformative does not read the air calmer than it is (default off;\n"
          "                       a turbulence bank set's members always run with it)\n"
+         "  --adapt-counted-channel NAME  with --adapt-own-channels: the failed NAME's uninformative\n"
+         "                       channel still counts in each filter's channel count (vel, aoa, pit,\n"
+         "                       az, rol, yaw, ay; 'f16mmae hil' gives vel with a scheduled bank's\n"
+         "                       --adapt-turbulence, its default in process)\n"
          "  --adapt-reference-climb RHO  with --adapt-turbulence: the reference while the air\n"
          "                       data climb or descend faster than 300 ft/min or change Mach faster\n"
          "                       than 0.001/s (0-100; default: off, the reference above everywhere)\n"
@@ -242,13 +249,14 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--maneuver-tempering-deadband" || key == "--level1-p-min" ||
                        key == "--level1-dwell-s" || key == "--departure-hold" ||
                        key == "--maneuver-trim-time-constant" || key == "--maneuver-trim-accel" ||
-                       key == "--maneuver-trim-rates" || key == "--maneuver-trim-blend";
+                       key == "--maneuver-trim-rates" || key == "--maneuver-trim-blend" ||
+                       key == "--adapt-counted-channel";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
                          "--p-min, --threshold, --dwell-s, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-own-channels, "
-                         "--adapt-reference-climb, "
+                         "--adapt-counted-channel, --adapt-reference-climb, "
                          "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
                          "--maneuver-dwell, --maneuver-dwell-hold, --maneuver-dwell-g, --maneuver-dwell-time-constant, "
                          "--maneuver-reference, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
@@ -394,6 +402,14 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (value != "on" && value != "off")
         return usage_error("--departure-hold must be on or off, got '" + value + "'");
       c.departure_hold = value == "on";
+    } else if (key == "--adapt-counted-channel") {
+      static const char* const kSensors[] = {"vel", "aoa", "pit", "az", "rol", "yaw", "ay"};
+      std::string lower = value;
+      for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (std::find(std::begin(kSensors), std::end(kSensors), lower) == std::end(kSensors))
+        return usage_error("--adapt-counted-channel must name a measurement (vel, aoa, pit, az, rol, yaw, ay), got '" +
+                           value + "'");
+      c.adapt_counted_channel = lower;
     } else if (key == "--schedule-mode") {
       if (value != "interpolate" && value != "nearest")
         return usage_error("--schedule-mode must be interpolate or nearest, got '" + value + "'");
@@ -483,6 +499,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     return usage_error("--adapt-reference applies with --adapt-turbulence only");
   if (c.adapt_own_channels && !c.adapt_turbulence)
     return usage_error("--adapt-own-channels applies with --adapt-turbulence only");
+  if (!c.adapt_counted_channel.empty() && !c.adapt_own_channels)
+    return usage_error("--adapt-counted-channel applies with --adapt-own-channels only");
   if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())
     return usage_error("--actuator-rate-limits and --actuator-position-limits go together, one value per input each "
                        "(got " + std::to_string(c.actuator_rate_limits_rad_s.size()) + " and " +

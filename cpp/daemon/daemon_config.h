@@ -2,7 +2,7 @@
 //
 //   mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
 //               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence] [--adapt-reference RHO]
-//               [--adapt-own-channels]
+//               [--adapt-own-channels] [--adapt-counted-channel NAME]
 //               [--adapt-reference-climb RHO] [--adapt-reference-climb-hold S]
 //               [--adapt-reference-climb-dwell S] [--adapt-channel-weight G]
 //               [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]
@@ -54,6 +54,7 @@ struct DaemonConfig {
   bool turbulence_banks = false;     // FILE is a turbulence bank set file: fly the set (turbulence_bank_set.h)
   std::optional<double> adapt_reference;  // its rho_0, with adapt_turbulence only
   bool adapt_own_channels = false;   // its rho per channel each filter reads, with adapt_turbulence only
+  std::string adapt_counted_channel;  // a measurement (lower case) still counted in m_k, with adapt_own_channels only
   std::optional<double> adapt_reference_climb;  // rho_0 while climbing (climb_reference.h), with adapt_turbulence
   std::optional<double> adapt_reference_climb_hold_s;  // its hold, with adapt_reference_climb
   std::optional<double> adapt_reference_climb_dwell_s; // the level-0 dwell while it is in force, with it

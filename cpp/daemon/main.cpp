@@ -23,6 +23,7 @@
 #include <sys/mman.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -128,6 +129,18 @@ int main(int argc, char** argv) {
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     options.bank.adaptation.enabled = cfg.adapt_turbulence;
     options.bank.adaptation.own_channels = cfg.adapt_own_channels;
+    if (!cfg.adapt_counted_channel.empty()) {   // its bit in the bank's measurement order
+      const auto& m = bank.measurement_names;
+      std::string upper = cfg.adapt_counted_channel;
+      for (char& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+      const auto it = std::find(m.begin(), m.end(), upper);
+      if (it == m.end()) {
+        std::fprintf(stderr, "mmae-daemon: error: --adapt-counted-channel %s: the bank measures no %s (%s)\n",
+                     cfg.adapt_counted_channel.c_str(), upper.c_str(), cfg.bank_path.c_str());
+        return 1;
+      }
+      options.bank.adaptation.counted_channels = 1u << static_cast<unsigned>(it - m.begin());
+    }
     if (cfg.adapt_reference) {   // one reference everywhere; else a schedule's per-node ones, if it has them
       options.bank.adaptation.reference = *cfg.adapt_reference;
       options.schedule.node_adapt_reference = false;
@@ -224,8 +237,10 @@ int main(int argc, char** argv) {
                                                       : "turbulence adaptation (reference " +
                                                             f16mmae::format_value(options.bank.adaptation.reference) + ")";
       if (executive->estimator().members() == 0 && options.bank.adaptation.enabled &&
-          options.bank.adaptation.own_channels)   // "(...)" -> "(..., own channels)"
-        adaptation.insert(adaptation.size() - 1, ", own channels");
+          options.bank.adaptation.own_channels)   // "(...)" -> "(..., own channels[, NAME counted])"
+        adaptation.insert(adaptation.size() - 1,
+                          cfg.adapt_counted_channel.empty() ? std::string(", own channels")
+                                                            : ", own channels, " + cfg.adapt_counted_channel + " counted");
       const std::string adaptation_climb =
           options.bank.adaptation.enabled && options.climb_reference.enabled()
               ? adaptation + ", climbing " + f16mmae::format_value(options.climb_reference.reference) + " held " +

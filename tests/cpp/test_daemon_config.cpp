@@ -162,6 +162,20 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-own-channels applies with --adapt-turbulence only"), std::string::npos)
       << r.message;
+  EXPECT_TRUE(r.config.adapt_counted_channel.empty());
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "VEL"},
+                        nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.adapt_counted_channel, "vel");
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel=air"},
+                        nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-counted-channel must name a measurement (vel, aoa, pit, az, rol, yaw, ay), "
+                           "got 'air'"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-counted-channel", "vel"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-counted-channel applies with --adapt-own-channels only"), std::string::npos)
+      << r.message;
   for (const char* bad : {"-0.1", "101", "nan", "high"}) {
     r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference", bad}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;

@@ -24,7 +24,11 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     assert scheduled_defaults(own, True) == own
     rol = {**given, "adapt_counted_channel": "rol"}
     assert scheduled_defaults(rol, True) == {**rol, "adapt_own_channels": True}
-    assert scheduled_defaults({**given, "adapt_all_channels": True}, True) == given
+    all_channels = {**given, "adapt_all_channels": True}
+    assert scheduled_defaults(all_channels, True) == all_channels
+    for settings in (given, own, rol, all_channels, {}):   # applied twice as once (hil's --compare run)
+        once = scheduled_defaults(settings, True)
+        assert scheduled_defaults(once, True) == once
     assert scheduled_defaults(given, False) == given   # a bank at one point: unchanged
     assert scheduled_defaults({}, True) == {}           # no adaptation: nothing to count
     banks_set = {"adapt_turbulence": True, "turbulence_banks": True}
@@ -81,7 +85,7 @@ def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_
     assert not np.array_equal(r_own, r_plain)   # the bank has uninformative channels: the rule matters
     assert not np.array_equal(r_counted, r_own) and not np.array_equal(r_counted, r_plain)
     old = Estimator(bank, adapt_turbulence=True, adapt_all_channels=True)
-    assert "adapt_own_channels" not in old.settings and "adapt_all_channels" not in old.settings
+    assert "adapt_own_channels" not in old.settings and old.settings["adapt_all_channels"] is True
     np.testing.assert_array_equal(_fly(old, bank), r_plain)
     np.testing.assert_array_equal(_fly(Estimator(bank, adapt_turbulence=True, adapt_own_channels=True), bank), r_own)
 
@@ -95,3 +99,13 @@ def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch)
             m.setattr(banks, attr, value)
             assert banks.scheduled_bank_path() != first, attr
     assert banks.scheduled_bank_path() == first
+
+
+def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
+    """hil hands mmae-daemon the scheduled estimator's defaults resolved (own channels, VEL
+    counted), so the executive over LCM runs the rule the estimator in process runs."""
+    from f16mmae.lcm.daemon import daemon_flags
+    flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
+    assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel"}
+    assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
+    assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))

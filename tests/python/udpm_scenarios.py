@@ -394,14 +394,14 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
-               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5", "--adapt-turbulence", "--adapt-all-channels",
+               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5", "--adapt-turbulence",
                "--trim-tracking", "2", "--trim-freeze-probability", "0.5", "--schedule-mode", "nearest",
                "--maneuver-kinematics", "--maneuver-tempering", "0.1", "--actuator-limits",
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}O_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
-    assert ("turbulence adaptation (reference per node), trim tracking 2 s (freeze above 0.5), "
-            "schedule nearest on air data low-passed 2 s, maneuver kinematics, "  # the core's default low-pass
+    assert ("turbulence adaptation (reference per node, own channels, vel counted), "  # the scheduled default
+            "trim tracking 2 s (freeze above 0.5), schedule nearest on air data low-passed 2 s, maneuver kinematics, "  # the core's default low-pass
             "tempering 0.1 g, actuator limits)" in out), out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()

@@ -80,12 +80,6 @@ def _hil(args) -> int:
     label, path, bank, scenario = flight_from_args(args)
     # a scheduled bank's defaults as flags: mmae-daemon flies what the estimator in process does
     options = scheduled_defaults(estimator_options_from_args(args), bank.schedule is not None)
-    try:
-        daemon_flags(options, bank.nu)
-    except ValueError as exc:
-        raise CliError(f"{exc}; with --adapt-turbulence a scheduled bank counts VEL's channel by default "
-                       f"(--adapt-counted-channel), which mmae-daemon does not take: give --adapt-own-channels "
-                       f"(every uninformative channel left out) or --adapt-all-channels") from None
     url = args.lcm_url or default_lcm_url()
     if args.start_daemon and url.startswith("memq:"):
         raise CliError(f"--lcm-url {url!r} with --start-daemon: memq:// is a queue inside one "

@@ -38,6 +38,8 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
     for key, value in core_arguments(estimator_options, nu).items():
         if key in CLOSED_LOOP:   # the closed loop's (the truth side's): the executive needs no flag
             continue
+        if key == "adapt_counted_channels":   # core_arguments' bit; the daemon takes the sensor's name
+            key, value = "adapt_counted_channel", estimator_options["adapt_counted_channel"]
         option = BY_KEY.get(key)
         if option is None or not option.in_daemon:
             if option is not None and not value:

@@ -26,8 +26,10 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     position limits (``truth.actuators``: the actuator specification the estimator's designer
     has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
     beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf.
-    ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit."""
+    ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit;
+    ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``)."""
     out = dict(settings)
+    out.pop("adapt_all_channels", None)
     counted = out.pop("adapt_counted_channel", None)
     if counted is not None:   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
         out["adapt_counted_channels"] = 1 << SENSORS.index(counted.upper())

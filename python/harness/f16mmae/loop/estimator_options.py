@@ -93,7 +93,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "revision 12, in place of its default --adapt-own-channels (mmae-daemon: leave out "
                          "--adapt-own-channels)"),
     EstimatorOption("adapt_counted_channel", "--adapt-counted-channel", "choice", metavar="|".join(SENSORS),
-                    choices=tuple(s.lower() for s in SENSORS), requires="adapt_turbulence", in_daemon=False,
+                    choices=tuple(s.lower() for s in SENSORS), requires="adapt_turbulence",
                     help="with own channels (--adapt-own-channels, a scheduled bank's default): the failed SENSOR's uninformative channel still counts in "
                          "m_k: the hypotheses that leave out only that channel count their residual power over "
                          "every channel, as without own channels; the others per channel they read "
@@ -361,10 +361,11 @@ def scheduled_defaults(settings: dict, scheduled: bool) -> dict:
     on, and, unless ``adapt_own_channels`` or ``adapt_counted_channel`` was given,
     ``adapt_counted_channel`` ``names.SCHEDULE_ADAPT_COUNTED_CHANNEL`` (``--adapt-own-channels``
     alone: every uninformative channel left out, the rule before revision 12).
-    ``adapt_all_channels`` itself is consumed (no keyword of the core: its rule is
-    ``adapt_own_channels`` off). A copy; ``settings`` is not changed."""
+    ``adapt_all_channels`` stays (records name the rule; ``loop.estimator.core_arguments``
+    drops it: its rule is ``adapt_own_channels`` off), so applying the defaults twice gives
+    what applying them once does. A copy; ``settings`` is not changed."""
     out = dict(settings)
-    all_channels = out.pop("adapt_all_channels", False)
+    all_channels = out.get("adapt_all_channels", False)
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks") and not all_channels:
         if not out.get("adapt_own_channels") and "adapt_counted_channel" not in out:
             out["adapt_counted_channel"] = SCHEDULE_ADAPT_COUNTED_CHANNEL.lower()

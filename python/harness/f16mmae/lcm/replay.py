@@ -168,7 +168,7 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
                     report.unauthenticated += 1
                 continue
             if ch == chans.sensors:
-                f = _decode_sensor_frame(event.data, path)
+                f = _decode(lcmt_sensor_frame, event.data, path)
                 report.sensor_frames += 1
                 c = executive.on_sensor(f.frame, f.z, list(f.valid), f.utime, (f.mach, f.pressure_altitude_ft))
                 if c is not None:
@@ -177,7 +177,7 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
                     else:
                         computed[c.frame] = c
             elif ch == chans.commands:
-                f = _decode_command_frame(event.data, path)
+                f = _decode(lcmt_command_frame, event.data, path)
                 report.command_frames += 1
                 executive.on_command(f.frame, command_of(f), f.utime)
             elif ch == chans.reset:
@@ -185,7 +185,7 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
                 computed.clear()
                 unmatched(early)
             elif ch == chans.status:
-                s = _decode_status(event.data, path)
+                s = _decode(lcmt_mmae_status, event.data, path)
                 report.statuses_logged += 1
                 report.bank_hashes.add(s.bank_hash)
                 c = computed.pop(s.frame, None)
@@ -208,49 +208,29 @@ def replay_log(path: str | Path, model_bank, *, channel_prefix: str = "", tolera
     return report
 
 
-#: The fingerprint (first 8 bytes) of ``lcmt_sensor_frame`` before it carried air data.
+#: The fingerprints (first 8 bytes) of the messages' former versions, which this version cannot
+#: replay, and what the current version carries that they lack (docs/INTERFACES.md).
 SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA = bytes.fromhex("23052c572d827754")
-
-
-def _decode_sensor_frame(data: bytes, path: Path):
-    """A logged sensor frame, or ReplayError naming the log when it was written before the
-    sensor frame carried air data (that traffic has no air data to schedule on)."""
-    if data[:8] == SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA:
-        raise ReplayError(f"log {str(path)!r} was recorded before lcmt_sensor_frame carried air data "
-                          f"(mach, pressure_altitude_ft; docs/INTERFACES.md): it cannot be replayed by this "
-                          f"version; record the flight again (f16mmae hil) or replay it with the release "
-                          f"that wrote it")
-    return lcmt_sensor_frame.decode(data)
-
-
-#: The fingerprint (first 8 bytes) of ``lcmt_command_frame`` before it carried the throttle.
 COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE = bytes.fromhex("7104f132bac68b60")
-
-
-def _decode_command_frame(data: bytes, path: Path):
-    """A logged command frame, or ReplayError naming the log when it was written before the
-    command frame carried the throttle command."""
-    if data[:8] == COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE:
-        raise ReplayError(f"log {str(path)!r} was recorded before lcmt_command_frame carried the throttle "
-                          f"command (docs/INTERFACES.md): it cannot be replayed by this version; record the "
-                          f"flight again (f16mmae hil) or replay it with the release that wrote it")
-    return lcmt_command_frame.decode(data)
-
-
-#: The fingerprint (first 8 bytes) of ``lcmt_mmae_status`` before it carried the turbulence set's
-#: member in force and its rho.
 STATUS_FINGERPRINT_WITHOUT_TURBULENCE_MEMBER = bytes.fromhex("4b2dcf092b651b13")
+FORMER_VERSIONS = {
+    lcmt_sensor_frame: (SENSOR_FRAME_FINGERPRINT_WITHOUT_AIR_DATA,
+                        "air data (mach, pressure_altitude_ft)"),
+    lcmt_command_frame: (COMMAND_FRAME_FINGERPRINT_WITHOUT_THROTTLE, "the throttle command"),
+    lcmt_mmae_status: (STATUS_FINGERPRINT_WITHOUT_TURBULENCE_MEMBER,
+                       "the turbulence set's member in force and its rho"),
+}
 
 
-def _decode_status(data: bytes, path: Path):
-    """A logged status, or ReplayError naming the log when it was written before the status
-    carried the turbulence set's member in force and its rho."""
-    if data[:8] == STATUS_FINGERPRINT_WITHOUT_TURBULENCE_MEMBER:
-        raise ReplayError(f"log {str(path)!r} was recorded before lcmt_mmae_status carried the turbulence set's "
-                          f"member in force and its rho (docs/INTERFACES.md): it cannot be replayed by this "
-                          f"version; record the flight again (f16mmae hil) or replay it with the release that "
-                          f"wrote it")
-    return lcmt_mmae_status.decode(data)
+def _decode(message_type, data: bytes, path: Path):
+    """A logged message of ``message_type``, or ReplayError naming the log when it was written
+    by a former version of that message (``FORMER_VERSIONS``)."""
+    fingerprint, lacked = FORMER_VERSIONS[message_type]
+    if data[:8] == fingerprint:
+        raise ReplayError(f"log {str(path)!r} was recorded before {message_type.__name__} carried {lacked} "
+                          f"(docs/INTERFACES.md): it cannot be replayed by this version; record the flight "
+                          f"again (f16mmae hil) or replay it with the release that wrote it")
+    return message_type.decode(data)
 
 
 def _compare(report: ReplayReport, s, c: lcmt_mmae_status, mismatch) -> None:

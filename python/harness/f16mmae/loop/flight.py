@@ -261,14 +261,11 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                                  "the estimator reports no set (an executive over LCM: start mmae-daemon with "
                                  "the set's file and --turbulence-banks)")
             gain = adaptive_gains(estimator.turbulence_power_ratio, ADAPTIVE_DITHER_REFERENCE[member])
-            if gain != gain_now:
-                truth.set_dither_gain(fcs, *gain)
-                gain_now = gain
         elif sensor_loss:  # the hypothesis the estimator declares sets the gains (truth/dither.py)
             gain = sensor_loss_rule.gains(estimator.declared, dt)
-            if gain != gain_now:
-                truth.set_dither_gain(fcs, *gain)
-                gain_now = gain
+        if (adaptive or sensor_loss) and gain != gain_now:
+            truth.set_dither_gain(fcs, *gain)
+            gain_now = gain
         c = clock()
         if use_mmae:
             z_fb = z_hat

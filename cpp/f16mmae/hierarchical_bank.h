@@ -47,31 +47,21 @@
 //   declarer.h           threshold, dwell, declaring on components
 //   filter_bank.h        likelihoods, probabilities, floors, live slots
 //   level1_allowance.h   level 1: the duals' drift allowance (Page's reference value) and why
-//   below                the level-1 floor and dwell, declaring on components, the partial
-//                        hypotheses' floor, air data and scheduling, trims, maneuvering flight
+//   level_floors.h       the level-1 floor and dwell, the partial hypotheses' floor
+//   below                declaring on components, air data and scheduling, trims, maneuvering
+//                        flight
 //
-// The floor at level 1 (options.level1_p_min in [0, (1 - threshold)/(K - 1)); 0, the default:
-// the level-0 floor, bit for bit):
-//   while a level-1 bank is on line its duals f+c take the floor level1_p_min, NONE and f
-//   keep the level-0 floor (FilterBank::set_p_min's two tiers); back at level 0 (back-out,
-//   reset()) the level-0 floor is in force for all again (p_min, or a scheduled bank's node
-//   floor). NONE keeps it because "the declaration of f was false" is no event that may
-//   begin now: backing out needs the evidence a level-0 declaration needs. Why a floor of its
-//   own: a dual f+c must gather ln(1/p_min) nats over f alone before it leads, and without f's
-//   sensor (or surface) the evidence for c comes at a fraction of its level-0 rate (the
-//   pitch-rate gyro out, a stabilator is seen through α and n_z only), so with the level-0
-//   floor (1e-9 tuned against false alarms in failure-free flight) the dual rises seconds
-//   after the lone failure would. The level-1 floor is the prior of "the second failure may
-//   have begun now" given that one already has.
+// The floors and dwell of the levels (level_floors.h: the derivation, equations and bounds):
+//   options.level1_p_min (0, the default: the level-0 floor, bit for bit), the floor of a
+//   level-1 bank's duals f+c while it is on line, NONE and f keeping the level-0 floor (p_min,
+//   or a scheduled bank's node floor), the level-0 floor for all again back at level 0
+//   (back-out, reset()); options.level1_dwell_s (0: the level-0 dwell), the dwell a
+//   declaration needs while a level-1 bank is on line; options.partial_p_min (0: the level-0
+//   floor), the floor of every partial hypothesis c:MODE at level 0.
 // The duals' allowance at level 1 (options.level1_allowance, nats a frame, >= 0; 0, the default:
 //   none, bit for bit): while a level-1 bank is on line every dual's likelihood carries the
 //   factor e^{-k} (level1_allowance.h: the derivation); NONE, f and a partial f's other form
 //   take none.
-// The dwell at level 1 (options.level1_dwell_s; 0, the default: the level-0 dwell, bit for
-//   bit): while a level-1 bank is on line a declaration (a dual, or NONE's back-out) needs
-//   p > threshold on round(level1_dwell_s * rate) consecutive frames. A raised level-1 floor
-//   lets a short burst of evidence (a gust the filters model poorly) lift a false dual f+c
-//   above the threshold for a few frames; a real second failure keeps it there.
 // Declaring on components (options.declare_components; off by default: each hypothesis alone,
 //   bit for bit): a partial hypothesis c:MODE and its single c are one component for the
 //   declarer (declarer.h: the sum of their probabilities against the threshold, the dwell on
@@ -81,22 +71,6 @@
 //   declared form's: a declared c:MODE brings both forms on line, a declared c its own bank
 //   {NONE, c, c+d} (the duals are complete failures of c; c held more mass than c:MODE when
 //   declared). A bank without partial hypotheses is unchanged by the option.
-// The partial hypotheses' floor (options.partial_p_min; 0, the default: the level-0 floor, bit
-//   for bit): at level 0 every partial hypothesis c:MODE takes the floor partial_p_min, the
-//   others the level-0 floor p_min (FilterBank::set_floor_scale, m = partial_p_min / p_min); at
-//   level 1 every hypothesis has its level-1 floor as above. Derivation: the floor f is the
-//   prior mass of "this failure may have begun now"; a hypothesis whose log-likelihood ratio
-//   against the presumed one grows by r nats a frame climbs from f to the threshold T (the
-//   rest of the mass on the presumed hypothesis) in
-//     n(f) = [ln(T / (1 - T)) - ln(f / (1 - f))] / r   frames,
-//   so a floor raised from p_min to f saves ln(f / p_min) / r frames. A partial loss's evidence
-//   comes at a fraction of a complete failure's (its mean residual is (1 - R) times the
-//   complete failure's, the log-likelihood ratio's drift (1 - R)^2 times), so from the common
-//   floor its climb is the long part of its latency. The false-alarm side is the same count in
-//   failure-free flight: the ratio's excursions above zero are unchanged by the floor, and the
-//   threshold lies ln(f / p_min) nats nearer. Refused: partial_p_min < 0, a partial_p_min set
-//   for a bank without partial hypotheses, and floors that leave no room for a declaration
-//   (n_partial partial_p_min + (K - 1 - n_partial) p_min >= 1 - threshold).
 //
 // Air data (air_data.h): schedule(a) before a frame's update hands the bank the measured
 // air data. A non-finite value is counted in air_data_rejected() and the last usable value
@@ -184,6 +158,7 @@
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/hierarchy_levels.h"
 #include "f16mmae/level1_allowance.h"
+#include "f16mmae/level_floors.h"
 #include "f16mmae/maneuver_kinematics.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
@@ -222,12 +197,12 @@ struct HierarchicalOptions {
   ManeuverTrimOptions maneuver_trim;       // the climb's and acceleration's trim (maneuver_trim.h; off)
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
-  double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (header)
-  double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (header)
+  double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (level_floors.h)
+  double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (level_floors.h)
   double level1_allowance = 0.0;   // the duals' drift allowance at level 1, nats a frame; 0: none (level1_allowance.h)
   DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (departure_hold.h)
   bool declare_components = false;   // a partial hypothesis and its single declared as one component (hierarchy_levels.h)
-  double partial_p_min = 0.0;   // the partial hypotheses' floor at level 0; 0: the level-0 floor (header)
+  double partial_p_min = 0.0;   // the partial hypotheses' floor at level 0; 0: the level-0 floor (level_floors.h)
   int history_capacity = 1024;
 };
 
@@ -589,10 +564,10 @@ class HierarchicalBank {
   // std::invalid_argument (declarer.h) for a dwell out of range.
   static DeclarerOptions level1_declarer(const HierarchicalOptions& o, double rate_hz) {
     DeclarerOptions d = with_rate(o.declarer, rate_hz);
-    if (o.level1_dwell_s > 0.0) d.dwell_s = o.level1_dwell_s;
+    d.dwell_s = LevelFloors::level1_dwell(o.level1_dwell_s, d.dwell_s);
     return d;
   }
-  bool own_level1_dwell() const noexcept { return level_ == 1 && options_.level1_dwell_s > 0.0; }
+  bool own_level1_dwell() const noexcept { return LevelFloors::own_level1_dwell(level_, options_.level1_dwell_s); }
   // The dwell in force (frames): at level 0 the maneuver dwell's while maneuvering, if it has
   // one (maneuver_dwell.h), else the climb reference's while climbing, if it has one
   // (climb_reference.h); else the declarer's in force.
@@ -627,16 +602,8 @@ class HierarchicalBank {
         maneuver_(options.maneuver, mb.state_names, mb.measurement_names, mb.frame_rate_hz),
         actuators_(options.actuators, mb.hypotheses.at(0).phi, mb.hypotheses.at(0).bd, mb.frame_rate_hz),
         frame_rate_hz_(mb.frame_rate_hz) {
-    // with the K - 1 others on their floors a hypothesis holds at most 1 - (K - 1) P: above
-    // (1 - threshold) / (K - 1) none could pass the threshold
-    const double level1_bound =
-        (1.0 - options.declarer.threshold) / static_cast<double>(levels_.size() - 1);
-    if (!(options.level1_p_min >= 0.0) || !(options.level1_p_min < level1_bound))
-      throw std::invalid_argument("hierarchical bank: level1_p_min must lie in [0, (1 - threshold)/(K - 1)) = [0, " +
-                                  std::to_string(level1_bound) + "), got " + std::to_string(options.level1_p_min));
-    if (!(options.level1_dwell_s >= 0.0))
-      throw std::invalid_argument("hierarchical bank: level1_dwell_s must be >= 0 (0: the level-0 dwell), got " +
-                                  std::to_string(options.level1_dwell_s));
+    LevelFloors::check_level1(options.level1_p_min, options.level1_dwell_s, options.declarer.threshold,
+                              levels_.size());
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));
@@ -646,7 +613,8 @@ class HierarchicalBank {
     duals_.assign(static_cast<std::size_t>(size()), 0);
     p_allow_ = bank_.probabilities();
     mark_duals();
-    check_partial_p_min(options);
+    LevelFloors::check_partial(options.partial_p_min, levels_.partial_count(), levels_.size(), options.bank.p_min,
+                               options.declarer.threshold);
     if (maneuver_dwell_.enabled()) {
       const auto& m = mb.measurement_names;
       const auto it = std::find(m.begin(), m.end(), "AZ");
@@ -751,46 +719,19 @@ class HierarchicalBank {
     declarer_in_force().reset(presumed);
   }
   // The level-0 floor (a scheduled bank's node floor in force with node_p_min, else p_min),
-  // and the floors for the level on line (header): at level 1 with level1_p_min set, the
-  // duals (on-line positions 2...) take level1_p_min, NONE and f the level-0 floor.
+  // and the floors for the level on line (level_floors.h).
   double level0_floor() const noexcept {
     return sched_.active() && options_.schedule.node_p_min ? sched_.p_min() : options_.bank.p_min;
   }
   void set_floors() noexcept {
-    if (options_.partial_p_min > 0.0) {   // the partial hypotheses' floor at level 0 (header)
-      const double base = level0_floor();
-      for (int k = 1; k < size(); ++k)
-        bank_.set_floor_scale(k, level_ == 0 && base > 0.0 && levels_.level0_partial()[static_cast<std::size_t>(k)] != 0
-                                     ? options_.partial_p_min / base
-                                     : 1.0);
-    }
-    if (level_ == 1 && options_.level1_p_min > 0.0)
-      bank_.set_p_min(options_.level1_p_min, 2, level0_floor());
-    else
-      bank_.set_p_min(level0_floor());
+    LevelFloors::apply(bank_, level_, level0_floor(), options_.level1_p_min, options_.partial_p_min,
+                       levels_.level0_partial());
   }
   // duals_[s] = 1: on-line slot s holds a dual (level1_allowance.h); none at level 0.
   void mark_duals() noexcept {
     for (int k = 0; k < size(); ++k)
       duals_[static_cast<std::size_t>(k)] =
           level_ == 1 && bank_.live(k) ? is_dual_[static_cast<std::size_t>(online_[k])] : 0;
-  }
-  // Throws std::invalid_argument for a partial_p_min the bank cannot take (header).
-  void check_partial_p_min(const HierarchicalOptions& o) const {
-    if (!(o.partial_p_min >= 0.0) || !std::isfinite(o.partial_p_min))
-      throw std::invalid_argument("hierarchical bank: partial_p_min must be >= 0 (0: the level-0 floor), got " +
-                                  std::to_string(o.partial_p_min));
-    if (o.partial_p_min == 0.0) return;
-    const int n_partial = levels_.partial_count();
-    if (n_partial == 0)
-      throw std::invalid_argument("hierarchical bank: partial_p_min is set but the bank has no partial-loss "
-                                  "hypothesis (design --partial-loss)");
-    const double others = static_cast<double>(levels_.size() - 1 - n_partial) * o.bank.p_min;
-    if (!(n_partial * o.partial_p_min + others < 1.0 - o.declarer.threshold))
-      throw std::invalid_argument("hierarchical bank: partial_p_min " + std::to_string(o.partial_p_min) + " for " +
-                                  std::to_string(n_partial) + " partial hypotheses leaves no hypothesis room to "
-                                  "pass the threshold: n_partial partial_p_min + the others' floors must stay "
-                                  "below 1 - threshold = " + std::to_string(1.0 - o.declarer.threshold));
   }
 
   // The on-line filters as the schedule has them in force (states kept).

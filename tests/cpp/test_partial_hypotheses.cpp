@@ -221,7 +221,7 @@ TEST(FilterBankFloor, AFloorFactorWaterFillsWithItsOwnFloor) {
 TEST(FilterBankFloor, TheClimbFromAFloorTakesTheFramesTheHeaderDerives) {
   // two hypotheses, z = 1 every frame: hypothesis 1 gains r = ln L_1 - ln L_0 = 0.5 (1 - 1 / a)
   // nats a frame. From the floor f it passes T = 0.9 on the first frame n with
-  //   ln(f / (1 - f)) + n r > ln(T / (1 - T))   (hierarchical_bank.h, the partial floor).
+  //   ln(f / (1 - f)) + n r > ln(T / (1 - T))   (level_floors.h, the partial floor).
   const double a1 = 2.0, r = 0.5 * (1.0 - 1.0 / a1), T = 0.9;
   const auto frames_to_threshold = [&](double p_min, double m) {
     FilterBankOptions opt;

@@ -182,7 +182,7 @@ def test_declare_components_reaches_the_core_and_declares_a_split_surface(partia
 def test_the_partial_floor_reaches_the_core_and_shortens_the_climb(partial_design, tmp_path, capsys):
     """``--partial-p-min``: a tuning-seed flight (campaign seed 7's single campaign, RUD half lost
     at 3 s) declares RUD (either form) earlier from a partial floor of 1e-5 than from the
-    level-0 floor (cpp/f16mmae/hierarchical_bank.h: ln(1e-5 / 1e-9) nats less to climb); the
+    level-0 floor (cpp/f16mmae/level_floors.h: ln(1e-5 / 1e-9) nats less to climb); the
     setting is in run.json; a bank without partial hypotheses is refused, naming the problem."""
     path = tmp_path / "partial.f16bank"
     core.save_bank(bank.to_model_bank(partial_design), str(path))

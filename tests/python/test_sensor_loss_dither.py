@@ -144,3 +144,9 @@ def test_the_loop_refuses_both_rules_of_the_gains():
     sc = {"mach": 0.4, "alt_ft": 20000.0, "duration_s": 1.0, "seed": 1, "feedback": "mmae"}
     with pytest.raises(ValueError, match="give one"):
         fly(scenario_from_dict(sc), None, estimator=Both())
+    # and before any flight, where the options are checked (the CLI, every campaign)
+    for given in ({"sensor_loss_dither": True, "turbulence_banks": True},
+                  {"sensor_loss_dither": True, "turbulence_banks": True, "adaptive_dither": True}):
+        with pytest.raises(ValueError, match="add --fixed-dither"):
+            estimator_options.check(given)
+    estimator_options.check({"sensor_loss_dither": True, "turbulence_banks": True, "fixed_dither": True})

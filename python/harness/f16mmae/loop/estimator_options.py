@@ -349,6 +349,10 @@ def check(settings: dict) -> None:
     if settings.get("adaptive_dither") and settings.get("fixed_dither"):
         raise ValueError("--adaptive-dither and --fixed-dither exclude each other (the adaptive dither is the "
                          "default with --turbulence-banks)")
+    if settings.get("sensor_loss_dither") and (settings.get("adaptive_dither") or (
+            settings.get("turbulence_banks") and not settings.get("fixed_dither"))):
+        raise ValueError("--sensor-loss-dither and --adaptive-dither both set the dither's gains: give one "
+                         "(with --turbulence-banks the adaptive dither is the default: add --fixed-dither)")
     if settings.get("adapt_all_channels") and settings.get("adapt_own_channels"):
         raise ValueError("--adapt-all-channels and --adapt-own-channels are two rules for the same residual "
                          "power: give one")

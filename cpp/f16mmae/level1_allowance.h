@@ -38,13 +38,16 @@
 // c the dual's other component). The walk and the drift ask different things of k: a false dual
 // is held back when k is large against sigma^2 / (2 h) (above), a real one pays
 // k h / (r (r - k)) frames. With k proportional to the dual's own drift under its second
-// failure,
-//   k_{f>c} = a r_{f>c},   0 <= a < 1,   r_{f>c} = E[l_{f+c} - l_f | f and c failed],
-// every dual's climb takes h / (r (1 - a)) frames, 1 / (1 - a) times its climb without the
-// allowance (a = 0.2: 1.25 times), whatever r; a dual slow by nature (r small) gets a small k,
-// and the duals whose models explain each other's residuals -- where the walks are -- are the
-// ones whose second failure shows at once (f's filter loses c's residual: r large), so they
-// get a large one. r_{f>c} is measured, not modelled: the climb of f+c from the level-1 floor
+// failure, up to a ceiling,
+//   k_{f>c} = min(a r_{f>c}, k_max),   0 <= a < 1,   r_{f>c} = E[l_{f+c} - l_f | f and c failed],
+// every dual's climb takes at most h / (r (1 - a)) frames, 1 / (1 - a) times its climb without
+// the allowance (a = 0.2: 1.25 times), whatever r; a dual slow by nature (r small) gets a small
+// k, and the duals whose models explain each other's residuals -- where the walks are -- are
+// the ones whose second failure shows at once (f's filter loses c's residual: r large), so they
+// get a large one. The ceiling: r is the climb's mean, and a dual whose climb is a jump (a
+// sensor's reading lost: h crossed on the onset's frame, r = h nats a frame) gathers far less a
+// frame once above the threshold, where the dwell must survive k; k_max is an allowance the
+// fast duals carry through their dwell. r_{f>c} is measured, not modelled: the climb of f+c from the level-1 floor
 // to the threshold over h nats in the frames n from c's onset to the crossing, r = h / n,
 // the median over the runs of a dual campaign flown without the allowance on a tuning seed
 // (tools/cover/dual_rates.py writes the table; a pair never declared there gets its bound

@@ -83,6 +83,9 @@ def test_the_pair_rates_are_the_climb_over_its_frames():
     assert set(rates) == {"AY>RF", "PIT>LS"}
     assert rates["AY>RF"] == {"r": pytest.approx(h / 32.0), "runs": 3, "bound": False}   # the median
     assert rates["PIT>LS"] == {"r": pytest.approx(h / 320.0), "runs": 0, "bound": True}
+    assert m.allowance(h / 64.0, 0.2, 0.12) == pytest.approx(0.2 * h / 64.0)   # 0.072: a r
+    assert m.allowance(h / 32.0, 0.2, 0.12) == 0.12                            # 0.143: the ceiling
+
 
 
 def test_a_pair_table_gives_the_walking_dual_its_own_allowance(partial_bank_path, tmp_path, capsys):

@@ -8,15 +8,17 @@ settings; h = 22.9 nats for 0.9 and 1e-9), in n = (t_declared - dwell - t_onset_
 the pair's mean drift over the climb is r = h / n nats a frame (cpp/f16mmae/level1_allowance.h).
 A pair's r is the median over its runs; a pair whose dual was never declared within the flight
 gets the bound r <= h / n_end (n_end the frames from c's onset to the flight's end): its dual,
-if real, is slower than that.  The allowance k = fraction * r (level1_allowance.h: every dual's
-climb then takes 1 / (1 - fraction) times as long; a walk's excursion reaches h with
-probability about exp(-2 k h / sigma^2)).
+if real, is slower than that.  The allowance k = min(fraction * r, max_k) (level1_allowance.h:
+every dual's climb then takes at most 1 / (1 - fraction) times as long; a walk's excursion
+reaches h with probability about exp(-2 k h / sigma^2)).  max_k: a dual whose climb is a jump
+(a sensor's reading lost: the threshold crossed on the onset's frame, r = h nats a frame) holds
+far less evidence a frame once above the threshold, and its dwell must survive k.
 
 Writes the file `--level1-allowance-pairs FILE` reads:
-  {"fraction": a, "h_nats": h, "frame_rate_hz": 64, "source": ..., "pairs": {"AY>RF": k, ...},
+  {"fraction": a, "max_k": k_max, "h_nats": h, "frame_rate_hz": 64, "source": ..., "pairs": {"AY>RF": k, ...},
    "rates": {"AY>RF": {"r": r, "runs": n, "bound": false}, ...}}
 
-Run: .venv/bin/python tools/cover/dual_rates.py DUAL_DIR --fraction 0.2 --out FILE [--print]
+Run: .venv/bin/python tools/cover/dual_rates.py DUAL_DIR --fraction 0.2 --max-k 0.12 --out FILE [--print]
 """
 from __future__ import annotations
 
@@ -37,6 +39,11 @@ def component(name: str) -> str:
 def barrier(threshold: float, p_min: float) -> float:
     """h: the log-odds from the floor p_min to the threshold T, nats."""
     return math.log(threshold / (1.0 - threshold)) - math.log(p_min / (1.0 - p_min))
+
+
+def allowance(r: float, fraction: float, max_k: float) -> float:
+    """k = min(fraction * r, max_k), nats a frame."""
+    return min(fraction * r, max_k)
 
 
 def pair_rates(runs: list[dict]) -> dict[str, dict]:
@@ -75,11 +82,14 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("dual_dir", type=pathlib.Path, help="a dual campaign's --out folder (runs.jsonl), no allowance")
     ap.add_argument("--fraction", type=float, required=True, help="k = fraction * r, 0 <= fraction < 1")
+    ap.add_argument("--max-k", type=float, required=True, help="k's ceiling, nats a frame (> 0)")
     ap.add_argument("--out", type=pathlib.Path, help="the pair table to write")
     ap.add_argument("--print", action="store_true", help="print the pairs, slowest first")
     a = ap.parse_args()
     if not 0.0 <= a.fraction < 1.0:
         ap.error(f"--fraction {a.fraction} must lie in [0, 1): k = fraction * r, and a dual climbs at r - k")
+    if not a.max_k > 0.0:
+        ap.error(f"--max-k {a.max_k} must be > 0 nats a frame")
     path = a.dual_dir / "runs.jsonl"
     if not path.is_file():
         ap.error(f"{path} not found: give a dual campaign's --out folder")
@@ -91,14 +101,14 @@ def main() -> int:
     if not rates:
         ap.error(f"{path}: no dual run whose first failure was declared before the second's onset")
     s = next(r["estimator_settings"] for r in runs if r.get("kind") == "dual")
-    table = {"fraction": a.fraction, "h_nats": barrier(s["threshold"], s.get("level1_p_min") or s["p_min"]),
+    table = {"fraction": a.fraction, "max_k": a.max_k, "h_nats": barrier(s["threshold"], s.get("level1_p_min") or s["p_min"]),
              "frame_rate_hz": FRAME_RATE_HZ, "source": str(a.dual_dir),
-             "pairs": {p: a.fraction * v["r"] for p, v in sorted(rates.items())},
+             "pairs": {p: allowance(v["r"], a.fraction, a.max_k) for p, v in sorted(rates.items())},
              "rates": dict(sorted(rates.items()))}
     if a.print:
         for p, v in sorted(rates.items(), key=lambda kv: kv[1]["r"]):
             how = "(bound, never declared)" if v["bound"] else f"({v['runs']} runs)"
-            print(f"{p:9s} r {v['r']:.3f} nats/frame {how}  k {a.fraction * v['r']:.3f}")
+            print(f"{p:9s} r {v['r']:.3f} nats/frame {how}  k {allowance(v['r'], a.fraction, a.max_k):.3f}")
     if a.out:
         a.out.write_text(json.dumps(table, indent=1) + "\n")
         print(f"wrote {a.out}: {len(rates)} pairs, fraction {a.fraction}")

@@ -1,5 +1,5 @@
-"""A copy of a bank whose failed sensors' level ranges W_j are set anew: the uninformative
-density's constant, item 3 of round 15 (docs/results/failure_models.md).
+"""A copy of a bank whose failed sensors' level ranges W_j are set anew: the constant of the
+uninformative density of a failed sensor's level (docs/results/failure_models.md measures it).
 
 A cover sensor hypothesis reads a failed sensor j as an unknown level, uniform over W_j, plus
 its noise: its first frame pays c_j = ln(sqrt(2 pi A_jj) / W_j) nats against a healthy reading

@@ -6,8 +6,9 @@ its noise: its first frame pays c_j = ln(sqrt(2 pi A_jj) / W_j) nats against a h
 on the common footing, and its floor carries exp(c_j) (cpp/f16mmae/filter_bank.h). A cover
 surface hypothesis pays nothing for its unknown position (a random-walk state its filter
 learns, no range charged). `--width VEL=10.3` sets W_VEL = 10.3 (the sensor's units) in every
-hypothesis whose VEL channel is uninformative; everything else is the bank's, bit for bit (a
-new content hash). `--occam VEL=-2.1` sets W_j so that c_j is that many nats in the
+hypothesis whose VEL channel is uninformative; every filter is otherwise the bank's, bit for
+bit, and the metadata gains "level_widths" (the bank it came from, the widths, the command):
+a new content hash. `--occam VEL=-2.1` sets W_j so that c_j is that many nats in the
 hypothesis that fails j alone (A_jj its own).
 
 Run: .venv/bin/python tools/cover/level_width_bank.py IN.f16bank --occam VEL=-2.1 --out OUT.f16bank
@@ -15,6 +16,7 @@ Run: .venv/bin/python tools/cover/level_width_bank.py IN.f16bank --occam VEL=-2.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 
 from f16mmae import core
@@ -46,6 +48,11 @@ def main() -> int:
             j = meas.index(sensor)
             a_jj = float(mb.hypotheses[names.index(sensor)].a[j, j])
             widths[sensor] = math.sqrt(2.0 * math.pi * a_jj) / math.exp(v)
+    meta = json.loads(mb.metadata) if mb.metadata else {}
+    meta["level_widths"] = {"from": str(mb.content_hash), "width": widths,
+                            "command": "tools/cover/level_width_bank.py " + " ".join(
+                                [f"--width {t}" for t in a.width] + [f"--occam {t}" for t in a.occam])}
+    metadata = json.dumps(meta, sort_keys=True, separators=(",", ":"))
     hyps = []
     for h in mb.hypotheses:
         w = None if h.uninformative_width is None else [float(x) for x in h.uninformative_width]
@@ -61,7 +68,7 @@ def main() -> int:
                          measurement_names=meas, frame_rate_hz=mb.frame_rate_hz, u_trim=mb.u_trim,
                          z_trim=mb.z_trim, h_output=mb.h_output, mach=mb.mach, alt_ft=mb.alt_ft,
                          tuning=mb.tuning, p_min=mb.p_min, threshold=mb.threshold, dwell_s=mb.dwell_s,
-                         metadata=mb.metadata)
+                         metadata=metadata)
     core.save_bank(out, a.out)
     back = core.load_bank(a.out)
     print(f"wrote {a.out} ({str(back.content_hash)[:12]}): " +

@@ -62,10 +62,10 @@
 //   none, bit for bit): while a level-1 bank is on line every dual's likelihood carries the
 //   factor e^{-k} (level1_allowance.h: the derivation); NONE, f and a partial f's other form
 //   take none. options.level1_allowance_pairs ("F>C" -> k_{F>C}, empty by default) gives a dual
-//   F+C its own k in F's level-1 bank (level1_allowance.h: k = a r_{F>C}, the dual's drift under
-//   its second failure); a dual not named there takes options.level1_allowance. Refused (naming
-//   level1_allowance_pairs): a key that is not two different singles of the bank, a k < 0 or
-//   not finite.
+//   F+C its own k in F's level-1 bank (level1_allowance.h: k = min(a r_{F>C}, k_max), r the
+//   dual's drift under its second failure); a dual not named there takes
+//   options.level1_allowance. Refused (naming level1_allowance_pairs): a key that is not two
+//   different singles of the bank, a k < 0 or not finite.
 // Declaring on components (options.declare_components; off by default: each hypothesis alone,
 //   bit for bit): a partial hypothesis c:MODE and its single c are one component for the
 //   declarer (declarer.h: the sum of their probabilities against the threshold, the dwell on

@@ -15,6 +15,8 @@
 //   level1_dwell_s                       the dwell while a level-1 bank is on line; 0: dwell_s
 //   level1_allowance                     the duals' drift allowance at level 1, nats a frame; 0:
 //                                        none (level1_allowance.h)
+//   level1_allowance_pairs               {"F>C": k}: the dual F+C's own allowance in F's level-1
+//                                        bank (level1_allowance.h); empty: none
 //   departure_hold ('on'|'off')          level 1: no declaration while the measurements leave
 //                                        the linearization (hierarchical_bank.h; default on)
 //   declare_components                   a partial hypothesis and its single declared as one
@@ -54,6 +56,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,6 +70,7 @@ namespace f16mmae::bindings {
 namespace py = pybind11;
 
 inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, double level1_dwell_s, double level1_allowance,
+                                             const std::map<std::string, double>& level1_allowance_pairs,
                                              const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
                                              double threshold, double dwell_s,
                                              const py::object& declarer, double trim_time_constant_s,
@@ -131,6 +135,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.level1_p_min = level1_p_min;
   o.level1_dwell_s = level1_dwell_s;
   o.level1_allowance = level1_allowance;
+  o.level1_allowance_pairs = level1_allowance_pairs;
   if (departure_hold != "on" && departure_hold != "off")
     throw py::value_error("departure_hold must be 'on' or 'off', got '" + departure_hold + "'");
   o.departure.enabled = departure_hold == "on";
@@ -177,6 +182,7 @@ Class& def_estimator_init(Class& cls) {
   const HierarchicalOptions core;  // the defaults
   return cls.def(
       py::init([](const Source& bank, double p_min, double level1_p_min, double level1_dwell_s, double level1_allowance,
+                  const std::map<std::string, double>& level1_allowance_pairs,
                   const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
                   double threshold, double dwell_s,
                   const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
@@ -199,7 +205,7 @@ Class& def_estimator_init(Class& cls) {
                   const std::string& maneuver_trim_rates, double maneuver_trim_blend_s,
                   const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
-        return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, level1_allowance, departure_hold, declare_components, partial_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
+        return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, level1_allowance, level1_allowance_pairs, departure_hold, declare_components, partial_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
                                              declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
                                              trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
@@ -217,6 +223,7 @@ Class& def_estimator_init(Class& cls) {
       py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
       py::arg("level1_p_min") = core.level1_p_min, py::arg("level1_dwell_s") = core.level1_dwell_s,
       py::arg("level1_allowance") = core.level1_allowance,
+      py::arg("level1_allowance_pairs") = std::map<std::string, double>{},
       py::arg("departure_hold") = core.departure.enabled ? "on" : "off",
       py::arg("declare_components") = core.declare_components, py::arg("partial_p_min") = core.partial_p_min,
       py::arg("node_p_min") = core.schedule.node_p_min,

@@ -61,7 +61,11 @@
 // The duals' allowance at level 1 (options.level1_allowance, nats a frame, >= 0; 0, the default:
 //   none, bit for bit): while a level-1 bank is on line every dual's likelihood carries the
 //   factor e^{-k} (level1_allowance.h: the derivation); NONE, f and a partial f's other form
-//   take none.
+//   take none. options.level1_allowance_pairs ("F>C" -> k_{F>C}, empty by default) gives a dual
+//   F+C its own k in F's level-1 bank (level1_allowance.h: k = min(a r_{F>C}, k_max), r the
+//   dual's drift under its second failure); a dual not named there takes
+//   options.level1_allowance. Refused (naming level1_allowance_pairs): a key that is not two
+//   different singles of the bank, a k < 0 or not finite.
 // Declaring on components (options.declare_components; off by default: each hypothesis alone,
 //   bit for bit): a partial hypothesis c:MODE and its single c are one component for the
 //   declarer (declarer.h: the sum of their probabilities against the threshold, the dwell on
@@ -173,6 +177,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -200,6 +205,7 @@ struct HierarchicalOptions {
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (level_floors.h)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (level_floors.h)
   double level1_allowance = 0.0;   // the duals' drift allowance at level 1, nats a frame; 0: none (level1_allowance.h)
+  std::map<std::string, double> level1_allowance_pairs;   // "F>C" -> the dual F+C's own allowance in F's level-1 bank (level1_allowance.h)
   DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (departure_hold.h)
   bool declare_components = false;   // a partial hypothesis and its single declared as one component (hierarchy_levels.h)
   double partial_p_min = 0.0;   // the partial hypotheses' floor at level 0; 0: the level-0 floor (level_floors.h)
@@ -232,9 +238,9 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
-    if (level_ == 1 && options_.level1_allowance > 0.0) {   // level1_allowance.h
+    if (level_ == 1 && allowance_on_) {   // level1_allowance.h
       p_allow_ = bank_.probabilities();
-      if (Level1Allowance::apply(p_allow_, duals_, options_.level1_allowance)) bank_.set_probabilities(p_allow_);
+      if (Level1Allowance::apply_each(p_allow_, allow_k_)) bank_.set_probabilities(p_allow_);
     }
     if (maneuver_trim_.options().inertial)   // maneuver_trim.h / inertial_flight_path.h
       maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
@@ -609,8 +615,8 @@ class HierarchicalBank {
                                   std::to_string(options.history_capacity));
     for (const auto& h : mb.hypotheses) names_.push_back(h.name);
     Level1Allowance::check(options.level1_allowance);
-    for (const auto& n : names_) is_dual_.push_back(n.find('+') != std::string::npos ? 1 : 0);
-    duals_.assign(static_cast<std::size_t>(size()), 0);
+    build_allowances(mb);
+    allow_k_.assign(static_cast<std::size_t>(size()), 0.0);
     p_allow_ = bank_.probabilities();
     mark_duals();
     LevelFloors::check_partial(options.partial_p_min, levels_.partial_count(), levels_.size(), options.bank.p_min,
@@ -727,11 +733,48 @@ class HierarchicalBank {
     LevelFloors::apply(bank_, level_, level0_floor(), options_.level1_p_min, options_.partial_p_min,
                        levels_.level0_partial());
   }
-  // duals_[s] = 1: on-line slot s holds a dual (level1_allowance.h); none at level 0.
+  // allow_k_[s]: the allowance of the dual on line in slot s (level1_allowance.h), 0 for any other
+  // slot and at level 0; the declared single is that of the hypothesis presumed in slot 1.
   void mark_duals() noexcept {
-    for (int k = 0; k < size(); ++k)
-      duals_[static_cast<std::size_t>(k)] =
-          level_ == 1 && bank_.live(k) ? is_dual_[static_cast<std::size_t>(online_[k])] : 0;
+    allowance_on_ = false;
+    const std::size_t n = names_.size();
+    const std::size_t f = level_ == 1 ? static_cast<std::size_t>(single_of_[static_cast<std::size_t>(online_[1])]) : 0;
+    for (int k = 0; k < size(); ++k) {
+      const double a = level_ == 1 && bank_.live(k) ? allow_of_[f * n + static_cast<std::size_t>(online_[k])] : 0.0;
+      allow_k_[static_cast<std::size_t>(k)] = a;
+      allowance_on_ = allowance_on_ || a > 0.0;
+    }
+  }
+  // allow_of_[f n + d]: the allowance of dual d in the level-1 bank of single f (ModelBank
+  // indices): options.level1_allowance_pairs["F>C"] (C: d's component other than F), else
+  // options.level1_allowance; 0 when d is no dual of F. single_of_[i]: the single of a partial
+  // hypothesis, any other its own index.
+  void build_allowances(const ModelBank& mb) {
+    const std::size_t n = names_.size();
+    std::vector<std::string> singles;
+    single_of_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::string& name = names_[i];
+      single_of_[i] = static_cast<int>(i);
+      const auto colon = name.find(':');
+      if (colon != std::string::npos) single_of_[i] = mb.find(name.substr(0, colon));
+      else if (i > 0 && name.find('+') == std::string::npos) singles.push_back(name);
+    }
+    for (const auto& [key, k] : options_.level1_allowance_pairs) Level1Allowance::check_pair(key, k, singles);
+    allow_of_.assign(n * n, 0.0);
+    for (std::size_t d = 0; d < n; ++d) {
+      const auto plus = names_[d].find('+');
+      if (plus == std::string::npos) continue;
+      const std::string a = names_[d].substr(0, plus), b = names_[d].substr(plus + 1);
+      for (const std::string& f : {a, b}) {
+        const std::string& c = f == a ? b : a;
+        const int fi = mb.find(f);
+        if (fi < 0) continue;
+        const auto it = options_.level1_allowance_pairs.find(f + ">" + c);
+        allow_of_[static_cast<std::size_t>(fi) * n + d] =
+            it != options_.level1_allowance_pairs.end() ? it->second : options_.level1_allowance;
+      }
+    }
   }
 
   // The on-line filters as the schedule has them in force (states kept).
@@ -842,8 +885,10 @@ class HierarchicalBank {
   Declarer declarer1_;   // level 1 with level1_dwell_s
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
-  std::vector<char> is_dual_;   // per ModelBank hypothesis: a dual "a+b"
-  std::vector<char> duals_;     // per on-line slot: a dual on line at level 1 (mark_duals)
+  std::vector<double> allow_k_;   // per on-line slot: its dual's allowance at level 1, else 0 (mark_duals)
+  std::vector<double> allow_of_;  // per (single, hypothesis): the dual's allowance (build_allowances)
+  std::vector<int> single_of_;    // per hypothesis: its single (a partial's), else itself
+  bool allowance_on_ = false;     // some on-line dual has an allowance
   PVector p_allow_;             // the probabilities with the allowance (level1_allowance.h)
   Levels levels_;         // the hypotheses on line at each level (hierarchy_levels.h)
   int level1_bank_ = -1;  // the level-1 bank on line (levels_.level1(f)), -1 at level 0

@@ -4,6 +4,7 @@ settings of ``run``, ``hil`` and the campaigns."""
 from __future__ import annotations
 
 import math
+import os
 
 from .. import core
 from ..errors import F16mmaeError
@@ -101,6 +102,8 @@ def estimator_options_from_args(args) -> dict:
             out[o.key] = True
         elif o.kind == "choice":
             out[o.key] = choice(o.flag, value, o.choices)
+        elif o.kind == "file":
+            out[o.key] = os.path.abspath(value)
         else:
             out[o.key] = number(o.flag, value)
     try:

@@ -17,7 +17,7 @@ from .. import core
 from ..banks import bank_estimator_settings, turbulence_bank_set
 from ..names import SENSORS
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
-from .estimator_options import CLOSED_LOOP, scheduled_defaults, with_closed_loop_defaults
+from .estimator_options import CLOSED_LOOP, load_allowance_pairs, scheduled_defaults, with_closed_loop_defaults
 
 
 def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
@@ -30,6 +30,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``)."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
+    if "level1_allowance_pairs" in out:   # the file's table, {"F>C": k} (level1_allowance.h)
+        out["level1_allowance_pairs"] = load_allowance_pairs(out["level1_allowance_pairs"])
     counted = out.pop("adapt_counted_channel", None)
     if counted is not None:   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
         out["adapt_counted_channels"] = 1 << SENSORS.index(counted.upper())

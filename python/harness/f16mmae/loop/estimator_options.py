@@ -9,7 +9,7 @@ and the daemon's arguments (``lcm.daemon.daemon_flags``) all read this table, so
 added here is accepted, recorded, reproduced and passed to the daemon alike.
 
 Kinds: ``number`` (a finite float in a range), ``choice`` (one of ``choices``), ``switch`` (on
-when given) and ``values`` (comma-separated positive numbers; daemon only: the form
+when given), ``file`` (the path of a file the option reads: :func:`load_allowance_pairs`) and ``values`` (comma-separated positive numbers; daemon only: the form
 ``core_arguments`` gives ``actuator_limits``).
 """
 from __future__ import annotations
@@ -29,7 +29,7 @@ LEVEL1_P_MIN_BELOW = round((1.0 - THRESHOLD_DEFAULT) / (K_BANK - 1), 6)
 class EstimatorOption:
     key: str
     flag: str
-    kind: str                       # number | choice | switch | values
+    kind: str                       # number | choice | switch | file | values
     help: str
     metavar: str | None = None
     minimum: float | None = None    # number: at least this (above it if exclusive)
@@ -239,6 +239,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "cpp/f16mmae/level1_allowance.h). Default 0: none (in process only: mmae-daemon has no "
                          "flag for it)",
                     in_daemon=False),
+    EstimatorOption("level1_allowance_pairs", "--level1-allowance-pairs", "file", metavar="FILE",
+                    help="... or each dual's own: FILE (tools/cover/dual_rates.py) gives the dual F+C the allowance "
+                         "k = a r_{F>C} in F's level-1 bank, r its drift measured under its second failure, so a "
+                         "dual slow by nature gets a small k (cpp/f16mmae/level1_allowance.h); a dual it does not "
+                         "name takes --level1-allowance. Default: none (in process only)",
+                    in_daemon=False),
     EstimatorOption("departure_hold", "--departure-hold", "choice", metavar="on|off", choices=("on", "off"),
                     help="while a failure's level-1 (dual) bank is on line, declare nothing while the measured "
                          "angle of attack is more than 5 deg off the trim or a measured body rate above 10 deg/s, "
@@ -316,6 +322,24 @@ BY_KEY: dict[str, EstimatorOption] = {o.key: o for o in ESTIMATOR_OPTIONS}
 COMMAND_LINE: tuple[EstimatorOption, ...] = tuple(o for o in ESTIMATOR_OPTIONS if o.on_command_line)
 
 
+def load_allowance_pairs(path: str) -> dict[str, float]:
+    """The pair table of ``--level1-allowance-pairs`` (tools/cover/dual_rates.py writes it):
+    ``{"F>C": k}`` from the file's ``pairs``. ValueError naming the file and what is wrong (the
+    core refuses names that are not two singles of the bank, and k < 0)."""
+    import json
+    import pathlib
+    try:
+        table = json.loads(pathlib.Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"--level1-allowance-pairs {path!r}: not a readable JSON pair table ({exc})") from None
+    pairs = table.get("pairs") if isinstance(table, dict) else None
+    if not isinstance(pairs, dict) or not pairs or not all(
+            isinstance(k, str) and isinstance(v, (int, float)) and not isinstance(v, bool) for k, v in pairs.items()):
+        raise ValueError(f"--level1-allowance-pairs {path!r}: needs a non-empty object 'pairs' of \"F>C\": k "
+                         f"(nats a frame; tools/cover/dual_rates.py writes it)")
+    return {k: float(v) for k, v in pairs.items()}
+
+
 def valid_range(option: EstimatorOption) -> str:
     """The valid values of a ``number`` or ``choice`` option, as its refusal names them."""
     if option.kind == "choice":
@@ -336,6 +360,11 @@ def check(settings: dict) -> None:
             ok = isinstance(value, bool)
         elif o.kind == "choice":
             ok = value in o.choices
+        elif o.kind == "file":
+            if not isinstance(value, str):
+                raise ValueError(f"{o.flag} {value!r} must be the path of a file")
+            load_allowance_pairs(value)
+            ok = True
         else:
             ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
                   and (value > o.minimum if o.exclusive else value >= o.minimum)
@@ -389,6 +418,6 @@ def command_line_flags(settings: dict) -> list[str]:
     for o in COMMAND_LINE:
         if o.kind != "switch" and o.key in settings:
             value = settings[o.key]
-            args += [o.flag, value if o.kind == "choice" else repr(float(value))]
+            args += [o.flag, value if o.kind in ("choice", "file") else repr(float(value))]
     args += [o.flag for o in COMMAND_LINE if o.kind == "switch" and settings.get(o.key)]
     return args

@@ -150,6 +150,15 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "above 5 deg/s, or the air data climb (300 ft/min) or change Mach (0.001/s); and of the "
                          "measurements only AOA, the one a lighter aircraft's trim moves "
                          "(cpp/f16mmae/trim_tracker.h). Default off: every frame the freeze rule allows"),
+    EstimatorOption("trim_steady_air_data", "--trim-tracking-steady-air-data", "choice", metavar="on|off",
+                    choices=("on", "off"), requires="trim_steady_g",
+                    help="with --trim-tracking-steady: off lets the air data's climb and Mach rates no longer "
+                         "freeze the tracking (the load factor and roll rate still do), for a trim in force that "
+                         "carries the climb's and the acceleration's own trim (--maneuver-trim), so a lighter "
+                         "aircraft's angle of attack is tracked through climbs, descents and speed changes too "
+                         "(core trim_steady_climb_ft_s and trim_steady_mach_per_s infinite; "
+                         "cpp/f16mmae/trim_tracker.h). Default on (in process only: mmae-daemon has no flag for it)",
+                    in_daemon=False),
     EstimatorOption("schedule_mode", "--schedule-mode", "choice", metavar="|".join(SCHEDULE_MODES),
                     choices=SCHEDULE_MODES,
                     help="a scheduled bank (--bank scheduled): interpolate between grid points on the "

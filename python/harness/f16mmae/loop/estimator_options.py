@@ -300,9 +300,11 @@ CORE_ONLY: dict[str, str] = {
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
-#: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator).
+#: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator;
+#: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
-                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel")
+                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel",
+                               "trim_steady_air_data")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.

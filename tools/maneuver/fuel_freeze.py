@@ -12,7 +12,9 @@ weight, so the misfit it leaves is AOA below and AZ above prediction, growing wi
 Truth (the weight) is read from the flight after the flight, for this diagnosis only; freezing
 the fuel changes the truth model, never the estimator.
 
-    .venv/bin/python tools/maneuver/fuel_freeze.py DIR/runs.jsonl [--runs 4,6] [--segment-s 90]
+    .venv/bin/python tools/maneuver/fuel_freeze.py DIR/runs.jsonl [--runs 4,6] [--segment-s 90] [--plot FILE]
+
+``--plot FILE``: the flights' mean AOA and AZ residual per segment, fuel burning and frozen (PNG).
 """
 from __future__ import annotations
 
@@ -78,6 +80,7 @@ def main(argv=None) -> None:
     ap.add_argument("runs", help="a soak's runs.jsonl")
     ap.add_argument("--runs", dest="select", help="comma-separated run_index values (default all)")
     ap.add_argument("--segment-s", type=float, default=90.0, help="segment of the residual means, s (default 90)")
+    ap.add_argument("--plot", metavar="FILE", help="also draw the segment means of both variants (PNG)")
     args = ap.parse_args(argv)
     records = [json.loads(line) for line in open(args.runs)]
     if args.select:
@@ -87,15 +90,40 @@ def main(argv=None) -> None:
         ap.error("no run selected")
     bank = load_bank(records[0]["bank"])[2]
     totals = {False: 0, True: 0}
+    means = {False: [], True: []}
     for r in records:
         base = flight(r, bank, False, args.segment_s)
         frozen = flight(r, bank, True, args.segment_s, rms=base["rms"])
         for label, out, key in (("fuel burns", base, False), ("fuel frozen", frozen, True)):
             totals[key] += len(out["false"])
+            means[key].append(out["segments"])
             seg = " ".join(f"{a:+.2f}/{z:+.2f}" for a, z in out["segments"])
             print(f"run {r['run_index']} {label:<11} weight at end {out['weight']:8.1f} lb; false: "
                   f"{', '.join(out['false']) or '-'}; NONE AOA/AZ mean per {args.segment_s:g} s: {seg}")
     print(f"false declarations over {len(records)} flights: fuel burns {totals[False]}, fuel frozen {totals[True]}")
+    if args.plot:
+        plot(means, totals, args.segment_s, args.plot)
+
+
+def plot(means: dict, totals: dict, segment_s: float, path: str) -> None:
+    """NONE's AOA and AZ residual means per segment, averaged over the flights, both variants."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    for key, label, style in ((False, "fuel burns", "-"), (True, "fuel frozen", "--")):
+        m = np.mean(np.array([seg for seg in means[key] if len(seg) == len(means[key][0])]), axis=0)
+        t = segment_s * (np.arange(len(m)) + 0.5)
+        ax.plot(t, m[:, 0], "C0" + style, marker="o", label=f"AOA, {label} ({totals[key]} false declarations)")
+        ax.plot(t, m[:, 1], "C3" + style, marker="s", label=f"AZ, {label}")
+    ax.axhline(0.0, color="grey", lw=0.5)
+    ax.set_xlabel("time in flight (s), segment centres")
+    ax.set_ylabel("NONE's residual mean (RMS units)")
+    ax.legend(fontsize=7)
+    ax.set_title("soak flights: the no-failure filter's AOA/AZ misfit with and without fuel burn")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
 
 
 if __name__ == "__main__":

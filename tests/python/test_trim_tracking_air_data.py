@@ -79,3 +79,13 @@ def test_refusals_name_the_flag():
         check({"trim_time_constant_s": 30.0, "trim_steady_air_data": "off"})
     with pytest.raises(ValueError, match="--trim-tracking-steady-air-data 'no' must be one of on, off"):
         check({"trim_time_constant_s": 30.0, "trim_steady_g": 0.1, "trim_steady_air_data": "no"})
+
+
+def test_the_daemon_is_refused_the_option_it_has_no_flag_for():
+    """In process only: daemon_flags (hil) refuses "off" naming what the daemon lacks; "on" is
+    the daemon's own behaviour and passes no flag."""
+    from f16mmae.lcm.daemon import daemon_flags
+    base = {"trim_time_constant_s": 30.0, "trim_steady_g": 0.1}
+    assert daemon_flags({**base, "trim_steady_air_data": "on"}) == daemon_flags(base)
+    with pytest.raises(ValueError, match="mmae-daemon has no flag for the estimator option 'trim_steady_climb_ft_s'"):
+        daemon_flags({**base, "trim_steady_air_data": "off"})

@@ -27,7 +27,9 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
     beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf.
     ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit;
-    ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``)."""
+    ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``);
+    ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
+    (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h)."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
     if "level1_allowance_pairs" in out:   # the file's table, {"F>C": k} (level1_allowance.h)
@@ -35,6 +37,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     counted = out.pop("adapt_counted_channel", None)
     if counted is not None:   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
         out["adapt_counted_channels"] = 1 << SENSORS.index(counted.upper())
+    if out.pop("trim_steady_air_data", "on") == "off":   # the air-data gate of steady tracking open
+        out["trim_steady_climb_ft_s"] = out["trim_steady_mach_per_s"] = math.inf
     if out.pop("actuator_limits", False):
         free = [math.inf] * (nu - len(RATE_LIMIT_RAD_S))
         out["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, *free]

@@ -150,6 +150,15 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "above 5 deg/s, or the air data climb (300 ft/min) or change Mach (0.001/s); and of the "
                          "measurements only AOA, the one a lighter aircraft's trim moves "
                          "(cpp/f16mmae/trim_tracker.h). Default off: every frame the freeze rule allows"),
+    EstimatorOption("trim_steady_air_data", "--trim-tracking-steady-air-data", "choice", metavar="on|off",
+                    choices=("on", "off"), requires="trim_steady_g",
+                    help="with --trim-tracking-steady: off lets the air data's climb and Mach rates no longer "
+                         "freeze the tracking (the load factor and roll rate still do), for a trim in force that "
+                         "carries the climb's and the acceleration's own trim (--maneuver-trim), so a lighter "
+                         "aircraft's angle of attack is tracked through climbs, descents and speed changes too "
+                         "(core trim_steady_climb_ft_s and trim_steady_mach_per_s infinite; "
+                         "cpp/f16mmae/trim_tracker.h). Default on (in process only: mmae-daemon has no flag for it)",
+                    in_daemon=False),
     EstimatorOption("schedule_mode", "--schedule-mode", "choice", metavar="|".join(SCHEDULE_MODES),
                     choices=SCHEDULE_MODES,
                     help="a scheduled bank (--bank scheduled): interpolate between grid points on the "
@@ -297,9 +306,11 @@ CORE_ONLY: dict[str, str] = {
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
-#: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator).
+#: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator;
+#: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
-                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel")
+                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel",
+                               "trim_steady_air_data")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.

@@ -309,7 +309,7 @@ def test_gust_states_below_ft_designs_gust_nodes_and_pads_the_others(gust_schedu
     meta = json.loads(s["metadata"])
     assert meta["gust_states"]["below_ft"] == 12000.0
     assert meta["gust_states"]["nodes"] == [{"mach": 0.5, "alt_ft": 10000.0}]
-    assert meta["command"].endswith("--gust-states-below-ft 12000")
+    assert meta["command"].endswith("--gust-states-below-ft 12000 --gust-node-choice all")   # re-runs as designed
     # the plain schedule's file has no gust key (the default's bytes are unchanged by the option)
     assert "gust_states" not in json.loads(plain.schedule["metadata"]) and plain.nx == names.NX
     # the gust tuning keeps the tuning's name (one per schedule) and takes the gust-state knobs

@@ -41,6 +41,8 @@
 //   adapt_reference_climb_dwell_s (0: the declarer's dwell)             climb_reference.h
 //   maneuver_dwell_s (0: the declarer's dwell), maneuver_reference (None: off),
 //   maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s  maneuver_dwell.h
+//   maneuver_mach_per_s: the air data's |M_dot| above which the maneuver dwell's and the
+//   climb reference's gates call the aircraft maneuvering      maneuver_dwell.h, climb_reference.h
 //   maneuver_kinematics, maneuver_tempering_g,
 //   maneuver_tempering_deadband_g (0: none)                             maneuver_kinematics.h
 //   maneuver_trim, maneuver_trim_time_constant_s, maneuver_trim_accel ('on'|'off'),
@@ -90,7 +92,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              double adapt_reference_climb_dwell_s,
                                              double maneuver_dwell_s, const std::optional<double>& maneuver_reference,
                                              double maneuver_dwell_hold_s, double maneuver_dwell_g,
-                                             double maneuver_dwell_time_constant_s,
+                                             double maneuver_dwell_time_constant_s, double maneuver_mach_per_s,
                                              bool maneuver_kinematics, double maneuver_tempering_g,
                                              double maneuver_tempering_deadband_g,
                                              bool maneuver_trim, double maneuver_trim_time_constant_s, const std::string& maneuver_trim_accel,
@@ -164,6 +166,8 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.maneuver_dwell.hold_s = maneuver_dwell_hold_s;
   o.maneuver_dwell.g = maneuver_dwell_g;
   o.maneuver_dwell.time_constant_s = maneuver_dwell_time_constant_s;
+  o.maneuver_dwell.mach_per_s = maneuver_mach_per_s;
+  o.climb_reference.mach_per_s = maneuver_mach_per_s;
   o.declarer.threshold = threshold;
   o.declarer.dwell_s = dwell_s;
   if (!declarer.is_none()) {
@@ -199,7 +203,7 @@ Class& def_estimator_init(Class& cls) {
                   double adapt_reference_climb_hold_s, double adapt_reference_climb_dwell_s,
                   double maneuver_dwell_s, const std::optional<double>& maneuver_reference,
                   double maneuver_dwell_hold_s, double maneuver_dwell_g, double maneuver_dwell_time_constant_s,
-                  bool maneuver_kinematics,
+                  double maneuver_mach_per_s, bool maneuver_kinematics,
                   double maneuver_tempering_g, double maneuver_tempering_deadband_g,
                   bool maneuver_trim, double maneuver_trim_time_constant_s, const std::string& maneuver_trim_accel,
                   const std::string& maneuver_trim_rates, double maneuver_trim_blend_s,
@@ -215,7 +219,7 @@ Class& def_estimator_init(Class& cls) {
                                              adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_counted_channels, adapt_reference_climb, adapt_reference_climb_hold_s,
                                              adapt_reference_climb_dwell_s, maneuver_dwell_s, maneuver_reference,
                                              maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s,
-                                             maneuver_kinematics, maneuver_tempering_g,
+                                             maneuver_mach_per_s, maneuver_kinematics, maneuver_tempering_g,
                                              maneuver_tempering_deadband_g, maneuver_trim, maneuver_trim_time_constant_s,
                                              maneuver_trim_accel, maneuver_trim_rates, maneuver_trim_blend_s,
                                              actuator_rate_limits_rad_s, actuator_position_limits_rad));
@@ -254,6 +258,7 @@ Class& def_estimator_init(Class& cls) {
       py::arg("maneuver_dwell_hold_s") = core.maneuver_dwell.hold_s,
       py::arg("maneuver_dwell_g") = core.maneuver_dwell.g,
       py::arg("maneuver_dwell_time_constant_s") = core.maneuver_dwell.time_constant_s,
+      py::arg("maneuver_mach_per_s") = core.maneuver_dwell.mach_per_s,
       py::arg("maneuver_kinematics") = core.maneuver.kinematics,
       py::arg("maneuver_tempering_g") = core.maneuver.tempering_g,
       py::arg("maneuver_tempering_deadband_g") = core.maneuver.tempering_deadband_g,

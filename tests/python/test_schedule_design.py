@@ -20,7 +20,7 @@ from f16mmae.design.calibrate import (CALIBRATION_START_UP_S, START_UP_S, adapta
 from f16mmae.design.hypotheses import TRIM_SIGMA, check_failure_model
 from f16mmae.design.model import linearize_truth
 from f16mmae.design.gust_states import GUST_STATES, pad_bank
-from f16mmae.design.schedule import (ScheduleSpecError, gust_neighbourhoods, gust_node_tuning, neighbourhood_minimum,
+from f16mmae.design.schedule import (ScheduleSpecError, format_spec, gust_neighbourhoods, gust_node_tuning, neighbourhood_minimum,
                                      neighbourhood_settings, parse_grid, schedule_failure_model, x_trim)
 from f16mmae.design.tuning import load_tuning
 from f16mmae.loop.estimator import Estimator
@@ -277,6 +277,7 @@ def test_the_scheduled_designs_failure_model_given_then_the_tunings_then_constan
 
 
 GUST_GRID = "mach=0.5,alt=10000/20000"
+SHIPPED = "constant=VEL+ROL"  # check_failure_model(names.SCHEDULE_FAILURE_MODEL), written out
 
 
 @pytest.fixture(scope="module")
@@ -308,7 +309,7 @@ def test_gust_states_below_ft_designs_gust_nodes_and_pads_the_others(gust_schedu
     meta = json.loads(s["metadata"])
     assert meta["gust_states"]["below_ft"] == 12000.0
     assert meta["gust_states"]["nodes"] == [{"mach": 0.5, "alt_ft": 10000.0}]
-    assert meta["command"].endswith("--gust-states-below-ft 12000")
+    assert meta["command"].endswith("--gust-states-below-ft 12000 --gust-node-choice all")   # re-runs as designed
     # the plain schedule's file has no gust key (the default's bytes are unchanged by the option)
     assert "gust_states" not in json.loads(plain.schedule["metadata"]) and plain.nx == names.NX
     # the gust tuning keeps the tuning's name (one per schedule) and takes the gust-state knobs
@@ -411,8 +412,10 @@ def test_a_low_node_keeps_gust_states_only_where_its_calibration_gains():
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--schedule", GUST_GRID, "--gust-node-choice", "effort"],
-     "--gust-node-choice chooses among the nodes at or below --gust-states-below-ft: give it too"),
+    (["--schedule", GUST_GRID, "--gust-states-below-ft", "none", "--gust-node-choice", "effort"],
+     "--gust-node-choice chooses among the nodes at or below --gust-states-below-ft, and this design has none"),
+    (["--schedule", GUST_GRID, "--node-tuning", "fixed", "--gust-node-choice", "all"],
+     "--gust-node-choice chooses among the nodes at or below --gust-states-below-ft, and this design has none"),
     (["--schedule", GUST_GRID, "--gust-states-below-ft", "12000", "--gust-node-choice", "some"],
      "--gust-node-choice 'some': valid: all, effort"),
     (["--schedule", GUST_GRID, "--gust-states-below-ft", "12000", "--gust-node-choice", "effort",
@@ -481,3 +484,40 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
         np.testing.assert_array_equal(np.asarray(h.phi), np.asarray(want.phi))
         np.testing.assert_array_equal(np.asarray(h.k), np.asarray(want.k))
         assert not np.asarray(h.phi)[names.NX:, :].any() and np.asarray(h.k)[-ng:].sum() == 0
+
+
+@pytest.mark.parametrize("argv, shape", [
+    ([], (SHIPPED, 15000.0, "effort", "calibrated")),        # the shipped default (names.SCHEDULE_*)
+    (["--gust-states-below-ft", "none"], (SHIPPED, None, "all", "calibrated")),
+    (["--failure-model", "constant=VEL", "--gust-states-below-ft", "none"], ("constant=VEL", None, "all", "calibrated")),
+    (["--gust-states-below-ft", "10000"], (SHIPPED, 10000.0, "effort", "calibrated")),
+    (["--gust-node-choice", "all"], (SHIPPED, 15000.0, "all", "calibrated")),
+    (["--node-tuning", "fixed"], (SHIPPED, None, "all", "fixed")),
+    (["--node-tuning", "fixed", "--gust-states-below-ft", "15000"], (SHIPPED, 15000.0, "all", "fixed")),
+    (["--tuning", "tuned_gust"], (SHIPPED, None, "all", "calibrated")),   # gust states at every node already
+    (["mach=0.4/0.5,alt=20000"], (SHIPPED, None, "all", "calibrated")),   # no node at or below 15,000 ft
+])
+def test_design_schedule_without_flags_designs_the_shipped_default(argv, shape, monkeypatch, tmp_path):
+    """``f16mmae design --schedule`` without flags hands the design the shipped default's
+    failure model, gust-state altitude and node choice (names.SCHEDULE_*, the values the cached
+    ``scheduled`` bank is generated with); ``--gust-states-below-ft none`` and
+    ``--failure-model`` give the former shape; the defaults step aside where they cannot apply.
+    The design itself is replaced by a recorder: nothing is designed."""
+    import f16mmae.cli.design as cli_design
+
+    seen = {}
+
+    def record(grid, tuning, out, **kw):
+        seen.update(kw, grid=grid)
+        raise OSError("recorded")    # the CLI's own refusal path: nothing written
+
+    monkeypatch.setattr(cli_design, "design_schedule", record)
+    grid = [a for a in argv if a.startswith("mach=")]
+    flags = [a for a in argv if not a.startswith("mach=")]
+    assert main(["design", "--schedule", *grid, *flags, "--out", str(tmp_path / "x.f16sched")]) != 0
+    got = (seen["failure_model"], seen["gust_states_below_ft"], seen["gust_node_choice"], seen["node_tuning"])
+    assert got == shape
+    if not argv:   # one source: the generator of the cached default takes the same names
+        assert got == (check_failure_model(names.SCHEDULE_FAILURE_MODEL), names.SCHEDULE_GUST_STATES_BELOW_FT,
+                       names.SCHEDULE_GUST_NODE_CHOICE, names.SCHEDULE_NODE_TUNING)
+        assert format_spec(seen["grid"]) == format_spec(parse_grid(names.SCHEDULE_GRID))

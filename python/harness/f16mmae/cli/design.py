@@ -14,8 +14,8 @@ from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
 from ..design.hypotheses import FAILURE_MODELS, TRIM_SIGMA, check_failure_model, uses_cover
 from ..design.gust_states import GUST_STATE_MODELS
-from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES, NODE_TUNINGS, ScheduleSpecError,
-                               check_gust_altitude,
+from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES, NO_GUST_STATES, NODE_TUNINGS,
+                               ScheduleSpecError, check_gust_altitude, default_gust_shape,
                                design_schedule, format_spec, parse_grid, schedule_failure_model)
 from ..design.tuning import TuningError, load_tuning
 from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
@@ -55,12 +55,12 @@ examples:
   f16mmae design --failure-model cover --out cover.f16bank
   f16mmae design --gust-states --gust-level moderate --out gust.f16bank   # 16 states: Dryden gusts
   f16mmae design --throttle-input --gust-level none --out calm_throttle.f16bank   # 6 inputs, calm air
-  f16mmae design --schedule --out scheduled.f16sched                  # the grid of --bank scheduled
+  f16mmae design --schedule --out scheduled.f16sched                  # the design of --bank scheduled
+  f16mmae design --schedule --failure-model constant=VEL --gust-states-below-ft none --out r11.f16sched   # revision 11's shape
   f16mmae design --turbulence-banks --out turbulence_banks.f16set      # the set of --turbulence-banks
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
   f16mmae design --schedule --throttle-input --out scheduled_throttle.f16sched   # 6 inputs at every node
-  f16mmae design --schedule --gust-states-below-ft 15000 --workers 2 --out low_gust.f16sched   # gust states low
-  f16mmae design --schedule --gust-states-below-ft 15000 --gust-node-choice effort --out low_gust_e.f16sched
+  f16mmae design --schedule --gust-states-below-ft 15000 --gust-node-choice all --workers 2 --out low_gust.f16sched   # every low node
 
 Scheduled design (--schedule [GRID]): one bank per point of a Mach x altitude grid, the
 tuning's pseudonoise re-calibrated at every point (--node-tuning calibrated: stage 1 of
@@ -159,14 +159,17 @@ def register(subparsers) -> None:
     p.add_argument("--calibration-start-up-s", default=None, metavar="S",
                    help="--schedule (calibrated nodes): the estimator start-up the calibration flights bound the "
                         f"nodes' floors and references with (default {CALIBRATION_START_UP_S:g})")
-    p.add_argument("--gust-states-below-ft", default=None, metavar="FT",
+    p.add_argument("--gust-states-below-ft", default=None, metavar=f"FT|{NO_GUST_STATES}",
                    help="--schedule: the nodes at or below FT ft carry Dryden gust states (19 states, from the "
                         "gust-state tuning's knobs, calibrated at the node), the others inert gust states (one "
-                        "state count per file); default none")
+                        f"state count per file); {NO_GUST_STATES}: no gust states (the shape before revision 12); "
+                        f"default {names.SCHEDULE_GUST_STATES_BELOW_FT:g} for a calibrated design with a node at or "
+                        f"below it and a tuning without gust states, else {NO_GUST_STATES}")
     p.add_argument("--gust-node-choice", default=None, metavar="|".join(GUST_NODE_CHOICES),
-                   help="--gust-states-below-ft: which of those nodes carry gust states: all (default), or "
+                   help="--gust-states-below-ft: which of those nodes carry gust states: all, or "
                         "effort: each designed with and without, the gust design kept where its calibration "
-                        "asks a failure for less declaration effort (calibrated nodes; about 1.3x the design time)")
+                        "asks a failure for less declaration effort (calibrated nodes; about 1.3x the design time); "
+                        f"default {names.SCHEDULE_GUST_NODE_CHOICE} for calibrated nodes, all for fixed ones")
     p.add_argument("--turbulence-banks", action="store_true",
                    help=f"design the turbulence bank set ({', '.join(MEMBER_LEVELS)}; 6 inputs) into the set "
                         "file --out (default: the cache that --tuning turbulence reads)")
@@ -323,24 +326,30 @@ def _run_schedule(args) -> int:
             if node_tuning != "calibrated":
                 raise CliError(f"{flag} goes with the calibration flights: it needs --node-tuning calibrated")
             start_up[flag] = number(flag, given, minimum=0.0, maximum=3600.0)
-    gust_ft = None
+    gust_ft, gust_choice = default_gust_shape(grid, tuning, node_tuning)   # the shipped default's shape
     if args.gust_states_below_ft is not None:
-        try:
-            gust_ft = check_gust_altitude(grid, args.gust_states_below_ft)
-        except ScheduleSpecError as exc:
-            raise CliError(f"--gust-states-below-ft: {exc}") from None
-        if tuning.gust_model in GUST_STATE_MODELS:
-            raise CliError(f"--gust-states-below-ft: the tuning {tuning.name} already models gust states "
-                           f"({tuning.gust_model}) at every node")
-    gust_choice = args.gust_node_choice or "all"
+        gust_ft, gust_choice = None, "all"
+        if args.gust_states_below_ft.strip().lower() != NO_GUST_STATES:
+            try:
+                gust_ft = check_gust_altitude(grid, args.gust_states_below_ft)
+            except ScheduleSpecError as exc:
+                raise CliError(f"--gust-states-below-ft: {exc}") from None
+            if tuning.gust_model in GUST_STATE_MODELS:
+                raise CliError(f"--gust-states-below-ft: the tuning {tuning.name} already models gust states "
+                               f"({tuning.gust_model}) at every node")
+            if node_tuning == "calibrated":
+                gust_choice = names.SCHEDULE_GUST_NODE_CHOICE
     if args.gust_node_choice is not None:
-        if gust_ft is None:
-            raise CliError("--gust-node-choice chooses among the nodes at or below --gust-states-below-ft: give it too")
+        gust_choice = args.gust_node_choice
         if gust_choice not in GUST_NODE_CHOICES:
             raise CliError(f"--gust-node-choice {gust_choice!r}: valid: {', '.join(GUST_NODE_CHOICES)}")
         if gust_choice == "effort" and node_tuning != "calibrated":
             raise CliError("--gust-node-choice effort compares each node's calibration with and without gust "
                            "states: it needs --node-tuning calibrated")
+        if gust_ft is None:
+            raise CliError("--gust-node-choice chooses among the nodes at or below --gust-states-below-ft, and this "
+                           "design has none (--gust-states-below-ft none, --node-tuning fixed without it, or a tuning "
+                           "with gust states at every node): give --gust-states-below-ft FT")
     thr = "_throttle" if args.throttle_input else ""
     gst = "" if gust_ft is None else f"_gust{gust_ft:g}"
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}{gst}.f16sched", "--out")

@@ -209,6 +209,23 @@ def gust_neighbourhoods(covered, gust) -> frozenset:
 #: carries gust states when its calibration shows it gains: ``gust_gains``).
 GUST_NODE_CHOICES: tuple[str, ...] = ("all", "effort")
 
+#: ``--gust-states-below-ft none``: no node carries gust states (the scheduled design's shape
+#: before revision 12).
+NO_GUST_STATES = "none"
+
+
+def default_gust_shape(grid: Grid, tuning, node_tuning: str) -> tuple[float | None, str]:
+    """The gust-state nodes a scheduled design takes when none are named: (altitude, choice).
+    The shipped default's, ``names.SCHEDULE_GUST_STATES_BELOW_FT`` chosen by
+    ``names.SCHEDULE_GUST_NODE_CHOICE``, for a calibrated design whose grid has a node at or below
+    that altitude and whose tuning (a ``Tuning``) models no gust states at every node; otherwise
+    (None, ``all``): no gust states.  A fixed node tuning gets none because the default's choice
+    compares each node's calibration flights with and without them, and a fixed design flies none."""
+    if (node_tuning != "calibrated" or tuning.gust_model in GUST_STATE_MODELS
+            or grid.alt_ft[0] > names.SCHEDULE_GUST_STATES_BELOW_FT):
+        return None, "all"
+    return check_gust_altitude(grid, names.SCHEDULE_GUST_STATES_BELOW_FT), names.SCHEDULE_GUST_NODE_CHOICE
+
 
 def floor_effort(record: dict, threshold: float = names.THRESHOLD_DEFAULT) -> tuple[float, float, bool]:
     """(floor, declaration effort, bound met) of a node's calibration record
@@ -513,9 +530,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     + (" --throttle-input" if throttle_input else "")
                     + (f" --start-up-s {start_up_s:g} --calibration-start-up-s {calibration_start_up_s:g}"
                        if node_tuning == "calibrated" else "")
-                    + (f" --failure-model {tuning_obj.failure_model}" if tuning_obj.failure_model != "complete" else "")
-                    + (f" --gust-states-below-ft {gust_ft:g}" if gust_ft is not None else "")
-                    + (f" --gust-node-choice {gust_node_choice}" if choose else "")),
+                    + f" --failure-model {tuning_obj.failure_model}"
+                    + (f" --gust-states-below-ft {NO_GUST_STATES}" if gust_ft is None else
+                       f" --gust-states-below-ft {gust_ft:g} --gust-node-choice {gust_node_choice}")),
         "grid": {"mach": list(grid.mach), "alt_ft": list(grid.alt_ft)},
         "tuning": tuning_obj.name,
         "node_tuning": node_tuning,

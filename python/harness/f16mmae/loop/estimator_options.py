@@ -205,6 +205,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     minimum=0.0, maximum=60.0, requires="maneuver_dwell_s",
                     help="with --maneuver-dwell: the time constant of the load factor's low-pass (s; 0: none; "
                          "default 2)"),
+    EstimatorOption("maneuver_mach_per_s", "--maneuver-mach-rate", "number", metavar="MACH_PER_S", minimum=0.0,
+                    exclusive=True, maximum=1.0, in_daemon=False,
+                    help="with --maneuver-dwell or --adapt-reference-climb: the measured air data's Mach changing "
+                         "faster than this (per s) opens their gates (cpp/f16mmae/air_data_rates.h; default 0.001, "
+                         "which light turbulence reaches in level flight at high dynamic pressure; the maneuvers' "
+                         "speed changes are 0.005-0.01 per s)"),
     EstimatorOption("maneuver_reference", "--maneuver-reference", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the adaptation's reference while the aircraft maneuvers (the "

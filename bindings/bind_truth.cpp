@@ -175,13 +175,11 @@ class Frames {
     has_fcs_ = true;
   }
 
-  // The dither's gains per surface (truth/dither.py adaptive_gains, sensor_loss_gains): 5 finite
-  // values (a negative gain turns its surface's line half a period: the sensor-loss dither's
-  // antisymmetric flaperons).
+  // The adaptive dither's gains per surface (truth/dither.py adaptive_gains): 5 finite values >= 0.
   static Surfaces dither_gain(const Surfaces& g) {
     for (double x : g)
-      if (!std::isfinite(x))
-        throw py::value_error("TruthFrames: a dither gain needs 5 finite values (LS RS LF RF RUD)");
+      if (!(std::isfinite(x) && x >= 0.0))
+        throw py::value_error("TruthFrames: a dither gain needs 5 finite values >= 0 (LS RS LF RF RUD)");
     return g;
   }
   static Surfaces dither_gain(const std::vector<double>& g) {
@@ -521,7 +519,7 @@ void bind_truth(py::module_& m) {
            py::arg("record_log") = true)
       .def("set_fcs", &Frames::set_fcs, py::arg("coefficients"))
       .def("set_dither_gain", &Frames::set_dither_gain, py::arg("gain"), py::arg("gain2"),
-           "The dither's gains per surface, of the calm and of the turbulence line (5 finite values each;\n"
+           "The adaptive dither's gains per surface, of the calm and of the turbulence line (5 values >= 0 each;\n"
            "truth/dither.py adaptive_gains), from the next frame on.")
       .def("set_outer_loop", &Frames::set_outer_loop, py::arg("coefficients"), py::arg("instruments"),
            py::arg("throttle_property"))

@@ -93,9 +93,6 @@ failure truth), each surface's calm line takes the gain of s's row of ``SENSOR_L
     d_j = g_j a_j sin(w_j t + phi_j),   g_j -> G_s,j  at SENSOR_LOSS_GAIN_RATE per second,
     G_s,j = 1 for a sensor not listed, NONE, a surface, a dual
 
-(a g_j whose target lies across 0 moves at SENSOR_LOSS_FLIP_RATE until it lands: a negative G
-turns the surface's line half a period, and its line is gone while g crosses 0).
-
 A declared sensor takes with it the channel that saw some surfaces best (q the stabilators, n_z
 and alpha the flaperons, r the rudder), and the level-1 bank of s then gathers less evidence per
 frame for s + that surface; the evidence of a missing line grows as its amplitude squared, so the
@@ -103,27 +100,19 @@ rows raise the lines of those surfaces, a pair's two surfaces alike (each failur
 signature) -- but for the roll-rate gyro's: without it LS and RS differ only in the sign of a
 roll moment nothing measures, so its row gives the stabilators different gains (1.7 and 0.9: the
 same mean pitch line, 1.3 x, and a part in opposite phase, 0.4 x), and a failed LS or RS then
-takes a different share of the pitch line with it.  The rows of the sensors that saw the
-flaperons' lift (AOA, AZ) turn the right flaperon's line (G_RF = -G_LF): with phases +-phi the pair
-in phase gives n_z ~ 2 cos(phi) and p ~ 2 sin(phi) of one surface's, turned n_z ~ 2 sin(phi) and
-p ~ 2 cos(phi) (0.6 and 1.6 times the in-phase pair's at phi = 0.55 rad), so the n_z that bound the
-pair in phase at 1.3 leaves them 1.45 turned, where p binds; a failed flaperon's missing line is
-its own amplitude's whatever its partner's phase.  The rows hold at the nominal point: above twice
-the design dynamic pressure the flaperons are already antisymmetric (``Dither``'s high-q̄ rule) and
-a turned line makes them symmetric there.  Criterion: the subliminal one
+takes a different share of the pitch line with it.  Criterion: the subliminal one
 (``CRITERION``) on the bound sum_l w_l A_l,c, A_l,c the peak of line l alone in channel c at the
 nominal point (no noise, no turbulence; the stabilators in phase n_z 0.0112 g, q 0.590 deg/s, in
-opposite phase p 0.329 deg/s; flaperons n_z 0.0274 g, p 0.198, q 0.056 deg/s, turned n_z 0.0168 g,
-p 0.330 deg/s; rudder p 0.454, r 0.214 deg/s, n_y 0.0112 g) and w_l the line's gain
-(|G_L + G_R|/2 in phase, |G_L - G_R|/2 turned, for each pair; |G_RUD|): each row's bound is at
-most 0.94 of the criterion on every channel (q binds the stabilators' 1.4, n_z the flaperons' 1.3
-in phase, p their 1.45 turned, p and n_y the rudder's 1.5;
+opposite phase p 0.329 deg/s; flaperons n_z 0.0274 g, p 0.198, q 0.056 deg/s; rudder p 0.454,
+r 0.214 deg/s, n_y 0.0112 g) and w_l the line's gain ((G_LS + G_RS)/2 in phase, |G_LS - G_RS|/2
+in opposite phase, G_LF = G_RF, G_RUD): each row's bound is at most 0.94 of the criterion on
+every channel (q binds the stabilators' 1.4, n_z the flaperons' 1.3, p and n_y the rudder's 1.5;
 the rudder's line at 1.5 x moves it at 1.5 x 79 deg/s commanded, about 100 deg/s after the
 actuator's lag, within its 120).  In the closed loop with the sensor failed and declared (the
-estimate fed back) the peaks stay within 0.92 of the criterion (AZ's turned row: p 0.90), and
-within 0.97 with the sensors' noise on, which the estimate feeds back too (q binds the
-stabilators there: at 1.5 x they give 1.01 deg/s).  Measured by tools/dual/sensor_loss_dither.py
-and tests/python/test_sensor_loss_dither.py; what it buys: docs/results/dual.md, rounds 14, 15.
+estimate fed back) the peaks stay within 0.92 of the criterion, and within 0.97 with the
+sensors' noise on, which the estimate feeds back too (q binds the stabilators there: at 1.5 x
+they give 1.01 deg/s).  Measured by tools/dual/sensor_loss_dither.py and
+tests/python/test_sensor_loss_dither.py; what it buys: docs/results/dual.md, round 14.
 """
 from __future__ import annotations
 
@@ -373,9 +362,9 @@ def adaptive_gains(rho: float, reference: float) -> tuple[list[float], list[floa
 #: RF RUD (module docstring, "Sensor-loss dither"); a sensor not listed keeps the fixed dither.
 SENSOR_LOSS_GAINS: dict[str, tuple[float, ...]] = {
     "VEL": (1.3, 1.3, 1.15, 1.15, 1.3),
-    "AOA": (1.0, 1.0, 1.45, -1.45, 1.0),
+    "AOA": (1.0, 1.0, 1.3, 1.3, 1.0),
     "PIT": (1.4, 1.4, 1.0, 1.0, 1.0),
-    "AZ": (1.0, 1.0, 1.45, -1.45, 1.0),
+    "AZ": (1.0, 1.0, 1.3, 1.3, 1.0),
     "ROL": (1.7, 0.9, 1.0, 1.0, 1.0),
     "YAW": (1.0, 1.0, 1.0, 1.0, 1.5),
     "AY": (1.0, 1.0, 1.3, 1.3, 1.3),
@@ -397,40 +386,26 @@ def sensor_loss_gains(declared: str) -> tuple[list[float], list[float]]:
 #: (module docstring): 1 -> 1.5 in 0.5 s, so the line grows over a period or so instead of
 #: stepping, which would excite the airframe as a step does.
 SENSOR_LOSS_GAIN_RATE = 1.0
-#: The rate (gain units per second) of a surface whose line turns half a period (a row's negative
-#: gain, or back from one): it crosses 0, where its line is gone, in a fraction of a second.
-SENSOR_LOSS_FLIP_RATE = 8.0
 
 
 class SensorLossDither:
     """The closed loop's sensor-loss rule with its ramp: ``gains(declared, dt_s)`` moves each
     g_j toward ``sensor_loss_gains(declared)`` by at most ``rate dt_s`` and returns (g_j, h_j);
-    a g_j whose target lies on the other side of 0 (its line turns half a period) moves by
-    ``flip_rate dt_s`` until it lands.  It starts at the fixed dither's 1 and lands on each row
-    exactly."""
+    it starts at the fixed dither's 1 and lands on each row exactly."""
 
-    def __init__(self, rate: float = SENSOR_LOSS_GAIN_RATE, flip_rate: float = SENSOR_LOSS_FLIP_RATE):
-        for name, v in (("gain rate", rate), ("flip rate", flip_rate)):
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0.0):
-                raise ValueError(f"sensor-loss dither {name} must be a positive finite number, got {v!r}")
+    def __init__(self, rate: float = SENSOR_LOSS_GAIN_RATE):
+        if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not (math.isfinite(rate) and rate > 0.0):
+            raise ValueError(f"sensor-loss dither gain rate must be a positive finite number, got {rate!r}")
         self.rate = float(rate)
-        self.flip_rate = float(flip_rate)
         self.gain = [1.0] * 5
-        self.turning = [False] * 5
 
     def gains(self, declared: str, dt_s: float) -> tuple[list[float], list[float]]:
         if not (math.isfinite(dt_s) and dt_s > 0.0):
             raise ValueError(f"sensor-loss dither step must be a positive finite time, got {dt_s!r}")
         target, h = sensor_loss_gains(declared)
-        out = []
-        for j, (g, t) in enumerate(zip(self.gain, target)):
-            # a line that turns (its gain and its target on either side of 0) moves at the flip
-            # rate until it lands on its target
-            self.turning[j] = (self.turning[j] or g * t < 0.0) and g != t
-            step = (self.flip_rate if self.turning[j] else self.rate) * dt_s
-            out.append(t if abs(t - g) <= step else g + math.copysign(step, t - g))
-            self.turning[j] = self.turning[j] and out[j] != t
-        self.gain = out
+        step = self.rate * dt_s
+        self.gain = [t if abs(t - g) <= step else g + math.copysign(step, t - g)
+                     for g, t in zip(self.gain, target)]
         return list(self.gain), h
 
 
@@ -526,15 +501,13 @@ class Dither:
         return list(self._b), list(self._v), list(self._ph2)
 
     def set_gain(self, gain, gain2) -> None:
-        """The gains g_j of the calm line (5 finite values; a negative one turns its surface's line
-        half a period, the sensor-loss dither's antisymmetric flaperons) and h_j of the turbulence
-        line (5 finite values >= 0) per surface from now on."""
+        """The gains g_j of the calm line and h_j of the turbulence line per surface (5 finite
+        values >= 0 each) from now on."""
         out = []
-        for name, vals, low in (("gain", gain, -math.inf), ("turbulence line gain", gain2, 0.0)):
+        for name, vals in (("gain", gain), ("turbulence line gain", gain2)):
             v = [float(x) for x in vals]
-            if len(v) != 5 or not all(math.isfinite(x) and x >= low for x in v):
-                bound = "" if low == -math.inf else " >= 0"
-                raise ValueError(f"dither {name} needs 5 finite values{bound} (LS RS LF RF RUD), got {vals!r}")
+            if len(v) != 5 or not all(math.isfinite(x) and x >= 0.0 for x in v):
+                raise ValueError(f"dither {name} needs 5 finite values >= 0 (LS RS LF RF RUD), got {vals!r}")
             out.append(v)
         self.gain, self.gain2 = out
 

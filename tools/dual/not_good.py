@@ -103,7 +103,8 @@ def main() -> None:
         classes["latency alone" if kinds == ["latency"] else "+".join(kinds)].append(name)
         tag = ""
         if other and name in other[0]:
-            tag = f"  [other: {other[0][name]['absolute_rating']}, median {other[0][name]['latency_s']['median'] or 0:.2f} s]"
+            o = other[0][name]
+            tag = f"  [other: {o['absolute_rating']}, median {o['latency_s']['median'] or 0:.2f} s]"
         print(f"{name:8s} {reason}{tag}")
         idx = sorted(i for (n, i) in runs if n == name)
         fa_runs = [i for i in idx if runs[(name, i)].get("false_alarm")]

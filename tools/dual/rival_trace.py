@@ -67,12 +67,13 @@ def main() -> None:
             declared["h"] = decl.pop(0)["hypothesis"]
         gains.append(rule.gains(declared.get("h", "NONE"), res.frame_dt_s)[0])
     gains = np.array(gains)
-    print(f"{'t s':>6s} {'L':>9s} {'p_rival':>8s} {'p_inj':>8s}  g_LS  g_RS  g_LF  g_RF {'p deg/s':>8s} {'q deg/s':>8s}")
+    print(f"{'t s':>6s} {'L':>9s} {'p_rival':>8s} {'p_inj':>8s}  g_LS  g_RS  g_LF  g_RF "
+          f"{'p deg/s':>8s} {'q deg/s':>8s}")
     i0, i1 = int(round(args.t0 / res.frame_dt_s)), min(int(round(args.t1 / res.frame_dt_s)), len(lo) - 1)
     for i in range(i0, i1 + 1, args.every):
         g = gains[i]
-        print(f"{res.time_s[i]:6.2f} {lo[i]:9.2f} {pr[i]:8.2e} {pi[i]:8.2e} {g[0]:5.2f} {g[1]:5.2f} {g[2]:5.2f} {g[3]:5.2f}"
-              f" {rates[i, 0]:8.2f} {rates[i, 1]:8.2f}")
+        print(f"{res.time_s[i]:6.2f} {lo[i]:9.2f} {pr[i]:8.2e} {pi[i]:8.2e} "
+              f"{g[0]:5.2f} {g[1]:5.2f} {g[2]:5.2f} {g[3]:5.2f} {rates[i, 0]:8.2f} {rates[i, 1]:8.2f}")
     i2 = int(round(5.0 / res.frame_dt_s))
     rival_at = next((d["time_s"] for d in res.declarations if d["hypothesis"] == args.rival), None)
     end = int(round(rival_at / res.frame_dt_s)) if rival_at is not None else i1

@@ -32,7 +32,7 @@ from f16mmae.truth.dither import CRITERION, DitherSpec, SENSOR_LOSS_GAINS
 
 #: The lines: name -> (the surfaces, LS RS LF RF RUD indices, on it; RS in opposite phase).
 LINES = {"stabilators": ((0, 1), False), "stabilators, opposite": ((0, 1), True), "flaperons": ((2, 3), False),
-         "rudder": ((4,), False)}
+         "flaperons, opposite": ((2, 3), True), "rudder": ((4,), False)}
 #: z indices of the criterion channels and their criterion (n_z, p, q, r in deg/s, n_y).
 CHANNELS = (("n_z g", 3, CRITERION["nz_g"], False), ("p deg/s", 4, CRITERION["rate_deg_s"], True),
             ("q deg/s", 2, CRITERION["rate_deg_s"], True), ("r deg/s", 5, CRITERION["rate_deg_s"], True),
@@ -56,7 +56,7 @@ def line_peaks(duration_s: float = 8.0) -> dict[str, np.ndarray]:
         amp = [a if j in idx else 0.0 for j, a in enumerate(base.amplitude_deg)]
         phase = list(base.phase_rad)
         if opposite:
-            phase[1] += np.pi
+            phase[idx[1]] += np.pi
         sc = Scenario(duration_s=duration_s, noise=False, feedback="raw",
                       dither=dataclasses.replace(base, amplitude_deg=tuple(amp), phase_rad=tuple(phase)))
         truth, _ = fly_raw(sc)
@@ -68,10 +68,9 @@ def line_peaks(duration_s: float = 8.0) -> dict[str, np.ndarray]:
 
 def line_gains(row) -> dict[str, float]:
     """The lines' gains of a row of gains per surface (module docstring)."""
-    if row[2] != row[3]:
-        raise ValueError(f"the flaperons share one line: a row needs g_LF = g_RF, got {row}")
-    return {"stabilators": (row[0] + row[1]) / 2.0, "stabilators, opposite": abs(row[0] - row[1]) / 2.0,
-            "flaperons": row[2], "rudder": row[4]}
+    return {"stabilators": abs(row[0] + row[1]) / 2.0, "stabilators, opposite": abs(row[0] - row[1]) / 2.0,
+            "flaperons": abs(row[2] + row[3]) / 2.0, "flaperons, opposite": abs(row[2] - row[3]) / 2.0,
+            "rudder": abs(row[4])}
 
 
 def _lines(args) -> None:

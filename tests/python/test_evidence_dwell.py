@@ -5,13 +5,14 @@ reaches the dwell."""
 from __future__ import annotations
 
 import math
+import subprocess
 
 import numpy as np
 import pytest
 
 from f16mmae import core
 from f16mmae.banks import load_bank
-from f16mmae.lcm.daemon import daemon_flags
+from f16mmae.lcm.daemon import daemon_flags, find_executable
 from f16mmae.loop.estimator_options import check
 from f16mmae.loop.flight import fly
 from f16mmae.truth import Scenario
@@ -38,6 +39,20 @@ def test_the_setting_is_refused_out_of_range_naming_it():
     with pytest.raises(ValueError, match="--dwell-nats -2.0 must lie in"):
         check({"dwell_nats": -2.0})
     assert daemon_flags({"dwell_nats": 48.0}) == ("--dwell-nats", "48.0")
+
+
+def test_the_daemon_takes_the_flag_and_names_it():
+    """mmae-daemon --dwell-nats: in force (its ready line names it), refused out of range."""
+    daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
+    p = subprocess.Popen([daemon, "--bank", bank, "--dwell-nats", "48", "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    assert "threshold 0.9, dwell 0.25 s or 48 nats," in ready, ready
+    r = subprocess.run([daemon, "--bank", bank, "--dwell-nats", "-1"], capture_output=True, text=True, timeout=20)
+    assert r.returncode == 2
+    assert "--dwell-nats must be a number of nats in [0, 1e+06] (0: the dwell alone), got '-1'" in r.stderr + r.stdout
 
 
 @pytest.mark.slow

@@ -36,13 +36,14 @@
 // so a dwell in force longer than the declarer's own (a maneuver's, climb_reference.h) asks for
 // as many more nats. A candidate the data hold at the ceiling (K = 13, p_min 1e-9:
 // ln((1 - 12e-9) / 12e-9) = 18.24 nats, 16.04 above the threshold's 2.197) gathers a dwell of
-// 48 nats in 3 frames; one hovering just above the threshold (0.95: 0.75 nats a frame) gathers
-// it in 64 and is declared by the frame dwell as before. The rule is a CUSUM of the log-odds
-// excess restarted whenever the candidate changes or falls below the threshold: a hypothesis
-// whose models give it many nats a frame needs fewer frames to show the same margin, while a
-// spike must be both high and long to count. P_t = 1 (no floor) makes the term infinite: the
-// dwell completes on that frame. Either dwell declares; without dwell_nats the rule is the
-// frame dwell alone, bit for bit.
+// 48 nats in 3 frames; one hovering just above the threshold (0.95: 0.75 nats a frame) would
+// need 65 and is declared by the frame dwell as before. The rule is a CUSUM of the log-odds
+// excess restarted whenever the candidate changes or falls below the threshold: a spike must
+// be both high and long to count. P_t = 1 (no floor) makes the term infinite: the dwell
+// completes on that frame. Either dwell declares; without dwell_nats the rule is the frame
+// dwell alone, bit for bit. Off by default: excursions of gusts beyond the models also hold
+// the ceiling for a few frames, so a short evidence dwell trades false declarations for
+// latency (docs/results/detection_latency.md).
 //
 // Defaults, and why: threshold 0.9, dwell 0.25 s at 64 Hz (16 frames).
 //  - 0.9: with K = 13 and the floor p_min = 0.001 a hypothesis can reach 1 - 12 * 0.001 =

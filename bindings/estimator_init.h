@@ -26,8 +26,8 @@
 //   start_up_s                           updates that weigh nothing after a start (filter_bank.h)
 //   node_p_min                           a scheduled bank: each node's floor (its bank's p_min,
 //                                        blended; scheduled_filters.h) instead of p_min
-//   threshold, dwell_s, declarer         the declaration rule (declarer.h); a core.Declarer
-//                                        given as declarer supplies threshold and dwell_s
+//   threshold, dwell_s, dwell_nats, declarer  the declaration rule (declarer.h); a core.Declarer
+//                                        given as declarer supplies threshold, dwell_s and dwell_nats
 //   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
 //   trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
 //   trim_steady_mach_per_s                                                    trim_tracker.h
@@ -74,7 +74,7 @@ namespace py = pybind11;
 inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, double level1_dwell_s, double level1_allowance,
                                              const std::map<std::string, double>& level1_allowance_pairs,
                                              const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
-                                             double threshold, double dwell_s,
+                                             double threshold, double dwell_s, double dwell_nats,
                                              const py::object& declarer, double trim_time_constant_s,
                                              double trim_freeze_probability, double trim_hold_s, bool trim_freeze,
                                              double trim_steady_g,
@@ -170,13 +170,15 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.climb_reference.mach_per_s = maneuver_mach_per_s;
   o.declarer.threshold = threshold;
   o.declarer.dwell_s = dwell_s;
+  o.declarer.dwell_nats = dwell_nats;
   if (!declarer.is_none()) {
     if (!py::isinstance<Declarer>(declarer))
-      throw py::value_error("declarer must be a core.Declarer (its threshold and dwell_s are used), got " +
+      throw py::value_error("declarer must be a core.Declarer (its threshold, dwell_s and dwell_nats are used), got " +
                             std::string(py::str(py::type::handle_of(declarer).attr("__name__"))));
     const DeclarerOptions& d = declarer.cast<const Declarer&>().options();
     o.declarer.threshold = d.threshold;
     o.declarer.dwell_s = d.dwell_s;
+    o.declarer.dwell_nats = d.dwell_nats;
   }
   return o;
 }
@@ -188,7 +190,7 @@ Class& def_estimator_init(Class& cls) {
       py::init([](const Source& bank, double p_min, double level1_p_min, double level1_dwell_s, double level1_allowance,
                   const std::map<std::string, double>& level1_allowance_pairs,
                   const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
-                  double threshold, double dwell_s,
+                  double threshold, double dwell_s, double dwell_nats,
                   const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
                   double trim_hold_s, bool trim_freeze, double trim_steady_g,
                   const std::vector<std::string>& trim_steady_measurements, double trim_steady_roll_rate_rad_s,
@@ -209,7 +211,7 @@ Class& def_estimator_init(Class& cls) {
                   const std::string& maneuver_trim_rates, double maneuver_trim_blend_s,
                   const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
-        return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, level1_allowance, level1_allowance_pairs, departure_hold, declare_components, partial_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s,
+        return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, level1_allowance, level1_allowance_pairs, departure_hold, declare_components, partial_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s, dwell_nats,
                                              declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
                                              trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
@@ -233,7 +235,8 @@ Class& def_estimator_init(Class& cls) {
       py::arg("node_p_min") = core.schedule.node_p_min,
       py::arg("strip_leading_term") = core.bank.strip_leading_term, py::arg("start_up_s") = core.bank.start_up_s,
       py::arg("threshold") = core.declarer.threshold,
-      py::arg("dwell_s") = core.declarer.dwell_s, py::arg("declarer") = py::none(),
+      py::arg("dwell_s") = core.declarer.dwell_s,
+      py::arg("dwell_nats") = core.declarer.dwell_nats, py::arg("declarer") = py::none(),
       py::arg("trim_time_constant_s") = core.trim.time_constant_s,
       py::arg("trim_freeze_probability") = core.trim.freeze_probability, py::arg("trim_hold_s") = core.trim.hold_s,
       py::arg("trim_freeze") = core.trim.freeze, py::arg("trim_steady_g") = core.trim.steady_g,

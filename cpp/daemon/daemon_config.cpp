@@ -1,5 +1,6 @@
 #include "daemon_config.h"
 
+#include "f16mmae/declarer.h"
 #include "f16mmae/estimator_settings.h"
 
 #include <algorithm>
@@ -18,7 +19,7 @@ namespace f16mmae::daemon {
 std::string daemon_usage() {
   return "usage: mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P]\n"
          "                   [--rate-hz HZ]\n"
-         "                   [--p-min P] [--threshold T] [--dwell-s S] [--start-up-s S]\n"
+         "                   [--p-min P] [--threshold T] [--dwell-s S] [--dwell-nats N] [--start-up-s S]\n"
          "                   [--adapt-turbulence] [--adapt-reference RHO] [--adapt-own-channels]\n"
          "                   [--adapt-reference-climb RHO]\n"
          "                   [--adapt-reference-climb-hold S] [--adapt-reference-climb-dwell S]\n"
@@ -53,6 +54,9 @@ std::string daemon_usage() {
          "  --p-min P            probability floor     } default: the bank's recommendation\n"
          "  --threshold T        declaration threshold } (its typed fields p_min, threshold,\n"
          "  --dwell-s S          declaration dwell, s  } dwell_s) -- as 'f16mmae run'\n"
+         "  --dwell-nats N       ... or until the candidate's log-odds above the threshold's,\n"
+         "                       summed over those frames, reach N nats (declarer.h; 0-1e6;\n"
+         "                       default 0: the dwell alone)\n"
          "  --start-up-s S       the first S seconds of frames after a start or reset update\n"
          "                       the filters but weigh no hypothesis (0-3600; default: the\n"
          "                       bank's recommendation, a scheduled-bank file's start_up_s, else 0)\n"
@@ -234,7 +238,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     }
     const bool known = key == "--bank" || key == "--lcm-url" || key == "--channel-prefix" ||
                        key == "--rate-hz" || key == "--max-frames" || key == "--realtime" ||
-                       key == "--p-min" || key == "--threshold" || key == "--dwell-s" ||
+                       key == "--p-min" || key == "--threshold" || key == "--dwell-s" || key == "--dwell-nats" ||
                        key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
                        key == "--bank-public-key" || key == "--trim-tracking" ||
                        key == "--trim-freeze-probability" || key == "--trim-tracking-steady" ||
@@ -254,7 +258,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
-                         "--p-min, --threshold, --dwell-s, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
+                         "--p-min, --threshold, --dwell-s, --dwell-nats, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-own-channels, "
                          "--adapt-counted-channel, --adapt-reference-climb, "
                          "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
@@ -293,6 +297,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!x || *x < 0.0)
         return usage_error(key + " must be a finite number >= 0, got '" + value + "'");
       (key == "--p-min" ? c.p_min : key == "--threshold" ? c.threshold : c.dwell_s) = *x;
+    } else if (key == "--dwell-nats") {
+      const std::optional<double> n = finite_number(value);
+      if (!n || *n < 0.0 || *n > f16mmae::kMaxDwellNats)
+        return usage_error("--dwell-nats must be a number of nats in [0, " + f16mmae::format_value(f16mmae::kMaxDwellNats) +
+                           "] (0: the dwell alone), got '" + value + "'");
+      c.dwell_nats = *n;
     } else if (key == "--start-up-s") {
       const std::optional<double> s = finite_number(value);
       if (!s || *s < 0.0 || *s > 3600.0)

@@ -49,6 +49,7 @@ struct DaemonConfig {
   double rate_hz = 64.0;            // must equal the bank's frame_rate_hz
   // Estimator settings over the bank's recommended ones (ModelBank::estimator); unset: the bank's.
   std::optional<double> p_min, threshold, dwell_s;
+  std::optional<double> dwell_nats;  // the evidence dwell (declarer.h); unset: off
   // The estimator's on-line options, as 'f16mmae run' has them (off: the bank as designed).
   bool adapt_turbulence = false;     // turbulence_adaptation.h
   bool turbulence_banks = false;     // FILE is a turbulence bank set file: fly the set (turbulence_bank_set.h)

@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
     options.schedule.node_p_min = !cfg.p_min;   // a scheduled bank's node floors unless --p-min
     options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
+    options.declarer.dwell_nats = cfg.dwell_nats.value_or(0.0);
     options.bank.adaptation.enabled = cfg.adapt_turbulence;
     options.bank.adaptation.own_channels = cfg.adapt_own_channels;
     if (!cfg.adapt_counted_channel.empty()) {   // its bit in the bank's measurement order
@@ -279,10 +280,13 @@ int main(int argc, char** argv) {
       const std::string start_up = options.bank.start_up_s > 0.0
                                        ? "start-up " + f16mmae::format_value(options.bank.start_up_s) + " s"
                                        : std::string("no start-up");
-      std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, %s, threshold %g, dwell %g s, %s, %s, %s, "
+      const std::string evidence_dwell = options.declarer.dwell_nats > 0.0
+                                             ? " or " + f16mmae::format_value(options.declarer.dwell_nats) + " nats"
+                                             : std::string();
+      std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, %s, threshold %g, dwell %g s%s, %s, %s, %s, "
                   "schedule %s on air data low-passed %s s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), floor.c_str(),
-                  options.declarer.threshold, options.declarer.dwell_s, start_up.c_str(),
+                  options.declarer.threshold, options.declarer.dwell_s, evidence_dwell.c_str(), start_up.c_str(),
                   adaptation_climb.c_str(),
                   trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate",
                   f16mmae::format_value(options.schedule.air_data_time_constant_s).c_str(), maneuver.c_str(), cfg.lcm_url.c_str(),

@@ -27,6 +27,24 @@
 // well), so neither may hold the threshold for a dwell although their sum does; what the
 // declaration hands on -- stop trusting that component -- is the same for both forms.
 //
+// Evidence dwell (dwell_nats > 0; 0, the default: off). Beside the dwell in frames, the
+// candidate (hypothesis or component, mass P_t on frame t) is also declared once the log-odds it
+// holds above the threshold's, summed over the consecutive frames it has been above,
+//   E_n = sum_{t = 1..n} [ ln(P_t / (1 - P_t)) - ln(threshold / (1 - threshold)) ]   (each term > 0),
+// reaches the dwell in nats in force,
+//   E_n >= dwell_nats * dwell_frames_in_force / dwell_frames,
+// so a dwell in force longer than the declarer's own (a maneuver's, climb_reference.h) asks for
+// as many more nats. A candidate the data hold at the ceiling (K = 13, p_min 1e-9:
+// ln((1 - 12e-9) / 12e-9) = 18.24 nats, 16.04 above the threshold's 2.197) gathers a dwell of
+// 48 nats in 3 frames; one hovering just above the threshold (0.95: 0.75 nats a frame) would
+// need 65 and is declared by the frame dwell as before. The rule is a CUSUM of the log-odds
+// excess restarted whenever the candidate changes or falls below the threshold: a spike must
+// be both high and long to count. P_t = 1 (no floor) makes the term infinite: the dwell
+// completes on that frame. Either dwell declares; without dwell_nats the rule is the frame
+// dwell alone, bit for bit. Off by default: excursions of gusts beyond the models also hold
+// the ceiling for a few frames, so a short evidence dwell trades false declarations for
+// latency (docs/results/detection_latency.md).
+//
 // Defaults, and why: threshold 0.9, dwell 0.25 s at 64 Hz (16 frames).
 //  - 0.9: with K = 13 and the floor p_min = 0.001 a hypothesis can reach 1 - 12 * 0.001 =
 //    0.988; a correct, well-matched hypothesis sits near that, while an ambiguous pair
@@ -40,9 +58,13 @@
 //
 // Throws: the constructor throws std::invalid_argument naming the value and the valid range
 // (estimator_settings.h) if threshold is not in (0.5, 1), dwell_s is not in [0, 60] s,
-// frame_rate_hz is not positive and finite, or the dwell exceeds kMaxDwellFrames frames.
+// frame_rate_hz is not positive and finite, the dwell exceeds kMaxDwellFrames frames, or
+// dwell_nats is not in [0, kMaxDwellNats].
 // update() is noexcept and allocation-free; a NaN probability never counts as "above".
 #pragma once
+
+#include <cmath>
+#include <string>
 
 #include "f16mmae/estimator_settings.h"
 
@@ -52,12 +74,19 @@ struct DeclarerOptions {
   double threshold = kDefaultThreshold;  // p_k must exceed this ...
   double dwell_s = kDefaultDwellS;        // ... for this long (consecutive frames)
   double frame_rate_hz = 64.0;   // frames per second of the probabilities fed in
+  double dwell_nats = 0.0;       // ... or this log-odds excess summed over those frames (0: off)
 };
+
+// The evidence dwell's upper bound: 16 frames at the ceiling of K = 13 and p_min 0 in double
+// precision (ln(1/eps) = 36 nats a frame) is far below it.
+inline constexpr double kMaxDwellNats = 1.0e6;
 
 class Declarer {
  public:
   explicit Declarer(const DeclarerOptions& options = {}, int presumed = 0)
-      : options_(options), dwell_frames_(checked_dwell_frames(options)) {
+      : options_(options),
+        dwell_frames_(checked_dwell_frames(options)),
+        threshold_log_odds_(std::log(options.threshold / (1.0 - options.threshold))) {
     reset(presumed);
   }
 
@@ -77,7 +106,7 @@ class Declarer {
         above = k;
         break;
       }
-    if (!dwelt(above, dwell_frames, current_)) return -1;
+    if (!dwelt(above, above < 0 ? 0.0 : p[above], dwell_frames, current_)) return -1;
     current_ = candidate_;
     return current_;
   }
@@ -89,14 +118,18 @@ class Declarer {
     if (group == nullptr) return update(p, dwell_frames);
     const int n = static_cast<int>(p.size());
     int above = -1;
+    double above_mass = 0.0;
     for (int k = 0; k < n && above < 0; ++k) {
       if (group[k] != k) continue;   // each component once, at its representative
       double mass = 0.0;
       for (int j = k; j < n; ++j)
         if (group[j] == k) mass += p[j];
-      if (mass > options_.threshold) above = k;   // a NaN member makes the sum NaN: not above
+      if (mass > options_.threshold) {   // a NaN member makes the sum NaN: not above
+        above = k;
+        above_mass = mass;
+      }
     }
-    if (!dwelt(above, dwell_frames, group[current_])) return -1;
+    if (!dwelt(above, above_mass, dwell_frames, group[current_])) return -1;
     int form = candidate_;
     for (int j = candidate_ + 1; j < n; ++j)
       if (group[j] == candidate_ && p[j] > p[form]) form = j;
@@ -109,6 +142,7 @@ class Declarer {
     current_ = presumed;
     candidate_ = -1;
     count_ = 0;
+    evidence_nats_ = 0.0;
   }
 
   // Carry over `from`'s state (current, candidate, dwell count), keeping this declarer's
@@ -117,31 +151,45 @@ class Declarer {
     current_ = from.current_;
     candidate_ = from.candidate_;
     count_ = from.count_;
+    evidence_nats_ = from.evidence_nats_;
   }
   int current() const noexcept { return current_; }      // presumed or last declared
   int candidate() const noexcept { return candidate_; }  // hypothesis (component: its slot) above threshold, or -1
   int dwell_count() const noexcept { return count_; }    // consecutive frames above so far
+  double dwell_evidence_nats() const noexcept { return evidence_nats_; }   // E_n so far (header)
   int dwell_frames() const noexcept { return dwell_frames_; }
   const DeclarerOptions& options() const noexcept { return options_; }
 
  private:
-  // The dwell on `above` (the slot above the threshold, -1: none): restarts when it changes;
-  // true once it has held dwell_frames consecutive updates and is not `current`.
-  bool dwelt(int above, int dwell_frames, int current) noexcept {
+  // The dwell on `above` (the slot above the threshold, -1: none; `mass` its probability or
+  // its component's): restarts when it changes; true once it has held dwell_frames
+  // consecutive updates, or gathered the evidence dwell in force (header), and is not `current`.
+  bool dwelt(int above, double mass, int dwell_frames, int current) noexcept {
     if (above < 0) {
       candidate_ = -1;
       count_ = 0;
+      evidence_nats_ = 0.0;
       return false;
     }
     if (above != candidate_) {
       candidate_ = above;
       count_ = 0;
+      evidence_nats_ = 0.0;
     }
     if (count_ < dwell_frames) ++count_;
-    return count_ >= dwell_frames && candidate_ != current;
+    bool enough = count_ >= dwell_frames;
+    if (options_.dwell_nats > 0.0) {
+      // ln(P / (1 - P)) - ln(T / (1 - T)) > 0 since P > T; log1p keeps 1 - P exact near 1.
+      evidence_nats_ += std::log(mass) - std::log1p(-mass) - threshold_log_odds_;
+      enough = enough || evidence_nats_ >= options_.dwell_nats * dwell_frames / dwell_frames_;
+    }
+    return enough && candidate_ != current;
   }
   static int checked_dwell_frames(const DeclarerOptions& o) {
     check_threshold(o.threshold, "declarer");
+    if (!(o.dwell_nats >= 0.0 && o.dwell_nats <= kMaxDwellNats))
+      throw std::invalid_argument("declarer: dwell_nats must be in [0, " + format_value(kMaxDwellNats) +
+                                  "] nats, got " + format_value(o.dwell_nats));
     return f16mmae::dwell_frames(o.dwell_s, o.frame_rate_hz, "declarer");
   }
 
@@ -150,6 +198,8 @@ class Declarer {
   int current_ = 0;
   int candidate_ = -1;
   int count_ = 0;
+  double threshold_log_odds_ = 0.0;   // ln(threshold / (1 - threshold))
+  double evidence_nats_ = 0.0;        // E_n of the candidate (header)
 };
 
 }  // namespace f16mmae

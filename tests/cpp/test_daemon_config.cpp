@@ -76,6 +76,19 @@ TEST(DaemonConfig, EstimatorOverrides) {
   EXPECT_NE(r.message.find("--p-min must be a finite number >= 0, got '-1'"), std::string::npos);
 }
 
+TEST(DaemonConfig, EvidenceDwell) {
+  EXPECT_FALSE(parse_daemon_args({"--bank", "b"}, nullptr).config.dwell_nats.has_value());   // off
+  auto r = parse_daemon_args({"--bank", "b", "--dwell-nats", "48"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.dwell_nats, 48.0);
+  r = parse_daemon_args({"--bank", "b", "--dwell-nats=-3"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--dwell-nats must be a number of nats in [0, 1e+06] (0: the dwell alone), got '-3'"),
+            std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--dwell-nats", "nan"}, nullptr);
+  EXPECT_FALSE(r.ok);
+}
+
 TEST(DaemonConfig, OnLineEstimatorOptions) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;

@@ -154,3 +154,95 @@ TEST(DeclarerComponents, EachHypothesisAloneIsTheRuleWithout) {
     ASSERT_EQ(plain.dwell_count(), alone.dwell_count());
   }
 }
+
+// Evidence dwell (declarer.h): E_n = sum of ln(P/(1-P)) - ln(T/(1-T)) over the frames above,
+// declared once E_n >= dwell_nats, whichever comes first with the frame dwell.
+// Hand-computed: T = 0.9: ln 9 = 2.19722; P = 0.99: ln 99 = 4.59512 (excess 2.39790 a frame);
+// P = 0.95: ln 19 = 2.94444 (0.74722); P = 0.999: ln 999 = 6.90675 (4.70953).
+TEST(DeclarerEvidence, HighCandidateIsDeclaredOnceItsLogOddsSumReachesTheDwell) {
+  DeclarerOptions o;
+  o.dwell_nats = 7.0;   // 0.99 a frame: 2.398, 4.796, 7.194 -> the third frame
+  Declarer d(o);
+  EXPECT_EQ(d.dwell_frames(), 16);
+  EXPECT_EQ(d.update(winner(1, 0.99)), -1);
+  EXPECT_NEAR(d.dwell_evidence_nats(), std::log(99.0) - std::log(9.0), 1e-12);
+  EXPECT_EQ(d.update(winner(1, 0.99)), -1);
+  EXPECT_NEAR(d.dwell_evidence_nats(), 4.795791, 1e-6);
+  EXPECT_EQ(d.update(winner(1, 0.99)), 1);
+  EXPECT_EQ(d.current(), 1);
+  for (int i = 0; i < 30; ++i) EXPECT_EQ(d.update(winner(1, 0.99)), -1);   // declared once
+}
+
+TEST(DeclarerEvidence, NearTheThresholdTheFrameDwellDeclaresAsBefore) {
+  DeclarerOptions o;
+  o.dwell_nats = 16.0;   // 0.95 a frame: 16 frames give 11.96 < 16
+  Declarer with(o), without;
+  for (int i = 0; i < 15; ++i) {
+    EXPECT_EQ(with.update(winner(2, 0.95)), -1) << i;
+    EXPECT_EQ(without.update(winner(2, 0.95)), -1) << i;
+  }
+  EXPECT_NEAR(with.dwell_evidence_nats(), 15 * (std::log(19.0) - std::log(9.0)), 1e-9);
+  EXPECT_EQ(with.update(winner(2, 0.95)), 2);   // the 16th frame, by the frame dwell
+  EXPECT_EQ(without.update(winner(2, 0.95)), 2);
+}
+
+TEST(DeclarerEvidence, MixedSequenceInterruptionAndNewCandidateRestartTheSum) {
+  DeclarerOptions o;
+  o.dwell_nats = 5.0;
+  Declarer d(o);
+  EXPECT_EQ(d.update(winner(1, 0.999)), -1);   // 4.70953
+  EXPECT_EQ(d.update(winner(1, 0.85)), -1);    // below: restarts
+  EXPECT_EQ(d.dwell_evidence_nats(), 0.0);
+  EXPECT_EQ(d.update(winner(1, 0.999)), -1);   // 4.70953
+  EXPECT_EQ(d.update(winner(2, 0.999)), -1);   // another candidate: restarts at 4.70953
+  EXPECT_NEAR(d.dwell_evidence_nats(), std::log(999.0) - std::log(9.0), 1e-12);
+  EXPECT_EQ(d.update(winner(2, 0.95)), 2);     // 4.70953 + 0.74722 = 5.45675 >= 5
+}
+
+TEST(DeclarerEvidence, LongerDwellInForceAsksForAsManyMoreNats) {
+  DeclarerOptions o;
+  o.dwell_nats = 7.0;
+  Declarer d(o);
+  // dwell in force 32 frames, twice the declarer's 16: 14 nats, 0.99 a frame: 6 frames (14.39)
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(d.update(winner(1, 0.99), 32), -1) << i;
+  EXPECT_EQ(d.update(winner(1, 0.99), 32), 1);
+}
+
+TEST(DeclarerEvidence, ComponentsSumTheirMassBeforeTheLogOdds) {
+  DeclarerOptions o;
+  o.dwell_nats = 4.0;
+  Declarer d(o);
+  const int group[4] = {0, 1, 1, 3};
+  // slots 1 and 2 one component: mass 0.99 (0.5 + 0.49) -> 2.398 a frame: the second frame
+  const std::array<double, 4> p{0.004, 0.5, 0.49, 0.006};
+  EXPECT_EQ(d.update(p, d.dwell_frames(), group), -1);
+  EXPECT_NEAR(d.dwell_evidence_nats(), std::log(0.99 / 0.01) - std::log(9.0), 1e-9);
+  EXPECT_EQ(d.update(p, d.dwell_frames(), group), 1);   // the heavier form
+}
+
+TEST(DeclarerEvidence, ACertainCandidateCompletesTheDwellAtOnceAndOffIsTheFrameRule) {
+  DeclarerOptions o;
+  o.dwell_nats = 1000.0;
+  Declarer d(o);
+  EXPECT_EQ(d.update(std::array<double, 3>{0.0, 1.0, 0.0}), 1);   // ln(1/0): infinite
+  // dwell_nats 0: the frame dwell alone, however high the candidate
+  DeclarerOptions off;
+  off.dwell_s = 5.0 / 64.0;
+  Declarer a(off);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(a.update(winner(1, 0.99999)), -1) << i;
+  EXPECT_EQ(a.dwell_evidence_nats(), 0.0);
+  EXPECT_EQ(a.update(winner(1, 0.99999)), 1);
+}
+
+TEST(DeclarerEvidence, ValidationNamesTheBadValue) {
+  DeclarerOptions o;
+  o.dwell_nats = -1.0;
+  try {
+    Declarer d(o);
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "declarer: dwell_nats must be in [0, 1e+06] nats, got -1");
+  }
+  o.dwell_nats = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(Declarer{o}, std::invalid_argument);
+}

@@ -271,6 +271,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "their probabilities against the threshold, the dwell on the sum -- naming the form "
                          "that holds more mass (cpp/f16mmae/declarer.h). Default off: each hypothesis alone; "
                          "a bank without partial hypotheses is unchanged"),
+    EstimatorOption("dwell_nats", "--dwell-nats", "number", metavar="N", minimum=0.0, maximum=1.0e6,
+                    help="the evidence dwell: a hypothesis above the threshold P is also declared, before --dwell-s "
+                         "has passed, once its log-odds above the threshold's, ln(p/(1-p)) - ln(P/(1-P)), summed "
+                         "over its consecutive frames above, reach N nats: one the data hold near the ceiling is "
+                         "declared in a few frames, one hovering near the threshold still needs the dwell "
+                         "(cpp/f16mmae/declarer.h). Default 0: the dwell alone"),
     EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,
                     help="a bank with partial-loss hypotheses (design --partial-loss): their probability floor at "
                          "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "

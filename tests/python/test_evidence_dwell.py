@@ -1,0 +1,86 @@
+"""The evidence dwell (cpp/f16mmae/declarer.h, ``--dwell-nats``): the declarer's rule against
+hand-computed sums, the setting's refusals at every door (core, option table, daemon flags),
+and a flight whose declaration comes on the frame the recorded probabilities' log-odds sum
+reaches the dwell."""
+from __future__ import annotations
+
+import math
+import subprocess
+
+import numpy as np
+import pytest
+
+from f16mmae import core
+from f16mmae.banks import load_bank
+from f16mmae.lcm.daemon import daemon_flags, find_executable
+from f16mmae.loop.estimator_options import check
+from f16mmae.loop.flight import fly
+from f16mmae.truth import Scenario
+from f16mmae.truth.failures import make_failure
+
+LN9 = math.log(9.0)   # the threshold 0.9's log-odds
+
+
+def test_declarer_sums_the_log_odds_above_the_threshold():
+    d = core.Declarer(dwell_nats=7.0)
+    p = [0.005, 0.99, 0.005]   # ln 99 - ln 9 = 2.3979 a frame: 2.40, 4.80, 7.19
+    assert d.update(p) is None and d.dwell_evidence_nats == pytest.approx(math.log(99.0) - LN9, abs=1e-12)
+    assert d.update(p) is None
+    assert d.update(p) == 1 and d.dwell_count == 3 and d.dwell_frames == 16
+    off = core.Declarer()
+    assert [off.update(p) for _ in range(16)] == [None] * 15 + [1]
+
+
+def test_the_setting_is_refused_out_of_range_naming_it():
+    with pytest.raises(ValueError, match=r"dwell_nats must be in \[0, 1e\+06\] nats, got -1"):
+        core.Declarer(dwell_nats=-1.0)
+    with pytest.raises(ValueError, match="dwell_nats"):
+        core.HierarchicalBank(load_bank("tuned")[2], dwell_nats=float("nan"))
+    with pytest.raises(ValueError, match="--dwell-nats -2.0 must lie in"):
+        check({"dwell_nats": -2.0})
+    assert daemon_flags({"dwell_nats": 48.0}) == ("--dwell-nats", "48.0")
+
+
+def test_the_daemon_takes_the_flag_and_names_it():
+    """mmae-daemon --dwell-nats: in force (its ready line names it), refused out of range."""
+    daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
+    p = subprocess.Popen([daemon, "--bank", bank, "--dwell-nats", "48", "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    assert "threshold 0.9, dwell 0.25 s or 48 nats," in ready, ready
+    r = subprocess.run([daemon, "--bank", bank, "--dwell-nats", "-1"], capture_output=True, text=True, timeout=20)
+    assert r.returncode == 2
+    assert "--dwell-nats must be a number of nats in [0, 1e+06] (0: the dwell alone), got '-1'" in r.stderr + r.stdout
+
+
+@pytest.mark.slow
+def test_a_flight_declares_when_the_recorded_log_odds_sum_reaches_the_dwell():
+    """AZ fails at 2 s: with --dwell-nats 48 the first declaration is AZ, on the first frame on
+    which the log-odds excess of AZ over the threshold's, summed over its consecutive frames
+    above 0.9 (recomputed here from the recorded probabilities), reaches 48, before the
+    16-frame dwell, and no later than without the option."""
+    bank = load_bank("tuned")[2]
+    sc = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=4.0, seed=3, feedback="mmae",
+                  failures=(make_failure("AZ", 2.0),))
+    with_nats = fly(sc, bank, estimator_options={"dwell_nats": 48.0})
+    without = fly(sc, bank)
+    assert with_nats.declarations[0]["hypothesis"] == "AZ" == without.declarations[0]["hypothesis"]
+    t_nats, t_plain = with_nats.declarations[0]["time_s"], without.declarations[0]["time_s"]
+    assert 2.0 <= t_nats <= t_plain
+    p = with_nats.probability_of("AZ")
+    i = int(np.argmin(np.abs(with_nats.time_s - t_nats)))
+    run, total, frames = [], 0.0, 0
+    for j in range(i, -1, -1):   # the consecutive frames above the threshold, back from the declaration
+        if not p[j] > 0.9:
+            break
+        frames += 1
+        run.append(j)
+    for j in reversed(run):
+        x = min(p[j], 1.0 - 1e-16)
+        total += math.log(x) - math.log1p(-x) - LN9
+    assert frames < 16
+    last = run[0]
+    x = min(p[last], 1.0 - 1e-16)
+    assert total >= 48.0 > total - (math.log(x) - math.log1p(-x) - LN9)

@@ -106,6 +106,12 @@ def test_score_dual_run_fields():
     assert (missed["outcome"], missed["latency_s"], missed["hold"], missed["p_max_after"]) == ("missed", None, None, 0.0)
     wrong = score_dual_run("LS+PIT", "LS", 3.0, 5.0, 10.0, [{"hypothesis": "RS", "time_s": 3.4}], t, [0.0] * 20)
     assert (wrong["outcome"], wrong["false_alarm"], wrong["first_latency_s"]) == ("wrong", True, None)
+    # the first surface's partial hypothesis is its declaration (as in the single scoring), no alarm
+    partial = score_dual_run("LF+AZ", "LF", 3.0, 5.0, 10.0,
+                             [{"hypothesis": "LF:loss=0.5", "time_s": 3.6}, {"hypothesis": "LF+AZ", "time_s": 5.5}], t, p)
+    assert (partial["outcome"], partial["false_alarm"], partial["first_latency_s"]) == ("correct", False, pytest.approx(0.6))
+    other = score_dual_run("LF+AZ", "LF", 3.0, 5.0, 10.0, [{"hypothesis": "RF:loss=0.5", "time_s": 3.6}], t, p)
+    assert other["false_alarm"] is True
     # a baseline run: the single at t_2, any failure before t_2 is a false alarm
     base = score_dual_run("PIT", None, None, 5.0, 10.0, [{"hypothesis": "PIT", "time_s": 5.25}], t, [1.0] * 20)
     assert base["outcome"] == "correct" and base["hold"] == 1.0 and "first_latency_s" not in base

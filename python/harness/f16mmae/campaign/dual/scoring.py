@@ -25,6 +25,8 @@ declaration of ``h*`` at or after ``t_2`` minus ``t_2``), with the outcome by th
   declared (the first failure's own declaration is expected, not an alarm);
 * ``first_latency_s``  -- first declaration of ``a`` in ``[t_1, t_2)`` minus ``t_1``
   (None: the first failure was not declared before the second occurred);
+  in both, a partial hypothesis of ``a`` (``"LF:loss=0.5"``) is ``a``'s declaration, as the
+  single scoring takes it (``scoring.isolating_declarations``);
 * ``hold``             -- with ``t_d = t_2 + latency_s``: the fraction of ``[t_d, T)``
   (``T`` the flight's end) during which ``h*`` stays declared (None without a latency);
 * ``p_max_after``      -- the largest probability of ``h*`` at or after ``t_2`` (0 while
@@ -130,6 +132,13 @@ def transient_wrong(declarations: Sequence[dict], failures: Sequence[tuple[str, 
                for d in declarations)
 
 
+def false_alarm_before_second(declarations: Sequence[dict], first: str, second_time_s: float) -> bool:
+    """A dual run's false alarm (module docstring): before ``second_time_s`` a declaration
+    other than NONE and ``first``, a partial hypothesis of ``first`` counting as ``first``."""
+    return any(d["time_s"] < second_time_s and d["hypothesis"] not in (NONE, first)
+               for d in scoring.isolating_declarations(declarations))
+
+
 def score_dual_run(injected: str, first: str | None, first_time_s: float | None,
                    second_time_s: float, end_s: float, declarations: Sequence[dict],
                    time_s: np.ndarray, p_injected: np.ndarray) -> dict:
@@ -141,9 +150,8 @@ def score_dual_run(injected: str, first: str | None, first_time_s: float | None,
         final = out["final_hypothesis"]
         if final not in (injected, NONE) and names_only_failed(final, failures, end_s):
             out["outcome"] = "missed"
-        out["false_alarm"] = any(d["time_s"] < second_time_s and d["hypothesis"] not in (NONE, first)
-                                 for d in declarations)
-        firsts = [d["time_s"] for d in declarations
+        out["false_alarm"] = false_alarm_before_second(declarations, first, second_time_s)
+        firsts = [d["time_s"] for d in scoring.isolating_declarations(declarations)
                   if d["hypothesis"] == first and first_time_s <= d["time_s"] < second_time_s]
         out["first_latency_s"] = (firsts[0] - first_time_s) if firsts else None
     out["transient_wrong"] = transient_wrong(declarations, failures)

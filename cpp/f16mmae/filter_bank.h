@@ -301,10 +301,13 @@ class FilterBank {
     const bool adapt = scale_.enabled();
     const bool per_channel = scale_.per_channel();
     const double inv_s = scale_.inverse_scale();
+    const int spared = spared_hypothesis();   // the per-hypothesis tempering's b (turbulence_adaptation.h), -1: none
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (per_channel)
         l = -0.5 * channel_tempered_form(i);
+      else if (i == spared)
+        l = -0.5 * (q_(0) + (q_(i) - q_(0)) * scale_.hypothesis_scale_ratio()) * inv_s;
       else if (adapt)
         l *= inv_s;
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
@@ -652,6 +655,23 @@ class FilterBank {
       v -= s.llt().matrixLLT().diagonal().array().log().sum();   // (1/2) ln|s|
     }
     footing_(k) = v;
+  }
+  // The per-hypothesis tempering's spared hypothesis (turbulence_adaptation.h): the on-line
+  // failure hypothesis of least q_k (finite), unless its bit of full_tempering is set; -1 when
+  // the tempering is off or not caught up (ResidualScale::spares()), another hypothesis than
+  // 0 is presumed (a hierarchical bank's level 1: its declared failure), q_0 is not finite or
+  // there is none.
+  int spared_hypothesis() const noexcept {
+    if (presumed_ != 0 || !scale_.spares() || !std::isfinite(q_(0))) return -1;
+    int b = -1;
+    double lo = std::numeric_limits<double>::infinity();
+    for (int i = 1; i < size(); ++i)
+      if (live_[i] && q_(i) < lo) {
+        lo = q_(i);
+        b = i;
+      }
+    if (b < 0 || b >= 32 || ((scale_.options().full_tempering >> b) & 1u)) return -1;
+    return b;
   }
   // (D r_k)ᵀ A_k⁻¹ (D r_k), D = diag(s_j^-1/2): the per-channel tempering (turbulence_adaptation.h).
   double channel_tempered_form(int k) const noexcept {

@@ -27,12 +27,20 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
     beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf.
     ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit;
-    ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``)."""
+    ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``);
+    ``set_tempering`` W becomes ``adapt_hypothesis_weight`` W and ``adapt_full_tempering``, the bits of
+    ``design.turbulence_banks.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``)."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
     counted = out.pop("adapt_counted_channel", None)
     if counted is not None:   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
         out["adapt_counted_channels"] = 1 << SENSORS.index(counted.upper())
+    weight = out.pop("set_tempering", None)
+    if weight is not None:   # the per-hypothesis tempering: the weight, and the fully tempered ones' bits
+        from ..design.turbulence_banks import SET_TEMPERING_FULL
+        from ..names import SINGLE_HYPOTHESES
+        out["adapt_hypothesis_weight"] = float(weight)
+        out["adapt_full_tempering"] = sum(1 << SINGLE_HYPOTHESES.index(h) for h in SET_TEMPERING_FULL)
     if out.pop("actuator_limits", False):
         free = [math.inf] * (nu - len(RATE_LIMIT_RAD_S))
         out["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, *free]

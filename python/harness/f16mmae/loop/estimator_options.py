@@ -120,6 +120,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "with --tuning turbulence, whose bank file is the set's: mmae-daemon --bank SET "
                          "--turbulence-banks; flown with the load-factor tempering its file recommends, "
                          "docs/results/turbulence_banks.md). Default off"),
+    EstimatorOption("set_tempering", "--set-tempering", "number", metavar="W", minimum=0.0, exclusive=True,
+                    maximum=1.0, requires="turbulence_banks", in_daemon=False,
+                    help="with --turbulence-banks: each frame the best-fitting failure hypothesis (the "
+                         "stabilators excepted) has its evidence against NONE tempered by 1 + W (s - 1) in "
+                         "place of the turbulence adaptation's s (cpp/f16mmae/turbulence_adaptation.h). "
+                         "Default 1: every hypothesis by s"),
     EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,
                     help="with --turbulence-banks: the closed loop scales the truth's surface dither each frame "
                          "by the turbulence the set's member in force measures (its rho over the member's "

@@ -293,13 +293,18 @@ CORE_ONLY: dict[str, str] = {
     "adapt_gain": "the adaptation's gain on the excess residual power (turbulence_adaptation.h)",
     "adapt_counted_channels": "the counted channels as a bit mask over z (turbulence_adaptation.h); the "
                               "estimator sets it from --adapt-counted-channel (loop/estimator.py core_arguments)",
+    "adapt_hypothesis_weight": "the per-hypothesis tempering's weight (turbulence_adaptation.h); the estimator "
+                               "sets it from --set-tempering (loop/estimator.py core_arguments)",
+    "adapt_full_tempering": "the hypotheses the per-hypothesis tempering leaves at s, a bit mask over the "
+                            "level-0 hypotheses; the estimator sets it with --set-tempering",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
-#: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator).
+#: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator,
+#: ``set_tempering`` by the estimator).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
-                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel")
+                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel", "set_tempering")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.

@@ -103,7 +103,7 @@
 // a hypothesis other than 0 is presumed (FilterBank::presume; a hierarchical bank's level 1
 // presumes its declared failure, whose duals are then the hypotheses) every l_k keeps s.
 // full_tempering: bit k set keeps hypothesis k's s (the caller names them: the turbulence
-// bank set's stabilators, design/turbulence_banks.py). Scalar tempering only: with
+// bank set's stabilators and flaperons, design/turbulence_banks.py). Scalar tempering only: with
 // channel_weight > 0 it is refused.
 //
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the

@@ -15,11 +15,12 @@ from f16mmae.loop.estimator_options import check
 from f16mmae.names import SINGLE_HYPOTHESES
 
 
-def test_the_option_becomes_the_weight_and_the_stabilators_bits():
+def test_the_option_becomes_the_weight_and_the_fully_tempered_hypotheses_bits():
     args = core_arguments({"set_tempering": 0.25})
     assert args["adapt_hypothesis_weight"] == 0.25
     bits = args["adapt_full_tempering"]
-    assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if bits >> i & 1] == ["LS", "RS"]
+    assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if bits >> i & 1] == list(turbulence_banks.SET_TEMPERING_FULL)
+    assert bits & 0b110 == 0b110   # the stabilators (LS, RS: level-0 slots 1 and 2) among them
     assert "set_tempering" not in args
     assert "adapt_hypothesis_weight" not in core_arguments({})
 

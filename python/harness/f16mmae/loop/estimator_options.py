@@ -123,7 +123,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("set_tempering", "--set-tempering", "number", metavar="W", minimum=0.0, exclusive=True,
                     maximum=1.0, requires="turbulence_banks", in_daemon=False,
                     help="with --turbulence-banks: each frame the best-fitting failure hypothesis (the "
-                         "stabilators excepted) has its evidence against NONE tempered by 1 + W (s - 1) in "
+                         "stabilators and flaperons excepted) has its evidence against NONE tempered by 1 + W (s - 1) in "
                          "place of the turbulence adaptation's s (cpp/f16mmae/turbulence_adaptation.h). "
                          "Default 1: every hypothesis by s"),
     EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,

@@ -11,7 +11,10 @@
 //                   the frame's q_k then update s (u_k below is not scaled); per channel
 //                   (adaptation.channel_weight > 0) q_k/2 becomes (D r_k)ᵀ A_k⁻¹ (D r_k) / 2,
 //                   D = diag(s_j^-1/2) of the frames before, and the best-fitting filter's
-//                   residual updates s_j.
+//                   residual updates s_j; per hypothesis (adaptation.hypothesis_weight w < 1,
+//                   while hypothesis 0 is presumed) the frame's best-fitting failure filter b
+//                   not in adaptation.full_tempering has l_b = -(q_0 + (q_b - q_0) s / s_b)/(2 s),
+//                   s_b = 1 + w (s - 1) (turbulence_adaptation.h).
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves

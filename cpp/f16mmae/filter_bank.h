@@ -11,7 +11,10 @@
 //                   the frame's q_k then update s (u_k below is not scaled); per channel
 //                   (adaptation.channel_weight > 0) q_k/2 becomes (D r_k)ᵀ A_k⁻¹ (D r_k) / 2,
 //                   D = diag(s_j^-1/2) of the frames before, and the best-fitting filter's
-//                   residual updates s_j.
+//                   residual updates s_j; per hypothesis (adaptation.hypothesis_weight w < 1,
+//                   while hypothesis 0 is presumed) the frame's best-fitting failure filter b
+//                   not in adaptation.full_tempering has l_b = -(q_0 + (q_b - q_0) s / s_b)/(2 s),
+//                   s_b = 1 + w (s - 1) (turbulence_adaptation.h).
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
@@ -301,10 +304,13 @@ class FilterBank {
     const bool adapt = scale_.enabled();
     const bool per_channel = scale_.per_channel();
     const double inv_s = scale_.inverse_scale();
+    const int spared = spared_hypothesis();   // the per-hypothesis tempering's b (turbulence_adaptation.h), -1: none
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (per_channel)
         l = -0.5 * channel_tempered_form(i);
+      else if (i == spared)
+        l = -0.5 * (q_(0) + (q_(i) - q_(0)) * scale_.hypothesis_scale_ratio()) * inv_s;
       else if (adapt)
         l *= inv_s;
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
@@ -652,6 +658,23 @@ class FilterBank {
       v -= s.llt().matrixLLT().diagonal().array().log().sum();   // (1/2) ln|s|
     }
     footing_(k) = v;
+  }
+  // The per-hypothesis tempering's spared hypothesis (turbulence_adaptation.h): the on-line
+  // failure hypothesis of least q_k (finite), unless its bit of full_tempering is set; -1 when
+  // the tempering is off or not caught up (ResidualScale::spares()), another hypothesis than
+  // 0 is presumed (a hierarchical bank's level 1: its declared failure), q_0 is not finite or
+  // there is none.
+  int spared_hypothesis() const noexcept {
+    if (presumed_ != 0 || !scale_.spares() || !std::isfinite(q_(0))) return -1;
+    int b = -1;
+    double lo = std::numeric_limits<double>::infinity();
+    for (int i = 1; i < size(); ++i)
+      if (live_[i] && q_(i) < lo) {
+        lo = q_(i);
+        b = i;
+      }
+    if (b < 0 || b >= 32 || ((scale_.options().full_tempering >> b) & 1u)) return -1;
+    return b;
   }
   // (D r_k)ᵀ A_k⁻¹ (D r_k), D = diag(s_j^-1/2): the per-channel tempering (turbulence_adaptation.h).
   double channel_tempered_form(int k) const noexcept {

@@ -79,6 +79,33 @@
 // seconds after the failure; read per channel it wins the minimum with ρ up to m / m_k higher,
 // s rises and tempers that hypothesis's own evidence (docs/results/envelope_tuning.md).
 //
+// Per hypothesis (hypothesis_weight w in (0, 1]; 1, the default, is off): the gusts lift some
+// hypotheses' likelihoods against the no-failure filter's far more than others' (in severe
+// turbulence the stabilators', whose columns of B act in pitch as the gusts do, most), so one s
+// set by the most lifted tempers the others' evidence more than their own gust excursions need.
+// With w < 1, on each frame the best-fitting failure hypothesis b = argmin_{k>0, on line} q_k,
+// unless it is one of the fully tempered ones (bit b of full_tempering set), has its evidence
+// against filter 0 tempered by
+//     s_b = 1 + w (s − 1)          (the tempering's excess over the design, shared by w)
+// in place of s:
+//     l_b = −(q_0 + (q_b − q_0) s / s_b) / (2 s)     i.e.  l_b − l_0 = −(q_b − q_0) / (2 s_b),
+// every other l_k as above (the load-factor tempering s_e, when on, divides every l_k alike
+// and u_k is added after, as without it). Why the best-fitting one only: a failure lifts every
+// hypothesis that explains part of its signature (a failed stabilator lifts the pitch-rate and
+// angle-of-attack sensor hypotheses with it), and a weight on each of them would let a lightly
+// tempered partial fit outrun the fully tempered right one; the hypothesis that fits best
+// this frame is the one whose evidence is spared. At s = 1 (air no rougher than the design)
+// s_b = 1: the bank as without it. q_k, ρ and ρ̄ are the raw forms, untouched.
+// Only while the scale has caught up with the air, ρ >= ρ̄ / 2: ρ starts at ρ_0 (the start,
+// reset()) and rises over τ, ρ̄ is right within a second, so in rough air s understates the
+// gusts for the first seconds, and a spared hypothesis would take their excursions at a
+// fraction of an s already too small. Only a first failure's evidence is spared: while
+// a hypothesis other than 0 is presumed (FilterBank::presume; a hierarchical bank's level 1
+// presumes its declared failure, whose duals are then the hypotheses) every l_k keeps s.
+// full_tempering: bit k set keeps hypothesis k's s (the caller names them: the turbulence
+// bank set's stabilators and flaperons, design/turbulence_banks.py). Scalar tempering only: with
+// channel_weight > 0 it is refused.
+//
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
 // air by it, turbulence_bank_set.h): the same per-update x = min_k q_k / m, unclipped,
 // averaged from the start or reset() on as
@@ -108,7 +135,7 @@
 
 namespace f16mmae {
 
-// alignas(16), 64 bytes: it sits inside FilterBankOptions, the first member of the banks, and
+// alignas(16), 80 bytes: it sits inside FilterBankOptions, the first member of the banks, and
 // a shift of the banks' Eigen members by other than a multiple of 16 bytes changes Eigen's
 // alignment peeling, hence the rounding of the blend: "off" would not be bit-identical.
 struct alignas(16) TurbulenceAdaptationOptions {
@@ -122,6 +149,8 @@ struct alignas(16) TurbulenceAdaptationOptions {
   double gain = 20.0;            // κ, gain on the excess residual power
   double reference = 0.6;        // ρ_0, the power ratio above which tempering starts
   double frame_rate_hz = 64.0;   // f (the hierarchical bank sets its ModelBank's)
+  double hypothesis_weight = 1.0;        // w: the best-fitting failure hypothesis' share of s − 1 (header); 1: off
+  std::uint32_t full_tempering = 0;      // bit k: hypothesis k keeps the full s under hypothesis_weight
 };
 
 // Throws std::invalid_argument "<who>: <option> must be <range>, got <value>".
@@ -139,6 +168,11 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
   if (!(o.gain > 0.0 && o.gain <= 1000.0)) refuse("adapt_gain", "in (0, 1000]", o.gain);
   if (!(o.reference >= 0.0 && o.reference <= 100.0)) refuse("adapt_reference", "in [0, 100]", o.reference);
   if (!(o.channel_weight >= 0.0 && o.channel_weight <= 1.0)) refuse("adapt_channel_weight", "in [0, 1]", o.channel_weight);
+  if (!(o.hypothesis_weight > 0.0 && o.hypothesis_weight <= 1.0))
+    refuse("adapt_hypothesis_weight", "in (0, 1]", o.hypothesis_weight);
+  if (o.hypothesis_weight < 1.0 && o.channel_weight > 0.0)
+    throw std::invalid_argument(who + ": adapt_hypothesis_weight below 1 needs the common scale (adapt_channel_weight 0), got " +
+                                format_value(o.channel_weight));
   check_frame_rate(o.frame_rate_hz, who);
 }
 
@@ -166,6 +200,13 @@ class ResidualScale {
   }
   bool enabled() const noexcept { return options_.enabled; }
   bool per_channel() const noexcept { return options_.enabled && options_.channel_weight > 0.0; }
+  bool per_hypothesis() const noexcept { return options_.enabled && options_.hypothesis_weight < 1.0; }
+  // The per-hypothesis tempering in force for the next frame (header): on, s > 1 and ρ >= ρ̄ / 2.
+  bool spares() const noexcept { return per_hypothesis() && s_ > 1.0 && rho_ >= 0.5 * measured_; }
+  // s_b = 1 + w (s − 1) of the header's per-hypothesis form, as the ratio s / s_b (1 when off).
+  double hypothesis_scale_ratio() const noexcept {
+    return per_hypothesis() ? s_ / (1.0 + options_.hypothesis_weight * (s_ - 1.0)) : 1.0;
+  }
   // ρ_j and s_j^−½ of the header's per-channel form (ρ_0 and 1 when it is off).
   const ZVector& channel_power_ratios() const noexcept { return channel_rho_; }
   const ZVector& channel_inverse_sqrt_scales() const noexcept { return channel_inv_sqrt_s_; }

@@ -1,6 +1,7 @@
 // Turbulence adaptation (turbulence_adaptation.h): the scale's recursion by hand, the bank's
 // tempered Bayes update by hand, the power ratio per channel each filter reads (own_channels), "off" bit-identical to the bank without it, the scale
-// recovering a known noise-power ratio, a failure not absorbed, option checks, and no heap
+// recovering a known noise-power ratio, a failure not absorbed, the per-hypothesis tempering by
+// hand, option checks, and no heap
 // allocation in the F-16-sized step with it on (global operator new is counted here).
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/turbulence_adaptation.h"
@@ -406,6 +407,65 @@ TEST(TurbulenceAdaptation, AFailureDoesNotRaiseTheScaleAndIsDeclared) {
   }
 }
 
+TEST(TurbulenceAdaptation, PerHypothesisTemperingSparesTheBestFittingFailureByHand) {
+  // tau far below a frame and kappa = 1, rho_0 = 1: s = clamp(min_k q_k, 1, 50) of the last frame.
+  // A = (1, 4, 2, 3): q_k = z^2 / A_k.
+  FilterBankOptions o;
+  o.p_min = 0.0;
+  o.adaptation = on(1e-5, 1.0, 50.0);
+  o.adaptation.hypothesis_weight = 0.25;
+  const std::vector<Scalar> models{scalar_model(1.0), scalar_model(4.0), scalar_model(2.0), scalar_model(3.0)};
+  ScalarBank bank(models, o);
+  ASSERT_TRUE(bank.update(z1(3.0)));   // s was 1: nothing spared, l = -q/2 with q = (9, 2.25, 4.5, 3)
+  EXPECT_NEAR(bank.log_likelihoods()(1), -2.25 / 2.0, 1e-15);
+  EXPECT_NEAR(bank.turbulence_scale(), 2.25, 1e-12);
+  bank.set_probabilities(Eigen::Vector4d::Constant(0.25));
+  ASSERT_TRUE(bank.update(z1(2.0)));   // q = (4, 1, 2, 4/3), s = 2.25; b = 1 (least q among k > 0)
+  const double s = 2.25, s_b = 1.0 + 0.25 * (s - 1.0);   // 1.3125
+  const double l0 = -4.0 / (2 * s), l1 = -(4.0 + (1.0 - 4.0) * s / s_b) / (2 * s);
+  const double l2 = -2.0 / (2 * s), l3 = -(4.0 / 3.0) / (2 * s);
+  EXPECT_NEAR(bank.log_likelihoods()(0), l0, 1e-14);
+  EXPECT_NEAR(bank.log_likelihoods()(1), l1, 1e-14);
+  EXPECT_NEAR(bank.log_likelihoods()(2), l2, 1e-14);
+  EXPECT_NEAR(bank.log_likelihoods()(3), l3, 1e-14);
+  EXPECT_NEAR(l1 - l0, -(1.0 - 4.0) / (2 * s_b), 1e-14);   // b's evidence against 0, tempered by s_b
+  const double w[4] = {std::exp(l0), std::exp(l1), std::exp(l2), std::exp(l3)};
+  const double sum = w[0] + w[1] + w[2] + w[3];
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(bank.probabilities()(k), w[k] / sum, 1e-14) << k;
+
+  // hypothesis 1 fully tempered (bit 1): every l_k = -q_k / (2 s), as with weight 1
+  o.adaptation.full_tempering = 1u << 1;
+  ScalarBank exempt(models, o);
+  o.adaptation.full_tempering = 0;
+  o.adaptation.hypothesis_weight = 1.0;
+  ScalarBank plain(models, o);
+  for (ScalarBank* b : {&exempt, &plain}) {
+    ASSERT_TRUE(b->update(z1(3.0)));
+    ASSERT_TRUE(b->update(z1(2.0)));
+    EXPECT_NEAR(b->log_likelihoods()(1), -1.0 / (2 * s), 1e-14);
+    EXPECT_NEAR(b->log_likelihoods()(3), l3, 1e-14);
+  }
+  // the raw forms drive the scale: it is the same with and without the weight
+  EXPECT_DOUBLE_EQ(bank.turbulence_scale(), plain.turbulence_scale());
+
+  // another hypothesis presumed (a hierarchical bank's level 1): nothing spared
+  bank.presume(3);
+  const double s2 = bank.turbulence_scale();   // min q of the last frame: 1
+  ASSERT_TRUE(bank.update(z1(3.0)));   // q = (9, 2.25, 4.5, 3)
+  EXPECT_NEAR(bank.log_likelihoods()(1), -2.25 / (2 * s2), 1e-14);
+
+  // not caught up: rho below half the measured rho-bar (slow tau, rho from rho_0 = 1)
+  ResidualScale<Eigen::Dynamic> r;
+  TurbulenceAdaptationOptions slow = on(5.0);
+  slow.hypothesis_weight = 0.25;
+  r.configure(slow, 1, "test");
+  r.observe(Eigen::Vector2d(30.0, 40.0));   // rho-bar = 30, rho = 1 + alpha 29 (s > 1)
+  EXPECT_GT(r.scale(), 1.0);
+  EXPECT_FALSE(r.spares());
+  for (int n = 0; n < 640; ++n) r.observe(Eigen::Vector2d(30.0, 40.0));   // 10 s: rho near 30
+  EXPECT_TRUE(r.spares());
+}
+
 TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   const auto refused = [](TurbulenceAdaptationOptions o, const std::string& what) {
     try {
@@ -433,14 +493,23 @@ TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   o = on(5.0);
   o.channel_weight = 1.5;
   refused(o, "adapt_channel_weight");
+  o = on(5.0);
+  o.hypothesis_weight = 0.0;
+  refused(o, "adapt_hypothesis_weight");
+  o.hypothesis_weight = 1.5;
+  refused(o, "adapt_hypothesis_weight");
+  o.hypothesis_weight = 0.5;
+  o.channel_weight = 0.5;
+  refused(o, "adapt_hypothesis_weight below 1 needs the common scale");
 }
 
 TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
-  for (const double per_channel : {0.0, 1.0}) {
+  for (const double per_channel : {0.0, 1.0, -1.0}) {   // -1: the per-hypothesis tempering, w = 0.25
   const ModelBank mb = test::f16_model_bank(31u);
   HierarchicalOptions o;
   o.bank.adaptation = on(5.0);
-  o.bank.adaptation.channel_weight = per_channel;
+  o.bank.adaptation.channel_weight = per_channel > 0.0 ? per_channel : 0.0;
+  if (per_channel < 0.0) o.bank.adaptation.hypothesis_weight = 0.25;
   F16HierarchicalBank hb(mb, o);
   const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
   test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);

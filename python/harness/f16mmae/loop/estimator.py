@@ -29,7 +29,9 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit;
     ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``);
     ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
-    (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h)."""
+    (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
+    ``set_tempering`` W becomes ``adapt_hypothesis_weight`` W and ``adapt_full_tempering``, the bits of
+    ``design.turbulence_banks.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``)."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
     if "level1_allowance_pairs" in out:   # the file's table, {"F>C": k} (level1_allowance.h)
@@ -39,6 +41,12 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
         out["adapt_counted_channels"] = 1 << SENSORS.index(counted.upper())
     if out.pop("trim_steady_air_data", "on") == "off":   # the air-data gate of steady tracking open
         out["trim_steady_climb_ft_s"] = out["trim_steady_mach_per_s"] = math.inf
+    weight = out.pop("set_tempering", None)
+    if weight is not None:   # the per-hypothesis tempering: the weight, and the fully tempered ones' bits
+        from ..design.turbulence_banks import SET_TEMPERING_FULL
+        from ..names import SINGLE_HYPOTHESES
+        out["adapt_hypothesis_weight"] = float(weight)
+        out["adapt_full_tempering"] = sum(1 << SINGLE_HYPOTHESES.index(h) for h in SET_TEMPERING_FULL)
     if out.pop("actuator_limits", False):
         free = [math.inf] * (nu - len(RATE_LIMIT_RAD_S))
         out["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, *free]

@@ -120,6 +120,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "with --tuning turbulence, whose bank file is the set's: mmae-daemon --bank SET "
                          "--turbulence-banks; flown with the load-factor tempering its file recommends, "
                          "docs/results/turbulence_banks.md). Default off"),
+    EstimatorOption("set_tempering", "--set-tempering", "number", metavar="W", minimum=0.0, exclusive=True,
+                    maximum=1.0, requires="turbulence_banks", in_daemon=False,
+                    help="with --turbulence-banks: each frame the best-fitting failure hypothesis (the "
+                         "stabilators and flaperons excepted) has its evidence against NONE tempered by 1 + W (s - 1) in "
+                         "place of the turbulence adaptation's s (cpp/f16mmae/turbulence_adaptation.h). "
+                         "Default 1: every hypothesis by s"),
     EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,
                     help="with --turbulence-banks: the closed loop scales the truth's surface dither each frame "
                          "by the turbulence the set's member in force measures (its rho over the member's "
@@ -314,15 +320,20 @@ CORE_ONLY: dict[str, str] = {
     "adapt_gain": "the adaptation's gain on the excess residual power (turbulence_adaptation.h)",
     "adapt_counted_channels": "the counted channels as a bit mask over z (turbulence_adaptation.h); the "
                               "estimator sets it from --adapt-counted-channel (loop/estimator.py core_arguments)",
+    "adapt_hypothesis_weight": "the per-hypothesis tempering's weight (turbulence_adaptation.h); the estimator "
+                               "sets it from --set-tempering (loop/estimator.py core_arguments)",
+    "adapt_full_tempering": "the hypotheses the per-hypothesis tempering leaves at s, a bit mask over the "
+                            "level-0 hypotheses; the estimator sets it with --set-tempering",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
 #: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator;
-#: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits, loop/estimator.py core_arguments).
+#: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits and ``set_tempering`` the
+#: per-hypothesis tempering's keywords, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
                                "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel",
-                               "trim_steady_air_data")
+                               "trim_steady_air_data", "set_tempering")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.

@@ -20,15 +20,15 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 
 import numpy as np
 
 import f16mmae.truth.model as truth_model
-from f16mmae.banks import load_bank
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly, scenario_from_dict
 from f16mmae.names import FRAME_RATE_HZ, NONE, SENSORS
+
+import soak_runs  # tools/maneuver: the soak's runs flown again
 
 
 @contextlib.contextmanager
@@ -77,18 +77,11 @@ def flight(record: dict, bank, freeze: bool, segment_s: float, rms=None) -> dict
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("runs", help="a soak's runs.jsonl")
-    ap.add_argument("--runs", dest="select", help="comma-separated run_index values (default all)")
+    soak_runs.add_arguments(ap)
     ap.add_argument("--segment-s", type=float, default=90.0, help="segment of the residual means, s (default 90)")
     ap.add_argument("--plot", metavar="FILE", help="also draw the segment means of both variants (PNG)")
     args = ap.parse_args(argv)
-    records = [json.loads(line) for line in open(args.runs)]
-    if args.select:
-        keep = {int(v) for v in args.select.split(",")}
-        records = [r for r in records if r["run_index"] in keep]
-    if not records:
-        ap.error("no run selected")
-    bank = load_bank(records[0]["bank"])[2]
+    records, bank = soak_runs.selected(ap, args)
     totals = {False: 0, True: 0}
     means = {False: [], True: []}
     for r in records:

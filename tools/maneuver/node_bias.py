@@ -24,10 +24,11 @@ import math
 
 import numpy as np
 
-from f16mmae.banks import load_bank
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly, scenario_from_dict
 from f16mmae.names import FRAME_RATE_HZ, NONE, SENSORS, STATES
+
+import soak_runs  # tools/maneuver: the soak's runs flown again
 
 BINS = ((0.95, 1.01, "at a node (w >= 0.95)"), (0.75, 0.95, "0.75 <= w < 0.95"),
         (0.5, 0.75, "0.5 <= w < 0.75"), (0.0, 0.5, "w < 0.5 (cell interior)"))
@@ -66,17 +67,10 @@ def replay(record: dict, bank, extra: dict | None) -> dict:
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("runs", help="a soak's runs.jsonl")
-    ap.add_argument("--runs", dest="select", help="comma-separated run_index values (default all)")
+    soak_runs.add_arguments(ap)
     ap.add_argument("--extra", type=json.loads, default=None, help="estimator settings to override (JSON)")
     args = ap.parse_args(argv)
-    records = [json.loads(line) for line in open(args.runs)]
-    if args.select:
-        keep = {int(v) for v in args.select.split(",")}
-        records = [r for r in records if r["run_index"] in keep]
-    if not records:
-        ap.error("no run selected")
-    bank = load_bank(records[0]["bank"])[2]
+    records, bank = soak_runs.selected(ap, args)
     parts = [replay(r, bank, args.extra) for r in records]
     res = np.concatenate([p["res"] for p in parts])
     w = np.concatenate([p["w"] for p in parts])

@@ -181,6 +181,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace f16mmae {
@@ -238,9 +239,10 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
-    if (level_ == 1 && allowance_on_) {   // level1_allowance.h
+    if (level_ == 1 && allowance_on_[static_cast<std::size_t>(level1_bank_)]) {   // level1_allowance.h
       p_allow_ = bank_.probabilities();
-      if (Level1Allowance::apply_each(p_allow_, allow_k_)) bank_.set_probabilities(p_allow_);
+      if (Level1Allowance::apply_each(p_allow_, allowances_[static_cast<std::size_t>(level1_bank_)]))
+        bank_.set_probabilities(p_allow_);
     }
     if (maneuver_trim_.options().inertial)   // maneuver_trim.h / inertial_flight_path.h
       maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
@@ -370,7 +372,6 @@ class HierarchicalBank {
     online_ = levels_.level0();
     level_ = 0;
     level1_bank_ = -1;
-    mark_duals();
     if (levels_.partial())
       for (int k = 1; k < size(); ++k) bank_.set_live(k, true);
     set_floors();   // the level-0 floor again (no-op unless level1_p_min)
@@ -443,7 +444,6 @@ class HierarchicalBank {
     online_ = from.online_;
     level_ = from.level_;
     level1_bank_ = from.level1_bank_;
-    mark_duals();
     set_floors();   // this bank's floors for the level carried over
     bank_.carry_over(from.bank_, !warm);
     if (!warm) bank_.reset_adaptation();
@@ -615,10 +615,8 @@ class HierarchicalBank {
                                   std::to_string(options.history_capacity));
     for (const auto& h : mb.hypotheses) names_.push_back(h.name);
     Level1Allowance::check(options.level1_allowance);
-    build_allowances(mb);
-    allow_k_.assign(static_cast<std::size_t>(size()), 0.0);
+    build_allowances();
     p_allow_ = bank_.probabilities();
-    mark_duals();
     LevelFloors::check_partial(options.partial_p_min, levels_.partial_count(), levels_.size(), options.bank.p_min,
                                options.declarer.threshold);
     if (maneuver_dwell_.enabled()) {
@@ -718,7 +716,6 @@ class HierarchicalBank {
     }
     online_ = next;
     level_ = level;
-    mark_duals();
     departure_.release();
     set_floors();
     bank_.presume(presumed);
@@ -733,47 +730,26 @@ class HierarchicalBank {
     LevelFloors::apply(bank_, level_, level0_floor(), options_.level1_p_min, options_.partial_p_min,
                        levels_.level0_partial());
   }
-  // allow_k_[s]: the allowance of the dual on line in slot s (level1_allowance.h), 0 for any other
-  // slot and at level 0; the declared single is that of the hypothesis presumed in slot 1.
-  void mark_duals() noexcept {
-    allowance_on_ = false;
-    const std::size_t n = names_.size();
-    const std::size_t f = level_ == 1 ? static_cast<std::size_t>(single_of_[static_cast<std::size_t>(online_[1])]) : 0;
-    for (int k = 0; k < size(); ++k) {
-      const double a = level_ == 1 && bank_.live(k) ? allow_of_[f * n + static_cast<std::size_t>(online_[k])] : 0.0;
-      allow_k_[static_cast<std::size_t>(k)] = a;
-      allowance_on_ = allowance_on_ || a > 0.0;
-    }
-  }
-  // allow_of_[f n + d]: the allowance of dual d in the level-1 bank of single f (ModelBank
-  // indices): options.level1_allowance_pairs["F>C"] (C: d's component other than F), else
-  // options.level1_allowance; 0 when d is no dual of F. single_of_[i]: the single of a partial
-  // hypothesis, any other its own index.
-  void build_allowances(const ModelBank& mb) {
-    const std::size_t n = names_.size();
+  // allowances_[f][s]: the allowance of the dual in slot s of level-1 bank f (level1_allowance.h):
+  // options.level1_allowance_pairs["F>C"] (F the bank's single, C the dual's other one,
+  // hierarchy_levels.h), else options.level1_allowance; 0 for a slot that holds no dual.
+  // allowance_on_[f]: some dual of bank f has one.
+  void build_allowances() {
     std::vector<std::string> singles;
-    single_of_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::string& name = names_[i];
-      single_of_[i] = static_cast<int>(i);
-      const auto colon = name.find(':');
-      if (colon != std::string::npos) single_of_[i] = mb.find(name.substr(0, colon));
-      else if (i > 0 && name.find('+') == std::string::npos) singles.push_back(name);
-    }
+    for (int i : levels_.singles()) singles.push_back(names_[static_cast<std::size_t>(i)]);
     for (const auto& [key, k] : options_.level1_allowance_pairs) Level1Allowance::check_pair(key, k, singles);
-    allow_of_.assign(n * n, 0.0);
-    for (std::size_t d = 0; d < n; ++d) {
-      const auto plus = names_[d].find('+');
-      if (plus == std::string::npos) continue;
-      const std::string a = names_[d].substr(0, plus), b = names_[d].substr(plus + 1);
-      for (const std::string& f : {a, b}) {
-        const std::string& c = f == a ? b : a;
-        const int fi = mb.find(f);
-        if (fi < 0) continue;
-        const auto it = options_.level1_allowance_pairs.find(f + ">" + c);
-        allow_of_[static_cast<std::size_t>(fi) * n + d] =
+    for (int f = 0; f + 1 < size(); ++f) {
+      std::vector<double> k_of(static_cast<std::size_t>(size()), 0.0);
+      const std::string& single = names_[static_cast<std::size_t>(levels_.level1_single(f))];
+      for (int slot = 0; slot < size(); ++slot) {
+        const int other = levels_.level1_partner(f)[slot];
+        if (other < 0) continue;
+        const auto it = options_.level1_allowance_pairs.find(single + ">" + names_[static_cast<std::size_t>(other)]);
+        k_of[static_cast<std::size_t>(slot)] =
             it != options_.level1_allowance_pairs.end() ? it->second : options_.level1_allowance;
       }
+      allowance_on_.push_back(std::any_of(k_of.begin(), k_of.end(), [](double k) { return k > 0.0; }) ? 1 : 0);
+      allowances_.push_back(std::move(k_of));
     }
   }
 
@@ -885,10 +861,8 @@ class HierarchicalBank {
   Declarer declarer1_;   // level 1 with level1_dwell_s
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
-  std::vector<double> allow_k_;   // per on-line slot: its dual's allowance at level 1, else 0 (mark_duals)
-  std::vector<double> allow_of_;  // per (single, hypothesis): the dual's allowance (build_allowances)
-  std::vector<int> single_of_;    // per hypothesis: its single (a partial's), else itself
-  bool allowance_on_ = false;     // some on-line dual has an allowance
+  std::vector<std::vector<double>> allowances_;   // per level-1 bank, per slot: its dual's allowance (build_allowances)
+  std::vector<char> allowance_on_;                // per level-1 bank: some dual has one
   PVector p_allow_;             // the probabilities with the allowance (level1_allowance.h)
   Levels levels_;         // the hypotheses on line at each level (hierarchy_levels.h)
   int level1_bank_ = -1;  // the level-1 bank on line (levels_.level1(f)), -1 at level 0

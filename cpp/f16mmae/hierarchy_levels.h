@@ -23,6 +23,11 @@
 //   itself), at level 0 (level0_groups()) and in each level-1 bank (level1_groups(f)).
 // Partial slots (for HierarchicalOptions::partial_p_min): level0_partial()[s] = 1 when level-0
 //   slot s holds a partial hypothesis.
+// Duals (for HierarchicalOptions::level1_allowance, level1_allowance.h): level1_single(f) is the
+//   ModelBank index of the single whose failure level-1 bank f holds (a partial c:MODE's: c), and
+//   level1_partner(f)[s] the ModelBank index of the other single d when slot s holds the dual
+//   c+d, -1 for NONE, the failure's forms and the spare slots. singles(): the singles' ModelBank
+//   indices, in its order.
 // Sizes: K on line at every level (Eigen::Dynamic: any K = 1 + singles + partials); Indices is
 //   std::array<int, K> for a fixed K, else std::vector<int>.
 // Throws std::invalid_argument (the messages name the bank "hierarchical bank"): an invalid
@@ -92,7 +97,8 @@ class HierarchyLevels {
     for (int f = 0; f < k - 1; ++f) {
       Indices idx = level0_;   // spare slots keep their level-0 filters, off line
       Indices live = make_indices(k);
-      for (int s = 0; s < k; ++s) live[s] = 0;
+      Indices partner = make_indices(k);
+      for (int s = 0; s < k; ++s) live[s] = 0, partner[s] = -1;
       idx[0] = 0;
       idx[1] = level0[f];
       int n = 2;
@@ -108,6 +114,7 @@ class HierarchyLevels {
         if (j < 0)
           throw std::invalid_argument("hierarchical bank: the model bank has no dual hypothesis '" + a + "+" +
                                       other + "' (nor '" + other + "+" + a + "') for the level-1 bank of " + a);
+        partner[n] = singles[c];
         idx[n++] = j;
       }
       for (int s = 0; s < n; ++s) live[s] = 1;
@@ -123,6 +130,8 @@ class HierarchyLevels {
         }
       level1_.push_back(idx);
       level1_live_.push_back(live);
+      level1_single_.push_back(single);
+      level1_partner_.push_back(partner);
     }
     // the component of each ModelBank hypothesis: a partial's is its single's, any other its own
     std::vector<int> component(mb.hypotheses.size());
@@ -133,6 +142,7 @@ class HierarchyLevels {
     level0_groups_ = groups_of(level0_, nullptr, component);
     for (std::size_t f = 0; f < level1_.size(); ++f)
       level1_groups_.push_back(groups_of(level1_[f], &level1_live_[f], component));
+    singles_ = singles;
     level0_partial_.assign(level0_.size(), 0);
     for (std::size_t s = 1; s < level0_.size(); ++s)
       level0_partial_[s] =
@@ -157,6 +167,11 @@ class HierarchyLevels {
   // The declarer's components (declarer.h) at level 0 and in level-1 bank f.
   const Indices& level0_groups() const noexcept { return level0_groups_; }
   const Indices& level1_groups(int f) const noexcept { return level1_groups_[static_cast<std::size_t>(f)]; }
+  // The single whose failure level-1 bank f holds, and the other single of the dual in each of its
+  // slots (-1: no dual), as ModelBank indices; the singles' ModelBank indices.
+  int level1_single(int f) const noexcept { return level1_single_[static_cast<std::size_t>(f)]; }
+  const Indices& level1_partner(int f) const noexcept { return level1_partner_[static_cast<std::size_t>(f)]; }
+  const std::vector<int>& singles() const noexcept { return singles_; }
   // The bank has partial hypotheses (its level-1 banks have spare slots).
   bool partial() const noexcept { return partial_; }
   // level0_partial()[s] == 1: level-0 slot s holds a partial hypothesis.
@@ -195,6 +210,9 @@ class HierarchyLevels {
   std::vector<Indices> level1_;        // level1_[f]: the level-1 bank of level-0 slot f + 1
   std::vector<Indices> level1_live_;   // level1_live_[f][s]: slot s on line in it
   std::vector<Indices> level1_groups_;
+  std::vector<int> level1_single_;        // level1_single_[f]: the single of level-1 bank f
+  std::vector<Indices> level1_partner_;   // level1_partner_[f][s]: the dual's other single, else -1
+  std::vector<int> singles_;
   Indices level0_groups_;
   std::vector<char> level0_partial_;
   bool partial_ = false;

@@ -58,6 +58,14 @@ TEST(HierarchyLevels, SinglesAndTheirDuals) {
   EXPECT_EQ(l.level0_groups(), (V{0, 1, 2, 3, 4}));
   EXPECT_EQ(l.level0_partial(), (std::vector<char>{0, 0, 0, 0, 0}));
   EXPECT_EQ(l.partial_count(), 0);
+  // the duals' other singles: U1's bank holds U1+U2, U1+Z1, U1+Z2; U2's holds "U1+U2" as U2's dual with U1
+  EXPECT_EQ(l.singles(), (V{1, 2, 3, 4}));
+  EXPECT_EQ(l.level1_single(0), 1);
+  EXPECT_EQ(l.level1_partner(0), (V{-1, -1, 2, 3, 4}));
+  EXPECT_EQ(l.level1_single(1), 2);
+  EXPECT_EQ(l.level1_partner(1), (V{-1, -1, 1, 3, 4}));
+  EXPECT_EQ(l.level1_single(3), 4);
+  EXPECT_EQ(l.level1_partner(3), (V{-1, -1, 1, 2, 3}));
 }
 
 TEST(HierarchyLevels, APartialHypothesisItsBankSpareSlotsAndComponents) {
@@ -79,6 +87,11 @@ TEST(HierarchyLevels, APartialHypothesisItsBankSpareSlotsAndComponents) {
   EXPECT_EQ(l.level1_groups(0), (V{0, 1, 2, 3, 4, 5}));   // the off-line slot stays alone
   EXPECT_EQ(l.level0_partial(), (std::vector<char>{0, 0, 0, 0, 0, 1}));
   EXPECT_EQ(l.partial_count(), 1);
+  // duals: the spare slot holds none; the partial's bank holds U1's duals, its single U1
+  EXPECT_EQ(l.singles(), (V{1, 2, 3, 4}));
+  EXPECT_EQ(l.level1_partner(0), (V{-1, -1, 2, 3, 4, -1}));
+  EXPECT_EQ(l.level1_single(4), 1);
+  EXPECT_EQ(l.level1_partner(4), (V{-1, -1, -1, 2, 3, 4}));
   EXPECT_EQ(Levels::partial_of("U1:loss=0.5"), "U1");
   EXPECT_EQ(Levels::partial_of("U1+Z1"), "");
   EXPECT_EQ(Levels::partial_of("U1"), "");

@@ -7,19 +7,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import f16mmae.design.turbulence_banks as turbulence_banks
+import f16mmae.design.turbulence_banks  # noqa: F401  (registers the turbulence bank set with banks.py)
 from f16mmae import core
 from f16mmae.banks import load_bank
 from f16mmae.loop.estimator import core_arguments
 from f16mmae.loop.estimator_options import check
-from f16mmae.names import SINGLE_HYPOTHESES
+from f16mmae.names import SET_TEMPERING_FULL, SINGLE_HYPOTHESES
 
 
 def test_the_option_becomes_the_weight_and_the_fully_tempered_hypotheses_bits():
     args = core_arguments({"set_tempering": 0.25})
     assert args["adapt_hypothesis_weight"] == 0.25
     bits = args["adapt_full_tempering"]
-    assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if bits >> i & 1] == list(turbulence_banks.SET_TEMPERING_FULL)
+    assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if bits >> i & 1] == list(SET_TEMPERING_FULL)
     assert bits & 0b110 == 0b110   # the stabilators (LS, RS: level-0 slots 1 and 2) among them
     assert "set_tempering" not in args
     assert "adapt_hypothesis_weight" not in core_arguments({})

@@ -73,6 +73,15 @@ SCHEDULED_BANK = "scheduled"
 #: The turbulence bank set's name wherever ``--tuning`` is accepted: its start member
 #: (design/turbulence_banks.py; flown as a set with --turbulence-banks), generated on first use.
 TURBULENCE_BANK = "turbulence"
+
+#: The hypotheses that keep the full tempering under --set-tempering W (the per-hypothesis
+#: tempering, cpp/f16mmae/turbulence_adaptation.h): the stabilators, whose likelihoods the gusts
+#: lift against NONE's the most in severe air (the greatest excursion of their log-odds over 10
+#: held minutes, light member in force, tuning seeds: LS 12.7, RS 21.0 nats), and the flaperons
+#: (LF 8.2, RF 5.3 there, but spared at W 0.25 they declared 9 times an hour in the held severe
+#: soak of campaign seed 7; every other hypothesis 5.2 or less): docs/results/turbulence_banks.md.
+SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF")
+
 #: Every 0.1 Mach and 5,000 ft, plus Mach 0.35: on the low-q̄ side the trims (alpha ~ 1/M^2)
 #: need the finer cell (docs/results/envelope_scheduled.md measures both grids).
 SCHEDULE_GRID = "mach=0.3/0.35/0.4/0.5/0.6/0.7/0.8,alt=5000:35000:5000"

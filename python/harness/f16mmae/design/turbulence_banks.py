@@ -148,13 +148,6 @@ DWELL_S = 0.125
 #: --maneuver-tempering G overrides it.
 MANEUVER_TEMPERING_G = 1.0
 
-#: The hypotheses that keep the full tempering under --set-tempering W (the per-hypothesis
-#: tempering, cpp/f16mmae/turbulence_adaptation.h): the stabilators, whose likelihoods the gusts
-#: lift against NONE's the most in severe air (the greatest excursion of their log-odds over 10
-#: held minutes, light member in force, tuning seeds: LS 12.7, RS 21.0 nats), and the flaperons
-#: (LF 8.2, RF 5.3 there, but spared at W 0.25 they declared 9 times an hour in the held severe
-#: soak of campaign seed 7; every other hypothesis 5.2 or less). docs/results/turbulence_banks.md, round 15.
-SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF")
 
 #: Bumped whenever the members' design or the thresholds change (part of the cache key).
 REVISION = 17

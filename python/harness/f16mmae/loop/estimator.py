@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import core
 from ..banks import bank_estimator_settings, turbulence_bank_set
-from ..names import SENSORS
+from ..names import SENSORS, SET_TEMPERING_FULL, SINGLE_HYPOTHESES
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 from .estimator_options import CLOSED_LOOP, load_allowance_pairs, scheduled_defaults, with_closed_loop_defaults
 
@@ -31,7 +31,7 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
     ``set_tempering`` W becomes ``adapt_hypothesis_weight`` W and ``adapt_full_tempering``, the bits of
-    ``design.turbulence_banks.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``)."""
+    ``names.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``)."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
     if "level1_allowance_pairs" in out:   # the file's table, {"F>C": k} (level1_allowance.h)
@@ -43,8 +43,6 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
         out["trim_steady_climb_ft_s"] = out["trim_steady_mach_per_s"] = math.inf
     weight = out.pop("set_tempering", None)
     if weight is not None:   # the per-hypothesis tempering: the weight, and the fully tempered ones' bits
-        from ..design.turbulence_banks import SET_TEMPERING_FULL
-        from ..names import SINGLE_HYPOTHESES
         out["adapt_hypothesis_weight"] = float(weight)
         out["adapt_full_tempering"] = sum(1 << SINGLE_HYPOTHESES.index(h) for h in SET_TEMPERING_FULL)
     if out.pop("actuator_limits", False):

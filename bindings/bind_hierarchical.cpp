@@ -429,8 +429,6 @@ declarations and the level carry over. schedule_state reports what is in force.)
                              "(nx,) probability-weighted state (perturbation from trim)")
       .def_property_readonly("residuals", prop([](auto& b) { return cv::to_numpy(b.bank().residuals()); }),
                              "(K, nz) residuals of the filters on line at the last update")
-      .def_property_readonly("log_likelihoods", prop([](auto& b) { return cv::to_numpy(b.bank().log_likelihoods()); }),
-                             "(K,) log-likelihoods l_k of the filters on line at the last update (eq. 2, as weighed)")
       .def_property_readonly("state_estimates", prop([](auto& b) { return cv::to_numpy(b.bank().state_estimates()); }),
                              "(K, nx) posterior states of the filters on line")
       .def_property_readonly("turbulence_scale", prop([](auto& b) { return b.turbulence_scale(); }),

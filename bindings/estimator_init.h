@@ -1,67 +1,43 @@
-// The estimator's settings as Python keyword arguments: ONE list, shared by every binding
-// that builds the hierarchical MMAE from a core.ModelBank (core.HierarchicalBank and
-// core.Executive), so that a setting the in-process estimator takes, the daemon's in-process
-// executive (and so `f16mmae replay`) takes too, with the same name, default and check.
+// The estimator's settings as Python keyword arguments: ONE table, shared by every binding that
+// builds the hierarchical MMAE from a core.ModelBank (core.HierarchicalBank and core.Executive)
+// or from a core.TurbulenceSetFile (core.Executive, core.TurbulenceBankSet), so that a setting the
+// in-process estimator takes, the daemon's in-process executive (and so `f16mmae replay`) takes
+// too, with the same name, default and check.
 //
-//   def_estimator_init<T>(cls)   cls.def(py::init(...)): T(model_bank, HierarchicalOptions)
-//                                from model_bank and the keyword arguments below
-//   def_estimator_init<T, Source>(cls)   the same from another source (core.Executive and
-//                                core.TurbulenceBankSet from a core.TurbulenceSetFile: the set's
-//                                members, cpp/executive/turbulence_set_bank.h)
+//   def_estimator_init<T>(cls)   cls.def(py::init(...)): T(model_bank, HierarchicalOptions) from
+//                                model_bank and keyword arguments, each a row of kKeywords below
+//   def_estimator_init<T, Source>(cls)   the same from another source (the set's members,
+//                                cpp/executive/turbulence_set_bank.h)
+//   estimator_options(kwargs)    the HierarchicalOptions those keywords give
 //
-//   p_min, strip_leading_term            the bank's floor and its likelihoods (filter_bank.h)
-//   level1_p_min                         the floor while a level-1 bank is on line; 0: p_min
-//                                        (hierarchical_bank.h)
-//   level1_dwell_s                       the dwell while a level-1 bank is on line; 0: dwell_s
-//   level1_allowance                     the duals' drift allowance at level 1, nats a frame; 0:
-//                                        none (level1_allowance.h)
-//   level1_allowance_pairs               {"F>C": k}: the dual F+C's own allowance in F's level-1
-//                                        bank (level1_allowance.h); empty: none
-//   departure_hold ('on'|'off')          level 1: no declaration while the measurements leave
-//                                        the linearization (hierarchical_bank.h; default on)
-//   declare_components                   a partial hypothesis and its single declared as one
-//                                        component (hierarchical_bank.h, declarer.h; default off)
-//   partial_p_min                        the partial-loss hypotheses' floor at level 0; 0: p_min
-//                                        (hierarchical_bank.h)
-//   start_up_s                           updates that weigh nothing after a start (filter_bank.h)
-//   node_p_min                           a scheduled bank: each node's floor (its bank's p_min,
-//                                        blended; scheduled_filters.h) instead of p_min
-//   threshold, dwell_s, dwell_nats, declarer  the declaration rule (declarer.h); a core.Declarer
-//                                        given as declarer supplies threshold, dwell_s and dwell_nats
-//   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
-//   trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
-//   trim_steady_mach_per_s                                                    trim_tracker.h
-//   schedule_mode ('interpolate'|'nearest'),
-//   hysteresis_cells, blend_step_cells,
-//   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
-//   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
-//   adapt_reference (None: a schedule's per-node references, else 0.6), adapt_channel_weight,
-//   adapt_own_channels, adapt_counted_channels (bit j: z_j),
-//   adapt_hypothesis_weight, adapt_full_tempering (bit k: hypothesis k) turbulence_adaptation.h
-//   adapt_reference_climb (None: off), adapt_reference_climb_hold_s,
-//   adapt_reference_climb_dwell_s (0: the declarer's dwell)             climb_reference.h
-//   maneuver_dwell_s (0: the declarer's dwell), maneuver_reference (None: off),
-//   maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s  maneuver_dwell.h
-//   maneuver_mach_per_s: the air data's |M_dot| above which the maneuver dwell's and the
-//   climb reference's gates call the aircraft maneuvering      maneuver_dwell.h, climb_reference.h
-//   maneuver_kinematics, maneuver_tempering_g,
-//   maneuver_tempering_deadband_g (0: none)                             maneuver_kinematics.h
-//   maneuver_trim, maneuver_trim_time_constant_s, maneuver_trim_accel ('on'|'off'),
-//   maneuver_trim_rates ('air'|'inertial'), maneuver_trim_blend_s                   maneuver_trim.h
-//   actuator_rate_limits_rad_s, actuator_position_limits_rad (nu each; empty: off)
-//                                                                       actuator_limits.h
-// Every default is the core's own (the option structs' initialisers), so a keyword left out
-// means the bank as designed. Each keyword is a row of the harness's option table
-// (loop/estimator_options.py) or named there in CORE_ONLY with its reason. A bad schedule_mode or declarer raises ValueError naming it.
+// A row names a keyword and the option field it sets; field<&A::b, &B::c>("name") is the plain
+// row: the value cast to the field's type, and its default read from a default-constructed
+// HierarchicalOptions. A keyword left out is the core's own default, so the bank as designed.
+// Adding a setting is one row here and one row of the harness's option table
+// (loop/estimator_options.py; or named in CORE_ONLY with its reason: tests/python/
+// test_hil_daemon_cli.py checks the two against each other). The constructor's docstring lists
+// every keyword with its default.
+//
+// Where each row's field lives: the floor, likelihoods and adaptation in filter_bank.h and
+// turbulence_adaptation.h; the declaration rule in declarer.h; the levels in hierarchical_bank.h,
+// level_floors.h, level1_allowance.h, departure_hold.h; trim tracking in trim_tracker.h; the
+// schedule in scheduled_filters.h; the climb reference in climb_reference.h; the maneuver options
+// in maneuver_dwell.h, maneuver_kinematics.h, maneuver_trim.h; the limits in actuator_limits.h.
+//
+// Errors name the keyword: an unknown keyword or a value of the wrong type raises TypeError, a
+// bad choice ('on'|'off', schedule_mode, ...) ValueError. `declarer`, a core.Declarer, supplies
+// threshold, dwell_s and dwell_nats in place of those keywords whatever their order.
 #pragma once
 
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <map>
-#include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "f16mmae/declarer.h"
@@ -72,109 +48,171 @@ namespace f16mmae::bindings {
 
 namespace py = pybind11;
 
-inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, double level1_dwell_s, double level1_allowance,
-                                             const std::map<std::string, double>& level1_allowance_pairs,
-                                             const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
-                                             double threshold, double dwell_s, double dwell_nats,
-                                             const py::object& declarer, double trim_time_constant_s,
-                                             double trim_freeze_probability, double trim_hold_s, bool trim_freeze,
-                                             double trim_steady_g,
-                                             const std::vector<std::string>& trim_steady_measurements,
-                                             double trim_steady_roll_rate_rad_s, double trim_steady_climb_ft_s,
-                                             double trim_steady_mach_per_s, const std::string& schedule_mode,
-                                             double hysteresis_cells,
-                                             double blend_step_cells, double air_data_time_constant_s,
-                                             bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
-                                             double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                                             const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
-                                             std::uint32_t adapt_counted_channels, double adapt_hypothesis_weight, std::uint32_t adapt_full_tempering,
-                                             const std::optional<double>& adapt_reference_climb,
-                                             double adapt_reference_climb_hold_s,
-                                             double adapt_reference_climb_dwell_s,
-                                             double maneuver_dwell_s, const std::optional<double>& maneuver_reference,
-                                             double maneuver_dwell_hold_s, double maneuver_dwell_g,
-                                             double maneuver_dwell_time_constant_s, double maneuver_mach_per_s,
-                                             bool maneuver_kinematics, double maneuver_tempering_g,
-                                             double maneuver_tempering_deadband_g,
-                                             bool maneuver_trim, double maneuver_trim_time_constant_s, const std::string& maneuver_trim_accel,
-                                             const std::string& maneuver_trim_rates, double maneuver_trim_blend_s,
-                                             const std::vector<double>& actuator_rate_limits_rad_s,
-                                             const std::vector<double>& actuator_position_limits_rad) {
+struct EstimatorKeyword {
+  const char* name;
+  const char* kind;                                      // what the value must be, for errors
+  void (*set)(HierarchicalOptions&, py::handle);         // may throw py::cast_error or ValueError
+  py::object (*default_of)(const HierarchicalOptions&);  // the core's default, for the docstring
+};
+
+template <class V>
+constexpr const char* kind_of() {
+  if constexpr (std::is_same_v<V, bool>) return "True or False";
+  else if constexpr (std::is_same_v<V, std::string>) return "a string";
+  else if constexpr (std::is_arithmetic_v<V>) return "a number";
+  else if constexpr (std::is_same_v<V, std::vector<double>>) return "a list of numbers";
+  else if constexpr (std::is_same_v<V, std::vector<std::string>>) return "a list of strings";
+  else return "a dict of strings to numbers";
+}
+
+// A plain row: HierarchicalOptions' field at the end of the member path Path.
+template <auto... Path>
+EstimatorKeyword field(const char* name) {
+  using V = std::decay_t<decltype((std::declval<HierarchicalOptions&>().*....*Path))>;
+  return {name, kind_of<V>(),
+          [](HierarchicalOptions& o, py::handle v) { (o.*....*Path) = v.cast<V>(); },
+          [](const HierarchicalOptions& o) { return py::cast((o.*....*Path)); }};
+}
+
+// A choice of two words stored as a bool (true: `yes`).
+inline bool choice(const char* name, py::handle v, const char* yes, const char* no) {
+  const auto s = v.cast<std::string>();
+  if (s != yes && s != no)
+    throw py::value_error(std::string(name) + " must be '" + yes + "' or '" + no + "', got '" + s + "'");
+  return s == yes;
+}
+
+// A reference that NaN turns off, given as a number or None.
+inline py::object optional_number(double x) { return std::isnan(x) ? py::object(py::none()) : py::cast(x); }
+
+using O = HierarchicalOptions;
+
+inline const std::vector<EstimatorKeyword>& estimator_keywords() {
+  static const std::vector<EstimatorKeyword> kKeywords = {
+      // the bank: floor, likelihoods, start
+      field<&O::bank, &FilterBankOptions::p_min>("p_min"),
+      field<&O::bank, &FilterBankOptions::strip_leading_term>("strip_leading_term"),
+      field<&O::bank, &FilterBankOptions::start_up_s>("start_up_s"),
+      field<&O::schedule, &ScheduleOptions::node_p_min>("node_p_min"),
+      // the levels
+      field<&O::level1_p_min>("level1_p_min"),
+      field<&O::level1_dwell_s>("level1_dwell_s"),
+      field<&O::level1_allowance>("level1_allowance"),
+      field<&O::level1_allowance_pairs>("level1_allowance_pairs"),
+      {"departure_hold", "'on' or 'off'",
+       [](O& o, py::handle v) { o.departure.enabled = choice("departure_hold", v, "on", "off"); },
+       [](const O& o) { return py::cast(o.departure.enabled ? "on" : "off"); }},
+      field<&O::declare_components>("declare_components"),
+      field<&O::partial_p_min>("partial_p_min"),
+      // the declaration rule (`declarer`, handled after the others, overrides these three)
+      field<&O::declarer, &DeclarerOptions::threshold>("threshold"),
+      field<&O::declarer, &DeclarerOptions::dwell_s>("dwell_s"),
+      field<&O::declarer, &DeclarerOptions::dwell_nats>("dwell_nats"),
+      {"declarer", "a core.Declarer or None", [](O&, py::handle) {},
+       [](const O&) { return py::object(py::none()); }},
+      // trim tracking
+      field<&O::trim, &TrimTrackingOptions::time_constant_s>("trim_time_constant_s"),
+      field<&O::trim, &TrimTrackingOptions::freeze_probability>("trim_freeze_probability"),
+      field<&O::trim, &TrimTrackingOptions::hold_s>("trim_hold_s"),
+      field<&O::trim, &TrimTrackingOptions::freeze>("trim_freeze"),
+      field<&O::trim, &TrimTrackingOptions::steady_g>("trim_steady_g"),
+      field<&O::trim, &TrimTrackingOptions::steady_measurements>("trim_steady_measurements"),
+      field<&O::trim, &TrimTrackingOptions::steady_roll_rate_rad_s>("trim_steady_roll_rate_rad_s"),
+      field<&O::trim, &TrimTrackingOptions::steady_climb_ft_s>("trim_steady_climb_ft_s"),
+      field<&O::trim, &TrimTrackingOptions::steady_mach_per_s>("trim_steady_mach_per_s"),
+      // the schedule
+      {"schedule_mode", "'interpolate' or 'nearest'",
+       [](O& o, py::handle v) {
+         o.schedule.mode = choice("schedule_mode", v, "interpolate", "nearest") ? ScheduleMode::kInterpolate
+                                                                                : ScheduleMode::kNearest;
+       },
+       [](const O& o) { return py::cast(o.schedule.mode == ScheduleMode::kInterpolate ? "interpolate" : "nearest"); }},
+      field<&O::schedule, &ScheduleOptions::hysteresis_cells>("hysteresis_cells"),
+      field<&O::schedule, &ScheduleOptions::blend_step_cells>("blend_step_cells"),
+      field<&O::schedule, &ScheduleOptions::air_data_time_constant_s>("air_data_time_constant_s"),
+      field<&O::schedule, &ScheduleOptions::cubic_trims>("cubic_trims"),
+      // the turbulence adaptation
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::enabled>("adapt_turbulence"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::time_constant_s>(
+          "adapt_time_constant_s"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::scale_min>("adapt_scale_min"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::scale_max>("adapt_scale_max"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::gain>("adapt_gain"),
+      {"adapt_reference", "a number or None",  // None: a schedule's per-node references, else the core's
+       [](O& o, py::handle v) {
+         if (v.is_none()) return;
+         o.bank.adaptation.reference = v.cast<double>();
+         o.schedule.node_adapt_reference = false;
+       },
+       [](const O&) { return py::object(py::none()); }},
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::channel_weight>(
+          "adapt_channel_weight"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::own_channels>(
+          "adapt_own_channels"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::counted_channels>(
+          "adapt_counted_channels"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::hypothesis_weight>(
+          "adapt_hypothesis_weight"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::full_tempering>(
+          "adapt_full_tempering"),
+      // the climb reference
+      {"adapt_reference_climb", "a number or None",
+       [](O& o, py::handle v) {
+         if (!v.is_none()) o.climb_reference.reference = v.cast<double>();
+       },
+       [](const O& o) { return optional_number(o.climb_reference.reference); }},
+      field<&O::climb_reference, &ClimbReferenceOptions::hold_s>("adapt_reference_climb_hold_s"),
+      field<&O::climb_reference, &ClimbReferenceOptions::dwell_s>("adapt_reference_climb_dwell_s"),
+      // the maneuver dwell and its gates
+      field<&O::maneuver_dwell, &ManeuverDwellOptions::dwell_s>("maneuver_dwell_s"),
+      {"maneuver_reference", "a number or None",
+       [](O& o, py::handle v) {
+         if (!v.is_none()) o.maneuver_dwell.reference = v.cast<double>();
+       },
+       [](const O& o) { return optional_number(o.maneuver_dwell.reference); }},
+      field<&O::maneuver_dwell, &ManeuverDwellOptions::hold_s>("maneuver_dwell_hold_s"),
+      field<&O::maneuver_dwell, &ManeuverDwellOptions::g>("maneuver_dwell_g"),
+      field<&O::maneuver_dwell, &ManeuverDwellOptions::time_constant_s>("maneuver_dwell_time_constant_s"),
+      {"maneuver_mach_per_s", "a number",  // one gate for the maneuver dwell and the climb reference
+       [](O& o, py::handle v) { o.maneuver_dwell.mach_per_s = o.climb_reference.mach_per_s = v.cast<double>(); },
+       [](const O& o) { return py::cast(o.maneuver_dwell.mach_per_s); }},
+      // the maneuver's kinematics, tempering and trim
+      field<&O::maneuver, &ManeuverOptions::kinematics>("maneuver_kinematics"),
+      field<&O::maneuver, &ManeuverOptions::tempering_g>("maneuver_tempering_g"),
+      field<&O::maneuver, &ManeuverOptions::tempering_deadband_g>("maneuver_tempering_deadband_g"),
+      field<&O::maneuver_trim, &ManeuverTrimOptions::enabled>("maneuver_trim"),
+      field<&O::maneuver_trim, &ManeuverTrimOptions::time_constant_s>("maneuver_trim_time_constant_s"),
+      {"maneuver_trim_accel", "'on' or 'off'",
+       [](O& o, py::handle v) { o.maneuver_trim.accel = choice("maneuver_trim_accel", v, "on", "off"); },
+       [](const O& o) { return py::cast(o.maneuver_trim.accel ? "on" : "off"); }},
+      {"maneuver_trim_rates", "'air' or 'inertial'",
+       [](O& o, py::handle v) { o.maneuver_trim.inertial = !choice("maneuver_trim_rates", v, "air", "inertial"); },
+       [](const O& o) { return py::cast(o.maneuver_trim.inertial ? "inertial" : "air"); }},
+      field<&O::maneuver_trim, &ManeuverTrimOptions::inertial_path, &InertialFlightPathOptions::blend_time_constant_s>(
+          "maneuver_trim_blend_s"),
+      // the actuators' limits (nu each; empty: off)
+      field<&O::actuators, &ActuatorLimitOptions::rate_limit_rad_s>("actuator_rate_limits_rad_s"),
+      field<&O::actuators, &ActuatorLimitOptions::position_limit_rad>("actuator_position_limits_rad"),
+  };
+  return kKeywords;
+}
+
+inline HierarchicalOptions estimator_options(const py::kwargs& kwargs) {
   HierarchicalOptions o;
-  o.maneuver.kinematics = maneuver_kinematics;
-  o.maneuver.tempering_g = maneuver_tempering_g;
-  o.maneuver.tempering_deadband_g = maneuver_tempering_deadband_g;
-  o.maneuver_trim.enabled = maneuver_trim;
-  o.maneuver_trim.time_constant_s = maneuver_trim_time_constant_s;
-  if (maneuver_trim_accel != "on" && maneuver_trim_accel != "off")
-    throw py::value_error("maneuver_trim_accel must be 'on' or 'off', got '" + maneuver_trim_accel + "'");
-  o.maneuver_trim.accel = maneuver_trim_accel == "on";
-  if (maneuver_trim_rates != "air" && maneuver_trim_rates != "inertial")
-    throw py::value_error("maneuver_trim_rates must be 'air' or 'inertial', got '" + maneuver_trim_rates + "'");
-  o.maneuver_trim.inertial = maneuver_trim_rates == "inertial";
-  o.maneuver_trim.inertial_path.blend_time_constant_s = maneuver_trim_blend_s;
-  o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
-  o.actuators.position_limit_rad = actuator_position_limits_rad;
-  o.trim.time_constant_s = trim_time_constant_s;
-  o.trim.freeze_probability = trim_freeze_probability;
-  o.trim.hold_s = trim_hold_s;
-  o.trim.freeze = trim_freeze;
-  o.trim.steady_g = trim_steady_g;
-  o.trim.steady_measurements = trim_steady_measurements;
-  o.trim.steady_roll_rate_rad_s = trim_steady_roll_rate_rad_s;
-  o.trim.steady_climb_ft_s = trim_steady_climb_ft_s;
-  o.trim.steady_mach_per_s = trim_steady_mach_per_s;
-  if (schedule_mode == "interpolate")
-    o.schedule.mode = ScheduleMode::kInterpolate;
-  else if (schedule_mode == "nearest")
-    o.schedule.mode = ScheduleMode::kNearest;
-  else
-    throw py::value_error("schedule_mode must be 'interpolate' or 'nearest', got '" + schedule_mode + "'");
-  o.schedule.hysteresis_cells = hysteresis_cells;
-  o.schedule.blend_step_cells = blend_step_cells;
-  o.schedule.air_data_time_constant_s = air_data_time_constant_s;
-  o.schedule.cubic_trims = cubic_trims;
-  o.bank.p_min = p_min;
-  o.level1_p_min = level1_p_min;
-  o.level1_dwell_s = level1_dwell_s;
-  o.level1_allowance = level1_allowance;
-  o.level1_allowance_pairs = level1_allowance_pairs;
-  if (departure_hold != "on" && departure_hold != "off")
-    throw py::value_error("departure_hold must be 'on' or 'off', got '" + departure_hold + "'");
-  o.departure.enabled = departure_hold == "on";
-  o.declare_components = declare_components;
-  o.partial_p_min = partial_p_min;
-  o.schedule.node_p_min = node_p_min;
-  o.bank.strip_leading_term = strip_leading_term;
-  o.bank.start_up_s = start_up_s;
-  o.bank.adaptation.enabled = adapt_turbulence;
-  o.bank.adaptation.time_constant_s = adapt_time_constant_s;
-  o.bank.adaptation.scale_min = adapt_scale_min;
-  o.bank.adaptation.scale_max = adapt_scale_max;
-  o.bank.adaptation.gain = adapt_gain;
-  o.bank.adaptation.channel_weight = adapt_channel_weight;
-  o.bank.adaptation.own_channels = adapt_own_channels;
-  o.bank.adaptation.counted_channels = adapt_counted_channels;
-  o.bank.adaptation.hypothesis_weight = adapt_hypothesis_weight;
-  o.bank.adaptation.full_tempering = adapt_full_tempering;
-  if (adapt_reference) {  // one reference everywhere; else a schedule's per-node ones, if it has them
-    o.bank.adaptation.reference = *adapt_reference;
-    o.schedule.node_adapt_reference = false;
+  const auto& table = estimator_keywords();
+  for (const auto& [key, value] : kwargs) {
+    const auto name = key.cast<std::string>();
+    const auto row = std::find_if(table.begin(), table.end(), [&](const auto& k) { return name == k.name; });
+    if (row == table.end()) throw py::type_error("unexpected estimator keyword argument '" + name + "'");
+    try {
+      row->set(o, value);
+    } catch (const py::cast_error&) {
+      throw py::type_error(name + " must be " + row->kind + ", got " +
+                           std::string(py::str(py::type::handle_of(value).attr("__name__"))));
+    }
   }
-  if (adapt_reference_climb) o.climb_reference.reference = *adapt_reference_climb;
-  o.climb_reference.hold_s = adapt_reference_climb_hold_s;
-  o.climb_reference.dwell_s = adapt_reference_climb_dwell_s;
-  o.maneuver_dwell.dwell_s = maneuver_dwell_s;
-  if (maneuver_reference) o.maneuver_dwell.reference = *maneuver_reference;
-  o.maneuver_dwell.hold_s = maneuver_dwell_hold_s;
-  o.maneuver_dwell.g = maneuver_dwell_g;
-  o.maneuver_dwell.time_constant_s = maneuver_dwell_time_constant_s;
-  o.maneuver_dwell.mach_per_s = maneuver_mach_per_s;
-  o.climb_reference.mach_per_s = maneuver_mach_per_s;
-  o.declarer.threshold = threshold;
-  o.declarer.dwell_s = dwell_s;
-  o.declarer.dwell_nats = dwell_nats;
-  if (!declarer.is_none()) {
+  if (kwargs.contains("declarer") && !kwargs["declarer"].is_none()) {
+    const py::handle declarer = kwargs["declarer"];
     if (!py::isinstance<Declarer>(declarer))
       throw py::value_error("declarer must be a core.Declarer (its threshold, dwell_s and dwell_nats are used), got " +
                             std::string(py::str(py::type::handle_of(declarer).attr("__name__"))));
@@ -186,97 +224,24 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   return o;
 }
 
+// The constructor's docstring: every keyword with the core's default, one a line
+// ("  p_min: float = 0.001"), the type as Python names it.
+inline std::string estimator_keywords_doc() {
+  const HierarchicalOptions core;
+  std::string doc = "Keyword arguments (bindings/estimator_init.h), each the core's default when left out:\n";
+  for (const auto& k : estimator_keywords()) {
+    const py::object d = k.default_of(core);
+    doc += std::string("  ") + k.name + ": " + k.kind + " = " + std::string(py::repr(d)) + "\n";
+  }
+  return doc;
+}
+
 template <class T, class Source = ModelBank, class Class>
 Class& def_estimator_init(Class& cls) {
-  const HierarchicalOptions core;  // the defaults
-  return cls.def(
-      py::init([](const Source& bank, double p_min, double level1_p_min, double level1_dwell_s, double level1_allowance,
-                  const std::map<std::string, double>& level1_allowance_pairs,
-                  const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
-                  double threshold, double dwell_s, double dwell_nats,
-                  const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
-                  double trim_hold_s, bool trim_freeze, double trim_steady_g,
-                  const std::vector<std::string>& trim_steady_measurements, double trim_steady_roll_rate_rad_s,
-                  double trim_steady_climb_ft_s,
-                  double trim_steady_mach_per_s, const std::string& schedule_mode,
-                  double hysteresis_cells,
-                  double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
-                  double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
-                  const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
-                                             std::uint32_t adapt_counted_channels, double adapt_hypothesis_weight, std::uint32_t adapt_full_tempering,
-                  const std::optional<double>& adapt_reference_climb,
-                  double adapt_reference_climb_hold_s, double adapt_reference_climb_dwell_s,
-                  double maneuver_dwell_s, const std::optional<double>& maneuver_reference,
-                  double maneuver_dwell_hold_s, double maneuver_dwell_g, double maneuver_dwell_time_constant_s,
-                  double maneuver_mach_per_s, bool maneuver_kinematics,
-                  double maneuver_tempering_g, double maneuver_tempering_deadband_g,
-                  bool maneuver_trim, double maneuver_trim_time_constant_s, const std::string& maneuver_trim_accel,
-                  const std::string& maneuver_trim_rates, double maneuver_trim_blend_s,
-                  const std::vector<double>& actuator_rate_limits_rad_s,
-                  const std::vector<double>& actuator_position_limits_rad) {
-        return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, level1_allowance, level1_allowance_pairs, departure_hold, declare_components, partial_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s, dwell_nats,
-                                             declarer,
-                                             trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
-                                             trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
-                                             trim_steady_mach_per_s, schedule_mode, hysteresis_cells, blend_step_cells,
-                                             air_data_time_constant_s, cubic_trims, adapt_turbulence,
-                                             adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
-                                             adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_counted_channels, adapt_hypothesis_weight, adapt_full_tempering, adapt_reference_climb, adapt_reference_climb_hold_s,
-                                             adapt_reference_climb_dwell_s, maneuver_dwell_s, maneuver_reference,
-                                             maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s,
-                                             maneuver_mach_per_s, maneuver_kinematics, maneuver_tempering_g,
-                                             maneuver_tempering_deadband_g, maneuver_trim, maneuver_trim_time_constant_s,
-                                             maneuver_trim_accel, maneuver_trim_rates, maneuver_trim_blend_s,
-                                             actuator_rate_limits_rad_s, actuator_position_limits_rad));
-      }),
-      py::arg("model_bank"), py::kw_only(), py::arg("p_min") = core.bank.p_min,
-      py::arg("level1_p_min") = core.level1_p_min, py::arg("level1_dwell_s") = core.level1_dwell_s,
-      py::arg("level1_allowance") = core.level1_allowance,
-      py::arg("level1_allowance_pairs") = std::map<std::string, double>{},
-      py::arg("departure_hold") = core.departure.enabled ? "on" : "off",
-      py::arg("declare_components") = core.declare_components, py::arg("partial_p_min") = core.partial_p_min,
-      py::arg("node_p_min") = core.schedule.node_p_min,
-      py::arg("strip_leading_term") = core.bank.strip_leading_term, py::arg("start_up_s") = core.bank.start_up_s,
-      py::arg("threshold") = core.declarer.threshold,
-      py::arg("dwell_s") = core.declarer.dwell_s,
-      py::arg("dwell_nats") = core.declarer.dwell_nats, py::arg("declarer") = py::none(),
-      py::arg("trim_time_constant_s") = core.trim.time_constant_s,
-      py::arg("trim_freeze_probability") = core.trim.freeze_probability, py::arg("trim_hold_s") = core.trim.hold_s,
-      py::arg("trim_freeze") = core.trim.freeze, py::arg("trim_steady_g") = core.trim.steady_g,
-      py::arg("trim_steady_measurements") = core.trim.steady_measurements,
-      py::arg("trim_steady_roll_rate_rad_s") = core.trim.steady_roll_rate_rad_s,
-      py::arg("trim_steady_climb_ft_s") = core.trim.steady_climb_ft_s,
-      py::arg("trim_steady_mach_per_s") = core.trim.steady_mach_per_s, py::arg("schedule_mode") = "interpolate",
-      py::arg("hysteresis_cells") = core.schedule.hysteresis_cells,
-      py::arg("blend_step_cells") = core.schedule.blend_step_cells,
-      py::arg("air_data_time_constant_s") = core.schedule.air_data_time_constant_s,
-      py::arg("cubic_trims") = core.schedule.cubic_trims, py::arg("adapt_turbulence") = core.bank.adaptation.enabled,
-      py::arg("adapt_time_constant_s") = core.bank.adaptation.time_constant_s,
-      py::arg("adapt_scale_min") = core.bank.adaptation.scale_min,
-      py::arg("adapt_scale_max") = core.bank.adaptation.scale_max, py::arg("adapt_gain") = core.bank.adaptation.gain,
-      py::arg("adapt_reference") = py::none(), py::arg("adapt_channel_weight") = core.bank.adaptation.channel_weight,
-      py::arg("adapt_own_channels") = core.bank.adaptation.own_channels,
-      py::arg("adapt_counted_channels") = core.bank.adaptation.counted_channels,
-      py::arg("adapt_hypothesis_weight") = core.bank.adaptation.hypothesis_weight,
-      py::arg("adapt_full_tempering") = core.bank.adaptation.full_tempering,
-      py::arg("adapt_reference_climb") = py::none(),
-      py::arg("adapt_reference_climb_hold_s") = core.climb_reference.hold_s,
-      py::arg("adapt_reference_climb_dwell_s") = core.climb_reference.dwell_s,
-      py::arg("maneuver_dwell_s") = core.maneuver_dwell.dwell_s, py::arg("maneuver_reference") = py::none(),
-      py::arg("maneuver_dwell_hold_s") = core.maneuver_dwell.hold_s,
-      py::arg("maneuver_dwell_g") = core.maneuver_dwell.g,
-      py::arg("maneuver_dwell_time_constant_s") = core.maneuver_dwell.time_constant_s,
-      py::arg("maneuver_mach_per_s") = core.maneuver_dwell.mach_per_s,
-      py::arg("maneuver_kinematics") = core.maneuver.kinematics,
-      py::arg("maneuver_tempering_g") = core.maneuver.tempering_g,
-      py::arg("maneuver_tempering_deadband_g") = core.maneuver.tempering_deadband_g,
-      py::arg("maneuver_trim") = core.maneuver_trim.enabled,
-      py::arg("maneuver_trim_time_constant_s") = core.maneuver_trim.time_constant_s,
-      py::arg("maneuver_trim_accel") = core.maneuver_trim.accel ? "on" : "off",
-      py::arg("maneuver_trim_rates") = core.maneuver_trim.inertial ? "inertial" : "air",
-      py::arg("maneuver_trim_blend_s") = core.maneuver_trim.inertial_path.blend_time_constant_s,
-      py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
-      py::arg("actuator_position_limits_rad") = std::vector<double>{});
+  return cls.def(py::init([](const Source& bank, const py::kwargs& kwargs) {
+                   return new T(bank, estimator_options(kwargs));
+                 }),
+                 py::arg("model_bank"), estimator_keywords_doc().c_str());
 }
 
 }  // namespace f16mmae::bindings

@@ -142,15 +142,13 @@ def test_the_climb_dwell_and_own_channels_reach_the_daemon():
     assert rc == 2 and "--adapt-reference-climb-dwell must be a time in seconds in [0, 60] (0: the dwell), got '61'" in out
 
 
-def _keywords(cls) -> set[str]:
-    """The keyword-only arguments of the estimator's signatures of a pybind11 class's constructor
-    (its docstring: ``__init__(self: ..., model_bank: ..., *, p_min: float = 0.001, ...) -> None``)."""
-    out: set[str] = set()
-    for line in cls.__init__.__doc__.splitlines():
-        head = re.match(r"^(?:\d+\. )?__init__\((.*)\) -> None$", line.strip())
-        if head and "model_bank: " in head.group(1) and ", *, " in head.group(1):
-            out |= set(re.findall(r"(?:^|, )(\w+): ", head.group(1).split(", *, ", 1)[1]))
-    return out
+def _keywords(cls) -> dict[str, str]:
+    """The estimator's keyword arguments of a pybind11 class's constructor, from its docstring
+    (bindings/estimator_init.h writes one a line: ``  p_min: a number = 0.001``), with their
+    defaults as written."""
+    doc = cls.__init__.__doc__
+    assert "model_bank: " in doc and "**kwargs" in doc, doc
+    return dict(re.findall(r"^  (\w+): .+ = (.+)$", doc, flags=re.M))
 
 
 def test_the_estimator_options_are_one_list():
@@ -161,7 +159,7 @@ def test_the_estimator_options_are_one_list():
     rows = {o.key for o in ESTIMATOR_OPTIONS}
     assert not rows & set(CORE_ONLY) and set(HARNESS_ONLY) <= rows
     for cls in (core.HierarchicalBank, core.Executive, core.TurbulenceBankSet):
-        keywords = _keywords(cls)
+        keywords = set(_keywords(cls))
         assert len(keywords) > 30, cls
         assert keywords - rows - set(CORE_ONLY) == set(), cls
         assert rows - set(HARNESS_ONLY) - keywords == set(), cls

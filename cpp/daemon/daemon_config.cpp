@@ -26,8 +26,8 @@ std::string daemon_usage() {
          "                   [--adapt-channel-weight G]\n"
          "                   [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]\n"
          "                   [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]\n"
-         "                   [--level1-p-min P] [--level1-dwell-s S] [--departure-hold on|off]\n"
-         "                   [--declare-components]\n"
+         "                   [--level1-p-min P] [--level1-dwell-s S] [--level1-allowance K]\n"
+         "                   [--departure-hold on|off] [--declare-components] [--partial-p-min P]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--maneuver-tempering-deadband D]\n"
@@ -100,6 +100,9 @@ std::string daemon_usage() {
          "  --level1-p-min P     the floor while a failure's level-1 (dual) bank is on line\n"
          "                       (>= 0, below (1 - threshold)/12; default 0: the level-0 floor)\n"
          "  --level1-dwell-s S   the dwell while it is on line (0-60; default 0: the dwell)\n"
+         "  --level1-allowance K  the duals' drift allowance while it is on line: each dual's\n"
+         "                       log-odds against the failure drift down K nats a frame unless\n"
+         "                       its evidence outgrows it (0-5; default 0: none)\n"
          "  --departure-hold on|off  level 1: declare nothing while the measurements leave the\n"
          "                       linearization, nor 1 s after (default on)\n"
          "  --trim-tracking TAU_S  track the trim on line with time constant TAU_S s (e.g. 30),\n"
@@ -137,6 +140,9 @@ std::string daemon_usage() {
          "  --declare-components  a bank with partial-loss hypotheses: declare a surface's forms\n"
          "                       (complete and partial) as one component, naming the heavier form\n"
          "                       (declarer.h; default: each hypothesis alone)\n"
+         "  --partial-p-min P    such a bank: its partial hypotheses' floor at level 0, the others\n"
+         "                       keeping theirs (0-0.1; the core refuses a floor that leaves no\n"
+         "                       room for a declaration; default 0: the level-0 floor)\n"
          "  --actuator-rate-limits R1,...,R5 and --actuator-position-limits L1,...,L5\n"
          "                       the actuators' rate (rad/s) and position (rad) limits, one per\n"
          "                       input, applied to the commands the filters see (both or none;\n"
@@ -251,7 +257,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--maneuver-dwell" || key == "--maneuver-dwell-hold" || key == "--maneuver-dwell-g" ||
                        key == "--maneuver-dwell-time-constant" || key == "--maneuver-reference" ||
                        key == "--maneuver-tempering-deadband" || key == "--level1-p-min" ||
-                       key == "--level1-dwell-s" || key == "--departure-hold" ||
+                       key == "--level1-dwell-s" || key == "--level1-allowance" || key == "--partial-p-min" ||
+                       key == "--departure-hold" ||
                        key == "--maneuver-trim-time-constant" || key == "--maneuver-trim-accel" ||
                        key == "--maneuver-trim-rates" || key == "--maneuver-trim-blend" ||
                        key == "--adapt-counted-channel";
@@ -264,7 +271,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
                          "--maneuver-dwell, --maneuver-dwell-hold, --maneuver-dwell-g, --maneuver-dwell-time-constant, "
                          "--maneuver-reference, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
-                         "--departure-hold, --declare-components, --trim-tracking, "
+                         "--level1-allowance, --departure-hold, --declare-components, --partial-p-min, --trim-tracking, "
                          "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --maneuver-trim-rates, --maneuver-trim-blend, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
@@ -408,6 +415,17 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
         return usage_error("--level1-p-min must be a probability in [0, 1) (and below (1 - threshold)/12 for the "
                            "F-16 bank), got '" + value + "'");
       c.level1_p_min = *p;
+    } else if (key == "--level1-allowance") {
+      const std::optional<double> k = finite_number(value);
+      if (!k || *k < 0.0 || *k > 5.0)
+        return usage_error("--level1-allowance must be a number of nats a frame in [0, 5], got '" + value + "'");
+      c.level1_allowance = *k;
+    } else if (key == "--partial-p-min") {
+      const std::optional<double> p = finite_number(value);
+      // the bound that leaves room for a declaration depends on the bank: the core checks it
+      if (!p || *p < 0.0 || *p > 0.1)
+        return usage_error("--partial-p-min must be a probability in [0, 0.1], got '" + value + "'");
+      c.partial_p_min = *p;
     } else if (key == "--departure-hold") {
       if (value != "on" && value != "off")
         return usage_error("--departure-hold must be on or off, got '" + value + "'");

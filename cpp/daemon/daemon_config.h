@@ -7,8 +7,8 @@
 //               [--adapt-reference-climb-dwell S] [--adapt-channel-weight G]
 //               [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]
 //               [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]
-//               [--level1-p-min P] [--level1-dwell-s S] [--departure-hold on|off]
-//               [--declare-components]
+//               [--level1-p-min P] [--level1-dwell-s S] [--level1-allowance K] [--departure-hold on|off]
+//               [--declare-components] [--partial-p-min P]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]
 //               [--schedule-mode M]
 //               [--air-data-time-constant TAU_S] [--maneuver-kinematics] [--maneuver-tempering G]
@@ -65,8 +65,10 @@ struct DaemonConfig {
   std::optional<double> maneuver_reference;    // rho_0 while maneuvering, with adapt_turbulence
   std::optional<double> level1_p_min;          // the floor while a level-1 bank is on line (hierarchical_bank.h)
   std::optional<double> level1_dwell_s;        // the dwell while a level-1 bank is on line
+  std::optional<double> level1_allowance;      // the duals' drift allowance at level 1, nats a frame (level1_allowance.h)
   std::optional<bool> departure_hold;          // the level-1 departure hold (on by default in the core)
   bool declare_components = false;   // a partial hypothesis and its single declared as one (hierarchical_bank.h)
+  std::optional<double> partial_p_min;  // the partial hypotheses' floor at level 0 (level_floors.h); unset: the floor
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only
   double trim_steady_g = 0.0;        // with trim tracking only: steady tracking's load-factor gate; 0 = off

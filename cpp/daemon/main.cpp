@@ -170,6 +170,8 @@ int main(int argc, char** argv) {
     if (cfg.maneuver_reference) options.maneuver_dwell.reference = *cfg.maneuver_reference;
     if (cfg.level1_p_min) options.level1_p_min = *cfg.level1_p_min;
     if (cfg.level1_dwell_s) options.level1_dwell_s = *cfg.level1_dwell_s;
+    if (cfg.level1_allowance) options.level1_allowance = *cfg.level1_allowance;
+    if (cfg.partial_p_min) options.partial_p_min = *cfg.partial_p_min;
     if (cfg.departure_hold) options.departure.enabled = *cfg.departure_hold;
     options.declare_components = cfg.declare_components;
     options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation

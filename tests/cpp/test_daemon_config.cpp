@@ -298,12 +298,14 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   ASSERT_TRUE(r.ok) << r.message;   // unset: the core's defaults
   EXPECT_FALSE(r.config.maneuver_dwell_s || r.config.maneuver_reference || r.config.level1_p_min ||
                r.config.level1_dwell_s || r.config.departure_hold || r.config.adapt_channel_weight ||
-               r.config.maneuver_tempering_deadband_g || r.config.declare_components);
+               r.config.maneuver_tempering_deadband_g || r.config.declare_components || r.config.level1_allowance ||
+               r.config.partial_p_min);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--maneuver-dwell", "1.5", "--maneuver-dwell-hold=30",
                          "--maneuver-dwell-g", "0.08", "--maneuver-dwell-time-constant", "1", "--maneuver-reference",
                          "0.65", "--maneuver-tempering", "0.1", "--maneuver-tempering-deadband", "0.05",
                          "--level1-p-min", "1e-4", "--level1-dwell-s", "0.5", "--departure-hold", "off",
-                         "--adapt-channel-weight", "0.5", "--declare-components"},
+                         "--adapt-channel-weight", "0.5", "--declare-components", "--level1-allowance", "0.1",
+                         "--partial-p-min=0.002"},
                         nullptr);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_TRUE(r.config.declare_components);
@@ -315,6 +317,8 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   EXPECT_EQ(*r.config.maneuver_tempering_deadband_g, 0.05);
   EXPECT_EQ(*r.config.level1_p_min, 1e-4);
   EXPECT_EQ(*r.config.level1_dwell_s, 0.5);
+  EXPECT_EQ(*r.config.level1_allowance, 0.1);
+  EXPECT_EQ(*r.config.partial_p_min, 0.002);
   EXPECT_FALSE(*r.config.departure_hold);
   EXPECT_EQ(*r.config.adapt_channel_weight, 0.5);
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
@@ -331,6 +335,8 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
       {{"--maneuver-tempering", "0.1", "--maneuver-tempering-deadband", "11"}, "--maneuver-tempering-deadband must be"},
       {{"--level1-p-min", "1"}, "--level1-p-min must be a probability in [0, 1)"},
       {{"--level1-dwell-s", "-0.5"}, "--level1-dwell-s must be a time in seconds in [0, 60]"},
+      {{"--level1-allowance", "6"}, "--level1-allowance must be a number of nats a frame in [0, 5], got '6'"},
+      {{"--partial-p-min", "nan"}, "--partial-p-min must be a probability in [0, 0.1], got 'nan'"},
       {{"--departure-hold", "yes"}, "--departure-hold must be on or off, got 'yes'"},
       {{"--adapt-channel-weight", "1.5"}, "--adapt-channel-weight must be a weight in [0, 1], got '1.5'"},
   };

@@ -211,7 +211,8 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     applies with or out of range, naming the flag."""
     options = {"adapt_turbulence": True, "maneuver_dwell_s": 1.5, "maneuver_dwell_hold_s": 30.0,
                "maneuver_reference": 0.65, "maneuver_tempering_g": 0.1, "maneuver_tempering_deadband_g": 0.05,
-               "level1_p_min": 1e-4, "level1_dwell_s": 0.5, "departure_hold": "off", "adapt_channel_weight": 0.5}
+               "level1_p_min": 1e-4, "level1_dwell_s": 0.5, "level1_allowance": 0.1, "departure_hold": "off",
+               "adapt_channel_weight": 0.5}
     flags = daemon_flags(options)
     for key, value in options.items():
         option = next(o for o in ESTIMATOR_OPTIONS if o.key == key)
@@ -234,3 +235,8 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     # the level-1 floor's bound depends on the threshold: the core refuses it, naming it
     rc, out = _daemon("--bank", bank, "--lcm-url", "memq://", "--level1-p-min", "0.05")
     assert rc == 1 and "level1_p_min must lie in [0, (1 - threshold)/(K - 1))" in out, out
+    # the partial hypotheses' floor reaches the core, which refuses it for a bank without them
+    flags = daemon_flags({"partial_p_min": 0.002})
+    assert flags == ("--partial-p-min", "0.002")
+    rc, out = _daemon("--bank", bank, "--lcm-url", "memq://", *flags)
+    assert rc == 1 and "partial" in out, out

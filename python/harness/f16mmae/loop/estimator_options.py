@@ -257,9 +257,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="... and the duals' drift allowance while it is on line: every dual's likelihood is "
                          "multiplied by exp(-K) a frame, so its log-odds against the declared failure drift down "
                          "by K nats a frame unless its evidence outgrows that (Page's reference value; "
-                         "cpp/f16mmae/level1_allowance.h). Default 0: none (in process only: mmae-daemon has no "
-                         "flag for it)",
-                    in_daemon=False),
+                         "cpp/f16mmae/level1_allowance.h). Default 0: none"),
     EstimatorOption("level1_allowance_pairs", "--level1-allowance-pairs", "file", metavar="FILE",
                     help="... or each dual's own: FILE (tools/cover/dual_rates.py) gives the dual F+C the allowance "
                          "k = a r_{F>C} in F's level-1 bank, r its drift measured under its second failure, so a "
@@ -288,8 +286,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "
                          "ln(P / p_min) nats less to the threshold (cpp/f16mmae/hierarchical_bank.h). The core "
                          "refuses floors that leave no room for a declaration and a bank without partial "
-                         "hypotheses. Default 0: the level-0 floor (in process only: mmae-daemon has no flag for it)",
-                    in_daemon=False),
+                         "hypotheses. Default 0: the level-0 floor"),
     EstimatorOption("actuator_rate_limits_rad_s", "--actuator-rate-limits", "values", on_command_line=False,
                     help="the actuators' rate limits, rad/s, one per input"),
     EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",

@@ -46,6 +46,9 @@ def test_the_pair_table_and_the_climb():
     assert t.climb_frames(0.5, 0.0, h) == pytest.approx(h / 0.5)
     assert t.climb_frames(0.5, 0.1, h) == pytest.approx(h / 0.4)
     assert math.isinf(t.climb_frames(0.09, 0.14, h))   # the model's real PIT>LS dual never arrives
+    # with a measured table: the larger k of the two, a pair in one table only keeps its own
+    both = t.combine(table, {"PIT>LS": 0.052, "AY>RF": 0.115, "VEL>RS": 0.03})
+    assert both == {"AY>RF": 0.115, "AZ>LF": pytest.approx(0.042), "PIT>LS": pytest.approx(0.14), "VEL>RS": 0.03}
 
 
 def test_refusals(tmp_path, capsys):

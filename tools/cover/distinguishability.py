@@ -33,8 +33,11 @@ rates beside it:
   {"rule": "min(k_max, max(0, m0 - D_s))", "m0": m0, "k_max": k_max, "h_nats": h, "source": ...,
    "pairs": {"PIT>LS": k, ...}, "rates": {"PIT>LS": {"d_single": D_s, "d_dual": D_d}, ...}}
 
+``--max-with TABLE``: each pair takes the larger of the models' k and TABLE's (e.g. the measured
+table of tools/cover/dual_rates.py, which holds the walks the models do not predict).
+
 Run: .venv/bin/python tools/cover/distinguishability.py BANK [--m0 0.2 --k-max 0.3] [--out FILE]
-       [--print] [--level0 PIT,LS] [--pairs PIT>LS,...]   (all 132 ordered pairs: a few minutes)
+       [--print] [--level0 PIT,LS] [--pairs PIT>LS,...] [--max-with TABLE]   (all 132 pairs: minutes)
 """
 from __future__ import annotations
 
@@ -69,6 +72,11 @@ def climb_frames(d_dual: float, k: float, h: float) -> float:
 def pair_table(rates: dict[str, dict], m0: float, k_max: float) -> dict[str, float]:
     """{"F>C": k} from {"F>C": {"d_single": D_s, "d_dual": D_d}}."""
     return {pair: allowance(r["d_single"], m0, k_max) for pair, r in sorted(rates.items())}
+
+
+def combine(table: dict[str, float], other: dict[str, float]) -> dict[str, float]:
+    """Each pair's larger k of the two tables (a pair in one only keeps its k)."""
+    return {pair: max(table.get(pair, 0.0), float(other.get(pair, 0.0))) for pair in sorted(set(table) | set(other))}
 
 
 def bank_design(path: str):
@@ -111,6 +119,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--k-max", type=float, default=0.3, help="the ceiling of k, nats a frame")
     ap.add_argument("--pairs", default="", help="F>C,... (default: every ordered pair of singles)")
     ap.add_argument("--level0", default="", help="A,B: the two singles' separation at level 0 as well")
+    ap.add_argument("--max-with", default="",
+                    help="a pair table (e.g. tools/cover/dual_rates.py's): each pair takes the larger of its k there "
+                         "and the models' k")
     ap.add_argument("--out", default="")
     ap.add_argument("--print", action="store_true")
     args = ap.parse_args(argv)
@@ -130,6 +141,12 @@ def main(argv: list[str] | None = None) -> int:
         level0 = args.level0.split(",") if args.level0 else []
         if level0 and (len(level0) != 2 or not all(x in names.SINGLE_HYPOTHESES for x in level0)):
             raise ValueError(f"--level0: {args.level0!r} is not two hypotheses of the level-0 bank")
+        other = {}
+        if args.max_with:
+            try:
+                other = json.loads(pathlib.Path(args.max_with).read_text())["pairs"]
+            except (OSError, ValueError, KeyError, TypeError) as exc:
+                raise ValueError(f"--max-with {args.max_with!r}: not a pair table ({exc})") from None
         bank, design = bank_design(args.bank)
     except ValueError as exc:
         print(f"distinguishability: {exc}", file=sys.stderr)
@@ -139,6 +156,8 @@ def main(argv: list[str] | None = None) -> int:
     h = barrier(bank.threshold, bank.p_min)
     rates = dual_rates(design, pairs)
     table = pair_table(rates, args.m0, args.k_max)
+    if other:
+        table = combine(table, other)
     if level0:
         a, b = level0
         ab = distinguish.evidence_rates(design, a, [b])[b]
@@ -155,7 +174,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"| {pair} | {r['d_single']:.4f} | {r['d_dual']:.4f} | {k:.3f} | "
                   f"{without:.2f} / {'never' if math.isinf(with_k) else f'{with_k:.2f}'} |")
     if args.out:
-        out = {"rule": "min(k_max, max(0, m0 - D_s))", "m0": args.m0, "k_max": args.k_max, "h_nats": h,
+        rule = "min(k_max, max(0, m0 - D_s))" + (f", or {args.max_with}'s k where larger" if other else "")
+        out = {"rule": rule, "m0": args.m0, "k_max": args.k_max, "h_nats": h,
                "frame_rate_hz": FRAME_RATE_HZ,
                "source": f"design.distinguish on bank {bank.content_hash[:12]} ({bank.tuning}), light air, dither on",
                "pairs": table, "rates": rates}

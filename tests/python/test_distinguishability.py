@@ -100,3 +100,37 @@ def test_a_cover_bank_is_redesigned_and_its_mirror_pairs_agree(cover_partial_ban
     assert ls["d_single"] == pytest.approx(rs["d_single"], rel=1e-4) and ls["d_dual"] == pytest.approx(rs["d_dual"], rel=1e-4)
     assert 0.0 < ls["d_single"] < 0.2   # separable, but slower than m0: the pair takes an allowance
     assert table["pairs"]["PIT>LS"] == pytest.approx(0.2 - ls["d_single"])
+
+
+def _load(name):
+    path = pathlib.Path(__file__).resolve().parents[2] / "tools" / "cover" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_walk_and_the_channel_split_by_hand():
+    import numpy as np
+
+    walk = _load("level1_walk")
+    # alternating +-1: every 2-frame sum is 0 (no long-run variance), a 1-frame "sum" has variance 1
+    x = np.tile([1.0, -1.0], 50)
+    assert walk.long_run_variance(x, 2) == pytest.approx(0.0, abs=1e-15)
+    assert walk.long_run_variance(x, 1) == pytest.approx(1.0)
+    # a constant step held for 4 frames then reversed: 4-frame sums are +-4, variance 16 / 4 = 4
+    y = np.tile([1.0] * 4 + [-1.0] * 4, 10)
+    assert walk.long_run_variance(y, 4) == pytest.approx(4.0)
+    assert walk.mismatch_rate(0.8, 132, 1e-3, 22.9) == pytest.approx(0.8 * math.log(132e3) / 45.8)
+    with pytest.raises(ValueError, match="two windows"):
+        walk.long_run_variance(x[:3], 2)
+    with pytest.raises(ValueError, match="alpha"):
+        walk.mismatch_rate(0.8, 132, 0.0, 22.9)
+    chan = _load("level0_channels")
+    a = np.array([[2.0, 0.5, 0.0], [0.5, 1.0, 0.0], [0.0, 0.0, 4.0]])
+    a_inv = chan.scored_inverse(a, np.array([0.0, 0.0, 3.0]))
+    assert a_inv[2].tolist() == [0.0, 0.0, 0.0] and a_inv[:, 2].tolist() == [0.0, 0.0, 0.0]
+    assert a_inv[:2, :2] == pytest.approx(np.linalg.inv(a)[:2, :2])
+    r = np.array([0.3, -1.2, 5.0])
+    split = chan.channel_split(r, a_inv)
+    assert split.sum() == pytest.approx(-0.5 * r @ a_inv @ r) and split[2] == 0.0

@@ -53,6 +53,16 @@
 // (tools/cover/dual_rates.py writes the table; a pair never declared there gets its bound
 // h / n_end). A pair not in the table takes the scalar k (options.level1_allowance).
 //
+// The table from the models' separation instead (tools/cover/distinguishability.py writes it).
+// Without a second failure E[lambda_d] = -D_s + m, D_s = D(f || f+c) the models' separation of
+// the single from the dual (the Kullback-Leibler rate of the dual's residual density from the
+// single's, design/distinguish.py) and m what they do not explain; the reflected walk with
+// drift -mu and long-run variance s^2 a frame reaches h in one excursion with probability about
+// exp(-2 mu h / s^2), so N excursions stay below h but with probability alpha when
+//   mu = D_s + k >= m0 = s^2 ln(N / alpha) / (2 h),   i.e.   k_{f>c} = min(k_max, max(0, m0 - D_s)):
+// a dual is asked for evidence in proportion to how little its models separate it from the
+// single, and a pair they separate faster than m0 takes none.
+//
 // apply(p, duals, k): p (the on-line probabilities after the Bayes update) with every p_s for
 // which duals[s] != 0 multiplied by e^{-k}, then divided by their sum (the floor is the
 // FilterBank's). Returns false (p untouched) when k == 0 or no dual has mass. Throws nothing.

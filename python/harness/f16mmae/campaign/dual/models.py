@@ -45,24 +45,45 @@ from ... import names
 from ...cache import cache_root
 from ...design import distinguish
 from ...design.bank import design_bank
-from ...design.tuning import TuningError, load_tuning
+from ...design.tuning import TuningError, load_tuning, tuning_from_dict
 from .scoring import INDISTINGUISHABLE
 
 
 def bank_design(bank):
     """(design, None) when the bank's tuning, redesigned at its point, gives its filters; else
-    (None, why)."""
+    (None, why). The tuning is the one the bank's metadata records (a bank designed with a
+    failure model or partial-loss hypotheses, e.g. ``tuned-cover``, whose name is no shipped
+    tuning or names the shipped one it was derived from), else the shipped one it names; the
+    partial-loss hypotheses are the metadata's ``partial_loss``."""
+    meta = json.loads(bank.metadata) if isinstance(bank.metadata, str) else dict(bank.metadata or {})
+    candidates, why = [], []
+    if isinstance(meta.get("tuning"), dict):
+        try:
+            candidates.append(tuning_from_dict(meta["tuning"], source="the bank's metadata"))
+        except (TuningError, ValueError) as exc:
+            why.append(f"its metadata's tuning cannot be read ({exc})")
     try:
-        tuning = load_tuning(bank.tuning)
+        candidates.append(load_tuning(bank.tuning))
     except (TuningError, FileNotFoundError, ValueError) as exc:
-        return None, f"the bank's tuning {bank.tuning!r} cannot be loaded ({exc})"
-    design = design_bank(bank.mach, bank.alt_ft, tuning=tuning, frame_rate_hz=bank.frame_rate_hz,
-                         throttle_input=bank.nu > len(names.ACTUATORS))
+        why.append(f"the bank's tuning {bank.tuning!r} cannot be loaded ({exc})")
+    for tuning in candidates:
+        design = design_bank(bank.mach, bank.alt_ft, tuning=tuning, frame_rate_hz=bank.frame_rate_hz,
+                             throttle_input=bank.nu > len(names.ACTUATORS),
+                             partial_loss=tuple(meta.get("partial_loss", ())))
+        wrong = _first_mismatch(bank, design)
+        if wrong is None:
+            return design, None
+        why.append(f"the bank's filters are not its tuning's design (hypothesis {wrong})")
+    return None, "; ".join(why) or "the bank records no tuning"
+
+
+def _first_mismatch(bank, design) -> str | None:
+    """The first hypothesis whose gains differ from the design's, None when all agree."""
     for h in bank.hypotheses:  # agreement to 1e-9 of each gain matrix's scale (a redesign's last bits follow the BLAS)
         k = np.asarray(h.k)
         if not np.allclose(design.filter(h.name).gains.k, k, rtol=0.0, atol=1e-9 * max(1.0, float(np.abs(k).max()))):
-            return None, f"the bank's filters are not its tuning's design (hypothesis {h.name})"
-    return design, None
+            return h.name
+    return None
 
 
 def evidence(design, first: str, second: str, calm: bool) -> dict:

@@ -26,6 +26,7 @@ std::string daemon_usage() {
          "                   [--adapt-channel-weight G]\n"
          "                   [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]\n"
          "                   [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]\n"
+         "                   [--maneuver-mach-rate MACH_PER_S]\n"
          "                   [--level1-p-min P] [--level1-dwell-s S] [--level1-allowance K]\n"
          "                   [--departure-hold on|off] [--declare-components] [--partial-p-min P]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
@@ -97,6 +98,9 @@ std::string daemon_usage() {
          "  --maneuver-reference RHO  with --adapt-turbulence: the adaptation's reference while\n"
          "                       the aircraft maneuvers (that gate), unless the climb reference is\n"
          "                       in force (0-100; default: off)\n"
+         "  --maneuver-mach-rate MACH_PER_S  the air data's Mach changing faster than this, per s,\n"
+         "                       opens the gates of --maneuver-dwell and --adapt-reference-climb\n"
+         "                       (air_data_rates.h; > 0, <= 1; default 0.001)\n"
          "  --level1-p-min P     the floor while a failure's level-1 (dual) bank is on line\n"
          "                       (>= 0, below (1 - threshold)/12; default 0: the level-0 floor)\n"
          "  --level1-dwell-s S   the dwell while it is on line (0-60; default 0: the dwell)\n"
@@ -256,7 +260,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--air-data-time-constant" || key == "--adapt-channel-weight" ||
                        key == "--maneuver-dwell" || key == "--maneuver-dwell-hold" || key == "--maneuver-dwell-g" ||
                        key == "--maneuver-dwell-time-constant" || key == "--maneuver-reference" ||
-                       key == "--maneuver-tempering-deadband" || key == "--level1-p-min" ||
+                       key == "--maneuver-mach-rate" || key == "--maneuver-tempering-deadband" || key == "--level1-p-min" ||
                        key == "--level1-dwell-s" || key == "--level1-allowance" || key == "--partial-p-min" ||
                        key == "--departure-hold" ||
                        key == "--maneuver-trim-time-constant" || key == "--maneuver-trim-accel" ||
@@ -270,7 +274,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--adapt-counted-channel, --adapt-reference-climb, "
                          "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
                          "--maneuver-dwell, --maneuver-dwell-hold, --maneuver-dwell-g, --maneuver-dwell-time-constant, "
-                         "--maneuver-reference, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
+                         "--maneuver-reference, --maneuver-mach-rate, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
                          "--level1-allowance, --departure-hold, --declare-components, --partial-p-min, --trim-tracking, "
                          "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --maneuver-trim-rates, --maneuver-trim-blend, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
@@ -403,6 +407,11 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!rho || *rho < 0.0 || *rho > 100.0)
         return usage_error("--maneuver-reference must be a power ratio in [0, 100], got '" + value + "'");
       c.maneuver_reference = *rho;
+    } else if (key == "--maneuver-mach-rate") {
+      const std::optional<double> rate = finite_number(value);
+      if (!rate || *rate <= 0.0 || *rate > 1.0)
+        return usage_error("--maneuver-mach-rate must be a Mach rate per second, > 0 and <= 1, got '" + value + "'");
+      c.maneuver_mach_per_s = *rate;
     } else if (key == "--maneuver-tempering-deadband") {
       const std::optional<double> d = finite_number(value);
       if (!d || *d < 0.0 || *d > 10.0)

@@ -7,6 +7,7 @@
 //               [--adapt-reference-climb-dwell S] [--adapt-channel-weight G]
 //               [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]
 //               [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]
+//               [--maneuver-mach-rate MACH_PER_S]
 //               [--level1-p-min P] [--level1-dwell-s S] [--level1-allowance K] [--departure-hold on|off]
 //               [--declare-components] [--partial-p-min P]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]
@@ -63,6 +64,7 @@ struct DaemonConfig {
   std::optional<double> maneuver_dwell_s;      // the level-0 dwell while maneuvering (maneuver_dwell.h)
   std::optional<double> maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s;  // with it
   std::optional<double> maneuver_reference;    // rho_0 while maneuvering, with adapt_turbulence
+  std::optional<double> maneuver_mach_per_s;   // |M_dot| opening the maneuver dwell's and climb reference's gates
   std::optional<double> level1_p_min;          // the floor while a level-1 bank is on line (hierarchical_bank.h)
   std::optional<double> level1_dwell_s;        // the dwell while a level-1 bank is on line
   std::optional<double> level1_allowance;      // the duals' drift allowance at level 1, nats a frame (level1_allowance.h)

@@ -168,6 +168,8 @@ int main(int argc, char** argv) {
     if (cfg.maneuver_dwell_g) options.maneuver_dwell.g = *cfg.maneuver_dwell_g;
     if (cfg.maneuver_dwell_time_constant_s) options.maneuver_dwell.time_constant_s = *cfg.maneuver_dwell_time_constant_s;
     if (cfg.maneuver_reference) options.maneuver_dwell.reference = *cfg.maneuver_reference;
+    if (cfg.maneuver_mach_per_s)   // one Mach-rate gate for both (estimator_init.h)
+      options.maneuver_dwell.mach_per_s = options.climb_reference.mach_per_s = *cfg.maneuver_mach_per_s;
     if (cfg.level1_p_min) options.level1_p_min = *cfg.level1_p_min;
     if (cfg.level1_dwell_s) options.level1_dwell_s = *cfg.level1_dwell_s;
     if (cfg.level1_allowance) options.level1_allowance = *cfg.level1_allowance;
@@ -262,6 +264,12 @@ int main(int argc, char** argv) {
                     f16mmae::format_value(running.maneuver_dwell.hold_s) + " s";
       if (running.maneuver_dwell.has_reference())
         maneuver += ", maneuver reference " + f16mmae::format_value(running.maneuver_dwell.reference);
+      if (cfg.maneuver_mach_per_s)   // the gates in force, as the core holds them
+        maneuver += running.maneuver_dwell.mach_per_s == running.climb_reference.mach_per_s
+                        ? ", Mach-rate gate " + f16mmae::format_value(running.maneuver_dwell.mach_per_s) + "/s"
+                        : ", Mach-rate gates " + f16mmae::format_value(running.maneuver_dwell.mach_per_s) +
+                              "/s (maneuver dwell), " + f16mmae::format_value(running.climb_reference.mach_per_s) +
+                              "/s (climb reference)";
       if (running.maneuver_trim.enabled)
         maneuver += ", maneuver trim " + f16mmae::format_value(running.maneuver_trim.time_constant_s) + " s" +
                     (running.maneuver_trim.accel ? "" : " (climb only)") +

@@ -89,6 +89,26 @@ TEST(DaemonConfig, EvidenceDwell) {
   EXPECT_FALSE(r.ok);
 }
 
+TEST(DaemonConfig, ManeuverMachRate) {
+  EXPECT_FALSE(parse_daemon_args({"--bank", "b"}, nullptr).config.maneuver_mach_per_s.has_value());   // the core's
+  auto r = parse_daemon_args({"--bank", "b", "--maneuver-mach-rate", "0.003"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.maneuver_mach_per_s, 0.003);
+  r = parse_daemon_args({"--bank", "b", "--maneuver-mach-rate=1"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.maneuver_mach_per_s, 1.0);
+  for (const char* bad : {"0", "-0.001", "1.5", "nan", "fast"}) {
+    r = parse_daemon_args({"--bank", "b", "--maneuver-mach-rate", bad}, nullptr);
+    EXPECT_FALSE(r.ok) << bad;
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find(std::string("--maneuver-mach-rate must be a Mach rate per second, > 0 and <= 1, got '") +
+                             bad + "'"),
+              std::string::npos)
+        << r.message;
+  }
+  EXPECT_NE(f16mmae::daemon::daemon_usage().find("--maneuver-mach-rate MACH_PER_S"), std::string::npos);
+}
+
 TEST(DaemonConfig, OnLineEstimatorOptions) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;

@@ -212,7 +212,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --maneuver-dwell: the time constant of the load factor's low-pass (s; 0: none; "
                          "default 2)"),
     EstimatorOption("maneuver_mach_per_s", "--maneuver-mach-rate", "number", metavar="MACH_PER_S", minimum=0.0,
-                    exclusive=True, maximum=1.0, in_daemon=False,
+                    exclusive=True, maximum=1.0,
                     help="with --maneuver-dwell or --adapt-reference-climb: the measured air data's Mach changing "
                          "faster than this (per s) opens their gates (cpp/f16mmae/air_data_rates.h; default 0.001, "
                          "which light turbulence reaches in level flight at high dynamic pressure; the maneuvers' "

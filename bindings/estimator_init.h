@@ -28,6 +28,8 @@
 //                                        blended; scheduled_filters.h) instead of p_min
 //   threshold, dwell_s, dwell_nats, declarer  the declaration rule (declarer.h); a core.Declarer
 //                                        given as declarer supplies threshold, dwell_s and dwell_nats
+//   dwell_nats_per_hypothesis            {name: N_k}: hypothesis k's own evidence dwell (declarer.h);
+//                                        empty: dwell_nats for every hypothesis
 //   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
 //   trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
 //   trim_steady_mach_per_s                                                    trim_tracker.h
@@ -76,6 +78,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              const std::map<std::string, double>& level1_allowance_pairs,
                                              const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
                                              double threshold, double dwell_s, double dwell_nats,
+                                             const std::map<std::string, double>& dwell_nats_per_hypothesis,
                                              const py::object& declarer, double trim_time_constant_s,
                                              double trim_freeze_probability, double trim_hold_s, bool trim_freeze,
                                              double trim_steady_g,
@@ -174,6 +177,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.declarer.threshold = threshold;
   o.declarer.dwell_s = dwell_s;
   o.declarer.dwell_nats = dwell_nats;
+  o.declarer.dwell_nats_per_hypothesis = dwell_nats_per_hypothesis;
   if (!declarer.is_none()) {
     if (!py::isinstance<Declarer>(declarer))
       throw py::value_error("declarer must be a core.Declarer (its threshold, dwell_s and dwell_nats are used), got " +
@@ -194,6 +198,7 @@ Class& def_estimator_init(Class& cls) {
                   const std::map<std::string, double>& level1_allowance_pairs,
                   const std::string& departure_hold, bool declare_components, double partial_p_min, bool node_p_min, bool strip_leading_term, double start_up_s,
                   double threshold, double dwell_s, double dwell_nats,
+                  const std::map<std::string, double>& dwell_nats_per_hypothesis,
                   const py::object& declarer, double trim_time_constant_s, double trim_freeze_probability,
                   double trim_hold_s, bool trim_freeze, double trim_steady_g,
                   const std::vector<std::string>& trim_steady_measurements, double trim_steady_roll_rate_rad_s,
@@ -215,7 +220,7 @@ Class& def_estimator_init(Class& cls) {
                   const std::vector<double>& actuator_rate_limits_rad_s,
                   const std::vector<double>& actuator_position_limits_rad) {
         return new T(bank, estimator_options(p_min, level1_p_min, level1_dwell_s, level1_allowance, level1_allowance_pairs, departure_hold, declare_components, partial_p_min, node_p_min, strip_leading_term, start_up_s, threshold, dwell_s, dwell_nats,
-                                             declarer,
+                                             dwell_nats_per_hypothesis, declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
                                              trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
                                              trim_steady_mach_per_s, schedule_mode, hysteresis_cells, blend_step_cells,
@@ -239,7 +244,8 @@ Class& def_estimator_init(Class& cls) {
       py::arg("strip_leading_term") = core.bank.strip_leading_term, py::arg("start_up_s") = core.bank.start_up_s,
       py::arg("threshold") = core.declarer.threshold,
       py::arg("dwell_s") = core.declarer.dwell_s,
-      py::arg("dwell_nats") = core.declarer.dwell_nats, py::arg("declarer") = py::none(),
+      py::arg("dwell_nats") = core.declarer.dwell_nats,
+      py::arg("dwell_nats_per_hypothesis") = std::map<std::string, double>{}, py::arg("declarer") = py::none(),
       py::arg("trim_time_constant_s") = core.trim.time_constant_s,
       py::arg("trim_freeze_probability") = core.trim.freeze_probability, py::arg("trim_hold_s") = core.trim.hold_s,
       py::arg("trim_freeze") = core.trim.freeze, py::arg("trim_steady_g") = core.trim.steady_g,

@@ -9,7 +9,7 @@ and the daemon's arguments (``lcm.daemon.daemon_flags``) all read this table, so
 added here is accepted, recorded, reproduced and passed to the daemon alike.
 
 Kinds: ``number`` (a finite float in a range), ``choice`` (one of ``choices``), ``switch`` (on
-when given), ``file`` (the path of a file the option reads: :func:`load_allowance_pairs`) and ``values`` (comma-separated positive numbers; daemon only: the form
+when given), ``file`` (the path of a file the option reads: :data:`FILE_LOADERS`) and ``values`` (comma-separated positive numbers; daemon only: the form
 ``core_arguments`` gives ``actuator_limits``).
 """
 from __future__ import annotations
@@ -283,6 +283,11 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "over its consecutive frames above, reach N nats: one the data hold near the ceiling is "
                          "declared in a few frames, one hovering near the threshold still needs the dwell "
                          "(cpp/f16mmae/declarer.h). Default 0: the dwell alone"),
+    EstimatorOption("dwell_nats_per_hypothesis", "--dwell-nats-per-hypothesis", "file", metavar="FILE",
+                    help="... per hypothesis: FILE (tools/latency/dwell_per_hypothesis.py; one 'NAME N' a line) "
+                         "gives hypothesis NAME its own evidence dwell of N nats, 0 leaving it to --dwell-s "
+                         "alone; a hypothesis FILE does not name takes --dwell-nats (cpp/f16mmae/declarer.h). "
+                         "Default: none"),
     EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,
                     help="a bank with partial-loss hypotheses (design --partial-loss): their probability floor at "
                          "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "
@@ -374,6 +379,45 @@ def load_allowance_pairs(path: str) -> dict[str, float]:
     return {k: float(v) for k, v in pairs.items()}
 
 
+def load_dwell_nats_table(path: str) -> dict[str, float]:
+    """The table of ``--dwell-nats-per-hypothesis`` (tools/latency/dwell_per_hypothesis.py writes
+    it; cpp/f16mmae/declarer.h reads the same format in the daemon): ``{name: N}`` from one
+    ``NAME N`` a line, ``#`` starting a comment. ValueError naming the file, the line and what is
+    wrong (the core refuses names that are not hypotheses of the bank)."""
+    import math
+    import pathlib
+    try:
+        text = pathlib.Path(path).read_text()
+    except OSError as exc:
+        raise ValueError(f"--dwell-nats-per-hypothesis {path!r}: cannot be read ({exc})") from None
+    out: dict[str, float] = {}
+    for number, line in enumerate(text.splitlines(), 1):
+        fields = line.split("#", 1)[0].split()
+        if not fields:
+            continue
+        try:
+            if len(fields) != 2:
+                raise ValueError
+            value = float(fields[1])
+        except ValueError:
+            raise ValueError(f"--dwell-nats-per-hypothesis {path!r} line {number}: expected 'NAME N' (a hypothesis "
+                             f"and its evidence dwell in nats), got {line.strip()!r}") from None
+        if not (math.isfinite(value) and 0.0 <= value <= 1.0e6):
+            raise ValueError(f"--dwell-nats-per-hypothesis {path!r} line {number}: {fields[0]}'s N must lie in "
+                             f"[0, 1e+06] nats, got {fields[1]}")
+        if fields[0] in out:
+            raise ValueError(f"--dwell-nats-per-hypothesis {path!r} line {number}: hypothesis {fields[0]!r} "
+                             f"given twice")
+        out[fields[0]] = value
+    if not out:
+        raise ValueError(f"--dwell-nats-per-hypothesis {path!r}: no 'NAME N' line (an empty table)")
+    return out
+
+
+#: The reader of each ``file`` option's file: the table the core takes for the path.
+FILE_LOADERS = {"level1_allowance_pairs": load_allowance_pairs, "dwell_nats_per_hypothesis": load_dwell_nats_table}
+
+
 def valid_range(option: EstimatorOption) -> str:
     """The valid values of a ``number`` or ``choice`` option, as its refusal names them."""
     if option.kind == "choice":
@@ -397,7 +441,7 @@ def check(settings: dict) -> None:
         elif o.kind == "file":
             if not isinstance(value, str):
                 raise ValueError(f"{o.flag} {value!r} must be the path of a file")
-            load_allowance_pairs(value)
+            FILE_LOADERS[key](value)
             ok = True
         else:
             ok = (isinstance(value, (int, float)) and not isinstance(value, bool)

@@ -19,7 +19,11 @@ So, per level-0 single k (the hypotheses whose first declaration the latency cou
     N_k = max(floor, margin * E_max,k),   E_max,k = the largest E of k's false excursions
                                            rejected by the frame dwell (0 if none),
 
-and every other hypothesis (NONE's back-out, the level-1 duals) is left out of the file: it
+then, second step, N_k = 0 (``--frame-dwell-only``) for each single whose faster declaration added
+a transient-wrong run or a false alarm when the tuning campaign is flown with the table (an earlier
+declaration puts the level-1 bank on line earlier in the failure's transient, where a dual can
+rise: a cost the excursions do not show). Every other hypothesis (NONE's back-out, the level-1
+duals) is left out of the file: it
 takes ``--dwell-nats`` (0: the frame dwell alone), so the second failures and the back-outs keep
 the shipped rule. The file is one ``NAME N`` a line, the rule and its inputs in '#' comments:
 
@@ -110,6 +114,13 @@ def main() -> None:
     ap.add_argument("--floor", type=float, default=32.0)
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--excursions", type=Path, default=None, help="also write every excursion (JSON lines)")
+    ap.add_argument("--frame-dwell-only", default="",
+                    help="comma list of singles given N_k = 0 (the frame dwell alone): those whose faster "
+                         "declaration added a transient-wrong run or a false alarm on the tuning campaign "
+                         "flown with the table (the second step of the rule)")
+    ap.add_argument("--reuse", action="store_true",
+                    help="read the excursions from --excursions (written by an earlier call on the same "
+                         "campaigns) instead of flying the runs again")
     a = ap.parse_args()
     if not (a.margin >= 1.0 and math.isfinite(a.margin)):
         raise SystemExit(f"dwell_per_hypothesis: --margin must be >= 1, got {a.margin}")
@@ -124,12 +135,17 @@ def main() -> None:
     threshold = float(settings.get("threshold", 0.9))
     dwell_frames = max(1, int(round(float(settings.get("dwell_s", 0.25)) * float(bank.frame_rate_hz))))
     found = []
-    for rec in single + soak:
-        ex, _ = flight_excursions(rec, bank, threshold, dwell_frames)
-        for e in ex:
-            e["run"] = f"{rec.get('kind')}:{rec.get('case')}:{rec.get('run_index')}"
-        found += ex
-    if a.excursions:
+    if a.reuse:
+        if a.excursions is None or not a.excursions.exists():
+            raise SystemExit("dwell_per_hypothesis: --reuse needs the --excursions file of an earlier call")
+        found = [json.loads(line) for line in a.excursions.read_text().splitlines() if line.strip()]
+    else:
+        for rec in single + soak:
+            ex, _ = flight_excursions(rec, bank, threshold, dwell_frames)
+            for e in ex:
+                e["run"] = f"{rec.get('kind')}:{rec.get('case')}:{rec.get('run_index')}"
+            found += ex
+    if a.excursions and not a.reuse:
         a.excursions.write_text("".join(json.dumps(e) + "\n" for e in found))
     lines = [
         "# The per-hypothesis evidence dwell N_k (nats; cpp/f16mmae/declarer.h), written by",
@@ -139,8 +155,15 @@ def main() -> None:
         f"# N_k = max(floor {a.floor:g}, margin {a.margin:g} x E_max,k), E_max,k the largest log-odds excess",
         f"# a false excursion of k the {dwell_frames}-frame dwell rejected gathered (threshold {threshold:g}).",
         "# Hypotheses not named (NONE, the level-1 duals) take --dwell-nats (0: the frame dwell alone).",
-        "# NAME  N_k    # E_max,k, false excursions rejected / declared by the frame dwell",
     ]
+    only = [k.strip().upper() for k in a.frame_dwell_only.split(",") if k.strip()]
+    bad = [k for k in only if k not in SINGLE_HYPOTHESES or k == NONE]
+    if bad:
+        raise SystemExit(f"dwell_per_hypothesis: --frame-dwell-only {','.join(bad)}: not a failure hypothesis")
+    if only:
+        lines.append(f"# N_k = 0 (the frame dwell alone) for {', '.join(only)}: declared faster, they added a "
+                     f"transient-wrong run or false alarm on the tuning campaign flown with the table.")
+    lines.append("# NAME  N_k    # E_max,k, false excursions rejected / declared by the frame dwell")
     for k in SINGLE_HYPOTHESES:
         if k == NONE:
             continue
@@ -148,7 +171,7 @@ def main() -> None:
         rej = [e["E"] for e in fx if e["rejected"]]
         e_max = max(rej, default=0.0)
         n_k = max(a.floor, a.margin * e_max)
-        n_k = min(n_k, 1.0e6)
+        n_k = 0.0 if k in only else min(n_k, 1.0e6)
         lines.append(f"{k:5s} {n_k:8.1f}   # {e_max:.1f}, {len(rej)} / {len(fx) - len(rej)}")
     a.out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -310,7 +310,7 @@ TEST(DeclarerEvidencePerHypothesis, ValidationNamesTheBadEntry) {
   } catch (const std::invalid_argument& e) {
     EXPECT_STREQ(e.what(), "declarer: dwell_nats_per_hypothesis names 'X', not a hypothesis of the bank (NONE A)");
   }
-  EXPECT_THROW(Declarer(o), std::invalid_argument);   // no names to resolve against
+  EXPECT_THROW(Declarer{o}, std::invalid_argument);   // no names to resolve against
   o.dwell_nats_per_hypothesis = {{"A", -2.0}};
   try {
     Declarer d(o, 0, {"NONE", "A"});

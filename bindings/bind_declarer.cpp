@@ -1,5 +1,6 @@
 // f16mmae.core.Declarer: hypothesis declaration by threshold and dwell (cpp/f16mmae/declarer.h).
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include "core_convert.h"
 #include "f16mmae/declarer.h"
@@ -9,6 +10,9 @@ namespace py = pybind11;
 namespace f16mmae::bindings {
 
 void bind_declarer(py::module_& m) {
+  m.def("read_dwell_nats_table", &read_dwell_nats_table, py::arg("path"),
+        "The evidence dwell per hypothesis of a table file, {name: N} (cpp/f16mmae/declarer.h: one\n"
+        "'NAME N' a line, '#' a comment; N in [0, 1e6] nats). ValueError naming the file and the line.");
   py::class_<Declarer>(m, "Declarer", R"doc(
 Declares hypothesis k when p_k > threshold on round(dwell_s * frame_rate_hz) consecutive
 frames (at least one) and k is not already the current hypothesis.

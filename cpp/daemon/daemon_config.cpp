@@ -58,6 +58,8 @@ std::string daemon_usage() {
          "  --dwell-nats N       ... or until the candidate's log-odds above the threshold's,\n"
          "                       summed over those frames, reach N nats (declarer.h; 0-1e6;\n"
          "                       default 0: the dwell alone)\n"
+         "  --dwell-nats-per-hypothesis FILE  ... per hypothesis: 'NAME N' lines, N nats for\n"
+         "                       NAME (0: the dwell alone); others take --dwell-nats (declarer.h)\n"
          "  --start-up-s S       the first S seconds of frames after a start or reset update\n"
          "                       the filters but weigh no hypothesis (0-3600; default: the\n"
          "                       bank's recommendation, a scheduled-bank file's start_up_s, else 0)\n"
@@ -249,7 +251,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     const bool known = key == "--bank" || key == "--lcm-url" || key == "--channel-prefix" ||
                        key == "--rate-hz" || key == "--max-frames" || key == "--realtime" ||
                        key == "--p-min" || key == "--threshold" || key == "--dwell-s" || key == "--dwell-nats" ||
-                       key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
+                       key == "--dwell-nats-per-hypothesis" || key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
                        key == "--bank-public-key" || key == "--trim-tracking" ||
                        key == "--trim-freeze-probability" || key == "--trim-tracking-steady" ||
                        key == "--schedule-mode" || key == "--adapt-reference" ||
@@ -269,7 +271,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
-                         "--p-min, --threshold, --dwell-s, --dwell-nats, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
+                         "--p-min, --threshold, --dwell-s, --dwell-nats, --dwell-nats-per-hypothesis, --start-up-s, --max-frames, --realtime, --warm-lead-us, --rewarm-us, "
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-own-channels, "
                          "--adapt-counted-channel, --adapt-reference-climb, "
                          "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
@@ -293,6 +295,9 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     } else if (key == "--bank-public-key") {
       if (value.empty()) return usage_error("--bank-public-key needs a key file name, got ''");
       c.bank_public_key_path = value;
+    } else if (key == "--dwell-nats-per-hypothesis") {
+      if (value.empty()) return usage_error("--dwell-nats-per-hypothesis needs a table file name, got ''");
+      c.dwell_nats_table_path = value;
     } else if (key == "--auth-key") {
       if (value.empty()) return usage_error("--auth-key needs a key file name, got ''");
       c.auth_key_path = value;

@@ -1,7 +1,8 @@
 // DaemonConfig — the settings of mmae-daemon and the parsing of its command line.
 //
 //   mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
-//               [--p-min P] [--threshold T] [--dwell-s S] [--adapt-turbulence] [--adapt-reference RHO]
+//               [--p-min P] [--threshold T] [--dwell-s S] [--dwell-nats N] [--dwell-nats-per-hypothesis FILE]
+//               [--adapt-turbulence] [--adapt-reference RHO]
 //               [--adapt-own-channels] [--adapt-counted-channel NAME]
 //               [--adapt-reference-climb RHO] [--adapt-reference-climb-hold S]
 //               [--adapt-reference-climb-dwell S] [--adapt-channel-weight G]
@@ -51,6 +52,7 @@ struct DaemonConfig {
   // Estimator settings over the bank's recommended ones (ModelBank::estimator); unset: the bank's.
   std::optional<double> p_min, threshold, dwell_s;
   std::optional<double> dwell_nats;  // the evidence dwell (declarer.h); unset: off
+  std::string dwell_nats_table_path;  // non-empty: the per-hypothesis evidence dwell's table (declarer.h)
   // The estimator's on-line options, as 'f16mmae run' has them (off: the bank as designed).
   bool adapt_turbulence = false;     // turbulence_adaptation.h
   bool turbulence_banks = false;     // FILE is a turbulence bank set file: fly the set (turbulence_bank_set.h)

@@ -128,6 +128,8 @@ int main(int argc, char** argv) {
     options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     options.declarer.dwell_nats = cfg.dwell_nats.value_or(0.0);
+    if (!cfg.dwell_nats_table_path.empty())   // name -> N_k (declarer.h); the bank checks the names
+      options.declarer.dwell_nats_per_hypothesis = f16mmae::read_dwell_nats_table(cfg.dwell_nats_table_path);
     options.bank.adaptation.enabled = cfg.adapt_turbulence;
     options.bank.adaptation.own_channels = cfg.adapt_own_channels;
     if (!cfg.adapt_counted_channel.empty()) {   // its bit in the bank's measurement order
@@ -290,9 +292,15 @@ int main(int argc, char** argv) {
       const std::string start_up = options.bank.start_up_s > 0.0
                                        ? "start-up " + f16mmae::format_value(options.bank.start_up_s) + " s"
                                        : std::string("no start-up");
-      const std::string evidence_dwell = options.declarer.dwell_nats > 0.0
-                                             ? " or " + f16mmae::format_value(options.declarer.dwell_nats) + " nats"
-                                             : std::string();
+      std::string evidence_dwell = options.declarer.dwell_nats > 0.0
+                                       ? " or " + f16mmae::format_value(options.declarer.dwell_nats) + " nats"
+                                       : std::string();
+      if (!options.declarer.dwell_nats_per_hypothesis.empty()) {   // the per-hypothesis table: N_k by name
+        std::string table;
+        for (const auto& [name, n] : options.declarer.dwell_nats_per_hypothesis)
+          table += (table.empty() ? "" : ", ") + name + " " + f16mmae::format_value(n);
+        evidence_dwell += " or per hypothesis (" + table + ") nats";
+      }
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, %s, threshold %g, dwell %g s%s, %s, %s, %s, "
                   "schedule %s on air data low-passed %s s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), floor.c_str(),

@@ -45,6 +45,22 @@
 // the ceiling for a few frames, so a short evidence dwell trades false declarations for
 // latency (docs/results/detection_latency.md).
 //
+// Evidence dwell per hypothesis (dwell_nats_per_hypothesis: name -> N_k; empty, the default:
+// off). Hypothesis k's candidate is declared once E_n >= N_k * dwell_frames_in_force /
+// dwell_frames, N_k from the table; a hypothesis the table does not name takes dwell_nats, and
+// N_k = 0 leaves k to the frame dwell alone. The candidate's hypothesis is
+//   k = hypothesis_of_slot[s]   (s its slot, a component's representative; slot s itself when
+//                                hypothesis_of_slot is null),
+// so a bank whose slots hold different hypotheses at each level (hierarchical_bank.h) passes its
+// slot-to-hypothesis map with the probabilities. The names are resolved once, at construction,
+// against the bank's hypothesis names (index k = position in `names`) into a table of N_k by
+// index; update() reads it (no allocation). Why per hypothesis: a hypothesis whose no-failure
+// excursions above the threshold gather many nats (a sensor hypothesis that drops a channel
+// explains a gust beyond the models at the ceiling for a few frames) needs a long evidence dwell
+// or none, while one whose excursions gather few can be declared after a few frames at the
+// ceiling (tools/latency/dwell_per_hypothesis.py derives N_k from the tuning flights' excursions).
+// Table file (read_dwell_nats_table): one "NAME N" a line, '#' to the end of a line a comment.
+//
 // Defaults, and why: threshold 0.9, dwell 0.25 s at 64 Hz (16 frames).
 //  - 0.9: with K = 13 and the floor p_min = 0.001 a hypothesis can reach 1 - 12 * 0.001 =
 //    0.988; a correct, well-matched hypothesis sits near that, while an ambiguous pair
@@ -58,13 +74,19 @@
 //
 // Throws: the constructor throws std::invalid_argument naming the value and the valid range
 // (estimator_settings.h) if threshold is not in (0.5, 1), dwell_s is not in [0, 60] s,
-// frame_rate_hz is not positive and finite, the dwell exceeds kMaxDwellFrames frames, or
-// dwell_nats is not in [0, kMaxDwellNats].
+// frame_rate_hz is not positive and finite, the dwell exceeds kMaxDwellFrames frames,
+// dwell_nats or an N_k is not in [0, kMaxDwellNats], the table names a hypothesis not in
+// `names` (or is given without names).
 // update() is noexcept and allocation-free; a NaN probability never counts as "above".
 #pragma once
 
 #include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "f16mmae/estimator_settings.h"
 
@@ -75,18 +97,77 @@ struct DeclarerOptions {
   double dwell_s = kDefaultDwellS;        // ... for this long (consecutive frames)
   double frame_rate_hz = 64.0;   // frames per second of the probabilities fed in
   double dwell_nats = 0.0;       // ... or this log-odds excess summed over those frames (0: off)
+  // ... per hypothesis: name -> N_k nats (0: that hypothesis' frame dwell alone); a hypothesis
+  // it does not name takes dwell_nats. Empty: dwell_nats for every hypothesis.
+  std::map<std::string, double> dwell_nats_per_hypothesis;
 };
 
 // The evidence dwell's upper bound: 16 frames at the ceiling of K = 13 and p_min 0 in double
 // precision (ln(1/eps) = 36 nats a frame) is far below it.
 inline constexpr double kMaxDwellNats = 1.0e6;
 
+// The per-hypothesis table of a file (header): one "NAME N" a line, '#' starts a comment.
+// Throws std::invalid_argument naming `source` and the line for a line that is not a name and
+// a number in [0, kMaxDwellNats], or a name given twice; the names are checked against the
+// bank where the table is used (Declarer).
+inline std::map<std::string, double> parse_dwell_nats_table(const std::string& text, const std::string& source) {
+  std::map<std::string, double> out;
+  std::istringstream lines(text);
+  std::string line;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::istringstream fields(line);
+    std::string name, value, extra;
+    if (!(fields >> name)) continue;   // blank or comment only
+    double n = 0.0;
+    bool ok = static_cast<bool>(fields >> value) && !(fields >> extra);
+    if (ok) {
+      std::size_t used = 0;
+      try {
+        n = std::stod(value, &used);
+      } catch (const std::exception&) {
+        ok = false;
+      }
+      ok = ok && used == value.size();
+    }
+    if (!ok)
+      throw std::invalid_argument(source + " line " + std::to_string(number) +
+                                  ": expected 'NAME N' (a hypothesis and its evidence dwell in nats), got '" + line + "'");
+    if (!(n >= 0.0 && n <= kMaxDwellNats)) {
+      std::ostringstream bound;
+      bound << kMaxDwellNats;
+      throw std::invalid_argument(source + " line " + std::to_string(number) + ": " + name + "'s N must lie in [0, " +
+                                  bound.str() + "] nats, got " + value);
+    }
+    if (!out.emplace(name, n).second)
+      throw std::invalid_argument(source + " line " + std::to_string(number) + ": hypothesis '" + name +
+                                  "' given twice");
+  }
+  if (out.empty()) throw std::invalid_argument(source + ": no 'NAME N' line (an empty table)");
+  return out;
+}
+
+// The table of file `path` (parse_dwell_nats_table); throws std::invalid_argument naming the
+// path when it cannot be read.
+inline std::map<std::string, double> read_dwell_nats_table(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument("dwell-nats table '" + path + "': cannot be read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_dwell_nats_table(text.str(), "dwell-nats table '" + path + "'");
+}
+
 class Declarer {
  public:
-  explicit Declarer(const DeclarerOptions& options = {}, int presumed = 0)
+  // `names`: the hypotheses' names by index (the bank's), needed when the options name
+  // hypotheses in dwell_nats_per_hypothesis (header).
+  explicit Declarer(const DeclarerOptions& options = {}, int presumed = 0,
+                    const std::vector<std::string>& names = {})
       : options_(options),
         dwell_frames_(checked_dwell_frames(options)),
-        threshold_log_odds_(std::log(options.threshold / (1.0 - options.threshold))) {
+        threshold_log_odds_(std::log(options.threshold / (1.0 - options.threshold))),
+        nats_by_hypothesis_(resolve_per_hypothesis(options, names)) {
     reset(presumed);
   }
 
@@ -99,23 +180,16 @@ class Declarer {
   // dwell, climb_reference.h): the count carries on across a change of the dwell in force.
   template <class Vector>
   int update(const Vector& p, int dwell_frames) noexcept {
-    const int n = static_cast<int>(p.size());
-    int above = -1;
-    for (int k = 0; k < n; ++k)
-      if (p[k] > options_.threshold) {
-        above = k;
-        break;
-      }
-    if (!dwelt(above, above < 0 ? 0.0 : p[above], dwell_frames, current_)) return -1;
-    current_ = candidate_;
-    return current_;
+    return update_slots(p, dwell_frames, nullptr);
   }
 
   // The same with components (header): group[k] the lowest slot of slot k's
   // component, for k in [0, p.size()); a null group is the rule without components.
+  // hypothesis_of_slot[s]: the hypothesis index (into `names`) slot s holds, for the
+  // per-hypothesis evidence dwell (header); null: slot s is hypothesis s.
   template <class Vector>
-  int update(const Vector& p, int dwell_frames, const int* group) noexcept {
-    if (group == nullptr) return update(p, dwell_frames);
+  int update(const Vector& p, int dwell_frames, const int* group, const int* hypothesis_of_slot = nullptr) noexcept {
+    if (group == nullptr) return update_slots(p, dwell_frames, hypothesis_of_slot);
     const int n = static_cast<int>(p.size());
     int above = -1;
     double above_mass = 0.0;
@@ -129,7 +203,7 @@ class Declarer {
         above_mass = mass;
       }
     }
-    if (!dwelt(above, above_mass, dwell_frames, group[current_])) return -1;
+    if (!dwelt(above, above_mass, dwell_frames, group[current_], hypothesis_of_slot)) return -1;
     int form = candidate_;
     for (int j = candidate_ + 1; j < n; ++j)
       if (group[j] == candidate_ && p[j] > p[form]) form = j;
@@ -159,12 +233,31 @@ class Declarer {
   double dwell_evidence_nats() const noexcept { return evidence_nats_; }   // E_n so far (header)
   int dwell_frames() const noexcept { return dwell_frames_; }
   const DeclarerOptions& options() const noexcept { return options_; }
+  // The evidence dwell N_k of hypothesis k (header): its table entry, else dwell_nats.
+  double dwell_nats_of(int hypothesis) const noexcept {
+    if (hypothesis < 0 || hypothesis >= static_cast<int>(nats_by_hypothesis_.size())) return options_.dwell_nats;
+    return nats_by_hypothesis_[static_cast<std::size_t>(hypothesis)];
+  }
 
  private:
+  template <class Vector>
+  int update_slots(const Vector& p, int dwell_frames, const int* hypothesis_of_slot) noexcept {
+    const int n = static_cast<int>(p.size());
+    int above = -1;
+    for (int k = 0; k < n; ++k)
+      if (p[k] > options_.threshold) {
+        above = k;
+        break;
+      }
+    if (!dwelt(above, above < 0 ? 0.0 : p[above], dwell_frames, current_, hypothesis_of_slot)) return -1;
+    current_ = candidate_;
+    return current_;
+  }
+
   // The dwell on `above` (the slot above the threshold, -1: none; `mass` its probability or
   // its component's): restarts when it changes; true once it has held dwell_frames
   // consecutive updates, or gathered the evidence dwell in force (header), and is not `current`.
-  bool dwelt(int above, double mass, int dwell_frames, int current) noexcept {
+  bool dwelt(int above, double mass, int dwell_frames, int current, const int* hypothesis_of_slot) noexcept {
     if (above < 0) {
       candidate_ = -1;
       count_ = 0;
@@ -178,10 +271,11 @@ class Declarer {
     }
     if (count_ < dwell_frames) ++count_;
     bool enough = count_ >= dwell_frames;
-    if (options_.dwell_nats > 0.0) {
+    const double nats = dwell_nats_of(hypothesis_of_slot == nullptr ? above : hypothesis_of_slot[above]);
+    if (nats > 0.0) {
       // ln(P / (1 - P)) - ln(T / (1 - T)) > 0 since P > T; log1p keeps 1 - P exact near 1.
       evidence_nats_ += std::log(mass) - std::log1p(-mass) - threshold_log_odds_;
-      enough = enough || evidence_nats_ >= options_.dwell_nats * dwell_frames / dwell_frames_;
+      enough = enough || evidence_nats_ >= nats * dwell_frames / dwell_frames_;
     }
     return enough && candidate_ != current;
   }
@@ -192,6 +286,31 @@ class Declarer {
                                   "] nats, got " + format_value(o.dwell_nats));
     return f16mmae::dwell_frames(o.dwell_s, o.frame_rate_hz, "declarer");
   }
+  // N_k by hypothesis index (header); empty without a table (dwell_nats for every hypothesis).
+  static std::vector<double> resolve_per_hypothesis(const DeclarerOptions& o, const std::vector<std::string>& names) {
+    std::vector<double> out;
+    if (o.dwell_nats_per_hypothesis.empty()) return out;
+    if (names.empty())
+      throw std::invalid_argument("declarer: dwell_nats_per_hypothesis needs the bank's hypothesis names");
+    for (const auto& [name, n] : o.dwell_nats_per_hypothesis) {
+      bool known = false;
+      for (const auto& h : names) known = known || h == name;
+      if (!known) {
+        std::string valid;
+        for (const auto& h : names) valid += (valid.empty() ? "" : " ") + h;
+        throw std::invalid_argument("declarer: dwell_nats_per_hypothesis names '" + name +
+                                    "', not a hypothesis of the bank (" + valid + ")");
+      }
+      if (!(n >= 0.0 && n <= kMaxDwellNats))
+        throw std::invalid_argument("declarer: dwell_nats_per_hypothesis '" + name + "' must be in [0, " +
+                                    format_value(kMaxDwellNats) + "] nats, got " + format_value(n));
+    }
+    for (const auto& h : names) {
+      const auto it = o.dwell_nats_per_hypothesis.find(h);
+      out.push_back(it == o.dwell_nats_per_hypothesis.end() ? o.dwell_nats : it->second);
+    }
+    return out;
+  }
 
   DeclarerOptions options_;
   int dwell_frames_ = 1;
@@ -200,6 +319,7 @@ class Declarer {
   int count_ = 0;
   double threshold_log_odds_ = 0.0;   // ln(threshold / (1 - threshold))
   double evidence_nats_ = 0.0;        // E_n of the candidate (header)
+  std::vector<double> nats_by_hypothesis_;   // N_k by hypothesis index; empty: dwell_nats for all
 };
 
 }  // namespace f16mmae

@@ -255,7 +255,7 @@ class HierarchicalBank {
       declarer_in_force().reset(declarer_in_force().current());   // the dwell restarts
     const int d = departure_.held() ? -1
                                       : declarer_in_force().update(bank_.probabilities(), dwell_frames_in_force(),
-                                                                   component_groups());
+                                                                   component_groups(), online_.data());
     int hypothesis = -1;
     if (d >= 0) {
       hypothesis = online_[d];
@@ -562,6 +562,12 @@ class HierarchicalBank {
     return out;
   }
 
+  // The hypotheses' names by ModelBank index (the declarer's per-hypothesis dwell, declarer.h).
+  static std::vector<std::string> hypothesis_names(const ModelBank& mb) {
+    std::vector<std::string> out;
+    for (const auto& h : mb.hypotheses) out.push_back(h.name);
+    return out;
+  }
   static DeclarerOptions with_rate(DeclarerOptions d, double rate_hz) {
     d.frame_rate_hz = rate_hz;
     return d;
@@ -596,8 +602,8 @@ class HierarchicalBank {
   HierarchicalBank(const ModelBank& mb, const HierarchicalOptions& options, Built b)
       : options_(options),
         bank_(pick(b.models, b.levels.level0()), with_rate(options.bank, mb.frame_rate_hz)),
-        declarer_(with_rate(options.declarer, mb.frame_rate_hz), 0),
-        declarer1_(level1_declarer(options, mb.frame_rate_hz), 0),
+        declarer_(with_rate(options.declarer, mb.frame_rate_hz), 0, hypothesis_names(mb)),
+        declarer1_(level1_declarer(options, mb.frame_rate_hz), 0, hypothesis_names(mb)),
         levels_(std::move(b.levels)),
         online_(levels_.level0()),
         air_rates_(mb.frame_rate_hz),

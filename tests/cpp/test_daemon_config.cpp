@@ -109,6 +109,16 @@ TEST(DaemonConfig, ManeuverMachRate) {
   EXPECT_NE(f16mmae::daemon::daemon_usage().find("--maneuver-mach-rate MACH_PER_S"), std::string::npos);
 }
 
+TEST(DaemonConfig, EvidenceDwellPerHypothesis) {
+  EXPECT_TRUE(parse_daemon_args({"--bank", "b"}, nullptr).config.dwell_nats_table_path.empty());   // off
+  auto r = parse_daemon_args({"--bank", "b", "--dwell-nats-per-hypothesis", "t.txt"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.dwell_nats_table_path, "t.txt");
+  r = parse_daemon_args({"--bank", "b", "--dwell-nats-per-hypothesis="}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--dwell-nats-per-hypothesis needs a table file name"), std::string::npos) << r.message;
+}
+
 TEST(DaemonConfig, OnLineEstimatorOptions) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;

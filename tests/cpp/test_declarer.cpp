@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 using f16mmae::Declarer;
 using f16mmae::DeclarerOptions;
@@ -245,4 +247,99 @@ TEST(DeclarerEvidence, ValidationNamesTheBadValue) {
   }
   o.dwell_nats = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(Declarer{o}, std::invalid_argument);
+}
+
+// Evidence dwell per hypothesis (declarer.h): N_k by name, resolved against the names at
+// construction; a hypothesis the table does not name takes dwell_nats; N_k = 0: the frame dwell.
+// Hand sums as above: 0.99 gives 2.39790 a frame above ln 9, 0.999 gives 4.70953.
+TEST(DeclarerEvidencePerHypothesis, EachHypothesisNeedsItsOwnNats) {
+  DeclarerOptions o;
+  o.dwell_nats = 7.0;                                            // C, not in the table
+  o.dwell_nats_per_hypothesis = {{"A", 0.0}, {"B", 4.0}};        // A: frames alone; B: 4 nats
+  const std::vector<std::string> names{"NONE", "A", "B", "C"};
+  Declarer d(o, 0, names);
+  EXPECT_EQ(d.dwell_nats_of(0), 7.0);
+  EXPECT_EQ(d.dwell_nats_of(1), 0.0);
+  EXPECT_EQ(d.dwell_nats_of(2), 4.0);
+  EXPECT_EQ(d.dwell_nats_of(3), 7.0);
+  auto one = [](int k, double p) {
+    std::array<double, 4> v{};
+    for (auto& x : v) x = (1.0 - p) / 3.0;
+    v[static_cast<std::size_t>(k)] = p;
+    return v;
+  };
+  // B at 0.99: 2.398 then 4.796 >= 4 -> declared on the second frame
+  EXPECT_EQ(d.update(one(2, 0.99)), -1);
+  EXPECT_EQ(d.update(one(2, 0.99)), 2);
+  // C at 0.99: 2.398, 4.796, 7.194 >= 7 -> the third frame
+  EXPECT_EQ(d.update(one(3, 0.99)), -1);
+  EXPECT_EQ(d.update(one(3, 0.99)), -1);
+  EXPECT_EQ(d.update(one(3, 0.99)), 3);
+  // A at 0.999 (4.7 nats a frame): no evidence dwell, the 16th frame
+  for (int i = 0; i < 15; ++i) EXPECT_EQ(d.update(one(1, 0.999)), -1) << i;
+  EXPECT_EQ(d.dwell_evidence_nats(), 0.0);
+  EXPECT_EQ(d.update(one(1, 0.999)), 1);
+}
+
+TEST(DeclarerEvidencePerHypothesis, SlotsAreMappedToHypothesesWhenTheBankSaysWhichIsWhich) {
+  DeclarerOptions o;
+  o.dwell_nats_per_hypothesis = {{"B", 4.0}};   // the others: dwell_nats 0, the frame dwell
+  Declarer d(o, 0, {"NONE", "A", "B"});
+  const int slot_holds[3] = {0, 2, 1};           // slot 1 holds B, slot 2 holds A
+  const std::array<double, 3> p{0.005, 0.99, 0.005};
+  EXPECT_EQ(d.update(p, d.dwell_frames(), nullptr, slot_holds), -1);   // 2.398
+  EXPECT_EQ(d.update(p, d.dwell_frames(), nullptr, slot_holds), 1);    // 4.796 >= 4: slot 1
+  // the same probabilities without the map: slot 1 is A, the frame dwell alone
+  Declarer plain(o, 0, {"NONE", "A", "B"});
+  for (int i = 0; i < 15; ++i) EXPECT_EQ(plain.update(p), -1) << i;
+  EXPECT_EQ(plain.update(p), 1);
+  // components: the representative slot's hypothesis sets N (slots 1, 2 one component: B)
+  Declarer c(o, 0, {"NONE", "A", "B"});
+  const int group[3] = {0, 1, 1};
+  const std::array<double, 3> q{0.01, 0.5, 0.49};   // mass 0.99
+  EXPECT_EQ(c.update(q, c.dwell_frames(), group, slot_holds), -1);
+  EXPECT_EQ(c.update(q, c.dwell_frames(), group, slot_holds), 1);
+}
+
+TEST(DeclarerEvidencePerHypothesis, ValidationNamesTheBadEntry) {
+  DeclarerOptions o;
+  o.dwell_nats_per_hypothesis = {{"X", 5.0}};
+  try {
+    Declarer d(o, 0, {"NONE", "A"});
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "declarer: dwell_nats_per_hypothesis names 'X', not a hypothesis of the bank (NONE A)");
+  }
+  EXPECT_THROW(Declarer{o}, std::invalid_argument);   // no names to resolve against
+  o.dwell_nats_per_hypothesis = {{"A", -2.0}};
+  try {
+    Declarer d(o, 0, {"NONE", "A"});
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "declarer: dwell_nats_per_hypothesis 'A' must be in [0, 1e+06] nats, got -2");
+  }
+}
+
+TEST(DeclarerEvidencePerHypothesis, TableFileParsesAndRefusesBadLines) {
+  const auto t = f16mmae::parse_dwell_nats_table("# N_k\nLS 32  # a surface\n\nAOA 0\n", "t");
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t.at("LS"), 32.0);
+  EXPECT_EQ(t.at("AOA"), 0.0);
+  try {
+    f16mmae::parse_dwell_nats_table("LS 32\nAZ x\n", "t");
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "t line 2: expected 'NAME N' (a hypothesis and its evidence dwell in nats), got 'AZ x'");
+  }
+  EXPECT_THROW(f16mmae::parse_dwell_nats_table("LS 1\nLS 2\n", "t"), std::invalid_argument);
+  EXPECT_THROW(f16mmae::parse_dwell_nats_table("LS 1 2\n", "t"), std::invalid_argument);
+  try {
+    f16mmae::parse_dwell_nats_table("LS 32\nAOA -1\n", "t");
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "t line 2: AOA's N must lie in [0, 1e+06] nats, got -1");
+  }
+  EXPECT_THROW(f16mmae::parse_dwell_nats_table("LS nan\n", "t"), std::invalid_argument);
+  EXPECT_THROW(f16mmae::parse_dwell_nats_table("# nothing\n", "t"), std::invalid_argument);
+  EXPECT_THROW(f16mmae::read_dwell_nats_table("/nonexistent/table.txt"), std::invalid_argument);
 }

@@ -84,3 +84,56 @@ def test_a_flight_declares_when_the_recorded_log_odds_sum_reaches_the_dwell():
     last = run[0]
     x = min(p[last], 1.0 - 1e-16)
     assert total >= 48.0 > total - (math.log(x) - math.log1p(-x) - LN9)
+
+
+# -- the evidence dwell per hypothesis (--dwell-nats-per-hypothesis FILE) ------------------------
+def test_the_table_file_is_read_and_refused_naming_the_line(tmp_path):
+    from f16mmae.loop.estimator_options import load_dwell_nats_table
+    f = tmp_path / "n.txt"
+    f.write_text("# rule\nAZ 48   # E_max 20\nAOA 0\n")
+    assert load_dwell_nats_table(str(f)) == {"AZ": 48.0, "AOA": 0.0}
+    check({"dwell_nats_per_hypothesis": str(f)})
+    assert daemon_flags({"dwell_nats_per_hypothesis": str(f)}) == ("--dwell-nats-per-hypothesis", str(f))
+    f.write_text("AZ 48\nAOA -1\n")
+    with pytest.raises(ValueError, match=r"line 2: AOA's N must lie in \[0, 1e\+06\] nats, got -1"):
+        check({"dwell_nats_per_hypothesis": str(f)})
+    f.write_text("AZ forty\n")
+    with pytest.raises(ValueError, match="line 1: expected 'NAME N'"):
+        load_dwell_nats_table(str(f))
+    with pytest.raises(ValueError, match="not a hypothesis of the bank"):
+        core.HierarchicalBank(load_bank("tuned")[2], dwell_nats_per_hypothesis={"XYZ": 4.0})
+
+
+def test_the_daemon_reads_the_table_and_names_it(tmp_path):
+    daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
+    f = tmp_path / "n.txt"
+    f.write_text("AZ 48\nROL 32\n")
+    p = subprocess.Popen([daemon, "--bank", bank, "--dwell-nats-per-hypothesis", str(f), "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    assert "dwell 0.25 s or per hypothesis (AZ 48, ROL 32) nats," in ready, ready
+    f.write_text("QQ 4\n")
+    r = subprocess.run([daemon, "--bank", bank, "--dwell-nats-per-hypothesis", str(f)], capture_output=True,
+                       text=True, timeout=20)
+    assert r.returncode == 1 and "names 'QQ', not a hypothesis of the bank" in r.stderr, r.stderr
+
+
+@pytest.mark.slow
+def test_a_flight_takes_each_hypothesis_own_dwell(tmp_path):
+    """AZ fails at 2 s (the flight above): a table giving AZ 48 nats declares on the frame
+    --dwell-nats 48 does; one giving AZ 0 (and every other hypothesis 48) declares as the frame
+    dwell alone does."""
+    bank = load_bank("tuned")[2]
+    sc = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=4.0, seed=3, feedback="mmae",
+                  failures=(make_failure("AZ", 2.0),))
+    fast, slow = tmp_path / "fast.txt", tmp_path / "slow.txt"
+    fast.write_text("AZ 48\n")
+    slow.write_text("AZ 0\n")
+    t = {name: fly(sc, bank, estimator_options=o).declarations[0]
+         for name, o in (("nats", {"dwell_nats": 48.0}), ("plain", {}),
+                         ("fast", {"dwell_nats_per_hypothesis": str(fast)}),
+                         ("slow", {"dwell_nats": 48.0, "dwell_nats_per_hypothesis": str(slow)}))}
+    assert {d["hypothesis"] for d in t.values()} == {"AZ"}
+    assert t["fast"]["time_s"] == t["nats"]["time_s"] < t["plain"]["time_s"] == t["slow"]["time_s"]

@@ -5,7 +5,8 @@ declarations per hour with its interval.
 
     .venv/bin/python tools/latency/dwell_nats_table.py LABEL=SINGLE_DIR,SOAK_DIR [...]
 
-(SOAK_DIR may be left out: ``LABEL=SINGLE_DIR``.)
+(SOAK_DIR may be left out: ``LABEL=SINGLE_DIR``.) Then one row per case: each setting's median
+latency (s) over the case's detected runs, and VEL's p95.
 """
 from __future__ import annotations
 
@@ -47,6 +48,15 @@ def row(label: str, single: Path, soak: Path | None) -> str:
     return "| " + " | ".join(cells) + " |"
 
 
+def case_latencies(single: Path) -> dict[str, list[float]]:
+    out: dict[str, list[float]] = {}
+    for line in (single / "runs.jsonl").read_text().splitlines():
+        r = json.loads(line)
+        if r.get("latency_s") is not None:
+            out.setdefault(r["case"], []).append(r["latency_s"])
+    return out
+
+
 def main() -> None:
     if len(sys.argv) < 2:
         raise SystemExit(__doc__)
@@ -57,6 +67,16 @@ def main() -> None:
         label, _, dirs = arg.partition("=")
         single, _, soak = dirs.partition(",")
         print(row(label, Path(single), Path(soak) if soak else None))
+    labels = [a.partition("=")[0] for a in sys.argv[1:]]
+    per = [case_latencies(Path(a.partition("=")[2].partition(",")[0])) for a in sys.argv[1:]]
+    print()
+    print("| case | " + " | ".join(f"{lb}: median (s)" for lb in labels) + " |")
+    print("|---|" + "---|" * len(labels))
+    cases = [c for c in per[0] if c != "NONE"]
+    for c in cases:
+        print(f"| {c} | " + " | ".join(f"{np.median(p[c]):.2f}" if p.get(c) else "-" for p in per) + " |")
+    print("| VEL p95 | " + " | ".join(f"{np.percentile(p['VEL'], 95):.2f}" if p.get("VEL") else "-"
+                                     for p in per) + " |")
 
 
 if __name__ == "__main__":

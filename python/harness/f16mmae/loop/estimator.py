@@ -17,7 +17,7 @@ from .. import core
 from ..banks import bank_estimator_settings, turbulence_bank_set
 from ..names import SENSORS, SET_TEMPERING_FULL, SINGLE_HYPOTHESES
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
-from .estimator_options import CLOSED_LOOP, load_allowance_pairs, scheduled_defaults, with_closed_loop_defaults
+from .estimator_options import CLOSED_LOOP, FILE_LOADERS, scheduled_defaults, with_closed_loop_defaults
 
 
 def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
@@ -34,8 +34,9 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``names.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``)."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
-    if "level1_allowance_pairs" in out:   # the file's table, {"F>C": k} (level1_allowance.h)
-        out["level1_allowance_pairs"] = load_allowance_pairs(out["level1_allowance_pairs"])
+    for key, load in FILE_LOADERS.items():   # a file option's table: {"F>C": k} (level1_allowance.h), {name: N}
+        if key in out:
+            out[key] = load(out[key])
     counted = out.pop("adapt_counted_channel", None)
     if counted is not None:   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
         out["adapt_counted_channels"] = 1 << SENSORS.index(counted.upper())

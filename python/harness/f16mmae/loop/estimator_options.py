@@ -9,7 +9,7 @@ and the daemon's arguments (``lcm.daemon.daemon_flags``) all read this table, so
 added here is accepted, recorded, reproduced and passed to the daemon alike.
 
 Kinds: ``number`` (a finite float in a range), ``choice`` (one of ``choices``), ``switch`` (on
-when given), ``file`` (the path of a file the option reads: :func:`load_allowance_pairs`) and ``values`` (comma-separated positive numbers; daemon only: the form
+when given), ``file`` (the path of a file the option reads: :data:`FILE_LOADERS`) and ``values`` (comma-separated positive numbers; daemon only: the form
 ``core_arguments`` gives ``actuator_limits``).
 """
 from __future__ import annotations
@@ -281,6 +281,11 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "over its consecutive frames above, reach N nats: one the data hold near the ceiling is "
                          "declared in a few frames, one hovering near the threshold still needs the dwell "
                          "(cpp/f16mmae/declarer.h). Default 0: the dwell alone"),
+    EstimatorOption("dwell_nats_per_hypothesis", "--dwell-nats-per-hypothesis", "file", metavar="FILE",
+                    help="... per hypothesis: FILE (tools/latency/dwell_per_hypothesis.py; one 'NAME N' a line) "
+                         "gives hypothesis NAME its own evidence dwell of N nats, 0 leaving it to --dwell-s "
+                         "alone; a hypothesis FILE does not name takes --dwell-nats (cpp/f16mmae/declarer.h). "
+                         "Default: none"),
     EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,
                     help="a bank with partial-loss hypotheses (design --partial-loss): their probability floor at "
                          "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "
@@ -371,6 +376,23 @@ def load_allowance_pairs(path: str) -> dict[str, float]:
     return {k: float(v) for k, v in pairs.items()}
 
 
+def load_dwell_nats_table(path: str) -> dict[str, float]:
+    """The table of ``--dwell-nats-per-hypothesis`` (tools/latency/dwell_per_hypothesis.py writes
+    it), ``{name: N}``, read by the core's reader as mmae-daemon reads it
+    (cpp/f16mmae/declarer.h: one ``NAME N`` a line, ``#`` a comment). ValueError naming the flag,
+    the file, the line and what is wrong (the core refuses names that are not hypotheses of the
+    bank when it is built)."""
+    from .. import core
+    try:
+        return dict(core.read_dwell_nats_table(str(path)))
+    except ValueError as exc:
+        raise ValueError(f"--dwell-nats-per-hypothesis: {exc}") from None
+
+
+#: The reader of each ``file`` option's file: the table the core takes for the path.
+FILE_LOADERS = {"level1_allowance_pairs": load_allowance_pairs, "dwell_nats_per_hypothesis": load_dwell_nats_table}
+
+
 def valid_range(option: EstimatorOption) -> str:
     """The valid values of a ``number`` or ``choice`` option, as its refusal names them."""
     if option.kind == "choice":
@@ -394,7 +416,7 @@ def check(settings: dict) -> None:
         elif o.kind == "file":
             if not isinstance(value, str):
                 raise ValueError(f"{o.flag} {value!r} must be the path of a file")
-            load_allowance_pairs(value)
+            FILE_LOADERS[key](value)
             ok = True
         else:
             ok = (isinstance(value, (int, float)) and not isinstance(value, bool)

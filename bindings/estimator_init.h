@@ -30,7 +30,7 @@
 //                                        given as declarer supplies threshold, dwell_s and dwell_nats
 //   trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
 //   trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
-//   trim_steady_mach_per_s                                                    trim_tracker.h
+//   trim_steady_mach_per_s, trim_load_factor ('on'|'off')                    trim_tracker.h
 //   schedule_mode ('interpolate'|'nearest'),
 //   hysteresis_cells, blend_step_cells,
 //   air_data_time_constant_s, cubic_trims                                      scheduled_filters.h
@@ -81,7 +81,8 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              double trim_steady_g,
                                              const std::vector<std::string>& trim_steady_measurements,
                                              double trim_steady_roll_rate_rad_s, double trim_steady_climb_ft_s,
-                                             double trim_steady_mach_per_s, const std::string& schedule_mode,
+                                             double trim_steady_mach_per_s, const std::string& trim_load_factor,
+                                             const std::string& schedule_mode,
                                              double hysteresis_cells,
                                              double blend_step_cells, double air_data_time_constant_s,
                                              bool cubic_trims, bool adapt_turbulence, double adapt_time_constant_s,
@@ -124,6 +125,9 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.trim.steady_roll_rate_rad_s = trim_steady_roll_rate_rad_s;
   o.trim.steady_climb_ft_s = trim_steady_climb_ft_s;
   o.trim.steady_mach_per_s = trim_steady_mach_per_s;
+  if (trim_load_factor != "on" && trim_load_factor != "off")
+    throw py::value_error("trim_load_factor must be 'on' or 'off', got '" + trim_load_factor + "'");
+  o.trim.load_factor = trim_load_factor == "on";
   if (schedule_mode == "interpolate")
     o.schedule.mode = ScheduleMode::kInterpolate;
   else if (schedule_mode == "nearest")
@@ -198,7 +202,7 @@ Class& def_estimator_init(Class& cls) {
                   double trim_hold_s, bool trim_freeze, double trim_steady_g,
                   const std::vector<std::string>& trim_steady_measurements, double trim_steady_roll_rate_rad_s,
                   double trim_steady_climb_ft_s,
-                  double trim_steady_mach_per_s, const std::string& schedule_mode,
+                  double trim_steady_mach_per_s, const std::string& trim_load_factor, const std::string& schedule_mode,
                   double hysteresis_cells,
                   double blend_step_cells, double air_data_time_constant_s, bool cubic_trims, bool adapt_turbulence,
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
@@ -218,7 +222,7 @@ Class& def_estimator_init(Class& cls) {
                                              declarer,
                                              trim_time_constant_s, trim_freeze_probability, trim_hold_s, trim_freeze,
                                              trim_steady_g, trim_steady_measurements, trim_steady_roll_rate_rad_s, trim_steady_climb_ft_s,
-                                             trim_steady_mach_per_s, schedule_mode, hysteresis_cells, blend_step_cells,
+                                             trim_steady_mach_per_s, trim_load_factor, schedule_mode, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
                                              adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_counted_channels, adapt_hypothesis_weight, adapt_full_tempering, adapt_reference_climb, adapt_reference_climb_hold_s,
@@ -246,7 +250,8 @@ Class& def_estimator_init(Class& cls) {
       py::arg("trim_steady_measurements") = core.trim.steady_measurements,
       py::arg("trim_steady_roll_rate_rad_s") = core.trim.steady_roll_rate_rad_s,
       py::arg("trim_steady_climb_ft_s") = core.trim.steady_climb_ft_s,
-      py::arg("trim_steady_mach_per_s") = core.trim.steady_mach_per_s, py::arg("schedule_mode") = "interpolate",
+      py::arg("trim_steady_mach_per_s") = core.trim.steady_mach_per_s,
+      py::arg("trim_load_factor") = core.trim.load_factor ? "on" : "off", py::arg("schedule_mode") = "interpolate",
       py::arg("hysteresis_cells") = core.schedule.hysteresis_cells,
       py::arg("blend_step_cells") = core.schedule.blend_step_cells,
       py::arg("air_data_time_constant_s") = core.schedule.air_data_time_constant_s,

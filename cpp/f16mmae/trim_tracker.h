@@ -78,6 +78,9 @@
 // but the correction dz follows n there instead of staying the 1-g offset. Valid while q and
 // Mach stay those of the frames d1 was tracked on (a 1/q term otherwise; a turn at a held
 // speed keeps them). The input offsets du are not scaled (the throttle does not scale with n).
+// AZ is the body-axis normal load factor (about 0.985 g in the F-16's level trim, not 1): only
+// the ratio of the n an offset is applied at to the n it was tracked at enters n d1, so that
+// factor cancels as long as alpha changes little between the two.
 // The names are resolved into a fixed mask at construction (options().steady_measurements is
 // then empty: a copied tracker allocates nothing).
 //

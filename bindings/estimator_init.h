@@ -121,6 +121,9 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::trim, &TrimTrackingOptions::steady_roll_rate_rad_s>("trim_steady_roll_rate_rad_s"),
       field<&O::trim, &TrimTrackingOptions::steady_climb_ft_s>("trim_steady_climb_ft_s"),
       field<&O::trim, &TrimTrackingOptions::steady_mach_per_s>("trim_steady_mach_per_s"),
+      {"trim_load_factor", "'on' or 'off'",  // the tracked offset scaled with the load factor
+       [](O& o, py::handle v) { o.trim.load_factor = choice("trim_load_factor", v, "on", "off"); },
+       [](const O& o) { return py::cast(o.trim.load_factor ? "on" : "off"); }},
       // the schedule
       {"schedule_mode", "'interpolate' or 'nearest'",
        [](O& o, py::handle v) {

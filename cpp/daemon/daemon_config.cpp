@@ -30,6 +30,7 @@ std::string daemon_usage() {
          "                   [--level1-p-min P] [--level1-dwell-s S] [--level1-allowance K]\n"
          "                   [--departure-hold on|off] [--declare-components] [--partial-p-min P]\n"
          "                   [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]\n"
+         "                   [--trim-tracking-load-factor on|off]\n"
          "                   [--schedule-mode interpolate|nearest] [--air-data-time-constant TAU_S]\n"
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--maneuver-tempering-deadband D]\n"
          "                   [--maneuver-trim] [--maneuver-trim-time-constant T_S] [--maneuver-trim-accel on|off]\n"
@@ -119,6 +120,10 @@ std::string daemon_usage() {
          "                       frozen while the estimated load factor is more than G g off the\n"
          "                       trim, the roll rate above 5 deg/s or the air data climb or change\n"
          "                       Mach; of the measurements only AOA (0 < G <= 10; default: off)\n"
+         "  --trim-tracking-load-factor on|off  with --trim-tracking-steady: on applies the\n"
+         "                       tracked AOA offset as n times the 1-g offset, n the measured AZ\n"
+         "                       low-passed (a lighter aircraft's alpha offset grows with the\n"
+         "                       load factor; default off)\n"
          "  --schedule-mode M    a scheduled bank (*.f16sched): interpolate between grid points\n"
          "                       on the frames' air data (default) or nearest (switch with\n"
          "                       hysteresis)\n"
@@ -254,6 +259,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--dwell-nats-per-hypothesis" || key == "--warm-lead-us" || key == "--rewarm-us" || key == "--auth-key" ||
                        key == "--bank-public-key" || key == "--trim-tracking" ||
                        key == "--trim-freeze-probability" || key == "--trim-tracking-steady" ||
+                       key == "--trim-tracking-load-factor" ||
                        key == "--schedule-mode" || key == "--adapt-reference" ||
                        key == "--adapt-reference-climb" || key == "--adapt-reference-climb-hold" ||
                        key == "--adapt-reference-climb-dwell" ||
@@ -278,7 +284,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--maneuver-dwell, --maneuver-dwell-hold, --maneuver-dwell-g, --maneuver-dwell-time-constant, "
                          "--maneuver-reference, --maneuver-mach-rate, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
                          "--level1-allowance, --departure-hold, --declare-components, --partial-p-min, --trim-tracking, "
-                         "--trim-freeze-probability, --trim-tracking-steady, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
+                         "--trim-freeze-probability, --trim-tracking-steady, --trim-tracking-load-factor, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
                          "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --maneuver-trim-rates, --maneuver-trim-blend, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
@@ -440,6 +446,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!p || *p < 0.0 || *p > 0.1)
         return usage_error("--partial-p-min must be a probability in [0, 0.1], got '" + value + "'");
       c.partial_p_min = *p;
+    } else if (key == "--trim-tracking-load-factor") {
+      if (value != "on" && value != "off")
+        return usage_error("--trim-tracking-load-factor must be on or off, got '" + value + "'");
+      c.trim_load_factor = value == "on";
     } else if (key == "--departure-hold") {
       if (value != "on" && value != "off")
         return usage_error("--departure-hold must be on or off, got '" + value + "'");
@@ -537,6 +547,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     return usage_error("--maneuver-tempering-deadband applies with --maneuver-tempering only");
   if (c.trim_steady_g > 0.0 && c.trim_time_constant_s == 0.0)
     return usage_error("--trim-tracking-steady applies with --trim-tracking only");
+  if (c.trim_load_factor && c.trim_steady_g == 0.0)
+    return usage_error("--trim-tracking-load-factor applies with --trim-tracking-steady only");
   if (c.adapt_reference && !c.adapt_turbulence)
     return usage_error("--adapt-reference applies with --adapt-turbulence only");
   if (c.adapt_own_channels && !c.adapt_turbulence)

@@ -12,6 +12,7 @@
 //               [--level1-p-min P] [--level1-dwell-s S] [--level1-allowance K] [--departure-hold on|off]
 //               [--declare-components] [--partial-p-min P]
 //               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]
+//               [--trim-tracking-load-factor on|off]
 //               [--schedule-mode M]
 //               [--air-data-time-constant TAU_S] [--maneuver-kinematics] [--maneuver-tempering G]
 //               [--maneuver-tempering-deadband D] [--maneuver-trim] [--maneuver-trim-time-constant T_S]
@@ -76,6 +77,7 @@ struct DaemonConfig {
   double trim_time_constant_s = 0.0; // trim_tracker.h; 0 = off
   std::optional<double> trim_freeze_probability;  // with trim tracking only
   double trim_steady_g = 0.0;        // with trim tracking only: steady tracking's load-factor gate; 0 = off
+  std::optional<bool> trim_load_factor;  // with steady trim tracking only: the offset applied as n times the 1-g one
   bool schedule_nearest = false;     // a scheduled bank: nearest node instead of interpolation
   std::optional<double> air_data_time_constant_s;  // its air-data low-pass (scheduled_filters.h); unset: the core's
   bool maneuver_kinematics = false;  // maneuver_kinematics.h

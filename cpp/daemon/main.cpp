@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
     options.trim.time_constant_s = cfg.trim_time_constant_s;
     if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
     options.trim.steady_g = cfg.trim_steady_g;
+    if (cfg.trim_load_factor) options.trim.load_factor = *cfg.trim_load_factor;
     if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
     if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
     options.maneuver.kinematics = cfg.maneuver_kinematics;

@@ -270,7 +270,7 @@ class HierarchicalBank {
     }
     if (trim_tracker_.options().enabled()) {
       z_pert_.noalias() = z_abs - z_trim_;
-      trim_tracker_.after_update(z_pert_, trim_freezing(), bank_.z_hat(), air_rates_);
+      trim_tracker_.after_update(z_pert_, trim_freezing(), bank_.z_hat(), air_rates_, z_abs);
       dz_ = trim_tracker_.dz();
     }
     return hypothesis;

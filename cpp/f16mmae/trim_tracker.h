@@ -55,13 +55,40 @@
 //     samples arrive, then only dn gates). A steady climb
 //     flies another throttle and stabilator than level flight: tracked, they would be handed
 //     to the filters as the trim at the level-off;
+//
+// Load-factor scaling (load_factor = true; steady tracking only; false, the default: the
+// tracker above, bit for bit). What the tracked AOA offset estimates is the weight: a lighter
+// (or heavier) aircraft than the design's flies a load factor at another angle of attack.
+// From the lift equation, linear in alpha, at dynamic pressure q and wing area S,
+//   n W = L = q S C_La (alpha - alpha_0)   =>   alpha(n) = alpha_0 + n W / (q S C_La),
+// so at the same q and Mach (the same C_La) the weight's offset W' - W moves alpha by
+//   delta alpha(n) = n (W' - W) / (q S C_La) = n delta alpha(1),
+// n times the 1-g offset. The lift-curve slope cancels: it sets alpha per g, which the bank's
+// own model and trim at the node carry (the filters explain a maneuver's alpha at the design
+// weight); the weight's share is the n delta alpha(1) on top. So the tracker estimates the
+// 1-g offset d1 and hands the bank, on the tracked measurements (steady_measurements), n d1:
+//   n_(i+1)  = n_i + b (AZ_i - n_i),   b = 1 - exp(-dt / load_factor_time_constant_s)
+//              (AZ_i the frame's measured AZ, g; n_0 = 1 g; n is held on a frame of the
+//               freeze rule above -- level 1, a failure declared or rising -- so a failed AZ
+//               sensor does not scale the offset; the steady gates do not hold it)
+//   d1_(i+1) = d1_i + a ((z_i - z_trim) / n_(i+1) - d1_i)   tracked entries, when not frozen;
+//              a frame with n < kLoadFactorTrackMin freezes like a freezing frame
+//   dz_i     = n_(i+1) d1_(i+1)   tracked entries (the others 0), on every frame, frozen or not
+// The steady gates still freeze d1 in turns and pull-ups (their own alpha is not the weight's),
+// but the correction dz follows n there instead of staying the 1-g offset. Valid while q and
+// Mach stay those of the frames d1 was tracked on (a 1/q term otherwise; a turn at a held
+// speed keeps them). The input offsets du are not scaled (the throttle does not scale with n).
+// AZ is the body-axis normal load factor (about 0.985 g in the F-16's level trim, not 1): only
+// the ratio of the n an offset is applied at to the n it was tracked at enters n d1, so that
+// factor cancels as long as alpha changes little between the two.
 // The names are resolved into a fixed mask at construction (options().steady_measurements is
 // then empty: a copied tracker allocates nothing).
 //
 // Options: time_constant_s > 0 enables it (0 = off: offsets stay zero, the bank behaves
 // exactly as without a tracker); freeze_probability in (0, 1]; hold_s >= 0; freeze = false
 // never freezes (for comparison only: such a tracker absorbs a failure into the trim);
-// steady_g >= 0 (0 = off); steady_measurements: names of the bank's measurements.
+// steady_g >= 0 (0 = off); steady_measurements: names of the bank's measurements;
+// load_factor needs steady_g > 0; load_factor_time_constant_s > 0.
 #pragma once
 
 #include "f16mmae/air_data_rates.h"
@@ -86,6 +113,9 @@ struct TrimTrackingOptions {
   double steady_roll_rate_rad_s = 0.0872664626;   // steady tracking: |p_hat| above this freezes (5 deg/s)
   double steady_climb_ft_s = AirDataRates::kClimbFtS;   // steady tracking: |h_dot| above this freezes (300 ft/min)
   double steady_mach_per_s = AirDataRates::kMachPerS;   // steady tracking: |M_dot| above this freezes
+  bool load_factor = false;                  // steady tracking: the tracked offsets applied as n times the 1-g offset
+  double load_factor_time_constant_s = 0.5;  // the measured AZ's low-pass for n
+  static constexpr double kLoadFactorTrackMin = 0.5;   // g: a frame below it is not tracked (z / n)
 
   bool enabled() const noexcept { return time_constant_s > 0.0; }
   void validate() const {
@@ -103,6 +133,12 @@ struct TrimTrackingOptions {
       throw std::invalid_argument("trim tracking: steady_roll_rate_rad_s, steady_climb_ft_s and steady_mach_per_s must be "
                                   "> 0, got " + std::to_string(steady_roll_rate_rad_s) + ", " +
                                   std::to_string(steady_climb_ft_s) + " and " + std::to_string(steady_mach_per_s));
+    if (load_factor && !(steady_g > 0.0))
+      throw std::invalid_argument("trim tracking: load_factor needs steady tracking (steady_g > 0), got steady_g " +
+                                  std::to_string(steady_g));
+    if (!(load_factor_time_constant_s > 0.0 && std::isfinite(load_factor_time_constant_s)))
+      throw std::invalid_argument("trim tracking: load_factor_time_constant_s must be > 0 s, got " +
+                                  std::to_string(load_factor_time_constant_s));
   }
   bool steady() const noexcept { return steady_g > 0.0; }
 };
@@ -124,6 +160,9 @@ class TrimTracker {
     du_ = UVector::Zero(nu);
     dz_ = ZVector::Zero(nz);
     mask_ = ZVector::Ones(nz);
+    d1_ = ZVector::Zero(nz);
+    load_factor_ = options.enabled() && options.load_factor;
+    n_gain_ = load_factor_ ? 1.0 - std::exp(-1.0 / (frame_rate_hz * options.load_factor_time_constant_s)) : 0.0;
     if (options.enabled() && options.steady()) {
       az_ = find(measurement_names, "AZ");
       rol_ = find(measurement_names, "ROL");
@@ -137,6 +176,8 @@ class TrimTracker {
   void reset() noexcept {
     du_.setZero();
     dz_.setZero();
+    d1_.setZero();
+    n_ = 1.0;
     held_for_ = 0;
     frozen_ = false;
     frozen_frames_ = 0;
@@ -147,9 +188,13 @@ class TrimTracker {
   // Steady tracking: z_hat_pert = the bank's z_hat perturbation after the update (its AZ entry
   // is dn) and rates the air-data rates with every usable sample so far observed; a frame
   // beyond steady_g, steady_roll_rate_rad_s or the climb and Mach rates freezes as a freezing
-  // frame does.
-  template <class Z, class ZH>
-  void after_update(const Z& z_pert, bool freezing, const ZH& z_hat_pert, const AirDataRates& rates) noexcept {
+  // frame does. z_abs: the frame's measurements (load-factor scaling reads its AZ, g; a
+  // non-finite AZ leaves n as it was).
+  template <class Z, class ZH, class ZA>
+  void after_update(const Z& z_pert, bool freezing, const ZH& z_hat_pert, const AirDataRates& rates,
+                    const ZA& z_abs) noexcept {
+    if (load_factor_ && !freezing && std::isfinite(z_abs(az_))) n_ += n_gain_ * (z_abs(az_) - n_);
+    if (load_factor_ && !(n_ >= TrimTrackingOptions::kLoadFactorTrackMin)) freezing = true;
     if (options_.steady() && !(std::abs(z_hat_pert(az_)) <= options_.steady_g &&
                                std::abs(z_hat_pert(rol_)) <= options_.steady_roll_rate_rad_s &&
                                !rates.changing(options_.steady_climb_ft_s, options_.steady_mach_per_s)))
@@ -162,6 +207,14 @@ class TrimTracker {
     if (freezing && options_.freeze) held_for_ = hold_frames_ + 1;
     frozen_ = held_for_ > 0;
     if (held_for_ > 0) --held_for_;
+    if (load_factor_) {
+      if (frozen_)
+        ++frozen_frames_;
+      else
+        d1_ += gain_ * (z_pert / n_ - d1_).cwiseProduct(mask_);
+      dz_ = n_ * d1_;
+      return;
+    }
     if (frozen_) {
       ++frozen_frames_;
       return;
@@ -179,7 +232,9 @@ class TrimTracker {
   }
 
   const UVector& du() const noexcept { return du_; }
-  const ZVector& dz() const noexcept { return dz_; }
+  const ZVector& dz() const noexcept { return dz_; }                   // in force (load factor: n d1)
+  const ZVector& dz_1g() const noexcept { return load_factor_ ? d1_ : dz_; }   // the tracked 1-g offset
+  double load_factor() const noexcept { return n_; }                    // n (1 without load-factor scaling)
   bool frozen() const noexcept { return frozen_; }                      // on the last frame
   std::int64_t frozen_frames() const noexcept { return frozen_frames_; }  // since reset
   double gain() const noexcept { return gain_; }
@@ -199,10 +254,11 @@ class TrimTracker {
   TrimTrackingOptions options_;
   double gain_ = 0.0;
   std::int64_t hold_frames_ = 0, held_for_ = 0, frozen_frames_ = 0;
-  bool frozen_ = false;
+  bool frozen_ = false, load_factor_ = false;
+  double n_gain_ = 0.0, n_ = 1.0;
   int az_ = 0, rol_ = 0;
   UVector du_;
-  ZVector dz_, mask_;
+  ZVector dz_, mask_, d1_;
 };
 
 }  // namespace f16mmae

@@ -156,6 +156,21 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
     EXPECT_NE(r.message.find(std::string("'") + bad + "'"), std::string::npos) << r.message;
     EXPECT_NE(r.message.find("> 0 and <= 10"), std::string::npos) << r.message;
   }
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_FALSE(r.config.trim_load_factor.has_value());   // load-factor scaling: the core's (off) unless given
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
+                         "--trim-tracking-load-factor", "on"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(*r.config.trim_load_factor);
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
+                         "--trim-tracking-load-factor", "yes"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--trim-tracking-load-factor must be on or off, got 'yes'"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-load-factor", "on"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--trim-tracking-load-factor applies with --trim-tracking-steady only"), std::string::npos)
+      << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
                          "--adapt-reference-climb-hold=30"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;

@@ -24,8 +24,6 @@ import contextlib
 import numpy as np
 
 import f16mmae.truth.model as truth_model
-from f16mmae.loop.estimator import Estimator
-from f16mmae.loop.flight import fly, scenario_from_dict
 from f16mmae.names import FRAME_RATE_HZ, NONE, SENSORS
 
 import soak_runs  # tools/maneuver: the soak's runs flown again
@@ -50,22 +48,17 @@ def fuel_frozen(on: bool):
 
 
 def flight(record: dict, bank, freeze: bool, segment_s: float, rms=None) -> dict:
-    with fuel_frozen(freeze) as fdms:
-        f = fly(scenario_from_dict(record["scenario"]), bank, estimator_options=record["estimator"],
-                record_series=True)
-        weight = float(fdms[-1]["inertia/weight-lbs"]) if fdms else float("nan")
-    s = f.series
-    est = Estimator(bank, **record["estimator"])
     ia, iz = SENSORS.index("AOA"), SENSORS.index("AZ")
-    res = np.full((len(s["z"]), 2), np.nan)
-    for i in range(len(s["z"])):
-        est.schedule(*s["air_data"][i])
-        est.update(s["z"][i])
-        names = list(est.hypotheses)
-        if NONE in names:
-            r = np.asarray(est.core_bank.residuals)[names.index(NONE)]
-            res[i] = r[ia], r[iz]
-        est.propagate(s["u"][i])
+    rows = []
+
+    def residuals(i, est, z_hat, series):
+        r = soak_runs.none_residuals(est)
+        rows.append((r[ia], r[iz]) if r is not None else (np.nan, np.nan))
+
+    with fuel_frozen(freeze) as fdms:
+        f = soak_runs.fly_and_replay(record, bank, after_update=residuals)
+        weight = float(fdms[-1]["inertia/weight-lbs"]) if fdms else float("nan")
+    res = np.array(rows, float).reshape(-1, 2)
     if rms is None:
         rms = np.sqrt(np.nanmean(res ** 2, axis=0))
     res = res / rms

@@ -24,9 +24,7 @@ import math
 
 import numpy as np
 
-from f16mmae.loop.estimator import Estimator
-from f16mmae.loop.flight import fly, scenario_from_dict
-from f16mmae.names import FRAME_RATE_HZ, NONE, SENSORS, STATES
+from f16mmae.names import FRAME_RATE_HZ, SENSORS
 
 import soak_runs  # tools/maneuver: the soak's runs flown again
 
@@ -36,25 +34,19 @@ BINS = ((0.95, 1.01, "at a node (w >= 0.95)"), (0.75, 0.95, "0.75 <= w < 0.95"),
 
 def replay(record: dict, bank, extra: dict | None) -> dict:
     """Per frame: NONE's AOA and AZ residuals (RMS units), the largest weight, steady or not."""
-    options = dict(record["estimator"])
-    options.update(extra or {})
-    flight = fly(scenario_from_dict(record["scenario"]), bank, estimator_options=options, record_series=True)
-    s = flight.series
-    est = Estimator(bank, **options)
-    n = len(s["z"])
     ia, iz = SENSORS.index("AOA"), SENSORS.index("AZ")
-    res, wmax, alt = np.full((n, 2), np.nan), np.zeros(n), np.zeros(n)
-    for i in range(n):
-        est.schedule(*s["air_data"][i])
-        est.update(s["z"][i])
-        names = list(est.hypotheses)
-        if NONE in names:
-            r = np.asarray(est.core_bank.residuals)[names.index(NONE)]
-            res[i] = r[ia], r[iz]
+    res, wmax, alt = [], [], []
+
+    def observe(i, est, z_hat, series):
+        r = soak_runs.none_residuals(est)
+        res.append((r[ia], r[iz]) if r is not None else (np.nan, np.nan))
         st = est.core_bank.schedule_state
-        wmax[i] = max(st["weights"]) if len(st["weights"]) else 1.0
-        alt[i] = s["air_data"][i][1]
-        est.propagate(s["u"][i])
+        wmax.append(max(st["weights"]) if len(st["weights"]) else 1.0)
+
+    s = soak_runs.fly_and_replay(record, bank, extra, after_update=observe).series
+    n = len(s["z"])
+    res, wmax = np.array(res, float).reshape(-1, 2), np.array(wmax)
+    alt = np.array([a[1] for a in s["air_data"][:n]], float)
     res /= np.sqrt(np.nanmean(res ** 2, axis=0))
     log = s["truth_log"]
     phi = np.degrees(log["state"][:n, list(log["state_names"]).index("phi_rad")])

@@ -39,44 +39,42 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import soak_runs  # noqa: E402  (the soak's runs flown again)
 from evidence import selected  # noqa: E402
 from soak_phases import phases  # noqa: E402
 
 from f16mmae.banks import load_bank  # noqa: E402
-from f16mmae.loop.estimator import Estimator  # noqa: E402
-from f16mmae.loop.flight import fly, scenario_from_dict  # noqa: E402
 from f16mmae.names import FRAME_RATE_HZ, NONE, SENSORS  # noqa: E402
 
 
 def replay(record: dict, bank, extra: dict | None = None) -> dict:
-    options = dict(record["estimator"])
-    options.update(extra or {})
-    flight = fly(scenario_from_dict(record["scenario"]), bank, estimator_options=options, record_series=True)
-    s = flight.series
-    est = Estimator(bank, **options)
-    n = len(s["z"])
-    out = {"gamma": np.zeros(n), "accel": np.zeros(n), "res": np.zeros((n, len(SENSORS))), "log_odds": [],
-           "declarations": [], "vel": np.zeros((n, 3))}
+    out = {"gamma": [], "accel": [], "res": [], "log_odds": [], "declarations": [], "vel": []}
     v = SENSORS.index("VEL")
-    last = NONE
-    for i in range(n):
-        est.schedule(*s["air_data"][i])
-        z_hat = est.update(s["z"][i])
-        out["res"][i] = np.asarray(s["z"][i]) - np.asarray(z_hat)
+    last = [NONE]
+
+    def observe(i, est, z_hat, series):
+        z = np.asarray(series["z"][i])
+        out["res"].append(z - np.asarray(z_hat))
         trim_v = float(est.core_bank.z_trim[v])
-        out["vel"][i] = (s["z"][i][v] - trim_v, z_hat[v] - trim_v, s["truth_log"]["z_ideal"][i, v] - trim_v)
+        out["vel"].append((z[v] - trim_v, z_hat[v] - trim_v, series["truth_log"]["z_ideal"][i, v] - trim_v))
         p = np.asarray(est.probabilities, float)
         names = est.hypotheses
         p_none = p[names.index(NONE)] if NONE in names else float("nan")
         out["log_odds"].append({h: math.log(max(p[k], 1e-300) / p_none) for k, h in enumerate(names) if h != NONE})
-        if est.declared != last:
-            last = est.declared
-            if last != NONE:
-                out["declarations"].append((i, last))
-        est.propagate(s["u"][i])
+        if est.declared != last[0]:
+            last[0] = est.declared
+            if last[0] != NONE:
+                out["declarations"].append((i, last[0]))
+
+    def trim_rates(i, est, series):
         g, a, _, _ = est.core_bank.maneuver_trim
-        out["gamma"][i], out["accel"][i] = g, a
-    return {"flight": flight, "truth": s["truth_log"], "trace": out}
+        out["gamma"].append(g)
+        out["accel"].append(a)
+
+    flight = soak_runs.fly_and_replay(record, bank, extra, after_update=observe, after_propagate=trim_rates)
+    for key in ("gamma", "accel", "res", "vel"):
+        out[key] = np.array(out[key], float)
+    return {"flight": flight, "truth": flight.series["truth_log"], "trace": out}
 
 
 def truth_rates(log: dict) -> tuple[np.ndarray, np.ndarray]:

@@ -165,6 +165,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "(core trim_steady_climb_ft_s and trim_steady_mach_per_s infinite; "
                          "cpp/f16mmae/trim_tracker.h). Default on (in process only: mmae-daemon has no flag for it)",
                     in_daemon=False),
+    EstimatorOption("trim_load_factor", "--trim-tracking-load-factor", "choice", metavar="on|off",
+                    choices=("on", "off"), requires="trim_steady_g",
+                    help="with --trim-tracking-steady: on applies the tracked angle-of-attack offset as n times "
+                         "the 1-g offset, n the measured AZ low-passed (0.5 s): a lighter aircraft's alpha offset "
+                         "grows with the load factor (lift equation), so turns and pull-ups, where the tracking "
+                         "is frozen, get the weight's offset at their load factor "
+                         "(cpp/f16mmae/trim_tracker.h). Default off"),
     EstimatorOption("schedule_mode", "--schedule-mode", "choice", metavar="|".join(SCHEDULE_MODES),
                     choices=SCHEDULE_MODES,
                     help="a scheduled bank (--bank scheduled): interpolate between grid points on the "

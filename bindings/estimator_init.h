@@ -37,7 +37,9 @@
 //   adapt_turbulence, adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
 //   adapt_reference (None: a schedule's per-node references, else 0.6), adapt_channel_weight,
 //   adapt_own_channels, adapt_counted_channels (bit j: z_j),
-//   adapt_hypothesis_weight, adapt_full_tempering (bit k: hypothesis k) turbulence_adaptation.h
+//   adapt_hypothesis_weight, adapt_full_tempering (bit k: hypothesis k),
+//   adapt_spare_own_fit, adapt_spare_rho (0: at any rho-bar),
+//   adapt_spare_burst_ratio (0: off)                                   turbulence_adaptation.h
 //   adapt_reference_climb (None: off), adapt_reference_climb_hold_s,
 //   adapt_reference_climb_dwell_s (0: the declarer's dwell)             climb_reference.h
 //   maneuver_dwell_s (0: the declarer's dwell), maneuver_reference (None: off),
@@ -88,6 +90,7 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
                                              double adapt_scale_min, double adapt_scale_max, double adapt_gain,
                                              const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
                                              std::uint32_t adapt_counted_channels, double adapt_hypothesis_weight, std::uint32_t adapt_full_tempering,
+                                             bool adapt_spare_own_fit, double adapt_spare_rho, double adapt_spare_burst_ratio,
                                              const std::optional<double>& adapt_reference_climb,
                                              double adapt_reference_climb_hold_s,
                                              double adapt_reference_climb_dwell_s,
@@ -157,6 +160,9 @@ inline HierarchicalOptions estimator_options(double p_min, double level1_p_min, 
   o.bank.adaptation.counted_channels = adapt_counted_channels;
   o.bank.adaptation.hypothesis_weight = adapt_hypothesis_weight;
   o.bank.adaptation.full_tempering = adapt_full_tempering;
+  o.bank.adaptation.spare_own_fit = adapt_spare_own_fit;
+  o.bank.adaptation.spare_rho = adapt_spare_rho;
+  o.bank.adaptation.spare_burst_ratio = adapt_spare_burst_ratio;
   if (adapt_reference) {  // one reference everywhere; else a schedule's per-node ones, if it has them
     o.bank.adaptation.reference = *adapt_reference;
     o.schedule.node_adapt_reference = false;
@@ -204,6 +210,7 @@ Class& def_estimator_init(Class& cls) {
                   double adapt_time_constant_s, double adapt_scale_min, double adapt_scale_max, double adapt_gain,
                   const std::optional<double>& adapt_reference, double adapt_channel_weight, bool adapt_own_channels,
                                              std::uint32_t adapt_counted_channels, double adapt_hypothesis_weight, std::uint32_t adapt_full_tempering,
+                                             bool adapt_spare_own_fit, double adapt_spare_rho, double adapt_spare_burst_ratio,
                   const std::optional<double>& adapt_reference_climb,
                   double adapt_reference_climb_hold_s, double adapt_reference_climb_dwell_s,
                   double maneuver_dwell_s, const std::optional<double>& maneuver_reference,
@@ -221,7 +228,7 @@ Class& def_estimator_init(Class& cls) {
                                              trim_steady_mach_per_s, schedule_mode, hysteresis_cells, blend_step_cells,
                                              air_data_time_constant_s, cubic_trims, adapt_turbulence,
                                              adapt_time_constant_s, adapt_scale_min, adapt_scale_max, adapt_gain,
-                                             adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_counted_channels, adapt_hypothesis_weight, adapt_full_tempering, adapt_reference_climb, adapt_reference_climb_hold_s,
+                                             adapt_reference, adapt_channel_weight, adapt_own_channels, adapt_counted_channels, adapt_hypothesis_weight, adapt_full_tempering, adapt_spare_own_fit, adapt_spare_rho, adapt_spare_burst_ratio, adapt_reference_climb, adapt_reference_climb_hold_s,
                                              adapt_reference_climb_dwell_s, maneuver_dwell_s, maneuver_reference,
                                              maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s,
                                              maneuver_mach_per_s, maneuver_kinematics, maneuver_tempering_g,
@@ -259,6 +266,9 @@ Class& def_estimator_init(Class& cls) {
       py::arg("adapt_counted_channels") = core.bank.adaptation.counted_channels,
       py::arg("adapt_hypothesis_weight") = core.bank.adaptation.hypothesis_weight,
       py::arg("adapt_full_tempering") = core.bank.adaptation.full_tempering,
+      py::arg("adapt_spare_own_fit") = core.bank.adaptation.spare_own_fit,
+      py::arg("adapt_spare_rho") = core.bank.adaptation.spare_rho,
+      py::arg("adapt_spare_burst_ratio") = core.bank.adaptation.spare_burst_ratio,
       py::arg("adapt_reference_climb") = py::none(),
       py::arg("adapt_reference_climb_hold_s") = core.climb_reference.hold_s,
       py::arg("adapt_reference_climb_dwell_s") = core.climb_reference.dwell_s,

@@ -3,8 +3,8 @@ option reaches the core as the weight and the fully tempered hypotheses' bits, b
 refused by name, and on each frame at most one hypothesis' likelihood differs from the shipped
 tempering's: the best-fitting failure hypothesis, never NONE or a fully tempered one. Its gate on
 the measured rho (``--set-tempering-rho``) leaves every likelihood the shipped one below it, its
-choice per channel read (``--set-tempering-own-fit``) spares other frames' hypotheses, and the
-options reach ``mmae-daemon`` as flags that its ready line names."""
+choice per channel read (``--set-tempering-own-fit``) is the raw choice on the set's members (they
+read every channel in every hypothesis), and the options reach ``mmae-daemon`` as flags that its ready line names."""
 from __future__ import annotations
 
 import subprocess
@@ -137,7 +137,7 @@ def _rough_flight(banks, seconds=3.0):
     return out
 
 
-def test_below_the_gate_every_likelihood_is_the_shipped_one_and_the_own_fit_spares_others():
+def test_below_the_gate_every_likelihood_is_the_shipped_one_and_the_own_fit_is_the_raw_choice_here():
     bank = load_bank("turbulence")[2]
     full = core_arguments({"set_tempering": 0.25})["adapt_full_tempering"]
     kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_time_constant_s=1.0, p_min=1e-9,
@@ -160,5 +160,9 @@ def test_below_the_gate_every_likelihood_is_the_shipped_one_and_the_own_fit_spar
             if len(diff):
                 assert diff[0] != 0 and not (full >> int(diff[0]) & 1)
             spared.append(int(diff[0]) if len(diff) else -1)
-    assert sum(k >= 0 for k in spared_raw) > 50 and sum(k >= 0 for k in spared_own) > 50
-    assert spared_raw != spared_own   # the choice per channel read spares other hypotheses on some frames
+    assert sum(k >= 0 for k in spared_raw) > 50
+    # the set's members read every channel in every hypothesis (no uninformative channel: m_k = m),
+    # so the choice per channel read is the raw one, frame for frame (the hand-worked gtest has
+    # a hypothesis that leaves a channel out)
+    assert all(not np.any(np.asarray(h.uninformative_width) > 0) for h in bank.hypotheses)
+    assert spared_raw == spared_own

@@ -138,8 +138,9 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "until the average has caught up; cpp/f16mmae/turbulence_adaptation.h). Default off"),
     EstimatorOption("set_tempering_own_fit", "--set-tempering-own-fit", "switch", requires="set_tempering",
                     help="with --set-tempering: the spared hypothesis is the one of least q_k per channel it "
-                         "reads (q_k m / m_k: a failed sensor's hypothesis, which leaves its channel out, does "
-                         "not fit best by reading less; cpp/f16mmae/turbulence_adaptation.h). Default: least q_k"),
+                         "reads (q_k m / m_k: a failed sensor's hypothesis that leaves its channel out does "
+                         "not fit best by reading less; cpp/f16mmae/turbulence_adaptation.h). The set's members "
+                         "read every channel in every hypothesis: there it is the same choice. Default: least q_k"),
     EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,
                     help="with --turbulence-banks: the closed loop scales the truth's surface dither each frame "
                          "by the turbulence the set's member in force measures (its rho over the member's "

@@ -105,7 +105,7 @@
 // full_tempering: bit k set keeps hypothesis k's s (the caller names them: the turbulence
 // bank set's stabilators and flaperons, design/turbulence_banks.py). Scalar tempering only: with
 // channel_weight > 0 it is refused.
-// Two refinements of the per-hypothesis form, each off by default:
+// Three refinements of the per-hypothesis form, each off by default:
 //   spare_own_fit: b chosen by its form per channel it reads,
 //       b = argmin_{k>0, on line} q_k m / m_k     (m_k as in own_channels above)
 //     in place of argmin q_k. A hypothesis with uninformative channels (a failed sensor) sums
@@ -114,14 +114,17 @@
 //     which every other filter's q_k carries. q_k / m_k is each filter's fit relative to its own
 //     design covariance (E[q_k / m_k] = 1 when its model is right), and the filter that fits best
 //     by that measure is spared. The spared l_b is still formed from the raw q_b as above (only
-//     the choice changes). A bank without uninformative channels chooses the same b.
+//     the choice changes). A bank without uninformative channels chooses the same b (the
+//     turbulence bank set's members: their sensor hypotheses read the failed channel too, the
+//     `complete` failure model, so every m_k = m there).
 //   spare_rho ρ_s (> 0): the sparing only while ρ̄ >= ρ_s (the measured ρ̄ below, the frames
 //     before). ρ̄ is the turbulence bank set's measure of the air (turbulence_bank_set.h), so ρ_s
 //     between a member's ρ̄ in moderate and in severe turbulence spares in severe air only:
 //     wherever ρ̄ < ρ_s every l_k is the one without the per-hypothesis form, frame for frame.
 //     ρ̄ averages over τ, so a burst of gusts from calmer air is tempered by s alone until ρ̄ has
 //     risen past ρ_s (a few seconds), when ρ has too.
-//   spare_burst_ratio c (> 0): the sparing only while the gusts are no stronger now than over τ,
+//   spare_burst_ratio c (in [1, 100]; 0: off): the sparing only while the gusts are no stronger
+//     now than over τ,
 //       x̃ <= c ρ̄,   x̃ ← x̃ + β (x − x̃),  β = 1 − exp(−1 / (τ_b f)),  τ_b = 0.25 s (x̃ = x at
 //     the first update after the start or reset()), x the per-update min_k q_k / m (m_k) as
 //     above. A burst of gusts raises x within a frame; ρ, ρ̄ and s follow over τ, so at a

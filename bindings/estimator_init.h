@@ -159,6 +159,11 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_hypothesis_weight"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::full_tempering>(
           "adapt_full_tempering"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_own_fit>(
+          "adapt_spare_own_fit"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_rho>("adapt_spare_rho"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_burst_ratio>(
+          "adapt_spare_burst_ratio"),
       // the climb reference
       {"adapt_reference_climb", "a number or None",
        [](O& o, py::handle v) {

@@ -24,6 +24,8 @@ std::string daemon_usage() {
          "                   [--adapt-reference-climb RHO]\n"
          "                   [--adapt-reference-climb-hold S] [--adapt-reference-climb-dwell S]\n"
          "                   [--adapt-channel-weight G]\n"
+         "                   [--set-tempering W] [--set-tempering-full NAME,...] [--set-tempering-rho RHO]\n"
+         "                   [--set-tempering-own-fit] [--set-tempering-burst C]\n"
          "                   [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]\n"
          "                   [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]\n"
          "                   [--maneuver-mach-rate MACH_PER_S]\n"
@@ -89,6 +91,18 @@ std::string daemon_usage() {
          "  --adapt-channel-weight G  with --adapt-turbulence or --turbulence-banks: temper each\n"
          "                       channel by s^(1-G) s_j^G, s_j its own scale (0-1; default 0: one\n"
          "                       scale common to all)\n"
+         "  --set-tempering W    with --turbulence-banks: each frame the best-fitting failure\n"
+         "                       hypothesis at level 0 has its evidence against NONE tempered by\n"
+         "                       1 + W (s - 1) in place of the adaptation's s (0 < W <= 1; default 1: off)\n"
+         "  --set-tempering-full NAME,...  with --set-tempering: the hypotheses kept at the full s\n"
+         "                       (names of the bank's level-0 hypotheses; 'f16mmae hil' gives LS,RS,LF,RF)\n"
+         "  --set-tempering-rho RHO  with --set-tempering: only while the member's measured rho is\n"
+         "                       at least RHO (0-100; default 0: at any rho)\n"
+         "  --set-tempering-own-fit  with --set-tempering: the spared hypothesis is the one of least\n"
+         "                       residual form per channel it reads (default: least form)\n"
+         "  --set-tempering-burst C  with --set-tempering: only while the residual power over the\n"
+         "                       last quarter second is at most C times the member's rho (1-100;\n"
+         "                       default off)\n"
          "  --maneuver-dwell S   a level-0 declaration needs S s above the threshold while the\n"
          "                       aircraft maneuvers (the estimated load factor, low-passed, off\n"
          "                       the trim by more than --maneuver-dwell-g, or the air data climb\n"
@@ -243,6 +257,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       c.declare_components = true;
       continue;
     }
+    if (a == "--set-tempering-own-fit") {
+      c.set_tempering_own_fit = true;
+      continue;
+    }
     std::string key = a, value;
     bool inline_value = false;
     if (a.rfind("--", 0) == 0) {
@@ -273,7 +291,8 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--departure-hold" ||
                        key == "--maneuver-trim-time-constant" || key == "--maneuver-trim-accel" ||
                        key == "--maneuver-trim-rates" || key == "--maneuver-trim-blend" ||
-                       key == "--adapt-counted-channel";
+                       key == "--adapt-counted-channel" || key == "--set-tempering" || key == "--set-tempering-full" ||
+                       key == "--set-tempering-rho" || key == "--set-tempering-burst";
     if (!known)
       return usage_error("unknown argument '" + a +
                          "'; valid options: --bank, --lcm-url, --channel-prefix, --rate-hz, "
@@ -281,6 +300,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-own-channels, "
                          "--adapt-counted-channel, --adapt-reference-climb, "
                          "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
+                         "--set-tempering, --set-tempering-full, --set-tempering-rho, --set-tempering-own-fit, --set-tempering-burst, "
                          "--maneuver-dwell, --maneuver-dwell-hold, --maneuver-dwell-g, --maneuver-dwell-time-constant, "
                          "--maneuver-reference, --maneuver-mach-rate, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
                          "--level1-allowance, --departure-hold, --declare-components, --partial-p-min, --trim-tracking, "
@@ -371,6 +391,34 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       if (!w || *w < 0.0 || *w > 1.0)
         return usage_error("--adapt-channel-weight must be a weight in [0, 1], got '" + value + "'");
       c.adapt_channel_weight = *w;
+    } else if (key == "--set-tempering") {
+      const std::optional<double> w = finite_number(value);
+      if (!w || *w <= 0.0 || *w > 1.0)
+        return usage_error("--set-tempering must be a weight in (0, 1], got '" + value + "'");
+      c.set_tempering = *w;
+    } else if (key == "--set-tempering-rho") {
+      const std::optional<double> rho = finite_number(value);
+      if (!rho || *rho < 0.0 || *rho > 100.0)
+        return usage_error("--set-tempering-rho must be a power ratio in [0, 100], got '" + value + "'");
+      c.set_tempering_rho = *rho;
+    } else if (key == "--set-tempering-burst") {
+      const std::optional<double> ratio = finite_number(value);
+      if (!ratio || *ratio < 1.0 || *ratio > 100.0)
+        return usage_error("--set-tempering-burst must be a ratio in [1, 100], got '" + value + "'");
+      c.set_tempering_burst = *ratio;
+    } else if (key == "--set-tempering-full") {
+      c.set_tempering_full.clear();
+      std::string name;
+      for (std::size_t k = 0; k <= value.size(); ++k) {
+        if (k == value.size() || value[k] == ',') {
+          if (name.empty())
+            return usage_error("--set-tempering-full must be hypothesis names separated by commas, got '" + value + "'");
+          c.set_tempering_full.push_back(name);
+          name.clear();
+        } else {
+          name += static_cast<char>(std::toupper(static_cast<unsigned char>(value[k])));
+        }
+      }
     } else if (key == "--maneuver-dwell" || key == "--level1-dwell-s") {
       const std::optional<double> dwell = finite_number(value);
       if (!dwell || *dwell < 0.0 || *dwell > f16mmae::kMaxDwellS)
@@ -555,6 +603,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     return usage_error("--adapt-own-channels applies with --adapt-turbulence only");
   if (!c.adapt_counted_channel.empty() && !c.adapt_own_channels)
     return usage_error("--adapt-counted-channel applies with --adapt-own-channels only");
+  if (c.set_tempering && !c.turbulence_banks)
+    return usage_error("--set-tempering applies with --turbulence-banks only");
+  if (!c.set_tempering &&
+      (!c.set_tempering_full.empty() || c.set_tempering_rho || c.set_tempering_own_fit || c.set_tempering_burst))
+    return usage_error("--set-tempering-full, --set-tempering-rho, --set-tempering-own-fit and --set-tempering-burst "
+                       "apply with --set-tempering only");
   if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())
     return usage_error("--actuator-rate-limits and --actuator-position-limits go together, one value per input each "
                        "(got " + std::to_string(c.actuator_rate_limits_rad_s.size()) + " and " +

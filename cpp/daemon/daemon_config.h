@@ -4,6 +4,8 @@
 //               [--p-min P] [--threshold T] [--dwell-s S] [--dwell-nats N] [--dwell-nats-per-hypothesis FILE]
 //               [--adapt-turbulence] [--adapt-reference RHO]
 //               [--adapt-own-channels] [--adapt-counted-channel NAME]
+//               [--set-tempering W] [--set-tempering-full NAME,...] [--set-tempering-rho RHO]
+//               [--set-tempering-own-fit] [--set-tempering-burst C]
 //               [--adapt-reference-climb RHO] [--adapt-reference-climb-hold S]
 //               [--adapt-reference-climb-dwell S] [--adapt-channel-weight G]
 //               [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]
@@ -64,6 +66,11 @@ struct DaemonConfig {
   std::optional<double> adapt_reference_climb_hold_s;  // its hold, with adapt_reference_climb
   std::optional<double> adapt_reference_climb_dwell_s; // the level-0 dwell while it is in force, with it
   std::optional<double> adapt_channel_weight;  // the per-channel tempering's weight G (turbulence_adaptation.h)
+  std::optional<double> set_tempering;         // the per-hypothesis tempering's weight W (turbulence_adaptation.h), with turbulence_banks
+  std::vector<std::string> set_tempering_full; // hypotheses (upper case) kept at the full s, with set_tempering
+  std::optional<double> set_tempering_rho;     // the sparing only while the measured rho >= this, with set_tempering
+  bool set_tempering_own_fit = false;          // the spared hypothesis by its form per channel it reads, with set_tempering
+  std::optional<double> set_tempering_burst;   // the sparing only while the quarter-second power <= C rho, with set_tempering
   std::optional<double> maneuver_dwell_s;      // the level-0 dwell while maneuvering (maneuver_dwell.h)
   std::optional<double> maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s;  // with it
   std::optional<double> maneuver_reference;    // rho_0 while maneuvering, with adapt_turbulence

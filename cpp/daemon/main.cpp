@@ -166,6 +166,23 @@ int main(int argc, char** argv) {
     if (cfg.maneuver_trim_inertial) options.maneuver_trim.inertial = *cfg.maneuver_trim_inertial;
     if (cfg.maneuver_trim_blend_s) options.maneuver_trim.inertial_path.blend_time_constant_s = *cfg.maneuver_trim_blend_s;
     if (cfg.adapt_channel_weight) options.bank.adaptation.channel_weight = *cfg.adapt_channel_weight;
+    if (cfg.set_tempering) {   // the per-hypothesis tempering; its fully tempered ones by name, as bits
+      options.bank.adaptation.hypothesis_weight = *cfg.set_tempering;
+      options.bank.adaptation.spare_rho = cfg.set_tempering_rho.value_or(0.0);
+      options.bank.adaptation.spare_own_fit = cfg.set_tempering_own_fit;
+      options.bank.adaptation.spare_burst_ratio = cfg.set_tempering_burst.value_or(0.0);
+      std::uint32_t full = 0;
+      for (const std::string& name : cfg.set_tempering_full) {
+        const int k = bank.find(name);   // level 0: NONE, then the singles, in the bank's order
+        if (k <= 0 || k >= 32) {
+          std::fprintf(stderr, "mmae-daemon: error: --set-tempering-full %s: the bank has no failure hypothesis %s (%s)\n",
+                       name.c_str(), name.c_str(), cfg.bank_path.c_str());
+          return 1;
+        }
+        full |= 1u << static_cast<unsigned>(k);
+      }
+      options.bank.adaptation.full_tempering = full;
+    }
     if (cfg.maneuver_dwell_s) options.maneuver_dwell.dwell_s = *cfg.maneuver_dwell_s;
     if (cfg.maneuver_dwell_hold_s) options.maneuver_dwell.hold_s = *cfg.maneuver_dwell_hold_s;
     if (cfg.maneuver_dwell_g) options.maneuver_dwell.g = *cfg.maneuver_dwell_g;
@@ -249,6 +266,13 @@ int main(int argc, char** argv) {
         adaptation.insert(adaptation.size() - 1,
                           cfg.adapt_counted_channel.empty() ? std::string(", own channels")
                                                             : ", own channels, " + cfg.adapt_counted_channel + " counted");
+      const auto& a = running.bank.adaptation;
+      if (a.hypothesis_weight < 1.0)   // the per-hypothesis tempering (turbulence_adaptation.h)
+        adaptation += ", set tempering " + f16mmae::format_value(a.hypothesis_weight) + " from rho " +
+                      f16mmae::format_value(a.spare_rho) + (a.spare_own_fit ? " own fit" : "") +
+                      (a.spare_burst_ratio > 0.0 ? " burst " + f16mmae::format_value(a.spare_burst_ratio) : std::string()) +
+                      " full " +
+                      std::to_string(a.full_tempering);
       const std::string adaptation_climb =
           options.bank.adaptation.enabled && options.climb_reference.enabled()
               ? adaptation + ", climbing " + f16mmae::format_value(options.climb_reference.reference) + " held " +

@@ -14,7 +14,8 @@
 //                   residual updates s_j; per hypothesis (adaptation.hypothesis_weight w < 1,
 //                   while hypothesis 0 is presumed) the frame's best-fitting failure filter b
 //                   not in adaptation.full_tempering has l_b = -(q_0 + (q_b - q_0) s / s_b)/(2 s),
-//                   s_b = 1 + w (s - 1) (turbulence_adaptation.h).
+//                   s_b = 1 + w (s - 1) (turbulence_adaptation.h; b = argmin q_k, or with
+//                   adaptation.spare_own_fit argmin q_k m / m_k; only while rho-bar >= spare_rho).
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
@@ -660,19 +661,23 @@ class FilterBank {
     footing_(k) = v;
   }
   // The per-hypothesis tempering's spared hypothesis (turbulence_adaptation.h): the on-line
-  // failure hypothesis of least q_k (finite), unless its bit of full_tempering is set; -1 when
+  // failure hypothesis of least q_k (finite; with spare_own_fit of least q_k m / m_k, m / m_k
+  // the own_ratio_ of note_uninformative), unless its bit of full_tempering is set; -1 when
   // the tempering is off or not caught up (ResidualScale::spares()), another hypothesis than
   // 0 is presumed (a hierarchical bank's level 1: its declared failure), q_0 is not finite or
   // there is none.
   int spared_hypothesis() const noexcept {
     if (presumed_ != 0 || !scale_.spares() || !std::isfinite(q_(0))) return -1;
+    const bool own_fit = scale_.options().spare_own_fit;
     int b = -1;
     double lo = std::numeric_limits<double>::infinity();
-    for (int i = 1; i < size(); ++i)
-      if (live_[i] && q_(i) < lo) {
-        lo = q_(i);
+    for (int i = 1; i < size(); ++i) {
+      const double fit = own_fit ? q_(i) * own_ratio_(i) : q_(i);
+      if (live_[i] && fit < lo) {
+        lo = fit;
         b = i;
       }
+    }
     if (b < 0 || b >= 32 || ((scale_.options().full_tempering >> b) & 1u)) return -1;
     return b;
   }

@@ -1,8 +1,13 @@
 """The per-hypothesis tempering (``--set-tempering W``; cpp/f16mmae/turbulence_adaptation.h): the
 option reaches the core as the weight and the fully tempered hypotheses' bits, bad values are
 refused by name, and on each frame at most one hypothesis' likelihood differs from the shipped
-tempering's: the best-fitting failure hypothesis, never NONE or a fully tempered one."""
+tempering's: the best-fitting failure hypothesis, never NONE or a fully tempered one. Its gate on
+the measured rho (``--set-tempering-rho``) leaves every likelihood the shipped one below it, its
+choice per channel read (``--set-tempering-own-fit``) is the raw choice on the set's members (they
+read every channel in every hypothesis), and the options reach ``mmae-daemon`` as flags that its ready line names."""
 from __future__ import annotations
+
+import subprocess
 
 import numpy as np
 import pytest
@@ -10,6 +15,8 @@ import pytest
 import f16mmae.design.turbulence_banks  # noqa: F401  (registers the turbulence bank set with banks.py)
 from f16mmae import core
 from f16mmae.banks import load_bank
+from f16mmae.design.turbulence_banks import set_path
+from f16mmae.lcm.daemon import daemon_flags, find_executable
 from f16mmae.loop.estimator import core_arguments
 from f16mmae.loop.estimator_options import check
 from f16mmae.names import SET_TEMPERING_FULL, SINGLE_HYPOTHESES
@@ -68,3 +75,94 @@ def test_only_the_best_fitting_failure_hypothesis_is_spared():
             first = i if first is None else first
     assert differing > 50
     assert first > 8   # not before the scale has caught up with the air (rho >= rho-bar / 2)
+
+
+def test_the_gate_and_the_choice_reach_the_core_and_the_daemon():
+    options = {"turbulence_banks": True, "set_tempering": 0.25, "set_tempering_rho": 2.68,
+               "set_tempering_own_fit": True, "set_tempering_burst": 2.0}
+    check(options)
+    args = core_arguments(options)
+    assert args["adapt_spare_rho"] == 2.68 and args["adapt_spare_own_fit"] is True
+    assert args["adapt_spare_burst_ratio"] == 2.0
+    assert "set_tempering_rho" not in args and "set_tempering_own_fit" not in args
+    assert "adapt_spare_rho" not in core_arguments({"set_tempering": 0.25})
+    with pytest.raises(ValueError, match="--set-tempering"):
+        check({"turbulence_banks": True, "set_tempering_rho": 2.68})
+    with pytest.raises(ValueError, match="--set-tempering-rho"):
+        check({"turbulence_banks": True, "set_tempering": 0.25, "set_tempering_rho": -1.0})
+    with pytest.raises(ValueError, match="--set-tempering-burst"):
+        check({"turbulence_banks": True, "set_tempering": 0.25, "set_tempering_burst": 0.5})
+    flags = daemon_flags(options)
+    assert flags[flags.index("--set-tempering") + 1] == "0.25"
+    assert flags[flags.index("--set-tempering-full") + 1] == ",".join(SET_TEMPERING_FULL)
+    assert flags[flags.index("--set-tempering-rho") + 1] == "2.68"
+    assert "--set-tempering-own-fit" in flags
+    assert flags[flags.index("--set-tempering-burst") + 1] == "2.0"
+    daemon = str(find_executable("mmae-daemon"))
+    p = subprocess.Popen([daemon, "--bank", str(set_path()), *flags, "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    bits = args["adapt_full_tempering"]
+    assert f"set tempering 0.25 from rho 2.68 own fit burst 2 full {bits}" in ready, ready
+    for bad, message in ((["--turbulence-banks", "--set-tempering-rho", "2"], "apply with --set-tempering only"),
+                         (["--turbulence-banks", "--set-tempering", "0"],
+                          "--set-tempering must be a weight in (0, 1], got '0'"),
+                         (["--set-tempering", "0.5"], "--set-tempering applies with --turbulence-banks only")):
+        r = subprocess.run([daemon, "--bank", str(set_path()), *bad], capture_output=True, text=True, timeout=20)
+        assert r.returncode == 2 and message in r.stdout + r.stderr, (bad, r.stdout + r.stderr)
+    r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering", "0.5",
+                        "--set-tempering-full", "LS,XYZ", "--lcm-url", "memq://"], capture_output=True, text=True,
+                       timeout=20)
+    assert r.returncode == 1 and "the bank has no failure hypothesis XYZ" in r.stderr, r.stderr
+
+
+def _rough_flight(banks, seconds=3.0):
+    """The banks fed the same rough residuals (3 times the design's) at level 0; per frame, the
+    log-likelihoods of each."""
+    bank = load_bank("turbulence")[2]
+    rng = np.random.default_rng(7)
+    z_trim, u_trim = np.asarray(bank.z_trim), np.asarray(bank.u_trim)
+    sigma = np.sqrt(np.diag(np.asarray(bank.hypotheses[0].a)))
+    out = []
+    for _ in range(int(64 * seconds)):
+        z = z_trim + 3.0 * sigma * rng.standard_normal(len(z_trim))
+        for b in banks:
+            b.update(z)
+            b.propagate(u_trim)
+        if any(b.level != 0 for b in banks):
+            break
+        out.append([np.asarray(b.log_likelihoods).copy() for b in banks])
+    return out
+
+
+def test_below_the_gate_every_likelihood_is_the_shipped_one_and_the_own_fit_is_the_raw_choice_here():
+    bank = load_bank("turbulence")[2]
+    full = core_arguments({"set_tempering": 0.25})["adapt_full_tempering"]
+    kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_time_constant_s=1.0, p_min=1e-9,
+              adapt_own_channels=True)
+    spare = dict(adapt_hypothesis_weight=0.25, adapt_full_tempering=full)
+    plain = core.HierarchicalBank(bank, **kw)
+    gated = core.HierarchicalBank(bank, adapt_spare_rho=100.0, **spare, **kw)   # rho-bar never reaches 100
+    open_ = core.HierarchicalBank(bank, adapt_spare_rho=0.5, **spare, **kw)      # rho-bar above 0.5 throughout
+    raw = core.HierarchicalBank(bank, **spare, **kw)
+    own = core.HierarchicalBank(bank, adapt_spare_own_fit=True, **spare, **kw)
+    frames = _rough_flight([plain, gated, open_, raw, own])
+    assert len(frames) > 150
+    spared_raw, spared_own = [], []
+    for l_plain, l_gated, l_open, l_raw, l_own in frames:
+        assert np.array_equal(l_plain, l_gated)
+        assert np.array_equal(l_open, l_raw)
+        for l, spared in ((l_raw, spared_raw), (l_own, spared_own)):
+            diff = np.nonzero(l != l_plain)[0]
+            assert len(diff) <= 1
+            if len(diff):
+                assert diff[0] != 0 and not (full >> int(diff[0]) & 1)
+            spared.append(int(diff[0]) if len(diff) else -1)
+    assert sum(k >= 0 for k in spared_raw) > 50
+    # the set's members read every channel in every hypothesis (no uninformative channel: m_k = m),
+    # so the choice per channel read is the raw one, frame for frame (the hand-worked gtest has
+    # a hypothesis that leaves a channel out)
+    assert all(not np.any(np.asarray(h.uninformative_width) > 0) for h in bank.hypotheses)
+    assert spared_raw == spared_own

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from ..loop.estimator import core_arguments
 from ..loop.estimator_options import BY_KEY, CLOSED_LOOP
+from ..names import SINGLE_HYPOTHESES
 from .channels import HilError
 
 
@@ -29,6 +30,12 @@ def statistics_line(output: str, program: str) -> dict:
         raise HilError(f"{program}'s statistics line is not JSON ({exc}): {lines[-1][:200]!r}") from None
 
 
+#: The per-hypothesis tempering's core keywords (``core_arguments``) and the rows whose flags give them.
+_SET_TEMPERING_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": "set_tempering_rho",
+                       "adapt_spare_own_fit": "set_tempering_own_fit",
+                       "adapt_spare_burst_ratio": "set_tempering_burst"}
+
+
 def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
     """The ``mmae-daemon`` arguments that give it ``estimator_options`` for a bank of ``nu``
     inputs (``actuator_limits`` becomes the limits themselves, as in process:
@@ -40,6 +47,10 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
             continue
         if key == "adapt_counted_channels":   # core_arguments' bit; the daemon takes the sensor's name
             key, value = "adapt_counted_channel", estimator_options["adapt_counted_channel"]
+        if key == "adapt_full_tempering":   # core_arguments' bits; the daemon takes the hypotheses' names
+            out += ["--set-tempering-full", ",".join(h for k, h in enumerate(SINGLE_HYPOTHESES) if (value >> k) & 1)]
+            continue
+        key = _SET_TEMPERING_KEYS.get(key, key)
         option = BY_KEY.get(key)
         if option is None or not option.in_daemon:
             if option is not None and not value:

@@ -31,7 +31,9 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
     ``set_tempering`` W becomes ``adapt_hypothesis_weight`` W and ``adapt_full_tempering``, the bits of
-    ``names.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``)."""
+    ``names.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``),
+    ``set_tempering_rho`` ``adapt_spare_rho``, ``set_tempering_own_fit`` ``adapt_spare_own_fit`` and
+    ``set_tempering_burst`` ``adapt_spare_burst_ratio``."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
     for key, load in FILE_LOADERS.items():   # a file option's table: {"F>C": k} (level1_allowance.h), {name: N}
@@ -46,6 +48,14 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     if weight is not None:   # the per-hypothesis tempering: the weight, and the fully tempered ones' bits
         out["adapt_hypothesis_weight"] = float(weight)
         out["adapt_full_tempering"] = sum(1 << SINGLE_HYPOTHESES.index(h) for h in SET_TEMPERING_FULL)
+    rho = out.pop("set_tempering_rho", None)
+    if rho is not None:
+        out["adapt_spare_rho"] = float(rho)
+    if out.pop("set_tempering_own_fit", False):
+        out["adapt_spare_own_fit"] = True
+    burst = out.pop("set_tempering_burst", None)
+    if burst is not None:
+        out["adapt_spare_burst_ratio"] = float(burst)
     if out.pop("actuator_limits", False):
         free = [math.inf] * (nu - len(RATE_LIMIT_RAD_S))
         out["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, *free]

@@ -121,11 +121,26 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "--turbulence-banks; flown with the load-factor tempering its file recommends, "
                          "docs/results/turbulence_banks.md). Default off"),
     EstimatorOption("set_tempering", "--set-tempering", "number", metavar="W", minimum=0.0, exclusive=True,
-                    maximum=1.0, requires="turbulence_banks", in_daemon=False,
+                    maximum=1.0, requires="turbulence_banks",
                     help="with --turbulence-banks: each frame the best-fitting failure hypothesis (the "
                          "stabilators and flaperons excepted) has its evidence against NONE tempered by 1 + W (s - 1) in "
                          "place of the turbulence adaptation's s (cpp/f16mmae/turbulence_adaptation.h). "
                          "Default 1: every hypothesis by s"),
+    EstimatorOption("set_tempering_rho", "--set-tempering-rho", "number", metavar="RHO", minimum=0.0,
+                    maximum=100.0, requires="set_tempering",
+                    help="with --set-tempering: spare only while the member in force measures rho >= RHO "
+                         "(the set's measure of the air; between moderate and severe air: "
+                         "design.turbulence_banks.FLOOR_RHO, 2.68, spares in severe air only). Default 0: at any rho"),
+    EstimatorOption("set_tempering_burst", "--set-tempering-burst", "number", metavar="C", minimum=1.0,
+                    maximum=100.0, requires="set_tempering",
+                    help="with --set-tempering: spare only while the member's residual power over the last "
+                         "quarter second is at most C times its rho (a burst of gusts is tempered by s alone "
+                         "until the average has caught up; cpp/f16mmae/turbulence_adaptation.h). Default off"),
+    EstimatorOption("set_tempering_own_fit", "--set-tempering-own-fit", "switch", requires="set_tempering",
+                    help="with --set-tempering: the spared hypothesis is the one of least q_k per channel it "
+                         "reads (q_k m / m_k: a failed sensor's hypothesis that leaves its channel out does "
+                         "not fit best by reading less; cpp/f16mmae/turbulence_adaptation.h). The set's members "
+                         "read every channel in every hypothesis: there it is the same choice. Default: least q_k"),
     EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,
                     help="with --turbulence-banks: the closed loop scales the truth's surface dither each frame "
                          "by the turbulence the set's member in force measures (its rho over the member's "
@@ -333,6 +348,12 @@ CORE_ONLY: dict[str, str] = {
                                "sets it from --set-tempering (loop/estimator.py core_arguments)",
     "adapt_full_tempering": "the hypotheses the per-hypothesis tempering leaves at s, a bit mask over the "
                             "level-0 hypotheses; the estimator sets it with --set-tempering",
+    "adapt_spare_own_fit": "the per-hypothesis tempering's choice per channel read (turbulence_adaptation.h); "
+                           "the estimator sets it from --set-tempering-own-fit",
+    "adapt_spare_rho": "the per-hypothesis tempering's least measured rho (turbulence_adaptation.h); the "
+                       "estimator sets it from --set-tempering-rho",
+    "adapt_spare_burst_ratio": "the per-hypothesis tempering's burst gate (turbulence_adaptation.h); the "
+                               "estimator sets it from --set-tempering-burst",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
@@ -342,7 +363,8 @@ CORE_ONLY: dict[str, str] = {
 #: per-hypothesis tempering's keywords, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
                                "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel",
-                               "trim_steady_air_data", "set_tempering")
+                               "trim_steady_air_data", "set_tempering", "set_tempering_rho",
+                               "set_tempering_own_fit", "set_tempering_burst")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.

@@ -35,6 +35,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <type_traits>
@@ -50,9 +51,9 @@ namespace py = pybind11;
 
 struct EstimatorKeyword {
   const char* name;
-  const char* kind;                                      // what the value must be, for errors
-  void (*set)(HierarchicalOptions&, py::handle);         // may throw py::cast_error or ValueError
-  py::object (*default_of)(const HierarchicalOptions&);  // the core's default, for the docstring
+  std::string kind;                                                // what the value must be, for errors
+  std::function<void(HierarchicalOptions&, py::handle)> set;       // may throw py::cast_error or ValueError
+  std::function<py::object(const HierarchicalOptions&)> default_of;  // the core's default, for the docstring
 };
 
 template <class V>
@@ -82,8 +83,27 @@ inline bool choice(const char* name, py::handle v, const char* yes, const char* 
   return s == yes;
 }
 
-// A reference that NaN turns off, given as a number or None.
-inline py::object optional_number(double x) { return std::isnan(x) ? py::object(py::none()) : py::cast(x); }
+// A row of two words, `first` or `second`, for the bool field at Path; the field is true for
+// `first` unless first_is is false (then for `second`).
+template <auto... Path>
+EstimatorKeyword two_words(const char* name, const char* first, const char* second, bool first_is = true) {
+  return {name, std::string("'") + first + "' or '" + second + "'",
+          [=](HierarchicalOptions& o, py::handle v) { (o.*....*Path) = choice(name, v, first, second) == first_is; },
+          [=](const HierarchicalOptions& o) { return py::cast((o.*....*Path) == first_is ? first : second); }};
+}
+
+// A row for a reference that NaN turns off at Path, given as a number or None (None: off).
+template <auto... Path>
+EstimatorKeyword optional_number(const char* name) {
+  return {name, "a number or None",
+          [](HierarchicalOptions& o, py::handle v) {
+            if (!v.is_none()) (o.*....*Path) = v.cast<double>();
+          },
+          [](const HierarchicalOptions& o) {
+            const double x = (o.*....*Path);
+            return std::isnan(x) ? py::object(py::none()) : py::cast(x);
+          }};
+}
 
 using O = HierarchicalOptions;
 
@@ -99,9 +119,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::level1_dwell_s>("level1_dwell_s"),
       field<&O::level1_allowance>("level1_allowance"),
       field<&O::level1_allowance_pairs>("level1_allowance_pairs"),
-      {"departure_hold", "'on' or 'off'",
-       [](O& o, py::handle v) { o.departure.enabled = choice("departure_hold", v, "on", "off"); },
-       [](const O& o) { return py::cast(o.departure.enabled ? "on" : "off"); }},
+      two_words<&O::departure, &DepartureOptions::enabled>("departure_hold", "on", "off"),
       field<&O::declare_components>("declare_components"),
       field<&O::partial_p_min>("partial_p_min"),
       // the declaration rule (`declarer`, handled after the others, overrides these three)
@@ -121,9 +139,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::trim, &TrimTrackingOptions::steady_roll_rate_rad_s>("trim_steady_roll_rate_rad_s"),
       field<&O::trim, &TrimTrackingOptions::steady_climb_ft_s>("trim_steady_climb_ft_s"),
       field<&O::trim, &TrimTrackingOptions::steady_mach_per_s>("trim_steady_mach_per_s"),
-      {"trim_load_factor", "'on' or 'off'",  // the tracked offset scaled with the load factor
-       [](O& o, py::handle v) { o.trim.load_factor = choice("trim_load_factor", v, "on", "off"); },
-       [](const O& o) { return py::cast(o.trim.load_factor ? "on" : "off"); }},
+      two_words<&O::trim, &TrimTrackingOptions::load_factor>("trim_load_factor", "on", "off"),
       // the schedule
       {"schedule_mode", "'interpolate' or 'nearest'",
        [](O& o, py::handle v) {
@@ -165,20 +181,12 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_burst_ratio>(
           "adapt_spare_burst_ratio"),
       // the climb reference
-      {"adapt_reference_climb", "a number or None",
-       [](O& o, py::handle v) {
-         if (!v.is_none()) o.climb_reference.reference = v.cast<double>();
-       },
-       [](const O& o) { return optional_number(o.climb_reference.reference); }},
+      optional_number<&O::climb_reference, &ClimbReferenceOptions::reference>("adapt_reference_climb"),
       field<&O::climb_reference, &ClimbReferenceOptions::hold_s>("adapt_reference_climb_hold_s"),
       field<&O::climb_reference, &ClimbReferenceOptions::dwell_s>("adapt_reference_climb_dwell_s"),
       // the maneuver dwell and its gates
       field<&O::maneuver_dwell, &ManeuverDwellOptions::dwell_s>("maneuver_dwell_s"),
-      {"maneuver_reference", "a number or None",
-       [](O& o, py::handle v) {
-         if (!v.is_none()) o.maneuver_dwell.reference = v.cast<double>();
-       },
-       [](const O& o) { return optional_number(o.maneuver_dwell.reference); }},
+      optional_number<&O::maneuver_dwell, &ManeuverDwellOptions::reference>("maneuver_reference"),
       field<&O::maneuver_dwell, &ManeuverDwellOptions::hold_s>("maneuver_dwell_hold_s"),
       field<&O::maneuver_dwell, &ManeuverDwellOptions::g>("maneuver_dwell_g"),
       field<&O::maneuver_dwell, &ManeuverDwellOptions::time_constant_s>("maneuver_dwell_time_constant_s"),
@@ -191,12 +199,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::maneuver, &ManeuverOptions::tempering_deadband_g>("maneuver_tempering_deadband_g"),
       field<&O::maneuver_trim, &ManeuverTrimOptions::enabled>("maneuver_trim"),
       field<&O::maneuver_trim, &ManeuverTrimOptions::time_constant_s>("maneuver_trim_time_constant_s"),
-      {"maneuver_trim_accel", "'on' or 'off'",
-       [](O& o, py::handle v) { o.maneuver_trim.accel = choice("maneuver_trim_accel", v, "on", "off"); },
-       [](const O& o) { return py::cast(o.maneuver_trim.accel ? "on" : "off"); }},
-      {"maneuver_trim_rates", "'air' or 'inertial'",
-       [](O& o, py::handle v) { o.maneuver_trim.inertial = !choice("maneuver_trim_rates", v, "air", "inertial"); },
-       [](const O& o) { return py::cast(o.maneuver_trim.inertial ? "inertial" : "air"); }},
+      two_words<&O::maneuver_trim, &ManeuverTrimOptions::accel>("maneuver_trim_accel", "on", "off"),
+      two_words<&O::maneuver_trim, &ManeuverTrimOptions::inertial>("maneuver_trim_rates", "air", "inertial", false),
       field<&O::maneuver_trim, &ManeuverTrimOptions::inertial_path, &InertialFlightPathOptions::blend_time_constant_s>(
           "maneuver_trim_blend_s"),
       // the actuators' limits (nu each; empty: off)

@@ -1,28 +1,8 @@
 // DaemonConfig — the settings of mmae-daemon and the parsing of its command line.
 //
-//   mmae-daemon --bank FILE [--turbulence-banks] [--lcm-url URL] [--channel-prefix P] [--rate-hz HZ]
-//               [--p-min P] [--threshold T] [--dwell-s S] [--dwell-nats N] [--dwell-nats-per-hypothesis FILE]
-//               [--adapt-turbulence] [--adapt-reference RHO]
-//               [--adapt-own-channels] [--adapt-counted-channel NAME]
-//               [--set-tempering W] [--set-tempering-full NAME,...] [--set-tempering-rho RHO]
-//               [--set-tempering-own-fit] [--set-tempering-burst C]
-//               [--adapt-reference-climb RHO] [--adapt-reference-climb-hold S]
-//               [--adapt-reference-climb-dwell S] [--adapt-channel-weight G]
-//               [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]
-//               [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]
-//               [--maneuver-mach-rate MACH_PER_S]
-//               [--level1-p-min P] [--level1-dwell-s S] [--level1-allowance K] [--departure-hold on|off]
-//               [--declare-components] [--partial-p-min P]
-//               [--trim-tracking TAU_S] [--trim-freeze-probability P] [--trim-tracking-steady G]
-//               [--trim-tracking-load-factor on|off]
-//               [--schedule-mode M]
-//               [--air-data-time-constant TAU_S] [--maneuver-kinematics] [--maneuver-tempering G]
-//               [--maneuver-tempering-deadband D] [--maneuver-trim] [--maneuver-trim-time-constant T_S]
-//               [--maneuver-trim-accel on|off] [--maneuver-trim-rates air|inertial]
-//               [--maneuver-trim-blend T_S]
-//               [--actuator-rate-limits R,...] [--actuator-position-limits L,...]
-//               [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US] [--rewarm-us US]
-//               [--auth-key FILE] [--bank-public-key FILE] [--quiet]
+// The flags are one table in daemon_config.cpp: a row names a flag, its value's range or choices,
+// the field it sets, what it needs (e.g. --trim-freeze-probability applies with --trim-tracking only)
+// and its help; `mmae-daemon --help` (daemon_usage) prints the table.
 //
 // The LCM URL defaults as LCM's own tools do: $LCM_DEFAULT_URL, else
 // udpm://239.255.76.67:7667?ttl=0. Channels are UPPER_SNAKE names with the prefix prepended:
@@ -119,5 +99,8 @@ struct ParseResult {
 ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* default_url);
 
 std::string daemon_usage();
+
+// Every flag of the table, in the help's order.
+std::vector<std::string> daemon_flag_names();
 
 }  // namespace f16mmae::daemon

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+using f16mmae::daemon::daemon_flag_names;
+using f16mmae::daemon::daemon_usage;
 using f16mmae::daemon::parse_daemon_args;
 
 TEST(DaemonConfig, DefaultsFollowLcmConventions) {
@@ -166,7 +168,7 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
                          "--trim-tracking-load-factor", "yes"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.message.find("--trim-tracking-load-factor must be on or off, got 'yes'"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("--trim-tracking-load-factor must be 'on' or 'off', got 'yes'"), std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-load-factor", "on"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--trim-tracking-load-factor applies with --trim-tracking-steady only"), std::string::npos)
@@ -242,7 +244,7 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--adapt-reference", "0.76"}, nullptr);
   EXPECT_NE(r.message.find("applies with --adapt-turbulence only"), std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--schedule-mode", "linear"}, nullptr);
-  EXPECT_NE(r.message.find("interpolate or nearest, got 'linear'"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("'interpolate' or 'nearest', got 'linear'"), std::string::npos) << r.message;
 }
 
 TEST(DaemonConfig, AirDataTimeConstant) {
@@ -382,7 +384,7 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
       {{"--level1-dwell-s", "-0.5"}, "--level1-dwell-s must be a time in seconds in [0, 60]"},
       {{"--level1-allowance", "6"}, "--level1-allowance must be a number of nats a frame in [0, 5], got '6'"},
       {{"--partial-p-min", "nan"}, "--partial-p-min must be a probability in [0, 0.1], got 'nan'"},
-      {{"--departure-hold", "yes"}, "--departure-hold must be on or off, got 'yes'"},
+      {{"--departure-hold", "yes"}, "--departure-hold must be 'on' or 'off', got 'yes'"},
       {{"--adapt-channel-weight", "1.5"}, "--adapt-channel-weight must be a weight in [0, 1], got '1.5'"},
   };
   for (const auto& [args, message] : refused) {
@@ -427,4 +429,36 @@ TEST(DaemonConfig, ReWarmInterval) {
   r = parse_daemon_args({"--bank", "b", "--rewarm-us", "16000"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--rewarm-us 16000 must be shorter than a frame period"), std::string::npos) << r.message;
+}
+
+TEST(DaemonConfig, EveryFlagOfTheTableIsInTheUsageAndParsed) {
+  const std::vector<std::string> names = daemon_flag_names();
+  ASSERT_GE(names.size(), 60u);
+  const std::string usage = daemon_usage();
+  const std::string synopsis = usage.substr(0, usage.find("\n\n"));
+  for (const std::string& name : names) {
+    // once in the synopsis (--bank unbracketed, --help too), once at the start of a help line
+    if (name != "--bank") {
+      const std::size_t at = synopsis.find("[" + name);
+      ASSERT_NE(at, std::string::npos) << name;
+      const char next = synopsis.at(at + 1 + name.size());
+      EXPECT_TRUE(next == ']' || next == ' ' || next == '\n') << name;
+    }
+    EXPECT_NE(usage.find("\n  " + name + " "), std::string::npos) << name;
+    if (name == "--help") continue;
+    // a flag the parser does not know would be an unknown argument; a value flag without its value
+    // is refused naming it, a switch given a value too
+    auto r = parse_daemon_args({"--bank", "b", name}, nullptr);
+    EXPECT_EQ(r.message.find("unknown argument"), std::string::npos) << name << ": " << r.message;
+    if (!r.ok) EXPECT_NE(r.message.find(name + " "), std::string::npos) << r.message;
+    r = parse_daemon_args({"--bank", "b", name + "=x"}, nullptr);
+    EXPECT_FALSE(r.ok && name != "--channel-prefix" && name != "--bank-public-key" && name != "--auth-key" &&
+                 name != "--dwell-nats-per-hypothesis" && name != "--lcm-url" && name != "--bank")
+        << name;
+  }
+  auto r = parse_daemon_args({"--bank", "b", "--quiet=yes"}, nullptr);
+  EXPECT_NE(r.message.find("--quiet takes no value, got 'yes'"), std::string::npos) << r.message;
+  // the requirement of a row names the flag and what it needs
+  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering-burst", "2"}, nullptr);
+  EXPECT_NE(r.message.find("--set-tempering-burst applies with --set-tempering only"), std::string::npos) << r.message;
 }

@@ -231,7 +231,7 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     rc, out = _daemon("--bank", bank, "--maneuver-reference", "0.65")
     assert rc == 2 and "--maneuver-reference applies with --adapt-turbulence only" in out
     rc, out = _daemon("--bank", bank, "--departure-hold", "maybe")
-    assert rc == 2 and "--departure-hold must be on or off, got 'maybe'" in out
+    assert rc == 2 and "--departure-hold must be 'on' or 'off', got 'maybe'" in out
     # the level-1 floor's bound depends on the threshold: the core refuses it, naming it
     rc, out = _daemon("--bank", bank, "--lcm-url", "memq://", "--level1-p-min", "0.05")
     assert rc == 1 and "level1_p_min must lie in [0, (1 - threshold)/(K - 1))" in out, out

@@ -106,7 +106,7 @@ def test_the_gate_and_the_choice_reach_the_core_and_the_daemon():
     p.communicate(timeout=5)
     bits = args["adapt_full_tempering"]
     assert f"set tempering 0.25 from rho 2.68 own fit burst 2 full {bits}" in ready, ready
-    for bad, message in ((["--turbulence-banks", "--set-tempering-rho", "2"], "apply with --set-tempering only"),
+    for bad, message in ((["--turbulence-banks", "--set-tempering-rho", "2"], "--set-tempering-rho applies with --set-tempering only"),
                          (["--turbulence-banks", "--set-tempering", "0"],
                           "--set-tempering must be a weight in (0, 1], got '0'"),
                          (["--set-tempering", "0.5"], "--set-tempering applies with --turbulence-banks only")):

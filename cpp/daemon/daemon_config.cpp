@@ -19,6 +19,9 @@ namespace f16mmae::daemon {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// The F-16 bank's hypotheses at level 0: the floors' ranges here are the harness's
+// (loop/estimator_options.py); the core checks each floor against the bank it loads.
+constexpr int kF16Hypotheses = 13;
 
 // A flag's setter: applies the value to the config, or returns why the value is refused ("must be
 // a probability in [0, 1]"); the parser prefixes the flag and appends ", got 'VALUE'".
@@ -180,9 +183,12 @@ const std::vector<Flag>& flags() {
 
       {nullptr, nullptr,
        "The declaration (default: the bank's recommended p_min, threshold and dwell_s, as 'f16mmae run')"},
-      {"--p-min", "P", "probability floor", number(&C::p_min, {0.0, kInf}, "a finite number >= 0")},
-      {"--threshold", "T", "declaration threshold", number(&C::threshold, {0.0, kInf}, "a finite number >= 0")},
-      {"--dwell-s", "S", "declaration dwell, s", number(&C::dwell_s, {0.0, kInf}, "a finite number >= 0")},
+      {"--p-min", "P", "probability floor (the core checks 1/K for the bank it loads)",
+       number(&C::p_min, {0.0, 1.0 / kF16Hypotheses, false, true}, "a probability in [0, 1/13)")},
+      {"--threshold", "T", "declaration threshold",
+       number(&C::threshold, {0.5, 1.0, true, true}, "a probability in (0.5, 1)")},
+      {"--dwell-s", "S", "declaration dwell, s",
+       number(&C::dwell_s, {0.0, kMaxDwellS}, "a time in seconds in " + kDwellRange)},
       {"--dwell-nats", "N",
        "... or until the candidate's log-odds above the threshold's, summed over those frames, reach N nats "
        "(declarer.h; default 0: the dwell alone)",
@@ -344,8 +350,8 @@ const std::vector<Flag>& flags() {
       {"--level1-p-min", "P",
        "the floor while a failure's level-1 (dual) bank is on line (below (1 - threshold)/12; default 0: "
        "the level-0 floor)",
-       number(&C::level1_p_min, {0.0, 1.0, false, true},
-              "a probability in [0, 1) (and below (1 - threshold)/12 for the F-16 bank)")},
+       number(&C::level1_p_min, {0.0, (1.0 - kDefaultThreshold) / (kF16Hypotheses - 1), false, true},
+              "a probability in [0, (1 - 0.9)/12) (the core checks (1 - threshold)/(K - 1) for the bank)")},
       {"--level1-dwell-s", "S", "the dwell while it is on line (default 0: the dwell)",
        number(&C::level1_dwell_s, {0.0, kMaxDwellS}, "a time in seconds in " + kDwellRange + " (0: the dwell)")},
       {"--level1-allowance", "K",

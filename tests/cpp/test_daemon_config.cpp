@@ -75,7 +75,7 @@ TEST(DaemonConfig, EstimatorOverrides) {
   EXPECT_EQ(*r.config.dwell_s, 0.5);
   EXPECT_FALSE(parse_daemon_args({"--bank", "b"}, nullptr).config.p_min.has_value());
   r = parse_daemon_args({"--bank", "b", "--p-min", "-1"}, nullptr);
-  EXPECT_NE(r.message.find("--p-min must be a finite number >= 0, got '-1'"), std::string::npos);
+  EXPECT_NE(r.message.find("--p-min must be a probability in [0, 1/13), got '-1'"), std::string::npos);
 }
 
 TEST(DaemonConfig, EvidenceDwell) {
@@ -380,7 +380,7 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
       {{"--adapt-turbulence", "--maneuver-reference", "101"}, "--maneuver-reference must be a power ratio in [0, 100]"},
       {{"--maneuver-tempering-deadband", "0.05"}, "--maneuver-tempering-deadband applies with --maneuver-tempering only"},
       {{"--maneuver-tempering", "0.1", "--maneuver-tempering-deadband", "11"}, "--maneuver-tempering-deadband must be"},
-      {{"--level1-p-min", "1"}, "--level1-p-min must be a probability in [0, 1)"},
+      {{"--level1-p-min", "0.01"}, "--level1-p-min must be a probability in [0, (1 - 0.9)/12)"},
       {{"--level1-dwell-s", "-0.5"}, "--level1-dwell-s must be a time in seconds in [0, 60]"},
       {{"--level1-allowance", "6"}, "--level1-allowance must be a number of nats a frame in [0, 5], got '6'"},
       {{"--partial-p-min", "nan"}, "--partial-p-min must be a probability in [0, 0.1], got 'nan'"},

@@ -37,7 +37,7 @@ from campaign_support import CountingExecutor
     ({"estimator": {"dwell_s": 5.0}}, "--dwell-s 5.0 must lie in [0, 5.0) s"),
     ({"estimator": {"p_min": 0.2}}, "--p-min 0.2"),
     # (1 - 0.9) / 12 = 0.0083: above it no hypothesis of a level-1 bank can pass the threshold
-    ({"estimator": {"level1_p_min": 0.0084}}, "--level1-p-min 0.0084 must lie in [0, 0.008333)"),
+    ({"estimator": {"level1_p_min": 0.0084}}, "--level1-p-min 0.0084 must lie in [0, 0.00833333)"),
     ({"dither_scale": 9.0}, "--dither-scale 9.0"),
 ])
 def test_bad_config_is_refused_naming_the_value(kwargs, message):

@@ -232,8 +232,11 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     assert rc == 2 and "--maneuver-reference applies with --adapt-turbulence only" in out
     rc, out = _daemon("--bank", bank, "--departure-hold", "maybe")
     assert rc == 2 and "--departure-hold must be 'on' or 'off', got 'maybe'" in out
-    # the level-1 floor's bound depends on the threshold: the core refuses it, naming it
+    # the level-1 floor's bound depends on the threshold: the flag's range is the default
+    # threshold's, (1 - 0.9)/12; the core refuses 0.005 at 0.95, (1 - 0.95)/12, naming it
     rc, out = _daemon("--bank", bank, "--lcm-url", "memq://", "--level1-p-min", "0.05")
+    assert rc == 2 and "--level1-p-min must be a probability in [0, (1 - 0.9)/12)" in out, out
+    rc, out = _daemon("--bank", bank, "--lcm-url", "memq://", "--threshold", "0.95", "--level1-p-min", "0.005")
     assert rc == 1 and "level1_p_min must lie in [0, (1 - threshold)/(K - 1))" in out, out
     # the partial hypotheses' floor reaches the core, which refuses it for a bank without them
     flags = daemon_flags({"partial_p_min": 0.002})

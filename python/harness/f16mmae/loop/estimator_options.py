@@ -22,7 +22,7 @@ from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDUL
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
 #: recommends): with the K_BANK - 1 other hypotheses on their floors a hypothesis holds at most
 #: 1 - (K_BANK - 1) P, which must exceed the threshold.
-LEVEL1_P_MIN_BELOW = round((1.0 - THRESHOLD_DEFAULT) / (K_BANK - 1), 6)
+LEVEL1_P_MIN_BELOW = (1.0 - THRESHOLD_DEFAULT) / (K_BANK - 1)
 
 
 @dataclass(frozen=True)
@@ -53,7 +53,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "default: the bank's recommended, else 0.9)"),
     EstimatorOption("dwell_s", "--dwell-s", "number", metavar="S", minimum=0.0, maximum=DWELL_S_MAX,
                     help="... for S seconds in a row (default: the bank's recommended, else 0.25)"),
-    EstimatorOption("p_min", "--p-min", "number", metavar="P", minimum=0.0, below=round(1.0 / K_BANK, 6),
+    EstimatorOption("p_min", "--p-min", "number", metavar="P", minimum=0.0, below=1.0 / K_BANK,
                     help="probability floor everywhere (default: the bank's recommended -- tuned: 1e-9; "
                          "a scheduled bank: each node's, blended -- else the core's 0.001, the paper's)"),
     EstimatorOption("start_up_s", "--start-up-s", "number", metavar="S", minimum=0.0, maximum=3600.0,

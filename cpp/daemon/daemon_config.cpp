@@ -37,6 +37,7 @@ std::string daemon_usage() {
          "                   [--maneuver-kinematics] [--maneuver-tempering G] [--maneuver-tempering-deadband D]\n"
          "                   [--maneuver-trim] [--maneuver-trim-time-constant T_S] [--maneuver-trim-accel on|off]\n"
          "                   [--maneuver-trim-rates air|inertial] [--maneuver-trim-blend T_S]\n"
+         "                   [--maneuver-trim-accel-airspeed W0]\n"
          "                   [--actuator-rate-limits R1,...,R5[,inf]]\n"
          "                   [--actuator-position-limits L1,...,L5[,inf]]\n"
          "                   [--max-frames N] [--realtime PRIORITY] [--warm-lead-us US]\n"
@@ -162,6 +163,10 @@ std::string daemon_usage() {
          "                       AOA and VEL against the air data (inertial_flight_path.h)\n"
          "  --maneuver-trim-blend T_S  with --maneuver-trim: the inertial rates' blend time\n"
          "                       constant (0.05-600; default 2)\n"
+         "  --maneuver-trim-accel-airspeed W0  with --maneuver-trim and the air data's rates: the\n"
+         "                       acceleration from VEL / cos(AOA) through a second-order\n"
+         "                       differentiator of natural frequency W0 rad/s (0 or 0.05-20;\n"
+         "                       default 0: the air data's; maneuver_trim.h, AirspeedAccel)\n"
          "  --declare-components  a bank with partial-loss hypotheses: declare a surface's forms\n"
          "                       (complete and partial) as one component, naming the heavier form\n"
          "                       (declarer.h; default: each hypothesis alone)\n"
@@ -291,6 +296,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                        key == "--departure-hold" ||
                        key == "--maneuver-trim-time-constant" || key == "--maneuver-trim-accel" ||
                        key == "--maneuver-trim-rates" || key == "--maneuver-trim-blend" ||
+                       key == "--maneuver-trim-accel-airspeed" ||
                        key == "--adapt-counted-channel" || key == "--set-tempering" || key == "--set-tempering-full" ||
                        key == "--set-tempering-rho" || key == "--set-tempering-burst";
     if (!known)
@@ -305,7 +311,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--maneuver-reference, --maneuver-mach-rate, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
                          "--level1-allowance, --departure-hold, --declare-components, --partial-p-min, --trim-tracking, "
                          "--trim-freeze-probability, --trim-tracking-steady, --trim-tracking-load-factor, --schedule-mode, --air-data-time-constant, --maneuver-kinematics, "
-                         "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --maneuver-trim-rates, --maneuver-trim-blend, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
+                         "--maneuver-tempering, --maneuver-trim, --maneuver-trim-time-constant, --maneuver-trim-accel, --maneuver-trim-rates, --maneuver-trim-blend, --maneuver-trim-accel-airspeed, --actuator-rate-limits, --actuator-position-limits, --quiet, --help");
     if (!inline_value) {
       if (i + 1 >= args.size()) return usage_error(key + " needs a value");
       value = args[++i];
@@ -455,6 +461,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
         return usage_error("--maneuver-trim-blend must be a time constant in seconds in [0.05, 600], got '" + value +
                            "'");
       c.maneuver_trim_blend_s = *tau;
+    } else if (key == "--maneuver-trim-accel-airspeed") {
+      const std::optional<double> w0 = finite_number(value);
+      if (!w0 || !(*w0 == 0.0 || (*w0 >= 0.05 && *w0 <= 20.0)))
+        return usage_error("--maneuver-trim-accel-airspeed must be 0 or a natural frequency in rad/s in [0.05, 20], "
+                           "got '" + value + "'");
+      c.maneuver_trim_accel_airspeed_rad_s = *w0;
     } else if (key == "--maneuver-trim-time-constant") {
       const std::optional<double> tau = finite_number(value);
       if (!tau || *tau < 0.05 || *tau > 60.0)
@@ -589,6 +601,12 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     return usage_error("--maneuver-trim-rates applies with --maneuver-trim only");
   if (c.maneuver_trim_blend_s && !c.maneuver_trim)
     return usage_error("--maneuver-trim-blend applies with --maneuver-trim only");
+  if (c.maneuver_trim_accel_airspeed_rad_s && !c.maneuver_trim)
+    return usage_error("--maneuver-trim-accel-airspeed applies with --maneuver-trim only");
+  if (c.maneuver_trim_accel_airspeed_rad_s && *c.maneuver_trim_accel_airspeed_rad_s > 0.0 &&
+      c.maneuver_trim_inertial && *c.maneuver_trim_inertial)
+    return usage_error("--maneuver-trim-accel-airspeed applies with the air data's rates only, not with "
+                       "--maneuver-trim-rates inertial");
   if (c.maneuver_reference && !c.adapt_turbulence)
     return usage_error("--maneuver-reference applies with --adapt-turbulence only");
   if (c.maneuver_tempering_deadband_g && c.maneuver_tempering_g == 0.0)

@@ -203,6 +203,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       two_words<&O::maneuver_trim, &ManeuverTrimOptions::inertial>("maneuver_trim_rates", "air", "inertial", false),
       field<&O::maneuver_trim, &ManeuverTrimOptions::inertial_path, &InertialFlightPathOptions::blend_time_constant_s>(
           "maneuver_trim_blend_s"),
+      field<&O::maneuver_trim, &ManeuverTrimOptions::accel_airspeed_rad_s>("maneuver_trim_accel_airspeed_rad_s"),
       // the actuators' limits (nu each; empty: off)
       field<&O::actuators, &ActuatorLimitOptions::rate_limit_rad_s>("actuator_rate_limits_rad_s"),
       field<&O::actuators, &ActuatorLimitOptions::position_limit_rad>("actuator_position_limits_rad"),

@@ -345,6 +345,12 @@ const std::vector<Flag>& flags() {
       {"--maneuver-trim-blend", "T_S", "the inertial rates' blend time constant (default 2)",
        number(&C::maneuver_trim_blend_s, {0.05, 600.0}, "a time constant in seconds in [0.05, 600]"), nullptr,
        "--maneuver-trim", maneuver_trim},
+      {"--maneuver-trim-accel-airspeed", "W0",
+       "the acceleration from VEL / cos(AOA) through a second-order differentiator of natural frequency W0 "
+       "rad/s, delay 1.41/W0 s (maneuver_trim.h, AirspeedAccel; default: the air data's)",
+       number(&C::maneuver_trim_accel_airspeed_rad_s, {0.05, 20.0}, "a natural frequency in rad/s in [0.05, 20]"),
+       {}, "--maneuver-trim and the air data's rates",
+       [](const C& c) { return c.maneuver_trim && !c.maneuver_trim_inertial.value_or(false); }},
 
       {nullptr, nullptr, "Level 1: a failure's dual bank on line"},
       {"--level1-p-min", "P",

@@ -244,7 +244,7 @@ class HierarchicalBank {
       if (Level1Allowance::apply_each(p_allow_, allowances_[static_cast<std::size_t>(level1_bank_)]))
         bank_.set_probabilities(p_allow_);
     }
-    if (maneuver_trim_.options().inertial)   // maneuver_trim.h / inertial_flight_path.h
+    if (maneuver_trim_.reads_z())   // maneuver_trim.h / inertial_flight_path.h
       maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
                                       z_abs(mt_vel_), trim_freezing());
     if (maneuver_dwell_.enabled()) {   // maneuver_dwell.h
@@ -826,8 +826,8 @@ class HierarchicalBank {
                                                   "measurement '") + need[k] + "'");
         mt_z_[k] = static_cast<int>(it - m.begin());
       }
-      mt_z_[3] = ia;
     }
+    mt_z_[3] = ia;   // AOA: the inertial rates and the airspeed's acceleration
     auto add = [&](const ModelBank& node) {
       const HypothesisModel& h = node.hypotheses.at(0);
       const TrimSensitivity s = trim_sensitivity(h.phi, h.bd, h.h, mb.state_names, mb.input_names, mb.frame_rate_hz,

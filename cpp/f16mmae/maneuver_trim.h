@@ -51,6 +51,16 @@
 // Nothing here reads the truth: the air data are the scheduling input, the sensitivities the
 // bank's own model. It cannot absorb a failure: (gamma, a) come from the air data alone, which
 // no failure hypothesis concerns (air-data failures are out of scope).
+// With options.accel_airspeed_rad_s = w0 > 0 the acceleration a comes instead from the airspeed of
+// z (AirspeedAccel below: V = VEL / cos(AOA), a second-order tracking differentiator of natural
+// frequency w0, damping 1/sqrt(2)), gamma staying the air data's. Why: the rate of the air data's
+// Mach, (lp_T - lp_5T) / (4 T), is the derivative seen through two cascaded first-order lags,
+//   a_air(s) = s V(s) / ((1 + T s)(1 + 5 T s)),
+// whose step response in a lags by its mean delay T + 5 T = 6 T (3 s at T = 0.5 s); T is set by
+// the Mach noise (sigma 0.002, about 2 ft/s of airspeed per frame), which a differentiator
+// amplifies. The VEL sensor's white noise is about a quarter of that (0.5 ft/s), and a
+// differentiator's white-noise variance grows as w0^3 (below), so at the same noise the airspeed's
+// rate may be about 4^(2/3) = 2.5 times faster. The gusts are in both (both are air-relative).
 // With options.inertial (gamma, a) come instead from inertial_flight_path.h: the pitch rate,
 // roll and yaw rates, AOA and VEL of z, complementary to the air data's (gamma, a) above, fed by
 // HierarchicalBank::update after each measurement update with the bank's freeze condition (the
@@ -82,9 +92,16 @@ struct ManeuverTrimOptions {
   bool accel = true;                  // false: a = 0 (the climb's trim only)
   bool inertial = false;              // (gamma, a) from inertial_flight_path.h (header); false: the air data's
   InertialFlightPathOptions inertial_path;
+  double accel_airspeed_rad_s = 0.0;  // w0 > 0: a from the airspeed of z (AirspeedAccel); 0: the air data's
   void validate() const {
     if (!enabled) return;
     if (inertial) inertial_path.validate();
+    if (!(accel_airspeed_rad_s == 0.0 || (accel_airspeed_rad_s >= 0.05 && accel_airspeed_rad_s <= 20.0)))
+      throw std::invalid_argument("maneuver trim: accel_airspeed_rad_s must be 0 (the air data's acceleration) or "
+                                  "in [0.05, 20] rad/s, got " + format_value(accel_airspeed_rad_s));
+    if (inertial && accel_airspeed_rad_s > 0.0)
+      throw std::invalid_argument("maneuver trim: the inertial rates and the airspeed's acceleration exclude each "
+                                  "other (the inertial rates have their own airspeed rate), got both");
     if (!(time_constant_s >= 0.05 && time_constant_s <= 60.0))
       throw std::invalid_argument("maneuver trim: time_constant_s must be in [0.05, 60] s, got " +
                                   format_value(time_constant_s));
@@ -181,6 +198,72 @@ inline TrimSensitivity trim_sensitivity(const Eigen::MatrixXd& phi, const Eigen:
   return s;
 }
 
+// AirspeedAccel — the acceleration a = dV/dt from the airspeed of z (header of the file: why).
+// Per frame (dt = 1 / f) the measured airspeed V_m = VEL / cos(AOA) (VEL is the body-axis forward
+// airspeed u_a = V cos(alpha) cos(beta), beta ~ 0) drives the tracking differentiator
+//   e  = V_m - V^
+//   V^ += dt (a^ + 2 zeta w0 e)
+//   a^ += dt w0^2 e,                                 zeta = 1 / sqrt(2)
+// the Euler form of a^(s) = w0^2 s V_m(s) / (s^2 + 2 zeta w0 s + w0^2): a ramp of slope r settles
+// at a^ = r (V^ then follows V_m without error), and a step of the acceleration is followed as
+//   a^(t) / r = 1 - exp(-zeta w0 t) (cos(w_d t) + zeta w0 / w_d sin(w_d t)),  w_d = w0 sqrt(1 - zeta^2)
+// (mean delay 2 zeta / w0: 1.41 s at w0 = 1 rad/s, against the air data's 6 T). White noise of
+// spectral density N on V_m gives a^ the variance N w0^3 / (4 zeta).
+// The freeze rule (the bank's, as inertial_flight_path.h's): while `frozen` (level 1, a failure
+// declared, or a failure hypothesis on line above the freeze probability) neither VEL nor AOA is
+// read: a^ goes over to the air data's a with the differentiator's delay as time constant,
+//   a^ += c (a_air - a^),  c = 1 - exp(-dt w0 / (2 zeta)),
+// so a failed VEL or AOA sensor cannot drive the trim to absorb its failure; at the first frame
+// read after a freeze V^ restarts at V_m, a^ continuing. The first frame read starts V^ = V_m,
+// a^ = a_air. Non-finite readings count as frozen.
+class AirspeedAccel {
+ public:
+  static constexpr double kZeta = 0.70710678118654752;   // 1 / sqrt(2)
+  AirspeedAccel() = default;
+  AirspeedAccel(double w0_rad_s, double frame_rate_hz)
+      : dt_(1.0 / frame_rate_hz), k1_(2.0 * kZeta * w0_rad_s), k2_(w0_rad_s * w0_rad_s),
+        c_freeze_(1.0 - std::exp(-w0_rad_s / (2.0 * kZeta * frame_rate_hz))) {
+    if (!(w0_rad_s > 0.0 && std::isfinite(w0_rad_s)) || !(frame_rate_hz > 0.0))
+      throw std::invalid_argument("airspeed acceleration: needs w0 > 0 and a frame rate > 0, got " +
+                                  format_value(w0_rad_s) + ", " + format_value(frame_rate_hz));
+  }
+  void reset() noexcept {
+    seen_ = reading_ = false;
+    v_ = a_ = 0.0;
+  }
+  // One frame: the measured VEL (ft/s) and AOA (rad) of z, the air data's a (ft/s^2), frozen.
+  void observe(double vel, double alpha, double a_air, bool frozen) noexcept {
+    if (!std::isfinite(a_air)) return;
+    if (!(std::isfinite(vel) && std::isfinite(alpha)) || !(std::cos(alpha) > 0.0)) frozen = true;
+    if (!seen_) {
+      a_ = a_air;
+      seen_ = true;
+    }
+    if (frozen) {
+      a_ += c_freeze_ * (a_air - a_);
+      reading_ = false;
+      return;
+    }
+    const double vm = vel / std::cos(alpha);
+    if (!reading_) {
+      v_ = vm;
+      reading_ = true;
+      return;
+    }
+    const double e = vm - v_;
+    v_ += dt_ * (a_ + k1_ * e);
+    a_ += dt_ * k2_ * e;
+  }
+  bool seen() const noexcept { return seen_; }
+  double accel() const noexcept { return a_; }   // ft/s^2
+  double airspeed() const noexcept { return v_; }   // ft/s, V^
+
+ private:
+  double dt_ = 1.0 / 64.0, k1_ = 0.0, k2_ = 0.0, c_freeze_ = 0.0;
+  bool seen_ = false, reading_ = false;
+  double v_ = 0.0, a_ = 0.0;
+};
+
 // The per-frame part (header): the rates from the air data, (gamma, a), the blended offsets.
 class ManeuverTrim {
  public:
@@ -191,7 +274,10 @@ class ManeuverTrim {
     gain_fast_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * options.time_constant_s));
     gain_slow_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * 5.0 * options.time_constant_s));
     if (options.inertial) path_ = InertialFlightPath(options.inertial_path, frame_rate_hz);
+    if (options.accel_airspeed_rad_s > 0.0) airspeed_ = AirspeedAccel(options.accel_airspeed_rad_s, frame_rate_hz);
   }
+  // observe_inertial() reads z: the inertial rates or the airspeed's acceleration.
+  bool reads_z() const noexcept { return options_.enabled && (options_.inertial || options_.accel_airspeed_rad_s > 0.0); }
   bool enabled() const noexcept { return options_.enabled; }
   const ManeuverTrimOptions& options() const noexcept { return options_; }
 
@@ -200,6 +286,7 @@ class ManeuverTrim {
     h_fast_ = h_slow_ = m_fast_ = m_slow_ = 0.0;
     gamma_ = accel_ = 0.0;
     path_.reset();
+    airspeed_.reset();
   }
   // One usable air-data sample (Mach, pressure altitude ft) and the speed of sound c (ft/s) of
   // the trim in force: updates gamma() and accel().
@@ -225,21 +312,25 @@ class ManeuverTrim {
   }
   // With options.inertial: one frame's measurements (absolute: q, p, r rad/s, alpha rad, V ft/s)
   // and the bank's freeze condition, into the complementary filter (inertial_flight_path.h)
-  // against the air data's (gamma, a) of the last observe(). No-op otherwise.
+  // against the air data's (gamma, a) of the last observe(); with options.accel_airspeed_rad_s
+  // > 0: alpha and V into AirspeedAccel against the air data's a. No-op otherwise.
   void observe_inertial(double q, double p, double r, double alpha, double vel, bool frozen) noexcept {
-    if (!options_.inertial) return;
-    path_.observe(q, p, r, alpha, vel, gamma_, accel_, frozen);
+    if (options_.inertial) path_.observe(q, p, r, alpha, vel, gamma_, accel_, frozen);
+    if (options_.accel_airspeed_rad_s > 0.0 && seen_) airspeed_.observe(vel, alpha, accel_, frozen);
   }
   // The (gamma, a) in force: the air data's, or with options.inertial the complementary
   // filter's once it has a frame (a = 0 with accel = false).
   double gamma() const noexcept { return options_.inertial && path_seen() ? path_.gamma() : gamma_; }   // rad
   double accel() const noexcept {                                                                     // ft/s^2
     if (!options_.accel) return 0.0;
+    if (options_.accel_airspeed_rad_s > 0.0 && airspeed_.seen())
+      return std::clamp(airspeed_.accel(), -options_.accel_max_fps2, options_.accel_max_fps2);
     return options_.inertial && path_seen() ? path_.accel() : accel_;
   }
   double air_gamma() const noexcept { return gamma_; }   // the air data's own
   double air_accel() const noexcept { return accel_; }
   const InertialFlightPath& inertial_path() const noexcept { return path_; }
+  const AirspeedAccel& airspeed_accel() const noexcept { return airspeed_; }
 
  private:
   ManeuverTrimOptions options_;
@@ -248,6 +339,7 @@ class ManeuverTrim {
   double h_fast_ = 0.0, h_slow_ = 0.0, m_fast_ = 0.0, m_slow_ = 0.0;
   double gamma_ = 0.0, accel_ = 0.0;
   InertialFlightPath path_;
+  AirspeedAccel airspeed_;
   bool path_seen() const noexcept { return path_.seen(); }
 };
 

@@ -317,6 +317,9 @@ TEST(DaemonConfig, ManeuverTrimOptions) {
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_TRUE(*r.config.maneuver_trim_inertial);
   EXPECT_EQ(*r.config.maneuver_trim_blend_s, 3.0);
+  r = parse_daemon_args({"--bank", "b", "--maneuver-trim", "--maneuver-trim-accel-airspeed", "1.5"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(*r.config.maneuver_trim_accel_airspeed_rad_s, 1.5);
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
       {{"--maneuver-trim-time-constant", "0.5"}, "--maneuver-trim-time-constant applies with --maneuver-trim only"},
       {{"--maneuver-trim", "--maneuver-trim-time-constant", "0.01"},
@@ -325,6 +328,13 @@ TEST(DaemonConfig, ManeuverTrimOptions) {
       {{"--maneuver-trim-accel", "off"}, "--maneuver-trim-accel applies with --maneuver-trim only"},
       {{"--maneuver-trim", "--maneuver-trim-accel", "no"}, "--maneuver-trim-accel must be 'on' or 'off', got 'no'"},
       {{"--maneuver-trim-rates", "inertial"}, "--maneuver-trim-rates applies with --maneuver-trim only"},
+      {{"--maneuver-trim-accel-airspeed", "1"},
+       "--maneuver-trim-accel-airspeed applies with --maneuver-trim and the air data's rates only"},
+      {{"--maneuver-trim", "--maneuver-trim-accel-airspeed", "0.01"},
+       "--maneuver-trim-accel-airspeed must be a natural frequency in rad/s in [0.05, 20], got '0.01'"},
+      {{"--maneuver-trim", "--maneuver-trim-accel-airspeed", "inf"}, "--maneuver-trim-accel-airspeed must be"},
+      {{"--maneuver-trim", "--maneuver-trim-rates", "inertial", "--maneuver-trim-accel-airspeed", "1"},
+       "--maneuver-trim-accel-airspeed applies with --maneuver-trim and the air data's rates only"},
       {{"--maneuver-trim", "--maneuver-trim-rates", "gyro"}, "--maneuver-trim-rates must be 'air' or 'inertial', got 'gyro'"},
       {{"--maneuver-trim-blend", "2"}, "--maneuver-trim-blend applies with --maneuver-trim only"},
       {{"--maneuver-trim", "--maneuver-trim-blend", "0"},

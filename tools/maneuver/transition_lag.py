@@ -17,7 +17,8 @@ failure declaration one row:
 - ``gamma err`` (deg) and ``a err`` (ft/s^2): the trim's gamma and a minus the truth's
   (gamma = asin(dh/dt / V_t), a = dV_t/dt from the true altitude and true airspeed, 1-s
   central differences), at the onset and at the declaration; ``lag``: the delay (s, 0-10) that
-  best aligns the trim's gamma with the truth's over the 20 s before the declaration.
+  best aligns the trim's gamma with the truth's over the 20 s before the declaration, and
+  ``a lag`` the same for the trim's acceleration against the truth's (its 2-s mean).
 
 For the VEL declarations also the VEL reading, the bank's prediction z_hat and the noise-free
 truth, each minus the trim's VEL in force (the schedule's airspeed), at the onset and at the
@@ -118,13 +119,18 @@ def rows(record: dict, run: dict) -> list[dict]:
         m = np.mean(tr["res"][onset:i + 1] / rms, axis=0)
         top = np.argsort(-np.abs(m))[:2]
         w0 = max(0, i - 20 * int(FRAME_RATE_HZ))
-        best, lag = math.inf, 0.0
-        for d in range(0, 10 * int(FRAME_RATE_HZ) + 1, 8):
-            if w0 - d < 0:
-                break
-            e = float(np.mean((tr["gamma"][w0:i + 1] - g_true[w0 - d:i + 1 - d]) ** 2))
-            if e < best:
-                best, lag = e, d / FRAME_RATE_HZ
+        a_mean = np.convolve(a_true, np.ones(2 * int(FRAME_RATE_HZ)) / (2 * FRAME_RATE_HZ), mode="same")
+        lags = []
+        for est, ref in ((tr["gamma"], g_true), (tr["accel"], a_mean)):
+            best, lag = math.inf, 0.0
+            for d in range(0, 10 * int(FRAME_RATE_HZ) + 1, 8):
+                if w0 - d < 0:
+                    break
+                e = float(np.mean((est[w0:i + 1] - ref[w0 - d:i + 1 - d]) ** 2))
+                if e < best:
+                    best, lag = e, d / FRAME_RATE_HZ
+            lags.append(lag)
+        lag, a_lag = lags
         out.append({"run": record["run_index"], "t": i / FRAME_RATE_HZ, "h": h, "phase": ph[i],
                     "since": since, "event": event, "rise": (i - onset) / FRAME_RATE_HZ,
                     "channels": " ".join(f"{SENSORS[k]}{m[k]:+.1f}" for k in top),
@@ -132,7 +138,7 @@ def rows(record: dict, run: dict) -> list[dict]:
                     "g_at": math.degrees(tr["gamma"][i] - g_true[i]),
                     "g_true": math.degrees(g_true[i]),
                     "a_on": tr["accel"][onset] - a_true[onset], "a_at": tr["accel"][i] - a_true[i],
-                    "a_true": a_true[i], "lag": lag,
+                    "a_true": a_true[i], "lag": lag, "a_lag": a_lag,
                     "vel": (tr["vel"][onset], tr["vel"][i])})
     return out
 
@@ -147,14 +153,14 @@ def main(argv=None) -> None:
     banks: dict[str, object] = {}
     table = []
     print(f"{'run':>3} {'t s':>7} {'hyp':>5} {'phase':>9} {'event':>6} {'since':>5} {'rise':>5} {'channels (rms)':>16} "
-          f"{'gamma°':>7} {'err on/at °':>12} {'a ft/s2':>7} {'err on/at':>11} {'lag s':>5}")
+          f"{'gamma°':>7} {'err on/at °':>12} {'a ft/s2':>7} {'err on/at':>11} {'lag s':>5} {'a lag':>5}")
     for record in (records if extra else selected(records, "false-alarms")):
         bank = banks.setdefault(record["bank"], load_bank(record["bank"])[2])
         for r in rows(record, replay(record, bank, extra)):
             table.append(r)
             print(f"{r['run']:3d} {r['t']:7.2f} {r['h']:>5} {r['phase']:>9} {r['event']:>6} {r['since']:5.1f} {r['rise']:5.2f} "
                   f"{r['channels']:>16} {r['g_true']:+7.2f} {r['g_on']:+6.2f}/{r['g_at']:+5.2f} {r['a_true']:+7.2f} "
-                  f"{r['a_on']:+5.2f}/{r['a_at']:+5.2f} {r['lag']:5.2f}")
+                  f"{r['a_on']:+5.2f}/{r['a_at']:+5.2f} {r['lag']:5.2f} {r['a_lag']:5.2f}")
     vel_rows = [r for r in table if r["h"] == "VEL"]
     if vel_rows:
         print("\nVEL declarations: VEL measured / predicted (z_hat) / true, minus the trim's VEL in force (ft/s), "

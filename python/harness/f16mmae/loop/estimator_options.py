@@ -266,6 +266,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     maximum=600.0, requires="maneuver_trim",
                     help="with --maneuver-trim-rates inertial: the air data take over the pitch attitude over "
                          "T_S seconds (default 2)"),
+    EstimatorOption("maneuver_trim_accel_airspeed_rad_s", "--maneuver-trim-accel-airspeed", "number",
+                    metavar="W0", minimum=0.05, maximum=20.0, requires="maneuver_trim",
+                    help="with --maneuver-trim and the air data's rates: W0 (rad/s) takes the "
+                         "acceleration from the airspeed of z, VEL / cos(AOA), through a second-order tracking "
+                         "differentiator of natural frequency W0 (delay 1.41 / W0 s against the air data's "
+                         "6 T), reading no sensor while a failure is suspected (cpp/f16mmae/maneuver_trim.h, "
+                         "AirspeedAccel). Default: the air data's"),
     EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
                     below=LEVEL1_P_MIN_BELOW,
                     help="probability floor while a failure's level-1 (dual) bank is on line: a second "

@@ -25,7 +25,7 @@ std::string daemon_usage() {
          "                   [--adapt-reference-climb-hold S] [--adapt-reference-climb-dwell S]\n"
          "                   [--adapt-channel-weight G]\n"
          "                   [--set-tempering W] [--set-tempering-full NAME,...] [--set-tempering-rho RHO]\n"
-         "                   [--set-tempering-own-fit] [--set-tempering-burst C]\n"
+         "                   [--set-tempering-own-fit] [--set-tempering-burst C] [--set-tempering-margin]\n"
          "                   [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]\n"
          "                   [--maneuver-dwell-time-constant TAU_S] [--maneuver-reference RHO]\n"
          "                   [--maneuver-mach-rate MACH_PER_S]\n"
@@ -103,6 +103,9 @@ std::string daemon_usage() {
          "  --set-tempering-burst C  with --set-tempering: only while the residual power over the\n"
          "                       last quarter second is at most C times the member's rho (1-100;\n"
          "                       default off)\n"
+         "  --set-tempering-margin  with --set-tempering: the spared evidence is the hypothesis's\n"
+         "                       margin over the best-fitting of NONE and the --set-tempering-full\n"
+         "                       hypotheses (default: over NONE)\n"
          "  --maneuver-dwell S   a level-0 declaration needs S s above the threshold while the\n"
          "                       aircraft maneuvers (the estimated load factor, low-passed, off\n"
          "                       the trim by more than --maneuver-dwell-g, or the air data climb\n"
@@ -261,6 +264,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
       c.set_tempering_own_fit = true;
       continue;
     }
+    if (a == "--set-tempering-margin") {
+      c.set_tempering_margin = true;
+      continue;
+    }
     std::string key = a, value;
     bool inline_value = false;
     if (a.rfind("--", 0) == 0) {
@@ -300,7 +307,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
                          "--auth-key, --bank-public-key, --adapt-turbulence, --adapt-reference, --adapt-own-channels, "
                          "--adapt-counted-channel, --adapt-reference-climb, "
                          "--adapt-reference-climb-hold, --adapt-reference-climb-dwell, --adapt-channel-weight, --turbulence-banks, "
-                         "--set-tempering, --set-tempering-full, --set-tempering-rho, --set-tempering-own-fit, --set-tempering-burst, "
+                         "--set-tempering, --set-tempering-full, --set-tempering-rho, --set-tempering-own-fit, --set-tempering-burst, --set-tempering-margin, "
                          "--maneuver-dwell, --maneuver-dwell-hold, --maneuver-dwell-g, --maneuver-dwell-time-constant, "
                          "--maneuver-reference, --maneuver-mach-rate, --maneuver-tempering-deadband, --level1-p-min, --level1-dwell-s, "
                          "--level1-allowance, --departure-hold, --declare-components, --partial-p-min, --trim-tracking, "
@@ -606,9 +613,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
   if (c.set_tempering && !c.turbulence_banks)
     return usage_error("--set-tempering applies with --turbulence-banks only");
   if (!c.set_tempering &&
-      (!c.set_tempering_full.empty() || c.set_tempering_rho || c.set_tempering_own_fit || c.set_tempering_burst))
-    return usage_error("--set-tempering-full, --set-tempering-rho, --set-tempering-own-fit and --set-tempering-burst "
-                       "apply with --set-tempering only");
+      (!c.set_tempering_full.empty() || c.set_tempering_rho || c.set_tempering_own_fit || c.set_tempering_burst ||
+       c.set_tempering_margin))
+    return usage_error("--set-tempering-full, --set-tempering-rho, --set-tempering-own-fit, --set-tempering-burst and "
+                       "--set-tempering-margin apply with --set-tempering only");
   if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())
     return usage_error("--actuator-rate-limits and --actuator-position-limits go together, one value per input each "
                        "(got " + std::to_string(c.actuator_rate_limits_rad_s.size()) + " and " +

@@ -5,7 +5,7 @@
 //               [--adapt-turbulence] [--adapt-reference RHO]
 //               [--adapt-own-channels] [--adapt-counted-channel NAME]
 //               [--set-tempering W] [--set-tempering-full NAME,...] [--set-tempering-rho RHO]
-//               [--set-tempering-own-fit] [--set-tempering-burst C]
+//               [--set-tempering-own-fit] [--set-tempering-burst C] [--set-tempering-margin]
 //               [--adapt-reference-climb RHO] [--adapt-reference-climb-hold S]
 //               [--adapt-reference-climb-dwell S] [--adapt-channel-weight G]
 //               [--maneuver-dwell S] [--maneuver-dwell-hold S] [--maneuver-dwell-g G]
@@ -70,6 +70,7 @@ struct DaemonConfig {
   std::vector<std::string> set_tempering_full; // hypotheses (upper case) kept at the full s, with set_tempering
   std::optional<double> set_tempering_rho;     // the sparing only while the measured rho >= this, with set_tempering
   bool set_tempering_own_fit = false;          // the spared hypothesis by its form per channel it reads, with set_tempering
+  bool set_tempering_margin = false;           // the spared evidence over the best of NONE and the full ones, with set_tempering
   std::optional<double> set_tempering_burst;   // the sparing only while the quarter-second power <= C rho, with set_tempering
   std::optional<double> maneuver_dwell_s;      // the level-0 dwell while maneuvering (maneuver_dwell.h)
   std::optional<double> maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s;  // with it

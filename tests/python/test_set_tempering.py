@@ -170,6 +170,32 @@ def test_below_the_gate_every_likelihood_is_the_shipped_one_and_the_own_fit_is_t
     assert spared_raw == spared_own
 
 
+def _severe_stabilator_flight(banks):
+    """The banks fed the z and u of a 6-s severe flight with LS stuck at 3 s (a tuning seed), at level 0;
+    per frame, the log-likelihoods of each."""
+    from f16mmae.loop.flight import fly
+    from f16mmae.names import FAILURE_TIME_S
+    from f16mmae.seeds import derived_seed, tuning_seeds
+    from f16mmae.truth import Scenario
+    from f16mmae.truth.failures import make_failure
+    seed = derived_seed("single", 1, "LS", 1)
+    assert seed in tuning_seeds()
+    frames = []
+    scenario = Scenario(turbulence="severe", duration_s=6.0, seed=seed, feedback="raw",
+                        failures=(make_failure("LS", FAILURE_TIME_S, "complete", None),))
+    fly(scenario, load_bank("turbulence")[2], estimator_options={"turbulence_banks": True},
+        on_frame=lambda t, u, z, air: frames.append((z, u)))
+    out = []
+    for z, u in frames:
+        for b in banks:
+            b.update(z)
+            b.propagate(u)
+        if any(b.level != 0 for b in banks):
+            break
+        out.append([np.asarray(b.log_likelihoods).copy() for b in banks])
+    return out
+
+
 def test_the_margin_spares_the_same_hypothesis_over_the_best_of_none_and_the_fully_tempered():
     """``--set-tempering-margin``: on the same frames the margin spares the hypothesis the raw
     rule spares, its likelihood formed over q_r = min(q_0, q_f: f fully tempered) in place of q_0
@@ -192,7 +218,7 @@ def test_the_margin_spares_the_same_hypothesis_over_the_best_of_none_and_the_ful
     margin = core.HierarchicalBank(bank, adapt_spare_margin=True, **kw)
     full_slots = [k for k in range(len(SINGLE_HYPOTHESES)) if full >> k & 1]
     spared = lowered = 0
-    for l_plain, l_raw, l_margin in _rough_flight([plain, raw, margin]):
+    for l_plain, l_raw, l_margin in _severe_stabilator_flight([plain, raw, margin]):
         d_raw, d_margin = np.nonzero(l_raw != l_plain)[0], np.nonzero(l_margin != l_plain)[0]
         assert len(d_raw) <= 1 and len(d_margin) <= len(d_raw)
         if not len(d_raw):
@@ -204,7 +230,7 @@ def test_the_margin_spares_the_same_hypothesis_over_the_best_of_none_and_the_ful
         assert l_margin[b] == pytest.approx(-0.5 * (q_r + (q[b] - q_r) * ratio), rel=1e-9, abs=1e-9)
         spared += 1
         lowered += q_r < q[0]
-    assert spared > 50 and lowered > 5   # a stabilator or flaperon fits the rough residuals better than NONE at times
+    assert spared > 50 and lowered > 20   # the failed stabilator (or a flaperon) fits better than NONE at times
 
 
 def test_the_daemon_flies_the_margin_and_names_it():

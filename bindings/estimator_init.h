@@ -177,6 +177,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_full_tempering"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_own_fit>(
           "adapt_spare_own_fit"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_margin>("adapt_spare_margin"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_rho>("adapt_spare_rho"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_burst_ratio>(
           "adapt_spare_burst_ratio"),

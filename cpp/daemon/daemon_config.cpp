@@ -296,6 +296,10 @@ const std::vector<Flag>& flags() {
        "(default off)",
        number(&C::set_tempering_burst, {1.0, 100.0}, "a ratio in [1, 100]"), nullptr, "--set-tempering",
        set_tempering},
+      {"--set-tempering-margin", "",
+       "the spared evidence is the hypothesis's margin over the best-fitting of NONE and the "
+       "--set-tempering-full hypotheses (default: over NONE)",
+       {}, &C::set_tempering_margin, "--set-tempering", set_tempering},
 
       {nullptr, nullptr, "Maneuvering flight"},
       {"--maneuver-dwell", "S",

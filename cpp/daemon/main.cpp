@@ -172,6 +172,7 @@ int main(int argc, char** argv) {
       options.bank.adaptation.hypothesis_weight = *cfg.set_tempering;
       options.bank.adaptation.spare_rho = cfg.set_tempering_rho.value_or(0.0);
       options.bank.adaptation.spare_own_fit = cfg.set_tempering_own_fit;
+      options.bank.adaptation.spare_margin = cfg.set_tempering_margin;
       options.bank.adaptation.spare_burst_ratio = cfg.set_tempering_burst.value_or(0.0);
       std::uint32_t full = 0;
       for (const std::string& name : cfg.set_tempering_full) {
@@ -271,7 +272,7 @@ int main(int argc, char** argv) {
       const auto& a = running.bank.adaptation;
       if (a.hypothesis_weight < 1.0)   // the per-hypothesis tempering (turbulence_adaptation.h)
         adaptation += ", set tempering " + f16mmae::format_value(a.hypothesis_weight) + " from rho " +
-                      f16mmae::format_value(a.spare_rho) + (a.spare_own_fit ? " own fit" : "") +
+                      f16mmae::format_value(a.spare_rho) + (a.spare_own_fit ? " own fit" : "") + (a.spare_margin ? " margin" : "") +
                       (a.spare_burst_ratio > 0.0 ? " burst " + f16mmae::format_value(a.spare_burst_ratio) : std::string()) +
                       " full " +
                       std::to_string(a.full_tempering);

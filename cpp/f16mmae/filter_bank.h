@@ -15,7 +15,8 @@
 //                   while hypothesis 0 is presumed) the frame's best-fitting failure filter b
 //                   not in adaptation.full_tempering has l_b = -(q_0 + (q_b - q_0) s / s_b)/(2 s),
 //                   s_b = 1 + w (s - 1) (turbulence_adaptation.h; b = argmin q_k, or with
-//                   adaptation.spare_own_fit argmin q_k m / m_k; only while rho-bar >= spare_rho).
+//                   adaptation.spare_own_fit argmin q_k m / m_k; only while rho-bar >= spare_rho;
+//                   with adaptation.spare_margin q_0 there is min(q_0, q_f: f in full_tempering)).
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
@@ -305,13 +306,14 @@ class FilterBank {
     const bool adapt = scale_.enabled();
     const bool per_channel = scale_.per_channel();
     const double inv_s = scale_.inverse_scale();
-    const int spared = spared_hypothesis();   // the per-hypothesis tempering's b (turbulence_adaptation.h), -1: none
+    double q_ref = 0.0;                        // q_r of the spared form
+    const int spared = spared_hypothesis(q_ref);   // the per-hypothesis tempering's b (turbulence_adaptation.h), -1: none
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (per_channel)
         l = -0.5 * channel_tempered_form(i);
       else if (i == spared)
-        l = -0.5 * (q_(0) + (q_(i) - q_(0)) * scale_.hypothesis_scale_ratio()) * inv_s;
+        l = -0.5 * (q_ref + (q_(i) - q_ref) * scale_.hypothesis_scale_ratio()) * inv_s;
       else if (adapt)
         l *= inv_s;
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
@@ -660,13 +662,14 @@ class FilterBank {
     }
     footing_(k) = v;
   }
-  // The per-hypothesis tempering's spared hypothesis (turbulence_adaptation.h): the on-line
+  // The per-hypothesis tempering's spared hypothesis (turbulence_adaptation.h; `reference` is set
+  // to q_r of the spared form when one is spared): the on-line
   // failure hypothesis of least q_k (finite; with spare_own_fit of least q_k m / m_k, m / m_k
   // the own_ratio_ of note_uninformative), unless its bit of full_tempering is set; -1 when
   // the tempering is off or not caught up (ResidualScale::spares()), another hypothesis than
   // 0 is presumed (a hierarchical bank's level 1: its declared failure), q_0 is not finite or
   // there is none.
-  int spared_hypothesis() const noexcept {
+  int spared_hypothesis(double& reference) const noexcept {
     if (presumed_ != 0 || !scale_.spares() || !std::isfinite(q_(0))) return -1;
     const bool own_fit = scale_.options().spare_own_fit;
     int b = -1;
@@ -678,7 +681,12 @@ class FilterBank {
         b = i;
       }
     }
-    if (b < 0 || b >= 32 || ((scale_.options().full_tempering >> b) & 1u)) return -1;
+    const std::uint32_t full = scale_.options().full_tempering;
+    if (b < 0 || b >= 32 || ((full >> b) & 1u)) return -1;
+    reference = q_(0);   // q_r: q_0, or with spare_margin min(q_0, q_f: f fully tempered, on line)
+    if (scale_.options().spare_margin)
+      for (int i = 1; i < size() && i < 32; ++i)
+        if (((full >> i) & 1u) && live_[i] && q_(i) < reference) reference = q_(i);
     return b;
   }
   // (D r_k)ᵀ A_k⁻¹ (D r_k), D = diag(s_j^-1/2): the per-channel tempering (turbulence_adaptation.h).

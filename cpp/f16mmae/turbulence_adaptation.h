@@ -105,7 +105,7 @@
 // full_tempering: bit k set keeps hypothesis k's s (the caller names them: the turbulence
 // bank set's stabilators and flaperons, design/turbulence_banks.py). Scalar tempering only: with
 // channel_weight > 0 it is refused.
-// Three refinements of the per-hypothesis form, each off by default:
+// Four refinements of the per-hypothesis form, each off by default:
 //   spare_own_fit: b chosen by its form per channel it reads,
 //       b = argmin_{k>0, on line} q_k m / m_k     (m_k as in own_channels above)
 //     in place of argmin q_k. A hypothesis with uninformative channels (a failed sensor) sums
@@ -132,6 +132,24 @@
 //     excursions at a fraction of an s already too small. x̃ rises within τ_b: while it is more
 //     than c times ρ̄ the bank tempers every hypothesis by s. A failure does not raise x (the
 //     matching hypothesis fits: see "The MINIMUM" above), so it does not close the gate.
+//   spare_margin: the spared evidence is b's margin over the best-fitting of filter 0 and the
+//     fully tempered hypotheses F (bits of full_tempering, on line), not over filter 0 alone:
+//       q_r = min(q_0, min_{f∈F} q_f),   l_b = −(q_r + (q_b − q_r) s / s_b) / (2 s)
+//     i.e. l_b − l_r = −(q_b − q_r) / (2 s_b) with l_r = −q_r / (2 s) the reference's likelihood
+//     (with q_r = q_0 this is the form above). Why: the sparing tempers b's evidence against
+//     filter 0 by s_b < s, which also lifts b against every other hypothesis by
+//     (q_0 − q_b)(1/s_b − 1/s)/2 per frame. A hypothesis that fits a failure's signature in
+//     part (a failed stabilator's lifts the pitch-rate and angle-of-attack sensor hypotheses
+//     with it) is then the least q_k on a few frames of the onset, where its q_b is a little
+//     below the failed stabilator's own q_f and far below q_0, and on each such frame takes the
+//     whole lift (q_0 − q_b) over the fully tempered right hypothesis, which gets no sparing:
+//     a few such frames can carry it past a stabilator already at p = 0.9. With the
+//     margin, b gains over f only (q_f − q_b)(1/s_b − 1/s)/2 on such a frame: the spared lift is
+//     what b fits better than every hypothesis kept at s. Where a fully tempered hypothesis fits
+//     the gusts better than filter 0 (their columns of B act as the gusts do) the spared lift is
+//     smaller too. b is chosen as above (argmin over every failure hypothesis on line, fully
+//     tempered ones included: a fully tempered least q_k spares none), so q_r >= q_b whenever
+//     q_b <= q_0.
 //   So the sparing is in force on a frame iff w < 1, s > 1, ρ >= ρ̄ / 2, ρ̄ >= ρ_s and (c = 0 or
 //   x̃ <= c ρ̄).
 //
@@ -181,6 +199,7 @@ struct alignas(16) TurbulenceAdaptationOptions {
   double hypothesis_weight = 1.0;        // w: the best-fitting failure hypothesis' share of s − 1 (header); 1: off
   std::uint32_t full_tempering = 0;      // bit k: hypothesis k keeps the full s under hypothesis_weight
   bool spare_own_fit = false;            // b = argmin q_k m / m_k, its form per channel it reads (header)
+  bool spare_margin = false;             // the spared evidence over min(q_0, q_f: f fully tempered) (header)
   double spare_rho = 0.0;                // ρ_s: the sparing only while ρ̄ >= ρ_s (header); 0: at any ρ̄
   double spare_burst_ratio = 0.0;        // c: the sparing only while x̃ <= c ρ̄ (header); 0: off
 };

@@ -91,6 +91,17 @@ TEST(DaemonConfig, EvidenceDwell) {
   EXPECT_FALSE(r.ok);
 }
 
+TEST(DaemonConfig, SetTemperingMargin) {
+  EXPECT_FALSE(parse_daemon_args({"--bank", "b"}, nullptr).config.set_tempering_margin);   // off
+  auto r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering", "0.15", "--set-tempering-margin"},
+                             nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.set_tempering_margin);
+  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering-margin"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--set-tempering-margin applies with --set-tempering only"), std::string::npos) << r.message;
+}
+
 TEST(DaemonConfig, ManeuverMachRate) {
   EXPECT_FALSE(parse_daemon_args({"--bank", "b"}, nullptr).config.maneuver_mach_per_s.has_value());   // the core's
   auto r = parse_daemon_args({"--bank", "b", "--maneuver-mach-rate", "0.003"}, nullptr);

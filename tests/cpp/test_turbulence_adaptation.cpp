@@ -1,7 +1,8 @@
 // Turbulence adaptation (turbulence_adaptation.h): the scale's recursion by hand, the bank's
 // tempered Bayes update by hand, the power ratio per channel each filter reads (own_channels), "off" bit-identical to the bank without it, the scale
 // recovering a known noise-power ratio, a failure not absorbed, the per-hypothesis tempering by
-// hand (its choice per channel read and its gate on the measured rho too), option checks, and no heap
+// hand (its choice per channel read, its gate on the measured rho and its margin over the fully tempered
+// hypotheses too), option checks, and no heap
 // allocation in the F-16-sized step with it on (global operator new is counted here).
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/turbulence_adaptation.h"
@@ -590,6 +591,71 @@ TEST(TurbulenceAdaptation, BurstGateFollowsTheHandComputedQuarterSecondAverage) 
   }
 }
 
+TEST(TurbulenceAdaptation, SpareMarginIsTheSparedFormOverTheBestFullyTemperedByHand) {
+  // tau far below a frame, kappa = 1, rho_0 = 1: s = clamp(min_k q_k, 1, 50) of the last frame
+  // (one channel). A = (1, 2.5, 3, 1.5): q_k = z^2 / A_k; filter 1 fully tempered (a
+  // stabilator), w = 0.25. Frame 1, z = 3: q = (9, 3.6, 3, 6), s was 1: nothing spared; s = 3.
+  // Frame 2, z = 2: q = (4, 1.6, 4/3, 8/3), b = 2 (4/3 < 1.6), s_b = 1 + 0.25 (3 - 1) = 1.5.
+  //   over filter 0 (plain):  l_2 = -(4 + (4/3 - 4) 3 / 1.5) / 6 = 2/9
+  //   margin, q_r = min(q_0, q_1) = 1.6:  l_2 = -(1.6 + (4/3 - 1.6) 3 / 1.5) / 6 = -0.16/0.9
+  //   so l_2 - l_1 = -(4/3 - 1.6) / (2 s_b) = 4/45 (plain: 2/9 + 1.6/6 = 22/45).
+  FilterBankOptions o;
+  o.p_min = 0.0;
+  o.adaptation = on(1e-5, 1.0, 50.0);
+  o.adaptation.hypothesis_weight = 0.25;
+  o.adaptation.full_tempering = 1u << 1;
+  FilterBankOptions m = o;
+  m.adaptation.spare_margin = true;
+  const auto models = [](double a1) {
+    return std::vector<Scalar>{scalar_model(1.0), scalar_model(a1), scalar_model(3.0), scalar_model(1.5)};
+  };
+  ScalarBank plain(models(2.5), o), margin(models(2.5), m);
+  for (ScalarBank* b : {&plain, &margin}) {
+    ASSERT_TRUE(b->update(z1(3.0)));
+    EXPECT_NEAR(b->turbulence_scale(), 3.0, 1e-12);
+    b->set_probabilities(Eigen::Vector4d::Constant(0.25));
+    ASSERT_TRUE(b->update(z1(2.0)));
+  }
+  const double s = 3.0;
+  EXPECT_NEAR(plain.log_likelihoods()(2), 2.0 / 9.0, 1e-14);
+  EXPECT_NEAR(margin.log_likelihoods()(2), -(1.6 + (4.0 / 3.0 - 1.6) * 2.0) / (2.0 * s), 1e-14);
+  EXPECT_NEAR(margin.log_likelihoods()(2) - margin.log_likelihoods()(1), 4.0 / 45.0, 1e-14);
+  EXPECT_NEAR(plain.log_likelihoods()(2) - plain.log_likelihoods()(1), 22.0 / 45.0, 1e-14);
+  for (int k : {0, 1, 3}) {   // every other l_k = -q_k / (2 s) in both
+    const double q = 4.0 / std::vector<double>{1.0, 2.5, 3.0, 1.5}[k];
+    EXPECT_NEAR(plain.log_likelihoods()(k), -q / (2.0 * s), 1e-14) << k;
+    EXPECT_EQ(margin.log_likelihoods()(k), plain.log_likelihoods()(k)) << k;
+  }
+  const Eigen::Vector4d l = margin.log_likelihoods();
+  const Eigen::Vector4d w = l.array().exp();
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(margin.probabilities()(k), w(k) / w.sum(), 1e-14) << k;
+
+  // the fully tempered filter fits worse than filter 0 (A_1 = 0.8: q_1 = 5 > q_0 = 4): q_r = q_0,
+  // the margin is the plain form bit for bit
+  ScalarBank plain2(models(0.8), o), margin2(models(0.8), m);
+  // ... and with filter 1 off line, q_r = q_0 whatever it fits
+  ScalarBank margin3(models(2.5), m), plain3(models(2.5), o);
+  margin3.set_live(1, false);
+  plain3.set_live(1, false);
+  for (ScalarBank* b : {&plain2, &margin2, &plain3, &margin3}) {
+    ASSERT_TRUE(b->update(z1(3.0)));
+    EXPECT_NEAR(b->turbulence_scale(), 3.0, 1e-12);
+    ASSERT_TRUE(b->update(z1(2.0)));
+  }
+  EXPECT_NEAR(margin2.log_likelihoods()(2), 2.0 / 9.0, 1e-14);   // spared over q_0, as plain
+  EXPECT_EQ(margin2.log_likelihoods(), plain2.log_likelihoods());
+  EXPECT_EQ(margin3.log_likelihoods()(2), plain3.log_likelihoods()(2));
+  EXPECT_NEAR(margin3.log_likelihoods()(2), 2.0 / 9.0, 1e-14);
+
+  // the fully tempered filter fits best (A_1 = 4: q_1 = 1 < 4/3): none spared, with or without the margin
+  ScalarBank plain4(models(4.0), o), margin4(models(4.0), m);
+  for (ScalarBank* b : {&plain4, &margin4}) {   // frame 1: q = (9, 2.25, 3, 6), s = 2.25
+    ASSERT_TRUE(b->update(z1(3.0)));
+    ASSERT_TRUE(b->update(z1(2.0)));
+    EXPECT_NEAR(b->log_likelihoods()(2), -(4.0 / 3.0) / (2.0 * 2.25), 1e-14);
+  }
+}
+
 TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   const auto refused = [](TurbulenceAdaptationOptions o, const std::string& what) {
     try {
@@ -645,6 +711,8 @@ TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
   o.bank.adaptation.channel_weight = per_channel > 0.0 ? per_channel : 0.0;
   if (per_channel < 0.0) o.bank.adaptation.hypothesis_weight = 0.25;
   o.bank.adaptation.spare_own_fit = per_channel < 0.0;   // its choice per channel read, on the same frames
+  o.bank.adaptation.spare_margin = per_channel < 0.0;    // its margin over the fully tempered (LS, RS)
+  if (per_channel < 0.0) o.bank.adaptation.full_tempering = (1u << 1) | (1u << 2);
   F16HierarchicalBank hb(mb, o);
   const test::Plant plant = test::random_plant(13, 5, 7, 31u, 1e-3, 1e-3);
   test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 5u);

@@ -4,7 +4,9 @@ refused by name, and on each frame at most one hypothesis' likelihood differs fr
 tempering's: the best-fitting failure hypothesis, never NONE or a fully tempered one. Its gate on
 the measured rho (``--set-tempering-rho``) leaves every likelihood the shipped one below it, its
 choice per channel read (``--set-tempering-own-fit``) is the raw choice on the set's members (they
-read every channel in every hypothesis), and the options reach ``mmae-daemon`` as flags that its ready line names."""
+read every channel in every hypothesis), its margin (``--set-tempering-margin``) forms the spared
+likelihood over the best of NONE and the fully tempered hypotheses, and the options reach
+``mmae-daemon`` as flags that its ready line names."""
 from __future__ import annotations
 
 import subprocess
@@ -166,3 +168,83 @@ def test_below_the_gate_every_likelihood_is_the_shipped_one_and_the_own_fit_is_t
     # a hypothesis that leaves a channel out)
     assert all(not np.any(np.asarray(h.uninformative_width) > 0) for h in bank.hypotheses)
     assert spared_raw == spared_own
+
+
+def _severe_stabilator_flight(banks):
+    """The banks fed the z and u of a 6-s severe flight with LS stuck at 3 s (a tuning seed), at level 0;
+    per frame, the log-likelihoods of each."""
+    from f16mmae.loop.flight import fly
+    from f16mmae.names import FAILURE_TIME_S
+    from f16mmae.seeds import derived_seed, tuning_seeds
+    from f16mmae.truth import Scenario
+    from f16mmae.truth.failures import make_failure
+    seed = derived_seed("single", 1, "LS", 1)
+    assert seed in tuning_seeds()
+    frames = []
+    scenario = Scenario(turbulence="severe", duration_s=6.0, seed=seed, feedback="raw",
+                        failures=(make_failure("LS", FAILURE_TIME_S, "complete", None),))
+    fly(scenario, load_bank("turbulence")[2], estimator_options={"turbulence_banks": True},
+        on_frame=lambda t, u, z, air: frames.append((z, u)))
+    out = []
+    for z, u in frames:
+        for b in banks:
+            b.update(z)
+            b.propagate(u)
+        if any(b.level != 0 for b in banks):
+            break
+        out.append([np.asarray(b.log_likelihoods).copy() for b in banks])
+    return out
+
+
+def test_the_margin_spares_the_same_hypothesis_over_the_best_of_none_and_the_fully_tempered():
+    """``--set-tempering-margin``: on the same frames the margin spares the hypothesis the raw
+    rule spares, its likelihood formed over q_r = min(q_0, q_f: f fully tempered) in place of q_0
+    (turbulence_adaptation.h); recomputed here from the shipped bank's l_k = -q_k / (2 s) and the
+    raw rule's s / s_b."""
+    options = {"turbulence_banks": True, "set_tempering": 0.25, "set_tempering_margin": True}
+    check(options)
+    assert core_arguments(options)["adapt_spare_margin"] is True
+    assert "adapt_spare_margin" not in core_arguments({"set_tempering": 0.25})
+    with pytest.raises(ValueError, match="--set-tempering"):
+        check({"turbulence_banks": True, "set_tempering_margin": True})
+    assert "--set-tempering-margin" in daemon_flags(options)
+    bank = load_bank("turbulence")[2]
+    full = core_arguments({"set_tempering": 0.25})["adapt_full_tempering"]
+    kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_time_constant_s=1.0, p_min=1e-9,
+              adapt_own_channels=True, adapt_hypothesis_weight=0.25, adapt_full_tempering=full)
+    plain = core.HierarchicalBank(bank, **{k: v for k, v in kw.items() if k not in ("adapt_hypothesis_weight",
+                                                                                    "adapt_full_tempering")})
+    raw = core.HierarchicalBank(bank, **kw)
+    margin = core.HierarchicalBank(bank, adapt_spare_margin=True, **kw)
+    full_slots = [k for k in range(len(SINGLE_HYPOTHESES)) if full >> k & 1]
+    spared = lowered = 0
+    for l_plain, l_raw, l_margin in _severe_stabilator_flight([plain, raw, margin]):
+        d_raw, d_margin = np.nonzero(l_raw != l_plain)[0], np.nonzero(l_margin != l_plain)[0]
+        assert len(d_raw) <= 1 and len(d_margin) <= len(d_raw)
+        if not len(d_raw):
+            continue
+        b = int(d_raw[0])
+        q = -2.0 * l_plain                                   # q_k / s
+        ratio = (-2.0 * l_raw[b] - q[0]) / (q[b] - q[0])     # s / s_b
+        q_r = min(q[0], *q[full_slots])
+        assert l_margin[b] == pytest.approx(-0.5 * (q_r + (q[b] - q_r) * ratio), rel=1e-9, abs=1e-9)
+        spared += 1
+        lowered += q_r < q[0]
+    assert spared > 50 and lowered > 20   # the failed stabilator (or a flaperon) fits better than NONE at times
+
+
+def test_the_daemon_flies_the_margin_and_names_it():
+    options = {"turbulence_banks": True, "set_tempering": 0.15, "set_tempering_rho": 2.68,
+               "set_tempering_margin": True}
+    flags = daemon_flags(options)
+    daemon = str(find_executable("mmae-daemon"))
+    p = subprocess.Popen([daemon, "--bank", str(set_path()), *flags, "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    bits = core_arguments(options)["adapt_full_tempering"]
+    assert f"set tempering 0.15 from rho 2.68 margin full {bits}" in ready, ready
+    r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering-margin"],
+                       capture_output=True, text=True, timeout=20)
+    assert r.returncode == 2 and "--set-tempering-margin applies with --set-tempering only" in r.stdout + r.stderr

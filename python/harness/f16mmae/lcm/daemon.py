@@ -32,7 +32,7 @@ def statistics_line(output: str, program: str) -> dict:
 
 #: The per-hypothesis tempering's core keywords (``core_arguments``) and the rows whose flags give them.
 _SET_TEMPERING_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": "set_tempering_rho",
-                       "adapt_spare_own_fit": "set_tempering_own_fit",
+                       "adapt_spare_own_fit": "set_tempering_own_fit", "adapt_spare_margin": "set_tempering_margin",
                        "adapt_spare_burst_ratio": "set_tempering_burst"}
 
 

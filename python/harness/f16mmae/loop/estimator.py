@@ -32,7 +32,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
     ``set_tempering`` W becomes ``adapt_hypothesis_weight`` W and ``adapt_full_tempering``, the bits of
     ``names.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``),
-    ``set_tempering_rho`` ``adapt_spare_rho``, ``set_tempering_own_fit`` ``adapt_spare_own_fit`` and
+    ``set_tempering_rho`` ``adapt_spare_rho``, ``set_tempering_own_fit`` ``adapt_spare_own_fit``,
+    ``set_tempering_margin`` ``adapt_spare_margin`` and
     ``set_tempering_burst`` ``adapt_spare_burst_ratio``."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
@@ -53,6 +54,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
         out["adapt_spare_rho"] = float(rho)
     if out.pop("set_tempering_own_fit", False):
         out["adapt_spare_own_fit"] = True
+    if out.pop("set_tempering_margin", False):
+        out["adapt_spare_margin"] = True
     burst = out.pop("set_tempering_burst", None)
     if burst is not None:
         out["adapt_spare_burst_ratio"] = float(burst)

@@ -141,6 +141,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "reads (q_k m / m_k: a failed sensor's hypothesis that leaves its channel out does "
                          "not fit best by reading less; cpp/f16mmae/turbulence_adaptation.h). The set's members "
                          "read every channel in every hypothesis: there it is the same choice. Default: least q_k"),
+    EstimatorOption("set_tempering_margin", "--set-tempering-margin", "switch", requires="set_tempering",
+                    help="with --set-tempering: the spared hypothesis's evidence is its margin over the "
+                         "best-fitting of NONE and the hypotheses kept at s (the stabilators and flaperons), "
+                         "not over NONE alone: a sensor hypothesis that fits a stabilator's onset a little "
+                         "better than the stabilator's own filter gains only that little over it "
+                         "(cpp/f16mmae/turbulence_adaptation.h). Default: over NONE"),
     EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,
                     help="with --turbulence-banks: the closed loop scales the truth's surface dither each frame "
                          "by the turbulence the set's member in force measures (its rho over the member's "
@@ -357,6 +363,8 @@ CORE_ONLY: dict[str, str] = {
                             "level-0 hypotheses; the estimator sets it with --set-tempering",
     "adapt_spare_own_fit": "the per-hypothesis tempering's choice per channel read (turbulence_adaptation.h); "
                            "the estimator sets it from --set-tempering-own-fit",
+    "adapt_spare_margin": "the per-hypothesis tempering's spared margin (turbulence_adaptation.h); the "
+                          "estimator sets it from --set-tempering-margin",
     "adapt_spare_rho": "the per-hypothesis tempering's least measured rho (turbulence_adaptation.h); the "
                        "estimator sets it from --set-tempering-rho",
     "adapt_spare_burst_ratio": "the per-hypothesis tempering's burst gate (turbulence_adaptation.h); the "
@@ -371,7 +379,7 @@ CORE_ONLY: dict[str, str] = {
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
                                "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel",
                                "trim_steady_air_data", "set_tempering", "set_tempering_rho",
-                               "set_tempering_own_fit", "set_tempering_burst")
+                               "set_tempering_own_fit", "set_tempering_burst", "set_tempering_margin")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.

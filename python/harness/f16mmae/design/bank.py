@@ -265,8 +265,12 @@ def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
 def dwell_nats_of(design: BankDesign, table: dict) -> dict[str, float]:
     """The tuning's ``[estimator] dwell_nats_per_hypothesis`` for the hypotheses this design
     has (a design of a subset, e.g. the singles, takes their entries); a name that is no
-    hypothesis at all is a TuningError naming it."""
+    hypothesis at all is a TuningError naming it.  A partial-loss design (forms ``NAME:loss=F``)
+    takes none: the table's N_k were derived for the complete-failure bank, whose hypotheses
+    compete differently."""
     have = {f.name for f in design.filters}
+    if any(":" in h for h in have):
+        return {}
     unknown = sorted(k for k in table if k not in have and k not in names.ALL_HYPOTHESES)
     if unknown:
         raise TuningError(f"tuning {design.tuning.name!r}: [estimator] dwell_nats_per_hypothesis names "

@@ -112,6 +112,38 @@ HypothesisModel hypothesis_from(py::handle item, std::size_t index) {
   return h;
 }
 
+// Sets each named hypothesis' recommended evidence dwell N_k from `table` (a mapping name ->
+// nats; None: leaves them) after clearing every other one to 0 (the frame dwell alone); a
+// name the bank does not hold or an N_k outside [0, kMaxDwellNats] is a ValueError.
+void set_dwell_nats(ModelBank& bank, py::handle table) {
+  if (table.is_none()) return;
+  if (!py::hasattr(table, "items"))
+    throw py::value_error("dwell_nats_per_hypothesis must be a mapping name -> nats, got " +
+                          std::string(py::str(py::repr(table))).substr(0, 80));
+  for (HypothesisModel& h : bank.hypotheses) h.dwell_nats = 0.0;
+  for (const auto item : table.attr("items")()) {
+    const py::tuple kv = py::reinterpret_borrow<py::tuple>(item);
+    if (!py::isinstance<py::str>(kv[0]))
+      throw py::value_error("dwell_nats_per_hypothesis: a name must be a str, got " + std::string(py::repr(kv[0])));
+    const std::string name = kv[0].cast<std::string>();
+    auto it = std::find_if(bank.hypotheses.begin(), bank.hypotheses.end(),
+                           [&](const HypothesisModel& h) { return h.name == name; });
+    if (it == bank.hypotheses.end())
+      throw py::value_error("dwell_nats_per_hypothesis names '" + name + "', not a hypothesis of the bank");
+    const double n = kv[1].cast<double>();
+    check_dwell_nats(n, "dwell_nats_per_hypothesis '" + name + "'", "N_k");
+    it->dwell_nats = n;
+  }
+}
+
+// The bank's recommended N_k by name, the hypotheses with N_k > 0 only (declarer.h's table).
+py::dict dwell_nats_table(const ModelBank& bank) {
+  py::dict d;
+  for (const HypothesisModel& h : bank.hypotheses)
+    if (h.dwell_nats > 0.0) d[py::str(h.name)] = h.dwell_nats;
+  return d;
+}
+
 std::vector<std::string> names_from(py::handle obj, const char* what) {
   if (py::isinstance<py::str>(obj)) throw py::value_error(std::string(what) + " must be a sequence of str, got a str");
   std::vector<std::string> out;
@@ -127,7 +159,8 @@ std::vector<std::string> names_from(py::handle obj, const char* what) {
 ModelBank make_bank(py::handle hypotheses, py::handle state_names, py::handle input_names,
                     py::handle measurement_names, double frame_rate_hz, py::handle u_trim, py::handle z_trim,
                     py::handle h_output, double mach, double alt_ft, const std::string& tuning,
-                    double p_min, double threshold, double dwell_s, py::handle metadata, bool validate) {
+                    double p_min, double threshold, double dwell_s, py::handle dwell_nats_per_hypothesis,
+                    py::handle metadata, bool validate) {
   ModelBank bank;
   bank.state_names = names_from(state_names, "state_names");
   bank.input_names = names_from(input_names, "input_names");
@@ -148,6 +181,7 @@ ModelBank make_bank(py::handle hypotheses, py::handle state_names, py::handle in
   bank.alt_ft = alt_ft;
   bank.tuning = tuning;
   bank.estimator = EstimatorSettings{p_min, threshold, dwell_s};
+  set_dwell_nats(bank, dwell_nats_per_hypothesis);
   if (py::isinstance<py::str>(metadata)) {
     bank.metadata = metadata.cast<std::string>();
   } else {  // a dict: canonical JSON, so equal metadata gives equal bytes and hash
@@ -309,20 +343,27 @@ uninformative_width (nz,) or None: W_j > 0 marks channel j's reading as uninform
 the hypothesis: an unknown level anywhere in a range of width W_j, a random walk of
 uninformative_level_q_j (nz,) or None (zeros: no memory) per frame (its H row must be zero; the likelihood is
 derived in cpp/f16mmae/steady_state_filter.h); None means every channel informative.
+dwell_nats: the evidence dwell N_k the design recommends for the hypothesis (nats, [0, 1e6];
+cpp/f16mmae/declarer.h; 0, the default: the frame dwell alone).
 Immutable; the matrices come back as read-only numpy copies.)doc")
       .def(py::init([](const std::string& name, py::handle phi, py::handle bd, py::handle h, py::handle k,
-                       py::handle a, py::handle width, py::handle level_q) {
+                       py::handle a, py::handle width, py::handle level_q, double dwell_nats) {
              const std::string who = "hypothesis '" + name + "': ";
              HypothesisModel m{name, to_matrix(phi, who + "phi"), to_matrix(bd, who + "bd"),
                                to_matrix(h, who + "h"), to_matrix(k, who + "k"), to_matrix(a, who + "a"), {}};
              if (!width.is_none()) m.uninformative_width = to_vector(width, who + "uninformative_width");
              if (!level_q.is_none())
                m.uninformative_level_q = to_vector(level_q, who + "uninformative_level_q");
+             check_dwell_nats(dwell_nats, "hypothesis '" + name + "'");
+             m.dwell_nats = dwell_nats;
              return m;
            }),
            py::kw_only(), py::arg("name"), py::arg("phi"), py::arg("bd"), py::arg("h"), py::arg("k"), py::arg("a"),
-           py::arg("uninformative_width") = py::none(), py::arg("uninformative_level_q") = py::none())
+           py::arg("uninformative_width") = py::none(), py::arg("uninformative_level_q") = py::none(),
+           py::arg("dwell_nats") = 0.0)
       .def_property_readonly("name", [](const HypothesisModel& h) { return h.name; })
+      .def_property_readonly("dwell_nats", [](const HypothesisModel& h) { return h.dwell_nats; },
+                             "recommended evidence dwell N_k, nats (declarer.h; 0: the frame dwell alone)")
       .def_property_readonly("phi", [](const HypothesisModel& h) { return readonly(h.phi); }, "(nx,nx) Phi")
       .def_property_readonly("bd", [](const HypothesisModel& h) { return readonly(h.bd); }, "(nx,nu) B_d")
       .def_property_readonly("h", [](const HypothesisModel& h) { return readonly(h.h); }, "(nz,nx) H")
@@ -358,7 +399,10 @@ name -> model, where a model is a mapping with keys phi, bd, h, k, a or an objec
 those attributes (e.g. core.FilterModel). u_trim / z_trim default to zeros; metadata is
 JSON text or a dict (stored as canonical JSON) describing how the bank was made; p_min,
 threshold, dwell_s are the estimator settings the design recommends (typed fields of the
-file since format version 2; default the core's). validate=True (default) checks the bank
+file since format version 2; default the core's); dwell_nats_per_hypothesis, a mapping name ->
+N_k (nats), sets the named hypotheses' recommended evidence dwell (HypothesisModel.dwell_nats,
+a field of the file since format version 4) and clears the others' to 0; None keeps the
+hypotheses' own. validate=True (default) checks the bank
 at once (ValueError naming the field or hypothesis and the value: names, settings, flight
 condition, shapes, finiteness, symmetric positive-definite A, stable Phi (I - K H));
 save() always validates.
@@ -373,7 +417,8 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
            py::arg("u_trim") = py::none(), py::arg("z_trim") = py::none(), py::arg("h_output") = py::none(),
            py::arg("mach") = 0.0, py::arg("alt_ft") = 0.0, py::arg("tuning") = "",
            py::arg("p_min") = kDefaultPMin, py::arg("threshold") = kDefaultThreshold,
-           py::arg("dwell_s") = kDefaultDwellS, py::arg("metadata") = "", py::arg("validate") = true)
+           py::arg("dwell_s") = kDefaultDwellS, py::arg("dwell_nats_per_hypothesis") = py::none(),
+           py::arg("metadata") = "", py::arg("validate") = true)
       .def_property_readonly("hypothesis_names",
                              [](const ModelBank& b) {
                                py::list out;
@@ -407,7 +452,7 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       .def(
           "with_settings",
           [](const ModelBank& b, std::optional<double> p_min, std::optional<double> threshold,
-             std::optional<double> dwell_s) {
+             std::optional<double> dwell_s, py::handle dwell_nats_per_hypothesis) {
             if (b.schedule)
               throw py::value_error("with_settings: a scheduled bank's settings are its nodes' banks' own; "
                                     "design the nodes with them");
@@ -415,14 +460,16 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
             if (p_min) out.estimator.p_min = *p_min;
             if (threshold) out.estimator.threshold = *threshold;
             if (dwell_s) out.estimator.dwell_s = *dwell_s;
+            set_dwell_nats(out, dwell_nats_per_hypothesis);
             check_settings(out.estimator, static_cast<int>(out.hypotheses.size()), out.frame_rate_hz,
                            "model bank: estimator");
             out.content_hash = bank_content_hash(out);
             return out;
           },
           py::kw_only(), py::arg("p_min") = py::none(), py::arg("threshold") = py::none(),
-          py::arg("dwell_s") = py::none(),
-          "A copy of this (unscheduled) bank recommending other estimator settings (None: this bank's);\n"
+          py::arg("dwell_s") = py::none(), py::arg("dwell_nats_per_hypothesis") = py::none(),
+          "A copy of this (unscheduled) bank recommending other estimator settings (None: this bank's;\n"
+          "dwell_nats_per_hypothesis: name -> N_k, the hypotheses it does not name 0);\n"
           "ValueError for a setting outside its range (cpp/f16mmae/estimator_settings.h).")
       .def_property_readonly("estimator_settings",
                              [](const ModelBank& b) {
@@ -432,10 +479,14 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
                                d["dwell_s"] = b.estimator.dwell_s;
                                // a scheduled-bank file's start-up, where it recommends one
                                if (b.estimator.start_up_s > 0.0) d["start_up_s"] = b.estimator.start_up_s;
+                               // the recommended evidence dwell, where the bank recommends one (format 4)
+                               py::dict table = dwell_nats_table(b);
+                               if (!table.empty()) d["dwell_nats_per_hypothesis"] = table;
                                return d;
                              },
                              "the recommended settings as keyword arguments of core.HierarchicalBank\n"
-                             "(start_up_s only where the bank recommends a start-up: a scheduled-bank file of format 3)")
+                             "(start_up_s only where the bank recommends a start-up: a scheduled-bank file of format 3;\n"
+                             "dwell_nats_per_hypothesis, name -> N_k, only where a hypothesis has N_k > 0: format 4)")
       .def_property_readonly("metadata", [](const ModelBank& b) { return b.metadata; },
                              "JSON text: how the bank was made (provenance only)")
       .def_property_readonly("content_hash", [](const ModelBank& b) { return b.content_hash; },

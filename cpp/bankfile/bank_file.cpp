@@ -114,11 +114,11 @@ ModelBank parse_bank_file(const std::uint8_t* data, std::size_t size, const std:
   const std::string who = "bank file " + source + ": ";
   auto fail = [&](const std::string& what) { throw BankFileFormatError(who + what); };
   const std::uint32_t version = hashed_file_version(data, size, kBankFileMagic, who, "model-bank");
-  if (version == 1 || version == 2)
+  if (version >= 1 && version <= 3)
     fail("format version " + std::to_string(version) + " is no longer read: this build reads version " +
          std::to_string(ModelBank::kFormatVersion) +
          ", where the estimator settings are typed fields and each hypothesis carries the widths of its "
-         "uninformative channels. Regenerate the bank with the design command "
+         "uninformative channels and its recommended evidence dwell (dwell_nats). Regenerate the bank with the design command "
          "recorded in its metadata, e.g. `f16mmae design --mach 0.4 --alt-ft 20000 --tuning tuned --out FILE` "
          "(the shipped banks: `python -m f16mmae.design.calibrate --banks`)");
   if (version != ModelBank::kFormatVersion)

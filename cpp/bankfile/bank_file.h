@@ -25,8 +25,8 @@
 // field and the value: names, settings, flight condition, shapes, finiteness, SPD A_k,
 // stable Phi_k (I - K_k H_k)).
 //
-// Format versions 1 (estimator settings in the metadata JSON) and 2 (no uninformative widths)
-// are refused, not upgraded, with
+// Format versions 1 (estimator settings in the metadata JSON), 2 (no uninformative widths) and 3
+// (no per-hypothesis evidence dwell) are refused, not upgraded, with
 // a sentence saying how to regenerate the bank: upgrading would keep a JSON reader alive
 // only to guess settings from free text, and the upgraded bank would have another content
 // hash than its file, so records would name a bank that exists nowhere. A design is

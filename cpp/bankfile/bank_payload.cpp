@@ -85,6 +85,7 @@ std::vector<std::uint8_t> encode_bank_payload(const ModelBank& bank) {
     out.uninformative_level_q.assign(static_cast<std::size_t>(out.width_size), 0.0);
     for (Eigen::Index j = 0; j < h.uninformative_level_q.size(); ++j)
       out.uninformative_level_q[static_cast<std::size_t>(j)] = h.uninformative_level_q(j);
+    out.dwell_nats = h.dwell_nats;
     msg.hypotheses.push_back(std::move(out));
   }
   const int size = msg.getEncodedSize();
@@ -119,9 +120,9 @@ ModelBank decode_bank_payload(const std::uint8_t* data, std::size_t size) {
   bank.estimator.threshold = in.f64("threshold");
   bank.estimator.dwell_s = in.f64("dwell_s");
   bank.metadata = in.text("metadata", kMaxBankTextBytes);
-  // each hypothesis takes at least a name (5 bytes), five empty matrices (8 bytes each) and
-  // an empty width vector (4 bytes)
-  const std::size_t n = in.count("num_hypotheses", kMaxBankHypotheses, 49);
+  // each hypothesis takes at least a name (5 bytes), five empty matrices (8 bytes each), an
+  // empty width vector (4 bytes) and its dwell_nats (8 bytes)
+  const std::size_t n = in.count("num_hypotheses", kMaxBankHypotheses, 57);
   bank.hypotheses.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::string who = "hypotheses[" + std::to_string(i) + "]";
@@ -134,6 +135,7 @@ ModelBank decode_bank_payload(const std::uint8_t* data, std::size_t size) {
     h.a = in.matrix(who + ".a");
     h.uninformative_width = in.vector(who + ".uninformative_width", who + ".width_size");
     h.uninformative_level_q = in.doubles(who + ".uninformative_level_q", h.uninformative_width.size());
+    h.dwell_nats = in.f64(who + ".dwell_nats");
   }
   in.finish();
   bank.content_hash = to_hex(sha256(data, size));

@@ -191,12 +191,13 @@ const std::vector<Flag>& flags() {
        number(&C::dwell_s, {0.0, kMaxDwellS}, "a time in seconds in " + kDwellRange)},
       {"--dwell-nats", "N",
        "... or until the candidate's log-odds above the threshold's, summed over those frames, reach N nats "
-       "(declarer.h; default 0: the dwell alone)",
+       "(declarer.h), given, for every hypothesis (0: the dwell alone; default: the bank's N_k, its hypotheses' "
+       "dwell_nats)",
        number(&C::dwell_nats, {0.0, kMaxDwellNats},
               "a number of nats in [0, " + format_value(kMaxDwellNats) + "] (0: the dwell alone)")},
       {"--dwell-nats-per-hypothesis", "FILE",
        "... per hypothesis: 'NAME N' lines, N nats for NAME (0: the dwell alone); others take --dwell-nats "
-       "(declarer.h)",
+       "(declarer.h; default: the bank's own N_k, its hypotheses' dwell_nats)",
        text(&C::dwell_nats_table_path, "needs a table file name")},
       {"--start-up-s", "S",
        "the first S seconds of frames after a start or reset update the filters but weigh no hypothesis "

@@ -128,8 +128,12 @@ int main(int argc, char** argv) {
     options.declarer.threshold = cfg.threshold.value_or(bank.estimator.threshold);
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     options.declarer.dwell_nats = cfg.dwell_nats.value_or(0.0);
-    if (!cfg.dwell_nats_table_path.empty())   // name -> N_k (declarer.h); the bank checks the names
+    if (!cfg.dwell_nats_table_path.empty()) {   // name -> N_k (declarer.h); the bank checks the names
       options.declarer.dwell_nats_per_hypothesis = f16mmae::read_dwell_nats_table(cfg.dwell_nats_table_path);
+    } else if (!cfg.dwell_nats) {   // the bank's recommended N_k unless --dwell-nats overrides them
+      for (const auto& h : bank.hypotheses)
+        if (h.dwell_nats > 0.0) options.declarer.dwell_nats_per_hypothesis[h.name] = h.dwell_nats;
+    }
     options.bank.adaptation.enabled = cfg.adapt_turbulence;
     options.bank.adaptation.own_channels = cfg.adapt_own_channels;
     if (!cfg.adapt_counted_channel.empty()) {   // its bit in the bank's measurement order

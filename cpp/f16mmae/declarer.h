@@ -102,9 +102,8 @@ struct DeclarerOptions {
   std::map<std::string, double> dwell_nats_per_hypothesis;
 };
 
-// The evidence dwell's upper bound: 16 frames at the ceiling of K = 13 and p_min 0 in double
-// precision (ln(1/eps) = 36 nats a frame) is far below it.
-inline constexpr double kMaxDwellNats = 1.0e6;
+// The evidence dwell's upper bound, kMaxDwellNats (estimator_settings.h): 16 frames at the
+// ceiling of K = 13 and p_min 0 in double precision (ln(1/eps) = 36 nats a frame) is far below it.
 
 // The per-hypothesis table of a file (header): one "NAME N" a line, '#' starts a comment.
 // Throws std::invalid_argument naming `source` and the line for a line that is not a name and

@@ -13,6 +13,8 @@
 //              dwell in frames, dwell_frames = max(1, round(dwell_s * frame_rate_hz)), must be
 //              at most kMaxDwellFrames, so it is an int: no huge dwell wraps to "no dwell".
 //   start_up_s 0 <= start_up_s <= kMaxStartUpS (an hour).
+//   dwell_nats 0 <= N <= kMaxDwellNats: an evidence dwell (declarer.h), the bank-wide option or
+//              one hypothesis' N_k (a bank file's per-hypothesis field since format version 4).
 // Each check throws std::invalid_argument "<who>: <setting> must be <range>, got <value>".
 #pragma once
 
@@ -29,6 +31,7 @@ inline constexpr double kDefaultDwellS = 0.25;     // declarer.h says why
 inline constexpr double kMaxDwellS = 60.0;         // a minute: longer is no detection at all
 inline constexpr int kMaxDwellFrames = 1 << 24;    // ~73 h at 64 Hz: far inside int
 inline constexpr double kMaxStartUpS = 3600.0;     // filter_bank.h's start_up_s range: [0, 1 h]
+inline constexpr double kMaxDwellNats = 1.0e6;     // an evidence dwell's range (declarer.h): [0, 1e6] nats
 
 struct EstimatorSettings {
   double p_min = kDefaultPMin;
@@ -78,6 +81,12 @@ inline int dwell_frames(double dwell_s, double frame_rate_hz, const std::string&
                                 format_value(frame_rate_hz) + " Hz = " + format_value(n) +
                                 " frames exceeds the limit of " + std::to_string(kMaxDwellFrames) + " frames");
   return n < 1.0 ? 1 : static_cast<int>(n);
+}
+
+// An evidence dwell in nats (the header's range); `setting` names it in the message.
+inline void check_dwell_nats(double n, const std::string& who, const char* setting = "dwell_nats") {
+  if (!(n >= 0.0 && n <= kMaxDwellNats))
+    settings_detail::refuse(who, setting, "in [0, " + format_value(kMaxDwellNats) + "] nats", n);
 }
 
 // All four, for a bank of k hypotheses at frame_rate_hz.

@@ -12,14 +12,16 @@
 // steady_state_filter.h derives the likelihood); empty or zeros for the paper's models.
 //
 // The bank also carries the estimator settings its design recommends (EstimatorSettings:
-// p_min, threshold, dwell_s; estimator_settings.h gives their ranges).
+// p_min, threshold, dwell_s; estimator_settings.h gives their ranges) and, per hypothesis, the
+// recommended evidence dwell N_k (HypothesisModel::dwell_nats, nats, declarer.h's
+// dwell_nats_per_hypothesis; 0: the frame dwell alone).
 //
 // validate() throws std::invalid_argument with a sentence naming the field (or hypothesis)
 // and the value: names that are empty, duplicated, hold a NUL or are not UTF-8; a
 // hypothesis whose name says it fails input j (measurement i) while its Bd column j (H row
 // i) is not zero, which is how names permuted against the matrices show; a frame rate, Mach
 // or altitude that is not finite and >= 0 (rate > 0, at most kMaxFrameRateHz); estimator
-// settings out of range; a wrong shape, a non-finite entry, an A_k that is not symmetric
+// settings or a hypothesis' dwell_nats out of range; a wrong shape, a non-finite entry, an A_k that is not symmetric
 // positive definite, an unstable error dynamics Phi_k (I - K_k H_k) (spectral radius >= 1),
 // uninformative widths that are not 0 or nz finite values >= 0, or that mark a channel whose
 // H row is not zero or whose A row couples it to another channel.
@@ -47,10 +49,11 @@ struct HypothesisModel {
   Eigen::MatrixXd phi, bd, h, k, a;
   Eigen::VectorXd uninformative_width;  // (nz) or empty: 0 = informative channel
   Eigen::VectorXd uninformative_level_q;  // (nz) or empty: level random walk per frame
+  double dwell_nats = 0.0;  // recommended evidence dwell N_k, [0, kMaxDwellNats] nats; 0: frame dwell alone
 };
 
 struct ModelBank {
-  static constexpr std::uint32_t kFormatVersion = 3;
+  static constexpr std::uint32_t kFormatVersion = 4;
   static constexpr double kMaxFrameRateHz = 10000.0;
 
   std::vector<std::string> state_names;        // nx
@@ -130,6 +133,7 @@ struct ModelBank {
       check_uninformative_width(m.h, m.a, m.uninformative_width, m.uninformative_level_q, nz_,
                                 "model bank: " + who);
       check_failed_components(m, who);
+      check_dwell_nats(m.dwell_nats, "model bank: " + who);
     }
   }
 

@@ -255,11 +255,10 @@ TEST_F(BankFile, RefusesCorruptionWrongMagicAndWrongVersion) {
   expect_refused<BankFileFormatError>(magic, "wrong magic bytes 'X16MMAEB'");
   expect_refused<BankFileFormatError>(Bytes{'P', 'K', 3, 4}, "wrong magic");
   const Bytes payload(good.begin() + kBankFileHeaderSize, good.end());
-  expect_refused<BankFileFormatError>(image_of(payload, 4), "unsupported format version 4");
-  expect_refused<BankFileFormatError>(image_of(payload, 1),
-                                      "format version 1 is no longer read: this build reads version 3");
-  expect_refused<BankFileFormatError>(image_of(payload, 2),
-                                      "format version 2 is no longer read: this build reads version 3");
+  expect_refused<BankFileFormatError>(image_of(payload, 5), "unsupported format version 5");
+  for (const std::uint32_t old : {1u, 2u, 3u})
+    expect_refused<BankFileFormatError>(image_of(payload, old), "format version " + std::to_string(old) +
+                                                                    " is no longer read: this build reads version 4");
 }
 
 TEST_F(BankFile, RefusesPayloadsThatAreNotABank) {
@@ -267,7 +266,7 @@ TEST_F(BankFile, RefusesPayloadsThatAreNotABank) {
   Bytes foreign = payload;
   foreign[0] ^= 0xff;  // another type's fingerprint, correctly hashed
   expect_refused<BankFileFormatError>(image_of(foreign), "fingerprint");
-  Bytes cut(payload.begin(), payload.end() - 13);  // past the empty width vector, into a
+  Bytes cut(payload.begin(), payload.end() - 21);  // past dwell_nats and the empty width vector, into a
   expect_refused<BankFileFormatError>(image_of(cut), "payload field hypotheses[2].a (byte");
   Bytes padded = payload;
   padded.insert(padded.end(), {1, 2, 3});

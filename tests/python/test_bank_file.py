@@ -221,13 +221,14 @@ def test_bad_files_are_refused_with_the_reason(tmp_path, lcmt_model_bank):
     flipped[len(good) // 2] ^= 0x01
     refused(bytes(flipped), "content hash mismatch, the file is corrupted")
     refused(b"PK\x03\x04" + good[4:], r"wrong magic bytes 'PK\\x03\\x04MAEB'")
-    refused(image(payload, version=4), "unsupported format version 4 .this build reads version 3")
-    for old in (1, 2):
-        refused(image(payload, version=old), f"format version {old} is no longer read: this build reads version 3, "
+    refused(image(payload, version=5), "unsupported format version 5 .this build reads version 4")
+    for old in (1, 2, 3):
+        refused(image(payload, version=old), f"format version {old} is no longer read: this build reads version 4, "
                 "where the estimator settings are typed fields and each hypothesis carries the widths of its "
-                "uninformative channels. Regenerate the bank with the design command")
+                r"uninformative channels and its recommended evidence dwell \(dwell_nats\). Regenerate the bank "
+                r"with the design command .*\(the shipped banks: `python -m f16mmae.design.calibrate --banks`\)")
     refused(image(b"\x01" + payload[1:]), "fingerprint")
-    refused(image(payload[:-13]), r"payload field hypotheses\[2\]\.a \(byte \d+\) is 3x3, 72 bytes, but 63 remain")
+    refused(image(payload[:-21]), r"payload field hypotheses\[2\]\.a \(byte \d+\) is 3x3, 72 bytes, but 63 remain")
     # a wrong shape, written by the independent Python LCM encoder
     msg = lcmt_model_bank.decode(payload)
     msg.hypotheses[2].a.rows, msg.hypotheses[2].a.data = 2, msg.hypotheses[2].a.data[:2]

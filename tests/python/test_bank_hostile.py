@@ -200,7 +200,9 @@ def test_a_bank_round_trips_its_estimator_settings(tmp_path, shipped):
     bank = rebuilt(shipped, p_min=1e-6, threshold=0.95, dwell_s=0.5)
     bank.save(tmp_path / "s.f16bank")
     loaded = core.load_bank(tmp_path / "s.f16bank")
-    assert loaded.estimator_settings == {"p_min": 1e-6, "threshold": 0.95, "dwell_s": 0.5}
+    assert loaded.estimator_settings == {"p_min": 1e-6, "threshold": 0.95, "dwell_s": 0.5,   # the N_k ride along
+                                         "dwell_nats_per_hypothesis": shipped.estimator_settings[
+                                             "dwell_nats_per_hypothesis"]}
     assert loaded.content_hash == bank.content_hash != shipped.content_hash
     np.testing.assert_array_equal(loaded["LS"].k, shipped["LS"].k)
 

@@ -64,7 +64,10 @@ def test_pitch_rate_sensor_failure_is_declared_as_pit(bank):
 
 
 def test_estimator_uses_the_bank_recommended_settings_unless_overridden(bank):
-    recommended = {"p_min": 1e-9, "threshold": 0.9, "dwell_s": 0.25}  # tunings/tuned.toml [estimator]
+    recommended = {"p_min": 1e-9, "threshold": 0.9, "dwell_s": 0.25,   # tunings/tuned.toml [estimator]
+                   "dwell_nats_per_hypothesis": {"LS": 32.0, "RS": 32.0, "LF": 178.8, "RF": 232.0, "VEL": 290.7,
+                                                 "AOA": 308.4, "PIT": 275.8, "AZ": 277.5, "ROL": 32.0,
+                                                 "YAW": 32.0, "AY": 32.0}}
     assert banks.bank_estimator_settings(bank) == recommended == bank.estimator_settings
     est = Estimator(bank)
     assert est.settings == recommended

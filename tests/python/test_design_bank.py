@@ -75,6 +75,7 @@ def test_shipped_nominal_bank_matches_a_regeneration(tuning, tuned_design):
         for key in ("phi", "bd", "h", "k", "a"):
             a, b = getattr(fresh[name], key), getattr(shipped[name], key)
             assert np.allclose(a, b, rtol=1e-9, atol=1e-12 * max(1.0, np.abs(b).max())), (name, key, fix)
+    assert [h.dwell_nats for h in fresh.hypotheses] == [h.dwell_nats for h in shipped.hypotheses], fix
     assert _approx_equal_json(json.loads(fresh.metadata), json.loads(shipped.metadata)), fix
 
 

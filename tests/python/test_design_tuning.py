@@ -56,9 +56,12 @@ def test_estimator_settings_are_read_and_reach_the_bank_fields(tmp_path):
     assert load_tuning("untuned").estimator == {}      # the paper's settings: the core defaults
     tuned = load_tuning("tuned")
     from f16mmae.design import convergence
-    assert tuned.estimator == convergence.ESTIMATOR    # calibrate writes what stage 2 scored with
-    d = bank.design_bank(tuning=tuned, hypotheses=(names.NONE,))
-    assert bank.to_model_bank(d).estimator_settings == tuned.estimator
+    table = tuned.estimator["dwell_nats_per_hypothesis"]   # tools/latency/dwell_per_hypothesis.py's
+    assert {k: v for k, v in tuned.estimator.items() if k != "dwell_nats_per_hypothesis"} == convergence.ESTIMATOR
+    d = bank.design_bank(tuning=tuned, hypotheses=(names.NONE, "LS", "RUD"))   # calibrate writes what stage 2 scored
+    assert bank.to_model_bank(d).estimator_settings == {**convergence.ESTIMATOR,   # a subset takes its entries
+                                                        "dwell_nats_per_hypothesis": {"LS": table["LS"]}}
+    assert table["LS"] == 32.0 and table["RUD"] == 0.0
     assert "estimator" not in d.metadata()  # typed fields of the bank, not metadata text
     d = bank.design_bank(tuning=t, hypotheses=(names.NONE,))
     assert bank.to_model_bank(d).estimator_settings == t.estimator

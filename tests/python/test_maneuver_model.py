@@ -48,8 +48,10 @@ def test_roll_in_false_declaration_is_gone_with_the_model(bank):
     # A 30 deg turn from 2 s: the roll-in's saturated flaperon and rudder commands read as a
     # rudder failure to the bank as designed.
     frames = _frames(bank, Scenario(duration_s=6.0, seed=4, turbulence="light", maneuvers=("turn@2:bank=30deg",)))
-    plain = _replay(bank, frames, {})
-    assert plain and plain[0][0] == "RUD" and 2.0 < plain[0][1] < 3.5, plain
+    plain = _replay(bank, frames, {})   # the bank's evidence dwell: AY (32 nats) before the frame dwell's RUD
+    assert plain and plain[0][0] == "AY" and 2.0 < plain[0][1] < 3.5, plain
+    frame = _replay(bank, frames, {"dwell_nats": 0.0})
+    assert frame and frame[0][0] == "RUD" and 2.0 < frame[0][1] < 3.5, frame
     assert _replay(bank, frames, MODEL) == []
 
 

@@ -38,8 +38,17 @@ def scheduled(tmp_path_factory):
     return core.load_bank(out)
 
 
+def _tuned():
+    """The tuned tuning as the schedule's nodes take it: without the nominal bank's evidence
+    dwell table (design/schedule.py: the nodes keep the frame dwell alone)."""
+    t = load_tuning("tuned")
+    return dataclasses.replace(t, estimator={k: v for k, v in t.estimator.items() if k != "dwell_nats_per_hypothesis"})
+
+
 def _hash(design, p_min=None) -> str:
-    bank = to_model_bank(design) if p_min is None else to_model_bank(design).with_settings(p_min=p_min)
+    """The content hash of ``design`` as a node of the schedule (the frame dwell alone: no
+    evidence dwell table) with ``p_min`` if given."""
+    bank = to_model_bank(design).with_settings(p_min=p_min, dwell_nats_per_hypothesis={})
     return core.ModelBank.from_bytes(bank.to_bytes()).content_hash
 
 
@@ -60,7 +69,7 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
         (0.4, 20000.0, 1), (0.5, 20000.0, 0), (0.4, 20000.0, 0), (0.5, 20000.0, 1)]
     assert s["switch_state"] == 1 and s["switch_thresholds"] == (0.0873, 0.2618)
     assert scheduled.mach == 0.4  # the primary: nearest the nominal point
-    tuning, _, _ = calibrate_node(0.5, 20000.0, load_tuning("tuned"))
+    tuning, _, _ = calibrate_node(0.5, 20000.0, _tuned())
     design = design_bank(0.5, 20000.0, tuning)   # complete: what the floor and reference are bounded on
     node_design = design_bank(0.5, 20000.0, _constant_vel(tuning))
     node = s["nodes"][1]
@@ -73,7 +82,7 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     # the file carries the smaller of the two nodes' floors (neighbours on the grid, both within
     # their bound), as the node bank's recommended p_min, and the smaller of their bounded
     # references at that floor
-    s0 = bounded_settings(to_model_bank(design_bank(0.4, 20000.0, calibrate_node(0.4, 20000.0, load_tuning("tuned"))[0])),
+    s0 = bounded_settings(to_model_bank(design_bank(0.4, 20000.0, calibrate_node(0.4, 20000.0, _tuned())[0])),
                           node_flights(0.4, 20000.0, "light"), start_up_s=CALIBRATION_START_UP_S)
     assert chosen["bound_met"] and s0["bound_met"]
     p_min_in_file = min(p_min, s0["p_min"])
@@ -106,7 +115,7 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
 
 def test_calibration_at_the_nominal_point_keeps_the_shipped_tuning():
     """The shipped tuning was calibrated there: stage 1 from it is at its fixed point."""
-    tuned = load_tuning("tuned")
+    tuned = _tuned()
     tuning, before, after = calibrate_node(0.4, 20000.0, tuned)
     for field in ("qd_longitudinal", "r_pseudonoise", "qd_lateral", "actuator_q", "estimator"):
         assert getattr(tuning, field) == getattr(tuned, field), field
@@ -116,10 +125,10 @@ def test_calibration_at_the_nominal_point_keeps_the_shipped_tuning():
 def test_calibration_at_a_high_dynamic_pressure_node_matches_its_residuals():
     """At Mach 0.7, 10,000 ft (q 5x the design point's) the nominal tuning under-predicts the
     residuals (a channel's var/A well above 1); calibrated there, every channel is within 15 %."""
-    tuning, before, after = calibrate_node(0.7, 10000.0, load_tuning("tuned"))
+    tuning, before, after = calibrate_node(0.7, 10000.0, _tuned())
     assert before.var_over_a.max() > 2.0
     assert np.all(np.abs(after.var_over_a - 1.0) < 0.15), after.var_over_a
-    assert tuning.name == "tuned@node" and tuning.estimator == load_tuning("tuned").estimator
+    assert tuning.name == "tuned@node" and tuning.estimator == _tuned().estimator
 
 
 def test_a_node_whose_alpha_state_noise_misfits_jointly_puts_aoa_on_its_measurement():
@@ -131,7 +140,7 @@ def test_a_node_whose_alpha_state_noise_misfits_jointly_puts_aoa_on_its_measurem
     from f16mmae.design.calibrate import JOINT_NIS_LIMIT, KNOBS, calibrate
     from f16mmae.design.residuals import filter_residuals, residual_stats
 
-    tuned = load_tuning("tuned")
+    tuned = _tuned()
     lin = linearize_truth(0.35, 10000.0)
     flights = node_flights(0.35, 10000.0, tuned.turbulence)
     plain, hist = calibrate(tuned, flights, lin, knobs=KNOBS)
@@ -158,7 +167,7 @@ def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
     assert f"scheduled bank {out}: 1 banks (0 of them in the other flap position), 0 left out" in text
     assert "content hash" in text
     node = core.load_bank(out).schedule["nodes"][0]
-    assert node["bank"].content_hash == _hash(design_bank(0.5, 20000.0, _constant_vel(load_tuning("tuned"))))
+    assert node["bank"].content_hash == _hash(design_bank(0.5, 20000.0, _constant_vel(_tuned())))
     assert "start_up_s" not in json.loads(core.load_bank(out).schedule["metadata"])  # no calibration flights
 
 
@@ -189,7 +198,7 @@ def test_a_constant_roll_gyro_level_comes_from_the_command(tmp_path):
     meta = json.loads(core.load_bank(out).schedule["metadata"])
     assert meta["failure_model"] == {"default": "complete", "constant": ["VEL", "ROL"]}
     assert node.content_hash == _hash(design_bank(0.5, 20000.0, dataclasses.replace(
-        load_tuning("tuned"), failure_model=check_failure_model("constant=VEL+ROL"))))
+        _tuned(), failure_model=check_failure_model("constant=VEL+ROL"))))
 
 
 @pytest.mark.parametrize("args, message", [
@@ -266,7 +275,7 @@ def test_a_node_s_reference_is_the_smallest_of_its_neighbours_that_met_the_bound
 def test_the_scheduled_designs_failure_model_given_then_the_tunings_then_constant_vel_rol():
     """``schedule_failure_model``: an explicit model wins; a tuning naming one keeps it; a tuning
     naming none (the shipped ones) gets names.SCHEDULE_FAILURE_MODEL; a bad one is refused."""
-    tuned = load_tuning("tuned")
+    tuned = _tuned()
     cover = dataclasses.replace(tuned, failure_model="cover=VEL+AOA")
     assert schedule_failure_model(tuned) == "constant=VEL+ROL" == check_failure_model(names.SCHEDULE_FAILURE_MODEL)
     assert schedule_failure_model(cover) == "cover=VEL+AOA"
@@ -299,11 +308,11 @@ def test_gust_states_below_ft_designs_gust_nodes_and_pads_the_others(gust_schedu
     s = gust.schedule
     assert gust.nx == 19 and tuple(gust.state_names) == names.STATES + GUST_STATES
     by_alt = {n["alt_ft"]: n for n in s["nodes"]}
-    tuning = _constant_vel(load_tuning("tuned"))
+    tuning = _constant_vel(_tuned())
     low = design_bank(0.5, 10000.0, gust_node_tuning(tuning))
     assert low.continuous.gust_model == "dryden_states"
     assert by_alt[10000.0]["bank"].content_hash == _hash(low)
-    high = pad_bank(to_model_bank(design_bank(0.5, 20000.0, tuning)))
+    high = pad_bank(to_model_bank(design_bank(0.5, 20000.0, tuning)).with_settings(dwell_nats_per_hypothesis={}))
     assert by_alt[20000.0]["bank"].content_hash == core.ModelBank.from_bytes(high.to_bytes()).content_hash
     assert len(by_alt[20000.0]["x_trim"]) == 19 and not np.asarray(by_alt[20000.0]["x_trim"])[names.NX:].any()
     meta = json.loads(s["metadata"])
@@ -478,7 +487,7 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
     ng = len(GUST_STATES)
     gust_phi = np.asarray(nodes[0.5].hypotheses[0].phi)
     assert np.abs(gust_phi[names.NX:, names.NX:]).max() > 0           # live gust states
-    tuned = _constant_vel(load_tuning("tuned"))
+    tuned = _constant_vel(_tuned())
     plain = pad_bank(to_model_bank(design_bank(0.6, 10000.0, tuned)))
     for h, want in zip(nodes[0.6].hypotheses, plain.hypotheses):   # the plain design, padded
         np.testing.assert_array_equal(np.asarray(h.phi), np.asarray(want.phi))

@@ -51,6 +51,7 @@ def test_the_counted_channel_reaches_the_core_as_its_bit():
 def vel_rol_schedule(tmp_path_factory):
     """A one-node schedule of the constant=VEL+ROL design at Mach 0.4, 20,000 ft."""
     base = load_tuning("tuned").to_dict()
+    base["estimator"].pop("dwell_nats_per_hypothesis", None)   # a scheduled node's: the frame dwell alone
     tun = tuning_from_dict({**base, "failure_model": {"default": "complete", "constant": ["VEL", "ROL"]}},
                            default_name="vel-rol")
     mb = to_model_bank(design_bank(0.4, 20_000.0, tun))

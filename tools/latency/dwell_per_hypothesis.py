@@ -25,17 +25,25 @@ declaration puts the level-1 bank on line earlier in the failure's transient, wh
 rise: a cost the excursions do not show). Every other hypothesis (NONE's back-out, the level-1
 duals) is left out of the file: it
 takes ``--dwell-nats`` (0: the frame dwell alone), so the second failures and the back-outs keep
-the shipped rule. The file is one ``NAME N`` a line, the rule and its inputs in '#' comments:
+the shipped rule. The file is one ``NAME N`` a line, the rule and its inputs in '#' comments;
+``--tuning TOML`` also writes the table as that tuning's ``[estimator] dwell_nats_per_hypothesis``
+(design/tuning.py), the key ``f16mmae design`` stores in the bank (each hypothesis' dwell_nats):
 
-    f16mmae campaign single --runs 30 --seed 7 --baseline none --workers 1 --quiet --out SINGLE
-    f16mmae campaign soak --hours 2 --seed 7 --workers 1 --quiet --out SOAK
-    .venv/bin/python tools/latency/dwell_per_hypothesis.py SINGLE SOAK --margin 1.5 --floor 32 --out FILE
+    f16mmae campaign single --runs 30 --seed 7 --baseline none --dwell-nats 0 --workers 1 --quiet --out SINGLE
+    f16mmae campaign soak --hours 2 --seed 7 --dwell-nats 0 --workers 1 --quiet --out SOAK
+    .venv/bin/python tools/latency/dwell_per_hypothesis.py SINGLE SOAK --margin 1.5 --floor 32 --out FILE \
+        [--tuning python/harness/f16mmae/design/tunings/tuned.toml]
+    python -m f16mmae.design.calibrate --banks     # the shipped banks with the tuning's table
+
+The campaigns must fly the frame dwell alone (``--dwell-nats 0`` overrides a bank's own table);
+the tool refuses campaigns flown with an evidence dwell.
 """
 from __future__ import annotations
 
 import argparse
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -106,6 +114,46 @@ def campaign_records(d: Path):
     return [json.loads(line) for line in (d / "runs.jsonl").read_text().splitlines() if line.strip()], summary
 
 
+TUNING_KEY = "dwell_nats_per_hypothesis"
+
+
+def write_tuning_key(path: Path, table: dict[str, float]) -> None:
+    """Sets ``[estimator] dwell_nats_per_hypothesis = {NAME = N, ...}`` in the tuning file
+    ``path`` (replacing the key's line, else appending it to ``[estimator]``, else appending the
+    section); the file is read back by design/tuning.py to check it."""
+    from f16mmae.design.tuning import load_tuning
+
+    line = f"{TUNING_KEY} = {{" + ", ".join(f"{k} = {v:.1f}" for k, v in table.items()) + "}"
+    text = path.read_text()
+    lines = text.splitlines()
+    sections = [i for i, ln in enumerate(lines) if re.match(r"\s*\[", ln)]
+    est = next((i for i in sections if re.match(r"\s*\[estimator\]", lines[i])), None)
+    if est is None:
+        lines += ["", "[estimator]", line]
+    else:
+        end = next((i for i in sections if i > est), len(lines))
+        at = next((i for i in range(est + 1, end) if re.match(rf"\s*{TUNING_KEY}\s*=", lines[i])), None)
+        if at is not None:
+            lines[at] = line
+        else:
+            while end > est + 1 and not lines[end - 1].strip():
+                end -= 1
+            lines.insert(end, line)
+    path.write_text("\n".join(lines) + "\n")
+    got = load_tuning(path).estimator.get(TUNING_KEY)
+    if got != {k: round(v, 1) for k, v in table.items()}:
+        raise SystemExit(f"dwell_per_hypothesis: {path} does not read back the table written")
+
+
+def flown_frame_dwell(summary: dict, d: Path) -> None:
+    """Refuses a campaign flown with an evidence dwell (the excursions must be the frame dwell's)."""
+    s = summary.get("estimator_settings") or {}
+    if s.get(TUNING_KEY) or float(s.get("dwell_nats", 0.0) or 0.0) > 0.0:
+        raise SystemExit(f"dwell_per_hypothesis: {d} was flown with an evidence dwell "
+                         f"({TUNING_KEY} or dwell_nats in its estimator_settings); fly the tuning "
+                         "campaigns with --dwell-nats 0 (the frame dwell alone)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("single", type=Path, help="a tuning single campaign's directory")
@@ -113,6 +161,8 @@ def main() -> None:
     ap.add_argument("--margin", type=float, default=1.5)
     ap.add_argument("--floor", type=float, default=32.0)
     ap.add_argument("--out", type=Path, required=True)
+    ap.add_argument("--tuning", type=Path, default=None,
+                    help="also write the table as this tuning file's [estimator] dwell_nats_per_hypothesis")
     ap.add_argument("--excursions", type=Path, default=None, help="also write every excursion (JSON lines)")
     ap.add_argument("--frame-dwell-only", default="",
                     help="comma list of singles given N_k = 0 (the frame dwell alone): those whose faster "
@@ -128,6 +178,8 @@ def main() -> None:
         raise SystemExit(f"dwell_per_hypothesis: --floor must lie in (0, 1e6] nats, got {a.floor}")
     single, s_sum = campaign_records(a.single)
     soak, k_sum = campaign_records(a.soak)
+    flown_frame_dwell(s_sum, a.single)
+    flown_frame_dwell(k_sum, a.soak)
     if s_sum.get("bank_hash") != k_sum.get("bank_hash"):
         raise SystemExit("dwell_per_hypothesis: the two campaigns flew different banks")
     _, _, bank = load_bank(s_sum.get("tuning") or "tuned")
@@ -164,6 +216,7 @@ def main() -> None:
         lines.append(f"# N_k = 0 (the frame dwell alone) for {', '.join(only)}: declared faster, they added a "
                      f"transient-wrong run or false alarm on the tuning campaign flown with the table.")
     lines.append("# NAME  N_k    # E_max,k, false excursions rejected / declared by the frame dwell")
+    table = {}
     for k in SINGLE_HYPOTHESES:
         if k == NONE:
             continue
@@ -172,9 +225,14 @@ def main() -> None:
         e_max = max(rej, default=0.0)
         n_k = max(a.floor, a.margin * e_max)
         n_k = 0.0 if k in only else min(n_k, 1.0e6)
+        table[k] = n_k
         lines.append(f"{k:5s} {n_k:8.1f}   # {e_max:.1f}, {len(rej)} / {len(fx) - len(rej)}")
     a.out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+    if a.tuning is not None:
+        write_tuning_key(a.tuning, table)
+        print(f"wrote [estimator] {TUNING_KEY} to {a.tuning}; regenerate the banks "
+              "(python -m f16mmae.design.calibrate --banks)")
 
 
 if __name__ == "__main__":

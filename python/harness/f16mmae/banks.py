@@ -124,8 +124,16 @@ def load_bank(tuning: str):
     return label, path, bank
 
 
-def bank_estimator_settings(model_bank) -> dict:
+def bank_estimator_settings(model_bank, options: dict | None = None) -> dict:
     """The estimator settings a bank's design recommends: the typed fields ``p_min``,
     ``threshold`` and ``dwell_s`` of the bank file (since format version 2, range-checked by the
-    one C++ loader); mmae-daemon applies the same fields."""
-    return dict(model_bank.estimator_settings)
+    one C++ loader) and, where the bank recommends one, ``dwell_nats_per_hypothesis`` (name ->
+    N_k, the hypotheses' ``dwell_nats`` fields > 0, format version 4); then ``options`` over
+    them (which win). An option ``dwell_nats`` without ``dwell_nats_per_hypothesis`` overrides
+    the bank's table too (the one evidence dwell it names for every hypothesis). mmae-daemon
+    applies the same rule to its flags (``--dwell-nats``, ``--dwell-nats-per-hypothesis``)."""
+    settings = dict(model_bank.estimator_settings)
+    options = dict(options or {})
+    if "dwell_nats" in options and "dwell_nats_per_hypothesis" not in options:
+        settings.pop("dwell_nats_per_hypothesis", None)
+    return {**settings, **options}

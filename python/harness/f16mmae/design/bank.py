@@ -47,7 +47,7 @@ from .gains import SteadyStateGains, steady_state_gains
 from .hypotheses import (HypothesisModel, covered_surfaces, hypothesis_dynamics, hypothesis_model,
                          parse_partial, partial_hypotheses, uninformative_level_q, uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
-from .tuning import Tuning, available_tunings, load_tuning
+from .tuning import Tuning, TuningError, available_tunings, load_tuning
 
 #: Where the shipped nominal banks live, and the nominal flight condition.
 DATA_DIR = Path(__file__).resolve().parent.parent / "data"
@@ -262,6 +262,22 @@ def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
                       filters=filters)
 
 
+def dwell_nats_of(design: BankDesign, table: dict) -> dict[str, float]:
+    """The tuning's ``[estimator] dwell_nats_per_hypothesis`` for the hypotheses this design
+    has (a design of a subset, e.g. the singles, takes their entries); a name that is no
+    hypothesis at all is a TuningError naming it.  A partial-loss design (forms ``NAME:loss=F``)
+    takes none: the table's N_k were derived for the complete-failure bank, whose hypotheses
+    compete differently."""
+    have = {f.name for f in design.filters}
+    if any(":" in h for h in have):
+        return {}
+    unknown = sorted(k for k in table if k not in have and k not in names.ALL_HYPOTHESES)
+    if unknown:
+        raise TuningError(f"tuning {design.tuning.name!r}: [estimator] dwell_nats_per_hypothesis names "
+                          f"{', '.join(unknown)}: not a hypothesis")
+    return {k: float(v) for k, v in table.items() if k in have}
+
+
 def to_model_bank(design: BankDesign):
     """The design as a ``core.ModelBank`` (needs the compiled extension)."""
     from .. import core
@@ -277,8 +293,10 @@ def to_model_bank(design: BankDesign):
         frame_rate_hz=design.frame_rate_hz, mach=design.mach, alt_ft=design.alt_ft,
         tuning=design.tuning.name,
         # the estimator settings this design recommends (tuning [estimator]) as typed fields
-        # of the bank; absent keys take the core's defaults
-        **{k: float(v) for k, v in design.tuning.estimator.items()},
+        # of the bank (the evidence dwell table as each hypothesis' dwell_nats); absent keys
+        # take the core's defaults
+        **{k: (dwell_nats_of(design, v) if k == "dwell_nats_per_hypothesis" else float(v))
+           for k, v in design.tuning.estimator.items()},
         metadata=json.dumps(design.metadata(), sort_keys=True, separators=(",", ":")))
 
 

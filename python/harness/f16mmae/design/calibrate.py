@@ -178,8 +178,13 @@ def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after
 #   per case, tuned:       {" ".join(f"{k} {v:.2f}" for k, v in chosen["per_case"].items())}
 # The report (`f16mmae design --report DIR`) checks all this on other seeds.
 """
+    def value(v):   # a number, or an inline table of numbers (the evidence dwell's N_k by name)
+        if isinstance(v, dict):
+            return "{" + ", ".join(f"{k} = {x:.1f}" for k, x in v.items()) + "}"
+        return f"{v:.2g}"
+
     def section(title, comment, values):
-        body = "".join(f"{k} = {v:.2g}\n" for k, v in values.items()) or "# none\n"
+        body = "".join(f"{k} = {value(v)}\n" for k, v in values.items()) or "# none\n"
         return f"\n[{title}]   # {comment}\n{body}"
 
     return (head
@@ -195,7 +200,8 @@ def render_toml(tun: Tuning, before: ResidualStats, stage1: ResidualStats, after
             + section("method4_actuator_q", "white-noise strength (rad^2/s) through a B column, "
                       "eqs. 6-7", tun.actuator_q)
             + section("estimator", "recommended estimator settings (design/convergence.py "
-                      "ESTIMATOR), stored as the bank's typed fields", tun.estimator))
+                      "ESTIMATOR; dwell_nats_per_hypothesis: tools/latency/dwell_per_hypothesis.py), "
+                      "stored as the bank's typed fields", tun.estimator))
 
 
 def run_calibration(lin=None, gust_model: str = "gust_rate") -> tuple[Tuning, list[ResidualStats], list[dict]]:
@@ -211,7 +217,12 @@ def run_calibration(lin=None, gust_model: str = "gust_rate") -> tuple[Tuning, li
     tun, conv = convergence.tune_convergence(tun, lin, convergence.case_flights(
         0.4, 20_000.0, base.turbulence))
     hist.append(none_filter_stats(tun, flights, lin))
-    tun = dataclasses.replace(tun, estimator=dict(convergence.ESTIMATOR))
+    # the evidence dwell per hypothesis is derived from flights of the shipped bank
+    # (tools/latency/dwell_per_hypothesis.py --tuning): the committed tuning's is kept; derive
+    # it again after a recalibration
+    kept = {k: v for k, v in load_tuning(tun.name).estimator.items() if k == "dwell_nats_per_hypothesis"} \
+        if (TUNINGS_DIR / f"{tun.name}.toml").is_file() else {}
+    tun = dataclasses.replace(tun, estimator={**convergence.ESTIMATOR, **kept})
     return tun, hist, conv
 
 

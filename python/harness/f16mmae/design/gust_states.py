@@ -177,7 +177,7 @@ def pad_bank(bank, gust_model: str = "dryden_states"):
             name=h.name, phi=phi, bd=rows(h.bd), h=np.hstack([np.asarray(h.h), np.zeros((len(h.h), ng))]),
             k=rows(h.k), a=np.asarray(h.a),
             uninformative_width=width if width.any() else None,
-            uninformative_level_q=level_q if level_q.any() else None))
+            uninformative_level_q=level_q if level_q.any() else None, dwell_nats=h.dwell_nats))
     meta = json.loads(bank.metadata) if bank.metadata else {}
     meta["inert_gust_states"] = list(states)
     settings = {k: v for k, v in bank.estimator_settings.items() if k in ("p_min", "threshold", "dwell_s")}

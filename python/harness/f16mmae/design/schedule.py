@@ -283,6 +283,10 @@ def _design_point(args):
         lin = linearize_truth(mach, alt_ft, throttle=throttle, lef_rad=lef_rad)
         layer = _layer(lin.trim.lef_rad)
         tun = load_tuning(tuning) if isinstance(tuning, str) else tuning
+        # the evidence dwell per hypothesis is the nominal bank's (derived from its flights): the
+        # nodes keep the frame dwell alone
+        tun = dataclasses.replace(tun, estimator={k: v for k, v in tun.estimator.items()
+                                                  if k != "dwell_nats_per_hypothesis"})
         if node_tuning == "calibrated" and lef_rad is None:
             flights = node_flights(mach, alt_ft, tun.turbulence)
             tun, before, after = calibrate_node(mach, alt_ft, tun, linearized=lin, flights=flights)

@@ -30,10 +30,14 @@ Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/
 
 ``[estimator]`` (optional): the estimator settings the design recommends for its bank --
 ``p_min`` (probability floor, 0 < p_min < 0.01), ``threshold`` (declaration threshold,
-0.5 < threshold < 1), ``dwell_s`` (s, >= 0).  They are stored as typed fields of the bank
-file (``p_min``, ``threshold``, ``dwell_s``) and used by ``loop.estimator.Estimator`` and the LCM
-daemon; a missing key
-means the core's default (the paper's: p_min 0.001, threshold 0.9, dwell 0.25 s).
+0.5 < threshold < 1), ``dwell_s`` (s, >= 0) and ``dwell_nats_per_hypothesis`` (an inline table
+``{LS = 32.0, ...}``: hypothesis name -> its evidence dwell N_k in nats, 0 <= N_k <= 1e6;
+cpp/f16mmae/declarer.h; written by tools/latency/dwell_per_hypothesis.py ``--tuning``).  They are
+stored as typed fields of the bank file (``p_min``, ``threshold``, ``dwell_s``; each
+hypothesis' ``dwell_nats``, format version 4, the names the table does not give 0: the frame
+dwell alone) and used by ``loop.estimator.Estimator`` and the LCM daemon; a missing key
+means the core's default (the paper's: p_min 0.001, threshold 0.9, dwell 0.25 s; no evidence
+dwell).
 """
 from __future__ import annotations
 
@@ -63,7 +67,8 @@ SECTIONS: dict[str, tuple[str, ...]] = {
 }
 #: [estimator] key -> (lower, upper) bound of its valid range (open; closed for dwell_s).
 ESTIMATOR_KEYS: dict[str, tuple[float, float]] = {
-    "p_min": (0.0, 0.01), "threshold": (0.5, 1.0), "dwell_s": (0.0, 10.0)}
+    "p_min": (0.0, 0.01), "threshold": (0.5, 1.0), "dwell_s": (0.0, 10.0),
+    "dwell_nats_per_hypothesis": (0.0, 1.0e6)}   # each N_k, closed
 TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_model", "failure_model",
                                     "failed_surface_q", "failed_sensor_level_q") + tuple(SECTIONS)
                                    + ("estimator",))
@@ -272,7 +277,24 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
                   actuator_q=sections["method4_actuator_q"], estimator=estimator)
 
 
-def _estimator_settings(table, source: str) -> dict[str, float]:
+def _dwell_nats_table(table, source: str) -> dict[str, float]:
+    """``[estimator] dwell_nats_per_hypothesis``: name -> N_k (nats, [0, 1e6]); the names are
+    checked against the bank's hypotheses when the bank is built (core.ModelBank)."""
+    where = f"{source}: [estimator] dwell_nats_per_hypothesis"
+    if not isinstance(table, dict):
+        raise TuningError(f"{where} must be a table NAME = nats, got {table!r}")
+    lo, hi = ESTIMATOR_KEYS["dwell_nats_per_hypothesis"]
+    out = {}
+    for name, val in table.items():
+        if isinstance(val, bool) or not isinstance(val, (int, float)):
+            raise TuningError(f"{where}: {name} must be a number of nats, got {val!r}")
+        if not (math.isfinite(val) and lo <= val <= hi):
+            raise TuningError(f"{where}: {name} = {val} is outside [{lo:g}, {hi:g}] nats")
+        out[str(name)] = float(val)
+    return out
+
+
+def _estimator_settings(table, source: str) -> dict:
     if not isinstance(table, dict):
         raise TuningError(f"{source}: [estimator] must be a table of {', '.join(ESTIMATOR_KEYS)}")
     out = {}
@@ -280,6 +302,9 @@ def _estimator_settings(table, source: str) -> dict[str, float]:
         if key not in ESTIMATOR_KEYS:
             raise TuningError(f"{source}: unknown key {key!r} in [estimator]; valid keys: "
                               f"{', '.join(ESTIMATOR_KEYS)}")
+        if key == "dwell_nats_per_hypothesis":
+            out[key] = _dwell_nats_table(val, source)
+            continue
         if isinstance(val, bool) or not isinstance(val, (int, float)):
             raise TuningError(f"{source}: [estimator] {key} must be a number, got {val!r}")
         lo, hi = ESTIMATOR_KEYS[key]

@@ -216,7 +216,9 @@ def design_set(out: str | Path, progress=None) -> Path:
             tuning = base if design_level == base.turbulence else dataclasses.replace(
                 base, name=f"{base.name}-{design_level}", turbulence=design_level)
             tuning = dataclasses.replace(tuning, failure_model=check_failure_model(model),
-                                         estimator={**tuning.estimator, "dwell_s": DWELL_S, "p_min": p_min})
+                                         estimator={**{k: v for k, v in tuning.estimator.items()   # no evidence
+                                                       if k != "dwell_nats_per_hypothesis"},   # dwell: the nominal bank's
+                                                    "dwell_s": DWELL_S, "p_min": p_min})
             design = design_bank(NOMINAL_MACH, NOMINAL_ALT_FT, tuning, linearized=lin, throttle_input=True)
             design = _with_dual_model(design, check_failure_model(DUAL_FAILURE_MODEL), lin)
             bank = write_bank(design, Path(tmp) / f"{level}.f16bank")

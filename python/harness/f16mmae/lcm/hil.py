@@ -62,7 +62,7 @@ def fly_hil(scenario, model_bank, lc, chans: Channels, *, lockstep: bool = True,
     # what mmae-daemon applies: the bank's recommended settings (its typed fields), the
     # options it was started with (lcm.daemon.daemon_flags), and the closed loop's in force (the
     # adaptive dither with a turbulence bank set: the truth side reads the status's member and rho)
-    remote.settings = with_closed_loop_defaults({**bank_estimator_settings(model_bank), **(estimator_options or {})})
+    remote.settings = with_closed_loop_defaults(bank_estimator_settings(model_bank, estimator_options))
     try:
         remote.reset(f"f16mmae hil: seed {scenario.seed}")
         publish_marker(lc, chans, "run_start", 0.0, {

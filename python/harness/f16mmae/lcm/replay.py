@@ -47,7 +47,7 @@ class InProcessExecutive:
     (``mmae-daemon --bank SET --turbulence-banks``)."""
 
     def __init__(self, model_bank, **estimator_options) -> None:
-        settings = {**bank_estimator_settings(model_bank), **estimator_options}
+        settings = bank_estimator_settings(model_bank, estimator_options)
         self.bank_hash = flown_bank_hash(model_bank, settings)
         for key in CLOSED_LOOP:   # the closed loop's (the truth side's), not the executive's
             settings.pop(key, None)

@@ -38,7 +38,7 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     out = dict(settings)
     out.pop("adapt_all_channels", None)
     for key, load in FILE_LOADERS.items():   # a file option's table: {"F>C": k} (level1_allowance.h), {name: N}
-        if key in out:
+        if key in out and not isinstance(out[key], dict):   # a dict: the table itself (a bank's N_k)
             out[key] = load(out[key])
     counted = out.pop("adapt_counted_channel", None)
     if counted is not None:   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
@@ -117,7 +117,7 @@ class Estimator:
         #: scheduled bank's defaults (``estimator_options.scheduled_defaults``: own channels) and the
         #: closed loop's (``with_closed_loop_defaults``: the adaptive dither with a bank set).
         self.settings: dict = with_closed_loop_defaults(scheduled_defaults(
-            {**bank_estimator_settings(model_bank), **options}, model_bank.schedule is not None))
+            bank_estimator_settings(model_bank, options), model_bank.schedule is not None))
         if self.settings.get("turbulence_banks"):
             self._bank = _bank_set(model_bank, self.settings)
         else:

@@ -315,12 +315,14 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "has passed, once its log-odds above the threshold's, ln(p/(1-p)) - ln(P/(1-P)), summed "
                          "over its consecutive frames above, reach N nats: one the data hold near the ceiling is "
                          "declared in a few frames, one hovering near the threshold still needs the dwell "
-                         "(cpp/f16mmae/declarer.h). Default 0: the dwell alone"),
+                         "(cpp/f16mmae/declarer.h). Given, N replaces the bank's own table for every hypothesis "
+                         "(0: the dwell alone). Default: the bank's recommended N per hypothesis (bank format 4; "
+                         "none: the dwell alone)"),
     EstimatorOption("dwell_nats_per_hypothesis", "--dwell-nats-per-hypothesis", "file", metavar="FILE",
                     help="... per hypothesis: FILE (tools/latency/dwell_per_hypothesis.py; one 'NAME N' a line) "
                          "gives hypothesis NAME its own evidence dwell of N nats, 0 leaving it to --dwell-s "
                          "alone; a hypothesis FILE does not name takes --dwell-nats (cpp/f16mmae/declarer.h). "
-                         "Default: none"),
+                         "Default: the bank's own table (its hypotheses' dwell_nats)"),
     EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,
                     help="a bank with partial-loss hypotheses (design --partial-loss): their probability floor at "
                          "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "

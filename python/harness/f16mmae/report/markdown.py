@@ -30,10 +30,19 @@ def _pct(x) -> str:
     return "-" if x is None else f"{100 * x:.0f}"
 
 
+def _setting(v) -> str:
+    """An estimator setting as text: a number in %g, a table {name: N} as "(LS 32, ...)"."""
+    if isinstance(v, dict):
+        return "(" + ", ".join(f"{k} {_setting(x)}" for k, x in v.items()) + ")"
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return f"{v:g}"
+    return str(v)
+
+
 def header(s: dict, title: str) -> list[str]:
     code = s.get("code") or {}
     cmd = s.get("command") or "(not recorded: made through the Python API)"
-    settings = ", ".join(f"{k} {v:g}" for k, v in (s.get("estimator_settings") or {}).items()) or "core defaults"
+    settings = ", ".join(f"{k} {_setting(v)}" for k, v in (s.get("estimator_settings") or {}).items()) or "core defaults"
     out = [f"# {title}", "", "Generated from `summary.json` by `f16mmae report DIR --markdown FILE`.", "",
            "```", cmd, "```", "",
            f"- code {code.get('code', 'unrecorded')}, JSBSim {code.get('jsbsim')}, LCM {code.get('lcm')}",

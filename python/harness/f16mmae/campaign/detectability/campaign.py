@@ -218,7 +218,7 @@ def summarize(cfg: DetectabilityCampaign, label: str, bank, records: list[dict])
         "mach": float(bank.mach), "alt_ft": float(bank.alt_ft), "failure_time_s": cfg.failure_time_s,
         "duration_s": cfg.duration_s, "feedback": cfg.feedback, "dither_scale": cfg.dither_scale,
         "estimator": cfg.estimator_options(),
-        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "estimator_settings": bank_estimator_settings(bank, cfg.estimator_options()),
         "sigma": {s: sigma_of(s) for s in SENSORS},
         "families": families,
         **_campaign_fields(cfg, records),

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ...report.evidence import describe_rate, drilldown_section
 from ...report.figures import img_tag
-from ...report.markdown import register_markdown
+from ...report.markdown import _setting, register_markdown
 from ...report.page import param_table, register_page
 
 COLUMNS = ("family", "component", "size", "truth value", "P(detect) [95 %]", "P(any declared) [95 %]",
@@ -61,7 +61,7 @@ def _setting_lines(s: dict) -> list[tuple[str, str]]:
             ("flight condition", f"Mach {s['mach']}, {s['alt_ft']:.0f} ft"), ("turbulence", s["turbulence"]),
             ("failure time / duration (s)", f"{s['failure_time_s']} / {s['duration_s']}"),
             ("bank (tuning, hash)", f"{s['tuning']}, {s['bank_hash']}"),
-            ("estimator settings", ", ".join(f"{k} {v:g}" for k, v in s["estimator_settings"].items())),
+            ("estimator settings", ", ".join(f"{k} {_setting(v)}" for k, v in s["estimator_settings"].items())),
             ("code", f"{s['version']}, {code.get('code', 'unrecorded')}"),
             ("wall time", f"{t.get('wall_s', 0):.1f} s for {t.get('runs_executed', '?')} runs "
                           f"({t.get('runs_resumed', 0)} resumed) on {t.get('executor', '?')}")]

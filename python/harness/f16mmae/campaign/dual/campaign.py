@@ -213,7 +213,7 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
             s["absolute_rating_strict"] = outcomes.rate_absolute(
                 s["runs"], s["correct"], s["false_alarms"], s["transient_wrong_strict"], s["latency_s"]["median"])[0]
         pairs.append(s)
-    settings = {**bank_estimator_settings(bank), **cfg.estimator_options()}
+    settings = bank_estimator_settings(bank, cfg.estimator_options())
     window = cfg.duration_s - cfg.second_time_s - settings.get("dwell_s", 0.25)
     models_evaluated = models.annotate(pairs, bank, cfg.turbulence, cfg.mode,
                                        window_frames=int(window * bank.frame_rate_hz),

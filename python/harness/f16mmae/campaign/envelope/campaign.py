@@ -266,7 +266,7 @@ def summarize(cfg: EnvelopeCampaign, banks: dict, label: str, records: list[dict
         "dither": cfg.dither,
         "dither_scale": cfg.dither_scale,
         "estimator": cfg.estimator_options(),
-        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()} if cfg.points else {},
+        "estimator_settings": bank_estimator_settings(bank, cfg.estimator_options()) if cfg.points else {},
         "acceptable_rule": {"correct_fraction_min": cfg.correct_fraction_min,
                             "false_alarm_runs_max": cfg.false_alarms_max},
         "points": points,

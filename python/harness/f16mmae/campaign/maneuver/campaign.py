@@ -211,7 +211,7 @@ def summarize(cfg: ManeuverCampaign, label: str, bank, records: list[dict]) -> d
         "design_point": {"mach": float(bank.mach), "alt_ft": float(bank.alt_ft)},
         "turbulence": cfg.turbulence, "mode": cfg.mode, "feedback": cfg.feedback, "dither": cfg.dither,
         "dither_scale": cfg.dither_scale, "estimator": cfg.estimator_options(),
-        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "estimator_settings": bank_estimator_settings(bank, cfg.estimator_options()),
         "goals": {"correct_min": CORRECT_GOAL, "false_alarm_runs": 0, "latency_median_s_max": LATENCY_GOAL_S},
         "by_maneuver": rows, "by_point": cells, "by_case": cases,
         "overall": group_metrics(ranked),

@@ -154,7 +154,7 @@ def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict])
         "dither_scale": cfg.dither_scale,
         "estimator": cfg.estimator_options(),
         # in force for the bank under test: its recommended settings, then the overrides
-        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "estimator_settings": bank_estimator_settings(bank, cfg.estimator_options()),
         "cases": cases,
         "goals": {**scoring.GOALS, "met": all(g["all"] for g in goals.values()), "per_case": goals},
         "baseline": None,
@@ -163,8 +163,7 @@ def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict])
     if others:
         b = others[0]
         summary["baseline"] = {"tuning": b, "bank_hash": banks[b][1].content_hash,
-                               "estimator_settings": {**bank_estimator_settings(banks[b][1]),
-                                                      **cfg.estimator_options()},
+                               "estimator_settings": bank_estimator_settings(banks[b][1], cfg.estimator_options()),
                                "cases": cases_of(b)}
     order = {lbl: i for i, lbl in enumerate(banks)}
     case_order = {c: i for i, c in enumerate(cfg.cases)}

@@ -208,7 +208,7 @@ def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
         "dither": cfg.dither, "dither_scale": cfg.dither_scale, "maneuvers": list(flight_maneuvers(cfg, bank)) or None,
         "profile": cfg.profile,
         "estimator": cfg.estimator_options(),
-        "estimator_settings": {**bank_estimator_settings(bank), **cfg.estimator_options()},
+        "estimator_settings": bank_estimator_settings(bank, cfg.estimator_options()),
         "goals_per_hour": {lvl: GOALS_PER_H[lvl] for lvl in cfg.levels()},
         "verdicts": verdicts,
         "goals_met": all(v is not None and v != "not met" for v in verdicts.values()),

@@ -19,8 +19,11 @@ stationary covariance, m(t) its residual's mean under the dither), dual minus si
 sum plus the level terms is -D(f, f+c). A channel whose flight mean exceeds the models' by
 much is where the dual's freedom explains what the single's model does not.
 
+``--figure PNG``: the flight's cumulative lambda per channel (and in total) from ``--from-s``,
+beside the models' expected lines (dashed).
+
 Run: .venv/bin/python tools/cover/level1_channels.py --bank BANK --seed 606972620 --fail AY@3.0:complete \
-       --dual RF+AY [--from-s 4.0] [--duration-s 8] [--window-s 0.5]
+       --dual RF+AY [--from-s 4.0] [--duration-s 8] [--window-s 0.5] [--figure PNG]
 """
 from __future__ import annotations
 
@@ -77,6 +80,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--duration-s", type=float, default=8.0)
     ap.add_argument("--window-s", type=float, default=0.5)
     ap.add_argument("--no-models", action="store_true", help="leave out the models' split")
+    ap.add_argument("--figure", default=None, help="write the cumulative split to this PNG")
     args = ap.parse_args(argv)
     mb = core.load_bank(args.bank)
     spec = parse_fail(args.fail)
@@ -129,11 +133,35 @@ def main(argv: list[str] | None = None) -> int:
     mean_q, mean_u = lam_q.mean(axis=0), float(lam_u.mean())
     print(f"flight, mean a frame ({len(lam_u)} frames): " + ", ".join(f"{s} {v:+.3f}" for s, v in zip(sensors, mean_q))
           + f", u {mean_u:+.3f}; total {mean_q.sum() + mean_u:+.3f}")
+    split = None
     if not args.no_models:
         split, d = model_split(mb, spec.name, args.dual)
         print(f"models, E a frame ({spec.name} complete, light air, dither): "
               + ", ".join(f"{s} {v:+.3f}" for s, v in zip(sensors, split))
               + f"; quadratic total {split.sum():+.3f}, -D({spec.name}, {args.dual}) = {-d:+.3f}")
+    if args.figure:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        t = start + np.arange(len(lam_u)) / rate
+        fig, ax = plt.subplots(figsize=(8, 4.5))
+        shown = [j for j in range(len(sensors)) if np.abs(np.cumsum(lam_q[:, j])).max() > 2.0]
+        for j in shown:
+            line, = ax.plot(t, np.cumsum(lam_q[:, j]), label=sensors[j])
+            if split is not None:
+                ax.plot(t, split[j] * np.arange(1, len(t) + 1), "--", color=line.get_color(), lw=0.8)
+        total, = ax.plot(t, np.cumsum(lam_q.sum(axis=1) + lam_u), "k", lw=2, label="total")
+        if split is not None:
+            ax.plot(t, -d * np.arange(1, len(t) + 1), "k--", lw=1, label="models (dashed)")
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel(f"sum of l_{args.dual} - l_{spec.name} (nats)")
+        ax.set_title(f"{spec.name}@{spec.time_s:g}:{spec.mode}, flight seed {args.seed}: the walk of {args.dual} by channel")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, ncol=2)
+        fig.tight_layout()
+        fig.savefig(args.figure, dpi=110)
+        print(f"figure: {args.figure}")
     return 0
 
 

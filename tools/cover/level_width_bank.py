@@ -11,6 +11,9 @@ bit, and the metadata gains "level_widths" (the bank it came from, the widths, t
 a new content hash. `--occam VEL=-2.1` sets W_j so that c_j is that many nats in the
 hypothesis that fails j alone (A_jj its own).
 
+The design does the same from a tuning (``failed_sensor_level_width``, ``f16mmae design
+--failed-sensor-level-width``, design/level_width.py), with a width derived from the model.
+
 Run: .venv/bin/python tools/cover/level_width_bank.py IN.f16bank --occam VEL=-2.1 --out OUT.f16bank
 """
 from __future__ import annotations

@@ -12,12 +12,13 @@ from ..design.calibrate import CALIBRATION_START_UP_S, P_MIN_CANDIDATES, START_U
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
-from ..design.hypotheses import FAILURE_MODELS, TRIM_SIGMA, check_failure_model, uses_cover
+from ..design.hypotheses import FAILURE_MODELS, TRIM_SIGMA, check_failure_model, component_models, uses_cover
+from ..design.level_width import READING
 from ..design.gust_states import GUST_STATE_MODELS
 from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES, NO_GUST_STATES, NODE_TUNINGS,
                                ScheduleSpecError, check_gust_altitude, default_gust_shape,
                                design_schedule, format_spec, parse_grid, schedule_failure_model)
-from ..design.tuning import TuningError, load_tuning
+from ..design.tuning import TuningError, _sensor_level_width, load_tuning
 from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
 from .. import names
 from ..names import DESIGN_ALT_FT, DESIGN_MACH, TURBULENCE_LEVELS
@@ -83,7 +84,8 @@ f16mmae/design/tunings/, or a TOML file of the same layout:
   name, description, turbulence (none|light|moderate|severe), gust_model (gust_rate|white_gust|dryden_states),
   failure_model (complete|cover, or per component {{default = "complete", cover = ["VEL", "AOA"]}}),
   failed_surface_q (rad^2/s, a failed surface's random walk; one number or {{LS = 3e-4, RUD = 1e-3}}),
-  failed_sensor_level_q (a failed sensor's level walk per frame in noise variances; one number or {{AOA = 1e-3}})
+  failed_sensor_level_q (a failed sensor's level walk per frame in noise variances; one number or {{AOA = 1e-3}}),
+  failed_sensor_level_width (a failed cover sensor's level range per sensor: {{PIT = "reading"}} or a number)
   [method1_qd_longitudinal] u_fps alpha_rad q_rad_s theta_rad     (+ diag Q_d, per frame)
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
   [method3_qd_lateral]      beta_rad p_rad_s r_rad_s phi_rad      (+ diag Q_d, per frame)
@@ -126,6 +128,11 @@ def register(subparsers) -> None:
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
                         "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
                         "its range every frame (default: the tuning's; AOA 1e-3, VEL 1e-4, the other sensors 0.01)")
+    p.add_argument("--failed-sensor-level-width", default=None, metavar="SENSOR=W|reading[,...]",
+                   help="with --failure-model cover: the range of a failed sensor's unknown level, in its units, "
+                        "or 'reading': derived from the no-failure model's stationary spread of the healthy "
+                        "reading (design/level_width.py), e.g. PIT=reading (default: the tuning's; the "
+                        "sensor's full range)")
     p.add_argument("--throttle-input", action="store_true",
                    help="model the throttle command as a sixth input (JSBSim's linearization column; "
                         "the closed loop flies the throttle dither with such a bank)")
@@ -189,10 +196,37 @@ def _partial_loss(text: str) -> tuple[float, ...]:
     return tuple(out)
 
 
+def _level_width(tuning, text: str):
+    """The tuning with --failed-sensor-level-width's sensors set (CliError naming a bad entry),
+    named NAME-wSENSORS."""
+    table = {}
+    for part in text.split(","):
+        sensor, eq, value = part.strip().partition("=")
+        if not eq:
+            raise CliError(f"--failed-sensor-level-width {part.strip()!r}: give SENSOR=W or SENSOR=reading")
+        if sensor in table:
+            raise CliError(f"--failed-sensor-level-width {text}: {sensor} is given twice")
+        table[sensor] = value if value == READING else number("--failed-sensor-level-width", value)
+    per = component_models(tuning.failure_model)
+    try:
+        widths = _sensor_level_width(table, "--failed-sensor-level-width")
+    except TuningError as exc:
+        raise CliError(str(exc)) from None
+    for sensor in widths:
+        if per[sensor] != "cover":
+            raise CliError(f"--failed-sensor-level-width {sensor}: the sensor's failure model is {per[sensor]}; "
+                           "a level width needs cover for it (e.g. --failure-model cover)")
+    return dataclasses.replace(tuning, name=f"{tuning.name}-w{''.join(widths)}",
+                               failed_sensor_level_width={**tuning.failed_sensor_level_width, **widths})
+
+
 def _run(args) -> int:
     if args.partial_loss is not None and (args.turbulence_banks or args.schedule is not None):
         raise CliError("--partial-loss designs one point's bank; it is not supported with --schedule or "
                        "--turbulence-banks")
+    if args.failed_sensor_level_width is not None and (args.turbulence_banks or args.schedule is not None):
+        raise CliError("--failed-sensor-level-width designs one point's bank; give a tuning file with "
+                       "failed_sensor_level_width to --schedule or --turbulence-banks instead")
     if args.turbulence_banks:
         return _run_turbulence_banks(args)
     if args.schedule is not None:
@@ -238,6 +272,8 @@ def _run(args) -> int:
             raise CliError(f"--failed-sensor-level-q {args.failed_sensor_level_q} must be >= 0 "
                            "and needs the cover failure model for some component (e.g. --failure-model cover)")
         tuning = dataclasses.replace(tuning, name=f"{tuning.name}-q{w:g}", failed_sensor_level_q=w)
+    if args.failed_sensor_level_width is not None:
+        tuning = _level_width(tuning, args.failed_sensor_level_width)
     partial = _partial_loss(args.partial_loss) if args.partial_loss is not None else ()
     thr = "_throttle" if args.throttle_input else ""
     thr += "".join(f"_partial{f:g}" for f in partial)

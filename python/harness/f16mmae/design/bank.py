@@ -21,6 +21,12 @@ effectiveness, hypotheses.py), which the core puts in the level-0 bank beside th
 (13 + 5 per fraction filters; cpp/f16mmae/hierarchical_bank.h). Off by default: the banks
 without it are unchanged, byte for byte.
 
+A tuning's ``failed_sensor_level_width`` (``f16mmae design --failed-sensor-level-width
+PIT=reading``): the named ``cover`` sensors' level range W_j in every hypothesis that fails
+them, given or derived from the no-failure model (level_width.py), in place of the full
+range; the metadata's ``level_widths`` records each W_j, its Occam constant c_j and, derived,
+the reading's sigma_j.  Without it the banks are unchanged, byte for byte.
+
 ``throttle_input=True`` (``f16mmae design --throttle-input``): the throttle command is the
 model's sixth input (model.py: its column from JSBSim's linearization), in every hypothesis;
 the bank's inputs are ``names.INPUTS_WITH_THROTTLE`` (LS RS LF RF RUD THR), its u_trim ends
@@ -44,7 +50,8 @@ from .. import names
 from ..truth import actuators, sensors
 from .discretize import DiscreteModel, discretize
 from .gains import SteadyStateGains, steady_state_gains
-from .hypotheses import (HypothesisModel, covered_surfaces, hypothesis_dynamics, hypothesis_model,
+from .level_width import level_widths
+from .hypotheses import (HypothesisModel, component_models, covered_surfaces, hypothesis_dynamics, hypothesis_model,
                          parse_partial, partial_hypotheses, uninformative_level_q, uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
 from .tuning import Tuning, TuningError, available_tunings, load_tuning
@@ -82,6 +89,7 @@ class BankDesign:
     discrete: DiscreteModel  # NONE model; qd includes every pseudonoise
     r: np.ndarray            # (7, 7) incl. method-2 pseudonoise
     filters: tuple[FilterDesign, ...]
+    level_widths: dict = None  # sensor -> {width, occam_nats[, sigma]} (level_width.py); None: full ranges
 
     @property
     def throttle_input(self) -> bool:
@@ -159,6 +167,8 @@ class BankDesign:
             out["model"]["throttle_column_per_unit"] = self.linearized.throttle_column.tolist()
         if self.partial_loss:  # likewise
             out["partial_loss"] = list(self.partial_loss)
+        if self.level_widths:  # likewise
+            out["level_widths"] = {s: dict(v) for s, v in self.level_widths.items()}
         return out
 
 
@@ -167,6 +177,12 @@ def tuning_arguments(tuning: Tuning) -> str:
     a derived tuning ``NAME[-LEVEL][-gust][-M[-qQ]]`` (``--gust-level LEVEL``, ``--gust-states``,
     ``--failure-model M``, ``--failed-sensor-level-q Q``); this undoes that naming."""
     rest, tail = tuning.name, []
+    widths = tuning.failed_sensor_level_width
+    suffix = "-w" + "".join(widths)
+    if widths and rest.endswith(suffix):
+        rest = rest[:-len(suffix)]
+        tail.insert(0, "--failed-sensor-level-width " + ",".join(f"{s}={v if isinstance(v, str) else f'{v:g}'}"
+                                                                 for s, v in widths.items()))
     level_q = tuning.failed_sensor_level_q
     weight = f"-q{level_q:g}" if not isinstance(level_q, dict) else None
     if tuning.failure_model != "complete" and weight is not None and rest.endswith(weight):
@@ -203,11 +219,19 @@ def discrete_design_model(model: ContinuousModel, tuning: Tuning,
 
 
 def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: DiscreteModel,
-                      hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES) -> list[HypothesisModel]:
+                      hypotheses: tuple[str, ...] = names.ALL_HYPOTHESES,
+                      widths: dict | None = None) -> list[HypothesisModel]:
     """Every hypothesis' discrete model in the tuning's failure model (hypotheses.py, per
     component): the no-failure ``discrete`` with B_d columns / H rows removed, and for the
     failed components whose model is ``cover`` a failed surface's random walk discretized for
-    its hypothesis (same pseudonoise on diag(Q_d)) and the failed sensors' uninformative widths."""
+    its hypothesis (same pseudonoise on diag(Q_d)) and the failed sensors' uninformative widths
+    (``widths``: sensor -> {"width": W} in place of the full range, level_width.py)."""
+    per = component_models(tuning.failure_model)
+    for sensor in widths or {}:
+        if per[sensor] != "cover":
+            raise ValueError(f"failed_sensor_level_width names {sensor}, whose failure model is "
+                             f"{per[sensor]}: a level width applies to a cover sensor "
+                             f"(failure_model {tuning.failure_model!r})")
     out = []
     n_air = names.NX - names.NU
     gqg = continuous_noise(model, tuning)
@@ -218,7 +242,12 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
                                              tuning.failure_model)
             dm = discretize(f_k, model.b, np.eye(model.nx), gqg_k, discrete.dt_s)
             phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal(model.nx))
-        out.append(hypothesis_model(name, phi, bd, model.h, qd, uninformative_width(name, tuning.failure_model),
+        width = uninformative_width(name, tuning.failure_model)
+        for sensor, entry in (widths or {}).items():
+            j = names.SENSORS.index(sensor)
+            if width[j] > 0.0:
+                width[j] = entry["width"]
+        out.append(hypothesis_model(name, phi, bd, model.h, qd, width,
                                     uninformative_level_q(name, tuning.failure_model,
                                                               tuning.sensor_level_q())))
     return out
@@ -256,10 +285,12 @@ def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
     cont = build_model(linearized.lin, linearized.trim.vt_fps, tuning.turbulence, alt_ft,
                        tuning.gust_model, linearized.throttle_column if throttle_input else None)
     disc, r = discrete_design_model(cont, tuning, frame_rate_hz)
-    filters = design_filters(hypothesis_models(cont, tuning, disc, hypotheses), r)
+    widths = level_widths(tuning.failed_sensor_level_width, disc.phi, disc.bd, disc.qd, r, cont.h,
+                          frame_rate_hz)
+    filters = design_filters(hypothesis_models(cont, tuning, disc, hypotheses, widths), r)
     return BankDesign(mach=float(mach), alt_ft=float(alt_ft), frame_rate_hz=float(frame_rate_hz),
                       tuning=tuning, linearized=linearized, continuous=cont, discrete=disc, r=r,
-                      filters=filters)
+                      filters=filters, level_widths=widths or None)
 
 
 def dwell_nats_of(design: BankDesign, table: dict) -> dict[str, float]:

@@ -24,7 +24,11 @@ or its text ``"cover=VEL+AOA"``; ``Tuning.failure_model`` holds the canonical te
 failed surface under ``cover``; a number for every surface or a table per surface,
 ``{LS = 3e-4, RUD = 1e-3}``; default and surfaces not named: ``FAILED_SURFACE_Q``) and ``failed_sensor_level_q``
 (the random walk per frame of a failed sensor's unknown level under ``cover``, in units of
-the sensor's noise variance, >= 0; 0: no memory; default ``FAILED_SENSOR_LEVEL_Q``).  Every variance must be finite and
+the sensor's noise variance, >= 0; 0: no memory; default ``FAILED_SENSOR_LEVEL_Q``) and
+``failed_sensor_level_width`` (a table per sensor, e.g. ``{PIT = "reading"}``: the range W_j of
+a failed ``cover`` sensor's unknown level, a number > 0 in the sensor's units or ``"reading"``,
+derived from the design model by ``level_width.py``; sensors not named keep their full range,
+and a tuning without the key designs the banks it always did).  Every variance must be finite and
 >= 0; an unknown key, a wrong type or a negative value is refused with a message naming it.
 Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/tunings/``.
 
@@ -52,6 +56,7 @@ from .. import names
 from ..errors import F16mmaeError
 from ..names import TURBULENCE_LEVELS
 from .hypotheses import check_failure_model, failure_model_table
+from .level_width import READING
 from .model import GUST_MODELS
 
 TUNINGS_DIR = Path(__file__).with_name("tunings")
@@ -70,7 +75,8 @@ ESTIMATOR_KEYS: dict[str, tuple[float, float]] = {
     "p_min": (0.0, 0.01), "threshold": (0.5, 1.0), "dwell_s": (0.0, 10.0),
     "dwell_nats_per_hypothesis": (0.0, 1.0e6)}   # each N_k, closed
 TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_model", "failure_model",
-                                    "failed_surface_q", "failed_sensor_level_q") + tuple(SECTIONS)
+                                    "failed_surface_q", "failed_sensor_level_q", "failed_sensor_level_width")
+                                   + tuple(SECTIONS)
                                    + ("estimator",))
 #: Default random-walk strength of a failed surface's position under ``cover`` (rad^2/s), per
 #: surface: the flaperons 3e-5 (about 0.3 deg of wander in 1 s; a freer flaperon absorbs roll
@@ -120,6 +126,27 @@ def _sensor_level_q(value, source: str) -> float | dict[str, float]:
                           zero_ok=True)
 
 
+def _sensor_level_width(value, source: str) -> dict[str, float | str]:
+    """``failed_sensor_level_width`` as read: a table of sensors, each a finite number > 0 (W in
+    the sensor's units) or ``"reading"`` (level_width.py); TuningError names a bad entry."""
+    if not isinstance(value, dict):
+        raise TuningError(f"{source}: failed_sensor_level_width must be a table of sensors "
+                          f"({', '.join(names.SENSORS)}), e.g. {{PIT = \"{READING}\"}}; got {value!r}")
+    out = {}
+    for name, v in value.items():
+        if name not in names.SENSORS:
+            raise TuningError(f"{source}: unknown sensor {name!r} in failed_sensor_level_width; valid: "
+                              f"{', '.join(names.SENSORS)}")
+        if v == READING:
+            out[name] = READING
+        elif isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0.0):
+            raise TuningError(f"{source}: failed_sensor_level_width.{name} = {v!r} must be a finite number "
+                              f"> 0 (the level's range in the sensor's units) or \"{READING}\"")
+        else:
+            out[name] = float(v)
+    return {s: out[s] for s in names.SENSORS if s in out}
+
+
 class TuningError(F16mmaeError, ValueError):
     """A tuning file that cannot be used; the message names the file, key and valid choices."""
 
@@ -137,6 +164,8 @@ class Tuning:
     # ^ one number for every surface, or per surface (names.ACTUATORS keys)
     failed_sensor_level_q: float | dict[str, float] = field(default_factory=lambda: dict(FAILED_SENSOR_LEVEL_Q))
     # ^ one number for every sensor, or per sensor (names.SENSORS keys)
+    failed_sensor_level_width: dict[str, float | str] = field(default_factory=dict)
+    # ^ per sensor: W in its units or "reading" (level_width.py); empty: the full ranges
     qd_longitudinal: dict[str, float] = field(default_factory=dict)  # method 1
     r_pseudonoise: dict[str, float] = field(default_factory=dict)    # method 2
     qd_lateral: dict[str, float] = field(default_factory=dict)       # method 3
@@ -184,6 +213,8 @@ class Tuning:
         if self.failure_model != "complete":  # a paper-model tuning keeps its metadata (and hash)
             out.update(failure_model=failure_model_table(self.failure_model), failed_surface_q=self.failed_surface_q,
                        failed_sensor_level_q=self.failed_sensor_level_q)
+        if self.failed_sensor_level_width:  # only then: the banks without it keep their metadata
+            out["failed_sensor_level_width"] = dict(self.failed_sensor_level_width)
         return {**out,
                 "method1_qd_longitudinal": dict(self.qd_longitudinal),
                 "method2_r": dict(self.r_pseudonoise),
@@ -249,6 +280,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
         raise TuningError(f"{source}: {exc}") from None
     walk_q = _surface_walk_q(data.get("failed_surface_q", FAILED_SURFACE_Q), source)
     level_q = _sensor_level_q(data.get("failed_sensor_level_q", FAILED_SENSOR_LEVEL_Q), source)
+    level_width = _sensor_level_width(data.get("failed_sensor_level_width", {}), source)
     sections = {}
     for section, keys in SECTIONS.items():
         table = data.get(section, {})
@@ -270,7 +302,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
     estimator = _estimator_settings(data.get("estimator", {}), source)
     return Tuning(name=name, description=description, turbulence=turbulence, gust_model=gust_model,
                   failure_model=failure_model, failed_surface_q=walk_q,
-                  failed_sensor_level_q=level_q,
+                  failed_sensor_level_q=level_q, failed_sensor_level_width=level_width,
                   qd_longitudinal=sections["method1_qd_longitudinal"],
                   r_pseudonoise=sections["method2_r"],
                   qd_lateral=sections["method3_qd_lateral"],

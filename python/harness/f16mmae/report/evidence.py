@@ -172,5 +172,5 @@ def settings_text(s: dict) -> str:
         src.append("bank: " + ", ".join(from_bank))
     if over:
         src.append("options: " + ", ".join(over))
-    rest = "" if len(in_force) == 3 else "; others core defaults"
+    rest = "" if {"p_min", "threshold", "dwell_s"} <= in_force.keys() else "; others core defaults"
     return ", ".join(f"{k}={v}" for k, v in in_force.items()) + f" ({'; '.join(src)}{rest})"

@@ -192,7 +192,7 @@ const std::vector<Flag>& flags() {
       {"--dwell-nats", "N",
        "... or until the candidate's log-odds above the threshold's, summed over those frames, reach N nats "
        "(declarer.h), given, for every hypothesis (0: the dwell alone; default: the bank's N_k, its hypotheses' "
-       "dwell_nats)",
+       "dwell_nats; off with a climb or maneuver dwell, hierarchical_bank.h)",
        number(&C::dwell_nats, {0.0, kMaxDwellNats},
               "a number of nats in [0, " + format_value(kMaxDwellNats) + "] (0: the dwell alone)")},
       {"--dwell-nats-per-hypothesis", "FILE",

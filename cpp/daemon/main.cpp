@@ -324,15 +324,14 @@ int main(int argc, char** argv) {
       const std::string start_up = options.bank.start_up_s > 0.0
                                        ? "start-up " + f16mmae::format_value(options.bank.start_up_s) + " s"
                                        : std::string("no start-up");
-      std::string evidence_dwell = options.declarer.dwell_nats > 0.0
-                                       ? " or " + f16mmae::format_value(options.declarer.dwell_nats) + " nats"
+      // the evidence dwell in force (hierarchical_bank.h: none with a climb or maneuver dwell)
+      std::string evidence_dwell = running.declarer.dwell_nats > 0.0
+                                       ? " or " + f16mmae::format_value(running.declarer.dwell_nats) + " nats"
                                        : std::string();
-      if (!options.declarer.dwell_nats_per_hypothesis.empty()) {   // the per-hypothesis table: N_k by name
-        std::string table;
-        for (const auto& [name, n] : options.declarer.dwell_nats_per_hypothesis)
-          table += (table.empty() ? "" : ", ") + name + " " + f16mmae::format_value(n);
-        evidence_dwell += " or per hypothesis (" + table + ") nats";
-      }
+      std::string table;   // the per-hypothesis table: N_k by name
+      for (const auto& [name, n] : running.declarer.dwell_nats_per_hypothesis)
+        if (n > 0.0) table += (table.empty() ? "" : ", ") + name + " " + f16mmae::format_value(n);
+      if (!table.empty()) evidence_dwell += " or per hypothesis (" + table + ") nats";
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, %s, threshold %g, dwell %g s%s, %s, %s, %s, "
                   "schedule %s on air data low-passed %s s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), floor.c_str(),

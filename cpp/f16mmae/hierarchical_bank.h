@@ -108,6 +108,12 @@
 //   maneuvers, and for its hold after; and the adaptation's rho_0 is its reference then, unless
 //   the climb reference is in force. Its state is updated after each accepted update, before
 //   the declarer.
+//   With either flight-phase dwell configured (climb_reference.dwell_s > 0 or
+//   maneuver_dwell.dwell_s > 0) the declarers have no evidence dwell (declarer.h: dwell_nats
+//   and the per-hypothesis N_k are set to 0) and declare by their frame dwells alone. The N_k
+//   are measured on the excursions of level flight; a maneuver's onset (a roll-in, a pull-up)
+//   holds a hypothesis at the ceiling for a few frames before the load factor or the air data
+//   open the phase's gate, which the frame dwell rejects and the evidence dwell does not.
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
 // z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
@@ -537,6 +543,7 @@ class HierarchicalBank {
   const Levels& levels() const noexcept { return levels_; }
   // The declarer in force: level 0's, or at level 1 with level1_dwell_s its own.
   const Declarer& declarer() const noexcept { return declarer_in_force(); }
+  // The options in force: as given, without the evidence dwell under a flight-phase dwell (header).
   const HierarchicalOptions& options() const noexcept { return options_; }
 
  private:
@@ -572,6 +579,15 @@ class HierarchicalBank {
     d.frame_rate_hz = rate_hz;
     return d;
   }
+  // The options in force: `o` without the declarers' evidence dwell when a flight-phase dwell
+  // is configured (header); options() reports them.
+  static HierarchicalOptions in_force(HierarchicalOptions o) {
+    if (o.climb_reference.dwell_s > 0.0 || o.maneuver_dwell.dwell_s > 0.0) {
+      o.declarer.dwell_nats = 0.0;
+      for (auto& [name, nats] : o.declarer.dwell_nats_per_hypothesis) nats = 0.0;   // names still checked
+    }
+    return o;
+  }
   // The level-1 declarer: level 0's threshold, level1_dwell_s (0: level 0's dwell). Throws
   // std::invalid_argument (declarer.h) for a dwell out of range.
   static DeclarerOptions level1_declarer(const HierarchicalOptions& o, double rate_hz) {
@@ -600,10 +616,10 @@ class HierarchicalBank {
   }
 
   HierarchicalBank(const ModelBank& mb, const HierarchicalOptions& options, Built b)
-      : options_(options),
+      : options_(in_force(options)),
         bank_(pick(b.models, b.levels.level0()), with_rate(options.bank, mb.frame_rate_hz)),
-        declarer_(with_rate(options.declarer, mb.frame_rate_hz), 0, hypothesis_names(mb)),
-        declarer1_(level1_declarer(options, mb.frame_rate_hz), 0, hypothesis_names(mb)),
+        declarer_(with_rate(options_.declarer, mb.frame_rate_hz), 0, hypothesis_names(mb)),
+        declarer1_(level1_declarer(options_, mb.frame_rate_hz), 0, hypothesis_names(mb)),
         levels_(std::move(b.levels)),
         online_(levels_.level0()),
         air_rates_(mb.frame_rate_hz),

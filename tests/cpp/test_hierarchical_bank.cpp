@@ -264,6 +264,27 @@ TEST(HierarchicalBank, LevelOneFloorHoldsWhileLevelOneIsOnLineOnly) {
   EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
 }
 
+TEST(HierarchicalBank, AFlightPhaseDwellTurnsTheEvidenceDwellOff) {
+  // with a climb or maneuver dwell configured the declarers' evidence dwell is 0 in force
+  // (header); the table's names are kept (still checked against the bank), each at 0
+  Small s;
+  HierarchicalOptions o;
+  o.declarer.dwell_nats = 48.0;
+  o.declarer.dwell_nats_per_hypothesis = {{"U1", 32.0}};
+  EXPECT_EQ(DynamicHierarchicalBank(s.bank, o).options().declarer.dwell_nats, 48.0);
+  EXPECT_EQ(DynamicHierarchicalBank(s.bank, o).declarer().dwell_nats_of(1), 32.0);
+  HierarchicalOptions p = o;   // the climb's dwell (the maneuver dwell's needs an AZ this bank lacks)
+  p.bank.adaptation.enabled = true;
+  p.climb_reference.reference = 0.6;
+  p.climb_reference.dwell_s = 1.0;
+  DynamicHierarchicalBank hb(s.bank, p);
+  EXPECT_EQ(hb.options().declarer.dwell_nats, 0.0);
+  EXPECT_EQ(hb.options().declarer.dwell_nats_per_hypothesis.at("U1"), 0.0);
+  EXPECT_EQ(hb.declarer().dwell_nats_of(1), 0.0);
+  p.declarer.dwell_nats_per_hypothesis = {{"NOT_A_HYPOTHESIS", 32.0}};
+  EXPECT_THROW(DynamicHierarchicalBank(s.bank, p), std::invalid_argument);
+}
+
 TEST(HierarchicalBank, LevelOneDwellHoldsWhileLevelOneIsOnLineOnly) {
   // the single-then-back-out flight with a level-1 dwell of 0.75 s (48 frames at 64 Hz): Z2 is
   // declared at level 0 on the reference's frame (its dwell, 16 frames), and NONE's back-out at

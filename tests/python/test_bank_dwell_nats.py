@@ -96,6 +96,10 @@ def test_the_daemon_applies_the_banks_table_unless_a_flag_overrides_it():
     assert f"dwell 0.25 s or per hypothesis ({listed}) nats," in _ready_line([])
     assert "per hypothesis" not in _ready_line(["--dwell-nats", "0"])
     assert "dwell 0.25 s or 48 nats," in _ready_line(["--dwell-nats", "48"])
+    # a flight-phase dwell: the declarers' evidence dwell off (hierarchical_bank.h)
+    assert "dwell 0.25 s, " in _ready_line(["--maneuver-dwell", "1"])
+    assert "dwell 0.25 s, " in _ready_line(["--adapt-turbulence", "--adapt-reference-climb", "0.6",
+                                            "--adapt-reference-climb-dwell", "1", "--dwell-nats", "48"])
 
 
 @pytest.mark.slow

@@ -17,6 +17,7 @@ from f16mmae.loop.estimator_options import check
 from f16mmae.loop.flight import fly
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
+from f16mmae.truth.maneuvers import parse_maneuver
 
 LN9 = math.log(9.0)   # the threshold 0.9's log-odds
 
@@ -137,3 +138,23 @@ def test_a_flight_takes_each_hypothesis_own_dwell(tmp_path):
                          ("slow", {"dwell_nats": 48.0, "dwell_nats_per_hypothesis": str(slow)}))}
     assert {d["hypothesis"] for d in t.values()} == {"AZ"}
     assert t["fast"]["time_s"] == t["nats"]["time_s"] < t["plain"]["time_s"] == t["slow"]["time_s"]
+
+
+def test_a_flight_phase_dwell_turns_the_bank_evidence_dwell_off():
+    """A 30-degree turn with the maneuver model, a stabilator failing in it. Without a maneuver
+    dwell the bank's evidence dwell (LS, ROL, YAW, AY 32 nats) declares the roll-in's few frames
+    at the ceiling (AY, before the failure). With the maneuver dwell configured the declarers
+    have no evidence dwell (hierarchical_bank.h): the flight equals the one flown with the frame
+    dwell alone (--dwell-nats 0) declaration for declaration."""
+    bank = load_bank("tuned")[2]
+    assert bank.estimator_settings["dwell_nats_per_hypothesis"]["AY"] == 32.0
+    sc = Scenario(mach=0.4, alt_ft=20000.0, turbulence="light", duration_s=6.0, seed=1, feedback="mmae",
+                  failures=(make_failure("LS", 3.0),), maneuvers=(parse_maneuver("turn@0.5:bank=30"),))
+    model = {"maneuver_kinematics": True, "maneuver_tempering_g": 0.1}
+    dwell = {**model, "maneuver_dwell_s": 1.0, "maneuver_dwell_hold_s": 30.0}
+    plain = fly(sc, bank, estimator_options=model)
+    table = fly(sc, bank, estimator_options=dwell)
+    frames = fly(sc, bank, estimator_options={**dwell, "dwell_nats": 0.0})
+    assert plain.declarations[0]["hypothesis"] == "AY" and plain.declarations[0]["time_s"] < 1.0
+    assert table.declarations == frames.declarations
+    assert [d["hypothesis"] for d in table.declarations] == ["LS"]

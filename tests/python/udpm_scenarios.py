@@ -430,9 +430,8 @@ def test_hil_lockstep_with_the_climb_dwell_and_own_channels_equals_in_process(tm
     path = tmp_path / "constant_vel.f16bank"
     assert main(["design", "--failure-model", "constant=VEL", "--out", str(path)]) == 0
     capsys.readouterr()
-    # the frame dwell alone (--dwell-nats 0): the bank's evidence dwell would declare LS before
-    # either dwell counts
-    flags = ["--dwell-nats", "0", "--adapt-turbulence", "--adapt-own-channels", "--adapt-reference-climb", "0.6",
+    # the bank's evidence dwell (its N_k) is off while the climb's longer dwell is in force (declarer.h)
+    flags = ["--adapt-turbulence", "--adapt-own-channels", "--adapt-reference-climb", "0.6",
              "--adapt-reference-climb-dwell", "1"]
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "3", "--bank", str(path),
                "--maneuver", "climb@0.5:to=22000ft:rate=6000fpm", "--fail", "LS@1", *flags,
@@ -444,7 +443,7 @@ def test_hil_lockstep_with_the_climb_dwell_and_own_channels_equals_in_process(tm
     bank = core.load_bank(str(path))
     scenario = Scenario(duration_s=3.0, turbulence="light", failures=(make_failure("LS", 1.0),),
                         maneuvers=(parse_maneuver("climb@0.5:to=22000ft:rate=6000fpm"),))
-    options = {"dwell_nats": 0.0, "adapt_turbulence": True, "adapt_own_channels": True, "adapt_reference_climb": 0.6,
+    options = {"adapt_turbulence": True, "adapt_own_channels": True, "adapt_reference_climb": 0.6,
                "adapt_reference_climb_dwell_s": 1.0}
     both = fly(scenario, bank, estimator_options=options)
     no_dwell = fly(scenario, bank, estimator_options={**options, "adapt_reference_climb_dwell_s": 0.0})

@@ -317,7 +317,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "declared in a few frames, one hovering near the threshold still needs the dwell "
                          "(cpp/f16mmae/declarer.h). Given, N replaces the bank's own table for every hypothesis "
                          "(0: the dwell alone). Default: the bank's recommended N per hypothesis (bank format 4; "
-                         "none: the dwell alone)"),
+                         "none: the dwell alone). Off with a climb or maneuver dwell "
+                         "(cpp/f16mmae/hierarchical_bank.h)"),
     EstimatorOption("dwell_nats_per_hypothesis", "--dwell-nats-per-hypothesis", "file", metavar="FILE",
                     help="... per hypothesis: FILE (tools/latency/dwell_per_hypothesis.py; one 'NAME N' a line) "
                          "gives hypothesis NAME its own evidence dwell of N nats, 0 leaving it to --dwell-s "

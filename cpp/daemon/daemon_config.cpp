@@ -36,6 +36,13 @@ struct Value {
 // A value the row's own function parses (names, lists, whole numbers).
 Value parsed_by(Setter set) { return {std::move(set), ""}; }
 
+// The field at a member path from the config, e.g. at(&C::estimator, &HierarchicalOptions::trim,
+// &TrimTrackingOptions::steady_g): a callable giving the field's reference.
+template <class... Member>
+auto at(Member... path) {
+  return [path...](DaemonConfig& c) -> decltype(auto) { return (c .* ... .* path); };
+}
+
 // One row of the flag table. A row without a name is a heading of the help. A switch has no
 // metavar and sets `on`; a value flag has a metavar and its value. `with` names what the flag
 // needs ("--trim-tracking"), `with_ok` tells whether the parsed config has it.
@@ -44,7 +51,7 @@ struct Flag {
   const char* metavar;
   const char* help;
   Value value;
-  bool DaemonConfig::*on = nullptr;
+  std::function<bool&(DaemonConfig&)> on;   // a switch's field: a member pointer or at(...)
   const char* with = nullptr;
   bool (*with_ok)(const DaemonConfig&) = nullptr;
 };
@@ -75,27 +82,33 @@ struct Interval {
   bool holds(double x) const { return (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi); }
 };
 
-template <class Field>
-Value number(Field DaemonConfig::*field, Interval range, std::string what) {
-  return {Setter([field, range, what](DaemonConfig& c, const std::string& v) -> std::string {
+// A number in the range, handed to `apply` (a row that sets more than one field).
+Value number_applied(Interval range, std::string what, std::function<void(DaemonConfig&, double)> apply) {
+  return {Setter([range, what, apply](DaemonConfig& c, const std::string& v) -> std::string {
             const std::optional<double> x = finite_number(v);
             if (!x || !range.holds(*x)) return "must be " + what;
-            c.*field = *x;
+            apply(c, *x);
             return "";
           }),
           what};
 }
 
+// Field (here and below): a member pointer of the config, or at(...).
+template <class Field>
+Value number(Field field, Interval range, std::string what) {
+  return number_applied(range, std::move(what), [field](DaemonConfig& c, double x) { std::invoke(field, c) = x; });
+}
+
 // One of the named choices, each setting the field to its value; the refusal lists them.
 template <class Field, class V>
-Value choice(Field DaemonConfig::*field, std::vector<std::pair<std::string, V>> choices) {
+Value choice(Field field, std::vector<std::pair<std::string, V>> choices) {
   std::string what;
   for (std::size_t i = 0; i < choices.size(); ++i)
     what += (i == 0 ? "'" : i + 1 == choices.size() ? " or '" : ", '") + choices[i].first + "'";
   return parsed_by([field, choices, what](DaemonConfig& c, const std::string& v) -> std::string {
     for (const auto& [name, value] : choices) {
       if (v == name) {
-        c.*field = value;
+        std::invoke(field, c) = value;
         return "";
       }
     }
@@ -103,7 +116,8 @@ Value choice(Field DaemonConfig::*field, std::vector<std::pair<std::string, V>> 
   });
 }
 
-Value on_off(std::optional<bool> DaemonConfig::*field) {
+template <class Field>
+Value on_off(Field field) {
   return choice(field, std::vector<std::pair<std::string, bool>>{{"on", true}, {"off", false}});
 }
 
@@ -117,7 +131,8 @@ Value text(std::string DaemonConfig::*field, std::string need) {
 }
 
 // Positive numbers separated by commas, "inf" for an input without actuator (actuator_limits.h).
-Value limits(std::vector<double> DaemonConfig::*field, const char* unit) {
+template <class Field>
+Value limits(Field field, const char* unit) {
   return parsed_by([field, unit](DaemonConfig& c, const std::string& v) -> std::string {
     std::vector<double> values;
     std::size_t start = 0;
@@ -132,16 +147,16 @@ Value limits(std::vector<double> DaemonConfig::*field, const char* unit) {
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
-    c.*field = values;
+    std::invoke(field, c) = values;
     return "";
   });
 }
 
-bool adapting(const DaemonConfig& c) { return c.adapt_turbulence; }
-bool tracking_trim(const DaemonConfig& c) { return c.trim_time_constant_s > 0.0; }
-bool climb_reference(const DaemonConfig& c) { return c.adapt_reference_climb.has_value(); }
-bool maneuver_dwell(const DaemonConfig& c) { return c.maneuver_dwell_s && *c.maneuver_dwell_s > 0.0; }
-bool maneuver_trim(const DaemonConfig& c) { return c.maneuver_trim; }
+bool adapting(const DaemonConfig& c) { return c.estimator.bank.adaptation.enabled; }
+bool tracking_trim(const DaemonConfig& c) { return c.estimator.trim.time_constant_s > 0.0; }
+bool climb_reference(const DaemonConfig& c) { return c.estimator.climb_reference.enabled(); }
+bool maneuver_dwell(const DaemonConfig& c) { return c.estimator.maneuver_dwell.dwell_s > 0.0; }
+bool maneuver_trim(const DaemonConfig& c) { return c.estimator.maneuver_trim.enabled; }
 bool set_tempering(const DaemonConfig& c) { return c.set_tempering.has_value(); }
 bool turbulence_set(const DaemonConfig& c) { return c.turbulence_banks; }
 
@@ -151,6 +166,9 @@ const std::string kDwellRange = "[0, " + format_value(kMaxDwellS) + "]";
 // live in its row and nowhere else.
 const std::vector<Flag>& flags() {
   using C = DaemonConfig;
+  using H = HierarchicalOptions;
+  constexpr auto E = &C::estimator;
+  const auto adaptation = [E](auto member) { return at(E, &H::bank, &FilterBankOptions::adaptation, member); };
   static const std::vector<Flag> table = {
       {nullptr, nullptr, "The bank and the transport"},
       {"--bank", "FILE",
@@ -206,25 +224,30 @@ const std::vector<Flag>& flags() {
       {"--declare-components", "",
        "a bank with partial-loss hypotheses: declare a surface's forms (complete and partial) as one "
        "component, naming the heavier form (declarer.h; default: each hypothesis alone)",
-       {}, &C::declare_components},
+       {}, at(E, &H::declare_components)},
       {"--partial-p-min", "P",
        "such a bank: its partial hypotheses' floor at level 0, the others keeping theirs (the core refuses a "
        "floor that leaves no room for a declaration; default 0: the level-0 floor)",
-       number(&C::partial_p_min, {0.0, 0.1}, "a probability in [0, 0.1]")},
+       number(at(E, &H::partial_p_min), {0.0, 0.1}, "a probability in [0, 0.1]")},
 
       {nullptr, nullptr, "The turbulence adaptation (turbulence_adaptation.h; default off: the bank as designed)"},
       {"--adapt-turbulence", "", "scale the likelihoods on line to the turbulence intensity", {},
-       &C::adapt_turbulence},
+       adaptation(&TurbulenceAdaptationOptions::enabled)},
       {"--adapt-reference", "RHO",
        "the residual power ratio above which the likelihoods are tempered (default: a scheduled bank's "
        "per-node references where it carries them, else 0.6)",
-       number(&C::adapt_reference, {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr, "--adapt-turbulence",
+       number_applied({0.0, 100.0}, "a power ratio in [0, 100]",
+                      [](C& c, double x) {   // one reference everywhere: not the nodes' own
+                        c.estimator.bank.adaptation.reference = x;
+                        c.estimator.schedule.node_adapt_reference = false;
+                      }),
+       nullptr, "--adapt-turbulence",
        adapting},
       {"--adapt-own-channels", "",
        "each filter's residual power counts per channel it reads, so a hypothesis whose failed sensor's "
        "channel is uninformative does not read the air calmer than it is (a turbulence bank set's members "
        "always run with it)",
-       {}, &C::adapt_own_channels, "--adapt-turbulence", adapting},
+       {}, adaptation(&TurbulenceAdaptationOptions::own_channels), "--adapt-turbulence", adapting},
       {"--adapt-counted-channel", "NAME",
        "the failed NAME's uninformative channel still counts in each filter's channel count ('f16mmae hil' "
        "gives vel with a scheduled bank's --adapt-turbulence, its default in process)",
@@ -237,29 +260,29 @@ const std::vector<Flag>& flags() {
          c.adapt_counted_channel = lower;
          return std::string();
        }),
-       nullptr, "--adapt-own-channels", [](const C& c) { return c.adapt_own_channels; }},
+       nullptr, "--adapt-own-channels", [](const C& c) { return c.estimator.bank.adaptation.own_channels; }},
       {"--adapt-reference-climb", "RHO",
        "the reference while the air data climb or descend faster than 300 ft/min or change Mach faster than "
        "the Mach-rate gate (default: off, the reference above everywhere)",
-       number(&C::adapt_reference_climb, {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr,
+       number(at(E, &H::climb_reference, &ClimbReferenceOptions::reference), {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr,
        "--adapt-turbulence", adapting},
       {"--adapt-reference-climb-hold", "S", "keep it S s after the climb or speed change ends (default 0)",
-       number(&C::adapt_reference_climb_hold_s, {0.0, 3600.0}, "a time in seconds in [0, 3600]"), nullptr,
+       number(at(E, &H::climb_reference, &ClimbReferenceOptions::hold_s), {0.0, 3600.0}, "a time in seconds in [0, 3600]"), nullptr,
        "--adapt-reference-climb", climb_reference},
       {"--adapt-reference-climb-dwell", "S",
        "a level-0 declaration while that reference is in force (the climb, descent or speed change and its "
        "hold) needs S s above the threshold instead of the dwell (default 0: the dwell everywhere)",
-       number(&C::adapt_reference_climb_dwell_s, {0.0, kMaxDwellS},
+       number(at(E, &H::climb_reference, &ClimbReferenceOptions::dwell_s), {0.0, kMaxDwellS},
               "a time in seconds in " + kDwellRange + " (0: the dwell)"),
        nullptr, "--adapt-reference-climb", climb_reference},
       {"--adapt-channel-weight", "G",
        "with --adapt-turbulence or --turbulence-banks: temper each channel by s^(1-G) s_j^G, s_j its own "
        "scale (default 0: one scale common to all)",
-       number(&C::adapt_channel_weight, {0.0, 1.0}, "a weight in [0, 1]")},
+       number(adaptation(&TurbulenceAdaptationOptions::channel_weight), {0.0, 1.0}, "a weight in [0, 1]")},
       {"--maneuver-reference", "RHO",
        "the adaptation's reference while the aircraft maneuvers (the gate of --maneuver-dwell), unless the "
        "climb reference is in force (default: off)",
-       number(&C::maneuver_reference, {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr,
+       number(at(E, &H::maneuver_dwell, &ManeuverDwellOptions::reference), {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr,
        "--adapt-turbulence", adapting},
 
       {nullptr, nullptr, "The turbulence bank set's per-hypothesis tempering (with --turbulence-banks)"},
@@ -307,110 +330,114 @@ const std::vector<Flag>& flags() {
        "a level-0 declaration needs S s above the threshold while the aircraft maneuvers (the estimated load "
        "factor, low-passed, off the trim by more than --maneuver-dwell-g, or the air data climb or change "
        "Mach) and for --maneuver-dwell-hold after; elsewhere the dwell (default 0: the dwell everywhere)",
-       number(&C::maneuver_dwell_s, {0.0, kMaxDwellS}, "a time in seconds in " + kDwellRange + " (0: the dwell)")},
+       number(at(E, &H::maneuver_dwell, &ManeuverDwellOptions::dwell_s), {0.0, kMaxDwellS}, "a time in seconds in " + kDwellRange + " (0: the dwell)")},
       {"--maneuver-dwell-hold", "S", "its hold after a maneuver (default 0)",
-       number(&C::maneuver_dwell_hold_s, {0.0, 3600.0}, "a time in seconds in [0, 3600]"), nullptr,
+       number(at(E, &H::maneuver_dwell, &ManeuverDwellOptions::hold_s), {0.0, 3600.0}, "a time in seconds in [0, 3600]"), nullptr,
        "--maneuver-dwell S > 0", maneuver_dwell},
       {"--maneuver-dwell-g", "G", "the load-factor gate, g (default 0.1)",
-       number(&C::maneuver_dwell_g, {0.0, 10.0, true}, "a load factor in g, > 0 and <= 10"), nullptr,
+       number(at(E, &H::maneuver_dwell, &ManeuverDwellOptions::g), {0.0, 10.0, true}, "a load factor in g, > 0 and <= 10"), nullptr,
        "--maneuver-dwell S > 0", maneuver_dwell},
       {"--maneuver-dwell-time-constant", "TAU_S", "the load factor's low-pass, s (0: none; default 2)",
-       number(&C::maneuver_dwell_time_constant_s, {0.0, 60.0},
+       number(at(E, &H::maneuver_dwell, &ManeuverDwellOptions::time_constant_s), {0.0, 60.0},
               "a time constant in seconds in [0, 60] (0: no low-pass)"),
        nullptr, "--maneuver-dwell S > 0", maneuver_dwell},
       {"--maneuver-mach-rate", "MACH_PER_S",
        "the air data's Mach changing faster than this, per s, opens the gates of --maneuver-dwell and "
        "--adapt-reference-climb (air_data_rates.h; default 0.001)",
-       number(&C::maneuver_mach_per_s, {0.0, 1.0, true}, "a Mach rate per second, > 0 and <= 1")},
+       number_applied({0.0, 1.0, true}, "a Mach rate per second, > 0 and <= 1",
+                      [](C& c, double x) {   // one gate for both (estimator_init.h)
+                        c.estimator.maneuver_dwell.mach_per_s = c.estimator.climb_reference.mach_per_s = x;
+                      })},
       {"--maneuver-kinematics", "",
        "add the turn kinematics and gravity terms the wings-level linearization drops to every filter's "
        "propagation",
-       {}, &C::maneuver_kinematics},
+       {}, at(E, &H::maneuver, &ManeuverOptions::kinematics)},
       {"--maneuver-tempering", "G",
        "divide every likelihood by 1 + (dn/G)^2, dn the estimated load factor off trim, g (default: off; "
        "with --turbulence-banks the set file's recommended tempering)",
-       number(&C::maneuver_tempering_g, {0.0, 100.0, true}, "a load factor in g, > 0 and <= 100")},
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_g), {0.0, 100.0, true}, "a load factor in g, > 0 and <= 100")},
       {"--maneuver-tempering-deadband", "D", "only the load factor beyond D g tempers (default 0: no dead band)",
-       number(&C::maneuver_tempering_deadband_g, {0.0, 10.0}, "a load factor in g in [0, 10]"), nullptr,
-       "--maneuver-tempering", [](const C& c) { return c.maneuver_tempering_g > 0.0; }},
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_deadband_g), {0.0, 10.0}, "a load factor in g in [0, 10]"), nullptr,
+       "--maneuver-tempering", [](const C& c) { return c.estimator.maneuver.tempering(); }},
       {"--maneuver-trim", "",
        "the filters' trim follows the climb and acceleration the air data show (each node's climb and "
        "acceleration trim offsets)",
-       {}, &C::maneuver_trim},
+       {}, at(E, &H::maneuver_trim, &ManeuverTrimOptions::enabled)},
       {"--maneuver-trim-time-constant", "T_S", "the rates' low-passes, T_S and 5 T_S s (default 0.5)",
-       number(&C::maneuver_trim_time_constant_s, {0.05, 60.0}, "a time constant in seconds in [0.05, 60]"),
+       number(at(E, &H::maneuver_trim, &ManeuverTrimOptions::time_constant_s), {0.05, 60.0}, "a time constant in seconds in [0.05, 60]"),
        nullptr, "--maneuver-trim", maneuver_trim},
       {"--maneuver-trim-accel", "on|off", "off keeps the climb's trim only (default on)",
-       on_off(&C::maneuver_trim_accel), nullptr, "--maneuver-trim", maneuver_trim},
+       on_off(at(E, &H::maneuver_trim, &ManeuverTrimOptions::accel)), nullptr, "--maneuver-trim", maneuver_trim},
       {"--maneuver-trim-rates", "air|inertial",
        "the climb angle and acceleration from the air data (default) or from the rate gyros, AOA and VEL "
        "against the air data (inertial_flight_path.h)",
-       choice(&C::maneuver_trim_inertial, std::vector<std::pair<std::string, bool>>{{"air", false}, {"inertial", true}}),
+       choice(at(E, &H::maneuver_trim, &ManeuverTrimOptions::inertial), std::vector<std::pair<std::string, bool>>{{"air", false}, {"inertial", true}}),
        nullptr, "--maneuver-trim", maneuver_trim},
       {"--maneuver-trim-blend", "T_S", "the inertial rates' blend time constant (default 2)",
-       number(&C::maneuver_trim_blend_s, {0.05, 600.0}, "a time constant in seconds in [0.05, 600]"), nullptr,
+       number(at(E, &H::maneuver_trim, &ManeuverTrimOptions::inertial_path, &InertialFlightPathOptions::blend_time_constant_s), {0.05, 600.0}, "a time constant in seconds in [0.05, 600]"), nullptr,
        "--maneuver-trim", maneuver_trim},
       {"--maneuver-trim-accel-airspeed", "W0",
        "the acceleration from VEL / cos(AOA) through a second-order differentiator of natural frequency W0 "
        "rad/s, delay 1.41/W0 s (maneuver_trim.h, AirspeedAccel; default: the air data's)",
-       number(&C::maneuver_trim_accel_airspeed_rad_s, {0.05, 20.0}, "a natural frequency in rad/s in [0.05, 20]"),
+       number(at(E, &H::maneuver_trim, &ManeuverTrimOptions::accel_airspeed_rad_s), {0.05, 20.0}, "a natural frequency in rad/s in [0.05, 20]"),
        {}, "--maneuver-trim and the air data's rates",
-       [](const C& c) { return c.maneuver_trim && !c.maneuver_trim_inertial.value_or(false); }},
+       [](const C& c) { return c.estimator.maneuver_trim.enabled && !c.estimator.maneuver_trim.inertial; }},
 
       {nullptr, nullptr, "Level 1: a failure's dual bank on line"},
       {"--level1-p-min", "P",
        "the floor while a failure's level-1 (dual) bank is on line (below (1 - threshold)/12; default 0: "
        "the level-0 floor)",
-       number(&C::level1_p_min, {0.0, (1.0 - kDefaultThreshold) / (kF16Hypotheses - 1), false, true},
+       number(at(E, &H::level1_p_min), {0.0, (1.0 - kDefaultThreshold) / (kF16Hypotheses - 1), false, true},
               "a probability in [0, (1 - 0.9)/12) (the core checks (1 - threshold)/(K - 1) for the bank)")},
       {"--level1-dwell-s", "S", "the dwell while it is on line (default 0: the dwell)",
-       number(&C::level1_dwell_s, {0.0, kMaxDwellS}, "a time in seconds in " + kDwellRange + " (0: the dwell)")},
+       number(at(E, &H::level1_dwell_s), {0.0, kMaxDwellS}, "a time in seconds in " + kDwellRange + " (0: the dwell)")},
       {"--level1-allowance", "K",
        "the duals' drift allowance while it is on line: each dual's log-odds against the failure drift down "
        "K nats a frame unless its evidence outgrows it (default 0: none)",
-       number(&C::level1_allowance, {0.0, 5.0}, "a number of nats a frame in [0, 5]")},
+       number(at(E, &H::level1_allowance), {0.0, 5.0}, "a number of nats a frame in [0, 5]")},
       {"--departure-hold", "on|off",
        "declare nothing while the measurements leave the linearization, nor 1 s after (default on)",
-       on_off(&C::departure_hold)},
+       on_off(at(E, &H::departure, &DepartureOptions::enabled))},
 
       {nullptr, nullptr, "Trim tracking (trim_tracker.h)"},
       {"--trim-tracking", "TAU_S",
        "track the trim on line with time constant TAU_S s (e.g. 30), frozen while a failure hypothesis "
        "rises or is declared",
-       number(&C::trim_time_constant_s, {0.0, 1e6, true}, "a time constant in seconds, > 0 and <= 1e6")},
+       number(at(E, &H::trim, &TrimTrackingOptions::time_constant_s), {0.0, 1e6, true}, "a time constant in seconds, > 0 and <= 1e6")},
       {"--trim-freeze-probability", "P", "a failure hypothesis above P freezes the trim estimate (default 0.05)",
-       number(&C::trim_freeze_probability, {0.0, 1.0, true}, "a probability in (0, 1]"), nullptr,
+       number(at(E, &H::trim, &TrimTrackingOptions::freeze_probability), {0.0, 1.0, true}, "a probability in (0, 1]"), nullptr,
        "--trim-tracking", tracking_trim},
       {"--trim-tracking-steady", "G",
        "track only in steady level flight, frozen while the estimated load factor is more than G g off the "
        "trim, the roll rate above 5 deg/s or the air data climb or change Mach; of the measurements only "
        "AOA (default: off)",
-       number(&C::trim_steady_g, {0.0, 10.0, true}, "a load factor in g, > 0 and <= 10"), nullptr,
+       number(at(E, &H::trim, &TrimTrackingOptions::steady_g), {0.0, 10.0, true}, "a load factor in g, > 0 and <= 10"), nullptr,
        "--trim-tracking", tracking_trim},
       {"--trim-tracking-load-factor", "on|off",
        "on applies the tracked AOA offset as n times the 1-g offset, n the measured AZ low-passed (a lighter "
        "aircraft's alpha offset grows with the load factor; default off)",
-       on_off(&C::trim_load_factor), nullptr, "--trim-tracking-steady",
-       [](const C& c) { return c.trim_steady_g > 0.0; }},
+       on_off(at(E, &H::trim, &TrimTrackingOptions::load_factor)), nullptr, "--trim-tracking-steady",
+       [](const C& c) { return c.estimator.trim.steady_g > 0.0; }},
 
       {nullptr, nullptr, "A scheduled bank (*.f16sched)"},
       {"--schedule-mode", "interpolate|nearest",
        "interpolate between grid points on the frames' air data (default), or the nearest point, switched "
        "with hysteresis",
-       choice(&C::schedule_nearest,
-              std::vector<std::pair<std::string, bool>>{{"interpolate", false}, {"nearest", true}})},
+       choice(at(E, &H::schedule, &ScheduleOptions::mode),
+              std::vector<std::pair<std::string, ScheduleMode>>{{"interpolate", ScheduleMode::kInterpolate},
+                                                                {"nearest", ScheduleMode::kNearest}})},
       {"--air-data-time-constant", "TAU_S",
        "the time constant of the air data's low-pass the schedule follows (a running mean for its first "
        "TAU_S; 0: none; default: the core's, 2)",
-       number(&C::air_data_time_constant_s, {0.0, 60.0}, "a time constant in seconds in [0, 60] (0: no low-pass)")},
+       number(at(E, &H::schedule, &ScheduleOptions::air_data_time_constant_s), {0.0, 60.0}, "a time constant in seconds in [0, 60] (0: no low-pass)")},
 
       {nullptr, nullptr, "The actuators (actuator_limits.h; both or none)"},
       {"--actuator-rate-limits", "R1,...,R5[,inf]",
        "the actuators' rate limits, rad/s, one per input, applied to the commands the filters see (inf: an "
        "input without actuator, e.g. the throttle)",
-       limits(&C::actuator_rate_limits_rad_s, "rad/s")},
+       limits(at(E, &H::actuators, &ActuatorLimitOptions::rate_limit_rad_s), "rad/s")},
       {"--actuator-position-limits", "L1,...,L5[,inf]", "their position limits, rad, one per input",
-       limits(&C::actuator_position_limits_rad, "rad")},
+       limits(at(E, &H::actuators, &ActuatorLimitOptions::position_limit_rad), "rad")},
 
       {nullptr, nullptr, "The process"},
       {"--max-frames", "N", "exit after publishing N status frames (default: until signalled)",
@@ -551,7 +578,7 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     given.insert(f);
     if (!*f->metavar) {  // a switch
       if (inline_value) return usage_error(key + " takes no value, got '" + value + "'");
-      c.*(f->on) = true;
+      f->on(c) = true;
       continue;
     }
     if (!inline_value) {
@@ -566,10 +593,11 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     if (f.with && given.count(&f) && !f.with_ok(c))
       return usage_error(std::string(f.name) + " applies with " + f.with + " only");
   }
-  if (c.actuator_rate_limits_rad_s.size() != c.actuator_position_limits_rad.size())
+  const ActuatorLimitOptions& actuators = c.estimator.actuators;
+  if (actuators.rate_limit_rad_s.size() != actuators.position_limit_rad.size())
     return usage_error("--actuator-rate-limits and --actuator-position-limits go together, one value per input each "
-                       "(got " + std::to_string(c.actuator_rate_limits_rad_s.size()) + " and " +
-                       std::to_string(c.actuator_position_limits_rad.size()) + ")");
+                       "(got " + std::to_string(actuators.rate_limit_rad_s.size()) + " and " +
+                       std::to_string(actuators.position_limit_rad.size()) + ")");
   for (const auto& [name, us] : {std::pair<const char*, double>{"--warm-lead-us", c.warm_lead_us},
                                   std::pair<const char*, double>{"--rewarm-us", c.rewarm_us}}) {
     if (us * 1e-6 * c.rate_hz >= 1.0) {

@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mmae-daemon: error: cannot use bank file '%s': %s\n", cfg.bank_path.c_str(), e.what());
     return 1;
   }
-  f16mmae::HierarchicalOptions options;
+  f16mmae::HierarchicalOptions options = cfg.estimator;   // the flags over the core's defaults
   try {
     if (std::abs(bank.frame_rate_hz - cfg.rate_hz) > 1e-9 * cfg.rate_hz) {
       std::fprintf(stderr,
@@ -134,8 +134,6 @@ int main(int argc, char** argv) {
       for (const auto& h : bank.hypotheses)
         if (h.dwell_nats > 0.0) options.declarer.dwell_nats_per_hypothesis[h.name] = h.dwell_nats;
     }
-    options.bank.adaptation.enabled = cfg.adapt_turbulence;
-    options.bank.adaptation.own_channels = cfg.adapt_own_channels;
     if (!cfg.adapt_counted_channel.empty()) {   // its bit in the bank's measurement order
       const auto& m = bank.measurement_names;
       std::string upper = cfg.adapt_counted_channel;
@@ -148,30 +146,6 @@ int main(int argc, char** argv) {
       }
       options.bank.adaptation.counted_channels = 1u << static_cast<unsigned>(it - m.begin());
     }
-    if (cfg.adapt_reference) {   // one reference everywhere; else a schedule's per-node ones, if it has them
-      options.bank.adaptation.reference = *cfg.adapt_reference;
-      options.schedule.node_adapt_reference = false;
-    }
-    if (cfg.adapt_reference_climb) options.climb_reference.reference = *cfg.adapt_reference_climb;
-    if (cfg.adapt_reference_climb_hold_s) options.climb_reference.hold_s = *cfg.adapt_reference_climb_hold_s;
-    if (cfg.adapt_reference_climb_dwell_s) options.climb_reference.dwell_s = *cfg.adapt_reference_climb_dwell_s;
-    options.trim.time_constant_s = cfg.trim_time_constant_s;
-    if (cfg.trim_freeze_probability) options.trim.freeze_probability = *cfg.trim_freeze_probability;
-    options.trim.steady_g = cfg.trim_steady_g;
-    if (cfg.trim_load_factor) options.trim.load_factor = *cfg.trim_load_factor;
-    if (cfg.schedule_nearest) options.schedule.mode = f16mmae::ScheduleMode::kNearest;
-    if (cfg.air_data_time_constant_s) options.schedule.air_data_time_constant_s = *cfg.air_data_time_constant_s;
-    options.maneuver.kinematics = cfg.maneuver_kinematics;
-    options.maneuver.tempering_g = cfg.maneuver_tempering_g;
-    if (cfg.maneuver_tempering_deadband_g) options.maneuver.tempering_deadband_g = *cfg.maneuver_tempering_deadband_g;
-    options.maneuver_trim.enabled = cfg.maneuver_trim;
-    if (cfg.maneuver_trim_time_constant_s) options.maneuver_trim.time_constant_s = *cfg.maneuver_trim_time_constant_s;
-    if (cfg.maneuver_trim_accel) options.maneuver_trim.accel = *cfg.maneuver_trim_accel;
-    if (cfg.maneuver_trim_inertial) options.maneuver_trim.inertial = *cfg.maneuver_trim_inertial;
-    if (cfg.maneuver_trim_blend_s) options.maneuver_trim.inertial_path.blend_time_constant_s = *cfg.maneuver_trim_blend_s;
-    if (cfg.maneuver_trim_accel_airspeed_rad_s)
-      options.maneuver_trim.accel_airspeed_rad_s = *cfg.maneuver_trim_accel_airspeed_rad_s;
-    if (cfg.adapt_channel_weight) options.bank.adaptation.channel_weight = *cfg.adapt_channel_weight;
     if (cfg.set_tempering) {   // the per-hypothesis tempering; its fully tempered ones by name, as bits
       options.bank.adaptation.hypothesis_weight = *cfg.set_tempering;
       options.bank.adaptation.spare_rho = cfg.set_tempering_rho.value_or(0.0);
@@ -190,22 +164,7 @@ int main(int argc, char** argv) {
       }
       options.bank.adaptation.full_tempering = full;
     }
-    if (cfg.maneuver_dwell_s) options.maneuver_dwell.dwell_s = *cfg.maneuver_dwell_s;
-    if (cfg.maneuver_dwell_hold_s) options.maneuver_dwell.hold_s = *cfg.maneuver_dwell_hold_s;
-    if (cfg.maneuver_dwell_g) options.maneuver_dwell.g = *cfg.maneuver_dwell_g;
-    if (cfg.maneuver_dwell_time_constant_s) options.maneuver_dwell.time_constant_s = *cfg.maneuver_dwell_time_constant_s;
-    if (cfg.maneuver_reference) options.maneuver_dwell.reference = *cfg.maneuver_reference;
-    if (cfg.maneuver_mach_per_s)   // one Mach-rate gate for both (estimator_init.h)
-      options.maneuver_dwell.mach_per_s = options.climb_reference.mach_per_s = *cfg.maneuver_mach_per_s;
-    if (cfg.level1_p_min) options.level1_p_min = *cfg.level1_p_min;
-    if (cfg.level1_dwell_s) options.level1_dwell_s = *cfg.level1_dwell_s;
-    if (cfg.level1_allowance) options.level1_allowance = *cfg.level1_allowance;
-    if (cfg.partial_p_min) options.partial_p_min = *cfg.partial_p_min;
-    if (cfg.departure_hold) options.departure.enabled = *cfg.departure_hold;
-    options.declare_components = cfg.declare_components;
     options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation
-    options.actuators.rate_limit_rad_s = cfg.actuator_rate_limits_rad_s;
-    options.actuators.position_limit_rad = cfg.actuator_position_limits_rad;
     if (set && cfg.turbulence_banks) {
       executive = std::make_unique<Executive>(*set, options);
       bank_hash = set->content_hash;
@@ -298,7 +257,8 @@ int main(int argc, char** argv) {
                     f16mmae::format_value(running.maneuver_dwell.hold_s) + " s";
       if (running.maneuver_dwell.has_reference())
         maneuver += ", maneuver reference " + f16mmae::format_value(running.maneuver_dwell.reference);
-      if (cfg.maneuver_mach_per_s)   // the gates in force, as the core holds them
+      if (running.maneuver_dwell.mach_per_s != f16mmae::AirDataRates::kMachPerS ||
+          running.climb_reference.mach_per_s != f16mmae::AirDataRates::kMachPerS)   // the gates in force, off their default
         maneuver += running.maneuver_dwell.mach_per_s == running.climb_reference.mach_per_s
                         ? ", Mach-rate gate " + f16mmae::format_value(running.maneuver_dwell.mach_per_s) + "/s"
                         : ", Mach-rate gates " + f16mmae::format_value(running.maneuver_dwell.mach_per_s) +
@@ -337,7 +297,7 @@ int main(int argc, char** argv) {
                   bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), floor.c_str(),
                   options.declarer.threshold, options.declarer.dwell_s, evidence_dwell.c_str(), start_up.c_str(),
                   adaptation_climb.c_str(),
-                  trim.c_str(), cfg.schedule_nearest ? "nearest" : "interpolate",
+                  trim.c_str(), running.schedule.mode == f16mmae::ScheduleMode::kNearest ? "nearest" : "interpolate",
                   f16mmae::format_value(options.schedule.air_data_time_constant_s).c_str(), maneuver.c_str(), cfg.lcm_url.c_str(),
                   channels.sensors.c_str(), channels.status.c_str(),
                   auth ? "frames authenticated" : "frames NOT authenticated");

@@ -103,13 +103,14 @@ TEST(DaemonConfig, SetTemperingMargin) {
 }
 
 TEST(DaemonConfig, ManeuverMachRate) {
-  EXPECT_FALSE(parse_daemon_args({"--bank", "b"}, nullptr).config.maneuver_mach_per_s.has_value());   // the core's
+  EXPECT_EQ(parse_daemon_args({"--bank", "b"}, nullptr).config.estimator.maneuver_dwell.mach_per_s,
+            f16mmae::AirDataRates::kMachPerS);   // the core's
   auto r = parse_daemon_args({"--bank", "b", "--maneuver-mach-rate", "0.003"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(*r.config.maneuver_mach_per_s, 0.003);
+  EXPECT_EQ(r.config.estimator.maneuver_dwell.mach_per_s, 0.003);
   r = parse_daemon_args({"--bank", "b", "--maneuver-mach-rate=1"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(*r.config.maneuver_mach_per_s, 1.0);
+  EXPECT_EQ(r.config.estimator.maneuver_dwell.mach_per_s, 1.0);
   for (const char* bad : {"0", "-0.001", "1.5", "nan", "fast"}) {
     r = parse_daemon_args({"--bank", "b", "--maneuver-mach-rate", bad}, nullptr);
     EXPECT_FALSE(r.ok) << bad;
@@ -135,18 +136,18 @@ TEST(DaemonConfig, EvidenceDwellPerHypothesis) {
 TEST(DaemonConfig, OnLineEstimatorOptions) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_FALSE(r.config.adapt_turbulence);
-  EXPECT_EQ(r.config.trim_time_constant_s, 0.0);
-  EXPECT_FALSE(r.config.trim_freeze_probability.has_value());
-  EXPECT_FALSE(r.config.schedule_nearest);
+  EXPECT_FALSE(r.config.estimator.bank.adaptation.enabled);
+  EXPECT_EQ(r.config.estimator.trim.time_constant_s, 0.0);
+  EXPECT_EQ(r.config.estimator.trim.freeze_probability, f16mmae::TrimTrackingOptions{}.freeze_probability);
+  EXPECT_FALSE(r.config.estimator.schedule.mode == f16mmae::ScheduleMode::kNearest);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--trim-tracking", "30", "--trim-freeze-probability=0.2",
                          "--schedule-mode", "nearest"},
                         nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_TRUE(r.config.adapt_turbulence);
-  EXPECT_EQ(r.config.trim_time_constant_s, 30.0);
-  EXPECT_EQ(*r.config.trim_freeze_probability, 0.2);
-  EXPECT_TRUE(r.config.schedule_nearest);
+  EXPECT_TRUE(r.config.estimator.bank.adaptation.enabled);
+  EXPECT_EQ(r.config.estimator.trim.time_constant_s, 30.0);
+  EXPECT_EQ(r.config.estimator.trim.freeze_probability, 0.2);
+  EXPECT_TRUE(r.config.estimator.schedule.mode == f16mmae::ScheduleMode::kNearest);
   for (const char* bad : {"0", "-1", "nan", "1e7", "slow"}) {
     r = parse_daemon_args({"--bank", "b", "--trim-tracking", bad}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;
@@ -159,10 +160,10 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   }
   r = parse_daemon_args({"--bank", "b", "--trim-freeze-probability", "0.2"}, nullptr);
   EXPECT_NE(r.message.find("applies with --trim-tracking only"), std::string::npos) << r.message;
-  EXPECT_EQ(r.config.trim_steady_g, 0.0);   // steady tracking: off unless given
+  EXPECT_EQ(r.config.estimator.trim.steady_g, 0.0);   // steady tracking: off unless given
   r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(r.config.trim_steady_g, 0.1);
+  EXPECT_EQ(r.config.estimator.trim.steady_g, 0.1);
   for (const char* bad : {"0", "-0.1", "10.5", "inf", "steady"}) {
     r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", bad}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;
@@ -171,11 +172,11 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   }
   r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_FALSE(r.config.trim_load_factor.has_value());   // load-factor scaling: the core's (off) unless given
+  EXPECT_FALSE(r.config.estimator.trim.load_factor);   // load-factor scaling: the core's (off) unless given
   r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
                          "--trim-tracking-load-factor", "on"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_TRUE(*r.config.trim_load_factor);
+  EXPECT_TRUE(r.config.estimator.trim.load_factor);
   r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
                          "--trim-tracking-load-factor", "yes"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
@@ -187,9 +188,9 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
                          "--adapt-reference-climb-hold=30"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(*r.config.adapt_reference_climb, 0.6);
-  EXPECT_EQ(*r.config.adapt_reference_climb_hold_s, 30.0);
-  EXPECT_FALSE(r.config.adapt_reference_climb_dwell_s);   // the climb dwell: the dwell unless given
+  EXPECT_EQ(r.config.estimator.climb_reference.reference, 0.6);
+  EXPECT_EQ(r.config.estimator.climb_reference.hold_s, 30.0);
+  EXPECT_EQ(r.config.estimator.climb_reference.dwell_s, 0.0);   // the climb dwell: the dwell unless given
   for (const char* bad : {"-0.1", "101", "nan", "x"}) {
     r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", bad}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;
@@ -201,7 +202,7 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
                          "--adapt-reference-climb-dwell", "1.5"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(*r.config.adapt_reference_climb_dwell_s, 1.5);
+  EXPECT_EQ(r.config.estimator.climb_reference.dwell_s, 1.5);
   for (const char* bad : {"-0.1", "60.5", "nan", "long"}) {
     r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
                            "--adapt-reference-climb-dwell", bad}, nullptr);
@@ -224,11 +225,11 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_NE(r.message.find("--trim-tracking-steady applies with --trim-tracking only"), std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference=0.76"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(*r.config.adapt_reference, 0.76);
-  EXPECT_FALSE(r.config.adapt_own_channels);   // rho over all channels unless given
+  EXPECT_EQ(r.config.estimator.bank.adaptation.reference, 0.76);
+  EXPECT_FALSE(r.config.estimator.bank.adaptation.own_channels);   // rho over all channels unless given
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-own-channels"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_TRUE(r.config.adapt_own_channels);
+  EXPECT_TRUE(r.config.estimator.bank.adaptation.own_channels);
   r = parse_daemon_args({"--bank", "b", "--adapt-own-channels"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-own-channels applies with --adapt-turbulence only"), std::string::npos)
@@ -262,11 +263,11 @@ TEST(DaemonConfig, AirDataTimeConstant) {
   // unset: the core's default (scheduled_filters.h); 0 (no low-pass) to 60 s; anything else refused
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_FALSE(r.config.air_data_time_constant_s.has_value());
+  EXPECT_EQ(r.config.estimator.schedule.air_data_time_constant_s, f16mmae::ScheduleOptions{}.air_data_time_constant_s);
   for (const auto& [text, tau] : {std::pair<const char*, double>{"0.5", 0.5}, {"0", 0.0}, {"60", 60.0}}) {
     r = parse_daemon_args({"--bank", "b", std::string("--air-data-time-constant=") + text}, nullptr);
     ASSERT_TRUE(r.ok) << r.message;
-    EXPECT_EQ(*r.config.air_data_time_constant_s, tau) << text;
+    EXPECT_EQ(r.config.estimator.schedule.air_data_time_constant_s, tau) << text;
   }
   for (const char* bad : {"-0.1", "60.5", "nan", "inf", "fast", ""}) {
     r = parse_daemon_args({"--bank", "b", "--air-data-time-constant", bad}, nullptr);
@@ -283,10 +284,10 @@ TEST(DaemonConfig, ManeuverModelOptions) {
                               "--actuator-rate-limits", "1,1,1.5,1.5,2", "--actuator-position-limits=0.4,0.4,0.3,0.3,0.5"},
                              nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_TRUE(r.config.maneuver_kinematics);
-  EXPECT_EQ(r.config.maneuver_tempering_g, 0.1);
-  EXPECT_EQ(r.config.actuator_rate_limits_rad_s, (std::vector<double>{1, 1, 1.5, 1.5, 2}));
-  EXPECT_EQ(r.config.actuator_position_limits_rad, (std::vector<double>{0.4, 0.4, 0.3, 0.3, 0.5}));
+  EXPECT_TRUE(r.config.estimator.maneuver.kinematics);
+  EXPECT_EQ(r.config.estimator.maneuver.tempering_g, 0.1);
+  EXPECT_EQ(r.config.estimator.actuators.rate_limit_rad_s, (std::vector<double>{1, 1, 1.5, 1.5, 2}));
+  EXPECT_EQ(r.config.estimator.actuators.position_limit_rad, (std::vector<double>{0.4, 0.4, 0.3, 0.3, 0.5}));
   for (const char* bad : {"0", "-0.1", "x", "1e3"}) {
     r = parse_daemon_args({"--bank", "b", "--maneuver-tempering", bad}, nullptr);
     EXPECT_NE(r.message.find(std::string("got '") + bad + "'"), std::string::npos) << r.message;
@@ -303,8 +304,8 @@ TEST(DaemonConfig, ManeuverModelOptions) {
                          "--actuator-position-limits", "0.4,0.4,0.3,0.3,0.5,inf"},
                         nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_TRUE(std::isinf(r.config.actuator_rate_limits_rad_s.at(5)) && r.config.actuator_rate_limits_rad_s[5] > 0);
-  EXPECT_TRUE(std::isinf(r.config.actuator_position_limits_rad.at(5)));
+  EXPECT_TRUE(std::isinf(r.config.estimator.actuators.rate_limit_rad_s.at(5)) && r.config.estimator.actuators.rate_limit_rad_s[5] > 0);
+  EXPECT_TRUE(std::isinf(r.config.estimator.actuators.position_limit_rad.at(5)));
   for (const char* bad : {"1,-inf", "1,nan", "1,infinity"}) {
     r = parse_daemon_args({"--bank", "b", "--actuator-rate-limits", bad, "--actuator-position-limits", "1"}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;
@@ -313,24 +314,24 @@ TEST(DaemonConfig, ManeuverModelOptions) {
 
 TEST(DaemonConfig, ManeuverTrimOptions) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
-  ASSERT_TRUE(r.ok) << r.message;   // unset: off
-  EXPECT_FALSE(r.config.maneuver_trim);
-  EXPECT_FALSE(r.config.maneuver_trim_time_constant_s);
+  ASSERT_TRUE(r.ok) << r.message;   // unset: the core's (off)
+  EXPECT_FALSE(r.config.estimator.maneuver_trim.enabled);
+  EXPECT_EQ(r.config.estimator.maneuver_trim.time_constant_s, f16mmae::ManeuverTrimOptions{}.time_constant_s);
   r = parse_daemon_args({"--bank", "b", "--maneuver-trim", "--maneuver-trim-time-constant=0.25",
                          "--maneuver-trim-accel", "off"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_TRUE(r.config.maneuver_trim);
-  EXPECT_EQ(*r.config.maneuver_trim_time_constant_s, 0.25);
-  EXPECT_FALSE(*r.config.maneuver_trim_accel);
-  EXPECT_FALSE(r.config.maneuver_trim_inertial);
+  EXPECT_TRUE(r.config.estimator.maneuver_trim.enabled);
+  EXPECT_EQ(r.config.estimator.maneuver_trim.time_constant_s, 0.25);
+  EXPECT_FALSE(r.config.estimator.maneuver_trim.accel);
+  EXPECT_FALSE(r.config.estimator.maneuver_trim.inertial);
   r = parse_daemon_args({"--bank", "b", "--maneuver-trim", "--maneuver-trim-rates", "inertial",
                          "--maneuver-trim-blend", "3"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_TRUE(*r.config.maneuver_trim_inertial);
-  EXPECT_EQ(*r.config.maneuver_trim_blend_s, 3.0);
+  EXPECT_TRUE(r.config.estimator.maneuver_trim.inertial);
+  EXPECT_EQ(r.config.estimator.maneuver_trim.inertial_path.blend_time_constant_s, 3.0);
   r = parse_daemon_args({"--bank", "b", "--maneuver-trim", "--maneuver-trim-accel-airspeed", "1.5"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(*r.config.maneuver_trim_accel_airspeed_rad_s, 1.5);
+  EXPECT_EQ(r.config.estimator.maneuver_trim.accel_airspeed_rad_s, 1.5);
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
       {{"--maneuver-trim-time-constant", "0.5"}, "--maneuver-trim-time-constant applies with --maneuver-trim only"},
       {{"--maneuver-trim", "--maneuver-trim-time-constant", "0.01"},
@@ -364,10 +365,11 @@ TEST(DaemonConfig, ManeuverTrimOptions) {
 TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   auto r = parse_daemon_args({"--bank", "b"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;   // unset: the core's defaults
-  EXPECT_FALSE(r.config.maneuver_dwell_s || r.config.maneuver_reference || r.config.level1_p_min ||
-               r.config.level1_dwell_s || r.config.departure_hold || r.config.adapt_channel_weight ||
-               r.config.maneuver_tempering_deadband_g || r.config.declare_components || r.config.level1_allowance ||
-               r.config.partial_p_min);
+  const f16mmae::HierarchicalOptions& e = r.config.estimator;
+  EXPECT_FALSE(e.maneuver_dwell.dwell_s || e.maneuver_dwell.has_reference() || e.level1_p_min || e.level1_dwell_s ||
+               e.bank.adaptation.channel_weight || e.maneuver.tempering_deadband_g || e.declare_components ||
+               e.level1_allowance || e.partial_p_min);
+  EXPECT_TRUE(e.departure.enabled);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--maneuver-dwell", "1.5", "--maneuver-dwell-hold=30",
                          "--maneuver-dwell-g", "0.08", "--maneuver-dwell-time-constant", "1", "--maneuver-reference",
                          "0.65", "--maneuver-tempering", "0.1", "--maneuver-tempering-deadband", "0.05",
@@ -376,19 +378,19 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
                          "--partial-p-min=0.002"},
                         nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_TRUE(r.config.declare_components);
-  EXPECT_EQ(*r.config.maneuver_dwell_s, 1.5);
-  EXPECT_EQ(*r.config.maneuver_dwell_hold_s, 30.0);
-  EXPECT_EQ(*r.config.maneuver_dwell_g, 0.08);
-  EXPECT_EQ(*r.config.maneuver_dwell_time_constant_s, 1.0);
-  EXPECT_EQ(*r.config.maneuver_reference, 0.65);
-  EXPECT_EQ(*r.config.maneuver_tempering_deadband_g, 0.05);
-  EXPECT_EQ(*r.config.level1_p_min, 1e-4);
-  EXPECT_EQ(*r.config.level1_dwell_s, 0.5);
-  EXPECT_EQ(*r.config.level1_allowance, 0.1);
-  EXPECT_EQ(*r.config.partial_p_min, 0.002);
-  EXPECT_FALSE(*r.config.departure_hold);
-  EXPECT_EQ(*r.config.adapt_channel_weight, 0.5);
+  EXPECT_TRUE(r.config.estimator.declare_components);
+  EXPECT_EQ(r.config.estimator.maneuver_dwell.dwell_s, 1.5);
+  EXPECT_EQ(r.config.estimator.maneuver_dwell.hold_s, 30.0);
+  EXPECT_EQ(r.config.estimator.maneuver_dwell.g, 0.08);
+  EXPECT_EQ(r.config.estimator.maneuver_dwell.time_constant_s, 1.0);
+  EXPECT_EQ(r.config.estimator.maneuver_dwell.reference, 0.65);
+  EXPECT_EQ(r.config.estimator.maneuver.tempering_deadband_g, 0.05);
+  EXPECT_EQ(r.config.estimator.level1_p_min, 1e-4);
+  EXPECT_EQ(r.config.estimator.level1_dwell_s, 0.5);
+  EXPECT_EQ(r.config.estimator.level1_allowance, 0.1);
+  EXPECT_EQ(r.config.estimator.partial_p_min, 0.002);
+  EXPECT_FALSE(r.config.estimator.departure.enabled);
+  EXPECT_EQ(r.config.estimator.bank.adaptation.channel_weight, 0.5);
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
       {{"--maneuver-dwell", "61"}, "--maneuver-dwell must be a time in seconds in [0, 60] (0: the dwell), got '61'"},
       {{"--maneuver-dwell", "x"}, "--maneuver-dwell must be a time in seconds"},

@@ -49,9 +49,8 @@ struct DaemonConfig {
   std::optional<double> set_tempering;         // the per-hypothesis tempering's weight W (turbulence_adaptation.h), with turbulence_banks
   std::vector<std::string> set_tempering_full; // hypotheses (upper case) kept at the full s, with set_tempering
   std::optional<double> set_tempering_rho;     // the sparing only while the measured rho >= this, with set_tempering
-  bool set_tempering_own_fit = false;          // the spared hypothesis by its form per channel it reads, with set_tempering
-  std::optional<double> set_tempering_burst;   // the sparing only while the quarter-second power <= C rho, with set_tempering
   bool set_tempering_margin = false;           // the spared evidence over the best of NONE and the full ones, with set_tempering
+  std::vector<std::string> set_tempering_margin_over;  // hypotheses (upper case) of the margin's reference, with set_tempering_margin
   std::optional<double> maneuver_dwell_s;      // the level-0 dwell while maneuvering (maneuver_dwell.h)
   std::optional<double> maneuver_dwell_hold_s, maneuver_dwell_g, maneuver_dwell_time_constant_s;  // with it
   std::optional<double> maneuver_reference;    // rho_0 while maneuvering, with adapt_turbulence

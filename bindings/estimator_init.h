@@ -175,12 +175,10 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_hypothesis_weight"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::full_tempering>(
           "adapt_full_tempering"),
-      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_own_fit>(
-          "adapt_spare_own_fit"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_margin>("adapt_spare_margin"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_margin_over>(
+          "adapt_spare_margin_over"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_rho>("adapt_spare_rho"),
-      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_burst_ratio>(
-          "adapt_spare_burst_ratio"),
       // the climb reference
       optional_number<&O::climb_reference, &ClimbReferenceOptions::reference>("adapt_reference_climb"),
       field<&O::climb_reference, &ClimbReferenceOptions::hold_s>("adapt_reference_climb_hold_s"),

@@ -74,6 +74,7 @@ def main(argv=None) -> None:
     ap.add_argument("--set-tempering", type=float, default=None)
     ap.add_argument("--set-tempering-rho", type=float, default=None)
     ap.add_argument("--set-tempering-margin", action="store_true")
+    ap.add_argument("--set-tempering-margin-stabilators", action="store_true")
     args = ap.parse_args(argv)
     options = {}
     if args.set_tempering is not None:
@@ -82,6 +83,8 @@ def main(argv=None) -> None:
         options["set_tempering_rho"] = args.set_tempering_rho
     if args.set_tempering_margin:
         options["set_tempering_margin"] = True
+    if args.set_tempering_margin_stabilators:
+        options["set_tempering_margin_stabilators"] = True
     frames = tuple(float(x) for x in args.frames.split(":")) if args.frames else None
     wrong, latency = [], []
     for case in args.cases.split(","):

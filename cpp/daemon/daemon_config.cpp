@@ -152,12 +152,33 @@ Value limits(Field field, const char* unit) {
   });
 }
 
+// Hypothesis names separated by commas, upper-cased (the bank's level-0 hypotheses; main.cpp
+// finds them in the bank).
+Value hypothesis_names(std::vector<std::string> DaemonConfig::*field) {
+  return parsed_by([field](DaemonConfig& c, const std::string& v) -> std::string {
+    std::vector<std::string> names;
+    std::string name;
+    for (std::size_t k = 0; k <= v.size(); ++k) {
+      if (k == v.size() || v[k] == ',') {
+        if (name.empty()) return "must be hypothesis names separated by commas";
+        names.push_back(name);
+        name.clear();
+      } else {
+        name += static_cast<char>(std::toupper(static_cast<unsigned char>(v[k])));
+      }
+    }
+    c.*field = names;
+    return "";
+  });
+}
+
 bool adapting(const DaemonConfig& c) { return c.estimator.bank.adaptation.enabled; }
 bool tracking_trim(const DaemonConfig& c) { return c.estimator.trim.time_constant_s > 0.0; }
 bool climb_reference(const DaemonConfig& c) { return c.estimator.climb_reference.enabled(); }
 bool maneuver_dwell(const DaemonConfig& c) { return c.estimator.maneuver_dwell.dwell_s > 0.0; }
 bool maneuver_trim(const DaemonConfig& c) { return c.estimator.maneuver_trim.enabled; }
 bool set_tempering(const DaemonConfig& c) { return c.set_tempering.has_value(); }
+bool set_tempering_margin(const DaemonConfig& c) { return c.set_tempering_margin; }
 bool turbulence_set(const DaemonConfig& c) { return c.turbulence_banks; }
 
 const std::string kDwellRange = "[0, " + format_value(kMaxDwellS) + "]";
@@ -294,36 +315,19 @@ const std::vector<Flag>& flags() {
       {"--set-tempering-full", "NAME,...",
        "the hypotheses kept at the full s (names of the bank's level-0 hypotheses; 'f16mmae hil' gives "
        "LS,RS,LF,RF)",
-       parsed_by([](C& c, const std::string& v) {
-         c.set_tempering_full.clear();
-         std::string name;
-         for (std::size_t k = 0; k <= v.size(); ++k) {
-           if (k == v.size() || v[k] == ',') {
-             if (name.empty()) return std::string("must be hypothesis names separated by commas");
-             c.set_tempering_full.push_back(name);
-             name.clear();
-           } else {
-             name += static_cast<char>(std::toupper(static_cast<unsigned char>(v[k])));
-           }
-         }
-         return std::string();
-       }),
+       hypothesis_names(&C::set_tempering_full),
        nullptr, "--set-tempering", set_tempering},
       {"--set-tempering-rho", "RHO", "only while the member's measured rho is at least RHO (default 0: at any rho)",
        number(&C::set_tempering_rho, {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr, "--set-tempering",
-       set_tempering},
-      {"--set-tempering-own-fit", "",
-       "the spared hypothesis is the one of least residual form per channel it reads (default: least form)",
-       {}, &C::set_tempering_own_fit, "--set-tempering", set_tempering},
-      {"--set-tempering-burst", "C",
-       "only while the residual power over the last quarter second is at most C times the member's rho "
-       "(default off)",
-       number(&C::set_tempering_burst, {1.0, 100.0}, "a ratio in [1, 100]"), nullptr, "--set-tempering",
        set_tempering},
       {"--set-tempering-margin", "",
        "the spared evidence is the hypothesis's margin over the best-fitting of NONE and the "
        "--set-tempering-full hypotheses (default: over NONE)",
        {}, &C::set_tempering_margin, "--set-tempering", set_tempering},
+      {"--set-tempering-margin-over", "NAME,...",
+       "the margin's reference: NONE and these hypotheses in place of the --set-tempering-full ones "
+       "('f16mmae hil' gives LS,RS with --set-tempering-margin-stabilators)",
+       hypothesis_names(&C::set_tempering_margin_over), nullptr, "--set-tempering-margin", set_tempering_margin},
 
       {nullptr, nullptr, "Maneuvering flight"},
       {"--maneuver-dwell", "S",

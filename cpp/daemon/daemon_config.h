@@ -47,9 +47,8 @@ struct DaemonConfig {
   std::optional<double> set_tempering;         // the per-hypothesis tempering's weight W (turbulence_adaptation.h), with turbulence_banks
   std::vector<std::string> set_tempering_full; // hypotheses (upper case) kept at the full s, with set_tempering
   std::optional<double> set_tempering_rho;     // the sparing only while the measured rho >= this, with set_tempering
-  bool set_tempering_own_fit = false;          // the spared hypothesis by its form per channel it reads, with set_tempering
-  std::optional<double> set_tempering_burst;   // the sparing only while the quarter-second power <= C rho, with set_tempering
   bool set_tempering_margin = false;           // the spared evidence over the best of NONE and the full ones, with set_tempering
+  std::vector<std::string> set_tempering_margin_over;  // hypotheses (upper case) of the margin's reference, with set_tempering_margin
   std::optional<double> start_up_s;  // filter_bank.h: updates that weigh nothing after a start; unset: the bank's
   long long max_frames = 0;         // exit after this many status frames; 0 = run until signalled
   int realtime_priority = 0;        // > 0: SCHED_FIFO at this priority and memory locked

@@ -149,20 +149,24 @@ int main(int argc, char** argv) {
     if (cfg.set_tempering) {   // the per-hypothesis tempering; its fully tempered ones by name, as bits
       options.bank.adaptation.hypothesis_weight = *cfg.set_tempering;
       options.bank.adaptation.spare_rho = cfg.set_tempering_rho.value_or(0.0);
-      options.bank.adaptation.spare_own_fit = cfg.set_tempering_own_fit;
       options.bank.adaptation.spare_margin = cfg.set_tempering_margin;
-      options.bank.adaptation.spare_burst_ratio = cfg.set_tempering_burst.value_or(0.0);
-      std::uint32_t full = 0;
-      for (const std::string& name : cfg.set_tempering_full) {
-        const int k = bank.find(name);   // level 0: NONE, then the singles, in the bank's order
-        if (k <= 0 || k >= 32) {
-          std::fprintf(stderr, "mmae-daemon: error: --set-tempering-full %s: the bank has no failure hypothesis %s (%s)\n",
-                       name.c_str(), name.c_str(), cfg.bank_path.c_str());
-          return 1;
+      // hypothesis names as bits (level 0: NONE, then the singles, in the bank's order); false: one is not there
+      const auto bits = [&](const std::vector<std::string>& names, const char* flag, std::uint32_t& out) {
+        out = 0;
+        for (const std::string& name : names) {
+          const int k = bank.find(name);
+          if (k <= 0 || k >= 32) {
+            std::fprintf(stderr, "mmae-daemon: error: %s %s: the bank has no failure hypothesis %s (%s)\n", flag,
+                         name.c_str(), name.c_str(), cfg.bank_path.c_str());
+            return false;
+          }
+          out |= 1u << static_cast<unsigned>(k);
         }
-        full |= 1u << static_cast<unsigned>(k);
-      }
-      options.bank.adaptation.full_tempering = full;
+        return true;
+      };
+      if (!bits(cfg.set_tempering_full, "--set-tempering-full", options.bank.adaptation.full_tempering) ||
+          !bits(cfg.set_tempering_margin_over, "--set-tempering-margin-over", options.bank.adaptation.spare_margin_over))
+        return 1;
     }
     options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation
     if (set && cfg.turbulence_banks) {
@@ -235,8 +239,8 @@ int main(int argc, char** argv) {
       const auto& a = running.bank.adaptation;
       if (a.hypothesis_weight < 1.0)   // the per-hypothesis tempering (turbulence_adaptation.h)
         adaptation += ", set tempering " + f16mmae::format_value(a.hypothesis_weight) + " from rho " +
-                      f16mmae::format_value(a.spare_rho) + (a.spare_own_fit ? " own fit" : "") + (a.spare_margin ? " margin" : "") +
-                      (a.spare_burst_ratio > 0.0 ? " burst " + f16mmae::format_value(a.spare_burst_ratio) : std::string()) +
+                      f16mmae::format_value(a.spare_rho) + (a.spare_margin ? " margin" : "") +
+                      (a.spare_margin_over ? " over " + std::to_string(a.spare_margin_over) : std::string()) +
                       " full " +
                       std::to_string(a.full_tempering);
       const std::string adaptation_climb =

@@ -14,9 +14,9 @@
 //                   residual updates s_j; per hypothesis (adaptation.hypothesis_weight w < 1,
 //                   while hypothesis 0 is presumed) the frame's best-fitting failure filter b
 //                   not in adaptation.full_tempering has l_b = -(q_0 + (q_b - q_0) s / s_b)/(2 s),
-//                   s_b = 1 + w (s - 1) (turbulence_adaptation.h; b = argmin q_k, or with
-//                   adaptation.spare_own_fit argmin q_k m / m_k; only while rho-bar >= spare_rho;
-//                   with adaptation.spare_margin q_0 there is min(q_0, q_f: f in full_tempering)).
+//                   s_b = 1 + w (s - 1) (turbulence_adaptation.h; b = argmin q_k; only while
+//                   rho-bar >= spare_rho; with adaptation.spare_margin q_0 there is min(q_0, q_f:
+//                   f in full_tempering, or in spare_margin_over when it is set)).
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
@@ -664,29 +664,29 @@ class FilterBank {
   }
   // The per-hypothesis tempering's spared hypothesis (turbulence_adaptation.h; `reference` is set
   // to q_r of the spared form when one is spared): the on-line
-  // failure hypothesis of least q_k (finite; with spare_own_fit of least q_k m / m_k, m / m_k
-  // the own_ratio_ of note_uninformative), unless its bit of full_tempering is set; -1 when
+  // failure hypothesis of least q_k (finite), unless its bit of full_tempering is set; -1 when
   // the tempering is off or not caught up (ResidualScale::spares()), another hypothesis than
   // 0 is presumed (a hierarchical bank's level 1: its declared failure), q_0 is not finite or
   // there is none.
   int spared_hypothesis(double& reference) const noexcept {
     if (presumed_ != 0 || !scale_.spares() || !std::isfinite(q_(0))) return -1;
-    const bool own_fit = scale_.options().spare_own_fit;
     int b = -1;
     double lo = std::numeric_limits<double>::infinity();
     for (int i = 1; i < size(); ++i) {
-      const double fit = own_fit ? q_(i) * own_ratio_(i) : q_(i);
-      if (live_[i] && fit < lo) {
-        lo = fit;
+      if (live_[i] && q_(i) < lo) {
+        lo = q_(i);
         b = i;
       }
     }
-    const std::uint32_t full = scale_.options().full_tempering;
+    const TurbulenceAdaptationOptions& o = scale_.options();
+    const std::uint32_t full = o.full_tempering;
     if (b < 0 || b >= 32 || ((full >> b) & 1u)) return -1;
-    reference = q_(0);   // q_r: q_0, or with spare_margin min(q_0, q_f: f fully tempered, on line)
-    if (scale_.options().spare_margin)
+    // q_r: q_0, or with spare_margin min(q_0, q_f: f on line in spare_margin_over, or fully tempered when it is 0)
+    reference = q_(0);
+    const std::uint32_t over = o.spare_margin_over != 0 ? o.spare_margin_over : full;
+    if (o.spare_margin)
       for (int i = 1; i < size() && i < 32; ++i)
-        if (((full >> i) & 1u) && live_[i] && q_(i) < reference) reference = q_(i);
+        if (i != b && ((over >> i) & 1u) && live_[i] && q_(i) < reference) reference = q_(i);
     return b;
   }
   // (D r_k)ᵀ A_k⁻¹ (D r_k), D = diag(s_j^-1/2): the per-channel tempering (turbulence_adaptation.h).

@@ -105,33 +105,13 @@
 // full_tempering: bit k set keeps hypothesis k's s (the caller names them: the turbulence
 // bank set's stabilators and flaperons, design/turbulence_banks.py). Scalar tempering only: with
 // channel_weight > 0 it is refused.
-// Four refinements of the per-hypothesis form, each off by default:
-//   spare_own_fit: b chosen by its form per channel it reads,
-//       b = argmin_{k>0, on line} q_k m / m_k     (m_k as in own_channels above)
-//     in place of argmin q_k. A hypothesis with uninformative channels (a failed sensor) sums
-//     m_k < m terms, E[q_k] = m_k under its own model, so its raw q_k is the least more often than
-//     its fit deserves: in gusts the channel it leaves out carries its share of the gust power,
-//     which every other filter's q_k carries. q_k / m_k is each filter's fit relative to its own
-//     design covariance (E[q_k / m_k] = 1 when its model is right), and the filter that fits best
-//     by that measure is spared. The spared l_b is still formed from the raw q_b as above (only
-//     the choice changes). A bank without uninformative channels chooses the same b (the
-//     turbulence bank set's members: their sensor hypotheses read the failed channel too, the
-//     `complete` failure model, so every m_k = m there).
+// Refinements of the per-hypothesis form, each off by default:
 //   spare_rho ρ_s (> 0): the sparing only while ρ̄ >= ρ_s (the measured ρ̄ below, the frames
 //     before). ρ̄ is the turbulence bank set's measure of the air (turbulence_bank_set.h), so ρ_s
 //     between a member's ρ̄ in moderate and in severe turbulence spares in severe air only:
 //     wherever ρ̄ < ρ_s every l_k is the one without the per-hypothesis form, frame for frame.
 //     ρ̄ averages over τ, so a burst of gusts from calmer air is tempered by s alone until ρ̄ has
 //     risen past ρ_s (a few seconds), when ρ has too.
-//   spare_burst_ratio c (in [1, 100]; 0: off): the sparing only while the gusts are no stronger
-//     now than over τ,
-//       x̃ <= c ρ̄,   x̃ ← x̃ + β (x − x̃),  β = 1 − exp(−1 / (τ_b f)),  τ_b = 0.25 s (x̃ = x at
-//     the first update after the start or reset()), x the per-update min_k q_k / m (m_k) as
-//     above. A burst of gusts raises x within a frame; ρ, ρ̄ and s follow over τ, so at a
-//     burst's onset s understates the air and a spared hypothesis would take the burst's first
-//     excursions at a fraction of an s already too small. x̃ rises within τ_b: while it is more
-//     than c times ρ̄ the bank tempers every hypothesis by s. A failure does not raise x (the
-//     matching hypothesis fits: see "The MINIMUM" above), so it does not close the gate.
 //   spare_margin: the spared evidence is b's margin over the best-fitting of filter 0 and the
 //     fully tempered hypotheses F (bits of full_tempering, on line), not over filter 0 alone:
 //       q_r = min(q_0, min_{f∈F} q_f),   l_b = −(q_r + (q_b − q_r) s / s_b) / (2 s)
@@ -150,8 +130,18 @@
 //     smaller too. b is chosen as above (argmin over every failure hypothesis on line, fully
 //     tempered ones included: a fully tempered least q_k spares none), so q_r >= q_b whenever
 //     q_b <= q_0.
-//   So the sparing is in force on a frame iff w < 1, s > 1, ρ >= ρ̄ / 2, ρ̄ >= ρ_s and (c = 0 or
-//   x̃ <= c ρ̄).
+//   spare_margin_over (bits; with spare_margin): the reference set F of the margin is these
+//     hypotheses (on line) in place of full_tempering's:
+//       q_r = min(q_0, min_{f∈F'} q_f),   F' = {f : bit f of spare_margin_over set}
+//     0 (the default): F' = F. Why a subset: in severe air the flaperons, whose columns of B act
+//     in roll as the gusts do, fit the gusts better than filter 0 on many frames where no failure
+//     is on; measured against them, every spared hypothesis's lift is smaller there, a latency
+//     cost on every sensor failure, while the confusions the margin removes were with the
+//     stabilators only (docs/results/turbulence_banks.md, rounds 17-18). F' = the stabilators
+//     keeps the margin where a stabilator's onset is fitted in part by a sensor hypothesis and
+//     measures every other frame's lift against filter 0 and the stabilators only. Bits outside
+//     F are allowed (a hypothesis spared on a frame is still b's rival at s there).
+//   So the sparing is in force on a frame iff w < 1, s > 1, ρ >= ρ̄ / 2 and ρ̄ >= ρ_s.
 //
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
 // air by it, turbulence_bank_set.h): the same per-update x = min_k q_k / m, unclipped,
@@ -198,14 +188,10 @@ struct alignas(16) TurbulenceAdaptationOptions {
   double frame_rate_hz = 64.0;   // f (the hierarchical bank sets its ModelBank's)
   double hypothesis_weight = 1.0;        // w: the best-fitting failure hypothesis' share of s − 1 (header); 1: off
   std::uint32_t full_tempering = 0;      // bit k: hypothesis k keeps the full s under hypothesis_weight
-  bool spare_own_fit = false;            // b = argmin q_k m / m_k, its form per channel it reads (header)
   bool spare_margin = false;             // the spared evidence over min(q_0, q_f: f fully tempered) (header)
+  std::uint32_t spare_margin_over = 0;   // with spare_margin, bit k: q_k in q_r's min (header); 0: full_tempering's
   double spare_rho = 0.0;                // ρ_s: the sparing only while ρ̄ >= ρ_s (header); 0: at any ρ̄
-  double spare_burst_ratio = 0.0;        // c: the sparing only while x̃ <= c ρ̄ (header); 0: off
 };
-
-// τ_b of the per-hypothesis tempering's burst gate (header): a quarter second.
-inline constexpr double kSpareBurstTimeConstantS = 0.25;
 
 // Throws std::invalid_argument "<who>: <option> must be <range>, got <value>".
 static_assert(sizeof(TurbulenceAdaptationOptions) % 16 == 0, "see the comment on TurbulenceAdaptationOptions");
@@ -225,8 +211,6 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
   if (!(o.hypothesis_weight > 0.0 && o.hypothesis_weight <= 1.0))
     refuse("adapt_hypothesis_weight", "in (0, 1]", o.hypothesis_weight);
   if (!(o.spare_rho >= 0.0 && o.spare_rho <= 100.0)) refuse("adapt_spare_rho", "in [0, 100]", o.spare_rho);
-  if (!(o.spare_burst_ratio == 0.0 || (o.spare_burst_ratio >= 1.0 && o.spare_burst_ratio <= 100.0)))
-    refuse("adapt_spare_burst_ratio", "0 (off) or in [1, 100]", o.spare_burst_ratio);
   if (o.hypothesis_weight < 1.0 && o.channel_weight > 0.0)
     throw std::invalid_argument(who + ": adapt_hypothesis_weight below 1 needs the common scale (adapt_channel_weight 0), got " +
                                 format_value(o.channel_weight));
@@ -249,7 +233,6 @@ class ResidualScale {
     options_ = o;
     nz_ = static_cast<double>(nz);
     alpha_ = 1.0 - std::exp(-1.0 / (o.time_constant_s * o.frame_rate_hz));
-    beta_ = 1.0 - std::exp(-1.0 / (kSpareBurstTimeConstantS * o.frame_rate_hz));
     rho_clip_ = 10.0 * o.scale_max;
     mean_length_ = running_mean_length(alpha_);
     channel_rho_.setZero(nz);
@@ -262,11 +245,8 @@ class ResidualScale {
   // The per-hypothesis tempering in force for the next frame (header): on, s > 1, ρ >= ρ̄ / 2
   // and ρ̄ >= ρ_s.
   bool spares() const noexcept {
-    return per_hypothesis() && s_ > 1.0 && rho_ >= 0.5 * measured_ && measured_ >= options_.spare_rho &&
-           (options_.spare_burst_ratio == 0.0 || burst_ <= options_.spare_burst_ratio * measured_);
+    return per_hypothesis() && s_ > 1.0 && rho_ >= 0.5 * measured_ && measured_ >= options_.spare_rho;
   }
-  // x̃, the burst gate's short average (header; 0 before the first update).
-  double burst_power_ratio() const noexcept { return burst_; }
   // s_b = 1 + w (s − 1) of the header's per-hypothesis form, as the ratio s / s_b (1 when off).
   double hypothesis_scale_ratio() const noexcept {
     return per_hypothesis() ? s_ / (1.0 + options_.hypothesis_weight * (s_ - 1.0)) : 1.0;
@@ -294,7 +274,6 @@ class ResidualScale {
     const double x = lo / nz_;
     rho_ += alpha_ * ((x < rho_clip_ ? x : rho_clip_) - rho_);
     // a_i = max(1 / i, alpha): 1 / i for i <= mean_length_, alpha from there on (running_mean.h)
-    burst_ = measured_updates_ == 0 ? x : burst_ + beta_ * (x - burst_);
     const double a = measured_updates_ < mean_length_ ? 1.0 / static_cast<double>(++measured_updates_) : alpha_;
     measured_ += a * (x - measured_);
     set_scale();
@@ -332,7 +311,6 @@ class ResidualScale {
   void reset() noexcept {
     rho_ = options_.reference;
     measured_ = 0.0;
-    burst_ = 0.0;
     measured_updates_ = 0;
     channel_rho_.setConstant(options_.reference);
     set_scale();
@@ -357,7 +335,6 @@ class ResidualScale {
 
   TurbulenceAdaptationOptions options_{};
   double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0, measured_ = 0.0;
-  double beta_ = 0.0, burst_ = 0.0;     // β and x̃ of the header's burst gate
   std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to mean_length_
   std::int64_t mean_length_ = 1;        // running_mean_length(alpha_) (running_mean.h)
   ZVector channel_rho_ = ZVector::Constant(NZ == Eigen::Dynamic ? 0 : NZ, 1.0);          // ρ_j

@@ -100,6 +100,23 @@ TEST(DaemonConfig, SetTemperingMargin) {
   r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering-margin"}, nullptr);
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.message.find("--set-tempering-margin applies with --set-tempering only"), std::string::npos) << r.message;
+  // the margin's reference by name, upper-cased; only with the margin
+  EXPECT_TRUE(parse_daemon_args({"--bank", "b"}, nullptr).config.set_tempering_margin_over.empty());
+  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering", "0.15", "--set-tempering-margin",
+                         "--set-tempering-margin-over", "ls,RS"},
+                        nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.set_tempering_margin_over, (std::vector<std::string>{"LS", "RS"}));
+  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering", "0.15", "--set-tempering-margin",
+                         "--set-tempering-margin-over", "LS,"},
+                        nullptr);
+  EXPECT_NE(r.message.find("must be hypothesis names separated by commas"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering", "0.15", "--set-tempering-margin-over",
+                         "LS,RS"},
+                        nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--set-tempering-margin-over applies with --set-tempering-margin only"), std::string::npos)
+      << r.message;
 }
 
 TEST(DaemonConfig, ManeuverMachRate) {
@@ -482,6 +499,6 @@ TEST(DaemonConfig, EveryFlagOfTheTableIsInTheUsageAndParsed) {
   auto r = parse_daemon_args({"--bank", "b", "--quiet=yes"}, nullptr);
   EXPECT_NE(r.message.find("--quiet takes no value, got 'yes'"), std::string::npos) << r.message;
   // the requirement of a row names the flag and what it needs
-  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering-burst", "2"}, nullptr);
-  EXPECT_NE(r.message.find("--set-tempering-burst applies with --set-tempering only"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering-rho", "2"}, nullptr);
+  EXPECT_NE(r.message.find("--set-tempering-rho applies with --set-tempering only"), std::string::npos) << r.message;
 }

@@ -467,7 +467,7 @@ TEST(TurbulenceAdaptation, PerHypothesisTemperingSparesTheBestFittingFailureByHa
   EXPECT_TRUE(r.spares());
 }
 
-TEST(TurbulenceAdaptation, SparedHypothesisByItsFormPerChannelAndOnlyInRoughAirByHand) {
+TEST(TurbulenceAdaptation, SparedHypothesisOnlyInRoughAirByHand) {
   // Three filters on two channels, tau far below a frame (alpha = 1: rho = rho-bar = x of the last
   // frame), gain 1, reference 1 (s = rho), own channels (x = min_k q_k / m_k), w = 0.25.
   // Filter 0 reads both (A = I: q_0 = z0^2 + z1^2), filter 1 leaves channel 1 out (a failed
@@ -486,12 +486,10 @@ TEST(TurbulenceAdaptation, SparedHypothesisByItsFormPerChannelAndOnlyInRoughAirB
   plain.adaptation.own_channels = true;
   FilterBankOptions raw = plain;
   raw.adaptation.hypothesis_weight = 0.25;
-  FilterBankOptions own = raw;
-  own.adaptation.spare_own_fit = true;
-  FilterBankOptions gated = own;
+  FilterBankOptions gated = raw;
   gated.adaptation.spare_rho = 6.0;
   const auto models = [&] { return std::vector<PairModel>{pair_model(1.0, 0.0, 1.0), left1, pair_model(1.5, 0.0, 1.5)}; };
-  PairBank p(models(), plain), r(models(), raw), w(models(), own), g(models(), gated);
+  PairBank p(models(), plain), r(models(), raw), g(models(), gated);
   const auto spared_difference = [](double q_b, double q_0, double s) {
     const double s_b = 1.0 + 0.25 * (s - 1.0);
     return (q_b - q_0) * (1.0 - s / s_b) / (2.0 * s);
@@ -501,94 +499,40 @@ TEST(TurbulenceAdaptation, SparedHypothesisByItsFormPerChannelAndOnlyInRoughAirB
   // frame 1, z = (3, 2.5): s was 1, nothing spared anywhere. q = (15.25, 9, 15.25 / 1.5);
   // x = min(15.25 / 2, 9 / 1, 10.1667 / 2) = 5.0833 = rho = rho-bar = s.
   const Eigen::Vector2d z(3.0, 2.5);
-  for (PairBank* b : {&p, &r, &w, &g}) ASSERT_TRUE(b->update(z));
-  for (PairBank* b : {&r, &w, &g}) EXPECT_EQ(differences(*b), Eigen::Vector3d::Zero());
+  for (PairBank* b : {&p, &r, &g}) ASSERT_TRUE(b->update(z));
+  for (PairBank* b : {&r, &g}) EXPECT_EQ(differences(*b), Eigen::Vector3d::Zero());
   const double q0 = 15.25, q1 = 9.0, q2 = 15.25 / 1.5, s = q2 / 2.0;
   EXPECT_NEAR(p.quadratic_forms()(1), q1, 1e-13);
   EXPECT_NEAR(p.quadratic_forms()(2), q2, 1e-13);
   EXPECT_NEAR(p.turbulence_scale(), s, 1e-13);
   EXPECT_NEAR(g.adaptation().measured_power_ratio(), s, 1e-13);
 
-  // frame 2, the same z: by raw q_k filter 1 fits best (9 < 10.17) and is spared; by its form
-  // per channel it reads filter 2 (9 / 1 > 10.17 / 2); the gated bank's rho-bar 5.08 < 6: none.
-  for (PairBank* b : {&p, &r, &w, &g}) ASSERT_TRUE(b->update(z));
+  // frame 2, the same z: filter 1 fits best (9 < 10.17) and is spared; the gated bank's
+  // rho-bar 5.08 < 6: none.
+  for (PairBank* b : {&p, &r, &g}) ASSERT_TRUE(b->update(z));
   EXPECT_NEAR(differences(r)(1), spared_difference(q1, q0, s), 1e-13);
+  EXPECT_GT(differences(r)(1), 0.0);   // spared: a failure that fits better than NONE gains
   EXPECT_EQ(differences(r)(2), 0.0);
-  EXPECT_EQ(differences(w)(1), 0.0);
-  EXPECT_NEAR(differences(w)(2), spared_difference(q2, q0, s), 1e-13);
-  EXPECT_GT(differences(w)(2), 0.0);   // spared: a failure that fits better than NONE gains
   EXPECT_EQ(differences(g), Eigen::Vector3d::Zero());
-  for (PairBank* b : {&r, &w, &g}) EXPECT_EQ(differences(*b)(0), 0.0);
+  for (PairBank* b : {&r, &g}) EXPECT_EQ(differences(*b)(0), 0.0);
 
   // frame 3, z = (4, 3): q = (25, 16, 16.667), x = min(12.5, 16, 8.333) = 8.333 = rho-bar >= 6;
   // this frame still uses s and rho-bar of frame 2 (5.08 < 6): none spared in the gated bank.
   const Eigen::Vector2d z3(4.0, 3.0);
-  for (PairBank* b : {&p, &r, &w, &g}) ASSERT_TRUE(b->update(z3));
+  for (PairBank* b : {&p, &r, &g}) ASSERT_TRUE(b->update(z3));
   EXPECT_EQ(differences(g), Eigen::Vector3d::Zero());
   const double s3 = 25.0 / 1.5 / 2.0;
   EXPECT_NEAR(g.adaptation().measured_power_ratio(), s3, 1e-13);
   EXPECT_TRUE(g.adaptation().spares());
-  // frame 4, z = (4, 3) again: rho-bar 8.33 >= 6, the gated bank spares as the ungated one
-  for (PairBank* b : {&p, &r, &w, &g}) ASSERT_TRUE(b->update(z3));
-  EXPECT_NEAR(differences(g)(2), spared_difference(25.0 / 1.5, 25.0, s3), 1e-13);
-  EXPECT_EQ(differences(g)(1), 0.0);
-  EXPECT_EQ(differences(g), differences(w));
+  // frame 4, z = (4, 3) again: rho-bar 8.33 >= 6, the gated bank spares filter 1 (16 < 16.67)
+  // as the ungated one
+  for (PairBank* b : {&p, &r, &g}) ASSERT_TRUE(b->update(z3));
+  EXPECT_NEAR(differences(g)(1), spared_difference(16.0, 25.0, s3), 1e-13);
+  EXPECT_EQ(differences(g)(2), 0.0);
+  EXPECT_EQ(differences(g), differences(r));
   // the raw forms drive the scale in every bank
   EXPECT_EQ(g.turbulence_scale(), p.turbulence_scale());
   EXPECT_EQ(r.turbulence_scale(), p.turbulence_scale());
-}
-
-TEST(TurbulenceAdaptation, BurstGateFollowsTheHandComputedQuarterSecondAverage) {
-  // x̃ <- x̃ + beta (x - x̃), beta = 1 - exp(-1 / (0.25 s * 64 Hz)), x̃ = x at the first update;
-  // the sparing only while x̃ <= c rho-bar (c = 2), rho-bar as the header (a plain mean over the
-  // first tau f updates, then alpha). One channel: x = min_k q_k.
-  ResidualScale<Eigen::Dynamic> r;
-  TurbulenceAdaptationOptions o = on(5.0);
-  o.hypothesis_weight = 0.25;
-  o.spare_burst_ratio = 2.0;
-  r.configure(o, 1, "test");
-  const double alpha = 1.0 - std::exp(-1.0 / (5.0 * 64.0)), beta = 1.0 - std::exp(-1.0 / 16.0);
-  double burst = 0.0, measured = 0.0;
-  int n = 0;
-  const auto feed = [&](double x) {
-    r.observe(Eigen::Vector2d(x, x + 1.0));
-    burst = n == 0 ? x : burst + beta * (x - burst);
-    ++n;
-    measured += std::max(1.0 / n, alpha) * (x - measured);   // a_i = max(1 / i, alpha)
-    EXPECT_NEAR(r.burst_power_ratio(), burst, 1e-12) << n;
-    EXPECT_NEAR(r.measured_power_ratio(), measured, 1e-9) << n;
-  };
-  for (int i = 0; i < 64 * 20; ++i) feed(3.0);   // steady rough air: rho near 3, s > 1
-  EXPECT_TRUE(r.spares());
-  int closed_after = -1;
-  for (int i = 0; i < 64; ++i) {   // a burst, x = 30: the gate closes once x̃ > 2 rho-bar
-    feed(30.0);
-    const bool open = burst <= 2.0 * measured;
-    EXPECT_EQ(r.spares(), open) << i;
-    if (!open && closed_after < 0) closed_after = i;
-  }
-  // 30 - 27 (1 - beta)^k > 2 rho-bar (about 6.1-6.3): the third frame of the burst (k = 3)
-  EXPECT_EQ(closed_after, 2);
-  EXPECT_FALSE(r.spares());
-  // the burst held: rho-bar catches up (x̃ <= 2 rho-bar again) within tau's average
-  bool reopened = false;
-  for (int i = 0; i < 64 * 20 && !reopened; ++i) {
-    feed(30.0);
-    reopened = r.spares();
-    EXPECT_EQ(reopened, burst <= 2.0 * measured) << i;
-  }
-  EXPECT_TRUE(reopened);
-  r.reset();   // x̃ restarts with rho-bar
-  EXPECT_EQ(r.burst_power_ratio(), 0.0);
-  // off (c = 0): the gate never closes
-  o.spare_burst_ratio = 0.0;
-  ResidualScale<Eigen::Dynamic> off;
-  off.configure(o, 1, "test");
-  for (int i = 0; i < 64 * 20; ++i) off.observe(Eigen::Vector2d(3.0, 4.0));
-  for (int i = 0; i < 64; ++i) {
-    off.observe(Eigen::Vector2d(30.0, 31.0));
-    EXPECT_TRUE(off.spares()) << i;
-  }
 }
 
 TEST(TurbulenceAdaptation, SpareMarginIsTheSparedFormOverTheBestFullyTemperedByHand) {
@@ -647,6 +591,26 @@ TEST(TurbulenceAdaptation, SpareMarginIsTheSparedFormOverTheBestFullyTemperedByH
   EXPECT_EQ(margin3.log_likelihoods()(2), plain3.log_likelihoods()(2));
   EXPECT_NEAR(margin3.log_likelihoods()(2), 2.0 / 9.0, 1e-14);
 
+  // spare_margin_over: the margin's reference set in place of full_tempering's. Filters 1 and 3
+  // fully tempered; over both (0, the default): q_r = min(4, 1.6, 8/3) = 1.6, l_2 as above; over
+  // filter 3 only: q_r = min(4, 8/3) = 8/3, l_2 = -(8/3 + (4/3 - 8/3) 3 / 1.5) / 6 = 0; over filter 1
+  // only: the margin above bit for bit
+  FilterBankOptions both = m;
+  both.adaptation.full_tempering = (1u << 1) | (1u << 3);
+  FilterBankOptions over3 = both, over1 = both;
+  over3.adaptation.spare_margin_over = 1u << 3;
+  over1.adaptation.spare_margin_over = 1u << 1;
+  ScalarBank margin_both(models(2.5), both), margin_over3(models(2.5), over3), margin_over1(models(2.5), over1);
+  for (ScalarBank* b : {&margin_both, &margin_over3, &margin_over1}) {
+    ASSERT_TRUE(b->update(z1(3.0)));
+    b->set_probabilities(Eigen::Vector4d::Constant(0.25));
+    ASSERT_TRUE(b->update(z1(2.0)));
+  }
+  EXPECT_EQ(margin_both.log_likelihoods(), margin.log_likelihoods());
+  EXPECT_EQ(margin_over1.log_likelihoods(), margin.log_likelihoods());
+  EXPECT_NEAR(margin_over3.log_likelihoods()(2), 0.0, 1e-14);
+  for (int k : {0, 1, 3}) EXPECT_EQ(margin_over3.log_likelihoods()(k), plain.log_likelihoods()(k)) << k;
+
   // the fully tempered filter fits best (A_1 = 4: q_1 = 1 < 4/3): none spared, with or without the margin
   ScalarBank plain4(models(4.0), o), margin4(models(4.0), m);
   for (ScalarBank* b : {&plain4, &margin4}) {   // frame 1: q = (9, 2.25, 3, 6), s = 2.25
@@ -697,10 +661,6 @@ TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   o.spare_rho = std::nan("");
   refused(o, "adapt_spare_rho");
   o = on(5.0);
-  o.spare_burst_ratio = 0.5;
-  refused(o, "adapt_spare_burst_ratio");
-  o.spare_burst_ratio = std::nan("");
-  refused(o, "adapt_spare_burst_ratio");
 }
 
 TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
@@ -710,7 +670,6 @@ TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
   o.bank.adaptation = on(5.0);
   o.bank.adaptation.channel_weight = per_channel > 0.0 ? per_channel : 0.0;
   if (per_channel < 0.0) o.bank.adaptation.hypothesis_weight = 0.25;
-  o.bank.adaptation.spare_own_fit = per_channel < 0.0;   // its choice per channel read, on the same frames
   o.bank.adaptation.spare_margin = per_channel < 0.0;    // its margin over the fully tempered (LS, RS)
   if (per_channel < 0.0) o.bank.adaptation.full_tempering = (1u << 1) | (1u << 2);
   F16HierarchicalBank hb(mb, o);

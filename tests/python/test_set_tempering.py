@@ -3,10 +3,9 @@ option reaches the core as the weight and the fully tempered hypotheses' bits, b
 refused by name, and on each frame at most one hypothesis' likelihood differs from the shipped
 tempering's: the best-fitting failure hypothesis, never NONE or a fully tempered one. Its gate on
 the measured rho (``--set-tempering-rho``) leaves every likelihood the shipped one below it, its
-choice per channel read (``--set-tempering-own-fit``) is the raw choice on the set's members (they
-read every channel in every hypothesis), its margin (``--set-tempering-margin``) forms the spared
-likelihood over the best of NONE and the fully tempered hypotheses, and the options reach
-``mmae-daemon`` as flags that its ready line names."""
+margin (``--set-tempering-margin``) forms the spared likelihood over the best of NONE and the fully
+tempered hypotheses (with ``--set-tempering-margin-stabilators`` over NONE and the stabilators only),
+and the options reach ``mmae-daemon`` as flags that its ready line names."""
 from __future__ import annotations
 
 import subprocess
@@ -79,27 +78,21 @@ def test_only_the_best_fitting_failure_hypothesis_is_spared():
     assert first > 8   # not before the scale has caught up with the air (rho >= rho-bar / 2)
 
 
-def test_the_gate_and_the_choice_reach_the_core_and_the_daemon():
-    options = {"turbulence_banks": True, "set_tempering": 0.25, "set_tempering_rho": 2.68,
-               "set_tempering_own_fit": True, "set_tempering_burst": 2.0}
+def test_the_gate_reaches_the_core_and_the_daemon():
+    options = {"turbulence_banks": True, "set_tempering": 0.25, "set_tempering_rho": 2.68}
     check(options)
     args = core_arguments(options)
-    assert args["adapt_spare_rho"] == 2.68 and args["adapt_spare_own_fit"] is True
-    assert args["adapt_spare_burst_ratio"] == 2.0
-    assert "set_tempering_rho" not in args and "set_tempering_own_fit" not in args
+    assert args["adapt_spare_rho"] == 2.68
+    assert "set_tempering_rho" not in args
     assert "adapt_spare_rho" not in core_arguments({"set_tempering": 0.25})
     with pytest.raises(ValueError, match="--set-tempering"):
         check({"turbulence_banks": True, "set_tempering_rho": 2.68})
     with pytest.raises(ValueError, match="--set-tempering-rho"):
         check({"turbulence_banks": True, "set_tempering": 0.25, "set_tempering_rho": -1.0})
-    with pytest.raises(ValueError, match="--set-tempering-burst"):
-        check({"turbulence_banks": True, "set_tempering": 0.25, "set_tempering_burst": 0.5})
     flags = daemon_flags(options)
     assert flags[flags.index("--set-tempering") + 1] == "0.25"
     assert flags[flags.index("--set-tempering-full") + 1] == ",".join(SET_TEMPERING_FULL)
     assert flags[flags.index("--set-tempering-rho") + 1] == "2.68"
-    assert "--set-tempering-own-fit" in flags
-    assert flags[flags.index("--set-tempering-burst") + 1] == "2.0"
     daemon = str(find_executable("mmae-daemon"))
     p = subprocess.Popen([daemon, "--bank", str(set_path()), *flags, "--lcm-url", "memq://"],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -107,7 +100,7 @@ def test_the_gate_and_the_choice_reach_the_core_and_the_daemon():
     p.terminate()
     p.communicate(timeout=5)
     bits = args["adapt_full_tempering"]
-    assert f"set tempering 0.25 from rho 2.68 own fit burst 2 full {bits}" in ready, ready
+    assert f"set tempering 0.25 from rho 2.68 full {bits}" in ready, ready
     for bad, message in ((["--turbulence-banks", "--set-tempering-rho", "2"], "--set-tempering-rho applies with --set-tempering only"),
                          (["--turbulence-banks", "--set-tempering", "0"],
                           "--set-tempering must be a weight in (0, 1], got '0'"),
@@ -139,7 +132,7 @@ def _rough_flight(banks, seconds=3.0):
     return out
 
 
-def test_below_the_gate_every_likelihood_is_the_shipped_one_and_the_own_fit_is_the_raw_choice_here():
+def test_below_the_gate_every_likelihood_is_the_shipped_one():
     bank = load_bank("turbulence")[2]
     full = core_arguments({"set_tempering": 0.25})["adapt_full_tempering"]
     kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_time_constant_s=1.0, p_min=1e-9,
@@ -149,25 +142,18 @@ def test_below_the_gate_every_likelihood_is_the_shipped_one_and_the_own_fit_is_t
     gated = core.HierarchicalBank(bank, adapt_spare_rho=100.0, **spare, **kw)   # rho-bar never reaches 100
     open_ = core.HierarchicalBank(bank, adapt_spare_rho=0.5, **spare, **kw)      # rho-bar above 0.5 throughout
     raw = core.HierarchicalBank(bank, **spare, **kw)
-    own = core.HierarchicalBank(bank, adapt_spare_own_fit=True, **spare, **kw)
-    frames = _rough_flight([plain, gated, open_, raw, own])
+    frames = _rough_flight([plain, gated, open_, raw])
     assert len(frames) > 150
-    spared_raw, spared_own = [], []
-    for l_plain, l_gated, l_open, l_raw, l_own in frames:
+    spared = 0
+    for l_plain, l_gated, l_open, l_raw in frames:
         assert np.array_equal(l_plain, l_gated)
         assert np.array_equal(l_open, l_raw)
-        for l, spared in ((l_raw, spared_raw), (l_own, spared_own)):
-            diff = np.nonzero(l != l_plain)[0]
-            assert len(diff) <= 1
-            if len(diff):
-                assert diff[0] != 0 and not (full >> int(diff[0]) & 1)
-            spared.append(int(diff[0]) if len(diff) else -1)
-    assert sum(k >= 0 for k in spared_raw) > 50
-    # the set's members read every channel in every hypothesis (no uninformative channel: m_k = m),
-    # so the choice per channel read is the raw one, frame for frame (the hand-worked gtest has
-    # a hypothesis that leaves a channel out)
-    assert all(not np.any(np.asarray(h.uninformative_width) > 0) for h in bank.hypotheses)
-    assert spared_raw == spared_own
+        diff = np.nonzero(l_raw != l_plain)[0]
+        assert len(diff) <= 1
+        if len(diff):
+            assert diff[0] != 0 and not (full >> int(diff[0]) & 1)
+            spared += 1
+    assert spared > 50
 
 
 def _severe_stabilator_flight(banks):
@@ -214,13 +200,18 @@ def test_the_margin_spares_the_same_hypothesis_over_the_best_of_none_and_the_ful
               adapt_own_channels=True, adapt_hypothesis_weight=0.25, adapt_full_tempering=full)
     plain = core.HierarchicalBank(bank, **{k: v for k, v in kw.items() if k not in ("adapt_hypothesis_weight",
                                                                                     "adapt_full_tempering")})
+    stabilators = core_arguments({**options, "set_tempering_margin_stabilators": True})["adapt_spare_margin_over"]
+    assert stabilators == sum(1 << SINGLE_HYPOTHESES.index(h) for h in ("LS", "RS"))
     raw = core.HierarchicalBank(bank, **kw)
     margin = core.HierarchicalBank(bank, adapt_spare_margin=True, **kw)
+    over = core.HierarchicalBank(bank, adapt_spare_margin=True, adapt_spare_margin_over=stabilators, **kw)
     full_slots = [k for k in range(len(SINGLE_HYPOTHESES)) if full >> k & 1]
+    stabilator_slots = [k for k in range(len(SINGLE_HYPOTHESES)) if stabilators >> k & 1]
     spared = lowered = 0
-    for l_plain, l_raw, l_margin in _severe_stabilator_flight([plain, raw, margin]):
+    for l_plain, l_raw, l_margin, l_over in _severe_stabilator_flight([plain, raw, margin, over]):
         d_raw, d_margin = np.nonzero(l_raw != l_plain)[0], np.nonzero(l_margin != l_plain)[0]
         assert len(d_raw) <= 1 and len(d_margin) <= len(d_raw)
+        assert len(np.nonzero(l_over != l_plain)[0]) <= len(d_raw)
         if not len(d_raw):
             continue
         b = int(d_raw[0])
@@ -228,6 +219,8 @@ def test_the_margin_spares_the_same_hypothesis_over_the_best_of_none_and_the_ful
         ratio = (-2.0 * l_raw[b] - q[0]) / (q[b] - q[0])     # s / s_b
         q_r = min(q[0], *q[full_slots])
         assert l_margin[b] == pytest.approx(-0.5 * (q_r + (q[b] - q_r) * ratio), rel=1e-9, abs=1e-9)
+        q_s = min(q[0], *q[stabilator_slots])                # the margin over NONE and the stabilators only
+        assert l_over[b] == pytest.approx(-0.5 * (q_s + (q[b] - q_s) * ratio), rel=1e-9, abs=1e-9)
         spared += 1
         lowered += q_r < q[0]
     assert spared > 50 and lowered > 20   # the failed stabilator (or a flaperon) fits better than NONE at times
@@ -245,6 +238,18 @@ def test_the_daemon_flies_the_margin_and_names_it():
     p.communicate(timeout=5)
     bits = core_arguments(options)["adapt_full_tempering"]
     assert f"set tempering 0.15 from rho 2.68 margin full {bits}" in ready, ready
+    flags = daemon_flags({**options, "set_tempering_margin_stabilators": True})
+    assert flags[flags.index("--set-tempering-margin-over") + 1] == "LS,RS"
+    p = subprocess.Popen([daemon, "--bank", str(set_path()), *flags, "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    over = core_arguments({**options, "set_tempering_margin_stabilators": True})["adapt_spare_margin_over"]
+    assert f"set tempering 0.15 from rho 2.68 margin over {over} full {bits}" in ready, ready
+    r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering", "0.15",
+                        "--set-tempering-margin-over", "LS,RS"], capture_output=True, text=True, timeout=20)
+    assert r.returncode == 2 and "--set-tempering-margin-over applies with --set-tempering-margin only" in r.stdout + r.stderr
     r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering-margin"],
                        capture_output=True, text=True, timeout=20)
     assert r.returncode == 2 and "--set-tempering-margin applies with --set-tempering only" in r.stdout + r.stderr

@@ -81,6 +81,9 @@ TURBULENCE_BANK = "turbulence"
 #: (LF 8.2, RF 5.3 there, but spared at W 0.25 they declared 9 times an hour in the held severe
 #: soak of campaign seed 7; every other hypothesis 5.2 or less): docs/results/turbulence_banks.md.
 SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF")
+#: The per-hypothesis tempering's margin reference with ``--set-tempering-margin-stabilators``
+#: (with NONE; cpp/f16mmae/turbulence_adaptation.h ``spare_margin_over``): the stabilators.
+SET_TEMPERING_MARGIN_STABILATORS: tuple[str, ...] = ("LS", "RS")
 
 #: Every 0.1 Mach and 5,000 ft, plus Mach 0.35: on the low-q̄ side the trims (alpha ~ 1/M^2)
 #: need the finer cell (docs/results/envelope_scheduled.md measures both grids).

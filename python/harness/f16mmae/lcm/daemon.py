@@ -32,8 +32,10 @@ def statistics_line(output: str, program: str) -> dict:
 
 #: The per-hypothesis tempering's core keywords (``core_arguments``) and the rows whose flags give them.
 _SET_TEMPERING_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": "set_tempering_rho",
-                       "adapt_spare_own_fit": "set_tempering_own_fit", "adapt_spare_margin": "set_tempering_margin",
-                       "adapt_spare_burst_ratio": "set_tempering_burst"}
+                       "adapt_spare_margin": "set_tempering_margin"}
+#: The core's bit masks over the level-0 hypotheses and the ``mmae-daemon`` flags that take their names.
+_HYPOTHESIS_BITS_FLAGS = {"adapt_full_tempering": "--set-tempering-full",
+                          "adapt_spare_margin_over": "--set-tempering-margin-over"}
 
 
 def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
@@ -47,8 +49,8 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
             continue
         if key == "adapt_counted_channels":   # core_arguments' bit; the daemon takes the sensor's name
             key, value = "adapt_counted_channel", estimator_options["adapt_counted_channel"]
-        if key == "adapt_full_tempering":   # core_arguments' bits; the daemon takes the hypotheses' names
-            out += ["--set-tempering-full", ",".join(h for k, h in enumerate(SINGLE_HYPOTHESES) if (value >> k) & 1)]
+        if key in _HYPOTHESIS_BITS_FLAGS:   # core_arguments' bits; the daemon takes the hypotheses' names
+            out += [_HYPOTHESIS_BITS_FLAGS[key], ",".join(h for k, h in enumerate(SINGLE_HYPOTHESES) if (value >> k) & 1)]
             continue
         key = _SET_TEMPERING_KEYS.get(key, key)
         option = BY_KEY.get(key)

@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import core
 from ..banks import bank_estimator_settings, turbulence_bank_set
-from ..names import SENSORS, SET_TEMPERING_FULL, SINGLE_HYPOTHESES
+from ..names import SENSORS, SET_TEMPERING_FULL, SET_TEMPERING_MARGIN_STABILATORS, SINGLE_HYPOTHESES
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 from .estimator_options import CLOSED_LOOP, FILE_LOADERS, scheduled_defaults, with_closed_loop_defaults
 
@@ -32,9 +32,9 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
     ``set_tempering`` W becomes ``adapt_hypothesis_weight`` W and ``adapt_full_tempering``, the bits of
     ``names.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``),
-    ``set_tempering_rho`` ``adapt_spare_rho``, ``set_tempering_own_fit`` ``adapt_spare_own_fit``,
-    ``set_tempering_margin`` ``adapt_spare_margin`` and
-    ``set_tempering_burst`` ``adapt_spare_burst_ratio``."""
+    ``set_tempering_rho`` ``adapt_spare_rho``, ``set_tempering_margin`` ``adapt_spare_margin`` and
+    ``set_tempering_margin_stabilators`` ``adapt_spare_margin_over``, the bits of
+    ``names.SET_TEMPERING_MARGIN_STABILATORS``."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
     for key, load in FILE_LOADERS.items():   # a file option's table: {"F>C": k} (level1_allowance.h), {name: N}
@@ -52,13 +52,10 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     rho = out.pop("set_tempering_rho", None)
     if rho is not None:
         out["adapt_spare_rho"] = float(rho)
-    if out.pop("set_tempering_own_fit", False):
-        out["adapt_spare_own_fit"] = True
     if out.pop("set_tempering_margin", False):
         out["adapt_spare_margin"] = True
-    burst = out.pop("set_tempering_burst", None)
-    if burst is not None:
-        out["adapt_spare_burst_ratio"] = float(burst)
+    if out.pop("set_tempering_margin_stabilators", False):
+        out["adapt_spare_margin_over"] = sum(1 << SINGLE_HYPOTHESES.index(h) for h in SET_TEMPERING_MARGIN_STABILATORS)
     if out.pop("actuator_limits", False):
         free = [math.inf] * (nu - len(RATE_LIMIT_RAD_S))
         out["actuator_rate_limits_rad_s"] = [*RATE_LIMIT_RAD_S, *free]

@@ -131,22 +131,19 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --set-tempering: spare only while the member in force measures rho >= RHO "
                          "(the set's measure of the air; between moderate and severe air: "
                          "design.turbulence_banks.FLOOR_RHO, 2.68, spares in severe air only). Default 0: at any rho"),
-    EstimatorOption("set_tempering_burst", "--set-tempering-burst", "number", metavar="C", minimum=1.0,
-                    maximum=100.0, requires="set_tempering",
-                    help="with --set-tempering: spare only while the member's residual power over the last "
-                         "quarter second is at most C times its rho (a burst of gusts is tempered by s alone "
-                         "until the average has caught up; cpp/f16mmae/turbulence_adaptation.h). Default off"),
-    EstimatorOption("set_tempering_own_fit", "--set-tempering-own-fit", "switch", requires="set_tempering",
-                    help="with --set-tempering: the spared hypothesis is the one of least q_k per channel it "
-                         "reads (q_k m / m_k: a failed sensor's hypothesis that leaves its channel out does "
-                         "not fit best by reading less; cpp/f16mmae/turbulence_adaptation.h). The set's members "
-                         "read every channel in every hypothesis: there it is the same choice. Default: least q_k"),
     EstimatorOption("set_tempering_margin", "--set-tempering-margin", "switch", requires="set_tempering",
                     help="with --set-tempering: the spared hypothesis's evidence is its margin over the "
                          "best-fitting of NONE and the hypotheses kept at s (the stabilators and flaperons), "
                          "not over NONE alone: a sensor hypothesis that fits a stabilator's onset a little "
                          "better than the stabilator's own filter gains only that little over it "
                          "(cpp/f16mmae/turbulence_adaptation.h). Default: over NONE"),
+    # mmae-daemon takes it by the hypotheses' names, --set-tempering-margin-over LS,RS (lcm.daemon.daemon_flags)
+    EstimatorOption("set_tempering_margin_stabilators", "--set-tempering-margin-stabilators", "switch",
+                    requires="set_tempering_margin", in_daemon=False,
+                    help="with --set-tempering-margin: the margin is over the best-fitting of NONE and the "
+                         "stabilators only (not the flaperons, which fit severe air's gusts better than NONE "
+                         "on many frames; cpp/f16mmae/turbulence_adaptation.h spare_margin_over). Default: "
+                         "over NONE and every hypothesis kept at s"),
     EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,
                     help="with --turbulence-banks: the closed loop scales the truth's surface dither each frame "
                          "by the turbulence the set's member in force measures (its rho over the member's "
@@ -364,14 +361,13 @@ CORE_ONLY: dict[str, str] = {
                                "sets it from --set-tempering (loop/estimator.py core_arguments)",
     "adapt_full_tempering": "the hypotheses the per-hypothesis tempering leaves at s, a bit mask over the "
                             "level-0 hypotheses; the estimator sets it with --set-tempering",
-    "adapt_spare_own_fit": "the per-hypothesis tempering's choice per channel read (turbulence_adaptation.h); "
-                           "the estimator sets it from --set-tempering-own-fit",
     "adapt_spare_margin": "the per-hypothesis tempering's spared margin (turbulence_adaptation.h); the "
                           "estimator sets it from --set-tempering-margin",
+    "adapt_spare_margin_over": "the per-hypothesis tempering's margin reference, a bit mask over the level-0 "
+                               "hypotheses (turbulence_adaptation.h); the estimator sets it from "
+                               "--set-tempering-margin-stabilators",
     "adapt_spare_rho": "the per-hypothesis tempering's least measured rho (turbulence_adaptation.h); the "
                        "estimator sets it from --set-tempering-rho",
-    "adapt_spare_burst_ratio": "the per-hypothesis tempering's burst gate (turbulence_adaptation.h); the "
-                               "estimator sets it from --set-tempering-burst",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
@@ -382,7 +378,7 @@ CORE_ONLY: dict[str, str] = {
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
                                "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel",
                                "trim_steady_air_data", "set_tempering", "set_tempering_rho",
-                               "set_tempering_own_fit", "set_tempering_burst", "set_tempering_margin")
+                               "set_tempering_margin", "set_tempering_margin_stabilators")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.

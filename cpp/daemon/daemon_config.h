@@ -41,6 +41,7 @@ struct DaemonConfig {
   bool turbulence_banks = false;     // FILE is a turbulence bank set file: fly the set (turbulence_bank_set.h)
   std::optional<double> adapt_reference;  // its rho_0, with adapt_turbulence only
   bool adapt_own_channels = false;   // its rho per channel each filter reads, with adapt_turbulence only
+  std::string adapt_excluded_channel;  // a measurement (lower case): hypotheses reading it as a free level leave the adaptation's minimum
   std::string adapt_counted_channel;  // a measurement (lower case) still counted in m_k, with adapt_own_channels only
   std::optional<double> adapt_reference_climb;  // rho_0 while climbing (climb_reference.h), with adapt_turbulence
   std::optional<double> adapt_reference_climb_hold_s;  // its hold, with adapt_reference_climb

@@ -360,6 +360,9 @@ filter k reads; a failed sensor's uninformative channel is not one), so that a h
 uninformative channel does not read the air calmer than it is; a bank without one is unchanged.
 adapt_counted_channels (with adapt_own_channels): a bit per measurement channel j (1 << j, z's order);
 an uninformative channel whose bit is set still counts in m_k (0, the default: none does).
+adapt_excluded_channels: a bit per measurement channel j (1 << j, z's order); a hypothesis that reads
+a set channel as a free level (uninformative there) while the presumed one does not leaves the
+adaptation's minimum (it still gets the scale; 0, the default: none leaves it).
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.

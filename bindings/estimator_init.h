@@ -171,6 +171,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_own_channels"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::counted_channels>(
           "adapt_counted_channels"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::excluded_channels>(
+          "adapt_excluded_channels"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::hypothesis_weight>(
           "adapt_hypothesis_weight"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::full_tempering>(

@@ -152,6 +152,19 @@ Value limits(Field field, const char* unit) {
   });
 }
 
+// A measurement's name, stored lower case, or the sentence refusing it.
+Value sensor(std::string DaemonConfig::*field) {
+  return parsed_by([field](DaemonConfig& c, const std::string& v) {
+    static const char* const kSensors[] = {"vel", "aoa", "pit", "az", "rol", "yaw", "ay"};
+    std::string lower = v;
+    for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (std::find(std::begin(kSensors), std::end(kSensors), lower) == std::end(kSensors))
+      return std::string("must name a measurement (vel, aoa, pit, az, rol, yaw, ay)");
+    c.*field = lower;
+    return std::string();
+  });
+}
+
 // Hypothesis names separated by commas, upper-cased (the bank's level-0 hypotheses; main.cpp
 // finds them in the bank).
 Value hypothesis_names(std::vector<std::string> DaemonConfig::*field) {
@@ -272,16 +285,12 @@ const std::vector<Flag>& flags() {
       {"--adapt-counted-channel", "NAME",
        "the failed NAME's uninformative channel still counts in each filter's channel count ('f16mmae hil' "
        "gives vel with a scheduled bank's --adapt-turbulence, its default in process)",
-       parsed_by([](C& c, const std::string& v) {
-         static const char* const kSensors[] = {"vel", "aoa", "pit", "az", "rol", "yaw", "ay"};
-         std::string lower = v;
-         for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-         if (std::find(std::begin(kSensors), std::end(kSensors), lower) == std::end(kSensors))
-           return std::string("must name a measurement (vel, aoa, pit, az, rol, yaw, ay)");
-         c.adapt_counted_channel = lower;
-         return std::string();
-       }),
-       nullptr, "--adapt-own-channels", [](const C& c) { return c.estimator.bank.adaptation.own_channels; }},
+       sensor(&C::adapt_counted_channel), nullptr, "--adapt-own-channels",
+       [](const C& c) { return c.estimator.bank.adaptation.own_channels; }},
+      {"--adapt-excluded-channel", "NAME",
+       "the hypotheses that read NAME's channel as a free level (a constant or cover level for it) leave the "
+       "adaptation's minimum over the hypotheses; they still get its scale",
+       sensor(&C::adapt_excluded_channel), nullptr, "--adapt-turbulence", adapting},
       {"--adapt-reference-climb", "RHO",
        "the reference while the air data climb or descend faster than 300 ft/min or change Mach faster than "
        "the Mach-rate gate (default: off, the reference above everywhere)",

@@ -38,6 +38,7 @@
 #include <optional>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace {
@@ -134,17 +135,21 @@ int main(int argc, char** argv) {
       for (const auto& h : bank.hypotheses)
         if (h.dwell_nats > 0.0) options.declarer.dwell_nats_per_hypothesis[h.name] = h.dwell_nats;
     }
-    if (!cfg.adapt_counted_channel.empty()) {   // its bit in the bank's measurement order
+    for (auto [flag, name, bits] : {std::make_tuple("--adapt-counted-channel", &cfg.adapt_counted_channel,
+                                                    &options.bank.adaptation.counted_channels),
+                                    std::make_tuple("--adapt-excluded-channel", &cfg.adapt_excluded_channel,
+                                                    &options.bank.adaptation.excluded_channels)}) {
+      if (name->empty()) continue;   // its bit in the bank's measurement order
       const auto& m = bank.measurement_names;
-      std::string upper = cfg.adapt_counted_channel;
+      std::string upper = *name;
       for (char& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
       const auto it = std::find(m.begin(), m.end(), upper);
       if (it == m.end()) {
-        std::fprintf(stderr, "mmae-daemon: error: --adapt-counted-channel %s: the bank measures no %s (%s)\n",
-                     cfg.adapt_counted_channel.c_str(), upper.c_str(), cfg.bank_path.c_str());
+        std::fprintf(stderr, "mmae-daemon: error: %s %s: the bank measures no %s (%s)\n", flag, name->c_str(),
+                     upper.c_str(), cfg.bank_path.c_str());
         return 1;
       }
-      options.bank.adaptation.counted_channels = 1u << static_cast<unsigned>(it - m.begin());
+      *bits = 1u << static_cast<unsigned>(it - m.begin());
     }
     if (cfg.set_tempering) {   // the per-hypothesis tempering; its fully tempered ones by name, as bits
       options.bank.adaptation.hypothesis_weight = *cfg.set_tempering;
@@ -236,6 +241,8 @@ int main(int argc, char** argv) {
         adaptation.insert(adaptation.size() - 1,
                           cfg.adapt_counted_channel.empty() ? std::string(", own channels")
                                                             : ", own channels, " + cfg.adapt_counted_channel + " counted");
+      if (executive->estimator().members() == 0 && options.bank.adaptation.enabled && !cfg.adapt_excluded_channel.empty())
+        adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_excluded_channel + " levels excluded");
       const auto& a = running.bank.adaptation;
       if (a.hypothesis_weight < 1.0)   // the per-hypothesis tempering (turbulence_adaptation.h)
         adaptation += ", set tempering " + f16mmae::format_value(a.hypothesis_weight) + " from rho " +

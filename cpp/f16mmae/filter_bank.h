@@ -251,6 +251,7 @@ class FilterBank {
     footing_.setZero(k);
     own_ratio_.setOnes(k);
     q_own_.setZero(k);
+    free_channels_.setZero(k);
     for (int i = 0; i < k; ++i) note_uninformative(i);
     level_.setZero(nz, k);
     level_var_.setZero(nz, k);
@@ -346,12 +347,7 @@ class FilterBank {
       apply_floor();
       if (options_.fresh_floor_levels) restart_floored_levels();
     }
-    if (scale_.options().own_channels) {   // q_k m / m_k: each form per channel it reads (turbulence_adaptation.h)
-      q_own_ = q_.cwiseProduct(own_ratio_);
-      scale_.observe(live_q(q_own_));
-    } else {
-      scale_.observe(live_q(q_));
-    }
+    observe_scale();
     if (per_channel) observe_channels();
     refresh_blend();
     ++frames_;
@@ -626,9 +622,14 @@ class FilterBank {
     // adaptation's counted channels (turbulence_adaptation.h: they count as read)
     int read = nz();
     const std::uint32_t counted = options_.adaptation.counted_channels;
+    std::uint32_t free = 0;   // bit j: channel j uninformative in filter k (the excluded channels' test)
     if (uninformative_[k])
       for (int j = 0; j < nz(); ++j)
-        if (hypotheses_[k].model().uninformative_width(j) > 0.0 && !(j < 32 && ((counted >> j) & 1u))) --read;
+        if (hypotheses_[k].model().uninformative_width(j) > 0.0) {
+          if (j < 32) free |= 1u << j;
+          if (!(j < 32 && ((counted >> j) & 1u))) --read;
+        }
+    free_channels_(k) = free;
     own_ratio_(k) = read > 0 ? static_cast<double>(nz()) / read : 1.0;
     if (k == 0) {   // filter 0's A is every other filter's footing
       for (int i = 0; i < size(); ++i) note_footing(i);
@@ -701,6 +702,26 @@ class FilterBank {
     for (int i = 0; i < size(); ++i)
       if (live_[i] && q_(i) < std::numeric_limits<double>::infinity() && (best < 0 || q_(i) < q_(best))) best = i;
     if (best >= 0) scale_.observe_channels(ZVector(residual(best)), hypotheses_[best].a_inverse());
+  }
+  // The adaptation's per-update minimum (turbulence_adaptation.h): q_k, or q_k m / m_k with own
+  // channels, the off-line filters and the excluded hypotheses E left out.
+  void observe_scale() noexcept {
+    const std::uint32_t excluded = scale_.options().excluded_channels & ~free_channels_(presumed_);
+    const bool own = scale_.options().own_channels;
+    if (!excluded) {
+      if (own) {   // q_k m / m_k: each form per channel it reads
+        q_own_ = q_.cwiseProduct(own_ratio_);
+        scale_.observe(live_q(q_own_));
+      } else {
+        scale_.observe(live_q(q_));
+      }
+      return;
+    }
+    if (own) q_own_ = q_.cwiseProduct(own_ratio_);
+    else q_own_ = q_;
+    for (int i = 0; i < size(); ++i)
+      if (free_channels_(i) & excluded) q_own_(i) = std::numeric_limits<double>::infinity();
+    scale_.observe(live_q(q_own_));
   }
   // q with the off-line filters' entries +inf (left out of a minimum); q itself when all are live.
   const PVector& live_q(const PVector& q) noexcept {
@@ -807,6 +828,7 @@ class FilterBank {
   int presumed_ = 0;                              // the hypothesis presumed last (set_p_min)
   int head_ = 0;                                  // set_p_min's two tiers: k < head_ take
   double p_min_head_ = 0.0, log_p_min_head_ = 0.0;   // p_min_head_ (head_ = 0: none)
+  Eigen::Matrix<std::uint32_t, K, 1> free_channels_;   // bit j: channel j uninformative in filter k
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

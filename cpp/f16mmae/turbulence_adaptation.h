@@ -78,6 +78,22 @@
 // airspeed sensor's jump to its stuck value) leaves the matching hypothesis's q_k above m_k for
 // seconds after the failure; read per channel it wins the minimum with ρ up to m / m_k higher,
 // s rises and tempers that hypothesis's own evidence (docs/results/envelope_tuning.md).
+// Excluded channels (excluded_channels, a bit per measurement channel j, default none): a
+// hypothesis that reads an excluded channel as a free level (uninformative there: a `constant`
+// or `cover` level for that sensor) while the presumed hypothesis p (filter 0 at level 0; at
+// level 1 the declared failure) does not, leaves the minimum:
+//     E = { k : some j with bit j of excluded_channels set, j uninformative in k, not in p },
+//     x = min_{k on line, k ∉ E} q'_k / m    (q'_k = q_k, or q_k m / m_k with own_channels)
+//   in place of the minimum over every hypothesis on line; x feeds ρ, ρ̄ and x̃ alike. The
+//   hypotheses in E still get s (their l_k as every other's). The per-channel form's k* and the
+//   per-hypothesis form's b are chosen as without it. Why: a level the design reads as free
+//   absorbs that channel's gust power (the level fits whatever the reading does), so in gusts
+//   its q_k is the least more often than its fit deserves and ρ reads the air calmer than the
+//   references were calibrated for; s then falls to its floor and other hypotheses peak in
+//   gusts (a constant AOA level: docs/results/envelope_tuning.md, round 16). Excluding is
+//   what own_channels' per-channel count cannot do: the level's q_k / m_k is still low.
+//   A channel the presumed hypothesis reads as a free level excludes nobody (at level 1 after
+//   that sensor's failure every hypothesis reads it so, and the minimum would be empty).
 //
 // Per hypothesis (hypothesis_weight w in (0, 1]; 1, the default, is off): the gusts lift some
 // hypotheses' likelihoods against the no-failure filter's far more than others' (in severe
@@ -172,7 +188,7 @@
 
 namespace f16mmae {
 
-// alignas(16), 96 bytes: it sits inside FilterBankOptions, the first member of the banks, and
+// alignas(16), 112 bytes: it sits inside FilterBankOptions, the first member of the banks, and
 // a shift of the banks' Eigen members by other than a multiple of 16 bytes changes Eigen's
 // alignment peeling, hence the rounding of the blend: "off" would not be bit-identical.
 struct alignas(16) TurbulenceAdaptationOptions {
@@ -190,6 +206,7 @@ struct alignas(16) TurbulenceAdaptationOptions {
   std::uint32_t full_tempering = 0;      // bit k: hypothesis k keeps the full s under hypothesis_weight
   bool spare_margin = false;             // the spared evidence over min(q_0, q_f: f fully tempered) (header)
   std::uint32_t spare_margin_over = 0;   // with spare_margin, bit k: q_k in q_r's min (header); 0: full_tempering's
+  std::uint32_t excluded_channels = 0;  // hypotheses reading these channels as a free level leave the minimum (bit j: z_j)
   double spare_rho = 0.0;                // ρ_s: the sparing only while ρ̄ >= ρ_s (header); 0: at any ρ̄
 };
 

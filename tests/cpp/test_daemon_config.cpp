@@ -261,6 +261,18 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-counted-channel must name a measurement (vel, aoa, pit, az, rol, yaw, ay), "
                            "got 'air'"), std::string::npos) << r.message;
+  EXPECT_TRUE(r.config.adapt_excluded_channel.empty());
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-excluded-channel", "AOA"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.adapt_excluded_channel, "aoa");
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-excluded-channel=air"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-excluded-channel must name a measurement (vel, aoa, pit, az, rol, yaw, ay), "
+                           "got 'air'"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-excluded-channel", "aoa"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-excluded-channel applies with --adapt-turbulence only"), std::string::npos)
+      << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-counted-channel", "vel"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-counted-channel applies with --adapt-own-channels only"), std::string::npos)

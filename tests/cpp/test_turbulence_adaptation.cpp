@@ -309,6 +309,58 @@ TEST(TurbulenceAdaptation, CountedChannelsKeepTheirShareOfThePlainMinimum) {
   EXPECT_EQ(b.quadratic_forms(), a.quadratic_forms());   // the likelihoods' forms are untouched
 }
 
+TEST(TurbulenceAdaptation, ExcludedChannelsLeaveTheMinimum) {
+  // The three filters of CountedChannelsKeepTheirShareOfThePlainMinimum, alpha = 1, gain 1,
+  // reference 1 (s = rho), z = (3, 2.5): q = (15.25, 9, 6.25). Filter 2 reads channel 0 as a
+  // free level, filter 1 channel 1. Channel 0 excluded: filter 2 leaves the minimum,
+  // x = min(q_0 / 2, q_1 / 2) = 4.5 (plain: min(.., 6.25 / 2) = 3.125); with own channels
+  // x = min(q_0 / 2, q_1 / 1) = 7.625. Channel 1 excluded: filter 1 leaves it, x = 3.125, the
+  // plain minimum. Filter 2 presumed: it reads channel 0 so itself, nobody leaves, the plain one.
+  PairModel left1 = pair_model(1.0, 0.0, 1.0);
+  left1.h << 1.0, 0.0;
+  left1.uninformative_width << 0.0, 10.0;
+  left1.uninformative_level_q << 0.0, 0.01;
+  PairModel left0 = pair_model(1.0, 0.0, 1.0);
+  left0.h << 0.0, 1.0;
+  left0.uninformative_width << 10.0, 0.0;
+  left0.uninformative_level_q << 0.01, 0.0;
+  FilterBankOptions plain;
+  plain.p_min = 0.0;
+  plain.adaptation = on(1e-5, 1.0, 50.0);
+  FilterBankOptions ex0 = plain;
+  ex0.adaptation.excluded_channels = 1u << 0;
+  FilterBankOptions ex0_own = ex0;
+  ex0_own.adaptation.own_channels = true;
+  FilterBankOptions ex1 = plain;
+  ex1.adaptation.excluded_channels = 1u << 1;
+  const auto models = [&] { return std::vector<PairModel>{pair_model(1.0, 0.0, 1.0), left1, left0}; };
+  PairBank a(models(), plain), b(models(), ex0), c(models(), ex0_own), d(models(), ex1), e(models(), ex0);
+  e.presume(2);
+  const Eigen::Vector2d z(3.0, 2.5);
+  for (PairBank* bank : {&a, &b, &c, &d, &e}) ASSERT_TRUE(bank->update(z));
+  const Eigen::Vector3d q = b.quadratic_forms();
+  EXPECT_NEAR(q(0), 15.25, 1e-13);
+  EXPECT_NEAR(q(1), 9.0, 1e-13);
+  EXPECT_NEAR(q(2), 6.25, 1e-13);
+  EXPECT_NEAR(a.adaptation().power_ratio(), 6.25 / 2.0, 1e-13);
+  EXPECT_NEAR(b.adaptation().power_ratio(), 9.0 / 2.0, 1e-13);
+  EXPECT_NEAR(b.adaptation().measured_power_ratio(), 9.0 / 2.0, 1e-13);   // x feeds rho-bar too
+  EXPECT_NEAR(b.turbulence_scale(), 4.5, 1e-13);
+  EXPECT_NEAR(c.adaptation().power_ratio(), 15.25 / 2.0, 1e-13);
+  EXPECT_EQ(d.adaptation().power_ratio(), a.adaptation().power_ratio());
+  EXPECT_EQ(e.adaptation().power_ratio(), a.adaptation().power_ratio());
+  EXPECT_EQ(b.quadratic_forms(), a.quadratic_forms());   // the likelihoods' forms are untouched
+  // the excluded filter still gets s: the next frame's l_k = -q_k / (2 s) + (its footing), every k alike
+  const Eigen::Vector2d z2(1.0, -2.0);
+  ASSERT_TRUE(a.update(z2));
+  ASSERT_TRUE(b.update(z2));
+  const double s = 4.5;
+  for (int k = 0; k < 3; ++k) {
+    const double footing_k = a.log_likelihoods()(k) + a.quadratic_forms()(k) / (2.0 * 3.125);
+    EXPECT_NEAR(b.log_likelihoods()(k), -b.quadratic_forms()(k) / (2.0 * s) + footing_k, 1e-12) << k;
+  }
+}
+
 TEST(TurbulenceAdaptation, PerChannelWithOneChannelIsTheCommonScale) {
   // one measurement: c_1 = q_k*, the minimum, so rho_1 = rho and -(s^-1/2 r)' A^-1 (s^-1/2 r) / 2
   // = -q / (2 s): the two forms agree to rounding over a flight of changing scales

@@ -110,3 +110,30 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel"}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
+
+
+def test_the_excluded_channel_reaches_the_core_and_the_daemon():
+    assert core_arguments({"adapt_excluded_channel": "aoa"})["adapt_excluded_channels"] == 1 << 1
+    assert "adapt_excluded_channel" not in core_arguments({"adapt_excluded_channel": "aoa"})
+    with pytest.raises(ValueError, match="--adapt-excluded-channel 'air' must be one of vel, aoa"):
+        check({"adapt_turbulence": True, "adapt_excluded_channel": "air"})
+    with pytest.raises(ValueError, match="--adapt-excluded-channel applies with --adapt-turbulence only"):
+        check({"adapt_excluded_channel": "aoa"})
+    from f16mmae.lcm.daemon import daemon_flags
+    flags = daemon_flags({"adapt_turbulence": True, "adapt_excluded_channel": "aoa"})
+    assert flags[flags.index("--adapt-excluded-channel") + 1] == "aoa"
+
+
+def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(vel_rol_schedule):
+    """VEL and ROL read their channels as a free level (constant=VEL+ROL): excluding VEL's
+    channel changes rho; excluding PIT's, which no hypothesis reads so, changes nothing."""
+    bank = vel_rol_schedule
+    own = dict(adapt_turbulence=True, adapt_own_channels=True, adapt_counted_channels=1)
+    r_own = _fly(core.HierarchicalBank(bank, **own), bank)
+    r_vel = _fly(core.HierarchicalBank(bank, **own, adapt_excluded_channels=1), bank)
+    r_pit = _fly(core.HierarchicalBank(bank, **own, adapt_excluded_channels=1 << 2), bank)
+    np.testing.assert_array_equal(r_pit, r_own)
+    assert not np.array_equal(r_vel, r_own)
+    assert np.all(r_vel >= r_own)   # a minimum over fewer hypotheses is never lower
+    est = Estimator(bank, adapt_turbulence=True, adapt_excluded_channel="vel")
+    np.testing.assert_array_equal(_fly(est, bank), r_vel)

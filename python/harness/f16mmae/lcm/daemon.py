@@ -47,8 +47,9 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
     for key, value in core_arguments(estimator_options, nu).items():
         if key in CLOSED_LOOP:   # the closed loop's (the truth side's): the executive needs no flag
             continue
-        if key == "adapt_counted_channels":   # core_arguments' bit; the daemon takes the sensor's name
-            key, value = "adapt_counted_channel", estimator_options["adapt_counted_channel"]
+        if key in ("adapt_counted_channels", "adapt_excluded_channels"):   # core_arguments' bit; the daemon takes the sensor's name
+            key = key[:-1]
+            value = estimator_options[key]
         if key in _HYPOTHESIS_BITS_FLAGS:   # core_arguments' bits; the daemon takes the hypotheses' names
             out += [_HYPOTHESIS_BITS_FLAGS[key], ",".join(h for k, h in enumerate(SINGLE_HYPOTHESES) if (value >> k) & 1)]
             continue

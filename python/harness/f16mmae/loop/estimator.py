@@ -26,7 +26,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     position limits (``truth.actuators``: the actuator specification the estimator's designer
     has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
     beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf.
-    ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit;
+    ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit, and
+    ``adapt_excluded_channel`` ``adapt_excluded_channels``;
     ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``);
     ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
@@ -40,9 +41,10 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     for key, load in FILE_LOADERS.items():   # a file option's table: {"F>C": k} (level1_allowance.h), {name: N}
         if key in out and not isinstance(out[key], dict):   # a dict: the table itself (a bank's N_k)
             out[key] = load(out[key])
-    counted = out.pop("adapt_counted_channel", None)
-    if counted is not None:   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
-        out["adapt_counted_channels"] = 1 << SENSORS.index(counted.upper())
+    for name in ("counted", "excluded"):   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
+        sensor = out.pop(f"adapt_{name}_channel", None)
+        if sensor is not None:
+            out[f"adapt_{name}_channels"] = 1 << SENSORS.index(sensor.upper())
     if out.pop("trim_steady_air_data", "on") == "off":   # the air-data gate of steady tracking open
         out["trim_steady_climb_ft_s"] = out["trim_steady_mach_per_s"] = math.inf
     weight = out.pop("set_tempering", None)

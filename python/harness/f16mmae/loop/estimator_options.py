@@ -99,6 +99,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "every channel, as without own channels; the others per channel they read "
                          "(cpp/f16mmae/turbulence_adaptation.h). Default: VEL on a scheduled bank without "
                          "--adapt-own-channels, else none"),
+    EstimatorOption("adapt_excluded_channel", "--adapt-excluded-channel", "choice", metavar="|".join(SENSORS),
+                    choices=tuple(s.lower() for s in SENSORS), requires="adapt_turbulence",
+                    help="with --adapt-turbulence: the hypotheses that read the SENSOR's channel as a free level "
+                         "(a `constant` or `cover` level for it) leave the adaptation's minimum over the "
+                         "hypotheses; they still get its scale (unless the presumed hypothesis reads it so "
+                         "too; cpp/f16mmae/turbulence_adaptation.h). Default: none"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -357,6 +363,8 @@ CORE_ONLY: dict[str, str] = {
     "adapt_gain": "the adaptation's gain on the excess residual power (turbulence_adaptation.h)",
     "adapt_counted_channels": "the counted channels as a bit mask over z (turbulence_adaptation.h); the "
                               "estimator sets it from --adapt-counted-channel (loop/estimator.py core_arguments)",
+    "adapt_excluded_channels": "the excluded channels as a bit mask over z (turbulence_adaptation.h); the "
+                               "estimator sets it from --adapt-excluded-channel (loop/estimator.py core_arguments)",
     "adapt_hypothesis_weight": "the per-hypothesis tempering's weight (turbulence_adaptation.h); the estimator "
                                "sets it from --set-tempering (loop/estimator.py core_arguments)",
     "adapt_full_tempering": "the hypotheses the per-hypothesis tempering leaves at s, a bit mask over the "
@@ -372,11 +380,11 @@ CORE_ONLY: dict[str, str] = {
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
-#: ``adapt_all_channels`` and ``adapt_counted_channel`` are resolved by ``scheduled_defaults`` and the estimator;
+#: ``adapt_all_channels``, ``adapt_counted_channel`` and ``adapt_excluded_channel`` are resolved by ``scheduled_defaults`` and the estimator;
 #: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits and ``set_tempering`` the
 #: per-hypothesis tempering's keywords, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
-                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel",
+                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel", "adapt_excluded_channel",
                                "trim_steady_air_data", "set_tempering", "set_tempering_rho",
                                "set_tempering_margin", "set_tempering_margin_stabilators")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:

@@ -77,6 +77,7 @@ struct DaemonConfig {
   std::optional<bool> maneuver_trim_inertial;  // its rates from inertial_flight_path.h, with maneuver_trim
   std::optional<double> maneuver_trim_blend_s; // that filter's blend time constant, with maneuver_trim
   std::optional<double> maneuver_trim_accel_airspeed_rad_s;  // w0 of the airspeed's acceleration, with maneuver_trim
+  std::optional<bool> maneuver_trim_gamma_load_factor;       // the load factor's climb angle, with maneuver_trim
   std::optional<double> start_up_s;  // filter_bank.h: updates that weigh nothing after a start; unset: the bank's
   // actuator_limits.h: one value per input (rad/s, rad); both empty = off
   std::vector<double> actuator_rate_limits_rad_s, actuator_position_limits_rad;

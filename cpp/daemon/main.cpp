@@ -171,6 +171,8 @@ int main(int argc, char** argv) {
     if (cfg.maneuver_trim_blend_s) options.maneuver_trim.inertial_path.blend_time_constant_s = *cfg.maneuver_trim_blend_s;
     if (cfg.maneuver_trim_accel_airspeed_rad_s)
       options.maneuver_trim.accel_airspeed_rad_s = *cfg.maneuver_trim_accel_airspeed_rad_s;
+    if (cfg.maneuver_trim_gamma_load_factor)
+      options.maneuver_trim.gamma_load_factor = *cfg.maneuver_trim_gamma_load_factor;
     if (cfg.adapt_channel_weight) options.bank.adaptation.channel_weight = *cfg.adapt_channel_weight;
     if (cfg.set_tempering) {   // the per-hypothesis tempering; its fully tempered ones by name, as bits
       options.bank.adaptation.hypothesis_weight = *cfg.set_tempering;

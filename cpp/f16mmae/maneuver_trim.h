@@ -287,7 +287,7 @@ class AirspeedAccel {
 //   phi     = bank angle as inertial_flight_path.h's: phi += dt p + c_{T_phi} (phi_ref(V, r) - phi),
 //             phi_ref = asin(clamp(V r / g, -0.9, 0.9)), but T_phi = 10 s: in a roll-in the yaw
 //             rate overshoots the steady turn's (0.065 against 0.042 rad/s in the tour's last
-//             turn) and phi_ref with it (56 against 31 deg); at 2 s that phi put the lead 2.4 deg
+//             turn) and phi_ref with it (56 against 31 deg); at 2 s that phi put the correction 2.4 deg
 //             off, at 10 s 0.8 deg (tools/maneuver/gamma_lag.py)
 //   n_w     = n cos alpha + (sin(gamma + alpha) + a / g) sin alpha
 //             (the lift axis' load factor: body z and x specific forces, the x one
@@ -345,11 +345,11 @@ class ClimbAngleComplement {
     }
     f1_ += c1_ * (w - f1_);
     f5_ += c5_ * (w - f5_);
-    gamma_ = std::clamp(gamma_air + lead(), -gamma_max_, gamma_max_);
+    gamma_ = std::clamp(gamma_air + correction(), -gamma_max_, gamma_max_);
   }
   bool seen() const noexcept { return seen_; }
   double gamma() const noexcept { return gamma_; }   // rad
-  double lead() const noexcept { return t_ * (25.0 * f5_ - f1_) / 4.0; }   // d, rad
+  double correction() const noexcept { return t_ * (25.0 * f5_ - f1_) / 4.0; }   // d, rad
   double phi() const noexcept { return phi_; }       // rad
 
  private:

@@ -35,7 +35,7 @@ TEST(ClimbAngleComplement, FirstFrameAgainstTheRecursionByHand) {
   const double c1 = 1.0 - std::exp(-1.0 / (t * kRate)), c5 = 1.0 - std::exp(-1.0 / (5.0 * t * kRate));
   const double d = t * (25.0 * c5 * w - c1 * w) / 4.0;
   EXPECT_NEAR(f.phi(), phi, 1e-15);
-  EXPECT_NEAR(f.lead(), d, 1e-15);
+  EXPECT_NEAR(f.correction(), d, 1e-15);
   EXPECT_NEAR(f.gamma(), ga + d, 1e-15);
   // frame 1: p = 0.1 rad/s rolls phi by dt p plus the blend towards phi_ref
   f.observe(n, 0.0, 0.1, r, v, ga, 0.0, false);
@@ -72,7 +72,7 @@ TEST(ClimbAngleComplement, PullUpAndLevelOffWithoutTheAirDataLag) {
   EXPECT_GT(err_air, 3.0 * kDeg);
   EXPECT_LT(err_on, 0.1 * err_air) << "complement " << err_on / kDeg << " deg, air data " << err_air / kDeg << " deg";
   EXPECT_LT(err_on, 0.2 * kDeg);
-  // level again for 29 s: the lead has decayed, gamma is the air data's
+  // level again for 29 s: the correction has decayed, gamma is the air data's
   EXPECT_NEAR(trim.gamma(), trim.air_gamma(), 0.02 * kDeg);
   EXPECT_NEAR(trim.gamma(), 0.0, 0.05 * kDeg);
 }
@@ -88,32 +88,32 @@ TEST(ClimbAngleComplement, SteadyCoordinatedTurnIsNoClimb) {
 TEST(ClimbAngleComplement, FrozenReadsNoSensorAndGoesOverToTheAirData) {
   const double t = 0.5;
   ClimbAngleComplement f(t, 0.5, kRate);
-  for (int k = 0; k < 64; ++k) f.observe(1.1, 0.0, 0.0, 0.0, 600.0, 0.02, 0.0, false);   // a pull: a lead builds up
-  const double lead = f.lead(), phi = f.phi();
-  ASSERT_GT(lead, 0.003);
+  for (int k = 0; k < 64; ++k) f.observe(1.1, 0.0, 0.0, 0.0, 600.0, 0.02, 0.0, false);   // a pull: a correction builds up
+  const double correction = f.correction(), phi = f.phi();
+  ASSERT_GT(correction, 0.003);
   // the internal low-passes at the freeze: recover them from two frames of pure decay
   ClimbAngleComplement g = f;
   const double c1 = 1.0 - std::exp(-1.0 / (t * kRate)), c5 = 1.0 - std::exp(-1.0 / (5.0 * t * kRate));
   g.observe(1.1, 0.0, 0.0, 0.0, 600.0, 0.02, 0.0, true);
-  const double l1 = g.lead();
-  // lead = T (25 f5 - f1) / 4; frozen: f1 *= 1 - c1, f5 *= 1 - c5. Two equations, two unknowns.
+  const double l1 = g.correction();
+  // correction = T (25 f5 - f1) / 4; frozen: f1 *= 1 - c1, f5 *= 1 - c5. Two equations, two unknowns.
   const double a = (1.0 - c1), b = (1.0 - c5);
-  const double f5 = (l1 - a * lead) * 4.0 / t / (25.0 * (b - a));
-  const double f1 = 25.0 * f5 - 4.0 * lead / t;
-  // a failed AZ reading 5 g, AOA, ROL, YAW and the acceleration far off: nothing read, phi holds, the lead decays as stated
+  const double f5 = (l1 - a * correction) * 4.0 / t / (25.0 * (b - a));
+  const double f1 = 25.0 * f5 - 4.0 * correction / t;
+  // a failed AZ reading 5 g, AOA, ROL, YAW and the acceleration far off: nothing read, phi holds, the correction decays as stated
   for (int k = 1; k <= 128; ++k) {
     f.observe(5.0, 0.3, 1.0, 1.0, 600.0, 0.03, 9.0, true);
     const double expect = t * (25.0 * f5 * std::pow(b, k) - f1 * std::pow(a, k)) / 4.0;
-    ASSERT_NEAR(f.lead(), expect, 1e-12) << "frame " << k;
+    ASSERT_NEAR(f.correction(), expect, 1e-12) << "frame " << k;
     ASSERT_NEAR(f.gamma(), 0.03 + expect, 1e-12);
   }
   EXPECT_EQ(f.phi(), phi);
-  EXPECT_LT(std::abs(f.lead()), 0.5 * lead);
+  EXPECT_LT(std::abs(f.correction()), 0.5 * correction);
   // a NaN counts as frozen
-  const double before = f.lead();
+  const double before = f.correction();
   f.observe(std::nan(""), 0.0, 0.0, 0.0, 600.0, 0.03, 0.0, false);
-  EXPECT_NEAR(f.lead(), t * (25.0 * f5 * std::pow(b, 129) - f1 * std::pow(a, 129)) / 4.0, 1e-12);
-  EXPECT_NE(f.lead(), before);
+  EXPECT_NEAR(f.correction(), t * (25.0 * f5 * std::pow(b, 129) - f1 * std::pow(a, 129)) / 4.0, 1e-12);
+  EXPECT_NE(f.correction(), before);
 }
 
 TEST(ClimbAngleComplement, RefusesBadOptionsByName) {

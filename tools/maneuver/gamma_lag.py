@@ -1,6 +1,6 @@
 """The maneuver trim's climb angle offline, against the truth, at a soak's pull-ups, pull-outs and
 level-offs: the air data's gamma (two low-passes T and 5 T of the pressure altitude,
-``maneuver_trim.h``) and the same plus ``ClimbAngleComplement``'s lead from AZ, AOA, ROL and YAW
+``maneuver_trim.h``) and the same plus ``ClimbAngleComplement``'s correction from AZ, AOA, ROL and YAW
 (``--maneuver-trim-gamma-load-factor on``), both recomputed here open loop on the recorded air
 data and z (no freeze rule: what the sensors give, not what a suspected failure would hold).
 
@@ -102,7 +102,7 @@ def main(argv=None) -> None:
         g_true, _ = truth_rates(s["truth_log"])
         air, z = np.asarray(s["air_data"]), np.asarray(s["z"])
         g_air, v, a = air_gamma(air[:, 1], air[:, 0], sound, t)
-        ests = {"air data": g_air, "air data + AZ lead": complement(z, g_air, v, a, t)}
+        ests = {"air data": g_air, "air data + AZ correction": complement(z, g_air, v, a, t)}
         print(f"run {r['run_index']}: transition at s, then per estimate: lag s / rms deg at it, max |err| deg")
         n = len(g_true)
         for i, tag in transitions(g_true):

@@ -205,6 +205,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::maneuver_trim, &ManeuverTrimOptions::inertial_path, &InertialFlightPathOptions::blend_time_constant_s>(
           "maneuver_trim_blend_s"),
       field<&O::maneuver_trim, &ManeuverTrimOptions::accel_airspeed_rad_s>("maneuver_trim_accel_airspeed_rad_s"),
+      two_words<&O::maneuver_trim, &ManeuverTrimOptions::gamma_load_factor>("maneuver_trim_gamma_load_factor", "on",
+                                                                            "off"),
       // the actuators' limits (nu each; empty: off)
       field<&O::actuators, &ActuatorLimitOptions::rate_limit_rad_s>("actuator_rate_limits_rad_s"),
       field<&O::actuators, &ActuatorLimitOptions::position_limit_rad>("actuator_position_limits_rad"),

@@ -395,6 +395,12 @@ const std::vector<Flag>& flags() {
        number(at(E, &H::maneuver_trim, &ManeuverTrimOptions::accel_airspeed_rad_s), {0.05, 20.0}, "a natural frequency in rad/s in [0.05, 20]"),
        {}, "--maneuver-trim and the air data's rates",
        [](const C& c) { return c.estimator.maneuver_trim.enabled && !c.estimator.maneuver_trim.inertial; }},
+      {"--maneuver-trim-gamma-load-factor", "on|off",
+       "on: the climb angle is the air data's plus what their low-passes hold back of the path's turn, from "
+       "AZ, ROL and YAW (maneuver_trim.h, ClimbAngleComplement; default off)",
+       on_off(at(E, &H::maneuver_trim, &ManeuverTrimOptions::gamma_load_factor)), {},
+       "--maneuver-trim and the air data's rates",
+       [](const C& c) { return c.estimator.maneuver_trim.enabled && !c.estimator.maneuver_trim.inertial; }},
 
       {nullptr, nullptr, "Level 1: a failure's dual bank on line"},
       {"--level1-p-min", "P",

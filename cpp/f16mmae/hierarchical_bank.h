@@ -252,7 +252,7 @@ class HierarchicalBank {
     }
     if (maneuver_trim_.reads_z())   // maneuver_trim.h / inertial_flight_path.h
       maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
-                                      z_abs(mt_vel_), trim_freezing());
+                                      z_abs(mt_vel_), z_abs(mt_z_[4]), trim_freezing());
     if (maneuver_dwell_.enabled()) {   // maneuver_dwell.h
       maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_);
       if (maneuver_dwell_.options().has_reference()) bank_.set_adapt_reference(adapt_reference_in_force());
@@ -843,6 +843,17 @@ class HierarchicalBank {
         mt_z_[k] = static_cast<int>(it - m.begin());
       }
     }
+    if (options_.maneuver_trim.gamma_load_factor) {   // n, p, r of z (maneuver_trim.h, ClimbAngleComplement)
+      const char* need[3] = {"AZ", "ROL", "YAW"};
+      const int slot[3] = {4, 1, 2};
+      for (int k = 0; k < 3; ++k) {
+        const auto it = std::find(m.begin(), m.end(), need[k]);
+        if (it == m.end())
+          throw std::invalid_argument(std::string("hierarchical bank: the maneuver trim's load-factor climb angle "
+                                                  "needs the measurement '") + need[k] + "'");
+        mt_z_[slot[k]] = static_cast<int>(it - m.begin());
+      }
+    }
     mt_z_[3] = ia;   // AOA: the inertial rates and the airspeed's acceleration
     auto add = [&](const ModelBank& node) {
       const HypothesisModel& h = node.hypotheses.at(0);
@@ -897,7 +908,7 @@ class HierarchicalBank {
   ManeuverDwell maneuver_dwell_;
   int maneuver_dwell_az_ = 0;   // AZ in z (the maneuver dwell's load factor)
   ManeuverTrim maneuver_trim_;
-  int mt_z_[4] = {0, 0, 0, 0};   // PIT, ROL, YAW, AOA in z (the maneuver trim's inertial rates)
+  int mt_z_[5] = {0, 0, 0, 0, 0};   // PIT, ROL, YAW, AOA, AZ in z (the maneuver trim's readers)
   std::vector<Eigen::MatrixXd> mt_sx_, mt_su_, mt_sz_;   // per node: d(x, u, z)_trim / d(gamma, a)
   XVector mt_dx_, mt_shift_;
   UVector mt_du_, base_u_trim_;

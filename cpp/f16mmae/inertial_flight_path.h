@@ -135,6 +135,10 @@ class InertialFlightPath {
     accel_ = std::clamp(accel_, a_air - o_.max_gap_fps2, a_air + o_.max_gap_fps2);
   }
   bool seen() const noexcept { return started_; }   // a frame with finite air-data rates has come
+  // The coordinated turn's bank angle, asin(clamp(V r / g, -0.9, 0.9)) (header; V ft/s, r rad/s).
+  static double phi_ref(double vel, double r) noexcept {
+    return std::asin(std::clamp(vel * r / kG, -0.9, 0.9));
+  }
   double gamma() const noexcept { return gamma_; }   // rad
   double accel() const noexcept { return accel_; }   // ft/s^2
   double phi() const noexcept { return phi_; }       // rad, the bank angle estimate
@@ -145,9 +149,6 @@ class InertialFlightPath {
     vf_ = vel;
     vs_ = vel - 4.0 * o_.vel_time_constant_s * a;
     vel_seen_ = true;
-  }
-  static double phi_ref(double vel, double r) noexcept {
-    return std::asin(std::clamp(vel * r / kG, -0.9, 0.9));
   }
   InertialFlightPathOptions o_;
   double dt_ = 1.0 / 64.0;

@@ -67,6 +67,17 @@
 // trim tracker's: a failure hypothesis rising, declared or level 1), under which it reads none of
 // z and goes over to the air data's, so a failed sensor cannot drive the trim to absorb it. The
 // (gamma, a) of frame k are applied at the schedule() of frame k + 1.
+// With options.gamma_load_factor gamma is instead the air data's plus what their low-passes hold
+// back of the path's turn, from the normal load factor AZ of z (ClimbAngleComplement below):
+// the air data's climb rate is the truth's through L(s) = 1 / ((1 + T s)(1 + 5 T s)), so
+//   gamma = gamma_air + (1 - L(s)) / s  gamma_dot_n,
+//   gamma_dot_n = (g / V) (n_w cos phi - cos gamma)    (the flight path's pitch-up rate, wind axes;
+//                 n_w the lift axis' load factor from the body axis' AZ and AOA)
+// is gamma_air + (1 - L) gamma = gamma where gamma_dot_n is right: without the lag (mean delay
+// 6 T) at a pull-out or level-off, and, as (1 - L(s)) / s has the finite gain 6 T at s = 0, a
+// steady error e of gamma_dot_n only moves gamma by 6 T e (no integration drift); in a steady
+// climb or turn gamma_dot_n = 0 and gamma is the air data's. The acceleration is unchanged (the
+// air data's, or AirspeedAccel's with accel_airspeed_rad_s > 0).
 // Off (enabled = false, the default): the bank as designed, bit for bit.
 // Options are checked by validate() (std::invalid_argument naming the value and its range).
 #pragma once
@@ -93,8 +104,12 @@ struct ManeuverTrimOptions {
   bool inertial = false;              // (gamma, a) from inertial_flight_path.h (header); false: the air data's
   InertialFlightPathOptions inertial_path;
   double accel_airspeed_rad_s = 0.0;  // w0 > 0: a from the airspeed of z (AirspeedAccel); 0: the air data's
+  bool gamma_load_factor = false;     // gamma: the air data's plus ClimbAngleComplement's (AZ, ROL, YAW of z)
   void validate() const {
     if (!enabled) return;
+    if (inertial && gamma_load_factor)
+      throw std::invalid_argument("maneuver trim: the inertial rates and the load factor's climb angle exclude each "
+                                  "other (the inertial rates have their own climb angle), got both");
     if (inertial) inertial_path.validate();
     if (!(accel_airspeed_rad_s == 0.0 || (accel_airspeed_rad_s >= 0.05 && accel_airspeed_rad_s <= 20.0)))
       throw std::invalid_argument("maneuver trim: accel_airspeed_rad_s must be 0 (the air data's acceleration) or "
@@ -264,6 +279,85 @@ class AirspeedAccel {
   double v_ = 0.0, a_ = 0.0;
 };
 
+// ClimbAngleComplement — the part of the climb angle the air data's low-passes hold back, from the
+// normal load factor (header of the file: why). Per frame (dt = 1 / f), from z the normal load
+// factor n (AZ, g, up +), the angle of attack alpha (rad) and the roll and yaw rates p, r (rad/s);
+// the air data's airspeed V = c lp_T(M) (ft/s) and gamma_air (rad); the trim's acceleration a
+// (ft/s^2); T the air data's time constant, c_x = 1 - exp(-1 / (x f)):
+//   phi     = bank angle as inertial_flight_path.h's: phi += dt p + c_{T_phi} (phi_ref(V, r) - phi),
+//             phi_ref = asin(clamp(V r / g, -0.9, 0.9)), but T_phi = 10 s: in a roll-in the yaw
+//             rate overshoots the steady turn's (0.065 against 0.042 rad/s in the tour's last
+//             turn) and phi_ref with it (56 against 31 deg); at 2 s that phi put the correction 2.4 deg
+//             off, at 10 s 0.8 deg (tools/maneuver/gamma_lag.py)
+//   n_w     = n cos alpha + (sin(gamma + alpha) + a / g) sin alpha
+//             (the lift axis' load factor: body z and x specific forces, the x one
+//             n_x = sin(theta) + a / g taken from the path; level and steady n_w = 1)
+//   w       = (g / V) (n_w cos phi - cos gamma)        (gamma: this filter's previous output)
+//   f_1    += c_T (w - f_1),   f_5 += c_{5T} (w - f_5)
+//   d       = T (25 f_5 - f_1) / 4                     (= (1 - L(s)) / s w: partial fractions of
+//             (6 T + 5 T^2 s) / ((1 + T s)(1 + 5 T s)) = (25 T / 4) / (1 + 5 T s) - (T / 4) / (1 + T s))
+//   gamma   = clamp(gamma_air + d, -gamma_max, gamma_max)
+// A steady rate w0 settles at d = 6 T w0, the lag of the air data's gamma behind a ramp of slope
+// w0 (their mean delay 6 T). An error e (g) of n_w moves gamma by 6 T g e / V in the steady state
+// (0.05 deg per 0.005 g at 600 ft/s and T = 0.5 s).
+// The freeze rule (the bank's, as AirspeedAccel's): while `frozen` none of z is read, phi holds
+// and w = 0, so d decays (time constants T and 5 T) and gamma goes over to the air data's: a
+// failed AZ, AOA, ROL or YAW sensor cannot drive the trim to absorb its failure. The first frame read
+// starts phi = phi_ref, f_1 = f_5 = 0. Non-finite readings count as frozen.
+class ClimbAngleComplement {
+ public:
+  static constexpr double kG = InertialFlightPath::kG;
+  ClimbAngleComplement() = default;
+  ClimbAngleComplement(double time_constant_s, double gamma_max_rad, double frame_rate_hz)
+      : dt_(1.0 / frame_rate_hz), t_(time_constant_s), gamma_max_(gamma_max_rad),
+        c1_(1.0 - std::exp(-1.0 / (time_constant_s * frame_rate_hz))),
+        c5_(1.0 - std::exp(-1.0 / (5.0 * time_constant_s * frame_rate_hz))),
+        c_roll_(1.0 - std::exp(-1.0 / (kRollTimeConstantS * frame_rate_hz))) {
+    if (!(time_constant_s > 0.0) || !(frame_rate_hz > 0.0) || !(gamma_max_rad > 0.0))
+      throw std::invalid_argument("climb angle complement: needs T > 0, gamma_max > 0 and a frame rate > 0, got " +
+                                  format_value(time_constant_s) + ", " + format_value(gamma_max_rad) + ", " +
+                                  format_value(frame_rate_hz));
+  }
+  static constexpr double kRollTimeConstantS = 10.0;   // T_phi
+  void reset() noexcept {
+    seen_ = phi_seen_ = false;
+    phi_ = f1_ = f5_ = gamma_ = 0.0;
+  }
+  // One frame: n (g), alpha (rad), p, r (rad/s) of z; the air data's V (ft/s) and gamma_air (rad);
+  // the trim's acceleration a (ft/s^2); frozen.
+  void observe(double n, double alpha, double p, double r, double v_air, double gamma_air, double a,
+               bool frozen) noexcept {
+    if (!std::isfinite(gamma_air) || !std::isfinite(v_air) || !(v_air > 0.0)) return;
+    if (!(std::isfinite(n) && std::isfinite(alpha) && std::isfinite(p) && std::isfinite(r) && std::isfinite(a)))
+      frozen = true;
+    if (!seen_) gamma_ = gamma_air;
+    seen_ = true;
+    double w = 0.0;
+    if (!frozen) {
+      if (!phi_seen_) {
+        phi_ = InertialFlightPath::phi_ref(v_air, r);
+        phi_seen_ = true;
+      } else {
+        phi_ += dt_ * p + c_roll_ * (InertialFlightPath::phi_ref(v_air, r) - phi_);
+      }
+      const double n_w = n * std::cos(alpha) + (std::sin(gamma_ + alpha) + a / kG) * std::sin(alpha);
+      w = kG / v_air * (n_w * std::cos(phi_) - std::cos(gamma_));
+    }
+    f1_ += c1_ * (w - f1_);
+    f5_ += c5_ * (w - f5_);
+    gamma_ = std::clamp(gamma_air + correction(), -gamma_max_, gamma_max_);
+  }
+  bool seen() const noexcept { return seen_; }
+  double gamma() const noexcept { return gamma_; }   // rad
+  double correction() const noexcept { return t_ * (25.0 * f5_ - f1_) / 4.0; }   // d, rad
+  double phi() const noexcept { return phi_; }       // rad
+
+ private:
+  double dt_ = 1.0 / 64.0, t_ = 0.5, gamma_max_ = 0.5, c1_ = 0.0, c5_ = 0.0, c_roll_ = 0.0;
+  bool seen_ = false, phi_seen_ = false;
+  double phi_ = 0.0, f1_ = 0.0, f5_ = 0.0, gamma_ = 0.0;
+};
+
 // The per-frame part (header): the rates from the air data, (gamma, a), the blended offsets.
 class ManeuverTrim {
  public:
@@ -275,9 +369,13 @@ class ManeuverTrim {
     gain_slow_ = 1.0 - std::exp(-1.0 / (frame_rate_hz * 5.0 * options.time_constant_s));
     if (options.inertial) path_ = InertialFlightPath(options.inertial_path, frame_rate_hz);
     if (options.accel_airspeed_rad_s > 0.0) airspeed_ = AirspeedAccel(options.accel_airspeed_rad_s, frame_rate_hz);
+    if (options.gamma_load_factor)
+      complement_ = ClimbAngleComplement(options.time_constant_s, options.gamma_max_rad, frame_rate_hz);
   }
-  // observe_inertial() reads z: the inertial rates or the airspeed's acceleration.
-  bool reads_z() const noexcept { return options_.enabled && (options_.inertial || options_.accel_airspeed_rad_s > 0.0); }
+  // observe_inertial() reads z: the inertial rates, the airspeed's acceleration or the load factor's climb angle.
+  bool reads_z() const noexcept {
+    return options_.enabled && (options_.inertial || options_.accel_airspeed_rad_s > 0.0 || options_.gamma_load_factor);
+  }
   bool enabled() const noexcept { return options_.enabled; }
   const ManeuverTrimOptions& options() const noexcept { return options_; }
 
@@ -285,8 +383,10 @@ class ManeuverTrim {
     seen_ = false;
     h_fast_ = h_slow_ = m_fast_ = m_slow_ = 0.0;
     gamma_ = accel_ = 0.0;
+    v_air_ = 0.0;
     path_.reset();
     airspeed_.reset();
+    complement_.reset();
   }
   // One usable air-data sample (Mach, pressure altitude ft) and the speed of sound c (ft/s) of
   // the trim in force: updates gamma() and accel().
@@ -304,6 +404,7 @@ class ManeuverTrim {
     const double span = 4.0 * options_.time_constant_s;
     const double climb = (h_fast_ - h_slow_) / span, mach_rate = (m_fast_ - m_slow_) / span;
     const double v = sound_fps * m_fast_;
+    v_air_ = v;
     const double sg = std::sin(options_.gamma_max_rad);
     gamma_ = v > 0.0 ? std::asin(std::clamp(climb / v, -sg, sg)) : 0.0;
     accel_ = options_.accel ? std::clamp(sound_fps * mach_rate, -options_.accel_max_fps2, options_.accel_max_fps2)
@@ -313,14 +414,20 @@ class ManeuverTrim {
   // With options.inertial: one frame's measurements (absolute: q, p, r rad/s, alpha rad, V ft/s)
   // and the bank's freeze condition, into the complementary filter (inertial_flight_path.h)
   // against the air data's (gamma, a) of the last observe(); with options.accel_airspeed_rad_s
-  // > 0: alpha and V into AirspeedAccel against the air data's a. No-op otherwise.
-  void observe_inertial(double q, double p, double r, double alpha, double vel, bool frozen) noexcept {
+  // > 0: alpha and V into AirspeedAccel against the air data's a; with options.gamma_load_factor:
+  // n (AZ, g), alpha, p, r into ClimbAngleComplement against the air data's V and gamma. No-op otherwise.
+  void observe_inertial(double q, double p, double r, double alpha, double vel, double n, bool frozen) noexcept {
     if (options_.inertial) path_.observe(q, p, r, alpha, vel, gamma_, accel_, frozen);
     if (options_.accel_airspeed_rad_s > 0.0 && seen_) airspeed_.observe(vel, alpha, accel_, frozen);
+    if (options_.gamma_load_factor && seen_) complement_.observe(n, alpha, p, r, v_air_, gamma_, accel(), frozen);
   }
   // The (gamma, a) in force: the air data's, or with options.inertial the complementary
-  // filter's once it has a frame (a = 0 with accel = false).
-  double gamma() const noexcept { return options_.inertial && path_seen() ? path_.gamma() : gamma_; }   // rad
+  // filter's once it has a frame, or with options.gamma_load_factor ClimbAngleComplement's once it
+  // has one (a = 0 with accel = false).
+  double gamma() const noexcept {   // rad
+    if (options_.gamma_load_factor && complement_.seen()) return complement_.gamma();
+    return options_.inertial && path_seen() ? path_.gamma() : gamma_;
+  }
   double accel() const noexcept {                                                                     // ft/s^2
     if (!options_.accel) return 0.0;
     if (options_.accel_airspeed_rad_s > 0.0 && airspeed_.seen())
@@ -329,17 +436,20 @@ class ManeuverTrim {
   }
   double air_gamma() const noexcept { return gamma_; }   // the air data's own
   double air_accel() const noexcept { return accel_; }
+  double air_airspeed() const noexcept { return v_air_; }   // c lp_T(M), ft/s
   const InertialFlightPath& inertial_path() const noexcept { return path_; }
   const AirspeedAccel& airspeed_accel() const noexcept { return airspeed_; }
+  const ClimbAngleComplement& climb_angle_complement() const noexcept { return complement_; }
 
  private:
   ManeuverTrimOptions options_;
   double gain_fast_ = 0.0, gain_slow_ = 0.0;
   bool seen_ = false;
   double h_fast_ = 0.0, h_slow_ = 0.0, m_fast_ = 0.0, m_slow_ = 0.0;
-  double gamma_ = 0.0, accel_ = 0.0;
+  double gamma_ = 0.0, accel_ = 0.0, v_air_ = 0.0;
   InertialFlightPath path_;
   AirspeedAccel airspeed_;
+  ClimbAngleComplement complement_;
   bool path_seen() const noexcept { return path_.seen(); }
 };
 

@@ -282,6 +282,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "differentiator of natural frequency W0 (delay 1.41 / W0 s against the air data's "
                          "6 T), reading no sensor while a failure is suspected (cpp/f16mmae/maneuver_trim.h, "
                          "AirspeedAccel). Default: the air data's"),
+    EstimatorOption("maneuver_trim_gamma_load_factor", "--maneuver-trim-gamma-load-factor", "choice",
+                    metavar="on|off", choices=("on", "off"), requires="maneuver_trim",
+                    help="with --maneuver-trim and the air data's rates: on adds to the air data's climb angle "
+                         "what their low-passes hold back of the path's turn, (1 - L(s)) / s of "
+                         "(g / V)(AZ cos(bank) - cos(gamma)), so a pull-out or level-off is followed without "
+                         "their 6 T of lag; reads no sensor while a failure is suspected "
+                         "(cpp/f16mmae/maneuver_trim.h, ClimbAngleComplement). Default off"),
     EstimatorOption("level1_p_min", "--level1-p-min", "number", metavar="P", minimum=0.0,
                     below=LEVEL1_P_MIN_BELOW,
                     help="probability floor while a failure's level-1 (dual) bank is on line: a second "

@@ -85,7 +85,8 @@ f16mmae/design/tunings/, or a TOML file of the same layout:
   failure_model (complete|cover, or per component {{default = "complete", cover = ["VEL", "AOA"]}}),
   failed_surface_q (rad^2/s, a failed surface's random walk; one number or {{LS = 3e-4, RUD = 1e-3}}),
   failed_sensor_level_q (a failed sensor's level walk per frame in noise variances; one number or {{AOA = 1e-3}}),
-  failed_sensor_level_width (a failed cover sensor's level range per sensor: {{PIT = "reading"}} or a number)
+  failed_sensor_level_width (a failed cover sensor's level range per sensor: "reading", "range" or a number;
+    default PIT "reading", the others "range")
   [method1_qd_longitudinal] u_fps alpha_rad q_rad_s theta_rad     (+ diag Q_d, per frame)
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
   [method3_qd_lateral]      beta_rad p_rad_s r_rad_s phi_rad      (+ diag Q_d, per frame)

@@ -129,7 +129,7 @@ def register(subparsers) -> None:
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
                         "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
                         "its range every frame (default: the tuning's; AOA 1e-3, VEL 1e-4, the other sensors 0.01)")
-    p.add_argument("--failed-sensor-level-width", default=None, metavar="SENSOR=W|reading[,...]",
+    p.add_argument("--failed-sensor-level-width", default=None, metavar="SENSOR=W|reading|range[,...]",
                    help="with --failure-model cover: the range of a failed sensor's unknown level, in its units, "
                         "or 'reading': derived from the no-failure model's stationary spread of the healthy "
                         "reading (design/level_width.py), or 'range': the sensor's full range, e.g. PIT=range "

@@ -56,12 +56,12 @@ def test_unstable_model_is_refused():
 
 @pytest.fixture(scope="module")
 def cover_pair():
-    """The cover design without and with PIT's derived width, on a few hypotheses."""
+    """The cover design with PIT's full range (``PIT=range``, the former rule) and with its
+    default, the derived width, on a few hypotheses."""
     cover = dataclasses.replace(load_tuning("tuned"), name="tuned-cover", failure_model="cover")
     hyps = ("NONE", "PIT", "LS", "ROL", "LS+PIT", "PIT+ROL")
-    plain = bank.design_bank(tuning=cover, hypotheses=hyps)
-    wide = dataclasses.replace(cover, name="tuned-cover-wPIT", failed_sensor_level_width={"PIT": "reading"})
-    return plain, bank.design_bank(tuning=wide, hypotheses=hyps)
+    plain = dataclasses.replace(cover, name="tuned-cover-wPIT", failed_sensor_level_width={"PIT": "range"})
+    return bank.design_bank(tuning=plain, hypotheses=hyps), bank.design_bank(tuning=cover, hypotheses=hyps)
 
 
 def test_design_with_the_key_changes_only_the_named_width(cover_pair):
@@ -106,13 +106,15 @@ def test_derived_pitch_gyro_constant_is_the_models_spread(cover_pair):
 def test_metadata_records_the_widths_and_the_command(cover_pair):
     plain, wide = cover_pair
     meta0, meta1 = plain.metadata(), wide.metadata()
-    assert "level_widths" not in meta0 and "failed_sensor_level_width" not in meta0["tuning"]
-    assert meta1["level_widths"]["PIT"] == wide.level_widths["PIT"]
-    assert meta1["tuning"]["failed_sensor_level_width"] == {"PIT": "reading"}
-    assert meta1["command"].endswith("--tuning tuned --failure-model cover --failed-sensor-level-width PIT=reading")
+    assert "level_widths" not in meta0 and meta0["tuning"]["failed_sensor_level_width"] == {"PIT": "range"}
+    assert meta0["command"].endswith("--tuning tuned --failure-model cover --failed-sensor-level-width PIT=range")
+    # the default: the derived width recorded, the tuning and command as they always were
+    assert meta1["level_widths"]["PIT"] == wide.level_widths["PIT"] and list(meta1["level_widths"]) == ["PIT"]
+    assert "failed_sensor_level_width" not in meta1["tuning"]
+    assert meta1["command"].endswith("--tuning tuned --failure-model cover")
     # the metadata's tuning designs the same widths again
-    again = tuning_from_dict(json.loads(json.dumps(meta1["tuning"])))
-    assert again.failed_sensor_level_width == {"PIT": "reading"}
+    again = tuning_from_dict(json.loads(json.dumps(meta0["tuning"])))
+    assert again.failed_sensor_level_width == {"PIT": "range"}
 
 
 def test_without_the_key_the_tuning_and_bank_are_unchanged():
@@ -141,7 +143,7 @@ def test_width_of_a_sensor_not_covered_is_refused():
 
 @pytest.mark.parametrize("argv, message", [
     (["--failed-sensor-level-width", "PIT=reading"], "the sensor's failure model is complete"),
-    (["--failure-model", "cover", "--failed-sensor-level-width", "PIT"], "give SENSOR=W or SENSOR=reading"),
+    (["--failure-model", "cover", "--failed-sensor-level-width", "PIT"], "give SENSOR=W, SENSOR=reading or SENSOR=range"),
     (["--failure-model", "cover", "--failed-sensor-level-width", "PIT=-2"], "must be a finite number > 0"),
     (["--schedule", "--failed-sensor-level-width", "PIT=reading"], "designs one point's bank"),
 ])

@@ -206,11 +206,14 @@ def cover_design():
 
 
 def test_cover_sensor_hypothesis_is_uninformative_over_the_full_range(cover_design):
+    """Every sensor but the pitch gyro over its full range; PIT over its derived width by default
+    (design/level_width.py, DEFAULT_WIDTHS)."""
     full = [hi - lo for lo, hi in sensors.FULL_SCALE]
     for name in names.SENSORS:
         w = cover_design.filter(name).model.uninformative_width
         j = names.SENSORS.index(name)
-        assert w[j] == full[j] and np.count_nonzero(w) == 1
+        expected = cover_design.level_widths["PIT"]["width"] if name == "PIT" else full[j]
+        assert w[j] == expected and np.count_nonzero(w) == 1
         t = cover_design.filter(name).model.uninformative_level_q
         ratio = {"AOA": 1e-3, "VEL": 1e-4}.get(name, 0.01)  # the default walk (design/tuning.py)
         assert t[j] == pytest.approx(ratio * sensors.NOISE_SIGMA[j] ** 2, rel=1e-15) and np.count_nonzero(t) == 1

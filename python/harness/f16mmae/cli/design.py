@@ -13,7 +13,7 @@ from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
 from ..design.hypotheses import FAILURE_MODELS, TRIM_SIGMA, check_failure_model, component_models, uses_cover
-from ..design.level_width import READING
+from ..design.level_width import RANGE, READING
 from ..design.gust_states import GUST_STATE_MODELS
 from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES, NO_GUST_STATES, NODE_TUNINGS,
                                ScheduleSpecError, check_gust_altitude, default_gust_shape,
@@ -85,7 +85,8 @@ f16mmae/design/tunings/, or a TOML file of the same layout:
   failure_model (complete|cover, or per component {{default = "complete", cover = ["VEL", "AOA"]}}),
   failed_surface_q (rad^2/s, a failed surface's random walk; one number or {{LS = 3e-4, RUD = 1e-3}}),
   failed_sensor_level_q (a failed sensor's level walk per frame in noise variances; one number or {{AOA = 1e-3}}),
-  failed_sensor_level_width (a failed cover sensor's level range per sensor: {{PIT = "reading"}} or a number)
+  failed_sensor_level_width (a failed cover sensor's level range per sensor: "reading", "range" or a number;
+    default PIT "reading", the others "range")
   [method1_qd_longitudinal] u_fps alpha_rad q_rad_s theta_rad     (+ diag Q_d, per frame)
   [method2_r]               VEL AOA PIT AZ ROL YAW AY             (+ diag R)
   [method3_qd_lateral]      beta_rad p_rad_s r_rad_s phi_rad      (+ diag Q_d, per frame)
@@ -128,11 +129,12 @@ def register(subparsers) -> None:
                    help="with --failure-model cover: random walk per frame of a failed sensor's unknown "
                         "level, in units of its noise variance, >= 0; 0: no memory, the reading uniform over "
                         "its range every frame (default: the tuning's; AOA 1e-3, VEL 1e-4, the other sensors 0.01)")
-    p.add_argument("--failed-sensor-level-width", default=None, metavar="SENSOR=W|reading[,...]",
+    p.add_argument("--failed-sensor-level-width", default=None, metavar="SENSOR=W|reading|range[,...]",
                    help="with --failure-model cover: the range of a failed sensor's unknown level, in its units, "
                         "or 'reading': derived from the no-failure model's stationary spread of the healthy "
-                        "reading (design/level_width.py), e.g. PIT=reading (default: the tuning's; the "
-                        "sensor's full range)")
+                        "reading (design/level_width.py), or 'range': the sensor's full range, e.g. PIT=range "
+                        "(the rule before the pitch gyro's derived default) (default: the tuning's; PIT reading, "
+                        "the other sensors range)")
     p.add_argument("--throttle-input", action="store_true",
                    help="model the throttle command as a sixth input (JSBSim's linearization column; "
                         "the closed loop flies the throttle dither with such a bank)")
@@ -203,10 +205,10 @@ def _level_width(tuning, text: str):
     for part in text.split(","):
         sensor, eq, value = part.strip().partition("=")
         if not eq:
-            raise CliError(f"--failed-sensor-level-width {part.strip()!r}: give SENSOR=W or SENSOR=reading")
+            raise CliError(f"--failed-sensor-level-width {part.strip()!r}: give SENSOR=W, SENSOR=reading or SENSOR=range")
         if sensor in table:
             raise CliError(f"--failed-sensor-level-width {text}: {sensor} is given twice")
-        table[sensor] = value if value == READING else number("--failed-sensor-level-width", value)
+        table[sensor] = value if value in (READING, RANGE) else number("--failed-sensor-level-width", value)
     per = component_models(tuning.failure_model)
     try:
         widths = _sensor_level_width(table, "--failed-sensor-level-width")

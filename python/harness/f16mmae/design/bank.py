@@ -22,10 +22,11 @@ effectiveness, hypotheses.py), which the core puts in the level-0 bank beside th
 without it are unchanged, byte for byte.
 
 A tuning's ``failed_sensor_level_width`` (``f16mmae design --failed-sensor-level-width
-PIT=reading``): the named ``cover`` sensors' level range W_j in every hypothesis that fails
-them, given or derived from the no-failure model (level_width.py), in place of the full
-range; the metadata's ``level_widths`` records each W_j, its Occam constant c_j and, derived,
-the reading's sigma_j.  Without it the banks are unchanged, byte for byte.
+PIT=range``): the named ``cover`` sensors' level range W_j in every hypothesis that fails
+them, given, derived from the no-failure model or the full range (level_width.py); the
+sensors not named take ``level_width.DEFAULT_WIDTHS`` (a cover PIT its derived width, the
+others their full range).  The metadata's ``level_widths`` records each W_j not the full range,
+its Occam constant c_j and, derived, the reading's sigma_j.
 
 ``throttle_input=True`` (``f16mmae design --throttle-input``): the throttle command is the
 model's sixth input (model.py: its column from JSBSim's linearization), in every hypothesis;
@@ -50,7 +51,7 @@ from .. import names
 from ..truth import actuators, sensors
 from .discretize import DiscreteModel, discretize
 from .gains import SteadyStateGains, steady_state_gains
-from .level_width import level_widths
+from .level_width import effective_spec, level_widths
 from .hypotheses import (HypothesisModel, component_models, covered_surfaces, hypothesis_dynamics, hypothesis_model,
                          parse_partial, partial_hypotheses, uninformative_level_q, uninformative_width)
 from .model import GUST_SCALE_LENGTH_FT, ContinuousModel, LinearizedTrim, build_model, linearize_truth
@@ -285,7 +286,9 @@ def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
     cont = build_model(linearized.lin, linearized.trim.vt_fps, tuning.turbulence, alt_ft,
                        tuning.gust_model, linearized.throttle_column if throttle_input else None)
     disc, r = discrete_design_model(cont, tuning, frame_rate_hz)
-    widths = level_widths(tuning.failed_sensor_level_width, disc.phi, disc.bd, disc.qd, r, cont.h,
+    per = component_models(tuning.failure_model)
+    covered = tuple(s for s in names.SENSORS if per[s] == "cover")
+    widths = level_widths(effective_spec(tuning.failed_sensor_level_width, covered), disc.phi, disc.bd, disc.qd, r, cont.h,
                           frame_rate_hz)
     filters = design_filters(hypothesis_models(cont, tuning, disc, hypotheses, widths), r)
     return BankDesign(mach=float(mach), alt_ft=float(alt_ft), frame_rate_hz=float(frame_rate_hz),

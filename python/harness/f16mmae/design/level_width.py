@@ -8,9 +8,10 @@ plus its noise (hypotheses.py): its first frame, and each re-entry from the prob
 
     c_j = ln(sqrt(2 pi A_jj) / W_j)   nats,
 
-A_jj = R_jj the reading's noise variance in that hypothesis (its row of H is removed).  By
-default W_j is the sensor's full range (``truth.sensors.FULL_SCALE``).  ``"reading"`` derives
-it instead from where a failed reading is: a sensor failed complete, null or stuck reads its
+A_jj = R_jj the reading's noise variance in that hypothesis (its row of H is removed).
+``"range"`` takes W_j as the sensor's full range (``truth.sensors.FULL_SCALE``), the default of
+every sensor but the pitch gyro (``DEFAULT_WIDTHS``).  ``"reading"``, the pitch gyro's default,
+derives it instead from where a failed reading is: a sensor failed complete, null or stuck reads its
 trim, zero or the value it had at the onset, i.e. (in wings-level flight, for the rate gyros)
 a value from the healthy reading's own distribution.  The design model gives that
 distribution: the no-failure model (``Phi, B_d, Q_d, R``: the design's air and pseudonoise)
@@ -42,6 +43,21 @@ from ..truth import dither as dither_mod
 
 #: The value of a ``failed_sensor_level_width`` entry that asks for the derived width.
 READING = "reading"
+#: The value that asks for the sensor's full range (truth.sensors.FULL_SCALE).
+RANGE = "range"
+#: The widths of a cover sensor the tuning does not name: the pitch gyro's derived (c_PIT of the
+#: shipped tuning about -2.43 nats; its false stabilator duals are the least separated), the
+#: others' full ranges (the rule declares AOA in failure-free flight and costs PIT runs when
+#: given to the other sensors).
+DEFAULT_WIDTHS = {"PIT": READING}
+
+
+def effective_spec(spec: dict, covered: tuple[str, ...]) -> dict:
+    """``spec`` (the tuning's table) with ``DEFAULT_WIDTHS`` for the ``covered`` sensors it does
+    not name; ``RANGE`` entries dropped (the full range is the hypotheses' own width)."""
+    out = {s: v for s, v in DEFAULT_WIDTHS.items() if s in covered and s not in spec}
+    out.update(spec)
+    return {s: out[s] for s in names.SENSORS if s in out and out[s] != RANGE}
 
 #: Seconds of the dither's noise-free response simulated; the mean square is taken over the
 #: second half (the first settles the transient).

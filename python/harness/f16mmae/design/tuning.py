@@ -26,9 +26,9 @@ failed surface under ``cover``; a number for every surface or a table per surfac
 (the random walk per frame of a failed sensor's unknown level under ``cover``, in units of
 the sensor's noise variance, >= 0; 0: no memory; default ``FAILED_SENSOR_LEVEL_Q``) and
 ``failed_sensor_level_width`` (a table per sensor, e.g. ``{PIT = "reading"}``: the range W_j of
-a failed ``cover`` sensor's unknown level, a number > 0 in the sensor's units or ``"reading"``,
-derived from the design model by ``level_width.py``; sensors not named keep their full range,
-and a tuning without the key designs the banks it always did).  Every variance must be finite and
+a failed ``cover`` sensor's unknown level, a number > 0 in the sensor's units, ``"reading"``,
+derived from the design model by ``level_width.py``, or ``"range"``, its full range; sensors not
+named take ``level_width.DEFAULT_WIDTHS``: a cover PIT ``"reading"``, the others ``"range"``).  Every variance must be finite and
 >= 0; an unknown key, a wrong type or a negative value is refused with a message naming it.
 Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/tunings/``.
 
@@ -56,7 +56,7 @@ from .. import names
 from ..errors import F16mmaeError
 from ..names import TURBULENCE_LEVELS
 from .hypotheses import check_failure_model, failure_model_table
-from .level_width import READING
+from .level_width import RANGE, READING
 from .model import GUST_MODELS
 
 TUNINGS_DIR = Path(__file__).with_name("tunings")
@@ -137,11 +137,11 @@ def _sensor_level_width(value, source: str) -> dict[str, float | str]:
         if name not in names.SENSORS:
             raise TuningError(f"{source}: unknown sensor {name!r} in failed_sensor_level_width; valid: "
                               f"{', '.join(names.SENSORS)}")
-        if v == READING:
-            out[name] = READING
+        if v in (READING, RANGE):
+            out[name] = v
         elif isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0.0):
             raise TuningError(f"{source}: failed_sensor_level_width.{name} = {v!r} must be a finite number "
-                              f"> 0 (the level's range in the sensor's units) or \"{READING}\"")
+                              f"> 0 (the level's range in the sensor's units), \"{READING}\" or \"{RANGE}\"")
         else:
             out[name] = float(v)
     return {s: out[s] for s in names.SENSORS if s in out}

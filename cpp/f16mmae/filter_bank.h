@@ -708,19 +708,17 @@ class FilterBank {
   void observe_scale() noexcept {
     const std::uint32_t excluded = scale_.options().excluded_channels & ~free_channels_(presumed_);
     const bool own = scale_.options().own_channels;
-    if (!excluded) {
-      if (own) {   // q_k m / m_k: each form per channel it reads
-        q_own_ = q_.cwiseProduct(own_ratio_);
-        scale_.observe(live_q(q_own_));
-      } else {
-        scale_.observe(live_q(q_));
-      }
+    if (!own && !excluded) {
+      scale_.observe(live_q(q_));
       return;
     }
-    if (own) q_own_ = q_.cwiseProduct(own_ratio_);
-    else q_own_ = q_;
-    for (int i = 0; i < size(); ++i)
-      if (free_channels_(i) & excluded) q_own_(i) = std::numeric_limits<double>::infinity();
+    if (own)   // q_k m / m_k: each form per channel it reads
+      q_own_ = q_.cwiseProduct(own_ratio_);
+    else
+      q_own_ = q_;
+    if (excluded)
+      for (int i = 0; i < size(); ++i)
+        if (free_channels_(i) & excluded) q_own_(i) = std::numeric_limits<double>::infinity();
     scale_.observe(live_q(q_own_));
   }
   // q with the off-line filters' entries +inf (left out of a minimum); q itself when all are live.

@@ -118,7 +118,7 @@ class InertialFlightPath {
       accel_ += c_blend_ * (a_air - accel_);
       vel_seen_ = false;
     } else {
-      phi_ += dt_ * p + c_roll_ * (phi_ref(vel, r) - phi_);
+      phi_ = phi_step(phi_, p, vel, r, dt_, c_roll_);
       const double theta_dot = q * std::cos(phi_) - r * std::sin(phi_);
       alpha_f_ += c_alpha_ * (alpha - alpha_f_);
       theta_ += dt_ * theta_dot + c_blend_ * (gamma_air + alpha_f_ - theta_);
@@ -138,6 +138,10 @@ class InertialFlightPath {
   // The coordinated turn's bank angle, asin(clamp(V r / g, -0.9, 0.9)) (header; V ft/s, r rad/s).
   static double phi_ref(double vel, double r) noexcept {
     return std::asin(std::clamp(vel * r / kG, -0.9, 0.9));
+  }
+  // One frame of the bank angle's complementary filter (header): phi + dt p + c (phi_ref - phi).
+  static double phi_step(double phi, double p, double vel, double r, double dt, double c) noexcept {
+    return phi + dt * p + c * (phi_ref(vel, r) - phi);
   }
   double gamma() const noexcept { return gamma_; }   // rad
   double accel() const noexcept { return accel_; }   // ft/s^2

@@ -286,9 +286,8 @@ class AirspeedAccel {
 // (ft/s^2); T the air data's time constant, c_x = 1 - exp(-1 / (x f)):
 //   phi     = bank angle as inertial_flight_path.h's: phi += dt p + c_{T_phi} (phi_ref(V, r) - phi),
 //             phi_ref = asin(clamp(V r / g, -0.9, 0.9)), but T_phi = 10 s: in a roll-in the yaw
-//             rate overshoots the steady turn's (0.065 against 0.042 rad/s in the tour's last
-//             turn) and phi_ref with it (56 against 31 deg); at 2 s that phi put the correction 2.4 deg
-//             off, at 10 s 0.8 deg (tools/maneuver/gamma_lag.py)
+//             rate overshoots the steady turn's and phi_ref with it, so phi leans on the roll
+//             rate's integral longer (tools/maneuver/gamma_lag.py compares the two constants)
 //   n_w     = n cos alpha + (sin(gamma + alpha) + a / g) sin alpha
 //             (the lift axis' load factor: body z and x specific forces, the x one
 //             n_x = sin(theta) + a / g taken from the path; level and steady n_w = 1)
@@ -338,7 +337,7 @@ class ClimbAngleComplement {
         phi_ = InertialFlightPath::phi_ref(v_air, r);
         phi_seen_ = true;
       } else {
-        phi_ += dt_ * p + c_roll_ * (InertialFlightPath::phi_ref(v_air, r) - phi_);
+        phi_ = InertialFlightPath::phi_step(phi_, p, v_air, r, dt_, c_roll_);
       }
       const double n_w = n * std::cos(alpha) + (std::sin(gamma_ + alpha) + a / kG) * std::sin(alpha);
       w = kG / v_air * (n_w * std::cos(phi_) - std::cos(gamma_));

@@ -33,6 +33,9 @@ def statistics_line(output: str, program: str) -> dict:
 #: The per-hypothesis tempering's core keywords (``core_arguments``) and the rows whose flags give them.
 _SET_TEMPERING_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": "set_tempering_rho",
                        "adapt_spare_margin": "set_tempering_margin"}
+#: The core's bit masks over z and the rows whose flags take the sensor's name.
+_CHANNEL_BITS_KEYS = {"adapt_counted_channels": "adapt_counted_channel",
+                      "adapt_excluded_channels": "adapt_excluded_channel"}
 #: The core's bit masks over the level-0 hypotheses and the ``mmae-daemon`` flags that take their names.
 _HYPOTHESIS_BITS_FLAGS = {"adapt_full_tempering": "--set-tempering-full",
                           "adapt_spare_margin_over": "--set-tempering-margin-over"}
@@ -47,8 +50,8 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
     for key, value in core_arguments(estimator_options, nu).items():
         if key in CLOSED_LOOP:   # the closed loop's (the truth side's): the executive needs no flag
             continue
-        if key in ("adapt_counted_channels", "adapt_excluded_channels"):   # core_arguments' bit; the daemon takes the sensor's name
-            key = key[:-1]
+        if key in _CHANNEL_BITS_KEYS:   # core_arguments' bit; the daemon takes the sensor's name
+            key = _CHANNEL_BITS_KEYS[key]
             value = estimator_options[key]
         if key in _HYPOTHESIS_BITS_FLAGS:   # core_arguments' bits; the daemon takes the hypotheses' names
             out += [_HYPOTHESIS_BITS_FLAGS[key], ",".join(h for k, h in enumerate(SINGLE_HYPOTHESES) if (value >> k) & 1)]

@@ -10,7 +10,8 @@
 // never by the probabilities moving between declarations. With NONE current the law flies on
 // exactly the raw sensors. (The "mmae" mode, the paper's, feeds back the blended z_hat on
 // every channel at every frame.) A hypothesis's components are its name split at '+'
-// ("AOA", "LF+AOA"); sensors are the ModelBank's measurement names.
+// ("AOA", "LF+AOA"), each without a partial failure's ":MODE" ("LS:loss=0.5" is surface LS,
+// hierarchy_levels.h); sensors are the ModelBank's measurement names.
 // Construction throws std::invalid_argument when a hypothesis names a component that is
 // neither an input nor a measurement of the bank; apply() is noexcept and allocates nothing.
 #pragma once
@@ -64,8 +65,9 @@ class SensorReconfiguration {
   }
 
  private:
-  static void mark(const std::string& c, const ModelBank& bank, std::vector<unsigned char>& failed,
+  static void mark(const std::string& component, const ModelBank& bank, std::vector<unsigned char>& failed,
                    const std::string& hypothesis) {
+    const std::string c = component.substr(0, component.find(':'));
     for (std::size_t j = 0; j < bank.measurement_names.size(); ++j)
       if (bank.measurement_names[j] == c) {
         failed[j] = 1;

@@ -44,3 +44,14 @@ TEST(SensorReconfiguration, AHypothesisNamingAnUnknownComponentIsRefused) {
     EXPECT_NE(std::string(e.what()).find("'LS+GEAR' names 'GEAR'"), std::string::npos) << e.what();
   }
 }
+
+TEST(SensorReconfiguration, APartialFailureIsItsComponent) {
+  ModelBank b = test_support::synthetic_bank();
+  b.hypotheses[1].name = "LS:loss=0.5";   // a partial-loss hypothesis (f16mmae design --partial-loss)
+  b.hypotheses[2].name = "VEL:bias=1";     // a sensor's: the channel of VEL
+  const SensorReconfiguration r(b);
+  for (int j = 0; j < 7; ++j) EXPECT_FALSE(r.failed(r.index("LS:loss=0.5"), j)) << "sensor " << j;
+  for (int j = 0; j < 7; ++j) EXPECT_EQ(r.failed(r.index("VEL:bias=1"), j), j == 0) << "sensor " << j;
+  b.hypotheses[1].name = "GEAR:loss=0.5";
+  EXPECT_THROW(SensorReconfiguration{b}, std::invalid_argument);
+}

@@ -202,3 +202,22 @@ def test_the_partial_floor_reaches_the_core_and_shortens_the_climb(partial_desig
     with pytest.raises(ValueError, match="no partial-loss hypothesis"):
         core.HierarchicalBank(bank.to_model_bank(bank.design_bank(0.4, 20_000.0, load_tuning("tuned"))),
                               partial_p_min=1e-5)
+
+
+def test_the_reconfigure_feedback_flies_a_partial_bank(partial_design, tmp_path, capsys):
+    """``--feedback reconfigure`` on a bank with partial hypotheses: a partial hypothesis names
+    its surface (cpp/f16mmae/sensor_reconfiguration.h), so the control law keeps the raw sensors
+    when one is declared; the tuning-seed flight of the test above declares a form of RUD."""
+    path = tmp_path / "partial.f16bank"
+    core.save_bank(bank.to_model_bank(partial_design), str(path))
+    assert main(["run", "--seed", "1213139639", "--duration", "8.0", "--turbulence", "light", "--mach", "0.4",
+                 "--alt-ft", "20000.0", "--feedback", "reconfigure", "--fail", "RUD@3.0:loss=0.5", "--bank",
+                 str(path), "--dwell-s", "0.5", "--declare-components", "--partial-p-min", "1e-5",
+                 "--out", str(tmp_path / "run")]) == 0
+    capsys.readouterr()
+    run = json.loads((tmp_path / "run" / "run.json").read_text())
+    assert run["declarations"][0]["hypothesis"] in ("RUD", "RUD:loss=0.5"), run["declarations"]
+    reconfiguration = core.SensorReconfiguration(bank.to_model_bank(partial_design))
+    z, z_hat = np.arange(1.0, 8.0), -np.arange(1.0, 8.0)
+    for name in PARTIALS:
+        np.testing.assert_array_equal(reconfiguration.apply(name, z, z_hat), z)

@@ -307,6 +307,42 @@ def test_failed_surface_q_per_surface():
         assert d.filter(name).model.qd[i, i] - none.qd[i, i] == pytest.approx(q * dt, rel=1e-9), (name, comp)
 
 
+def test_failed_surface_q_dual_sets_the_walk_of_the_dual_hypotheses_only():
+    """``failed_surface_q_dual``: the dual hypotheses' filters are those of a design whose every
+    hypothesis has that walk; the singles' are the default design's, element for element."""
+    base = {**load_tuning("tuned").to_dict(), "failure_model": "cover"}
+    tun = tuning_from_dict({**base, "failed_surface_q_dual": {"LS": 1e-5, "RS": 1e-5}}, default_name="dual")
+    assert tun.failed_surface_q_dual == {"LS": 1e-5, "RS": 1e-5, "LF": 3e-5, "RF": 3e-5, "RUD": 1e-3}
+    assert list(tun.surface_walk_q()) == [3e-4, 3e-4, 3e-5, 3e-5, 1e-3]
+    assert list(tun.surface_walk_q(dual=True)) == [1e-5, 1e-5, 3e-5, 3e-5, 1e-3]
+    assert tun.to_dict()["failed_surface_q_dual"] == tun.failed_surface_q_dual
+    # equal to the singles' walk, or absent: no dual walk of its own, and no metadata key
+    same = tuning_from_dict({**base, "failed_surface_q_dual": 3e-4, "failed_surface_q": 3e-4}, default_name="same")
+    assert same.failed_surface_q_dual == {} and "failed_surface_q_dual" not in same.to_dict()
+    assert "failed_surface_q_dual" not in tuning_from_dict(base, default_name="none").to_dict()
+    with pytest.raises(TuningError, match="unknown surface 'ELEV' in failed_surface_q_dual"):
+        tuning_from_dict({**base, "failed_surface_q_dual": {"ELEV": 1e-4}})
+    with pytest.raises(TuningError, match=r"failed_surface_q_dual.LS = -1 must be a finite number > 0"):
+        tuning_from_dict({**base, "failed_surface_q_dual": {"LS": -1}})
+
+    hyps = ("NONE", "LS", "PIT", "LS+PIT", "LS+RS", "LF+PIT")
+    d = bank.design_bank(0.4, 20_000.0, tun, hypotheses=hyps)
+    default = bank.design_bank(0.4, 20_000.0, tuning_from_dict(base, default_name="d"), hypotheses=hyps)
+    every = bank.design_bank(0.4, 20_000.0, tuning_from_dict(
+        {**base, "failed_surface_q": {"LS": 1e-5, "RS": 1e-5}}, default_name="e"), hypotheses=hyps)
+    for name in hyps:
+        want = every if name in names.DUAL_HYPOTHESES else default
+        for field in ("phi", "bd", "qd"):
+            np.testing.assert_array_equal(getattr(d.filter(name).model, field),
+                                          getattr(want.filter(name).model, field), err_msg=f"{name} {field}")
+        np.testing.assert_array_equal(d.filter(name).gains.k, want.filter(name).gains.k, err_msg=name)
+    # the stabilator's walk in LS+PIT is 1e-5 dt; LF+PIT's flaperon keeps its 3e-5
+    i = names.NX - names.NU
+    none = d.filter("NONE").model
+    assert d.filter("LS+PIT").model.qd[i, i] - none.qd[i, i] == pytest.approx(1e-5 / d.frame_rate_hz, rel=1e-9)
+    assert d.filter("LS").model.qd[i, i] - none.qd[i, i] == pytest.approx(3e-4 / d.frame_rate_hz, rel=1e-9)
+
+
 def level_posterior(q, a_jj, readings):
     """(mean, variance) of a random-walk level after ``readings`` (the first one sets it with
     variance a_jj): the product of the walked Gaussian prior and each reading's Gaussian,

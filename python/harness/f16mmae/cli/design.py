@@ -84,6 +84,7 @@ f16mmae/design/tunings/, or a TOML file of the same layout:
   name, description, turbulence (none|light|moderate|severe), gust_model (gust_rate|white_gust|dryden_states),
   failure_model (complete|cover, or per component {{default = "complete", cover = ["VEL", "AOA"]}}),
   failed_surface_q (rad^2/s, a failed surface's random walk; one number or {{LS = 3e-4, RUD = 1e-3}}),
+  failed_surface_q_dual (the same in the dual hypotheses, e.g. {{LS = 1e-5, RS = 1e-5}}; default failed_surface_q),
   failed_sensor_level_q (a failed sensor's level walk per frame in noise variances; one number or {{AOA = 1e-3}}),
   failed_sensor_level_width (a failed cover sensor's level range per sensor: "reading", "range" or a number;
     default PIT "reading", the others "range")

@@ -225,7 +225,7 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
     """Every hypothesis' discrete model in the tuning's failure model (hypotheses.py, per
     component): the no-failure ``discrete`` with B_d columns / H rows removed, and for the
     failed components whose model is ``cover`` a failed surface's random walk discretized for
-    its hypothesis (same pseudonoise on diag(Q_d)) and the failed sensors' uninformative widths
+    its hypothesis (same pseudonoise on diag(Q_d); in a dual hypothesis the tuning's dual walk) and the failed sensors' uninformative widths
     (``widths``: sensor -> {"width": W} in place of the full range, level_width.py)."""
     per = component_models(tuning.failure_model)
     for sensor in widths or {}:
@@ -239,8 +239,8 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
     for name in hypotheses:
         phi, bd, qd = discrete.phi, discrete.bd, discrete.qd
         if covered_surfaces(name, tuning.failure_model):
-            f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, tuning.surface_walk_q(), n_air,
-                                             tuning.failure_model)
+            walk_q = tuning.surface_walk_q(dual=name in names.DUAL_HYPOTHESES)
+            f_k, gqg_k = hypothesis_dynamics(name, model.f, gqg, walk_q, n_air, tuning.failure_model)
             dm = discretize(f_k, model.b, np.eye(model.nx), gqg_k, discrete.dt_s)
             phi, bd, qd = dm.phi, dm.bd, dm.qd + np.diag(tuning.qd_diagonal(model.nx))
         width = uninformative_width(name, tuning.failure_model)

@@ -22,7 +22,11 @@ trim's uncertainty; or per component, a table ``{default = "complete", cover = [
 or its text ``"cover=VEL+AOA"``; ``Tuning.failure_model`` holds the canonical text,
 ``hypotheses.check_failure_model``), ``failed_surface_q`` (rad^2/s, the strength of the random walk of a
 failed surface under ``cover``; a number for every surface or a table per surface,
-``{LS = 3e-4, RUD = 1e-3}``; default and surfaces not named: ``FAILED_SURFACE_Q``) and ``failed_sensor_level_q``
+``{LS = 3e-4, RUD = 1e-3}``; default and surfaces not named: ``FAILED_SURFACE_Q``),
+``failed_surface_q_dual`` (the walk of a failed surface in the dual hypotheses of the level-2
+banks, ``names.DUAL_HYPOTHESES``, both surfaces of a surface pair included: a number or a
+table per surface; surfaces not named, and all without the key, take ``failed_surface_q``'s)
+and ``failed_sensor_level_q``
 (the random walk per frame of a failed sensor's unknown level under ``cover``, in units of
 the sensor's noise variance, >= 0; 0: no memory; default ``FAILED_SENSOR_LEVEL_Q``) and
 ``failed_sensor_level_width`` (a table per sensor, e.g. ``{PIT = "reading"}``: the range W_j of
@@ -75,7 +79,8 @@ ESTIMATOR_KEYS: dict[str, tuple[float, float]] = {
     "p_min": (0.0, 0.01), "threshold": (0.5, 1.0), "dwell_s": (0.0, 10.0),
     "dwell_nats_per_hypothesis": (0.0, 1.0e6)}   # each N_k, closed
 TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_model", "failure_model",
-                                    "failed_surface_q", "failed_sensor_level_q", "failed_sensor_level_width")
+                                    "failed_surface_q", "failed_surface_q_dual", "failed_sensor_level_q",
+                                    "failed_sensor_level_width")
                                    + tuple(SECTIONS)
                                    + ("estimator",))
 #: Default random-walk strength of a failed surface's position under ``cover`` (rad^2/s), per
@@ -120,6 +125,20 @@ def _surface_walk_q(value, source: str):
                           zero_ok=False, unit=" (rad^2/s)")
 
 
+def _surface_walk_q_dual(value, source: str, single) -> dict[str, float]:
+    """``failed_surface_q_dual`` as read: every surface's dual walk (rad^2/s, > 0); the surfaces
+    it does not name, and all of them without the key (``value`` None), take ``single``'s
+    (``failed_surface_q`` as read). Empty when it equals ``single`` everywhere, so that a
+    tuning without a different dual walk keeps its metadata."""
+    per_single = single if isinstance(single, dict) else {a: single for a in names.ACTUATORS}
+    if value is None:
+        return {}
+    read = _per_component(value, source, "failed_surface_q_dual", "surface", names.ACTUATORS, per_single,
+                          zero_ok=False, unit=" (rad^2/s)")
+    per = read if isinstance(read, dict) else {a: read for a in names.ACTUATORS}
+    return {} if per == per_single else per
+
+
 def _sensor_level_q(value, source: str) -> float | dict[str, float]:
     """``failed_sensor_level_q`` as read (``_per_component``; FAILED_SENSOR_LEVEL_Q, >= 0)."""
     return _per_component(value, source, "failed_sensor_level_q", "sensor", names.SENSORS, FAILED_SENSOR_LEVEL_Q,
@@ -162,6 +181,8 @@ class Tuning:
     failure_model: str = "complete"  # canonical text (hypotheses.check_failure_model), per component
     failed_surface_q: float | dict[str, float] = field(default_factory=lambda: dict(FAILED_SURFACE_Q))
     # ^ one number for every surface, or per surface (names.ACTUATORS keys)
+    failed_surface_q_dual: dict[str, float] = field(default_factory=dict)
+    # ^ every surface's walk in the dual hypotheses; empty: failed_surface_q's
     failed_sensor_level_q: float | dict[str, float] = field(default_factory=lambda: dict(FAILED_SENSOR_LEVEL_Q))
     # ^ one number for every sensor, or per sensor (names.SENSORS keys)
     failed_sensor_level_width: dict[str, float | str] = field(default_factory=dict)
@@ -186,10 +207,11 @@ class Tuning:
             out[names.SENSORS.index(key)] = val
         return out
 
-    def surface_walk_q(self) -> np.ndarray:
+    def surface_walk_q(self, dual: bool = False) -> np.ndarray:
         """(5,) the random-walk strength (rad^2/s) of each failed surface under ``cover``, order
-        ``names.ACTUATORS`` (``failed_surface_q``: one number for all, or per surface)."""
-        q = self.failed_surface_q
+        ``names.ACTUATORS`` (``failed_surface_q``: one number for all, or per surface; with
+        ``dual``, in a dual hypothesis: ``failed_surface_q_dual`` where it is given)."""
+        q = self.failed_surface_q_dual if dual and self.failed_surface_q_dual else self.failed_surface_q
         return np.array([q[a] for a in names.ACTUATORS] if isinstance(q, dict) else [q] * names.NU, dtype=float)
 
     def sensor_level_q(self) -> np.ndarray:
@@ -213,6 +235,8 @@ class Tuning:
         if self.failure_model != "complete":  # a paper-model tuning keeps its metadata (and hash)
             out.update(failure_model=failure_model_table(self.failure_model), failed_surface_q=self.failed_surface_q,
                        failed_sensor_level_q=self.failed_sensor_level_q)
+            if self.failed_surface_q_dual:  # only then: the banks without it keep their metadata
+                out["failed_surface_q_dual"] = dict(self.failed_surface_q_dual)
         if self.failed_sensor_level_width:  # only then: the banks without it keep their metadata
             out["failed_sensor_level_width"] = dict(self.failed_sensor_level_width)
         return {**out,
@@ -279,6 +303,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
     except ValueError as exc:
         raise TuningError(f"{source}: {exc}") from None
     walk_q = _surface_walk_q(data.get("failed_surface_q", FAILED_SURFACE_Q), source)
+    walk_q_dual = _surface_walk_q_dual(data.get("failed_surface_q_dual"), source, walk_q)
     level_q = _sensor_level_q(data.get("failed_sensor_level_q", FAILED_SENSOR_LEVEL_Q), source)
     level_width = _sensor_level_width(data.get("failed_sensor_level_width", {}), source)
     sections = {}
@@ -301,7 +326,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
         sections[section] = values
     estimator = _estimator_settings(data.get("estimator", {}), source)
     return Tuning(name=name, description=description, turbulence=turbulence, gust_model=gust_model,
-                  failure_model=failure_model, failed_surface_q=walk_q,
+                  failure_model=failure_model, failed_surface_q=walk_q, failed_surface_q_dual=walk_q_dual,
                   failed_sensor_level_q=level_q, failed_sensor_level_width=level_width,
                   qd_longitudinal=sections["method1_qd_longitudinal"],
                   r_pseudonoise=sections["method2_r"],

@@ -181,6 +181,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_margin_over>(
           "adapt_spare_margin_over"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_rho>("adapt_spare_rho"),
+      field<&O::spare_dwell_s>("spare_dwell_s"),
       // the climb reference
       optional_number<&O::climb_reference, &ClimbReferenceOptions::reference>("adapt_reference_climb"),
       field<&O::climb_reference, &ClimbReferenceOptions::hold_s>("adapt_reference_climb_hold_s"),

@@ -337,6 +337,11 @@ const std::vector<Flag>& flags() {
        "the margin's reference: NONE and these hypotheses in place of the --set-tempering-full ones "
        "('f16mmae hil' gives LS,RS with --set-tempering-margin-stabilators)",
        hypothesis_names(&C::set_tempering_margin_over), nullptr, "--set-tempering-margin", set_tempering_margin},
+      {"--set-tempering-dwell", "S",
+       "a level-0 declaration needs S s above the threshold on the frames where the tempering spares "
+       "(with --set-tempering-rho: severe air) instead of the dwell (default 0: the dwell everywhere)",
+       number(at(E, &H::spare_dwell_s), {0.0, kMaxDwellS}, "a time in seconds in " + kDwellRange + " (0: the dwell)"),
+       nullptr, "--set-tempering", set_tempering},
 
       {nullptr, nullptr, "Maneuvering flight"},
       {"--maneuver-dwell", "S",

@@ -248,8 +248,9 @@ int main(int argc, char** argv) {
         adaptation += ", set tempering " + f16mmae::format_value(a.hypothesis_weight) + " from rho " +
                       f16mmae::format_value(a.spare_rho) + (a.spare_margin ? " margin" : "") +
                       (a.spare_margin_over ? " over " + std::to_string(a.spare_margin_over) : std::string()) +
-                      " full " +
-                      std::to_string(a.full_tempering);
+                      " full " + std::to_string(a.full_tempering) +
+                      (options.spare_dwell_s > 0.0 ? " dwell " + f16mmae::format_value(options.spare_dwell_s) + " s"
+                                                   : std::string());
       const std::string adaptation_climb =
           options.bank.adaptation.enabled && options.climb_reference.enabled()
               ? adaptation + ", climbing " + f16mmae::format_value(options.climb_reference.reference) + " held " +

@@ -114,6 +114,17 @@
 //   are measured on the excursions of level flight; a maneuver's onset (a roll-in, a pull-up)
 //   holds a hypothesis at the ceiling for a few frames before the load factor or the air data
 //   open the phase's gate, which the frame dwell rejects and the evidence dwell does not.
+//   With options.spare_dwell_s (0, the default: off) a level-0 declaration needs that dwell
+//   instead of the declarer's on the frames where the per-hypothesis tempering spares the
+//   best-fitting failure hypothesis (turbulence_adaptation.h, ResidualScale::spares(): w < 1,
+//   s > 1, rho >= rho-bar / 2, rho-bar >= rho_s: with rho_s set, severe air only); a flight-phase
+//   dwell in force takes precedence. Why: in air rougher than the design the tempering holds a
+//   failure's evidence back by s_b per frame, so every onset reaches the threshold later than in
+//   light air, while the dwell that follows is the one chosen against light air's excursions;
+//   where the sparing is in force the frames above the threshold are already the tempered ones.
+//   A value outside [1 frame, kMaxDwellS] (estimator_settings.h), or one given without the
+//   per-hypothesis tempering (options.bank.adaptation.hypothesis_weight < 1, enabled), is
+//   refused at construction.
 //
 // Signals are ABSOLUTE at this interface: update(z) subtracts the trim in force,
 // z_trim + dz, propagate(u) u_trim + du, and z_hat() adds z_trim + dz back
@@ -164,6 +175,7 @@
 #include "f16mmae/air_data.h"
 #include "f16mmae/air_data_rates.h"
 #include "f16mmae/declarer.h"
+#include "f16mmae/estimator_settings.h"
 #include "f16mmae/departure_hold.h"
 #include "f16mmae/filter_bank.h"
 #include "f16mmae/hierarchy_levels.h"
@@ -211,6 +223,7 @@ struct HierarchicalOptions {
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (level_floors.h)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (level_floors.h)
+  double spare_dwell_s = 0.0;    // the level-0 dwell while the tempering spares (header); 0: off
   double level1_allowance = 0.0;   // the duals' drift allowance at level 1, nats a frame; 0: none (level1_allowance.h)
   std::map<std::string, double> level1_allowance_pairs;   // "F>C" -> the dual F+C's own allowance in F's level-1 bank (level1_allowance.h)
   DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (departure_hold.h)
@@ -596,12 +609,30 @@ class HierarchicalBank {
     return d;
   }
   bool own_level1_dwell() const noexcept { return LevelFloors::own_level1_dwell(level_, options_.level1_dwell_s); }
+  // spare_dwell_s in frames (0: off); throws std::invalid_argument for a value the header refuses.
+  static int spare_dwell_frames(const HierarchicalOptions& o, double rate_hz) {
+    const double s = o.spare_dwell_s;
+    if (s == 0.0) return 0;
+    const double frame = 1.0 / rate_hz;
+    if (!(s >= frame && s <= kMaxDwellS))
+      throw std::invalid_argument("hierarchical bank: spare_dwell_s must be 0 (off) or in [" + format_value(frame) +
+                                  ", " + format_value(kMaxDwellS) + "] s (a frame to a minute), got " + format_value(s));
+    const auto& a = o.bank.adaptation;
+    if (!(a.enabled && a.hypothesis_weight < 1.0))
+      throw std::invalid_argument("hierarchical bank: spare_dwell_s " + format_value(s) +
+                                  " applies while the per-hypothesis tempering spares; it needs adapt_hypothesis_weight "
+                                  "below 1 with the adaptation on");
+    return std::max(1, static_cast<int>(std::lround(s * rate_hz)));
+  }
   // The dwell in force (frames): at level 0 the maneuver dwell's while maneuvering, if it has
   // one (maneuver_dwell.h), else the climb reference's while climbing, if it has one
-  // (climb_reference.h); else the declarer's in force.
+  // (climb_reference.h), else spare_dwell_s's while the tempering spares (header), if set,
+  // else the declarer's in force.
   int dwell_frames_in_force() const noexcept {
     const int base = declarer_in_force().dwell_frames();
-    return level_ == 0 ? maneuver_dwell_.dwell_frames(climb_ref_.dwell_frames(base)) : base;
+    if (level_ != 0) return base;
+    const int level0 = spare_dwell_frames_ > 0 && bank_.adaptation().spares() ? spare_dwell_frames_ : base;
+    return maneuver_dwell_.dwell_frames(climb_ref_.dwell_frames(level0));
   }
   // The declarer's components in force (header), or null: each hypothesis alone.
   const int* component_groups() const noexcept {
@@ -632,6 +663,7 @@ class HierarchicalBank {
         frame_rate_hz_(mb.frame_rate_hz) {
     LevelFloors::check_level1(options.level1_p_min, options.level1_dwell_s, options.declarer.threshold,
                               levels_.size());
+    spare_dwell_frames_ = spare_dwell_frames(options, mb.frame_rate_hz);
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));
@@ -892,6 +924,7 @@ class HierarchicalBank {
   Bank bank_;
   Declarer declarer_;    // level 0 (and level 1 without level1_dwell_s)
   Declarer declarer1_;   // level 1 with level1_dwell_s
+  int spare_dwell_frames_ = 0;   // spare_dwell_s in frames (0: off)
   std::vector<Hypothesis> storage_;   // every hypothesis filter of the ModelBank, in its order
   std::vector<std::string> names_;
   std::vector<std::vector<double>> allowances_;   // per level-1 bank, per slot: its dual's allowance (build_allowances)

@@ -119,6 +119,22 @@ TEST(DaemonConfig, SetTemperingMargin) {
       << r.message;
 }
 
+TEST(DaemonConfig, SetTemperingDwell) {
+  EXPECT_EQ(parse_daemon_args({"--bank", "b"}, nullptr).config.estimator.spare_dwell_s, 0.0);   // off
+  auto r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering", "0.15", "--set-tempering-dwell",
+                              "0.0625"},
+                             nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.spare_dwell_s, 0.0625);
+  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering", "0.15", "--set-tempering-dwell", "-1"},
+                        nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--set-tempering-dwell must be a time in seconds in"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering-dwell", "0.0625"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--set-tempering-dwell applies with --set-tempering only"), std::string::npos) << r.message;
+}
+
 TEST(DaemonConfig, ManeuverMachRate) {
   EXPECT_EQ(parse_daemon_args({"--bank", "b"}, nullptr).config.estimator.maneuver_dwell.mach_per_s,
             f16mmae::AirDataRates::kMachPerS);   // the core's

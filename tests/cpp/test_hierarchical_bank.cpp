@@ -324,6 +324,80 @@ TEST(HierarchicalBank, LevelOneDwellHoldsWhileLevelOneIsOnLineOnly) {
   EXPECT_THROW(DynamicHierarchicalBank(s.bank, o), std::invalid_argument);
 }
 
+TEST(HierarchicalBank, SpareDwellHoldsWhileTheTemperingSpares) {
+  // with spare_dwell_s the level-0 dwell in force is its frames on the frames where the
+  // per-hypothesis tempering spares (ResidualScale::spares()), the declarer's elsewhere. The
+  // bank without it (the reference, declaring later) has the same probabilities and sparing
+  // frame for frame until then: the first declaration falls on the frame the declarer's rule
+  // (declarer.h: the count restarts with the candidate and is capped at the dwell in force)
+  // gives on the reference's probabilities and sparing
+  Small s;
+  HierarchicalOptions plain;
+  plain.bank.p_min = 1e-6;
+  plain.bank.adaptation.enabled = true;
+  plain.bank.adaptation.reference = 0.05;   // s > 1 in this plant's noise
+  plain.bank.adaptation.time_constant_s = 4.0 / s.bank.frame_rate_hz;   // ρ catches up with ρ̄ before the failure
+  plain.bank.adaptation.hypothesis_weight = 0.5;
+  HierarchicalOptions o = plain;
+  o.spare_dwell_s = 4.0 / s.bank.frame_rate_hz;
+  DynamicHierarchicalBank hb(s.bank, o), reference(s.bank, plain);
+  const int d = reference.declarer().dwell_frames(), d_spare = 4;
+  ASSERT_GT(d, d_spare);
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {{"Z2", 64, 512}}, 512, 3u);
+  std::int64_t first = -1, ref_first = -1, expected = -1;
+  int count = 0, candidate = -1, spared_frames = 0;
+  for (int i = 0; i < 512 && (first < 0 || ref_first < 0); ++i) {
+    const int r = reference.update(f.z[i]);
+    if (r >= 0 && ref_first < 0) ref_first = i;
+    const int k = hb.update(f.z[i]);
+    if (k >= 0 && first < 0) first = i;
+    if (ref_first < 0 && expected < 0) {   // the rule on the reference's frames
+      const bool spares = reference.bank().adaptation().spares();
+      spared_frames += spares;
+      const int dwell = spares ? d_spare : d;
+      int above = -1;
+      for (int j = 0; j < reference.probabilities().size() && above < 0; ++j)
+        if (reference.probabilities()(j) > o.declarer.threshold) above = j;
+      if (above != candidate) count = 0;
+      candidate = above;
+      if (above >= 0 && count < dwell) ++count;
+      if (above > 0 && count >= dwell) expected = i;
+    }
+    if (first < 0) ASSERT_EQ(hb.probabilities(), reference.probabilities()) << i;
+    reference.propagate(f.u[i]);
+    hb.propagate(f.u[i]);
+  }
+  ASSERT_GE(first, 0);
+  EXPECT_GT(spared_frames, 0);
+  EXPECT_EQ(first, expected);
+  EXPECT_LT(first, ref_first);   // the short dwell in force at the onset
+  EXPECT_EQ(hb.name(hb.declarations().at(0).hypothesis), "Z2");
+  // where the tempering never spares (its gate on the measured rho out of reach) the dwell is the
+  // declarer's: the same declarations on the same frames as without spare_dwell_s
+  HierarchicalOptions never = o, never_plain = plain;
+  never.bank.adaptation.spare_rho = never_plain.bank.adaptation.spare_rho = 100.0;
+  DynamicHierarchicalBank held(s.bank, never), held_plain(s.bank, never_plain);
+  for (int i = 0; i < 512; ++i) {
+    held.step(f.z[i], f.u[i]);
+    held_plain.step(f.z[i], f.u[i]);
+    ASSERT_FALSE(held.bank().adaptation().spares());
+  }
+  ASSERT_FALSE(held_plain.declarations().empty());
+  ASSERT_EQ(held.declarations().size(), held_plain.declarations().size());
+  for (std::size_t j = 0; j < held.declarations().size(); ++j) {
+    EXPECT_EQ(held.declarations()[j].frame, held_plain.declarations()[j].frame);
+    EXPECT_EQ(held.declarations()[j].hypothesis, held_plain.declarations()[j].hypothesis);
+  }
+  HierarchicalOptions bad = o;
+  bad.spare_dwell_s = 0.5 / s.bank.frame_rate_hz;   // under a frame
+  EXPECT_THROW(DynamicHierarchicalBank(s.bank, bad), std::invalid_argument);
+  bad.spare_dwell_s = kMaxDwellS + 1.0;
+  EXPECT_THROW(DynamicHierarchicalBank(s.bank, bad), std::invalid_argument);
+  bad = o;
+  bad.bank.adaptation.hypothesis_weight = 1.0;   // no per-hypothesis tempering: nothing to hold it to
+  EXPECT_THROW(DynamicHierarchicalBank(s.bank, bad), std::invalid_argument);
+}
+
 // The departure hold (hierarchical_bank.h): a bank whose sensors carry the names the hold reads
 // (AOA, PIT, ROL; no YAW: not checked). U1 fails, then PIT: without the hold U1 then U1+PIT.
 //  - bounds no reading reaches: the same declarations on the same frames, nothing held;

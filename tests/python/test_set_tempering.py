@@ -253,3 +253,37 @@ def test_the_daemon_flies_the_margin_and_names_it():
     r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering-margin"],
                        capture_output=True, text=True, timeout=20)
     assert r.returncode == 2 and "--set-tempering-margin applies with --set-tempering only" in r.stdout + r.stderr
+
+
+def test_the_spare_dwell_reaches_the_core_and_the_daemon():
+    """``--set-tempering-dwell S`` (hierarchical_bank.h spare_dwell_s): a keyword of the core, refused
+    there outside [a frame, the longest dwell] and without the per-hypothesis tempering; a flag of
+    ``mmae-daemon`` that its ready line names (the dwell's rule itself: test_hierarchical_bank.cpp)."""
+    options = {"turbulence_banks": True, "set_tempering": 0.15, "set_tempering_rho": 2.68,
+               "spare_dwell_s": 0.0625}
+    check(options)
+    assert core_arguments(options)["spare_dwell_s"] == 0.0625
+    with pytest.raises(ValueError, match="--set-tempering"):
+        check({"turbulence_banks": True, "spare_dwell_s": 0.0625})
+    with pytest.raises(ValueError, match="--set-tempering-dwell"):
+        check({**options, "spare_dwell_s": -1.0})
+    bank = load_bank("turbulence")[2]
+    full = core_arguments({"set_tempering": 0.15})["adapt_full_tempering"]
+    kw = dict(adapt_turbulence=True, adapt_hypothesis_weight=0.15, adapt_full_tempering=full)
+    assert core.HierarchicalBank(bank, spare_dwell_s=0.0625, **kw).level == 0
+    with pytest.raises(ValueError, match=r"spare_dwell_s must be 0 \(off\) or in \[0.015625, 60\] s"):
+        core.HierarchicalBank(bank, spare_dwell_s=0.01, **kw)
+    with pytest.raises(ValueError, match="spare_dwell_s 0.0625 applies while the per-hypothesis tempering spares"):
+        core.HierarchicalBank(bank, spare_dwell_s=0.0625, adapt_turbulence=True)
+    flags = daemon_flags(options)
+    assert flags[flags.index("--set-tempering-dwell") + 1] == "0.0625"
+    daemon = str(find_executable("mmae-daemon"))
+    p = subprocess.Popen([daemon, "--bank", str(set_path()), *flags, "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    assert f"set tempering 0.15 from rho 2.68 full {full} dwell 0.0625 s" in ready, ready
+    r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering-dwell", "0.0625"],
+                       capture_output=True, text=True, timeout=20)
+    assert r.returncode == 2 and "--set-tempering-dwell applies with --set-tempering only" in r.stdout + r.stderr

@@ -143,6 +143,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "not over NONE alone: a sensor hypothesis that fits a stabilator's onset a little "
                          "better than the stabilator's own filter gains only that little over it "
                          "(cpp/f16mmae/turbulence_adaptation.h). Default: over NONE"),
+    EstimatorOption("spare_dwell_s", "--set-tempering-dwell", "number", metavar="S", minimum=0.0,
+                    maximum=DWELL_S_MAX, requires="set_tempering",
+                    help="with --set-tempering: a declaration at level 0 needs S seconds above the threshold, "
+                         "instead of the dwell, on the frames where the tempering spares the best-fitting "
+                         "hypothesis (with --set-tempering-rho: severe air only; the tempering has already held "
+                         "the onset back there; cpp/f16mmae/hierarchical_bank.h spare_dwell_s). "
+                         "Default 0: the dwell everywhere"),
     # mmae-daemon takes it by the hypotheses' names, --set-tempering-margin-over LS,RS (lcm.daemon.daemon_flags)
     EstimatorOption("set_tempering_margin_stabilators", "--set-tempering-margin-stabilators", "switch",
                     requires="set_tempering_margin", in_daemon=False,

@@ -8,7 +8,8 @@ import pytest
 
 from f16mmae.campaign.engine import scoring
 from f16mmae.campaign.engine.executor import InlineExecutor, make_executor
-from f16mmae.campaign.engine.failure_runs import run_seed
+from f16mmae.banks import load_bank
+from f16mmae.campaign.engine.failure_runs import plan, run_seed
 from f16mmae.campaign.single import SingleCampaign, run_campaign
 from f16mmae.campaign.single.campaign import case_summary, first_declaration
 from f16mmae.campaign.engine.store import RECORDS_FILE, ResultsStore
@@ -97,3 +98,18 @@ def test_dask_executor_gives_the_same_records(tmp_path):
         with make_executor(scheduler=cluster.scheduler_address) as ex:
             run_campaign(cfg, tmp_path / "dask", ex, show_progress=False, measure_cost=False)
     assert _strip(ResultsStore(tmp_path / "dask").records()) == _strip(ResultsStore(tmp_path / "local").records())
+
+
+def test_the_failure_time_moves_the_failure_and_keeps_the_flight_after_it():
+    """``--failure-time S``: the failure at S s, the flight 5 s beyond it (the default's 3 of 8)."""
+    from f16mmae.cli import campaign_single
+    from f16mmae.cli.main import build_parser
+    args = build_parser().parse_args(["campaign", "single", "--failure-time", "20", "--cases", "LS"])
+    cfg = campaign_single.config_from_args(args)
+    assert (cfg.failure_time_s, cfg.duration_s) == (20.0, 25.0)
+    default = campaign_single.config_from_args(build_parser().parse_args(["campaign", "single"]))
+    assert (default.failure_time_s, default.duration_s) == (3.0, 8.0)
+    spec = plan(cfg, {"tuned": ("tuned", load_bank("tuned")[2])})[0]
+    assert spec["scenario"]["duration_s"] == 25.0
+    assert [(f["name"], f["time_s"]) for f in spec["scenario"]["failures"]] == [("LS", 20.0)]
+

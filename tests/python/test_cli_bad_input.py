@@ -111,6 +111,8 @@ def test_report_on_a_summary_missing_a_field_names_the_field(capsys, tmp_path):
     (["campaign", "envelope", "--runs", "1e9"], "--runs '1e9' is not an integer"),
     (["campaign", "single", "--workers", "100000"], "--workers '100000' must be <= 1024"),
     (["campaign", "single", "--seed", "-5"], "--seed '-5' must be >= 1"),
+    (["campaign", "single", "--failure-time", "0"], "--failure-time '0' must be > 0.0"),
+    (["campaign", "single", "--failure-time", "3598"], "--failure-time 3598 leaves no room for the 5 s after it"),
     (["campaign", "dual", "--duration-s", "1e12"], "--duration-s '1e12' must be <= 3600.0"),
     (["campaign", "dual", "--second-time-s", "inf"], "--second-time-s 'inf' must be finite"),
     (["replay", "x.lcmlog", "--tolerance", "nan"], "--tolerance 'nan' must be finite and >= 0"),

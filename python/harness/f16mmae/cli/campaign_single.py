@@ -4,14 +4,17 @@ from __future__ import annotations
 import argparse
 
 from ..campaign.single import SingleCampaign, run_campaign
+from ..names import FAILURE_TIME_S, FLIGHT_S, FLIGHT_S_MAX
 from . import evidence
 from .campaign_common import (add_flight_settings, add_run_arguments, check_tuning, flight_settings, parse_cases,
                               run_and_report, validated)
+from .options import CliError, flight_seconds
 
 DESCRIPTION = """\
 The single-failure campaign (paper Sec. V): every single failure (LS RS LF RF RUD VEL
 AOA PIT AZ ROL YAW AY) and the no-failure case NONE, N seeded runs each, the failure at
-3.0 s of an 8-s flight at the bank's design point, the MMAE in the loop.  Scored per case
+3.0 s of an 8-s flight at the bank's design point (--failure-time S: at S s, the flight
+5 s longer), the MMAE in the loop.  Scored per case
 for correct isolation, missed and wrong isolation, false alarms and detection latency;
 figures like the paper's Figs. 3-6 (tuned bank beside the untuned baseline).
 """
@@ -23,6 +26,8 @@ examples:
   f16mmae campaign single --tuning untuned --baseline none --turbulence moderate
   f16mmae campaign single --runs 5 --baseline none --turbulence none,light,moderate,severe
   f16mmae campaign single --runs 5 --baseline none --mode complete,stuck,hardover,null,loss=0.5
+  f16mmae campaign single --baseline none --turbulence severe --failure-time 20
+                                                   # the estimator 20 s in the air first
   f16mmae campaign single --workers 1              # in this process (profiling)
   f16mmae campaign single --scheduler tcp://10.0.0.5:8786   # on a Dask cluster
 
@@ -59,6 +64,10 @@ def register(kinds) -> None:
     s.add_argument("--baseline", default="untuned", metavar="untuned|tuned|FILE|none",
                    help="a second bank flown on the same seeds for the side-by-side "
                         "figure (default untuned; 'none' to skip)")
+    s.add_argument("--failure-time", default=f"{FAILURE_TIME_S:g}", metavar="S",
+                   help=f"when the failure is injected (s, default {FAILURE_TIME_S:g}); the flight lasts "
+                        f"{FLIGHT_S - FAILURE_TIME_S:g} s beyond it. Later: the estimator has flown longer "
+                        "before the failure (its turbulence adaptation settles over 5 s)")
     add_run_arguments(s, "results/campaign-single")
     s.set_defaults(func=_single)
 
@@ -66,7 +75,12 @@ def register(kinds) -> None:
 def config_from_args(args) -> SingleCampaign:
     """A validated ``SingleCampaign`` from the parsed arguments (CliError otherwise)."""
     baseline = None if args.baseline.lower() == "none" else args.baseline
-    cfg = SingleCampaign(**flight_settings(args), cases=parse_cases(args.cases), baseline=baseline)
+    failure_time = flight_seconds("--failure-time", args.failure_time)
+    if failure_time + FLIGHT_S - FAILURE_TIME_S > FLIGHT_S_MAX:
+        raise CliError(f"--failure-time {failure_time:g} leaves no room for the {FLIGHT_S - FAILURE_TIME_S:g} s "
+                       f"after it (flights up to {FLIGHT_S_MAX:g} s)")
+    cfg = SingleCampaign(**flight_settings(args), cases=parse_cases(args.cases), baseline=baseline,
+                         failure_time_s=failure_time, duration_s=failure_time + FLIGHT_S - FAILURE_TIME_S)
     if cfg.baseline is not None:
         check_tuning("--baseline", cfg.baseline)
     return validated(cfg)

@@ -10,6 +10,7 @@ from f16mmae.campaign.engine import scoring
 from f16mmae.campaign.engine.executor import InlineExecutor, make_executor
 from f16mmae.banks import load_bank
 from f16mmae.campaign.engine.failure_runs import plan, run_seed
+from f16mmae.campaign.engine.config import CampaignError
 from f16mmae.campaign.single import SingleCampaign, run_campaign
 from f16mmae.campaign.single.campaign import case_summary, first_declaration
 from f16mmae.campaign.engine.store import RECORDS_FILE, ResultsStore
@@ -113,3 +114,29 @@ def test_the_failure_time_moves_the_failure_and_keeps_the_flight_after_it():
     assert spec["scenario"]["duration_s"] == 25.0
     assert [(f["name"], f["time_s"]) for f in spec["scenario"]["failures"]] == [("LS", 20.0)]
 
+
+
+def test_the_failure_jitter_spreads_each_runs_failure_by_its_seed():
+    """``--failure-jitter J``: run n of case c fails at failure_time_s + J x_{c,n}, x in [0, 1) from
+    the run's seed alone, and flies as long after it as without; J = 0 is the plan as before."""
+    from f16mmae.campaign.engine.failure_runs import failure_offset
+    bank = load_bank("tuned")[2]
+    assert failure_offset(123, 0.0) == 0.0
+    assert failure_offset(123, 1.0) == failure_offset(123, 1.0) == 2.0 * failure_offset(123, 0.5)
+    base = SingleCampaign(runs=8, seed=4, cases=("NONE", "RUD"), baseline=None)
+    spread = SingleCampaign(runs=8, seed=4, cases=("NONE", "RUD"), baseline=None, failure_jitter_s=1.0)
+    plain, jittered = plan(base, {"t": ("tuned", bank)}), plan(spread, {"t": ("tuned", bank)})
+    offsets = []
+    for a, b in zip(plain, jittered):
+        assert a["seed"] == b["seed"]
+        offset = failure_offset(b["seed"], 1.0)
+        assert 0.0 <= offset < 1.0
+        assert b["scenario"]["duration_s"] == pytest.approx(8.0 + offset)
+        if a["case"] == "RUD":
+            assert a["scenario"]["failures"][0]["time_s"] == 3.0
+            assert b["scenario"]["failures"][0]["time_s"] == pytest.approx(3.0 + offset)
+            offsets.append(offset)
+        assert a["run_key"] != b["run_key"]
+    assert max(offsets) - min(offsets) > 0.3   # spread, not one instant
+    with pytest.raises(CampaignError, match="--failure-jitter 61 must lie in"):
+        SingleCampaign(failure_jitter_s=61.0).validate()

@@ -147,18 +147,18 @@ class CampaignConfig:
 
     def scenario_dict(self, bank, failures: tuple[tuple[str, float] | FailureSpec, ...], seed: int,
                       mach: float | None = None, alt_ft: float | None = None,
-                      turbulence: str | None = None) -> dict:
+                      turbulence: str | None = None, duration_s: float | None = None) -> dict:
         """A run's scenario as the truth model's own plain data (``Scenario.to_dict``), so the
         record holds every truth setting (dither amplitudes, ARI, noise) and the run key
         changes when a truth default does. ``failures``: (name, time_s) pairs in this config's
         mode, or FailureSpecs (their own mode and value); ``mach`` / ``alt_ft`` None: the
-        bank's design point; ``turbulence`` None: this config's (single) level. ValueError on a
-        bad value."""
+        bank's design point; ``turbulence`` None: this config's (single) level; ``duration_s``
+        None: this config's. ValueError on a bad value."""
         scenario = Scenario(
             mach=float(mach if mach is not None else bank.mach),
             alt_ft=float(alt_ft if alt_ft is not None else bank.alt_ft),
             turbulence=self.turbulence if turbulence is None else turbulence, dither=self.dither_spec(),
             failures=tuple(f if isinstance(f, FailureSpec) else self.failure(*f) for f in failures),
-            duration_s=self.duration_s, seed=seed, feedback=self.feedback,
+            duration_s=self.duration_s if duration_s is None else duration_s, seed=seed, feedback=self.feedback,
         )
         return scenario.to_dict()

@@ -11,10 +11,20 @@ re-drawn in the rare case it is a tuning seed) -- deterministic, >= 1, never a s
 tuning flew, independent of the executor, of the order runs finish, of the bank and of the flight condition (runs of one
 (c, n) fly the same turbulence and noise with any bank, at any point: common random numbers).
 
+Failure offset (``failure_jitter_s`` J > 0 on the config; 0, the default: none): run n of case c
+fails at ``failure_time_s + J x_{c,n}`` and flies ``duration_s + J x_{c,n}``, the same time after
+its failure as without, where x_{c,n} = SHA-256("failure-offset:<seed_{c,n}>") / 2^256 in [0, 1),
+a pure function of the run's seed. Why: the surfaces' dither is deterministic, so every run of a
+case failing at the same instant meets the same dither phase; a failed surface frozen at trim steps
+from wherever its dither had it, and which hypotheses that step lifts depends on the phase
+(docs/results/turbulence_banks.md, round 19). J of a dither period or more samples the phases.
+
 Each run is a pure function of its spec (:func:`run_spec`), executed on any
 ``concurrent.futures.Executor``.
 """
 from __future__ import annotations
+
+import hashlib
 
 from ... import __version__
 from ...loop.flight import fly, scenario_from_dict
@@ -36,6 +46,14 @@ def stored_history(p) -> list[float]:
     """A probability history as a record stores it: every ``P_INJECTED_DECIMATION``-th frame,
     each value ``round(float(x), 5)`` (``rounding.decimal_round``, bit for bit)."""
     return decimal_round(p[::P_INJECTED_DECIMATION], 5)
+
+
+def failure_offset(seed: int, jitter_s: float) -> float:
+    """The run's failure offset J x in [0, J) s (module docstring), 0 when ``jitter_s`` is 0."""
+    if not jitter_s:
+        return 0.0
+    x = int.from_bytes(hashlib.sha256(f"failure-offset:{seed}".encode()).digest(), "big") / 2.0 ** 256
+    return float(jitter_s) * x
 
 
 def run_seed(campaign_seed: int, case: str, run_index: int) -> int:
@@ -118,7 +136,8 @@ def describe_spec(spec: dict) -> str:
 # -- planning --------------------------------------------------------------------------------
 def plan(cfg, banks: dict[str, tuple[str, object]], mach: float | None = None,
          alt_ft: float | None = None) -> list[dict]:
-    """Every run spec of ``cfg`` (a config with ``cases`` and ``failure_time_s``) at the flight
+    """Every run spec of ``cfg`` (a config with ``cases`` and ``failure_time_s``, and optionally
+    ``failure_jitter_s``: module docstring) at the flight
     condition (``mach``, ``alt_ft``; None: each bank's design point). ``banks`` maps
     label -> (tuning arg, ModelBank)."""
     specs = []
@@ -126,9 +145,11 @@ def plan(cfg, banks: dict[str, tuple[str, object]], mach: float | None = None,
         for case in cfg.cases:
             for n in range(cfg.runs):
                 seed = run_seed(cfg.seed, case, n)
-                failures = () if case == NONE else ((case, cfg.failure_time_s),)
+                offset = failure_offset(seed, getattr(cfg, "failure_jitter_s", 0.0))
+                failures = () if case == NONE else ((case, cfg.failure_time_s + offset),)
                 try:
-                    scenario = cfg.scenario_dict(bank, failures, seed, mach, alt_ft)
+                    scenario = cfg.scenario_dict(bank, failures, seed, mach, alt_ft,
+                                                 duration_s=cfg.duration_s + offset)
                 except ValueError as exc:
                     raise CampaignError(f"case {case}: {exc}") from None
                 identity = {"kind": "single", "scenario": scenario, "estimator": cfg.estimator_options(),

@@ -35,6 +35,10 @@ from ..engine.runner import CampaignOutcome, execute
 from ..engine.store import ResultsStore, campaign_directory
 from . import figures
 
+#: Largest failure jitter a campaign takes (s): a minute covers every dither line's period,
+#: the throttle's 10 s included.
+FAILURE_JITTER_S_MAX = 60.0
+
 
 @dataclass(frozen=True)
 class SingleCampaign(CampaignConfig):
@@ -45,11 +49,14 @@ class SingleCampaign(CampaignConfig):
     cases: tuple[str, ...] = CASES
     baseline: str | None = "untuned"
     failure_time_s: float = FAILURE_TIME_S
+    failure_jitter_s: float = 0.0  # each run's failure up to this much later (engine.failure_runs)
     mach: float | None = None  # None: the bank's design point
     alt_ft: float | None = None
 
     def validate(self) -> "SingleCampaign":
         self.check_common(dwell_window_s=self.duration_s)
+        if not 0.0 <= self.failure_jitter_s <= FAILURE_JITTER_S_MAX:
+            raise CampaignError(f"--failure-jitter {self.failure_jitter_s:g} must lie in [0, {FAILURE_JITTER_S_MAX:g}] s")
         check_cases(self)
         failures = [c for c in self.cases if c != NONE]
         for mode in self.modes():

@@ -156,6 +156,7 @@ def summarize(cfg: SingleCampaign, banks: dict, label: str, records: list[dict])
         "mach": float(cfg.mach if cfg.mach is not None else bank.mach),
         "alt_ft": float(cfg.alt_ft if cfg.alt_ft is not None else bank.alt_ft),
         "failure_time_s": cfg.failure_time_s,
+        "failure_jitter_s": cfg.failure_jitter_s,
         "duration_s": cfg.duration_s,
         "feedback": cfg.feedback,
         "dither_scale": cfg.dither_scale,

@@ -293,3 +293,22 @@ def test_compare_draws_two_campaigns_side_by_side(tmp_path, capsys):
     assert "is of kind 'soak', not 'envelope'" in capsys.readouterr().err
     assert main(["campaign", "envelope", "--compare", str(tmp_path / "a"), "--out", str(out)]) == 2
     assert "give two or more campaign directories" in capsys.readouterr().err
+
+
+def test_the_envelope_takes_the_failure_instant_of_the_single_campaign():
+    """``--failure-time`` and ``--failure-jitter`` (cli.campaign_common.add_failure_instant): the
+    envelope's runs fail and end as the single campaign's, at every point."""
+    from f16mmae.cli import campaign_envelope
+    from f16mmae.cli.main import build_parser
+    args = build_parser().parse_args(["campaign", "envelope", "--points", "NOM,1", "--cases", "RUD",
+                                      "--failure-time", "20", "--failure-jitter", "1"])
+    cfg = campaign_envelope.config_from_args(args)
+    assert (cfg.failure_time_s, cfg.failure_jitter_s, cfg.duration_s) == (20.0, 1.0, 25.0)
+    bank = load_bank("tuned")[2]
+    for p in cfg.points:
+        for spec in failure_runs.plan(cfg, {"tuned": ("tuned", bank)}, p.mach, p.alt_ft):
+            offset = failure_runs.failure_offset(spec["seed"], 1.0)
+            assert spec["scenario"]["failures"][0]["time_s"] == pytest.approx(20.0 + offset)
+            assert spec["scenario"]["duration_s"] == pytest.approx(25.0 + offset)
+    with pytest.raises(failure_runs.CampaignError, match="--failure-jitter -1 must lie in"):
+        EnvelopeCampaign(failure_jitter_s=-1.0).validate()

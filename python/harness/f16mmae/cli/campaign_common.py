@@ -11,15 +11,15 @@ import sys
 from ..banks import BankError, bank_path
 from ..campaign.engine.config import DITHER_SCALE_MAX, RUNS_MAX
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
-from ..campaign.engine.failure_runs import CASES
+from ..campaign.engine.failure_runs import CASES, FAILURE_JITTER_S_MAX
 from ..campaign.engine.store import write_summary
 from ..campaign.engine.variants import VARIANTS_KIND
-from ..names import FEEDBACK_MODES, TURBULENCE_LEVELS
+from ..names import FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, FLIGHT_S_MAX, TURBULENCE_LEVELS
 from ..outputs import writable_dir
 from ..report.page import render_report
 from . import evidence
 from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args,
-                      number, parse_choices, seed)
+                      flight_seconds, number, parse_choices, seed)
 
 
 def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool = True) -> None:
@@ -50,6 +50,35 @@ def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool
     p.add_argument("--dither-scale", default="1.0", metavar="X",
                    help="multiply the truth model's default dither amplitudes by X (default 1)")
     add_estimator_arguments(p)
+
+
+def add_failure_instant(p) -> None:
+    """``--failure-time`` and ``--failure-jitter``: when each run's failure comes
+    (:func:`failure_instant`)."""
+    p.add_argument("--failure-time", default=f"{FAILURE_TIME_S:g}", metavar="S",
+                   help=f"when the failure is injected (s, default {FAILURE_TIME_S:g}); the flight lasts "
+                        f"{FLIGHT_S - FAILURE_TIME_S:g} s beyond it. Later: the estimator has flown longer "
+                        "before the failure (its turbulence adaptation settles over 5 s)")
+    p.add_argument("--failure-jitter", default="0", metavar="J",
+                   help="each run's failure up to J s after --failure-time, drawn from the run's seed "
+                        "(default 0: every run fails at the same instant, so meets the same phase of the "
+                        "deterministic surface dither; a frozen surface steps from wherever the dither had "
+                        "it). The flight lasts as long after its failure as without. J of a second or more "
+                        "samples the surface lines' phases")
+
+
+def failure_instant(args) -> dict:
+    """The config fields of :func:`add_failure_instant`'s options: ``failure_time_s``,
+    ``failure_jitter_s`` and ``duration_s`` (the failure time and the time after it), each
+    checked (CliError naming the bad value)."""
+    failure_time = flight_seconds("--failure-time", args.failure_time)
+    jitter = number("--failure-jitter", args.failure_jitter, minimum=0.0, maximum=FAILURE_JITTER_S_MAX)
+    if failure_time + jitter + FLIGHT_S - FAILURE_TIME_S > FLIGHT_S_MAX:
+        with_jitter = f" with --failure-jitter {jitter:g}" if jitter else ""
+        raise CliError(f"--failure-time {failure_time:g}{with_jitter} leaves no room for the "
+                       f"{FLIGHT_S - FAILURE_TIME_S:g} s after it (flights up to {FLIGHT_S_MAX:g} s)")
+    return dict(failure_time_s=failure_time, failure_jitter_s=jitter,
+                duration_s=failure_time + FLIGHT_S - FAILURE_TIME_S)
 
 
 def flight_settings(args) -> dict:

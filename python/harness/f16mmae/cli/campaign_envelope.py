@@ -8,7 +8,8 @@ from pathlib import Path
 from ..campaign.envelope import EnvelopeCampaign, figures, run_envelope
 from ..campaign.envelope.points import PAPER_POINTS, EnvelopeError, check_distinct, parse_mach_alt, select_points
 from ..report.evidence import describe_rate
-from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, parse_cases, run_and_report, validated
+from .campaign_common import (add_failure_instant, add_flight_settings, add_run_arguments, failure_instant, flight_settings,
+                              parse_cases, run_and_report, validated)
 from ..outputs import writable_dir
 from .options import CliError
 
@@ -85,6 +86,7 @@ def register(kinds) -> None:
     e.add_argument("--compare", default=None, metavar="DIR_A,DIR_B",
                    help="fly nothing: draw the maps of two (or more) finished envelope campaigns side by side "
                         "(e.g. unscheduled and scheduled bank) into OUT/envelope_compare.png")
+    add_failure_instant(e)
     add_run_arguments(e, "results/campaign-envelope")
     e.set_defaults(func=_envelope)
 
@@ -106,7 +108,8 @@ def points_from_args(args):
 
 def config_from_args(args) -> EnvelopeCampaign:
     """A validated ``EnvelopeCampaign`` from the parsed arguments (CliError otherwise)."""
-    cfg = EnvelopeCampaign(**flight_settings(args), points=points_from_args(args), cases=parse_cases(args.cases))
+    cfg = EnvelopeCampaign(**flight_settings(args), **failure_instant(args), points=points_from_args(args),
+                           cases=parse_cases(args.cases))
     return validated(cfg)
 
 

@@ -4,12 +4,9 @@ from __future__ import annotations
 import argparse
 
 from ..campaign.single import SingleCampaign, run_campaign
-from ..campaign.single.campaign import FAILURE_JITTER_S_MAX
-from ..names import FAILURE_TIME_S, FLIGHT_S, FLIGHT_S_MAX
 from . import evidence
-from .campaign_common import (add_flight_settings, add_run_arguments, check_tuning, flight_settings, parse_cases,
-                              run_and_report, validated)
-from .options import CliError, flight_seconds, number
+from .campaign_common import (add_failure_instant, add_flight_settings, add_run_arguments, check_tuning,
+                              failure_instant, flight_settings, parse_cases, run_and_report, validated)
 
 DESCRIPTION = """\
 The single-failure campaign (paper Sec. V): every single failure (LS RS LF RF RUD VEL
@@ -67,16 +64,7 @@ def register(kinds) -> None:
     s.add_argument("--baseline", default="untuned", metavar="untuned|tuned|FILE|none",
                    help="a second bank flown on the same seeds for the side-by-side "
                         "figure (default untuned; 'none' to skip)")
-    s.add_argument("--failure-time", default=f"{FAILURE_TIME_S:g}", metavar="S",
-                   help=f"when the failure is injected (s, default {FAILURE_TIME_S:g}); the flight lasts "
-                        f"{FLIGHT_S - FAILURE_TIME_S:g} s beyond it. Later: the estimator has flown longer "
-                        "before the failure (its turbulence adaptation settles over 5 s)")
-    s.add_argument("--failure-jitter", default="0", metavar="J",
-                   help="each run's failure up to J s after --failure-time, drawn from the run's seed "
-                        "(default 0: every run fails at the same instant, so meets the same phase of the "
-                        "deterministic surface dither; a frozen surface steps from wherever the dither had "
-                        "it). The flight lasts as long after its failure as without. J of a second or more "
-                        "samples the surface lines' phases")
+    add_failure_instant(s)
     add_run_arguments(s, "results/campaign-single")
     s.set_defaults(func=_single)
 
@@ -84,15 +72,8 @@ def register(kinds) -> None:
 def config_from_args(args) -> SingleCampaign:
     """A validated ``SingleCampaign`` from the parsed arguments (CliError otherwise)."""
     baseline = None if args.baseline.lower() == "none" else args.baseline
-    failure_time = flight_seconds("--failure-time", args.failure_time)
-    jitter = number("--failure-jitter", args.failure_jitter, minimum=0.0, maximum=FAILURE_JITTER_S_MAX)
-    if failure_time + jitter + FLIGHT_S - FAILURE_TIME_S > FLIGHT_S_MAX:
-        with_jitter = f" with --failure-jitter {jitter:g}" if jitter else ""
-        raise CliError(f"--failure-time {failure_time:g}{with_jitter} leaves no room for the {FLIGHT_S - FAILURE_TIME_S:g} s "
-                       f"after it (flights up to {FLIGHT_S_MAX:g} s)")
-    cfg = SingleCampaign(**flight_settings(args), cases=parse_cases(args.cases), baseline=baseline,
-                         failure_time_s=failure_time, failure_jitter_s=jitter,
-                         duration_s=failure_time + FLIGHT_S - FAILURE_TIME_S)
+    cfg = SingleCampaign(**flight_settings(args), **failure_instant(args), cases=parse_cases(args.cases),
+                         baseline=baseline)
     if cfg.baseline is not None:
         check_tuning("--baseline", cfg.baseline)
     return validated(cfg)

@@ -9,6 +9,14 @@ import html
 _VERDICT_CLASS = {"demonstrated": "ok", "consistent": "fair", "not met": "bad"}
 
 
+def failure_instant_text(s: dict) -> str:
+    """A summary's failure time and flight duration, with its failure jitter when it has one
+    (campaign/engine/failure_runs.py)."""
+    text = f"{s.get('failure_time_s')} / {s.get('duration_s')}"
+    jitter = s.get("failure_jitter_s")
+    return text + (f", each run's failure and end up to {jitter:g} s later (its seed)" if jitter else "")
+
+
 def _e(x) -> str:
     return html.escape(str(x))
 

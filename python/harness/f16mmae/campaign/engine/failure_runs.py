@@ -48,6 +48,17 @@ def stored_history(p) -> list[float]:
     return decimal_round(p[::P_INJECTED_DECIMATION], 5)
 
 
+#: Largest failure jitter a campaign takes (s): a minute covers every dither line's period,
+#: the throttle's 10 s included.
+FAILURE_JITTER_S_MAX = 60.0
+
+
+def check_failure_jitter(cfg) -> None:
+    """CampaignError unless ``cfg.failure_jitter_s`` lies in [0, FAILURE_JITTER_S_MAX]."""
+    if not 0.0 <= cfg.failure_jitter_s <= FAILURE_JITTER_S_MAX:
+        raise CampaignError(f"--failure-jitter {cfg.failure_jitter_s:g} must lie in [0, {FAILURE_JITTER_S_MAX:g}] s")
+
+
 def failure_offset(seed: int, jitter_s: float) -> float:
     """The run's failure offset J x in [0, J) s (module docstring), 0 when ``jitter_s`` is 0."""
     if not jitter_s:

@@ -50,7 +50,7 @@ from ...names import FAILURE_TIME_S, NONE
 from ...truth.aircraft import check_flight_condition, trimmed_fdm
 from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring, variants
 from ..engine.config import CampaignConfig, CampaignError
-from ..engine.failure_runs import CASES, check_case_failures, plan as plan_at, run_spec
+from ..engine.failure_runs import CASES, check_case_failures, check_failure_jitter, plan as plan_at, run_spec
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.store import ResultsStore, campaign_directory
 from . import figures
@@ -69,6 +69,7 @@ class EnvelopeCampaign(CampaignConfig):
     points: tuple[EnvelopePoint, ...] = PAPER_POINTS
     cases: tuple[str, ...] = CASES
     failure_time_s: float = FAILURE_TIME_S
+    failure_jitter_s: float = 0.0  # each run's failure up to this much later (engine.failure_runs)
     correct_fraction_min: float = CORRECT_FRACTION_MIN
     false_alarms_max: int = FALSE_ALARMS_MAX
 
@@ -87,6 +88,7 @@ class EnvelopeCampaign(CampaignConfig):
             except ValueError as exc:
                 raise CampaignError(f"point {p.label}: {exc}") from None
         self.check_common(dwell_window_s=self.duration_s)
+        check_failure_jitter(self)
         check_case_failures(self)
         return self
 
@@ -261,6 +263,7 @@ def summarize(cfg: EnvelopeCampaign, banks: dict, label: str, records: list[dict
         "turbulence": cfg.turbulence,
         "mode": cfg.mode,
         "failure_time_s": cfg.failure_time_s,
+        "failure_jitter_s": cfg.failure_jitter_s,
         "duration_s": cfg.duration_s,
         "feedback": cfg.feedback,
         "dither": cfg.dither,

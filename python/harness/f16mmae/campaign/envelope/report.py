@@ -30,7 +30,7 @@ def envelope_page(d: Path, s: dict) -> str:
         ("design point", f"Mach {dp['mach']:g}, {dp['alt_ft']:.0f} ft, q̄ {dp['qbar_psf']:.1f} lbf/ft²"),
         ("runs per case and point", s["runs_per_case"]), ("campaign seed", s["seed"]),
         ("cases", ", ".join(s["cases"])), ("turbulence", s["turbulence"]), ("failure mode", s["mode"]),
-        ("failure time / duration (s)", f"{s['failure_time_s']} / {s['duration_s']}"),
+        ("failure time / duration (s)", evidence.failure_instant_text(s)),
         ("estimator settings", evidence.settings_text(s)),
         ("code", f"{s['version']}, {(s.get('code') or {}).get('code', 'unrecorded')}"),
     )

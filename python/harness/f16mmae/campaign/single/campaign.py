@@ -30,14 +30,10 @@ from ...truth.failures import modes_for
 from ...truth.sensors import SENSOR_MODES
 from ..engine import drilldown, evidence, identity, scoring, variants
 from ..engine.config import CampaignConfig, CampaignError, split_mode
-from ..engine.failure_runs import CASES, check_cases, describe_spec, plan, run_spec
+from ..engine.failure_runs import CASES, check_cases, check_failure_jitter, describe_spec, plan, run_spec
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.store import ResultsStore, campaign_directory
 from . import figures
-
-#: Largest failure jitter a campaign takes (s): a minute covers every dither line's period,
-#: the throttle's 10 s included.
-FAILURE_JITTER_S_MAX = 60.0
 
 
 @dataclass(frozen=True)
@@ -55,8 +51,7 @@ class SingleCampaign(CampaignConfig):
 
     def validate(self) -> "SingleCampaign":
         self.check_common(dwell_window_s=self.duration_s)
-        if not 0.0 <= self.failure_jitter_s <= FAILURE_JITTER_S_MAX:
-            raise CampaignError(f"--failure-jitter {self.failure_jitter_s:g} must lie in [0, {FAILURE_JITTER_S_MAX:g}] s")
+        check_failure_jitter(self)
         check_cases(self)
         failures = [c for c in self.cases if c != NONE]
         for mode in self.modes():

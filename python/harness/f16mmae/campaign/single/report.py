@@ -48,9 +48,7 @@ def single_page(d: Path, s: dict) -> str:
         ("kind", s.get("kind")), ("runs per case", s.get("runs_per_case")), ("campaign seed", s.get("seed")),
         ("flight condition", f"Mach {s.get('mach')}, {s.get('alt_ft')} ft"),
         ("turbulence", s.get("turbulence")), ("FCS feedback", s.get("feedback")),
-        ("failure time / duration (s)", f"{s.get('failure_time_s')} / {s.get('duration_s')}"
-         + (f", each run's failure and end up to {s['failure_jitter_s']:g} s later (its seed)"
-            if s.get("failure_jitter_s") else "")),
+        ("failure time / duration (s)", evidence.failure_instant_text(s)),
         ("failure mode", s.get("mode")),
         ("dither", f"truth defaults x {s.get('dither_scale', 1.0)}"),
         ("estimator settings", evidence.settings_text(s)),

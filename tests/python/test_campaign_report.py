@@ -33,6 +33,19 @@ def test_mean_injected_probability_averages_runs():
     assert p[i] == pytest.approx((0.99 * 2 + 0.001) / 3)
 
 
+def test_mean_injected_probability_aligns_runs_on_their_failures():
+    """Failures at 3.0 and 3.5 s (``--failure-jitter``): the later run drops its first 0.5 s, so both
+    switch at the earliest failure's sample; the mean is cut to the shorter."""
+    def run(tf, n):
+        k = int(round(tf / 0.25))
+        return {"failure_time_s": tf, "p_injected_dt_s": 0.25, "p_injected": [0.0] * k + [1.0] * (n - k)}
+    t, p = mean_injected_probability([run(3.0, 32), run(3.5, 34)])
+    assert len(t) == 32 and t[12] == pytest.approx(3.0)
+    assert list(p[:12]) == [0.0] * 12 and list(p[12:]) == [1.0] * 20
+    t, p = mean_injected_probability([run(3.0, 32), {**run(3.5, 34), "failure_time_s": None}])
+    assert len(t) == 32 and p[12] == pytest.approx(0.5)   # a run without a failure time: no shift
+
+
 def test_figures_and_report_page(tmp_path):
     cases = ["NONE", "LS", "PIT"]
     by_tuning = {"tuned": _records("tuned", cases), "untuned": _records("untuned", cases)}

@@ -52,8 +52,8 @@ def probability_strips(
             t, p = mean_injected_probability(rc)
             if len(t):
                 ax.plot(t, p, color="C0" if tuning == "tuned" else "C3", lw=1.2)
-                tf = rc[0].get("failure_time_s")
-                if tf is not None and case != NONE:
+                tf = min((r["failure_time_s"] for r in rc if r.get("failure_time_s") is not None), default=None)
+                if tf is not None and case != NONE:   # the earliest: mean_injected_probability aligns on it
                     ax.axvline(tf, color="0.4", ls="--", lw=0.8)
             ax.set_ylim(-0.05, 1.05)
             ax.set_yticks([0, 1])

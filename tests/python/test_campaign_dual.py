@@ -352,3 +352,22 @@ def test_least_lift_is_the_smallest_over_the_admissible_floors():
     assert models.window_check(-0.1, 100, 0.9)["frames_to_least_lift"] is None
     with pytest.raises(ValueError, match="threshold"):
         models.least_lift_nats(0.4)
+
+
+def test_the_failure_jitter_shifts_both_failures_of_a_pair_and_its_baseline_alike():
+    """``--failure-jitter J``: run n of pair (a, b) and of b's baseline shift both failures and the
+    end by the same J x from their common seed; J = 0 plans as before."""
+    from f16mmae.campaign.engine.failure_runs import failure_offset
+    bank = load_bank("tuned")[2]
+    base = DualCampaign(runs=4, pairs=(("LS", "PIT"),))
+    spread = DualCampaign(runs=4, pairs=(("LS", "PIT"),), failure_jitter_s=1.0)
+    for a, b in zip(plan(base, "tuned", bank), plan(spread, "tuned", bank)):
+        assert a["seed"] == b["seed"]
+        offset = failure_offset(b["seed"], 1.0)
+        assert 0.0 <= offset < 1.0
+        times = [f["time_s"] for f in b["scenario"]["failures"]]
+        assert times == pytest.approx([f["time_s"] + offset for f in a["scenario"]["failures"]])
+        assert times[-1] == pytest.approx(5.0 + offset)
+        assert b["scenario"]["duration_s"] == pytest.approx(10.0 + offset)
+    with pytest.raises(CampaignError, match="--failure-jitter 61 must lie in"):
+        DualCampaign(failure_jitter_s=61.0).validate()

@@ -10,6 +10,11 @@ Baseline: for each second failure ``b`` of the plan, the lone single failure ``b
 ``second_time_s`` in the same flight, N runs -- the "lone single failure" Fig. 7 rates
 against, flown under the same conditions.
 
+Failure offset (``failure_jitter_s`` J > 0; 0, the default: none): run n of pair (a, b) and of
+the baseline of b shift both failures and the flight's end by the same J x_{b,n}
+(``engine.failure_runs.failure_offset`` of the run's seed), so a pair and its baseline still fly
+alike and the two seconds between the failures stay.
+
 Seeds: run n of pair (a, b) and run n of the baseline of b both get
 ``seed_{b,n} = evaluation_seed("dual", S, b, n)`` (S the campaign seed; ``f16mmae.seeds``):
 deterministic, >= 1, distinct from the single campaign's ("evaluation:dual:" against "evaluation:single:"), and common
@@ -40,7 +45,7 @@ from ...loop.flight import fly, scenario_from_dict
 from ...names import COMPONENTS, FAILURE_TIME_S, THRESHOLD_DEFAULT, dual_name
 from ..engine import drilldown, evidence, identity, outcomes, variants
 from ..engine.config import CampaignConfig, CampaignError
-from ..engine.failure_runs import P_INJECTED_DECIMATION, stored_history
+from ..engine.failure_runs import P_INJECTED_DECIMATION, check_failure_jitter, failure_offset, stored_history
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
 from ..engine.store import ResultsStore, campaign_directory, run_key
@@ -72,6 +77,7 @@ class DualCampaign(CampaignConfig):
     pairs: tuple[tuple[str, str], ...] = ALL_PAIRS
     first_time_s: float = FAILURE_TIME_S
     second_time_s: float = 5.0
+    failure_jitter_s: float = 0.0  # both failures and the end up to this much later (module docstring)
     mach: float | None = None  # None: the bank's design point
     alt_ft: float | None = None
 
@@ -94,6 +100,7 @@ class DualCampaign(CampaignConfig):
                                     f"a dual needs two different failures")
         if len(set(self.pairs)) != len(self.pairs):
             raise CampaignError("a pair is listed twice")
+        check_failure_jitter(self)
         if not 0 < self.first_time_s < self.second_time_s < self.duration_s:
             raise CampaignError(
                 f"the failure times must satisfy 0 < first ({self.first_time_s} s) < second "
@@ -143,13 +150,15 @@ def plan(cfg: DualCampaign, tuning_label: str, bank) -> list[dict]:
     cases = [(None, b) for b in cfg.seconds] + list(cfg.pairs)
     specs = []
     for first, second in cases:
-        failures = ((first, cfg.first_time_s),) if first else ()
-        failures += ((second, cfg.second_time_s),)
         kind = "dual" if first else "dual-baseline"
         for n in range(cfg.runs):
             seed = run_seed(cfg.seed, second, n)
+            offset = failure_offset(seed, cfg.failure_jitter_s)
+            failures = ((first, cfg.first_time_s + offset),) if first else ()
+            failures += ((second, cfg.second_time_s + offset),)
             try:
-                scenario = cfg.scenario_dict(bank, failures, seed, cfg.mach, cfg.alt_ft)
+                scenario = cfg.scenario_dict(bank, failures, seed, cfg.mach, cfg.alt_ft,
+                                             duration_s=cfg.duration_s + offset)
             except ValueError as exc:
                 raise CampaignError(f"failures {', '.join(n for n, _ in failures)}: {exc}") from None
             identity = {"kind": kind, "scenario": scenario, "estimator": cfg.estimator_options(),
@@ -234,6 +243,7 @@ def summarize(cfg: DualCampaign, label: str, bank, records: list[dict]) -> dict:
         "alt_ft": float(cfg.alt_ft if cfg.alt_ft is not None else bank.alt_ft),
         "first_time_s": cfg.first_time_s,
         "second_time_s": cfg.second_time_s,
+        "failure_jitter_s": cfg.failure_jitter_s,
         "duration_s": cfg.duration_s,
         "feedback": cfg.feedback,
         "dither": cfg.dither,

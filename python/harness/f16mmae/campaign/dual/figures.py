@@ -100,14 +100,6 @@ def rating_matrix(summary: dict, path: str | Path) -> Path:
     return path
 
 
-def _mean_of(records, key: str) -> tuple[np.ndarray, np.ndarray]:
-    if not records:
-        return np.zeros(0), np.zeros(0)
-    n = min(len(r[key]) for r in records)
-    p = np.array([np.asarray(r[key][:n], dtype=float) for r in records])
-    return np.arange(n) * float(records[0]["p_injected_dt_s"]), np.nan_to_num(p).mean(axis=0)
-
-
 @deferrable(lambda a: Path(a["path"]), alone=True)
 def probability_grid(records: list[dict], summary: dict, path: str | Path) -> Path:
     """Small multiples of the mean probability of the dual (and of the first single), drawn
@@ -123,6 +115,9 @@ def probability_grid(records: list[dict], summary: dict, path: str | Path) -> Pa
             bases.setdefault(r["second"], []).append(r)
     t1, t2, dur = summary["first_time_s"], summary["second_time_s"], summary["duration_s"]
     pad = 0.06
+
+    def earliest(rs):  # the earliest run's failure offset: mean_injected_probability aligns on it
+        return min(r["second_time_s"] for r in rs) - t2
 
     def xy(i, j, t, p):  # time 0..dur -> cell's width, probability 0..1 -> cell's height (up)
         return (j - 0.5 + pad + (1 - 2 * pad) * np.asarray(t) / dur,
@@ -141,15 +136,15 @@ def probability_grid(records: list[dict], summary: dict, path: str | Path) -> Pa
                 t, p = mean_injected_probability(bases.get(b, []))
                 if len(t):
                     ax.plot(*xy(i, j, t, p), color="k", lw=0.9)
-                    marks(i, j, (t2,))
+                    marks(i, j, (t2 + earliest(bases[b]),))
             elif (a, b) in duals:
                 _cell(ax, i, j, COLORS[ratings[(a, b)]])
                 rs = duals[(a, b)]
-                tf, pf = _mean_of(rs, "p_first")
+                tf, pf = mean_injected_probability(rs, key="p_first")
                 ax.plot(*xy(i, j, tf, pf), color="#8a4b08", lw=0.7, ls="--")
                 t, p = mean_injected_probability(rs)
                 ax.plot(*xy(i, j, t, p), color="#1f3f9f", lw=1.0)
-                marks(i, j, (t1, t2))
+                marks(i, j, (t1 + earliest(rs), t2 + earliest(rs)))
     _grid_axes(ax, f"Mean probability over runs against time (0 to {dur:g} s per cell; dotted: failures "
                    f"at {t1:g} s and {t2:g} s)\nsolid blue: the dual; dashed brown: the first failure "
                    f"alone; diagonal (black): the lone second failure (baseline)\nbackground: rating "

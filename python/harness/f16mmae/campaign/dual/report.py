@@ -56,7 +56,9 @@ def dual_page(d: Path, s: dict) -> str:
         ("runs per pair / campaign seed", f"{s['runs_per_pair']} / {s['seed']}"),
         ("flight condition", f"Mach {s['mach']}, {s['alt_ft']:.0f} ft, {s['turbulence']} turbulence"),
         ("failures", f"first at {s['first_time_s']} s, second at {s['second_time_s']} s "
-                     f"(mode {s['mode']}), flight {s['duration_s']} s"),
+                     f"(mode {s['mode']}), flight {s['duration_s']} s"
+                     + (f"; each run's failures and end up to {s['failure_jitter_s']:g} s later (its seed)"
+                        if s.get("failure_jitter_s") else "")),
         ("FCS feedback / dither", f"{s['feedback']} / {'on' if s.get('dither', True) else 'off'} "
                                   f"x {s.get('dither_scale', 1.0)}"),
         ("estimator settings", evidence.settings_text(s)),

@@ -143,20 +143,21 @@ def check_goals(case_summary: dict) -> dict:
     return out
 
 
-def mean_injected_probability(records: Sequence[dict]) -> tuple[np.ndarray, np.ndarray]:
-    """(time_s, mean over runs of p of the injected hypothesis) from run records.
+def mean_injected_probability(records: Sequence[dict], key: str = "p_injected") -> tuple[np.ndarray, np.ndarray]:
+    """(time_s, mean over runs of p of the injected hypothesis) from run records; ``key``: another
+    history sampled alike (a dual run's ``p_first``).
 
     Records hold ``p_injected`` sampled at ``1 / p_injected_dt_s``. Runs whose failures come at
-    different times (``--failure-jitter``: each record's ``failure_time_s``) are aligned on their
-    failures, the earliest's time kept: a run failing k samples later drops its first k. Runs of
-    unequal length are then cut to the shortest."""
+    different times (``--failure-jitter``: each record's ``failure_time_s``, a dual run's
+    ``second_time_s``) are aligned on their failures, the earliest's time kept: a run failing k
+    samples later drops its first k. Runs of unequal length are then cut to the shortest."""
     if not records:
         return np.zeros(0), np.zeros(0)
     dt = float(records[0]["p_injected_dt_s"])
-    onsets = [r.get("failure_time_s") for r in records]
+    onsets = [r["failure_time_s"] if "failure_time_s" in r else r.get("second_time_s") for r in records]
     first = min(onsets) if all(t is not None for t in onsets) else None
     shifts = [0 if first is None else int(round((t - first) / dt)) for t in onsets]
-    series = [r["p_injected"][k:] for r, k in zip(records, shifts)]
+    series = [r[key][k:] for r, k in zip(records, shifts)]
     n = min(len(x) for x in series)
     p = np.array([np.nan_to_num(np.asarray(x[:n], dtype=float)) for x in series])
     return np.arange(n) * dt, p.mean(axis=0)

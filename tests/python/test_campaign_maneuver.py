@@ -112,3 +112,25 @@ def test_the_hold_profile_keeps_a_severe_turbulence_flight_at_its_design_conditi
     assert held[0] < 100.0 and held[1] < 16.0, held
     specs = soak_plan(SoakCampaign(hours=0.1, duration_s=60.0, profile="hold").validate(), "tuned", "tuned", bank)
     assert all(s["scenario"]["maneuvers"] == ["turn@0:bank=0deg"] for s in specs)
+
+
+def test_the_failure_jitter_moves_each_maneuver_runs_failure_and_end():
+    """``--failure-jitter J`` (engine.failure_runs): the failure and the end of run n shift by the
+    seeded J x, the maneuver stays where it began."""
+    from f16mmae.campaign.engine.failure_runs import failure_offset
+    from f16mmae.campaign.maneuver.campaign import plan
+    from f16mmae.cli import campaign_maneuver
+    from f16mmae.cli.main import build_parser
+    args = build_parser().parse_args(["campaign", "maneuver", "--maneuvers", "turn", "--cases", "LS",
+                                      "--runs", "3", "--failure-jitter", "1"])
+    cfg = campaign_maneuver.config_from_args(args)
+    assert cfg.failure_jitter_s == 1.0
+    bank = load_bank("tuned")[2]
+    plain = plan(ManeuverCampaign(**{**cfg.__dict__, "failure_jitter_s": 0.0}), "tuned", "tuned", bank)
+    for a, b in zip(plain, plan(cfg, "tuned", "tuned", bank)):
+        offset = failure_offset(b["seed"], 1.0)
+        assert b["scenario"]["failures"][0]["time_s"] == pytest.approx(6.0 + offset)
+        assert b["scenario"]["duration_s"] == pytest.approx(14.0 + offset)
+        assert b["scenario"]["maneuvers"] == a["scenario"]["maneuvers"]
+    with pytest.raises(CampaignError, match="--failure-jitter 61 must lie in"):
+        ManeuverCampaign(**{**cfg.__dict__, "failure_jitter_s": 61.0}).validate()

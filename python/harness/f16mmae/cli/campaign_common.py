@@ -52,6 +52,26 @@ def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool
     add_estimator_arguments(p)
 
 
+def add_failure_jitter(p, what: str = "each run's failure") -> None:
+    """``--failure-jitter J`` (engine.failure_runs: a seeded offset in [0, J) per run); ``what``
+    names what it shifts."""
+    p.add_argument("--failure-jitter", default="0", metavar="J",
+                   help=f"{what} up to J s later, drawn from the run's seed (default 0: every run fails at the "
+                        "same instant, so meets the same phase of the deterministic surface dither; a frozen "
+                        "surface steps from wherever the dither had it). The flight lasts as long after its "
+                        "failure as without. J of a second or more samples the surface lines' phases")
+
+
+def failure_jitter(args, duration_s: float) -> float:
+    """``--failure-jitter``'s value, checked, and with it the longest flight, ``duration_s`` + J,
+    within FLIGHT_S_MAX (CliError naming the bad value)."""
+    jitter = number("--failure-jitter", args.failure_jitter, minimum=0.0, maximum=FAILURE_JITTER_S_MAX)
+    if duration_s + jitter > FLIGHT_S_MAX:
+        raise CliError(f"--failure-jitter {jitter:g} takes a {duration_s:g}-s flight past the longest "
+                       f"({FLIGHT_S_MAX:g} s)")
+    return jitter
+
+
 def add_failure_instant(p) -> None:
     """``--failure-time`` and ``--failure-jitter``: when each run's failure comes
     (:func:`failure_instant`)."""
@@ -59,12 +79,7 @@ def add_failure_instant(p) -> None:
                    help=f"when the failure is injected (s, default {FAILURE_TIME_S:g}); the flight lasts "
                         f"{FLIGHT_S - FAILURE_TIME_S:g} s beyond it. Later: the estimator has flown longer "
                         "before the failure (its turbulence adaptation settles over 5 s)")
-    p.add_argument("--failure-jitter", default="0", metavar="J",
-                   help="each run's failure up to J s after --failure-time, drawn from the run's seed "
-                        "(default 0: every run fails at the same instant, so meets the same phase of the "
-                        "deterministic surface dither; a frozen surface steps from wherever the dither had "
-                        "it). The flight lasts as long after its failure as without. J of a second or more "
-                        "samples the surface lines' phases")
+    add_failure_jitter(p, "each run's failure, after --failure-time,")
 
 
 def failure_instant(args) -> dict:

@@ -2,13 +2,14 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
 from ..campaign.dual import DualCampaign, run_campaign
-from ..campaign.engine.failure_runs import FAILURE_JITTER_S_MAX
-from ..names import COMPONENTS, FAILURE_TIME_S, FLIGHT_S_MAX
+from ..names import COMPONENTS, FAILURE_TIME_S
 from . import evidence
-from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
-from .options import CliError, flight_seconds, number, parse_choices
+from .campaign_common import (add_failure_jitter, add_flight_settings, add_run_arguments, failure_jitter, flight_settings,
+                              run_and_report, validated)
+from .options import CliError, flight_seconds, parse_choices
 
 DESCRIPTION = """\
 The dual-failure campaign (paper Sec. VI, Fig. 7): every ordered pair (first, second) of
@@ -72,10 +73,7 @@ def register(kinds) -> None:
                    help=f"first failure time (default {FAILURE_TIME_S} s)")
     p.add_argument("--second-time-s", default="5.0", metavar="T", help="second failure time (default 5.0 s)")
     p.add_argument("--duration-s", default="10", metavar="T", help="flight duration (default 10 s)")
-    p.add_argument("--failure-jitter", default="0", metavar="J",
-                   help="each run's two failures and its end up to J s later, the same shift for both, drawn "
-                        "from the run's seed (a pair and its baseline alike; default 0: every run at the same "
-                        "instants, so at the same phase of the deterministic surface dither)")
+    add_failure_jitter(p, "each run's two failures, the same shift for both and for the pair's baseline,")
     add_run_arguments(p, "results/campaign-dual")
     p.set_defaults(func=_dual)
 
@@ -117,11 +115,8 @@ def config_from_args(args) -> DualCampaign:
         first_time_s=flight_seconds("--first-time-s", args.first_time_s),
         second_time_s=flight_seconds("--second-time-s", args.second_time_s),
         duration_s=flight_seconds("--duration-s", args.duration_s),
-        failure_jitter_s=number("--failure-jitter", args.failure_jitter, minimum=0.0, maximum=FAILURE_JITTER_S_MAX),
     )
-    if cfg.duration_s + cfg.failure_jitter_s > FLIGHT_S_MAX:
-        raise CliError(f"--duration-s {cfg.duration_s:g} with --failure-jitter {cfg.failure_jitter_s:g} passes the "
-                       f"longest flight ({FLIGHT_S_MAX:g} s)")
+    cfg = dataclasses.replace(cfg, failure_jitter_s=failure_jitter(args, cfg.duration_s))
     return validated(cfg)
 
 

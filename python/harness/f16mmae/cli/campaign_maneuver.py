@@ -6,7 +6,8 @@ import argparse
 from ..campaign.maneuver import MANEUVERS, ManeuverCampaign, run_maneuver
 from ..campaign.maneuver.campaign import CLIMB_FT, CLIMB_RATE_FPM, MACH_RATE_PER_S, MACH_STEP, TURN_BANK_DEG
 from ..report.evidence import describe_per_hour, describe_rate
-from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, parse_cases, run_and_report, validated
+from .campaign_common import (add_failure_jitter, add_flight_settings, add_run_arguments, failure_jitter, flight_settings,
+                              parse_cases, run_and_report, validated)
 from .campaign_envelope import points_from_args
 from .options import CliError, flight_seconds, number, parse_choices
 
@@ -52,6 +53,7 @@ def register(kinds) -> None:
     m.add_argument("--maneuver-time", default="2", metavar="S", help="when the maneuver begins (s, default 2)")
     m.add_argument("--failure-time", default="6", metavar="S", help="when the failure is injected (s, default 6)")
     m.add_argument("--duration", default="14", metavar="S", help="flight length (s, default 14)")
+    add_failure_jitter(m, "each run's failure, after --failure-time,")
     add_run_arguments(m, "results/campaign-maneuver")
     m.set_defaults(func=_maneuver)
 
@@ -66,7 +68,7 @@ def config_from_args(args) -> ManeuverCampaign:
     cfg = ManeuverCampaign(**flight_settings(args), points=points, maneuvers=maneuvers, cases=parse_cases(args.cases),
                            maneuver_time_s=number("--maneuver-time", args.maneuver_time, minimum=0.0),
                            failure_time_s=number("--failure-time", args.failure_time, minimum=0.0, exclusive=True),
-                           duration_s=duration)
+                           failure_jitter_s=failure_jitter(args, duration), duration_s=duration)
     if cfg.failure_time_s <= cfg.maneuver_time_s:
         raise CliError(f"--failure-time {cfg.failure_time_s:g} must come after --maneuver-time "
                        f"{cfg.maneuver_time_s:g} (the failure is injected mid-maneuver)")

@@ -57,7 +57,7 @@ def dual_page(d: Path, s: dict) -> str:
         ("flight condition", f"Mach {s['mach']}, {s['alt_ft']:.0f} ft, {s['turbulence']} turbulence"),
         ("failures", f"first at {s['first_time_s']} s, second at {s['second_time_s']} s "
                      f"(mode {s['mode']}), flight {s['duration_s']} s"
-                     + (f"; each run's failures and end up to {s['failure_jitter_s']:g} s later (its seed)"
+                     + (f"; each run's two failures and its end up to {s['failure_jitter_s']:g} s later (its seed)"
                         if s.get("failure_jitter_s") else "")),
         ("FCS feedback / dither", f"{s['feedback']} / {'on' if s.get('dither', True) else 'off'} "
                                   f"x {s.get('dither_scale', 1.0)}"),

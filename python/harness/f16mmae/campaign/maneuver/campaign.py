@@ -44,7 +44,7 @@ from ...truth import Scenario
 from ...truth.aircraft import ALT_FT_RANGE, MACH_RANGE, check_flight_condition
 from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
-from ..engine.failure_runs import CASES, check_case_failures, run_spec as single_run_spec
+from ..engine.failure_runs import CASES, check_case_failures, check_failure_jitter, failure_offset, run_spec as single_run_spec
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.seeds import evaluation_seed
 from ..engine.store import ResultsStore, campaign_directory, run_key
@@ -86,6 +86,7 @@ class ManeuverCampaign(CampaignConfig):
     cases: tuple[str, ...] = CASES
     maneuver_time_s: float = 2.0
     failure_time_s: float = 6.0
+    failure_jitter_s: float = 0.0  # each run's failure and end up to this much later (engine.failure_runs)
     duration_s: float = 14.0
 
     def validate(self) -> "ManeuverCampaign":
@@ -105,6 +106,7 @@ class ManeuverCampaign(CampaignConfig):
         if not 0.0 <= self.maneuver_time_s < self.duration_s:
             raise CampaignError(f"--maneuver-time {self.maneuver_time_s} s must lie in [0, {self.duration_s}) s")
         self.check_common(dwell_window_s=self.duration_s)
+        check_failure_jitter(self)
         if len(self.levels()) > 1:
             raise CampaignError(f"campaign maneuver flies one turbulence level, got {self.turbulence!r}")
         check_case_failures(self)
@@ -124,9 +126,11 @@ def plan(cfg: ManeuverCampaign, label: str, tuning_arg: str, bank) -> list[dict]
             for case in cfg.cases:
                 for n in range(cfg.runs):
                     seed = run_seed(cfg.seed, m, case, n)
-                    failures = () if case == NONE else ((case, cfg.failure_time_s),)
+                    offset = failure_offset(seed, cfg.failure_jitter_s)
+                    failures = () if case == NONE else ((case, cfg.failure_time_s + offset),)
                     try:
-                        sc = cfg.scenario_dict(bank, failures, seed, p.mach, p.alt_ft)
+                        sc = cfg.scenario_dict(bank, failures, seed, p.mach, p.alt_ft,
+                                               duration_s=cfg.duration_s + offset)
                         sc = Scenario.from_dict({**sc, "maneuvers": [text]}).to_dict()
                     except ValueError as exc:
                         raise CampaignError(f"point {p.label}, {m}, case {case}: {exc}") from None
@@ -205,7 +209,7 @@ def summarize(cfg: ManeuverCampaign, label: str, bank, records: list[dict]) -> d
     return {
         "kind": "maneuver", "runs_per_case": cfg.runs, "seed": cfg.seed, "cases": list(cfg.cases),
         "maneuvers": list(cfg.maneuvers), "maneuver_time_s": cfg.maneuver_time_s,
-        "failure_time_s": cfg.failure_time_s, "duration_s": cfg.duration_s,
+        "failure_time_s": cfg.failure_time_s, "failure_jitter_s": cfg.failure_jitter_s, "duration_s": cfg.duration_s,
         "points": [{"label": p.label, "mach": p.mach, "alt_ft": p.alt_ft} for p in cfg.points],
         "tuning": label, "bank_hash": bank.content_hash, "version": __version__,
         "design_point": {"mach": float(bank.mach), "alt_ft": float(bank.alt_ft)},

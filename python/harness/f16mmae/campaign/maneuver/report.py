@@ -23,7 +23,7 @@ def maneuver_page(d: Path, s: dict) -> str:
         ("maneuvers", ", ".join(s["maneuvers"])), ("runs per case", s["runs_per_case"]),
         ("campaign seed", s["seed"]), ("cases", ", ".join(s["cases"])), ("turbulence", s["turbulence"]),
         ("failure mode", s["mode"]),
-        ("maneuver / failure time / duration (s)", f"{s['maneuver_time_s']} / {s['failure_time_s']} / {s['duration_s']}"),
+        ("maneuver / failure time / duration (s)", f"{s['maneuver_time_s']} / {evidence.failure_instant_text(s)}"),
         ("estimator settings", evidence.settings_text(s)),
     )
     rows = []

@@ -115,7 +115,7 @@ def test_report_on_a_summary_missing_a_field_names_the_field(capsys, tmp_path):
     (["campaign", "single", "--failure-time", "3598"], "--failure-time 3598 leaves no room for the 5 s after it"),
     (["campaign", "single", "--failure-jitter", "-1"], "--failure-jitter '-1' must be >= 0.0"),
     (["campaign", "single", "--failure-time", "3590", "--failure-jitter", "10"],
-     "--failure-time 3590 with --failure-jitter 10 leaves no room for the 5 s after it"),
+     "--failure-jitter 10 takes a 3595-s flight past the longest (3600 s)"),
     (["campaign", "dual", "--duration-s", "1e12"], "--duration-s '1e12' must be <= 3600.0"),
     (["campaign", "dual", "--second-time-s", "inf"], "--second-time-s 'inf' must be finite"),
     (["replay", "x.lcmlog", "--tolerance", "nan"], "--tolerance 'nan' must be finite and >= 0"),

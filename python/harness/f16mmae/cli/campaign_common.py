@@ -87,13 +87,11 @@ def failure_instant(args) -> dict:
     ``failure_jitter_s`` and ``duration_s`` (the failure time and the time after it), each
     checked (CliError naming the bad value)."""
     failure_time = flight_seconds("--failure-time", args.failure_time)
-    jitter = number("--failure-jitter", args.failure_jitter, minimum=0.0, maximum=FAILURE_JITTER_S_MAX)
-    if failure_time + jitter + FLIGHT_S - FAILURE_TIME_S > FLIGHT_S_MAX:
-        with_jitter = f" with --failure-jitter {jitter:g}" if jitter else ""
-        raise CliError(f"--failure-time {failure_time:g}{with_jitter} leaves no room for the "
-                       f"{FLIGHT_S - FAILURE_TIME_S:g} s after it (flights up to {FLIGHT_S_MAX:g} s)")
-    return dict(failure_time_s=failure_time, failure_jitter_s=jitter,
-                duration_s=failure_time + FLIGHT_S - FAILURE_TIME_S)
+    duration = failure_time + FLIGHT_S - FAILURE_TIME_S
+    if duration > FLIGHT_S_MAX:
+        raise CliError(f"--failure-time {failure_time:g} leaves no room for the {FLIGHT_S - FAILURE_TIME_S:g} s "
+                       f"after it (flights up to {FLIGHT_S_MAX:g} s)")
+    return dict(failure_time_s=failure_time, failure_jitter_s=failure_jitter(args, duration), duration_s=duration)
 
 
 def flight_settings(args) -> dict:

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 
 from ..campaign.dual import DualCampaign, run_campaign
 from ..names import COMPONENTS, FAILURE_TIME_S
@@ -110,13 +109,14 @@ def parse_pairs(pairs: str | None, first: str | None, second: str | None) -> tup
 
 def config_from_args(args) -> DualCampaign:
     """A validated ``DualCampaign`` from the parsed arguments (CliError otherwise)."""
+    duration = flight_seconds("--duration-s", args.duration_s)
     cfg = DualCampaign(
         **flight_settings(args), pairs=parse_pairs(args.pairs, args.first, args.second),
         first_time_s=flight_seconds("--first-time-s", args.first_time_s),
         second_time_s=flight_seconds("--second-time-s", args.second_time_s),
-        duration_s=flight_seconds("--duration-s", args.duration_s),
+        duration_s=duration,
+        failure_jitter_s=failure_jitter(args, duration),
     )
-    cfg = dataclasses.replace(cfg, failure_jitter_s=failure_jitter(args, cfg.duration_s))
     return validated(cfg)
 
 

@@ -147,7 +147,7 @@ def describe_spec(spec: dict) -> str:
 # -- planning --------------------------------------------------------------------------------
 def plan(cfg, banks: dict[str, tuple[str, object]], mach: float | None = None,
          alt_ft: float | None = None) -> list[dict]:
-    """Every run spec of ``cfg`` (a config with ``cases`` and ``failure_time_s``, and optionally
+    """Every run spec of ``cfg`` (a config with ``cases``, ``failure_time_s`` and
     ``failure_jitter_s``: module docstring) at the flight
     condition (``mach``, ``alt_ft``; None: each bank's design point). ``banks`` maps
     label -> (tuning arg, ModelBank)."""
@@ -156,7 +156,7 @@ def plan(cfg, banks: dict[str, tuple[str, object]], mach: float | None = None,
         for case in cfg.cases:
             for n in range(cfg.runs):
                 seed = run_seed(cfg.seed, case, n)
-                offset = failure_offset(seed, getattr(cfg, "failure_jitter_s", 0.0))
+                offset = failure_offset(seed, cfg.failure_jitter_s)
                 failures = () if case == NONE else ((case, cfg.failure_time_s + offset),)
                 try:
                     scenario = cfg.scenario_dict(bank, failures, seed, mach, alt_ft,

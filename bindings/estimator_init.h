@@ -169,6 +169,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_channel_weight"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::own_channels>(
           "adapt_own_channels"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::running_start>(
+          "adapt_running_start"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::counted_channels>(
           "adapt_counted_channels"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::excluded_channels>(

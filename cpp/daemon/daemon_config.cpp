@@ -282,6 +282,11 @@ const std::vector<Flag>& flags() {
        "channel is uninformative does not read the air calmer than it is (a turbulence bank set's members "
        "always run with it)",
        {}, adaptation(&TurbulenceAdaptationOptions::own_channels), "--adapt-turbulence", adapting},
+      {"--adapt-running-start", "",
+       "the residual power ratio is the plain mean of its samples from the start until the average's length, "
+       "so the tempering is the air's within a second of the start instead of rising over the time constant "
+       "('f16mmae hil' gives it with a scheduled bank that recommends it, its default in process)",
+       {}, adaptation(&TurbulenceAdaptationOptions::running_start), "--adapt-turbulence", adapting},
       {"--adapt-counted-channel", "NAME",
        "the failed NAME's uninformative channel still counts in each filter's channel count ('f16mmae hil' "
        "gives vel with a scheduled bank's --adapt-turbulence, its default in process)",
@@ -315,15 +320,15 @@ const std::vector<Flag>& flags() {
        number(at(E, &H::maneuver_dwell, &ManeuverDwellOptions::reference), {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr,
        "--adapt-turbulence", adapting},
 
-      {nullptr, nullptr, "The turbulence bank set's per-hypothesis tempering (with --turbulence-banks)"},
+      {nullptr, nullptr, "The per-hypothesis tempering (with --adapt-turbulence or --turbulence-banks)"},
       {"--set-tempering", "W",
        "each frame the best-fitting failure hypothesis at level 0 has its evidence against NONE tempered by "
        "1 + W (s - 1) in place of the adaptation's s (default 1: off)",
-       number(&C::set_tempering, {0.0, 1.0, true}, "a weight in (0, 1]"), nullptr, "--turbulence-banks",
-       turbulence_set},
+       number(&C::set_tempering, {0.0, 1.0, true}, "a weight in (0, 1]"), nullptr,
+       "--adapt-turbulence or --turbulence-banks", [](const C& c) { return turbulence_set(c) || adapting(c); }},
       {"--set-tempering-full", "NAME,...",
        "the hypotheses kept at the full s (names of the bank's level-0 hypotheses; 'f16mmae hil' gives "
-       "LS,RS,LF,RF)",
+       "LS,RS,LF,RF with --turbulence-banks, LS,RS,LF,RF,AZ,AOA,VEL with --adapt-turbulence)",
        hypothesis_names(&C::set_tempering_full),
        nullptr, "--set-tempering", set_tempering},
       {"--set-tempering-rho", "RHO", "only while the member's measured rho is at least RHO (default 0: at any rho)",

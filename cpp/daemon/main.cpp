@@ -241,6 +241,8 @@ int main(int argc, char** argv) {
         adaptation.insert(adaptation.size() - 1,
                           cfg.adapt_counted_channel.empty() ? std::string(", own channels")
                                                             : ", own channels, " + cfg.adapt_counted_channel + " counted");
+      if (options.bank.adaptation.enabled && options.bank.adaptation.running_start)
+        adaptation.insert(adaptation.size() - 1, ", running start");
       if (executive->estimator().members() == 0 && options.bank.adaptation.enabled && !cfg.adapt_excluded_channel.empty())
         adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_excluded_channel + " levels excluded");
       const auto& a = running.bank.adaptation;

@@ -43,6 +43,16 @@
 //   - ρ carries over the hierarchical switches (it does not depend on which filters are on
 //     line); at the start and at reset() ρ = ρ_0: s = clamp(1, s_min, s_max), the bank as
 //     designed until the residuals say otherwise.
+//   - Running start (running_start, default off): from the start or reset() ρ is the plain mean
+//     of the x's until the average's length, as ρ̄ is below,
+//         ρ ← ρ + a_i (min(x, ρ_clip) − ρ),   a_i = max(1 / i, α)
+//     (ρ_j likewise, i counted per channel), so s is the air's within a second instead of rising
+//     from 1 over τ. Why: with ρ starting at ρ_0, s at 3 s is about half its settled value in
+//     the design's own turbulence (light air at Mach 0.42, 17,400 ft: s 1.7 over the first 5 s,
+//     3.2-3.8 from 15 s on; docs/results/envelope_scheduled.md, round 20), so the estimator a
+//     failure meets, and the false-alarm bound that calibrates ρ_0 (design/calibrate.py), depend
+//     on how long it has flown. set_power_ratio ends the running start (the average goes on from
+//     the ρ it is given).
 //
 // Per channel (channel_weight γ in (0, 1]; 0, the default, is off): the same recursion per
 // measurement j, with the channel's share of the best-fitting filter's quadratic form in
@@ -110,7 +120,12 @@
 // hypothesis that explains part of its signature (a failed stabilator lifts the pitch-rate and
 // angle-of-attack sensor hypotheses with it), and a weight on each of them would let a lightly
 // tempered partial fit outrun the fully tempered right one; the hypothesis that fits best
-// this frame is the one whose evidence is spared. At s = 1 (air no rougher than the design)
+// this frame is the one whose evidence is spared. Which ones keep s is the caller's
+// (full_tempering): with a turbulence bank set the stabilators and flaperons; with a bank's own
+// adaptation (a scheduled bank's default, W 0.25) also AZ, AOA and VEL, whose signatures the gusts
+// mimic in light air, so that the gyros', the lateral accelerometer's and the rudder's evidence is
+// not held back by the scale the flaperons need (docs/results/envelope_scheduled.md, round 20).
+// At s = 1 (air no rougher than the design)
 // s_b = 1: the bank as without it. q_k, ρ and ρ̄ are the raw forms, untouched.
 // Only while the scale has caught up with the air, ρ >= ρ̄ / 2: ρ starts at ρ_0 (the start,
 // reset()) and rises over τ, ρ̄ is right within a second, so in rough air s understates the
@@ -194,6 +209,7 @@ namespace f16mmae {
 struct alignas(16) TurbulenceAdaptationOptions {
   bool enabled = false;          // off: the bank as designed (bit-identical)
   bool own_channels = false;     // ρ from min_k q_k / m_k, m_k the channels filter k reads (header)
+  bool running_start = false;    // ρ (and ρ_j) the running mean of x until the average's length (header)
   std::uint32_t counted_channels = 0;   // own_channels: uninformative channels still counted in m_k (bit j: z_j)
   double channel_weight = 0.0;   // γ: a scale s_j per measurement channel (header); 0: one s
   double time_constant_s = 5.0;  // τ of the residual-power average (tuned with κ, s_max)
@@ -253,6 +269,7 @@ class ResidualScale {
     rho_clip_ = 10.0 * o.scale_max;
     mean_length_ = running_mean_length(alpha_);
     channel_rho_.setZero(nz);
+    channel_updates_.setZero(nz);
     channel_inv_sqrt_s_.setOnes(nz);
     reset();
   }
@@ -289,9 +306,9 @@ class ResidualScale {
       if (q(i) < lo) lo = q(i);   // NaN compares false: skipped
     if (!(lo < std::numeric_limits<double>::infinity())) return;
     const double x = lo / nz_;
-    rho_ += alpha_ * ((x < rho_clip_ ? x : rho_clip_) - rho_);
     // a_i = max(1 / i, alpha): 1 / i for i <= mean_length_, alpha from there on (running_mean.h)
     const double a = measured_updates_ < mean_length_ ? 1.0 / static_cast<double>(++measured_updates_) : alpha_;
+    rho_ += (rho_running_ ? a : alpha_) * ((x < rho_clip_ ? x : rho_clip_) - rho_);
     measured_ += a * (x - measured_);
     set_scale();
   }
@@ -304,7 +321,9 @@ class ResidualScale {
       if (a_inv(j, j) == 0.0) continue;
       const double c = r(j) * a_inv.row(j).dot(r);
       if (!(c == c)) continue;   // NaN: skipped
-      channel_rho_(j) += alpha_ * ((c < rho_clip_ ? c : rho_clip_) - channel_rho_(j));
+      double a = alpha_;   // the running start's a_i, counted per channel (a channel k* leaves out is not observed)
+      if (rho_running_ && channel_updates_(j) < static_cast<double>(mean_length_)) a = 1.0 / ++channel_updates_(j);
+      channel_rho_(j) += a * ((c < rho_clip_ ? c : rho_clip_) - channel_rho_(j));
     }
     set_channel_scales();
   }
@@ -320,6 +339,7 @@ class ResidualScale {
   void set_power_ratio(double rho) noexcept {
     if (!(rho >= 0.0 && rho < std::numeric_limits<double>::infinity())) return;
     rho_ = rho;
+    rho_running_ = false;   // a known ρ: the average goes on from it
     channel_rho_.setConstant(rho);
     set_scale();
     set_channel_scales();
@@ -327,9 +347,11 @@ class ResidualScale {
   // Back to the start: ρ = ρ_0, s = clamp(1, s_min, s_max); ρ̄ restarts (0, no update averaged).
   void reset() noexcept {
     rho_ = options_.reference;
+    rho_running_ = options_.running_start;
     measured_ = 0.0;
     measured_updates_ = 0;
     channel_rho_.setConstant(options_.reference);
+    channel_updates_.setZero();
     set_scale();
     set_channel_scales();
   }
@@ -354,8 +376,10 @@ class ResidualScale {
   double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0, measured_ = 0.0;
   std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to mean_length_
   std::int64_t mean_length_ = 1;        // running_mean_length(alpha_) (running_mean.h)
+  bool rho_running_ = false;            // running_start and ρ not set since the start (set_power_ratio)
   ZVector channel_rho_ = ZVector::Constant(NZ == Eigen::Dynamic ? 0 : NZ, 1.0);          // ρ_j
   ZVector channel_inv_sqrt_s_ = ZVector::Constant(NZ == Eigen::Dynamic ? 0 : NZ, 1.0);   // s_j^−½
+  ZVector channel_updates_ = ZVector::Zero(NZ == Eigen::Dynamic ? 0 : NZ);              // the running start's i per channel
 };
 
 }  // namespace f16mmae

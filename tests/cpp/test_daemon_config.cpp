@@ -119,6 +119,16 @@ TEST(DaemonConfig, SetTemperingMargin) {
       << r.message;
 }
 
+TEST(DaemonConfig, AdaptRunningStart) {
+  EXPECT_FALSE(parse_daemon_args({"--bank", "b", "--adapt-turbulence"}, nullptr).config.estimator.bank.adaptation.running_start);
+  auto r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-running-start"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.estimator.bank.adaptation.running_start);
+  r = parse_daemon_args({"--bank", "b", "--adapt-running-start"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--adapt-running-start applies with --adapt-turbulence only"), std::string::npos) << r.message;
+}
+
 TEST(DaemonConfig, SetTemperingDwell) {
   EXPECT_EQ(parse_daemon_args({"--bank", "b"}, nullptr).config.estimator.spare_dwell_s, 0.0);   // off
   auto r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering", "0.15", "--set-tempering-dwell",

@@ -2,7 +2,7 @@
 // tempered Bayes update by hand, the power ratio per channel each filter reads (own_channels), "off" bit-identical to the bank without it, the scale
 // recovering a known noise-power ratio, a failure not absorbed, the per-hypothesis tempering by
 // hand (its choice per channel read, its gate on the measured rho and its margin over the fully tempered
-// hypotheses too), option checks, and no heap
+// hypotheses too), the running start by hand, option checks, and no heap
 // allocation in the F-16-sized step with it on (global operator new is counted here).
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/turbulence_adaptation.h"
@@ -134,6 +134,51 @@ TEST(TurbulenceAdaptation, MeasuredRatioEqualsTheMaxOfOneOverIAndAlphaBitForBit)
       r.observe(Eigen::Vector3d(3.0, 8.0, 7.0));
       EXPECT_EQ(r.measured_power_ratio(), 3.5 + 0.5 * (1.5 - 3.5));
     }
+}
+
+TEST(TurbulenceAdaptation, RunningStartIsAPlainMeanFromTheStartThenTheAverageByHand) {
+  // running_start: rho (clipped x) and each rho_j follow a_i = max(1 / i, alpha) from the start
+  // and every reset(), i counted per channel; s follows rho; set_power_ratio ends the running
+  // start (the average goes on from the rho given); off, rho starts at rho_0 as before.
+  TurbulenceAdaptationOptions o = on(0.25, 1.0, 2.0, 3.0);   // 16 plain-mean updates; clip 20
+  o.running_start = true;
+  ResidualScale<Eigen::Dynamic> r;
+  r.configure(o, 2, "test");
+  EXPECT_DOUBLE_EQ(r.power_ratio(), 1.0);   // rho_0 until the first update
+  const double alpha = 1.0 - std::exp(-1.0 / 16.0);
+  double rho = 0.0;
+  for (int i = 1; i <= 40; ++i) {
+    const double x = 0.6 + 0.4 * (i % 3) + (i == 5 ? 100.0 : 0.0);   // one wild frame: clipped at 20
+    r.observe(Eigen::Vector3d(2.0 * x, 2.0 * x + 1.0, 9.0 * x));
+    const double a = 1.0 / static_cast<double>(i);
+    rho += (a > alpha ? a : alpha) * (std::min(x, 20.0) - rho);
+    ASSERT_NEAR(r.power_ratio(), rho, 1e-12) << "update " << i;
+    EXPECT_NEAR(r.scale(), std::min(2.0, std::max(1.0, 1.0 + 3.0 * (rho - 1.0))), 1e-12) << "update " << i;
+  }
+  r.reset();   // restarts the plain mean
+  r.observe(Eigen::Vector3d(9.0, 8.0, 7.0));
+  EXPECT_DOUBLE_EQ(r.power_ratio(), 3.5);
+  r.set_power_ratio(0.5);   // a known rho: the average over tau from it
+  r.observe(Eigen::Vector3d(3.0, 8.0, 7.0));
+  EXPECT_NEAR(r.power_ratio(), 0.5 + alpha * (1.5 - 0.5), 1e-15);
+  TurbulenceAdaptationOptions plain = o;   // off: from rho_0 with alpha, the first update included
+  plain.running_start = false;
+  ResidualScale<Eigen::Dynamic> p;
+  p.configure(plain, 2, "test");
+  p.observe(Eigen::Vector3d(9.0, 8.0, 7.0));
+  EXPECT_NEAR(p.power_ratio(), 1.0 + alpha * (3.5 - 1.0), 1e-15);
+  // per channel: the channels' own counts (a channel k* leaves out is not observed)
+  o.channel_weight = 1.0;
+  ResidualScale<Eigen::Dynamic> c;
+  c.configure(o, 2, "test");
+  Eigen::MatrixXd both = Eigen::MatrixXd::Identity(2, 2), first = both;
+  first(1, 1) = 0.0;
+  c.observe(Eigen::Vector3d(4.0, 5.0, 6.0));
+  c.observe_channels(Eigen::Vector2d(2.0, 1.0), first);   // channel 1 left out
+  c.observe(Eigen::Vector3d(4.0, 5.0, 6.0));
+  c.observe_channels(Eigen::Vector2d(1.0, 3.0), both);
+  EXPECT_NEAR(c.channel_power_ratios()(0), (4.0 + 1.0) / 2.0, 1e-15);   // two updates: their mean
+  EXPECT_NEAR(c.channel_power_ratios()(1), 9.0, 1e-15);                 // its first: that one
 }
 
 TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) {

@@ -204,8 +204,11 @@ def test_a_constant_roll_gyro_level_comes_from_the_command(tmp_path):
 @pytest.mark.parametrize("args, message", [
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "per-point"], "--node-tuning 'per-point': valid: "
                                                                          "calibrated, fixed"),
-    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min, --start-up-s and "
-                                 "--calibration-start-up-s apply to a scheduled design; give --schedule"),
+    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min, --start-up-s, --calibration-start-up-s "
+                                 "and --adapt-running-start apply to a scheduled design; give --schedule"),
+    (["--adapt-running-start"], "apply to a scheduled design; give --schedule"),
+    (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--adapt-running-start"],
+     "--adapt-running-start goes with the calibration flights: it needs --node-tuning calibrated"),
     (["--calibration-start-up-s", "1"], "apply to a scheduled design; give --schedule"),
     (["--schedule", "mach=0.5,alt=20000", "--start-up-s", "-1"], "--start-up-s '-1' must be >= 0.0"),
     (["--schedule", "mach=0.5,alt=20000", "--calibration-start-up-s", "x"], "--calibration-start-up-s 'x'"),
@@ -460,7 +463,7 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
 
     from f16mmae.design import schedule as sched
 
-    def bounded(model_bank, flights, candidates, start_up_s=0.0):
+    def bounded(model_bank, flights, candidates, start_up_s=0.0, running_start=False):
         gusty = len(model_bank.state_names) > names.NX
         scale = {(0.5, True): 1.0, (0.5, False): 2.0, (0.6, True): 3.0, (0.6, False): 2.0}[
             (round(model_bank.mach, 6), gusty)]

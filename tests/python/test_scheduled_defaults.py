@@ -1,7 +1,8 @@
 """The scheduled estimator's defaults (loop/estimator_options.py ``scheduled_defaults``): a
 scheduled bank flown with the turbulence adaptation counts each filter's residual power per
 channel it reads (own channels) unless ``adapt_all_channels`` asks for the plain minimum; the
-counted channel (``adapt_counted_channel``) reaches the core as its bit; the cached scheduled
+counted channel (``adapt_counted_channel``) reaches the core as its bit; the per-hypothesis
+tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING`` unless given; the cached scheduled
 bank's name follows every design setting of ``names.SCHEDULE_*``."""
 from __future__ import annotations
 
@@ -17,15 +18,18 @@ from f16mmae.loop.estimator_options import check, scheduled_defaults
 
 def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     given = {"adapt_turbulence": True}
+    spared = {"set_tempering": names.SCHEDULE_SET_TEMPERING}   # the per-hypothesis tempering, whatever the rule
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
-                                               "adapt_counted_channel": "vel"}
+                                               "adapt_counted_channel": "vel", **spared}
     assert given == {"adapt_turbulence": True}   # a copy
     own = {**given, "adapt_own_channels": True}   # round 13's rule: every uninformative channel left out
-    assert scheduled_defaults(own, True) == own
+    assert scheduled_defaults(own, True) == {**own, **spared}
     rol = {**given, "adapt_counted_channel": "rol"}
-    assert scheduled_defaults(rol, True) == {**rol, "adapt_own_channels": True}
+    assert scheduled_defaults(rol, True) == {**rol, "adapt_own_channels": True, **spared}
     all_channels = {**given, "adapt_all_channels": True}
-    assert scheduled_defaults(all_channels, True) == all_channels
+    assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
+    off = {**given, "set_tempering": 1.0}   # given: kept (1 is off)
+    assert scheduled_defaults(off, True)["set_tempering"] == 1.0
     for settings in (given, own, rol, all_channels, {}):   # applied twice as once (hil's --compare run)
         once = scheduled_defaults(settings, True)
         assert scheduled_defaults(once, True) == once
@@ -104,10 +108,12 @@ def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch)
 
 def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     """hil hands mmae-daemon the scheduled estimator's defaults resolved (own channels, VEL
-    counted), so the executive over LCM runs the rule the estimator in process runs."""
+    counted, the per-hypothesis tempering with its fully tempered hypotheses), so the executive
+    over LCM runs the rule the estimator in process runs."""
     from f16mmae.lcm.daemon import daemon_flags
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
-    assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel"}
+    assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
+                          "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ"}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
 

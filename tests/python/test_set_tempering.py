@@ -20,7 +20,7 @@ from f16mmae.design.turbulence_banks import set_path
 from f16mmae.lcm.daemon import daemon_flags, find_executable
 from f16mmae.loop.estimator import core_arguments
 from f16mmae.loop.estimator_options import check
-from f16mmae.names import SET_TEMPERING_FULL, SINGLE_HYPOTHESES
+from f16mmae.names import ADAPT_SET_TEMPERING_FULL, SET_TEMPERING_FULL, SINGLE_HYPOTHESES
 
 
 def _ready_line(daemon: str, flags) -> str:
@@ -35,13 +35,35 @@ def _ready_line(daemon: str, flags) -> str:
 
 
 def test_the_option_becomes_the_weight_and_the_fully_tempered_hypotheses_bits():
-    args = core_arguments({"set_tempering": 0.25})
+    args = core_arguments({"set_tempering": 0.25, "turbulence_banks": True})
     assert args["adapt_hypothesis_weight"] == 0.25
     bits = args["adapt_full_tempering"]
     assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if bits >> i & 1] == list(SET_TEMPERING_FULL)
     assert bits & 0b110 == 0b110   # the stabilators (LS, RS: level-0 slots 1 and 2) among them
     assert "set_tempering" not in args
     assert "adapt_hypothesis_weight" not in core_arguments({})
+    # a bank's own adaptation keeps the gust-mimicked sensors at s too: AZ, AOA and VEL
+    own = core_arguments({"set_tempering": 0.25, "adapt_turbulence": True})["adapt_full_tempering"]
+    assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if own >> i & 1] == ["LS", "RS", "LF", "RF", "VEL", "AOA", "AZ"]
+    assert sorted(ADAPT_SET_TEMPERING_FULL) == sorted(["LS", "RS", "LF", "RF", "VEL", "AOA", "AZ"])
+    check({"set_tempering": 0.25, "adapt_turbulence": True})
+
+
+def test_with_a_bank_s_own_adaptation_the_daemon_takes_it_and_names_it():
+    bank = load_bank("tuned")[2]
+    options = {"adapt_turbulence": True, "set_tempering": 0.25}
+    flags = daemon_flags(options)
+    assert flags[flags.index("--set-tempering-full") + 1] == "LS,RS,LF,RF,VEL,AOA,AZ"
+    daemon = str(find_executable("mmae-daemon"))
+    p = subprocess.Popen([daemon, "--bank", str(load_bank("tuned")[1]), *flags, "--lcm-url", "memq://"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    ready = p.stdout.readline()
+    p.terminate()
+    p.communicate(timeout=5)
+    bits = core_arguments(options)["adapt_full_tempering"]
+    assert f"set tempering 0.25 from rho 0 full {bits}" in ready, ready
+    # in process the same bits reach the core
+    core.HierarchicalBank(bank, **core_arguments(options))
 
 
 def test_bad_values_are_refused_by_name():
@@ -49,7 +71,7 @@ def test_bad_values_are_refused_by_name():
         check({"set_tempering": 0.0, "turbulence_banks": True})
     with pytest.raises(ValueError, match="--set-tempering"):
         check({"set_tempering": 1.5, "turbulence_banks": True})
-    with pytest.raises(ValueError, match="turbulence-banks"):
+    with pytest.raises(ValueError, match="--set-tempering applies with --adapt-turbulence or --turbulence-banks only"):
         check({"set_tempering": 0.5})
     check({"set_tempering": 0.5, "turbulence_banks": True})
     bank = load_bank("turbulence")[2]
@@ -61,7 +83,7 @@ def test_bad_values_are_refused_by_name():
 
 def test_only_the_best_fitting_failure_hypothesis_is_spared():
     bank = load_bank("turbulence")[2]
-    full = core_arguments({"set_tempering": 0.25})["adapt_full_tempering"]
+    full = core_arguments({"set_tempering": 0.25, "turbulence_banks": True})["adapt_full_tempering"]
     kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_time_constant_s=1.0, p_min=1e-9)
     plain = core.HierarchicalBank(bank, **kw)
     spared = core.HierarchicalBank(bank, adapt_hypothesis_weight=0.25, adapt_full_tempering=full, **kw)
@@ -111,7 +133,7 @@ def test_the_gate_reaches_the_core_and_the_daemon():
     for bad, message in ((["--turbulence-banks", "--set-tempering-rho", "2"], "--set-tempering-rho applies with --set-tempering only"),
                          (["--turbulence-banks", "--set-tempering", "0"],
                           "--set-tempering must be a weight in (0, 1], got '0'"),
-                         (["--set-tempering", "0.5"], "--set-tempering applies with --turbulence-banks only")):
+                         (["--set-tempering", "0.5"], "--set-tempering applies with --adapt-turbulence or --turbulence-banks only")):
         r = subprocess.run([daemon, "--bank", str(set_path()), *bad], capture_output=True, text=True, timeout=20)
         assert r.returncode == 2 and message in r.stdout + r.stderr, (bad, r.stdout + r.stderr)
     r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering", "0.5",
@@ -141,7 +163,7 @@ def _rough_flight(banks, seconds=3.0):
 
 def test_below_the_gate_every_likelihood_is_the_shipped_one():
     bank = load_bank("turbulence")[2]
-    full = core_arguments({"set_tempering": 0.25})["adapt_full_tempering"]
+    full = core_arguments({"set_tempering": 0.25, "turbulence_banks": True})["adapt_full_tempering"]
     kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_time_constant_s=1.0, p_min=1e-9,
               adapt_own_channels=True)
     spare = dict(adapt_hypothesis_weight=0.25, adapt_full_tempering=full)
@@ -202,7 +224,7 @@ def test_the_margin_spares_the_same_hypothesis_over_the_best_of_none_and_the_ful
         check({"turbulence_banks": True, "set_tempering_margin": True})
     assert "--set-tempering-margin" in daemon_flags(options)
     bank = load_bank("turbulence")[2]
-    full = core_arguments({"set_tempering": 0.25})["adapt_full_tempering"]
+    full = core_arguments({"set_tempering": 0.25, "turbulence_banks": True})["adapt_full_tempering"]
     kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_time_constant_s=1.0, p_min=1e-9,
               adapt_own_channels=True, adapt_hypothesis_weight=0.25, adapt_full_tempering=full)
     plain = core.HierarchicalBank(bank, **{k: v for k, v in kw.items() if k not in ("adapt_hypothesis_weight",
@@ -267,7 +289,7 @@ def test_the_spare_dwell_reaches_the_core_and_the_daemon():
     with pytest.raises(ValueError, match="--set-tempering-dwell"):
         check({**options, "spare_dwell_s": -1.0})
     bank = load_bank("turbulence")[2]
-    full = core_arguments({"set_tempering": 0.15})["adapt_full_tempering"]
+    full = core_arguments({"set_tempering": 0.15, "turbulence_banks": True})["adapt_full_tempering"]
     kw = dict(adapt_turbulence=True, adapt_hypothesis_weight=0.15, adapt_full_tempering=full)
     assert core.HierarchicalBank(bank, spare_dwell_s=0.0625, **kw).level == 0
     with pytest.raises(ValueError, match=r"spare_dwell_s must be 0 \(off\) or in \[0.015625, 60\] s"):

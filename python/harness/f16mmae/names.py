@@ -81,6 +81,14 @@ TURBULENCE_BANK = "turbulence"
 #: (LF 8.2, RF 5.3 there, but spared at W 0.25 they declared 9 times an hour in the held severe
 #: soak of campaign seed 7; every other hypothesis 5.2 or less): docs/results/turbulence_banks.md.
 SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF")
+#: The hypotheses kept at the full s by ``--set-tempering`` with a bank's own adaptation
+#: (``--adapt-turbulence`` without a bank set; a scheduled bank): the surfaces above and the
+#: sensors whose hypotheses the gusts mimic in light air, normal acceleration, angle of attack and
+#: airspeed (at the nominal node LF, AZ and VEL reach a declaration on the node's calibration
+#: flights even at s; spared at W 0.25 with the surfaces kept, AOA joins them and PIT reaches
+#: 3.2 nats); the roll, pitch and yaw gyros, the lateral accelerometer and the rudder are spared
+#: (docs/results/envelope_scheduled.md, round 20).
+ADAPT_SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF", "AZ", "AOA", "VEL")
 #: The per-hypothesis tempering's margin reference with ``--set-tempering-margin-stabilators``
 #: (with NONE; cpp/f16mmae/turbulence_adaptation.h ``spare_margin_over``): the stabilators.
 SET_TEMPERING_MARGIN_STABILATORS: tuple[str, ...] = ("LS", "RS")
@@ -127,6 +135,13 @@ SCHEDULE_GUST_NODE_CHOICE = "effort"
 #: failed VEL's level follows the failed reading slowly, and counted per channel read its
 #: hypothesis would temper its own evidence by up to 7/6 (docs/results/envelope_tuning.md).
 SCHEDULE_ADAPT_COUNTED_CHANNEL = "VEL"
+#: The scheduled estimator's per-hypothesis tempering weight W (``--set-tempering``, with the
+#: turbulence adaptation; loop/estimator_options.py scheduled_defaults): the best-fitting failure
+#: hypothesis outside ADAPT_SET_TEMPERING_FULL has its evidence tempered by 1 + W (s - 1). The
+#: nodes' references put s at 2-4 in settled light air near Mach 0.4 (the flaperons' and AZ's gust
+#: look-alikes need it), which held a failed roll gyro's evidence below a declaration in 40 of 400
+#: settled random-point runs; spared, none (docs/results/envelope_scheduled.md, round 20).
+SCHEDULE_SET_TEMPERING = 0.25
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

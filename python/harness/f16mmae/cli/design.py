@@ -169,6 +169,11 @@ def register(subparsers) -> None:
     p.add_argument("--calibration-start-up-s", default=None, metavar="S",
                    help="--schedule (calibrated nodes): the estimator start-up the calibration flights bound the "
                         f"nodes' floors and references with (default {CALIBRATION_START_UP_S:g})")
+    p.add_argument("--adapt-running-start", action="store_true",
+                   help="--schedule (calibrated nodes): bound the nodes' floors and references on calibration "
+                        "flights flown with the adaptation's running start (the run option "
+                        "--adapt-running-start), and recommend it: an estimator on this file runs with it "
+                        "(default off)")
     p.add_argument("--gust-states-below-ft", default=None, metavar=f"FT|{NO_GUST_STATES}",
                    help="--schedule: the nodes at or below FT ft carry Dryden gust states (19 states, from the "
                         "gust-state tuning's knobs, calibrated at the node), the others inert gust states (one "
@@ -235,9 +240,9 @@ def _run(args) -> int:
     if args.schedule is not None:
         return _run_schedule(args)
     if (args.node_tuning is not None or args.flap_layers is not None or args.node_p_min is not None
-            or args.start_up_s is not None or args.calibration_start_up_s is not None):
-        raise CliError("--node-tuning, --flap-layers, --node-p-min, --start-up-s and --calibration-start-up-s apply "
-                       "to a scheduled design; "
+            or args.start_up_s is not None or args.calibration_start_up_s is not None or args.adapt_running_start):
+        raise CliError("--node-tuning, --flap-layers, --node-p-min, --start-up-s, --calibration-start-up-s and "
+                       "--adapt-running-start apply to a scheduled design; "
                        "give --schedule [GRID] too")
     if args.gust_states_below_ft is not None:
         raise CliError("--gust-states-below-ft applies to a scheduled design; give --schedule [GRID] too "
@@ -365,6 +370,8 @@ def _run_schedule(args) -> int:
             if node_tuning != "calibrated":
                 raise CliError(f"{flag} goes with the calibration flights: it needs --node-tuning calibrated")
             start_up[flag] = number(flag, given, minimum=0.0, maximum=3600.0)
+    if args.adapt_running_start and node_tuning != "calibrated":
+        raise CliError("--adapt-running-start goes with the calibration flights: it needs --node-tuning calibrated")
     gust_ft, gust_choice = default_gust_shape(grid, tuning, node_tuning)   # the shipped default's shape
     if args.gust_states_below_ft is not None:
         gust_ft, gust_choice = None, "all"
@@ -404,7 +411,8 @@ def _run_schedule(args) -> int:
                             flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input,
                             p_min_candidates=p_mins, start_up_s=start_up["--start-up-s"],
                             calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model,
-                            gust_states_below_ft=gust_ft, gust_node_choice=gust_choice)
+                            gust_states_below_ft=gust_ft, gust_node_choice=gust_choice,
+                            running_start=args.adapt_running_start)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

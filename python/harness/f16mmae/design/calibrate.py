@@ -303,7 +303,7 @@ def absolute_frames(model_bank, flight) -> tuple[np.ndarray, np.ndarray]:
 
 
 def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | None = None,
-                          start_up_s: float = 0.0) -> float:
+                          start_up_s: float = 0.0, running_start: bool = False) -> float:
     """The largest failure log-odds ``max_t max_(k != NONE) ln(p_k / p_NONE)`` over ``flights``
     (no-failure records, perturbations from the bank's trim) of the estimator the bank makes
     (core.HierarchicalBank with the bank's settings and the turbulence adaptation on at
@@ -313,12 +313,13 @@ def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | 
     ``scales``: a list that receives the likelihood scale s the adaptation holds at every frame
     after each flight's first second.  ``start_up_s``: the estimator's start-up (the first
     round(64 start_up_s) frames of each flight weigh no hypothesis; ``--start-up-s``), as it
-    will fly."""
+    will fly.  ``running_start``: the adaptation's power ratio a running mean from the start
+    (``--adapt-running-start``), as it will fly."""
     from .. import core
 
     settings = dict(model_bank.estimator_settings)
     bank = core.HierarchicalBank(model_bank, adapt_turbulence=True, adapt_reference=float(reference),
-                                 start_up_s=float(start_up_s), **settings)
+                                 start_up_s=float(start_up_s), adapt_running_start=bool(running_start), **settings)
     peak = -np.inf
     for fl in flights:
         bank.reset()
@@ -335,22 +336,24 @@ def failure_log_odds_peak(model_bank, flights, reference: float, scales: list | 
 
 def bounded_reference(model_bank, flights, bound: float = REFERENCE_LOG_ODDS_BOUND,
                       reference_range: tuple[float, float] = REFERENCE_RANGE,
-                      step: float = REFERENCE_STEP, start_up_s: float = 0.0) -> tuple[float, float]:
+                      step: float = REFERENCE_STEP, start_up_s: float = 0.0,
+                      running_start: bool = False) -> tuple[float, float]:
     """The largest reference on the grid ``reference_range`` (``step``) at which the
     estimator's peak failure log-odds over the no-failure ``flights`` stays at or below
     ``bound`` (``failure_log_odds_peak``): the least tempering that keeps the calibration
     flights this far from a declaration.  The peak falls as the reference falls (a lower
     reference, a larger likelihood scale s); the search is a bisection on the grid, and
     returns the grid's lower end if even that exceeds the bound.  Returns (reference, peak at
-    it).  ``start_up_s``: the estimator's start-up the flights are run with.  Deterministic for
-    given flights."""
+    it).  ``start_up_s``, ``running_start``: the estimator's start-up and adaptation start the
+    flights are run with (``failure_log_odds_peak``).  Deterministic for given flights."""
     lo_ref, hi_ref = reference_range
     grid = [round(lo_ref + n * step, 6) for n in range(int(round((hi_ref - lo_ref) / step)) + 1)]
     lo, hi = 0, len(grid) - 1   # invariant: every index < lo passes (or lo == 0); none > hi passes
     peaks = {}
 
     def passes(n):
-        peaks[n] = failure_log_odds_peak(model_bank, flights, grid[n], start_up_s=start_up_s)
+        peaks[n] = failure_log_odds_peak(model_bank, flights, grid[n], start_up_s=start_up_s,
+                                         running_start=running_start)
         return peaks[n] <= bound
 
     best = 0
@@ -419,7 +422,8 @@ def log_odds_bound(p_min: float, threshold: float, bound: float = REFERENCE_LOG_
 
 
 def bounded_settings(model_bank, flights, candidates: tuple[float, ...] = P_MIN_CANDIDATES,
-                     bound: float = REFERENCE_LOG_ODDS_BOUND, start_up_s: float = 0.0) -> dict:
+                     bound: float = REFERENCE_LOG_ODDS_BOUND, start_up_s: float = 0.0,
+                     running_start: bool = False) -> dict:
     """A node's probability floor and adaptation reference, bounded by its calibration
     flights' false alarms: for each candidate p_min, the largest reference whose peak failure
     log-odds over ``flights`` stays within ``log_odds_bound(p_min)`` (``bounded_reference`` on
@@ -427,17 +431,18 @@ def bounded_settings(model_bank, flights, candidates: tuple[float, ...] = P_MIN_
     turbulence); of the candidates that meet their bound, the one of least
     ``declaration_effort`` (ties: the smaller floor); if none does, the smallest candidate.
     Returns {p_min, adapt_reference, failure_log_odds_peak, bound_met, scale, effort,
-    candidates: [[p_min, reference, peak, s, met], ...] (ascending floors)}.  ``start_up_s``: the
-    estimator's start-up, flown in every calibration run (``failure_log_odds_peak``).
+    candidates: [[p_min, reference, peak, s, met], ...] (ascending floors)}.  ``start_up_s``,
+    ``running_start``: the estimator's start-up and adaptation start, flown in every
+    calibration run (``failure_log_odds_peak``).
     Deterministic for given flights."""
     rows, best = [], None
     threshold = float(model_bank.threshold)
     for p_min in sorted(candidates):
         bank = model_bank.with_settings(p_min=p_min)
         limit = log_odds_bound(p_min, threshold, bound)
-        reference, peak = bounded_reference(bank, flights, limit, start_up_s=start_up_s)
+        reference, peak = bounded_reference(bank, flights, limit, start_up_s=start_up_s, running_start=running_start)
         scales: list[float] = []
-        failure_log_odds_peak(bank, flights, reference, scales, start_up_s=start_up_s)
+        failure_log_odds_peak(bank, flights, reference, scales, start_up_s=start_up_s, running_start=running_start)
         scale = float(np.mean(scales)) if scales else 1.0
         row = {"p_min": p_min, "adapt_reference": reference, "failure_log_odds_peak": round(peak, 2),
                "bound_met": bool(peak <= limit), "scale": round(scale, 3),

@@ -276,7 +276,8 @@ def _design_point(args):
     ``calibrate.bounded_reference`` with its peak failure log-odds, on the same tuning flights); else the flap held at ``lef_rad`` with ``tuning`` and ``reference`` as given (the
     node's own: the truth never flies the point in that configuration, so there is nothing to
     calibrate on)."""
-    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle, p_mins, calibration_start_up_s = args
+    i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle, p_mins, calibration_start_up_s, \
+        running_start = args
     t0 = time.perf_counter()
     record, layer, tun = {}, 0, None
     try:
@@ -298,7 +299,8 @@ def _design_point(args):
         if node_tuning == "calibrated" and lef_rad is None:
             paper = design if tun.failure_model == "complete" else design_bank(
                 mach, alt_ft, dataclasses.replace(tun, failure_model="complete"), linearized=lin)
-            chosen = bounded_settings(to_model_bank(paper), flights, p_mins, start_up_s=calibration_start_up_s)
+            chosen = bounded_settings(to_model_bank(paper), flights, p_mins, start_up_s=calibration_start_up_s,
+                                      running_start=running_start)
             reference = chosen["adapt_reference"]
             record.update({"power_ratio_mean": adaptation_reference(paper, flights), **chosen})
         if throttle:
@@ -399,7 +401,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     calibration_start_up_s: float = CALIBRATION_START_UP_S,
                     failure_model: str | None = None,
                     gust_states_below_ft: float | None = None,
-                    gust_node_choice: str = "all") -> dict:
+                    gust_node_choice: str = "all",
+                    running_start: bool = False) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
@@ -436,6 +439,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         tuning = tuning_obj   # the workers design with the object (its name unchanged)
     if node_tuning != "calibrated":   # no calibration flights: nothing was bounded with a start-up
         start_up_s = calibration_start_up_s = 0.0
+        running_start = False
     gust_ft = None if gust_states_below_ft is None else check_gust_altitude(grid, gust_states_below_ft)
     if gust_ft is not None and tuning_obj.gust_model in GUST_STATE_MODELS:
         raise ScheduleSpecError(f"gust states below {gust_ft:g} ft: the tuning {tuning_obj.name} already models "
@@ -452,7 +456,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         return gust_tuning if gust_ft is not None and alt_ft <= gust_ft else tuning
 
     points = [(i, j, m, a, point_tuning(a), node_tuning, None, None, throttle_input, tuple(p_min_candidates),
-               calibration_start_up_s)
+               calibration_start_up_s, running_start)
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     gust = {(i, j) for j, a in enumerate(grid.alt_ft) for i in range(len(grid.mach))
             if gust_ft is not None and a <= gust_ft}
@@ -499,7 +503,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 r[7]["p_min_node"], r[7]["p_min"] = r[7]["p_min"], p_min_of[k]
                 results[k] = r[:9] + (references[k],)
         tasks = [] if not flap_layers else [(i, j, grid.mach[i], grid.alt_ft[j], results[(i, j)][8], node_tuning, LEF_POSITIONS_RAD[layer],
-                  results[(i, j)][9], throttle_input, (), calibration_start_up_s) for i, j, layer in alternate_nodes(grid, own)]
+                  results[(i, j)][9], throttle_input, (), calibration_start_up_s, running_start)
+                 for i, j, layer in alternate_nodes(grid, own)]
         for n, r in enumerate(pool.map(_design_point, tasks), start=1):
             alternates[(r[0], r[1], r[2])] = r
             if progress:
@@ -534,6 +539,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     + (" --throttle-input" if throttle_input else "")
                     + (f" --start-up-s {start_up_s:g} --calibration-start-up-s {calibration_start_up_s:g}"
                        if node_tuning == "calibrated" else "")
+                    + (" --adapt-running-start" if running_start and node_tuning == "calibrated" else "")
                     + f" --failure-model {tuning_obj.failure_model}"
                     + (f" --gust-states-below-ft {NO_GUST_STATES}" if gust_ft is None else
                        f" --gust-states-below-ft {gust_ft:g} --gust-node-choice {gust_node_choice}")),
@@ -566,6 +572,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         # the start-up the file is to be flown with, and the one its calibration flights were run with
         **({"start_up_s": start_up_s, "calibration_start_up_s": calibration_start_up_s}
            if node_tuning == "calibrated" else {}),
+        # the adaptation's running start, which the calibration flew and the file recommends
+        **({"adapt_running_start": True} if running_start and node_tuning == "calibrated" else {}),
         # which model each hypothesis' failed components have (hypotheses.py); paper schedules keep their bytes
         **({"failure_model": failure_model_table(tuning_obj.failure_model)}
            if tuning_obj.failure_model != "complete" else {}),

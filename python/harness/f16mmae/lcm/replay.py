@@ -51,10 +51,10 @@ class InProcessExecutive:
         self.bank_hash = flown_bank_hash(model_bank, settings)
         for key in CLOSED_LOOP:   # the closed loop's (the truth side's), not the executive's
             settings.pop(key, None)
-        source = turbulence_set_of(model_bank).source if settings.pop("turbulence_banks", False) else model_bank
+        arguments = core_arguments(settings, model_bank.nu)   # reads turbulence_banks (the set's tempering)
+        source = turbulence_set_of(model_bank).source if arguments.pop("turbulence_banks", False) else model_bank
         # a scheduled bank's per-node floors unless a p_min was given (then that everywhere)
-        self.executive = core.Executive(source, **core_arguments(settings, model_bank.nu),
-                                        node_p_min="p_min" not in estimator_options)
+        self.executive = core.Executive(source, **arguments, node_p_min="p_min" not in estimator_options)
 
     def reset(self) -> None:
         self.executive.on_reset()

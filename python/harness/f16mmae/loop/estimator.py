@@ -15,9 +15,11 @@ import numpy as np
 
 from .. import core
 from ..banks import bank_estimator_settings, turbulence_bank_set
-from ..names import SENSORS, SET_TEMPERING_FULL, SET_TEMPERING_MARGIN_STABILATORS, SINGLE_HYPOTHESES
+from ..names import (ADAPT_SET_TEMPERING_FULL, SENSORS, SET_TEMPERING_FULL, SET_TEMPERING_MARGIN_STABILATORS,
+                     SINGLE_HYPOTHESES)
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
-from .estimator_options import CLOSED_LOOP, FILE_LOADERS, scheduled_defaults, with_closed_loop_defaults
+from .estimator_options import (CLOSED_LOOP, FILE_LOADERS, recommends_running_start, scheduled_defaults,
+                                with_closed_loop_defaults)
 
 
 def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
@@ -32,7 +34,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
     ``set_tempering`` W becomes ``adapt_hypothesis_weight`` W and ``adapt_full_tempering``, the bits of
-    ``names.SET_TEMPERING_FULL`` in the level-0 order (``names.SINGLE_HYPOTHESES``),
+    ``names.SET_TEMPERING_FULL`` (with ``turbulence_banks``; else ``names.ADAPT_SET_TEMPERING_FULL``) in
+    the level-0 order (``names.SINGLE_HYPOTHESES``),
     ``set_tempering_rho`` ``adapt_spare_rho``, ``set_tempering_margin`` ``adapt_spare_margin`` and
     ``set_tempering_margin_stabilators`` ``adapt_spare_margin_over``, the bits of
     ``names.SET_TEMPERING_MARGIN_STABILATORS``."""
@@ -50,7 +53,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     weight = out.pop("set_tempering", None)
     if weight is not None:   # the per-hypothesis tempering: the weight, and the fully tempered ones' bits
         out["adapt_hypothesis_weight"] = float(weight)
-        out["adapt_full_tempering"] = sum(1 << SINGLE_HYPOTHESES.index(h) for h in SET_TEMPERING_FULL)
+        full = SET_TEMPERING_FULL if out.get("turbulence_banks") else ADAPT_SET_TEMPERING_FULL
+        out["adapt_full_tempering"] = sum(1 << SINGLE_HYPOTHESES.index(h) for h in full)
     rho = out.pop("set_tempering_rho", None)
     if rho is not None:
         out["adapt_spare_rho"] = float(rho)
@@ -94,8 +98,9 @@ def _bank_set(model_bank, settings: dict):
     filter's power per channel it reads, the file's reference, trim tracking and load-factor
     tempering unless given), what mmae-daemon --turbulence-banks runs."""
     bank_set = turbulence_set_of(model_bank)
-    own = {k: v for k, v in settings.items() if k != "turbulence_banks" and k not in CLOSED_LOOP}
-    return core.TurbulenceBankSet(bank_set.source, **core_arguments(own, model_bank.nu))
+    own = core_arguments({k: v for k, v in settings.items() if k not in CLOSED_LOOP}, model_bank.nu)
+    own.pop("turbulence_banks", None)   # read by core_arguments (the set's fully tempered hypotheses)
+    return core.TurbulenceBankSet(bank_set.source, **own)
 
 
 class Estimator:
@@ -113,10 +118,12 @@ class Estimator:
 
     def __init__(self, model_bank, **options) -> None:
         #: The estimator settings in force: the bank's recommended ones, then ``options``, then a
-        #: scheduled bank's defaults (``estimator_options.scheduled_defaults``: own channels) and the
-        #: closed loop's (``with_closed_loop_defaults``: the adaptive dither with a bank set).
+        #: scheduled bank's defaults (``estimator_options.scheduled_defaults``: own channels, the
+        #: running start its file recommends) and the closed loop's (``with_closed_loop_defaults``:
+        #: the adaptive dither with a bank set).
         self.settings: dict = with_closed_loop_defaults(scheduled_defaults(
-            bank_estimator_settings(model_bank, options), model_bank.schedule is not None))
+            bank_estimator_settings(model_bank, options), model_bank.schedule is not None,
+            recommends_running_start(model_bank)))
         if self.settings.get("turbulence_banks"):
             self._bank = _bank_set(model_bank, self.settings)
         else:

@@ -14,9 +14,12 @@ when given), ``file`` (the path of a file the option reads: :data:`FILE_LOADERS`
 """
 from __future__ import annotations
 
+import json
+
 from dataclasses import dataclass
 
-from ..names import DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_MODES, SENSORS, THRESHOLD_DEFAULT
+from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SENSORS,
+                     THRESHOLD_DEFAULT)
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -86,6 +89,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "(scheduled_defaults: with VEL's channel counted, --adapt-counted-channel; given, "
                          "every uninformative channel left out unless --adapt-counted-channel), off otherwise; "
                          "a turbulence bank set's members always run with it"),
+    EstimatorOption("adapt_running_start", "--adapt-running-start", "switch", requires="adapt_turbulence",
+                    help="with --adapt-turbulence: the residual power ratio rho is the plain mean of its "
+                         "samples from the start until the average's length (then its usual exponential "
+                         "average), so the tempering is the air's within a second of the start instead of "
+                         "rising from none over the time constant (cpp/f16mmae/turbulence_adaptation.h). "
+                         "Default: a scheduled bank's recommendation, else off"),
     EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
                     in_daemon=False,
                     help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "
@@ -127,11 +136,14 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "--turbulence-banks; flown with the load-factor tempering its file recommends, "
                          "docs/results/turbulence_banks.md). Default off"),
     EstimatorOption("set_tempering", "--set-tempering", "number", metavar="W", minimum=0.0, exclusive=True,
-                    maximum=1.0, requires="turbulence_banks",
-                    help="with --turbulence-banks: each frame the best-fitting failure hypothesis (the "
-                         "stabilators and flaperons excepted) has its evidence against NONE tempered by 1 + W (s - 1) in "
-                         "place of the turbulence adaptation's s (cpp/f16mmae/turbulence_adaptation.h). "
-                         "Default 1: every hypothesis by s"),
+                    maximum=1.0,
+                    help="with --turbulence-banks or --adapt-turbulence: each frame the best-fitting failure "
+                         "hypothesis has its evidence against NONE tempered by 1 + W (s - 1) in place of the "
+                         "turbulence adaptation's s, except the hypotheses the gusts mimic, kept at s: the "
+                         "stabilators and flaperons with --turbulence-banks, and with a bank's own adaptation "
+                         "also AZ, AOA and VEL (names.ADAPT_SET_TEMPERING_FULL; "
+                         "cpp/f16mmae/turbulence_adaptation.h). Default: 0.25 on a scheduled bank with "
+                         "--adapt-turbulence (names.SCHEDULE_SET_TEMPERING), else 1: every hypothesis by s"),
     EstimatorOption("set_tempering_rho", "--set-tempering-rho", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="set_tempering",
                     help="with --set-tempering: spare only while the member in force measures rho >= RHO "
@@ -500,12 +512,28 @@ def check(settings: dict) -> None:
             settings.get("turbulence_banks") and not settings.get("fixed_dither"))):
         raise ValueError("--sensor-loss-dither and --adaptive-dither both set the dither's gains: give one "
                          "(with --turbulence-banks the adaptive dither is the default: add --fixed-dither)")
+    if settings.get("set_tempering") is not None and not (settings.get("adapt_turbulence")
+                                                          or settings.get("turbulence_banks")):
+        raise ValueError("--set-tempering applies with --adapt-turbulence or --turbulence-banks only")
     if settings.get("adapt_all_channels") and settings.get("adapt_own_channels"):
         raise ValueError("--adapt-all-channels and --adapt-own-channels are two rules for the same residual "
                          "power: give one")
 
 
-def scheduled_defaults(settings: dict, scheduled: bool) -> dict:
+def recommends_running_start(model_bank) -> bool:
+    """Whether ``model_bank`` is a scheduled bank whose nodes were calibrated with the
+    adaptation's running start (``design --schedule --adapt-running-start``: its metadata's
+    ``adapt_running_start``), which it then recommends."""
+    schedule = model_bank.schedule
+    if schedule is None:
+        return False
+    try:
+        return bool(json.loads(schedule["metadata"]).get("adapt_running_start", False))
+    except (ValueError, TypeError, KeyError):
+        return False
+
+
+def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = False) -> dict:
     """``settings`` with the scheduled estimator's defaults applied: on a ``scheduled`` bank
     with ``adapt_turbulence`` (and no turbulence bank set, whose members always count per
     channel), unless ``adapt_all_channels`` asks for the plain minimum, ``adapt_own_channels``
@@ -514,13 +542,21 @@ def scheduled_defaults(settings: dict, scheduled: bool) -> dict:
     alone: every uninformative channel left out, the rule before revision 12).
     ``adapt_all_channels`` stays (records name the rule; ``loop.estimator.core_arguments``
     drops it: its rule is ``adapt_own_channels`` off), so applying the defaults twice gives
-    what applying them once does. A copy; ``settings`` is not changed."""
+    what applying them once does. With ``adapt_turbulence`` on a ``scheduled`` bank (and no
+    turbulence bank set), ``set_tempering`` ``names.SCHEDULE_SET_TEMPERING`` unless given (1
+    turns it off), whatever the channel rule. ``running_start``: the bank recommends the
+    adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
+    too. A copy; ``settings`` is not changed."""
     out = dict(settings)
     all_channels = out.get("adapt_all_channels", False)
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks") and not all_channels:
         if not out.get("adapt_own_channels") and "adapt_counted_channel" not in out:
             out["adapt_counted_channel"] = SCHEDULE_ADAPT_COUNTED_CHANNEL.lower()
         out["adapt_own_channels"] = True
+    if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks"):
+        out.setdefault("set_tempering", SCHEDULE_SET_TEMPERING)
+        if running_start:
+            out["adapt_running_start"] = True
     return out
 
 

@@ -431,8 +431,9 @@ const std::vector<Flag>& flags() {
       {nullptr, nullptr, "Trim tracking (trim_tracker.h)"},
       {"--trim-tracking", "TAU_S",
        "track the trim on line with time constant TAU_S s (e.g. 30), frozen while a failure hypothesis "
-       "rises or is declared",
-       number(at(E, &H::trim, &TrimTrackingOptions::time_constant_s), {0.0, 1e6, true}, "a time constant in seconds, > 0 and <= 1e6")},
+       "rises or is declared; 0: off ('f16mmae hil' gives 30 with a scheduled bank's --adapt-turbulence, its "
+       "default in process)",
+       number(at(E, &H::trim, &TrimTrackingOptions::time_constant_s), {0.0, 1e6}, "a time constant in seconds in [0, 1e6] (0: off)")},
       {"--trim-freeze-probability", "P", "a failure hypothesis above P freezes the trim estimate (default 0.05)",
        number(at(E, &H::trim, &TrimTrackingOptions::freeze_probability), {0.0, 1.0, true}, "a probability in (0, 1]"), nullptr,
        "--trim-tracking", tracking_trim},

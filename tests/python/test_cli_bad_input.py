@@ -102,7 +102,7 @@ def test_report_on_a_summary_missing_a_field_names_the_field(capsys, tmp_path):
     (["run", "--level1-p-min", "0.01"], "--level1-p-min 0.01 must lie in [0, 0.00833333)"),
     (["run", "--level1-dwell-s", "-1"], "--level1-dwell-s -1.0 must lie in [0, 60]"),
     (["run", "--threshold", "nan"], "--threshold 'nan' must be finite"),
-    (["run", "--trim-tracking", "0"], "--trim-tracking 0.0 must lie in (0, 1e+06]"),
+    (["run", "--trim-tracking", "-1"], "--trim-tracking -1.0 must lie in [0, 1e+06]"),
     (["campaign", "soak", "--trim-tracking", "30", "--trim-freeze-probability", "1.5"],
      "--trim-freeze-probability 1.5 must lie in (0, 1]"),
     (["run", "--trim-freeze-probability", "0.5"], "--trim-freeze-probability applies with --trim-tracking only"),

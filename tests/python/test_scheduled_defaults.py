@@ -2,7 +2,8 @@
 scheduled bank flown with the turbulence adaptation counts each filter's residual power per
 channel it reads (own channels) unless ``adapt_all_channels`` asks for the plain minimum; the
 counted channel (``adapt_counted_channel``) reaches the core as its bit; the per-hypothesis
-tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING`` unless given; the cached scheduled
+tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING`` and trim tracking at
+``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given; the cached scheduled
 bank's name follows every design setting of ``names.SCHEDULE_*``."""
 from __future__ import annotations
 
@@ -18,7 +19,8 @@ from f16mmae.loop.estimator_options import check, scheduled_defaults
 
 def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     given = {"adapt_turbulence": True}
-    spared = {"set_tempering": names.SCHEDULE_SET_TEMPERING}   # the per-hypothesis tempering, whatever the rule
+    spared = {"set_tempering": names.SCHEDULE_SET_TEMPERING,   # the per-hypothesis tempering, whatever the rule
+              "trim_time_constant_s": names.SCHEDULE_TRIM_TIME_CONSTANT_S}   # and trim tracking
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
                                                "adapt_counted_channel": "vel", **spared}
     assert given == {"adapt_turbulence": True}   # a copy
@@ -28,8 +30,10 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     assert scheduled_defaults(rol, True) == {**rol, "adapt_own_channels": True, **spared}
     all_channels = {**given, "adapt_all_channels": True}
     assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
-    off = {**given, "set_tempering": 1.0}   # given: kept (1 is off)
-    assert scheduled_defaults(off, True)["set_tempering"] == 1.0
+    off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0}   # given: kept (1 and 0 are off)
+    assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
+    check(off)
+    assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
     for settings in (given, own, rol, all_channels, {}):   # applied twice as once (hil's --compare run)
         once = scheduled_defaults(settings, True)
         assert scheduled_defaults(once, True) == once
@@ -80,8 +84,10 @@ def _fly(estimator_or_core, bank, frames=150):
 
 def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_schedule):
     bank = vel_rol_schedule
-    est = Estimator(bank, adapt_turbulence=True)
+    no_trim = {"trim_time_constant_s": 0.0}   # the scheduled trim tracking moves the residuals; the rule alone here
+    est = Estimator(bank, adapt_turbulence=True, **no_trim)
     assert est.settings["adapt_own_channels"] is True and est.settings["adapt_counted_channel"] == "vel"
+    assert Estimator(bank, adapt_turbulence=True).settings["trim_time_constant_s"] == names.SCHEDULE_TRIM_TIME_CONSTANT_S
     own = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_own_channels=True)
     plain = core.HierarchicalBank(bank, adapt_turbulence=True)
     counted = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_own_channels=True, adapt_counted_channels=1)
@@ -89,10 +95,10 @@ def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_
     np.testing.assert_array_equal(r_est, r_counted)   # VEL's channel is bit 0 of z
     assert not np.array_equal(r_own, r_plain)   # the bank has uninformative channels: the rule matters
     assert not np.array_equal(r_counted, r_own) and not np.array_equal(r_counted, r_plain)
-    old = Estimator(bank, adapt_turbulence=True, adapt_all_channels=True)
+    old = Estimator(bank, adapt_turbulence=True, adapt_all_channels=True, **no_trim)
     assert "adapt_own_channels" not in old.settings and old.settings["adapt_all_channels"] is True
     np.testing.assert_array_equal(_fly(old, bank), r_plain)
-    np.testing.assert_array_equal(_fly(Estimator(bank, adapt_turbulence=True, adapt_own_channels=True), bank), r_own)
+    np.testing.assert_array_equal(_fly(Estimator(bank, adapt_turbulence=True, adapt_own_channels=True, **no_trim), bank), r_own)
 
 
 def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch):
@@ -108,12 +114,13 @@ def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch)
 
 def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     """hil hands mmae-daemon the scheduled estimator's defaults resolved (own channels, VEL
-    counted, the per-hypothesis tempering with its fully tempered hypotheses), so the executive
+    counted, the per-hypothesis tempering with its fully tempered hypotheses, trim tracking), so the executive
     over LCM runs the rule the estimator in process runs."""
     from f16mmae.lcm.daemon import daemon_flags
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
-                          "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ"}
+                          "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
+                          "--trim-tracking", "30.0"}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
 

@@ -142,6 +142,13 @@ SCHEDULE_ADAPT_COUNTED_CHANNEL = "VEL"
 #: look-alikes need it), which held a failed roll gyro's evidence below a declaration in 40 of 400
 #: settled random-point runs; spared, none (docs/results/envelope_scheduled.md, round 20).
 SCHEDULE_SET_TEMPERING = 0.25
+#: The scheduled estimator's trim tracking time constant in s (``--trim-tracking``, with the
+#: turbulence adaptation; loop/estimator_options.py scheduled_defaults; cpp/f16mmae/trim_tracker.h).
+#: Without it the truth's fuel burn walks the no-failure filter's AOA and AZ residuals off zero
+#: over minutes (at the nominal point -0.0008 rad and +0.004 g after 5 min), and 10-h level soaks
+#: there declare AOA and AZ falsely 38.6 times an hour, 4.3 with the pilot holding altitude and
+#: Mach; with it 7.7 and 0.1 (docs/results/envelope_scheduled.md, round 20).
+SCHEDULE_TRIM_TIME_CONSTANT_S = 30.0
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -18,8 +18,8 @@ import json
 
 from dataclasses import dataclass
 
-from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SENSORS,
-                     THRESHOLD_DEFAULT)
+from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_MODES, SCHEDULE_SET_TEMPERING,
+                     SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -184,10 +184,11 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "while the estimator declares that sensor failed, within the subliminal criterion "
                          "(truth/dither.py sensor_loss_gains). Default off"),
     EstimatorOption("trim_time_constant_s", "--trim-tracking", "number", metavar="TAU_S", minimum=0.0,
-                    exclusive=True, maximum=1e6,
+                    maximum=1e6,
                     help="track the trim on line with time constant TAU_S seconds (e.g. 30): the "
                          "bank's trim plus a slow low-pass offset of u and z, frozen while a failure "
-                         "hypothesis rises or is declared (default: off)"),
+                         "hypothesis rises or is declared; 0: off (default: 30 on a scheduled bank with "
+                         "--adapt-turbulence, names.SCHEDULE_TRIM_TIME_CONSTANT_S; else off)"),
     EstimatorOption("trim_freeze_probability", "--trim-freeze-probability", "number", metavar="P", minimum=0.0,
                     exclusive=True, maximum=1.0, requires="trim_time_constant_s",
                     help="with --trim-tracking: a failure hypothesis above P freezes the trim "
@@ -544,7 +545,8 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     drops it: its rule is ``adapt_own_channels`` off), so applying the defaults twice gives
     what applying them once does. With ``adapt_turbulence`` on a ``scheduled`` bank (and no
     turbulence bank set), ``set_tempering`` ``names.SCHEDULE_SET_TEMPERING`` unless given (1
-    turns it off), whatever the channel rule. ``running_start``: the bank recommends the
+    turns it off), whatever the channel rule, and ``trim_time_constant_s``
+    ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
     too. A copy; ``settings`` is not changed."""
     out = dict(settings)
@@ -555,6 +557,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out["adapt_own_channels"] = True
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks"):
         out.setdefault("set_tempering", SCHEDULE_SET_TEMPERING)
+        out.setdefault("trim_time_constant_s", SCHEDULE_TRIM_TIME_CONSTANT_S)
         if running_start:
             out["adapt_running_start"] = True
     return out

@@ -191,7 +191,10 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_EQ(r.config.estimator.trim.time_constant_s, 30.0);
   EXPECT_EQ(r.config.estimator.trim.freeze_probability, 0.2);
   EXPECT_TRUE(r.config.estimator.schedule.mode == f16mmae::ScheduleMode::kNearest);
-  for (const char* bad : {"0", "-1", "nan", "1e7", "slow"}) {
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "0"}, nullptr);   // 0: off (a scheduled bank's default is 30)
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.trim.time_constant_s, 0.0);
+  for (const char* bad : {"-1", "nan", "1e7", "slow"}) {
     r = parse_daemon_args({"--bank", "b", "--trim-tracking", bad}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_NE(r.message.find(std::string("'") + bad + "'"), std::string::npos) << r.message;

@@ -425,6 +425,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     ``gust_node_choice`` (GUST_NODE_CHOICES): ``all`` of those nodes carry gust states, or, with
     ``effort`` (calibrated nodes only), each is designed both ways and keeps the gust design
     only where ``gust_gains`` says its calibration gains; the metadata lists both efforts.
+    ``running_start`` (calibrated nodes only): the calibration flights run the adaptation's
+    running start (``calibrate.failure_log_odds_peak``), and the metadata's
+    ``adapt_running_start`` makes the file recommend it (``estimator_options.recommends_running_start``).
 
     Returns a summary: path, content hash, covered and skipped points, size in bytes, wall
     and summed design seconds."""

@@ -42,7 +42,11 @@
 //     α ρ_clip.
 //   - ρ carries over the hierarchical switches (it does not depend on which filters are on
 //     line); at the start and at reset() ρ = ρ_0: s = clamp(1, s_min, s_max), the bank as
-//     designed until the residuals say otherwise.
+//     designed until the residuals say otherwise. ρ_0 is the one in force when the first
+//     residuals arrive: a reference set before any update is averaged (a scheduled bank's
+//     per-node reference at its first air data, set_reference) moves ρ with it, so a flight
+//     starts at its own flight condition's ρ_0, not at the one of the node in force before
+//     air data.
 //   - Running start (running_start, default off): from the start or reset() ρ is the plain mean
 //     of the x's until the average's length, as ρ̄ is below,
 //         ρ ← ρ + a_i (min(x, ρ_clip) − ρ),   a_i = max(1 / i, α)
@@ -305,6 +309,7 @@ class ResidualScale {
     for (int i = 0; i < q.size(); ++i)
       if (q(i) < lo) lo = q(i);   // NaN compares false: skipped
     if (!(lo < std::numeric_limits<double>::infinity())) return;
+    at_start_ = false;
     const double x = lo / nz_;
     // a_i = max(1 / i, alpha): 1 / i for i <= mean_length_, alpha from there on (running_mean.h)
     const double a = measured_updates_ < mean_length_ ? 1.0 / static_cast<double>(++measured_updates_) : alpha_;
@@ -328,9 +333,14 @@ class ResidualScale {
     set_channel_scales();
   }
   // A new reference ρ_0 (a scheduled bank's per-node reference, bank_schedule.h; in
-  // [0, 100], checked where it is read), ρ kept: s follows at once.
+  // [0, 100], checked where it is read), ρ kept: s follows at once. Before the first update
+  // since the start or reset() (and before set_power_ratio) ρ and ρ_j move to it (header).
   void set_reference(double reference) noexcept {
     options_.reference = reference;
+    if (at_start_) {
+      rho_ = reference;
+      channel_rho_.setConstant(reference);
+    }
     set_scale();
     set_channel_scales();
   }
@@ -340,6 +350,7 @@ class ResidualScale {
     if (!(rho >= 0.0 && rho < std::numeric_limits<double>::infinity())) return;
     rho_ = rho;
     rho_running_ = false;   // a known ρ: the average goes on from it
+    at_start_ = false;
     channel_rho_.setConstant(rho);
     set_scale();
     set_channel_scales();
@@ -348,6 +359,7 @@ class ResidualScale {
   void reset() noexcept {
     rho_ = options_.reference;
     rho_running_ = options_.running_start;
+    at_start_ = true;
     measured_ = 0.0;
     measured_updates_ = 0;
     channel_rho_.setConstant(options_.reference);
@@ -377,6 +389,7 @@ class ResidualScale {
   std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to mean_length_
   std::int64_t mean_length_ = 1;        // running_mean_length(alpha_) (running_mean.h)
   bool rho_running_ = false;            // running_start and ρ not set since the start (set_power_ratio)
+  bool at_start_ = true;                // no update averaged and ρ not set since the start: set_reference moves ρ
   ZVector channel_rho_ = ZVector::Constant(NZ == Eigen::Dynamic ? 0 : NZ, 1.0);          // ρ_j
   ZVector channel_inv_sqrt_s_ = ZVector::Constant(NZ == Eigen::Dynamic ? 0 : NZ, 1.0);   // s_j^−½
   ZVector channel_updates_ = ZVector::Zero(NZ == Eigen::Dynamic ? 0 : NZ);              // the running start's i per channel

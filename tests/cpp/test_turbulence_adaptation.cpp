@@ -181,6 +181,43 @@ TEST(TurbulenceAdaptation, RunningStartIsAPlainMeanFromTheStartThenTheAverageByH
   EXPECT_NEAR(c.channel_power_ratios()(1), 9.0, 1e-15);                 // its first: that one
 }
 
+TEST(TurbulenceAdaptation, AReferenceSetBeforeTheFirstUpdateIsTheStartingRho) {
+  // A scheduled bank sets its flight condition's rho_0 at the first air data, before any
+  // residual: rho (and each rho_j) starts there, not at the rho_0 of the node in force before
+  // air data. Once an update is averaged (or rho is set), a new reference leaves rho alone.
+  TurbulenceAdaptationOptions o = on(0.25, 1.0, 2.0, 3.0);   // rho_0 1, s = 1 + 3 (rho - rho_0) in [1, 2]
+  o.channel_weight = 0.5;
+  ResidualScale<Eigen::Dynamic> r;
+  r.configure(o, 2, "test");
+  r.set_reference(0.7);
+  EXPECT_DOUBLE_EQ(r.power_ratio(), 0.7);
+  EXPECT_DOUBLE_EQ(r.channel_power_ratios()(0), 0.7);
+  EXPECT_DOUBLE_EQ(r.channel_power_ratios()(1), 0.7);
+  EXPECT_DOUBLE_EQ(r.scale(), 1.0);
+  r.set_reference(1.2);   // still before the first update: it moves again
+  EXPECT_DOUBLE_EQ(r.power_ratio(), 1.2);
+  const double alpha = 1.0 - std::exp(-1.0 / 16.0);
+  r.observe(Eigen::Vector3d(4.0, 5.0, 6.0));   // x = 2
+  const double rho = 1.2 + alpha * (2.0 - 1.2);
+  EXPECT_NEAR(r.power_ratio(), rho, 1e-15);
+  r.set_reference(1.0);   // after an update: rho kept, s follows the new reference
+  EXPECT_NEAR(r.power_ratio(), rho, 1e-15);
+  EXPECT_NEAR(r.scale(), 1.0 + 3.0 * (rho - 1.0), 1e-12);
+  r.reset();   // a new start: the reference in force (1.0) until another is set before an update
+  EXPECT_DOUBLE_EQ(r.power_ratio(), 1.0);
+  r.set_reference(0.5);
+  EXPECT_DOUBLE_EQ(r.power_ratio(), 0.5);
+  r.set_power_ratio(1.5);   // a known rho ends the start too
+  r.set_reference(0.6);
+  EXPECT_DOUBLE_EQ(r.power_ratio(), 1.5);
+  r.observe(Eigen::Vector3d(Eigen::Vector3d::Constant(std::nan(""))));   // no finite form: still no update
+  ResidualScale<Eigen::Dynamic> q;
+  q.configure(o, 2, "test");
+  q.observe(Eigen::Vector3d(Eigen::Vector3d::Constant(std::nan(""))));
+  q.set_reference(0.4);
+  EXPECT_DOUBLE_EQ(q.power_ratio(), 0.4);
+}
+
 TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) {
   // tau far below a frame: alpha = 1 - e^-1562 = 1, so s = clamp(min_k q_k) of the last frame
   FilterBankOptions o;

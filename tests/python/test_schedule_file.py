@@ -99,10 +99,10 @@ def test_per_node_references_round_trip_and_are_checked(tmp_path):
 
 
 def test_the_node_references_set_the_adaptation_blended_with_the_filters(tmp_path):
-    """References 1.0, 0.5, 0.8, 0.3 at the corners of the 2 x 2 schedule; rho starts at the
-    reference in force (s = 1) and stays there without updates, so s = 1 + 20 (rho - rho_0)
-    shows the reference in force: at node (0.6, 10000 ft) rho_0 = 0.5 -> s = 11; at the centre
-    rho_0 = (1.0 + 0.5 + 0.8 + 0.3) / 4 = 0.65 -> s = 8."""
+    """References 1.0, 0.5, 0.8, 0.3 at the corners of the 2 x 2 schedule.  Before the first
+    update rho starts at the reference in force (s = 1): at node (0.6, 10000 ft) rho_0 = 0.5, at
+    the centre rho_0 = (1.0 + 0.5 + 0.8 + 0.3) / 4 = 0.65.  After an update rho is kept and
+    s = 1 + 20 (rho - rho_0) shows the reference in force."""
     refs = (1.0, 0.5, 0.8, 0.3)
     nodes = []
     for n, (i, j) in enumerate(((0, 0), (1, 0), (0, 1), (1, 1))):
@@ -113,13 +113,21 @@ def test_the_node_references_set_the_adaptation_blended_with_the_filters(tmp_pat
     hb = core.HierarchicalBank(bank, adapt_turbulence=True, air_data_time_constant_s=0.0)
     assert hb.schedule_state["nodes"] == [(0.4, 10000.0)]
     assert hb.turbulence_power_ratio == 1.0 and hb.turbulence_scale == 1.0
-    hb.schedule(0.6, 10000.0)
-    assert hb.turbulence_scale == pytest.approx(11.0, rel=1e-12)
+    hb.schedule(0.6, 10000.0)   # the first air data, before any residual: rho starts at its rho_0
+    assert hb.turbulence_power_ratio == 0.5 and hb.turbulence_scale == 1.0
     hb.schedule(0.5, 15000.0)
     assert hb.schedule_state["weights"] == [0.25] * 4
-    assert hb.turbulence_scale == pytest.approx(8.0, rel=1e-12)
-    hb.reset()   # back to the start: rho = the reference at the start again
-    assert hb.turbulence_power_ratio == 1.0 and hb.turbulence_scale == 1.0
+    assert hb.turbulence_power_ratio == pytest.approx(0.65, rel=1e-12) and hb.turbulence_scale == 1.0
+    hb.update(np.asarray(hb.z_trim) + 0.05)   # one update averaged: from here on rho is the residuals'
+    rho = hb.turbulence_power_ratio
+    assert rho != pytest.approx(0.65)
+    hb.schedule(0.6, 10000.0)
+    assert hb.turbulence_power_ratio == rho
+    assert hb.turbulence_scale == pytest.approx(min(100.0, max(1.0, 1.0 + 20.0 * (rho - 0.5))), rel=1e-12)
+    hb.reset()   # back to the start: rho = the reference in force, and the next air data's again
+    assert hb.turbulence_scale == 1.0
+    hb.schedule(0.4, 20000.0)
+    assert hb.turbulence_power_ratio == 0.8 and hb.turbulence_scale == 1.0
     # one reference given: it applies everywhere, the nodes' are not used
     fixed = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_reference=0.6, air_data_time_constant_s=0.0)
     fixed.schedule(0.6, 10000.0)

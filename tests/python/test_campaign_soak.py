@@ -139,7 +139,7 @@ def test_cli_soak_check_report_and_markdown(tmp_path, capsys):
     assert "false declarations per flight hour" in text and "moderate:" in text
     assert s["command"].startswith("f16mmae campaign soak --hours")
     page = (out / "report.html").read_text()
-    assert "f16mmae soak campaign" in page and "maneuvering flight does not exist yet" in page
+    assert "f16mmae soak campaign" in page and "soak: failure-free flights, trim, no pilot (no maneuvers)" in page
     md = tmp_path / "soak.md"
     assert main(["report", str(out), "--markdown", str(md)]) == 0
     body = md.read_text()

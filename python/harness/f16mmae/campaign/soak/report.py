@@ -48,7 +48,10 @@ def soak_page(d: Path, s: dict) -> str:
     """The body of the page for a soak summary ``s`` in directory ``d``."""
     t = s.get("timing", {})
     params = [
-        ("kind", "soak: failure-free flights at trim (maneuvering flight does not exist yet)"),
+        ("kind", "soak: failure-free flights, "
+                 + (f"profile {s['profile']}: " if s.get("profile") else "")
+                 + ("maneuvering: " + ", ".join(s["maneuvers"]) if s.get("maneuvers")
+                    else "trim, no pilot (no maneuvers)")),
         ("flights per level", f"{s['flights_per_level']} of {s['flight_s']:g} s (asked {s['hours']:g} h)"),
         ("turbulence", s.get("turbulence")), ("campaign seed", s.get("seed")),
         ("flight condition", f"Mach {s.get('mach')}, {s.get('alt_ft')} ft"),

@@ -33,8 +33,11 @@ GRID = "mach=0.4/0.5,alt=20000"
 
 @pytest.fixture(scope="module")
 def scheduled(tmp_path_factory):
+    """Plain nodes (no gust states: the default would give these 20,000-ft nodes Dryden gust
+    states, whose design the gust tests below check): each is the ordinary design at its point."""
     out = tmp_path_factory.mktemp("sched") / "small.f16sched"
-    assert main(["design", "--schedule", GRID, "--workers", "2", "--out", str(out)]) == 0
+    assert main(["design", "--schedule", GRID, "--gust-states-below-ft", "none", "--workers", "2",
+                 "--out", str(out)]) == 0
     return core.load_bank(out)
 
 
@@ -499,15 +502,15 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
 
 
 @pytest.mark.parametrize("argv, shape", [
-    ([], (SHIPPED, 15000.0, "effort", "calibrated")),        # the shipped default (names.SCHEDULE_*)
+    ([], (SHIPPED, 20000.0, "all", "calibrated")),        # the shipped default (names.SCHEDULE_*)
     (["--gust-states-below-ft", "none"], (SHIPPED, None, "all", "calibrated")),
     (["--failure-model", "constant=VEL", "--gust-states-below-ft", "none"], ("constant=VEL", None, "all", "calibrated")),
-    (["--gust-states-below-ft", "10000"], (SHIPPED, 10000.0, "effort", "calibrated")),
-    (["--gust-node-choice", "all"], (SHIPPED, 15000.0, "all", "calibrated")),
+    (["--gust-states-below-ft", "10000"], (SHIPPED, 10000.0, "all", "calibrated")),
+    (["--gust-node-choice", "effort"], (SHIPPED, 20000.0, "effort", "calibrated")),
     (["--node-tuning", "fixed"], (SHIPPED, None, "all", "fixed")),
     (["--node-tuning", "fixed", "--gust-states-below-ft", "15000"], (SHIPPED, 15000.0, "all", "fixed")),
     (["--tuning", "tuned_gust"], (SHIPPED, None, "all", "calibrated")),   # gust states at every node already
-    (["mach=0.4/0.5,alt=20000"], (SHIPPED, None, "all", "calibrated")),   # no node at or below 15,000 ft
+    (["mach=0.4/0.5,alt=25000"], (SHIPPED, None, "all", "calibrated")),   # no node at or below 20,000 ft
 ])
 def test_design_schedule_without_flags_designs_the_shipped_default(argv, shape, monkeypatch, tmp_path):
     """``f16mmae design --schedule`` without flags hands the design the shipped default's

@@ -104,7 +104,7 @@ def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_
 def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch):
     first = banks.scheduled_bank_path()
     assert first == banks.scheduled_bank_path()
-    for attr, value in (("SCHEDULE_GUST_STATES_BELOW_FT", 10000.0), ("SCHEDULE_GUST_NODE_CHOICE", "all"),
+    for attr, value in (("SCHEDULE_GUST_STATES_BELOW_FT", 10000.0), ("SCHEDULE_GUST_NODE_CHOICE", "effort"),
                         ("SCHEDULE_FAILURE_MODEL", "constant=VEL"), ("SCHEDULE_DESIGN_REVISION", 11)):
         with monkeypatch.context() as m:
             m.setattr(banks, attr, value)

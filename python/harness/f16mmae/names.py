@@ -117,18 +117,21 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: below SCHEDULE_GUST_STATES_BELOW_FT where their calibration gains by them
 #: (SCHEDULE_GUST_NODE_CHOICE), and the estimator's turbulence adaptation counting each filter's
 #: residual power per channel it reads but VEL's (SCHEDULE_ADAPT_COUNTED_CHANNEL;
-#: loop/estimator_options.py scheduled_defaults).
-SCHEDULE_DESIGN_REVISION = 12
+#: loop/estimator_options.py scheduled_defaults); 13: Dryden gust states at every node at or
+#: below 20,000 ft (SCHEDULE_GUST_STATES_BELOW_FT, SCHEDULE_GUST_NODE_CHOICE ``all``): a filter that
+#: models the gusts' colour leaves no slow residual for them to build a false AOA or AZ from in
+#: hours of pilotless level flight (docs/results/envelope_scheduled.md, round 21).
+SCHEDULE_DESIGN_REVISION = 13
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).
 SCHEDULE_FAILURE_MODEL = "constant=VEL+ROL"
-#: The scheduled design's nodes at or below this altitude (ft) are designed with and without
-#: Dryden gust states (design/schedule.py gust_states_below_ft) ...
-SCHEDULE_GUST_STATES_BELOW_FT = 15000.0
-#: ... and carry them where the node's own calibration flights ask a failure for less
-#: declaration effort with them (design/schedule.py GUST_NODE_CHOICES: ``effort``).
-SCHEDULE_GUST_NODE_CHOICE = "effort"
+#: The scheduled design's nodes at or below this altitude (ft) carry Dryden gust states
+#: (design/schedule.py gust_states_below_ft; the others inert ones) ...
+SCHEDULE_GUST_STATES_BELOW_FT = 20000.0
+#: ... every one of them (design/schedule.py GUST_NODE_CHOICES: ``all``; ``effort`` would keep
+#: them only where the node's calibration flights ask a failure for less declaration effort).
+SCHEDULE_GUST_NODE_CHOICE = "all"
 #: The scheduled estimator's turbulence adaptation counts each filter's residual power per
 #: channel it reads, but for this sensor's uninformative channel, which counts as read
 #: (loop/estimator_options.py scheduled_defaults; cpp/f16mmae/turbulence_adaptation.h): the

@@ -58,6 +58,7 @@ examples:
   f16mmae design --throttle-input --gust-level none --out calm_throttle.f16bank   # 6 inputs, calm air
   f16mmae design --schedule --out scheduled.f16sched                  # the design of --bank scheduled
   f16mmae design --schedule --failure-model constant=VEL --gust-states-below-ft none --out r11.f16sched   # revision 11's shape
+  f16mmae design --schedule --failure-model constant=VEL+ROL --gust-states-below-ft 15000 --gust-node-choice effort --out r12.f16sched   # revision 12's
   f16mmae design --turbulence-banks --out turbulence_banks.f16set      # the set of --turbulence-banks
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
   f16mmae design --schedule --throttle-input --out scheduled_throttle.f16sched   # 6 inputs at every node

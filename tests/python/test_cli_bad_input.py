@@ -106,6 +106,11 @@ def test_report_on_a_summary_missing_a_field_names_the_field(capsys, tmp_path):
     (["campaign", "soak", "--trim-tracking", "30", "--trim-freeze-probability", "1.5"],
      "--trim-freeze-probability 1.5 must lie in (0, 1]"),
     (["run", "--trim-freeze-probability", "0.5"], "--trim-freeze-probability applies with --trim-tracking only"),
+    (["campaign", "soak", "--adapt-turbulence", "--trim-tracking-steady", "0.1"],
+     "--trim-tracking-steady applies with --trim-tracking only (a scheduled bank's default --trim-tracking 30 with "
+     "--adapt-turbulence is applied after this check: give it)"),
+    (["run", "--adapt-turbulence", "--set-tempering-rho", "2"],
+     "--set-tempering-rho applies with --set-tempering only (a scheduled bank's default --set-tempering 0.25"),
     (["campaign", "single", "--runs", "1000000000"], "--runs '1000000000' must be <= 1000 (valid: [1, 1000])"),
     (["campaign", "dual", "--runs", "1000000000"], "--runs '1000000000' must be <= 1000"),
     (["campaign", "envelope", "--runs", "1e9"], "--runs '1e9' is not an integer"),

@@ -505,7 +505,11 @@ def check(settings: dict) -> None:
                 o.kind, f"lie in {valid_range(o)}")
             raise ValueError(f"{o.flag} {value!r} must {valid}")
         if o.requires is not None and not settings.get(o.requires):
-            raise ValueError(f"{o.flag} applies with {BY_KEY[o.requires].flag} only")
+            scheduled = SCHEDULED_DEFAULT_FLAGS.get(o.requires)
+            raise ValueError(f"{o.flag} applies with {BY_KEY[o.requires].flag} only"
+                             + ("" if scheduled is None else
+                                f" (a scheduled bank's default {scheduled} with --adapt-turbulence is applied "
+                                f"after this check: give it)"))
     if settings.get("adaptive_dither") and settings.get("fixed_dither"):
         raise ValueError("--adaptive-dither and --fixed-dither exclude each other (the adaptive dither is the "
                          "default with --turbulence-banks)")
@@ -532,6 +536,14 @@ def recommends_running_start(model_bank) -> bool:
         return bool(json.loads(schedule["metadata"]).get("adapt_running_start", False))
     except (ValueError, TypeError, KeyError):
         return False
+
+
+#: The settings ``scheduled_defaults`` gives a scheduled bank flown with --adapt-turbulence, as
+#: flags: an option that applies with one of them must name it (``check`` runs before the bank is read).
+SCHEDULED_DEFAULT_FLAGS: dict[str, str] = {
+    "set_tempering": f"--set-tempering {SCHEDULE_SET_TEMPERING:g}",
+    "trim_time_constant_s": f"--trim-tracking {SCHEDULE_TRIM_TIME_CONSTANT_S:g}",
+}
 
 
 def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = False) -> dict:

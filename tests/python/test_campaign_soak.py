@@ -151,9 +151,33 @@ def test_cli_soak_check_report_and_markdown(tmp_path, capsys):
     (["--hours", "0"], "--hours"),
     (["--turbulence", "light,light"], "twice"),
     (["--turbulence", "light,stormy"], "stormy"),
+    (["--mach", "0.5"], "--mach and --alt-ft go together"),
+    (["--alt-ft", "15000"], "--mach and --alt-ft go together"),
+    (["--mach", "0.9", "--alt-ft", "15000"], "--mach '0.9' must be <= 0.8"),
+    (["--mach", "0.5", "--alt-ft", "nan"], "--alt-ft 'nan' must be finite"),
 ])
 def test_cli_soak_bad_input(tmp_path, capsys, args, message):
     out = tmp_path / "bad"
     assert main(["campaign", "soak", "--workers", "1", "--out", str(out), *args]) == 2
     assert message in capsys.readouterr().err
     assert not (out / RECORDS_FILE).exists()
+
+
+def test_cli_soak_at_a_flight_condition_flies_every_flight_there(tmp_path, capsys):
+    """--mach/--alt-ft: every flight starts trimmed there (the scenario and its reproduce command
+    say so), the summary names it, and a profile's maneuvers start from it."""
+    out = tmp_path / "off"
+    argv = ["campaign", "soak", "--hours", str(16 / 3600), "--flight-s", "8", "--mach", "0.5", "--alt-ft", "15000",
+            "--workers", "1", "--quiet", "--out", str(out)]
+    assert main(argv) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert (s["mach"], s["alt_ft"]) == (0.5, 15000.0)
+    records = ResultsStore(out).records()
+    assert len(records) == 2 and all((r["scenario"]["mach"], r["scenario"]["alt_ft"]) == (0.5, 15000.0)
+                                     for r in records)
+    cfg = SoakCampaign(hours=1.0, duration_s=540.0, profile="tour", mach=0.5, alt_ft=15000.0).validate()
+    from f16mmae.campaign.soak.campaign import flight_maneuvers
+    mans = flight_maneuvers(cfg, None)
+    assert mans[0].startswith("climb@10") and "19000ft" in mans[0] and any("0.6mach" in m for m in mans)
+    with pytest.raises(Exception, match="--mach and --alt-ft together"):
+        SoakCampaign(hours=1.0, mach=0.5).validate()

@@ -5,6 +5,7 @@ import argparse
 
 from ..campaign.soak import GOALS_PER_H, SoakCampaign, run_soak
 from ..campaign.soak.campaign import FLIGHTS_MAX, PROFILES, SOAK_FLIGHT_S
+from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE
 from ..truth.maneuvers import ManeuverError, parse_maneuver
 from ..names import FLIGHT_S_MAX
 from ..report.evidence import describe_counts, describe_per_hour
@@ -12,7 +13,8 @@ from .campaign_common import add_flight_settings, add_run_arguments, flight_sett
 from .options import CliError, number
 
 DESCRIPTION = f"""\
-The soak campaign: failure-free flights at the bank's design point, trimmed, with the dither
+The soak campaign: failure-free flights at the bank's design point (or at --mach, --alt-ft),
+trimmed, with the dither
 on, the MMAE in the loop, counting false declarations per flight hour at each turbulence
 level listed.  The aircraft holds trim, or flies the maneuvers of --maneuver (the grammar of
 'f16mmae run --help') or of --profile in every flight.  The hours are
@@ -31,9 +33,10 @@ examples:
   f16mmae campaign soak --hours 0.1 --flight-s 60 --workers 1 --out /tmp/soak
   f16mmae campaign soak --hours 2 --profile tour      # maneuvering flight, 540-s tours
   f16mmae campaign soak --hours 10 --turbulence severe --profile hold   # a pilot holds the trim
+  f16mmae campaign soak --hours 10 --tuning scheduled --adapt-turbulence --mach 0.6 --alt-ft 10000   # off nominal
   f16mmae campaign soak --hours 1 --flight-s 120 --maneuver turn@10:bank=30 --maneuver climb@20:to=23000ft
 
-profile tour (flights >= 540 s, from the bank's design point): climb 4,000 ft at 2,000 fpm
+profile tour (flights >= 540 s, from the flight condition): climb 4,000 ft at 2,000 fpm
 at 10 s with a 60-s 30 deg right turn from 60 s, +0.1 Mach from 150 s, a 60-s left turn from
 200 s, back down from 300 s and back to the start speed from 350 s, a 90-s right turn from 450 s.
 profile hold (any length): the pilot holds the altitude, Mach and wings level of 0 s.
@@ -57,6 +60,11 @@ def register(kinds) -> None:
     s.add_argument("--maneuver", action="append", default=[], metavar="KIND@T:KEY=VALUE",
                    help="a maneuver every flight flies (repeatable; grammar of 'f16mmae run --help')")
     s.add_argument("--profile", default=None, metavar="NAME", help=f"a maneuver profile: {', '.join(PROFILES)}")
+    s.add_argument("--mach", default=None, metavar="M",
+                   help=f"the flight condition every flight starts trimmed at, with --alt-ft: Mach "
+                        f"{MACH_RANGE[0]}-{MACH_RANGE[1]} (default: the bank's design point)")
+    s.add_argument("--alt-ft", default=None, metavar="H",
+                   help=f"with --mach: pressure altitude, {ALT_FT_RANGE[0]:,.0f}-{ALT_FT_RANGE[1]:,.0f} ft")
     add_flight_settings(s, None, failures=False)
     add_run_arguments(s, "results/campaign-soak")
     s.set_defaults(func=_soak)
@@ -74,8 +82,13 @@ def config_from_args(args) -> SoakCampaign:
             raise CliError(f"--maneuver: {exc}") from None
     if args.profile is not None and args.profile not in PROFILES:
         raise CliError(f"--profile {args.profile!r} is unknown; valid: {', '.join(PROFILES)}")
+    if (args.mach is None) != (args.alt_ft is None):
+        raise CliError("--mach and --alt-ft go together (neither: the bank's design point)")
+    mach = None if args.mach is None else number("--mach", args.mach, minimum=MACH_RANGE[0], maximum=MACH_RANGE[1])
+    alt_ft = None if args.alt_ft is None else number("--alt-ft", args.alt_ft, minimum=ALT_FT_RANGE[0],
+                                                     maximum=ALT_FT_RANGE[1])
     return validated(SoakCampaign(**flight_settings(args), hours=hours, duration_s=flight_s,
-                                  maneuvers=tuple(maneuvers), profile=args.profile))
+                                  maneuvers=tuple(maneuvers), profile=args.profile, mach=mach, alt_ft=alt_ft))
 
 
 def _soak(args) -> int:

@@ -3,7 +3,7 @@
 Flights: ``--hours H`` at each turbulence level of ``--turbulence`` (one level or a comma
 list), cut into ``F = ceil(3600 H / flight_s)`` failure-free flights of ``flight_s`` seconds
 each (so ``F flight_s >= 3600 H`` hours are flown per level), trimmed at the bank's design
-point.  The aircraft holds trim with the dither on, or, with ``maneuvers`` (truth maneuver
+point or at ``mach`` / ``alt_ft`` (``--mach``/``--alt-ft``).  The aircraft holds trim with the dither on, or, with ``maneuvers`` (truth maneuver
 strings, ``truth.maneuvers``; :func:`profile` gives the ``tour``), every flight flies that
 schedule: the false declarations are then per hour of maneuvering flight.
 Each flight is one run of the shared engine (runner, store, executor, code identity, lock):
@@ -31,6 +31,7 @@ from ...banks import bank_estimator_settings, load_bank
 from ...loop.flight import fly, scenario_from_dict
 from ...names import FLIGHT_S_MAX, NONE
 from ...truth import Scenario
+from ...truth.aircraft import check_flight_condition
 from ...truth.maneuvers import parse_maneuver
 from ..engine import drilldown, identity, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
@@ -55,8 +56,12 @@ class SoakCampaign(CampaignConfig):
     duration_s: float = SOAK_FLIGHT_S
     #: Maneuvers every flight flies (``--maneuver`` strings or :func:`profile`); () holds trim.
     maneuvers: tuple[str, ...] = ()
-    #: A named profile (:data:`PROFILES`) flown from the bank's design point instead.
+    #: A named profile (:data:`PROFILES`) flown from the flight condition instead.
     profile: str | None = None
+    #: The flight condition every flight starts trimmed at (both or neither); None: the bank's
+    #: design point.
+    mach: float | None = None
+    alt_ft: float | None = None
 
     @property
     def flights(self) -> int:
@@ -72,6 +77,13 @@ class SoakCampaign(CampaignConfig):
             raise CampaignError(f"--hours {self.hours:g} at --flight-s {self.duration_s:g} plans {self.flights} "
                                 f"flights per level, more than {FLIGHTS_MAX}: fly longer flights")
         self.check_common(dwell_window_s=self.duration_s)
+        if (self.mach is None) != (self.alt_ft is None):
+            raise CampaignError("give --mach and --alt-ft together (neither: the bank's design point)")
+        if self.mach is not None:
+            try:
+                check_flight_condition(self.mach, self.alt_ft)
+            except ValueError as exc:
+                raise CampaignError(f"--mach/--alt-ft: {exc}") from None
         if self.profile is not None:
             if self.maneuvers:
                 raise CampaignError("give --maneuver or --profile, not both")
@@ -118,10 +130,18 @@ def profile(name: str, mach: float, alt_ft: float) -> tuple[tuple[str, ...], flo
     return tuple(str(parse_maneuver(t)) for t in texts), 540.0
 
 
+def flight_condition(cfg: SoakCampaign, bank) -> tuple[float, float]:
+    """(Mach, altitude ft) every flight of ``cfg`` starts at: ``--mach``/``--alt-ft``, else the
+    design point of ``bank``."""
+    if cfg.mach is not None:
+        return float(cfg.mach), float(cfg.alt_ft)
+    return float(bank.mach), float(bank.alt_ft)
+
+
 def flight_maneuvers(cfg: SoakCampaign, bank) -> tuple[str, ...]:
-    """The maneuvers every flight of ``cfg`` flies with ``bank`` (its design point for a profile)."""
+    """The maneuvers every flight of ``cfg`` flies with ``bank`` (a profile's from the flight condition)."""
     if cfg.profile is not None:
-        return profile(cfg.profile, float(bank.mach), float(bank.alt_ft))[0]
+        return profile(cfg.profile, *flight_condition(cfg, bank))[0]
     return tuple(cfg.maneuvers)
 
 
@@ -160,12 +180,13 @@ def plan(cfg: SoakCampaign, label: str, tuning_arg: str, bank) -> list[dict]:
     for level in cfg.levels():
         for n in range(cfg.flights):
             seed = flight_seed(cfg.seed, n)
-            scenario = cfg.scenario_dict(bank, (), seed, turbulence=level)
+            scenario = cfg.scenario_dict(bank, (), seed, mach=cfg.mach, alt_ft=cfg.alt_ft, turbulence=level)
             if mans:
                 try:
                     scenario = Scenario.from_dict({**scenario, "maneuvers": list(mans)}).to_dict()
                 except ValueError as exc:
-                    raise CampaignError(f"maneuvers at the bank's design point: {exc}") from None
+                    raise CampaignError(f"maneuvers at Mach {scenario['mach']:g}, {scenario['alt_ft']:g} ft: "
+                                        f"{exc}") from None
             key = run_key({"kind": "soak", "scenario": scenario, "estimator": cfg.estimator_options(),
                            "bank_hash": bank.content_hash, "version": __version__})
             specs.append({"run_key": key, "level": level, "run_index": n, "seed": seed, "tuning": label,
@@ -204,7 +225,7 @@ def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
         "kind": "soak", "seed": cfg.seed, "hours": cfg.hours, "flight_s": cfg.duration_s,
         "flights_per_level": cfg.flights, "turbulence": cfg.turbulence, "levels": levels,
         "tuning": label, "bank_hash": bank.content_hash, "version": __version__,
-        "mach": float(bank.mach), "alt_ft": float(bank.alt_ft), "feedback": cfg.feedback,
+        "mach": flight_condition(cfg, bank)[0], "alt_ft": flight_condition(cfg, bank)[1], "feedback": cfg.feedback,
         "dither": cfg.dither, "dither_scale": cfg.dither_scale, "maneuvers": list(flight_maneuvers(cfg, bank)) or None,
         "profile": cfg.profile,
         "estimator": cfg.estimator_options(),

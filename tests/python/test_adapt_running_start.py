@@ -16,7 +16,7 @@ from f16mmae.banks import load_bank
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
 from f16mmae.loop.estimator import Estimator
-from f16mmae.loop.estimator_options import check, recommends_running_start, scheduled_defaults
+from f16mmae.loop.estimator_options import bank_defaults, check, recommends_running_start, scheduled_defaults
 
 
 def test_the_core_s_power_ratio_is_the_plain_mean_from_the_start():
@@ -72,6 +72,10 @@ def test_a_design_calibrated_with_it_records_and_recommends_it(tmp_path_factory)
     assert Estimator(rs, adapt_turbulence=True).settings["adapt_running_start"] is True
     assert "adapt_running_start" not in Estimator(plain, adapt_turbulence=True).settings
     assert "adapt_running_start" not in Estimator(rs).settings   # no adaptation asked
+    given = {"adapt_turbulence": True}   # hil, replay and the estimator: one rule for a bank
+    assert bank_defaults(given, rs) == scheduled_defaults(given, True, True)
+    assert bank_defaults(given, plain) == scheduled_defaults(given, True, False)
+    assert bank_defaults(given, load_bank("tuned")[2]) == given
     # the node's floors and references were bounded on flights flown with it: the calibration's
     # mean scales (candidates [p_min, reference, peak, s, met]) are not the plain start's
     node, plain_node = meta["nodes"][0], plain_meta["nodes"][0]

@@ -10,7 +10,7 @@ import numpy as np
 from ..lcm.channels import HilError, channels, default_lcm_url
 from ..lcm.daemon import DaemonProcess, daemon_flags
 from ..lcm.hil import fly_hil
-from ..loop.estimator_options import recommends_running_start, scheduled_defaults
+from ..loop.estimator_options import bank_defaults
 from ..loop.flight import fly
 from ..report.flight import write_flight
 from .options import CliError, add_estimator_arguments, auth_from_option, estimator_options_from_args, number
@@ -79,8 +79,7 @@ def _hil(args) -> int:
     timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True, maximum=3600.0)
     label, path, bank, scenario = flight_from_args(args)
     # a scheduled bank's defaults as flags: mmae-daemon flies what the estimator in process does
-    options = scheduled_defaults(estimator_options_from_args(args), bank.schedule is not None,
-                                 recommends_running_start(bank))
+    options = bank_defaults(estimator_options_from_args(args), bank)
     url = args.lcm_url or default_lcm_url()
     if args.start_daemon and url.startswith("memq:"):
         raise CliError(f"--lcm-url {url!r} with --start-daemon: memq:// is a queue inside one "

@@ -11,7 +11,7 @@ from ..lcm.channels import channels
 from ..lcm.daemon import daemon_flags
 from ..lcm.replay import ReplayError, replay_log
 from ..lcmt_mmae_status import lcmt_mmae_status
-from ..loop.estimator_options import recommends_running_start, scheduled_defaults
+from ..loop.estimator_options import bank_defaults
 from ..names import SHIPPED_TUNINGS, TURBULENCE_BANK
 from .options import CliError, add_estimator_arguments, auth_from_option, estimator_options_from_args
 
@@ -110,7 +110,7 @@ def _replay(args) -> int:
             options["turbulence_banks"] = True   # the log's hash is the set's
         if options.get("adapt_turbulence") and not options.get("adapt_own_channels") and not options.get("turbulence_banks"):
             options["adapt_all_channels"] = True   # mmae-daemon's rule without --adapt-own-channels
-        options = scheduled_defaults(options, bank.schedule is not None, recommends_running_start(bank))
+        options = bank_defaults(options, bank)
         report = replay_log(args.logfile, bank, channel_prefix=args.channel_prefix, tolerance=tol, auth=auth,
                              **options)
     except (ReplayError, OSError) as exc:

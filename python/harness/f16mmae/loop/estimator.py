@@ -18,8 +18,7 @@ from ..banks import bank_estimator_settings, turbulence_bank_set
 from ..names import (ADAPT_SET_TEMPERING_FULL, SENSORS, SET_TEMPERING_FULL, SET_TEMPERING_MARGIN_STABILATORS,
                      SINGLE_HYPOTHESES)
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
-from .estimator_options import (CLOSED_LOOP, FILE_LOADERS, recommends_running_start, scheduled_defaults,
-                                with_closed_loop_defaults)
+from .estimator_options import CLOSED_LOOP, FILE_LOADERS, bank_defaults, with_closed_loop_defaults
 
 
 def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
@@ -118,12 +117,11 @@ class Estimator:
 
     def __init__(self, model_bank, **options) -> None:
         #: The estimator settings in force: the bank's recommended ones, then ``options``, then a
-        #: scheduled bank's defaults (``estimator_options.scheduled_defaults``: own channels, the
+        #: scheduled bank's defaults (``estimator_options.bank_defaults``: own channels, the
         #: running start its file recommends) and the closed loop's (``with_closed_loop_defaults``:
         #: the adaptive dither with a bank set).
-        self.settings: dict = with_closed_loop_defaults(scheduled_defaults(
-            bank_estimator_settings(model_bank, options), model_bank.schedule is not None,
-            recommends_running_start(model_bank)))
+        self.settings: dict = with_closed_loop_defaults(bank_defaults(bank_estimator_settings(model_bank, options),
+                                                                      model_bank))
         if self.settings.get("turbulence_banks"):
             self._bank = _bank_set(model_bank, self.settings)
         else:

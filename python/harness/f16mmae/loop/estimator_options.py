@@ -575,6 +575,13 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     return out
 
 
+def bank_defaults(settings: dict, model_bank) -> dict:
+    """``scheduled_defaults`` of ``settings`` for ``model_bank``: scheduled when it carries a
+    schedule, with the running start when its file recommends it (``recommends_running_start``).
+    The in-process estimator, ``hil`` (as the daemon's flags) and ``replay`` apply it alike."""
+    return scheduled_defaults(settings, model_bank.schedule is not None, recommends_running_start(model_bank))
+
+
 def command_line_flags(settings: dict) -> list[str]:
     """The arguments of ``f16mmae run`` that give the estimator ``settings`` (keys of
     :data:`COMMAND_LINE`): the valued options in table order, then the switches that are on.

@@ -151,8 +151,8 @@ def test_cli_soak_check_report_and_markdown(tmp_path, capsys):
     (["--hours", "0"], "--hours"),
     (["--turbulence", "light,light"], "twice"),
     (["--turbulence", "light,stormy"], "stormy"),
-    (["--mach", "0.5"], "--mach and --alt-ft go together"),
-    (["--alt-ft", "15000"], "--mach and --alt-ft go together"),
+    (["--mach", "0.5"], "give --mach and --alt-ft together"),
+    (["--alt-ft", "15000"], "give --mach and --alt-ft together"),
     (["--mach", "0.9", "--alt-ft", "15000"], "--mach '0.9' must be <= 0.8"),
     (["--mach", "0.5", "--alt-ft", "nan"], "--alt-ft 'nan' must be finite"),
 ])

@@ -82,8 +82,6 @@ def config_from_args(args) -> SoakCampaign:
             raise CliError(f"--maneuver: {exc}") from None
     if args.profile is not None and args.profile not in PROFILES:
         raise CliError(f"--profile {args.profile!r} is unknown; valid: {', '.join(PROFILES)}")
-    if (args.mach is None) != (args.alt_ft is None):
-        raise CliError("--mach and --alt-ft go together (neither: the bank's design point)")
     mach = None if args.mach is None else number("--mach", args.mach, minimum=MACH_RANGE[0], maximum=MACH_RANGE[1])
     alt_ft = None if args.alt_ft is None else number("--alt-ft", args.alt_ft, minimum=ALT_FT_RANGE[0],
                                                      maximum=ALT_FT_RANGE[1])

@@ -3,9 +3,10 @@
 Flights: ``--hours H`` at each turbulence level of ``--turbulence`` (one level or a comma
 list), cut into ``F = ceil(3600 H / flight_s)`` failure-free flights of ``flight_s`` seconds
 each (so ``F flight_s >= 3600 H`` hours are flown per level), trimmed at the bank's design
-point or at ``mach`` / ``alt_ft`` (``--mach``/``--alt-ft``).  The aircraft holds trim with the dither on, or, with ``maneuvers`` (truth maneuver
-strings, ``truth.maneuvers``; :func:`profile` gives the ``tour``), every flight flies that
-schedule: the false declarations are then per hour of maneuvering flight.
+point or at ``mach`` / ``alt_ft`` (``--mach``/``--alt-ft``).  The aircraft holds trim with the
+dither on, or, with ``maneuvers`` (truth maneuver strings, ``truth.maneuvers``; :func:`profile`
+gives the ``tour``), every flight flies that schedule: the false declarations are then per
+hour of maneuvering flight.
 Each flight is one run of the shared engine (runner, store, executor, code identity, lock):
 an interrupted soak resumes flight by flight, and flights are distributed like any run.
 
@@ -221,11 +222,12 @@ def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
         rate = episodes.level_rate([r for r in ranked if r["level"] == lvl], GOALS_PER_H[lvl])
         levels.append({"level": lvl, **rate})
     verdicts = {lv["level"]: lv["per_hour"].get("verdict") for lv in levels}
+    mach, alt_ft = flight_condition(cfg, bank)
     return {
         "kind": "soak", "seed": cfg.seed, "hours": cfg.hours, "flight_s": cfg.duration_s,
         "flights_per_level": cfg.flights, "turbulence": cfg.turbulence, "levels": levels,
         "tuning": label, "bank_hash": bank.content_hash, "version": __version__,
-        "mach": flight_condition(cfg, bank)[0], "alt_ft": flight_condition(cfg, bank)[1], "feedback": cfg.feedback,
+        "mach": mach, "alt_ft": alt_ft, "feedback": cfg.feedback,
         "dither": cfg.dither, "dither_scale": cfg.dither_scale, "maneuvers": list(flight_maneuvers(cfg, bank)) or None,
         "profile": cfg.profile,
         "estimator": cfg.estimator_options(),

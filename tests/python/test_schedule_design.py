@@ -15,8 +15,9 @@ import pytest
 from f16mmae import core, names
 from f16mmae.cli.main import main
 from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.calibrate import (CALIBRATION_START_UP_S, START_UP_S, adaptation_reference, bounded_settings, log_odds_bound,
-                                      calibrate_node, failure_log_odds_peak, node_flights)
+from f16mmae.design.calibrate import (CALIBRATION_START_UP_S, NODE_FLIGHT_S, START_UP_S, adaptation_reference,
+                                      bounded_settings, calibrate_node, failure_log_odds_peak, log_odds_bound,
+                                      node_flights)
 from f16mmae.design.hypotheses import TRIM_SIGMA, check_failure_model
 from f16mmae.design.model import linearize_truth
 from f16mmae.design.gust_states import GUST_STATES, pad_bank
@@ -207,8 +208,16 @@ def test_a_constant_roll_gyro_level_comes_from_the_command(tmp_path):
 @pytest.mark.parametrize("args, message", [
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "per-point"], "--node-tuning 'per-point': valid: "
                                                                          "calibrated, fixed"),
-    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min, --start-up-s, --calibration-start-up-s "
-                                 "and --adapt-running-start apply to a scheduled design; give --schedule"),
+    (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min, --start-up-s, --calibration-start-up-s, "
+                                 "--calibration-flight-s, --calibration-bank and --adapt-running-start apply to a "
+                                 "scheduled design; give --schedule"),
+    (["--calibration-flight-s", "60"], "apply to a scheduled design; give --schedule"),
+    (["--schedule", "mach=0.5,alt=20000", "--calibration-flight-s", "4"], "--calibration-flight-s '4' must be >= 8.0"),
+    (["--schedule", "mach=0.5,alt=20000", "--calibration-flight-s", "nan"], "--calibration-flight-s 'nan'"),
+    (["--schedule", "mach=0.5,alt=20000", "--calibration-flight-s", "601"], "--calibration-flight-s '601' must be <= 600.0"),
+    (["--schedule", "mach=0.5,alt=20000", "--calibration-bank", "paper"], "--calibration-bank 'paper': valid: complete, own"),
+    (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--calibration-bank", "own"],
+     "--calibration-flight-s and --calibration-bank go with the calibration flights: they need --node-tuning calibrated"),
     (["--adapt-running-start"], "apply to a scheduled design; give --schedule"),
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--adapt-running-start"],
      "--adapt-running-start goes with the calibration flights: it needs --node-tuning calibrated"),
@@ -499,6 +508,48 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
         np.testing.assert_array_equal(np.asarray(h.phi), np.asarray(want.phi))
         np.testing.assert_array_equal(np.asarray(h.k), np.asarray(want.k))
         assert not np.asarray(h.phi)[names.NX:, :].any() and np.asarray(h.k)[-ng:].sum() == 0
+
+
+def test_the_bound_s_flights_and_bank_come_from_the_command(tmp_path, monkeypatch):
+    """--calibration-flight-s and --calibration-bank: the knobs are calibrated on the
+    NODE_FLIGHT_S-second flights as before, the floor and reference bounded on flights of the
+    given length (the same seeds) and on the node's own bank (its constant VEL) or its complete
+    one; the command and the note say which. The calibration is replaced by recorders (the
+    workers fork with them): the bounded reference names the flights' length and the bank."""
+    import types
+
+    from f16mmae.design import schedule as sched
+
+    def flights(mach, alt_ft, turbulence, duration_s=NODE_FLIGHT_S):
+        return (types.SimpleNamespace(duration_s=duration_s),)
+
+    def bounded(model_bank, flights, candidates, start_up_s=0.0, running_start=False):
+        own = bool(np.asarray(model_bank.hypotheses[names.ALL_HYPOTHESES.index("VEL")].uninformative_level_q).any())
+        reference = round(0.3 + flights[0].duration_s / 100 + (0.05 if own else 0.0), 6)
+        return {"p_min": 1e-9, "adapt_reference": reference, "failure_log_odds_peak": -7.0, "bound_met": True,
+                "scale": 1.0, "effort": 0.0, "candidates": [[1e-9, reference, -7.0, 1.0, True]]}
+
+    ratios = types.SimpleNamespace(var_over_a=[1.0] * len(names.SENSORS))
+    monkeypatch.setattr(sched, "node_flights", flights)
+    monkeypatch.setattr(sched, "calibrate_node", lambda mach, alt_ft, tun, linearized, flights: (
+        (tun, ratios, ratios) if flights[0].duration_s == NODE_FLIGHT_S else None))
+    monkeypatch.setattr(sched, "bounded_settings", bounded)
+    monkeypatch.setattr(sched, "adaptation_reference", lambda design, flights: 1.0)
+    for kw, reference, tail in (({}, 0.38, "--failure-model constant=VEL+ROL --gust-states-below-ft none"),
+                                ({"calibration_flight_s": 60.0, "calibration_bank": "own"}, 0.95,
+                                 "--calibration-flight-s 60 --calibration-bank own --failure-model constant=VEL+ROL"),
+                                ({"calibration_bank": "own"}, 0.43, "--calibration-bank own --failure-model")):
+        out = tmp_path / "bound.f16sched"
+        sched.design_schedule(parse_grid("mach=0.5/0.6,alt=25000"), "tuned", out, workers=1, flap_layers=False, **kw)
+        f = core.load_bank(out).schedule
+        meta = json.loads(f["metadata"])
+        assert [n["adapt_reference"] for n in f["nodes"]] == [reference, reference]
+        assert tail in meta["command"]
+        own = kw.get("calibration_bank") == "own"
+        assert ("bounded on the node's own bank" in meta["tuning_note"]) == own
+        assert ("over 60-s flights of the same seeds" in meta["tuning_note"]) == ("calibration_flight_s" in kw)
+    with pytest.raises(ScheduleSpecError, match="calibration bank 'x' is not one of complete, own"):
+        sched.design_schedule(parse_grid("mach=0.5,alt=25000"), "tuned", out, calibration_bank="x")
 
 
 @pytest.mark.parametrize("argv, shape", [

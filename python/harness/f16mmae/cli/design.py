@@ -8,15 +8,15 @@ import math
 import time
 
 from ..design.bank import design_bank, write_bank
-from ..design.calibrate import CALIBRATION_START_UP_S, P_MIN_CANDIDATES, START_UP_S
+from ..design.calibrate import CALIBRATION_START_UP_S, NODE_FLIGHT_S, P_MIN_CANDIDATES, START_UP_S
 from ..design.gains import DesignError
 from ..design.report import write_report
 from ..design.dwell import with_calibrated_dwell
 from ..design.hypotheses import FAILURE_MODELS, TRIM_SIGMA, check_failure_model, component_models, uses_cover
 from ..design.level_width import RANGE, READING
 from ..design.gust_states import GUST_STATE_MODELS
-from ..design.schedule import (DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES, NO_GUST_STATES, NODE_TUNINGS,
-                               ScheduleSpecError, check_gust_altitude, default_gust_shape,
+from ..design.schedule import (CALIBRATION_BANKS, DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES,
+                               MAX_CALIBRATION_FLIGHT_S, NO_GUST_STATES, NODE_TUNINGS, ScheduleSpecError, check_gust_altitude, default_gust_shape,
                                design_schedule, format_spec, parse_grid, schedule_failure_model)
 from ..design.tuning import TuningError, _sensor_level_width, load_tuning
 from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
@@ -170,6 +170,14 @@ def register(subparsers) -> None:
     p.add_argument("--calibration-start-up-s", default=None, metavar="S",
                    help="--schedule (calibrated nodes): the estimator start-up the calibration flights bound the "
                         f"nodes' floors and references with (default {CALIBRATION_START_UP_S:g})")
+    p.add_argument("--calibration-flight-s", default=None, metavar="S",
+                   help="--schedule (calibrated nodes): the length of the no-failure flights the nodes' floors "
+                        "and references are bounded on, the same seeds longer (the knobs are calibrated on the "
+                        f"first {NODE_FLIGHT_S:g} s; default {NODE_FLIGHT_S:g}, at most {MAX_CALIBRATION_FLIGHT_S:g})")
+    p.add_argument("--calibration-bank", default=None, metavar="|".join(CALIBRATION_BANKS),
+                   help="--schedule (calibrated nodes): the bank the floors and references are bounded on: the "
+                        "node's bank of the paper's complete failure model, or its own (its hypotheses' "
+                        "failure model, --failure-model; default complete)")
     p.add_argument("--adapt-running-start", action="store_true",
                    help="--schedule (calibrated nodes): bound the nodes' floors and references on calibration "
                         "flights flown with the adaptation's running start (the run option "
@@ -241,9 +249,10 @@ def _run(args) -> int:
     if args.schedule is not None:
         return _run_schedule(args)
     if (args.node_tuning is not None or args.flap_layers is not None or args.node_p_min is not None
-            or args.start_up_s is not None or args.calibration_start_up_s is not None or args.adapt_running_start):
-        raise CliError("--node-tuning, --flap-layers, --node-p-min, --start-up-s, --calibration-start-up-s and "
-                       "--adapt-running-start apply to a scheduled design; "
+            or args.start_up_s is not None or args.calibration_start_up_s is not None or args.adapt_running_start
+            or args.calibration_flight_s is not None or args.calibration_bank is not None):
+        raise CliError("--node-tuning, --flap-layers, --node-p-min, --start-up-s, --calibration-start-up-s, "
+                       "--calibration-flight-s, --calibration-bank and --adapt-running-start apply to a scheduled design; "
                        "give --schedule [GRID] too")
     if args.gust_states_below_ft is not None:
         raise CliError("--gust-states-below-ft applies to a scheduled design; give --schedule [GRID] too "
@@ -373,6 +382,18 @@ def _run_schedule(args) -> int:
             start_up[flag] = number(flag, given, minimum=0.0, maximum=3600.0)
     if args.adapt_running_start and node_tuning != "calibrated":
         raise CliError("--adapt-running-start goes with the calibration flights: it needs --node-tuning calibrated")
+    calibration_flight_s, calibration_bank = NODE_FLIGHT_S, "complete"
+    if args.calibration_flight_s is not None or args.calibration_bank is not None:
+        if node_tuning != "calibrated":
+            raise CliError("--calibration-flight-s and --calibration-bank go with the calibration flights: they need "
+                           "--node-tuning calibrated")
+        if args.calibration_flight_s is not None:
+            calibration_flight_s = number("--calibration-flight-s", args.calibration_flight_s,
+                                          minimum=NODE_FLIGHT_S, maximum=MAX_CALIBRATION_FLIGHT_S)
+        if args.calibration_bank is not None:
+            calibration_bank = args.calibration_bank
+            if calibration_bank not in CALIBRATION_BANKS:
+                raise CliError(f"--calibration-bank {calibration_bank!r}: valid: {', '.join(CALIBRATION_BANKS)}")
     gust_ft, gust_choice = default_gust_shape(grid, tuning, node_tuning)   # the shipped default's shape
     if args.gust_states_below_ft is not None:
         gust_ft, gust_choice = None, "all"
@@ -413,7 +434,8 @@ def _run_schedule(args) -> int:
                             p_min_candidates=p_mins, start_up_s=start_up["--start-up-s"],
                             calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model,
                             gust_states_below_ft=gust_ft, gust_node_choice=gust_choice,
-                            running_start=args.adapt_running_start)
+                            running_start=args.adapt_running_start, calibration_flight_s=calibration_flight_s,
+                            calibration_bank=calibration_bank)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

@@ -231,9 +231,14 @@ def run_calibration(lin=None, gust_model: str = "gust_rate") -> tuple[Tuning, li
 NODE_TUNING_SUFFIX = "@node"
 
 
-def node_flights(mach: float, alt_ft: float, turbulence: str) -> list:
-    """The no-failure tuning flights (seeds ``SEEDS``, raw feedback) at one design point."""
-    return [fly_closed_loop(mach, alt_ft, seed=s, turbulence_level=turbulence) for s in SEEDS]
+#: The length (s) of a node's calibration flights (``node_flights``).
+NODE_FLIGHT_S = 8.0
+
+
+def node_flights(mach: float, alt_ft: float, turbulence: str, duration_s: float = NODE_FLIGHT_S) -> list:
+    """The no-failure tuning flights (seeds ``SEEDS``, raw feedback, ``duration_s`` each) at one
+    design point. A longer flight starts as the shorter one with the same seed."""
+    return [fly_closed_loop(mach, alt_ft, seed=s, turbulence_level=turbulence, duration_s=duration_s) for s in SEEDS]
 
 
 def calibrate_node(mach: float, alt_ft: float, base: Tuning, linearized=None,

@@ -84,7 +84,8 @@ from ..errors import F16mmaeError
 from ..truth.aircraft import ALT_FT_RANGE, LEF_ALPHA_SWITCH_RAD, LEF_POSITIONS_RAD, MACH_RANGE, TrimError
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
 from .calibrate import (BOUND_P_MIN, CALIBRATION_START_UP_S, P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
-                        START_UP_S, adaptation_reference, bounded_settings, calibrate_node, node_flights)
+                        NODE_FLIGHT_S, START_UP_S, adaptation_reference, bounded_settings, calibrate_node,
+                        node_flights)
 from .gains import DesignError
 from .gust_states import GUST_STATE_MODELS, pad_bank, pad_state
 from .hypotheses import check_failure_model, failure_model_table
@@ -208,6 +209,12 @@ def gust_neighbourhoods(covered, gust) -> frozenset:
 #: or ``effort`` (each designed both ways and calibrated on its own tuning-seed flights; it
 #: carries gust states when its calibration shows it gains: ``gust_gains``).
 GUST_NODE_CHOICES: tuple[str, ...] = ("all", "effort")
+#: The bank a calibrated node's floor and reference are bounded on (``design_schedule``
+#: ``calibration_bank``): the node's ``complete`` bank (module docstring), or its ``own``.
+CALIBRATION_BANKS: tuple[str, ...] = ("complete", "own")
+#: The longest calibration flight (s) a design may ask for: the bound's flights are replayed
+#: through the node's estimator frame by frame, about six bisection steps for each candidate floor.
+MAX_CALIBRATION_FLIGHT_S = 600.0
 
 #: ``--gust-states-below-ft none``: no node carries gust states (the scheduled design's shape
 #: before revision 12).
@@ -277,7 +284,7 @@ def _design_point(args):
     node's own: the truth never flies the point in that configuration, so there is nothing to
     calibrate on)."""
     i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle, p_mins, calibration_start_up_s, \
-        running_start = args
+        running_start, calibration_flight_s, calibration_bank = args
     t0 = time.perf_counter()
     record, layer, tun = {}, 0, None
     try:
@@ -299,8 +306,11 @@ def _design_point(args):
         if node_tuning == "calibrated" and lef_rad is None:
             paper = design if tun.failure_model == "complete" else design_bank(
                 mach, alt_ft, dataclasses.replace(tun, failure_model="complete"), linearized=lin)
-            chosen = bounded_settings(to_model_bank(paper), flights, p_mins, start_up_s=calibration_start_up_s,
-                                      running_start=running_start)
+            bounded_on = paper if calibration_bank == "complete" else design
+            bound_flights = flights if calibration_flight_s == NODE_FLIGHT_S else node_flights(
+                mach, alt_ft, tun.turbulence, calibration_flight_s)
+            chosen = bounded_settings(to_model_bank(bounded_on), bound_flights, p_mins,
+                                      start_up_s=calibration_start_up_s, running_start=running_start)
             reference = chosen["adapt_reference"]
             record.update({"power_ratio_mean": adaptation_reference(paper, flights), **chosen})
         if throttle:
@@ -402,7 +412,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     failure_model: str | None = None,
                     gust_states_below_ft: float | None = None,
                     gust_node_choice: str = "all",
-                    running_start: bool = False) -> dict:
+                    running_start: bool = False,
+                    calibration_flight_s: float = NODE_FLIGHT_S,
+                    calibration_bank: str = "complete") -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
@@ -419,7 +431,11 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     ``failure_model``: the hypotheses' failure model at every node (hypotheses.py), in place of
     the tuning's; None: ``schedule_failure_model`` (the tuning's if it names one, else
     ``names.SCHEDULE_FAILURE_MODEL``).  A calibrated node's floor and reference are bounded on
-    the node's ``complete`` bank whatever the model (module docstring).
+    the node's ``complete`` bank whatever the model (module docstring), unless
+    ``calibration_bank`` is ``own`` (CALIBRATION_BANKS): then on the node's bank itself.
+    ``calibration_flight_s``: the length of the flights the floor and reference are bounded on
+    (calibrated nodes only; the knobs are calibrated on ``calibrate.NODE_FLIGHT_S``-second
+    flights whatever it is, which a longer flight of the same seed begins with).
     ``gust_states_below_ft``: the nodes at or below it with Dryden gust states, the others padded
     with inert ones (module docstring); ScheduleSpecError if no node lies at or below it.
     ``gust_node_choice`` (GUST_NODE_CHOICES): ``all`` of those nodes carry gust states, or, with
@@ -440,9 +456,15 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     if fm != tuning_obj.failure_model:
         tuning_obj = dataclasses.replace(tuning_obj, failure_model=fm)
         tuning = tuning_obj   # the workers design with the object (its name unchanged)
+    if calibration_bank not in CALIBRATION_BANKS:
+        raise ScheduleSpecError(f"calibration bank {calibration_bank!r} is not one of {', '.join(CALIBRATION_BANKS)}")
+    if not (NODE_FLIGHT_S <= calibration_flight_s <= MAX_CALIBRATION_FLIGHT_S):
+        raise ScheduleSpecError(f"calibration flight length {calibration_flight_s:g} s is outside "
+                                f"{NODE_FLIGHT_S:g}-{MAX_CALIBRATION_FLIGHT_S:g} s")
     if node_tuning != "calibrated":   # no calibration flights: nothing was bounded with a start-up
         start_up_s = calibration_start_up_s = 0.0
         running_start = False
+        calibration_flight_s, calibration_bank = NODE_FLIGHT_S, "complete"
     gust_ft = None if gust_states_below_ft is None else check_gust_altitude(grid, gust_states_below_ft)
     if gust_ft is not None and tuning_obj.gust_model in GUST_STATE_MODELS:
         raise ScheduleSpecError(f"gust states below {gust_ft:g} ft: the tuning {tuning_obj.name} already models "
@@ -459,7 +481,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         return gust_tuning if gust_ft is not None and alt_ft <= gust_ft else tuning
 
     points = [(i, j, m, a, point_tuning(a), node_tuning, None, None, throttle_input, tuple(p_min_candidates),
-               calibration_start_up_s, running_start)
+               calibration_start_up_s, running_start, calibration_flight_s, calibration_bank)
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     gust = {(i, j) for j, a in enumerate(grid.alt_ft) for i in range(len(grid.mach))
             if gust_ft is not None and a <= gust_ft}
@@ -506,7 +528,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 r[7]["p_min_node"], r[7]["p_min"] = r[7]["p_min"], p_min_of[k]
                 results[k] = r[:9] + (references[k],)
         tasks = [] if not flap_layers else [(i, j, grid.mach[i], grid.alt_ft[j], results[(i, j)][8], node_tuning, LEF_POSITIONS_RAD[layer],
-                  results[(i, j)][9], throttle_input, (), calibration_start_up_s, running_start)
+                  results[(i, j)][9], throttle_input, (), calibration_start_up_s, running_start,
+                  calibration_flight_s, calibration_bank)
                  for i, j, layer in alternate_nodes(grid, own)]
         for n, r in enumerate(pool.map(_design_point, tasks), start=1):
             alternates[(r[0], r[1], r[2])] = r
@@ -543,6 +566,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     + (f" --start-up-s {start_up_s:g} --calibration-start-up-s {calibration_start_up_s:g}"
                        if node_tuning == "calibrated" else "")
                     + (" --adapt-running-start" if running_start and node_tuning == "calibrated" else "")
+                    + (f" --calibration-flight-s {calibration_flight_s:g}" if calibration_flight_s != NODE_FLIGHT_S else "")
+                    + (f" --calibration-bank {calibration_bank}" if calibration_bank != "complete" else "")
                     + f" --failure-model {tuning_obj.failure_model}"
                     + (f" --gust-states-below-ft {NO_GUST_STATES}" if gust_ft is None else
                        f" --gust-states-below-ft {gust_ft:g} --gust-node-choice {gust_node_choice}")),
@@ -560,8 +585,11 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                         "p_min_node, candidates [p_min, reference, peak, s, met]), then the floor the smallest of "
                         "it and its grid neighbours' that met the bound, the reference the smallest of theirs at "
                         "the largest floor around the node (schedule.neighbourhood_settings: p_min, the node bank's "
-                        "recommended floor, adapt_reference), both bounded on the node's bank of the paper's "
-                        "complete failure model whatever the hypotheses' failure model; "
+                        "recommended floor, adapt_reference), both bounded on "
+                        + ("the node's bank of the paper's complete failure model whatever the hypotheses' failure model"
+                           if calibration_bank == "complete" else "the node's own bank (its hypotheses' failure model)")
+                        + (f" over {calibration_flight_s:g}-s flights of the same seeds"
+                           if calibration_flight_s != NODE_FLIGHT_S else "") + "; "
                         "the other estimator settings of this tuning" if node_tuning == "calibrated"
                         else "the same tuning at every point (no per-point retune)"),
         "flap_layers": None if not flap_layers else {"positions_rad": list(LEF_POSITIONS_RAD), "alpha_switch_rad": list(LEF_ALPHA_SWITCH_RAD),

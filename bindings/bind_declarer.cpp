@@ -13,6 +13,9 @@ void bind_declarer(py::module_& m) {
   m.def("read_dwell_nats_table", &read_dwell_nats_table, py::arg("path"),
         "The evidence dwell per hypothesis of a table file, {name: N} (cpp/f16mmae/declarer.h: one\n"
         "'NAME N' a line, '#' a comment; N in [0, 1e6] nats). ValueError naming the file and the line.");
+  m.def("parse_dwell_s_per_hypothesis", &parse_dwell_s_per_hypothesis, py::arg("text"),
+        "The least dwell per hypothesis of 'NAME=S[,NAME=S...]', {name: S} (cpp/f16mmae/declarer.h;\n"
+        "S in [0, 60] s). ValueError naming the entry.");
   py::class_<Declarer>(m, "Declarer", R"doc(
 Declares hypothesis k when p_k > threshold on round(dwell_s * frame_rate_hz) consecutive
 frames (at least one) and k is not already the current hypothesis.

@@ -127,6 +127,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::declarer, &DeclarerOptions::dwell_s>("dwell_s"),
       field<&O::declarer, &DeclarerOptions::dwell_nats>("dwell_nats"),
       field<&O::declarer, &DeclarerOptions::dwell_nats_per_hypothesis>("dwell_nats_per_hypothesis"),  // {name: N_k}
+      field<&O::declarer, &DeclarerOptions::dwell_s_per_hypothesis>("dwell_s_per_hypothesis"),  // {name: D_k s}
       {"declarer", "a core.Declarer or None", [](O&, py::handle) {},
        [](const O&) { return py::object(py::none()); }},
       // trim tracking

@@ -251,6 +251,18 @@ const std::vector<Flag>& flags() {
        "... per hypothesis: 'NAME N' lines, N nats for NAME (0: the dwell alone); others take --dwell-nats "
        "(declarer.h; default: the bank's own N_k, its hypotheses' dwell_nats)",
        text(&C::dwell_nats_table_path, "needs a table file name")},
+      {"--dwell-s-per-hypothesis", "NAME=S,...",
+       "the least dwell of these hypotheses, s: NAME is declared after the longer of the dwell in force and S "
+       "(declarer.h; default: none)",
+       parsed_by([](DaemonConfig& c, const std::string& v) -> std::string {
+         try {
+           c.estimator.declarer.dwell_s_per_hypothesis = parse_dwell_s_per_hypothesis(v);
+         } catch (const std::invalid_argument& e) {   // "dwell_s_per_hypothesis: why"
+           const std::string why = e.what();
+           return why.substr(why.find(": ") + 2);
+         }
+         return "";
+       })},
       {"--start-up-s", "S",
        "the first S seconds of frames after a start or reset update the filters but weigh no hypothesis "
        "(default: the bank's recommendation, a scheduled-bank file's start_up_s, else 0)",

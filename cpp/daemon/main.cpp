@@ -306,6 +306,10 @@ int main(int argc, char** argv) {
       for (const auto& [name, n] : running.declarer.dwell_nats_per_hypothesis)
         if (n > 0.0) table += (table.empty() ? "" : ", ") + name + " " + f16mmae::format_value(n);
       if (!table.empty()) evidence_dwell += " or per hypothesis (" + table + ") nats";
+      std::string least;   // the least dwell per hypothesis: D_k by name (declarer.h)
+      for (const auto& [name, d] : running.declarer.dwell_s_per_hypothesis)
+        if (d > 0.0) least += (least.empty() ? "" : ", ") + name + " " + f16mmae::format_value(d);
+      if (!least.empty()) evidence_dwell += ", at least " + least + " s";
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, %s, threshold %g, dwell %g s%s, %s, %s, %s, "
                   "schedule %s on air data low-passed %s s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), floor.c_str(),

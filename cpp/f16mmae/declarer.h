@@ -61,6 +61,19 @@
 // ceiling (tools/latency/dwell_per_hypothesis.py derives N_k from the tuning flights' excursions).
 // Table file (read_dwell_nats_table): one "NAME N" a line, '#' to the end of a line a comment.
 //
+// Least dwell per hypothesis (dwell_s_per_hypothesis: name -> D_k seconds; empty, the default:
+// off). Hypothesis k's candidate needs its dwell in force to be at least its own,
+//   dwell_frames_k = max(dwell_frames_in_force, round(D_k frame_rate_hz)),
+// in place of dwell_frames_in_force in both rules above (the frame dwell, and the evidence
+// dwell's N_k dwell_frames_k / dwell_frames); a hypothesis the table does not name, or names
+// with 0, keeps the dwell in force. k as for the evidence dwell (hypothesis_of_slot); the names
+// are resolved at construction into frames by index. Why per hypothesis: a hypothesis whose
+// no-failure excursions above the threshold are short but frequent while its failures hold the
+// threshold for good (the scheduled bank's failed VEL: its filter, free of the airspeed reading,
+// explains a gust's angle-of-attack and normal-acceleration excursion better than the no-failure
+// filter for a fraction of a second; docs/results/envelope_scheduled.md, round 22) is held to
+// a longer dwell at the cost of its own latency alone.
+//
 // Defaults, and why: threshold 0.9, dwell 0.25 s at 64 Hz (16 frames).
 //  - 0.9: with K = 13 and the floor p_min = 0.001 a hypothesis can reach 1 - 12 * 0.001 =
 //    0.988; a correct, well-matched hypothesis sits near that, while an ambiguous pair
@@ -75,11 +88,12 @@
 // Throws: the constructor throws std::invalid_argument naming the value and the valid range
 // (estimator_settings.h) if threshold is not in (0.5, 1), dwell_s is not in [0, 60] s,
 // frame_rate_hz is not positive and finite, the dwell exceeds kMaxDwellFrames frames,
-// dwell_nats or an N_k is not in [0, kMaxDwellNats], the table names a hypothesis not in
-// `names` (or is given without names).
+// dwell_nats or an N_k is not in [0, kMaxDwellNats], a D_k is not in [0, 60] s, a table names
+// a hypothesis not in `names` (or is given without names).
 // update() is noexcept and allocation-free; a NaN probability never counts as "above".
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -100,10 +114,24 @@ struct DeclarerOptions {
   // ... per hypothesis: name -> N_k nats (0: that hypothesis' frame dwell alone); a hypothesis
   // it does not name takes dwell_nats. Empty: dwell_nats for every hypothesis.
   std::map<std::string, double> dwell_nats_per_hypothesis;
+  // name -> D_k: the least dwell (s) of that hypothesis (header); empty: the dwell in force for all.
+  std::map<std::string, double> dwell_s_per_hypothesis;
 };
 
 // The evidence dwell's upper bound, kMaxDwellNats (estimator_settings.h): 16 frames at the
 // ceiling of K = 13 and p_min 0 in double precision (ln(1/eps) = 36 nats a frame) is far below it.
+
+// `text` as a number if the whole of it is one (std::stod's form; "nan" and "inf" parse, the
+// callers' ranges refuse them): true and `out` set, else false.
+inline bool parse_whole_number(const std::string& text, double& out) {
+  std::size_t used = 0;
+  try {
+    out = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == text.size();
+}
 
 // The per-hypothesis table of a file (header): one "NAME N" a line, '#' starts a comment.
 // Throws std::invalid_argument naming `source` and the line for a line that is not a name and
@@ -120,16 +148,7 @@ inline std::map<std::string, double> parse_dwell_nats_table(const std::string& t
     std::string name, value, extra;
     if (!(fields >> name)) continue;   // blank or comment only
     double n = 0.0;
-    bool ok = static_cast<bool>(fields >> value) && !(fields >> extra);
-    if (ok) {
-      std::size_t used = 0;
-      try {
-        n = std::stod(value, &used);
-      } catch (const std::exception&) {
-        ok = false;
-      }
-      ok = ok && used == value.size();
-    }
+    const bool ok = static_cast<bool>(fields >> value) && !(fields >> extra) && parse_whole_number(value, n);
     if (!ok)
       throw std::invalid_argument(source + " line " + std::to_string(number) +
                                   ": expected 'NAME N' (a hypothesis and its evidence dwell in nats), got '" + line + "'");
@@ -157,6 +176,33 @@ inline std::map<std::string, double> read_dwell_nats_table(const std::string& pa
   return parse_dwell_nats_table(text.str(), "dwell-nats table '" + path + "'");
 }
 
+// The least dwell per hypothesis of its text form (header), "NAME=S[,NAME=S...]", as
+// {name: S}. Throws std::invalid_argument naming the entry for one that is not a name, '=' and a
+// number in [0, kMaxDwellS] s, or a name given twice; the names are checked against the bank
+// where the table is used (Declarer).
+inline std::map<std::string, double> parse_dwell_s_per_hypothesis(const std::string& text) {
+  std::map<std::string, double> out;
+  for (std::size_t start = 0;;) {   // every entry, the empty ones too (",,", a trailing comma, "")
+    const auto comma = text.find(',', start);
+    const std::string entry = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const auto eq = entry.find('=');
+    const std::string name = eq == std::string::npos ? entry : entry.substr(0, eq);
+    const std::string value = eq == std::string::npos ? "" : entry.substr(eq + 1);
+    double d = 0.0;
+    const bool ok = !name.empty() && name.find_first_of(" \t") == std::string::npos && parse_whole_number(value, d);
+    if (!ok)
+      throw std::invalid_argument("dwell_s_per_hypothesis: expected NAME=S (a hypothesis and its least dwell in "
+                                  "seconds), got '" + entry + "'");
+    if (!(d >= 0.0 && d <= kMaxDwellS))
+      throw std::invalid_argument("dwell_s_per_hypothesis: " + name + "'s dwell must lie in [0, " +
+                                  format_value(kMaxDwellS) + "] s, got " + value);
+    if (!out.emplace(name, d).second)
+      throw std::invalid_argument("dwell_s_per_hypothesis: hypothesis '" + name + "' given twice");
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
+
 class Declarer {
  public:
   // `names`: the hypotheses' names by index (the bank's), needed when the options name
@@ -166,7 +212,8 @@ class Declarer {
       : options_(options),
         dwell_frames_(checked_dwell_frames(options)),
         threshold_log_odds_(std::log(options.threshold / (1.0 - options.threshold))),
-        nats_by_hypothesis_(resolve_per_hypothesis(options, names)) {
+        nats_by_hypothesis_(resolve_per_hypothesis(options, names)),
+        frames_by_hypothesis_(resolve_least_dwell(options, names)) {
     reset(presumed);
   }
 
@@ -232,6 +279,11 @@ class Declarer {
   double dwell_evidence_nats() const noexcept { return evidence_nats_; }   // E_n so far (header)
   int dwell_frames() const noexcept { return dwell_frames_; }
   const DeclarerOptions& options() const noexcept { return options_; }
+  // The least dwell of hypothesis k in frames (header): 0 when it has none.
+  int least_dwell_frames_of(int hypothesis) const noexcept {
+    if (hypothesis < 0 || hypothesis >= static_cast<int>(frames_by_hypothesis_.size())) return 0;
+    return frames_by_hypothesis_[static_cast<std::size_t>(hypothesis)];
+  }
   // The evidence dwell N_k of hypothesis k (header): its table entry, else dwell_nats.
   double dwell_nats_of(int hypothesis) const noexcept {
     if (hypothesis < 0 || hypothesis >= static_cast<int>(nats_by_hypothesis_.size())) return options_.dwell_nats;
@@ -268,13 +320,15 @@ class Declarer {
       count_ = 0;
       evidence_nats_ = 0.0;
     }
-    if (count_ < dwell_frames) ++count_;
-    bool enough = count_ >= dwell_frames;
-    const double nats = dwell_nats_of(hypothesis_of_slot == nullptr ? above : hypothesis_of_slot[above]);
+    const int hypothesis = hypothesis_of_slot == nullptr ? above : hypothesis_of_slot[above];
+    const int frames = std::max(dwell_frames, least_dwell_frames_of(hypothesis));
+    if (count_ < frames) ++count_;
+    bool enough = count_ >= frames;
+    const double nats = dwell_nats_of(hypothesis);
     if (nats > 0.0) {
       // ln(P / (1 - P)) - ln(T / (1 - T)) > 0 since P > T; log1p keeps 1 - P exact near 1.
       evidence_nats_ += std::log(mass) - std::log1p(-mass) - threshold_log_odds_;
-      enough = enough || evidence_nats_ >= nats * dwell_frames / dwell_frames_;
+      enough = enough || evidence_nats_ >= nats * frames / dwell_frames_;
     }
     return enough && candidate_ != current;
   }
@@ -285,21 +339,45 @@ class Declarer {
                                   "] nats, got " + format_value(o.dwell_nats));
     return f16mmae::dwell_frames(o.dwell_s, o.frame_rate_hz, "declarer");
   }
+  // D_k in frames by hypothesis index (header); empty without a table. Throws naming a name
+  // not in `names`, or a D_k outside [0, kMaxDwellS] s.
+  static std::vector<int> resolve_least_dwell(const DeclarerOptions& o, const std::vector<std::string>& names) {
+    std::vector<int> out;
+    if (o.dwell_s_per_hypothesis.empty()) return out;
+    check_names(o.dwell_s_per_hypothesis, names, "dwell_s_per_hypothesis");
+    for (const auto& [name, d] : o.dwell_s_per_hypothesis)
+      if (!(d >= 0.0 && d <= kMaxDwellS))
+        throw std::invalid_argument("declarer: dwell_s_per_hypothesis '" + name + "' must be in [0, " +
+                                    format_value(kMaxDwellS) + "] s, got " + format_value(d));
+    for (const auto& h : names) {
+      const auto it = o.dwell_s_per_hypothesis.find(h);
+      out.push_back(it == o.dwell_s_per_hypothesis.end() || it->second == 0.0
+                        ? 0 : f16mmae::dwell_frames(it->second, o.frame_rate_hz, "declarer"));
+    }
+    return out;
+  }
+  // Every name of `table` is one of `names`; throws std::invalid_argument naming `setting` and
+  // the bank's hypotheses otherwise.
+  static void check_names(const std::map<std::string, double>& table, const std::vector<std::string>& names,
+                          const std::string& setting) {
+    if (names.empty()) throw std::invalid_argument("declarer: " + setting + " needs the bank's hypothesis names");
+    for (const auto& entry : table) {
+      bool known = false;
+      for (const auto& h : names) known = known || h == entry.first;
+      if (!known) {
+        std::string valid;
+        for (const auto& h : names) valid += (valid.empty() ? "" : " ") + h;
+        throw std::invalid_argument("declarer: " + setting + " names '" + entry.first +
+                                    "', not a hypothesis of the bank (" + valid + ")");
+      }
+    }
+  }
   // N_k by hypothesis index (header); empty without a table (dwell_nats for every hypothesis).
   static std::vector<double> resolve_per_hypothesis(const DeclarerOptions& o, const std::vector<std::string>& names) {
     std::vector<double> out;
     if (o.dwell_nats_per_hypothesis.empty()) return out;
-    if (names.empty())
-      throw std::invalid_argument("declarer: dwell_nats_per_hypothesis needs the bank's hypothesis names");
+    check_names(o.dwell_nats_per_hypothesis, names, "dwell_nats_per_hypothesis");
     for (const auto& [name, n] : o.dwell_nats_per_hypothesis) {
-      bool known = false;
-      for (const auto& h : names) known = known || h == name;
-      if (!known) {
-        std::string valid;
-        for (const auto& h : names) valid += (valid.empty() ? "" : " ") + h;
-        throw std::invalid_argument("declarer: dwell_nats_per_hypothesis names '" + name +
-                                    "', not a hypothesis of the bank (" + valid + ")");
-      }
       if (!(n >= 0.0 && n <= kMaxDwellNats))
         throw std::invalid_argument("declarer: dwell_nats_per_hypothesis '" + name + "' must be in [0, " +
                                     format_value(kMaxDwellNats) + "] nats, got " + format_value(n));
@@ -319,6 +397,7 @@ class Declarer {
   double threshold_log_odds_ = 0.0;   // ln(threshold / (1 - threshold))
   double evidence_nats_ = 0.0;        // E_n of the candidate (header)
   std::vector<double> nats_by_hypothesis_;   // N_k by hypothesis index; empty: dwell_nats for all
+  std::vector<int> frames_by_hypothesis_;    // D_k in frames by hypothesis index (0: none); empty: none
 };
 
 }  // namespace f16mmae

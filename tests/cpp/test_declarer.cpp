@@ -343,3 +343,81 @@ TEST(DeclarerEvidencePerHypothesis, TableFileParsesAndRefusesBadLines) {
   EXPECT_THROW(f16mmae::parse_dwell_nats_table("# nothing\n", "t"), std::invalid_argument);
   EXPECT_THROW(f16mmae::read_dwell_nats_table("/nonexistent/table.txt"), std::invalid_argument);
 }
+
+TEST(DeclarerLeastDwell, AHypothesisWithItsOwnDwellWaitsForIt) {
+  DeclarerOptions o;   // dwell 0.25 s: 16 frames at 64 Hz
+  o.dwell_s_per_hypothesis = {{"B", 1.0}, {"C", 0.0}};   // B: 64 frames; C: the dwell in force
+  const std::vector<std::string> names{"NONE", "A", "B", "C"};
+  Declarer d(o, 0, names);
+  EXPECT_EQ(d.least_dwell_frames_of(1), 0);
+  EXPECT_EQ(d.least_dwell_frames_of(2), 64);
+  EXPECT_EQ(d.least_dwell_frames_of(3), 0);
+  auto one = [](int k) {
+    std::array<double, 4> v{0.01, 0.01, 0.01, 0.01};
+    v[static_cast<std::size_t>(k)] = 0.97;
+    return v;
+  };
+  for (int i = 0; i < 63; ++i) ASSERT_EQ(d.update(one(2)), -1) << i;
+  EXPECT_EQ(d.update(one(2)), 2);                      // the 64th frame
+  for (int i = 0; i < 15; ++i) ASSERT_EQ(d.update(one(1)), -1) << i;
+  EXPECT_EQ(d.update(one(1)), 1);                      // A: the 16th
+  for (int i = 0; i < 15; ++i) ASSERT_EQ(d.update(one(3)), -1) << i;
+  EXPECT_EQ(d.update(one(3)), 3);                      // C (0 s): the 16th
+  // a dwell in force longer than B's own (a maneuver's, 100 frames) is B's too
+  Declarer m(o, 0, names);
+  for (int i = 0; i < 99; ++i) ASSERT_EQ(m.update(one(2), 100), -1) << i;
+  EXPECT_EQ(m.update(one(2), 100), 2);
+  // an interruption restarts B's count like any other's
+  Declarer r(o, 0, names);
+  for (int i = 0; i < 40; ++i) ASSERT_EQ(r.update(one(2)), -1) << i;
+  EXPECT_EQ(r.update(one(0)), -1);
+  for (int i = 0; i < 63; ++i) ASSERT_EQ(r.update(one(2)), -1) << i;
+  EXPECT_EQ(r.update(one(2)), 2);
+}
+
+TEST(DeclarerLeastDwell, TheEvidenceDwellScalesWithItAndSlotsAreMapped) {
+  DeclarerOptions o;
+  o.dwell_nats_per_hypothesis = {{"B", 4.0}};
+  o.dwell_s_per_hypothesis = {{"B", 0.5}};   // 32 frames: B's evidence dwell 4 * 32 / 16 = 8 nats
+  Declarer d(o, 0, {"NONE", "A", "B"});
+  const int slot_holds[3] = {0, 2, 1};       // slot 1 holds B
+  const std::array<double, 3> p{0.005, 0.99, 0.005};   // 2.398 nats a frame above the threshold's
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(d.update(p, d.dwell_frames(), nullptr, slot_holds), -1) << i;
+  EXPECT_EQ(d.update(p, d.dwell_frames(), nullptr, slot_holds), 1);   // 9.59 >= 8 on the 4th frame
+  Declarer plain(o, 0, {"NONE", "A", "B"});   // without the map slot 1 is A: the 16-frame dwell
+  for (int i = 0; i < 15; ++i) EXPECT_EQ(plain.update(p), -1) << i;
+  EXPECT_EQ(plain.update(p), 1);
+}
+
+TEST(DeclarerLeastDwell, TheTextFormParsesAndBadEntriesAreRefusedByName) {
+  const auto t = f16mmae::parse_dwell_s_per_hypothesis("VEL=1,AOA=0.5");
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t.at("VEL"), 1.0);
+  EXPECT_EQ(t.at("AOA"), 0.5);
+  try {
+    f16mmae::parse_dwell_s_per_hypothesis("VEL=1,AZ");
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "dwell_s_per_hypothesis: expected NAME=S (a hypothesis and its least dwell in seconds), "
+                           "got 'AZ'");
+  }
+  try {
+    f16mmae::parse_dwell_s_per_hypothesis("VEL=61");
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "dwell_s_per_hypothesis: VEL's dwell must lie in [0, 60] s, got 61");
+  }
+  for (const char* bad : {"", "VEL=1,VEL=2", "VEL=nan", "VEL=x", "=1", "VEL=1,", "VEL=-1", "VEL=1s"})
+    EXPECT_THROW(f16mmae::parse_dwell_s_per_hypothesis(bad), std::invalid_argument) << bad;
+  DeclarerOptions o;
+  o.dwell_s_per_hypothesis = {{"X", 1.0}};
+  try {
+    Declarer d(o, 0, {"NONE", "A"});
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "declarer: dwell_s_per_hypothesis names 'X', not a hypothesis of the bank (NONE A)");
+  }
+  EXPECT_THROW(Declarer{o}, std::invalid_argument);   // no names to resolve against
+  o.dwell_s_per_hypothesis = {{"A", 120.0}};
+  EXPECT_THROW((Declarer{o, 0, {"NONE", "A"}}), std::invalid_argument);
+}

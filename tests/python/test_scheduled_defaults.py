@@ -2,8 +2,9 @@
 scheduled bank flown with the turbulence adaptation counts each filter's residual power per
 channel it reads (own channels) unless ``adapt_all_channels`` asks for the plain minimum; the
 counted channel (``adapt_counted_channel``) reaches the core as its bit; the per-hypothesis
-tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING`` and trim tracking at
-``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given; the cached scheduled
+tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING``, trim tracking at
+``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` and VEL's least dwell at
+``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given; the cached scheduled
 bank's name follows every design setting of ``names.SCHEDULE_*``."""
 from __future__ import annotations
 
@@ -20,7 +21,8 @@ from f16mmae.loop.estimator_options import check, scheduled_defaults
 def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     given = {"adapt_turbulence": True}
     spared = {"set_tempering": names.SCHEDULE_SET_TEMPERING,   # the per-hypothesis tempering, whatever the rule
-              "trim_time_constant_s": names.SCHEDULE_TRIM_TIME_CONSTANT_S}   # and trim tracking
+              "trim_time_constant_s": names.SCHEDULE_TRIM_TIME_CONSTANT_S,   # trim tracking
+              "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS}   # and VEL's least dwell
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
                                                "adapt_counted_channel": "vel", **spared}
     assert given == {"adapt_turbulence": True}   # a copy
@@ -30,10 +32,12 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     assert scheduled_defaults(rol, True) == {**rol, "adapt_own_channels": True, **spared}
     all_channels = {**given, "adapt_all_channels": True}
     assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
-    off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0}   # given: kept (1 and 0 are off)
+    off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0 and VEL=0 are off)
+           "dwell_s_per_hypothesis": "VEL=0"}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
+    assert core_arguments(off)["dwell_s_per_hypothesis"] == {"VEL": 0.0}
     for settings in (given, own, rol, all_channels, {}):   # applied twice as once (hil's --compare run)
         once = scheduled_defaults(settings, True)
         assert scheduled_defaults(once, True) == once
@@ -120,7 +124,7 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
-                          "--trim-tracking", "30.0"}
+                          "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", "VEL=1"}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
 

@@ -152,6 +152,15 @@ SCHEDULE_SET_TEMPERING = 0.25
 #: there declare AOA and AZ falsely 38.6 times an hour, 4.3 with the pilot holding altitude and
 #: Mach; with it 7.7 and 0.1 (docs/results/envelope_scheduled.md, round 20).
 SCHEDULE_TRIM_TIME_CONSTANT_S = 30.0
+#: The scheduled estimator's least dwell per hypothesis (``--dwell-s-per-hypothesis``, with the
+#: turbulence adaptation; loop/estimator_options.py scheduled_defaults; cpp/f16mmae/declarer.h): a
+#: failed VEL is declared after 1 s above the threshold, not the 0.25-s dwell. Its filter, free of
+#: the airspeed reading, explains a gust's angle-of-attack and normal-acceleration excursion better
+#: than the no-failure filter for a fraction of a second: at the nodes without gust states (above
+#: 20,000 ft) those excursions declared VEL falsely 5 times an hour in pilotless flight, and were
+#: the scheduled default's false-alarm runs on the settled envelope; its failures hold the
+#: threshold for good (docs/results/envelope_scheduled.md, round 22).
+SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -104,6 +104,8 @@ def estimator_options_from_args(args) -> dict:
             out[o.key] = choice(o.flag, value, o.choices)
         elif o.kind == "file":
             out[o.key] = os.path.abspath(value)
+        elif o.kind == "table":
+            out[o.key] = value
         else:
             out[o.key] = number(o.flag, value)
     try:

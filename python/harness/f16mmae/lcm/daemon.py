@@ -67,7 +67,7 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
             out += [option.flag] if value else []
         elif option.kind == "values":
             out += [option.flag, ",".join(repr(float(v)) for v in value)]
-        elif option.kind == "file":   # the file's path (core_arguments has read its table)
+        elif option.kind in ("file", "table"):   # the path or text as given (core_arguments has read its table)
             out += [option.flag, str(estimator_options[key])]
         else:
             out += [option.flag, value if option.kind == "choice" else repr(float(value))]

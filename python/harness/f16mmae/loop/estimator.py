@@ -18,7 +18,7 @@ from ..banks import bank_estimator_settings, turbulence_bank_set
 from ..names import (ADAPT_SET_TEMPERING_FULL, SENSORS, SET_TEMPERING_FULL, SET_TEMPERING_MARGIN_STABILATORS,
                      SINGLE_HYPOTHESES)
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
-from .estimator_options import CLOSED_LOOP, FILE_LOADERS, bank_defaults, with_closed_loop_defaults
+from .estimator_options import CLOSED_LOOP, FILE_LOADERS, TABLE_PARSERS, bank_defaults, with_closed_loop_defaults
 
 
 def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
@@ -43,6 +43,9 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     for key, load in FILE_LOADERS.items():   # a file option's table: {"F>C": k} (level1_allowance.h), {name: N}
         if key in out and not isinstance(out[key], dict):   # a dict: the table itself (a bank's N_k)
             out[key] = load(out[key])
+    for key, parse in TABLE_PARSERS.items():   # a table option's text: {name: S}
+        if key in out and not isinstance(out[key], dict):
+            out[key] = parse(out[key])
     for name in ("counted", "excluded"):   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
         sensor = out.pop(f"adapt_{name}_channel", None)
         if sensor is not None:

@@ -9,8 +9,10 @@ and the daemon's arguments (``lcm.daemon.daemon_flags``) all read this table, so
 added here is accepted, recorded, reproduced and passed to the daemon alike.
 
 Kinds: ``number`` (a finite float in a range), ``choice`` (one of ``choices``), ``switch`` (on
-when given), ``file`` (the path of a file the option reads: :data:`FILE_LOADERS`) and ``values`` (comma-separated positive numbers; daemon only: the form
-``core_arguments`` gives ``actuator_limits``).
+when given), ``file`` (the path of a file the option reads: :data:`FILE_LOADERS`), ``table``
+(``NAME=VALUE`` entries separated by commas, kept as given and read by :data:`TABLE_PARSERS`) and
+``values`` (comma-separated positive numbers; daemon only: the form ``core_arguments`` gives
+``actuator_limits``).
 """
 from __future__ import annotations
 
@@ -18,8 +20,8 @@ import json
 
 from dataclasses import dataclass
 
-from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_MODES, SCHEDULE_SET_TEMPERING,
-                     SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
+from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_DWELL_S_PER_HYPOTHESIS, SCHEDULE_MODES,
+                     SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -32,7 +34,7 @@ LEVEL1_P_MIN_BELOW = (1.0 - THRESHOLD_DEFAULT) / (K_BANK - 1)
 class EstimatorOption:
     key: str
     flag: str
-    kind: str                       # number | choice | switch | file | values
+    kind: str                       # number | choice | switch | file | table | values
     help: str
     metavar: str | None = None
     minimum: float | None = None    # number: at least this (above it if exclusive)
@@ -354,6 +356,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "gives hypothesis NAME its own evidence dwell of N nats, 0 leaving it to --dwell-s "
                          "alone; a hypothesis FILE does not name takes --dwell-nats (cpp/f16mmae/declarer.h). "
                          "Default: the bank's own table (its hypotheses' dwell_nats)"),
+    EstimatorOption("dwell_s_per_hypothesis", "--dwell-s-per-hypothesis", "table", metavar="NAME=S,...",
+                    help="the least dwell of these hypotheses: NAME is declared after the longer of the dwell in "
+                         "force (--dwell-s, a maneuver's or a climb's) and S seconds above the threshold, its "
+                         "evidence dwell scaled alike (cpp/f16mmae/declarer.h); NAME=0: the dwell in force. Default: "
+                         f"{SCHEDULE_DWELL_S_PER_HYPOTHESIS} on a scheduled bank with --adapt-turbulence "
+                         "(names.SCHEDULE_DWELL_S_PER_HYPOTHESIS), else none"),
     EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,
                     help="a bank with partial-loss hypotheses (design --partial-loss): their probability floor at "
                          "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "
@@ -471,6 +479,21 @@ def load_dwell_nats_table(path: str) -> dict[str, float]:
 FILE_LOADERS = {"level1_allowance_pairs": load_allowance_pairs, "dwell_nats_per_hypothesis": load_dwell_nats_table}
 
 
+def parse_dwell_s_table(text: str) -> dict[str, float]:
+    """``--dwell-s-per-hypothesis`` ``NAME=S[,NAME=S...]`` as ``{name: S}``, parsed by the core's
+    parser as mmae-daemon parses it (cpp/f16mmae/declarer.h). ValueError naming the flag and the
+    entry (the core refuses names that are not hypotheses of the bank when it is built)."""
+    from .. import core
+    try:
+        return dict(core.parse_dwell_s_per_hypothesis(str(text)))
+    except ValueError as exc:   # the core's "dwell_s_per_hypothesis: why"
+        raise ValueError(f"--dwell-s-per-hypothesis: {str(exc).split(': ', 1)[-1]}") from None
+
+
+#: The parser of each ``table`` option's text: the table the core takes.
+TABLE_PARSERS = {"dwell_s_per_hypothesis": parse_dwell_s_table}
+
+
 def valid_range(option: EstimatorOption) -> str:
     """The valid values of a ``number`` or ``choice`` option, as its refusal names them."""
     if option.kind == "choice":
@@ -495,6 +518,11 @@ def check(settings: dict) -> None:
             if not isinstance(value, str):
                 raise ValueError(f"{o.flag} {value!r} must be the path of a file")
             FILE_LOADERS[key](value)
+            ok = True
+        elif o.kind == "table":
+            if not isinstance(value, str):
+                raise ValueError(f"{o.flag} {value!r} must be NAME=VALUE entries separated by commas")
+            TABLE_PARSERS[key](value)
             ok = True
         else:
             ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
@@ -557,8 +585,10 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     drops it: its rule is ``adapt_own_channels`` off), so applying the defaults twice gives
     what applying them once does. With ``adapt_turbulence`` on a ``scheduled`` bank (and no
     turbulence bank set), ``set_tempering`` ``names.SCHEDULE_SET_TEMPERING`` unless given (1
-    turns it off), whatever the channel rule, and ``trim_time_constant_s``
-    ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off). ``running_start``: the bank recommends the
+    turns it off), whatever the channel rule, ``trim_time_constant_s``
+    ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off) and
+    ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0``
+    turns it off). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
     too. A copy; ``settings`` is not changed."""
     out = dict(settings)
@@ -570,6 +600,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks"):
         out.setdefault("set_tempering", SCHEDULE_SET_TEMPERING)
         out.setdefault("trim_time_constant_s", SCHEDULE_TRIM_TIME_CONSTANT_S)
+        out.setdefault("dwell_s_per_hypothesis", SCHEDULE_DWELL_S_PER_HYPOTHESIS)
         if running_start:
             out["adapt_running_start"] = True
     return out
@@ -594,6 +625,6 @@ def command_line_flags(settings: dict) -> list[str]:
     for o in COMMAND_LINE:
         if o.kind != "switch" and o.key in settings:
             value = settings[o.key]
-            args += [o.flag, value if o.kind in ("choice", "file") else repr(float(value))]
+            args += [o.flag, value if o.kind in ("choice", "file", "table") else repr(float(value))]
     args += [o.flag for o in COMMAND_LINE if o.kind == "switch" and settings.get(o.key)]
     return args

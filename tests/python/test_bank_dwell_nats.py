@@ -5,7 +5,6 @@ round-trips it, bad tables are refused by name, an explicit ``--dwell-nats`` or
 it alike."""
 from __future__ import annotations
 
-import subprocess
 import tomllib
 
 import pytest
@@ -13,9 +12,10 @@ import pytest
 from f16mmae import core
 from f16mmae.banks import bank_estimator_settings, load_bank
 from f16mmae.design.tuning import TUNINGS_DIR, TuningError, tuning_from_dict
-from f16mmae.lcm.daemon import find_executable
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
+
+from daemon_support import ready_line
 
 from test_bank_file import make_bank
 
@@ -81,13 +81,7 @@ def test_explicit_options_override_the_banks_table(tmp_path):
 
 
 def _ready_line(args):
-    daemon = str(find_executable("mmae-daemon"))
-    p = subprocess.Popen([daemon, "--bank", str(load_bank("tuned")[1]), "--lcm-url", "memq://", *args],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
-    return ready
+    return ready_line("--bank", load_bank("tuned")[1], *args)
 
 
 def test_the_daemon_applies_the_banks_table_unless_a_flag_overrides_it():

@@ -19,6 +19,8 @@ from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 from f16mmae.truth.maneuvers import parse_maneuver
 
+from daemon_support import ready_line
+
 LN9 = math.log(9.0)   # the threshold 0.9's log-odds
 
 
@@ -45,11 +47,7 @@ def test_the_setting_is_refused_out_of_range_naming_it():
 def test_the_daemon_takes_the_flag_and_names_it():
     """mmae-daemon --dwell-nats: in force (its ready line names it), refused out of range."""
     daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
-    p = subprocess.Popen([daemon, "--bank", bank, "--dwell-nats", "48", "--lcm-url", "memq://"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = ready_line("--bank", bank, "--dwell-nats", "48")
     assert "threshold 0.9, dwell 0.25 s or 48 nats," in ready, ready
     r = subprocess.run([daemon, "--bank", bank, "--dwell-nats", "-1"], capture_output=True, text=True, timeout=20)
     assert r.returncode == 2
@@ -109,11 +107,7 @@ def test_the_daemon_reads_the_table_and_names_it(tmp_path):
     daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
     f = tmp_path / "n.txt"
     f.write_text("AZ 48\nROL 32\n")
-    p = subprocess.Popen([daemon, "--bank", bank, "--dwell-nats-per-hypothesis", str(f), "--lcm-url", "memq://"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = ready_line("--bank", bank, "--dwell-nats-per-hypothesis", f)
     assert "dwell 0.25 s or per hypothesis (AZ 48, ROL 32) nats," in ready, ready
     f.write_text("QQ 4\n")
     r = subprocess.run([daemon, "--bank", bank, "--dwell-nats-per-hypothesis", str(f)], capture_output=True,

@@ -16,22 +16,14 @@ from f16mmae.lcm.daemon import daemon_flags, find_executable
 from f16mmae.loop.estimator_options import CORE_ONLY, ESTIMATOR_OPTIONS, HARNESS_ONLY
 from f16mmae.truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 
+from daemon_support import ready_line
+
 DAEMON = str(find_executable("mmae-daemon"))  # part of every build: a missing daemon fails here
 
 
 def _daemon(*args):
     p = subprocess.run([DAEMON, *args], capture_output=True, text=True, timeout=20)
     return p.returncode, p.stdout + p.stderr
-
-
-def _ready_line(*args):
-    """The daemon started on memq:// with ``args``: its ready line (it is then stopped)."""
-    p = subprocess.Popen([DAEMON, *args, "--lcm-url", "memq://"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
-    return ready
 
 
 def test_daemon_refuses_bad_arguments_banks_and_urls(tmp_path):
@@ -130,7 +122,7 @@ def test_the_climb_dwell_and_own_channels_reach_the_daemon():
         "--adapt-turbulence", "--adapt-own-channels", "--adapt-reference-climb", "0.6",
         "--adapt-reference-climb-dwell", "1.5")
     bank = str(load_bank("tuned")[1])
-    ready = _ready_line("--bank", bank, "--adapt-turbulence", "--adapt-own-channels",
+    ready = ready_line("--bank", bank, "--adapt-turbulence", "--adapt-own-channels",
                         "--adapt-reference-climb", "0.6", "--adapt-reference-climb-dwell", "1.5")
     assert "turbulence adaptation (reference 0.6, own channels), climbing 0.6 held 0 s with dwell 1.5 s" in ready, ready
     rc, out = _daemon("--bank", bank, "--adapt-own-channels")
@@ -184,7 +176,7 @@ def test_the_maneuver_trim_reaches_the_daemon():
     i = flags.index("--maneuver-trim-time-constant")
     assert float(flags[i + 1]) == 0.25
     bank = str(load_bank("tuned")[1])
-    ready = _ready_line("--bank", bank, *flags)
+    ready = ready_line("--bank", bank, *flags)
     assert "maneuver trim 0.25 s" in ready, ready
     rc, out = _daemon("--bank", bank, "--maneuver-trim-time-constant", "0.5")
     assert rc == 2 and "--maneuver-trim-time-constant applies with --maneuver-trim only" in out
@@ -198,7 +190,7 @@ def test_the_maneuver_trim_inertial_rates_reach_the_daemon():
     assert flags[flags.index("--maneuver-trim-rates") + 1] == "inertial"
     assert float(flags[flags.index("--maneuver-trim-blend") + 1]) == 3.0
     bank = str(load_bank("tuned")[1])
-    ready = _ready_line("--bank", bank, *flags)
+    ready = ready_line("--bank", bank, *flags)
     assert "inertial rates 3 s" in ready, ready
     rc, out = _daemon("--bank", bank, "--maneuver-trim-rates", "inertial")
     assert rc == 2 and "--maneuver-trim-rates applies with --maneuver-trim only" in out
@@ -223,7 +215,7 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
         elif option.kind == "choice":
             assert flags[i + 1] == value, key
     bank = str(load_bank("tuned")[1])
-    ready = _ready_line("--bank", bank, *flags)
+    ready = ready_line("--bank", bank, *flags)
     assert ("tempering 0.1 g, tempering dead band 0.05 g, maneuver dwell 1.5 s held 30 s, maneuver reference 0.65"
             in ready), ready
     rc, out = _daemon("--bank", bank, "--maneuver-dwell-hold", "30")

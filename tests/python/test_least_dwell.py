@@ -19,6 +19,8 @@ from f16mmae.loop.flight import fly
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
 
+from daemon_support import ready_line
+
 
 def test_the_setting_is_refused_naming_the_entry():
     with pytest.raises(ValueError, match="expected NAME=S .*got 'AZ'"):
@@ -43,11 +45,7 @@ def test_the_command_line_refuses_a_bad_table_before_flying(tmp_path, capsys):
 
 def test_the_daemon_takes_the_flag_and_names_it():
     daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
-    p = subprocess.Popen([daemon, "--bank", bank, "--dwell-s-per-hypothesis", "VEL=1,AZ=0.5", "--lcm-url", "memq://"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = ready_line("--bank", bank, "--dwell-s-per-hypothesis", "VEL=1,AZ=0.5")
     assert " nats, at least AZ 0.5, VEL 1 s, " in ready, ready   # after the tuned bank's evidence dwells
     r = subprocess.run([daemon, "--bank", bank, "--dwell-s-per-hypothesis", "VEL=x"], capture_output=True, text=True,
                        timeout=20)

@@ -25,6 +25,8 @@ from f16mmae import core
 from f16mmae.banks import load_bank
 from f16mmae.lcm.daemon import daemon_flags, find_executable
 from f16mmae.loop.flight import fly as fly_closed_loop
+
+from daemon_support import ready_line
 from test_core_climb_reference import BASE, CLIMB, GAIN, _gate, _run
 from test_core_hierarchical import ACT, RATE_HZ, SEN, fly, small  # noqa: F401  (fixture)
 from test_hil_memq import _lockstep_equals_in_process, _scenario
@@ -93,18 +95,10 @@ def test_the_daemon_takes_the_mach_rate_and_names_the_gate_in_force(nominal):
     i = flags.index("--maneuver-mach-rate")
     assert float(flags[i + 1]) == 0.003
     daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
-    p = subprocess.Popen([daemon, "--bank", bank, *flags, "--lcm-url", "memq://"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = ready_line("--bank", bank, *flags)
     assert "maneuver dwell 1.25 s held 0 s, Mach-rate gate 0.003/s" in ready, ready
     without = [f for f in flags if f not in ("--maneuver-mach-rate", flags[i + 1])]
-    p = subprocess.Popen([daemon, "--bank", bank, *without, "--lcm-url", "memq://"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = ready_line("--bank", bank, *without)
     assert "maneuver dwell 1.25 s held 0 s" in ready and "Mach-rate" not in ready, ready
     for bad in ("0", "-0.001", "2", "nan"):
         r = subprocess.run([daemon, "--bank", bank, "--maneuver-mach-rate", bad], capture_output=True, text=True,

@@ -22,16 +22,7 @@ from f16mmae.loop.estimator import core_arguments
 from f16mmae.loop.estimator_options import check
 from f16mmae.names import ADAPT_SET_TEMPERING_FULL, SET_TEMPERING_FULL, SINGLE_HYPOTHESES
 
-
-def _ready_line(daemon: str, flags) -> str:
-    """The first line ``mmae-daemon`` prints with the set and ``flags`` (its ready line), the
-    daemon then stopped."""
-    p = subprocess.Popen([daemon, "--bank", str(set_path()), *flags, "--lcm-url", "memq://"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
-    return ready
+from daemon_support import ready_line
 
 
 def test_the_option_becomes_the_weight_and_the_fully_tempered_hypotheses_bits():
@@ -54,12 +45,7 @@ def test_with_a_bank_s_own_adaptation_the_daemon_takes_it_and_names_it():
     options = {"adapt_turbulence": True, "set_tempering": 0.25}
     flags = daemon_flags(options)
     assert flags[flags.index("--set-tempering-full") + 1] == "LS,RS,LF,RF,VEL,AOA,AZ"
-    daemon = str(find_executable("mmae-daemon"))
-    p = subprocess.Popen([daemon, "--bank", str(load_bank("tuned")[1]), *flags, "--lcm-url", "memq://"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    ready = p.stdout.readline()
-    p.terminate()
-    p.communicate(timeout=5)
+    ready = ready_line("--bank", load_bank("tuned")[1], *flags)
     bits = core_arguments(options)["adapt_full_tempering"]
     assert f"set tempering 0.25 from rho 0 full {bits}" in ready, ready
     # in process the same bits reach the core
@@ -127,7 +113,7 @@ def test_the_gate_reaches_the_core_and_the_daemon():
     assert flags[flags.index("--set-tempering-full") + 1] == ",".join(SET_TEMPERING_FULL)
     assert flags[flags.index("--set-tempering-rho") + 1] == "2.68"
     daemon = str(find_executable("mmae-daemon"))
-    ready = _ready_line(daemon, flags)
+    ready = ready_line("--bank", set_path(), *flags)
     bits = args["adapt_full_tempering"]
     assert f"set tempering 0.25 from rho 2.68 full {bits}" in ready, ready
     for bad, message in ((["--turbulence-banks", "--set-tempering-rho", "2"], "--set-tempering-rho applies with --set-tempering only"),
@@ -260,12 +246,12 @@ def test_the_daemon_flies_the_margin_and_names_it():
                "set_tempering_margin": True}
     flags = daemon_flags(options)
     daemon = str(find_executable("mmae-daemon"))
-    ready = _ready_line(daemon, flags)
+    ready = ready_line("--bank", set_path(), *flags)
     bits = core_arguments(options)["adapt_full_tempering"]
     assert f"set tempering 0.15 from rho 2.68 margin full {bits}" in ready, ready
     flags = daemon_flags({**options, "set_tempering_margin_stabilators": True})
     assert flags[flags.index("--set-tempering-margin-over") + 1] == "LS,RS"
-    ready = _ready_line(daemon, flags)
+    ready = ready_line("--bank", set_path(), *flags)
     over = core_arguments({**options, "set_tempering_margin_stabilators": True})["adapt_spare_margin_over"]
     assert f"set tempering 0.15 from rho 2.68 margin over {over} full {bits}" in ready, ready
     r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering", "0.15",
@@ -299,7 +285,7 @@ def test_the_spare_dwell_reaches_the_core_and_the_daemon():
     flags = daemon_flags(options)
     assert flags[flags.index("--set-tempering-dwell") + 1] == "0.0625"
     daemon = str(find_executable("mmae-daemon"))
-    ready = _ready_line(daemon, flags)
+    ready = ready_line("--bank", set_path(), *flags)
     assert f"set tempering 0.15 from rho 2.68 full {full} dwell 0.0625 s" in ready, ready
     r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering-dwell", "0.0625"],
                        capture_output=True, text=True, timeout=20)

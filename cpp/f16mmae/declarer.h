@@ -66,7 +66,10 @@
 //   dwell_frames_k = max(dwell_frames_in_force, round(D_k frame_rate_hz)),
 // in place of dwell_frames_in_force in both rules above (the frame dwell, and the evidence
 // dwell's N_k dwell_frames_k / dwell_frames); a hypothesis the table does not name, or names
-// with 0, keeps the dwell in force. k as for the evidence dwell (hypothesis_of_slot); the names
+// with 0, keeps the dwell in force. A dual "A+B" the table does not name takes the longest of
+// its components' least dwells, D_A+B = max(D_A, D_B) (a component not named: 0), so the
+// dual that adds a failed VEL to a declared failure waits as VEL alone does; named, its own
+// entry. k as for the evidence dwell (hypothesis_of_slot); the names
 // are resolved at construction into frames by index. Why per hypothesis: a hypothesis whose
 // no-failure excursions above the threshold are short but frequent while its failures hold the
 // threshold for good (the scheduled bank's failed VEL: its filter, free of the airspeed reading,
@@ -350,11 +353,25 @@ class Declarer {
         throw std::invalid_argument("declarer: dwell_s_per_hypothesis '" + name + "' must be in [0, " +
                                     format_value(kMaxDwellS) + "] s, got " + format_value(d));
     for (const auto& h : names) {
-      const auto it = o.dwell_s_per_hypothesis.find(h);
-      out.push_back(it == o.dwell_s_per_hypothesis.end() || it->second == 0.0
-                        ? 0 : f16mmae::dwell_frames(it->second, o.frame_rate_hz, "declarer"));
+      const double d = least_dwell_s(o.dwell_s_per_hypothesis, h);
+      out.push_back(d == 0.0 ? 0 : f16mmae::dwell_frames(d, o.frame_rate_hz, "declarer"));
     }
     return out;
+  }
+  // D of hypothesis `name` (header): its entry, else for a dual "A+B" the longest of its
+  // components' entries, else 0.
+  static double least_dwell_s(const std::map<std::string, double>& table, const std::string& name) {
+    const auto it = table.find(name);
+    if (it != table.end()) return it->second;
+    if (name.find('+') == std::string::npos) return 0.0;
+    double longest = 0.0;
+    for (std::size_t start = 0;;) {
+      const std::size_t plus = name.find('+', start);
+      const auto part = table.find(name.substr(start, plus == std::string::npos ? plus : plus - start));
+      if (part != table.end()) longest = std::max(longest, part->second);
+      if (plus == std::string::npos) return longest;
+      start = plus + 1;
+    }
   }
   // Every name of `table` is one of `names`; throws std::invalid_argument naming `setting` and
   // the bank's hypotheses otherwise.

@@ -375,6 +375,18 @@ TEST(DeclarerLeastDwell, AHypothesisWithItsOwnDwellWaitsForIt) {
   EXPECT_EQ(r.update(one(2)), 2);
 }
 
+TEST(DeclarerLeastDwell, ADualTakesTheLongestOfItsComponentsUnlessNamed) {
+  DeclarerOptions o;   // 64 Hz: VEL 64 frames, AOA 32
+  o.dwell_s_per_hypothesis = {{"VEL", 1.0}, {"AOA", 0.5}, {"LS+AOA", 0.25}};
+  const std::vector<std::string> names{"NONE", "LS", "VEL", "AOA", "LS+VEL", "AOA+VEL", "LS+AOA", "LS+RS"};
+  Declarer d(o, 0, names);
+  const int expected[] = {0, 0, 64, 32, 64, 64, 16, 0};   // LS+AOA named: its own 0.25 s
+  for (int k = 0; k < static_cast<int>(names.size()); ++k) EXPECT_EQ(d.least_dwell_frames_of(k), expected[k]) << names[k];
+  const std::array<double, 8> p{0.01, 0.01, 0.01, 0.01, 0.93, 0.01, 0.01, 0.01};   // LS+VEL at the ceiling: 64 frames
+  for (int i = 0; i < 63; ++i) ASSERT_EQ(d.update(p), -1) << i;
+  EXPECT_EQ(d.update(p), 4);
+}
+
 TEST(DeclarerLeastDwell, TheEvidenceDwellScalesWithItAndSlotsAreMapped) {
   DeclarerOptions o;
   o.dwell_nats_per_hypothesis = {{"B", 4.0}};

@@ -72,6 +72,10 @@ def vel_rol_schedule(tmp_path_factory):
     return core.load_bank(str(path))
 
 
+#: The scheduled default's least dwells turned off (the core banks below fly without them).
+NO_LEAST_DWELL = ",".join(f"{entry.split('=')[0]}=0" for entry in names.SCHEDULE_DWELL_S_PER_HYPOTHESIS.split(","))
+
+
 def _fly(estimator_or_core, bank, frames=150):
     """rho after each frame of a flight whose measurements are the trim plus white noise (the
     same for every estimator)."""
@@ -88,8 +92,10 @@ def _fly(estimator_or_core, bank, frames=150):
 
 def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_schedule):
     bank = vel_rol_schedule
-    no_trim = {"trim_time_constant_s": 0.0}   # the scheduled trim tracking moves the residuals; the rule alone here
-    est = Estimator(bank, adapt_turbulence=True, **no_trim)
+    # the scheduled trim tracking moves the residuals, and the least dwells move the declarations
+    # (the noise below declares): the rule alone here
+    rule_alone = {"trim_time_constant_s": 0.0, "dwell_s_per_hypothesis": NO_LEAST_DWELL}
+    est = Estimator(bank, adapt_turbulence=True, **rule_alone)
     assert est.settings["adapt_own_channels"] is True and est.settings["adapt_counted_channel"] == "vel"
     assert Estimator(bank, adapt_turbulence=True).settings["trim_time_constant_s"] == names.SCHEDULE_TRIM_TIME_CONSTANT_S
     own = core.HierarchicalBank(bank, adapt_turbulence=True, adapt_own_channels=True)
@@ -99,10 +105,10 @@ def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_
     np.testing.assert_array_equal(r_est, r_counted)   # VEL's channel is bit 0 of z
     assert not np.array_equal(r_own, r_plain)   # the bank has uninformative channels: the rule matters
     assert not np.array_equal(r_counted, r_own) and not np.array_equal(r_counted, r_plain)
-    old = Estimator(bank, adapt_turbulence=True, adapt_all_channels=True, **no_trim)
+    old = Estimator(bank, adapt_turbulence=True, adapt_all_channels=True, **rule_alone)
     assert "adapt_own_channels" not in old.settings and old.settings["adapt_all_channels"] is True
     np.testing.assert_array_equal(_fly(old, bank), r_plain)
-    np.testing.assert_array_equal(_fly(Estimator(bank, adapt_turbulence=True, adapt_own_channels=True, **no_trim), bank), r_own)
+    np.testing.assert_array_equal(_fly(Estimator(bank, adapt_turbulence=True, adapt_own_channels=True, **rule_alone), bank), r_own)
 
 
 def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch):
@@ -124,7 +130,7 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
-                          "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", "VEL=1"}
+                          "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
 
@@ -152,5 +158,6 @@ def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(
     np.testing.assert_array_equal(r_pit, r_own)
     assert not np.array_equal(r_vel, r_own)
     assert np.all(r_vel >= r_own)   # a minimum over fewer hypotheses is never lower
-    est = Estimator(bank, adapt_turbulence=True, adapt_excluded_channel="vel")
+    est = Estimator(bank, adapt_turbulence=True, adapt_excluded_channel="vel",
+                    dwell_s_per_hypothesis=NO_LEAST_DWELL)   # the core banks' declarations
     np.testing.assert_array_equal(_fly(est, bank), r_vel)

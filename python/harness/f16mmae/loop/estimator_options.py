@@ -359,7 +359,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("dwell_s_per_hypothesis", "--dwell-s-per-hypothesis", "table", metavar="NAME=S,...",
                     help="the least dwell of these hypotheses: NAME is declared after the longer of the dwell in "
                          "force (--dwell-s, a maneuver's or a climb's) and S seconds above the threshold, its "
-                         "evidence dwell scaled alike (cpp/f16mmae/declarer.h); NAME=0: the dwell in force. Default: "
+                         "evidence dwell scaled alike; a dual A+B not named takes the longer of A's and B's "
+                         "(cpp/f16mmae/declarer.h); NAME=0: the dwell in force. Default: "
                          f"{SCHEDULE_DWELL_S_PER_HYPOTHESIS} on a scheduled bank with --adapt-turbulence "
                          "(names.SCHEDULE_DWELL_S_PER_HYPOTHESIS), else none"),
     EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,

@@ -12,6 +12,7 @@ from f16mmae.banks import load_bank
 from f16mmae.campaign.detectability import (DetectabilityCampaign, plan, score_detection, sigma_of, summarize,
                                             summarize_point, truth_value)
 from f16mmae.campaign.engine.config import CampaignError
+from f16mmae.campaign.engine.failure_runs import failure_offset
 from f16mmae.campaign.engine.store import ResultsStore
 from f16mmae.cli.main import main
 
@@ -116,7 +117,25 @@ def test_plan_flies_run_n_on_one_seed_at_every_size_and_family():
     assert f["mode"] == "drift" and f["value"] == pytest.approx(sigma_of("PIT"))
 
 
+def test_the_failure_jitter_shifts_a_run_s_failure_and_end_alike_at_every_size():
+    cfg = DetectabilityCampaign(runs=2, components=("AOA",), sizes=(1.0, 10.0), rates=(1.0,), failure_time_s=4.0,
+                                duration_s=9.0, failure_jitter_s=1.5).validate()
+    _, _, bank = load_bank("tuned")
+    specs = plan(cfg, "tuned", bank)
+    assert len(specs) == 2 * 3
+    for spec in specs:
+        offset = failure_offset(spec["seed"], 1.5)   # the single-failure campaign's offset of that seed
+        assert 0.0 < offset < 1.5
+        assert spec["scenario"]["failures"][0]["time_s"] == pytest.approx(4.0 + offset)
+        assert spec["scenario"]["duration_s"] == pytest.approx(9.0 + offset)
+    for n in range(2):   # one offset per run at every size and family
+        assert len({s["scenario"]["failures"][0]["time_s"] for s in specs if s["run_index"] == n}) == 1
+    plain = plan(DetectabilityCampaign(runs=2, components=("AOA",), sizes=(1.0, 10.0), rates=(1.0,)), "tuned", bank)
+    assert {s["scenario"]["failures"][0]["time_s"] for s in plain} == {3.0}
+
+
 @pytest.mark.parametrize("kwargs, expected", [
+    (dict(failure_jitter_s=61.0), "--failure-jitter 61 must lie in [0, 60] s"),
     (dict(sizes=()), "--sizes needs 1 to 20 values, got 0"),
     (dict(losses=(0.5, 1.5)), "--losses value 1.5 must lie in (0, 1]"),
     (dict(rates=(0.0,)), "--rates value 0.0 must lie in (0, 1000]"),
@@ -139,6 +158,8 @@ def test_config_refuses_bad_values_by_name(kwargs, expected):
     (["--components", "LS,WING"], "--components: unknown component(s) WING; valid: VEL,AOA"),
     (["--mode", "bias"], "--mode 'bias': campaign detectability sets the mode per family"),
     (["--runs", "0"], "--runs '0' must be >= 1"),
+    (["--failure-jitter", "-1"], "--failure-jitter '-1' must be >= 0"),
+    (["--failure-time", "x"], "--failure-time 'x' is not a number"),
 ])
 def test_cli_refuses_bad_options_by_name(argv, expected, capsys, tmp_path):
     assert main(["campaign", "detectability", *argv, "--out", str(tmp_path / "o")]) == 2
@@ -153,7 +174,7 @@ def test_cli_help_teaches(capsys):
     assert exc.value.code == 0
     out = capsys.readouterr().out
     for text in ("examples:", "--sizes", "--rates", "--losses", "sigma", "0.005 g", "Clopper-Pearson",
-                 "bias.png", "--markdown"):
+                 "bias.png", "--markdown", "--failure-jitter", "--failure-time"):
         assert text in out, text
 
 

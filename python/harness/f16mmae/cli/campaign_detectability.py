@@ -6,7 +6,8 @@ import argparse
 from ..campaign.detectability import DetectabilityCampaign, run_campaign
 from ..campaign.detectability.campaign import COMPONENTS, DEFAULT_LOSSES, DEFAULT_RATES, DEFAULT_SIZES, SIZE_MAX
 from ..campaign.detectability.report import print_table
-from .campaign_common import add_flight_settings, add_run_arguments, flight_settings, run_and_report, validated
+from .campaign_common import (add_failure_instant, add_flight_settings, add_run_arguments, failure_instant,
+                              flight_settings, run_and_report, validated)
 from .options import CliError, number, parse_choices
 
 DESCRIPTION = """\
@@ -15,9 +16,10 @@ ROL YAW AY) the detection probability against a bias (--sizes, in multiples of t
 sensor's white-noise sigma in the truth model: 0.5 ft/s, 0.1 deg, 0.1 deg/s, 0.01 g,
 0.1 deg/s, 0.1 deg/s, 0.005 g) and against a drift (--rates, sigma per second from the
 onset); for each actuator (LS RS LF RF RUD) against the fraction of its effectiveness lost
-(--losses, 1 = nothing left).  N seeded runs per size, the failure at 3.0 s of an 8-s
-flight at the bank's design point.  Run n of a component flies the same seed at every size,
-so a curve's points differ by the failure's size alone.
+(--losses, 1 = nothing left).  N seeded runs per size, the failure at --failure-time (3.0 s)
+of a flight that lasts 5 s beyond it, at the bank's design point.  Run n of a component flies
+the same seed (and, with --failure-jitter, the same failure offset) at every size, so a
+curve's points differ by the failure's size alone.
 
 "Detected": the failed component's hypothesis declared at or after the onset within the
 flight.  "Any declared": some failure declared after the onset (the gap is mis-isolation).
@@ -29,6 +31,7 @@ examples:
   f16mmae campaign detectability                      # every component, default sizes, 10 runs
   f16mmae campaign detectability --components AOA,VEL,LS --sizes 1,3,10 --runs 5
   f16mmae campaign detectability --components RUD --losses 0.2,0.5,0.9 --turbulence none
+  f16mmae campaign detectability --components LS,RS --failure-jitter 1   # dither phases sampled
 
 defaults: --sizes {','.join(f'{x:g}' for x in DEFAULT_SIZES)} (sigma), --rates {','.join(f'{x:g}' for x in DEFAULT_RATES)} (sigma/s),
           --losses {','.join(f'{x:g}' for x in DEFAULT_LOSSES)} (fraction lost)
@@ -53,6 +56,7 @@ def register(kinds) -> None:
                    help=f"sensor drift rates in sigma per second, each in (0, {SIZE_MAX:g}]")
     s.add_argument("--losses", default=None, metavar="LIST",
                    help="actuator fractions of effectiveness lost, each in (0, 1]")
+    add_failure_instant(s)
     add_run_arguments(s, "results/campaign-detectability")
     s.set_defaults(func=_detectability)
 
@@ -77,7 +81,7 @@ def config_from_args(args) -> DetectabilityCampaign:
                        "(bias, drift, loss); choose sizes with --sizes, --rates, --losses")
     settings = {k: v for k, v in flight_settings(args).items() if k != "mode"}
     cfg = DetectabilityCampaign(
-        **settings, components=parse_choices("--components", args.components, COMPONENTS, "component"),
+        **settings, **failure_instant(args), components=parse_choices("--components", args.components, COMPONENTS, "component"),
         sizes=parse_sizes("--sizes", args.sizes, DEFAULT_SIZES, SIZE_MAX),
         rates=parse_sizes("--rates", args.rates, DEFAULT_RATES, SIZE_MAX),
         losses=parse_sizes("--losses", args.losses, DEFAULT_LOSSES, 1.0))

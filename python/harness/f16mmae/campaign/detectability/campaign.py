@@ -30,6 +30,12 @@ first such hypothesis of each, counted (the three most frequent, ties by name).
 Seeds (common random numbers across sizes and families): run ``n`` of component ``c`` flies
 ``evaluation_seed("detectability", S, c, n)`` at every size of every family, so a curve's
 points differ by the failure's size alone.
+
+Failure offset (``failure_jitter_s`` J > 0; 0, the default: none): that run fails at
+``failure_time_s + J x`` and flies ``duration_s + J x``, x in [0, 1) drawn from its seed
+(``engine.failure_runs.failure_offset``, as the single-failure campaign does), the same offset at
+every size: the run meets another phase of the deterministic surface dither, and a curve's
+points still differ by the size alone.
 """
 from __future__ import annotations
 
@@ -48,6 +54,7 @@ from ...truth.failures import make_failure
 from ...truth.sensors import NOISE_SIGMA
 from ..engine import drilldown, evidence, identity, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
+from ..engine.failure_runs import check_failure_jitter, failure_offset
 from ..engine.intervals import rate
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
@@ -93,6 +100,7 @@ class DetectabilityCampaign(CampaignConfig):
     rates: tuple[float, ...] = DEFAULT_RATES    # drift, sigma per s
     losses: tuple[float, ...] = DEFAULT_LOSSES  # loss, fraction of effectiveness lost
     failure_time_s: float = FAILURE_TIME_S
+    failure_jitter_s: float = 0.0  # each run's failure up to this much later (module docstring)
     mode: str = "complete"  # not flown: each family sets its own truth mode (FAMILIES)
 
     def family_sizes(self) -> dict[str, tuple[float, ...]]:
@@ -109,6 +117,7 @@ class DetectabilityCampaign(CampaignConfig):
         limits = {"--sizes": (self.sizes, SIZE_MAX), "--rates": (self.rates, SIZE_MAX), "--losses": (self.losses, 1.0)}
         for option, (values, top) in limits.items():
             check_sizes(option, values, top)
+        check_failure_jitter(self)
         if not 0 < self.failure_time_s < self.duration_s:
             raise CampaignError(f"the failure time {self.failure_time_s} s must lie inside the flight "
                                 f"(0, {self.duration_s}) s")
@@ -137,8 +146,9 @@ def plan(cfg: DetectabilityCampaign, tuning_arg: str, bank) -> list[dict]:
                 value = truth_value(family, component, size)
                 for n in range(cfg.runs):
                     seed = evaluation_seed("detectability", cfg.seed, component, n)
-                    failure = make_failure(component, cfg.failure_time_s, mode, value)
-                    scenario = cfg.scenario_dict(bank, (failure,), seed)
+                    offset = failure_offset(seed, cfg.failure_jitter_s)
+                    failure = make_failure(component, cfg.failure_time_s + offset, mode, value)
+                    scenario = cfg.scenario_dict(bank, (failure,), seed, duration_s=cfg.duration_s + offset)
                     ident = {"kind": "detectability", "scenario": scenario, "estimator": cfg.estimator_options(),
                              "bank_hash": bank.content_hash, "version": __version__}
                     specs.append({"run_key": run_key(ident), "family": family, "component": component,
@@ -216,7 +226,7 @@ def summarize(cfg: DetectabilityCampaign, label: str, bank, records: list[dict])
         "kind": "detectability", "runs_per_size": cfg.runs, "seed": cfg.seed, "bank_hash": bank.content_hash,
         "version": __version__, "tuning": label, "turbulence": cfg.turbulence, "mode": "|".join(FAMILIES),
         "mach": float(bank.mach), "alt_ft": float(bank.alt_ft), "failure_time_s": cfg.failure_time_s,
-        "duration_s": cfg.duration_s, "feedback": cfg.feedback, "dither_scale": cfg.dither_scale,
+        "failure_jitter_s": cfg.failure_jitter_s, "duration_s": cfg.duration_s, "feedback": cfg.feedback, "dither_scale": cfg.dither_scale,
         "estimator": cfg.estimator_options(),
         "estimator_settings": bank_estimator_settings(bank, cfg.estimator_options()),
         "sigma": {s: sigma_of(s) for s in SENSORS},

@@ -59,7 +59,9 @@ def _setting_lines(s: dict) -> list[tuple[str, str]]:
     code = s.get("code") or {}
     return [("runs per size", str(s["runs_per_size"])), ("campaign seed", str(s["seed"])),
             ("flight condition", f"Mach {s['mach']}, {s['alt_ft']:.0f} ft"), ("turbulence", s["turbulence"]),
-            ("failure time / duration (s)", f"{s['failure_time_s']} / {s['duration_s']}"),
+            ("failure time / duration (s)", f"{s['failure_time_s']} / {s['duration_s']}"
+             + (f", each run's failure and end up to {s['failure_jitter_s']:g} s later (its seed)"
+                if s.get("failure_jitter_s") else "")),
             ("bank (tuning, hash)", f"{s['tuning']}, {s['bank_hash']}"),
             ("estimator settings", ", ".join(f"{k} {_setting(v)}" for k, v in s["estimator_settings"].items())),
             ("code", f"{s['version']}, {code.get('code', 'unrecorded')}"),

@@ -253,7 +253,8 @@ const std::vector<Flag>& flags() {
        text(&C::dwell_nats_table_path, "needs a table file name")},
       {"--dwell-s-per-hypothesis", "NAME=S,...",
        "the least dwell of these hypotheses, s: NAME is declared after the longer of the dwell in force and S, "
-       "a dual A+B not named after the longer of A's and B's (declarer.h; default: none)",
+       "a dual A+B not named after the longer of A's and B's (declarer.h; default: none; 'f16mmae hil' gives a "
+       "scheduled bank's with --adapt-turbulence, its default in process)",
        parsed_by([](DaemonConfig& c, const std::string& v) -> std::string {
          try {
            c.estimator.declarer.dwell_s_per_hypothesis = parse_dwell_s_per_hypothesis(v);

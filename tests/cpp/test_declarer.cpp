@@ -381,7 +381,8 @@ TEST(DeclarerLeastDwell, ADualTakesTheLongestOfItsComponentsUnlessNamed) {
   const std::vector<std::string> names{"NONE", "LS", "VEL", "AOA", "LS+VEL", "AOA+VEL", "LS+AOA", "LS+RS"};
   Declarer d(o, 0, names);
   const int expected[] = {0, 0, 64, 32, 64, 64, 16, 0};   // LS+AOA named: its own 0.25 s
-  for (int k = 0; k < static_cast<int>(names.size()); ++k) EXPECT_EQ(d.least_dwell_frames_of(k), expected[k]) << names[k];
+  for (int k = 0; k < static_cast<int>(names.size()); ++k)
+    EXPECT_EQ(d.least_dwell_frames_of(k), expected[k]) << names[k];
   const std::array<double, 8> p{0.01, 0.01, 0.01, 0.01, 0.93, 0.01, 0.01, 0.01};   // LS+VEL at the ceiling: 64 frames
   for (int i = 0; i < 63; ++i) ASSERT_EQ(d.update(p), -1) << i;
   EXPECT_EQ(d.update(p), 4);

@@ -81,7 +81,8 @@ def config_from_args(args) -> DetectabilityCampaign:
                        "(bias, drift, loss); choose sizes with --sizes, --rates, --losses")
     settings = {k: v for k, v in flight_settings(args).items() if k != "mode"}
     cfg = DetectabilityCampaign(
-        **settings, **failure_instant(args), components=parse_choices("--components", args.components, COMPONENTS, "component"),
+        **settings, **failure_instant(args),
+        components=parse_choices("--components", args.components, COMPONENTS, "component"),
         sizes=parse_sizes("--sizes", args.sizes, DEFAULT_SIZES, SIZE_MAX),
         rates=parse_sizes("--rates", args.rates, DEFAULT_RATES, SIZE_MAX),
         losses=parse_sizes("--losses", args.losses, DEFAULT_LOSSES, 1.0))

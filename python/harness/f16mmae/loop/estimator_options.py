@@ -588,7 +588,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turbulence bank set), ``set_tempering`` ``names.SCHEDULE_SET_TEMPERING`` unless given (1
     turns it off), whatever the channel rule, ``trim_time_constant_s``
     ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off) and
-    ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0``
+    ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AZ=0``
     turns it off). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
     too. A copy; ``settings`` is not changed."""

@@ -305,6 +305,9 @@ py::list maneuver_trim_sensitivities(const ModelBank& mb) {
 }
 
 void bind_hierarchical(py::module_& m) {
+  m.def("parse_calm_complete", &parse_calm_complete, py::arg("text"),
+        "The calm-air bounds of 'NAME=RHO[,NAME=RHO...]', {measurement: rho} (cpp/f16mmae/\n"
+        "calm_air_complete.h; rho in [0, 100], 0: off). ValueError naming the entry.");
   m.def("maneuver_trim_sensitivities", &maneuver_trim_sensitivities, py::arg("model_bank"),
         "Per node of the bank (one for a bank of one design) a dict: mach, alt_ft and the climb and\n"
         "acceleration sensitivities of its NONE filter's trim, d(x, u, z)/d(gamma rad, dV/dt ft/s^2) as\n"
@@ -363,6 +366,13 @@ an uninformative channel whose bit is set still counts in m_k (0, the default: n
 adapt_excluded_channels: a bit per measurement channel j (1 << j, z's order); a hypothesis that reads
 a set channel as a free level (uninformative there) while the presumed one does not leaves the
 adaptation's minimum (it still gets the scale; 0, the default: none leaves it).
+
+calm_complete_rho ({measurement: rho}, with adapt_turbulence; empty, the default, or rho 0: off): while
+the adaptation's measured power ratio is below rho times the calm-air reference in force (a scheduled
+bank whose nodes carry one, else 1; decided while no failure is presumed or rising),
+the hypotheses that read that measurement as a tracked level read it with the paper's complete
+model, the trim plus its noise (cpp/f16mmae/calm_air_complete.h); calm_complete_channels reads the
+channels in force (a bit per measurement).
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.
@@ -441,6 +451,17 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("actuator_limits", prop([](auto& b) { return b.options().actuators.enabled(); }))
       .def_property_readonly("turbulence_power_ratio", prop([](auto& b) { return b.bank().adaptation().power_ratio(); }),
                              "the adaptation's averaged residual power ratio rho (1.0 when off)")
+      .def_property_readonly("measured_power_ratio",
+                             prop([](auto& b) { return b.bank().adaptation().measured_power_ratio(); }),
+                             "the adaptation's measured rho-bar (0.0 before the first update; the calm-air "
+                             "complete model's and the turbulence bank set's measure of the air)")
+      .def_property_readonly("calm_complete_channels", prop([](auto& b) { return b.bank().complete_channels(); }),
+                             "the channels read with the complete model from the next update on, a bit per "
+                             "measurement (calm_complete_rho)")
+      .def_property_readonly("calm_reference", prop([](auto& b) {
+                               return b.scheduled().active() ? b.scheduled().calm_reference() : 1.0;
+                             }),
+                             "the scheduled calm-air reference in force, calm_complete_rho's unit (1.0 without one)")
       .def_property_readonly("log_likelihoods", prop([](auto& b) { return cv::to_numpy(b.bank().log_likelihoods()); }),
                              "(K,) the log-likelihoods l_k (eq. 2, tempered) of the filters on line at the last update")
       .def_property_readonly("turbulence_channel_scales", prop([](auto& b) {

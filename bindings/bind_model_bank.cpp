@@ -197,8 +197,8 @@ ModelBank bank_from_file_bytes(const py::bytes& data, const std::string& source)
   return parse_any_bank_file(reinterpret_cast<const std::uint8_t*>(view.data()), view.size(), source);
 }
 
-// A BankSchedule from Python: nodes = [(i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer]]), ...]
-// (adapt_reference None: not carried).
+// A BankSchedule from Python: nodes = [(i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer[,
+// calm_reference]]]), ...] (a reference None: not carried).
 BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<double>& alt_ft, const py::list& nodes,
                            int primary, const std::string& metadata, int switch_state,
                            const std::vector<double>& switch_thresholds, double start_up_s) {
@@ -212,10 +212,10 @@ BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<do
   s.metadata = metadata;
   for (std::size_t n = 0; n < nodes.size(); ++n) {
     const py::tuple t = nodes[n].cast<py::tuple>();
-    if (t.size() < 4 || t.size() > 6)
+    if (t.size() < 4 || t.size() > 7)
       throw py::value_error("schedule nodes[" + std::to_string(n) +
-                            "] must be (i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer]]), got " +
-                            std::to_string(t.size()) + " items");
+                            "] must be (i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer[, calm_reference]]]), "
+                            "got " + std::to_string(t.size()) + " items");
     ScheduleNode node;
     node.i_mach = t[0].cast<int>();
     node.i_alt = t[1].cast<int>();
@@ -223,7 +223,8 @@ BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<do
     node.bank.schedule.reset();
     node.x_trim = to_vector(t[3], "schedule nodes[" + std::to_string(n) + "].x_trim");
     if (t.size() >= 5 && !t[4].is_none()) node.adapt_reference = t[4].cast<double>();
-    if (t.size() == 6) node.layer = t[5].cast<int>();
+    if (t.size() >= 6) node.layer = t[5].cast<int>();
+    if (t.size() == 7 && !t[6].is_none()) node.calm_reference = t[6].cast<double>();
     s.nodes.push_back(std::move(node));
   }
   s.validate();
@@ -248,6 +249,7 @@ py::object schedule_info(const ModelBank& b) {
     e["x_trim"] = readonly(n.x_trim);
     e["layer"] = n.layer;
     e["adapt_reference"] = std::isnan(n.adapt_reference) ? py::object(py::none()) : py::object(py::float_(n.adapt_reference));
+    e["calm_reference"] = std::isnan(n.calm_reference) ? py::object(py::none()) : py::object(py::float_(n.calm_reference));
     nodes.append(e);
   }
   d["nodes"] = nodes;
@@ -566,11 +568,13 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       py::arg("switch_thresholds") = std::vector<double>{}, py::arg("start_up_s") = 0.0,
       "Write a scheduled-bank file (cpp/bankfile/schedule_file.h) atomically; returns its content hash.\n"
       "mach, alt_ft: the ascending grid axes; nodes: [(i_mach, i_alt, ModelBank, x_trim (nx,)[, adapt_reference\n"
-      "[, layer]]), ...], one per covered grid point and layer (adapt_reference: the turbulence adaptation's rho_0\n"
-      "at the node, given for every node or for none, None: not carried; layer: the configuration layer, 0 by\n"
-      "default); switch_state, switch_thresholds: the configuration law (bank_schedule.h; -1 and none: one\n"
+      "[, layer[, calm_reference]]]), ...], one per covered grid point and layer (adapt_reference: the turbulence\n"
+      "adaptation's rho_0 at the node, given for every node or for none, None: not carried; layer: the configuration\n"
+      "layer, 0 by default; calm_reference: the measured rho-bar midway between the node's calm and light air,\n"
+      "calm_air_complete.h, every node or none); switch_state, switch_thresholds: the configuration law (bank_schedule.h; -1 and none: one\n"
       "layer); primary: the node in force before air data; start_up_s: the estimator start-up the schedule\n"
-      "recommends, s (0: none; written as format 3 when > 0, else 2). ValueError naming the field.\n"
+      "recommends, s (0: none). Written as format 4 with calm references, else 3 with a start-up, else 2.\n"
+      "ValueError naming the field.\n"
       "core.load_bank reads the file back as the primary node's ModelBank with .schedule set.");
   m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s
   m.attr("DEFAULT_THRESHOLD") = kDefaultThreshold;  // the declaration threshold the core defaults to

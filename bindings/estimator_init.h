@@ -130,6 +130,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::declarer, &DeclarerOptions::dwell_s_per_hypothesis>("dwell_s_per_hypothesis"),  // {name: D_k s}
       {"declarer", "a core.Declarer or None", [](O&, py::handle) {},
        [](const O&) { return py::object(py::none()); }},
+      // the calm-air complete model (calm_air_complete.h)
+      field<&O::calm_complete, &CalmAirCompleteOptions::rho>("calm_complete_rho"),  // {measurement: rho_j}
       // trim tracking
       field<&O::trim, &TrimTrackingOptions::time_constant_s>("trim_time_constant_s"),
       field<&O::trim, &TrimTrackingOptions::freeze_probability>("trim_freeze_probability"),

@@ -22,6 +22,8 @@
 //                     int32 nx, nx doubles                x_trim
 //                     double adapt_reference              version 2 only: rho_0 at the node,
 //                                                         NaN when not carried (bank_schedule.h)
+//                     double calm_reference               version 4 only: the node's calm-air
+//                                                         reference, NaN when not carried
 //                     int64 n, n bytes                    a complete model-bank file image
 //                                                         (bank_file.h, checked by parse_bank_file)
 // content_hash = lower-case hex SHA-256 of the payload (deterministic: the same schedule gives
@@ -29,9 +31,10 @@
 // file is, and a node can be taken out and used alone; shared parts are not factored out.
 //
 // Version 1 files (one layer, no adapt_reference) are still read: their nodes carry none.
-// Versions 1 and 2 carry no start_up_s: they recommend none (0). A schedule is written as
-// version 3 when it recommends a start-up (start_up_s > 0), else as version 2, byte for byte
-// as before (schedule_file_version). The ModelBank parse_schedule_file returns reports the
+// Versions 1 and 2 carry no start_up_s: they recommend none (0); versions 1 to 3 no
+// calm_reference (NaN). A schedule is written as version 4 when its nodes carry a calm-air
+// reference, else as version 3 when it recommends a start-up (start_up_s > 0), else as version
+// 2, byte for byte as before (schedule_file_version). The ModelBank parse_schedule_file returns reports the
 // schedule's start_up_s as its estimator.start_up_s.
 // parse_schedule_file refuses, naming the file and the field (BankFileFormatError, an
 // std::invalid_argument): wrong magic or version, truncation, trailing bytes, a hash

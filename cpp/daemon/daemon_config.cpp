@@ -1,5 +1,6 @@
 #include "daemon_config.h"
 
+#include "f16mmae/calm_air_complete.h"
 #include "f16mmae/declarer.h"
 #include "f16mmae/estimator_settings.h"
 
@@ -309,6 +310,21 @@ const std::vector<Flag>& flags() {
        "the hypotheses that read NAME's channel as a free level (a constant or cover level for it) leave the "
        "adaptation's minimum over the hypotheses; they still get its scale",
        sensor(&C::adapt_excluded_channel), nullptr, "--adapt-turbulence", adapting},
+      {"--calm-complete", "NAME=RHO,...",
+       "while the adaptation's measured power ratio is below RHO (decided while no failure is presumed or rising), "
+       "the hypotheses that read measurement NAME as a tracked level read it as the paper's complete failure, the "
+       "trim plus its noise (calm_air_complete.h; default: none; 'f16mmae hil' gives a scheduled bank's with "
+       "--adapt-turbulence, its default in process)",
+       parsed_by([](DaemonConfig& c, const std::string& v) -> std::string {
+         try {
+           c.estimator.calm_complete.rho = f16mmae::parse_calm_complete(v);
+         } catch (const std::invalid_argument& e) {   // "calm_complete: why"
+           const std::string why = e.what();
+           return why.substr(why.find(": ") + 2);
+         }
+         return "";
+       }),
+       nullptr, "--adapt-turbulence", adapting},
       {"--adapt-reference-climb", "RHO",
        "the reference while the air data climb or descend faster than 300 ft/min or change Mach faster than "
        "the Mach-rate gate (default: off, the reference above everywhere)",

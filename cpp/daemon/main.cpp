@@ -245,6 +245,12 @@ int main(int argc, char** argv) {
         adaptation.insert(adaptation.size() - 1, ", running start");
       if (executive->estimator().members() == 0 && options.bank.adaptation.enabled && !cfg.adapt_excluded_channel.empty())
         adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_excluded_channel + " levels excluded");
+      if (options.bank.adaptation.enabled && !running.calm_complete.rho.empty()) {   // calm_air_complete.h
+        std::string calm;   // "(..., complete in calm air VEL 1)": the bounds, relative to a node's reference
+        for (const auto& [name, rho] : running.calm_complete.rho)
+          if (rho > 0.0) calm += (calm.empty() ? "" : " ") + name + " " + f16mmae::format_value(rho);
+        if (!calm.empty()) adaptation.insert(adaptation.size() - 1, ", complete in calm air " + calm);
+      }
       const auto& a = running.bank.adaptation;
       if (a.hypothesis_weight < 1.0)   // the per-hypothesis tempering (turbulence_adaptation.h)
         adaptation += ", set tempering " + f16mmae::format_value(a.hypothesis_weight) + " from rho " +

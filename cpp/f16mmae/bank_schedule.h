@@ -12,6 +12,10 @@
 // no-failure calibration flights a set distance from a declaration (the design states its
 // rule and records it in the metadata). Either every
 // node carries one or none does (NaN: not carried, the estimator's own option applies).
+// A node may also carry its calm-air reference (calm_reference: the turbulence adaptation's
+// measured power ratio ρ̄ midway between the node's calm air and light turbulence, which
+// calm_air_complete.h's bounds are relative to); every node or none, as the adaptation
+// reference.
 // Each node's bank also recommends its own estimator settings (EstimatorSettings, checked by
 // ModelBank::validate); its p_min is the node's probability floor, which the core blends
 // with the filters (scheduled_filters.h). The primary node's settings are those the schedule
@@ -46,8 +50,8 @@
 // or not strictly ascending; switch_state and switch_thresholds not given together, thresholds
 // not ascending; a node layer outside the layers; a node index outside the axes or covered
 // twice in one layer; an x_trim of the
-// wrong size or not finite; an adapt_reference outside [0, 100], or carried by some nodes and
-// not by others; a start_up_s outside [0, kMaxStartUpS]; a primary node that is not one of the nodes; node banks whose names, sizes, frame rate or tuning differ from
+// wrong size or not finite; an adapt_reference outside [0, 100] or a calm_reference outside
+// (0, 100], either carried by some nodes and not by others; a start_up_s outside [0, kMaxStartUpS]; a primary node that is not one of the nodes; node banks whose names, sizes, frame rate or tuning differ from
 // node 0's (each node bank is validated by ModelBank::validate on load).
 #pragma once
 
@@ -73,6 +77,7 @@ struct ScheduleNode {
   ModelBank bank;          // the bank designed at (mach[i_mach], alt_ft[i_alt])
   Eigen::VectorXd x_trim;  // (nx) trim state of that design
   double adapt_reference = std::numeric_limits<double>::quiet_NaN();  // rho_0 at the node, or NaN
+  double calm_reference = std::numeric_limits<double>::quiet_NaN();   // ρ̄ between calm and light air, or NaN
 };
 
 // Where air data falls on the grid (see the header comment).
@@ -82,10 +87,12 @@ struct GridPoint {
 };
 
 struct BankSchedule {
-  static constexpr std::uint32_t kFormatVersion = 3;   // 2: per-node adapt_reference; 3: start_up_s
+  static constexpr std::uint32_t kFormatVersion = 4;   // 2: per-node adapt_reference; 3: start_up_s; 4: calm_reference
 
   // Whether the nodes carry their own adaptation reference (validate: all or none).
   bool has_adapt_reference() const noexcept { return !nodes.empty() && !std::isnan(nodes[0].adapt_reference); }
+  // Whether the nodes carry their calm-air reference (validate: all or none).
+  bool has_calm_reference() const noexcept { return !nodes.empty() && !std::isnan(nodes[0].calm_reference); }
 
   std::vector<double> mach;    // ascending Mach axis
   std::vector<double> alt_ft;  // ascending pressure-altitude axis, ft
@@ -216,6 +223,12 @@ struct BankSchedule {
              ": every node carries one or none does");
       if (!std::isnan(node.adapt_reference) && !(node.adapt_reference >= 0.0 && node.adapt_reference <= 100.0))
         fail(who + ".adapt_reference must be in [0, 100], got " + std::to_string(node.adapt_reference));
+      if (std::isnan(node.calm_reference) != std::isnan(nodes[0].calm_reference))
+        fail(who + ".calm_reference is " + (std::isnan(node.calm_reference) ? "missing" : "given") +
+             " but nodes[0]'s is " + (std::isnan(nodes[0].calm_reference) ? "missing" : "given") +
+             ": every node carries one or none does");
+      if (!std::isnan(node.calm_reference) && !(node.calm_reference > 0.0 && node.calm_reference <= 100.0))
+        fail(who + ".calm_reference must be in (0, 100], got " + std::to_string(node.calm_reference));
       if (b.state_names != first.state_names || b.input_names != first.input_names ||
           b.measurement_names != first.measurement_names)
         fail(who + ".bank has other state, input or measurement names than nodes[0]");

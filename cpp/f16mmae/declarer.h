@@ -124,18 +124,6 @@ struct DeclarerOptions {
 // The evidence dwell's upper bound, kMaxDwellNats (estimator_settings.h): 16 frames at the
 // ceiling of K = 13 and p_min 0 in double precision (ln(1/eps) = 36 nats a frame) is far below it.
 
-// `text` as a number if the whole of it is one (std::stod's form; "nan" and "inf" parse, the
-// callers' ranges refuse them): true and `out` set, else false.
-inline bool parse_whole_number(const std::string& text, double& out) {
-  std::size_t used = 0;
-  try {
-    out = std::stod(text, &used);
-  } catch (const std::exception&) {
-    return false;
-  }
-  return used == text.size();
-}
-
 // The per-hypothesis table of a file (header): one "NAME N" a line, '#' starts a comment.
 // Throws std::invalid_argument naming `source` and the line for a line that is not a name and
 // a number in [0, kMaxDwellNats], or a name given twice; the names are checked against the
@@ -184,26 +172,12 @@ inline std::map<std::string, double> read_dwell_nats_table(const std::string& pa
 // number in [0, kMaxDwellS] s, or a name given twice; the names are checked against the bank
 // where the table is used (Declarer).
 inline std::map<std::string, double> parse_dwell_s_per_hypothesis(const std::string& text) {
-  std::map<std::string, double> out;
-  for (std::size_t start = 0;;) {   // every entry, the empty ones too (",,", a trailing comma, "")
-    const auto comma = text.find(',', start);
-    const std::string entry = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    const auto eq = entry.find('=');
-    const std::string name = eq == std::string::npos ? entry : entry.substr(0, eq);
-    const std::string value = eq == std::string::npos ? "" : entry.substr(eq + 1);
-    double d = 0.0;
-    const bool ok = !name.empty() && name.find_first_of(" \t") == std::string::npos && parse_whole_number(value, d);
-    if (!ok)
-      throw std::invalid_argument("dwell_s_per_hypothesis: expected NAME=S (a hypothesis and its least dwell in "
-                                  "seconds), got '" + entry + "'");
-    if (!(d >= 0.0 && d <= kMaxDwellS))
-      throw std::invalid_argument("dwell_s_per_hypothesis: " + name + "'s dwell must lie in [0, " +
-                                  format_value(kMaxDwellS) + "] s, got " + value);
-    if (!out.emplace(name, d).second)
-      throw std::invalid_argument("dwell_s_per_hypothesis: hypothesis '" + name + "' given twice");
-    if (comma == std::string::npos) return out;
-    start = comma + 1;
-  }
+  return parse_name_values(text, "dwell_s_per_hypothesis", "NAME=S (a hypothesis and its least dwell in seconds)",
+                           "hypothesis", [](const std::string& name, double d) -> std::string {
+                             if (d >= 0.0 && d <= kMaxDwellS) return "";
+                             return name + "'s dwell must lie in [0, " + format_value(kMaxDwellS) + "] s, got " +
+                                    format_value(d);
+                           });
 }
 
 class Declarer {

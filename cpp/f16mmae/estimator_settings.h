@@ -20,6 +20,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -54,6 +55,44 @@ namespace settings_detail {
   throw std::invalid_argument(who + ": " + setting + " must be " + range + ", got " + format_value(value));
 }
 }  // namespace settings_detail
+
+// `text` as a number if the whole of it is one (std::stod's form; "nan" and "inf" parse, the
+// callers' ranges refuse them): true and `out` set, else false.
+inline bool parse_whole_number(const std::string& text, double& out) {
+  std::size_t used = 0;
+  try {
+    out = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == text.size();
+}
+
+// A table's text form "NAME=V[,NAME=V...]" as {name: V} (the least dwells per hypothesis,
+// declarer.h; the calm-air bounds per measurement, calm_air_complete.h). Throws
+// std::invalid_argument "<table>: ..." naming the entry for one that is not a name without blanks,
+// '=' and a number (`expected` says what an entry is), for a value `refusal(name, v)` refuses (it
+// returns the reason, "" to accept) and for a name given twice (`noun` says what a name is).
+template <class Refusal>
+std::map<std::string, double> parse_name_values(const std::string& text, const std::string& table,
+                                                const std::string& expected, const std::string& noun,
+                                                Refusal refusal) {
+  std::map<std::string, double> out;
+  for (std::size_t start = 0;;) {   // every entry, the empty ones too (",,", a trailing comma, "")
+    const auto comma = text.find(',', start);
+    const std::string entry = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const auto eq = entry.find('=');
+    const std::string name = eq == std::string::npos ? entry : entry.substr(0, eq);
+    const std::string value = eq == std::string::npos ? "" : entry.substr(eq + 1);
+    double v = 0.0;
+    if (name.empty() || name.find_first_of(" \t") != std::string::npos || !parse_whole_number(value, v))
+      throw std::invalid_argument(table + ": expected " + expected + ", got '" + entry + "'");
+    if (const std::string why = refusal(name, v); !why.empty()) throw std::invalid_argument(table + ": " + why);
+    if (!out.emplace(name, v).second) throw std::invalid_argument(table + ": " + noun + " '" + name + "' given twice");
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
 
 inline void check_p_min(double p_min, int k, const std::string& who) {
   if (!(p_min >= 0.0) || !(p_min * k < 1.0)) {

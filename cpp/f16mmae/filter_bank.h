@@ -47,6 +47,12 @@
 //                 is NONE at both levels); the floor's c_k (below) is a difference of a
 //                 restart against a tracked level of the same hypothesis, in which v_k
 //                 cancels. Leading term kept: v_k = 0 (every density is whole).
+//                 Complete channels C (set_complete_channels; calm_air_complete.h decides
+//                 them): on a channel j in C that filter k reads as a level and the presumed
+//                 hypothesis does not, u_k's term is the paper's complete failure,
+//                 -r_j²/(2 A^k_jj) (the sensor reads the trim plus its noise), and F leaves j
+//                 out of v_k: j is compared as in the paper's stripped eq. 2, one more
+//                 Gaussian factor with its determinant dropped like every other's.
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
 //                 floor ("lock-out" prevention) by water-filling: hypotheses with
@@ -320,8 +326,9 @@ class FilterBank {
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
       if (!options_.strip_leading_term) l += log_norm_ - 0.5 * hypotheses_[i].log_det_a();
       if (uninformative_[i]) {  // u_k; otherwise l_k is left bit for bit as it was
-        l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_var_.col(i),
-                                                         level_set_[i]) + footing_(i);
+        l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_var_.col(i), level_set_[i],
+                                                         complete_in(i)) +
+             footing_(i);
         level_set_[i] = 1;
       }
       log_l_(i) = l;
@@ -372,6 +379,20 @@ class FilterBank {
   // frame (the maneuver tempering of maneuver_kinematics.h): l_k = -q_k / (2 s s_e). s_e = 1
   // (the default, and after reset()) leaves every l_k bit for bit as without it.
   void set_extra_scale(double s_e) noexcept { extra_inv_scale_ = s_e > 1.0 ? 1.0 / s_e : 1.0; }
+  // The channels read with the paper's complete-failure model from the next update on (bit j:
+  // channel j; calm_air_complete.h decides them): a hypothesis that tracks channel j's level while
+  // the presumed hypothesis does not has u_k's term -r_j² / (2 A_jj) there in place of the level's
+  // (steady_state_filter.h), and its footing v_k leaves channel j out (j counts in G, as in the
+  // paper's stripped likelihood of a complete failure: no determinant); its level goes on
+  // tracking. 0 (the default, and what reset() leaves alone) leaves every l_k bit for bit as
+  // without it. A change sets the footings anew (K small Cholesky factorisations, no allocation for
+  // fixed sizes).
+  void set_complete_channels(std::uint32_t bits) noexcept {
+    if (bits == complete_) return;
+    complete_ = bits;
+    refresh_footings();
+  }
+  std::uint32_t complete_channels() const noexcept { return complete_; }
   // The floor p_min from the next update (and presume()) on: the floors f_k are set anew
   // relative to the hypothesis presumed last (header comment); the probabilities in force are
   // not touched (the next update floors them). A value outside [0, 1/K) is ignored: the
@@ -396,7 +417,9 @@ class FilterBank {
   void presume(int index) noexcept {
     const int k = size();
     if (index < 0 || index >= k) return;
+    const bool footings = complete_ != 0 && index != presumed_;
     presumed_ = index;
+    if (footings) refresh_footings();   // the complete channels are those the presumed one reads
     set_floors(index);
     double rest = 0.0;
     for (int i = 0; i < k; ++i) {
@@ -631,18 +654,28 @@ class FilterBank {
         }
     free_channels_(k) = free;
     own_ratio_(k) = read > 0 ? static_cast<double>(nz()) / read : 1.0;
-    if (k == 0) {   // filter 0's A is every other filter's footing
-      for (int i = 0; i < size(); ++i) note_footing(i);
+    if (k == 0 || (complete_ != 0 && k == presumed_)) {   // filter 0's A is every footing; the presumed
+      refresh_footings();                                  // one's levels decide the complete channels
     } else {
       note_footing(k);
     }
   }
+  // Filter k's channels read with the complete model (set_complete_channels): the complete
+  // channels it reads as a level and the presumed hypothesis does not.
+  std::uint32_t complete_in(int k) const noexcept {
+    return complete_ & free_channels_(k) & ~free_channels_(presumed_);
+  }
+  void refresh_footings() noexcept {
+    for (int i = 0; i < size(); ++i) note_footing(i);
+  }
   // v_k of the header comment with the leading term stripped, 0 otherwise: over filter k's
   // uninformative channels F, (1/2) ln|A^0_FF|G| - sum_{j in F} (1/2) ln A^k_jj, where
-  // ln|A^0_FF|G| = -ln|((A^0)⁻¹)_FF| (the Schur complement's determinant).
+  // ln|A^0_FF|G| = -ln|((A^0)⁻¹)_FF| (the Schur complement's determinant); F without the channels
+  // read with the complete model (complete_in(k)).
   void note_footing(int k) noexcept {
     double v = 0.0;
-    if (options_.strip_leading_term && uninformative_[k]) {
+    const std::uint32_t complete = complete_in(k);
+    if (options_.strip_leading_term && uninformative_[k] && (free_channels_(k) & ~complete) != 0) {
       using AMatrix = typename Hypothesis::AMatrix;
       using SubMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, NZ, NZ>;
       using Channels = Eigen::Matrix<int, Eigen::Dynamic, 1, Eigen::ColMajor, NZ, 1>;
@@ -652,7 +685,7 @@ class FilterBank {
       Channels f(nz());
       int n = 0;
       for (int j = 0; j < nz(); ++j)
-        if (m.uninformative_width(j) > 0.0) {
+        if (m.uninformative_width(j) > 0.0 && !(j < 32 && ((complete >> j) & 1u))) {
           f(n++) = j;
           v -= 0.5 * std::log(m.a(j, j));
         }
@@ -824,6 +857,7 @@ class FilterBank {
   PVector floor_scale_, log_floor_scale_;         // m_k and ln m_k (set_floor_scale; 1 and 0)
   std::int64_t start_up_frames_ = 0;              // round(start_up_s f): updates that weigh nothing
   int presumed_ = 0;                              // the hypothesis presumed last (set_p_min)
+  std::uint32_t complete_ = 0;                    // set_complete_channels: bit j, channel j's complete density
   int head_ = 0;                                  // set_p_min's two tiers: k < head_ take
   double p_min_head_ = 0.0, log_p_min_head_ = 0.0;   // p_min_head_ (head_ = 0: none)
   Eigen::Matrix<std::uint32_t, K, 1> free_channels_;   // bit j: channel j uninformative in filter k

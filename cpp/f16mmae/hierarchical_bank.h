@@ -135,6 +135,13 @@
 // trim, frozen while a failure hypothesis rises or a failure is declared; with steady_g also
 // while the estimated load factor z_hat(AZ) is off the trim or the air data handed to
 // schedule() climb or accelerate, and then only the named measurements) estimates it, after each update and propagate. With zero offsets the arithmetic is the bank's without them.
+// Calm air (options.calm_complete, off by default): after each update the calm-air rule
+// (calm_air_complete.h) reads the adaptation's measured power ratio against its bounds times the
+// schedule's calm-air reference in force (1 unscheduled), while no failure is presumed or rising
+// (the trim tracker's condition at its own freeze probability), and hands the bank the channels
+// whose tracked levels are read as the paper's complete failure from the next update on
+// (FilterBank::set_complete_channels); every bounded channel at the start and reset(). It needs
+// the adaptation (refused at construction without it).
 // Maneuvering flight (all off by default: the bank as designed, bit for bit):
 //   options.maneuver.kinematics   after each propagate every filter's x⁻ gains dt R(x̂), the
 //                                 kinematic/gravity terms the wings-level linearization drops,
@@ -184,6 +191,7 @@
 #include "f16mmae/maneuver_kinematics.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
+#include "f16mmae/calm_air_complete.h"
 #include "f16mmae/climb_reference.h"
 #include "f16mmae/maneuver_dwell.h"
 #include "f16mmae/maneuver_trim.h"
@@ -221,6 +229,7 @@ struct HierarchicalOptions {
   ManeuverTrimOptions maneuver_trim;       // the climb's and acceleration's trim (maneuver_trim.h; off)
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
+  CalmAirCompleteOptions calm_complete;   // failed sensors read as the paper's complete model in calm air (calm_air_complete.h; off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (level_floors.h)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (level_floors.h)
   double spare_dwell_s = 0.0;    // the level-0 dwell while the tempering spares (header); 0: off
@@ -286,6 +295,11 @@ class HierarchicalBank {
         switch_to(levels_.level0(), 0, 0);
         level1_bank_ = -1;
       }
+    }
+    if (calm_.enabled()) {   // calm_air_complete.h: decided while no failure is presumed or rising
+      const bool decide = !trim_freezing_at(calm_.options().freeze_probability);
+      const double reference = sched_.active() ? sched_.calm_reference() : 1.0;
+      bank_.set_complete_channels(calm_.observe(bank_.adaptation().measured_power_ratio(), decide, reference));
     }
     if (trim_tracker_.options().enabled()) {
       z_pert_.noalias() = z_abs - z_trim_;
@@ -405,6 +419,8 @@ class HierarchicalBank {
     air_data_rejected_ = 0;
     air_rates_.reset();
     trim_tracker_.reset();
+    calm_.reset();
+    bank_.set_complete_channels(calm_.calm());
     climb_ref_.reset();
     maneuver_dwell_.reset();
     if (climb_ref_.enabled() || maneuver_dwell_.options().has_reference())
@@ -448,8 +464,8 @@ class HierarchicalBank {
   // the same sizes and hypotheses (designed for another turbulence level), between a frame's
   // update and its propagate. Carried over: the level and the hypotheses on line (this bank's
   // own filters for them), the probabilities, the declarer's state, the declarations, the
-  // frame count, the air data, the trim offsets and the trim tracker, the actuator model's
-  // positions; and, unless `warm`, every on-line filter's states (the adaptation then restarts
+  // frame count, the air data, the trim offsets and the trim tracker, the calm-air decision, the
+  // actuator model's positions; and, unless `warm`, every on-line filter's states (the adaptation then restarts
   // at its reference, ρ = ρ_0). warm: this bank ran on the same frames with the same
   // hypotheses on line, so its filters keep their own states and its adaptation its own ρ.
   // This bank's own: what the filters are, its trims, its options. A scheduled bank is not
@@ -477,6 +493,8 @@ class HierarchicalBank {
     air_data_rejected_ = from.air_data_rejected_;
     air_rates_ = from.air_rates_;
     trim_tracker_ = from.trim_tracker_;
+    calm_.carry_over(from.calm_);
+    bank_.set_complete_channels(calm_.calm());
     climb_ref_ = from.climb_ref_;
     maneuver_dwell_ = from.maneuver_dwell_;
     if (climb_ref_.enabled() || maneuver_dwell_.options().has_reference())
@@ -655,6 +673,7 @@ class HierarchicalBank {
         online_(levels_.level0()),
         air_rates_(mb.frame_rate_hz),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
+        calm_(options.calm_complete, mb.measurement_names),
         climb_ref_(options.climb_reference, mb.frame_rate_hz),
         maneuver_dwell_(options.maneuver_dwell, mb.frame_rate_hz),
         maneuver_trim_(options.maneuver_trim, mb.frame_rate_hz),
@@ -698,6 +717,10 @@ class HierarchicalBank {
     scratch_ = storage_[0];
     x_shift_ = XVector::Zero(mb.nx());
     x_force_ = XVector::Zero(mb.nx());
+    if (calm_.enabled() && !options.bank.adaptation.enabled)
+      throw std::invalid_argument("hierarchical bank: the calm-air complete model reads the turbulence adaptation's "
+                                  "measured power ratio; turn the adaptation on");
+    bank_.set_complete_channels(calm_.calm());
     u_eff_ = UVector::Zero(mb.nu());
     mt_dx_ = XVector::Zero(mb.nx());
     mt_shift_ = mt_dx_;
@@ -730,11 +753,14 @@ class HierarchicalBank {
 
   // The trim tracker's freeze condition on this frame (trim_tracker.h): level 1, a failure
   // declared, or a failure hypothesis on line above freeze_probability.
-  bool trim_freezing() const noexcept {
+  bool trim_freezing() const noexcept { return trim_freezing_at(trim_tracker_.options().freeze_probability); }
+  // A failure presumed (level 1, or a declared failure current) or rising (an on-line failure
+  // hypothesis above `freeze_probability`).
+  bool trim_freezing_at(double freeze_probability) const noexcept {
     if (level_ != 0 || online_[declarer_in_force().current()] != 0) return true;
     const PVector& p = bank_.probabilities();
     for (int k = 1; k < size(); ++k)
-      if (p(k) > trim_tracker_.options().freeze_probability) return true;
+      if (p(k) > freeze_probability) return true;
     return false;
   }
 
@@ -937,6 +963,7 @@ class HierarchicalBank {
   UVector u_trim_, u_pert_, du_;
   AirDataRates air_rates_;   // the phase gates' climb and Mach rates (air_data_rates.h)
   TrimTracker<NU, NZ> trim_tracker_;
+  CalmAirComplete calm_;   // calm_air_complete.h
   ClimbReference climb_ref_;
   ManeuverDwell maneuver_dwell_;
   int maneuver_dwell_az_ = 0;   // AZ in z (the maneuver dwell's load factor)

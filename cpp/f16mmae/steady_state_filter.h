@@ -74,6 +74,7 @@
 #include "f16mmae/model_checks.h"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -215,17 +216,26 @@ class HypothesisFilter {
 
   // u_k of the header comment for residual r, given the levels b̂ (NZ) of this filter, their
   // variances P (NZ) and whether they are set; sets them (first frame) or updates them.
-  // noexcept, no allocation.
+  // `complete` (a bit per channel j): a tracked channel whose bit is set contributes the paper's
+  // complete-failure density on the stripped scale, -r_j² / (2 A_jj) (the failed sensor reads the
+  // trim plus its noise: N(r_j; 0, A_jj)), in place of its level's term; its level is set or
+  // updated all the same (calm_air_complete.h). Bits of untracked or informative channels are
+  // ignored. noexcept, no allocation.
   template <class R, class L, class V>
   double uninformative_log_density(const Eigen::MatrixBase<R>& r, const Eigen::MatrixBase<L>& level_out,
-                                   const Eigen::MatrixBase<V>& variance_out, bool level_set) const noexcept {
+                                   const Eigen::MatrixBase<V>& variance_out, bool level_set,
+                                   std::uint32_t complete = 0) const noexcept {
     if (!tracked_) return memoryless_;
     auto& level = const_cast<Eigen::MatrixBase<L>&>(level_out);  // Eigen's writable-expression idiom
     auto& var = const_cast<Eigen::MatrixBase<V>&>(variance_out);
     if (!level_set) {
-      for (Eigen::Index j = 0; j < unf_q_.size(); ++j)
-        if (unf_q_(j) > 0.0) level(j) = r(j), var(j) = unf_a_(j);
-      return first_frame_;
+      double u = first_frame_;
+      for (Eigen::Index j = 0; j < unf_q_.size(); ++j) {
+        if (unf_q_(j) == 0.0) continue;
+        level(j) = r(j), var(j) = unf_a_(j);
+        if (complete >> j & 1u) u += -0.5 * r(j) * r(j) / unf_a_(j) - unf_c_(j);
+      }
+      return u;
     }
     double u = memoryless_;
     for (Eigen::Index j = 0; j < unf_q_.size(); ++j) {
@@ -236,12 +246,14 @@ class HypothesisFilter {
       const double e = r(j) - level(j);
       const double stay = kLogStay + 0.5 * std::log(a_jj / s) - 0.5 * e * e / s;
       const double jump = kLogJump + unf_c_(j);
+      const bool pinned = complete >> j & 1u;
+      if (pinned) u += -0.5 * r(j) * r(j) / a_jj;
       if (stay >= jump) {
-        u += stay + std::log1p(std::exp(jump - stay));
+        if (!pinned) u += stay + std::log1p(std::exp(jump - stay));
         level(j) += p / s * e;
         var(j) = p * a_jj / s;
       } else {
-        u += jump + std::log1p(std::exp(stay - jump));
+        if (!pinned) u += jump + std::log1p(std::exp(stay - jump));
         level(j) = r(j);
         var(j) = a_jj;
       }

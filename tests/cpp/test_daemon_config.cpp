@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -298,6 +299,17 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-excluded-channel must name a measurement (vel, aoa, pit, az, rol, yaw, ay), "
                            "got 'air'"), std::string::npos) << r.message;
+  // the calm-air complete model's bounds (calm_air_complete.h), with the adaptation only
+  EXPECT_TRUE(r.config.estimator.calm_complete.rho.empty());
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1,AZ=0.5"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.calm_complete.rho, (std::map<std::string, double>{{"AZ", 0.5}, {"VEL", 1.0}}));
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=101"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("VEL's bound must lie in [0, 100] (0: off), got 101"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--calm-complete", "VEL=1"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--calm-complete applies with --adapt-turbulence only"), std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-excluded-channel", "aoa"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-excluded-channel applies with --adapt-turbulence only"), std::string::npos)

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -647,12 +648,43 @@ TEST(ScheduleFile, TheRecommendedStartUpIsFormatThreeAndOlderFilesCarryNone) {
     EXPECT_NE(std::string(e.what()).find("start_up_s = 7200 must be in [0, 3600] s"), std::string::npos) << e.what();
   }
   std::vector<std::uint8_t> future = image;
-  future[11] = 4;
+  future[11] = 5;
   try {
     parse_schedule_file(future.data(), future.size(), "'future'");
-    ADD_FAILURE() << "accepted version 4";
+    ADD_FAILURE() << "accepted version 5";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("unsupported format version 4 (this build reads versions 1 to 3)"),
+    EXPECT_NE(std::string(e.what()).find("unsupported format version 5 (this build reads versions 1 to 4)"),
               std::string::npos) << e.what();
   }
+}
+
+// The nodes' calm-air reference (format 4): written as version 4 only when the nodes carry it,
+// one double more per node, read back per node; blended with the filters in force (at a node,
+// that node's; 1 without it); carried by every node or none, in (0, 100].
+TEST(ScheduleFile, TheCalmAirReferenceIsFormatFourAndBlendedWithTheFilters) {
+  BankSchedule s = make_schedule();
+  s.start_up_s = 0.25;
+  const std::vector<std::uint8_t> v3 = schedule_file_bytes(s);
+  for (std::size_t n = 0; n < s.nodes.size(); ++n) s.nodes[n].calm_reference = 0.4 + 0.05 * static_cast<double>(n);
+  const std::vector<std::uint8_t> image = schedule_file_bytes(s);
+  EXPECT_EQ(image[11], 4);
+  EXPECT_EQ(image.size(), v3.size() + 8 * s.nodes.size());
+  const ModelBank loaded = parse_schedule_file(image.data(), image.size(), "'v4'");
+  ASSERT_TRUE(loaded.schedule->has_calm_reference());
+  for (std::size_t n = 0; n < s.nodes.size(); ++n)
+    EXPECT_EQ(loaded.schedule->nodes[n].calm_reference, s.nodes[n].calm_reference);
+  EXPECT_EQ(schedule_file_bytes(*loaded.schedule), image);   // deterministic
+  EXPECT_FALSE(parse_schedule_file(v3.data(), v3.size(), "'v3'").schedule->has_calm_reference());
+  F16HierarchicalBank hb(loaded, options(ScheduleMode::kNearest));
+  for (std::size_t n = 0; n < s.nodes.size(); ++n) {
+    const ScheduleNode& node = s.nodes[n];
+    hb.schedule(AirData{s.mach[static_cast<std::size_t>(node.i_mach)], s.alt_ft[static_cast<std::size_t>(node.i_alt)]});
+    EXPECT_DOUBLE_EQ(hb.scheduled().calm_reference(), node.calm_reference) << "node " << n;
+  }
+  F16HierarchicalBank without(parse_schedule_file(v3.data(), v3.size(), "'v3'"), options(ScheduleMode::kNearest));
+  EXPECT_EQ(without.scheduled().calm_reference(), 1.0);
+  s.nodes[1].calm_reference = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(s.validate(), std::invalid_argument);   // some nodes, not all
+  s.nodes[1].calm_reference = 0.0;
+  EXPECT_THROW(s.validate(), std::invalid_argument);   // outside (0, 100]
 }

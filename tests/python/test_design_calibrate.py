@@ -121,3 +121,20 @@ def test_bounded_settings_takes_the_least_effort_floor_among_those_within_the_bo
     assert chosen["effort"] == pytest.approx(min(efforts.values()), abs=0.01)
     none = calibrate.bounded_settings(bank, flights, (1e-9, 1e-3), bound=-100.0)
     assert not none["bound_met"] and none["p_min"] == 1e-9
+
+
+def test_the_calm_air_reference_lies_between_the_measured_power_ratios_of_calm_and_light_air():
+    """calibrate.calm_reference: the measured power ratio rho-bar of the scheduled estimator's
+    count (own channels, VEL counted) averaged over the flights after their first second, in calm
+    air and in light turbulence, and their midpoint: light air reads higher than calm air at the
+    nominal point, by more than the flights' spread."""
+    from f16mmae.banks import load_bank
+
+    bank = load_bank("tuned")[2]
+    calm = calibrate.node_flights(0.4, 20_000.0, "none")[:2]
+    light = calibrate.node_flights(0.4, 20_000.0, "light")[:2]
+    reference, r_calm, r_light = calibrate.calm_reference(bank, calm, light)
+    assert r_calm < reference < r_light
+    assert reference == round(0.5 * (r_calm + r_light), 3)
+    each = [calibrate.measured_power_ratio(bank, [f]) for f in calm + light]
+    assert max(each[:2]) < min(each[2:])

@@ -235,3 +235,17 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     assert flags == ("--partial-p-min", "0.002")
     rc, out = _daemon("--bank", bank, "--lcm-url", "memq://", *flags)
     assert rc == 1 and "partial" in out, out
+
+
+def test_the_calm_air_complete_model_reaches_the_daemon():
+    """``--calm-complete`` (a table) is passed on as given and in force in the daemon, which names
+    its bounds in the ready line; refused without the adaptation, and for a bound out of range."""
+    assert daemon_flags({"adapt_turbulence": True, "calm_complete": "VEL=0.6"}) == (
+        "--adapt-turbulence", "--calm-complete", "VEL=0.6")
+    bank = str(load_bank("tuned")[1])
+    ready = ready_line("--bank", bank, "--adapt-turbulence", "--calm-complete", "VEL=0.6,AZ=0")
+    assert "turbulence adaptation (reference 0.6, complete in calm air VEL 0.6)" in ready, ready
+    rc, out = _daemon("--bank", bank, "--calm-complete", "VEL=0.6")
+    assert rc == 2 and "--calm-complete applies with --adapt-turbulence only" in out
+    rc, out = _daemon("--bank", bank, "--adapt-turbulence", "--calm-complete", "VEL=-1")
+    assert rc == 2 and "VEL's bound must lie in [0, 100] (0: off), got -1" in out, out

@@ -484,6 +484,7 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
 
     ratios = types.SimpleNamespace(var_over_a=[1.0] * len(names.SENSORS))
     monkeypatch.setattr(sched, "node_flights", lambda mach, alt_ft, turbulence: ())
+    monkeypatch.setattr(sched, "calm_reference", lambda bank, calm, light: (0.55, 0.5, 0.6))
     monkeypatch.setattr(sched, "calibrate_node", lambda mach, alt_ft, tun, linearized, flights: (tun, ratios, ratios))
     monkeypatch.setattr(sched, "bounded_settings", bounded)
     monkeypatch.setattr(sched, "adaptation_reference", lambda design, flights: 1.0)
@@ -498,6 +499,11 @@ def test_the_effort_choice_keeps_each_low_node_s_better_design(tmp_path, monkeyp
         {"mach": 0.5, "alt_ft": 10000.0, "gust": True, "effort_plain": 45.84, "effort_gust": 22.92},
         {"mach": 0.6, "alt_ft": 10000.0, "gust": False, "effort_plain": 45.84, "effort_gust": 68.76}]
     assert s["covered"] == 2
+    # each node's calm-air reference (format 4) and its two means in the node records
+    assert [n["calm_reference"] for n in f["nodes"]] == [0.55, 0.55]
+    assert [(r["calm_reference"], r["power_ratio_calm"], r["power_ratio_light"]) for r in meta["nodes"]] == [
+        (0.55, 0.5, 0.6)] * 2
+    assert "midway between its no-failure flights" in meta["calm_reference"]
     nodes = {n["mach"]: n["bank"] for n in f["nodes"]}
     ng = len(GUST_STATES)
     gust_phi = np.asarray(nodes[0.5].hypotheses[0].phi)
@@ -531,6 +537,7 @@ def test_the_bound_s_flights_and_bank_come_from_the_command(tmp_path, monkeypatc
 
     ratios = types.SimpleNamespace(var_over_a=[1.0] * len(names.SENSORS))
     monkeypatch.setattr(sched, "node_flights", flights)
+    monkeypatch.setattr(sched, "calm_reference", lambda bank, calm, light: (0.55, 0.5, 0.6))
     monkeypatch.setattr(sched, "calibrate_node", lambda mach, alt_ft, tun, linearized, flights: (
         (tun, ratios, ratios) if flights[0].duration_s == NODE_FLIGHT_S else None))
     monkeypatch.setattr(sched, "bounded_settings", bounded)

@@ -4,8 +4,9 @@ channel it reads (own channels) unless ``adapt_all_channels`` asks for the plain
 counted channel (``adapt_counted_channel``) reaches the core as its bit; the per-hypothesis
 tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING``, trim tracking at
 ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` and VEL's least dwell at
-``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given; the cached scheduled
-bank's name follows every design setting of ``names.SCHEDULE_*``."""
+``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given, and on a schedule whose nodes carry a
+calm-air reference the calm-air complete model at ``names.SCHEDULE_CALM_COMPLETE``; the cached
+scheduled bank's name follows every design setting of ``names.SCHEDULE_*``."""
 from __future__ import annotations
 
 import numpy as np
@@ -15,7 +16,7 @@ from f16mmae import banks, core, names
 from f16mmae.design.bank import design_bank, to_model_bank
 from f16mmae.design.tuning import load_tuning, tuning_from_dict
 from f16mmae.loop.estimator import Estimator, core_arguments
-from f16mmae.loop.estimator_options import check, scheduled_defaults
+from f16mmae.loop.estimator_options import bank_defaults, check, has_calm_reference, scheduled_defaults
 
 
 def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
@@ -161,3 +162,62 @@ def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(
     est = Estimator(bank, adapt_turbulence=True, adapt_excluded_channel="vel",
                     dwell_s_per_hypothesis=NO_LEAST_DWELL)   # the core banks' declarations
     np.testing.assert_array_equal(_fly(est, bank), r_vel)
+
+
+def test_the_calm_air_complete_model_is_the_default_where_the_nodes_carry_a_calm_reference(vel_rol_schedule, tmp_path):
+    """``calm_complete`` ``names.SCHEDULE_CALM_COMPLETE`` on a scheduled bank whose nodes carry a
+    calm-air reference (with the adaptation), unless given; its table reaches the core by
+    measurement and the daemon as given; the reference scales the bound (the core reads the
+    air calm below bound x reference: the complete channels in force)."""
+    given = {"adapt_turbulence": True}
+    assert "calm_complete" not in scheduled_defaults(given, True)
+    assert scheduled_defaults(given, True, calm_reference=True)["calm_complete"] == names.SCHEDULE_CALM_COMPLETE
+    off = {**given, "calm_complete": "VEL=0"}
+    assert scheduled_defaults(off, True, calm_reference=True)["calm_complete"] == "VEL=0"
+    assert "calm_complete" not in scheduled_defaults({}, True, calm_reference=True)   # no adaptation
+    check(off)
+    with pytest.raises(ValueError, match="--calm-complete applies with --adapt-turbulence only"):
+        check({"calm_complete": "VEL=1"})
+    with pytest.raises(ValueError, match=r"--calm-complete: VEL's bound must lie in \[0, 100\] \(0: off\), got 101"):
+        check({**given, "calm_complete": "VEL=101"})
+    with pytest.raises(ValueError, match="--calm-complete: expected NAME=RHO"):
+        check({**given, "calm_complete": "VEL"})
+    assert core_arguments({"calm_complete": "VEL=1,AZ=0.5"})["calm_complete_rho"] == {"VEL": 1.0, "AZ": 0.5}
+    assert "calm_complete" not in core_arguments({"calm_complete": "VEL=1"})
+    from f16mmae.lcm.daemon import daemon_flags
+    flags = daemon_flags({**given, "calm_complete": "VEL=1"})
+    assert flags[flags.index("--calm-complete") + 1] == "VEL=1"
+    # a schedule with the reference: the default in force, and the bound relative to it
+    bank = vel_rol_schedule
+    assert not has_calm_reference(bank)
+    node = bank.schedule["nodes"][0]
+    path = tmp_path / "calm.f16sched"
+    core.save_schedule([0.4], [20000.0], [(0, 0, node["bank"], np.zeros(names.NX), None, 0, 0.5)], primary=0,
+                       path=str(path))
+    calm = core.load_bank(str(path))
+    assert has_calm_reference(calm) and calm.schedule["nodes"][0]["calm_reference"] == 0.5
+    assert bank_defaults(given, calm)["calm_complete"] == names.SCHEDULE_CALM_COMPLETE
+    assert "calm_complete" not in bank_defaults(given, bank)
+    root_a = np.linalg.cholesky(np.asarray(bank.hypotheses[0].a))   # NONE's residual covariance
+    crossed = set()
+    for bound, reference, calm_below in ((1.0, calm, 0.5), (1.8, calm, 0.9), (0.9, bank, 0.9)):
+        hb = core.HierarchicalBank(reference, adapt_turbulence=True, calm_complete_rho={"VEL": bound},
+                                   dwell_s=float(core.MAX_DWELL_S))
+        assert hb.calm_complete_channels == 1   # calm until the air is measured
+        rng = np.random.default_rng(3)
+        decided, last = 0, 1
+        for i in range(200):   # residual power 0.8 then 1.2 times NONE's A: rho-bar about 0.7, then 1.1
+            power = 0.8 if i < 100 else 1.2
+            hb.update(np.asarray(reference.z_trim) + np.sqrt(power) * root_a @ rng.standard_normal(names.NZ))
+            hb.propagate(np.asarray(reference.u_trim))
+            p = np.asarray(hb.probabilities)
+            if hb.level == 0 and p[1:].max() <= 0.05:   # no failure presumed or rising: decided
+                decided += 1
+                assert hb.calm_complete_channels == (1 if hb.measured_power_ratio < calm_below else 0), (bound, i)
+            else:   # held
+                assert hb.calm_complete_channels == last, (bound, i)
+            if hb.calm_complete_channels != last:
+                crossed.add(bound)
+            last = hb.calm_complete_channels
+        assert decided > 150
+    assert crossed == {1.0, 1.8, 0.9}   # each bank leaves calm air once the air it reads is above its bound

@@ -120,8 +120,9 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: loop/estimator_options.py scheduled_defaults); 13: Dryden gust states at every node at or
 #: below 20,000 ft (SCHEDULE_GUST_STATES_BELOW_FT, SCHEDULE_GUST_NODE_CHOICE ``all``): a filter that
 #: models the gusts' colour leaves no slow residual for them to build a false AOA or AZ from in
-#: hours of pilotless level flight (docs/results/envelope_scheduled.md, round 21).
-SCHEDULE_DESIGN_REVISION = 13
+#: hours of pilotless level flight (docs/results/envelope_scheduled.md, round 21); 14: each node's
+#: calm-air reference (calibrate.calm_reference; schedule format 4), which SCHEDULE_CALM_COMPLETE reads.
+SCHEDULE_DESIGN_REVISION = 14
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).
@@ -164,6 +165,15 @@ SCHEDULE_TRIM_TIME_CONSTANT_S = 30.0
 #: left (Mach 0.35, 25,000 ft), and no failed AZ held the threshold for less (round 23). A dual
 #: with VEL or AZ waits as its component does (declarer.h).
 SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1,AZ=0.5"
+#: The scheduled estimator's calm-air complete model (``--calm-complete``, with the turbulence
+#: adaptation, on a schedule whose nodes carry a calm-air reference; loop/estimator_options.py
+#: scheduled_defaults; cpp/f16mmae/calm_air_complete.h): while the measured power ratio is below the
+#: node's reference (midway between its calm and light air), a failed VEL is the paper's complete
+#: failure, not a free constant. The light-air design's no-failure filter follows the airspeed
+#: sensor's noise, so in calm air a constant predicts the healthy reading better than it does: the
+#: constant declared VEL about 3.7 s into every calm flight (6.0 an hour at the nominal point),
+#: while a failed and a healthy airspeed sensor read the same constant there (round 24).
+SCHEDULE_CALM_COMPLETE = "VEL=1"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -288,6 +288,36 @@ def adaptation_reference(design, flights) -> float:
     return round(float(np.mean(ratios)), 3)
 
 
+def measured_power_ratio(model_bank, flights) -> float:
+    """The mean over ``flights``' frames (first second of each dropped) of the turbulence
+    adaptation's measured power ratio rho-bar (cpp/f16mmae/turbulence_adaptation.h) as the scheduled
+    estimator reads it: ``model_bank``'s level-0 hypotheses, each filter's residual power per
+    channel it reads but ``names.SCHEDULE_ADAPT_COUNTED_CHANNEL`` (``--adapt-own-channels``, the
+    scheduled default), no declaration (the dwell longer than a flight). Rounded to 3 digits."""
+    from .. import core
+
+    counted = 1 << names.SENSORS.index(names.SCHEDULE_ADAPT_COUNTED_CHANNEL)
+    bank = core.HierarchicalBank(model_bank, adapt_turbulence=True, adapt_own_channels=True,
+                                 adapt_counted_channels=counted, dwell_s=float(core.MAX_DWELL_S))
+    ratios = []
+    for fl in flights:
+        bank.reset()
+        u, z = absolute_frames(model_bank, fl)
+        for i in range(len(z)):
+            bank.step(z[i], u[i])
+            if i >= names.FRAME_RATE_HZ:
+                ratios.append(float(bank.measured_power_ratio))
+    return round(float(np.mean(ratios)), 3)
+
+
+def calm_reference(model_bank, calm_flights, light_flights) -> tuple[float, float, float]:
+    """A node's calm-air reference (cpp/f16mmae/calm_air_complete.h, bank_schedule.h): the measured
+    power ratio midway between its no-failure flights in calm air and in light turbulence
+    (``measured_power_ratio``), with the two means."""
+    calm, light = measured_power_ratio(model_bank, calm_flights), measured_power_ratio(model_bank, light_flights)
+    return round(0.5 * (calm + light), 3), calm, light
+
+
 #: The turbulence adaptation's per-node reference bounded by false alarms (``bounded_reference``):
 #: candidates from REFERENCE_RANGE[0] to REFERENCE_RANGE[1] in steps of REFERENCE_STEP, and the
 #: bound on the peak failure log-odds of the calibration flights (REFERENCE_LOG_ODDS_BOUND).

@@ -24,6 +24,12 @@ nearest covered node where a cell lacks a corner.  Each node also stores its tri
 alpha from the trim's noise-free measurements, theta, the five surfaces at their trim
 commands, zero rates, sideslip and bank.
 
+Calm-air reference (calibrated nodes): after the design, each grid point's node (its flap layers'
+alike) stores the scheduled estimator's measured power ratio midway between its no-failure flights
+on the tuning seeds in calm air and in the tuning's turbulence (``calibrate.calm_reference``); the
+core's calm-air complete model (cpp/f16mmae/calm_air_complete.h, ``--calm-complete``) reads the
+air as calm below a multiple of it.
+
 Failure model: the hypotheses take ``failure_model`` (default ``names.SCHEDULE_FAILURE_MODEL``:
 a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 gyro one within its noise sigma, ``hypotheses.py``'s ``constant``; the other components the
@@ -85,7 +91,7 @@ from ..truth.aircraft import ALT_FT_RANGE, LEF_ALPHA_SWITCH_RAD, LEF_POSITIONS_R
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
 from .calibrate import (BOUND_P_MIN, CALIBRATION_START_UP_S, P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
                         NODE_FLIGHT_S, START_UP_S, adaptation_reference, bounded_settings, calibrate_node,
-                        node_flights)
+                        calm_reference, node_flights)
 from .gains import DesignError
 from .gust_states import GUST_STATE_MODELS, pad_bank, pad_state
 from .hypotheses import check_failure_model, failure_model_table
@@ -321,6 +327,13 @@ def _design_point(args):
             reference)
 
 
+def _calm_point(args):
+    """One node's calm-air reference in a worker: (i, j, (reference, calm mean, light mean)) from its
+    no-failure flights in calm air and in ``turbulence`` (``calibrate.calm_reference``)."""
+    i, j, mach, alt_ft, bank, turbulence = args
+    return i, j, calm_reference(bank, node_flights(mach, alt_ft, "none"), node_flights(mach, alt_ft, turbulence))
+
+
 def schedule_failure_model(tuning, given: str | None = None) -> str:
     """The canonical failure model a scheduled design gives its hypotheses: ``given`` if not
     None, else the tuning's if it names one other than ``complete``, else
@@ -552,6 +565,23 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 node_records.append({"mach": grid.mach[i], "alt_ft": grid.alt_ft[j], **record})
     if not nodes:
         raise DesignError(f"no point of the grid {grid.spec} could be designed")
+    if node_tuning == "calibrated":   # each node's calm-air reference, its flap layers' alike (bank_schedule.h)
+        first = {}   # each grid point's own node: the grid order puts it before its alternates
+        for i, j, bank, *_ in nodes:
+            first.setdefault((i, j), bank)
+        own_nodes = [(i, j, grid.mach[i], grid.alt_ft[j], bank, tuning_obj.turbulence) for (i, j), bank in first.items()]
+        calm = {}
+        with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
+            for n, (i, j, c) in enumerate(pool.map(_calm_point, own_nodes), start=1):
+                calm[(i, j)] = c
+                if progress:
+                    progress(f"[{n}/{len(own_nodes)}] Mach {grid.mach[i]:.2f}, {grid.alt_ft[j]:.0f} ft: calm-air "
+                             f"reference {c[0]:.3f} (measured power ratio {c[1]:.3f} calm, {c[2]:.3f} light)")
+        nodes = [(*node[:6], calm[(node[0], node[1])][0]) for node in nodes]
+        for r in node_records:
+            c = calm.get((grid.mach.index(r["mach"]), grid.alt_ft.index(r["alt_ft"])))
+            if c is not None:
+                r["calm_reference"], r["power_ratio_calm"], r["power_ratio_light"] = c
     primary = min(range(len(nodes)), key=lambda n: (
         abs(grid.mach[nodes[n][0]] - NOMINAL_MACH) / 0.1 + abs(grid.alt_ft[nodes[n][1]] - NOMINAL_ALT_FT) / 10_000, n))
     import jsbsim
@@ -598,6 +628,12 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                         "note": "a straddling cell's corners in the other flap position: the node's own "
                                 "tuning and adaptation reference, the trim and dynamics with the flap held"},
         "nodes": node_records,
+        **({"calm_reference": "each node's measured power ratio rho-bar (the scheduled estimator's, own channels but "
+                              f"{names.SCHEDULE_ADAPT_COUNTED_CHANNEL}) midway between its no-failure flights on the "
+                              f"tuning seeds {SEEDS[0]}-{SEEDS[-1]} in calm air and in {tuning_obj.turbulence} "
+                              "turbulence (calibrate.calm_reference; the nodes' power_ratio_calm and "
+                              "power_ratio_light); a flap layer's node takes its grid point's"}
+           if node_tuning == "calibrated" else {}),
         "skipped": skipped,
         **({"throttle_input": True} if throttle_input else {}),
         # the start-up the file is to be flown with, and the one its calibration flights were run with

@@ -30,9 +30,10 @@ def statistics_line(output: str, program: str) -> dict:
         raise HilError(f"{program}'s statistics line is not JSON ({exc}): {lines[-1][:200]!r}") from None
 
 
-#: The per-hypothesis tempering's core keywords (``core_arguments``) and the rows whose flags give them.
-_SET_TEMPERING_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": "set_tempering_rho",
-                       "adapt_spare_margin": "set_tempering_margin"}
+#: The core keywords ``core_arguments`` renames (the per-hypothesis tempering's, the calm-air bounds) and
+#: the rows whose flags give them.
+_RENAMED_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": "set_tempering_rho",
+                 "adapt_spare_margin": "set_tempering_margin", "calm_complete_rho": "calm_complete"}
 #: The core's bit masks over z and the rows whose flags take the sensor's name.
 _CHANNEL_BITS_KEYS = {"adapt_counted_channels": "adapt_counted_channel",
                       "adapt_excluded_channels": "adapt_excluded_channel"}
@@ -56,7 +57,7 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
         if key in _HYPOTHESIS_BITS_FLAGS:   # core_arguments' bits; the daemon takes the hypotheses' names
             out += [_HYPOTHESIS_BITS_FLAGS[key], ",".join(h for k, h in enumerate(SINGLE_HYPOTHESES) if (value >> k) & 1)]
             continue
-        key = _SET_TEMPERING_KEYS.get(key, key)
+        key = _RENAMED_KEYS.get(key, key)
         option = BY_KEY.get(key)
         if option is None or not option.in_daemon:
             if option is not None and not value:

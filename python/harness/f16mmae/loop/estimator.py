@@ -28,7 +28,7 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
     beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf.
     ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit, and
-    ``adapt_excluded_channel`` ``adapt_excluded_channels``;
+    ``adapt_excluded_channel`` ``adapt_excluded_channels``; ``calm_complete`` (its table) ``calm_complete_rho``;
     ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``);
     ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
@@ -46,6 +46,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     for key, parse in TABLE_PARSERS.items():   # a table option's text: {name: S}
         if key in out and not isinstance(out[key], dict):
             out[key] = parse(out[key])
+    if "calm_complete" in out:   # the calm-air bounds by measurement (cpp/f16mmae/calm_air_complete.h)
+        out["calm_complete_rho"] = out.pop("calm_complete")
     for name in ("counted", "excluded"):   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
         sensor = out.pop(f"adapt_{name}_channel", None)
         if sensor is not None:

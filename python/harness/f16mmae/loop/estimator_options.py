@@ -20,7 +20,8 @@ import json
 
 from dataclasses import dataclass
 
-from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_DWELL_S_PER_HYPOTHESIS, SCHEDULE_MODES,
+from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
+                     SCHEDULE_DWELL_S_PER_HYPOTHESIS, SCHEDULE_MODES,
                      SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
 
 
@@ -116,6 +117,17 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "(a `constant` or `cover` level for it) leave the adaptation's minimum over the "
                          "hypotheses; they still get its scale (unless the presumed hypothesis reads it so "
                          "too; cpp/f16mmae/turbulence_adaptation.h). Default: none"),
+    EstimatorOption("calm_complete", "--calm-complete", "table", metavar="NAME=RHO,...", requires="adapt_turbulence",
+                    help="with --adapt-turbulence: while the adaptation's measured residual power ratio (rho-bar, "
+                         "the least of the hypotheses' q_k / m averaged) is below RHO, decided while no failure "
+                         "is presumed or rising, the hypotheses that read sensor NAME as a tracked level read it "
+                         "as the paper's complete failure, the trim plus its noise: a constant that fits a calm "
+                         "reading is then no evidence (cpp/f16mmae/calm_air_complete.h). RHO is a multiple of "
+                         "the scheduled bank's calm-air reference at the flight condition (its nodes' rho-bar "
+                         "midway between calm and light air), the bound itself on a bank without one; NAME=0: "
+                         "off. Default: "
+                         f"{SCHEDULE_CALM_COMPLETE} on a scheduled bank whose nodes carry the reference, with "
+                         "--adapt-turbulence (names.SCHEDULE_CALM_COMPLETE), else none"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -410,6 +422,8 @@ CORE_ONLY: dict[str, str] = {
     "adapt_spare_margin_over": "the per-hypothesis tempering's margin reference, a bit mask over the level-0 "
                                "hypotheses (turbulence_adaptation.h); the estimator sets it from "
                                "--set-tempering-margin-stabilators",
+    "calm_complete_rho": "the calm-air bounds by measurement (calm_air_complete.h); the estimator sets it from "
+                         "--calm-complete (loop/estimator.py core_arguments)",
     "adapt_spare_rho": "the per-hypothesis tempering's least measured rho (turbulence_adaptation.h); the "
                        "estimator sets it from --set-tempering-rho",
 }
@@ -417,10 +431,10 @@ CORE_ONLY: dict[str, str] = {
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
 #: ``adapt_all_channels``, ``adapt_counted_channel`` and ``adapt_excluded_channel`` are resolved by ``scheduled_defaults`` and the estimator;
-#: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits and ``set_tempering`` the
-#: per-hypothesis tempering's keywords, loop/estimator.py core_arguments).
+#: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits, ``set_tempering`` the
+#: per-hypothesis tempering's keywords and ``calm_complete`` ``calm_complete_rho``, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
-                               "sensor_loss_dither", "adapt_all_channels", "adapt_counted_channel", "adapt_excluded_channel",
+                               "sensor_loss_dither", "calm_complete", "adapt_all_channels", "adapt_counted_channel", "adapt_excluded_channel",
                                "trim_steady_air_data", "set_tempering", "set_tempering_rho",
                                "set_tempering_margin", "set_tempering_margin_stabilators")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
@@ -480,19 +494,27 @@ def load_dwell_nats_table(path: str) -> dict[str, float]:
 FILE_LOADERS = {"level1_allowance_pairs": load_allowance_pairs, "dwell_nats_per_hypothesis": load_dwell_nats_table}
 
 
-def parse_dwell_s_table(text: str) -> dict[str, float]:
-    """``--dwell-s-per-hypothesis`` ``NAME=S[,NAME=S...]`` as ``{name: S}``, parsed by the core's
-    parser as mmae-daemon parses it (cpp/f16mmae/declarer.h). ValueError naming the flag and the
-    entry (the core refuses names that are not hypotheses of the bank when it is built)."""
-    from .. import core
-    try:
-        return dict(core.parse_dwell_s_per_hypothesis(str(text)))
-    except ValueError as exc:   # the core's "dwell_s_per_hypothesis: why"
-        raise ValueError(f"--dwell-s-per-hypothesis: {str(exc).split(': ', 1)[-1]}") from None
+def _core_table(parser: str, flag: str):
+    """The parser of a ``table`` option's text ``NAME=V[,NAME=V...]``: ``{name: V}`` by the core's
+    ``parser`` as mmae-daemon parses it, ValueError naming ``flag`` and the entry (the core refuses
+    names the bank does not have when it is built)."""
+    def parse(text: str) -> dict[str, float]:
+        from .. import core
+        try:
+            return dict(getattr(core, parser)(str(text)))
+        except ValueError as exc:   # the core's "<table>: why"
+            raise ValueError(f"{flag}: {str(exc).split(': ', 1)[-1]}") from None
+    return parse
+
+
+#: ``--dwell-s-per-hypothesis``: the least dwells {hypothesis: S} (cpp/f16mmae/declarer.h).
+parse_dwell_s_table = _core_table("parse_dwell_s_per_hypothesis", "--dwell-s-per-hypothesis")
+#: ``--calm-complete``: the calm-air bounds {measurement: rho} (cpp/f16mmae/calm_air_complete.h).
+parse_calm_complete_table = _core_table("parse_calm_complete", "--calm-complete")
 
 
 #: The parser of each ``table`` option's text: the table the core takes.
-TABLE_PARSERS = {"dwell_s_per_hypothesis": parse_dwell_s_table}
+TABLE_PARSERS = {"dwell_s_per_hypothesis": parse_dwell_s_table, "calm_complete": parse_calm_complete_table}
 
 
 def valid_range(option: EstimatorOption) -> str:
@@ -575,7 +597,15 @@ SCHEDULED_DEFAULT_FLAGS: dict[str, str] = {
 }
 
 
-def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = False) -> dict:
+def has_calm_reference(model_bank) -> bool:
+    """Whether ``model_bank`` is a scheduled bank whose nodes carry a calm-air reference (schedule
+    format 4, ``design --schedule`` with calibrated nodes; cpp/f16mmae/bank_schedule.h)."""
+    schedule = model_bank.schedule
+    return schedule is not None and schedule["nodes"][0].get("calm_reference") is not None
+
+
+def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = False,
+                       calm_reference: bool = False) -> dict:
     """``settings`` with the scheduled estimator's defaults applied: on a ``scheduled`` bank
     with ``adapt_turbulence`` (and no turbulence bank set, whose members always count per
     channel), unless ``adapt_all_channels`` asks for the plain minimum, ``adapt_own_channels``
@@ -591,7 +621,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AZ=0``
     turns it off). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
-    too. A copy; ``settings`` is not changed."""
+    too. ``calm_reference``: its nodes carry a calm-air reference (``has_calm_reference``): then
+    ``calm_complete`` ``names.SCHEDULE_CALM_COMPLETE`` unless given. A copy; ``settings`` is not
+    changed."""
     out = dict(settings)
     all_channels = out.get("adapt_all_channels", False)
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks") and not all_channels:
@@ -604,6 +636,8 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out.setdefault("dwell_s_per_hypothesis", SCHEDULE_DWELL_S_PER_HYPOTHESIS)
         if running_start:
             out["adapt_running_start"] = True
+        if calm_reference:
+            out.setdefault("calm_complete", SCHEDULE_CALM_COMPLETE)
     return out
 
 
@@ -611,7 +645,8 @@ def bank_defaults(settings: dict, model_bank) -> dict:
     """``scheduled_defaults`` of ``settings`` for ``model_bank``: scheduled when it carries a
     schedule, with the running start when its file recommends it (``recommends_running_start``).
     The in-process estimator, ``hil`` (as the daemon's flags) and ``replay`` apply it alike."""
-    return scheduled_defaults(settings, model_bank.schedule is not None, recommends_running_start(model_bank))
+    return scheduled_defaults(settings, model_bank.schedule is not None, recommends_running_start(model_bank),
+                              has_calm_reference(model_bank))
 
 
 def command_line_flags(settings: dict) -> list[str]:

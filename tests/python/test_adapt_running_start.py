@@ -73,8 +73,9 @@ def test_a_design_calibrated_with_it_records_and_recommends_it(tmp_path_factory)
     assert "adapt_running_start" not in Estimator(plain, adapt_turbulence=True).settings
     assert "adapt_running_start" not in Estimator(rs).settings   # no adaptation asked
     given = {"adapt_turbulence": True}   # hil, replay and the estimator: one rule for a bank
-    assert bank_defaults(given, rs) == scheduled_defaults(given, True, True)
-    assert bank_defaults(given, plain) == scheduled_defaults(given, True, False)
+    # both calibrated designs carry the calm-air reference (schedule format 4)
+    assert bank_defaults(given, rs) == scheduled_defaults(given, True, True, calm_reference=True)
+    assert bank_defaults(given, plain) == scheduled_defaults(given, True, False, calm_reference=True)
     assert bank_defaults(given, load_bank("tuned")[2]) == given
     # the node's floors and references were bounded on flights flown with it: the calibration's
     # mean scales (candidates [p_min, reference, peak, s, met]) are not the plain start's

@@ -258,6 +258,7 @@ class FilterBank {
     own_ratio_.setOnes(k);
     q_own_.setZero(k);
     free_channels_.setZero(k);
+    tracked_channels_.setZero(k);
     for (int i = 0; i < k; ++i) note_uninformative(i);
     level_.setZero(nz, k);
     level_var_.setZero(nz, k);
@@ -646,13 +647,16 @@ class FilterBank {
     int read = nz();
     const std::uint32_t counted = options_.adaptation.counted_channels;
     std::uint32_t free = 0;   // bit j: channel j uninformative in filter k (the excluded channels' test)
+    std::uint32_t tracked = 0;   // ... and its level tracked (the complete channels' test)
     if (uninformative_[k])
       for (int j = 0; j < nz(); ++j)
         if (hypotheses_[k].model().uninformative_width(j) > 0.0) {
           if (j < 32) free |= 1u << j;
+          if (j < 32 && hypotheses_[k].tracks_channel(j)) tracked |= 1u << j;
           if (!(j < 32 && ((counted >> j) & 1u))) --read;
         }
     free_channels_(k) = free;
+    tracked_channels_(k) = tracked;
     own_ratio_(k) = read > 0 ? static_cast<double>(nz()) / read : 1.0;
     if (k == 0 || (complete_ != 0 && k == presumed_)) {   // filter 0's A is every footing; the presumed
       refresh_footings();                                  // one's levels decide the complete channels
@@ -661,9 +665,10 @@ class FilterBank {
     }
   }
   // Filter k's channels read with the complete model (set_complete_channels): the complete
-  // channels it reads as a level and the presumed hypothesis does not.
+  // channels whose level it tracks and the presumed hypothesis does not read (a memoryless
+  // level, uniform every frame, keeps its density and footing: steady_state_filter.h).
   std::uint32_t complete_in(int k) const noexcept {
-    return complete_ & free_channels_(k) & ~free_channels_(presumed_);
+    return complete_ & tracked_channels_(k) & ~free_channels_(presumed_);
   }
   void refresh_footings() noexcept {
     for (int i = 0; i < size(); ++i) note_footing(i);
@@ -861,6 +866,7 @@ class FilterBank {
   int head_ = 0;                                  // set_p_min's two tiers: k < head_ take
   double p_min_head_ = 0.0, log_p_min_head_ = 0.0;   // p_min_head_ (head_ = 0: none)
   Eigen::Matrix<std::uint32_t, K, 1> free_channels_;   // bit j: channel j uninformative in filter k
+  Eigen::Matrix<std::uint32_t, K, 1> tracked_channels_;   // bit j: ... and its level tracked (q_j > 0)
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

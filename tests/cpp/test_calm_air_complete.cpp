@@ -98,6 +98,14 @@ TEST(CalmAirComplete, ACompleteChannelIsThePapersGaussianWithoutTheFootingAndIts
     plain.propagate(Eigen::Matrix<double, 1, 1>::Zero());
     calm.propagate(Eigen::Matrix<double, 1, 1>::Zero());
   }
+  // a memoryless level (q = 0: uniform every frame) keeps its density and footing
+  Scalar memoryless = failed;
+  memoryless.uninformative_level_q << 0.0;
+  ScalarBank uniform({scalar_model(1.0), memoryless}), uniform_calm({scalar_model(1.0), memoryless});
+  uniform_calm.set_complete_channels(1u);
+  ASSERT_TRUE(uniform.update(z1(0.3)));
+  ASSERT_TRUE(uniform_calm.update(z1(0.3)));
+  EXPECT_EQ(uniform_calm.log_likelihoods()(1), uniform.log_likelihoods()(1));
   // presumed, the failed sensor's own channel is no complete channel of its hypothesis
   calm.presume(1);
   plain.presume(1);

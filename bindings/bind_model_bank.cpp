@@ -214,8 +214,8 @@ BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<do
     const py::tuple t = nodes[n].cast<py::tuple>();
     if (t.size() < 4 || t.size() > 7)
       throw py::value_error("schedule nodes[" + std::to_string(n) +
-                            "] must be (i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer[, calm_reference]]]), "
-                            "got " + std::to_string(t.size()) + " items");
+                            "] must be (i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer[, "
+                            "calm_reference]]]), got " + std::to_string(t.size()) + " items");
     ScheduleNode node;
     node.i_mach = t[0].cast<int>();
     node.i_alt = t[1].cast<int>();
@@ -249,7 +249,8 @@ py::object schedule_info(const ModelBank& b) {
     e["x_trim"] = readonly(n.x_trim);
     e["layer"] = n.layer;
     e["adapt_reference"] = std::isnan(n.adapt_reference) ? py::object(py::none()) : py::object(py::float_(n.adapt_reference));
-    e["calm_reference"] = std::isnan(n.calm_reference) ? py::object(py::none()) : py::object(py::float_(n.calm_reference));
+    e["calm_reference"] =
+        std::isnan(n.calm_reference) ? py::object(py::none()) : py::object(py::float_(n.calm_reference));
     nodes.append(e);
   }
   d["nodes"] = nodes;
@@ -571,9 +572,9 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       "[, layer[, calm_reference]]]), ...], one per covered grid point and layer (adapt_reference: the turbulence\n"
       "adaptation's rho_0 at the node, given for every node or for none, None: not carried; layer: the configuration\n"
       "layer, 0 by default; calm_reference: the measured rho-bar midway between the node's calm and light air,\n"
-      "calm_air_complete.h, every node or none); switch_state, switch_thresholds: the configuration law (bank_schedule.h; -1 and none: one\n"
-      "layer); primary: the node in force before air data; start_up_s: the estimator start-up the schedule\n"
-      "recommends, s (0: none). Written as format 4 with calm references, else 3 with a start-up, else 2.\n"
+      "calm_air_complete.h, every node or none); switch_state, switch_thresholds: the configuration law\n"
+      "(bank_schedule.h; -1 and none: one layer); primary: the node in force before air data; start_up_s: the\n"
+      "estimator start-up the schedule recommends, s (0: none). Written as format 4 with calm references, else 3 with a start-up, else 2.\n"
       "ValueError naming the field.\n"
       "core.load_bank reads the file back as the primary node's ModelBank with .schedule set.");
   m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s

@@ -54,19 +54,22 @@
 namespace f16mmae {
 
 struct CalmAirCompleteOptions {
-  std::map<std::string, double> rho;   // measurement name -> ρ_j: its complete density while ρ̄ < ρ_j c (empty: off)
+  std::map<std::string, double> rho;   // measurement -> ρ_j: complete while ρ̄ < ρ_j c (empty: off)
   double freeze_probability = 0.05;    // a failure hypothesis above this holds the decision
 };
+
+// Why measurement `name`'s bound ρ is refused ("" if it lies in [0, 100]; 0: off).
+inline std::string calm_bound_refusal(const std::string& name, double rho) {
+  if (rho >= 0.0 && rho <= 100.0) return "";
+  return name + "'s bound must lie in [0, 100] (0: off), got " + format_value(rho);
+}
 
 // The bounds' text form "NAME=RHO[,NAME=RHO...]" (the flag --calm-complete) as {name: ρ}. Throws
 // std::invalid_argument "calm_complete: ..." naming the entry (parse_name_values); the names are
 // checked against the bank where the bounds are used.
 inline std::map<std::string, double> parse_calm_complete(const std::string& text) {
   return parse_name_values(text, "calm_complete", "NAME=RHO (a measurement and its calm-air bound)", "measurement",
-                           [](const std::string& name, double rho) -> std::string {
-                             if (rho >= 0.0 && rho <= 100.0) return "";
-                             return name + "'s bound must lie in [0, 100] (0: off), got " + format_value(rho);
-                           });
+                           calm_bound_refusal);
 }
 
 class CalmAirComplete {
@@ -79,8 +82,12 @@ class CalmAirComplete {
     for (const auto& [name, rho] : options.rho) {
       std::size_t j = 0;
       while (j < measurements.size() && measurements[j] != name) ++j;
-      if (j == measurements.size()) refuse("'" + name + "' is not a measurement of the bank");
-      if (!(rho >= 0.0 && rho <= 100.0)) refuse(name + "'s bound must lie in [0, 100] (0: off), got " + format_value(rho));
+      if (j == measurements.size()) {
+        std::string valid;
+        for (const auto& m : measurements) valid += (valid.empty() ? "" : ", ") + m;
+        refuse("'" + name + "' is not a measurement of the bank; it has " + valid);
+      }
+      if (const std::string why = calm_bound_refusal(name, rho); !why.empty()) refuse(why);
       bound_[j] = rho;
       if (rho > 0.0) bounded_ |= 1u << j;
     }

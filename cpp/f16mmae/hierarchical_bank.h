@@ -229,7 +229,7 @@ struct HierarchicalOptions {
   ManeuverTrimOptions maneuver_trim;       // the climb's and acceleration's trim (maneuver_trim.h; off)
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
-  CalmAirCompleteOptions calm_complete;   // failed sensors read as the paper's complete model in calm air (calm_air_complete.h; off)
+  CalmAirCompleteOptions calm_complete;   // a failed sensor's level read as complete in calm air (calm_air_complete.h)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (level_floors.h)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (level_floors.h)
   double spare_dwell_s = 0.0;    // the level-0 dwell while the tempering spares (header); 0: off
@@ -297,7 +297,7 @@ class HierarchicalBank {
       }
     }
     if (calm_.enabled()) {   // calm_air_complete.h: decided while no failure is presumed or rising
-      const bool decide = !trim_freezing_at(calm_.options().freeze_probability);
+      const bool decide = !failure_suspected_at(calm_.options().freeze_probability);
       const double reference = sched_.active() ? sched_.calm_reference() : 1.0;
       bank_.set_complete_channels(calm_.observe(bank_.adaptation().measured_power_ratio(), decide, reference));
     }
@@ -753,10 +753,10 @@ class HierarchicalBank {
 
   // The trim tracker's freeze condition on this frame (trim_tracker.h): level 1, a failure
   // declared, or a failure hypothesis on line above freeze_probability.
-  bool trim_freezing() const noexcept { return trim_freezing_at(trim_tracker_.options().freeze_probability); }
+  bool trim_freezing() const noexcept { return failure_suspected_at(trim_tracker_.options().freeze_probability); }
   // A failure presumed (level 1, or a declared failure current) or rising (an on-line failure
-  // hypothesis above `freeze_probability`).
-  bool trim_freezing_at(double freeze_probability) const noexcept {
+  // hypothesis above `freeze_probability`): the trim tracker's and the calm-air rule's hold.
+  bool failure_suspected_at(double freeze_probability) const noexcept {
     if (level_ != 0 || online_[declarer_in_force().current()] != 0) return true;
     const PVector& p = bank_.probabilities();
     for (int k = 1; k < size(); ++k)

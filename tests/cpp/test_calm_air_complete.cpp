@@ -66,7 +66,12 @@ TEST(CalmAirComplete, CalmBelowTheBoundTimesTheReferenceHeldWhileAFailureRises) 
   EXPECT_EQ(c.calm(), 0b101u);
   EXPECT_FALSE(CalmAirComplete(CalmAirCompleteOptions{}, kSensors).enabled());
   o.rho = {{"AZ", 0.5}};
-  EXPECT_THROW(CalmAirComplete(o, kSensors), std::invalid_argument);
+  try {
+    CalmAirComplete(o, kSensors);
+    ADD_FAILURE() << "accepted AZ";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "calm-air complete: 'AZ' is not a measurement of the bank; it has VEL, AOA, PIT");
+  }
   o.rho = {{"VEL", 101.0}};
   EXPECT_THROW(CalmAirComplete(o, kSensors), std::invalid_argument);
   o.rho = {{"VEL", 0.5}};

@@ -62,7 +62,7 @@ def per_second(bank, mach: float, alt_ft: float, air: str, seeds: list[int], fli
 
         def on_frame(t, u, z, air_data):
             rows.append((int(t), core_bank.measured_power_ratio, bound * core_bank.calm_reference,
-                         core_bank.calm_complete_channels & 1))
+                         core_bank.calm_complete_channels >> names.SENSORS.index("VEL") & 1))
 
         fly(Scenario(mach=mach, alt_ft=alt_ft, turbulence=air, duration_s=flight_s, seed=seed), bank,
             estimator=estimator, on_frame=on_frame)

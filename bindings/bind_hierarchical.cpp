@@ -176,15 +176,10 @@ auto prop(F f) {
 // a frame the scheduler preempted (milliseconds) would otherwise weigh on the pass's mean.
 template <class Bank>
 py::tuple bench_fixed_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
-                           double min_time_s, const std::string& schedule_mode, const ManeuverOptions& maneuver,
-                           const ActuatorLimitOptions& actuators, long long evict_bytes) {
-  HierarchicalOptions o;
-  o.maneuver = maneuver;
-  o.actuators = actuators;
+                           double min_time_s, HierarchicalOptions o, long long evict_bytes) {
   o.bank.p_min = bank.estimator.p_min;
   o.declarer.threshold = bank.estimator.threshold;
   o.declarer.dwell_s = bank.estimator.dwell_s;
-  o.schedule.mode = schedule_mode == "nearest" ? ScheduleMode::kNearest : ScheduleMode::kInterpolate;
   const auto hb = std::make_unique<Bank>(bank, o);
   const Eigen::MatrixXd z = cv::to_matrix(z_frames, -1, 7, "z", "(N, 7)");
   const Eigen::Index n = z.rows();
@@ -249,26 +244,31 @@ py::tuple bench_fixed_loop(const ModelBank& bank, py::handle z_frames, py::handl
 py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
                                   double min_time_s, const std::string& schedule_mode, bool maneuver_kinematics,
                                   double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
-                                  const std::vector<double>& actuator_position_limits_rad, long long evict_bytes) {
-  ManeuverOptions maneuver;
-  maneuver.kinematics = maneuver_kinematics;
-  maneuver.tempering_g = maneuver_tempering_g;
-  ActuatorLimitOptions actuators;
-  actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
-  actuators.position_limit_rad = actuator_position_limits_rad;
+                                  const std::vector<double>& actuator_position_limits_rad, long long evict_bytes,
+                                  bool adapt_turbulence, const std::string& calm_complete,
+                                  const std::string& calm_measure) {
+  HierarchicalOptions o;
+  o.maneuver.kinematics = maneuver_kinematics;
+  o.maneuver.tempering_g = maneuver_tempering_g;
+  o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
+  o.actuators.position_limit_rad = actuator_position_limits_rad;
+  o.schedule.mode = schedule_mode == "nearest" ? ScheduleMode::kNearest : ScheduleMode::kInterpolate;
+  o.bank.adaptation.enabled = adapt_turbulence;
+  try {
+    if (!calm_complete.empty()) o.calm_complete.rho = parse_calm_complete(calm_complete);
+    o.calm_complete.measure = parse_calm_measure(calm_measure);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
   int level0 = 0;   // NONE and the hypotheses without '+': the singles and any partial ones
   for (const auto& h : bank.hypotheses) level0 += h.name.find('+') == std::string::npos ? 1 : 0;
   if (level0 == 18 && bank.nx() == 13 && bank.nu() == 5)   // a partial hypothesis per surface
-    return bench_fixed_loop<F16PartialHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode,
-                                                        maneuver, actuators, evict_bytes);
+    return bench_fixed_loop<F16PartialHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, o, evict_bytes);
   if (bank.nx() == F16GustHierarchicalBank::XVector::RowsAtCompileTime)
-    return bench_fixed_loop<F16GustHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode,
-                                                     maneuver, actuators, evict_bytes);
+    return bench_fixed_loop<F16GustHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, o, evict_bytes);
   if (bank.nu() == F16ThrottleHierarchicalBank::UVector::RowsAtCompileTime)
-    return bench_fixed_loop<F16ThrottleHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode,
-                                                         maneuver, actuators, evict_bytes);
-  return bench_fixed_loop<F16HierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, schedule_mode, maneuver,
-                                               actuators, evict_bytes);
+    return bench_fixed_loop<F16ThrottleHierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, o, evict_bytes);
+  return bench_fixed_loop<F16HierarchicalBank>(bank, z_frames, u_frames, air, min_time_s, o, evict_bytes);
 }
 
 FixedHierarchicalBank fixed_hierarchical_bank(py::handle hierarchical_bank) {
@@ -318,11 +318,13 @@ void bind_hierarchical(py::module_& m) {
         py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
         py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
         py::arg("actuator_position_limits_rad") = std::vector<double>{}, py::arg("evict_bytes") = 0,
+        py::arg("adapt_turbulence") = false, py::arg("calm_complete") = "", py::arg("calm_measure") = "power",
         "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F-16 bank of the\n"
         "model bank's nx and nu (13 states, 19 with gust states; 5 inputs, 6 with the throttle; 18 filters\n"
         "on line with a partial hypothesis per surface)\n"
         "over frames z (N,7), u (N,nu), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
-        "given, timed in C++ (f16mmae.bench); the maneuver options as core.HierarchicalBank's;\n"
+        "given, timed in C++ (f16mmae.bench); the maneuver, adaptation and calm-air options as\n"
+        "core.HierarchicalBank's (calm_complete the --calm-complete text);\n"
         "evict_bytes > 0: a buffer of that size read before every frame (a cold cache; frames timed alone,\n"
         "the median frame of a pass counts).");
   py::class_<PyHierarchicalBank> cls(m, "HierarchicalBank", R"doc(
@@ -373,6 +375,10 @@ bank whose nodes carry one, else 1; decided while no failure is presumed or risi
 the hypotheses that read that measurement as a tracked level read it with the paper's complete
 model, the trim plus its noise (cpp/f16mmae/calm_air_complete.h); calm_complete_channels reads the
 channels in force (a bit per measurement).
+calm_measure ('power', the default, 'whiteness' or 'either'; with calm_complete_rho): the air read by
+the power ratio (above), by how white the presumed filter's residuals are on VEL, AOA, AZ, AY and ROL
+(W-bar, about 1 in the design's gusts, below it in calm air; cpp/f16mmae/residual_whiteness.h) against
+calm_whiteness_bound (default 0.78) for every bounded measurement, or calm by either.
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.
@@ -458,6 +464,9 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("calm_complete_channels", prop([](auto& b) { return b.bank().complete_channels(); }),
                              "the channels read with the complete model from the next update on, a bit per "
                              "measurement (calm_complete_rho)")
+      .def_property_readonly("calm_whiteness", prop([](auto& b) { return b.calm_whiteness(); }),
+                             "the calm-air rule's residual whiteness W-bar (calm_measure 'whiteness' or 'either'; "
+                             "NaN otherwise or before its first block of residuals)")
       .def_property_readonly("calm_reference", prop([](auto& b) {
                                return b.scheduled().active() ? b.scheduled().calm_reference() : 1.0;
                              }),

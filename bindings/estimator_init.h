@@ -132,6 +132,16 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
        [](const O&) { return py::object(py::none()); }},
       // the calm-air complete model (calm_air_complete.h)
       field<&O::calm_complete, &CalmAirCompleteOptions::rho>("calm_complete_rho"),  // {measurement: rho_j}
+      {"calm_measure", "'power', 'whiteness' or 'either'",
+       [](O& o, py::handle v) {
+         try {
+           o.calm_complete.measure = parse_calm_measure(py::cast<std::string>(py::str(v)));
+         } catch (const std::invalid_argument& e) {
+           throw py::value_error(e.what());
+         }
+       },
+       [](const O& o) { return py::cast(calm_measure_name(o.calm_complete.measure)); }},
+      field<&O::calm_complete, &CalmAirCompleteOptions::whiteness_bound>("calm_whiteness_bound"),
       // trim tracking
       field<&O::trim, &TrimTrackingOptions::time_constant_s>("trim_time_constant_s"),
       field<&O::trim, &TrimTrackingOptions::freeze_probability>("trim_freeze_probability"),

@@ -325,6 +325,20 @@ const std::vector<Flag>& flags() {
          return "";
        }),
        nullptr, "--adapt-turbulence", adapting},
+      {"--calm-measure", "power|whiteness|either",
+       "with --calm-complete, how the air is read: the measured power ratio against RHO times the reference "
+       "(power, the default), how white the presumed filter's residuals are on VEL, AOA, AZ, AY and ROL against "
+       "--calm-whiteness-bound (whiteness; residual_whiteness.h), or calm by either",
+       choice(at(E, &H::calm_complete, &CalmAirCompleteOptions::measure),
+              std::vector<std::pair<std::string, CalmMeasure>>{{"power", CalmMeasure::kPowerRatio},
+                                                               {"whiteness", CalmMeasure::kWhiteness},
+                                                               {"either", CalmMeasure::kEither}}),
+       nullptr, "--calm-complete", [](const C& c) { return !c.estimator.calm_complete.rho.empty(); }},
+      {"--calm-whiteness-bound", "W", "the air is calm while the residual whiteness is below W (default 0.78)",
+       number(at(E, &H::calm_complete, &CalmAirCompleteOptions::whiteness_bound), {0.0, 100.0, true},
+              "a bound in (0, 100]"),
+       nullptr, "--calm-measure",
+       [](const C& c) { return c.estimator.calm_complete.measure != CalmMeasure::kPowerRatio; }},
       {"--adapt-reference-climb", "RHO",
        "the reference while the air data climb or descend faster than 300 ft/min or change Mach faster than "
        "the Mach-rate gate (default: off, the reference above everywhere)",

@@ -140,8 +140,10 @@
 // schedule's calm-air reference in force (1 unscheduled), while no failure is presumed or rising
 // (the trim tracker's condition at its own freeze probability), and hands the bank the channels
 // whose tracked levels are read as the paper's complete failure from the next update on
-// (FilterBank::set_complete_channels); every bounded channel at the start and reset(). It needs
-// the adaptation (refused at construction without it).
+// (FilterBank::set_complete_channels); every bounded channel at the start and reset(). By its
+// measure 'whiteness' or 'either' it reads, too, how white the presumed filter's residuals are
+// (residual_whiteness.h, averaged over the adaptation's time constant). It needs the adaptation
+// (refused at construction without it).
 // Maneuvering flight (all off by default: the bank as designed, bit for bit):
 //   options.maneuver.kinematics   after each propagate every filter's x⁻ gains dt R(x̂), the
 //                                 kinematic/gravity terms the wings-level linearization drops,
@@ -299,6 +301,7 @@ class HierarchicalBank {
     if (calm_.enabled()) {   // calm_air_complete.h: decided while no failure is presumed or rising
       const bool decide = !failure_suspected_at(calm_.options().freeze_probability);
       const double reference = sched_.active() ? sched_.calm_reference() : 1.0;
+      calm_.observe_residual(bank_.residual(0));   // the presumed filter's (with the whiteness)
       bank_.set_complete_channels(calm_.observe(bank_.adaptation().measured_power_ratio(), decide, reference));
     }
     if (trim_tracker_.options().enabled()) {
@@ -539,6 +542,8 @@ class HierarchicalBank {
   // Frames on which the departure hold kept the level-1 bank from declaring (departure_hold.h).
   std::int64_t departure_frames() const noexcept { return departure_.frames(); }
   double frame_rate_hz() const noexcept { return frame_rate_hz_; }
+  // The calm-air rule's whiteness W̄ (calm_air_complete.h; NaN without it or before its first block).
+  double calm_whiteness() const noexcept { return calm_.whiteness(); }
   const PVector& probabilities() const noexcept { return bank_.probabilities(); }
   // The turbulence adaptation's likelihood scale s (1 when off; turbulence_adaptation.h):
   // the estimated ratio of the residual power to the design's, the estimator's own measure
@@ -673,7 +678,7 @@ class HierarchicalBank {
         online_(levels_.level0()),
         air_rates_(mb.frame_rate_hz),
         trim_tracker_(options.trim, mb.frame_rate_hz, mb.nu(), mb.nz(), mb.measurement_names),
-        calm_(options.calm_complete, mb.measurement_names),
+        calm_(options.calm_complete, mb.measurement_names, options.bank.adaptation.time_constant_s, mb.frame_rate_hz),
         climb_ref_(options.climb_reference, mb.frame_rate_hz),
         maneuver_dwell_(options.maneuver_dwell, mb.frame_rate_hz),
         maneuver_trim_(options.maneuver_trim, mb.frame_rate_hz),

@@ -310,6 +310,31 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--calm-complete", "VEL=1"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--calm-complete applies with --adapt-turbulence only"), std::string::npos) << r.message;
+  // its measure (residual_whiteness.h) and the whiteness' bound, with the bounds only
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1"}, nullptr);
+  EXPECT_EQ(r.config.estimator.calm_complete.measure, CalmMeasure::kPowerRatio);
+  EXPECT_EQ(r.config.estimator.calm_complete.whiteness_bound, 0.78);
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1", "--calm-measure", "either",
+                         "--calm-whiteness-bound", "0.7"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.calm_complete.measure, CalmMeasure::kEither);
+  EXPECT_EQ(r.config.estimator.calm_complete.whiteness_bound, 0.7);
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1", "--calm-measure", "white"},
+                        nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--calm-measure must be 'power', 'whiteness' or 'either', got 'white'"), std::string::npos)
+      << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-measure", "whiteness"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--calm-measure applies with --calm-complete only"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1", "--calm-whiteness-bound",
+                         "0.7"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--calm-whiteness-bound applies with --calm-measure only"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1", "--calm-measure", "whiteness",
+                         "--calm-whiteness-bound", "0"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--calm-whiteness-bound must be a bound in (0, 100]"), std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-excluded-channel", "aoa"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-excluded-channel applies with --adapt-turbulence only"), std::string::npos)

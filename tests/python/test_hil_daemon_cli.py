@@ -249,3 +249,21 @@ def test_the_calm_air_complete_model_reaches_the_daemon():
     assert rc == 2 and "--calm-complete applies with --adapt-turbulence only" in out
     rc, out = _daemon("--bank", bank, "--adapt-turbulence", "--calm-complete", "VEL=-1")
     assert rc == 2 and "VEL's bound must lie in [0, 100] (0: off), got -1" in out, out
+
+
+def test_the_calm_air_measure_reaches_the_daemon():
+    """``--calm-measure`` and ``--calm-whiteness-bound`` are passed on and named in the ready line;
+    the daemon refuses a measure it does not know and the whiteness' bound without a measure that
+    reads it."""
+    settings = {"adapt_turbulence": True, "calm_complete": "VEL=1", "calm_measure": "either",
+                "calm_whiteness_bound": 0.7}
+    flags = daemon_flags(settings)
+    assert flags[flags.index("--calm-measure") + 1] == "either"
+    assert flags[flags.index("--calm-whiteness-bound") + 1] == "0.7"
+    bank = str(load_bank("tuned")[1])
+    ready = ready_line("--bank", bank, *flags)
+    assert "complete in calm air VEL 1 by either (whiteness below 0.7))" in ready, ready
+    rc, out = _daemon("--bank", bank, "--adapt-turbulence", "--calm-complete", "VEL=1", "--calm-measure", "white")
+    assert rc == 2 and "--calm-measure must be 'power', 'whiteness' or 'either', got 'white'" in out, out
+    rc, out = _daemon("--bank", bank, "--adapt-turbulence", "--calm-complete", "VEL=1", "--calm-whiteness-bound", "0.7")
+    assert rc == 2 and "--calm-whiteness-bound applies with --calm-measure only" in out, out

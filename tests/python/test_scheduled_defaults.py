@@ -221,3 +221,46 @@ def test_the_calm_air_complete_model_is_the_default_where_the_nodes_carry_a_calm
             last = hb.calm_complete_channels
         assert decided > 150
     assert crossed == {1.0, 1.8, 0.9}   # each bank leaves calm air once the air it reads is above its bound
+
+
+def test_the_calm_air_measure_is_checked_and_read_by_the_core(vel_rol_schedule):
+    """``--calm-measure`` and ``--calm-whiteness-bound`` are refused out of range by flag, reach
+    the core as ``calm_measure`` and ``calm_whiteness_bound``, and a bank reading the whiteness
+    decides calm air by W-bar against the bound where it decides at all (no failure presumed or
+    rising; cpp/f16mmae/residual_whiteness.h)."""
+    given = {"adapt_turbulence": True, "calm_complete": "VEL=1"}
+    check({**given, "calm_measure": "either", "calm_whiteness_bound": 0.7})
+    with pytest.raises(ValueError, match="--calm-measure 'white' must be one of power, whiteness, either"):
+        check({**given, "calm_measure": "white"})
+    with pytest.raises(ValueError, match=r"--calm-whiteness-bound 0.0 must lie in \(0, 100\]"):
+        check({**given, "calm_measure": "whiteness", "calm_whiteness_bound": 0.0})
+    with pytest.raises(ValueError, match="calm_measure: must be 'power', 'whiteness' or 'either', got 'white'"):
+        core.HierarchicalBank(vel_rol_schedule, adapt_turbulence=True, calm_complete_rho={"VEL": 1.0},
+                              calm_measure="white")
+    bank = vel_rol_schedule
+    power = core.HierarchicalBank(bank, adapt_turbulence=True, calm_complete_rho={"VEL": 1.0})
+    assert np.isnan(power.calm_whiteness)   # the power ratio's rule reads no whiteness
+    root_a = np.linalg.cholesky(np.asarray(bank.hypotheses[0].a))
+    states = set()
+    for bound in (0.3, 0.6, 2.0):
+        hb = core.HierarchicalBank(bank, adapt_turbulence=True, calm_complete_rho={"VEL": 1.0},
+                                   calm_measure="whiteness", calm_whiteness_bound=bound, dwell_s=float(core.MAX_DWELL_S))
+        rng = np.random.default_rng(5)
+        last, decided, slow = 1, 0, np.zeros(names.NZ)
+        for i in range(600):   # white noise (the filter chases it: W-bar about 0.4), then a slow part (W-bar up)
+            if i >= 300:
+                slow = 0.97 * slow + 0.5 * rng.standard_normal(names.NZ)
+            hb.update(np.asarray(bank.z_trim) + root_a @ (rng.standard_normal(names.NZ) + slow))
+            hb.propagate(np.asarray(bank.u_trim))
+            w = hb.calm_whiteness
+            if i < 64 + 7:   # the first second left out, then the first block
+                assert np.isnan(w) and hb.calm_complete_channels == 1, i
+            elif hb.level == 0 and np.asarray(hb.probabilities)[1:].max() <= 0.05:
+                decided += 1
+                assert hb.calm_complete_channels == (1 if w < bound else 0), (bound, i, w)
+            else:
+                assert hb.calm_complete_channels == last, (bound, i)
+            last = hb.calm_complete_channels
+            states.add(last)
+        assert decided > 300
+    assert states == {0, 1}

@@ -174,6 +174,13 @@ SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1,AZ=0.5"
 #: constant declared VEL about 3.7 s into every calm flight (6.0 an hour at the nominal point),
 #: while a failed and a healthy airspeed sensor read the same constant there (round 24).
 SCHEDULE_CALM_COMPLETE = "VEL=1"
+#: How SCHEDULE_CALM_COMPLETE reads the air (``--calm-measure``): calm by either the power ratio
+#: against the node's reference or the residual whiteness below its bound
+#: (cpp/f16mmae/residual_whiteness.h). The power ratio alone read calm air as rough in the first
+#: seconds of some calm flights and above 30,000 ft, each time a false VEL (179 of 3,900 calm
+#: tuning runs); the whiteness separates the airs up to 30,000 ft from 2 s on, and the power
+#: ratio still reads some calm flights above it (4 of 3,900; round 25).
+SCHEDULE_CALM_MEASURE = "either"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

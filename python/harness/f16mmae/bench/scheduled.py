@@ -15,6 +15,9 @@ The maneuver model (kinematics, actuator limits, load-factor tempering; cpp/f16m
 maneuver_kinematics.h, actuator_limits.h) needs a bank with the airframe's lag actuators and
 trim, so its cost is timed on the shipped tuned bank, without and with it, over frames about
 that bank's trim (sensor noise and a command dither): its cost adds to the scheduled frame's.
+The same bank times the turbulence adaptation and, on top of it, the scheduled default's
+calm-air rule (VEL's complete model, the air read by the power ratio or the residuals'
+whiteness: cpp/f16mmae/residual_whiteness.h).
 """
 from __future__ import annotations
 
@@ -31,6 +34,9 @@ from .estimator import synthetic_bank, synthetic_frames, synthetic_models
 
 #: The scheduled frame's budget (issue 12): at most 2 us in the C++ loop.
 TARGET_SCHEDULED_US = 2.0
+#: The variant with the scheduled default's calm-air rule (cpp/f16mmae/calm_air_complete.h, the
+#: residual whiteness and the power ratio: names.SCHEDULE_CALM_MEASURE).
+CALM_RULE = "tuned bank + adaptation + calm-air rule"
 MACH_AXIS = (0.4, 0.6)
 ALT_AXIS = (10_000.0, 20_000.0)
 
@@ -49,6 +55,9 @@ class ScheduledBenchResult:
         tuned, man = self.us_per_frame.get("tuned bank"), self.us_per_frame.get("tuned bank + maneuver model")
         if tuned and man:
             out["tuned bank + maneuver model / tuned bank"] = man / tuned
+        adapted, calm = self.us_per_frame.get("tuned bank + adaptation"), self.us_per_frame.get(CALM_RULE)
+        if adapted and calm:
+            out[f"{CALM_RULE} / tuned bank + adaptation"] = calm / adapted
         return out
 
     def scheduled_with_maneuver_us(self) -> float | None:
@@ -102,7 +111,10 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
     zt = np.asarray(tuned.z_trim) + 0.01 * rng.standard_normal((frames, names.NZ)) * np.abs(np.asarray(tuned.z_trim) + 1.0)
     ut = np.asarray(tuned.u_trim) + np.radians(0.5) * rng.standard_normal((frames, names.NU))
     maneuver = core_arguments({"maneuver_kinematics": True, "actuator_limits": True, "maneuver_tempering_g": 0.1})
-    for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver)):
+    adapted = {"adapt_turbulence": True}
+    calm = {**adapted, "calm_complete": names.SCHEDULE_CALM_COMPLETE, "calm_measure": names.SCHEDULE_CALM_MEASURE}
+    for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver),
+                      ("tuned bank + adaptation", adapted), (CALM_RULE, calm)):
         per_frame, worst = core._bench_hierarchical_loop(tuned, zt, ut, min_time_s=min_time_s, **kw)
         result.us_per_frame[label] = per_frame * 1e6
         result.worst_frame_us[label] = worst * 1e6
@@ -113,9 +125,9 @@ def report(result: ScheduledBenchResult, stream) -> dict:
     """Print the rows, ratios and the budget; return the JSON record."""
     print("  scheduled frame (F16HierarchicalBank, C++ loop; air data sweeping a 2 x 2 grid cell;"
           " the maneuver model on the tuned bank):", file=stream)
-    print(f"  {'variant':36s} {'us/frame':>12s} {'slowest us':>12s}", file=stream)
+    print(f"  {'variant':40s} {'us/frame':>12s} {'slowest us':>12s}", file=stream)
     for label, us in result.us_per_frame.items():
-        print(f"  {label:36s} {us:12.3f} {result.worst_frame_us[label]:12.1f}", file=stream)
+        print(f"  {label:40s} {us:12.3f} {result.worst_frame_us[label]:12.1f}", file=stream)
     ratios = result.ratios()
     print("  ratios: " + ", ".join(f"{k} = {v:.2f}x" for k, v in ratios.items()), file=stream)
     met = {label: {"target": TARGET_SCHEDULED_US, "measured": us, "met": us <= TARGET_SCHEDULED_US}

@@ -21,7 +21,7 @@ import json
 from dataclasses import dataclass
 
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
-                     SCHEDULE_DWELL_S_PER_HYPOTHESIS, SCHEDULE_MODES,
+                     SCHEDULE_CALM_MEASURE, SCHEDULE_DWELL_S_PER_HYPOTHESIS, SCHEDULE_MODES,
                      SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
 
 
@@ -128,6 +128,20 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "off. Default: "
                          f"{SCHEDULE_CALM_COMPLETE} on a scheduled bank whose nodes carry the reference, with "
                          "--adapt-turbulence (names.SCHEDULE_CALM_COMPLETE), else none"),
+    EstimatorOption("calm_measure", "--calm-measure", "choice", metavar="power|whiteness|either",
+                    choices=("power", "whiteness", "either"), requires="adapt_turbulence",
+                    help="with --calm-complete, how the air is read: power, the measured power ratio against "
+                         "RHO times the reference; whiteness, how white the presumed filter's residuals are on "
+                         "VEL, AOA, AZ, AY and ROL (W-bar: the power of 8-frame block means over the mean power, "
+                         "about 1 in the light turbulence a scheduled bank is designed for, below it in calm air, "
+                         "where the gusts' gains chase the sensors' noise) against --calm-whiteness-bound; "
+                         "either: calm by one or the other (cpp/f16mmae/residual_whiteness.h). Default: "
+                         f"{SCHEDULE_CALM_MEASURE} where --calm-complete is a scheduled bank's default "
+                         "(names.SCHEDULE_CALM_MEASURE), else power"),
+    EstimatorOption("calm_whiteness_bound", "--calm-whiteness-bound", "number", metavar="W", minimum=0.0,
+                    exclusive=True, maximum=100.0, requires="adapt_turbulence",
+                    help="with --calm-measure whiteness or either: the air is calm while W-bar < W "
+                         "(0 < W <= 100; default 0.78)"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -622,8 +636,8 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turns it off). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
     too. ``calm_reference``: its nodes carry a calm-air reference (``has_calm_reference``): then
-    ``calm_complete`` ``names.SCHEDULE_CALM_COMPLETE`` unless given. A copy; ``settings`` is not
-    changed."""
+    ``calm_complete`` ``names.SCHEDULE_CALM_COMPLETE`` and ``calm_measure``
+    ``names.SCHEDULE_CALM_MEASURE`` unless given. A copy; ``settings`` is not changed."""
     out = dict(settings)
     all_channels = out.get("adapt_all_channels", False)
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks") and not all_channels:
@@ -638,6 +652,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
             out["adapt_running_start"] = True
         if calm_reference:
             out.setdefault("calm_complete", SCHEDULE_CALM_COMPLETE)
+            out.setdefault("calm_measure", SCHEDULE_CALM_MEASURE)
     return out
 
 

@@ -312,12 +312,12 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_NE(r.message.find("--calm-complete applies with --adapt-turbulence only"), std::string::npos) << r.message;
   // its measure (residual_whiteness.h) and the whiteness' bound, with the bounds only
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1"}, nullptr);
-  EXPECT_EQ(r.config.estimator.calm_complete.measure, CalmMeasure::kPowerRatio);
+  EXPECT_EQ(r.config.estimator.calm_complete.measure, f16mmae::CalmMeasure::kPowerRatio);
   EXPECT_EQ(r.config.estimator.calm_complete.whiteness_bound, 0.78);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1", "--calm-measure", "either",
                          "--calm-whiteness-bound", "0.7"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_EQ(r.config.estimator.calm_complete.measure, CalmMeasure::kEither);
+  EXPECT_EQ(r.config.estimator.calm_complete.measure, f16mmae::CalmMeasure::kEither);
   EXPECT_EQ(r.config.estimator.calm_complete.whiteness_bound, 0.7);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1", "--calm-measure", "white"},
                         nullptr);

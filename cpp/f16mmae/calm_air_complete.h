@@ -55,9 +55,9 @@
 // (tools/schedule/calm_rho.py; docs/results/envelope_scheduled.md, round 24).
 // Off (no bound, the default): every l_k bit for bit as without it.
 // Throws std::invalid_argument (the constructor) naming a measurement the bank does not have (a
-// bound's or a whiteness channel's), a
-// bound outside [0, 100], or freeze_probability not in (0, 1]. Per frame noexcept, no
-// allocation.
+// bound's or a whiteness channel's), a bound outside [0, 100], freeze_probability not in (0, 1],
+// or, with the whiteness, no channel or a whiteness bound not in (0, 100]. Per frame noexcept,
+// no allocation.
 #pragma once
 
 #include "f16mmae/estimator_settings.h"
@@ -172,9 +172,9 @@ class CalmAirComplete {
     const bool by_whiteness = m != CalmMeasure::kPowerRatio && std::isfinite(w);
     if (!by_power && !by_whiteness) return calm_;   // no measure yet: held
     calm_ = 0;
+    const bool calm_by_whiteness = by_whiteness && w < options_.whiteness_bound;
     for (std::size_t j = 0; j < bound_.size(); ++j)
-      if (bound_[j] > 0.0 && ((by_whiteness && w < options_.whiteness_bound) || (by_power && rho_bar < bound_[j] * reference)))
-        calm_ |= 1u << j;
+      if (bound_[j] > 0.0 && (calm_by_whiteness || (by_power && rho_bar < bound_[j] * reference))) calm_ |= 1u << j;
     return calm_;
   }
   std::uint32_t calm() const noexcept { return calm_; }

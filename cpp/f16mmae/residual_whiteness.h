@@ -47,7 +47,8 @@ class ResidualWhiteness {
   // `channels` bit j: residual j is in J (nz measurements); τ the averages' time constant in s,
   // f the update rate. Throws std::invalid_argument naming a bad argument.
   void configure(std::uint32_t channels, int nz, double time_constant_s, double frame_rate_hz) {
-    if (nz < 1 || nz > 32) throw std::invalid_argument("residual whiteness: 1 to 32 measurements, got " + std::to_string(nz));
+    if (nz < 1 || nz > 32)
+      throw std::invalid_argument("residual whiteness: 1 to 32 measurements, got " + std::to_string(nz));
     if (channels == 0 || (nz < 32 && channels >> nz) != 0)
       throw std::invalid_argument("residual whiteness: the channels must be a non-empty set of the bank's " +
                                   std::to_string(nz) + " measurements");

@@ -20,9 +20,12 @@ DAEMON = str(find_executable("mmae-daemon"))
 SHARED = [o for o in ESTIMATOR_OPTIONS if o.in_daemon and o.on_command_line and o.flag != "--actuator-limits"
           and o.kind in ("number", "choice", "switch")]
 #: What the daemon needs besides the harness's requirement: the harness turns --adapt-own-channels
-#: on for a scheduled bank by default (estimator_options.scheduled_defaults), the daemon has no
-#: such default and lcm.daemon.daemon_flags passes the flag.
-DAEMON_ALSO_NEEDS = {"adapt_counted_channel": ["--adapt-own-channels"]}
+#: on, and gives --calm-complete and --calm-measure, for a scheduled bank by default
+#: (estimator_options.scheduled_defaults), the daemon has no such default and
+#: lcm.daemon.daemon_flags passes the flags.
+DAEMON_ALSO_NEEDS = {"adapt_counted_channel": ["--adapt-own-channels"],
+                     "calm_measure": ["--calm-complete", "VEL=1"],
+                     "calm_whiteness_bound": ["--calm-complete", "VEL=1", "--calm-measure", "whiteness"]}
 
 
 def _valid(o: EstimatorOption):

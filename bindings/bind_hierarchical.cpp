@@ -242,24 +242,8 @@ py::tuple bench_fixed_loop(const ModelBank& bank, py::handle z_frames, py::handl
 }
 
 py::tuple bench_hierarchical_loop(const ModelBank& bank, py::handle z_frames, py::handle u_frames, py::handle air,
-                                  double min_time_s, const std::string& schedule_mode, bool maneuver_kinematics,
-                                  double maneuver_tempering_g, const std::vector<double>& actuator_rate_limits_rad_s,
-                                  const std::vector<double>& actuator_position_limits_rad, long long evict_bytes,
-                                  bool adapt_turbulence, const std::string& calm_complete,
-                                  const std::string& calm_measure) {
-  HierarchicalOptions o;
-  o.maneuver.kinematics = maneuver_kinematics;
-  o.maneuver.tempering_g = maneuver_tempering_g;
-  o.actuators.rate_limit_rad_s = actuator_rate_limits_rad_s;
-  o.actuators.position_limit_rad = actuator_position_limits_rad;
-  o.schedule.mode = schedule_mode == "nearest" ? ScheduleMode::kNearest : ScheduleMode::kInterpolate;
-  o.bank.adaptation.enabled = adapt_turbulence;
-  try {
-    if (!calm_complete.empty()) o.calm_complete.rho = parse_calm_complete(calm_complete);
-    o.calm_complete.measure = parse_calm_measure(calm_measure);
-  } catch (const std::invalid_argument& e) {
-    throw py::value_error(e.what());
-  }
+                                  double min_time_s, long long evict_bytes, const py::kwargs& estimator) {
+  const HierarchicalOptions o = estimator_options(estimator);   // core.HierarchicalBank's keywords
   int level0 = 0;   // NONE and the hypotheses without '+': the singles and any partial ones
   for (const auto& h : bank.hypotheses) level0 += h.name.find('+') == std::string::npos ? 1 : 0;
   if (level0 == 18 && bank.nx() == 13 && bank.nu() == 5)   // a partial hypothesis per surface
@@ -314,17 +298,13 @@ void bind_hierarchical(py::module_& m) {
         "x (nx,2), u (nu,2), z (nz,2), and the thrust acceleration of that equilibrium, thrust (2,)\n"
         "(cpp/f16mmae/maneuver_trim.h).");
   m.def("_bench_hierarchical_loop", &bench_hierarchical_loop, py::arg("bank"), py::arg("z"), py::arg("u"),
-        py::arg("air_data") = py::none(), py::arg("min_time_s") = 0.2, py::arg("schedule_mode") = "interpolate",
-        py::arg("maneuver_kinematics") = false, py::arg("maneuver_tempering_g") = 0.0,
-        py::arg("actuator_rate_limits_rad_s") = std::vector<double>{},
-        py::arg("actuator_position_limits_rad") = std::vector<double>{}, py::arg("evict_bytes") = 0,
-        py::arg("adapt_turbulence") = false, py::arg("calm_complete") = "", py::arg("calm_measure") = "power",
+        py::arg("air_data") = py::none(), py::arg("min_time_s") = 0.2, py::arg("evict_bytes") = 0,
         "Benchmark: (seconds per frame, slowest frame in seconds) of the fixed-size C++ F-16 bank of the\n"
         "model bank's nx and nu (13 states, 19 with gust states; 5 inputs, 6 with the throttle; 18 filters\n"
         "on line with a partial hypothesis per surface)\n"
         "over frames z (N,7), u (N,nu), with schedule(air_data[i]) before each frame when air_data (N,2) is\n"
-        "given, timed in C++ (f16mmae.bench); the maneuver, adaptation and calm-air options as\n"
-        "core.HierarchicalBank's (calm_complete the --calm-complete text);\n"
+        "given, timed in C++ (f16mmae.bench); any other keyword is core.HierarchicalBank's (the bank's own\n"
+        "p_min, threshold and dwell_s stand);\n"
         "evict_bytes > 0: a buffer of that size read before every frame (a cold cache; frames timed alone,\n"
         "the median frame of a pass counts).");
   py::class_<PyHierarchicalBank> cls(m, "HierarchicalBank", R"doc(

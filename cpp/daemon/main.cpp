@@ -249,14 +249,11 @@ int main(int argc, char** argv) {
         std::string calm;   // "(..., complete in calm air VEL 1)": the bounds, relative to a node's reference
         for (const auto& [name, rho] : running.calm_complete.rho)
           if (rho > 0.0) calm += (calm.empty() ? "" : " ") + name + " " + f16mmae::format_value(rho);
-        if (!calm.empty())
-          adaptation.insert(adaptation.size() - 1, ", complete in calm air " + calm +
-                                                       (running.calm_complete.measure == f16mmae::CalmMeasure::kPowerRatio
-                                                            ? ""
-                                                            : std::string(" by ") +
-                                                                  f16mmae::calm_measure_name(running.calm_complete.measure) +
-                                                                  " (whiteness below " +
-                                                                  f16mmae::format_value(running.calm_complete.whiteness_bound) + ")"));
+        const auto& c = running.calm_complete;   // "... VEL 1 by either (whiteness below 0.78)"
+        if (!calm.empty() && c.measure != f16mmae::CalmMeasure::kPowerRatio)
+          calm += std::string(" by ") + f16mmae::calm_measure_name(c.measure) + " (whiteness below " +
+                  f16mmae::format_value(c.whiteness_bound) + ")";
+        if (!calm.empty()) adaptation.insert(adaptation.size() - 1, ", complete in calm air " + calm);
       }
       const auto& a = running.bank.adaptation;
       if (a.hypothesis_weight < 1.0)   // the per-hypothesis tempering (turbulence_adaptation.h)

@@ -65,7 +65,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -159,7 +158,7 @@ class CalmAirComplete {
   void observe_residual(const R& r) noexcept { whiteness_.observe(r); }
   // W̄ (NaN without the whiteness or before its first block).
   double whiteness() const noexcept {
-    return whiteness_.enabled() ? whiteness_.value() : std::numeric_limits<double>::quiet_NaN();
+    return whiteness_.value();   // NaN when not configured
   }
   // After an update: `rho_bar` the adaptation's measured ρ̄, `decide` false while a failure is
   // presumed or rising, `reference` the calm-air reference c in force (header). Returns the
@@ -167,7 +166,7 @@ class CalmAirComplete {
   std::uint32_t observe(double rho_bar, bool decide, double reference = 1.0) noexcept {
     if (!decide) return calm_;
     const CalmMeasure m = options_.measure;
-    const double w = whiteness_.enabled() ? whiteness_.value() : std::numeric_limits<double>::quiet_NaN();
+    const double w = whiteness();
     const bool by_power = m != CalmMeasure::kWhiteness && std::isfinite(rho_bar) && std::isfinite(reference);
     const bool by_whiteness = m != CalmMeasure::kPowerRatio && std::isfinite(w);
     if (!by_power && !by_whiteness) return calm_;   // no measure yet: held

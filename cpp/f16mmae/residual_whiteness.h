@@ -24,8 +24,8 @@
 // correlated negatively from one update to the next give W̄ < 1, gust-coloured ones W̄ > 1.
 // W̄ is NaN until the first block after S is complete. B = 8 updates and S = 1 s at the frame
 // rate f (kBlockUpdates, kStartS); τ is the caller's (the turbulence adaptation's).
-// Cost per update: |J| additions and multiply-adds; per block |J| more; no allocation after
-// configure(). Non-finite residuals are skipped (the block waits for finite ones).
+// Cost per update: |J| additions and multiply-adds; per block |J| more and |J| divisions (W̄ is
+// kept from one block to the next); no allocation after configure(). Non-finite residuals are skipped (the block waits for finite ones).
 #pragma once
 
 #include "f16mmae/running_mean.h"
@@ -72,6 +72,7 @@ class ResidualWhiteness {
     updates_ = 0;
     in_block_ = 0;
     blocks_ = 0;
+    value_ = std::numeric_limits<double>::quiet_NaN();
     for (std::size_t c = 0; c < index_.size(); ++c) sum_[c] = sum_sq_[c] = u_[c] = v_[c] = 0.0;
   }
   // Another's averages and block (a bank taking over, turbulence_bank_set.h), when it averages
@@ -87,6 +88,7 @@ class ResidualWhiteness {
     updates_ = from.updates_;
     in_block_ = from.in_block_;
     blocks_ = from.blocks_;
+    value_ = from.value_;
   }
   // One update's residual r (indexable by measurement, e.g. an Eigen vector).
   template <class R>
@@ -101,21 +103,19 @@ class ResidualWhiteness {
     }
     if (++in_block_ < kBlockUpdates) return;
     const double a = blocks_ < blocks_length_ ? 1.0 / static_cast<double>(++blocks_) : alpha_;
+    double w = 0.0;
     for (std::size_t c = 0; c < index_.size(); ++c) {
       const double mean = sum_[c] / kBlockUpdates;
       u_[c] += a * (kBlockUpdates * mean * mean - u_[c]);
       v_[c] += a * (sum_sq_[c] / kBlockUpdates - v_[c]);
       sum_[c] = sum_sq_[c] = 0.0;
+      w += v_[c] > 0.0 ? u_[c] / v_[c] : 1.0;
     }
+    value_ = w / static_cast<double>(index_.size());   // W̄ changes once a block
     in_block_ = 0;
   }
   // W̄ of the header (NaN before the first block).
-  double value() const noexcept {
-    if (blocks_ == 0) return std::numeric_limits<double>::quiet_NaN();
-    double w = 0.0;
-    for (std::size_t c = 0; c < index_.size(); ++c) w += v_[c] > 0.0 ? u_[c] / v_[c] : 1.0;
-    return w / static_cast<double>(index_.size());
-  }
+  double value() const noexcept { return value_; }
 
  private:
   std::vector<int> index_;                      // J
@@ -123,6 +123,7 @@ class ResidualWhiteness {
   std::int64_t start_updates_ = 0, updates_ = 0, blocks_ = 0, blocks_length_ = 1;
   int in_block_ = 0;
   double alpha_ = 1.0;
+  double value_ = std::numeric_limits<double>::quiet_NaN();   // W̄ as of the last block
 };
 
 }  // namespace f16mmae

@@ -112,7 +112,8 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
     ut = np.asarray(tuned.u_trim) + np.radians(0.5) * rng.standard_normal((frames, names.NU))
     maneuver = core_arguments({"maneuver_kinematics": True, "actuator_limits": True, "maneuver_tempering_g": 0.1})
     adapted = {"adapt_turbulence": True}
-    calm = {**adapted, "calm_complete": names.SCHEDULE_CALM_COMPLETE, "calm_measure": names.SCHEDULE_CALM_MEASURE}
+    calm = core_arguments({**adapted, "calm_complete": names.SCHEDULE_CALM_COMPLETE,
+                           "calm_measure": names.SCHEDULE_CALM_MEASURE})
     for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver),
                       ("tuned bank + adaptation", adapted), (CALM_RULE, calm)):
         per_frame, worst = core._bench_hierarchical_loop(tuned, zt, ut, min_time_s=min_time_s, **kw)

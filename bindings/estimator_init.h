@@ -142,6 +142,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
        },
        [](const O& o) { return py::cast(calm_measure_name(o.calm_complete.measure)); }},
       field<&O::calm_complete, &CalmAirCompleteOptions::whiteness_bound>("calm_whiteness_bound"),
+      // the complete failures' held trim (complete_trim_hold.h)
+      two_words<&O::complete_trim_hold, &CompleteTrimHoldOptions::enabled>("complete_trim_hold", "on", "off"),
       // trim tracking
       field<&O::trim, &TrimTrackingOptions::time_constant_s>("trim_time_constant_s"),
       field<&O::trim, &TrimTrackingOptions::freeze_probability>("trim_freeze_probability"),

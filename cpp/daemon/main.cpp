@@ -221,12 +221,13 @@ int main(int argc, char** argv) {
       // what the bank runs with: a turbulence bank set's member in force has the set file's
       // trim tracking and tempering applied (TurbulenceSetBank, the one place that applies them)
       const f16mmae::HierarchicalOptions& running = executive->estimator().options();
-      const std::string trim = running.trim.enabled()
+      const std::string tracking = running.trim.enabled()
                                    ? "trim tracking " + f16mmae::format_value(running.trim.time_constant_s) + " s (freeze above " +
                                          f16mmae::format_value(running.trim.freeze_probability) +
                                          (running.trim.steady() ? ", steady " + f16mmae::format_value(running.trim.steady_g) + " g"
                                                                 : std::string()) + ")"
                                    : std::string("no trim tracking");
+      const std::string trim = tracking + (running.complete_trim_hold.enabled ? ", complete failures on the held trim" : "");
       const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
                                   options.schedule.node_adapt_reference;
       const bool set_reference = executive->estimator().members() > 0 && options.schedule.node_adapt_reference;

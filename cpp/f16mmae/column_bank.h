@@ -78,6 +78,8 @@ class ColumnBank {
     xp_.col(k) = x;
     corrected_[k] = true;
   }
+  // r_k(j) += d (a held complete channel; filter_bank.h).
+  void offset_residual(int k, int j, double d) noexcept { r_(j, k) += d; }
   // x⁻_k = x⁺_k = 0, r_k = 0, not corrected.
   void clear(int k) noexcept {
     xm_.col(k).setZero();

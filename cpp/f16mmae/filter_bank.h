@@ -53,6 +53,11 @@
 //                 -r_j²/(2 A^k_jj) (the sensor reads the trim plus its noise), and F leaves j
 //                 out of v_k: j is compared as in the paper's stripped eq. 2, one more
 //                 Gaussian factor with its determinant dropped like every other's.
+//                 Held complete channels (set_held_channels, set_held_offset;
+//                 complete_trim_hold.h): on a channel j of filter k whose H row is zero and
+//                 A row diagonal, r_kj + d_j in place of r_kj and q_k corrected by
+//                 (2 r_kj + d_j) d_j (A_k⁻¹)_jj, before everything above reads them (d = 0:
+//                 bit for bit without).
 //                 Bayes update (eq. 1) in the log domain:
 //                   p'_k = exp(l_k + ln p_k - LSE_j(l_j + ln p_j)),   LSE = log-sum-exp
 //                 floor ("lock-out" prevention) by water-filling: hypotheses with
@@ -259,6 +264,8 @@ class FilterBank {
     q_own_.setZero(k);
     free_channels_.setZero(k);
     tracked_channels_.setZero(k);
+    held_channels_.setZero(k);
+    held_offset_.setZero(nz);
     for (int i = 0; i < k; ++i) note_uninformative(i);
     level_.setZero(nz, k);
     level_var_.setZero(nz, k);
@@ -309,6 +316,7 @@ class FilterBank {
     const int k = size();
     if (!z.allFinite()) return reject();
     if (!store([&](auto& s) { return s.update(z, hypotheses_, q_); })) return reject();
+    if (held_on_) offset_held_channels();
     // log-likelihoods (eq. 2) and the Bayes update (eq. 1), log domain
     double a_max = -std::numeric_limits<double>::infinity();
     const bool adapt = scale_.enabled();
@@ -542,6 +550,15 @@ class FilterBank {
     note_uninformative(k);
     store([&](auto& s) { s.clear(k); });
     level_set_[k] = 0;
+  }
+  // Held complete channels (complete_trim_hold.h): bit j of `bits` marks channel j of filter k
+  // as a complete channel, whose residual the coming updates take against a held trim, r_kj + d_j,
+  // d set by set_held_offset (q_k corrected exactly: A_k is diagonal on such a channel).
+  void set_held_channels(int k, std::uint32_t bits) noexcept { held_channels_(k) = bits; }
+  template <class Z>
+  void set_held_offset(const Eigen::MatrixBase<Z>& d) noexcept {
+    held_offset_ = d;
+    held_on_ = !held_offset_.isZero(0.0);
   }
   // Every filter's uninformative-channel levels move by dz: b̂_k <- b̂_k + dz (a change of
   // the trim the residuals are taken from, z_trim_old - z_trim_new, so that a level stays
@@ -790,6 +807,21 @@ class FilterBank {
       log_floor_(i) = (d < 0.0 ? log_base + d : log_base) + log_floor_scale_(i);
     }
   }
+  // r_kj += d_j and q_k += (2 r_kj + d_j) d_j (A_k⁻¹)_jj on every held complete channel
+  // (set_held_channels; complete_trim_hold.h), after the store's update.
+  void offset_held_channels() noexcept {
+    for (int i = 0; i < size(); ++i) {
+      const std::uint32_t bits = held_channels_(i);
+      if (bits == 0) continue;
+      for (int j = 0; j < nz() && j < 32; ++j) {
+        const double d = held_offset_(j);
+        if (!((bits >> j) & 1u) || d == 0.0) continue;
+        const double r = residual(i)(j);
+        store([&](auto& s) { s.offset_residual(i, j, d); });
+        q_(i) += (2.0 * r + d) * d * hypotheses_[i].a_inverse()(j, j);
+      }
+    }
+  }
   // The floor's fresh levels (header comment): every hypothesis on its floor after this
   // frame's Bayes update restarts the tracked levels the presumed hypothesis does not track.
   void restart_floored_levels() noexcept {
@@ -867,6 +899,9 @@ class FilterBank {
   double p_min_head_ = 0.0, log_p_min_head_ = 0.0;   // p_min_head_ (head_ = 0: none)
   Eigen::Matrix<std::uint32_t, K, 1> free_channels_;   // bit j: channel j uninformative in filter k
   Eigen::Matrix<std::uint32_t, K, 1> tracked_channels_;   // bit j: ... and its level tracked (q_j > 0)
+  Eigen::Matrix<std::uint32_t, K, 1> held_channels_;   // bit j: channel j a held complete channel of filter k
+  ZVector held_offset_;                                // set_held_offset's d
+  bool held_on_ = false;                               // d != 0
 };
 
 using F16FilterBank = FilterBank<13, 13, 5, 7>;

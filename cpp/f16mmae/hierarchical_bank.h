@@ -161,7 +161,10 @@
 //                                 (maneuver_trim.h); with maneuver_trim.inertial (gamma, dV/dt)
 //                                 from z's rates, AOA and VEL against the air data's, read
 //                                 after each update under the trim tracker's freeze condition
-//                                 (inertial_flight_path.h).
+//                                 (inertial_flight_path.h);
+//   options.complete_trim_hold    the complete failures' channels read against the trim in
+//                                 force when a failure began to show, held while one is
+//                                 suspected (trim_freezing below; complete_trim_hold.h).
 // Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 // F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>, the same bank whose filters carry
 // six Dryden gust states, `f16mmae design --gust-states`; F16ThrottleHierarchicalBank =
@@ -194,6 +197,7 @@
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
 #include "f16mmae/calm_air_complete.h"
+#include "f16mmae/complete_trim_hold.h"
 #include "f16mmae/climb_reference.h"
 #include "f16mmae/maneuver_dwell.h"
 #include "f16mmae/maneuver_trim.h"
@@ -232,6 +236,7 @@ struct HierarchicalOptions {
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   CalmAirCompleteOptions calm_complete;   // a failed sensor's level read as complete in calm air (calm_air_complete.h)
+  CompleteTrimHoldOptions complete_trim_hold;   // a complete failure reads the trim held while one is suspected (complete_trim_hold.h; off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (level_floors.h)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (level_floors.h)
   double spare_dwell_s = 0.0;    // the level-0 dwell while the tempering spares (header); 0: off
@@ -267,6 +272,10 @@ class HierarchicalBank {
     const std::int64_t frame = frame_++;
     z_pert_.noalias() = z_abs - z_trim_;
     z_pert_ -= dz_;
+    if (trim_hold_.enabled()) {   // complete_trim_hold.h
+      trim_in_force_.noalias() = z_trim_ + dz_;
+      bank_.set_held_offset(trim_hold_.observe(trim_in_force_, trim_freezing()));
+    }
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
     if (level_ == 1 && allowance_on_[static_cast<std::size_t>(level1_bank_)]) {   // level1_allowance.h
@@ -406,6 +415,8 @@ class HierarchicalBank {
     if (!(level_ == 0 && online_ == levels_.level0() && !sched_.active()))
       for (int k = 0; k < size(); ++k) bank_.load_filter(k, storage_[levels_.level0()[k]]);
     online_ = levels_.level0();
+    set_held_channels();
+    trim_hold_.reset();
     level_ = 0;
     level1_bank_ = -1;
     if (levels_.partial())
@@ -480,6 +491,8 @@ class HierarchicalBank {
       warm = false;
     }
     online_ = from.online_;
+    set_held_channels();
+    trim_hold_.carry_over(from.trim_hold_);
     level_ = from.level_;
     level1_bank_ = from.level1_bank_;
     set_floors();   // this bank's floors for the level carried over
@@ -544,6 +557,9 @@ class HierarchicalBank {
   double frame_rate_hz() const noexcept { return frame_rate_hz_; }
   // The calm-air rule's whiteness W̄ (calm_air_complete.h; NaN without it or before its first block).
   double calm_whiteness() const noexcept { return calm_.whiteness(); }
+  // The complete channels' held offset d = (z_trim + dz) - z_ref of the last update (zero while
+  // no failure is suspected or the hold is off; complete_trim_hold.h).
+  const ZVector& complete_trim_offset() const noexcept { return trim_hold_.offset(); }
   const PVector& probabilities() const noexcept { return bank_.probabilities(); }
   // The turbulence adaptation's likelihood scale s (1 when off; turbulence_adaptation.h):
   // the estimated ratio of the residual power to the design's, the estimator's own measure
@@ -709,6 +725,10 @@ class HierarchicalBank {
     storage_.reserve(b.models.size());
     for (std::size_t i = 0; i < b.models.size(); ++i)
       storage_.emplace_back(b.models[i], "hypothesis '" + names_[i] + "'");
+    trim_hold_ = CompleteTrimHold<NZ>(options.complete_trim_hold, mb.nz());
+    trim_in_force_ = ZVector::Zero(mb.nz());
+    for (const auto& h : mb.hypotheses) held_of_.push_back(CompleteTrimHold<NZ>::channels_of(h));
+    set_held_channels();
     bank_.set_h_output(mb.h_output);
     z_trim_ = mb.z_trim;
     u_trim_ = mb.u_trim;
@@ -756,6 +776,11 @@ class HierarchicalBank {
     }
   }
 
+  // Each on-line filter's held complete channels (complete_trim_hold.h; none when off).
+  void set_held_channels() noexcept {
+    for (int k = 0; k < size(); ++k)
+      bank_.set_held_channels(k, trim_hold_.enabled() ? held_of_[static_cast<std::size_t>(online_[k])] : 0u);
+  }
   // The trim tracker's freeze condition on this frame (trim_tracker.h): level 1, a failure
   // declared, or a failure hypothesis on line above freeze_probability.
   bool trim_freezing() const noexcept { return failure_suspected_at(trim_tracker_.options().freeze_probability); }
@@ -800,6 +825,7 @@ class HierarchicalBank {
       bank_.set_posterior(k, x0);
     }
     online_ = next;
+    set_held_channels();
     level_ = level;
     departure_.release();
     set_floors();
@@ -969,6 +995,9 @@ class HierarchicalBank {
   AirDataRates air_rates_;   // the phase gates' climb and Mach rates (air_data_rates.h)
   TrimTracker<NU, NZ> trim_tracker_;
   CalmAirComplete calm_;   // calm_air_complete.h
+  CompleteTrimHold<NZ> trim_hold_;        // complete_trim_hold.h
+  std::vector<std::uint32_t> held_of_;    // per ModelBank hypothesis: its complete channels
+  ZVector trim_in_force_;                 // z_trim + dz, the hold's input (no temporary per frame)
   ClimbReference climb_ref_;
   ManeuverDwell maneuver_dwell_;
   int maneuver_dwell_az_ = 0;   // AZ in z (the maneuver dwell's load factor)

@@ -86,6 +86,8 @@ class PackedBank<true, K, NX, NU, NZ> {
     for (int i = 0; i < NX; ++i) xp_[cur_p_][k][i] = x(i);
     corrected_[k] = true;
   }
+  // r_k(j) += d (a held complete channel; filter_bank.h).
+  void offset_residual(int k, int j, double d) noexcept { r_[cur_p_][k][j] += d; }
   // x⁻_k = x⁺_k = 0, r_k = 0, not corrected.
   void clear(int k) noexcept {
     for (double& v : xm_[cur_m_][k]) v = 0.0;

@@ -23,7 +23,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     given = {"adapt_turbulence": True}
     spared = {"set_tempering": names.SCHEDULE_SET_TEMPERING,   # the per-hypothesis tempering, whatever the rule
               "trim_time_constant_s": names.SCHEDULE_TRIM_TIME_CONSTANT_S,   # trim tracking
-              "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS}   # and VEL's least dwell
+              "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,   # VEL's least dwell
+              "complete_trim_hold": names.SCHEDULE_COMPLETE_TRIM_HOLD}   # and the complete failures' held trim
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
                                                "adapt_counted_channel": "vel", **spared}
     assert given == {"adapt_turbulence": True}   # a copy
@@ -33,8 +34,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     assert scheduled_defaults(rol, True) == {**rol, "adapt_own_channels": True, **spared}
     all_channels = {**given, "adapt_all_channels": True}
     assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
-    off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0 and VEL=0 are off)
-           "dwell_s_per_hypothesis": "VEL=0"}
+    off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0, VEL=0, off are off)
+           "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off"}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
@@ -131,7 +132,8 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
-                          "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS}
+                          "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                          "--complete-trim-hold", names.SCHEDULE_COMPLETE_TRIM_HOLD}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
 
@@ -146,6 +148,45 @@ def test_the_excluded_channel_reaches_the_core_and_the_daemon():
     from f16mmae.lcm.daemon import daemon_flags
     flags = daemon_flags({"adapt_turbulence": True, "adapt_excluded_channel": "aoa"})
     assert flags[flags.index("--adapt-excluded-channel") + 1] == "aoa"
+
+
+def test_the_complete_trim_hold_reaches_the_core_and_the_daemon(vel_rol_schedule):
+    """``complete_trim_hold`` on|off is the core's keyword as given, refused otherwise by the
+    harness and the core alike, handed to mmae-daemon as its flag, and read back by the core bank;
+    with it on a failed AOA's hypothesis reads the held trim once the failure is suspected: the
+    held offset is non-zero on some frame, and zero on every frame of a no-failure flight."""
+    assert core_arguments({"complete_trim_hold": "on"})["complete_trim_hold"] == "on"
+    with pytest.raises(ValueError, match="--complete-trim-hold 'held' must be one of on, off"):
+        check({"complete_trim_hold": "held"})
+    with pytest.raises(ValueError, match="complete_trim_hold"):
+        core.HierarchicalBank(vel_rol_schedule, complete_trim_hold="held")
+    from f16mmae.lcm.daemon import daemon_flags
+    flags = daemon_flags({"complete_trim_hold": "on"})
+    assert flags[flags.index("--complete-trim-hold") + 1] == "on"
+    assert Estimator(vel_rol_schedule, adapt_turbulence=True).settings["complete_trim_hold"] == "on"
+    # the trim in force ramps (set_trim_offset) under noisy readings that raise failure hypotheses:
+    # off, nothing is held; on, the reference z_trim + dz - d is the trim in force of an earlier
+    # frame, the same over each run of held frames
+    z0, u0 = np.asarray(vel_rol_schedule.z_trim), np.asarray(vel_rol_schedule.u_trim)
+    for hold in ("off", "on"):
+        bank = core.HierarchicalBank(vel_rol_schedule, complete_trim_hold=hold)
+        rng = np.random.default_rng(5)
+        refs, held = [], 0
+        for i in range(300):
+            dz = np.zeros(names.NZ)
+            dz[1] = 1e-4 * i
+            bank.set_trim_offset(np.zeros(names.NU), dz)
+            bank.update(z0 + 3e-2 * rng.standard_normal(names.NZ))
+            bank.propagate(u0)
+            d = np.asarray(bank.complete_trim_offset)
+            if hold == "off" or not d.any():
+                assert not d.any()
+                refs.append(dz.copy())
+                continue
+            held += 1
+            ref = dz - d
+            assert any(np.allclose(ref, r, rtol=0, atol=1e-15) for r in refs), i
+        assert held > 0 if hold == "on" else held == 0
 
 
 def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(vel_rol_schedule):

@@ -37,6 +37,8 @@ TARGET_SCHEDULED_US = 2.0
 #: The variant with the scheduled default's calm-air rule (cpp/f16mmae/calm_air_complete.h, the
 #: residual whiteness and the power ratio: names.SCHEDULE_CALM_MEASURE).
 CALM_RULE = "tuned bank + adaptation + calm-air rule"
+#: The scheduled frame with the complete failures' held trim (cpp/f16mmae/complete_trim_hold.h).
+TRIM_HOLD = "scheduled, interpolate + complete trim hold"
 MACH_AXIS = (0.4, 0.6)
 ALT_AXIS = (10_000.0, 20_000.0)
 
@@ -58,6 +60,9 @@ class ScheduledBenchResult:
         adapted, calm = self.us_per_frame.get("tuned bank + adaptation"), self.us_per_frame.get(CALM_RULE)
         if adapted and calm:
             out[f"{CALM_RULE} / tuned bank + adaptation"] = calm / adapted
+        interpolate, hold = self.us_per_frame.get("scheduled, interpolate"), self.us_per_frame.get(TRIM_HOLD)
+        if interpolate and hold:
+            out[f"{TRIM_HOLD} / scheduled, interpolate"] = hold / interpolate
         return out
 
     def scheduled_with_maneuver_us(self) -> float | None:
@@ -98,12 +103,13 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
     with tempfile.TemporaryDirectory() as tmp:
         scheduled = synthetic_schedule(seed, Path(tmp))
     plain = synthetic_bank(names.ALL_HYPOTHESES, seed=seed)
-    runs = {"unscheduled": (plain, None, "interpolate"),
-            "scheduled, interpolate": (scheduled, air, "interpolate"),
-            "scheduled, nearest": (scheduled, air, "nearest")}
-    for label, (bank, a, mode) in runs.items():
+    runs = {"unscheduled": (plain, None, "interpolate", {}),
+            "scheduled, interpolate": (scheduled, air, "interpolate", {}),
+            "scheduled, nearest": (scheduled, air, "nearest", {}),
+            TRIM_HOLD: (scheduled, air, "interpolate", {"complete_trim_hold": "on"})}
+    for label, (bank, a, mode, kw) in runs.items():
         per_frame, worst = core._bench_hierarchical_loop(bank, z, u, air_data=a, min_time_s=min_time_s,
-                                                         schedule_mode=mode)
+                                                         schedule_mode=mode, **kw)
         result.us_per_frame[label] = per_frame * 1e6
         result.worst_frame_us[label] = worst * 1e6
     tuned = load_bank("tuned")[2]
@@ -126,9 +132,10 @@ def report(result: ScheduledBenchResult, stream) -> dict:
     """Print the rows, ratios and the budget; return the JSON record."""
     print("  scheduled frame (F16HierarchicalBank, C++ loop; air data sweeping a 2 x 2 grid cell;"
           " the maneuver model on the tuned bank):", file=stream)
-    print(f"  {'variant':40s} {'us/frame':>12s} {'slowest us':>12s}", file=stream)
+    width = max([40, *(len(label) for label in result.us_per_frame)])
+    print(f"  {'variant':{width}s} {'us/frame':>12s} {'slowest us':>12s}", file=stream)
     for label, us in result.us_per_frame.items():
-        print(f"  {label:40s} {us:12.3f} {result.worst_frame_us[label]:12.1f}", file=stream)
+        print(f"  {label:{width}s} {us:12.3f} {result.worst_frame_us[label]:12.1f}", file=stream)
     ratios = result.ratios()
     print("  ratios: " + ", ".join(f"{k} = {v:.2f}x" for k, v in ratios.items()), file=stream)
     met = {label: {"target": TARGET_SCHEDULED_US, "measured": us, "met": us <= TARGET_SCHEDULED_US}

@@ -21,8 +21,9 @@ import json
 from dataclasses import dataclass
 
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
-                     SCHEDULE_CALM_MEASURE, SCHEDULE_DWELL_S_PER_HYPOTHESIS, SCHEDULE_MODES,
-                     SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
+                     SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                     SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS,
+                     THRESHOLD_DEFAULT)
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -142,6 +143,14 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     exclusive=True, maximum=100.0, requires="adapt_turbulence",
                     help="with --calm-measure whiteness or either: the air is calm while W-bar < W "
                          "(0 < W <= 100; default 0.78)"),
+    EstimatorOption("complete_trim_hold", "--complete-trim-hold", "choice", metavar="on|off", choices=("on", "off"),
+                    help="on: a complete sensor failure's hypothesis reads the failed sensor against the trim in "
+                         "force when a failure began to show, held while one is suspected (level 1, or a failure "
+                         "hypothesis above the trim tracker's freeze probability), not against the trim the "
+                         "schedule and the trim tracker move with the aircraft: a failed sensor does not follow "
+                         "them (cpp/f16mmae/complete_trim_hold.h). Default: "
+                         f"{SCHEDULE_COMPLETE_TRIM_HOLD} on a scheduled bank with --adapt-turbulence "
+                         "(names.SCHEDULE_COMPLETE_TRIM_HOLD), else off"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -633,7 +642,8 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turns it off), whatever the channel rule, ``trim_time_constant_s``
     ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off) and
     ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AZ=0``
-    turns it off). ``running_start``: the bank recommends the
+    turns it off) and ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
+    (``off`` turns it off). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
     too. ``calm_reference``: its nodes carry a calm-air reference (``has_calm_reference``): then
     ``calm_complete`` ``names.SCHEDULE_CALM_COMPLETE`` and ``calm_measure``
@@ -648,6 +658,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out.setdefault("set_tempering", SCHEDULE_SET_TEMPERING)
         out.setdefault("trim_time_constant_s", SCHEDULE_TRIM_TIME_CONSTANT_S)
         out.setdefault("dwell_s_per_hypothesis", SCHEDULE_DWELL_S_PER_HYPOTHESIS)
+        out.setdefault("complete_trim_hold", SCHEDULE_COMPLETE_TRIM_HOLD)
         if running_start:
             out["adapt_running_start"] = True
         if calm_reference:

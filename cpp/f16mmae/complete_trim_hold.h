@@ -1,0 +1,112 @@
+// CompleteTrimHold — the trim a complete sensor failure reads, held while a failure is
+// suspected (issues 13-14). Eigen and std only.
+//
+// The paper's complete failure of sensor j: the sensor reads its trim plus noise. Its
+// hypothesis filter k has H_k's row j zero, so channel j's residual is the reading against the
+// trim in force,
+//   r_kj = z_j - z_trim_j - dz_j,
+// with A_k's row and column j zero off the diagonal and K_k's column j zero (a complete channel
+// informs no state). A scheduled bank's z_trim follows the measured air data, and the trim
+// tracker's dz the slow offsets (trim_tracker.h). A healthy sensor moves with them; a failed one
+// does not: in light air the airspeed wanders by a few ft/s over seconds, the scheduled AOA trim
+// with it by up to 0.003-0.005 rad (two to three AOA noise sigmas) while a failed AOA sensor
+// reads one value. The no-failure filter, which reads the stuck value as the aircraft's angle of
+// attack, then fits better than the complete hypothesis, which expects the moving trim: a failed
+// AOA declared at 3.3 s is backed out to NONE at 7.5 s as the trim drifts away
+// (docs/results/envelope_scheduled.md, round 26).
+//
+// The rule (options.enabled): the reference
+//   z_ref = z_trim + dz                  on every update with no failure suspected,
+//   z_ref held                           while one is (level 1, a declared failure current, or a
+//                                        failure hypothesis on line above the trim tracker's
+//                                        freeze probability: hierarchical_bank.h trim_freezing),
+// and every complete channel j of every filter reads against it:
+//   r_kj = z_j - z_ref_j = r_kj(trim in force) + d_j,   d = (z_trim + dz) - z_ref,
+//   q_k += (2 r_kj + d_j) d_j (A_k⁻¹)_jj                 (exact: A_k is diagonal on j),
+// applied by the filter bank after each update (FilterBank::set_held_offset). The states, the
+// gains and every informative channel are untouched; with no failure suspected d = 0 and the
+// bank is bit for bit as without the rule. So the complete failure reads the trim the aircraft
+// flew when the failure began to show. A failed sensor whose level the hypothesis tracks (a
+// `constant` or `cover` level, steady_state_filter.h) is not a complete channel: its level is
+// already absolute (hierarchical_bank.h shifts it with the scheduled trim).
+//
+// Complete channels (channels_of): channel j of hypothesis k when H_k's row j is zero, A_k's
+// row j zero off the diagonal and the channel not uninformative (width 0 or no widths). Per
+// frame noexcept, no allocation for fixed sizes (the offset vector is sized at construction).
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "f16mmae/model_bank.h"
+
+#include <cstdint>
+
+namespace f16mmae {
+
+struct CompleteTrimHoldOptions {
+  bool enabled = false;   // off: every r_kj against the trim in force (the paper's model as designed)
+};
+
+template <int NZ>
+class CompleteTrimHold {
+ public:
+  using ZVector = Eigen::Matrix<double, NZ, 1>;
+
+  CompleteTrimHold() = default;
+  CompleteTrimHold(const CompleteTrimHoldOptions& options, int nz) : options_(options) {
+    z_ref_ = ZVector::Zero(nz);
+    offset_ = ZVector::Zero(nz);
+  }
+
+  // Bit j set: channel j is a complete channel of hypothesis `h` (header; channels j < 32).
+  static std::uint32_t channels_of(const HypothesisModel& h) noexcept {
+    std::uint32_t bits = 0;
+    const Eigen::Index nz = h.h.rows();
+    for (Eigen::Index j = 0; j < nz && j < 32; ++j) {
+      if (!h.h.row(j).isZero(0.0)) continue;
+      if (h.uninformative_width.size() == nz && h.uninformative_width(j) > 0.0) continue;
+      bool coupled = false;
+      for (Eigen::Index i = 0; i < nz; ++i) coupled = coupled || (i != j && h.a(j, i) != 0.0);
+      if (!coupled) bits |= 1u << j;
+    }
+    return bits;
+  }
+
+  bool enabled() const noexcept { return options_.enabled; }
+  const CompleteTrimHoldOptions& options() const noexcept { return options_; }
+
+  // The reference for this update from the trim in force (z_trim + dz): followed while no
+  // failure is suspected, else held. Returns d = (z_trim + dz) - z_ref (zero while following).
+  template <class Z>
+  const ZVector& observe(const Eigen::MatrixBase<Z>& trim_in_force, bool suspected) noexcept {
+    if (!suspected || !started_) {
+      z_ref_ = trim_in_force;
+      offset_.setZero();
+      started_ = true;
+    } else {
+      offset_ = trim_in_force;
+      offset_ -= z_ref_;
+    }
+    return offset_;
+  }
+  const ZVector& reference() const noexcept { return z_ref_; }
+  const ZVector& offset() const noexcept { return offset_; }
+  bool holding() const noexcept { return started_ && !offset_.isZero(0.0); }
+  void reset() noexcept {
+    started_ = false;
+    offset_.setZero();
+  }
+  // The hold of `from` (a bank of the same measurements taking over; turbulence_bank_set.h).
+  void carry_over(const CompleteTrimHold& from) noexcept {
+    z_ref_ = from.z_ref_;
+    offset_ = from.offset_;
+    started_ = from.started_;
+  }
+
+ private:
+  CompleteTrimHoldOptions options_{};
+  ZVector z_ref_, offset_;
+  bool started_ = false;
+};
+
+}  // namespace f16mmae

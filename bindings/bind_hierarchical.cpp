@@ -359,10 +359,11 @@ calm_measure ('power', the default, 'whiteness' or 'either'; with calm_complete_
 the power ratio (above), by how white the presumed filter's residuals are on VEL, AOA, AZ, AY and ROL
 (W-bar, about 1 in the design's gusts, below it in calm air; cpp/f16mmae/residual_whiteness.h) against
 calm_whiteness_bound (default 0.78) for every bounded measurement, or calm by either.
-complete_trim_hold ('on' or 'off', the default): a complete failure's channel (a failed sensor's H row
-zero, not read as a level) is read against the trim in force when a failure began to show, held while
-one is suspected, not against the trim the schedule and the trim tracker move
-(cpp/f16mmae/complete_trim_hold.h); complete_trim_offset reads the held offset.
+complete_trim_hold ('off', the default, 'suspected' or 'declared'): a complete failure's channel (a failed
+sensor's H row zero, not read as a level) is read against the trim in force when a failure began to show,
+held while one is suspected (declared, or a failure hypothesis rising) or only while one is declared, not
+against the trim the schedule and the trim tracker move (cpp/f16mmae/complete_trim_hold.h);
+complete_trim_offset reads the held offset.
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.
@@ -454,7 +455,7 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("complete_trim_offset",
                              prop([](auto& b) { return cv::to_numpy(b.complete_trim_offset()); }),
                              "the complete channels' held offset (trim in force minus the held trim) of the "
-                             "last update: zero while no failure is suspected or complete_trim_hold is off")
+                             "last update: zero while nothing is held or complete_trim_hold is off")
       .def_property_readonly("calm_reference", prop([](auto& b) {
                                return b.scheduled().active() ? b.scheduled().calm_reference() : 1.0;
                              }),

@@ -143,7 +143,15 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
        [](const O& o) { return py::cast(calm_measure_name(o.calm_complete.measure)); }},
       field<&O::calm_complete, &CalmAirCompleteOptions::whiteness_bound>("calm_whiteness_bound"),
       // the complete failures' held trim (complete_trim_hold.h)
-      two_words<&O::complete_trim_hold, &CompleteTrimHoldOptions::enabled>("complete_trim_hold", "on", "off"),
+      {"complete_trim_hold", "'off', 'suspected' or 'declared'",
+       [](O& o, py::handle v) {
+         try {
+           o.complete_trim_hold.hold = parse_trim_hold(py::cast<std::string>(py::str(v)));
+         } catch (const std::invalid_argument& e) {
+           throw py::value_error(e.what());
+         }
+       },
+       [](const O& o) { return py::cast(trim_hold_name(o.complete_trim_hold.hold)); }},
       // trim tracking
       field<&O::trim, &TrimTrackingOptions::time_constant_s>("trim_time_constant_s"),
       field<&O::trim, &TrimTrackingOptions::freeze_probability>("trim_freeze_probability"),

@@ -491,11 +491,14 @@ const std::vector<Flag>& flags() {
        "aircraft's alpha offset grows with the load factor; default off)",
        on_off(at(E, &H::trim, &TrimTrackingOptions::load_factor)), nullptr, "--trim-tracking-steady",
        [](const C& c) { return c.estimator.trim.steady_g > 0.0; }},
-      {"--complete-trim-hold", "on|off",
-       "on: a complete sensor failure's hypothesis reads the failed sensor against the trim held since a "
-       "failure began to show (level 1, or a failure hypothesis above --trim-freeze-probability), not "
-       "against the trim the schedule and the tracker move (complete_trim_hold.h; default off)",
-       on_off(at(E, &H::complete_trim_hold, &CompleteTrimHoldOptions::enabled))},
+      {"--complete-trim-hold", "off|suspected|declared",
+       "a complete sensor failure's hypothesis reads the failed sensor against the trim held while a failure "
+       "is suspected (declared, or a failure hypothesis above --trim-freeze-probability) or only while one "
+       "is declared, not against the trim the schedule and the tracker move (complete_trim_hold.h; default off)",
+       choice(at(E, &H::complete_trim_hold, &CompleteTrimHoldOptions::hold),
+              std::vector<std::pair<std::string, TrimHold>>{{"off", TrimHold::kOff},
+                                                            {"suspected", TrimHold::kSuspected},
+                                                            {"declared", TrimHold::kDeclared}})},
 
       {nullptr, nullptr, "A scheduled bank (*.f16sched)"},
       {"--schedule-mode", "interpolate|nearest",

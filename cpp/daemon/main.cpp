@@ -227,7 +227,10 @@ int main(int argc, char** argv) {
                                          (running.trim.steady() ? ", steady " + f16mmae::format_value(running.trim.steady_g) + " g"
                                                                 : std::string()) + ")"
                                    : std::string("no trim tracking");
-      const std::string trim = tracking + (running.complete_trim_hold.enabled ? ", complete failures on the held trim" : "");
+      const std::string trim = tracking + (running.complete_trim_hold.enabled()
+                                               ? std::string(", complete failures on the trim held while ") +
+                                                     f16mmae::trim_hold_name(running.complete_trim_hold.hold)
+                                               : std::string());
       const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
                                   options.schedule.node_adapt_reference;
       const bool set_reference = executive->estimator().members() > 0 && options.schedule.node_adapt_reference;

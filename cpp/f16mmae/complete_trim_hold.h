@@ -15,18 +15,22 @@
 // AOA declared at 3.3 s is backed out to NONE at 7.5 s as the trim drifts away
 // (docs/results/envelope_scheduled.md, round 26).
 //
-// The rule (options.enabled): the reference
-//   z_ref = z_trim + dz                  on every update with no failure suspected,
-//   z_ref held                           while one is (level 1, a declared failure current, or a
-//                                        failure hypothesis on line above the trim tracker's
-//                                        freeze probability: hierarchical_bank.h trim_freezing),
+// The rule (options.hold): the reference
+//   z_ref = z_trim + dz    on every update with no failure held for,
+//   z_ref held             while one is: `suspected`, a failure declared (level 1, or a declared
+//                          failure current) or a failure hypothesis on line above the trim
+//                          tracker's freeze probability (hierarchical_bank.h trim_freezing);
+//                          `declared`, a failure declared only,
 // and every complete channel j of every filter reads against it:
 //   r_kj = z_j - z_ref_j = r_kj(trim in force) + d_j,   d = (z_trim + dz) - z_ref,
 //   q_k += (2 r_kj + d_j) d_j (A_k⁻¹)_jj                 (exact: A_k is diagonal on j),
 // applied by the filter bank after each update (FilterBank::set_held_offset). The states, the
 // gains and every informative channel are untouched; with no failure suspected d = 0 and the
 // bank is bit for bit as without the rule. So the complete failure reads the trim the aircraft
-// flew when the failure began to show. A failed sensor whose level the hypothesis tracks (a
+// flew when the failure began to show (`suspected`) or was declared (`declared`). Why `declared`
+// too: held from a false rise, the trim a healthy sensor is compared with stays where the rise
+// began while the trim in force moves on, and the rise can last (Mach 0.35, 25,000 ft: a false AOA
+// rising while a gust speeds the aircraft up; docs/results/envelope_scheduled.md, round 26). A failed sensor whose level the hypothesis tracks (a
 // `constant` or `cover` level, steady_state_filter.h) is not a complete channel: its level is
 // already absolute (hierarchical_bank.h shifts it with the scheduled trim).
 //
@@ -40,11 +44,31 @@
 #include "f16mmae/model_bank.h"
 
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 
 namespace f16mmae {
 
+// When the reference is held (options.hold).
+enum class TrimHold {
+  kOff,         // never: every r_kj against the trim in force (the paper's model as designed)
+  kSuspected,   // while a failure is suspected: declared, or a failure hypothesis rising
+  kDeclared,    // while a failure is declared only
+};
+// "off", "suspected", "declared" (the option's words); std::invalid_argument naming the word else.
+inline TrimHold parse_trim_hold(const std::string& word) {
+  if (word == "off") return TrimHold::kOff;
+  if (word == "suspected") return TrimHold::kSuspected;
+  if (word == "declared") return TrimHold::kDeclared;
+  throw std::invalid_argument("complete_trim_hold must be 'off', 'suspected' or 'declared', got '" + word + "'");
+}
+inline const char* trim_hold_name(TrimHold h) noexcept {
+  return h == TrimHold::kSuspected ? "suspected" : h == TrimHold::kDeclared ? "declared" : "off";
+}
+
 struct CompleteTrimHoldOptions {
-  bool enabled = false;   // off: every r_kj against the trim in force (the paper's model as designed)
+  TrimHold hold = TrimHold::kOff;
+  bool enabled() const noexcept { return hold != TrimHold::kOff; }
 };
 
 template <int NZ>
@@ -72,7 +96,7 @@ class CompleteTrimHold {
     return bits;
   }
 
-  bool enabled() const noexcept { return options_.enabled; }
+  bool enabled() const noexcept { return options_.enabled(); }
   const CompleteTrimHoldOptions& options() const noexcept { return options_; }
 
   // The reference for this update from the trim in force (z_trim + dz): followed while no

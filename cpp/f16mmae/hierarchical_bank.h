@@ -164,7 +164,8 @@
 //                                 (inertial_flight_path.h);
 //   options.complete_trim_hold    the complete failures' channels read against the trim in
 //                                 force when a failure began to show, held while one is
-//                                 suspected (trim_freezing below; complete_trim_hold.h).
+//                                 suspected (trim_freezing below) or declared
+//                                 (complete_trim_hold.h).
 // Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 // F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>, the same bank whose filters carry
 // six Dryden gust states, `f16mmae design --gust-states`; F16ThrottleHierarchicalBank =
@@ -274,7 +275,8 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (trim_hold_.enabled()) {   // complete_trim_hold.h
       trim_in_force_.noalias() = z_trim_ + dz_;
-      bank_.set_held_offset(trim_hold_.observe(trim_in_force_, trim_freezing()));
+      const bool held = trim_hold_.options().hold == TrimHold::kDeclared ? failure_declared() : trim_freezing();
+      bank_.set_held_offset(trim_hold_.observe(trim_in_force_, held));
     }
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
     if (!bank_.update(z_pert_)) return -1;
@@ -784,10 +786,12 @@ class HierarchicalBank {
   // The trim tracker's freeze condition on this frame (trim_tracker.h): level 1, a failure
   // declared, or a failure hypothesis on line above freeze_probability.
   bool trim_freezing() const noexcept { return failure_suspected_at(trim_tracker_.options().freeze_probability); }
+  // A failure presumed: level 1, or a declared failure current.
+  bool failure_declared() const noexcept { return level_ != 0 || online_[declarer_in_force().current()] != 0; }
   // A failure presumed (level 1, or a declared failure current) or rising (an on-line failure
   // hypothesis above `freeze_probability`): the trim tracker's and the calm-air rule's hold.
   bool failure_suspected_at(double freeze_probability) const noexcept {
-    if (level_ != 0 || online_[declarer_in_force().current()] != 0) return true;
+    if (failure_declared()) return true;
     const PVector& p = bank_.probabilities();
     for (int k = 1; k < size(); ++k)
       if (p(k) > freeze_probability) return true;

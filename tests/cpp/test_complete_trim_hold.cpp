@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -44,8 +45,14 @@ TEST(CompleteTrimHold, ACompleteChannelIsAFailedSensorsZeroRowThatNoLevelReads) 
   EXPECT_EQ(CompleteTrimHold<Eigen::Dynamic>::channels_of(coupled), 0u);
 }
 
+TEST(CompleteTrimHold, ItsWordsAreParsedAndNamed) {
+  for (const char* w : {"off", "suspected", "declared"}) EXPECT_STREQ(trim_hold_name(parse_trim_hold(w)), w);
+  EXPECT_THROW(parse_trim_hold("on"), std::invalid_argument);
+  EXPECT_FALSE(CompleteTrimHoldOptions{}.enabled());
+}
+
 TEST(CompleteTrimHold, FollowsTheTrimUntilAFailureIsSuspectedThenHoldsIt) {
-  CompleteTrimHold<3> hold(CompleteTrimHoldOptions{true}, 3);
+  CompleteTrimHold<3> hold(CompleteTrimHoldOptions{TrimHold::kSuspected}, 3);
   EXPECT_TRUE(hold.observe(Eigen::Vector3d(1.0, 2.0, 3.0), true).isZero(0.0));   // the first frame sets it
   EXPECT_TRUE(hold.observe(Eigen::Vector3d(1.5, 2.0, 3.0), false).isZero(0.0));
   EXPECT_EQ(hold.reference(), Eigen::Vector3d(1.5, 2.0, 3.0));
@@ -64,7 +71,7 @@ TEST(CompleteTrimHold, IsBitForBitTheBankWithoutItWhileNoFailureIsSuspected) {
   off.declarer.dwell_s = 30.0;              // no declaration: level 0 throughout
   off.trim.freeze_probability = 1.0;        // and never a rising failure (p > 1)
   HierarchicalOptions on = off;
-  on.complete_trim_hold.enabled = true;
+  on.complete_trim_hold.hold = TrimHold::kSuspected;
   DynBank a(mb, off), b(mb, on);
   Truth truth(random_plant(3, 2, 3, 21u), kAct, kSen, 5u);
   for (int i = 0; i < 300; ++i) {
@@ -84,14 +91,17 @@ TEST(CompleteTrimHold, IsBitForBitTheBankWithoutItWhileNoFailureIsSuspected) {
   }
 }
 
-TEST(CompleteTrimHold, AFailedSensorIsReadAgainstTheTrimHeldWhenItsFailureBeganToShow) {
-  // Z2 fails (reads its trim plus noise) at frame 100 and is declared; the trim in force then
-  // drifts on Z2 and Z3. Every frame, with the hold: the offset is the trim in force less the one
-  // of the last frame without a suspected failure, every on-line filter's complete channel j reads
-  // z_j - z_ref_j, and its l_k is -q_k / 2 of its residual as computed here from its A⁻¹.
+namespace {
+
+// Z2 fails (reads its trim plus noise) at frame 100 and is declared; the trim in force then
+// drifts on Z2 and Z3. Every frame, with the hold: the offset is the trim in force less the one
+// of the last frame without a suspected (declared: a declared) failure, every on-line
+// filter's complete channel j reads z_j - z_ref_j, and its l_k is -q_k / 2 of its residual as
+// computed here from its A⁻¹.
+void fly_a_failed_sensor_on_a_drifting_trim(bool declared) {
   const ModelBank mb = synthetic_bank();
   HierarchicalOptions o;
-  o.complete_trim_hold.enabled = true;
+  o.complete_trim_hold.hold = declared ? TrimHold::kDeclared : TrimHold::kSuspected;
   DynBank bank(mb, o);
   Truth truth(random_plant(3, 2, 3, 21u), kAct, kSen, 7u);
   Eigen::Vector3d ref = mb.z_trim, dz = Eigen::Vector3d::Zero();
@@ -100,13 +110,14 @@ TEST(CompleteTrimHold, AFailedSensorIsReadAgainstTheTrimHeldWhenItsFailureBeganT
     const std::vector<std::string> failed = i >= 100 ? std::vector<std::string>{"Z2"} : std::vector<std::string>{};
     if (i >= 100) dz += Eigen::Vector3d(0.0, 0.004, -0.002);
     bank.set_trim_offset(Eigen::Vector2d::Zero(), dz);
-    if (!bank.failure_suspected()) ref = mb.z_trim + dz;   // what the bank holds from this update on
+    const bool held = declared ? bank.level() != 0 : bank.failure_suspected();
+    if (!held) ref = mb.z_trim + dz;   // what the bank holds from this update on
     const Eigen::VectorXd z = truth.measure(failed) + mb.z_trim;
     const Eigen::VectorXd u = dither(2, i, mb.frame_rate_hz);
-    const int declared = bank.update(z);
+    const int switched = bank.update(z);
     const Eigen::Vector3d offset = mb.z_trim + dz - ref;
     EXPECT_TRUE(bank.complete_trim_offset().isApprox(offset, 1e-12) || offset.isZero(0.0)) << i;
-    for (int k = 0; k < bank.size() && declared < 0; ++k) {   // (a switch's new filters start at r = 0)
+    for (int k = 0; k < bank.size() && switched < 0; ++k) {   // (a switch's new filters start at r = 0)
       const std::uint32_t bits = CompleteTrimHold<Eigen::Dynamic>::channels_of(mb.hypotheses[bank.online()[k]]);
       const Eigen::VectorXd r = bank.bank().residual(k);
       for (int j = 0; j < 3; ++j)
@@ -127,10 +138,20 @@ TEST(CompleteTrimHold, AFailedSensorIsReadAgainstTheTrimHeldWhenItsFailureBeganT
   EXPECT_TRUE(bank.complete_trim_offset().isZero(0.0));
 }
 
+}  // namespace
+
+TEST(CompleteTrimHold, AFailedSensorIsReadAgainstTheTrimHeldWhenItsFailureBeganToShow) {
+  fly_a_failed_sensor_on_a_drifting_trim(false);
+}
+
+TEST(CompleteTrimHold, FromTheDeclarationTheTrimIsHeldOnlyOnceAFailureIsDeclared) {
+  fly_a_failed_sensor_on_a_drifting_trim(true);
+}
+
 TEST(CompleteTrimHold, StepsWithoutAllocating) {
   const ModelBank mb = f16_model_bank(3u);
   HierarchicalOptions o;
-  o.complete_trim_hold.enabled = true;
+  o.complete_trim_hold.hold = TrimHold::kDeclared;
   F16HierarchicalBank bank(mb, o);
   Truth truth(random_plant(13, 5, 7, 3u, 1e-3, 1e-3), kF16Actuators, kF16Sensors, 9u);
   Eigen::Matrix<double, 7, 1> dz = Eigen::Matrix<double, 7, 1>::Zero();

@@ -151,42 +151,47 @@ def test_the_excluded_channel_reaches_the_core_and_the_daemon():
 
 
 def test_the_complete_trim_hold_reaches_the_core_and_the_daemon(vel_rol_schedule):
-    """``complete_trim_hold`` on|off is the core's keyword as given, refused otherwise by the
-    harness and the core alike, handed to mmae-daemon as its flag, and read back by the core bank;
-    with it on a failed AOA's hypothesis reads the held trim once the failure is suspected: the
-    held offset is non-zero on some frame, and zero on every frame of a no-failure flight."""
-    assert core_arguments({"complete_trim_hold": "on"})["complete_trim_hold"] == "on"
-    with pytest.raises(ValueError, match="--complete-trim-hold 'held' must be one of on, off"):
-        check({"complete_trim_hold": "held"})
-    with pytest.raises(ValueError, match="complete_trim_hold"):
-        core.HierarchicalBank(vel_rol_schedule, complete_trim_hold="held")
+    """``complete_trim_hold`` off|suspected|declared is the core's keyword as given, refused
+    otherwise by the harness and the core alike, handed to mmae-daemon as its flag, and the
+    scheduled estimator's default; in flight the reference z_trim + dz - d is the trim in force of
+    an earlier frame, the same over each run of held frames, held only while a failure is
+    suspected (``suspected``) or declared (``declared``), and never with ``off``."""
+    assert core_arguments({"complete_trim_hold": "declared"})["complete_trim_hold"] == "declared"
+    with pytest.raises(ValueError, match="--complete-trim-hold 'on' must be one of off, suspected, declared"):
+        check({"complete_trim_hold": "on"})
+    with pytest.raises(ValueError, match="complete_trim_hold must be 'off', 'suspected' or 'declared'"):
+        core.HierarchicalBank(vel_rol_schedule, complete_trim_hold="on")
     from f16mmae.lcm.daemon import daemon_flags
-    flags = daemon_flags({"complete_trim_hold": "on"})
-    assert flags[flags.index("--complete-trim-hold") + 1] == "on"
-    assert Estimator(vel_rol_schedule, adapt_turbulence=True).settings["complete_trim_hold"] == "on"
-    # the trim in force ramps (set_trim_offset) under noisy readings that raise failure hypotheses:
-    # off, nothing is held; on, the reference z_trim + dz - d is the trim in force of an earlier
-    # frame, the same over each run of held frames
+    flags = daemon_flags({"complete_trim_hold": "suspected"})
+    assert flags[flags.index("--complete-trim-hold") + 1] == "suspected"
+    assert Estimator(vel_rol_schedule, adapt_turbulence=True).settings["complete_trim_hold"] == \
+        names.SCHEDULE_COMPLETE_TRIM_HOLD
+    # the trim in force ramps (set_trim_offset) under noisy readings and a stuck AOA, which raise
+    # failure hypotheses and declare one
     z0, u0 = np.asarray(vel_rol_schedule.z_trim), np.asarray(vel_rol_schedule.u_trim)
-    for hold in ("off", "on"):
+    for hold in ("off", "suspected", "declared"):
         bank = core.HierarchicalBank(vel_rol_schedule, complete_trim_hold=hold)
         rng = np.random.default_rng(5)
-        refs, held = [], 0
-        for i in range(300):
+        refs, held, at_level0 = [], 0, 0
+        for i in range(400):
             dz = np.zeros(names.NZ)
-            dz[1] = 1e-4 * i
+            dz[1] = 1e-4 * max(0, i - 250)   # after ROL's declaration (at 3.4 s)
             bank.set_trim_offset(np.zeros(names.NU), dz)
-            bank.update(z0 + 3e-2 * rng.standard_normal(names.NZ))
+            level = bank.level
+            z = z0 + 3e-2 * rng.standard_normal(names.NZ)
+            z[1] = z0[1]   # the AOA sensor stuck: a declaration within the flight
+            bank.update(z)
             bank.propagate(u0)
             d = np.asarray(bank.complete_trim_offset)
-            if hold == "off" or not d.any():
-                assert not d.any()
+            if not d.any():
                 refs.append(dz.copy())
                 continue
             held += 1
-            ref = dz - d
-            assert any(np.allclose(ref, r, rtol=0, atol=1e-15) for r in refs), i
-        assert held > 0 if hold == "on" else held == 0
+            at_level0 += level == 0
+            assert any(np.allclose(dz - d, r, rtol=0, atol=1e-15) for r in refs), (hold, i)
+        assert (held > 0) == (hold != "off"), hold
+        if hold == "declared":
+            assert at_level0 == 0   # (a declared failure is at level 1 here)
 
 
 def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(vel_rol_schedule):

@@ -181,13 +181,14 @@ SCHEDULE_CALM_COMPLETE = "VEL=1"
 #: tuning runs); the whiteness separates the airs up to 30,000 ft from 2 s on, and the power
 #: ratio still reads some calm flights above it (4 of 3,900; round 25).
 SCHEDULE_CALM_MEASURE = "either"
-#: The scheduled estimator's complete failures read against the trim held since a failure began
-#: to show (``--complete-trim-hold``, with the turbulence adaptation; loop/estimator_options.py
+#: The scheduled estimator's complete failures read against the trim held while a failure is
+#: declared (``--complete-trim-hold``, with the turbulence adaptation; loop/estimator_options.py
 #: scheduled_defaults; cpp/f16mmae/complete_trim_hold.h). The schedule's trim follows the measured
 #: air data and light air moves the airspeed: over a few seconds the AOA trim moves by two or three
 #: AOA noise sigmas, which a failed sensor does not follow, so a failed AOA declared in time was
-#: backed out to NONE as the trim moved away (round 26).
-SCHEDULE_COMPLETE_TRIM_HOLD = "on"
+#: backed out to NONE as the trim moved away. Held from a false rise already (``suspected``), the
+#: trim prolonged some false AOA rises at Mach 0.35, 25,000 ft (round 26).
+SCHEDULE_COMPLETE_TRIM_HOLD = "declared"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

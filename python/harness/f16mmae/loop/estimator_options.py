@@ -143,12 +143,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     exclusive=True, maximum=100.0, requires="adapt_turbulence",
                     help="with --calm-measure whiteness or either: the air is calm while W-bar < W "
                          "(0 < W <= 100; default 0.78)"),
-    EstimatorOption("complete_trim_hold", "--complete-trim-hold", "choice", metavar="on|off", choices=("on", "off"),
-                    help="on: a complete sensor failure's hypothesis reads the failed sensor against the trim in "
-                         "force when a failure began to show, held while one is suspected (level 1, or a failure "
-                         "hypothesis above the trim tracker's freeze probability), not against the trim the "
-                         "schedule and the trim tracker move with the aircraft: a failed sensor does not follow "
-                         "them (cpp/f16mmae/complete_trim_hold.h). Default: "
+    EstimatorOption("complete_trim_hold", "--complete-trim-hold", "choice", metavar="off|suspected|declared",
+                    choices=("off", "suspected", "declared"),
+                    help="a complete sensor failure's hypothesis reads the failed sensor against the trim in force "
+                         "when a failure began to show, held while one is suspected (declared, or a failure "
+                         "hypothesis above the trim tracker's freeze probability) or only while one is declared, "
+                         "not against the trim the schedule and the trim tracker move with the aircraft: a failed "
+                         "sensor does not follow them (cpp/f16mmae/complete_trim_hold.h). Default: "
                          f"{SCHEDULE_COMPLETE_TRIM_HOLD} on a scheduled bank with --adapt-turbulence "
                          "(names.SCHEDULE_COMPLETE_TRIM_HOLD), else off"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,

@@ -92,6 +92,21 @@ EstimatorKeyword two_words(const char* name, const char* first, const char* seco
           [=](const HierarchicalOptions& o) { return py::cast((o.*....*Path) == first_is ? first : second); }};
 }
 
+// A row for the enumerated field at Path, given as one of its words: Parse(word) (throws
+// std::invalid_argument naming a word it does not know) and Name(value) back.
+template <auto Parse, auto Name, auto... Path>
+EstimatorKeyword words(const char* name, const char* expected) {
+  return {name, expected,
+          [](HierarchicalOptions& o, py::handle v) {
+            try {
+              (o.*....*Path) = Parse(py::cast<std::string>(py::str(v)));
+            } catch (const std::invalid_argument& e) {
+              throw py::value_error(e.what());
+            }
+          },
+          [](const HierarchicalOptions& o) { return py::cast(Name((o.*....*Path))); }};
+}
+
 // A row for a reference that NaN turns off at Path, given as a number or None (None: off).
 template <auto... Path>
 EstimatorKeyword optional_number(const char* name) {
@@ -132,26 +147,12 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
        [](const O&) { return py::object(py::none()); }},
       // the calm-air complete model (calm_air_complete.h)
       field<&O::calm_complete, &CalmAirCompleteOptions::rho>("calm_complete_rho"),  // {measurement: rho_j}
-      {"calm_measure", "'power', 'whiteness' or 'either'",
-       [](O& o, py::handle v) {
-         try {
-           o.calm_complete.measure = parse_calm_measure(py::cast<std::string>(py::str(v)));
-         } catch (const std::invalid_argument& e) {
-           throw py::value_error(e.what());
-         }
-       },
-       [](const O& o) { return py::cast(calm_measure_name(o.calm_complete.measure)); }},
+      words<&parse_calm_measure, &calm_measure_name, &O::calm_complete, &CalmAirCompleteOptions::measure>(
+          "calm_measure", "'power', 'whiteness' or 'either'"),
       field<&O::calm_complete, &CalmAirCompleteOptions::whiteness_bound>("calm_whiteness_bound"),
       // the complete failures' held trim (complete_trim_hold.h)
-      {"complete_trim_hold", "'off', 'suspected' or 'declared'",
-       [](O& o, py::handle v) {
-         try {
-           o.complete_trim_hold.hold = parse_trim_hold(py::cast<std::string>(py::str(v)));
-         } catch (const std::invalid_argument& e) {
-           throw py::value_error(e.what());
-         }
-       },
-       [](const O& o) { return py::cast(trim_hold_name(o.complete_trim_hold.hold)); }},
+      words<&parse_trim_hold, &trim_hold_name, &O::complete_trim_hold, &CompleteTrimHoldOptions::hold>(
+          "complete_trim_hold", "'off', 'suspected' or 'declared'"),
       // trim tracking
       field<&O::trim, &TrimTrackingOptions::time_constant_s>("trim_time_constant_s"),
       field<&O::trim, &TrimTrackingOptions::freeze_probability>("trim_freeze_probability"),

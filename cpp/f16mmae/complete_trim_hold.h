@@ -1,5 +1,5 @@
 // CompleteTrimHold — the trim a complete sensor failure reads, held while a failure is
-// suspected (issues 13-14). Eigen and std only.
+// suspected or declared (issues 13-14). Eigen and std only.
 //
 // The paper's complete failure of sensor j: the sensor reads its trim plus noise. Its
 // hypothesis filter k has H_k's row j zero, so channel j's residual is the reading against the
@@ -25,14 +25,15 @@
 //   r_kj = z_j - z_ref_j = r_kj(trim in force) + d_j,   d = (z_trim + dz) - z_ref,
 //   q_k += (2 r_kj + d_j) d_j (A_k⁻¹)_jj                 (exact: A_k is diagonal on j),
 // applied by the filter bank after each update (FilterBank::set_held_offset). The states, the
-// gains and every informative channel are untouched; with no failure suspected d = 0 and the
-// bank is bit for bit as without the rule. So the complete failure reads the trim the aircraft
+// gains and every informative channel are untouched; with nothing held d = 0 and the bank is
+// bit for bit as without the rule. So the complete failure reads the trim the aircraft
 // flew when the failure began to show (`suspected`) or was declared (`declared`). Why `declared`
 // too: held from a false rise, the trim a healthy sensor is compared with stays where the rise
 // began while the trim in force moves on, and the rise can last (Mach 0.35, 25,000 ft: a false AOA
-// rising while a gust speeds the aircraft up; docs/results/envelope_scheduled.md, round 26). A failed sensor whose level the hypothesis tracks (a
-// `constant` or `cover` level, steady_state_filter.h) is not a complete channel: its level is
-// already absolute (hierarchical_bank.h shifts it with the scheduled trim).
+// rising while a gust speeds the aircraft up; docs/results/envelope_scheduled.md, round 26).
+// A failed sensor whose level the hypothesis tracks (a `constant` or `cover` level,
+// steady_state_filter.h) is not a complete channel: its level is already absolute
+// (hierarchical_bank.h shifts it with the scheduled trim).
 //
 // Complete channels (channels_of): channel j of hypothesis k when H_k's row j is zero, A_k's
 // row j zero off the diagonal and the channel not uninformative (width 0 or no widths). Per

@@ -237,7 +237,7 @@ struct HierarchicalOptions {
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
   CalmAirCompleteOptions calm_complete;   // a failed sensor's level read as complete in calm air (calm_air_complete.h)
-  CompleteTrimHoldOptions complete_trim_hold;   // a complete failure reads the trim held while one is suspected (complete_trim_hold.h; off)
+  CompleteTrimHoldOptions complete_trim_hold;   // a complete failure reads a held trim (complete_trim_hold.h; off)
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (level_floors.h)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (level_floors.h)
   double spare_dwell_s = 0.0;    // the level-0 dwell while the tempering spares (header); 0: off
@@ -560,7 +560,7 @@ class HierarchicalBank {
   // The calm-air rule's whiteness W̄ (calm_air_complete.h; NaN without it or before its first block).
   double calm_whiteness() const noexcept { return calm_.whiteness(); }
   // The complete channels' held offset d = (z_trim + dz) - z_ref of the last update (zero while
-  // no failure is suspected or the hold is off; complete_trim_hold.h).
+  // nothing is held or the hold is off; complete_trim_hold.h).
   const ZVector& complete_trim_offset() const noexcept { return trim_hold_.offset(); }
   const PVector& probabilities() const noexcept { return bank_.probabilities(); }
   // The turbulence adaptation's likelihood scale s (1 when off; turbulence_adaptation.h):

@@ -25,7 +25,8 @@
 // W̄ is NaN until the first block after S is complete. B = 8 updates and S = 1 s at the frame
 // rate f (kBlockUpdates, kStartS); τ is the caller's (the turbulence adaptation's).
 // Cost per update: |J| additions and multiply-adds; per block |J| more and |J| divisions (W̄ is
-// kept from one block to the next); no allocation after configure(). Non-finite residuals are skipped (the block waits for finite ones).
+// kept from one block to the next); no allocation after configure(). Non-finite residuals are
+// skipped (the block waits for finite ones).
 #pragma once
 
 #include "f16mmae/running_mean.h"

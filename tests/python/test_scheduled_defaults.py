@@ -172,7 +172,7 @@ def test_the_complete_trim_hold_reaches_the_core_and_the_daemon(vel_rol_schedule
     for hold in ("off", "suspected", "declared"):
         bank = core.HierarchicalBank(vel_rol_schedule, complete_trim_hold=hold)
         rng = np.random.default_rng(5)
-        refs, held, at_level0 = [], 0, 0
+        refs, held, at_level0, run_ref = [], 0, 0, None
         for i in range(400):
             dz = np.zeros(names.NZ)
             dz[1] = 1e-4 * max(0, i - 250)   # after ROL's declaration (at 3.4 s)
@@ -185,10 +185,14 @@ def test_the_complete_trim_hold_reaches_the_core_and_the_daemon(vel_rol_schedule
             d = np.asarray(bank.complete_trim_offset)
             if not d.any():
                 refs.append(dz.copy())
+                run_ref = None
                 continue
             held += 1
             at_level0 += level == 0
             assert any(np.allclose(dz - d, r, rtol=0, atol=1e-15) for r in refs), (hold, i)
+            if run_ref is not None:   # one reference over a run of held frames
+                np.testing.assert_allclose(dz - d, run_ref, rtol=0, atol=1e-15)
+            run_ref = dz - d
         assert (held > 0) == (hold != "off"), hold
         if hold == "declared":
             assert at_level0 == 0   # (a declared failure is at level 1 here)

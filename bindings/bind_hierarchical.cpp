@@ -364,6 +364,8 @@ sensor's H row zero, not read as a level) is read against the trim in force when
 held while one is suspected (declared, or a failure hypothesis rising) or only while one is declared, not
 against the trim the schedule and the trim tracker move (cpp/f16mmae/complete_trim_hold.h);
 complete_trim_offset reads the held offset.
+complete_trim_time_constant_s (0, the default, or T in (0, 3600] s): the reference the trim in force
+averaged over T seconds while nothing is held (the flight condition's trim, not the gusts' wander).
 
 node_p_min (a scheduled bank): the probability floor is each node's bank's p_min, blended
 geometrically with the filters (cpp/f16mmae/scheduled_filters.h); False: p_min everywhere.

@@ -153,6 +153,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       // the complete failures' held trim (complete_trim_hold.h)
       words<&parse_trim_hold, &trim_hold_name, &O::complete_trim_hold, &CompleteTrimHoldOptions::hold>(
           "complete_trim_hold", "'off', 'suspected' or 'declared'"),
+      field<&O::complete_trim_hold, &CompleteTrimHoldOptions::time_constant_s>("complete_trim_time_constant_s"),
       // trim tracking
       field<&O::trim, &TrimTrackingOptions::time_constant_s>("trim_time_constant_s"),
       field<&O::trim, &TrimTrackingOptions::freeze_probability>("trim_freeze_probability"),

@@ -499,6 +499,12 @@ const std::vector<Flag>& flags() {
               std::vector<std::pair<std::string, TrimHold>>{{"off", TrimHold::kOff},
                                                             {"suspected", TrimHold::kSuspected},
                                                             {"declared", TrimHold::kDeclared}})},
+      {"--complete-trim-time-constant", "S",
+       "a complete sensor failure's hypothesis reads the failed sensor against the trim in force averaged "
+       "over S seconds while nothing is held: the flight condition's trim, not the gusts' wander "
+       "(complete_trim_hold.h; default 0, the trim in force)",
+       number(at(E, &H::complete_trim_hold, &CompleteTrimHoldOptions::time_constant_s), {0.0, 3600.0},
+              "a time in seconds in [0, 3600]")},
 
       {nullptr, nullptr, "A scheduled bank (*.f16sched)"},
       {"--schedule-mode", "interpolate|nearest",

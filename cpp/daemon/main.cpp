@@ -228,8 +228,15 @@ int main(int argc, char** argv) {
                                                                 : std::string()) + ")"
                                    : std::string("no trim tracking");
       const std::string trim = tracking + (running.complete_trim_hold.enabled()
-                                               ? std::string(", complete failures on the trim held while ") +
-                                                     f16mmae::trim_hold_name(running.complete_trim_hold.hold)
+                                               ? std::string(", complete failures on the trim") +
+                                                     (running.complete_trim_hold.time_constant_s > 0.0
+                                                          ? " averaged over " +
+                                                                f16mmae::format_value(running.complete_trim_hold.time_constant_s) + " s"
+                                                          : std::string()) +
+                                                     (running.complete_trim_hold.hold != f16mmae::TrimHold::kOff
+                                                          ? std::string(" held while ") +
+                                                                f16mmae::trim_hold_name(running.complete_trim_hold.hold)
+                                                          : std::string())
                                                : std::string());
       const bool node_reference = bank.schedule && bank.schedule->has_adapt_reference() &&
                                   options.schedule.node_adapt_reference;

@@ -163,9 +163,9 @@
 //                                 after each update under the trim tracker's freeze condition
 //                                 (inertial_flight_path.h);
 //   options.complete_trim_hold    the complete failures' channels read against the trim in
-//                                 force when a failure began to show, held while one is
-//                                 suspected (trim_freezing below) or declared
-//                                 (complete_trim_hold.h).
+//                                 force (or its average over time_constant_s) when a failure
+//                                 began to show, held while one is suspected (trim_freezing
+//                                 below) or declared (complete_trim_hold.h).
 // Sizes: K, NX, NU, NZ compile-time (F16HierarchicalBank = HierarchicalBank<13, 13, 5, 7>;
 // F16GustHierarchicalBank = HierarchicalBank<13, 19, 5, 7>, the same bank whose filters carry
 // six Dryden gust states, `f16mmae design --gust-states`; F16ThrottleHierarchicalBank =
@@ -275,7 +275,8 @@ class HierarchicalBank {
     z_pert_ -= dz_;
     if (trim_hold_.enabled()) {   // complete_trim_hold.h
       trim_in_force_.noalias() = z_trim_ + dz_;
-      const bool held = trim_hold_.options().hold == TrimHold::kDeclared ? failure_declared() : trim_freezing();
+      const TrimHold rule = trim_hold_.options().hold;
+      const bool held = rule == TrimHold::kDeclared ? failure_declared() : rule == TrimHold::kSuspected && trim_freezing();
       bank_.set_held_offset(trim_hold_.observe(trim_in_force_, held));
     }
     if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
@@ -727,7 +728,7 @@ class HierarchicalBank {
     storage_.reserve(b.models.size());
     for (std::size_t i = 0; i < b.models.size(); ++i)
       storage_.emplace_back(b.models[i], "hypothesis '" + names_[i] + "'");
-    trim_hold_ = CompleteTrimHold<NZ>(options.complete_trim_hold, mb.nz());
+    trim_hold_ = CompleteTrimHold<NZ>(options.complete_trim_hold, mb.nz(), mb.frame_rate_hz);
     trim_in_force_ = ZVector::Zero(mb.nz());
     for (const auto& h : mb.hypotheses) held_of_.push_back(CompleteTrimHold<NZ>::channels_of(h));
     set_held_channels();

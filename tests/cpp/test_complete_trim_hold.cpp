@@ -1,7 +1,8 @@
 // The complete failures' held trim (cpp/f16mmae/complete_trim_hold.h): which channels are
-// complete, the bank bit for bit as without it while no failure is suspected, the held
-// reference and the exact q_k once one is (each filter's residual and likelihood against the
-// reading minus the held trim, computed here from its A⁻¹), and no allocation per frame.
+// complete, the bank bit for bit as without it while no failure is suspected, the held (or
+// averaged) reference and the exact q_k once one is (each filter's residual and likelihood
+// against the reading minus the reference, computed here from its A⁻¹), and no allocation per
+// frame.
 #include "f16mmae/complete_trim_hold.h"
 #include "f16mmae/hierarchical_bank.h"
 
@@ -10,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,6 +68,31 @@ TEST(CompleteTrimHold, FollowsTheTrimUntilAFailureIsSuspectedThenHoldsIt) {
   EXPECT_FALSE(hold.holding());
 }
 
+TEST(CompleteTrimHold, AveragesTheTrimOverItsTimeConstantAndHoldsTheAverage) {
+  CompleteTrimHoldOptions o{TrimHold::kDeclared, 1.0};   // T = 1 s at 4 frames a second
+  EXPECT_TRUE(o.enabled());
+  EXPECT_TRUE((CompleteTrimHoldOptions{TrimHold::kOff, 1.0}.enabled()));
+  CompleteTrimHold<2> hold(o, 2, 4.0);
+  const double a = 1.0 - std::exp(-0.25);
+  EXPECT_TRUE(hold.observe(Eigen::Vector2d(1.0, 2.0), false).isZero(0.0));   // the first frame sets it
+  Eigen::Vector2d ref(1.0, 2.0), sum(1.0, 2.0);
+  for (int i = 1; i <= 8; ++i) {
+    const Eigen::Vector2d trim(1.0 + 0.1 * i, 2.0);
+    sum += trim;
+    if (i < 4) ref = sum / (i + 1);   // a plain mean over the first T f = 4 updates
+    else ref += a * (trim - ref);      // then the exponential average
+    EXPECT_TRUE(hold.observe(trim, false).isApprox(trim - ref, 1e-12)) << i;
+  }
+  EXPECT_TRUE(hold.reference().isApprox(ref, 1e-12));
+  EXPECT_TRUE(hold.observe(Eigen::Vector2d(5.0, 1.0), true).isApprox(Eigen::Vector2d(5.0, 1.0) - ref, 1e-12));
+  EXPECT_TRUE(hold.reference().isApprox(ref, 1e-12));   // held: the average stops
+  hold.reset();
+  EXPECT_TRUE(hold.observe(Eigen::Vector2d(3.0, 3.0), false).isZero(0.0));
+  for (const double bad : {-1.0, 3600.5, std::nan("")})
+    EXPECT_THROW(CompleteTrimHold<2>(CompleteTrimHoldOptions{TrimHold::kOff, bad}, 2), std::invalid_argument) << bad;
+  EXPECT_THROW(CompleteTrimHold<2>(o, 2, 0.0), std::invalid_argument);
+}
+
 TEST(CompleteTrimHold, IsBitForBitTheBankWithoutItWhileNoFailureIsSuspected) {
   const ModelBank mb = synthetic_bank();
   HierarchicalOptions off;
@@ -94,14 +122,17 @@ TEST(CompleteTrimHold, IsBitForBitTheBankWithoutItWhileNoFailureIsSuspected) {
 namespace {
 
 // Z2 fails (reads its trim plus noise) at frame 100 and is declared; the trim in force then
-// drifts on Z2 and Z3. Every frame, with the hold: the offset is the trim in force less the one
-// of the last frame without a suspected (declared: a declared) failure, every on-line
+// drifts on Z2 and Z3. Every frame, with the hold: the offset is the trim in force less the
+// reference, which follows the trim in force (time constant T = 0) or its average over T, and
+// stops while a failure is suspected (`declared`: declared; `off`: never); every on-line
 // filter's complete channel j reads z_j - z_ref_j, and its l_k is -q_k / 2 of its residual as
 // computed here from its A⁻¹.
-void fly_a_failed_sensor_on_a_drifting_trim(bool declared) {
+void fly_a_failed_sensor_on_a_drifting_trim(TrimHold rule, double time_constant_s = 0.0) {
   const ModelBank mb = synthetic_bank();
   HierarchicalOptions o;
-  o.complete_trim_hold.hold = declared ? TrimHold::kDeclared : TrimHold::kSuspected;
+  o.complete_trim_hold = {rule, time_constant_s};
+  const double gain = time_constant_s > 0.0 ? 1.0 - std::exp(-1.0 / (time_constant_s * mb.frame_rate_hz)) : 1.0;
+  int averaged = 0;   // updates averaged (the plain mean's count first)
   DynBank bank(mb, o);
   Truth truth(random_plant(3, 2, 3, 21u), kAct, kSen, 7u);
   Eigen::Vector3d ref = mb.z_trim, dz = Eigen::Vector3d::Zero();
@@ -110,8 +141,10 @@ void fly_a_failed_sensor_on_a_drifting_trim(bool declared) {
     const std::vector<std::string> failed = i >= 100 ? std::vector<std::string>{"Z2"} : std::vector<std::string>{};
     if (i >= 100) dz += Eigen::Vector3d(0.0, 0.004, -0.002);
     bank.set_trim_offset(Eigen::Vector2d::Zero(), dz);
-    const bool held = declared ? bank.level() != 0 : bank.failure_suspected();
-    if (!held) ref = mb.z_trim + dz;   // what the bank holds from this update on
+    const bool held = rule == TrimHold::kDeclared ? bank.level() != 0
+                      : rule == TrimHold::kSuspected ? bank.failure_suspected()
+                                                     : false;
+    if (!held) ref += std::max(1.0 / ++averaged, gain) * (mb.z_trim + dz - ref);   // this update's reference
     const Eigen::VectorXd z = truth.measure(failed) + mb.z_trim;
     const Eigen::VectorXd u = dither(2, i, mb.frame_rate_hz);
     const int switched = bank.update(z);
@@ -133,7 +166,8 @@ void fly_a_failed_sensor_on_a_drifting_trim(bool declared) {
   ASSERT_FALSE(bank.declarations().empty());
   EXPECT_EQ(mb.hypotheses[bank.declarations().front().hypothesis].name, "Z2");
   EXPECT_GT(level1_frames, 300);
-  EXPECT_GT(held_frames, 300);
+  if (rule != TrimHold::kOff) EXPECT_GT(held_frames, 300);
+  if (time_constant_s > 0.0) EXPECT_GT(held_frames, 490);   // from the drift's first frame on
   bank.reset();
   EXPECT_TRUE(bank.complete_trim_offset().isZero(0.0));
 }
@@ -141,17 +175,25 @@ void fly_a_failed_sensor_on_a_drifting_trim(bool declared) {
 }  // namespace
 
 TEST(CompleteTrimHold, AFailedSensorIsReadAgainstTheTrimHeldWhenItsFailureBeganToShow) {
-  fly_a_failed_sensor_on_a_drifting_trim(false);
+  fly_a_failed_sensor_on_a_drifting_trim(TrimHold::kSuspected);
 }
 
 TEST(CompleteTrimHold, FromTheDeclarationTheTrimIsHeldOnlyOnceAFailureIsDeclared) {
-  fly_a_failed_sensor_on_a_drifting_trim(true);
+  fly_a_failed_sensor_on_a_drifting_trim(TrimHold::kDeclared);
+}
+
+TEST(CompleteTrimHold, AFailedSensorIsReadAgainstTheTrimsAverageHeldOnceDeclared) {
+  fly_a_failed_sensor_on_a_drifting_trim(TrimHold::kDeclared, 2.0);
+}
+
+TEST(CompleteTrimHold, AFailedSensorIsReadAgainstTheTrimsAverageWithoutAHold) {
+  fly_a_failed_sensor_on_a_drifting_trim(TrimHold::kOff, 2.0);
 }
 
 TEST(CompleteTrimHold, StepsWithoutAllocating) {
   const ModelBank mb = f16_model_bank(3u);
   HierarchicalOptions o;
-  o.complete_trim_hold.hold = TrimHold::kDeclared;
+  o.complete_trim_hold = {TrimHold::kDeclared, 30.0};
   F16HierarchicalBank bank(mb, o);
   Truth truth(random_plant(13, 5, 7, 3u, 1e-3, 1e-3), kF16Actuators, kF16Sensors, 9u);
   Eigen::Matrix<double, 7, 1> dz = Eigen::Matrix<double, 7, 1>::Zero();

@@ -4,7 +4,9 @@ channel it reads (own channels) unless ``adapt_all_channels`` asks for the plain
 counted channel (``adapt_counted_channel``) reaches the core as its bit; the per-hypothesis
 tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING``, trim tracking at
 ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` and VEL's least dwell at
-``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given, and on a schedule whose nodes carry a
+``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS``, the complete failures' held trim
+``names.SCHEDULE_COMPLETE_TRIM_HOLD`` and its average ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S``
+unless given, and on a schedule whose nodes carry a
 calm-air reference the calm-air complete model at ``names.SCHEDULE_CALM_COMPLETE``; the cached
 scheduled bank's name follows every design setting of ``names.SCHEDULE_*``."""
 from __future__ import annotations
@@ -24,7 +26,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     spared = {"set_tempering": names.SCHEDULE_SET_TEMPERING,   # the per-hypothesis tempering, whatever the rule
               "trim_time_constant_s": names.SCHEDULE_TRIM_TIME_CONSTANT_S,   # trim tracking
               "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,   # VEL's least dwell
-              "complete_trim_hold": names.SCHEDULE_COMPLETE_TRIM_HOLD}   # and the complete failures' held trim
+              "complete_trim_hold": names.SCHEDULE_COMPLETE_TRIM_HOLD,   # the complete failures' held trim
+              "complete_trim_time_constant_s": names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S}   # and its average
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
                                                "adapt_counted_channel": "vel", **spared}
     assert given == {"adapt_turbulence": True}   # a copy
@@ -35,7 +38,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     all_channels = {**given, "adapt_all_channels": True}
     assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
     off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0, VEL=0, off are off)
-           "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off"}
+           "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
@@ -133,7 +136,8 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
                           "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
-                          "--complete-trim-hold", names.SCHEDULE_COMPLETE_TRIM_HOLD}
+                          "--complete-trim-hold", names.SCHEDULE_COMPLETE_TRIM_HOLD,
+                          "--complete-trim-time-constant", str(names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
 
@@ -196,6 +200,44 @@ def test_the_complete_trim_hold_reaches_the_core_and_the_daemon(vel_rol_schedule
         assert (held > 0) == (hold != "off"), hold
         if hold == "declared":
             assert at_level0 == 0   # (a declared failure is at level 1 here)
+
+
+def test_the_complete_trims_average_reaches_the_core_and_the_daemon(vel_rol_schedule):
+    """``complete_trim_time_constant_s`` T is the core's keyword as given, refused outside
+    [0, 3600] s by the harness and the core alike and handed to mmae-daemon as its flag; in flight
+    with no hold the reference z_trim + dz - d is the trim in force averaged over T (a plain mean
+    over the first T f frames; computed here from the frame rate f), and with ``declared`` that average stops while a failure is declared."""
+    assert core_arguments({"complete_trim_time_constant_s": 30.0})["complete_trim_time_constant_s"] == 30.0
+    with pytest.raises(ValueError, match="--complete-trim-time-constant"):
+        check({"complete_trim_time_constant_s": -1.0})
+    with pytest.raises(ValueError, match=r"complete_trim_time_constant_s must be in \[0, 3600\] s"):
+        core.HierarchicalBank(vel_rol_schedule, complete_trim_time_constant_s=4000.0)
+    from f16mmae.lcm.daemon import daemon_flags
+    flags = daemon_flags({"complete_trim_time_constant_s": 30.0})
+    assert float(flags[flags.index("--complete-trim-time-constant") + 1]) == 30.0
+    z0, u0 = np.asarray(vel_rol_schedule.z_trim), np.asarray(vel_rol_schedule.u_trim)
+    t = 0.5
+    gain = 1.0 - np.exp(-1.0 / (t * vel_rol_schedule.frame_rate_hz))
+    for hold in ("off", "declared"):
+        bank = core.HierarchicalBank(vel_rol_schedule, complete_trim_hold=hold, complete_trim_time_constant_s=t)
+        rng = np.random.default_rng(5)
+        ref, declared_frames, averaged = None, 0, 0
+        for i in range(400):
+            dz = np.zeros(names.NZ)
+            dz[1] = 1e-4 * max(0, i - 250)   # the trim in force ramps on AOA from frame 250 (3.9 s)
+            bank.set_trim_offset(np.zeros(names.NU), dz)
+            declared = bank.level != 0
+            if ref is None or not (hold == "declared" and declared):   # a plain mean first, then the average
+                averaged += 1
+                ref = dz.copy() if ref is None else ref + max(1.0 / averaged, gain) * (dz - ref)
+            declared_frames += declared
+            z = z0 + 3e-2 * rng.standard_normal(names.NZ)
+            z[1] = z0[1]   # the AOA sensor stuck
+            bank.update(z)
+            bank.propagate(u0)
+            np.testing.assert_allclose(dz - np.asarray(bank.complete_trim_offset), ref, rtol=0, atol=1e-12)
+        assert np.asarray(bank.complete_trim_offset)[1] > 1e-3   # the average lags the ramp
+        assert declared_frames > 100   # ROL declared at 3.4 s (the noise), before the ramp
 
 
 def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(vel_rol_schedule):

@@ -403,7 +403,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     assert ("turbulence adaptation (reference per node, own channels, vel counted, complete in calm air VEL 1 by either "  # the scheduled defaults:
             "(whiteness below 0.78)), "
             "set tempering 0.25 from rho 0 full 734, "  # LS RS LF RF VEL AOA AZ kept at s (names.ADAPT_SET_TEMPERING_FULL)
-            "trim tracking 2 s (freeze above 0.5), complete failures on the trim held while declared, "   # the scheduled default too
+            "trim tracking 2 s (freeze above 0.5), complete failures on the trim averaged over 10 s held while declared, "   # the scheduled default too
             "schedule nearest on air data low-passed 2 s, maneuver kinematics, "  # the core's default low-pass
             "tempering 0.1 g, actuator limits)" in out), out
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out

@@ -164,7 +164,11 @@ SCHEDULE_TRIM_TIME_CONSTANT_S = 30.0
 #: accelerometer after 0.5 s: AZ's short gust excursions there were a third of what VEL's dwell
 #: left (Mach 0.35, 25,000 ft), and no failed AZ held the threshold for less (round 23). A dual
 #: with VEL or AZ waits as its component does (declarer.h).
-SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1,AZ=0.5"
+#: A failed angle-of-attack sensor after 0.75 s (round 27): read against the trim averaged over
+#: SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, the AOA hypothesis fits a healthy sensor a little better
+#: where the scheduled trim swings with the measured airspeed (Mach 0.35, 25,000 ft), and its short
+#: false rises there are cut by the longer dwell.
+SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1,AZ=0.5,AOA=0.75"
 #: The scheduled estimator's calm-air complete model (``--calm-complete``, with the turbulence
 #: adaptation, on a schedule whose nodes carry a calm-air reference; loop/estimator_options.py
 #: scheduled_defaults; cpp/f16mmae/calm_air_complete.h): while the measured power ratio is below the
@@ -189,6 +193,12 @@ SCHEDULE_CALM_MEASURE = "either"
 #: backed out to NONE as the trim moved away. Held from a false rise already (``suspected``), the
 #: trim prolonged some false AOA rises at Mach 0.35, 25,000 ft (round 26).
 SCHEDULE_COMPLETE_TRIM_HOLD = "declared"
+#: The trim a complete failure is read against while nothing is held, averaged over this many
+#: seconds (``--complete-trim-time-constant``, with the turbulence adaptation; loop/estimator_options.py
+#: scheduled_defaults; cpp/f16mmae/complete_trim_hold.h). Light air moves the measured airspeed and
+#: with it the scheduled AOA trim by 0.003 rad within seconds after a failure; a failed AOA compared
+#: with that trim was read as VEL or as nothing before it could be declared (round 27).
+SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S = 10.0
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -21,7 +21,8 @@ import json
 from dataclasses import dataclass
 
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
-                     SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                     SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD,
+                     SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                      SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS,
                      THRESHOLD_DEFAULT)
 
@@ -152,6 +153,14 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "sensor does not follow them (cpp/f16mmae/complete_trim_hold.h). Default: "
                          f"{SCHEDULE_COMPLETE_TRIM_HOLD} on a scheduled bank with --adapt-turbulence "
                          "(names.SCHEDULE_COMPLETE_TRIM_HOLD), else off"),
+    EstimatorOption("complete_trim_time_constant_s", "--complete-trim-time-constant", "number", metavar="S",
+                    minimum=0.0, maximum=3600.0,
+                    help="a complete sensor failure's hypothesis reads the failed sensor against the trim in force "
+                         "averaged over S seconds while nothing is held (with --complete-trim-hold), the flight "
+                         "condition's trim rather than the gusts' wander of the measured airspeed "
+                         "(cpp/f16mmae/complete_trim_hold.h). Default: "
+                         f"{SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S:g} on a scheduled bank with --adapt-turbulence "
+                         "(names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S), else 0 (the trim in force)"),
     EstimatorOption("adapt_reference_climb", "--adapt-reference-climb", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the reference while the measured air data climb or descend "
@@ -643,8 +652,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turns it off), whatever the channel rule, ``trim_time_constant_s``
     ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off) and
     ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AZ=0``
-    turns it off) and ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
-    (``off`` turns it off). ``running_start``: the bank recommends the
+    turns it off), ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
+    (``off`` turns it off) and ``complete_trim_time_constant_s``
+    ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
     too. ``calm_reference``: its nodes carry a calm-air reference (``has_calm_reference``): then
     ``calm_complete`` ``names.SCHEDULE_CALM_COMPLETE`` and ``calm_measure``
@@ -660,6 +670,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out.setdefault("trim_time_constant_s", SCHEDULE_TRIM_TIME_CONSTANT_S)
         out.setdefault("dwell_s_per_hypothesis", SCHEDULE_DWELL_S_PER_HYPOTHESIS)
         out.setdefault("complete_trim_hold", SCHEDULE_COMPLETE_TRIM_HOLD)
+        out.setdefault("complete_trim_time_constant_s", SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)
         if running_start:
             out["adapt_running_start"] = True
         if calm_reference:

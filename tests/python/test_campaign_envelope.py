@@ -295,6 +295,22 @@ def test_compare_draws_two_campaigns_side_by_side(tmp_path, capsys):
     assert "give two or more campaign directories" in capsys.readouterr().err
 
 
+def test_compared_panels_name_the_settings_in_which_they_differ():
+    """Two campaigns of one bank are told apart by the estimator settings that differ between
+    them (``figures.settings_differences``), in name order, wrapped, ``-`` where one lacks it."""
+    from f16mmae.campaign.envelope.figures import settings_differences
+    a = {"estimator_settings": {"adapt_turbulence": True, "dwell_s_per_hypothesis": "VEL=1,AZ=0.5"}}
+    b = {"estimator_settings": {"adapt_turbulence": True, "dwell_s_per_hypothesis": "VEL=1,AZ=0.5,AOA=0.75",
+                                "complete_trim_time_constant_s": 10.0}}
+    assert settings_differences([a, b]) == [
+        "complete_trim_time_constant_s=-, dwell_s_per_hypothesis=VEL=1,AZ=0.5",
+        "complete_trim_time_constant_s=10.0, dwell_s_per_hypothesis=VEL=1,AZ=0.5,AOA=0.75"]
+    assert settings_differences([a, b], width=40)[1] == \
+        "complete_trim_time_constant_s=10.0\ndwell_s_per_hypothesis=VEL=1,AZ=0.5,AOA=0.75"
+    assert settings_differences([a, a]) == ["", ""]
+    assert settings_differences([{"estimator": {"p_min": 1e-9}}, {}]) == ["p_min=1e-09", "p_min=-"]
+
+
 def test_the_envelope_takes_the_failure_instant_of_the_single_campaign():
     """``--failure-time`` and ``--failure-jitter`` (cli.campaign_common.add_failure_instant): the
     envelope's runs fail and end as the single campaign's, at every point."""

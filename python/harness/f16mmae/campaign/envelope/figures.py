@@ -13,7 +13,9 @@
   failures break first off nominal.
 * ``compare_maps``: two (or more) campaigns' maps side by side on the same axes -- e.g. the
   unscheduled nominal bank and a scheduled bank flown over the same points
-  (``f16mmae campaign envelope --compare DIR_A,DIR_B``), each panel titled by its bank.
+  (``f16mmae campaign envelope --compare DIR_A,DIR_B``), each panel titled by its bank and, below,
+  by the estimator settings in which the campaigns differ (``settings_differences``): two
+  settings of one bank are told apart by them.
 
 matplotlib with the non-interactive Agg backend (``report.figures.pyplot``).
 """
@@ -160,6 +162,26 @@ def make_figures(out: Path, summary: dict) -> dict:
             "cases": case_table(summary, Path(out) / TABLE_FILE).name}
 
 
+def settings_differences(summaries: list[dict], width: int = 80) -> list[str]:
+    """Per summary, the estimator settings (``estimator_settings``, else the options given,
+    ``estimator``) in which the summaries differ, as ``name=value`` in name order, wrapped to
+    lines of at most ``width`` characters; ``-`` for a setting a summary does not carry, ``""``
+    for a summary where nothing differs."""
+    settings = [s.get("estimator_settings") or s.get("estimator") or {} for s in summaries]
+    names = sorted({k for d in settings for k in d if len({repr(e.get(k, "-")) for e in settings}) > 1})
+    out = []
+    for d in settings:
+        lines, line = [], ""
+        for item in (f"{k}={d.get(k, '-')}" for k in names):
+            if line and len(line) + 2 + len(item) > width:
+                lines.append(line)
+                line = item
+            else:
+                line = f"{line}, {item}" if line else item
+        out.append("\n".join(lines + ([line] if line else [])))
+    return out
+
+
 def compare_maps(summaries: list[dict], path: Path) -> Path:
     """The maps of several envelope summaries side by side, on the axes of all their points."""
     plt = pyplot()
@@ -167,11 +189,11 @@ def compare_maps(summaries: list[dict], path: Path) -> Path:
     cmap = plt.get_cmap("RdYlGn")
     fig, axes = plt.subplots(1, len(summaries), figsize=(6.0 * len(summaries) + 1.2, 6.0), squeeze=False,
                              layout="constrained", sharex=True, sharey=True)
-    for ax, s in zip(axes[0], summaries):
+    for ax, s, differing in zip(axes[0], summaries, settings_differences(summaries, width=60)):
         _panel(ax, s["points"], s["design_point"], cmap, 0.10, limits=limits)
         ok = sum(1 for p in s["points"] if p["acceptable"])
         ax.set_title(f"{s['tuning']} bank ({str(s['bank_hash'])[:12]}): {ok}/{len(s['points'])} acceptable, "
-                     f"{s['runs_per_case']} run(s) per case", fontsize=9)
+                     f"{s['runs_per_case']} run(s) per case" + (f"\n{differing}" if differing else ""), fontsize=9)
     sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0.0, 1.0))
     fig.colorbar(sm, ax=list(axes[0]), label="correct fraction (failure cases)", shrink=0.9)
     fig.suptitle("envelope map: o acceptable, X not; annotated with false-alarm runs", fontsize=10)

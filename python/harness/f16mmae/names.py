@@ -162,12 +162,12 @@ SCHEDULE_TRIM_TIME_CONSTANT_S = 30.0
 #: the scheduled default's false-alarm runs on the settled envelope; its failures hold the
 #: threshold for good (docs/results/envelope_scheduled.md, round 22). A failed normal
 #: accelerometer after 0.5 s: AZ's short gust excursions there were a third of what VEL's dwell
-#: left (Mach 0.35, 25,000 ft), and no failed AZ held the threshold for less (round 23). A dual
-#: with VEL or AZ waits as its component does (declarer.h).
-#: A failed angle-of-attack sensor after 0.75 s (round 27): read against the trim averaged over
+#: left (Mach 0.35, 25,000 ft), and no failed AZ held the threshold for less (round 23). A failed
+#: angle-of-attack sensor after 0.75 s (round 27): read against the trim averaged over
 #: SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, the AOA hypothesis fits a healthy sensor a little better
 #: where the scheduled trim swings with the measured airspeed (Mach 0.35, 25,000 ft), and its short
-#: false rises there are cut by the longer dwell.
+#: false rises there are cut by the longer dwell. A dual with VEL, AZ or AOA waits as its
+#: component does (declarer.h).
 SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1,AZ=0.5,AOA=0.75"
 #: The scheduled estimator's calm-air complete model (``--calm-complete``, with the turbulence
 #: adaptation, on a schedule whose nodes carry a calm-air reference; loop/estimator_options.py

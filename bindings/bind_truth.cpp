@@ -188,6 +188,41 @@ class Frames {
     std::copy(g.begin(), g.end(), s.begin());
     return dither_gain(s);
   }
+  // The adaptive dither's rule for one adapted bank, flown by fly_closed_loop (AdaptedDither):
+  // the reference table on the grid (mach, alt_ft), rows Mach, and the full ratio.
+  void set_adapted_dither(const std::vector<double>& mach, const std::vector<double>& alt_ft,
+                          const std::vector<std::vector<double>>& reference, double full_ratio) {
+    const auto grid = [](const std::vector<double>& g, const char* what) {
+      if (g.size() < 2 || g.size() > static_cast<std::size_t>(AdaptedDither::kMaxGrid))
+        throw py::value_error(std::string("TruthFrames: the adapted dither's ") + what + " grid needs 2 to " +
+                              std::to_string(AdaptedDither::kMaxGrid) + " points");
+      for (std::size_t k = 0; k < g.size(); ++k)
+        if (!std::isfinite(g[k]) || (k > 0 && !(g[k] > g[k - 1])))
+          throw py::value_error(std::string("TruthFrames: the adapted dither's ") + what +
+                                " grid must be finite and increasing");
+    };
+    grid(mach, "Mach"), grid(alt_ft, "altitude");
+    if (reference.size() != mach.size())
+      throw py::value_error("TruthFrames: the adapted dither's reference needs one row per Mach");
+    if (!(std::isfinite(full_ratio) && full_ratio > 1.0))
+      throw py::value_error("TruthFrames: the adapted dither's full ratio must be finite and > 1");
+    AdaptedDither a;
+    a.on = true, a.full_ratio = full_ratio;
+    a.n_mach = static_cast<int>(mach.size()), a.n_alt = static_cast<int>(alt_ft.size());
+    std::copy(mach.begin(), mach.end(), a.mach.begin());
+    std::copy(alt_ft.begin(), alt_ft.end(), a.alt_ft.begin());
+    for (std::size_t i = 0; i < reference.size(); ++i) {
+      if (reference[i].size() != alt_ft.size())
+        throw py::value_error("TruthFrames: the adapted dither's reference needs one value per altitude");
+      for (std::size_t j = 0; j < alt_ft.size(); ++j) {
+        if (!(std::isfinite(reference[i][j]) && reference[i][j] > 0.0))
+          throw py::value_error("TruthFrames: the adapted dither's reference must be positive and finite");
+        a.reference[i * alt_ft.size() + j] = reference[i][j];
+      }
+    }
+    adapted_ = a;
+  }
+
   // g_j of the calm line, h_j of the turbulence line (set_fcs gave its terms).
   void set_dither_gain(const std::vector<double>& g, const std::vector<double>& h) {
     const Surfaces gs = dither_gain(g), hs = dither_gain(h);
@@ -360,6 +395,9 @@ class Frames {
     if (kInputs > kSurfaces && throttle_dither_node_ == nullptr)
       throw py::value_error("a bank with the throttle as its sixth input flies with the throttle dither set "
                             "(set_throttle_dither, amplitude 0 for the trim throttle)");
+    if (adapted_.on && !est.bank().adaptation().enabled())
+      throw py::value_error("the adapted dither reads the bank's turbulence adaptation: the bank has none "
+                            "(adapt_turbulence)");
     UV u_est = UV::Zero();
     py::array_t<double> probs({static_cast<py::ssize_t>(record ? n : 0), K});
     py::array_t<double> scale(static_cast<py::ssize_t>(record ? n : 0));
@@ -377,6 +415,11 @@ class Frames {
       const Ticks a = TickClock::now();
       est.schedule(AirData{air_last_[0], air_last_[1]});
       const int d = est.update(Eigen::Map<const ZV>(z.data()));
+      if (adapted_.on) {   // the gains for u_i from the estimator's own rho-bar (loop/flight.py)
+        const double h = adapted_.mix(est.bank().adaptation().measured_power_ratio(), air_last_[0], air_last_[1]);
+        fcs_.c.dither_gain[2] = fcs_.c.dither_gain[3] = 1.0 - h;
+        fcs_.c.dither2_gain[2] = fcs_.c.dither2_gain[3] = h;
+      }
       Sensors zf = z;
       if (use_mmae) {
         const ZV zh = est.z_hat();
@@ -457,6 +500,7 @@ class Frames {
   std::array<SGPropertyNode*, kAirData> air_node_{};
   AirDataSensor air_;
   AirDataValues air_last_{};
+  AdaptedDither adapted_;
   py::array_t<double, py::array::c_style | py::array::forcecast> air_noise_;
   py::ssize_t air_noise_rows_ = 0, air_noise_row_ = 0;
   std::vector<SGPropertyNode*> state_;
@@ -589,6 +633,10 @@ void bind_truth(py::module_& m) {
     'turbulence_scale': (n,) the bank's turbulence_scale after each frame (or (0,)),
     'events': [(frame, declared name, names on line after it)], 'truth_s', 'estimator_s'
     (seconds spent in each), 'declared_last_frame'}.)doc")
+      .def("set_adapted_dither", &Frames::set_adapted_dither, py::arg("mach"), py::arg("alt_ft"),
+           py::arg("reference"), py::arg("full_ratio"),
+           "fly_closed_loop flies the adaptive dither of one adapted bank (truth/dither.py "
+           "adapted_dither_reference): the reference table on the grid (rows Mach) and the full ratio")
       .def_property_readonly("frame", &Frames::frame)
       .def_property_readonly("step_count", &Frames::step)
       .def_property_readonly("measured", &Frames::measured)

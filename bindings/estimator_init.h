@@ -196,6 +196,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_own_channels"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::running_start>(
           "adapt_running_start"),
+      two_words<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::level_scale>(
+          "adapt_level_scale", "on", "off"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::counted_channels>(
           "adapt_counted_channels"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::excluded_channels>(

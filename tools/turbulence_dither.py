@@ -15,8 +15,12 @@ adaptive dither's share of them, and the flaperons' evidence (truth/dither.py ``
    the set, fixed and adaptive dither: the failed flaperon's log-odds gained after the failure,
    ln(p_f / p_min) (p_min the member's floor) when p_f first reaches 0.9, else at the end (5 s),
    in all and per frame, against the declaration's need ln(0.9 / p_min).
+4. ``envelope`` (``--envelope``, alone): severe air at points over the envelope, the turbulence
+   line in full (h = 1) against the gusts' own peaks, as part 2 (one adapted bank's rule brings
+   it in there; truth/dither.py ``adapted_dither_reference``).
 
     .venv/bin/python tools/turbulence_dither.py --flights 4 --seconds 60
+    .venv/bin/python tools/turbulence_dither.py --envelope
 """
 from __future__ import annotations
 
@@ -51,10 +55,11 @@ def mix_history(model_bank, level: str, seed: int, seconds: float) -> np.ndarray
     return np.array(h)
 
 
-def truth_z(level: str, seed: int, seconds: float, dither: bool, h: float) -> tuple[np.ndarray, np.ndarray]:
+def truth_z(level: str, seed: int, seconds: float, dither: bool, h: float, mach: float = 0.4,
+            alt_ft: float = 20000.0) -> tuple[np.ndarray, np.ndarray]:
     """(z_ideal per frame, trim z) of a truth flight on raw feedback, the dither held at mix h."""
-    sc = Scenario(duration_s=seconds, noise=False, feedback="raw", turbulence=level, seed=seed,
-                  dither=DitherSpec(enabled=dither))
+    sc = Scenario(mach=mach, alt_ft=alt_ft, duration_s=seconds, noise=False, feedback="raw", turbulence=level,
+                  seed=seed, dither=DitherSpec(enabled=dither))
     truth = TruthModel(sc)
     fcs = FlightControlSystem(truth.trim, dither=sc.dither, ari=sc.ari)
     truth.attach(fcs)
@@ -92,6 +97,31 @@ def levels_table(seed: int, seconds: float, mixes: dict) -> dict:
                 peaks[name][key].append(v)
         print(f"| {level} | {h:.2f} | " + " | ".join(cells) + f" | {'met' if ok else 'NOT met'} |", flush=True)
     return peaks
+
+
+#: Part 4's flight conditions (Mach, ft): the envelope's corners, the nominal point and two between.
+ENVELOPE_POINTS = ((0.3, 5000.0), (0.8, 5000.0), (0.4, 20000.0), (0.6, 15000.0), (0.4, 35000.0), (0.8, 35000.0),
+                   (0.35, 25000.0), (0.7, 30000.0))
+
+
+def envelope_table(seed: int, seconds: float) -> None:
+    """Part 4: over the envelope in severe air, the turbulence line in full (h = 1, as one adapted
+    bank's rule sets it there: truth/dither.py adapted_dither_reference) against the gusts' own peaks."""
+    print(f"4. Severe air over the envelope, {seconds:g} s, seed {seed}, no noise, raw feedback: the gusts' "
+          f"peak, the adaptive dither's part at h = 1 (its share of the gusts' peak; criterion "
+          f"<= {ADAPTIVE_GUST_SHARE:g})")
+    print("| Mach | altitude, ft | " + " | ".join(f"gusts {n} | dither {n}" for n, _, _ in CHANNELS) + " | criterion |")
+    print("|---|---|" + "---|---|" * len(CHANNELS) + "---|")
+    for mach, alt in ENVELOPE_POINTS:
+        z0, trim = truth_z("severe", seed, seconds, False, 0.0, mach, alt)
+        z2, _ = truth_z("severe", seed, seconds, True, 1.0, mach, alt)
+        cells, ok = [], True
+        for name, j, k in CHANNELS:
+            gp = float(np.abs((z0[:, j] - trim[j]) * k).max())
+            d2 = float(np.abs(z2[:, j] - z0[:, j]).max() * k)
+            ok &= d2 <= ADAPTIVE_GUST_SHARE * gp
+            cells.append(f"{gp:.3f} | {d2:.3f} ({d2 / gp:.2f})")
+        print(f"| {mach:g} | {alt:g} | " + " | ".join(cells) + f" | {'met' if ok else 'NOT met'} |", flush=True)
 
 
 def figure(peaks: dict, path: str) -> None:
@@ -151,7 +181,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--truth-seconds", type=float, default=30.0, help="the truth flights' length (part 2), s")
     p.add_argument("--evidence-flights", type=int, default=10, help="failure flights per case (part 3; 0: skip)")
     p.add_argument("--figure", default=None, metavar="PNG", help="part 2's peaks as a figure")
+    p.add_argument("--envelope", action="store_true", help="part 4 only: severe air over the envelope")
     args = p.parse_args(argv)
+    if args.envelope:
+        envelope_table(7, args.truth_seconds)
+        return 0
     _, _, bank = load_bank("turbulence")
     print("1. The turbulence line's share h the closed loop sets (no failure; percentiles 5/50/95 after 10 s)")
     print("| turbulence | h 5 / 50 / 95 % |")

@@ -301,6 +301,13 @@ const std::vector<Flag>& flags() {
        "so the tempering is the air's within a second of the start instead of rising over the time constant "
        "('f16mmae hil' gives it with a scheduled bank that recommends it, its default in process)",
        {}, adaptation(&TurbulenceAdaptationOptions::running_start), "--adapt-turbulence", adapting},
+      {"--adapt-level-scale", "on|off",
+       "on: while a failure read as a sensor level is declared, every hypothesis reading that level gains "
+       "(1/2) ln s a frame: the others' tempered densities carry s on its channel, the level's does not "
+       "(filter_bank.h; default off; 'f16mmae hil' gives on with a scheduled bank's --adapt-turbulence, its "
+       "default in process)",
+       on_off(adaptation(&TurbulenceAdaptationOptions::level_scale)), {},
+       "--adapt-turbulence", adapting},
       {"--adapt-counted-channel", "NAME",
        "the failed NAME's uninformative channel still counts in each filter's channel count ('f16mmae hil' "
        "gives vel with a scheduled bank's --adapt-turbulence, its default in process)",
@@ -419,9 +426,9 @@ const std::vector<Flag>& flags() {
        "propagation",
        {}, at(E, &H::maneuver, &ManeuverOptions::kinematics)},
       {"--maneuver-tempering", "G",
-       "divide every likelihood by 1 + (dn/G)^2, dn the estimated load factor off trim, g (default: off; "
-       "with --turbulence-banks the set file's recommended tempering)",
-       number(at(E, &H::maneuver, &ManeuverOptions::tempering_g), {0.0, 100.0, true}, "a load factor in g, > 0 and <= 100")},
+       "divide every likelihood by 1 + (dn/G)^2, dn the estimated load factor off trim, g (0: off; default: "
+       "off; with --turbulence-banks the set file's recommended tempering)",
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_g), {0.0, 100.0}, "a load factor in g in [0, 100] (0: off)")},
       {"--maneuver-tempering-deadband", "D", "only the load factor beyond D g tempers (default 0: no dead band)",
        number(at(E, &H::maneuver, &ManeuverOptions::tempering_deadband_g), {0.0, 10.0}, "a load factor in g in [0, 10]"), nullptr,
        "--maneuver-tempering", [](const C& c) { return c.estimator.maneuver.tempering(); }},

@@ -254,6 +254,8 @@ int main(int argc, char** argv) {
                                                             : ", own channels, " + cfg.adapt_counted_channel + " counted");
       if (options.bank.adaptation.enabled && options.bank.adaptation.running_start)
         adaptation.insert(adaptation.size() - 1, ", running start");
+      if (options.bank.adaptation.enabled && options.bank.adaptation.level_scale)
+        adaptation.insert(adaptation.size() - 1, ", level scale");
       if (executive->estimator().members() == 0 && options.bank.adaptation.enabled && !cfg.adapt_excluded_channel.empty())
         adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_excluded_channel + " levels excluded");
       if (options.bank.adaptation.enabled && !running.calm_complete.rho.empty()) {   // calm_air_complete.h

@@ -181,11 +181,21 @@ class MmaeEstimator {
     const auto* s = turbulence_set();
     return s ? s->active() : -1;
   }
-  // The residual power ratio rho of the set's member in force (TurbulenceBankSet::power_ratio,
-  // the selector's measure), NaN for one hierarchical bank.
+  // The measured residual power ratio the air is read by: the set member's in force
+  // (TurbulenceBankSet::power_ratio, the selector's measure) or one hierarchical bank's
+  // turbulence adaptation's (TurbulenceAdaptation::measured_power_ratio); NaN for one bank
+  // without the adaptation.
   double turbulence_power_ratio() const noexcept {
-    const auto* s = turbulence_set();
-    return s ? s->power_ratio() : std::numeric_limits<double>::quiet_NaN();
+    constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+    return std::visit([](const auto& p) -> double {
+      using B = std::decay_t<decltype(*p)>;
+      if constexpr (std::is_same_v<B, SetBank>) {
+        return p->set().power_ratio();
+      } else {
+        const auto& a = p->bank().adaptation();
+        return a.enabled() ? a.measured_power_ratio() : kNone;
+      }
+    }, bank_);
   }
   // The turbulence bank set, or nullptr for one hierarchical bank.
   const TurbulenceBankSet<F16GustThrottleHierarchicalBank>* turbulence_set() const noexcept {

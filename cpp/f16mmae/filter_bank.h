@@ -17,6 +17,16 @@
 //                   s_b = 1 + w (s - 1) (turbulence_adaptation.h; b = argmin q_k; only while
 //                   rho-bar >= spare_rho; with adaptation.spare_margin q_0 there is min(q_0, q_f:
 //                   f in full_tempering, or in spare_margin_over when it is set)).
+//                 With adaptation.level_scale (off by default: bit for bit without) and one s
+//                   (no channel_weight), while a failure hypothesis f is presumed (level 1),
+//                     l_k += (n_kf / 2) ln s,   n_kf = |F_k ∩ F_f|,
+//                   F the uninformative (level) channels: on a failed sensor's channel the
+//                   level's density is not tempered (the reading is the sensor's, not the
+//                   gusts'), the others' Gaussians are, s A_jj, and the stripped form drops
+//                   (1/2) ln s from each tempered channel, which is common to all only if they
+//                   read the same channels. Kept to the presumed failure's channels, so at level
+//                   0 and among f's duals nothing changes; NONE pays its missing factor s^-1/2
+//                   on f's channel and backs out only on evidence on a common footing.
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
@@ -324,6 +334,8 @@ class FilterBank {
     const double inv_s = scale_.inverse_scale();
     double q_ref = 0.0;                        // q_r of the spared form
     const int spared = spared_hypothesis(q_ref);   // the per-hypothesis tempering's b (turbulence_adaptation.h), -1: none
+    const double half_log_s =                  // the tempered densities' scale on the untempered level channels
+        adapt && !per_channel && scale_.options().level_scale ? 0.5 * std::log(scale_.scale()) : 0.0;
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (per_channel)
@@ -338,6 +350,8 @@ class FilterBank {
         l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_var_.col(i), level_set_[i],
                                                          complete_in(i)) +
              footing_(i);
+        if (half_log_s != 0.0)   // the presumed failure's level channels only (turbulence_adaptation.h)
+          for (std::uint32_t f = free_channels_(i) & free_channels_(presumed_); f != 0; f &= f - 1) l += half_log_s;
         level_set_[i] = 1;
       }
       log_l_(i) = l;

@@ -214,6 +214,7 @@ struct alignas(16) TurbulenceAdaptationOptions {
   bool enabled = false;          // off: the bank as designed (bit-identical)
   bool own_channels = false;     // ρ from min_k q_k / m_k, m_k the channels filter k reads (header)
   bool running_start = false;    // ρ (and ρ_j) the running mean of x until the average's length (header)
+  bool level_scale = false;      // at level 1: l_k += (n / 2) ln s, n the presumed failure's level channels k reads (filter_bank.h)
   std::uint32_t counted_channels = 0;   // own_channels: uninformative channels still counted in m_k (bit j: z_j)
   double channel_weight = 0.0;   // γ: a scale s_j per measurement channel (header); 0: one s
   double time_constant_s = 5.0;  // τ of the residual-power average (tuned with κ, s_max)

@@ -26,6 +26,9 @@
 // (truth/dither.py scheduled_throttle_amplitude):
 // a = target / b_x(M, h), b_x bilinear in the table at the air data (M, h) measured with the
 // frame's z, clamped to the grid; non-finite air data: (0.4, 20000).
+// Adaptive dither for one adapted bank (AdaptedDither; the closed loop's rule, truth/dither.py):
+// each frame h from the bank's measured residual power ratio and a reference bilinear in a
+// (Mach, altitude) table at the measured air data; g_j = 1 - h, h_j = h on the flaperons.
 // Outer loop (pilot side, maneuvers): truth/outer_loop.py's module docstring -- piecewise
 // references (at most kMaxSegments per channel) and the altitude / bank / Mach PI laws; it reads
 // the instruments (h, hdot, M, phi) and returns (nz_cmd, p_cmd, throttle).
@@ -221,6 +224,37 @@ struct ThrottleDither {
     }
     const double th = base + a * std::sin(omega_rad_s * time_s);
     return th > 1.0 ? 1.0 : (th < 0.0 ? 0.0 : th);
+  }
+};
+
+/// The adaptive dither's rule for one adapted bank (truth/dither.py adapted_dither_reference and
+/// adaptive_mix, loop/flight.py), in their order of operations: rho_ref bilinear in the table at
+/// the last finite air data (none yet: h = 0), h = min((sqrt(rho / rho_ref) - 1) / (full - 1), 1)
+/// for rho > rho_ref, else 0 (and for a non-finite rho); the flaperons' calm line then takes the
+/// gain 1 - h and their turbulence line h.
+struct AdaptedDither {
+  static constexpr int kMaxGrid = 16;
+  bool on = false;
+  double full_ratio = 0.0;
+  int n_mach = 0, n_alt = 0;
+  std::array<double, kMaxGrid> mach{}, alt_ft{};
+  std::array<double, kMaxGrid * kMaxGrid> reference{};  // row-major (mach, alt)
+  bool has_reference = false;
+  double reference_now = 0.0;
+
+  double mix(double rho, double air_mach, double air_alt_ft) noexcept {
+    if (std::isfinite(air_mach) && std::isfinite(air_alt_ft)) {
+      int i, j;
+      double tm, ta;
+      ThrottleDither::cell(mach.data(), n_mach, air_mach, i, tm);
+      ThrottleDither::cell(alt_ft.data(), n_alt, air_alt_ft, j, ta);
+      const auto t = [&](int a, int b) { return reference[a * n_alt + b]; };
+      reference_now = (1.0 - tm) * ((1.0 - ta) * t(i, j) + ta * t(i, j + 1)) +
+                      tm * ((1.0 - ta) * t(i + 1, j) + ta * t(i + 1, j + 1));
+      has_reference = true;
+    }
+    if (!has_reference || !(std::isfinite(rho) && rho > reference_now)) return 0.0;
+    return std::min((std::sqrt(rho / reference_now) - 1.0) / (full_ratio - 1.0), 1.0);
   }
 };
 

@@ -136,6 +136,28 @@ inline ModelBank f16_model_bank(unsigned seed) {
   return make_bank(plant, kF16Actuators, kF16Sensors, u_trim, z_trim);
 }
 
+// A sensor failure read as a tracked level: the hypothesis, its channel, the range W and the
+// level's walk q per frame.
+struct TrackedLevel {
+  std::string hypothesis;
+  int channel;
+  double width, q;
+};
+// The first `count` hypotheses of mb (its level 0: NONE and the singles) as a filter bank's
+// Model (e.g. F16FilterBank::Model), the `levels`' failures read as tracked levels.
+template <class Model>
+std::vector<Model> level_models(const ModelBank& mb, int count, const std::vector<TrackedLevel>& levels) {
+  std::vector<Model> models;
+  for (int k = 0; k < count; ++k) {
+    const auto& h = mb.hypotheses[static_cast<std::size_t>(k)];
+    Eigen::VectorXd width = Eigen::VectorXd::Zero(h.h.rows()), q = Eigen::VectorXd::Zero(h.h.rows());
+    for (const auto& l : levels)
+      if (h.name == l.hypothesis) width(l.channel) = l.width, q(l.channel) = l.q;
+    models.push_back(Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, width, q));
+  }
+  return models;
+}
+
 // The truth: the plant with some components failed (actuator: no response to its
 // command; sensor: reads noise only), process and measurement noise.
 struct Truth {

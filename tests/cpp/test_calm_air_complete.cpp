@@ -166,15 +166,7 @@ TEST(CalmAirComplete, AHierarchicalBankInCalmAirReadsATrackedLevelAsThePapersCom
 TEST(CalmAirComplete, AnF16SizedBankChangesItsCompleteChannelsWithoutAllocating) {
   // the F-16-sized level-0 bank, VEL's failure a tracked level: switching VEL's complete model on
   // and off, and presuming VEL and back (the footings set anew), allocate nothing
-  const ModelBank mb = f16_model_bank(31u);
-  std::vector<F16FilterBank::Model> models;
-  for (int k = 0; k < 13; ++k) {
-    const auto& h = mb.hypotheses[static_cast<std::size_t>(k)];
-    Eigen::VectorXd width = Eigen::VectorXd::Zero(7), q = Eigen::VectorXd::Zero(7);
-    if (h.name == "VEL") width(0) = 50.0, q(0) = 1e-4;
-    models.push_back(F16FilterBank::Model::from_matrices(h.phi, h.bd, h.h, h.k, h.a, width, q));
-  }
-  F16FilterBank bank(models);
+  F16FilterBank bank(level_models<F16FilterBank::Model>(f16_model_bank(31u), 13, {{"VEL", 0, 50.0, 1e-4}}));
   Eigen::Matrix<double, 7, 1> z;
   const Eigen::Matrix<double, 5, 1> u = Eigen::Matrix<double, 5, 1>::Zero();
   std::mt19937 g(3);

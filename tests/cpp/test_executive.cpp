@@ -421,3 +421,22 @@ TEST(Executive, ABankOfAnotherStateSizeIsRefusedNamingTheSizesItRuns) {
     EXPECT_NE(what.find("this bank has (15, 5, 7)"), std::string::npos) << what;
   }
 }
+
+TEST(Executive, OneAdaptedBanksStatusCarriesTheAdaptationsMeasuredPowerRatio) {
+  // the closed loop's adaptive dither over LCM reads it (member -1): frame by frame the status's
+  // rho is the core bank's TurbulenceAdaptation::measured_power_ratio() flown with the same options
+  const ModelBank b = test_support::synthetic_bank();
+  HierarchicalOptions o;
+  o.bank.adaptation.enabled = true;
+  Executive ex(b, o);
+  F16HierarchicalBank direct(b, o);
+  for (long long i = 0; i < 40; ++i) {
+    ASSERT_EQ(ex.on_sensor(sensor(i, z_at(b, i))), Fate::used);
+    direct.update(z_at(b, i));
+    EXPECT_EQ(ex.status().turbulence_member, -1);
+    ASSERT_EQ(ex.status().turbulence_power_ratio, direct.bank().adaptation().measured_power_ratio()) << "frame " << i;
+    ASSERT_EQ(ex.on_command(command(i, u_at(b, i))), Fate::used);
+    direct.propagate(u_at(b, i));
+  }
+  EXPECT_GT(ex.status().turbulence_power_ratio, 0.0);
+}

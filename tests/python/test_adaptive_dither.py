@@ -1,5 +1,7 @@
 """The adaptive dither (truth/dither.py ``adaptive_mix`` / ``adaptive_gains``, ``--adaptive-dither``):
-its rule, its two lines on both truth engines, and the option's checks."""
+its rule, its two lines on both truth engines, and the option's checks; for one adapted bank
+(the scheduled default) its reference on the air data, its rho, and the closed loop frame by frame
+and in C++ alike."""
 from __future__ import annotations
 
 import math
@@ -8,11 +10,17 @@ import numpy as np
 import pytest
 
 from f16mmae.loop import estimator_options
+from f16mmae.loop.estimator import Estimator
+from f16mmae.loop.flight import fly
 from f16mmae.names import FRAME_RATE_HZ
 from f16mmae.truth import DitherSpec, FlightControlSystem, Scenario, TruthModel
 from f16mmae.truth.actuators import RATE_LIMIT_RAD_S
-from f16mmae.truth.dither import (ADAPTIVE_FULL_RATIO, ADAPTIVE_RATE_SHARE, TURBULENCE_FLAPERON_AMPLITUDE_DEG,
-                                  TURBULENCE_FLAPERON_FREQUENCY_HZ, Dither, adaptive_gains, adaptive_mix)
+from f16mmae.truth.dither import (ADAPTED_DITHER_REFERENCE, ADAPTIVE_FULL_RATIO, ADAPTIVE_RATE_SHARE,
+                                  THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH, TURBULENCE_FLAPERON_AMPLITUDE_DEG,
+                                  TURBULENCE_FLAPERON_FREQUENCY_HZ, Dither, adapted_dither_reference,
+                                  adaptive_gains, adaptive_mix)
+from f16mmae.truth.failures import make_failure
+from schedule_support import one_node_schedule
 
 
 def test_the_mix_is_zero_up_to_the_reference_and_one_from_the_full_ratio():
@@ -95,10 +103,12 @@ def test_both_engines_fly_the_adaptive_dither_bit_for_bit():
     assert np.abs(fixed["u"][third:, 2] - cpp["u"][third:, 2]).max() > 1e-3
 
 
-def test_the_option_needs_the_turbulence_set_and_stays_out_of_the_core():
-    with pytest.raises(ValueError, match="--adaptive-dither applies with --turbulence-banks"):
+def test_the_option_needs_the_set_or_the_adaptation_and_stays_out_of_the_core():
+    with pytest.raises(ValueError, match="--adaptive-dither applies with --turbulence-banks or --adapt-turbulence"):
         estimator_options.check({"adaptive_dither": True})
     estimator_options.check({"adaptive_dither": True, "turbulence_banks": True})
+    estimator_options.check({"adaptive_dither": True, "adapt_turbulence": True})
+    estimator_options.check({"fixed_dither": True, "adapt_turbulence": True})
     assert "adaptive_dither" in estimator_options.HARNESS_ONLY
     assert not estimator_options.BY_KEY["adaptive_dither"].in_daemon
     assert estimator_options.command_line_flags({"adaptive_dither": True, "turbulence_banks": True}) == [
@@ -113,7 +123,7 @@ def test_the_adaptive_dither_is_the_sets_default_and_the_fixed_one_stays_selecta
     assert defaults({"turbulence_banks": True, "fixed_dither": True}) == {"turbulence_banks": True,
                                                                         "fixed_dither": True}
     assert defaults({"p_min": 1e-9}) == {"p_min": 1e-9}
-    with pytest.raises(ValueError, match="--fixed-dither applies with --turbulence-banks"):
+    with pytest.raises(ValueError, match="--fixed-dither applies with --turbulence-banks or --adapt-turbulence"):
         estimator_options.check({"fixed_dither": True})
     with pytest.raises(ValueError, match="exclude each other"):
         estimator_options.check({"turbulence_banks": True, "fixed_dither": True, "adaptive_dither": True})
@@ -131,3 +141,68 @@ def test_the_light_members_reference_is_the_sets_floor_rho():
     assert len(ADAPTIVE_DITHER_REFERENCE) == len(MEDIAN_RHO)
     assert ADAPTIVE_DITHER_REFERENCE[1] == FLOOR_RHO
     assert ADAPTIVE_DITHER_REFERENCE[0] == pytest.approx(math.sqrt(11.63 * 84.51), abs=0.005)
+
+
+def test_one_adapted_banks_reference_is_the_table_bilinear_on_the_air_data():
+    """At the grid's points the table's own values; between, the mean of the cell's corners at its
+    middle; outside, the nearest edge; a non-finite air datum refused, naming it."""
+    for i, m in enumerate(THROTTLE_GRID_MACH):
+        for j, h in enumerate(THROTTLE_GRID_ALT_FT):
+            assert adapted_dither_reference(m, h) == pytest.approx(ADAPTED_DITHER_REFERENCE[i][j], rel=1e-12)
+    m = (THROTTLE_GRID_MACH[2] + THROTTLE_GRID_MACH[3]) / 2
+    h = (THROTTLE_GRID_ALT_FT[4] + THROTTLE_GRID_ALT_FT[5]) / 2
+    corners = [ADAPTED_DITHER_REFERENCE[i][j] for i in (2, 3) for j in (4, 5)]
+    assert adapted_dither_reference(m, h) == pytest.approx(sum(corners) / 4, rel=1e-12)
+    assert adapted_dither_reference(0.1, 1000.0) == ADAPTED_DITHER_REFERENCE[0][0]
+    assert adapted_dither_reference(0.95, 45000.0) == ADAPTED_DITHER_REFERENCE[-1][-1]
+    # rising with altitude at every Mach: stronger gusts of one level higher up
+    for row in ADAPTED_DITHER_REFERENCE:
+        assert row[0] < row[-1]
+    for bad in ((math.nan, 20000.0), (0.4, math.inf)):
+        with pytest.raises(ValueError, match="air data must be finite"):
+            adapted_dither_reference(*bad)
+
+
+@pytest.fixture(scope="module")
+def schedule(tmp_path_factory):
+    return one_node_schedule(tmp_path_factory.mktemp("adapted"))
+
+
+def test_the_scheduled_default_flies_it_and_reads_the_adaptations_measured_rho(schedule):
+    """A scheduled bank with --adapt-turbulence holds the adaptive dither in its settings (off with
+    --fixed-dither); its rho is the adaptation's measured rho-bar, NaN without the adaptation."""
+    est = Estimator(schedule, adapt_turbulence=True)
+    assert est.settings["adaptive_dither"] is True and est.turbulence_member is None
+    assert "adaptive_dither" not in Estimator(schedule, adapt_turbulence=True, fixed_dither=True).settings
+    assert "adaptive_dither" not in Estimator(schedule).settings
+    assert math.isnan(Estimator(schedule).measured_power_ratio)
+    rng = np.random.default_rng(3)
+    for _ in range(40):
+        est.update(np.asarray(schedule.z_trim) + 0.05 * rng.standard_normal(7))
+        est.propagate(np.asarray(schedule.u_trim))
+        assert est.measured_power_ratio == est.core_bank.measured_power_ratio > 0.0
+
+
+def _flight(schedule, level: str, frame_by_frame: bool, **options):
+    sc = Scenario(turbulence=level, duration_s=6.0, seed=11, failures=(make_failure("LF", 3.0),))
+    us = []
+    run = fly(sc, schedule, estimator_options={"adapt_turbulence": True, **options},
+              on_frame=(lambda t, u, z, air: us.append(u)) if frame_by_frame else None)
+    return run, np.array(us)
+
+
+def test_one_adapted_banks_adaptive_dither_is_the_same_in_cpp_and_frame_by_frame(schedule):
+    """The C++ closed loop (TruthFrames.set_adapted_dither) and the frame-by-frame loop
+    (loop/flight.py) fly the same flight bit for bit; in severe air the flaperons' turbulence line
+    comes in (their commands leave the fixed dither's by more than a degree), in light air the
+    flight is the fixed dither's exactly."""
+    cpp, _ = _flight(schedule, "severe", False)
+    python, u = _flight(schedule, "severe", True)
+    np.testing.assert_array_equal(cpp.probabilities, python.probabilities)
+    assert cpp.declarations == python.declarations
+    _, u_fixed = _flight(schedule, "severe", True, fixed_dither=True)
+    lf = 2   # LS RS LF RF RUD
+    assert np.abs(u[:, lf] - u_fixed[:, lf]).max() > math.radians(1.0)
+    light, _ = _flight(schedule, "light", False)
+    light_fixed, _ = _flight(schedule, "light", False, fixed_dither=True)
+    np.testing.assert_array_equal(light.probabilities, light_fixed.probabilities)

@@ -28,8 +28,10 @@ from f16mmae.lcmt_run_marker import lcmt_run_marker
 from f16mmae.lcmt_sensor_frame import lcmt_sensor_frame
 from f16mmae.names import SINGLE_HYPOTHESES
 from f16mmae.lcm.replay import InProcessExecutive
+from f16mmae.loop.estimator_options import bank_defaults
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
+from schedule_support import one_node_schedule
 
 
 @pytest.fixture(scope="module")
@@ -271,9 +273,30 @@ def test_lockstep_with_the_sensor_loss_dither_reproduces_the_in_process_run(bank
     assert np.abs(fixed[k:, 0] - commands[0][k:, 0]).max() > 0.0
 
 
+def test_lockstep_with_one_adapted_banks_adaptive_dither_reproduces_the_in_process_run(tmp_path):
+    """The scheduled default's adaptive dither over the link: the status carries the adaptation's
+    measured rho-bar (member -1), the truth side sets the gains from it and the air data it sent,
+    so the commands and probabilities are the in-process flight's exactly; in severe air the
+    flaperons' turbulence line comes in."""
+    schedule = one_node_schedule(tmp_path)
+    options = bank_defaults({"adapt_turbulence": True}, schedule)   # as f16mmae hil gives them
+    assert options["adaptive_dither"] is True
+    scenario = Scenario(mach=0.4, alt_ft=20000.0, turbulence="severe", duration_s=2.0, seed=3, feedback="mmae",
+                        failures=(make_failure("LF", 1.0),))
+    commands = []
+    remote_run, _ = _lockstep_equals_in_process(schedule, scenario, "ADA_", options, commands=commands)
+    assert remote_run.estimator_settings["adaptive_dither"] is True
+    fixed = _commands(scenario, schedule, {**options, "adaptive_dither": False, "fixed_dither": True})
+    lf = 2  # ACTUATORS: LS RS LF RF RUD
+    assert np.abs(fixed[:, lf] - commands[0][:, lf]).max() > np.radians(1.0)
+    executive = InProcessExecutive(schedule, **options)
+    status = executive.on_sensor(0, schedule.z_trim)
+    assert status.turbulence_member == -1 and np.isfinite(status.turbulence_power_ratio)
+
+
 def test_the_adaptive_dither_over_lcm_needs_the_sets_member_in_the_status(bank, turbulence_bank):
-    """An executive running one bank sends member -1 and rho NaN: the truth side refuses the
-    adaptive dither, saying what to start."""
+    """An executive running one bank without the adaptation sends member -1 and rho NaN: the
+    truth side refuses the adaptive dither, saying what to start."""
     lc = lcm.LCM("memq://")
     chans = channels("ADX_")
     InProcessExecutive(bank).serve(lc, chans)

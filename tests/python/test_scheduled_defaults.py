@@ -15,10 +15,9 @@ import numpy as np
 import pytest
 
 from f16mmae import banks, core, names
-from f16mmae.design.bank import design_bank, to_model_bank
-from f16mmae.design.tuning import load_tuning, tuning_from_dict
 from f16mmae.loop.estimator import Estimator, core_arguments
 from f16mmae.loop.estimator_options import bank_defaults, check, has_calm_reference, scheduled_defaults
+from schedule_support import one_node_schedule
 
 
 def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
@@ -27,7 +26,10 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "trim_time_constant_s": names.SCHEDULE_TRIM_TIME_CONSTANT_S,   # trim tracking
               "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,   # VEL's least dwell
               "complete_trim_hold": names.SCHEDULE_COMPLETE_TRIM_HOLD,   # the complete failures' held trim
-              "complete_trim_time_constant_s": names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S}   # and its average
+              "complete_trim_time_constant_s": names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S,   # and its average
+              "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,   # the load-factor tempering
+              "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,   # the level channels' scale term
+              "adaptive_dither": True}   # the closed loop's adaptive dither
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
                                                "adapt_counted_channel": "vel", **spared}
     assert given == {"adapt_turbulence": True}   # a copy
@@ -38,7 +40,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     all_channels = {**given, "adapt_all_channels": True}
     assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
     off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0, VEL=0, off are off)
-           "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0}
+           "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
+           "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "fixed_dither": True}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
@@ -46,6 +49,9 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     for settings in (given, own, rol, all_channels, {}):   # applied twice as once (hil's --compare run)
         once = scheduled_defaults(settings, True)
         assert scheduled_defaults(once, True) == once
+    sensor_loss = {**given, "sensor_loss_dither": True}   # the other rule on the dither's gains: no adaptive one
+    assert "adaptive_dither" not in scheduled_defaults(sensor_loss, True)
+    check(scheduled_defaults(sensor_loss, True))
     assert scheduled_defaults(given, False) == given   # a bank at one point: unchanged
     assert scheduled_defaults({}, True) == {}           # no adaptation: nothing to count
     banks_set = {"adapt_turbulence": True, "turbulence_banks": True}
@@ -67,14 +73,7 @@ def test_the_counted_channel_reaches_the_core_as_its_bit():
 @pytest.fixture(scope="module")
 def vel_rol_schedule(tmp_path_factory):
     """A one-node schedule of the constant=VEL+ROL design at Mach 0.4, 20,000 ft."""
-    base = load_tuning("tuned").to_dict()
-    base["estimator"].pop("dwell_nats_per_hypothesis", None)   # a scheduled node's: the frame dwell alone
-    tun = tuning_from_dict({**base, "failure_model": {"default": "complete", "constant": ["VEL", "ROL"]}},
-                           default_name="vel-rol")
-    mb = to_model_bank(design_bank(0.4, 20_000.0, tun))
-    path = tmp_path_factory.mktemp("own") / "one.f16sched"
-    core.save_schedule([0.4], [20000.0], [(0, 0, mb, np.zeros(names.NX))], primary=0, path=str(path))
-    return core.load_bank(str(path))
+    return one_node_schedule(tmp_path_factory.mktemp("own"))
 
 
 #: The scheduled default's least dwells turned off (the core banks below fly without them).
@@ -129,15 +128,18 @@ def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch)
 
 def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     """hil hands mmae-daemon the scheduled estimator's defaults resolved (own channels, VEL
-    counted, the per-hypothesis tempering with its fully tempered hypotheses, trim tracking), so the executive
-    over LCM runs the rule the estimator in process runs."""
+    counted, the per-hypothesis tempering with its fully tempered hypotheses, trim tracking, the
+    load-factor tempering; not the closed loop's adaptive dither), so the executive over LCM runs the
+    rule the estimator in process runs."""
     from f16mmae.lcm.daemon import daemon_flags
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
                           "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                           "--complete-trim-hold", names.SCHEDULE_COMPLETE_TRIM_HOLD,
-                          "--complete-trim-time-constant", str(names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)}
+                          "--complete-trim-time-constant", str(names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S),
+                          "--maneuver-tempering", str(names.SCHEDULE_MANEUVER_TEMPERING_G),
+                          "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
 
@@ -356,3 +358,18 @@ def test_the_calm_air_measure_is_checked_and_read_by_the_core(vel_rol_schedule):
             states.add(last)
         assert decided > 300
     assert states == {0, 1}
+
+
+def test_the_level_scale_reaches_the_core_and_the_daemon(vel_rol_schedule):
+    """--adapt-level-scale on|off: the core's keyword takes the two words and refuses others; the
+    scheduled default hands mmae-daemon its flag; without the adaptation it is refused."""
+    assert core_arguments({"adapt_turbulence": True, "adapt_level_scale": "on"})["adapt_level_scale"] == "on"
+    for word in ("on", "off"):
+        core.HierarchicalBank(vel_rol_schedule, adapt_turbulence=True, adapt_level_scale=word)
+    with pytest.raises(ValueError, match="adapt_level_scale"):
+        core.HierarchicalBank(vel_rol_schedule, adapt_turbulence=True, adapt_level_scale="yes")
+    with pytest.raises(ValueError, match="--adapt-level-scale applies with --adapt-turbulence only"):
+        check({"adapt_level_scale": "on"})
+    from f16mmae.lcm.daemon import daemon_flags
+    flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
+    assert flags[flags.index("--adapt-level-scale") + 1] == "on"

@@ -199,6 +199,21 @@ SCHEDULE_COMPLETE_TRIM_HOLD = "declared"
 #: with it the scheduled AOA trim by 0.003 rad within seconds after a failure; a failed AOA compared
 #: with that trim was read as VEL or as nothing before it could be declared (round 27).
 SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S = 10.0
+#: The scheduled estimator's load-factor tempering (``--maneuver-tempering``, n_ref in g, with the
+#: turbulence adaptation; loop/estimator_options.py scheduled_defaults; cpp/f16mmae/maneuver_kinematics.h:
+#: every likelihood tempered by 1 + (dn / n_ref)^2, dn the blended estimate's load factor off the
+#: trim), the turbulence bank set's own (design/turbulence_banks.py MANEUVER_TEMPERING_G). In severe
+#: air a gust takes the angle of attack far from the trim and the stabilators' linear models with it:
+#: with the pilot holding altitude and Mach, 10-h soaks declared LS and RS falsely 1.5-2.0 times an
+#: hour; with it 0.3-0.8, light, moderate and calm air as before (round 28).
+SCHEDULE_MANEUVER_TEMPERING_G = 1.0
+#: The scheduled estimator's level channels' scale term (``--adapt-level-scale``, with the turbulence
+#: adaptation; cpp/f16mmae/filter_bank.h): while a failure read as a sensor level is declared, the
+#: hypotheses reading that level gain (1/2) ln s a frame on those that read the channel as tempered
+#: Gaussians. Without it, in severe air (s 40-50) NONE gained 0.1-0.2 nats a frame on a declared
+#: failed roll gyro, by the tempering's dropped ln s alone, and backed it out in 3-6 of 10 runs at
+#: the nominal point; level 0 is unchanged (round 28).
+SCHEDULE_ADAPT_LEVEL_SCALE = "on"
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

@@ -41,6 +41,10 @@ CALM_RULE = "tuned bank + adaptation + calm-air rule"
 #: and held while a failure is suspected (the more often held of its two rules;
 #: cpp/f16mmae/complete_trim_hold.h).
 TRIM_HOLD = "scheduled, interpolate + complete trim hold"
+#: The variant with the scheduled default's severe-air rules in the core: the load-factor
+#: tempering (names.SCHEDULE_MANEUVER_TEMPERING_G) and the level channels' scale
+#: (names.SCHEDULE_ADAPT_LEVEL_SCALE; cpp/f16mmae/filter_bank.h).
+SEVERE_RULES = "tuned bank + adaptation + tempering and level scale"
 MACH_AXIS = (0.4, 0.6)
 ALT_AXIS = (10_000.0, 20_000.0)
 
@@ -62,6 +66,9 @@ class ScheduledBenchResult:
         adapted, calm = self.us_per_frame.get("tuned bank + adaptation"), self.us_per_frame.get(CALM_RULE)
         if adapted and calm:
             out[f"{CALM_RULE} / tuned bank + adaptation"] = calm / adapted
+        severe = self.us_per_frame.get(SEVERE_RULES)
+        if adapted and severe:
+            out[f"{SEVERE_RULES} / tuned bank + adaptation"] = severe / adapted
         interpolate, hold = self.us_per_frame.get("scheduled, interpolate"), self.us_per_frame.get(TRIM_HOLD)
         if interpolate and hold:
             out[f"{TRIM_HOLD} / scheduled, interpolate"] = hold / interpolate
@@ -123,8 +130,10 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
     adapted = {"adapt_turbulence": True}
     calm = core_arguments({**adapted, "calm_complete": names.SCHEDULE_CALM_COMPLETE,
                            "calm_measure": names.SCHEDULE_CALM_MEASURE})
+    severe = core_arguments({**adapted, "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,
+                             "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE})
     for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver),
-                      ("tuned bank + adaptation", adapted), (CALM_RULE, calm)):
+                      ("tuned bank + adaptation", adapted), (CALM_RULE, calm), (SEVERE_RULES, severe)):
         per_frame, worst = core._bench_hierarchical_loop(tuned, zt, ut, min_time_s=min_time_s, **kw)
         result.us_per_frame[label] = per_frame * 1e6
         result.worst_frame_us[label] = worst * 1e6

@@ -192,9 +192,15 @@ class RemoteEstimator:
 
     @property
     def turbulence_power_ratio(self) -> float:
-        """That member's residual power ratio rho (the status's ``turbulence_power_ratio``); NaN
-        before the first status or without a set."""
+        """That member's residual power ratio rho, or one adapted bank's measured rho-bar (the
+        status's ``turbulence_power_ratio``); NaN before the first status or without either."""
         return float(self._status.turbulence_power_ratio) if self._status is not None else math.nan
+
+    @property
+    def measured_power_ratio(self) -> float:
+        """The measured residual power ratio the air is read by, as the in-process estimator's
+        (loop/estimator.py): the status's ``turbulence_power_ratio``."""
+        return self.turbulence_power_ratio
 
     @property
     def bank_hash(self) -> str:

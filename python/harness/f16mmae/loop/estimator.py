@@ -208,6 +208,16 @@ class Estimator:
         return float(self._bank.turbulence_power_ratio)
 
     @property
+    def measured_power_ratio(self) -> float:
+        """The measured residual power ratio the air is read by (the adaptive dither's input,
+        loop/flight.py): the set member's in force (the selector's measure), else the turbulence
+        adaptation's measured rho-bar; NaN for one bank without the adaptation. The status over
+        LCM carries the same number (``turbulence_power_ratio``)."""
+        if self.settings.get("turbulence_banks"):
+            return float(self._bank.turbulence_power_ratio)
+        return float(self._bank.measured_power_ratio) if self.settings.get("adapt_turbulence") else math.nan
+
+    @property
     def turbulence_member(self) -> int | None:
         """The index of the turbulence set's member in force (None: not a set)."""
         return int(self._bank.active) if self.settings.get("turbulence_banks") else None

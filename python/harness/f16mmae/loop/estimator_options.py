@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
                      SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD,
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                     SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS,
                      THRESHOLD_DEFAULT)
 
@@ -100,6 +101,14 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "average), so the tempering is the air's within a second of the start instead of "
                          "rising from none over the time constant (cpp/f16mmae/turbulence_adaptation.h). "
                          "Default: a scheduled bank's recommendation, else off"),
+    EstimatorOption("adapt_level_scale", "--adapt-level-scale", "choice", metavar="on|off", choices=("on", "off"),
+                    requires="adapt_turbulence",
+                    help="with --adapt-turbulence: on, while a failure read as a sensor level (a failed VEL or "
+                         "roll gyro of the scheduled design) is declared, every hypothesis reading that level "
+                         "gains (1/2) ln s a frame: the others' tempered densities carry s on its channel, the "
+                         "level's does not, so NONE does not win the failure back by the tempering alone "
+                         "(cpp/f16mmae/filter_bank.h). Default: on on a scheduled bank "
+                         "(names.SCHEDULE_ADAPT_LEVEL_SCALE), else off"),
     EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
                     in_daemon=False,
                     help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "
@@ -216,16 +225,19 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "stabilators only (not the flaperons, which fit severe air's gusts better than NONE "
                          "on many frames; cpp/f16mmae/turbulence_adaptation.h spare_margin_over). Default: "
                          "over NONE and every hypothesis kept at s"),
-    EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", requires="turbulence_banks", in_daemon=False,
-                    help="with --turbulence-banks: the closed loop scales the truth's surface dither each frame "
-                         "by the turbulence the set's member in force measures (its rho over the member's "
-                         "reference, square root, capped by the actuators' rates; truth/dither.py "
-                         "adaptive_gains): the calm-air dither in calm and light air, larger in stronger gusts. "
-                         "The default with --turbulence-banks (over LCM too: the status carries the member and "
-                         "its rho); --fixed-dither turns it off"),
-    EstimatorOption("fixed_dither", "--fixed-dither", "switch", requires="turbulence_banks", in_daemon=False,
-                    help="with --turbulence-banks: the fixed (calm-air) dither at every turbulence level instead "
-                         "of the adaptive dither (--adaptive-dither, the default with the set)"),
+    EstimatorOption("adaptive_dither", "--adaptive-dither", "switch", in_daemon=False,
+                    help="with --turbulence-banks or --adapt-turbulence: the closed loop scales the truth's "
+                         "surface dither each frame by the turbulence the estimator measures (the set member's "
+                         "rho over the member's reference, or the adaptation's measured rho-bar over a "
+                         "reference scheduled on the air data; square root, capped by the actuators' rates; "
+                         "truth/dither.py adaptive_gains): the calm-air dither in calm, light and moderate "
+                         "air, a slower, larger flaperon line in severe gusts. The default with "
+                         "--turbulence-banks and with a scheduled bank's --adapt-turbulence (over LCM too: the "
+                         "status carries the member and its rho); --fixed-dither turns it off"),
+    EstimatorOption("fixed_dither", "--fixed-dither", "switch", in_daemon=False,
+                    help="with --turbulence-banks, or a scheduled bank with --adapt-turbulence: the fixed "
+                         "(calm-air) dither at every turbulence level instead of the adaptive dither "
+                         "(--adaptive-dither, the default there)"),
     EstimatorOption("sensor_loss_dither", "--sensor-loss-dither", "switch", in_daemon=False,
                     help="the closed loop raises the truth's surface dither on the lines a sensor saw best "
                          "while the estimator declares that sensor failed, within the subliminal criterion "
@@ -281,10 +293,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "(a roll-in's or pull-up's saturated commands; cpp/f16mmae/actuator_limits.h). "
                          "Default off: the bank as designed"),
     EstimatorOption("maneuver_tempering_g", "--maneuver-tempering", "number", metavar="G", minimum=0.0,
-                    exclusive=True, maximum=100.0,
+                    maximum=100.0,
                     help="temper every likelihood by 1 + (dn/G)^2 while the estimated load factor is dn g off "
-                         "the trim (a pull-up's model error; cpp/f16mmae/maneuver_kinematics.h). Default off; "
-                         "with --turbulence-banks the set file's recommended tempering (1 g)"),
+                         "the trim (a pull-up's or a severe gust's model error; cpp/f16mmae/maneuver_kinematics.h; "
+                         "0: off). Default off; with --turbulence-banks the set file's recommended tempering (1 g); "
+                         f"{SCHEDULE_MANEUVER_TEMPERING_G:g} g on a scheduled bank with --adapt-turbulence "
+                         "(names.SCHEDULE_MANEUVER_TEMPERING_G)"),
     EstimatorOption("maneuver_tempering_deadband_g", "--maneuver-tempering-deadband", "number", metavar="D",
                     minimum=0.0, maximum=10.0, requires="maneuver_tempering_g",
                     help="with --maneuver-tempering G: only the load factor beyond D g tempers, "
@@ -594,9 +608,15 @@ def check(settings: dict) -> None:
                              + ("" if scheduled is None else
                                 f" (a scheduled bank's default {scheduled} with --adapt-turbulence is applied "
                                 f"after this check: give it)"))
+    if settings.get("adaptive_dither") and not (settings.get("turbulence_banks") or settings.get("adapt_turbulence")):
+        raise ValueError("--adaptive-dither applies with --turbulence-banks or --adapt-turbulence only (it reads "
+                         "the air the estimator measures)")
+    if settings.get("fixed_dither") and not (settings.get("turbulence_banks") or settings.get("adapt_turbulence")):
+        raise ValueError("--fixed-dither applies with --turbulence-banks or --adapt-turbulence only (where the "
+                         "adaptive dither is the default)")
     if settings.get("adaptive_dither") and settings.get("fixed_dither"):
         raise ValueError("--adaptive-dither and --fixed-dither exclude each other (the adaptive dither is the "
-                         "default with --turbulence-banks)")
+                         "default with --turbulence-banks and with a scheduled bank's --adapt-turbulence)")
     if settings.get("sensor_loss_dither") and (settings.get("adaptive_dither") or (
             settings.get("turbulence_banks") and not settings.get("fixed_dither"))):
         raise ValueError("--sensor-loss-dither and --adaptive-dither both set the dither's gains: give one "
@@ -654,7 +674,11 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AZ=0``
     turns it off), ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
     (``off`` turns it off) and ``complete_trim_time_constant_s``
-    ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off). ``running_start``: the bank recommends the
+    ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off),
+    ``maneuver_tempering_g`` ``names.SCHEDULE_MANEUVER_TEMPERING_G`` and ``adapt_level_scale``
+    ``names.SCHEDULE_ADAPT_LEVEL_SCALE`` unless given, and the closed
+    loop's ``adaptive_dither`` unless ``fixed_dither`` or ``sensor_loss_dither`` is given (the
+    adaptive dither of one adapted bank, truth/dither.py ``adapted_dither_reference``). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
     too. ``calm_reference``: its nodes carry a calm-air reference (``has_calm_reference``): then
     ``calm_complete`` ``names.SCHEDULE_CALM_COMPLETE`` and ``calm_measure``
@@ -671,6 +695,10 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out.setdefault("dwell_s_per_hypothesis", SCHEDULE_DWELL_S_PER_HYPOTHESIS)
         out.setdefault("complete_trim_hold", SCHEDULE_COMPLETE_TRIM_HOLD)
         out.setdefault("complete_trim_time_constant_s", SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)
+        out.setdefault("maneuver_tempering_g", SCHEDULE_MANEUVER_TEMPERING_G)
+        out.setdefault("adapt_level_scale", SCHEDULE_ADAPT_LEVEL_SCALE)
+        if not (out.get("fixed_dither") or out.get("sensor_loss_dither")):
+            out["adaptive_dither"] = True   # the closed loop's (loop/flight.py)
         if running_start:
             out["adapt_running_start"] = True
         if calm_reference:

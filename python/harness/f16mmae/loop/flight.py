@@ -21,13 +21,17 @@ the throttle is part of the MMAE system's excitation, as the surface dither is),
 scenario gives a throttle dither of its own or disables the dither.
 
 Adaptive dither (estimator setting ``adaptive_dither``, ``--adaptive-dither``; with the
-turbulence bank set only, and there the default unless ``--fixed-dither``:
-``estimator_options.with_closed_loop_defaults``): after ``update(z_i)`` the loop reads the set's member in force a and
+turbulence bank set, and there the default unless ``--fixed-dither``:
+``estimator_options.with_closed_loop_defaults``, or with one bank's turbulence adaptation,
+``--adapt-turbulence``): after ``update(z_i)`` the loop reads the set's member in force a and
 its rho (the estimator's outputs, never the truth turbulence) and sets the truth's dither gains
 ``truth.dither.adaptive_gains(rho, ADAPTIVE_DITHER_REFERENCE[a])`` for u_i (the flaperons'
-turbulence line); the estimator propagates that u_i, dither included.  Over LCM (``f16mmae
-hil``) a and rho are the status's ``turbulence_member`` and ``turbulence_power_ratio``, the same
-numbers (docs/INTERFACES.md).
+turbulence line); the estimator propagates that u_i, dither included.  With one adapted bank
+rho is the adaptation's measured rho-bar and the reference
+``truth.dither.adapted_dither_reference`` at the air data frame i was scheduled on (the last
+finite).  Both read ``estimator.measured_power_ratio``.  Over LCM (``f16mmae hil``) a and rho
+are the status's ``turbulence_member`` and ``turbulence_power_ratio``, the same numbers
+(docs/INTERFACES.md).
 
 Sensor-loss dither (estimator setting ``sensor_loss_dither``, ``--sensor-loss-dither``): after
 ``update(z_i)`` the loop reads the hypothesis the estimator declares (its own output, never the
@@ -56,6 +60,7 @@ hypothesis is off line.  The probabilities of the hypotheses on line sum to 1 pe
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -64,7 +69,7 @@ import numpy as np
 from .. import __version__, core
 from ..names import FEEDBACK_MODES, FRAME_RATE_HZ, THROTTLE_INPUT
 from ..truth import FlightControlSystem, Scenario, TruthModel
-from ..truth.dither import ADAPTIVE_DITHER_REFERENCE, SensorLossDither, adaptive_gains
+from ..truth.dither import ADAPTIVE_DITHER_REFERENCE, SensorLossDither, adaptive_gains, adapted_dither_reference
 from .estimator import Estimator
 
 
@@ -227,12 +232,17 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                          "(with --turbulence-banks the adaptive dither is the default: add --fixed-dither)")
     sensor_loss_rule = SensorLossDither() if sensor_loss else None
     gain_now = None  # adaptive: the executive's rule, the set's member in force and its rho set the dither's gains
-    in_cpp = (not adaptive and not sensor_loss and truth.law_in_cpp and on_frame is None and not record_series
+    air_reference = None   # adaptive, one adapted bank: rho_ref at the last finite air data (None: none yet)
+    in_cpp = (not sensor_loss and truth.law_in_cpp and on_frame is None and not record_series
               and isinstance(estimator, Estimator) and estimator.fixed_size
+              and not (adaptive and estimator.turbulence_member is not None)  # the set's rule: frame by frame
               and (not throttle or scenario.dither.throttle_on))  # C++ takes th_i from the dither
-    if in_cpp:  # the whole flight in C++: one call, the same frames
+    if in_cpp:  # the whole flight in C++: one call, the same frames (one adapted bank's adaptive dither too)
+        if adaptive and not estimator.settings.get("adapt_turbulence"):
+            raise ValueError("the adaptive dither needs the turbulence bank set or one bank's turbulence "
+                             "adaptation (--adapt-turbulence)")
         out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities,
-                                     reconfiguration)
+                                     reconfiguration, adapted_dither=adaptive)
         t_truth += out["truth_s"]
         t_est += out["estimator_s"]
         events, probs, scale = out["events"], out["probabilities"], out["turbulence_scale"]
@@ -255,12 +265,19 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         estimator.schedule(air[0], air[1])
         z_hat = estimator.update(z)
         if adaptive:
-            member = estimator.turbulence_member
-            if member is None:
-                raise ValueError("the adaptive dither needs the turbulence bank set's member in force and its rho; "
-                                 "the estimator reports no set (an executive over LCM: start mmae-daemon with "
-                                 "the set's file and --turbulence-banks)")
-            gain = adaptive_gains(estimator.turbulence_power_ratio, ADAPTIVE_DITHER_REFERENCE[member])
+            member, rho = estimator.turbulence_member, estimator.measured_power_ratio
+            if member is not None:
+                reference = ADAPTIVE_DITHER_REFERENCE[member]
+            elif math.isfinite(rho):   # one adapted bank: the reference at the air data it scheduled on
+                if math.isfinite(air[0]) and math.isfinite(air[1]):
+                    air_reference = adapted_dither_reference(air[0], air[1])
+                reference = air_reference   # None before any: the fixed dither
+            else:
+                raise ValueError("the adaptive dither needs the turbulence bank set's member in force and its rho, "
+                                 "or one bank's turbulence adaptation and its measured rho; the estimator reports "
+                                 "neither (give --adapt-turbulence; an executive over LCM: start mmae-daemon with "
+                                 "the set's file and --turbulence-banks, or with --adapt-turbulence)")
+            gain = adaptive_gains(rho if reference is not None else 0.0, reference or 1.0)
         elif sensor_loss:  # the hypothesis the estimator declares sets the gains (truth/dither.py)
             gain = sensor_loss_rule.gains(estimator.declared, dt)
         if (adaptive or sensor_loss) and gain != gain_now:

@@ -68,7 +68,13 @@ the same phases +-phi)::
 h_j = h on LF and RF (0 elsewhere), set each frame by the executive from the estimator's own
 output, never the truth turbulence: the residual power ratio rho of the turbulence set's member
 in force (cpp/f16mmae/turbulence_bank_set.h) and that member's reference rho_ref,a (its rho
-between moderate and severe air; ``ADAPTIVE_DITHER_REFERENCE``)::
+between moderate and severe air; ``ADAPTIVE_DITHER_REFERENCE``); or, for one bank with the
+turbulence adaptation (``--adapt-turbulence``, the scheduled default's), the adaptation's
+measured rho-bar (cpp/f16mmae/turbulence_adaptation.h) and a reference scheduled on the measured
+air data (``ADAPTED_DITHER_REFERENCE``, bilinear in Mach and pressure altitude): rho-bar is the
+node's residual power over its own design's, and the Dryden intensities of one level grow with
+altitude, so at each point of the grid it is the geometric mean of rho-bar's medians in moderate
+and severe air, as the set's are (tools/adaptive_dither_reference.py)::
 
     h = min( max( (sqrt(rho / rho_ref,a) - 1) / (ADAPTIVE_FULL_RATIO - 1), 0 ), 1 )
 
@@ -158,6 +164,21 @@ TURBULENCE_FLAPERON_AMPLITUDE_DEG = 9.5
 #: there before any failure.  Not part of the set file: the closed loop's rule
 #: (``--adaptive-dither``, loop/flight.py), read from the set's member in force.
 ADAPTIVE_DITHER_REFERENCE: tuple[float, ...] = (round((11.63 * 84.51) ** 0.5, 2), 2.68)
+#: The adaptive dither's reference rho_ref for one adapted bank (module docstring), on the grid
+#: THROTTLE_GRID_MACH x THROTTLE_GRID_ALT_FT (rows Mach, columns altitude): the geometric mean of
+#: the turbulence adaptation's measured rho-bar medians in moderate and severe air, no-failure
+#: flights of the scheduled default (``python tools/adaptive_dither_reference.py --runs 3``,
+#: tuning seeds; Mach 0.3 at 30,000 and 35,000 ft do not trim and take Mach 0.4's values). It
+#: rises from about 1.2 at 5,000 ft to 7.4 at 35,000 ft; moderate air's 95th percentile stays
+#: below it everywhere (h = 0) and severe air's 5th percentile brings in h >= 0.58.
+ADAPTED_DITHER_REFERENCE: tuple[tuple[float, ...], ...] = (
+    (1.18, 1.59, 1.72, 2.09, 2.52, 3.68, 5.23),
+    (1.27, 1.63, 1.88, 2.17, 2.51, 3.68, 5.23),
+    (1.31, 1.64, 1.89, 2.25, 3.49, 3.23, 5.32),
+    (1.35, 1.64, 1.92, 2.86, 2.84, 3.61, 5.89),
+    (1.40, 1.72, 2.18, 2.48, 3.01, 4.07, 6.24),
+    (1.45, 1.74, 2.24, 3.10, 4.48, 4.50, 7.35),
+)
 #: Largest throttle dither amplitude a DitherSpec accepts (command units; trim about 0.25).
 MAX_THROTTLE_AMPLITUDE = 0.1
 #: Default throttle dither frequency (Hz), used when its amplitude is set.
@@ -273,9 +294,14 @@ def _cell(grid: tuple[float, ...], v: float) -> tuple[int, float]:
 def thrust_accel_fps2(mach: float, alt_ft: float) -> float:
     """``b_x(M, h)`` (ft/s^2 per unit command): ``THRUST_ACCEL_FPS2`` bilinear, clamped to the
     grid (the reference of cpp/truth/truth_frame.h ThrottleDither::thrust_accel)."""
+    return _bilinear(THRUST_ACCEL_FPS2, mach, alt_ft)
+
+
+def _bilinear(t: tuple[tuple[float, ...], ...], mach: float, alt_ft: float) -> float:
+    """Table ``t`` on THROTTLE_GRID_MACH x THROTTLE_GRID_ALT_FT (rows Mach) bilinear at (mach,
+    alt_ft), clamped to the grid, in the order of operations of cpp/truth/truth_frame.h."""
     i, tm = _cell(THROTTLE_GRID_MACH, mach)
     j, ta = _cell(THROTTLE_GRID_ALT_FT, alt_ft)
-    t = THRUST_ACCEL_FPS2
     return (1.0 - tm) * ((1.0 - ta) * t[i][j] + ta * t[i][j + 1]) + tm * ((1.0 - ta) * t[i + 1][j] + ta * t[i + 1][j + 1])
 
 
@@ -350,6 +376,17 @@ def adaptive_mix(rho: float, reference: float) -> float:
     if not (math.isfinite(rho) and rho > reference):
         return 0.0
     return min((math.sqrt(rho / reference) - 1.0) / (ADAPTIVE_FULL_RATIO - 1.0), 1.0)
+
+
+def adapted_dither_reference(mach: float, alt_ft: float) -> float:
+    """rho_ref of the adaptive dither for one adapted bank at the measured air data (Mach,
+    pressure altitude ft): ``ADAPTED_DITHER_REFERENCE`` bilinear, clamped to the grid.
+    ValueError for a non-finite value (the closed loop passes the last finite air data, as the
+    schedule holds it)."""
+    if not (math.isfinite(mach) and math.isfinite(alt_ft)):
+        raise ValueError(f"adaptive dither reference: air data must be finite, got Mach {mach!r}, "
+                         f"{alt_ft!r} ft")
+    return _bilinear(ADAPTED_DITHER_REFERENCE, mach, alt_ft)
 
 
 def adaptive_gains(rho: float, reference: float) -> tuple[list[float], list[float]]:

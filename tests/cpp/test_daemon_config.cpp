@@ -383,10 +383,14 @@ TEST(DaemonConfig, ManeuverModelOptions) {
   EXPECT_EQ(r.config.estimator.maneuver.tempering_g, 0.1);
   EXPECT_EQ(r.config.estimator.actuators.rate_limit_rad_s, (std::vector<double>{1, 1, 1.5, 1.5, 2}));
   EXPECT_EQ(r.config.estimator.actuators.position_limit_rad, (std::vector<double>{0.4, 0.4, 0.3, 0.3, 0.5}));
-  for (const char* bad : {"0", "-0.1", "x", "1e3"}) {
+  for (const char* bad : {"-0.1", "x", "1e3"}) {
     r = parse_daemon_args({"--bank", "b", "--maneuver-tempering", bad}, nullptr);
     EXPECT_NE(r.message.find(std::string("got '") + bad + "'"), std::string::npos) << r.message;
   }
+  r = parse_daemon_args({"--bank", "b", "--maneuver-tempering", "0"}, nullptr);   // 0: off (a scheduled
+  ASSERT_TRUE(r.ok) << r.message;                                               // default turned off)
+  EXPECT_EQ(r.config.estimator.maneuver.tempering_g, 0.0);
+  EXPECT_FALSE(r.config.estimator.maneuver.tempering());
   for (const char* bad : {"1,,2", "1,x", "", "1,-2", "1,"}) {
     r = parse_daemon_args({"--bank", "b", "--actuator-rate-limits", bad, "--actuator-position-limits", "1"}, nullptr);
     EXPECT_EQ(r.exit_code, 2) << bad;

@@ -188,38 +188,48 @@ class Frames {
     std::copy(g.begin(), g.end(), s.begin());
     return dither_gain(s);
   }
+  // A (Mach, altitude) table (AirDataTable) from its grid and rows (one per Mach, one value per
+  // altitude); `what` names it in the refusals: 2 to 16 finite increasing points per axis, every
+  // value positive and finite.
+  static AirDataTable air_data_table(const std::vector<double>& mach, const std::vector<double>& alt_ft,
+                                     const std::vector<std::vector<double>>& rows, const std::string& what) {
+    const auto grid = [&](const std::vector<double>& g, const char* axis) {
+      if (g.size() < 2 || g.size() > static_cast<std::size_t>(AirDataTable::kMaxGrid))
+        throw py::value_error("TruthFrames: " + what + ": the " + axis + " grid needs 2 to " +
+                              std::to_string(AirDataTable::kMaxGrid) + " points, got " + std::to_string(g.size()));
+      for (std::size_t k = 0; k < g.size(); ++k)
+        if (!std::isfinite(g[k]) || (k > 0 && !(g[k] > g[k - 1])))
+          throw py::value_error("TruthFrames: " + what + ": the " + axis + " grid must be finite and increasing");
+    };
+    grid(mach, "Mach"), grid(alt_ft, "altitude");
+    if (rows.size() != mach.size())
+      throw py::value_error("TruthFrames: " + what + ": needs one row per Mach (" + std::to_string(mach.size()) +
+                            "), got " + std::to_string(rows.size()));
+    AirDataTable t;
+    t.n_mach = static_cast<int>(mach.size()), t.n_alt = static_cast<int>(alt_ft.size());
+    std::copy(mach.begin(), mach.end(), t.mach.begin());
+    std::copy(alt_ft.begin(), alt_ft.end(), t.alt_ft.begin());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (rows[i].size() != alt_ft.size())
+        throw py::value_error("TruthFrames: " + what + ": needs one value per altitude in every row");
+      for (std::size_t j = 0; j < alt_ft.size(); ++j) {
+        if (!(std::isfinite(rows[i][j]) && rows[i][j] > 0.0))
+          throw py::value_error("TruthFrames: " + what + ": every value must be positive and finite");
+        t.value[i * alt_ft.size() + j] = rows[i][j];
+      }
+    }
+    return t;
+  }
+
   // The adaptive dither's rule for one adapted bank, flown by fly_closed_loop (AdaptedDither):
   // the reference table on the grid (mach, alt_ft), rows Mach, and the full ratio.
   void set_adapted_dither(const std::vector<double>& mach, const std::vector<double>& alt_ft,
                           const std::vector<std::vector<double>>& reference, double full_ratio) {
-    const auto grid = [](const std::vector<double>& g, const char* what) {
-      if (g.size() < 2 || g.size() > static_cast<std::size_t>(AdaptedDither::kMaxGrid))
-        throw py::value_error(std::string("TruthFrames: the adapted dither's ") + what + " grid needs 2 to " +
-                              std::to_string(AdaptedDither::kMaxGrid) + " points");
-      for (std::size_t k = 0; k < g.size(); ++k)
-        if (!std::isfinite(g[k]) || (k > 0 && !(g[k] > g[k - 1])))
-          throw py::value_error(std::string("TruthFrames: the adapted dither's ") + what +
-                                " grid must be finite and increasing");
-    };
-    grid(mach, "Mach"), grid(alt_ft, "altitude");
-    if (reference.size() != mach.size())
-      throw py::value_error("TruthFrames: the adapted dither's reference needs one row per Mach");
     if (!(std::isfinite(full_ratio) && full_ratio > 1.0))
       throw py::value_error("TruthFrames: the adapted dither's full ratio must be finite and > 1");
     AdaptedDither a;
     a.on = true, a.full_ratio = full_ratio;
-    a.n_mach = static_cast<int>(mach.size()), a.n_alt = static_cast<int>(alt_ft.size());
-    std::copy(mach.begin(), mach.end(), a.mach.begin());
-    std::copy(alt_ft.begin(), alt_ft.end(), a.alt_ft.begin());
-    for (std::size_t i = 0; i < reference.size(); ++i) {
-      if (reference[i].size() != alt_ft.size())
-        throw py::value_error("TruthFrames: the adapted dither's reference needs one value per altitude");
-      for (std::size_t j = 0; j < alt_ft.size(); ++j) {
-        if (!(std::isfinite(reference[i][j]) && reference[i][j] > 0.0))
-          throw py::value_error("TruthFrames: the adapted dither's reference must be positive and finite");
-        a.reference[i * alt_ft.size() + j] = reference[i][j];
-      }
-    }
+    a.reference = air_data_table(mach, alt_ft, reference, "the adapted dither's reference");
     adapted_ = a;
   }
 
@@ -305,20 +315,11 @@ class Frames {
     d.trim = trim, d.amplitude = amplitude, d.omega_rad_s = omega_rad_s;
     if (!schedule.is_none()) {
       const py::dict s = schedule.cast<py::dict>();
-      const auto m = s["mach"].cast<std::vector<double>>(), h = s["alt_ft"].cast<std::vector<double>>();
-      const auto t = s["accel_fps2"].cast<std::vector<std::vector<double>>>();
-      if (m.size() < 2 || h.size() < 2 || m.size() > ThrottleDither::kMaxGrid || h.size() > ThrottleDither::kMaxGrid ||
-          t.size() != m.size())
-        throw py::value_error("throttle schedule: mach and alt_ft need 2-16 points each and accel_fps2 a row per mach");
       d.scheduled = true;
       d.target_fps2 = s["target_fps2"].cast<double>();
-      d.n_mach = static_cast<int>(m.size()), d.n_alt = static_cast<int>(h.size());
-      for (int i = 0; i < d.n_mach; ++i) {
-        d.mach[i] = m[i];
-        if (t[i].size() != h.size()) throw py::value_error("throttle schedule: accel_fps2 rows need one value per alt_ft");
-        for (int j = 0; j < d.n_alt; ++j) d.accel_fps2[i * d.n_alt + j] = t[i][j];
-      }
-      for (int j = 0; j < d.n_alt; ++j) d.alt_ft[j] = h[j];
+      d.thrust_accel_fps2 = air_data_table(s["mach"].cast<std::vector<double>>(), s["alt_ft"].cast<std::vector<double>>(),
+                                           s["accel_fps2"].cast<std::vector<std::vector<double>>>(),
+                                           "the throttle schedule's accel_fps2");
     }
     throttle_dither_node_ = exec_->node(property);
     throttle_dither_ = d;
@@ -397,7 +398,7 @@ class Frames {
                             "(set_throttle_dither, amplitude 0 for the trim throttle)");
     if (adapted_.on && !est.bank().adaptation().enabled())
       throw py::value_error("the adapted dither reads the bank's turbulence adaptation: the bank has none "
-                            "(adapt_turbulence)");
+                            "(--adapt-turbulence)");
     UV u_est = UV::Zero();
     py::array_t<double> probs({static_cast<py::ssize_t>(record ? n : 0), K});
     py::array_t<double> scale(static_cast<py::ssize_t>(record ? n : 0));

@@ -334,8 +334,10 @@ class FilterBank {
     const double inv_s = scale_.inverse_scale();
     double q_ref = 0.0;                        // q_r of the spared form
     const int spared = spared_hypothesis(q_ref);   // the per-hypothesis tempering's b (turbulence_adaptation.h), -1: none
-    const double half_log_s =                  // the tempered densities' scale on the untempered level channels
-        adapt && !per_channel && scale_.options().level_scale ? 0.5 * std::log(scale_.scale()) : 0.0;
+    // adaptation.level_scale (header): the presumed failure's level channels, and (1/2) ln s on each
+    const std::uint32_t scaled_levels =
+        adapt && !per_channel && scale_.options().level_scale ? free_channels_(presumed_) : 0u;
+    const double half_log_s = scaled_levels != 0u ? 0.5 * std::log(scale_.scale()) : 0.0;
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (per_channel)
@@ -350,8 +352,7 @@ class FilterBank {
         l += hypotheses_[i].uninformative_log_density(residual(i), level_.col(i), level_var_.col(i), level_set_[i],
                                                          complete_in(i)) +
              footing_(i);
-        if (half_log_s != 0.0)   // the presumed failure's level channels only (turbulence_adaptation.h)
-          for (std::uint32_t f = free_channels_(i) & free_channels_(presumed_); f != 0; f &= f - 1) l += half_log_s;
+        for (std::uint32_t f = free_channels_(i) & scaled_levels; f != 0; f &= f - 1) l += half_log_s;
         level_set_[i] = 1;
       }
       log_l_(i) = l;

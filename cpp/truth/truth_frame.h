@@ -186,16 +186,14 @@ struct FlightControlLaw {
   }
 };
 
-/// The truth's throttle dither: command (0..1) at time t, in truth/dither.py's order of operations;
-/// scheduled: the amplitude from the measured air data (mach, alt_ft) through the thrust table.
-struct ThrottleDither {
+/// A table on a (Mach, pressure altitude) grid, bilinear at the air data and clamped to the grid,
+/// in truth/dither.py _bilinear's order of operations: the throttle dither's thrust per unit
+/// command and the adaptive dither's reference.
+struct AirDataTable {
   static constexpr int kMaxGrid = 16;
-  double trim = 0.0, amplitude = 0.0, omega_rad_s = 0.0;
-  bool scheduled = false;
-  double target_fps2 = 0.0;  // CRITERION nx_g * g
   int n_mach = 0, n_alt = 0;
   std::array<double, kMaxGrid> mach{}, alt_ft{};
-  std::array<double, kMaxGrid * kMaxGrid> accel_fps2{};  // row-major (mach, alt)
+  std::array<double, kMaxGrid * kMaxGrid> value{};  // row-major (mach, alt)
 
   /// (i, t): the grid cell of v clamped to the grid (truth/dither.py _cell).
   static void cell(const double* grid, int n, double v, int& i, double& t) {
@@ -204,14 +202,24 @@ struct ThrottleDither {
     while (i + 2 < n && v >= grid[i + 1]) ++i;
     t = (v - grid[i]) / (grid[i + 1] - grid[i]);
   }
-  double thrust_accel(double m, double h) const {
+  double at(double m, double h) const {
     int i, j;
     double tm, ta;
     cell(mach.data(), n_mach, m, i, tm);
     cell(alt_ft.data(), n_alt, h, j, ta);
-    const auto t = [&](int a, int b) { return accel_fps2[a * n_alt + b]; };
+    const auto t = [&](int a, int b) { return value[a * n_alt + b]; };
     return (1.0 - tm) * ((1.0 - ta) * t(i, j) + ta * t(i, j + 1)) + tm * ((1.0 - ta) * t(i + 1, j) + ta * t(i + 1, j + 1));
   }
+};
+
+/// The truth's throttle dither: command (0..1) at time t, in truth/dither.py's order of operations;
+/// scheduled: the amplitude from the measured air data (mach, alt_ft) through the thrust table.
+struct ThrottleDither {
+  double trim = 0.0, amplitude = 0.0, omega_rad_s = 0.0;
+  bool scheduled = false;
+  double target_fps2 = 0.0;  // CRITERION nx_g * g
+  AirDataTable thrust_accel_fps2;
+
   double command(double time_s, double air_mach = 0.0, double air_alt_ft = 0.0) const {
     return command_about(trim, time_s, air_mach, air_alt_ft);
   }
@@ -220,7 +228,7 @@ struct ThrottleDither {
     double a = amplitude;
     if (scheduled) {
       if (!(std::isfinite(air_mach) && std::isfinite(air_alt_ft))) air_mach = 0.4, air_alt_ft = 20000.0;
-      a = target_fps2 / thrust_accel(air_mach, air_alt_ft);
+      a = target_fps2 / thrust_accel_fps2.at(air_mach, air_alt_ft);
     }
     const double th = base + a * std::sin(omega_rad_s * time_s);
     return th > 1.0 ? 1.0 : (th < 0.0 ? 0.0 : th);
@@ -233,24 +241,15 @@ struct ThrottleDither {
 /// for rho > rho_ref, else 0 (and for a non-finite rho); the flaperons' calm line then takes the
 /// gain 1 - h and their turbulence line h.
 struct AdaptedDither {
-  static constexpr int kMaxGrid = 16;
   bool on = false;
   double full_ratio = 0.0;
-  int n_mach = 0, n_alt = 0;
-  std::array<double, kMaxGrid> mach{}, alt_ft{};
-  std::array<double, kMaxGrid * kMaxGrid> reference{};  // row-major (mach, alt)
+  AirDataTable reference;
   bool has_reference = false;
   double reference_now = 0.0;
 
   double mix(double rho, double air_mach, double air_alt_ft) noexcept {
     if (std::isfinite(air_mach) && std::isfinite(air_alt_ft)) {
-      int i, j;
-      double tm, ta;
-      ThrottleDither::cell(mach.data(), n_mach, air_mach, i, tm);
-      ThrottleDither::cell(alt_ft.data(), n_alt, air_alt_ft, j, ta);
-      const auto t = [&](int a, int b) { return reference[a * n_alt + b]; };
-      reference_now = (1.0 - tm) * ((1.0 - ta) * t(i, j) + ta * t(i, j + 1)) +
-                      tm * ((1.0 - ta) * t(i + 1, j) + ta * t(i + 1, j + 1));
+      reference_now = reference.at(air_mach, air_alt_ft);
       has_reference = true;
     }
     if (!has_reference || !(std::isfinite(rho) && rho > reference_now)) return 0.0;

@@ -238,9 +238,6 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
               and not (adaptive and estimator.turbulence_member is not None)  # the set's rule: frame by frame
               and (not throttle or scenario.dither.throttle_on))  # C++ takes th_i from the dither
     if in_cpp:  # the whole flight in C++: one call, the same frames (one adapted bank's adaptive dither too)
-        if adaptive and not estimator.settings.get("adapt_turbulence"):
-            raise ValueError("the adaptive dither needs the turbulence bank set or one bank's turbulence "
-                             "adaptation (--adapt-turbulence)")
         out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities,
                                      reconfiguration, adapted_dither=adaptive)
         t_truth += out["truth_s"]

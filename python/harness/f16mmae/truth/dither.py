@@ -293,7 +293,7 @@ def _cell(grid: tuple[float, ...], v: float) -> tuple[int, float]:
 
 def thrust_accel_fps2(mach: float, alt_ft: float) -> float:
     """``b_x(M, h)`` (ft/s^2 per unit command): ``THRUST_ACCEL_FPS2`` bilinear, clamped to the
-    grid (the reference of cpp/truth/truth_frame.h ThrottleDither::thrust_accel)."""
+    grid (the reference of cpp/truth/truth_frame.h ThrottleDither, its AirDataTable)."""
     return _bilinear(THRUST_ACCEL_FPS2, mach, alt_ft)
 
 

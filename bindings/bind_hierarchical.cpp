@@ -348,6 +348,10 @@ an uninformative channel whose bit is set still counts in m_k (0, the default: n
 adapt_excluded_channels: a bit per measurement channel j (1 << j, z's order); a hypothesis that reads
 a set channel as a free level (uninformative there) while the presumed one does not leaves the
 adaptation's minimum (it still gets the scale; 0, the default: none leaves it).
+adapt_level_scale_channels: a bit per measurement channel j; with the common scale, every hypothesis
+that reads a set channel as a free level gains (1/2) ln max(s / s_0, 1) a frame at every level,
+s_0 = adapt_level_scale_from (>= 1; 1, the default: (1/2) ln s); adapt_level_scale adds (1/2) ln s
+on the presumed failure's own level channels only (cpp/f16mmae/filter_bank.h; 0, the default: none).
 
 calm_complete_rho ({measurement: rho}, with adapt_turbulence; empty, the default, or rho 0: off): while
 the adaptation's measured power ratio is below rho times the calm-air reference in force (a scheduled

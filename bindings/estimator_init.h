@@ -202,6 +202,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_counted_channels"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::excluded_channels>(
           "adapt_excluded_channels"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::level_scale_channels>(
+          "adapt_level_scale_channels"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::hypothesis_weight>(
           "adapt_hypothesis_weight"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::full_tempering>(
@@ -210,6 +212,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_margin_over>(
           "adapt_spare_margin_over"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_rho>("adapt_spare_rho"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::level_scale_from>(
+          "adapt_level_scale_from"),
       field<&O::spare_dwell_s>("spare_dwell_s"),
       // the climb reference
       optional_number<&O::climb_reference, &ClimbReferenceOptions::reference>("adapt_reference_climb"),

@@ -154,13 +154,18 @@ Value limits(Field field, const char* unit) {
 }
 
 // A measurement's name, stored lower case, or the sentence refusing it.
-Value sensor(std::string DaemonConfig::*field) {
-  return parsed_by([field](DaemonConfig& c, const std::string& v) {
+Value sensor(std::string DaemonConfig::*field, bool none = false) {
+  return parsed_by([field, none](DaemonConfig& c, const std::string& v) {
     static const char* const kSensors[] = {"vel", "aoa", "pit", "az", "rol", "yaw", "ay"};
     std::string lower = v;
     for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (none && lower == "none") {   // no channel: the field stays empty
+      c.*field = std::string();
+      return std::string();
+    }
     if (std::find(std::begin(kSensors), std::end(kSensors), lower) == std::end(kSensors))
-      return std::string("must name a measurement (vel, aoa, pit, az, rol, yaw, ay)");
+      return std::string(none ? "must name a measurement (vel, aoa, pit, az, rol, yaw, ay) or none"
+                              : "must name a measurement (vel, aoa, pit, az, rol, yaw, ay)");
     c.*field = lower;
     return std::string();
   });
@@ -317,6 +322,16 @@ const std::vector<Flag>& flags() {
        "the hypotheses that read NAME's channel as a free level (a constant or cover level for it) leave the "
        "adaptation's minimum over the hypotheses; they still get its scale",
        sensor(&C::adapt_excluded_channel), nullptr, "--adapt-turbulence", adapting},
+      {"--adapt-level-scale-channel", "NAME|none",
+       "every hypothesis reading NAME's channel as a level gains (1/2) ln max(s / S0, 1) a frame at every "
+       "level, not only while that failure is declared (filter_bank.h; default none; 'f16mmae hil' gives vel "
+       "with a scheduled bank's --adapt-turbulence, its default in process)",
+       sensor(&C::adapt_level_scale_channel, true), nullptr, "--adapt-turbulence", adapting},
+      {"--adapt-level-scale-from", "S0",
+       "the scale s_0 of --adapt-level-scale-channel's gain (default 1: (1/2) ln s; 'f16mmae hil' gives 8 with "
+       "a scheduled bank's --adapt-turbulence, its default in process)",
+       number(adaptation(&TurbulenceAdaptationOptions::level_scale_from), {1.0, 1000.0}, "a scale in [1, 1000]"),
+       nullptr, "--adapt-turbulence", adapting},
       {"--calm-complete", "NAME=RHO,...",
        "while the adaptation's measured power ratio is below RHO (decided while no failure is presumed or rising), "
        "the hypotheses that read measurement NAME as a tracked level read it as the paper's complete failure, the "

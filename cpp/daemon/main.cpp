@@ -138,7 +138,9 @@ int main(int argc, char** argv) {
     for (auto [flag, name, bits] : {std::make_tuple("--adapt-counted-channel", &cfg.adapt_counted_channel,
                                                     &options.bank.adaptation.counted_channels),
                                     std::make_tuple("--adapt-excluded-channel", &cfg.adapt_excluded_channel,
-                                                    &options.bank.adaptation.excluded_channels)}) {
+                                                    &options.bank.adaptation.excluded_channels),
+                                    std::make_tuple("--adapt-level-scale-channel", &cfg.adapt_level_scale_channel,
+                                                    &options.bank.adaptation.level_scale_channels)}) {
       if (name->empty()) continue;   // its bit in the bank's measurement order
       const auto& m = bank.measurement_names;
       std::string upper = *name;
@@ -256,6 +258,9 @@ int main(int argc, char** argv) {
         adaptation.insert(adaptation.size() - 1, ", running start");
       if (options.bank.adaptation.enabled && options.bank.adaptation.level_scale)
         adaptation.insert(adaptation.size() - 1, ", level scale");
+      if (options.bank.adaptation.enabled && !cfg.adapt_level_scale_channel.empty())
+        adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_level_scale_channel + " level scaled from " +
+                                                     f16mmae::format_value(options.bank.adaptation.level_scale_from));
       if (executive->estimator().members() == 0 && options.bank.adaptation.enabled && !cfg.adapt_excluded_channel.empty())
         adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_excluded_channel + " levels excluded");
       if (options.bank.adaptation.enabled && !running.calm_complete.rho.empty()) {   // calm_air_complete.h

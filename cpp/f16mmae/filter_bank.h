@@ -27,6 +27,17 @@
 //                   read the same channels. Kept to the presumed failure's channels, so at level
 //                   0 and among f's duals nothing changes; NONE pays its missing factor s^-1/2
 //                   on f's channel and backs out only on evidence on a common footing.
+//                 With adaptation.level_scale_channels S (a bit per channel; empty by default:
+//                   bit for bit without), at every level and whatever is presumed,
+//                     l_k += (n_kS / 2) ln max(s / s_0, 1),   n_kS = |F_k ∩ S \ F_f|
+//                   (F_f empty unless level_scale counts it above), s_0 =
+//                   adaptation.level_scale_from (>= 1): the same missing factor, paid on
+//                   the channels of S before any failure is declared, and only the part of s
+//                   above s_0. Why the margin: at level 0 a tracked level follows a healthy
+//                   gusty sensor partly, so its own density is not the untempered one the full
+//                   (1/2) ln s assumes; where s is small (light air) the term then buys false
+//                   declarations, where s is large (severe air) the gusts' share of the failed
+//                   sensor's evidence is what it restores.
 //                 plus, in both forms, the hypothesis' uninformative-channel term u_k,
 //                 non-zero only for a hypothesis with uninformative channels (a failed
 //                 sensor's reading an unknown level anywhere in its range; q_k then leaves
@@ -334,10 +345,15 @@ class FilterBank {
     const double inv_s = scale_.inverse_scale();
     double q_ref = 0.0;                        // q_r of the spared form
     const int spared = spared_hypothesis(q_ref);   // the per-hypothesis tempering's b (turbulence_adaptation.h), -1: none
-    // adaptation.level_scale (header): the presumed failure's level channels, and (1/2) ln s on each
+    // adaptation.level_scale (header): the presumed failure's level channels, and (1/2) ln s on each;
+    // adaptation.level_scale_channels: the others at every level, and (1/2) ln max(s / s_0, 1) on each
+    const bool level_scales = adapt && !per_channel;
     const std::uint32_t scaled_levels =
-        adapt && !per_channel && scale_.options().level_scale ? free_channels_(presumed_) : 0u;
+        level_scales && scale_.options().level_scale ? free_channels_(presumed_) : 0u;
+    const std::uint32_t every_level = level_scales ? scale_.options().level_scale_channels & ~scaled_levels : 0u;
     const double half_log_s = scaled_levels != 0u ? 0.5 * std::log(scale_.scale()) : 0.0;
+    const double half_log_over =
+        every_level != 0u ? 0.5 * std::log(std::max(scale_.scale() / scale_.options().level_scale_from, 1.0)) : 0.0;
     for (int i = 0; i < k; ++i) {
       double l = -0.5 * q_(i);
       if (per_channel)
@@ -353,6 +369,7 @@ class FilterBank {
                                                          complete_in(i)) +
              footing_(i);
         for (std::uint32_t f = free_channels_(i) & scaled_levels; f != 0; f &= f - 1) l += half_log_s;
+        for (std::uint32_t f = free_channels_(i) & every_level; f != 0; f &= f - 1) l += half_log_over;
         level_set_[i] = 1;
       }
       log_l_(i) = l;

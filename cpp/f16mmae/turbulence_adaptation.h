@@ -228,7 +228,9 @@ struct alignas(16) TurbulenceAdaptationOptions {
   bool spare_margin = false;             // the spared evidence over min(q_0, q_f: f fully tempered) (header)
   std::uint32_t spare_margin_over = 0;   // with spare_margin, bit k: q_k in q_r's min (header); 0: full_tempering's
   std::uint32_t excluded_channels = 0;  // hypotheses reading these channels as a free level leave the minimum (bit j: z_j)
+  std::uint32_t level_scale_channels = 0;  // at every level: l_k += (n / 2) ln max(s / s_0, 1), n of these level channels k reads (filter_bank.h)
   double spare_rho = 0.0;                // ρ_s: the sparing only while ρ̄ >= ρ_s (header); 0: at any ρ̄
+  double level_scale_from = 1.0;         // s_0 of level_scale_channels (filter_bank.h); 1: (n / 2) ln s
 };
 
 // Throws std::invalid_argument "<who>: <option> must be <range>, got <value>".
@@ -249,6 +251,8 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
   if (!(o.hypothesis_weight > 0.0 && o.hypothesis_weight <= 1.0))
     refuse("adapt_hypothesis_weight", "in (0, 1]", o.hypothesis_weight);
   if (!(o.spare_rho >= 0.0 && o.spare_rho <= 100.0)) refuse("adapt_spare_rho", "in [0, 100]", o.spare_rho);
+  if (!(o.level_scale_from >= 1.0 && o.level_scale_from <= 1000.0))
+    refuse("adapt_level_scale_from", "in [1, 1000]", o.level_scale_from);
   if (o.hypothesis_weight < 1.0 && o.channel_weight > 0.0)
     throw std::invalid_argument(who + ": adapt_hypothesis_weight below 1 needs the common scale (adapt_channel_weight 0), got " +
                                 format_value(o.channel_weight));

@@ -299,6 +299,28 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-excluded-channel must name a measurement (vel, aoa, pit, az, rol, yaw, ay), "
                            "got 'air'"), std::string::npos) << r.message;
+  // the level channels scaled at every level and their s_0 (filter_bank.h), with the adaptation only
+  EXPECT_TRUE(r.config.adapt_level_scale_channel.empty());
+  EXPECT_EQ(r.config.estimator.bank.adaptation.level_scale_from, 1.0);
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-level-scale-channel", "VEL",
+                         "--adapt-level-scale-from", "8"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.adapt_level_scale_channel, "vel");
+  EXPECT_EQ(r.config.estimator.bank.adaptation.level_scale_from, 8.0);
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-level-scale-channel", "none"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.adapt_level_scale_channel.empty());   // none: no channel
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-level-scale-channel", "air"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("must name a measurement (vel, aoa, pit, az, rol, yaw, ay) or none, got 'air'"),
+            std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-level-scale-from", "0.5"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-level-scale-from must be a scale in [1, 1000]"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-level-scale-channel", "vel"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-level-scale-channel applies with --adapt-turbulence only"), std::string::npos)
+      << r.message;
   // the calm-air complete model's bounds (calm_air_complete.h), with the adaptation only
   EXPECT_TRUE(r.config.estimator.calm_complete.rho.empty());
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--calm-complete", "VEL=1,AZ=0.5"}, nullptr);

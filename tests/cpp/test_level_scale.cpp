@@ -2,6 +2,8 @@
 // level_scale, filter_bank.h): off, and at level 0 on, the bank is bit for bit the one without it;
 // while a level hypothesis f is presumed every hypothesis reading f's level channel gains
 // (1/2) ln s on the one without, s the adaptation's scale of the frames before, and no other.
+// level_scale_channels: at every level the hypotheses reading a set channel as a level gain
+// (1/2) ln max(s / s_0, 1), and no other; the empty mask is bit for bit the bank without it.
 #include "f16mmae/filter_bank.h"
 
 #include "allocation_counter.h"
@@ -71,4 +73,46 @@ TEST(LevelScale, AtLevelZeroNothingChangesAndPresumedALevelItsReadersGainHalfLnS
   ASSERT_TRUE(scaled.update(z));
   EXPECT_NEAR(scaled.log_likelihoods()(kRol) - plain.log_likelihoods()(kRol), 0.5 * std::log(s), 1e-12);
   EXPECT_EQ(scaled.log_likelihoods()(kVel), plain.log_likelihoods()(kVel));
+}
+
+TEST(LevelScale, ChannelsScaledAtEveryLevelGainHalfLnOfSOverS0) {
+  const auto models = vel_rol_models();
+  const ModelBank mb = f16_model_bank(31u);
+  const int kVel = mb.find("VEL"), kRol = mb.find("ROL");
+  for (const double s0 : {1.0, 1.5}) {
+    FilterBankOptions o = adapted(false);
+    o.adaptation.level_scale_channels = 1u << 0;   // VEL's channel
+    o.adaptation.level_scale_from = s0;
+    F16FilterBank plain(models, adapted(false)), scaled(models, o);
+    std::mt19937 g(9);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    Eigen::Matrix<double, 7, 1> z;
+    const Eigen::Matrix<double, 5, 1> u = Eigen::Matrix<double, 5, 1>::Zero();
+    const long long before = f16mmae::testing::allocation_count();
+    bool below = false, above = false;   // frames with s below and above s_0 (s_0 = 1.5)
+    for (int i = 0; i < 200; ++i) {
+      if (i == 150) plain.presume(kRol), scaled.presume(kRol);   // level 1 too: the mask is every level's
+      for (int j = 0; j < 7; ++j) z(j) = 0.05 * n01(g);
+      const double s = plain.turbulence_scale();
+      ASSERT_EQ(s, scaled.turbulence_scale()) << "frame " << i;
+      below |= s < s0, above |= s > s0;
+      ASSERT_TRUE(plain.update(z));
+      ASSERT_TRUE(scaled.update(z));
+      const double gain = s > s0 ? 0.5 * std::log(s / s0) : 0.0;   // computed apart from the bank's form
+      for (int k = 0; k < 13; ++k) {
+        if (k == kVel && gain > 0.0)
+          ASSERT_NEAR(scaled.log_likelihoods()(k) - plain.log_likelihoods()(k), gain, 1e-12) << "frame " << i;
+        else
+          ASSERT_EQ(scaled.log_likelihoods()(k), plain.log_likelihoods()(k)) << "frame " << i << " hypothesis " << k;
+      }
+      plain.propagate(u);
+      scaled.propagate(u);
+    }
+    EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+    EXPECT_TRUE(above) << "s0 " << s0;
+    if (s0 > 1.0) EXPECT_TRUE(below);   // the scale rises through s_0: frames without the gain too
+  }
+  FilterBankOptions o = adapted(false);
+  o.adaptation.level_scale_from = 0.5;
+  EXPECT_THROW(check_adaptation(o.adaptation, "test"), std::invalid_argument);
 }

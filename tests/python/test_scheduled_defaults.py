@@ -29,6 +29,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "complete_trim_time_constant_s": names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S,   # and its average
               "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,   # the load-factor tempering
               "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,   # the level channels' scale term
+              "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),   # and VEL's at every level
+              "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM,
               "adaptive_dither": True}   # the closed loop's adaptive dither
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
                                                "adapt_counted_channel": "vel", **spared}
@@ -41,11 +43,13 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
     off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0, VEL=0, off are off)
            "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
-           "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "fixed_dither": True}
+           "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
+           "fixed_dither": True}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
     assert core_arguments(off)["dwell_s_per_hypothesis"] == {"VEL": 0.0}
+    assert "adapt_level_scale_channels" not in core_arguments(off)   # none: no channel, the core's 0
     for settings in (given, own, rol, all_channels, {}):   # applied twice as once (hil's --compare run)
         once = scheduled_defaults(settings, True)
         assert scheduled_defaults(once, True) == once
@@ -98,7 +102,8 @@ def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_
     bank = vel_rol_schedule
     # the scheduled trim tracking moves the residuals, and the least dwells move the declarations
     # (the noise below declares): the rule alone here
-    rule_alone = {"trim_time_constant_s": 0.0, "dwell_s_per_hypothesis": NO_LEAST_DWELL}
+    rule_alone = {"trim_time_constant_s": 0.0, "dwell_s_per_hypothesis": NO_LEAST_DWELL,
+                  "adapt_level_scale_channel": "none"}
     est = Estimator(bank, adapt_turbulence=True, **rule_alone)
     assert est.settings["adapt_own_channels"] is True and est.settings["adapt_counted_channel"] == "vel"
     assert Estimator(bank, adapt_turbulence=True).settings["trim_time_constant_s"] == names.SCHEDULE_TRIM_TIME_CONSTANT_S
@@ -139,6 +144,8 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
                           "--complete-trim-hold", names.SCHEDULE_COMPLETE_TRIM_HOLD,
                           "--complete-trim-time-constant", str(names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S),
                           "--maneuver-tempering", str(names.SCHEDULE_MANEUVER_TEMPERING_G),
+                          "--adapt-level-scale-channel", "vel", "--adapt-level-scale-from",
+                          str(names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM),
                           "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE}
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
@@ -253,7 +260,7 @@ def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(
     np.testing.assert_array_equal(r_pit, r_own)
     assert not np.array_equal(r_vel, r_own)
     assert np.all(r_vel >= r_own)   # a minimum over fewer hypotheses is never lower
-    est = Estimator(bank, adapt_turbulence=True, adapt_excluded_channel="vel",
+    est = Estimator(bank, adapt_turbulence=True, adapt_excluded_channel="vel", adapt_level_scale_channel="none",
                     dwell_s_per_hypothesis=NO_LEAST_DWELL)   # the core banks' declarations
     np.testing.assert_array_equal(_fly(est, bank), r_vel)
 
@@ -373,3 +380,27 @@ def test_the_level_scale_reaches_the_core_and_the_daemon(vel_rol_schedule):
     from f16mmae.lcm.daemon import daemon_flags
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
     assert flags[flags.index("--adapt-level-scale") + 1] == "on"
+
+
+def test_the_level_channels_scaled_at_every_level_reach_the_core_and_the_daemon(vel_rol_schedule):
+    """--adapt-level-scale-channel NAME|none and --adapt-level-scale-from S0: the sensor's bit in z's
+    order and s_0 reach the core, which refuses s_0 below 1; the scheduled default hands mmae-daemon
+    both flags, none hands it neither channel nor bit; without the adaptation they are refused."""
+    given = core_arguments({"adapt_turbulence": True, "adapt_level_scale_channel": "vel", "adapt_level_scale_from": 8.0})
+    assert given["adapt_level_scale_channels"] == 1 << names.SENSORS.index("VEL")
+    assert given["adapt_level_scale_from"] == 8.0
+    assert "adapt_level_scale_channels" not in core_arguments({"adapt_turbulence": True,
+                                                               "adapt_level_scale_channel": "none"})
+    core.HierarchicalBank(vel_rol_schedule, **given)
+    with pytest.raises(ValueError, match=r"adapt_level_scale_from must be in \[1, 1000\], got 0.5"):
+        core.HierarchicalBank(vel_rol_schedule, adapt_turbulence=True, adapt_level_scale_from=0.5)
+    with pytest.raises(ValueError, match="--adapt-level-scale-channel applies with --adapt-turbulence only"):
+        check({"adapt_level_scale_channel": "vel"})
+    with pytest.raises(ValueError, match="--adapt-level-scale-from"):
+        check({"adapt_turbulence": True, "adapt_level_scale_from": 0.5})
+    from f16mmae.lcm.daemon import daemon_flags
+    flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
+    assert flags[flags.index("--adapt-level-scale-channel") + 1] == "vel"
+    assert float(flags[flags.index("--adapt-level-scale-from") + 1]) == names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM
+    flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True, "adapt_level_scale_channel": "none"}, True))
+    assert "--adapt-level-scale-channel" not in flags and "--adapt-level-scale-from" not in flags

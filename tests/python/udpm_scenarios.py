@@ -400,7 +400,8 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}O_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
-    assert ("turbulence adaptation (reference per node, own channels, vel counted, level scale, complete in calm air VEL 1 by either "  # the scheduled defaults:
+    assert ("turbulence adaptation (reference per node, own channels, vel counted, level scale, vel level scaled from 8, "
+            "complete in calm air VEL 1 by either "  # the scheduled defaults:
             "(whiteness below 0.78)), "
             "set tempering 0.25 from rho 0 full 734, "  # LS RS LF RF VEL AOA AZ kept at s (names.ADAPT_SET_TEMPERING_FULL)
             "trim tracking 2 s (freeze above 0.5), complete failures on the trim averaged over 10 s held while declared, "   # the scheduled default too
@@ -417,7 +418,8 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}Y_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
-    assert ("turbulence adaptation (reference 0.65, level scale, complete in calm air VEL 1 by either (whiteness "
+    assert ("turbulence adaptation (reference 0.65, level scale, vel level scaled from 8, complete in calm air VEL 1 by "
+            "either (whiteness "
             "below 0.78)), set tempering 0.25 from rho 0 full 734, "
             "climbing 0.6 held 30 s, "
             "trim tracking 2 s (freeze above 0.05, steady 0.1 g)") in out, out

@@ -214,6 +214,17 @@ SCHEDULE_MANEUVER_TEMPERING_G = 1.0
 #: failed roll gyro, by the tempering's dropped ln s alone, and backed it out in 3-6 of 10 runs at
 #: the nominal point; level 0 is unchanged (round 28).
 SCHEDULE_ADAPT_LEVEL_SCALE = "on"
+#: The scheduled estimator's level channels scaled at every level (``--adapt-level-scale-channel``,
+#: ``--adapt-level-scale-from``, with the turbulence adaptation; cpp/f16mmae/filter_bank.h): the
+#: hypotheses reading VEL's channel as a level gain (1/2) ln max(s / s_0, 1) a frame before any
+#: failure is declared. In severe air (s 17-100 over the envelope) a failed VEL's evidence is the
+#: gusts', divided by s, and the level's density carries no s^-1/2: without the term VEL was missed
+#: 4-6 times in 10 at the nominal point (7-9 settled). s_0 = 8 lies above light and moderate air's s
+#: at the nominal point (at most 3.9) and light air's off it (at most 2.6), below severe air's
+#: anywhere (5th percentile 16.6 at Mach 0.3, 5,000 ft); s_0 = 1 (the full (1/2) ln s) declared VEL
+#: falsely in light air high up (round 29).
+SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL = "VEL"
+SCHEDULE_ADAPT_LEVEL_SCALE_FROM = 8.0
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).
 SCHEDULE_MODES: tuple[str, ...] = ("interpolate", "nearest")

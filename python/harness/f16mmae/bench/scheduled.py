@@ -42,8 +42,9 @@ CALM_RULE = "tuned bank + adaptation + calm-air rule"
 #: cpp/f16mmae/complete_trim_hold.h).
 TRIM_HOLD = "scheduled, interpolate + complete trim hold"
 #: The variant with the scheduled default's severe-air rules in the core: the load-factor
-#: tempering (names.SCHEDULE_MANEUVER_TEMPERING_G) and the level channels' scale
-#: (names.SCHEDULE_ADAPT_LEVEL_SCALE; cpp/f16mmae/filter_bank.h).
+#: tempering (names.SCHEDULE_MANEUVER_TEMPERING_G) and the level channels' scale, the presumed
+#: failure's and VEL's at every level (names.SCHEDULE_ADAPT_LEVEL_SCALE,
+#: SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL and _FROM; cpp/f16mmae/filter_bank.h).
 SEVERE_RULES = "tuned bank + adaptation + tempering and level scale"
 MACH_AXIS = (0.4, 0.6)
 ALT_AXIS = (10_000.0, 20_000.0)
@@ -131,7 +132,9 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
     calm = core_arguments({**adapted, "calm_complete": names.SCHEDULE_CALM_COMPLETE,
                            "calm_measure": names.SCHEDULE_CALM_MEASURE})
     severe = core_arguments({**adapted, "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,
-                             "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE})
+                             "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,
+                             "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),
+                             "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM})
     for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver),
                       ("tuned bank + adaptation", adapted), (CALM_RULE, calm), (SEVERE_RULES, severe)):
         per_frame, worst = core._bench_hierarchical_loop(tuned, zt, ut, min_time_s=min_time_s, **kw)

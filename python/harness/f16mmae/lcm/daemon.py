@@ -36,7 +36,8 @@ _RENAMED_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": 
                  "adapt_spare_margin": "set_tempering_margin", "calm_complete_rho": "calm_complete"}
 #: The core's bit masks over z and the rows whose flags take the sensor's name.
 _CHANNEL_BITS_KEYS = {"adapt_counted_channels": "adapt_counted_channel",
-                      "adapt_excluded_channels": "adapt_excluded_channel"}
+                      "adapt_excluded_channels": "adapt_excluded_channel",
+                      "adapt_level_scale_channels": "adapt_level_scale_channel"}
 #: The core's bit masks over the level-0 hypotheses and the ``mmae-daemon`` flags that take their names.
 _HYPOTHESIS_BITS_FLAGS = {"adapt_full_tempering": "--set-tempering-full",
                           "adapt_spare_margin_over": "--set-tempering-margin-over"}

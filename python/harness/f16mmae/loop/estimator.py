@@ -28,7 +28,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     has, as the lag in the bank; cpp/f16mmae/actuator_limits.h), never a measurement; an input
     beyond the five surfaces (the throttle of a bank that models it) has no actuator: +inf.
     ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit, and
-    ``adapt_excluded_channel`` ``adapt_excluded_channels``; ``calm_complete`` (its table) ``calm_complete_rho``;
+    ``adapt_excluded_channel`` ``adapt_excluded_channels``, ``adapt_level_scale_channel``
+    ``adapt_level_scale_channels`` (``none``: no bit); ``calm_complete`` (its table) ``calm_complete_rho``;
     ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``);
     ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
@@ -48,9 +49,9 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
             out[key] = parse(out[key])
     if "calm_complete" in out:   # the calm-air bounds by measurement (cpp/f16mmae/calm_air_complete.h)
         out["calm_complete_rho"] = out.pop("calm_complete")
-    for name in ("counted", "excluded"):   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
+    for name in ("counted", "excluded", "level_scale"):   # the sensor's channel as the core's bit mask over z (names.SENSORS' order)
         sensor = out.pop(f"adapt_{name}_channel", None)
-        if sensor is not None:
+        if sensor is not None and sensor != "none":   # none: no channel (the scheduled default turned off)
             out[f"adapt_{name}_channels"] = 1 << SENSORS.index(sensor.upper())
     if out.pop("trim_steady_air_data", "on") == "off":   # the air-data gate of steady tracking open
         out["trim_steady_climb_ft_s"] = out["trim_steady_mach_per_s"] = math.inf

@@ -23,7 +23,8 @@ from dataclasses import dataclass
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
                      SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD,
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
-                     SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_MANEUVER_TEMPERING_G,
+                     SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL,
+                     SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS,
                      THRESHOLD_DEFAULT)
 
@@ -109,6 +110,19 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "level's does not, so NONE does not win the failure back by the tempering alone "
                          "(cpp/f16mmae/filter_bank.h). Default: on on a scheduled bank "
                          "(names.SCHEDULE_ADAPT_LEVEL_SCALE), else off"),
+    EstimatorOption("adapt_level_scale_channel", "--adapt-level-scale-channel", "choice",
+                    metavar="|".join(SENSORS) + "|none",
+                    choices=tuple(s.lower() for s in SENSORS) + ("none",), requires="adapt_turbulence",
+                    help="with --adapt-turbulence: every hypothesis reading the SENSOR's channel as a level "
+                         "gains (1/2) ln max(s / S0, 1) a frame at every level, not only while that failure "
+                         "is declared (--adapt-level-scale): the tempered densities of the others carry s on "
+                         "that channel, the level's does not (cpp/f16mmae/filter_bank.h). Default: vel on a "
+                         "scheduled bank (names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL), else none; none: off"),
+    EstimatorOption("adapt_level_scale_from", "--adapt-level-scale-from", "number", metavar="S0", minimum=1.0,
+                    maximum=1000.0, requires="adapt_turbulence",
+                    help="with --adapt-turbulence: the S0 of --adapt-level-scale-channel's gain, nothing while "
+                         "the adaptation's scale s is below it (cpp/f16mmae/filter_bank.h). Default: 8 on a "
+                         "scheduled bank (names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM), else 1: (1/2) ln s"),
     EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
                     in_daemon=False,
                     help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "
@@ -460,6 +474,9 @@ CORE_ONLY: dict[str, str] = {
                               "estimator sets it from --adapt-counted-channel (loop/estimator.py core_arguments)",
     "adapt_excluded_channels": "the excluded channels as a bit mask over z (turbulence_adaptation.h); the "
                                "estimator sets it from --adapt-excluded-channel (loop/estimator.py core_arguments)",
+    "adapt_level_scale_channels": "the level channels scaled at every level as a bit mask over z (filter_bank.h); "
+                                  "the estimator sets it from --adapt-level-scale-channel (loop/estimator.py "
+                                  "core_arguments)",
     "adapt_hypothesis_weight": "the per-hypothesis tempering's weight (turbulence_adaptation.h); the estimator "
                                "sets it from --set-tempering (loop/estimator.py core_arguments)",
     "adapt_full_tempering": "the hypotheses the per-hypothesis tempering leaves at s, a bit mask over the "
@@ -477,12 +494,12 @@ CORE_ONLY: dict[str, str] = {
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
-#: ``adapt_all_channels``, ``adapt_counted_channel`` and ``adapt_excluded_channel`` are resolved by ``scheduled_defaults`` and the estimator;
+#: ``adapt_all_channels``, ``adapt_counted_channel``, ``adapt_excluded_channel`` and ``adapt_level_scale_channel`` are resolved by ``scheduled_defaults`` and the estimator;
 #: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits, ``set_tempering`` the
 #: per-hypothesis tempering's keywords and ``calm_complete`` ``calm_complete_rho``, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
                                "sensor_loss_dither", "calm_complete", "adapt_all_channels", "adapt_counted_channel", "adapt_excluded_channel",
-                               "trim_steady_air_data", "set_tempering", "set_tempering_rho",
+                               "adapt_level_scale_channel", "trim_steady_air_data", "set_tempering", "set_tempering_rho",
                                "set_tempering_margin", "set_tempering_margin_stabilators")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
@@ -675,8 +692,10 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turns it off), ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
     (``off`` turns it off) and ``complete_trim_time_constant_s``
     ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off),
-    ``maneuver_tempering_g`` ``names.SCHEDULE_MANEUVER_TEMPERING_G`` and ``adapt_level_scale``
-    ``names.SCHEDULE_ADAPT_LEVEL_SCALE`` unless given, and the closed
+    ``maneuver_tempering_g`` ``names.SCHEDULE_MANEUVER_TEMPERING_G``, ``adapt_level_scale``
+    ``names.SCHEDULE_ADAPT_LEVEL_SCALE`` and ``adapt_level_scale_channel``
+    ``names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL`` unless given (``none`` turns it off), with
+    ``adapt_level_scale_from`` ``names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM`` unless given, and the closed
     loop's ``adaptive_dither`` unless ``fixed_dither`` or ``sensor_loss_dither`` is given (the
     adaptive dither of one adapted bank, truth/dither.py ``adapted_dither_reference``). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
@@ -697,6 +716,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out.setdefault("complete_trim_time_constant_s", SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)
         out.setdefault("maneuver_tempering_g", SCHEDULE_MANEUVER_TEMPERING_G)
         out.setdefault("adapt_level_scale", SCHEDULE_ADAPT_LEVEL_SCALE)
+        out.setdefault("adapt_level_scale_channel", SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower())
+        if out["adapt_level_scale_channel"] != "none":
+            out.setdefault("adapt_level_scale_from", SCHEDULE_ADAPT_LEVEL_SCALE_FROM)
         if not (out.get("fixed_dither") or out.get("sensor_loss_dither")):
             out["adaptive_dither"] = True   # the closed loop's (loop/flight.py)
         if running_start:

@@ -45,7 +45,7 @@ struct DaemonConfig {
   bool turbulence_banks = false;     // FILE is a turbulence bank set file: fly the set (turbulence_bank_set.h)
   std::string adapt_counted_channel;  // a measurement (lower case) still counted in m_k, with adapt_own_channels only
   std::string adapt_excluded_channel;  // a measurement (lower case): hypotheses reading it as a free level leave the adaptation's minimum
-  std::string adapt_level_scale_channel;  // a measurement (lower case): hypotheses reading it as a level gain (1/2) ln s at every level
+  std::string adapt_level_scale_channel;  // a measurement (lower case): hypotheses reading it as a level gain (1/2) ln max(s / s_0, 1) at every level
   std::optional<double> set_tempering;         // the per-hypothesis tempering's weight W (turbulence_adaptation.h), with turbulence_banks
   std::vector<std::string> set_tempering_full; // hypotheses (upper case) kept at the full s, with set_tempering
   std::optional<double> set_tempering_rho;     // the sparing only while the measured rho >= this, with set_tempering

@@ -116,3 +116,30 @@ TEST(LevelScale, ChannelsScaledAtEveryLevelGainHalfLnOfSOverS0) {
   o.adaptation.level_scale_from = 0.5;
   EXPECT_THROW(check_adaptation(o.adaptation, "test"), std::invalid_argument);
 }
+
+TEST(LevelScale, AChannelInBothTermsCountsOnceWhileItsFailureIsPresumed) {
+  // the scheduled default's pair: level_scale on and VEL's channel at every level (s_0 = 1, so
+  // the two terms are equal and a double count would show as twice the gain)
+  const auto models = vel_rol_models();
+  const ModelBank mb = f16_model_bank(31u);
+  const int kVel = mb.find("VEL");
+  FilterBankOptions both = adapted(true);
+  both.adaptation.level_scale_channels = 1u << 0;
+  F16FilterBank plain(models, adapted(false)), scaled(models, both);
+  std::mt19937 g(5);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  Eigen::Matrix<double, 7, 1> z;
+  const Eigen::Matrix<double, 5, 1> u = Eigen::Matrix<double, 5, 1>::Zero();
+  for (int i = 0; i < 200; ++i) {
+    if (i == 100) plain.presume(kVel), scaled.presume(kVel);
+    for (int j = 0; j < 7; ++j) z(j) = 0.05 * n01(g);
+    const double s = plain.turbulence_scale();
+    ASSERT_TRUE(plain.update(z));
+    ASSERT_TRUE(scaled.update(z));
+    ASSERT_NEAR(scaled.log_likelihoods()(kVel) - plain.log_likelihoods()(kVel), 0.5 * std::log(s), 1e-12)
+        << "frame " << i;   // once, at level 0 (the mask) and at level 1 (the presumed failure's)
+    plain.propagate(u);
+    scaled.propagate(u);
+  }
+  EXPECT_GT(plain.turbulence_scale(), 2.0);
+}

@@ -216,8 +216,8 @@ SCHEDULE_MANEUVER_TEMPERING_G = 1.0
 SCHEDULE_ADAPT_LEVEL_SCALE = "on"
 #: The scheduled estimator's level channels scaled at every level (``--adapt-level-scale-channel``,
 #: ``--adapt-level-scale-from``, with the turbulence adaptation; cpp/f16mmae/filter_bank.h): the
-#: hypotheses reading VEL's channel as a level gain (1/2) ln max(s / s_0, 1) a frame before any
-#: failure is declared. In severe air (s 17-100 over the envelope) a failed VEL's evidence is the
+#: hypotheses reading VEL's channel as a level gain (1/2) ln max(s / s_0, 1) a frame at every
+#: level, before any failure is declared too. In severe air (s 17-100 over the envelope) a failed VEL's evidence is the
 #: gusts', divided by s, and the level's density carries no s^-1/2: without the term VEL was missed
 #: 4-6 times in 10 at the nominal point (7-9 settled). s_0 = 8 lies above light and moderate air's s
 #: at the nominal point (at most 3.9) and light air's off it (at most 2.6), below severe air's

@@ -15,6 +15,8 @@
 //   (13, 5)   F16HierarchicalBank          (the shipped banks)
 //   (19, 5)   F16GustHierarchicalBank      (six Dryden gust states, `f16mmae design --gust-states`)
 //   (13, 6)   F16ThrottleHierarchicalBank  (the throttle input, `f16mmae design --throttle-input`)
+//   (19, 6)   F16GustThrottleHierarchicalBank  (both: the scheduled default since its revision 15,
+//             `f16mmae design --schedule`, whose nodes at or below 20,000 ft carry the gust states)
 //   (13, 5) with 18 filters at level 0  F16PartialHierarchicalBank  (a partial-loss hypothesis per
 //             surface, `f16mmae design --partial-loss F`; its level-1 banks keep spare slots off
 //             line at p = 0, hierarchical_bank.h)
@@ -60,8 +62,8 @@ class MmaeEstimator {
                     F16HierarchicalBank::UVector::RowsAtCompileTime == kNu,
                 "the command holds every bank's u");
 
-  // f(bank) on the bank that runs: F16HierarchicalBank, F16GustHierarchicalBank or
-  // F16ThrottleHierarchicalBank.
+  // f(bank) on the bank that runs: F16HierarchicalBank, F16GustHierarchicalBank,
+  // F16ThrottleHierarchicalBank, F16GustThrottleHierarchicalBank, the set or the partial bank.
   template <class F>
   decltype(auto) visit(F&& f) noexcept {
     return std::visit([&](auto& p) -> decltype(auto) { return f(*p); }, bank_);
@@ -167,12 +169,14 @@ class MmaeEstimator {
     return visit([](const auto& b) -> const HierarchicalOptions& { return b.options(); });
   }
   const char* kind() const noexcept { return members_ > 0 ? "turbulence bank set" : "hierarchical bank"; }
-  // "13 states", "19 states (gust)" or "13 states, 6 inputs (throttle)", for the daemon's ready line;
+  // "13 states", "19 states (gust)", "13 states, 6 inputs (throttle)" or "19 states (gust), 6 inputs
+  // (throttle)", for the daemon's ready line;
   // "4 members of 19 states, 6 inputs" for a turbulence bank set.
   std::string states() const {
     if (members_ > 0) return std::to_string(members_) + " members of 19 states, 6 inputs";
     if (on_line() == kOnLinePartial) return "13 states, 18 filters (partial-loss hypotheses)";
-    return nx_ == kNxGust ? "19 states (gust)" : models_throttle() ? "13 states, 6 inputs (throttle)" : "13 states";
+    const std::string inputs = models_throttle() ? ", 6 inputs (throttle)" : "";
+    return (nx_ == kNxGust ? "19 states (gust)" : "13 states") + inputs;
   }
   // The number of member banks of a turbulence bank set, 0 for one hierarchical bank.
   int members() const noexcept { return members_; }
@@ -207,7 +211,8 @@ class MmaeEstimator {
   using SetBank = TurbulenceSetBank<F16GustThrottleHierarchicalBank>;
   using Variant = std::variant<std::unique_ptr<F16HierarchicalBank>, std::unique_ptr<F16GustHierarchicalBank>,
                                std::unique_ptr<F16ThrottleHierarchicalBank>, std::unique_ptr<SetBank>,
-                               std::unique_ptr<F16PartialHierarchicalBank>>;
+                               std::unique_ptr<F16PartialHierarchicalBank>,
+                               std::unique_ptr<F16GustThrottleHierarchicalBank>>;
   // Level-0 hypotheses of a bank (the names without '+', NONE included).
   static int level0_size(const ModelBank& b) {
     int n = 0;
@@ -238,11 +243,14 @@ class MmaeEstimator {
       if (b.nx() == kNxPlain && b.nu() == kNu) return std::make_unique<F16HierarchicalBank>(b, options);
       if (b.nx() == kNxGust && b.nu() == kNu) return std::make_unique<F16GustHierarchicalBank>(b, options);
       if (b.nx() == kNxPlain && b.nu() == kNuThrottle) return std::make_unique<F16ThrottleHierarchicalBank>(b, options);
+      if (b.nx() == kNxGust && b.nu() == kNuThrottle)
+        return std::make_unique<F16GustThrottleHierarchicalBank>(b, options);
     }
     std::ostringstream s;
     s << "mmae-daemon runs the F-16 bank (nx, nu, nz) = (" << kNxPlain << ", " << kNu << ", " << kNz << "), ("
-      << kNxGust << ", " << kNu << ", " << kNz << ") with the gust states or (" << kNxPlain << ", " << kNuThrottle
-      << ", " << kNz << ") with the throttle input; this bank has (" << b.nx() << ", " << b.nu() << ", " << b.nz()
+      << kNxGust << ", " << kNu << ", " << kNz << ") with the gust states, (" << kNxPlain << ", " << kNuThrottle
+      << ", " << kNz << ") with the throttle input or (" << kNxGust << ", " << kNuThrottle << ", " << kNz
+      << ") with both; this bank has (" << b.nx() << ", " << b.nu() << ", " << b.nz()
       << ")";
     throw std::invalid_argument(s.str());
   }

@@ -390,6 +390,18 @@ TEST(Executive, AThrottleBankRunsAsTheSixInputCoreBankOnTheCommandFramesThrottle
   EXPECT_GT(differ, 1e-6);
 }
 
+// A bank of 19 states with the throttle as its sixth input (the scheduled default since its
+// revision 15) runs as F16GustThrottleHierarchicalBank stepped directly.
+TEST(Executive, AGustStateThrottleBankRunsAsTheNineteenStateSixInputCoreBank) {
+  const ModelBank b = test_support::synthetic_bank(19, 6);
+  ASSERT_EQ(b.nx(), 19);
+  ASSERT_EQ(b.nu(), 6);
+  Executive ex(b);
+  EXPECT_TRUE(ex.estimator().models_throttle());
+  EXPECT_EQ(ex.estimator().states(), "19 states (gust), 6 inputs (throttle)");
+  expect_runs_as_the_core_bank<F16GustThrottleHierarchicalBank>(b);
+}
+
 TEST(Executive, ANonFiniteThrottleRejectsTheFrameOfAThrottleBankOnly) {
   const ModelBank six = test_support::synthetic_bank(13, 6), five = test_support::synthetic_bank();
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -415,7 +427,7 @@ TEST(Executive, ABankOfAnotherStateSizeIsRefusedNamingTheSizesItRuns) {
     FAIL() << "a 15-state bank was accepted";
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("(13, 5, 7), (19, 5, 7) with the gust states or (13, 6, 7) with the throttle input"),
+    EXPECT_NE(what.find("(13, 5, 7), (19, 5, 7) with the gust states, (13, 6, 7) with the throttle input or (19, 6, 7) with both"),
               std::string::npos)
         << what;
     EXPECT_NE(what.find("this bank has (15, 5, 7)"), std::string::npos) << what;

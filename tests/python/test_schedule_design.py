@@ -35,9 +35,10 @@ GRID = "mach=0.4/0.5,alt=20000"
 @pytest.fixture(scope="module")
 def scheduled(tmp_path_factory):
     """Plain nodes (no gust states: the default would give these 20,000-ft nodes Dryden gust
-    states, whose design the gust tests below check): each is the ordinary design at its point."""
+    states, whose design the gust tests below check; five inputs: the default's throttle input
+    has tests of its own, test_throttle_input.py): each is the ordinary design at its point."""
     out = tmp_path_factory.mktemp("sched") / "small.f16sched"
-    assert main(["design", "--schedule", GRID, "--gust-states-below-ft", "none", "--workers", "2",
+    assert main(["design", "--schedule", GRID, "--gust-states-below-ft", "none", "--no-throttle-input", "--workers", "2",
                  "--out", str(out)]) == 0
     return core.load_bank(out)
 
@@ -164,7 +165,7 @@ def test_a_node_whose_alpha_state_noise_misfits_jointly_puts_aoa_on_its_measurem
 
 def test_the_cli_shows_progress_and_the_size(tmp_path, capsys):
     out = tmp_path / "one.f16sched"
-    assert main(["design", "--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--workers", "1",
+    assert main(["design", "--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--no-throttle-input", "--workers", "1",
                  "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "[1/1] Mach 0.50, 20000 ft: designed" in text and "tuning at every point: tuned" in text
@@ -181,7 +182,7 @@ def test_a_constant_roll_gyro_level_comes_from_the_command(tmp_path):
     noise variance, the filters and the other hypotheses those of constant=VEL; the
     file names the model in its metadata and command."""
     out, ref = tmp_path / "rol.f16sched", tmp_path / "vel.f16sched"
-    common = ["design", "--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--workers", "1"]
+    common = ["design", "--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--no-throttle-input", "--workers", "1"]
     assert main(common + ["--failure-model", "constant=VEL+ROL", "--out", str(out)]) == 0
     assert main(common + ["--failure-model", "constant=VEL", "--out", str(ref)]) == 0
     node, plain = core.load_bank(out).schedule["nodes"][0]["bank"], core.load_bank(ref).schedule["nodes"][0]["bank"]
@@ -309,7 +310,7 @@ def gust_scheduled(tmp_path_factory):
     """Two nodes, the tuning as given at both (fixed: no calibration flights), gust states at
     the 10,000-ft node only; and the same grid without gust states."""
     d = tmp_path_factory.mktemp("gust_sched")
-    common = ["design", "--schedule", GUST_GRID, "--node-tuning", "fixed", "--workers", "1"]
+    common = ["design", "--schedule", GUST_GRID, "--node-tuning", "fixed", "--no-throttle-input", "--workers", "1"]
     assert main(common + ["--gust-states-below-ft", "12000", "--out", str(d / "gust.f16sched")]) == 0
     assert main(common + ["--out", str(d / "plain.f16sched")]) == 0
     return core.load_bank(d / "gust.f16sched"), core.load_bank(d / "plain.f16sched")
@@ -565,6 +566,7 @@ def test_the_bound_s_flights_and_bank_come_from_the_command(tmp_path, monkeypatc
     (["--failure-model", "constant=VEL", "--gust-states-below-ft", "none"], ("constant=VEL", None, "all", "calibrated")),
     (["--gust-states-below-ft", "10000"], (SHIPPED, 10000.0, "all", "calibrated")),
     (["--gust-node-choice", "effort"], (SHIPPED, 20000.0, "effort", "calibrated")),
+    (["--no-throttle-input"], (SHIPPED, 20000.0, "all", "calibrated")),   # revision 14's five inputs
     (["--node-tuning", "fixed"], (SHIPPED, None, "all", "fixed")),
     (["--node-tuning", "fixed", "--gust-states-below-ft", "15000"], (SHIPPED, 15000.0, "all", "fixed")),
     (["--tuning", "tuned_gust"], (SHIPPED, None, "all", "calibrated")),   # gust states at every node already
@@ -572,9 +574,10 @@ def test_the_bound_s_flights_and_bank_come_from_the_command(tmp_path, monkeypatc
 ])
 def test_design_schedule_without_flags_designs_the_shipped_default(argv, shape, monkeypatch, tmp_path):
     """``f16mmae design --schedule`` without flags hands the design the shipped default's
-    failure model, gust-state altitude and node choice (names.SCHEDULE_*, the values the cached
-    ``scheduled`` bank is generated with); ``--gust-states-below-ft none`` and
-    ``--failure-model`` give the former shape; the defaults step aside where they cannot apply.
+    failure model, gust-state altitude, node choice and throttle input (names.SCHEDULE_*, the
+    values the cached ``scheduled`` bank is generated with); ``--gust-states-below-ft none``,
+    ``--failure-model`` and ``--no-throttle-input`` give the former shapes; the defaults step
+    aside where they cannot apply.
     The design itself is replaced by a recorder: nothing is designed."""
     import f16mmae.cli.design as cli_design
 
@@ -590,7 +593,9 @@ def test_design_schedule_without_flags_designs_the_shipped_default(argv, shape, 
     assert main(["design", "--schedule", *grid, *flags, "--out", str(tmp_path / "x.f16sched")]) != 0
     got = (seen["failure_model"], seen["gust_states_below_ft"], seen["gust_node_choice"], seen["node_tuning"])
     assert got == shape
+    assert seen["throttle_input"] is ("--no-throttle-input" not in argv)   # the default's sixth input
     if not argv:   # one source: the generator of the cached default takes the same names
         assert got == (check_failure_model(names.SCHEDULE_FAILURE_MODEL), names.SCHEDULE_GUST_STATES_BELOW_FT,
                        names.SCHEDULE_GUST_NODE_CHOICE, names.SCHEDULE_NODE_TUNING)
+        assert seen["throttle_input"] is names.SCHEDULE_THROTTLE_INPUT
         assert format_spec(seen["grid"]) == format_spec(parse_grid(names.SCHEDULE_GRID))

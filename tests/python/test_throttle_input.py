@@ -151,6 +151,20 @@ def test_design_throttle_input_writes_a_six_input_bank_its_command_reproduces(tm
     assert hb.declarations == [] and hb.probabilities[0] > 0.9
 
 
+def test_one_bank_models_the_throttle_only_when_asked_and_the_turbulence_set_refuses_the_choice(tmp_path, capsys):
+    """`design` without the flag (or with --no-throttle-input) is the five-input bank; the
+    scheduled design's default is names.SCHEDULE_THROTTLE_INPUT (test_schedule_design.py), and
+    --turbulence-banks, whose members are designed as it chooses, refuses either form."""
+    plain, off = tmp_path / "plain.f16bank", tmp_path / "off.f16bank"
+    assert cli.main(["design", "--out", str(plain)]) == 0
+    assert cli.main(["design", "--no-throttle-input", "--out", str(off)]) == 0
+    assert core.load_bank(str(plain)).nu == 5 and plain.read_bytes() == off.read_bytes()
+    capsys.readouterr()
+    for flag in ("--throttle-input", "--no-throttle-input"):
+        assert cli.main(["design", "--turbulence-banks", flag, "--out", str(tmp_path / "s.f16set")]) == 2
+        assert "--turbulence-banks designs its own members" in capsys.readouterr().err
+
+
 @pytest.mark.slow
 def test_a_scheduled_throttle_bank_runs_six_inputs_at_every_node(tmp_path, capsys):
     """`design --schedule ... --throttle-input`: every node is the point's 6-input design (its

@@ -121,8 +121,9 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: below 20,000 ft (SCHEDULE_GUST_STATES_BELOW_FT, SCHEDULE_GUST_NODE_CHOICE ``all``): a filter that
 #: models the gusts' colour leaves no slow residual for them to build a false AOA or AZ from in
 #: hours of pilotless level flight (docs/results/envelope_scheduled.md, round 21); 14: each node's
-#: calm-air reference (calibrate.calm_reference; schedule format 4), which SCHEDULE_CALM_COMPLETE reads.
-SCHEDULE_DESIGN_REVISION = 14
+#: calm-air reference (calibrate.calm_reference; schedule format 4), which SCHEDULE_CALM_COMPLETE reads;
+#: 15: the throttle command as every node's sixth input (SCHEDULE_THROTTLE_INPUT).
+SCHEDULE_DESIGN_REVISION = 15
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).
@@ -133,6 +134,12 @@ SCHEDULE_GUST_STATES_BELOW_FT = 20000.0
 #: ... every one of them (design/schedule.py GUST_NODE_CHOICES: ``all``; ``effort`` would keep
 #: them only where the node's calibration flights ask a failure for less declaration effort).
 SCHEDULE_GUST_NODE_CHOICE = "all"
+#: The scheduled design's nodes model the throttle command as their sixth input (design/model.py,
+#: ``design --throttle-input``), and the closed loop flies the truth's throttle dither with them
+#: (loop/flight.py): the pilot's or the autopilot's throttle is then a known input, not a thrust
+#: the filters read as a failure, and the dither moves the airspeed that the gusts move little
+#: high up (docs/results/envelope_scheduled.md, round 30).
+SCHEDULE_THROTTLE_INPUT = True
 #: The scheduled estimator's turbulence adaptation counts each filter's residual power per
 #: channel it reads, but for this sensor's uninformative channel, which counts as read
 #: (loop/estimator_options.py scheduled_defaults; cpp/f16mmae/turbulence_adaptation.h): the

@@ -44,7 +44,8 @@ with failure_model cover and an [estimator] dwell_s keeps its own).
 --throttle-input makes the throttle command the model's sixth input (its column from JSBSim's
 own linearization; the bank's inputs LS RS LF RF RUD THR): the closed loop then flies the
 truth's throttle dither, scheduled on the measured air data, and hands the commanded throttle
-to the estimator with the surface commands.
+to the estimator with the surface commands; with --schedule it is the default (the shipped
+scheduled design's since revision 15), --no-throttle-input the five-input shape before it.
 """
 
 EXAMPLES = f"""\
@@ -57,11 +58,11 @@ examples:
   f16mmae design --gust-states --gust-level moderate --out gust.f16bank   # 16 states: Dryden gusts
   f16mmae design --throttle-input --gust-level none --out calm_throttle.f16bank   # 6 inputs, calm air
   f16mmae design --schedule --out scheduled.f16sched                  # the design of --bank scheduled
-  f16mmae design --schedule --failure-model constant=VEL --gust-states-below-ft none --out r11.f16sched   # revision 11's shape
-  f16mmae design --schedule --failure-model constant=VEL+ROL --gust-states-below-ft 15000 --gust-node-choice effort --out r12.f16sched   # revision 12's
+  f16mmae design --schedule --no-throttle-input --out r14.f16sched   # revision 14's shape: five inputs
+  f16mmae design --schedule --failure-model constant=VEL --gust-states-below-ft none --no-throttle-input --out r11.f16sched   # revision 11's shape
+  f16mmae design --schedule --failure-model constant=VEL+ROL --gust-states-below-ft 15000 --gust-node-choice effort --no-throttle-input --out r12.f16sched   # revision 12's
   f16mmae design --turbulence-banks --out turbulence_banks.f16set      # the set of --turbulence-banks
   f16mmae design --schedule mach=0.3:0.8:0.05,alt=5000:35000:2500 --workers 2 --out fine.f16sched
-  f16mmae design --schedule --throttle-input --out scheduled_throttle.f16sched   # 6 inputs at every node
   f16mmae design --schedule --gust-states-below-ft 15000 --gust-node-choice all --workers 2 --out low_gust.f16sched   # every low node
 
 Scheduled design (--schedule [GRID]): one bank per point of a Mach x altitude grid, the
@@ -137,9 +138,11 @@ def register(subparsers) -> None:
                         "reading (design/level_width.py), or 'range': the sensor's full range, e.g. PIT=range "
                         "(the rule before the pitch gyro's derived default) (default: the tuning's; PIT reading, "
                         "the other sensors range)")
-    p.add_argument("--throttle-input", action="store_true",
+    p.add_argument("--throttle-input", action=argparse.BooleanOptionalAction, default=None,
                    help="model the throttle command as a sixth input (JSBSim's linearization column; "
-                        "the closed loop flies the throttle dither with such a bank)")
+                        "the closed loop flies the throttle dither with such a bank); default: off for one "
+                        f"bank, {'on' if names.SCHEDULE_THROTTLE_INPUT else 'off'} with --schedule (names.SCHEDULE_THROTTLE_INPUT, "
+                        "the shipped default's since revision 15; --no-throttle-input the shape before it)")
     p.add_argument("--partial-loss", default=None, metavar="F[,F...]",
                    help="add one partial-loss hypothesis per surface and F, the surface having lost the fraction "
                         "F of its effectiveness (0 < F < 1, as campaign detectability --losses; named C:loss=R, "
@@ -299,7 +302,7 @@ def _run(args) -> int:
     report_dir = writable_dir(args.report, "--report") if args.report else None  # before the design
     t0 = time.perf_counter()
     try:
-        design = design_bank(mach, alt_ft, tuning, throttle_input=args.throttle_input, partial_loss=partial)
+        design = design_bank(mach, alt_ft, tuning, throttle_input=bool(args.throttle_input), partial_loss=partial)
     except TrimError as exc:
         raise CliError(str(exc)) from None
     except DesignError as exc:
@@ -418,7 +421,8 @@ def _run_schedule(args) -> int:
             raise CliError("--gust-node-choice chooses among the nodes at or below --gust-states-below-ft, and this "
                            "design has none (--gust-states-below-ft none, --node-tuning fixed without it, or a tuning "
                            "with gust states at every node): give --gust-states-below-ft FT")
-    thr = "_throttle" if args.throttle_input else ""
+    throttle = names.SCHEDULE_THROTTLE_INPUT if args.throttle_input is None else args.throttle_input
+    thr = "_throttle" if throttle else ""
     gst = "" if gust_ft is None else f"_gust{gust_ft:g}"
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}{gst}.f16sched", "--out")
     how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
@@ -426,11 +430,12 @@ def _run_schedule(args) -> int:
           f"tuning {how} {tuning.name}, failure model {failure_model}"
           + ("" if gust_ft is None else f", Dryden gust states at the nodes at or below {gust_ft:g} ft "
              + ("(the others inert)" if gust_choice == "all" else
-                "where a node's calibration gains by them (the others inert)")), flush=True)
+                "where a node's calibration gains by them (the others inert)"))
+          + (", the throttle as sixth input" if throttle else ""), flush=True)
     try:
         s = design_schedule(grid, args.tuning, out, workers=workers,
                             progress=lambda line: print("  " + line, flush=True), node_tuning=node_tuning,
-                            flap_layers=args.flap_layers != "off", throttle_input=args.throttle_input,
+                            flap_layers=args.flap_layers != "off", throttle_input=throttle,
                             p_min_candidates=p_mins, start_up_s=start_up["--start-up-s"],
                             calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model,
                             gust_states_below_ft=gust_ft, gust_node_choice=gust_choice,
@@ -454,7 +459,7 @@ def _run_turbulence_banks(args) -> int:
     """``--turbulence-banks``: the set's members and selector into the set file --out."""
     from ..design.turbulence_banks import set_path
 
-    if args.schedule is not None or args.gust_states or args.throttle_input or args.gust_level is not None:
+    if args.schedule is not None or args.gust_states or args.throttle_input is not None or args.gust_level is not None:
         raise CliError("--turbulence-banks designs its own members (the tuned tuning, the throttle input, "
                        "each turbulence level); give only --out")
     out = writable_file(args.out, "--out") if args.out else set_path()

@@ -592,7 +592,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         "jsbsim_version": jsbsim.__version__,
         "command": (f"f16mmae design --schedule {format_spec(grid)} --tuning {tuning_obj.name} "
                     f"--node-tuning {node_tuning} --flap-layers {'on' if flap_layers else 'off'}"
-                    + (" --throttle-input" if throttle_input else "")
+                    + (" --throttle-input" if throttle_input else " --no-throttle-input")
                     + (f" --start-up-s {start_up_s:g} --calibration-start-up-s {calibration_start_up_s:g}"
                        if node_tuning == "calibrated" else "")
                     + (" --adapt-running-start" if running_start and node_tuning == "calibrated" else "")
@@ -680,19 +680,20 @@ def format_spec(grid: Grid) -> str:
 def _generate_scheduled_bank(path: Path) -> None:
     """Design the ``scheduled`` bank (DEFAULT_GRID, tuned, DEFAULT_NODE_TUNING, the failure model
     ``names.SCHEDULE_FAILURE_MODEL``, gust states at or below ``names.SCHEDULE_GUST_STATES_BELOW_FT``
-    chosen by ``names.SCHEDULE_GUST_NODE_CHOICE``) into ``path``, saying so (first use): the file
-    ``f16mmae design --schedule --failure-model ... --gust-states-below-ft ... --gust-node-choice ...``
-    writes with those values."""
+    chosen by ``names.SCHEDULE_GUST_NODE_CHOICE``, the throttle input ``names.SCHEDULE_THROTTLE_INPUT``)
+    into ``path``, saying so (first use): the file ``f16mmae design --schedule`` writes without those
+    flags (``--failure-model ... --gust-states-below-ft ... --gust-node-choice ... --throttle-input``)."""
     import sys
 
     print(f"designing the scheduled bank ({DEFAULT_GRID}, tuned, {DEFAULT_NODE_TUNING} at every node, failure "
           f"model {names.SCHEDULE_FAILURE_MODEL}, gust states at or below {names.SCHEDULE_GUST_STATES_BELOW_FT:g} ft "
-          f"by {names.SCHEDULE_GUST_NODE_CHOICE}) into {path} (once; cached)...", file=sys.stderr, flush=True)
+          f"by {names.SCHEDULE_GUST_NODE_CHOICE}{', the throttle as sixth input' if names.SCHEDULE_THROTTLE_INPUT else ''}) "
+          f"into {path} (once; cached)...", file=sys.stderr, flush=True)
     s = design_schedule(parse_grid(DEFAULT_GRID), "tuned", path,
                         progress=lambda line: print("  " + line, file=sys.stderr, flush=True),
                         node_tuning=DEFAULT_NODE_TUNING, failure_model=names.SCHEDULE_FAILURE_MODEL,
                         gust_states_below_ft=names.SCHEDULE_GUST_STATES_BELOW_FT,
-                        gust_node_choice=names.SCHEDULE_GUST_NODE_CHOICE)
+                        gust_node_choice=names.SCHEDULE_GUST_NODE_CHOICE, throttle_input=names.SCHEDULE_THROTTLE_INPUT)
     print(f"  {s['covered']} points in {s['wall_s']:.0f} s, {s['bytes'] / 1e6:.1f} MB", file=sys.stderr, flush=True)
 
 

@@ -446,7 +446,15 @@ const std::vector<Flag>& flags() {
        number(at(E, &H::maneuver, &ManeuverOptions::tempering_g), {0.0, 100.0}, "a load factor in g in [0, 100] (0: off)")},
       {"--maneuver-tempering-deadband", "D", "only the load factor beyond D g tempers (default 0: no dead band)",
        number(at(E, &H::maneuver, &ManeuverOptions::tempering_deadband_g), {0.0, 10.0}, "a load factor in g in [0, 10]"), nullptr,
-       "--maneuver-tempering", [](const C& c) { return c.estimator.maneuver.tempering(); }},
+       "--maneuver-tempering", [](const C& c) { return c.estimator.maneuver.tempering_g > 0.0; }},
+      {"--maneuver-tempering-alpha", "DEG",
+       "temper every likelihood by a further (da/DEG)^2 added to the turbulence scale s, da the estimated angle "
+       "of attack off trim beyond the dead band, deg (0: off; default: off; 'f16mmae hil' gives a scheduled "
+       "bank's with --adapt-turbulence, its default in process)",
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_alpha_deg), {0.0, 90.0}, "an angle in deg in [0, 90] (0: off)")},
+      {"--maneuver-tempering-alpha-deadband", "DEG", "only the angle of attack beyond DEG sqrt(s) tempers (default 0: no dead band)",
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_alpha_deadband_deg), {0.0, 90.0}, "an angle in deg in [0, 90]"), nullptr,
+       "--maneuver-tempering-alpha", [](const C& c) { return c.estimator.maneuver.tempering_alpha_deg > 0.0; }},
       {"--maneuver-trim", "",
        "the filters' trim follows the climb and acceleration the air data show (each node's climb and "
        "acceleration trim offsets)",

@@ -290,10 +290,13 @@ int main(int argc, char** argv) {
                          : std::string())
               : adaptation;
       std::string maneuver = running.maneuver.kinematics ? "maneuver kinematics" : "no maneuver kinematics";
-      if (running.maneuver.tempering()) maneuver += ", tempering " + f16mmae::format_value(running.maneuver.tempering_g) + " g";
+      if (running.maneuver.tempering_g > 0.0) maneuver += ", tempering " + f16mmae::format_value(running.maneuver.tempering_g) + " g";
       maneuver += options.actuators.enabled() ? ", actuator limits" : "";
       if (running.maneuver.tempering_deadband_g > 0.0)
         maneuver += ", tempering dead band " + f16mmae::format_value(running.maneuver.tempering_deadband_g) + " g";
+      if (running.maneuver.tempering_alpha_deg > 0.0)
+        maneuver += ", alpha tempering " + f16mmae::format_value(running.maneuver.tempering_alpha_deg) + " deg beyond " +
+                    f16mmae::format_value(running.maneuver.tempering_alpha_deadband_deg) + " deg sqrt(s)";
       if (running.maneuver_dwell.dwell_s > 0.0)
         maneuver += ", maneuver dwell " + f16mmae::format_value(running.maneuver_dwell.dwell_s) + " s held " +
                     f16mmae::format_value(running.maneuver_dwell.hold_s) + " s";

@@ -279,7 +279,7 @@ class HierarchicalBank {
       const bool held = rule == TrimHold::kDeclared ? failure_declared() : rule == TrimHold::kSuspected && trim_freezing();
       bank_.set_held_offset(trim_hold_.observe(trim_in_force_, held));
     }
-    if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat()));
+    if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat(), bank_.turbulence_scale()));
     if (!bank_.update(z_pert_)) return -1;
     if (level_ == 1 && allowance_on_[static_cast<std::size_t>(level1_bank_)]) {   // level1_allowance.h
       p_allow_ = bank_.probabilities();

@@ -66,6 +66,23 @@
 // g) tempers nothing, while a pull-up (0.7 g at a 3,000-fpm climb entry) still does; a 30 deg
 // turn's 0.155 g tempers by 1 + ((0.155 - d) / n_ref)^2.
 //
+// Angle-of-attack tempering (ManeuverOptions::tempering_alpha_deg = a_ref > 0, with a dead band
+// a_d = tempering_alpha_deadband_deg >= 0): slow flight leaves the linear aerodynamics at a load
+// factor too small for the term above. At Mach 0.3, 10,000 ft (trim alpha 9.5 deg) a pilot
+// holding altitude and Mach in light turbulence pitches alpha to 12 deg at about 0.1 g; the
+// airspeed residual then runs -3.7 sigma for half a second (more drag than the linear model
+// has) and a stabilator or flaperon hypothesis explains it. With da = |the AOA entry of z_hat|
+// (the blended estimate's angle of attack off the trim in force, deg, from the frame before) and
+// s = max(1, the turbulence adaptation's scale, turbulence_adaptation.h; 1 without it)
+//   y   = max(0, da - a_d sqrt(s)) / a_ref,
+//   s_m = (1 + (max(0, |dn| - d) / n_ref)^2) (1 + y^2 / s)   (the first factor 1 with n_ref = 0),
+// so every likelihood's total scale s s_m carries y^2 added to s, not multiplied: the model
+// error's variance adds to the gusts'. The dead band grows with the gusts the adaptation
+// measures (their alpha's spread grows as sqrt(s)), so the angle of attack that the gusts
+// themselves give, modelled by the filters, tempers nothing, while the pilot's excursion in
+// light air (s about 1) does. The price is as the load factor's: a failure that itself moves the
+// angle of attack (a stabilator hard-over) tempers its own evidence while it does.
+//
 // The trim x0: (u0, alpha0) from the trim in force (z_trim + dz of the VEL and AOA
 // channels: the body-axis airspeed and angle of attack), theta0 = alpha0 (the design trims
 // are level, flight-path angle 0), every other state zero. J at that x0 in closed form
@@ -74,7 +91,7 @@
 // Options: enabled = false (the default) is the bank without it, bit for bit.
 // Sizes: the bank's state vector must hold the eight airframe states under the names above
 // and its measurements VEL and AOA; the constructor throws std::invalid_argument naming the
-// one that is missing (only when enabled).
+// one that is missing (only when enabled); the tempering needs AZ (n_ref > 0) and AOA (a_ref > 0).
 #pragma once
 
 #include <Eigen/Dense>
@@ -92,15 +109,25 @@ struct ManeuverOptions {
   bool kinematics = false;   // put the kinematic/gravity remainder into the propagation
   double tempering_g = 0.0;  // n_ref of the load-factor tempering (g); 0 = off
   double tempering_deadband_g = 0.0;  // d: the load factor that tempers nothing (g); 0 = none
+  double tempering_alpha_deg = 0.0;   // alpha_ref of the angle-of-attack term (deg); 0 = off
+  double tempering_alpha_deadband_deg = 0.0;  // a_d: the excursion that tempers nothing at s <= 1 (deg); 0 = none
   bool enabled() const noexcept { return kinematics; }
-  bool tempering() const noexcept { return tempering_g > 0.0; }
+  bool tempering() const noexcept { return tempering_g > 0.0 || tempering_alpha_deg > 0.0; }
   void validate() const {
     if (!(tempering_g >= 0.0 && std::isfinite(tempering_g)))
       throw std::invalid_argument("maneuver: tempering_g must be >= 0 g (0 = off), got " + std::to_string(tempering_g));
+    if (!(tempering_alpha_deg >= 0.0 && tempering_alpha_deg <= 90.0))
+      throw std::invalid_argument("maneuver: tempering_alpha_deg must be in [0, 90] deg (0 = off), got " +
+                                  std::to_string(tempering_alpha_deg));
     if (!(tempering_deadband_g >= 0.0 && tempering_deadband_g <= 10.0))
       throw std::invalid_argument("maneuver: tempering_deadband_g must be in [0, 10] g (0 = none), got " +
                                   std::to_string(tempering_deadband_g));
-    if (tempering_deadband_g > 0.0 && !tempering())
+    if (!(tempering_alpha_deadband_deg >= 0.0 && tempering_alpha_deadband_deg <= 90.0))
+      throw std::invalid_argument("maneuver: tempering_alpha_deadband_deg must be in [0, 90] deg (0 = none), got " +
+                                  std::to_string(tempering_alpha_deadband_deg));
+    if (tempering_alpha_deadband_deg > 0.0 && !(tempering_alpha_deg > 0.0))
+      throw std::invalid_argument("maneuver: tempering_alpha_deadband_deg applies with tempering_alpha_deg > 0 only");
+    if (tempering_deadband_g > 0.0 && !(tempering_g > 0.0))
       throw std::invalid_argument("maneuver: tempering_deadband_g applies with tempering_g > 0 only");
   }
 };
@@ -119,7 +146,8 @@ class ManeuverKinematics {
                      const std::vector<std::string>& measurement_names, double frame_rate_hz)
       : options_(options), dt_(1.0 / frame_rate_hz) {
     options.validate();
-    if (options.tempering()) az_ = find(measurement_names, "AZ", "measurement");
+    if (options.tempering_g > 0.0) az_ = find(measurement_names, "AZ", "measurement");
+    if (options.tempering_alpha_deg > 0.0) aoa_tempering_ = find(measurement_names, "AOA", "measurement");
     if (!options.enabled()) return;
     static const char* const kStates[kN] = {"u_fps", "alpha_rad", "q_rad_s", "theta_rad",
                                             "beta_rad", "p_rad_s", "r_rad_s", "phi_rad"};
@@ -130,16 +158,27 @@ class ManeuverKinematics {
 
   bool enabled() const noexcept { return options_.enabled(); }
   bool tempering() const noexcept { return options_.tempering(); }
-  // The load-factor tempering's likelihood scale s_m = 1 + (max(0, |dn| - d) / n_ref)^2 for the
-  // bank's estimated measurement perturbation z_hat (dn = its AZ entry, g; d the dead band;
-  // header).
+  // The tempering's likelihood scale s_m (header: the load factor's and the angle of attack's
+  // terms) for the bank's estimated measurement perturbation z_hat (dn = its AZ entry, g; da its
+  // AOA entry, rad) and the turbulence adaptation's scale (1 without it).
   template <class Z>
-  double tempering_scale(const Z& z_hat_perturbation) const noexcept {
-    const double dn = z_hat_perturbation(az_);
-    const double x = (options_.tempering_deadband_g > 0.0
-                          ? std::max(0.0, std::abs(dn) - options_.tempering_deadband_g)
-                          : dn) / options_.tempering_g;
-    return 1.0 + x * x;
+  double tempering_scale(const Z& z_hat_perturbation, double turbulence_scale = 1.0) const noexcept {
+    double scale = 1.0;
+    if (options_.tempering_g > 0.0) {
+      const double dn = z_hat_perturbation(az_);
+      const double x = (options_.tempering_deadband_g > 0.0
+                            ? std::max(0.0, std::abs(dn) - options_.tempering_deadband_g)
+                            : dn) / options_.tempering_g;
+      scale += x * x;
+    }
+    if (options_.tempering_alpha_deg > 0.0) {
+      const double s = std::max(turbulence_scale, 1.0);
+      const double da = std::abs(z_hat_perturbation(aoa_tempering_)) * (180.0 / 3.14159265358979323846);
+      const double y = std::max(0.0, da - options_.tempering_alpha_deadband_deg * std::sqrt(s)) /
+                       options_.tempering_alpha_deg;
+      scale *= 1.0 + y * y / s;
+    }
+    return scale;
   }
   const ManeuverOptions& options() const noexcept { return options_; }
   int vel_index() const noexcept { return vel_; }
@@ -244,7 +283,7 @@ class ManeuverKinematics {
   ManeuverOptions options_;
   double dt_ = 0.0;
   std::array<int, kN> state_index_{};
-  int vel_ = 0, aoa_ = 1, az_ = 3;
+  int vel_ = 0, aoa_ = 1, az_ = 3, aoa_tempering_ = 1;
   Vec x0_ = Vec::Constant(std::nan("")), g0_ = Vec::Zero();   // g and J at the last x0
   Mat j0_ = Mat::Zero();
 };

@@ -3,7 +3,8 @@
 // the remainder second order, the bank's propagation moved by exactly dt R of its blended
 // state, off bit-identical, a bank without the airframe names refused by name, and no heap
 // allocation in the F-16-sized step with it on (global operator new is counted here); the
-// actuator limits by hand (actuator_limits.h) and the load-factor tempering of the likelihoods.
+// actuator limits by hand (actuator_limits.h) and the load-factor and angle-of-attack tempering of
+// the likelihoods.
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/actuator_limits.h"
 #include "f16mmae/maneuver_kinematics.h"
@@ -50,6 +51,33 @@ MK::Vec turn(double phi_rad) {
   dx(MK::R) = omega * std::cos(phi_rad);
   dx(MK::PHI) = phi_rad;
   return dx;
+}
+
+// 80 frames of the synthetic plant dithered (scaled by dither_scale) through `bank`: before each
+// update check receives the blended estimate's measurement perturbation of the frame before (what
+// the tempering reads), after it the bank.
+template <class Bank, class Check>
+void fly_dithered(Bank& bank, const ModelBank& mb, double dither_scale, Check&& check) {
+  const test::Plant plant = test::random_plant(13, 5, 7, 5u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 6u);
+  for (int i = 0; i < 80; ++i) {
+    const Eigen::VectorXd du = dither_scale * test::dither(5, i, 64.0);
+    Eigen::Matrix<double, 7, 1> z = truth.measure({}) + mb.z_trim;
+    const Eigen::Matrix<double, 7, 1> z_hat_before = bank.z_hat_perturbation();
+    bank.update(z);
+    check(z_hat_before, bank);
+    bank.propagate(du + mb.u_trim);
+    truth.advance(du, {});
+  }
+}
+
+// Every likelihood of the bank's last update is -q_k / (2 s).
+template <class Bank>
+void expect_tempered_by(const Bank& b, double s) {
+  for (int k = 0; k < b.size(); ++k) {
+    const double expected = -0.5 * b.bank().quadratic_forms()(k) / s;
+    ASSERT_NEAR(b.bank().log_likelihoods()(k), expected, 1e-12 * (1.0 + std::abs(expected)));
+  }
 }
 
 }  // namespace
@@ -317,18 +345,8 @@ TEST(ManeuverTempering, LikelihoodsAreDividedByTheScale) {
 // at the median |dn| of the same flight so that frames inside and beyond it are both checked.
 TEST(ManeuverTempering, DeadBandTempersOnlyTheLoadFactorBeyondIt) {
   const ModelBank mb = named_bank(5u);
-  const test::Plant plant = test::random_plant(13, 5, 7, 5u, 1e-3, 1e-3);
   auto fly = [&](F16HierarchicalBank& bank, auto&& check) {
-    test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 6u);
-    for (int i = 0; i < 80; ++i) {
-      const Eigen::VectorXd du = test::dither(5, i, 64.0);
-      Eigen::Matrix<double, 7, 1> z = truth.measure({}) + mb.z_trim;
-      const double dn = bank.z_hat_perturbation()(3);
-      bank.update(z);
-      check(dn, bank);
-      bank.propagate(du + mb.u_trim);
-      truth.advance(du, {});
-    }
+    fly_dithered(bank, mb, 1.0, [&](const auto& z_hat, const F16HierarchicalBank& b) { check(z_hat(3), b); });
   };
   HierarchicalOptions o;
   o.maneuver.tempering_g = 1e-3;
@@ -346,10 +364,7 @@ TEST(ManeuverTempering, DeadBandTempersOnlyTheLoadFactorBeyondIt) {
     const double excess = std::abs(dn) > d ? std::abs(dn) - d : 0.0;
     (excess > 0.0 ? beyond : inside)++;
     const double s = 1.0 + (excess / 1e-3) * (excess / 1e-3);
-    for (int k = 0; k < b.size(); ++k) {
-      const double expected = -0.5 * b.bank().quadratic_forms()(k) / s;
-      ASSERT_NEAR(b.bank().log_likelihoods()(k), expected, 1e-12 * (1.0 + std::abs(expected)));
-    }
+    expect_tempered_by(b, s);
   });
   EXPECT_GT(inside, 10);
   EXPECT_GT(beyond, 10);
@@ -358,5 +373,90 @@ TEST(ManeuverTempering, DeadBandTempersOnlyTheLoadFactorBeyondIt) {
   EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
   bad.maneuver.tempering_g = 0.1;
   bad.maneuver.tempering_deadband_g = -0.1;
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+}
+
+// ---- angle-of-attack tempering ---------------------------------------------------------------
+
+// s_m = (1 + (dn / n_ref)^2) (1 + y^2 / s), y = max(0, |da| - a_d sqrt(s)) / a_ref, da the AOA
+// entry of z_hat in degrees: by hand for s = 1 and s = 4, with and without the load factor's term.
+TEST(ManeuverTempering, AlphaTermAddsItsSquareToTheTurbulenceScaleByHand) {
+  ManeuverOptions o;
+  o.tempering_alpha_deg = 2.0;
+  o.tempering_alpha_deadband_deg = 0.5;
+  const std::vector<std::string> z_names{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+  const MK alpha_only(o, kStates, z_names, 64.0);
+  Eigen::Matrix<double, 7, 1> z = Eigen::Matrix<double, 7, 1>::Zero();
+  z(1) = -3.0 * kPi / 180.0;   // 3 deg below the trim
+  z(3) = 0.2;                  // 0.2 g
+  EXPECT_NEAR(alpha_only.tempering_scale(z, 1.0), 1.0 + (2.5 / 2.0) * (2.5 / 2.0), 1e-12);
+  // s = 4: the dead band 0.5 * 2 = 1 deg, y = 2 / 2 = 1, s_m = 1 + 1 / 4 (s s_m = s + y^2 = 5)
+  EXPECT_NEAR(alpha_only.tempering_scale(z, 4.0), 1.25, 1e-12);
+  // s below 1 counts as 1
+  EXPECT_NEAR(alpha_only.tempering_scale(z, 0.3), alpha_only.tempering_scale(z, 1.0), 1e-15);
+  // inside the dead band: nothing
+  z(1) = 0.9 * kPi / 180.0;
+  EXPECT_EQ(alpha_only.tempering_scale(z, 4.0), 1.0);
+  // with the load factor's term (n_ref 0.1 g, no dead band): the product of the two factors
+  o.tempering_g = 0.1;
+  const MK both(o, kStates, z_names, 64.0);
+  z(1) = 4.0 * kPi / 180.0;
+  // dn / n_ref = 2; y = (4 - 1) / 2 = 1.5
+  EXPECT_NEAR(both.tempering_scale(z, 4.0), (1.0 + 4.0) * (1.0 + 1.5 * 1.5 / 4.0), 1e-12);
+  // the load factor's term alone does not read AOA, and without AOA the alpha term is refused by name
+  const std::vector<std::string> no_aoa{"VEL", "AOX", "PIT", "AZ", "ROL", "YAW", "AY"};
+  try {
+    MK(o, kStates, no_aoa, 64.0);
+    FAIL() << "a bank without AOA was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("AOA"), std::string::npos) << e.what();
+  }
+  o.tempering_alpha_deg = 0.0;
+  o.tempering_alpha_deadband_deg = 0.0;
+  EXPECT_NO_THROW(MK(o, kStates, no_aoa, 64.0));
+}
+
+// In the bank: every likelihood is -q / (2 s_m) with s_m from the blended estimate's AOA of the
+// frame before (no adaptation: s = 1), the dead band at the flight's median |da| so that frames
+// inside and beyond it are both checked; the options' ranges are refused.
+TEST(ManeuverTempering, AlphaTermTempersTheBanksLikelihoodsBeyondItsDeadBand) {
+  const ModelBank mb = named_bank(5u);
+  auto fly = [&](F16HierarchicalBank& bank, auto&& check) {   // the dither scaled: the synthetic alpha in degrees' range
+    fly_dithered(bank, mb, 1e-3, [&](const auto& z_hat, const F16HierarchicalBank& b) {
+      check(std::abs(z_hat(1)) * 180.0 / kPi, b);
+    });
+  };
+  HierarchicalOptions o;
+  o.maneuver.tempering_alpha_deg = 1e-3;
+  std::vector<double> das;
+  F16HierarchicalBank probe(mb, o);
+  fly(probe, [&](double da, const F16HierarchicalBank&) { das.push_back(da); });
+  std::nth_element(das.begin(), das.begin() + das.size() / 2, das.end());
+  const double d = das[das.size() / 2];
+  ASSERT_GT(d, 0.0);
+  ASSERT_LT(d, 45.0);
+  const double a_ref = d;
+  o.maneuver.tempering_alpha_deg = a_ref;
+  o.maneuver.tempering_alpha_deadband_deg = d;
+  F16HierarchicalBank banded(mb, o);
+  int inside = 0, beyond = 0;
+  fly(banded, [&](double da, const F16HierarchicalBank& b) {
+    const double y = std::max(0.0, da - d) / a_ref;
+    (y > 0.0 ? beyond : inside)++;
+    const double s = 1.0 + y * y;
+    expect_tempered_by(b, s);
+  });
+  EXPECT_GT(inside, 10);
+  EXPECT_GT(beyond, 10);
+  HierarchicalOptions bad;
+  bad.maneuver.tempering_alpha_deadband_deg = 0.5;   // without the alpha term
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+  bad.maneuver.tempering_alpha_deg = 91.0;
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+  bad.maneuver.tempering_alpha_deg = 1.0;
+  bad.maneuver.tempering_alpha_deadband_deg = -0.1;
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+  bad.maneuver.tempering_alpha_deadband_deg = 0.0;
+  bad.maneuver.tempering_deadband_g = 0.05;   // the load factor's dead band without its term
   EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
 }

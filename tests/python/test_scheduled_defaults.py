@@ -28,6 +28,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "complete_trim_hold": names.SCHEDULE_COMPLETE_TRIM_HOLD,   # the complete failures' held trim
               "complete_trim_time_constant_s": names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S,   # and its average
               "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,   # the load-factor tempering
+              "maneuver_tempering_alpha_deg": names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG,   # the alpha tempering
+              "maneuver_tempering_alpha_deadband_deg": names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
               "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,   # the level channels' scale term
               "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),   # and VEL's at every level
               "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM,
@@ -44,7 +46,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0, VEL=0, off are off)
            "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
            "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
-           "fixed_dither": True}
+           "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
@@ -58,6 +60,11 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     check(scheduled_defaults(sensor_loss, True))
     assert scheduled_defaults(given, False) == given   # a bank at one point: unchanged
     assert scheduled_defaults({}, True) == {}           # no adaptation: nothing to count
+    band = {**given, "maneuver_tempering_alpha_deg": 2.0}   # the alpha term given: its dead band as given (none)
+    assert "maneuver_tempering_alpha_deadband_deg" not in scheduled_defaults(band, True)
+    with pytest.raises(ValueError, match="--maneuver-tempering-alpha-deadband applies with --maneuver-tempering-alpha "
+                                         "only .a scheduled bank's default --maneuver-tempering-alpha 1"):
+        check({**given, "maneuver_tempering_alpha_deadband_deg": 0.5})
     banks_set = {"adapt_turbulence": True, "turbulence_banks": True}
     assert scheduled_defaults(banks_set, True) == banks_set
     with pytest.raises(ValueError, match="--adapt-all-channels and --adapt-own-channels"):
@@ -145,6 +152,8 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
                           "--complete-trim-hold", names.SCHEDULE_COMPLETE_TRIM_HOLD,
                           "--complete-trim-time-constant", str(names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S),
                           "--maneuver-tempering", str(names.SCHEDULE_MANEUVER_TEMPERING_G),
+                          "--maneuver-tempering-alpha", str(names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG),
+                          "--maneuver-tempering-alpha-deadband", str(names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG),
                           "--adapt-level-scale-channel", "vel", "--adapt-level-scale-from",
                           str(names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM),
                           "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE}

@@ -214,6 +214,16 @@ SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S = 10.0
 #: with the pilot holding altitude and Mach, 10-h soaks declared LS and RS falsely 1.5-2.0 times an
 #: hour; with it 0.3-0.8, light, moderate and calm air as before (round 28).
 SCHEDULE_MANEUVER_TEMPERING_G = 1.0
+#: The scheduled estimator's angle-of-attack tempering (``--maneuver-tempering-alpha``, a_ref in deg,
+#: and ``--maneuver-tempering-alpha-deadband``, a_d in deg, with the turbulence adaptation;
+#: loop/estimator_options.py scheduled_defaults; cpp/f16mmae/maneuver_kinematics.h: y^2 added to the
+#: turbulence scale s, y = max(0, |da| - a_d sqrt(s)) / a_ref, da the blended estimate's angle of
+#: attack off the trim). With the pilot holding altitude and Mach at Mach 0.3, 10,000 ft (trim
+#: alpha 9.5 deg) light gusts' pitch excursions take alpha 2-3 deg off the trim at 0.1 g, past the
+#: linear drag and pitching moment, and stabilators and flaperons were declared falsely 4-8 times an
+#: hour; with it none in 10 h, severe air unchanged: its gusts' alpha lies inside a_d sqrt(s) (round 31).
+SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG = 1.0
+SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG = 0.75
 #: The scheduled estimator's level channels' scale term (``--adapt-level-scale``, with the turbulence
 #: adaptation; cpp/f16mmae/filter_bank.h): while a failure read as a sensor level is declared, the
 #: hypotheses reading that level gain (1/2) ln s a frame on those that read the channel as tempered

@@ -42,7 +42,8 @@ CALM_RULE = "tuned bank + adaptation + calm-air rule"
 #: cpp/f16mmae/complete_trim_hold.h).
 TRIM_HOLD = "scheduled, interpolate + complete trim hold"
 #: The variant with the scheduled default's severe-air rules in the core: the load-factor
-#: tempering (names.SCHEDULE_MANEUVER_TEMPERING_G) and the level channels' scale, the presumed
+#: tempering and the angle of attack's (names.SCHEDULE_MANEUVER_TEMPERING_G, _ALPHA_DEG,
+#: _ALPHA_DEADBAND_DEG) and the level channels' scale, the presumed
 #: failure's and VEL's at every level (names.SCHEDULE_ADAPT_LEVEL_SCALE,
 #: SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL and _FROM; cpp/f16mmae/filter_bank.h).
 SEVERE_RULES = "tuned bank + adaptation + tempering and level scale"
@@ -132,6 +133,9 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
     calm = core_arguments({**adapted, "calm_complete": names.SCHEDULE_CALM_COMPLETE,
                            "calm_measure": names.SCHEDULE_CALM_MEASURE})
     severe = core_arguments({**adapted, "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,
+                             "maneuver_tempering_alpha_deg": names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG,
+                             "maneuver_tempering_alpha_deadband_deg":
+                                 names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
                              "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,
                              "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),
                              "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM})

@@ -25,6 +25,7 @@ from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDU
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                      SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL,
                      SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_MANEUVER_TEMPERING_G,
+                     SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
                      SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS,
                      THRESHOLD_DEFAULT)
 
@@ -318,6 +319,21 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --maneuver-tempering G: only the load factor beyond D g tempers, "
                          "1 + (max(0, |dn| - D)/G)^2, so that turbulence in level flight tempers nothing while a "
                          "pull-up still does (cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band"),
+    EstimatorOption("maneuver_tempering_alpha_deg", "--maneuver-tempering-alpha", "number", metavar="DEG",
+                    minimum=0.0, maximum=90.0,
+                    help="temper every likelihood by a further (da/DEG)^2 while the estimated angle of attack is da "
+                         "deg off the trim: slow flight's excursions take the aircraft out of the linear "
+                         "aerodynamics at a load factor too small to temper (cpp/f16mmae/maneuver_kinematics.h; "
+                         "0: off). Default off; "
+                         f"{SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG:g} deg on a scheduled bank with --adapt-turbulence "
+                         "(names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG)"),
+    EstimatorOption("maneuver_tempering_alpha_deadband_deg", "--maneuver-tempering-alpha-deadband", "number",
+                    metavar="DEG", minimum=0.0, maximum=90.0, requires="maneuver_tempering_alpha_deg",
+                    help="with --maneuver-tempering-alpha: only the excursion beyond DEG sqrt(s) tempers, s the "
+                         "turbulence adaptation's scale, so that the angle of attack the gusts themselves give "
+                         "tempers nothing (cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band; "
+                         f"{SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG:g} deg with a scheduled bank's default "
+                         "angle-of-attack tempering"),
     EstimatorOption("maneuver_dwell_s", "--maneuver-dwell", "number", metavar="S", minimum=0.0,
                     maximum=DWELL_S_MAX,
                     help="a level-0 declaration needs S seconds above the threshold while the aircraft maneuvers "
@@ -663,6 +679,7 @@ def recommends_running_start(model_bank) -> bool:
 #: flags: an option that applies with one of them must name it (``check`` runs before the bank is read).
 SCHEDULED_DEFAULT_FLAGS: dict[str, str] = {
     "set_tempering": f"--set-tempering {SCHEDULE_SET_TEMPERING:g}",
+    "maneuver_tempering_alpha_deg": f"--maneuver-tempering-alpha {SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG:g}",
     "trim_time_constant_s": f"--trim-tracking {SCHEDULE_TRIM_TIME_CONSTANT_S:g}",
 }
 
@@ -692,7 +709,10 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turns it off), ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
     (``off`` turns it off) and ``complete_trim_time_constant_s``
     ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off),
-    ``maneuver_tempering_g`` ``names.SCHEDULE_MANEUVER_TEMPERING_G``, ``adapt_level_scale``
+    ``maneuver_tempering_g`` ``names.SCHEDULE_MANEUVER_TEMPERING_G``, ``maneuver_tempering_alpha_deg``
+    ``names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG`` with ``maneuver_tempering_alpha_deadband_deg``
+    ``names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG`` unless the former is given (0 turns it
+    off; given, the dead band is as given), ``adapt_level_scale``
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE`` and ``adapt_level_scale_channel``
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL`` unless given (``none`` turns it off), with
     ``adapt_level_scale_from`` ``names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM`` unless given, and the closed
@@ -715,6 +735,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out.setdefault("complete_trim_hold", SCHEDULE_COMPLETE_TRIM_HOLD)
         out.setdefault("complete_trim_time_constant_s", SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)
         out.setdefault("maneuver_tempering_g", SCHEDULE_MANEUVER_TEMPERING_G)
+        if "maneuver_tempering_alpha_deg" not in out:
+            out["maneuver_tempering_alpha_deg"] = SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG
+            out.setdefault("maneuver_tempering_alpha_deadband_deg", SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG)
         out.setdefault("adapt_level_scale", SCHEDULE_ADAPT_LEVEL_SCALE)
         out.setdefault("adapt_level_scale_channel", SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower())
         if out["adapt_level_scale_channel"] != "none":

@@ -234,6 +234,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::maneuver, &ManeuverOptions::tempering_deadband_g>("maneuver_tempering_deadband_g"),
       field<&O::maneuver, &ManeuverOptions::tempering_alpha_deg>("maneuver_tempering_alpha_deg"),
       field<&O::maneuver, &ManeuverOptions::tempering_alpha_deadband_deg>("maneuver_tempering_alpha_deadband_deg"),
+      field<&O::maneuver, &ManeuverOptions::tempering_added_g>("maneuver_tempering_added_g"),
+      field<&O::maneuver, &ManeuverOptions::tempering_added_deadband_g>("maneuver_tempering_added_deadband_g"),
       field<&O::maneuver_trim, &ManeuverTrimOptions::enabled>("maneuver_trim"),
       field<&O::maneuver_trim, &ManeuverTrimOptions::time_constant_s>("maneuver_trim_time_constant_s"),
       two_words<&O::maneuver_trim, &ManeuverTrimOptions::accel>("maneuver_trim_accel", "on", "off"),

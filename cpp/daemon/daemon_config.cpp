@@ -455,6 +455,13 @@ const std::vector<Flag>& flags() {
       {"--maneuver-tempering-alpha-deadband", "DEG", "only the angle of attack beyond DEG sqrt(s) tempers (default 0: no dead band)",
        number(at(E, &H::maneuver, &ManeuverOptions::tempering_alpha_deadband_deg), {0.0, 90.0}, "an angle in deg in [0, 90]"), nullptr,
        "--maneuver-tempering-alpha", [](const C& c) { return c.estimator.maneuver.tempering_alpha_deg > 0.0; }},
+      {"--maneuver-tempering-added", "G",
+       "temper every likelihood by a further (dn/G)^2 added to the turbulence scale s, dn the estimated load "
+       "factor off trim beyond the dead band, g (0: off; default: off)",
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_added_g), {0.0, 100.0}, "a load factor in g in [0, 100] (0: off)")},
+      {"--maneuver-tempering-added-deadband", "D", "only the load factor beyond D sqrt(s) g tempers (default 0: no dead band)",
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_added_deadband_g), {0.0, 10.0}, "a load factor in g in [0, 10]"), nullptr,
+       "--maneuver-tempering-added", [](const C& c) { return c.estimator.maneuver.tempering_added_g > 0.0; }},
       {"--maneuver-trim", "",
        "the filters' trim follows the climb and acceleration the air data show (each node's climb and "
        "acceleration trim offsets)",

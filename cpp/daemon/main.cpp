@@ -297,6 +297,9 @@ int main(int argc, char** argv) {
       if (running.maneuver.tempering_alpha_deg > 0.0)
         maneuver += ", alpha tempering " + f16mmae::format_value(running.maneuver.tempering_alpha_deg) + " deg beyond " +
                     f16mmae::format_value(running.maneuver.tempering_alpha_deadband_deg) + " deg sqrt(s)";
+      if (running.maneuver.tempering_added_g > 0.0)
+        maneuver += ", added tempering " + f16mmae::format_value(running.maneuver.tempering_added_g) + " g beyond " +
+                    f16mmae::format_value(running.maneuver.tempering_added_deadband_g) + " g sqrt(s)";
       if (running.maneuver_dwell.dwell_s > 0.0)
         maneuver += ", maneuver dwell " + f16mmae::format_value(running.maneuver_dwell.dwell_s) + " s held " +
                     f16mmae::format_value(running.maneuver_dwell.hold_s) + " s";

@@ -82,6 +82,13 @@
 // themselves give, modelled by the filters, tempers nothing, while the pilot's excursion in
 // light air (s about 1) does. The price is as the load factor's: a failure that itself moves the
 // angle of attack (a stabilator hard-over) tempers its own evidence while it does.
+// The load factor has an added term of the same form (ManeuverOptions::tempering_added_g = n_a
+// > 0, dead band d_a = tempering_added_deadband_g): x_a = max(0, |dn| - d_a sqrt(s)) / n_a joins
+// y^2 added to s,
+//   s_m = (1 + (max(0, |dn| - d) / n_ref)^2) (1 + (y^2 + x_a^2) / s),
+// so a pull-up's or a turn's load factor in light air (s about 1) tempers as the maneuver
+// setting's n_ref = 0.1 g does, while severe air's gusts, whose load factor spreads as sqrt(s),
+// stay inside the band and their tempering is the multiplied term's alone.
 //
 // The trim x0: (u0, alpha0) from the trim in force (z_trim + dz of the VEL and AOA
 // channels: the body-axis airspeed and angle of attack), theta0 = alpha0 (the design trims
@@ -99,6 +106,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -111,24 +119,35 @@ struct ManeuverOptions {
   double tempering_deadband_g = 0.0;  // d: the load factor that tempers nothing (g); 0 = none
   double tempering_alpha_deg = 0.0;   // alpha_ref of the angle-of-attack term (deg); 0 = off
   double tempering_alpha_deadband_deg = 0.0;  // a_d: the excursion that tempers nothing at s <= 1 (deg); 0 = none
+  double tempering_added_g = 0.0;             // n_a of the load factor's added term (g); 0 = off
+  double tempering_added_deadband_g = 0.0;    // d_a: the load factor that tempers nothing at s <= 1 (g); 0 = none
   bool enabled() const noexcept { return kinematics; }
-  bool tempering() const noexcept { return tempering_g > 0.0 || tempering_alpha_deg > 0.0; }
+  bool tempering() const noexcept { return tempering_g > 0.0 || tempering_alpha_deg > 0.0 || tempering_added_g > 0.0; }
   void validate() const {
     if (!(tempering_g >= 0.0 && std::isfinite(tempering_g)))
       throw std::invalid_argument("maneuver: tempering_g must be >= 0 g (0 = off), got " + std::to_string(tempering_g));
-    if (!(tempering_alpha_deg >= 0.0 && tempering_alpha_deg <= 90.0))
-      throw std::invalid_argument("maneuver: tempering_alpha_deg must be in [0, 90] deg (0 = off), got " +
-                                  std::to_string(tempering_alpha_deg));
-    if (!(tempering_deadband_g >= 0.0 && tempering_deadband_g <= 10.0))
-      throw std::invalid_argument("maneuver: tempering_deadband_g must be in [0, 10] g (0 = none), got " +
-                                  std::to_string(tempering_deadband_g));
-    if (!(tempering_alpha_deadband_deg >= 0.0 && tempering_alpha_deadband_deg <= 90.0))
-      throw std::invalid_argument("maneuver: tempering_alpha_deadband_deg must be in [0, 90] deg (0 = none), got " +
-                                  std::to_string(tempering_alpha_deadband_deg));
-    if (tempering_alpha_deadband_deg > 0.0 && !(tempering_alpha_deg > 0.0))
-      throw std::invalid_argument("maneuver: tempering_alpha_deadband_deg applies with tempering_alpha_deg > 0 only");
-    if (tempering_deadband_g > 0.0 && !(tempering_g > 0.0))
-      throw std::invalid_argument("maneuver: tempering_deadband_g applies with tempering_g > 0 only");
+    // each term's reference and dead band: in range, and the band only with its term
+    const auto num = [](double v) {
+      std::ostringstream o;
+      o << v;
+      return o.str();
+    };
+    const auto term = [&num](const char* name, double ref, double ref_max, const char* band_name, double band,
+                             double band_max, const char* unit) {
+      if (!(ref >= 0.0 && ref <= ref_max))
+        throw std::invalid_argument(std::string("maneuver: ") + name + " must be in [0, " + num(ref_max) + "] " + unit +
+                                    " (0 = off), got " + num(ref));
+      if (!(band >= 0.0 && band <= band_max))
+        throw std::invalid_argument(std::string("maneuver: ") + band_name + " must be in [0, " + num(band_max) + "] " +
+                                    unit + " (0 = none), got " + num(band));
+      if (band > 0.0 && !(ref > 0.0))
+        throw std::invalid_argument(std::string("maneuver: ") + band_name + " applies with " + name + " > 0 only");
+    };
+    term("tempering_g", tempering_g, HUGE_VAL, "tempering_deadband_g", tempering_deadband_g, 10.0, "g");
+    term("tempering_alpha_deg", tempering_alpha_deg, 90.0, "tempering_alpha_deadband_deg", tempering_alpha_deadband_deg,
+         90.0, "deg");
+    term("tempering_added_g", tempering_added_g, 100.0, "tempering_added_deadband_g", tempering_added_deadband_g, 10.0,
+         "g");
   }
 };
 
@@ -146,7 +165,7 @@ class ManeuverKinematics {
                      const std::vector<std::string>& measurement_names, double frame_rate_hz)
       : options_(options), dt_(1.0 / frame_rate_hz) {
     options.validate();
-    if (options.tempering_g > 0.0) az_ = find(measurement_names, "AZ", "measurement");
+    if (options.tempering_g > 0.0 || options.tempering_added_g > 0.0) az_ = find(measurement_names, "AZ", "measurement");
     if (options.tempering_alpha_deg > 0.0) aoa_tempering_ = find(measurement_names, "AOA", "measurement");
     if (!options.enabled()) return;
     static const char* const kStates[kN] = {"u_fps", "alpha_rad", "q_rad_s", "theta_rad",
@@ -171,14 +190,20 @@ class ManeuverKinematics {
                             : dn) / options_.tempering_g;
       scale += x * x;
     }
+    const double s = std::max(turbulence_scale, 1.0);
+    double added = 0.0;   // y^2 + x_a^2, added to s
     if (options_.tempering_alpha_deg > 0.0) {
-      const double s = std::max(turbulence_scale, 1.0);
       const double da = std::abs(z_hat_perturbation(aoa_tempering_)) * (180.0 / 3.14159265358979323846);
       const double y = std::max(0.0, da - options_.tempering_alpha_deadband_deg * std::sqrt(s)) /
                        options_.tempering_alpha_deg;
-      scale *= 1.0 + y * y / s;
+      added += y * y;
     }
-    return scale;
+    if (options_.tempering_added_g > 0.0) {
+      const double x = std::max(0.0, std::abs(z_hat_perturbation(az_)) - options_.tempering_added_deadband_g * std::sqrt(s)) /
+                       options_.tempering_added_g;
+      added += x * x;
+    }
+    return scale * (1.0 + added / s);
   }
   const ManeuverOptions& options() const noexcept { return options_; }
   int vel_index() const noexcept { return vel_; }

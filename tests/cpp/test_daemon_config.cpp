@@ -489,7 +489,8 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   const f16mmae::HierarchicalOptions& e = r.config.estimator;
   EXPECT_FALSE(e.maneuver_dwell.dwell_s || e.maneuver_dwell.has_reference() || e.level1_p_min || e.level1_dwell_s ||
                e.bank.adaptation.channel_weight || e.maneuver.tempering_deadband_g || e.maneuver.tempering_alpha_deg ||
-               e.maneuver.tempering_alpha_deadband_deg || e.declare_components ||
+               e.maneuver.tempering_alpha_deadband_deg || e.maneuver.tempering_added_g ||
+               e.maneuver.tempering_added_deadband_g || e.declare_components ||
                e.level1_allowance || e.partial_p_min);
   EXPECT_TRUE(e.departure.enabled);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--maneuver-dwell", "1.5", "--maneuver-dwell-hold=30",
@@ -498,11 +499,14 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
                          "--level1-p-min", "1e-4", "--level1-dwell-s", "0.5", "--departure-hold", "off",
                          "--adapt-channel-weight", "0.5", "--declare-components", "--level1-allowance", "0.1",
                          "--partial-p-min=0.002", "--maneuver-tempering-alpha", "1",
-                         "--maneuver-tempering-alpha-deadband", "0.75"},
+                         "--maneuver-tempering-alpha-deadband", "0.75", "--maneuver-tempering-added", "0.1",
+                         "--maneuver-tempering-added-deadband", "0.05"},
                         nullptr);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_EQ(r.config.estimator.maneuver.tempering_alpha_deg, 1.0);
   EXPECT_EQ(r.config.estimator.maneuver.tempering_alpha_deadband_deg, 0.75);
+  EXPECT_EQ(r.config.estimator.maneuver.tempering_added_g, 0.1);
+  EXPECT_EQ(r.config.estimator.maneuver.tempering_added_deadband_g, 0.05);
   EXPECT_TRUE(r.config.estimator.declare_components);
   EXPECT_EQ(r.config.estimator.maneuver_dwell.dwell_s, 1.5);
   EXPECT_EQ(r.config.estimator.maneuver_dwell.hold_s, 30.0);
@@ -532,6 +536,8 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
        "--maneuver-tempering-deadband applies with --maneuver-tempering only"},
       {{"--maneuver-tempering-alpha-deadband", "0.75"}, "--maneuver-tempering-alpha-deadband applies with --maneuver-tempering-alpha only"},
       {{"--maneuver-tempering-alpha", "91"}, "--maneuver-tempering-alpha must be an angle in deg in [0, 90] (0: off), got '91'"},
+      {{"--maneuver-tempering-added-deadband", "0.05"}, "--maneuver-tempering-added-deadband applies with --maneuver-tempering-added only"},
+      {{"--maneuver-tempering-added", "101"}, "--maneuver-tempering-added must be a load factor in g in [0, 100] (0: off), got '101'"},
       {{"--maneuver-tempering-alpha", "1", "--maneuver-tempering-alpha-deadband", "-1"},
        "--maneuver-tempering-alpha-deadband must be an angle in deg in [0, 90]"},
       {{"--level1-p-min", "0.01"}, "--level1-p-min must be a probability in [0, (1 - 0.9)/12)"},

@@ -378,9 +378,10 @@ TEST(ManeuverTempering, DeadBandTempersOnlyTheLoadFactorBeyondIt) {
 
 // ---- angle-of-attack tempering ---------------------------------------------------------------
 
-// s_m = (1 + (dn / n_ref)^2) (1 + y^2 / s), y = max(0, |da| - a_d sqrt(s)) / a_ref, da the AOA
-// entry of z_hat in degrees: by hand for s = 1 and s = 4, with and without the load factor's term.
-TEST(ManeuverTempering, AlphaTermAddsItsSquareToTheTurbulenceScaleByHand) {
+// s_m = (1 + (dn / n_ref)^2) (1 + (y^2 + x_a^2) / s), y = max(0, |da| - a_d sqrt(s)) / a_ref, da the
+// AOA entry of z_hat in degrees, x_a = max(0, |dn| - d_a sqrt(s)) / n_a: by hand for s = 1 and s = 4,
+// with and without the load factor's multiplied and added terms.
+TEST(ManeuverTempering, AddedTermsAddTheirSquaresToTheTurbulenceScaleByHand) {
   ManeuverOptions o;
   o.tempering_alpha_deg = 2.0;
   o.tempering_alpha_deadband_deg = 0.5;
@@ -403,6 +404,26 @@ TEST(ManeuverTempering, AlphaTermAddsItsSquareToTheTurbulenceScaleByHand) {
   z(1) = 4.0 * kPi / 180.0;
   // dn / n_ref = 2; y = (4 - 1) / 2 = 1.5
   EXPECT_NEAR(both.tempering_scale(z, 4.0), (1.0 + 4.0) * (1.0 + 1.5 * 1.5 / 4.0), 1e-12);
+  // the load factor's added term (n_a 0.1 g, dead band 0.05 sqrt(s) g) joins y^2 in what is added to s:
+  // s = 4, dn = 0.2: x_a = (0.2 - 0.1) / 0.1 = 1; y = 1.5 as above
+  o.tempering_added_g = 0.1;
+  o.tempering_added_deadband_g = 0.05;
+  const MK added(o, kStates, z_names, 64.0);
+  EXPECT_NEAR(added.tempering_scale(z, 4.0), (1.0 + 4.0) * (1.0 + (1.5 * 1.5 + 1.0) / 4.0), 1e-12);
+  z(3) = 0.09;   // inside the added term's band at s = 4 (0.1 g): only the multiplied term and y
+  EXPECT_NEAR(added.tempering_scale(z, 4.0), (1.0 + 0.81) * (1.0 + 1.5 * 1.5 / 4.0), 1e-12);
+  o.tempering_added_g = 0.0;
+  o.tempering_added_deadband_g = 0.0;
+  {  // the added term alone reads AZ: at s = 1, dn = 0.3 g, n_a = 0.1 g, s_m = 1 + 9
+    ManeuverOptions only_added;
+    only_added.tempering_added_g = 0.1;
+    const MK m(only_added, kStates, z_names, 64.0);
+    Eigen::Matrix<double, 7, 1> z3 = Eigen::Matrix<double, 7, 1>::Zero();
+    z3(3) = -0.3;
+    EXPECT_NEAR(m.tempering_scale(z3, 1.0), 10.0, 1e-12);
+    const std::vector<std::string> no_az{"VEL", "AOA", "PIT", "AZZ", "ROL", "YAW", "AY"};
+    EXPECT_THROW(MK(only_added, kStates, no_az, 64.0), std::invalid_argument);
+  }
   // the load factor's term alone does not read AOA, and without AOA the alpha term is refused by name
   const std::vector<std::string> no_aoa{"VEL", "AOX", "PIT", "AZ", "ROL", "YAW", "AY"};
   try {
@@ -458,5 +479,13 @@ TEST(ManeuverTempering, AlphaTermTempersTheBanksLikelihoodsBeyondItsDeadBand) {
   EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
   bad.maneuver.tempering_alpha_deadband_deg = 0.0;
   bad.maneuver.tempering_deadband_g = 0.05;   // the load factor's dead band without its term
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+  bad.maneuver.tempering_deadband_g = 0.0;
+  bad.maneuver.tempering_added_deadband_g = 0.05;   // the added term's dead band without it
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+  bad.maneuver.tempering_added_g = 101.0;
+  EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
+  bad.maneuver.tempering_added_g = 0.1;
+  bad.maneuver.tempering_added_deadband_g = 11.0;
   EXPECT_THROW(F16HierarchicalBank(mb, bad), std::invalid_argument);
 }

@@ -334,6 +334,16 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "tempers nothing (cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band; "
                          f"{SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG:g} deg with a scheduled bank's default "
                          "angle-of-attack tempering"),
+    EstimatorOption("maneuver_tempering_added_g", "--maneuver-tempering-added", "number", metavar="G",
+                    minimum=0.0, maximum=100.0,
+                    help="temper every likelihood by a further (dn/G)^2 added to the turbulence scale s while the "
+                         "estimated load factor is dn g off the trim beyond the dead band: a pull-up or a turn in "
+                         "light air tempers as --maneuver-tempering G does, severe air's gusts inside the band "
+                         "do not (cpp/f16mmae/maneuver_kinematics.h; 0: off). Default off"),
+    EstimatorOption("maneuver_tempering_added_deadband_g", "--maneuver-tempering-added-deadband", "number",
+                    metavar="D", minimum=0.0, maximum=10.0, requires="maneuver_tempering_added_g",
+                    help="with --maneuver-tempering-added: only the load factor beyond D sqrt(s) g tempers "
+                         "(cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band"),
     EstimatorOption("maneuver_dwell_s", "--maneuver-dwell", "number", metavar="S", minimum=0.0,
                     maximum=DWELL_S_MAX,
                     help="a level-0 declaration needs S seconds above the threshold while the aircraft maneuvers "

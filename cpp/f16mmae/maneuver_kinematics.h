@@ -75,20 +75,20 @@
 // (the blended estimate's angle of attack off the trim in force, deg, from the frame before) and
 // s = max(1, the turbulence adaptation's scale, turbulence_adaptation.h; 1 without it)
 //   y   = max(0, da - a_d sqrt(s)) / a_ref,
-//   s_m = (1 + (max(0, |dn| - d) / n_ref)^2) (1 + y^2 / s)   (the first factor 1 with n_ref = 0),
-// so every likelihood's total scale s s_m carries y^2 added to s, not multiplied: the model
-// error's variance adds to the gusts'. The dead band grows with the gusts the adaptation
+// every likelihood's total scale s s_m carries y^2 added to s, not multiplied (s_m below): the
+// model error's variance adds to the gusts'. The dead band grows with the gusts the adaptation
 // measures (their alpha's spread grows as sqrt(s)), so the angle of attack that the gusts
 // themselves give, modelled by the filters, tempers nothing, while the pilot's excursion in
 // light air (s about 1) does. The price is as the load factor's: a failure that itself moves the
 // angle of attack (a stabilator hard-over) tempers its own evidence while it does.
 // The load factor has an added term of the same form (ManeuverOptions::tempering_added_g = n_a
 // > 0, dead band d_a = tempering_added_deadband_g): x_a = max(0, |dn| - d_a sqrt(s)) / n_a joins
-// y^2 added to s,
+// y^2 added to s. With every term
 //   s_m = (1 + (max(0, |dn| - d) / n_ref)^2) (1 + (y^2 + x_a^2) / s),
-// so a pull-up's or a turn's load factor in light air (s about 1) tempers as the maneuver
-// setting's n_ref = 0.1 g does, while severe air's gusts, whose load factor spreads as sqrt(s),
-// stay inside the band and their tempering is the multiplied term's alone.
+// a term that is off contributing nothing (the first factor 1 with n_ref = 0). So a pull-up's
+// or a turn's load factor in light air (s about 1) tempers through x_a as the maneuver setting's
+// n_ref = 0.1 g does, while severe air's gusts, whose load factor spreads as sqrt(s), stay inside
+// its band and their tempering is the multiplied term's alone.
 //
 // The trim x0: (u0, alpha0) from the trim in force (z_trim + dz of the VEL and AOA
 // channels: the body-axis airspeed and angle of attack), theta0 = alpha0 (the design trims
@@ -190,19 +190,18 @@ class ManeuverKinematics {
                             : dn) / options_.tempering_g;
       scale += x * x;
     }
-    const double s = std::max(turbulence_scale, 1.0);
-    double added = 0.0;   // y^2 + x_a^2, added to s
-    if (options_.tempering_alpha_deg > 0.0) {
-      const double da = std::abs(z_hat_perturbation(aoa_tempering_)) * (180.0 / 3.14159265358979323846);
-      const double y = std::max(0.0, da - options_.tempering_alpha_deadband_deg * std::sqrt(s)) /
-                       options_.tempering_alpha_deg;
-      added += y * y;
-    }
-    if (options_.tempering_added_g > 0.0) {
-      const double x = std::max(0.0, std::abs(z_hat_perturbation(az_)) - options_.tempering_added_deadband_g * std::sqrt(s)) /
-                       options_.tempering_added_g;
-      added += x * x;
-    }
+    if (!(options_.tempering_alpha_deg > 0.0 || options_.tempering_added_g > 0.0)) return scale;
+    const double s = std::max(turbulence_scale, 1.0), root_s = std::sqrt(s);
+    // (max(0, |v| - band sqrt(s)) / ref)^2, 0 with the term off
+    const auto excess2 = [root_s](double v, double band, double ref) {
+      if (!(ref > 0.0)) return 0.0;
+      const double e = std::max(0.0, std::abs(v) - band * root_s) / ref;
+      return e * e;
+    };
+    const double added =   // y^2 + x_a^2, added to s
+        excess2(z_hat_perturbation(aoa_tempering_) * (180.0 / 3.14159265358979323846),
+                options_.tempering_alpha_deadband_deg, options_.tempering_alpha_deg) +
+        excess2(z_hat_perturbation(az_), options_.tempering_added_deadband_g, options_.tempering_added_g);
     return scale * (1.0 + added / s);
   }
   const ManeuverOptions& options() const noexcept { return options_; }

@@ -221,7 +221,8 @@ SCHEDULE_MANEUVER_TEMPERING_G = 1.0
 #: attack off the trim). With the pilot holding altitude and Mach at Mach 0.3, 10,000 ft (trim
 #: alpha 9.5 deg) light gusts' pitch excursions take alpha 2-3 deg off the trim at 0.1 g, past the
 #: linear drag and pitching moment, and stabilators and flaperons were declared falsely 4-8 times an
-#: hour; with it none in 10 h, severe air unchanged: its gusts' alpha lies inside a_d sqrt(s) (round 31).
+#: hour; with it 0-0.1 an hour (evaluation and held-out seeds), severe air unchanged: its gusts' alpha
+#: lies inside a_d sqrt(s) (round 31).
 SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG = 1.0
 SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG = 0.75
 #: The scheduled estimator's level channels' scale term (``--adapt-level-scale``, with the turbulence

@@ -321,8 +321,8 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "pull-up still does (cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band"),
     EstimatorOption("maneuver_tempering_alpha_deg", "--maneuver-tempering-alpha", "number", metavar="DEG",
                     minimum=0.0, maximum=90.0,
-                    help="temper every likelihood by a further (da/DEG)^2 while the estimated angle of attack is da "
-                         "deg off the trim: slow flight's excursions take the aircraft out of the linear "
+                    help="temper every likelihood by a further (da/DEG)^2 added to the turbulence scale s while the "
+                         "estimated angle of attack is da deg off the trim beyond the dead band: slow flight's excursions take the aircraft out of the linear "
                          "aerodynamics at a load factor too small to temper (cpp/f16mmae/maneuver_kinematics.h; "
                          "0: off). Default off; "
                          f"{SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG:g} deg on a scheduled bank with --adapt-turbulence "

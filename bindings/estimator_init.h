@@ -228,6 +228,10 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       {"maneuver_mach_per_s", "a number",  // one gate for the maneuver dwell and the climb reference
        [](O& o, py::handle v) { o.maneuver_dwell.mach_per_s = o.climb_reference.mach_per_s = v.cast<double>(); },
        [](const O& o) { return py::cast(o.maneuver_dwell.mach_per_s); }},
+      field<&O::rate_gates_gust_scaled>("maneuver_rate_gust_scaled"),
+      {"maneuver_climb_ft_s", "a number",  // one gate for the maneuver dwell and the climb reference
+       [](O& o, py::handle v) { o.maneuver_dwell.climb_ft_s = o.climb_reference.climb_ft_s = v.cast<double>(); },
+       [](const O& o) { return py::cast(o.maneuver_dwell.climb_ft_s); }},
       // the maneuver's kinematics, tempering and trim
       field<&O::maneuver, &ManeuverOptions::kinematics>("maneuver_kinematics"),
       field<&O::maneuver, &ManeuverOptions::tempering_g>("maneuver_tempering_g"),
@@ -236,6 +240,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::maneuver, &ManeuverOptions::tempering_alpha_deadband_deg>("maneuver_tempering_alpha_deadband_deg"),
       field<&O::maneuver, &ManeuverOptions::tempering_added_g>("maneuver_tempering_added_g"),
       field<&O::maneuver, &ManeuverOptions::tempering_added_deadband_g>("maneuver_tempering_added_deadband_g"),
+      field<&O::maneuver, &ManeuverOptions::tempering_added_spread>("maneuver_tempering_added_spread"),
       field<&O::maneuver_trim, &ManeuverTrimOptions::enabled>("maneuver_trim"),
       field<&O::maneuver_trim, &ManeuverTrimOptions::time_constant_s>("maneuver_trim_time_constant_s"),
       two_words<&O::maneuver_trim, &ManeuverTrimOptions::accel>("maneuver_trim_accel", "on", "off"),

@@ -436,6 +436,18 @@ const std::vector<Flag>& flags() {
                       [](C& c, double x) {   // one gate for both (estimator_init.h)
                         c.estimator.maneuver_dwell.mach_per_s = c.estimator.climb_reference.mach_per_s = x;
                       })},
+      {"--maneuver-climb-rate", "FT_S",
+       "the air data's altitude changing faster than this, ft/s, opens the gates of --maneuver-dwell and "
+       "--adapt-reference-climb (air_data_rates.h; default 5, 300 ft/min)",
+       number_applied({0.0, 1000.0, true}, "a climb rate in ft/s, > 0 and <= 1000",
+                      [](C& c, double x) {   // one gate for both (estimator_init.h)
+                        c.estimator.maneuver_dwell.climb_ft_s = c.estimator.climb_reference.climb_ft_s = x;
+                      })},
+      {"--maneuver-rate-gust-scaled", "",
+       "multiply the climb-rate and Mach-rate thresholds of --maneuver-dwell's and --adapt-reference-climb's "
+       "gates by sqrt(s_b), s_b the adaptation's scale at the node's reference: the gusts' own air-data rates "
+       "(hierarchical_bank.h; needs --adapt-turbulence; default off)",
+       {}, at(E, &H::rate_gates_gust_scaled), "--adapt-turbulence", adapting},
       {"--maneuver-kinematics", "",
        "add the turn kinematics and gravity terms the wings-level linearization drops to every filter's "
        "propagation",
@@ -462,6 +474,11 @@ const std::vector<Flag>& flags() {
       {"--maneuver-tempering-added-deadband", "D", "only the load factor beyond D sqrt(s) g tempers (default 0: no dead band)",
        number(at(E, &H::maneuver, &ManeuverOptions::tempering_added_deadband_g), {0.0, 10.0}, "a load factor in g in [0, 10]"), nullptr,
        "--maneuver-tempering-added", [](const C& c) { return c.estimator.maneuver.tempering_added_g > 0.0; }},
+      {"--maneuver-tempering-added-spread", "K",
+       "the added term's band at least K times the estimated load factor's own spread about its 0.35-s mean "
+       "(over 30 s; default 0: off)",
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_added_spread), {0.0, 100.0}, "a factor in [0, 100]"),
+       nullptr, "--maneuver-tempering-added", [](const C& c) { return c.estimator.maneuver.tempering_added_g > 0.0; }},
       {"--maneuver-trim", "",
        "the filters' trim follows the climb and acceleration the air data show (each node's climb and "
        "acceleration trim offsets)",

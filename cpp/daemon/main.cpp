@@ -299,7 +299,10 @@ int main(int argc, char** argv) {
                     f16mmae::format_value(running.maneuver.tempering_alpha_deadband_deg) + " deg sqrt(s)";
       if (running.maneuver.tempering_added_g > 0.0)
         maneuver += ", added tempering " + f16mmae::format_value(running.maneuver.tempering_added_g) + " g beyond " +
-                    f16mmae::format_value(running.maneuver.tempering_added_deadband_g) + " g sqrt(s)";
+                    f16mmae::format_value(running.maneuver.tempering_added_deadband_g) + " g sqrt(s)" +
+                    (running.maneuver.tempering_added_spread > 0.0
+                         ? " or " + f16mmae::format_value(running.maneuver.tempering_added_spread) + " sigma_n"
+                         : "");
       if (running.maneuver_dwell.dwell_s > 0.0)
         maneuver += ", maneuver dwell " + f16mmae::format_value(running.maneuver_dwell.dwell_s) + " s held " +
                     f16mmae::format_value(running.maneuver_dwell.hold_s) + " s";
@@ -312,6 +315,14 @@ int main(int argc, char** argv) {
                         : ", Mach-rate gates " + f16mmae::format_value(running.maneuver_dwell.mach_per_s) +
                               "/s (maneuver dwell), " + f16mmae::format_value(running.climb_reference.mach_per_s) +
                               "/s (climb reference)";
+      if (running.maneuver_dwell.climb_ft_s != f16mmae::AirDataRates::kClimbFtS ||
+          running.climb_reference.climb_ft_s != f16mmae::AirDataRates::kClimbFtS)
+        maneuver += running.maneuver_dwell.climb_ft_s == running.climb_reference.climb_ft_s
+                        ? ", climb-rate gate " + f16mmae::format_value(running.maneuver_dwell.climb_ft_s) + " ft/s"
+                        : ", climb-rate gates " + f16mmae::format_value(running.maneuver_dwell.climb_ft_s) +
+                              " ft/s (maneuver dwell), " + f16mmae::format_value(running.climb_reference.climb_ft_s) +
+                              " ft/s (climb reference)";
+      if (running.rate_gates_gust_scaled) maneuver += ", rate gates x sqrt(s_b)";
       if (running.maneuver_trim.enabled)
         maneuver += ", maneuver trim " + f16mmae::format_value(running.maneuver_trim.time_constant_s) + " s" +
                     (running.maneuver_trim.accel ? "" : " (climb only)") +

@@ -11,6 +11,8 @@
 // For a ramp of slope v their difference settles at v (T2 - T1), so
 //   rate = (lp_T1 - lp_T2) / (T2 - T1)        (ft/s, Mach/s)
 // Both start at the first sample (rate 0) and stay where they are while no sample arrives.
+// A gate asks changing(climb, mach, c): |rate| above its threshold times c (c = 1, or the
+// gusts' scale sqrt(s_b) of hierarchical_bank.h's gust-scaled gates).
 #pragma once
 
 #include <cmath>
@@ -46,9 +48,9 @@ class AirDataRates {
   }
   double climb_rate_ft_s() const noexcept { return (h_fast_ - h_slow_) / (kSlowS - kFastS); }
   double mach_rate_per_s() const noexcept { return (m_fast_ - m_slow_) / (kSlowS - kFastS); }
-  // |climb rate| > climb_ft_s or |Mach rate| > mach_per_s.
-  bool changing(double climb_ft_s, double mach_per_s) const noexcept {
-    return !(std::abs(climb_rate_ft_s()) <= climb_ft_s && std::abs(mach_rate_per_s()) <= mach_per_s);
+  // |climb rate| > c climb_ft_s or |Mach rate| > c mach_per_s.
+  bool changing(double climb_ft_s, double mach_per_s, double c = 1.0) const noexcept {
+    return !(std::abs(climb_rate_ft_s()) <= c * climb_ft_s && std::abs(mach_rate_per_s()) <= c * mach_per_s);
   }
 
  private:

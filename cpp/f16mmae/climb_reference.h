@@ -11,7 +11,8 @@
 // bank's reference stays, and a failure keeps its evidence rate.
 //
 // Rule, per frame with a usable air-data sample (HierarchicalBank::schedule):
-//   climbing  =  |h_dot| > climb_ft_s  or  |M_dot| > mach_per_s    (air_data_rates.h)
+//   climbing  =  |h_dot| > c climb_ft_s  or  |M_dot| > c mach_per_s    (air_data_rates.h; c = 1,
+//                or the gusts' sqrt(s_b) with hierarchical_bank.h's gust-scaled gates)
 // and for hold_s after the last such frame (the level-off: the outer loop settles the altitude
 // and speed it captured). While climbing, the adaptation's reference is `reference`; else the
 // one in force without this option (--adapt-reference, or a scheduled bank's node reference).
@@ -69,9 +70,10 @@ class ClimbReference {
   }
   bool enabled() const noexcept { return options_.enabled(); }
   void reset() noexcept { held_for_ = 0; }
-  // After each usable air-data sample: the rates with that sample observed.
-  void observe(const AirDataRates& rates) noexcept {
-    if (rates.changing(options_.climb_ft_s, options_.mach_per_s))
+  // After each usable air-data sample: the rates with that sample observed; c scales both
+  // thresholds (AirDataRates::changing; 1: as given).
+  void observe(const AirDataRates& rates, double c = 1.0) noexcept {
+    if (rates.changing(options_.climb_ft_s, options_.mach_per_s, c))
       held_for_ = hold_frames_ + 1;
     else if (held_for_ > 0)
       --held_for_;

@@ -108,6 +108,17 @@
 //   maneuvers, and for its hold after; and the adaptation's rho_0 is its reference then, unless
 //   the climb reference is in force. Its state is updated after each accepted update, before
 //   the declarer.
+//   With options.rate_gates_gust_scaled (off by default) both gates' air-data thresholds (the
+//   climb rate and the Mach rate, not the load factor) are multiplied by sqrt(s_b),
+//       s_b = clamp(1 + kappa (rho - rho_b), s_min, s_max)   (turbulence_adaptation.h, scale_at)
+//   the adaptation's scale at the base reference rho_b (the node's or the option's, never a
+//   flight phase's), with the rho of the latest update (1 without the adaptation). Why: the
+//   gusts move the measured air data too (in moderate air at Mach 0.4, 20,000 ft the rates'
+//   p99 is about 19 ft/s and 0.003 Mach/s against light air's 10 and 0.0015, in severe air 51
+//   and 0.008; their ratios follow the gusts' intensity, sqrt of the residual power), so a
+//   gate set above light air's rates stays open in rougher air, where its reference and dwell
+//   cost the failures' evidence; s_b is the gate's own reading of the air, not moved by the
+//   phase references the gate itself sets.
 //   With either flight-phase dwell configured (climb_reference.dwell_s > 0 or
 //   maneuver_dwell.dwell_s > 0) the declarers have no evidence dwell (declarer.h: dwell_nats
 //   and the per-hypothesis N_k are set to 0) and declare by their frame dwells alone. The N_k
@@ -233,6 +244,7 @@ struct HierarchicalOptions {
   TrimTrackingOptions trim;   // time_constant_s (0 = off), freeze_probability, hold_s
   ClimbReferenceOptions climb_reference;   // the adaptation's reference while climbing (NaN: off)
   ManeuverDwellOptions maneuver_dwell;     // the dwell and reference while maneuvering (maneuver_dwell.h; off)
+  bool rate_gates_gust_scaled = false;     // both gates' air-data thresholds x sqrt(s_b) (header; off)
   ManeuverTrimOptions maneuver_trim;       // the climb's and acceleration's trim (maneuver_trim.h; off)
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
@@ -279,7 +291,10 @@ class HierarchicalBank {
       const bool held = rule == TrimHold::kDeclared ? failure_declared() : rule == TrimHold::kSuspected && trim_freezing();
       bank_.set_held_offset(trim_hold_.observe(trim_in_force_, held));
     }
-    if (maneuver_.tempering()) bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat(), bank_.turbulence_scale()));
+    if (maneuver_.tempering()) {   // maneuver_kinematics.h
+      maneuver_.observe_spread(bank_.z_hat());
+      bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat(), bank_.turbulence_scale()));
+    }
     if (!bank_.update(z_pert_)) return -1;
     if (level_ == 1 && allowance_on_[static_cast<std::size_t>(level1_bank_)]) {   // level1_allowance.h
       p_allow_ = bank_.probabilities();
@@ -290,7 +305,7 @@ class HierarchicalBank {
       maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
                                       z_abs(mt_vel_), z_abs(mt_z_[4]), trim_freezing());
     if (maneuver_dwell_.enabled()) {   // maneuver_dwell.h
-      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_);
+      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_, rate_gate_scale());
       if (maneuver_dwell_.options().has_reference()) bank_.set_adapt_reference(adapt_reference_in_force());
     }
     if (level_ == 1 && departure_.observe(z_pert_, online_[1]))   // departure_hold.h
@@ -339,7 +354,7 @@ class HierarchicalBank {
     air_data_ = a;
     air_rates_.observe(a.mach, a.pressure_altitude_ft);   // the phase gates' rates (air_data_rates.h)
     if (climb_ref_.enabled()) {   // climb_reference.h
-      climb_ref_.observe(air_rates_);
+      climb_ref_.observe(air_rates_, rate_gate_scale());
       bank_.set_adapt_reference(adapt_reference_in_force());
     }
     if (!sched_.active()) {
@@ -440,6 +455,7 @@ class HierarchicalBank {
     bank_.set_complete_channels(calm_.calm());
     climb_ref_.reset();
     maneuver_dwell_.reset();
+    maneuver_.reset_spread();
     if (climb_ref_.enabled() || maneuver_dwell_.options().has_reference())
       bank_.set_adapt_reference(adapt_reference_in_force());
     actuators_.reset();
@@ -882,10 +898,18 @@ class HierarchicalBank {
   // else the maneuver reference while maneuvering (maneuver_dwell.h), else a scheduled bank's
   // node reference (node_adapt_reference), else the option's.
   double adapt_reference_in_force() const noexcept {
-    const double base = sched_.has_adapt_reference() && options_.schedule.node_adapt_reference
-                            ? sched_.adapt_reference()
-                            : options_.bank.adaptation.reference;
+    const double base = base_adapt_reference();
     return climb_ref_.climbing() ? climb_ref_.reference(base) : maneuver_dwell_.reference(base);
+  }
+  // The reference without the flight phases': a scheduled bank's node reference
+  // (node_adapt_reference), else the option's.
+  double base_adapt_reference() const noexcept {
+    return sched_.has_adapt_reference() && options_.schedule.node_adapt_reference ? sched_.adapt_reference()
+                                                                                    : options_.bank.adaptation.reference;
+  }
+  // The air-data gates' threshold factor: sqrt(s_b) with options.rate_gates_gust_scaled, else 1 (header).
+  double rate_gate_scale() const noexcept {
+    return options_.rate_gates_gust_scaled ? std::sqrt(bank_.adaptation().scale_at(base_adapt_reference())) : 1.0;
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {

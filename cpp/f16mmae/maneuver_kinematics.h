@@ -89,6 +89,21 @@
 // or a turn's load factor in light air (s about 1) tempers through x_a as the maneuver setting's
 // n_ref = 0.1 g does, while severe air's gusts, whose load factor spreads as sqrt(s), stay inside
 // its band and their tempering is the multiplied term's alone.
+// With a spread factor k > 0 (ManeuverOptions::tempering_added_spread; 0, the default, is the rule
+// above) the added term's band is at least k sigma_n, the load factor's own measured spread:
+//   x_a = max(0, |dn| - max(d_a sqrt(s), k sigma_n)) / n_a
+//   m   += c_m (dn - m),                 c_m = 1 - exp(-1 / (T_m f)),  T_m = 0.35 s
+//   v   += a_i ((dn - m)^2 - v),         a_i = max(1 / i, c_v),  c_v from T_v = 30 s,  sigma_n = sqrt(v)
+// (per update, dn the estimate the tempering reads; m starts at the first dn, v is a plain mean
+// over its first T_v f updates: running_mean.h). Why: s is each node's residual power against its
+// own light air, but the gusts' load factor grows with the dynamic pressure: in light air at Mach
+// 0.77, 8,000 ft the estimated load factor swings +-0.3-0.4 g about the trim (at Mach 0.4, 20,000 ft
+// a few hundredths), so a fixed band tempers every frame there, a failed flaperon's evidence with
+// them. Those swings are the short period's, about a second long; m follows a maneuver's slower
+// load factor, so a steady turn adds nothing to v, and a roll-in or a pull-up little, for the
+// fraction of a second its onset outruns T_m. T_m was chosen on tuning seeds between the
+// flaperons at high dynamic pressure (a longer T_m) and the maneuvers' onsets (a shorter one):
+// docs/results/envelope_scheduled.md, round 32.
 //
 // The trim x0: (u0, alpha0) from the trim in force (z_trim + dz of the VEL and AOA
 // channels: the body-axis airspeed and angle of attack), theta0 = alpha0 (the design trims
@@ -101,11 +116,14 @@
 // one that is missing (only when enabled); the tempering needs AZ (n_ref > 0) and AOA (a_ref > 0).
 #pragma once
 
+#include "f16mmae/running_mean.h"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -121,6 +139,7 @@ struct ManeuverOptions {
   double tempering_alpha_deadband_deg = 0.0;  // a_d: the excursion that tempers nothing at s <= 1 (deg); 0 = none
   double tempering_added_g = 0.0;             // n_a of the load factor's added term (g); 0 = off
   double tempering_added_deadband_g = 0.0;    // d_a: the load factor that tempers nothing at s <= 1 (g); 0 = none
+  double tempering_added_spread = 0.0;        // k: the added term's band at least k sigma_n (header); 0 = off
   bool enabled() const noexcept { return kinematics; }
   bool tempering() const noexcept { return tempering_g > 0.0 || tempering_alpha_deg > 0.0 || tempering_added_g > 0.0; }
   void validate() const {
@@ -148,6 +167,8 @@ struct ManeuverOptions {
          90.0, "deg");
     term("tempering_added_g", tempering_added_g, 100.0, "tempering_added_deadband_g", tempering_added_deadband_g, 10.0,
          "g");
+    term("tempering_added_g", tempering_added_g, 100.0, "tempering_added_spread", tempering_added_spread, 100.0,
+         "sigma_n");
   }
 };
 
@@ -163,7 +184,10 @@ class ManeuverKinematics {
   // state_names / measurement_names: the bank's; frame_rate_hz: its frame rate.
   ManeuverKinematics(const ManeuverOptions& options, const std::vector<std::string>& state_names,
                      const std::vector<std::string>& measurement_names, double frame_rate_hz)
-      : options_(options), dt_(1.0 / frame_rate_hz) {
+      : options_(options), dt_(1.0 / frame_rate_hz),
+        spread_mean_gain_(1.0 - std::exp(-1.0 / (kSpreadMeanS * frame_rate_hz))),
+        spread_power_gain_(1.0 - std::exp(-1.0 / (kSpreadPowerS * frame_rate_hz))),
+        spread_length_(running_mean_length(spread_power_gain_)) {
     options.validate();
     if (options.tempering_g > 0.0 || options.tempering_added_g > 0.0) az_ = find(measurement_names, "AZ", "measurement");
     if (options.tempering_alpha_deg > 0.0) aoa_tempering_ = find(measurement_names, "AOA", "measurement");
@@ -177,6 +201,25 @@ class ManeuverKinematics {
 
   bool enabled() const noexcept { return options_.enabled(); }
   bool tempering() const noexcept { return options_.tempering(); }
+  static constexpr double kSpreadMeanS = 0.35, kSpreadPowerS = 30.0;   // T_m, T_v of the spread (header)
+  // The load factor's spread (header: m, v) observes the estimate the tempering reads next (with
+  // tempering_added_spread > 0; else nothing). Non-finite dn is skipped.
+  template <class Z>
+  void observe_spread(const Z& z_hat_perturbation) noexcept {
+    if (!(options_.tempering_added_spread > 0.0)) return;
+    const double dn = z_hat_perturbation(az_);
+    if (!std::isfinite(dn)) return;
+    if (spread_updates_ == 0) spread_mean_ = dn;
+    spread_mean_ += spread_mean_gain_ * (dn - spread_mean_);
+    const double e = dn - spread_mean_;
+    const double a = spread_updates_ < spread_length_ ? 1.0 / static_cast<double>(++spread_updates_) : spread_power_gain_;
+    spread_power_ += a * (e * e - spread_power_);
+  }
+  double load_factor_spread() const noexcept { return std::sqrt(spread_power_); }   // sigma_n (0 at the start)
+  void reset_spread() noexcept {
+    spread_mean_ = spread_power_ = 0.0;
+    spread_updates_ = 0;
+  }
   // The tempering's likelihood scale s_m (header: the load factor's and the angle of attack's
   // terms) for the bank's estimated measurement perturbation z_hat (dn = its AZ entry, g; da its
   // AOA entry, rad) and the turbulence adaptation's scale (1 without it).
@@ -198,10 +241,13 @@ class ManeuverKinematics {
       const double e = std::max(0.0, std::abs(v) - band * root_s) / ref;
       return e * e;
     };
+    // the added term's band in units of sqrt(s): max(d_a sqrt(s), k sigma_n) / sqrt(s)
+    const double added_band = std::max(options_.tempering_added_deadband_g,
+                                       options_.tempering_added_spread * load_factor_spread() / root_s);
     const double added =   // y^2 + x_a^2, added to s
         excess2(z_hat_perturbation(aoa_tempering_) * (180.0 / 3.14159265358979323846),
                 options_.tempering_alpha_deadband_deg, options_.tempering_alpha_deg) +
-        excess2(z_hat_perturbation(az_), options_.tempering_added_deadband_g, options_.tempering_added_g);
+        excess2(z_hat_perturbation(az_), added_band, options_.tempering_added_g);
     return scale * (1.0 + added / s);
   }
   const ManeuverOptions& options() const noexcept { return options_; }
@@ -308,6 +354,8 @@ class ManeuverKinematics {
   double dt_ = 0.0;
   std::array<int, kN> state_index_{};
   int vel_ = 0, aoa_ = 1, az_ = 3, aoa_tempering_ = 1;
+  double spread_mean_gain_ = 0.0, spread_power_gain_ = 0.0, spread_mean_ = 0.0, spread_power_ = 0.0;
+  std::int64_t spread_length_ = 1, spread_updates_ = 0;   // T_v f, and the updates averaged (running_mean.h)
   Vec x0_ = Vec::Constant(std::nan("")), g0_ = Vec::Zero();   // g and J at the last x0
   Mat j0_ = Mat::Zero();
 };

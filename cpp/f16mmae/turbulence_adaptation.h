@@ -301,6 +301,11 @@ class ResidualScale {
   // s, the scale in force for the next frame's likelihoods (1 when disabled).
   double scale() const noexcept { return options_.enabled ? s_ : 1.0; }
   double inverse_scale() const noexcept { return options_.enabled ? inv_s_ : 1.0; }
+  // s at another reference: clamp(1 + κ (ρ − reference), s_min, s_max) with the ρ in force (1
+  // when disabled); the air-data gates' gust scale (hierarchical_bank.h) reads it at the base reference.
+  double scale_at(double reference) const noexcept {
+    return options_.enabled ? clamped_scale(rho_, reference) : 1.0;
+  }
   // ρ, the averaged residual power ratio (ρ_0 at the start and when disabled).
   double power_ratio() const noexcept { return rho_; }
   // ρ̄, the measured residual power ratio (header; 0 before the first update and when disabled).
@@ -374,8 +379,9 @@ class ResidualScale {
   }
 
  private:
-  double clamped_scale(double rho) const noexcept {
-    const double s = 1.0 + options_.gain * (rho - options_.reference);
+  double clamped_scale(double rho) const noexcept { return clamped_scale(rho, options_.reference); }
+  double clamped_scale(double rho, double reference) const noexcept {
+    const double s = 1.0 + options_.gain * (rho - reference);
     return s < options_.scale_min ? options_.scale_min : (s > options_.scale_max ? options_.scale_max : s);
   }
   void set_scale() noexcept {

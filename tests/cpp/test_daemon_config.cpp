@@ -167,6 +167,26 @@ TEST(DaemonConfig, ManeuverMachRate) {
   EXPECT_NE(f16mmae::daemon::daemon_usage().find("--maneuver-mach-rate MACH_PER_S"), std::string::npos);
 }
 
+TEST(DaemonConfig, ManeuverClimbRate) {   // one gate for the maneuver dwell and the climb reference
+  const auto defaults = parse_daemon_args({"--bank", "b"}, nullptr).config.estimator;
+  EXPECT_EQ(defaults.maneuver_dwell.climb_ft_s, f16mmae::AirDataRates::kClimbFtS);   // the core's
+  EXPECT_EQ(defaults.climb_reference.climb_ft_s, f16mmae::AirDataRates::kClimbFtS);
+  auto r = parse_daemon_args({"--bank", "b", "--maneuver-climb-rate", "20"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.maneuver_dwell.climb_ft_s, 20.0);
+  EXPECT_EQ(r.config.estimator.climb_reference.climb_ft_s, 20.0);
+  for (const char* bad : {"0", "-5", "1000.5", "nan", "steep"}) {
+    r = parse_daemon_args({"--bank", "b", "--maneuver-climb-rate", bad}, nullptr);
+    EXPECT_FALSE(r.ok) << bad;
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find(std::string("--maneuver-climb-rate must be a climb rate in ft/s, > 0 and <= 1000, got '") +
+                             bad + "'"),
+              std::string::npos)
+        << r.message;
+  }
+  EXPECT_NE(f16mmae::daemon::daemon_usage().find("--maneuver-climb-rate FT_S"), std::string::npos);
+}
+
 TEST(DaemonConfig, EvidenceDwellPerHypothesis) {
   EXPECT_TRUE(parse_daemon_args({"--bank", "b"}, nullptr).config.dwell_nats_table_path.empty());   // off
   auto r = parse_daemon_args({"--bank", "b", "--dwell-nats-per-hypothesis", "t.txt"}, nullptr);
@@ -490,7 +510,8 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   EXPECT_FALSE(e.maneuver_dwell.dwell_s || e.maneuver_dwell.has_reference() || e.level1_p_min || e.level1_dwell_s ||
                e.bank.adaptation.channel_weight || e.maneuver.tempering_deadband_g || e.maneuver.tempering_alpha_deg ||
                e.maneuver.tempering_alpha_deadband_deg || e.maneuver.tempering_added_g ||
-               e.maneuver.tempering_added_deadband_g || e.declare_components ||
+               e.maneuver.tempering_added_deadband_g || e.maneuver.tempering_added_spread || e.rate_gates_gust_scaled ||
+               e.declare_components ||
                e.level1_allowance || e.partial_p_min);
   EXPECT_TRUE(e.departure.enabled);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--maneuver-dwell", "1.5", "--maneuver-dwell-hold=30",
@@ -500,13 +521,16 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
                          "--adapt-channel-weight", "0.5", "--declare-components", "--level1-allowance", "0.1",
                          "--partial-p-min=0.002", "--maneuver-tempering-alpha", "1",
                          "--maneuver-tempering-alpha-deadband", "0.75", "--maneuver-tempering-added", "0.1",
-                         "--maneuver-tempering-added-deadband", "0.05"},
+                         "--maneuver-tempering-added-deadband", "0.05", "--maneuver-tempering-added-spread", "3",
+                         "--maneuver-rate-gust-scaled"},
                         nullptr);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_EQ(r.config.estimator.maneuver.tempering_alpha_deg, 1.0);
   EXPECT_EQ(r.config.estimator.maneuver.tempering_alpha_deadband_deg, 0.75);
   EXPECT_EQ(r.config.estimator.maneuver.tempering_added_g, 0.1);
   EXPECT_EQ(r.config.estimator.maneuver.tempering_added_deadband_g, 0.05);
+  EXPECT_EQ(r.config.estimator.maneuver.tempering_added_spread, 3.0);
+  EXPECT_TRUE(r.config.estimator.rate_gates_gust_scaled);
   EXPECT_TRUE(r.config.estimator.declare_components);
   EXPECT_EQ(r.config.estimator.maneuver_dwell.dwell_s, 1.5);
   EXPECT_EQ(r.config.estimator.maneuver_dwell.hold_s, 30.0);
@@ -538,6 +562,10 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
       {{"--maneuver-tempering-alpha", "91"}, "--maneuver-tempering-alpha must be an angle in deg in [0, 90] (0: off), got '91'"},
       {{"--maneuver-tempering-added-deadband", "0.05"}, "--maneuver-tempering-added-deadband applies with --maneuver-tempering-added only"},
       {{"--maneuver-tempering-added", "101"}, "--maneuver-tempering-added must be a load factor in g in [0, 100] (0: off), got '101'"},
+      {{"--maneuver-tempering-added-spread", "3"}, "--maneuver-tempering-added-spread applies with --maneuver-tempering-added only"},
+      {{"--maneuver-tempering-added", "0.03", "--maneuver-tempering-added-spread", "-1"},
+       "--maneuver-tempering-added-spread must be a factor in [0, 100], got '-1'"},
+      {{"--maneuver-rate-gust-scaled"}, "--maneuver-rate-gust-scaled applies with --adapt-turbulence only"},
       {{"--maneuver-tempering-alpha", "1", "--maneuver-tempering-alpha-deadband", "-1"},
        "--maneuver-tempering-alpha-deadband must be an angle in deg in [0, 90]"},
       {{"--level1-p-min", "0.01"}, "--level1-p-min must be a probability in [0, (1 - 0.9)/12)"},

@@ -437,6 +437,52 @@ TEST(ManeuverTempering, AddedTermsAddTheirSquaresToTheTurbulenceScaleByHand) {
   EXPECT_NO_THROW(MK(o, kStates, no_aoa, 64.0));
 }
 
+// The added term's band is at least k sigma_n, sigma_n the load factor's spread about its 0.35-s
+// mean (a plain mean of the squares over the first 30 s): recomputed here from the header's
+// recursions, frame by frame, with the scale it gives; reset() starts it again; off observes nothing.
+TEST(ManeuverTempering, AddedTermsBandFollowsTheLoadFactorsMeasuredSpread) {
+  const std::vector<std::string> z_names{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+  ManeuverOptions o;
+  o.tempering_added_g = 0.03;
+  o.tempering_added_deadband_g = 0.08;
+  o.tempering_added_spread = 3.0;
+  MK m(o, kStates, z_names, 64.0);
+  const MK fixed_band([&] { ManeuverOptions f = o; f.tempering_added_spread = 0.0; return f; }(), kStates, z_names,
+                      64.0);
+  const double cm = 1.0 - std::exp(-1.0 / (0.35 * 64.0));
+  double mean = 0.0, power = 0.0;
+  Eigen::Matrix<double, 7, 1> z = Eigen::Matrix<double, 7, 1>::Zero();
+  int wider = 0;
+  for (int i = 0; i < 640; ++i) {
+    const double dn = 0.3 * std::sin(2.0 * kPi * 0.7 * i / 64.0) + (i % 7 == 0 ? 0.05 : 0.0);   // gusts at high q
+    z(3) = dn;
+    m.observe_spread(z);
+    if (i == 0) mean = dn;
+    mean += cm * (dn - mean);
+    power += (1.0 / (i + 1)) * ((dn - mean) * (dn - mean) - power);   // i + 1 <= 30 s f: the plain mean
+    ASSERT_NEAR(m.load_factor_spread(), std::sqrt(power), 1e-12) << i;
+    for (double s : {1.0, 4.0}) {
+      const double band = std::max(0.08 * std::sqrt(s), 3.0 * std::sqrt(power));
+      const double x = std::max(0.0, std::abs(dn) - band) / 0.03;
+      ASSERT_NEAR(m.tempering_scale(z, s), 1.0 + x * x / s, 1e-9) << i;
+    }
+    if (m.tempering_scale(z, 1.0) < fixed_band.tempering_scale(z, 1.0)) ++wider;
+  }
+  EXPECT_GT(wider, 300);   // the swings' own spread holds them inside the band
+  m.reset_spread();
+  EXPECT_EQ(m.load_factor_spread(), 0.0);
+  MK off = fixed_band;
+  z(3) = 0.5;
+  off.observe_spread(z);
+  EXPECT_EQ(off.load_factor_spread(), 0.0);
+  o.tempering_added_spread = -1.0;
+  EXPECT_THROW(MK(o, kStates, z_names, 64.0), std::invalid_argument);
+  o.tempering_added_spread = 2.0;
+  o.tempering_added_g = 0.0;
+  o.tempering_added_deadband_g = 0.0;
+  EXPECT_THROW(MK(o, kStates, z_names, 64.0), std::invalid_argument);   // the band without its term
+}
+
 // In the bank: every likelihood is -q / (2 s_m) with s_m from the blended estimate's AOA of the
 // frame before (no adaptation: s = 1), the dead band at the flight's median |da| so that frames
 // inside and beyond it are both checked; the options' ranges are refused.

@@ -219,7 +219,8 @@ def test_lockstep_with_the_maneuver_dwell_and_level1_options_reproduces_the_in_p
                    level1_dwell_s=0.5, departure_hold="off", maneuver_tempering_g=0.1,
                    maneuver_tempering_deadband_g=0.05, adapt_channel_weight=0.5,
                    maneuver_tempering_alpha_deg=0.5, maneuver_tempering_alpha_deadband_deg=0.1,
-                   maneuver_tempering_added_g=0.05, maneuver_tempering_added_deadband_g=0.01)
+                   maneuver_tempering_added_g=0.05, maneuver_tempering_added_deadband_g=0.01,
+                   maneuver_tempering_added_spread=3.0, maneuver_rate_gust_scaled=True, maneuver_climb_ft_s=2.0)
     scenario = _scenario([("LS", 0.5)], duration_s=3.0)
     _, local_run = _lockstep_equals_in_process(bank, scenario, "MD_", options)
     plain_run = fly(scenario, bank)

@@ -283,6 +283,14 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "(core trim_steady_climb_ft_s and trim_steady_mach_per_s infinite; "
                          "cpp/f16mmae/trim_tracker.h). Default on (in process only: mmae-daemon has no flag for it)",
                     in_daemon=False),
+    EstimatorOption("trim_steady_measurements", "--trim-tracking-steady-measurements", "table", metavar="NAME,...",
+                    requires="trim_steady_g",
+                    help="with --trim-tracking-steady: the measurements whose trim offsets are tracked (the others "
+                         "keep the scheduled trim), e.g. AOA,VEL: between the nodes in slow flight the held speed's "
+                         "trim differs from the interpolated one, and with AOA alone the flaperons read the "
+                         "difference (cpp/f16mmae/trim_tracker.h). Default AOA (in process only: mmae-daemon has no "
+                         "flag for it)",
+                    in_daemon=False),
     EstimatorOption("trim_load_factor", "--trim-tracking-load-factor", "choice", metavar="on|off",
                     choices=("on", "off"), requires="trim_steady_g",
                     help="with --trim-tracking-steady: on applies the tracked angle-of-attack offset as n times "
@@ -344,6 +352,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     metavar="D", minimum=0.0, maximum=10.0, requires="maneuver_tempering_added_g",
                     help="with --maneuver-tempering-added: only the load factor beyond D sqrt(s) g tempers "
                          "(cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band"),
+    EstimatorOption("maneuver_tempering_added_spread", "--maneuver-tempering-added-spread", "number",
+                    metavar="K", minimum=0.0, maximum=100.0, requires="maneuver_tempering_added_g",
+                    help="with --maneuver-tempering-added: its band is at least K sigma_n, sigma_n the estimated "
+                         "load factor's own spread about its 0.35-s mean (averaged over 30 s): the gusts' load factor "
+                         "grows with the dynamic pressure, which the adaptation's s, read against each node's "
+                         "light air, does not show (cpp/f16mmae/maneuver_kinematics.h). Default 0: off"),
     EstimatorOption("maneuver_dwell_s", "--maneuver-dwell", "number", metavar="S", minimum=0.0,
                     maximum=DWELL_S_MAX,
                     help="a level-0 declaration needs S seconds above the threshold while the aircraft maneuvers "
@@ -369,6 +383,19 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "faster than this (per s) opens their gates (cpp/f16mmae/air_data_rates.h; default 0.001, "
                          "which light turbulence reaches in level flight at high dynamic pressure; the maneuvers' "
                          "speed changes are 0.005-0.01 per s)"),
+    EstimatorOption("maneuver_climb_ft_s", "--maneuver-climb-rate", "number", metavar="FT_S", minimum=0.0,
+                    exclusive=True, maximum=1000.0,
+                    help="with --maneuver-dwell or --adapt-reference-climb: the measured air data's altitude "
+                         "changing faster than this (ft/s) opens their gates (cpp/f16mmae/air_data_rates.h; default "
+                         "5, 300 ft/min, which light turbulence's gusts reach in level flight; the maneuvers' climbs "
+                         "are 33-50 ft/s)"),
+    EstimatorOption("maneuver_rate_gust_scaled", "--maneuver-rate-gust-scaled", "switch",
+                    requires="adapt_turbulence",
+                    help="with --maneuver-dwell or --adapt-reference-climb: their gates' climb-rate and Mach-rate "
+                         "thresholds times sqrt(s_b), s_b the turbulence adaptation's scale at the node's own "
+                         "reference (never a flight phase's): the gusts move the measured air data too, about "
+                         "twice light air's rates in moderate air and five times in severe air "
+                         "(cpp/f16mmae/hierarchical_bank.h). Default off"),
     EstimatorOption("maneuver_reference", "--maneuver-reference", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the adaptation's reference while the aircraft maneuvers (the "
@@ -485,7 +512,6 @@ CORE_ONLY: dict[str, str] = {
     "strip_leading_term": "the paper's likelihood without 1/((2 pi)^(m/2) |A_k|^(1/2)) (filter_bank.h)",
     "trim_hold_s": "trim tracking's hold after a freezing frame (trim_tracker.h)",
     "trim_freeze": "trim tracking frozen while a failure rises (trim_tracker.h; off: a lab tool's comparison)",
-    "trim_steady_measurements": "steady trim tracking's measurements, AOA (trim_tracker.h)",
     "trim_steady_roll_rate_rad_s": "steady trim tracking's roll-rate gate (trim_tracker.h)",
     "trim_steady_climb_ft_s": "steady trim tracking's climb-rate gate (trim_tracker.h, air_data_rates.h)",
     "trim_steady_mach_per_s": "steady trim tracking's Mach-rate gate (trim_tracker.h, air_data_rates.h)",
@@ -603,8 +629,22 @@ parse_dwell_s_table = _core_table("parse_dwell_s_per_hypothesis", "--dwell-s-per
 parse_calm_complete_table = _core_table("parse_calm_complete", "--calm-complete")
 
 
+def parse_steady_measurements(text) -> list[str]:
+    """``--trim-tracking-steady-measurements``: ``NAME[,NAME...]``, each a measurement, once
+    (upper case; a list is checked as it is): the list the core takes; ValueError naming the flag."""
+    names = [str(n).strip().upper() for n in (text if isinstance(text, (list, tuple)) else str(text).split(","))]
+    for n in names:
+        if n not in SENSORS:
+            raise ValueError(f"--trim-tracking-steady-measurements: {n!r} is not a measurement; "
+                             f"valid: {', '.join(SENSORS)}")
+    if len(set(names)) != len(names):
+        raise ValueError(f"--trim-tracking-steady-measurements: a measurement named twice in {','.join(names)}")
+    return names
+
+
 #: The parser of each ``table`` option's text: the table the core takes.
-TABLE_PARSERS = {"dwell_s_per_hypothesis": parse_dwell_s_table, "calm_complete": parse_calm_complete_table}
+TABLE_PARSERS = {"dwell_s_per_hypothesis": parse_dwell_s_table, "calm_complete": parse_calm_complete_table,
+                 "trim_steady_measurements": parse_steady_measurements}
 
 
 def valid_range(option: EstimatorOption) -> str:

@@ -498,6 +498,7 @@ class HierarchicalBank {
   // update and its propagate. Carried over: the level and the hypotheses on line (this bank's
   // own filters for them), the probabilities, the declarer's state, the declarations, the
   // frame count, the air data, the trim offsets and the trim tracker, the calm-air decision, the
+  // flight-phase gates, the load factor's measured spread (maneuver_kinematics.h), the
   // actuator model's positions; and, unless `warm`, every on-line filter's states (the adaptation then restarts
   // at its reference, ρ = ρ_0). warm: this bank ran on the same frames with the same
   // hypotheses on line, so its filters keep their own states and its adaptation its own ρ.
@@ -532,6 +533,7 @@ class HierarchicalBank {
     bank_.set_complete_channels(calm_.calm());
     climb_ref_ = from.climb_ref_;
     maneuver_dwell_ = from.maneuver_dwell_;
+    maneuver_.carry_over_spread(from.maneuver_);
     if (climb_ref_.enabled() || maneuver_dwell_.options().has_reference())
       bank_.set_adapt_reference(adapt_reference_in_force());
     actuators_.carry_over(from.actuators_);

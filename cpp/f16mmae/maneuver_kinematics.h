@@ -220,6 +220,12 @@ class ManeuverKinematics {
     spread_mean_ = spread_power_ = 0.0;
     spread_updates_ = 0;
   }
+  // A bank taking over (HierarchicalBank::take_over): the spread measured so far goes on.
+  void carry_over_spread(const ManeuverKinematics& from) noexcept {
+    spread_mean_ = from.spread_mean_;
+    spread_power_ = from.spread_power_;
+    spread_updates_ = from.spread_updates_;
+  }
   // The tempering's likelihood scale s_m (header: the load factor's and the angle of attack's
   // terms) for the bank's estimated measurement perturbation z_hat (dn = its AZ entry, g; da its
   // AOA entry, rad) and the turbulence adaptation's scale (1 without it).

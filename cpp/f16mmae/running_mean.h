@@ -8,8 +8,9 @@
 // largest i with 1.0/i >= alpha in double arithmetic (n >= 1): taking a_i = 1.0/i for i <= n
 // and alpha from i = n + 1 on gives max(1.0/i, alpha) bit for bit (where 1.0/i == alpha the two
 // are the same number), so a caller counts samples up to n and divides no more after that.
-// Users: the scheduled filters' air-data low-pass (scheduled_filters.h) and the turbulence
-// adaptation's measured power ratio (turbulence_adaptation.h). std only.
+// Users: the scheduled filters' air-data low-pass (scheduled_filters.h), the turbulence
+// adaptation's measured power ratio (turbulence_adaptation.h), the residual whiteness
+// (residual_whiteness.h) and the load factor's spread (maneuver_kinematics.h). std only.
 #pragma once
 
 #include <cmath>

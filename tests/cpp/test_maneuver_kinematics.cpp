@@ -483,6 +483,59 @@ TEST(ManeuverTempering, AddedTermsBandFollowsTheLoadFactorsMeasuredSpread) {
   EXPECT_THROW(MK(o, kStates, z_names, 64.0), std::invalid_argument);   // the band without its term
 }
 
+// In the bank: every likelihood is -q / (2 s_m), s_m = 1 + x_a^2 (no adaptation: s = 1) with the
+// band max(d_a, k sigma_n) of the spread recomputed from the blended estimates the bank read, frame
+// by frame; reset() starts the spread again (the fresh bank's flight, bit for bit); a bank that
+// takes over carries it on (the same model's bank flies on as the first, bit for bit).
+TEST(ManeuverTempering, AddedTermsSpreadBandInTheBankResetAndTakeOver) {
+  const ModelBank mb = named_bank(5u);
+  HierarchicalOptions o;
+  o.maneuver.tempering_added_g = 1e-4;
+  o.maneuver.tempering_added_deadband_g = 1e-5;
+  o.maneuver.tempering_added_spread = 1.0;
+  F16HierarchicalBank bank(mb, o);
+  const double cm = 1.0 - std::exp(-1.0 / (MK::kSpreadMeanS * 64.0));
+  double mean = 0.0, power = 0.0;
+  int i = 0, spread_band = 0, beyond = 0;
+  std::vector<double> first;
+  fly_dithered(bank, mb, 1e-3, [&](const auto& z_hat, const F16HierarchicalBank& b) {
+    const double dn = z_hat(3);
+    if (i == 0) mean = dn;
+    mean += cm * (dn - mean);
+    power += (1.0 / ++i) * ((dn - mean) * (dn - mean) - power);   // 80 frames: the plain mean
+    const double band = std::max(1e-5, std::sqrt(power));
+    const double x = std::max(0.0, std::abs(dn) - band) / 1e-4;
+    spread_band += std::sqrt(power) > 1e-5;
+    beyond += x > 0.0;
+    expect_tempered_by(b, 1.0 + x * x);
+    first.push_back(b.bank().log_likelihoods()(0));
+  });
+  EXPECT_GT(spread_band, 40);
+  EXPECT_GT(beyond, 10);
+  bank.reset();
+  std::size_t j = 0;
+  fly_dithered(bank, mb, 1e-3, [&](const auto&, const F16HierarchicalBank& b) {
+    ASSERT_EQ(b.bank().log_likelihoods()(0), first[j++]);
+  });
+  // take over half way: the same model's bank flies on as the first did
+  F16HierarchicalBank a(mb, o), b(mb, o);
+  const test::Plant plant = test::random_plant(13, 5, 7, 5u, 1e-3, 1e-3);
+  test::Truth truth(plant, test::kF16Actuators, test::kF16Sensors, 6u);
+  for (int f = 0; f < 80; ++f) {
+    const Eigen::VectorXd du = 1e-3 * test::dither(5, f, 64.0);
+    const Eigen::Matrix<double, 7, 1> z = truth.measure({}) + mb.z_trim;
+    a.update(z);
+    if (f >= 40) {
+      b.update(z);
+      ASSERT_EQ(b.bank().log_likelihoods(), a.bank().log_likelihoods()) << f;
+    }
+    if (f == 39) b.take_over(a);
+    a.propagate(du + mb.u_trim);
+    if (f >= 39) b.propagate(du + mb.u_trim);
+    truth.advance(du, {});
+  }
+}
+
 // In the bank: every likelihood is -q / (2 s_m) with s_m from the blended estimate's AOA of the
 // frame before (no adaptation: s = 1), the dead band at the flight's median |da| so that frames
 // inside and beyond it are both checked; the options' ranges are refused.

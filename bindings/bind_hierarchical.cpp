@@ -503,6 +503,9 @@ declarations and the level carry over. schedule_state reports what is in force.)
                              "frames on which trim tracking held its estimate, since reset")
       .def_property_readonly("maneuvering", prop([](auto& b) { return b.maneuver_dwell().maneuvering(); }),
                              "the maneuver dwell's gate on this frame (maneuver_dwell.h; False when it is off)")
+      .def_property_readonly("maneuver_load_factor", prop([](auto& b) { return b.maneuver_dwell().load_factor_lp(); }),
+                             "the maneuver dwell's low-passed estimated load factor off the trim, g (maneuver_dwell.h; "
+                             "0 when it is off)")
       .def_property_readonly("maneuver_trim", prop([](auto& b) {
                                return py::make_tuple(b.maneuver_trim().gamma(), b.maneuver_trim().accel(),
                                                      cv::to_numpy(b.maneuver_trim_du()),

@@ -229,6 +229,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
        [](O& o, py::handle v) { o.maneuver_dwell.mach_per_s = o.climb_reference.mach_per_s = v.cast<double>(); },
        [](const O& o) { return py::cast(o.maneuver_dwell.mach_per_s); }},
       field<&O::rate_gates_gust_scaled>("maneuver_rate_gust_scaled"),
+      field<&O::gates_calm_scaled>("maneuver_gates_calm_scaled"),
       {"maneuver_climb_ft_s", "a number",  // one gate for the maneuver dwell and the climb reference
        [](O& o, py::handle v) { o.maneuver_dwell.climb_ft_s = o.climb_reference.climb_ft_s = v.cast<double>(); },
        [](const O& o) { return py::cast(o.maneuver_dwell.climb_ft_s); }},

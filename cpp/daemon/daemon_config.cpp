@@ -448,6 +448,11 @@ const std::vector<Flag>& flags() {
        "gates by sqrt(s_b), s_b the adaptation's scale at the node's reference: the gusts' own air-data rates "
        "(hierarchical_bank.h; needs --adapt-turbulence; default off)",
        {}, at(E, &H::rate_gates_gust_scaled), "--adapt-turbulence", adapting},
+      {"--maneuver-gates-calm-scaled", "",
+       "multiply all three thresholds of the gates (the climb rate, the Mach rate and --maneuver-dwell's load "
+       "factor) by sqrt(s_c), s_c the adaptation's scale at the node's calm-air reference: light air's gusts "
+       "count too (hierarchical_bank.h; needs --adapt-turbulence; over --maneuver-rate-gust-scaled; default off)",
+       {}, at(E, &H::gates_calm_scaled), "--adapt-turbulence", adapting},
       {"--maneuver-kinematics", "",
        "add the turn kinematics and gravity terms the wings-level linearization drops to every filter's "
        "propagation",
@@ -536,8 +541,8 @@ const std::vector<Flag>& flags() {
        "--trim-tracking", tracking_trim},
       {"--trim-tracking-steady", "G",
        "track only in steady level flight, frozen while the estimated load factor is more than G g off the "
-       "trim, the roll rate above 5 deg/s or the air data climb or change Mach; of the measurements only "
-       "AOA (default: off)",
+       "trim, the roll rate above 5 deg/s or the air data climb or change Mach; of the measurements AOA "
+       "unless --trim-tracking-steady-measurements names others (default: off)",
        number(at(E, &H::trim, &TrimTrackingOptions::steady_g), {0.0, 10.0, true}, "a load factor in g, > 0 and <= 10"), nullptr,
        "--trim-tracking", tracking_trim},
       {"--trim-tracking-load-factor", "on|off",
@@ -545,6 +550,39 @@ const std::vector<Flag>& flags() {
        "aircraft's alpha offset grows with the load factor; default off)",
        on_off(at(E, &H::trim, &TrimTrackingOptions::load_factor)), nullptr, "--trim-tracking-steady",
        [](const C& c) { return c.estimator.trim.steady_g > 0.0; }},
+      {"--trim-tracking-steady-air-data", "on|off",
+       "off lets the air data's climb and Mach rates no longer freeze the steady tracking (the load factor and "
+       "roll rate still do; default on)",
+       parsed_by([](C& c, const std::string& v) -> std::string {
+         TrimTrackingOptions& t = c.estimator.trim;
+         if (v != "on" && v != "off") return "must be 'on' or 'off'";
+         t.steady_climb_ft_s = v == "on" ? TrimTrackingOptions{}.steady_climb_ft_s : kInf;
+         t.steady_mach_per_s = v == "on" ? TrimTrackingOptions{}.steady_mach_per_s : kInf;
+         return "";
+       }),
+       nullptr, "--trim-tracking-steady", [](const C& c) { return c.estimator.trim.steady_g > 0.0; }},
+      {"--trim-tracking-steady-measurements", "NAME,...",
+       "the measurements whose trim offsets the steady tracking tracks, each once (VEL, AOA, PIT, AZ, ROL, "
+       "YAW, AY; the others keep the scheduled trim; default AOA)",
+       parsed_by([](C& c, const std::string& v) -> std::string {
+         static const char* const kNames[] = {"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
+         std::vector<std::string> names;
+         std::string name;
+         for (std::size_t k = 0; k <= v.size(); ++k) {
+           if (k < v.size() && v[k] != ',') {
+             name += static_cast<char>(std::toupper(static_cast<unsigned char>(v[k])));
+             continue;
+           }
+           if (std::find(std::begin(kNames), std::end(kNames), name) == std::end(kNames) ||
+               std::find(names.begin(), names.end(), name) != names.end())
+             return "must name measurements (VEL, AOA, PIT, AZ, ROL, YAW, AY), each once, separated by commas";
+           names.push_back(name);
+           name.clear();
+         }
+         c.estimator.trim.steady_measurements = names;
+         return "";
+       }),
+       nullptr, "--trim-tracking-steady", [](const C& c) { return c.estimator.trim.steady_g > 0.0; }},
       {"--complete-trim-hold", "off|suspected|declared",
        "a complete sensor failure's hypothesis reads the failed sensor against the trim held while a failure "
        "is suspected (declared, or a failure hypothesis above --trim-freeze-probability) or only while one "

@@ -223,10 +223,18 @@ int main(int argc, char** argv) {
       // what the bank runs with: a turbulence bank set's member in force has the set file's
       // trim tracking and tempering applied (TurbulenceSetBank, the one place that applies them)
       const f16mmae::HierarchicalOptions& running = executive->estimator().options();
+      // the steady tracking's measurements and air-data gate, when not the core's defaults
+      std::string steady_on;
+      if (running.trim.steady_measurements != f16mmae::TrimTrackingOptions{}.steady_measurements) {
+        steady_on = " on ";
+        for (std::size_t k = 0; k < running.trim.steady_measurements.size(); ++k)
+          steady_on += (k ? "," : "") + running.trim.steady_measurements[k];
+      }
+      if (std::isinf(running.trim.steady_climb_ft_s)) steady_on += ", air-data rates off";
       const std::string tracking = running.trim.enabled()
                                    ? "trim tracking " + f16mmae::format_value(running.trim.time_constant_s) + " s (freeze above " +
                                          f16mmae::format_value(running.trim.freeze_probability) +
-                                         (running.trim.steady() ? ", steady " + f16mmae::format_value(running.trim.steady_g) + " g"
+                                         (running.trim.steady() ? ", steady " + f16mmae::format_value(running.trim.steady_g) + " g" + steady_on
                                                                 : std::string()) + ")"
                                    : std::string("no trim tracking");
       const std::string trim = tracking + (running.complete_trim_hold.enabled()
@@ -322,7 +330,10 @@ int main(int argc, char** argv) {
                         : ", climb-rate gates " + f16mmae::format_value(running.maneuver_dwell.climb_ft_s) +
                               " ft/s (maneuver dwell), " + f16mmae::format_value(running.climb_reference.climb_ft_s) +
                               " ft/s (climb reference)";
-      if (running.rate_gates_gust_scaled) maneuver += ", rate gates x sqrt(s_b)";
+      if (running.gates_calm_scaled)
+        maneuver += ", gates x sqrt(s_c)";
+      else if (running.rate_gates_gust_scaled)
+        maneuver += ", rate gates x sqrt(s_b)";
       if (running.maneuver_trim.enabled)
         maneuver += ", maneuver trim " + f16mmae::format_value(running.maneuver_trim.time_constant_s) + " s" +
                     (running.maneuver_trim.accel ? "" : " (climb only)") +

@@ -119,6 +119,17 @@
 //   gate set above light air's rates stays open in rougher air, where its reference and dwell
 //   cost the failures' evidence; s_b is the gate's own reading of the air, not moved by the
 //   phase references the gate itself sets.
+//   With options.gates_calm_scaled (off by default; over rate_gates_gust_scaled) all three
+//   thresholds -- the climb rate, the Mach rate and the maneuver dwell's load factor g -- are
+//   multiplied by sqrt(s_c),
+//       s_c = clamp(1 + kappa (rho - rho_c), s_min, s_max)
+//   rho_c the schedule's calm-air reference in force (bank_schedule.h: rho-bar midway between the
+//   node's calm and light air; the base reference without one). Why: s_b reads moderate air at
+//   about the node reference as 1, and its gusts (19 ft/s, 0.003 Mach/s, and the 2-s low-passed
+//   load factor beyond 0.1 g at the nominal point) hold the gates open 85 % of a level flight;
+//   read from calm air, the gusts' power ratio grows as their intensity squared (calm, light,
+//   moderate and severe air: rho-bar 0.54, 0.66, 1.03 and 5.0 at the nominal point), so sqrt(s_c)
+//   is about 1.5, 3 and 9 and the gates stay shut in level flight at every level.
 //   With either flight-phase dwell configured (climb_reference.dwell_s > 0 or
 //   maneuver_dwell.dwell_s > 0) the declarers have no evidence dwell (declarer.h: dwell_nats
 //   and the per-hypothesis N_k are set to 0) and declare by their frame dwells alone. The N_k
@@ -245,6 +256,7 @@ struct HierarchicalOptions {
   ClimbReferenceOptions climb_reference;   // the adaptation's reference while climbing (NaN: off)
   ManeuverDwellOptions maneuver_dwell;     // the dwell and reference while maneuvering (maneuver_dwell.h; off)
   bool rate_gates_gust_scaled = false;     // both gates' air-data thresholds x sqrt(s_b) (header; off)
+  bool gates_calm_scaled = false;          // all three gates' thresholds x sqrt(s_c) (header; off)
   ManeuverTrimOptions maneuver_trim;       // the climb's and acceleration's trim (maneuver_trim.h; off)
   ManeuverOptions maneuver;   // kinematics: the kinematic/gravity remainder in the propagation
   ActuatorLimitOptions actuators;   // the actuators' rate/position limits on the commands (empty: off)
@@ -305,7 +317,8 @@ class HierarchicalBank {
       maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
                                       z_abs(mt_vel_), z_abs(mt_z_[4]), trim_freezing());
     if (maneuver_dwell_.enabled()) {   // maneuver_dwell.h
-      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_, rate_gate_scale());
+      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_, rate_gate_scale(),
+                                          load_factor_gate_scale());
       if (maneuver_dwell_.options().has_reference()) bank_.set_adapt_reference(adapt_reference_in_force());
     }
     if (level_ == 1 && departure_.observe(z_pert_, online_[1]))   // departure_hold.h
@@ -909,9 +922,17 @@ class HierarchicalBank {
     return sched_.has_adapt_reference() && options_.schedule.node_adapt_reference ? sched_.adapt_reference()
                                                                                     : options_.bank.adaptation.reference;
   }
-  // The air-data gates' threshold factor: sqrt(s_b) with options.rate_gates_gust_scaled, else 1 (header).
+  // The air-data gates' threshold factor (header): sqrt(s_c) with options.gates_calm_scaled,
+  // sqrt(s_b) with options.rate_gates_gust_scaled, else 1.
   double rate_gate_scale() const noexcept {
+    if (options_.gates_calm_scaled) return std::sqrt(bank_.adaptation().scale_at(gate_calm_reference()));
     return options_.rate_gates_gust_scaled ? std::sqrt(bank_.adaptation().scale_at(base_adapt_reference())) : 1.0;
+  }
+  // The maneuver dwell's load-factor threshold factor: sqrt(s_c) with options.gates_calm_scaled, else 1.
+  double load_factor_gate_scale() const noexcept { return options_.gates_calm_scaled ? rate_gate_scale() : 1.0; }
+  // s_c's reference (header): the schedule's calm-air reference in force, else the base reference.
+  double gate_calm_reference() const noexcept {
+    return sched_.active() && sched_.has_calm_reference() ? sched_.calm_reference() : base_adapt_reference();
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {

@@ -17,10 +17,11 @@
 //   n_lp   += c (dn - n_lp),   c = 1 - exp(-1 / (tau f)),   n_lp = 0 at the start
 //             (a first-order low-pass, tau = time_constant_s, default 2 s: a turn's 0.155 g
 //             passes, light turbulence's few hundredths of a g on single frames do not)
-//   moving  = |n_lp| > g  or  |h_dot| > c climb_ft_s  or  |M_dot| > c mach_per_s
+//   moving  = |n_lp| > c_g g  or  |h_dot| > c climb_ft_s  or  |M_dot| > c mach_per_s
 //             (h_dot, M_dot: air_data_rates.h, the bank's rates handed to each update;
-//             rate 0 until samples arrive, then only n_lp gates; c = 1, or the gusts'
-//             sqrt(s_b) with hierarchical_bank.h's gust-scaled gates)
+//             rate 0 until samples arrive, then only n_lp gates; c = c_g = 1, or the gusts'
+//             scale with hierarchical_bank.h's gust-scaled gates: c = sqrt(s_b), c_g = 1, or
+//             c = c_g = sqrt(s_c) calm-scaled)
 //   maneuvering = moving on this frame or on one of the hold_frames = round(hold_s f) before.
 // While maneuvering:
 //   dwell      a level-0 declaration needs p > threshold on max(1, round(dwell_s f))
@@ -91,11 +92,11 @@ class ManeuverDwell {
   }
   // One accepted update: dn, the estimated load factor off the trim (g); rates, the air-data
   // rates with every usable sample so far observed; c scales the rate thresholds
-  // (AirDataRates::changing; 1: as given).
-  void observe_load_factor(double dn, const AirDataRates& rates, double c = 1.0) noexcept {
+  // (AirDataRates::changing; 1: as given), c_g the load factor's g.
+  void observe_load_factor(double dn, const AirDataRates& rates, double c = 1.0, double c_g = 1.0) noexcept {
     if (std::isfinite(dn)) n_lp_ += gain_ * (dn - n_lp_);
     const bool moving =
-        !(std::abs(n_lp_) <= options_.g) || rates.changing(options_.climb_ft_s, options_.mach_per_s, c);
+        !(std::abs(n_lp_) <= options_.g * c_g) || rates.changing(options_.climb_ft_s, options_.mach_per_s, c);
     if (moving)
       held_for_ = hold_frames_ + 1;
     else if (held_for_ > 0)

@@ -252,6 +252,41 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--trim-tracking-load-factor applies with --trim-tracking-steady only"), std::string::npos)
       << r.message;
+  // the steady tracking's air-data gate and measurements (in process: trim_steady_air_data and
+  // trim_steady_measurements, loop/estimator_options.py)
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.trim.steady_measurements, std::vector<std::string>{"AOA"});
+  EXPECT_EQ(r.config.estimator.trim.steady_climb_ft_s, f16mmae::AirDataRates::kClimbFtS);
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
+                         "--trim-tracking-steady-air-data", "off", "--trim-tracking-steady-measurements", "aoa,VEL,Az"},
+                        nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(std::isinf(r.config.estimator.trim.steady_climb_ft_s));
+  EXPECT_TRUE(std::isinf(r.config.estimator.trim.steady_mach_per_s));
+  EXPECT_EQ(r.config.estimator.trim.steady_measurements, (std::vector<std::string>{"AOA", "VEL", "AZ"}));
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
+                         "--trim-tracking-steady-air-data", "off", "--trim-tracking-steady-air-data", "on"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.trim.steady_mach_per_s, f16mmae::AirDataRates::kMachPerS);
+  for (const char* bad : {"AOA,AOA", "AOA,", "", "ALT", "AOA;VEL"}) {
+    r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
+                           "--trim-tracking-steady-measurements", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find("--trim-tracking-steady-measurements must name measurements"), std::string::npos)
+        << r.message;
+  }
+  r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", "--trim-tracking-steady", "0.1",
+                         "--trim-tracking-steady-air-data", "no"}, nullptr);
+  EXPECT_NE(r.message.find("--trim-tracking-steady-air-data must be 'on' or 'off', got 'no'"), std::string::npos)
+      << r.message;
+  for (const auto& [flag, value] : std::vector<std::pair<std::string, std::string>>{
+           {"--trim-tracking-steady-air-data", "off"}, {"--trim-tracking-steady-measurements", "AOA"}}) {
+    r = parse_daemon_args({"--bank", "b", "--trim-tracking", "30", flag, value}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << flag;
+    EXPECT_NE(r.message.find(std::string(flag) + " applies with --trim-tracking-steady only"), std::string::npos)
+        << r.message;
+  }
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-reference-climb", "0.6",
                          "--adapt-reference-climb-hold=30"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;

@@ -229,6 +229,21 @@ def test_lockstep_with_the_maneuver_dwell_and_level1_options_reproduces_the_in_p
     assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(plain_run.probabilities))
 
 
+def test_lockstep_with_steady_tracking_and_calm_scaled_gates_reproduces_the_in_process_run(bank):
+    # steady trim tracking of AOA, VEL and AZ with the air data's gate open and a 2-s time
+    # constant (the trims move within the flight), the gates calm-scaled with a low load-factor
+    # gate: the tracked offsets and the dwell in force change on both sides of the link alike
+    options = dict(adapt_turbulence=True, trim_time_constant_s=2.0, trim_steady_g=0.1, trim_steady_air_data="off",
+                   trim_steady_measurements="AOA,VEL,AZ", maneuver_dwell_s=0.75, maneuver_dwell_g=0.005,
+                   maneuver_reference=0.7, maneuver_gates_calm_scaled=True)
+    scenario = _scenario([("LS", 0.5)], duration_s=3.0)
+    _, local_run = _lockstep_equals_in_process(bank, scenario, "ST_", options)
+    aoa_only = fly(scenario, bank, estimator_options={k: v for k, v in options.items()
+                                                      if k not in ("trim_steady_measurements", "trim_steady_air_data")})
+    # the options are in force: the flight is not the steady tracking of AOA alone
+    assert not np.array_equal(np.nan_to_num(local_run.probabilities), np.nan_to_num(aoa_only.probabilities))
+
+
 @pytest.fixture(scope="module")
 def turbulence_bank():
     """The turbulence bank set's start member (--tuning turbulence): the set flies with it."""

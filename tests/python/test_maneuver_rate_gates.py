@@ -16,7 +16,10 @@ test_core_hierarchical:
   (``daemon_flags`` passes them on): its ready line names the gates the core holds,
   out-of-range values are refused naming the flag; and a lockstep flight over memq:// against
   the executive with the Mach-rate option gives the in-process probabilities, which differ
-  from the default gate's.
+  from the default gate's;
+* ``maneuver_rate_gust_scaled``: the rate thresholds times sqrt(s_b) (the node's reference);
+  ``maneuver_gates_calm_scaled``: all three thresholds, the load factor's too, times sqrt(s_c),
+  s_c from the schedule's calm-air reference in force, each frame against a recomputation.
 """
 from __future__ import annotations
 
@@ -29,6 +32,7 @@ import pytest
 from f16mmae import core
 from f16mmae.banks import load_bank
 from f16mmae.lcm.daemon import daemon_flags, find_executable
+from f16mmae.names import SENSORS
 from f16mmae.truth.sensors import NOISE_SIGMA
 from f16mmae.loop.flight import fly as fly_closed_loop
 
@@ -247,3 +251,72 @@ def test_gust_scaled_gates_need_the_adaptation_in_mmae_daemon(nominal):
     flags = daemon_flags({"adapt_turbulence": True, "maneuver_dwell_s": 1.0, "maneuver_rate_gust_scaled": True})
     assert "--maneuver-rate-gust-scaled" in flags
     assert "rate gates x sqrt(s_b)" in ready_line("--bank", bank, *flags)
+
+
+@pytest.fixture(scope="module")
+def scheduled():
+    """The shipped scheduled bank (its nodes carry the calm-air reference s_c reads)."""
+    _, _, bank = load_bank("scheduled")
+    return bank
+
+
+def _gates_seen(bank, air: np.ndarray, zs: np.ndarray, u: np.ndarray) -> list[tuple]:
+    """(maneuvering, the low-passed load factor, rho, the calm-air reference) after each frame."""
+    seen = []
+    for a, z in zip(air, zs):
+        bank.schedule(*a)
+        bank.step(z, u)
+        seen.append((bool(bank.maneuvering), float(bank.maneuver_load_factor), float(bank.turbulence_power_ratio),
+                     float(bank.calm_reference)))
+    return seen
+
+
+@pytest.mark.parametrize("calm_scaled", [False, True])
+def test_calm_scaled_gates_multiply_the_load_factor_gate_by_sqrt_s_c(scheduled, calm_scaled):
+    # level at the nominal point, readings noisier than the design's (rho above the calm-air
+    # reference: s_c > 1) with AZ 0.1 g off the trim from 5 s: the low-passed load factor rises
+    # through g = 0.05; calm-scaled, the gate opens only where it passes g sqrt(s_c), the air
+    # data (level) never
+    n = 960
+    air = np.column_stack([np.full(n, 0.4), np.full(n, 20000.0)])
+    bank = core.HierarchicalBank(scheduled, adapt_turbulence=True, adapt_gain=GAIN, maneuver_dwell_s=1.0,
+                                 maneuver_dwell_g=0.05, maneuver_gates_calm_scaled=calm_scaled)
+    bank.schedule(*air[0])
+    z_trim, u_trim = np.asarray(bank.z_trim), np.asarray(bank.u_trim)
+    rng = np.random.default_rng(3)
+    zs = z_trim + rng.normal(size=(n, z_trim.size)) * 1.5 * NOISE_SIGMA
+    zs[320:, SENSORS.index("AZ")] += 0.1
+    seen = _gates_seen(bank, air, zs, u_trim)
+    scale = np.array([math.sqrt(min(100.0, max(1.0, 1.0 + GAIN * (rho - rho_c)))) if calm_scaled else 1.0
+                      for _, _, rho, rho_c in seen])
+    n_lp = np.array([x for _, x, _, _ in seen])
+    np.testing.assert_array_equal(np.array([m for m, _, _, _ in seen]), np.abs(n_lp) > 0.05 * scale)
+    between = (np.abs(n_lp) > 0.05) & (np.abs(n_lp) <= 0.05 * scale)
+    assert (between.sum() > 64) == calm_scaled   # the scale keeps the gate shut where the given g opens it
+
+
+def test_calm_scaled_rate_gates_read_the_calm_air_reference(scheduled):
+    # a fast climb from the nominal point, noisy readings: the climb-rate gate opens where the
+    # recomputed rate passes 10 ft/s sqrt(s_c), s_c from the calm-air reference in force
+    n = 1200
+    air = _fast_climb(n)
+    rng = np.random.default_rng(5)
+    bank = core.HierarchicalBank(scheduled, adapt_turbulence=True, adapt_gain=GAIN, maneuver_dwell_s=1.0,
+                                 maneuver_dwell_g=10.0, maneuver_climb_ft_s=10.0, maneuver_gates_calm_scaled=True)
+    bank.schedule(*air[0])
+    z_trim, u_trim = np.asarray(bank.z_trim), np.asarray(bank.u_trim)
+    zs = z_trim + rng.normal(size=(n, z_trim.size)) * 1.5 * NOISE_SIGMA
+    seen = _gates_seen(bank, air, zs, u_trim)
+    scale = np.array([math.sqrt(min(100.0, max(1.0, 1.0 + GAIN * (rho - rho_c)))) for _, _, rho, rho_c in seen])
+    assert scale[320:].min() > 1.5
+    np.testing.assert_array_equal(np.array([m for m, _, _, _ in seen]), _scaled_gate(air, 10.0, scale))
+
+
+def test_calm_scaled_gates_in_mmae_daemon(nominal):
+    daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
+    r = subprocess.run([daemon, "--bank", bank, "--maneuver-dwell", "1", "--maneuver-gates-calm-scaled"],
+                       capture_output=True, text=True, timeout=20)
+    assert r.returncode == 2 and "--maneuver-gates-calm-scaled applies with --adapt-turbulence only" in r.stderr + r.stdout
+    flags = daemon_flags({"adapt_turbulence": True, "maneuver_dwell_s": 1.0, "maneuver_gates_calm_scaled": True})
+    assert "--maneuver-gates-calm-scaled" in flags
+    assert "gates x sqrt(s_c)" in ready_line("--bank", bank, *flags)

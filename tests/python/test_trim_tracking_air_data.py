@@ -81,11 +81,16 @@ def test_refusals_name_the_flag():
         check({"trim_time_constant_s": 30.0, "trim_steady_g": 0.1, "trim_steady_air_data": "no"})
 
 
-def test_the_daemon_is_refused_the_option_it_has_no_flag_for():
-    """In process only: daemon_flags (hil) refuses "off" naming what the daemon lacks; "on" is
-    the daemon's own behaviour and passes no flag."""
+def test_the_daemon_takes_the_air_data_gate():
+    """daemon_flags (hil) passes "off" as --trim-tracking-steady-air-data off, which the daemon's
+    ready line names; "on" is the daemon's own behaviour and passes no flag."""
+    from daemon_support import ready_line
+    from f16mmae.banks import load_bank
     from f16mmae.lcm.daemon import daemon_flags
     base = {"trim_time_constant_s": 30.0, "trim_steady_g": 0.1}
     assert daemon_flags({**base, "trim_steady_air_data": "on"}) == daemon_flags(base)
-    with pytest.raises(ValueError, match="mmae-daemon has no flag for the estimator option 'trim_steady_climb_ft_s'"):
-        daemon_flags({**base, "trim_steady_air_data": "off"})
+    flags = daemon_flags({**base, "trim_steady_air_data": "off"})
+    assert flags[-2:] == ("--trim-tracking-steady-air-data", "off") and flags.count("off") == 1
+    bank = str(load_bank("tuned")[1])
+    assert "steady 0.1 g, air-data rates off)" in ready_line("--bank", bank, *flags)
+    assert "air-data rates" not in ready_line("--bank", bank, *daemon_flags(base))

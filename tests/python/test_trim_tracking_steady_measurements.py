@@ -8,8 +8,8 @@ without the option).
   to a declaration that freezes the tracker, and up to then AOA's offset is the same low-pass, bit
   for bit; lower case is read as the names;
 * names that are not measurements, a name given twice and the option without
-  --trim-tracking-steady are refused by name; mmae-daemon has no flag for it and daemon_flags
-  (hil) says so.
+  --trim-tracking-steady are refused by name; mmae-daemon takes it (daemon_flags passes it on,
+  the ready line names the measurements).
 """
 from __future__ import annotations
 
@@ -77,7 +77,13 @@ def test_the_names_are_read_and_refused_by_name():
         check({"trim_time_constant_s": 30.0, "trim_steady_measurements": "AOA"})
 
 
-def test_the_daemon_is_refused_the_option_it_has_no_flag_for():
+def test_the_daemon_takes_the_measurements():
+    """daemon_flags (hil) passes the names as given; the daemon's ready line names them."""
+    from daemon_support import ready_line
+    from f16mmae.banks import load_bank
     from f16mmae.lcm.daemon import daemon_flags
-    with pytest.raises(ValueError, match="mmae-daemon has no flag for the estimator option 'trim_steady_measurements'"):
-        daemon_flags({"trim_time_constant_s": 30.0, "trim_steady_g": 0.1, "trim_steady_measurements": "AOA,VEL"})
+    flags = daemon_flags({"trim_time_constant_s": 30.0, "trim_steady_g": 0.1, "trim_steady_measurements": "aoa,VEL"})
+    assert flags[-2:] == ("--trim-tracking-steady-measurements", "aoa,VEL")
+    assert daemon_flags({"trim_time_constant_s": 30.0, "trim_steady_g": 0.1,
+                         "trim_steady_measurements": ["AOA", "AZ"]})[-1] == "AOA,AZ"
+    assert "steady 0.1 g on AOA,VEL)" in ready_line("--bank", str(load_bank("tuned")[1]), *flags)

@@ -38,6 +38,9 @@ _RENAMED_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": 
 _CHANNEL_BITS_KEYS = {"adapt_counted_channels": "adapt_counted_channel",
                       "adapt_excluded_channels": "adapt_excluded_channel",
                       "adapt_level_scale_channels": "adapt_level_scale_channel"}
+#: The steady trim tracking's air-data limits, infinite from ``trim_steady_air_data`` "off"
+#: (``loop.estimator.core_arguments``); the daemon takes ``--trim-tracking-steady-air-data off``.
+_STEADY_AIR_DATA_KEYS = ("trim_steady_climb_ft_s", "trim_steady_mach_per_s")
 #: The core's bit masks over the level-0 hypotheses and the ``mmae-daemon`` flags that take their names.
 _HYPOTHESIS_BITS_FLAGS = {"adapt_full_tempering": "--set-tempering-full",
                           "adapt_spare_margin_over": "--set-tempering-margin-over"}
@@ -51,6 +54,10 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
     out: list[str] = []
     for key, value in core_arguments(estimator_options, nu).items():
         if key in CLOSED_LOOP:   # the closed loop's (the truth side's): the executive needs no flag
+            continue
+        if key in _STEADY_AIR_DATA_KEYS:   # core_arguments' infinite limits: the daemon takes on|off
+            if key == _STEADY_AIR_DATA_KEYS[0]:
+                out += ["--trim-tracking-steady-air-data", "off"]
             continue
         if key in _CHANNEL_BITS_KEYS:   # core_arguments' bit; the daemon takes the sensor's name
             key = _CHANNEL_BITS_KEYS[key]
@@ -70,7 +77,8 @@ def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:
         elif option.kind == "values":
             out += [option.flag, ",".join(repr(float(v)) for v in value)]
         elif option.kind in ("file", "table"):   # the path or text as given (core_arguments has read its table)
-            out += [option.flag, str(estimator_options[key])]
+            given = estimator_options[key]
+            out += [option.flag, ",".join(given) if isinstance(given, (list, tuple)) else str(given)]
         else:
             out += [option.flag, value if option.kind == "choice" else repr(float(value))]
     return tuple(out)

@@ -281,16 +281,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "carries the climb's and the acceleration's own trim (--maneuver-trim), so a lighter "
                          "aircraft's angle of attack is tracked through climbs, descents and speed changes too "
                          "(core trim_steady_climb_ft_s and trim_steady_mach_per_s infinite; "
-                         "cpp/f16mmae/trim_tracker.h). Default on (in process only: mmae-daemon has no flag for it)",
-                    in_daemon=False),
+                         "cpp/f16mmae/trim_tracker.h). Default on"),
     EstimatorOption("trim_steady_measurements", "--trim-tracking-steady-measurements", "table", metavar="NAME,...",
                     requires="trim_steady_g",
                     help="with --trim-tracking-steady: the measurements whose trim offsets are tracked (the others "
                          "keep the scheduled trim), e.g. AOA,VEL: between the nodes in slow flight the held speed's "
                          "trim differs from the interpolated one, and with AOA alone the flaperons read the "
-                         "difference (cpp/f16mmae/trim_tracker.h). Default AOA (in process only: mmae-daemon has no "
-                         "flag for it)",
-                    in_daemon=False),
+                         "difference (cpp/f16mmae/trim_tracker.h). Default AOA"),
     EstimatorOption("trim_load_factor", "--trim-tracking-load-factor", "choice", metavar="on|off",
                     choices=("on", "off"), requires="trim_steady_g",
                     help="with --trim-tracking-steady: on applies the tracked angle-of-attack offset as n times "
@@ -396,6 +393,15 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "reference (never a flight phase's): the gusts move the measured air data too, about "
                          "twice light air's rates in moderate air and five times in severe air "
                          "(cpp/f16mmae/hierarchical_bank.h). Default off"),
+    EstimatorOption("maneuver_gates_calm_scaled", "--maneuver-gates-calm-scaled", "switch",
+                    requires="adapt_turbulence",
+                    help="with --maneuver-dwell or --adapt-reference-climb: all three thresholds of their gates "
+                         "(the climb rate, the Mach rate and --maneuver-dwell-g's load factor) times sqrt(s_c), "
+                         "s_c the turbulence adaptation's scale at the node's calm-air reference (midway between "
+                         "calm and light air): light air's gusts already raise them a little, moderate air's about "
+                         "threefold, severe air's ninefold, so level flight in any air keeps the gates shut "
+                         "(cpp/f16mmae/hierarchical_bank.h). Takes precedence over --maneuver-rate-gust-scaled. "
+                         "Default off"),
     EstimatorOption("maneuver_reference", "--maneuver-reference", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the adaptation's reference while the aircraft maneuvers (the "

@@ -33,7 +33,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,   # the level channels' scale term
               "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),   # and VEL's at every level
               "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM,
-              "adaptive_dither": True}   # the closed loop's adaptive dither
+              "adaptive_dither": True,   # the closed loop's adaptive dither
+              "maneuver_setting": "on", **names.SCHEDULE_MANEUVER_SETTING}   # and the maneuvering-flight setting
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
                                                "adapt_counted_channel": "vel", **spared}
     assert given == {"adapt_turbulence": True}   # a copy
@@ -46,7 +47,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0, VEL=0, off are off)
            "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
            "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
-           "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True}
+           "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True, "maneuver_setting": "off"}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
@@ -110,7 +111,7 @@ def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_
     # the scheduled trim tracking moves the residuals, and the least dwells move the declarations
     # (the noise below declares): the rule alone here
     rule_alone = {"trim_time_constant_s": 0.0, "dwell_s_per_hypothesis": NO_LEAST_DWELL,
-                  "adapt_level_scale_channel": "none"}
+                  "adapt_level_scale_channel": "none", "maneuver_setting": "off"}
     est = Estimator(bank, adapt_turbulence=True, **rule_alone)
     assert est.settings["adapt_own_channels"] is True and est.settings["adapt_counted_channel"] == "vel"
     assert Estimator(bank, adapt_turbulence=True).settings["trim_time_constant_s"] == names.SCHEDULE_TRIM_TIME_CONSTANT_S
@@ -145,7 +146,7 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     load-factor tempering; not the closed loop's adaptive dither), so the executive over LCM runs the
     rule the estimator in process runs."""
     from f16mmae.lcm.daemon import daemon_flags
-    flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
+    flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True, "maneuver_setting": "off"}, True))
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
                           "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
@@ -157,6 +158,11 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
                           "--adapt-level-scale-channel", "vel", "--adapt-level-scale-from",
                           str(names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM),
                           "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE}
+    # the maneuvering-flight setting (on by default) as its options' own flags, none for the setting itself
+    maneuvering = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
+    assert set(maneuvering) == set(flags) | set(daemon_flags({"trim_time_constant_s": 30.0, "adapt_turbulence": True,
+                                                              **names.SCHEDULE_MANEUVER_SETTING}))
+    assert "--maneuver-gates-calm-scaled" in maneuvering and "--maneuver-setting" not in maneuvering
     assert flags[flags.index("--adapt-counted-channel") + 1] == "vel"
     assert "--adapt-counted-channel" not in daemon_flags(scheduled_defaults({"adapt_turbulence": True}, False))
 
@@ -271,7 +277,7 @@ def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(
     assert not np.array_equal(r_vel, r_own)
     assert np.all(r_vel >= r_own)   # a minimum over fewer hypotheses is never lower
     est = Estimator(bank, adapt_turbulence=True, adapt_excluded_channel="vel", adapt_level_scale_channel="none",
-                    dwell_s_per_hypothesis=NO_LEAST_DWELL)   # the core banks' declarations
+                    dwell_s_per_hypothesis=NO_LEAST_DWELL, maneuver_setting="off")   # the core banks' declarations
     np.testing.assert_array_equal(_fly(est, bank), r_vel)
 
 
@@ -414,3 +420,39 @@ def test_the_level_channels_scaled_at_every_level_reach_the_core_and_the_daemon(
     assert float(flags[flags.index("--adapt-level-scale-from") + 1]) == names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True, "adapt_level_scale_channel": "none"}, True))
     assert "--adapt-level-scale-channel" not in flags and "--adapt-level-scale-from" not in flags
+
+
+def test_the_maneuvering_flight_setting_is_the_default_and_off_turns_it_off():
+    """``maneuver_setting`` "on" (the default with the adaptation on a scheduled bank) gives each
+    entry of ``names.SCHEDULE_MANEUVER_SETTING`` not given, where what it applies with is in
+    force; "off" none; its switches have a --no- form; the resolved settings, as the run
+    command's flags (a record's command), resolve to themselves; an option of the setting given alone is refused naming the setting's
+    value of what it needs; the core takes no keyword for the setting itself."""
+    from f16mmae.cli.main import build_parser
+    from f16mmae.cli.options import estimator_options_from_args
+    from f16mmae.loop.estimator_options import command_line_flags
+    given = {"adapt_turbulence": True}
+    on = scheduled_defaults(given, True)
+    assert on["maneuver_setting"] == "on"
+    assert {k: on[k] for k in names.SCHEDULE_MANEUVER_SETTING} == names.SCHEDULE_MANEUVER_SETTING
+    off = scheduled_defaults({**given, "maneuver_setting": "off"}, True)
+    assert not set(names.SCHEDULE_MANEUVER_SETTING) & set(off)
+    mine = scheduled_defaults({**given, "maneuver_dwell_s": 1.5, "maneuver_kinematics": False}, True)
+    args = build_parser().parse_args(["run", "--bank", "scheduled", "--adapt-turbulence", "--no-maneuver-kinematics"])
+    assert estimator_options_from_args(args)["maneuver_kinematics"] is False
+    assert mine["maneuver_dwell_s"] == 1.5 and mine["maneuver_kinematics"] is False   # given: kept
+    no_dwell = scheduled_defaults({**given, "maneuver_dwell_s": 0.0, "trim_time_constant_s": 0.0}, True)
+    assert not {"maneuver_dwell_hold_s", "maneuver_dwell_g", "trim_steady_g", "trim_steady_air_data",
+                "trim_steady_measurements"} & set(no_dwell)   # what they apply with is off
+    check(no_dwell)
+    assert "--no-maneuver-kinematics" in command_line_flags(mine)   # a switch the setting turns on, given off
+    for settings in (on, off, mine):
+        args = build_parser().parse_args(["run", "--bank", "scheduled", *command_line_flags(settings)])
+        again = scheduled_defaults(estimator_options_from_args(args), True)
+        assert again == settings
+    assert "maneuver_setting" not in core_arguments(on)
+    with pytest.raises(ValueError, match="--maneuver-dwell-hold applies with --maneuver-dwell only .a scheduled "
+                                         "bank's default --maneuver-dwell 0.4"):
+        check({**given, "maneuver_dwell_hold_s": 10.0})
+    with pytest.raises(ValueError, match="--maneuver-setting 'yes' must be one of on, off"):
+        check({**given, "maneuver_setting": "yes"})

@@ -396,7 +396,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
                "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@0.5", "--adapt-turbulence",
                "--trim-tracking", "2", "--trim-freeze-probability", "0.5", "--schedule-mode", "nearest",
-               "--maneuver-kinematics", "--maneuver-tempering", "0.1", "--actuator-limits",
+               "--maneuver-kinematics", "--maneuver-tempering", "0.1", "--actuator-limits", "--maneuver-setting", "off",
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}O_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
@@ -416,7 +416,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
                "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@1", "--trim-tracking", "2",
                "--trim-tracking-steady", "0.1", "--air-data-time-constant", "0.5", "--adapt-turbulence",
                "--adapt-all-channels", "--adapt-reference", "0.65", "--adapt-reference-climb", "0.6", "--adapt-reference-climb-hold", "30",
-               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}Y_", "--compare"])
+               "--maneuver-setting", "off", "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}Y_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
     assert ("turbulence adaptation (reference 0.65, level scale, vel level scaled from 8, complete in calm air VEL 1 by "
@@ -426,6 +426,17 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             "trim tracking 2 s (freeze above 0.05, steady 0.1 g)") in out, out
     assert ("no maneuver kinematics, tempering 1 g, alpha tempering 1 deg beyond 0.75 deg sqrt(s))"   # the scheduled
             in out), out                                                                          # default's temperings
+    assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
+    capsys.readouterr()
+    # the scheduled default's maneuvering-flight setting (names.SCHEDULE_MANEUVER_SETTING), as flags
+    rc = main(["hil", "--start-daemon", "--lockstep", "--duration", "2", "--bank", str(sched),
+               "--mach", "0.45", "--alt-ft", "20000", "--fail", "LF@1", "--adapt-turbulence",
+               "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}M_", "--compare"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    for said in ("climbing 0.6 held 30 s", "steady 0.1 g on AOA,VEL,AZ, air-data rates off)", "maneuver kinematics",
+                 "maneuver dwell 0.4 s held 30 s", "gates x sqrt(s_c)", "actuator limits"):
+        assert said in out, (said, out)
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
 
 

@@ -3,6 +3,7 @@ the option, the bad value and the valid range or choices), comma lists, and the 
 settings of ``run``, ``hil`` and the campaigns."""
 from __future__ import annotations
 
+import argparse
 import math
 import os
 
@@ -84,7 +85,9 @@ def add_estimator_arguments(p) -> None:
     shipped tuned bank: p_min 1e-9, threshold 0.9, dwell 0.25 s), else the core's default (the
     paper's: 0.001, 0.9, 0.25 s); every on-line option is off unless given."""
     for o in COMMAND_LINE:
-        if o.kind == "switch":
+        if o.negatable:   # on in a default setting: --no-FLAG turns it off
+            p.add_argument(o.flag, action=argparse.BooleanOptionalAction, default=None, help=o.help)
+        elif o.kind == "switch":
             p.add_argument(o.flag, action="store_true", help=o.help)
         else:
             p.add_argument(o.flag, default=None, metavar=o.metavar, help=o.help)
@@ -96,10 +99,10 @@ def estimator_options_from_args(args) -> dict:
     out = {}
     for o in COMMAND_LINE:
         value = getattr(args, o.dest, None)
-        if value is None or value is False:
+        if value is None or (value is False and not o.negatable):
             continue
         if o.kind == "switch":
-            out[o.key] = True
+            out[o.key] = bool(value)
         elif o.kind == "choice":
             out[o.key] = choice(o.flag, value, o.choices)
         elif o.kind == "file":

@@ -30,7 +30,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``adapt_counted_channel`` (a sensor's name) becomes ``adapt_counted_channels``, its bit, and
     ``adapt_excluded_channel`` ``adapt_excluded_channels``, ``adapt_level_scale_channel``
     ``adapt_level_scale_channels`` (``none``: no bit); ``calm_complete`` (its table) ``calm_complete_rho``;
-    ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``);
+    ``adapt_all_channels`` is the core's own-channels rule off (``estimator_options.scheduled_defaults``),
+    ``maneuver_setting`` the options it has set there;
     ``trim_steady_air_data`` "off" makes the steady trim tracking's climb and Mach limits infinite
     (the air data's rates never freeze it; cpp/f16mmae/trim_tracker.h);
     ``set_tempering`` W becomes ``adapt_hypothesis_weight`` W and ``adapt_full_tempering``, the bits of
@@ -41,6 +42,7 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``names.SET_TEMPERING_MARGIN_STABILATORS``."""
     out = dict(settings)
     out.pop("adapt_all_channels", None)
+    out.pop("maneuver_setting", None)   # resolved by scheduled_defaults into the options it sets
     for key, load in FILE_LOADERS.items():   # a file option's table: {"F>C": k} (level1_allowance.h), {name: N}
         if key in out and not isinstance(out[key], dict):   # a dict: the table itself (a bank's N_k)
             out[key] = load(out[key])

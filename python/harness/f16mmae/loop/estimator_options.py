@@ -24,7 +24,7 @@ from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDU
                      SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD,
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                      SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL,
-                     SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_MANEUVER_TEMPERING_G,
+                     SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_MANEUVER_SETTING, SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
                      SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS,
                      THRESHOLD_DEFAULT)
@@ -56,6 +56,12 @@ class EstimatorOption:
     def dest(self) -> str:
         """The argparse attribute of :attr:`flag`."""
         return self.flag[2:].replace("-", "_")
+
+    @property
+    def negatable(self) -> bool:
+        """A switch a default setting turns on (``names.SCHEDULE_MANEUVER_SETTING``): ``--no-FLAG``
+        turns it off."""
+        return self.kind == "switch" and SCHEDULE_MANEUVER_SETTING.get(self.key) is True
 
 
 ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
@@ -307,11 +313,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("maneuver_kinematics", "--maneuver-kinematics", "switch",
                     help="add to the filters' propagation the kinematic and gravity terms their wings-level "
                          "linearization drops (steady turns and pull-ups; cpp/f16mmae/maneuver_kinematics.h). "
-                         "Default off: the bank as designed"),
+                         "Default off (the bank as designed), but on with a scheduled bank's --adapt-turbulence "
+                         "(--maneuver-setting); --no- turns it off there"),
     EstimatorOption("actuator_limits", "--actuator-limits", "switch",
                     help="the filters see the commands through the actuators' rate and position limits "
                          "(a roll-in's or pull-up's saturated commands; cpp/f16mmae/actuator_limits.h). "
-                         "Default off: the bank as designed"),
+                         "Default off (the bank as designed), but on with a scheduled bank's --adapt-turbulence "
+                         "(--maneuver-setting); --no- turns it off there"),
     EstimatorOption("maneuver_tempering_g", "--maneuver-tempering", "number", metavar="G", minimum=0.0,
                     maximum=100.0,
                     help="temper every likelihood by 1 + (dn/G)^2 while the estimated load factor is dn g off "
@@ -401,7 +409,20 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "calm and light air): light air's gusts already raise them a little, moderate air's about "
                          "threefold, severe air's ninefold, so level flight in any air keeps the gates shut "
                          "(cpp/f16mmae/hierarchical_bank.h). Takes precedence over --maneuver-rate-gust-scaled. "
-                         "Default off"),
+                         "Default off, but on with a scheduled bank's --adapt-turbulence (--maneuver-setting); "
+                         "--no- turns it off there"),
+    EstimatorOption("maneuver_setting", "--maneuver-setting", "choice", metavar="on|off", choices=("on", "off"),
+                    requires="adapt_turbulence", in_daemon=False,
+                    help="with --adapt-turbulence on a scheduled bank: on flies the maneuvering-flight setting, "
+                         "each of its options unless given: --maneuver-kinematics --actuator-limits "
+                         "--adapt-reference-climb 0.6 --adapt-reference-climb-hold 30 --maneuver-dwell 0.4 "
+                         "--maneuver-dwell-hold 30 --maneuver-dwell-g 0.07 --maneuver-reference 0.65 "
+                         "--maneuver-tempering-added 0.03 --maneuver-tempering-added-deadband 0.08 "
+                         "--maneuver-tempering-added-spread 3 --maneuver-climb-rate 10 --maneuver-mach-rate 0.002 "
+                         "--maneuver-gates-calm-scaled --trim-tracking-steady 0.1 --trim-tracking-steady-air-data off "
+                         "--trim-tracking-steady-measurements AOA,VEL,AZ (names.SCHEDULE_MANEUVER_SETTING; "
+                         "mmae-daemon takes them as flags); off none of them, the default before round 33. "
+                         "Default on"),
     EstimatorOption("maneuver_reference", "--maneuver-reference", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: the adaptation's reference while the aircraft maneuvers (the "
@@ -553,12 +574,13 @@ CORE_ONLY: dict[str, str] = {
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
 #: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
 #: ``adapt_all_channels``, ``adapt_counted_channel``, ``adapt_excluded_channel`` and ``adapt_level_scale_channel`` are resolved by ``scheduled_defaults`` and the estimator;
+#: ``maneuver_setting`` is resolved by ``scheduled_defaults`` into the options it sets;
 #: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits, ``set_tempering`` the
 #: per-hypothesis tempering's keywords and ``calm_complete`` ``calm_complete_rho``, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
                                "sensor_loss_dither", "calm_complete", "adapt_all_channels", "adapt_counted_channel", "adapt_excluded_channel",
                                "adapt_level_scale_channel", "trim_steady_air_data", "set_tempering", "set_tempering_rho",
-                               "set_tempering_margin", "set_tempering_margin_stabilators")
+                               "set_tempering_margin", "set_tempering_margin_stabilators", "maneuver_setting")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.
@@ -737,6 +759,8 @@ SCHEDULED_DEFAULT_FLAGS: dict[str, str] = {
     "set_tempering": f"--set-tempering {SCHEDULE_SET_TEMPERING:g}",
     "maneuver_tempering_alpha_deg": f"--maneuver-tempering-alpha {SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG:g}",
     "trim_time_constant_s": f"--trim-tracking {SCHEDULE_TRIM_TIME_CONSTANT_S:g}",
+    **{key: f"{BY_KEY[key].flag} {SCHEDULE_MANEUVER_SETTING[key]:g}"
+       for key in ("adapt_reference_climb", "maneuver_dwell_s", "maneuver_tempering_added_g", "trim_steady_g")},
 }
 
 
@@ -777,7 +801,10 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
     too. ``calm_reference``: its nodes carry a calm-air reference (``has_calm_reference``): then
     ``calm_complete`` ``names.SCHEDULE_CALM_COMPLETE`` and ``calm_measure``
-    ``names.SCHEDULE_CALM_MEASURE`` unless given. A copy; ``settings`` is not changed."""
+    ``names.SCHEDULE_CALM_MEASURE`` unless given; and ``maneuver_setting`` "on" unless given, which
+    gives each entry of ``names.SCHEDULE_MANEUVER_SETTING`` not given whose option's requirement is
+    in force (``--maneuver-dwell 0`` leaves out its hold and gate, ``--trim-tracking 0`` the steady
+    tracking; "off": none). A copy; ``settings`` is not changed."""
     out = dict(settings)
     all_channels = out.get("adapt_all_channels", False)
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks") and not all_channels:
@@ -805,6 +832,11 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         if calm_reference:
             out.setdefault("calm_complete", SCHEDULE_CALM_COMPLETE)
             out.setdefault("calm_measure", SCHEDULE_CALM_MEASURE)
+        if out.setdefault("maneuver_setting", "on") == "on":   # each entry unless given, and only where
+            for key, value in SCHEDULE_MANEUVER_SETTING.items():   # what it applies with is in force
+                requires = BY_KEY[key].requires
+                if key not in out and (requires is None or out.get(requires)):
+                    out[key] = value
     return out
 
 
@@ -830,4 +862,5 @@ def command_line_flags(settings: dict) -> list[str]:
             value = settings[o.key]
             args += [o.flag, value if o.kind in ("choice", "file", "table") else repr(float(value))]
     args += [o.flag for o in COMMAND_LINE if o.kind == "switch" and settings.get(o.key)]
+    args += ["--no-" + o.flag[2:] for o in COMMAND_LINE if o.negatable and settings.get(o.key) is False]
     return args

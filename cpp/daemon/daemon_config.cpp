@@ -153,17 +153,38 @@ Value limits(Field field, const char* unit) {
   });
 }
 
+// The F-16 bank's measurements, lower case (names.SENSORS).
+constexpr const char* kSensors[] = {"vel", "aoa", "pit", "az", "rol", "yaw", "ay"};
+bool is_sensor(const std::string& lower) {
+  return std::find(std::begin(kSensors), std::end(kSensors), lower) != std::end(kSensors);
+}
+
+// `text` split at commas, each name upper-cased, or nothing (an empty name).
+std::optional<std::vector<std::string>> upper_case_names(const std::string& text) {
+  std::vector<std::string> names;
+  std::string name;
+  for (std::size_t k = 0; k <= text.size(); ++k) {
+    if (k < text.size() && text[k] != ',') {
+      name += static_cast<char>(std::toupper(static_cast<unsigned char>(text[k])));
+      continue;
+    }
+    if (name.empty()) return std::nullopt;
+    names.push_back(name);
+    name.clear();
+  }
+  return names;
+}
+
 // A measurement's name, stored lower case, or the sentence refusing it.
 Value sensor(std::string DaemonConfig::*field, bool none = false) {
   return parsed_by([field, none](DaemonConfig& c, const std::string& v) {
-    static const char* const kSensors[] = {"vel", "aoa", "pit", "az", "rol", "yaw", "ay"};
     std::string lower = v;
     for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
     if (none && lower == "none") {   // no channel: the field stays empty
       c.*field = std::string();
       return std::string();
     }
-    if (std::find(std::begin(kSensors), std::end(kSensors), lower) == std::end(kSensors))
+    if (!is_sensor(lower))
       return std::string(none ? "must name a measurement (vel, aoa, pit, az, rol, yaw, ay) or none"
                               : "must name a measurement (vel, aoa, pit, az, rol, yaw, ay)");
     c.*field = lower;
@@ -175,18 +196,9 @@ Value sensor(std::string DaemonConfig::*field, bool none = false) {
 // finds them in the bank).
 Value hypothesis_names(std::vector<std::string> DaemonConfig::*field) {
   return parsed_by([field](DaemonConfig& c, const std::string& v) -> std::string {
-    std::vector<std::string> names;
-    std::string name;
-    for (std::size_t k = 0; k <= v.size(); ++k) {
-      if (k == v.size() || v[k] == ',') {
-        if (name.empty()) return "must be hypothesis names separated by commas";
-        names.push_back(name);
-        name.clear();
-      } else {
-        name += static_cast<char>(std::toupper(static_cast<unsigned char>(v[k])));
-      }
-    }
-    c.*field = names;
+    const std::optional<std::vector<std::string>> names = upper_case_names(v);
+    if (!names) return "must be hypothesis names separated by commas";
+    c.*field = *names;
     return "";
   });
 }
@@ -565,21 +577,15 @@ const std::vector<Flag>& flags() {
        "the measurements whose trim offsets the steady tracking tracks, each once (VEL, AOA, PIT, AZ, ROL, "
        "YAW, AY; the others keep the scheduled trim; default AOA)",
        parsed_by([](C& c, const std::string& v) -> std::string {
-         static const char* const kNames[] = {"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
-         std::vector<std::string> names;
-         std::string name;
-         for (std::size_t k = 0; k <= v.size(); ++k) {
-           if (k < v.size() && v[k] != ',') {
-             name += static_cast<char>(std::toupper(static_cast<unsigned char>(v[k])));
-             continue;
-           }
-           if (std::find(std::begin(kNames), std::end(kNames), name) == std::end(kNames) ||
-               std::find(names.begin(), names.end(), name) != names.end())
-             return "must name measurements (VEL, AOA, PIT, AZ, ROL, YAW, AY), each once, separated by commas";
-           names.push_back(name);
-           name.clear();
-         }
-         c.estimator.trim.steady_measurements = names;
+         const std::optional<std::vector<std::string>> names = upper_case_names(v);
+         const auto measurement = [](std::string n) {
+           for (char& ch : n) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+           return is_sensor(n);
+         };
+         if (!names || std::set<std::string>(names->begin(), names->end()).size() != names->size() ||
+             !std::all_of(names->begin(), names->end(), measurement))
+           return "must name measurements (VEL, AOA, PIT, AZ, ROL, YAW, AY), each once, separated by commas";
+         c.estimator.trim.steady_measurements = *names;
          return "";
        }),
        nullptr, "--trim-tracking-steady", [](const C& c) { return c.estimator.trim.steady_g > 0.0; }},

@@ -317,8 +317,9 @@ class HierarchicalBank {
       maneuver_trim_.observe_inertial(z_abs(mt_z_[0]), z_abs(mt_z_[1]), z_abs(mt_z_[2]), z_abs(mt_z_[3]),
                                       z_abs(mt_vel_), z_abs(mt_z_[4]), trim_freezing());
     if (maneuver_dwell_.enabled()) {   // maneuver_dwell.h
-      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_, rate_gate_scale(),
-                                          load_factor_gate_scale());
+      const double c = rate_gate_scale();   // the load factor's too when calm-scaled (header)
+      maneuver_dwell_.observe_load_factor(bank_.z_hat()(maneuver_dwell_az_), air_rates_, c,
+                                          options_.gates_calm_scaled ? c : 1.0);
       if (maneuver_dwell_.options().has_reference()) bank_.set_adapt_reference(adapt_reference_in_force());
     }
     if (level_ == 1 && departure_.observe(z_pert_, online_[1]))   // departure_hold.h
@@ -928,8 +929,6 @@ class HierarchicalBank {
     if (options_.gates_calm_scaled) return std::sqrt(bank_.adaptation().scale_at(gate_calm_reference()));
     return options_.rate_gates_gust_scaled ? std::sqrt(bank_.adaptation().scale_at(base_adapt_reference())) : 1.0;
   }
-  // The maneuver dwell's load-factor threshold factor: sqrt(s_c) with options.gates_calm_scaled, else 1.
-  double load_factor_gate_scale() const noexcept { return options_.gates_calm_scaled ? rate_gate_scale() : 1.0; }
   // s_c's reference (header): the schedule's calm-air reference in force, else the base reference.
   double gate_calm_reference() const noexcept {
     return sched_.active() && sched_.has_calm_reference() ? sched_.calm_reference() : base_adapt_reference();

@@ -115,41 +115,32 @@ def test_a_rate_that_is_not_positive_is_refused(nominal, keyword, rate):
         core.HierarchicalBank(nominal, maneuver_dwell_s=1.0, **{keyword: rate})
 
 
-def test_the_daemon_takes_the_mach_rate_and_names_the_gate_in_force(nominal):
-    options = {"adapt_turbulence": True, "adapt_reference_climb": 0.6, "maneuver_dwell_s": 1.25,
-               "maneuver_mach_per_s": 0.003}
+# flag, keyword, value, what the ready line says of it, out-of-range values, the refusal's range
+DAEMON_GATES = {
+    "--maneuver-mach-rate": ("maneuver_mach_per_s", 0.003, "Mach-rate gate 0.003/s", ("0", "-0.001", "2", "nan"),
+                             "a Mach rate per second, > 0 and <= 1"),
+    "--maneuver-climb-rate": ("maneuver_climb_ft_s", 20.0, "climb-rate gate 20 ft/s", ("0", "-5", "1001", "nan"),
+                              "a climb rate in ft/s, > 0 and <= 1000"),
+}
+
+
+@pytest.mark.parametrize("flag", list(DAEMON_GATES))
+def test_the_daemon_takes_the_rate_and_names_the_gate_in_force(nominal, flag):
+    keyword, value, said, bad_values, valid = DAEMON_GATES[flag]
+    options = {"adapt_turbulence": True, "adapt_reference_climb": 0.6, "maneuver_dwell_s": 1.25, keyword: value}
     flags = daemon_flags(options)
-    i = flags.index("--maneuver-mach-rate")
-    assert float(flags[i + 1]) == 0.003
+    i = flags.index(flag)
+    assert float(flags[i + 1]) == value
     daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
     ready = ready_line("--bank", bank, *flags)
-    assert "maneuver dwell 1.25 s held 0 s, Mach-rate gate 0.003/s" in ready, ready
-    without = [f for f in flags if f not in ("--maneuver-mach-rate", flags[i + 1])]
+    assert f"maneuver dwell 1.25 s held 0 s, {said}" in ready, ready
+    without = [f for f in flags if f not in (flag, flags[i + 1])]
     ready = ready_line("--bank", bank, *without)
-    assert "maneuver dwell 1.25 s held 0 s" in ready and "Mach-rate" not in ready, ready
-    for bad in ("0", "-0.001", "2", "nan"):
-        r = subprocess.run([daemon, "--bank", bank, "--maneuver-mach-rate", bad], capture_output=True, text=True,
-                           timeout=20)
+    assert "maneuver dwell 1.25 s held 0 s" in ready and said.split(" gate")[0] not in ready, ready
+    for bad in bad_values:
+        r = subprocess.run([daemon, "--bank", bank, flag, bad], capture_output=True, text=True, timeout=20)
         assert r.returncode == 2, bad
-        assert f"--maneuver-mach-rate must be a Mach rate per second, > 0 and <= 1, got '{bad}'" in r.stderr + r.stdout
-
-
-def test_the_daemon_takes_the_climb_rate_and_names_the_gate_in_force(nominal):
-    options = {"adapt_turbulence": True, "adapt_reference_climb": 0.6, "maneuver_dwell_s": 1.25,
-               "maneuver_climb_ft_s": 20.0, "maneuver_mach_per_s": 0.003}
-    flags = daemon_flags(options)
-    i = flags.index("--maneuver-climb-rate")
-    assert float(flags[i + 1]) == 20.0
-    daemon, bank = str(find_executable("mmae-daemon")), str(load_bank("tuned")[1])
-    ready = ready_line("--bank", bank, *flags)
-    assert "Mach-rate gate 0.003/s, climb-rate gate 20 ft/s" in ready, ready
-    without = [f for f in flags if f not in ("--maneuver-climb-rate", flags[i + 1])]
-    assert "climb-rate" not in ready_line("--bank", bank, *without)
-    for bad in ("0", "-5", "1001", "nan"):
-        r = subprocess.run([daemon, "--bank", bank, "--maneuver-climb-rate", bad], capture_output=True, text=True,
-                           timeout=20)
-        assert r.returncode == 2, bad
-        assert f"--maneuver-climb-rate must be a climb rate in ft/s, > 0 and <= 1000, got '{bad}'" in r.stderr + r.stdout
+        assert f"{flag} must be {valid}, got '{bad}'" in r.stderr + r.stdout
 
 
 def test_lockstep_with_the_mach_rate_reproduces_the_in_process_run(nominal):

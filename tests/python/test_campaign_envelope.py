@@ -297,7 +297,7 @@ def test_compare_draws_two_campaigns_side_by_side(tmp_path, capsys):
 
 def test_compared_panels_name_the_settings_in_which_they_differ():
     """Two campaigns of one bank are told apart by the estimator settings that differ between
-    them (``figures.settings_differences``), in name order, wrapped, ``-`` where one lacks it."""
+    them (``figures.settings_differences``), in name order, wrapped, ``-`` where one lacks it, long values cut and the lines capped."""
     from f16mmae.campaign.envelope.figures import settings_differences
     a = {"estimator_settings": {"adapt_turbulence": True, "dwell_s_per_hypothesis": "VEL=1,AZ=0.5"}}
     b = {"estimator_settings": {"adapt_turbulence": True, "dwell_s_per_hypothesis": "VEL=1,AZ=0.5,AOA=0.75",
@@ -305,8 +305,14 @@ def test_compared_panels_name_the_settings_in_which_they_differ():
     assert settings_differences([a, b]) == [
         "complete_trim_time_constant_s=-, dwell_s_per_hypothesis=VEL=1,AZ=0.5",
         "complete_trim_time_constant_s=10.0, dwell_s_per_hypothesis=VEL=1,AZ=0.5,AOA=0.75"]
-    assert settings_differences([a, b], width=40)[1] == \
+    assert settings_differences([a, b], width=48)[1] == \
         "complete_trim_time_constant_s=10.0\ndwell_s_per_hypothesis=VEL=1,AZ=0.5,AOA=0.75"
+    assert settings_differences([a, b], width=40)[1] == \
+        "complete_trim_time_constant_s=10.0\ndwell_s_per_hypothesis=VEL=1,AZ=0.5,A..."
+    many = {"estimator_settings": {f"s{i}": i for i in range(9)}}
+    assert settings_differences([many, {}], width=24, max_lines=2) == [
+        "s0=0, s1=1, s2=2, s3=3\n... and 5 more settings",
+        "s0=-, s1=-, s2=-, s3=-\n... and 5 more settings"]
     assert settings_differences([a, a]) == ["", ""]
     assert settings_differences([{"estimator": {"p_min": 1e-9}}, {}]) == ["p_min=1e-09", "p_min=-"]
 

@@ -55,7 +55,7 @@ examples:
   f16mmae design --tuning untuned --out untuned.f16bank --report design-report/
   f16mmae design --mach 0.45 --alt-ft 25000 --tuning my_tuning.toml --out off_nominal.f16bank
   f16mmae design --failure-model cover --out cover.f16bank
-  f16mmae design --gust-states --gust-level moderate --out gust.f16bank   # 16 states: Dryden gusts
+  f16mmae design --gust-states --gust-level moderate --out gust.f16bank   # 19 states: Dryden gusts
   f16mmae design --throttle-input --gust-level none --out calm_throttle.f16bank   # 6 inputs, calm air
   f16mmae design --schedule --out scheduled.f16sched                  # the design of --bank scheduled
   f16mmae design --schedule --no-throttle-input --out r14.f16sched   # revision 14's shape: five inputs
@@ -115,8 +115,9 @@ def register(subparsers) -> None:
     p.add_argument("--tuning", default="tuned", metavar="NAME|FILE",
                    help="pseudonoise tuning: tuned | untuned | a .toml file (default tuned)")
     p.add_argument("--gust-states", action="store_true",
-                   help="carry first-order Dryden gust states (u_g, v_g, w_g) in every filter: 16 states "
-                        "(the tuning's gust_model dryden_states; design/model.py)")
+                   help="carry first-order Dryden gust states (u_g, v_g, w_g and the rotational p_g, q_g, "
+                        "r_g) in every filter: 19 states (the tuning's gust_model dryden_states; "
+                        "design/gust_states.py)")
     p.add_argument("--gust-level", default=None, metavar="|".join(TURBULENCE_LEVELS),
                    help="turbulence level the gust model is designed for (default: the tuning's, light "
                         "for the shipped ones)")

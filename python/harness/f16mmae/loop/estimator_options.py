@@ -77,8 +77,9 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="the first S seconds of frames after the estimator starts update its filters but "
                          "weigh no hypothesis: the filters start at the design trim while the aircraft is in "
                          "flight near it (cpp/f16mmae/filter_bank.h). Default: the bank's recommendation -- "
-                         "a scheduled-bank file's start_up_s (the scheduled bank: 0.25, its floors bounded on "
-                         "flights flown with it) -- else 0, weigh from the first frame"),
+                         "a scheduled-bank file's start_up_s (the scheduled bank: 1 s, design/calibrate.py "
+                         "START_UP_S; its floors bounded on calibration flights with 0.25 s) -- else 0, "
+                         "weigh from the first frame"),
     EstimatorOption("adapt_turbulence", "--adapt-turbulence", "switch",
                     help="adapt the likelihoods on line to the turbulence intensity (one residual "
                          "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "

@@ -162,23 +162,29 @@ def make_figures(out: Path, summary: dict) -> dict:
             "cases": case_table(summary, Path(out) / TABLE_FILE).name}
 
 
-def settings_differences(summaries: list[dict], width: int = 80) -> list[str]:
+def settings_differences(summaries: list[dict], width: int = 80, max_lines: int = 3) -> list[str]:
     """Per summary, the estimator settings (``estimator_settings``, else the options given,
     ``estimator``) in which the summaries differ, as ``name=value`` in name order, wrapped to
     lines of at most ``width`` characters; ``-`` for a setting a summary does not carry, ``""``
-    for a summary where nothing differs."""
+    for a summary where nothing differs. A panel title stays readable: an item longer than a
+    line is cut to ``width`` characters ending in ``...``, and beyond ``max_lines`` lines the
+    last line says how many more settings differ."""
     settings = [s.get("estimator_settings") or s.get("estimator") or {} for s in summaries]
     names = sorted({k for d in settings for k in d if len({repr(e.get(k, "-")) for e in settings}) > 1})
     out = []
     for d in settings:
-        lines, line = [], ""
+        lines: list[list[str]] = []
         for item in (f"{k}={d.get(k, '-')}" for k in names):
-            if line and len(line) + 2 + len(item) > width:
-                lines.append(line)
-                line = item
+            if len(item) > width:
+                item = item[:width - 3] + "..."
+            if lines and len(", ".join(lines[-1] + [item])) <= width:
+                lines[-1].append(item)
             else:
-                line = f"{line}, {item}" if line else item
-        out.append("\n".join(lines + ([line] if line else [])))
+                lines.append([item])
+        if len(lines) > max_lines:
+            kept = lines[:max_lines - 1]
+            lines = kept + [[f"... and {len(names) - sum(map(len, kept))} more settings"]]
+        out.append("\n".join(", ".join(line) for line in lines))
     return out
 
 

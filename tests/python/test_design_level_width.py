@@ -49,9 +49,29 @@ def test_width_is_the_gaussians_entropy():
     assert level_width.occam_nats(w, a_jj) == pytest.approx(math.log(math.sqrt(a_jj) / sigma) - 0.5, rel=1e-12)
 
 
-def test_unstable_model_is_refused():
-    with pytest.raises(ValueError, match="not stable"):
-        level_width.reading_sigma(np.eye(7), np.zeros((7, names.NU)), np.eye(7), np.eye(7), np.eye(7), RATE)
+def test_unstable_modes_are_left_out_of_the_spread():
+    """Modes on or outside the unit circle carry no stationary spread: on decoupled readings the
+    stable ones keep their closed forms (dither line included), an unstable or marginal one reads
+    its noise alone; coupled through a rotation (the modes no longer the axes) the same answer,
+    rotated. A model that is not finite is refused."""
+    a = np.array([0.9, 1.02, 0.95, 1.0, 0.8, 0.7, 0.3])
+    q = np.array([1e-4, 2e-3, 3e-6, 1e-2, 5e-5, 1e-6, 4e-4])
+    r = np.array([0.25, 1e-6, 3e-6, 1e-4, 3e-6, 3e-6, 2.5e-5])
+    bd = np.zeros((7, names.NU))
+    bd[0, 0] = 1.0
+    amp, w, _ = dither_mod.Dither().terms()
+    stable = np.abs(a) < 1.0
+    expected = r.copy()
+    expected[stable] += q[stable] / (1.0 - a[stable] ** 2)
+    expected[0] += (amp[0] * abs(1.0 / (np.exp(1j * w[0] / RATE) - a[0]))) ** 2 / 2.0
+    sigma = level_width.reading_sigma(np.diag(a), bd, np.diag(q), np.diag(r), np.eye(7), RATE)
+    assert sigma == pytest.approx(np.sqrt(expected), rel=1e-6)
+    rot, _ = np.linalg.qr(np.random.default_rng(3).normal(size=(7, 7)))   # x = rot y, y the decoupled states
+    coupled = level_width.reading_sigma(rot @ np.diag(a) @ rot.T, rot @ bd, rot @ np.diag(q) @ rot.T,
+                                        np.diag(r), rot.T, RATE)
+    assert coupled == pytest.approx(np.sqrt(expected), rel=1e-6)
+    with pytest.raises(ValueError, match="not finite"):
+        level_width.reading_sigma(np.full((7, 7), np.nan), bd, np.eye(7), np.eye(7), np.eye(7), RATE)
 
 
 @pytest.fixture(scope="module")

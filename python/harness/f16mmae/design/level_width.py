@@ -30,6 +30,15 @@ from the healthy reading's Gaussian would (E[-ln N(z; 0, sigma^2)] = ln(sqrt(2 p
 A hardover reading lies outside W_j; the core's uniform factor is a constant, so it pays c_j
 as any other.  The open-loop model spreads a slow state (VEL's phugoid) far wider than the
 closed loop does: the rule is meant for the sensors the short-period and roll modes drive.
+Where the open-loop model has modes on or outside the unit circle (|lambda| >= 1: at high
+dynamic pressure a divergence of about a second, Mach 0.8 at 5,000 ft, which the FCS holds in
+closed loop), the stationary spread is taken over the stable modes alone: with Phi = V Lambda
+V^-1 and W the rows of V^-1 of the stable modes S, V_S their columns,
+
+    P_S[i, k] = (W Q_d W^H)[i, k] / (1 - lambda_i conj(lambda_k)),   P = Re(V_S P_S V_S^H),
+
+and the dither's response is simulated in the same modes; a model with every mode stable
+takes the Lyapunov solution above unchanged.
 """
 from __future__ import annotations
 
@@ -67,15 +76,16 @@ DITHER_SECONDS = 20.0
 def dither_response(phi: np.ndarray, bd: np.ndarray, h: np.ndarray, frame_rate_hz: float,
                     seconds: float = DITHER_SECONDS) -> np.ndarray:
     """(nz,) mean square of each reading's noise-free response to the truth's default dither
-    over the second half of ``seconds`` (the open-loop model from rest)."""
+    over the second half of ``seconds`` (the open-loop model from rest; complex modal
+    coordinates allowed, the reading is the real part)."""
     d = dither_mod.Dither()
     frames = int(round(seconds * frame_rate_hz))
-    x = np.zeros(phi.shape[0])
+    x = np.zeros(phi.shape[0], dtype=np.result_type(phi, bd))
     acc = np.zeros(h.shape[0])
     kept = 0
     for i in range(frames):
         if i >= frames // 2:
-            y = h @ x
+            y = (h @ x).real
             acc += y * y
             kept += 1
         x = phi @ x + bd[:, :names.NU] @ np.asarray(d.value(i / frame_rate_hz))
@@ -85,13 +95,21 @@ def dither_response(phi: np.ndarray, bd: np.ndarray, h: np.ndarray, frame_rate_h
 def reading_sigma(phi: np.ndarray, bd: np.ndarray, qd: np.ndarray, r: np.ndarray, h: np.ndarray,
                   frame_rate_hz: float) -> np.ndarray:
     """(nz,) sigma_j of the module docstring: the healthy readings' stationary standard deviation
-    under the no-failure model, noise plus the dither. ValueError when Phi is not stable."""
-    rho = float(max(abs(np.linalg.eigvals(phi))))
-    if not rho < 1.0:
-        raise ValueError(f"the no-failure model is not stable (spectral radius {rho:.6g}): "
-                         "its readings have no stationary spread to derive a level width from")
-    p = solve_discrete_lyapunov(phi, qd)
-    var = np.diag(h @ p @ h.T) + np.diag(r) + dither_response(phi, bd, h, frame_rate_hz)
+    under the no-failure model, noise plus the dither, over its stable modes where some are
+    not (the module docstring). ValueError when the model is not finite."""
+    if not (np.all(np.isfinite(phi)) and np.all(np.isfinite(qd)) and np.all(np.isfinite(bd))):
+        raise ValueError("the no-failure model is not finite: no stationary spread to derive a level width from")
+    lam, v = np.linalg.eig(phi)
+    if np.all(np.abs(lam) < 1.0):
+        p = solve_discrete_lyapunov(phi, qd)
+        var = np.diag(h @ p @ h.T) + np.diag(r) + dither_response(phi, bd, h, frame_rate_hz)
+        return np.sqrt(var)
+    stable = np.abs(lam) < 1.0
+    w = np.linalg.inv(v)[stable]
+    vs, ls = v[:, stable], lam[stable]
+    ps = (w @ qd @ w.conj().T) / (1.0 - np.outer(ls, ls.conj()))
+    p = (vs @ ps @ vs.conj().T).real
+    var = np.diag(h @ p @ h.T) + np.diag(r) + dither_response(np.diag(ls), w @ bd, h @ vs, frame_rate_hz)
     return np.sqrt(var)
 
 

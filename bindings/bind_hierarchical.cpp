@@ -462,6 +462,14 @@ declarations and the level carry over. schedule_state reports what is in force.)
                              prop([](auto& b) { return cv::to_numpy(b.complete_trim_offset()); }),
                              "the complete channels' held offset (trim in force minus the held trim) of the "
                              "last update: zero while nothing is held or complete_trim_hold is off")
+      .def_property_readonly("adapt_reference", prop([](auto& b) { return b.bank().adaptation().options().reference; }),
+                             "the turbulence adaptation's reference rho_0 in force (the node's, the climb's, the "
+                             "maneuver's or the option's; hierarchical_bank.h)")
+      .def_property_readonly("reference_scale", prop([](auto& b) {
+                               return b.scheduled().active() ? b.scheduled().reference_scale() : 1.0;
+                             }),
+                             "the scheduled reference scale sigma in force (1.0 without one; bank_schedule.h): the "
+                             "adaptation reads its power ratio divided by it (turbulence_adaptation.h)")
       .def_property_readonly("calm_reference", prop([](auto& b) {
                                return b.scheduled().active() ? b.scheduled().calm_reference() : 1.0;
                              }),

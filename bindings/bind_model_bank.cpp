@@ -198,7 +198,7 @@ ModelBank bank_from_file_bytes(const py::bytes& data, const std::string& source)
 }
 
 // A BankSchedule from Python: nodes = [(i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer[,
-// calm_reference]]]), ...] (a reference None: not carried).
+// calm_reference[, reference_scale]]]]), ...] (a reference or scale None: not carried).
 BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<double>& alt_ft, const py::list& nodes,
                            int primary, const std::string& metadata, int switch_state,
                            const std::vector<double>& switch_thresholds, double start_up_s) {
@@ -212,10 +212,10 @@ BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<do
   s.metadata = metadata;
   for (std::size_t n = 0; n < nodes.size(); ++n) {
     const py::tuple t = nodes[n].cast<py::tuple>();
-    if (t.size() < 4 || t.size() > 7)
+    if (t.size() < 4 || t.size() > 8)
       throw py::value_error("schedule nodes[" + std::to_string(n) +
                             "] must be (i_mach, i_alt, ModelBank, x_trim[, adapt_reference[, layer[, "
-                            "calm_reference]]]), got " + std::to_string(t.size()) + " items");
+                            "calm_reference[, reference_scale]]]]), got " + std::to_string(t.size()) + " items");
     ScheduleNode node;
     node.i_mach = t[0].cast<int>();
     node.i_alt = t[1].cast<int>();
@@ -224,7 +224,8 @@ BankSchedule make_schedule(const std::vector<double>& mach, const std::vector<do
     node.x_trim = to_vector(t[3], "schedule nodes[" + std::to_string(n) + "].x_trim");
     if (t.size() >= 5 && !t[4].is_none()) node.adapt_reference = t[4].cast<double>();
     if (t.size() >= 6) node.layer = t[5].cast<int>();
-    if (t.size() == 7 && !t[6].is_none()) node.calm_reference = t[6].cast<double>();
+    if (t.size() >= 7 && !t[6].is_none()) node.calm_reference = t[6].cast<double>();
+    if (t.size() == 8 && !t[7].is_none()) node.reference_scale = t[7].cast<double>();
     s.nodes.push_back(std::move(node));
   }
   s.validate();
@@ -251,6 +252,8 @@ py::object schedule_info(const ModelBank& b) {
     e["adapt_reference"] = std::isnan(n.adapt_reference) ? py::object(py::none()) : py::object(py::float_(n.adapt_reference));
     e["calm_reference"] =
         std::isnan(n.calm_reference) ? py::object(py::none()) : py::object(py::float_(n.calm_reference));
+    e["reference_scale"] =
+        std::isnan(n.reference_scale) ? py::object(py::none()) : py::object(py::float_(n.reference_scale));
     nodes.append(e);
   }
   d["nodes"] = nodes;
@@ -569,12 +572,13 @@ missing, truncated, corrupted, foreign or invalid file with a message naming the
       py::arg("switch_thresholds") = std::vector<double>{}, py::arg("start_up_s") = 0.0,
       "Write a scheduled-bank file (cpp/bankfile/schedule_file.h) atomically; returns its content hash.\n"
       "mach, alt_ft: the ascending grid axes; nodes: [(i_mach, i_alt, ModelBank, x_trim (nx,)[, adapt_reference\n"
-      "[, layer[, calm_reference]]]), ...], one per covered grid point and layer (adapt_reference: the turbulence\n"
+      "[, layer[, calm_reference[, reference_scale]]]]), ...], one per covered grid point and layer (adapt_reference: the turbulence\n"
       "adaptation's rho_0 at the node, given for every node or for none, None: not carried; layer: the configuration\n"
       "layer, 0 by default; calm_reference: the measured rho-bar midway between the node's calm and light air,\n"
-      "calm_air_complete.h, every node or none); switch_state, switch_thresholds: the configuration law\n"
+      "calm_air_complete.h, every node or none; reference_scale: the node's power ratio over its complete-model\n"
+      "bank's, which the estimator divides its power ratio by, bank_schedule.h, every node or none); switch_state, switch_thresholds: the configuration law\n"
       "(bank_schedule.h; -1 and none: one layer); primary: the node in force before air data; start_up_s: the\n"
-      "estimator start-up the schedule recommends, s (0: none). Written as format 4 with calm references, else 3 with a start-up, else 2.\n"
+      "estimator start-up the schedule recommends, s (0: none). Written as format 5 with reference scales, else 4 with calm references, else 3 with a start-up, else 2.\n"
       "ValueError naming the field.\n"
       "core.load_bank reads the file back as the primary node's ModelBank with .schedule set.");
   m.attr("MAX_DWELL_S") = kMaxDwellS;  // the longest declaration dwell the core accepts, s

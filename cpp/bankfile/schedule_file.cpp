@@ -46,7 +46,7 @@ std::vector<double> read_axis(PayloadReader& r, const std::string& field) {
 }  // namespace
 
 std::uint32_t schedule_file_version(const BankSchedule& schedule) {
-  return schedule.has_calm_reference() ? 4 : schedule.start_up_s != 0.0 ? 3 : 2;
+  return schedule.has_reference_scale() ? 5 : schedule.has_calm_reference() ? 4 : schedule.start_up_s != 0.0 ? 3 : 2;
 }
 
 bool is_schedule_file(const std::uint8_t* data, std::size_t size) {
@@ -73,6 +73,7 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule) {
     for (Eigen::Index i = 0; i < node.x_trim.size(); ++i) w.f64(node.x_trim(i));
     w.f64(node.adapt_reference);
     if (version >= 4) w.f64(node.calm_reference);
+    if (version >= 5) w.f64(node.reference_scale);
     const std::vector<std::uint8_t> bank = bank_file_bytes(node.bank);
     w.i64(static_cast<std::int64_t>(bank.size()));
     w.out.insert(w.out.end(), bank.begin(), bank.end());
@@ -95,7 +96,7 @@ ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size,
     schedule->switch_thresholds = read_axis(r, "switch_thresholds");
   }
   if (version >= 3) schedule->start_up_s = r.f64("start_up_s");   // versions 1 and 2: 0, none
-  const std::size_t per_node = (version >= 4 ? 32 : version >= 2 ? 24 : 12) + 8 + kBankFileHeaderSize;
+  const std::size_t per_node = (version >= 5 ? 40 : version >= 4 ? 32 : version >= 2 ? 24 : 12) + 8 + kBankFileHeaderSize;
   const std::size_t n = r.count("nodes size", kMaxScheduleNodes, per_node);
   schedule->nodes.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -109,6 +110,7 @@ ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size,
     for (std::size_t i = 0; i < nx; ++i) sn.x_trim(static_cast<Eigen::Index>(i)) = r.f64(node + ".x_trim");
     if (version >= 2) sn.adapt_reference = r.f64(node + ".adapt_reference");
     if (version >= 4) sn.calm_reference = r.f64(node + ".calm_reference");
+    if (version >= 5) sn.reference_scale = r.f64(node + ".reference_scale");
     const std::int64_t bytes = r.i64(node + ".bank size");
     if (bytes < 0 || static_cast<std::uint64_t>(bytes) > kMaxBankFileBytes)
       throw BankFileFormatError("payload field " + node + ".bank size = " + std::to_string(bytes) +

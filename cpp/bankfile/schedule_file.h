@@ -24,6 +24,8 @@
 //                                                         NaN when not carried (bank_schedule.h)
 //                     double calm_reference               version 4 only: the node's calm-air
 //                                                         reference, NaN when not carried
+//                     double reference_scale              version 5 only: the node's reference
+//                                                         scale, NaN when not carried
 //                     int64 n, n bytes                    a complete model-bank file image
 //                                                         (bank_file.h, checked by parse_bank_file)
 // content_hash = lower-case hex SHA-256 of the payload (deterministic: the same schedule gives
@@ -32,7 +34,8 @@
 //
 // Version 1 files (one layer, no adapt_reference) are still read: their nodes carry none.
 // Versions 1 and 2 carry no start_up_s: they recommend none (0); versions 1 to 3 no
-// calm_reference (NaN). A schedule is written as version 4 when its nodes carry a calm-air
+// calm_reference (NaN); versions 1 to 4 no reference_scale (NaN). A schedule is written as
+// version 5 when its nodes carry a reference scale, else as version 4 when they carry a calm-air
 // reference, else as version 3 when it recommends a start-up (start_up_s > 0), else as version
 // 2, byte for byte as before (schedule_file_version). The ModelBank parse_schedule_file returns reports the
 // schedule's start_up_s as its estimator.start_up_s.
@@ -61,7 +64,7 @@ inline constexpr std::int64_t kMaxScheduleAxis = 64;              // points per 
 inline constexpr std::int64_t kMaxScheduleNodes = 1024;
 inline constexpr std::uint64_t kMaxScheduleFileBytes = 512ull << 20;
 
-// The format version a schedule is written as (see above): 3 with a start-up, else 2.
+// The format version a schedule is written as (see above): 2 to 5.
 std::uint32_t schedule_file_version(const BankSchedule& schedule);
 // True when the bytes begin with the scheduled-bank magic.
 bool is_schedule_file(const std::uint8_t* data, std::size_t size);
@@ -71,7 +74,7 @@ std::vector<std::uint8_t> schedule_file_bytes(const BankSchedule& schedule);
 // Parses and validates a file image; `source` names it in error messages.
 ModelBank parse_schedule_file(const std::uint8_t* data, std::size_t size, const std::string& source);
 // The payload alone (no header, no hash check), validated: what parse_schedule_file does
-// after the header, for a payload of format `version` (1 to 3). Throws as
+// after the header, for a payload of format `version` (1 to 5). Throws as
 // parse_schedule_file does, without the file's name.
 ModelBank decode_schedule_payload(const std::uint8_t* payload, std::size_t size,
                                   std::uint32_t version = BankSchedule::kFormatVersion);

@@ -15,7 +15,12 @@
 // A node may also carry its calm-air reference (calm_reference: the turbulence adaptation's
 // measured power ratio ρ̄ midway between the node's calm air and light turbulence, which
 // calm_air_complete.h's bounds are relative to); every node or none, as the adaptation
-// reference.
+// reference. A node may also carry its reference scale (reference_scale, sigma > 0: its bank's
+// measured power ratio over that of the node's bank of another failure model, the one its
+// adaptation references and the estimator's climb and maneuver references were chosen on, on the
+// same calibration flights; design/schedule.py): the turbulence adaptation reads its power ratio
+// divided by sigma (turbulence_adaptation.h's power scale, hierarchical_bank.h); every node or
+// none, as the adaptation reference.
 // Each node's bank also recommends its own estimator settings (EstimatorSettings, checked by
 // ModelBank::validate); its p_min is the node's probability floor, which the core blends
 // with the filters (scheduled_filters.h). The primary node's settings are those the schedule
@@ -51,7 +56,7 @@
 // not ascending; a node layer outside the layers; a node index outside the axes or covered
 // twice in one layer; an x_trim of the
 // wrong size or not finite; an adapt_reference outside [0, 100] or a calm_reference outside
-// (0, 100], either carried by some nodes and not by others; a start_up_s outside [0, kMaxStartUpS]; a primary node that is not one of the nodes; node banks whose names, sizes, frame rate or tuning differ from
+// (0, 100], a reference_scale outside (0, 100], either carried by some nodes and not by others; a start_up_s outside [0, kMaxStartUpS]; a primary node that is not one of the nodes; node banks whose names, sizes, frame rate or tuning differ from
 // node 0's (each node bank is validated by ModelBank::validate on load).
 #pragma once
 
@@ -78,6 +83,7 @@ struct ScheduleNode {
   Eigen::VectorXd x_trim;  // (nx) trim state of that design
   double adapt_reference = std::numeric_limits<double>::quiet_NaN();  // rho_0 at the node, or NaN
   double calm_reference = std::numeric_limits<double>::quiet_NaN();   // ρ̄ between calm and light air, or NaN
+  double reference_scale = std::numeric_limits<double>::quiet_NaN();  // sigma (header), or NaN
 };
 
 // Where air data falls on the grid (see the header comment).
@@ -87,12 +93,15 @@ struct GridPoint {
 };
 
 struct BankSchedule {
-  static constexpr std::uint32_t kFormatVersion = 4;   // 2: per-node adapt_reference; 3: start_up_s; 4: calm_reference
+  // 2: per-node adapt_reference; 3: start_up_s; 4: calm_reference; 5: reference_scale
+  static constexpr std::uint32_t kFormatVersion = 5;
 
   // Whether the nodes carry their own adaptation reference (validate: all or none).
   bool has_adapt_reference() const noexcept { return !nodes.empty() && !std::isnan(nodes[0].adapt_reference); }
   // Whether the nodes carry their calm-air reference (validate: all or none).
   bool has_calm_reference() const noexcept { return !nodes.empty() && !std::isnan(nodes[0].calm_reference); }
+  // Whether the nodes carry their reference scale (validate: all or none).
+  bool has_reference_scale() const noexcept { return !nodes.empty() && !std::isnan(nodes[0].reference_scale); }
 
   std::vector<double> mach;    // ascending Mach axis
   std::vector<double> alt_ft;  // ascending pressure-altitude axis, ft
@@ -217,18 +226,17 @@ struct BankSchedule {
       if (node.x_trim.size() != b.nx() || !node.x_trim.allFinite())
         fail(who + ".x_trim must hold " + std::to_string(b.nx()) + " finite values, it has " +
              std::to_string(node.x_trim.size()));
-      if (std::isnan(node.adapt_reference) != std::isnan(nodes[0].adapt_reference))
-        fail(who + ".adapt_reference is " + (std::isnan(node.adapt_reference) ? "missing" : "given") +
-             " but nodes[0]'s is " + (std::isnan(nodes[0].adapt_reference) ? "missing" : "given") +
-             ": every node carries one or none does");
-      if (!std::isnan(node.adapt_reference) && !(node.adapt_reference >= 0.0 && node.adapt_reference <= 100.0))
-        fail(who + ".adapt_reference must be in [0, 100], got " + std::to_string(node.adapt_reference));
-      if (std::isnan(node.calm_reference) != std::isnan(nodes[0].calm_reference))
-        fail(who + ".calm_reference is " + (std::isnan(node.calm_reference) ? "missing" : "given") +
-             " but nodes[0]'s is " + (std::isnan(nodes[0].calm_reference) ? "missing" : "given") +
-             ": every node carries one or none does");
-      if (!std::isnan(node.calm_reference) && !(node.calm_reference > 0.0 && node.calm_reference <= 100.0))
-        fail(who + ".calm_reference must be in (0, 100], got " + std::to_string(node.calm_reference));
+      // a per-node value every node carries or none does (NaN: not carried), in its range when carried
+      const auto carried = [&](const char* field, double value, double first_value, bool zero_allowed) {
+        if (std::isnan(value) != std::isnan(first_value))
+          fail(who + "." + field + " is " + (std::isnan(value) ? "missing" : "given") + " but nodes[0]'s is " +
+               (std::isnan(first_value) ? "missing" : "given") + ": every node carries one or none does");
+        if (!std::isnan(value) && !((zero_allowed ? value >= 0.0 : value > 0.0) && value <= 100.0))
+          fail(who + "." + field + " must be in " + (zero_allowed ? "[0" : "(0") + ", 100], got " + std::to_string(value));
+      };
+      carried("adapt_reference", node.adapt_reference, nodes[0].adapt_reference, true);
+      carried("calm_reference", node.calm_reference, nodes[0].calm_reference, false);
+      carried("reference_scale", node.reference_scale, nodes[0].reference_scale, false);
       if (b.state_names != first.state_names || b.input_names != first.input_names ||
           b.measurement_names != first.measurement_names)
         fail(who + ".bank has other state, input or measurement names than nodes[0]");

@@ -95,7 +95,13 @@
 //   untouched by a schedule change. A schedule whose nodes carry an adaptation reference
 //   (bank_schedule.h) sets the turbulence adaptation's rho_0 to the blend in force with the
 //   filters (ScheduleOptions::node_adapt_reference, on by default; rho itself carries on, and
-//   starts at that reference at construction and reset()). Likewise each node's probability
+//   starts at that reference at construction and reset()). A schedule whose nodes carry a
+//   reference scale sigma (bank_schedule.h) sets the adaptation's power scale to the blend of
+//   sigma in force with the filters (turbulence_adaptation.h: it reads rho / sigma against every
+//   reference, the node's, the option's, the climb's and the maneuver's, which stay in the
+//   units of the bank sigma is taken against; the calm-air rule reads the measured rho-bar
+//   unscaled against the node's calm-air reference, measured on the node's own bank, and the
+//   gates' s_c reads that reference divided by sigma). Likewise each node's probability
 //   floor (its bank's p_min): the FilterBank's p_min is the blend in force with the filters
 //   (ScheduleOptions::node_p_min, on by default; off: options.bank.p_min everywhere), and
 //   NONE is presumed with it at construction and reset().
@@ -905,6 +911,7 @@ class HierarchicalBank {
   void load_scheduled() noexcept {
     bank_.replace_filters([&](int k, Hypothesis& h) { sched_.filter(online_[k], h); },
                           [&](auto& h_out) { sched_.h_output(h_out); });
+    if (sched_.has_reference_scale()) bank_.set_adapt_power_scale(sched_.reference_scale());
     if ((sched_.has_adapt_reference() && options_.schedule.node_adapt_reference) || climb_ref_.enabled() ||
         maneuver_dwell_.options().has_reference())
       bank_.set_adapt_reference(adapt_reference_in_force());
@@ -930,8 +937,11 @@ class HierarchicalBank {
     return options_.rate_gates_gust_scaled ? std::sqrt(bank_.adaptation().scale_at(base_adapt_reference())) : 1.0;
   }
   // s_c's reference (header): the schedule's calm-air reference in force, else the base reference.
+  // The calm-air reference is a power ratio of the node's own bank: read in the references'
+  // units, divided by the adaptation's power scale (turbulence_adaptation.h).
   double gate_calm_reference() const noexcept {
-    return sched_.active() && sched_.has_calm_reference() ? sched_.calm_reference() : base_adapt_reference();
+    return sched_.active() && sched_.has_calm_reference() ? sched_.calm_reference() / bank_.adaptation().power_scale()
+                                                          : base_adapt_reference();
   }
   // Every on-line filter's states move by dx (a change of the scheduled trim state).
   void shift_states(const XVector& dx) noexcept {

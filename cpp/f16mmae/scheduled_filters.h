@@ -58,7 +58,8 @@
 // changed with them (adapt_reference()); HierarchicalBank hands it to its turbulence
 // adaptation when ScheduleOptions::node_adapt_reference. A schedule whose nodes carry their
 // calm-air reference (calm_reference) has it blended alike (calm_reference(); 1 when they
-// carry none): calm_air_complete.h's bounds are relative to it.
+// carry none): calm_air_complete.h's bounds are relative to it; their reference scale
+// (reference_scale) alike (reference_scale(); 1 when they carry none).
 //
 // Per-node probability floor: each node's bank recommends its own p_min (its estimator
 // settings, bank_schedule.h). The floor in force is their geometric blend with the filters'
@@ -165,10 +166,12 @@ class ScheduledFilters {
       h_out_.push_back(node.bank.h_output);
       reference_.push_back(node.adapt_reference);
       calm_.push_back(node.calm_reference);
+      scale_.push_back(node.reference_scale);
       p_min_.push_back(node.bank.estimator.p_min);
     }
     has_reference_ = schedule.has_adapt_reference();
     has_calm_ = schedule.has_calm_reference();
+    has_scale_ = schedule.has_reference_scale();
     const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
     lookup_.assign(static_cast<std::size_t>(axes_.layers()) * ni * nj, -1);
     lookup_any_.assign(lookup_.size(), -1);
@@ -269,6 +272,10 @@ class ScheduledFilters {
   // when they carry none).
   bool has_calm_reference() const noexcept { return has_calm_; }
   double calm_reference() const noexcept { return calm_now_; }
+  // Whether the nodes carry a reference scale, and its blend over the filters in force (1 when
+  // they carry none).
+  bool has_reference_scale() const noexcept { return has_scale_; }
+  double reference_scale() const noexcept { return scale_now_; }
   // The probability floor of the filters in force (header comment).
   double p_min() const noexcept { return p_min_now_; }
   // The nodes and weights of the filters in force (weights 1, 0, 0, 0 at one node), and
@@ -374,6 +381,7 @@ class ScheduledFilters {
     filter_layer_ = layer_now_;
     blend_p_min();
     if (has_calm_) calm_now_ = blend(calm_);
+    if (has_scale_) scale_now_ = blend(scale_);
     if (has_reference_) reference_now_ = blend(reference_);
   }
   // sum_c w_c v_c over the filters' corners (a per-node reference).
@@ -499,12 +507,15 @@ class ScheduledFilters {
   std::vector<OutputMatrix> h_out_;
   std::vector<double> reference_;     // per node adapt_reference (NaN: not carried)
   std::vector<double> calm_;          // per node calm_reference (NaN: not carried)
+  std::vector<double> scale_;         // per node reference_scale (NaN: not carried)
   std::vector<double> p_min_;         // per node p_min (its bank's estimator settings)
   std::vector<int> lookup_, lookup_any_;   // (layer, i, j) -> node_index, node_index_any
   bool has_reference_ = false;
   double reference_now_ = 0.0;        // blend of the filters in force
   bool has_calm_ = false;
   double calm_now_ = 1.0;             // blend of the filters in force (1: not carried)
+  bool has_scale_ = false;
+  double scale_now_ = 1.0;            // blend of the filters in force (1: not carried)
   double p_min_now_ = 0.0;            // blend of the filters in force
   int hypotheses_ = 0;
   int node_ = 0;                      // nearest mode: the node in force

@@ -58,6 +58,19 @@
 //     on how long it has flown. set_power_ratio ends the running start (the average goes on from
 //     the ρ it is given).
 //
+// Power scale σ (set_power_scale, default 1; a scheduled bank's node reference scale,
+// bank_schedule.h): the bank's power ratio in the units of another bank's, ρ/σ, is what the
+// scale reads,
+//     s = clamp(1 + κ (ρ/σ − ρ_0),  s_min, s_max)      (s'_j likewise with ρ_j/σ)
+// and ρ and ρ_j start and reset at σ ρ_0 (s = 1), the spare rule reads ρ̄/σ against ρ_s. Why: a
+// bank whose hypotheses cover more than the model its references and gain were chosen on (a
+// failed sensor's reading at an unknown level over its range, hypotheses.py) fits no-failure
+// gusts better, so its minimum q_k / m runs lower in the same air (σ 0.80-0.88 of the
+// constant-VEL-and-roll-gyro bank's over the scheduled grid, design/schedule.py); reading ρ/σ
+// tempers it as that bank would be tempered (κ/σ on the excess over σ ρ_0), where scaling ρ_0
+// alone would leave s − 1 at σ of it (severe air at the nominal point: s 58 against 71, and the
+// stabilators declared falsely 1.3 times an hour against 0.2).
+//
 // Per channel (channel_weight γ in (0, 1]; 0, the default, is off): the same recursion per
 // measurement j, with the channel's share of the best-fitting filter's quadratic form in
 // place of min_k q_k / m:
@@ -288,7 +301,7 @@ class ResidualScale {
   // The per-hypothesis tempering in force for the next frame (header): on, s > 1, ρ >= ρ̄ / 2
   // and ρ̄ >= ρ_s.
   bool spares() const noexcept {
-    return per_hypothesis() && s_ > 1.0 && rho_ >= 0.5 * measured_ && measured_ >= options_.spare_rho;
+    return per_hypothesis() && s_ > 1.0 && rho_ >= 0.5 * measured_ && measured_ >= power_scale_ * options_.spare_rho;
   }
   // s_b = 1 + w (s − 1) of the header's per-hypothesis form, as the ratio s / s_b (1 when off).
   double hypothesis_scale_ratio() const noexcept {
@@ -301,7 +314,7 @@ class ResidualScale {
   // s, the scale in force for the next frame's likelihoods (1 when disabled).
   double scale() const noexcept { return options_.enabled ? s_ : 1.0; }
   double inverse_scale() const noexcept { return options_.enabled ? inv_s_ : 1.0; }
-  // s at another reference: clamp(1 + κ (ρ − reference), s_min, s_max) with the ρ in force (1
+  // s at another reference: clamp(1 + κ (ρ/σ − reference), s_min, s_max) with the ρ in force (1
   // when disabled); the air-data gates' gust scale (hierarchical_bank.h) reads it at the base reference.
   double scale_at(double reference) const noexcept {
     return options_.enabled ? clamped_scale(rho_, reference) : 1.0;
@@ -344,12 +357,12 @@ class ResidualScale {
   }
   // A new reference ρ_0 (a scheduled bank's per-node reference, bank_schedule.h; in
   // [0, 100], checked where it is read), ρ kept: s follows at once. Before the first update
-  // since the start or reset() (and before set_power_ratio) ρ and ρ_j move to it (header).
+  // since the start or reset() (and before set_power_ratio) ρ and ρ_j move to σ times it (header).
   void set_reference(double reference) noexcept {
     options_.reference = reference;
     if (at_start_) {
-      rho_ = reference;
-      channel_rho_.setConstant(reference);
+      rho_ = power_scale_ * reference;
+      channel_rho_.setConstant(rho_);
     }
     set_scale();
     set_channel_scales();
@@ -365,14 +378,27 @@ class ResidualScale {
     set_scale();
     set_channel_scales();
   }
-  // Back to the start: ρ = ρ_0, s = clamp(1, s_min, s_max); ρ̄ restarts (0, no update averaged).
+  // The power scale σ (header; > 0, checked where it is read), ρ kept: s follows at once. Before
+  // the first update since the start or reset() (and before set_power_ratio) ρ and ρ_j move to
+  // σ ρ_0.
+  void set_power_scale(double sigma) noexcept {
+    power_scale_ = sigma;
+    if (at_start_) {
+      rho_ = sigma * options_.reference;
+      channel_rho_.setConstant(rho_);
+    }
+    set_scale();
+    set_channel_scales();
+  }
+  double power_scale() const noexcept { return power_scale_; }
+  // Back to the start: ρ = σ ρ_0, s = clamp(1, s_min, s_max); ρ̄ restarts (0, no update averaged).
   void reset() noexcept {
-    rho_ = options_.reference;
+    rho_ = power_scale_ * options_.reference;
     rho_running_ = options_.running_start;
     at_start_ = true;
     measured_ = 0.0;
     measured_updates_ = 0;
-    channel_rho_.setConstant(options_.reference);
+    channel_rho_.setConstant(rho_);
     channel_updates_.setZero();
     set_scale();
     set_channel_scales();
@@ -381,7 +407,7 @@ class ResidualScale {
  private:
   double clamped_scale(double rho) const noexcept { return clamped_scale(rho, options_.reference); }
   double clamped_scale(double rho, double reference) const noexcept {
-    const double s = 1.0 + options_.gain * (rho - reference);
+    const double s = 1.0 + options_.gain * (rho / power_scale_ - reference);
     return s < options_.scale_min ? options_.scale_min : (s > options_.scale_max ? options_.scale_max : s);
   }
   void set_scale() noexcept {
@@ -397,6 +423,7 @@ class ResidualScale {
 
   TurbulenceAdaptationOptions options_{};
   double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0, measured_ = 0.0;
+  double power_scale_ = 1.0;            // σ (header)
   std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to mean_length_
   std::int64_t mean_length_ = 1;        // running_mean_length(alpha_) (running_mean.h)
   bool rho_running_ = false;            // running_start and ρ not set since the start (set_power_ratio)

@@ -648,12 +648,12 @@ TEST(ScheduleFile, TheRecommendedStartUpIsFormatThreeAndOlderFilesCarryNone) {
     EXPECT_NE(std::string(e.what()).find("start_up_s = 7200 must be in [0, 3600] s"), std::string::npos) << e.what();
   }
   std::vector<std::uint8_t> future = image;
-  future[11] = 5;
+  future[11] = 6;
   try {
     parse_schedule_file(future.data(), future.size(), "'future'");
-    ADD_FAILURE() << "accepted version 5";
+    ADD_FAILURE() << "accepted version 6";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("unsupported format version 5 (this build reads versions 1 to 4)"),
+    EXPECT_NE(std::string(e.what()).find("unsupported format version 6 (this build reads versions 1 to 5)"),
               std::string::npos) << e.what();
   }
 }
@@ -687,4 +687,77 @@ TEST(ScheduleFile, TheCalmAirReferenceIsFormatFourAndBlendedWithTheFilters) {
   EXPECT_THROW(s.validate(), std::invalid_argument);   // some nodes, not all
   s.nodes[1].calm_reference = 0.0;
   EXPECT_THROW(s.validate(), std::invalid_argument);   // outside (0, 100]
+}
+
+// The nodes' reference scale sigma (format 5): written as version 5 only when the nodes carry
+// it, one double more per node than version 4, read back per node; blended with the filters in
+// force (at a node, that node's; 1 without it) and handed to the turbulence adaptation as its
+// power scale, the references left in force as they are (the node's, and the climb's while the
+// air data climb); carried by every node or none, in (0, 100].
+TEST(ScheduleFile, TheReferenceScaleIsFormatFiveAndTheAdaptationsPowerScale) {
+  BankSchedule s = make_schedule();
+  s.start_up_s = 0.25;
+  for (std::size_t n = 0; n < s.nodes.size(); ++n) {
+    s.nodes[n].calm_reference = 0.4;
+    s.nodes[n].adapt_reference = 0.5 + 0.1 * static_cast<double>(n);
+  }
+  const std::vector<std::uint8_t> v4 = schedule_file_bytes(s);
+  for (std::size_t n = 0; n < s.nodes.size(); ++n) s.nodes[n].reference_scale = 0.8 + 0.05 * static_cast<double>(n);
+  const std::vector<std::uint8_t> image = schedule_file_bytes(s);
+  EXPECT_EQ(v4[11], 4);
+  EXPECT_EQ(image[11], 5);
+  EXPECT_EQ(image.size(), v4.size() + 8 * s.nodes.size());
+  const ModelBank loaded = parse_schedule_file(image.data(), image.size(), "'v5'");
+  ASSERT_TRUE(loaded.schedule->has_reference_scale());
+  for (std::size_t n = 0; n < s.nodes.size(); ++n)
+    EXPECT_EQ(loaded.schedule->nodes[n].reference_scale, s.nodes[n].reference_scale);
+  EXPECT_EQ(schedule_file_bytes(*loaded.schedule), image);   // deterministic
+  EXPECT_FALSE(parse_schedule_file(v4.data(), v4.size(), "'v4'").schedule->has_reference_scale());
+  HierarchicalOptions o = options(ScheduleMode::kNearest);
+  o.bank.adaptation.enabled = true;
+  o.climb_reference.reference = 0.6;
+  o.climb_reference.hold_s = 0.0;
+  F16HierarchicalBank hb(loaded, o), without(parse_schedule_file(v4.data(), v4.size(), "'v4'"), o);
+  const Frames f = fly(node_bank(0, 0), 0, 0, {}, 64, 5u);
+  for (std::size_t n = 0; n < s.nodes.size(); ++n) {
+    const ScheduleNode& node = s.nodes[n];
+    const AirData at{s.mach[static_cast<std::size_t>(node.i_mach)], s.alt_ft[static_cast<std::size_t>(node.i_alt)]};
+    for (F16HierarchicalBank* b : {&hb, &without}) {
+      b->reset();
+      b->schedule(at);
+      EXPECT_DOUBLE_EQ(b->bank().adaptation().scale(), 1.0);   // rho starts at sigma rho_0
+      for (int i = 0; i < 8; ++i) {   // level flight at the node
+        b->schedule(at);
+        b->step(f.z[static_cast<std::size_t>(i)], f.u[static_cast<std::size_t>(i)]);
+      }
+    }
+    EXPECT_DOUBLE_EQ(hb.scheduled().reference_scale(), node.reference_scale) << "node " << n;
+    EXPECT_EQ(without.scheduled().reference_scale(), 1.0);
+    EXPECT_DOUBLE_EQ(hb.bank().adaptation().power_scale(), node.reference_scale);
+    EXPECT_DOUBLE_EQ(without.bank().adaptation().power_scale(), 1.0);
+    EXPECT_FALSE(hb.climb_reference().climbing());
+    EXPECT_DOUBLE_EQ(hb.bank().adaptation().options().reference, node.adapt_reference);
+    for (int i = 8; i < 64 && !hb.climb_reference().climbing(); ++i) {   // climbing at 64 ft/s, Mach held
+      hb.schedule(AirData{at.mach, at.alt_ft + static_cast<double>(i - 7)});
+      hb.step(f.z[static_cast<std::size_t>(i)], f.u[static_cast<std::size_t>(i)]);
+    }
+    ASSERT_TRUE(hb.climb_reference().climbing()) << "node " << n;
+    EXPECT_DOUBLE_EQ(hb.bank().adaptation().options().reference, 0.6);
+    EXPECT_DOUBLE_EQ(hb.bank().adaptation().power_scale(), node.reference_scale);
+  }
+  const auto refused = [&s](const std::string& expected) {
+    try {
+      s.validate();
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  s.nodes[1].reference_scale = std::numeric_limits<double>::quiet_NaN();
+  refused(".reference_scale is missing but nodes[0]'s is given: every node carries one or none does");
+  s.nodes[1].reference_scale = 0.0;
+  refused(".reference_scale must be in (0, 100], got 0.000000");
+  s.nodes[1].reference_scale = 0.9;
+  s.nodes[1].adapt_reference = -0.5;
+  refused(".adapt_reference must be in [0, 100], got -0.500000");
 }

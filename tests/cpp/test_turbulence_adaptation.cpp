@@ -218,6 +218,48 @@ TEST(TurbulenceAdaptation, AReferenceSetBeforeTheFirstUpdateIsTheStartingRho) {
   EXPECT_DOUBLE_EQ(q.power_ratio(), 0.4);
 }
 
+TEST(TurbulenceAdaptation, APowerScaleReadsTheFormsAsTheOtherBanksWouldBe) {
+  // sigma: forms sigma q_k give the scale (common and per channel) that forms q_k give without
+  // it, frame by frame (rho itself sigma times the other's); rho and rho_j start and reset at
+  // sigma rho_0 (s = 1), a sigma set before the first update moves them there, after it rho is kept.
+  TurbulenceAdaptationOptions o = on(0.25, 1.0, 20.0, 3.0);
+  o.reference = 0.8;
+  o.channel_weight = 0.5;
+  const double sigma = 0.75;
+  ResidualScale<Eigen::Dynamic, Eigen::Dynamic> plain, scaled;
+  plain.configure(o, 2, "test");
+  scaled.configure(o, 2, "test");
+  scaled.set_power_scale(sigma);
+  EXPECT_DOUBLE_EQ(scaled.power_scale(), sigma);
+  EXPECT_DOUBLE_EQ(scaled.power_ratio(), sigma * 0.8);
+  EXPECT_DOUBLE_EQ(scaled.channel_power_ratios()(1), sigma * 0.8);
+  EXPECT_DOUBLE_EQ(scaled.scale(), 1.0);
+  Eigen::Matrix2d a_inv;
+  a_inv << 2.0, 0.3, 0.3, 1.0;
+  for (int n = 0; n < 200; ++n) {
+    const Eigen::Vector3d q(3.0 + 0.05 * n, 2.5 + (n % 5), 9.0);
+    const Eigen::Vector2d r(0.4 + 0.01 * n, -0.7);
+    plain.observe(q);
+    plain.observe_channels(r, a_inv);
+    scaled.observe(sigma * q);
+    scaled.observe_channels(std::sqrt(sigma) * r, a_inv);
+    ASSERT_NEAR(scaled.power_ratio(), sigma * plain.power_ratio(), 1e-12) << "frame " << n;
+    ASSERT_NEAR(scaled.scale(), plain.scale(), 1e-9) << "frame " << n;
+    ASSERT_NEAR(scaled.scale_at(0.5), plain.scale_at(0.5), 1e-9) << "frame " << n;
+    for (int j = 0; j < 2; ++j)
+      ASSERT_NEAR(scaled.channel_inverse_sqrt_scales()(j), plain.channel_inverse_sqrt_scales()(j), 1e-9);
+  }
+  EXPECT_GT(plain.scale(), 2.0);   // the air above the reference: the comparison tempers
+  const double rho = scaled.power_ratio();
+  scaled.set_power_scale(1.0);   // after an update: rho kept, s reads it unscaled
+  EXPECT_DOUBLE_EQ(scaled.power_ratio(), rho);
+  EXPECT_NEAR(scaled.scale(), std::min(20.0, 1.0 + 3.0 * (rho - 0.8)), 1e-12);
+  scaled.set_power_scale(sigma);
+  scaled.reset();
+  EXPECT_DOUBLE_EQ(scaled.power_ratio(), sigma * 0.8);
+  EXPECT_DOUBLE_EQ(scaled.scale(), 1.0);
+}
+
 TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) {
   // tau far below a frame: alpha = 1 - e^-1562 = 1, so s = clamp(min_k q_k) of the last frame
   FilterBankOptions o;

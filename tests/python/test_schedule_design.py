@@ -210,13 +210,18 @@ def test_a_constant_roll_gyro_level_comes_from_the_command(tmp_path):
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "per-point"], "--node-tuning 'per-point': valid: "
                                                                          "calibrated, fixed"),
     (["--node-tuning", "fixed"], "--node-tuning, --flap-layers, --node-p-min, --start-up-s, --calibration-start-up-s, "
-                                 "--calibration-flight-s, --calibration-bank and --adapt-running-start apply to a "
-                                 "scheduled design; give --schedule"),
+                                 "--calibration-flight-s, --calibration-bank, --scale-model and --adapt-running-start "
+                                 "apply to a scheduled design; give --schedule"),
+    (["--scale-model", "complete"], "apply to a scheduled design; give --schedule"),
+    (["--schedule", "mach=0.5,alt=20000", "--scale-model", "complete"],
+     "--scale-model gives the reference scale's model: it needs --calibration-bank scaled"),
+    (["--schedule", "mach=0.5,alt=20000", "--calibration-bank", "scaled", "--scale-model", "sticky=VEL"],
+     "--scale-model: "),
     (["--calibration-flight-s", "60"], "apply to a scheduled design; give --schedule"),
     (["--schedule", "mach=0.5,alt=20000", "--calibration-flight-s", "4"], "--calibration-flight-s '4' must be >= 8.0"),
     (["--schedule", "mach=0.5,alt=20000", "--calibration-flight-s", "nan"], "--calibration-flight-s 'nan'"),
     (["--schedule", "mach=0.5,alt=20000", "--calibration-flight-s", "601"], "--calibration-flight-s '601' must be <= 600.0"),
-    (["--schedule", "mach=0.5,alt=20000", "--calibration-bank", "paper"], "--calibration-bank 'paper': valid: complete, own"),
+    (["--schedule", "mach=0.5,alt=20000", "--calibration-bank", "paper"], "--calibration-bank 'paper': valid: complete, own, scaled"),
     (["--schedule", "mach=0.5,alt=20000", "--node-tuning", "fixed", "--calibration-bank", "own"],
      "--calibration-flight-s and --calibration-bank go with the calibration flights: they need --node-tuning calibrated"),
     (["--adapt-running-start"], "apply to a scheduled design; give --schedule"),
@@ -558,6 +563,61 @@ def test_the_bound_s_flights_and_bank_come_from_the_command(tmp_path, monkeypatc
         assert ("over 60-s flights of the same seeds" in meta["tuning_note"]) == ("calibration_flight_s" in kw)
     with pytest.raises(ScheduleSpecError, match="calibration bank 'x' is not one of complete, own"):
         sched.design_schedule(parse_grid("mach=0.5,alt=25000"), "tuned", out, calibration_bank="x")
+
+
+def test_a_scaled_calibration_carries_each_node_s_power_ratio_over_its_complete_bank_s(tmp_path, monkeypatch):
+    """--calibration-bank scaled: the floor and reference bounded on the node's complete bank, and
+    each node carries sigma = rho-bar(own) / rho-bar(scale model) on the same flights (schedule
+    format 5), recorded with both means; the estimator on the file holds the node's reference and
+    sigma (before air data the primary node's). The calibration and the measured power ratios are
+    replaced by recorders (the workers fork with them): the own bank (the cover AOA) reads 0.8 at
+    Mach 0.5 and 0.9 at 0.6 of the scale model's (constant VEL) 0.5, and the complete bank 0.625."""
+    import types
+
+    from f16mmae.design import schedule as sched
+
+    def free(model_bank, sensor):
+        return bool(np.asarray(model_bank.hypotheses[names.ALL_HYPOTHESES.index(sensor)].uninformative_level_q).any())
+
+    def bounded(model_bank, flights, candidates, start_up_s=0.0, running_start=False):
+        reference = 0.7 if free(model_bank, "AOA") else 0.6
+        return {"p_min": 1e-9, "adapt_reference": reference, "failure_log_odds_peak": -7.0, "bound_met": True,
+                "scale": 1.0, "effort": 0.0, "candidates": [[1e-9, reference, -7.0, 1.0, True]]}
+
+    def measured(model_bank, flights):
+        if free(model_bank, "AOA"):
+            return {0.5: 0.4, 0.6: 0.45}[round(model_bank.mach, 6)]
+        return 0.5 if free(model_bank, "VEL") else 0.625
+
+    ratios = types.SimpleNamespace(var_over_a=[1.0] * len(names.SENSORS))
+    monkeypatch.setattr(sched, "node_flights", lambda mach, alt_ft, turbulence, duration_s=NODE_FLIGHT_S: ())
+    monkeypatch.setattr(sched, "calm_reference", lambda bank, calm, light: (0.55, 0.5, 0.6))
+    monkeypatch.setattr(sched, "calibrate_node", lambda mach, alt_ft, tun, linearized, flights: (tun, ratios, ratios))
+    monkeypatch.setattr(sched, "bounded_settings", bounded)
+    monkeypatch.setattr(sched, "adaptation_reference", lambda design, flights: 1.0)
+    monkeypatch.setattr(sched, "measured_power_ratio", measured)
+    out = tmp_path / "scaled.f16sched"
+    cover = "cover=AOA,constant=VEL+ROL"
+    for scale_model, sigma in ((names.SCHEDULE_SCALE_MODEL, (0.8, 0.9)), ("complete", (0.64, 0.72))):
+        sched.design_schedule(parse_grid("mach=0.5/0.6,alt=25000"), "tuned", out, workers=1, flap_layers=False,
+                              failure_model=cover, calibration_bank="scaled", scale_model=scale_model)
+        bank = core.load_bank(out)
+        f = bank.schedule
+        meta = json.loads(f["metadata"])
+        assert f"--calibration-bank scaled --scale-model {scale_model} --failure-model" in meta["command"]
+        assert f"of the failure model {scale_model} on the same flights" in meta["tuning_note"]
+        assert [n["adapt_reference"] for n in f["nodes"]] == [0.6, 0.6]   # bounded on the complete bank
+        assert tuple(n["reference_scale"] for n in f["nodes"]) == sigma
+        assert [(r["power_ratio_own"], r["power_ratio_scale_model"], r["reference_scale"]) for r in meta["nodes"]] == [
+            (0.4, round(0.4 / sigma[0], 3), sigma[0]), (0.45, round(0.45 / sigma[1], 3), sigma[1])]
+    primary = f["nodes"][f["primary"]]
+    hb = core.HierarchicalBank(bank, adapt_turbulence=True)
+    assert hb.reference_scale == primary["reference_scale"]
+    assert hb.adapt_reference == 0.6 and hb.turbulence_scale == 1.0
+    sched.design_schedule(parse_grid("mach=0.5,alt=25000"), "tuned", out, workers=1, flap_layers=False)
+    plain = core.load_bank(out)
+    assert plain.schedule["nodes"][0]["reference_scale"] is None   # complete: no scale, format 4
+    assert core.HierarchicalBank(plain, adapt_turbulence=True).reference_scale == 1.0
 
 
 @pytest.mark.parametrize("argv, shape", [

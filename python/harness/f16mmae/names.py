@@ -128,6 +128,10 @@ SCHEDULE_DESIGN_REVISION = 15
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).
 SCHEDULE_FAILURE_MODEL = "constant=VEL+ROL"
+#: The failure model whose bank's power ratio a ``--calibration-bank scaled`` design reads its
+#: nodes' in (design/schedule.py, reference scale): the model the scheduled estimator's references
+#: and gates were tuned with (rounds 12-33).
+SCHEDULE_SCALE_MODEL = "constant=VEL+ROL"
 #: The scheduled design's nodes at or below this altitude (ft) carry Dryden gust states
 #: (design/schedule.py gust_states_below_ft; the others inert ones) ...
 SCHEDULE_GUST_STATES_BELOW_FT = 20000.0

@@ -180,8 +180,16 @@ def register(subparsers) -> None:
                         f"first {NODE_FLIGHT_S:g} s; default {NODE_FLIGHT_S:g}, at most {MAX_CALIBRATION_FLIGHT_S:g})")
     p.add_argument("--calibration-bank", default=None, metavar="|".join(CALIBRATION_BANKS),
                    help="--schedule (calibrated nodes): the bank the floors and references are bounded on: the "
-                        "node's bank of the paper's complete failure model, or its own (its hypotheses' "
-                        "failure model, --failure-model; default complete)")
+                        "node's bank of the paper's complete failure model, its own (its hypotheses' "
+                        "failure model, --failure-model), or scaled: on the complete bank, and each node carries "
+                        "the ratio of its own bank's measured power ratio to the complete bank's on the same "
+                        "flights, which the estimator divides its power ratio by, so that it tempers as the "
+                        "complete bank would (default complete)")
+    p.add_argument("--scale-model", default=None, metavar="MODEL",
+                   help="--calibration-bank scaled: the failure model (--failure-model's syntax) whose bank's "
+                        "measured power ratio each node's is read against, the reference scale being the ratio "
+                        f"of the two (default {names.SCHEDULE_SCALE_MODEL}, the model the estimator's references "
+                        "were tuned with; complete: the bank the references are bounded on)")
     p.add_argument("--adapt-running-start", action="store_true",
                    help="--schedule (calibrated nodes): bound the nodes' floors and references on calibration "
                         "flights flown with the adaptation's running start (the run option "
@@ -254,9 +262,11 @@ def _run(args) -> int:
         return _run_schedule(args)
     if (args.node_tuning is not None or args.flap_layers is not None or args.node_p_min is not None
             or args.start_up_s is not None or args.calibration_start_up_s is not None or args.adapt_running_start
-            or args.calibration_flight_s is not None or args.calibration_bank is not None):
+            or args.calibration_flight_s is not None or args.calibration_bank is not None
+            or args.scale_model is not None):
         raise CliError("--node-tuning, --flap-layers, --node-p-min, --start-up-s, --calibration-start-up-s, "
-                       "--calibration-flight-s, --calibration-bank and --adapt-running-start apply to a scheduled design; "
+                       "--calibration-flight-s, --calibration-bank, --scale-model and --adapt-running-start apply to a "
+                       "scheduled design; "
                        "give --schedule [GRID] too")
     if args.gust_states_below_ft is not None:
         raise CliError("--gust-states-below-ft applies to a scheduled design; give --schedule [GRID] too "
@@ -386,7 +396,7 @@ def _run_schedule(args) -> int:
             start_up[flag] = number(flag, given, minimum=0.0, maximum=3600.0)
     if args.adapt_running_start and node_tuning != "calibrated":
         raise CliError("--adapt-running-start goes with the calibration flights: it needs --node-tuning calibrated")
-    calibration_flight_s, calibration_bank = NODE_FLIGHT_S, "complete"
+    calibration_flight_s, calibration_bank, scale_model = NODE_FLIGHT_S, "complete", names.SCHEDULE_SCALE_MODEL
     if args.calibration_flight_s is not None or args.calibration_bank is not None:
         if node_tuning != "calibrated":
             raise CliError("--calibration-flight-s and --calibration-bank go with the calibration flights: they need "
@@ -398,6 +408,13 @@ def _run_schedule(args) -> int:
             calibration_bank = args.calibration_bank
             if calibration_bank not in CALIBRATION_BANKS:
                 raise CliError(f"--calibration-bank {calibration_bank!r}: valid: {', '.join(CALIBRATION_BANKS)}")
+    if args.scale_model is not None:
+        if calibration_bank != "scaled":
+            raise CliError("--scale-model gives the reference scale's model: it needs --calibration-bank scaled")
+        try:
+            scale_model = check_failure_model(args.scale_model)
+        except ValueError as exc:
+            raise CliError(f"--scale-model: {exc}") from None
     gust_ft, gust_choice = default_gust_shape(grid, tuning, node_tuning)   # the shipped default's shape
     if args.gust_states_below_ft is not None:
         gust_ft, gust_choice = None, "all"
@@ -441,7 +458,7 @@ def _run_schedule(args) -> int:
                             calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model,
                             gust_states_below_ft=gust_ft, gust_node_choice=gust_choice,
                             running_start=args.adapt_running_start, calibration_flight_s=calibration_flight_s,
-                            calibration_bank=calibration_bank)
+                            calibration_bank=calibration_bank, scale_model=scale_model)
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

@@ -40,6 +40,25 @@ and bounding on it tempers nearly every node for that transient (docs/results/en
 round 8: 71 of 78 nodes, VEL 27 of 75 on the tuning seeds), which the campaigns' false alarms
 do not show (round 9).
 
+Reference scale (``calibration_bank`` ``scaled``): a node whose hypotheses cover more than the
+paper's complete model (a failed sensor's reading at an unknown level over its range, a surface at
+an unknown position) explains no-failure air better than the complete bank does, so the
+adaptation's measured power ratio, the minimum over the level-0 hypotheses, runs lower on its
+bank (0.72-0.79 of the complete bank's over the default grid in light air), and references
+bounded on the complete bank leave its tempering idle where the complete bank's would temper,
+while references bounded on its own bank over-temper (docs/results/failure_models.md, round 34).
+With ``scaled`` the floor and reference are bounded on the complete bank and the node carries
+sigma = rho-bar(own) / rho-bar(scale model), its bank's and the bank of ``scale_model``'s mean
+measured power ratios on the same calibration flights (``calibrate.measured_power_ratio``;
+schedule format 5): the core's adaptation reads its power ratio divided by sigma against every
+reference, the node's and the climb's and maneuver's of the estimator's options
+(cpp/f16mmae/turbulence_adaptation.h, power scale), so that it tempers as the scale model's bank
+would in the same air.  The default scale model (``names.SCHEDULE_SCALE_MODEL``) is the failure
+model the estimator's flight-phase references and gates were tuned with (rounds 12-33); the
+complete model, whose bank the references are bounded on, runs at a higher power ratio again
+(1.11 of it at the nominal point) and over-tempers the cover sensors high up
+(docs/results/failure_models.md, round 35).  A flap layer's node takes its grid point's sigma.
+
 Leading-edge flap (the truth holds it where the trim's alpha puts it: ``aircraft.lef_schedule_rad``,
 a switch at 5 and 15 deg that crosses the grid near q̄ 170 lbf/ft^2 and at low Mach high up):
 each node is designed in its own flap position, its configuration layer; a cell whose corners
@@ -91,7 +110,7 @@ from ..truth.aircraft import ALT_FT_RANGE, LEF_ALPHA_SWITCH_RAD, LEF_POSITIONS_R
 from .bank import DESIGN_VERSION, NOMINAL_ALT_FT, NOMINAL_MACH, design_bank, to_model_bank
 from .calibrate import (BOUND_P_MIN, CALIBRATION_START_UP_S, P_MIN_CANDIDATES, REFERENCE_LOG_ODDS_BOUND, REFERENCE_RANGE, REFERENCE_STEP, SEEDS,
                         NODE_FLIGHT_S, START_UP_S, adaptation_reference, bounded_settings, calibrate_node,
-                        calm_reference, node_flights)
+                        calm_reference, measured_power_ratio, node_flights)
 from .gains import DesignError
 from .gust_states import GUST_STATE_MODELS, pad_bank, pad_state
 from .hypotheses import check_failure_model, failure_model_table
@@ -216,8 +235,9 @@ def gust_neighbourhoods(covered, gust) -> frozenset:
 #: carries gust states when its calibration shows it gains: ``gust_gains``).
 GUST_NODE_CHOICES: tuple[str, ...] = ("all", "effort")
 #: The bank a calibrated node's floor and reference are bounded on (``design_schedule``
-#: ``calibration_bank``): the node's ``complete`` bank (module docstring), or its ``own``.
-CALIBRATION_BANKS: tuple[str, ...] = ("complete", "own")
+#: ``calibration_bank``): the node's ``complete`` bank (module docstring), its ``own``, or
+#: ``scaled``: on the complete bank, and the node carries its reference scale (module docstring).
+CALIBRATION_BANKS: tuple[str, ...] = ("complete", "own", "scaled")
 #: The longest calibration flight (s) a design may ask for: the bound's flights are replayed
 #: through the node's estimator frame by frame, about six bisection steps for each candidate floor.
 MAX_CALIBRATION_FLIGHT_S = 600.0
@@ -290,7 +310,7 @@ def _design_point(args):
     node's own: the truth never flies the point in that configuration, so there is nothing to
     calibrate on)."""
     i, j, mach, alt_ft, tuning, node_tuning, lef_rad, reference, throttle, p_mins, calibration_start_up_s, \
-        running_start, calibration_flight_s, calibration_bank = args
+        running_start, calibration_flight_s, calibration_bank, scale_model = args
     t0 = time.perf_counter()
     record, layer, tun = {}, 0, None
     try:
@@ -312,7 +332,14 @@ def _design_point(args):
         if node_tuning == "calibrated" and lef_rad is None:
             paper = design if tun.failure_model == "complete" else design_bank(
                 mach, alt_ft, dataclasses.replace(tun, failure_model="complete"), linearized=lin)
-            bounded_on = paper if calibration_bank == "complete" else design
+            bounded_on = design if calibration_bank == "own" else paper
+            if calibration_bank == "scaled":   # sigma (module docstring)
+                own_rho = measured_power_ratio(to_model_bank(design), flights)
+                scaled_by = design if scale_model == tun.failure_model else paper if scale_model == "complete" else \
+                    design_bank(mach, alt_ft, dataclasses.replace(tun, failure_model=scale_model), linearized=lin)
+                scale_rho = own_rho if scaled_by is design else measured_power_ratio(to_model_bank(scaled_by), flights)
+                record.update({"power_ratio_own": own_rho, "power_ratio_scale_model": scale_rho,
+                               "reference_scale": round(own_rho / scale_rho, 3)})
             bound_flights = flights if calibration_flight_s == NODE_FLIGHT_S else node_flights(
                 mach, alt_ft, tun.turbulence, calibration_flight_s)
             chosen = bounded_settings(to_model_bank(bounded_on), bound_flights, p_mins,
@@ -427,7 +454,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     gust_node_choice: str = "all",
                     running_start: bool = False,
                     calibration_flight_s: float = NODE_FLIGHT_S,
-                    calibration_bank: str = "complete") -> dict:
+                    calibration_bank: str = "complete",
+                    scale_model: str = names.SCHEDULE_SCALE_MODEL) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
@@ -445,7 +473,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     the tuning's; None: ``schedule_failure_model`` (the tuning's if it names one, else
     ``names.SCHEDULE_FAILURE_MODEL``).  A calibrated node's floor and reference are bounded on
     the node's ``complete`` bank whatever the model (module docstring), unless
-    ``calibration_bank`` is ``own`` (CALIBRATION_BANKS): then on the node's bank itself.
+    ``calibration_bank`` is ``own`` (CALIBRATION_BANKS): then on the node's bank itself; with
+    ``scaled`` each node also carries its reference scale against ``scale_model``'s bank (module
+    docstring).
     ``calibration_flight_s``: the length of the flights the floor and reference are bounded on
     (calibrated nodes only; the knobs are calibrated on ``calibrate.NODE_FLIGHT_S``-second
     flights whatever it is, which a longer flight of the same seed begins with).
@@ -471,6 +501,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         tuning = tuning_obj   # the workers design with the object (its name unchanged)
     if calibration_bank not in CALIBRATION_BANKS:
         raise ScheduleSpecError(f"calibration bank {calibration_bank!r} is not one of {', '.join(CALIBRATION_BANKS)}")
+    scale_model = check_failure_model(scale_model)
     if not (NODE_FLIGHT_S <= calibration_flight_s <= MAX_CALIBRATION_FLIGHT_S):
         raise ScheduleSpecError(f"calibration flight length {calibration_flight_s:g} s is outside "
                                 f"{NODE_FLIGHT_S:g}-{MAX_CALIBRATION_FLIGHT_S:g} s")
@@ -494,7 +525,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         return gust_tuning if gust_ft is not None and alt_ft <= gust_ft else tuning
 
     points = [(i, j, m, a, point_tuning(a), node_tuning, None, None, throttle_input, tuple(p_min_candidates),
-               calibration_start_up_s, running_start, calibration_flight_s, calibration_bank)
+               calibration_start_up_s, running_start, calibration_flight_s, calibration_bank, scale_model)
               for j, a in enumerate(grid.alt_ft) for i, m in enumerate(grid.mach)]
     gust = {(i, j) for j, a in enumerate(grid.alt_ft) for i in range(len(grid.mach))
             if gust_ft is not None and a <= gust_ft}
@@ -542,7 +573,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                 results[k] = r[:9] + (references[k],)
         tasks = [] if not flap_layers else [(i, j, grid.mach[i], grid.alt_ft[j], results[(i, j)][8], node_tuning, LEF_POSITIONS_RAD[layer],
                   results[(i, j)][9], throttle_input, (), calibration_start_up_s, running_start,
-                  calibration_flight_s, calibration_bank)
+                  calibration_flight_s, calibration_bank, scale_model)
                  for i, j, layer in alternate_nodes(grid, own)]
         for n, r in enumerate(pool.map(_design_point, tasks), start=1):
             alternates[(r[0], r[1], r[2])] = r
@@ -578,6 +609,10 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     progress(f"[{n}/{len(own_nodes)}] Mach {grid.mach[i]:.2f}, {grid.alt_ft[j]:.0f} ft: calm-air "
                              f"reference {c[0]:.3f} (measured power ratio {c[1]:.3f} calm, {c[2]:.3f} light)")
         nodes = [(*node[:6], calm[(node[0], node[1])][0]) for node in nodes]
+        if calibration_bank == "scaled":   # each node's reference scale, its flap layers' alike (module docstring)
+            scale = {(grid.mach.index(r["mach"]), grid.alt_ft.index(r["alt_ft"])): r["reference_scale"]
+                     for r in node_records if "reference_scale" in r}
+            nodes = [(*node[:7], scale[(node[0], node[1])]) for node in nodes]
         for r in node_records:
             c = calm.get((grid.mach.index(r["mach"]), grid.alt_ft.index(r["alt_ft"])))
             if c is not None:
@@ -598,6 +633,7 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     + (" --adapt-running-start" if running_start and node_tuning == "calibrated" else "")
                     + (f" --calibration-flight-s {calibration_flight_s:g}" if calibration_flight_s != NODE_FLIGHT_S else "")
                     + (f" --calibration-bank {calibration_bank}" if calibration_bank != "complete" else "")
+                    + (f" --scale-model {scale_model}" if calibration_bank == "scaled" else "")
                     + f" --failure-model {tuning_obj.failure_model}"
                     + (f" --gust-states-below-ft {NO_GUST_STATES}" if gust_ft is None else
                        f" --gust-states-below-ft {gust_ft:g} --gust-node-choice {gust_node_choice}")),
@@ -617,7 +653,12 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                         "the largest floor around the node (schedule.neighbourhood_settings: p_min, the node bank's "
                         "recommended floor, adapt_reference), both bounded on "
                         + ("the node's bank of the paper's complete failure model whatever the hypotheses' failure model"
-                           if calibration_bank == "complete" else "the node's own bank (its hypotheses' failure model)")
+                           if calibration_bank == "complete" else "the node's own bank (its hypotheses' failure model)"
+                           if calibration_bank == "own" else "the node's bank of the paper's complete failure model, "
+                           "and each node carries its reference scale (reference_scale: power_ratio_own over "
+                           f"power_ratio_scale_model, the mean measured power ratios of its own bank and of its bank of the "
+                           f"failure model {scale_model} on the same flights), which the estimator divides its power "
+                           "ratio by")
                         + (f" over {calibration_flight_s:g}-s flights of the same seeds"
                            if calibration_flight_s != NODE_FLIGHT_S else "") + "; "
                         "the other estimator settings of this tuning" if node_tuning == "calibrated"

@@ -718,7 +718,7 @@ TEST(ScheduleFile, TheReferenceScaleIsFormatFiveAndTheAdaptationsPowerScale) {
   o.climb_reference.reference = 0.6;
   o.climb_reference.hold_s = 0.0;
   F16HierarchicalBank hb(loaded, o), without(parse_schedule_file(v4.data(), v4.size(), "'v4'"), o);
-  const Frames f = fly(node_bank(0, 0), 0, 0, {}, 64, 5u);
+  const Frames f = fly(node_bank(0, 0), 0, 0, {}, 256, 5u);
   for (std::size_t n = 0; n < s.nodes.size(); ++n) {
     const ScheduleNode& node = s.nodes[n];
     const AirData at{s.mach[static_cast<std::size_t>(node.i_mach)], s.alt_ft[static_cast<std::size_t>(node.i_alt)]};
@@ -737,8 +737,8 @@ TEST(ScheduleFile, TheReferenceScaleIsFormatFiveAndTheAdaptationsPowerScale) {
     EXPECT_DOUBLE_EQ(without.bank().adaptation().power_scale(), 1.0);
     EXPECT_FALSE(hb.climb_reference().climbing());
     EXPECT_DOUBLE_EQ(hb.bank().adaptation().options().reference, node.adapt_reference);
-    for (int i = 8; i < 64 && !hb.climb_reference().climbing(); ++i) {   // climbing at 64 ft/s, Mach held
-      hb.schedule(AirData{at.mach, at.alt_ft + static_cast<double>(i - 7)});
+    for (int i = 8; i < 256 && !hb.climb_reference().climbing(); ++i) {   // climbing at 128 ft/s, Mach held
+      hb.schedule(AirData{at.mach, at.pressure_altitude_ft + 2.0 * static_cast<double>(i - 7)});
       hb.step(f.z[static_cast<std::size_t>(i)], f.u[static_cast<std::size_t>(i)]);
     }
     ASSERT_TRUE(hb.climb_reference().climbing()) << "node " << n;

@@ -23,7 +23,7 @@ from f16mmae.design.model import linearize_truth
 from f16mmae.design.gust_states import GUST_STATES, pad_bank
 from f16mmae.design.schedule import (ScheduleSpecError, format_spec, gust_neighbourhoods, gust_node_tuning, neighbourhood_minimum,
                                      neighbourhood_settings, parse_grid, schedule_failure_model, x_trim)
-from f16mmae.design.tuning import load_tuning
+from f16mmae.design.tuning import TUNINGS_DIR, load_tuning
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
 from f16mmae.truth.failures import make_failure
@@ -242,6 +242,30 @@ def test_a_bad_node_tuning_is_refused_before_any_work(args, message, tmp_path, c
     assert main(["design", *args, "--out", str(out)]) != 0
     assert message in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_a_tuning_s_level_widths_go_to_the_models_that_cover_them(tmp_path, capsys):
+    """A tuning whose failed_sensor_level_width names AOA: the complete bank a node is bounded on
+    and the scale model's bank take it without that width (schedule.in_model: a width applies to
+    a cover sensor only); a failure model that does not cover AOA is refused by name before any
+    work (the CLI with no traceback)."""
+    from f16mmae.design.schedule import in_model
+    tuned = dataclasses.replace(_tuned(), failure_model=check_failure_model("cover=AOA+PIT,constant=VEL"),
+                                failed_sensor_level_width={"AOA": "reading", "PIT": "reading"})
+    assert in_model(tuned, "complete").failed_sensor_level_width == {}
+    assert in_model(tuned, "complete").failure_model == "complete"
+    assert in_model(tuned, check_failure_model("cover=PIT")).failed_sensor_level_width == {"PIT": "reading"}
+    text = (TUNINGS_DIR / "tuned.toml").read_text()
+    toml = tmp_path / "widths.toml"
+    toml.write_text(text.replace('gust_model = "gust_rate"\n', 'gust_model = "gust_rate"\n'
+                                 'failure_model = "cover=AOA"\nfailed_sensor_level_width = {AOA = "reading"}\n', 1))
+    out = tmp_path / "x.f16sched"
+    assert main(["design", "--schedule", "mach=0.5,alt=20000", "--tuning", str(toml), "--failure-model",
+                 "constant=VEL+ROL", "--out", str(out)]) != 0
+    err = capsys.readouterr().err
+    assert ("--schedule: the tuning tuned's failed_sensor_level_width names AOA, whose failure model under "
+            "constant=VEL+ROL is not cover: a level width applies to a cover sensor") in err
+    assert "Traceback" not in err and not out.exists()
 
 
 @pytest.mark.parametrize("spec, message", [

@@ -459,6 +459,8 @@ def _run_schedule(args) -> int:
                             gust_states_below_ft=gust_ft, gust_node_choice=gust_choice,
                             running_start=args.adapt_running_start, calibration_flight_s=calibration_flight_s,
                             calibration_bank=calibration_bank, scale_model=scale_model)
+    except ScheduleSpecError as exc:
+        raise CliError(f"--schedule: {exc}") from None
     except DesignError as exc:
         raise CliError(f"the scheduled design is refused: {exc}") from None
     except OSError as exc:

@@ -113,7 +113,7 @@ from .calibrate import (BOUND_P_MIN, CALIBRATION_START_UP_S, P_MIN_CANDIDATES, R
                         calm_reference, measured_power_ratio, node_flights)
 from .gains import DesignError
 from .gust_states import GUST_STATE_MODELS, pad_bank, pad_state
-from .hypotheses import check_failure_model, failure_model_table
+from .hypotheses import check_failure_model, component_models, failure_model_table
 from .model import linearize_truth
 from .tuning import Tuning, load_tuning
 
@@ -300,6 +300,15 @@ def _layer(lef_rad: float) -> int:
     return int(np.argmin([abs(lef_rad - p) for p in LEF_POSITIONS_RAD]))
 
 
+def in_model(tuning: Tuning, failure_model: str) -> Tuning:
+    """``tuning`` with ``failure_model`` in place of its own, its failed sensors' level widths kept
+    for the sensors that model covers (a width applies to a ``cover`` sensor only: the complete
+    and scale-model banks a node is bounded and scaled on)."""
+    per = component_models(failure_model)
+    return dataclasses.replace(tuning, failure_model=failure_model, failed_sensor_level_width={
+        s: w for s, w in tuning.failed_sensor_level_width.items() if per[s] == "cover"})
+
+
 def _design_point(args):
     """One design in a worker: (i, j, layer, ModelBank or None, x_trim, reason, seconds, node
     record, tuning, adaptation reference or None).  ``lef_rad`` None: the point in its own
@@ -331,12 +340,12 @@ def _design_point(args):
         design = design_bank(mach, alt_ft, tun, linearized=lin)
         if node_tuning == "calibrated" and lef_rad is None:
             paper = design if tun.failure_model == "complete" else design_bank(
-                mach, alt_ft, dataclasses.replace(tun, failure_model="complete"), linearized=lin)
+                mach, alt_ft, in_model(tun, "complete"), linearized=lin)
             bounded_on = design if calibration_bank == "own" else paper
             if calibration_bank == "scaled":   # sigma (module docstring)
                 own_rho = measured_power_ratio(to_model_bank(design), flights)
                 scaled_by = design if scale_model == tun.failure_model else paper if scale_model == "complete" else \
-                    design_bank(mach, alt_ft, dataclasses.replace(tun, failure_model=scale_model), linearized=lin)
+                    design_bank(mach, alt_ft, in_model(tun, scale_model), linearized=lin)
                 scale_rho = own_rho if scaled_by is design else measured_power_ratio(to_model_bank(scaled_by), flights)
                 record.update({"power_ratio_own": own_rho, "power_ratio_scale_model": scale_rho,
                                "reference_scale": round(own_rho / scale_rho, 3)})
@@ -499,6 +508,12 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
     if fm != tuning_obj.failure_model:
         tuning_obj = dataclasses.replace(tuning_obj, failure_model=fm)
         tuning = tuning_obj   # the workers design with the object (its name unchanged)
+    per = component_models(fm)
+    uncovered = [sensor for sensor in tuning_obj.failed_sensor_level_width if per[sensor] != "cover"]
+    if uncovered:
+        raise ScheduleSpecError(f"the tuning {tuning_obj.name}'s failed_sensor_level_width names "
+                                f"{', '.join(uncovered)}, whose failure model under {fm} is not cover: a level "
+                                "width applies to a cover sensor")
     if calibration_bank not in CALIBRATION_BANKS:
         raise ScheduleSpecError(f"calibration bank {calibration_bank!r} is not one of {', '.join(CALIBRATION_BANKS)}")
     scale_model = check_failure_model(scale_model)

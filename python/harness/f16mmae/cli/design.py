@@ -182,9 +182,9 @@ def register(subparsers) -> None:
                    help="--schedule (calibrated nodes): the bank the floors and references are bounded on: the "
                         "node's bank of the paper's complete failure model, its own (its hypotheses' "
                         "failure model, --failure-model), or scaled: on the complete bank, and each node carries "
-                        "the ratio of its own bank's measured power ratio to the complete bank's on the same "
-                        "flights, which the estimator divides its power ratio by, so that it tempers as the "
-                        "complete bank would (default complete)")
+                        "the ratio of its own bank's measured power ratio to the --scale-model bank's on the "
+                        "same flights, which the estimator divides its power ratio by, so that it tempers as "
+                        "that bank would (default complete)")
     p.add_argument("--scale-model", default=None, metavar="MODEL",
                    help="--calibration-bank scaled: the failure model (--failure-model's syntax) whose bank's "
                         "measured power ratio each node's is read against, the reference scale being the ratio "

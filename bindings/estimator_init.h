@@ -128,6 +128,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::bank, &FilterBankOptions::p_min>("p_min"),
       field<&O::bank, &FilterBankOptions::strip_leading_term>("strip_leading_term"),
       field<&O::bank, &FilterBankOptions::start_up_s>("start_up_s"),
+      field<&O::bank, &FilterBankOptions::fresh_floor_levels>("fresh_floor_levels"),
       field<&O::schedule, &ScheduleOptions::node_p_min>("node_p_min"),
       // the levels
       field<&O::level1_p_min>("level1_p_min"),

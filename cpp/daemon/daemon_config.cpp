@@ -286,6 +286,10 @@ const std::vector<Flag>& flags() {
        "the first S seconds of frames after a start or reset update the filters but weigh no hypothesis "
        "(default: the bank's recommendation, a scheduled-bank file's start_up_s, else 0)",
        number(&C::start_up_s, {0.0, kMaxStartUpS}, "a time in seconds in [0, 3600]")},
+      {"--fresh-floor-levels", "",
+       "a hypothesis on its probability floor restarts its failed sensors' tracked levels at each reading "
+       "(the floor is a failure beginning now; filter_bank.h; default: they follow the healthy reading)",
+       {}, at(E, &H::bank, &FilterBankOptions::fresh_floor_levels)},
       {"--declare-components", "",
        "a bank with partial-loss hypotheses: declare a surface's forms (complete and partial) as one "
        "component, naming the heavier form (declarer.h; default: each hypothesis alone)",

@@ -546,14 +546,15 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
                e.bank.adaptation.channel_weight || e.maneuver.tempering_deadband_g || e.maneuver.tempering_alpha_deg ||
                e.maneuver.tempering_alpha_deadband_deg || e.maneuver.tempering_added_g ||
                e.maneuver.tempering_added_deadband_g || e.maneuver.tempering_added_spread || e.rate_gates_gust_scaled ||
-               e.declare_components ||
+               e.declare_components || e.bank.fresh_floor_levels ||
                e.level1_allowance || e.partial_p_min);
   EXPECT_TRUE(e.departure.enabled);
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--maneuver-dwell", "1.5", "--maneuver-dwell-hold=30",
                          "--maneuver-dwell-g", "0.08", "--maneuver-dwell-time-constant", "1", "--maneuver-reference",
                          "0.65", "--maneuver-tempering", "0.1", "--maneuver-tempering-deadband", "0.05",
                          "--level1-p-min", "1e-4", "--level1-dwell-s", "0.5", "--departure-hold", "off",
-                         "--adapt-channel-weight", "0.5", "--declare-components", "--level1-allowance", "0.1",
+                         "--adapt-channel-weight", "0.5", "--declare-components", "--fresh-floor-levels",
+                         "--level1-allowance", "0.1",
                          "--partial-p-min=0.002", "--maneuver-tempering-alpha", "1",
                          "--maneuver-tempering-alpha-deadband", "0.75", "--maneuver-tempering-added", "0.1",
                          "--maneuver-tempering-added-deadband", "0.05", "--maneuver-tempering-added-spread", "3",
@@ -567,6 +568,7 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   EXPECT_EQ(r.config.estimator.maneuver.tempering_added_spread, 3.0);
   EXPECT_TRUE(r.config.estimator.rate_gates_gust_scaled);
   EXPECT_TRUE(r.config.estimator.declare_components);
+  EXPECT_TRUE(r.config.estimator.bank.fresh_floor_levels);
   EXPECT_EQ(r.config.estimator.maneuver_dwell.dwell_s, 1.5);
   EXPECT_EQ(r.config.estimator.maneuver_dwell.hold_s, 30.0);
   EXPECT_EQ(r.config.estimator.maneuver_dwell.g, 0.08);

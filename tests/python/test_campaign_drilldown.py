@@ -52,7 +52,8 @@ def test_every_command_line_setting_is_written_back_as_the_command_line_reads_it
 
 
 def test_unknown_estimator_setting_is_refused():
-    with pytest.raises(ValueError, match="valid: threshold, dwell_s, p_min, start_up_s, adapt_turbulence, adapt_reference"):
+    with pytest.raises(ValueError, match="valid: threshold, dwell_s, p_min, start_up_s, fresh_floor_levels, adapt_turbulence, "
+                                         "adapt_reference"):
         drilldown.reproduce_command(scenario(), "tuned", {"gain": 2.0})
 
 

@@ -429,6 +429,41 @@ def test_a_hypothesis_above_its_floor_keeps_tracking_its_level():
         fb.propagate(np.zeros(2))
 
 
+def test_fresh_floor_levels_reach_the_estimator():
+    """``fresh_floor_levels`` (``--fresh-floor-levels``) through the estimator's keyword table: the
+    hierarchical bank's level 0 is the filter bank with the option, frame by frame, on cover
+    hypotheses whose failed AOA wanders on its floor and then holds (a threshold no hypothesis
+    reaches keeps the hierarchical bank at level 0); without it the levels keep following the
+    reading there and the probabilities differ."""
+    tuning = tuning_from_dict({**load_tuning("tuned").to_dict(), "failure_model": "cover"}, default_name="cover")
+    design = bank.design_bank(0.4, 20_000.0, tuning)   # every dual: the hierarchical bank's level 1
+    model_bank = bank.to_model_bank(design)
+    fields = ("phi", "bd", "h", "k", "a", "uninformative_width", "uninformative_level_q")
+    by_name = {m.name: m for m in model_bank.hypotheses}
+    u0, z0 = np.asarray(model_bank.u_trim), np.asarray(model_bank.z_trim)
+    j = names.SENSORS.index("AOA")
+    rng = np.random.default_rng(5)
+    frames = []
+    for n in range(256):
+        dz = rng.normal(0.0, 1.0, z0.size) * np.asarray(sensors.NOISE_SIGMA)
+        dz[j] += 0.5 * sensors.NOISE_SIGMA[j] * (np.sin(0.2 * n) if n < 128 else 1.0)   # wanders, then holds
+        frames.append(dz)
+    runs = {}
+    for fresh in (False, True):
+        est = core.HierarchicalBank(model_bank, p_min=1e-6, threshold=1.0 - 1e-9, fresh_floor_levels=fresh)
+        singles = [core.FilterModel(**{f: getattr(by_name[name], f) for f in fields}) for name in est.hypotheses]
+        fb = core.FilterBank(singles, p_min=1e-6, fresh_floor_levels=fresh, h_output=model_bank.h_output)
+        probabilities = []
+        for dz in frames:
+            est.step(z0 + dz, u0)
+            fb.step(dz, np.zeros(u0.size))
+            assert np.allclose(est.probabilities, fb.probabilities, rtol=1e-9, atol=1e-15)
+            probabilities.append(np.asarray(est.probabilities).copy())
+        runs[fresh] = np.array(probabilities)
+        assert est.declarations == [] and est.level == 0
+    assert not np.array_equal(runs[False], runs[True])
+
+
 def test_the_footing_makes_the_failed_channel_a_likelihood_ratio():
     """filter_bank.h's common footing, leading term stripped: l_k - l_0 is the paper's stripped
     ratio of the two filters' densities of the other channels G (each whole density times

@@ -80,6 +80,12 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "a scheduled-bank file's start_up_s (the scheduled bank: 1 s, design/calibrate.py "
                          "START_UP_S; its floors bounded on calibration flights with 0.25 s) -- else 0, "
                          "weigh from the first frame"),
+    EstimatorOption("fresh_floor_levels", "--fresh-floor-levels", "switch",
+                    help="a hypothesis on its probability floor restarts the tracked levels of the sensors it "
+                         "fails at each reading (the floor is the mass of a failure beginning now) instead of "
+                         "following the healthy reading there: a cover or constant sensor hypothesis that leaves "
+                         "the floor predicts the failed reading from what it has read since (cpp/f16mmae/"
+                         "filter_bank.h). Default off"),
     EstimatorOption("adapt_turbulence", "--adapt-turbulence", "switch",
                     help="adapt the likelihoods on line to the turbulence intensity (one residual "
                          "covariance scale common to all hypotheses; cpp/f16mmae/turbulence_adaptation.h). "

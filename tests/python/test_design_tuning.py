@@ -43,6 +43,7 @@ def test_shipped_tunings_load():
     ('[estimator]\nfloor = 1e-9\n',
      "unknown key 'floor' in \\[estimator\\]; valid keys: p_min, threshold, dwell_s"),
     ('[estimator]\np_min = "low"\n', r"\[estimator\] p_min must be a number"),
+    ('failed_sensor_noise = "quiet"\n', "failed_sensor_noise 'quiet' is not one of design, sensor"),
 ])
 def test_bad_tuning_files_are_refused(tmp_path, text, message):
     with pytest.raises(TuningError, match=message):
@@ -103,3 +104,31 @@ def test_method_4_enters_through_the_airframe_b_column(continuous):
     assert np.allclose(d1.qd - d0.qd, expected, rtol=1e-6, atol=1e-16)
     assert np.linalg.eigvalsh(d1.qd - d0.qd).min() > -1e-15
     assert not b[8:].any()  # the noise drives the airframe, not the lag state
+
+
+def test_a_failed_sensor_s_channel_takes_the_sensor_s_own_noise(tmp_path):
+    """``failed_sensor_noise = "sensor"``: each failed sensor j's residual variance A_jj is its
+    noise variance NOISE_SIGMA_j^2 where ``"design"`` (the default, the paper's) keeps R_jj with
+    the method-2 pseudonoise; its H row is zero, so nothing else of any filter changes (the
+    steady-state P, K and A's other entries, and every filter without a failed sensor)."""
+    from f16mmae.truth import sensors
+
+    text = 'name = "x"\n[method2_r]\nVEL = 0.39\nAZ = 0.0047\n'
+    paper = load_tuning(write(tmp_path, text))
+    own = load_tuning(write(tmp_path, 'failed_sensor_noise = "sensor"\n' + text))
+    assert paper.failed_sensor_noise == "design" and own.failed_sensor_noise == "sensor"
+    assert "failed_sensor_noise" not in paper.to_dict() and own.to_dict()["failed_sensor_noise"] == "sensor"
+    hyps = (names.NONE, "LS", "VEL", "AZ", "AZ+VEL", "LS+AZ")
+    a, b = (bank.design_bank(tuning=t, hypotheses=hyps) for t in (paper, own))
+    for fa, fb in zip(a.filters, b.filters):
+        failed = [names.SENSORS.index(c) for c in names.failed_components(fa.name) if c in names.SENSORS]
+        for j in failed:
+            assert not fa.model.h[j].any()
+            assert fa.gains.a[j, j] == a.r[j, j] == sensors.NOISE_SIGMA[j] ** 2 + {"VEL": 0.39, "AZ": 0.0047}[names.SENSORS[j]]
+            assert fb.gains.a[j, j] == sensors.NOISE_SIGMA[j] ** 2
+        keep = np.ones(names.NZ, dtype=bool)
+        keep[failed] = False
+        assert np.array_equal(fa.gains.k, fb.gains.k) and np.array_equal(fa.gains.p_minus, fb.gains.p_minus)
+        assert np.array_equal(fa.gains.a[np.ix_(keep, keep)], fb.gains.a[np.ix_(keep, keep)])
+        assert np.array_equal(fa.gains.a[keep][:, ~keep], fb.gains.a[keep][:, ~keep])
+        assert failed or np.array_equal(fa.gains.a, fb.gains.a)

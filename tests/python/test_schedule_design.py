@@ -22,12 +22,14 @@ from f16mmae.design.hypotheses import TRIM_SIGMA, check_failure_model
 from f16mmae.design.model import linearize_truth
 from f16mmae.design.gust_states import GUST_STATES, pad_bank
 from f16mmae.design.schedule import (ScheduleSpecError, format_spec, gust_neighbourhoods, gust_node_tuning, neighbourhood_minimum,
-                                     neighbourhood_settings, parse_grid, schedule_failure_model, x_trim)
+                                     neighbourhood_settings, parse_grid, schedule_failed_sensor_noise,
+                                     schedule_failure_model, x_trim)
 from f16mmae.design.tuning import TUNINGS_DIR, load_tuning
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly
 from f16mmae.truth.failures import make_failure
 from f16mmae.truth.scenario import Scenario
+from f16mmae.truth.sensors import NOISE_SIGMA
 
 GRID = "mach=0.4/0.5,alt=20000"
 
@@ -45,9 +47,11 @@ def scheduled(tmp_path_factory):
 
 def _tuned():
     """The tuned tuning as the schedule's nodes take it: without the nominal bank's evidence
-    dwell table (design/schedule.py: the nodes keep the frame dwell alone)."""
+    dwell table (design/schedule.py: the nodes keep the frame dwell alone), its failed sensors at
+    the scheduled design's noise (names.SCHEDULE_FAILED_SENSOR_NOISE)."""
     t = load_tuning("tuned")
-    return dataclasses.replace(t, estimator={k: v for k, v in t.estimator.items() if k != "dwell_nats_per_hypothesis"})
+    return dataclasses.replace(t, estimator={k: v for k, v in t.estimator.items() if k != "dwell_nats_per_hypothesis"},
+                               failed_sensor_noise=names.SCHEDULE_FAILED_SENSOR_NOISE)
 
 
 def _hash(design, p_min=None) -> str:
@@ -107,6 +111,8 @@ def test_each_node_is_the_ordinary_design_at_its_point_with_its_calibrated_tunin
     assert meta["start_up_s"] == START_UP_S == 1.0 and meta["calibration_start_up_s"] == CALIBRATION_START_UP_S == 0.25
     assert "--start-up-s 1 --calibration-start-up-s 0.25 --failure-model constant=VEL+ROL" in meta["command"]
     assert meta["failure_model"] == {"default": "complete", "constant": ["VEL", "ROL"]}
+    assert meta["failed_sensor_noise"] == "sensor"
+    assert np.asarray(vel.a)[0, 0] == NOISE_SIGMA[0] ** 2   # the failed airspeed sensor's own noise
     assert s["start_up_s"] == 1.0
     assert meta["node_tuning"] == "calibrated" and [(n["mach"], n["alt_ft"]) for n in meta["nodes"]] == [
         (0.4, 20000.0), (0.5, 20000.0)]
@@ -328,6 +334,39 @@ def test_the_scheduled_designs_failure_model_given_then_the_tunings_then_constan
     assert schedule_failure_model(tuned, {"default": "complete", "constant": ["AOA", "VEL"]}) == "constant=VEL+AOA"
     with pytest.raises(ValueError, match="component PIT has no trim uncertainty"):
         schedule_failure_model(tuned, "constant=PIT")
+
+
+def test_the_scheduled_designs_failed_sensor_noise_given_then_the_tunings_then_the_sensors():
+    """``schedule_failed_sensor_noise``: an explicit choice wins; a tuning naming ``sensor`` keeps
+    it; a tuning naming none (``design``, the shipped ones) gets names.SCHEDULE_FAILED_SENSOR_NOISE;
+    ``--failed-sensor-noise design`` reaches the design; a bad one is refused naming the choices."""
+    tuned = load_tuning("tuned")
+    own = dataclasses.replace(tuned, failed_sensor_noise="sensor")
+    assert schedule_failed_sensor_noise(tuned) == names.SCHEDULE_FAILED_SENSOR_NOISE == "sensor"
+    assert schedule_failed_sensor_noise(own) == "sensor"
+    assert schedule_failed_sensor_noise(own, "design") == schedule_failed_sensor_noise(tuned, "design") == "design"
+    with pytest.raises(ValueError, match="'loud' is not one of design, sensor"):
+        schedule_failed_sensor_noise(tuned, "loud")
+
+
+def test_the_failed_sensor_noise_flag_reaches_the_scheduled_design(monkeypatch, tmp_path, capsys):
+    """``design --schedule --failed-sensor-noise design`` hands the paper's R to the design; a bad
+    value is refused before any work, naming the flag and the choices."""
+    import f16mmae.cli.design as cli_design
+
+    seen = {}
+
+    def record(grid, tuning, out, **kw):
+        seen.update(kw)
+        raise OSError("recorded")
+
+    monkeypatch.setattr(cli_design, "design_schedule", record)
+    out = str(tmp_path / "x.f16sched")
+    assert main(["design", "--schedule", "--failed-sensor-noise", "design", "--out", out]) != 0
+    assert seen["failed_sensor_noise"] == "design"
+    seen.clear()
+    assert main(["design", "--schedule", "--failed-sensor-noise", "loud", "--out", out]) == 2
+    assert not seen and "--failed-sensor-noise: 'loud' is not one of design, sensor" in capsys.readouterr().err
 
 
 GUST_GRID = "mach=0.5,alt=10000/20000"
@@ -683,3 +722,4 @@ def test_design_schedule_without_flags_designs_the_shipped_default(argv, shape, 
                        names.SCHEDULE_GUST_NODE_CHOICE, names.SCHEDULE_NODE_TUNING)
         assert seen["throttle_input"] is names.SCHEDULE_THROTTLE_INPUT
         assert format_spec(seen["grid"]) == format_spec(parse_grid(names.SCHEDULE_GRID))
+    assert seen["failed_sensor_noise"] == names.SCHEDULE_FAILED_SENSOR_NOISE == "sensor"   # no flag above names one

@@ -222,7 +222,7 @@ def test_the_scheduled_bank_name_says_how_to_build_it_when_missing(tmp_path, mon
     monkeypatch.setenv("F16MMAE_CACHE_DIR", str(tmp_path))
     monkeypatch.setattr(banks, "_schedule_generator", None)
     with pytest.raises(banks.BankError, match=r"f16mmae design --schedule --failure-model constant=VEL\+ROL "
-                                              r"--gust-states-below-ft 20000 --gust-node-choice all --throttle-input --out "
+                                              r"--failed-sensor-noise sensor --gust-states-below-ft 20000 --gust-node-choice all --throttle-input --out "
                                               r".*scheduled_tuned_"):
         banks.load_bank("scheduled")
     built = []

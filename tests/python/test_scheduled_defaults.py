@@ -133,7 +133,7 @@ def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch)
     assert first == banks.scheduled_bank_path()
     for attr, value in (("SCHEDULE_GUST_STATES_BELOW_FT", 10000.0), ("SCHEDULE_GUST_NODE_CHOICE", "effort"),
                         ("SCHEDULE_FAILURE_MODEL", "constant=VEL"), ("SCHEDULE_DESIGN_REVISION", 11),
-                        ("SCHEDULE_THROTTLE_INPUT", False)):
+                        ("SCHEDULE_THROTTLE_INPUT", False), ("SCHEDULE_FAILED_SENSOR_NOISE", "design")):
         with monkeypatch.context() as m:
             m.setattr(banks, attr, value)
             assert banks.scheduled_bank_path() != first, attr

@@ -17,7 +17,7 @@ from f16mmae.cli import main as cli
 from f16mmae.design import bank
 from f16mmae.design.linearize import throttle_column
 from f16mmae.design.model import linearize_truth
-from f16mmae.design.schedule import schedule_failure_model
+from f16mmae.design.schedule import schedule_failed_sensor_noise, schedule_failure_model
 from f16mmae.design.tuning import load_tuning
 from f16mmae.truth import aircraft
 from f16mmae.truth.sensors import NOISE_SIGMA
@@ -180,8 +180,9 @@ def test_a_scheduled_throttle_bank_runs_six_inputs_at_every_node(tmp_path, capsy
     assert mb.nu == 6 and tuple(mb.input_names) == names.INPUTS_WITH_THROTTLE
     nodes = {n["mach"]: n["bank"] for n in mb.schedule["nodes"]}
     assert sorted(nodes) == [0.4, 0.5]
-    tuned = load_tuning("tuned")   # with the scheduled design's failure model
+    tuned = load_tuning("tuned")   # with the scheduled design's failure model and failed sensors' noise
     tuned = dataclasses.replace(tuned, failure_model=schedule_failure_model(tuned),   # and the frame dwell alone
+                                failed_sensor_noise=schedule_failed_sensor_noise(tuned),
                                 estimator={k: v for k, v in tuned.estimator.items() if k != "dwell_nats_per_hypothesis"})
     for m, node in nodes.items():  # each node is that point's own throttle design
         single = bank.to_model_bank(bank.design_bank(m, 20000.0, tuned, throttle_input=True))

@@ -19,9 +19,9 @@ from typing import Callable
 from . import core
 from .cache import cache_root
 from .errors import F16mmaeError
-from .names import (SCHEDULE_DESIGN_REVISION, SCHEDULE_FAILURE_MODEL, SCHEDULE_GRID, SCHEDULE_GUST_NODE_CHOICE,
-                    SCHEDULE_GUST_STATES_BELOW_FT, SCHEDULE_NODE_TUNING, SCHEDULE_THROTTLE_INPUT, SCHEDULED_BANK,
-                    SHIPPED_TUNINGS, TURBULENCE_BANK)
+from .names import (SCHEDULE_DESIGN_REVISION, SCHEDULE_FAILED_SENSOR_NOISE, SCHEDULE_FAILURE_MODEL, SCHEDULE_GRID,
+                    SCHEDULE_GUST_NODE_CHOICE, SCHEDULE_GUST_STATES_BELOW_FT, SCHEDULE_NODE_TUNING,
+                    SCHEDULE_THROTTLE_INPUT, SCHEDULED_BANK, SHIPPED_TUNINGS, TURBULENCE_BANK)
 
 #: Where the shipped nominal banks live.
 DATA_DIR = Path(__file__).resolve().parent / "data"
@@ -62,13 +62,14 @@ def turbulence_bank_set():
 
 def scheduled_bank_path() -> Path:
     """Where the ``scheduled`` bank is cached. Its name carries a hash of the grid, the node tuning, the
-    design's revision, its failure model, its gust-state nodes and their choice, its throttle input, and of the shipped
+    design's revision, its failure model and failed sensors' noise, its gust-state nodes and their choice, its throttle input, and of the shipped
     tuned bank (which changes whenever the truth model or the tuning is re-calibrated), so a stale
     schedule is never picked up."""
     nominal = DATA_DIR / "nominal_tuned.f16bank"
     with open(nominal, "rb") as f:
         header = f.read(52)  # magic, version, size, SHA-256 of the payload
     key = hashlib.sha256(f"{SCHEDULE_GRID};{SCHEDULE_NODE_TUNING};{SCHEDULE_DESIGN_REVISION};{SCHEDULE_FAILURE_MODEL};"
+                         f"{SCHEDULE_FAILED_SENSOR_NOISE};"
                          f"{SCHEDULE_GUST_STATES_BELOW_FT:g};{SCHEDULE_GUST_NODE_CHOICE};{SCHEDULE_THROTTLE_INPUT}".encode()
                          + header[20:52]).hexdigest()[:16]
     return cache_root() / "banks" / f"scheduled_tuned_{key}.f16sched"
@@ -112,7 +113,8 @@ def load_bank(tuning: str):
         return TURBULENCE_BANK, path, bank
     path = bank_path(tuning)
     if not path.is_file():
-        build = (f"f16mmae design --schedule --failure-model {SCHEDULE_FAILURE_MODEL} --gust-states-below-ft "
+        build = (f"f16mmae design --schedule --failure-model {SCHEDULE_FAILURE_MODEL} --failed-sensor-noise "
+                 f"{SCHEDULE_FAILED_SENSOR_NOISE} --gust-states-below-ft "
                  f"{SCHEDULE_GUST_STATES_BELOW_FT:g} --gust-node-choice {SCHEDULE_GUST_NODE_CHOICE}"
                  f"{' --throttle-input' if SCHEDULE_THROTTLE_INPUT else ' --no-throttle-input'} --out {path}"
                  if tuning == SCHEDULED_BANK else

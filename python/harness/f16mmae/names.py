@@ -122,12 +122,21 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: models the gusts' colour leaves no slow residual for them to build a false AOA or AZ from in
 #: hours of pilotless level flight (docs/results/envelope_scheduled.md, round 21); 14: each node's
 #: calm-air reference (calibrate.calm_reference; schedule format 4), which SCHEDULE_CALM_COMPLETE reads;
-#: 15: the throttle command as every node's sixth input (SCHEDULE_THROTTLE_INPUT).
-SCHEDULE_DESIGN_REVISION = 15
+#: 15: the throttle command as every node's sixth input (SCHEDULE_THROTTLE_INPUT); 16: a failed
+#: sensor's channel at the sensor's own noise (SCHEDULE_FAILED_SENSOR_NOISE).
+SCHEDULE_DESIGN_REVISION = 16
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).
 SCHEDULE_FAILURE_MODEL = "constant=VEL+ROL"
+#: What a failed sensor's reading varies by about its hypothesis' prediction in the scheduled
+#: design (design/tuning.py ``failed_sensor_noise``): the sensor's own noise, not the node's R with
+#: the pseudonoise its calibration put there for the aircraft's unmodelled response (the normal
+#: accelerometer's gusts at high dynamic pressure, up to 0.014 g^2), which a failed sensor no
+#: longer reads. Kept on the failed AZ, it let the failed hypothesis explain the healthy reading,
+#: which stays near its trim in calm air, better than the no-failure filter predicted it, and AZ was
+#: declared in every calm flight at the high-q̄ points below 10,000 ft (docs/results/envelope_scheduled.md, round 36).
+SCHEDULE_FAILED_SENSOR_NOISE = "sensor"
 #: The failure model whose bank's power ratio a ``--calibration-bank scaled`` design reads its
 #: nodes' in (design/schedule.py, reference scale): the model the scheduled estimator's references
 #: and gates were tuned with (rounds 12-33).

@@ -17,8 +17,9 @@ from ..design.level_width import RANGE, READING
 from ..design.gust_states import GUST_STATE_MODELS
 from ..design.schedule import (CALIBRATION_BANKS, DEFAULT_GRID, DEFAULT_NODE_TUNING, GUST_NODE_CHOICES,
                                MAX_CALIBRATION_FLIGHT_S, NO_GUST_STATES, NODE_TUNINGS, ScheduleSpecError, check_gust_altitude, default_gust_shape,
-                               design_schedule, format_spec, parse_grid, schedule_failure_model)
-from ..design.tuning import TuningError, _sensor_level_width, load_tuning
+                               design_schedule, format_spec, parse_grid, schedule_failed_sensor_noise,
+                               schedule_failure_model)
+from ..design.tuning import FAILED_SENSOR_NOISES, TuningError, _sensor_level_width, load_tuning
 from ..design.turbulence_banks import MEMBER_LEVELS, BankSetError, design_set, load_set
 from .. import names
 from ..names import DESIGN_ALT_FT, DESIGN_MACH, TURBULENCE_LEVELS
@@ -139,6 +140,13 @@ def register(subparsers) -> None:
                         "reading (design/level_width.py), or 'range': the sensor's full range, e.g. PIT=range "
                         "(the rule before the pitch gyro's derived default) (default: the tuning's; PIT reading, "
                         "the other sensors range)")
+    p.add_argument("--failed-sensor-noise", default=None, metavar="|".join(FAILED_SENSOR_NOISES),
+                   help="a failed sensor's reading about what its hypothesis predicts varies by the design's R "
+                        "(design: the paper's, with the tuning's method-2 pseudonoise) or by the sensor's own "
+                        "noise alone (sensor: the pseudonoise stands for the aircraft's response the healthy "
+                        "sensor reads, which a failed one no longer reads); default: the tuning's "
+                        "failed_sensor_noise (design for the shipped ones); with --schedule, a tuning naming "
+                        f"none designs {names.SCHEDULE_FAILED_SENSOR_NOISE}")
     p.add_argument("--throttle-input", action=argparse.BooleanOptionalAction, default=None,
                    help="model the throttle command as a sixth input (JSBSim's linearization column; "
                         "the closed loop flies the throttle dither with such a bank); default: off for one "
@@ -298,6 +306,12 @@ def _run(args) -> int:
             calibrate_dwell = True
             tuning = dataclasses.replace(tuning, name=f"{tuning.name}-{failure_model}",
                                          failure_model=failure_model)
+    if args.failed_sensor_noise is not None:
+        if args.failed_sensor_noise not in FAILED_SENSOR_NOISES:
+            raise CliError(f"--failed-sensor-noise {args.failed_sensor_noise!r}: valid: {', '.join(FAILED_SENSOR_NOISES)}")
+        if args.failed_sensor_noise != tuning.failed_sensor_noise:
+            tuning = dataclasses.replace(tuning, name=f"{tuning.name}-noise-{args.failed_sensor_noise}",
+                                         failed_sensor_noise=args.failed_sensor_noise)
     if args.failed_sensor_level_q is not None:
         w = number("--failed-sensor-level-q", args.failed_sensor_level_q)
         if not w >= 0.0 or not uses_cover(tuning.failure_model):
@@ -375,6 +389,10 @@ def _run_schedule(args) -> int:
         failure_model = schedule_failure_model(tuning, args.failure_model)
     except ValueError as exc:
         raise CliError(f"--failure-model: {exc}") from None
+    try:
+        sensor_noise = schedule_failed_sensor_noise(tuning, args.failed_sensor_noise)
+    except ValueError as exc:
+        raise CliError(f"--failed-sensor-noise: {exc}") from None
     workers = number("--workers", args.workers, integer=True, minimum=1, maximum=256) if args.workers else None
     node_tuning = args.node_tuning or DEFAULT_NODE_TUNING
     if node_tuning not in NODE_TUNINGS:
@@ -445,7 +463,7 @@ def _run_schedule(args) -> int:
     out = writable_file(args.out or f"f16mmae_scheduled_{tuning.name}{thr}{gst}.f16sched", "--out")
     how = "calibrated at every point from" if node_tuning == "calibrated" else "at every point:"
     print(f"scheduled design {format_spec(grid)}: {len(grid.mach) * len(grid.alt_ft)} points, "
-          f"tuning {how} {tuning.name}, failure model {failure_model}"
+          f"tuning {how} {tuning.name}, failure model {failure_model}, failed sensors' noise {sensor_noise}"
           + ("" if gust_ft is None else f", Dryden gust states at the nodes at or below {gust_ft:g} ft "
              + ("(the others inert)" if gust_choice == "all" else
                 "where a node's calibration gains by them (the others inert)"))
@@ -458,7 +476,8 @@ def _run_schedule(args) -> int:
                             calibration_start_up_s=start_up["--calibration-start-up-s"], failure_model=failure_model,
                             gust_states_below_ft=gust_ft, gust_node_choice=gust_choice,
                             running_start=args.adapt_running_start, calibration_flight_s=calibration_flight_s,
-                            calibration_bank=calibration_bank, scale_model=scale_model)
+                            calibration_bank=calibration_bank, scale_model=scale_model,
+                            failed_sensor_noise=sensor_noise)
     except ScheduleSpecError as exc:
         raise CliError(f"--schedule: {exc}") from None
     except DesignError as exc:

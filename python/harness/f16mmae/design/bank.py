@@ -41,6 +41,7 @@ the package version, so a release that does not change the design keeps the ship
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 from dataclasses import dataclass
 from pathlib import Path
@@ -254,10 +255,24 @@ def hypothesis_models(model: ContinuousModel, tuning: Tuning, discrete: Discrete
     return out
 
 
-def design_filters(models: list[HypothesisModel], r: np.ndarray) -> tuple[FilterDesign, ...]:
-    """Steady-state filter of every hypothesis (DesignError names an unstable one)."""
-    return tuple(FilterDesign(model=m, gains=steady_state_gains(m.phi, m.h, m.qd, r, name=f"hypothesis {m.name}"))
-                 for m in models)
+def design_filters(models: list[HypothesisModel], r: np.ndarray,
+                   failed_sensor_noise: np.ndarray | None = None) -> tuple[FilterDesign, ...]:
+    """Steady-state filter of every hypothesis (DesignError names an unstable one).
+    ``failed_sensor_noise`` ((7,) variances, the tuning's ``failed_sensor_noise = "sensor"``):
+    each failed sensor j's residual variance is A_jj = failed_sensor_noise[j] in place of R_jj.
+    Its H row is zero, so A's row and column j are R's (diagonal) and K's column j is zero:
+    P, K and the other channels are the same either way."""
+    out = []
+    for m in models:
+        gains = steady_state_gains(m.phi, m.h, m.qd, r, name=f"hypothesis {m.name}")
+        failed = [names.SENSORS.index(c) for c in names.failed_components(m.name) if c in names.SENSORS]
+        if failed_sensor_noise is not None and failed:
+            a = gains.a.copy()
+            for j in failed:
+                a[j, j] = float(failed_sensor_noise[j])
+            gains = dataclasses.replace(gains, a=a)
+        out.append(FilterDesign(model=m, gains=gains))
+    return tuple(out)
 
 
 def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
@@ -290,7 +305,8 @@ def design_bank(mach: float = NOMINAL_MACH, alt_ft: float = NOMINAL_ALT_FT,
     covered = tuple(s for s in names.SENSORS if per[s] == "cover")
     widths = level_widths(effective_spec(tuning.failed_sensor_level_width, covered), disc.phi, disc.bd, disc.qd, r, cont.h,
                           frame_rate_hz)
-    filters = design_filters(hypothesis_models(cont, tuning, disc, hypotheses, widths), r)
+    filters = design_filters(hypothesis_models(cont, tuning, disc, hypotheses, widths), r,
+                             cont.r_diag if tuning.failed_sensor_noise == "sensor" else None)
     return BankDesign(mach=float(mach), alt_ft=float(alt_ft), frame_rate_hz=float(frame_rate_hz),
                       tuning=tuning, linearized=linearized, continuous=cont, discrete=disc, r=r,
                       filters=filters, level_widths=widths or None)

@@ -40,6 +40,15 @@ and bounding on it tempers nearly every node for that transient (docs/results/en
 round 8: 71 of 78 nodes, VEL 27 of 75 on the tuning seeds), which the campaigns' false alarms
 do not show (round 9).
 
+Failed sensors' noise: the hypotheses' failed sensors take ``failed_sensor_noise`` (default
+``names.SCHEDULE_FAILED_SENSOR_NOISE``, ``sensor``: a failed sensor's channel variance is the
+sensor's own noise, not the node's R with its method-2 pseudonoise, tuning.py), in every bank of
+the design (the nodes', and those they are bounded and scaled on). A node's calibration puts
+the healthy normal accelerometer's gust-driven excess on its R (up to 0.014 g^2 at Mach 0.8,
+5,000 ft); a failed AZ hypothesis that kept it explained the healthy reading, which stays near its
+trim in calm air, better than the no-failure filter predicted it, and was declared in every calm
+flight at the high-q̄ points below 10,000 ft (docs/results/envelope_scheduled.md, round 36).
+
 Reference scale (``calibration_bank`` ``scaled``): a node whose hypotheses cover more than the
 paper's complete model (a failed sensor's reading at an unknown level over its range, a surface at
 an unknown position) explains no-failure air better than the complete bank does, so the
@@ -115,7 +124,7 @@ from .gains import DesignError
 from .gust_states import GUST_STATE_MODELS, pad_bank, pad_state
 from .hypotheses import check_failure_model, component_models, failure_model_table
 from .model import linearize_truth
-from .tuning import Tuning, load_tuning
+from .tuning import FAILED_SENSOR_NOISES, Tuning, load_tuning
 
 #: The grid of the ``scheduled`` bank (docs/results/schedule.md measures how far from its
 #: point a bank stays acceptable).
@@ -380,6 +389,18 @@ def schedule_failure_model(tuning, given: str | None = None) -> str:
     return tuning.failure_model if tuning.failure_model != "complete" else check_failure_model(names.SCHEDULE_FAILURE_MODEL)
 
 
+def schedule_failed_sensor_noise(tuning, given: str | None = None) -> str:
+    """A scheduled design's failed sensors' noise (tuning.py ``failed_sensor_noise``): ``given`` if
+    not None, else the tuning's if it names one other than ``design``, else
+    ``names.SCHEDULE_FAILED_SENSOR_NOISE``.  ValueError naming the choices for one not in
+    ``FAILED_SENSOR_NOISES``."""
+    noise = given if given is not None else (
+        tuning.failed_sensor_noise if tuning.failed_sensor_noise != "design" else names.SCHEDULE_FAILED_SENSOR_NOISE)
+    if noise not in FAILED_SENSOR_NOISES:
+        raise ValueError(f"{noise!r} is not one of {', '.join(FAILED_SENSOR_NOISES)}")
+    return noise
+
+
 def neighbourhood_minimum(bounded: dict[tuple[int, int], tuple[float, bool]]) -> dict[tuple[int, int], float]:
     """Each covered node's adaptation reference (or probability floor) in the file: the smallest
     of its own bounded value (``calibrate.bounded_settings``) and those of its covered grid
@@ -464,7 +485,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
                     running_start: bool = False,
                     calibration_flight_s: float = NODE_FLIGHT_S,
                     calibration_bank: str = "complete",
-                    scale_model: str = names.SCHEDULE_SCALE_MODEL) -> dict:
+                    scale_model: str = names.SCHEDULE_SCALE_MODEL,
+                    failed_sensor_noise: str | None = None) -> dict:
     """Design every grid point (in ``workers`` processes, default all cores), then, with
     ``flap_layers``, where a cell straddles a leading-edge-flap switch, its corners in the
     other configuration (``alternate_nodes``), and write the file with the flap law (switch on
@@ -505,8 +527,12 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         raise ScheduleSpecError(f"node tuning {node_tuning!r} is not one of {', '.join(NODE_TUNINGS)}")
     tuning_obj = load_tuning(tuning)
     fm = schedule_failure_model(tuning_obj, failure_model)
-    if fm != tuning_obj.failure_model:
-        tuning_obj = dataclasses.replace(tuning_obj, failure_model=fm)
+    try:
+        noise = schedule_failed_sensor_noise(tuning_obj, failed_sensor_noise)
+    except ValueError as exc:
+        raise ScheduleSpecError(f"failed sensor noise: {exc}") from None
+    if fm != tuning_obj.failure_model or noise != tuning_obj.failed_sensor_noise:
+        tuning_obj = dataclasses.replace(tuning_obj, failure_model=fm, failed_sensor_noise=noise)
         tuning = tuning_obj   # the workers design with the object (its name unchanged)
     per = component_models(fm)
     uncovered = [sensor for sensor in tuning_obj.failed_sensor_level_width if per[sensor] != "cover"]
@@ -700,6 +726,9 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         # which model each hypothesis' failed components have (hypotheses.py); paper schedules keep their bytes
         **({"failure_model": failure_model_table(tuning_obj.failure_model)}
            if tuning_obj.failure_model != "complete" else {}),
+        # a failed sensor's channel variance (tuning.py); the paper's R keeps the former bytes
+        **({"failed_sensor_noise": tuning_obj.failed_sensor_noise}
+           if tuning_obj.failed_sensor_noise != "design" else {}),
         # which nodes carry gust states, and which keep their own floor and reference
         **({"gust_states": {
             "below_ft": gust_ft, "model": GUST_NODE_MODEL, "states": list(GUST_STATE_MODELS[GUST_NODE_MODEL]),
@@ -742,12 +771,14 @@ def _generate_scheduled_bank(path: Path) -> None:
     import sys
 
     print(f"designing the scheduled bank ({DEFAULT_GRID}, tuned, {DEFAULT_NODE_TUNING} at every node, failure "
-          f"model {names.SCHEDULE_FAILURE_MODEL}, gust states at or below {names.SCHEDULE_GUST_STATES_BELOW_FT:g} ft "
-          f"by {names.SCHEDULE_GUST_NODE_CHOICE}{', the throttle as sixth input' if names.SCHEDULE_THROTTLE_INPUT else ''}) "
+          f"model {names.SCHEDULE_FAILURE_MODEL}, failed sensors' noise {names.SCHEDULE_FAILED_SENSOR_NOISE}, gust states "
+          f"at or below {names.SCHEDULE_GUST_STATES_BELOW_FT:g} ft by {names.SCHEDULE_GUST_NODE_CHOICE}"
+          f"{', the throttle as sixth input' if names.SCHEDULE_THROTTLE_INPUT else ''}) "
           f"into {path} (once; cached)...", file=sys.stderr, flush=True)
     s = design_schedule(parse_grid(DEFAULT_GRID), "tuned", path,
                         progress=lambda line: print("  " + line, file=sys.stderr, flush=True),
                         node_tuning=DEFAULT_NODE_TUNING, failure_model=names.SCHEDULE_FAILURE_MODEL,
+                        failed_sensor_noise=names.SCHEDULE_FAILED_SENSOR_NOISE,
                         gust_states_below_ft=names.SCHEDULE_GUST_STATES_BELOW_FT,
                         gust_node_choice=names.SCHEDULE_GUST_NODE_CHOICE, throttle_input=names.SCHEDULE_THROTTLE_INPUT)
     print(f"  {s['covered']} points in {s['wall_s']:.0f} s, {s['bytes'] / 1e6:.1f} MB", file=sys.stderr, flush=True)

@@ -32,7 +32,13 @@ the sensor's noise variance, >= 0; 0: no memory; default ``FAILED_SENSOR_LEVEL_Q
 ``failed_sensor_level_width`` (a table per sensor, e.g. ``{PIT = "reading"}``: the range W_j of
 a failed ``cover`` sensor's unknown level, a number > 0 in the sensor's units, ``"reading"``,
 derived from the design model by ``level_width.py``, or ``"range"``, its full range; sensors not
-named take ``level_width.DEFAULT_WIDTHS``: a cover PIT ``"reading"``, the others ``"range"``).  Every variance must be finite and
+named take ``level_width.DEFAULT_WIDTHS``: a cover PIT ``"reading"``, the others ``"range"``) and
+``failed_sensor_noise`` (``FAILED_SENSOR_NOISES``: the variance of a failed sensor's reading
+about what its hypothesis predicts -- ``"design"``, the paper's, the design's ``R_jj`` with the
+tuning's method-2 pseudonoise; or ``"sensor"``, the sensor's own noise variance
+``NOISE_SIGMA_j^2`` alone. Method 2 stands for the aircraft's unmodelled response the healthy
+sensor reads, which a failed one no longer reads; its H row is zero, so ``A_jj`` is the only
+quantity it changes, not P, K nor the other channels; default ``"design"``).  Every variance must be finite and
 >= 0; an unknown key, a wrong type or a negative value is refused with a message naming it.
 Missing sections or keys mean zero.  ``untuned`` and ``tuned`` ship in ``design/tunings/``.
 
@@ -80,9 +86,12 @@ ESTIMATOR_KEYS: dict[str, tuple[float, float]] = {
     "dwell_nats_per_hypothesis": (0.0, 1.0e6)}   # each N_k, closed
 TOP_LEVEL_KEYS: tuple[str, ...] = (("name", "description", "turbulence", "gust_model", "failure_model",
                                     "failed_surface_q", "failed_surface_q_dual", "failed_sensor_level_q",
-                                    "failed_sensor_level_width")
+                                    "failed_sensor_level_width", "failed_sensor_noise")
                                    + tuple(SECTIONS)
                                    + ("estimator",))
+#: What a failed sensor's channel variance A_jj is (``failed_sensor_noise``): the design's R_jj
+#: with the method-2 pseudonoise (the paper's), or the sensor's own noise variance alone.
+FAILED_SENSOR_NOISES: tuple[str, ...] = ("design", "sensor")
 #: Default random-walk strength of a failed surface's position under ``cover`` (rad^2/s), per
 #: surface: the flaperons 3e-5 (about 0.3 deg of wander in 1 s; a freer flaperon absorbs roll
 #: turbulence and false-alarms), the stabilators 3e-4 (follows a half-effective stabilator; 1e-3
@@ -187,6 +196,7 @@ class Tuning:
     # ^ one number for every sensor, or per sensor (names.SENSORS keys)
     failed_sensor_level_width: dict[str, float | str] = field(default_factory=dict)
     # ^ per sensor: W in its units or "reading" (level_width.py); empty: the full ranges
+    failed_sensor_noise: str = "design"   # FAILED_SENSOR_NOISES: a failed sensor's A_jj
     qd_longitudinal: dict[str, float] = field(default_factory=dict)  # method 1
     r_pseudonoise: dict[str, float] = field(default_factory=dict)    # method 2
     qd_lateral: dict[str, float] = field(default_factory=dict)       # method 3
@@ -239,6 +249,8 @@ class Tuning:
                 out["failed_surface_q_dual"] = dict(self.failed_surface_q_dual)
         if self.failed_sensor_level_width:  # only then: the banks without it keep their metadata
             out["failed_sensor_level_width"] = dict(self.failed_sensor_level_width)
+        if self.failed_sensor_noise != "design":  # likewise
+            out["failed_sensor_noise"] = self.failed_sensor_noise
         return {**out,
                 "method1_qd_longitudinal": dict(self.qd_longitudinal),
                 "method2_r": dict(self.r_pseudonoise),
@@ -306,6 +318,10 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
     walk_q_dual = _surface_walk_q_dual(data.get("failed_surface_q_dual"), source, walk_q)
     level_q = _sensor_level_q(data.get("failed_sensor_level_q", FAILED_SENSOR_LEVEL_Q), source)
     level_width = _sensor_level_width(data.get("failed_sensor_level_width", {}), source)
+    sensor_noise = data.get("failed_sensor_noise", "design")
+    if sensor_noise not in FAILED_SENSOR_NOISES:
+        raise TuningError(f"{source}: failed_sensor_noise {sensor_noise!r} is not one of "
+                          f"{', '.join(FAILED_SENSOR_NOISES)}")
     sections = {}
     for section, keys in SECTIONS.items():
         table = data.get(section, {})
@@ -328,6 +344,7 @@ def tuning_from_dict(data: dict, source: str = "tuning", default_name: str = "cu
     return Tuning(name=name, description=description, turbulence=turbulence, gust_model=gust_model,
                   failure_model=failure_model, failed_surface_q=walk_q, failed_surface_q_dual=walk_q_dual,
                   failed_sensor_level_q=level_q, failed_sensor_level_width=level_width,
+                  failed_sensor_noise=sensor_noise,
                   qd_longitudinal=sections["method1_qd_longitudinal"],
                   r_pseudonoise=sections["method2_r"],
                   qd_lateral=sections["method3_qd_lateral"],

@@ -132,3 +132,24 @@ def test_a_failed_sensor_s_channel_takes_the_sensor_s_own_noise(tmp_path):
         assert np.array_equal(fa.gains.a[np.ix_(keep, keep)], fb.gains.a[np.ix_(keep, keep)])
         assert np.array_equal(fa.gains.a[keep][:, ~keep], fb.gains.a[keep][:, ~keep])
         assert failed or np.array_equal(fa.gains.a, fb.gains.a)
+
+
+def test_the_failed_sensor_noise_flag_designs_one_point(tmp_path, capsys):
+    """``f16mmae design --failed-sensor-noise sensor``: the bank file's failed AZ reads the
+    sensor's own noise where the tuning's AZ carries pseudonoise, named in the tuning; a bad value
+    is refused before any work, naming the choices."""
+    from f16mmae import core
+    from f16mmae.cli.main import main
+    from f16mmae.truth import sensors
+
+    t = write(tmp_path, 'name = "az"\n[method2_r]\nAZ = 0.0047\n')
+    out = tmp_path / "b.f16bank"
+    assert main(["design", "--tuning", str(t), "--failed-sensor-noise", "sensor", "--out", str(out)]) == 0
+    mb = core.load_bank(str(out))
+    j = names.SENSORS.index("AZ")
+    az = {h.name: np.asarray(h.a) for h in mb.hypotheses}
+    assert az["AZ"][j, j] == sensors.NOISE_SIGMA[j] ** 2 and az["LS+AZ"][j, j] == az["AZ"][j, j]
+    assert az["NONE"][j, j] > 0.0047 and mb.tuning == "az-noise-sensor"
+    assert main(["design", "--failed-sensor-noise", "loud", "--out", str(tmp_path / "x.f16bank")]) == 2
+    assert "--failed-sensor-noise 'loud': valid: design, sensor" in capsys.readouterr().err
+    assert not (tmp_path / "x.f16bank").exists()

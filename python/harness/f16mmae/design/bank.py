@@ -41,9 +41,8 @@ the package version, so a release that does not change the design keeps the ship
 """
 from __future__ import annotations
 
-import dataclasses
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -270,7 +269,7 @@ def design_filters(models: list[HypothesisModel], r: np.ndarray,
             a = gains.a.copy()
             for j in failed:
                 a[j, j] = float(failed_sensor_noise[j])
-            gains = dataclasses.replace(gains, a=a)
+            gains = replace(gains, a=a)
         out.append(FilterDesign(model=m, gains=gains))
     return tuple(out)
 

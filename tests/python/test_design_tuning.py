@@ -153,3 +153,14 @@ def test_the_failed_sensor_noise_flag_designs_one_point(tmp_path, capsys):
     assert main(["design", "--failed-sensor-noise", "loud", "--out", str(tmp_path / "x.f16bank")]) == 2
     assert "--failed-sensor-noise 'loud': valid: design, sensor" in capsys.readouterr().err
     assert not (tmp_path / "x.f16bank").exists()
+
+
+@pytest.mark.parametrize("flags", [["--failed-sensor-noise", "sensor"], ["--failure-model", "cover"]])
+def test_the_turbulence_bank_set_refuses_the_member_design_flags(flags, tmp_path, capsys):
+    """``design --turbulence-banks`` designs its members as it chooses: a failure model or failed
+    sensors' noise given with it is refused before any work, not silently dropped."""
+    from f16mmae.cli.main import main
+
+    out = tmp_path / "s.f16set"
+    assert main(["design", "--turbulence-banks", *flags, "--out", str(out)]) == 2
+    assert "--turbulence-banks designs its own members" in capsys.readouterr().err and not out.exists()

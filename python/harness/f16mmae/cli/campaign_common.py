@@ -18,7 +18,7 @@ from ..names import FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, FLIGHT_S_MAX, TURB
 from ..outputs import writable_dir
 from ..report.page import render_report
 from . import evidence
-from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args,
+from .options import (NO_DITHER_HELP, CliError, add_estimator_arguments, choice, estimator_options_from_args,
                       flight_seconds, number, parse_choices, seed)
 
 
@@ -46,7 +46,7 @@ def add_flight_settings(p, runs: str | None, runs_help: str = "", failures: bool
     p.add_argument("--feedback", default="mmae", metavar="mmae|raw|reconfigure",
                    help="FCS feedback: the MMAE's z_hat (paper), raw sensors, or raw sensors with the "
                         "MMAE's estimate only on the sensors a declaration has failed (default mmae)")
-    p.add_argument("--no-dither", action="store_true", help="fly without dither (the paper always dithers): the banks are designed with it, and without it every shipped estimator declares falsely (docs/results/excitation.md)")
+    p.add_argument("--no-dither", action="store_true", help=NO_DITHER_HELP)
     p.add_argument("--dither-scale", default="1.0", metavar="X",
                    help="multiply the truth model's default dither amplitudes by X (default 1)")
     add_estimator_arguments(p)

@@ -308,7 +308,8 @@ def _run(args) -> int:
                                          failure_model=failure_model)
     if args.failed_sensor_noise is not None:
         if args.failed_sensor_noise not in FAILED_SENSOR_NOISES:
-            raise CliError(f"--failed-sensor-noise {args.failed_sensor_noise!r}: valid: {', '.join(FAILED_SENSOR_NOISES)}")
+            raise CliError(f"--failed-sensor-noise {args.failed_sensor_noise!r}: valid: "
+                           f"{', '.join(FAILED_SENSOR_NOISES)}")
         if args.failed_sensor_noise != tuning.failed_sensor_noise:
             tuning = dataclasses.replace(tuning, name=f"{tuning.name}-noise-{args.failed_sensor_noise}",
                                          failed_sensor_noise=args.failed_sensor_noise)
@@ -498,9 +499,10 @@ def _run_turbulence_banks(args) -> int:
     """``--turbulence-banks``: the set's members and selector into the set file --out."""
     from ..design.turbulence_banks import set_path
 
-    if args.schedule is not None or args.gust_states or args.throttle_input is not None or args.gust_level is not None:
+    if (args.schedule is not None or args.gust_states or args.throttle_input is not None or args.gust_level is not None
+            or args.failure_model is not None or args.failed_sensor_noise is not None):
         raise CliError("--turbulence-banks designs its own members (the tuned tuning, the throttle input, "
-                       "each turbulence level); give only --out")
+                       "each turbulence level, its failure model and failed sensors' noise); give only --out")
     out = writable_file(args.out, "--out") if args.out else set_path()
     t0 = time.perf_counter()
     try:

@@ -19,6 +19,9 @@ class CliError(F16mmaeError):
 
 #: Seeds are 32-bit signed integers for JSBSim; 0 means 1 to it, so seeds start at 1.
 SEED_MAX = 2**31 - 1
+#: ``--no-dither``'s help on ``run`` and the campaigns (docs/results/excitation.md, round 36).
+NO_DITHER_HELP = ("fly without dither (the paper always dithers): the banks are designed with it, and without it "
+                  "every shipped estimator declares falsely (docs/results/excitation.md)")
 
 
 def number(option: str, value, *, integer: bool = False, minimum=None, exclusive: bool = False,

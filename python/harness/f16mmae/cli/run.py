@@ -15,8 +15,8 @@ from ..truth import Scenario, TrimError, parse_fail
 from ..truth.aircraft import ALT_FT_RANGE, MACH_RANGE
 from ..truth.turbulence import GustBurst
 from ..truth.maneuvers import ManeuverError, parse_maneuver
-from .options import (CliError, add_estimator_arguments, choice, estimator_options_from_args, flight_seconds,
-                      number, seed)
+from .options import (NO_DITHER_HELP, CliError, add_estimator_arguments, choice, estimator_options_from_args,
+                      flight_seconds, number, seed)
 
 DESCRIPTION = """\
 Fly the nonlinear JSBSim F-16 (our FCS, dither on) with the MMAE estimator in the loop
@@ -92,7 +92,7 @@ def add_flight_arguments(p, bank_help: str = "model bank: a shipped tuning, the 
     p.add_argument("--feedback", default="mmae", metavar="mmae|raw|reconfigure",
                    help="FCS feedback: the MMAE's z_hat (paper), raw sensors, or raw sensors with the "
                         "MMAE's estimate only on the sensors a declaration has failed (default mmae)")
-    p.add_argument("--no-dither", action="store_true", help="fly without dither (the paper always dithers): the banks are designed with it, and without it every shipped estimator declares falsely (docs/results/excitation.md)")
+    p.add_argument("--no-dither", action="store_true", help=NO_DITHER_HELP)
     p.add_argument("--dither-scale", default="1.0", metavar="X",
                    help="multiply the truth model's default dither amplitudes by X, 0-5 (default 1)")
 

@@ -37,7 +37,16 @@
 //                  w = (1-a, a-b, 0, b); the others likewise), for filters and trims (third
 //                  order where the 4 x 4 stencil is covered); in the other half, or with two
 //                  or more corners uncovered, the nearest covered node instead (counted in
-//                  fallback_frames()).
+//                  fallback_frames()). Plane trims (ScheduleOptions::plane_trims, the default;
+//                  off: the nearest node's trims too): in the missing corner's half the trims
+//                  are those of the covered triangle's plane, extrapolated, the same linear
+//                  weights with one of them negative (uncovered (0,1): w = (1-a, a-b, 0, b),
+//                  a - b < 0 there), while the filters stay the nearest node's. The trims are
+//                  then continuous across the diagonal, where the nearest node's jumped, and
+//                  near the aircraft's where the trimmable envelope's edge cuts the grid: at
+//                  Mach 0.32, 29,000 ft VEL 0.1 ft/s and AOA 0.0015 rad off the truth model's
+//                  trim, against the nearest node's 31 ft/s and 0.042 rad
+//                  (docs/results/envelope_scheduled.md, round 37).
 //   nearest      the nearest covered node's filters and trims, switched with hysteresis: the
 //                node in force changes only when another is nearer by hysteresis_cells
 //                (distance in cell units); the trims switch with it.
@@ -100,6 +109,7 @@ struct ScheduleOptions {
   ScheduleMode mode = ScheduleMode::kInterpolate;
   double air_data_time_constant_s = 2.0;  // low-pass of the air data, s, >= 0 (0: none)
   bool cubic_trims = true;                // interpolate: trims to third order where covered
+  bool plane_trims = true;                // interpolate: the missing corner's half takes the plane's trims
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
@@ -329,7 +339,7 @@ class ScheduledFilters {
     return weight > 0.0 ? axes_.layer_of(sum / weight) : axes_.nodes[node_].layer;
   }
   void choose(const GridPoint& g) noexcept {
-    fallback_now_ = false;
+    fallback_now_ = plane_now_ = false;
     if (options_.mode == ScheduleMode::kNearest) {
       layer_now_ = axes_.nodes[node_].layer;
       return choose_node(node_);
@@ -344,7 +354,16 @@ class ScheduledFilters {
     int uncovered = 0, missing = -1;
     for (int k = 0; k < kCorners; ++k)
       if (c[k] < 0 && w[k] != 0.0) ++uncovered, missing = k;
-    if (uncovered == 1 && !triangle_weights(missing, a, b, w)) uncovered = 2;
+    if (uncovered == 1 && !triangle_weights(missing, a, b, w)) {
+      if (options_.plane_trims) {   // the trims on the covered triangle's plane, extrapolated
+        plane_now_ = true;
+        for (int k = 0; k < kCorners; ++k) {
+          plane_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);   // weight 0 at the missing corner
+          plane_weights_[k] = w[k];
+        }
+      }
+      uncovered = 2;
+    }
     if (uncovered > 1) {
       fallback_now_ = true;
       return choose_node(axes_.nearest(g, layer));
@@ -485,8 +504,8 @@ class ScheduledFilters {
   void blend_trims(const GridPoint& g) noexcept {
     if (options_.mode == ScheduleMode::kInterpolate && options_.cubic_trims && !fallback_now_ && blend_trims_cubic(g))
       return;
-    const std::array<int, kCorners>& c = trim_corners_;
-    const std::array<double, kCorners>& w = trim_weights_;
+    const std::array<int, kCorners>& c = plane_now_ ? plane_corners_ : trim_corners_;
+    const std::array<double, kCorners>& w = plane_now_ ? plane_weights_ : trim_weights_;
     u_now_ = w[0] * u_trim_[c[0]];
     z_now_ = w[0] * z_trim_[c[0]];
     x_now_ = w[0] * x_trim_[c[0]];
@@ -523,6 +542,9 @@ class ScheduledFilters {
   std::array<double, kCorners> weights_{};
   std::array<int, kCorners> trim_corners_{};     // of the trims in force (the air data now)
   std::array<double, kCorners> trim_weights_{};
+  std::array<int, kCorners> plane_corners_{};    // plane_trims: the covered triangle's (plane_now_)
+  std::array<double, kCorners> plane_weights_{};
+  bool plane_now_ = false;
   AirData filtered_;                             // the low-passed air data
   double alpha_ = 1.0;
   std::int64_t selections_ = 0;                  // selections since the last reset, up to mean_frames_

@@ -4,7 +4,8 @@
 // mean of the corners'; the bilinear weights at a quarter point are hand-computed; nearest
 // switching keeps its node within the hysteresis; a schedule change keeps probabilities,
 // declarations and the level and moves the states bumplessly; outside the grid is clamped and
-// counted; an uncovered corner falls back to the nearest node; the trim offset adds to the
+// counted; an uncovered corner splits the cell, its half taking the nearest node's filters and
+// the covered triangle's plane for the trims (or the node's, plane_trims off); the trim offset adds to the
 // scheduled trim; nothing allocates per frame; the scheduled-bank file round-trips and refuses
 // corruption naming the field.
 #include "bankfile/schedule_file.h"
@@ -305,7 +306,9 @@ TEST(ScheduledBank, OutsideTheGridIsClampedAndAnUncoveredCornerSplitsTheCellOrFa
   EXPECT_EQ(hb.scheduled().outside_frames(), 1);
 
   const BankSchedule holed = make_schedule(1, 1);  // (0.6, 20,000 ft) does not trim
-  F16HierarchicalBank h2(scheduled_bank(holed), options(ScheduleMode::kInterpolate));
+  HierarchicalOptions nearest_trims = options(ScheduleMode::kInterpolate);
+  nearest_trims.schedule.plane_trims = false;
+  F16HierarchicalBank h2(scheduled_bank(holed), nearest_trims);
   h2.schedule(AirData{0.58, 18000.0});  // s, t = 0.9, 0.8: nearest covered (0.6, 10,000 ft), 0.81 cells
   EXPECT_EQ(h2.scheduled().fallback_frames(), 1);
   EXPECT_TRUE(h2.z_trim() == Z(node_bank(1, 0).z_trim));
@@ -325,6 +328,39 @@ TEST(ScheduledBank, OutsideTheGridIsClampedAndAnUncoveredCornerSplitsTheCellOrFa
   h2.schedule(AirData{0.52, 15000.0});  // s, t = 0.6, 0.5: beyond the diagonal, the nearest node
   EXPECT_EQ(h2.scheduled().fallback_frames(), 2);
   EXPECT_TRUE(h2.z_trim() == Z(node_bank(1, 0).z_trim));
+}
+
+// The synthetic nodes' trims are affine in the cell coordinates (node_bank: z_trim(VEL) =
+// 400 + 100 i - 20 j, AOA 0.1 - 0.02 i + 0.01 j, u_trim 0.01 (1 + i + 2 j)), so the covered
+// triangle's plane, extrapolated into the missing corner's half, is that affine function exactly.
+TEST(ScheduledBank, TheMissingCornersHalfTakesTheCoveredTrianglesPlaneAndTheNearestNodesFilters) {
+  const BankSchedule holed = make_schedule(1, 1);  // (0.6, 20,000 ft) does not trim
+  F16HierarchicalBank hb(scheduled_bank(holed), options(ScheduleMode::kInterpolate));
+  ASSERT_TRUE(hb.options().schedule.plane_trims);   // the default
+  const auto affine_z = [](double a, double b) {
+    Z z = Z::Zero();
+    z << 400.0 + 100.0 * a - 20.0 * b, 0.1 - 0.02 * a + 0.01 * b, 0.0, 1.0, 0.0, 0.0, 0.0;
+    return z;
+  };
+  hb.schedule(AirData{0.58, 18000.0});  // s, t = 0.9, 0.8: plane weights -0.7, 0.9, 0.8 on (0,0), (1,0), (0,1)
+  EXPECT_EQ(hb.scheduled().fallback_frames(), 1);
+  EXPECT_LT((hb.z_trim() - affine_z(0.9, 0.8)).norm(), 1e-9);
+  EXPECT_NEAR(hb.u_trim()(0), 0.01 * (1 + 0.9 + 1.6), 1e-12);
+  const Z by_hand = -0.7 * Z(node_bank(0, 0).z_trim) + 0.9 * Z(node_bank(1, 0).z_trim) + 0.8 * Z(node_bank(0, 1).z_trim);
+  EXPECT_LT((hb.z_trim() - by_hand).norm(), 1e-12 * by_hand.norm());
+  // the filters are the nearest covered node's, (0.6, 10,000 ft), as without the plane
+  const auto& w = hb.scheduled().weights();
+  EXPECT_EQ(w[0] + w[1] + w[2] + w[3], 1.0);
+  for (int c = 0; c < 4; ++c)
+    if (w[c] != 0.0) EXPECT_EQ(hb.scheduled().corners()[c], holed.node_index(1, 0, 0));
+  // continuous across the diagonal a + b = 1 (the old fallback jumped to the node's trims)
+  // (both sides the same affine function: s = 0.5 -/+ 1e-6 cells, t = 0.5)
+  hb.schedule(AirData{0.5 - 2e-7, 15000.0});
+  EXPECT_EQ(hb.scheduled().fallback_frames(), 1);
+  EXPECT_LT((hb.z_trim() - affine_z(0.5 - 1e-6, 0.5)).norm(), 1e-9);
+  hb.schedule(AirData{0.5 + 2e-7, 15000.0});
+  EXPECT_EQ(hb.scheduled().fallback_frames(), 2);
+  EXPECT_LT((hb.z_trim() - affine_z(0.5 + 1e-6, 0.5)).norm(), 1e-9);
 }
 
 TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {

@@ -18,8 +18,9 @@ estimator flies it unless ``--start-up-s`` says otherwise); then the floor lower
 reference to theirs at the largest floor around it (``neighbourhood_settings``), so that the
 reference and floor the core blends over a cell bound them at every corner.  The floor is the node bank's
 recommended p_min (its estimator settings; the core blends the nodes' floors).  A point whose truth cannot trim is left out of the
-grid and listed in the metadata; the core clamps air data to the grid and falls back to the
-nearest covered node where a cell lacks a corner.  Each node also stores its trim state
+grid and listed in the metadata; the core clamps air data to the grid, and where a cell lacks a
+corner blends its covered triangle (beyond it: the nearest covered node's filters, the triangle
+plane's trims; cpp/f16mmae/scheduled_filters.h).  Each node also stores its trim state
 ``x_trim`` (the absolute state its filters' perturbation states are taken from): body u and
 alpha from the trim's noise-free measurements, theta, the five surfaces at their trim
 commands, zero rates, sideslip and bank.

@@ -178,6 +178,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::schedule, &ScheduleOptions::air_data_time_constant_s>("air_data_time_constant_s"),
       field<&O::schedule, &ScheduleOptions::cubic_trims>("cubic_trims"),
       field<&O::schedule, &ScheduleOptions::plane_trims>("plane_trims"),
+      field<&O::schedule, &ScheduleOptions::row_trims>("row_trims"),
       // the turbulence adaptation
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::enabled>("adapt_turbulence"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::time_constant_s>(

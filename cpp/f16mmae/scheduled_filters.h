@@ -22,8 +22,22 @@
 //                  covered: the tensor product of the 4-point Lagrange weights on each axis,
 //                    L_j(v) = prod_{k != j} (v - v_k) / (v_j - v_k),  trim = sum_jk L_j(M) L_k(h) trim_jk
 //                  (4 nodes of an axis around the cell, fewer on a shorter axis; centred if
-//                  covered, else shifted by one or two nodes); else bilinearly,
-//                  trim = sum_c w_c trim_c. The trim is far from linear in Mach
+//                  covered, else shifted by one or two nodes); else, with row trims
+//                  (ScheduleOptions::row_trims, the default) row by row: on an altitude
+//                  stencil as above, each row of non-zero weight blended by the Lagrange
+//                  weights of its own Mach stencil, 4 nodes, else 3, else 2, all covered in
+//                  the layer in force, the one nearest centred on the point among those whose
+//                  span reaches within a cell of it,
+//                    trim = sum_k L_k(h) sum_j L_kj(M) trim_jk,
+//                  (where the trimmable envelope's edge takes a node from the 4 x 4 stencil the
+//                  trim's 1/M^2 is still followed: at Mach 0.3453, 26,582 ft AOA 0.0002 rad off
+//                  the truth model's trim, bilinearly 0.0024; docs/results/envelope_scheduled.md,
+//                  round 37); in a cell with one uncovered corner, within kDiagonalBlendCells of
+//                  the diagonal (d its own coordinate there: a - b for a missing (0,1)) they
+//                  move linearly to the triangle's trims, (1 - beta) rows + beta linear, beta =
+//                  max(0, 1 - d / kDiagonalBlendCells), so they meet the other half's plane on
+//                  the diagonal (without the blend, noisy air data crossing it read a 0.004-rad
+//                  AOA step as a failure); else bilinearly, trim = sum_c w_c trim_c. The trim is far from linear in Mach
 //                  (alpha goes about as 1/M^2), and a trim interpolated linearly is off the
 //                  model's equilibrium enough to be taken for a failure (docs/results/schedule.md).
 //                  Phi, Bd, H, K, A, A⁻¹, ln|A|, H_out = sum_c w_c (that of corner c)
@@ -110,6 +124,7 @@ struct ScheduleOptions {
   double air_data_time_constant_s = 2.0;  // low-pass of the air data, s, >= 0 (0: none)
   bool cubic_trims = true;                // interpolate: trims to third order where covered
   bool plane_trims = true;                // interpolate: the missing corner's half takes the plane's trims
+  bool row_trims = true;                  // interpolate: where no 4 x 4 stencil is covered, row by row
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
@@ -138,6 +153,9 @@ class ScheduledFilters {
   using ZVector = typename Hypothesis::ZVector;
   using OutputMatrix = Eigen::Matrix<double, NZ, NX>;   // H_out: blended state -> z_hat
   static constexpr int kCorners = 4;
+  // Row trims in a cut cell's covered half within this many cells of its diagonal (the
+  // diagonal's own coordinate, e.g. a - b) move linearly to the triangle's trims on it (header).
+  static constexpr double kDiagonalBlendCells = 0.25;
 
   ScheduledFilters() = default;
 
@@ -191,6 +209,7 @@ class ScheduledFilters {
           lookup_[(static_cast<std::size_t>(l) * ni + i) * nj + j] = axes_.node_index(i, j, l);
           lookup_any_[(static_cast<std::size_t>(l) * ni + i) * nj + j] = axes_.node_index_any(i, j, l);
         }
+    if (!u_trim_.empty()) u_lin_ = u_trim_[0], z_lin_ = z_trim_[0], x_lin_ = x_trim_[0];   // sized once
     reset(start);
   }
 
@@ -340,6 +359,7 @@ class ScheduledFilters {
   }
   void choose(const GridPoint& g) noexcept {
     fallback_now_ = plane_now_ = false;
+    diagonal_share_ = 0.0;
     if (options_.mode == ScheduleMode::kNearest) {
       layer_now_ = axes_.nodes[node_].layer;
       return choose_node(node_);
@@ -367,6 +387,10 @@ class ScheduledFilters {
     if (uncovered > 1) {
       fallback_now_ = true;
       return choose_node(axes_.nearest(g, layer));
+    }
+    if (uncovered == 1) {   // the covered half: how far from the diagonal (0 on it)
+      const double from = missing == 0 ? a + b - 1 : missing == 1 ? b - a : missing == 2 ? a - b : 1 - a - b;
+      diagonal_share_ = std::max(0.0, 1.0 - from / kDiagonalBlendCells);
     }
     for (int k = 0; k < kCorners; ++k) {
       trim_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);  // weight 0 where uncovered
@@ -464,6 +488,15 @@ class ScheduledFilters {
     }
     return count;
   }
+  // Adds w times node n's trims to the trims in force; the first call (first) assigns them.
+  void add_trims(double w, int n, bool& first) noexcept {
+    if (first) {
+      u_now_ = w * u_trim_[n], z_now_ = w * z_trim_[n], x_now_ = w * x_trim_[n];
+      first = false;
+    } else {
+      u_now_ += w * u_trim_[n], z_now_ += w * z_trim_[n], x_now_ += w * x_trim_[n];
+    }
+  }
   // Third-order trims at g (header comment) on the first stencil whose nodes of non-zero
   // weight are all covered; false, changing nothing, if there is none.
   bool blend_trims_cubic(const GridPoint& g) noexcept {
@@ -488,15 +521,55 @@ class ScheduledFilters {
       for (int j = 0; j < nm; ++j)
         for (int k = 0; k < na; ++k) {
           const double w = wm[j] * wa[k];
-          const int n = nodes[j * 4 + k];
-          if (w == 0.0) continue;
-          if (first) {
-            u_now_ = w * u_trim_[n], z_now_ = w * z_trim_[n], x_now_ = w * x_trim_[n];
-            first = false;
-          } else {
-            u_now_ += w * u_trim_[n], z_now_ += w * z_trim_[n], x_now_ += w * x_trim_[n];
+          if (w != 0.0) add_trims(w, nodes[j * 4 + k], first);
+        }
+      return !first;
+    }
+    return false;
+  }
+  // Row by row: on the first altitude stencil (starts()) each of whose rows of non-zero weight
+  // has a Mach stencil of 4, else 3, else 2 nodes all covered in the layer in force whose span
+  // reaches within one cell of g.s (the nearest such start), the Lagrange blend of the rows'
+  // Lagrange blends; false, changing nothing, if there is none.
+  bool blend_trims_rows(const GridPoint& g) noexcept {
+    const int sm = static_cast<int>(axes_.mach.size()), sa = static_cast<int>(axes_.alt_ft.size());
+    const int na = sa < 4 ? sa : 4;
+    std::array<int, 3> fas{};
+    const int ca = starts(sa, g.t, fas);
+    for (int a = 0; a < ca; ++a) {
+      std::array<double, 4> wa{};
+      lagrange(axes_.alt_ft, g.t, fas[a], na, wa);
+      std::array<std::array<int, 4>, 4> nodes{};
+      std::array<std::array<double, 4>, 4> wm{};
+      std::array<int, 4> count{};
+      bool rows = true;
+      for (int k = 0; k < na && rows; ++k) {
+        if (wa[k] == 0.0) continue;
+        const int row = fas[a] + k;
+        count[k] = 0;
+        for (int n = std::min(4, sm); n >= 2 && count[k] == 0; --n) {
+          double best = 1e9;   // cells past the stencil's span (at most 1), then off its centre
+          for (int f = 0; f + n <= sm; ++f) {
+            const double past = std::max({0.0, f - g.s, g.s - (f + n - 1)});
+            const double score = 100.0 * past + std::abs(f + 0.5 * (n - 1) - g.s);
+            if (past > 1.0 || score >= best) continue;
+            bool covered = true;
+            for (int j = 0; j < n && covered; ++j) covered = index(f + j, row, layer_now_) >= 0;
+            if (!covered) continue;
+            best = score;
+            count[k] = n;
+            for (int j = 0; j < n; ++j) nodes[k][j] = index(f + j, row, layer_now_);
+            lagrange(axes_.mach, g.s, f, n, wm[k]);
           }
         }
+        rows = count[k] > 0;
+      }
+      if (!rows) continue;
+      bool first = true;
+      for (int k = 0; k < na; ++k) {
+        if (wa[k] == 0.0) continue;
+        for (int j = 0; j < count[k]; ++j) add_trims(wa[k] * wm[k][j], nodes[k][j], first);
+      }
       return !first;
     }
     return false;
@@ -504,16 +577,30 @@ class ScheduledFilters {
   void blend_trims(const GridPoint& g) noexcept {
     if (options_.mode == ScheduleMode::kInterpolate && options_.cubic_trims && !fallback_now_ && blend_trims_cubic(g))
       return;
+    if (options_.mode == ScheduleMode::kInterpolate && options_.cubic_trims && options_.row_trims && !fallback_now_ &&
+        blend_trims_rows(g)) {
+      if (diagonal_share_ > 0.0) {   // near a cut cell's diagonal: toward the linear trims (header)
+        blend_trims_linear(u_lin_, z_lin_, x_lin_);
+        u_now_ += diagonal_share_ * (u_lin_ - u_now_);
+        z_now_ += diagonal_share_ * (z_lin_ - z_now_);
+        x_now_ += diagonal_share_ * (x_lin_ - x_now_);
+      }
+      return;
+    }
+    blend_trims_linear(u_now_, z_now_, x_now_);
+  }
+  // The corners' linear blend (bilinear, the triangle's, or the plane's) into (u, z, x).
+  void blend_trims_linear(UVector& u, ZVector& z, XVector& x) const noexcept {
     const std::array<int, kCorners>& c = plane_now_ ? plane_corners_ : trim_corners_;
     const std::array<double, kCorners>& w = plane_now_ ? plane_weights_ : trim_weights_;
-    u_now_ = w[0] * u_trim_[c[0]];
-    z_now_ = w[0] * z_trim_[c[0]];
-    x_now_ = w[0] * x_trim_[c[0]];
+    u = w[0] * u_trim_[c[0]];
+    z = w[0] * z_trim_[c[0]];
+    x = w[0] * x_trim_[c[0]];
     for (int k = 1; k < kCorners; ++k) {
       if (w[k] == 0.0) continue;
-      u_now_ += w[k] * u_trim_[c[k]];
-      z_now_ += w[k] * z_trim_[c[k]];
-      x_now_ += w[k] * x_trim_[c[k]];
+      u += w[k] * u_trim_[c[k]];
+      z += w[k] * z_trim_[c[k]];
+      x += w[k] * x_trim_[c[k]];
     }
   }
 
@@ -553,9 +640,10 @@ class ScheduledFilters {
   bool fallback_now_ = false;
   int layer_now_ = 0;                            // the layer the air data now calls for
   int filter_layer_ = 0;                         // the layer of the filters in force
-  UVector u_now_;
-  ZVector z_now_;
-  XVector x_now_;
+  UVector u_now_, u_lin_;
+  ZVector z_now_, z_lin_;
+  XVector x_now_, x_lin_;
+  double diagonal_share_ = 0.0;   // row trims near a cut cell's diagonal: the linear trims' share
   std::int64_t outside_ = 0, fallback_ = 0, switches_ = 0, blends_ = 0;
 };
 

@@ -363,6 +363,70 @@ TEST(ScheduledBank, TheMissingCornersHalfTakesTheCoveredTrianglesPlaneAndTheNear
   EXPECT_LT((hb.z_trim() - affine_z(0.5 + 1e-6, 0.5)).norm(), 1e-9);
 }
 
+// Row trims on a 4 x 3 grid (Mach 0.3, 0.35, 0.4, 0.5 x 20,000, 25,000, 30,000 ft) without
+// (0.3, 30,000 ft), so no 4 x 4 (here 4 x 3) stencil is covered: the nodes' trims are quadratic in
+// Mach and linear in altitude, which each row's Lagrange blend (4 or 3 nodes) and the rows'
+// blend reproduce exactly, where the bilinear triangle does not, away from the cut cell's diagonal.
+TEST(ScheduledBank, RowTrimsFollowEachRowsOwnStencilWhereNoFullStencilIsCovered) {
+  const std::vector<double> mach = {0.3, 0.35, 0.4, 0.5}, alt = {20000.0, 25000.0, 30000.0};
+  const auto vel = [](double m, double h) { return 1000.0 * m - 300.0 * m * m + 0.001 * (h - 20000.0); };
+  const auto aoa = [](double m, double h) { return 0.6 - 2.0 * m + 1.5 * m * m + 1e-6 * (h - 20000.0); };
+  BankSchedule s;
+  s.mach = mach;
+  s.alt_ft = alt;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 4; ++i) {
+      if (i == 0 && j == 2) continue;   // (0.3, 30,000 ft) does not trim
+      ScheduleNode n;
+      n.i_mach = i;
+      n.i_alt = j;
+      n.bank = node_bank(0, 0);
+      n.bank.mach = mach[static_cast<std::size_t>(i)];
+      n.bank.alt_ft = alt[static_cast<std::size_t>(j)];
+      n.bank.z_trim(0) = vel(n.bank.mach, n.bank.alt_ft);
+      n.bank.z_trim(1) = aoa(n.bank.mach, n.bank.alt_ft);
+      n.x_trim = node_x_trim(0, 0);
+      s.nodes.push_back(n);
+    }
+  s.metadata = "{}";
+  HierarchicalOptions rows = options(ScheduleMode::kInterpolate), linear = rows;
+  rows.schedule.row_trims = true;
+  linear.schedule.row_trims = false;
+  F16HierarchicalBank hr(scheduled_bank(s), rows), hl(scheduled_bank(s), linear);
+  for (const AirData a : {AirData{0.3453, 26582.0}, AirData{0.33, 22000.0}, AirData{0.45, 28000.0}}) {
+    hr.schedule(a);
+    hl.schedule(a);
+    EXPECT_EQ(hr.scheduled().fallback_frames(), 0) << a.mach;   // the covered half or a covered cell
+    EXPECT_NEAR(hr.z_trim()(0), vel(a.mach, a.pressure_altitude_ft), 1e-9) << a.mach;
+    EXPECT_NEAR(hr.z_trim()(1), aoa(a.mach, a.pressure_altitude_ft), 1e-12) << a.mach;
+  }
+  // the bilinear triangle misses the curvature in Mach at (0.3453, 26,582 ft)
+  hl.schedule(AirData{0.3453, 26582.0});
+  EXPECT_GT(std::abs(hl.z_trim()(1) - aoa(0.3453, 26582.0)), 1e-4);
+  // at a node, the node's trims
+  hr.schedule(AirData{0.35, 25000.0});
+  EXPECT_NEAR(hr.z_trim()(1), aoa(0.35, 25000.0), 1e-15);
+  // near the cut cell's diagonal (a - b < 0.25 cells) they move to the triangle's linear trims,
+  // which the missing half's plane continues: on it (a = b = 0.5) the linear trims, a quarter of
+  // the way in (a - b = 0.125) half of each
+  const AirData on{0.325, 27500.0}, half{0.33125, 27500.0};
+  hr.schedule(on);
+  hl.schedule(on);
+  EXPECT_NEAR(hr.z_trim()(1), hl.z_trim()(1), 1e-15);
+  EXPECT_GT(std::abs(hr.z_trim()(1) - aoa(on.mach, on.pressure_altitude_ft)), 1e-4);
+  hr.schedule(half);
+  hl.schedule(half);
+  EXPECT_NEAR(hr.z_trim()(1), 0.5 * (hl.z_trim()(1) + aoa(half.mach, half.pressure_altitude_ft)), 1e-12);
+  const AirData past{0.32499, 27500.0};   // just inside the missing half: the plane, 2e-4 cells on
+  hr.schedule(past);
+  hl.schedule(past);
+  EXPECT_EQ(hr.scheduled().fallback_frames(), 1);
+  EXPECT_EQ(hr.z_trim()(1), hl.z_trim()(1));
+  const double plane_past = hl.z_trim()(1);
+  hr.schedule(on);   // continuous across the diagonal: 2e-4 cells apart, about 0.05 rad a cell
+  EXPECT_NEAR(hr.z_trim()(1), plane_past, 2e-5);
+}
+
 TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {
   const BankSchedule s = make_schedule();
   F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));

@@ -7,12 +7,13 @@ the grid misses a corner.
 
 For each air-data point the truth model trims (``f16mmae.truth.aircraft.trimmed_fdm``), the
 scheduled trims in force at that air data (``core.HierarchicalBank.schedule``, no low-pass
-left: three selections at the point) with the nearest covered node's trims in a cell's uncovered
-half (``plane_trims=False``, the schedule before round 37) and with the covered triangle's plane
-(the default; cpp/f16mmae/scheduled_filters.h), and the truth's trim minus each: VEL (ft/s), AOA
-(rad), AZ (g) and the left stabilator (rad). A scan (``--mach``, ``--alt-ft``: START:STOP:STEP)
-lists only the points whose trims the plane changes, i.e. those in an uncovered half
-(docs/results/envelope_scheduled.md, round 37); ``--points`` lists the points given.
+left: three selections at the point) as the schedule had them before round 37 (``plane_trims``
+and ``row_trims`` off: the nearest covered node's trims in a cell's uncovered half, bilinear
+where no 4 x 4 stencil is covered) and as it has them now (the defaults: the covered triangle's
+plane, row by row; cpp/f16mmae/scheduled_filters.h), and the truth's trim minus each: VEL
+(ft/s), AOA (rad), AZ (g) and the left stabilator (rad). A scan (``--mach``, ``--alt-ft``:
+START:STOP:STEP) lists only the points whose trims changed (docs/results/envelope_scheduled.md,
+round 37); ``--points`` lists the points given.
 """
 from __future__ import annotations
 
@@ -64,11 +65,11 @@ def main() -> None:
     _, _, model = load_bank(args.bank)
     if not model.schedule:
         parser.error(f"--bank {args.bank}: not a scheduled bank")
-    nearest = core.HierarchicalBank(model, plane_trims=False)
-    plane = core.HierarchicalBank(model)
+    before = core.HierarchicalBank(model, plane_trims=False, row_trims=False)
+    now = core.HierarchicalBank(model)
     points = args.points or [(m, h) for m in args.mach for h in args.alt_ft]
     cols = ((0, "VEL ft/s"), (1, "AOA rad"), (3, "AZ g"))
-    print(f"{'point':>14}  " + "  ".join(f"{name:>17}" for _, name in cols) + f"  {'LS rad':>17}   (nearest -> plane)")
+    print(f"{'point':>14}  " + "  ".join(f"{name:>17}" for _, name in cols) + f"  {'LS rad':>17}   (before -> now)")
     errors = {name: ([], []) for _, name in cols}
     for mach, alt_ft in points:
         try:
@@ -76,10 +77,10 @@ def main() -> None:
                 _, trim = aircraft.trimmed_fdm(mach, alt_ft)
         except (F16mmaeError, ValueError, RuntimeError):
             continue   # the truth does not trim here
-        z0, u0 = scheduled_trims(nearest, mach, alt_ft)
-        z1, u1 = scheduled_trims(plane, mach, alt_ft)
+        z0, u0 = scheduled_trims(before, mach, alt_ft)
+        z1, u1 = scheduled_trims(now, mach, alt_ft)
         if args.points is None and np.allclose(z0, z1, rtol=0, atol=1e-9) and np.allclose(u0, u1, rtol=0, atol=1e-9):
-            continue   # not in an uncovered half
+            continue   # the same trims
         dz0, dz1 = trim.z - z0, trim.z - z1
         cells = [f"{dz0[j]:+8.4f} -> {dz1[j]:+8.4f}" if j else f"{dz0[j]:+8.2f} -> {dz1[j]:+8.2f}" for j, _ in cols]
         ls = f"{trim.u_rad[0] - u0[0]:+8.4f} -> {trim.u_rad[0] - u1[0]:+8.4f}"

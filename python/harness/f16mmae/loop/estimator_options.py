@@ -554,6 +554,7 @@ CORE_ONLY: dict[str, str] = {
     "cubic_trims": "the schedule's trims to third order (scheduled_filters.h)",
     "plane_trims": "the schedule's trims in a cell's uncovered half from its covered triangle's plane "
                    "(scheduled_filters.h)",
+    "row_trims": "the schedule's trims row by row where no 4 x 4 stencil is covered (scheduled_filters.h)",
     "adapt_time_constant_s": "the adaptation's averaging time, tuned with its gain (turbulence_adaptation.h)",
     "adapt_scale_min": "the adaptation's lower bound on s, the design's A_k (turbulence_adaptation.h)",
     "adapt_scale_max": "the adaptation's upper bound on s (turbulence_adaptation.h)",

@@ -37,8 +37,9 @@
 //                  move linearly to the triangle's trims, (1 - beta) rows + beta linear, beta =
 //                  max(0, 1 - d / kDiagonalBlendCells), so they meet the other half's plane on
 //                  the diagonal (without the blend, noisy air data crossing it read a 0.004-rad
-//                  AOA step as a failure); else bilinearly, trim = sum_c w_c trim_c. The trim is far from linear in Mach
-//                  (alpha goes about as 1/M^2), and a trim interpolated linearly is off the
+//                  AOA step as a failure); else bilinearly, trim = sum_c w_c trim_c. The trim
+//                  is far from linear in Mach (alpha goes about as 1/M^2), and a trim
+//                  interpolated linearly is off the
 //                  model's equilibrium enough to be taken for a failure (docs/results/schedule.md).
 //                  Phi, Bd, H, K, A, A⁻¹, ln|A|, H_out = sum_c w_c (that of corner c)
 //                  (HypothesisFilter::assign_blend), re-blended when the air data has moved
@@ -49,7 +50,7 @@
 //                  corner: in the half of the three covered corners, linear weights there
 //                  (corners (0,0) (1,0) (0,1) (1,1) of the cell, uncovered (0,1):
 //                  w = (1-a, a-b, 0, b); the others likewise), for filters and trims (third
-//                  order where the 4 x 4 stencil is covered); in the other half, or with two
+//                  order or row by row where covered, above); in the other half, or with two
 //                  or more corners uncovered, the nearest covered node instead (counted in
 //                  fallback_frames()). Plane trims (ScheduleOptions::plane_trims, the default;
 //                  off: the nearest node's trims too): in the missing corner's half the trims

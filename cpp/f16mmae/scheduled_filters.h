@@ -219,6 +219,7 @@ class ScheduledFilters {
   // Back to the air data `start`, counters zeroed.
   void reset(const AirData& start) noexcept {
     outside_ = fallback_ = switches_ = blends_ = 0;
+    rows_key_ = RowKey{};   // the row stencils chosen afresh
     filtered_ = start;
     selections_ = 0;
     const GridPoint g = axes_.locate(start);
@@ -531,24 +532,52 @@ class ScheduledFilters {
   // Row by row: on the first altitude stencil (starts()) each of whose rows of non-zero weight
   // has a Mach stencil of 4, else 3, else 2 nodes all covered in the layer in force whose span
   // reaches within one cell of g.s (the nearest such start), the Lagrange blend of the rows'
-  // Lagrange blends; false, changing nothing, if there is none.
+  // Lagrange blends; false, changing nothing, if there is none. The stencils chosen are kept while
+  // the choice cannot change (RowKey: it changes only where g.s crosses a multiple of 1/2, g.t a
+  // node, or the layer), so a frame recomputes only the weights.
   bool blend_trims_rows(const GridPoint& g) noexcept {
+    const RowKey key{layer_now_, static_cast<int>(std::floor(2.0 * g.s)), 2.0 * g.s == std::floor(2.0 * g.s),
+                     static_cast<int>(std::floor(g.t)), g.t == std::floor(g.t)};
+    const int na = static_cast<int>(axes_.alt_ft.size()) < 4 ? static_cast<int>(axes_.alt_ft.size()) : 4;
+    std::array<double, 4> wa{}, wm{};
+    for (bool fresh = !(key == rows_key_);; fresh = true) {
+      if (fresh) {
+        rows_key_ = key;
+        choose_rows(g);
+      }
+      if (rows_.fa < 0) return false;
+      lagrange(axes_.alt_ft, g.t, rows_.fa, na, wa);
+      // every row of non-zero weight has its stencil, else choose afresh (a weight that rounds
+      // to 0 just off a node would have left its row out of the kept choice)
+      bool weighed = true;
+      for (int k = 0; k < na; ++k) weighed = weighed && (wa[k] == 0.0 || rows_.n[k] > 0);
+      if (weighed || fresh) break;
+    }
+    bool first = true;
+    for (int k = 0; k < na; ++k) {
+      if (wa[k] == 0.0) continue;
+      lagrange(axes_.mach, g.s, rows_.f[k], rows_.n[k], wm);
+      for (int j = 0; j < rows_.n[k]; ++j)
+        add_trims(wa[k] * wm[j], index(rows_.f[k] + j, rows_.fa + k, layer_now_), first);
+    }
+    return !first;
+  }
+  // The row stencils blend_trims_rows takes at g, into rows_ (fa -1: none).
+  void choose_rows(const GridPoint& g) noexcept {
     const int sm = static_cast<int>(axes_.mach.size()), sa = static_cast<int>(axes_.alt_ft.size());
     const int na = sa < 4 ? sa : 4;
     std::array<int, 3> fas{};
     const int ca = starts(sa, g.t, fas);
+    rows_.fa = -1;
     for (int a = 0; a < ca; ++a) {
       std::array<double, 4> wa{};
       lagrange(axes_.alt_ft, g.t, fas[a], na, wa);
-      std::array<std::array<int, 4>, 4> nodes{};
-      std::array<std::array<double, 4>, 4> wm{};
-      std::array<int, 4> count{};
+      RowStencils r{fas[a], {}, {}};
       bool rows = true;
       for (int k = 0; k < na && rows; ++k) {
         if (wa[k] == 0.0) continue;
         const int row = fas[a] + k;
-        count[k] = 0;
-        for (int n = std::min(4, sm); n >= 2 && count[k] == 0; --n) {
+        for (int n = std::min(4, sm); n >= 2 && r.n[k] == 0; --n) {
           double best = 1e9;   // cells past the stencil's span (at most 1), then off its centre
           for (int f = 0; f + n <= sm; ++f) {
             const double past = std::max({0.0, f - g.s, g.s - (f + n - 1)});
@@ -558,22 +587,16 @@ class ScheduledFilters {
             for (int j = 0; j < n && covered; ++j) covered = index(f + j, row, layer_now_) >= 0;
             if (!covered) continue;
             best = score;
-            count[k] = n;
-            for (int j = 0; j < n; ++j) nodes[k][j] = index(f + j, row, layer_now_);
-            lagrange(axes_.mach, g.s, f, n, wm[k]);
+            r.f[k] = f;
+            r.n[k] = n;
           }
         }
-        rows = count[k] > 0;
+        rows = r.n[k] > 0;
       }
       if (!rows) continue;
-      bool first = true;
-      for (int k = 0; k < na; ++k) {
-        if (wa[k] == 0.0) continue;
-        for (int j = 0; j < count[k]; ++j) add_trims(wa[k] * wm[k][j], nodes[k][j], first);
-      }
-      return !first;
+      rows_ = r;
+      return;
     }
-    return false;
   }
   void blend_trims(const GridPoint& g) noexcept {
     if (options_.mode == ScheduleMode::kInterpolate && options_.cubic_trims && !fallback_now_ && blend_trims_cubic(g))
@@ -641,6 +664,22 @@ class ScheduledFilters {
   bool fallback_now_ = false;
   int layer_now_ = 0;                            // the layer the air data now calls for
   int filter_layer_ = 0;                         // the layer of the filters in force
+  // The row stencils in force (blend_trims_rows) and what they were chosen for.
+  struct RowStencils {
+    int fa = -1;                          // the altitude stencil's first row (-1: none)
+    std::array<int, 4> f{}, n{};          // each row's Mach stencil: first node and count (0: weight 0)
+  };
+  struct RowKey {
+    int layer = -1, half_s = 0;
+    bool on_half = false;
+    int cell_t = 0;
+    bool on_node = false;
+    bool operator==(const RowKey& o) const noexcept {
+      return layer == o.layer && half_s == o.half_s && on_half == o.on_half && cell_t == o.cell_t && on_node == o.on_node;
+    }
+  };
+  RowStencils rows_;
+  RowKey rows_key_;                       // layer -1: nothing chosen yet
   UVector u_now_, u_lin_;
   ZVector z_now_, z_lin_;
   XVector x_now_, x_lin_;

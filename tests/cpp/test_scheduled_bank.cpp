@@ -363,19 +363,19 @@ TEST(ScheduledBank, TheMissingCornersHalfTakesTheCoveredTrianglesPlaneAndTheNear
   EXPECT_LT((hb.z_trim() - affine_z(0.5 + 1e-6, 0.5)).norm(), 1e-9);
 }
 
-// Row trims on a 4 x 3 grid (Mach 0.3, 0.35, 0.4, 0.5 x 20,000, 25,000, 30,000 ft) without
-// (0.3, 30,000 ft), so no 4 x 4 (here 4 x 3) stencil is covered: the nodes' trims are quadratic in
+// Row trims on a 6 x 3 grid (Mach 0.3, 0.35, 0.4, 0.5, 0.6, 0.7 x 20,000, 25,000, 30,000 ft)
+// without (0.3, 30,000 ft), so near it no 4 x 3 stencil is covered: the nodes' trims are quadratic in
 // Mach and linear in altitude, which each row's Lagrange blend (4 or 3 nodes) and the rows'
 // blend reproduce exactly, where the bilinear triangle does not, away from the cut cell's diagonal.
 TEST(ScheduledBank, RowTrimsFollowEachRowsOwnStencilWhereNoFullStencilIsCovered) {
-  const std::vector<double> mach = {0.3, 0.35, 0.4, 0.5}, alt = {20000.0, 25000.0, 30000.0};
+  const std::vector<double> mach = {0.3, 0.35, 0.4, 0.5, 0.6, 0.7}, alt = {20000.0, 25000.0, 30000.0};
   const auto vel = [](double m, double h) { return 1000.0 * m - 300.0 * m * m + 0.001 * (h - 20000.0); };
   const auto aoa = [](double m, double h) { return 0.6 - 2.0 * m + 1.5 * m * m + 1e-6 * (h - 20000.0); };
   BankSchedule s;
   s.mach = mach;
   s.alt_ft = alt;
   for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 4; ++i) {
+    for (int i = 0; i < 6; ++i) {
       if (i == 0 && j == 2) continue;   // (0.3, 30,000 ft) does not trim
       ScheduleNode n;
       n.i_mach = i;
@@ -425,6 +425,18 @@ TEST(ScheduledBank, RowTrimsFollowEachRowsOwnStencilWhereNoFullStencilIsCovered)
   const double plane_past = hl.z_trim()(1);
   hr.schedule(on);   // continuous across the diagonal: 2e-4 cells apart, about 0.05 rad a cell
   EXPECT_NEAR(hr.z_trim()(1), plane_past, 2e-5);
+  // the row stencils kept from frame to frame give the trims a fresh choice gives, bit for bit,
+  // over a path through every cell (on nodes, half cells and the diagonal too), where the rows'
+  // stencils move with the Mach number
+  F16HierarchicalBank path(scheduled_bank(s), rows);
+  for (int i = 0; i <= 800; ++i) {
+    const double x = i / 800.0;
+    const AirData a{0.3 + 0.4 * x, 20000.0 + 10000.0 * std::fmod(4.0 * x, 1.0)};
+    path.schedule(a);
+    F16HierarchicalBank fresh(scheduled_bank(s), rows);
+    fresh.schedule(a);
+    ASSERT_TRUE(path.z_trim() == fresh.z_trim() && path.u_trim() == fresh.u_trim()) << a.mach << " " << a.pressure_altitude_ft;
+  }
 }
 
 TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {

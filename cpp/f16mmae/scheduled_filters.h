@@ -61,7 +61,26 @@
 //                  near the aircraft's where the trimmable envelope's edge cuts the grid: at
 //                  Mach 0.32, 29,000 ft VEL 0.1 ft/s and AOA 0.0015 rad off the truth model's
 //                  trim, against the nearest node's 31 ft/s and 0.042 rad
-//                  (docs/results/envelope_scheduled.md, round 37).
+//                  (docs/results/envelope_scheduled.md, round 37). Neighbour trims
+//                  (ScheduleOptions::neighbour_trims, the default, with plane_trims): in a cell
+//                  missing two or more corners the trims are those of its edge-adjacent cells
+//                  that miss at most one (bilinear, or the covered triangle's), extended to the
+//                  point and blended with weights 1/d, d the distance in cells to each, so they
+//                  meet each neighbour's trims on the shared edge (the nearest node's jumped
+//                  there, and noisy air data on it crossed back and forth).
+//                  Lift trims (ScheduleOptions::lift_trims, the default): in a cut cell the
+//                  linear trims (the covered triangle's, the plane's, the neighbours' triangles)
+//                  are linear not in (s, t) but in (lambda, t), lambda the lift coordinate
+//                    lambda = (delta(h) M^2)^(-3/4),   delta the standard atmosphere's p / p0,
+//                  by barycentric weights on the triangle's nodes (extended outside it); the
+//                  airspeed components (measurement VEL, state u_fps) keep the (s, t) weights,
+//                  airspeed being a(h) M. In level flight C_L = W / (q S), q = 0.7 p0 delta M^2,
+//                  so alpha, the surfaces and the load factor are functions of 1 / (delta M^2)
+//                  nearly alone; the exponent 3/4 follows the truth model's trimmed alpha along
+//                  the low-speed edge, where C_L(alpha) bends (linear in 1 / (delta M^2) the
+//                  planes overshoot by 0.0025 rad, linear in Mach they fall short by 0.005):
+//                  there the schedule's AOA trim is within 0.0003 rad of the truth model's
+//                  (docs/results/envelope_scheduled.md, round 38).
 //   nearest      the nearest covered node's filters and trims, switched with hysteresis: the
 //                node in force changes only when another is nearer by hysteresis_cells
 //                (distance in cell units); the trims switch with it.
@@ -126,6 +145,8 @@ struct ScheduleOptions {
   bool cubic_trims = true;                // interpolate: trims to third order where covered
   bool plane_trims = true;                // interpolate: the missing corner's half takes the plane's trims
   bool row_trims = true;                  // interpolate: where no 4 x 4 stencil is covered, row by row
+  bool neighbour_trims = true;            // interpolate, plane_trims: two or more corners uncovered, the neighbours' planes
+  bool lift_trims = true;                 // interpolate: a cut cell's linear trims in the lift coordinate, airspeed in Mach
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
@@ -157,6 +178,8 @@ class ScheduledFilters {
   // Row trims in a cut cell's covered half within this many cells of its diagonal (the
   // diagonal's own coordinate, e.g. a - b) move linearly to the triangle's trims on it (header).
   static constexpr double kDiagonalBlendCells = 0.25;
+  // The lift coordinate's exponent: lambda = (delta M^2)^(-kLiftExponent) (header).
+  static constexpr double kLiftExponent = 0.75;
 
   ScheduledFilters() = default;
 
@@ -197,7 +220,15 @@ class ScheduledFilters {
       calm_.push_back(node.calm_reference);
       scale_.push_back(node.reference_scale);
       p_min_.push_back(node.bank.estimator.p_min);
+      lift_.push_back(lift_coordinate(schedule.mach[node.i_mach], schedule.alt_ft[node.i_alt]));
     }
+    const ModelBank& first = schedule.nodes[0].bank;
+    const auto at = [](const std::vector<std::string>& names, const char* name) {
+      const auto it = std::find(names.begin(), names.end(), name);
+      return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+    };
+    z_speed_ = at(first.measurement_names, "VEL");
+    x_speed_ = at(first.state_names, "u_fps");
     has_reference_ = schedule.has_adapt_reference();
     has_calm_ = schedule.has_calm_reference();
     has_scale_ = schedule.has_reference_scale();
@@ -360,7 +391,7 @@ class ScheduledFilters {
     return weight > 0.0 ? axes_.layer_of(sum / weight) : axes_.nodes[node_].layer;
   }
   void choose(const GridPoint& g) noexcept {
-    fallback_now_ = plane_now_ = false;
+    fallback_now_ = plane_now_ = lift_now_ = false;
     diagonal_share_ = 0.0;
     if (options_.mode == ScheduleMode::kNearest) {
       layer_now_ = axes_.nodes[node_].layer;
@@ -377,15 +408,23 @@ class ScheduledFilters {
     for (int k = 0; k < kCorners; ++k)
       if (c[k] < 0 && w[k] != 0.0) ++uncovered, missing = k;
     if (uncovered == 1 && !triangle_weights(missing, a, b, w)) {
-      if (options_.plane_trims) {   // the trims on the covered triangle's plane, extrapolated
+      bool triangle = true;   // its three corners covered (a corner of weight 0 may not be)
+      for (int k = 0; k < kCorners; ++k) triangle = triangle && (k == missing || c[k] >= 0);
+      if (options_.plane_trims && triangle) {   // the trims on the covered triangle's plane, extrapolated
         plane_now_ = true;
-        for (int k = 0; k < kCorners; ++k) {
-          plane_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);   // weight 0 at the missing corner
-          plane_weights_[k] = w[k];
-        }
+        lift_now_ = options_.lift_trims;
+        std::array<double, kCorners> lw = w;
+        if (lift_now_) lift_weights(c, missing, j, g, lw);
+        plane_terms_ = 0;
+        for (int k = 0; k < kCorners; ++k)
+          if (k != missing) {
+            plane_corners_[plane_terms_] = c[k], plane_lift_[plane_terms_] = lw[k];
+            plane_weights_[plane_terms_++] = w[k];
+          }
       }
       uncovered = 2;
     }
+    if (uncovered > 1 && options_.plane_trims && options_.neighbour_trims && !plane_now_) neighbour_planes(g, cell, layer);
     if (uncovered > 1) {
       fallback_now_ = true;
       return choose_node(axes_.nearest(g, layer));
@@ -393,11 +432,83 @@ class ScheduledFilters {
     if (uncovered == 1) {   // the covered half: how far from the diagonal (0 on it)
       const double from = missing == 0 ? a + b - 1 : missing == 1 ? b - a : missing == 2 ? a - b : 1 - a - b;
       diagonal_share_ = std::max(0.0, 1.0 - from / kDiagonalBlendCells);
+      bool triangle = true;
+      for (int k = 0; k < kCorners; ++k) triangle = triangle && (k == missing || c[k] >= 0);
+      lift_now_ = options_.lift_trims && triangle;
+      if (lift_now_) lift_weights(c, missing, j, g, trim_lift_);
     }
     for (int k = 0; k < kCorners; ++k) {
       trim_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);  // weight 0 where uncovered
       trim_weights_[k] = w[k];
     }
+  }
+  // The lift coordinate at Mach `mach`, pressure altitude `alt_ft` (header): (delta M^2)^(-3/4),
+  // delta the standard atmosphere's pressure ratio.
+  static double lift_coordinate(double mach, double alt_ft) noexcept {
+    const double delta = alt_ft < 36089.24 ? std::pow(1.0 - 6.8755856e-6 * alt_ft, 5.2558797)
+                                           : 0.2233609 * std::exp(-4.806346e-5 * (alt_ft - 36089.24));
+    return std::pow(delta * mach * mach, -kLiftExponent);
+  }
+  // The physical value at fractional coordinate x of an axis.
+  static double axis_value(const std::vector<double>& axis, double x) noexcept {
+    const int i = std::min(static_cast<int>(std::floor(x)), static_cast<int>(axis.size()) - 1);
+    const double frac = x - i;
+    return frac == 0.0 ? axis[i] : axis[i] + frac * (axis[i + 1] - axis[i]);
+  }
+  // Linear weights at g on the triangle of the corners (cell row j) other than `missing` (all three
+  // covered, nodes c) in the coordinates (lambda, t), into w (w[missing] = 0): the barycentric
+  // coordinates, extended outside the triangle; w unchanged if the three are collinear there.
+  void lift_weights(const std::array<int, kCorners>& c, int missing, int j, const GridPoint& g,
+                    std::array<double, kCorners>& w) const noexcept {
+    int k3[3], n = 0;
+    for (int k = 0; k < kCorners; ++k)
+      if (k != missing) k3[n++] = k;
+    double l[3], t[3];
+    for (int m = 0; m < 3; ++m) l[m] = lift_[c[k3[m]]], t[m] = j + (k3[m] >> 1);
+    const double lp = lift_coordinate(axis_value(axes_.mach, g.s), axis_value(axes_.alt_ft, g.t)), tp = g.t;
+    const double d = (l[1] - l[0]) * (t[2] - t[0]) - (l[2] - l[0]) * (t[1] - t[0]);
+    if (!(std::abs(d) > 1e-9 * (std::abs(l[0]) + 1.0))) return;   // degenerate in (lambda, t): w as given
+    const double w1 = ((lp - l[0]) * (t[2] - t[0]) - (l[2] - l[0]) * (tp - t[0])) / d;
+    const double w2 = ((l[1] - l[0]) * (tp - t[0]) - (lp - l[0]) * (t[1] - t[0])) / d;
+    w = {0.0, 0.0, 0.0, 0.0};
+    w[k3[0]] = 1.0 - w1 - w2, w[k3[1]] = w1, w[k3[2]] = w2;
+  }
+  // Trims in a cell with two or more uncovered corners (header comment): each edge-adjacent cell
+  // with at most one uncovered corner in the layer, its linear weights (bilinear, or its covered
+  // triangle's) extended to g, blended with weights 1 / d, d the distance in cells from g to that
+  // cell, into the plane terms; none (plane_now_ false) where no neighbour qualifies.
+  void neighbour_planes(const GridPoint& g, const Cell& cell, int layer) noexcept {
+    const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
+    const int di[4] = {-1, 1, 0, 0}, dj[4] = {0, 0, -1, 1};
+    const double d[4] = {g.s - cell.i, cell.i1 - g.s, g.t - cell.j, cell.j1 - g.t};
+    double total = 0.0;
+    plane_terms_ = 0;
+    for (int side = 0; side < 4; ++side) {
+      const int i = cell.i + di[side], j = cell.j + dj[side];
+      if (i < 0 || j < 0 || i + 1 >= ni || j + 1 >= nj) continue;
+      const std::array<int, kCorners> c = {index(i, j, layer), index(i + 1, j, layer), index(i, j + 1, layer),
+                                           index(i + 1, j + 1, layer)};
+      int missing = -1, uncovered = 0;
+      for (int k = 0; k < kCorners; ++k)
+        if (c[k] < 0) ++uncovered, missing = k;
+      if (uncovered > 1) continue;
+      const double a = g.s - i, b = g.t - j;
+      std::array<double, kCorners> w = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
+      if (uncovered == 1) triangle_weights(missing, a, b, w);   // extended past the triangle: some negative
+      std::array<double, kCorners> lw = w;
+      if (uncovered == 1 && options_.lift_trims) lift_weights(c, missing, j, g, lw);
+      const double share = 1.0 / std::max(d[side], 1e-12);
+      for (int k = 0; k < kCorners; ++k)
+        if (c[k] >= 0) {
+          plane_corners_[plane_terms_] = c[k], plane_lift_[plane_terms_] = share * lw[k];
+          plane_weights_[plane_terms_++] = share * w[k];
+        }
+      total += share;
+    }
+    if (total == 0.0) return;
+    for (int k = 0; k < plane_terms_; ++k) plane_weights_[k] /= total, plane_lift_[k] /= total;
+    plane_now_ = true;
+    lift_now_ = options_.lift_trims;
   }
   // Linear weights on the triangle of the three corners other than `missing` (header
   // comment), into w; false when (a, b) lies outside that triangle (the missing corner's half).
@@ -613,18 +724,30 @@ class ScheduledFilters {
     }
     blend_trims_linear(u_now_, z_now_, x_now_);
   }
-  // The corners' linear blend (bilinear, the triangle's, or the plane's) into (u, z, x).
+  // The corners' linear blend (bilinear, the triangle's, or the plane terms) into (u, z, x); in a
+  // cut cell with lift trims, the lift weights but for the airspeed components (header).
   void blend_trims_linear(UVector& u, ZVector& z, XVector& x) const noexcept {
-    const std::array<int, kCorners>& c = plane_now_ ? plane_corners_ : trim_corners_;
-    const std::array<double, kCorners>& w = plane_now_ ? plane_weights_ : trim_weights_;
-    u = w[0] * u_trim_[c[0]];
-    z = w[0] * z_trim_[c[0]];
-    x = w[0] * x_trim_[c[0]];
-    for (int k = 1; k < kCorners; ++k) {
-      if (w[k] == 0.0) continue;
-      u += w[k] * u_trim_[c[k]];
-      z += w[k] * z_trim_[c[k]];
-      x += w[k] * x_trim_[c[k]];
+    const int* c = plane_now_ ? plane_corners_.data() : trim_corners_.data();
+    const double* w = plane_now_ ? plane_weights_.data() : trim_weights_.data();
+    const double* l = !lift_now_ ? w : plane_now_ ? plane_lift_.data() : trim_lift_.data();
+    const int n = plane_now_ ? plane_terms_ : kCorners;
+    u = l[0] * u_trim_[c[0]];
+    z = l[0] * z_trim_[c[0]];
+    x = l[0] * x_trim_[c[0]];
+    for (int k = 1; k < n; ++k) {
+      if (l[k] == 0.0) continue;
+      u += l[k] * u_trim_[c[k]];
+      z += l[k] * z_trim_[c[k]];
+      x += l[k] * x_trim_[c[k]];
+    }
+    if (l == w) return;
+    if (z_speed_ >= 0) {
+      z(z_speed_) = 0.0;
+      for (int k = 0; k < n; ++k) z(z_speed_) += w[k] * z_trim_[c[k]](z_speed_);
+    }
+    if (x_speed_ >= 0) {
+      x(x_speed_) = 0.0;
+      for (int k = 0; k < n; ++k) x(x_speed_) += w[k] * x_trim_[c[k]](x_speed_);
     }
   }
 
@@ -653,8 +776,16 @@ class ScheduledFilters {
   std::array<double, kCorners> weights_{};
   std::array<int, kCorners> trim_corners_{};     // of the trims in force (the air data now)
   std::array<double, kCorners> trim_weights_{};
-  std::array<int, kCorners> plane_corners_{};    // plane_trims: the covered triangle's (plane_now_)
-  std::array<double, kCorners> plane_weights_{};
+  // plane_trims (plane_now_): the covered triangle's corners and weights, or the neighbours' terms
+  static constexpr int kPlaneTerms = 4 * kCorners;
+  std::array<int, kPlaneTerms> plane_corners_{};
+  std::array<double, kPlaneTerms> plane_weights_{};
+  std::array<double, kPlaneTerms> plane_lift_{};   // lift_trims: the same terms' weights in (lambda, t)
+  int plane_terms_ = 0;
+  std::array<double, kCorners> trim_lift_{};       // lift_trims: the covered triangle's in (lambda, t)
+  bool lift_now_ = false;                          // a cut cell's lift weights are in force
+  std::vector<double> lift_;                       // per node its lift coordinate
+  int z_speed_ = -1, x_speed_ = -1;                // the airspeed components (VEL, u_fps; -1: none)
   bool plane_now_ = false;
   AirData filtered_;                             // the low-passed air data
   double alpha_ = 1.0;

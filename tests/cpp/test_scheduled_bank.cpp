@@ -5,7 +5,8 @@
 // switching keeps its node within the hysteresis; a schedule change keeps probabilities,
 // declarations and the level and moves the states bumplessly; outside the grid is clamped and
 // counted; an uncovered corner splits the cell, its half taking the nearest node's filters and
-// the covered triangle's plane for the trims (or the node's, plane_trims off); the trim offset adds to the
+// the covered triangle's plane for the trims (or the node's, plane_trims off), a cell keeping one
+// corner its neighbours' planes, a cut cell's linear trims in the lift coordinate; the trim offset adds to the
 // scheduled trim; nothing allocates per frame; the scheduled-bank file round-trips and refuses
 // corruption naming the field.
 #include "bankfile/schedule_file.h"
@@ -69,6 +70,34 @@ BankSchedule make_schedule(int skip_i = -1, int skip_j = -1) {
   s.metadata = "{}";
   return s;
 }
+
+// A schedule on the grid mach x alt, node_bank(0, 0)'s plant at every node but those where
+// uncovered(i, j), each node's trims set by trims(z_trim, mach, alt_ft).
+template <class Uncovered, class Trims>
+BankSchedule grid_schedule(const std::vector<double>& mach, const std::vector<double>& alt, Uncovered uncovered,
+                           Trims trims) {
+  BankSchedule s;
+  s.mach = mach;
+  s.alt_ft = alt;
+  for (int j = 0; j < static_cast<int>(alt.size()); ++j)
+    for (int i = 0; i < static_cast<int>(mach.size()); ++i) {
+      if (uncovered(i, j)) continue;
+      ScheduleNode n;
+      n.i_mach = i;
+      n.i_alt = j;
+      n.bank = node_bank(0, 0);
+      n.bank.mach = mach[static_cast<std::size_t>(i)];
+      n.bank.alt_ft = alt[static_cast<std::size_t>(j)];
+      trims(n.bank.z_trim, n.bank.mach, n.bank.alt_ft);
+      n.x_trim = node_x_trim(0, 0);
+      s.nodes.push_back(n);
+    }
+  s.metadata = "{}";
+  return s;
+}
+// The shipped schedule's low-speed corner on a 3 x 3 grid (Mach 0.3, 0.35, 0.4 x 25,000, 30,000,
+// 35,000 ft): (0.3, 30,000 and 35,000 ft) and (0.35, 35,000 ft) do not trim.
+bool corner_uncovered(int i, int j) { return (i == 0 && j >= 1) || (i == 1 && j == 2); }
 
 ModelBank scheduled_bank(const BankSchedule& s) {
   ModelBank b = s.nodes[static_cast<std::size_t>(s.primary)].bank;
@@ -308,6 +337,7 @@ TEST(ScheduledBank, OutsideTheGridIsClampedAndAnUncoveredCornerSplitsTheCellOrFa
   const BankSchedule holed = make_schedule(1, 1);  // (0.6, 20,000 ft) does not trim
   HierarchicalOptions nearest_trims = options(ScheduleMode::kInterpolate);
   nearest_trims.schedule.plane_trims = false;
+  nearest_trims.schedule.lift_trims = false;   // the triangle's trims in (Mach, altitude): by hand below
   F16HierarchicalBank h2(scheduled_bank(holed), nearest_trims);
   h2.schedule(AirData{0.58, 18000.0});  // s, t = 0.9, 0.8: nearest covered (0.6, 10,000 ft), 0.81 cells
   EXPECT_EQ(h2.scheduled().fallback_frames(), 1);
@@ -335,7 +365,9 @@ TEST(ScheduledBank, OutsideTheGridIsClampedAndAnUncoveredCornerSplitsTheCellOrFa
 // triangle's plane, extrapolated into the missing corner's half, is that affine function exactly.
 TEST(ScheduledBank, TheMissingCornersHalfTakesTheCoveredTrianglesPlaneAndTheNearestNodesFilters) {
   const BankSchedule holed = make_schedule(1, 1);  // (0.6, 20,000 ft) does not trim
-  F16HierarchicalBank hb(scheduled_bank(holed), options(ScheduleMode::kInterpolate));
+  HierarchicalOptions grid_plane = options(ScheduleMode::kInterpolate);
+  grid_plane.schedule.lift_trims = false;   // the plane in (Mach, altitude); in the lift coordinate: below
+  F16HierarchicalBank hb(scheduled_bank(holed), grid_plane);
   ASSERT_TRUE(hb.options().schedule.plane_trims);   // the default
   const auto affine_z = [](double a, double b) {
     Z z = Z::Zero();
@@ -371,24 +403,9 @@ TEST(ScheduledBank, RowTrimsFollowEachRowsOwnStencilWhereNoFullStencilIsCovered)
   const std::vector<double> mach = {0.3, 0.35, 0.4, 0.5, 0.6, 0.7}, alt = {20000.0, 25000.0, 30000.0};
   const auto vel = [](double m, double h) { return 1000.0 * m - 300.0 * m * m + 0.001 * (h - 20000.0); };
   const auto aoa = [](double m, double h) { return 0.6 - 2.0 * m + 1.5 * m * m + 1e-6 * (h - 20000.0); };
-  BankSchedule s;
-  s.mach = mach;
-  s.alt_ft = alt;
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 6; ++i) {
-      if (i == 0 && j == 2) continue;   // (0.3, 30,000 ft) does not trim
-      ScheduleNode n;
-      n.i_mach = i;
-      n.i_alt = j;
-      n.bank = node_bank(0, 0);
-      n.bank.mach = mach[static_cast<std::size_t>(i)];
-      n.bank.alt_ft = alt[static_cast<std::size_t>(j)];
-      n.bank.z_trim(0) = vel(n.bank.mach, n.bank.alt_ft);
-      n.bank.z_trim(1) = aoa(n.bank.mach, n.bank.alt_ft);
-      n.x_trim = node_x_trim(0, 0);
-      s.nodes.push_back(n);
-    }
-  s.metadata = "{}";
+  const BankSchedule s = grid_schedule(
+      mach, alt, [](int i, int j) { return i == 0 && j == 2; },   // (0.3, 30,000 ft) does not trim
+      [&](auto& z, double m, double h) { z(0) = vel(m, h), z(1) = aoa(m, h); });
   HierarchicalOptions rows = options(ScheduleMode::kInterpolate), linear = rows;
   rows.schedule.row_trims = true;
   linear.schedule.row_trims = false;
@@ -437,6 +454,88 @@ TEST(ScheduledBank, RowTrimsFollowEachRowsOwnStencilWhereNoFullStencilIsCovered)
     fresh.schedule(a);
     ASSERT_TRUE(path.z_trim() == fresh.z_trim() && path.u_trim() == fresh.u_trim()) << a.mach << " " << a.pressure_altitude_ft;
   }
+}
+
+// A 3 x 3 grid (Mach 0.3, 0.35, 0.4 x 25,000, 30,000, 35,000 ft) missing the shipped schedule's
+// three low-speed, high-altitude nodes, so the cell Mach 0.3-0.35, 30,000-35,000 ft keeps one
+// corner: its trims are its two edge-adjacent cells' planes (the right cell's covered triangle, the
+// lower cell's), extended to the point and blended by inverse distance. Trims affine in the grid
+// are reproduced exactly; others meet each neighbour's trims on the shared edge; the filters stay
+// the nearest node's; neighbour_trims off: the nearest node's trims.
+TEST(ScheduledBank, ACellMissingThreeCornersTakesItsNeighboursPlanesForTheTrims) {
+  const std::vector<double> mach = {0.3, 0.35, 0.4}, alt = {25000.0, 30000.0, 35000.0};
+  const auto affine = [](double m, double h) { return 0.6 - 0.8 * m + 2e-6 * (h - 25000.0); };
+  const auto curved = [](double m, double h) { return 0.02 / (m * m) + 1e-10 * (h - 25000.0) * (h - 25000.0); };
+  const BankSchedule s = grid_schedule(mach, alt, corner_uncovered,
+                                       [&](auto& z, double m, double h) { z(1) = affine(m, h), z(3) = curved(m, h); });
+  HierarchicalOptions on = options(ScheduleMode::kInterpolate), off = on;
+  ASSERT_TRUE(on.schedule.neighbour_trims);   // the default
+  on.schedule.lift_trims = off.schedule.lift_trims = false;   // planes in (Mach, altitude): affine exactly
+  off.schedule.neighbour_trims = false;
+  F16HierarchicalBank hb(scheduled_bank(s), on), hn(scheduled_bank(s), off);
+  const int kept = s.node_index(1, 1, 0);   // (0.35, 30,000 ft), the cell's one covered corner
+  for (const AirData a : {AirData{0.34, 31000.0}, AirData{0.32, 34000.0}, AirData{0.345, 30200.0}}) {
+    hb.schedule(a);
+    hn.schedule(a);
+    EXPECT_NEAR(hb.z_trim()(1), affine(a.mach, a.pressure_altitude_ft), 1e-12) << a.mach;
+    EXPECT_EQ(hn.z_trim()(1), s.nodes[static_cast<std::size_t>(kept)].bank.z_trim(1)) << a.mach;
+    for (int c = 0; c < 4; ++c)   // the filters: the nearest covered node's
+      if (hb.scheduled().weights()[c] != 0.0) EXPECT_EQ(hb.scheduled().corners()[c], kept);
+  }
+  EXPECT_EQ(hb.scheduled().fallback_frames(), 3);
+  // curved trims: continuous across the edge Mach 0.35 (into the right cell's missing half, its
+  // plane) and across 30,000 ft (into the lower cell's missing half, its plane), and on 30,000 ft
+  // itself the lower cell's plane
+  const auto across = [&](AirData inside, AirData outside) {
+    hb.schedule(inside);
+    const double z_in = hb.z_trim()(3);
+    hb.schedule(outside);
+    EXPECT_NEAR(z_in, hb.z_trim()(3), 1e-6) << inside.mach << " " << inside.pressure_altitude_ft;
+  };
+  across(AirData{0.35 - 1e-9, 32000.0}, AirData{0.35, 32000.0});
+  across(AirData{0.33, 30000.0 + 1e-6}, AirData{0.33, 30000.0 - 1e-6});
+  hb.schedule(AirData{0.33, 30000.0});
+  const double on_edge = hb.z_trim()(3);
+  hb.schedule(AirData{0.33, 29999.999});
+  EXPECT_NEAR(on_edge, hb.z_trim()(3), 1e-8);
+  // without it the trims jump at the edge by the plane's distance from the node's
+  hn.schedule(AirData{0.35 - 1e-9, 32000.0});
+  const double node_side = hn.z_trim()(3);
+  hn.schedule(AirData{0.35, 32000.0});
+  EXPECT_GT(std::abs(node_side - hn.z_trim()(3)), 1e-3);
+}
+
+// Lift trims on the same 3 x 3 grid: where a cut cell's trims are linear (the covered triangle,
+// the missing half's plane, the neighbours' planes; here everywhere in the cut cells, the third-order
+// and row trims off) they are linear in the lift coordinate lambda = (delta M^2)^(-3/4) and
+// altitude, the airspeed (VEL) in Mach and altitude: trims affine in those are reproduced exactly,
+// which the planes in (Mach, altitude) are not; delta is the standard atmosphere's pressure ratio.
+TEST(ScheduledBank, ACutCellsLinearTrimsAreLinearInTheLiftCoordinateAndTheAirspeedInMach) {
+  const std::vector<double> mach = {0.3, 0.35, 0.4}, alt = {25000.0, 30000.0, 35000.0};
+  const auto lambda = [](double m, double h) { return std::pow(std::pow(1.0 - h / 145442.16, 5.2558797) * m * m, -0.75); };
+  const auto aoa = [&](double m, double h) { return 0.05 + 0.02 * lambda(m, h) + 1e-7 * (h - 25000.0); };
+  const auto vel = [](double m, double h) { return 1000.0 * m - 0.003 * (h - 25000.0); };
+  const BankSchedule s = grid_schedule(mach, alt, corner_uncovered,
+                                       [&](auto& z, double m, double h) { z(0) = vel(m, h), z(1) = aoa(m, h); });
+  HierarchicalOptions lift = options(ScheduleMode::kInterpolate), grid = lift;
+  lift.schedule.cubic_trims = grid.schedule.cubic_trims = false;
+  ASSERT_TRUE(lift.schedule.lift_trims);   // the default
+  grid.schedule.lift_trims = false;
+  F16HierarchicalBank hl(scheduled_bank(s), lift), hg(scheduled_bank(s), grid);
+  // the covered half of (0.35-0.4, 30,000-35,000 ft), its missing half, the lower cut cell's missing
+  // half, the cell missing three corners
+  for (const AirData a : {AirData{0.39, 31000.0}, AirData{0.36, 34000.0}, AirData{0.31, 29000.0}, AirData{0.34, 31500.0}}) {
+    hl.schedule(a);
+    hg.schedule(a);
+    EXPECT_NEAR(hl.z_trim()(1), aoa(a.mach, a.pressure_altitude_ft), 1e-9) << a.mach << " " << a.pressure_altitude_ft;
+    EXPECT_NEAR(hl.z_trim()(0), vel(a.mach, a.pressure_altitude_ft), 1e-9) << a.mach << " " << a.pressure_altitude_ft;
+    EXPECT_NEAR(hg.z_trim()(0), vel(a.mach, a.pressure_altitude_ft), 1e-9) << a.mach << " " << a.pressure_altitude_ft;
+    EXPECT_GT(std::abs(hg.z_trim()(1) - aoa(a.mach, a.pressure_altitude_ft)), 1e-4) << a.mach;
+  }
+  // a covered cell keeps its bilinear trims
+  hl.schedule(AirData{0.37, 27000.0});
+  hg.schedule(AirData{0.37, 27000.0});
+  EXPECT_TRUE(hl.z_trim() == hg.z_trim());
 }
 
 TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {

@@ -1,9 +1,10 @@
 """The shipped schedule's trims where its stencils are cut (cpp/f16mmae/scheduled_filters.h:
-plane_trims, row_trims), against independent answers:
+plane_trims, row_trims, neighbour_trims, lift_trims), against independent answers:
 
 * the truth model's own trim (JSBSim trimmed at the point): in a cell's uncovered half (Mach 0.32,
-  29,000 ft) and in a cut stencil's cell (Mach 0.3453, 26,582 ft) the trims in force are near it,
-  nearer than the schedule before round 37 (plane_trims and row_trims off);
+  29,000 ft; 0.365, 34,500 ft at the trimmable edge), in a cell missing three corners (0.345,
+  31,500 ft) and in a cut stencil's cell (Mach 0.3453, 26,582 ft) the trims in force are near it,
+  nearer than the schedule before round 37 (plane_trims, row_trims and lift_trims off);
 * a fresh choice: the row stencils a bank keeps from frame to frame give, bit for bit, the trims a
   bank choosing them afresh gives, along a path through the low-speed corner above 24,000 ft.
 """
@@ -34,14 +35,17 @@ def _trims(bank, mach, alt_ft):
 
 
 @pytest.mark.parametrize("mach, alt_ft, vel_fps, aoa_rad", [
-    (0.32, 29000.0, 0.2, 0.002),      # an uncovered half: the covered triangle's plane
+    (0.32, 29000.0, 0.2, 0.0005),     # an uncovered half: the covered triangle's plane
+    (0.365, 34500.0, 0.3, 0.0005),    # ... at the trimmable edge, alpha 0.34 rad
+    (0.345, 31500.0, 0.3, 0.0005),    # three corners uncovered: the neighbours' planes
     (0.3453, 26582.0, 0.1, 0.0005),   # a cut stencil: row by row
 ])
 def test_the_trims_in_force_are_near_the_truth_models_trim(scheduled, mach, alt_ft, vel_fps, aoa_rad):
     with contextlib.redirect_stdout(io.StringIO()):
         _, truth = aircraft.trimmed_fdm(mach, alt_ft)
     now = truth.z - _trims(core.HierarchicalBank(scheduled), mach, alt_ft)
-    before = truth.z - _trims(core.HierarchicalBank(scheduled, plane_trims=False, row_trims=False), mach, alt_ft)
+    before = truth.z - _trims(core.HierarchicalBank(scheduled, plane_trims=False, row_trims=False, lift_trims=False),
+                              mach, alt_ft)
     assert abs(now[0]) < vel_fps and abs(now[1]) < aoa_rad, now
     assert abs(now[0]) < abs(before[0]) and abs(now[1]) < abs(before[1]), (now, before)
 

@@ -7,13 +7,14 @@ the grid misses a corner.
 
 For each air-data point the truth model trims (``f16mmae.truth.aircraft.trimmed_fdm``), the
 scheduled trims in force at that air data (``core.HierarchicalBank.schedule``, no low-pass
-left: three selections at the point) as the schedule had them before round 37 (``plane_trims``
-and ``row_trims`` off: the nearest covered node's trims in a cell's uncovered half, bilinear
-where no 4 x 4 stencil is covered) and as it has them now (the defaults: the covered triangle's
-plane, row by row; cpp/f16mmae/scheduled_filters.h), and the truth's trim minus each: VEL
+left: three selections at the point) as the schedule had them before round 37 (``plane_trims``,
+``row_trims`` and ``lift_trims`` off: the nearest covered node's trims in a cell's uncovered
+half, bilinear where no 4 x 4 stencil is covered) and as it has them now (the defaults: the
+covered triangle's plane, the neighbours' planes where a cell misses more corners, row by row,
+linear trims in the lift coordinate; cpp/f16mmae/scheduled_filters.h), and the truth's trim minus each: VEL
 (ft/s), AOA (rad), AZ (g) and the left stabilator (rad). A scan (``--mach``, ``--alt-ft``:
 START:STOP:STEP) lists only the points whose trims changed (docs/results/envelope_scheduled.md,
-round 37); ``--points`` lists the points given.
+rounds 37 and 38); ``--points`` lists the points given.
 """
 from __future__ import annotations
 
@@ -65,7 +66,7 @@ def main() -> None:
     _, _, model = load_bank(args.bank)
     if not model.schedule:
         parser.error(f"--bank {args.bank}: not a scheduled bank")
-    before = core.HierarchicalBank(model, plane_trims=False, row_trims=False)
+    before = core.HierarchicalBank(model, plane_trims=False, row_trims=False, lift_trims=False)
     now = core.HierarchicalBank(model)
     points = args.points or [(m, h) for m in args.mach for h in args.alt_ft]
     cols = ((0, "VEL ft/s"), (1, "AOA rad"), (3, "AZ g"))

@@ -555,6 +555,10 @@ CORE_ONLY: dict[str, str] = {
     "plane_trims": "the schedule's trims in a cell's uncovered half from its covered triangle's plane "
                    "(scheduled_filters.h)",
     "row_trims": "the schedule's trims row by row where no 4 x 4 stencil is covered (scheduled_filters.h)",
+    "neighbour_trims": "the schedule's trims in a cell missing two or more corners from its neighbouring "
+                       "cells' planes (scheduled_filters.h)",
+    "lift_trims": "the schedule's linear trims in a cut cell in the lift coordinate, airspeed in Mach "
+                  "(scheduled_filters.h)",
     "adapt_time_constant_s": "the adaptation's averaging time, tuned with its gain (turbulence_adaptation.h)",
     "adapt_scale_min": "the adaptation's lower bound on s, the design's A_k (turbulence_adaptation.h)",
     "adapt_scale_max": "the adaptation's upper bound on s (turbulence_adaptation.h)",

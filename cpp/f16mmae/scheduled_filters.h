@@ -69,8 +69,9 @@
 //                  meet each neighbour's trims on the shared edge (the nearest node's jumped
 //                  there, and noisy air data on it crossed back and forth).
 //                  Lift trims (ScheduleOptions::lift_trims, the default): in a cut cell the
-//                  linear trims (the covered triangle's, the plane's, the neighbours' triangles)
-//                  are linear not in (s, t) but in (lambda, t), lambda the lift coordinate
+//                  linear trims (the covered triangle's, the plane's, the neighbours' triangles;
+//                  a covered neighbour's stay bilinear) are linear not in (s, t) but in
+//                  (lambda, t), lambda the lift coordinate
 //                    lambda = (delta(h) M^2)^(-3/4),   delta the standard atmosphere's p / p0,
 //                  by barycentric weights on the triangle's nodes (extended outside it); the
 //                  airspeed components (measurement VEL, state u_fps) keep the (s, t) weights,
@@ -457,7 +458,8 @@ class ScheduledFilters {
   }
   // Linear weights at g on the triangle of the corners (cell row j) other than `missing` (all three
   // covered, nodes c) in the coordinates (lambda, t), into w (w[missing] = 0): the barycentric
-  // coordinates, extended outside the triangle; w unchanged if the three are collinear there.
+  // coordinates, extended outside the triangle; w unchanged where lambda is not finite or the three
+  // are collinear in (lambda, t).
   void lift_weights(const std::array<int, kCorners>& c, int missing, int j, const GridPoint& g,
                     std::array<double, kCorners>& w) const noexcept {
     int k3[3], n = 0;
@@ -467,7 +469,8 @@ class ScheduledFilters {
     for (int m = 0; m < 3; ++m) l[m] = lift_[c[k3[m]]], t[m] = j + (k3[m] >> 1);
     const double lp = lift_coordinate(axis_value(axes_.mach, g.s), axis_value(axes_.alt_ft, g.t)), tp = g.t;
     const double d = (l[1] - l[0]) * (t[2] - t[0]) - (l[2] - l[0]) * (t[1] - t[0]);
-    if (!(std::abs(d) > 1e-9 * (std::abs(l[0]) + 1.0))) return;   // degenerate in (lambda, t): w as given
+    // a Mach axis from 0 gives lambda = inf; collinear nodes d = 0: w as given
+    if (!(std::isfinite(lp) && std::isfinite(d) && std::abs(d) > 1e-9 * (std::abs(l[0]) + 1.0))) return;
     const double w1 = ((lp - l[0]) * (t[2] - t[0]) - (l[2] - l[0]) * (tp - t[0])) / d;
     const double w2 = ((l[1] - l[0]) * (tp - t[0]) - (lp - l[0]) * (t[1] - t[0])) / d;
     w = {0.0, 0.0, 0.0, 0.0};

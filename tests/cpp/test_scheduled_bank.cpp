@@ -536,6 +536,16 @@ TEST(ScheduledBank, ACutCellsLinearTrimsAreLinearInTheLiftCoordinateAndTheAirspe
   hl.schedule(AirData{0.37, 27000.0});
   hg.schedule(AirData{0.37, 27000.0});
   EXPECT_TRUE(hl.z_trim() == hg.z_trim());
+  // a Mach axis from 0 (lambda infinite at its nodes): the planes in (Mach, altitude), finite
+  const BankSchedule zero = grid_schedule({0.0, 0.35, 0.4}, alt, corner_uncovered,
+                                          [&](auto& z, double m, double h) { z(0) = vel(m, h); });
+  F16HierarchicalBank zl(scheduled_bank(zero), lift), zg(scheduled_bank(zero), grid);
+  for (const AirData a : {AirData{0.2, 29000.0}, AirData{0.1, 31000.0}, AirData{0.36, 34000.0}}) {
+    zl.schedule(a);
+    zg.schedule(a);
+    EXPECT_TRUE(zl.z_trim().allFinite() && zl.u_trim().allFinite()) << a.mach;
+    EXPECT_LT((zl.z_trim() - zg.z_trim()).norm(), 1e-9 * zg.z_trim().norm()) << a.mach;
+  }
 }
 
 TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {

@@ -146,8 +146,8 @@ struct ScheduleOptions {
   bool cubic_trims = true;                // interpolate: trims to third order where covered
   bool plane_trims = true;                // interpolate: the missing corner's half takes the plane's trims
   bool row_trims = true;                  // interpolate: where no 4 x 4 stencil is covered, row by row
-  bool neighbour_trims = true;            // interpolate, plane_trims: two or more corners uncovered, the neighbours' planes
-  bool lift_trims = true;                 // interpolate: a cut cell's linear trims in the lift coordinate, airspeed in Mach
+  bool neighbour_trims = true;            // interpolate, plane_trims: a cell missing 2+ corners, neighbours' planes
+  bool lift_trims = true;                 // interpolate: a cut cell's linear trims in the lift coordinate
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
@@ -425,7 +425,8 @@ class ScheduledFilters {
       }
       uncovered = 2;
     }
-    if (uncovered > 1 && options_.plane_trims && options_.neighbour_trims && !plane_now_) neighbour_planes(g, cell, layer);
+    if (uncovered > 1 && options_.plane_trims && options_.neighbour_trims && !plane_now_)
+      neighbour_planes(g, cell, layer);
     if (uncovered > 1) {
       fallback_now_ = true;
       return choose_node(axes_.nearest(g, layer));

@@ -11,8 +11,8 @@ left: three selections at the point) as the schedule had them before round 37 (`
 ``row_trims`` and ``lift_trims`` off: the nearest covered node's trims in a cell's uncovered
 half, bilinear where no 4 x 4 stencil is covered) and as it has them now (the defaults: the
 covered triangle's plane, the neighbours' planes where a cell misses more corners, row by row,
-linear trims in the lift coordinate; cpp/f16mmae/scheduled_filters.h), and the truth's trim minus each: VEL
-(ft/s), AOA (rad), AZ (g) and the left stabilator (rad). A scan (``--mach``, ``--alt-ft``:
+linear trims in the lift coordinate; cpp/f16mmae/scheduled_filters.h), and the truth's trim
+minus each: VEL (ft/s), AOA (rad), AZ (g) and the left stabilator (rad). A scan (``--mach``, ``--alt-ft``:
 START:STOP:STEP) lists only the points whose trims changed (docs/results/envelope_scheduled.md,
 rounds 37 and 38); ``--points`` lists the points given.
 """

@@ -20,8 +20,8 @@ reference and floor the core blends over a cell bound them at every corner.  The
 recommended p_min (its estimator settings; the core blends the nodes' floors).  A point whose truth cannot trim is left out of the
 grid and listed in the metadata; the core clamps air data to the grid, and where a cell lacks a
 corner blends its covered triangle (beyond it: the nearest covered node's filters, the triangle
-plane's trims, in the lift coordinate; cpp/f16mmae/scheduled_filters.h).  Each node also stores its trim state
-``x_trim`` (the absolute state its filters' perturbation states are taken from): body u and
+plane's trims, in the lift coordinate; cpp/f16mmae/scheduled_filters.h).  Each node also stores
+its trim state ``x_trim`` (the absolute state its filters' perturbation states are taken from): body u and
 alpha from the trim's noise-free measurements, theta, the five surfaces at their trim
 commands, zero rates, sideslip and bank.
 

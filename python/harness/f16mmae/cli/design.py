@@ -79,7 +79,8 @@ plane for the trims, in the lift coordinate (delta M^2)^(-3/4)). Where a cell st
 switch of the leading-edge flap (the truth's flap follows trim alpha: 0 below 5 deg, 15 deg of
 flap to 15 deg, 25 above), its corners are also designed in the other flap position
 (--flap-layers on, the default), and the estimator blends the cell within the position its
-interpolated trim alpha calls for (off: one bank per point, blended across the switch). Deterministic; the points are designed on --workers processes.
+interpolated trim alpha calls for (off: one bank per point, blended across the switch).
+Deterministic; the points are designed on --workers processes.
 
 Flight condition: Mach 0.3-0.8, 5,000-35,000 ft (level trim).
 Tunings: 'tuned' (the project's design, from measured residual statistics against the

@@ -408,14 +408,14 @@ class ScheduledFilters {
     int uncovered = 0, missing = -1;
     for (int k = 0; k < kCorners; ++k)
       if (c[k] < 0 && w[k] != 0.0) ++uncovered, missing = k;
+    bool triangle = uncovered == 1;   // its three corners covered (a corner of weight 0 may not be)
+    for (int k = 0; k < kCorners && triangle; ++k) triangle = k == missing || c[k] >= 0;
     if (uncovered == 1 && !triangle_weights(missing, a, b, w)) {
-      bool triangle = true;   // its three corners covered (a corner of weight 0 may not be)
-      for (int k = 0; k < kCorners; ++k) triangle = triangle && (k == missing || c[k] >= 0);
       if (options_.plane_trims && triangle) {   // the trims on the covered triangle's plane, extrapolated
         plane_now_ = true;
         lift_now_ = options_.lift_trims;
         std::array<double, kCorners> lw = w;
-        if (lift_now_) lift_weights(c, missing, j, g, lw);
+        if (lift_now_) lift_weights(c, missing, j, point_lift(g), g.t, lw);
         plane_terms_ = 0;
         for (int k = 0; k < kCorners; ++k)
           if (k != missing) {
@@ -434,15 +434,17 @@ class ScheduledFilters {
     if (uncovered == 1) {   // the covered half: how far from the diagonal (0 on it)
       const double from = missing == 0 ? a + b - 1 : missing == 1 ? b - a : missing == 2 ? a - b : 1 - a - b;
       diagonal_share_ = std::max(0.0, 1.0 - from / kDiagonalBlendCells);
-      bool triangle = true;
-      for (int k = 0; k < kCorners; ++k) triangle = triangle && (k == missing || c[k] >= 0);
-      lift_now_ = options_.lift_trims && triangle;
-      if (lift_now_) lift_weights(c, missing, j, g, trim_lift_);
+      lift_now_ = options_.lift_trims && triangle;   // its weights when the linear trims are used (blend_trims)
+      lift_missing_ = missing, lift_row_ = j;
     }
     for (int k = 0; k < kCorners; ++k) {
       trim_corners_[k] = c[k] >= 0 ? c[k] : first_covered(c);  // weight 0 where uncovered
       trim_weights_[k] = w[k];
     }
+  }
+  // The lift coordinate of the air data at g.
+  double point_lift(const GridPoint& g) const noexcept {
+    return lift_coordinate(axis_value(axes_.mach, g.s), axis_value(axes_.alt_ft, g.t));
   }
   // The lift coordinate at Mach `mach`, pressure altitude `alt_ft` (header): (delta M^2)^(-3/4),
   // delta the standard atmosphere's pressure ratio.
@@ -457,18 +459,17 @@ class ScheduledFilters {
     const double frac = x - i;
     return frac == 0.0 ? axis[i] : axis[i] + frac * (axis[i + 1] - axis[i]);
   }
-  // Linear weights at g on the triangle of the corners (cell row j) other than `missing` (all three
-  // covered, nodes c) in the coordinates (lambda, t), into w (w[missing] = 0): the barycentric
-  // coordinates, extended outside the triangle; w unchanged where lambda is not finite or the three
-  // are collinear in (lambda, t).
-  void lift_weights(const std::array<int, kCorners>& c, int missing, int j, const GridPoint& g,
+  // Linear weights at the point (lambda lp, t) on the triangle of the corners (cell row j) other
+  // than `missing` (all three covered, nodes c) in the coordinates (lambda, t), into w (w[missing] =
+  // 0): the barycentric coordinates, extended outside the triangle; w unchanged where lambda is not
+  // finite or the three are collinear in (lambda, t).
+  void lift_weights(const std::array<int, kCorners>& c, int missing, int j, double lp, double tp,
                     std::array<double, kCorners>& w) const noexcept {
     int k3[3], n = 0;
     for (int k = 0; k < kCorners; ++k)
       if (k != missing) k3[n++] = k;
     double l[3], t[3];
     for (int m = 0; m < 3; ++m) l[m] = lift_[c[k3[m]]], t[m] = j + (k3[m] >> 1);
-    const double lp = lift_coordinate(axis_value(axes_.mach, g.s), axis_value(axes_.alt_ft, g.t)), tp = g.t;
     const double d = (l[1] - l[0]) * (t[2] - t[0]) - (l[2] - l[0]) * (t[1] - t[0]);
     // a Mach axis from 0 gives lambda = inf; collinear nodes d = 0: w as given
     if (!(std::isfinite(lp) && std::isfinite(d) && std::abs(d) > 1e-9 * (std::abs(l[0]) + 1.0))) return;
@@ -485,7 +486,8 @@ class ScheduledFilters {
     const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
     const int di[4] = {-1, 1, 0, 0}, dj[4] = {0, 0, -1, 1};
     const double d[4] = {g.s - cell.i, cell.i1 - g.s, g.t - cell.j, cell.j1 - g.t};
-    double total = 0.0;
+    double total = 0.0, lp = 0.0;
+    bool lifted = false;   // the point's lift coordinate, computed once
     plane_terms_ = 0;
     for (int side = 0; side < 4; ++side) {
       const int i = cell.i + di[side], j = cell.j + dj[side];
@@ -500,7 +502,10 @@ class ScheduledFilters {
       std::array<double, kCorners> w = {(1 - a) * (1 - b), a * (1 - b), (1 - a) * b, a * b};
       if (uncovered == 1) triangle_weights(missing, a, b, w);   // extended past the triangle: some negative
       std::array<double, kCorners> lw = w;
-      if (uncovered == 1 && options_.lift_trims) lift_weights(c, missing, j, g, lw);
+      if (uncovered == 1 && options_.lift_trims) {
+        if (!lifted) lp = point_lift(g), lifted = true;
+        lift_weights(c, missing, j, lp, g.t, lw);
+      }
       const double share = 1.0 / std::max(d[side], 1e-12);
       for (int k = 0; k < kCorners; ++k)
         if (c[k] >= 0) {
@@ -719,6 +724,7 @@ class ScheduledFilters {
     if (options_.mode == ScheduleMode::kInterpolate && options_.cubic_trims && options_.row_trims && !fallback_now_ &&
         blend_trims_rows(g)) {
       if (diagonal_share_ > 0.0) {   // near a cut cell's diagonal: toward the linear trims (header)
+        take_triangle_lift(g);
         blend_trims_linear(u_lin_, z_lin_, x_lin_);
         u_now_ += diagonal_share_ * (u_lin_ - u_now_);
         z_now_ += diagonal_share_ * (z_lin_ - z_now_);
@@ -726,7 +732,13 @@ class ScheduledFilters {
       }
       return;
     }
+    take_triangle_lift(g);
     blend_trims_linear(u_now_, z_now_, x_now_);
+  }
+  // A cut cell's covered half: the triangle's lift weights, computed only where its linear trims
+  // are used (choose() leaves them to here; the missing half's plane has its own).
+  void take_triangle_lift(const GridPoint& g) noexcept {
+    if (lift_now_ && !plane_now_) lift_weights(trim_corners_, lift_missing_, lift_row_, point_lift(g), g.t, trim_lift_);
   }
   // The corners' linear blend (bilinear, the triangle's, or the plane terms) into (u, z, x); in a
   // cut cell with lift trims, the lift weights but for the airspeed components (header).
@@ -787,6 +799,7 @@ class ScheduledFilters {
   std::array<double, kPlaneTerms> plane_lift_{};   // lift_trims: the same terms' weights in (lambda, t)
   int plane_terms_ = 0;
   std::array<double, kCorners> trim_lift_{};       // lift_trims: the covered triangle's in (lambda, t)
+  int lift_missing_ = 0, lift_row_ = 0;            // ... its missing corner and cell row
   bool lift_now_ = false;                          // a cut cell's lift weights are in force
   std::vector<double> lift_;                       // per node its lift coordinate
   int z_speed_ = -1, x_speed_ = -1;                // the airspeed components (VEL, u_fps; -1: none)

@@ -82,6 +82,27 @@
 //                  planes overshoot by 0.0025 rad, linear in Mach they fall short by 0.005):
 //                  there the schedule's AOA trim is within 0.0003 rad of the truth model's
 //                  (docs/results/envelope_scheduled.md, round 38).
+//                  Stabilator trims (ScheduleOptions::stabilator_trims, the default, with
+//                  plane_trims): past the trimmable envelope's edge (a missing half whose missing
+//                  corner is covered in no layer; a cell missing two or more corners through its
+//                  neighbours' planes) the stabilators' trims (inputs LS, RS; their lag states
+//                  d_ls_rad, d_rs_rad) are not the plane's but a curve in the trim alpha: the
+//                  layer's edge table, its nodes that are corners of a cell with a corner
+//                  covered in no layer, ordered by their trim alpha (state alpha_rad),
+//                  piecewise linear between them and extended linearly past its ends, read at
+//                  the alpha of the trims in force. Blended with the plane over the first
+//                  kDiagonalBlendCells past the diagonal,
+//                    stab = (1 - gamma) plane + gamma table(alpha),   gamma = min(1, d / kDiagonalBlendCells),
+//                  d the distance past the diagonal (b - a for a missing (0,1)), so the trims
+//                  meet the covered half's on it; in a cell missing two or more corners each
+//                  neighbour's plane term carries its own gamma at the point (0 for a
+//                  neighbour not cut by the edge) and the table the blend of them, so the
+//                  trims meet each neighbour's on the shared edge. Why: along the edge alpha is
+//                  high and the stabilator trim bends with it (the flap, the pitch break:
+//                  -0.0325 rad at alpha 0.265 to -0.0547 at 0.327), which no plane through a
+//                  cell's three nodes follows; 0.012 rad off at Mach 0.36, 34,000 ft, read as a
+//                  stabilator failure; along the table within 0.0006 rad at 22 edge points
+//                  (docs/results/envelope_scheduled.md, round 39).
 //   nearest      the nearest covered node's filters and trims, switched with hysteresis: the
 //                node in force changes only when another is nearer by hysteresis_cells
 //                (distance in cell units); the trims switch with it.
@@ -148,6 +169,7 @@ struct ScheduleOptions {
   bool row_trims = true;                  // interpolate: where no 4 x 4 stencil is covered, row by row
   bool neighbour_trims = true;            // interpolate, plane_trims: a cell missing 2+ corners, neighbours' planes
   bool lift_trims = true;                 // interpolate: a cut cell's linear trims in the lift coordinate
+  bool stabilator_trims = true;           // interpolate, plane_trims: past the edge, stabilators along alpha
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one
@@ -242,6 +264,7 @@ class ScheduledFilters {
           lookup_[(static_cast<std::size_t>(l) * ni + i) * nj + j] = axes_.node_index(i, j, l);
           lookup_any_[(static_cast<std::size_t>(l) * ni + i) * nj + j] = axes_.node_index_any(i, j, l);
         }
+    build_edge_tables(first);
     if (!u_trim_.empty()) u_lin_ = u_trim_[0], z_lin_ = z_trim_[0], x_lin_ = x_trim_[0];   // sized once
     reset(start);
   }
@@ -393,7 +416,7 @@ class ScheduledFilters {
   }
   void choose(const GridPoint& g) noexcept {
     fallback_now_ = plane_now_ = lift_now_ = false;
-    diagonal_share_ = 0.0;
+    diagonal_share_ = edge_share_ = 0.0;
     if (options_.mode == ScheduleMode::kNearest) {
       layer_now_ = axes_.nodes[node_].layer;
       return choose_node(node_);
@@ -416,10 +439,12 @@ class ScheduledFilters {
         lift_now_ = options_.lift_trims;
         std::array<double, kCorners> lw = w;
         if (lift_now_) lift_weights(c, missing, j, point_lift(g), g.t, lw);
+        edge_share_ = edge_share(i, j, missing, a, b);
         plane_terms_ = 0;
         for (int k = 0; k < kCorners; ++k)
           if (k != missing) {
             plane_corners_[plane_terms_] = c[k], plane_lift_[plane_terms_] = lw[k];
+            plane_keep_[plane_terms_] = 1.0 - edge_share_;
             plane_weights_[plane_terms_++] = w[k];
           }
       }
@@ -432,8 +457,7 @@ class ScheduledFilters {
       return choose_node(axes_.nearest(g, layer));
     }
     if (uncovered == 1) {   // the covered half: how far from the diagonal (0 on it)
-      const double from = missing == 0 ? a + b - 1 : missing == 1 ? b - a : missing == 2 ? a - b : 1 - a - b;
-      diagonal_share_ = std::max(0.0, 1.0 - from / kDiagonalBlendCells);
+      diagonal_share_ = std::max(0.0, 1.0 - covered_side(missing, a, b) / kDiagonalBlendCells);
       lift_now_ = options_.lift_trims && triangle;   // its weights when the linear trims are used (blend_trims)
       lift_missing_ = missing, lift_row_ = j;
     }
@@ -478,6 +502,66 @@ class ScheduledFilters {
     w = {0.0, 0.0, 0.0, 0.0};
     w[k3[0]] = 1.0 - w1 - w2, w[k3[1]] = w1, w[k3[2]] = w2;
   }
+  // A cut cell's diagonal coordinate at (a, b): positive in the covered half, negative past the
+  // diagonal, in cells (e.g. a - b for a missing (0,1)).
+  static double covered_side(int missing, double a, double b) noexcept {
+    return missing == 0 ? a + b - 1 : missing == 1 ? b - a : missing == 2 ? a - b : 1 - a - b;
+  }
+  // The edge table's share gamma at (a, b) of the cell (i, j) whose corner `missing` is uncovered
+  // in the layer in force (header): 0 unless that corner is covered in no layer and the layer has
+  // an edge table.
+  double edge_share(int i, int j, int missing, double a, double b) const noexcept {
+    if (!options_.stabilator_trims || edge_nodes_[static_cast<std::size_t>(layer_now_)].size() < 2) return 0.0;
+    if (index_any(i + (missing & 1), j + (missing >> 1), 0) >= 0) return 0.0;
+    return std::min(1.0, std::max(0.0, -covered_side(missing, a, b)) / kDiagonalBlendCells);
+  }
+  // Each layer's edge table (header): its nodes that are corners of a cell with a corner covered
+  // in no layer, ordered by trim alpha (ties: the first), and the components it sets; none
+  // without a state alpha_rad or a stabilator.
+  void build_edge_tables(const ModelBank& first) {
+    const auto at = [](const std::vector<std::string>& names, const char* name) {
+      const auto it = std::find(names.begin(), names.end(), name);
+      return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+    };
+    x_alpha_ = at(first.state_names, "alpha_rad");
+    u_stab_ = {at(first.input_names, "LS"), at(first.input_names, "RS")};
+    x_stab_ = {at(first.state_names, "d_ls_rad"), at(first.state_names, "d_rs_rad")};
+    edge_nodes_.assign(static_cast<std::size_t>(axes_.layers()), {});
+    edge_alpha_.assign(edge_nodes_.size(), {});
+    const bool stabilator = u_stab_[0] >= 0 || u_stab_[1] >= 0 || x_stab_[0] >= 0 || x_stab_[1] >= 0;
+    if (x_alpha_ < 0 || !stabilator) return;
+    const int ni = static_cast<int>(axes_.mach.size()), nj = static_cast<int>(axes_.alt_ft.size());
+    for (int l = 0; l < axes_.layers(); ++l) {
+      std::vector<int>& nodes = edge_nodes_[static_cast<std::size_t>(l)];
+      for (int i = 0; i + 1 < ni; ++i)
+        for (int j = 0; j + 1 < nj; ++j) {
+          bool edge = false;
+          for (int k = 0; k < kCorners; ++k) edge = edge || index_any(i + (k & 1), j + (k >> 1), 0) < 0;
+          if (!edge) continue;
+          for (int k = 0; k < kCorners; ++k) {
+            const int n = index(i + (k & 1), j + (k >> 1), l);
+            if (n >= 0 && std::find(nodes.begin(), nodes.end(), n) == nodes.end()) nodes.push_back(n);
+          }
+        }
+      std::stable_sort(nodes.begin(), nodes.end(),
+                       [&](int p, int q) { return x_trim_[p](x_alpha_) < x_trim_[q](x_alpha_); });
+      std::vector<double>& alpha = edge_alpha_[static_cast<std::size_t>(l)];
+      std::vector<int> distinct;
+      for (int n : nodes)
+        if (alpha.empty() || x_trim_[n](x_alpha_) > alpha.back()) distinct.push_back(n), alpha.push_back(x_trim_[n](x_alpha_));
+      nodes = std::move(distinct);
+    }
+  }
+  // The edge table of the layer in force at trim alpha `alpha`: its two nodes (a segment, the
+  // first or last past the ends) and the second's weight f.
+  void edge_segment(double alpha, int& n0, int& n1, double& f) const noexcept {
+    const std::vector<double>& al = edge_alpha_[static_cast<std::size_t>(layer_now_)];
+    const std::vector<int>& nodes = edge_nodes_[static_cast<std::size_t>(layer_now_)];
+    std::size_t k = 0;
+    while (k + 2 < al.size() && alpha > al[k + 1]) ++k;
+    n0 = nodes[k], n1 = nodes[k + 1];
+    f = (alpha - al[k]) / (al[k + 1] - al[k]);
+  }
   // Trims in a cell with two or more uncovered corners (header comment): each edge-adjacent cell
   // with at most one uncovered corner in the layer, its linear weights (bilinear, or its covered
   // triangle's) extended to g, blended with weights 1 / d, d the distance in cells from g to that
@@ -507,15 +591,19 @@ class ScheduledFilters {
         lift_weights(c, missing, j, lp, g.t, lw);
       }
       const double share = 1.0 / std::max(d[side], 1e-12);
+      const double gamma = uncovered == 1 ? edge_share(i, j, missing, a, b) : 0.0;
       for (int k = 0; k < kCorners; ++k)
         if (c[k] >= 0) {
           plane_corners_[plane_terms_] = c[k], plane_lift_[plane_terms_] = share * lw[k];
+          plane_keep_[plane_terms_] = 1.0 - gamma;
           plane_weights_[plane_terms_++] = share * w[k];
         }
       total += share;
+      edge_share_ += share * gamma;
     }
     if (total == 0.0) return;
     for (int k = 0; k < plane_terms_; ++k) plane_weights_[k] /= total, plane_lift_[k] /= total;
+    edge_share_ /= total;
     plane_now_ = true;
     lift_now_ = options_.lift_trims;
   }
@@ -756,14 +844,36 @@ class ScheduledFilters {
       z += l[k] * z_trim_[c[k]];
       x += l[k] * x_trim_[c[k]];
     }
-    if (l == w) return;
-    if (z_speed_ >= 0) {
-      z(z_speed_) = 0.0;
-      for (int k = 0; k < n; ++k) z(z_speed_) += w[k] * z_trim_[c[k]](z_speed_);
+    if (l != w) {
+      if (z_speed_ >= 0) {
+        z(z_speed_) = 0.0;
+        for (int k = 0; k < n; ++k) z(z_speed_) += w[k] * z_trim_[c[k]](z_speed_);
+      }
+      if (x_speed_ >= 0) {
+        x(x_speed_) = 0.0;
+        for (int k = 0; k < n; ++k) x(x_speed_) += w[k] * x_trim_[c[k]](x_speed_);
+      }
     }
-    if (x_speed_ >= 0) {
-      x(x_speed_) = 0.0;
-      for (int k = 0; k < n; ++k) x(x_speed_) += w[k] * x_trim_[c[k]](x_speed_);
+    if (edge_share_ > 0.0) blend_stabilators(c, l, n, u, x);
+  }
+  // Past the trimmable edge (edge_share_ > 0): the stabilators' trims, the plane terms' (c, l, n)
+  // kept shares and the edge table at the trims' alpha (header).
+  void blend_stabilators(const int* c, const double* l, int n, UVector& u, XVector& x) const noexcept {
+    int n0 = 0, n1 = 0;
+    double f = 0.0;
+    edge_segment(x(x_alpha_), n0, n1, f);
+    const double t0 = edge_share_ * (1.0 - f), t1 = edge_share_ * f;
+    for (int s = 0; s < 2; ++s) {
+      if (u_stab_[s] >= 0) {
+        double v = t0 * u_trim_[n0](u_stab_[s]) + t1 * u_trim_[n1](u_stab_[s]);
+        for (int k = 0; k < n; ++k) v += l[k] * plane_keep_[k] * u_trim_[c[k]](u_stab_[s]);
+        u(u_stab_[s]) = v;
+      }
+      if (x_stab_[s] >= 0) {
+        double v = t0 * x_trim_[n0](x_stab_[s]) + t1 * x_trim_[n1](x_stab_[s]);
+        for (int k = 0; k < n; ++k) v += l[k] * plane_keep_[k] * x_trim_[c[k]](x_stab_[s]);
+        x(x_stab_[s]) = v;
+      }
     }
   }
 
@@ -797,7 +907,13 @@ class ScheduledFilters {
   std::array<int, kPlaneTerms> plane_corners_{};
   std::array<double, kPlaneTerms> plane_weights_{};
   std::array<double, kPlaneTerms> plane_lift_{};   // lift_trims: the same terms' weights in (lambda, t)
+  std::array<double, kPlaneTerms> plane_keep_{};   // stabilator_trims: each term's share kept, 1 - gamma
   int plane_terms_ = 0;
+  double edge_share_ = 0.0;                        // stabilator_trims: the edge table's share (0: none)
+  std::vector<std::vector<int>> edge_nodes_;       // per layer its edge table's nodes by trim alpha
+  std::vector<std::vector<double>> edge_alpha_;    // ... and their trim alphas, ascending
+  int x_alpha_ = -1;                               // the state alpha_rad (-1: none)
+  std::array<int, 2> u_stab_{-1, -1}, x_stab_{-1, -1};   // LS, RS: inputs and lag states (-1: none)
   std::array<double, kCorners> trim_lift_{};       // lift_trims: the covered triangle's in (lambda, t)
   int lift_missing_ = 0, lift_row_ = 0;            // ... its missing corner and cell row
   bool lift_now_ = false;                          // a cut cell's lift weights are in force

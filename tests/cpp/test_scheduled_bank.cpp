@@ -17,12 +17,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <utility>
 
 using namespace f16mmae;
 
@@ -546,6 +548,79 @@ TEST(ScheduledBank, ACutCellsLinearTrimsAreLinearInTheLiftCoordinateAndTheAirspe
     EXPECT_TRUE(zl.z_trim().allFinite() && zl.u_trim().allFinite()) << a.mach;
     EXPECT_LT((zl.z_trim() - zg.z_trim()).norm(), 1e-9 * zg.z_trim().norm()) << a.mach;
   }
+}
+
+// Stabilator trims on the same 3 x 3 grid, alpha affine in the lift coordinate (so the lift trims
+// reproduce it) and the stabilator a curve in alpha: past the diagonal by a quarter cell or more
+// and in the cell missing three corners the stabilators' trims (LS, RS and their lag states) are
+// the edge table's, a piecewise-linear interpolation in alpha of the nodes that are corners of a
+// cell with an untrimmable corner (here all but (0.4, 25,000 ft)), computed here independently;
+// on the diagonal they meet the covered half's, on Mach 0.35 the neighbour's; the other trims are
+// those of stabilator_trims off, which keeps the plane's.
+TEST(ScheduledBank, PastTheTrimmableEdgeTheStabilatorTrimsFollowTheEdgeNodesAlongAlpha) {
+  const std::vector<double> mach = {0.3, 0.35, 0.4}, alt = {25000.0, 30000.0, 35000.0};
+  const auto lambda = [](double m, double h) { return std::pow(std::pow(1.0 - h / 145442.16, 5.2558797) * m * m, -0.75); };
+  const auto aoa = [&](double m, double h) { return 0.02 + 0.04 * lambda(m, h) + 1e-7 * (h - 25000.0); };
+  const auto stab = [](double alpha) { return -0.03 - 2.0 * (alpha - 0.2) * (alpha - 0.2); };
+  BankSchedule s = grid_schedule(mach, alt, corner_uncovered, [&](auto& z, double m, double h) { z(1) = aoa(m, h); });
+  std::vector<std::pair<double, double>> table;   // the edge nodes' (alpha, stabilator)
+  for (ScheduleNode& n : s.nodes) {
+    n.bank.state_names = {"u_fps", "alpha_rad", "q_rad_s", "theta_rad", "beta_rad", "p_rad_s", "r_rad_s",
+                          "phi_rad", "d_ls_rad", "d_rs_rad", "d_lf_rad", "d_rf_rad", "d_rud_rad"};
+    const double alpha = n.bank.z_trim(1), st = stab(alpha);
+    n.bank.u_trim(0) = n.bank.u_trim(1) = n.x_trim(8) = n.x_trim(9) = st;
+    n.x_trim(1) = alpha;
+    if (!(n.i_mach == 2 && n.i_alt == 0)) table.emplace_back(alpha, st);
+  }
+  std::sort(table.begin(), table.end());
+  ASSERT_EQ(table.size(), 5u);
+  const auto along = [&](double alpha) {   // linear between the table's nodes, extended past its ends
+    std::size_t k = 0;
+    while (k + 2 < table.size() && alpha > table[k + 1].first) ++k;
+    const auto [a0, v0] = table[k];
+    const auto [a1, v1] = table[k + 1];
+    return v0 + (v1 - v0) * (alpha - a0) / (a1 - a0);
+  };
+  HierarchicalOptions on = options(ScheduleMode::kInterpolate), off = on;
+  ASSERT_TRUE(on.schedule.stabilator_trims);   // the default
+  off.schedule.stabilator_trims = false;
+  F16HierarchicalBank hb(scheduled_bank(s), on), hp(scheduled_bank(s), off);
+  // the missing halves of (0.35-0.4, 30,000-35,000 ft) and (0.3-0.35, 25,000-30,000 ft) a quarter
+  // cell or more past the diagonal; the cell missing three corners
+  for (const AirData a : {AirData{0.36, 34000.0}, AirData{0.37, 35000.0}, AirData{0.305, 29000.0},
+                          AirData{0.32, 34000.0}, AirData{0.34, 31000.0}}) {
+    hb.schedule(a);
+    hp.schedule(a);
+    const double alpha = aoa(a.mach, a.pressure_altitude_ft);
+    ASSERT_NEAR(hb.z_trim()(1), alpha, 1e-9) << a.mach << " " << a.pressure_altitude_ft;
+    for (int k : {0, 1}) EXPECT_NEAR(hb.u_trim()(k), along(alpha), 1e-8) << a.mach << " " << a.pressure_altitude_ft;
+    for (int k : {8, 9})
+      EXPECT_NEAR(hb.scheduled().x_trim()(k), along(alpha), 1e-8) << a.mach << " " << a.pressure_altitude_ft;
+    EXPECT_GT(std::abs(hp.u_trim()(0) - along(alpha)), 1e-4) << a.mach;   // the plane's
+    EXPECT_TRUE(hb.z_trim() == hp.z_trim());
+    EXPECT_TRUE(hb.u_trim().tail(3) == hp.u_trim().tail(3));
+    EXPECT_TRUE(hb.scheduled().x_trim().head(8) == hp.scheduled().x_trim().head(8));
+  }
+  // continuous across the diagonal of (0.35-0.4, 30,000-35,000 ft), a - b = 0 (the covered half's
+  // linear trims there, the third-order and row trims blended to them), and across Mach 0.35 from
+  // the cell missing three corners into that cell's missing half
+  const auto across = [&](AirData inside, AirData outside) {
+    hb.schedule(inside);
+    const double u_in = hb.u_trim()(0), x_in = hb.scheduled().x_trim()(8);
+    hb.schedule(outside);
+    EXPECT_NEAR(u_in, hb.u_trim()(0), 1e-6) << inside.mach << " " << inside.pressure_altitude_ft;
+    EXPECT_NEAR(x_in, hb.scheduled().x_trim()(8), 1e-6) << inside.mach << " " << inside.pressure_altitude_ft;
+  };
+  across(AirData{0.375, 32500.0 - 1e-4}, AirData{0.375, 32500.0 + 1e-4});
+  across(AirData{0.35 - 1e-9, 33000.0}, AirData{0.35, 33000.0});
+  across(AirData{0.33, 30000.0 + 1e-6}, AirData{0.33, 30000.0 - 1e-6});
+  // a schedule without a state alpha_rad keeps the plane's
+  BankSchedule plain = s;
+  for (ScheduleNode& n : plain.nodes) n.bank.state_names[1] = "x1";
+  F16HierarchicalBank hq(scheduled_bank(plain), on);
+  hq.schedule(AirData{0.36, 34000.0});
+  hp.schedule(AirData{0.36, 34000.0});
+  EXPECT_TRUE(hq.u_trim() == hp.u_trim());
 }
 
 TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {

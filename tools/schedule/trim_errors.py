@@ -8,13 +8,14 @@ the grid misses a corner.
 For each air-data point the truth model trims (``f16mmae.truth.aircraft.trimmed_fdm``), the
 scheduled trims in force at that air data (``core.HierarchicalBank.schedule``, no low-pass
 left: three selections at the point) as the schedule had them before round 37 (``plane_trims``,
-``row_trims`` and ``lift_trims`` off: the nearest covered node's trims in a cell's uncovered
-half, bilinear where no 4 x 4 stencil is covered) and as it has them now (the defaults: the
-covered triangle's plane, the neighbours' planes where a cell misses more corners, row by row,
-linear trims in the lift coordinate; cpp/f16mmae/scheduled_filters.h), and the truth's trim
+``row_trims``, ``lift_trims`` and ``stabilator_trims`` off: the nearest covered node's trims in a
+cell's uncovered half, bilinear where no 4 x 4 stencil is covered) and as it has them now (the
+defaults: the covered triangle's plane, the neighbours' planes where a cell misses more corners,
+row by row, linear trims in the lift coordinate, past the trimmable edge the stabilators along the
+edge's trim alpha; cpp/f16mmae/scheduled_filters.h), and the truth's trim
 minus each: VEL (ft/s), AOA (rad), AZ (g) and the left stabilator (rad). A scan (``--mach``, ``--alt-ft``:
 START:STOP:STEP) lists only the points whose trims changed (docs/results/envelope_scheduled.md,
-rounds 37 and 38); ``--points`` lists the points given.
+rounds 37 to 39); ``--points`` lists the points given.
 """
 from __future__ import annotations
 
@@ -66,12 +67,13 @@ def main() -> None:
     _, _, model = load_bank(args.bank)
     if not model.schedule:
         parser.error(f"--bank {args.bank}: not a scheduled bank")
-    before = core.HierarchicalBank(model, plane_trims=False, row_trims=False, lift_trims=False)
+    before = core.HierarchicalBank(model, plane_trims=False, row_trims=False, lift_trims=False,
+                                   stabilator_trims=False)
     now = core.HierarchicalBank(model)
     points = args.points or [(m, h) for m in args.mach for h in args.alt_ft]
     cols = ((0, "VEL ft/s"), (1, "AOA rad"), (3, "AZ g"))
     print(f"{'point':>14}  " + "  ".join(f"{name:>17}" for _, name in cols) + f"  {'LS rad':>17}   (before -> now)")
-    errors = {name: ([], []) for _, name in cols}
+    errors = {name: ([], []) for _, name in (*cols, (None, "LS rad"))}
     for mach, alt_ft in points:
         try:
             with contextlib.redirect_stdout(io.StringIO()):   # JSBSim's trim chatter
@@ -89,6 +91,8 @@ def main() -> None:
         for j, name in cols:
             errors[name][0].append(abs(dz0[j]))
             errors[name][1].append(abs(dz1[j]))
+        errors["LS rad"][0].append(abs(trim.u_rad[0] - u0[0]))
+        errors["LS rad"][1].append(abs(trim.u_rad[0] - u1[0]))
     n = len(errors["VEL ft/s"][0])
     print(f"{n} points")
     for name, (e0, e1) in errors.items():

@@ -559,6 +559,8 @@ CORE_ONLY: dict[str, str] = {
                        "cells' planes (scheduled_filters.h)",
     "lift_trims": "the schedule's linear trims in a cut cell in the lift coordinate, airspeed in Mach "
                   "(scheduled_filters.h)",
+    "stabilator_trims": "the schedule's stabilator trims past the trimmable edge along its nodes' trim alpha "
+                        "(scheduled_filters.h)",
     "adapt_time_constant_s": "the adaptation's averaging time, tuned with its gain (turbulence_adaptation.h)",
     "adapt_scale_min": "the adaptation's lower bound on s, the design's A_k (turbulence_adaptation.h)",
     "adapt_scale_max": "the adaptation's upper bound on s (turbulence_adaptation.h)",

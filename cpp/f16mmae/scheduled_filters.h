@@ -246,12 +246,8 @@ class ScheduledFilters {
       lift_.push_back(lift_coordinate(schedule.mach[node.i_mach], schedule.alt_ft[node.i_alt]));
     }
     const ModelBank& first = schedule.nodes[0].bank;
-    const auto at = [](const std::vector<std::string>& names, const char* name) {
-      const auto it = std::find(names.begin(), names.end(), name);
-      return it == names.end() ? -1 : static_cast<int>(it - names.begin());
-    };
-    z_speed_ = at(first.measurement_names, "VEL");
-    x_speed_ = at(first.state_names, "u_fps");
+    z_speed_ = position(first.measurement_names, "VEL");
+    x_speed_ = position(first.state_names, "u_fps");
     has_reference_ = schedule.has_adapt_reference();
     has_calm_ = schedule.has_calm_reference();
     has_scale_ = schedule.has_reference_scale();
@@ -515,17 +511,18 @@ class ScheduledFilters {
     if (index_any(i + (missing & 1), j + (missing >> 1), 0) >= 0) return 0.0;
     return std::min(1.0, std::max(0.0, -covered_side(missing, a, b)) / kDiagonalBlendCells);
   }
+  // The index of `name` in `names`, or -1.
+  static int position(const std::vector<std::string>& names, const char* name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+  }
   // Each layer's edge table (header): its nodes that are corners of a cell with a corner covered
   // in no layer, ordered by trim alpha (ties: the first), and the components it sets; none
   // without a state alpha_rad or a stabilator.
   void build_edge_tables(const ModelBank& first) {
-    const auto at = [](const std::vector<std::string>& names, const char* name) {
-      const auto it = std::find(names.begin(), names.end(), name);
-      return it == names.end() ? -1 : static_cast<int>(it - names.begin());
-    };
-    x_alpha_ = at(first.state_names, "alpha_rad");
-    u_stab_ = {at(first.input_names, "LS"), at(first.input_names, "RS")};
-    x_stab_ = {at(first.state_names, "d_ls_rad"), at(first.state_names, "d_rs_rad")};
+    x_alpha_ = position(first.state_names, "alpha_rad");
+    u_stab_ = {position(first.input_names, "LS"), position(first.input_names, "RS")};
+    x_stab_ = {position(first.state_names, "d_ls_rad"), position(first.state_names, "d_rs_rad")};
     edge_nodes_.assign(static_cast<std::size_t>(axes_.layers()), {});
     edge_alpha_.assign(edge_nodes_.size(), {});
     const bool stabilator = u_stab_[0] >= 0 || u_stab_[1] >= 0 || x_stab_[0] >= 0 || x_stab_[1] >= 0;

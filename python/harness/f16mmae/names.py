@@ -186,9 +186,12 @@ SCHEDULE_TRIM_TIME_CONSTANT_S = 30.0
 #: angle-of-attack sensor after 0.75 s (round 27): read against the trim averaged over
 #: SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, the AOA hypothesis fits a healthy sensor a little better
 #: where the scheduled trim swings with the measured airspeed (Mach 0.35, 25,000 ft), and its short
-#: false rises there are cut by the longer dwell. A dual with VEL, AZ or AOA waits as its
-#: component does (declarer.h).
-SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1,AZ=0.5,AOA=0.75"
+#: false rises there are cut by the longer dwell. A failed pitch gyro after 0.5 s (round 39): at the
+#: trimmable edge in moderate air (Mach 0.36, 34,000 ft, alpha 0.34 rad) gusts sweep alpha across the
+#: pitch break and the PIT hypothesis held the threshold for 0.3-0.4 s at a time, 3 to 4 times an
+#: hour; a failed pitch gyro holds it for good (declared 0.25 s later, nothing else changed on the
+#: evaluation seed). A dual with VEL, AZ, AOA or PIT waits as its component does (declarer.h).
+SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1,AZ=0.5,AOA=0.75,PIT=0.5"
 #: The scheduled estimator's calm-air complete model (``--calm-complete``, with the turbulence
 #: adaptation, on a schedule whose nodes carry a calm-air reference; loop/estimator_options.py
 #: scheduled_defaults; cpp/f16mmae/calm_air_complete.h): while the measured power ratio is below the

@@ -612,6 +612,10 @@ TEST(ScheduledBank, PastTheTrimmableEdgeTheStabilatorTrimsFollowTheEdgeNodesAlon
     EXPECT_NEAR(x_in, hb.scheduled().x_trim()(8), 1e-6) << inside.mach << " " << inside.pressure_altitude_ft;
   };
   across(AirData{0.375, 32500.0 - 1e-4}, AirData{0.375, 32500.0 + 1e-4});
+  // an eighth of a cell past that diagonal (a = 0.2, b = 0.325): half the plane's, half the table's
+  hb.schedule(AirData{0.36, 31625.0});
+  hp.schedule(AirData{0.36, 31625.0});
+  EXPECT_NEAR(hb.u_trim()(0), 0.5 * hp.u_trim()(0) + 0.5 * along(aoa(0.36, 31625.0)), 1e-8);
   across(AirData{0.35 - 1e-9, 33000.0}, AirData{0.35, 33000.0});
   across(AirData{0.33, 30000.0 + 1e-6}, AirData{0.33, 30000.0 - 1e-6});
   // a schedule without a state alpha_rad keeps the plane's

@@ -618,6 +618,10 @@ TEST(ScheduledBank, PastTheTrimmableEdgeTheStabilatorTrimsFollowTheEdgeNodesAlon
   EXPECT_NEAR(hb.u_trim()(0), 0.5 * hp.u_trim()(0) + 0.5 * along(aoa(0.36, 31625.0)), 1e-8);
   across(AirData{0.35 - 1e-9, 33000.0}, AirData{0.35, 33000.0});
   across(AirData{0.33, 30000.0 + 1e-6}, AirData{0.33, 30000.0 - 1e-6});
+  // through the missing halves and the cell missing three corners without allocating
+  const long long before = f16mmae::testing::allocation_count();
+  for (int k = 0; k <= 200; ++k) hb.schedule(AirData{0.3 + 0.0005 * k, 28000.0 + 35.0 * k});
+  EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
   // a schedule without a state alpha_rad keeps the plane's
   BankSchedule plain = s;
   for (ScheduleNode& n : plain.nodes) n.bank.state_names[1] = "x1";

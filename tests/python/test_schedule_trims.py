@@ -31,10 +31,11 @@ def scheduled():
 
 
 def _trims(bank, mach, alt_ft):
+    """(z_trim, u_trim) in force at (mach, alt_ft), the air data's low-pass left behind."""
     bank.reset()
     for _ in range(3):
         bank.schedule(mach, alt_ft)
-    return np.asarray(bank.z_trim).copy()
+    return np.asarray(bank.z_trim).copy(), np.asarray(bank.u_trim).copy()
 
 
 @pytest.mark.parametrize("mach, alt_ft, vel_fps, aoa_rad", [
@@ -46,26 +47,19 @@ def _trims(bank, mach, alt_ft):
 def test_the_trims_in_force_are_near_the_truth_models_trim(scheduled, mach, alt_ft, vel_fps, aoa_rad):
     with contextlib.redirect_stdout(io.StringIO()):
         _, truth = aircraft.trimmed_fdm(mach, alt_ft)
-    now = truth.z - _trims(core.HierarchicalBank(scheduled), mach, alt_ft)
+    now = truth.z - _trims(core.HierarchicalBank(scheduled), mach, alt_ft)[0]
     before = truth.z - _trims(core.HierarchicalBank(scheduled, plane_trims=False, row_trims=False, lift_trims=False),
-                              mach, alt_ft)
+                              mach, alt_ft)[0]
     assert abs(now[0]) < vel_fps and abs(now[1]) < aoa_rad, now
     assert abs(now[0]) < abs(before[0]) and abs(now[1]) < abs(before[1]), (now, before)
-
-
-def _stabilators(bank, mach, alt_ft):
-    bank.reset()
-    for _ in range(3):
-        bank.schedule(mach, alt_ft)
-    return np.asarray(bank.u_trim)[:2].copy()
 
 
 @pytest.mark.parametrize("mach, alt_ft", [(0.36, 34000.0), (0.37, 35000.0), (0.345, 31500.0)])
 def test_past_the_trimmable_edge_the_stabilator_trims_are_near_the_truth_models(scheduled, mach, alt_ft):
     with contextlib.redirect_stdout(io.StringIO()):
         _, truth = aircraft.trimmed_fdm(mach, alt_ft)
-    now = truth.u_rad[:2] - _stabilators(core.HierarchicalBank(scheduled), mach, alt_ft)
-    plane = truth.u_rad[:2] - _stabilators(core.HierarchicalBank(scheduled, stabilator_trims=False), mach, alt_ft)
+    now = truth.u_rad[:2] - _trims(core.HierarchicalBank(scheduled), mach, alt_ft)[1][:2]
+    plane = truth.u_rad[:2] - _trims(core.HierarchicalBank(scheduled, stabilator_trims=False), mach, alt_ft)[1][:2]
     assert np.all(np.abs(now) < 0.001), now
     assert np.all(np.abs(plane) > 0.005), plane
 

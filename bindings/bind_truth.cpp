@@ -18,13 +18,15 @@
 // The truth log (log(): time, z, ideal z, air data, states, commands, surfaces of every frame)
 // is recorded unless the frames are built with record_log=False (a closed-loop flight whose
 // caller never reads it: its frames then write nothing but what they fly); the counters
-// (measured, step_count) are kept either way.
+// (measured, step_count) and the track (track(): time, Mach and pressure altitude of the ideal
+// air data at every whole second, buffered at construction) are kept either way.
 // Throws ValueError for bad arguments (names the field), RuntimeError when JSBSim stops.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
@@ -137,8 +139,10 @@ class Frames {
     sen_fail_ = schedule(sensor_failures, kSensors, 7, "sensor_failures");
     set_noise(noise);
     set_air_data_noise(air_data_noise);
-    if (!record_log_) return;
     const std::size_t cap = static_cast<std::size_t>(capacity > 0 ? capacity : 1);
+    track_every_ = std::max(1LL, std::llround(frame_rate_hz));
+    track_.reserve(kTrack * (cap / static_cast<std::size_t>(track_every_) + 2));
+    if (!record_log_) return;
     log_time_.reserve(cap);
     log_z_.reserve(cap * kSensors);
     log_ideal_.reserve(cap * kSensors);
@@ -295,6 +299,7 @@ class Frames {
     AirDataValues air_ideal;
     for (int j = 0; j < kAirData; ++j) air_ideal[j] = air_node_[j]->getDoubleValue();
     air_last_ = air_.measure(air_ideal, air_noise_.data(air_noise_row_++, 0));
+    if (frame_ % track_every_ == 0) track_.insert(track_.end(), {t, air_ideal[0], air_ideal[1]});
     ++measured_;
     if (!record_log_) return z;
     log_air_.insert(log_air_.end(), air_last_.begin(), air_last_.end());
@@ -470,6 +475,13 @@ class Frames {
   py::tuple fcs_state() const { return py::make_tuple(fcs_.x_int, fcs_.x_wash, fcs_.x_vel); }
   py::tuple actuator_positions() const { return py::cast(act_.position_rad); }
 
+  // The track: (time s, Mach, pressure altitude ft) of the ideal air data, one row a second.
+  py::array_t<double> track() const {
+    py::array_t<double> a({static_cast<py::ssize_t>(track_.size() / kTrack), static_cast<py::ssize_t>(kTrack)});
+    std::copy(track_.begin(), track_.end(), a.mutable_data());
+    return a;
+  }
+
   py::dict log() const {
     if (!record_log_) throw py::value_error("TruthFrames: these frames keep no log (built with record_log=False)");
     auto mat = [](const std::vector<double>& v, std::size_t cols) {
@@ -525,6 +537,9 @@ class Frames {
   double frame_rate_hz_, sim_rate_hz_;
   long long frame_ = 0, step_ = 0, measured_ = 0;
   std::vector<double> log_time_, log_z_, log_ideal_, log_air_, log_air_ideal_, log_state_, log_u_, log_surface_;
+  static constexpr std::size_t kTrack = 3;   // track row: time s, Mach, pressure altitude ft
+  long long track_every_ = 1;                // frames a second
+  std::vector<double> track_;
 };
 
 template <std::size_t N>
@@ -641,6 +656,9 @@ void bind_truth(py::module_& m) {
       .def_property_readonly("frame", &Frames::frame)
       .def_property_readonly("step_count", &Frames::step)
       .def_property_readonly("measured", &Frames::measured)
+      .def_property_readonly("track", &Frames::track,
+                             "(n, 3): time s, Mach and pressure altitude ft of the ideal air data at every whole "
+                             "second measured (kept with or without the log)")
       .def_property_readonly("records_log", &Frames::records_log)
       .def_property_readonly("fcs_state", &Frames::fcs_state)
       .def_property_readonly("actuator_positions", &Frames::actuator_positions)

@@ -1,6 +1,8 @@
 """The soak campaign: the false-declaration arithmetic against hand-made records, the Poisson
-verdict, a short soak end to end (common seeds across levels, summary, figures, report,
-Markdown, the reproduce command, --check), resume after a partial run, and bad input."""
+verdict, the flight condition a flight counts in (a hand-made track; a real pilotless flight
+in severe air that leaves it, against the truth log's own air data), a short soak end to end
+(common seeds across levels, summary, figures, report, Markdown, the reproduce command,
+--check), resume after a partial run, and bad input."""
 from __future__ import annotations
 
 import json
@@ -9,11 +11,15 @@ import shlex
 import pytest
 from scipy import stats
 
+from f16mmae.banks import load_bank
 from f16mmae.campaign.engine import intervals
 from f16mmae.campaign.engine.store import RECORDS_FILE, ResultsStore
 from f16mmae.campaign.soak import SoakCampaign, run_soak
-from f16mmae.campaign.soak.episodes import false_episodes, level_rate
+from f16mmae.campaign.soak.episodes import (CONDITION_ALT_FT, CONDITION_MACH, false_episodes, left_condition_s,
+                                            level_rate)
+from f16mmae.campaign.soak.report import soak_markdown, soak_page
 from f16mmae.cli.main import main
+from f16mmae.loop.flight import fly, scenario_from_dict
 
 from campaign_support import CountingExecutor
 
@@ -62,6 +68,57 @@ def test_per_hour_rate_interval_and_verdicts_of_hand_made_records():
     assert lv["first_declaration_s"] == {"median": 3.0, "min": 1.0}  # flights 1 and 3 first at 1 s and 5 s
     assert level_rate(recs, 19.0)["per_hour"]["verdict"] == "consistent"  # 8 <= 19 < 20.48
     assert level_rate(recs, 21.0)["per_hour"]["verdict"] == "demonstrated"
+
+
+def test_a_flight_counts_until_the_first_second_off_its_flight_condition():
+    track = [[0.0, 0.40, 20000.0], [1.0, 0.45, 21000.0], [2.0, 0.40 + CONDITION_MACH + 0.01, 20000.0],
+             [3.0, 0.40, 20000.0]]
+    assert left_condition_s(track, 0.40, 20000.0, level_flight=True) == 2.0   # back on it later: still left
+    climbed = [[0.0, 0.40, 20000.0], [1.0, 0.40, 20000.0 - CONDITION_ALT_FT - 1.0]]
+    assert left_condition_s(climbed, 0.40, 20000.0, level_flight=True) == 1.0
+    assert left_condition_s(climbed, 0.40, 20000.0, level_flight=False) is None   # maneuvers: finite is enough
+    crashed = [[0.0, 0.40, 20000.0], [1.0, float("nan"), float("nan")]]
+    assert left_condition_s(crashed, 0.40, 20000.0, level_flight=False) == 1.0
+    assert left_condition_s(track[:2], 0.40, 20000.0, level_flight=True) is None
+    # the level's hours and declarations are those flown on the condition; the rest reported apart
+    left = {**_record([d("LF", 10.0), d("NONE", 11.0)], duration_s=300.0), "left_condition_s": 300.0,
+            "declarations_after_leaving": [d("ROL", 310.0), d("NONE", 312.0), d("RUD", 320.0)]}
+    lv = level_rate([left, _record([])], goal_per_h=0.0)
+    assert lv["hours"] == pytest.approx(0.25) and lv["per_hour"]["events"] == 1
+    assert lv["flights_left_condition"] == 1 and lv["declarations_after_leaving"] == 2
+
+
+def test_a_pilotless_flight_in_severe_air_leaves_the_condition_and_counts_until_then(tmp_path):
+    # campaign seed 4, flight 0: pilotless at Mach 0.3, 10,000 ft in severe air, the FCS on the
+    # raw measurements (no estimator in the loop); it leaves the condition within two minutes
+    cfg = SoakCampaign(hours=120 / 3600, duration_s=120.0, turbulence="severe", seed=4, mach=0.3, alt_ft=10000.0,
+                       feedback="raw")
+    done = run_soak(cfg, tmp_path / "soak", CountingExecutor(), show_progress=False)
+    (r,) = done.records
+    left = r["left_condition_s"]
+    assert left is not None and 0.0 < left < 120.0
+    # the same flight's truth log: its ideal air data at whole seconds, first off the condition at `left`
+    flown = fly(scenario_from_dict(r["scenario"]), load_bank("tuned")[2], estimator_options=r["estimator"],
+                record_series=True)
+    log = flown.series["truth_log"]
+    seconds = log["time_s"][::64]
+    air = log["air_data_ideal"][::64]
+    off = (abs(air[:, 0] - 0.3) > CONDITION_MACH) | (abs(air[:, 1] - 10000.0) > CONDITION_ALT_FT)
+    assert seconds[off.argmax()] == left and not off[seconds < left].any()
+    assert flown.declarations == r["declarations"]
+    # counted up to `left`, the rest apart
+    assert r["failure_free_s"] == left
+    assert all(e["time_s"] < left for e in r["episodes"])
+    assert r["declarations"] == [x for x in r["declarations"] if x["time_s"] < left] + r["declarations_after_leaving"]
+    assert all(x["time_s"] >= left for x in r["declarations_after_leaving"])
+    assert r["false_declarations"] == sum(1 for x in r["declarations"] if x["time_s"] < left and x["hypothesis"] != "NONE")
+    s = json.loads((tmp_path / "soak" / "summary.json").read_text())
+    (lv,) = s["levels"]
+    assert lv["hours"] == pytest.approx(left / 3600.0) and lv["flights_left_condition"] == 1
+    assert s["left_condition"][0]["left_condition_s"] == left
+    assert s["left_condition"][0]["command"].startswith("f16mmae run ")
+    page, text = soak_page(tmp_path / "soak", s), soak_markdown(s)
+    assert "Flights that left the flight condition" in page and s["left_condition"][0]["command"] in text
 
 
 def test_poisson_verdict():

@@ -98,6 +98,9 @@ class FlightResult:
     #: the probabilities (1.0 throughout with the adaptation off; NaN for an estimator without
     #: one, e.g. over LCM); an empty array when probabilities are not recorded.
     turbulence_scale: np.ndarray = field(default=None, repr=False)
+    #: The truth's track (``TruthModel.track``): time s, Mach and pressure altitude ft of the
+    #: aircraft's ideal air data at every whole second, for scoring (never the estimator's).
+    track: np.ndarray = field(default=None, repr=False)
 
     def probability_of(self, hypothesis: str) -> np.ndarray:
         """Probability history of one hypothesis, 0 while off line (or never on line)."""
@@ -334,6 +337,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                 "frames": n_frames},
         estimator_settings=dict(getattr(estimator, "settings", {})),
         turbulence_scale=scale,
+        track=truth.track,
         series=({"u": rec_u, "z": rec_z, "z_hat": rec_z_hat, "air_data": rec_air, "truth_log": truth.truth_log}
                 if record_series else None),
     )

@@ -414,6 +414,17 @@ class TruthModel:
         return [{**f.to_dict(), "onset_s": t} for t, _, f in acted]
 
     @property
+    def track(self) -> np.ndarray:
+        """(n, 3): time s, Mach and pressure altitude ft of the ideal air data at every whole
+        second measured so far (frames 0, FRAME_RATE_HZ, ...), kept with or without the truth
+        log: where the aircraft flew, for scoring a long flight (campaign/soak)."""
+        if self.engine == "cpp":
+            frames = self._frames if self._frames is not None else self._frames_done
+            return np.asarray(frames.track, dtype=float)
+        rows = slice(0, self._n_meas, FRAME_RATE_HZ)
+        return np.column_stack([self._log["time_s"][rows], self._log["air_data_ideal"][rows]])
+
+    @property
     def truth_log(self) -> dict:
         """The record: time_s (n,), z (n,7) as measured, z_ideal (n,7) noise-free, air_data (n,2)
         as measured and air_data_ideal (n,2) exact (Mach, pressure altitude ft), u_cmd_rad

@@ -16,7 +16,10 @@ turbulence intensity only.  Lengthening ``--hours`` keeps the flights already fl
 
 Per level (``episodes.level_rate``): false declarations per flight hour with the exact
 Poisson 95 % interval and the goal's verdict (:data:`GOALS_PER_H`), how long each lasted
-(``episodes.false_episodes``) and the hypotheses involved.  ``goals_met``: no level's verdict
+(``episodes.false_episodes``) and the hypotheses involved; hours and declarations counted while
+the aircraft flies the flight condition (``episodes.left_condition_s``: a flight that leaves it,
+e.g. a pilotless aircraft rolling off into a spiral dive, counts up to then, and its later
+declarations are reported apart).  ``goals_met``: no level's verdict
 is *not met*.  Every flight with a false declaration is listed with its ``f16mmae run``
 command (``drilldown``).
 """
@@ -157,15 +160,20 @@ def run_spec(spec: dict) -> dict:
     bank = planned_bank(spec)
     scenario = scenario_from_dict(spec["scenario"])
     result = fly(scenario, bank, estimator_options=spec["estimator"], record_probabilities=False)
+    left = episodes.left_condition_s(result.track, scenario.mach, scenario.alt_ft, not scenario.maneuvers)
+    flown = scenario.duration_s if left is None else left
+    counted = [d for d in result.declarations if left is None or d["time_s"] < left]
     return {
         "run_key": spec["run_key"], "kind": "soak", "level": spec["level"], "case": NONE,
         "run_index": spec["run_index"], "seed": spec["seed"], "tuning": spec["tuning"], "bank": spec["bank"],
         "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
         "estimator": spec["estimator"], "estimator_settings": result.estimator_settings,
         "declarations": result.declarations,
-        "episodes": episodes.false_episodes(result.declarations, scenario.duration_s),
-        **scoring.score_run(NONE, None, result.declarations),
-        **outcomes.run_fields(result.declarations, None, {NONE}, scenario.duration_s),
+        "episodes": episodes.false_episodes(counted, flown),
+        **scoring.score_run(NONE, None, counted),
+        **outcomes.run_fields(counted, None, {NONE}, flown),
+        "left_condition_s": left,
+        "declarations_after_leaving": result.declarations[len(counted):],
         "timing": result.timing,
     }
 
@@ -236,8 +244,13 @@ def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
         "verdicts": verdicts,
         "goals_met": all(v is not None and v != "not met" for v in verdicts.values()),
         "code": identity.code_identity(),
+        "left_condition": [
+            {"level": r["level"], "run_index": r["run_index"], "seed": r["seed"],
+             "left_condition_s": r["left_condition_s"], "declarations_after_leaving": r["declarations_after_leaving"],
+             "command": drilldown.record_command(r, cfg.dither_scale)}
+            for r in ranked if r.get("left_condition_s") is not None],
         "not_clean": drilldown.not_clean(
             ranked, lambda r: drilldown.record_command(r, cfg.dither_scale),
             lambda r: {"level": r["level"], "false_declarations": r["false_declarations"],
-                       "episodes": r["episodes"]}),
+                       "episodes": r["episodes"], "left_condition_s": r.get("left_condition_s")}),
     }

@@ -13,6 +13,18 @@ hypothesis is not NONE, ``outcomes.false_declarations`` with no onset) is false.
 Per level (:func:`level_rate`): false declarations summed over the flights, per flight hour
 summed likewise (``evidence.false_declaration_rate``: exact Poisson 95 % interval), the
 hypotheses involved (declarations per hypothesis) and the flights with at least one.
+
+A flight counts while its aircraft flies the soak's flight condition (:func:`left_condition_s`):
+in level flight (no maneuvers) within :data:`CONDITION_MACH` and :data:`CONDITION_ALT_FT` of the
+Mach and altitude it was trimmed at, its ideal air data finite (with maneuvers: finite only).
+From the first second of the truth's track outside them the flight is no longer failure-free
+flight at the condition but an aircraft gone elsewhere: a pilotless F-16 at the trimmable edge
+in moderate air can roll off into a spiral dive (Mach 0.37 to 0.7 in 60 s, then into the
+ground; docs/results/envelope_scheduled.md, round 40), and its declarations there are upsets'.
+Its hours and declarations from then on are not counted but reported apart
+(``declarations_after_leaving``, :func:`level_rate`'s ``flights_left_condition``). The bounds sit
+far outside a pilotless aircraft's wander at the condition (10-h soaks, moderate air: at most
+0.06 Mach and 1,100 ft at Mach 0.4, 20,000 ft).
 """
 from __future__ import annotations
 
@@ -24,6 +36,23 @@ from ...names import NONE
 from ..engine import evidence, intervals
 
 BACKED_OUT, REPLACED, FLIGHT_END = "backed out", "replaced", "flight end"
+#: A level-flight soak's flight condition: Mach and altitude (ft) within these of the trim's.
+CONDITION_MACH = 0.1
+CONDITION_ALT_FT = 2000.0
+
+
+def left_condition_s(track: np.ndarray, mach: float, alt_ft: float, level_flight: bool) -> float | None:
+    """The first time (s) of ``track`` (rows: time s, Mach, pressure altitude ft, as
+    ``TruthModel.track``) at which the aircraft is off the flight condition (``mach``,
+    ``alt_ft``): non-finite, or in ``level_flight`` more than CONDITION_MACH or CONDITION_ALT_FT
+    from it (module docstring); None when it never is."""
+    t = np.asarray(track, dtype=float).reshape(-1, 3)
+    off = ~np.all(np.isfinite(t[:, 1:]), axis=1)
+    if level_flight:
+        with np.errstate(invalid="ignore"):
+            off |= (np.abs(t[:, 1] - mach) > CONDITION_MACH) | (np.abs(t[:, 2] - alt_ft) > CONDITION_ALT_FT)
+    i = np.flatnonzero(off)
+    return float(t[i[0], 0]) if i.size else None
 
 
 def false_episodes(declarations: Sequence[dict], duration_s: float) -> list[dict]:
@@ -53,11 +82,13 @@ def false_episodes(declarations: Sequence[dict], duration_s: float) -> list[dict
 
 def level_rate(records: Iterable[dict], goal_per_h: float) -> dict:
     """The false declarations of one level's flight records (fields ``episodes``,
-    ``false_declarations``, ``failure_free_s``): ``per_hour`` (Poisson rate with its interval,
+    ``false_declarations``, ``failure_free_s``, ``left_condition_s``, ``declarations_after_leaving``;
+    all counted up to the flight's leaving its condition): ``per_hour`` (Poisson rate with its interval,
     the goal and its verdict), ``flights``, ``hours``, ``flights_with_false_declaration``,
     ``hypotheses`` (declarations per hypothesis, most first), ``episodes_by_end``,
     ``first_declaration_s`` (median and least time in its flight of each flight's first false
-    declaration) and ``duration_s`` (median and longest)."""
+    declaration), ``duration_s`` (median and longest), ``flights_left_condition`` and
+    ``declarations_after_leaving`` (failure declarations after it, not counted)."""
     rs = list(records)
     per_hour = evidence.false_declaration_rate(rs)
     if per_hour["rate"] is not None:
@@ -80,6 +111,9 @@ def level_rate(records: Iterable[dict], goal_per_h: float) -> dict:
         "first_declaration_s": _first_times(rs),
         "duration_s": {"median": round(float(np.median(durations)), 6) if durations else None,
                        "max": durations[-1] if durations else None},
+        "flights_left_condition": sum(1 for r in rs if r.get("left_condition_s") is not None),
+        "declarations_after_leaving": sum(1 for r in rs for d in r.get("declarations_after_leaving", [])
+                                          if d["hypothesis"] != NONE),
     }
 
 

@@ -1,6 +1,7 @@
 """The soak's figures, from its flight records: each false declaration on a timeline per
 flight (one panel per turbulence level, a bar from the declaration to its end, coloured by
-hypothesis, the nine most declared by name, the rest grey), the histogram of how long they lasted, and false declarations per flight hour
+hypothesis, the nine most declared by name, the rest grey; hatched from where a flight left its
+flight condition, not counted), the histogram of how long they lasted, and false declarations per flight hour
 against the turbulence level with the 95 % Poisson intervals."""
 from __future__ import annotations
 
@@ -35,6 +36,9 @@ def timeline(records: list[dict], levels: tuple[str, ...], flight_s: float, path
             for e in r["episodes"]:
                 ax.barh(r["run_index"], max(e["duration_s"], flight_s / 400), left=e["time_s"], height=0.8,
                         color=colour[e["hypothesis"]])
+            if r.get("left_condition_s") is not None:   # not counted from here (episodes.left_condition_s)
+                ax.barh(r["run_index"], flight_s - r["left_condition_s"], left=r["left_condition_s"], height=0.8,
+                        color="none", edgecolor=_OTHER, hatch="///", linewidth=0.0)
         ax.set_ylim(-0.5, flights - 0.5)
         ax.invert_yaxis()
         ax.set_ylabel(f"{lvl}\nflight")
@@ -46,6 +50,9 @@ def timeline(records: list[dict], levels: tuple[str, ...], flight_s: float, path
     if rest:
         handles.append(plt.Rectangle((0, 0), 1, 1, color=_OTHER))
         names.append(f"{len(rest)} others")
+    if any(r.get("left_condition_s") is not None for r in records):
+        handles.append(plt.Rectangle((0, 0), 1, 1, facecolor="none", edgecolor=_OTHER, hatch="///"))
+        names.append("off the flight\ncondition (not counted)")
     if handles:
         axes[0, 0].legend(handles, names, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7,
                           title="hypothesis", title_fontsize=7)

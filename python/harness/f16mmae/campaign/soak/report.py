@@ -17,6 +17,7 @@ _DEFINITIONS = """
 <dt>false declaration</dt><dd>any failure declaration in a failure-free flight</dd>
 <dt>how long it lasted</dt><dd>from the declaration to the next declaration of the flight: a back-out to NONE, or another hypothesis replacing it; a declaration still standing at the flight's end lasts until the end</dd>
 <dt>per flight hour</dt><dd>false declarations over the hours flown at the level, with the exact (Garwood) Poisson 95 % interval</dd>
+<dt>left the flight condition</dt><dd>in level flight, the truth's Mach or altitude more than 0.1 or 2,000 ft from the trim's (with maneuvers: non-finite), at a whole second of the flight: its hours and declarations from then on are not counted, and the flight is listed with its command</dd>
 <dt>verdicts</dt><dd><em>demonstrated</em>: the interval's upper bound is within the goal; <em>consistent</em>: the rate is, the bound is not; <em>not met</em>: the rate exceeds the goal. A goal of zero can at best be consistent</dd>
 <dt>seeds</dt><dd>evaluation seeds, flight n the same at every level (common random numbers); the tuning never flew them</dd>
 </dl>"""
@@ -25,7 +26,7 @@ _DEFINITIONS = """
 def _level_rows(levels: list[dict]) -> str:
     head = ("<tr><th>turbulence</th><th>flights</th><th>hours</th><th>false declarations per hour [95 %], verdict</th>"
             "<th>flights with one</th><th>first in its flight, median / earliest (s)</th><th>hypotheses involved</th><th>lasted median / max (s)</th>"
-            "<th>backed out / replaced / flight end</th></tr>")
+            "<th>backed out / replaced / flight end</th><th>flights that left the condition (declarations after)</th></tr>")
     rows = []
     for lv in levels:
         verdict = lv["per_hour"].get("verdict")
@@ -40,8 +41,25 @@ def _level_rows(levels: list[dict]) -> str:
                     f"<td>{lv['hours']:.3f}</td><td>{html.escape(evidence.describe_per_hour(lv['per_hour']))}</td>"
                     f"<td>{lv['flights_with_false_declaration']}</td><td>{first}</td><td>{html.escape(hyps)}</td>"
                     f"<td>{lasted}</td>"
-                    f"<td>{ends}</td></tr>")
+                    f"<td>{ends}</td><td>{_left(lv)}</td></tr>")
     return "<table>" + head + "".join(rows) + "</table>"
+
+
+def _left(level: dict) -> str:
+    """Flights of a level that left the flight condition, and their failure declarations after."""
+    return f"{level.get('flights_left_condition', 0)} ({level.get('declarations_after_leaving', 0)})"
+
+
+def _left_section(flights: list[dict]) -> str:
+    """The flights that left the flight condition, each with its command."""
+    if not flights:
+        return ""
+    rows = "".join(
+        f"<tr><td>{html.escape(f['level'])}</td><td>{f['run_index']}</td><td>{f['left_condition_s']:.0f}</td>"
+        f"<td>{html.escape(', '.join(d['hypothesis'] + ' ' + format(d['time_s'], '.1f') for d in f['declarations_after_leaving']) or '-')}</td>"
+        f"<td><code>{html.escape(f['command'])}</code></td></tr>" for f in flights)
+    return ("<h2>Flights that left the flight condition</h2><table><tr><th>turbulence</th><th>flight</th>"
+            "<th>left at (s)</th><th>declarations after (not counted)</th><th>command</th></tr>" + rows + "</table>")
 
 
 def soak_page(d: Path, s: dict) -> str:
@@ -68,6 +86,7 @@ def soak_page(d: Path, s: dict) -> str:
              f"<p>Goals met (no level <em>not met</em>): <strong>{'yes' if s.get('goals_met') else 'no'}</strong></p>",
              _level_rows(s["levels"]),
              evidence.drilldown_section(s.get("not_clean", []), ("level", "false_declarations")),
+             _left_section(s.get("left_condition", [])),
              "<h2>Campaign</h2>", param_table(params), "<h2>Figures</h2>"]
     captions = {"rate_by_level": "False declarations per flight hour against turbulence level (95 % intervals)",
                 "timeline": "False declarations on a timeline per flight",
@@ -86,16 +105,23 @@ def soak_markdown(s: dict) -> str:
     out += ["## False declarations per flight hour", "",
             "| turbulence | flights | hours | false declarations per hour [95 %], goal: verdict | "
             "flights with one | first in its flight, median / earliest (s) | hypotheses involved | "
-            "lasted median / max (s) | ended: backed out / replaced / flight end |", "|---|---|---|---|---|---|---|---|---|"]
+            "lasted median / max (s) | ended: backed out / replaced / flight end | "
+            "flights that left the condition (declarations after) |", "|---|---|---|---|---|---|---|---|---|---|"]
     for lv in s["levels"]:
         hyps = evidence.describe_counts(lv["hypotheses"])
         ends = " / ".join(str(lv["episodes_by_end"][k]) for k in ("backed out", "replaced", "flight end"))
         out.append(f"| {lv['level']} | {lv['flights']} | {lv['hours']:.3f} | {evidence.describe_per_hour(lv['per_hour'])} | "
                    f"{lv['flights_with_false_declaration']} | {num(lv['first_declaration_s']['median'])} / "
                    f"{num(lv['first_declaration_s']['min'])} | {hyps} | {num(lv['duration_s']['median'])} / "
-                   f"{num(lv['duration_s']['max'])} | {ends} |")
+                   f"{num(lv['duration_s']['max'])} | {ends} | {_left(lv)} |")
     out += ["", f"Goals met (no level *not met*): {'yes' if s.get('goals_met') else 'no'}", ""]
     out += not_clean(s, lambda r: f"{r['level']} flight")
+    if s.get("left_condition"):
+        out += ["## Flights that left the flight condition (hours and declarations after not counted)", ""]
+        out += [f"- {f['level']} flight {f['run_index']}, left at {f['left_condition_s']:.0f} s, declarations after: "
+                + (", ".join(f"{d['hypothesis']} {d['time_s']:.1f} s" for d in f["declarations_after_leaving"]) or "none")
+                + f": `{f['command']}`" for f in s["left_condition"]]
+        out.append("")
     return "\n".join(out)
 
 register_page("soak", soak_page)

@@ -182,6 +182,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::schedule, &ScheduleOptions::neighbour_trims>("neighbour_trims"),
       field<&O::schedule, &ScheduleOptions::lift_trims>("lift_trims"),
       field<&O::schedule, &ScheduleOptions::stabilator_trims>("stabilator_trims"),
+      field<&O::schedule, &ScheduleOptions::gust_airspeed>("gust_airspeed"),
       // the turbulence adaptation
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::enabled>("adapt_turbulence"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::time_constant_s>(

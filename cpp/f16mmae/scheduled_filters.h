@@ -170,6 +170,7 @@ struct ScheduleOptions {
   bool neighbour_trims = true;            // interpolate, plane_trims: a cell missing 2+ corners, neighbours' planes
   bool lift_trims = true;                 // interpolate: a cut cell's linear trims in the lift coordinate
   bool stabilator_trims = true;           // interpolate, plane_trims: past the edge, stabilators along alpha
+  bool gust_airspeed = false;             // HierarchicalBank: the schedule's Mach less the estimated gust's
   double hysteresis_cells = 0.1;       // nearest: margin before switching node, cell units, >= 0
   double blend_step_cells = 1.0 / 16;  // interpolate: air-data move that re-blends, cell units, >= 0
   bool node_adapt_reference = true;    // the nodes' adaptation reference, where they carry one

@@ -631,6 +631,47 @@ TEST(ScheduledBank, PastTheTrimmableEdgeTheStabilatorTrimsFollowTheEdgeNodesAlon
   EXPECT_TRUE(hq.u_trim() == hp.u_trim());
 }
 
+// gust_airspeed: with a state named u_g_fps the schedule follows M + u_g^ / c, u_g^ the blended
+// prior estimate before the frame and c = VEL_trim / M_f of the trims in force (the air-data
+// low-pass off: the schedule's Mach is that value exactly); the measured Mach itself before the
+// first frame, with the option off, and on a bank without the state; no allocation.
+TEST(ScheduledBank, GustAirspeedSchedulesOnTheMachLessTheEstimatedGust) {
+  BankSchedule s = make_schedule();
+  for (ScheduleNode& n : s.nodes) n.bank.state_names[2] = "u_g_fps";
+  const Frames f = fly(node_bank(0, 0), 0, 0, {}, 200, 9u);
+  for (const bool on : {true, false}) {
+    HierarchicalOptions o = options(ScheduleMode::kInterpolate);
+    o.schedule.gust_airspeed = on;
+    F16HierarchicalBank hb(scheduled_bank(s), o);
+    double largest = 0.0;
+    const long long before = f16mmae::testing::allocation_count();
+    for (std::size_t i = 0; i < f.z.size(); ++i) {
+      const double m = 0.45 + 0.0002 * static_cast<double>(i % 5), h = 14000.0;
+      double expected = m;
+      if (on && i > 0) {
+        const double c = hb.scheduled().z_trim()(0) / hb.scheduled().filtered_air_data().mach;
+        expected = m + hb.blended_state()(2) / c;
+      }
+      hb.schedule(AirData{m, h});
+      EXPECT_NEAR(hb.scheduled().filtered_air_data().mach, expected, 1e-15) << "frame " << i;
+      EXPECT_EQ(hb.scheduled().filtered_air_data().pressure_altitude_ft, h);
+      largest = std::max(largest, std::abs(expected - m));
+      hb.step(f.z[i], f.u[i]);
+    }
+    EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+    if (on) EXPECT_GT(largest, 1e-6);   // the gust estimate moved the schedule
+  }
+  // a bank without the state: the measured Mach
+  HierarchicalOptions o = options(ScheduleMode::kInterpolate);
+  o.schedule.gust_airspeed = true;
+  F16HierarchicalBank plain(scheduled_bank(make_schedule()), o);
+  for (std::size_t i = 0; i < 50; ++i) {
+    plain.schedule(AirData{0.45, 14000.0});
+    EXPECT_EQ(plain.scheduled().filtered_air_data().mach, 0.45);
+    plain.step(f.z[i], f.u[i]);
+  }
+}
+
 TEST(ScheduledBank, TheTrimOffsetAddsToTheScheduledTrim) {
   const BankSchedule s = make_schedule();
   F16HierarchicalBank hb(scheduled_bank(s), options(ScheduleMode::kInterpolate));

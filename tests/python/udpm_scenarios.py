@@ -434,7 +434,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
                "--lcm-url", URL, "--channel-prefix", f"T{os.getpid()}M_", "--compare"])
     out = capsys.readouterr().out
     assert rc == 0, out
-    for said in ("climbing 0.6 held 30 s", "steady 0.1 g on AOA,VEL,AZ, air-data rates off)", "maneuver kinematics",
+    for said in ("climbing 0.6 held 30 s", "steady 0.1 g on AOA,VEL,AZ,AY, air-data rates off)", "maneuver kinematics",
                  "maneuver dwell 0.4 s held 30 s", "gates x sqrt(s_c)", "actuator limits"):
         assert said in out, (said, out)
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out

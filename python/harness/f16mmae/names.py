@@ -267,7 +267,9 @@ SCHEDULE_ADAPT_LEVEL_SCALE_FROM = 8.0
 #: sqrt(s_c), read from the node's calm-air reference, so level flight in any air keeps them shut;
 #: cpp/f16mmae/hierarchical_bank.h), the adaptation's reference 0.6 in a climb and 0.65 in any
 #: maneuver, held 30 s, and a 0.4-s dwell; the load factor beyond its own spread added to s; the
-#: steady trim tracking of AOA, VEL and AZ in level flight, whatever the air data's rates. Before
+#: steady trim tracking of AOA, VEL, AZ and AY in level flight, whatever the air data's rates (AY
+#: since round 40: a slow bias of the estimated lateral acceleration in a banked drift, fed back
+#: through the FCS, rolled a pilotless aircraft at the trimmable edge into a spiral dive). Before
 #: it the scheduled default flew the maneuver campaign 399/480 with 138 false-alarm runs (tuning
 #: seed); with it 475/480 [97.6-99.7 %], no declaration in the 2.1-h tour and a latency median of
 #: 0.91 s (VEL apart) on the evaluation seed, level flight as before within a few runs (round 33,
@@ -279,7 +281,7 @@ SCHEDULE_MANEUVER_SETTING: dict[str, object] = {
     "maneuver_tempering_added_g": 0.03, "maneuver_tempering_added_deadband_g": 0.08,
     "maneuver_tempering_added_spread": 3.0,
     "maneuver_climb_ft_s": 10.0, "maneuver_mach_per_s": 0.002, "maneuver_gates_calm_scaled": True,
-    "trim_steady_g": 0.1, "trim_steady_air_data": "off", "trim_steady_measurements": "AOA,VEL,AZ",
+    "trim_steady_g": 0.1, "trim_steady_air_data": "off", "trim_steady_measurements": "AOA,VEL,AZ,AY",
 }
 #: How a scheduled bank follows the air data (core.HierarchicalBank schedule_mode); the first
 #: is the default (docs/results/schedule.md compares them).

@@ -427,7 +427,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "--maneuver-tempering-added 0.03 --maneuver-tempering-added-deadband 0.08 "
                          "--maneuver-tempering-added-spread 3 --maneuver-climb-rate 10 --maneuver-mach-rate 0.002 "
                          "--maneuver-gates-calm-scaled --trim-tracking-steady 0.1 --trim-tracking-steady-air-data off "
-                         "--trim-tracking-steady-measurements AOA,VEL,AZ (names.SCHEDULE_MANEUVER_SETTING; "
+                         "--trim-tracking-steady-measurements AOA,VEL,AZ,AY (names.SCHEDULE_MANEUVER_SETTING; "
                          "mmae-daemon takes them as flags); off none of them, the default before round 33. "
                          "Default on"),
     EstimatorOption("maneuver_reference", "--maneuver-reference", "number", metavar="RHO", minimum=0.0,
@@ -561,6 +561,8 @@ CORE_ONLY: dict[str, str] = {
                   "(scheduled_filters.h)",
     "stabilator_trims": "the schedule's stabilator trims past the trimmable edge along its nodes' trim alpha "
                         "(scheduled_filters.h)",
+    "gust_airspeed": "the schedule's Mach less the estimated along-track gust's, on a bank with gust states "
+                     "(hierarchical_bank.h)",
     "adapt_time_constant_s": "the adaptation's averaging time, tuned with its gain (turbulence_adaptation.h)",
     "adapt_scale_min": "the adaptation's lower bound on s, the design's A_k (turbulence_adaptation.h)",
     "adapt_scale_max": "the adaptation's upper bound on s (turbulence_adaptation.h)",

@@ -107,8 +107,9 @@
 //   NONE is presumed with it at construction and reset().
 //   With options.schedule.gust_airspeed (off by default) and a bank whose state carries the
 //   along-track gust u_g (state "u_g_fps", design/gust_states.py: the turbulence axes' north,
-//   the trim's heading) and whose measurements VEL (else the measured Mach), the schedule follows the Mach number of the aircraft's speed through
-//   the mean air, not of the gust's:
+//   the trim's heading) and whose measurements include VEL (else the measured Mach), the
+//   schedule follows the Mach number of the aircraft's speed through the mean air, not the
+//   gust's:
 //     M_s = M + u_g^ / c,   c = VEL_trim / M_f   (the speed of sound of the trims in force),
 //   u_g^ the blended prior estimate (the previous frame's propagation; 0 before the first
 //   frame and while it is not finite). The pitot reads the gust's airspeed (V_air = V - u_g),

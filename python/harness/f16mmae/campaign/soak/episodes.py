@@ -19,8 +19,9 @@ in level flight (no maneuvers) within :data:`CONDITION_MACH` and :data:`CONDITIO
 Mach and altitude it was trimmed at, its ideal air data finite (with maneuvers: finite only).
 From the first second of the truth's track outside them the flight is no longer failure-free
 flight at the condition but an aircraft gone elsewhere: a pilotless F-16 at the trimmable edge
-in moderate air can roll off into a spiral dive (Mach 0.37 to 0.7 in 60 s, then into the
-ground; docs/results/envelope_scheduled.md, round 40), and its declarations there are upsets'.
+in moderate air could roll off into a spiral dive (Mach 0.39 to 0.73 in 75 s, then into the
+ground; docs/results/envelope_scheduled.md, round 40), and what is declared there is declared of
+an upset.
 Its hours and declarations from then on are not counted but reported apart
 (``declarations_after_leaving``, :func:`level_rate`'s ``flights_left_condition``). The bounds sit
 far outside a pilotless aircraft's wander at the condition (10-h soaks, moderate air: at most

@@ -414,8 +414,7 @@ class HierarchicalBank {
     const bool reload = sched_.select(gust_free(a));
     if (reload) load_scheduled();
     if (maneuver_trim_.enabled()) {   // maneuver_trim.h: c = the scheduled trim's VEL over its Mach
-      const double m = sched_.filtered_air_data().mach;
-      maneuver_trim_.observe(a.mach, a.pressure_altitude_ft, m > 0.0 ? sched_.z_trim()(mt_vel_) / m : 0.0);
+      maneuver_trim_.observe(a.mach, a.pressure_altitude_ft, scheduled_sound_fps(mt_vel_));
       blend_maneuver_trim(sched_.corners(), sched_.weights());
     }
     if (frame_ > 0) {  // before the first frame x = 0 is the trim
@@ -985,12 +984,17 @@ class HierarchicalBank {
     }
     bank_.refresh_blend();
   }
+  // The speed of sound of the scheduled trims in force: their VEL (measurement `vel`) over the
+  // schedule's low-passed Mach; 0 before a positive Mach.
+  double scheduled_sound_fps(int vel) const noexcept {
+    const double m = sched_.filtered_air_data().mach;
+    return m > 0.0 ? sched_.z_trim()(vel) / m : 0.0;
+  }
   // The air data the schedule follows: `a`, with options.schedule.gust_airspeed its Mach less
   // the estimated along-track gust's (header).
   AirData gust_free(const AirData& a) const noexcept {
     if (gust_u_ < 0 || frame_ == 0) return a;
-    const double m = sched_.filtered_air_data().mach;
-    const double c = m > 0.0 ? sched_.z_trim()(gust_vel_) / m : 0.0;
+    const double c = scheduled_sound_fps(gust_vel_);
     const double ug = bank_.blended_state()(gust_u_);
     if (!(c > 0.0) || !std::isfinite(ug)) return a;
     return AirData{a.mach + ug / c, a.pressure_altitude_ft};

@@ -252,5 +252,5 @@ def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
         "not_clean": drilldown.not_clean(
             ranked, lambda r: drilldown.record_command(r, cfg.dither_scale),
             lambda r: {"level": r["level"], "false_declarations": r["false_declarations"],
-                       "episodes": r["episodes"], "left_condition_s": r.get("left_condition_s")}),
+                       "episodes": r["episodes"]}),
     }

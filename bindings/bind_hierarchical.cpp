@@ -531,6 +531,9 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("threshold", prop([](auto& b) { return b.declarer().options().threshold; }))
       .def_property_readonly("dwell_s", prop([](auto& b) { return b.declarer().options().dwell_s; }))
       .def_property_readonly("dwell_frames", prop([](auto& b) { return b.declarer().dwell_frames(); }))
+      .def_property_readonly("declarer_rough", prop([](auto& b) { return b.declarer().rough(); }),
+                             "the rough-air least dwell in force (declarer.h): on the last accepted update the "
+                             "adaptation's scale s_b was at least rough_scale")
       .def_property_readonly("fixed_size", &PyHierarchicalBank::fixed,
                              "True when a fixed-size F-16 bank (13 states, 19 with gust states; 5 inputs, 6 with\n"
                              "the throttle) runs inside");

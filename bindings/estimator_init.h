@@ -144,6 +144,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::declarer, &DeclarerOptions::dwell_nats>("dwell_nats"),
       field<&O::declarer, &DeclarerOptions::dwell_nats_per_hypothesis>("dwell_nats_per_hypothesis"),  // {name: N_k}
       field<&O::declarer, &DeclarerOptions::dwell_s_per_hypothesis>("dwell_s_per_hypothesis"),  // {name: D_k s}
+      field<&O::declarer, &DeclarerOptions::rough_dwell_s_per_hypothesis>("rough_dwell_s_per_hypothesis"),  // {name: R_k s}
+      field<&O::declarer, &DeclarerOptions::rough_scale>("rough_scale"),
       {"declarer", "a core.Declarer or None", [](O&, py::handle) {},
        [](const O&) { return py::object(py::none()); }},
       // the calm-air complete model (calm_air_complete.h)

@@ -207,6 +207,21 @@ bool adapting(const DaemonConfig& c) { return c.estimator.bank.adaptation.enable
 bool tracking_trim(const DaemonConfig& c) { return c.estimator.trim.time_constant_s > 0.0; }
 bool climb_reference(const DaemonConfig& c) { return c.estimator.climb_reference.enabled(); }
 bool maneuver_dwell(const DaemonConfig& c) { return c.estimator.maneuver_dwell.dwell_s > 0.0; }
+bool rough_dwell(const DaemonConfig& c) { return !c.estimator.declarer.rough_dwell_s_per_hypothesis.empty(); }
+
+// A least-dwell table "NAME=S,..." (declarer.h) into the declarer's `table`; the parser's
+// "<table>: why" without its prefix.
+Value least_dwell_table(std::map<std::string, double> DeclarerOptions::*table) {
+  return parsed_by([table](DaemonConfig& c, const std::string& v) -> std::string {
+    try {
+      c.estimator.declarer.*table = parse_dwell_s_per_hypothesis(v);
+    } catch (const std::invalid_argument& e) {
+      const std::string why = e.what();
+      return why.substr(why.find(": ") + 2);
+    }
+    return "";
+  });
+}
 bool maneuver_trim(const DaemonConfig& c) { return c.estimator.maneuver_trim.enabled; }
 bool set_tempering(const DaemonConfig& c) { return c.set_tempering.has_value(); }
 bool set_tempering_margin(const DaemonConfig& c) { return c.set_tempering_margin; }
@@ -273,15 +288,18 @@ const std::vector<Flag>& flags() {
        "the least dwell of these hypotheses, s: NAME is declared after the longer of the dwell in force and S, "
        "a dual A+B not named after the longer of A's and B's (declarer.h; default: none; 'f16mmae hil' gives a "
        "scheduled bank's with --adapt-turbulence, its default in process)",
-       parsed_by([](DaemonConfig& c, const std::string& v) -> std::string {
-         try {
-           c.estimator.declarer.dwell_s_per_hypothesis = parse_dwell_s_per_hypothesis(v);
-         } catch (const std::invalid_argument& e) {   // "dwell_s_per_hypothesis: why"
-           const std::string why = e.what();
-           return why.substr(why.find(": ") + 2);
-         }
-         return "";
-       })},
+       least_dwell_table(&DeclarerOptions::dwell_s_per_hypothesis)},
+      {"--rough-dwell-s-per-hypothesis", "NAME=S,...",
+       "... in rough air: while the turbulence adaptation's scale is at least --rough-scale, NAME is declared "
+       "after the longer of its --dwell-s-per-hypothesis entry and S (declarer.h; default: none; 'f16mmae hil' "
+       "gives a scheduled bank's with --adapt-turbulence, its default in process)",
+       least_dwell_table(&DeclarerOptions::rough_dwell_s_per_hypothesis), nullptr, "--adapt-turbulence", adapting},
+      {"--rough-scale", "S",
+       "rough air for --rough-dwell-s-per-hypothesis: the adaptation's scale at least S (> 1; default 4, "
+       "declarer.h)",
+       number(at(E, &H::declarer, &DeclarerOptions::rough_scale), {1.0, kMaxRoughScale, true},
+              "a scale in (1, " + format_value(kMaxRoughScale) + "]"),
+       nullptr, "--rough-dwell-s-per-hypothesis", rough_dwell},
       {"--start-up-s", "S",
        "the first S seconds of frames after a start or reset update the filters but weigh no hypothesis "
        "(default: the bank's recommendation, a scheduled-bank file's start_up_s, else 0)",

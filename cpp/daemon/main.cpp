@@ -366,6 +366,12 @@ int main(int argc, char** argv) {
       for (const auto& [name, d] : running.declarer.dwell_s_per_hypothesis)
         if (d > 0.0) least += (least.empty() ? "" : ", ") + name + " " + f16mmae::format_value(d);
       if (!least.empty()) evidence_dwell += ", at least " + least + " s";
+      std::string rough;   // the least dwell per hypothesis in rough air: R_k by name (declarer.h)
+      for (const auto& [name, d] : running.declarer.rough_dwell_s_per_hypothesis)
+        if (d > 0.0) rough += (rough.empty() ? "" : ", ") + name + " " + f16mmae::format_value(d);
+      if (!rough.empty())
+        evidence_dwell += ", in rough air (scale >= " + f16mmae::format_value(running.declarer.rough_scale) +
+                          ") at least " + rough + " s";
       std::printf("mmae-daemon: ready: bank %.12s (%s, %s of %s, %s, threshold %g, dwell %g s%s, %s, %s, %s, "
                   "schedule %s on air data low-passed %s s, %s), lcm %s, %s -> %s, %s\n",
                   bank_hash.c_str(), tuning.c_str(), executive->estimator().kind(), executive->estimator().states().c_str(), floor.c_str(),

@@ -77,6 +77,24 @@
 // filter for a fraction of a second; docs/results/envelope_scheduled.md, round 22) is held to
 // a longer dwell at the cost of its own latency alone.
 //
+// Least dwell per hypothesis in rough air (rough_dwell_s_per_hypothesis: name -> R_k seconds;
+// empty, the default: off). The caller hands the declarer the turbulence adaptation's scale s of
+// the frame (observe_scale; turbulence_adaptation.h; hierarchical_bank.h hands s_b, the scale at
+// the node's own reference, which a climb's or a maneuver's reference does not move), and while
+//   s >= rough_scale
+// hypothesis k's least dwell is the longer of its two tables' entries, max(D_k, R_k) (a dual
+// "A+B" the rough table does not name: max(R_A, R_B), as above); below it, or before any scale,
+// D_k alone. The rule is read on every frame of the dwell, so a candidate whose air turns rough
+// during its dwell waits for the longer one. Why: a hypothesis whose no-failure excursions come
+// in rough air only (the scheduled bank's failed rudder at the trimmable edge, Mach 0.365 at
+// 34,500 ft, in moderate air: s 24-35 at those declarations, 8-11 in a flight's first seconds
+// while s rises) needs a long dwell there, while its failures in light air (s <= 2.3 at every rudder
+// declaration of 60 random points) and in moderate air at the nominal point (s <= 4.8) need
+// none: one table for all air would cost the light air its latency (the rudder's median 0.70 ->
+// 1.45 s over 40 random points for a 1-s least dwell; docs/results/envelope_scheduled.md,
+// rounds 40-41). rough_scale (default 4) must exceed 1, the adaptation's floor: s >= 1 always,
+// so a threshold at or below it would be the plain table.
+//
 // Defaults, and why: threshold 0.9, dwell 0.25 s at 64 Hz (16 frames).
 //  - 0.9: with K = 13 and the floor p_min = 0.001 a hypothesis can reach 1 - 12 * 0.001 =
 //    0.988; a correct, well-matched hypothesis sits near that, while an ambiguous pair
@@ -91,9 +109,11 @@
 // Throws: the constructor throws std::invalid_argument naming the value and the valid range
 // (estimator_settings.h) if threshold is not in (0.5, 1), dwell_s is not in [0, 60] s,
 // frame_rate_hz is not positive and finite, the dwell exceeds kMaxDwellFrames frames,
-// dwell_nats or an N_k is not in [0, kMaxDwellNats], a D_k is not in [0, 60] s, a table names
-// a hypothesis not in `names` (or is given without names).
-// update() is noexcept and allocation-free; a NaN probability never counts as "above".
+// dwell_nats or an N_k is not in [0, kMaxDwellNats], a D_k or R_k is not in [0, 60] s, a table
+// names a hypothesis not in `names` (or is given without names), rough_scale is not in (1, 1e6]
+// with a rough-air table.
+// update() and observe_scale() are noexcept and allocation-free; a NaN probability never counts
+// as "above".
 #pragma once
 
 #include <algorithm>
@@ -119,6 +139,10 @@ struct DeclarerOptions {
   std::map<std::string, double> dwell_nats_per_hypothesis;
   // name -> D_k: the least dwell (s) of that hypothesis (header); empty: the dwell in force for all.
   std::map<std::string, double> dwell_s_per_hypothesis;
+  // name -> R_k: the least dwell (s) while the adaptation's scale is at least rough_scale (header);
+  // empty: none.
+  std::map<std::string, double> rough_dwell_s_per_hypothesis;
+  double rough_scale = kDefaultRoughScale;   // s at or above this: rough air (header); > 1
 };
 
 // The evidence dwell's upper bound, kMaxDwellNats (estimator_settings.h): 16 frames at the
@@ -190,9 +214,16 @@ class Declarer {
         dwell_frames_(checked_dwell_frames(options)),
         threshold_log_odds_(std::log(options.threshold / (1.0 - options.threshold))),
         nats_by_hypothesis_(resolve_per_hypothesis(options, names)),
-        frames_by_hypothesis_(resolve_least_dwell(options, names)) {
+        frames_by_hypothesis_(resolve_least_dwell(options.dwell_s_per_hypothesis, options.frame_rate_hz, names,
+                                                  "dwell_s_per_hypothesis")),
+        rough_frames_by_hypothesis_(resolve_rough_dwell(options, names)) {
     reset(presumed);
   }
+
+  // The turbulence adaptation's scale s of the coming frame (header: the rough-air least dwell);
+  // a NaN reads as calm. noexcept, allocation-free.
+  void observe_scale(double s) noexcept { rough_ = s >= options_.rough_scale; }
+  bool rough() const noexcept { return rough_; }   // the rough-air table in force (header)
 
   // Feed one frame's probabilities p[0..n). Returns the index declared on this frame, or -1.
   template <class Vector>
@@ -240,6 +271,7 @@ class Declarer {
     candidate_ = -1;
     count_ = 0;
     evidence_nats_ = 0.0;
+    rough_ = false;
   }
 
   // Carry over `from`'s state (current, candidate, dwell count), keeping this declarer's
@@ -249,6 +281,7 @@ class Declarer {
     candidate_ = from.candidate_;
     count_ = from.count_;
     evidence_nats_ = from.evidence_nats_;
+    rough_ = from.rough_;
   }
   int current() const noexcept { return current_; }      // presumed or last declared
   int candidate() const noexcept { return candidate_; }  // hypothesis (component: its slot) above threshold, or -1
@@ -256,10 +289,11 @@ class Declarer {
   double dwell_evidence_nats() const noexcept { return evidence_nats_; }   // E_n so far (header)
   int dwell_frames() const noexcept { return dwell_frames_; }
   const DeclarerOptions& options() const noexcept { return options_; }
-  // The least dwell of hypothesis k in frames (header): 0 when it has none.
+  // The least dwell of hypothesis k in frames in force (header): D_k, or max(D_k, R_k) in rough
+  // air; 0 when it has none.
   int least_dwell_frames_of(int hypothesis) const noexcept {
-    if (hypothesis < 0 || hypothesis >= static_cast<int>(frames_by_hypothesis_.size())) return 0;
-    return frames_by_hypothesis_[static_cast<std::size_t>(hypothesis)];
+    const int own = entry(frames_by_hypothesis_, hypothesis);
+    return rough_ ? std::max(own, entry(rough_frames_by_hypothesis_, hypothesis)) : own;
   }
   // The evidence dwell N_k of hypothesis k (header): its table entry, else dwell_nats.
   double dwell_nats_of(int hypothesis) const noexcept {
@@ -316,21 +350,34 @@ class Declarer {
                                   "] nats, got " + format_value(o.dwell_nats));
     return f16mmae::dwell_frames(o.dwell_s, o.frame_rate_hz, "declarer");
   }
-  // D_k in frames by hypothesis index (header); empty without a table. Throws naming a name
-  // not in `names`, or a D_k outside [0, kMaxDwellS] s.
-  static std::vector<int> resolve_least_dwell(const DeclarerOptions& o, const std::vector<std::string>& names) {
+  static int entry(const std::vector<int>& frames, int hypothesis) noexcept {
+    if (hypothesis < 0 || hypothesis >= static_cast<int>(frames.size())) return 0;
+    return frames[static_cast<std::size_t>(hypothesis)];
+  }
+  // A least-dwell table (`setting` names it) in frames by hypothesis index (header); empty
+  // without a table. Throws naming a name not in `names`, or an entry outside [0, kMaxDwellS] s.
+  static std::vector<int> resolve_least_dwell(const std::map<std::string, double>& table, double rate_hz,
+                                              const std::vector<std::string>& names, const std::string& setting) {
     std::vector<int> out;
-    if (o.dwell_s_per_hypothesis.empty()) return out;
-    check_names(o.dwell_s_per_hypothesis, names, "dwell_s_per_hypothesis");
-    for (const auto& [name, d] : o.dwell_s_per_hypothesis)
+    if (table.empty()) return out;
+    check_names(table, names, setting);
+    for (const auto& [name, d] : table)
       if (!(d >= 0.0 && d <= kMaxDwellS))
-        throw std::invalid_argument("declarer: dwell_s_per_hypothesis '" + name + "' must be in [0, " +
+        throw std::invalid_argument("declarer: " + setting + " '" + name + "' must be in [0, " +
                                     format_value(kMaxDwellS) + "] s, got " + format_value(d));
     for (const auto& h : names) {
-      const double d = least_dwell_s(o.dwell_s_per_hypothesis, h);
-      out.push_back(d == 0.0 ? 0 : f16mmae::dwell_frames(d, o.frame_rate_hz, "declarer"));
+      const double d = least_dwell_s(table, h);
+      out.push_back(d == 0.0 ? 0 : f16mmae::dwell_frames(d, rate_hz, "declarer"));
     }
     return out;
+  }
+  // The rough-air table (header), after checking rough_scale when there is one.
+  static std::vector<int> resolve_rough_dwell(const DeclarerOptions& o, const std::vector<std::string>& names) {
+    if (!o.rough_dwell_s_per_hypothesis.empty() && !(o.rough_scale > 1.0 && o.rough_scale <= kMaxRoughScale))
+      throw std::invalid_argument("declarer: rough_scale must be in (1, " + format_value(kMaxRoughScale) +
+                                  "] (the adaptation's scale is never below 1), got " + format_value(o.rough_scale));
+    return resolve_least_dwell(o.rough_dwell_s_per_hypothesis, o.frame_rate_hz, names,
+                               "rough_dwell_s_per_hypothesis");
   }
   // D of hypothesis `name` (header): its entry, else for a dual "A+B" the longest of its
   // components' entries, else 0.
@@ -389,6 +436,8 @@ class Declarer {
   double evidence_nats_ = 0.0;        // E_n of the candidate (header)
   std::vector<double> nats_by_hypothesis_;   // N_k by hypothesis index; empty: dwell_nats for all
   std::vector<int> frames_by_hypothesis_;    // D_k in frames by hypothesis index (0: none); empty: none
+  std::vector<int> rough_frames_by_hypothesis_;   // R_k likewise (header)
+  bool rough_ = false;                       // the last scale observed was at least rough_scale
 };
 
 }  // namespace f16mmae

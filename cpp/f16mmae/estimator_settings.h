@@ -33,6 +33,8 @@ inline constexpr double kMaxDwellS = 60.0;         // a minute: longer is no det
 inline constexpr int kMaxDwellFrames = 1 << 24;    // ~73 h at 64 Hz: far inside int
 inline constexpr double kMaxStartUpS = 3600.0;     // filter_bank.h's start_up_s range: [0, 1 h]
 inline constexpr double kMaxDwellNats = 1.0e6;     // an evidence dwell's range (declarer.h): [0, 1e6] nats
+inline constexpr double kDefaultRoughScale = 4.0;  // the rough-air least dwell's scale (declarer.h says why)
+inline constexpr double kMaxRoughScale = 1.0e6;     // ... its range (1, 1e6]
 
 struct EstimatorSettings {
   double p_min = kDefaultPMin;

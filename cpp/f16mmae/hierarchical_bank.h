@@ -32,8 +32,9 @@
 //      the maneuver dwell's load factor (maneuver_dwell.h) read the frame;
 //   5. at level 1, the departure hold (departure_hold.h): on a held frame the declarer's dwell
 //      restarts and nothing is declared;
-//   6. the declarer (declarer.h) with the dwell and the components in force; a declaration is
-//      recorded, and switches the level (initialisation above);
+//   6. the declarer (declarer.h) with the dwell and the components in force, and the
+//      adaptation's scale at the base reference, s_b (below), for its rough-air least dwell;
+//      a declaration is recorded, and switches the level (initialisation above);
 //   7. the trim tracker (trim_tracker.h) reads the frame.
 // propagate(u_abs): the actuators' limits on u (actuator_limits.h), u - u_trim - du, the
 // kinematic forcing of the blended posterior (maneuver_kinematics.h), the FilterBank's
@@ -346,6 +347,8 @@ class HierarchicalBank {
     }
     if (level_ == 1 && departure_.observe(z_pert_, online_[1]))   // departure_hold.h
       declarer_in_force().reset(declarer_in_force().current());   // the dwell restarts
+    // the rough-air least dwell (declarer.h) reads the air: s_b, not a flight phase's reference
+    declarer_in_force().observe_scale(bank_.adaptation().scale_at(base_adapt_reference()));
     const int d = departure_.held() ? -1
                                       : declarer_in_force().update(bank_.probabilities(), dwell_frames_in_force(),
                                                                    component_groups(), online_.data());
@@ -760,6 +763,9 @@ class HierarchicalBank {
     LevelFloors::check_level1(options.level1_p_min, options.level1_dwell_s, options.declarer.threshold,
                               levels_.size());
     spare_dwell_frames_ = spare_dwell_frames(options, mb.frame_rate_hz);
+    if (!options.declarer.rough_dwell_s_per_hypothesis.empty() && !options.bank.adaptation.enabled)
+      throw std::invalid_argument("hierarchical bank: rough_dwell_s_per_hypothesis applies while the turbulence "
+                                  "adaptation's scale is at least rough_scale; it needs adapt_turbulence on");
     if (options.history_capacity < 1)
       throw std::invalid_argument("hierarchical bank: history_capacity must be >= 1, got " +
                                   std::to_string(options.history_capacity));

@@ -434,3 +434,97 @@ TEST(DeclarerLeastDwell, TheTextFormParsesAndBadEntriesAreRefusedByName) {
   o.dwell_s_per_hypothesis = {{"A", 120.0}};
   EXPECT_THROW((Declarer{o, 0, {"NONE", "A"}}), std::invalid_argument);
 }
+
+// The rough-air least dwell (declarer.h): R_k in force while the observed scale is at least
+// rough_scale, max(D_k, R_k); D_k alone in calmer air, before any scale and after reset().
+TEST(DeclarerRoughDwell, TheRoughTableHoldsOnlyWhileTheScaleIsAtLeastRoughScale) {
+  DeclarerOptions o;   // dwell 0.25 s: 16 frames at 64 Hz
+  o.dwell_s_per_hypothesis = {{"B", 0.5}};                    // B: 32 frames everywhere
+  o.rough_dwell_s_per_hypothesis = {{"A", 1.0}, {"B", 0.25}};   // A: 64 in rough air; B: max(32, 16)
+  o.rough_scale = 4.0;
+  const std::vector<std::string> names{"NONE", "A", "B", "A+B", "A+C", "C"};
+  Declarer d(o, 0, names);
+  EXPECT_FALSE(d.rough());
+  const int calm[] = {0, 0, 32, 32, 0, 0};
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(d.least_dwell_frames_of(k), calm[k]) << names[k];
+  d.observe_scale(3.999);
+  EXPECT_FALSE(d.rough());
+  d.observe_scale(4.0);   // at the threshold: rough
+  EXPECT_TRUE(d.rough());
+  const int rough[] = {0, 64, 32, 64, 64, 0};   // duals not named: the longest component, both tables
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(d.least_dwell_frames_of(k), rough[k]) << names[k];
+  d.observe_scale(std::nan(""));   // NaN reads as calm
+  EXPECT_FALSE(d.rough());
+
+  auto a = [] { return std::array<double, 6>{0.01, 0.95, 0.01, 0.01, 0.01, 0.01}; };
+  Declarer calm_air(o, 0, names);   // A in calm air: the 16-frame dwell
+  for (int i = 0; i < 15; ++i) {
+    calm_air.observe_scale(1.5);
+    ASSERT_EQ(calm_air.update(a()), -1) << i;
+  }
+  calm_air.observe_scale(1.5);
+  EXPECT_EQ(calm_air.update(a()), 1);
+
+  Declarer rough_air(o, 0, names);   // A in rough air: 64 frames
+  for (int i = 0; i < 63; ++i) {
+    rough_air.observe_scale(30.0);
+    ASSERT_EQ(rough_air.update(a()), -1) << i;
+  }
+  rough_air.observe_scale(30.0);
+  EXPECT_EQ(rough_air.update(a()), 1);
+
+  // the air turns rough on A's 10th frame: the count goes on, to the longer dwell
+  Declarer turning(o, 0, names);
+  for (int i = 0; i < 63; ++i) {
+    turning.observe_scale(i < 9 ? 2.0 : 6.0);
+    ASSERT_EQ(turning.update(a()), -1) << i;
+  }
+  turning.observe_scale(6.0);
+  EXPECT_EQ(turning.update(a()), 1);
+
+  // ... and calm again after 40 frames: the count it holds already passes the shorter dwell
+  Declarer calming(o, 0, names);
+  for (int i = 0; i < 39; ++i) {
+    calming.observe_scale(6.0);
+    ASSERT_EQ(calming.update(a()), -1) << i;
+  }
+  calming.observe_scale(2.0);
+  EXPECT_EQ(calming.update(a()), 1);
+
+  Declarer reset(o, 0, names);
+  reset.observe_scale(30.0);
+  reset.reset();
+  EXPECT_FALSE(reset.rough());
+}
+
+TEST(DeclarerRoughDwell, WithoutARoughTableTheScaleChangesNothingAndBadOptionsAreRefused) {
+  DeclarerOptions o;
+  o.dwell_s_per_hypothesis = {{"A", 0.5}};
+  Declarer d(o, 0, {"NONE", "A"});
+  d.observe_scale(100.0);
+  EXPECT_EQ(d.least_dwell_frames_of(1), 32);
+  o.rough_dwell_s_per_hypothesis = {{"A", 1.0}};
+  o.rough_scale = 1.0;   // s >= 1 always: the plain table
+  try {
+    Declarer bad(o, 0, {"NONE", "A"});
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "declarer: rough_scale must be in (1, 1e+06] (the adaptation's scale is never below 1), "
+                           "got 1");
+  }
+  o.rough_scale = std::nan("");
+  EXPECT_THROW((Declarer{o, 0, {"NONE", "A"}}), std::invalid_argument);
+  o.rough_scale = 4.0;
+  o.rough_dwell_s_per_hypothesis = {{"X", 1.0}};
+  try {
+    Declarer bad(o, 0, {"NONE", "A"});
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "declarer: rough_dwell_s_per_hypothesis names 'X', not a hypothesis of the bank (NONE A)");
+  }
+  o.rough_dwell_s_per_hypothesis = {{"A", -1.0}};
+  EXPECT_THROW((Declarer{o, 0, {"NONE", "A"}}), std::invalid_argument);
+  o.rough_dwell_s_per_hypothesis.clear();
+  o.rough_scale = 0.0;   // no table: the scale is not read, so not checked
+  EXPECT_NO_THROW((Declarer{o, 0, {"NONE", "A"}}));
+}

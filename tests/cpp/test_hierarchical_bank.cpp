@@ -93,6 +93,17 @@ struct Small {
   ModelBank bank = test::make_bank(plant, kAct, kSen, Eigen::Vector2d(0.1, -0.2), Eigen::Vector3d(10.0, 1.0, -3.0));
 };
 
+// The small bank's options with the turbulence adaptation reading s > 1 in its noise, its rho
+// catching up with rho-bar within a few frames (before the flights' failures).
+HierarchicalOptions adapted(const Small& s) {
+  HierarchicalOptions o;
+  o.bank.p_min = 1e-6;
+  o.bank.adaptation.enabled = true;
+  o.bank.adaptation.reference = 0.05;
+  o.bank.adaptation.time_constant_s = 4.0 / s.bank.frame_rate_hz;
+  return o;
+}
+
 }  // namespace
 
 TEST(HierarchicalBank, StartsAtLevelZeroWithTheSinglesByName) {
@@ -285,6 +296,58 @@ TEST(HierarchicalBank, AFlightPhaseDwellTurnsTheEvidenceDwellOff) {
   EXPECT_THROW(DynamicHierarchicalBank(s.bank, p), std::invalid_argument);
 }
 
+TEST(HierarchicalBank, TheRoughDwellReadsTheAdaptationsScale) {
+  // the declarer is handed the adaptation's scale on every accepted frame (header, step 6; s_b,
+  // here the scale itself: no flight-phase reference): its rough-air table is in force exactly
+  // while s >= rough_scale. With the scale above rough_scale
+  // throughout, the rough table declares on the frames the same table as a plain least dwell
+  // does; with rough_scale out of reach, on the frames of the bank without either
+  Small s;
+  const HierarchicalOptions plain = adapted(s);
+  HierarchicalOptions rough = plain, table = plain, unreached = plain;
+  rough.declarer.rough_dwell_s_per_hypothesis = {{"Z2", 1.0}};
+  rough.declarer.rough_scale = 1.0 + 1e-9;
+  table.declarer.dwell_s_per_hypothesis = {{"Z2", 1.0}};
+  unreached.declarer.rough_dwell_s_per_hypothesis = {{"Z2", 1.0}};
+  unreached.declarer.rough_scale = kMaxRoughScale;
+  DynamicHierarchicalBank hb(s.bank, rough), with_table(s.bank, table), far(s.bank, unreached),
+      reference(s.bank, plain);
+  const Flight f = fly(s.plant, kAct, kSen, s.bank, {{"Z2", 64, 512}}, 512, 3u);
+  int rough_frames = 0;
+  for (int i = 0; i < 512; ++i) {
+    hb.update(f.z[i]);
+    if (hb.level() == 0 && i >= 8) {
+      EXPECT_EQ(hb.declarer().rough(), hb.turbulence_scale() >= rough.declarer.rough_scale) << i;
+      rough_frames += hb.declarer().rough();
+    }
+    hb.propagate(f.u[i]);
+    with_table.step(f.z[i], f.u[i]);
+    far.step(f.z[i], f.u[i]);
+    reference.step(f.z[i], f.u[i]);
+    EXPECT_FALSE(far.declarer().rough()) << i;
+  }
+  EXPECT_GT(rough_frames, 0);
+  auto same = [](const auto& a, const auto& b) {
+    ASSERT_FALSE(a.declarations().empty());
+    ASSERT_EQ(a.declarations().size(), b.declarations().size());
+    for (std::size_t j = 0; j < a.declarations().size(); ++j) {
+      EXPECT_EQ(a.declarations()[j].frame, b.declarations()[j].frame) << j;
+      EXPECT_EQ(a.declarations()[j].hypothesis, b.declarations()[j].hypothesis) << j;
+    }
+  };
+  same(hb, with_table);
+  same(far, reference);
+  EXPECT_GT(hb.declarations().at(0).frame, reference.declarations().at(0).frame);   // Z2 waited its second
+  HierarchicalOptions bad = rough;
+  bad.bank.adaptation.enabled = false;   // no scale to read
+  try {
+    DynamicHierarchicalBank refused(s.bank, bad);
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("rough_dwell_s_per_hypothesis"), std::string::npos) << e.what();
+  }
+}
+
 TEST(HierarchicalBank, LevelOneDwellHoldsWhileLevelOneIsOnLineOnly) {
   // the single-then-back-out flight with a level-1 dwell of 0.75 s (48 frames at 64 Hz): Z2 is
   // declared at level 0 on the reference's frame (its dwell, 16 frames), and NONE's back-out at
@@ -332,11 +395,7 @@ TEST(HierarchicalBank, SpareDwellHoldsWhileTheTemperingSpares) {
   // (declarer.h: the count restarts with the candidate and is capped at the dwell in force)
   // gives on the reference's probabilities and sparing
   Small s;
-  HierarchicalOptions plain;
-  plain.bank.p_min = 1e-6;
-  plain.bank.adaptation.enabled = true;
-  plain.bank.adaptation.reference = 0.05;   // s > 1 in this plant's noise
-  plain.bank.adaptation.time_constant_s = 4.0 / s.bank.frame_rate_hz;   // ρ catches up with ρ̄ before the failure
+  HierarchicalOptions plain = adapted(s);
   plain.bank.adaptation.hypothesis_weight = 0.5;
   HierarchicalOptions o = plain;
   o.spare_dwell_s = 4.0 / s.bank.frame_rate_hz;

@@ -28,6 +28,10 @@ DAEMON_ALSO_NEEDS = {"adapt_counted_channel": ["--adapt-own-channels"],
                      "calm_whiteness_bound": ["--calm-complete", "VEL=1", "--calm-measure", "whiteness"]}
 
 
+#: A valid entry of each table option another option needs.
+TABLES = {"rough_dwell_s_per_hypothesis": "RUD=1"}
+
+
 def _valid(o: EstimatorOption):
     """A value inside the option's range (not on its ends)."""
     if o.kind == "choice":
@@ -44,6 +48,8 @@ def _with_requirements(o: EstimatorOption) -> tuple[list[str], dict]:
         need = BY_KEY[r]
         if need.kind == "switch":
             args, settings[need.key] = [need.flag, *args], True
+        elif need.kind == "table":
+            args, settings[need.key] = [need.flag, TABLES[need.key], *args], TABLES[need.key]
         else:
             args, settings[need.key] = [need.flag, str(_valid(need)), *args], _valid(need)
         r = need.requires

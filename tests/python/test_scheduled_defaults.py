@@ -4,7 +4,8 @@ channel it reads (own channels) unless ``adapt_all_channels`` asks for the plain
 counted channel (``adapt_counted_channel``) reaches the core as its bit; the per-hypothesis
 tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING``, trim tracking at
 ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` and VEL's least dwell at
-``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS``, the complete failures' held trim
+``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` (the rudder's in rough air at
+``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``), the complete failures' held trim
 ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` and its average ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S``
 unless given, and on a schedule whose nodes carry a
 calm-air reference the calm-air complete model at ``names.SCHEDULE_CALM_COMPLETE``; the cached
@@ -25,6 +26,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     spared = {"set_tempering": names.SCHEDULE_SET_TEMPERING,   # the per-hypothesis tempering, whatever the rule
               "trim_time_constant_s": names.SCHEDULE_TRIM_TIME_CONSTANT_S,   # trim tracking
               "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,   # VEL's least dwell
+              "rough_dwell_s_per_hypothesis": names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,   # the rudder's in rough air
+              "rough_scale": names.SCHEDULE_ROUGH_SCALE,
               "complete_trim_hold": names.SCHEDULE_COMPLETE_TRIM_HOLD,   # the complete failures' held trim
               "complete_trim_time_constant_s": names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S,   # and its average
               "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,   # the load-factor tempering
@@ -45,7 +48,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     all_channels = {**given, "adapt_all_channels": True}
     assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
     off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0, VEL=0, off are off)
-           "dwell_s_per_hypothesis": "VEL=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
+           "dwell_s_per_hypothesis": "VEL=0", "rough_dwell_s_per_hypothesis": "RUD=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
            "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
            "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True, "maneuver_setting": "off"}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
@@ -90,6 +93,8 @@ def vel_rol_schedule(tmp_path_factory):
 
 #: The scheduled default's least dwells turned off (the core banks below fly without them).
 NO_LEAST_DWELL = ",".join(f"{entry.split('=')[0]}=0" for entry in names.SCHEDULE_DWELL_S_PER_HYPOTHESIS.split(","))
+NO_ROUGH_DWELL = ",".join(f"{entry.split('=')[0]}=0"
+                          for entry in names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS.split(","))
 
 
 def _fly(estimator_or_core, bank, frames=150):
@@ -111,6 +116,7 @@ def test_a_scheduled_estimator_flies_own_channels_unless_told_otherwise(vel_rol_
     # the scheduled trim tracking moves the residuals, and the least dwells move the declarations
     # (the noise below declares): the rule alone here
     rule_alone = {"trim_time_constant_s": 0.0, "dwell_s_per_hypothesis": NO_LEAST_DWELL,
+                  "rough_dwell_s_per_hypothesis": NO_ROUGH_DWELL,
                   "adapt_level_scale_channel": "none", "maneuver_setting": "off"}
     est = Estimator(bank, adapt_turbulence=True, **rule_alone)
     assert est.settings["adapt_own_channels"] is True and est.settings["adapt_counted_channel"] == "vel"
@@ -150,6 +156,8 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
                           "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                          "--rough-dwell-s-per-hypothesis", names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,
+                          "--rough-scale", str(names.SCHEDULE_ROUGH_SCALE),
                           "--complete-trim-hold", names.SCHEDULE_COMPLETE_TRIM_HOLD,
                           "--complete-trim-time-constant", str(names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S),
                           "--maneuver-tempering", str(names.SCHEDULE_MANEUVER_TEMPERING_G),
@@ -277,7 +285,8 @@ def test_an_excluded_channel_takes_its_free_level_hypotheses_out_of_the_minimum(
     assert not np.array_equal(r_vel, r_own)
     assert np.all(r_vel >= r_own)   # a minimum over fewer hypotheses is never lower
     est = Estimator(bank, adapt_turbulence=True, adapt_excluded_channel="vel", adapt_level_scale_channel="none",
-                    dwell_s_per_hypothesis=NO_LEAST_DWELL, maneuver_setting="off")   # the core banks' declarations
+                    dwell_s_per_hypothesis=NO_LEAST_DWELL, rough_dwell_s_per_hypothesis=NO_ROUGH_DWELL,
+                    maneuver_setting="off")   # the core banks' declarations
     np.testing.assert_array_equal(_fly(est, bank), r_vel)
 
 

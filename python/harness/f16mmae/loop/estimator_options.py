@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
                      SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD,
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                     SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS, SCHEDULE_ROUGH_SCALE,
                      SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL,
                      SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_MANEUVER_SETTING, SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
@@ -523,6 +524,19 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "(cpp/f16mmae/declarer.h); NAME=0: the dwell in force. Default: "
                          f"{SCHEDULE_DWELL_S_PER_HYPOTHESIS} on a scheduled bank with --adapt-turbulence "
                          "(names.SCHEDULE_DWELL_S_PER_HYPOTHESIS), else none"),
+    EstimatorOption("rough_dwell_s_per_hypothesis", "--rough-dwell-s-per-hypothesis", "table",
+                    metavar="NAME=S,...", requires="adapt_turbulence",
+                    help="the least dwell of these hypotheses in rough air: while the turbulence adaptation's "
+                         "scale s is at least --rough-scale, NAME is declared after the longer of its "
+                         "--dwell-s-per-hypothesis entry and S; in calmer air that entry alone "
+                         "(cpp/f16mmae/declarer.h); NAME=0: none. Default: "
+                         f"{SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS} on a scheduled bank with --adapt-turbulence "
+                         "(names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS), else none"),
+    EstimatorOption("rough_scale", "--rough-scale", "number", metavar="S", minimum=1.0, exclusive=True,
+                    maximum=1.0e6, requires="rough_dwell_s_per_hypothesis",
+                    help="rough air for --rough-dwell-s-per-hypothesis: the adaptation's scale s at least S "
+                         f"(> 1, its floor; default {SCHEDULE_ROUGH_SCALE:g}: light air and moderate air at the "
+                         "nominal point read s <= 2.3 and <= 4.8, moderate air at Mach 0.365, 34,500 ft 24-35)"),
     EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,
                     help="a bank with partial-loss hypotheses (design --partial-loss): their probability floor at "
                          "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "
@@ -690,7 +704,9 @@ def parse_steady_measurements(text) -> list[str]:
 
 #: The parser of each ``table`` option's text: the table the core takes.
 TABLE_PARSERS = {"dwell_s_per_hypothesis": parse_dwell_s_table, "calm_complete": parse_calm_complete_table,
-                 "trim_steady_measurements": parse_steady_measurements}
+                 "trim_steady_measurements": parse_steady_measurements,
+                 "rough_dwell_s_per_hypothesis": _core_table("parse_dwell_s_per_hypothesis",
+                                                             "--rough-dwell-s-per-hypothesis")}
 
 
 def valid_range(option: EstimatorOption) -> str:
@@ -804,7 +820,10 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turns it off), whatever the channel rule, ``trim_time_constant_s``
     ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off) and
     ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AZ=0``
-    turns it off), ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
+    turns it off), ``rough_dwell_s_per_hypothesis`` ``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``
+    unless given (``RUD=0`` turns it off), then with ``rough_scale`` ``names.SCHEDULE_ROUGH_SCALE``
+    unless given (a table given takes the core's default scale unless its scale is given too),
+    ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
     (``off`` turns it off) and ``complete_trim_time_constant_s``
     ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off),
     ``maneuver_tempering_g`` ``names.SCHEDULE_MANEUVER_TEMPERING_G``, ``maneuver_tempering_alpha_deg``
@@ -833,6 +852,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out.setdefault("set_tempering", SCHEDULE_SET_TEMPERING)
         out.setdefault("trim_time_constant_s", SCHEDULE_TRIM_TIME_CONSTANT_S)
         out.setdefault("dwell_s_per_hypothesis", SCHEDULE_DWELL_S_PER_HYPOTHESIS)
+        if "rough_dwell_s_per_hypothesis" not in out:
+            out["rough_dwell_s_per_hypothesis"] = SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS
+            out.setdefault("rough_scale", SCHEDULE_ROUGH_SCALE)
         out.setdefault("complete_trim_hold", SCHEDULE_COMPLETE_TRIM_HOLD)
         out.setdefault("complete_trim_time_constant_s", SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)
         out.setdefault("maneuver_tempering_g", SCHEDULE_MANEUVER_TEMPERING_G)

@@ -107,10 +107,19 @@ def test_report_on_a_summary_missing_a_field_names_the_field(capsys, tmp_path):
      "--trim-freeze-probability 1.5 must lie in (0, 1]"),
     (["run", "--trim-freeze-probability", "0.5"], "--trim-freeze-probability applies with --trim-tracking only"),
     (["campaign", "soak", "--adapt-turbulence", "--trim-tracking-steady", "0.1"],
-     "--trim-tracking-steady applies with --trim-tracking only (a scheduled bank's default --trim-tracking 30 with "
-     "--adapt-turbulence is applied after this check: give it)"),
+     "--trim-tracking-steady applies with --trim-tracking only (the bank is not scheduled, so no default gives it: "
+     "give --trim-tracking) (--tuning tuned)"),
+    (["campaign", "soak", "--trim-tracking-steady", "0.1"],
+     "--trim-tracking-steady applies with --trim-tracking only (or with --adapt-turbulence on a scheduled bank, "
+     "whose default is --trim-tracking 30)"),
     (["run", "--adapt-turbulence", "--set-tempering-rho", "2"],
-     "--set-tempering-rho applies with --set-tempering only (a scheduled bank's default --set-tempering 0.25"),
+     "--set-tempering-rho applies with --set-tempering only (the bank is not scheduled, so no default gives it"),
+    (["hil", "--adapt-turbulence", "--set-tempering-rho", "2"],
+     "--set-tempering-rho applies with --set-tempering only (the bank is not scheduled"),
+    (["run", "--bank", "scheduled", "--adapt-turbulence", "--maneuver-setting", "off",
+      "--trim-tracking-steady-measurements", "AOA"],
+     "--trim-tracking-steady-measurements applies with --trim-tracking-steady only (the scheduled defaults do not "
+     "give it with these settings: give --trim-tracking-steady)"),
     (["campaign", "single", "--runs", "1000000000"], "--runs '1000000000' must be <= 1000 (valid: [1, 1000])"),
     (["campaign", "dual", "--runs", "1000000000"], "--runs '1000000000' must be <= 1000"),
     (["campaign", "envelope", "--runs", "1e9"], "--runs '1e9' is not an integer"),

@@ -37,7 +37,8 @@ def test_the_settings_are_refused_naming_the_entry():
     with pytest.raises(ValueError, match=r"--rough-scale 1.0 must lie in \(1, 1e\+06\]"):
         check({"adapt_turbulence": True, "rough_dwell_s_per_hypothesis": "RUD=1", "rough_scale": 1.0})
     with pytest.raises(ValueError, match="--rough-scale applies with --rough-dwell-s-per-hypothesis"):
-        check({"adapt_turbulence": True, "rough_scale": 8.0})
+        check({"rough_scale": 8.0})
+    check({"adapt_turbulence": True, "rough_scale": 8.0})   # waits for a scheduled bank's default table
     bank = load_bank("tuned")[2]
     with pytest.raises(ValueError, match="rough_dwell_s_per_hypothesis names 'XYZ', not a hypothesis of the bank"):
         core.HierarchicalBank(bank, adapt_turbulence=True, rough_dwell_s_per_hypothesis={"XYZ": 1.0})

@@ -17,7 +17,8 @@ import pytest
 
 from f16mmae import banks, core, names
 from f16mmae.loop.estimator import Estimator, core_arguments
-from f16mmae.loop.estimator_options import bank_defaults, check, has_calm_reference, scheduled_defaults
+from f16mmae.loop.estimator_options import (bank_defaults, check, check_requirements, has_calm_reference,
+                                            scheduled_defaults)
 from schedule_support import one_node_schedule
 
 
@@ -67,8 +68,10 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     band = {**given, "maneuver_tempering_alpha_deg": 2.0}   # the alpha term given: its dead band as given (none)
     assert "maneuver_tempering_alpha_deadband_deg" not in scheduled_defaults(band, True)
     with pytest.raises(ValueError, match="--maneuver-tempering-alpha-deadband applies with --maneuver-tempering-alpha "
-                                         "only .a scheduled bank's default --maneuver-tempering-alpha 1"):
-        check({**given, "maneuver_tempering_alpha_deadband_deg": 0.5})
+                                         "only .or with --adapt-turbulence on a scheduled bank, whose default is "
+                                         "--maneuver-tempering-alpha 1"):
+        check({"maneuver_tempering_alpha_deadband_deg": 0.5})
+    check({**given, "maneuver_tempering_alpha_deadband_deg": 0.5})   # waits for a scheduled bank's default
     banks_set = {"adapt_turbulence": True, "turbulence_banks": True}
     assert scheduled_defaults(banks_set, True) == banks_set
     with pytest.raises(ValueError, match="--adapt-all-channels and --adapt-own-channels"):
@@ -460,8 +463,38 @@ def test_the_maneuvering_flight_setting_is_the_default_and_off_turns_it_off():
         again = scheduled_defaults(estimator_options_from_args(args), True)
         assert again == settings
     assert "maneuver_setting" not in core_arguments(on)
-    with pytest.raises(ValueError, match="--maneuver-dwell-hold applies with --maneuver-dwell only .a scheduled "
-                                         "bank's default --maneuver-dwell 0.4"):
-        check({**given, "maneuver_dwell_hold_s": 10.0})
+    with pytest.raises(ValueError, match="--maneuver-dwell-hold applies with --maneuver-dwell only .or with "
+                                         "--adapt-turbulence on a scheduled bank, whose default is --maneuver-dwell 0.4"):
+        check({"maneuver_dwell_hold_s": 10.0})
+    with pytest.raises(ValueError, match="--maneuver-dwell-hold applies with --maneuver-dwell only .the scheduled "
+                                         "defaults do not give it with these settings"):
+        check_requirements(scheduled_defaults({**given, "maneuver_setting": "off", "maneuver_dwell_hold_s": 10.0},
+                                              True), True)
     with pytest.raises(ValueError, match="--maneuver-setting 'yes' must be one of on, off"):
         check({**given, "maneuver_setting": "yes"})
+
+
+def test_an_option_riding_on_a_scheduled_default_waits_for_the_banks_defaults(tmp_path):
+    """``check`` runs before the bank is read: with --adapt-turbulence an option that applies with
+    a scheduled default (``SCHEDULED_DEFAULT_FLAGS``) waits; the bank's defaults then give it on a
+    scheduled bank, and ``bank_defaults`` refuses it, naming why, on a bank that is not."""
+    from f16mmae.cli.main import main
+    from f16mmae.loop.estimator_options import SCHEDULED_DEFAULT_FLAGS
+    given = {"adapt_turbulence": True, "trim_steady_measurements": "AOA,VEL", "rough_scale": 6.0}
+    check(given)   # waits: trim_steady_g and rough_dwell_s_per_hypothesis are scheduled defaults
+    assert {"trim_steady_g", "rough_dwell_s_per_hypothesis"} <= set(SCHEDULED_DEFAULT_FLAGS)
+    scheduled = bank_defaults(given, banks.load_bank("scheduled")[2])
+    assert scheduled["trim_steady_measurements"] == "AOA,VEL" and scheduled["rough_scale"] == 6.0
+    assert scheduled["trim_steady_g"] == names.SCHEDULE_MANEUVER_SETTING["trim_steady_g"]
+    assert scheduled["rough_dwell_s_per_hypothesis"] == names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS
+    with pytest.raises(ValueError, match="--trim-tracking-steady-measurements applies with --trim-tracking-steady "
+                                         r"only \(the bank is not scheduled"):
+        bank_defaults(given, banks.load_bank("tuned")[2])
+    with pytest.raises(ValueError, match="--trim-tracking-steady-measurements applies with --trim-tracking-steady"):
+        check({"trim_steady_measurements": "AOA,VEL"})   # without --adapt-turbulence no default can give it
+    out = tmp_path / "run"
+    assert main(["run", "--bank", "scheduled", "--adapt-turbulence", "--trim-tracking-steady-measurements", "AOA,VEL",
+                 "--duration", "1", "--out", str(out)]) == 0
+    import json
+    settings = json.loads((out / "run.json").read_text())["estimator_settings"]
+    assert settings["trim_steady_measurements"] == "AOA,VEL" and settings["trim_time_constant_s"] == 30.0

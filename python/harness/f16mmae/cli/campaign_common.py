@@ -8,12 +8,13 @@ import json
 import shlex
 import sys
 
-from ..banks import BankError, bank_path
+from ..banks import BankError, bank_path, load_bank
 from ..campaign.engine.config import DITHER_SCALE_MAX, RUNS_MAX
 from ..campaign.engine.executor import WORKERS_MAX, default_workers, make_executor
 from ..campaign.engine.failure_runs import CASES, FAILURE_JITTER_S_MAX
 from ..campaign.engine.store import write_summary
 from ..campaign.engine.variants import VARIANTS_KIND
+from ..loop.estimator_options import bank_defaults
 from ..names import FAILURE_TIME_S, FEEDBACK_MODES, FLIGHT_S, FLIGHT_S_MAX, TURBULENCE_LEVELS
 from ..outputs import writable_dir
 from ..report.page import render_report
@@ -110,6 +111,7 @@ def flight_settings(args) -> dict:
     if getattr(args, "mode", None) is not None:
         settings["mode"] = args.mode.lower()
     check_tuning("--tuning", args.tuning)
+    check_estimator_for_bank("--tuning", args.tuning, settings["estimator"])
     return settings
 
 
@@ -145,6 +147,18 @@ def check_tuning(option: str, value: str) -> None:
         bank_path(value)
     except BankError:
         raise CliError(f"{option} {value!r} is neither tuned, untuned, scheduled nor a readable bank file") from None
+
+
+def check_estimator_for_bank(option: str, value: str, estimator: dict) -> None:
+    """CliError when the estimator settings, with bank ``value``'s defaults applied
+    (``loop.estimator_options.bank_defaults``), leave an option without the one it applies with;
+    before anything flies (the bank is read once a process)."""
+    if not estimator:
+        return
+    try:
+        bank_defaults(estimator, load_bank(value)[2])
+    except ValueError as exc:
+        raise CliError(f"{exc} ({option} {value})") from None
 
 
 def validated(cfg):

@@ -79,7 +79,10 @@ def _hil(args) -> int:
     timeout_s = number("--timeout", args.timeout, minimum=0.0, exclusive=True, maximum=3600.0)
     label, path, bank, scenario = flight_from_args(args)
     # a scheduled bank's defaults as flags: mmae-daemon flies what the estimator in process does
-    options = bank_defaults(estimator_options_from_args(args), bank)
+    try:
+        options = bank_defaults(estimator_options_from_args(args), bank)
+    except ValueError as exc:   # an option left without the one it applies with
+        raise CliError(str(exc)) from None
     url = args.lcm_url or default_lcm_url()
     if args.start_daemon and url.startswith("memq:"):
         raise CliError(f"--lcm-url {url!r} with --start-daemon: memq:// is a queue inside one "

@@ -110,7 +110,10 @@ def _replay(args) -> int:
             options["turbulence_banks"] = True   # the log's hash is the set's
         if options.get("adapt_turbulence") and not options.get("adapt_own_channels") and not options.get("turbulence_banks"):
             options["adapt_all_channels"] = True   # mmae-daemon's rule without --adapt-own-channels
-        options = bank_defaults(options, bank)
+        try:
+            options = bank_defaults(options, bank)
+        except ValueError as exc:   # an option left without the one it applies with
+            raise CliError(str(exc)) from None
         report = replay_log(args.logfile, bank, channel_prefix=args.channel_prefix, tolerance=tol, auth=auth,
                              **options)
     except (ReplayError, OSError) as exc:

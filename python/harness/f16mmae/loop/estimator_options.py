@@ -749,10 +749,11 @@ def check(settings: dict) -> None:
             raise ValueError(f"{o.flag} {value!r} must {valid}")
         if o.requires is not None and not settings.get(o.requires):
             scheduled = SCHEDULED_DEFAULT_FLAGS.get(o.requires)
+            if scheduled is not None and settings.get("adapt_turbulence"):
+                continue   # a scheduled bank's default may give it: checked with the bank's defaults
             raise ValueError(f"{o.flag} applies with {BY_KEY[o.requires].flag} only"
                              + ("" if scheduled is None else
-                                f" (a scheduled bank's default {scheduled} with --adapt-turbulence is applied "
-                                f"after this check: give it)"))
+                                f" (or with --adapt-turbulence on a scheduled bank, whose default is {scheduled})"))
     if settings.get("adaptive_dither") and not (settings.get("turbulence_banks") or settings.get("adapt_turbulence")):
         raise ValueError("--adaptive-dither applies with --turbulence-banks or --adapt-turbulence only (it reads "
                          "the air the estimator measures)")
@@ -788,8 +789,10 @@ def recommends_running_start(model_bank) -> bool:
 
 
 #: The settings ``scheduled_defaults`` gives a scheduled bank flown with --adapt-turbulence, as
-#: flags: an option that applies with one of them must name it (``check`` runs before the bank is read).
+#: flags: ``check``, which runs before the bank is read, lets an option that applies with one of
+#: them wait for the bank's defaults (``check_requirements``) when --adapt-turbulence is given.
 SCHEDULED_DEFAULT_FLAGS: dict[str, str] = {
+    "rough_dwell_s_per_hypothesis": f"--rough-dwell-s-per-hypothesis {SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS}",
     "set_tempering": f"--set-tempering {SCHEDULE_SET_TEMPERING:g}",
     "maneuver_tempering_alpha_deg": f"--maneuver-tempering-alpha {SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG:g}",
     "trim_time_constant_s": f"--trim-tracking {SCHEDULE_TRIM_TIME_CONSTANT_S:g}",
@@ -883,9 +886,27 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
 def bank_defaults(settings: dict, model_bank) -> dict:
     """``scheduled_defaults`` of ``settings`` for ``model_bank``: scheduled when it carries a
     schedule, with the running start when its file recommends it (``recommends_running_start``).
-    The in-process estimator, ``hil`` (as the daemon's flags) and ``replay`` apply it alike."""
-    return scheduled_defaults(settings, model_bank.schedule is not None, recommends_running_start(model_bank),
-                              has_calm_reference(model_bank))
+    The in-process estimator, ``hil`` (as the daemon's flags) and ``replay`` apply it alike.
+    ValueError (``check_requirements``) when an option is left without the one it applies with."""
+    scheduled = model_bank.schedule is not None
+    out = scheduled_defaults(settings, scheduled, recommends_running_start(model_bank), has_calm_reference(model_bank))
+    check_requirements(out, scheduled)
+    return out
+
+
+def check_requirements(settings: dict, scheduled: bool) -> None:
+    """ValueError naming an option of ``settings`` (a bank's defaults applied) given without the
+    option it applies with, where that is a scheduled default: what ``check`` let wait for the
+    bank's defaults and the bank, or its settings (``--maneuver-setting off``, a default turned
+    off), did not give."""
+    for key in settings:
+        o = BY_KEY.get(key)
+        if o is None or o.requires not in SCHEDULED_DEFAULT_FLAGS or settings.get(o.requires):
+            continue
+        need = BY_KEY[o.requires].flag
+        why = ("the bank is not scheduled, so no default gives it" if not scheduled else
+               "the scheduled defaults do not give it with these settings")
+        raise ValueError(f"{o.flag} applies with {need} only ({why}: give {need})")
 
 
 def command_line_flags(settings: dict) -> list[str]:

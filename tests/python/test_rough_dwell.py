@@ -99,7 +99,7 @@ class _Scales(Estimator):
 
 def _flights(bank, turbulence: str):
     settings = bank_defaults({"adapt_turbulence": True}, bank)
-    assert settings["rough_dwell_s_per_hypothesis"] == names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS == "RUD=2"
+    assert settings["rough_dwell_s_per_hypothesis"] == names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS == "RUD=2,PIT=0.5,AZ=0.5"
     sc = Scenario(turbulence=turbulence, duration_s=8.0, seed=11, failures=(make_failure("RUD", 3.0),))
     with_table = _Scales(bank, **settings)
     held = fly(sc, bank, estimator=with_table, on_frame=lambda *a: None, record_series=True)

@@ -208,6 +208,10 @@ bool tracking_trim(const DaemonConfig& c) { return c.estimator.trim.time_constan
 bool climb_reference(const DaemonConfig& c) { return c.estimator.climb_reference.enabled(); }
 bool maneuver_dwell(const DaemonConfig& c) { return c.estimator.maneuver_dwell.dwell_s > 0.0; }
 bool rough_dwell(const DaemonConfig& c) { return !c.estimator.declarer.rough_dwell_s_per_hypothesis.empty(); }
+bool maneuver_trim(const DaemonConfig& c) { return c.estimator.maneuver_trim.enabled; }
+bool set_tempering(const DaemonConfig& c) { return c.set_tempering.has_value(); }
+bool set_tempering_margin(const DaemonConfig& c) { return c.set_tempering_margin; }
+bool turbulence_set(const DaemonConfig& c) { return c.turbulence_banks; }
 
 // A least-dwell table "NAME=S,..." (declarer.h) into the declarer's `table`; the parser's
 // "<table>: why" without its prefix.
@@ -222,10 +226,6 @@ Value least_dwell_table(std::map<std::string, double> DeclarerOptions::*table) {
     return "";
   });
 }
-bool maneuver_trim(const DaemonConfig& c) { return c.estimator.maneuver_trim.enabled; }
-bool set_tempering(const DaemonConfig& c) { return c.set_tempering.has_value(); }
-bool set_tempering_margin(const DaemonConfig& c) { return c.set_tempering_margin; }
-bool turbulence_set(const DaemonConfig& c) { return c.turbulence_banks; }
 
 const std::string kDwellRange = "[0, " + format_value(kMaxDwellS) + "]";
 

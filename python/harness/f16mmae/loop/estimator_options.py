@@ -23,12 +23,11 @@ from dataclasses import dataclass
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
                      SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD,
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
-                     SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS, SCHEDULE_ROUGH_SCALE,
                      SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL,
                      SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_MANEUVER_SETTING, SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
-                     SCHEDULE_MODES, SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS,
-                     THRESHOLD_DEFAULT)
+                     SCHEDULE_MODES, SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS, SCHEDULE_ROUGH_SCALE,
+                     SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -822,9 +821,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turbulence bank set), ``set_tempering`` ``names.SCHEDULE_SET_TEMPERING`` unless given (1
     turns it off), whatever the channel rule, ``trim_time_constant_s``
     ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off) and
-    ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AZ=0``
+    ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AOA=0``
     turns it off), ``rough_dwell_s_per_hypothesis`` ``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``
-    unless given (``RUD=0`` turns it off), then with ``rough_scale`` ``names.SCHEDULE_ROUGH_SCALE``
+    unless given (``RUD=0,PIT=0,AZ=0`` turns it off), then with ``rough_scale`` ``names.SCHEDULE_ROUGH_SCALE``
     unless given (a table given takes the core's default scale unless its scale is given too),
     ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
     (``off`` turns it off) and ``complete_trim_time_constant_s``

@@ -224,6 +224,7 @@ class Declarer {
   // a NaN reads as calm. noexcept, allocation-free.
   void observe_scale(double s) noexcept { rough_ = s >= options_.rough_scale; }
   bool rough() const noexcept { return rough_; }   // the rough-air table in force (header)
+  bool reads_scale() const noexcept { return !rough_frames_by_hypothesis_.empty(); }   // a rough-air table
 
   // Feed one frame's probabilities p[0..n). Returns the index declared on this frame, or -1.
   template <class Vector>

@@ -348,7 +348,8 @@ class HierarchicalBank {
     if (level_ == 1 && departure_.observe(z_pert_, online_[1]))   // departure_hold.h
       declarer_in_force().reset(declarer_in_force().current());   // the dwell restarts
     // the rough-air least dwell (declarer.h) reads the air: s_b, not a flight phase's reference
-    declarer_in_force().observe_scale(bank_.adaptation().scale_at(base_adapt_reference()));
+    if (declarer_in_force().reads_scale())
+      declarer_in_force().observe_scale(bank_.adaptation().scale_at(base_adapt_reference()));
     const int d = departure_.held() ? -1
                                       : declarer_in_force().update(bank_.probabilities(), dwell_frames_in_force(),
                                                                    component_groups(), online_.data());

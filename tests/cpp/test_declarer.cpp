@@ -444,6 +444,7 @@ TEST(DeclarerRoughDwell, TheRoughTableHoldsOnlyWhileTheScaleIsAtLeastRoughScale)
   o.rough_scale = 4.0;
   const std::vector<std::string> names{"NONE", "A", "B", "A+B", "A+C", "C"};
   Declarer d(o, 0, names);
+  EXPECT_TRUE(d.reads_scale());
   EXPECT_FALSE(d.rough());
   const int calm[] = {0, 0, 32, 32, 0, 0};
   for (int k = 0; k < 6; ++k) EXPECT_EQ(d.least_dwell_frames_of(k), calm[k]) << names[k];
@@ -456,40 +457,22 @@ TEST(DeclarerRoughDwell, TheRoughTableHoldsOnlyWhileTheScaleIsAtLeastRoughScale)
   d.observe_scale(std::nan(""));   // NaN reads as calm
   EXPECT_FALSE(d.rough());
 
-  auto a = [] { return std::array<double, 6>{0.01, 0.95, 0.01, 0.01, 0.01, 0.01}; };
-  Declarer calm_air(o, 0, names);   // A in calm air: the 16-frame dwell
-  for (int i = 0; i < 15; ++i) {
-    calm_air.observe_scale(1.5);
-    ASSERT_EQ(calm_air.update(a()), -1) << i;
-  }
-  calm_air.observe_scale(1.5);
-  EXPECT_EQ(calm_air.update(a()), 1);
-
-  Declarer rough_air(o, 0, names);   // A in rough air: 64 frames
-  for (int i = 0; i < 63; ++i) {
-    rough_air.observe_scale(30.0);
-    ASSERT_EQ(rough_air.update(a()), -1) << i;
-  }
-  rough_air.observe_scale(30.0);
-  EXPECT_EQ(rough_air.update(a()), 1);
-
+  // the frame (1-based) on which A, held at 0.95, is declared, the scale of frame i being scale(i)
+  auto declared_on = [&](auto scale) {
+    Declarer d(o, 0, names);
+    const std::array<double, 6> a{0.01, 0.95, 0.01, 0.01, 0.01, 0.01};
+    for (int i = 0; i < 1000; ++i) {
+      d.observe_scale(scale(i));
+      if (d.update(a) == 1) return i + 1;
+    }
+    return -1;
+  };
+  EXPECT_EQ(declared_on([](int) { return 1.5; }), 16);    // calm air: the 16-frame dwell
+  EXPECT_EQ(declared_on([](int) { return 30.0; }), 64);   // rough air: A's 64 frames
   // the air turns rough on A's 10th frame: the count goes on, to the longer dwell
-  Declarer turning(o, 0, names);
-  for (int i = 0; i < 63; ++i) {
-    turning.observe_scale(i < 9 ? 2.0 : 6.0);
-    ASSERT_EQ(turning.update(a()), -1) << i;
-  }
-  turning.observe_scale(6.0);
-  EXPECT_EQ(turning.update(a()), 1);
-
-  // ... and calm again after 40 frames: the count it holds already passes the shorter dwell
-  Declarer calming(o, 0, names);
-  for (int i = 0; i < 39; ++i) {
-    calming.observe_scale(6.0);
-    ASSERT_EQ(calming.update(a()), -1) << i;
-  }
-  calming.observe_scale(2.0);
-  EXPECT_EQ(calming.update(a()), 1);
+  EXPECT_EQ(declared_on([](int i) { return i < 9 ? 2.0 : 6.0; }), 64);
+  // ... and calm again on its 40th: the count it holds already passes the shorter dwell
+  EXPECT_EQ(declared_on([](int i) { return i < 39 ? 6.0 : 2.0; }), 40);
 
   Declarer reset(o, 0, names);
   reset.observe_scale(30.0);
@@ -501,6 +484,7 @@ TEST(DeclarerRoughDwell, WithoutARoughTableTheScaleChangesNothingAndBadOptionsAr
   DeclarerOptions o;
   o.dwell_s_per_hypothesis = {{"A", 0.5}};
   Declarer d(o, 0, {"NONE", "A"});
+  EXPECT_FALSE(d.reads_scale());
   d.observe_scale(100.0);
   EXPECT_EQ(d.least_dwell_frames_of(1), 32);
   o.rough_dwell_s_per_hypothesis = {{"A", 1.0}};

@@ -88,7 +88,7 @@
 // during its dwell waits for the longer one. Why: a hypothesis whose no-failure excursions come
 // in rough air only (the scheduled bank's failed rudder at the trimmable edge, Mach 0.365 at
 // 34,500 ft, in moderate air: s 24-35 at those declarations, 8-11 in a flight's first seconds
-// while s rises) needs a long dwell there, while its failures in light air (s <= 2.3 at every rudder
+// while s rises) needs a long dwell there, while its failures in light air (s <= 2.8 at every rudder
 // declaration of 60 random points) and in moderate air at the nominal point (s <= 4.8) need
 // none: one table for all air would cost the light air its latency (the rudder's median 0.70 ->
 // 1.45 s over 40 random points for a 1-s least dwell; docs/results/envelope_scheduled.md,

@@ -196,7 +196,7 @@ SCHEDULE_DWELL_S_PER_HYPOTHESIS = "VEL=1,AOA=0.75"
 #: rudder swings +-13 deg as the yaw damper and the interconnect answer the gusts at alpha 0.34 rad,
 #: and in a gust burst the no-failure filter (the nearest node's past the edge) misses roll and
 #: lateral acceleration enough for the RUD hypothesis to hold the threshold for up to 1-2 s, 1-3
-#: times an hour; a failed rudder holds it for good. In light air (scale <= 2.3 at every rudder
+#: times an hour; a failed rudder holds it for good. In light air (scale <= 2.8 at every rudder
 #: declaration over 60 random points) and in moderate air at the nominal point (<= 4.8) no such
 #: excursion was seen, and there the rudder keeps its latency. A failed pitch gyro after 0.5 s
 #: (round 39): at the same edge in moderate air gusts sweep alpha across the pitch break and the

@@ -17,7 +17,8 @@ trim, so its cost is timed on the shipped tuned bank, without and with it, over 
 that bank's trim (sensor noise and a command dither): its cost adds to the scheduled frame's.
 The same bank times the turbulence adaptation and, on top of it, the scheduled default's
 calm-air rule (VEL's complete model, the air read by the power ratio or the residuals'
-whiteness: cpp/f16mmae/residual_whiteness.h).
+whiteness: cpp/f16mmae/residual_whiteness.h), and its least dwells without and with the
+rough-air table (the adaptation's scale read a frame: cpp/f16mmae/declarer.h).
 """
 from __future__ import annotations
 
@@ -47,6 +48,11 @@ TRIM_HOLD = "scheduled, interpolate + complete trim hold"
 #: failure's and VEL's at every level (names.SCHEDULE_ADAPT_LEVEL_SCALE,
 #: SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL and _FROM; cpp/f16mmae/filter_bank.h).
 SEVERE_RULES = "tuned bank + adaptation + tempering and level scale"
+#: The variants with the scheduled default's least dwells (names.SCHEDULE_DWELL_S_PER_HYPOTHESIS),
+#: without and with its rough-air table (names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS and
+#: SCHEDULE_ROUGH_SCALE; cpp/f16mmae/declarer.h): the latter reads the adaptation's scale a frame.
+LEAST_DWELLS = "tuned bank + adaptation + least dwells"
+ROUGH_DWELLS = "tuned bank + adaptation + least dwells + rough-air table"
 MACH_AXIS = (0.4, 0.6)
 ALT_AXIS = (10_000.0, 20_000.0)
 
@@ -71,6 +77,9 @@ class ScheduledBenchResult:
         severe = self.us_per_frame.get(SEVERE_RULES)
         if adapted and severe:
             out[f"{SEVERE_RULES} / tuned bank + adaptation"] = severe / adapted
+        least, rough = self.us_per_frame.get(LEAST_DWELLS), self.us_per_frame.get(ROUGH_DWELLS)
+        if least and rough:
+            out[f"{ROUGH_DWELLS} / {LEAST_DWELLS}"] = rough / least
         interpolate, hold = self.us_per_frame.get("scheduled, interpolate"), self.us_per_frame.get(TRIM_HOLD)
         if interpolate and hold:
             out[f"{TRIM_HOLD} / scheduled, interpolate"] = hold / interpolate
@@ -139,8 +148,13 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
                              "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,
                              "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),
                              "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM})
+    least = core_arguments({**adapted, "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS})
+    rough = core_arguments({**adapted, "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                            "rough_dwell_s_per_hypothesis": names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,
+                            "rough_scale": names.SCHEDULE_ROUGH_SCALE})
     for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver),
-                      ("tuned bank + adaptation", adapted), (CALM_RULE, calm), (SEVERE_RULES, severe)):
+                      ("tuned bank + adaptation", adapted), (CALM_RULE, calm), (SEVERE_RULES, severe),
+                      (LEAST_DWELLS, least), (ROUGH_DWELLS, rough)):
         per_frame, worst = core._bench_hierarchical_loop(tuned, zt, ut, min_time_s=min_time_s, **kw)
         result.us_per_frame[label] = per_frame * 1e6
         result.worst_frame_us[label] = worst * 1e6

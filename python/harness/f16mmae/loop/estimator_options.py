@@ -535,7 +535,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     maximum=1.0e6, requires="rough_dwell_s_per_hypothesis",
                     help="rough air for --rough-dwell-s-per-hypothesis: the adaptation's scale s at least S "
                          f"(> 1, its floor; default {SCHEDULE_ROUGH_SCALE:g}: light air and moderate air at the "
-                         "nominal point read s <= 2.3 and <= 4.8, moderate air at Mach 0.365, 34,500 ft 24-35)"),
+                         "nominal point read s <= 2.8 and <= 4.8, moderate air at Mach 0.365, 34,500 ft 24-35)"),
     EstimatorOption("partial_p_min", "--partial-p-min", "number", metavar="P", minimum=0.0, maximum=0.1,
                     help="a bank with partial-loss hypotheses (design --partial-loss): their probability floor at "
                          "level 0, the others keeping the level-0 floor; a half loss's hypothesis then climbs "

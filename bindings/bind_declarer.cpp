@@ -13,6 +13,10 @@ void bind_declarer(py::module_& m) {
   m.def("read_dwell_nats_table", &read_dwell_nats_table, py::arg("path"),
         "The evidence dwell per hypothesis of a table file, {name: N} (cpp/f16mmae/declarer.h: one\n"
         "'NAME N' a line, '#' a comment; N in [0, 1e6] nats). ValueError naming the file and the line.");
+  m.def("dwell_nats_table_argument", &dwell_nats_table_argument, py::arg("argument"),
+        "The evidence dwell per hypothesis an argument names, {name: N} (cpp/f16mmae/declarer.h): inline\n"
+        "'NAME=N[,NAME=N...]' when it holds an '=', else the table file of that path. ValueError naming\n"
+        "the entry, or the file and the line.");
   m.def("parse_dwell_s_per_hypothesis", &parse_dwell_s_per_hypothesis, py::arg("text"),
         "The least dwell per hypothesis of 'NAME=S[,NAME=S...]', {name: S} (cpp/f16mmae/declarer.h;\n"
         "S in [0, 60] s). ValueError naming the entry.");

@@ -224,6 +224,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::level_scale_from>(
           "adapt_level_scale_from"),
       field<&O::spare_dwell_s>("spare_dwell_s"),
+      field<&O::evidence_dwell_in_phases>("evidence_dwell_in_phases"),
       // the climb reference
       optional_number<&O::climb_reference, &ClimbReferenceOptions::reference>("adapt_reference_climb"),
       field<&O::climb_reference, &ClimbReferenceOptions::hold_s>("adapt_reference_climb_hold_s"),

@@ -277,13 +277,20 @@ const std::vector<Flag>& flags() {
       {"--dwell-nats", "N",
        "... or until the candidate's log-odds above the threshold's, summed over those frames, reach N nats "
        "(declarer.h), given, for every hypothesis (0: the dwell alone; default: the bank's N_k, its hypotheses' "
-       "dwell_nats; off with a climb or maneuver dwell, hierarchical_bank.h)",
+       "dwell_nats; off with a climb or maneuver dwell unless --evidence-dwell-in-phases, hierarchical_bank.h)",
        number(&C::dwell_nats, {0.0, kMaxDwellNats},
               "a number of nats in [0, " + format_value(kMaxDwellNats) + "] (0: the dwell alone)")},
-      {"--dwell-nats-per-hypothesis", "FILE",
-       "... per hypothesis: 'NAME N' lines, N nats for NAME (0: the dwell alone); others take --dwell-nats "
-       "(declarer.h; default: the bank's own N_k, its hypotheses' dwell_nats)",
-       text(&C::dwell_nats_table_path, "needs a table file name")},
+      {"--dwell-nats-per-hypothesis", "FILE|NAME=N,...",
+       "... per hypothesis: a file of 'NAME N' lines, or the table inline (an argument with '='), N nats for "
+       "NAME (0: the dwell alone); others take --dwell-nats (declarer.h; default: the bank's own N_k, its "
+       "hypotheses' dwell_nats; 'f16mmae hil' gives a scheduled bank's with --adapt-turbulence, its default in "
+       "process)",
+       text(&C::dwell_nats_table_path, "needs a table file name or NAME=N entries")},
+      {"--evidence-dwell-in-phases", "",
+       "keep the evidence dwell through a climb's and a maneuver's dwell, asking N times the phase's dwell over "
+       "--dwell-s (hierarchical_bank.h; default: off in those phases; 'f16mmae hil' gives it with a scheduled "
+       "bank's table)",
+       {}, at(E, &H::evidence_dwell_in_phases)},
       {"--dwell-s-per-hypothesis", "NAME=S,...",
        "the least dwell of these hypotheses, s: NAME is declared after the longer of the dwell in force and S, "
        "a dual A+B not named after the longer of A's and B's (declarer.h; default: none; 'f16mmae hil' gives a "

@@ -37,7 +37,7 @@ struct DaemonConfig {
   // Estimator settings over the bank's recommended ones (ModelBank::estimator); unset: the bank's.
   std::optional<double> p_min, threshold, dwell_s;
   std::optional<double> dwell_nats;  // the evidence dwell (declarer.h); unset: off
-  std::string dwell_nats_table_path;  // non-empty: the per-hypothesis evidence dwell's table (declarer.h)
+  std::string dwell_nats_table_path;  // non-empty: the per-hypothesis evidence dwell: a file, or NAME=N,... inline (declarer.h)
   // The estimator: the core's defaults (hierarchical_bank.h), the flags written over them. What
   // depends on the bank (its recommended settings above, names turned into indices below) main.cpp
   // applies once the bank is loaded.

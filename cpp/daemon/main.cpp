@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
     options.declarer.dwell_s = cfg.dwell_s.value_or(bank.estimator.dwell_s);
     options.declarer.dwell_nats = cfg.dwell_nats.value_or(0.0);
     if (!cfg.dwell_nats_table_path.empty()) {   // name -> N_k (declarer.h); the bank checks the names
-      options.declarer.dwell_nats_per_hypothesis = f16mmae::read_dwell_nats_table(cfg.dwell_nats_table_path);
+      options.declarer.dwell_nats_per_hypothesis = f16mmae::dwell_nats_table_argument(cfg.dwell_nats_table_path);
     } else if (!cfg.dwell_nats) {   // the bank's recommended N_k unless --dwell-nats overrides them
       for (const auto& h : bank.hypotheses)
         if (h.dwell_nats > 0.0) options.declarer.dwell_nats_per_hypothesis[h.name] = h.dwell_nats;
@@ -354,7 +354,8 @@ int main(int argc, char** argv) {
       const std::string start_up = options.bank.start_up_s > 0.0
                                        ? "start-up " + f16mmae::format_value(options.bank.start_up_s) + " s"
                                        : std::string("no start-up");
-      // the evidence dwell in force (hierarchical_bank.h: none with a climb or maneuver dwell)
+      // the evidence dwell in force (hierarchical_bank.h: none with a climb or maneuver dwell
+      // unless --evidence-dwell-in-phases)
       std::string evidence_dwell = running.declarer.dwell_nats > 0.0
                                        ? " or " + f16mmae::format_value(running.declarer.dwell_nats) + " nats"
                                        : std::string();

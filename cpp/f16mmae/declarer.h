@@ -59,7 +59,8 @@
 // explains a gust beyond the models at the ceiling for a few frames) needs a long evidence dwell
 // or none, while one whose excursions gather few can be declared after a few frames at the
 // ceiling (tools/latency/dwell_per_hypothesis.py derives N_k from the tuning flights' excursions).
-// Table file (read_dwell_nats_table): one "NAME N" a line, '#' to the end of a line a comment.
+// Table file (read_dwell_nats_table): one "NAME N" a line, '#' to the end of a line a comment;
+// inline (parse_dwell_nats_per_hypothesis): "NAME=N[,NAME=N...]".
 //
 // Least dwell per hypothesis (dwell_s_per_hypothesis: name -> D_k seconds; empty, the default:
 // off). Hypothesis k's candidate needs its dwell in force to be at least its own,
@@ -189,6 +190,27 @@ inline std::map<std::string, double> read_dwell_nats_table(const std::string& pa
   std::ostringstream text;
   text << in.rdbuf();
   return parse_dwell_nats_table(text.str(), "dwell-nats table '" + path + "'");
+}
+
+// The per-hypothesis table inline, "NAME=N[,NAME=N...]", as {name: N}. Throws
+// std::invalid_argument naming the entry for one that is not a name, '=' and a number in
+// [0, kMaxDwellNats], or a name given twice; the names are checked where the table is used.
+inline std::map<std::string, double> parse_dwell_nats_per_hypothesis(const std::string& text) {
+  return parse_name_values(text, "dwell_nats_per_hypothesis", "NAME=N (a hypothesis and its evidence dwell in nats)",
+                           "hypothesis", [](const std::string& name, double n) -> std::string {
+                             if (n >= 0.0 && n <= kMaxDwellNats) return "";
+                             return name + "'s N must lie in [0, " + format_value(kMaxDwellNats) + "] nats, got " +
+                                    format_value(n);
+                           });
+}
+
+// The per-hypothesis table an argument names: inline (parse_dwell_nats_per_hypothesis) when it
+// holds an '=', else the file of that path (read_dwell_nats_table). So "LS=32,RS=32" is a table
+// and "tables/scheduled.txt" a file; a file whose path holds an '=' is read as "./" + its path
+// would not be: name such a file without one.
+inline std::map<std::string, double> dwell_nats_table_argument(const std::string& argument) {
+  return argument.find('=') != std::string::npos ? parse_dwell_nats_per_hypothesis(argument)
+                                                 : read_dwell_nats_table(argument);
 }
 
 // The least dwell per hypothesis of its text form (header), "NAME=S[,NAME=S...]", as

@@ -155,10 +155,14 @@
 //   is about 1.5, 3 and 9 and the gates stay shut in level flight at every level.
 //   With either flight-phase dwell configured (climb_reference.dwell_s > 0 or
 //   maneuver_dwell.dwell_s > 0) the declarers have no evidence dwell (declarer.h: dwell_nats
-//   and the per-hypothesis N_k are set to 0) and declare by their frame dwells alone. The N_k
-//   are measured on the excursions of level flight; a maneuver's onset (a roll-in, a pull-up)
-//   holds a hypothesis at the ceiling for a few frames before the load factor or the air data
-//   open the phase's gate, which the frame dwell rejects and the evidence dwell does not.
+//   and the per-hypothesis N_k are set to 0) and declare by their frame dwells alone, unless
+//   options.evidence_dwell_in_phases. Why: N_k measured on the excursions of level flight
+//   alone miss a maneuver's onset (a roll-in, a pull-up), which holds a hypothesis at the
+//   ceiling for a few frames before the load factor or the air data open the phase's gate:
+//   the frame dwell rejects it, such an evidence dwell does not. With
+//   evidence_dwell_in_phases the evidence dwell stays, asking N_k times the phase's dwell over
+//   the declarer's own (declarer.h), for N_k measured on flights that maneuver and climb too
+//   (tools/latency/dwell_per_hypothesis.py over maneuver campaigns and soaks).
 //   With options.spare_dwell_s (0, the default: off) a level-0 declaration needs that dwell
 //   instead of the declarer's on the frames where the per-hypothesis tempering spares the
 //   best-fitting failure hypothesis (turbulence_adaptation.h, ResidualScale::spares(): w < 1,
@@ -288,6 +292,7 @@ struct HierarchicalOptions {
   double level1_p_min = 0.0;  // the floor while a level-1 bank is on line; 0: the level-0 floor (level_floors.h)
   double level1_dwell_s = 0.0;   // the dwell while a level-1 bank is on line; 0: the level-0 dwell (level_floors.h)
   double spare_dwell_s = 0.0;    // the level-0 dwell while the tempering spares (header); 0: off
+  bool evidence_dwell_in_phases = false;   // keep the evidence dwell with a flight-phase dwell (header; off)
   double level1_allowance = 0.0;   // the duals' drift allowance at level 1, nats a frame; 0: none (level1_allowance.h)
   std::map<std::string, double> level1_allowance_pairs;   // "F>C" -> the dual F+C's own allowance in F's level-1 bank (level1_allowance.h)
   DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (departure_hold.h)
@@ -692,9 +697,9 @@ class HierarchicalBank {
     return d;
   }
   // The options in force: `o` without the declarers' evidence dwell when a flight-phase dwell
-  // is configured (header); options() reports them.
+  // is configured and evidence_dwell_in_phases is off (header); options() reports them.
   static HierarchicalOptions in_force(HierarchicalOptions o) {
-    if (o.climb_reference.dwell_s > 0.0 || o.maneuver_dwell.dwell_s > 0.0) {
+    if ((o.climb_reference.dwell_s > 0.0 || o.maneuver_dwell.dwell_s > 0.0) && !o.evidence_dwell_in_phases) {
       o.declarer.dwell_nats = 0.0;
       for (auto& [name, nats] : o.declarer.dwell_nats_per_hypothesis) nats = 0.0;   // names still checked
     }

@@ -195,6 +195,13 @@ TEST(DaemonConfig, EvidenceDwellPerHypothesis) {
   r = parse_daemon_args({"--bank", "b", "--dwell-nats-per-hypothesis="}, nullptr);
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.message.find("--dwell-nats-per-hypothesis needs a table file name"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--dwell-nats-per-hypothesis", "LS=32,RS=32"}, nullptr);   // inline
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.dwell_nats_table_path, "LS=32,RS=32");
+  EXPECT_FALSE(r.config.estimator.evidence_dwell_in_phases);   // off unless given
+  r = parse_daemon_args({"--bank", "b", "--evidence-dwell-in-phases"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.config.estimator.evidence_dwell_in_phases);
 }
 
 TEST(DaemonConfig, OnLineEstimatorOptions) {

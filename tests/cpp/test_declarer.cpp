@@ -344,6 +344,31 @@ TEST(DeclarerEvidencePerHypothesis, TableFileParsesAndRefusesBadLines) {
   EXPECT_THROW(f16mmae::read_dwell_nats_table("/nonexistent/table.txt"), std::invalid_argument);
 }
 
+TEST(DeclarerEvidencePerHypothesis, AnArgumentWithAnEqualsSignIsTheTableInline) {
+  // "NAME=N,..." inline, a path otherwise (header: dwell_nats_table_argument)
+  const auto t = f16mmae::dwell_nats_table_argument("LS=32,AOA=0,RUD=992.5");
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_EQ(t.at("LS"), 32.0);
+  EXPECT_EQ(t.at("AOA"), 0.0);
+  EXPECT_EQ(t.at("RUD"), 992.5);
+  EXPECT_EQ(f16mmae::parse_dwell_nats_per_hypothesis("LS=32,AOA=0,RUD=992.5"), t);
+  try {
+    f16mmae::dwell_nats_table_argument("LS=32,AZ=-1");
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("AZ's N must lie in [0, 1e+06] nats, got -1"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(f16mmae::dwell_nats_table_argument("LS=32,LS=4"), std::invalid_argument);
+  EXPECT_THROW(f16mmae::dwell_nats_table_argument("LS=x"), std::invalid_argument);
+  EXPECT_THROW(f16mmae::dwell_nats_table_argument("LS=32,"), std::invalid_argument);
+  try {   // no '=': a file
+    f16mmae::dwell_nats_table_argument("/nonexistent/table.txt");
+    ADD_FAILURE();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "dwell-nats table '/nonexistent/table.txt': cannot be read");
+  }
+}
+
 TEST(DeclarerLeastDwell, AHypothesisWithItsOwnDwellWaitsForIt) {
   DeclarerOptions o;   // dwell 0.25 s: 16 frames at 64 Hz
   o.dwell_s_per_hypothesis = {{"B", 1.0}, {"C", 0.0}};   // B: 64 frames; C: the dwell in force

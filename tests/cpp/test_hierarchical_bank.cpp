@@ -277,7 +277,8 @@ TEST(HierarchicalBank, LevelOneFloorHoldsWhileLevelOneIsOnLineOnly) {
 
 TEST(HierarchicalBank, AFlightPhaseDwellTurnsTheEvidenceDwellOff) {
   // with a climb or maneuver dwell configured the declarers' evidence dwell is 0 in force
-  // (header); the table's names are kept (still checked against the bank), each at 0
+  // (header); the table's names are kept (still checked against the bank), each at 0; with
+  // evidence_dwell_in_phases it stays as configured
   Small s;
   HierarchicalOptions o;
   o.declarer.dwell_nats = 48.0;
@@ -292,6 +293,12 @@ TEST(HierarchicalBank, AFlightPhaseDwellTurnsTheEvidenceDwellOff) {
   EXPECT_EQ(hb.options().declarer.dwell_nats, 0.0);
   EXPECT_EQ(hb.options().declarer.dwell_nats_per_hypothesis.at("U1"), 0.0);
   EXPECT_EQ(hb.declarer().dwell_nats_of(1), 0.0);
+  HierarchicalOptions q = p;   // kept through the phases: the evidence dwell as configured
+  q.evidence_dwell_in_phases = true;
+  DynamicHierarchicalBank kept(s.bank, q);
+  EXPECT_EQ(kept.options().declarer.dwell_nats, 48.0);
+  EXPECT_EQ(kept.options().declarer.dwell_nats_per_hypothesis.at("U1"), 32.0);
+  EXPECT_EQ(kept.declarer().dwell_nats_of(1), 32.0);
   p.declarer.dwell_nats_per_hypothesis = {{"NOT_A_HYPOTHESIS", 32.0}};
   EXPECT_THROW(DynamicHierarchicalBank(s.bank, p), std::invalid_argument);
 }

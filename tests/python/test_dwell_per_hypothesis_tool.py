@@ -1,6 +1,7 @@
 """tools/latency/dwell_per_hypothesis.py: the excursions it finds in a probability history
 written by hand (their frames, their log-odds excess summed by hand, false or not, rejected by
-the frame dwell or not), and its refusal of an evaluation-seed campaign."""
+the dwell in force -- ended without their declaration -- or not), and its refusal of the
+evaluation seeds' campaigns."""
 from __future__ import annotations
 
 import importlib.util
@@ -33,17 +34,45 @@ def test_excursions_against_a_hand_written_history(tool):
     rows += [[0.005, 0.99, 0.005]] * 5          # A from frame 14, declared on its 4th frame (17)
     p = np.array(rows)
     time_s = np.arange(len(rows)) / 64.0
-    ex = tool.excursions(names, p, [{"hypothesis": "A", "time_s": time_s[17]}], time_s, 0.9, 4,
+    ex = tool.excursions(names, p, [{"hypothesis": "A", "time_s": time_s[17]}], time_s, 0.9,
                          lambda i: "B" if i >= 10 else "NONE")
     got = [(e["hypothesis"], e["start"], e["frames"], e["false"], e["rejected"]) for e in ex]
-    assert got == [("A", 3, 2, True, True), ("B", 10, 4, False, False), ("A", 14, 4, True, False)]
+    assert got == [("A", 3, 2, True, True), ("B", 10, 4, False, True), ("A", 14, 4, True, False)]
     assert ex[0]["E"] == pytest.approx(2 * EXCESS_99)
-    assert ex[1]["E"] == pytest.approx(3 * EXCESS_99)   # the first dwell_frames - 1 frames only
-    assert ex[2]["E"] == pytest.approx(3 * EXCESS_99)
+    assert ex[1]["E"] == pytest.approx(4 * EXCESS_99)   # every frame until it ended
+    assert ex[2]["E"] == pytest.approx(4 * EXCESS_99)   # every frame up to its declaration
 
 
-def test_an_evaluation_seed_campaign_is_refused(tool, tmp_path):
-    (tmp_path / "summary.json").write_text(json.dumps({"seed": 1}))
+@pytest.mark.parametrize("seed", [1, 2])
+def test_an_evaluation_seed_campaign_is_refused(tool, tmp_path, seed):
+    (tmp_path / "summary.json").write_text(json.dumps({"seed": seed}))
     (tmp_path / "runs.jsonl").write_text("")
-    with pytest.raises(SystemExit, match="evaluation default"):
+    with pytest.raises(SystemExit, match="an evaluation seed"):
         tool.campaign_records(tmp_path)
+
+
+@pytest.mark.slow
+def test_the_tool_flies_a_tuning_campaign_again_and_writes_the_table(tmp_path):
+    """A two-run tuning campaign of the scheduled bank with the frame dwell alone: every flight
+    flown again declares as recorded, and the table names each failure hypothesis once, at the
+    floor or above; a campaign flown with an evidence dwell is refused."""
+    import subprocess
+    import sys
+
+    from f16mmae.cli.main import main
+    from f16mmae.names import NONE, SINGLE_HYPOTHESES
+    base = ["campaign", "single", "--runs", "1", "--cases", "LS,NONE", "--seed", "7", "--tuning", "scheduled",
+            "--adapt-turbulence", "--baseline", "none", "--workers", "1", "--quiet"]
+    assert main([*base, "--dwell-nats", "0", "--out", str(tmp_path / "c")]) == 0
+    out = tmp_path / "n.txt"
+    r = subprocess.run([sys.executable, str(TOOL), str(tmp_path / "c"), "--out", str(out), "--floor", "40"],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert "flown again 2/2" in r.stderr
+    table = {line.split()[0]: float(line.split()[1]) for line in out.read_text().splitlines()
+             if line.strip() and not line.startswith("#")}
+    assert set(table) == set(SINGLE_HYPOTHESES) - {NONE} and min(table.values()) >= 40.0
+    assert main([*base, "--out", str(tmp_path / "d")]) == 0   # the scheduled default's evidence dwell
+    r = subprocess.run([sys.executable, str(TOOL), str(tmp_path / "d"), "--out", str(out)],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode != 0 and "was flown with an evidence dwell" in r.stderr

@@ -5,7 +5,8 @@ counted channel (``adapt_counted_channel``) reaches the core as its bit; the per
 tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING``, trim tracking at
 ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` and VEL's least dwell at
 ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` (the rudder's in rough air at
-``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``), the complete failures' held trim
+``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``), the evidence dwell per hypothesis at
+``names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS`` kept through the flight phases, the complete failures' held trim
 ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` and its average ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S``
 unless given, and on a schedule whose nodes carry a
 calm-air reference the calm-air complete model at ``names.SCHEDULE_CALM_COMPLETE``; the cached
@@ -29,6 +30,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,   # VEL's least dwell
               "rough_dwell_s_per_hypothesis": names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,   # the rudder's in rough air
               "rough_scale": names.SCHEDULE_ROUGH_SCALE,
+              "dwell_nats_per_hypothesis": names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS,   # the evidence dwell
+              "evidence_dwell_in_phases": True,   # kept through the climbs' and maneuvers' dwells
               "complete_trim_hold": names.SCHEDULE_COMPLETE_TRIM_HOLD,   # the complete failures' held trim
               "complete_trim_time_constant_s": names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S,   # and its average
               "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,   # the load-factor tempering
@@ -49,7 +52,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     all_channels = {**given, "adapt_all_channels": True}
     assert scheduled_defaults(all_channels, True) == {**all_channels, **spared}
     off = {**given, "set_tempering": 1.0, "trim_time_constant_s": 0.0,   # given: kept (1, 0, VEL=0, off are off)
-           "dwell_s_per_hypothesis": "VEL=0", "rough_dwell_s_per_hypothesis": "RUD=0", "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
+           "dwell_s_per_hypothesis": "VEL=0", "rough_dwell_s_per_hypothesis": "RUD=0", "dwell_nats": 0.0,
+           "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
            "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
            "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True, "maneuver_setting": "off"}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
@@ -161,6 +165,8 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
                           "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                           "--rough-dwell-s-per-hypothesis", names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,
                           "--rough-scale", str(names.SCHEDULE_ROUGH_SCALE),
+                          "--dwell-nats-per-hypothesis", names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS,
+                          "--evidence-dwell-in-phases",
                           "--complete-trim-hold", names.SCHEDULE_COMPLETE_TRIM_HOLD,
                           "--complete-trim-time-constant", str(names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S),
                           "--maneuver-tempering", str(names.SCHEDULE_MANEUVER_TEMPERING_G),

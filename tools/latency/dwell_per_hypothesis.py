@@ -1,26 +1,30 @@
 """The per-hypothesis evidence dwell N_k (``--dwell-nats-per-hypothesis FILE``,
 cpp/f16mmae/declarer.h) from the false excursions of tuning flights.
 
-Reads a single campaign's and a soak's ``runs.jsonl`` (tuning seeds: the tool refuses campaign
-seed 1, the campaigns' evaluation default), flies every run again with its recorded scenario
-and estimator settings, recording the probabilities, and follows the declaration rule frame by
-frame: an *excursion* of hypothesis k is a run of consecutive frames on which p_k > threshold P
-while k is not the current (presumed or last declared) hypothesis. Its evidence is the sum the
-evidence dwell gathers,
+Reads the ``runs.jsonl`` of tuning campaigns -- single, envelope and maneuver campaigns (one
+failure a run) and soaks (none), any number of them, all of one bank (the tool refuses the
+evaluation seeds 1 and 2) -- flies every run again with its recorded scenario and estimator
+settings, recording the probabilities, and follows the declaration rule frame by frame: an
+*excursion* of hypothesis k is a run of consecutive frames on which p_k > threshold P while k
+is not the current (presumed or last declared) hypothesis. Its evidence is the sum the evidence
+dwell gathers over its frames before it ends or is declared,
 
-    E = sum over its frames t < D of [ln(p_t / (1 - p_t)) - ln(P / (1 - P))],
+    E = sum over its frames t of [ln(p_t / (1 - p_t)) - ln(P / (1 - P))].
 
-D the frame dwell (16 frames). An excursion is *false* when k is not what the flight's truth
-would have declared: any hypothesis but NONE in a soak flight or before a single run's failure,
-any hypothesis but the failed single after it. A false excursion that ends before D frames is
-one the frame dwell rejected; an evidence dwell of N_k nats would have declared it if E >= N_k.
-So, per level-0 single k (the hypotheses whose first declaration the latency counts),
+An excursion is *false* when k is not what the flight's truth would have declared: any
+hypothesis but NONE in a soak flight or before a run's failure, any hypothesis but the failed
+single after it. A false excursion that ends without k's declaration is one the frame dwell in
+force rejected (16 frames, or a least dwell, a maneuver's or the rough air's longer one); an
+evidence dwell of N_k nats would have declared it if E >= N_k (the rule asks for N_k times the
+dwell in force over the declarer's own, so E >= N_k is the most it could ask less: the bound is
+on the safe side). So, per level-0 single k (the hypotheses whose first declaration the latency
+counts),
 
     N_k = max(floor, margin * E_max,k),   E_max,k = the largest E of k's false excursions
                                            rejected by the frame dwell (0 if none),
 
 then, second step, N_k = 0 (``--frame-dwell-only``) for each single whose faster declaration added
-a transient-wrong run or a false alarm when the tuning campaign is flown with the table (an earlier
+a transient-wrong run or a false alarm when the tuning campaigns are flown with the table (an earlier
 declaration puts the level-1 bank on line earlier in the failure's transient, where a dual can
 rise: a cost the excursions do not show). Every other hypothesis (NONE's back-out, the level-1
 duals) is left out of the file: it
@@ -35,8 +39,18 @@ the shipped rule. The file is one ``NAME N`` a line, the rule and its inputs in 
         [--tuning python/harness/f16mmae/design/tunings/tuned.toml]
     python -m f16mmae.design.calibrate --banks     # the shipped banks with the tuning's table
 
+The scheduled estimator's table (names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS) comes from the
+tuning seeds' single campaigns at every level (failures at 3 s and at 20-21 s), the maneuver
+campaign, 60 random points and the soaks at the nominal point and the trimmable edge, pilotless
+and holding, all flown with ``--tuning scheduled --adapt-turbulence --dwell-nats 0``
+(docs/results/detection_latency.md, round 42, lists the commands):
+
+    .venv/bin/python tools/latency/dwell_per_hypothesis.py SINGLE SETTLED MANEUVER ENVELOPE SOAK... \
+        --margin 1.5 --floor 32 --workers 2 --out FILE
+
 The campaigns must fly the frame dwell alone (``--dwell-nats 0`` overrides a bank's own table);
-the tool refuses campaigns flown with an evidence dwell.
+the tool refuses campaigns flown with an evidence dwell. Every flight flown again must declare
+what its record says (the tool counts and names any that do not: a record of other code).
 """
 from __future__ import annotations
 
@@ -44,6 +58,8 @@ import argparse
 import json
 import math
 import re
+import sys
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -52,15 +68,16 @@ from f16mmae.banks import load_bank
 from f16mmae.loop.flight import fly, scenario_from_dict
 from f16mmae.names import NONE, SINGLE_HYPOTHESES
 
-EVALUATION_SEED = 1
+#: The evaluation seed (the campaigns' default) and the held-out one: never tuned on.
+EVALUATION_SEEDS = (1, 2)
 
 
-def excursions(names, p, declarations, time_s, threshold, dwell_frames, truth_of_frame):
-    """Every excursion of a flight: dicts (hypothesis, start frame, frames, E over its first
-    dwell_frames - 1 frames, false, rejected). ``p`` (frames, len(names)), NaN off line;
-    ``declarations`` the flight's [{hypothesis, time_s}] (declared on the row of ``time_s``
-    nearest, the row its dwell completed); ``truth_of_frame(i)`` the hypothesis
-    the truth would have declared by frame i."""
+def excursions(names, p, declarations, time_s, threshold, truth_of_frame):
+    """Every excursion of a flight: dicts (hypothesis, start frame, frames, E over its frames up
+    to its end or its declaration, false, rejected: it ended without its declaration). ``p``
+    (frames, len(names)), NaN off line; ``declarations`` the flight's [{hypothesis, time_s}]
+    (declared on the row of ``time_s`` nearest, the row its dwell completed);
+    ``truth_of_frame(i)`` the hypothesis the truth would have declared by frame i."""
     decl_frames = {int(np.argmin(np.abs(time_s - d["time_s"]))): d["hypothesis"] for d in declarations}
     current = NONE
     out, run = [], None
@@ -76,26 +93,27 @@ def excursions(names, p, declarations, time_s, threshold, dwell_frames, truth_of
         if k is not None and k != current:
             if run is None:
                 run = {"hypothesis": k, "start": i, "frames": 0, "E": 0.0,
-                       "false": k != truth_of_frame(i)}
+                       "false": k != truth_of_frame(i), "rejected": True}
             run["frames"] += 1
-            if run["frames"] < dwell_frames:
-                x = float(pz[i, cols[0]])
-                run["E"] += (math.inf if x >= 1.0 else math.log(x) - math.log1p(-x)) - ln_t
+            x = float(pz[i, cols[0]])
+            run["E"] += (math.inf if x >= 1.0 else math.log(x) - math.log1p(-x)) - ln_t
         elif run is not None:   # k became current (declared): close it
             out.append(run)
             run = None
         if i in decl_frames:   # declared on this frame (its dwell completed): current from now on
             current = decl_frames[i]
+            if run is not None and run["hypothesis"] == current:
+                run["rejected"] = False
     if run is not None:
         out.append(run)
-    for r in out:
-        r["rejected"] = r["frames"] < dwell_frames
     return out
 
 
-def flight_excursions(record, bank, threshold, dwell_frames):
+def flight_excursions(record, bank, threshold):
     scenario = scenario_from_dict(record["scenario"])
-    result = fly(scenario, bank, estimator_options=record["estimator"], record_probabilities=True)
+    # the frame dwell alone, as flown (flown_frame_dwell): --dwell-nats 0 keeps a default table out
+    options = {**record["estimator"], "dwell_nats": 0.0}
+    result = fly(scenario, bank, estimator_options=options, record_probabilities=True)
     failures = record["scenario"].get("failures") or []
     fail_frame = int(np.searchsorted(np.asarray(result.time_s), failures[0]["time_s"] - 1e-9)) if failures else None
     failed = failures[0]["name"] if failures else None
@@ -103,14 +121,15 @@ def flight_excursions(record, bank, threshold, dwell_frames):
     def truth_of_frame(i):
         return failed if fail_frame is not None and i >= fail_frame else NONE
     return excursions(list(result.hypotheses), result.probabilities, result.declarations,
-                      np.asarray(result.time_s), threshold, dwell_frames, truth_of_frame), result
+                      np.asarray(result.time_s), threshold, truth_of_frame), result
 
 
 def campaign_records(d: Path):
     summary = json.loads((d / "summary.json").read_text())
-    if summary.get("seed", EVALUATION_SEED) == EVALUATION_SEED:
-        raise SystemExit(f"dwell_per_hypothesis: {d} is a campaign at seed {summary.get('seed')}, the "
-                         f"evaluation default: derive N_k on tuning seeds (--seed 7)")
+    if summary.get("seed", EVALUATION_SEEDS[0]) in EVALUATION_SEEDS:
+        raise SystemExit(f"dwell_per_hypothesis: {d} is a campaign at seed {summary.get('seed')}, an "
+                         f"evaluation seed ({', '.join(map(str, EVALUATION_SEEDS))}): derive N_k on "
+                         "tuning seeds (--seed 7)")
     return [json.loads(line) for line in (d / "runs.jsonl").read_text().splitlines() if line.strip()], summary
 
 
@@ -145,28 +164,55 @@ def write_tuning_key(path: Path, table: dict[str, float]) -> None:
         raise SystemExit(f"dwell_per_hypothesis: {path} does not read back the table written")
 
 
-def flown_frame_dwell(summary: dict, d: Path) -> None:
-    """Refuses a campaign flown with an evidence dwell (the excursions must be the frame dwell's)."""
-    s = summary.get("estimator_settings") or {}
-    if s.get(TUNING_KEY) or float(s.get("dwell_nats", 0.0) or 0.0) > 0.0:
-        raise SystemExit(f"dwell_per_hypothesis: {d} was flown with an evidence dwell "
-                         f"({TUNING_KEY} or dwell_nats in its estimator_settings); fly the tuning "
-                         "campaigns with --dwell-nats 0 (the frame dwell alone)")
+def flown_frame_dwell(records: list, summary: dict, d: Path) -> None:
+    """Refuses a campaign flown with an evidence dwell (the excursions must be the frame dwell's):
+    its settings or any run's (a scheduled bank's defaults are in the runs' settings)."""
+    for s in [summary.get("estimator_settings") or {}] + [r.get("estimator_settings") or {} for r in records]:
+        if s.get(TUNING_KEY) or float(s.get("dwell_nats", 0.0) or 0.0) > 0.0:
+            raise SystemExit(f"dwell_per_hypothesis: {d} was flown with an evidence dwell "
+                             f"({TUNING_KEY} or dwell_nats in its estimator settings); fly the tuning "
+                             "campaigns with --dwell-nats 0 (the frame dwell alone)")
+
+
+def as_recorded(record, result) -> bool:
+    """Whether a flight flown again declares what its record says (hypotheses and frames)."""
+    def key(ds):
+        return [(d["hypothesis"], round(float(d["time_s"]), 6)) for d in ds]
+    return key(record.get("declarations") or []) == key(result.declarations)
+
+
+_BANK = None
+
+
+def _load(tuning: str) -> None:
+    global _BANK
+    _, _, _BANK = load_bank(tuning)
+
+
+def _fly(args):
+    """One record flown again (a worker's task): its excursions, labelled, and whether it
+    declared as recorded."""
+    record, threshold, label = args
+    ex, result = flight_excursions(record, _BANK, threshold)
+    for e in ex:
+        e["run"] = label
+    return ex, as_recorded(record, result), label
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("single", type=Path, help="a tuning single campaign's directory")
-    ap.add_argument("soak", type=Path, help="a tuning soak's directory")
+    ap.add_argument("campaigns", type=Path, nargs="+",
+                    help="tuning campaigns' directories (single, envelope, maneuver, soak), one bank")
     ap.add_argument("--margin", type=float, default=1.5)
     ap.add_argument("--floor", type=float, default=32.0)
     ap.add_argument("--out", type=Path, required=True)
+    ap.add_argument("--workers", type=int, default=1, help="processes flying the runs again (default 1)")
     ap.add_argument("--tuning", type=Path, default=None,
                     help="also write the table as this tuning file's [estimator] dwell_nats_per_hypothesis")
     ap.add_argument("--excursions", type=Path, default=None, help="also write every excursion (JSON lines)")
     ap.add_argument("--frame-dwell-only", default="",
                     help="comma list of singles given N_k = 0 (the frame dwell alone): those whose faster "
-                         "declaration added a transient-wrong run or a false alarm on the tuning campaign "
+                         "declaration added a transient-wrong run or a false alarm on the tuning campaigns "
                          "flown with the table (the second step of the rule)")
     ap.add_argument("--reuse", action="store_true",
                     help="read the excursions from --excursions (written by an earlier call on the same "
@@ -176,45 +222,59 @@ def main() -> None:
         raise SystemExit(f"dwell_per_hypothesis: --margin must be >= 1, got {a.margin}")
     if not (0.0 < a.floor <= 1.0e6):
         raise SystemExit(f"dwell_per_hypothesis: --floor must lie in (0, 1e6] nats, got {a.floor}")
-    single, s_sum = campaign_records(a.single)
-    soak, k_sum = campaign_records(a.soak)
-    flown_frame_dwell(s_sum, a.single)
-    flown_frame_dwell(k_sum, a.soak)
-    if s_sum.get("bank_hash") != k_sum.get("bank_hash"):
-        raise SystemExit("dwell_per_hypothesis: the two campaigns flew different banks")
-    _, _, bank = load_bank(s_sum.get("tuning") or "tuned")
-    settings = s_sum.get("estimator_settings") or {}
-    threshold = float(settings.get("threshold", 0.9))
-    dwell_frames = max(1, int(round(float(settings.get("dwell_s", 0.25)) * float(bank.frame_rate_hz))))
-    found = []
-    if a.reuse:
-        if a.excursions is None or not a.excursions.exists():
-            raise SystemExit("dwell_per_hypothesis: --reuse needs the --excursions file of an earlier call")
-        found = [json.loads(line) for line in a.excursions.read_text().splitlines() if line.strip()]
-    else:
-        for rec in single + soak:
-            ex, _ = flight_excursions(rec, bank, threshold, dwell_frames)
-            for e in ex:
-                e["run"] = f"{rec.get('kind')}:{rec.get('case')}:{rec.get('run_index')}"
-            found += ex
-    if a.excursions and not a.reuse:
-        a.excursions.write_text("".join(json.dumps(e) + "\n" for e in found))
-    lines = [
-        "# The per-hypothesis evidence dwell N_k (nats; cpp/f16mmae/declarer.h), written by",
-        "# tools/latency/dwell_per_hypothesis.py from the tuning campaigns",
-        f"#   single {a.single.name} (seed {s_sum.get('seed')}, {len(single)} runs), soak {a.soak.name} "
-        f"(seed {k_sum.get('seed')}, {len(soak)} flights)",
-        f"# N_k = max(floor {a.floor:g}, margin {a.margin:g} x E_max,k), E_max,k the largest log-odds excess",
-        f"# a false excursion of k the {dwell_frames}-frame dwell rejected gathered (threshold {threshold:g}).",
-        "# Hypotheses not named (NONE, the level-1 duals) take --dwell-nats (0: the frame dwell alone).",
-    ]
+    if not 1 <= a.workers <= 256:
+        raise SystemExit(f"dwell_per_hypothesis: --workers must lie in [1, 256], got {a.workers}")
     only = [k.strip().upper() for k in a.frame_dwell_only.split(",") if k.strip()]
     bad = [k for k in only if k not in SINGLE_HYPOTHESES or k == NONE]
     if bad:
         raise SystemExit(f"dwell_per_hypothesis: --frame-dwell-only {','.join(bad)}: not a failure hypothesis")
+    if a.reuse and (a.excursions is None or not a.excursions.exists()):
+        raise SystemExit("dwell_per_hypothesis: --reuse needs the --excursions file of an earlier call")
+    for path in [a.out] + ([a.excursions] if a.excursions and not a.reuse else []):
+        if not path.parent.is_dir():
+            raise SystemExit(f"dwell_per_hypothesis: cannot write {path}: no directory {path.parent}")
+    loaded = [(d, *campaign_records(d)) for d in a.campaigns]
+    for d, records, summary in loaded:
+        flown_frame_dwell(records, summary, d)
+    first = loaded[0][2]
+    for d, _, summary in loaded[1:]:
+        if summary.get("bank_hash") != first.get("bank_hash"):
+            raise SystemExit(f"dwell_per_hypothesis: {d} flew another bank than {loaded[0][0]}")
+    tuning = first.get("tuning") or "tuned"
+    _, _, bank = load_bank(tuning)
+    settings = first.get("estimator_settings") or {}
+    threshold = float(settings.get("threshold", 0.9))
+    found = []
+    if a.reuse:
+        found = [json.loads(line) for line in a.excursions.read_text().splitlines() if line.strip()]
+    else:
+        tasks = [(rec, threshold, f"{d.name}:{rec.get('kind')}:{rec.get('case')}:{rec.get('run_index')}")
+                 for d, records, _ in loaded for rec in records]
+        differ = []
+        with ProcessPoolExecutor(a.workers, initializer=_load, initargs=(tuning,)) as pool:
+            for n, (ex, same, label) in enumerate(pool.map(_fly, tasks, chunksize=4), 1):
+                found += ex
+                if not same:
+                    differ.append(label)
+                if n % 200 == 0 or n == len(tasks):
+                    print(f"flown again {n}/{len(tasks)}", file=sys.stderr, flush=True)
+        if differ:
+            raise SystemExit(f"dwell_per_hypothesis: {len(differ)} of {len(tasks)} flights flown again declare "
+                             f"otherwise than recorded (records of other code?), e.g. {', '.join(differ[:5])}")
+    if a.excursions and not a.reuse:
+        a.excursions.write_text("".join(json.dumps(e) + "\n" for e in found))
+    names = ", ".join(f"{d.name} ({s.get('kind', '?')}, seed {s.get('seed')}, {len(r)} flights)" for d, r, s in loaded)
+    lines = [
+        "# The per-hypothesis evidence dwell N_k (nats; cpp/f16mmae/declarer.h), written by",
+        "# tools/latency/dwell_per_hypothesis.py from the tuning campaigns",
+        f"#   {names}",
+        f"# N_k = max(floor {a.floor:g}, margin {a.margin:g} x E_max,k), E_max,k the largest log-odds excess",
+        f"# a false excursion of k gathered that the frame dwell in force rejected (threshold {threshold:g}).",
+        "# Hypotheses not named (NONE, the level-1 duals) take --dwell-nats (0: the frame dwell alone).",
+    ]
     if only:
         lines.append(f"# N_k = 0 (the frame dwell alone) for {', '.join(only)}: declared faster, they added a "
-                     f"transient-wrong run or false alarm on the tuning campaign flown with the table.")
+                     f"transient-wrong run or false alarm on the tuning campaigns flown with the table.")
     lines.append("# NAME  N_k    # E_max,k, false excursions rejected / declared by the frame dwell")
     table = {}
     for k in SINGLE_HYPOTHESES:

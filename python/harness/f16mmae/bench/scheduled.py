@@ -53,6 +53,9 @@ SEVERE_RULES = "tuned bank + adaptation + tempering and level scale"
 #: SCHEDULE_ROUGH_SCALE; cpp/f16mmae/declarer.h): the latter reads the adaptation's scale a frame.
 LEAST_DWELLS = "tuned bank + adaptation + least dwells"
 ROUGH_DWELLS = "tuned bank + adaptation + least dwells + rough-air table"
+#: ... and the scheduled default's evidence dwell per hypothesis kept through the flight phases
+#: (names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS; cpp/f16mmae/declarer.h, hierarchical_bank.h).
+EVIDENCE_DWELL = "tuned bank + adaptation + least dwells + rough-air table + evidence dwell"
 MACH_AXIS = (0.4, 0.6)
 ALT_AXIS = (10_000.0, 20_000.0)
 
@@ -80,6 +83,9 @@ class ScheduledBenchResult:
         least, rough = self.us_per_frame.get(LEAST_DWELLS), self.us_per_frame.get(ROUGH_DWELLS)
         if least and rough:
             out[f"{ROUGH_DWELLS} / {LEAST_DWELLS}"] = rough / least
+        evidence = self.us_per_frame.get(EVIDENCE_DWELL)
+        if rough and evidence:
+            out[f"{EVIDENCE_DWELL} / {ROUGH_DWELLS}"] = evidence / rough
         interpolate, hold = self.us_per_frame.get("scheduled, interpolate"), self.us_per_frame.get(TRIM_HOLD)
         if interpolate and hold:
             out[f"{TRIM_HOLD} / scheduled, interpolate"] = hold / interpolate
@@ -152,9 +158,14 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
     rough = core_arguments({**adapted, "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                             "rough_dwell_s_per_hypothesis": names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,
                             "rough_scale": names.SCHEDULE_ROUGH_SCALE})
+    evidence = core_arguments({**adapted, "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                               "rough_dwell_s_per_hypothesis": names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,
+                               "rough_scale": names.SCHEDULE_ROUGH_SCALE,
+                               "dwell_nats_per_hypothesis": names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS,
+                               "evidence_dwell_in_phases": True})
     for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver),
                       ("tuned bank + adaptation", adapted), (CALM_RULE, calm), (SEVERE_RULES, severe),
-                      (LEAST_DWELLS, least), (ROUGH_DWELLS, rough)):
+                      (LEAST_DWELLS, least), (ROUGH_DWELLS, rough), (EVIDENCE_DWELL, evidence)):
         per_frame, worst = core._bench_hierarchical_loop(tuned, zt, ut, min_time_s=min_time_s, **kw)
         result.us_per_frame[label] = per_frame * 1e6
         result.worst_frame_us[label] = worst * 1e6

@@ -22,7 +22,8 @@ from dataclasses import dataclass
 
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
                      SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD,
-                     SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_S_PER_HYPOTHESIS,
+                     SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_NATS_PER_HYPOTHESIS,
+                     SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                      SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL,
                      SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_MANEUVER_SETTING, SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
@@ -507,15 +508,26 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "has passed, once its log-odds above the threshold's, ln(p/(1-p)) - ln(P/(1-P)), summed "
                          "over its consecutive frames above, reach N nats: one the data hold near the ceiling is "
                          "declared in a few frames, one hovering near the threshold still needs the dwell "
-                         "(cpp/f16mmae/declarer.h). Given, N replaces the bank's own table for every hypothesis "
-                         "(0: the dwell alone). Default: the bank's recommended N per hypothesis (bank format 4; "
-                         "none: the dwell alone). Off with a climb or maneuver dwell "
+                         "(cpp/f16mmae/declarer.h). Given, N replaces the bank's own table and the scheduled "
+                         "default's for every hypothesis (0: the dwell alone). Default: the bank's recommended N "
+                         "per hypothesis (bank format 4; none: the dwell alone), a scheduled bank's table below. "
+                         "Off with a climb or maneuver dwell unless --evidence-dwell-in-phases "
                          "(cpp/f16mmae/hierarchical_bank.h)"),
-    EstimatorOption("dwell_nats_per_hypothesis", "--dwell-nats-per-hypothesis", "file", metavar="FILE",
-                    help="... per hypothesis: FILE (tools/latency/dwell_per_hypothesis.py; one 'NAME N' a line) "
-                         "gives hypothesis NAME its own evidence dwell of N nats, 0 leaving it to --dwell-s "
-                         "alone; a hypothesis FILE does not name takes --dwell-nats (cpp/f16mmae/declarer.h). "
-                         "Default: the bank's own table (its hypotheses' dwell_nats)"),
+    EstimatorOption("dwell_nats_per_hypothesis", "--dwell-nats-per-hypothesis", "file", metavar="FILE|NAME=N,...",
+                    help="... per hypothesis: FILE (tools/latency/dwell_per_hypothesis.py; one 'NAME N' a line), or "
+                         "the table inline (an argument with '=': NAME=N entries separated by commas), gives "
+                         "hypothesis NAME its own evidence dwell of N nats, 0 leaving it to --dwell-s alone; a "
+                         "hypothesis the table does not name takes --dwell-nats (cpp/f16mmae/declarer.h). "
+                         "Default: the bank's own table (its hypotheses' dwell_nats); on a scheduled bank with "
+                         f"--adapt-turbulence {SCHEDULE_DWELL_NATS_PER_HYPOTHESIS} "
+                         "(names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS) with --evidence-dwell-in-phases, unless "
+                         "--dwell-nats is given"),
+    EstimatorOption("evidence_dwell_in_phases", "--evidence-dwell-in-phases", "switch",
+                    help="keep the evidence dwell (--dwell-nats, --dwell-nats-per-hypothesis) through a climb's "
+                         "and a maneuver's dwell, asking N times the phase's dwell over --dwell-s: for tables "
+                         "measured on flights that maneuver and climb too (cpp/f16mmae/hierarchical_bank.h). "
+                         "Default: on with a scheduled bank's default table, else off (the evidence dwell off "
+                         "in those phases)"),
     EstimatorOption("dwell_s_per_hypothesis", "--dwell-s-per-hypothesis", "table", metavar="NAME=S,...",
                     help="the least dwell of these hypotheses: NAME is declared after the longer of the dwell in "
                          "force (--dwell-s, a maneuver's or a climb's) and S seconds above the threshold, its "
@@ -652,17 +664,19 @@ def load_allowance_pairs(path: str) -> dict[str, float]:
     return {k: float(v) for k, v in pairs.items()}
 
 
-def load_dwell_nats_table(path: str) -> dict[str, float]:
-    """The table of ``--dwell-nats-per-hypothesis`` (tools/latency/dwell_per_hypothesis.py writes
-    it), ``{name: N}``, read by the core's reader as mmae-daemon reads it
-    (cpp/f16mmae/declarer.h: one ``NAME N`` a line, ``#`` a comment). ValueError naming the flag,
-    the file, the line and what is wrong (the core refuses names that are not hypotheses of the
-    bank when it is built)."""
+def load_dwell_nats_table(argument: str) -> dict[str, float]:
+    """The table of ``--dwell-nats-per-hypothesis``, ``{name: N}``: inline ``NAME=N,...`` when
+    ``argument`` holds an '=', else the file of that path (tools/latency/dwell_per_hypothesis.py
+    writes it: one ``NAME N`` a line, ``#`` a comment), read by the core as mmae-daemon reads it
+    (cpp/f16mmae/declarer.h ``dwell_nats_table_argument``). ValueError naming the flag, the entry
+    or the file and the line, and what is wrong (the core refuses names that are not hypotheses of
+    the bank when it is built)."""
     from .. import core
     try:
-        return dict(core.read_dwell_nats_table(str(path)))
-    except ValueError as exc:
-        raise ValueError(f"--dwell-nats-per-hypothesis: {exc}") from None
+        return dict(core.dwell_nats_table_argument(str(argument)))
+    except ValueError as exc:   # the core's "dwell_nats_per_hypothesis: why" inline, "dwell-nats table 'F' line n: why"
+        why = str(exc).removeprefix("dwell_nats_per_hypothesis: ")
+        raise ValueError(f"--dwell-nats-per-hypothesis: {why}") from None
 
 
 #: The reader of each ``file`` option's file: the table the core takes for the path.
@@ -825,6 +839,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     turns it off), ``rough_dwell_s_per_hypothesis`` ``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``
     unless given (``RUD=0,PIT=0,AZ=0`` turns it off), then with ``rough_scale`` ``names.SCHEDULE_ROUGH_SCALE``
     unless given (a table given takes the core's default scale unless its scale is given too),
+    ``dwell_nats_per_hypothesis`` ``names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS`` with
+    ``evidence_dwell_in_phases`` on (unless given) unless a table or ``dwell_nats`` is given
+    (``--dwell-nats 0`` turns it off),
     ``complete_trim_hold`` ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` unless given
     (``off`` turns it off) and ``complete_trim_time_constant_s``
     ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off),
@@ -857,6 +874,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         if "rough_dwell_s_per_hypothesis" not in out:
             out["rough_dwell_s_per_hypothesis"] = SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS
             out.setdefault("rough_scale", SCHEDULE_ROUGH_SCALE)
+        if "dwell_nats_per_hypothesis" not in out and "dwell_nats" not in out:
+            out["dwell_nats_per_hypothesis"] = SCHEDULE_DWELL_NATS_PER_HYPOTHESIS
+            out.setdefault("evidence_dwell_in_phases", True)
         out.setdefault("complete_trim_hold", SCHEDULE_COMPLETE_TRIM_HOLD)
         out.setdefault("complete_trim_time_constant_s", SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)
         out.setdefault("maneuver_tempering_g", SCHEDULE_MANEUVER_TEMPERING_G)

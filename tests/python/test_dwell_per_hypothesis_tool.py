@@ -76,3 +76,13 @@ def test_the_tool_flies_a_tuning_campaign_again_and_writes_the_table(tmp_path):
     r = subprocess.run([sys.executable, str(TOOL), str(tmp_path / "d"), "--out", str(out)],
                        capture_output=True, text=True, timeout=300)
     assert r.returncode != 0 and "was flown with an evidence dwell" in r.stderr
+
+
+def test_an_excursion_is_weighed_against_its_least_dwell(tool):
+    """A hypothesis with a least dwell in all air of L_k has its evidence dwell asked N_k L_k / D
+    wherever it is a candidate: the tool divides its excursions' evidence by that ratio (at least
+    1; the rough-air table, in force only in rough air, is left out)."""
+    ratios = tool.least_dwell_ratios({"dwell_s": 0.25, "dwell_s_per_hypothesis": "VEL=1,AOA=0.75,AZ=0.1",
+                                      "rough_dwell_s_per_hypothesis": "RUD=2"}, 64.0)
+    assert ratios == {"VEL": 4.0, "AOA": 3.0, "AZ": 1.0}
+    assert tool.least_dwell_ratios({"dwell_s": 0.25}, 64.0) == {}

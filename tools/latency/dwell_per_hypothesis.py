@@ -14,14 +14,16 @@ dwell gathers over its frames before it ends or is declared,
 An excursion is *false* when k is not what the flight's truth would have declared: any
 hypothesis but NONE in a soak flight or before a run's failure, any hypothesis but the failed
 single after it. A false excursion that ends without k's declaration is one the frame dwell in
-force rejected (16 frames, or a least dwell, a maneuver's or the rough air's longer one); an
-evidence dwell of N_k nats would have declared it if E >= N_k (the rule asks for N_k times the
-dwell in force over the declarer's own, so E >= N_k is the most it could ask less: the bound is
-on the safe side). So, per level-0 single k (the hypotheses whose first declaration the latency
-counts),
+force rejected (16 frames, or a least dwell, a maneuver's or the rough air's longer one). The
+evidence dwell asks N_k times the dwell in force over the declarer's own, which is at least
+r_k = max(1, L_k / D), L_k hypothesis k's least dwell in all air (the flight's
+``dwell_s_per_hypothesis``; the rough-air table only in rough air, so left out) and D the
+declarer's dwell: an evidence dwell of N_k nats could have declared the excursion only if
+E / r_k >= N_k, a bound on the safe side wherever a longer dwell was in force. So, per level-0
+single k (the hypotheses whose first declaration the latency counts),
 
-    N_k = max(floor, margin * E_max,k),   E_max,k = the largest E of k's false excursions
-                                           rejected by the frame dwell (0 if none),
+    N_k = max(floor, margin * E_max,k),   E_max,k = the largest E / r_k of k's false excursions
+                                           rejected by the dwell in force (0 if none),
 
 then, second step, N_k = 0 (``--frame-dwell-only``) for each single whose faster declaration added
 a transient-wrong run or a false alarm when the tuning campaigns are flown with the table (an earlier
@@ -120,8 +122,25 @@ def flight_excursions(record, bank, threshold):
 
     def truth_of_frame(i):
         return failed if fail_frame is not None and i >= fail_frame else NONE
-    return excursions(list(result.hypotheses), result.probabilities, result.declarations,
-                      np.asarray(result.time_s), threshold, truth_of_frame), result
+    found = excursions(list(result.hypotheses), result.probabilities, result.declarations,
+                       np.asarray(result.time_s), threshold, truth_of_frame)
+    least = least_dwell_ratios(record.get("estimator_settings") or {}, float(bank.frame_rate_hz))
+    for e in found:   # the evidence against N_k: the rule asks N_k times at least this ratio
+        e["ratio"] = least.get(e["hypothesis"], 1.0)
+        e["E_per_ratio"] = e["E"] / e["ratio"]
+    return found, result
+
+
+def least_dwell_ratios(settings: dict, frame_rate_hz: float) -> dict[str, float]:
+    """Each single's least dwell in all air over the declarer's dwell, at least 1
+    (``dwell_s_per_hypothesis``, cpp/f16mmae/declarer.h): the least the evidence dwell's N_k is
+    multiplied by wherever the hypothesis is a candidate. The rough-air table is left out (it
+    holds only in rough air), so the ratio is a lower bound there too."""
+    from f16mmae.loop.estimator_options import parse_dwell_s_table
+    dwell = max(1, round(float(settings.get("dwell_s", 0.25)) * frame_rate_hz))
+    table = settings.get("dwell_s_per_hypothesis") or {}
+    table = table if isinstance(table, dict) else parse_dwell_s_table(table)
+    return {k: max(1.0, max(1, round(float(v) * frame_rate_hz)) / dwell) for k, v in table.items()}
 
 
 def campaign_records(d: Path):
@@ -269,7 +288,8 @@ def main() -> None:
         "# tools/latency/dwell_per_hypothesis.py from the tuning campaigns",
         f"#   {names}",
         f"# N_k = max(floor {a.floor:g}, margin {a.margin:g} x E_max,k), E_max,k the largest log-odds excess",
-        f"# a false excursion of k gathered that the frame dwell in force rejected (threshold {threshold:g}).",
+        f"# a false excursion of k gathered that the dwell in force rejected (threshold {threshold:g}), over",
+        "# k's least dwell in all air in dwells of the declarer (at least 1).",
         "# Hypotheses not named (NONE, the level-1 duals) take --dwell-nats (0: the frame dwell alone).",
     ]
     if only:
@@ -281,7 +301,7 @@ def main() -> None:
         if k == NONE:
             continue
         fx = [e for e in found if e["hypothesis"] == k and e["false"]]
-        rej = [e["E"] for e in fx if e["rejected"]]
+        rej = [e.get("E_per_ratio", e["E"]) for e in fx if e["rejected"]]
         e_max = max(rej, default=0.0)
         n_k = max(a.floor, a.margin * e_max)
         n_k = 0.0 if k in only else min(n_k, 1.0e6)

@@ -295,7 +295,7 @@ def main() -> None:
     if only:
         lines.append(f"# N_k = 0 (the frame dwell alone) for {', '.join(only)}: declared faster, they added a "
                      f"transient-wrong run or false alarm on the tuning campaigns flown with the table.")
-    lines.append("# NAME  N_k    # E_max,k, false excursions rejected / declared by the frame dwell")
+    lines.append("# NAME  N_k    # E_max,k, false excursions rejected / declared by the dwell in force")
     table = {}
     for k in SINGLE_HYPOTHESES:
         if k == NONE:

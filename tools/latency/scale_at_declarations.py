@@ -21,21 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from f16mmae.banks import load_bank
-from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly, scenario_from_dict
-
-
-class _Scales(Estimator):
-    """The estimator with s recorded after each update."""
-
-    def __init__(self, *a, **k):
-        super().__init__(*a, **k)
-        self.scales: list[float] = []
-
-    def update(self, z):
-        out = super().update(z)
-        self.scales.append(self.turbulence_scale)
-        return out
 
 
 def main(argv=None) -> int:
@@ -47,16 +33,18 @@ def main(argv=None) -> int:
     if not records.is_file():
         p.error(f"{records}: no such file (DIR must be a campaign output)")
     bank = load_bank("scheduled")[2]
+    rate = float(bank.frame_rate_hz)
     failed, false = collections.defaultdict(list), collections.defaultdict(list)
     for line in records.read_text().splitlines():
         r = json.loads(line)
         h = args.hypothesis
         if r["case"] != h and not any(d["hypothesis"] == h for d in r["declarations"]):
             continue
-        est = _Scales(bank, **r["estimator_settings"])
-        result = fly(scenario_from_dict(r["scenario"]), bank, estimator=est, on_frame=lambda *a: None)
-        s = np.array(est.scales)
-        at = [(d["hypothesis"], d["time_s"], float(s[min(int(round(d["time_s"] * 64)), len(s) - 1)]))
+        # the whole flight in one call; the flight records s after each frame (FlightResult.turbulence_scale)
+        result = fly(scenario_from_dict(r["scenario"]), bank, estimator_options=r["estimator_settings"],
+                     record_probabilities=True)
+        s = result.turbulence_scale
+        at = [(d["hypothesis"], d["time_s"], float(s[min(int(round(d["time_s"] * rate)), len(s) - 1)]))
               for d in result.declarations]
         level = r["scenario"].get("turbulence")
         print(level, r["case"], r["run_index"], " ".join(f"{n}@{t:.2f} s={v:.1f}" for n, t, v in at), flush=True)

@@ -108,9 +108,8 @@ def estimator_options_from_args(args) -> dict:
             out[o.key] = bool(value)
         elif o.kind == "choice":
             out[o.key] = choice(o.flag, value, o.choices)
-        elif o.kind == "file":   # a path, made absolute; --dwell-nats-per-hypothesis's inline table as given
-            inline = o.key == "dwell_nats_per_hypothesis" and "=" in value
-            out[o.key] = value if inline else os.path.abspath(value)
+        elif o.kind == "file":   # a path, made absolute; a table inline as given
+            out[o.key] = value if o.is_inline(value) else os.path.abspath(value)
         elif o.kind == "table":
             out[o.key] = value
         else:

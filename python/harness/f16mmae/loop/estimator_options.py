@@ -52,6 +52,11 @@ class EstimatorOption:
     requires: str | None = None     # the key of an option this one applies with
     on_command_line: bool = True    # False: a daemon flag only (core_arguments' expansion)
     in_daemon: bool = True          # False: mmae-daemon has no flag for it (in process only, or CLOSED_LOOP)
+    inline: bool = False            # file: an argument with '=' is the table itself, not a path
+
+    def is_inline(self, value) -> bool:
+        """Whether ``value`` of this ``file`` option is its table inline (kept as given, not a path)."""
+        return self.inline and isinstance(value, str) and "=" in value
 
     @property
     def dest(self) -> str:
@@ -514,6 +519,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "Off with a climb or maneuver dwell unless --evidence-dwell-in-phases "
                          "(cpp/f16mmae/hierarchical_bank.h)"),
     EstimatorOption("dwell_nats_per_hypothesis", "--dwell-nats-per-hypothesis", "file", metavar="FILE|NAME=N,...",
+                    inline=True,
                     help="... per hypothesis: FILE (tools/latency/dwell_per_hypothesis.py; one 'NAME N' a line), or "
                          "the table inline (an argument with '=': NAME=N entries separated by commas), gives "
                          "hypothesis NAME its own evidence dwell of N nats, 0 leaving it to --dwell-s alone; a "
@@ -744,7 +750,8 @@ def check(settings: dict) -> None:
             ok = value in o.choices
         elif o.kind == "file":
             if not isinstance(value, str):
-                raise ValueError(f"{o.flag} {value!r} must be the path of a file")
+                raise ValueError(f"{o.flag} {value!r} must be the path of a file"
+                                 + (" or NAME=N entries separated by commas" if o.inline else ""))
             FILE_LOADERS[key](value)
             ok = True
         elif o.kind == "table":

@@ -335,6 +335,10 @@ own): after settle_s and while not frozen, member a's level-0 floor is floor_p_m
       .def_property_readonly("turbulence_power_ratio", prop([](auto& s) { return s.power_ratio(); }),
                              "the selector's rho of the member in force")
       .def_property_readonly("turbulence_scale", prop([](auto& s) { return s.running().turbulence_scale(); }))
+      .def_property_readonly("dwell_frames_in_force",
+                             prop([](auto& s) { return s.running().declarer().dwell_frames_in_force(); }),
+                             "the member in force's declarer: its candidate's dwell in frames on the last "
+                             "update (0: none above the threshold; declarer.h)")
       .def_property_readonly("level", prop([](auto& s) { return s.running().level(); }))
       .def_property_readonly("dwell_s", prop([](auto& s) { return s.running().declarer().options().dwell_s; }),
                              "the member in force's declaration dwell, s")

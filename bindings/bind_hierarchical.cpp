@@ -531,6 +531,11 @@ declarations and the level carry over. schedule_state reports what is in force.)
       .def_property_readonly("threshold", prop([](auto& b) { return b.declarer().options().threshold; }))
       .def_property_readonly("dwell_s", prop([](auto& b) { return b.declarer().options().dwell_s; }))
       .def_property_readonly("dwell_frames", prop([](auto& b) { return b.declarer().dwell_frames(); }))
+      .def_property_readonly("dwell_frames_in_force", prop([](auto& b) { return b.declarer().dwell_frames_in_force(); }),
+                             "the dwell in frames in force for the declarer's candidate on the last update (0: no "
+                             "hypothesis above the threshold): the phase's dwell or the candidate's least dwell, "
+                             "rough air's in rough air, the longer (declarer.h); its evidence dwell asks N_k times "
+                             "this over dwell_frames")
       .def_property_readonly("declarer_rough", prop([](auto& b) { return b.declarer().rough(); }),
                              "the rough-air least dwell in force (declarer.h): on the last accepted update the "
                              "adaptation's scale s_b was at least rough_scale")

@@ -407,8 +407,10 @@ class Frames {
     UV u_est = UV::Zero();
     py::array_t<double> probs({static_cast<py::ssize_t>(record ? n : 0), K});
     py::array_t<double> scale(static_cast<py::ssize_t>(record ? n : 0));
+    py::array_t<int> dwell_in_force(static_cast<py::ssize_t>(record ? n : 0));
     double* row = probs.mutable_data();
     double* scale_row = scale.mutable_data();
+    int* dwell_row = dwell_in_force.mutable_data();
     py::list events;
     Ticks truth_ticks = 0, est_ticks = 0;   // the frames' parts, in TickClock ticks (tick_clock.h)
     bool declared_last = false;
@@ -454,6 +456,7 @@ class Frames {
         for (py::ssize_t k = 0; k < K; ++k) row[k] = p[k];
         row += K;
         *scale_row++ = est.turbulence_scale();
+        *dwell_row++ = est.declarer().dwell_frames_in_force();
       }
     }
     clock.stop();
@@ -461,6 +464,7 @@ class Frames {
     py::dict out;
     out["probabilities"] = probs;
     out["turbulence_scale"] = scale;
+    out["dwell_frames_in_force"] = dwell_in_force;
     out["events"] = events;
     out["truth_s"] = truth_s;
     out["estimator_s"] = est_s;
@@ -647,6 +651,7 @@ void bind_truth(py::module_& m) {
     the next z (not after the last frame).
     Returns {'probabilities': (n, 13) the probabilities on line after each frame (or (0, 13)),
     'turbulence_scale': (n,) the bank's turbulence_scale after each frame (or (0,)),
+    'dwell_frames_in_force': (n,) its dwell_frames_in_force after each frame (or (0,)),
     'events': [(frame, declared name, names on line after it)], 'truth_s', 'estimator_s'
     (seconds spent in each), 'declared_last_frame'}.)doc")
       .def("set_adapted_dither", &Frames::set_adapted_dither, py::arg("mach"), py::arg("alt_ft"),

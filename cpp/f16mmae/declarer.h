@@ -294,6 +294,7 @@ class Declarer {
     candidate_ = -1;
     count_ = 0;
     evidence_nats_ = 0.0;
+    frames_in_force_ = 0;
     rough_ = false;
   }
 
@@ -304,12 +305,17 @@ class Declarer {
     candidate_ = from.candidate_;
     count_ = from.count_;
     evidence_nats_ = from.evidence_nats_;
+    frames_in_force_ = from.frames_in_force_;
     rough_ = from.rough_;
   }
   int current() const noexcept { return current_; }      // presumed or last declared
   int candidate() const noexcept { return candidate_; }  // hypothesis (component: its slot) above threshold, or -1
   int dwell_count() const noexcept { return count_; }    // consecutive frames above so far
   double dwell_evidence_nats() const noexcept { return evidence_nats_; }   // E_n so far (header)
+  // The dwell in frames in force for the candidate on the last update (0: none above): the
+  // phase's dwell or the candidate's least dwell (rough air's in rough air), the longer; its
+  // evidence dwell asks N_k times this over dwell_frames() (header).
+  int dwell_frames_in_force() const noexcept { return frames_in_force_; }
   int dwell_frames() const noexcept { return dwell_frames_; }
   const DeclarerOptions& options() const noexcept { return options_; }
   // The least dwell of hypothesis k in frames in force (header): D_k, or max(D_k, R_k) in rough
@@ -347,6 +353,7 @@ class Declarer {
       candidate_ = -1;
       count_ = 0;
       evidence_nats_ = 0.0;
+      frames_in_force_ = 0;
       return false;
     }
     if (above != candidate_) {
@@ -356,6 +363,7 @@ class Declarer {
     }
     const int hypothesis = hypothesis_of_slot == nullptr ? above : hypothesis_of_slot[above];
     const int frames = std::max(dwell_frames, least_dwell_frames_of(hypothesis));
+    frames_in_force_ = frames;
     if (count_ < frames) ++count_;
     bool enough = count_ >= frames;
     const double nats = dwell_nats_of(hypothesis);
@@ -457,6 +465,7 @@ class Declarer {
   int count_ = 0;
   double threshold_log_odds_ = 0.0;   // ln(threshold / (1 - threshold))
   double evidence_nats_ = 0.0;        // E_n of the candidate (header)
+  int frames_in_force_ = 0;           // the candidate's dwell in force on the last update (0: none)
   std::vector<double> nats_by_hypothesis_;   // N_k by hypothesis index; empty: dwell_nats for all
   std::vector<int> frames_by_hypothesis_;    // D_k in frames by hypothesis index (0: none); empty: none
   std::vector<int> rough_frames_by_hypothesis_;   // R_k likewise (header)

@@ -505,6 +505,35 @@ TEST(DeclarerRoughDwell, TheRoughTableHoldsOnlyWhileTheScaleIsAtLeastRoughScale)
   EXPECT_FALSE(reset.rough());
 }
 
+TEST(DeclarerRoughDwell, TheDwellInForceForTheCandidateIsReadAfterEachUpdate) {
+  DeclarerOptions o;   // dwell 0.25 s: 16 frames at 64 Hz
+  o.dwell_s_per_hypothesis = {{"B", 0.5}};
+  o.rough_dwell_s_per_hypothesis = {{"A", 1.0}};
+  o.rough_scale = 4.0;
+  Declarer d(o, 0, {"NONE", "A", "B"});
+  EXPECT_EQ(d.dwell_frames_in_force(), 0);   // before any update
+  const std::array<double, 3> none_above{0.5, 0.3, 0.2}, presumed{0.95, 0.03, 0.02}, a{0.02, 0.95, 0.03},
+      b{0.02, 0.03, 0.95};
+  d.update(none_above);
+  EXPECT_EQ(d.dwell_frames_in_force(), 0);
+  d.update(presumed);
+  EXPECT_EQ(d.dwell_frames_in_force(), 16);   // NONE: the declarer's own
+  d.update(b);
+  EXPECT_EQ(d.dwell_frames_in_force(), 32);   // B's least dwell in all air
+  d.update(a);
+  EXPECT_EQ(d.dwell_frames_in_force(), 16);   // A in calm air
+  d.observe_scale(5.0);
+  d.update(a);
+  EXPECT_EQ(d.dwell_frames_in_force(), 64);   // A in rough air
+  EXPECT_EQ(d.update(a, 100), -1);
+  EXPECT_EQ(d.dwell_frames_in_force(), 100);   // a longer phase dwell passed in
+  Declarer copy(o, 0, {"NONE", "A", "B"});
+  copy.carry_over(d);
+  EXPECT_EQ(copy.dwell_frames_in_force(), 100);
+  d.reset();
+  EXPECT_EQ(d.dwell_frames_in_force(), 0);
+}
+
 TEST(DeclarerRoughDwell, WithoutARoughTableTheScaleChangesNothingAndBadOptionsAreRefused) {
   DeclarerOptions o;
   o.dwell_s_per_hypothesis = {{"A", 0.5}};

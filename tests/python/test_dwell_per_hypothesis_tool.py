@@ -78,11 +78,17 @@ def test_the_tool_flies_a_tuning_campaign_again_and_writes_the_table(tmp_path):
     assert r.returncode != 0 and "was flown with an evidence dwell" in r.stderr
 
 
-def test_an_excursion_is_weighed_against_its_least_dwell(tool):
-    """A hypothesis with a least dwell in all air of L_k has its evidence dwell asked N_k L_k / D
-    wherever it is a candidate: the tool divides its excursions' evidence by that ratio (at least
-    1; the rough-air table, in force only in rough air, is left out)."""
-    ratios = tool.least_dwell_ratios({"dwell_s": 0.25, "dwell_s_per_hypothesis": "VEL=1,AOA=0.75,AZ=0.1",
-                                      "rough_dwell_s_per_hypothesis": "RUD=2"}, 64.0)
-    assert ratios == {"VEL": 4.0, "AOA": 3.0, "AZ": 1.0}
-    assert tool.least_dwell_ratios({"dwell_s": 0.25}, 64.0) == {}
+def test_an_excursion_is_bounded_by_each_frames_dwell_in_force(tool):
+    """On frame t the evidence dwell asks N_k f_t / D of the sum so far: an excursion's bound is
+    max_t E_t D / f_t with the dwell in force the flight recorded on each frame (here 16 frames,
+    then rough air's 128 from the excursion's third frame on), by hand."""
+    names = ["NONE", "A"]
+    p = np.array([[0.99, 0.005]] * 2 + [[0.005, 0.99]] * 6 + [[0.99, 0.005]] * 2)
+    time_s = np.arange(len(p)) / 64.0
+    frames = np.array([16, 16, 16, 16, 128, 128, 128, 128, 16, 16])
+    (e,) = tool.excursions(names, p, [], time_s, 0.9, lambda i: "NONE", frames_in_force=frames, dwell_frames=16)
+    assert (e["start"], e["frames"], e["rejected"]) == (2, 6, True)
+    assert e["E"] == pytest.approx(6 * EXCESS_99)
+    assert e["B"] == pytest.approx(max(2 * EXCESS_99, 6 * EXCESS_99 * 16 / 128))
+    (plain,) = tool.excursions(names, p, [], time_s, 0.9, lambda i: "NONE")
+    assert plain["B"] == pytest.approx(6 * EXCESS_99)   # 16 frames throughout: B = E

@@ -3,8 +3,10 @@
 (option table, command line, core, daemon), the daemon naming them, and flights of the shipped
 scheduled bank with its default (the rudder's 2 s while the adaptation's scale is at least 4):
 
-* in severe air, where the scale runs far above 4, a failed rudder is declared on the frame the
-  recorded p_RUD has held the threshold for 128 frames in a row, later than without the table;
+* in severe air, where the scale runs far above 4, a failed rudder is declared (the frame dwells
+  alone) on the frame the recorded p_RUD has held the threshold for 128 frames in a row, later
+  than without the table, and the flight records the 128 frames in force on each of them (with
+  the default's evidence dwell too);
 * in light air, where the scale stays below 4 at the nominal point, the declarations are those
   of the bank without the table, frame for frame.
 """
@@ -98,7 +100,9 @@ class _Scales(Estimator):
 
 
 def _flights(bank, turbulence: str):
-    settings = bank_defaults({"adapt_turbulence": True}, bank)
+    # the frame dwells alone: the default's evidence dwell declares a rudder held at the ceiling
+    # sooner (its N_k times the rough dwell over the declarer's), which the test leaves out
+    settings = bank_defaults({"adapt_turbulence": True, "dwell_nats": 0.0}, bank)
     assert settings["rough_dwell_s_per_hypothesis"] == names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS == "RUD=2,PIT=0.5,AZ=0.5"
     sc = Scenario(turbulence=turbulence, duration_s=8.0, seed=11, failures=(make_failure("RUD", 3.0),))
     with_table = _Scales(bank, **settings)
@@ -122,6 +126,31 @@ def test_in_severe_air_a_failed_rudder_waits_its_rough_dwell(scheduled):
     while i - run >= 0 and p[i - run] > 0.9:
         run += 1
     assert run == 128
+
+
+def test_the_flight_records_the_dwell_in_force_for_the_candidate(scheduled):
+    """FlightResult.dwell_frames_in_force, frame by frame as the declarer had it: 0 with no
+    hypothesis above the threshold, the declarer's 16 frames for NONE (presumed), the rudder's 128
+    while it is the candidate in severe air; the whole flight in C++ records what the estimator
+    flown frame by frame in Python reads."""
+    settings = bank_defaults({"adapt_turbulence": True}, scheduled)
+    sc = Scenario(turbulence="severe", duration_s=8.0, seed=11, failures=(make_failure("RUD", 3.0),))
+    in_cpp = fly(sc, scheduled, estimator_options=settings, record_probabilities=True)
+    in_python = fly(sc, scheduled, estimator=Estimator(scheduled, **settings), on_frame=lambda *a: None,
+                    record_probabilities=True)
+    d = in_cpp.dwell_frames_in_force
+    assert d.shape == in_cpp.time_s.shape and np.array_equal(d, in_python.dwell_frames_in_force)
+    i = int(np.argmin(np.abs(in_cpp.time_s - in_cpp.declarations[0]["time_s"])))
+    assert in_cpp.declarations[0]["hypothesis"] == "RUD"
+    p = in_cpp.probability_of("RUD")
+    start = i
+    while p[start - 1] > 0.9:
+        start -= 1
+    assert 0 < i - start < 128 and (d[start:i] == 128).all()   # declared by its evidence dwell in rough air
+    above = np.nan_to_num(in_cpp.probabilities[:i]) > 0.9
+    assert (d[:i][~above.any(axis=1)] == 0).all()
+    assert (d[:i][above[:, in_cpp.hypotheses.index("NONE")]] == 16).all()
+    assert set(np.unique(d[:i])) == {0, 16, 128}
 
 
 def test_in_light_air_the_declarations_are_the_banks_without_the_table(scheduled):

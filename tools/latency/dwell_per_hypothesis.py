@@ -14,15 +14,19 @@ dwell gathers over its frames before it ends or is declared,
 An excursion is *false* when k is not what the flight's truth would have declared: any
 hypothesis but NONE in a soak flight or before a run's failure, any hypothesis but the failed
 single after it. A false excursion that ends without k's declaration is one the frame dwell in
-force rejected (16 frames, or a least dwell, a maneuver's or the rough air's longer one). The
-evidence dwell asks N_k times the dwell in force over the declarer's own, which is at least
-r_k = max(1, L_k / D), L_k hypothesis k's least dwell in all air (the flight's
-``dwell_s_per_hypothesis``; the rough-air table only in rough air, so left out) and D the
-declarer's dwell: an evidence dwell of N_k nats could have declared the excursion only if
-E / r_k >= N_k, a bound on the safe side wherever a longer dwell was in force. So, per level-0
-single k (the hypotheses whose first declaration the latency counts),
+force rejected (16 frames, or a least dwell, a maneuver's or the rough air's longer one). On
+frame t of an excursion the evidence dwell asks N_k f_t / D nats of the sum so far E_t, f_t the
+dwell in frames in force for the candidate on that frame (the flight records it:
+``FlightResult.dwell_frames_in_force``, the phase's dwell or k's least dwell, rough air's in rough
+air, the longer) and D the declarer's own dwell in frames: an evidence dwell of N_k nats would
+have declared the excursion on its first frame with E_t D / f_t >= N_k, so it stays rejected for
+every N_k above the excursion's bound
 
-    N_k = max(floor, margin * E_max,k),   E_max,k = the largest E / r_k of k's false excursions
+    B = max over its frames t of E_t D / f_t        (exact: f_t as the declarer had it).
+
+So, per level-0 single k (the hypotheses whose first declaration the latency counts),
+
+    N_k = max(floor, margin * E_max,k),   E_max,k = the largest B of k's false excursions
                                            rejected by the dwell in force (0 if none),
 
 then, second step, N_k = 0 (``--frame-dwell-only``) for each single whose faster declaration added
@@ -74,12 +78,14 @@ from f16mmae.names import NONE, SINGLE_HYPOTHESES
 EVALUATION_SEEDS = (1, 2)
 
 
-def excursions(names, p, declarations, time_s, threshold, truth_of_frame):
+def excursions(names, p, declarations, time_s, threshold, truth_of_frame, frames_in_force=None, dwell_frames=16):
     """Every excursion of a flight: dicts (hypothesis, start frame, frames, E over its frames up
-    to its end or its declaration, false, rejected: it ended without its declaration). ``p``
-    (frames, len(names)), NaN off line; ``declarations`` the flight's [{hypothesis, time_s}]
-    (declared on the row of ``time_s`` nearest, the row its dwell completed);
-    ``truth_of_frame(i)`` the hypothesis the truth would have declared by frame i."""
+    to its end or its declaration, B its bound max_t E_t dwell_frames / f_t, false, rejected: it
+    ended without its declaration). ``p`` (frames, len(names)), NaN off line; ``declarations``
+    the flight's [{hypothesis, time_s}] (declared on the row of ``time_s`` nearest, the row its
+    dwell completed); ``truth_of_frame(i)`` the hypothesis the truth would have declared by frame
+    i; ``frames_in_force`` (frames,) the declarer's dwell in frames for its candidate after each
+    frame (None: ``dwell_frames`` on every frame), never below ``dwell_frames``."""
     decl_frames = {int(np.argmin(np.abs(time_s - d["time_s"]))): d["hypothesis"] for d in declarations}
     current = NONE
     out, run = [], None
@@ -94,11 +100,13 @@ def excursions(names, p, declarations, time_s, threshold, truth_of_frame):
             run = None
         if k is not None and k != current:
             if run is None:
-                run = {"hypothesis": k, "start": i, "frames": 0, "E": 0.0,
+                run = {"hypothesis": k, "start": i, "frames": 0, "E": 0.0, "B": 0.0,
                        "false": k != truth_of_frame(i), "rejected": True}
             run["frames"] += 1
             x = float(pz[i, cols[0]])
             run["E"] += (math.inf if x >= 1.0 else math.log(x) - math.log1p(-x)) - ln_t
+            f = dwell_frames if frames_in_force is None else max(int(frames_in_force[i]), dwell_frames)
+            run["B"] = max(run["B"], run["E"] * dwell_frames / f)
         elif run is not None:   # k became current (declared): close it
             out.append(run)
             run = None
@@ -122,25 +130,11 @@ def flight_excursions(record, bank, threshold):
 
     def truth_of_frame(i):
         return failed if fail_frame is not None and i >= fail_frame else NONE
+    dwell = max(1, round(float(result.estimator_settings.get("dwell_s", 0.25)) * float(bank.frame_rate_hz)))
     found = excursions(list(result.hypotheses), result.probabilities, result.declarations,
-                       np.asarray(result.time_s), threshold, truth_of_frame)
-    least = least_dwell_ratios(record.get("estimator_settings") or {}, float(bank.frame_rate_hz))
-    for e in found:   # the evidence against N_k: the rule asks N_k times at least this ratio
-        e["ratio"] = least.get(e["hypothesis"], 1.0)
-        e["E_per_ratio"] = e["E"] / e["ratio"]
+                       np.asarray(result.time_s), threshold, truth_of_frame,
+                       frames_in_force=result.dwell_frames_in_force, dwell_frames=dwell)
     return found, result
-
-
-def least_dwell_ratios(settings: dict, frame_rate_hz: float) -> dict[str, float]:
-    """Each single's least dwell in all air over the declarer's dwell, at least 1
-    (``dwell_s_per_hypothesis``, cpp/f16mmae/declarer.h): the least the evidence dwell's N_k is
-    multiplied by wherever the hypothesis is a candidate. The rough-air table is left out (it
-    holds only in rough air), so the ratio is a lower bound there too."""
-    from f16mmae.loop.estimator_options import parse_dwell_s_table
-    dwell = max(1, round(float(settings.get("dwell_s", 0.25)) * frame_rate_hz))
-    table = settings.get("dwell_s_per_hypothesis") or {}
-    table = table if isinstance(table, dict) else parse_dwell_s_table(table)
-    return {k: max(1.0, max(1, round(float(v) * frame_rate_hz)) / dwell) for k, v in table.items()}
 
 
 def campaign_records(d: Path):
@@ -288,8 +282,8 @@ def main() -> None:
         "# tools/latency/dwell_per_hypothesis.py from the tuning campaigns",
         f"#   {names}",
         f"# N_k = max(floor {a.floor:g}, margin {a.margin:g} x E_max,k), E_max,k the largest log-odds excess",
-        f"# a false excursion of k gathered that the dwell in force rejected (threshold {threshold:g}), over",
-        "# k's least dwell in all air in dwells of the declarer (at least 1).",
+        f"# a false excursion of k gathered that the dwell in force rejected (threshold {threshold:g}), each",
+        "# frame's sum over the dwell in frames in force for it then, in dwells of the declarer.",
         "# Hypotheses not named (NONE, the level-1 duals) take --dwell-nats (0: the frame dwell alone).",
     ]
     if only:
@@ -301,7 +295,7 @@ def main() -> None:
         if k == NONE:
             continue
         fx = [e for e in found if e["hypothesis"] == k and e["false"]]
-        rej = [e.get("E_per_ratio", e["E"]) for e in fx if e["rejected"]]
+        rej = [e["B"] for e in fx if e["rejected"]]
         e_max = max(rej, default=0.0)
         n_k = max(a.floor, a.margin * e_max)
         n_k = 0.0 if k in only else min(n_k, 1.0e6)

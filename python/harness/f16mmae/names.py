@@ -212,16 +212,17 @@ SCHEDULE_ROUGH_SCALE = 4.0
 #: dwells (``--evidence-dwell-in-phases``, cpp/f16mmae/hierarchical_bank.h): a hypothesis whose
 #: log-odds above the threshold's, summed over its frames above it, reach N_k nats is declared
 #: before the 16-frame dwell ends. N_k = max(32, 1.5 E_max,k), E_max,k the most a false excursion
-#: of k gathered that the dwell in force rejected, over k's least dwell in all air in 16-frame
-#: dwells (VEL 4, AOA 3: the rule asks N_k times that), over 14,428 tuning flights flown with the
+#: of k gathered that the dwell in force rejected, each frame's sum over the dwell in force for k
+#: on that frame in 16-frame dwells (the rule asks N_k times that: VEL 4 and AOA 3 everywhere, RUD
+#: 8 and PIT and AZ 2 in rough air, a maneuver's longer), over 14,428 tuning flights flown with the
 #: frame dwell alone (seeds 7-10: single campaigns at four levels, failures at 3 s and at 20-21 s;
 #: 280 h of soaks at the nominal point and the trimmable edge, pilotless and holding; seed 7 also
 #: the maneuvers, 60 random points, 40 h at Mach 0.35, 25,000 ft and the maneuvering tour, which
 #: seed 8 flies too; tools/latency/dwell_per_hypothesis.py, docs/results/detection_latency.md,
-#: round 42). RUD, PIT and AZ, whose false excursions in rough air reach hundreds of nats, and VEL
-#: are left to their frame dwells in effect.
-SCHEDULE_DWELL_NATS_PER_HYPOTHESIS = ("LS=221.4,RS=128.7,LF=83.6,RF=120,RUD=992.5,VEL=287.3,AOA=152.1,"
-                                      "PIT=548.7,AZ=409.7,ROL=120.7,YAW=32,AY=99.1")
+#: rounds 42-43). VEL's 287 asks 1,149 nats in its 1-s dwell, which leaves it to the frame dwell in
+#: effect.
+SCHEDULE_DWELL_NATS_PER_HYPOTHESIS = ("LS=221.4,RS=128.7,LF=83.6,RF=120,RUD=124.1,VEL=287.3,AOA=152.1,"
+                                      "PIT=274.4,AZ=204.8,ROL=120.7,YAW=32,AY=99.1")
 #: The scheduled estimator's calm-air complete model (``--calm-complete``, with the turbulence
 #: adaptation, on a schedule whose nodes carry a calm-air reference; loop/estimator_options.py
 #: scheduled_defaults; cpp/f16mmae/calm_air_complete.h): while the measured power ratio is below the

@@ -206,6 +206,12 @@ class Estimator:
         return float(self._bank.turbulence_scale)
 
     @property
+    def dwell_frames_in_force(self) -> int:
+        """The declarer's dwell in frames in force for its candidate on the last update (0: no
+        hypothesis above the threshold; cpp/f16mmae/declarer.h): what its evidence dwell scales N_k by."""
+        return int(self._bank.dwell_frames_in_force)
+
+    @property
     def turbulence_power_ratio(self) -> float:
         """The adaptation's averaged residual power ratio rho (of the running member for a set)."""
         return float(self._bank.turbulence_power_ratio)

@@ -98,6 +98,10 @@ class FlightResult:
     #: the probabilities (1.0 throughout with the adaptation off; NaN for an estimator without
     #: one, e.g. over LCM); an empty array when probabilities are not recorded.
     turbulence_scale: np.ndarray = field(default=None, repr=False)
+    #: The declarer's dwell in frames in force for its candidate after each frame (frames,), recorded
+    #: with the probabilities (``Estimator.dwell_frames_in_force``: 0 with no hypothesis above the
+    #: threshold; -1 for an estimator without one); an empty array when probabilities are not recorded.
+    dwell_frames_in_force: np.ndarray = field(default=None, repr=False)
     #: The truth's track (``TruthModel.track``): time s, Mach and pressure altitude ft of the
     #: aircraft's ideal air data at every whole second, for scoring (never the estimator's).
     track: np.ndarray = field(default=None, repr=False)
@@ -246,6 +250,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         t_truth += out["truth_s"]
         t_est += out["estimator_s"]
         events, probs, scale = out["events"], out["probabilities"], out["turbulence_scale"]
+        dwell_in_force = out["dwell_frames_in_force"]
         estimator.last_declaration = events[-1][1] if out["declared_last_frame"] else None
         n_frames_python = 0
     else:
@@ -253,6 +258,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         events = []  # as the C++ flight returns them: (frame, hypothesis, hypotheses on line)
         probs = np.full((n_frames if record_probabilities else 0, len(columns)), np.nan)
         scale = np.full(n_frames if record_probabilities else 0, np.nan)
+        dwell_in_force = np.full(n_frames if record_probabilities else 0, -1, dtype=np.int32)
     clock = time.perf_counter
     step = truth.step
     a = clock()
@@ -313,6 +319,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                 probs = np.hstack([probs, np.full((n_frames, len(p) - probs.shape[1]), np.nan)])
             probs[i, : len(p)] = p
             scale[i] = getattr(estimator, "turbulence_scale", np.nan)
+            dwell_in_force[i] = getattr(estimator, "dwell_frames_in_force", -1)
     truth.detach(fcs)
     truth.close()
     declarations = [{"hypothesis": name, "time_s": round(frame * dt, 9)} for frame, name, _ in events]
@@ -337,6 +344,7 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                 "frames": n_frames},
         estimator_settings=dict(getattr(estimator, "settings", {})),
         turbulence_scale=scale,
+        dwell_frames_in_force=dwell_in_force,
         track=truth.track,
         series=({"u": rec_u, "z": rec_z, "z_hat": rec_z_hat, "air_data": rec_air, "truth_log": truth.truth_log}
                 if record_series else None),

@@ -92,3 +92,20 @@ def test_an_excursion_is_bounded_by_each_frames_dwell_in_force(tool):
     assert e["B"] == pytest.approx(max(2 * EXCESS_99, 6 * EXCESS_99 * 16 / 128))
     (plain,) = tool.excursions(names, p, [], time_s, 0.9, lambda i: "NONE")
     assert plain["B"] == pytest.approx(6 * EXCESS_99)   # 16 frames throughout: B = E
+
+
+def test_the_largest_excursion_is_named_with_the_command_that_flies_its_run_again(tool, tmp_path):
+    """Each run's label names its campaign and its seed, kind, point, maneuver, turbulence, case and
+    index; the line under a hypothesis' N_k names the excursion that set it, its frames, and the run's
+    ``f16mmae run`` command (the campaigns' drill-down command)."""
+    record = {"kind": "single", "point": "R7", "case": "AOA", "run_index": 4, "bank": "scheduled",
+              "tuning": "scheduled",
+              "scenario": {"seed": 11, "duration_s": 8.0, "turbulence": "light", "mach": 0.4, "alt_ft": 20000.0,
+                           "feedback": "mmae", "failures": [{"name": "AOA", "time_s": 3.0, "mode": "complete"}]},
+              "estimator": {"dwell_nats": 0.0}}
+    label = tool.run_label(tmp_path / "SETTLED", 8, record)
+    assert label == "SETTLED@seed8:single:R7:-:light:AOA:4"
+    line = tool.provenance({"run": label, "start": 1465, "frames": 13}, {label: tool.record_command(record)})
+    assert line.startswith("#   largest: SETTLED@seed8:single:R7:-:light:AOA:4, frames 1465-1477: "
+                           "f16mmae run --seed 11 ")
+    assert "--fail AOA@3.0:complete" in line and "--bank scheduled" in line and "--dwell-nats 0" in line

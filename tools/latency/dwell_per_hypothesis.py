@@ -35,7 +35,9 @@ declaration puts the level-1 bank on line earlier in the failure's transient, wh
 rise: a cost the excursions do not show). Every other hypothesis (NONE's back-out, the level-1
 duals) is left out of the file: it
 takes ``--dwell-nats`` (0: the frame dwell alone), so the second failures and the back-outs keep
-the shipped rule. The file is one ``NAME N`` a line, the rule and its inputs in '#' comments;
+the shipped rule. The file is one ``NAME N`` a line, the rule and its inputs in '#' comments,
+under each N_k the run and frames of the excursion that set it and the ``f16mmae run`` command
+that flies that run again;
 ``--tuning TOML`` also writes the table as that tuning's ``[estimator] dwell_nats_per_hypothesis``
 (design/tuning.py), the key ``f16mmae design`` stores in the bank (each hypothesis' dwell_nats):
 
@@ -71,6 +73,7 @@ from pathlib import Path
 import numpy as np
 
 from f16mmae.banks import load_bank
+from f16mmae.campaign.engine.drilldown import record_command
 from f16mmae.loop.flight import fly, scenario_from_dict
 from f16mmae.names import NONE, SINGLE_HYPOTHESES
 
@@ -135,6 +138,24 @@ def flight_excursions(record, bank, threshold):
                        np.asarray(result.time_s), threshold, truth_of_frame,
                        frames_in_force=result.dwell_frames_in_force, dwell_frames=dwell)
     return found, result
+
+
+def run_label(d: Path, seed, record: dict) -> str:
+    """A run's name in the excursions: its campaign directory and campaign seed, kind, point,
+    maneuver, turbulence, case and run index (one run of the tool's campaigns each)."""
+    scenario = record.get("scenario") or {}
+    return ":".join(str(x) for x in (f"{d.name}@seed{seed}", record.get("kind"), record.get("point") or "-",
+                                     record.get("maneuver") or "-", scenario.get("turbulence"),
+                                     record.get("case"), record.get("run_index")))
+
+
+def provenance(excursion: dict, commands: dict[str, str]) -> str:
+    """The comment line under a hypothesis' N_k naming the excursion that set E_max,k: its run,
+    first frame and length, and the command that flies that run again (frame dwell alone, as the
+    tuning campaign flew it)."""
+    command = commands.get(excursion["run"], "(run not among the campaigns read)")
+    return (f"#   largest: {excursion['run']}, frames {excursion['start']}-"
+            f"{excursion['start'] + excursion['frames'] - 1}: {command}")
 
 
 def campaign_records(d: Path):
@@ -247,6 +268,10 @@ def main() -> None:
         if not path.parent.is_dir():
             raise SystemExit(f"dwell_per_hypothesis: cannot write {path}: no directory {path.parent}")
     loaded = [(d, *campaign_records(d)) for d in a.campaigns]
+    # the commands fly the frame dwell alone, as the tool does (a scheduled default's table is off)
+    commands = {run_label(d, summary.get("seed"), rec):
+                record_command({**rec, "estimator": {**rec["estimator"], "dwell_nats": 0.0}})
+                for d, records, summary in loaded for rec in records}
     for d, records, summary in loaded:
         flown_frame_dwell(records, summary, d)
     first = loaded[0][2]
@@ -261,8 +286,8 @@ def main() -> None:
     if a.reuse:
         found = [json.loads(line) for line in a.excursions.read_text().splitlines() if line.strip()]
     else:
-        tasks = [(rec, threshold, f"{d.name}:{rec.get('kind')}:{rec.get('case')}:{rec.get('run_index')}")
-                 for d, records, _ in loaded for rec in records]
+        tasks = [(rec, threshold, run_label(d, summary.get("seed"), rec))
+                 for d, records, summary in loaded for rec in records]
         differ = []
         with ProcessPoolExecutor(a.workers, initializer=_load, initargs=(tuning,)) as pool:
             for n, (ex, same, label) in enumerate(pool.map(_fly, tasks, chunksize=4), 1):
@@ -289,7 +314,8 @@ def main() -> None:
     if only:
         lines.append(f"# N_k = 0 (the frame dwell alone) for {', '.join(only)}: declared faster, they added a "
                      f"transient-wrong run or false alarm on the tuning campaigns flown with the table.")
-    lines.append("# NAME  N_k    # E_max,k, false excursions rejected / declared by the dwell in force")
+    lines.append("# NAME  N_k    # E_max,k, false excursions rejected / declared by the dwell in force;")
+    lines.append("#   largest: the run and frames that set E_max,k, and the command that flies it again")
     table = {}
     for k in SINGLE_HYPOTHESES:
         if k == NONE:
@@ -297,10 +323,13 @@ def main() -> None:
         fx = [e for e in found if e["hypothesis"] == k and e["false"]]
         rej = [e["B"] for e in fx if e["rejected"]]
         e_max = max(rej, default=0.0)
+        largest = max((e for e in fx if e["rejected"]), key=lambda e: e["B"], default=None)
         n_k = max(a.floor, a.margin * e_max)
         n_k = 0.0 if k in only else min(n_k, 1.0e6)
         table[k] = n_k
         lines.append(f"{k:5s} {n_k:8.1f}   # {e_max:.1f}, {len(rej)} / {len(fx) - len(rej)}")
+        if largest is not None:
+            lines.append(provenance(largest, commands))
     a.out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     if a.tuning is not None:

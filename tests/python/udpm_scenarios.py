@@ -28,7 +28,7 @@ import lcm
 import numpy as np
 import pytest
 
-from f16mmae import core
+from f16mmae import core, names
 from f16mmae.banks import load_bank
 from f16mmae.design.turbulence_banks import START, TRIM_TIME_CONSTANT_S
 from latency_driver import find_tool
@@ -404,7 +404,8 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             "complete in calm air VEL 1 by either "  # the scheduled defaults:
             "(whiteness below 0.78)), "
             "set tempering 0.25 from rho 0 full 734, "  # LS RS LF RF VEL AOA AZ kept at s (names.ADAPT_SET_TEMPERING_FULL)
-            "trim tracking 2 s (freeze above 0.5), complete failures on the trim averaged over 10 s held while declared, "   # the scheduled default too
+            "trim tracking 2 s (freeze above 0.5), complete failures on the trim averaged over "
+            f"{names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S:g} s held while declared, "   # the scheduled default too
             "schedule nearest on air data low-passed 2 s, maneuver kinematics, "  # the core's default low-pass
             "tempering 0.1 g, actuator limits, "
             "alpha tempering 1 deg beyond 0.75 deg sqrt(s))" in out), out   # the scheduled default's

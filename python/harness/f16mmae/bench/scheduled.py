@@ -38,7 +38,8 @@ TARGET_SCHEDULED_US = 2.0
 #: The variant with the scheduled default's calm-air rule (cpp/f16mmae/calm_air_complete.h, the
 #: residual whiteness and the power ratio: names.SCHEDULE_CALM_MEASURE).
 CALM_RULE = "tuned bank + adaptation + calm-air rule"
-#: The scheduled frame with the complete failures' trim averaged over 10 s (the scheduled default)
+#: The scheduled frame with the complete failures' trim averaged as the scheduled default does
+#: (names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S)
 #: and held while a failure is suspected (the more often held of its two rules;
 #: cpp/f16mmae/complete_trim_hold.h).
 TRIM_HOLD = "scheduled, interpolate + complete trim hold"
@@ -133,7 +134,8 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
             "scheduled, interpolate": (scheduled, air, "interpolate", {}),
             "scheduled, nearest": (scheduled, air, "nearest", {}),
             TRIM_HOLD: (scheduled, air, "interpolate", {"complete_trim_hold": "suspected",
-                                                                  "complete_trim_time_constant_s": 10.0})}
+                                                                  "complete_trim_time_constant_s":
+                                                                      names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S})}
     for label, (bank, a, mode, kw) in runs.items():
         per_frame, worst = core._bench_hierarchical_loop(bank, z, u, air_data=a, min_time_s=min_time_s,
                                                          schedule_mode=mode, **kw)

@@ -149,6 +149,15 @@ struct DeclarerOptions {
 // The evidence dwell's upper bound, kMaxDwellNats (estimator_settings.h): 16 frames at the
 // ceiling of K = 13 and p_min 0 in double precision (ln(1/eps) = 36 nats a frame) is far below it.
 
+// The refusal of a per-hypothesis table's value v of hypothesis `name` outside [0, max] (the
+// tables' parsers below): "" to accept, else "<name>'s <quantity> must lie in [0, <max>] <unit>,
+// got <v>".
+inline std::string refuse_outside(const std::string& name, double v, const char* quantity, double max,
+                                  const char* unit) {
+  if (v >= 0.0 && v <= max) return "";
+  return name + "'s " + quantity + " must lie in [0, " + format_value(max) + "] " + unit + ", got " + format_value(v);
+}
+
 // The per-hypothesis table of a file (header): one "NAME N" a line, '#' starts a comment.
 // Throws std::invalid_argument naming `source` and the line for a line that is not a name and
 // a number in [0, kMaxDwellNats], or a name given twice; the names are checked against the
@@ -168,12 +177,8 @@ inline std::map<std::string, double> parse_dwell_nats_table(const std::string& t
     if (!ok)
       throw std::invalid_argument(source + " line " + std::to_string(number) +
                                   ": expected 'NAME N' (a hypothesis and its evidence dwell in nats), got '" + line + "'");
-    if (!(n >= 0.0 && n <= kMaxDwellNats)) {
-      std::ostringstream bound;
-      bound << kMaxDwellNats;
-      throw std::invalid_argument(source + " line " + std::to_string(number) + ": " + name + "'s N must lie in [0, " +
-                                  bound.str() + "] nats, got " + value);
-    }
+    if (const std::string why = refuse_outside(name, n, "N", kMaxDwellNats, "nats"); !why.empty())
+      throw std::invalid_argument(source + " line " + std::to_string(number) + ": " + why);
     if (!out.emplace(name, n).second)
       throw std::invalid_argument(source + " line " + std::to_string(number) + ": hypothesis '" + name +
                                   "' given twice");
@@ -197,10 +202,8 @@ inline std::map<std::string, double> read_dwell_nats_table(const std::string& pa
 // [0, kMaxDwellNats], or a name given twice; the names are checked where the table is used.
 inline std::map<std::string, double> parse_dwell_nats_per_hypothesis(const std::string& text) {
   return parse_name_values(text, "dwell_nats_per_hypothesis", "NAME=N (a hypothesis and its evidence dwell in nats)",
-                           "hypothesis", [](const std::string& name, double n) -> std::string {
-                             if (n >= 0.0 && n <= kMaxDwellNats) return "";
-                             return name + "'s N must lie in [0, " + format_value(kMaxDwellNats) + "] nats, got " +
-                                    format_value(n);
+                           "hypothesis", [](const std::string& name, double n) {
+                             return refuse_outside(name, n, "N", kMaxDwellNats, "nats");
                            });
 }
 
@@ -219,10 +222,8 @@ inline std::map<std::string, double> dwell_nats_table_argument(const std::string
 // where the table is used (Declarer).
 inline std::map<std::string, double> parse_dwell_s_per_hypothesis(const std::string& text) {
   return parse_name_values(text, "dwell_s_per_hypothesis", "NAME=S (a hypothesis and its least dwell in seconds)",
-                           "hypothesis", [](const std::string& name, double d) -> std::string {
-                             if (d >= 0.0 && d <= kMaxDwellS) return "";
-                             return name + "'s dwell must lie in [0, " + format_value(kMaxDwellS) + "] s, got " +
-                                    format_value(d);
+                           "hypothesis", [](const std::string& name, double d) {
+                             return refuse_outside(name, d, "dwell", kMaxDwellS, "s");
                            });
 }
 

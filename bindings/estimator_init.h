@@ -223,6 +223,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::spare_rho>("adapt_spare_rho"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::level_scale_from>(
           "adapt_level_scale_from"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::floor_time_constant_s>(
+          "adapt_floor_time_constant_s"),
       field<&O::spare_dwell_s>("spare_dwell_s"),
       field<&O::evidence_dwell_in_phases>("evidence_dwell_in_phases"),
       // the climb reference

@@ -373,6 +373,14 @@ const std::vector<Flag>& flags() {
        "a scheduled bank's --adapt-turbulence, its default in process)",
        number(adaptation(&TurbulenceAdaptationOptions::level_scale_from), {1.0, 1000.0}, "a scale in [1, 1000]"),
        nullptr, "--adapt-turbulence", adapting},
+      {"--adapt-floor", "TAU_S",
+       "a lull floor on the adaptation's scale: s reads the larger of its residual power ratio and that ratio "
+       "averaged over TAU_S seconds, so a burst after a lull in the gusts does not meet the untempered design "
+       "(turbulence_adaptation.h; default 0: off; 'f16mmae hil' gives a scheduled bank's with --adapt-turbulence, "
+       "its default in process)",
+       number(adaptation(&TurbulenceAdaptationOptions::floor_time_constant_s), {0.0, 3600.0},
+              "0 or a time in [the averaging time, 3600] s"),
+       nullptr, "--adapt-turbulence", adapting},
       {"--calm-complete", "NAME=RHO,...",
        "while the adaptation's measured power ratio is below RHO (decided while no failure is presumed or rising), "
        "the hypotheses that read measurement NAME as a tracked level read it as the paper's complete failure, the "

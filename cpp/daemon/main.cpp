@@ -269,6 +269,10 @@ int main(int argc, char** argv) {
       if (options.bank.adaptation.enabled && !cfg.adapt_level_scale_channel.empty())
         adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_level_scale_channel + " level scaled from " +
                                                      f16mmae::format_value(options.bank.adaptation.level_scale_from));
+      if (options.bank.adaptation.enabled && options.bank.adaptation.floor_time_constant_s > 0.0)
+        adaptation.insert(adaptation.size() - 1,
+                          ", lull floor over " + f16mmae::format_value(options.bank.adaptation.floor_time_constant_s) +
+                              " s");
       if (executive->estimator().members() == 0 && options.bank.adaptation.enabled && !cfg.adapt_excluded_channel.empty())
         adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_excluded_channel + " levels excluded");
       if (options.bank.adaptation.enabled && !running.calm_complete.rho.empty()) {   // calm_air_complete.h

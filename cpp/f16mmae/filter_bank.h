@@ -417,6 +417,7 @@ class FilterBank {
   void reset_adaptation() noexcept { scale_.reset(); }
   void set_adapt_power_ratio(double rho) noexcept { scale_.set_power_ratio(rho); }
   void set_adapt_power_scale(double sigma) noexcept { scale_.set_power_scale(sigma); }
+  void set_adapt_floor_held(bool held) noexcept { scale_.hold_floor(held); }   // turbulence_adaptation.h
   // A further likelihood scale s_e >= 1 for the coming updates, set by the caller frame by
   // frame (the maneuver tempering of maneuver_kinematics.h): l_k = -q_k / (2 s s_e). s_e = 1
   // (the default, and after reset()) leaves every l_k bit for bit as without it.

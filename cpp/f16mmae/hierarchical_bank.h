@@ -331,6 +331,8 @@ class HierarchicalBank {
       const bool held = rule == TrimHold::kDeclared ? failure_declared() : rule == TrimHold::kSuspected && trim_freezing();
       bank_.set_held_offset(trim_hold_.observe(trim_in_force_, held));
     }
+    if (options_.bank.adaptation.floor_time_constant_s > 0.0)   // the lull floor, held in a flight phase
+      bank_.set_adapt_floor_held(climb_ref_.climbing() || maneuver_dwell_.maneuvering());   // (turbulence_adaptation.h)
     if (maneuver_.tempering()) {   // maneuver_kinematics.h
       maneuver_.observe_spread(bank_.z_hat());
       bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat(), bank_.turbulence_scale()));

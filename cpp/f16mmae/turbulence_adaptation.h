@@ -58,6 +58,31 @@
 //     on how long it has flown. set_power_ratio ends the running start (the average goes on from
 //     the ρ it is given).
 //
+// Lull floor (floor_time_constant_s τ_L >= τ; 0, the default, is off: bit for bit without): a
+// second, longer average of the same minimum, and the scale reads the larger of the two,
+//     ρ_L ← ρ_L + α_L (min(x, ρ_clip) − ρ_L),   α_L = 1 − exp(−1 / (τ_L f)),
+//     s = clamp(1 + κ (max(ρ, ρ_L)/σ − ρ_0),  s_min, s_max)
+//   (ρ_L starts and resets at σ ρ_0 with ρ, is set with it by set_power_ratio, and is not a
+//   running start's plain mean). Why: the turbulence's intensity is the air mass's and changes
+//   over minutes, while the gusts' power over τ has lulls (the Dryden gusts' low bandwidth; κ
+//   turns a small dip of ρ into a large one of s): in moderate air at the nominal point s spends
+//   a few per cent of its frames at 1 against a median of 2-4, and a burst that follows a lull
+//   meets the design's untempered A_k until ρ has risen over τ. The false flaperon and
+//   roll-gyro declarations of 40 h of moderate-air soaks at the nominal point began at s 1-1.55
+//   against flight medians of 2-4 (docs/results/turbulence_adaptation.md, round 44). The floor holds the last minute's tempering through a
+//   lull and leaves s alone wherever ρ is above it, and a failure, which by the minimum does not
+//   raise ρ, does not raise ρ_L either. Why not a slower fall of ρ itself (the last burst's
+//   tempering held): it holds s near its peaks, and the flaperon failures in moderate air, whose
+//   evidence is the dither's against the gusts', are then missed (round 44: 7 of 20 found). A
+//   plain mean from the start (as ρ̄) would temper a failure 3 s into a flight in rough air by the
+//   air's full scale, where ρ is still rising: the severe single-failure runs lost 4 of 120.
+//   Only s (and through it the per-channel and per-hypothesis forms); scale_at() and ρ̄ read ρ.
+//   Held (hold_floor; the hierarchical bank holds it in a flight phase, climbing or maneuvering:
+//   hierarchical_bank.h): ρ_L keeps its value and s reads ρ alone. Why: a climb's or a turn's
+//   onset lifts every residual the models do not carry, which is no gust, and a floor that took
+//   it in held s at the onset's 7-8 for a minute after it (a flaperon failing 4 s into a climb
+//   in light air, found 3-7 s after it without the floor, was then missed in 7 of 10 runs).
+//
 // Power scale σ (set_power_scale, default 1; a scheduled bank's node reference scale,
 // bank_schedule.h): the bank's power ratio in the units of another bank's, ρ/σ, is what the
 // scale reads,
@@ -220,7 +245,7 @@
 
 namespace f16mmae {
 
-// alignas(16), 112 bytes: it sits inside FilterBankOptions, the first member of the banks, and
+// alignas(16), 128 bytes: it sits inside FilterBankOptions, the first member of the banks, and
 // a shift of the banks' Eigen members by other than a multiple of 16 bytes changes Eigen's
 // alignment peeling, hence the rounding of the blend: "off" would not be bit-identical.
 struct alignas(16) TurbulenceAdaptationOptions {
@@ -244,6 +269,7 @@ struct alignas(16) TurbulenceAdaptationOptions {
   std::uint32_t level_scale_channels = 0;  // at every level: l_k += (n / 2) ln max(s / s_0, 1), n of these level channels k reads (filter_bank.h)
   double spare_rho = 0.0;                // ρ_s: the sparing only while ρ̄ >= ρ_s (header); 0: at any ρ̄
   double level_scale_from = 1.0;         // s_0 of level_scale_channels (filter_bank.h); 1: (n / 2) ln s
+  double floor_time_constant_s = 0.0;    // τ_L of the lull floor's long average ρ_L (header); 0: off
 };
 
 // Throws std::invalid_argument "<who>: <option> must be <range>, got <value>".
@@ -266,6 +292,10 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
   if (!(o.spare_rho >= 0.0 && o.spare_rho <= 100.0)) refuse("adapt_spare_rho", "in [0, 100]", o.spare_rho);
   if (!(o.level_scale_from >= 1.0 && o.level_scale_from <= 1000.0))
     refuse("adapt_level_scale_from", "in [1, 1000]", o.level_scale_from);
+  if (!(o.floor_time_constant_s == 0.0 ||
+        (o.floor_time_constant_s >= o.time_constant_s && o.floor_time_constant_s <= 3600.0)))
+    refuse("adapt_floor_time_constant_s", "0 (off) or in [adapt_time_constant_s = " + format_value(o.time_constant_s) +
+           ", 3600] s", o.floor_time_constant_s);
   if (o.hypothesis_weight < 1.0 && o.channel_weight > 0.0)
     throw std::invalid_argument(who + ": adapt_hypothesis_weight below 1 needs the common scale (adapt_channel_weight 0), got " +
                                 format_value(o.channel_weight));
@@ -288,6 +318,7 @@ class ResidualScale {
     options_ = o;
     nz_ = static_cast<double>(nz);
     alpha_ = 1.0 - std::exp(-1.0 / (o.time_constant_s * o.frame_rate_hz));
+    alpha_floor_ = o.floor_time_constant_s > 0.0 ? 1.0 - std::exp(-1.0 / (o.floor_time_constant_s * o.frame_rate_hz)) : 0.0;
     rho_clip_ = 10.0 * o.scale_max;
     mean_length_ = running_mean_length(alpha_);
     channel_rho_.setZero(nz);
@@ -336,7 +367,9 @@ class ResidualScale {
     const double x = lo / nz_;
     // a_i = max(1 / i, alpha): 1 / i for i <= mean_length_, alpha from there on (running_mean.h)
     const double a = measured_updates_ < mean_length_ ? 1.0 / static_cast<double>(++measured_updates_) : alpha_;
-    rho_ += (rho_running_ ? a : alpha_) * ((x < rho_clip_ ? x : rho_clip_) - rho_);
+    const double target = x < rho_clip_ ? x : rho_clip_;
+    rho_ += (rho_running_ ? a : alpha_) * (target - rho_);
+    if (!floor_held_) rho_long_ += alpha_floor_ * (target - rho_long_);   // the lull floor's ρ_L (header; α_L = 0: off)
     measured_ += a * (x - measured_);
     set_scale();
   }
@@ -362,6 +395,7 @@ class ResidualScale {
     options_.reference = reference;
     if (at_start_) {
       rho_ = power_scale_ * reference;
+      rho_long_ = rho_;
       channel_rho_.setConstant(rho_);
     }
     set_scale();
@@ -372,6 +406,7 @@ class ResidualScale {
   void set_power_ratio(double rho) noexcept {
     if (!(rho >= 0.0 && rho < std::numeric_limits<double>::infinity())) return;
     rho_ = rho;
+    rho_long_ = rho;
     rho_running_ = false;   // a known ρ: the average goes on from it
     at_start_ = false;
     channel_rho_.setConstant(rho);
@@ -385,15 +420,27 @@ class ResidualScale {
     power_scale_ = sigma;
     if (at_start_) {
       rho_ = sigma * options_.reference;
+      rho_long_ = rho_;
       channel_rho_.setConstant(rho_);
     }
     set_scale();
     set_channel_scales();
   }
   double power_scale() const noexcept { return power_scale_; }
+  // The lull floor held (header): while held, ρ_L keeps its value and s reads ρ alone; s follows
+  // at once. Released by the caller, and by reset().
+  void hold_floor(bool held) noexcept {
+    if (held == floor_held_) return;
+    floor_held_ = held;
+    set_scale();
+    set_channel_scales();
+  }
+  bool floor_held() const noexcept { return floor_held_; }
   // Back to the start: ρ = σ ρ_0, s = clamp(1, s_min, s_max); ρ̄ restarts (0, no update averaged).
   void reset() noexcept {
     rho_ = power_scale_ * options_.reference;
+    rho_long_ = rho_;
+    floor_held_ = false;
     rho_running_ = options_.running_start;
     at_start_ = true;
     measured_ = 0.0;
@@ -411,7 +458,7 @@ class ResidualScale {
     return s < options_.scale_min ? options_.scale_min : (s > options_.scale_max ? options_.scale_max : s);
   }
   void set_scale() noexcept {
-    s_ = clamped_scale(rho_);
+    s_ = clamped_scale(alpha_floor_ > 0.0 && !floor_held_ && rho_long_ > rho_ ? rho_long_ : rho_);   // the lull floor (header)
     inv_s_ = 1.0 / s_;
   }
   void set_channel_scales() noexcept {
@@ -422,6 +469,8 @@ class ResidualScale {
   }
 
   TurbulenceAdaptationOptions options_{};
+  double alpha_floor_ = 0.0, rho_long_ = 1.0;   // the lull floor's α_L and ρ_L (header)
+  bool floor_held_ = false;                      // hold_floor (header)
   double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0, measured_ = 0.0;
   double power_scale_ = 1.0;            // σ (header)
   std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to mean_length_

@@ -379,6 +379,20 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-level-scale-from", "0.5"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-level-scale-from must be a scale in [1, 1000]"), std::string::npos) << r.message;
+  // the adaptation's lull floor (turbulence_adaptation.h), with the adaptation only
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.bank.adaptation.floor_time_constant_s, 0.0);
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-floor", "60"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.bank.adaptation.floor_time_constant_s, 60.0);
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-floor", "-1"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-floor must be 0 or a time in [the averaging time, 3600] s"), std::string::npos)
+      << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-floor", "30"}, nullptr);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.message.find("--adapt-floor applies with --adapt-turbulence only"), std::string::npos) << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-level-scale-channel", "vel"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-level-scale-channel applies with --adapt-turbulence only"), std::string::npos)

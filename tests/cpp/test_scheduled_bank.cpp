@@ -1039,6 +1039,51 @@ TEST(ScheduleFile, TheCalmAirReferenceIsFormatFourAndBlendedWithTheFilters) {
 // force (at a node, that node's; 1 without it) and handed to the turbulence adaptation as its
 // power scale, the references left in force as they are (the node's, and the climb's while the
 // air data climb); carried by every node or none, in (0, 100].
+// The adaptation's lull floor (turbulence_adaptation.h) is held while the air data climb (the
+// climb reference's phase, climb_reference.h) and released with the phase.
+TEST(ScheduledBank, TheLullFloorIsHeldWhileClimbing) {
+  const ModelBank mb = scheduled_bank(make_schedule());
+  HierarchicalOptions o = options(ScheduleMode::kNearest);
+  o.bank.adaptation.enabled = true;
+  o.bank.adaptation.floor_time_constant_s = 60.0;
+  o.climb_reference.reference = 0.6;
+  o.climb_reference.hold_s = 0.0;
+  F16HierarchicalBank hb(mb, o);
+  const Frames f = fly(node_bank(0, 0), 0, 0, {}, 2048, 5u);
+  const AirData at{0.4, 20000.0};
+  hb.schedule(at);
+  for (int i = 0; i < 8; ++i) {   // level flight
+    hb.schedule(at);
+    hb.step(f.z[static_cast<std::size_t>(i)], f.u[static_cast<std::size_t>(i)]);
+    EXPECT_FALSE(hb.bank().adaptation().floor_held()) << "frame " << i;
+  }
+  int i = 8;
+  for (; i < 256 && !hb.climb_reference().climbing(); ++i) {   // climbing at 128 ft/s
+    hb.schedule(AirData{at.mach, at.pressure_altitude_ft + 2.0 * static_cast<double>(i - 7)});
+    hb.step(f.z[static_cast<std::size_t>(i)], f.u[static_cast<std::size_t>(i)]);
+  }
+  ASSERT_TRUE(hb.climb_reference().climbing());
+  hb.schedule(AirData{at.mach, at.pressure_altitude_ft + 2.0 * static_cast<double>(i - 7)});
+  hb.step(f.z[static_cast<std::size_t>(i)], f.u[static_cast<std::size_t>(i)]);
+  EXPECT_TRUE(hb.bank().adaptation().floor_held());
+  const double top = at.pressure_altitude_ft + 2.0 * static_cast<double>(i - 7);
+  for (++i; i < 2047 && hb.climb_reference().climbing(); ++i) {   // level again: the phase ends
+    hb.schedule(AirData{at.mach, top});
+    hb.step(f.z[static_cast<std::size_t>(i)], f.u[static_cast<std::size_t>(i)]);
+  }
+  ASSERT_FALSE(hb.climb_reference().climbing());
+  hb.schedule(AirData{at.mach, top});
+  hb.step(f.z[static_cast<std::size_t>(i)], f.u[static_cast<std::size_t>(i)]);
+  EXPECT_FALSE(hb.bank().adaptation().floor_held());
+  o.bank.adaptation.floor_time_constant_s = 0.0;   // off: never held
+  F16HierarchicalBank off(mb, o);
+  for (int j = 0; j < 64; ++j) {
+    off.schedule(AirData{at.mach, at.pressure_altitude_ft + 2.0 * static_cast<double>(j)});
+    off.step(f.z[static_cast<std::size_t>(j)], f.u[static_cast<std::size_t>(j)]);
+    EXPECT_FALSE(off.bank().adaptation().floor_held());
+  }
+}
+
 TEST(ScheduleFile, TheReferenceScaleIsFormatFiveAndTheAdaptationsPowerScale) {
   BankSchedule s = make_schedule();
   s.start_up_s = 0.25;

@@ -2,7 +2,8 @@
 // tempered Bayes update by hand, the power ratio per channel each filter reads (own_channels), "off" bit-identical to the bank without it, the scale
 // recovering a known noise-power ratio, a failure not absorbed, the per-hypothesis tempering by
 // hand (its choice per channel read, its gate on the measured rho and its margin over the fully tempered
-// hypotheses too), the running start by hand, option checks, and no heap
+// hypotheses too), the running start by hand, the lull floor (the larger of two averages) by
+// hand, option checks, and no heap
 // allocation in the F-16-sized step with it on (global operator new is counted here).
 #include "f16mmae/hierarchical_bank.h"
 #include "f16mmae/turbulence_adaptation.h"
@@ -71,6 +72,76 @@ TEST(TurbulenceAdaptation, ScaleFollowsTheHandComputedRecursion) {
   r.reset();
   EXPECT_DOUBLE_EQ(r.scale(), 1.0);
   EXPECT_DOUBLE_EQ(r.power_ratio(), 1.0);
+}
+
+TEST(TurbulenceAdaptation, LullFloorReadsTheLargerOfTheTwoAveragesByHand) {
+  TurbulenceAdaptationOptions o = on(0.5, 1.0, 20.0, 3.0);
+  o.floor_time_constant_s = 4.0;
+  ResidualScale<Eigen::Dynamic> r, plain;
+  r.configure(o, 2, "test");
+  plain.configure(on(0.5, 1.0, 20.0, 3.0), 2, "test");
+  const double alpha = 1.0 - std::exp(-1.0 / (0.5 * 64.0)), alpha_l = 1.0 - std::exp(-1.0 / (4.0 * 64.0));
+  const auto clamped = [](double rho) { return std::min(20.0, std::max(1.0, 1.0 + 3.0 * (rho - 1.0))); };
+  double rho = 1.0, rho_long = 1.0;
+  int floored = 0;
+  for (int n = 0; n < 600; ++n) {
+    // bursts and lulls: x = min q / 2 above and below the averages in turn
+    const double x = (n / 60) % 2 == 0 ? 4.0 + 0.1 * (n % 7) : 0.4 + 0.05 * (n % 5);
+    const Eigen::Vector3d q(2.0 * x, 2.0 * x + 1.0, 30.0);
+    r.observe(q);
+    plain.observe(q);
+    rho += alpha * (x - rho);
+    rho_long += alpha_l * (x - rho_long);
+    floored += rho_long > rho && clamped(rho_long) > clamped(rho);
+    // rho and rho-bar are those without the floor, bit for bit; s reads the larger average
+    ASSERT_EQ(r.power_ratio(), plain.power_ratio());
+    ASSERT_EQ(r.measured_power_ratio(), plain.measured_power_ratio());
+    ASSERT_NEAR(r.power_ratio(), rho, 1e-12);
+    ASSERT_NEAR(r.scale(), clamped(std::max(rho, rho_long)), 1e-12) << "frame " << n;
+    ASSERT_NEAR(r.inverse_scale(), 1.0 / r.scale(), 1e-15);
+    if (rho >= rho_long) ASSERT_EQ(r.scale(), plain.scale()) << "frame " << n;
+  }
+  EXPECT_GT(floored, 60);    // the lulls are floored ...
+  EXPECT_LT(floored, 400);   // ... the bursts are not
+  // reset: rho_L back to the reference with rho, then the same low-pass (no running start)
+  r.reset();
+  EXPECT_DOUBLE_EQ(r.scale(), 1.0);
+  double rho3 = 1.0, long3 = 1.0;
+  for (int n = 0; n < 3; ++n) {
+    r.observe(Eigen::Vector3d(6.0, 7.0, 8.0));
+    rho3 += alpha * (3.0 - rho3);
+    long3 += alpha_l * (3.0 - long3);
+  }
+  EXPECT_NEAR(r.scale(), clamped(rho3), 1e-12);   // rising: rho is the larger
+  // a power ratio set (a bank taking over in known air) sets rho_L too
+  r.set_power_ratio(3.0);
+  EXPECT_DOUBLE_EQ(r.scale(), clamped(3.0));
+  r.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
+  EXPECT_NEAR(r.scale(), clamped(3.0 + alpha_l * (0.1 - 3.0)), 1e-12);   // falling: rho_L is the larger
+  // held (a flight phase): rho_L keeps its value and s reads rho alone, at once; released, the floor again
+  const double long_before = 3.0 + alpha_l * (0.1 - 3.0);
+  r.hold_floor(true);
+  EXPECT_TRUE(r.floor_held());
+  double rho_held = 3.0 + alpha * (0.1 - 3.0);
+  EXPECT_NEAR(r.scale(), clamped(rho_held), 1e-12);
+  for (int n = 0; n < 20; ++n) {
+    r.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
+    rho_held += alpha * (0.1 - rho_held);
+    EXPECT_NEAR(r.scale(), clamped(rho_held), 1e-12);
+  }
+  r.hold_floor(false);
+  EXPECT_NEAR(r.scale(), clamped(long_before), 1e-12);   // rho_L as the hold found it
+  r.hold_floor(true);
+  r.reset();   // reset releases it
+  EXPECT_FALSE(r.floor_held());
+  // a reference set before the first update is rho_L's start too
+  ResidualScale<Eigen::Dynamic> late;
+  late.configure(o, 2, "test");
+  late.set_reference(0.5);
+  late.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
+  const double r1 = 0.5 + alpha * (0.1 - 0.5), l1 = 0.5 + alpha_l * (0.1 - 0.5);
+  EXPECT_NEAR(late.power_ratio(), r1, 1e-12);
+  EXPECT_NEAR(late.scale(), std::min(20.0, std::max(1.0, 1.0 + 3.0 * (l1 - 0.5))), 1e-12);
 }
 
 TEST(TurbulenceAdaptation, MeasuredRatioIsAPlainMeanFirstThenTheAverageOverTau) {
@@ -837,6 +908,13 @@ TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   o.spare_rho = std::nan("");
   refused(o, "adapt_spare_rho");
   o = on(5.0);
+  o = on(5.0);
+  o.floor_time_constant_s = 2.0;   // shorter than the average it floors
+  refused(o, "adapt_floor_time_constant_s must be 0 (off) or in [adapt_time_constant_s = 5, 3600] s, got 2");
+  o.floor_time_constant_s = std::nan("");
+  refused(o, "adapt_floor_time_constant_s");
+  o.floor_time_constant_s = 4000.0;
+  refused(o, "adapt_floor_time_constant_s");
 }
 
 TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
@@ -845,6 +923,7 @@ TEST(TurbulenceAdaptation, F16SizedStepWithAdaptationAllocatesNothing) {
   HierarchicalOptions o;
   o.bank.adaptation = on(5.0);
   o.bank.adaptation.channel_weight = per_channel > 0.0 ? per_channel : 0.0;
+  o.bank.adaptation.floor_time_constant_s = 30.0;   // the lull floor on too
   if (per_channel < 0.0) o.bank.adaptation.hypothesis_weight = 0.25;
   o.bank.adaptation.spare_margin = per_channel < 0.0;    // its margin over the fully tempered (LS, RS)
   if (per_channel < 0.0) o.bank.adaptation.full_tempering = (1u << 1) | (1u << 2);

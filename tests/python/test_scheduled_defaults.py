@@ -40,6 +40,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,   # the level channels' scale term
               "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),   # and VEL's at every level
               "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM,
+              "adapt_floor_time_constant_s": names.SCHEDULE_ADAPT_FLOOR_S,   # the lull floor
               "adaptive_dither": True,   # the closed loop's adaptive dither
               "maneuver_setting": "on", **names.SCHEDULE_MANEUVER_SETTING}   # and the maneuvering-flight setting
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
@@ -55,7 +56,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
            "dwell_s_per_hypothesis": "VEL=0", "rough_dwell_s_per_hypothesis": "RUD=0", "dwell_nats": 0.0,
            "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
            "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
-           "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True, "maneuver_setting": "off"}
+           "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True, "maneuver_setting": "off",
+           "adapt_floor_time_constant_s": 0.0}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
@@ -156,7 +158,7 @@ def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch)
 def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     """hil hands mmae-daemon the scheduled estimator's defaults resolved (own channels, VEL
     counted, the per-hypothesis tempering with its fully tempered hypotheses, trim tracking, the
-    load-factor tempering; not the closed loop's adaptive dither), so the executive over LCM runs the
+    load-factor tempering, the lull floor; not the closed loop's adaptive dither), so the executive over LCM runs the
     rule the estimator in process runs."""
     from f16mmae.lcm.daemon import daemon_flags
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True, "maneuver_setting": "off"}, True))
@@ -174,7 +176,8 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
                           "--maneuver-tempering-alpha-deadband", str(names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG),
                           "--adapt-level-scale-channel", "vel", "--adapt-level-scale-from",
                           str(names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM),
-                          "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE}
+                          "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE,
+                          "--adapt-floor", str(names.SCHEDULE_ADAPT_FLOOR_S)}
     # the maneuvering-flight setting (on by default) as its options' own flags, none for the setting itself
     maneuvering = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
     assert set(maneuvering) == set(flags) | set(daemon_flags({"trim_time_constant_s": 30.0, "adapt_turbulence": True,

@@ -49,6 +49,10 @@ TRIM_HOLD = "scheduled, interpolate + complete trim hold"
 #: failure's and VEL's at every level (names.SCHEDULE_ADAPT_LEVEL_SCALE,
 #: SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL and _FROM; cpp/f16mmae/filter_bank.h).
 SEVERE_RULES = "tuned bank + adaptation + tempering and level scale"
+#: The variant with the scheduled default's lull floor on the adaptation's scale
+#: (names.SCHEDULE_ADAPT_FLOOR_S; cpp/f16mmae/turbulence_adaptation.h): a second average of the
+#: same minimum, one multiply-add and a comparison a frame.
+LULL_FLOOR = "tuned bank + adaptation + lull floor"
 #: The variants with the scheduled default's least dwells (names.SCHEDULE_DWELL_S_PER_HYPOTHESIS),
 #: without and with its rough-air table (names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS and
 #: SCHEDULE_ROUGH_SCALE; cpp/f16mmae/declarer.h): the latter reads the adaptation's scale a frame.
@@ -81,6 +85,9 @@ class ScheduledBenchResult:
         severe = self.us_per_frame.get(SEVERE_RULES)
         if adapted and severe:
             out[f"{SEVERE_RULES} / tuned bank + adaptation"] = severe / adapted
+        floor = self.us_per_frame.get(LULL_FLOOR)
+        if adapted and floor:
+            out[f"{LULL_FLOOR} / tuned bank + adaptation"] = floor / adapted
         least, rough = self.us_per_frame.get(LEAST_DWELLS), self.us_per_frame.get(ROUGH_DWELLS)
         if least and rough:
             out[f"{ROUGH_DWELLS} / {LEAST_DWELLS}"] = rough / least
@@ -156,6 +163,7 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
                              "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,
                              "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),
                              "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM})
+    floor = core_arguments({**adapted, "adapt_floor_time_constant_s": names.SCHEDULE_ADAPT_FLOOR_S})
     least = core_arguments({**adapted, "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS})
     rough = core_arguments({**adapted, "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                             "rough_dwell_s_per_hypothesis": names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,
@@ -167,6 +175,7 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
                                "evidence_dwell_in_phases": True})
     for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver),
                       ("tuned bank + adaptation", adapted), (CALM_RULE, calm), (SEVERE_RULES, severe),
+                      (LULL_FLOOR, floor),
                       (LEAST_DWELLS, least), (ROUGH_DWELLS, rough), (EVIDENCE_DWELL, evidence)):
         per_frame, worst = core._bench_hierarchical_loop(tuned, zt, ut, min_time_s=min_time_s, **kw)
         result.us_per_frame[label] = per_frame * 1e6

@@ -25,7 +25,8 @@ from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDU
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_NATS_PER_HYPOTHESIS,
                      SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                      SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL,
-                     SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_MANEUVER_SETTING, SCHEDULE_MANEUVER_TEMPERING_G,
+                     SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_ADAPT_FLOOR_S, SCHEDULE_MANEUVER_SETTING,
+                     SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
                      SCHEDULE_MODES, SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS, SCHEDULE_ROUGH_SCALE,
                      SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
@@ -143,6 +144,13 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --adapt-turbulence: the S0 of --adapt-level-scale-channel's gain, nothing while "
                          "the adaptation's scale s is below it (cpp/f16mmae/filter_bank.h). Default: 8 on a "
                          "scheduled bank (names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM), else 1: (1/2) ln s"),
+    EstimatorOption("adapt_floor_time_constant_s", "--adapt-floor", "number", metavar="TAU_S", minimum=0.0,
+                    maximum=3600.0, requires="adapt_turbulence",
+                    help="with --adapt-turbulence: a lull floor on the tempering: the scale s reads the larger of "
+                         "the residual power ratio (averaged over 5 s) and the same ratio averaged over TAU_S "
+                         "seconds, so a burst of gusts after a lull does not meet the untempered design "
+                         "(cpp/f16mmae/turbulence_adaptation.h). 0: off. Default: "
+                         "names.SCHEDULE_ADAPT_FLOOR_S on a scheduled bank, else 0"),
     EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
                     in_daemon=False,
                     help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "
@@ -858,7 +866,8 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     off; given, the dead band is as given), ``adapt_level_scale``
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE`` and ``adapt_level_scale_channel``
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL`` unless given (``none`` turns it off), with
-    ``adapt_level_scale_from`` ``names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM`` unless given, and the closed
+    ``adapt_level_scale_from`` ``names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM`` unless given,
+    ``adapt_floor_time_constant_s`` ``names.SCHEDULE_ADAPT_FLOOR_S`` unless given (0 turns it off), and the closed
     loop's ``adaptive_dither`` unless ``fixed_dither`` or ``sensor_loss_dither`` is given (the
     adaptive dither of one adapted bank, truth/dither.py ``adapted_dither_reference``). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
@@ -894,6 +903,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out.setdefault("adapt_level_scale_channel", SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower())
         if out["adapt_level_scale_channel"] != "none":
             out.setdefault("adapt_level_scale_from", SCHEDULE_ADAPT_LEVEL_SCALE_FROM)
+        out.setdefault("adapt_floor_time_constant_s", SCHEDULE_ADAPT_FLOOR_S)
         if not (out.get("fixed_dither") or out.get("sensor_loss_dither")):
             out["adaptive_dither"] = True   # the closed loop's (loop/flight.py)
         if running_start:

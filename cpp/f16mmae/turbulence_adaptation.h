@@ -59,29 +59,34 @@
 //     the ρ it is given).
 //
 // Lull floor (floor_time_constant_s τ_L >= τ; 0, the default, is off: bit for bit without): a
-// second, longer average of the same minimum, and the scale reads the larger of the two,
-//     ρ_L ← ρ_L + α_L (min(x, ρ_clip) − ρ_L),   α_L = 1 − exp(−1 / (τ_L f)),
-//     s = clamp(1 + κ (max(ρ, ρ_L)/σ − ρ_0),  s_min, s_max)
-//   (ρ_L starts and resets at σ ρ_0 with ρ, is set with it by set_power_ratio, and is not a
-//   running start's plain mean). Why: the turbulence's intensity is the air mass's and changes
-//   over minutes, while the gusts' power over τ has lulls (the Dryden gusts' low bandwidth; κ
-//   turns a small dip of ρ into a large one of s): in moderate air at the nominal point s spends
-//   a few per cent of its frames at 1 against a median of 2-4, and a burst that follows a lull
-//   meets the design's untempered A_k until ρ has risen over τ. The false flaperon and
-//   roll-gyro declarations of 40 h of moderate-air soaks at the nominal point began at s 1-1.55
-//   against flight medians of 2-4 (docs/results/turbulence_adaptation.md, round 44). The floor holds the last minute's tempering through a
-//   lull and leaves s alone wherever ρ is above it, and a failure, which by the minimum does not
-//   raise ρ, does not raise ρ_L either. Why not a slower fall of ρ itself (the last burst's
-//   tempering held): it holds s near its peaks, and the flaperon failures in moderate air, whose
-//   evidence is the dither's against the gusts', are then missed (round 44: 7 of 20 found). A
-//   plain mean from the start (as ρ̄) would temper a failure 3 s into a flight in rough air by the
-//   air's full scale, where ρ is still rising: the severe single-failure runs lost 4 of 120.
+// second, longer average of the same minimum, and the scale reads the larger of the two once
+// that average has run for τ_L / 2,
+//     ρ_L ← ρ_L + a_i (min(x, ρ_clip) − ρ_L),   a_i = max(1 / i, α_L),   α_L = 1 − exp(−1 / (τ_L f))
+//     s = clamp(1 + κ (max(ρ, ρ_L)/σ − ρ_0),  s_min, s_max)   from i >= τ_L f / 2 on (ρ alone before)
+//   (i the updates averaged since the start or reset(): a plain mean first, as ρ̄ below;
+//   set_power_ratio sets ρ_L with ρ and puts the floor in force). Why: the turbulence's
+//   intensity is the air mass's and changes over minutes, while the gusts' power over τ has
+//   lulls (the Dryden gusts' low bandwidth; κ turns a small dip of ρ into a large one of s): in
+//   moderate air at the nominal point s spends a few per cent of its frames at 1 against a
+//   median of 2-4, and a burst that follows a lull meets the design's untempered A_k until ρ has
+//   risen over τ. The false flaperon and roll-gyro declarations of 40 h of moderate-air soaks at
+//   the nominal point began at s 1-1.55 against flight medians of 2-4 (docs/results/
+//   turbulence_adaptation.md, round 44). The floor holds the air's tempering through a lull and
+//   leaves s alone wherever ρ is above it, and a failure, which by the minimum does not raise ρ,
+//   does not raise ρ_L either. Why not a slower fall of ρ itself (the last burst's tempering
+//   held): it holds s near its peaks, and the flaperon failures in moderate air, whose evidence
+//   is the dither's against the gusts', are then missed (round 44: 7 of 20 found). Why in force
+//   only after τ_L / 2: in force from the start, the first seconds' mean tempers a failure 3 s
+//   into a flight in rough air by the air's full scale where ρ is still rising (the severe
+//   single-failure runs lost 4 of 120); started at the reference instead, it stays below the
+//   air's level for the flight's first minute (a false RF at 65 s in moderate air, s 1.13 at its
+//   onset against the flight's median 4.67).
 //   Only s (and through it the per-channel and per-hypothesis forms); scale_at() and ρ̄ read ρ.
 //   Held (hold_floor; the hierarchical bank holds it in a flight phase, climbing or maneuvering:
-//   hierarchical_bank.h): ρ_L keeps its value and s reads ρ alone. Why: a climb's or a turn's
-//   onset lifts every residual the models do not carry, which is no gust, and a floor that took
-//   it in held s at the onset's 7-8 for a minute after it (a flaperon failing 4 s into a climb
-//   in light air, found 3-7 s after it without the floor, was then missed in 7 of 10 runs).
+//   hierarchical_bank.h): ρ_L and i keep their values and s reads ρ alone. Why: a climb's or a
+//   turn's onset lifts every residual the models do not carry, which is no gust, and a floor
+//   that took it in held s at the onset's 7-8 for a minute after it (a flaperon failing 4 s into
+//   a climb in light air, found 3-7 s after it without the floor, was then missed in 7 of 10 runs).
 //
 // Power scale σ (set_power_scale, default 1; a scheduled bank's node reference scale,
 // bank_schedule.h): the bank's power ratio in the units of another bank's, ρ/σ, is what the
@@ -319,6 +324,8 @@ class ResidualScale {
     nz_ = static_cast<double>(nz);
     alpha_ = 1.0 - std::exp(-1.0 / (o.time_constant_s * o.frame_rate_hz));
     alpha_floor_ = o.floor_time_constant_s > 0.0 ? 1.0 - std::exp(-1.0 / (o.floor_time_constant_s * o.frame_rate_hz)) : 0.0;
+    long_length_ = alpha_floor_ > 0.0 ? running_mean_length(alpha_floor_) : 0;
+    long_min_ = static_cast<std::int64_t>(std::lround(0.5 * o.floor_time_constant_s * o.frame_rate_hz));
     rho_clip_ = 10.0 * o.scale_max;
     mean_length_ = running_mean_length(alpha_);
     channel_rho_.setZero(nz);
@@ -369,7 +376,9 @@ class ResidualScale {
     const double a = measured_updates_ < mean_length_ ? 1.0 / static_cast<double>(++measured_updates_) : alpha_;
     const double target = x < rho_clip_ ? x : rho_clip_;
     rho_ += (rho_running_ ? a : alpha_) * (target - rho_);
-    if (!floor_held_) rho_long_ += alpha_floor_ * (target - rho_long_);   // the lull floor's ρ_L (header; α_L = 0: off)
+    if (alpha_floor_ > 0.0 && !floor_held_)   // the lull floor's ρ_L (header): a plain mean first, then α_L
+      rho_long_ += (long_updates_ < long_length_ ? 1.0 / static_cast<double>(++long_updates_) : alpha_floor_) *
+                   (target - rho_long_);
     measured_ += a * (x - measured_);
     set_scale();
   }
@@ -407,6 +416,7 @@ class ResidualScale {
     if (!(rho >= 0.0 && rho < std::numeric_limits<double>::infinity())) return;
     rho_ = rho;
     rho_long_ = rho;
+    long_updates_ = long_length_;   // a known ρ: the floor in force, its average going on from it
     rho_running_ = false;   // a known ρ: the average goes on from it
     at_start_ = false;
     channel_rho_.setConstant(rho);
@@ -440,6 +450,7 @@ class ResidualScale {
   void reset() noexcept {
     rho_ = power_scale_ * options_.reference;
     rho_long_ = rho_;
+    long_updates_ = 0;
     floor_held_ = false;
     rho_running_ = options_.running_start;
     at_start_ = true;
@@ -458,7 +469,8 @@ class ResidualScale {
     return s < options_.scale_min ? options_.scale_min : (s > options_.scale_max ? options_.scale_max : s);
   }
   void set_scale() noexcept {
-    s_ = clamped_scale(alpha_floor_ > 0.0 && !floor_held_ && rho_long_ > rho_ ? rho_long_ : rho_);   // the lull floor (header)
+    const bool floored = alpha_floor_ > 0.0 && !floor_held_ && long_updates_ >= long_min_ && rho_long_ > rho_;
+    s_ = clamped_scale(floored ? rho_long_ : rho_);   // the lull floor (header)
     inv_s_ = 1.0 / s_;
   }
   void set_channel_scales() noexcept {
@@ -471,6 +483,7 @@ class ResidualScale {
   TurbulenceAdaptationOptions options_{};
   double alpha_floor_ = 0.0, rho_long_ = 1.0;   // the lull floor's α_L and ρ_L (header)
   bool floor_held_ = false;                      // hold_floor (header)
+  std::int64_t long_updates_ = 0, long_length_ = 0, long_min_ = 0;   // ρ_L's i, its mean's length, τ_L f / 2
   double nz_ = 1.0, alpha_ = 0.0, rho_clip_ = 0.0, rho_ = 1.0, s_ = 1.0, inv_s_ = 1.0, measured_ = 0.0;
   double power_scale_ = 1.0;            // σ (header)
   std::int64_t measured_updates_ = 0;   // i of the header's ρ̄, counted up to mean_length_

@@ -76,7 +76,7 @@ TEST(TurbulenceAdaptation, ScaleFollowsTheHandComputedRecursion) {
 
 TEST(TurbulenceAdaptation, LullFloorReadsTheLargerOfTheTwoAveragesByHand) {
   TurbulenceAdaptationOptions o = on(0.5, 1.0, 20.0, 3.0);
-  o.floor_time_constant_s = 4.0;
+  o.floor_time_constant_s = 4.0;   // in force from 2 s = 128 updates on
   ResidualScale<Eigen::Dynamic> r, plain;
   r.configure(o, 2, "test");
   plain.configure(on(0.5, 1.0, 20.0, 3.0), 2, "test");
@@ -91,57 +91,56 @@ TEST(TurbulenceAdaptation, LullFloorReadsTheLargerOfTheTwoAveragesByHand) {
     r.observe(q);
     plain.observe(q);
     rho += alpha * (x - rho);
-    rho_long += alpha_l * (x - rho_long);
-    floored += rho_long > rho && clamped(rho_long) > clamped(rho);
-    // rho and rho-bar are those without the floor, bit for bit; s reads the larger average
+    rho_long += std::max(1.0 / (n + 1), alpha_l) * (x - rho_long);   // a plain mean first (running_mean.h)
+    const bool in_force = n + 1 >= 128;
+    floored += in_force && clamped(rho_long) > clamped(rho);
+    // rho and rho-bar are those without the floor, bit for bit; s reads the larger average once in force
     ASSERT_EQ(r.power_ratio(), plain.power_ratio());
     ASSERT_EQ(r.measured_power_ratio(), plain.measured_power_ratio());
     ASSERT_NEAR(r.power_ratio(), rho, 1e-12);
-    ASSERT_NEAR(r.scale(), clamped(std::max(rho, rho_long)), 1e-12) << "frame " << n;
+    ASSERT_NEAR(r.scale(), clamped(in_force ? std::max(rho, rho_long) : rho), 1e-12) << "frame " << n;
     ASSERT_NEAR(r.inverse_scale(), 1.0 / r.scale(), 1e-15);
-    if (rho >= rho_long) ASSERT_EQ(r.scale(), plain.scale()) << "frame " << n;
+    if (!in_force || rho >= rho_long) ASSERT_EQ(r.scale(), plain.scale()) << "frame " << n;
   }
   EXPECT_GT(floored, 60);    // the lulls are floored ...
   EXPECT_LT(floored, 400);   // ... the bursts are not
-  // reset: rho_L back to the reference with rho, then the same low-pass (no running start)
+  // reset: rho_L starts again, out of force until it has averaged 128 updates
   r.reset();
   EXPECT_DOUBLE_EQ(r.scale(), 1.0);
-  double rho3 = 1.0, long3 = 1.0;
-  for (int n = 0; n < 3; ++n) {
-    r.observe(Eigen::Vector3d(6.0, 7.0, 8.0));
-    rho3 += alpha * (3.0 - rho3);
-    long3 += alpha_l * (3.0 - long3);
+  for (int n = 0; n < 127; ++n) r.observe(Eigen::Vector3d(6.0, 7.0, 8.0));   // x = 3: the plain mean is 3
+  for (int n = 0; n < 60; ++n) r.observe(Eigen::Vector3d(0.2, 0.4, 0.6));   // 60 more of x = 0.1
+  double rho_r = 1.0, mean = 0.0;
+  for (int n = 0; n < 187; ++n) {
+    const double x = n < 127 ? 3.0 : 0.1;
+    rho_r += alpha * (x - rho_r);
+    mean += std::max(1.0 / (n + 1), alpha_l) * (x - mean);
   }
-  EXPECT_NEAR(r.scale(), clamped(rho3), 1e-12);   // rising: rho is the larger
-  // a power ratio set (a bank taking over in known air) sets rho_L too
-  r.set_power_ratio(3.0);
-  EXPECT_DOUBLE_EQ(r.scale(), clamped(3.0));
-  r.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
-  EXPECT_NEAR(r.scale(), clamped(3.0 + alpha_l * (0.1 - 3.0)), 1e-12);   // falling: rho_L is the larger
+  EXPECT_NEAR(r.power_ratio(), rho_r, 1e-12);
+  EXPECT_NEAR(r.scale(), clamped(std::max(rho_r, mean)), 1e-12);
+  EXPECT_GT(clamped(mean), clamped(rho_r) + 1.0);   // floored by the mean since the reset
+  // a power ratio set (a bank taking over in known air) sets rho_L too and puts the floor in force
+  ResidualScale<Eigen::Dynamic> known;
+  known.configure(o, 2, "test");
+  known.set_power_ratio(3.0);
+  EXPECT_DOUBLE_EQ(known.scale(), clamped(3.0));
+  known.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
+  EXPECT_NEAR(known.scale(), clamped(3.0 + alpha_l * (0.1 - 3.0)), 1e-12);   // falling: rho_L is the larger
   // held (a flight phase): rho_L keeps its value and s reads rho alone, at once; released, the floor again
   const double long_before = 3.0 + alpha_l * (0.1 - 3.0);
-  r.hold_floor(true);
-  EXPECT_TRUE(r.floor_held());
+  known.hold_floor(true);
+  EXPECT_TRUE(known.floor_held());
   double rho_held = 3.0 + alpha * (0.1 - 3.0);
-  EXPECT_NEAR(r.scale(), clamped(rho_held), 1e-12);
+  EXPECT_NEAR(known.scale(), clamped(rho_held), 1e-12);
   for (int n = 0; n < 20; ++n) {
-    r.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
+    known.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
     rho_held += alpha * (0.1 - rho_held);
-    EXPECT_NEAR(r.scale(), clamped(rho_held), 1e-12);
+    EXPECT_NEAR(known.scale(), clamped(rho_held), 1e-12);
   }
-  r.hold_floor(false);
-  EXPECT_NEAR(r.scale(), clamped(long_before), 1e-12);   // rho_L as the hold found it
-  r.hold_floor(true);
-  r.reset();   // reset releases it
-  EXPECT_FALSE(r.floor_held());
-  // a reference set before the first update is rho_L's start too
-  ResidualScale<Eigen::Dynamic> late;
-  late.configure(o, 2, "test");
-  late.set_reference(0.5);
-  late.observe(Eigen::Vector3d(0.2, 0.4, 0.6));
-  const double r1 = 0.5 + alpha * (0.1 - 0.5), l1 = 0.5 + alpha_l * (0.1 - 0.5);
-  EXPECT_NEAR(late.power_ratio(), r1, 1e-12);
-  EXPECT_NEAR(late.scale(), std::min(20.0, std::max(1.0, 1.0 + 3.0 * (l1 - 0.5))), 1e-12);
+  known.hold_floor(false);
+  EXPECT_NEAR(known.scale(), clamped(long_before), 1e-12);   // rho_L as the hold found it
+  known.hold_floor(true);
+  known.reset();   // reset releases it
+  EXPECT_FALSE(known.floor_held());
 }
 
 TEST(TurbulenceAdaptation, MeasuredRatioIsAPlainMeanFirstThenTheAverageOverTau) {

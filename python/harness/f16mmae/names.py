@@ -295,14 +295,14 @@ SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL = "VEL"
 SCHEDULE_ADAPT_LEVEL_SCALE_FROM = 8.0
 #: The scheduled estimator's lull floor (``--adapt-floor``, with the turbulence adaptation;
 #: cpp/f16mmae/turbulence_adaptation.h): the scale reads the larger of the residual power ratio's
-#: 5-s average and its average over this many seconds (held in a climb or maneuver), so a burst
-#: of gusts after a lull is not read by the untempered design. In moderate air at the nominal
-#: point the false flaperon and roll-gyro declarations began at s 1-1.55 against flight medians
-#: of 2-4; 40 h of soaks (tuning seeds 7-10) declared falsely 7 times without it, 2 with it (30 s:
-#: 2, 120 s: 3, both unheld), the failures at 3 s unchanged, random 60 settled 7,037 -> 7,034 of
-#: 7,200 (VEL found at its window's end). A slower fall of the 5-s average itself (over 10 s) held
-#: s near the bursts' peaks and found 7 of 20 flaperon failures in moderate air late in flight
-#: (round 44; docs/results/turbulence_adaptation.md).
+#: 5-s average and its average over this many seconds (a plain mean from the start, in force from
+#: half of it on, held in a climb or maneuver), so a burst of gusts after a lull is not read by the
+#: untempered design. In moderate air at the nominal point the false flaperon and roll-gyro
+#: declarations began at s 1-1.55 against flight medians of 2-4; 40 h of soaks (tuning seeds 7-10)
+#: declared falsely 7 times without it, 2 with it; the campaigns' flights (8-26 s) are unchanged.
+#: A slower fall of the 5-s average itself (over 10 s) held s near the bursts' peaks and found 7 of
+#: 20 flaperon failures in moderate air late in flight (round 44; docs/results/
+#: turbulence_adaptation.md).
 SCHEDULE_ADAPT_FLOOR_S = 60.0
 #: The scheduled estimator's maneuvering-flight setting (``--maneuver-setting on``, with the
 #: turbulence adaptation; loop/estimator_options.py scheduled_defaults applies each entry unless

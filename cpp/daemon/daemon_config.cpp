@@ -375,7 +375,8 @@ const std::vector<Flag>& flags() {
        nullptr, "--adapt-turbulence", adapting},
       {"--adapt-floor", "TAU_S",
        "a lull floor on the adaptation's scale: s reads the larger of its residual power ratio and that ratio "
-       "averaged over TAU_S seconds, so a burst after a lull in the gusts does not meet the untempered design "
+       "averaged over TAU_S seconds (in force from TAU_S / 2 on, held while climbing or maneuvering), so a burst "
+       "after a lull in the gusts does not meet the untempered design "
        "(turbulence_adaptation.h; default 0: off; 'f16mmae hil' gives a scheduled bank's with --adapt-turbulence, "
        "its default in process)",
        number(adaptation(&TurbulenceAdaptationOptions::floor_time_constant_s), {0.0, 3600.0},

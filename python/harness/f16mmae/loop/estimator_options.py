@@ -148,9 +148,10 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     maximum=3600.0, requires="adapt_turbulence",
                     help="with --adapt-turbulence: a lull floor on the tempering: the scale s reads the larger of "
                          "the residual power ratio (averaged over 5 s) and the same ratio averaged over TAU_S "
-                         "seconds, so a burst of gusts after a lull does not meet the untempered design "
-                         "(cpp/f16mmae/turbulence_adaptation.h). 0: off. Default: "
-                         "names.SCHEDULE_ADAPT_FLOOR_S on a scheduled bank, else 0"),
+                         "seconds (a plain mean from the start, in force from TAU_S / 2 on, held while climbing "
+                         "or maneuvering), so a burst of gusts after a lull does not meet the untempered design "
+                         "(cpp/f16mmae/turbulence_adaptation.h). 0: off; else at least the 5-s averaging time. "
+                         "Default: names.SCHEDULE_ADAPT_FLOOR_S on a scheduled bank, else 0"),
     EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
                     in_daemon=False,
                     help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "

@@ -9,7 +9,8 @@
 // and alpha from i = n + 1 on gives max(1.0/i, alpha) bit for bit (where 1.0/i == alpha the two
 // are the same number), so a caller counts samples up to n and divides no more after that.
 // Users: the scheduled filters' air-data low-pass (scheduled_filters.h), the turbulence
-// adaptation's measured power ratio (turbulence_adaptation.h), the residual whiteness
+// adaptation's measured power ratio and its lull floor's long average
+// (turbulence_adaptation.h), the residual whiteness
 // (residual_whiteness.h) and the load factor's spread (maneuver_kinematics.h). std only.
 #pragma once
 

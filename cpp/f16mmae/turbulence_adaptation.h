@@ -404,7 +404,6 @@ class ResidualScale {
     options_.reference = reference;
     if (at_start_) {
       rho_ = power_scale_ * reference;
-      rho_long_ = rho_;
       channel_rho_.setConstant(rho_);
     }
     set_scale();
@@ -430,7 +429,6 @@ class ResidualScale {
     power_scale_ = sigma;
     if (at_start_) {
       rho_ = sigma * options_.reference;
-      rho_long_ = rho_;
       channel_rho_.setConstant(rho_);
     }
     set_scale();
@@ -449,8 +447,7 @@ class ResidualScale {
   // Back to the start: ρ = σ ρ_0, s = clamp(1, s_min, s_max); ρ̄ restarts (0, no update averaged).
   void reset() noexcept {
     rho_ = power_scale_ * options_.reference;
-    rho_long_ = rho_;
-    long_updates_ = 0;
+    long_updates_ = 0;   // ρ_L: its first update replaces whatever it held
     floor_held_ = false;
     rho_running_ = options_.running_start;
     at_start_ = true;

@@ -63,12 +63,14 @@ def main(argv=None) -> int:
         ap.error(f"{runs_file} does not exist: give a soak campaign's output directory")
     if a.figure is not None and not a.figure.parent.is_dir():
         ap.error(f"--figure {a.figure}: the folder {a.figure.parent} does not exist")
-    panels = []
+    panels, banks = [], {}
     for line in runs_file.read_text().splitlines():
         r = json.loads(line)
         if r["scenario"]["turbulence"] != a.level or not r.get("false_declarations"):
             continue
-        bank = load_bank(r["bank"])[2]
+        if r["bank"] not in banks:   # one load per bank the soak flew
+            banks[r["bank"]] = load_bank(r["bank"])[2]
+        bank = banks[r["bank"]]
         scenario = scenario_from_dict(r["scenario"])
         res = fly(scenario, bank, estimator_options=r["estimator_settings"], record_probabilities=True)
         rate = 1.0 / res.frame_dt_s
@@ -91,7 +93,8 @@ def main(argv=None) -> int:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, axes = plt.subplots(2, len(panels), figsize=(4.2 * len(panels), 5.2), squeeze=False, sharex="col")
+        fig, axes = plt.subplots(2, len(panels), figsize=(max(6.4, 4.2 * len(panels)), 5.2), squeeze=False,
+                                 sharex="col")
         label = " ".join(f"{k}={v}" for k, v in a.without)
         for c, (r, name, j, i, res, other, rate) in enumerate(panels):
             lo, hi = max(0, i - int(30 * rate)), min(len(res.turbulence_scale), i + int(10 * rate))

@@ -307,6 +307,9 @@ void bind_hierarchical(py::module_& m) {
         "p_min, threshold and dwell_s stand);\n"
         "evict_bytes > 0: a buffer of that size read before every frame (a cold cache; frames timed alone,\n"
         "the median frame of a pass counts).");
+  m.def("estimator_defaults", &estimator_defaults,
+        "Every keyword of core.HierarchicalBank (and core.Executive, core.TurbulenceBankSet) with the core's\n"
+        "default when it is left out, {name: default} (bindings/estimator_init.h).");
   py::class_<PyHierarchicalBank> cls(m, "HierarchicalBank", R"doc(
 The hierarchical MMAE of paper Fig. 2 over a core.ModelBank.
 

@@ -309,6 +309,16 @@ inline std::string estimator_keywords_doc() {
   return doc;
 }
 
+// Every keyword with the core's default, {name: default}: the harness checks a setting that
+// depends on another keyword's default (e.g. the lull floor's τ_L against the averaging time τ)
+// before any work, from this one source.
+inline py::dict estimator_defaults() {
+  const HierarchicalOptions core;
+  py::dict out;
+  for (const auto& k : estimator_keywords()) out[py::str(k.name)] = k.default_of(core);
+  return out;
+}
+
 template <class T, class Source = ModelBank, class Class>
 Class& def_estimator_init(Class& cls) {
   return cls.def(py::init([](const Source& bank, const py::kwargs& kwargs) {

@@ -379,8 +379,17 @@ const std::vector<Flag>& flags() {
        "after a lull in the gusts does not meet the untempered design "
        "(turbulence_adaptation.h; default 0: off; 'f16mmae hil' gives a scheduled bank's with --adapt-turbulence, "
        "its default in process)",
-       number(adaptation(&TurbulenceAdaptationOptions::floor_time_constant_s), {0.0, 3600.0},
-              "0 or a time in [the averaging time, 3600] s"),
+       parsed_by([](DaemonConfig& c, const std::string& v) -> std::string {
+         // 0 (off) or at least the averaging time τ, the core's default (the daemon sets no other),
+         // refused here as the core would refuse it, before the bank is read
+         const double tau = TurbulenceAdaptationOptions{}.time_constant_s;
+         const std::optional<double> x = finite_number(v);
+         if (!x || !(*x == 0.0 || (*x >= tau && *x <= 3600.0)))
+           return "must be 0 (off) or a time in [" + format_value(tau) +
+                  ", 3600] s (at least the adaptation's averaging time)";
+         c.estimator.bank.adaptation.floor_time_constant_s = *x;
+         return "";
+       }),
        nullptr, "--adapt-turbulence", adapting},
       {"--calm-complete", "NAME=RHO,...",
        "while the adaptation's measured power ratio is below RHO (decided while no failure is presumed or rising), "

@@ -386,10 +386,16 @@ TEST(DaemonConfig, OnLineEstimatorOptions) {
   r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-floor", "60"}, nullptr);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_EQ(r.config.estimator.bank.adaptation.floor_time_constant_s, 60.0);
-  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-floor", "-1"}, nullptr);
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.message.find("--adapt-floor must be 0 or a time in [the averaging time, 3600] s"), std::string::npos)
-      << r.message;
+  for (const char* bad : {"-1", "2", "3601", "nan"}) {   // below the 5-s averaging time too, as the core refuses
+    r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-floor", bad}, nullptr);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_NE(r.message.find("--adapt-floor must be 0 (off) or a time in [5, 3600] s (at least the adaptation's "
+                             "averaging time)"),
+              std::string::npos)
+        << r.message;
+  }
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--adapt-floor", "5"}, nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
   r = parse_daemon_args({"--bank", "b", "--adapt-floor", "30"}, nullptr);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.message.find("--adapt-floor applies with --adapt-turbulence only"), std::string::npos) << r.message;

@@ -507,3 +507,22 @@ def test_an_option_riding_on_a_scheduled_default_waits_for_the_banks_defaults(tm
     import json
     settings = json.loads((out / "run.json").read_text())["estimator_settings"]
     assert settings["trim_steady_measurements"] == "AOA,VEL" and settings["trim_time_constant_s"] == 30.0
+
+
+def test_a_lull_floor_shorter_than_the_averaging_time_is_refused_before_anything_flies(tmp_path, capsys):
+    from f16mmae.cli.main import main
+    averaging = core.estimator_defaults()["adapt_time_constant_s"]
+    assert averaging == 5.0   # the core's default, the one bank construction applies
+    for tau in (0.0, averaging, names.SCHEDULE_ADAPT_FLOOR_S):
+        check({"adapt_turbulence": True, "adapt_floor_time_constant_s": tau})
+    with pytest.raises(ValueError, match=r"--adapt-floor 2\.0 must be 0 \(off\) or a time in \[5, 3600\] s \(at "
+                                         r"least the adaptation's averaging time\)"):
+        check({"adapt_turbulence": True, "adapt_floor_time_constant_s": 2.0})
+    # the core refuses the same value by its own name: the two checks agree on the bound
+    with pytest.raises(ValueError, match="adapt_floor_time_constant_s"):
+        core.HierarchicalBank(banks.load_bank("tuned")[2], adapt_turbulence=True, adapt_floor_time_constant_s=2.0)
+    out = tmp_path / "c"
+    assert main(["campaign", "single", "--runs", "1", "--cases", "NONE", "--baseline", "none", "--tuning", "scheduled",
+                 "--adapt-turbulence", "--adapt-floor", "2", "--quiet", "--out", str(out)]) == 2
+    assert "--adapt-floor 2.0 must be 0 (off) or a time in [5, 3600] s" in capsys.readouterr().err
+    assert not out.exists()   # refused before the campaign's folder or its first flight

@@ -20,6 +20,7 @@ import json
 
 from dataclasses import dataclass
 
+from .. import core
 from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDULE_CALM_COMPLETE,
                      SCHEDULE_CALM_MEASURE, SCHEDULE_COMPLETE_TRIM_HOLD,
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_NATS_PER_HYPOTHESIS,
@@ -799,6 +800,12 @@ def check(settings: dict) -> None:
     if settings.get("set_tempering") is not None and not (settings.get("adapt_turbulence")
                                                           or settings.get("turbulence_banks")):
         raise ValueError("--set-tempering applies with --adapt-turbulence or --turbulence-banks only")
+    floor = settings.get("adapt_floor_time_constant_s")
+    if floor:
+        averaging = core.estimator_defaults()["adapt_time_constant_s"]
+        if floor < averaging:
+            raise ValueError(f"--adapt-floor {floor!r} must be 0 (off) or a time in [{averaging:g}, 3600] s (at least "
+                             "the adaptation's averaging time)")
     if settings.get("adapt_all_channels") and settings.get("adapt_own_channels"):
         raise ValueError("--adapt-all-channels and --adapt-own-channels are two rules for the same residual "
                          "power: give one")

@@ -2,13 +2,9 @@
 by path for the tests, as `f16mmae bench lcm` loads it."""
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
+from tool_module import load_tool
 
-_PATH = Path(__file__).resolve().parents[2] / "tools" / "latency" / "lcm_latency.py"
-_spec = importlib.util.spec_from_file_location("lcm_latency", _PATH)
-_driver = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(_driver)
+_driver = load_tool("latency/lcm_latency.py")
 
 PLACEMENTS = _driver.PLACEMENTS
 echo_name = _driver.echo_name

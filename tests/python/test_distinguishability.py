@@ -3,19 +3,15 @@ the single, k = min(k_max, max(0, m0 - D_s)), worked by hand; the pair table and
 dual then needs; the refusals (a bank that is not there, a pair that is not two singles, m0 < 0)."""
 from __future__ import annotations
 
-import importlib.util
 import math
-import pathlib
 
 import pytest
 
+from tool_module import load_tool
+
 
 def _tool():
-    path = pathlib.Path(__file__).resolve().parents[2] / "tools" / "cover" / "distinguishability.py"
-    spec = importlib.util.spec_from_file_location("distinguishability", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("cover/distinguishability.py")
 
 
 def test_the_allowance_by_hand():
@@ -103,11 +99,7 @@ def test_a_cover_bank_is_redesigned_and_its_mirror_pairs_agree(cover_partial_ban
 
 
 def _load(name):
-    path = pathlib.Path(__file__).resolve().parents[2] / "tools" / "cover" / f"{name}.py"
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool(f"cover/{name}.py")
 
 
 def test_the_walk_and_the_channel_split_by_hand():

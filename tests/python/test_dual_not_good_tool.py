@@ -2,21 +2,16 @@
 and its refusal of a folder that is not a dual campaign's."""
 from __future__ import annotations
 
-import importlib.util
 import json
-import pathlib
 
 import pytest
 
-TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "dual" / "not_good.py"
+from tool_module import load_tool
 
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("not_good", TOOL)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_tool("dual/not_good.py")
 
 
 def record(first, second, decl, outcome="correct", tw=False, fa=False, latency=1.0):

@@ -4,24 +4,21 @@ the dwell in force -- ended without their declaration -- or not), and its refusa
 evaluation seeds' campaigns."""
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
-import pathlib
 
 import numpy as np
 import pytest
 
-TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "latency" / "dwell_per_hypothesis.py"
+from tool_module import TOOLS, load_tool
+
+TOOL = TOOLS / "latency" / "dwell_per_hypothesis.py"
 EXCESS_99 = math.log(99.0) - math.log(9.0)   # 0.99 above the threshold 0.9: 2.3979 nats a frame
 
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("dwell_per_hypothesis", TOOL)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_tool("latency/dwell_per_hypothesis.py")
 
 
 def test_excursions_against_a_hand_written_history(tool):

@@ -16,6 +16,8 @@ from f16mmae.cli.main import main
 from f16mmae.design import bank
 from f16mmae.design.tuning import load_tuning, tuning_from_dict
 
+from tool_module import load_tool
+
 
 @pytest.fixture(scope="module")
 def partial_bank_path(tmp_path_factory):
@@ -53,13 +55,7 @@ def test_a_negative_allowance_is_refused_by_name(partial_bank_path, tmp_path, ca
 
 def _dual_rates():
     """tools/cover/dual_rates.py as a module (the tool that writes the pair table)."""
-    import importlib.util
-    import pathlib
-    path = pathlib.Path(__file__).resolve().parents[2] / "tools" / "cover" / "dual_rates.py"
-    spec = importlib.util.spec_from_file_location("dual_rates", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_tool("cover/dual_rates.py")
 
 
 def _dual_run(first, second, decl, duration=10.0):
@@ -85,7 +81,6 @@ def test_the_pair_rates_are_the_climb_over_its_frames():
     assert rates["PIT>LS"] == {"r": pytest.approx(h / 320.0), "runs": 0, "bound": True}
     assert m.allowance(h / 64.0, 0.2, 0.12) == pytest.approx(0.2 * h / 64.0)   # 0.072: a r
     assert m.allowance(h / 32.0, 0.2, 0.12) == 0.12                            # 0.143: the ceiling
-
 
 
 def test_a_pair_table_gives_the_walking_dual_its_own_allowance(partial_bank_path, tmp_path, capsys):

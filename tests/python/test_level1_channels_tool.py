@@ -4,8 +4,6 @@ single's and the dual's failed-sensor level terms are the same filter on the sam
 only the quadratic terms differ), and a hypothesis that is no dual of the failure is refused."""
 from __future__ import annotations
 
-import importlib.util
-import pathlib
 import subprocess
 import sys
 
@@ -15,14 +13,13 @@ from f16mmae import core
 from f16mmae.design import bank
 from f16mmae.design.tuning import load_tuning, tuning_from_dict
 
-TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "cover" / "level1_channels.py"
+from tool_module import TOOLS, load_tool
+
+TOOL = TOOLS / "cover" / "level1_channels.py"
 
 
 def _tool():
-    spec = importlib.util.spec_from_file_location("level1_channels", TOOL)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_tool("cover/level1_channels.py")
 
 
 @pytest.fixture(scope="module")

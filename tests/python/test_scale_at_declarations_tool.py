@@ -4,9 +4,7 @@ frame, and the scale it reads there is the estimator's own on that frame, read h
 estimator flown independently; a directory without runs.jsonl is refused by name."""
 from __future__ import annotations
 
-import importlib.util
 import json
-import pathlib
 
 import pytest
 
@@ -15,15 +13,12 @@ from f16mmae.cli.main import main as f16mmae
 from f16mmae.loop.estimator import Estimator
 from f16mmae.loop.flight import fly, scenario_from_dict
 
-TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "latency" / "scale_at_declarations.py"
+from tool_module import load_tool
 
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("scale_at_declarations", TOOL)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_tool("latency/scale_at_declarations.py")
 
 
 def test_the_scale_at_a_severe_air_rudder_declaration(tool, tmp_path, capsys):

@@ -4,8 +4,6 @@ soak read end to end with and without a setting, and its refusals by name (a dir
 runs.jsonl, a figure in a folder that does not exist, a setting that is not KEY=VALUE)."""
 from __future__ import annotations
 
-import importlib.util
-import pathlib
 from types import SimpleNamespace
 
 import numpy as np
@@ -13,15 +11,12 @@ import pytest
 
 from f16mmae.cli.main import main as f16mmae
 
-TOOL = pathlib.Path(__file__).resolve().parents[2] / "tools" / "soak" / "scale_at_onsets.py"
+from tool_module import load_tool
 
 
 @pytest.fixture(scope="module")
 def tool():
-    spec = importlib.util.spec_from_file_location("scale_at_onsets", TOOL)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_tool("soak/scale_at_onsets.py")
 
 
 def test_onsets_against_a_hand_written_history(tool):

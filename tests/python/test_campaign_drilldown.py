@@ -151,3 +151,13 @@ def test_markdown_page_of_each_kind(tmp_path, capsys):
         assert "pooled: correct" in text and "Runs that went wrong" in text
     assert main(["report", str(tmp_path / "single"), "--markdown", str(tmp_path / "no" / "x.md")]) == 2
     assert "existing directory" in capsys.readouterr().err
+
+
+def test_a_run_flown_again_is_checked_against_its_records_declarations():
+    from f16mmae.campaign.engine.drilldown import flies_as_recorded
+    record = {"declarations": [{"hypothesis": "RS", "time_s": 574.765625}, {"hypothesis": "NONE", "time_s": 575.421875}]}
+    assert flies_as_recorded(record, [dict(d) for d in record["declarations"]])
+    assert not flies_as_recorded(record, [])                                   # declared nothing
+    assert not flies_as_recorded(record, record["declarations"][:1])          # no back-out
+    assert not flies_as_recorded(record, [{"hypothesis": "RS", "time_s": 574.78125}, record["declarations"][1]])
+    assert flies_as_recorded({"declarations": []}, []) and flies_as_recorded({}, [])

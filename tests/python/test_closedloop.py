@@ -187,3 +187,37 @@ def test_the_start_up_weighs_no_hypothesis_for_its_frames(bank):
     assert np.array_equal(p[:n], np.tile(start, (n, 1)))
     assert not np.array_equal(p[n], start)
     assert not np.array_equal(plain.probabilities[0, cols], start)
+
+
+def test_a_records_estimator_settings_fly_the_same_estimator_again():
+    """A scheduled bank's floor is each node's (core ``node_p_min``): the settings in force, which
+    every run record carries, name no p_min then, so a record flown again with its
+    ``estimator_settings`` is the flight it records. At Mach 0.45, 15,000 ft the nodes' floors (1e-5)
+    differ from the bank's one p_min (1e-9), so giving that p_min would fly another estimator."""
+    _, _, bank = load_bank("scheduled")
+    given = Estimator(bank, adapt_turbulence=True)
+    assert "p_min" not in given.settings and "threshold" in given.settings
+    scenario = Scenario(mach=0.45, alt_ft=15000.0, turbulence="light", duration_s=2.0, seed=537703878)
+    floors = {}
+    for name, options in (("given", {"adapt_turbulence": True}), ("settings", given.settings),
+                          ("one p_min", {**given.settings, "p_min": bank.estimator_settings["p_min"]})):
+        est = Estimator(bank, **options)
+        seen = []
+
+        class Floors:   # the estimator's floor in force after each update
+            def __getattr__(self, attr):
+                return getattr(est, attr)
+
+            def update(self, z):
+                z_hat = est.update(z)
+                seen.append(est._bank.p_min_in_force)
+                return z_hat
+
+        result = fly(scenario, bank, estimator=Floors())
+        floors[name] = (np.array(seen), np.nan_to_num(result.probabilities), est.settings)
+    assert np.array_equal(floors["settings"][0], floors["given"][0])
+    assert np.array_equal(floors["settings"][1], floors["given"][1])
+    assert floors["settings"][2] == floors["given"][2]
+    # the test can tell them apart: with the bank's one p_min the floor and the flight differ
+    assert set(floors["given"][0]) != set(floors["one p_min"][0])
+    assert not np.array_equal(floors["one p_min"][1], floors["given"][1])

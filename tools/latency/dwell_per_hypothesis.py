@@ -73,7 +73,7 @@ from pathlib import Path
 import numpy as np
 
 from f16mmae.banks import load_bank
-from f16mmae.campaign.engine.drilldown import record_command
+from f16mmae.campaign.engine.drilldown import flies_as_recorded, record_command
 from f16mmae.loop.flight import fly, scenario_from_dict
 from f16mmae.names import NONE, SINGLE_HYPOTHESES
 
@@ -208,13 +208,6 @@ def flown_frame_dwell(records: list, summary: dict, d: Path) -> None:
                              "campaigns with --dwell-nats 0 (the frame dwell alone)")
 
 
-def as_recorded(record, result) -> bool:
-    """Whether a flight flown again declares what its record says (hypotheses and frames)."""
-    def key(ds):
-        return [(d["hypothesis"], round(float(d["time_s"]), 6)) for d in ds]
-    return key(record.get("declarations") or []) == key(result.declarations)
-
-
 _BANK = None
 
 
@@ -230,7 +223,7 @@ def _fly(args):
     ex, result = flight_excursions(record, _BANK, threshold)
     for e in ex:
         e["run"] = label
-    return ex, as_recorded(record, result), label
+    return ex, flies_as_recorded(record, result.declarations), label
 
 
 def main() -> None:

@@ -2,9 +2,9 @@
 runs (the evidence behind a rough-air least dwell's scale: cpp/f16mmae/declarer.h).
 
 Each run of DIR (a campaign output's runs.jsonl) that declares HYPOTHESIS, or fails it, is flown
-again with its record's scenario and estimator settings on the scheduled bank, and s (the
-estimator's ``turbulence_scale``, from its own residuals) is read on the frame of each
-declaration. Prints a line per run (turbulence, case, run, the declarations with s), then per
+again with its record's scenario and the options it was given on the scheduled bank (refused if it
+does not declare what the record says), and s (the estimator's ``turbulence_scale``, from its own
+residuals) is read on the frame of each declaration. Prints a line per run (turbulence, case, run, the declarations with s), then per
 turbulence level the summary over the failure runs' first declaration of HYPOTHESIS (median,
 p99, largest) and the range over the false ones (runs whose case is another).
 
@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from f16mmae.banks import load_bank
+from f16mmae.campaign.engine.drilldown import flies_as_recorded
 from f16mmae.loop.flight import fly, scenario_from_dict
 
 
@@ -41,8 +42,12 @@ def main(argv=None) -> int:
         if r["case"] != h and not any(d["hypothesis"] == h for d in r["declarations"]):
             continue
         # the whole flight in one call; the flight records s after each frame (FlightResult.turbulence_scale)
-        result = fly(scenario_from_dict(r["scenario"]), bank, estimator_options=r["estimator_settings"],
+        # the options the run was given, as its reproduce command flies them
+        result = fly(scenario_from_dict(r["scenario"]), bank, estimator_options=r["estimator"],
                      record_probabilities=True)
+        if not flies_as_recorded(r, result.declarations):
+            sys.exit(f"scale_at_declarations: {r['case']} run {r['run_index']} ({r['scenario'].get('turbulence')}) "
+                     "flown again does not declare what its record says: not the code or bank that flew it")
         s = result.turbulence_scale
         at = [(d["hypothesis"], d["time_s"], float(s[min(int(round(d["time_s"] * rate)), len(s) - 1)]))
               for d in result.declarations]

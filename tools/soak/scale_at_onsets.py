@@ -1,5 +1,6 @@
 """Where a soak's false declarations begin in the turbulence adaptation's scale s: re-fly each
-flight of a soak's runs.jsonl that declared falsely and print, per false declaration, s at its
+flight of a soak's runs.jsonl that declared falsely (with the options it was given, refused if it does
+not declare what its record says) and print, per false declaration, s at its
 onset (the last frame before the declared hypothesis' probability passed 0.5), the least s over
 the 3 s before, the mean over the 10 s before and the flight's median s (from 10 s on). With
 --without KEY=VALUE the same flights fly again with that estimator setting (e.g.
@@ -20,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from f16mmae.banks import load_bank
+from f16mmae.campaign.engine.drilldown import flies_as_recorded
 from f16mmae.loop.flight import fly, scenario_from_dict
 from f16mmae.names import NONE
 
@@ -72,13 +74,18 @@ def main(argv=None) -> int:
             banks[r["bank"]] = load_bank(r["bank"])[2]
         bank = banks[r["bank"]]
         scenario = scenario_from_dict(r["scenario"])
-        res = fly(scenario, bank, estimator_options=r["estimator_settings"], record_probabilities=True)
+        # the options the run was given, as its reproduce command flies them (the settings in force
+        # of an older record name the bank's one p_min, which is not a scheduled bank's node floors)
+        res = fly(scenario, bank, estimator_options=r["estimator"], record_probabilities=True)
+        if not flies_as_recorded(r, res.declarations):
+            raise SystemExit(f"scale_at_onsets: run {r['run_index']} (seed {r['seed']}) flown again does not declare "
+                             "what its record says: not the code or bank that flew the soak")
         rate = 1.0 / res.frame_dt_s
         s = np.asarray(res.turbulence_scale)
         median = float(np.median(s[int(10 * rate):]))
         other = None
         if a.without:
-            settings = {**r["estimator_settings"], **dict(a.without)}
+            settings = {**r["estimator"], **dict(a.without)}
             other = fly(scenario, bank, estimator_options=settings, record_probabilities=True)
         for name, j, i in onsets(res, rate):
             before3, before10 = s[max(0, j - int(3 * rate)):j + 1], s[max(0, j - int(10 * rate)):j + 1]

@@ -118,7 +118,8 @@ class Estimator:
     (:func:`bank_estimator_settings`, the bank's typed fields) updated by ``options`` (which win);
     ``settings`` holds the result (with the closed loop's defaults written out:
     ``estimator_options.with_closed_loop_defaults``).  A scheduled bank's floor is its nodes' own (``node_p_min``,
-    core.HierarchicalBank) unless ``options`` gives ``p_min``.  Per frame: ``schedule(mach, pressure_altitude_ft)`` (the
+    core.HierarchicalBank) unless ``options`` gives ``p_min``; ``settings`` then names no ``p_min``, so that
+    ``Estimator(model_bank, **settings)`` is the same estimator.  Per frame: ``schedule(mach, pressure_altitude_ft)`` (the
     air data measured with z), ``update(z) -> z_hat``, then ``propagate(u)``; z and u absolute
     (the core subtracts the bank's z_trim / u_trim and returns z_hat absolute).  Nothing else
     flows in."""
@@ -137,6 +138,11 @@ class Estimator:
             own = {k: v for k, v in self.settings.items() if k not in CLOSED_LOOP}  # the loop's (flight.py)
             self._bank = core.HierarchicalBank(model_bank, **core_arguments(own, model_bank.nu),
                                                node_p_min="p_min" not in options)
+            if "p_min" not in options and model_bank.schedule is not None:
+                # the floor in force is each node's, not the bank's one p_min (that floor only before
+                # the first air data): the settings name no p_min, so Estimator(bank, **settings),
+                # a record flown again, has the nodes' floors too
+                del self.settings["p_min"]
         self.bank_hash = flown_bank_hash(model_bank, self.settings)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None

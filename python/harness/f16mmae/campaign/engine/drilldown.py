@@ -59,6 +59,15 @@ def record_command(record: dict, dither_scale: float = 1.0) -> str:
                              dither_scale)
 
 
+def flies_as_recorded(record: dict, declarations: Iterable[dict]) -> bool:
+    """Whether a run flown again (its record's scenario, bank and ``estimator``, the options it was
+    given, as :func:`record_command` flies them) declared what the record says: every declaration's
+    hypothesis and time, in order. A lab tool that reads a flown-again run refuses one that does not."""
+    def key(ds):
+        return [(d["hypothesis"], round(float(d["time_s"]), 6)) for d in ds]
+    return key(record.get("declarations") or []) == key(declarations)
+
+
 def not_clean(records: Iterable[dict], command: Callable[[dict], str], label: Callable[[dict], dict]) -> list[dict]:
     """Every run that was not clean: ``label(record)`` (the fields naming its case), then
     ``seed``, ``run_index``, ``outcome``, ``flags``, ``final_hypothesis``, ``declarations``

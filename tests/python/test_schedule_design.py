@@ -479,6 +479,23 @@ def test_gust_nodes_keep_their_own_settings_only_inside_the_gust_region():
     assert all((floors[(i, j)], refs[(i, j)]) == (1e-9, 0.8) for i in range(3) for j in (1, 2))
 
 
+def test_a_node_beside_an_untrimmable_point_takes_its_smallest_floor_and_keeps_its_reference():
+    """3 x 3 grid with (0, 2) left out (untrimmable): its neighbours (0, 1), (1, 1), (1, 2) take
+    their smallest candidate floor, 1e-9, and keep the reference bounded at the neighbourhood's
+    floor (1e-5); every other node is as without the edge (the neighbourhood rule)."""
+    def two(p_min):   # candidates at floors 1e-9 and 1e-5, both met; the reference is lower at 1e-5
+        return {"p_min": p_min, "bound_met": True, "adapt_reference": 0.6,
+                "candidates": [[1e-9, 0.9, 0.0, 0.0, True], [1e-5, 0.6, 0.0, 0.0, True]]}
+
+    records = {(i, j): two(1e-5) for i in range(3) for j in range(3) if (i, j) != (0, 2)}
+    plain_floors, plain_refs = neighbourhood_settings(records)
+    floors, refs = neighbourhood_settings(records, untrimmable={(0, 2)})
+    beside = {(0, 1), (1, 1), (1, 2)}
+    assert refs == plain_refs and set(plain_refs.values()) == {0.6}   # bounded at 1e-5, as without the edge
+    assert all(floors[k] == 1e-9 for k in beside)
+    assert all(floors[k] == plain_floors[k] == 1e-5 for k in records if k not in beside)
+
+
 def test_a_low_node_keeps_gust_states_only_where_its_calibration_gains():
     """gust_gains on bounded_settings records: strictly less declaration effort with the gust
     states at the smallest candidate floor, s (ln(thr/(1-thr)) - floor's log-odds), keeps them,

@@ -40,6 +40,14 @@ def test_a_short_soak_with_and_without_a_setting(tool, tmp_path, capsys):
     printed = capsys.readouterr().out
     for line in printed.splitlines():   # each false declaration's line names its onset and s there
         assert line.startswith(("run ", "    with ", "figure: ")), line
+    # a record whose declarations its flight does not repeat (here: one written by hand) is refused
+    import json
+    records = [json.loads(line) for line in (out / "runs.jsonl").read_text().splitlines()]
+    records[0]["false_declarations"] = 1
+    records[0]["declarations"] = [{"hypothesis": "RF", "time_s": 5.0}, {"hypothesis": "NONE", "time_s": 6.0}]
+    (out / "runs.jsonl").write_text("".join(json.dumps(r) + "\n" for r in records))
+    with pytest.raises(SystemExit, match="flown again does not declare what its record says"):
+        tool.main([str(out)])
 
 
 def test_refusals_name_the_problem(tool, tmp_path, capsys):

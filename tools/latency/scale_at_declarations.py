@@ -4,9 +4,10 @@ runs (the evidence behind a rough-air least dwell's scale: cpp/f16mmae/declarer.
 Each run of DIR (a campaign output's runs.jsonl) that declares HYPOTHESIS, or fails it, is flown
 again with its record's scenario and the options it was given on the scheduled bank (refused if it
 does not declare what the record says), and s (the estimator's ``turbulence_scale``, from its own
-residuals) is read on the frame of each declaration. Prints a line per run (turbulence, case, run, the declarations with s), then per
-turbulence level the summary over the failure runs' first declaration of HYPOTHESIS (median,
-p99, largest) and the range over the false ones (runs whose case is another).
+residuals) is read on the frame of each declaration. Prints a line per run (turbulence, case, run,
+the declarations with s), then per turbulence level the summary over the failure runs' first
+declaration of HYPOTHESIS (median, p99, largest) and the range over the false ones (runs whose case
+is another).
 
     python tools/latency/scale_at_declarations.py DIR [--hypothesis RUD]
 """

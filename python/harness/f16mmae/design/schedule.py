@@ -440,8 +440,8 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
        the design: JSBSim cannot trim the F-16 there) takes its smallest candidate floor and keeps
        the reference of step 3: its calibration flew at the node, not in the cut cells between it
        and the edge, which the aircraft flies at the edge's lowest speeds (at Mach 0.36, 34,000 ft
-       the cut cell put the (0.4, 35,000 ft) node's 1e-7 in force on some frames, and the short
-       false stabilator and flaperon declarations of 10-h soaks there came with it;
+       the cut cell put the (0.4, 35,000 ft) node's 1e-7 in force, and the short false stabilator
+       and flaperon declarations of 10-h soaks there came with it;
        docs/results/envelope_scheduled.md, round 45). A lower floor with the same reference only
        lowers the false alarms' peak (below), so the bound holds.
     Why this keeps the bound at every corner that met it: the blend anywhere in a cell has a

@@ -189,17 +189,26 @@ def test_the_start_up_weighs_no_hypothesis_for_its_frames(bank):
     assert not np.array_equal(plain.probabilities[0, cols], start)
 
 
-def test_a_records_estimator_settings_fly_the_same_estimator_again():
+def test_a_records_estimator_settings_fly_the_same_estimator_again(tmp_path):
     """A scheduled bank's floor is each node's (core ``node_p_min``): the settings in force, which
     every run record carries, name no p_min then, so a record flown again with its
-    ``estimator_settings`` is the flight it records. At Mach 0.45, 15,000 ft the nodes' floors (1e-5)
-    differ from the bank's one p_min (1e-9), so giving that p_min would fly another estimator."""
-    _, _, bank = load_bank("scheduled")
-    given = Estimator(bank, adapt_turbulence=True)
+    ``estimator_settings`` is the flight it records. A two-node schedule whose node at Mach 0.5
+    recommends the floor 1e-5 and whose primary node (at 0.4, the bank's one p_min) 1e-9, flown at
+    Mach 0.5: giving that one p_min would fly another estimator."""
+    from f16mmae import core, names
+    from f16mmae.design.bank import design_bank, to_model_bank
+    from f16mmae.design.tuning import load_tuning
+    tuning = load_tuning("tuned")
+    nodes = [(i, 0, to_model_bank(design_bank(m, 20_000.0, tuning)).with_settings(p_min=p), np.zeros(names.NX))
+             for i, (m, p) in enumerate(((0.4, 1e-9), (0.5, 1e-5)))]
+    core.save_schedule([0.4, 0.5], [20000.0], nodes, primary=0, path=str(tmp_path / "two.f16sched"))
+    bank = core.load_bank(str(tmp_path / "two.f16sched"))
+    given = Estimator(bank)
     assert "p_min" not in given.settings and "threshold" in given.settings
-    scenario = Scenario(mach=0.45, alt_ft=15000.0, turbulence="light", duration_s=2.0, seed=537703878)
+    assert bank.estimator_settings["p_min"] == 1e-9
+    scenario = Scenario(mach=0.5, alt_ft=20000.0, turbulence="light", duration_s=2.0, seed=537703878)
     floors = {}
-    for name, options in (("given", {"adapt_turbulence": True}), ("settings", given.settings),
+    for name, options in (("given", {}), ("settings", given.settings),
                           ("one p_min", {**given.settings, "p_min": bank.estimator_settings["p_min"]})):
         est = Estimator(bank, **options)
         seen = []

@@ -124,9 +124,10 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: calm-air reference (calibrate.calm_reference; schedule format 4), which SCHEDULE_CALM_COMPLETE reads;
 #: 15: the throttle command as every node's sixth input (SCHEDULE_THROTTLE_INPUT); 16: a failed
 #: sensor's channel at the sensor's own noise (SCHEDULE_FAILED_SENSOR_NOISE); 17: a node beside an
-#: untrimmable grid point at its smallest candidate floor, its reference as bounded before
-#: (schedule.neighbourhood_settings: the trimmable edge).
-SCHEDULE_DESIGN_REVISION = 17
+#: untrimmable grid point at its least candidate floor, its reference as bounded before (the
+#: trimmable edge); 18: every node at its least candidate floor, its reference as bounded at the floor
+#: its calibration chose (schedule.neighbourhood_settings: the calibration flies light air only).
+SCHEDULE_DESIGN_REVISION = 18
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).

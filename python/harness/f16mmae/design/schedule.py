@@ -448,22 +448,21 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
     the peak falls with the floor as with the reference.  (Taking the smallest floor and the
     smallest reference apart would pair a floor chosen with a high reference with a reference
     chosen for a high floor: tempering far more than either node needs.)
-    ``keep_own``: nodes that keep their own chosen reference (``gust_neighbourhoods``; their floor
-    too until step 4); every other node's pair is the one this rule gives without them (their
-    neighbours see them as above, not at their own floor: an own floor above the rule's would
-    otherwise lower the references around it)."""
-    floors = neighbourhood_minimum({k: (r["p_min"], r["bound_met"]) for k, r in records.items()})
+    ``keep_own``: nodes that keep their own chosen reference (``gust_neighbourhoods``); every other
+    node's reference is the one this rule gives without them (their neighbours see them as above,
+    not at their own chosen floor: an own floor above the rule's would otherwise lower the
+    references around it)."""
+    chosen = neighbourhood_minimum({k: (r["p_min"], r["bound_met"]) for k, r in records.items()})   # 1.
     at = {k: {row[0]: (row[1], row[4]) for row in r["candidates"]} for k, r in records.items()}
     references = {}
     for (i, j) in records:
         around = [(i + di, j + dj) for di in (-1, 0, 1) for dj in (-1, 0, 1)
                   if (di or dj) and (i + di, j + dj) in records]
-        top = max([floors[(i, j)]] + [floors[k] for k in around])
-        references[(i, j)] = min([at[(i, j)][top][0]] + [at[k][top][0] for k in around if at[k][top][1]])
+        top = max([chosen[(i, j)]] + [chosen[k] for k in around])   # 2. P
+        references[(i, j)] = min([at[(i, j)][top][0]] + [at[k][top][0] for k in around if at[k][top][1]])   # 3.
     for k in keep_own:
-        floors[k], references[k] = records[k]["p_min"], records[k]["adapt_reference"]
-    for k, r in records.items():   # 4. the least floor, the reference as bounded above
-        floors[k] = min(row[0] for row in r["candidates"])
+        references[k] = records[k]["adapt_reference"]
+    floors = {k: min(row[0] for row in r["candidates"]) for k, r in records.items()}   # 4.
     return floors, references
 
 

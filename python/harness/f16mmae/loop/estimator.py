@@ -142,7 +142,7 @@ class Estimator:
                 # the floor in force is each node's, not the bank's one p_min (that floor only before
                 # the first air data): the settings name no p_min, so Estimator(bank, **settings),
                 # a record flown again, has the nodes' floors too
-                del self.settings["p_min"]
+                self.settings.pop("p_min", None)
         self.bank_hash = flown_bank_hash(model_bank, self.settings)
         #: The hypothesis declared by the last update (a back-out declares NONE), or None.
         self.last_declaration: str | None = None

@@ -1,27 +1,36 @@
 """The soak campaign: long failure-free flights, counting false declarations per flight hour.
 
 Flights: ``--hours H`` at each turbulence level of ``--turbulence`` (one level or a comma
-list), cut into ``F = ceil(3600 H / flight_s)`` failure-free flights of ``flight_s`` seconds
-each (so ``F flight_s >= 3600 H`` hours are flown per level), trimmed at the bank's design
-point or at ``mach`` / ``alt_ft`` (``--mach``/``--alt-ft``).  The aircraft holds trim with the
-dither on, or, with ``maneuvers`` (truth maneuver strings, ``truth.maneuvers``; :func:`profile`
-gives the ``tour``), every flight flies that schedule: the false declarations are then per
-hour of maneuvering flight.
+list) and each flight point, cut into ``F = ceil(3600 H / flight_s)`` failure-free flights of
+``flight_s`` seconds each (so ``F flight_s >= 3600 H`` hours are flown per point and level),
+trimmed at the point.  The points (:func:`soak_points`): ``points`` (objects with ``label``,
+``mach``, ``alt_ft``; the CLI takes the envelope campaign's selections ``--points`` and
+``--mach-alt``), else the one point ``mach`` / ``alt_ft`` (``--mach``/``--alt-ft``, labelled
+:data:`CUSTOM_LABEL`), else the bank's design point (labelled :data:`DESIGN_LABEL`).  The
+aircraft holds trim with the dither on, or, with ``maneuvers`` (truth maneuver strings,
+``truth.maneuvers``; :func:`profile` gives the ``tour``, each point's from its own flight
+condition), every flight flies that schedule: the false declarations are then per hour of
+maneuvering flight.
 Each flight is one run of the shared engine (runner, store, executor, code identity, lock):
-an interrupted soak resumes flight by flight, and flights are distributed like any run.
+an interrupted soak resumes flight by flight, and flights are distributed like any run.  A soak
+without ``points`` plans the flights, specs and run keys it always has; with ``points`` each
+spec and record also names its point (``point``), its key differing from point to point by the
+scenario's Mach and altitude.
 
-Seeds (common random numbers across levels): flight n gets
-``evaluation_seed("soak", S, n)`` at every level, so level L1 and level L2 differ in the
-turbulence intensity only.  Lengthening ``--hours`` keeps the flights already flown.
+Seeds (common random numbers across levels and points): flight n gets
+``evaluation_seed("soak", S, n)`` at every level and every point, so level L1 and level L2
+differ in the turbulence intensity only, and point P1 and point P2 in the flight condition only.
+Lengthening ``--hours`` keeps the flights already flown.
 
-Per level (``episodes.level_rate``): false declarations per flight hour with the exact
-Poisson 95 % interval and the goal's verdict (:data:`GOALS_PER_H`), how long each lasted
+Per level (``episodes.level_rate``, pooled over the points: the level's false declarations over
+its hours at every point), and per point and level (``points``): false declarations per flight
+hour with the exact Poisson 95 % interval and the goal's verdict (:data:`GOALS_PER_H`), how long each lasted
 (``episodes.false_episodes``) and the hypotheses involved; hours and declarations counted while
 the aircraft flies the flight condition (``episodes.left_condition_s``: a flight that leaves it,
 e.g. a pilotless aircraft rolling off into a spiral dive, counts up to then, and its later
 declarations are reported apart).  ``goals_met``: no level's verdict
-is *not met*.  Every flight with a false declaration is listed with its ``f16mmae run``
-command (``drilldown``).
+is *not met* (pooled).  Every flight with a false declaration is listed with its ``f16mmae run``
+command (``drilldown``; with ``points``, with its point).
 """
 from __future__ import annotations
 
@@ -50,11 +59,26 @@ GOALS_PER_H: dict[str, float] = {"none": 0.0, "light": 0.0, "moderate": 0.0, "se
 SOAK_FLIGHT_S = 600.0
 #: The most flights per level a soak plans.
 FLIGHTS_MAX = 100_000
+#: The label of a soak's one point at the bank's design point (the envelope campaign's nominal point's).
+DESIGN_LABEL = "NOM"
+#: The label of a soak's one point at ``--mach``/``--alt-ft`` (the first of ``--mach-alt``'s custom points').
+CUSTOM_LABEL = "C1"
+
+
+@dataclass(frozen=True)
+class SoakPoint:
+    """A flight condition a soak flies: ``label``, Mach and altitude (ft).  ``SoakCampaign.points``
+    hold any objects with these three fields (the CLI's are the envelope campaign's points)."""
+
+    label: str
+    mach: float
+    alt_ft: float
 
 
 @dataclass(frozen=True)
 class SoakCampaign(CampaignConfig):
-    """The arguments of ``f16mmae campaign soak`` (``duration_s`` is the length of one flight)."""
+    """The arguments of ``f16mmae campaign soak`` (``duration_s`` is the length of one flight;
+    ``hours`` per point and level)."""
 
     hours: float = 1.0
     duration_s: float = SOAK_FLIGHT_S
@@ -63,9 +87,12 @@ class SoakCampaign(CampaignConfig):
     #: A named profile (:data:`PROFILES`) flown from the flight condition instead.
     profile: str | None = None
     #: The flight condition every flight starts trimmed at (both or neither); None: the bank's
-    #: design point.
+    #: design point (or the ``points``).
     mach: float | None = None
     alt_ft: float | None = None
+    #: The flight points (``label``, ``mach``, ``alt_ft``: the envelope campaign's points), each
+    #: flown ``hours`` per level; () the one point of ``mach`` / ``alt_ft`` or the design point.
+    points: tuple = ()
 
     @property
     def flights(self) -> int:
@@ -83,23 +110,48 @@ class SoakCampaign(CampaignConfig):
         self.check_common(dwell_window_s=self.duration_s)
         if (self.mach is None) != (self.alt_ft is None):
             raise CampaignError("give --mach and --alt-ft together (neither: the bank's design point)")
+        if self.mach is not None and self.points:
+            raise CampaignError("give --mach/--alt-ft (one flight condition) or --points/--mach-alt "
+                                "(flight points), not both")
         if self.mach is not None:
             try:
                 check_flight_condition(self.mach, self.alt_ft)
             except ValueError as exc:
                 raise CampaignError(f"--mach/--alt-ft: {exc}") from None
+        self._check_points()
         if self.profile is not None:
             if self.maneuvers:
                 raise CampaignError("give --maneuver or --profile, not both")
             need = profile(self.profile, 0.4, 20_000.0)[1]
             if self.duration_s < need:
                 raise CampaignError(f"--profile {self.profile} needs flights of at least {need:g} s (--flight-s)")
-        if self.maneuvers:
+        single = (SoakPoint(CUSTOM_LABEL, self.mach, self.alt_ft),) if self.mach is not None else ()
+        if self.maneuvers and not (self.points or single):   # at the design point (the plan checks the bank's)
             try:
                 Scenario(duration_s=self.duration_s, maneuvers=tuple(self.maneuvers))
             except ValueError as exc:
                 raise CampaignError(f"--maneuver: {exc}") from None
+        for p in self.points or single:
+            check_point_maneuvers(self, p)
         return self
+
+    def _check_points(self) -> None:
+        """Refuse a label used twice, a point outside the envelope or one
+        flight condition listed twice (its flights would be the same runs)."""
+        seen: dict[tuple[float, float], str] = {}
+        for p in self.points:
+            try:
+                check_flight_condition(p.mach, p.alt_ft)
+            except ValueError as exc:
+                raise CampaignError(f"point {p.label}: {exc}") from None
+            condition = (round(float(p.mach), 6), round(float(p.alt_ft), 3))
+            if condition in seen:
+                raise CampaignError(f"points {seen[condition]} and {p.label} are the same flight condition "
+                                    f"(Mach {p.mach}, {p.alt_ft:.0f} ft)")
+            seen[condition] = p.label
+        labels = [p.label for p in self.points]
+        if len(set(labels)) != len(labels):
+            raise CampaignError(f"point label(s) used twice in {', '.join(labels)}")
 
 
 #: Soak profiles: name -> (maneuver strings from Mach M, altitude H ft, the flight length they need).
@@ -135,18 +187,45 @@ def profile(name: str, mach: float, alt_ft: float) -> tuple[tuple[str, ...], flo
 
 
 def flight_condition(cfg: SoakCampaign, bank) -> tuple[float, float]:
-    """(Mach, altitude ft) every flight of ``cfg`` starts at: ``--mach``/``--alt-ft``, else the
-    design point of ``bank``."""
+    """(Mach, altitude ft) every flight of a soak without ``points`` starts at:
+    ``--mach``/``--alt-ft``, else the design point of ``bank``."""
     if cfg.mach is not None:
         return float(cfg.mach), float(cfg.alt_ft)
     return float(bank.mach), float(bank.alt_ft)
 
 
-def flight_maneuvers(cfg: SoakCampaign, bank) -> tuple[str, ...]:
-    """The maneuvers every flight of ``cfg`` flies with ``bank`` (a profile's from the flight condition)."""
+def soak_points(cfg: SoakCampaign, bank) -> tuple:
+    """The points ``cfg`` flies with ``bank``, in order: its ``points``, else the one point of
+    :func:`flight_condition` (labelled :data:`CUSTOM_LABEL` at ``--mach``/``--alt-ft``, else
+    :data:`DESIGN_LABEL`)."""
+    if cfg.points:
+        return tuple(cfg.points)
+    return (SoakPoint(DESIGN_LABEL if cfg.mach is None else CUSTOM_LABEL, *flight_condition(cfg, bank)),)
+
+
+def point_maneuvers(cfg: SoakCampaign, mach: float, alt_ft: float) -> tuple[str, ...]:
+    """The maneuvers every flight of ``cfg`` from (``mach``, ``alt_ft``) flies (a profile's from there)."""
     if cfg.profile is not None:
-        return profile(cfg.profile, *flight_condition(cfg, bank))[0]
+        return profile(cfg.profile, mach, alt_ft)[0]
     return tuple(cfg.maneuvers)
+
+
+def flight_maneuvers(cfg: SoakCampaign, bank) -> tuple[str, ...]:
+    """The maneuvers every flight of a soak without ``points`` flies with ``bank`` (a profile's
+    from the flight condition)."""
+    return point_maneuvers(cfg, *flight_condition(cfg, bank))
+
+
+def check_point_maneuvers(cfg: SoakCampaign, point) -> None:
+    """Refuse maneuvers that do not fit a flight from ``point`` (CampaignError naming it)."""
+    mans = point_maneuvers(cfg, point.mach, point.alt_ft)
+    if not mans:
+        return
+    try:
+        Scenario(mach=float(point.mach), alt_ft=float(point.alt_ft), duration_s=cfg.duration_s, maneuvers=mans)
+    except ValueError as exc:
+        raise CampaignError(f"point {point.label} (Mach {point.mach:g}, {point.alt_ft:g} ft): "
+                            f"maneuvers: {exc}") from None
 
 
 def flight_seed(campaign_seed: int, index: int) -> int:
@@ -164,7 +243,8 @@ def run_spec(spec: dict) -> dict:
     flown = scenario.duration_s if left is None else left
     counted = [d for d in result.declarations if left is None or d["time_s"] < left]
     return {
-        "run_key": spec["run_key"], "kind": "soak", "level": spec["level"], "case": NONE,
+        "run_key": spec["run_key"], "kind": "soak", "level": spec["level"],
+        **({"point": spec["point"]} if "point" in spec else {}), "case": NONE,
         "run_index": spec["run_index"], "seed": spec["seed"], "tuning": spec["tuning"], "bank": spec["bank"],
         "bank_hash": spec["bank_hash"], "version": spec["version"], "scenario": spec["scenario"],
         "estimator": spec["estimator"], "estimator_settings": result.estimator_settings,
@@ -179,28 +259,36 @@ def run_spec(spec: dict) -> dict:
 
 
 def describe_spec(spec: dict) -> str:
-    return f"soak flight {spec['run_index']} at {spec['level']} turbulence (seed {spec['seed']})"
+    where = f" at point {spec['point']}" if "point" in spec else ""
+    return f"soak flight {spec['run_index']}{where} at {spec['level']} turbulence (seed {spec['seed']})"
 
 
 def plan(cfg: SoakCampaign, label: str, tuning_arg: str, bank) -> list[dict]:
-    """Every flight of ``cfg``: level by level, flight 0 .. F-1 (module docstring)."""
+    """Every flight of ``cfg``: point by point, level by level, flight 0 .. F-1, flight n with
+    the same seed everywhere (module docstring).  With ``points`` each spec names its point
+    (``point``); the run key is of the flight alone (kind, scenario, estimator, bank, version),
+    so a soak without ``points`` keeps the keys it always had."""
     specs = []
-    mans = flight_maneuvers(cfg, bank)
-    for level in cfg.levels():
-        for n in range(cfg.flights):
-            seed = flight_seed(cfg.seed, n)
-            scenario = cfg.scenario_dict(bank, (), seed, mach=cfg.mach, alt_ft=cfg.alt_ft, turbulence=level)
-            if mans:
-                try:
-                    scenario = Scenario.from_dict({**scenario, "maneuvers": list(mans)}).to_dict()
-                except ValueError as exc:
-                    raise CampaignError(f"maneuvers at Mach {scenario['mach']:g}, {scenario['alt_ft']:g} ft: "
-                                        f"{exc}") from None
-            key = run_key({"kind": "soak", "scenario": scenario, "estimator": cfg.estimator_options(),
-                           "bank_hash": bank.content_hash, "version": __version__})
-            specs.append({"run_key": key, "level": level, "run_index": n, "seed": seed, "tuning": label,
-                          "bank": tuning_arg, "bank_hash": bank.content_hash, "version": __version__,
-                          "scenario": scenario, "estimator": cfg.estimator_options()})
+    for p in soak_points(cfg, bank):
+        mans = point_maneuvers(cfg, p.mach, p.alt_ft)
+        for level in cfg.levels():
+            for n in range(cfg.flights):
+                seed = flight_seed(cfg.seed, n)
+                scenario = cfg.scenario_dict(bank, (), seed, mach=p.mach, alt_ft=p.alt_ft, turbulence=level)
+                if mans:
+                    try:
+                        scenario = Scenario.from_dict({**scenario, "maneuvers": list(mans)}).to_dict()
+                    except ValueError as exc:
+                        raise CampaignError(f"point {p.label} (Mach {scenario['mach']:g}, {scenario['alt_ft']:g} ft): "
+                                            f"maneuvers: {exc}") from None
+                key = run_key({"kind": "soak", "scenario": scenario, "estimator": cfg.estimator_options(),
+                               "bank_hash": bank.content_hash, "version": __version__})
+                spec = {"run_key": key, "level": level, "run_index": n, "seed": seed, "tuning": label,
+                        "bank": tuning_arg, "bank_hash": bank.content_hash, "version": __version__,
+                        "scenario": scenario, "estimator": cfg.estimator_options()}
+                if cfg.points:
+                    spec["point"] = p.label
+                specs.append(spec)
     return specs
 
 
@@ -216,27 +304,65 @@ def run_soak(cfg: SoakCampaign, out_dir: str | Path, executor: Executor, executo
         done = execute(specs, ResultsStore(out), executor, run_spec, describe=describe_spec,
                        progress_label="flights", show_progress=show_progress, allow_mixed=allow_mixed,
                        progress_note=lambda n: f"({n * hours_each:.2f}/{len(specs) * hours_each:.2f} h flown)")
-        summary = summarize(cfg, label, bank, done.records)
-        summary["figures"] = figures.make_figures(out, done.records, summary["levels"], cfg.duration_s)
+        points = soak_points(cfg, bank)
+        records = with_points(points, done.records)
+        summary = summarize(cfg, label, bank, records)
+        summary["figures"] = figures.make_figures(out, records, summary)
         return done.finish(out, summary, executor_label)
 
 
+def with_points(points, records: list[dict]) -> list[dict]:
+    """``records`` each with ``point``: the label of the point of ``points`` it flew from, by
+    its scenario's Mach and altitude (a flight stored under another label, e.g. ``--points NOM``
+    flown again as ``--mach-alt 0.4:20000``, is the same flight and takes this soak's label).
+    CampaignError for a record from none of them."""
+    where = {(round(float(p.mach), 6), round(float(p.alt_ft), 3)): p.label for p in points}
+    out = []
+    for r in records:
+        condition = (round(float(r["scenario"]["mach"]), 6), round(float(r["scenario"]["alt_ft"]), 3))
+        if condition not in where:
+            raise CampaignError(f"soak flight {r['run_key']} flew Mach {condition[0]:g}, {condition[1]:g} ft: "
+                                f"none of the points {', '.join(where.values())}")
+        out.append({**r, "point": where[condition]})
+    return out
+
+
 def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
-    """The soak's ``summary.json`` from its flight records (module docstring)."""
+    """The soak's ``summary.json`` from its flight records (module docstring): per level pooled
+    over the points (``levels``), per point and level (``points``, in the points' order), the
+    top-level ``mach`` / ``alt_ft`` the one point's (None over several)."""
+    points = soak_points(cfg, bank)
+    labelled = bool(cfg.points)
+    where = {p.label: i for i, p in enumerate(points)}
     order = {lvl: i for i, lvl in enumerate(cfg.levels())}
-    ranked = sorted(records, key=lambda r: (order.get(r["level"], len(order)), r["run_index"]))
+    ranked = sorted(with_points(points, records),
+                    key=lambda r: (where[r["point"]], order.get(r["level"], len(order)), r["run_index"]))
     levels = []
     for lvl in cfg.levels():
         rate = episodes.level_rate([r for r in ranked if r["level"] == lvl], GOALS_PER_H[lvl])
         levels.append({"level": lvl, **rate})
+    by_point = []
+    for p in points:
+        mans = point_maneuvers(cfg, p.mach, p.alt_ft)
+        rows = [{"level": lvl, **episodes.level_rate([r for r in ranked if r["point"] == p.label and r["level"] == lvl],
+                                                     GOALS_PER_H[lvl])} for lvl in cfg.levels()]
+        by_point.append({"label": p.label, "mach": float(p.mach), "alt_ft": float(p.alt_ft),
+                         "maneuvers": list(mans) or None, "levels": rows})
     verdicts = {lv["level"]: lv["per_hour"].get("verdict") for lv in levels}
-    mach, alt_ft = flight_condition(cfg, bank)
+    single = points[0] if len(points) == 1 else None
+    schedules = {tuple(p["maneuvers"] or ()) for p in by_point}
+    where_label = (lambda r: {"point": r["point"]}) if labelled else (lambda r: {})
     return {
         "kind": "soak", "seed": cfg.seed, "hours": cfg.hours, "flight_s": cfg.duration_s,
         "flights_per_level": cfg.flights, "turbulence": cfg.turbulence, "levels": levels,
+        "points": by_point,
         "tuning": label, "bank_hash": bank.content_hash, "version": __version__,
-        "mach": mach, "alt_ft": alt_ft, "feedback": cfg.feedback,
-        "dither": cfg.dither, "dither_scale": cfg.dither_scale, "maneuvers": list(flight_maneuvers(cfg, bank)) or None,
+        "mach": None if single is None else float(single.mach),
+        "alt_ft": None if single is None else float(single.alt_ft),
+        "design_point": {"mach": float(bank.mach), "alt_ft": float(bank.alt_ft)},
+        "feedback": cfg.feedback,
+        "dither": cfg.dither, "dither_scale": cfg.dither_scale,
+        "maneuvers": (list(schedules.pop()) or None) if len(schedules) == 1 else None,
         "profile": cfg.profile,
         "estimator": cfg.estimator_options(),
         "estimator_settings": bank_estimator_settings(bank, cfg.estimator_options()),
@@ -245,12 +371,12 @@ def summarize(cfg: SoakCampaign, label: str, bank, records: list[dict]) -> dict:
         "goals_met": all(v is not None and v != "not met" for v in verdicts.values()),
         "code": identity.code_identity(),
         "left_condition": [
-            {"level": r["level"], "run_index": r["run_index"], "seed": r["seed"],
+            {**where_label(r), "level": r["level"], "run_index": r["run_index"], "seed": r["seed"],
              "left_condition_s": r["left_condition_s"], "declarations_after_leaving": r["declarations_after_leaving"],
              "command": drilldown.record_command(r, cfg.dither_scale)}
             for r in ranked if r.get("left_condition_s") is not None],
         "not_clean": drilldown.not_clean(
             ranked, lambda r: drilldown.record_command(r, cfg.dither_scale),
-            lambda r: {"level": r["level"], "false_declarations": r["false_declarations"],
+            lambda r: {**where_label(r), "level": r["level"], "false_declarations": r["false_declarations"],
                        "episodes": r["episodes"]}),
     }

@@ -1,7 +1,8 @@
 """The HTML page of a soak directory (``summary.json`` of kind "soak"): false declarations
-per flight hour per turbulence level with their intervals and verdicts, the hypotheses
-involved and how long the declarations lasted, the flights with one (each with its reproduce
-command), the parameters and the figures; registered with ``report.page`` on import."""
+per flight hour per turbulence level with their intervals and verdicts (pooled over the points),
+the hypotheses involved and how long the declarations lasted, with two or more points the same
+per point, the flights with one (each with its reproduce command), the parameters and the
+figures; and its Markdown page; registered with ``report.page`` and ``report.markdown`` on import."""
 from __future__ import annotations
 
 import html
@@ -45,6 +46,51 @@ def _level_rows(levels: list[dict]) -> str:
     return "<table>" + head + "".join(rows) + "</table>"
 
 
+def several_points(s: dict) -> bool:
+    """Whether soak summary ``s`` flew two or more points (a summary from before there were
+    points flew one)."""
+    return len(s.get("points") or ()) > 1
+
+
+def points_text(s: dict, listed: int = 12) -> str:
+    """The labels of the soak's points in order, the middle ones elided past ``listed``."""
+    labels = [p["label"] for p in s.get("points") or ()]
+    if len(labels) > listed:
+        labels = labels[:listed - 2] + ["...", labels[-1]]
+    return ", ".join(labels)
+
+
+def _point_rate(level: dict) -> str:
+    """A point's false declarations per hour at a level: ``rate [lo-hi] (count)``, ``-`` unflown."""
+    ph = level["per_hour"]
+    if ph.get("rate") is None:
+        return "-"
+    lo, hi = ph["ci95"]
+    return f"{ph['rate']:.2f} [{lo:.2f}-{hi:.2f}] ({ph['events']})"
+
+
+def _point_rows(s: dict) -> str:
+    """The table of the points: per level, false declarations per hour, flights with one and
+    the hypotheses; a row coloured by its worst verdict."""
+    levels = [lv["level"] for lv in s["levels"]]
+    head = ("<tr><th>point</th><th>Mach</th><th>altitude (ft)</th>"
+            + "".join(f"<th>{html.escape(lvl)}: false declarations per hour [95 %] (count)</th>"
+                      f"<th>{html.escape(lvl)}: flights with one</th><th>{html.escape(lvl)}: hypotheses</th>"
+                      for lvl in levels) + "</tr>")
+    rows = []
+    for p in s["points"]:
+        verdicts = {q["per_hour"].get("verdict") for q in p["levels"]}
+        cls = ("bad" if "not met" in verdicts else "fair" if "consistent" in verdicts
+               else "ok" if verdicts == {"demonstrated"} else "")
+        cells = "".join(f"<td>{_point_rate(q)}</td><td>{q['flights_with_false_declaration']}/{q['flights']}</td>"
+                        f"<td>{html.escape(evidence.describe_counts(q['hypotheses'], top=4))}</td>"
+                        for q in p["levels"])
+        rows.append(f"<tr class='{cls}'><td>{html.escape(p['label'])}</td><td>{p['mach']:.3f}</td>"
+                    f"<td>{p['alt_ft']:.0f}</td>{cells}</tr>")
+    return ("<h2>Per point</h2><p>Each point's flights alone (the same seeds at every point); the table above "
+            "pools them.</p><table>" + head + "".join(rows) + "</table>")
+
+
 def _left(level: dict) -> str:
     """Flights of a level that left the flight condition, and their failure declarations after."""
     return f"{level.get('flights_left_condition', 0)} ({level.get('declarations_after_leaving', 0)})"
@@ -54,25 +100,38 @@ def _left_section(flights: list[dict]) -> str:
     """The flights that left the flight condition, each with its command."""
     if not flights:
         return ""
+    pointed = any("point" in f for f in flights)
     rows = "".join(
-        f"<tr><td>{html.escape(f['level'])}</td><td>{f['run_index']}</td><td>{f['left_condition_s']:.0f}</td>"
+        "<tr>" + (f"<td>{html.escape(str(f.get('point')))}</td>" if pointed else "")
+        + f"<td>{html.escape(f['level'])}</td><td>{f['run_index']}</td><td>{f['left_condition_s']:.0f}</td>"
         f"<td>{html.escape(', '.join(d['hypothesis'] + ' ' + format(d['time_s'], '.1f') for d in f['declarations_after_leaving']) or '-')}</td>"
         f"<td><code>{html.escape(f['command'])}</code></td></tr>" for f in flights)
-    return ("<h2>Flights that left the flight condition</h2><table><tr><th>turbulence</th><th>flight</th>"
+    return ("<h2>Flights that left the flight condition</h2><table><tr>" + ("<th>point</th>" if pointed else "")
+            + "<th>turbulence</th><th>flight</th>"
             "<th>left at (s)</th><th>declarations after (not counted)</th><th>command</th></tr>" + rows + "</table>")
+
+
+def _flown(s: dict) -> str:
+    """What the flights flew: the profile, the maneuvers (each point's own from a profile over
+    several points) or trim."""
+    text = f"profile {s['profile']}: " if s.get("profile") else ""
+    if s.get("maneuvers"):
+        return text + "maneuvering: " + ", ".join(s["maneuvers"])
+    if s.get("profile"):
+        return text + "maneuvering, each point from its own flight condition"
+    return text + "trim, no pilot (no maneuvers)"
 
 
 def soak_page(d: Path, s: dict) -> str:
     """The body of the page for a soak summary ``s`` in directory ``d``."""
     t = s.get("timing", {})
     params = [
-        ("kind", "soak: failure-free flights, "
-                 + (f"profile {s['profile']}: " if s.get("profile") else "")
-                 + ("maneuvering: " + ", ".join(s["maneuvers"]) if s.get("maneuvers")
-                    else "trim, no pilot (no maneuvers)")),
-        ("flights per level", f"{s['flights_per_level']} of {s['flight_s']:g} s (asked {s['hours']:g} h)"),
+        ("kind", "soak: failure-free flights, " + _flown(s)),
+        ("flights per level" + (" and point" if several_points(s) else ""),
+         f"{s['flights_per_level']} of {s['flight_s']:g} s (asked {s['hours']:g} h)"),
         ("turbulence", s.get("turbulence")), ("campaign seed", s.get("seed")),
-        ("flight condition", f"Mach {s.get('mach')}, {s.get('alt_ft')} ft"),
+        ("flight condition", f"{len(s['points'])} points: {points_text(s)}" if several_points(s)
+         else f"Mach {s.get('mach')}, {s.get('alt_ft')} ft"),
         ("FCS feedback", s.get("feedback")),
         ("dither", f"truth defaults x {s.get('dither_scale', 1.0)}" if s.get("dither", True) else "off"),
         ("estimator settings", evidence.settings_text(s)),
@@ -82,14 +141,22 @@ def soak_page(d: Path, s: dict) -> str:
                       f"({t.get('runs_resumed', 0)} resumed) on {t.get('executor', '?')}"),
     ]
     figs = s.get("figures", {})
+    several = several_points(s)
     parts = ["<h1>f16mmae soak campaign</h1>",
-             f"<p>Goals met (no level <em>not met</em>): <strong>{'yes' if s.get('goals_met') else 'no'}</strong></p>",
+             f"<p>Goals met (no level <em>not met</em>"
+             + (f", pooled over {len(s['points'])} points" if several else "")
+             + f"): <strong>{'yes' if s.get('goals_met') else 'no'}</strong></p>",
              _level_rows(s["levels"]),
-             evidence.drilldown_section(s.get("not_clean", []), ("level", "false_declarations")),
+             _point_rows(s) if several else "",
+             evidence.drilldown_section(s.get("not_clean", []),
+                                        ("point",) * several + ("level", "false_declarations")),
              _left_section(s.get("left_condition", [])),
              "<h2>Campaign</h2>", param_table(params), "<h2>Figures</h2>"]
     captions = {"rate_by_level": "False declarations per flight hour against turbulence level (95 % intervals)",
-                "timeline": "False declarations on a timeline per flight",
+                "map": "The points coloured by their false declarations per flight hour, per turbulence level "
+                       "(green: none), each with its count; the star: the bank's design point",
+                "timeline": "False declarations on a timeline per flight" + (" (a block of rows per point)"
+                                                                              if several else ""),
                 "durations": "How long the false declarations lasted"}
     parts += [img_tag(d / figs[k], cap) for k, cap in captions.items() if k in figs]
     parts.append(_DEFINITIONS)
@@ -98,11 +165,18 @@ def soak_page(d: Path, s: dict) -> str:
 
 
 def soak_markdown(s: dict) -> str:
+    several = several_points(s)
+    where = (f"level and point at {len(s['points'])} points ({points_text(s)})" if several
+             else f"level from Mach {s['mach']:g}, {s['alt_ft']:.0f} ft")
+    if s.get("maneuvers"):
+        flown = "maneuvering: " + ", ".join(f"`{m}`" for m in s["maneuvers"])
+    elif s.get("profile"):
+        flown = f"maneuvering: profile `{s['profile']}` from each point's flight condition"
+    else:
+        flown = "trim (no maneuvers)"
     out = header(s, f"Soak: {s['flights_per_level']} failure-free flights of {s['flight_s']:g} s per turbulence "
-                     f"level from Mach {s['mach']:g}, {s['alt_ft']:.0f} ft, "
-                     + ("maneuvering: " + ", ".join(f"`{m}`" for m in s["maneuvers"]) if s.get("maneuvers")
-                        else "trim (no maneuvers)"))
-    out += ["## False declarations per flight hour", "",
+                     f"{where}, {flown}")
+    out += ["## False declarations per flight hour" + (", pooled over the points" if several else ""), "",
             "| turbulence | flights | hours | false declarations per hour [95 %], goal: verdict | "
             "flights with one | first in its flight, median / earliest (s) | hypotheses involved | "
             "lasted median / max (s) | ended: backed out / replaced / flight end | "
@@ -115,14 +189,32 @@ def soak_markdown(s: dict) -> str:
                    f"{num(lv['first_declaration_s']['min'])} | {hyps} | {num(lv['duration_s']['median'])} / "
                    f"{num(lv['duration_s']['max'])} | {ends} | {_left(lv)} |")
     out += ["", f"Goals met (no level *not met*): {'yes' if s.get('goals_met') else 'no'}", ""]
-    out += not_clean(s, lambda r: f"{r['level']} flight")
+    if several:
+        out += _point_markdown(s)
+    out += not_clean(s, lambda r: (f"point {r['point']}, " if "point" in r else "") + f"{r['level']} flight")
     if s.get("left_condition"):
         out += ["## Flights that left the flight condition (hours and declarations after not counted)", ""]
-        out += [f"- {f['level']} flight {f['run_index']}, left at {f['left_condition_s']:.0f} s, declarations after: "
+        out += [f"- {'point ' + f['point'] + ', ' if 'point' in f else ''}{f['level']} flight {f['run_index']}, "
+                f"left at {f['left_condition_s']:.0f} s, declarations after: "
                 + (", ".join(f"{d['hypothesis']} {d['time_s']:.1f} s" for d in f["declarations_after_leaving"]) or "none")
                 + f": `{f['command']}`" for f in s["left_condition"]]
         out.append("")
     return "\n".join(out)
+
+
+def _point_markdown(s: dict) -> list[str]:
+    """The per-point table of a soak over several points (as :func:`_point_rows`)."""
+    levels = [lv["level"] for lv in s["levels"]]
+    out = ["## Per point", "", "Each point's flights alone (the same seeds at every point).", "",
+           "| point | Mach | altitude (ft) | "
+           + " | ".join(f"{lvl}: false declarations per hour [95 %] (count) | {lvl}: flights with one | "
+                        f"{lvl}: hypotheses" for lvl in levels) + " |",
+           "|---|---|---|" + "---|---|---|" * len(levels)]
+    for p in s["points"]:
+        cells = " | ".join(f"{_point_rate(q)} | {q['flights_with_false_declaration']}/{q['flights']} | "
+                           f"{evidence.describe_counts(q['hypotheses'], top=4)}" for q in p["levels"])
+        out.append(f"| {p['label']} | {p['mach']:.3f} | {p['alt_ft']:.0f} | {cells} |")
+    return out + [""]
 
 register_page("soak", soak_page)
 register_markdown("soak", soak_markdown)

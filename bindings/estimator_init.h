@@ -138,6 +138,9 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       two_words<&O::departure, &DepartureOptions::enabled>("departure_hold", "on", "off"),
       field<&O::declare_components>("declare_components"),
       field<&O::partial_p_min>("partial_p_min"),
+      field<&O::rough_floor, &RoughAirFloorOptions::p_min>("rough_p_min"),
+      field<&O::rough_floor, &RoughAirFloorOptions::from>("rough_p_min_from"),
+      field<&O::rough_floor, &RoughAirFloorOptions::to>("rough_p_min_to"),
       // the declaration rule (`declarer`, handled after the others, overrides these three)
       field<&O::declarer, &DeclarerOptions::threshold>("threshold"),
       field<&O::declarer, &DeclarerOptions::dwell_s>("dwell_s"),

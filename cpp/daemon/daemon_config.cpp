@@ -204,6 +204,7 @@ Value hypothesis_names(std::vector<std::string> DaemonConfig::*field) {
 }
 
 bool adapting(const DaemonConfig& c) { return c.estimator.bank.adaptation.enabled; }
+bool rough_floor(const DaemonConfig& c) { return c.estimator.rough_floor.enabled(); }
 bool tracking_trim(const DaemonConfig& c) { return c.estimator.trim.time_constant_s > 0.0; }
 bool climb_reference(const DaemonConfig& c) { return c.estimator.climb_reference.enabled(); }
 bool maneuver_dwell(const DaemonConfig& c) { return c.estimator.maneuver_dwell.dwell_s > 0.0; }
@@ -323,6 +324,23 @@ const std::vector<Flag>& flags() {
        "such a bank: its partial hypotheses' floor at level 0, the others keeping theirs (the core refuses a "
        "floor that leaves no room for a declaration; default 0: the level-0 floor)",
        number(at(E, &H::partial_p_min), {0.0, 0.1}, "a probability in [0, 0.1]")},
+      {"--rough-p-min", "P",
+       "the level-0 floor in rough air: it moves from the bank's (a scheduled bank's node floor) to P as the "
+       "air's measured power ratio, in the schedule's calm-air units, crosses --rough-p-min-from .. -to "
+       "(rough_air_floor.h; default 0: off; 'f16mmae hil' gives a scheduled bank's with --adapt-turbulence)",
+       number(at(E, &H::rough_floor, &RoughAirFloorOptions::p_min), {0.0, 1.0 / kF16Hypotheses, false, true},
+              "a probability in [0, 1/13) (0: off)"),
+       nullptr, "--adapt-turbulence", adapting},
+      {"--rough-p-min-from", "X",
+       "the band's lower end: the bank's floor below it (calm-air units; default 1.3)",
+       number(at(E, &H::rough_floor, &RoughAirFloorOptions::from), {0.0, RoughAirFloor::kMaxRatio, false, true},
+              "a power ratio in [0, 1000)"),
+       nullptr, "--rough-p-min", rough_floor},
+      {"--rough-p-min-to", "X",
+       "the band's upper end: the rough-air floor above it (> --rough-p-min-from; default 1.5)",
+       number(at(E, &H::rough_floor, &RoughAirFloorOptions::to), {0.0, RoughAirFloor::kMaxRatio, true},
+              "a power ratio in (0, 1000]"),
+       nullptr, "--rough-p-min", rough_floor},
 
       {nullptr, nullptr, "The turbulence adaptation (turbulence_adaptation.h; default off: the bank as designed)"},
       {"--adapt-turbulence", "", "scale the likelihoods on line to the turbulence intensity", {},
@@ -825,6 +843,10 @@ ParseResult parse_daemon_args(const std::vector<std::string>& args, const char* 
     if (f.with && given.count(&f) && !f.with_ok(c))
       return usage_error(std::string(f.name) + " applies with " + f.with + " only");
   }
+  const RoughAirFloorOptions& rough = c.estimator.rough_floor;
+  if (!(rough.from < rough.to))
+    return usage_error("--rough-p-min-from " + format_value(rough.from) + " must lie below --rough-p-min-to " +
+                       format_value(rough.to) + " (the band the floor moves across)");
   const ActuatorLimitOptions& actuators = c.estimator.actuators;
   if (actuators.rate_limit_rad_s.size() != actuators.position_limit_rad.size())
     return usage_error("--actuator-rate-limits and --actuator-position-limits go together, one value per input each "

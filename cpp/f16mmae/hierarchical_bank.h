@@ -49,6 +49,7 @@
 //   filter_bank.h        likelihoods, probabilities, floors, live slots
 //   level1_allowance.h   level 1: the duals' drift allowance (Page's reference value) and why
 //   level_floors.h       the level-1 floor and dwell, the partial hypotheses' floor
+//   rough_air_floor.h    the level-0 floor that follows the air
 //   below                declaring on components, air data and scheduling, trims, maneuvering
 //                        flight
 //
@@ -59,6 +60,10 @@
 //   (back-out, reset()); options.level1_dwell_s (0: the level-0 dwell), the dwell a
 //   declaration needs while a level-1 bank is on line; options.partial_p_min (0: the level-0
 //   floor), the floor of every partial hypothesis c:MODE at level 0.
+// The level-0 floor in rough air (options.rough_floor, rough_air_floor.h; off by default): the
+//   level-0 floor moves log-linearly to rough_floor.p_min as the air's measured power ratio, in
+//   the schedule's calm-air units, crosses the band [from, to]; set before each update from the
+//   frames before, wherever the level-0 floor enters (level 1's NONE and f included).
 // The duals' allowance at level 1 (options.level1_allowance, nats a frame, >= 0; 0, the default:
 //   none, bit for bit): while a level-1 bank is on line every dual's likelihood carries the
 //   factor e^{-k} (level1_allowance.h: the derivation); NONE, f and a partial f's other form
@@ -243,6 +248,7 @@
 #include "f16mmae/hierarchy_levels.h"
 #include "f16mmae/level1_allowance.h"
 #include "f16mmae/level_floors.h"
+#include "f16mmae/rough_air_floor.h"
 #include "f16mmae/maneuver_kinematics.h"
 #include "f16mmae/model_bank.h"
 #include "f16mmae/scheduled_filters.h"
@@ -298,6 +304,7 @@ struct HierarchicalOptions {
   DepartureOptions departure;    // level 1: no declaration while the measurements leave the linearization (departure_hold.h)
   bool declare_components = false;   // a partial hypothesis and its single declared as one component (hierarchy_levels.h)
   double partial_p_min = 0.0;   // the partial hypotheses' floor at level 0; 0: the level-0 floor (level_floors.h)
+  RoughAirFloorOptions rough_floor;   // the level-0 floor follows the air (rough_air_floor.h; off)
   int history_capacity = 1024;
 };
 
@@ -333,6 +340,7 @@ class HierarchicalBank {
     }
     if (options_.bank.adaptation.floor_time_constant_s > 0.0)   // the lull floor, held in a flight phase
       bank_.set_adapt_floor_held(climb_ref_.climbing() || maneuver_dwell_.maneuvering());   // (turbulence_adaptation.h)
+    if (options_.rough_floor.enabled()) set_floors();   // the floor the air of the frames before gives (rough_air_floor.h)
     if (maneuver_.tempering()) {   // maneuver_kinematics.h
       maneuver_.observe_spread(bank_.z_hat());
       bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat(), bank_.turbulence_scale()));
@@ -783,6 +791,7 @@ class HierarchicalBank {
     p_allow_ = bank_.probabilities();
     LevelFloors::check_partial(options.partial_p_min, levels_.partial_count(), levels_.size(), options.bank.p_min,
                                options.declarer.threshold);
+    RoughAirFloor::check(options.rough_floor, levels_.size(), options.bank.adaptation.enabled);
     if (maneuver_dwell_.enabled()) {
       const auto& m = mb.measurement_names;
       const auto it = std::find(m.begin(), m.end(), "AZ");
@@ -914,10 +923,18 @@ class HierarchicalBank {
     bank_.presume(presumed);
     declarer_in_force().reset(presumed);
   }
-  // The level-0 floor (a scheduled bank's node floor in force with node_p_min, else p_min),
-  // and the floors for the level on line (level_floors.h).
+  // The level-0 floor (a scheduled bank's node floor in force with node_p_min, else p_min, moved
+  // towards the rough-air floor as the air roughens: rough_air_floor.h), and the floors for the
+  // level on line (level_floors.h).
   double level0_floor() const noexcept {
-    return sched_.active() && options_.schedule.node_p_min ? sched_.p_min() : options_.bank.p_min;
+    const double f0 = sched_.active() && options_.schedule.node_p_min ? sched_.p_min() : options_.bank.p_min;
+    return options_.rough_floor.enabled() ? RoughAirFloor::floor(options_.rough_floor, f0, air_ratio()) : f0;
+  }
+  // The air's power ratio in calm-air units (rough_air_floor.h): the adaptation's air_power_ratio()
+  // over a scheduled bank's calm-air reference in force (1 without one).
+  double air_ratio() const noexcept {
+    const double calm = sched_.active() && sched_.has_calm_reference() ? sched_.calm_reference() : 1.0;
+    return bank_.adaptation().air_power_ratio() / calm;
   }
   void set_floors() noexcept {
     LevelFloors::apply(bank_, level_, level0_floor(), options_.level1_p_min, options_.partial_p_min,

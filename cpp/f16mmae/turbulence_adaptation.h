@@ -361,6 +361,11 @@ class ResidualScale {
   double power_ratio() const noexcept { return rho_; }
   // ρ̄, the measured residual power ratio (header; 0 before the first update and when disabled).
   double measured_power_ratio() const noexcept { return measured_; }
+  // The air's power ratio: ρ̄, or the larger of ρ̄ and the lull floor's ρ_L once that is in force
+  // (τ_L / 2 after the start; held or not): the rough-air floor's measure (rough_air_floor.h).
+  double air_power_ratio() const noexcept {
+    return alpha_floor_ > 0.0 && long_updates_ >= long_min_ && rho_long_ > measured_ ? rho_long_ : measured_;
+  }
 
   // One accepted update's quadratic forms (non-finite ones are skipped; a frame with none
   // finite leaves ρ as it was).

@@ -130,6 +130,36 @@ TEST(DaemonConfig, AdaptRunningStart) {
   EXPECT_NE(r.message.find("--adapt-running-start applies with --adapt-turbulence only"), std::string::npos) << r.message;
 }
 
+TEST(DaemonConfig, RoughAirFloor) {
+  const f16mmae::RoughAirFloorOptions off = parse_daemon_args({"--bank", "b"}, nullptr).config.estimator.rough_floor;
+  EXPECT_FALSE(off.enabled());
+  EXPECT_EQ(off.from, 1.3);
+  EXPECT_EQ(off.to, 1.5);
+  auto r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--rough-p-min", "1e-9", "--rough-p-min-from", "1.2",
+                              "--rough-p-min-to=1.6"},
+                             nullptr);
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.config.estimator.rough_floor.p_min, 1e-9);
+  EXPECT_EQ(r.config.estimator.rough_floor.from, 1.2);
+  EXPECT_EQ(r.config.estimator.rough_floor.to, 1.6);
+  r = parse_daemon_args({"--bank", "b", "--rough-p-min", "1e-9"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--rough-p-min applies with --adapt-turbulence only"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--rough-p-min-to", "1.6"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--rough-p-min-to applies with --rough-p-min only"), std::string::npos) << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--rough-p-min", "1e-9", "--rough-p-min-from", "1.6"},
+                        nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--rough-p-min-from 1.6 must lie below --rough-p-min-to 1.5 (the band the floor moves "
+                           "across)"),
+            std::string::npos)
+      << r.message;
+  r = parse_daemon_args({"--bank", "b", "--adapt-turbulence", "--rough-p-min", "0.08"}, nullptr);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("--rough-p-min must be a probability in [0, 1/13)"), std::string::npos) << r.message;
+}
+
 TEST(DaemonConfig, SetTemperingDwell) {
   EXPECT_EQ(parse_daemon_args({"--bank", "b"}, nullptr).config.estimator.spare_dwell_s, 0.0);   // off
   auto r = parse_daemon_args({"--bank", "b", "--turbulence-banks", "--set-tempering", "0.15", "--set-tempering-dwell",

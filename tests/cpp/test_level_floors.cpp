@@ -1,8 +1,11 @@
 // The floors and dwell of the hierarchical bank's levels (level_floors.h): the bounds and their
 // refusals against values worked by hand, the level-1 dwell, the partial hypotheses' floor
 // factor, and the floors apply() sets on a filter bank of scalar models (no tracked levels, so
-// f_k = m_k p_min on its tier exactly) at level 0, at level 1 and back, without allocation.
+// f_k = m_k p_min on its tier exactly) at level 0, at level 1 and back, without allocation; and the
+// level-0 floor that follows the air (rough_air_floor.h): the weight and the floor against values
+// worked by hand, off and the band's ends bit for bit, and the refusals.
 #include "f16mmae/level_floors.h"
+#include "f16mmae/rough_air_floor.h"
 
 #include "allocation_counter.h"
 #include "scalar_models.h"
@@ -35,6 +38,14 @@ std::string refusal(F&& f) {
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 const double kInf = std::numeric_limits<double>::infinity();
+
+RoughAirFloorOptions on(double p_min = 1e-9, double from = 1.3, double to = 1.5) {
+  RoughAirFloorOptions o;
+  o.p_min = p_min;
+  o.from = from;
+  o.to = to;
+  return o;
+}
 
 }  // namespace
 
@@ -153,4 +164,53 @@ TEST(LevelFloors, ApplyAllocatesNothing) {
   const long long before = f16mmae::testing::allocation_count();
   for (int i = 0; i < 8; ++i) LevelFloors::apply(bank, i % 2, 0.01, 0.002, 0.05, partial);
   EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+}
+
+
+TEST(RoughAirFloor, TheWeightRunsAcrossTheBandInHundredths) {
+  const RoughAirFloorOptions o = on();
+  EXPECT_EQ(RoughAirFloor::weight(o, 0.0), 0.0);
+  EXPECT_EQ(RoughAirFloor::weight(o, 1.3), 0.0);
+  EXPECT_EQ(RoughAirFloor::weight(o, 1.4), 0.5);
+  EXPECT_EQ(RoughAirFloor::weight(o, 1.45), 0.75);
+  EXPECT_EQ(RoughAirFloor::weight(o, 1.3 + 0.2 * 0.123), 0.12);   // rounded to 1/100
+  EXPECT_EQ(RoughAirFloor::weight(o, 1.3 + 0.2 * 0.127), 0.13);
+  EXPECT_EQ(RoughAirFloor::weight(o, 1.5), 1.0);
+  EXPECT_EQ(RoughAirFloor::weight(o, 7.0), 1.0);
+  EXPECT_EQ(RoughAirFloor::weight(o, std::numeric_limits<double>::quiet_NaN()), 0.0);
+  EXPECT_EQ(RoughAirFloor::weight(o, std::numeric_limits<double>::infinity()), 1.0);
+}
+
+TEST(RoughAirFloor, TheFloorIsTheLogLinearBlendAndEachEndBitForBit) {
+  const RoughAirFloorOptions o = on();
+  EXPECT_EQ(RoughAirFloor::floor(o, 1e-5, 1.0), 1e-5);    // light air: the node's
+  EXPECT_EQ(RoughAirFloor::floor(o, 1e-5, 1.6), 1e-9);    // moderate: the rough-air floor
+  EXPECT_NEAR(std::log10(RoughAirFloor::floor(o, 1e-5, 1.4)), -7.0, 1e-12);    // w 1/2: 10^-(5+9)/2
+  EXPECT_NEAR(std::log10(RoughAirFloor::floor(o, 1e-5, 1.45)), -8.0, 1e-12);   // w 3/4: 10^-(5/4 + 27/4)
+  EXPECT_NEAR(std::log10(RoughAirFloor::floor(o, 1e-3, 1.35)), -4.5, 1e-12);   // w 1/4: 10^-(9/4 + 9/4)
+  EXPECT_EQ(RoughAirFloor::floor(o, 1e-9, 1.4), 1e-9);                          // equal ends
+  EXPECT_EQ(RoughAirFloor::floor(o, 0.0, 1.4), 0.0);                            // no floor below the top
+  EXPECT_EQ(RoughAirFloor::floor(o, 0.0, 1.5), 1e-9);
+  EXPECT_NEAR(std::log10(RoughAirFloor::floor(on(1e-3), 1e-7, 1.4)), -5.0, 1e-12);   // a floor that rises
+  const RoughAirFloorOptions off;
+  for (const double x : {0.0, 1.4, 100.0}) EXPECT_EQ(RoughAirFloor::floor(off, 3.7e-6, x), 3.7e-6);
+}
+
+TEST(RoughAirFloor, RefusesWhatLeavesNoFloorOrNoBandNamingTheValue) {
+  EXPECT_NO_THROW(RoughAirFloor::check(on(), 13, true));
+  EXPECT_NO_THROW(RoughAirFloor::check(RoughAirFloorOptions{}, 13, false));   // off needs no adaptation
+  EXPECT_EQ(refusal([] { RoughAirFloor::check(on(1.0 / 13), 13, true); }),
+            "hierarchical bank: rough_p_min must lie in [0, 1/K) with K = 13 hypotheses (0: off), got 0.07692307692307693");
+  EXPECT_NE(refusal([] { RoughAirFloor::check(on(-1e-9), 13, true); }), "");
+  EXPECT_NE(refusal([] { RoughAirFloor::check(on(std::numeric_limits<double>::quiet_NaN()), 13, true); }), "");
+  EXPECT_EQ(refusal([] { RoughAirFloor::check(on(1e-9, 1.5, 1.5), 13, true); }),
+            "hierarchical bank: the rough-air floor's band needs 0 <= rough_p_min_from < rough_p_min_to <= 1000 "
+            "(calm-air units), got 1.5 and 1.5");
+  EXPECT_NE(refusal([] { RoughAirFloor::check(on(1e-9, -0.1, 1.5), 13, true); }), "");
+  EXPECT_NE(refusal([] { RoughAirFloor::check(on(1e-9, 1.3, 1001.0), 13, true); }), "");
+  EXPECT_NE(refusal([] { RoughAirFloor::check(on(1e-9, 1.3, std::numeric_limits<double>::infinity()), 13, true); }),
+            "");
+  EXPECT_EQ(refusal([] { RoughAirFloor::check(on(), 13, false); }),
+            "hierarchical bank: rough_p_min reads the air from the turbulence adaptation's measured power ratio; "
+            "it needs adapt_turbulence on");
 }

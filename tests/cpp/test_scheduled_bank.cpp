@@ -830,6 +830,62 @@ TEST(ScheduledBank, NodeFloorsAreBlendedGeometricallyWithTheFilters) {
   EXPECT_EQ(one.bank().options().p_min, 1e-4);
 }
 
+// The rough-air floor (rough_air_floor.h) on node floors 1e-5 and calm-air references 0.5: the
+// floor in force before each update is the one the air of the frames before gives,
+// x = max(rho-bar, rho_L) / 0.5: a band far above the air leaves the node floor bit for bit, a
+// band below it puts the rough-air floor in force, a band centred on the air blends them half and
+// half (10^-7), read against the air ratio a run with the first band measured frame for frame
+// (the filters' residuals, so the air, do not depend on the floor in a failure-free flight);
+// reset() starts at the node floor; no allocation.
+TEST(ScheduledBank, TheRoughAirFloorFollowsTheAirOfTheFramesBefore) {
+  BankSchedule s = make_schedule();
+  for (auto& node : s.nodes) {
+    node.bank.estimator.p_min = 1e-5;
+    node.calm_reference = 0.5;
+  }
+  ASSERT_NO_THROW(s.validate());
+  const Frames f = fly(node_bank(0, 0), 0, 0, {}, 400, 11u);
+  auto with_band = [&](double from, double to) {
+    HierarchicalOptions o = options(ScheduleMode::kInterpolate);
+    o.bank.adaptation.enabled = true;
+    o.bank.adaptation.floor_time_constant_s = 5.0;   // rho_L in force from 160 frames on
+    o.rough_floor.p_min = 1e-9;
+    o.rough_floor.from = from;
+    o.rough_floor.to = to;
+    return o;
+  };
+  F16HierarchicalBank calm(scheduled_bank(s), with_band(100.0, 200.0));
+  calm.schedule(AirData{0.4, 10000.0});
+  std::vector<double> air;   // x before each frame's update
+  for (std::size_t i = 0; i < f.z.size(); ++i) {
+    air.push_back(calm.bank().adaptation().air_power_ratio() / 0.5);
+    calm.step(f.z[i], f.u[i]);
+    ASSERT_EQ(calm.bank().options().p_min, 1e-5) << "frame " << i;
+  }
+  ASSERT_TRUE(calm.declarations().empty());
+  const double x = air.back();
+  ASSERT_GT(x, 0.0);
+  F16HierarchicalBank rough(scheduled_bank(s), with_band(0.0, 1e-3 * x));
+  F16HierarchicalBank half(scheduled_bank(s), with_band(0.5 * x, 1.5 * x));
+  rough.schedule(AirData{0.4, 10000.0});
+  half.schedule(AirData{0.4, 10000.0});
+  EXPECT_EQ(rough.bank().options().p_min, 1e-5);   // before the first update: no air measured, x = 0
+  const RoughAirFloorOptions band = with_band(0.5 * x, 1.5 * x).rough_floor;
+  const long long before = f16mmae::testing::allocation_count();
+  for (std::size_t i = 0; i < f.z.size(); ++i) {
+    rough.step(f.z[i], f.u[i]);
+    half.step(f.z[i], f.u[i]);
+    if (air[i] > 1e-3 * x) ASSERT_EQ(rough.bank().options().p_min, 1e-9) << "frame " << i;
+    ASSERT_EQ(half.bank().options().p_min, RoughAirFloor::floor(band, 1e-5, air[i]))
+        << "frame " << i;
+  }
+  EXPECT_EQ(f16mmae::testing::allocation_count() - before, 0);
+  EXPECT_NEAR(std::log10(half.bank().options().p_min), -7.0, 1e-12);
+  half.reset();
+  EXPECT_EQ(half.bank().options().p_min, 1e-5);
+  EXPECT_EQ(half.bank().probabilities()(1), 1e-5);
+}
+
 // Two layers on the trim alpha x_trim(1) = 0.1 - 0.02 i + 0.01 j (0.10, 0.08 / 0.11, 0.09 at the
 // corners) switched at 0.095: every corner is covered in both layers (layer 1: x_trim(0) + 50),
 // and each node carries an adaptation reference 0.5 + 0.1 n.

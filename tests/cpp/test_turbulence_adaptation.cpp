@@ -83,7 +83,7 @@ TEST(TurbulenceAdaptation, LullFloorReadsTheLargerOfTheTwoAveragesByHand) {
   const double alpha = 1.0 - std::exp(-1.0 / (0.5 * 64.0)), alpha_l = 1.0 - std::exp(-1.0 / (4.0 * 64.0));
   const auto clamped = [](double rho) { return std::min(20.0, std::max(1.0, 1.0 + 3.0 * (rho - 1.0))); };
   double rho = 1.0, rho_long = 1.0;
-  int floored = 0;
+  int floored = 0, air_floored = 0;
   for (int n = 0; n < 600; ++n) {
     // bursts and lulls: x = min q / 2 above and below the averages in turn
     const double x = (n / 60) % 2 == 0 ? 4.0 + 0.1 * (n % 7) : 0.4 + 0.05 * (n % 5);
@@ -101,7 +101,13 @@ TEST(TurbulenceAdaptation, LullFloorReadsTheLargerOfTheTwoAveragesByHand) {
     ASSERT_NEAR(r.scale(), clamped(in_force ? std::max(rho, rho_long) : rho), 1e-12) << "frame " << n;
     ASSERT_NEAR(r.inverse_scale(), 1.0 / r.scale(), 1e-15);
     if (!in_force || rho >= rho_long) ASSERT_EQ(r.scale(), plain.scale()) << "frame " << n;
+    // the air's power ratio (the rough-air floor's measure): rho-bar, or rho_L where larger once in force
+    const double measured = r.measured_power_ratio();
+    ASSERT_NEAR(r.air_power_ratio(), in_force ? std::max(measured, rho_long) : measured, 1e-12) << "frame " << n;
+    ASSERT_EQ(plain.air_power_ratio(), plain.measured_power_ratio());
+    air_floored += in_force && rho_long > measured + 1e-9;
   }
+  EXPECT_GT(air_floored, 60);
   EXPECT_GT(floored, 60);    // the lulls are floored ...
   EXPECT_LT(floored, 400);   // ... the bursts are not
   // reset: rho_L starts again, out of force until it has averaged 128 updates

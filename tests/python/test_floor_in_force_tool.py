@@ -1,5 +1,6 @@
 """tools/schedule/floor_in_force.py: the floor in force it records is the estimator's after every
-update (at the trimmable edge revision 18's 1e-9 on every frame; a given --p-min everywhere), and
+update (at the trimmable edge the least floor, 1e-9, on every frame; a given --p-min everywhere with
+the rough-air floor off), and
 its refusals by name (a runs file that does not exist, not two banks, no run of that seed and air,
 a run that declared nothing, a figure in a folder that does not exist)."""
 from __future__ import annotations
@@ -31,9 +32,9 @@ def test_the_floor_in_force_at_the_trimmable_edge(tool):
     bank = load_bank("scheduled")[2]
     result, floors = tool.fly_recording_floor(_record(), bank)
     assert len(floors) == len(result.time_s) == 128
-    assert set(floors) == {1e-9}   # revision 18: every node at its least candidate floor
-    _, given = tool.fly_recording_floor(_record(p_min=1e-5), bank)
-    assert np.all(given == 1e-5)   # a given p_min is the floor everywhere (node_p_min off)
+    assert set(floors) == {1e-9}   # the nodes beside an untrimmable point at their least candidate floor
+    _, given = tool.fly_recording_floor(_record(p_min=1e-5, rough_p_min=0.0), bank)
+    assert np.all(given == 1e-5)   # a given p_min is the floor everywhere (node_p_min off), the rough-air floor off
 
 
 def test_refusals_name_the_problem(tool, tmp_path, capsys):

@@ -477,23 +477,41 @@ def test_gust_nodes_keep_their_own_settings_only_inside_the_gust_region():
     floors, refs = neighbourhood_settings(records, keep_own=keep)
     assert all(refs[(i, 0)] == 0.7 for i in range(3))         # the kept node's own reference
     assert all(refs[(i, j)] == 0.8 for i in range(3) for j in (1, 2))
-    assert set(floors.values()) == {1e-9}                     # every floor the least candidate (step 4)
+    assert all(floors[(i, 0)] == 1e-5 for i in range(3))      # the kept node's own floor ...
+    assert all(floors[(i, j)] == 1e-9 for i in range(3) for j in (1, 2))   # ... not its neighbours'
 
 
-def test_every_node_takes_its_least_floor_and_keeps_the_reference_bounded_at_its_chosen_one():
+def test_the_floors_are_the_chosen_ones_and_the_references_bounded_at_the_neighbourhoods_floor():
     """3 x 3 grid: the nodes of rows 0 and 1 chose the floor 1e-5 (reference 0.6 there), row 2 1e-9
     (reference 0.9); steps 1-2 give row 0 the floor 1e-5 (its neighbours' least that met the bound),
     rows 1 and 2 1e-9, so the neighbourhood's floor P is 1e-5 for rows 0 and 1 and their reference
-    the one bounded there, 0.6, row 2's 0.9; every floor in the file is the least candidate, 1e-9
-    (step 4: the calibration flew light air only)."""
+    the one bounded there, 0.6, row 2's 0.9; the floors in the file are those of step 1 (the
+    estimator lowers the floor in force in rough air itself)."""
     def two(p_min):   # candidates at floors 1e-9 and 1e-5, both met; the reference is lower at 1e-5
         return {"p_min": p_min, "bound_met": True, "adapt_reference": 0.6 if p_min > 1e-9 else 0.9,
                 "candidates": [[1e-9, 0.9, 0.0, 0.0, True], [1e-5, 0.6, 0.0, 0.0, True]]}
 
     records = {(i, j): two(1e-5 if j <= 1 else 1e-9) for i in range(3) for j in range(3)}
     floors, refs = neighbourhood_settings(records)
-    assert set(floors.values()) == {1e-9}
+    assert all(floors[(i, j)] == (1e-5 if j == 0 else 1e-9) for i in range(3) for j in range(3))
     assert all(refs[(i, j)] == (0.6 if j <= 1 else 0.9) for i in range(3) for j in range(3))
+
+
+def test_a_node_beside_an_untrimmable_point_takes_its_smallest_floor_and_keeps_its_reference():
+    """3 x 3 grid with (0, 2) left out (untrimmable): its neighbours (0, 1), (1, 1), (1, 2) take
+    their smallest candidate floor, 1e-9, and keep the reference bounded at the neighbourhood's
+    floor (1e-5); every other node is as without the edge (the neighbourhood rule)."""
+    def two(p_min):   # candidates at floors 1e-9 and 1e-5, both met; the reference is lower at 1e-5
+        return {"p_min": p_min, "bound_met": True, "adapt_reference": 0.6,
+                "candidates": [[1e-9, 0.9, 0.0, 0.0, True], [1e-5, 0.6, 0.0, 0.0, True]]}
+
+    records = {(i, j): two(1e-5) for i in range(3) for j in range(3) if (i, j) != (0, 2)}
+    plain_floors, plain_refs = neighbourhood_settings(records)
+    floors, refs = neighbourhood_settings(records, untrimmable={(0, 2)})
+    beside = {(0, 1), (1, 1), (1, 2)}
+    assert refs == plain_refs and set(plain_refs.values()) == {0.6}   # bounded at 1e-5, as without the edge
+    assert all(floors[k] == 1e-9 for k in beside)
+    assert all(floors[k] == plain_floors[k] == 1e-5 for k in records if k not in beside)
 
 
 def test_a_low_node_keeps_gust_states_only_where_its_calibration_gains():

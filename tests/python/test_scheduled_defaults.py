@@ -8,7 +8,8 @@ tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING``, trim tr
 ``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``), the evidence dwell per hypothesis at
 ``names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS`` kept through the flight phases, the complete failures' held trim
 ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` and its average ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S``
-unless given, and on a schedule whose nodes carry a
+unless given, the rough-air floor ``names.SCHEDULE_ROUGH_P_MIN`` (the node floors in calm and light air,
+it in moderate air), and on a schedule whose nodes carry a
 calm-air reference the calm-air complete model at ``names.SCHEDULE_CALM_COMPLETE``; the cached
 scheduled bank's name follows every design setting of ``names.SCHEDULE_*``."""
 from __future__ import annotations
@@ -41,6 +42,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),   # and VEL's at every level
               "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM,
               "adapt_floor_time_constant_s": names.SCHEDULE_ADAPT_FLOOR_S,   # the lull floor
+              "rough_p_min": names.SCHEDULE_ROUGH_P_MIN,   # the floor in rough air
               "adaptive_dither": True,   # the closed loop's adaptive dither
               "maneuver_setting": "on", **names.SCHEDULE_MANEUVER_SETTING}   # and the maneuvering-flight setting
     assert scheduled_defaults(given, True) == {"adapt_turbulence": True, "adapt_own_channels": True,
@@ -57,7 +59,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
            "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
            "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
            "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True, "maneuver_setting": "off",
-           "adapt_floor_time_constant_s": 0.0}
+           "adapt_floor_time_constant_s": 0.0, "rough_p_min": 0.0}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
@@ -177,7 +179,8 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
                           "--adapt-level-scale-channel", "vel", "--adapt-level-scale-from",
                           str(names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM),
                           "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE,
-                          "--adapt-floor", str(names.SCHEDULE_ADAPT_FLOOR_S)}
+                          "--adapt-floor", str(names.SCHEDULE_ADAPT_FLOOR_S),
+                          "--rough-p-min", str(names.SCHEDULE_ROUGH_P_MIN)}
     # the maneuvering-flight setting (on by default) as its options' own flags, none for the setting itself
     maneuvering = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
     assert set(maneuvering) == set(flags) | set(daemon_flags({"trim_time_constant_s": 30.0, "adapt_turbulence": True,
@@ -526,3 +529,61 @@ def test_a_lull_floor_shorter_than_the_averaging_time_is_refused_before_anything
                  "--adapt-turbulence", "--adapt-floor", "2", "--quiet", "--out", str(out)]) == 2
     assert "--adapt-floor 2.0 must be 0 (off) or a time in [5, 3600] s" in capsys.readouterr().err
     assert not out.exists()   # refused before the campaign's folder or its first flight
+
+
+def test_the_rough_air_floor_is_the_scheduled_default_and_its_band_is_checked():
+    assert scheduled_defaults({"adapt_turbulence": True}, True)["rough_p_min"] == names.SCHEDULE_ROUGH_P_MIN
+    assert "rough_p_min" not in scheduled_defaults({"adapt_turbulence": True}, False)
+    assert scheduled_defaults({"adapt_turbulence": True, "rough_p_min": 0.0}, True)["rough_p_min"] == 0.0   # off
+    defaults = core.estimator_defaults()
+    assert (defaults["rough_p_min"], defaults["rough_p_min_from"], defaults["rough_p_min_to"]) == (0.0, 1.3, 1.5)
+    check({"adapt_turbulence": True, "rough_p_min_from": 1.0})   # waits for the scheduled default's floor
+    check({"adapt_turbulence": True, "rough_p_min": 1e-9, "rough_p_min_from": 1.4, "rough_p_min_to": 2.0})
+    with pytest.raises(ValueError, match=r"--rough-p-min-from 1\.6 must lie below --rough-p-min-to 1\.5"):
+        check({"adapt_turbulence": True, "rough_p_min": 1e-9, "rough_p_min_from": 1.6})
+    with pytest.raises(ValueError, match=r"--rough-p-min-from 1\.3 must lie below --rough-p-min-to 1\.0"):
+        check({"adapt_turbulence": True, "rough_p_min": 1e-9, "rough_p_min_to": 1.0})
+    with pytest.raises(ValueError, match="--rough-p-min applies with --adapt-turbulence only"):
+        check({"rough_p_min": 1e-9})
+    with pytest.raises(ValueError, match=r"--rough-p-min 0\.08 must lie in"):
+        check({"adapt_turbulence": True, "rough_p_min": 0.08})
+    with pytest.raises(ValueError, match="rough_p_min reads the air from the turbulence adaptation"):
+        core.HierarchicalBank(banks.load_bank("tuned")[2], rough_p_min=1e-9)
+    from f16mmae.lcm.daemon import daemon_flags
+    flags = daemon_flags({"adapt_turbulence": True, "rough_p_min": 1e-9, "rough_p_min_from": 1.2})
+    assert flags[flags.index("--rough-p-min") + 1] == "1e-09" and flags[flags.index("--rough-p-min-from") + 1] == "1.2"
+
+
+def _floors_in_force(turbulence: str, **options) -> np.ndarray:
+    """The level-0 floor in force after each frame of a 40-s failure-free flight at Mach 0.45,
+    15,000 ft (the scheduled default's nodes there chose 1e-5 on their light-air calibration)."""
+    from f16mmae.loop.flight import fly
+    from f16mmae.truth import Scenario
+    model_bank = banks.load_bank("scheduled")[2]
+    est = Estimator.fresh(model_bank, **bank_defaults({"adapt_turbulence": True, **options}, model_bank))
+    floors = []
+
+    class Spy:
+        def __getattr__(self, name):
+            return getattr(est, name)
+
+        def update(self, z):
+            out = est.update(z)
+            floors.append(est._bank.p_min_in_force)
+            return out
+
+    fly(Scenario(mach=0.45, alt_ft=15000.0, turbulence=turbulence, seed=3, duration_s=40.0), model_bank,
+        estimator=Spy(), record_probabilities=False)
+    return np.array(floors)
+
+
+def test_the_floor_in_force_is_the_nodes_in_light_air_and_the_rough_air_floor_in_moderate_air():
+    """Past the start-up second (1 s, no hypothesis weighed; the first frames' residuals read as
+    rough air), light air flies the nodes' floors frame for frame as without the rough-air floor,
+    moderate air the rough-air floor, where without it the nodes' 1e-5 (blended) stays."""
+    light, light_off = _floors_in_force("light"), _floors_in_force("light", rough_p_min=0.0)
+    moderate, moderate_off = _floors_in_force("moderate"), _floors_in_force("moderate", rough_p_min=0.0)
+    start_up = 64
+    assert light[0] == light_off[0] == moderate[0]   # no air measured before the first update
+    assert np.array_equal(light[start_up:], light_off[start_up:]) and np.all(light_off > 1e-6)
+    assert np.all(moderate[start_up:] == names.SCHEDULE_ROUGH_P_MIN) and np.all(moderate_off > 1e-6)

@@ -126,8 +126,10 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: sensor's channel at the sensor's own noise (SCHEDULE_FAILED_SENSOR_NOISE); 17: a node beside an
 #: untrimmable grid point at its least candidate floor, its reference as bounded before (the
 #: trimmable edge); 18: every node at its least candidate floor, its reference as bounded at the floor
-#: its calibration chose (schedule.neighbourhood_settings: the calibration flies light air only).
-SCHEDULE_DESIGN_REVISION = 18
+#: its calibration chose (schedule.neighbourhood_settings: the calibration flies light air only);
+#: 19: the floors of revision 17 again, the estimator moving the floor in force to SCHEDULE_ROUGH_P_MIN
+#: in rough air (cpp/f16mmae/rough_air_floor.h).
+SCHEDULE_DESIGN_REVISION = 19
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).
@@ -307,6 +309,15 @@ SCHEDULE_ADAPT_LEVEL_SCALE_FROM = 8.0
 #: 20 flaperon failures in moderate air late in flight (round 44; docs/results/
 #: turbulence_adaptation.md).
 SCHEDULE_ADAPT_FLOOR_S = 60.0
+#: The scheduled estimator's rough-air floor (``--rough-p-min``, with the turbulence adaptation;
+#: cpp/f16mmae/rough_air_floor.h): the level-0 floor moves from the node's, chosen on the
+#: calibration's light-air flights, to this one as the air's measured power ratio crosses the band
+#: 1.3-1.5 in the node's calm-air units (the core's default band). The nodes' chosen floors in
+#: moderate air lift gust-driven flaperon and rudder hypotheses to the threshold (10-h soaks at
+#: 15,000 ft: 18-102 false declarations against 1-4 at this floor), the least floor everywhere costs
+#: the light air's detections (docs/results/envelope_scheduled.md, rounds 45 and 46). The least
+#: candidate floor of the calibration (design/calibrate.py P_MIN_CANDIDATES).
+SCHEDULE_ROUGH_P_MIN = 1e-9
 #: The scheduled estimator's maneuvering-flight setting (``--maneuver-setting on``, with the
 #: turbulence adaptation; loop/estimator_options.py scheduled_defaults applies each entry unless
 #: given, and none with ``--maneuver-setting off``): the turn kinematics and gravity in every

@@ -424,7 +424,8 @@ def neighbourhood_minimum(bounded: dict[tuple[int, int], tuple[float, bool]]) ->
     return out
 
 
-def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozenset()) -> tuple[dict, dict]:
+def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozenset(),
+                           untrimmable=frozenset()) -> tuple[dict, dict]:
     """Each covered node's probability floor and adaptation reference in the file, from the
     nodes' ``calibrate.bounded_settings`` records (grid index -> {p_min, bound_met, candidates:
     [[p_min, reference, peak, s, met], ...]}):
@@ -435,21 +436,25 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
        ln p_min over a cell, so no cell touching the node blends a larger floor than P;
     3. reference: the smallest of the node's bounded reference at floor P and its neighbours'
        whose row at P met the bound;
-    4. the floor in the file: every node's least candidate floor, with the reference of step 3
-       (bounded at the neighbourhood's floor P). The calibration flies light air; in moderate air
-       a floor above the least lifts false flaperon and rudder hypotheses to the threshold: 10-h
-       soaks at Mach 0.35, 0.45 and 0.7, 15,000 ft (nodes at 1e-5) declared 86, 77 and 27 times
-       against 3, 1 and 4 at 1e-9, and at the trimmable edge a cut cell put the (0.4, 35,000 ft)
-       node's 1e-7 in force in calm and light air (docs/results/envelope_scheduled.md, round 45).
-       A lower floor with the same reference only lowers the false log-odds' peak (below), so the
-       calibration's bound still holds; what it costs is the declaration's climb from the floor.
+    4. the floor in the file: the node's floor of step 1; at the trimmable edge, a node with an
+       ``untrimmable`` grid neighbour (a point left out of the design: JSBSim cannot trim the F-16
+       there) takes its least candidate floor, with the reference of step 3: its calibration flew
+       at the node, not in the cut cells between it and the edge, which the aircraft flies at the
+       edge's lowest speeds (at Mach 0.36, 34,000 ft a cut cell put the (0.4, 35,000 ft) node's
+       1e-7 in force in calm and light air, and the short false stabilator and flaperon
+       declarations of 10-h soaks there came with it; docs/results/envelope_scheduled.md, round
+       45). A lower floor with the same reference only lowers the false log-odds' peak (below), so
+       the calibration's bound still holds. The calibration flies light air; in rougher air the
+       estimator lowers the floor in force itself (names.SCHEDULE_ROUGH_P_MIN,
+       cpp/f16mmae/rough_air_floor.h: the nodes' 1e-5 at 15,000 ft lifted false flaperon and rudder
+       hypotheses to the threshold in moderate air, round 45).
     Why this keeps the bound at every corner that met it: the blend anywhere in a cell has a
     floor of at most P and a reference of at most every corner's bounded reference at P, and
     the peak falls with the floor as with the reference.  (Taking the smallest floor and the
     smallest reference apart would pair a floor chosen with a high reference with a reference
     chosen for a high floor: tempering far more than either node needs.)
-    ``keep_own``: nodes that keep their own chosen reference (``gust_neighbourhoods``); every other
-    node's reference is the one this rule gives without them (their neighbours see them as above,
+    ``keep_own``: nodes that keep their own chosen floor and reference (``gust_neighbourhoods``);
+    every other node's reference is the one this rule gives without them (their neighbours see them as above,
     not at their own chosen floor: an own floor above the rule's would otherwise lower the
     references around it)."""
     chosen = neighbourhood_minimum({k: (r["p_min"], r["bound_met"]) for k, r in records.items()})   # 1.
@@ -462,7 +467,12 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
         references[(i, j)] = min([at[(i, j)][top][0]] + [at[k][top][0] for k in around if at[k][top][1]])   # 3.
     for k in keep_own:
         references[k] = records[k]["adapt_reference"]
-    floors = {k: min(row[0] for row in r["candidates"]) for k, r in records.items()}   # 4.
+    floors = dict(chosen)   # 4.
+    for k in keep_own:
+        floors[k] = records[k]["p_min"]
+    for (i, j), r in records.items():   # the trimmable edge's least floors
+        if any((i + di, j + dj) in untrimmable for di in (-1, 0, 1) for dj in (-1, 0, 1)):
+            floors[(i, j)] = min(row[0] for row in r["candidates"])
     return floors, references
 
 
@@ -616,7 +626,8 @@ def design_schedule(grid: Grid, tuning: str = "tuned", out: str | Path = "schedu
         if node_tuning == "calibrated":   # each node's floor and reference from its neighbourhood (neighbourhood_settings)
             covered = [k for k, r in results.items() if r[3] is not None]
             p_min_of, references = neighbourhood_settings({k: results[k][7] for k in covered},
-                                                          keep_own=keep)
+                                                          keep_own=keep,
+                                                          untrimmable={k for k, r in results.items() if r[3] is None})
             for k in covered:
                 r = results[k]
                 r[7]["adapt_reference_node"], r[7]["adapt_reference"] = r[9], references[k]

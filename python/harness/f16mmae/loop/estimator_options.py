@@ -29,7 +29,7 @@ from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDU
                      SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_ADAPT_FLOOR_S, SCHEDULE_MANEUVER_SETTING,
                      SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
-                     SCHEDULE_MODES, SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS, SCHEDULE_ROUGH_SCALE,
+                     SCHEDULE_MODES, SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS, SCHEDULE_ROUGH_P_MIN, SCHEDULE_ROUGH_SCALE,
                      SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
 
 
@@ -570,6 +570,22 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "ln(P / p_min) nats less to the threshold (cpp/f16mmae/hierarchical_bank.h). The core "
                          "refuses floors that leave no room for a declaration and a bank without partial "
                          "hypotheses. Default 0: the level-0 floor"),
+    EstimatorOption("rough_p_min", "--rough-p-min", "number", metavar="P", minimum=0.0, below=1.0 / 13,
+                    requires="adapt_turbulence",
+                    help="the level-0 probability floor in rough air: the floor in force moves log-linearly from "
+                         "the bank's (a scheduled bank's node floor, chosen in light air) to P as the air's "
+                         "measured residual power ratio, in the schedule's calm-air units, crosses "
+                         "--rough-p-min-from .. --rough-p-min-to (cpp/f16mmae/rough_air_floor.h). Default: "
+                         f"{SCHEDULE_ROUGH_P_MIN:g} on a scheduled bank with --adapt-turbulence "
+                         "(names.SCHEDULE_ROUGH_P_MIN), else 0 (off)"),
+    EstimatorOption("rough_p_min_from", "--rough-p-min-from", "number", metavar="X", minimum=0.0, below=1000.0,
+                    requires="rough_p_min",
+                    help="... the band's lower end: the bank's floor wherever the air reads below X (calm-air "
+                         "units: calm air 0.7-1.0, light 1.0-1.3, moderate 1.6-3.4). Default 1.3"),
+    EstimatorOption("rough_p_min_to", "--rough-p-min-to", "number", metavar="X", minimum=0.0, exclusive=True,
+                    maximum=1000.0, requires="rough_p_min",
+                    help="... the band's upper end (above --rough-p-min-from): the rough-air floor wherever the "
+                         "air reads above X. Default 1.5"),
     EstimatorOption("actuator_rate_limits_rad_s", "--actuator-rate-limits", "values", on_command_line=False,
                     help="the actuators' rate limits, rad/s, one per input"),
     EstimatorOption("actuator_position_limits_rad", "--actuator-position-limits", "values",
@@ -800,6 +816,13 @@ def check(settings: dict) -> None:
     if settings.get("set_tempering") is not None and not (settings.get("adapt_turbulence")
                                                           or settings.get("turbulence_banks")):
         raise ValueError("--set-tempering applies with --adapt-turbulence or --turbulence-banks only")
+    if "rough_p_min_from" in settings or "rough_p_min_to" in settings:
+        defaults = core.estimator_defaults()
+        low = settings.get("rough_p_min_from", defaults["rough_p_min_from"])
+        high = settings.get("rough_p_min_to", defaults["rough_p_min_to"])
+        if not low < high:
+            raise ValueError(f"--rough-p-min-from {low!r} must lie below --rough-p-min-to {high!r} (the band the "
+                             "floor moves across)")
     floor = settings.get("adapt_floor_time_constant_s")
     if floor:
         averaging = core.estimator_defaults()["adapt_time_constant_s"]
@@ -832,6 +855,7 @@ SCHEDULED_DEFAULT_FLAGS: dict[str, str] = {
     "set_tempering": f"--set-tempering {SCHEDULE_SET_TEMPERING:g}",
     "maneuver_tempering_alpha_deg": f"--maneuver-tempering-alpha {SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG:g}",
     "trim_time_constant_s": f"--trim-tracking {SCHEDULE_TRIM_TIME_CONSTANT_S:g}",
+    "rough_p_min": f"--rough-p-min {SCHEDULE_ROUGH_P_MIN:g}",
     **{key: f"{BY_KEY[key].flag} {SCHEDULE_MANEUVER_SETTING[key]:g}"
        for key in ("adapt_reference_climb", "maneuver_dwell_s", "maneuver_tempering_added_g", "trim_steady_g")},
 }
@@ -875,7 +899,8 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE`` and ``adapt_level_scale_channel``
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL`` unless given (``none`` turns it off), with
     ``adapt_level_scale_from`` ``names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM`` unless given,
-    ``adapt_floor_time_constant_s`` ``names.SCHEDULE_ADAPT_FLOOR_S`` unless given (0 turns it off), and the closed
+    ``adapt_floor_time_constant_s`` ``names.SCHEDULE_ADAPT_FLOOR_S`` unless given (0 turns it off),
+    ``rough_p_min`` ``names.SCHEDULE_ROUGH_P_MIN`` unless given (0 turns it off), and the closed
     loop's ``adaptive_dither`` unless ``fixed_dither`` or ``sensor_loss_dither`` is given (the
     adaptive dither of one adapted bank, truth/dither.py ``adapted_dither_reference``). ``running_start``: the bank recommends the
     adaptation's running start (``recommends_running_start``): then ``adapt_running_start`` on
@@ -912,6 +937,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         if out["adapt_level_scale_channel"] != "none":
             out.setdefault("adapt_level_scale_from", SCHEDULE_ADAPT_LEVEL_SCALE_FROM)
         out.setdefault("adapt_floor_time_constant_s", SCHEDULE_ADAPT_FLOOR_S)
+        out.setdefault("rough_p_min", SCHEDULE_ROUGH_P_MIN)
         if not (out.get("fixed_dither") or out.get("sensor_loss_dither")):
             out["adaptive_dither"] = True   # the closed loop's (loop/flight.py)
         if running_start:

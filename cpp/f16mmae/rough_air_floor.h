@@ -23,6 +23,9 @@
 //     fits, does not raise it); ρ_L: the lull floor's longer average (τ_L), in x once it is in
 //     force (τ_L / 2 after the start), so a lull of the gusts over τ does not lift the floor back
 //     to the calm-air one while the air mass is rough; 0 before the first update (x = 0: f_0).
+//     Over a flight's first frames ρ̄ is the plain mean of a few frames, and the filters' start
+//     from x⁻ = 0 can read as rough air: the start-up (start_up_s, filter_bank.h: no hypothesis
+//     weighed) covers them (light air at Mach 0.45, 15,000 ft: the first 0.4 s).
 //   ρ_c: a scheduled bank's calm-air reference in force (bank_schedule.h: each node's ρ̄ in its
 //     calibration's calm air, blended over the cell), 1 for a bank without one. In its units the
 //     air reads alike over the envelope (ρ̄ / ρ_c: none 0.7-1.0, light 1.0-1.3, moderate 1.6-3.4,

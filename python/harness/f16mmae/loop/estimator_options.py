@@ -570,7 +570,7 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "ln(P / p_min) nats less to the threshold (cpp/f16mmae/hierarchical_bank.h). The core "
                          "refuses floors that leave no room for a declaration and a bank without partial "
                          "hypotheses. Default 0: the level-0 floor"),
-    EstimatorOption("rough_p_min", "--rough-p-min", "number", metavar="P", minimum=0.0, below=1.0 / 13,
+    EstimatorOption("rough_p_min", "--rough-p-min", "number", metavar="P", minimum=0.0, below=1.0 / K_BANK,
                     requires="adapt_turbulence",
                     help="the level-0 probability floor in rough air: the floor in force moves log-linearly from "
                          "the bank's (a scheduled bank's node floor, chosen in light air) to P as the air's "

@@ -53,6 +53,9 @@ SEVERE_RULES = "tuned bank + adaptation + tempering and level scale"
 #: (names.SCHEDULE_ADAPT_FLOOR_S; cpp/f16mmae/turbulence_adaptation.h): a second average of the
 #: same minimum, one multiply-add and a comparison a frame.
 LULL_FLOOR = "tuned bank + adaptation + lull floor"
+#: ... and the scheduled default's rough-air floor (names.SCHEDULE_ROUGH_P_MIN; cpp/f16mmae/
+#: rough_air_floor.h): the air's ratio read a frame, the floors set anew when its weight moves a step.
+ROUGH_FLOOR = "tuned bank + adaptation + lull floor + rough-air floor"
 #: The variants with the scheduled default's least dwells (names.SCHEDULE_DWELL_S_PER_HYPOTHESIS),
 #: without and with its rough-air table (names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS and
 #: SCHEDULE_ROUGH_SCALE; cpp/f16mmae/declarer.h): the latter reads the adaptation's scale a frame.
@@ -88,6 +91,9 @@ class ScheduledBenchResult:
         floor = self.us_per_frame.get(LULL_FLOOR)
         if adapted and floor:
             out[f"{LULL_FLOOR} / tuned bank + adaptation"] = floor / adapted
+        rough_floor = self.us_per_frame.get(ROUGH_FLOOR)
+        if floor and rough_floor:
+            out[f"{ROUGH_FLOOR} / {LULL_FLOOR}"] = rough_floor / floor
         least, rough = self.us_per_frame.get(LEAST_DWELLS), self.us_per_frame.get(ROUGH_DWELLS)
         if least and rough:
             out[f"{ROUGH_DWELLS} / {LEAST_DWELLS}"] = rough / least
@@ -164,6 +170,7 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
                              "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),
                              "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM})
     floor = core_arguments({**adapted, "adapt_floor_time_constant_s": names.SCHEDULE_ADAPT_FLOOR_S})
+    rough_floor = {**floor, "rough_p_min": names.SCHEDULE_ROUGH_P_MIN}
     least = core_arguments({**adapted, "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS})
     rough = core_arguments({**adapted, "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                             "rough_dwell_s_per_hypothesis": names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,
@@ -175,7 +182,7 @@ def run_scheduled_bench(frames: int = 2000, min_time_s: float = 0.2, seed: int =
                                "evidence_dwell_in_phases": True})
     for label, kw in (("tuned bank", {}), ("tuned bank + maneuver model", maneuver),
                       ("tuned bank + adaptation", adapted), (CALM_RULE, calm), (SEVERE_RULES, severe),
-                      (LULL_FLOOR, floor),
+                      (LULL_FLOOR, floor), (ROUGH_FLOOR, rough_floor),
                       (LEAST_DWELLS, least), (ROUGH_DWELLS, rough), (EVIDENCE_DWELL, evidence)):
         per_frame, worst = core._bench_hierarchical_loop(tuned, zt, ut, min_time_s=min_time_s, **kw)
         result.us_per_frame[label] = per_frame * 1e6

@@ -1,4 +1,5 @@
-"""Test support shared by the tests of the scheduled estimator: a one-node schedule."""
+"""Test support shared by the tests of the scheduled estimator: a one-node schedule, and a flight
+that records the probability floor in force after every update."""
 from __future__ import annotations
 
 import numpy as np
@@ -19,3 +20,22 @@ def one_node_schedule(directory):
     path = directory / "one.f16sched"
     core.save_schedule([0.4], [20000.0], [(0, 0, mb, np.zeros(names.NX))], primary=0, path=str(path))
     return core.load_bank(str(path))
+
+
+def floors_in_force(scenario, model_bank, est):
+    """(FlightResult, the level-0 floor in force after each update) of ``scenario`` flown with
+    ``model_bank`` and the in-process estimator ``est`` (loop.estimator.Estimator)."""
+    from f16mmae.loop.flight import fly
+    floors = []
+
+    class Recording:   # the estimator, and its floor in force after each update
+        def __getattr__(self, name):
+            return getattr(est, name)
+
+        def update(self, z):
+            z_hat = est.update(z)
+            floors.append(est._bank.p_min_in_force)
+            return z_hat
+
+    result = fly(scenario, model_bank, estimator=Recording())
+    return result, np.asarray(floors)

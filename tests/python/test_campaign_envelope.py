@@ -110,7 +110,7 @@ def test_custom_points_and_duplicates():
             parse_mach_alt(bad)
     with pytest.raises(EnvelopeError, match="points NOM and C1 are the same flight condition"):
         check_distinct((NOMINAL, EnvelopePoint("C1", 0.4, 20000.0, "custom")))
-    with pytest.raises(EnvelopeError, match="no envelope point"):
+    with pytest.raises(EnvelopeError, match="no flight point selected"):
         check_distinct(())
 
 

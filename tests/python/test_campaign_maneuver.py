@@ -33,6 +33,19 @@ def test_maneuver_specs_at_a_point():
         maneuver_spec("loop", 0.4, 20_000.0, 2.0)
 
 
+def test_the_points_are_checked_as_every_campaign_with_points_checks_them():
+    """engine.points.check_points: no point, a label twice, one flight condition twice (the same
+    runs under two labels), a point outside the envelope; refused by name before planning."""
+    nom, custom = select_points("NOM")[0], parse_mach_alt("0.4:20000,0.5:30000")
+    for points, message in (((), "no flight point selected"),
+                            ((nom, nom), "point label\\(s\\) used twice"),
+                            ((nom, custom[0]), "points NOM and C1 are the same flight condition"),
+                            ((type(nom)("X", 0.95, 20000.0, "custom"),), "point X: ")):
+        with pytest.raises(CampaignError, match=message):
+            ManeuverCampaign(points=points).validate()
+    ManeuverCampaign(points=(nom, custom[1])).validate()
+
+
 def test_tiny_maneuver_campaign(tmp_path):
     cfg = ManeuverCampaign(points=select_points("NOM") + parse_mach_alt("0.5:15000"), runs=1,
                            maneuvers=("climb", "turn"), cases=("NONE", "LS"), maneuver_time_s=1.0,

@@ -27,6 +27,7 @@ from f16mmae.loop.flight import fly
 from f16mmae.names import failed_components
 from f16mmae.truth import Scenario
 from f16mmae.truth.failures import make_failure
+from schedule_support import floors_in_force
 
 pytestmark = pytest.mark.slow
 
@@ -211,19 +212,8 @@ def test_a_records_estimator_settings_fly_the_same_estimator_again(tmp_path):
     for name, options in (("given", {}), ("settings", given.settings),
                           ("one p_min", {**given.settings, "p_min": bank.estimator_settings["p_min"]})):
         est = Estimator(bank, **options)
-        seen = []
-
-        class Floors:   # the estimator's floor in force after each update
-            def __getattr__(self, attr):
-                return getattr(est, attr)
-
-            def update(self, z):
-                z_hat = est.update(z)
-                seen.append(est._bank.p_min_in_force)
-                return z_hat
-
-        result = fly(scenario, bank, estimator=Floors())
-        floors[name] = (np.array(seen), np.nan_to_num(result.probabilities), est.settings)
+        result, seen = floors_in_force(scenario, bank, est)
+        floors[name] = (seen, np.nan_to_num(result.probabilities), est.settings)
     assert np.array_equal(floors["settings"][0], floors["given"][0])
     assert np.array_equal(floors["settings"][1], floors["given"][1])
     assert floors["settings"][2] == floors["given"][2]

@@ -21,7 +21,7 @@ from f16mmae import banks, core, names
 from f16mmae.loop.estimator import Estimator, core_arguments
 from f16mmae.loop.estimator_options import (bank_defaults, check, check_requirements, has_calm_reference,
                                             scheduled_defaults)
-from schedule_support import one_node_schedule
+from schedule_support import floors_in_force, one_node_schedule
 
 
 def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
@@ -557,24 +557,11 @@ def test_the_rough_air_floor_is_the_scheduled_default_and_its_band_is_checked():
 def _floors_in_force(turbulence: str, **options) -> np.ndarray:
     """The level-0 floor in force after each frame of a 40-s failure-free flight at Mach 0.45,
     15,000 ft (the scheduled default's nodes there chose 1e-5 on their light-air calibration)."""
-    from f16mmae.loop.flight import fly
     from f16mmae.truth import Scenario
     model_bank = banks.load_bank("scheduled")[2]
     est = Estimator.fresh(model_bank, **bank_defaults({"adapt_turbulence": True, **options}, model_bank))
-    floors = []
-
-    class Spy:
-        def __getattr__(self, name):
-            return getattr(est, name)
-
-        def update(self, z):
-            out = est.update(z)
-            floors.append(est._bank.p_min_in_force)
-            return out
-
-    fly(Scenario(mach=0.45, alt_ft=15000.0, turbulence=turbulence, seed=3, duration_s=40.0), model_bank,
-        estimator=Spy(), record_probabilities=False)
-    return np.array(floors)
+    scenario = Scenario(mach=0.45, alt_ft=15000.0, turbulence=turbulence, seed=3, duration_s=40.0)
+    return floors_in_force(scenario, model_bank, est)[1]
 
 
 def test_the_floor_in_force_is_the_nodes_in_light_air_and_the_rough_air_floor_in_moderate_air():

@@ -47,14 +47,15 @@ import numpy as np
 from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...names import FAILURE_TIME_S, NONE
-from ...truth.aircraft import check_flight_condition, trimmed_fdm
+from ...truth.aircraft import trimmed_fdm
 from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring, variants
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_case_failures, check_failure_jitter, plan as plan_at, run_spec
+from ..engine.points import check_points
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.store import ResultsStore, campaign_directory
 from . import figures
-from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint, check_distinct
+from .points import PAPER_POINTS, EnvelopeError, EnvelopePoint
 
 #: The default acceptability rule (module docstring).
 CORRECT_FRACTION_MIN = 0.9
@@ -74,19 +75,11 @@ class EnvelopeCampaign(CampaignConfig):
     false_alarms_max: int = FALSE_ALARMS_MAX
 
     def validate(self) -> "EnvelopeCampaign":
-        try:
-            check_distinct(self.points)
-        except EnvelopeError as exc:
-            raise CampaignError(str(exc)) from None
+        check_points(self.points)
         if not 0.0 <= self.correct_fraction_min <= 1.0:
             raise CampaignError(f"correct_fraction_min {self.correct_fraction_min} must lie in [0, 1]")
         if self.false_alarms_max < 0:
             raise CampaignError(f"false_alarms_max {self.false_alarms_max} must be >= 0")
-        for p in self.points:
-            try:
-                check_flight_condition(p.mach, p.alt_ft)
-            except ValueError as exc:
-                raise CampaignError(f"point {p.label}: {exc}") from None
         self.check_common(dwell_window_s=self.duration_s)
         check_failure_jitter(self)
         check_case_failures(self)

@@ -62,6 +62,8 @@ import numpy as np
 from ...errors import F16mmaeError
 from ...names import DESIGN_ALT_FT, DESIGN_MACH
 from ...truth.aircraft import ALT_FT_RANGE, MACH_RANGE, check_flight_condition
+from ..engine.config import CampaignError
+from ..engine.points import check_points
 
 #: ISA sea-level pressure (lbf/ft^2), temperature (K), lapse rate (K/m) and g0/(R L).
 P0_PSF = 101_325.0 / 47.880258889  # 2116.2166 lbf/ft^2
@@ -246,16 +248,9 @@ def parse_mach_alt(text: str) -> tuple[EnvelopePoint, ...]:
 
 
 def check_distinct(points) -> None:
-    """Refuse an empty list, a label used twice or one flight condition listed twice."""
-    if not points:
-        raise EnvelopeError("no envelope point selected")
-    labels = [p.label for p in points]
-    if len(set(labels)) != len(labels):
-        raise EnvelopeError(f"point label(s) used twice in {', '.join(labels)}")
-    seen: dict[tuple[float, float], str] = {}
-    for p in points:
-        key = (round(p.mach, 6), round(p.alt_ft, 3))
-        if key in seen:
-            raise EnvelopeError(f"points {seen[key]} and {p.label} are the same flight condition "
-                                f"(Mach {p.mach}, {p.alt_ft:.0f} ft)")
-        seen[key] = p.label
+    """Refuse an empty list, a label used twice, one flight condition listed twice or a point
+    outside the envelope (``engine.points.check_points``), as an EnvelopeError."""
+    try:
+        check_points(points)
+    except CampaignError as exc:
+        raise EnvelopeError(str(exc)) from None

@@ -41,10 +41,11 @@ from ... import __version__
 from ...banks import bank_estimator_settings, load_bank
 from ...names import NONE
 from ...truth import Scenario
-from ...truth.aircraft import ALT_FT_RANGE, MACH_RANGE, check_flight_condition
+from ...truth.aircraft import ALT_FT_RANGE, MACH_RANGE
 from ..engine import drilldown, evidence, identity, intervals, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
 from ..engine.failure_runs import CASES, check_case_failures, check_failure_jitter, failure_offset, run_spec as single_run_spec
+from ..engine.points import check_points
 from ..engine.runner import CampaignOutcome, execute
 from ..engine.seeds import evaluation_seed
 from ..engine.store import ResultsStore, campaign_directory, run_key
@@ -90,16 +91,7 @@ class ManeuverCampaign(CampaignConfig):
     duration_s: float = 14.0
 
     def validate(self) -> "ManeuverCampaign":
-        if not self.points:
-            raise CampaignError("no flight point selected")
-        labels = [p.label for p in self.points]
-        if len(set(labels)) != len(labels):
-            raise CampaignError(f"point label(s) used twice in {', '.join(labels)}")
-        for p in self.points:
-            try:
-                check_flight_condition(p.mach, p.alt_ft)
-            except ValueError as exc:
-                raise CampaignError(f"point {p.label}: {exc}") from None
+        check_points(self.points)
         bad = [m for m in self.maneuvers if m not in MANEUVERS]
         if bad or not self.maneuvers or len(set(self.maneuvers)) != len(self.maneuvers):
             raise CampaignError(f"--maneuvers {','.join(self.maneuvers)!r}: each of {', '.join(MANEUVERS)} at most once")

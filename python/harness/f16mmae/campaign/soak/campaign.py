@@ -48,6 +48,7 @@ from ...truth.aircraft import check_flight_condition
 from ...truth.maneuvers import parse_maneuver
 from ..engine import drilldown, identity, outcomes, scoring
 from ..engine.config import CampaignConfig, CampaignError
+from ..engine.points import check_points
 from ..engine.runner import CampaignOutcome, execute, planned_bank
 from ..engine.seeds import evaluation_seed
 from ..engine.store import ResultsStore, campaign_directory, run_key
@@ -118,7 +119,8 @@ class SoakCampaign(CampaignConfig):
                 check_flight_condition(self.mach, self.alt_ft)
             except ValueError as exc:
                 raise CampaignError(f"--mach/--alt-ft: {exc}") from None
-        self._check_points()
+        if self.points:
+            check_points(self.points)
         if self.profile is not None:
             if self.maneuvers:
                 raise CampaignError("give --maneuver or --profile, not both")
@@ -134,24 +136,6 @@ class SoakCampaign(CampaignConfig):
         for p in self.points or single:
             check_point_maneuvers(self, p)
         return self
-
-    def _check_points(self) -> None:
-        """Refuse a label used twice, a point outside the envelope or one
-        flight condition listed twice (its flights would be the same runs)."""
-        seen: dict[tuple[float, float], str] = {}
-        for p in self.points:
-            try:
-                check_flight_condition(p.mach, p.alt_ft)
-            except ValueError as exc:
-                raise CampaignError(f"point {p.label}: {exc}") from None
-            condition = (round(float(p.mach), 6), round(float(p.alt_ft), 3))
-            if condition in seen:
-                raise CampaignError(f"points {seen[condition]} and {p.label} are the same flight condition "
-                                    f"(Mach {p.mach}, {p.alt_ft:.0f} ft)")
-            seen[condition] = p.label
-        labels = [p.label for p in self.points]
-        if len(set(labels)) != len(labels):
-            raise CampaignError(f"point label(s) used twice in {', '.join(labels)}")
 
 
 #: Soak profiles: name -> (maneuver strings from Mach M, altitude H ft, the flight length they need).

@@ -1,6 +1,7 @@
 """The campaign loop's tasks: chunks of consecutive runs (guided sizes), every record stored
-once in plan order of completion, a failing run named with the runs before it kept, and a
-process pool storing the same records as the inline executor."""
+once in plan order of completion, a failing run named with the runs before it kept, in process
+each run's record stored before the next task flies, and a process pool storing the same
+records as the inline executor."""
 from __future__ import annotations
 
 import math
@@ -72,3 +73,32 @@ def test_a_failing_run_is_named_and_the_runs_before_it_are_stored(tmp_path):
                    describe=lambda s: f"run {s['i']}", show_progress=False)
     assert done.resumed == len(stored) and len(done.executed_records) == 40 - len(stored)
     assert math.fsum(r["square"] for r in done.records) == sum(i * i for i in range(40))
+
+
+def test_in_process_each_task_is_stored_before_the_next_is_flown(tmp_path):
+    """--workers 1: a run sees every run before its task stored (progress and resume as it goes),
+    and a failing run stops the campaign before any later task is flown."""
+    specs = _specs(60)
+    tasks = chunks(specs, 1)
+    first_of_task = {task[0]["i"]: sum(len(t) for t in tasks[:n]) for n, task in enumerate(tasks)}
+    seen = {}
+
+    def run(spec):
+        seen[spec["i"]] = len(ResultsStore(tmp_path).records())
+        return square_run(spec)
+
+    execute(specs, ResultsStore(tmp_path), InlineExecutor(), run, describe=str, show_progress=False)
+    assert len(tasks) > 3 and all(seen[i] == stored for i, stored in first_of_task.items())
+    later = tasks[2][0]["i"]
+    failing = _specs(60)
+    failing[later]["boom"] = True
+    flown = []
+
+    def run_until(spec):
+        flown.append(spec["i"])
+        return square_run(spec)
+
+    with pytest.raises(CampaignError, match=f"run {later} failed"):
+        execute(failing, ResultsStore(tmp_path / "failing"), InlineExecutor(), run_until,
+                describe=lambda s: f"run {s['i']}", show_progress=False)
+    assert flown == list(range(later + 1))

@@ -12,7 +12,9 @@ It returns the stored records of this plan only, one per run key, and the timing
 Tasks: each task the executor receives flies a chunk of consecutive specs (``chunks``:
 guided, a quarter of each worker's share of the runs left, 1 to ``CHUNK_MAX`` runs) and
 returns their records, so a pool pays its per-task messages once per chunk, not once per run,
-while the last tasks stay single runs that keep both workers busy to the end.  A chunk
+while the last tasks stay single runs that keep both workers busy to the end.  In process
+(``--workers 1``) the tasks are flown one after another, each stored before the next
+(:func:`completed`).  A chunk
 returns the records flown before a failing run along with its error, so they are stored too.
 Within ``shared_flights.sharing()`` (one command flying several campaigns), a spec another
 campaign of the command already flew with the same run function is not flown again: its record
@@ -27,8 +29,8 @@ unless ``allow_mixed``.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
-from concurrent.futures import Executor, as_completed
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -73,6 +75,20 @@ def executor_workers(executor: Executor) -> int:
     if isinstance(executor, InlineExecutor):
         return 1
     return int(getattr(executor, "_max_workers", 0) or default_workers())
+
+
+def completed(executor: Executor, run: Callable[[dict], dict], tasks: list[list[dict]]) -> Iterator[tuple[list[dict], Future]]:
+    """(task, its future) of each task as it finishes. In process (``InlineExecutor``) one task is
+    flown at a time, so each is stored before the next is flown: a long ``--workers 1`` campaign
+    shows its progress and keeps what it flew when it is stopped. Any other executor gets every
+    task at once."""
+    if isinstance(executor, InlineExecutor):
+        for task in tasks:
+            yield task, executor.submit(run_chunk, run, task)
+        return
+    futures = {executor.submit(run_chunk, run, task): task for task in tasks}
+    for fut in as_completed(futures):
+        yield futures[fut], fut
 
 
 @dataclass
@@ -137,9 +153,7 @@ def execute(specs: Sequence[dict], store: ResultsStore, executor: Executor, run:
             else:
                 keep(spec, record)
         shared = len(todo) - len(to_fly)
-        futures = {executor.submit(run_chunk, run, c): c for c in chunks(to_fly, executor_workers(executor))}
-        for fut in as_completed(futures):
-            chunk = futures[fut]
+        for chunk, fut in completed(executor, run, chunks(to_fly, executor_workers(executor))):
             try:
                 records, failed = fut.result()
             except CampaignError:

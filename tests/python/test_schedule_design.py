@@ -135,10 +135,15 @@ def test_calibration_at_the_nominal_point_keeps_the_shipped_tuning():
 
 def test_calibration_at_a_high_dynamic_pressure_node_matches_its_residuals():
     """At Mach 0.7, 10,000 ft (q 5x the design point's) the nominal tuning under-predicts the
-    residuals (a channel's var/A well above 1); calibrated there, every channel is within 15 %."""
+    residuals (a channel's var/A well above 1); calibrated there, every channel it under-predicted
+    is within 15 % and none is above 1.15.  The calibration adds noise, it never takes the design's
+    away: AZ, which the design over-predicts there (the pitch gust takes back much of the vertical
+    gust's normal acceleration, truth/turbulence.py), stays below 1."""
     tuning, before, after = calibrate_node(0.7, 10000.0, _tuned())
     assert before.var_over_a.max() > 2.0
-    assert np.all(np.abs(after.var_over_a - 1.0) < 0.15), after.var_over_a
+    under = before.var_over_a > 1.0
+    assert under.sum() >= 5 and np.all(np.abs(after.var_over_a[under] - 1.0) < 0.15), after.var_over_a
+    assert np.all(after.var_over_a < 1.15), after.var_over_a
     assert tuning.name == "tuned@node" and tuning.estimator == _tuned().estimator
 
 

@@ -128,8 +128,10 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: trimmable edge); 18: every node at its least candidate floor, its reference as bounded at the floor
 #: its calibration chose (schedule.neighbourhood_settings: the calibration flies light air only);
 #: 19: the floors of revision 17 again, the estimator moving the floor in force to SCHEDULE_ROUGH_P_MIN
-#: in rough air (cpp/f16mmae/rough_air_floor.h).
-SCHEDULE_DESIGN_REVISION = 19
+#: in rough air (cpp/f16mmae/rough_air_floor.h); 20: every node calibrated in the one turbulence model
+#: the truth now flies everywhere (truth/turbulence.py hold_axes: before, about half the nodes flew
+#: their calibration flights with the yaw and pitch gusts' signs flipped).
+SCHEDULE_DESIGN_REVISION = 20
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).

@@ -291,6 +291,7 @@ def trim(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float | Non
     u = np.array([de, de, da, -da, dr])
     set_surfaces(fdm, u)
     _store_state_as_ic(fdm)  # its run_ic computes the zeroed command terms once more
+    turbulence.hold_axes(fdm)   # its run_ic leaves a round-off mean wind (truth/turbulence.py)
     fdm[TRIM_COMMANDS_PROPERTY] = 0
     lim = np.array(actuators.POSITION_LIMIT_RAD)
     if np.any(np.abs(u) > lim):
@@ -342,7 +343,7 @@ def restart(fdm, trim_point: TrimPoint, start: dict, seed: int) -> None:
     its filter states zeroed, the generators re-made, the clock, the five surfaces, the engine
     spools and fuel flows and the fuel written back, and the stored trimmed initial condition run
     (``run_ic``: the aircraft's position, attitude and velocities, and the integrators'
-    histories).  The engine's other states (running, throttle, nozzle) do not move in level
+    histories), and the turbulence axes fixed with no mean wind (``turbulence.hold_axes``).  The engine's other states (running, throttle, nozzle) do not move in level
     flight at fixed throttle."""
     turbulence.apply(fdm, "none")
     fdm["simulation/randomseed"] = int(seed)
@@ -354,6 +355,7 @@ def restart(fdm, trim_point: TrimPoint, start: dict, seed: int) -> None:
         fdm[prop] = value
     fdm.set_fuel_flow_pph(start["fuel_flow_pph"])
     fdm.run_ic()
+    turbulence.hold_axes(fdm)
 
 
 def _trim_once(fdm: jsbsim.FGFDMExec, mach: float, alt_ft: float, lef_rad: float, gamma_deg: float = 0.0) -> None:

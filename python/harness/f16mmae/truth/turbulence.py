@@ -20,6 +20,24 @@ level is ``level``, from the first frame >= start_s + duration_s the scenario's 
 again (``schedule`` gives those frames; the truth model applies each before that frame's
 JSBSim steps, on both engines).
 
+The turbulence axes: JSBSim draws the Dryden gusts in axes turned by the mean wind's heading
+``atmosphere/psiw-rad`` (x along it), and turns the roll and pitch gusts with the horizontal
+ones but not the yaw gust, so the yaw gust's sign against the side gust, and the pitch gust's
+against the vertical one, flip with the axes.  With no mean wind the heading is whatever the
+sign of a round-off wind left by the trimmed initial condition makes it (about 1e-12 ft/s, from
+``run_ic``): 0 at some flight conditions and pi at others, about half the envelope each, the
+nominal point at pi.  The truth therefore fixes the axes at ``TURBULENCE_AXES_PSI_RAD`` with the
+mean wind exactly zero at every flight's start (:func:`hold_axes`, called by ``aircraft.trim``
+and ``aircraft.restart``), so every flight condition flies one turbulence model: the nominal point's,
+whose yaw gust the filters' Dryden gust states were fitted to (design/gust_states.py). Neither
+heading makes both rotational gusts physical: the aerodynamics see p - p_g, q - q_g, r - r_g
+(FGAuxiliary), so a gust field frozen in the air gives q_g = -dw_g/dx and r_g = +dv_g/dx along the
+fuselage, of opposite signs against the time derivatives of w_g and v_g, while JSBSim's form
+(MIL-STD-1797A's first-order filters) gives both the same sign: at pi the pitch gust has the
+physical sign and the yaw gust the other, at 0 the reverse. Before,
+a filter with gust states read the other half's yaw gusts with the wrong sign, and the rudder
+was declared falsely there in moderate air (docs/results/envelope_scheduled.md, round 47).
+
 GUST_SIGMA_FPS lists the gust intensity (standard deviation of the NED gust velocity
 components, ft/s, average of north and down) MEASURED from JSBSim over 60 s at Mach 0.4
 (0.6 at 35,000 ft), seed 1, per level and altitude; the lateral component is about 20 %
@@ -49,6 +67,9 @@ GUST_SIGMA_FPS: dict[str, dict[int, float]] = {
 }
 #: JSBSim turbulence-type code of MIL-F-8785C Dryden.
 TURB_TYPE_MILSPEC_DRYDEN = 3
+#: The heading (rad) of JSBSim's turbulence axes in every flight (module docstring): x pointing
+#: south, against the trimmed flight path (the aircraft is trimmed flying north).
+TURBULENCE_AXES_PSI_RAD = math.pi
 
 
 def check_level(level: str) -> str:
@@ -103,6 +124,17 @@ class GustBurst:
         first = math.ceil(self.start_s * frame_rate_hz - eps)
         end = math.ceil((self.start_s + self.duration_s) * frame_rate_hz - eps)
         return [(first, self.level), (max(end, first + 1), check_level(base_level))]
+
+
+def hold_axes(fdm) -> None:
+    """Fix ``fdm``'s turbulence axes at TURBULENCE_AXES_PSI_RAD with no mean wind (module
+    docstring).  JSBSim sets the axes' heading through a wind (at zero wind it resets it to 0)
+    and recomputes it from the mean wind whenever the wind's north component is not zero, so the
+    heading is set with a wind that is then zeroed exactly."""
+    fdm["atmosphere/wind-north-fps"] = 1.0
+    fdm["atmosphere/psiw-rad"] = TURBULENCE_AXES_PSI_RAD
+    for axis in ("north", "east", "down"):
+        fdm[f"atmosphere/wind-{axis}-fps"] = 0.0
 
 
 def apply(fdm, level: str) -> None:

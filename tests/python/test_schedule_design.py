@@ -502,6 +502,47 @@ def test_the_floors_are_the_chosen_ones_and_the_references_bounded_at_the_neighb
     assert all(refs[(i, j)] == (0.6 if j <= 1 else 0.9) for i in range(3) for j in range(3))
 
 
+def test_each_cell_bounds_its_corners_references_at_its_own_floor():
+    """3 x 4 grid: rows 0-2 chose the floor 1e-5 (reference 1.0 at both floors), row 3 1e-9 with
+    0.8 there and 0.5 at 1e-5.  Step 1 gives row 2 the floor 1e-9 (row 3 beside it), rows 0-1 1e-5.
+    A node of row 2 touches cells below that blend 1e-5 (1.0 there) and cells above that blend
+    1e-9 (0.8 at row 3): its reference is 0.8, not row 3's 0.5 at the floor of the cells below.
+    And on random grids every cell's blend is bounded: each corner's reference is at most every
+    met corner's bounded reference at the largest floor of step 1 among the cell's corners."""
+    def rec(p_min, at_low, at_high):
+        return {"p_min": p_min, "bound_met": True, "adapt_reference": at_low,
+                "candidates": [[1e-9, at_low, 0.0, 0.0, True], [1e-5, at_high, 0.0, 0.0, True]]}
+
+    records = {(i, j): rec(1e-9, 0.8, 0.5) if j == 3 else rec(1e-5, 1.0, 1.0) for i in range(3) for j in range(4)}
+    floors, refs = neighbourhood_settings(records)
+    assert [floors[(1, j)] for j in range(4)] == [1e-5, 1e-5, 1e-9, 1e-9]
+    assert [refs[(1, j)] for j in range(4)] == [1.0, 1.0, 0.8, 0.8]
+
+    rng = np.random.default_rng(3)
+    floors_ = (1e-9, 1e-7, 1e-5, 1e-3)
+    for _ in range(20):
+        recs = {}
+        for i in range(4):
+            for j in range(4):
+                if rng.random() < 0.1:
+                    continue   # an untrimmable point
+                refs_at = np.sort(rng.choice(np.arange(0.4, 1.01, 0.02), size=4))[::-1]   # falls with the floor
+                met = rng.random(4) < 0.9
+                recs[(i, j)] = {"p_min": floors_[rng.integers(4)], "bound_met": True, "adapt_reference": 1.0,
+                                "candidates": [[f, float(r), 0.0, 0.0, bool(m)] for f, r, m in zip(floors_, refs_at, met)]}
+        step1 = neighbourhood_minimum({k: (r["p_min"], r["bound_met"]) for k, r in recs.items()})
+        _, refs = neighbourhood_settings(recs)
+        at = {k: {row[0]: (row[1], row[4]) for row in r["candidates"]} for k, r in recs.items()}
+        for ci in range(3):
+            for cj in range(3):
+                corners = [(ci + a, cj + b) for a in (0, 1) for b in (0, 1) if (ci + a, cj + b) in recs]
+                if len(corners) < 2:
+                    continue
+                top = max(step1[k] for k in corners)
+                for k in corners:
+                    assert refs[k] <= min([at[k][top][0]] + [at[n][top][0] for n in corners if at[n][top][1]]) + 1e-12
+
+
 def test_a_node_beside_an_untrimmable_point_takes_its_smallest_floor_and_keeps_its_reference():
     """3 x 3 grid with (0, 2) left out (untrimmable): its neighbours (0, 1), (1, 1), (1, 2) take
     their smallest candidate floor, 1e-9, and keep the reference bounded at the neighbourhood's

@@ -130,8 +130,9 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: 19: the floors of revision 17 again, the estimator moving the floor in force to SCHEDULE_ROUGH_P_MIN
 #: in rough air (cpp/f16mmae/rough_air_floor.h); 20: every node calibrated in the one turbulence model
 #: the truth now flies everywhere (truth/turbulence.py hold_axes: before, about half the nodes flew
-#: their calibration flights with the yaw and pitch gusts' signs flipped).
-SCHEDULE_DESIGN_REVISION = 20
+#: their calibration flights with the yaw and pitch gusts' signs flipped); 21: each node's reference
+#: bounded cell by cell at the cell's own floor (schedule.neighbourhood_settings).
+SCHEDULE_DESIGN_REVISION = 21
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).

@@ -432,10 +432,11 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
 
     1. floor: the smallest of the node's chosen floor and its neighbours' that met their bound
        (``neighbourhood_minimum``);
-    2. the largest floor P in the file at the node and its covered neighbours: the core blends
-       ln p_min over a cell, so no cell touching the node blends a larger floor than P;
-    3. reference: the smallest of the node's bounded reference at floor P and its neighbours'
-       whose row at P met the bound;
+    2. for each of the (up to four) grid cells the node is a corner of, the largest floor P_c of
+       step 1 at the cell's covered corners: the core blends ln p_min over a cell, so that cell
+       blends no larger floor than P_c;
+    3. reference: over those cells, the smallest of the corners' bounded references at their
+       cell's P_c (the node's own, and a neighbour's only where its row at P_c met the bound);
     4. the floor in the file: the node's floor of step 1; at the trimmable edge, a node with an
        ``untrimmable`` grid neighbour (a point left out of the design: JSBSim cannot trim the F-16
        there) takes its least candidate floor, with the reference of step 3: its calibration flew
@@ -449,8 +450,11 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
        cpp/f16mmae/rough_air_floor.h: the nodes' 1e-5 at 15,000 ft lifted false flaperon and rudder
        hypotheses to the threshold in moderate air, round 45).
     Why this keeps the bound at every corner that met it: the blend anywhere in a cell has a
-    floor of at most P and a reference of at most every corner's bounded reference at P, and
-    the peak falls with the floor as with the reference.  (Taking the smallest floor and the
+    floor of at most its P_c and a reference of at most every corner's bounded reference at P_c,
+    and the peak falls with the floor as with the reference.  (One P over the node's whole
+    neighbourhood, the rule before revision 20, paired a floor of the cells on one side with a
+    reference bounded at that floor on the other: at Mach 0.4, 20,000 ft the 15,000-ft nodes' 1e-5
+    with the 25,000-ft node's 0.58 at 1e-5, where the cells above blend 1e-9 and bound 0.72.)  (Taking the smallest floor and the
     smallest reference apart would pair a floor chosen with a high reference with a reference
     chosen for a high floor: tempering far more than either node needs.)
     ``keep_own``: nodes that keep their own chosen floor and reference (``gust_neighbourhoods``);
@@ -461,10 +465,15 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
     at = {k: {row[0]: (row[1], row[4]) for row in r["candidates"]} for k, r in records.items()}
     references = {}
     for (i, j) in records:
-        around = [(i + di, j + dj) for di in (-1, 0, 1) for dj in (-1, 0, 1)
-                  if (di or dj) and (i + di, j + dj) in records]
-        top = max([chosen[(i, j)]] + [chosen[k] for k in around])   # 2. P
-        references[(i, j)] = min([at[(i, j)][top][0]] + [at[k][top][0] for k in around if at[k][top][1]])   # 3.
+        bounds = []
+        for ci in (i - 1, i):   # the cells whose corner (i, j) is: lower-left corner (ci, cj)
+            for cj in (j - 1, j):
+                corners = [(ci + a, cj + b) for a in (0, 1) for b in (0, 1) if (ci + a, cj + b) in records]
+                if len(corners) < 2:
+                    continue   # no cell there: the node alone, or beyond the grid
+                top = max(chosen[k] for k in corners)   # 2. P_c
+                bounds += [at[k][top][0] for k in corners if k == (i, j) or at[k][top][1]]   # 3.
+        references[(i, j)] = min(bounds) if bounds else at[(i, j)][chosen[(i, j)]][0]
     for k in keep_own:
         references[k] = records[k]["adapt_reference"]
     floors = dict(chosen)   # 4.

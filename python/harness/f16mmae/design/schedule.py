@@ -452,10 +452,10 @@ def neighbourhood_settings(records: dict[tuple[int, int], dict], keep_own=frozen
     Why this keeps the bound at every corner that met it: the blend anywhere in a cell has a
     floor of at most its P_c and a reference of at most every corner's bounded reference at P_c,
     and the peak falls with the floor as with the reference.  (One P over the node's whole
-    neighbourhood, the rule before revision 20, paired a floor of the cells on one side with a
+    neighbourhood, the rule before revision 21, paired a floor of the cells on one side with a
     reference bounded at that floor on the other: at Mach 0.4, 20,000 ft the 15,000-ft nodes' 1e-5
-    with the 25,000-ft node's 0.58 at 1e-5, where the cells above blend 1e-9 and bound 0.72.)  (Taking the smallest floor and the
-    smallest reference apart would pair a floor chosen with a high reference with a reference
+    with the 25,000-ft node's 0.58 at 1e-5, where the cells above blend 1e-9 and bound 0.72.)
+    (Taking the smallest floor and the smallest reference apart would pair a floor chosen with a high reference with a reference
     chosen for a high floor: tempering far more than either node needs.)
     ``keep_own``: nodes that keep their own chosen floor and reference (``gust_neighbourhoods``);
     every other node's reference is the one this rule gives without them (their neighbours see them as above,

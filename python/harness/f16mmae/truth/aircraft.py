@@ -343,8 +343,8 @@ def restart(fdm, trim_point: TrimPoint, start: dict, seed: int) -> None:
     its filter states zeroed, the generators re-made, the clock, the five surfaces, the engine
     spools and fuel flows and the fuel written back, and the stored trimmed initial condition run
     (``run_ic``: the aircraft's position, attitude and velocities, and the integrators'
-    histories), and the turbulence axes fixed with no mean wind (``turbulence.hold_axes``).  The engine's other states (running, throttle, nozzle) do not move in level
-    flight at fixed throttle."""
+    histories), and the turbulence axes fixed with no mean wind (``turbulence.hold_axes``).  The
+    engine's other states (running, throttle, nozzle) do not move in level flight at fixed throttle."""
     turbulence.apply(fdm, "none")
     fdm["simulation/randomseed"] = int(seed)
     fdm["atmosphere/randomseed"] = int(seed)

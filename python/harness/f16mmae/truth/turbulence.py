@@ -27,16 +27,16 @@ against the vertical one, flip with the axes.  With no mean wind the heading is 
 sign of a round-off wind left by the trimmed initial condition makes it (about 1e-12 ft/s, from
 ``run_ic``): 0 at some flight conditions and pi at others, about half the envelope each, the
 nominal point at pi.  The truth therefore fixes the axes at ``TURBULENCE_AXES_PSI_RAD`` with the
-mean wind exactly zero at every flight's start (:func:`hold_axes`, called by ``aircraft.trim``
-and ``aircraft.restart``), so every flight condition flies one turbulence model: the nominal point's,
-whose yaw gust the filters' Dryden gust states were fitted to (design/gust_states.py). Neither
+mean wind exactly zero at every flight's start (:func:`hold_axes`, called by ``aircraft.trim`` and
+``aircraft.restart``), so every flight condition flies one turbulence model: the nominal point's,
+whose yaw gust the filters' Dryden gust states were fitted to (design/gust_states.py).  Neither
 heading makes both rotational gusts physical: the aerodynamics see p - p_g, q - q_g, r - r_g
 (FGAuxiliary), so a gust field frozen in the air gives q_g = -dw_g/dx and r_g = +dv_g/dx along the
 fuselage, of opposite signs against the time derivatives of w_g and v_g, while JSBSim's form
 (MIL-STD-1797A's first-order filters) gives both the same sign: at pi the pitch gust has the
-physical sign and the yaw gust the other, at 0 the reverse. Before,
-a filter with gust states read the other half's yaw gusts with the wrong sign, and the rudder
-was declared falsely there in moderate air (docs/results/envelope_scheduled.md, round 47).
+physical sign and the yaw gust the other, at 0 the reverse.  Before, a filter with gust states
+read the other half's yaw gusts with the wrong sign, and the rudder was declared falsely there in
+moderate air (docs/results/envelope_scheduled.md, round 47).
 
 GUST_SIGMA_FPS lists the gust intensity (standard deviation of the NED gust velocity
 components, ft/s, average of north and down) MEASURED from JSBSim over 60 s at Mach 0.4

@@ -171,12 +171,12 @@ def test_a_run_records_the_settings(tmp_path):
 def test_a_climbs_reference_does_not_make_the_air_rough(scheduled):
     """In a climb the adaptation reads against the climb's own reference, and its scale s rises
     past 4 in light air; the rough-air dwell reads s_b, the scale at the node's reference, and
-    stays off (cpp/f16mmae/hierarchical_bank.h, step 6). Flown at Mach 0.4, 15,000 ft, whose
+    stays off (cpp/f16mmae/hierarchical_bank.h, step 6). Flown at Mach 0.5, 15,000 ft, whose
     node's reference (1.0) lies above the climb's (0.6)."""
     settings = bank_defaults({"adapt_turbulence": True}, scheduled)
     est = _Scales(scheduled, **settings)
     scales = []
-    sc = Scenario(turbulence="light", duration_s=8.0, seed=11, mach=0.4, alt_ft=15000.0,
+    sc = Scenario(turbulence="light", duration_s=8.0, seed=11, mach=0.5, alt_ft=15000.0,
                   maneuvers=("climb@2:to=17000ft:rate=3000fpm",))
     fly(sc, scheduled, estimator=est, on_frame=lambda *a: scales.append(est.turbulence_scale))
     assert max(scales) >= names.SCHEDULE_ROUGH_SCALE

@@ -1,4 +1,4 @@
-"""Dither: subliminal by the stated criterion (measured and printed) at three flight points,
+"""Dither: subliminal by the stated criterion (measured and printed) at nine flight points,
 symmetric pairs (nearly in phase) on one line each, and each surface's failure visible at its line."""
 from __future__ import annotations
 
@@ -38,10 +38,12 @@ def _fly(failures=(), mach=0.4, alt_ft=20_000.0):
     return log["time_s"], log["z_ideal"] - truth.trim.z
 
 
-# (0.5, 10,000 ft), (0.45, 5,000 ft): q̄ 255 and 250, inside the pairs' high-q̄ blend, the
-# largest shares measured there (0.90, 0.91); (0.8, 15,000 ft): q̄ 535, the flaperons' boost
-# nearly in full, the largest share measured with it (p 0.87)
-@pytest.mark.parametrize("mach,alt_ft", [(0.4, 20_000.0), (0.8, 5_000.0), (0.45, 35_000.0), (0.5, 10_000.0),
+# (0.42, 20,000 ft), (0.44, 20,000 ft), (0.46, 20,000 ft): q̄ 1.10, 1.21, 1.32 Q0, the start
+# of the pairs' high-q̄ blend (its largest shares, n_z 0.87 and p 0.87); (0.5, 10,000 ft),
+# (0.45, 5,000 ft): q̄ 2.3 Q0, the rule in full with its rate cap; (0.8, 15,000 ft): q̄ 535, the
+# flaperons' boost nearly in full, the largest share measured with it (p 0.87)
+@pytest.mark.parametrize("mach,alt_ft", [(0.4, 20_000.0), (0.8, 5_000.0), (0.45, 35_000.0), (0.42, 20_000.0),
+                                         (0.44, 20_000.0), (0.46, 20_000.0), (0.5, 10_000.0),
                                          (0.45, 5_000.0), (0.8, 15_000.0)])
 def test_default_dither_is_subliminal(mach, alt_ft):
     t, dz = _fly(mach=mach, alt_ft=alt_ft)
@@ -119,7 +121,7 @@ def test_dither_values_and_switch():
     # above the design dynamic pressure (scale < 1) the amplitudes shrink as scale^1.5 (the
     # rudder, which the pairs' high-q̄ rule leaves alone, shows it at 4 Q0)
     assert Dither(DitherSpec(), scale=0.25).value(0.1)[4] == pytest.approx(0.125 * Dither().value(0.1)[4])
-    assert Dither(DitherSpec(), scale=0.6).value(0.1) == pytest.approx([0.6 ** 1.5 * v for v in Dither().value(0.1)])
+    assert Dither(DitherSpec(), scale=0.95).value(0.1) == pytest.approx([0.95 ** 1.5 * v for v in Dither().value(0.1)])
     with pytest.raises(ValueError, match="scale"):
         Dither(DitherSpec(), scale=-1.0)
     with pytest.raises(ValueError, match=r"\[0, 16\] Hz"):
@@ -180,28 +182,38 @@ def test_scheduled_throttle_settings_and_the_bank_default():
 
 
 def test_high_qbar_rule_turns_the_flaperons_antisymmetric_and_grows_the_pairs():
-    """The pairs' rule (Dither docstring): nothing up to 2 Q0 (every Fig. 9 point), linear in
-    q̄/Q0 to 3 Q0, then flaperons at +-pi/2 and 4.2 Hz with 2.5 x 4.2/2.9 and stabilators at
-    3.5 Hz with 1.6 x 3.5/1.7 the scheduled amplitude, the flaperons 1.8 x that from 5 Q0
-    (linear from 4 Q0); the terms computed by hand from the defaults."""
+    """The pairs' rule (Dither docstring): nothing up to 1.1 Q0 (the design point), phases and
+    frequencies linear in q̄/Q0 to 1.5 Q0 and the amplitude factors with its square, then
+    flaperons at +-pi/2 and 4.2 Hz with 2.5 x 4.2/2.9 and stabilators at 3.5 Hz with 1.6 x 3.5/1.7
+    the scheduled amplitude, each pair's rate amplitude capped at 0.6 of its rate limit, the
+    flaperons 1.8 x that from 5 Q0 (linear from 4 Q0); the terms computed by hand from the
+    defaults."""
     from f16mmae.truth.dither import high_qbar_blend
 
-    assert high_qbar_blend(1.0) == 0.0 and high_qbar_blend(0.5) == 0.0 and high_qbar_blend(1 / 3) == 1.0
-    assert high_qbar_blend(0.1) == 1.0 and high_qbar_blend(0.0) == 1.0
-    assert high_qbar_blend(1 / 2.5) == pytest.approx(0.5)
+    assert high_qbar_blend(1.0) == 0.0 and high_qbar_blend(1 / 1.09) == 0.0 and high_qbar_blend(1 / 1.5) == 1.0
+    assert high_qbar_blend(0.1) == 1.0 and high_qbar_blend(0.0) == 1.0 and high_qbar_blend(1.5) == 0.0
+    assert high_qbar_blend(1 / 1.3) == pytest.approx(0.5)
     base = [math.radians(a) for a in (1.8, 1.8, 2.2, 2.2, 5.5)]
-    a, w, ph = Dither(DitherSpec(), scale=0.5).terms()          # 2 Q0: unchanged but for s^1.5
-    assert a == pytest.approx([0.5 ** 1.5 * x for x in base]) and ph == list(DEFAULT_PHASE_RAD)
+    a, w, ph = Dither(DitherSpec(), scale=1 / 1.05).terms()     # 1.05 Q0: unchanged but for s^1.5
+    assert a == pytest.approx([1.05 ** -1.5 * x for x in base]) and ph == list(DEFAULT_PHASE_RAD)
     assert w == [2 * math.pi * f for f in DEFAULT_FREQUENCY_HZ]
     g = 0.25 ** 1.5
-    a, w, ph = Dither(DitherSpec(), scale=0.25).terms()         # 4 Q0: in full
+    a, w, ph = Dither(DitherSpec(), scale=0.25).terms()         # 4 Q0: in full, below the cap
     gs, gf = 1.6 * 3.5 / 1.7, 2.5 * 4.2 / 2.9
     assert a == pytest.approx([g * gs * base[0], g * gs * base[1], g * gf * base[2], g * gf * base[3], g * base[4]])
     assert ph == pytest.approx([0.0, 0.0, math.pi / 2, -math.pi / 2, 0.0])
     assert w == pytest.approx([2 * math.pi * f for f in (3.5, 3.5, 4.2, 4.2, 2.3)])
-    a, w, ph = Dither(DitherSpec(), scale=1 / 2.5).terms()      # 2.5 Q0: half way
-    g = 0.4 ** 1.5
-    assert a[0] == pytest.approx(g * 1.3 * (2.6 / 1.7) * base[0]) and a[2] == pytest.approx(g * 1.75 * (3.55 / 2.9) * base[2])
+    cap_s = 0.6 * math.radians(60) / (2 * math.pi * 3.5)
+    cap_f = 0.6 * math.radians(80) / (2 * math.pi * 4.2)
+    a, _, _ = Dither(DitherSpec(), scale=0.5).terms()           # 2 Q0: in full, at the rate cap
+    assert 0.5 ** 1.5 * gs * base[0] > cap_s and 0.5 ** 1.5 * gf * base[2] > cap_f
+    assert a == pytest.approx([cap_s, cap_s, cap_f, cap_f, 0.5 ** 1.5 * base[4]])
+    a, w, ph = Dither(DitherSpec(), scale=1 / 1.3).terms()      # 1.3 Q0: half way, factors at 1/4
+    g = 1.3 ** -1.5
+    assert a[0] == pytest.approx(g * 1.15 * (1 + 0.25 * (2.6 / 1.7 - 1)) * base[0])
+    uncapped = g * 1.375 * (1 + 0.25 * (3.55 / 2.9 - 1)) * base[2]      # the flaperons at their cap
+    assert uncapped > 0.6 * math.radians(80) / (2 * math.pi * 3.55)
+    assert a[2] == pytest.approx(0.6 * math.radians(80) / (2 * math.pi * 3.55))
     assert ph[2] == pytest.approx(0.55 + 0.5 * (math.pi / 2 - 0.55)) and ph[3] == pytest.approx(-ph[2])
     assert w == pytest.approx([2 * math.pi * f for f in (2.6, 2.6, 3.55, 3.55, 2.3)])
     # the flaperons' boost: 1 up to 4 Q0 (above), linear to 1.8 at 5 Q0, 1.8 beyond; the

@@ -131,8 +131,10 @@ SCHEDULE_NODE_TUNING = "calibrated"
 #: in rough air (cpp/f16mmae/rough_air_floor.h); 20: every node calibrated in the one turbulence model
 #: the truth now flies everywhere (truth/turbulence.py hold_axes: before, about half the nodes flew
 #: their calibration flights with the yaw and pitch gusts' signs flipped); 21: each node's reference
-#: bounded cell by cell at the cell's own floor (schedule.neighbourhood_settings).
-SCHEDULE_DESIGN_REVISION = 21
+#: bounded cell by cell at the cell's own floor (schedule.neighbourhood_settings); 22: the truth's
+#: dither follows the pairs' high-q̄ rule from 1.1 Q0 (truth/dither.py; from 2 Q0 before), so the
+#: nodes above it are calibrated on the dither they now fly.
+SCHEDULE_DESIGN_REVISION = 22
 #: The failure model of the scheduled design's hypotheses (design/hypotheses.py, per component):
 #: a failed VEL reads an unknown constant within its scheduled trim's uncertainty, a failed roll
 #: gyro (ROL) an unknown constant within its noise sigma (the trim roll rate is 0).

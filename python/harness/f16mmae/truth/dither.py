@@ -12,9 +12,9 @@ flaperons' small antisymmetric part spends the roll margin the rudder leaves on 
 amplitude for the same n_z (2 a cos phi).  A failure of one surface of a pair removes its
 share: the line's pitch/lift part drops and the survivor's roll shows (LS vs RS, LF vs RF:
 opposite roll), so each failure keeps a distinct signature (tests/python/test_truth_dither.py).
-Above twice the design dynamic pressure the pairs follow a high-q̄ rule (``Dither``: the
+Above 1.1 times the design dynamic pressure the pairs follow a high-q̄ rule (``Dither``: the
 flaperons turn antisymmetric, both pairs' lines move further above the short period, 3.5 and
-4.2 Hz, and their scheduled amplitudes grow within the criterion).
+4.2 Hz, and their scheduled amplitudes grow within the criterion and the actuators' rate limits).
 Frequencies are set above the band where light turbulence is strong (vertical and rolling gusts mimic a
 flaperon's lift/roll signature at 0.8-1.1 Hz: flaperon false alarms), within the actuator
 bandwidth: stabilators 1.7 Hz (u, alpha, q, n_z), flaperons 2.9 Hz (n_z; p after a
@@ -24,7 +24,8 @@ failure), rudder 2.3 Hz (r, n_y, p).  Measured in the single-failure campaign, R
 Criterion (subliminal to the pilot): in closed loop with the FCS at the nominal point
 (20,000 ft, Mach 0.4), no turbulence, peak |Delta n_z| < 0.05 g, peak |p|, |q|, |r| < 1 deg/s,
 peak |Delta n_y| < 0.02 g -- also met at M 0.8 / 5,000 ft and M 0.45 / 35,000 ft through the
-amplitude schedule (Dither).  At the nominal point the defaults use n_z 0.045 g, q 0.78,
+amplitude schedule, and from 0.8 to 3 Q0 through the pairs' high-q̄ rule (Dither;
+tools/excitation/surface_dither_shares.py prints the shares).  At the nominal point the defaults use n_z 0.045 g, q 0.78,
 p 0.80, r 0.35 deg/s, n_y 0.014 g (35,000 ft: q 0.86, p 0.86 deg/s; M 0.8: n_z 0.039 g);
 ``f16mmae bench truth`` and tests/python/test_truth_dither.py measure and print
 the levels.
@@ -324,8 +325,8 @@ def throttle_command(base: float, amplitude: float, omega_rad_s: float, time_s: 
 #: Extra exponent of the amplitude schedule above the design dynamic pressure (s < 1).
 HIGH_QBAR_EXPONENT = 0.5
 #: The pairs' high-q̄ rule (see Dither) blends in between these multiples of Q0 (q̄_trim / Q0).
-HIGH_QBAR_PAIRS_START = 2.0
-HIGH_QBAR_PAIRS_FULL = 3.0
+HIGH_QBAR_PAIRS_START = 1.1
+HIGH_QBAR_PAIRS_FULL = 1.5
 #: Where the rule is in full: the flaperons' phase (+-, rad: antisymmetric) and the gains on the
 #: flaperons' and the stabilators' scheduled amplitudes.
 HIGH_QBAR_FLAPERON_PHASE_RAD = math.pi / 2
@@ -341,6 +342,12 @@ HIGH_QBAR_FLAPERON_FREQUENCY_HZ = 4.2
 HIGH_QBAR_FLAPERON_BOOST = 1.8
 HIGH_QBAR_FLAPERON_BOOST_START = 4.0
 HIGH_QBAR_FLAPERON_BOOST_FULL = 5.0
+#: Where the rule is in force (b > 0), each pair's rate amplitude 2 pi f' a stays at or below
+#: this share of its actuator's rate limit (see Dither: the rule's low-q̄ end).
+HIGH_QBAR_RATE_SHARE = 0.6
+#: The rule's amplitude factors grow with b^HIGH_QBAR_GAIN_EXPONENT, its phases and frequencies
+#: with b (see Dither: early in the blend the flaperons still lift).
+HIGH_QBAR_GAIN_EXPONENT = 2.0
 
 
 def amplitude_schedule(scale: float) -> float:
@@ -457,14 +464,16 @@ class Dither:
     to stay subliminal over the envelope (measured by tests/python/test_truth_dither.py at
     M 0.8 / 5,000 ft and M 0.45 / 35,000 ft).
 
-    High-q̄ rule for the pairs, b = high_qbar_blend(s) (0 at and below 2 Q0, 1 from 3 Q0)::
+    High-q̄ rule for the pairs, b = high_qbar_blend(s) (0 at and below 1.1 Q0, 1 from 1.5 Q0),
+    c = b^HIGH_QBAR_GAIN_EXPONENT (= b^2)::
 
         phi_LF = phi + b (pi/2 - phi),  phi_RF = -phi_LF              (flaperons -> antisymmetric)
         f'_LS,RS = f_LS,RS + b (HIGH_QBAR_STABILATOR_FREQUENCY_HZ - f_LS,RS)    (1.7 -> 3.5 Hz)
         f'_LF,RF = f_LF,RF + b (HIGH_QBAR_FLAPERON_FREQUENCY_HZ - f_LF,RF)      (2.9 -> 4.2 Hz)
-        a_LF,RF *= (1 + b (HIGH_QBAR_FLAPERON_GAIN - 1)) f'_LF,RF / f_LF,RF
-        a_LS,RS *= (1 + b (HIGH_QBAR_STABILATOR_GAIN - 1)) f'_LS,RS / f_LS,RS
+        a_LF,RF *= (1 + c (HIGH_QBAR_FLAPERON_GAIN - 1)) (1 + c (f'_LF,RF / f_LF,RF - 1))
+        a_LS,RS *= (1 + c (HIGH_QBAR_STABILATOR_GAIN - 1)) (1 + c (f'_LS,RS / f_LS,RS - 1))
         a_LF,RF *= high_qbar_flaperon_boost(s)       (1 up to 4 Q0, 1.8 from 5 Q0)
+        a_j = min(a_j, HIGH_QBAR_RATE_SHARE R_j / (2 pi f'_j))   (j = LS RS LF RF; R_j the rate limit)
 
     Above q̄ 300 the filters' AZ covariance covers the gusts' n_z, which grows with q̄, while the
     schedule holds the dither's n_z at about 0.04 g, so a failed surface's missing n_z is a
@@ -477,25 +486,28 @@ class Dither:
     keeps more of a failed surface's line the faster it is (the filters track slow excitation as
     gusts), so at equal share of the criterion a failed stabilator gives its hypothesis 1.6-2x
     the log-odds per frame at 3.5 Hz than at 1.7 Hz, a flaperon 1.3-1.8x at 4.2 Hz than at 2.9 Hz
-    (above 4 Hz the actuators' lag takes it back).  The factor f'/f (the surface's rate
-    amplitude held but for the rule's gain) keeps the peaks at or below the rule's without the
-    frequencies (the measured fall is f^-1.1 to f^-1.4 for the stabilators' n_z and the
-    flaperons' p; in the blend the flaperons' lift, not yet antisymmetric, falls slower):
-    largest share 0.91 at M 0.45 / 5,000 ft in the blend, docs/results/envelope_tuning.md
-    round 9, "High q̄".  The rate amplitude 2 pi f' a is largest at 3 Q0, 25 deg/s on the
-    stabilators and 40 deg/s on the flaperons, within their 60 and 80 deg/s (truth/actuators.py),
-    so the line stays linear (at low q̄, where the schedule makes the amplitudes large, a 3.5-Hz
-    stabilator line saturates the rate: not used there).
-    The gains keep the peaks within the criterion from 2 Q0 up (largest share 0.91 at
-    M 0.5 / 10,000 ft in the blend, 0.84 at M 0.8 / 5,000 ft in full: tests/python/test_truth_dither.py,
-    envelope_tuning.md round 8); every paper Fig. 9 point (q̄ <= 170) and the design point fly b = 0.
+    (above 4 Hz the actuators' lag takes it back).  The factor f'/f keeps the peaks at or below
+    the rule's without the frequencies (the measured fall is f^-1.1 to f^-1.4 for the
+    stabilators' n_z and the flaperons' p).
+    The rule's low-q̄ end (round 48; it began at 2 Q0 before): between 1.1 and 2 Q0 the s^1.5
+    schedule left the flaperons in phase at 0.8-0.9 deg at 2.9 Hz, n_z binding (share 0.8-0.9) and
+    p at half its criterion, and a failed flaperon took 2-2.6 s to declare at Mach 0.36-0.43,
+    5,700-9,500 ft.  There the full rule's amplitudes would run into the actuators' rate limits
+    (a 3.5-Hz stabilator line at 1.4 Q0: 79 deg/s against 60), so each pair's rate amplitude is
+    capped at 0.6 of its limit (36 and 48 deg/s; at 3 Q0 and above the cap does not bind), and
+    the amplitude factors grow with b^2 while the phases turn with b: early in the blend the
+    flaperons still lift, and amplitude grown with b lifted n_z to 0.94-0.96 of the criterion at
+    1.15-1.2 Q0.  Largest shares between 1.1 and 2.4 Q0: 0.87 (n_z at 1.1 Q0, p at 1.21 Q0);
+    every share from Mach 0.35 to 0.56 at 10,000 and 20,000 ft in docs/results/envelope_scheduled.md,
+    round 48 (tests/python/test_truth_dither.py flies four of them).  The design point (1.0 Q0)
+    flies b = 0; the paper's Fig. 9 points (q̄ <= 170, 1.56 Q0) fly the rule from 1.1 Q0.
     From 4 Q0 up the antisymmetric flaperons' roll rate uses 0.5-0.6 of its 1 deg/s and they move
     nothing else (n_z and q stay the stabilators', 0.6-0.7), while a failed flaperon's evidence per
     frame there is a third to a half of what a declaration within 5 s needs (it grows about as
     the amplitude squared); the boost spends that room: largest share 0.87 (p at M 0.8 /
     15,000 ft), against 0.97 with the flaperons at twice the rule's there and 0.95 at 1.6x at
     4.1 Q0 (envelope_tuning.md round 13).  Its amplitude factor s^1.5 times the boost is at most
-    0.161 (at 5 Q0), below the 0.192 at 3 Q0 where the flaperons' rate amplitude is largest.
+    0.161 (at 5 Q0), below the rate cap.
     """
 
     def __init__(self, spec: DitherSpec | None = None, scale: float = 1.0):
@@ -507,20 +519,23 @@ class Dither:
         self._ph = list(self.spec.phase_rad)
         b = high_qbar_blend(scale)
         if b > 0.0:
+            bg = b ** HIGH_QBAR_GAIN_EXPONENT
             self._ph[2] += b * (HIGH_QBAR_FLAPERON_PHASE_RAD - self._ph[2])
             self._ph[3] += b * (-HIGH_QBAR_FLAPERON_PHASE_RAD - self._ph[3])
             for j, f_hz in ((0, HIGH_QBAR_STABILATOR_FREQUENCY_HZ), (1, HIGH_QBAR_STABILATOR_FREQUENCY_HZ),
                             (2, HIGH_QBAR_FLAPERON_FREQUENCY_HZ), (3, HIGH_QBAR_FLAPERON_FREQUENCY_HZ)):
                 w = self._w[j] + b * (2.0 * math.pi * f_hz - self._w[j])
                 if self._w[j] > 0.0:
-                    self._a[j] *= w / self._w[j]
+                    self._a[j] *= 1.0 + bg * (w / self._w[j] - 1.0)
                 self._w[j] = w
             for j, gain in ((0, HIGH_QBAR_STABILATOR_GAIN), (1, HIGH_QBAR_STABILATOR_GAIN),
                             (2, HIGH_QBAR_FLAPERON_GAIN), (3, HIGH_QBAR_FLAPERON_GAIN)):
-                self._a[j] *= 1.0 + b * (gain - 1.0)
+                self._a[j] *= 1.0 + bg * (gain - 1.0)
             boost = high_qbar_flaperon_boost(scale)
             self._a[2] *= boost
             self._a[3] *= boost
+            for j in range(4):
+                self._a[j] = min(self._a[j], HIGH_QBAR_RATE_SHARE * RATE_LIMIT_RAD_S[j] / self._w[j])
         self.enabled = on and any(self._a)
         # the turbulence line (module docstring): the flaperons', scheduled as the calm line and
         # kept within ADAPTIVE_RATE_SHARE of their rate limit

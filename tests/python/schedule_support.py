@@ -26,16 +26,7 @@ def floors_in_force(scenario, model_bank, est):
     """(FlightResult, the level-0 floor in force after each update) of ``scenario`` flown with
     ``model_bank`` and the in-process estimator ``est`` (loop.estimator.Estimator)."""
     from f16mmae.loop.flight import fly
-    floors = []
-
-    class Recording:   # the estimator, and its floor in force after each update
-        def __getattr__(self, name):
-            return getattr(est, name)
-
-        def update(self, z):
-            z_hat = est.update(z)
-            floors.append(est._bank.p_min_in_force)
-            return z_hat
-
-    result = fly(scenario, model_bank, estimator=Recording())
+    floors = []   # after each frame's update (propagate leaves the floor alone)
+    result = fly(scenario, model_bank, estimator=est,
+                 on_frame=lambda *frame: floors.append(est._bank.p_min_in_force))
     return result, np.asarray(floors)

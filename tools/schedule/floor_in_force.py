@@ -33,18 +33,9 @@ from f16mmae.loop.flight import fly, scenario_from_dict
 def fly_recording_floor(record: dict, bank) -> tuple[object, np.ndarray]:
     """(FlightResult, the floor in force after each update) of ``record`` flown with ``bank``."""
     est = Estimator(bank, **record["estimator"])
-    floors = []
-
-    class Recording:   # the estimator, and the floor in force after each update
-        def __getattr__(self, name):
-            return getattr(est, name)
-
-        def update(self, z):
-            z_hat = est.update(z)
-            floors.append(est._bank.p_min_in_force)
-            return z_hat
-
-    result = fly(scenario_from_dict(record["scenario"]), bank, estimator=Recording(), record_probabilities=True)
+    floors = []   # after each frame's update (propagate leaves the floor alone)
+    result = fly(scenario_from_dict(record["scenario"]), bank, estimator=est, record_probabilities=True,
+                 on_frame=lambda *frame: floors.append(est._bank.p_min_in_force))
     return result, np.asarray(floors)
 
 

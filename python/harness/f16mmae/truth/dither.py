@@ -24,7 +24,7 @@ failure), rudder 2.3 Hz (r, n_y, p).  Measured in the single-failure campaign, R
 Criterion (subliminal to the pilot): in closed loop with the FCS at the nominal point
 (20,000 ft, Mach 0.4), no turbulence, peak |Delta n_z| < 0.05 g, peak |p|, |q|, |r| < 1 deg/s,
 peak |Delta n_y| < 0.02 g -- also met at M 0.8 / 5,000 ft and M 0.45 / 35,000 ft through the
-amplitude schedule, and from 0.8 to 3 Q0 through the pairs' high-q̄ rule (Dither;
+amplitude schedule, and from 0.8 to 3 Q0, the pairs' high-q̄ rule in force from 1.1 Q0 (Dither;
 tools/excitation/surface_dither_shares.py prints the shares).  At the nominal point the defaults use n_z 0.045 g, q 0.78,
 p 0.80, r 0.35 deg/s, n_y 0.014 g (35,000 ft: q 0.86, p 0.86 deg/s; M 0.8: n_z 0.039 g);
 ``f16mmae bench truth`` and tests/python/test_truth_dither.py measure and print
@@ -507,7 +507,7 @@ class Dither:
     the amplitude squared); the boost spends that room: largest share 0.87 (p at M 0.8 /
     15,000 ft), against 0.97 with the flaperons at twice the rule's there and 0.95 at 1.6x at
     4.1 Q0 (envelope_tuning.md round 13).  Its amplitude factor s^1.5 times the boost is at most
-    0.161 (at 5 Q0), below the rate cap.
+    0.161 (at 5 Q0): a flaperon rate amplitude of 34 deg/s, below the cap's 48.
     """
 
     def __init__(self, spec: DitherSpec | None = None, scale: float = 1.0):

@@ -3,7 +3,7 @@
 Reads each campaign's ``runs.jsonl`` and, for the hypotheses named (default the four pairs'
 surfaces), prints the median latency of the correct runs and the correct fraction per band of
 q̄ / Q0 (Q0 = 109 psf, the design point), one column per campaign; q̄ is the point's, from
-its Mach and pressure altitude (standard atmosphere).
+its Mach and pressure altitude (the envelope campaign's ``dynamic_pressure_psf``).
 
     .venv/bin/python tools/excitation/latency_by_qbar.py DIR_A DIR_B [--labels A,B] [--cases LF,RF] [--figure FILE]
 
@@ -17,33 +17,35 @@ from pathlib import Path
 
 import numpy as np
 
+from f16mmae.campaign.envelope.points import dynamic_pressure_psf
+from f16mmae.outputs import OutputError, writable_file
+from f16mmae.report.figures import pyplot, save_figure
 from f16mmae.truth.fcs import DESIGN_QBAR_PSF
 
 #: The bands' edges in q̄ / Q0.
 EDGES = (0.0, 0.75, 1.1, 1.5, 2.0, 3.0, 5.0, 10.0)
 
 
-def qbar_ratio(mach: float, alt_ft: float) -> float:
-    """q̄ / Q0 in the standard atmosphere below 36,089 ft: q̄ = 0.7 p M^2."""
-    p = 2116.22 * (1.0 - 6.87559e-6 * alt_ft) ** 5.25588
-    return 0.7 * p * mach * mach / DESIGN_QBAR_PSF
-
-
 def bands(directory: Path, cases: list[str]) -> dict[str, list[tuple[int, int, float]]]:
-    """Per case: (correct, runs, median latency of the correct runs) per band of EDGES."""
+    """Per case: (correct, runs, median latency of the correct runs) per band of EDGES; ValueError
+    naming the line for a record that is not a run of a campaign."""
     out = {c: [[0, 0, []] for _ in EDGES[:-1]] for c in cases}
     with open(directory / "runs.jsonl") as f:
-        for line in f:
-            r = json.loads(line)
-            if r.get("case") not in out:
+        for n, line in enumerate(f, 1):
+            try:
+                r = json.loads(line)
+                case, mach, alt_ft, outcome = r["case"], r["scenario"]["mach"], r["scenario"]["alt_ft"], r["outcome"]
+            except (ValueError, KeyError, TypeError) as exc:
+                raise ValueError(f"{directory / 'runs.jsonl'} line {n} is not a run record ({exc!r})") from None
+            if case not in out:
                 continue
-            x = qbar_ratio(r["scenario"]["mach"], r["scenario"]["alt_ft"])
+            x = dynamic_pressure_psf(mach, alt_ft) / DESIGN_QBAR_PSF
             i = int(np.searchsorted(EDGES, x, side="right")) - 1
             if not 0 <= i < len(EDGES) - 1:
                 continue
             cell = out[r["case"]][i]
             cell[1] += 1
-            if r["outcome"] == "correct":
+            if outcome == "correct":
                 cell[0] += 1
                 cell[2].append(r["latency_s"])
     return {c: [(k, n, float(np.median(v)) if v else float("nan")) for k, n, v in rows] for c, rows in out.items()}
@@ -63,13 +65,15 @@ def main(argv: list[str] | None = None) -> int:
         if not (d / "runs.jsonl").is_file():
             p.error(f"{d}: no runs.jsonl (not a finished campaign directory)")
     cases = [c.strip() for c in args.cases.split(",") if c.strip()]
-    if args.figure:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(7.5, 4.2))   # made first: an unwritable path fails before the work
-        open(args.figure, "ab").close()
-    data = [bands(d, cases) for d in args.dirs]
+    if args.figure:   # checked before the work
+        try:
+            args.figure = writable_file(args.figure, "--figure")
+        except OutputError as exc:
+            p.error(str(exc))
+    try:
+        data = [bands(d, cases) for d in args.dirs]
+    except ValueError as exc:
+        p.error(str(exc))
     names = [f"{a:g}-{b:g}" for a, b in zip(EDGES[:-1], EDGES[1:])]
     print("| case | q̄ / Q0 | " + " | ".join(f"{lab}: correct, median (s)" for lab in labels) + " |")
     print("|---|---|" + "---|" * len(labels))
@@ -80,6 +84,8 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             print(f"| {c} | {name} | " + " | ".join(f"{k}/{n}, {m:.2f}" if n else "-" for k, n, m in cells) + " |")
     if args.figure:
+        plt = pyplot()
+        fig, ax = plt.subplots(figsize=(7.5, 4.2))
         mids = [0.5 * (a + b) if b < 10 else a + 1.0 for a, b in zip(EDGES[:-1], EDGES[1:])]
         styles = ["--", "-", ":", "-."]
         colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
@@ -94,9 +100,7 @@ def main(argv: list[str] | None = None) -> int:
         ax.set_title("Detection latency against dynamic pressure")
         ax.legend(ncol=2, fontsize=7)
         ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig(args.figure, dpi=110)
-        print(f"wrote {args.figure}")
+        print(f"wrote {save_figure(fig, args.figure)}")
     return 0
 
 

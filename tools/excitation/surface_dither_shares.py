@@ -17,7 +17,9 @@ import math
 
 import numpy as np
 
-from f16mmae.truth import Scenario, fly_raw
+from f16mmae.outputs import OutputError, writable_file
+from f16mmae.report.figures import pyplot, save_figure
+from f16mmae.truth import Scenario, aircraft, fly_raw
 from f16mmae.truth.dither import CRITERION, Dither
 from f16mmae.truth.fcs import DESIGN_QBAR_PSF
 
@@ -26,7 +28,7 @@ SHARES = ("nz", "ny", "p", "q", "r")
 
 def shares(mach: float, alt_ft: float, duration_s: float = 8.0) -> dict:
     """The peaks' shares of the criterion at one point, q̄ / Q0, and the pairs' amplitudes (deg)
-    and rate amplitudes (deg/s)."""
+    and rate amplitudes (deg/s); aircraft.TrimError where the F-16 cannot be trimmed."""
     truth, _ = fly_raw(Scenario(mach=mach, alt_ft=alt_ft, duration_s=duration_s, noise=False, feedback="raw"))
     peak = np.abs(truth.truth_log["z_ideal"] - truth.trim.z).max(axis=0)   # VEL AOA PIT AZ ROL YAW AY
     rate = CRITERION["rate_deg_s"]
@@ -50,23 +52,33 @@ def main(argv: list[str] | None = None) -> int:
         alts = [float(x) for x in args.alt_ft.split(",")]
     except ValueError as e:
         p.error(f"--mach and --alt-ft take comma-separated numbers: {e}")
-    if args.figure:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(7.5, 4.2))   # made before the flights: an unwritable path fails first
-        open(args.figure, "ab").close()
+    for mach in machs:   # the truth's flight envelope, before any flight
+        for alt in alts:
+            try:
+                aircraft.check_flight_condition(mach, alt)
+            except ValueError as exc:
+                p.error(f"--mach {mach:g} --alt-ft {alt:g}: {exc}")
+    if args.figure:   # checked before the flights
+        try:
+            args.figure = writable_file(args.figure, "--figure")
+        except OutputError as exc:
+            p.error(str(exc))
     print("| Mach / alt (ft) | q̄ / Q0 | n_z | n_y | p | q | r | largest | amplitude stab / flap (deg) | rate amplitude stab / flap (deg/s) |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     rows = []
     for alt in alts:
         for mach in machs:
-            r = shares(mach, alt)
+            try:
+                r = shares(mach, alt)
+            except aircraft.TrimError as exc:
+                print(f"| {mach:g} / {alt:,.0f} | cannot be trimmed: {exc} |", flush=True)
+                continue
             rows.append(r)
             print(f"| {mach:g} / {alt:,.0f} | {r['qbar_ratio']:.2f} | " + " | ".join(f"{r[k]:.2f}" for k in SHARES)
                   + f" | {r['largest']:.2f} | {r['amplitude_deg'][0]:.2f} / {r['amplitude_deg'][1]:.2f} | "
                   f"{r['rate_deg_s'][0]:.0f} / {r['rate_deg_s'][1]:.0f} |", flush=True)
     if args.figure:
+        fig, ax = pyplot().subplots(figsize=(7.5, 4.2))
         rows.sort(key=lambda r: r["qbar_ratio"])
         x = [r["qbar_ratio"] for r in rows]
         for k in SHARES:
@@ -78,9 +90,7 @@ def main(argv: list[str] | None = None) -> int:
         ax.set_ylim(0.0, 1.05)
         ax.legend(ncol=5, fontsize=8, loc="lower left")
         ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig(args.figure, dpi=110)
-        print(f"wrote {args.figure}")
+        print(f"wrote {save_figure(fig, args.figure)}")
     return 0
 
 

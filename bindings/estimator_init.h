@@ -254,6 +254,7 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
       field<&O::maneuver, &ManeuverOptions::tempering_deadband_g>("maneuver_tempering_deadband_g"),
       field<&O::maneuver, &ManeuverOptions::tempering_alpha_deg>("maneuver_tempering_alpha_deg"),
       field<&O::maneuver, &ManeuverOptions::tempering_alpha_deadband_deg>("maneuver_tempering_alpha_deadband_deg"),
+      field<&O::maneuver, &ManeuverOptions::tempering_alpha_trim_deg>("maneuver_tempering_alpha_trim_deg"),
       field<&O::maneuver, &ManeuverOptions::tempering_added_g>("maneuver_tempering_added_g"),
       field<&O::maneuver, &ManeuverOptions::tempering_added_deadband_g>("maneuver_tempering_added_deadband_g"),
       field<&O::maneuver, &ManeuverOptions::tempering_added_spread>("maneuver_tempering_added_spread"),

@@ -549,6 +549,11 @@ const std::vector<Flag>& flags() {
       {"--maneuver-tempering-alpha-deadband", "DEG", "only the angle of attack beyond DEG sqrt(s) tempers (default 0: no dead band)",
        number(at(E, &H::maneuver, &ManeuverOptions::tempering_alpha_deadband_deg), {0.0, 90.0}, "an angle in deg in [0, 90]"), nullptr,
        "--maneuver-tempering-alpha", [](const C& c) { return c.estimator.maneuver.tempering_alpha_deg > 0.0; }},
+      {"--maneuver-tempering-alpha-trim", "DEG",
+       "above a trim angle of attack of DEG the alpha tempering's reference shrinks as (DEG / the trim in "
+       "force's)^3 (default 0: off)",
+       number(at(E, &H::maneuver, &ManeuverOptions::tempering_alpha_trim_deg), {0.0, 90.0}, "an angle in deg in [0, 90]"), nullptr,
+       "--maneuver-tempering-alpha", [](const C& c) { return c.estimator.maneuver.tempering_alpha_deg > 0.0; }},
       {"--maneuver-tempering-added", "G",
        "temper every likelihood by a further (dn/G)^2 added to the turbulence scale s, dn the estimated load "
        "factor off trim beyond the dead band, g (0: off; default: off)",

@@ -308,7 +308,11 @@ int main(int argc, char** argv) {
         maneuver += ", tempering dead band " + f16mmae::format_value(running.maneuver.tempering_deadband_g) + " g";
       if (running.maneuver.tempering_alpha_deg > 0.0)
         maneuver += ", alpha tempering " + f16mmae::format_value(running.maneuver.tempering_alpha_deg) + " deg beyond " +
-                    f16mmae::format_value(running.maneuver.tempering_alpha_deadband_deg) + " deg sqrt(s)";
+                    f16mmae::format_value(running.maneuver.tempering_alpha_deadband_deg) + " deg sqrt(s)" +
+                    (running.maneuver.tempering_alpha_trim_deg > 0.0
+                         ? ", its reference shrinking above a trim alpha of " +
+                               f16mmae::format_value(running.maneuver.tempering_alpha_trim_deg) + " deg"
+                         : std::string());
       if (running.maneuver.tempering_added_g > 0.0)
         maneuver += ", added tempering " + f16mmae::format_value(running.maneuver.tempering_added_g) + " g beyond " +
                     f16mmae::format_value(running.maneuver.tempering_added_deadband_g) + " g sqrt(s)" +

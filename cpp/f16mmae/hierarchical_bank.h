@@ -343,7 +343,9 @@ class HierarchicalBank {
     if (options_.rough_floor.enabled()) set_floors();   // the floor the air of the frames before gives (rough_air_floor.h)
     if (maneuver_.tempering()) {   // maneuver_kinematics.h
       maneuver_.observe_spread(bank_.z_hat());
-      bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat(), bank_.turbulence_scale()));
+      const int a = maneuver_.aoa_tempering_index();   // the trim in force's alpha, with a trim knee
+      const double trim_alpha = maneuver_.reads_trim_alpha() ? z_trim_(a) + dz_(a) : 0.0;
+      bank_.set_extra_scale(maneuver_.tempering_scale(bank_.z_hat(), bank_.turbulence_scale(), trim_alpha));
     }
     if (!bank_.update(z_pert_)) return -1;
     if (level_ == 1 && allowance_on_[static_cast<std::size_t>(level1_bank_)]) {   // level1_allowance.h

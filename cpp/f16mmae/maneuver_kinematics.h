@@ -81,6 +81,20 @@
 // themselves give, modelled by the filters, tempers nothing, while the pilot's excursion in
 // light air (s about 1) does. The price is as the load factor's: a failure that itself moves the
 // angle of attack (a stabilator hard-over) tempers its own evidence while it does.
+// With a trim knee a_k > 0 (ManeuverOptions::tempering_alpha_trim_deg; 0, the default, is the
+// rule above bit for bit) the reference shrinks in slow flight:
+//   a_ref' = a_ref min(1, (a_k / alpha0)^3),   alpha0 = the trim in force's angle of attack (deg:
+//                                              z_trim + dz of AOA: the scheduled node's, the trim
+//                                              tracker's and the maneuver trim's; hierarchical_bank.h
+//                                              passes it),
+// so y = max(0, da - a_d sqrt(s)) / a_ref'. Why: the same excursion takes an aircraft trimmed
+// near the lift curve's bend further from its linear model. In moderate air at Mach 0.31-0.35,
+// 18,000-27,000 ft (trim alpha 11-16 deg) a downward gust of 2-2.5 deg in alpha reads as a
+// failed flaperon within half a second, whatever the load factor. Why the cube: at the five
+// points of trim alpha 9-16 deg in the envelope soak of the tuning seed, a_ref' with the power 1,
+// 2 and 3 left 8, 5 and 1 false flaperons in 25 h of moderate air; a smaller a_ref everywhere
+// (0.5) quiets them too but slows the nominal point (trim alpha 8 deg) by 0.15 s
+// (docs/results/envelope_scheduled.md, round 49).
 // The load factor has an added term of the same form (ManeuverOptions::tempering_added_g = n_a
 // > 0, dead band d_a = tempering_added_deadband_g): x_a = max(0, |dn| - d_a sqrt(s)) / n_a joins
 // y^2 added to s. With every term
@@ -137,6 +151,7 @@ struct ManeuverOptions {
   double tempering_deadband_g = 0.0;  // d: the load factor that tempers nothing (g); 0 = none
   double tempering_alpha_deg = 0.0;   // alpha_ref of the angle-of-attack term (deg); 0 = off
   double tempering_alpha_deadband_deg = 0.0;  // a_d: the excursion that tempers nothing at s <= 1 (deg); 0 = none
+  double tempering_alpha_trim_deg = 0.0;      // a_k: above this trim alpha a_ref shrinks as (a_k / alpha0)^3 (deg); 0 = off
   double tempering_added_g = 0.0;             // n_a of the load factor's added term (g); 0 = off
   double tempering_added_deadband_g = 0.0;    // d_a: the load factor that tempers nothing at s <= 1 (g); 0 = none
   double tempering_added_spread = 0.0;        // k: the added term's band at least k sigma_n (header); 0 = off
@@ -165,6 +180,8 @@ struct ManeuverOptions {
     term("tempering_g", tempering_g, HUGE_VAL, "tempering_deadband_g", tempering_deadband_g, 10.0, "g");
     term("tempering_alpha_deg", tempering_alpha_deg, 90.0, "tempering_alpha_deadband_deg", tempering_alpha_deadband_deg,
          90.0, "deg");
+    term("tempering_alpha_deg", tempering_alpha_deg, 90.0, "tempering_alpha_trim_deg", tempering_alpha_trim_deg, 90.0,
+         "deg");
     term("tempering_added_g", tempering_added_g, 100.0, "tempering_added_deadband_g", tempering_added_deadband_g, 10.0,
          "g");
     term("tempering_added_g", tempering_added_g, 100.0, "tempering_added_spread", tempering_added_spread, 100.0,
@@ -201,6 +218,7 @@ class ManeuverKinematics {
 
   bool enabled() const noexcept { return options_.enabled(); }
   bool tempering() const noexcept { return options_.tempering(); }
+  static constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
   static constexpr double kSpreadMeanS = 0.35, kSpreadPowerS = 30.0;   // T_m, T_v of the spread (header)
   // The load factor's spread (header: m, v) observes the estimate the tempering reads next (with
   // tempering_added_spread > 0; else nothing). Non-finite dn is skipped.
@@ -228,9 +246,11 @@ class ManeuverKinematics {
   }
   // The tempering's likelihood scale s_m (header: the load factor's and the angle of attack's
   // terms) for the bank's estimated measurement perturbation z_hat (dn = its AZ entry, g; da its
-  // AOA entry, rad) and the turbulence adaptation's scale (1 without it).
+  // AOA entry, rad), the turbulence adaptation's scale (1 without it) and the trim in force's
+  // angle of attack alpha0 (rad; read with a trim knee only).
   template <class Z>
-  double tempering_scale(const Z& z_hat_perturbation, double turbulence_scale = 1.0) const noexcept {
+  double tempering_scale(const Z& z_hat_perturbation, double turbulence_scale = 1.0,
+                         double trim_alpha_rad = 0.0) const noexcept {
     double scale = 1.0;
     if (options_.tempering_g > 0.0) {
       const double dn = z_hat_perturbation(az_);
@@ -251,14 +271,24 @@ class ManeuverKinematics {
     const double added_band = std::max(options_.tempering_added_deadband_g,
                                        options_.tempering_added_spread * load_factor_spread() / root_s);
     const double added =   // y^2 + x_a^2, added to s
-        excess2(z_hat_perturbation(aoa_tempering_) * (180.0 / 3.14159265358979323846),
-                options_.tempering_alpha_deadband_deg, options_.tempering_alpha_deg) +
+        excess2(z_hat_perturbation(aoa_tempering_) * kDegPerRad, options_.tempering_alpha_deadband_deg,
+                alpha_reference(trim_alpha_rad)) +
         excess2(z_hat_perturbation(az_), added_band, options_.tempering_added_g);
     return scale * (1.0 + added / s);
+  }
+  // a_ref' = a_ref min(1, (a_k / alpha0)^3) (header; a_ref without a knee or at a non-finite alpha0)
+  double alpha_reference(double trim_alpha_rad) const noexcept {
+    const double a_ref = options_.tempering_alpha_deg, a_k = options_.tempering_alpha_trim_deg;
+    const double alpha0 = trim_alpha_rad * kDegPerRad;
+    if (!(a_k > 0.0 && alpha0 > a_k)) return a_ref;
+    const double r = a_k / alpha0;
+    return a_ref * r * r * r;
   }
   const ManeuverOptions& options() const noexcept { return options_; }
   int vel_index() const noexcept { return vel_; }
   int aoa_index() const noexcept { return aoa_; }
+  bool reads_trim_alpha() const noexcept { return options_.tempering_alpha_deg > 0.0 && options_.tempering_alpha_trim_deg > 0.0; }
+  int aoa_tempering_index() const noexcept { return aoa_tempering_; }   // AOA's measurement (with the alpha term)
   double dt() const noexcept { return dt_; }
 
   // The level trim x0 of body airspeed u0 (ft/s) and angle of attack alpha0 (rad).

@@ -601,7 +601,8 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
   const f16mmae::HierarchicalOptions& e = r.config.estimator;
   EXPECT_FALSE(e.maneuver_dwell.dwell_s || e.maneuver_dwell.has_reference() || e.level1_p_min || e.level1_dwell_s ||
                e.bank.adaptation.channel_weight || e.maneuver.tempering_deadband_g || e.maneuver.tempering_alpha_deg ||
-               e.maneuver.tempering_alpha_deadband_deg || e.maneuver.tempering_added_g ||
+               e.maneuver.tempering_alpha_deadband_deg || e.maneuver.tempering_alpha_trim_deg ||
+               e.maneuver.tempering_added_g ||
                e.maneuver.tempering_added_deadband_g || e.maneuver.tempering_added_spread || e.rate_gates_gust_scaled ||
                e.declare_components || e.bank.fresh_floor_levels ||
                e.level1_allowance || e.partial_p_min);
@@ -613,13 +614,15 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
                          "--adapt-channel-weight", "0.5", "--declare-components", "--fresh-floor-levels",
                          "--level1-allowance", "0.1",
                          "--partial-p-min=0.002", "--maneuver-tempering-alpha", "1",
-                         "--maneuver-tempering-alpha-deadband", "0.75", "--maneuver-tempering-added", "0.1",
+                         "--maneuver-tempering-alpha-deadband", "0.75", "--maneuver-tempering-alpha-trim", "9",
+                         "--maneuver-tempering-added", "0.1",
                          "--maneuver-tempering-added-deadband", "0.05", "--maneuver-tempering-added-spread", "3",
                          "--maneuver-rate-gust-scaled"},
                         nullptr);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_EQ(r.config.estimator.maneuver.tempering_alpha_deg, 1.0);
   EXPECT_EQ(r.config.estimator.maneuver.tempering_alpha_deadband_deg, 0.75);
+  EXPECT_EQ(r.config.estimator.maneuver.tempering_alpha_trim_deg, 9.0);
   EXPECT_EQ(r.config.estimator.maneuver.tempering_added_g, 0.1);
   EXPECT_EQ(r.config.estimator.maneuver.tempering_added_deadband_g, 0.05);
   EXPECT_EQ(r.config.estimator.maneuver.tempering_added_spread, 3.0);
@@ -653,6 +656,9 @@ TEST(DaemonConfig, ManeuverDwellAndLevelOneOptions) {
       {{"--maneuver-tempering-alpha", "1", "--maneuver-tempering-deadband", "0.05"},
        "--maneuver-tempering-deadband applies with --maneuver-tempering only"},
       {{"--maneuver-tempering-alpha-deadband", "0.75"}, "--maneuver-tempering-alpha-deadband applies with --maneuver-tempering-alpha only"},
+      {{"--maneuver-tempering-alpha-trim", "9"}, "--maneuver-tempering-alpha-trim applies with --maneuver-tempering-alpha only"},
+      {{"--maneuver-tempering-alpha", "1", "--maneuver-tempering-alpha-trim", "nan"},
+       "--maneuver-tempering-alpha-trim must be an angle in deg in [0, 90]"},
       {{"--maneuver-tempering-alpha", "91"}, "--maneuver-tempering-alpha must be an angle in deg in [0, 90] (0: off), got '91'"},
       {{"--maneuver-tempering-added-deadband", "0.05"}, "--maneuver-tempering-added-deadband applies with --maneuver-tempering-added only"},
       {{"--maneuver-tempering-added", "101"}, "--maneuver-tempering-added must be a load factor in g in [0, 100] (0: off), got '101'"},

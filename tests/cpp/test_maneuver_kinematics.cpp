@@ -32,6 +32,7 @@ constexpr double kU0 = 410.9, kAlpha0 = 0.1417;
 const std::vector<std::string> kStates{"u_fps",   "alpha_rad", "q_rad_s", "theta_rad", "beta_rad",
                                        "p_rad_s", "r_rad_s",   "phi_rad", "d_ls_rad",  "d_rs_rad",
                                        "d_lf_rad", "d_rf_rad", "d_rud_rad"};
+const std::vector<std::string> kZNames{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};   // the bank's measurements
 
 // The synthetic F-16-sized bank with the airframe's state names, trimmed at (kU0, kAlpha0).
 ModelBank named_bank(unsigned seed) {
@@ -385,8 +386,7 @@ TEST(ManeuverTempering, AddedTermsAddTheirSquaresToTheTurbulenceScaleByHand) {
   ManeuverOptions o;
   o.tempering_alpha_deg = 2.0;
   o.tempering_alpha_deadband_deg = 0.5;
-  const std::vector<std::string> z_names{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
-  const MK alpha_only(o, kStates, z_names, 64.0);
+  const MK alpha_only(o, kStates, kZNames, 64.0);
   Eigen::Matrix<double, 7, 1> z = Eigen::Matrix<double, 7, 1>::Zero();
   z(1) = -3.0 * kPi / 180.0;   // 3 deg below the trim
   z(3) = 0.2;                  // 0.2 g
@@ -400,7 +400,7 @@ TEST(ManeuverTempering, AddedTermsAddTheirSquaresToTheTurbulenceScaleByHand) {
   EXPECT_EQ(alpha_only.tempering_scale(z, 4.0), 1.0);
   // with the load factor's term (n_ref 0.1 g, no dead band): the product of the two factors
   o.tempering_g = 0.1;
-  const MK both(o, kStates, z_names, 64.0);
+  const MK both(o, kStates, kZNames, 64.0);
   z(1) = 4.0 * kPi / 180.0;
   // dn / n_ref = 2; y = (4 - 1) / 2 = 1.5
   EXPECT_NEAR(both.tempering_scale(z, 4.0), (1.0 + 4.0) * (1.0 + 1.5 * 1.5 / 4.0), 1e-12);
@@ -408,7 +408,7 @@ TEST(ManeuverTempering, AddedTermsAddTheirSquaresToTheTurbulenceScaleByHand) {
   // s = 4, dn = 0.2: x_a = (0.2 - 0.1) / 0.1 = 1; y = 1.5 as above
   o.tempering_added_g = 0.1;
   o.tempering_added_deadband_g = 0.05;
-  const MK added(o, kStates, z_names, 64.0);
+  const MK added(o, kStates, kZNames, 64.0);
   EXPECT_NEAR(added.tempering_scale(z, 4.0), (1.0 + 4.0) * (1.0 + (1.5 * 1.5 + 1.0) / 4.0), 1e-12);
   z(3) = 0.09;   // inside the added term's band at s = 4 (0.1 g): only the multiplied term and y
   EXPECT_NEAR(added.tempering_scale(z, 4.0), (1.0 + 0.81) * (1.0 + 1.5 * 1.5 / 4.0), 1e-12);
@@ -417,7 +417,7 @@ TEST(ManeuverTempering, AddedTermsAddTheirSquaresToTheTurbulenceScaleByHand) {
   {  // the added term alone reads AZ: at s = 1, dn = 0.3 g, n_a = 0.1 g, s_m = 1 + 9
     ManeuverOptions only_added;
     only_added.tempering_added_g = 0.1;
-    const MK m(only_added, kStates, z_names, 64.0);
+    const MK m(only_added, kStates, kZNames, 64.0);
     Eigen::Matrix<double, 7, 1> z3 = Eigen::Matrix<double, 7, 1>::Zero();
     z3(3) = -0.3;
     EXPECT_NEAR(m.tempering_scale(z3, 1.0), 10.0, 1e-12);
@@ -437,17 +437,55 @@ TEST(ManeuverTempering, AddedTermsAddTheirSquaresToTheTurbulenceScaleByHand) {
   EXPECT_NO_THROW(MK(o, kStates, no_aoa, 64.0));
 }
 
+// With a trim knee a_k the reference is a_ref min(1, (a_k / alpha0)^3), alpha0 the trim in force's angle
+// of attack: by hand below, at and above the knee; without a knee alpha0 is not read.
+TEST(ManeuverTempering, AlphaReferenceShrinksAboveTheTrimKneeByHand) {
+  ManeuverOptions o;
+  o.tempering_alpha_deg = 1.0;
+  o.tempering_alpha_deadband_deg = 0.25;
+  const MK plain(o, kStates, kZNames, 64.0);
+  o.tempering_alpha_trim_deg = 8.0;
+  const MK knee(o, kStates, kZNames, 64.0);
+  EXPECT_TRUE(knee.reads_trim_alpha());
+  EXPECT_FALSE(plain.reads_trim_alpha());
+  Eigen::Matrix<double, 7, 1> z = Eigen::Matrix<double, 7, 1>::Zero();
+  z(1) = 1.25 * kPi / 180.0;   // 1.25 deg off the trim: y = (1.25 - 0.25 sqrt(s)) / a_ref'
+  const double deg = kPi / 180.0;
+  // below and at the knee: the plain rule, y = 1 at s = 1
+  EXPECT_NEAR(knee.tempering_scale(z, 1.0, 5.0 * deg), 2.0, 1e-12);
+  EXPECT_NEAR(knee.tempering_scale(z, 1.0, 8.0 * deg), 2.0, 1e-12);
+  EXPECT_NEAR(plain.tempering_scale(z, 1.0, 16.0 * deg), 2.0, 1e-12);
+  // trimmed at 16 deg: a_ref' = (8 / 16)^3 = 0.125, y = 1 / 0.125 = 8, s_m = 1 + 64
+  EXPECT_NEAR(knee.alpha_reference(16.0 * deg), 0.125, 1e-12);
+  EXPECT_NEAR(knee.tempering_scale(z, 1.0, 16.0 * deg), 65.0, 1e-12);
+  // s = 4: band 0.5 deg, y = 0.75 / 0.125 = 6, s_m = 1 + 36 / 4
+  EXPECT_NEAR(knee.tempering_scale(z, 4.0, 16.0 * deg), 10.0, 1e-12);
+  // at 10 deg: (8 / 10)^3 = 0.512
+  EXPECT_NEAR(knee.alpha_reference(10.0 * deg), 0.512, 1e-12);
+  // a negative or non-finite trim alpha: the plain reference
+  EXPECT_EQ(knee.alpha_reference(-10.0 * deg), 1.0);
+  EXPECT_EQ(knee.alpha_reference(std::nan("")), 1.0);
+  // the knee applies with the alpha term only, and in [0, 90] deg
+  ManeuverOptions bad;
+  bad.tempering_alpha_trim_deg = 8.0;
+  EXPECT_THROW(MK(bad, kStates, kZNames, 64.0), std::invalid_argument);
+  bad.tempering_alpha_deg = 1.0;
+  bad.tempering_alpha_trim_deg = 91.0;
+  EXPECT_THROW(MK(bad, kStates, kZNames, 64.0), std::invalid_argument);
+  bad.tempering_alpha_trim_deg = -1.0;
+  EXPECT_THROW(MK(bad, kStates, kZNames, 64.0), std::invalid_argument);
+}
+
 // The added term's band is at least k sigma_n, sigma_n the load factor's spread about its 0.35-s
 // mean (a plain mean of the squares over the first 30 s): recomputed here from the header's
 // recursions, frame by frame, with the scale it gives; reset() starts it again; off observes nothing.
 TEST(ManeuverTempering, AddedTermsBandFollowsTheLoadFactorsMeasuredSpread) {
-  const std::vector<std::string> z_names{"VEL", "AOA", "PIT", "AZ", "ROL", "YAW", "AY"};
   ManeuverOptions o;
   o.tempering_added_g = 0.03;
   o.tempering_added_deadband_g = 0.08;
   o.tempering_added_spread = 3.0;
-  MK m(o, kStates, z_names, 64.0);
-  const MK fixed_band([&] { ManeuverOptions f = o; f.tempering_added_spread = 0.0; return f; }(), kStates, z_names,
+  MK m(o, kStates, kZNames, 64.0);
+  const MK fixed_band([&] { ManeuverOptions f = o; f.tempering_added_spread = 0.0; return f; }(), kStates, kZNames,
                       64.0);
   const double cm = 1.0 - std::exp(-1.0 / (0.35 * 64.0));
   double mean = 0.0, power = 0.0;
@@ -476,11 +514,11 @@ TEST(ManeuverTempering, AddedTermsBandFollowsTheLoadFactorsMeasuredSpread) {
   off.observe_spread(z);
   EXPECT_EQ(off.load_factor_spread(), 0.0);
   o.tempering_added_spread = -1.0;
-  EXPECT_THROW(MK(o, kStates, z_names, 64.0), std::invalid_argument);
+  EXPECT_THROW(MK(o, kStates, kZNames, 64.0), std::invalid_argument);
   o.tempering_added_spread = 2.0;
   o.tempering_added_g = 0.0;
   o.tempering_added_deadband_g = 0.0;
-  EXPECT_THROW(MK(o, kStates, z_names, 64.0), std::invalid_argument);   // the band without its term
+  EXPECT_THROW(MK(o, kStates, kZNames, 64.0), std::invalid_argument);   // the band without its term
 }
 
 // In the bank: every likelihood is -q / (2 s_m), s_m = 1 + x_a^2 (no adaptation: s = 1) with the

@@ -198,7 +198,7 @@ def test_the_maneuver_trim_inertial_rates_reach_the_daemon():
 
 def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     """The maneuver dwell and reference, the tempering's dead band, the angle-of-attack tempering
-    and the load factor's added term with their dead bands, the level-1 floor and dwell,
+    with its trim knee and the load factor's added term with their dead bands, the level-1 floor and dwell,
     the departure hold and the channel weight: passed on by daemon_flags, in force in the
     daemon (its ready line names the maneuver ones), each refused without the option it
     applies with or out of range, naming the flag."""
@@ -206,7 +206,8 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
                "maneuver_reference": 0.65, "maneuver_tempering_g": 0.1, "maneuver_tempering_deadband_g": 0.05,
                "level1_p_min": 1e-4, "level1_dwell_s": 0.5, "level1_allowance": 0.1, "departure_hold": "off",
                "adapt_channel_weight": 0.5, "maneuver_tempering_alpha_deg": 1.0,
-               "maneuver_tempering_alpha_deadband_deg": 0.75, "maneuver_tempering_added_g": 0.1,
+               "maneuver_tempering_alpha_deadband_deg": 0.75, "maneuver_tempering_alpha_trim_deg": 9.0,
+               "maneuver_tempering_added_g": 0.1,
                "maneuver_tempering_added_deadband_g": 0.02}
     flags = daemon_flags(options)
     for key, value in options.items():
@@ -220,7 +221,7 @@ def test_the_maneuver_dwell_and_the_level1_options_reach_the_daemon():
     bank = str(load_bank("tuned")[1])
     ready = ready_line("--bank", bank, *flags)
     assert ("tempering 0.1 g, tempering dead band 0.05 g, alpha tempering 1 deg beyond 0.75 deg sqrt(s), "
-            "added tempering 0.1 g beyond 0.02 g sqrt(s), "
+            "its reference shrinking above a trim alpha of 9 deg, added tempering 0.1 g beyond 0.02 g sqrt(s), "
             "maneuver dwell 1.5 s held 30 s, maneuver reference 0.65" in ready), ready
     rc, out = _daemon("--bank", bank, "--maneuver-dwell-hold", "30")
     assert rc == 2 and "--maneuver-dwell-hold applies with --maneuver-dwell S > 0 only" in out

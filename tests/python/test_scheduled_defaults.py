@@ -38,6 +38,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "maneuver_tempering_g": names.SCHEDULE_MANEUVER_TEMPERING_G,   # the load-factor tempering
               "maneuver_tempering_alpha_deg": names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG,   # the alpha tempering
               "maneuver_tempering_alpha_deadband_deg": names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
+              "maneuver_tempering_alpha_trim_deg": names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG,   # its trim knee
               "adapt_level_scale": names.SCHEDULE_ADAPT_LEVEL_SCALE,   # the level channels' scale term
               "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),   # and VEL's at every level
               "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM,
@@ -75,6 +76,11 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     assert scheduled_defaults({}, True) == {}           # no adaptation: nothing to count
     band = {**given, "maneuver_tempering_alpha_deg": 2.0}   # the alpha term given: its dead band as given (none)
     assert "maneuver_tempering_alpha_deadband_deg" not in scheduled_defaults(band, True)
+    assert "maneuver_tempering_alpha_trim_deg" not in scheduled_defaults(band, True)   # and its knee (none)
+    knee = scheduled_defaults({**given, "maneuver_tempering_alpha_trim_deg": 10.0}, True)   # the knee alone: kept
+    assert knee["maneuver_tempering_alpha_trim_deg"] == 10.0
+    assert knee["maneuver_tempering_alpha_deg"] == names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG
+    check({**given, "maneuver_tempering_alpha_trim_deg": 10.0})   # waits for a scheduled bank's default
     with pytest.raises(ValueError, match="--maneuver-tempering-alpha-deadband applies with --maneuver-tempering-alpha "
                                          "only .or with --adapt-turbulence on a scheduled bank, whose default is "
                                          "--maneuver-tempering-alpha 1"):
@@ -176,6 +182,7 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
                           "--maneuver-tempering", str(names.SCHEDULE_MANEUVER_TEMPERING_G),
                           "--maneuver-tempering-alpha", str(names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG),
                           "--maneuver-tempering-alpha-deadband", str(names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG),
+                          "--maneuver-tempering-alpha-trim", str(names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG),
                           "--adapt-level-scale-channel", "vel", "--adapt-level-scale-from",
                           str(names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM),
                           "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE,

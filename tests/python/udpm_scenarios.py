@@ -409,7 +409,9 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             f"{names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S:g} s held while declared, "   # the scheduled default too
             "schedule nearest on air data low-passed 2 s, maneuver kinematics, "  # the core's default low-pass
             "tempering 0.1 g, actuator limits, "
-            f"alpha tempering 1 deg beyond {names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG:g} deg sqrt(s))" in out), out   # the scheduled default's
+            f"alpha tempering 1 deg beyond {names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG:g} deg sqrt(s), "
+            "its reference shrinking above a trim alpha of "
+            f"{names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG:g} deg)" in out), out   # the scheduled default's
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
     # steady trim tracking (--trim-tracking-steady) and the adaptation's climb reference: their
@@ -428,8 +430,9 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             "climbing 0.6 held 30 s, "
             "trim tracking 2 s (freeze above 0.05, steady 0.1 g)") in out, out
     assert ("no maneuver kinematics, tempering 1 g, alpha tempering 1 deg beyond "
-            f"{names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG:g} deg sqrt(s))"   # the scheduled
-            in out), out                                                                          # default's temperings
+            f"{names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG:g} deg sqrt(s), its reference shrinking "
+            f"above a trim alpha of {names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG:g} deg)"   # the scheduled
+            in out), out                                                                      # default's temperings
     assert "in-process run: max |probability difference| = 0 (identical declarations)" in out
     capsys.readouterr()
     # the scheduled default's maneuvering-flight setting (names.SCHEDULE_MANEUVER_SETTING), as flags

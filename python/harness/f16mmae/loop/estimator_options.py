@@ -29,6 +29,7 @@ from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDU
                      SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_ADAPT_FLOOR_S, SCHEDULE_MANEUVER_SETTING,
                      SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
+                     SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG,
                      SCHEDULE_MODES, SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS, SCHEDULE_ROUGH_P_MIN, SCHEDULE_ROUGH_SCALE,
                      SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
 
@@ -369,6 +370,14 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "turbulence adaptation's scale, so that the angle of attack the gusts themselves give "
                          "tempers nothing (cpp/f16mmae/maneuver_kinematics.h). Default 0: no dead band; "
                          f"{SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG:g} deg with a scheduled bank's default "
+                         "angle-of-attack tempering"),
+    EstimatorOption("maneuver_tempering_alpha_trim_deg", "--maneuver-tempering-alpha-trim", "number",
+                    metavar="DEG", minimum=0.0, maximum=90.0, requires="maneuver_tempering_alpha_deg",
+                    help="with --maneuver-tempering-alpha A: above a trim angle of attack of DEG the reference "
+                         "shrinks to A (DEG / alpha0)^3, alpha0 the trim in force's (the scheduled node's and the trim "
+                         "tracker's), so that slow flight near the lift curve's bend tempers sooner "
+                         "(cpp/f16mmae/maneuver_kinematics.h). Default 0: off; "
+                         f"{SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG:g} deg with a scheduled bank's default "
                          "angle-of-attack tempering"),
     EstimatorOption("maneuver_tempering_added_g", "--maneuver-tempering-added", "number", metavar="G",
                     minimum=0.0, maximum=100.0,
@@ -894,8 +903,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off),
     ``maneuver_tempering_g`` ``names.SCHEDULE_MANEUVER_TEMPERING_G``, ``maneuver_tempering_alpha_deg``
     ``names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG`` with ``maneuver_tempering_alpha_deadband_deg``
-    ``names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG`` unless the former is given (0 turns it
-    off; given, the dead band is as given), ``adapt_level_scale``
+    ``names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG`` and ``maneuver_tempering_alpha_trim_deg``
+    ``names.SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG`` unless the former is given (0 turns it
+    off; given, the dead band and the knee are as given), ``adapt_level_scale``
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE`` and ``adapt_level_scale_channel``
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL`` unless given (``none`` turns it off), with
     ``adapt_level_scale_from`` ``names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM`` unless given,
@@ -932,6 +942,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         if "maneuver_tempering_alpha_deg" not in out:
             out["maneuver_tempering_alpha_deg"] = SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG
             out.setdefault("maneuver_tempering_alpha_deadband_deg", SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG)
+            out.setdefault("maneuver_tempering_alpha_trim_deg", SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG)
         out.setdefault("adapt_level_scale", SCHEDULE_ADAPT_LEVEL_SCALE)
         out.setdefault("adapt_level_scale_channel", SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower())
         if out["adapt_level_scale_channel"] != "none":

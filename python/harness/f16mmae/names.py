@@ -287,9 +287,10 @@ SCHEDULE_MANEUVER_TEMPERING_G = 1.0
 #: excursions of 0.25-0.75 deg sqrt(s) were enough for false flaperon declarations (30 in 15 h on
 #: the tuning seed, 13 with 0.25); at the design point the same campaigns give the same counts.
 #: The trim knee a_k 8.5 deg (round 49; cpp/f16mmae/maneuver_kinematics.h): above a trim angle of
-#: attack alpha0 of a_k the reference is a_ref (a_k / alpha0)^3, so the low-speed points (trim alpha
-#: 11-16 deg) temper a 2-deg gust excursion 4-25 times as much as the design point (8.1 deg, where
-#: nothing changes). Chosen on the tuning seed's envelope soak (docs/results/envelope_scheduled.md).
+#: attack alpha0 of a_k the reference is a_ref (a_k / alpha0)^3, so at the low-speed points (trim
+#: alpha 11-16 deg) a 2-deg gust excursion adds 5-40 times the square it adds at the design point
+#: (8.1 deg, where nothing changes). Chosen on the tuning seed's envelope soak
+#: (docs/results/envelope_scheduled.md).
 SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG = 1.0
 SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG = 0.25
 SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG = 8.5

@@ -374,8 +374,9 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("maneuver_tempering_alpha_trim_deg", "--maneuver-tempering-alpha-trim", "number",
                     metavar="DEG", minimum=0.0, maximum=90.0, requires="maneuver_tempering_alpha_deg",
                     help="with --maneuver-tempering-alpha A: above a trim angle of attack of DEG the reference "
-                         "shrinks to A (DEG / alpha0)^3, alpha0 the trim in force's (the scheduled node's and the trim "
-                         "tracker's), so that slow flight near the lift curve's bend tempers sooner "
+                         "shrinks to A (DEG / alpha0)^3, alpha0 the trim in force's angle of attack (the scheduled "
+                         "node's with the trim tracker's and the maneuver trim's offsets), so that slow flight near "
+                         "the lift curve's bend tempers sooner "
                          "(cpp/f16mmae/maneuver_kinematics.h). Default 0: off; "
                          f"{SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG:g} deg with a scheduled bank's default "
                          "angle-of-attack tempering"),

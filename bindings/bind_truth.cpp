@@ -226,13 +226,20 @@ class Frames {
   }
 
   // The adaptive dither's rule for one adapted bank, flown by fly_closed_loop (AdaptedDither):
-  // the reference table on the grid (mach, alt_ft), rows Mach, and the full ratio.
+  // the reference table on the grid (mach, alt_ft), rows Mach, the full ratio, and the rudder's
+  // reference and gain bound.
   void set_adapted_dither(const std::vector<double>& mach, const std::vector<double>& alt_ft,
-                          const std::vector<std::vector<double>>& reference, double full_ratio) {
+                          const std::vector<std::vector<double>>& reference, double full_ratio,
+                          double rudder_reference, double rudder_bound) {
     if (!(std::isfinite(full_ratio) && full_ratio > 1.0))
       throw py::value_error("TruthFrames: the adapted dither's full ratio must be finite and > 1");
+    if (!(std::isfinite(rudder_reference) && rudder_reference > 0.0))
+      throw py::value_error("TruthFrames: the adapted dither's rudder reference must be positive and finite");
+    if (!(std::isfinite(rudder_bound) && rudder_bound >= 1.0))
+      throw py::value_error("TruthFrames: the adapted dither's rudder gain bound must be finite and >= 1");
     AdaptedDither a;
     a.on = true, a.full_ratio = full_ratio;
+    a.rudder_reference = rudder_reference, a.rudder_bound = rudder_bound;
     a.reference = air_data_table(mach, alt_ft, reference, "the adapted dither's reference");
     adapted_ = a;
   }
@@ -424,9 +431,11 @@ class Frames {
       est.schedule(AirData{air_last_[0], air_last_[1]});
       const int d = est.update(Eigen::Map<const ZV>(z.data()));
       if (adapted_.on) {   // the gains for u_i from the estimator's own rho-bar (loop/flight.py)
-        const double h = adapted_.mix(est.bank().adaptation().measured_power_ratio(), air_last_[0], air_last_[1]);
+        const double rho = est.bank().adaptation().measured_power_ratio();
+        const double h = adapted_.mix(rho, air_last_[0], air_last_[1]);
         fcs_.c.dither_gain[2] = fcs_.c.dither_gain[3] = 1.0 - h;
         fcs_.c.dither2_gain[2] = fcs_.c.dither2_gain[3] = h;
+        fcs_.c.dither_gain[4] = adapted_.rudder_gain(rho);
       }
       Sensors zf = z;
       if (use_mmae) {
@@ -655,9 +664,10 @@ void bind_truth(py::module_& m) {
     'events': [(frame, declared name, names on line after it)], 'truth_s', 'estimator_s'
     (seconds spent in each), 'declared_last_frame'}.)doc")
       .def("set_adapted_dither", &Frames::set_adapted_dither, py::arg("mach"), py::arg("alt_ft"),
-           py::arg("reference"), py::arg("full_ratio"),
+           py::arg("reference"), py::arg("full_ratio"), py::arg("rudder_reference"), py::arg("rudder_bound"),
            "fly_closed_loop flies the adaptive dither of one adapted bank (truth/dither.py "
-           "adapted_dither_reference): the reference table on the grid (rows Mach) and the full ratio")
+           "adapted_dither_reference, adaptive_rudder_gain): the reference table on the grid (rows Mach), "
+           "the full ratio, the rudder's reference rho_r and its gain bound (Dither.rudder_gain_bound)")
       .def_property_readonly("frame", &Frames::frame)
       .def_property_readonly("step_count", &Frames::step)
       .def_property_readonly("measured", &Frames::measured)

@@ -18,9 +18,17 @@ adaptive dither's share of them, and the flaperons' evidence (truth/dither.py ``
 4. ``envelope`` (``--envelope``, alone): severe air at points over the envelope, the turbulence
    line in full (h = 1) against the gusts' own peaks, as part 2 (one adapted bank's rule brings
    it in there; truth/dither.py ``adapted_dither_reference``).
+5. ``rudder`` (``--rudder``, alone): moderate and severe air at the same points and at the
+   envelope's highest points, the rudder's line at the gain one adapted bank's rule sets there
+   (truth/dither.py ``adaptive_rudder_gain`` at the median measured rho-bar of a no-failure
+   flight of the scheduled default, after its first 10 s; bounded by ``Dither.rudder_gain_bound``)
+   and the flaperons' turbulence line as the rule sets it in that air (moderate h = 0, severe
+   h = 1): the whole dither's part of n_y, r and p against the gusts' own peaks, as part 4;
+   met where it is at most ``ADAPTIVE_GUST_SHARE`` of them or at most the fixed rudder line's.
 
     .venv/bin/python tools/turbulence_dither.py --flights 4 --seconds 60
     .venv/bin/python tools/turbulence_dither.py --envelope
+    .venv/bin/python tools/turbulence_dither.py --rudder
 """
 from __future__ import annotations
 
@@ -38,11 +46,14 @@ from f16mmae.loop.flight import fly
 from f16mmae.names import FRAME_RATE_HZ, TURBULENCE_LEVELS
 from f16mmae.seeds import evaluation_seed
 from f16mmae.truth import FlightControlSystem, Scenario, TruthModel
-from f16mmae.truth.dither import ADAPTIVE_DITHER_REFERENCE, ADAPTIVE_GUST_SHARE, CRITERION, DitherSpec, adaptive_mix
+from f16mmae.truth.dither import (ADAPTIVE_DITHER_REFERENCE, ADAPTIVE_GUST_SHARE, CRITERION, DitherSpec, adaptive_mix,
+                                  adaptive_rudder_gain)
 from f16mmae.truth.failures import make_failure
 
 #: (name, z index, unit factor) of the channels the criterion reads.
 CHANNELS = (("nz_g", 3, 1.0), ("q_deg_s", 2, 180.0 / math.pi), ("p_deg_s", 4, 180.0 / math.pi))
+#: Part 5's: the rudder line's (n_y, r, p).
+RUDDER_CHANNELS = (("ny_g", 6, 1.0), ("r_deg_s", 5, 180.0 / math.pi), ("p_deg_s", 4, 180.0 / math.pi))
 
 
 def mix_history(model_bank, level: str, seed: int, seconds: float) -> np.ndarray:
@@ -56,14 +67,16 @@ def mix_history(model_bank, level: str, seed: int, seconds: float) -> np.ndarray
 
 
 def truth_z(level: str, seed: int, seconds: float, dither: bool, h: float, mach: float = 0.4,
-            alt_ft: float = 20000.0) -> tuple[np.ndarray, np.ndarray]:
-    """(z_ideal per frame, trim z) of a truth flight on raw feedback, the dither held at mix h."""
+            alt_ft: float = 20000.0, rudder_rho: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(z_ideal per frame, trim z) of a truth flight on raw feedback, the dither held at mix h
+    (and the rudder's line at ``adaptive_rudder_gain(rudder_rho, its bound)`` when given)."""
     sc = Scenario(mach=mach, alt_ft=alt_ft, duration_s=seconds, noise=False, feedback="raw", turbulence=level,
                   seed=seed, dither=DitherSpec(enabled=dither))
     truth = TruthModel(sc)
     fcs = FlightControlSystem(truth.trim, dither=sc.dither, ari=sc.ari)
     truth.attach(fcs)
-    truth.set_dither_gain(fcs, [1.0, 1.0, 1.0 - h, 1.0 - h, 1.0], [0.0, 0.0, h, h, 0.0])
+    g_rud = 1.0 if rudder_rho is None else adaptive_rudder_gain(rudder_rho, fcs.dither.rudder_gain_bound)
+    truth.set_dither_gain(fcs, [1.0, 1.0, 1.0 - h, 1.0 - h, g_rud], [0.0, 0.0, h, h, 0.0])
     truth.fly_frames(int(round(seconds * FRAME_RATE_HZ)))
     truth.detach(fcs)
     truth.close()
@@ -124,6 +137,53 @@ def envelope_table(seed: int, seconds: float) -> None:
         print(f"| {mach:g} | {alt:g} | " + " | ".join(cells) + f" | {'met' if ok else 'NOT met'} |", flush=True)
 
 
+#: Part 5's flight conditions (Mach, ft): part 4's and the envelope's highest, where the rudder's
+#: line is scheduled smallest against the gusts (the random envelope points R29 and R40).
+RUDDER_POINTS = ENVELOPE_POINTS + ((0.66, 32909.0), (0.8, 33757.0))
+
+
+def median_rho_bar(model_bank, level: str, seed: int, seconds: float, mach: float, alt_ft: float) -> float:
+    """The measured rho-bar's median after the first 10 s of one no-failure flight of the
+    scheduled default (its adaptive dither in the loop)."""
+    est = Estimator(model_bank, adapt_turbulence=True)
+    rho: list[float] = []
+    fly(Scenario(mach=mach, alt_ft=alt_ft, turbulence=level, duration_s=seconds, seed=seed), model_bank,
+        estimator=est, on_frame=lambda t, u, z, a: rho.append(est.measured_power_ratio))
+    return float(np.median(rho[int(10 * FRAME_RATE_HZ):]))
+
+
+def rudder_table(seed: int, seconds: float, truth_seconds: float) -> None:
+    """Part 5: the rudder's line at its rough-air gain against the gusts' own peaks."""
+    _, _, bank = load_bank("scheduled")
+    print(f"5. Moderate and severe air, {truth_seconds:g} s, seed {seed}, no noise, raw feedback: the gusts' peak, "
+          f"the dither's part with the rudder's line at its rough-air gain g (at the median rho-bar of a "
+          f"{seconds:g}-s flight; G its bound) and the fixed one's (g = 1), their shares of the gusts' peak "
+          f"(criterion: <= {ADAPTIVE_GUST_SHARE:g}, or no more than the fixed line's); the flaperons' turbulence "
+          f"line h = 0 in moderate air, 1 in severe")
+    print("| level | Mach | altitude, ft | rho-bar | g (G) | "
+          + " | ".join(f"gusts {n} | fixed {n} | adaptive {n}" for n, _, _ in RUDDER_CHANNELS) + " | criterion |")
+    print("|---|---|---|---|---|" + "---|---|---|" * len(RUDDER_CHANNELS) + "---|")
+    for level, h in (("moderate", 0.0), ("severe", 1.0)):
+        for mach, alt in RUDDER_POINTS:
+            sc = Scenario(mach=mach, alt_ft=alt)
+            truth = TruthModel(sc)
+            bound = FlightControlSystem(truth.trim, dither=sc.dither).dither.rudder_gain_bound
+            truth.close()
+            rho = median_rho_bar(bank, level, seed, seconds, mach, alt)
+            z0, trim = truth_z(level, seed, truth_seconds, False, 0.0, mach, alt)
+            z1, _ = truth_z(level, seed, truth_seconds, True, h, mach, alt)
+            z2, _ = truth_z(level, seed, truth_seconds, True, h, mach, alt, rudder_rho=rho)
+            cells, ok = [], True
+            for name, j, k in RUDDER_CHANNELS:
+                gp = float(np.abs((z0[:, j] - trim[j]) * k).max())
+                d1 = float(np.abs(z1[:, j] - z0[:, j]).max() * k)
+                d2 = float(np.abs(z2[:, j] - z0[:, j]).max() * k)
+                ok &= d2 <= max(ADAPTIVE_GUST_SHARE * gp, d1)
+                cells.append(f"{gp:.3f} | {d1:.3f} ({d1 / gp:.2f}) | {d2:.3f} ({d2 / gp:.2f})")
+            print(f"| {level} | {mach:g} | {alt:g} | {rho:.2f} | {adaptive_rudder_gain(rho, bound):.2f} ({bound:.2f}) | "
+                  + " | ".join(cells) + f" | {'met' if ok else 'NOT met'} |", flush=True)
+
+
 def figure(peaks: dict, path: str) -> None:
     """Part 2's peaks per level: the gusts', the fixed and the adaptive dither's, per channel."""
     import matplotlib
@@ -182,9 +242,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--evidence-flights", type=int, default=10, help="failure flights per case (part 3; 0: skip)")
     p.add_argument("--figure", default=None, metavar="PNG", help="part 2's peaks as a figure")
     p.add_argument("--envelope", action="store_true", help="part 4 only: severe air over the envelope")
+    p.add_argument("--rudder", action="store_true",
+                   help="part 5 only: the rudder's line at its rough-air gain's bound over the envelope")
     args = p.parse_args(argv)
     if args.envelope:
         envelope_table(7, args.truth_seconds)
+        return 0
+    if args.rudder:
+        rudder_table(7, args.seconds, args.truth_seconds)
         return 0
     _, _, bank = load_bank("turbulence")
     print("1. The turbulence line's share h the closed loop sets (no failure; percentiles 5/50/95 after 10 s)")

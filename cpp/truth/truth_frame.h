@@ -28,7 +28,8 @@
 // frame's z, clamped to the grid; non-finite air data: (0.4, 20000).
 // Adaptive dither for one adapted bank (AdaptedDither; the closed loop's rule, truth/dither.py):
 // each frame h from the bank's measured residual power ratio and a reference bilinear in a
-// (Mach, altitude) table at the measured air data; g_j = 1 - h, h_j = h on the flaperons.
+// (Mach, altitude) table at the measured air data; g_j = 1 - h, h_j = h on the flaperons; the
+// rudder's g = max(1, min(sqrt(rho / rho_r), G)) above rho_r (truth/dither.py adaptive_rudder_gain).
 // Outer loop (pilot side, maneuvers): truth/outer_loop.py's module docstring -- piecewise
 // references (at most kMaxSegments per channel) and the altitude / bank / Mach PI laws; it reads
 // the instruments (h, hdot, M, phi) and returns (nz_cmd, p_cmd, throttle).
@@ -239,10 +240,13 @@ struct ThrottleDither {
 /// adaptive_mix, loop/flight.py), in their order of operations: rho_ref bilinear in the table at
 /// the last finite air data (none yet: h = 0), h = min((sqrt(rho / rho_ref) - 1) / (full - 1), 1)
 /// for rho > rho_ref, else 0 (and for a non-finite rho); the flaperons' calm line then takes the
-/// gain 1 - h and their turbulence line h.
+/// gain 1 - h and their turbulence line h.  The rudder's calm line takes rudder_gain(rho) once a
+/// reference is in force (1 before: truth/dither.py adaptive_rudder_gain with loop/flight.py's rho 0).
 struct AdaptedDither {
   bool on = false;
   double full_ratio = 0.0;
+  double rudder_reference = 0.0;   // rho_r (truth/dither.py ADAPTIVE_RUDDER_REFERENCE)
+  double rudder_bound = 1.0;       // G, the rudder line's rate bound (truth/dither.py Dither.rudder_gain_bound)
   AirDataTable reference;
   bool has_reference = false;
   double reference_now = 0.0;
@@ -254,6 +258,11 @@ struct AdaptedDither {
     }
     if (!has_reference || !(std::isfinite(rho) && rho > reference_now)) return 0.0;
     return std::min((std::sqrt(rho / reference_now) - 1.0) / (full_ratio - 1.0), 1.0);
+  }
+
+  double rudder_gain(double rho) const noexcept {
+    if (!has_reference || !(std::isfinite(rho) && rho > rudder_reference)) return 1.0;
+    return std::max(1.0, std::min(std::sqrt(rho / rudder_reference), rudder_bound));
   }
 };
 

@@ -140,6 +140,24 @@ TEST(TruthControlLaw, IntegratorLimitWashoutAndDither) {
   EXPECT_DOUBLE_EQ(v[4], u[4]);
 }
 
+TEST(TruthControlLaw, AdaptedDitherRudderGain) {
+  // truth/dither.py adaptive_rudder_gain: 1 until a reference is in force and up to rho_r, then
+  // sqrt(rho / rho_r) up to the bound; 1 for a non-finite rho
+  AdaptedDither a;
+  a.on = true, a.full_ratio = 1.35, a.rudder_reference = 0.8, a.rudder_bound = 1.5;
+  a.reference.n_mach = a.reference.n_alt = 2;
+  a.reference.mach = {0.3, 0.8}, a.reference.alt_ft = {5000.0, 35000.0};
+  a.reference.value = {2.0, 2.0, 2.0, 2.0};
+  EXPECT_EQ(a.rudder_gain(4.0), 1.0);   // no air data yet
+  EXPECT_EQ(a.mix(1.0, 0.4, 20000.0), 0.0);
+  EXPECT_EQ(a.rudder_gain(0.8), 1.0);
+  EXPECT_EQ(a.rudder_gain(std::nan("")), 1.0);
+  EXPECT_DOUBLE_EQ(a.rudder_gain(0.8 * 1.44), std::sqrt(1.44));
+  EXPECT_EQ(a.rudder_gain(100.0), 1.5);
+  a.rudder_bound = 1.0;
+  EXPECT_EQ(a.rudder_gain(100.0), 1.0);
+}
+
 TEST(TruthFrame, AFrameAllocatesNothing) {
   ActuatorBank act = one_surface_bank();
   SensorSet sen;

@@ -1,7 +1,8 @@
 """The adaptive dither (truth/dither.py ``adaptive_mix`` / ``adaptive_gains``, ``--adaptive-dither``):
 its rule, its two lines on both truth engines, and the option's checks; for one adapted bank
-(the scheduled default) its reference on the air data, its rho, and the closed loop frame by frame
-and in C++ alike."""
+(the scheduled default) its reference on the air data, its rho, the rudder's rough-air gain
+(``adaptive_rudder_gain``, ``Dither.rudder_gain_bound``), and the closed loop frame by frame and in
+C++ alike."""
 from __future__ import annotations
 
 import math
@@ -16,9 +17,9 @@ from f16mmae.names import FRAME_RATE_HZ
 from f16mmae.truth import DitherSpec, FlightControlSystem, Scenario, TruthModel
 from f16mmae.truth.actuators import RATE_LIMIT_RAD_S
 from f16mmae.truth.dither import (ADAPTED_DITHER_REFERENCE, ADAPTIVE_FULL_RATIO, ADAPTIVE_RATE_SHARE,
-                                  THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH, TURBULENCE_FLAPERON_AMPLITUDE_DEG,
+                                  ADAPTIVE_RUDDER_MAX_GAIN, ADAPTIVE_RUDDER_REFERENCE, THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH, TURBULENCE_FLAPERON_AMPLITUDE_DEG,
                                   TURBULENCE_FLAPERON_FREQUENCY_HZ, Dither, adapted_dither_reference,
-                                  adaptive_gains, adaptive_mix)
+                                  adaptive_gains, adaptive_mix, adaptive_rudder_gain, amplitude_schedule)
 from f16mmae.truth.failures import make_failure
 from schedule_support import one_node_schedule
 
@@ -37,6 +38,39 @@ def test_the_mix_is_zero_up_to_the_reference_and_one_from_the_full_ratio():
     for bad in (0.0, -1.0, math.nan, math.inf):
         with pytest.raises(ValueError, match="reference rho"):
             adaptive_mix(1.0, bad)
+
+
+def test_the_rudders_gain_is_one_up_to_its_reference_then_the_root_of_rho_up_to_its_bound():
+    ref = ADAPTIVE_RUDDER_REFERENCE
+    for rho in (0.0, 0.5, ref, math.nan, math.inf * 0):
+        assert adaptive_rudder_gain(rho, 1.5) == 1.0
+    assert adaptive_rudder_gain(ref * 1.44, 1.5) == pytest.approx(1.2)
+    assert adaptive_rudder_gain(ref * 1.44, 1.1) == 1.1
+    assert adaptive_rudder_gain(100.0, 1.5) == 1.5
+    assert adaptive_rudder_gain(100.0, 1.0) == 1.0
+    # one adapted bank's gains carry it; the set's (no bound given) keep the rudder's fixed line
+    assert adaptive_gains(ref * 1.44, 10.0, rudder_bound=1.5) == ([1.0, 1.0, 1.0, 1.0, pytest.approx(1.2)],
+                                                                  [0.0] * 5)
+    assert adaptive_gains(ref * 1.44, 10.0)[0][4] == 1.0
+    for bad in (0.99, math.nan, math.inf, -1.0):
+        with pytest.raises(ValueError, match="rudder gain's bound"):
+            adaptive_rudder_gain(1.0, bad)
+
+
+def test_the_rudders_gain_bound_is_its_rate_share_or_the_largest_gain():
+    # the design point: the line's 5.5 deg at 2.3 Hz, 79.5 deg/s; 0.75 of 120 deg/s is 1.13 of it
+    d = Dither(DitherSpec())
+    a, w, _ = d.terms()
+    assert a[4] * w[4] == pytest.approx(math.radians(5.5) * 2 * math.pi * 2.3)
+    assert d.rudder_gain_bound == pytest.approx(0.75 * 120.0 / (5.5 * 2 * math.pi * 2.3))
+    assert ADAPTIVE_RATE_SHARE * RATE_LIMIT_RAD_S[4] == pytest.approx(math.radians(90.0))
+    # at twice the design dynamic pressure the line is scheduled down: the largest gain binds
+    high = Dither(DitherSpec(), scale=0.5)
+    assert high.terms()[0][4] == pytest.approx(math.radians(5.5) * amplitude_schedule(0.5))
+    assert high.rudder_gain_bound == ADAPTIVE_RUDDER_MAX_GAIN
+    # at low dynamic pressure the line passes the rate share already: the bound is the fixed line
+    assert Dither(DitherSpec(), scale=2.0).rudder_gain_bound == 1.0
+    assert Dither(DitherSpec(enabled=False)).rudder_gain_bound == 1.0
 
 
 def test_the_two_lines_add_as_the_rule_says():
@@ -128,7 +162,8 @@ def test_the_adaptive_dither_is_the_sets_default_and_the_fixed_one_stays_selecta
     with pytest.raises(ValueError, match="exclude each other"):
         estimator_options.check({"turbulence_banks": True, "fixed_dither": True, "adaptive_dither": True})
     estimator_options.check({"turbulence_banks": True, "fixed_dither": True})
-    assert set(estimator_options.CLOSED_LOOP) == {"adaptive_dither", "fixed_dither", "sensor_loss_dither"}
+    assert set(estimator_options.CLOSED_LOOP) == {"adaptive_dither", "fixed_dither", "fixed_rudder_dither",
+                                                  "sensor_loss_dither"}
     assert set(estimator_options.CLOSED_LOOP) <= set(estimator_options.HARNESS_ONLY)
 
 
@@ -194,8 +229,9 @@ def _flight(schedule, level: str, frame_by_frame: bool, **options):
 def test_one_adapted_banks_adaptive_dither_is_the_same_in_cpp_and_frame_by_frame(schedule):
     """The C++ closed loop (TruthFrames.set_adapted_dither) and the frame-by-frame loop
     (loop/flight.py) fly the same flight bit for bit; in severe air the flaperons' turbulence line
-    comes in (their commands leave the fixed dither's by more than a degree), in light air the
-    flight is the fixed dither's exactly."""
+    comes in (their commands leave the fixed dither's by more than a degree) and the rudder's line
+    grows (test below: so the C++ loop sets the rudder's gain as loop/flight.py does), in light air
+    the flight is the fixed dither's exactly."""
     cpp, _ = _flight(schedule, "severe", False)
     python, u = _flight(schedule, "severe", True)
     np.testing.assert_array_equal(cpp.probabilities, python.probabilities)
@@ -206,3 +242,60 @@ def test_one_adapted_banks_adaptive_dither_is_the_same_in_cpp_and_frame_by_frame
     light, _ = _flight(schedule, "light", False)
     light_fixed, _ = _flight(schedule, "light", False, fixed_dither=True)
     np.testing.assert_array_equal(light.probabilities, light_fixed.probabilities)
+
+
+def test_one_adapted_banks_rudder_gain_follows_its_measured_rho_within_its_bound(schedule, monkeypatch):
+    """Frame by frame, the gains the loop sets: the rudder's is adaptive_rudder_gain of the
+    estimator's own measured rho-bar of that frame, bounded by the control law's Dither (the design
+    point's rate share, 1.13); in moderate air between 1 and the bound, 1 throughout in light air."""
+    seen = []   # (rudder gain set, the Dither's bound)
+    original = TruthModel.set_dither_gain
+
+    def spy(self, fcs, gain, gain2):
+        seen.append((gain[4], fcs.dither.rudder_gain_bound))
+        original(self, fcs, gain, gain2)
+
+    monkeypatch.setattr(TruthModel, "set_dither_gain", spy)
+    rhos = []
+    est = Estimator(schedule, adapt_turbulence=True)
+    sc = Scenario(turbulence="moderate", duration_s=6.0, seed=11)
+
+    class Recording:   # the estimator, its rho-bar read after each update as the loop reads it
+        def __getattr__(self, name):
+            return getattr(est, name)
+
+        def update(self, z):
+            z_hat = est.update(z)
+            rhos.append(est.measured_power_ratio)
+            return z_hat
+
+    fly(sc, schedule, estimator=Recording())
+    bound = seen[0][1]   # the truth's trim dynamic pressure is the design's to 1e-4
+    assert bound == pytest.approx(0.75 * 120.0 / (5.5 * 2 * math.pi * 2.3), rel=1e-3)
+    want = [adaptive_rudder_gain(r, bound) for r in rhos]
+    # the loop sets the gains when any changes: the rudder's in the order they come are the rule's
+    collapse = lambda gs: [g for i, g in enumerate(gs) if i == 0 or g != gs[i - 1]]
+    assert collapse([g for g, _ in seen]) == collapse(want)
+    assert any(1.0 < g < bound for g in want) and bound > 1.0
+    seen.clear()
+    fly(Scenario(turbulence="light", duration_s=4.0, seed=11), schedule, estimator_options={"adapt_turbulence": True},
+        on_frame=lambda *a: None)
+    assert seen and all(g == 1.0 for g, _ in seen)
+
+
+def test_the_fixed_rudder_dither_keeps_the_calm_air_rudder_line_in_both_loops(schedule):
+    """--fixed-rudder-dither: the adaptive dither as before round 50 (the rudder's line the calm-air
+    one), frame by frame and in C++ alike, and a flight that differs from the default's in moderate
+    air; refused where no adapted bank's adaptive dither flies."""
+    options = {"adapt_turbulence": True, "fixed_rudder_dither": True}
+    sc = Scenario(turbulence="moderate", duration_s=6.0, seed=11)
+    cpp = fly(sc, schedule, estimator_options=options)
+    us = []
+    python = fly(sc, schedule, estimator_options=options, on_frame=lambda t, u, z, air: us.append(u))
+    np.testing.assert_array_equal(cpp.probabilities, python.probabilities)
+    default = fly(sc, schedule, estimator_options={"adapt_turbulence": True})
+    assert not np.array_equal(cpp.probabilities, default.probabilities)
+    for bad, match in (({"fixed_rudder_dither": True}, "--fixed-rudder-dither applies with --adapt-turbulence"),
+                       ({**options, "fixed_dither": True}, "--fixed-dither flies the calm-air dither")):
+        with pytest.raises(ValueError, match=match):
+            estimator_options.check(bad)

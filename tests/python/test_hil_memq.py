@@ -295,7 +295,8 @@ def test_lockstep_with_one_adapted_banks_adaptive_dither_reproduces_the_in_proce
     """The scheduled default's adaptive dither over the link: the status carries the adaptation's
     measured rho-bar (member -1), the truth side sets the gains from it and the air data it sent,
     so the commands and probabilities are the in-process flight's exactly; in severe air the
-    flaperons' turbulence line comes in."""
+    flaperons' turbulence line comes in and the rudder's line grows (its calm-air line with
+    --fixed-rudder-dither)."""
     schedule = one_node_schedule(tmp_path)
     options = bank_defaults({"adapt_turbulence": True}, schedule)   # as f16mmae hil gives them
     assert options["adaptive_dither"] is True
@@ -307,6 +308,9 @@ def test_lockstep_with_one_adapted_banks_adaptive_dither_reproduces_the_in_proce
     fixed = _commands(scenario, schedule, {**options, "adaptive_dither": False, "fixed_dither": True})
     lf = 2  # ACTUATORS: LS RS LF RF RUD
     assert np.abs(fixed[:, lf] - commands[0][:, lf]).max() > np.radians(1.0)
+    rud = 4
+    calm_rudder = _commands(scenario, schedule, {**options, "fixed_rudder_dither": True})
+    assert np.abs(calm_rudder[:, rud] - commands[0][:, rud]).max() > np.radians(0.1)
     executive = InProcessExecutive(schedule, **options)
     status = executive.on_sensor(0, schedule.z_trim)
     assert status.turbulence_member == -1 and np.isfinite(status.turbulence_power_ratio)

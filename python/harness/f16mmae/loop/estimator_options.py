@@ -276,13 +276,19 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "rho over the member's reference, or the adaptation's measured rho-bar over a "
                          "reference scheduled on the air data; square root, capped by the actuators' rates; "
                          "truth/dither.py adaptive_gains): the calm-air dither in calm, light and moderate "
-                         "air, a slower, larger flaperon line in severe gusts. The default with "
+                         "air, a slower, larger flaperon line in severe gusts; with one adapted bank also the "
+                         "rudder's line grown with the air above light (at most 1.5 x). The default with "
                          "--turbulence-banks and with a scheduled bank's --adapt-turbulence (over LCM too: the "
                          "status carries the member and its rho); --fixed-dither turns it off"),
     EstimatorOption("fixed_dither", "--fixed-dither", "switch", in_daemon=False,
                     help="with --turbulence-banks, or a scheduled bank with --adapt-turbulence: the fixed "
                          "(calm-air) dither at every turbulence level instead of the adaptive dither "
                          "(--adaptive-dither, the default there)"),
+    EstimatorOption("fixed_rudder_dither", "--fixed-rudder-dither", "switch", in_daemon=False,
+                    help="with one adapted bank's adaptive dither (a scheduled bank's --adapt-turbulence): the "
+                         "rudder's line stays the calm-air one at every level, as before round 50 (the "
+                         "adaptive dither grows it with the air above light: truth/dither.py "
+                         "adaptive_rudder_gain). Default off"),
     EstimatorOption("sensor_loss_dither", "--sensor-loss-dither", "switch", in_daemon=False,
                     help="the closed loop raises the truth's surface dither on the lines a sensor saw best "
                          "while the estimator declares that sensor failed, within the subliminal criterion "
@@ -657,19 +663,20 @@ CORE_ONLY: dict[str, str] = {
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
-#: ``adaptive_dither``, ``fixed_dither`` and ``sensor_loss_dither`` are the closed loop's, loop/flight.py;
+#: ``adaptive_dither``, ``fixed_dither``, ``fixed_rudder_dither`` and ``sensor_loss_dither`` are the closed
+#: loop's, loop/flight.py;
 #: ``adapt_all_channels``, ``adapt_counted_channel``, ``adapt_excluded_channel`` and ``adapt_level_scale_channel`` are resolved by ``scheduled_defaults`` and the estimator;
 #: ``maneuver_setting`` is resolved by ``scheduled_defaults`` into the options it sets;
 #: ``trim_steady_air_data`` becomes the steady tracking's climb and Mach limits, ``set_tempering`` the
 #: per-hypothesis tempering's keywords and ``calm_complete`` ``calm_complete_rho``, loop/estimator.py core_arguments).
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
-                               "sensor_loss_dither", "calm_complete", "adapt_all_channels", "adapt_counted_channel", "adapt_excluded_channel",
+                               "fixed_rudder_dither", "sensor_loss_dither", "calm_complete", "adapt_all_channels", "adapt_counted_channel", "adapt_excluded_channel",
                                "adapt_level_scale_channel", "trim_steady_air_data", "set_tempering", "set_tempering_rho",
                                "set_tempering_margin", "set_tempering_margin_stabilators", "maneuver_setting")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.
-CLOSED_LOOP: tuple[str, ...] = ("adaptive_dither", "fixed_dither", "sensor_loss_dither")
+CLOSED_LOOP: tuple[str, ...] = ("adaptive_dither", "fixed_dither", "fixed_rudder_dither", "sensor_loss_dither")
 
 
 def with_closed_loop_defaults(settings: dict) -> dict:
@@ -816,6 +823,12 @@ def check(settings: dict) -> None:
     if settings.get("fixed_dither") and not (settings.get("turbulence_banks") or settings.get("adapt_turbulence")):
         raise ValueError("--fixed-dither applies with --turbulence-banks or --adapt-turbulence only (where the "
                          "adaptive dither is the default)")
+    if settings.get("fixed_rudder_dither") and not settings.get("adapt_turbulence"):
+        raise ValueError("--fixed-rudder-dither applies with --adapt-turbulence only (one adapted bank's adaptive "
+                         "dither grows the rudder's line; the turbulence bank set's does not)")
+    if settings.get("fixed_rudder_dither") and settings.get("fixed_dither"):
+        raise ValueError("--fixed-rudder-dither applies with the adaptive dither only; --fixed-dither flies the "
+                         "calm-air dither on every surface already")
     if settings.get("adaptive_dither") and settings.get("fixed_dither"):
         raise ValueError("--adaptive-dither and --fixed-dither exclude each other (the adaptive dither is the "
                          "default with --turbulence-banks and with a scheduled bank's --adapt-turbulence)")

@@ -29,9 +29,10 @@ its rho (the estimator's outputs, never the truth turbulence) and sets the truth
 turbulence line); the estimator propagates that u_i, dither included.  With one adapted bank
 rho is the adaptation's measured rho-bar and the reference
 ``truth.dither.adapted_dither_reference`` at the air data frame i was scheduled on (the last
-finite).  Both read ``estimator.measured_power_ratio``.  Over LCM (``f16mmae hil``) a and rho
-are the status's ``turbulence_member`` and ``turbulence_power_ratio``, the same numbers
-(docs/INTERFACES.md).
+finite), and the rudder's line takes its rough-air gain (``truth.dither.adaptive_rudder_gain``;
+the calm-air line with ``--fixed-rudder-dither``).  Both read ``estimator.measured_power_ratio``.
+Over LCM (``f16mmae hil``) a and rho are the status's ``turbulence_member`` and
+``turbulence_power_ratio``, the same numbers (docs/INTERFACES.md).
 
 Sensor-loss dither (estimator setting ``sensor_loss_dither``, ``--sensor-loss-dither``): after
 ``update(z_i)`` the loop reads the hypothesis the estimator declares (its own output, never the
@@ -234,6 +235,9 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
         rec_air = np.zeros((n_frames, 2))
     adaptive = bool(getattr(estimator, "settings", {}).get("adaptive_dither"))
     sensor_loss = bool(getattr(estimator, "settings", {}).get("sensor_loss_dither"))
+    # one adapted bank's rudder line: its rough-air gain's bound (1: the calm-air line, --fixed-rudder-dither)
+    rudder_bound = (1.0 if getattr(estimator, "settings", {}).get("fixed_rudder_dither")
+                    else fcs.dither.rudder_gain_bound)
     if sensor_loss and adaptive:
         raise ValueError("--sensor-loss-dither and --adaptive-dither both set the dither's gains: give one "
                          "(with --turbulence-banks the adaptive dither is the default: add --fixed-dither)")
@@ -246,7 +250,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
               and (not throttle or scenario.dither.throttle_on))  # C++ takes th_i from the dither
     if in_cpp:  # the whole flight in C++: one call, the same frames (one adapted bank's adaptive dither too)
         out = truth.fly_closed_loop(estimator.core_bank, n_frames, use_mmae, record_probabilities,
-                                     reconfiguration, adapted_dither=adaptive)
+                                     reconfiguration, adapted_dither=adaptive,
+                                     rudder_gain_bound=rudder_bound)
         t_truth += out["truth_s"]
         t_est += out["estimator_s"]
         events, probs, scale = out["events"], out["probabilities"], out["turbulence_scale"]
@@ -283,7 +288,8 @@ def fly(scenario, model_bank, *, feedback: str | None = None, estimator_options:
                                  "or one bank's turbulence adaptation and its measured rho; the estimator reports "
                                  "neither (give --adapt-turbulence; an executive over LCM: start mmae-daemon with "
                                  "the set's file and --turbulence-banks, or with --adapt-turbulence)")
-            gain = adaptive_gains(rho if reference is not None else 0.0, reference or 1.0)
+            gain = adaptive_gains(rho if reference is not None else 0.0, reference or 1.0,
+                                  rudder_bound=rudder_bound if member is None else None)
         elif sensor_loss:  # the hypothesis the estimator declares sets the gains (truth/dither.py)
             gain = sensor_loss_rule.gains(estimator.declared, dt)
         if (adaptive or sensor_loss) and gain != gain_now:

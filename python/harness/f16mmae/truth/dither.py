@@ -93,6 +93,29 @@ condition as the calm line is (``amplitude_schedule``) and kept within that rate
 h = 0 (the default) the dither is the fixed one bit for bit (1.0 x is exact and the second line
 is not added); cpp/truth/truth_frame.h computes the same in the same order.
 
+The rudder in rough air (``adaptive_rudder_gain``; one adapted bank's adaptive dither, not the
+set's): the rudder's calm line takes the gain::
+
+    g_RUD = max(1, min(sqrt(rho / ADAPTIVE_RUDDER_REFERENCE), G)),
+    G = max(1, min(ADAPTIVE_RUDDER_MAX_GAIN, ADAPTIVE_RATE_SHARE R_RUD / (a_RUD w_RUD)))
+
+(rho the adaptation's measured rho-bar, a_RUD w_RUD the scheduled line's rate amplitude, R_RUD
+the rudder's rate limit; ``Dither.rudder_gain_bound`` is G).  Why: the amplitude schedule shrinks
+the rudder's line with dynamic pressure (2.9 deg at Mach 0.66 / 32,900 ft against 5.5 at the
+design point) while the turbulence adaptation's scale s, which tempers every hypothesis's
+evidence, is largest high up (moderate air: s about 23 there, 8 at the design point), so the
+evidence the line gives against RUD per frame fell to a quarter of the design point's, and
+lateral gusts declared RUD for 3-5 s: 7 times in 5 h of moderate air there, none with the line
+1.5 x (docs/results/envelope_scheduled.md, round 50).  rho reads the residual power, so the line
+grown as sqrt(rho) keeps its share of the gusts' own lateral motion.  Its reference is above light
+air's rho-bar everywhere (at most 0.71 over 40 random envelope points), so calm and light air fly
+the fixed line.  Criterion: the whole dither's peak n_y, r and p at most ADAPTIVE_GUST_SHARE of
+the gusts' own peaks, or no more than with the fixed rudder line (``python
+tools/turbulence_dither.py --rudder``, moderate and severe air at 10 points over the envelope:
+largest share 0.49, r in moderate air at Mach 0.66 / 32,900 ft; without ADAPTIVE_RUDDER_MAX_GAIN
+and with the reference at 0.75, g reached 1.77 and r 0.55 of the gusts' at Mach 0.8 / 35,000 ft).
+cpp/truth/truth_frame.h (``AdaptedDither::rudder_gain``) computes the same in the same order.
+
 Sensor-loss dither (``sensor_loss_gains``; the closed loop's ``--sensor-loss-dither``,
 loop/flight.py): while the estimator declares one sensor s failed (its own output, never the
 failure truth), each surface's calm line takes the gain of s's row of ``SENSOR_LOSS_GAINS``::
@@ -149,6 +172,11 @@ ADAPTIVE_RATE_SHARE = 0.75
 ADAPTIVE_GUST_SHARE = 0.5
 #: sqrt(rho / rho_ref) at which the turbulence line is in full (module docstring).
 ADAPTIVE_FULL_RATIO = 1.35
+#: The rudder's rough-air gain (module docstring, "The rudder in rough air"): one adapted bank's measured
+#: rho-bar above which the rudder's line grows, above light air's everywhere (its largest over
+#: the 40 random envelope points: 0.71; moderate air 0.75-2.4), and the gain's largest value.
+ADAPTIVE_RUDDER_REFERENCE = 0.8
+ADAPTIVE_RUDDER_MAX_GAIN = 1.5
 #: The flaperons' turbulence line: frequency (Hz) and amplitude (deg; its rate 2 pi f b = 60
 #: deg/s, ADAPTIVE_RATE_SHARE of the flaperons' 80).
 TURBULENCE_FLAPERON_FREQUENCY_HZ = 1.0
@@ -396,10 +424,26 @@ def adapted_dither_reference(mach: float, alt_ft: float) -> float:
     return _bilinear(ADAPTED_DITHER_REFERENCE, mach, alt_ft)
 
 
-def adaptive_gains(rho: float, reference: float) -> tuple[list[float], list[float]]:
-    """(g_j, h_j) per surface, LS RS LF RF RUD, of the adaptive dither (module docstring)."""
+def adaptive_rudder_gain(rho: float, bound: float) -> float:
+    """g_RUD of one adapted bank's adaptive dither (module docstring): 1 up to
+    ``ADAPTIVE_RUDDER_REFERENCE``, then sqrt(rho / reference) up to ``bound`` (the line's rate
+    bound, ``Dither.rudder_gain_bound``); 1 for a non-finite rho.  ValueError for a bound that is
+    not finite and >= 1."""
+    if not (math.isfinite(bound) and bound >= 1.0):
+        raise ValueError(f"adaptive dither: the rudder gain's bound must be finite and >= 1, got {bound!r}")
+    if not (math.isfinite(rho) and rho > ADAPTIVE_RUDDER_REFERENCE):
+        return 1.0
+    return max(1.0, min(math.sqrt(rho / ADAPTIVE_RUDDER_REFERENCE), bound))
+
+
+def adaptive_gains(rho: float, reference: float,
+                   rudder_bound: float | None = None) -> tuple[list[float], list[float]]:
+    """(g_j, h_j) per surface, LS RS LF RF RUD, of the adaptive dither (module docstring);
+    ``rudder_bound`` (one adapted bank, ``Dither.rudder_gain_bound``): the rudder's rough-air
+    gain ``adaptive_rudder_gain(rho, rudder_bound)``, else the rudder's fixed line."""
     h = adaptive_mix(rho, reference)
-    return [1.0, 1.0, 1.0 - h, 1.0 - h, 1.0], [0.0, 0.0, h, h, 0.0]
+    g_rud = 1.0 if rudder_bound is None else adaptive_rudder_gain(rho, rudder_bound)
+    return [1.0, 1.0, 1.0 - h, 1.0 - h, g_rud], [0.0, 0.0, h, h, 0.0]
 
 
 #: The sensor-loss dither's gains per declared sensor on the calm line of each surface, LS RS LF
@@ -544,6 +588,13 @@ class Dither:
         self._b = [0.0, 0.0, a_t, a_t, 0.0] if on else [0.0] * 5
         self._v = [0.0, 0.0, v, v, 0.0]
         self._ph2 = [0.0, 0.0, self.spec.phase_rad[2], self.spec.phase_rad[3], 0.0]
+        #: The largest rough-air gain of the rudder's line (``adaptive_rudder_gain``):
+        #: ADAPTIVE_RUDDER_MAX_GAIN, or less where its rate amplitude would pass ADAPTIVE_RATE_SHARE
+        #: of the rudder's rate limit, and never below 1.
+        a_r, w_r = self._a[4], self._w[4]
+        self.rudder_gain_bound = (max(1.0, min(ADAPTIVE_RUDDER_MAX_GAIN,
+                                               ADAPTIVE_RATE_SHARE * RATE_LIMIT_RAD_S[4] / (a_r * w_r)))
+                                  if a_r > 0.0 and w_r > 0.0 else 1.0)
         #: The adaptive dither's gains g_j, h_j per surface (module docstring): the fixed dither.
         self.gain = [1.0] * 5
         self.gain2 = [0.0] * 5

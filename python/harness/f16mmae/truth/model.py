@@ -58,9 +58,9 @@ from ..names import ACTUATORS, FRAME_RATE_HZ, SENSORS, SIM_RATE_HZ
 from . import actuators as actuators_module
 from . import air_data as air_data_module, aircraft, sensors as sensors_module, turbulence
 from .air_data import AirDataSensor, air_data_rng
-from .dither import (ADAPTED_DITHER_REFERENCE, ADAPTIVE_FULL_RATIO, G_FPS2, THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH,
-                     THROTTLE_SCHEDULE_NX_G, THRUST_ACCEL_FPS2, scheduled_throttle_amplitude, throttle_command,
-                     throttle_terms)
+from .dither import (ADAPTED_DITHER_REFERENCE, ADAPTIVE_FULL_RATIO, ADAPTIVE_RUDDER_REFERENCE, G_FPS2,
+                     THROTTLE_GRID_ALT_FT, THROTTLE_GRID_MACH, THROTTLE_SCHEDULE_NX_G, THRUST_ACCEL_FPS2,
+                     scheduled_throttle_amplitude, throttle_command, throttle_terms)
 from .actuators import ActuatorBank
 from .engine import check_engine
 from .pool import POOL
@@ -345,19 +345,22 @@ class TruthModel:
         self.frame += n_frames
 
     def fly_closed_loop(self, bank, n_frames: int, use_mmae: bool, record_probabilities: bool,
-                        reconfiguration=None, adapted_dither: bool = False) -> dict:
+                        reconfiguration=None, adapted_dither: bool = False,
+                        rudder_gain_bound: float = 1.0) -> dict:
         """C++ engine only: ``n_frames`` closed-loop frames with ``bank`` (a fixed-size F-16
         ``core.HierarchicalBank``) in the loop and the ``attach``-ed control law, in one call;
         ``reconfiguration``: a ``core.SensorReconfiguration`` for the "reconfigure" feedback;
         ``adapted_dither``: the adaptive dither of one adapted bank (truth/dither.py
-        ``adapted_dither_reference``, the bank's measured rho-bar), as loop/flight.py flies it
-        frame by frame; see ``core.TruthFrames.fly_closed_loop`` (loop/flight.py uses it)."""
+        ``adapted_dither_reference``, and ``adaptive_rudder_gain`` up to ``rudder_gain_bound``: the
+        control law's ``Dither.rudder_gain_bound``, 1 for the calm-air rudder line; the bank's
+        measured rho-bar), as loop/flight.py flies it frame by frame.  See
+        ``core.TruthFrames.fly_closed_loop`` (loop/flight.py uses it)."""
         self._check_open()
         if self._frames is None or not self.law_in_cpp:
             raise ValueError("fly_closed_loop needs the cpp truth engine and a control law attached there")
         if adapted_dither:
             self._frames.set_adapted_dither(THROTTLE_GRID_MACH, THROTTLE_GRID_ALT_FT, ADAPTED_DITHER_REFERENCE,
-                                            ADAPTIVE_FULL_RATIO)
+                                            ADAPTIVE_FULL_RATIO, ADAPTIVE_RUDDER_REFERENCE, rudder_gain_bound)
         end = self.frame + n_frames
         cuts = [f for f, _ in self._pending_turb if self.frame < f < end] + [end]
         out = None

@@ -826,9 +826,6 @@ def check(settings: dict) -> None:
     if settings.get("fixed_rudder_dither") and not settings.get("adapt_turbulence"):
         raise ValueError("--fixed-rudder-dither applies with --adapt-turbulence only (one adapted bank's adaptive "
                          "dither grows the rudder's line; the turbulence bank set's does not)")
-    if settings.get("fixed_rudder_dither") and settings.get("fixed_dither"):
-        raise ValueError("--fixed-rudder-dither applies with the adaptive dither only; --fixed-dither flies the "
-                         "calm-air dither on every surface already")
     if settings.get("adaptive_dither") and settings.get("fixed_dither"):
         raise ValueError("--adaptive-dither and --fixed-dither exclude each other (the adaptive dither is the "
                          "default with --turbulence-banks and with a scheduled bank's --adapt-turbulence)")

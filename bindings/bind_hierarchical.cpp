@@ -455,6 +455,16 @@ declarations and the level carry over. schedule_state reports what is in force.)
                              prop([](auto& b) { return b.bank().adaptation().measured_power_ratio(); }),
                              "the adaptation's measured rho-bar (0.0 before the first update; the calm-air "
                              "complete model's and the turbulence bank set's measure of the air)")
+      .def_property_readonly("air_power_ratio", prop([](auto& b) { return b.bank().adaptation().air_power_ratio(); }),
+                             "the air's power ratio: rho-bar, or the lull floor's long average once in force "
+                             "when larger (the rough-air floor's and the rough-air full tempering's measure)")
+      .def_property_readonly("power_scale", prop([](auto& b) { return b.bank().adaptation().power_scale(); }),
+                             "the adaptation's power scale sigma in force (a scheduled bank's node reference "
+                             "scale, blended; 1 otherwise): its rho-bar over sigma is what the references read")
+      .def_property_readonly("fully_tempered",
+                             prop([](auto& b) { return b.bank().adaptation().fully_tempered(); }),
+                             "the per-hypothesis tempering's fully tempered hypotheses for the next frame, "
+                             "a bit per level-0 hypothesis (full_tempering, with rough_tempering in rough air)")
       .def_property_readonly("calm_complete_channels", prop([](auto& b) { return b.bank().complete_channels(); }),
                              "the channels read with the complete model from the next update on, a bit per "
                              "measurement (calm_complete_rho)")

@@ -228,6 +228,10 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_level_scale_from"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::floor_time_constant_s>(
           "adapt_floor_time_constant_s"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::rough_tempering>(
+          "adapt_rough_tempering"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::rough_rho>("adapt_rough_rho"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::rough_weight>("adapt_rough_weight"),
       field<&O::spare_dwell_s>("spare_dwell_s"),
       field<&O::evidence_dwell_in_phases>("evidence_dwell_in_phases"),
       // the climb reference

@@ -212,6 +212,7 @@ bool rough_dwell(const DaemonConfig& c) { return !c.estimator.declarer.rough_dwe
 bool maneuver_trim(const DaemonConfig& c) { return c.estimator.maneuver_trim.enabled; }
 bool set_tempering(const DaemonConfig& c) { return c.set_tempering.has_value(); }
 bool set_tempering_margin(const DaemonConfig& c) { return c.set_tempering_margin; }
+bool set_tempering_rough(const DaemonConfig& c) { return c.set_tempering_rough.has_value(); }
 bool turbulence_set(const DaemonConfig& c) { return c.turbulence_banks; }
 
 // A least-dwell table "NAME=S,..." (declarer.h) into the declarer's `table`; the parser's
@@ -476,6 +477,20 @@ const std::vector<Flag>& flags() {
       {"--set-tempering-rho", "RHO", "only while the member's measured rho is at least RHO (default 0: at any rho)",
        number(&C::set_tempering_rho, {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr, "--set-tempering",
        set_tempering},
+      {"--set-tempering-rough", "RHO",
+       "the --set-tempering-rough-full hypotheses keep the full s too while the air's measured rho is at "
+       "least RHO ('f16mmae hil' gives the scheduled default with RUD; default: none)",
+       number(&C::set_tempering_rough, {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr, "--set-tempering",
+       set_tempering},
+      {"--set-tempering-rough-full", "NAME,...",
+       "the hypotheses --set-tempering-rough keeps at the full s in rough air (names of the bank's level-0 "
+       "hypotheses)",
+       hypothesis_names(&C::set_tempering_rough_full), nullptr, "--set-tempering-rough", set_tempering_rough},
+      {"--set-tempering-rough-weight", "W",
+       "in rough air the --set-tempering-rough-full hypotheses' evidence is tempered by 1 + W (s - 1) when one "
+       "fits best (default 1: the full s)",
+       number(&C::set_tempering_rough_weight, {0.0, 1.0, true}, "a weight in (0, 1]"), nullptr,
+       "--set-tempering-rough", set_tempering_rough},
       {"--set-tempering-margin", "",
        "the spared evidence is the hypothesis's margin over the best-fitting of NONE and the "
        "--set-tempering-full hypotheses (default: over NONE)",

@@ -49,6 +49,9 @@ struct DaemonConfig {
   std::optional<double> set_tempering;         // the per-hypothesis tempering's weight W (turbulence_adaptation.h), with turbulence_banks
   std::vector<std::string> set_tempering_full; // hypotheses (upper case) kept at the full s, with set_tempering
   std::optional<double> set_tempering_rho;     // the sparing only while the measured rho >= this, with set_tempering
+  std::optional<double> set_tempering_rough;   // the air's rho from which set_tempering_rough_full keep s, with set_tempering
+  std::vector<std::string> set_tempering_rough_full;  // hypotheses (upper case) kept at s in rough air, with set_tempering_rough
+  std::optional<double> set_tempering_rough_weight;  // their share of s - 1 in rough air, with set_tempering_rough
   bool set_tempering_margin = false;           // the spared evidence over the best of NONE and the full ones, with set_tempering
   std::vector<std::string> set_tempering_margin_over;  // hypotheses (upper case) of the margin's reference, with set_tempering_margin
   std::optional<double> start_up_s;  // filter_bank.h: updates that weigh nothing after a start; unset: the bank's

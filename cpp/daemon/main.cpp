@@ -157,6 +157,8 @@ int main(int argc, char** argv) {
       options.bank.adaptation.hypothesis_weight = *cfg.set_tempering;
       options.bank.adaptation.spare_rho = cfg.set_tempering_rho.value_or(0.0);
       options.bank.adaptation.spare_margin = cfg.set_tempering_margin;
+      options.bank.adaptation.rough_rho = cfg.set_tempering_rough.value_or(0.0);
+      options.bank.adaptation.rough_weight = cfg.set_tempering_rough_weight.value_or(1.0);
       // hypothesis names as bits (level 0: NONE, then the singles, in the bank's order); false: one is not there
       const auto bits = [&](const std::vector<std::string>& names, const char* flag, std::uint32_t& out) {
         out = 0;
@@ -172,7 +174,8 @@ int main(int argc, char** argv) {
         return true;
       };
       if (!bits(cfg.set_tempering_full, "--set-tempering-full", options.bank.adaptation.full_tempering) ||
-          !bits(cfg.set_tempering_margin_over, "--set-tempering-margin-over", options.bank.adaptation.spare_margin_over))
+          !bits(cfg.set_tempering_margin_over, "--set-tempering-margin-over", options.bank.adaptation.spare_margin_over) ||
+          !bits(cfg.set_tempering_rough_full, "--set-tempering-rough-full", options.bank.adaptation.rough_tempering))
         return 1;
     }
     options.bank.start_up_s = cfg.start_up_s.value_or(bank.estimator.start_up_s);   // a schedule's recommendation
@@ -291,6 +294,10 @@ int main(int argc, char** argv) {
                       f16mmae::format_value(a.spare_rho) + (a.spare_margin ? " margin" : "") +
                       (a.spare_margin_over ? " over " + std::to_string(a.spare_margin_over) : std::string()) +
                       " full " + std::to_string(a.full_tempering) +
+                      (a.rough_tempering ? " rough " + std::to_string(a.rough_tempering) + " from rho " +
+                                               f16mmae::format_value(a.rough_rho) + " weight " +
+                                               f16mmae::format_value(a.rough_weight)
+                                         : std::string()) +
                       (options.spare_dwell_s > 0.0 ? " dwell " + f16mmae::format_value(options.spare_dwell_s) + " s"
                                                    : std::string());
       const std::string adaptation_climb =

@@ -13,7 +13,8 @@
 //                   D = diag(s_j^-1/2) of the frames before, and the best-fitting filter's
 //                   residual updates s_j; per hypothesis (adaptation.hypothesis_weight w < 1,
 //                   while hypothesis 0 is presumed) the frame's best-fitting failure filter b
-//                   not in adaptation.full_tempering has l_b = -(q_0 + (q_b - q_0) s / s_b)/(2 s),
+//                   not fully tempered (adaptation.full_tempering, and rough_tempering while
+//                   the air's rho reads >= rough_rho) has l_b = -(q_0 + (q_b - q_0) s / s_b)/(2 s),
 //                   s_b = 1 + w (s - 1) (turbulence_adaptation.h; b = argmin q_k; only while
 //                   rho-bar >= spare_rho; with adaptation.spare_margin q_0 there is min(q_0, q_f:
 //                   f in full_tempering, or in spare_margin_over when it is set)).
@@ -359,7 +360,8 @@ class FilterBank {
       if (per_channel)
         l = -0.5 * channel_tempered_form(i);
       else if (i == spared)
-        l = -0.5 * (q_ref + (q_(i) - q_ref) * scale_.hypothesis_scale_ratio()) * inv_s;
+        l = -0.5 * (q_ref + (q_(i) - q_ref) * (((scale_.rough_spared() >> i) & 1u) ? scale_.rough_scale_ratio()
+                                                                                 : scale_.hypothesis_scale_ratio())) * inv_s;
       else if (adapt)
         l *= inv_s;
       if (extra_inv_scale_ != 1.0) l *= extra_inv_scale_;
@@ -754,7 +756,8 @@ class FilterBank {
   }
   // The per-hypothesis tempering's spared hypothesis (turbulence_adaptation.h; `reference` is set
   // to q_r of the spared form when one is spared): the on-line
-  // failure hypothesis of least q_k (finite), unless its bit of full_tempering is set; -1 when
+  // failure hypothesis of least q_k (finite), unless it is fully tempered this frame
+  // (ResidualScale::fully_tempered(): full_tempering, and rough_tempering in rough air); -1 when
   // the tempering is off or not caught up (ResidualScale::spares()), another hypothesis than
   // 0 is presumed (a hierarchical bank's level 1: its declared failure), q_0 is not finite or
   // there is none.
@@ -769,7 +772,7 @@ class FilterBank {
       }
     }
     const TurbulenceAdaptationOptions& o = scale_.options();
-    const std::uint32_t full = o.full_tempering;
+    const std::uint32_t full = scale_.fully_tempered();
     if (b < 0 || b >= 32 || ((full >> b) & 1u)) return -1;
     // q_r: q_0, or with spare_margin min(q_0, q_f: f on line in spare_margin_over, or fully tempered when it is 0)
     reference = q_(0);

@@ -219,6 +219,21 @@
 //     keeps the margin where a stabilator's onset is fitted in part by a sensor hypothesis and
 //     measures every other frame's lift against filter 0 and the stabilators only. Bits outside
 //     F are allowed (a hypothesis spared on a frame is still b's rival at s there).
+//   rough_tempering (bits) with rough_rho ρ_r and rough_weight w_r: while the air's power
+//     ratio reads rough, ρ_a >= σ ρ_r (air_power_ratio() below: ρ̄, or the lull floor's ρ_L
+//     once in force, the frames before), these hypotheses' share of s − 1 is w_r in place of w:
+//     when one of them is b,
+//       s_b = 1 + w_r (s − 1)
+//     in the spared form above. w_r = 1 (the default) keeps them at the full s: they join the
+//     fully tempered ones,
+//       F(ρ_a) = full_tempering ∪ (rough_tempering if ρ_a >= σ ρ_r),
+//     in the choice of b (a fully tempered least q_k spares none) and in the margin's reference.
+//     Why: a hypothesis whose likelihood the gusts lift little in moderate air, so that sparing
+//     it keeps its failure's latency, can be lifted past a declaration in severe air, where its
+//     spared evidence takes the gusts' excursions at s_b << s (a scheduled bank's rudder above
+//     29,000 ft: docs/results/envelope_scheduled.md, round 51). ρ_r between the air's ρ̄ in
+//     moderate and in severe turbulence keeps the sparing in moderate air and shares less of it
+//     in severe. With rough_tempering 0 (the default) nothing changes.
 //   So the sparing is in force on a frame iff w < 1, s > 1, ρ >= ρ̄ / 2 and ρ̄ >= ρ_s.
 //
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
@@ -275,6 +290,9 @@ struct alignas(16) TurbulenceAdaptationOptions {
   double spare_rho = 0.0;                // ρ_s: the sparing only while ρ̄ >= ρ_s (header); 0: at any ρ̄
   double level_scale_from = 1.0;         // s_0 of level_scale_channels (filter_bank.h); 1: (n / 2) ln s
   double floor_time_constant_s = 0.0;    // τ_L of the lull floor's long average ρ_L (header); 0: off
+  double rough_rho = 0.0;                // ρ_r: rough_tempering's bits keep the full s while ρ_a >= σ ρ_r (header)
+  double rough_weight = 1.0;             // w_r: their share of s − 1 in rough air (header); 1: the full s
+  std::uint32_t rough_tempering = 0;     // bit k: hypothesis k keeps the full s in rough air (header); 0: none
 };
 
 // Throws std::invalid_argument "<who>: <option> must be <range>, got <value>".
@@ -295,6 +313,8 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
   if (!(o.hypothesis_weight > 0.0 && o.hypothesis_weight <= 1.0))
     refuse("adapt_hypothesis_weight", "in (0, 1]", o.hypothesis_weight);
   if (!(o.spare_rho >= 0.0 && o.spare_rho <= 100.0)) refuse("adapt_spare_rho", "in [0, 100]", o.spare_rho);
+  if (!(o.rough_rho >= 0.0 && o.rough_rho <= 100.0)) refuse("adapt_rough_rho", "in [0, 100]", o.rough_rho);
+  if (!(o.rough_weight > 0.0 && o.rough_weight <= 1.0)) refuse("adapt_rough_weight", "in (0, 1]", o.rough_weight);
   if (!(o.level_scale_from >= 1.0 && o.level_scale_from <= 1000.0))
     refuse("adapt_level_scale_from", "in [1, 1000]", o.level_scale_from);
   if (!(o.floor_time_constant_s == 0.0 ||
@@ -340,6 +360,22 @@ class ResidualScale {
   // and ρ̄ >= ρ_s.
   bool spares() const noexcept {
     return per_hypothesis() && s_ > 1.0 && rho_ >= 0.5 * measured_ && measured_ >= power_scale_ * options_.spare_rho;
+  }
+  // F(ρ_a) of the header's per-hypothesis form: the bits of the hypotheses kept at the full s
+  // this frame (full_tempering, with rough_tempering's while ρ_a >= σ ρ_r).
+  std::uint32_t fully_tempered() const noexcept {
+    return options_.full_tempering | (options_.rough_weight >= 1.0 ? rough_in_force() : 0u);
+  }
+  // The rough-air hypotheses spared by w_r < 1 in place of w this frame (header; 0 with w_r = 1).
+  std::uint32_t rough_spared() const noexcept { return options_.rough_weight < 1.0 ? rough_in_force() : 0u; }
+  // rough_tempering's bits while ρ_a >= σ ρ_r, else 0.
+  std::uint32_t rough_in_force() const noexcept {
+    return options_.rough_tempering != 0u && air_power_ratio() >= power_scale_ * options_.rough_rho
+               ? options_.rough_tempering : 0u;
+  }
+  // s / (1 + w_r (s − 1)): the rough-air share's ratio (1 when off).
+  double rough_scale_ratio() const noexcept {
+    return per_hypothesis() ? s_ / (1.0 + options_.rough_weight * (s_ - 1.0)) : 1.0;
   }
   // s_b = 1 + w (s − 1) of the header's per-hypothesis form, as the ratio s / s_b (1 when off).
   double hypothesis_scale_ratio() const noexcept {

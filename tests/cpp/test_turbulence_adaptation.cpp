@@ -719,6 +719,64 @@ TEST(TurbulenceAdaptation, PerHypothesisTemperingSparesTheBestFittingFailureByHa
   EXPECT_TRUE(r.spares());
 }
 
+TEST(TurbulenceAdaptation, RoughTemperingKeepsItsHypothesesAtTheFullScaleInRoughAirOnlyByHand) {
+  // tau far below a frame and kappa = 1, rho_0 = 1: s = clamp(min_k q_k, 1, 50) of the last frame,
+  // rho-bar = min_k q_k of the last frame (one channel). A = (1, 4, 2, 3): q_k = z^2 / A_k.
+  // w = 0.25; hypothesis 1 kept at the full s while rho-bar >= rho_r = 3 (no lull floor: the
+  // air's rho is rho-bar).
+  FilterBankOptions o;
+  o.p_min = 0.0;
+  o.adaptation = on(1e-5, 1.0, 50.0);
+  o.adaptation.hypothesis_weight = 0.25;
+  FilterBankOptions rough = o;
+  rough.adaptation.rough_tempering = 1u << 1;
+  rough.adaptation.rough_rho = 3.0;
+  const std::vector<Scalar> models{scalar_model(1.0), scalar_model(4.0), scalar_model(2.0), scalar_model(3.0)};
+  FilterBankOptions shared = rough;   // w_r = 0.5: the rudder's share in rough air, in place of w's
+  shared.adaptation.rough_weight = 0.5;
+  ScalarBank spared(models, o), gated(models, rough), half(models, shared);
+  const auto l1_spared = [](double q0, double q1, double s, double w = 0.25) {
+    const double s_b = 1.0 + w * (s - 1.0);
+    return -(q0 + (q1 - q0) * s / s_b) / (2 * s);
+  };
+  // frame 1, z = 3: q = (9, 2.25, 4.5, 3); rho-bar = 2.25 < 3: moderate air
+  for (ScalarBank* b : {&spared, &gated, &half}) ASSERT_TRUE(b->update(z1(3.0)));
+  EXPECT_NEAR(gated.adaptation().air_power_ratio(), 2.25, 1e-12);
+  EXPECT_EQ(gated.adaptation().fully_tempered(), 0u);
+  // frame 2, z = 2: q = (4, 1, 2, 4/3), s = 2.25: hypothesis 1 spared in both
+  for (ScalarBank* b : {&spared, &gated, &half}) ASSERT_TRUE(b->update(z1(2.0)));
+  EXPECT_NEAR(gated.log_likelihoods()(1), l1_spared(4.0, 1.0, 2.25), 1e-14);
+  EXPECT_EQ(gated.log_likelihoods(), spared.log_likelihoods());
+  EXPECT_EQ(half.log_likelihoods(), spared.log_likelihoods());
+  // frame 3, z = 4: q = (16, 4, 8, 16/3), s = 1 (rho-bar 1 of frame 2): nothing to spare;
+  // rho-bar = 4 >= 3 from here: rough air
+  for (ScalarBank* b : {&spared, &gated, &half}) ASSERT_TRUE(b->update(z1(4.0)));
+  EXPECT_EQ(gated.adaptation().fully_tempered(), 1u << 1);
+  EXPECT_EQ(spared.adaptation().fully_tempered(), 0u);
+  EXPECT_EQ(half.adaptation().fully_tempered(), 0u);   // w_r < 1: spared by w_r, not fully tempered
+  EXPECT_EQ(half.adaptation().rough_spared(), 1u << 1);
+  // frame 4, z = 2: s = 4; the gated bank keeps 1 at s, l_1 = -q_1 / (2 s); the other spares it
+  // by w, the half bank by w_r: s_b = 1 + 0.5 (4 - 1) = 2.5, l_1 = -(4 + (1 - 4) 4 / 2.5) / 8 = 0.1
+  for (ScalarBank* b : {&spared, &gated, &half}) ASSERT_TRUE(b->update(z1(2.0)));
+  EXPECT_NEAR(gated.log_likelihoods()(1), -1.0 / (2 * 4.0), 1e-14);
+  EXPECT_NEAR(spared.log_likelihoods()(1), l1_spared(4.0, 1.0, 4.0), 1e-14);
+  EXPECT_NEAR(half.log_likelihoods()(1), l1_spared(4.0, 1.0, 4.0, 0.5), 1e-14);
+  EXPECT_NEAR(half.log_likelihoods()(1), 0.1, 1e-14);
+  EXPECT_GT(spared.log_likelihoods()(1), half.log_likelihoods()(1));
+  EXPECT_GT(half.log_likelihoods()(1), gated.log_likelihoods()(1));
+  for (int k : {0, 2, 3}) EXPECT_EQ(half.log_likelihoods()(k), spared.log_likelihoods()(k)) << k;
+  for (int k : {0, 2, 3}) EXPECT_EQ(gated.log_likelihoods()(k), spared.log_likelihoods()(k)) << k;
+  // a fully tempered least q_k spares none: hypothesis 3 (the next best) is not spared instead
+  EXPECT_NEAR(gated.log_likelihoods()(3), -(4.0 / 3.0) / (2 * 4.0), 1e-14);
+  // the raw forms drive the scale in both
+  EXPECT_EQ(gated.turbulence_scale(), spared.turbulence_scale());
+  // back in calmer air (rho-bar 1 after frame 4): spared again
+  for (ScalarBank* b : {&spared, &gated}) ASSERT_TRUE(b->update(z1(3.0)));   // s = 1 on this frame
+  EXPECT_EQ(gated.adaptation().fully_tempered(), 0u);
+  for (ScalarBank* b : {&spared, &gated}) ASSERT_TRUE(b->update(z1(2.0)));
+  EXPECT_EQ(gated.log_likelihoods(), spared.log_likelihoods());
+}
+
 TEST(TurbulenceAdaptation, SparedHypothesisOnlyInRoughAirByHand) {
   // Three filters on two channels, tau far below a frame (alpha = 1: rho = rho-bar = x of the last
   // frame), gain 1, reference 1 (s = rho), own channels (x = min_k q_k / m_k), w = 0.25.
@@ -910,6 +968,17 @@ TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   o = on(5.0);
   o.spare_rho = -1.0;
   refused(o, "adapt_spare_rho");
+  o.spare_rho = 0.0;
+  o.rough_rho = 101.0;
+  refused(o, "adapt_rough_rho");
+  o.rough_rho = std::nan("");
+  refused(o, "adapt_rough_rho");
+  o.rough_rho = 0.0;
+  o.rough_weight = 0.0;
+  refused(o, "adapt_rough_weight");
+  o.rough_weight = 1.5;
+  refused(o, "adapt_rough_weight");
+  o.rough_weight = 1.0;
   o.spare_rho = std::nan("");
   refused(o, "adapt_spare_rho");
   o = on(5.0);

@@ -2,7 +2,8 @@
 scheduled bank flown with the turbulence adaptation counts each filter's residual power per
 channel it reads (own channels) unless ``adapt_all_channels`` asks for the plain minimum; the
 counted channel (``adapt_counted_channel``) reaches the core as its bit; the per-hypothesis
-tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING``, trim tracking at
+tempering (``set_tempering``) is on at ``names.SCHEDULE_SET_TEMPERING`` (the rudder fully tempered
+from the air's ``names.SCHEDULE_SET_TEMPERING_ROUGH`` on), trim tracking at
 ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` and VEL's least dwell at
 ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` (the rudder's in rough air at
 ``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``), the evidence dwell per hypothesis at
@@ -27,6 +28,8 @@ from schedule_support import floors_in_force, one_node_schedule
 def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
     given = {"adapt_turbulence": True}
     spared = {"set_tempering": names.SCHEDULE_SET_TEMPERING,   # the per-hypothesis tempering, whatever the rule
+              "set_tempering_rough": names.SCHEDULE_SET_TEMPERING_ROUGH,   # with the rudder's in rough air
+              "set_tempering_rough_weight": names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT,
               "trim_time_constant_s": names.SCHEDULE_TRIM_TIME_CONSTANT_S,   # trim tracking
               "dwell_s_per_hypothesis": names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,   # VEL's least dwell
               "rough_dwell_s_per_hypothesis": names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,   # the rudder's in rough air
@@ -60,12 +63,18 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
            "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
            "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
            "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True, "maneuver_setting": "off",
-           "adapt_floor_time_constant_s": 0.0, "rough_p_min": 0.0}
+           "adapt_floor_time_constant_s": 0.0, "rough_p_min": 0.0, "set_tempering_rough": 0.0}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
     assert core_arguments(off)["dwell_s_per_hypothesis"] == {"VEL": 0.0}
     assert "adapt_level_scale_channels" not in core_arguments(off)   # none: no channel, the core's 0
+    assert "adapt_rough_tempering" not in core_arguments(off)   # 0: the rudder spared at any rho
+    bound = scheduled_defaults({**given, "set_tempering_rough": 8.0}, True)   # a bound given: the full s there
+    assert bound["set_tempering_rough"] == 8.0 and "set_tempering_rough_weight" not in bound
+    weight = scheduled_defaults({**given, "set_tempering_rough_weight": 0.7}, True)   # a weight given: the default bound
+    assert (weight["set_tempering_rough"], weight["set_tempering_rough_weight"]) == (names.SCHEDULE_SET_TEMPERING_ROUGH, 0.7)
+    check({**given, "set_tempering_rough_weight": 0.7})   # waits for the bank's default bound
     for settings in (given, own, rol, all_channels, {}):   # applied twice as once (hil's --compare run)
         once = scheduled_defaults(settings, True)
         assert scheduled_defaults(once, True) == once
@@ -165,13 +174,16 @@ def test_the_cached_scheduled_bank_is_named_by_every_design_setting(monkeypatch)
 
 def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     """hil hands mmae-daemon the scheduled estimator's defaults resolved (own channels, VEL
-    counted, the per-hypothesis tempering with its fully tempered hypotheses, trim tracking, the
+    counted, the per-hypothesis tempering with its fully tempered hypotheses (the rudder in rough air), trim tracking, the
     load-factor tempering, the lull floor; not the closed loop's adaptive dither), so the executive over LCM runs the
     rule the estimator in process runs."""
     from f16mmae.lcm.daemon import daemon_flags
     flags = daemon_flags(scheduled_defaults({"adapt_turbulence": True, "maneuver_setting": "off"}, True))
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
+                          "--set-tempering-rough", str(names.SCHEDULE_SET_TEMPERING_ROUGH),
+                          "--set-tempering-rough-full", "RUD",
+                          "--set-tempering-rough-weight", str(names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT),
                           "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                           "--rough-dwell-s-per-hypothesis", names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,
                           "--rough-scale", str(names.SCHEDULE_ROUGH_SCALE),

@@ -19,8 +19,8 @@ from f16mmae.banks import load_bank
 from f16mmae.design.turbulence_banks import set_path
 from f16mmae.lcm.daemon import daemon_flags, find_executable
 from f16mmae.loop.estimator import core_arguments
-from f16mmae.loop.estimator_options import check
-from f16mmae.names import ADAPT_SET_TEMPERING_FULL, SET_TEMPERING_FULL, SINGLE_HYPOTHESES
+from f16mmae.loop.estimator_options import check, check_requirements
+from f16mmae.names import ADAPT_SET_TEMPERING_FULL, ADAPT_SET_TEMPERING_ROUGH, SET_TEMPERING_FULL, SINGLE_HYPOTHESES
 
 from daemon_support import ready_line
 
@@ -290,3 +290,66 @@ def test_the_spare_dwell_reaches_the_core_and_the_daemon():
     r = subprocess.run([daemon, "--bank", str(set_path()), "--turbulence-banks", "--set-tempering-dwell", "0.0625"],
                        capture_output=True, text=True, timeout=20)
     assert r.returncode == 2 and "--set-tempering-dwell applies with --set-tempering only" in r.stdout + r.stderr
+
+
+def test_the_rough_air_set_reaches_the_core_and_the_daemon():
+    options = {"adapt_turbulence": True, "set_tempering": 0.25, "set_tempering_rough": 9.0}
+    check(options)
+    args = core_arguments(options)
+    assert args["adapt_rough_rho"] == 9.0
+    bits = args["adapt_rough_tempering"]
+    assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if bits >> i & 1] == list(ADAPT_SET_TEMPERING_ROUGH) == ["RUD"]
+    assert not bits & args["adapt_full_tempering"]   # spared in calmer air: not among the always fully tempered
+    assert "set_tempering_rough" not in args
+    assert "adapt_rough_tempering" not in core_arguments({**options, "set_tempering_rough": 0.0})   # 0: off
+    with pytest.raises(ValueError, match="--set-tempering-rough applies with --set-tempering"):
+        check({"turbulence_banks": True, "set_tempering_rough": 9.0})
+    with pytest.raises(ValueError, match="--set-tempering-rough applies with --set-tempering only .the bank is not sch"):
+        check_requirements({"adapt_turbulence": True, "set_tempering_rough": 9.0}, scheduled=False)
+    with pytest.raises(ValueError, match="--set-tempering-rough"):
+        check({**options, "set_tempering_rough": -1.0})
+    flags = daemon_flags(options)
+    assert flags[flags.index("--set-tempering-rough") + 1] == "9.0"
+    assert flags[flags.index("--set-tempering-rough-full") + 1] == "RUD"
+    assert "--set-tempering-rough-weight" not in flags and "adapt_rough_weight" not in args   # the core's 1: the full s
+    ready = ready_line("--bank", load_bank("tuned")[1], *flags)
+    assert f"full {args['adapt_full_tempering']} rough {bits} from rho 9 weight 1" in ready, ready
+    shared = {**options, "set_tempering_rough_weight": 0.5}   # the scheduled default's share
+    check(shared)
+    assert core_arguments(shared)["adapt_rough_weight"] == 0.5
+    flags = daemon_flags(shared)
+    assert flags[flags.index("--set-tempering-rough-weight") + 1] == "0.5"
+    assert f"rough {bits} from rho 9 weight 0.5" in ready_line("--bank", load_bank("tuned")[1], *flags)
+    with pytest.raises(ValueError, match="--set-tempering-rough-weight"):
+        check({**shared, "set_tempering_rough_weight": 0.0})
+    daemon = str(find_executable("mmae-daemon"))
+    for bad, message in ((["--adapt-turbulence", "--set-tempering", "0.25", "--set-tempering-rough-full", "RUD"],
+                          "--set-tempering-rough-full applies with --set-tempering-rough only"),
+                         (["--adapt-turbulence", "--set-tempering", "0.25", "--set-tempering-rough", "-1"],
+                          "--set-tempering-rough must be a power ratio in [0, 100], got '-1'")):
+        r = subprocess.run([daemon, "--bank", str(load_bank("tuned")[1]), *bad], capture_output=True, text=True,
+                           timeout=20)
+        assert r.returncode == 2 and message in r.stdout + r.stderr, (bad, r.stdout + r.stderr)
+
+
+def test_in_rough_air_its_hypotheses_are_tempered_fully_and_below_it_spared_as_before():
+    bank = load_bank("turbulence")[2]
+    full = core_arguments({"set_tempering": 0.25, "turbulence_banks": True})["adapt_full_tempering"]
+    spared_ones = sum(1 << k for k in range(1, len(SINGLE_HYPOTHESES)) if not full >> k & 1)
+    kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_time_constant_s=1.0, p_min=1e-9,
+              adapt_own_channels=True, adapt_hypothesis_weight=0.25, adapt_full_tempering=full)
+    raw = core.HierarchicalBank(bank, **kw)
+    calm = core.HierarchicalBank(bank, adapt_rough_rho=100.0, adapt_rough_tempering=spared_ones, **kw)
+    rough = core.HierarchicalBank(bank, adapt_rough_rho=0.5, adapt_rough_tempering=spared_ones, **kw)
+    plain = core.HierarchicalBank(bank, **{**kw, "adapt_hypothesis_weight": 1.0})
+    assert rough.fully_tempered == full   # before the first update the air's rho is 0
+    frames = _rough_flight([raw, calm, rough, plain])
+    assert len(frames) > 150
+    assert rough.air_power_ratio >= 0.5 and rough.fully_tempered == full | spared_ones
+    assert calm.fully_tempered == full
+    spared = 0
+    for l_raw, l_calm, l_rough, l_plain in frames:
+        assert np.array_equal(l_calm, l_raw)     # never rough: every frame as without the rough-air set
+        assert np.array_equal(l_rough, l_plain)  # rough throughout, every hypothesis fully tempered: none spared
+        spared += int(not np.array_equal(l_raw, l_plain))
+    assert spared > 50

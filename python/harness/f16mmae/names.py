@@ -89,6 +89,11 @@ SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF")
 #: 3.2 nats); the roll, pitch and yaw gyros, the lateral accelerometer and the rudder are spared
 #: (docs/results/envelope_scheduled.md, round 20).
 ADAPT_SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF", "AZ", "AOA", "VEL")
+#: The hypotheses ``--set-tempering-rough`` keeps at the full s too while the air reads rough
+#: (cpp/f16mmae/turbulence_adaptation.h rough_tempering): the rudder, spared in light and
+#: moderate air (its failure's evidence needs it there) and lifted past declarations in severe
+#: air above 29,000 ft when spared (docs/results/envelope_scheduled.md, round 51).
+ADAPT_SET_TEMPERING_ROUGH: tuple[str, ...] = ("RUD",)
 #: The per-hypothesis tempering's margin reference with ``--set-tempering-margin-stabilators``
 #: (with NONE; cpp/f16mmae/turbulence_adaptation.h ``spare_margin_over``): the stabilators.
 SET_TEMPERING_MARGIN_STABILATORS: tuple[str, ...] = ("LS", "RS")
@@ -176,6 +181,20 @@ SCHEDULE_ADAPT_COUNTED_CHANNEL = "VEL"
 #: look-alikes need it), which held a failed roll gyro's evidence below a declaration in 40 of 400
 #: settled random-point runs; spared, none (docs/results/envelope_scheduled.md, round 20).
 SCHEDULE_SET_TEMPERING = 0.25
+#: The scheduled estimator's rough-air bound on the air's measured rho (``--set-tempering-rough``,
+#: with the per-hypothesis tempering): from it on the rudder's share of the tempering is
+#: SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT (ADAPT_SET_TEMPERING_ROUGH). Over 40 random points
+#: moderate air's rho reads at most 2.3 (95th percentile) and severe air's median 2.7-15.5,
+#: growing with altitude; the rudder's false declarations in severe air were where it reads 9 or
+#: more, above 29,000 ft. Fully tempered from 8 or 9 the same of them went; from 9 three more
+#: failed rudders were found there within 5 s, from 10 23 declarations came back (tuning seed 7:
+#: docs/results/envelope_scheduled.md, round 51).
+SCHEDULE_SET_TEMPERING_ROUGH = 9.0
+#: The rudder's share of s - 1 from SCHEDULE_SET_TEMPERING_ROUGH on (``--set-tempering-rough-weight``;
+#: 1: the full s). Tuning seed 7, severe air, 40 random points: with 0.25 (spared as in calmer
+#: air), 0.35, 0.5, 0.7 and 1 the held soak's rudder declarations in 40 h were 154, 37, 6, 4 and 3,
+#: and failed rudders found within 5 s 113, 112, 111, 110 and 107 of 120: 0.5 is the knee.
+SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT = 0.5
 #: The scheduled estimator's trim tracking time constant in s (``--trim-tracking``, with the
 #: turbulence adaptation; loop/estimator_options.py scheduled_defaults; cpp/f16mmae/trim_tracker.h).
 #: Without it the truth's fuel burn walks the no-failure filter's AOA and AZ residuals off zero

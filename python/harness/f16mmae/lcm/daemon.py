@@ -33,6 +33,7 @@ def statistics_line(output: str, program: str) -> dict:
 #: The core keywords ``core_arguments`` renames (the per-hypothesis tempering's, the calm-air bounds) and
 #: the rows whose flags give them.
 _RENAMED_KEYS = {"adapt_hypothesis_weight": "set_tempering", "adapt_spare_rho": "set_tempering_rho",
+                 "adapt_rough_rho": "set_tempering_rough", "adapt_rough_weight": "set_tempering_rough_weight",
                  "adapt_spare_margin": "set_tempering_margin", "calm_complete_rho": "calm_complete"}
 #: The core's bit masks over z and the rows whose flags take the sensor's name.
 _CHANNEL_BITS_KEYS = {"adapt_counted_channels": "adapt_counted_channel",
@@ -43,7 +44,8 @@ _CHANNEL_BITS_KEYS = {"adapt_counted_channels": "adapt_counted_channel",
 _STEADY_AIR_DATA_KEYS = ("trim_steady_climb_ft_s", "trim_steady_mach_per_s")
 #: The core's bit masks over the level-0 hypotheses and the ``mmae-daemon`` flags that take their names.
 _HYPOTHESIS_BITS_FLAGS = {"adapt_full_tempering": "--set-tempering-full",
-                          "adapt_spare_margin_over": "--set-tempering-margin-over"}
+                          "adapt_spare_margin_over": "--set-tempering-margin-over",
+                          "adapt_rough_tempering": "--set-tempering-rough-full"}
 
 
 def daemon_flags(estimator_options: dict, nu: int = 5) -> tuple[str, ...]:

@@ -31,7 +31,9 @@ from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDU
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG,
                      SCHEDULE_MODES, SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS, SCHEDULE_ROUGH_P_MIN, SCHEDULE_ROUGH_SCALE,
-                     SCHEDULE_SET_TEMPERING, SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS, THRESHOLD_DEFAULT)
+                     SCHEDULE_SET_TEMPERING, SCHEDULE_SET_TEMPERING_ROUGH, SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT,
+                     SCHEDULE_TRIM_TIME_CONSTANT_S, SENSORS,
+                     THRESHOLD_DEFAULT)
 
 
 #: The level-1 floor's bound at the default threshold (0.9, which every shipped bank
@@ -250,6 +252,22 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                     help="with --set-tempering: spare only while the member in force measures rho >= RHO "
                          "(the set's measure of the air; between moderate and severe air: "
                          "design.turbulence_banks.FLOOR_RHO, 2.68, spares in severe air only). Default 0: at any rho"),
+    EstimatorOption("set_tempering_rough", "--set-tempering-rough", "number", metavar="RHO", minimum=0.0,
+                    maximum=100.0, requires="set_tempering",
+                    help="with --set-tempering: while the air's measured rho reads at least RHO (severe air) the "
+                         "rudder (names.ADAPT_SET_TEMPERING_ROUGH) keeps the full s too, or the share "
+                         "--set-tempering-rough-weight gives: spared as before in moderate air, where its failure "
+                         "needs the sparing, tempered more where the gusts lift it "
+                         "(cpp/f16mmae/turbulence_adaptation.h rough_tempering). Default on a scheduled bank "
+                         f"with --adapt-turbulence: {SCHEDULE_SET_TEMPERING_ROUGH:g} "
+                         "(names.SCHEDULE_SET_TEMPERING_ROUGH; moderate air reads at most 2.3, severe air "
+                         "2.7 low to 15 high up); 0: off, spared at any rho"),
+    EstimatorOption("set_tempering_rough_weight", "--set-tempering-rough-weight", "number", metavar="W",
+                    minimum=0.0, exclusive=True, maximum=1.0, requires="set_tempering_rough",
+                    help="with --set-tempering-rough: in rough air the rudder's evidence is tempered by "
+                         "1 + W (s - 1) when it fits best, in place of --set-tempering's share. Default on a "
+                         f"scheduled bank with --adapt-turbulence: {SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT:g} "
+                         "(names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT), else 1: the full s"),
     EstimatorOption("set_tempering_margin", "--set-tempering-margin", "switch", requires="set_tempering",
                     help="with --set-tempering: the spared hypothesis's evidence is its margin over the "
                          "best-fitting of NONE and the hypotheses kept at s (the stabilators and flaperons), "
@@ -660,6 +678,12 @@ CORE_ONLY: dict[str, str] = {
                          "--calm-complete (loop/estimator.py core_arguments)",
     "adapt_spare_rho": "the per-hypothesis tempering's least measured rho (turbulence_adaptation.h); the "
                        "estimator sets it from --set-tempering-rho",
+    "adapt_rough_rho": "the air's rho from which the rough-air fully tempered hypotheses keep s "
+                       "(turbulence_adaptation.h); the estimator sets it from --set-tempering-rough",
+    "adapt_rough_weight": "the rough-air hypotheses' share of s - 1 (turbulence_adaptation.h); the estimator sets "
+                          "it from --set-tempering-rough-weight",
+    "adapt_rough_tempering": "the hypotheses kept at s in rough air, a bit mask over the level-0 hypotheses; the "
+                             "estimator sets it with --set-tempering-rough",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them
 #: (``actuator_limits`` becomes the two limit keywords, ``turbulence_banks`` the set;
@@ -672,7 +696,7 @@ CORE_ONLY: dict[str, str] = {
 HARNESS_ONLY: tuple[str, ...] = ("actuator_limits", "turbulence_banks", "adaptive_dither", "fixed_dither",
                                "fixed_rudder_dither", "sensor_loss_dither", "calm_complete", "adapt_all_channels", "adapt_counted_channel", "adapt_excluded_channel",
                                "adapt_level_scale_channel", "trim_steady_air_data", "set_tempering", "set_tempering_rho",
-                               "set_tempering_margin", "set_tempering_margin_stabilators", "maneuver_setting")
+                               "set_tempering_rough", "set_tempering_rough_weight", "set_tempering_margin", "set_tempering_margin_stabilators", "maneuver_setting")
 #: The rows that are the closed loop's, the truth side's (loop/flight.py), not the estimator's:
 #: ``mmae-daemon`` takes no flag for them (``lcm.daemon.daemon_flags`` passes none) and an
 #: executive over LCM runs as without them; the status carries what they read.
@@ -873,6 +897,7 @@ def recommends_running_start(model_bank) -> bool:
 SCHEDULED_DEFAULT_FLAGS: dict[str, str] = {
     "rough_dwell_s_per_hypothesis": f"--rough-dwell-s-per-hypothesis {SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS}",
     "set_tempering": f"--set-tempering {SCHEDULE_SET_TEMPERING:g}",
+    "set_tempering_rough": f"--set-tempering-rough {SCHEDULE_SET_TEMPERING_ROUGH:g}",
     "maneuver_tempering_alpha_deg": f"--maneuver-tempering-alpha {SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG:g}",
     "trim_time_constant_s": f"--trim-tracking {SCHEDULE_TRIM_TIME_CONSTANT_S:g}",
     "rough_p_min": f"--rough-p-min {SCHEDULE_ROUGH_P_MIN:g}",
@@ -900,7 +925,10 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     drops it: its rule is ``adapt_own_channels`` off), so applying the defaults twice gives
     what applying them once does. With ``adapt_turbulence`` on a ``scheduled`` bank (and no
     turbulence bank set), ``set_tempering`` ``names.SCHEDULE_SET_TEMPERING`` unless given (1
-    turns it off), whatever the channel rule, ``trim_time_constant_s``
+    turns it off) with ``set_tempering_rough`` ``names.SCHEDULE_SET_TEMPERING_ROUGH`` unless given
+    (0 turns it off), then with ``set_tempering_rough_weight``
+    ``names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT`` unless given (a bound given takes the core's
+    weight 1, the full s, unless its weight is given too), whatever the channel rule, ``trim_time_constant_s``
     ``names.SCHEDULE_TRIM_TIME_CONSTANT_S`` unless given (0 turns it off) and
     ``dwell_s_per_hypothesis`` ``names.SCHEDULE_DWELL_S_PER_HYPOTHESIS`` unless given (``VEL=0,AOA=0``
     turns it off), ``rough_dwell_s_per_hypothesis`` ``names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS``
@@ -939,6 +967,9 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         out["adapt_own_channels"] = True
     if scheduled and out.get("adapt_turbulence") and not out.get("turbulence_banks"):
         out.setdefault("set_tempering", SCHEDULE_SET_TEMPERING)
+        if "set_tempering_rough" not in out:
+            out["set_tempering_rough"] = SCHEDULE_SET_TEMPERING_ROUGH
+            out.setdefault("set_tempering_rough_weight", SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT)
         out.setdefault("trim_time_constant_s", SCHEDULE_TRIM_TIME_CONSTANT_S)
         out.setdefault("dwell_s_per_hypothesis", SCHEDULE_DWELL_S_PER_HYPOTHESIS)
         if "rough_dwell_s_per_hypothesis" not in out:

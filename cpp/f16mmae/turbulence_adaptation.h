@@ -230,8 +230,9 @@
 //     in the choice of b (a fully tempered least q_k spares none) and in the margin's reference.
 //     Why: a hypothesis whose likelihood the gusts lift little in moderate air, so that sparing
 //     it keeps its failure's latency, can be lifted past a declaration in severe air, where its
-//     spared evidence takes the gusts' excursions at s_b << s (a scheduled bank's rudder above
-//     29,000 ft: docs/results/envelope_scheduled.md, round 51). ρ_r between the air's ρ̄ in
+//     spared evidence takes the gusts' excursions at s_b << s (a scheduled bank's rudder and
+//     lateral accelerometer above 29,000 ft: docs/results/envelope_scheduled.md, round 51). ρ_r
+//     between the air's ρ̄ in
 //     moderate and in severe turbulence keeps the sparing in moderate air and shares less of it
 //     in severe. With rough_tempering 0 (the default) nothing changes.
 //   So the sparing is in force on a frame iff w < 1, s > 1, ρ >= ρ̄ / 2 and ρ̄ >= ρ_s.

@@ -182,7 +182,7 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
     assert set(flags) == {"--adapt-turbulence", "--adapt-own-channels", "--adapt-counted-channel", "vel",
                           "--set-tempering", "0.25", "--set-tempering-full", "LS,RS,LF,RF,VEL,AOA,AZ",
                           "--set-tempering-rough", str(names.SCHEDULE_SET_TEMPERING_ROUGH),
-                          "--set-tempering-rough-full", "RUD",
+                          "--set-tempering-rough-full", "RUD,AY",
                           "--set-tempering-rough-weight", str(names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT),
                           "--trim-tracking", "30.0", "--dwell-s-per-hypothesis", names.SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                           "--rough-dwell-s-per-hypothesis", names.SCHEDULE_ROUGH_DWELL_S_PER_HYPOTHESIS,

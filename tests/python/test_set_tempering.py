@@ -298,7 +298,7 @@ def test_the_rough_air_set_reaches_the_core_and_the_daemon():
     args = core_arguments(options)
     assert args["adapt_rough_rho"] == 9.0
     bits = args["adapt_rough_tempering"]
-    assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if bits >> i & 1] == list(ADAPT_SET_TEMPERING_ROUGH) == ["RUD"]
+    assert [h for i, h in enumerate(SINGLE_HYPOTHESES) if bits >> i & 1] == list(ADAPT_SET_TEMPERING_ROUGH) == ["RUD", "AY"]
     assert not bits & args["adapt_full_tempering"]   # spared in calmer air: not among the always fully tempered
     assert "set_tempering_rough" not in args
     assert "adapt_rough_tempering" not in core_arguments({**options, "set_tempering_rough": 0.0})   # 0: off
@@ -310,7 +310,7 @@ def test_the_rough_air_set_reaches_the_core_and_the_daemon():
         check({**options, "set_tempering_rough": -1.0})
     flags = daemon_flags(options)
     assert flags[flags.index("--set-tempering-rough") + 1] == "9.0"
-    assert flags[flags.index("--set-tempering-rough-full") + 1] == "RUD"
+    assert flags[flags.index("--set-tempering-rough-full") + 1] == "RUD,AY"
     assert "--set-tempering-rough-weight" not in flags and "adapt_rough_weight" not in args   # the core's 1: the full s
     ready = ready_line("--bank", load_bank("tuned")[1], *flags)
     assert f"full {args['adapt_full_tempering']} rough {bits} from rho 9 weight 1" in ready, ready

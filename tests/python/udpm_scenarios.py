@@ -405,7 +405,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             "complete in calm air VEL 1 by either "  # the scheduled defaults:
             "(whiteness below 0.78)), "
             "set tempering 0.25 from rho 0 full 734 "  # LS RS LF RF VEL AOA AZ kept at s (names.ADAPT_SET_TEMPERING_FULL)
-            f"rough 32 from rho {names.SCHEDULE_SET_TEMPERING_ROUGH:g} "   # RUD's share in severe air
+            f"rough 4128 from rho {names.SCHEDULE_SET_TEMPERING_ROUGH:g} "   # RUD's and AY's share in severe air
             f"weight {names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT:g}, "
             "trim tracking 2 s (freeze above 0.5), complete failures on the trim averaged over "
             f"{names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S:g} s held while declared, "   # the scheduled default too
@@ -429,7 +429,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
             f"lull floor over {names.SCHEDULE_ADAPT_FLOOR_S:g} s, complete in calm air VEL 1 by "
             "either (whiteness "
             "below 0.78)), set tempering 0.25 from rho 0 full 734 "
-            f"rough 32 from rho {names.SCHEDULE_SET_TEMPERING_ROUGH:g} weight {names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT:g}, "
+            f"rough 4128 from rho {names.SCHEDULE_SET_TEMPERING_ROUGH:g} weight {names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT:g}, "
             "climbing 0.6 held 30 s, "
             "trim tracking 2 s (freeze above 0.05, steady 0.1 g)") in out, out
     assert ("no maneuver kinematics, tempering 1 g, alpha tempering 1 deg beyond "

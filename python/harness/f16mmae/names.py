@@ -89,11 +89,12 @@ SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF")
 #: 3.2 nats); the roll, pitch and yaw gyros, the lateral accelerometer and the rudder are spared
 #: (docs/results/envelope_scheduled.md, round 20).
 ADAPT_SET_TEMPERING_FULL: tuple[str, ...] = ("LS", "RS", "LF", "RF", "AZ", "AOA", "VEL")
-#: The hypotheses ``--set-tempering-rough`` keeps at the full s too while the air reads rough
-#: (cpp/f16mmae/turbulence_adaptation.h rough_tempering): the rudder, spared in light and
-#: moderate air (its failure's evidence needs it there) and lifted past declarations in severe
-#: air above 29,000 ft when spared (docs/results/envelope_scheduled.md, round 51).
-ADAPT_SET_TEMPERING_ROUGH: tuple[str, ...] = ("RUD",)
+#: The hypotheses whose share of the tempering ``--set-tempering-rough`` sets while the air reads
+#: rough (cpp/f16mmae/turbulence_adaptation.h rough_tempering): the rudder and the lateral
+#: accelerometer, spared in light and moderate air (their failures' evidence needs it there) and,
+#: spared, lifted past declarations by lateral gusts in severe air above 29,000 ft
+#: (docs/results/envelope_scheduled.md, round 51).
+ADAPT_SET_TEMPERING_ROUGH: tuple[str, ...] = ("RUD", "AY")
 #: The per-hypothesis tempering's margin reference with ``--set-tempering-margin-stabilators``
 #: (with NONE; cpp/f16mmae/turbulence_adaptation.h ``spare_margin_over``): the stabilators.
 SET_TEMPERING_MARGIN_STABILATORS: tuple[str, ...] = ("LS", "RS")
@@ -193,7 +194,9 @@ SCHEDULE_SET_TEMPERING_ROUGH = 9.0
 #: The rudder's share of s - 1 from SCHEDULE_SET_TEMPERING_ROUGH on (``--set-tempering-rough-weight``;
 #: 1: the full s). Tuning seed 7, severe air, 40 random points: with 0.25 (spared as in calmer
 #: air), 0.35, 0.5, 0.7 and 1 the held soak's rudder declarations in 40 h were 154, 37, 6, 4 and 3,
-#: and failed rudders found within 5 s 113, 112, 111, 110 and 107 of 120: 0.5 is the knee.
+#: and failed rudders found within 5 s 113, 112, 111, 110 and 107 of 120: 0.5 is the knee. With
+#: the lateral accelerometer's share 0.5 there too the soak's AY declarations went 12 -> 0 for one
+#: failed AY of 120 (the roll gyro's 5 -> 1 cost five of its failures: left spared).
 SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT = 0.5
 #: The scheduled estimator's trim tracking time constant in s (``--trim-tracking``, with the
 #: turbulence adaptation; loop/estimator_options.py scheduled_defaults; cpp/f16mmae/trim_tracker.h).

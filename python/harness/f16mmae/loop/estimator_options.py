@@ -255,16 +255,17 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
     EstimatorOption("set_tempering_rough", "--set-tempering-rough", "number", metavar="RHO", minimum=0.0,
                     maximum=100.0, requires="set_tempering",
                     help="with --set-tempering: while the air's measured rho reads at least RHO (severe air) the "
-                         "rudder (names.ADAPT_SET_TEMPERING_ROUGH) keeps the full s too, or the share "
-                         "--set-tempering-rough-weight gives: spared as before in moderate air, where its failure "
-                         "needs the sparing, tempered more where the gusts lift it "
+                         "rudder and the lateral accelerometer (names.ADAPT_SET_TEMPERING_ROUGH) keep the full s too, "
+                         "or the share --set-tempering-rough-weight gives: spared as before in moderate air, where "
+                         "their failures need the sparing, tempered more where the gusts lift them "
                          "(cpp/f16mmae/turbulence_adaptation.h rough_tempering). Default on a scheduled bank "
                          f"with --adapt-turbulence: {SCHEDULE_SET_TEMPERING_ROUGH:g} "
                          "(names.SCHEDULE_SET_TEMPERING_ROUGH; moderate air reads at most 2.3, severe air "
                          "2.7 low to 15 high up); 0: off, spared at any rho"),
     EstimatorOption("set_tempering_rough_weight", "--set-tempering-rough-weight", "number", metavar="W",
                     minimum=0.0, exclusive=True, maximum=1.0, requires="set_tempering_rough",
-                    help="with --set-tempering-rough: in rough air the rudder's evidence is tempered by "
+                    help="with --set-tempering-rough: in rough air the rudder's or the lateral accelerometer's "
+                         "evidence is tempered by "
                          "1 + W (s - 1) when it fits best, in place of --set-tempering's share. Default on a "
                          f"scheduled bank with --adapt-turbulence: {SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT:g} "
                          "(names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT), else 1: the full s"),

@@ -478,8 +478,9 @@ const std::vector<Flag>& flags() {
        number(&C::set_tempering_rho, {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr, "--set-tempering",
        set_tempering},
       {"--set-tempering-rough", "RHO",
-       "the --set-tempering-rough-full hypotheses keep the full s too while the air's measured rho is at "
-       "least RHO ('f16mmae hil' gives the scheduled default with RUD; default: none)",
+       "while the air's measured rho is at least RHO the --set-tempering-rough-full hypotheses take "
+       "--set-tempering-rough-weight's share of the tempering ('f16mmae hil' gives the scheduled default: "
+       "9, RUD,AY, 0.5; default: none)",
        number(&C::set_tempering_rough, {0.0, 100.0}, "a power ratio in [0, 100]"), nullptr, "--set-tempering",
        set_tempering},
       {"--set-tempering-rough-full", "NAME,...",

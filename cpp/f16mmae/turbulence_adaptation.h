@@ -232,9 +232,8 @@
 //     it keeps its failure's latency, can be lifted past a declaration in severe air, where its
 //     spared evidence takes the gusts' excursions at s_b << s (a scheduled bank's rudder and
 //     lateral accelerometer above 29,000 ft: docs/results/envelope_scheduled.md, round 51). ρ_r
-//     between the air's ρ̄ in
-//     moderate and in severe turbulence keeps the sparing in moderate air and shares less of it
-//     in severe. With rough_tempering 0 (the default) nothing changes.
+//     between the air's ρ̄ in moderate and in severe turbulence keeps the sparing in moderate air
+//     and shares less of it in severe. With rough_tempering 0 (the default) nothing changes.
 //   So the sparing is in force on a frame iff w < 1, s > 1, ρ >= ρ̄ / 2 and ρ̄ >= ρ_s.
 //
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
@@ -291,9 +290,9 @@ struct alignas(16) TurbulenceAdaptationOptions {
   double spare_rho = 0.0;                // ρ_s: the sparing only while ρ̄ >= ρ_s (header); 0: at any ρ̄
   double level_scale_from = 1.0;         // s_0 of level_scale_channels (filter_bank.h); 1: (n / 2) ln s
   double floor_time_constant_s = 0.0;    // τ_L of the lull floor's long average ρ_L (header); 0: off
-  double rough_rho = 0.0;                // ρ_r: rough_tempering's bits keep the full s while ρ_a >= σ ρ_r (header)
-  double rough_weight = 1.0;             // w_r: their share of s − 1 in rough air (header); 1: the full s
-  std::uint32_t rough_tempering = 0;     // bit k: hypothesis k keeps the full s in rough air (header); 0: none
+  double rough_rho = 0.0;                // ρ_r: the air reads rough while ρ_a >= σ ρ_r (header)
+  double rough_weight = 1.0;             // w_r: rough_tempering's share of s − 1 in rough air (header); 1: the full s
+  std::uint32_t rough_tempering = 0;     // bit k: hypothesis k's share is w_r in rough air (header); 0: none
 };
 
 // Throws std::invalid_argument "<who>: <option> must be <range>, got <value>".

@@ -343,6 +343,7 @@ def test_in_rough_air_its_hypotheses_are_tempered_fully_and_below_it_spared_as_b
     rough = core.HierarchicalBank(bank, adapt_rough_rho=0.5, adapt_rough_tempering=spared_ones, **kw)
     plain = core.HierarchicalBank(bank, **{**kw, "adapt_hypothesis_weight": 1.0})
     assert rough.fully_tempered == full   # before the first update the air's rho is 0
+    assert rough.power_scale == 1.0       # a bank without a schedule: rho in its own units
     frames = _rough_flight([raw, calm, rough, plain])
     assert len(frames) > 150
     assert rough.air_power_ratio >= 0.5 and rough.fully_tempered == full | spared_ones

@@ -15,8 +15,8 @@ import numpy as np
 
 from .. import core
 from ..banks import bank_estimator_settings, turbulence_bank_set
-from ..names import (ADAPT_SET_TEMPERING_FULL, ADAPT_SET_TEMPERING_ROUGH, SENSORS, SET_TEMPERING_FULL, SET_TEMPERING_MARGIN_STABILATORS,
-                     SINGLE_HYPOTHESES)
+from ..names import (ADAPT_SET_TEMPERING_FULL, ADAPT_SET_TEMPERING_ROUGH, SENSORS, SET_TEMPERING_FULL,
+                     SET_TEMPERING_MARGIN_STABILATORS, SINGLE_HYPOTHESES)
 from ..truth.actuators import POSITION_LIMIT_RAD, RATE_LIMIT_RAD_S
 from .estimator_options import CLOSED_LOOP, FILE_LOADERS, TABLE_PARSERS, bank_defaults, with_closed_loop_defaults
 
@@ -38,7 +38,8 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
     ``names.SET_TEMPERING_FULL`` (with ``turbulence_banks``; else ``names.ADAPT_SET_TEMPERING_FULL``) in
     the level-0 order (``names.SINGLE_HYPOTHESES``),
     ``set_tempering_rough`` RHO (> 0) ``adapt_rough_rho`` RHO and ``adapt_rough_tempering``, the bits of
-    ``names.ADAPT_SET_TEMPERING_ROUGH``, ``set_tempering_rho`` ``adapt_spare_rho``, ``set_tempering_margin`` ``adapt_spare_margin`` and
+    ``names.ADAPT_SET_TEMPERING_ROUGH``, with ``set_tempering_rough_weight`` ``adapt_rough_weight``,
+    ``set_tempering_rho`` ``adapt_spare_rho``, ``set_tempering_margin`` ``adapt_spare_margin`` and
     ``set_tempering_margin_stabilators`` ``adapt_spare_margin_over``, the bits of
     ``names.SET_TEMPERING_MARGIN_STABILATORS``."""
     out = dict(settings)
@@ -65,7 +66,7 @@ def core_arguments(settings: dict, nu: int = len(RATE_LIMIT_RAD_S)) -> dict:
         out["adapt_full_tempering"] = sum(1 << SINGLE_HYPOTHESES.index(h) for h in full)
     rough = out.pop("set_tempering_rough", None)
     rough_weight = out.pop("set_tempering_rough_weight", None)
-    if rough:   # the rough-air fully tempered ones (0: none)
+    if rough:   # the rough-air hypotheses' own share of s - 1 (0: none)
         out["adapt_rough_rho"] = float(rough)
         if rough_weight is not None:
             out["adapt_rough_weight"] = float(rough_weight)

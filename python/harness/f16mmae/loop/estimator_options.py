@@ -679,11 +679,11 @@ CORE_ONLY: dict[str, str] = {
                          "--calm-complete (loop/estimator.py core_arguments)",
     "adapt_spare_rho": "the per-hypothesis tempering's least measured rho (turbulence_adaptation.h); the "
                        "estimator sets it from --set-tempering-rho",
-    "adapt_rough_rho": "the air's rho from which the rough-air fully tempered hypotheses keep s "
+    "adapt_rough_rho": "the air's rho from which the rough-air hypotheses take their own share of s - 1 "
                        "(turbulence_adaptation.h); the estimator sets it from --set-tempering-rough",
     "adapt_rough_weight": "the rough-air hypotheses' share of s - 1 (turbulence_adaptation.h); the estimator sets "
                           "it from --set-tempering-rough-weight",
-    "adapt_rough_tempering": "the hypotheses kept at s in rough air, a bit mask over the level-0 hypotheses; the "
+    "adapt_rough_tempering": "the rough-air hypotheses, a bit mask over the level-0 hypotheses; the "
                              "estimator sets it with --set-tempering-rough",
 }
 #: The rows that are no keyword of the binding: the estimator (loop/estimator.py) takes them

@@ -232,6 +232,8 @@ inline const std::vector<EstimatorKeyword>& estimator_keywords() {
           "adapt_rough_tempering"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::rough_rho>("adapt_rough_rho"),
       field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::rough_weight>("adapt_rough_weight"),
+      field<&O::bank, &FilterBankOptions::adaptation, &TurbulenceAdaptationOptions::scale_max_from>(
+          "adapt_scale_max_from"),
       field<&O::spare_dwell_s>("spare_dwell_s"),
       field<&O::evidence_dwell_in_phases>("evidence_dwell_in_phases"),
       // the climb reference

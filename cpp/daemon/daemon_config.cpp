@@ -410,6 +410,13 @@ const std::vector<Flag>& flags() {
          return "";
        }),
        nullptr, "--adapt-turbulence", adapting},
+      {"--adapt-scale-max-from", "RHO",
+       "the bound's knee: from the power ratio RHO on, the adaptation's bound on s rises with the air at its "
+       "gain, so the roughest air is tempered as the line reads (turbulence_adaptation.h; default 0: off, s "
+       "held at the bound; 'f16mmae hil' gives a scheduled bank's with --adapt-turbulence, its default in "
+       "process)",
+       number(adaptation(&TurbulenceAdaptationOptions::scale_max_from), {0.0, 100.0}, "a power ratio in [0, 100]"),
+       nullptr, "--adapt-turbulence", adapting},
       {"--calm-complete", "NAME=RHO,...",
        "while the adaptation's measured power ratio is below RHO (decided while no failure is presumed or rising), "
        "the hypotheses that read measurement NAME as a tracked level read it as the paper's complete failure, the "

@@ -276,6 +276,9 @@ int main(int argc, char** argv) {
         adaptation.insert(adaptation.size() - 1,
                           ", lull floor over " + f16mmae::format_value(options.bank.adaptation.floor_time_constant_s) +
                               " s");
+      if (options.bank.adaptation.enabled && options.bank.adaptation.scale_max_from > 0.0)
+        adaptation.insert(adaptation.size() - 1,
+                          ", bound rising from rho " + f16mmae::format_value(options.bank.adaptation.scale_max_from));
       if (executive->estimator().members() == 0 && options.bank.adaptation.enabled && !cfg.adapt_excluded_channel.empty())
         adaptation.insert(adaptation.size() - 1, ", " + cfg.adapt_excluded_channel + " levels excluded");
       if (options.bank.adaptation.enabled && !running.calm_complete.rho.empty()) {   // calm_air_complete.h

@@ -236,6 +236,19 @@
 //     and shares less of it in severe. With rough_tempering 0 (the default) nothing changes.
 //   So the sparing is in force on a frame iff w < 1, s > 1, ρ >= ρ̄ / 2 and ρ̄ >= ρ_s.
 //
+// The bound's knee (scale_max_from ρ_c > 0; 0, the default, is off): from ρ/σ = ρ_c on the
+// bound s_max rises with the air at the adaptation's own gain,
+//     s = clamp(1 + κ (ρ/σ − ρ_0),  s_min,  s_max + κ max(ρ/σ − ρ_c, 0))
+//   (s'_j and scale_at() likewise; the ρ in force: ρ or the lull floor's ρ_L). With ρ_c above
+//   ρ_0 + (s_max − 1)/κ, where the line meets s_max, s is held at s_max between that ratio and ρ_c
+//   and runs parallel to the line beyond, κ (ρ_c − ρ_0) + 1 − s_max below it. Why: s_max keeps a
+//   failure's evidence from being tempered away in severe air, but a gust's likelihood excursion
+//   grows with ρ/s, and where the air is rougher still the bound holds s while the excursions
+//   grow: a scheduled bank's severe air reads 6-10 at 23,000-32,000 ft and 11.7-15.5 above, where
+//   s sat at s_max 100 on every frame and every false declaration of 40 h of severe air over the
+//   envelope happened (docs/results/envelope_scheduled.md, round 52). Lifting the bound there alone
+//   keeps the failures found between, which a larger s_max tempers away.
+//
 // The measured ρ̄ (measured_power_ratio(); the turbulence bank set's selector classifies the
 // air by it, turbulence_bank_set.h): the same per-update x = min_k q_k / m, unclipped,
 // averaged from the start or reset() on as
@@ -293,6 +306,7 @@ struct alignas(16) TurbulenceAdaptationOptions {
   double rough_rho = 0.0;                // ρ_r: the air reads rough while ρ_a >= σ ρ_r (header)
   double rough_weight = 1.0;             // w_r: rough_tempering's share of s − 1 in rough air (header); 1: the full s
   std::uint32_t rough_tempering = 0;     // bit k: hypothesis k's share is w_r in rough air (header); 0: none
+  double scale_max_from = 0.0;           // ρ_c: from ρ/σ = ρ_c on, s_max rises at κ (header); 0: off
 };
 
 // Throws std::invalid_argument "<who>: <option> must be <range>, got <value>".
@@ -315,6 +329,8 @@ inline void check_adaptation(const TurbulenceAdaptationOptions& o, const std::st
   if (!(o.spare_rho >= 0.0 && o.spare_rho <= 100.0)) refuse("adapt_spare_rho", "in [0, 100]", o.spare_rho);
   if (!(o.rough_rho >= 0.0 && o.rough_rho <= 100.0)) refuse("adapt_rough_rho", "in [0, 100]", o.rough_rho);
   if (!(o.rough_weight > 0.0 && o.rough_weight <= 1.0)) refuse("adapt_rough_weight", "in (0, 1]", o.rough_weight);
+  if (!(o.scale_max_from >= 0.0 && o.scale_max_from <= 100.0))
+    refuse("adapt_scale_max_from", "in [0, 100] (0: off)", o.scale_max_from);
   if (!(o.level_scale_from >= 1.0 && o.level_scale_from <= 1000.0))
     refuse("adapt_level_scale_from", "in [1, 1000]", o.level_scale_from);
   if (!(o.floor_time_constant_s == 0.0 ||
@@ -388,7 +404,7 @@ class ResidualScale {
   // s, the scale in force for the next frame's likelihoods (1 when disabled).
   double scale() const noexcept { return options_.enabled ? s_ : 1.0; }
   double inverse_scale() const noexcept { return options_.enabled ? inv_s_ : 1.0; }
-  // s at another reference: clamp(1 + κ (ρ/σ − reference), s_min, s_max) with the ρ in force (1
+  // s at another reference: clamp(1 + κ (ρ/σ − reference), s_min, s_max (+ the knee's rise)) with the ρ in force (1
   // when disabled); the air-data gates' gust scale (hierarchical_bank.h) reads it at the base reference.
   double scale_at(double reference) const noexcept {
     return options_.enabled ? clamped_scale(rho_, reference) : 1.0;
@@ -503,8 +519,10 @@ class ResidualScale {
  private:
   double clamped_scale(double rho) const noexcept { return clamped_scale(rho, options_.reference); }
   double clamped_scale(double rho, double reference) const noexcept {
-    const double s = 1.0 + options_.gain * (rho / power_scale_ - reference);
-    return s < options_.scale_min ? options_.scale_min : (s > options_.scale_max ? options_.scale_max : s);
+    const double x = rho / power_scale_, s = 1.0 + options_.gain * (x - reference);
+    const double knee = options_.scale_max_from, top = options_.scale_max +
+        (knee > 0.0 && x > knee ? options_.gain * (x - knee) : 0.0);   // the bound's knee (header)
+    return s < options_.scale_min ? options_.scale_min : (s > top ? top : s);
   }
   void set_scale() noexcept {
     const bool floored = alpha_floor_ > 0.0 && !floor_held_ && long_updates_ >= long_min_ && rho_long_ > rho_;

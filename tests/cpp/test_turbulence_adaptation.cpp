@@ -2,7 +2,7 @@
 // tempered Bayes update by hand, the power ratio per channel each filter reads (own_channels), "off" bit-identical to the bank without it, the scale
 // recovering a known noise-power ratio, a failure not absorbed, the per-hypothesis tempering by
 // hand (its choice per channel read, its gate on the measured rho and its margin over the fully tempered
-// hypotheses too), the running start by hand, the lull floor (the larger of two averages) by
+// hypotheses too), the bound's knee by hand, the running start by hand, the lull floor (the larger of two averages) by
 // hand, option checks, and no heap
 // allocation in the F-16-sized step with it on (global operator new is counted here).
 #include "f16mmae/hierarchical_bank.h"
@@ -334,6 +334,51 @@ TEST(TurbulenceAdaptation, APowerScaleReadsTheFormsAsTheOtherBanksWouldBe) {
   scaled.reset();
   EXPECT_DOUBLE_EQ(scaled.power_ratio(), sigma * 0.8);
   EXPECT_DOUBLE_EQ(scaled.scale(), 1.0);
+}
+
+TEST(TurbulenceAdaptation, TheBoundsKneeRaisesItAtTheGainByHand) {
+  // s = clamp(1 + k (x - rho_0), s_min, s_max + k max(x - rho_c, 0)), x = rho / sigma: below the
+  // knee rho_c the bound holds, beyond it s runs parallel to the line; per channel and scale_at
+  // alike; rho_c 0 is the bound alone.
+  TurbulenceAdaptationOptions o = on(0.25, 1.0, 20.0, 3.0);   // the line meets 20 at x = 1 + 19/3
+  o.channel_weight = 1.0;
+  TurbulenceAdaptationOptions knee = o;
+  knee.scale_max_from = 9.0;
+  const double sigma = 0.5;
+  ResidualScale<Eigen::Dynamic, Eigen::Dynamic> bound, kneed;
+  bound.configure(o, 2, "test");
+  kneed.configure(knee, 2, "test");
+  bound.set_power_scale(sigma);
+  kneed.set_power_scale(sigma);
+  const auto by_hand = [](double x, double rho_c) {
+    const double top = 20.0 + (rho_c > 0.0 && x > rho_c ? 3.0 * (x - rho_c) : 0.0);
+    return std::min(top, std::max(1.0, 1.0 + 3.0 * (x - 1.0)));
+  };
+  Eigen::Matrix2d a_inv;
+  a_inv << 1.0, 0.0, 0.0, 1.0;
+  bool held = false, rose = false;
+  for (int n = 0; n < 400; ++n) {   // the air from calm to x = 14 and back
+    const double level = n < 200 ? 0.5 + 0.07 * n : 0.5 + 0.07 * (400 - n);
+    const Eigen::Vector3d q(2.0 * sigma * level, 3.0 * sigma * level, 50.0);
+    const Eigen::Vector2d r(std::sqrt(sigma * level), -std::sqrt(2.0 * sigma * level));
+    for (auto* a : {&bound, &kneed}) {
+      a->observe(q);
+      a->observe_channels(r, a_inv);
+    }
+    const double x = kneed.power_ratio() / sigma;
+    ASSERT_NEAR(bound.scale(), by_hand(x, 0.0), 1e-12) << "frame " << n;
+    ASSERT_NEAR(kneed.scale(), by_hand(x, 9.0), 1e-12) << "frame " << n;
+    ASSERT_NEAR(kneed.scale_at(0.5),
+                std::min(20.0 + std::max(3.0 * (x - 9.0), 0.0), std::max(1.0, 1.0 + 3.0 * (x - 0.5))), 1e-12);
+    for (int j = 0; j < 2; ++j) {
+      const double xj = kneed.channel_power_ratios()(j) / sigma;
+      ASSERT_NEAR(kneed.channel_inverse_sqrt_scales()(j), 1.0 / std::sqrt(by_hand(xj, 9.0)), 1e-12);
+    }
+    held = held || (x > 8.0 && x < 9.0 && kneed.scale() == 20.0);
+    rose = rose || (x > 10.0 && kneed.scale() > 20.0 && bound.scale() == 20.0);
+  }
+  EXPECT_TRUE(held);   // between the line's meeting the bound and the knee: s_max
+  EXPECT_TRUE(rose);   // beyond the knee: above the bound
 }
 
 TEST(TurbulenceAdaptation, BankTempersTheLikelihoodsWithThePreviousFramesScale) {
@@ -979,6 +1024,11 @@ TEST(TurbulenceAdaptation, BadOptionsAreRefusedByName) {
   o.rough_weight = 1.5;
   refused(o, "adapt_rough_weight");
   o.rough_weight = 1.0;
+  o.scale_max_from = -1.0;
+  refused(o, "adapt_scale_max_from must be in [0, 100] (0: off), got -1");
+  o.scale_max_from = std::nan("");
+  refused(o, "adapt_scale_max_from");
+  o.scale_max_from = 0.0;
   o.spare_rho = std::nan("");
   refused(o, "adapt_spare_rho");
   o = on(5.0);

@@ -10,7 +10,8 @@ from the air's ``names.SCHEDULE_SET_TEMPERING_ROUGH`` on), trim tracking at
 ``names.SCHEDULE_DWELL_NATS_PER_HYPOTHESIS`` kept through the flight phases, the complete failures' held trim
 ``names.SCHEDULE_COMPLETE_TRIM_HOLD`` and its average ``names.SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S``
 unless given, the rough-air floor ``names.SCHEDULE_ROUGH_P_MIN`` (the node floors in calm and light air,
-it in moderate air), and on a schedule whose nodes carry a
+it in moderate air), the adaptation bound's knee ``names.SCHEDULE_ADAPT_SCALE_MAX_FROM`` (reaching the core
+and the daemon), and on a schedule whose nodes carry a
 calm-air reference the calm-air complete model at ``names.SCHEDULE_CALM_COMPLETE``; the cached
 scheduled bank's name follows every design setting of ``names.SCHEDULE_*``."""
 from __future__ import annotations
@@ -46,6 +47,7 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
               "adapt_level_scale_channel": names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL.lower(),   # and VEL's at every level
               "adapt_level_scale_from": names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM,
               "adapt_floor_time_constant_s": names.SCHEDULE_ADAPT_FLOOR_S,   # the lull floor
+              "adapt_scale_max_from": names.SCHEDULE_ADAPT_SCALE_MAX_FROM,   # the bound's knee
               "rough_p_min": names.SCHEDULE_ROUGH_P_MIN,   # the floor in rough air
               "adaptive_dither": True,   # the closed loop's adaptive dither
               "maneuver_setting": "on", **names.SCHEDULE_MANEUVER_SETTING}   # and the maneuvering-flight setting
@@ -63,7 +65,8 @@ def test_own_channels_is_the_scheduled_default_and_all_channels_the_old_rule():
            "complete_trim_hold": "off", "complete_trim_time_constant_s": 0.0,
            "maneuver_tempering_g": 0.0, "adapt_level_scale": "off", "adapt_level_scale_channel": "none",
            "maneuver_tempering_alpha_deg": 0.0, "fixed_dither": True, "maneuver_setting": "off",
-           "adapt_floor_time_constant_s": 0.0, "rough_p_min": 0.0, "set_tempering_rough": 0.0}
+           "adapt_floor_time_constant_s": 0.0, "rough_p_min": 0.0, "set_tempering_rough": 0.0,
+           "adapt_scale_max_from": 0.0}
     assert scheduled_defaults(off, True) == {**off, "adapt_own_channels": True, "adapt_counted_channel": "vel"}
     check(off)
     assert core_arguments(off)["trim_time_constant_s"] == 0.0   # the core's off
@@ -199,6 +202,7 @@ def test_mmae_daemon_gets_the_scheduled_defaults_as_flags():
                           str(names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM),
                           "--adapt-level-scale", names.SCHEDULE_ADAPT_LEVEL_SCALE,
                           "--adapt-floor", str(names.SCHEDULE_ADAPT_FLOOR_S),
+                          "--adapt-scale-max-from", str(names.SCHEDULE_ADAPT_SCALE_MAX_FROM),
                           "--rough-p-min", str(names.SCHEDULE_ROUGH_P_MIN)}
     # the maneuvering-flight setting (on by default) as its options' own flags, none for the setting itself
     maneuvering = daemon_flags(scheduled_defaults({"adapt_turbulence": True}, True))
@@ -593,3 +597,51 @@ def test_the_floor_in_force_is_the_nodes_in_light_air_and_the_rough_air_floor_in
     assert light[0] == light_off[0] == moderate[0]   # no air measured before the first update
     assert np.array_equal(light[start_up:], light_off[start_up:]) and np.all(light_off > 1e-6)
     assert np.all(moderate[start_up:] == names.SCHEDULE_ROUGH_P_MIN) and np.all(moderate_off > 1e-6)
+
+
+def test_the_bounds_knee_reaches_the_core_and_the_daemon():
+    """--adapt-scale-max-from RHO: from the power ratio RHO on the bound on s rises with the air at the
+    adaptation's gain (cpp/f16mmae/turbulence_adaptation.h), checked on a bank fed residuals three
+    times the design's: the bound alone holds s at it, the knee lifts s to the line's parallel."""
+    import subprocess
+
+    from daemon_support import ready_line
+    from f16mmae.lcm.daemon import daemon_flags, find_executable
+    options = {"adapt_turbulence": True, "adapt_scale_max_from": 2.0}
+    check(options)
+    assert core_arguments(options)["adapt_scale_max_from"] == 2.0
+    for bad in (-1.0, 101.0):
+        with pytest.raises(ValueError, match=r"--adapt-scale-max-from .* must lie in \[0, 100\]"):
+            check({**options, "adapt_scale_max_from": bad})
+    with pytest.raises(ValueError, match="--adapt-scale-max-from applies with --adapt-turbulence"):
+        check({"adapt_scale_max_from": 2.0})
+    bank = banks.load_bank("tuned")[2]
+    kw = dict(adapt_turbulence=True, adapt_reference=0.6, adapt_gain=20.0, adapt_scale_max=5.0, p_min=1e-9)
+    bound = core.HierarchicalBank(bank, **kw)
+    kneed = core.HierarchicalBank(bank, adapt_scale_max_from=2.0, **kw)
+    rng = np.random.default_rng(3)
+    z_trim, u_trim = np.asarray(bank.z_trim), np.asarray(bank.u_trim)
+    sigma = np.sqrt(np.diag(np.asarray(bank.hypotheses[0].a)))
+    lifted = 0
+    for _ in range(192):
+        z = z_trim + 3.0 * sigma * rng.standard_normal(len(z_trim))
+        for b in (bound, kneed):
+            b.update(z)
+            b.propagate(u_trim)
+        rho = kneed.turbulence_power_ratio
+        assert rho == bound.turbulence_power_ratio   # the same residuals: the knee moves s only
+        assert kneed.turbulence_scale == pytest.approx(
+            min(max(1.0, 1.0 + 20.0 * (rho - 0.6)), 5.0 + 20.0 * max(rho - 2.0, 0.0)), rel=1e-12)
+        assert bound.turbulence_scale == pytest.approx(min(max(1.0, 1.0 + 20.0 * (rho - 0.6)), 5.0), rel=1e-12)
+        lifted += kneed.turbulence_scale > 5.0
+    assert lifted > 50
+    flags = daemon_flags(options)
+    assert flags[flags.index("--adapt-scale-max-from") + 1] == "2.0"
+    assert "bound rising from rho 2" in ready_line("--bank", banks.load_bank("tuned")[1], *flags)
+    daemon = str(find_executable("mmae-daemon"))
+    for bad, message in ((["--adapt-scale-max-from", "2"], "--adapt-scale-max-from applies with --adapt-turbulence"),
+                         (["--adapt-turbulence", "--adapt-scale-max-from", "-1"],
+                          "--adapt-scale-max-from must be a power ratio in [0, 100], got '-1'")):
+        r = subprocess.run([daemon, "--bank", str(banks.load_bank("tuned")[1]), *bad], capture_output=True,
+                           text=True, timeout=20)
+        assert r.returncode == 2 and message in r.stdout + r.stderr, (bad, r.stdout + r.stderr)

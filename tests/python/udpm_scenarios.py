@@ -402,6 +402,7 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     assert rc == 0, out
     assert ("turbulence adaptation (reference per node, own channels, vel counted, level scale, vel level scaled from 8, "
             f"lull floor over {names.SCHEDULE_ADAPT_FLOOR_S:g} s, "   # the scheduled default's lull floor
+            f"bound rising from rho {names.SCHEDULE_ADAPT_SCALE_MAX_FROM:g}, "   # and the bound's knee
             "complete in calm air VEL 1 by either "  # the scheduled defaults:
             "(whiteness below 0.78)), "
             "set tempering 0.25 from rho 0 full 734 "  # LS RS LF RF VEL AOA AZ kept at s (names.ADAPT_SET_TEMPERING_FULL)
@@ -426,7 +427,8 @@ def test_hil_lockstep_with_a_scheduled_bank_equals_in_process(tmp_path, capsys):
     out = capsys.readouterr().out
     assert rc == 0, out
     assert ("turbulence adaptation (reference 0.65, level scale, vel level scaled from 8, "
-            f"lull floor over {names.SCHEDULE_ADAPT_FLOOR_S:g} s, complete in calm air VEL 1 by "
+            f"lull floor over {names.SCHEDULE_ADAPT_FLOOR_S:g} s, bound rising from rho "
+            f"{names.SCHEDULE_ADAPT_SCALE_MAX_FROM:g}, complete in calm air VEL 1 by "
             "either (whiteness "
             "below 0.78)), set tempering 0.25 from rho 0 full 734 "
             f"rough 4128 from rho {names.SCHEDULE_SET_TEMPERING_ROUGH:g} weight {names.SCHEDULE_SET_TEMPERING_ROUGH_WEIGHT:g}, "

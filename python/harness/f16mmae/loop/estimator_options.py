@@ -26,7 +26,8 @@ from ..names import (DWELL_S_MAX, K_BANK, SCHEDULE_ADAPT_COUNTED_CHANNEL, SCHEDU
                      SCHEDULE_COMPLETE_TRIM_TIME_CONSTANT_S, SCHEDULE_DWELL_NATS_PER_HYPOTHESIS,
                      SCHEDULE_DWELL_S_PER_HYPOTHESIS,
                      SCHEDULE_ADAPT_LEVEL_SCALE, SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL,
-                     SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_ADAPT_FLOOR_S, SCHEDULE_MANEUVER_SETTING,
+                     SCHEDULE_ADAPT_LEVEL_SCALE_FROM, SCHEDULE_ADAPT_FLOOR_S, SCHEDULE_ADAPT_SCALE_MAX_FROM,
+                     SCHEDULE_MANEUVER_SETTING,
                      SCHEDULE_MANEUVER_TEMPERING_G,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEG, SCHEDULE_MANEUVER_TEMPERING_ALPHA_DEADBAND_DEG,
                      SCHEDULE_MANEUVER_TEMPERING_ALPHA_TRIM_DEG,
@@ -156,6 +157,15 @@ ESTIMATOR_OPTIONS: tuple[EstimatorOption, ...] = (
                          "or maneuvering), so a burst of gusts after a lull does not meet the untempered design "
                          "(cpp/f16mmae/turbulence_adaptation.h). 0: off; else at least the 5-s averaging time. "
                          "Default: names.SCHEDULE_ADAPT_FLOOR_S on a scheduled bank, else 0"),
+    EstimatorOption("adapt_scale_max_from", "--adapt-scale-max-from", "number", metavar="RHO", minimum=0.0,
+                    maximum=100.0, requires="adapt_turbulence",
+                    help="with --adapt-turbulence: the bound's knee: from the residual power ratio RHO on, the "
+                         "bound on the tempering s (100) rises with the air at the adaptation's gain, so air "
+                         "rougher than RHO is tempered as the adaptation's line reads and gusts there are not "
+                         "read as failures; between the line's meeting the bound and RHO, s stays at the bound, "
+                         "so failures there are not tempered away (cpp/f16mmae/turbulence_adaptation.h). "
+                         "Moderate air reads at most 2.3, severe air 2.7 to 15.5 over the envelope. 0: off. "
+                         "Default: names.SCHEDULE_ADAPT_SCALE_MAX_FROM on a scheduled bank, else 0"),
     EstimatorOption("adapt_all_channels", "--adapt-all-channels", "switch", requires="adapt_turbulence",
                     in_daemon=False,
                     help="with --adapt-turbulence on a scheduled bank: the residual power over all channels "
@@ -950,6 +960,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
     ``names.SCHEDULE_ADAPT_LEVEL_SCALE_CHANNEL`` unless given (``none`` turns it off), with
     ``adapt_level_scale_from`` ``names.SCHEDULE_ADAPT_LEVEL_SCALE_FROM`` unless given,
     ``adapt_floor_time_constant_s`` ``names.SCHEDULE_ADAPT_FLOOR_S`` unless given (0 turns it off),
+    ``adapt_scale_max_from`` ``names.SCHEDULE_ADAPT_SCALE_MAX_FROM`` unless given (0 turns it off),
     ``rough_p_min`` ``names.SCHEDULE_ROUGH_P_MIN`` unless given (0 turns it off), and the closed
     loop's ``adaptive_dither`` unless ``fixed_dither`` or ``sensor_loss_dither`` is given (the
     adaptive dither of one adapted bank, truth/dither.py ``adapted_dither_reference``). ``running_start``: the bank recommends the
@@ -991,6 +1002,7 @@ def scheduled_defaults(settings: dict, scheduled: bool, running_start: bool = Fa
         if out["adapt_level_scale_channel"] != "none":
             out.setdefault("adapt_level_scale_from", SCHEDULE_ADAPT_LEVEL_SCALE_FROM)
         out.setdefault("adapt_floor_time_constant_s", SCHEDULE_ADAPT_FLOOR_S)
+        out.setdefault("adapt_scale_max_from", SCHEDULE_ADAPT_SCALE_MAX_FROM)
         out.setdefault("rough_p_min", SCHEDULE_ROUGH_P_MIN)
         if not (out.get("fixed_dither") or out.get("sensor_loss_dither")):
             out["adaptive_dither"] = True   # the closed loop's (loop/flight.py)

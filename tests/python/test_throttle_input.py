@@ -404,7 +404,8 @@ def test_paced_hil_with_a_throttle_bank_sends_the_throttle_with_every_command(th
     served = InProcessExecutive(throttle_bank)
     served.serve(lc, chans)
     result = fly_hil(Scenario(turbulence="none", duration_s=0.5, seed=4), throttle_bank, lc, chans, lockstep=False)
-    lc.handle_timeout(100)
+    while lc.handle_timeout(100) > 0:   # the commands a loaded host left queued (memq:// loses none)
+        pass
     link = result.timing["link"]
     assert link["statuses"] + link["deadline_misses"] == 32  # a loaded host may make a status late
     assert served.executive.counters["commands_applied"] == 32 and served.executive.counters["frames_rejected"] == 0
